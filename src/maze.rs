@@ -1,0 +1,1 @@
+//! maze (to be written).
