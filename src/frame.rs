@@ -19,6 +19,20 @@ pub enum Color {
     Rgb(u8, u8, u8),
 }
 
+/// How many colours the terminal can show; the renderer quantizes to it, the encoder emits its codes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ColorDepth {
+    /// No colour at all: every cell uses [`Color::Default`]; shape and shading come from glyphs alone.
+    None,
+    /// The 16 ANSI colours ([`Color::Indexed`] 0–15).
+    Ansi16,
+    /// The xterm 256-colour palette ([`Color::Indexed`] 16–255 for the cube and greys).
+    Ansi256,
+    /// 24-bit colour ([`Color::Rgb`]).
+    #[default]
+    TrueColor,
+}
+
 /// One character cell of a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Cell {
