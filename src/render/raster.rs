@@ -189,7 +189,8 @@ pub fn fill_triangle<A: Varying>(
     let mut written = 0;
     for_each_sample(width, buffer.height(), tri.map(|v| v.pos), |x, y, b| {
         let i = y * width + x;
-        let z = b[0] * depth[0] + b[1] * depth[1] + b[2] * depth[2]; // affine in screen space
+        // Affine in screen space; written relative to vertex 0 so a constant depth stays exact.
+        let z = depth[0] + b[1] * (depth[1] - depth[0]) + b[2] * (depth[2] - depth[0]);
         if z.is_nan() || z >= buffer.depth()[i] {
             return; // LESS: hidden (or tied) by what is already there
         }
