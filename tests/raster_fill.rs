@@ -167,7 +167,7 @@ proptest! {
             inv_w: inv_w[k],
             attrs: 1.0,
         });
-        let written = fill_polygon(&mut buffer, &tri, 3, |a| Vec3::splat(a));
+        let written = fill_polygon(&mut buffer, &tri, 3, Vec3::splat);
         prop_assert!(written <= size.0 * size.1);
         prop_assert_eq!(buffer.id().iter().filter(|&&id| id == 3).count(), written);
     }
@@ -251,7 +251,7 @@ fn attributes_are_perspective_correct_and_depth_is_ndc_z() {
     ];
     let polygon = corners.map(project);
     let mut buffer = SampleBuffer::new(width, height);
-    let written = fill_polygon(&mut buffer, &polygon, 0, |z| Vec3::splat(z)); // keep the attribute as colour
+    let written = fill_polygon(&mut buffer, &polygon, 0, Vec3::splat); // keep the attribute as colour
     assert!(written > 50, "the strip should cover a good part of the grid ({written})");
     for y in 0..height {
         for x in 0..width {
