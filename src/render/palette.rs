@@ -1,7 +1,7 @@
 //! Colour quantization: linear RGB → sRGB → the terminal's [`ColorDepth`].
 //!
 //! The renderer works in linear RGB; colours are sRGB-encoded here, once, when quantized (colours from
-//! files that are meant as display colours should go through [`srgb_to_linear`](super::shade::srgb_to_linear)
+//! files that are meant as display colours should go through [`srgb_to_linear`]
 //! first). Nearest colours are by squared distance in sRGB 0..255. The palettes are xterm's defaults.
 
 use std::sync::OnceLock;
