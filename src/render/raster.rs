@@ -1,0 +1,264 @@
+//! Triangle and convex-polygon rasterization into a [`SampleBuffer`]: exact, watertight, depth-tested.
+//!
+//! Grid space: origin top-left, y down; sample `(x, y)` is hit iff its centre `(x + 0.5, y + 0.5)` is inside.
+//! Vertices are snapped to a fixed-point grid of [`SUBPIXEL_BITS`] fractional bits and the edge functions
+//! are evaluated in `i64`, so two triangles sharing an edge never both cover, nor both miss, a sample on it
+//! (the top-left rule decides, as in Direct3D / OpenGL; see Giesen, "The barycentric conspiracy" and
+//! "Triangle rasterization in practice", <https://fgiesen.wordpress.com/2013/02/08/triangle-rasterization-in-practice/>).
+//! Both windings are accepted (walls are two-sided); zero-area triangles cover nothing.
+//!
+//! Depth is interpolated linearly in screen space (NDC z is affine there); attributes are interpolated
+//! perspective-correctly through `1/w`.
+
+use glam::{Vec2, Vec3, Vec4};
+
+use super::samples::SampleBuffer;
+
+/// Fractional bits of the fixed-point grid vertices are snapped to (1/256 of a sample).
+pub const SUBPIXEL_BITS: u32 = 8;
+/// Largest accepted |coordinate| in samples; a triangle with a vertex beyond it (or not finite) is skipped.
+/// The pipeline clips against the frustum first, so this only guards against overflow: at 2^20 samples
+/// and 8 fractional bits the edge functions stay below 2^60.
+pub const MAX_COORD: f32 = (1u32 << 20) as f32;
+
+const ONE: i64 = 1 << SUBPIXEL_BITS;
+const HALF: i64 = ONE / 2;
+
+/// An attribute that can be interpolated across a triangle: a weighted sum of three values.
+pub trait Varying: Copy {
+    /// `w[0] * v[0] + w[1] * v[1] + w[2] * v[2]`.
+    #[must_use]
+    fn weighted(v: [Self; 3], w: [f32; 3]) -> Self;
+}
+
+impl Varying for () {
+    fn weighted(_: [(); 3], _: [f32; 3]) {}
+}
+
+impl<const N: usize> Varying for [f32; N] {
+    fn weighted(v: [Self; 3], w: [f32; 3]) -> Self {
+        std::array::from_fn(|k| w[0] * v[0][k] + w[1] * v[1][k] + w[2] * v[2][k])
+    }
+}
+
+macro_rules! varying_by_ops {
+    ($($t:ty),*) => {$(
+        impl Varying for $t {
+            fn weighted(v: [Self; 3], w: [f32; 3]) -> Self {
+                w[0] * v[0] + w[1] * v[1] + w[2] * v[2]
+            }
+        }
+    )*};
+}
+varying_by_ops!(f32, Vec2, Vec3, Vec4);
+
+/// A vertex after the viewport transform.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScreenVertex<A> {
+    /// Grid position in samples: origin top-left, y down.
+    pub pos: Vec2,
+    /// Depth in [0, 1], smaller = nearer; affine in screen space.
+    pub depth: f32,
+    /// `1 / w_clip`, for perspective-correct attributes; 1.0 under an orthographic projection.
+    pub inv_w: f32,
+    /// Attributes interpolated perspective-correctly (e.g. view-space position and normal for shading).
+    pub attrs: A,
+}
+
+/// `pos` snapped to the fixed-point grid, or `None` if not finite or beyond [`MAX_COORD`].
+fn snap(pos: Vec2) -> Option<[i64; 2]> {
+    let ok = |c: f32| c.is_finite() && c.abs() <= MAX_COORD;
+    (ok(pos.x) && ok(pos.y)).then(|| {
+        [(f64::from(pos.x) * ONE as f64).round() as i64, (f64::from(pos.y) * ONE as f64).round() as i64]
+    })
+}
+
+/// Edge function of `a → b` at `p`: twice the signed area of (a, b, p); > 0 on the interior side once the
+/// triangle is oriented so that `edge(v0, v1, v2) > 0`.
+fn edge(a: [i64; 2], b: [i64; 2], p: [i64; 2]) -> i64 {
+    (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+}
+
+/// Top-left rule with y down and the interior on the positive side: a left edge has the interior to its
+/// right (the edge goes up, dy < 0); a top edge is horizontal with the interior below (it goes right).
+fn is_top_left(a: [i64; 2], b: [i64; 2]) -> bool {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    dy < 0 || (dy == 0 && dx > 0)
+}
+
+/// Calls `hit(x, y, bary)` for every sample of a `width × height` buffer whose centre the triangle covers
+/// (top-left rule on edges), with the screen-space barycentric weights of the centre in the order of `pos`.
+///
+/// The raw coverage function: either winding, nothing for zero-area or non-finite triangles, nothing
+/// outside the buffer, never more than `width * height` calls.
+pub fn for_each_sample(
+    width: usize,
+    height: usize,
+    pos: [Vec2; 3],
+    mut hit: impl FnMut(usize, usize, [f32; 3]),
+) {
+    let (Some(p0), Some(p1), Some(p2)) = (snap(pos[0]), snap(pos[1]), snap(pos[2])) else { return };
+    let (mut v, mut order) = ([p0, p1, p2], [0, 1, 2]);
+    let mut area = edge(v[0], v[1], v[2]);
+    if area == 0 {
+        return; // degenerate: a line or a point covers no sample centre exactly enough to matter
+    }
+    if area < 0 {
+        // Normalise the winding so the interior is on the positive side of every edge.
+        v.swap(1, 2);
+        order.swap(1, 2);
+        area = -area;
+    }
+
+    // Bounding box in samples whose centres (k * ONE + HALF) can lie inside, clamped to the buffer.
+    let clamp_hi = |n: usize| i64::try_from(n).unwrap_or(i64::MAX) - 1;
+    let (min_x, max_x) =
+        (v.iter().map(|p| p[0]).min().unwrap_or(0), v.iter().map(|p| p[0]).max().unwrap_or(0));
+    let (min_y, max_y) =
+        (v.iter().map(|p| p[1]).min().unwrap_or(0), v.iter().map(|p| p[1]).max().unwrap_or(0));
+    let ceil_div = |a: i64| (a + ONE - 1).div_euclid(ONE);
+    let x_lo = ceil_div(min_x - HALF).max(0);
+    let y_lo = ceil_div(min_y - HALF).max(0);
+    let x_hi = (max_x - HALF).div_euclid(ONE).min(clamp_hi(width));
+    let y_hi = (max_y - HALF).div_euclid(ONE).min(clamp_hi(height));
+    if x_lo > x_hi || y_lo > y_hi {
+        return;
+    }
+
+    // Edge k is the one opposite vertex k, so its function is vertex k's barycentric weight times `area`.
+    let edges = [(v[1], v[2]), (v[2], v[0]), (v[0], v[1])];
+    let bias = edges.map(|(a, b)| if is_top_left(a, b) { 0 } else { -1 }); // E >= 0 on top-left, E > 0 else
+    let step_x = edges.map(|(a, b)| -(b[1] - a[1]) * ONE);
+    let step_y = edges.map(|(a, b)| (b[0] - a[0]) * ONE);
+    let start = [x_lo * ONE + HALF, y_lo * ONE + HALF];
+    let mut row: [i64; 3] = std::array::from_fn(|k| edge(edges[k].0, edges[k].1, start) + bias[k]);
+    let inv_area = 1.0 / area as f64;
+
+    for y in y_lo..=y_hi {
+        let mut e = row;
+        for x in x_lo..=x_hi {
+            if e[0] >= 0 && e[1] >= 0 && e[2] >= 0 {
+                let w: [f32; 3] = std::array::from_fn(|k| ((e[k] - bias[k]) as f64 * inv_area) as f32);
+                let mut bary = [0.0; 3];
+                for k in 0..3 {
+                    bary[order[k]] = w[k];
+                }
+                hit(x as usize, y as usize, bary); // in [0, width) × [0, height) by the clamps above
+            }
+            for k in 0..3 {
+                e[k] += step_x[k];
+            }
+        }
+        for k in 0..3 {
+            row[k] += step_y[k];
+        }
+    }
+}
+
+/// How many times each sample of a `width × height` buffer is covered by the fan triangulation of
+/// `polygon` from vertex 0 (row-major); a convex polygon gives only 0s and 1s. For tests and debugging.
+#[must_use]
+pub fn polygon_coverage(width: usize, height: usize, polygon: &[Vec2]) -> Vec<u32> {
+    let mut count = vec![0; width * height];
+    for k in 1..polygon.len().saturating_sub(1) {
+        for_each_sample(width, height, [polygon[0], polygon[k], polygon[k + 1]], |x, y, _| {
+            count[y * width + x] += 1;
+        });
+    }
+    count
+}
+
+/// Rasterizes one triangle with a LESS depth test; returns the number of samples written.
+///
+/// For each covered sample nearer than the buffer's depth, `shade` gets the perspective-correct attributes
+/// and returns the linear colour; colour, depth and `id` are written. Triangles with a non-finite depth or
+/// `inv_w` are skipped.
+pub fn fill_triangle<A: Varying>(
+    buffer: &mut SampleBuffer,
+    tri: [&ScreenVertex<A>; 3],
+    id: u32,
+    mut shade: impl FnMut(A) -> Vec3,
+) -> usize {
+    if !tri.iter().all(|v| v.depth.is_finite() && v.inv_w.is_finite()) {
+        return 0;
+    }
+    let width = buffer.width();
+    let depth = tri.map(|v| v.depth);
+    let inv_w = tri.map(|v| v.inv_w);
+    let attrs = tri.map(|v| v.attrs);
+    let mut written = 0;
+    for_each_sample(width, buffer.height(), tri.map(|v| v.pos), |x, y, b| {
+        let i = y * width + x;
+        // Affine in screen space; written relative to vertex 0 so a constant depth stays exact.
+        let z = depth[0] + b[1] * (depth[1] - depth[0]) + b[2] * (depth[2] - depth[0]);
+        if z.is_nan() || z >= buffer.depth()[i] {
+            return; // LESS: hidden (or tied) by what is already there
+        }
+        // Perspective-correct weights: attr/w and 1/w are affine in screen space, attr is not.
+        let pw = [b[0] * inv_w[0], b[1] * inv_w[1], b[2] * inv_w[2]];
+        let sum = pw[0] + pw[1] + pw[2];
+        let w = if sum.is_normal() { pw.map(|p| p / sum) } else { b }; // 1/w ≈ 0: fall back to affine
+        buffer.write(i, shade(A::weighted(attrs, w)), z, id);
+        written += 1;
+    });
+    written
+}
+
+/// Rasterizes a convex polygon as a triangle fan from vertex 0 (either winding; the pipeline's clipped
+/// wall polygons); returns the number of samples written. Watertight: the fan's internal edges are shared
+/// exactly, so no sample is written twice by one polygon, and polygons sharing an edge meet without cracks.
+pub fn fill_polygon<A: Varying>(
+    buffer: &mut SampleBuffer,
+    polygon: &[ScreenVertex<A>],
+    id: u32,
+    mut shade: impl FnMut(A) -> Vec3,
+) -> usize {
+    let mut written = 0;
+    for k in 1..polygon.len().saturating_sub(1) {
+        written += fill_triangle(buffer, [&polygon[0], &polygon[k], &polygon[k + 1]], id, &mut shade);
+    }
+    written
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn covered(width: usize, height: usize, tri: [Vec2; 3]) -> Vec<(usize, usize)> {
+        let mut out = Vec::new();
+        for_each_sample(width, height, tri, |x, y, _| out.push((x, y)));
+        out
+    }
+
+    #[test]
+    fn a_sample_centre_on_an_edge_belongs_to_the_top_left_triangle_only() {
+        // Square [0.5, 2.5]² split along its diagonal; centres on the left/top edges are in, right/bottom out.
+        let (a, b, c, d) =
+            (Vec2::new(0.5, 0.5), Vec2::new(2.5, 0.5), Vec2::new(2.5, 2.5), Vec2::new(0.5, 2.5));
+        let mut all = covered(4, 4, [a, b, c]);
+        all.extend(covered(4, 4, [a, c, d]));
+        all.sort_unstable();
+        assert_eq!(all, [(0, 0), (0, 1), (1, 0), (1, 1)]);
+    }
+
+    #[test]
+    fn barycentric_weights_are_in_the_callers_vertex_order() {
+        let tri = [Vec2::new(0.5, 0.5), Vec2::new(0.5, 8.5), Vec2::new(8.5, 0.5)];
+        for_each_sample(10, 10, tri, |x, y, b| {
+            if (x, y) == (0, 0) {
+                assert_eq!(b, [1.0, 0.0, 0.0]);
+            }
+            if (x, y) == (0, 4) {
+                assert!((b[1] - 0.5).abs() < 1e-6 && (b[0] - 0.5).abs() < 1e-6);
+            }
+        });
+    }
+
+    #[test]
+    fn non_finite_or_huge_vertices_cover_nothing() {
+        let ok = Vec2::new(1.0, 1.0);
+        for bad in [Vec2::new(f32::NAN, 0.0), Vec2::new(0.0, f32::INFINITY), Vec2::new(3e6, 0.0)] {
+            assert!(covered(8, 8, [ok, bad, Vec2::new(5.0, 7.0)]).is_empty());
+        }
+    }
+}

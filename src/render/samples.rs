@@ -1,0 +1,152 @@
+//! The [`SampleBuffer`]: colour, depth, coverage id and outline glyph per sample.
+//!
+//! Samples are the sub-cell pixels of the grid: a terminal cell holds `sx × sy` of them (see
+//! [`Charset::samples_per_cell`](super::Charset::samples_per_cell)). Sample `(x, y)` covers
+//! `[x, x+1) × [y, y+1)` in grid space (origin top-left, y down) and is stored row-major at `y * width + x`.
+
+use glam::Vec3;
+
+/// Coverage id of a sample nothing has been drawn on.
+pub const NONE: u32 = u32::MAX;
+/// Coverage id of the floor.
+pub const FLOOR: u32 = u32::MAX - 1;
+/// Coverage id of the ceiling.
+pub const CEILING: u32 = u32::MAX - 2;
+
+/// Depth of a cleared sample: farther than anything, so geometry on the far plane (depth 1) still passes.
+pub const FAR: f32 = f32::INFINITY;
+
+/// A `width × height` grid of samples: linear colour, depth in [0, 1] (smaller = nearer), coverage id and
+/// an optional outline glyph. Row-major, origin top-left, y down. The slices always hold `width * height`
+/// entries.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SampleBuffer {
+    width: usize,
+    height: usize,
+    color: Vec<Vec3>,
+    depth: Vec<f32>,
+    id: Vec<u32>,
+    outline: Vec<Option<char>>,
+}
+
+impl SampleBuffer {
+    /// A cleared buffer: black, depth [`FAR`], id [`NONE`], no outlines.
+    #[must_use]
+    pub fn new(width: usize, height: usize) -> SampleBuffer {
+        let mut buffer = SampleBuffer::default();
+        buffer.resize(width, height);
+        buffer
+    }
+
+    /// Changes the size and clears everything to black; reuses the allocations.
+    pub fn resize(&mut self, width: usize, height: usize) {
+        self.width = width;
+        self.height = height;
+        let n = width * height;
+        self.color.resize(n, Vec3::ZERO);
+        self.depth.resize(n, FAR);
+        self.id.resize(n, NONE);
+        self.outline.resize(n, None);
+        self.clear(Vec3::ZERO);
+    }
+
+    /// Sets every sample to `background` at depth [`FAR`] with id [`NONE`] and no outline.
+    pub fn clear(&mut self, background: Vec3) {
+        self.color.fill(background);
+        self.depth.fill(FAR);
+        self.id.fill(NONE);
+        self.outline.fill(None);
+    }
+
+    /// Samples per row.
+    #[must_use]
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Rows of samples.
+    #[must_use]
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// The row-major index of sample `(x, y)`, or `None` outside the buffer.
+    #[must_use]
+    pub fn index(&self, x: usize, y: usize) -> Option<usize> {
+        (x < self.width && y < self.height).then(|| y * self.width + x)
+    }
+
+    /// Linear colours, row-major.
+    #[must_use]
+    pub fn color(&self) -> &[Vec3] {
+        &self.color
+    }
+
+    /// Depths, row-major; [`FAR`] where nothing was drawn.
+    #[must_use]
+    pub fn depth(&self) -> &[f32] {
+        &self.depth
+    }
+
+    /// Coverage ids, row-major: a wall or edge index, [`FLOOR`], [`CEILING`] or [`NONE`].
+    #[must_use]
+    pub fn id(&self) -> &[u32] {
+        &self.id
+    }
+
+    /// Outline glyphs (ascii mode), row-major.
+    #[must_use]
+    pub fn outline(&self) -> &[Option<char>] {
+        &self.outline
+    }
+
+    /// Colours, mutable (for a pipeline that paints the background itself).
+    pub fn color_mut(&mut self) -> &mut [Vec3] {
+        &mut self.color
+    }
+
+    /// Writes one sample unconditionally (no depth test); writes outside the buffer are ignored.
+    pub fn put(&mut self, x: usize, y: usize, color: Vec3, depth: f32, id: u32) {
+        if let Some(i) = self.index(x, y) {
+            self.write(i, color, depth, id);
+        }
+    }
+
+    /// Sets the outline glyph of sample `(x, y)`; writes outside the buffer are ignored.
+    pub fn put_outline(&mut self, x: usize, y: usize, glyph: Option<char>) {
+        if let Some(i) = self.index(x, y) {
+            self.outline[i] = glyph;
+        }
+    }
+
+    /// Writes sample `i` (row-major index, in range).
+    pub(crate) fn write(&mut self, i: usize, color: Vec3, depth: f32, id: u32) {
+        self.color[i] = color;
+        self.depth[i] = depth;
+        self.id[i] = id;
+    }
+
+    /// Outline glyphs, mutable, with the depths to test them against.
+    pub(crate) fn outline_and_depth_mut(&mut self) -> (&mut [Option<char>], &[f32]) {
+        (&mut self.outline, &self.depth)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resize_clears_and_keeps_lengths_consistent() {
+        let mut buffer = SampleBuffer::new(3, 2);
+        buffer.put(2, 1, Vec3::ONE, 0.5, 7);
+        buffer.put(3, 0, Vec3::ONE, 0.5, 7); // outside: ignored
+        assert_eq!(buffer.id()[5], 7);
+        buffer.resize(2, 2);
+        assert_eq!(buffer.color().len(), 4);
+        assert!(buffer.id().iter().all(|&id| id == NONE));
+        assert!(buffer.depth().iter().all(|&d| d == FAR));
+        buffer.resize(0, 0);
+        assert!(buffer.color().is_empty() && buffer.index(0, 0).is_none());
+    }
+}
