@@ -122,9 +122,10 @@ pub fn normal_matrix(model: Mat4) -> Result<Mat3, MathError> {
     // Scale-free conditioning test: |det| over the product of the column lengths is 1 for orthogonal
     // columns (any scale) and 0 for dependent ones (Hadamard's inequality).
     let volume = m.x_axis.length() * m.y_axis.length() * m.z_axis.length();
-    if !(determinant.abs() > 1e-6 * volume) {
+    if determinant.abs() <= 1e-6 * volume {
         return Err(MathError::Singular { determinant });
     }
+    // A NaN determinant (from overflowing products) slips past the test above and is caught here.
     let n = m.inverse().transpose();
     if n.is_finite() { Ok(n) } else { Err(MathError::Singular { determinant }) }
 }

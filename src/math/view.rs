@@ -33,7 +33,7 @@ fn camera_axes(dir: Vec3, up: Vec3, right_handed: bool) -> Result<[Vec3; 3], Mat
     // which flips the cross product: right = up × forward.
     let right = if right_handed { forward.cross(up_unit) } else { up_unit.cross(forward) };
     let sine = right.length(); // |f × u| = sin(angle) for unit vectors
-    if !(sine >= PARALLEL_SINE) {
+    if sine < PARALLEL_SINE {
         return Err(MathError::UpParallel { dir, up });
     }
     let right = right / sine;

@@ -4,11 +4,23 @@
 #![allow(dead_code)]
 
 use glam::{Mat4, Vec3, Vec4};
-use proptest::prelude::ProptestConfig;
+use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
 
 /// At least 1,000 cases per property; more with `PROPTEST_CASES` (which `default()` reads).
+///
+/// Failing seeds go to `proptest-regressions/<test file>.txt`: proptest's default persistence looks
+/// for a `lib.rs` beside the source, which `tests/` lacks, so the file is named after the caller.
+#[track_caller]
 pub fn config() -> ProptestConfig {
-    ProptestConfig { cases: ProptestConfig::default().cases.max(1000), ..ProptestConfig::default() }
+    let caller = std::path::Path::new(std::panic::Location::caller().file());
+    let name = caller.file_stem().and_then(|s| s.to_str()).unwrap_or("math");
+    // Leaked once per property run: `Direct` wants a `&'static str`.
+    let path: &'static str = Box::leak(format!("proptest-regressions/{name}.txt").into_boxed_str());
+    ProptestConfig {
+        cases: ProptestConfig::default().cases.max(1000),
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(path))),
+        ..ProptestConfig::default()
+    }
 }
 
 /// `a ≈ b` relative to `scale`: `|a - b| <= rel · max(scale, |a|, |b|)`. Pass the magnitude the
@@ -56,21 +68,27 @@ pub fn arb_point(extent: f32) -> impl Strategy<Value = Vec3> {
 
 /// A unit vector, from a point in the unit cube that is not too short to normalize accurately.
 pub fn arb_unit() -> impl Strategy<Value = Vec3> {
-    arb_point(1.0).prop_filter("too short to normalize accurately", |v| v.length() > 0.1).prop_map(Vec3::normalize)
+    arb_point(1.0)
+        .prop_filter("too short to normalize accurately", |v| v.length() > 0.1)
+        .prop_map(Vec3::normalize)
 }
 
 /// A look-at camera `(eye, target, up)`: eye within 100 units of the origin, target 0.1–100 units
 /// away, unit `up` at least ~3° (sine 0.05) from the view direction.
 pub fn arb_eye_target_up() -> impl Strategy<Value = (Vec3, Vec3, Vec3)> {
     (arb_point(100.0), arb_unit(), 0.1f32..100.0, arb_unit())
-        .prop_filter("up nearly parallel to the view direction", |(_, dir, _, up)| dir.cross(*up).length() > 0.05)
+        .prop_filter("up nearly parallel to the view direction", |(_, dir, _, up)| {
+            dir.cross(*up).length() > 0.05
+        })
         .prop_map(|(eye, dir, distance, up)| (eye, eye + dir * distance, up))
 }
 
 /// A look-to camera `(eye, unit dir, unit up)`, same ranges as [`arb_eye_target_up`].
 pub fn arb_eye_dir_up() -> impl Strategy<Value = (Vec3, Vec3, Vec3)> {
     (arb_point(100.0), arb_unit(), arb_unit())
-        .prop_filter("up nearly parallel to the view direction", |(_, dir, up)| dir.cross(*up).length() > 0.05)
+        .prop_filter("up nearly parallel to the view direction", |(_, dir, up)| {
+            dir.cross(*up).length() > 0.05
+        })
 }
 
 /// A perspective frustum `[left, right, bottom, top, near, far]`: bounds within 10 units, width and
