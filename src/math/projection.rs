@@ -1,0 +1,544 @@
+//! Projections: view → clip space. Perspective (through the frustum) and orthographic, in the three
+//! [`Convention`]s, plus the grid-aware helpers the renderer uses (horizontal fov, cell aspect).
+//!
+//! Bounds `left, right, bottom, top` are on the near plane (perspective) or the box sides
+//! (orthographic); `near` and `far` are **distances** along the forward axis (-Z right-handed, +Z
+//! left-handed), as in `glFrustum` and glam. Clip w is that distance for a perspective projection.
+
+use glam::{Mat4, Vec4};
+
+use super::{Convention, DepthRange, MathError, check_finite, finite_or_overflow};
+
+/// `+1` if view-space z grows forward (left-handed), `-1` if it shrinks (right-handed): the distance in
+/// front of the eye is `sign * z`.
+fn forward_sign(conv: Convention) -> f32 {
+    if conv.is_right_handed() { -1.0 } else { 1.0 }
+}
+
+/// The widths `right - left`, `top - bottom`, `far - near` after checking the bounds are finite, the
+/// box is not flat and no difference overflows.
+fn box_extent(
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Result<(f32, f32, f32), MathError> {
+    let args =
+        [("left", left), ("right", right), ("bottom", bottom), ("top", top), ("near", near), ("far", far)];
+    args.into_iter().try_for_each(|(arg, value)| check_finite(arg, value))?;
+    if left == right {
+        return Err(MathError::ZeroWidth { left });
+    }
+    if bottom == top {
+        return Err(MathError::ZeroHeight { bottom });
+    }
+    if near == far {
+        return Err(MathError::EmptyDepthRange { near });
+    }
+    let extent = (right - left, top - bottom, far - near);
+    if !(extent.0.is_finite() && extent.1.is_finite() && extent.2.is_finite()) {
+        return Err(MathError::Overflow { what: "projection bounds" });
+    }
+    Ok(extent)
+}
+
+/// Shared by every `frustum_*`: see [`frustum_rh_gl`] for the contract.
+pub(super) fn frustum(
+    conv: Convention,
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    let (width, height, depth) = box_extent(left, right, bottom, top, near, far)?;
+    if !(near > 0.0 && far > 0.0) {
+        return Err(MathError::DepthNotPositive { near, far });
+    }
+    let s = forward_sign(conv);
+    // w_clip = distance d = s·z, so that dividing by w is the perspective divide.
+    // x on the near plane is n·x/d; mapping [l, r] to [-1, 1] and multiplying through by d gives
+    // x_clip = 2n/(r-l)·x - (r+l)/(r-l)·d. Likewise for y.
+    let (xx, yy) = (2.0 * near / width, 2.0 * near / height);
+    let (zx, zy) = (-s * (right + left) / width, -s * (top + bottom) / height);
+    // z_ndc = a + b/d, with a and b solved so d = near gives the range's near end, d = far gives 1.
+    let (a, b) = match conv.depth_range() {
+        DepthRange::NegOneToOne => ((far + near) / depth, -2.0 * far * near / depth),
+        DepthRange::ZeroToOne => (far / depth, -far * near / depth),
+    };
+    finite_or_overflow(
+        "frustum",
+        Mat4::from_cols(
+            Vec4::new(xx, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, yy, 0.0, 0.0),
+            Vec4::new(zx, zy, s * a, s), // z_clip = a·d + b, w_clip = d
+            Vec4::new(0.0, 0.0, b, 0.0),
+        ),
+    )
+}
+
+/// Shared by every `orthographic_*`: see [`orthographic_rh_gl`] for the contract.
+pub(super) fn orthographic(
+    conv: Convention,
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    let (width, height, depth) = box_extent(left, right, bottom, top, near, far)?;
+    let s = forward_sign(conv);
+    // An affine map of the box onto the NDC cube: x_ndc = (2x - (r+l))/(r-l), same for y; depth is
+    // linear in the distance d = s·z, from the range's near end at d = near to 1 at d = far.
+    let (zz, tz) = match conv.depth_range() {
+        DepthRange::NegOneToOne => (2.0 / depth, -(far + near) / depth),
+        DepthRange::ZeroToOne => (1.0 / depth, -near / depth),
+    };
+    finite_or_overflow(
+        "orthographic",
+        Mat4::from_cols(
+            Vec4::new(2.0 / width, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, 2.0 / height, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, s * zz, 0.0),
+            Vec4::new(-(right + left) / width, -(top + bottom) / height, tz, 1.0), // w stays 1
+        ),
+    )
+}
+
+/// Shared by every `perspective_*`: see [`perspective_rh_gl`] for the contract.
+pub(super) fn perspective(
+    conv: Convention,
+    fov_y: f32,
+    aspect: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    check_fov(fov_y)?;
+    check_positive("aspect", aspect)?;
+    check_finite("near", near)?;
+    check_finite("far", far)?;
+    if !(near > 0.0 && far > 0.0) {
+        return Err(MathError::DepthNotPositive { near, far });
+    }
+    // The symmetric frustum whose near-plane rectangle subtends fov_y vertically.
+    let top = near * (0.5 * fov_y).tan();
+    let right = top * aspect;
+    frustum(conv, -right, right, -top, top, near, far)
+}
+
+/// `Err` unless `fov` is a finite angle in the open interval (0, π).
+fn check_fov(fov: f32) -> Result<(), MathError> {
+    check_finite("fov", fov)?;
+    if fov > 0.0 && fov < std::f32::consts::PI { Ok(()) } else { Err(MathError::FovOutOfRange { fov }) }
+}
+
+/// `Err` unless `value` is finite and strictly positive.
+fn check_positive(arg: &'static str, value: f32) -> Result<(), MathError> {
+    check_finite(arg, value)?;
+    if value > 0.0 { Ok(()) } else { Err(MathError::NotPositive { arg, value }) }
+}
+
+/// Right-handed, -Z forward. NDC z in [-1, 1] (OpenGL). Perspective from a vertical fov (radians) and
+/// aspect (width / height), through the symmetric [`frustum_rh_gl`]. Mirrors
+/// `glam::camera::rh::proj::opengl::perspective`.
+///
+/// # Errors
+///
+/// [`MathError::NonFinite`]; [`MathError::FovOutOfRange`] unless `0 < fov_y < π`;
+/// [`MathError::NotPositive`] for `aspect <= 0`; [`MathError::DepthNotPositive`] unless
+/// `near, far > 0`; [`MathError::EmptyDepthRange`] for `near == far`; [`MathError::Overflow`].
+///
+/// ```
+/// # use glam::Vec3;
+/// let proj = mazewalk::math::perspective_rh_gl(1.2, 2.0, 0.5, 50.0)?;
+/// assert!((proj.project_point3(Vec3::new(0.0, 0.0, -0.5)).z - -1.0).abs() < 1e-5); // near → -1
+/// assert!((proj.project_point3(Vec3::new(0.0, 0.0, -50.0)).z - 1.0).abs() < 1e-5); // far → 1
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn perspective_rh_gl(fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Mat4, MathError> {
+    perspective(Convention::RhGl, fov_y, aspect, near, far)
+}
+
+/// Right-handed, -Z forward. NDC z in [0, 1]. Perspective from a vertical fov; mirrors
+/// `glam::camera::rh::proj::directx::perspective`.
+///
+/// # Errors
+///
+/// As [`perspective_rh_gl`].
+///
+/// ```
+/// # use glam::Vec3;
+/// let proj = mazewalk::math::perspective_rh_zo(1.2, 2.0, 0.5, 50.0)?;
+/// assert!(proj.project_point3(Vec3::new(0.0, 0.0, -0.5)).z.abs() < 1e-6); // near → 0
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn perspective_rh_zo(fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Mat4, MathError> {
+    perspective(Convention::RhZo, fov_y, aspect, near, far)
+}
+
+/// Left-handed, +Z forward. NDC z in [0, 1] (Direct3D). Perspective from a vertical fov; mirrors
+/// `glam::camera::lh::proj::directx::perspective`.
+///
+/// # Errors
+///
+/// As [`perspective_rh_gl`].
+///
+/// ```
+/// # use glam::Vec3;
+/// let proj = mazewalk::math::perspective_lh_zo(1.2, 2.0, 0.5, 50.0)?;
+/// assert!((proj.project_point3(Vec3::new(0.0, 0.0, 50.0)).z - 1.0).abs() < 1e-5); // far → 1
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn perspective_lh_zo(fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Mat4, MathError> {
+    perspective(Convention::LhZo, fov_y, aspect, near, far)
+}
+
+/// Right-handed, -Z forward. NDC z in [-1, 1] (OpenGL). The off-centre perspective frustum whose
+/// near-plane rectangle is `[left, right] × [bottom, top]` (`glFrustum`); mirrors
+/// `glam::camera::rh::proj::opengl::frustum`.
+///
+/// # Errors
+///
+/// [`MathError::NonFinite`]; [`MathError::ZeroWidth`] (`left == right`); [`MathError::ZeroHeight`]
+/// (`bottom == top`); [`MathError::EmptyDepthRange`] (`near == far`); [`MathError::DepthNotPositive`]
+/// unless `near, far > 0`; [`MathError::Overflow`] when the bounds are too close or too large for `f32`.
+///
+/// ```
+/// # use glam::Vec3;
+/// let proj = mazewalk::math::frustum_rh_gl(-1.0, 3.0, -1.0, 1.0, 1.0, 10.0)?;
+/// // The near-plane corner (3, 1) maps to the NDC corner (1, 1, -1).
+/// assert!(proj.project_point3(Vec3::new(3.0, 1.0, -1.0)).abs_diff_eq(Vec3::new(1.0, 1.0, -1.0), 1e-5));
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn frustum_rh_gl(
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    frustum(Convention::RhGl, left, right, bottom, top, near, far)
+}
+
+/// Right-handed, -Z forward. NDC z in [0, 1]. Off-centre frustum; mirrors
+/// `glam::camera::rh::proj::directx::frustum`.
+///
+/// # Errors
+///
+/// As [`frustum_rh_gl`].
+///
+/// ```
+/// # use glam::Vec3;
+/// let proj = mazewalk::math::frustum_rh_zo(-1.0, 1.0, -1.0, 1.0, 1.0, 10.0)?;
+/// assert!(proj.project_point3(Vec3::new(-10.0, -10.0, -10.0)).abs_diff_eq(Vec3::new(-1.0, -1.0, 1.0), 1e-5));
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn frustum_rh_zo(
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    frustum(Convention::RhZo, left, right, bottom, top, near, far)
+}
+
+/// Left-handed, +Z forward. NDC z in [0, 1] (Direct3D). Off-centre frustum; mirrors
+/// `glam::camera::lh::proj::directx::frustum`.
+///
+/// # Errors
+///
+/// As [`frustum_rh_gl`].
+///
+/// ```
+/// # use glam::Vec3;
+/// let proj = mazewalk::math::frustum_lh_zo(-1.0, 1.0, -1.0, 1.0, 1.0, 10.0)?;
+/// assert!(proj.project_point3(Vec3::new(1.0, 1.0, 1.0)).abs_diff_eq(Vec3::new(1.0, 1.0, 0.0), 1e-5));
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn frustum_lh_zo(
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    frustum(Convention::LhZo, left, right, bottom, top, near, far)
+}
+
+/// Right-handed, -Z forward. NDC z in [-1, 1] (OpenGL). Maps the box `[left, right] × [bottom, top]`
+/// × distances `[near, far]` onto the NDC cube (`glOrtho`; `near` may be <= 0); mirrors
+/// `glam::camera::rh::proj::opengl::orthographic`.
+///
+/// # Errors
+///
+/// [`MathError::NonFinite`], [`MathError::ZeroWidth`], [`MathError::ZeroHeight`],
+/// [`MathError::EmptyDepthRange`], [`MathError::Overflow`].
+///
+/// ```
+/// # use glam::Vec3;
+/// let proj = mazewalk::math::orthographic_rh_gl(-2.0, 2.0, -1.0, 1.0, 0.0, 10.0)?;
+/// assert!(proj.project_point3(Vec3::new(2.0, 1.0, -10.0)).abs_diff_eq(Vec3::ONE, 1e-6));
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn orthographic_rh_gl(
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    orthographic(Convention::RhGl, left, right, bottom, top, near, far)
+}
+
+/// Right-handed, -Z forward. NDC z in [0, 1]. Orthographic box; mirrors
+/// `glam::camera::rh::proj::directx::orthographic`.
+///
+/// # Errors
+///
+/// As [`orthographic_rh_gl`].
+///
+/// ```
+/// # use glam::Vec3;
+/// let proj = mazewalk::math::orthographic_rh_zo(-2.0, 2.0, -1.0, 1.0, 0.0, 10.0)?;
+/// assert!(proj.project_point3(Vec3::new(-2.0, -1.0, 0.0)).abs_diff_eq(Vec3::new(-1.0, -1.0, 0.0), 1e-6));
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn orthographic_rh_zo(
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    orthographic(Convention::RhZo, left, right, bottom, top, near, far)
+}
+
+/// Left-handed, +Z forward. NDC z in [0, 1] (Direct3D). Orthographic box; mirrors
+/// `glam::camera::lh::proj::directx::orthographic`.
+///
+/// # Errors
+///
+/// As [`orthographic_rh_gl`].
+///
+/// ```
+/// # use glam::Vec3;
+/// let proj = mazewalk::math::orthographic_lh_zo(-2.0, 2.0, -1.0, 1.0, 0.0, 10.0)?;
+/// assert!(proj.project_point3(Vec3::new(2.0, 1.0, 10.0)).abs_diff_eq(Vec3::ONE, 1e-6));
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn orthographic_lh_zo(
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    orthographic(Convention::LhZo, left, right, bottom, top, near, far)
+}
+
+/// The physical aspect (width / height) of a grid of `cols × rows` samples, each `sample_aspect` wide
+/// per unit of height (terminal cells: about 0.5): `cols · sample_aspect / rows`.
+///
+/// # Errors
+///
+/// [`MathError::EmptyGrid`] for zero columns or rows; [`MathError::NotPositive`] (or
+/// [`MathError::NonFinite`]) for a bad `sample_aspect`.
+///
+/// ```
+/// assert_eq!(mazewalk::math::physical_aspect(80, 20, 0.5)?, 2.0);
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn physical_aspect(cols: usize, rows: usize, sample_aspect: f32) -> Result<f32, MathError> {
+    if cols == 0 || rows == 0 {
+        return Err(MathError::EmptyGrid { width: cols as f32, height: rows as f32 });
+    }
+    check_positive("sample_aspect", sample_aspect)?;
+    let aspect = cols as f32 * sample_aspect / rows as f32;
+    check_positive("aspect", aspect)?; // an extreme sample_aspect can overflow or underflow
+    Ok(aspect)
+}
+
+/// The vertical fov (radians) matching a horizontal fov across a view of physical `aspect`
+/// (width / height): `2·atan(tan(hfov/2) / aspect)`. In (0, π) for `hfov` in (0, π) and `aspect > 0`.
+///
+/// ```
+/// let v = mazewalk::math::vertical_fov(std::f32::consts::FRAC_PI_2, 1.0);
+/// assert!((v - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
+/// ```
+#[must_use]
+pub fn vertical_fov(horizontal_fov: f32, aspect: f32) -> f32 {
+    // Both fovs subtend the same near-plane rectangle: half-height = half-width / aspect.
+    2.0 * ((0.5 * horizontal_fov).tan() / aspect).atan()
+}
+
+/// Perspective for a grid: the horizontal fov (radians) spans the whole grid width, whose physical
+/// aspect is [`physical_aspect`]`(cols, rows, sample_aspect)`. In `conv`'s handedness and depth range.
+/// Equal to `conv.perspective(vertical_fov(hfov, aspect), aspect, near, far)`.
+///
+/// # Errors
+///
+/// Those of [`physical_aspect`]; [`MathError::FovOutOfRange`] unless `0 < hfov < π`; and those of
+/// [`perspective_rh_gl`].
+///
+/// ```
+/// # use glam::Vec3;
+/// use mazewalk::math::{Convention, perspective_hfov};
+/// let proj = perspective_hfov(Convention::RhGl, 90f32.to_radians(), 80, 20, 0.5, 0.1, 10.0)?;
+/// // 45° to the right of the view axis lands on the right edge of the grid.
+/// assert!((proj.project_point3(Vec3::new(1.0, 0.0, -1.0)).x - 1.0).abs() < 1e-5);
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn perspective_hfov(
+    conv: Convention,
+    hfov: f32,
+    cols: usize,
+    rows: usize,
+    sample_aspect: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    let aspect = physical_aspect(cols, rows, sample_aspect)?;
+    check_fov(hfov)?;
+    check_finite("near", near)?;
+    if !(near > 0.0 && far > 0.0) {
+        return Err(MathError::DepthNotPositive { near, far });
+    }
+    // Straight to the frustum: half-width from the hfov, half-height through the aspect. Going via
+    // vertical_fov would round-trip through atan and tan for nothing.
+    let right = near * (0.5 * hfov).tan();
+    let top = right / aspect;
+    frustum(conv, -right, right, -top, top, near, far)
+}
+
+/// Orthographic for a grid: `half_width` world units either side of the view axis across the grid
+/// width, the height following the grid's [`physical_aspect`]. In `conv`'s handedness and depth range.
+///
+/// # Errors
+///
+/// Those of [`physical_aspect`]; [`MathError::NotPositive`] for `half_width <= 0`; those of
+/// [`orthographic_rh_gl`].
+///
+/// ```
+/// # use glam::Vec3;
+/// use mazewalk::math::{Convention, orthographic_hwidth};
+/// let proj = orthographic_hwidth(Convention::RhZo, 4.0, 80, 20, 0.5, 0.0, 10.0)?; // aspect 2
+/// assert!(proj.project_point3(Vec3::new(4.0, 2.0, -10.0)).abs_diff_eq(Vec3::ONE, 1e-6));
+/// # Ok::<(), mazewalk::math::MathError>(())
+/// ```
+pub fn orthographic_hwidth(
+    conv: Convention,
+    half_width: f32,
+    cols: usize,
+    rows: usize,
+    sample_aspect: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    let aspect = physical_aspect(cols, rows, sample_aspect)?;
+    check_positive("half_width", half_width)?;
+    let half_height = half_width / aspect;
+    orthographic(conv, -half_width, half_width, -half_height, half_height, near, far)
+}
+
+/// The distance from the eye to a corner of the near plane, for a horizontal fov (radians) and
+/// physical aspect: the radius a camera must keep from walls so the near plane never pokes through.
+/// `sqrt(near² + half_width² + half_height²)`; garbage in (non-positive or non-finite), garbage out.
+///
+/// ```
+/// let d = mazewalk::math::near_corner_distance(1.0, std::f32::consts::FRAC_PI_2, 1.0);
+/// assert!((d - 3f32.sqrt()).abs() < 1e-6); // corner (1, 1, 1)
+/// ```
+#[must_use]
+pub fn near_corner_distance(near: f32, hfov: f32, aspect: f32) -> f32 {
+    let half_width = near * (0.5 * hfov).tan();
+    let half_height = half_width / aspect;
+    glam::Vec3::new(near, half_width, half_height).length()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flat_frusta_are_errors() {
+        assert_eq!(frustum_rh_gl(1.0, 1.0, -1.0, 1.0, 1.0, 2.0), Err(MathError::ZeroWidth { left: 1.0 }));
+        assert_eq!(frustum_rh_zo(-1.0, 1.0, 2.0, 2.0, 1.0, 2.0), Err(MathError::ZeroHeight { bottom: 2.0 }));
+        assert_eq!(
+            orthographic_lh_zo(-1.0, 1.0, -1.0, 1.0, 3.0, 3.0),
+            Err(MathError::EmptyDepthRange { near: 3.0 })
+        );
+        assert_eq!(perspective_rh_gl(1.0, 1.0, 2.0, 2.0), Err(MathError::EmptyDepthRange { near: 2.0 }));
+    }
+
+    #[test]
+    fn perspective_needs_positive_near_and_far() {
+        assert_eq!(
+            perspective_rh_gl(1.0, 1.0, 0.0, 2.0),
+            Err(MathError::DepthNotPositive { near: 0.0, far: 2.0 })
+        );
+        assert_eq!(
+            frustum_lh_zo(-1.0, 1.0, -1.0, 1.0, 1.0, -2.0),
+            Err(MathError::DepthNotPositive { near: 1.0, far: -2.0 })
+        );
+    }
+
+    #[test]
+    fn fov_and_aspect_are_checked() {
+        assert_eq!(perspective_rh_zo(0.0, 1.0, 1.0, 2.0), Err(MathError::FovOutOfRange { fov: 0.0 }));
+        let pi = std::f32::consts::PI;
+        assert_eq!(perspective_lh_zo(pi, 1.0, 1.0, 2.0), Err(MathError::FovOutOfRange { fov: pi }));
+        assert_eq!(
+            perspective_rh_gl(1.0, -1.0, 1.0, 2.0),
+            Err(MathError::NotPositive { arg: "aspect", value: -1.0 })
+        );
+        assert_eq!(
+            orthographic_hwidth(Convention::RhGl, 0.0, 10, 10, 0.5, 0.0, 1.0),
+            Err(MathError::NotPositive { arg: "half_width", value: 0.0 })
+        );
+    }
+
+    #[test]
+    fn empty_grid_is_an_error() {
+        assert_eq!(physical_aspect(0, 10, 0.5), Err(MathError::EmptyGrid { width: 0.0, height: 10.0 }));
+        assert!(matches!(
+            perspective_hfov(Convention::LhZo, 1.0, 10, 0, 0.5, 0.1, 1.0),
+            Err(MathError::EmptyGrid { .. })
+        ));
+    }
+
+    #[test]
+    fn non_finite_bounds_are_errors() {
+        assert_eq!(
+            frustum_rh_gl(f32::NEG_INFINITY, 1.0, -1.0, 1.0, 1.0, 2.0),
+            Err(MathError::NonFinite { arg: "left", value: f32::NEG_INFINITY })
+        );
+        assert!(matches!(
+            perspective_rh_gl(1.0, 1.0, 1.0, f32::NAN),
+            Err(MathError::NonFinite { arg: "far", .. })
+        ));
+    }
+
+    #[test]
+    fn overflowing_bounds_are_errors() {
+        assert_eq!(
+            orthographic_rh_gl(-3e38, 3e38, -1.0, 1.0, 0.0, 1.0),
+            Err(MathError::Overflow { what: "projection bounds" })
+        );
+        // 1 / (right - left) overflows for bounds one subnormal step apart.
+        assert_eq!(
+            frustum_rh_zo(0.0, 1e-45, -1.0, 1.0, 1.0, 2.0),
+            Err(MathError::Overflow { what: "frustum" })
+        );
+    }
+}
