@@ -157,18 +157,20 @@ impl Encoder {
         SGR_RESET
     }
 
-    /// A lower bound for the next frame: the UTF-8 bytes of just the glyphs that must change (all
-    /// non-blank cells if a full paint is due). No encoding can send less.
+    /// A lower bound for the next frame: the UTF-8 bytes of just the non-blank glyphs that must change
+    /// (all of them if a full paint is due; blanks are left out, an erasure may cover any number of
+    /// them). No encoding can send less; benchmarks report it beside [`EncodeStats::bytes`].
     #[must_use]
     pub fn lower_bound(&self, frame: &Frame) -> usize {
         let full =
             !self.valid || self.screen.width() != frame.width() || self.screen.height() != frame.height();
+        let glyph_bytes = |c: &Cell| if c.ch == ' ' { 0 } else { c.ch.len_utf8() };
         if full {
-            frame.cells().iter().filter(|c| !same_look(c, &Cell::BLANK)).map(|c| c.ch.len_utf8()).sum()
+            frame.cells().iter().map(glyph_bytes).sum()
         } else {
             (self.screen.cells().iter().zip(frame.cells()))
                 .filter(|(old, new)| !same_look(old, new))
-                .map(|(_, new)| new.ch.len_utf8())
+                .map(|(_, new)| glyph_bytes(new))
                 .sum()
         }
     }
