@@ -6,3 +6,4 @@
 //! - [`input`]: crossterm events mapped to mazewalk's own [`Input`](input::Input).
 
 pub mod encoder;
+pub mod guard;
