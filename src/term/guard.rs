@@ -11,7 +11,6 @@
 //! The escape sequences are built by pure functions ([`enter_sequence`], [`restore_sequence`]) so
 //! their content and order are unit-tested without a terminal.
 
-use std::fmt::Write as _;
 use std::io::{self, Write};
 use std::sync::{Mutex, MutexGuard, Once, PoisonError, TryLockError};
 
@@ -318,15 +317,7 @@ fn install_signal_handler() -> io::Result<()> {
 /// Human-readable escape sequence, for test messages.
 #[cfg(test)]
 fn visible(s: &str) -> String {
-    let mut out = String::new();
-    for ch in s.chars() {
-        if ch == '\x1b' {
-            out.push_str("ESC");
-        } else {
-            let _ = write!(out, "{ch}");
-        }
-    }
-    out
+    s.replace('\x1b', "ESC")
 }
 
 #[cfg(test)]
