@@ -297,10 +297,15 @@ fn report_bytes_for_typical_scenarios() {
     hud.put_str(18, h - 1, "59", Color::Indexed(15), Color::Default);
     out.clear();
     let hud_bytes = encoder.encode(&hud, &mut out).bytes;
+    let mut one = hud.clone();
+    one.set(100, 30, Cell { ch: 'x', fg: Color::Rgb(255, 0, 0), bg: Color::Rgb(1, 2, 3) });
+    out.clear();
+    let one_cell = encoder.encode(&one, &mut out).bytes;
+    let one_cell_text = String::from_utf8_lossy(&out).replace('\x1b', "ESC");
     eprintln!(
         "160x48 truecolor scene: full paint {full} B (naive every-cell SGR {} B); \
          everything shifts one column {turn} B (glyph lower bound {turn_bound} B); \
-         HUD digits change {hud_bytes} B; no change {none} B",
+         HUD digits change {hud_bytes} B; one truecolor cell {one_cell} B ({one_cell_text}); no change {none} B",
         naive.len()
     );
     assert!(full < naive.len() / 2);
