@@ -1,0 +1,391 @@
+//! The terminal guard: puts the terminal into full-screen game mode and always puts it back.
+//!
+//! "Always" means: when the guard drops, when the program panics (a panic hook restores before the
+//! message prints), when SIGTERM, SIGHUP (the SSH connection dropped) or SIGINT arrive (restore, then
+//! exit with 128 + signal number), and around Ctrl-Z ([`TerminalGuard::suspend`]).
+//!
+//! All those paths share one idempotent restore, [`restore_terminal`], behind one global lock that
+//! also serializes frame writes ([`TerminalGuard::write_frame`]): a signal can never cut a frame in
+//! half and then leave the rest of it on the restored main screen.
+//!
+//! The escape sequences are built by pure functions ([`enter_sequence`], [`restore_sequence`]) so
+//! their content and order are unit-tested without a terminal.
+
+use std::io::{self, Write};
+use std::sync::{Mutex, MutexGuard, Once, PoisonError, TryLockError};
+
+use crossterm::Command;
+use crossterm::{cursor, event, style, terminal};
+
+use super::encoder::{Encoder, SYNC_END};
+
+/// What [`TerminalGuard::enter`] should turn on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GuardOptions {
+    /// Capture the mouse (drag to look around). Stops the terminal's own text selection.
+    pub mouse: bool,
+    /// Report focus changes, so the app can release held keys when the window loses focus.
+    pub focus_events: bool,
+    /// Ask for the kitty keyboard protocol (key releases and repeats) if the terminal supports it.
+    pub keyboard_enhancement: bool,
+    /// Restore the terminal and exit on SIGTERM, SIGHUP and SIGINT (Unix; installed once per process).
+    pub handle_signals: bool,
+}
+
+impl Default for GuardOptions {
+    /// Everything on.
+    fn default() -> Self {
+        GuardOptions { mouse: true, focus_events: true, keyboard_enhancement: true, handle_signals: true }
+    }
+}
+
+/// What is actually enabled on the terminal (the guard turns off exactly this).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Enabled {
+    /// Mouse capture is on.
+    pub mouse: bool,
+    /// Focus events are on.
+    pub focus_events: bool,
+    /// Keyboard enhancement flags were pushed: the app gets key release and repeat events.
+    pub keyboard_enhancement: bool,
+}
+
+impl Enabled {
+    /// Whether key releases are reported (otherwise the app must time out held keys itself).
+    #[must_use]
+    pub fn reports_key_releases(&self) -> bool {
+        self.keyboard_enhancement
+    }
+}
+
+/// The bytes that enter game mode: alternate screen, hidden cursor, bracketed paste off, then the
+/// optional modes. Keyboard flags are pushed last, on the alternate screen (kitty keeps a stack per
+/// screen, and [`restore_sequence`] pops them before leaving it).
+#[must_use]
+pub fn enter_sequence(enabled: Enabled) -> String {
+    let mut s = String::new();
+    ansi(&mut s, terminal::EnterAlternateScreen);
+    ansi(&mut s, cursor::Hide);
+    ansi(&mut s, event::DisableBracketedPaste);
+    if enabled.mouse {
+        ansi(&mut s, event::EnableMouseCapture);
+    }
+    if enabled.focus_events {
+        ansi(&mut s, event::EnableFocusChange);
+    }
+    if enabled.keyboard_enhancement {
+        let flags = event::KeyboardEnhancementFlags::DISAMBIGUATE_ESCAPE_CODES
+            | event::KeyboardEnhancementFlags::REPORT_EVENT_TYPES;
+        ansi(&mut s, event::PushKeyboardEnhancementFlags(flags));
+    }
+    s
+}
+
+/// The bytes that undo [`enter_sequence`], in reverse: end any half-sent synchronized frame, pop the
+/// keyboard flags, mouse and focus reporting off, cursor shown, colours reset, main screen back.
+/// (Raw mode is turned off after these bytes are written.)
+#[must_use]
+pub fn restore_sequence(enabled: Enabled) -> String {
+    let mut s = String::from_utf8_lossy(SYNC_END).into_owned();
+    if enabled.keyboard_enhancement {
+        ansi(&mut s, event::PopKeyboardEnhancementFlags);
+    }
+    if enabled.mouse {
+        ansi(&mut s, event::DisableMouseCapture);
+    }
+    if enabled.focus_events {
+        ansi(&mut s, event::DisableFocusChange);
+    }
+    ansi(&mut s, cursor::Show);
+    ansi(&mut s, style::ResetColor);
+    ansi(&mut s, terminal::LeaveAlternateScreen);
+    s
+}
+
+fn ansi(s: &mut String, command: impl Command) {
+    // Writing into a String cannot fail.
+    let _ = command.write_ansi(s);
+}
+
+/// What is enabled on the terminal right now (`None`: the terminal is in its normal state).
+/// Held while writing a frame and while restoring, so the two never interleave.
+static ACTIVE: Mutex<Option<Enabled>> = Mutex::new(None);
+
+/// The global state, whether or not a panic poisoned the lock (the state is a plain value, always valid).
+fn active() -> MutexGuard<'static, Option<Enabled>> {
+    ACTIVE.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Restores the terminal if a guard has it in game mode; does nothing otherwise. Idempotent, callable
+/// from any thread (the signal thread, the panic hook, `Drop`).
+///
+/// # Errors
+/// Writing the restore sequence or leaving raw mode failed (e.g. the terminal is gone after SIGHUP).
+/// The state is marked restored anyway: there is nothing more to try.
+pub fn restore_terminal() -> io::Result<()> {
+    restore_locked(&mut active())
+}
+
+fn restore_locked(active: &mut Option<Enabled>) -> io::Result<()> {
+    let Some(enabled) = active.take() else { return Ok(()) };
+    let mut stdout = io::stdout().lock();
+    let written = stdout.write_all(restore_sequence(enabled).as_bytes()).and_then(|()| stdout.flush());
+    let raw_off = terminal::disable_raw_mode();
+    written.and(raw_off)
+}
+
+/// Raw mode, alternate screen and friends for as long as it lives; see the [module docs](self).
+///
+/// ```no_run
+/// use mazewalk::term::guard::{GuardOptions, TerminalGuard};
+///
+/// let guard = TerminalGuard::enter(GuardOptions::default())?;
+/// if !guard.enabled().reports_key_releases() {
+///     // time out held keys instead
+/// }
+/// guard.write_frame(b"\x1b[Hhello")?;
+/// drop(guard); // the terminal is back to normal
+/// # Ok::<(), std::io::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct TerminalGuard {
+    enabled: Enabled,
+}
+
+impl TerminalGuard {
+    /// Enters game mode with `options`; returns the guard, whose [`enabled`](Self::enabled) tells what
+    /// the terminal accepted. Installs the panic hook (and the signal thread) on first use.
+    ///
+    /// # Errors
+    /// Another guard is active (`AlreadyExists`), the signal handler could not be installed, or the
+    /// terminal refused raw mode or a write (then whatever was enabled is restored first).
+    pub fn enter(options: GuardOptions) -> io::Result<TerminalGuard> {
+        install_panic_hook();
+        if options.handle_signals {
+            install_signal_handler()?;
+        }
+        let mut active = active();
+        if active.is_some() {
+            return Err(io::Error::new(io::ErrorKind::AlreadyExists, "the terminal is already in game mode"));
+        }
+        terminal::enable_raw_mode()?;
+        // The query needs raw mode (it reads the terminal's answer); a terminal that doesn't answer the
+        // kitty query still answers the device-attributes query that follows it, so this won't hang.
+        let keyboard_enhancement =
+            options.keyboard_enhancement && terminal::supports_keyboard_enhancement().unwrap_or(false);
+        let enabled =
+            Enabled { mouse: options.mouse, focus_events: options.focus_events, keyboard_enhancement };
+        enter_locked(&mut active, enabled)?;
+        Ok(TerminalGuard { enabled })
+    }
+
+    /// What is enabled (e.g. whether key releases are reported).
+    #[must_use]
+    pub fn enabled(&self) -> Enabled {
+        self.enabled
+    }
+
+    /// Writes one encoded frame to the terminal and flushes, unless the terminal was restored meanwhile
+    /// (a signal arrived): then nothing is written.
+    ///
+    /// # Errors
+    /// The write failed (the terminal is gone).
+    pub fn write_frame(&self, bytes: &[u8]) -> io::Result<()> {
+        let active = active();
+        if active.is_none() || bytes.is_empty() {
+            return Ok(());
+        }
+        let mut stdout = io::stdout().lock();
+        stdout.write_all(bytes)?;
+        stdout.flush()
+    }
+
+    /// Restores the terminal now (as `Drop` would); idempotent.
+    ///
+    /// # Errors
+    /// See [`restore_terminal`].
+    pub fn restore(&mut self) -> io::Result<()> {
+        restore_terminal()
+    }
+
+    /// Ctrl-Z: restores the terminal, stops the process (SIGTSTP) and, once continued (SIGCONT),
+    /// enters game mode again and invalidates `encoder` so the next frame is a full paint. The app
+    /// should re-read the terminal size afterwards ([`size`]); it may have changed meanwhile.
+    /// Elsewhere than Unix there is no job control: this only invalidates the encoder.
+    ///
+    /// # Errors
+    /// Restoring, stopping or re-entering failed.
+    pub fn suspend(&mut self, encoder: &mut Encoder) -> io::Result<()> {
+        #[cfg(unix)]
+        {
+            restore_terminal()?;
+            // The default action stops us; `raise` returns after SIGCONT. (An orphaned process group
+            // ignores SIGTSTP: then it returns at once, and we simply carry on.)
+            signal_hook::low_level::raise(signal_hook::consts::SIGTSTP)?;
+            let mut active = active();
+            if active.is_none() {
+                terminal::enable_raw_mode()?;
+                enter_locked(&mut active, self.enabled)?;
+            }
+        }
+        encoder.invalidate();
+        Ok(())
+    }
+}
+
+impl Drop for TerminalGuard {
+    fn drop(&mut self) {
+        let _ = restore_terminal(); // nothing better to do with an error while dropping
+    }
+}
+
+/// With raw mode on: marks `enabled` active, then writes the enter sequence (restoring on failure).
+fn enter_locked(active: &mut Option<Enabled>, enabled: Enabled) -> io::Result<()> {
+    // Marked before writing, so a failure half-way is restored in full.
+    *active = Some(enabled);
+    let mut stdout = io::stdout().lock();
+    let written = stdout.write_all(enter_sequence(enabled).as_bytes()).and_then(|()| stdout.flush());
+    drop(stdout);
+    if let Err(e) = written {
+        let _ = restore_locked(active);
+        return Err(e);
+    }
+    Ok(())
+}
+
+/// The terminal size in (columns, rows).
+///
+/// # Errors
+/// There is no terminal to ask.
+pub fn size() -> io::Result<(u16, u16)> {
+    terminal::size()
+}
+
+/// Restores the terminal before the panic message prints (else it would vanish with the alternate
+/// screen, in raw mode). Installed once, chained to the previous hook.
+fn install_panic_hook() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            match ACTIVE.try_lock() {
+                Ok(mut active) => drop(restore_locked(&mut active)),
+                Err(TryLockError::Poisoned(p)) => drop(restore_locked(&mut p.into_inner())),
+                // Held by another thread (restoring already) or by this one mid-write: the guard's
+                // `Drop` restores during unwinding, once the lock is released.
+                Err(TryLockError::WouldBlock) => {}
+            }
+            previous(info);
+        }));
+    });
+}
+
+/// Exit status for death by `signal`, as shells report it.
+#[must_use]
+pub fn exit_code_for_signal(signal: i32) -> i32 {
+    128 + signal
+}
+
+/// SIGTERM, SIGHUP, SIGINT: restore the terminal, exit with 128 + signo. A thread waits on
+/// `signal_hook::iterator::Signals`, so the restore runs in normal (not signal-handler) context.
+#[cfg(unix)]
+fn install_signal_handler() -> io::Result<()> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    static INSTALLED: Mutex<bool> = Mutex::new(false);
+    let mut installed = INSTALLED.lock().unwrap_or_else(PoisonError::into_inner);
+    if *installed {
+        return Ok(());
+    }
+    let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP, SIGINT])?;
+    std::thread::Builder::new().name("mazewalk-signals".into()).spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            // Keep the lock until exit: no frame may be written after the restore.
+            let mut active = active();
+            let _ = restore_locked(&mut active);
+            std::process::exit(exit_code_for_signal(signal));
+        }
+    })?;
+    *installed = true;
+    Ok(())
+}
+
+#[cfg(not(unix))]
+fn install_signal_handler() -> io::Result<()> {
+    Ok(()) // no POSIX signals; crossterm reports Ctrl-C as a key in raw mode
+}
+
+/// Human-readable escape sequence, for test messages.
+#[cfg(test)]
+fn visible(s: &str) -> String {
+    s.replace('\x1b', "ESC")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ALL: Enabled = Enabled { mouse: true, focus_events: true, keyboard_enhancement: true };
+
+    /// Asserts `haystack` contains each of `needles`, in that order.
+    fn assert_in_order(haystack: &str, needles: &[&str]) {
+        let mut from = 0;
+        for needle in needles {
+            let Some(at) = haystack[from..].find(needle) else {
+                panic!("{} not found in order in {}", visible(needle), visible(haystack));
+            };
+            from += at + needle.len();
+        }
+    }
+
+    #[test]
+    fn restore_undoes_everything_in_reverse_order() {
+        let restore = restore_sequence(ALL);
+        assert_in_order(
+            &restore,
+            &[
+                "\x1b[?2026l", // a frame cut short by a panic or signal is ended first
+                "\x1b[<1u",    // keyboard flags popped while still on the alternate screen
+                "\x1b[?1000l", // mouse off
+                "\x1b[?1004l", // focus events off
+                "\x1b[?25h",   // cursor shown
+                "\x1b[0m",     // colours reset
+                "\x1b[?1049l", // main screen back
+            ],
+        );
+    }
+
+    #[test]
+    fn restore_only_undoes_what_was_enabled() {
+        let restore = restore_sequence(Enabled::default());
+        assert!(!restore.contains("\x1b[<"), "{}", visible(&restore));
+        assert!(!restore.contains("\x1b[?1000l"));
+        assert_in_order(&restore, &["\x1b[?25h", "\x1b[0m", "\x1b[?1049l"]);
+    }
+
+    #[test]
+    fn enter_pushes_keyboard_flags_last_on_the_alternate_screen() {
+        let enter = enter_sequence(ALL);
+        // REPORT_EVENT_TYPES (2) | DISAMBIGUATE_ESCAPE_CODES (1) = 3.
+        assert_in_order(
+            &enter,
+            &["\x1b[?1049h", "\x1b[?25l", "\x1b[?2004l", "\x1b[?1000h", "\x1b[?1004h", "\x1b[>3u"],
+        );
+        let plain = enter_sequence(Enabled::default());
+        assert!(!plain.contains("\x1b[>") && !plain.contains("\x1b[?1000h"), "{}", visible(&plain));
+    }
+
+    #[test]
+    fn restoring_an_inactive_terminal_does_nothing() {
+        // No guard is active in tests (no tty): the shared restore path is a no-op, twice.
+        assert!(active().is_none());
+        restore_terminal().unwrap();
+        restore_terminal().unwrap();
+    }
+
+    #[test]
+    fn signals_exit_as_shells_report_them() {
+        assert_eq!(exit_code_for_signal(1), 129); // SIGHUP
+        assert_eq!(exit_code_for_signal(2), 130); // SIGINT
+        assert_eq!(exit_code_for_signal(15), 143); // SIGTERM
+    }
+}

@@ -1,0 +1,313 @@
+//! The frame encoder checked by a real terminal emulator: its bytes, fed to `vt100`, must reproduce the
+//! intended frame cell for cell (glyph, foreground, background), over random sequences of frames.
+
+use mazewalk::frame::{Cell, Color, Frame};
+use mazewalk::term::encoder::{Encoder, full_repaint};
+use proptest::prelude::*;
+
+/// Glyphs the encoder meets: blanks (often, so tails and gaps happen), ASCII, shades, box drawing, a
+/// sextant. All one column wide, as the `Frame` guarantees.
+const GLYPHS: &[char] = &[' ', ' ', ' ', 'a', '#', '.', '█', '▓', '░', '─', '│', '┼', '🬀', 'é'];
+
+/// Asserts the emulated screen shows `frame`: same glyph and background everywhere, same foreground
+/// wherever the glyph is not a space (a space shows no foreground, so the encoder doesn't send it).
+fn assert_screen_shows(parser: &vt100::Parser, frame: &Frame, context: impl Fn() -> String) {
+    let screen = parser.screen();
+    for y in 0..frame.height() {
+        for x in 0..frame.width() {
+            let want = frame.get(x, y).unwrap();
+            let got = screen.cell(y as u16, x as u16).unwrap();
+            let got_ch = got.contents().chars().next().unwrap_or(' '); // erased cells are empty
+            let fg_ok = want.ch == ' ' || got.fgcolor() == vt_color(want.fg);
+            if got_ch != want.ch || got.bgcolor() != vt_color(want.bg) || !fg_ok {
+                panic!(
+                    "cell ({x}, {y}) {}\nwant {want:?}\ngot  {got_ch:?} fg {:?} bg {:?}\n\
+                     want lines {:?}\ngot screen\n{}",
+                    context(),
+                    got.fgcolor(),
+                    got.bgcolor(),
+                    frame.lines(),
+                    screen.contents()
+                );
+            }
+        }
+    }
+}
+
+/// An emulated terminal of `width × height` cells, no scrollback.
+fn terminal(width: usize, height: usize) -> vt100::Parser {
+    vt100::Parser::new(nonzero(height), nonzero(width), 0)
+}
+
+/// Resizes the emulated terminal to the frame's size, as the real one would have been.
+fn resize(parser: &mut vt100::Parser, width: usize, height: usize) {
+    if parser.screen().size() != (nonzero(height), nonzero(width)) {
+        parser.set_size(nonzero(height), nonzero(width));
+    }
+}
+
+fn nonzero(n: usize) -> std::num::NonZeroU16 {
+    std::num::NonZeroU16::new(u16::try_from(n).unwrap()).expect("frames in these tests are never empty")
+}
+
+fn vt_color(color: Color) -> vt100::Color {
+    match color {
+        Color::Default => vt100::Color::Default,
+        Color::Indexed(n) => vt100::Color::Idx(n),
+        Color::Rgb(r, g, b) => vt100::Color::Rgb(r, g, b),
+    }
+}
+
+fn arb_color() -> impl Strategy<Value = Color> {
+    prop_oneof![
+        2 => Just(Color::Default),
+        2 => (0u8..16).prop_map(Color::Indexed),
+        1 => any::<u8>().prop_map(Color::Indexed),
+        2 => (any::<u8>(), any::<u8>(), any::<u8>()).prop_map(|(r, g, b)| Color::Rgb(r, g, b)),
+    ]
+}
+
+/// A small palette per sequence, so that colours repeat (runs, unchanged gaps, equal backgrounds).
+fn arb_palette() -> impl Strategy<Value = Vec<Color>> {
+    prop::collection::vec(arb_color(), 1..5)
+}
+
+fn arb_cell(palette: Vec<Color>) -> impl Strategy<Value = Cell> + Clone {
+    let n = palette.len();
+    (prop::sample::select(GLYPHS), 0..n, 0..n).prop_map(move |(ch, fg, bg)| Cell {
+        ch,
+        fg: palette[fg],
+        bg: palette[bg],
+    })
+}
+
+fn arb_size() -> impl Strategy<Value = (usize, usize)> {
+    prop_oneof![3 => (1usize..=12, 1usize..=6), 1 => (1usize..=40, 1usize..=12)]
+}
+
+/// A frame of random cells from `palette`.
+fn arb_frame(palette: Vec<Color>) -> impl Strategy<Value = Frame> {
+    arb_size().prop_flat_map(move |(w, h)| {
+        prop::collection::vec(arb_cell(palette.clone()), w * h).prop_map(move |cells| {
+            let mut frame = Frame::new(w, h);
+            frame.cells_mut().copy_from_slice(&cells);
+            frame
+        })
+    })
+}
+
+/// One step from a frame to the next.
+#[derive(Clone, Debug)]
+enum Step {
+    /// A few cells change (positions taken modulo the size).
+    Cells(Vec<(usize, usize, Cell)>),
+    /// A rectangle is filled with one cell.
+    Rect { x: usize, y: usize, w: usize, h: usize, cell: Cell },
+    /// Row `y` from column `x` becomes blanks with background `bg`.
+    BlankTail { x: usize, y: usize, bg: Color },
+    /// Nothing changes.
+    Same,
+    /// A new frame of another size (the emulated terminal is resized too).
+    Resize(Frame),
+    /// Someone scribbled on the terminal (resume from Ctrl-Z): the encoder is told to invalidate.
+    Invalidate,
+}
+
+fn arb_step(palette: Vec<Color>) -> impl Strategy<Value = Step> {
+    let cell = arb_cell(palette.clone());
+    let color = prop::sample::select(palette.clone());
+    prop_oneof![
+        4 => prop::collection::vec((0usize..64, 0usize..16, cell.clone()), 1..8).prop_map(Step::Cells),
+        2 => (0usize..40, 0usize..12, 1usize..40, 1usize..12, cell)
+            .prop_map(|(x, y, w, h, cell)| Step::Rect { x, y, w, h, cell }),
+        2 => (0usize..40, 0usize..12, color).prop_map(|(x, y, bg)| Step::BlankTail { x, y, bg }),
+        1 => Just(Step::Same),
+        1 => arb_frame(palette).prop_map(Step::Resize),
+        1 => Just(Step::Invalidate),
+    ]
+}
+
+/// A first frame and the steps that follow it, all from one palette.
+fn arb_frame_sequence() -> impl Strategy<Value = (Frame, Vec<Step>)> {
+    arb_palette().prop_flat_map(|palette| {
+        (arb_frame(palette.clone()), prop::collection::vec(arb_step(palette), 1..12))
+    })
+}
+
+/// Applies a step; returns whether the encoder must be invalidated.
+fn apply(frame: &mut Frame, step: &Step) -> bool {
+    let (w, h) = (frame.width(), frame.height());
+    match step {
+        Step::Cells(cells) => cells.iter().for_each(|&(x, y, cell)| frame.set(x % w, y % h, cell)),
+        Step::Rect { x, y, w: rw, h: rh, cell } => {
+            for yy in y % h..(y % h + rh).min(h) {
+                for xx in x % w..(x % w + rw).min(w) {
+                    frame.set(xx, yy, *cell);
+                }
+            }
+        }
+        Step::BlankTail { x, y, bg } => {
+            for xx in x % w..w {
+                frame.set(xx, y % h, Cell { ch: ' ', fg: Color::Default, bg: *bg });
+            }
+        }
+        Step::Same => {}
+        Step::Resize(next) => frame.clone_from(next),
+        Step::Invalidate => return true,
+    }
+    false
+}
+
+fn same_look(a: &Frame, b: &Frame) -> bool {
+    a.width() == b.width()
+        && a.height() == b.height()
+        && a.cells().iter().zip(b.cells()).all(|(a, b)| mazewalk::term::encoder::same_look(a, b))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: ProptestConfig::default().cases.max(1000), ..Default::default() })]
+
+    #[test]
+    fn the_emulated_screen_always_shows_the_last_frame((first, steps) in arb_frame_sequence(), bce in any::<bool>()) {
+        let mut encoder = Encoder::new();
+        encoder.set_bce(bce);
+        let mut parser = terminal(first.width(), first.height());
+        // The terminal starts with junk on it and odd colours set.
+        parser.process(b"\x1b[1;1Hjunk\x1b[31;42mmore junk\x1b[7;3H");
+        let mut frame = first.clone();
+        let mut prev: Option<Frame> = None;
+        let mut out = Vec::new();
+        for (i, step) in std::iter::once(&Step::Same).chain(&steps).enumerate() {
+            let invalidate = apply(&mut frame, step);
+            if invalidate {
+                encoder.invalidate();
+                parser.process(b"\x1b[H\x1b[2;33;44mscribble\x1b[4;4Hhere");
+            }
+            resize(&mut parser, frame.width(), frame.height());
+            out.clear();
+            let lower_bound = encoder.lower_bound(&frame);
+            let stats = encoder.encode(&frame, &mut out);
+            prop_assert_eq!(stats.bytes, out.len());
+            prop_assert!(lower_bound <= out.len(), "lower bound {} > {} bytes", lower_bound, out.len());
+            prop_assert!(std::str::from_utf8(&out).is_ok());
+            let unchanged = !invalidate && prev.as_ref().is_some_and(|p| same_look(p, &frame));
+            if unchanged {
+                prop_assert!(out.is_empty(), "unchanged frame sent {:?}", String::from_utf8_lossy(&out));
+                prop_assert_eq!(stats.cells_changed, 0);
+            }
+            parser.process(&out);
+            assert_screen_shows(&parser, &frame, || format!("after step {i} {step:?}\nbytes {:?}", String::from_utf8_lossy(&out)));
+            prev = Some(frame.clone());
+        }
+    }
+}
+
+/// A maze-like truecolor scene: ceiling and floor gradients, a wall band with shaded glyphs, a HUD line.
+fn scene(width: usize, height: usize, shift: usize) -> Frame {
+    let mut frame = Frame::new(width, height);
+    for y in 0..height {
+        for x in 0..width {
+            let t = (y * 255 / height.max(1)) as u8;
+            let wall = (x + shift) % 40 < 24 && y > height / 4 && y < height * 3 / 4;
+            let cell = if wall {
+                let shade = (((x + shift) % 40) * 6) as u8;
+                Cell {
+                    ch: ['█', '▓', '▒', '░'][(x + shift) % 4],
+                    fg: Color::Rgb(200 - shade, 180 - shade, 120),
+                    bg: Color::Rgb(40, 30, 20),
+                }
+            } else if y < height / 2 {
+                Cell { ch: ' ', fg: Color::Default, bg: Color::Rgb(10, 10, 30 + t / 4) }
+            } else {
+                Cell { ch: '.', fg: Color::Rgb(90, 90, 90), bg: Color::Rgb(t / 3, t / 3, t / 3) }
+            };
+            frame.set(x, y, cell);
+        }
+    }
+    frame.put_str(0, height - 1, "pos 12.5,3.0  fps 60", Color::Indexed(15), Color::Default);
+    frame
+}
+
+#[test]
+fn an_unchanged_frame_costs_nothing_and_one_cell_a_handful_of_bytes() {
+    let mut encoder = Encoder::new();
+    let mut out = Vec::new();
+    let mut frame = scene(160, 48, 0);
+    encoder.encode(&frame, &mut out);
+    out.clear();
+    assert_eq!(encoder.encode(&frame, &mut out).bytes, 0);
+    assert!(out.is_empty());
+    frame.set(100, 30, Cell { ch: 'x', fg: Color::Rgb(255, 0, 0), bg: Color::Rgb(1, 2, 3) });
+    let stats = encoder.encode(&frame, &mut out);
+    assert_eq!(stats.cells_changed, 1);
+    // 16 bytes of sync markers, ~8 of cursor move, ~30 for two truecolor SGRs, 1 glyph.
+    assert!(out.len() < 64, "{} bytes: {:?}", out.len(), String::from_utf8_lossy(&out));
+    // The same in the default colours: move + glyph inside the sync markers.
+    frame.set(100, 30, Cell::plain('y'));
+    let mut encoder = Encoder::new();
+    encoder.encode(&Frame::new(160, 48), &mut out);
+    out.clear();
+    let mut plain = Frame::new(160, 48);
+    plain.set(100, 30, Cell::plain('y'));
+    encoder.encode(&plain, &mut out);
+    assert_eq!(out, b"\x1b[?2026h\x1b[31;101Hy\x1b[?2026l");
+    assert!(out.len() < 40);
+}
+
+#[test]
+fn the_last_row_never_gets_a_line_feed() {
+    // Changes on the last two rows, in column 0: "\r\n" would be cheapest if it were allowed to scroll.
+    let mut encoder = Encoder::new();
+    let mut out = Vec::new();
+    let mut frame = Frame::new(5, 2);
+    encoder.encode(&frame, &mut out);
+    let mut parser = terminal(5, 2);
+    parser.process(&out);
+    for step in 0..6 {
+        frame.set(0, step % 2, Cell::plain(char::from(b'a' + step as u8)));
+        frame.set(4, 1, Cell::plain('z'));
+        out.clear();
+        encoder.encode(&frame, &mut out);
+        parser.process(&out);
+        assert_screen_shows(&parser, &frame, || format!("step {step}"));
+    }
+}
+
+#[test]
+fn report_bytes_for_typical_scenarios() {
+    let (w, h) = (160, 48);
+    let mut out = Vec::new();
+    let first = scene(w, h, 0);
+    let mut naive = Vec::new();
+    full_repaint(&first, &mut naive);
+    let mut encoder = Encoder::new();
+    let full = encoder.encode(&first, &mut out).bytes;
+    let mut parser = terminal(w, h);
+    parser.process(&out);
+    assert_screen_shows(&parser, &first, || "full paint".into());
+    out.clear();
+    let turned = scene(w, h, 1);
+    let turn_bound = encoder.lower_bound(&turned);
+    let turn = encoder.encode(&turned, &mut out).bytes;
+    parser.process(&out);
+    assert_screen_shows(&parser, &turned, || "turn".into());
+    out.clear();
+    let none = encoder.encode(&turned, &mut out).bytes;
+    let mut hud = turned.clone();
+    hud.put_str(18, h - 1, "59", Color::Indexed(15), Color::Default);
+    out.clear();
+    let hud_bytes = encoder.encode(&hud, &mut out).bytes;
+    let mut one = hud.clone();
+    one.set(100, 30, Cell { ch: 'x', fg: Color::Rgb(255, 0, 0), bg: Color::Rgb(1, 2, 3) });
+    out.clear();
+    let one_cell = encoder.encode(&one, &mut out).bytes;
+    let one_cell_text = String::from_utf8_lossy(&out).replace('\x1b', "ESC");
+    eprintln!(
+        "160x48 truecolor scene: full paint {full} B (naive every-cell SGR {} B); \
+         everything shifts one column {turn} B (glyph lower bound {turn_bound} B); \
+         HUD digits change {hud_bytes} B; one truecolor cell {one_cell} B ({one_cell_text}); no change {none} B",
+        naive.len()
+    );
+    assert!(full < naive.len() / 2);
+    assert_eq!(none, 0);
+}
