@@ -31,7 +31,9 @@ mod validate;
 use glam::{DVec2, Vec2, Vec3};
 
 use index::SpatialGrid;
-pub use load::{Format, LoadError, ParseError, ParseErrorKind, WriteError, detect_format, load, parse, write};
+pub use load::{
+    Format, LoadError, ParseError, ParseErrorKind, WriteError, detect_format, load, parse, write,
+};
 
 /// Index of a vertex in [`Maze::vertices`].
 pub type VertexId = u32;
@@ -322,7 +324,9 @@ impl MazeError {
             | CellNotClosed { cell, .. }
             | CellNotConvex { cell, .. }
             | CellClockwise { cell } => Subject::Cell(cell),
-            ViewerNotFinite | ViewerHeight { .. } | ViewerFov { .. } | ViewerOutside { .. } => Subject::Viewer,
+            ViewerNotFinite | ViewerHeight { .. } | ViewerFov { .. } | ViewerOutside { .. } => {
+                Subject::Viewer
+            }
             ExitCellOutOfRange { .. } | ExitOutside { .. } | ExitPointOutside { .. } => Subject::Exit,
         }
     }
@@ -343,7 +347,8 @@ impl Maze {
     ) -> Result<Maze, MazeError> {
         validate::structure(&vertices, &edges, &cells)?;
         let extents = vertices.iter().fold(Aabb::EMPTY, |b, &v| b.union_point(v));
-        let cell_index = SpatialGrid::build(cells.len(), extents, |c| cell_aabb(&vertices, &edges, &cells, c));
+        let cell_index =
+            SpatialGrid::build(cells.len(), extents, |c| cell_aabb(&vertices, &edges, &cells, c));
         let maze = Maze { vertices, edges, cells, viewer, exit, extents, cell_index };
         validate::no_crossings(&maze)?;
         validate::viewer_and_exit(&maze)?;
@@ -463,6 +468,12 @@ impl Maze {
             return None;
         }
         self.cell_index.query(p).iter().copied().find(|&c| self.cell_contains(c, p))
+    }
+
+    /// The cell containing `p` (same as [`Maze::cell_at`]; the name the brief uses).
+    #[must_use]
+    pub fn cell_containing(&self, p: Vec2) -> Option<CellId> {
+        self.cell_at(p)
     }
 
     /// Like [`Maze::cell_at`], trying `hint` and its neighbours first (for a point that moved a little).

@@ -20,7 +20,7 @@ use glam::{Vec2, Vec3, vec2};
 
 use super::load::{Loc, RecordLocs, is_space};
 use super::{
-    CellId, Cells, Edge, Exit, MazeError, Format, Maze, ParseError, ParseErrorKind, Viewer, WriteError,
+    CellId, Cells, Edge, Exit, Format, Maze, MazeError, ParseError, ParseErrorKind, Viewer, WriteError,
 };
 
 /// Edge slots per cell record.
@@ -91,7 +91,9 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
         Some(Exit { point: Some(p), .. }) if exit_point_cell => {
             let Some(cell) = maze.cell_at(p) else {
                 let loc = locs.exit.unwrap_or(locs.viewer);
-                return Err(loc.error(file, ParseErrorKind::Invalid(MazeError::ExitOutside { x: p.x, y: p.y })));
+                return Err(
+                    loc.error(file, ParseErrorKind::Invalid(MazeError::ExitOutside { x: p.x, y: p.y }))
+                );
             };
             Ok(Maze { exit: Some(Exit { cell, point: Some(p) }), ..maze })
         }
@@ -205,7 +207,8 @@ impl<'a> Reader<'a> {
 
     fn integer(&mut self, what: &str) -> Result<(i64, Loc), ParseError> {
         let (tok, loc) = self.token(what)?;
-        let value = tok.parse::<i64>().map_err(|_| self.expected(loc, &format!("an integer ({what})"), tok))?;
+        let value =
+            tok.parse::<i64>().map_err(|_| self.expected(loc, &format!("an integer ({what})"), tok))?;
         Ok((value, loc))
     }
 
@@ -218,7 +221,9 @@ impl<'a> Reader<'a> {
         // each token takes at least one character and one separator
         let room = ((self.text.len() - self.pos) / (2 * tokens)) as u64 + 1;
         if n as u64 > room {
-            return Err(loc.error(self.file, ParseErrorKind::CountTooLarge { what: plural, count: n as u64, room }));
+            return Err(
+                loc.error(self.file, ParseErrorKind::CountTooLarge { what: plural, count: n as u64, room })
+            );
         }
         Ok(n as usize)
     }
@@ -229,7 +234,12 @@ impl<'a> Reader<'a> {
         match n {
             -1 if may_be_none => Ok(None),
             0..=0xFFFF_FFFE => Ok(Some(n as u32)),
-            _ => Err(self.out_of_range(loc, what, n, if may_be_none { "-1 or 0..2^32-1" } else { "0..2^32-1" })),
+            _ => Err(self.out_of_range(
+                loc,
+                what,
+                n,
+                if may_be_none { "-1 or 0..2^32-1" } else { "0..2^32-1" },
+            )),
         }
     }
 
@@ -254,7 +264,9 @@ impl<'a> Reader<'a> {
         let (tok, loc) = self.token(what)?;
         let value = tok.parse::<f32>().map_err(|_| self.expected(loc, &format!("a number ({what})"), tok))?;
         if !value.is_finite() {
-            return Err(loc.error(self.file, ParseErrorKind::NotFinite { what: what.into(), value: tok.into() }));
+            return Err(
+                loc.error(self.file, ParseErrorKind::NotFinite { what: what.into(), value: tok.into() })
+            );
         }
         Ok(value)
     }

@@ -1,503 +1,565 @@
-//! The grid format: a maze drawn as text, one character per square tile.
+//! The grid format: a maze drawn in a text editor, one character per square tile.
 //!
 //! ```text
 //! mazewalk-grid 1
-//! ; a comment: lines starting with `;` before the map are ignored
-//! tile = 4
-//! fov = 90
+//! tile 4
+//! facing north
 //! A = #cc8844
-//! B = 0.2 0.4 0.9
-//! #########
-//! #>..A...#
-//! #.#.A.#.#
-//! #.#...#E#
-//! ###BBB###
+//!
+//! ##########
+//! #@..#...E#
+//! #.#.A.##.#
+//! #...A....#
+//! ##########
 //! ```
 //!
-//! - The first line is `mazewalk-grid 1` (the format's version).
-//! - Then, before the map, any number of `NAME = VALUE` lines (blank and `;` comment lines allowed):
-//!   - `tile = 4` — the side of a tile in maze units (default 4, the original's cell size);
-//!   - `fov = 90` — horizontal field of view in degrees (default 90);
-//!   - `eye = 0` — eye height, strictly between the floor (-1) and ceiling (+1) (default 0);
-//!   - `dir = 90` — heading of an `@` start, degrees counter-clockwise from east (default 0);
-//!   - a single character and a colour, `A = #cc8844` or `A = 0.8 0.5 0.3` (RGB in 0..1) — a legend:
-//!     `A` tiles are walls of that colour. `# = …` recolours the default walls (grey 0.6).
-//! - The map is every line after that; north is up, the first map line's top-left corner is at
-//!   x = 0, y = (rows) × tile. Characters:
-//!   - `#` or a legend character: a wall tile;
-//!   - `.` or space: open floor;
-//!   - `>` `^` `<` `v`: the start, facing east, north, west, south; `@`: the start facing `dir`;
-//!   - `E`: the exit (open floor).
+//! * Line 1 is `mazewalk-grid 1` (the format and its version).
+//! * Settings follow, one per line, each optional: `tile SIDE` (tile side in maze units, default 4),
+//!   `facing east|north|west|south` (the `@` start's heading, default east), `eye Z` (eye height,
+//!   default 0, strictly between the floor -1 and the ceiling +1), `fov DEG` (horizontal field of
+//!   view, default 90), and colour legend lines `L = #rrggbb` giving wall letter `L` (`A`–`Z` but `E`)
+//!   a colour; `# = #rrggbb` recolours `#` (default `#808080`). Blank lines are skipped.
+//! * The map starts at the first other line and runs to the end of the file. Every character is a
+//!   tile; the top line is north (+y), the map's lower-left corner is the origin.
+//!   - `#` or a legend letter: a solid wall tile of that colour;
+//!   - space or `.`: open floor;
+//!   - `@`: the start, facing as `facing` says; or an arrow `>` `^` `<` `v` (east, north, west, south)
+//!     instead of `@`; exactly one start, at its tile's centre;
+//!   - `E`: the exit (open floor; at most one).
 //!
-//!   Short rows are padded with walls; so is everything outside the map.
-//! - Each open tile becomes one square cell, numbered row by row from the top-left. A side between
-//!   two open tiles is a portal; a side between an open tile and a wall tile (or the outside) is an
-//!   opaque wall with the wall tile's colour (the default colour outside the map). Nothing is merged.
+//!   Rows may differ in length: past a row's end there is nothing (outside).
+//! * Each open tile is one square cell (numbered row by row from the bottom, west to east). The side
+//!   between two open tiles is a portal; between an open tile and a wall tile an opaque wall of the
+//!   wall tile's colour; between an open tile and the outside an opaque wall coloured as `#`.
 //!
-//! [`write`] writes any maze that this reader would produce — square tiles on the lattice, whole-tile
-//! walls, the viewer at a tile centre — and says why not for any other.
+//! [`write`] expresses a maze in this format when it is made of such tiles (e.g. one read from a grid
+//! file or made by [`generate_grid`](super::generate::generate_grid)); otherwise it says why not.
 
 use std::fmt::Write as _;
 
-use glam::{Vec3, vec2, vec3};
+use glam::{Vec3, vec2};
 
-use super::load::{Loc, RecordLocs};
+use super::load::{Loc, is_space};
 use super::{
-    CellId, Cells, Edge, EdgeId, Exit, Format, Maze, MazeError, ParseError, ParseErrorKind, VertexId, Viewer,
-    WriteError,
+    CellId, Cells, Edge, EdgeId, Exit, Format, Maze, ParseError, ParseErrorKind, VertexId, Viewer, WriteError,
 };
 
 /// The first word of a grid file.
 pub const MAGIC: &str = "mazewalk-grid";
-/// The format version this reader reads and the writer writes.
+/// The format version this reader and writer speak.
 pub const VERSION: u32 = 1;
-/// Colour of `#` walls and the outside, unless the legend says otherwise.
-pub const DEFAULT_WALL: Vec3 = vec3(0.6, 0.6, 0.6);
-/// Tile side when the file does not say.
-pub const DEFAULT_TILE: f32 = 4.0;
-/// Legend characters the writer hands out, in order.
-const LEGEND_POOL: &str = "ABCDFGHIJKLMNOPQRSTUWXYZabcdefghijklmnopqrstuwxyz0123456789%&*+";
-/// Characters with a fixed meaning, never legend names.
-const RESERVED: &str = " .@<>^vE;=";
+/// The colour of `#` walls and of the outside unless the legend says otherwise (`#808080`).
+pub const DEFAULT_WALL: Vec3 = Vec3::splat(128.0 / 255.0);
+/// Most tiles in a map (2048 × 2048), so a 1000 × 1000 generated maze fits.
+pub const MAX_TILES: usize = 2048 * 2048;
 
-/// One tile of a [`TileMap`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Tile {
-    /// Floor: one cell.
-    Open,
-    /// A wall tile of colour `colors[i]`.
-    Wall(u16),
-}
-
-/// A tile map: the grid format's content, before it becomes a [`Maze`].
+/// A parsed grid map: settings plus the tile characters, before it becomes a [`Maze`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct TileMap {
-    /// Tiles per row.
-    pub width: usize,
-    /// Rows.
-    pub height: usize,
     /// Tile side, maze units.
-    pub tile_size: f32,
-    /// Row-major, row 0 at the top (north).
-    pub tiles: Vec<Tile>,
-    /// Wall colours; `colors[0]` is also the outside's.
-    pub colors: Vec<Vec3>,
-    /// The start tile (column, row).
-    pub start: (usize, usize),
-    /// The start heading, degrees.
-    pub dir_deg: f32,
+    pub tile: f32,
     /// Eye height.
     pub eye: f32,
     /// Horizontal field of view, degrees.
     pub fov_deg: f32,
-    /// The exit tile (column, row).
-    pub exit: Option<(usize, usize)>,
+    /// The `facing` setting, degrees counter-clockwise from +x (`None` = east).
+    pub facing_deg: Option<f32>,
+    /// Wall letters and their colours.
+    pub legend: Vec<(u8, Vec3)>,
+    /// Tiles across.
+    pub cols: usize,
+    /// Tiles down.
+    pub rows: usize,
+    /// Tile characters, top row first; `0` = outside (past the end of a short row).
+    pub tiles: Vec<u8>,
 }
 
 impl TileMap {
-    fn open(&self, col: usize, row: usize) -> bool {
-        self.tiles[row * self.width + col] == Tile::Open
+    /// The letters a legend may define, in the order the writer hands them out.
+    pub const LEGEND_LETTERS: &'static [u8] = b"ABCDFGHIJKLMNOPQRSTUVWXYZ";
+
+    /// The tile at column `x`, `y` rows up from the bottom; `0` outside the map.
+    fn at(&self, x: i64, y: i64) -> u8 {
+        if x < 0 || y < 0 || x >= self.cols as i64 || y >= self.rows as i64 {
+            return 0;
+        }
+        self.tiles[(self.rows - 1 - y as usize) * self.cols + x as usize]
     }
 
-    /// The maze: one square cell per open tile (see the module docs for the numbering).
-    pub fn to_maze(&self) -> Result<Maze, MazeError> {
-        let (w, h, s) = (self.width, self.height, self.tile_size);
-        let mut cell_of = vec![u32::MAX; self.tiles.len()];
-        let mut n = 0u32;
-        for (t, tile) in self.tiles.iter().enumerate() {
-            if *tile == Tile::Open {
-                cell_of[t] = n;
-                n += 1;
-            }
-        }
-        let mut lattice = vec![u32::MAX; (w + 1) * (h + 1)];
-        let mut vertices = Vec::new();
-        let mut vertex = |x: usize, y: usize| -> VertexId {
-            let slot = &mut lattice[y * (w + 1) + x];
-            if *slot == u32::MAX {
-                *slot = vertices.len() as u32;
-                vertices.push(vec2(x as f32, y as f32) * s);
-            }
-            *slot
-        };
-        let mut edges: Vec<Edge> = Vec::new();
-        let mut east_edge = vec![u32::MAX; self.tiles.len()];
-        let mut south_edge = vec![u32::MAX; self.tiles.len()];
-        let mut cells = Cells::with_capacity(n as usize, 4 * n as usize);
-        let color = |t: Option<usize>| match t.map(|t| self.tiles[t]) {
-            Some(Tile::Wall(i)) => self.colors.get(i as usize).copied().unwrap_or(DEFAULT_WALL),
-            _ => self.colors.first().copied().unwrap_or(DEFAULT_WALL),
-        };
-        let cell = |t: Option<usize>| t.map(|t| cell_of[t]).filter(|&c| c != u32::MAX);
-        for r in 0..h {
-            for c in 0..w {
-                let t = r * w + c;
-                let Some(k) = cell(Some(t)) else { continue };
-                let y0 = h - 1 - r; // lattice rows count from the south
-                let mut add = |start, end, left: Option<CellId>, right: Option<CellId>, nb: Option<usize>| {
-                    let opaque = left.is_none() || right.is_none();
-                    edges.push(Edge { start, end, left, right, opaque, color: color(nb) });
-                    (edges.len() - 1) as EdgeId
-                };
-                // vertical edges run north with the west cell on the left; horizontal ones run east
-                // with the north cell on the left (the original's layout)
-                let east = (c + 1 < w).then_some(t + 1);
-                let e = add(vertex(c + 1, y0), vertex(c + 1, y0 + 1), Some(k), cell(east), east);
-                east_edge[t] = e;
-                let north = (r > 0).then(|| t - w);
-                let nth = match cell(north) {
-                    Some(_) => south_edge[t - w],
-                    None => add(vertex(c, y0 + 1), vertex(c + 1, y0 + 1), None, Some(k), north),
-                };
-                let west = (c > 0).then(|| t - 1);
-                let wst = match cell(west) {
-                    Some(_) => east_edge[t - 1],
-                    None => add(vertex(c, y0), vertex(c, y0 + 1), None, Some(k), west),
-                };
-                let south = (r + 1 < h).then_some(t + w);
-                let sth = add(vertex(c, y0), vertex(c + 1, y0), Some(k), cell(south), south);
-                south_edge[t] = sth;
-                cells.push(&[e, nth, wst, sth]);
-            }
-        }
-        let (sc, sr) = self.start;
-        let pos = vec2(sc as f32 + 0.5, (h as f32 - 1.0 - sr as f32) + 0.5) * s;
-        let viewer = Viewer { pos, z: self.eye, dir_deg: self.dir_deg, fov_deg: self.fov_deg };
-        if sc >= w || sr >= h || !self.open(sc, sr) {
-            return Err(MazeError::ViewerOutside { x: pos.x, y: pos.y });
-        }
-        let exit = match self.exit {
-            Some((ec, er)) if ec < w && er < h && self.open(ec, er) => {
-                Some(Exit { cell: cell_of[er * w + ec], point: None })
-            }
-            Some((ec, er)) => return Err(MazeError::ExitOutside { x: ec as f32, y: er as f32 }),
-            None => None,
-        };
-        Maze::new(vertices, edges, cells, viewer, exit)
+    fn color(&self, ch: u8) -> Vec3 {
+        let ch = if ch == 0 { b'#' } else { ch };
+        self.legend.iter().find(|(l, _)| *l == ch).map_or(DEFAULT_WALL, |&(_, c)| c)
     }
 
-    /// The tile map a maze came from, if the grid format can express it.
-    pub fn from_maze(maze: &Maze) -> Result<TileMap, String> {
-        let b = maze.cell_aabb(0);
-        let s = b.max.x - b.min.x;
-        let mut tile_of = Vec::with_capacity(maze.cell_count());
-        let (mut w, mut h) = (0usize, 0usize);
-        for c in 0..maze.cell_count() as CellId {
-            let b = maze.cell_aabb(c);
-            let (tx, ty) = ((b.min.x / s) as usize, (b.min.y / s) as usize);
-            let on_lattice = b.min.x >= 0.0
-                && b.min.y >= 0.0
-                && tx as f32 * s == b.min.x
-                && ty as f32 * s == b.min.y
-                && b.max.x == (tx + 1) as f32 * s
-                && b.max.y == (ty + 1) as f32 * s;
-            let sides_axis_aligned = maze.cell_edges(c).iter().all(|&e| {
-                let (p, q) = maze.edge_points(e);
-                p.x == q.x || p.y == q.y
-            });
-            if !(on_lattice && sides_axis_aligned && maze.cell_edges(c).len() == 4) {
-                return Err(format!("cell {c} is not a {s}×{s} square tile on the lattice of cell 0"));
-            }
-            tile_of.push((tx, ty));
-            w = w.max(tx + 2); // a wall column east of the last open tile
-            h = h.max(ty + 2); // and a wall row north of it
-        }
-        let row = |ty: usize| h - 1 - ty;
-        let mut tiles = vec![Tile::Wall(u16::MAX); w * h];
-        for &(tx, ty) in &tile_of {
-            tiles[row(ty) * w + tx] = Tile::Open;
-        }
-        let mut outside: Option<Vec3> = None;
-        let mut colors: Vec<Vec3> = vec![DEFAULT_WALL];
-        let mut wall_color: Vec<Option<Vec3>> = vec![None; w * h];
-        for c in 0..maze.cell_count() as CellId {
-            let (tx, ty) = tile_of[c as usize];
-            let centre = vec2(tx as f32 + 0.5, ty as f32 + 0.5) * s;
-            for &e in maze.cell_edges(c) {
-                let edge = maze.edge(e);
-                let (p, q) = maze.edge_points(e);
-                // the neighbouring tile, one step from this tile's centre toward the edge's middle
-                let towards = ((p + q) * 0.5 - centre) / (0.5 * s);
-                let (nx, ny) = (tx as isize + towards.x as isize, ty as isize + towards.y as isize);
-                match edge.other_side(c) {
-                    Some(other) if edge.opaque => {
-                        return Err(format!(
-                            "edge {e} is a wall between two open tiles (cells {c} and {other}); grid walls are whole tiles"
-                        ));
-                    }
-                    Some(_) => {}
-                    None if nx < 0 || ny < 0 => match outside {
-                        Some(col) if col != edge.color => {
-                            return Err(format!("walls facing the outside have different colours (edge {e})"));
-                        }
-                        _ => outside = Some(edge.color),
-                    },
-                    None => {
-                        let t = row(ny as usize) * w + nx as usize;
-                        match wall_color[t] {
-                            Some(col) if col != edge.color => {
-                                return Err(format!(
-                                    "the wall tile beside cell {c} would need two colours (edge {e} differs)"
-                                ));
-                            }
-                            _ => wall_color[t] = Some(edge.color),
-                        }
-                    }
-                }
-            }
-        }
-        colors[0] = outside.unwrap_or(DEFAULT_WALL);
-        for (t, col) in wall_color.iter().enumerate() {
-            if tiles[t] == Tile::Open {
-                continue;
-            }
-            let col = col.unwrap_or(colors[0]);
-            let i = colors.iter().position(|&k| k == col).unwrap_or_else(|| {
-                colors.push(col);
-                colors.len() - 1
-            });
-            if i > LEGEND_POOL.len() {
-                return Err(format!("more than {} wall colours", LEGEND_POOL.len() + 1));
-            }
-            tiles[t] = Tile::Wall(i as u16);
-        }
-        let v = maze.viewer();
-        let g = v.pos / s - 0.5;
-        let start = (g.x as usize, g.y as usize);
-        if !(g.x >= 0.0 && g.y >= 0.0 && g.x.fract() == 0.0 && g.y.fract() == 0.0 && tile_of.contains(&start)) {
-            return Err(format!("the viewer at ({}, {}) is not at the centre of an open tile", v.pos.x, v.pos.y));
-        }
-        let exit = match maze.exit() {
-            None => None,
-            Some(Exit { point: Some(_), .. }) => {
-                return Err("the exit is a point; the grid format marks only an exit tile".into());
-            }
-            Some(&Exit { cell, .. }) => Some(tile_of[cell as usize]),
-        };
-        if exit == Some(start) {
-            return Err("the exit is the start tile".into());
-        }
-        let to_rc = |(tx, ty): (usize, usize)| (tx, row(ty));
-        Ok(TileMap {
-            width: w,
-            height: h,
-            tile_size: s,
-            tiles,
-            colors,
-            start: to_rc(start),
-            dir_deg: v.dir_deg,
-            eye: v.z,
-            fov_deg: v.fov_deg,
-            exit: exit.map(to_rc),
-        })
-    }
-
-    /// The tile map as grid text.
+    /// The map as grid-format text.
     #[must_use]
     pub fn to_text(&self) -> String {
-        let mut out = format!("{MAGIC} {VERSION}\n");
-        if self.tile_size != DEFAULT_TILE {
-            let _ = writeln!(out, "tile = {}", self.tile_size);
+        let mut out = String::with_capacity((self.cols + 1) * self.rows + 128);
+        let _ = writeln!(out, "{MAGIC} {VERSION}\ntile {}", self.tile);
+        if let Some(f) = self.facing_deg {
+            let _ = writeln!(out, "facing {}", facing_name(f).unwrap_or("east"));
         }
         if self.eye != 0.0 {
-            let _ = writeln!(out, "eye = {}", self.eye);
+            let _ = writeln!(out, "eye {}", self.eye);
         }
         if self.fov_deg != 90.0 {
-            let _ = writeln!(out, "fov = {}", self.fov_deg);
+            let _ = writeln!(out, "fov {}", self.fov_deg);
         }
-        let arrow = ARROWS.iter().find(|a| a.1 == self.dir_deg).map(|a| a.0);
-        if arrow.is_none() && self.dir_deg != 0.0 {
-            let _ = writeln!(out, "dir = {}", self.dir_deg);
+        for &(ch, c) in &self.legend {
+            let [r, g, b] = (c * 255.0).round().to_array().map(|v| v as u8);
+            let _ = writeln!(out, "{} = #{r:02x}{g:02x}{b:02x}", ch as char);
         }
-        let legend: Vec<char> = std::iter::once('#').chain(LEGEND_POOL.chars()).collect();
-        for (i, c) in self.colors.iter().enumerate() {
-            if i > 0 || *c != DEFAULT_WALL {
-                let _ = writeln!(out, "{} = {} {} {}", legend[i], c.x, c.y, c.z);
-            }
-        }
-        for r in 0..self.height {
-            for c in 0..self.width {
-                out.push(match self.tiles[r * self.width + c] {
-                    _ if (c, r) == self.start => arrow.unwrap_or('@'),
-                    _ if Some((c, r)) == self.exit => 'E',
-                    Tile::Open => '.',
-                    Tile::Wall(i) => legend.get(i as usize).copied().unwrap_or('#'),
-                });
-            }
+        out.push('\n');
+        for row in self.tiles.chunks(self.cols) {
+            let line: String = row.iter().map(|&t| if t == 0 { ' ' } else { t as char }).collect();
+            out.push_str(line.trim_end());
             out.push('\n');
         }
         out
     }
+
+    /// Builds the maze the map describes.
+    ///
+    /// # Errors
+    /// A [`MazeError`](super::MazeError) when the map breaks the model's rules (no start tile, a
+    /// coordinate beyond the bound); [`parse_str`] has ruled these out with located messages.
+    pub fn to_maze(&self) -> Result<Maze, super::MazeError> {
+        let (cols, rows) = (self.cols as i64, self.rows as i64);
+        let t = self.tile;
+        let tile_index = |x: i64, y: i64| ((rows - 1 - y) * cols + x) as usize;
+        // cells: open tiles, row by row from the bottom, west to east
+        let mut cell_of = vec![u32::MAX; self.tiles.len()];
+        let mut n_cells = 0u32;
+        for y in 0..rows {
+            for x in 0..cols {
+                if is_open(self.at(x, y)) {
+                    cell_of[tile_index(x, y)] = n_cells;
+                    n_cells += 1;
+                }
+            }
+        }
+        let cell = |x: i64, y: i64| {
+            (x >= 0 && y >= 0 && x < cols && y < rows)
+                .then(|| cell_of[tile_index(x, y)])
+                .filter(|&c| c != u32::MAX)
+        };
+        // vertices: lattice points, numbered as the edges first use them
+        let mut vertex_of = vec![u32::MAX; ((cols + 1) * (rows + 1)) as usize];
+        let mut vertices = Vec::new();
+        let mut vertex = |x: i64, y: i64| -> VertexId {
+            let slot = &mut vertex_of[(y * (cols + 1) + x) as usize];
+            if *slot == u32::MAX {
+                *slot = vertices.len() as VertexId;
+                vertices.push(vec2(x as f32, y as f32) * t);
+            }
+            *slot
+        };
+        let mut edges = Vec::new();
+        // horizontal side (x, y) runs east along the lattice line y: the tile above is on its left
+        let mut h_edge = vec![u32::MAX; (cols * (rows + 1)) as usize];
+        for y in 0..=rows {
+            for x in 0..cols {
+                let (left, right) = (cell(x, y), cell(x, y - 1));
+                if left.is_none() && right.is_none() {
+                    continue;
+                }
+                let wall = if left.is_none() { self.at(x, y) } else { self.at(x, y - 1) };
+                h_edge[(y * cols + x) as usize] = edges.len() as EdgeId;
+                let (start, end) = (vertex(x, y), vertex(x + 1, y));
+                let opaque = left.is_none() || right.is_none();
+                let color = if opaque { self.color(wall) } else { DEFAULT_WALL };
+                edges.push(Edge { start, end, left, right, opaque, color });
+            }
+        }
+        // vertical side (x, y) runs north along the lattice line x: the tile to the west is on its left
+        let mut v_edge = vec![u32::MAX; ((cols + 1) * rows) as usize];
+        for y in 0..rows {
+            for x in 0..=cols {
+                let (left, right) = (cell(x - 1, y), cell(x, y));
+                if left.is_none() && right.is_none() {
+                    continue;
+                }
+                let wall = if left.is_none() { self.at(x - 1, y) } else { self.at(x, y) };
+                v_edge[(y * (cols + 1) + x) as usize] = edges.len() as EdgeId;
+                let (start, end) = (vertex(x, y), vertex(x, y + 1));
+                let opaque = left.is_none() || right.is_none();
+                let color = if opaque { self.color(wall) } else { DEFAULT_WALL };
+                edges.push(Edge { start, end, left, right, opaque, color });
+            }
+        }
+        let mut cells = Cells::with_capacity(n_cells as usize, 4 * n_cells as usize);
+        let (mut viewer, mut exit) = (None, None);
+        for y in 0..rows {
+            for x in 0..cols {
+                let Some(c) = cell(x, y) else { continue };
+                let h = |x: i64, y: i64| h_edge[(y * cols + x) as usize];
+                let v = |x: i64, y: i64| v_edge[(y * (cols + 1) + x) as usize];
+                // +x, +y, -x, -y, as the original lists them
+                cells.push(&[v(x + 1, y), h(x, y + 1), v(x, y), h(x, y)]);
+                let ch = self.at(x, y);
+                if ch == b'E' && exit.is_none() {
+                    exit = Some(Exit { cell: c, point: None });
+                }
+                if let Some(dir) = start_dir(ch, self.facing_deg)
+                    && viewer.is_none()
+                {
+                    let pos = (vec2(x as f32, y as f32) + 0.5) * t;
+                    viewer = Some(Viewer { pos, z: self.eye, dir_deg: dir, fov_deg: self.fov_deg });
+                }
+            }
+        }
+        // no start tile: a viewer outside every cell, which Maze::new reports
+        let viewer =
+            viewer.unwrap_or(Viewer { pos: vec2(-1.0, -1.0) * t, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 });
+        Maze::new(vertices, edges, cells, viewer, exit)
+    }
 }
 
-/// Start characters and their headings.
-const ARROWS: [(char, f32); 4] = [('>', 0.0), ('^', 90.0), ('<', 180.0), ('v', 270.0)];
+fn is_open(ch: u8) -> bool {
+    matches!(ch, b' ' | b'.' | b'@' | b'>' | b'^' | b'<' | b'v' | b'E')
+}
 
-/// Writes `maze` as grid text, if the grid reader would give back exactly this maze.
-pub fn write(maze: &Maze) -> Result<String, WriteError> {
-    let err = |reason| WriteError { format: Format::Grid, reason };
-    let map = TileMap::from_maze(maze).map_err(err)?;
-    if !map.to_maze().is_ok_and(|m| m == *maze) {
-        return Err(err("the maze is not numbered the way the grid reader numbers tiles; write it as cs559".into()));
+fn is_wall(ch: u8) -> bool {
+    ch == b'#' || TileMap::LEGEND_LETTERS.contains(&ch)
+}
+
+/// The heading of a start tile, or `None` for any other tile.
+fn start_dir(ch: u8, facing: Option<f32>) -> Option<f32> {
+    match ch {
+        b'@' => Some(facing.unwrap_or(0.0)),
+        b'>' => Some(0.0),
+        b'^' => Some(90.0),
+        b'<' => Some(180.0),
+        b'v' => Some(270.0),
+        _ => None,
     }
-    Ok(map.to_text())
+}
+
+fn facing_name(deg: f32) -> Option<&'static str> {
+    ["east", "north", "west", "south"]
+        .into_iter()
+        .zip([0.0, 90.0, 180.0, 270.0])
+        .find(|&(_, d)| d == deg)
+        .map(|(n, _)| n)
 }
 
 /// Parses grid text (already decoded); `file` names it in errors.
 pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
-    let mut lines = text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l)).enumerate().peekable();
-    let at = |line: usize, col: usize| Loc { line: line as u32 + 1, col: col as u32 + 1 };
+    let map = parse_map(file, text)?;
+    map.to_maze().map_err(|e| Loc { line: 1, col: 1 }.error(file, ParseErrorKind::Invalid(e)))
+}
 
-    // header
-    let Some((hl, header)) = lines.find(|(_, l)| !l.trim().is_empty()) else {
-        return fail(file, at(0, 0), "empty file".into());
+/// Parses grid text into its tile map, checking every setting and tile.
+pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
+    let err = |line: usize, col: usize, msg: String| {
+        let sat = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        Loc { line: sat(line + 1), col: sat(col + 1) }.error(file, ParseErrorKind::Grid(msg))
     };
-    let mut words = header.split_whitespace();
-    let indent = header.len() - header.trim_start().len();
+    let lines: Vec<&str> = text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l)).collect();
+    // line 1: magic and version
+    let first = lines[0];
+    let mut words = first.split(is_space).filter(|w| !w.is_empty());
     if words.next() != Some(MAGIC) {
-        return fail(file, at(hl, indent), format!("expected `{MAGIC} {VERSION}`"));
+        return Err(err(0, 0, format!("expected `{MAGIC} {VERSION}` on the first line")));
     }
     match words.next() {
         Some(v) if v == VERSION.to_string() => {}
-        Some(v) => return fail(file, at(hl, col_of(header, v)), format!("unsupported grid version `{v}` (this reads {VERSION})")),
-        None => return fail(file, at(hl, header.chars().count()), format!("expected the version `{VERSION}`")),
+        Some(v) => {
+            let col = first.find(v).map_or(0, |b| first[..b].chars().count());
+            return Err(err(0, col, format!("unsupported grid version `{v}` (this reader knows {VERSION})")));
+        }
+        None => return Err(err(0, first.chars().count(), format!("expected the version after `{MAGIC}`"))),
     }
-    if let Some(extra) = words.next() {
-        return fail(file, at(hl, col_of(header, extra)), format!("unexpected `{extra}` after the version"));
-    }
-
-    // options and legend
     let mut map = TileMap {
-        width: 0,
-        height: 0,
-        tile_size: DEFAULT_TILE,
-        tiles: Vec::new(),
-        colors: vec![DEFAULT_WALL],
-        start: (0, 0),
-        dir_deg: 0.0,
+        tile: 4.0,
         eye: 0.0,
         fov_deg: 90.0,
-        exit: None,
+        facing_deg: None,
+        legend: Vec::new(),
+        cols: 0,
+        rows: 0,
+        tiles: Vec::new(),
     };
-    let mut legend: Vec<(char, u16)> = Vec::new();
-    while let Some(&(ln, line)) = lines.peek() {
-        let trimmed = line.trim();
-        if trimmed.is_empty() || trimmed.starts_with(';') {
-            lines.next();
+    // settings, until the first line that is none
+    let mut n = 1;
+    while n < lines.len() {
+        let line = lines[n];
+        let words: Vec<&str> = line.split(is_space).filter(|w| !w.is_empty()).collect();
+        let col_of = |w: &str| line[..w.as_ptr() as usize - line.as_ptr() as usize].chars().count();
+        let number = |w: &str, what: &str| -> Result<f32, ParseError> {
+            w.parse::<f32>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| err(n, col_of(w), format!("expected a number ({what}), found `{w}`")))
+        };
+        match words.as_slice() {
+            [] => {}
+            ["tile", v] => {
+                map.tile = number(v, "tile side")?;
+                if !(map.tile > 0.0 && map.tile <= 1000.0) {
+                    return Err(err(n, col_of(v), format!("tile side {v} is out of range (0, 1000]")));
+                }
+            }
+            ["eye", v] => {
+                map.eye = number(v, "eye height")?;
+                if !(map.eye > -1.0 && map.eye < 1.0) {
+                    return Err(err(
+                        n,
+                        col_of(v),
+                        format!("eye height {v} is not strictly between -1 and 1"),
+                    ));
+                }
+            }
+            ["fov", v] => {
+                map.fov_deg = number(v, "field of view")?;
+                if !(map.fov_deg > 0.0 && map.fov_deg < 180.0) {
+                    return Err(err(
+                        n,
+                        col_of(v),
+                        format!("field of view {v} is not strictly between 0 and 180"),
+                    ));
+                }
+            }
+            ["facing", v] => {
+                let dir = ["east", "north", "west", "south"].iter().position(|d| d == v);
+                let Some(d) = dir else {
+                    return Err(err(
+                        n,
+                        col_of(v),
+                        format!("facing `{v}`: expected east, north, west or south"),
+                    ));
+                };
+                map.facing_deg = Some(d as f32 * 90.0);
+            }
+            [letter, "=", value] if letter.chars().count() == 1 && !is_open(letter.as_bytes()[0]) => {
+                let ch = letter.as_bytes()[0];
+                if !is_wall(ch) {
+                    return Err(err(
+                        n,
+                        col_of(letter),
+                        format!("legend letter `{letter}`: use A-Z (not E) or #"),
+                    ));
+                }
+                let hex = value
+                    .strip_prefix('#')
+                    .filter(|h| h.len() == 6 && h.bytes().all(|b| b.is_ascii_hexdigit()));
+                let Some(hex) = hex else {
+                    return Err(err(n, col_of(value), format!("colour `{value}`: expected #rrggbb")));
+                };
+                let channel = |k: usize| u8::from_str_radix(&hex[k..k + 2], 16).unwrap_or(0) as f32 / 255.0;
+                map.legend.retain(|(l, _)| *l != ch);
+                map.legend.push((ch, Vec3::new(channel(0), channel(2), channel(4))));
+            }
+            [word, ..] if word.bytes().all(|b| b.is_ascii_lowercase()) && *word != "v" => {
+                return Err(err(n, col_of(word), format!("unknown setting `{word}`")));
+            }
+            _ => break,
+        }
+        n += 1;
+    }
+    // the map: to the end, without trailing blank lines
+    let mut end = lines.len();
+    while end > n && lines[end - 1].trim_matches(is_space).is_empty() {
+        end -= 1;
+    }
+    let rows = &lines[n..end];
+    if rows.is_empty() {
+        return Err(err(n.min(lines.len() - 1), 0, "expected the map after the settings".into()));
+    }
+    let cols = rows.iter().map(|r| r.chars().count()).max().unwrap_or(0);
+    if cols.saturating_mul(rows.len()) > MAX_TILES {
+        return Err(err(n, 0, format!("the map is {cols}×{} tiles; at most {MAX_TILES} tiles", rows.len())));
+    }
+    if map.tile * cols.max(rows.len()) as f32 > super::COORD_BOUND {
+        return Err(err(
+            n,
+            0,
+            format!("tile side × map size exceeds the coordinate bound {}", super::COORD_BOUND),
+        ));
+    }
+    let (mut start, mut exit) = (None, None);
+    map.tiles = vec![0; cols * rows.len()];
+    for (r, row) in rows.iter().enumerate() {
+        for (c, ch) in row.chars().enumerate() {
+            let b = if ch.is_ascii() { ch as u8 } else { 0 };
+            if !(is_open(b) || is_wall(b)) {
+                return Err(err(n + r, c, format!("unknown tile `{}`", ch.escape_debug())));
+            }
+            if b != b'#' && is_wall(b) && !map.legend.iter().any(|(l, _)| *l == b) {
+                return Err(err(
+                    n + r,
+                    c,
+                    format!("wall letter `{ch}` has no colour in the legend (`{ch} = #rrggbb`)"),
+                ));
+            }
+            if start_dir(b, None).is_some() && start.replace((r, c)).is_some() {
+                return Err(err(n + r, c, "a second start tile (only one of @ > ^ < v)".into()));
+            }
+            if b == b'E' && exit.replace((r, c)).is_some() {
+                return Err(err(n + r, c, "a second exit tile `E`".into()));
+            }
+            map.tiles[r * cols + c] = b;
+        }
+    }
+    if start.is_none() {
+        return Err(err(n, 0, "the map has no start tile (@ or an arrow > ^ < v)".into()));
+    }
+    map.cols = cols;
+    map.rows = rows.len();
+    Ok(map)
+}
+
+/// Writes `maze` in grid format, if it is made of the format's square tiles in its numbering.
+pub fn write(maze: &Maze) -> Result<String, WriteError> {
+    let text = to_map(maze)?.to_text();
+    // the writer's guarantee: reading it back gives this very maze
+    match parse_str("", &text) {
+        Ok(back) if back == *maze => Ok(text),
+        _ => Err(no("its cells, edges or ids are not laid out as the grid format numbers them")),
+    }
+}
+
+fn no(reason: impl Into<String>) -> WriteError {
+    WriteError { format: Format::Grid, reason: reason.into() }
+}
+
+/// The tile map of a maze made of square tiles on a lattice anchored at the origin.
+fn to_map(maze: &Maze) -> Result<TileMap, WriteError> {
+    let (a, b) =
+        maze.edge_points(maze.cell_edges(0).first().copied().ok_or_else(|| no("cell 0 has no edges"))?);
+    let t = (b - a).abs().max_element();
+    // each cell: an axis-aligned square of side t on the lattice
+    let mut place = Vec::with_capacity(maze.cell_count());
+    let (mut max_x, mut max_y) = (0i64, 0i64);
+    for c in 0..maze.cell_count() as CellId {
+        let bb = maze.cell_aabb(c);
+        let (x, y) = ((bb.min.x / t).round(), (bb.min.y / t).round());
+        let square = maze.cell_edges(c).len() == 4
+            && x >= 0.0
+            && y >= 0.0
+            && x * t == bb.min.x
+            && y * t == bb.min.y
+            && (x + 1.0) * t == bb.max.x
+            && (y + 1.0) * t == bb.max.y;
+        if !square || x > 2046.0 || y > 2046.0 {
+            return Err(no(format!(
+                "cell {c} is not a square tile of side {t} on a lattice from the origin"
+            )));
+        }
+        let (x, y) = (x as i64, y as i64);
+        (max_x, max_y) = (max_x.max(x), max_y.max(y));
+        place.push((x, y));
+    }
+    let (cols, rows) = (max_x as usize + 2, max_y as usize + 2);
+    let mut map = TileMap {
+        tile: t,
+        eye: maze.viewer().z,
+        fov_deg: maze.viewer().fov_deg,
+        facing_deg: None,
+        legend: Vec::new(),
+        cols,
+        rows,
+        tiles: vec![b'#'; cols * rows],
+    };
+    let index = |x: i64, y: i64| (rows - 1 - y as usize) * cols + x as usize;
+    for &(x, y) in &place {
+        map.tiles[index(x, y)] = b'.';
+    }
+    // wall colours, from the opaque edges onto the wall tiles behind them
+    let mut colored = vec![false; map.tiles.len()];
+    for (e, edge) in maze.edges().iter().enumerate() {
+        let cell = match (edge.left, edge.right) {
+            (Some(c), None) | (None, Some(c)) => c,
+            (Some(_), Some(_)) if edge.opaque => {
+                return Err(no(format!("edge {e} is a wall between two cells")));
+            }
+            _ => continue,
+        };
+        let (x, y) = place[cell as usize];
+        let (p, q) = maze.edge_points(e as EdgeId);
+        let mid = (p + q) / 2.0 / t - vec2(x as f32 + 0.5, y as f32 + 0.5);
+        // the tile across the edge: one step along the mid-point's larger axis
+        let (nx, ny) = if mid.x.abs() > mid.y.abs() {
+            (x + mid.x.signum() as i64, y)
+        } else {
+            (x, y + mid.y.signum() as i64)
+        };
+        let letter = legend_letter(&mut map.legend, edge.color)?;
+        if nx < 0 || ny < 0 {
+            if letter != b'#' {
+                return Err(no(format!("edge {e} faces the outside with a colour other than `#`")));
+            }
             continue;
         }
-        let Some((name, value)) = line.split_once('=') else { break };
-        lines.next();
-        let (name, vcol) = (name.trim(), col_of(line, value.trim()));
-        let ncol = col_of(line, name);
-        let number = |lo: f32, hi: f32, what: &str| -> Result<f32, ParseError> {
-            match value.trim().parse::<f32>() {
-                Ok(x) if x > lo && x < hi => Ok(x),
-                _ => fail(file, at(ln, vcol), format!("{what} must be a number in ({lo}, {hi}), found `{}`", value.trim())),
-            }
-        };
-        match name {
-            "tile" => map.tile_size = number(0.0, 1.0e4, "tile")?,
-            "fov" => map.fov_deg = number(0.0, 180.0, "fov")?,
-            "eye" => map.eye = number(-1.0, 1.0, "eye")?,
-            "dir" => map.dir_deg = number(-1.0e6, 1.0e6, "dir")?,
-            _ if name.chars().count() == 1 => {
-                let ch = name.chars().next().unwrap_or('#');
-                if RESERVED.contains(ch) {
-                    return fail(file, at(ln, ncol), format!("`{ch}` has a fixed meaning and cannot be a legend entry"));
-                }
-                let Some(color) = parse_color(value.trim()) else {
-                    return fail(file, 
-                        at(ln, vcol),
-                        format!("expected a colour `#rrggbb` or `r g b` in 0..1, found `{}`", value.trim()),
-                    );
-                };
-                if ch == '#' {
-                    map.colors[0] = color;
-                } else if legend.iter().any(|l| l.0 == ch) {
-                    return fail(file, at(ln, ncol), format!("`{ch}` is in the legend twice"));
-                } else {
-                    legend.push((ch, map.colors.len() as u16));
-                    map.colors.push(color);
-                }
-            }
-            _ => return fail(file, at(ln, ncol), format!("unknown option `{name}` (expected tile, fov, eye, dir or a legend character)")),
+        let i = index(nx, ny);
+        if colored[i] && map.tiles[i] != letter {
+            return Err(no(format!("the wall tile behind edge {e} would need two colours")));
         }
+        map.tiles[i] = letter;
+        colored[i] = true;
     }
-
-    // the map
-    let rows: Vec<(usize, &str)> = lines.collect();
-    let rows = &rows[..rows.iter().rposition(|(_, l)| !l.trim().is_empty()).map_or(0, |i| i + 1)];
-    let Some(&(first_line, _)) = rows.first() else {
-        return fail(file, at(text.split('\n').count().saturating_sub(1), 0), "expected a map after the header".into());
-    };
-    map.height = rows.len();
-    map.width = rows.iter().map(|(_, l)| l.chars().count()).max().unwrap_or(0);
-    if map.width.saturating_mul(map.height) > 16 * text.len() + 1024 {
-        return fail(file, at(first_line, 0), format!("the map is {}×{} tiles: too large", map.width, map.height));
+    let v = maze.viewer();
+    let start = maze.cell_at(v.pos).unwrap_or(0);
+    let (x, y) = place[start as usize];
+    let arrow = [0.0, 90.0, 180.0, 270.0].iter().position(|&d| d == v.dir_deg).map(|k| b">^<v"[k]);
+    match arrow {
+        Some(ch) if (vec2(x as f32, y as f32) + 0.5) * t == v.pos => map.tiles[index(x, y)] = ch,
+        _ => return Err(no("the viewer is not at a tile centre facing east, north, west or south")),
     }
-    map.tiles = vec![Tile::Wall(0); map.width * map.height];
-    let mut start: Option<Loc> = None;
-    let mut exit: Option<Loc> = None;
-    let mut cell_locs = Vec::new();
-    for (r, &(ln, line)) in rows.iter().enumerate() {
-        for (c, ch) in line.chars().enumerate() {
-            let loc = at(ln, c);
-            let tile = match ch {
-                '#' => Tile::Wall(0),
-                ' ' | '.' | 'E' | '@' | '>' | '^' | '<' | 'v' => Tile::Open,
-                '\t' => return fail(file, loc, "a tab in the map: use `.` or spaces for floor".into()),
-                _ => match legend.iter().find(|l| l.0 == ch) {
-                    Some(&(_, i)) => Tile::Wall(i),
-                    None => return fail(file, loc, format!("unknown tile `{}` (not in the legend)", ch.escape_debug())),
-                },
-            };
-            if tile == Tile::Open {
-                cell_locs.push(loc);
-            }
-            map.tiles[r * map.width + c] = tile;
-            if ch == 'E' {
-                if let Some(first) = exit {
-                    return fail(file, loc, format!("a second exit (the first is at {}:{})", first.line, first.col));
-                }
-                exit = Some(loc);
-                map.exit = Some((c, r));
-            } else if let Some(dir) = ARROWS.iter().find(|a| a.0 == ch).map(|a| a.1).or((ch == '@').then_some(map.dir_deg)) {
-                if let Some(first) = start {
-                    return fail(file, loc, format!("a second start (the first is at {}:{})", first.line, first.col));
-                }
-                start = Some(loc);
-                map.start = (c, r);
-                map.dir_deg = dir;
-            }
+    if let Some(exit) = maze.exit() {
+        let (x, y) = place[exit.cell as usize];
+        if exit.point.is_some() || exit.cell == start {
+            return Err(no("the exit has a point of its own or shares the start tile"));
         }
+        map.tiles[index(x, y)] = b'E';
     }
-    let Some(start) = start else {
-        return fail(file, at(first_line, 0), "the map has no start (`@`, `>`, `^`, `<` or `v`)".into());
-    };
-    let locs = RecordLocs { start: at(hl, 0), cells: cell_locs, viewer: start, exit, ..RecordLocs::default() };
-    map.to_maze().map_err(|e| locs.locate(file, e))
+    Ok(map)
 }
 
-fn fail<T>(file: &str, loc: Loc, msg: String) -> Result<T, ParseError> {
-    Err(loc.error(file, ParseErrorKind::Grid(msg)))
-}
-
-/// The 0-based character column where `part` (a sub-slice of `line`) starts.
-fn col_of(line: &str, part: &str) -> usize {
-    let offset = (part.as_ptr() as usize).saturating_sub(line.as_ptr() as usize).min(line.len());
-    line[..offset].chars().count()
-}
-
-/// `#rrggbb` or three numbers in 0..1.
-fn parse_color(s: &str) -> Option<Vec3> {
-    if let Some(hex) = s.strip_prefix('#') {
-        if hex.len() != 6 || !hex.is_ascii() {
-            return None;
-        }
-        let channel = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).ok().map(|v| f32::from(v) / 255.0);
-        return Some(vec3(channel(0)?, channel(2)?, channel(4)?));
+/// The letter for wall colour `c`: `#` for the default, else a legend letter (added if new).
+fn legend_letter(legend: &mut Vec<(u8, Vec3)>, c: Vec3) -> Result<u8, WriteError> {
+    if c == DEFAULT_WALL {
+        return Ok(b'#');
     }
-    let v: Vec<f32> = s.split_whitespace().map(str::parse).collect::<Result<_, _>>().ok()?;
-    (v.len() == 3 && v.iter().all(|x| (0.0..=1.0).contains(x))).then(|| vec3(v[0], v[1], v[2]))
+    if let Some(&(l, _)) = legend.iter().find(|(_, lc)| *lc == c) {
+        return Ok(l);
+    }
+    // only colours a `#rrggbb` reads back exactly
+    let bytes = (c * 255.0).round();
+    if bytes / 255.0 != c {
+        return Err(no(format!("wall colour {c} is not a #rrggbb colour")));
+    }
+    let l = *TileMap::LEGEND_LETTERS
+        .get(legend.len())
+        .ok_or_else(|| no("more wall colours than legend letters"))?;
+    legend.push((l, c));
+    Ok(l)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SMALL: &str = "mazewalk-grid 1\nA = #cc8844\n\n#####\n#>.E#\n#.A.#\n#####\n";
+
+    #[test]
+    fn a_small_map_reads_as_documented() {
+        let m = parse_str("small", SMALL).unwrap();
+        // open tiles: bottom row (y = 1) x = 1, 3; top row (y = 2) x = 1, 2, 3
+        assert_eq!(m.cell_count(), 5);
+        assert_eq!(m.viewer().pos, vec2(6.0, 10.0));
+        assert_eq!(m.viewer().dir_deg, 0.0);
+        assert_eq!(m.exit().map(|x| x.cell), Some(4));
+        assert_eq!(m.portal_count(), 4);
+        // the A tile's side facing the cell above it has A's colour
+        let a = Vec3::new(0xcc as f32, 0x88 as f32, 0x44 as f32) / 255.0;
+        assert_eq!(m.edges().iter().filter(|e| e.color == a && e.opaque).count(), 3);
+    }
+
+    #[test]
+    fn write_then_read_is_the_identity() {
+        let m = parse_str("small", SMALL).unwrap();
+        let text = write(&m).unwrap();
+        assert_eq!(parse_str("again", &text).unwrap(), m, "{text}");
+    }
 }

@@ -35,7 +35,8 @@ impl SpatialGrid {
                 offsets: Vec::new(),
                 items: Vec::new(),
             };
-            let entries: usize = (0..n).map(|i| grid.span(&aabb(i)).map_or(0, |(x, y)| x.len() * y.len())).sum();
+            let entries: usize =
+                (0..n).map(|i| grid.span(&aabb(i)).map_or(0, |(x, y)| x.len() * y.len())).sum();
             if entries <= MAX_ENTRIES_PER_ITEM * n + 1024 || (grid.nx == 1 && grid.ny == 1) {
                 return grid.fill(n, entries, aabb);
             }

@@ -130,7 +130,12 @@ pub(crate) fn decode<'a>(name: &str, bytes: &'a [u8]) -> Result<&'a str, ParseEr
     std::str::from_utf8(bytes).map_err(|e| {
         let good = std::str::from_utf8(&bytes[..e.valid_up_to()]).unwrap_or_default();
         let (line, col) = line_col(good, good.len());
-        ParseError { file: name.into(), line, col, kind: ParseErrorKind::InvalidUtf8 { byte: bytes[e.valid_up_to()] } }
+        ParseError {
+            file: name.into(),
+            line,
+            col,
+            kind: ParseErrorKind::InvalidUtf8 { byte: bytes[e.valid_up_to()] },
+        }
     })
 }
 

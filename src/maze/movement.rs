@@ -73,10 +73,8 @@ pub fn step(maze: &Maze, from: Position, delta: Vec2, radius: f32) -> Position {
         if len < 1e-12 {
             break;
         }
-        let Some((t, n)) = walls
-            .iter()
-            .filter_map(|w| contact(p, m, w, r, from.cell))
-            .min_by(|a, b| a.0.total_cmp(&b.0))
+        let Some((t, n)) =
+            walls.iter().filter_map(|w| contact(p, m, w, r, from.cell)).min_by(|a, b| a.0.total_cmp(&b.0))
         else {
             p += m;
             break;

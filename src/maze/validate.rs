@@ -39,8 +39,12 @@ pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Res
         }
         match (edge.left, edge.right) {
             (None, None) => return Err(MazeError::EdgeNoCell { edge: edge_id }),
-            (Some(l), Some(r)) if l == r => return Err(MazeError::EdgeSameCellBothSides { edge: edge_id, cell: l }),
-            (None, _) | (_, None) if !edge.opaque => return Err(MazeError::PortalToOutside { edge: edge_id }),
+            (Some(l), Some(r)) if l == r => {
+                return Err(MazeError::EdgeSameCellBothSides { edge: edge_id, cell: l });
+            }
+            (None, _) | (_, None) if !edge.opaque => {
+                return Err(MazeError::PortalToOutside { edge: edge_id });
+            }
             _ => {}
         }
         if !edge.color.is_finite() || edge.color.min_element() < 0.0 || edge.color.max_element() > 1.0 {
