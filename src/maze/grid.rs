@@ -9,7 +9,7 @@
 //! ##########
 //! #@..#...E#
 //! #.#.A.##.#
-//! #...A....#
+//! #........#
 //! ##########
 //! ```
 //!
@@ -331,7 +331,7 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
                 };
                 map.facing_deg = Some(d as f32 * 90.0);
             }
-            [letter, "=", value] if letter.chars().count() == 1 && !is_open(letter.as_bytes()[0]) => {
+            [letter, "=", value] if letter.chars().count() == 1 => {
                 let ch = letter.as_bytes()[0];
                 if !is_wall(ch) {
                     return Err(err(
@@ -464,6 +464,9 @@ fn to_map(maze: &Maze) -> Result<TileMap, WriteError> {
     let index = |x: i64, y: i64| (rows - 1 - y as usize) * cols + x as usize;
     for &(x, y) in &place {
         map.tiles[index(x, y)] = b'.';
+    }
+    if let Some(e) = maze.edges().iter().position(|e| e.opaque && e.left.is_some() && e.right.is_some()) {
+        return Err(no(format!("edge {e} is a wall between two cells (walls are tiles here)")));
     }
     // wall colours, from the opaque edges onto the wall tiles behind them
     let mut colored = vec![false; map.tiles.len()];
