@@ -2,11 +2,8 @@
 
 use mazewalk::maze::{self, Format};
 
-const REAL: [(&str, usize, usize, usize); 3] = [
-    ("maze-1x1-45.maze", 4, 4, 1),
-    ("maze-3x3-50.maze", 16, 24, 9),
-    ("maze-10x10-100.maze", 121, 220, 100),
-];
+const REAL: [(&str, usize, usize, usize); 3] =
+    [("maze-1x1-45.maze", 4, 4, 1), ("maze-3x3-50.maze", 16, 24, 9), ("maze-10x10-100.maze", 121, 220, 100)];
 
 fn shared(name: &str) -> String {
     format!("{}/../shared/mazes-cs559/{name}", env!("CARGO_MANIFEST_DIR"))

@@ -31,39 +31,39 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
     let mut r = Reader { file, text, pos: 0, loc: Loc { line: 1, col: 1 } };
     let mut locs = RecordLocs { start: r.peek_loc(), ..RecordLocs::default() };
 
-    let nv = r.count("vertex count", "vertices", 2)?;
+    let nv = r.count(&|| "vertex count".into(), "vertices", 2)?;
     let mut vertices = Vec::with_capacity(nv);
     for i in 0..nv {
         locs.vertices.push(r.peek_loc());
-        let x = r.float(&format!("vertex {i} x"))?;
-        let y = r.float(&format!("vertex {i} y"))?;
+        let x = r.float(&|| format!("vertex {i} x"))?;
+        let y = r.float(&|| format!("vertex {i} y"))?;
         vertices.push(vec2(x, y));
     }
 
-    let ne = r.count("edge count", "edges", 8)?;
+    let ne = r.count(&|| "edge count".into(), "edges", 8)?;
     let mut edges = Vec::with_capacity(ne);
     for i in 0..ne {
         locs.edges.push(r.peek_loc());
-        let start = r.index(&format!("edge {i} start vertex"), false)?.unwrap_or_default();
-        let end = r.index(&format!("edge {i} end vertex"), false)?.unwrap_or_default();
-        let left = r.index(&format!("edge {i} left cell"), true)?;
-        let right = r.index(&format!("edge {i} right cell"), true)?;
-        let opaque = r.flag(&format!("edge {i} opaque flag"))?;
+        let start = r.index(&|| format!("edge {i} start vertex"), false)?.unwrap_or_default();
+        let end = r.index(&|| format!("edge {i} end vertex"), false)?.unwrap_or_default();
+        let left = r.index(&|| format!("edge {i} left cell"), true)?;
+        let right = r.index(&|| format!("edge {i} right cell"), true)?;
+        let opaque = r.flag(&|| format!("edge {i} opaque flag"))?;
         let mut c = [0.0; 3];
         for (k, name) in ["red", "green", "blue"].iter().enumerate() {
-            c[k] = r.float(&format!("edge {i} {name}"))?;
+            c[k] = r.float(&|| format!("edge {i} {name}"))?;
         }
         edges.push(Edge { start, end, left, right, opaque, color: Vec3::from(c) });
     }
 
-    let nc = r.count("cell count", "cells", CELL_SLOTS)?;
+    let nc = r.count(&|| "cell count".into(), "cells", CELL_SLOTS)?;
     let mut cells = Cells::with_capacity(nc, nc * CELL_SLOTS);
     for i in 0..nc {
         locs.cells.push(r.peek_loc());
         let mut slots = [0; CELL_SLOTS];
         let mut n = 0;
         for k in 0..CELL_SLOTS {
-            if let Some(e) = r.index(&format!("cell {i} edge {}", k + 1), true)? {
+            if let Some(e) = r.index(&|| format!("cell {i} edge {}", k + 1), true)? {
                 slots[n] = e;
                 n += 1;
             }
@@ -74,7 +74,7 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
     locs.viewer = r.peek_loc();
     let mut v = [0.0; 5];
     for (k, name) in ["x", "y", "z", "direction", "field of view"].iter().enumerate() {
-        v[k] = r.float(&format!("viewer {name}"))?;
+        v[k] = r.float(&|| format!("viewer {name}"))?;
     }
     let viewer = Viewer { pos: vec2(v[0], v[1]), z: v[2], dir_deg: v[3], fov_deg: v[4] };
     let exit = r.exit_extension(&mut locs)?;
@@ -133,9 +133,13 @@ pub fn write(maze: &Maze) -> Result<String, WriteError> {
                 reason: format!("cell {c} has {} edges; the format holds at most {CELL_SLOTS}", ids.len()),
             });
         }
-        let slots: Vec<String> =
-            (0..CELL_SLOTS).map(|k| ids.get(k).map_or("-1".to_string(), |e| e.to_string())).collect();
-        let _ = writeln!(out, "{}", slots.join(" "));
+        for k in 0..CELL_SLOTS {
+            let sep = if k + 1 == CELL_SLOTS { '\n' } else { ' ' };
+            match ids.get(k) {
+                Some(e) => _ = write!(out, "{e}{sep}"),
+                None => _ = write!(out, "-1{sep}"),
+            }
+        }
     }
     let v = maze.viewer();
     let _ = writeln!(out, "{} {} {} {} {}", v.pos.x, v.pos.y, v.z, v.dir_deg, v.fov_deg);
@@ -187,14 +191,14 @@ impl<'a> Reader<'a> {
     }
 
     /// The next token and where it starts, or an end-of-file error naming `expected`.
-    fn token(&mut self, expected: &str) -> Result<(&'a str, Loc), ParseError> {
+    fn token(&mut self, expected: &dyn Fn() -> String) -> Result<(&'a str, Loc), ParseError> {
         self.skip_space();
         let start = self.pos;
         let rest = &self.text[start..];
         let len = rest.find(is_space).unwrap_or(rest.len());
         let loc = self.loc;
         if len == 0 {
-            return Err(loc.error(self.file, ParseErrorKind::UnexpectedEof { expected: expected.into() }));
+            return Err(loc.error(self.file, ParseErrorKind::UnexpectedEof { expected: expected() }));
         }
         self.advance(len);
         Ok((&rest[..len], loc))
@@ -205,15 +209,20 @@ impl<'a> Reader<'a> {
         loc.error(self.file, ParseErrorKind::Expected { expected: expected.into(), found })
     }
 
-    fn integer(&mut self, what: &str) -> Result<(i64, Loc), ParseError> {
+    fn integer(&mut self, what: &dyn Fn() -> String) -> Result<(i64, Loc), ParseError> {
         let (tok, loc) = self.token(what)?;
         let value =
-            tok.parse::<i64>().map_err(|_| self.expected(loc, &format!("an integer ({what})"), tok))?;
+            tok.parse::<i64>().map_err(|_| self.expected(loc, &format!("an integer ({})", what()), tok))?;
         Ok((value, loc))
     }
 
     /// A record count, capped by the records the rest of the file could hold (`tokens` each).
-    fn count(&mut self, what: &str, plural: &'static str, tokens: usize) -> Result<usize, ParseError> {
+    fn count(
+        &mut self,
+        what: &dyn Fn() -> String,
+        plural: &'static str,
+        tokens: usize,
+    ) -> Result<usize, ParseError> {
         let (n, loc) = self.integer(what)?;
         if n < 0 {
             return Err(self.out_of_range(loc, what, n, "0 or more"));
@@ -229,7 +238,7 @@ impl<'a> Reader<'a> {
     }
 
     /// An index, or `None` for `-1` when `may_be_none`. Range against counts is the model's check.
-    fn index(&mut self, what: &str, may_be_none: bool) -> Result<Option<u32>, ParseError> {
+    fn index(&mut self, what: &dyn Fn() -> String, may_be_none: bool) -> Result<Option<u32>, ParseError> {
         let (n, loc) = self.integer(what)?;
         match n {
             -1 if may_be_none => Ok(None),
@@ -243,7 +252,7 @@ impl<'a> Reader<'a> {
         }
     }
 
-    fn flag(&mut self, what: &str) -> Result<bool, ParseError> {
+    fn flag(&mut self, what: &dyn Fn() -> String) -> Result<bool, ParseError> {
         let (n, loc) = self.integer(what)?;
         match n {
             0 => Ok(false),
@@ -252,21 +261,20 @@ impl<'a> Reader<'a> {
         }
     }
 
-    fn out_of_range(&self, loc: Loc, what: &str, n: i64, range: &str) -> ParseError {
+    fn out_of_range(&self, loc: Loc, what: &dyn Fn() -> String, n: i64, range: &str) -> ParseError {
         loc.error(
             self.file,
-            ParseErrorKind::OutOfRange { what: what.into(), value: n.to_string(), range: range.into() },
+            ParseErrorKind::OutOfRange { what: what(), value: n.to_string(), range: range.into() },
         )
     }
 
     /// A finite `f32`.
-    fn float(&mut self, what: &str) -> Result<f32, ParseError> {
+    fn float(&mut self, what: &dyn Fn() -> String) -> Result<f32, ParseError> {
         let (tok, loc) = self.token(what)?;
-        let value = tok.parse::<f32>().map_err(|_| self.expected(loc, &format!("a number ({what})"), tok))?;
+        let value =
+            tok.parse::<f32>().map_err(|_| self.expected(loc, &format!("a number ({})", what()), tok))?;
         if !value.is_finite() {
-            return Err(
-                loc.error(self.file, ParseErrorKind::NotFinite { what: what.into(), value: tok.into() })
-            );
+            return Err(loc.error(self.file, ParseErrorKind::NotFinite { what: what(), value: tok.into() }));
         }
         Ok(value)
     }
@@ -289,13 +297,15 @@ impl<'a> Reader<'a> {
             let args = words.count();
             return Ok(Some(match args {
                 1 => {
-                    let (n, nloc) = self.integer("exit cell")?;
+                    let (n, nloc) = self.integer(&|| "exit cell".into())?;
                     match u32::try_from(n) {
                         Ok(c) if c < u32::MAX => ExitSpec::Cell(c),
-                        _ => return Err(self.out_of_range(nloc, "exit cell", n, "a cell index")),
+                        _ => return Err(self.out_of_range(nloc, &|| "exit cell".into(), n, "a cell index")),
                     }
                 }
-                2 => ExitSpec::Point(vec2(self.float("exit x")?, self.float("exit y")?)),
+                2 => {
+                    ExitSpec::Point(vec2(self.float(&|| "exit x".into())?, self.float(&|| "exit y".into())?))
+                }
                 _ => return Err(self.expected(loc, "`exit CELL` or `exit X Y`", line.trim())),
             }));
         }

@@ -20,35 +20,44 @@ pub(crate) struct SpatialGrid {
 const MAX_ENTRIES_PER_ITEM: usize = 16;
 
 impl SpatialGrid {
-    /// Indexes `n` items with boxes `aabb(i)` inside `extents`, about one bucket per item.
-    pub(crate) fn build(n: usize, extents: Aabb, aabb: impl Fn(usize) -> Aabb) -> SpatialGrid {
+    /// Indexes items with boxes `boxes` inside `extents`, about one bucket per two items.
+    pub(crate) fn build(boxes: &[Aabb], extents: Aabb) -> SpatialGrid {
+        let n = boxes.len();
         let size = (extents.max - extents.min).max(Vec2::splat(1e-6));
-        // square buckets, about n of them
-        let mut side = ((size.x as f64 * size.y as f64) / n.max(1) as f64).sqrt().max(1e-6) as f32;
+        // square buckets, about n/2 of them (a box the size of a bucket touches up to 4)
+        let mut side = ((2.0 * size.x as f64 * size.y as f64) / n.max(1) as f64).sqrt().max(1e-6) as f32;
         side = side.max(size.x / 4096.0).max(size.y / 4096.0);
         loop {
+            // shift the lattice off round numbers, so boxes on a grid of the same pitch (a generated
+            // maze) do not all straddle bucket boundaries
+            let shift = side * 0.382;
             let grid = SpatialGrid {
-                origin: extents.min,
+                origin: extents.min - shift,
                 inv_size: 1.0 / side,
-                nx: ((size.x / side) as usize + 1).min(8192),
-                ny: ((size.y / side) as usize + 1).min(8192),
+                nx: (((size.x + shift) / side) as usize + 1).min(8192),
+                ny: (((size.y + shift) / side) as usize + 1).min(8192),
                 offsets: Vec::new(),
                 items: Vec::new(),
             };
-            let entries: usize =
-                (0..n).map(|i| grid.span(&aabb(i)).map_or(0, |(x, y)| x.len() * y.len())).sum();
-            if entries <= MAX_ENTRIES_PER_ITEM * n + 1024 || (grid.nx == 1 && grid.ny == 1) {
-                return grid.fill(n, entries, aabb);
+            if let Some(grid) = grid.fill(boxes, MAX_ENTRIES_PER_ITEM * n + 1024) {
+                return grid;
             }
             side *= 2.0; // long items cover many buckets: coarsen
         }
     }
 
-    fn fill(mut self, n: usize, entries: usize, aabb: impl Fn(usize) -> Aabb) -> SpatialGrid {
+    /// Fills the buckets, or `None` if that would take more than `budget` entries (unless the grid
+    /// is a single bucket already).
+    fn fill(mut self, boxes: &[Aabb], budget: usize) -> Option<SpatialGrid> {
         let buckets = self.nx * self.ny;
         let mut counts = vec![0u32; buckets + 1];
-        for i in 0..n {
-            if let Some((xs, ys)) = self.span(&aabb(i)) {
+        let mut entries = 0usize;
+        for b in boxes {
+            if let Some((xs, ys)) = self.span(b) {
+                entries += xs.len() * ys.len();
+                if entries > budget && buckets > 1 {
+                    return None;
+                }
                 for y in ys {
                     for x in xs.clone() {
                         counts[y * self.nx + x + 1] += 1;
@@ -61,8 +70,8 @@ impl SpatialGrid {
         }
         let mut next = counts.clone();
         let mut items = vec![0u32; entries];
-        for i in 0..n {
-            if let Some((xs, ys)) = self.span(&aabb(i)) {
+        for (i, b) in boxes.iter().enumerate() {
+            if let Some((xs, ys)) = self.span(b) {
                 for y in ys {
                     for x in xs.clone() {
                         let slot = &mut next[y * self.nx + x];
@@ -74,7 +83,7 @@ impl SpatialGrid {
         }
         self.offsets = counts;
         self.items = items;
-        self
+        Some(self)
     }
 
     /// The bucket columns and rows a box touches, or `None` for an empty or non-finite box.

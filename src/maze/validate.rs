@@ -3,7 +3,7 @@
 use glam::{DVec2, Vec2};
 
 use super::index::SpatialGrid;
-use super::{COORD_BOUND, CellId, Cells, Edge, EdgeId, Maze, MazeError, VertexId, orient};
+use super::{Aabb, COORD_BOUND, CellId, Cells, Edge, EdgeId, Maze, MazeError, VertexId, orient};
 
 /// Indices, sides, cell ↔ edge consistency, and each cell a closed convex counter-clockwise loop.
 pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Result<(), MazeError> {
@@ -105,10 +105,20 @@ fn cell_loop(
         let edge = &edges[e as usize];
         if edge.left == Some(c) { (edge.start, edge.end) } else { (edge.end, edge.start) }
     }));
-    directed.sort_unstable();
-    // each vertex starts exactly one edge of the loop
-    if let Some(w) = directed.windows(2).find(|w| w[0].0 == w[1].0) {
-        return Err(MazeError::CellNotClosed { cell: c, vertex: w[0].0 });
+    // small cells (the usual 4 edges) search linearly; big ones sort and bisect
+    let small = directed.len() <= 8;
+    if small {
+        for (i, d) in directed.iter().enumerate() {
+            if directed[..i].iter().any(|e| e.0 == d.0) {
+                return Err(MazeError::CellNotClosed { cell: c, vertex: d.0 });
+            }
+        }
+    } else {
+        directed.sort_unstable();
+        // each vertex starts exactly one edge of the loop
+        if let Some(w) = directed.windows(2).find(|w| w[0].0 == w[1].0) {
+            return Err(MazeError::CellNotClosed { cell: c, vertex: w[0].0 });
+        }
     }
     let p = |v: VertexId| vertices[v as usize].as_dvec2();
     let first = directed[0];
@@ -116,7 +126,12 @@ fn cell_loop(
     let mut twice_area = 0.0;
     let mut steps = 0;
     loop {
-        let Ok(i) = directed.binary_search_by_key(&to, |d| d.0) else {
+        let found = if small {
+            directed.iter().position(|d| d.0 == to)
+        } else {
+            directed.binary_search_by_key(&to, |d| d.0).ok()
+        };
+        let Some(i) = found else {
             return Err(MazeError::CellNotClosed { cell: c, vertex: to });
         };
         let next = directed[i].1;
@@ -148,17 +163,19 @@ fn cell_loop(
 
 /// No two edges cross or overlap; they may share end points. A bucket grid keeps it near O(n).
 pub(super) fn no_crossings(maze: &Maze) -> Result<(), MazeError> {
-    let edges = maze.edges();
-    let grid = SpatialGrid::build(edges.len(), maze.extents(), |e| {
-        let (a, b) = maze.edge_points(e as EdgeId);
-        super::Aabb { min: a.min(b), max: a.max(b) }
-    });
+    let segments: Vec<[Vec2; 2]> =
+        maze.edges().iter().map(|e| [maze.vertex(e.start), maze.vertex(e.end)]).collect();
+    let boxes: Vec<Aabb> = segments.iter().map(|&[a, b]| Aabb { min: a.min(b), max: a.max(b) }).collect();
+    let grid = SpatialGrid::build(&boxes, maze.extents());
     for bucket in 0..grid.bucket_count() {
         let items = grid.bucket_items(bucket);
         for (i, &a) in items.iter().enumerate() {
+            let (box_a, [p1, p2]) = (boxes[a as usize], segments[a as usize]);
             for &b in &items[i + 1..] {
-                let (p1, p2) = maze.edge_points(a);
-                let (q1, q2) = maze.edge_points(b);
+                if !box_a.intersects(&boxes[b as usize]) {
+                    continue; // the common case: cheap to rule out
+                }
+                let [q1, q2] = segments[b as usize];
                 match conflict(p1.as_dvec2(), p2.as_dvec2(), q1.as_dvec2(), q2.as_dvec2()) {
                     Conflict::None => {}
                     Conflict::Cross => return Err(MazeError::EdgesCross { a: a.min(b), b: a.max(b) }),
