@@ -327,24 +327,32 @@ fn backtracker(l: &mut Layout, rng: &mut SplitMix64) {
 /// Wilson's: from each cell not yet in the tree, random-walk until the tree is hit, remembering only the
 /// last exit direction from each cell (which erases loops), then carve the remembered path.
 fn wilson(l: &mut Layout, rng: &mut SplitMix64) {
-    let n = (l.width * l.height) as usize;
+    let (w, h) = (l.width, l.height);
+    let n = (w * h) as usize;
     let mut in_tree = vec![false; n];
     let mut exit_dir = vec![0u8; n];
     in_tree[rng.below(n as u32) as usize] = true;
     for s in 0..n as CellId {
         let mut c = s;
         while !in_tree[c as usize] {
-            let mut options = [0u8; 4];
+            // the hot loop: neighbours from (i, j) directly, one division per step
+            let (i, j) = (c % w, c / w);
+            let mut options = [(0u8, 0u32); 4];
             let mut k = 0;
-            for d in 0..4 {
-                if l.neighbour(c, d).is_some() {
-                    options[k] = d;
+            for (d, ok, next) in [
+                (EAST, i + 1 < w, c.wrapping_add(1)),
+                (NORTH, j + 1 < h, c.wrapping_add(w)),
+                (WEST, i > 0, c.wrapping_sub(1)),
+                (SOUTH, j > 0, c.wrapping_sub(w)),
+            ] {
+                if ok {
+                    options[k] = (d, next);
                     k += 1;
                 }
             }
-            let d = options[rng.below(k as u32) as usize];
+            let (d, next) = options[rng.below(k as u32) as usize];
             exit_dir[c as usize] = d;
-            c = l.neighbour(c, d).unwrap_or(c);
+            c = next;
         }
         let mut c = s;
         while !in_tree[c as usize] {
