@@ -14,7 +14,7 @@
 //! ```
 //!
 //! * Line 1 is `mazewalk-grid 1` (the format and its version).
-//! * Settings follow, one per line, each optional: `tile SIDE` (tile side in maze units, default 4),
+//! * Settings follow, one per line, each optional: `tile SIDE` (tile side in maze units, 0.01..=1000, default 4),
 //!   `facing east|north|west|south` (the `@` start's heading, default east), `eye Z` (eye height,
 //!   default 0, strictly between the floor -1 and the ceiling +1), `fov DEG` (horizontal field of
 //!   view, default 90), and colour legend lines `L = #rrggbb` giving wall letter `L` (`A`–`Z` but `E`)
@@ -296,8 +296,8 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
             [] => {}
             ["tile", v] => {
                 map.tile = number(v, "tile side")?;
-                if !(map.tile > 0.0 && map.tile <= 1000.0) {
-                    return Err(err(n, col_of(v), format!("tile side {v} is out of range (0, 1000]")));
+                if !(0.01..=1000.0).contains(&map.tile) {
+                    return Err(err(n, col_of(v), format!("tile side {v} is out of range 0.01..=1000")));
                 }
             }
             ["eye", v] => {
