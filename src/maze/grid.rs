@@ -208,6 +208,8 @@ impl TileMap {
                 }
             }
         }
+        // the lookup tables are done with: free them before the model builds its own
+        drop((cell_of, vertex_of, h_edge, v_edge));
         // no start tile: a viewer outside every cell, which Maze::new reports
         let viewer =
             viewer.unwrap_or(Viewer { pos: vec2(-1.0, -1.0) * t, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 });
