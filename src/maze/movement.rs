@@ -54,6 +54,28 @@ const MAX_SLIDES: usize = 4;
 /// In debug builds, if `from.cell` is not a cell of `maze`.
 #[must_use]
 pub fn step(maze: &Maze, from: Position, delta: Vec2, radius: f32) -> Position {
+    sweep(maze, from, delta, radius, None)
+}
+
+/// Like [`step`], also returning the path taken: the start, each point where the viewer met a wall
+/// and turned to slide, and the end (a polyline, for tests and debugging).
+#[must_use]
+pub fn step_traced(maze: &Maze, from: Position, delta: Vec2, radius: f32) -> (Position, Vec<Vec2>) {
+    let mut path = vec![from.pos];
+    let to = sweep(maze, from, delta, radius, Some(&mut path));
+    if to == from {
+        path.truncate(1);
+    }
+    (to, path)
+}
+
+fn sweep(
+    maze: &Maze,
+    from: Position,
+    delta: Vec2,
+    radius: f32,
+    mut path: Option<&mut Vec<Vec2>>,
+) -> Position {
     debug_assert!((from.cell as usize) < maze.cell_count(), "cell {} out of range", from.cell);
     if (from.cell as usize) >= maze.cell_count()
         || !(delta.is_finite() && from.pos.is_finite() && radius.is_finite() && radius >= 0.0)
@@ -82,11 +104,17 @@ pub fn step(maze: &Maze, from: Position, delta: Vec2, radius: f32) -> Position {
         // stop SKIN short of the contact, then keep only the part of the motion along the wall
         let t_safe = (t - SKIN / len).max(0.0);
         p += m * t_safe;
+        if let Some(path) = path.as_deref_mut() {
+            path.push(p.as_vec2());
+        }
         let rest = m * (1.0 - t_safe);
         m = rest - n * rest.dot(n).min(0.0);
     }
 
     let pos = p.as_vec2();
+    if let Some(path) = path {
+        path.push(pos);
+    }
     let cell = cells.iter().copied().find(|&c| maze.cell_contains(c, pos)).or_else(|| maze.cell_at(pos));
     match cell {
         Some(cell) => Position { cell, pos },
