@@ -203,3 +203,58 @@ fn grid_parse_map_exposes_the_tiles() {
     let map = grid::parse_map("m", "mazewalk-grid 1\n#@\n").unwrap();
     assert_eq!((map.cols, map.rows, map.tiles.as_slice()), (2, 1, &b"#@"[..]));
 }
+
+/// A mostly well-formed grid file: a few settings, then ragged rows of floor, walls and junk, with a
+/// start (and maybe an exit) dropped in at random places.
+fn arb_grid_text() -> impl Strategy<Value = String> {
+    let setting = prop_oneof![
+        "tile [0-9]{1,2}(\\.[0-9])?",
+        "facing (east|north|west|south|up)",
+        "[a-z]{1,3} [0-9]",
+        "eye -?0\\.[0-9]",
+        "fov [0-9]{1,3}",
+        "[A-Z#] = #[0-9a-f]{6}",
+    ];
+    let rows = prop::collection::vec("[#. A..]{0,14}", 1..10);
+    (
+        prop::collection::vec(setting, 0..4),
+        rows,
+        any::<prop::sample::Index>(),
+        any::<prop::sample::Index>(),
+        "[@>^<v]",
+        "[E.]",
+    )
+        .prop_map(|(settings, rows, at, exit_at, start, exit)| {
+            let mut map = rows.join("\n");
+            for (ix, ch) in [(at, start), (exit_at, exit)] {
+                let chars: Vec<char> = map.chars().collect();
+                let k = ix.index(chars.len() + 1);
+                map = chars[..k]
+                    .iter()
+                    .chain(ch.chars().collect::<Vec<_>>().iter())
+                    .chain(&chars[k..])
+                    .collect();
+            }
+            // `A` walls need their legend line; leave it out now and then
+            let legend = if map.len() % 5 == 0 { "" } else { "A = #cc8844" };
+            format!("mazewalk-grid 1\n{}\n{legend}\n{map}\n", settings.join("\n"))
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: ProptestConfig::default().cases.max(256), ..Default::default() })]
+
+    // the reader's contract on any input: a maze or a located error, never a panic
+    #[test]
+    fn any_grid_text_gives_a_maze_or_a_located_error(text in arb_grid_text()) {
+        match parse(&text) {
+            Ok(m) => {
+                prop_assert!(m.cell_at(m.viewer().pos).is_some());
+                // whatever the grid reader makes, the grid writer expresses
+                let again = maze::write(&m, Format::Grid).unwrap();
+                prop_assert_eq!(parse(&again).unwrap(), m);
+            }
+            Err(e) => prop_assert!(e.line >= 1 && e.col >= 1),
+        }
+    }
+}

@@ -427,10 +427,36 @@ fn no(reason: impl Into<String>) -> WriteError {
 
 /// The tile map of a maze made of square tiles on a lattice anchored at the origin.
 fn to_map(maze: &Maze) -> Result<TileMap, WriteError> {
-    let (a, b) =
-        maze.edge_points(maze.cell_edges(0).first().copied().ok_or_else(|| no("cell 0 has no edges"))?);
-    let t = (b - a).abs().max_element();
-    // each cell: an axis-aligned square of side t on the lattice
+    // the reader puts lattice point i at `i as f32 * tile`, so an edge's length can be off by rounding
+    // (tile 0.1): try the side of cell 0 and the quotients of its corners, each give or take 2 ulps
+    let bb = maze.cell_aabb(0);
+    let d = (bb.max - bb.min).max_element();
+    let mut guesses = vec![d];
+    for (lo, hi) in [(bb.min.x, bb.max.x), (bb.min.y, bb.max.y)] {
+        let i = (lo / d).round();
+        if i >= 1.0 {
+            guesses.extend([lo / i, hi / (i + 1.0)]);
+        }
+    }
+    let mut fails = None;
+    for g in guesses {
+        for k in -2i32..=2 {
+            let t = f32::from_bits(g.to_bits().wrapping_add_signed(k));
+            match lattice(maze, t) {
+                Ok((place, max_x, max_y)) => return tiles_of(maze, t, place, max_x, max_y),
+                Err(e) => _ = fails.get_or_insert(e),
+            }
+        }
+    }
+    Err(fails.unwrap_or_else(|| no("cell 0 has no extent")))
+}
+
+/// Each cell's tile, if every cell is an axis-aligned square of side `t` on the lattice from the
+/// origin; with the largest tile coordinates.
+fn lattice(maze: &Maze, t: f32) -> Result<(Vec<(i64, i64)>, i64, i64), WriteError> {
+    if !(t.is_finite() && t > 0.0) {
+        return Err(no("cell 0 has no extent"));
+    }
     let mut place = Vec::with_capacity(maze.cell_count());
     let (mut max_x, mut max_y) = (0i64, 0i64);
     for c in 0..maze.cell_count() as CellId {
@@ -452,6 +478,16 @@ fn to_map(maze: &Maze) -> Result<TileMap, WriteError> {
         (max_x, max_y) = (max_x.max(x), max_y.max(y));
         place.push((x, y));
     }
+    Ok((place, max_x, max_y))
+}
+
+fn tiles_of(
+    maze: &Maze,
+    t: f32,
+    place: Vec<(i64, i64)>,
+    max_x: i64,
+    max_y: i64,
+) -> Result<TileMap, WriteError> {
     let (cols, rows) = (max_x as usize + 2, max_y as usize + 2);
     let mut map = TileMap {
         tile: t,
@@ -470,26 +506,34 @@ fn to_map(maze: &Maze) -> Result<TileMap, WriteError> {
     if let Some(e) = maze.edges().iter().position(|e| e.opaque && e.left.is_some() && e.right.is_some()) {
         return Err(no(format!("edge {e} is a wall between two cells (walls are tiles here)")));
     }
+    // each wall edge and the tile across it: one step from its cell along the mid-point's larger axis
+    let behind: Vec<(usize, i64, i64)> = (maze.edges().iter().enumerate())
+        .filter_map(|(e, edge)| {
+            let cell = if edge.opaque { edge.left.or(edge.right)? } else { return None };
+            let (x, y) = place[cell as usize];
+            let (p, q) = maze.edge_points(e as EdgeId);
+            let mid = (p + q) / 2.0 / t - vec2(x as f32 + 0.5, y as f32 + 0.5);
+            let across = if mid.x.abs() > mid.y.abs() {
+                (x + mid.x.signum() as i64, y)
+            } else {
+                (x, y + mid.y.signum() as i64)
+            };
+            Some((e, across.0, across.1))
+        })
+        .collect();
+    // `#` takes the colour of the outside (left of and below the map), as the reader gives it
+    let hash = behind
+        .iter()
+        .find(|&&(_, nx, ny)| nx < 0 || ny < 0)
+        .map_or(DEFAULT_WALL, |&(e, ..)| maze.edges()[e].color);
+    if hash != DEFAULT_WALL {
+        check_rgb(hash)?;
+        map.legend.push((b'#', hash));
+    }
     // wall colours, from the opaque edges onto the wall tiles behind them
     let mut colored = vec![false; map.tiles.len()];
-    for (e, edge) in maze.edges().iter().enumerate() {
-        let cell = match (edge.left, edge.right) {
-            (Some(c), None) | (None, Some(c)) => c,
-            (Some(_), Some(_)) if edge.opaque => {
-                return Err(no(format!("edge {e} is a wall between two cells")));
-            }
-            _ => continue,
-        };
-        let (x, y) = place[cell as usize];
-        let (p, q) = maze.edge_points(e as EdgeId);
-        let mid = (p + q) / 2.0 / t - vec2(x as f32 + 0.5, y as f32 + 0.5);
-        // the tile across the edge: one step along the mid-point's larger axis
-        let (nx, ny) = if mid.x.abs() > mid.y.abs() {
-            (x + mid.x.signum() as i64, y)
-        } else {
-            (x, y + mid.y.signum() as i64)
-        };
-        let letter = legend_letter(&mut map.legend, edge.color)?;
+    for (e, nx, ny) in behind {
+        let letter = legend_letter(&mut map.legend, hash, maze.edges()[e].color)?;
         if nx < 0 || ny < 0 {
             if letter != b'#' {
                 return Err(no(format!("edge {e} faces the outside with a colour other than `#`")));
@@ -521,22 +565,24 @@ fn to_map(maze: &Maze) -> Result<TileMap, WriteError> {
     Ok(map)
 }
 
-/// The letter for wall colour `c`: `#` for the default, else a legend letter (added if new).
-fn legend_letter(legend: &mut Vec<(u8, Vec3)>, c: Vec3) -> Result<u8, WriteError> {
-    if c == DEFAULT_WALL {
+/// Only colours a `#rrggbb` reads back exactly.
+fn check_rgb(c: Vec3) -> Result<(), WriteError> {
+    let bytes = (c * 255.0).round();
+    if bytes / 255.0 == c { Ok(()) } else { Err(no(format!("wall colour {c} is not a #rrggbb colour"))) }
+}
+
+/// The letter for wall colour `c`: `#` for the `hash` colour, else a legend letter (added if new).
+fn legend_letter(legend: &mut Vec<(u8, Vec3)>, hash: Vec3, c: Vec3) -> Result<u8, WriteError> {
+    if c == hash {
         return Ok(b'#');
     }
     if let Some(&(l, _)) = legend.iter().find(|(_, lc)| *lc == c) {
         return Ok(l);
     }
-    // only colours a `#rrggbb` reads back exactly
-    let bytes = (c * 255.0).round();
-    if bytes / 255.0 != c {
-        return Err(no(format!("wall colour {c} is not a #rrggbb colour")));
-    }
-    let l = *TileMap::LEGEND_LETTERS
-        .get(legend.len())
-        .ok_or_else(|| no("more wall colours than legend letters"))?;
+    check_rgb(c)?;
+    let letters = legend.iter().filter(|(l, _)| *l != b'#').count();
+    let l =
+        *TileMap::LEGEND_LETTERS.get(letters).ok_or_else(|| no("more wall colours than legend letters"))?;
     legend.push((l, c));
     Ok(l)
 }
