@@ -31,8 +31,8 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
     let mut r = Reader { file, text, pos: 0, loc: Loc { line: 1, col: 1 } };
     let mut locs = RecordLocs { start: r.peek_loc(), ..RecordLocs::default() };
 
-    let nv = r.count(&|| "vertex count".into(), "vertices", 2)?;
-    let mut vertices = Vec::with_capacity(nv);
+    let (nv, cap) = r.count(&|| "vertex count".into(), "vertices", 2)?;
+    let mut vertices = Vec::with_capacity(cap);
     for i in 0..nv {
         locs.vertices.push(r.peek_loc());
         let x = r.float(&|| format!("vertex {i} x"))?;
@@ -40,8 +40,8 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
         vertices.push(vec2(x, y));
     }
 
-    let ne = r.count(&|| "edge count".into(), "edges", 8)?;
-    let mut edges = Vec::with_capacity(ne);
+    let (ne, cap) = r.count(&|| "edge count".into(), "edges", 8)?;
+    let mut edges = Vec::with_capacity(cap);
     for i in 0..ne {
         locs.edges.push(r.peek_loc());
         let start = r.index(&|| format!("edge {i} start vertex"), false)?.unwrap_or_default();
@@ -56,8 +56,8 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
         edges.push(Edge { start, end, left, right, opaque, color: Vec3::from(c) });
     }
 
-    let nc = r.count(&|| "cell count".into(), "cells", CELL_SLOTS)?;
-    let mut cells = Cells::with_capacity(nc, nc * CELL_SLOTS);
+    let (nc, cap) = r.count(&|| "cell count".into(), "cells", CELL_SLOTS)?;
+    let mut cells = Cells::with_capacity(cap, cap * CELL_SLOTS);
     for i in 0..nc {
         locs.cells.push(r.peek_loc());
         let mut slots = [0; CELL_SLOTS];
@@ -216,25 +216,26 @@ impl<'a> Reader<'a> {
         Ok((value, loc))
     }
 
-    /// A record count, capped by the records the rest of the file could hold (`tokens` each).
+    /// A record count, and how many records of `tokens` tokens the rest of the file could hold.
     fn count(
         &mut self,
         what: &dyn Fn() -> String,
         plural: &'static str,
         tokens: usize,
-    ) -> Result<usize, ParseError> {
+    ) -> Result<(usize, usize), ParseError> {
         let (n, loc) = self.integer(what)?;
         if n < 0 {
             return Err(self.out_of_range(loc, what, n, "0 or more"));
         }
-        // each token takes at least one character and one separator
-        let room = ((self.text.len() - self.pos) / (2 * tokens)) as u64 + 1;
-        if n as u64 > room {
+        let max = u64::from(u32::MAX - 1); // ids are u32, with one value left for "none"
+        if n as u64 > max {
             return Err(
-                loc.error(self.file, ParseErrorKind::CountTooLarge { what: plural, count: n as u64, room })
+                loc.error(self.file, ParseErrorKind::CountTooLarge { what: plural, count: n as u64, max })
             );
         }
-        Ok(n as usize)
+        // reserve only what the rest of the file could hold: each token takes a character and a separator
+        let room = (self.text.len() - self.pos) / (2 * tokens) + 1;
+        Ok((n as usize, (n as usize).min(room)))
     }
 
     /// An index, or `None` for `-1` when `may_be_none`. Range against counts is the model's check.

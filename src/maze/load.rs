@@ -58,8 +58,8 @@ pub enum ParseErrorKind {
     NotFinite { what: String, value: String },
     #[error("{what} is {value}, out of range ({range})")]
     OutOfRange { what: String, value: String, range: String },
-    #[error("the file claims {count} {what} but has room for at most {room}")]
-    CountTooLarge { what: &'static str, count: u64, room: u64 },
+    #[error("the file claims {count} {what}; at most {max} are supported")]
+    CountTooLarge { what: &'static str, count: u64, max: u64 },
     #[error("{0}")]
     Grid(String),
     #[error("{0}")]
@@ -103,10 +103,19 @@ pub fn load(path: impl AsRef<Path>) -> Result<Maze, LoadError> {
 /// Parses a maze from `bytes` (a grid file if it starts with `mazewalk-grid`, else CS559);
 /// `name` is the file name used in error messages.
 pub fn parse(name: &str, bytes: &[u8]) -> Result<Maze, ParseError> {
-    let text = decode(name, bytes)?;
-    match detect_format(text) {
-        Format::Cs559 => cs559::parse_str(name, text),
-        Format::Grid => grid::parse_str(name, text),
+    match decode(name, bytes) {
+        Ok(text) => match detect_format(text) {
+            Format::Cs559 => cs559::parse_str(name, text),
+            Format::Grid => grid::parse_str(name, text),
+        },
+        Err((prefix, bad_utf8)) => match detect_format(prefix) {
+            // the original reader stops after the viewer: junk after it is ignored, even binary
+            Format::Cs559 => match cs559::parse_str(name, prefix) {
+                Err(ParseError { kind: ParseErrorKind::UnexpectedEof { .. }, .. }) => Err(bad_utf8),
+                other => other,
+            },
+            Format::Grid => Err(bad_utf8),
+        },
     }
 }
 
@@ -124,18 +133,15 @@ pub fn write(maze: &Maze, format: Format) -> Result<String, WriteError> {
     }
 }
 
-/// Checks UTF-8 (reporting the first bad byte's position) and strips a byte-order mark.
-pub(crate) fn decode<'a>(name: &str, bytes: &'a [u8]) -> Result<&'a str, ParseError> {
+/// Strips a byte-order mark and checks UTF-8; on failure returns the valid prefix and the error
+/// naming the first bad byte's position.
+pub(crate) fn decode<'a>(name: &str, bytes: &'a [u8]) -> Result<&'a str, (&'a str, ParseError)> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     std::str::from_utf8(bytes).map_err(|e| {
         let good = std::str::from_utf8(&bytes[..e.valid_up_to()]).unwrap_or_default();
         let (line, col) = line_col(good, good.len());
-        ParseError {
-            file: name.into(),
-            line,
-            col,
-            kind: ParseErrorKind::InvalidUtf8 { byte: bytes[e.valid_up_to()] },
-        }
+        let kind = ParseErrorKind::InvalidUtf8 { byte: bytes[e.valid_up_to()] };
+        (good, ParseError { file: name.into(), line, col, kind })
     })
 }
 

@@ -125,6 +125,7 @@ fn cell_loop(
     let (mut from, mut to) = first;
     let mut twice_area = 0.0;
     let mut steps = 0;
+    let mut concave_at = None; // reported after the orientation, which explains more
     loop {
         let found = if small {
             directed.iter().position(|d| d.0 == to)
@@ -138,8 +139,10 @@ fn cell_loop(
         let (a, b, n) = (p(from), p(to), p(next));
         let (u, v) = (b - a, n - b);
         // a right turn, or a straight-back spike, breaks convexity (tolerance for rounding)
-        if u.perp_dot(v) < -1e-9 * u.length() * v.length() || (u.perp_dot(v) <= 0.0 && u.dot(v) < 0.0) {
-            return Err(MazeError::CellNotConvex { cell: c, vertex: to });
+        if concave_at.is_none()
+            && (u.perp_dot(v) < -1e-9 * u.length() * v.length() || (u.perp_dot(v) <= 0.0 && u.dot(v) < 0.0))
+        {
+            concave_at = Some(to);
         }
         twice_area += a.perp_dot(b);
         (from, to) = (to, next);
@@ -158,7 +161,10 @@ fn cell_loop(
     if twice_area <= 0.0 {
         return Err(MazeError::CellClockwise { cell: c });
     }
-    Ok(())
+    match concave_at {
+        Some(vertex) => Err(MazeError::CellNotConvex { cell: c, vertex }),
+        None => Ok(()),
+    }
 }
 
 /// No two edges cross or overlap; they may share end points. A bucket grid keeps it near O(n).
