@@ -123,7 +123,7 @@ fn one_small_maze_per_algorithm_is_pinned() {
     assert_eq!(hashes, PINNED_HASHES);
 }
 
-const PINNED_HASHES: [u64; 3] = [14050266324397446043, 15820817389313991809, 14516027499220876905];
+const PINNED_HASHES: [u64; 3] = [7542345526414185877, 4721629497109246415, 844959765796670735];
 
 #[test]
 fn the_prng_is_pinned() {
@@ -155,5 +155,5 @@ fn a_palette_colours_every_edge_from_it() {
 #[test]
 fn default_colours_are_in_the_originals_range() {
     let m = generate(&GenOptions::default()).unwrap();
-    assert!(m.edges().iter().all(|e| e.color.min_element() >= 0.25 && e.color.max_element() < 0.75));
+    assert!(m.edges().iter().all(|e| e.color.min_element() >= 0.25 && e.color.max_element() <= 0.75));
 }

@@ -106,7 +106,7 @@ pub struct GenOptions {
     pub loops: f32,
     /// Mark the cell farthest from the start (by portal steps) as the exit.
     pub exit: bool,
-    /// Wall colours to pick from; `None` = random, 0.25..0.75 per channel (as the original).
+    /// Wall colours to pick from; `None` = random, 0.25..=0.75 per channel in steps of 0.01 (as the original).
     pub palette: Option<Vec<Vec3>>,
 }
 
@@ -392,7 +392,8 @@ fn add_loops(l: &mut Layout, loops: f32, rng: &mut SplitMix64) {
 fn pick_color(rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Vec3 {
     match palette {
         Some(p) => p[rng.below(p.len() as u32) as usize],
-        None => Vec3::new(rng.unit_f32(), rng.unit_f32(), rng.unit_f32()) * 0.5 + 0.25,
+        // 0.25..=0.75 in steps of 0.01: `k / 100` is correctly rounded everywhere, and prints short
+        None => Vec3::from_array([(); 3].map(|()| (25 + rng.below(51)) as f32 / 100.0)),
     }
 }
 
