@@ -14,7 +14,6 @@
 //! The writer pads cells to 4 slots with `-1` and prints every `f32` in Rust's shortest
 //! round-trip form, so reading what it wrote gives back the same maze.
 
-use std::fmt::Write as _;
 
 use glam::{Vec2, Vec3, vec2};
 
@@ -103,53 +102,63 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
 
 /// Writes `maze` in CS559 format; fails for a cell with more than 4 edges.
 pub fn write(maze: &Maze) -> Result<String, WriteError> {
-    let mut out = String::with_capacity(64 * maze.edges().len() + 32 * maze.vertices().len());
-    let _ = writeln!(out, "{}", maze.vertices().len());
-    for v in maze.vertices() {
-        let _ = writeln!(out, "{} {}", v.x, v.y);
+    let mut out = Vec::with_capacity(64 * maze.edges().len() + 32 * maze.vertices().len());
+    write_to(maze, &mut out).map_err(|e| match e {
+        WriteToError::Format(e) => e,
+        WriteToError::Io(e) => unreachable!("writing to a Vec cannot fail: {e}"),
+    })?;
+    Ok(String::from_utf8(out).unwrap_or_default()) // only ASCII was written
+}
+
+/// Why [`write_to`] stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteToError {
+    /// The format cannot express the maze (nothing was written).
+    #[error(transparent)]
+    Format(#[from] WriteError),
+    /// The sink failed.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+}
+
+/// Streams `maze` in CS559 format into `out` (use a buffered writer), without building the text
+/// in memory; checks first that every cell fits the format's 4 edge slots.
+pub fn write_to(maze: &Maze, out: &mut impl std::io::Write) -> Result<(), WriteToError> {
+    if let Some(c) = (0..maze.cell_count() as CellId).find(|&c| maze.cell_edges(c).len() > CELL_SLOTS) {
+        let n = maze.cell_edges(c).len();
+        let reason = format!("cell {c} has {n} edges; the format holds at most {CELL_SLOTS}");
+        return Err(WriteError { format: Format::Cs559, reason }.into());
     }
-    let _ = writeln!(out, "{}", maze.edges().len());
+    writeln!(out, "{}", maze.vertices().len())?;
+    for v in maze.vertices() {
+        writeln!(out, "{} {}", v.x, v.y)?;
+    }
+    writeln!(out, "{}", maze.edges().len())?;
     let side = |c: Option<CellId>| c.map_or(-1, i64::from);
     for e in maze.edges() {
-        let _ = writeln!(
-            out,
-            "{} {} {} {} {} {} {} {}",
-            e.start,
-            e.end,
-            side(e.left),
-            side(e.right),
-            u8::from(e.opaque),
-            e.color.x,
-            e.color.y,
-            e.color.z
-        );
+        let (l, r, o, c) = (side(e.left), side(e.right), u8::from(e.opaque), e.color);
+        writeln!(out, "{} {} {l} {r} {o} {} {} {}", e.start, e.end, c.x, c.y, c.z)?;
     }
-    let _ = writeln!(out, "{}", maze.cell_count());
+    writeln!(out, "{}", maze.cell_count())?;
     for c in 0..maze.cell_count() as CellId {
         let ids = maze.cell_edges(c);
-        if ids.len() > CELL_SLOTS {
-            return Err(WriteError {
-                format: Format::Cs559,
-                reason: format!("cell {c} has {} edges; the format holds at most {CELL_SLOTS}", ids.len()),
-            });
-        }
         for k in 0..CELL_SLOTS {
             let sep = if k + 1 == CELL_SLOTS { '\n' } else { ' ' };
             match ids.get(k) {
-                Some(e) => _ = write!(out, "{e}{sep}"),
-                None => _ = write!(out, "-1{sep}"),
+                Some(e) => write!(out, "{e}{sep}")?,
+                None => write!(out, "-1{sep}")?,
             }
         }
     }
     let v = maze.viewer();
-    let _ = writeln!(out, "{} {} {} {} {}", v.pos.x, v.pos.y, v.z, v.dir_deg, v.fov_deg);
+    writeln!(out, "{} {} {} {} {}", v.pos.x, v.pos.y, v.z, v.dir_deg, v.fov_deg)?;
     if let Some(exit) = maze.exit() {
         match exit.point {
-            Some(p) => _ = writeln!(out, "exit {} {}", p.x, p.y),
-            None => _ = writeln!(out, "exit {}", exit.cell),
+            Some(p) => writeln!(out, "exit {} {}", p.x, p.y)?,
+            None => writeln!(out, "exit {}", exit.cell)?,
         }
     }
-    Ok(out)
+    Ok(())
 }
 
 enum ExitSpec {

@@ -451,9 +451,12 @@ fn to_map(maze: &Maze) -> Result<TileMap, WriteError> {
     Err(fails.unwrap_or_else(|| no("cell 0 has no extent")))
 }
 
+/// Each cell's tile `(x, y)`, and the largest `x` and `y`.
+type Placement = (Vec<(i64, i64)>, i64, i64);
+
 /// Each cell's tile, if every cell is an axis-aligned square of side `t` on the lattice from the
 /// origin; with the largest tile coordinates.
-fn lattice(maze: &Maze, t: f32) -> Result<(Vec<(i64, i64)>, i64, i64), WriteError> {
+fn lattice(maze: &Maze, t: f32) -> Result<Placement, WriteError> {
     if !(t.is_finite() && t > 0.0) {
         return Err(no("cell 0 has no extent"));
     }
