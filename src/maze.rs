@@ -1,1 +1,558 @@
-//! maze (to be written).
+//! The maze: a plan of convex cells in the x/y plane, bounded by walls (opaque edges) and portals
+//! (transparent edges), plus the viewer's start and an optional exit.
+//!
+//! Maze plane: x east, y north; walls span z = -1 (floor) to +1 (ceiling). A cell's edges, each
+//! oriented so the cell lies on its left, form one counter-clockwise convex loop. Ids are plain
+//! `u32` indices into the maze's arrays; cell → edges is stored flat (CSR), see [`Maze::cell_edges`].
+//!
+//! Modules: [`cs559`] and [`grid`] read and write the two file formats ([`parse`] and [`load`] pick
+//! one), [`generate`] makes random mazes, [`movement`] moves a viewer without passing walls.
+//!
+//! ```
+//! # use mazewalk::maze;
+//! let text = "4  0 0  4 0  0 4  4 4
+//!             4  0 1 0 -1 1 .5 .5 .5   2 3 -1 0 1 .5 .5 .5   0 2 -1 0 1 .5 .5 .5   1 3 0 -1 1 .5 .5 .5
+//!             1  3 1 2 0
+//!             2 2 0 90 90";
+//! let maze = maze::parse("room.maze", text.as_bytes())?;
+//! assert_eq!(maze.cell_count(), 1);
+//! assert_eq!(maze.cell_at(glam::vec2(1.0, 3.0)), Some(0));
+//! # Ok::<(), maze::LoadError>(())
+//! ```
+
+pub mod cs559;
+pub mod generate;
+pub mod grid;
+mod index;
+mod load;
+pub mod movement;
+mod validate;
+
+use glam::{DVec2, Vec2, Vec3};
+
+use index::SpatialGrid;
+pub use load::{
+    Format, LoadError, ParseError, ParseErrorKind, WriteError, detect_format, load, parse, write,
+};
+
+/// Index of a vertex in [`Maze::vertices`].
+pub type VertexId = u32;
+/// Index of an edge in [`Maze::edges`].
+pub type EdgeId = u32;
+/// Index of a cell, `0..maze.cell_count()`.
+pub type CellId = u32;
+
+/// Largest accepted |x| or |y| of any coordinate, in maze units.
+pub const COORD_BOUND: f32 = 1.0e6;
+
+/// Distance (maze units) within which a point counts as on an edge line, so a point exactly on a
+/// cell's boundary is inside it despite rounding.
+pub const ON_EDGE_TOLERANCE: f64 = 1.0e-4;
+
+/// A wall or portal between two vertices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Edge {
+    /// Start vertex.
+    pub start: VertexId,
+    /// End vertex.
+    pub end: VertexId,
+    /// The cell on the left standing at `start` looking toward `end`; `None` = outside.
+    pub left: Option<CellId>,
+    /// The cell on the right; `None` = outside.
+    pub right: Option<CellId>,
+    /// `true` for a wall, `false` for a portal between `left` and `right`.
+    pub opaque: bool,
+    /// Wall colour, RGB in 0..1.
+    pub color: Vec3,
+}
+
+impl Edge {
+    /// The cell across this edge from `cell`, or `None` for the outside.
+    ///
+    /// # Panics
+    /// In debug builds, if `cell` is on neither side.
+    #[must_use]
+    pub fn other_side(&self, cell: CellId) -> Option<CellId> {
+        if self.left == Some(cell) {
+            self.right
+        } else {
+            debug_assert_eq!(self.right, Some(cell), "cell {cell} is not beside this edge");
+            self.left
+        }
+    }
+
+    /// `true` for a transparent edge (a portal between two cells).
+    #[must_use]
+    pub fn is_portal(&self) -> bool {
+        !self.opaque
+    }
+}
+
+/// Where the viewer starts, as in the maze file: `x y z dir_deg fov_deg`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Viewer {
+    /// Position in the maze plane.
+    pub pos: Vec2,
+    /// Eye height; the floor is at -1, the ceiling at +1.
+    pub z: f32,
+    /// Heading, degrees counter-clockwise from +x.
+    pub dir_deg: f32,
+    /// Horizontal field of view, degrees.
+    pub fov_deg: f32,
+}
+
+/// The goal: a cell, optionally with a point in it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Exit {
+    /// The exit cell.
+    pub cell: CellId,
+    /// A point in `cell`, when the file gave one.
+    pub point: Option<Vec2>,
+}
+
+/// An axis-aligned bounding box in the maze plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    /// Smallest x and y.
+    pub min: Vec2,
+    /// Largest x and y.
+    pub max: Vec2,
+}
+
+impl Aabb {
+    /// The empty box (`min` > `max`), the identity of [`Aabb::union_point`].
+    pub const EMPTY: Aabb = Aabb { min: Vec2::splat(f32::INFINITY), max: Vec2::splat(f32::NEG_INFINITY) };
+
+    /// The smallest box holding `self` and `p`.
+    #[must_use]
+    pub fn union_point(self, p: Vec2) -> Aabb {
+        Aabb { min: self.min.min(p), max: self.max.max(p) }
+    }
+
+    /// `true` when the boxes overlap or touch.
+    #[must_use]
+    pub fn intersects(&self, other: &Aabb) -> bool {
+        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
+    }
+
+    /// The box grown by `d` on every side.
+    #[must_use]
+    pub fn expand(self, d: f32) -> Aabb {
+        Aabb { min: self.min - d, max: self.max + d }
+    }
+}
+
+/// Cells as a flat list of edge ids (CSR): cell `c` owns `edges[offsets[c]..offsets[c + 1]]`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Cells {
+    offsets: Vec<u32>,
+    edges: Vec<EdgeId>,
+}
+
+impl Default for Cells {
+    fn default() -> Self {
+        Cells { offsets: vec![0], edges: Vec::new() }
+    }
+}
+
+impl Cells {
+    /// No cells.
+    #[must_use]
+    pub fn new() -> Cells {
+        Cells::default()
+    }
+
+    /// No cells, with room for `cells` cells of `edges` edge slots in all.
+    #[must_use]
+    pub fn with_capacity(cells: usize, edges: usize) -> Cells {
+        let mut offsets = Vec::with_capacity(cells + 1);
+        offsets.push(0);
+        Cells { offsets, edges: Vec::with_capacity(edges) }
+    }
+
+    /// Appends a cell bounded by `edges` (any order).
+    ///
+    /// # Panics
+    /// If the total number of edge slots exceeds `u32::MAX`.
+    pub fn push(&mut self, edges: &[EdgeId]) {
+        self.edges.extend_from_slice(edges);
+        self.offsets.push(u32::try_from(self.edges.len()).expect("fewer than 2^32 edge slots"));
+    }
+
+    /// Number of cells.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// `true` when there are no cells.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The edges of cell `c`.
+    #[must_use]
+    pub fn get(&self, c: usize) -> &[EdgeId] {
+        &self.edges[self.offsets[c] as usize..self.offsets[c + 1] as usize]
+    }
+}
+
+/// A validated maze. Build one with [`Maze::new`], a reader ([`parse`], [`load`]) or [`generate`].
+#[derive(Clone, Debug)]
+pub struct Maze {
+    vertices: Vec<Vec2>,
+    edges: Vec<Edge>,
+    cells: Cells,
+    viewer: Viewer,
+    exit: Option<Exit>,
+    extents: Aabb,
+    /// Cells by bucket, for [`Maze::cell_at`].
+    cell_index: SpatialGrid,
+}
+
+/// Two mazes are equal when their vertices, edges, cells, viewer and exit are (the index is derived).
+impl PartialEq for Maze {
+    fn eq(&self, other: &Maze) -> bool {
+        self.vertices == other.vertices
+            && self.edges == other.edges
+            && self.cells == other.cells
+            && self.viewer == other.viewer
+            && self.exit == other.exit
+    }
+}
+
+/// What makes a maze invalid; each names the vertex, edge or cell at fault.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[allow(missing_docs)] // the fields are named by the messages
+pub enum MazeError {
+    #[error("the maze has no cells")]
+    NoCells,
+    #[error("too many {what} ({count}; at most {max})")]
+    TooMany { what: &'static str, count: usize, max: usize },
+    #[error("vertex {vertex} has a coordinate that is not finite or beyond ±{COORD_BOUND}")]
+    VertexOutOfBounds { vertex: VertexId },
+    #[error("edge {edge} names vertex {vertex}, but there are only {count} vertices")]
+    EdgeVertexOutOfRange { edge: EdgeId, vertex: VertexId, count: usize },
+    #[error("edge {edge} has zero length (vertices {start} and {end} coincide)")]
+    EdgeDegenerate { edge: EdgeId, start: VertexId, end: VertexId },
+    #[error("edge {edge} names cell {cell}, but there are only {count} cells")]
+    EdgeCellOutOfRange { edge: EdgeId, cell: CellId, count: usize },
+    #[error("edge {edge} has cell {cell} on both sides")]
+    EdgeSameCellBothSides { edge: EdgeId, cell: CellId },
+    #[error("edge {edge} borders no cell (-1 on both sides)")]
+    EdgeNoCell { edge: EdgeId },
+    #[error("edge {edge} is transparent but leads outside the maze (a portal needs a cell on both sides)")]
+    PortalToOutside { edge: EdgeId },
+    #[error("edge {edge} has a colour component outside 0..1")]
+    EdgeColor { edge: EdgeId },
+    #[error("edge {edge} lists cell {cell} on its {side} but cell {cell} does not list edge {edge}")]
+    CellMissingEdge { edge: EdgeId, cell: CellId, side: &'static str },
+    #[error("cell {cell} lists edge {edge}, but there are only {count} edges")]
+    CellEdgeOutOfRange { cell: CellId, edge: EdgeId, count: usize },
+    #[error("cell {cell} lists edge {edge}, but edge {edge} names neither of its sides as cell {cell}")]
+    CellEdgeNotNeighbour { cell: CellId, edge: EdgeId },
+    #[error("cell {cell} lists edge {edge} twice")]
+    CellEdgeDuplicate { cell: CellId, edge: EdgeId },
+    #[error("cell {cell} has {count} edges; a cell needs at least 3")]
+    CellTooFewEdges { cell: CellId, count: usize },
+    #[error("cell {cell}'s edges do not form one closed loop (at vertex {vertex})")]
+    CellNotClosed { cell: CellId, vertex: VertexId },
+    #[error("cell {cell} is not convex (at vertex {vertex})")]
+    CellNotConvex { cell: CellId, vertex: VertexId },
+    #[error("cell {cell} winds clockwise or has no area: its edges' left/right sides are swapped")]
+    CellClockwise { cell: CellId },
+    #[error("edges {a} and {b} cross")]
+    EdgesCross { a: EdgeId, b: EdgeId },
+    #[error("edges {a} and {b} overlap (collinear)")]
+    EdgesOverlap { a: EdgeId, b: EdgeId },
+    #[error("the viewer has a value that is not finite or out of range (|x|, |y| <= {COORD_BOUND})")]
+    ViewerNotFinite,
+    #[error("the viewer's eye height {z} is not strictly between the floor (-1) and the ceiling (+1)")]
+    ViewerHeight { z: f32 },
+    #[error("the viewer's field of view {fov_deg}° is not strictly between 0 and 180")]
+    ViewerFov { fov_deg: f32 },
+    #[error("the viewer at ({x}, {y}) is in no cell")]
+    ViewerOutside { x: f32, y: f32 },
+    #[error("the exit names cell {cell}, but there are only {count} cells")]
+    ExitCellOutOfRange { cell: CellId, count: usize },
+    #[error("the exit point ({x}, {y}) is in no cell")]
+    ExitOutside { x: f32, y: f32 },
+    #[error("the exit point ({x}, {y}) is not inside cell {cell}")]
+    ExitPointOutside { cell: CellId, x: f32, y: f32 },
+}
+
+/// The part of the maze a [`MazeError`] is about, so a reader can point at its record.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Subject {
+    /// The maze as a whole.
+    Maze,
+    /// A vertex record.
+    Vertex(VertexId),
+    /// An edge record.
+    Edge(EdgeId),
+    /// A cell record.
+    Cell(CellId),
+    /// The viewer record.
+    Viewer,
+    /// The exit record.
+    Exit,
+}
+
+impl MazeError {
+    /// The record at fault.
+    #[must_use]
+    pub fn subject(&self) -> Subject {
+        use MazeError::*;
+        match *self {
+            NoCells | TooMany { .. } => Subject::Maze,
+            VertexOutOfBounds { vertex } => Subject::Vertex(vertex),
+            EdgeVertexOutOfRange { edge, .. }
+            | EdgeDegenerate { edge, .. }
+            | EdgeCellOutOfRange { edge, .. }
+            | EdgeSameCellBothSides { edge, .. }
+            | EdgeNoCell { edge }
+            | PortalToOutside { edge }
+            | EdgeColor { edge }
+            | CellMissingEdge { edge, .. } => Subject::Edge(edge),
+            // the later of two conflicting edges: the one a reader has just added
+            EdgesCross { a, b } | EdgesOverlap { a, b } => Subject::Edge(a.max(b)),
+            CellEdgeOutOfRange { cell, .. }
+            | CellEdgeNotNeighbour { cell, .. }
+            | CellEdgeDuplicate { cell, .. }
+            | CellTooFewEdges { cell, .. }
+            | CellNotClosed { cell, .. }
+            | CellNotConvex { cell, .. }
+            | CellClockwise { cell } => Subject::Cell(cell),
+            ViewerNotFinite | ViewerHeight { .. } | ViewerFov { .. } | ViewerOutside { .. } => {
+                Subject::Viewer
+            }
+            ExitCellOutOfRange { .. } | ExitOutside { .. } | ExitPointOutside { .. } => Subject::Exit,
+        }
+    }
+}
+
+impl Maze {
+    /// Validates the parts and builds the maze and its cell index.
+    ///
+    /// Checks, in order: sizes, coordinates finite and within [`COORD_BOUND`], edge indices and sides,
+    /// cell ↔ edge consistency, each cell a closed counter-clockwise convex loop, no two edges crossing
+    /// or overlapping (sharing an endpoint is fine), the viewer in a cell, the exit in range.
+    pub fn new(
+        vertices: Vec<Vec2>,
+        edges: Vec<Edge>,
+        cells: Cells,
+        viewer: Viewer,
+        exit: Option<Exit>,
+    ) -> Result<Maze, MazeError> {
+        validate::structure(&vertices, &edges, &cells)?;
+        let extents = vertices.iter().fold(Aabb::EMPTY, |b, &v| b.union_point(v));
+        // boxes grown by the tolerance, so a point that counts as in a cell finds it
+        let boxes: Vec<Aabb> = (0..cells.len())
+            .map(|c| cell_aabb(&vertices, &edges, &cells, c).expand(ON_EDGE_TOLERANCE as f32))
+            .collect();
+        let cell_index = SpatialGrid::build(&boxes, extents);
+        drop(boxes);
+        let maze = Maze { vertices, edges, cells, viewer, exit, extents, cell_index };
+        validate::no_crossings(&maze)?;
+        validate::viewer_and_exit(&maze)?;
+        Ok(maze)
+    }
+
+    /// All vertices; a [`VertexId`] indexes this.
+    #[must_use]
+    pub fn vertices(&self) -> &[Vec2] {
+        &self.vertices
+    }
+
+    /// All edges; an [`EdgeId`] indexes this.
+    #[must_use]
+    pub fn edges(&self) -> &[Edge] {
+        &self.edges
+    }
+
+    /// The edge `e`.
+    #[must_use]
+    pub fn edge(&self, e: EdgeId) -> &Edge {
+        &self.edges[e as usize]
+    }
+
+    /// The vertex `v`.
+    #[must_use]
+    pub fn vertex(&self, v: VertexId) -> Vec2 {
+        self.vertices[v as usize]
+    }
+
+    /// Number of cells.
+    #[must_use]
+    pub fn cell_count(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// The cells, in their flat layout.
+    #[must_use]
+    pub fn cells(&self) -> &Cells {
+        &self.cells
+    }
+
+    /// The edges bounding cell `c`, in file order.
+    #[must_use]
+    pub fn cell_edges(&self, c: CellId) -> &[EdgeId] {
+        self.cells.get(c as usize)
+    }
+
+    /// Edge `e`'s end points, start first.
+    #[must_use]
+    pub fn edge_points(&self, e: EdgeId) -> (Vec2, Vec2) {
+        let edge = &self.edges[e as usize];
+        (self.vertex(edge.start), self.vertex(edge.end))
+    }
+
+    /// Edge `e`'s end points ordered counter-clockwise around `cell` (the cell on their left).
+    #[must_use]
+    pub fn edge_points_ccw(&self, e: EdgeId, cell: CellId) -> (Vec2, Vec2) {
+        let (a, b) = self.edge_points(e);
+        if self.edges[e as usize].left == Some(cell) { (a, b) } else { (b, a) }
+    }
+
+    /// The viewer's start.
+    #[must_use]
+    pub fn viewer(&self) -> &Viewer {
+        &self.viewer
+    }
+
+    /// The exit, if the maze has one.
+    #[must_use]
+    pub fn exit(&self) -> Option<&Exit> {
+        self.exit.as_ref()
+    }
+
+    /// The exit's point, or its cell's centroid.
+    #[must_use]
+    pub fn exit_point(&self) -> Option<Vec2> {
+        self.exit.map(|x| x.point.unwrap_or_else(|| self.cell_centroid(x.cell)))
+    }
+
+    /// The bounding box of all vertices.
+    #[must_use]
+    pub fn extents(&self) -> Aabb {
+        self.extents
+    }
+
+    /// The bounding box of cell `c`.
+    #[must_use]
+    pub fn cell_aabb(&self, c: CellId) -> Aabb {
+        cell_aabb(&self.vertices, &self.edges, &self.cells, c as usize)
+    }
+
+    /// The mean of cell `c`'s edge end points (inside, as the cell is convex).
+    #[must_use]
+    pub fn cell_centroid(&self, c: CellId) -> Vec2 {
+        let ids = self.cell_edges(c);
+        let sum: Vec2 = ids.iter().map(|&e| self.edge_points_ccw(e, c).0).sum();
+        sum / ids.len() as f32
+    }
+
+    /// `true` when `p` is inside cell `c` or on its boundary (within [`ON_EDGE_TOLERANCE`]).
+    #[must_use]
+    pub fn cell_contains(&self, c: CellId, p: Vec2) -> bool {
+        let p = p.as_dvec2();
+        self.cell_edges(c).iter().all(|&e| {
+            let (a, b) = self.edge_points_ccw(e, c);
+            let (a, b) = (a.as_dvec2(), b.as_dvec2());
+            // signed distance of p from the edge line, positive on the cell's side (left)
+            (b - a).perp_dot(p - a) >= -ON_EDGE_TOLERANCE * (b - a).length()
+        })
+    }
+
+    /// A cell containing `p`, or `None` outside the maze. Uses a bucket index: O(1) per query.
+    #[must_use]
+    pub fn cell_at(&self, p: Vec2) -> Option<CellId> {
+        if !p.is_finite() {
+            return None;
+        }
+        self.cell_index.query(p).iter().copied().find(|&c| self.cell_contains(c, p))
+    }
+
+    /// The cell containing `p` (same as [`Maze::cell_at`]; the name the brief uses).
+    #[must_use]
+    pub fn cell_containing(&self, p: Vec2) -> Option<CellId> {
+        self.cell_at(p)
+    }
+
+    /// Like [`Maze::cell_at`], trying `hint` and its neighbours first (for a point that moved a little).
+    #[must_use]
+    pub fn cell_at_from(&self, hint: CellId, p: Vec2) -> Option<CellId> {
+        if (hint as usize) < self.cell_count() {
+            if self.cell_contains(hint, p) {
+                return Some(hint);
+            }
+            for &e in self.cell_edges(hint) {
+                let edge = &self.edges[e as usize];
+                if let Some(n) = edge.other_side(hint).filter(|_| edge.is_portal())
+                    && self.cell_contains(n, p)
+                {
+                    return Some(n);
+                }
+            }
+        }
+        self.cell_at(p)
+    }
+
+    /// Number of transparent edges.
+    #[must_use]
+    pub fn portal_count(&self) -> usize {
+        self.edges.iter().filter(|e| e.is_portal()).count()
+    }
+
+    /// Number of opaque edges.
+    #[must_use]
+    pub fn wall_count(&self) -> usize {
+        self.edges.len() - self.portal_count()
+    }
+
+    /// Portal steps from `from` to every cell (`u32::MAX` = unreachable), by breadth-first search.
+    #[must_use]
+    pub fn portal_distances(&self, from: CellId) -> Vec<u32> {
+        let mut dist = vec![u32::MAX; self.cell_count()];
+        let mut queue = std::collections::VecDeque::from([from]);
+        dist[from as usize] = 0;
+        while let Some(c) = queue.pop_front() {
+            for &e in self.cell_edges(c) {
+                let edge = &self.edges[e as usize];
+                if let Some(n) = edge.other_side(c).filter(|_| edge.is_portal())
+                    && dist[n as usize] == u32::MAX
+                {
+                    dist[n as usize] = dist[c as usize] + 1;
+                    queue.push_back(n);
+                }
+            }
+        }
+        dist
+    }
+
+    /// `true` when every cell can be reached from cell 0 through portals.
+    #[must_use]
+    pub fn is_connected(&self) -> bool {
+        self.portal_distances(0).iter().all(|&d| d != u32::MAX)
+    }
+
+    /// `true` for a perfect maze: connected, and exactly one path between any two cells
+    /// (portals = cells − 1). The boundary is always closed: a portal never leads outside.
+    #[must_use]
+    pub fn is_perfect(&self) -> bool {
+        self.portal_count() + 1 == self.cell_count() && self.is_connected()
+    }
+}
+
+fn cell_aabb(vertices: &[Vec2], edges: &[Edge], cells: &Cells, c: usize) -> Aabb {
+    cells.get(c).iter().fold(Aabb::EMPTY, |b, &e| {
+        let edge = &edges[e as usize];
+        b.union_point(vertices[edge.start as usize]).union_point(vertices[edge.end as usize])
+    })
+}
+
+/// Twice the signed area of triangle (a, b, c), in f64: positive when counter-clockwise.
+fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    (b - a).perp_dot(c - a)
+}

@@ -1,0 +1,619 @@
+//! The grid format: a maze drawn in a text editor, one character per square tile.
+//!
+//! ```text
+//! mazewalk-grid 1
+//! tile 4
+//! facing north
+//! A = #cc8844
+//!
+//! ##########
+//! #@..#...E#
+//! #.#.A.##.#
+//! #........#
+//! ##########
+//! ```
+//!
+//! * Line 1 is `mazewalk-grid 1` (the format and its version).
+//! * Settings follow, one per line, each optional: `tile SIDE` (tile side in maze units, 0.01..=1000, default 4),
+//!   `facing east|north|west|south` (the `@` start's heading, default east), `eye Z` (eye height,
+//!   default 0, strictly between the floor -1 and the ceiling +1), `fov DEG` (horizontal field of
+//!   view, default 90), and colour legend lines `L = #rrggbb` giving wall letter `L` (`A`–`Z` but `E`)
+//!   a colour; `# = #rrggbb` recolours `#` (default `#808080`). Blank lines are skipped.
+//! * The map starts at the first other line and runs to the end of the file. Every character is a
+//!   tile; the top line is north (+y), the map's lower-left corner is the origin.
+//!   - `#` or a legend letter: a solid wall tile of that colour;
+//!   - space or `.`: open floor;
+//!   - `@`: the start, facing as `facing` says; or an arrow `>` `^` `<` `v` (east, north, west, south)
+//!     instead of `@`; exactly one start, at its tile's centre;
+//!   - `E`: the exit (open floor; at most one).
+//!
+//!   Rows may differ in length: past a row's end there is nothing (outside).
+//! * Each open tile is one square cell (numbered row by row from the bottom, west to east). The side
+//!   between two open tiles is a portal; between an open tile and a wall tile an opaque wall of the
+//!   wall tile's colour; between an open tile and the outside an opaque wall coloured as `#`.
+//!
+//! [`write`] expresses a maze in this format when it is made of such tiles (e.g. one read from a grid
+//! file or made by [`generate_grid`](super::generate::generate_grid)); otherwise it says why not.
+
+use std::fmt::Write as _;
+
+use glam::{Vec3, vec2};
+
+use super::load::{Loc, is_space};
+use super::{
+    CellId, Cells, Edge, EdgeId, Exit, Format, Maze, ParseError, ParseErrorKind, VertexId, Viewer, WriteError,
+};
+
+/// The first word of a grid file.
+pub const MAGIC: &str = "mazewalk-grid";
+/// The format version this reader and writer speak.
+pub const VERSION: u32 = 1;
+/// The colour of `#` walls and of the outside unless the legend says otherwise (`#808080`).
+pub const DEFAULT_WALL: Vec3 = Vec3::splat(128.0 / 255.0);
+/// Most tiles in a map (2048 × 2048), so a 1000 × 1000 generated maze fits.
+pub const MAX_TILES: usize = 2048 * 2048;
+
+/// A parsed grid map: settings plus the tile characters, before it becomes a [`Maze`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct TileMap {
+    /// Tile side, maze units.
+    pub tile: f32,
+    /// Eye height.
+    pub eye: f32,
+    /// Horizontal field of view, degrees.
+    pub fov_deg: f32,
+    /// The `facing` setting, degrees counter-clockwise from +x (`None` = east).
+    pub facing_deg: Option<f32>,
+    /// Wall letters and their colours.
+    pub legend: Vec<(u8, Vec3)>,
+    /// Tiles across.
+    pub cols: usize,
+    /// Tiles down.
+    pub rows: usize,
+    /// Tile characters, top row first; `0` = outside (past the end of a short row).
+    pub tiles: Vec<u8>,
+}
+
+impl TileMap {
+    /// The letters a legend may define, in the order the writer hands them out.
+    pub const LEGEND_LETTERS: &'static [u8] = b"ABCDFGHIJKLMNOPQRSTUVWXYZ";
+
+    /// The tile at column `x`, `y` rows up from the bottom; `0` outside the map.
+    fn at(&self, x: i64, y: i64) -> u8 {
+        if x < 0 || y < 0 || x >= self.cols as i64 || y >= self.rows as i64 {
+            return 0;
+        }
+        self.tiles[(self.rows - 1 - y as usize) * self.cols + x as usize]
+    }
+
+    fn color(&self, ch: u8) -> Vec3 {
+        let ch = if ch == 0 { b'#' } else { ch };
+        self.legend.iter().find(|(l, _)| *l == ch).map_or(DEFAULT_WALL, |&(_, c)| c)
+    }
+
+    /// The map as grid-format text.
+    #[must_use]
+    pub fn to_text(&self) -> String {
+        let mut out = String::with_capacity((self.cols + 1) * self.rows + 128);
+        let _ = writeln!(out, "{MAGIC} {VERSION}\ntile {}", self.tile);
+        if let Some(f) = self.facing_deg {
+            let _ = writeln!(out, "facing {}", facing_name(f).unwrap_or("east"));
+        }
+        if self.eye != 0.0 {
+            let _ = writeln!(out, "eye {}", self.eye);
+        }
+        if self.fov_deg != 90.0 {
+            let _ = writeln!(out, "fov {}", self.fov_deg);
+        }
+        for &(ch, c) in &self.legend {
+            let [r, g, b] = (c * 255.0).round().to_array().map(|v| v as u8);
+            let _ = writeln!(out, "{} = #{r:02x}{g:02x}{b:02x}", ch as char);
+        }
+        out.push('\n');
+        for row in self.tiles.chunks(self.cols) {
+            let line: String = row.iter().map(|&t| if t == 0 { ' ' } else { t as char }).collect();
+            out.push_str(line.trim_end());
+            out.push('\n');
+        }
+        out
+    }
+
+    /// Builds the maze the map describes.
+    ///
+    /// # Errors
+    /// A [`MazeError`](super::MazeError) when the map breaks the model's rules (no start tile, a
+    /// coordinate beyond the bound); [`parse_str`] has ruled these out with located messages.
+    pub fn to_maze(&self) -> Result<Maze, super::MazeError> {
+        let (cols, rows) = (self.cols as i64, self.rows as i64);
+        let t = self.tile;
+        let tile_index = |x: i64, y: i64| ((rows - 1 - y) * cols + x) as usize;
+        // cells: open tiles, row by row from the bottom, west to east
+        let mut cell_of = vec![u32::MAX; self.tiles.len()];
+        let mut n_cells = 0u32;
+        for y in 0..rows {
+            for x in 0..cols {
+                if is_open(self.at(x, y)) {
+                    cell_of[tile_index(x, y)] = n_cells;
+                    n_cells += 1;
+                }
+            }
+        }
+        let cell = |x: i64, y: i64| {
+            (x >= 0 && y >= 0 && x < cols && y < rows)
+                .then(|| cell_of[tile_index(x, y)])
+                .filter(|&c| c != u32::MAX)
+        };
+        // vertices: lattice points, numbered as the edges first use them
+        let mut vertex_of = vec![u32::MAX; ((cols + 1) * (rows + 1)) as usize];
+        let mut vertices = Vec::new();
+        let mut vertex = |x: i64, y: i64| -> VertexId {
+            let slot = &mut vertex_of[(y * (cols + 1) + x) as usize];
+            if *slot == u32::MAX {
+                *slot = vertices.len() as VertexId;
+                vertices.push(vec2(x as f32, y as f32) * t);
+            }
+            *slot
+        };
+        let mut edges = Vec::new();
+        // horizontal side (x, y) runs east along the lattice line y: the tile above is on its left
+        let mut h_edge = vec![u32::MAX; (cols * (rows + 1)) as usize];
+        for y in 0..=rows {
+            for x in 0..cols {
+                let (left, right) = (cell(x, y), cell(x, y - 1));
+                if left.is_none() && right.is_none() {
+                    continue;
+                }
+                let wall = if left.is_none() { self.at(x, y) } else { self.at(x, y - 1) };
+                h_edge[(y * cols + x) as usize] = edges.len() as EdgeId;
+                let (start, end) = (vertex(x, y), vertex(x + 1, y));
+                let opaque = left.is_none() || right.is_none();
+                let color = if opaque { self.color(wall) } else { DEFAULT_WALL };
+                edges.push(Edge { start, end, left, right, opaque, color });
+            }
+        }
+        // vertical side (x, y) runs north along the lattice line x: the tile to the west is on its left
+        let mut v_edge = vec![u32::MAX; ((cols + 1) * rows) as usize];
+        for y in 0..rows {
+            for x in 0..=cols {
+                let (left, right) = (cell(x - 1, y), cell(x, y));
+                if left.is_none() && right.is_none() {
+                    continue;
+                }
+                let wall = if left.is_none() { self.at(x - 1, y) } else { self.at(x, y) };
+                v_edge[(y * (cols + 1) + x) as usize] = edges.len() as EdgeId;
+                let (start, end) = (vertex(x, y), vertex(x, y + 1));
+                let opaque = left.is_none() || right.is_none();
+                let color = if opaque { self.color(wall) } else { DEFAULT_WALL };
+                edges.push(Edge { start, end, left, right, opaque, color });
+            }
+        }
+        let mut cells = Cells::with_capacity(n_cells as usize, 4 * n_cells as usize);
+        let (mut viewer, mut exit) = (None, None);
+        for y in 0..rows {
+            for x in 0..cols {
+                let Some(c) = cell(x, y) else { continue };
+                let h = |x: i64, y: i64| h_edge[(y * cols + x) as usize];
+                let v = |x: i64, y: i64| v_edge[(y * (cols + 1) + x) as usize];
+                // +x, +y, -x, -y, as the original lists them
+                cells.push(&[v(x + 1, y), h(x, y + 1), v(x, y), h(x, y)]);
+                let ch = self.at(x, y);
+                if ch == b'E' && exit.is_none() {
+                    exit = Some(Exit { cell: c, point: None });
+                }
+                if let Some(dir) = start_dir(ch, self.facing_deg)
+                    && viewer.is_none()
+                {
+                    let pos = (vec2(x as f32, y as f32) + 0.5) * t;
+                    viewer = Some(Viewer { pos, z: self.eye, dir_deg: dir, fov_deg: self.fov_deg });
+                }
+            }
+        }
+        // the lookup tables are done with: free them before the model builds its own
+        drop((cell_of, vertex_of, h_edge, v_edge));
+        // no start tile: a viewer outside every cell, which Maze::new reports
+        let viewer =
+            viewer.unwrap_or(Viewer { pos: vec2(-1.0, -1.0) * t, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 });
+        Maze::new(vertices, edges, cells, viewer, exit)
+    }
+}
+
+fn is_open(ch: u8) -> bool {
+    matches!(ch, b' ' | b'.' | b'@' | b'>' | b'^' | b'<' | b'v' | b'E')
+}
+
+fn is_wall(ch: u8) -> bool {
+    ch == b'#' || TileMap::LEGEND_LETTERS.contains(&ch)
+}
+
+/// The heading of a start tile, or `None` for any other tile.
+fn start_dir(ch: u8, facing: Option<f32>) -> Option<f32> {
+    match ch {
+        b'@' => Some(facing.unwrap_or(0.0)),
+        b'>' => Some(0.0),
+        b'^' => Some(90.0),
+        b'<' => Some(180.0),
+        b'v' => Some(270.0),
+        _ => None,
+    }
+}
+
+fn facing_name(deg: f32) -> Option<&'static str> {
+    ["east", "north", "west", "south"]
+        .into_iter()
+        .zip([0.0, 90.0, 180.0, 270.0])
+        .find(|&(_, d)| d == deg)
+        .map(|(n, _)| n)
+}
+
+/// Parses grid text (already decoded); `file` names it in errors.
+pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
+    let map = parse_map(file, text)?;
+    map.to_maze().map_err(|e| Loc { line: 1, col: 1 }.error(file, ParseErrorKind::Invalid(e)))
+}
+
+/// Parses grid text into its tile map, checking every setting and tile.
+pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
+    let err = |line: usize, col: usize, msg: String| {
+        let sat = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        Loc { line: sat(line + 1), col: sat(col + 1) }.error(file, ParseErrorKind::Grid(msg))
+    };
+    let lines: Vec<&str> = text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l)).collect();
+    // line 1: magic and version
+    let first = lines[0];
+    let mut words = first.split(is_space).filter(|w| !w.is_empty());
+    if words.next() != Some(MAGIC) {
+        return Err(err(0, 0, format!("expected `{MAGIC} {VERSION}` on the first line")));
+    }
+    match words.next() {
+        Some(v) if v == VERSION.to_string() => {}
+        Some(v) => {
+            let col = first.find(v).map_or(0, |b| first[..b].chars().count());
+            return Err(err(0, col, format!("unsupported grid version `{v}` (this reader knows {VERSION})")));
+        }
+        None => return Err(err(0, first.chars().count(), format!("expected the version after `{MAGIC}`"))),
+    }
+    let mut map = TileMap {
+        tile: 4.0,
+        eye: 0.0,
+        fov_deg: 90.0,
+        facing_deg: None,
+        legend: Vec::new(),
+        cols: 0,
+        rows: 0,
+        tiles: Vec::new(),
+    };
+    // settings, until the first line that is none
+    let mut n = 1;
+    while n < lines.len() {
+        let line = lines[n];
+        let words: Vec<&str> = line.split(is_space).filter(|w| !w.is_empty()).collect();
+        let col_of = |w: &str| line[..w.as_ptr() as usize - line.as_ptr() as usize].chars().count();
+        let number = |w: &str, what: &str| -> Result<f32, ParseError> {
+            w.parse::<f32>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| err(n, col_of(w), format!("expected a number ({what}), found `{w}`")))
+        };
+        match words.as_slice() {
+            [] => {}
+            ["tile", v] => {
+                map.tile = number(v, "tile side")?;
+                if !(0.01..=1000.0).contains(&map.tile) {
+                    return Err(err(n, col_of(v), format!("tile side {v} is out of range 0.01..=1000")));
+                }
+            }
+            ["eye", v] => {
+                map.eye = number(v, "eye height")?;
+                if !(map.eye > -1.0 && map.eye < 1.0) {
+                    return Err(err(
+                        n,
+                        col_of(v),
+                        format!("eye height {v} is not strictly between -1 and 1"),
+                    ));
+                }
+            }
+            ["fov", v] => {
+                map.fov_deg = number(v, "field of view")?;
+                if !(map.fov_deg > 0.0 && map.fov_deg < 180.0) {
+                    return Err(err(
+                        n,
+                        col_of(v),
+                        format!("field of view {v} is not strictly between 0 and 180"),
+                    ));
+                }
+            }
+            ["facing", v] => {
+                let dir = ["east", "north", "west", "south"].iter().position(|d| d == v);
+                let Some(d) = dir else {
+                    return Err(err(
+                        n,
+                        col_of(v),
+                        format!("facing `{v}`: expected east, north, west or south"),
+                    ));
+                };
+                map.facing_deg = Some(d as f32 * 90.0);
+            }
+            [letter, "=", value] if letter.chars().count() == 1 => {
+                let ch = letter.as_bytes()[0];
+                if !is_wall(ch) {
+                    return Err(err(
+                        n,
+                        col_of(letter),
+                        format!("legend letter `{letter}`: use A-Z (not E) or #"),
+                    ));
+                }
+                let hex = value
+                    .strip_prefix('#')
+                    .filter(|h| h.len() == 6 && h.bytes().all(|b| b.is_ascii_hexdigit()));
+                let Some(hex) = hex else {
+                    return Err(err(n, col_of(value), format!("colour `{value}`: expected #rrggbb")));
+                };
+                let channel = |k: usize| u8::from_str_radix(&hex[k..k + 2], 16).unwrap_or(0) as f32 / 255.0;
+                map.legend.retain(|(l, _)| *l != ch);
+                map.legend.push((ch, Vec3::new(channel(0), channel(2), channel(4))));
+            }
+            [word, ..] if word.bytes().all(|b| b.is_ascii_lowercase()) && *word != "v" => {
+                return Err(err(n, col_of(word), format!("unknown setting `{word}`")));
+            }
+            _ => break,
+        }
+        n += 1;
+    }
+    // the map: to the end, without trailing blank lines
+    let mut end = lines.len();
+    while end > n && lines[end - 1].trim_matches(is_space).is_empty() {
+        end -= 1;
+    }
+    let rows = &lines[n..end];
+    if rows.is_empty() {
+        return Err(err(n.min(lines.len() - 1), 0, "expected the map after the settings".into()));
+    }
+    let cols = rows.iter().map(|r| r.chars().count()).max().unwrap_or(0);
+    if cols.saturating_mul(rows.len()) > MAX_TILES {
+        return Err(err(n, 0, format!("the map is {cols}×{} tiles; at most {MAX_TILES} tiles", rows.len())));
+    }
+    if map.tile * cols.max(rows.len()) as f32 > super::COORD_BOUND {
+        return Err(err(
+            n,
+            0,
+            format!("tile side × map size exceeds the coordinate bound {}", super::COORD_BOUND),
+        ));
+    }
+    let (mut start, mut exit) = (None, None);
+    map.tiles = vec![0; cols * rows.len()];
+    for (r, row) in rows.iter().enumerate() {
+        for (c, ch) in row.chars().enumerate() {
+            let b = if ch.is_ascii() { ch as u8 } else { 0 };
+            if !(is_open(b) || is_wall(b)) {
+                return Err(err(n + r, c, format!("unknown tile `{}`", ch.escape_debug())));
+            }
+            if b != b'#' && is_wall(b) && !map.legend.iter().any(|(l, _)| *l == b) {
+                return Err(err(
+                    n + r,
+                    c,
+                    format!("wall letter `{ch}` has no colour in the legend (`{ch} = #rrggbb`)"),
+                ));
+            }
+            if start_dir(b, None).is_some() && start.replace((r, c)).is_some() {
+                return Err(err(n + r, c, "a second start tile (only one of @ > ^ < v)".into()));
+            }
+            if b == b'E' && exit.replace((r, c)).is_some() {
+                return Err(err(n + r, c, "a second exit tile `E`".into()));
+            }
+            map.tiles[r * cols + c] = b;
+        }
+    }
+    if start.is_none() {
+        return Err(err(n, 0, "the map has no start tile (@ or an arrow > ^ < v)".into()));
+    }
+    map.cols = cols;
+    map.rows = rows.len();
+    Ok(map)
+}
+
+/// Writes `maze` in grid format, if it is made of the format's square tiles in its numbering.
+pub fn write(maze: &Maze) -> Result<String, WriteError> {
+    let text = to_map(maze)?.to_text();
+    // the writer's guarantee: reading it back gives this very maze
+    match parse_str("", &text) {
+        Ok(back) if back == *maze => Ok(text),
+        _ => Err(no("its cells, edges or ids are not laid out as the grid format numbers them")),
+    }
+}
+
+fn no(reason: impl Into<String>) -> WriteError {
+    WriteError { format: Format::Grid, reason: reason.into() }
+}
+
+/// The tile map of a maze made of square tiles on a lattice anchored at the origin.
+fn to_map(maze: &Maze) -> Result<TileMap, WriteError> {
+    // the reader puts lattice point i at `i as f32 * tile`, so an edge's length can be off by rounding
+    // (tile 0.1): try the side of cell 0 and the quotients of its corners, each give or take 2 ulps
+    let bb = maze.cell_aabb(0);
+    let d = (bb.max - bb.min).max_element();
+    let mut guesses = vec![d];
+    for (lo, hi) in [(bb.min.x, bb.max.x), (bb.min.y, bb.max.y)] {
+        let i = (lo / d).round();
+        if i >= 1.0 {
+            guesses.extend([lo / i, hi / (i + 1.0)]);
+        }
+    }
+    let mut fails = None;
+    for g in guesses {
+        for k in -2i32..=2 {
+            let t = f32::from_bits(g.to_bits().wrapping_add_signed(k));
+            match lattice(maze, t) {
+                Ok((place, max_x, max_y)) => return tiles_of(maze, t, place, max_x, max_y),
+                Err(e) => _ = fails.get_or_insert(e),
+            }
+        }
+    }
+    Err(fails.unwrap_or_else(|| no("cell 0 has no extent")))
+}
+
+/// Each cell's tile `(x, y)`, and the largest `x` and `y`.
+type Placement = (Vec<(i64, i64)>, i64, i64);
+
+/// Each cell's tile, if every cell is an axis-aligned square of side `t` on the lattice from the
+/// origin; with the largest tile coordinates.
+fn lattice(maze: &Maze, t: f32) -> Result<Placement, WriteError> {
+    if !(t.is_finite() && t > 0.0) {
+        return Err(no("cell 0 has no extent"));
+    }
+    let mut place = Vec::with_capacity(maze.cell_count());
+    let (mut max_x, mut max_y) = (0i64, 0i64);
+    for c in 0..maze.cell_count() as CellId {
+        let bb = maze.cell_aabb(c);
+        let (x, y) = ((bb.min.x / t).round(), (bb.min.y / t).round());
+        let square = maze.cell_edges(c).len() == 4
+            && x >= 0.0
+            && y >= 0.0
+            && x * t == bb.min.x
+            && y * t == bb.min.y
+            && (x + 1.0) * t == bb.max.x
+            && (y + 1.0) * t == bb.max.y;
+        if !square || x > 2046.0 || y > 2046.0 {
+            return Err(no(format!(
+                "cell {c} is not a square tile of side {t} on a lattice from the origin"
+            )));
+        }
+        let (x, y) = (x as i64, y as i64);
+        (max_x, max_y) = (max_x.max(x), max_y.max(y));
+        place.push((x, y));
+    }
+    Ok((place, max_x, max_y))
+}
+
+fn tiles_of(
+    maze: &Maze,
+    t: f32,
+    place: Vec<(i64, i64)>,
+    max_x: i64,
+    max_y: i64,
+) -> Result<TileMap, WriteError> {
+    let (cols, rows) = (max_x as usize + 2, max_y as usize + 2);
+    let mut map = TileMap {
+        tile: t,
+        eye: maze.viewer().z,
+        fov_deg: maze.viewer().fov_deg,
+        facing_deg: None,
+        legend: Vec::new(),
+        cols,
+        rows,
+        tiles: vec![b'#'; cols * rows],
+    };
+    let index = |x: i64, y: i64| (rows - 1 - y as usize) * cols + x as usize;
+    for &(x, y) in &place {
+        map.tiles[index(x, y)] = b'.';
+    }
+    if let Some(e) = maze.edges().iter().position(|e| e.opaque && e.left.is_some() && e.right.is_some()) {
+        return Err(no(format!("edge {e} is a wall between two cells (walls are tiles here)")));
+    }
+    // each wall edge and the tile across it: one step from its cell along the mid-point's larger axis
+    let behind: Vec<(usize, i64, i64)> = (maze.edges().iter().enumerate())
+        .filter_map(|(e, edge)| {
+            let cell = if edge.opaque { edge.left.or(edge.right)? } else { return None };
+            let (x, y) = place[cell as usize];
+            let (p, q) = maze.edge_points(e as EdgeId);
+            let mid = (p + q) / 2.0 / t - vec2(x as f32 + 0.5, y as f32 + 0.5);
+            let across = if mid.x.abs() > mid.y.abs() {
+                (x + mid.x.signum() as i64, y)
+            } else {
+                (x, y + mid.y.signum() as i64)
+            };
+            Some((e, across.0, across.1))
+        })
+        .collect();
+    // `#` takes the colour of the outside (left of and below the map), as the reader gives it
+    let hash = behind
+        .iter()
+        .find(|&&(_, nx, ny)| nx < 0 || ny < 0)
+        .map_or(DEFAULT_WALL, |&(e, ..)| maze.edges()[e].color);
+    if hash != DEFAULT_WALL {
+        check_rgb(hash)?;
+        map.legend.push((b'#', hash));
+    }
+    // wall colours, from the opaque edges onto the wall tiles behind them
+    let mut colored = vec![false; map.tiles.len()];
+    for (e, nx, ny) in behind {
+        let letter = legend_letter(&mut map.legend, hash, maze.edges()[e].color)?;
+        if nx < 0 || ny < 0 {
+            if letter != b'#' {
+                return Err(no(format!("edge {e} faces the outside with a colour other than `#`")));
+            }
+            continue;
+        }
+        let i = index(nx, ny);
+        if colored[i] && map.tiles[i] != letter {
+            return Err(no(format!("the wall tile behind edge {e} would need two colours")));
+        }
+        map.tiles[i] = letter;
+        colored[i] = true;
+    }
+    let v = maze.viewer();
+    let start = maze.cell_at(v.pos).unwrap_or(0);
+    let (x, y) = place[start as usize];
+    let arrow = [0.0, 90.0, 180.0, 270.0].iter().position(|&d| d == v.dir_deg).map(|k| b">^<v"[k]);
+    match arrow {
+        Some(ch) if (vec2(x as f32, y as f32) + 0.5) * t == v.pos => map.tiles[index(x, y)] = ch,
+        _ => return Err(no("the viewer is not at a tile centre facing east, north, west or south")),
+    }
+    if let Some(exit) = maze.exit() {
+        let (x, y) = place[exit.cell as usize];
+        if exit.point.is_some() || exit.cell == start {
+            return Err(no("the exit has a point of its own or shares the start tile"));
+        }
+        map.tiles[index(x, y)] = b'E';
+    }
+    Ok(map)
+}
+
+/// Only colours a `#rrggbb` reads back exactly.
+fn check_rgb(c: Vec3) -> Result<(), WriteError> {
+    let bytes = (c * 255.0).round();
+    if bytes / 255.0 == c { Ok(()) } else { Err(no(format!("wall colour {c} is not a #rrggbb colour"))) }
+}
+
+/// The letter for wall colour `c`: `#` for the `hash` colour, else a legend letter (added if new).
+fn legend_letter(legend: &mut Vec<(u8, Vec3)>, hash: Vec3, c: Vec3) -> Result<u8, WriteError> {
+    if c == hash {
+        return Ok(b'#');
+    }
+    if let Some(&(l, _)) = legend.iter().find(|(_, lc)| *lc == c) {
+        return Ok(l);
+    }
+    check_rgb(c)?;
+    let letters = legend.iter().filter(|(l, _)| *l != b'#').count();
+    let l =
+        *TileMap::LEGEND_LETTERS.get(letters).ok_or_else(|| no("more wall colours than legend letters"))?;
+    legend.push((l, c));
+    Ok(l)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SMALL: &str = "mazewalk-grid 1\nA = #cc8844\n\n#####\n#>.E#\n#.A.#\n#####\n";
+
+    #[test]
+    fn a_small_map_reads_as_documented() {
+        let m = parse_str("small", SMALL).unwrap();
+        // open tiles: bottom row (y = 1) x = 1, 3; top row (y = 2) x = 1, 2, 3
+        assert_eq!(m.cell_count(), 5);
+        assert_eq!(m.viewer().pos, vec2(6.0, 10.0));
+        assert_eq!(m.viewer().dir_deg, 0.0);
+        assert_eq!(m.exit().map(|x| x.cell), Some(4));
+        assert_eq!(m.portal_count(), 4);
+        // the A tile's side facing the cell above it has A's colour
+        let a = Vec3::new(0xcc as f32, 0x88 as f32, 0x44 as f32) / 255.0;
+        assert_eq!(m.edges().iter().filter(|e| e.color == a && e.opaque).count(), 3);
+    }
+
+    #[test]
+    fn write_then_read_is_the_identity() {
+        let m = parse_str("small", SMALL).unwrap();
+        let text = write(&m).unwrap();
+        assert_eq!(parse_str("again", &text).unwrap(), m, "{text}");
+    }
+}

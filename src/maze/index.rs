@@ -1,0 +1,123 @@
+//! A uniform grid of buckets over the maze extents, each listing the items (cells or edges) whose
+//! bounding box touches it. Flat (CSR) storage: two `Vec`s, no allocation per bucket.
+
+use glam::Vec2;
+
+use super::Aabb;
+
+/// Items by bucket; bucket (i, j) covers `origin + [i, i+1) × [j, j+1) * size`.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct SpatialGrid {
+    origin: Vec2,
+    inv_size: f32,
+    nx: usize,
+    ny: usize,
+    offsets: Vec<u32>,
+    items: Vec<u32>,
+}
+
+/// About this many bucket entries per item at most, else the grid is made coarser (long items).
+const MAX_ENTRIES_PER_ITEM: usize = 16;
+
+impl SpatialGrid {
+    /// Indexes items with boxes `boxes` inside `extents`, about one bucket per two items.
+    pub(crate) fn build(boxes: &[Aabb], extents: Aabb) -> SpatialGrid {
+        let n = boxes.len();
+        let size = (extents.max - extents.min).max(Vec2::splat(1e-6));
+        // square buckets, about n/2 of them (a box the size of a bucket touches up to 4)
+        let mut side = ((2.0 * size.x as f64 * size.y as f64) / n.max(1) as f64).sqrt().max(1e-6) as f32;
+        side = side.max(size.x / 4096.0).max(size.y / 4096.0);
+        loop {
+            // shift the lattice off round numbers, so boxes on a grid of the same pitch (a generated
+            // maze) do not all straddle bucket boundaries
+            let shift = side * 0.382;
+            let grid = SpatialGrid {
+                origin: extents.min - shift,
+                inv_size: 1.0 / side,
+                nx: (((size.x + shift) / side) as usize + 1).min(8192),
+                ny: (((size.y + shift) / side) as usize + 1).min(8192),
+                offsets: Vec::new(),
+                items: Vec::new(),
+            };
+            if let Some(grid) = grid.fill(boxes, MAX_ENTRIES_PER_ITEM * n + 1024) {
+                return grid;
+            }
+            side *= 2.0; // long items cover many buckets: coarsen
+        }
+    }
+
+    /// Fills the buckets, or `None` if that would take more than `budget` entries (unless the grid
+    /// is a single bucket already).
+    fn fill(mut self, boxes: &[Aabb], budget: usize) -> Option<SpatialGrid> {
+        let buckets = self.nx * self.ny;
+        let mut counts = vec![0u32; buckets + 1];
+        let mut entries = 0usize;
+        for b in boxes {
+            if let Some((xs, ys)) = self.span(b) {
+                entries += xs.len() * ys.len();
+                if entries > budget && buckets > 1 {
+                    return None;
+                }
+                for y in ys {
+                    for x in xs.clone() {
+                        counts[y * self.nx + x + 1] += 1;
+                    }
+                }
+            }
+        }
+        for b in 0..buckets {
+            counts[b + 1] += counts[b];
+        }
+        let mut next = counts.clone();
+        let mut items = vec![0u32; entries];
+        for (i, b) in boxes.iter().enumerate() {
+            if let Some((xs, ys)) = self.span(b) {
+                for y in ys {
+                    for x in xs.clone() {
+                        let slot = &mut next[y * self.nx + x];
+                        items[*slot as usize] = i as u32;
+                        *slot += 1;
+                    }
+                }
+            }
+        }
+        self.offsets = counts;
+        self.items = items;
+        Some(self)
+    }
+
+    /// The bucket columns and rows a box touches, or `None` for an empty or non-finite box.
+    fn span(&self, b: &Aabb) -> Option<(std::ops::Range<usize>, std::ops::Range<usize>)> {
+        if !(b.min.is_finite() && b.max.is_finite()) || b.min.cmpgt(b.max).any() {
+            return None;
+        }
+        let lo = self.bucket(b.min);
+        let hi = self.bucket(b.max);
+        Some((lo.0..hi.0 + 1, lo.1..hi.1 + 1))
+    }
+
+    fn bucket(&self, p: Vec2) -> (usize, usize) {
+        let g = (p - self.origin) * self.inv_size;
+        // `as usize` saturates: negative → 0; clamp the top
+        ((g.x as usize).min(self.nx - 1), (g.y as usize).min(self.ny - 1))
+    }
+
+    /// The items whose boxes touch the bucket holding `p` (clamped into the grid).
+    pub(crate) fn query(&self, p: Vec2) -> &[u32] {
+        if self.offsets.is_empty() {
+            return &[];
+        }
+        let (x, y) = self.bucket(p);
+        self.bucket_items(y * self.nx + x)
+    }
+
+    /// Number of buckets.
+    pub(crate) fn bucket_count(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    /// The items in bucket `b`.
+    pub(crate) fn bucket_items(&self, b: usize) -> &[u32] {
+        &self.items[self.offsets[b] as usize..self.offsets[b + 1] as usize]
+    }
+}

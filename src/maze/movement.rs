@@ -1,0 +1,326 @@
+//! Moving the viewer: cross portals, stop `radius` short of walls, slide along them.
+//!
+//! The viewer is a disc of radius `radius` in the maze plane. [`step`] sweeps it along the motion
+//! and stops at the first contact with any opaque edge (its flat sides or its end points), removes
+//! the into-wall part of what is left and sweeps again (sliding; a corner stops it). Being a sweep,
+//! a step of any length cannot tunnel through a wall. All collision arithmetic is in `f64`.
+//!
+//! ```
+//! # use mazewalk::maze::{self, movement::{Position, step}};
+//! # let text = "4 0 0 4 0 0 4 4 4  4 0 1 0 -1 1 1 1 1  2 3 -1 0 1 1 1 1  0 2 -1 0 1 1 1 1  1 3 0 -1 1 1 1 1
+//! #             1 3 1 2 0  2 2 0 0 90";
+//! # let maze = maze::parse("room", text.as_bytes())?;
+//! let here = Position::of_viewer(&maze);
+//! let there = step(&maze, here, glam::vec2(10.0, 0.0), 0.25); // run east into the wall at x = 4
+//! assert!((there.pos.x - 3.75).abs() < 1e-3 && there.pos.y == 2.0);
+//! # Ok::<(), maze::ParseError>(())
+//! ```
+
+use std::collections::{HashSet, VecDeque};
+
+use glam::{DVec2, Vec2};
+
+use super::{Aabb, CellId, Maze};
+
+/// The viewer's place: a point and the cell holding it (tracked, so no search is needed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Position {
+    /// The cell containing `pos` (boundary included).
+    pub cell: CellId,
+    /// The point in the maze plane.
+    pub pos: Vec2,
+}
+
+impl Position {
+    /// The maze's viewer start.
+    #[must_use]
+    pub fn of_viewer(maze: &Maze) -> Position {
+        let pos = maze.viewer().pos;
+        // Maze::new checked that the viewer is in a cell
+        Position { cell: maze.cell_at(pos).unwrap_or(0), pos }
+    }
+}
+
+/// Distance kept beyond `radius` after a contact, so rounding never lands inside the margin.
+const SKIN: f64 = 1e-4;
+/// Contacts handled per step: enough to slide along one wall into a corner and stop.
+const MAX_SLIDES: usize = 4;
+
+/// Moves from `from` by `delta`, never bringing the viewer closer than `radius` to an opaque edge
+/// (flat side or end point), sliding along walls hit at an angle. Portals are crossed and the
+/// returned cell contains the returned point. Non-finite input returns `from` unchanged.
+///
+/// # Panics
+/// In debug builds, if `from.cell` is not a cell of `maze`.
+#[must_use]
+pub fn step(maze: &Maze, from: Position, delta: Vec2, radius: f32) -> Position {
+    sweep(maze, from, delta, radius, None)
+}
+
+/// Like [`step`], also returning the path taken: the start, each point where the viewer met a wall
+/// and turned to slide, and the end (a polyline, for tests and debugging).
+#[must_use]
+pub fn step_traced(maze: &Maze, from: Position, delta: Vec2, radius: f32) -> (Position, Vec<Vec2>) {
+    let mut path = vec![from.pos];
+    let to = sweep(maze, from, delta, radius, Some(&mut path));
+    if to == from {
+        path.truncate(1);
+    }
+    (to, path)
+}
+
+fn sweep(
+    maze: &Maze,
+    from: Position,
+    delta: Vec2,
+    radius: f32,
+    mut path: Option<&mut Vec<Vec2>>,
+) -> Position {
+    debug_assert!((from.cell as usize) < maze.cell_count(), "cell {} out of range", from.cell);
+    if (from.cell as usize) >= maze.cell_count()
+        || !(delta.is_finite() && from.pos.is_finite() && radius.is_finite() && radius >= 0.0)
+    {
+        return from;
+    }
+    let r = f64::from(radius);
+    let reach = delta.length() + radius + 1e-3;
+    let region = Aabb { min: from.pos, max: from.pos }.expand(reach);
+    let cells = cells_near(maze, from.cell, &region);
+    let walls = walls_of(maze, &cells);
+
+    let mut p = from.pos.as_dvec2();
+    let mut m = delta.as_dvec2();
+    for _ in 0..MAX_SLIDES {
+        let len = m.length();
+        if len < 1e-12 {
+            break;
+        }
+        let Some((t, n)) =
+            walls.iter().filter_map(|w| contact(p, m, w, r, from.cell)).min_by(|a, b| a.0.total_cmp(&b.0))
+        else {
+            p += m;
+            break;
+        };
+        // stop SKIN short of the contact, then keep only the part of the motion along the wall
+        let t_safe = (t - SKIN / len).max(0.0);
+        p += m * t_safe;
+        if let Some(path) = path.as_deref_mut() {
+            path.push(p.as_vec2());
+        }
+        let rest = m * (1.0 - t_safe);
+        m = rest - n * rest.dot(n).min(0.0);
+    }
+
+    let pos = p.as_vec2();
+    if let Some(path) = path {
+        path.push(pos);
+    }
+    let cell = cells.iter().copied().find(|&c| maze.cell_contains(c, pos)).or_else(|| maze.cell_at(pos));
+    match cell {
+        Some(cell) => Position { cell, pos },
+        None => from, // rounding put the point outside every cell: do not move
+    }
+}
+
+/// Clamps an eye height to stay `margin` away from the floor (-1) and ceiling (+1).
+#[must_use]
+pub fn clamp_eye_height(z: f32, margin: f32) -> f32 {
+    let margin = if margin.is_finite() { margin.clamp(0.0, 1.0) } else { 0.0 };
+    if z.is_nan() { 0.0 } else { z.clamp(-1.0 + margin, 1.0 - margin) }
+}
+
+/// Cells reachable from `start` through portals without leaving cells that touch `region`,
+/// `start` first, in breadth-first order.
+fn cells_near(maze: &Maze, start: CellId, region: &Aabb) -> Vec<CellId> {
+    let mut seen = HashSet::from([start]);
+    let mut order = vec![start];
+    let mut queue = VecDeque::from([start]);
+    while let Some(c) = queue.pop_front() {
+        for &e in maze.cell_edges(c) {
+            let edge = maze.edge(e);
+            if let Some(n) = edge.other_side(c).filter(|_| edge.is_portal())
+                && maze.cell_aabb(n).intersects(region)
+                && seen.insert(n)
+            {
+                order.push(n);
+                queue.push_back(n);
+            }
+        }
+    }
+    order
+}
+
+/// An opaque edge seen from one of its cells.
+struct Wall {
+    a: DVec2,
+    b: DVec2,
+    /// The cell it was collected from, and the unit normal pointing into that cell.
+    cell: CellId,
+    inward: DVec2,
+}
+
+fn walls_of(maze: &Maze, cells: &[CellId]) -> Vec<Wall> {
+    let mut walls = Vec::new();
+    for &c in cells {
+        for &e in maze.cell_edges(c) {
+            if maze.edge(e).opaque {
+                let (a, b) = maze.edge_points_ccw(e, c);
+                let (a, b) = (a.as_dvec2(), b.as_dvec2());
+                // the cell is on the left of a → b
+                walls.push(Wall { a, b, cell: c, inward: (b - a).perp().normalize() });
+            }
+        }
+    }
+    walls
+}
+
+/// The earliest fraction t ∈ [0, 1] of motion `m` from `p` at which the disc of radius `r` touches
+/// `wall`, with the contact normal (pointing from the wall to the disc).
+fn contact(p: DVec2, m: DVec2, wall: &Wall, r: f64, current: CellId) -> Option<(f64, DVec2)> {
+    let (a, b) = (wall.a, wall.b);
+    let e = b - a;
+    let u = ((p - a).dot(e) / e.length_squared()).clamp(0.0, 1.0);
+    let closest = a + e * u;
+    let dist = p.distance(closest);
+    if dist < r + SKIN {
+        // already touching: block only motion further in
+        let n = if dist > 1e-9 {
+            (p - closest) / dist
+        } else if wall.cell == current {
+            wall.inward // standing on the wall line: the current cell's side is "out"
+        } else {
+            return None;
+        };
+        return (m.dot(n) < 0.0).then_some((0.0, n));
+    }
+    let mut best: Option<(f64, DVec2)> = None;
+    let mut consider = |t: f64, n: DVec2| {
+        if (0.0..=1.0).contains(&t) && best.is_none_or(|(bt, _)| t < bt) {
+            best = Some((t, n));
+        }
+    };
+    // the flat side facing p: the signed distance along its normal falls to r
+    let side = if wall.inward.dot(p - a) >= 0.0 { wall.inward } else { -wall.inward };
+    let (s0, sm) = ((p - a).dot(side), m.dot(side));
+    if sm < 0.0 {
+        let t = (s0 - r) / -sm;
+        let u = (p + m * t - a).dot(e) / e.length_squared();
+        if (0.0..=1.0).contains(&u) {
+            consider(t, side);
+        }
+    }
+    // the end points: |p + t m − v| = r, the smaller root
+    for v in [a, b] {
+        let f = p - v;
+        let (qa, qb, qc) = (m.dot(m), 2.0 * f.dot(m), f.dot(f) - r * r);
+        let disc = qb * qb - 4.0 * qa * qc;
+        if qb < 0.0 && disc >= 0.0 {
+            let t = (-qb - disc.sqrt()) / (2.0 * qa);
+            let n = (p + m * t - v).normalize_or_zero();
+            consider(t, n);
+        }
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::maze::parse;
+    use glam::vec2;
+
+    /// Two 4×4 cells side by side, a portal between them at x = 4; walls all around.
+    fn two_rooms() -> Maze {
+        let text = "6  0 0 4 0 8 0 0 4 4 4 8 4
+            7
+            0 1 0 -1 1 1 1 1
+            1 2 1 -1 1 1 1 1
+            3 4 -1 0 1 1 1 1
+            4 5 -1 1 1 1 1 1
+            0 3 -1 0 1 1 1 1
+            1 4 0 1 0 1 1 1
+            2 5 1 -1 1 1 1 1
+            2
+            5 2 4 0
+            6 3 5 1
+            2 2 0 0 90";
+        parse("two", text.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn crosses_a_portal_and_tracks_the_cell() {
+        let m = two_rooms();
+        let p = step(&m, Position { cell: 0, pos: vec2(2.0, 2.0) }, vec2(4.0, 0.0), 0.25);
+        assert_eq!(p, Position { cell: 1, pos: vec2(6.0, 2.0) });
+    }
+
+    #[test]
+    fn stops_radius_short_of_a_wall() {
+        let m = two_rooms();
+        let p = step(&m, Position { cell: 0, pos: vec2(2.0, 2.0) }, vec2(0.0, 5.0), 0.25);
+        assert!((p.pos.y - 3.75).abs() < 1e-3 && p.pos.y < 3.75, "{p:?}");
+    }
+
+    // issue #3: the original looped forever with the viewer exactly on an edge line
+    #[test]
+    fn viewer_exactly_on_a_portal_line_moves_on() {
+        let m = two_rooms();
+        let p = step(&m, Position { cell: 0, pos: vec2(4.0, 2.0) }, vec2(1.0, 0.0), 0.25);
+        assert_eq!(p, Position { cell: 1, pos: vec2(5.0, 2.0) });
+        let p = step(&m, Position { cell: 1, pos: vec2(4.0, 2.0) }, vec2(-1.0, 0.0), 0.25);
+        assert_eq!(p, Position { cell: 0, pos: vec2(3.0, 2.0) });
+    }
+
+    #[test]
+    fn viewer_exactly_on_a_wall_line_can_only_move_in() {
+        let m = two_rooms();
+        let on = Position { cell: 0, pos: vec2(2.0, 0.0) };
+        assert_eq!(step(&m, on, vec2(0.0, -1.0), 0.25), on);
+        let p = step(&m, on, vec2(0.0, 1.0), 0.25);
+        assert_eq!(p, Position { cell: 0, pos: vec2(2.0, 1.0) });
+    }
+
+    #[test]
+    fn viewer_exactly_on_a_vertex_keeps_its_cell() {
+        let m = two_rooms();
+        for cell in [0, 1] {
+            let on = Position { cell, pos: vec2(4.0, 4.0) };
+            let p = step(&m, on, vec2(0.0, 0.0), 0.25);
+            assert_eq!(p, on);
+            let p = step(&m, on, vec2(0.0, -1.0), 0.25);
+            assert!(m.cell_contains(p.cell, p.pos) && p.pos.y <= 4.0, "{p:?}");
+        }
+    }
+
+    #[test]
+    fn slides_along_a_wall_hit_at_45_degrees() {
+        let m = two_rooms();
+        let p = step(&m, Position { cell: 0, pos: vec2(1.0, 3.0) }, vec2(2.0, 2.0), 0.25);
+        // y stops at 3.75; x keeps what is left of the motion after the contact
+        assert!((p.pos.y - 3.75).abs() < 1e-3, "{p:?}");
+        assert!(p.pos.x > 2.9 && p.pos.x <= 3.0 + 1e-3, "{p:?}");
+    }
+
+    #[test]
+    fn walking_into_a_corner_stops_radius_from_both_walls() {
+        let m = two_rooms();
+        let p = step(&m, Position { cell: 1, pos: vec2(6.0, 2.0) }, vec2(10.0, 7.0), 0.25);
+        assert!((p.pos - vec2(7.75, 3.75)).abs().max_element() < 1e-3, "{p:?}");
+        assert_eq!(p.cell, 1);
+    }
+
+    #[test]
+    fn a_huge_step_does_not_tunnel() {
+        let m = two_rooms();
+        let p = step(&m, Position { cell: 0, pos: vec2(2.0, 2.0) }, vec2(-1e5, 0.0), 0.25);
+        assert!((p.pos.x - 0.25).abs() < 1e-3, "{p:?}");
+    }
+
+    #[test]
+    fn eye_height_stays_between_floor_and_ceiling() {
+        assert_eq!(clamp_eye_height(5.0, 0.1), 0.9);
+        assert_eq!(clamp_eye_height(-5.0, 0.1), -0.9);
+        assert_eq!(clamp_eye_height(0.3, 0.1), 0.3);
+        assert_eq!(clamp_eye_height(f32::NAN, 0.1), 0.0);
+    }
+}

@@ -1,0 +1,252 @@
+//! The checks behind [`Maze::new`](super::Maze::new).
+
+use glam::{DVec2, Vec2};
+
+use super::index::SpatialGrid;
+use super::{Aabb, COORD_BOUND, CellId, Cells, Edge, EdgeId, Maze, MazeError, VertexId, orient};
+
+/// Indices, sides, cell ↔ edge consistency, and each cell a closed convex counter-clockwise loop.
+pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Result<(), MazeError> {
+    let max = u32::MAX as usize - 1;
+    for (what, count) in [("vertices", vertices.len()), ("edges", edges.len()), ("cells", cells.len())] {
+        if count > max {
+            return Err(MazeError::TooMany { what, count, max });
+        }
+    }
+    if cells.is_empty() {
+        return Err(MazeError::NoCells);
+    }
+    for (v, p) in vertices.iter().enumerate() {
+        if !(p.is_finite() && p.abs().max_element() <= COORD_BOUND) {
+            return Err(MazeError::VertexOutOfBounds { vertex: v as VertexId });
+        }
+    }
+    let nc = cells.len();
+    for (e, edge) in edges.iter().enumerate() {
+        let edge_id = e as EdgeId;
+        for vertex in [edge.start, edge.end] {
+            if vertex as usize >= vertices.len() {
+                return Err(MazeError::EdgeVertexOutOfRange { edge: edge_id, vertex, count: vertices.len() });
+            }
+        }
+        if vertices[edge.start as usize] == vertices[edge.end as usize] {
+            return Err(MazeError::EdgeDegenerate { edge: edge_id, start: edge.start, end: edge.end });
+        }
+        for cell in [edge.left, edge.right].into_iter().flatten() {
+            if cell as usize >= nc {
+                return Err(MazeError::EdgeCellOutOfRange { edge: edge_id, cell, count: nc });
+            }
+        }
+        match (edge.left, edge.right) {
+            (None, None) => return Err(MazeError::EdgeNoCell { edge: edge_id }),
+            (Some(l), Some(r)) if l == r => {
+                return Err(MazeError::EdgeSameCellBothSides { edge: edge_id, cell: l });
+            }
+            (None, _) | (_, None) if !edge.opaque => {
+                return Err(MazeError::PortalToOutside { edge: edge_id });
+            }
+            _ => {}
+        }
+        if !edge.color.is_finite() || edge.color.min_element() < 0.0 || edge.color.max_element() > 1.0 {
+            return Err(MazeError::EdgeColor { edge: edge_id });
+        }
+    }
+    // each (edge, side) names a cell that lists the edge, and vice versa: count the listings
+    let mut listed = vec![0u8; edges.len()];
+    for c in 0..nc {
+        let cell = c as CellId;
+        for &e in cells.get(c) {
+            let Some(edge) = edges.get(e as usize) else {
+                return Err(MazeError::CellEdgeOutOfRange { cell, edge: e, count: edges.len() });
+            };
+            if edge.left != Some(cell) && edge.right != Some(cell) {
+                return Err(MazeError::CellEdgeNotNeighbour { cell, edge: e });
+            }
+            listed[e as usize] += 1;
+            if listed[e as usize] > u8::from(edge.left.is_some()) + u8::from(edge.right.is_some()) {
+                return Err(MazeError::CellEdgeDuplicate { cell, edge: e });
+            }
+        }
+    }
+    for (e, edge) in edges.iter().enumerate() {
+        if listed[e] != u8::from(edge.left.is_some()) + u8::from(edge.right.is_some()) {
+            // find the side whose cell does not list it
+            for (side, cell) in [("left", edge.left), ("right", edge.right)] {
+                if let Some(cell) = cell
+                    && !cells.get(cell as usize).contains(&(e as EdgeId))
+                {
+                    return Err(MazeError::CellMissingEdge { edge: e as EdgeId, cell, side });
+                }
+            }
+        }
+    }
+    let mut scratch = Vec::new();
+    for c in 0..nc {
+        cell_loop(vertices, edges, cells, c as CellId, &mut scratch)?;
+    }
+    Ok(())
+}
+
+/// Cell `c`'s edges, each oriented with the cell on its left, chain into one convex
+/// counter-clockwise loop.
+fn cell_loop(
+    vertices: &[Vec2],
+    edges: &[Edge],
+    cells: &Cells,
+    c: CellId,
+    directed: &mut Vec<(VertexId, VertexId)>,
+) -> Result<(), MazeError> {
+    let ids = cells.get(c as usize);
+    if ids.len() < 3 {
+        return Err(MazeError::CellTooFewEdges { cell: c, count: ids.len() });
+    }
+    directed.clear();
+    directed.extend(ids.iter().map(|&e| {
+        let edge = &edges[e as usize];
+        if edge.left == Some(c) { (edge.start, edge.end) } else { (edge.end, edge.start) }
+    }));
+    // small cells (the usual 4 edges) search linearly; big ones sort and bisect
+    let small = directed.len() <= 8;
+    if small {
+        for (i, d) in directed.iter().enumerate() {
+            if directed[..i].iter().any(|e| e.0 == d.0) {
+                return Err(MazeError::CellNotClosed { cell: c, vertex: d.0 });
+            }
+        }
+    } else {
+        directed.sort_unstable();
+        // each vertex starts exactly one edge of the loop
+        if let Some(w) = directed.windows(2).find(|w| w[0].0 == w[1].0) {
+            return Err(MazeError::CellNotClosed { cell: c, vertex: w[0].0 });
+        }
+    }
+    let p = |v: VertexId| vertices[v as usize].as_dvec2();
+    let first = directed[0];
+    let (mut from, mut to) = first;
+    let mut twice_area = 0.0;
+    let mut steps = 0;
+    let mut concave_at = None; // reported after the orientation, which explains more
+    loop {
+        let found = if small {
+            directed.iter().position(|d| d.0 == to)
+        } else {
+            directed.binary_search_by_key(&to, |d| d.0).ok()
+        };
+        let Some(i) = found else {
+            return Err(MazeError::CellNotClosed { cell: c, vertex: to });
+        };
+        let next = directed[i].1;
+        let (a, b, n) = (p(from), p(to), p(next));
+        let (u, v) = (b - a, n - b);
+        // a right turn, or a straight-back spike, breaks convexity (tolerance for rounding)
+        if concave_at.is_none()
+            && (u.perp_dot(v) < -1e-9 * u.length() * v.length() || (u.perp_dot(v) <= 0.0 && u.dot(v) < 0.0))
+        {
+            concave_at = Some(to);
+        }
+        twice_area += a.perp_dot(b);
+        (from, to) = (to, next);
+        steps += 1;
+        if (from, to) == first {
+            break;
+        }
+        if steps >= directed.len() {
+            return Err(MazeError::CellNotClosed { cell: c, vertex: to });
+        }
+    }
+    // one loop through every edge, not two smaller ones
+    if steps != directed.len() {
+        return Err(MazeError::CellNotClosed { cell: c, vertex: first.0 });
+    }
+    if twice_area <= 0.0 {
+        return Err(MazeError::CellClockwise { cell: c });
+    }
+    match concave_at {
+        Some(vertex) => Err(MazeError::CellNotConvex { cell: c, vertex }),
+        None => Ok(()),
+    }
+}
+
+/// No two edges cross or overlap; they may share end points. A bucket grid keeps it near O(n).
+pub(super) fn no_crossings(maze: &Maze) -> Result<(), MazeError> {
+    let segments: Vec<[Vec2; 2]> =
+        maze.edges().iter().map(|e| [maze.vertex(e.start), maze.vertex(e.end)]).collect();
+    let boxes: Vec<Aabb> = segments.iter().map(|&[a, b]| Aabb { min: a.min(b), max: a.max(b) }).collect();
+    let grid = SpatialGrid::build(&boxes, maze.extents());
+    for bucket in 0..grid.bucket_count() {
+        let items = grid.bucket_items(bucket);
+        for (i, &a) in items.iter().enumerate() {
+            let (box_a, [p1, p2]) = (boxes[a as usize], segments[a as usize]);
+            for &b in &items[i + 1..] {
+                if !box_a.intersects(&boxes[b as usize]) {
+                    continue; // the common case: cheap to rule out
+                }
+                let [q1, q2] = segments[b as usize];
+                match conflict(p1.as_dvec2(), p2.as_dvec2(), q1.as_dvec2(), q2.as_dvec2()) {
+                    Conflict::None => {}
+                    Conflict::Cross => return Err(MazeError::EdgesCross { a: a.min(b), b: a.max(b) }),
+                    Conflict::Overlap => return Err(MazeError::EdgesOverlap { a: a.min(b), b: a.max(b) }),
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+enum Conflict {
+    None,
+    Cross,
+    Overlap,
+}
+
+/// Segments p and q: a proper crossing, a collinear overlap of positive length, or neither
+/// (apart, or touching at a point).
+fn conflict(p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2) -> Conflict {
+    let (d1, d2) = (orient(q1, q2, p1), orient(q1, q2, p2));
+    let (d3, d4) = (orient(p1, p2, q1), orient(p1, p2, q2));
+    if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
+        return Conflict::Cross;
+    }
+    if d1 == 0.0 && d2 == 0.0 {
+        // collinear: overlap of the projections on the longer axis of p
+        let axis = if (p2 - p1).x.abs() >= (p2 - p1).y.abs() { DVec2::X } else { DVec2::Y };
+        let (a0, a1) = (p1.dot(axis).min(p2.dot(axis)), p1.dot(axis).max(p2.dot(axis)));
+        let (b0, b1) = (q1.dot(axis).min(q2.dot(axis)), q1.dot(axis).max(q2.dot(axis)));
+        if a1.min(b1) > a0.max(b0) {
+            return Conflict::Overlap;
+        }
+    }
+    Conflict::None
+}
+
+/// The viewer finite, at a sane height and fov, in a cell; the exit in range.
+pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
+    let v = maze.viewer();
+    if !(v.pos.is_finite() && v.pos.abs().max_element() <= COORD_BOUND)
+        || !v.z.is_finite()
+        || !(v.dir_deg.is_finite() && v.dir_deg.abs() <= COORD_BOUND)
+        || !v.fov_deg.is_finite()
+    {
+        return Err(MazeError::ViewerNotFinite);
+    }
+    if !(v.z > -1.0 && v.z < 1.0) {
+        return Err(MazeError::ViewerHeight { z: v.z });
+    }
+    if !(v.fov_deg > 0.0 && v.fov_deg < 180.0) {
+        return Err(MazeError::ViewerFov { fov_deg: v.fov_deg });
+    }
+    if maze.cell_at(v.pos).is_none() {
+        return Err(MazeError::ViewerOutside { x: v.pos.x, y: v.pos.y });
+    }
+    if let Some(exit) = maze.exit() {
+        if exit.cell as usize >= maze.cell_count() {
+            return Err(MazeError::ExitCellOutOfRange { cell: exit.cell, count: maze.cell_count() });
+        }
+        if let Some(p) = exit.point
+            && !maze.cell_contains(exit.cell, p)
+        {
+            return Err(MazeError::ExitPointOutside { cell: exit.cell, x: p.x, y: p.y });
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,167 @@
+//! Malformed CS559 input: one case per error kind, each with its message and `FILE:LINE:COL`.
+
+use mazewalk::maze::{self, MazeError, ParseErrorKind};
+
+/// One room, 4 × 4, as the original writes it: vertices, edges, one cell, viewer.
+const ROOM: &str = "4
+0 0
+4 0
+0 4
+4 4
+4
+0 1 0 -1 1 0.5 0.5 0.5
+2 3 -1 0 1 0.5 0.5 0.5
+0 2 -1 0 1 0.5 0.5 0.5
+1 3 0 -1 1 0.5 0.5 0.5
+1
+3 1 2 0
+2 2 0 90 90
+";
+
+/// `ROOM` with the `n`th line (1-based) replaced.
+fn room_with(n: usize, line: &str) -> String {
+    ROOM.lines().enumerate().map(|(i, l)| if i + 1 == n { line } else { l }).collect::<Vec<_>>().join("\n")
+}
+
+fn error(bytes: impl AsRef<[u8]>) -> String {
+    match maze::parse("f.maze", bytes.as_ref()) {
+        Ok(_) => panic!("parsed: {:?}", String::from_utf8_lossy(bytes.as_ref())),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn the_room_itself_is_valid() {
+    let m = maze::parse("f.maze", ROOM.as_bytes()).unwrap();
+    assert_eq!((m.cell_count(), m.wall_count(), m.portal_count()), (1, 4, 0));
+}
+
+#[test]
+fn malformed_files_give_file_line_col_and_what_is_wrong() {
+    let table: Vec<(Vec<u8>, &str)> = vec![
+        // lexical
+        (b"".to_vec(), "f.maze:1:1: unexpected end of file: expected vertex count"),
+        (b"4\n0 0\n4".to_vec(), "f.maze:3:2: unexpected end of file: expected vertex 1 y"),
+        (b"4\n0 x".to_vec(), "f.maze:2:3: expected a number (vertex 0 y), found `x`"),
+        (b"2.5".to_vec(), "f.maze:1:1: expected an integer (vertex count), found `2.5`"),
+        (b"-3".to_vec(), "f.maze:1:1: vertex count is -3, out of range (0 or more)"),
+        (b"1000000000000 0 0".to_vec(), "f.maze:1:1: the file claims 1000000000000 vertices; at most 4294967294 are supported"),
+        (b"1000000000 0 0".to_vec(), "f.maze:1:15: unexpected end of file: expected vertex 1 x"),
+        (b"1\nnan 0".to_vec(), "f.maze:2:1: vertex 0 x nan is not a finite number"),
+        (b"1\n0 -inf".to_vec(), "f.maze:2:3: vertex 0 y -inf is not a finite number"),
+        (b"1\n0 1e39".to_vec(), "f.maze:2:3: vertex 0 y 1e39 is not a finite number"),
+        (b"4\n0\xff 0".to_vec(), "f.maze:2:2: invalid UTF-8 (byte 0xff)"),
+        (room_with(7, "0 1 0 -1 2 0.5 0.5 0.5").into_bytes(), "f.maze:7:10: edge 0 opaque flag is 2, out of range (0 or 1)"),
+        (room_with(7, "0 1 -2 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:5: edge 0 left cell is -2, out of range"),
+        (room_with(12, "3 1 2 0 7").into_bytes(), "f.maze:12:9: the viewer's eye height 2 is not strictly between"),
+        // the model, pointing at the record at fault
+        (room_with(2, "0 1e7").into_bytes(), "f.maze:2:1: vertex 0 has a coordinate that is not finite or beyond"),
+        (room_with(7, "0 9 0 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:1: edge 0 names vertex 9, but there are only 4 vertices"),
+        (room_with(7, "0 0 0 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:1: edge 0 has zero length"),
+        (room_with(7, "0 1 3 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:1: edge 0 names cell 3, but there are only 1 cells"),
+        (room_with(7, "0 1 -1 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:1: edge 0 borders no cell"),
+        (room_with(7, "0 1 0 -1 0 0.5 0.5 0.5").into_bytes(), "f.maze:7:1: edge 0 is transparent but leads outside the maze"),
+        (room_with(7, "0 1 0 -1 1 0.5 1.5 0.5").into_bytes(), "f.maze:7:1: edge 0 has a colour component outside 0..1"),
+        (room_with(12, "3 1 2 -1").into_bytes(), "f.maze:7:1: edge 0 lists cell 0 on its left but cell 0 does not list edge 0"),
+        (room_with(12, "3 1 2 7").into_bytes(), "f.maze:12:1: cell 0 lists edge 7, but there are only 4 edges"),
+        (room_with(12, "3 1 2 2").into_bytes(), "f.maze:12:1: cell 0 lists edge 2 twice"),
+        (
+            room_with(7, "0 1 -1 0 1 0.5 0.5 0.5").into_bytes(),
+            "f.maze:12:1: cell 0's edges do not form one closed loop",
+        ),
+        (
+            room_with(5, "1 1").into_bytes(), // pull a corner in: the quad turns concave
+            "f.maze:12:1: cell 0 is not convex (at vertex 3)",
+        ),
+        (b"4 0 0 4 0 0 4 4 4 4 0 1 -1 0 1 .5 .5 .5 2 3 0 -1 1 .5 .5 .5 0 2 0 -1 1 .5 .5 .5 1 3 -1 0 1 .5 .5 .5 1 0 1 2 3 2 2 0 0 90".to_vec(),
+            "f.maze:1:103: cell 0 winds clockwise or has no area"),
+        (room_with(13, "9 9 0 90 90").into_bytes(), "f.maze:13:1: the viewer at (9, 9) is in no cell"),
+        (room_with(13, "2 2 1 90 90").into_bytes(), "f.maze:13:1: the viewer's eye height 1 is not strictly between"),
+        (room_with(13, "2 2 0 90 180").into_bytes(), "f.maze:13:1: the viewer's field of view 180° is not strictly between 0 and 180"),
+        // the exit extension
+        (format!("{ROOM}exit 3\n").into_bytes(), "f.maze:14:1: the exit names cell 3, but there are only 1 cells"),
+        (format!("{ROOM}exit 9 9\n").into_bytes(), "f.maze:14:1: the exit point (9, 9) is in no cell"),
+        (format!("{ROOM}exit 1 2 3\n").into_bytes(), "f.maze:14:1: expected `exit CELL` or `exit X Y`, found `exit 1 2 3`"),
+    ];
+    for (input, expected) in table {
+        let got = error(&input);
+        assert!(
+            got.starts_with(expected),
+            "\n input: {:?}\n   got: {got}\nwanted: {expected}",
+            String::from_utf8_lossy(&input)
+        );
+    }
+}
+
+#[test]
+fn crossing_and_overlapping_edges_are_named() {
+    // two rooms side by side sharing the wall x = 4, but the second room's wall is a separate,
+    // overlapping edge: a collinear overlap
+    let text = "6 0 0 4 0 8 0 0 4 4 4 8 4
+        8
+        0 1 0 -1 1 .5 .5 .5
+        3 4 -1 0 1 .5 .5 .5
+        0 3 -1 0 1 .5 .5 .5
+        1 4 0 -1 1 .5 .5 .5
+        1 2 1 -1 1 .5 .5 .5
+        4 5 -1 1 1 .5 .5 .5
+        1 4 -1 1 1 .5 .5 .5
+        2 5 1 -1 1 .5 .5 .5
+        2  0 1 2 3  4 5 6 7
+        2 2 0 0 90";
+    assert_eq!(error(text), "f.maze:9:9: edges 3 and 6 overlap (collinear)");
+    // two rooms overlapping: their walls cross
+    let text = "8  0 0 4 0 0 4 4 4  2 2 6 2 2 6 6 6
+        8
+        0 1 0 -1 1 .5 .5 .5
+        2 3 -1 0 1 .5 .5 .5
+        0 2 -1 0 1 .5 .5 .5
+        1 3 0 -1 1 .5 .5 .5
+        4 5 1 -1 1 .5 .5 .5
+        6 7 -1 1 1 .5 .5 .5
+        4 6 -1 1 1 .5 .5 .5
+        5 7 1 -1 1 .5 .5 .5
+        2  3 1 2 0  7 5 6 4
+        1 1 0 0 90";
+    let e = maze::parse("f.maze", text.as_bytes()).unwrap_err();
+    assert!(matches!(e.kind, ParseErrorKind::Invalid(MazeError::EdgesCross { a: 1 | 3, b: 4 | 6 })), "{e}");
+}
+
+#[test]
+fn crlf_bom_and_trailing_junk_are_fine() {
+    let crlf = format!("\u{feff}{}", ROOM.replace('\n', "\r\n"));
+    assert!(maze::parse("f", crlf.as_bytes()).is_ok());
+    // a CRLF file's error columns count characters, not the \r
+    let bad = room_with(2, "0 x").replace('\n', "\r\n");
+    assert_eq!(error(bad), "f.maze:2:3: expected a number (vertex 0 y), found `x`");
+    // the original ignores everything after the viewer, binary included
+    let junk = [ROOM.as_bytes(), b"trailing words 1 2 3\n\x00\xff\xfe garbage"].concat();
+    assert!(maze::parse("f", &junk).is_ok());
+    // a BOM does not shift columns
+    assert_eq!(error("\u{feff}x"), "f.maze:1:1: expected an integer (vertex count), found `x`");
+}
+
+#[test]
+fn the_exit_extension_reads_a_cell_or_a_point() {
+    let m = maze::parse("f", format!("{ROOM}\nexit 0\n").as_bytes()).unwrap();
+    assert_eq!(m.exit().map(|x| (x.cell, x.point)), Some((0, None)));
+    let m = maze::parse("f", format!("{ROOM}some note\nexit 3 1.5\n").as_bytes()).unwrap();
+    assert_eq!(m.exit().map(|x| (x.cell, x.point)), Some((0, Some(glam::vec2(3.0, 1.5)))));
+    let text = maze::write(&m, maze::Format::Cs559).unwrap();
+    assert!(text.ends_with("2 2 0 90 90\nexit 3 1.5\n"), "{text}");
+    assert_eq!(maze::parse("f", text.as_bytes()).unwrap(), m);
+}
+
+#[test]
+fn errors_carry_a_kind_for_programs() {
+    let e = maze::parse("f", room_with(7, "0 1 -1 -1 1 0.5 0.5 0.5").as_bytes()).unwrap_err();
+    assert_eq!((e.line, e.col), (7, 1));
+    assert_eq!(e.kind, ParseErrorKind::Invalid(MazeError::EdgeNoCell { edge: 0 }));
+}
+
+#[test]
+fn load_reports_an_unreadable_file() {
+    let e = maze::load("/nonexistent/x.maze").unwrap_err();
+    assert!(matches!(e, maze::LoadError::Io { .. }));
+    assert!(e.to_string().starts_with("/nonexistent/x.maze: cannot read:"), "{e}");
+}
