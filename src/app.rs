@@ -1,1 +1,10 @@
-//! app (to be written).
+//! The walkthrough: pure state and key handlers ([`state`], [`controls`]), the overlays drawn over the
+//! 3D view ([`overlay`]), and the event loop that wires them to the terminal ([`run`]).
+
+pub mod controls;
+pub mod overlay;
+pub mod state;
+
+pub use controls::{Action, Key};
+pub use state::{App, KeyKind, MapMode};
+pub mod run;

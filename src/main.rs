@@ -1,27 +1,85 @@
 //! The `mazewalk` binary: command-line wiring only; everything else lives in the library.
 //!
-//! Exit codes: 0 success, 2 usage errors (clap), 65 malformed or invalid maze data, 66 cannot read
-//! the file, 1 anything else. Errors go to stderr as `FILE:LINE:COL: message`.
+//! `mazewalk [MAZE]` walks a maze (the built-in one without MAZE); `render`, `gen` and `check` are the
+//! batch commands. Exit codes: 0 success, 2 usage errors (bad flags or values), 65 malformed or invalid
+//! maze data, 66 cannot read the file, 1 anything else (e.g. no terminal). Maze errors go to stderr
+//! as `FILE:LINE:COL: message`.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Context as _;
+use std::time::Instant;
+
+use anyhow::{Context as _, bail};
 use clap::{Args, Parser, Subcommand};
+use glam::Vec2;
+use mazewalk::app::{App, run::run};
+use mazewalk::frame::{ColorDepth, Frame};
 use mazewalk::maze::generate::{Algorithm, GenOptions, MAX_SIDE, generate, generate_grid};
 use mazewalk::maze::{self, Format, LoadError, Maze};
+use mazewalk::render::{Camera, Charset, Culling, Projection, RenderOptions, Renderer};
+use mazewalk::term::{caps, encoder};
 
 #[derive(Parser)]
-#[command(name = "mazewalk", version, about = "A first-person 3D maze walkthrough for the terminal")]
+#[command(
+    name = "mazewalk",
+    version,
+    about = "A first-person 3D maze walkthrough for the terminal",
+    long_about = "A first-person 3D maze walkthrough for the terminal.\n\n\
+        Without a command, walks MAZE (CS559 or grid format), a fresh --gen maze, or the built-in maze.\n\
+        Keys: W/S walk, A/D strafe, arrows turn and look, [ ] down/up, + - fov, p projection, m map,\n\
+        c glyphs, r reset, ? help, q quit.",
+    args_conflicts_with_subcommands = true
+)]
 struct Cli {
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
+    #[command(flatten)]
+    walk: WalkArgs,
+}
+
+#[derive(Args)]
+struct WalkArgs {
+    #[command(flatten)]
+    maze: MazeArgs,
+    #[command(flatten)]
+    look: LookArgs,
+}
+
+/// Where the maze comes from.
+#[derive(Args)]
+struct MazeArgs {
+    /// Maze file (CS559 or grid format, detected); the built-in maze if omitted.
+    #[arg(value_name = "MAZE", conflicts_with = "gen")]
+    maze: Option<PathBuf>,
+    /// Walk a fresh random maze of WxH cells instead (with loops and an exit).
+    #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size)]
+    generate: Option<(u32, u32)>,
+    /// Seed for --gen (the same seed gives the same maze).
+    #[arg(long, default_value_t = 1, requires = "gen")]
+    seed: u64,
+}
+
+/// How frames look.
+#[derive(Args)]
+struct LookArgs {
+    /// Glyphs: ascii (one sample per cell), half (▀, 1×2), quad (2×2) or sextant (2×3).
+    #[arg(long, value_parser = parse_charset, default_value = "half")]
+    charset: Charset,
+    /// Colour depth: none, 16, 256 or truecolor (default: from COLORTERM/TERM; NO_COLOR gives none).
+    #[arg(long, value_parser = parse_color)]
+    color: Option<ColorDepth>,
+    /// Terminal cell width / height (cells are about twice as tall as wide).
+    #[arg(long, default_value_t = 0.5, value_parser = parse_cell_aspect)]
+    cell_aspect: f32,
 }
 
 #[derive(Subcommand)]
 enum Command {
+    /// Render one frame to stdout and exit (plain text with --color none, ANSI otherwise).
+    Render(RenderArgs),
     /// Generate a random maze (a perfect maze unless --loops is given).
     Gen(GenArgs),
     /// Load a maze file and print a summary, or the located error (exit 65).
@@ -54,21 +112,69 @@ struct GenArgs {
 }
 
 #[derive(Args)]
+struct RenderArgs {
+    #[command(flatten)]
+    maze: MazeArgs,
+    #[command(flatten)]
+    look: LookArgs,
+    /// Eye position X,Y in the maze plane (default: the file's viewer).
+    #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+    at: Option<Vec2>,
+    /// Eye height, strictly between the floor (-1) and the ceiling (+1).
+    #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = parse_finite)]
+    height: Option<f32>,
+    /// Heading in degrees counter-clockwise from +x (default: the file's).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
+    heading: Option<f32>,
+    /// Pitch in degrees, positive looks up (-90..=90).
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_finite)]
+    pitch: f32,
+    /// Horizontal field of view across the whole frame, degrees (10..=170; default: the file's).
+    #[arg(long, value_name = "DEG", value_parser = parse_finite)]
+    fov: Option<f32>,
+    /// Frame size in terminal cells.
+    #[arg(long, value_name = "COLSxROWS", default_value = "80x24", value_parser = parse_frame_size)]
+    size: (usize, usize),
+    /// perspective or orthographic.
+    #[arg(long, default_value = "perspective", value_parser = parse_projection)]
+    projection: Projection,
+    /// portal (cell-and-portal visibility) or none (every wall: brute force).
+    #[arg(long, default_value = "portal", value_parser = parse_culling)]
+    culling: Culling,
+    /// Print one JSON object of counts and timing on stderr.
+    #[arg(long)]
+    stats: bool,
+    /// Write a CSV of ROWS lines × COLS values: the view-space depth of the wall seen through each
+    /// cell's centre, empty where none.
+    #[arg(long, value_name = "FILE")]
+    depth_out: Option<PathBuf>,
+}
+
+#[derive(Args)]
 struct CheckArgs {
     /// The maze file (CS559 or grid format; detected).
     file: PathBuf,
 }
 
+/// Exit status for bad flags or values (as clap's).
+const EXIT_USAGE: u8 = 2;
 /// Exit status for malformed or invalid data (sysexits EX_DATAERR).
 const EXIT_DATA: u8 = 65;
 /// Exit status for an unreadable input file (sysexits EX_NOINPUT).
 const EXIT_NO_INPUT: u8 = 66;
 
+/// A flag value that parsed but makes no sense here (e.g. --at outside the maze): exit 2.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+struct Usage(String);
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Gen(args) => cmd_gen(&args),
-        Command::Check(args) => cmd_check(&args),
+        None => cmd_walk(&cli.walk),
+        Some(Command::Render(args)) => cmd_render(&args),
+        Some(Command::Gen(args)) => cmd_gen(&args),
+        Some(Command::Check(args)) => cmd_check(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -81,10 +187,115 @@ fn main() -> ExitCode {
             ExitCode::from(match load {
                 Some(LoadError::Parse(_)) => EXIT_DATA,
                 Some(LoadError::Io { .. }) => EXIT_NO_INPUT,
+                None if err.downcast_ref::<Usage>().is_some() => EXIT_USAGE,
                 None => 1,
             })
         }
     }
+}
+
+/// Loads, generates or unpacks the maze the flags name.
+fn load_maze(args: &MazeArgs) -> anyhow::Result<Maze> {
+    if let Some((width, height)) = args.generate {
+        let opts =
+            GenOptions { width, height, seed: args.seed, loops: 0.1, exit: true, ..GenOptions::default() };
+        return Ok(generate(&opts)?);
+    }
+    match &args.maze {
+        Some(path) => Ok(maze::load(path)?),
+        None => Ok(maze::builtin()?),
+    }
+}
+
+impl LookArgs {
+    fn options(&self, culling: Culling) -> RenderOptions {
+        let env = |k: &str| std::env::var(k).ok();
+        let color_depth = self.color.unwrap_or_else(|| caps::detect_color_depth(env));
+        RenderOptions { charset: self.charset, color_depth, culling, cell_aspect: self.cell_aspect }
+    }
+}
+
+fn cmd_walk(args: &WalkArgs) -> anyhow::Result<()> {
+    use std::io::IsTerminal as _;
+    let maze = load_maze(&args.maze)?;
+    if !std::io::stdin().is_terminal() || !std::io::stdout().is_terminal() {
+        bail!("the walkthrough needs a terminal (try `mazewalk render` to print a frame, or --help)");
+    }
+    let mut app = App::new(maze, args.look.options(Culling::Portal), 0.0)?;
+    let env = |k: &str| std::env::var(k).ok();
+    let outcome = run(&mut app, caps::detect_bce(env)).context("terminal")?;
+    if let Some(seconds) = outcome.finished {
+        println!("You found the exit in {seconds:.1} s.");
+    }
+    Ok(())
+}
+
+fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
+    let maze = load_maze(&args.maze)?;
+    let viewer = maze.viewer();
+    let position = args.at.unwrap_or(viewer.pos);
+    if maze.cell_at(position).is_none() {
+        let e = maze.extents();
+        let inside = position.cmpge(e.min).all() && position.cmple(e.max).all();
+        let what = if inside { "is inside a wall (in no cell)" } else { "is outside the maze" };
+        let (lo, hi) = (e.min, e.max);
+        return Err(Usage(format!(
+            "--at {},{} {what}; the maze spans ({}, {}) .. ({}, {})",
+            position.x, position.y, lo.x, lo.y, hi.x, hi.y
+        ))
+        .into());
+    }
+    let camera = Camera {
+        eye_z: args.height.unwrap_or(viewer.z),
+        pitch_deg: args.pitch,
+        projection: args.projection,
+        ..Camera::new(position, args.heading.unwrap_or(viewer.dir_deg), args.fov.unwrap_or(viewer.fov_deg))
+    };
+    camera.validate().map_err(|e| Usage(e.to_string()))?;
+    let options = args.look.options(args.culling);
+    let (cols, rows) = args.size;
+    let mut renderer = Renderer::new();
+    let mut frame = Frame::new(cols, rows);
+    let started = Instant::now();
+    let stats = renderer
+        .render(&maze, &camera, &options, cols, rows, &mut frame)
+        .map_err(|e| Usage(e.to_string()))?;
+    let micros = started.elapsed().as_micros();
+    let mut out = Vec::with_capacity(cols * rows * 4);
+    encoder::ansi_lines(&frame, &mut out);
+    std::io::stdout().lock().write_all(&out).context("cannot write to stdout")?;
+    if args.stats {
+        eprintln!(
+            "{{\"cells_visited\":{},\"distinct_cells\":{},\"portals_traversed\":{},\"walls_drawn\":{},\
+             \"triangles\":{},\"samples_written\":{},\"render_us\":{micros},\"culling\":\"{}\",\
+             \"cells_in_maze\":{}}}",
+            stats.portal.cells_visited,
+            stats.portal.distinct_cells,
+            stats.portal.portals_traversed,
+            stats.walls_drawn,
+            stats.triangles,
+            stats.samples_written,
+            match args.culling {
+                Culling::Portal => "portal",
+                Culling::None => "none",
+            },
+            maze.cell_count(),
+        );
+    }
+    if let Some(path) = &args.depth_out {
+        let depths = renderer
+            .depth_at_cell_centres(&maze, &camera, options.cell_aspect, args.culling, cols, rows)
+            .map_err(|e| Usage(e.to_string()))?;
+        let mut csv = String::with_capacity(depths.len() * 8);
+        for row in depths.chunks(cols) {
+            let fields: Vec<String> =
+                row.iter().map(|d| d.map_or(String::new(), |d| format!("{d:.4}"))).collect();
+            csv.push_str(&fields.join(","));
+            csv.push('\n');
+        }
+        std::fs::write(path, csv).with_context(|| format!("{}: cannot write", path.display()))?;
+    }
+    Ok(())
 }
 
 fn cmd_gen(args: &GenArgs) -> anyhow::Result<()> {
@@ -180,4 +391,58 @@ fn parse_format(s: &str) -> Result<Format, String> {
         "grid" => Ok(Format::Grid),
         _ => Err(format!("unknown format `{s}` (expected cs559 or grid)")),
     }
+}
+
+fn parse_charset(s: &str) -> Result<Charset, String> {
+    s.parse().map_err(|e: mazewalk::render::glyph::UnknownCharset| e.to_string())
+}
+
+fn parse_projection(s: &str) -> Result<Projection, String> {
+    s.parse()
+}
+
+fn parse_culling(s: &str) -> Result<Culling, String> {
+    s.parse()
+}
+
+fn parse_color(s: &str) -> Result<ColorDepth, String> {
+    match s {
+        "none" | "0" | "mono" => Ok(ColorDepth::None),
+        "16" | "ansi" => Ok(ColorDepth::Ansi16),
+        "256" => Ok(ColorDepth::Ansi256),
+        "truecolor" | "24bit" | "rgb" => Ok(ColorDepth::TrueColor),
+        _ => Err(format!("unknown colour depth `{s}` (expected none, 16, 256 or truecolor)")),
+    }
+}
+
+fn parse_finite(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("expected a finite number, found `{s}`")),
+    }
+}
+
+fn parse_cell_aspect(s: &str) -> Result<f32, String> {
+    match parse_finite(s)? {
+        x if (0.1..=4.0).contains(&x) => Ok(x),
+        x => Err(format!("cell aspect {x} is outside 0.1..=4 (width / height; about 0.5 for most fonts)")),
+    }
+}
+
+fn parse_point(s: &str) -> Result<Vec2, String> {
+    let (x, y) = s.split_once(',').ok_or_else(|| format!("expected X,Y, e.g. 2.5,3, found `{s}`"))?;
+    Ok(Vec2::new(parse_finite(x)?, parse_finite(y)?))
+}
+
+/// Largest frame `render` makes, per side (a 2000-column frame is already 8 screens wide).
+const MAX_FRAME_SIDE: usize = 2000;
+
+fn parse_frame_size(s: &str) -> Result<(usize, usize), String> {
+    let (w, h) =
+        s.split_once(['x', 'X']).ok_or_else(|| format!("expected COLSxROWS, e.g. 80x24, found `{s}`"))?;
+    let side = |t: &str| match t.trim().parse::<usize>() {
+        Ok(n) if (1..=MAX_FRAME_SIDE).contains(&n) => Ok(n),
+        _ => Err(format!("each side must be an integer in 1..={MAX_FRAME_SIDE}, found `{t}`")),
+    };
+    Ok((side(w)?, side(h)?))
 }

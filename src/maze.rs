@@ -35,6 +35,20 @@ pub use load::{
     Format, LoadError, ParseError, ParseErrorKind, WriteError, detect_format, load, parse, write,
 };
 
+/// The maze walked when none is given: `mazes/hand-drawn.grid`, compiled in (loops, colours, an exit).
+pub const BUILTIN: &str = include_str!("../mazes/hand-drawn.grid");
+
+/// The name the built-in maze goes by in messages.
+pub const BUILTIN_NAME: &str = "built-in maze";
+
+/// Parses [`BUILTIN`].
+///
+/// # Errors
+/// Never in practice (a test loads it); typed anyway, so no caller has to trust that.
+pub fn builtin() -> Result<Maze, ParseError> {
+    parse(BUILTIN_NAME, BUILTIN.as_bytes())
+}
+
 /// Index of a vertex in [`Maze::vertices`].
 pub type VertexId = u32;
 /// Index of an edge in [`Maze::edges`].

@@ -42,14 +42,21 @@
 //!
 //! [`ColorDepth`]: crate::frame::ColorDepth
 
+pub mod camera;
 pub mod glyph;
 pub mod line;
 pub mod palette;
+pub mod pipeline;
+pub mod portal;
 pub mod raster;
 pub mod samples;
 pub mod shade;
+pub mod wall;
 
+pub use camera::{Camera, CameraError, Eye, Projection};
 pub use glyph::{Charset, to_frame};
 pub use line::{draw_line, line_glyph, line_points};
+pub use pipeline::{Culling, RenderOptions, RenderStats, Renderer};
+pub use portal::{PortalPass, PortalStats};
 pub use raster::{ScreenVertex, Varying, fill_polygon, fill_triangle};
 pub use samples::SampleBuffer;

@@ -14,7 +14,6 @@
 //! The writer pads cells to 4 slots with `-1` and prints every `f32` in Rust's shortest
 //! round-trip form, so reading what it wrote gives back the same maze.
 
-
 use glam::{Vec2, Vec3, vec2};
 
 use super::load::{Loc, RecordLocs, is_space};

@@ -192,6 +192,24 @@ pub fn full_repaint(frame: &Frame, out: &mut Vec<u8>) {
     out.extend_from_slice(SGR_RESET);
 }
 
+/// `frame` as text lines for a pipe or a file (`mazewalk render`): no cursor moves, each line starts
+/// from default colours, sets them only where they change and ends with a reset and `\n`. A frame of
+/// default colours gives plain text.
+pub fn ansi_lines(frame: &Frame, out: &mut Vec<u8>) {
+    for y in 0..frame.height() {
+        let mut pen = Pen { cursor: None, fg: Some(Color::Default), bg: Some(Color::Default) };
+        for cell in frame.row(y).unwrap_or(&[]) {
+            let fg = (cell.ch != ' ').then_some(cell.fg);
+            write_sgr(out, &mut pen, fg, cell.bg);
+            push_char(out, cell.ch);
+        }
+        if pen.fg != Some(Color::Default) || pen.bg != Some(Color::Default) {
+            out.extend_from_slice(SGR_RESET);
+        }
+        out.push(b'\n');
+    }
+}
+
 /// Whether two cells look the same: same glyph and background, and same foreground unless a space.
 #[must_use]
 pub fn same_look(a: &Cell, b: &Cell) -> bool {

@@ -1,0 +1,343 @@
+//! The pipeline in one place: maze + camera → samples → [`Frame`].
+//!
+//! ```text
+//! camera ─eye()─▶ world→view→clip→grid matrices
+//! walls  ─portal pass (or all)─▶ wall ids, ascending
+//!   each wall: extrude (world) ─view─▶ view ─projection─▶ clip ─clip─▶ clip ─÷w─▶ NDC ─viewport─▶ grid
+//!              ─raster (top-left rule, depth LESS, Lambert via the normal matrix + fog)─▶ samples
+//! floor / ceiling: per sample, the camera ray meets z = -1 / +1 (where no wall is nearer)
+//! ascii: outlines of the visible walls (Bresenham), then glyphs ─▶ Frame
+//! ```
+
+use glam::{Vec2, Vec3};
+
+use super::camera::{CEILING_Z, Camera, CameraError, Eye, FLOOR_Z, Projection};
+use super::glyph::{Charset, to_frame};
+use super::line::{line_glyph, line_points};
+use super::portal::{PortalPass, PortalStats};
+use super::raster::{ScreenVertex, fill_polygon};
+use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
+use super::shade::{Fog, checker, headlight, lit, srgb_to_linear};
+use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
+use crate::frame::{ColorDepth, Frame};
+use crate::maze::Maze;
+
+/// Light that reaches every surface, whatever its angle to the headlight.
+const AMBIENT: f32 = 0.25;
+/// Where nothing is hit: the fog's colour (linear RGB).
+const FOG_COLOR: Vec3 = Vec3::new(0.004, 0.005, 0.008);
+/// Floor and ceiling base colours (sRGB, like the maze files' wall colours).
+const FLOOR_SRGB: Vec3 = Vec3::new(0.42, 0.38, 0.33);
+const CEILING_SRGB: Vec3 = Vec3::new(0.30, 0.33, 0.42);
+/// The floor/ceiling checker: one square per generated maze cell, a gentle contrast to show motion.
+const CHECKER_PERIOD: f32 = 4.0;
+const CHECKER_CONTRAST: f32 = 0.18;
+
+/// Which walls go into the raster.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Culling {
+    /// Only walls the cell-and-portal walk can see (the default).
+    #[default]
+    Portal,
+    /// Every wall of the maze (brute force, the reference).
+    None,
+}
+
+impl std::str::FromStr for Culling {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "portal" => Ok(Culling::Portal),
+            "none" => Ok(Culling::None),
+            _ => Err(format!("unknown culling `{s}` (expected portal or none)")),
+        }
+    }
+}
+
+/// How to turn samples into a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// Glyph mode (and so samples per cell).
+    pub charset: Charset,
+    /// Colour depth to quantize to.
+    pub color_depth: ColorDepth,
+    /// Portal pass or brute force.
+    pub culling: Culling,
+    /// Terminal cell width / height (about 0.5).
+    pub cell_aspect: f32,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            charset: Charset::Half,
+            color_depth: ColorDepth::TrueColor,
+            culling: Culling::Portal,
+            cell_aspect: 0.5,
+        }
+    }
+}
+
+/// What one frame cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RenderStats {
+    /// The portal pass's counts (zero for brute force).
+    pub portal: PortalStats,
+    /// Walls sent to the raster.
+    pub walls_drawn: usize,
+    /// Triangles rasterized (a clipped wall polygon of n vertices is n - 2 triangles).
+    pub triangles: usize,
+    /// Samples written by walls (after the depth test).
+    pub samples_written: usize,
+}
+
+/// What the shading closure computes per sample: a colour, or the view depth (for `--depth-out`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Shading {
+    Color,
+    ViewDepth,
+}
+
+/// The renderer: the pipeline plus every buffer it reuses from frame to frame.
+#[derive(Debug, Default)]
+pub struct Renderer {
+    samples: SampleBuffer,
+    portal: PortalPass,
+    walls: Vec<u32>,
+    scratch: ClipScratch,
+    screen: Vec<ScreenVertex<Vec3>>,
+    seen: Vec<u32>,
+}
+
+impl Renderer {
+    /// A renderer with empty buffers (they grow on first use).
+    #[must_use]
+    pub fn new() -> Renderer {
+        Renderer::default()
+    }
+
+    /// The samples of the last frame (colour, depth, id per sample).
+    #[must_use]
+    pub fn samples(&self) -> &SampleBuffer {
+        &self.samples
+    }
+
+    /// The portal pass of the last frame (walls found, cells visited).
+    #[must_use]
+    pub fn portal(&self) -> &PortalPass {
+        &self.portal
+    }
+
+    /// Renders `maze` from `camera` into `frame` (resized to `cols × rows`).
+    ///
+    /// # Errors
+    /// [`CameraError`] when the camera or the grid is unusable.
+    pub fn render(
+        &mut self,
+        maze: &Maze,
+        camera: &Camera,
+        options: &RenderOptions,
+        cols: usize,
+        rows: usize,
+        frame: &mut Frame,
+    ) -> Result<RenderStats, CameraError> {
+        let stats = self.render_samples(
+            maze,
+            camera,
+            options.charset,
+            options.cell_aspect,
+            options.culling,
+            cols,
+            rows,
+        )?;
+        to_frame(
+            &self.samples,
+            options.charset,
+            options.color_depth,
+            options.charset == Charset::Ascii,
+            frame,
+        );
+        Ok(stats)
+    }
+
+    /// The pipeline up to the samples (no glyphs): what the frame is made of, sample by sample.
+    ///
+    /// # Errors
+    /// [`CameraError`] when the camera or the grid is unusable.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_samples(
+        &mut self,
+        maze: &Maze,
+        camera: &Camera,
+        charset: Charset,
+        cell_aspect: f32,
+        culling: Culling,
+        cols: usize,
+        rows: usize,
+    ) -> Result<RenderStats, CameraError> {
+        let (sx, sy) = charset.samples_per_cell();
+        let eye = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // world→view→clip→grid
+        let mut stats = self.draw(maze, &eye, culling, Shading::Color); // walls, floor, ceiling → samples
+        if charset == Charset::Ascii {
+            self.outline_visible_walls(maze, &eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
+        }
+        stats.walls_drawn = self.walls.len();
+        Ok(stats)
+    }
+
+    /// For each terminal cell, the view-space depth of the wall seen through the cell's centre (maze
+    /// units along the view direction), or `None` where no wall is seen: the `--depth-out` hook.
+    ///
+    /// # Errors
+    /// [`CameraError`] when the camera or the grid is unusable.
+    pub fn depth_at_cell_centres(
+        &mut self,
+        maze: &Maze,
+        camera: &Camera,
+        cell_aspect: f32,
+        culling: Culling,
+        cols: usize,
+        rows: usize,
+    ) -> Result<Vec<Option<f32>>, CameraError> {
+        // One sample per cell, centred in the cell: exactly the ascii sampling.
+        let eye = camera.eye(cols, rows, Charset::Ascii.sample_aspect(cell_aspect))?;
+        self.draw(maze, &eye, culling, Shading::ViewDepth);
+        let s = &self.samples;
+        Ok(s.id()
+            .iter()
+            .zip(s.color())
+            .map(|(&id, c)| (id < maze.edges().len() as u32).then_some(c.x))
+            .collect())
+    }
+
+    /// Chooses the walls, rasterizes them, then fills floor and ceiling.
+    fn draw(&mut self, maze: &Maze, eye: &Eye, culling: Culling, shading: Shading) -> RenderStats {
+        let mut stats = RenderStats::default();
+        if self.samples.width() != eye.width || self.samples.height() != eye.height {
+            self.samples.resize(eye.width, eye.height);
+        }
+        self.samples.clear(FOG_COLOR);
+
+        self.walls.clear();
+        match culling {
+            Culling::None => self.walls.extend(0..maze.edges().len() as u32),
+            Culling::Portal => {
+                stats.portal = self.portal.run(maze, eye);
+                self.walls.extend_from_slice(&self.portal.walls);
+            }
+        }
+        // Ascending ids: depth ties resolve the same way whichever pass chose the walls.
+        self.walls.sort_unstable();
+
+        let fog = Fog { color: FOG_COLOR, start: eye.far * 0.15, end: eye.far };
+        let ortho = eye.camera.projection == Projection::Orthographic;
+        for &e in &self.walls {
+            let edge = &maze.edges()[e as usize];
+            if !edge.opaque {
+                continue; // portals are invisible
+            }
+            let Some(poly) = clip_wall(maze, eye, e, &mut self.scratch) else { continue }; // clip space
+            self.screen.clear();
+            for v in poly {
+                let grid = eye.grid(v.clip); // ÷w → NDC → viewport
+                self.screen.push(ScreenVertex {
+                    pos: grid.truncate(),
+                    depth: grid.z,
+                    inv_w: 1.0 / v.clip.w,
+                    attrs: v.view,
+                });
+            }
+            let (a, b) = (maze.vertices()[edge.start as usize], maze.vertices()[edge.end as usize]);
+            let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
+            let normal_view = eye.normal_to_view * normal_world; // normals by the inverse transpose
+            let albedo = edge.color.map(srgb_to_linear);
+            stats.triangles += self.screen.len() - 2;
+            stats.samples_written += fill_polygon(&mut self.samples, &self.screen, e, |view: Vec3| {
+                let depth = view.z.abs(); // distance along the view axis (RH: -z, LH: +z)
+                match shading {
+                    Shading::ViewDepth => Vec3::splat(depth),
+                    Shading::Color => {
+                        // The headlight: from the eye (perspective) or along the view axis (orthographic).
+                        let to_light = if ortho { Vec3::new(0.0, 0.0, view.z) } else { view };
+                        fog.apply(lit(albedo, headlight(normal_view, to_light), AMBIENT), depth)
+                    }
+                }
+            });
+        }
+        self.fill_floor_and_ceiling(eye, &fog, shading);
+        stats
+    }
+
+    /// Floor and ceiling, per sample: where the sample's ray meets z = -1 or z = +1 before any wall.
+    fn fill_floor_and_ceiling(&mut self, eye: &Eye, fog: &Fog, shading: Shading) {
+        let floor = FLOOR_SRGB.map(srgb_to_linear);
+        let ceiling = CEILING_SRGB.map(srgb_to_linear);
+        let start_depth = if eye.camera.projection == Projection::Perspective { eye.near } else { 0.0 };
+        for y in 0..eye.height {
+            for x in 0..eye.width {
+                let i = y * eye.width + x;
+                let id = self.samples.id()[i];
+                let (start, dir) = eye.ray(x as f32 + 0.5, y as f32 + 0.5);
+                let inside_slab = (FLOOR_Z..=CEILING_Z).contains(&start.z);
+                if inside_slab && id != NONE {
+                    continue; // a wall is nearer than the floor or ceiling along this ray
+                }
+                // Inside the slab a ray meets the plane it heads for; a ray that starts outside (an
+                // orthographic view cutting through the floor) meets that plane from behind first.
+                let plane = if start.z < FLOOR_Z || (inside_slab && dir.z < 0.0) {
+                    (FLOOR_Z, FLOOR, floor)
+                } else if start.z > CEILING_Z || (inside_slab && dir.z > 0.0) {
+                    (CEILING_Z, CEILING, ceiling)
+                } else {
+                    continue;
+                };
+                let t = (plane.0 - start.z) / dir.z;
+                let depth = start_depth + t;
+                if !(t >= 0.0 && depth <= eye.far) {
+                    continue;
+                }
+                let hit = start + dir * t;
+                let color = match shading {
+                    Shading::ViewDepth => Vec3::ZERO,
+                    Shading::Color => {
+                        let base =
+                            checker(plane.2, Vec2::new(hit.x, hit.y), CHECKER_PERIOD, CHECKER_CONTRAST);
+                        let to_eye = if eye.camera.projection == Projection::Perspective {
+                            hit - eye.eye
+                        } else {
+                            dir
+                        };
+                        fog.apply(lit(base, headlight(Vec3::Z, to_eye), AMBIENT), depth)
+                    }
+                };
+                self.samples.put(x, y, color, f32::INFINITY, plane.1);
+            }
+        }
+    }
+
+    /// Ascii: the edges of every wall that won at least one sample, as line glyphs on that wall's samples.
+    fn outline_visible_walls(&mut self, maze: &Maze, eye: &Eye, sample_aspect: f32) {
+        let edges = maze.edges().len() as u32;
+        self.seen.clear();
+        self.seen.extend(self.samples.id().iter().copied().filter(|&id| id < edges));
+        self.seen.sort_unstable();
+        self.seen.dedup();
+        let (w, h) = (eye.width, eye.height);
+        for &e in &self.seen {
+            let quad = wall_quad_world(maze, e);
+            for k in 0..4 {
+                let Some((p, q)) = clip_segment(eye, quad[k], quad[(k + 1) % 4]) else { continue };
+                let (gp, gq) = (eye.grid(p), eye.grid(q));
+                let glyph = line_glyph(gq.x - gp.x, gq.y - gp.y, sample_aspect);
+                let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
+                let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
+                for (x, y) in line_points(x0, y0, x1, y1, w, h) {
+                    // Only on this wall's own samples: exact, and the same in every culling mode.
+                    if self.samples.id()[y * w + x] == e {
+                        self.samples.put_outline(x, y, Some(glyph));
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,84 @@
+//! Walls as geometry: each maze edge extruded from floor to ceiling, taken to clip space and clipped.
+
+use glam::{Vec3, Vec4};
+
+use super::camera::{CEILING_Z, Eye, FLOOR_Z};
+use crate::math::{ClipPlane, ClipPlanes, ClipVertex, clip_polygon};
+use crate::maze::Maze;
+
+/// A wall vertex on its way through the pipeline: clip-space position plus the view-space position
+/// (interpolated linearly in clip space, then perspective-correctly in the raster, for lighting and fog).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallVertex {
+    /// Clip space.
+    pub clip: Vec4,
+    /// View space (for shading: distance, light direction).
+    pub view: Vec3,
+}
+
+impl ClipVertex for WallVertex {
+    fn clip(&self) -> Vec4 {
+        self.clip
+    }
+    fn lerp(&self, other: &Self, t: f32) -> Self {
+        WallVertex { clip: self.clip.lerp(other.clip, t), view: self.view.lerp(other.view, t) }
+    }
+}
+
+/// Buffers reused by every clip, so the hot path does not allocate.
+#[derive(Debug, Default, Clone)]
+pub struct ClipScratch {
+    input: Vec<WallVertex>,
+    output: Vec<WallVertex>,
+    temp: Vec<WallVertex>,
+}
+
+/// Edge `e`'s wall quad in world space: start-floor, end-floor, end-ceiling, start-ceiling.
+#[must_use]
+pub fn wall_quad_world(maze: &Maze, e: u32) -> [Vec3; 4] {
+    let edge = &maze.edges()[e as usize];
+    let (a, b) = (maze.vertices()[edge.start as usize], maze.vertices()[edge.end as usize]);
+    [a.extend(FLOOR_Z), b.extend(FLOOR_Z), b.extend(CEILING_Z), a.extend(CEILING_Z)]
+}
+
+/// Edge `e`'s wall quad taken world → view → clip and clipped against the whole view volume, in
+/// homogeneous clip space (nothing is divided by w before this). `None` when nothing is left.
+pub fn clip_wall<'s>(
+    maze: &Maze,
+    eye: &Eye,
+    e: u32,
+    scratch: &'s mut ClipScratch,
+) -> Option<&'s [WallVertex]> {
+    scratch.input.clear();
+    for world in wall_quad_world(maze, e) {
+        let view = eye.world_to_view.transform_point3(world); // world → view
+        let clip = eye.world_to_clip * world.extend(1.0); // world → clip (projection · view)
+        scratch.input.push(WallVertex { clip, view });
+    }
+    let depth = eye.camera.convention.depth_range();
+    clip_polygon(&scratch.input, ClipPlanes::ALL, depth, &mut scratch.output, &mut scratch.temp);
+    (scratch.output.len() >= 3).then_some(scratch.output.as_slice())
+}
+
+/// The segment `p`–`q` (world space) taken to clip space and clipped against the view volume
+/// (Liang–Barsky on the homogeneous plane distances, so nothing is divided by w first). `None` when
+/// nothing is left. Used for the ascii outlines.
+#[must_use]
+pub fn clip_segment(eye: &Eye, p: Vec3, q: Vec3) -> Option<(Vec4, Vec4)> {
+    let (a, b) = (eye.clip(p), eye.clip(q));
+    let (mut t0, mut t1) = (0.0f32, 1.0f32);
+    let depth = eye.camera.convention.depth_range();
+    for plane in ClipPlane::ALL {
+        // Signed distances, linear in clip coordinates: inside where >= 0.
+        let (da, db) = (plane.distance(a, depth), plane.distance(b, depth));
+        if da < 0.0 && db < 0.0 {
+            return None;
+        }
+        if da < 0.0 {
+            t0 = t0.max(da / (da - db));
+        } else if db < 0.0 {
+            t1 = t1.min(da / (da - db));
+        }
+    }
+    (t0 <= t1).then(|| (a.lerp(b, t0), a.lerp(b, t1)))
+}
