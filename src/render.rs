@@ -45,6 +45,7 @@
 pub mod camera;
 pub mod glyph;
 pub mod line;
+pub mod oracle;
 pub mod palette;
 pub mod pipeline;
 pub mod portal;

@@ -269,44 +269,49 @@ impl Renderer {
     }
 
     /// Floor and ceiling, per sample: where the sample's ray meets z = -1 or z = +1 before any wall.
+    ///
+    /// Floor and ceiling are solid: a ray that starts beyond them (an orthographic view cutting through
+    /// the floor, a near plane poking through it) shows that plane and nothing else, and a wall sample
+    /// whose ray meets the floor or ceiling first shows the floor or ceiling. So no wall is ever seen
+    /// from under the floor, which also keeps the portal pass (which follows rays inside the
+    /// floor-to-ceiling slab) exact against brute force.
     fn fill_floor_and_ceiling(&mut self, eye: &Eye, fog: &Fog, shading: Shading) {
-        let floor = FLOOR_SRGB.map(srgb_to_linear);
-        let ceiling = CEILING_SRGB.map(srgb_to_linear);
-        let start_depth = if eye.camera.projection == Projection::Perspective { eye.near } else { 0.0 };
+        let floor = (FLOOR_Z, FLOOR, FLOOR_SRGB.map(srgb_to_linear));
+        let ceiling = (CEILING_Z, CEILING, CEILING_SRGB.map(srgb_to_linear));
+        let perspective = eye.camera.projection == Projection::Perspective;
+        let start_depth = if perspective { eye.near } else { 0.0 };
         for y in 0..eye.height {
             for x in 0..eye.width {
                 let i = y * eye.width + x;
-                let id = self.samples.id()[i];
                 let (start, dir) = eye.ray(x as f32 + 0.5, y as f32 + 0.5);
-                let inside_slab = (FLOOR_Z..=CEILING_Z).contains(&start.z);
-                if inside_slab && id != NONE {
-                    continue; // a wall is nearer than the floor or ceiling along this ray
-                }
-                // Inside the slab a ray meets the plane it heads for; a ray that starts outside (an
-                // orthographic view cutting through the floor) meets that plane from behind first.
-                let plane = if start.z < FLOOR_Z || (inside_slab && dir.z < 0.0) {
-                    (FLOOR_Z, FLOOR, floor)
-                } else if start.z > CEILING_Z || (inside_slab && dir.z > 0.0) {
-                    (CEILING_Z, CEILING, ceiling)
+                let (plane, hit, depth) = if start.z < FLOOR_Z || start.z > CEILING_Z {
+                    // Inside the ground or the roof: that plane, seen where the ray starts.
+                    let plane = if start.z < FLOOR_Z { floor } else { ceiling };
+                    (plane, start, start_depth)
                 } else {
-                    continue;
+                    let plane = match dir.z {
+                        z if z < 0.0 => floor,
+                        z if z > 0.0 => ceiling,
+                        _ => continue, // level: never meets either
+                    };
+                    let t = (plane.0 - start.z) / dir.z;
+                    let depth = start_depth + t;
+                    if !(t >= 0.0 && depth <= eye.far) {
+                        continue;
+                    }
+                    let hit = start + dir * t;
+                    // A wall stays where it is at least as near as the plane along this ray.
+                    if self.samples.id()[i] != NONE && self.samples.depth()[i] <= eye.grid(eye.clip(hit)).z {
+                        continue;
+                    }
+                    (plane, hit, depth)
                 };
-                let t = (plane.0 - start.z) / dir.z;
-                let depth = start_depth + t;
-                if !(t >= 0.0 && depth <= eye.far) {
-                    continue;
-                }
-                let hit = start + dir * t;
                 let color = match shading {
                     Shading::ViewDepth => Vec3::ZERO,
                     Shading::Color => {
                         let base =
                             checker(plane.2, Vec2::new(hit.x, hit.y), CHECKER_PERIOD, CHECKER_CONTRAST);
-                        let to_eye = if eye.camera.projection == Projection::Perspective {
-                            hit - eye.eye
-                        } else {
-                            dir
-                        };
+                        let to_eye = if perspective { hit - eye.eye } else { dir };
                         fog.apply(lit(base, headlight(Vec3::Z, to_eye), AMBIENT), depth)
                     }
                 };

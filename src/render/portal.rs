@@ -293,6 +293,9 @@ impl PortalPass {
         let (w, h) = (eye.width as f32, eye.height as f32);
         let corners = [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)].map(|(x, y)| eye.ray(x, y).0);
         let Some(mut bounds) = slab_footprint(&corners) else { return Vec::new() };
+        // The flood starts in the eye's cell, so the box must hold the eye too: an eye on a vertex or
+        // an edge line may be "in" a cell the near plane itself never touches.
+        bounds.add(eye.eye.truncate());
         // Rounding must not lose a seed: grow the footprint a little.
         let pad = 1e-3 + 1e-5 * (bounds.x1.abs().max(bounds.y1.abs()));
         bounds = Rect { x0: bounds.x0 - pad, y0: bounds.y0 - pad, x1: bounds.x1 + pad, y1: bounds.y1 + pad };
