@@ -30,14 +30,18 @@ pub fn too_small(cols: usize, rows: usize) -> bool {
     cols < MIN_SIZE.0 || rows < MIN_SIZE.1
 }
 
-/// Fills `frame` with a short note that the terminal is too small (clipped to whatever fits, even 1×1).
+/// Fills `frame` with a short note that the terminal is too small: the longest wording that fits the
+/// width, on as many rows as there are (even 1×1 shows something).
 pub fn draw_too_small(frame: &mut Frame) {
     frame.fill(Cell::BLANK);
     let (w, h) = (frame.width(), frame.height());
-    let lines = ["terminal too small", &format!("need {}×{}", MIN_SIZE.0, MIN_SIZE.1), "q quits"];
-    for (i, line) in lines.iter().enumerate().take(h) {
+    let need = format!("need {}×{}", MIN_SIZE.0, MIN_SIZE.1);
+    let title =
+        ["terminal too small", "too small", "small", "!"].into_iter().find(|t| t.chars().count() <= w);
+    let lines: Vec<&str> = title.into_iter().chain([need.as_str(), "q quits"]).take(h).collect();
+    for (i, line) in lines.iter().enumerate() {
         let x = w.saturating_sub(line.chars().count()) / 2;
-        frame.put_str(x, i + h.saturating_sub(lines.len()) / 2, line, Color::Default, Color::Default);
+        frame.put_str(x, i + (h - lines.len()) / 2, line, Color::Default, Color::Default);
     }
 }
 

@@ -169,7 +169,6 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, cost: &FrameCost)
     if let Some(area) = area {
         overlay::draw_map(frame, &area, app.maze(), &app.camera, &visited);
     }
-    overlay::draw_hud(frame, &hud_text(app, &stats, cost));
     if let Some(seconds) = app.finished {
         let lines = [
             format!("You found the exit in {}.", clock_text(seconds)),
@@ -181,6 +180,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, cost: &FrameCost)
     } else if app.help {
         overlay::draw_box(frame, "Keys (? to close)", &overlay::help_lines());
     }
+    overlay::draw_hud(frame, &hud_text(app, &stats, cost)); // last: boxes never hide it
     stats
 }
 

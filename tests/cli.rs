@@ -1,0 +1,203 @@
+//! The binary as a user meets it: `render`, `gen`, `check` and the walk without a terminal, with their
+//! outputs and exit codes (0 ok, 2 usage, 65 bad maze data, 66 unreadable file, 1 anything else).
+
+use std::process::{Command, Output};
+
+fn mazewalk(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(args)
+        .env_remove("NO_COLOR")
+        .env("COLORTERM", "truecolor")
+        .output()
+        .expect("run mazewalk")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn stdout(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn maze(name: &str) -> String {
+    format!("{}/mazes/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn render_prints_one_frame_of_the_requested_size() {
+    let out = mazewalk(&["render", "--size", "50x12", "--charset", "ascii", "--color", "none"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 12);
+    assert!(lines.iter().all(|l| l.chars().count() == 50), "{text}");
+    assert!(!text.contains('\x1b'), "--color none must be plain text");
+    // The built-in maze's start faces down a corridor: walls left and right, something in between.
+    assert!(lines.iter().any(|l| l.chars().collect::<std::collections::HashSet<_>>().len() >= 3), "{text}");
+}
+
+#[test]
+fn render_in_colour_writes_ansi_that_resets_each_line() {
+    let out = mazewalk(&["render", "--size", "30x8", "--charset", "half", "--color", "truecolor"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("\x1b[38;2;") || text.contains("\x1b[48;2;"), "{text:?}");
+    assert!(text.lines().all(|l| l.ends_with("\x1b[0m") || !l.contains('\x1b')), "{text:?}");
+    assert_eq!(text.lines().count(), 8);
+}
+
+#[test]
+fn depth_out_matches_the_geometry_of_a_known_room() {
+    // tiny.maze: two 4×4 cells side by side, x from 0 to 8; the viewer at (2, 2) faces +x with a 90°
+    // field of view. Along the middle row (the horizon) the ray of column c has slope s = ndc_x
+    // (tan 45° = 1): it meets the end wall x = 8 at view depth 6, or a side wall (y = 0 or 4) at 2 / |s|.
+    let csv = std::env::temp_dir().join(format!("mazewalk-depth-{}.csv", std::process::id()));
+    let (cols, rows) = (41, 11);
+    let out = mazewalk(&[
+        "render",
+        &maze("tiny.maze"),
+        "--size",
+        &format!("{cols}x{rows}"),
+        "--depth-out",
+        csv.to_str().unwrap(),
+        "--color",
+        "none",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let _ = std::fs::remove_file(&csv);
+    let grid: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(grid.len(), rows);
+    assert!(grid.iter().all(|r| r.len() == cols));
+    let middle = &grid[rows / 2];
+    for (c, field) in middle.iter().enumerate() {
+        let ndc_x = (c as f32 + 0.5) / cols as f32 * 2.0 - 1.0;
+        let expected = if ndc_x.abs() < 1e-6 { 6.0 } else { (2.0 / ndc_x.abs()).min(6.0) };
+        let got: f32 = field.parse().unwrap_or_else(|_| panic!("column {c}: `{field}` is not a depth"));
+        assert!(
+            (got - expected).abs() < 1e-3 * expected.max(1.0),
+            "column {c}: depth {got}, expected {expected}"
+        );
+    }
+    // Looking up at the ceiling or down at the floor there is no wall at the top and bottom rows' middle.
+    assert_eq!(grid[0][cols / 2], "", "the top row's centre sees the ceiling");
+}
+
+#[test]
+fn stats_are_one_json_object_and_portal_culling_visits_few_cells() {
+    let big = maze("prim-100x100.maze");
+    let run = |culling: &str| {
+        let out = mazewalk(&[
+            "render",
+            &big,
+            "--size",
+            "80x24",
+            "--color",
+            "none",
+            "--stats",
+            "--culling",
+            culling,
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let line = stderr(&out).trim().to_string();
+        assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
+        let field = |key: &str| -> u64 {
+            let at = line.find(&format!("\"{key}\":")).unwrap_or_else(|| panic!("no {key} in {line}"));
+            line[at + key.len() + 3..].split([',', '}']).next().unwrap().parse().unwrap()
+        };
+        (
+            field("cells_visited"),
+            field("portals_traversed"),
+            field("walls_drawn"),
+            field("triangles"),
+            field("render_us"),
+            stdout(&out),
+        )
+    };
+    let (cells, portals, walls, _, _, portal_frame) = run("portal");
+    let (_, _, all_walls, _, _, brute_frame) = run("none");
+    assert!(cells >= 1 && cells < 10_000 / 20, "visited {cells} of 10000 cells");
+    assert!(portals >= 1 && walls < all_walls, "{walls} walls drawn of {all_walls}");
+    assert_eq!(portal_frame, brute_frame, "culling changes nothing on screen");
+}
+
+#[test]
+fn bad_render_arguments_are_usage_errors() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--charset", "braille"], "braille"),
+        (&["--size", "0x0"], "1..="),
+        (&["--size", "99999x10"], "1..="),
+        (&["--size", "80"], "COLSxROWS"),
+        (&["--fov", "NaN"], "finite"),
+        (&["--fov", "200"], "field of view"),
+        (&["--height", "1.5"], "height"),
+        (&["--pitch", "inf"], "finite"),
+        (&["--at", "1e9,3"], "outside the maze"),
+        (&["--at", "10,46"], "inside a wall"),
+        (&["--at", "nope"], "X,Y"),
+        (&["--color", "mauve"], "colour depth"),
+        (&["--projection", "fisheye"], "projection"),
+        (&["--culling", "some"], "culling"),
+        (&["--cell-aspect", "0"], "cell aspect"),
+    ];
+    for (args, needle) in cases {
+        let mut all = vec!["render"];
+        all.extend_from_slice(args);
+        let out = mazewalk(&all);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        assert!(stderr(&out).contains(needle), "{args:?}: expected `{needle}` in: {}", stderr(&out));
+        assert!(out.stdout.is_empty(), "{args:?} printed a frame anyway");
+    }
+}
+
+#[test]
+fn maze_errors_are_located_and_have_their_own_exit_codes() {
+    let bad = std::env::temp_dir().join(format!("mazewalk-bad-{}.maze", std::process::id()));
+    std::fs::write(&bad, "4\n0 0\n1 0\n1 banana\n").unwrap();
+    for command in [&["check"][..], &["render"][..]] {
+        let mut args = command.to_vec();
+        args.push(bad.to_str().unwrap());
+        let out = mazewalk(&args);
+        assert_eq!(out.status.code(), Some(65), "{}", stderr(&out));
+        assert!(stderr(&out).starts_with(&format!("{}:4:3: ", bad.display())), "{}", stderr(&out));
+    }
+    let _ = std::fs::remove_file(&bad);
+    let out = mazewalk(&["check", "/nonexistent/maze.maze"]);
+    assert_eq!(out.status.code(), Some(66), "{}", stderr(&out));
+}
+
+#[test]
+fn gen_then_check_round_trips_through_a_file() {
+    let path = std::env::temp_dir().join(format!("mazewalk-gen-{}.maze", std::process::id()));
+    let out = mazewalk(&[
+        "gen",
+        "--size",
+        "12x7",
+        "--seed",
+        "3",
+        "--loops",
+        "0.2",
+        "--exit",
+        "-o",
+        path.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let out = mazewalk(&["check", path.to_str().unwrap()]);
+    let _ = std::fs::remove_file(&path);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let report = stdout(&out);
+    assert!(report.contains("cells:    84"), "{report}");
+    assert!(report.contains("perfect:  no"), "{report}");
+    assert!(!report.contains("exit:     none"), "{report}");
+    let out = mazewalk(&["gen", "--size", "0x5"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn the_walk_without_a_terminal_says_so_instead_of_breaking_anything() {
+    let out = mazewalk(&[]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("needs a terminal"), "{}", stderr(&out));
+    assert!(out.stdout.is_empty(), "nothing may reach stdout: {:?}", stdout(&out));
+}
