@@ -137,7 +137,7 @@ impl MapArea {
     }
 
     /// The map character (column, row) showing maze point `p`, as floats.
-    fn to_map(&self, p: Vec2) -> Vec2 {
+    fn to_map(self, p: Vec2) -> Vec2 {
         Vec2::new(
             (p.x - self.centre.x) / self.units_per_col + self.width as f32 / 2.0,
             -(p.y - self.centre.y) / (2.0 * self.units_per_col) + self.height as f32 / 2.0,

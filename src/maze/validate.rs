@@ -220,6 +220,7 @@ fn conflict(p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2) -> Conflict {
 }
 
 /// The viewer finite, at a sane height and fov, in a cell; the exit in range.
+#[allow(clippy::nonminimal_bool)] // written as "not (valid)" so NaN fails every test
 pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
     let v = maze.viewer();
     if !(v.pos.is_finite() && v.pos.abs().max_element() <= COORD_BOUND)
