@@ -59,6 +59,8 @@ enum Answers {
     Plain,
     /// The kitty keyboard flags query too (flags 0), then the device attributes.
     Kitty,
+    /// Nothing at all (a terminal, or a multiplexer, that ignores queries).
+    Silent,
 }
 
 /// The binary running in a pty.
@@ -171,7 +173,10 @@ impl Tui {
                         let rest = &s.raw[at..];
                         if rest.starts_with(b"\x1b[?u") && at + 4 > scanned && answers == Answers::Kitty {
                             reply.extend_from_slice(b"\x1b[?0u");
-                        } else if rest.starts_with(b"\x1b[c") && at + 3 > scanned {
+                        } else if rest.starts_with(b"\x1b[c")
+                            && at + 3 > scanned
+                            && answers != Answers::Silent
+                        {
                             reply.extend_from_slice(b"\x1b[?62;22c");
                         }
                     }
@@ -259,6 +264,14 @@ impl Tui {
             s.raw.len() - before,
             visible(&s.raw[before..(before + 300).min(s.raw.len())])
         );
+    }
+
+    /// The child's CPU time so far in clock ticks (user + system), where /proc tells.
+    fn cpu_ticks(&self) -> Option<u64> {
+        let stat = std::fs::read_to_string(format!("/proc/{}/stat", self.child.id())).ok()?;
+        // After "pid (comm) ": state is field 3, utime and stime are fields 14 and 15.
+        let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+        Some(fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?)
     }
 
     fn bytes_so_far(&self) -> usize {
@@ -451,7 +464,12 @@ fn walk_look_at_help_and_map_then_quit_restores_the_terminal() {
 
     // Nothing is sent while nothing changes, nor for a key that does nothing.
     tui.settle();
+    let cpu = tui.cpu_ticks();
     tui.assert_silent_for(Duration::from_millis(800), "idle after start-up");
+    // ... and the process sleeps meanwhile (a busy loop would burn ~80 ticks of 10 ms).
+    if let (Some(before), Some(after)) = (cpu, tui.cpu_ticks()) {
+        assert!(after - before <= 10, "{} ticks of CPU in 0.8 s of idling", after - before);
+    }
     tui.send(b"x");
     tui.assert_silent_for(Duration::from_millis(300), "after an unbound key");
     // Nor for focus changes or the mouse moving with no button held (SGR mouse reports).
@@ -656,6 +674,18 @@ fn with_the_kitty_protocol_a_key_is_held_until_released() {
     let (status, raw) = tui.finish();
     assert_eq!(status.code(), Some(0), "{status:?}");
     assert_restored(&tui, &raw, KITTY);
+}
+
+#[test]
+fn a_terminal_that_answers_no_queries_still_gets_the_walk() {
+    // crossterm gives up on the keyboard protocol query after 2 s; the walk then starts without it.
+    let started = Instant::now();
+    let mut tui = Tui::walk(80, 24, Answers::Silent);
+    assert!(started.elapsed() < TIMEOUT);
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
 }
 
 #[test]
