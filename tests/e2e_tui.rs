@@ -1,0 +1,760 @@
+//! End to end: the real `mazewalk` binary in a pseudo-terminal. Keys go in through the pty; everything
+//! the binary writes is fed to a `vt100` terminal emulator of the same size, whose screen the tests
+//! read, and the reader answers the start-up queries as a terminal would (with or without the kitty
+//! keyboard protocol).
+//!
+//! Checks: the screen (3D view, HUD, help box, map, exit box, the too-small message down to 1×1 and
+//! 0×0), walking, turning with the mouse, resizes, that nothing is sent while nothing changes, and that
+//! the terminal is restored — the exact restore bytes last, the emulated screen back on the main
+//! screen with a cursor, the pty's termios as before the start — after `q`, Esc, Ctrl-C, Ctrl-Z
+//! (restore, then back), SIGTERM, SIGHUP and SIGINT (also mid-frame); a hang-up ends the process; a
+//! malformed maze is reported before the terminal is touched.
+//!
+//! Every wait polls with a deadline; a failing test kills its child (in `Drop`) and prints the screen.
+//! Unix only (ptys, signals).
+#![cfg(unix)]
+
+use std::fs::File;
+use std::io::{Read, Write};
+use std::num::NonZeroU16;
+use std::os::fd::OwnedFd;
+use std::os::unix::process::{CommandExt, ExitStatusExt};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use mazewalk::term::guard::{Enabled, enter_sequence, restore_sequence};
+use rustix::event::{PollFd, PollFlags, Timespec};
+use rustix::process::{Pid, Signal};
+use rustix::termios::{self, LocalModes, Winsize};
+
+/// Longest wait for anything (start-up, a frame, an exit). Generous: CI machines can be slow, and the
+/// tests pass in well under a second each when nothing is wrong.
+const TIMEOUT: Duration = Duration::from_secs(10);
+/// Silence for this long means the screen has settled.
+const SETTLE: Duration = Duration::from_millis(300);
+/// What the app enables on a terminal without the kitty keyboard protocol.
+const PLAIN: Enabled = Enabled { mouse: true, focus_events: true, keyboard_enhancement: false };
+/// ... and on one with it.
+const KITTY: Enabled = Enabled { mouse: true, focus_events: true, keyboard_enhancement: true };
+
+/// What the reader thread shares with the test.
+struct Shared {
+    parser: vt100::Parser,
+    /// Every byte the child wrote, in order.
+    raw: Vec<u8>,
+    /// When the last byte arrived.
+    last_byte: Instant,
+    /// The pty reported end of file (the child and every copy of the terminal side are gone).
+    eof: bool,
+    /// Set by the test: the reader closes its copies of the controlling side and stops.
+    hang_up: bool,
+}
+
+/// How the emulated terminal answers the queries the binary sends at start-up.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Answers {
+    /// Only the device attributes query (an xterm without the kitty keyboard protocol).
+    Plain,
+    /// The kitty keyboard flags query too (flags 0), then the device attributes.
+    Kitty,
+    /// Nothing at all (a terminal, or a multiplexer, that ignores queries).
+    Silent,
+}
+
+/// The binary running in a pty.
+struct Tui {
+    child: Child,
+    /// The controlling side, for keys and resizes (`None` once hung up).
+    master: Option<File>,
+    /// A copy of the terminal side, kept to read its termios after the child is gone.
+    slave: Option<OwnedFd>,
+    /// The terminal side's modes before the child started (cooked: the pty's defaults).
+    cooked: termios::Termios,
+    shared: Arc<Mutex<Shared>>,
+    reader: Option<JoinHandle<()>>,
+}
+
+fn lock(shared: &Mutex<Shared>) -> MutexGuard<'_, Shared> {
+    shared.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+fn winsize(cols: u16, rows: u16) -> Winsize {
+    Winsize { ws_row: rows, ws_col: cols, ws_xpixel: 0, ws_ypixel: 0 }
+}
+
+/// A terminal dimension for `vt100` (which has no zero-sized screens).
+fn nz(n: u16) -> NonZeroU16 {
+    NonZeroU16::new(n).expect("a terminal is at least 1×1")
+}
+
+/// The screen's (rows, cols).
+fn size(s: &vt100::Screen) -> (u16, u16) {
+    let (rows, cols) = s.size();
+    (rows.get(), cols.get())
+}
+
+fn visible(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).replace('\x1b', "␛")
+}
+
+impl Tui {
+    /// Starts `mazewalk ARGS` in a `cols × rows` pty with TERM=xterm-256color, as the session leader
+    /// with the pty as its controlling terminal (so it gets SIGWINCH and can open /dev/tty).
+    fn spawn(args: &[&str], cols: u16, rows: u16, answers: Answers) -> Tui {
+        let pty = rustix_openpty::openpty(None, Some(&winsize(cols, rows))).expect("openpty");
+        let master = File::from(pty.controller);
+        let slave = pty.user;
+        let cooked = termios::tcgetattr(&slave).expect("tcgetattr");
+        let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
+        let mut command = Command::new(env!("CARGO_BIN_EXE_mazewalk"));
+        command
+            .args(args)
+            .env_clear()
+            .env("TERM", "xterm-256color")
+            .env("RUST_BACKTRACE", "1")
+            .stdin(stdio())
+            .stdout(stdio())
+            .stderr(stdio());
+        // SAFETY: runs in the forked child before exec and only makes two system calls (setsid,
+        // ioctl), which are async-signal-safe; it allocates nothing and takes no locks.
+        unsafe {
+            command.pre_exec(|| {
+                rustix::process::setsid()?;
+                // std has already made the pty the child's stdin (fd 0).
+                rustix::process::ioctl_tiocsctty(rustix::stdio::stdin())?;
+                Ok(())
+            });
+        }
+        let child = command.spawn().expect("spawn mazewalk");
+        drop(command); // closes the command's copies of the terminal side
+
+        let shared = Arc::new(Mutex::new(Shared {
+            parser: vt100::Parser::new(nz(rows), nz(cols), 0),
+            raw: Vec::new(),
+            last_byte: Instant::now(),
+            eof: false,
+            hang_up: false,
+        }));
+        let mut input = master.try_clone().expect("dup the pty");
+        let mut answer = master.try_clone().expect("dup the pty");
+        let reader = {
+            let shared = Arc::clone(&shared);
+            std::thread::spawn(move || {
+                let mut buf = vec![0u8; 1 << 16];
+                let mut scanned: usize = 0; // queries before this offset are answered
+                loop {
+                    // Wait for output in short slices, to notice a hang-up request in between.
+                    let mut fds = [PollFd::new(&input, PollFlags::IN)];
+                    let slice = Timespec { tv_sec: 0, tv_nsec: 20_000_000 };
+                    match rustix::event::poll(&mut fds, Some(&slice)) {
+                        Ok(0) | Err(rustix::io::Errno::INTR) => {
+                            if lock(&shared).hang_up {
+                                return; // dropping `input` and `answer`
+                            }
+                            continue;
+                        }
+                        _ => {}
+                    }
+                    let n = match input.read(&mut buf) {
+                        Ok(0) | Err(_) => break, // EIO on Linux once the terminal side is closed
+                        Ok(n) => n,
+                    };
+                    let mut s = lock(&shared);
+                    s.raw.extend_from_slice(&buf[..n]);
+                    s.parser.process(&buf[..n]);
+                    s.last_byte = Instant::now();
+                    // Answer the start-up queries, as a terminal would. A query may straddle two
+                    // reads: look back a few bytes, but answer only queries not seen complete before.
+                    let from = scanned.saturating_sub(3);
+                    let mut reply = Vec::new();
+                    for at in from..s.raw.len() {
+                        let rest = &s.raw[at..];
+                        if rest.starts_with(b"\x1b[?u") && at + 4 > scanned && answers == Answers::Kitty {
+                            reply.extend_from_slice(b"\x1b[?0u");
+                        } else if rest.starts_with(b"\x1b[c")
+                            && at + 3 > scanned
+                            && answers != Answers::Silent
+                        {
+                            reply.extend_from_slice(b"\x1b[?62;22c");
+                        }
+                    }
+                    scanned = s.raw.len();
+                    drop(s);
+                    if !reply.is_empty() {
+                        let _ = answer.write_all(&reply);
+                    }
+                }
+                lock(&shared).eof = true;
+            })
+        };
+        Tui { child, master: Some(master), slave: Some(slave), cooked, shared, reader: Some(reader) }
+    }
+
+    /// Sets the pty's size without touching the emulator (for 0×0, which `vt100` cannot be).
+    fn resize_pty_only(&mut self, cols: u16, rows: u16) {
+        termios::tcsetwinsize(self.master(), winsize(cols, rows)).expect("resize the pty");
+    }
+
+    /// Hangs up, as when an SSH connection drops: closes every copy of the controlling side.
+    fn hang_up(&mut self) {
+        lock(&self.shared).hang_up = true;
+        if let Some(reader) = self.reader.take() {
+            reader.join().expect("reader thread");
+        }
+        drop(self.master.take());
+    }
+
+    /// Polls the emulated screen until `ok` holds; panics (showing the screen) after [`TIMEOUT`].
+    fn wait_for(&self, what: &str, ok: impl Fn(&vt100::Screen) -> bool) {
+        let deadline = Instant::now() + TIMEOUT;
+        loop {
+            {
+                let s = lock(&self.shared);
+                if ok(s.parser.screen()) {
+                    return;
+                }
+                if Instant::now() > deadline || s.eof {
+                    panic!(
+                        "timed out waiting for {what}; the screen shows:\n{}\nlast bytes: {}",
+                        s.parser.screen().contents(),
+                        visible(&s.raw[s.raw.len().saturating_sub(300)..])
+                    );
+                }
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
+    /// Polls the output from byte `since` on until `ok` holds; panics after [`TIMEOUT`].
+    fn wait_for_output(&self, since: usize, what: &str, ok: impl Fn(&[u8]) -> bool) {
+        let deadline = Instant::now() + TIMEOUT;
+        loop {
+            {
+                let s = lock(&self.shared);
+                if ok(&s.raw[since..]) {
+                    return;
+                }
+                if Instant::now() > deadline || s.eof {
+                    panic!("timed out waiting for {what}; the output since: {}", visible(&s.raw[since..]));
+                }
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
+    /// Waits until nothing has arrived for [`SETTLE`] (a held key's motion has stopped, say).
+    fn settle(&self) {
+        let deadline = Instant::now() + TIMEOUT;
+        while lock(&self.shared).last_byte.elapsed() < SETTLE {
+            assert!(Instant::now() < deadline, "the screen never settled: frames keep coming");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
+    /// Asserts that nothing at all arrives during `quiet`.
+    fn assert_silent_for(&self, quiet: Duration, context: &str) {
+        let before = self.bytes_so_far();
+        std::thread::sleep(quiet);
+        let s = lock(&self.shared);
+        assert!(
+            s.raw.len() == before,
+            "{context}: {} bytes were sent while nothing changed: {}",
+            s.raw.len() - before,
+            visible(&s.raw[before..(before + 300).min(s.raw.len())])
+        );
+    }
+
+    /// The child's CPU time so far in clock ticks (user + system), where /proc tells.
+    fn cpu_ticks(&self) -> Option<u64> {
+        let stat = std::fs::read_to_string(format!("/proc/{}/stat", self.child.id())).ok()?;
+        // After "pid (comm) ": state is field 3, utime and stime are fields 14 and 15.
+        let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+        Some(fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?)
+    }
+
+    fn bytes_so_far(&self) -> usize {
+        lock(&self.shared).raw.len()
+    }
+
+    fn master(&self) -> &File {
+        self.master.as_ref().expect("not hung up")
+    }
+
+    fn send(&mut self, bytes: &[u8]) {
+        self.master().write_all(bytes).expect("write to the pty");
+    }
+
+    fn screen<T>(&self, f: impl FnOnce(&vt100::Screen) -> T) -> T {
+        f(lock(&self.shared).parser.screen())
+    }
+
+    /// The bottom row: the HUD.
+    fn hud(&self) -> String {
+        self.screen(|s| {
+            let (rows, cols) = size(s);
+            s.contents_between(rows - 1, 0, rows - 1, cols)
+        })
+    }
+
+    /// Resizes the pty (the kernel sends the child SIGWINCH) and the emulated screen with it.
+    fn resize(&mut self, cols: u16, rows: u16) {
+        // The emulator first: the frame the child draws for the new size must land on a screen of
+        // that size. (Bytes still in flight for the old size are overdrawn by the full repaint.)
+        lock(&self.shared).parser.screen_mut().set_size(nz(rows), nz(cols));
+        termios::tcsetwinsize(self.master(), winsize(cols, rows)).expect("resize the pty");
+    }
+
+    fn signal(&self, signal: Signal) {
+        let pid = Pid::from_child(&self.child);
+        rustix::process::kill_process(pid, signal).expect("kill");
+    }
+
+    fn running(&mut self) -> bool {
+        self.child.try_wait().expect("try_wait").is_none()
+    }
+
+    /// The termios of the terminal side right now.
+    fn termios(&self) -> termios::Termios {
+        termios::tcgetattr(self.slave.as_ref().expect("the terminal side is open")).expect("tcgetattr")
+    }
+
+    /// Waits for the child to exit (within [`TIMEOUT`]), checks the pty is back in cooked mode, then
+    /// closes the terminal side and collects every byte the child wrote.
+    fn finish(&mut self) -> (ExitStatus, Vec<u8>) {
+        let deadline = Instant::now() + TIMEOUT;
+        let status = loop {
+            if let Some(status) = self.child.try_wait().expect("try_wait") {
+                break status;
+            }
+            assert!(Instant::now() < deadline, "the child did not exit in time");
+            std::thread::sleep(Duration::from_millis(10));
+        };
+        let (now, before) = (self.termios(), &self.cooked);
+        assert!(
+            now.local_modes.contains(LocalModes::ICANON | LocalModes::ECHO | LocalModes::ISIG),
+            "the terminal was left in raw mode: {:?}",
+            now.local_modes
+        );
+        assert_eq!(
+            (now.input_modes, now.output_modes, now.control_modes, now.local_modes),
+            (before.input_modes, before.output_modes, before.control_modes, before.local_modes),
+            "the terminal modes differ from those before the start"
+        );
+        drop(self.slave.take());
+        // The child is gone and so is our copy of the terminal side: the reader sees EOF (EIO) once
+        // it has read everything.
+        let deadline = Instant::now() + TIMEOUT;
+        while !lock(&self.shared).eof {
+            assert!(Instant::now() < deadline, "the pty never reported end of file");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        if let Some(reader) = self.reader.take() {
+            reader.join().expect("reader thread");
+        }
+        let raw = lock(&self.shared).raw.clone();
+        let text = String::from_utf8_lossy(&raw);
+        assert!(!text.contains("panicked"), "the binary panicked:\n{text}");
+        (status, raw)
+    }
+
+    /// Starts the walkthrough of the built-in maze and waits for its first complete screen.
+    fn walk(cols: u16, rows: u16, answers: Answers) -> Tui {
+        let tui = Tui::spawn(&[], cols, rows, answers);
+        tui.wait_for("the first frame (alternate screen, hidden cursor, HUD)", |s| {
+            let (rows, cols) = size(s);
+            let hud = s.contents_between(rows - 1, 0, rows - 1, cols);
+            s.alternate_screen() && s.hide_cursor() && hud.contains("heading") && hud.contains("cell ")
+        });
+        tui
+    }
+}
+
+impl Drop for Tui {
+    fn drop(&mut self) {
+        // A failed test must not leave the child running (an exited child is simply reaped).
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Asserts the walk ended by restoring the terminal: the last bytes undo exactly what was enabled,
+/// and the emulated terminal is on its main screen with the cursor shown.
+fn assert_restored(tui: &Tui, raw: &[u8], enabled: Enabled) {
+    let restore = restore_sequence(enabled);
+    assert!(
+        raw.ends_with(restore.as_bytes()),
+        "the output does not end with the restore sequence {}; it ends with {}",
+        visible(restore.as_bytes()),
+        visible(&raw[raw.len().saturating_sub(200)..])
+    );
+    // Spelled out as well, independently of `restore_sequence`.
+    let tail = String::from_utf8_lossy(&raw[raw.len() - restore.len()..]).into_owned();
+    for needle in ["\x1b[?2026l", "\x1b[?1000l", "\x1b[?1004l", "\x1b[?25h", "\x1b[?1049l"] {
+        assert!(
+            tail.contains(needle),
+            "{} missing from the restore {}",
+            visible(needle.as_bytes()),
+            visible(tail.as_bytes())
+        );
+    }
+    tui.screen(|s| {
+        assert!(!s.alternate_screen(), "still on the alternate screen");
+        assert!(!s.hide_cursor(), "the cursor is still hidden");
+        assert_eq!(s.mouse_protocol_mode(), vt100::MouseProtocolMode::None, "mouse reporting still on");
+    });
+}
+
+/// The `(x, y)` position on the HUD.
+fn position(hud: &str) -> (f32, f32) {
+    let inner = hud.split_once('(').and_then(|(_, r)| r.split_once(')')).map(|(p, _)| p);
+    let parsed = inner.and_then(|p| {
+        let (x, y) = p.split_once(',')?;
+        Some((x.trim().parse().ok()?, y.trim().parse().ok()?))
+    });
+    parsed.unwrap_or_else(|| panic!("no (x, y) position on the HUD: {hud:?}"))
+}
+
+/// The characters the map uses for the viewer.
+const ARROWS: [char; 8] = ['→', '↗', '↑', '↖', '←', '↙', '↓', '↘'];
+
+/// The viewer's arrow on the map: its (row, col), if the map shows it.
+fn arrow_at(s: &vt100::Screen) -> Option<(u16, u16)> {
+    let (rows, cols) = size(s);
+    (0..rows - 1).flat_map(|r| (0..cols).map(move |c| (r, c))).find(|&(r, c)| {
+        s.cell(r, c).is_some_and(|cell| cell.contents().chars().next().is_some_and(|ch| ARROWS.contains(&ch)))
+    })
+}
+
+#[test]
+fn walk_look_at_help_and_map_then_quit_restores_the_terminal() {
+    let mut tui = Tui::walk(100, 30, Answers::Plain);
+
+    // Game mode: raw, exactly the expected modes entered.
+    let t = tui.termios();
+    assert!(!t.local_modes.intersects(LocalModes::ICANON | LocalModes::ECHO), "not in raw mode");
+    let raw = lock(&tui.shared).raw.clone();
+    let enter = enter_sequence(PLAIN);
+    assert!(
+        raw.windows(enter.len()).any(|w| w == enter.as_bytes()),
+        "the enter sequence {} was not sent",
+        visible(enter.as_bytes())
+    );
+
+    // The 3D view fills the screen above the HUD: nearly every cell has a glyph or a colour.
+    tui.screen(|s| {
+        let (rows, cols) = size(s);
+        let drawn = (0..rows - 1)
+            .flat_map(|r| (0..cols).map(move |c| (r, c)))
+            .filter(|&(r, c)| {
+                let cell = s.cell(r, c).unwrap();
+                cell.contents().trim() != "" || cell.bgcolor() != vt100::Color::Default
+            })
+            .count();
+        assert!(
+            drawn * 10 > usize::from(rows - 1) * usize::from(cols) * 9,
+            "a blank 3D view:\n{}",
+            s.contents()
+        );
+    });
+    let hud = tui.hud();
+    assert!(hud.contains("cell "), "{hud:?}");
+    let start = position(&hud);
+
+    // Nothing is sent while nothing changes, nor for a key that does nothing.
+    tui.settle();
+    let cpu = tui.cpu_ticks();
+    tui.assert_silent_for(Duration::from_millis(800), "idle after start-up");
+    // ... and the process sleeps meanwhile (a busy loop would burn ~80 ticks of 10 ms).
+    if let (Some(before), Some(after)) = (cpu, tui.cpu_ticks()) {
+        assert!(after - before <= 10, "{} ticks of CPU in 0.8 s of idling", after - before);
+    }
+    tui.send(b"x");
+    tui.assert_silent_for(Duration::from_millis(300), "after an unbound key");
+    // Nor for focus changes or the mouse moving with no button held (SGR mouse reports).
+    tui.send(b"\x1b[O\x1b[I\x1b[<35;20;10M\x1b[<35;30;12M");
+    tui.assert_silent_for(Duration::from_millis(300), "after focus and mouse moves");
+
+    // Walking forward moves the viewer (the built-in maze starts facing down a corridor); once the
+    // held key times out, the frames stop.
+    for _ in 0..4 {
+        tui.send(b"w");
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    tui.wait_for("the HUD position to change after w", |s| {
+        let (rows, cols) = size(s);
+        position(&s.contents_between(rows - 1, 0, rows - 1, cols)) != start
+    });
+    tui.settle();
+    tui.assert_silent_for(Duration::from_millis(500), "idle after walking");
+
+    // Dragging with the left button turns the view.
+    let heading = |hud: &str| {
+        hud.split("heading").nth(1).and_then(|r| r.split('°').next()).map(str::trim).map(String::from)
+    };
+    let before = heading(&tui.hud());
+    tui.send(b"\x1b[<0;40;10M\x1b[<32;45;10M\x1b[<32;50;10M\x1b[<0;50;10m");
+    tui.wait_for("the heading to change after a drag", |s| {
+        let (rows, cols) = size(s);
+        heading(&s.contents_between(rows - 1, 0, rows - 1, cols)) != before
+    });
+
+    // The help box opens and closes.
+    tui.send(b"?");
+    tui.wait_for("the help box", |s| s.contents().contains("Keys (? to close)"));
+    tui.send(b"?");
+    tui.wait_for("the help box to close", |s| !s.contents().contains("Keys (? to close)"));
+
+    // The map: corner (top right) → full screen → off → corner.
+    let corner =
+        |s: &vt100::Screen| arrow_at(s).is_some_and(|(r, c)| c >= size(s).1 * 2 / 3 && r < size(s).0 / 3);
+    assert!(tui.screen(corner), "no corner map:\n{}", tui.screen(|s| s.contents()));
+    tui.send(b"m");
+    tui.wait_for("the full-screen map", |s| {
+        arrow_at(s).is_some() && !corner(s) && s.contents().matches('░').count() > 100
+    });
+    tui.send(b"m");
+    tui.wait_for("no map", |s| arrow_at(s).is_none());
+    tui.send(b"m");
+    tui.wait_for("the corner map again", corner);
+
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+}
+
+/// Kills the walkthrough with `signal` once it is idle; it must restore the terminal and exit at once
+/// with 128 + signal, as shells report death by that signal.
+fn signal_restores_the_terminal(signal: Signal) {
+    let mut tui = Tui::walk(80, 24, Answers::Plain);
+    tui.settle();
+    let sent = Instant::now();
+    tui.signal(signal);
+    let (status, raw) = tui.finish();
+    assert!(sent.elapsed() < Duration::from_secs(5), "took {:?} to exit", sent.elapsed());
+    assert_eq!(status.code(), Some(128 + signal.as_raw()), "{status:?} (signal {:?})", status.signal());
+    assert_restored(&tui, &raw, PLAIN);
+}
+
+#[test]
+fn sigterm_restores_the_terminal() {
+    signal_restores_the_terminal(Signal::TERM);
+}
+
+#[test]
+fn sighup_restores_the_terminal() {
+    signal_restores_the_terminal(Signal::HUP);
+}
+
+#[test]
+fn sigint_restores_the_terminal() {
+    signal_restores_the_terminal(Signal::INT);
+}
+
+#[test]
+fn a_hang_up_ends_the_walk() {
+    // The terminal goes away (the SSH connection dropped): the kernel sends the session leader SIGHUP.
+    // Nothing can be restored any more; the binary must simply exit, at once and without a panic.
+    let mut tui = Tui::walk(80, 24, Answers::Plain);
+    tui.settle();
+    tui.hang_up();
+    let deadline = Instant::now() + TIMEOUT;
+    let status = loop {
+        if let Some(status) = tui.child.try_wait().expect("try_wait") {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "still running {TIMEOUT:?} after the hang-up");
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    assert_eq!(status.code(), Some(128 + Signal::HUP.as_raw()), "{status:?}");
+}
+
+#[test]
+fn esc_and_ctrl_c_quit_cleanly() {
+    for key in [&b"\x1b"[..], b"\x03"] {
+        let mut tui = Tui::walk(80, 24, Answers::Plain);
+        tui.send(key);
+        let (status, raw) = tui.finish();
+        assert_eq!(status.code(), Some(0), "{} gave {status:?}", visible(key));
+        assert_restored(&tui, &raw, PLAIN);
+    }
+}
+
+#[test]
+fn resizes_are_followed_and_a_tiny_terminal_gets_a_message() {
+    let mut tui = Tui::walk(100, 30, Answers::Plain);
+    tui.settle();
+
+    tui.resize(40, 12);
+    tui.wait_for("the HUD on the last row at 40×12", |s| {
+        s.contents_between(11, 0, 11, 40).contains("heading") && !s.contents().contains("too small")
+    });
+
+    tui.resize(10, 3);
+    tui.wait_for("the too-small message at 10×3", |s| {
+        let text = s.contents();
+        text.contains("need 20×6") && text.contains("q quits") && !text.contains("heading")
+    });
+    // Keys that change the state while too small to draw it: still no crash.
+    tui.send(b"w?m");
+    let before = tui.bytes_so_far();
+    tui.resize(1, 1);
+    tui.wait_for_output(before, "a full repaint at 1×1", |b| b.windows(4).any(|w| w == b"\x1b[2J"));
+    tui.wait_for("the message clipped to 1×1", |s| s.contents() == "t");
+    tui.settle();
+    assert!(tui.running(), "the binary died at 1×1");
+    // A pty can even say 0×0 (serial lines do); the emulator has no such size and stays at 1×1.
+    let before = tui.bytes_so_far();
+    tui.resize_pty_only(0, 0);
+    tui.wait_for_output(before, "a repaint at 0×0", |b| b.windows(4).any(|w| w == b"\x1b[2J"));
+    tui.settle();
+    assert!(tui.running(), "the binary died at 0×0");
+
+    tui.resize(100, 30);
+    tui.wait_for("the full screen again at 100×30", |s| {
+        s.contents_between(29, 0, 29, 100).contains("cell ") && !s.contents().contains("too small")
+    });
+    tui.settle();
+    tui.assert_silent_for(Duration::from_millis(300), "idle after the resizes");
+
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+}
+
+#[test]
+fn ctrl_z_restores_then_comes_back_with_a_full_repaint() {
+    // The child leads its own session, whose parent (this test) is outside it: its process group is
+    // orphaned, so the kernel discards the SIGTSTP and the binary carries straight on, as after `fg`.
+    let mut tui = Tui::walk(80, 24, Answers::Plain);
+    tui.settle();
+    let before = tui.bytes_so_far();
+    tui.send(b"\x1a");
+    tui.wait_for_output(before, "a frame after Ctrl-Z", |b| b.ends_with(b"\x1b[?2026l"));
+    tui.wait_for("the screen after Ctrl-Z", |s| s.alternate_screen() && s.hide_cursor());
+    tui.wait_for("the HUD after Ctrl-Z", |s| s.contents_between(23, 0, 23, 80).contains("heading"));
+    tui.settle();
+    let after = lock(&tui.shared).raw[before..].to_vec();
+    let text = String::from_utf8_lossy(&after);
+    let (restore, enter) = (restore_sequence(PLAIN), enter_sequence(PLAIN));
+    let r = text.find(&restore).unwrap_or_else(|| panic!("no restore on Ctrl-Z: {}", visible(&after)));
+    let e = text[r..].find(&enter).unwrap_or_else(|| panic!("no re-enter after Ctrl-Z: {}", visible(&after)));
+    assert!(text[r + e..].contains("\x1b[?2026h"), "no frame after Ctrl-Z: {}", visible(&after));
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+}
+
+#[test]
+fn with_the_kitty_protocol_a_key_is_held_until_released() {
+    let mut tui = Tui::walk(80, 24, Answers::Kitty);
+    let raw = lock(&tui.shared).raw.clone();
+    let enter = enter_sequence(KITTY);
+    assert!(raw.windows(enter.len()).any(|w| w == enter.as_bytes()), "keyboard flags not pushed");
+    tui.settle();
+    let start = position(&tui.hud());
+
+    // w down (CSI 119 u); frames keep coming while it is held, well past the no-release timeout...
+    tui.send(b"\x1b[119u");
+    tui.wait_for("the viewer to walk", |s| position(&s.contents_between(23, 0, 23, 80)) != start);
+    std::thread::sleep(Duration::from_millis(600));
+    let before = tui.bytes_so_far();
+    std::thread::sleep(Duration::from_millis(200));
+    assert!(tui.bytes_so_far() > before, "the walk stopped while w was still held");
+    // ... and stop once it is released (CSI 119;1:3 u).
+    tui.send(b"\x1b[119;1:3u");
+    tui.settle();
+    tui.assert_silent_for(Duration::from_millis(500), "after the release");
+
+    tui.send(b"\x1b[113u"); // q
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, KITTY);
+}
+
+#[test]
+fn a_terminal_that_answers_no_queries_still_gets_the_walk() {
+    // crossterm gives up on the keyboard protocol query after 2 s; the walk then starts without it.
+    let started = Instant::now();
+    let mut tui = Tui::walk(80, 24, Answers::Silent);
+    assert!(started.elapsed() < TIMEOUT);
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+}
+
+#[test]
+fn a_terminal_too_small_from_the_start_gets_the_message() {
+    let mut tui = Tui::spawn(&[], 5, 2, Answers::Plain);
+    tui.wait_for("the clipped message", |s| s.alternate_screen() && s.contents() == "termi\nneed");
+    tui.settle();
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+}
+
+#[test]
+fn a_signal_in_the_middle_of_walking_never_leaves_half_a_frame() {
+    // With key releases reported, a held key walks until released: frames stream at up to 60 a
+    // second when SIGTERM arrives. The restore must still come last, after whole frames only.
+    let mut tui = Tui::walk(80, 24, Answers::Kitty);
+    tui.send(b"\x1b[119u"); // w down, never released
+    let before = tui.bytes_so_far();
+    tui.wait_for_output(before, "a few frames of walking", |b| {
+        b.windows(8).filter(|w| *w == b"\x1b[?2026l").count() >= 3
+    });
+    tui.signal(Signal::TERM);
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(128 + Signal::TERM.as_raw()), "{status:?}");
+    assert_restored(&tui, &raw, KITTY);
+    // Every frame that began also ended before the restore.
+    let body = &raw[..raw.len() - restore_sequence(KITTY).len()];
+    let count = |pat: &[u8]| body.windows(pat.len()).filter(|w| *w == pat).count();
+    assert_eq!(count(b"\x1b[?2026h"), count(b"\x1b[?2026l"), "a frame was cut short");
+}
+
+#[test]
+fn finding_the_exit_says_so_after_the_terminal_is_restored() {
+    // A one-cell maze: the start is the exit, found on the first step.
+    let mut tui = Tui::spawn(&["--gen", "1x1"], 80, 24, Answers::Plain);
+    tui.wait_for("the first frame", |s| s.contents().contains("heading"));
+    tui.send(b"w");
+    tui.wait_for("the exit box", |s| s.contents().contains("Found the exit!"));
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    let text = String::from_utf8_lossy(&raw);
+    let restore = restore_sequence(PLAIN);
+    let after = text.rsplit_once(restore.as_str()).map(|(_, after)| after);
+    let after = after.unwrap_or_else(|| panic!("no restore sequence: {}", visible(&raw)));
+    assert!(
+        after.starts_with("You found the exit in ") && after.ends_with(" s.\r\n") && !after.contains('\x1b'),
+        "after the restore: {after:?}"
+    );
+    tui.screen(|s| {
+        assert!(!s.alternate_screen() && !s.hide_cursor());
+        assert!(s.contents().contains("You found the exit in "), "{}", s.contents());
+    });
+}
+
+#[test]
+fn a_malformed_maze_is_reported_before_the_terminal_is_touched() {
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("e2e-malformed.maze");
+    std::fs::write(&path, "4\n0 x\n").unwrap();
+    let name = path.to_str().unwrap();
+    let mut tui = Tui::spawn(&[name], 80, 24, Answers::Plain);
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(65), "{status:?}");
+    let text = String::from_utf8_lossy(&raw);
+    assert!(
+        text.contains(&format!("{name}:2:3: expected a number (vertex 0 y), found `x`")),
+        "no FILE:LINE:COL: message: {text:?}"
+    );
+    assert!(!text.contains('\x1b'), "escape sequences were sent: {}", visible(&raw));
+}
