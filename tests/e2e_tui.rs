@@ -602,7 +602,7 @@ fn resizes_are_followed_and_a_tiny_terminal_gets_a_message() {
     let before = tui.bytes_so_far();
     tui.resize(1, 1);
     tui.wait_for_output(before, "a full repaint at 1×1", |b| b.windows(4).any(|w| w == b"\x1b[2J"));
-    tui.wait_for("the message clipped to 1×1", |s| s.contents() == "t");
+    tui.wait_for("the shortest note at 1×1", |s| s.contents() == "!");
     tui.settle();
     assert!(tui.running(), "the binary died at 1×1");
     // A pty can even say 0×0 (serial lines do); the emulator has no such size and stays at 1×1.
@@ -691,7 +691,7 @@ fn a_terminal_that_answers_no_queries_still_gets_the_walk() {
 #[test]
 fn a_terminal_too_small_from_the_start_gets_the_message() {
     let mut tui = Tui::spawn(&[], 5, 2, Answers::Plain);
-    tui.wait_for("the clipped message", |s| s.alternate_screen() && s.contents() == "termi\nneed");
+    tui.wait_for("the note that fits 5×2", |s| s.alternate_screen() && s.contents() == "small\nneed");
     tui.settle();
     tui.send(b"q");
     let (status, raw) = tui.finish();

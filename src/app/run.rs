@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 use super::overlay::{self, MapArea};
 use super::state::{App, MapMode};
 use crate::frame::{Cell, Frame};
-use crate::render::{RenderStats, Renderer};
+use crate::render::{Projection, RenderStats, Renderer};
 use crate::term::{Encoder, GuardOptions, Input, InputReader, Key, TerminalGuard, guard};
 
 /// The most frames per second drawn while something moves.
@@ -189,21 +189,25 @@ fn hud_text(app: &App, stats: &RenderStats, cost: &FrameCost) -> String {
     let c = &app.camera;
     let ms = cost.seconds * 1e3;
     let fps = if cost.seconds > 0.0 { (1.0 / cost.seconds).min(9999.0) } else { 0.0 };
+    let projection = match c.projection {
+        Projection::Perspective => "persp",
+        Projection::Orthographic => "ortho",
+    };
+    // Most useful first: a narrow terminal cuts the end off.
     format!(
-        " ({:.1}, {:.1}) z {:+.2}  heading {:>3.0}° pitch {:+.0}°  fov {:.0}° {}  cell {}  {} cells seen  \
-         {:.1} ms ({:.0} fps)  {} B  {}  ? help",
+        " ({:.1}, {:.1}) z{:+.1}  heading {:.0}° pitch {:+.0}°  cell {}  seen {}  {:.1} ms {:.0} fps {} B  \
+         fov {:.0}° {projection} {}  ? help",
         c.position.x,
         c.position.y,
         c.eye_z,
         c.yaw_deg,
         c.pitch_deg,
-        c.hfov_deg,
-        c.projection.name(),
         app.cell,
         stats.portal.distinct_cells,
         ms,
         fps,
         cost.bytes,
+        c.hfov_deg,
         app.options.charset.name(),
     )
 }
