@@ -1,130 +1,460 @@
-//! Bytes on the wire and encode time over a scripted walk at 160×48 (half blocks): forward, a full
-//! 360° turn, a strafe, looking up and down, then standing still. Beside our encoder: a naive full
-//! repaint of every frame (an SGR per cell) and the lower bound (only the changed cells' glyph bytes).
-//! The byte table is printed first (deterministic); criterion then times the encoder per frame.
+//! Bytes and time per frame over a scripted walk at 160×48 (half blocks), in truecolor and in 256
+//! colours: mazewalk's encoder beside ratatui's crossterm backend drawing the same frames into a byte
+//! counter, beside a naive full repaint, and beside the lower bound (the changed cells' glyphs alone).
 //!
-//! `cargo bench --bench encoder`
+//! The walk (60 frames a second, the walkthrough's own cap; keys held through the app's own handlers,
+//! as a terminal with key releases would send them): forward, a full 360° turn, strafe right, look up,
+//! down and back level, then stand still. It starts at the open-area view of the 100×100 maze with loops
+//! (see `common`). Frames are the renderer's alone (no HUD or map overlay).
+//!
+//! Bytes do not depend on timing: they are computed once, checked (both byte streams, fed to the `vt100`
+//! terminal emulator, must show every frame exactly), printed, and written to
+//! `target/criterion/encoder-bytes.md` and `encoder-frames-*.tsv`. Criterion then times each encoder over
+//! the whole walk (`encode-walk/<depth>/<encoder>`; divide by the frame count for a frame).
+//!
+//! ```sh
+//! nice cargo bench --bench encoder -- --warm-up-time 1 --measurement-time 3 --sample-size 10
+//! ```
 
+#[path = "common/mod.rs"]
+mod common;
+
+use std::cell::Cell as StdCell;
+use std::fmt::Write as _;
 use std::hint::black_box;
-use std::time::Duration;
+use std::io;
+use std::rc::Rc;
 
-use criterion::{Criterion, criterion_group, criterion_main};
-use mazewalk::app::App;
-use mazewalk::app::run::{FrameCost, Screen, draw};
-use mazewalk::frame::{ColorDepth, Frame};
-use mazewalk::maze;
-use mazewalk::render::{Charset, Culling, RenderOptions};
+use criterion::{Criterion, Throughput};
+use mazewalk::app::state::TURN_SPEED;
+use mazewalk::app::{App, Key, KeyKind};
+use mazewalk::frame::{Color, ColorDepth, Frame};
+use mazewalk::render::{Charset, Culling, RenderOptions, Renderer};
 use mazewalk::term::encoder::{Encoder, full_repaint};
-use mazewalk::term::{Key, KeyAction};
+use ratatui::backend::CrosstermBackend;
+use ratatui::layout::Rect;
+use ratatui::style::Color as RColor;
+use ratatui::{Terminal, TerminalOptions, Viewport};
 
 const COLS: usize = 160;
 const ROWS: usize = 48;
-/// Frames per second of the script (the loop's cap).
+/// Frames per second of the walk (the walkthrough's `MAX_FPS`).
 const FPS: f64 = 60.0;
+/// The maze the walk happens in (cells across).
+const MAZE_SIDE: u32 = 100;
 
-/// The script: (key held, seconds). `None` = stand still.
-const SCRIPT: &[(Option<Key>, f64)] = &[
-    (Some(Key::Char('w')), 1.0),
-    (Some(Key::Left), 360.0 / 110.0), // a full turn at the turn speed
-    (Some(Key::Char('d')), 0.5),
-    (Some(Key::Up), 0.5),
-    (Some(Key::Down), 1.0),
-    (None, 1.0),
-];
+/// The script: a phase name, the key held (none: stand still) and for how long (seconds).
+fn script() -> Vec<(&'static str, Option<Key>, f64)> {
+    vec![
+        ("forward", Some(Key::Char('w')), 1.0),
+        ("turn 360°", Some(Key::Left), 360.0 / f64::from(TURN_SPEED)),
+        ("strafe", Some(Key::Char('d')), 0.5),
+        ("look up", Some(Key::Up), 1.0),
+        ("look down", Some(Key::Down), 2.0),
+        ("back to level", Some(Key::Up), 1.0),
+        ("stand still", None, 1.0),
+    ]
+}
 
-/// Every screen of the scripted walk, as the walkthrough draws it (3D view, corner map, HUD).
-fn walk_frames(depth: ColorDepth) -> Vec<Frame> {
-    let options = RenderOptions { charset: Charset::Half, color_depth: depth, culling: Culling::Portal, cell_aspect: 0.5 };
-    let mut app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("start");
-    app.releases = true; // the kitty protocol: press … release
-    let mut screen = Screen::default();
-    let mut frames = Vec::new();
-    let mut t = 0.0;
-    for &(key, seconds) in SCRIPT {
+/// One frame of the walk.
+struct Step {
+    phase: &'static str,
+    /// The camera moved since the previous frame.
+    moved: bool,
+    frame: Frame,
+}
+
+/// Plays the script through [`App`] and renders every frame at `depth`.
+fn walk(depth: ColorDepth) -> Vec<Step> {
+    let scene = common::scene(common::View::Open, MAZE_SIDE);
+    let options = RenderOptions {
+        charset: Charset::Half,
+        color_depth: depth,
+        culling: Culling::Portal,
+        cell_aspect: 0.5,
+    };
+    let mut app = App::new(scene.maze, options, 0.0).expect("viewer in the maze");
+    app.camera = scene.camera;
+    app.cell = app.maze().cell_at(scene.camera.position).expect("camera in the maze");
+    app.releases = true; // presses and releases, as the kitty keyboard protocol reports them
+    let mut renderer = Renderer::new();
+    let mut steps = Vec::new();
+    let mut render = |app: &App, phase, moved| {
+        let mut frame = Frame::default();
+        renderer.render(app.maze(), &app.camera, &app.options, COLS, ROWS, &mut frame).expect("camera");
+        steps.push(Step { phase, moved, frame });
+    };
+    let mut now = 0.0;
+    let mut frame_no = 0u32;
+    render(&app, "first frame", true);
+    for (phase, key, seconds) in script() {
         if let Some(key) = key {
-            app.key(key, KeyAction::Press, t);
+            app.key(key, KeyKind::Press, now);
         }
-        let end = t + seconds;
-        while t < end {
-            t += 1.0 / FPS;
-            app.tick(t);
-            let mut frame = Frame::new(COLS, ROWS);
-            // A constant HUD cost, so the frame-time text does not make every frame differ.
-            draw(&app, &mut screen, &mut frame, &FrameCost::default());
-            frames.push(frame);
+        let frames = (seconds * FPS).round() as u32;
+        for _ in 0..frames {
+            frame_no += 1;
+            now = f64::from(frame_no) / FPS;
+            let moved = app.tick(now);
+            render(&app, phase, moved);
         }
         if let Some(key) = key {
-            app.key(key, KeyAction::Release, t);
+            app.key(key, KeyKind::Release, now);
         }
     }
-    frames
+    steps
 }
 
-fn median(mut v: Vec<usize>) -> usize {
-    v.sort_unstable();
-    v[v.len() / 2]
+/// A `Write` that only counts.
+#[derive(Clone, Default)]
+struct Counter(Rc<StdCell<usize>>, Option<Rc<std::cell::RefCell<Vec<u8>>>>);
+
+impl io::Write for Counter {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.0.set(self.0.get() + buf.len());
+        if let Some(copy) = &self.1 {
+            copy.borrow_mut().extend_from_slice(buf);
+        }
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
 }
 
-fn bench(c: &mut Criterion) {
-    for (name, depth) in [("truecolor", ColorDepth::TrueColor), ("256", ColorDepth::Ansi256)] {
-        let frames = walk_frames(depth);
-        let mut encoder = Encoder::new();
-        let (mut ours, mut naive, mut bound, mut idle) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        let mut out = Vec::new();
-        for (i, frame) in frames.iter().enumerate() {
-            let lower = encoder.lower_bound(frame);
-            out.clear();
-            let stats = encoder.encode(frame, &mut out);
-            let mut full = Vec::new();
-            full_repaint(frame, &mut full);
-            if i == 0 {
-                continue; // the first frame is a full paint for everyone
-            }
-            if stats.cells_changed == 0 {
-                idle.push(stats.bytes);
+fn ratatui_color(color: Color) -> RColor {
+    match color {
+        Color::Default => RColor::Reset,
+        Color::Indexed(n) => RColor::Indexed(n),
+        Color::Rgb(r, g, b) => RColor::Rgb(r, g, b),
+    }
+}
+
+/// ratatui drawing our frames: each frame copied into its buffer (as a widget would), then
+/// `Terminal::draw`, which diffs against the previous buffer and writes through the crossterm backend.
+struct Ratatui {
+    terminal: Terminal<CrosstermBackend<Counter>>,
+    count: Rc<StdCell<usize>>,
+    /// Copy cells as they are (blanks keep fg = bg) instead of giving blanks the default foreground.
+    literal: bool,
+}
+
+impl Ratatui {
+    fn new(copy: Option<Rc<std::cell::RefCell<Vec<u8>>>>, literal: bool) -> Ratatui {
+        let count = Rc::new(StdCell::new(0));
+        let backend = CrosstermBackend::new(Counter(count.clone(), copy));
+        // A fixed viewport: no terminal size query (there is no terminal).
+        let viewport = Viewport::Fixed(Rect::new(0, 0, COLS as u16, ROWS as u16));
+        let terminal =
+            Terminal::with_options(backend, TerminalOptions { viewport }).expect("ratatui terminal");
+        Ratatui { terminal, count, literal }
+    }
+
+    /// Draws `frame`; returns the bytes written.
+    fn draw(&mut self, frame: &Frame) -> usize {
+        let before = self.count.get();
+        let literal = self.literal;
+        self.terminal
+            .draw(|f| {
+                for (cell, ours) in f.buffer_mut().content.iter_mut().zip(frame.cells()) {
+                    // A blank shows no ink: unless `literal`, leave its foreground at the default,
+                    // ratatui's cheapest (`39` instead of `38;2;r;g;b`; our frames give blanks fg = bg).
+                    let fg = if ours.ch == ' ' && !literal { RColor::Reset } else { ratatui_color(ours.fg) };
+                    cell.set_char(ours.ch).set_fg(fg).set_bg(ratatui_color(ours.bg));
+                }
+            })
+            .expect("counting writer");
+        self.count.get() - before
+    }
+}
+
+/// Where a byte stream's bytes go: colours (SGR), cursor moves, erasures, synchronized-output and
+/// cursor-visibility markers, and glyphs (everything else, UTF-8).
+#[derive(Clone, Copy, Default)]
+struct Kinds {
+    sgr: usize,
+    moves: usize,
+    erase: usize,
+    markers: usize,
+    glyphs: usize,
+}
+
+impl Kinds {
+    fn of(bytes: &[u8]) -> Kinds {
+        let mut k = Kinds::default();
+        let mut i = 0;
+        while i < bytes.len() {
+            if bytes[i] == 0x1b && bytes.get(i + 1) == Some(&b'[') {
+                let end = (i + 2..bytes.len())
+                    .find(|&j| (0x40..0x7f).contains(&bytes[j]))
+                    .unwrap_or(bytes.len() - 1);
+                let len = end + 1 - i;
+                match (bytes[end], bytes.get(i + 2)) {
+                    (b'm', _) => k.sgr += len,
+                    (b'K' | b'J', _) => k.erase += len,
+                    (_, Some(b'?')) => k.markers += len,
+                    _ => k.moves += len,
+                }
+                i = end + 1;
+            } else if matches!(bytes[i], b'\r' | b'\n' | 0x08) {
+                k.moves += 1;
+                i += 1;
             } else {
-                ours.push(stats.bytes);
-                naive.push(full.len());
-                bound.push(lower);
+                k.glyphs += 1;
+                i += 1;
             }
         }
-        let (o, n, b) = (median(ours.clone()), median(naive.clone()), median(bound.clone()));
-        eprintln!(
-            "{name}: {} walking frames: median bytes/frame ours {o}, naive full repaint {n} ({:.1}× ours), \
-             lower bound {b} (ours {:.2}× it); mean ours {}; {} idle frames sent {} bytes in all",
-            ours.len(),
-            n as f64 / o as f64,
-            o as f64 / b.max(1) as f64,
-            ours.iter().sum::<usize>() / ours.len().max(1),
-            idle.len(),
-            idle.iter().sum::<usize>()
-        );
-        let mut group = c.benchmark_group(format!("encode-{name}"));
-        group.sample_size(20).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
-        group.bench_function("ours, whole walk", |bch| {
-            bch.iter(|| {
-                let mut encoder = Encoder::new();
-                let mut out = Vec::with_capacity(1 << 16);
-                for frame in &frames {
-                    out.clear();
-                    black_box(encoder.encode(frame, &mut out));
-                }
-            })
+        k
+    }
+
+    fn add(&mut self, o: Kinds) {
+        self.sgr += o.sgr;
+        self.moves += o.moves;
+        self.erase += o.erase;
+        self.markers += o.markers;
+        self.glyphs += o.glyphs;
+    }
+
+    fn total(&self) -> usize {
+        self.sgr + self.moves + self.erase + self.markers + self.glyphs
+    }
+}
+
+/// Bytes of one frame by each method.
+#[derive(Clone, Copy, Default)]
+struct Bytes {
+    ours: usize,
+    ratatui: usize,
+    ratatui_literal: usize,
+    naive: usize,
+    lower: usize,
+    cells_changed: usize,
+    ours_kinds: Kinds,
+    ratatui_kinds: Kinds,
+}
+
+fn vt_color(color: Color) -> vt100::Color {
+    match color {
+        Color::Default => vt100::Color::Default,
+        Color::Indexed(n) => vt100::Color::Idx(n),
+        Color::Rgb(r, g, b) => vt100::Color::Rgb(r, g, b),
+    }
+}
+
+/// Panics unless the emulated screen shows `frame` (glyphs, backgrounds, foregrounds of non-blanks).
+fn check_screen(who: &str, parser: &vt100::Parser, frame: &Frame, k: usize) {
+    let screen = parser.screen();
+    for y in 0..frame.height() {
+        for x in 0..frame.width() {
+            let want = frame.get(x, y).expect("in the frame");
+            let got = screen.cell(y as u16, x as u16).expect("in the screen");
+            let ch = got.contents().chars().next().unwrap_or(' ');
+            let fg_ok = want.ch == ' ' || got.fgcolor() == vt_color(want.fg);
+            assert!(
+                ch == want.ch && got.bgcolor() == vt_color(want.bg) && fg_ok,
+                "{who}: frame {k}, cell ({x}, {y}): want {want:?}, got {ch:?} {:?} {:?}",
+                got.fgcolor(),
+                got.bgcolor()
+            );
+        }
+    }
+}
+
+/// Every frame's bytes by each method; both diffing streams are checked on an emulated terminal.
+fn measure_bytes(steps: &[Step]) -> Vec<Bytes> {
+    let size = |n: usize| std::num::NonZeroU16::new(n as u16).expect("non-empty");
+    let (mut ours_vt, mut ratatui_vt) =
+        (vt100::Parser::new(size(ROWS), size(COLS), 0), vt100::Parser::new(size(ROWS), size(COLS), 0));
+    let mut encoder = Encoder::new();
+    let copy = Rc::new(std::cell::RefCell::new(Vec::new()));
+    let mut ratatui = Ratatui::new(Some(copy.clone()), false);
+    let mut ratatui_literal = Ratatui::new(None, true);
+    let (mut out, mut naive) = (Vec::new(), Vec::new());
+    let mut all = Vec::new();
+    for (k, step) in steps.iter().enumerate() {
+        let lower = encoder.lower_bound(&step.frame);
+        out.clear();
+        let stats = encoder.encode(&step.frame, &mut out);
+        naive.clear();
+        full_repaint(&step.frame, &mut naive);
+        let ratatui_bytes = ratatui.draw(&step.frame);
+        let ratatui_literal_bytes = ratatui_literal.draw(&step.frame);
+        ours_vt.process(&out);
+        ratatui_vt.process(&copy.borrow());
+        let ratatui_kinds = Kinds::of(&copy.borrow());
+        copy.borrow_mut().clear();
+        check_screen("mazewalk", &ours_vt, &step.frame, k);
+        check_screen("ratatui", &ratatui_vt, &step.frame, k);
+        all.push(Bytes {
+            ours: stats.bytes,
+            ratatui: ratatui_bytes,
+            ratatui_literal: ratatui_literal_bytes,
+            naive: naive.len(),
+            lower,
+            cells_changed: stats.cells_changed,
+            ours_kinds: Kinds::of(&out),
+            ratatui_kinds,
         });
-        group.bench_function("naive full repaint, whole walk", |bch| {
-            bch.iter(|| {
-                let mut out = Vec::with_capacity(1 << 18);
+    }
+    all
+}
+
+fn median(mut v: Vec<usize>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_unstable();
+    let n = v.len();
+    if n % 2 == 1 { v[n / 2] as f64 } else { (v[n / 2 - 1] + v[n / 2]) as f64 / 2.0 }
+}
+
+fn mean(v: &[usize]) -> f64 {
+    if v.is_empty() { 0.0 } else { v.iter().sum::<usize>() as f64 / v.len() as f64 }
+}
+
+/// The bytes tables for one colour depth (markdown), and a per-frame TSV.
+fn report(depth: ColorDepth, steps: &[Step], bytes: &[Bytes]) -> (String, String) {
+    let mut md = String::new();
+    let mut tsv = String::from("frame\tphase\tmoved\tcells_changed\tmazewalk\tratatui\tnaive\tlower_bound\n");
+    for (k, (s, b)) in steps.iter().zip(bytes).enumerate() {
+        let _ = writeln!(
+            tsv,
+            "{k}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
+            s.phase, s.moved, b.cells_changed, b.ours, b.ratatui, b.naive, b.lower
+        );
+    }
+    let rows = |pick: &dyn Fn(&Step) -> bool| -> Vec<Bytes> {
+        steps.iter().zip(bytes).skip(1).filter(|(s, _)| pick(s)).map(|(_, b)| *b).collect()
+    };
+    let line = |md: &mut String, name: &str, rows: &[Bytes]| {
+        let col = |f: fn(&Bytes) -> usize| rows.iter().map(f).collect::<Vec<_>>();
+        let (ours, rat, lit) = (col(|b| b.ours), col(|b| b.ratatui), col(|b| b.ratatui_literal));
+        let (naive, lower) = (col(|b| b.naive), col(|b| b.lower));
+        let ratio = |a: f64, b: f64| if b > 0.0 { format!("{:.0} %", 100.0 * a / b) } else { "–".into() };
+        let _ = writeln!(
+            md,
+            "| {name} | {} | {:.0} / {:.0} | {:.0} / {:.0} | {:.0} | {:.0} | {:.0} / {:.0} | **{}** / {} | {} |",
+            rows.len(),
+            median(ours.clone()),
+            mean(&ours),
+            median(rat.clone()),
+            mean(&rat),
+            mean(&lit),
+            median(naive.clone()),
+            median(lower.clone()),
+            mean(&lower),
+            ratio(mean(&ours), mean(&rat)),
+            ratio(median(ours.clone()), median(rat.clone())),
+            ratio(mean(&ours), mean(&naive)),
+        );
+    };
+    let _ = writeln!(md, "#### {depth:?}, {COLS}×{ROWS} half blocks\n");
+    let _ = writeln!(
+        md,
+        "| frames | n | mazewalk median / mean | ratatui median / mean | ratatui, literal cells, mean \
+         | full repaint median | lower bound median / mean | mazewalk ÷ ratatui, means / medians \
+         | mazewalk ÷ full repaint (means) |"
+    );
+    let _ = writeln!(md, "|---|--:|--:|--:|--:|--:|--:|--:|--:|");
+    line(&mut md, "**walking** (camera moved)", &rows(&|s| s.moved));
+    line(&mut md, "idle (camera still)", &rows(&|s| !s.moved));
+    let mut phases: Vec<&str> = Vec::new();
+    for s in steps.iter().skip(1) {
+        if !phases.contains(&s.phase) {
+            phases.push(s.phase);
+        }
+    }
+    for phase in phases {
+        line(&mut md, &format!("· {phase}"), &rows(&|s| s.phase == phase));
+    }
+    let _ = writeln!(md, "\nWhere the walking frames' bytes go (share of all their bytes):\n");
+    let _ =
+        writeln!(md, "| stream | colours (SGR) | cursor moves | erase | sync / cursor markers | glyphs |");
+    let _ = writeln!(md, "|---|--:|--:|--:|--:|--:|");
+    for (name, pick) in
+        [("mazewalk", (|b: &Bytes| b.ours_kinds) as fn(&Bytes) -> Kinds), ("ratatui", |b| b.ratatui_kinds)]
+    {
+        let mut k = Kinds::default();
+        steps.iter().zip(bytes).skip(1).filter(|(s, _)| s.moved).for_each(|(_, b)| k.add(pick(b)));
+        let pct = |n: usize| format!("{:.0} %", 100.0 * n as f64 / k.total().max(1) as f64);
+        let _ = writeln!(
+            md,
+            "| {name} | {} | {} | {} | {} | {} |",
+            pct(k.sgr),
+            pct(k.moves),
+            pct(k.erase),
+            pct(k.markers),
+            pct(k.glyphs)
+        );
+    }
+    let first = bytes[0];
+    let _ = writeln!(
+        md,
+        "\nFirst frame (full paint): mazewalk {} B, ratatui {} B (no clear: ratatui assumes a blank \
+         screen), full repaint {} B, lower bound {} B.\n",
+        first.ours, first.ratatui, first.naive, first.lower
+    );
+    (md, tsv)
+}
+
+fn depth_name(depth: ColorDepth) -> &'static str {
+    match depth {
+        ColorDepth::TrueColor => "truecolor",
+        ColorDepth::Ansi256 => "256",
+        ColorDepth::Ansi16 => "16",
+        ColorDepth::None => "none",
+    }
+}
+
+fn main() {
+    let mut c = Criterion::default().configure_from_args();
+    let dir = std::path::Path::new(&std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into()))
+        .join("criterion");
+    let _ = std::fs::create_dir_all(&dir);
+    let mut md = String::new();
+    for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
+        let steps = walk(depth);
+        let bytes = measure_bytes(&steps);
+        let (table, tsv) = report(depth, &steps, &bytes);
+        eprintln!("{table}");
+        md.push_str(&table);
+        let _ = std::fs::write(dir.join(format!("encoder-frames-{}.tsv", depth_name(depth))), tsv);
+
+        let frames: Vec<&Frame> = steps.iter().map(|s| &s.frame).collect();
+        let mut group = c.benchmark_group(format!("encode-walk/{}", depth_name(depth)));
+        group.throughput(Throughput::Elements(frames.len() as u64));
+        let mut out = Vec::with_capacity(1 << 20);
+        group.bench_function("mazewalk", |b| {
+            b.iter(|| {
+                let mut encoder = Encoder::new();
+                let mut total = 0;
                 for frame in &frames {
                     out.clear();
-                    full_repaint(frame, &mut out);
-                    black_box(&out);
+                    total += encoder.encode(black_box(frame), &mut out).bytes;
                 }
-            })
+                total
+            });
+        });
+        group.bench_function("ratatui", |b| {
+            b.iter(|| {
+                let mut ratatui = Ratatui::new(None, false);
+                frames.iter().map(|frame| ratatui.draw(black_box(frame))).sum::<usize>()
+            });
+        });
+        group.bench_function("full_repaint", |b| {
+            b.iter(|| {
+                let mut total = 0;
+                for frame in &frames {
+                    out.clear();
+                    full_repaint(black_box(frame), &mut out);
+                    total += out.len();
+                }
+                total
+            });
         });
         group.finish();
-        eprintln!("({} frames per walk)", frames.len());
+        let _ = writeln!(md, "Walk: {} frames.\n", frames.len());
     }
+    let _ = std::fs::write(dir.join("encoder-bytes.md"), md);
+    c.final_summary();
 }
-
-criterion_group!(benches, bench);
-criterion_main!(benches);

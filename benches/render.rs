@@ -1,92 +1,168 @@
-//! Frame time (visibility + clipping + raster + glyphs, no output) in mazes of 10×10, 100×100 and
-//! 1000×1000 cells, portal pass beside brute force, for like views: a corridor (recursive backtracker,
-//! viewer at the generator's start looking down its first corridor) and an open area (Prim's with half
-//! the inner walls removed). Grid sizes 80×24, 200×60 and 320×90 in half blocks; every charset at 200×60.
+//! Render time per frame: visibility + clipping + raster + glyphs into a `Frame` (no output), for like
+//! views (a corridor; an open area of a maze with loops, see `common`) in 10×10, 100×100 and
+//! 1000×1000 mazes, with the portal pass and with brute force (`Culling::None`).
 //!
-//! `cargo bench --bench render` (add `-- portal` or `-- brute` to filter). The portal pass's counts per
-//! view are printed once at the start, so BENCHMARKS.md can cite what was drawn.
+//! The default matrix is every charset at 200×60 plus half blocks at 80×24 and 320×90 (72 cases, a few
+//! minutes); `MAZEWALK_BENCH_FULL=1` runs the whole cross product (every charset at every size).
+//! `breakdown/…` splits the 200×60 frame into its parts (portal pass alone, samples, glyphs).
+//!
+//! Before measuring, each case's counts (cells visited, walls drawn, …) are printed and written to
+//! `target/criterion/render-stats.tsv` (see `scripts/bench_table.py`).
+//!
+//! ```sh
+//! nice cargo bench --bench render -- --warm-up-time 1 --measurement-time 3 --sample-size 10
+//! ```
 
+#[path = "common/mod.rs"]
+mod common;
+
+use std::fmt::Write as _;
 use std::hint::black_box;
-use std::time::Duration;
 
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use common::{SIDES, Scene, View};
+use criterion::{BenchmarkId, Criterion};
 use mazewalk::frame::{ColorDepth, Frame};
-use mazewalk::maze::Maze;
-use mazewalk::maze::generate::{Algorithm, GenOptions, generate};
-use mazewalk::render::{Camera, Charset, Culling, RenderOptions, Renderer};
+use mazewalk::render::{Charset, Culling, PortalPass, RenderOptions, Renderer, to_frame};
 
-/// A maze of `side × side` cells and the camera for a view of the given kind.
-fn scene(side: u32, open: bool) -> (Maze, Camera) {
-    let opts = if open {
-        GenOptions { width: side, height: side, seed: 11, algorithm: Algorithm::Prim, loops: 0.5, ..GenOptions::default() }
-    } else {
-        GenOptions { width: side, height: side, seed: 11, algorithm: Algorithm::Backtracker, ..GenOptions::default() }
-    };
-    let maze = generate(&opts).expect("generate");
-    let v = *maze.viewer();
-    (maze, Camera::new(v.pos, v.dir_deg, 90.0))
+/// Terminal sizes (columns × rows).
+const SIZES: [(usize, usize); 3] = [(80, 24), (200, 60), (320, 90)];
+/// The size every charset is measured at by default.
+const MAIN_SIZE: (usize, usize) = (200, 60);
+
+fn cullings() -> [(Culling, &'static str); 2] {
+    [(Culling::Portal, "portal"), (Culling::None, "none")]
+}
+
+/// (charset, cols, rows) to measure.
+fn grids() -> Vec<(Charset, usize, usize)> {
+    let full = std::env::var_os("MAZEWALK_BENCH_FULL").is_some_and(|v| v != "0");
+    let mut grids = Vec::new();
+    for (cols, rows) in SIZES {
+        for charset in Charset::ALL {
+            if full || (cols, rows) == MAIN_SIZE || charset == Charset::Half {
+                grids.push((charset, cols, rows));
+            }
+        }
+    }
+    grids
 }
 
 fn options(charset: Charset, culling: Culling) -> RenderOptions {
     RenderOptions { charset, color_depth: ColorDepth::TrueColor, culling, cell_aspect: 0.5 }
 }
 
-fn bench(c: &mut Criterion) {
-    let scenes: Vec<(String, Maze, Camera)> = [10u32, 100, 1000]
-        .iter()
-        .flat_map(|&side| {
-            [false, true].map(|open| {
-                let (maze, camera) = scene(side, open);
-                (format!("{}{side}x{side}", if open { "open-" } else { "corridor-" }), maze, camera)
-            })
-        })
-        .collect();
-    for (name, maze, camera) in &scenes {
-        let mut r = Renderer::new();
-        let mut f = Frame::new(0, 0);
-        let s = r.render(maze, camera, &options(Charset::Half, Culling::Portal), 200, 60, &mut f).unwrap();
-        eprintln!(
-            "{name}: {} cells; portal pass visits {} cells, crosses {} portals, draws {} walls of {}",
-            maze.cell_count(),
-            s.portal.distinct_cells,
-            s.portal.portals_traversed,
-            s.walls_drawn,
-            maze.edges().len()
-        );
-    }
-
-    let mut group = c.benchmark_group("render");
-    group.sample_size(20).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
-    let mut renderer = Renderer::new();
-    let mut frame = Frame::new(0, 0);
-    for (name, maze, camera) in &scenes {
-        for (cols, rows) in [(80, 24), (200, 60), (320, 90)] {
-            for culling in [Culling::Portal, Culling::None] {
-                if culling == Culling::None && (cols, rows) != (200, 60) {
-                    continue; // brute force once per maze is enough for the ratio
-                }
-                let label = format!("{}/half/{cols}x{rows}/{name}", if culling == Culling::Portal { "portal" } else { "brute" });
-                group.bench_function(BenchmarkId::from_parameter(label), |b| {
-                    b.iter(|| {
-                        renderer.render(maze, camera, &options(Charset::Half, culling), cols, rows, &mut frame).unwrap();
-                        black_box(&frame);
-                    })
-                });
+/// Prints and saves the counts of every case (they do not depend on timing).
+fn record_stats(scenes: &[Scene], grids: &[(Charset, usize, usize)]) {
+    let mut tsv = String::from(
+        "view\tmaze\tcharset\tsize\tculling\tcells_visited\tdistinct_cells\tportals\twalls_drawn\ttriangles\tsamples_written\tcamera\n",
+    );
+    let (mut renderer, mut frame) = (Renderer::new(), Frame::default());
+    for scene in scenes {
+        for &(charset, cols, rows) in grids {
+            for (culling, culling_name) in cullings() {
+                let s = renderer
+                    .render(&scene.maze, &scene.camera, &options(charset, culling), cols, rows, &mut frame)
+                    .expect("benchmark camera");
+                let c = &scene.camera;
+                let _ = writeln!(
+                    tsv,
+                    "{}\t{n}x{n}\t{charset}\t{cols}x{rows}\t{culling_name}\t{}\t{}\t{}\t{}\t{}\t{}\t({}, {}) heading {} seed {}",
+                    scene.view.name(),
+                    s.portal.cells_visited,
+                    s.portal.distinct_cells,
+                    s.portal.portals_traversed,
+                    s.walls_drawn,
+                    s.triangles,
+                    s.samples_written,
+                    c.position.x,
+                    c.position.y,
+                    c.yaw_deg,
+                    scene.seed,
+                    n = scene.side,
+                );
             }
         }
     }
-    let (_, maze, camera) = &scenes[2]; // corridor in 100×100
-    for charset in Charset::ALL {
-        let label = format!("charset/{}/200x60/corridor-100x100", charset.name());
-        group.bench_function(BenchmarkId::from_parameter(label), |b| {
-            b.iter(|| {
-                renderer.render(maze, camera, &options(charset, Culling::Portal), 200, 60, &mut frame).unwrap();
-                black_box(&frame);
-            })
-        });
+    eprint!("{tsv}");
+    let dir = std::path::Path::new(&std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into()))
+        .join("criterion");
+    if std::fs::create_dir_all(&dir).is_ok() {
+        let _ = std::fs::write(dir.join("render-stats.tsv"), tsv);
     }
-    group.finish();
 }
 
-criterion_group!(benches, bench);
-criterion_main!(benches);
+fn bench_frames(c: &mut Criterion, scenes: &[Scene], grids: &[(Charset, usize, usize)]) {
+    let (mut renderer, mut frame) = (Renderer::new(), Frame::default());
+    for scene in scenes {
+        for &(charset, cols, rows) in grids {
+            let n = scene.side;
+            let mut group =
+                c.benchmark_group(format!("render/{}/{n}x{n}/{charset}/{cols}x{rows}", scene.view.name()));
+            for (culling, name) in cullings() {
+                let opts = options(charset, culling);
+                group.bench_function(BenchmarkId::from_parameter(name), |b| {
+                    b.iter(|| {
+                        renderer
+                            .render(&scene.maze, &scene.camera, black_box(&opts), cols, rows, &mut frame)
+                            .expect("benchmark camera")
+                    });
+                });
+            }
+            group.finish();
+        }
+    }
+}
+
+/// Where a 200×60 frame's time goes: the portal pass alone, everything but glyphs, glyphs alone.
+fn bench_breakdown(c: &mut Criterion, scenes: &[Scene]) {
+    let (cols, rows) = MAIN_SIZE;
+    let mut renderer = Renderer::new();
+    let mut frame = Frame::default();
+    let mut pass = PortalPass::new();
+    for scene in scenes.iter().filter(|s| s.side == *SIDES.last().expect("sizes")) {
+        for charset in Charset::ALL {
+            let n = scene.side;
+            let mut group =
+                c.benchmark_group(format!("breakdown/{}/{n}x{n}/{charset}/{cols}x{rows}", scene.view.name()));
+            let (sx, sy) = charset.samples_per_cell();
+            let eye = scene.camera.eye(cols * sx, rows * sy, charset.sample_aspect(0.5)).expect("camera");
+            group.bench_function("portal_pass", |b| b.iter(|| pass.run(&scene.maze, black_box(&eye))));
+            group.bench_function("render_samples", |b| {
+                b.iter(|| {
+                    renderer
+                        .render_samples(&scene.maze, &scene.camera, charset, 0.5, Culling::Portal, cols, rows)
+                        .expect("benchmark camera")
+                });
+            });
+            // The samples to_frame reads (also when a filter skips the bench above).
+            renderer
+                .render_samples(&scene.maze, &scene.camera, charset, 0.5, Culling::Portal, cols, rows)
+                .expect("benchmark camera");
+            for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
+                group.bench_function(format!("to_frame_{depth:?}"), |b| {
+                    b.iter(|| {
+                        to_frame(
+                            black_box(renderer.samples()),
+                            charset,
+                            depth,
+                            charset == Charset::Ascii,
+                            &mut frame,
+                        )
+                    });
+                });
+            }
+            group.finish();
+        }
+    }
+}
+
+fn main() {
+    let mut c = Criterion::default().configure_from_args();
+    let scenes: Vec<Scene> =
+        View::ALL.iter().flat_map(|&view| SIDES.iter().map(move |&side| common::scene(view, side))).collect();
+    let grids = grids();
+    record_stats(&scenes, &grids);
+    bench_frames(&mut c, &scenes, &grids);
+    bench_breakdown(&mut c, &scenes);
+    c.final_summary();
+}

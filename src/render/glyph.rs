@@ -10,9 +10,9 @@ use std::str::FromStr;
 
 use glam::Vec3;
 
-use super::palette::{Dither, ansi16, ansi16_dither, quantize, quantize_srgb8};
+use super::palette::{Dither, ansi16, ansi16_dither, quantize_srgb8};
 use super::samples::SampleBuffer;
-use super::shade::{linear_to_srgb, luminance};
+use super::shade::{linear_to_srgb_fast, luminance};
 use crate::frame::{Cell, Color, ColorDepth, Frame};
 
 /// How cells are drawn, and so how many samples each covers.
@@ -151,8 +151,13 @@ pub fn to_frame(
                 let outline = if outlines { samples.outline()[base] } else { None };
                 ascii_cell(samples.color()[base], outline, depth)
             } else {
-                for (k, s) in cell_samples.iter_mut().take(sx * sy).enumerate() {
-                    *s = samples.color()[base + (k / sx) * width + k % sx];
+                // Bit order: row-major from the top-left (sample k is at (k % sx, k / sx)).
+                let mut k = 0;
+                for dy in 0..sy {
+                    for dx in 0..sx {
+                        cell_samples[k] = samples.color()[base + dy * width + dx];
+                        k += 1;
+                    }
                 }
                 block_cell(&cell_samples[..sx * sy], charset, depth)
             };
@@ -163,19 +168,29 @@ pub fn to_frame(
 
 /// The index into a `len`-step ramp for a linear colour's lightness (sRGB-encoded luminance).
 fn ramp_index(color: Vec3, len: usize) -> usize {
-    ((linear_to_srgb(luminance(color)) * (len - 1) as f32).round() as usize).min(len - 1)
+    ((linear_to_srgb_fast(luminance(color)) * (len - 1) as f32).round() as usize).min(len - 1)
 }
 
 /// One ascii cell: the outline glyph if any, else the ramp glyph; ink in the sample's colour.
 fn ascii_cell(color: Vec3, outline: Option<char>, depth: ColorDepth) -> Cell {
     let ch = outline.unwrap_or(ASCII_RAMP[ramp_index(color, ASCII_RAMP.len())]);
-    Cell { ch, fg: if ch == ' ' { Color::Default } else { quantize(color, depth) }, bg: Color::Default }
+    let fg =
+        if ch == ' ' { Color::Default } else { quantize_srgb8(srgb8(color.map(linear_to_srgb_fast)), depth) };
+    Cell { ch, fg, bg: Color::Default }
 }
 
 /// The best 2-colour partition of a cell's sRGB samples: `(mask, ink mean, background mean)`; samples in
 /// `mask` are ink. Only masks without the last sample are tried (a mask and its complement are the same
 /// split), so the last sample is always background and mask 0 means one colour.
 fn best_partition(srgb: &[Vec3]) -> (u8, Vec3, Vec3) {
+    if let [a, b] = *srgb {
+        // Half blocks: the loop below for two samples, unrolled (same arithmetic, so the same choice).
+        // Mask 0 is one colour, the mean; mask 1 puts `a` over `b` with no error, and wins unless
+        // mask 0's error is within the tie margin.
+        let mean = (a + b) / 2.0;
+        let error = a.distance_squared(mean) + b.distance_squared(mean);
+        return if 0.0 < error - 1e-9 { (1, a, b) } else { (0, Vec3::ZERO, mean) };
+    }
     let n = srgb.len();
     let mut best = (0u8, Vec3::ZERO, Vec3::ZERO, f32::INFINITY);
     for mask in 0..1u8 << (n - 1) {
@@ -201,8 +216,16 @@ fn best_partition(srgb: &[Vec3]) -> (u8, Vec3, Vec3) {
     (best.0, best.1, best.2)
 }
 
+/// sRGB 0..1 → 0..255, rounded to nearest (halves up).
 fn srgb8(srgb: Vec3) -> [u8; 3] {
-    srgb.to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8)
+    srgb.to_array().map(|c| round_u8(c.clamp(0.0, 1.0) * 255.0))
+}
+
+/// `v.round() as u8` for `v` in 0..=255, without the libm call `round` is on baseline x86-64: truncate,
+/// then add one if the dropped fraction is at least a half (`v - t` is exact for `v` below 2^23).
+fn round_u8(v: f32) -> u8 {
+    let t = v as u8;
+    t + u8::from(v - f32::from(t) >= 0.5)
 }
 
 fn solid(color: Color) -> Cell {
@@ -225,11 +248,12 @@ fn block_cell(samples: &[Vec3], charset: Charset, depth: ColorDepth) -> Cell {
     }
     let mut srgb = [Vec3::ZERO; 6];
     for (s, c) in srgb.iter_mut().zip(samples) {
-        *s = Vec3::from_array(c.to_array().map(linear_to_srgb));
+        *s = c.map(linear_to_srgb_fast);
     }
     let srgb = &srgb[..samples.len()];
     let all = srgb8(srgb.iter().sum::<Vec3>() / srgb.len() as f32);
-    if srgb.iter().all(|s| srgb8(*s) == srgb8(srgb[0])) {
+    let first = srgb8(srgb[0]);
+    if srgb[1..].iter().all(|s| srgb8(*s) == first) {
         // Fast path, and what keeps flat areas stable: one colour.
         return if depth == ColorDepth::Ansi16 {
             dithered(ansi16_dither(all))
@@ -274,5 +298,12 @@ mod tests {
         assert_eq!(mask, 0b00_1010); // the last sample is always background
         assert!(ink.abs_diff_eq(b, 1e-6) && paper.abs_diff_eq(a, 1e-6), "{ink} {paper}");
         assert_eq!(best_partition(&[a, a, a, a]).0, 0);
+    }
+
+    #[test]
+    fn round_u8_rounds_like_round() {
+        for v in (0..=255 * 64).map(|k| k as f32 / 64.0).chain([0.499_999_97, 254.499_98, 254.5, 255.0]) {
+            assert_eq!(round_u8(v), v.round() as u8, "{v}");
+        }
     }
 }

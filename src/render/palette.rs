@@ -61,12 +61,27 @@ fn distance2(a: [u8; 3], b: [u8; 3]) -> u32 {
 /// The nearest xterm-256 index in 16–231 (cube) or 232–255 (greys) to an sRGB colour.
 #[must_use]
 pub fn xterm256(rgb: [u8; 3]) -> u8 {
-    let level = |v: u8| (0..6).min_by_key(|&k| CUBE_LEVELS[k].abs_diff(v)).unwrap_or(0);
-    let [r, g, b] = rgb.map(level);
-    let cube = (16 + 36 * r + 6 * g + b) as u8;
-    let mean = (u32::from(rgb[0]) + u32::from(rgb[1]) + u32::from(rgb[2])) as f32 / 3.0;
-    let grey = 232 + ((mean - 8.0) / 10.0).round().clamp(0.0, 23.0) as u8;
+    // Both candidates come from small tables of `cube_level` and `grey_index` (built on first use), as
+    // this runs twice per cell in 256 colours.
+    static TABLES: OnceLock<([u8; 256], [u8; 766])> = OnceLock::new();
+    let (level, grey) = TABLES.get_or_init(|| {
+        (std::array::from_fn(|v| cube_level(v as u8)), std::array::from_fn(|sum| grey_index(sum as u32)))
+    });
+    let [r, g, b] = rgb.map(|v| level[usize::from(v)]);
+    let cube = 16 + 36 * r + 6 * g + b;
+    let grey = grey[usize::from(rgb[0]) + usize::from(rgb[1]) + usize::from(rgb[2])];
     if distance2(xterm_rgb(grey), rgb) < distance2(xterm_rgb(cube), rgb) { grey } else { cube }
+}
+
+/// The index (0–5) of the cube level nearest to `v` (the lower one on a tie).
+fn cube_level(v: u8) -> u8 {
+    (0..6).min_by_key(|&k| CUBE_LEVELS[usize::from(k)].abs_diff(v)).unwrap_or(0)
+}
+
+/// The grey ramp entry (232–255) nearest to the mean of three channels summing to `sum`.
+fn grey_index(sum: u32) -> u8 {
+    let mean = sum as f32 / 3.0;
+    232 + ((mean - 8.0) / 10.0).round().clamp(0.0, 23.0) as u8
 }
 
 /// The nearest of the 16 ANSI colours to an sRGB colour.
@@ -166,6 +181,24 @@ mod tests {
         assert_eq!(ansi16([200, 200, 200]), 7);
         assert_eq!(quantize(Vec3::new(1.0, 0.0, 0.0), ColorDepth::TrueColor), Color::Rgb(255, 0, 0));
         assert_eq!(quantize(Vec3::ONE, ColorDepth::None), Color::Default);
+    }
+
+    #[test]
+    fn xterm256_tables_match_the_direct_search() {
+        // The search the tables are built from, written out per colour.
+        let reference = |rgb: [u8; 3]| {
+            let level = |v: u8| (0..6).min_by_key(|&k| CUBE_LEVELS[k].abs_diff(v)).unwrap_or(0);
+            let [r, g, b] = rgb.map(level);
+            let cube = (16 + 36 * r + 6 * g + b) as u8;
+            let mean = (u32::from(rgb[0]) + u32::from(rgb[1]) + u32::from(rgb[2])) as f32 / 3.0;
+            let grey = 232 + ((mean - 8.0) / 10.0).round().clamp(0.0, 23.0) as u8;
+            if distance2(xterm_rgb(grey), rgb) < distance2(xterm_rgb(cube), rgb) { grey } else { cube }
+        };
+        // Every 13th colour (checked exhaustively once; all 2^24 take a while in the test profile).
+        for key in (0..1u32 << 24).step_by(13) {
+            let rgb = [(key >> 16) as u8, (key >> 8) as u8, key as u8];
+            assert_eq!(xterm256(rgb), reference(rgb), "{rgb:?}");
+        }
     }
 
     #[test]

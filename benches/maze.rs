@@ -1,0 +1,54 @@
+//! Generating and loading a 1000×1000-cell maze (the largest the generator makes).
+//!
+//! - `maze-1000x1000/generate/<algo>`: `generate` with each carving algorithm (seed 1, no loops), and
+//!   Prim's with `loops 0.5` (the open-area benchmark maze).
+//! - `maze-1000x1000/load/cs559`: `maze::load` of Prim's maze written to a temporary file in the CS559
+//!   format (about 128 MB): reading, parsing, validating and indexing.
+//!
+//! Peak memory needs a process of its own: `cargo run --release --example peak_mem -- …`.
+//!
+//! ```sh
+//! nice cargo bench --bench maze -- --warm-up-time 1 --measurement-time 3 --sample-size 10
+//! ```
+
+use std::hint::black_box;
+
+use criterion::Criterion;
+use mazewalk::maze;
+use mazewalk::maze::generate::{Algorithm, GenOptions, generate};
+
+const SIDE: u32 = 1000;
+
+fn options(algorithm: Algorithm, loops: f32) -> GenOptions {
+    GenOptions { width: SIDE, height: SIDE, seed: 1, algorithm, loops, ..GenOptions::default() }
+}
+
+fn main() {
+    let mut c = Criterion::default().configure_from_args();
+    let mut group = c.benchmark_group(format!("maze-{SIDE}x{SIDE}"));
+    for (name, algorithm, loops) in [
+        ("prim", Algorithm::Prim, 0.0),
+        ("dfs", Algorithm::Backtracker, 0.0),
+        ("wilson", Algorithm::Wilson, 0.0),
+        ("prim-loops-0.5", Algorithm::Prim, 0.5),
+    ] {
+        let opts = options(algorithm, loops);
+        group.bench_function(format!("generate/{name}"), |b| {
+            b.iter(|| generate(black_box(&opts)).expect("maze"));
+        });
+    }
+
+    let maze = generate(&options(Algorithm::Prim, 0.0)).expect("maze");
+    let path = std::env::temp_dir().join(format!("mazewalk-bench-{}.maze", std::process::id()));
+    {
+        let file = std::fs::File::create(&path).expect("temporary file");
+        let mut out = std::io::BufWriter::new(file);
+        maze::cs559::write_to(&maze, &mut out).expect("write the maze");
+        std::io::Write::flush(&mut out).expect("write the maze");
+    }
+    drop(maze);
+    group.bench_function("load/cs559", |b| b.iter(|| maze::load(black_box(&path)).expect("load")));
+    group.finish();
+    let _ = std::fs::remove_file(&path);
+    c.final_summary();
+}
