@@ -10,7 +10,7 @@ use std::str::FromStr;
 
 use glam::Vec3;
 
-use super::palette::{Dither, ansi16, ansi16_dither, quantize_srgb8};
+use super::palette::{Dither, ansi16, ansi16_dither, quantize_srgb8, to_srgb8};
 use super::samples::SampleBuffer;
 use super::shade::{linear_to_srgb_fast, luminance};
 use crate::frame::{Cell, Color, ColorDepth, Frame};
@@ -142,24 +142,26 @@ pub fn to_frame(
     if frame.width() != cols || frame.height() != rows {
         frame.resize(cols, rows);
     }
-    let width = samples.width();
-    let mut cell_samples = [Vec3::ZERO; 6];
+    let (width, color) = (samples.width(), samples.color());
+    // The samples of the cell at `base`, in bit order: row-major from the top-left (sample k is at
+    // (k % sx, k / sx)).
+    let cell_samples =
+        |base: usize| (0..sy).flat_map(move |dy| (0..sx).map(move |dx| color[base + dy * width + dx]));
+    let mut srgb = [[0u8; 3]; 6];
     for row in 0..rows {
         for col in 0..cols {
             let base = row * sy * width + col * sx;
             let cell = if charset == Charset::Ascii {
                 let outline = if outlines { samples.outline()[base] } else { None };
-                ascii_cell(samples.color()[base], outline, depth)
+                ascii_cell(color[base], outline, depth)
+            } else if depth == ColorDepth::None {
+                let mean = cell_samples(base).sum::<Vec3>() / (sx * sy) as f32;
+                Cell::plain(BLOCK_RAMP[ramp_index(mean, BLOCK_RAMP.len())])
             } else {
-                // Bit order: row-major from the top-left (sample k is at (k % sx, k / sx)).
-                let mut k = 0;
-                for dy in 0..sy {
-                    for dx in 0..sx {
-                        cell_samples[k] = samples.color()[base + dy * width + dx];
-                        k += 1;
-                    }
+                for (s, c) in srgb.iter_mut().zip(cell_samples(base)) {
+                    *s = to_srgb8(c);
                 }
-                block_cell(&cell_samples[..sx * sy], charset, depth)
+                block_cell(&srgb[..sx * sy], charset, depth)
             };
             frame.set(col, row, cell);
         }
@@ -174,58 +176,69 @@ fn ramp_index(color: Vec3, len: usize) -> usize {
 /// One ascii cell: the outline glyph if any, else the ramp glyph; ink in the sample's colour.
 fn ascii_cell(color: Vec3, outline: Option<char>, depth: ColorDepth) -> Cell {
     let ch = outline.unwrap_or(ASCII_RAMP[ramp_index(color, ASCII_RAMP.len())]);
-    let fg =
-        if ch == ' ' { Color::Default } else { quantize_srgb8(srgb8(color.map(linear_to_srgb_fast)), depth) };
+    let fg = if ch == ' ' { Color::Default } else { quantize_srgb8(to_srgb8(color), depth) };
     Cell { ch, fg, bg: Color::Default }
 }
 
-/// The best 2-colour partition of a cell's sRGB samples: `(mask, ink mean, background mean)`; samples in
-/// `mask` are ink. Only masks without the last sample are tried (a mask and its complement are the same
-/// split), so the last sample is always background and mask 0 means one colour.
-fn best_partition(srgb: &[Vec3]) -> (u8, Vec3, Vec3) {
+/// A two-colour split of a cell's samples: the samples in `mask` are ink, the rest background.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Split {
+    mask: u8,
+    ink: [u8; 3],
+    paper: [u8; 3],
+}
+
+/// The 2-colour partition of a cell's 8-bit sRGB samples with the least squared error, each side drawn
+/// in its (rounded) mean. Only masks without the last sample are tried (a mask and its complement are the
+/// same split), so the last sample is always background and mask 0 means one colour.
+///
+/// Exact, in integers: the error of a split is the samples' total scatter minus the scatter between the
+/// two means, so the best split has the most between-means scatter, `|n·S_ink − n_ink·S|² ⁄ (n · n_ink ·
+/// n_paper)` with `S` the sum of all `n` samples and `S_ink` that of the `n_ink` ink samples. The ink
+/// sums of all masks come from smaller masks' sums, one addition each. Ties keep the earlier mask.
+fn best_partition(srgb: &[[u8; 3]]) -> Split {
     if let [a, b] = *srgb {
-        // Half blocks: the loop below for two samples, unrolled (same arithmetic, so the same choice).
-        // Mask 0 is one colour, the mean; mask 1 puts `a` over `b` with no error, and wins unless
-        // mask 0's error is within the tie margin.
-        let mean = (a + b) / 2.0;
-        let error = a.distance_squared(mean) + b.distance_squared(mean);
-        return if 0.0 < error - 1e-9 { (1, a, b) } else { (0, Vec3::ZERO, mean) };
+        return Split { mask: u8::from(a != b), ink: a, paper: b }; // half blocks: each sample its own side
     }
     let n = srgb.len();
-    let mut best = (0u8, Vec3::ZERO, Vec3::ZERO, f32::INFINITY);
-    for mask in 0..1u8 << (n - 1) {
-        let (mut ink_n, mut ink_sum, mut paper_sum) = (0, Vec3::ZERO, Vec3::ZERO);
-        for (k, v) in srgb.iter().enumerate() {
-            if mask >> k & 1 == 1 {
-                (ink_n, ink_sum) = (ink_n + 1, ink_sum + *v);
-            } else {
-                paper_sum += *v;
-            }
-        }
-        let ink = if ink_n > 0 { ink_sum / ink_n as f32 } else { Vec3::ZERO };
-        let paper = paper_sum / (n - ink_n) as f32;
-        let error: f32 = srgb
-            .iter()
-            .enumerate()
-            .map(|(k, v)| v.distance_squared(if mask >> k & 1 == 1 { ink } else { paper }))
-            .sum();
-        if error < best.3 - 1e-9 {
-            best = (mask, ink, paper, error); // strictly better only: ties keep the simpler, earlier mask
+    debug_assert!((1..=6).contains(&n), "{n} samples");
+    let sample = |k: usize| srgb[k].map(i32::from);
+    let add = |a: [i32; 3], b: [i32; 3]| [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+    let total = (0..n).map(sample).fold([0; 3], add);
+    let mut ink_sums = [[0i32; 3]; 32];
+    // The best so far as the fraction score = numerator / denominator (mask 0 scores 0).
+    let (mut best, mut best_num, mut best_den) = (0usize, 0i64, 1i64);
+    for mask in 1..1usize << (n - 1) {
+        ink_sums[mask] = add(ink_sums[mask & (mask - 1)], sample(mask.trailing_zeros() as usize));
+        let n_ink = mask.count_ones() as i32;
+        let num: i64 =
+            (0..3).map(|c| i64::from(n as i32 * ink_sums[mask][c] - n_ink * total[c]).pow(2)).sum();
+        let den = i64::from(n_ink * (n as i32 - n_ink));
+        if num * best_den > best_num * den {
+            (best, best_num, best_den) = (mask, num, den);
         }
     }
-    (best.0, best.1, best.2)
+    let n_ink = best.count_ones() as i32;
+    let ink_sum = ink_sums[best];
+    let paper = rounded_mean([0, 1, 2].map(|c| total[c] - ink_sum[c]), n as i32 - n_ink);
+    let ink = if n_ink == 0 { paper } else { rounded_mean(ink_sum, n_ink) };
+    Split { mask: best as u8, ink, paper }
 }
 
-/// sRGB 0..1 → 0..255, rounded to nearest (halves up).
-fn srgb8(srgb: Vec3) -> [u8; 3] {
-    srgb.to_array().map(|c| round_u8(c.clamp(0.0, 1.0) * 255.0))
-}
-
-/// `v.round() as u8` for `v` in 0..=255, without the libm call `round` is on baseline x86-64: truncate,
-/// then add one if the dropped fraction is at least a half (`v - t` is exact for `v` below 2^23).
-fn round_u8(v: f32) -> u8 {
-    let t = v as u8;
-    t + u8::from(v - f32::from(t) >= 0.5)
+/// `sum / n` per channel, rounded to nearest (halves up), for sums of `n` (1 to 6) 8-bit values.
+fn rounded_mean(sum: [i32; 3], n: i32) -> [u8; 3] {
+    // A constant divisor per arm: multiplications, where a variable one costs three integer divisions.
+    fn by<const N: i32>(sum: [i32; 3]) -> [u8; 3] {
+        sum.map(|s| ((2 * s + N) / (2 * N)) as u8)
+    }
+    match n {
+        1 => by::<1>(sum),
+        2 => by::<2>(sum),
+        3 => by::<3>(sum),
+        4 => by::<4>(sum),
+        5 => by::<5>(sum),
+        _ => by::<6>(sum),
+    }
 }
 
 fn solid(color: Color) -> Cell {
@@ -240,33 +253,25 @@ fn dithered(d: Dither) -> Cell {
     }
 }
 
-/// One block cell from its samples (linear), in bit order.
-fn block_cell(samples: &[Vec3], charset: Charset, depth: ColorDepth) -> Cell {
-    if depth == ColorDepth::None {
-        let mean = samples.iter().sum::<Vec3>() / samples.len() as f32;
-        return Cell::plain(BLOCK_RAMP[ramp_index(mean, BLOCK_RAMP.len())]);
-    }
-    let mut srgb = [Vec3::ZERO; 6];
-    for (s, c) in srgb.iter_mut().zip(samples) {
-        *s = c.map(linear_to_srgb_fast);
-    }
-    let srgb = &srgb[..samples.len()];
-    let all = srgb8(srgb.iter().sum::<Vec3>() / srgb.len() as f32);
-    let first = srgb8(srgb[0]);
-    if srgb[1..].iter().all(|s| srgb8(*s) == first) {
+/// One block cell from its samples (8-bit sRGB), in bit order, at a colour depth other than `None`.
+fn block_cell(srgb: &[[u8; 3]], charset: Charset, depth: ColorDepth) -> Cell {
+    let first = srgb[0];
+    if srgb[1..].iter().all(|&s| s == first) {
         // Fast path, and what keeps flat areas stable: one colour.
         return if depth == ColorDepth::Ansi16 {
-            dithered(ansi16_dither(all))
+            dithered(ansi16_dither(first))
         } else {
-            solid(quantize_srgb8(all, depth))
+            solid(quantize_srgb8(first, depth))
         };
     }
-    let (mask, ink, paper) = best_partition(srgb);
-    let (ink, paper) = (srgb8(ink), srgb8(paper));
+    let Split { mask, ink, paper } = best_partition(srgb);
     let (fg, bg) = match depth {
         // 16 colours: keep the shape where the two sides differ in ANSI, else dither the cell's mean.
         ColorDepth::Ansi16 => match (ansi16(ink), ansi16(paper)) {
-            (i, p) if mask == 0 || i == p => return dithered(ansi16_dither(all)),
+            (i, p) if mask == 0 || i == p => {
+                let total = srgb.iter().fold([0i32; 3], |a, s| [0, 1, 2].map(|c| a[c] + i32::from(s[c])));
+                return dithered(ansi16_dither(rounded_mean(total, srgb.len() as i32)));
+            }
             (i, p) => (Color::Indexed(i), Color::Indexed(p)),
         },
         _ => (quantize_srgb8(ink, depth), quantize_srgb8(paper, depth)),
@@ -293,17 +298,60 @@ mod tests {
 
     #[test]
     fn best_partition_splits_two_colours() {
-        let (a, b) = (Vec3::new(0.9, 0.1, 0.1), Vec3::new(0.1, 0.1, 0.9));
-        let (mask, ink, paper) = best_partition(&[a, b, a, b, a, a]);
-        assert_eq!(mask, 0b00_1010); // the last sample is always background
-        assert!(ink.abs_diff_eq(b, 1e-6) && paper.abs_diff_eq(a, 1e-6), "{ink} {paper}");
-        assert_eq!(best_partition(&[a, a, a, a]).0, 0);
+        let (a, b) = ([230, 25, 25], [25, 25, 230]);
+        let split = best_partition(&[a, b, a, b, a, a]);
+        assert_eq!(split, Split { mask: 0b00_1010, ink: b, paper: a }); // the last sample is background
+        assert_eq!(best_partition(&[a, a, a, a]).mask, 0);
+        assert_eq!(best_partition(&[a, b]), Split { mask: 1, ink: a, paper: b });
+        // Three near-blacks and a white: the white alone, the others in their rounded mean.
+        let split = best_partition(&[[0, 0, 0], [255, 255, 255], [1, 1, 1], [2, 2, 2]]);
+        assert_eq!(split, Split { mask: 0b0010, ink: [255; 3], paper: [1; 3] });
     }
 
+    /// The integer search agrees with trying every split and measuring its error directly.
     #[test]
-    fn round_u8_rounds_like_round() {
-        for v in (0..=255 * 64).map(|k| k as f32 / 64.0).chain([0.499_999_97, 254.499_98, 254.5, 255.0]) {
-            assert_eq!(round_u8(v), v.round() as u8, "{v}");
+    fn best_partition_has_the_least_squared_error() {
+        let error = |srgb: &[[u8; 3]], split: Split| -> f64 {
+            let exact_mean = |inside: bool| {
+                let chosen: Vec<_> =
+                    srgb.iter().enumerate().filter(|(k, _)| (split.mask >> k & 1 == 1) == inside).collect();
+                (0..3)
+                    .map(|c| {
+                        chosen.iter().map(|(_, s)| f64::from(s[c])).sum::<f64>() / chosen.len().max(1) as f64
+                    })
+                    .collect::<Vec<_>>()
+            };
+            let (ink, paper) = (exact_mean(true), exact_mean(false));
+            srgb.iter()
+                .enumerate()
+                .map(|(k, s)| {
+                    let m = if split.mask >> k & 1 == 1 { &ink } else { &paper };
+                    (0..3).map(|c| (f64::from(s[c]) - m[c]).powi(2)).sum::<f64>()
+                })
+                .sum()
+        };
+        let mut seed = 0x9E37_79B9_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed >> 24) as u8 & 0xF0 // few levels, so ties happen
+        };
+        for n in [2usize, 4, 6] {
+            for _ in 0..2000 {
+                let srgb: Vec<[u8; 3]> = (0..n).map(|_| [next(), next(), next()]).collect();
+                let split = best_partition(&srgb);
+                let best = (0..1u8 << (n - 1))
+                    .map(|mask| error(&srgb, Split { mask, ink: [0; 3], paper: [0; 3] }))
+                    .fold(f64::INFINITY, f64::min);
+                let chosen = error(&srgb, split);
+                assert!(
+                    chosen <= best + 1e-9,
+                    "{srgb:?}: mask {:#b} error {chosen}, best {best}",
+                    split.mask
+                );
+                assert!(split.mask >> (n - 1) == 0, "the last sample is background");
+            }
         }
     }
 }

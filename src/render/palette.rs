@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 
 use glam::Vec3;
 
-use super::shade::{linear_to_srgb, srgb_to_linear};
+use super::shade::{Srgb8Tables, linear_to_srgb, srgb_to_linear};
 use crate::frame::{Color, ColorDepth};
 
 /// xterm's default RGB for the 16 ANSI colours (black, red, green, yellow, blue, magenta, cyan, white,
@@ -37,8 +37,10 @@ pub const CUBE_LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
 
 /// A linear colour as sRGB bytes (clamped to 0..1 first; NaN → 0).
 #[must_use]
+#[inline]
 pub fn to_srgb8(linear: Vec3) -> [u8; 3] {
-    linear.to_array().map(|c| (linear_to_srgb(c) * 255.0).round() as u8)
+    let tables = Srgb8Tables::get();
+    linear.to_array().map(|c| tables.encode(c))
 }
 
 /// The RGB xterm shows for palette `index` (ANSI 16, cube, grey ramp).

@@ -17,7 +17,7 @@ use super::line::{line_glyph, line_points};
 use super::portal::{PortalPass, PortalStats};
 use super::raster::{ScreenVertex, fill_polygon};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
-use super::shade::{Fog, checker, headlight, lit, srgb_to_linear};
+use super::shade::{Fog, checker, headlight_unit, lit, srgb_to_linear};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
 use crate::frame::{ColorDepth, Frame};
 use crate::maze::Maze;
@@ -249,7 +249,8 @@ impl Renderer {
             }
             let (a, b) = (maze.vertices()[edge.start as usize], maze.vertices()[edge.end as usize]);
             let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
-            let normal_view = eye.normal_to_view * normal_world; // normals by the inverse transpose
+            // Normals by the inverse transpose, normalized once per wall.
+            let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
             let albedo = edge.color.map(srgb_to_linear);
             stats.triangles += self.screen.len() - 2;
             stats.samples_written += fill_polygon(&mut self.samples, &self.screen, e, |view: Vec3| {
@@ -259,7 +260,7 @@ impl Renderer {
                     Shading::Color => {
                         // The headlight: from the eye (perspective) or along the view axis (orthographic).
                         let to_light = if ortho { Vec3::new(0.0, 0.0, view.z) } else { view };
-                        fog.apply(lit(albedo, headlight(normal_view, to_light), AMBIENT), depth)
+                        fog.apply(lit(albedo, headlight_unit(normal_view, to_light), AMBIENT), depth)
                     }
                 }
             });
@@ -280,10 +281,16 @@ impl Renderer {
         let ceiling = (CEILING_Z, CEILING, CEILING_SRGB.map(srgb_to_linear));
         let perspective = eye.camera.projection == Projection::Perspective;
         let start_depth = if perspective { eye.near } else { 0.0 };
+        let width = eye.width;
         for y in 0..eye.height {
-            for x in 0..eye.width {
-                let i = y * eye.width + x;
-                let (start, dir) = eye.ray(x as f32 + 0.5, y as f32 + 0.5);
+            // `Eye::ray` is affine in the grid x: along a row, start and direction step by constants.
+            let gy = y as f32 + 0.5;
+            let (start0, dir0) = eye.ray(0.5, gy);
+            let (start1, dir1) = eye.ray(1.5, gy);
+            let (start_step, dir_step) = (start1 - start0, dir1 - dir0);
+            for x in 0..width {
+                let i = y * width + x;
+                let (start, dir) = (start0 + start_step * x as f32, dir0 + dir_step * x as f32);
                 let (plane, hit, depth) = if start.z < FLOOR_Z || start.z > CEILING_Z {
                     // Inside the ground or the roof: that plane, seen where the ray starts.
                     let plane = if start.z < FLOOR_Z { floor } else { ceiling };
@@ -311,11 +318,12 @@ impl Renderer {
                     Shading::Color => {
                         let base =
                             checker(plane.2, Vec2::new(hit.x, hit.y), CHECKER_PERIOD, CHECKER_CONTRAST);
-                        let to_eye = if perspective { hit - eye.eye } else { dir };
-                        fog.apply(lit(base, headlight(Vec3::Z, to_eye), AMBIENT), depth)
+                        // The headlight shines along the ray (from the eye, or along the view axis when
+                        // orthographic): hit - eye is a multiple of `dir`.
+                        fog.apply(lit(base, headlight_unit(Vec3::Z, dir), AMBIENT), depth)
                     }
                 };
-                self.samples.put(x, y, color, f32::INFINITY, plane.1);
+                self.samples.write(i, color, f32::INFINITY, plane.1);
             }
         }
     }

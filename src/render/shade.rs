@@ -10,8 +10,18 @@ use glam::{Vec2, Vec3};
 /// unit direction from the surface point `view` to the eye, in [0, 1]. 1.0 at the eye itself.
 #[must_use]
 pub fn headlight(normal_view: Vec3, view: Vec3) -> f32 {
-    let (n, l) = (normal_view.normalize_or_zero(), (-view).normalize_or_zero());
-    if l == Vec3::ZERO { 1.0 } else { n.dot(l).abs().min(1.0) }
+    headlight_unit(normal_view.normalize_or_zero(), view)
+}
+
+/// [`headlight`] for a normal already of unit length (or zero): what the per-sample loops call, with the
+/// normal normalized once per surface. `|n · view| / |view|`; 1.0 where `view` has no usable length.
+#[must_use]
+pub fn headlight_unit(unit_normal: Vec3, view: Vec3) -> f32 {
+    let length = view.length();
+    if !(length > 0.0 && length.is_finite()) {
+        return 1.0;
+    }
+    (unit_normal.dot(view).abs() / length).min(1.0)
 }
 
 /// Light reaching the eye from a surface: `ambient + (1 - ambient) · diffuse`, so unlit faces keep the
@@ -64,9 +74,13 @@ pub fn checker(base: Vec3, world: Vec2, period: f32, contrast: f32) -> Vec3 {
 
 /// Whether `v.floor()` is odd, in integers (exact for |v| < 2^63; NaN counts as even, like 0).
 fn floor_is_odd(v: f32) -> bool {
-    let t = v as i64; // truncates toward zero, saturating
-    let floor = if (t as f32) > v { t.wrapping_sub(1) } else { t };
-    floor & 1 == 1
+    if v.abs() < 8_388_608.0 {
+        // Below 2^23 (every real floor coordinate): 32-bit conversions, the cheap ones.
+        let t = v as i32; // truncates toward zero
+        (t - i32::from(t as f32 > v)) & 1 == 1
+    } else {
+        (v as i64) & 1 == 1 // from 2^23 on every float is an integer (NaN → 0, huge → saturated)
+    }
 }
 
 /// The linear value of an sRGB-encoded channel (for colours read from files or the CLI).
@@ -118,6 +132,76 @@ fn srgb_table() -> Vec<f32> {
         .collect()
 }
 
+/// The 8-bit sRGB code of a linear channel: `round(255 · srgb(c))` with the curve evaluated in `f64`
+/// (clamped to 0..1; NaN → 0), by two table reads and one comparison: what the glyph pass calls for
+/// every channel of every sample.
+///
+/// `threshold[k]` is the least `f32` whose code is at least `k`. The curve is monotone, so the code of
+/// `c` is the number of thresholds at or below it; a 4096-bucket table gives the code at each bucket's
+/// start, and as the curve rises by less than one code per bucket (its steepest slope, 255 · 12.92 at
+/// the toe, is 0.8 codes per 1/4096) at most one threshold more lies inside the bucket.
+#[must_use]
+pub fn linear_to_srgb8(c: f32) -> u8 {
+    Srgb8Tables::get().encode(c)
+}
+
+const SRGB8_BUCKETS: usize = 4096;
+
+pub(crate) struct Srgb8Tables {
+    /// Code at the start `b / 4096` of each bucket.
+    bucket: [u8; SRGB8_BUCKETS],
+    /// The least `f32` with code ≥ k, for k in 0..=255; `[256]` is +∞ so the lookup needs no branch.
+    threshold: [f32; 257],
+}
+
+static SRGB8_TABLES: std::sync::OnceLock<Srgb8Tables> = std::sync::OnceLock::new();
+
+impl Srgb8Tables {
+    /// The tables, built on first use (a few hundred bisections).
+    #[inline]
+    pub(crate) fn get() -> &'static Srgb8Tables {
+        SRGB8_TABLES.get_or_init(Srgb8Tables::new)
+    }
+
+    /// [`linear_to_srgb8`] with the tables in hand (hot loops fetch them once).
+    #[inline]
+    pub(crate) fn encode(&self, c: f32) -> u8 {
+        if c.is_nan() || c <= 0.0 {
+            return 0;
+        }
+        if c >= 1.0 {
+            return 255;
+        }
+        // c in (0, 1): the bucket index is in 0..4096 (a 32-bit conversion, the cheap one).
+        let start = self.bucket[((c * SRGB8_BUCKETS as f32) as u32 as usize).min(SRGB8_BUCKETS - 1)];
+        start + u8::from(c >= self.threshold[usize::from(start) + 1])
+    }
+
+    fn new() -> Srgb8Tables {
+        let code = |c: f32| -> u8 {
+            let c = f64::from(c);
+            let srgb = if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+            (srgb.clamp(0.0, 1.0) * 255.0).round() as u8
+        };
+        let mut threshold = [f32::INFINITY; 257];
+        threshold[0] = 0.0;
+        for (k, t) in threshold.iter_mut().enumerate().take(256).skip(1) {
+            // Bisect on the bit patterns of 0..=1 (ordered like the values) for the first code ≥ k.
+            let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
+            while lo < hi {
+                let mid = lo + (hi - lo) / 2;
+                if usize::from(code(f32::from_bits(mid))) >= k { hi = mid } else { lo = mid + 1 }
+            }
+            *t = f32::from_bits(lo);
+        }
+        let bucket = std::array::from_fn(|b| {
+            let c = b as f32 / SRGB8_BUCKETS as f32;
+            threshold[1..].iter().take_while(|&&t| t <= c).count() as u8
+        });
+        Srgb8Tables { bucket, threshold }
+    }
+}
+
 /// Relative luminance (Rec. 709 weights) of a linear colour.
 #[must_use]
 pub fn luminance(c: Vec3) -> f32 {
@@ -158,6 +242,40 @@ mod tests {
         assert!(worst < 2e-7, "worst error {worst}");
         for c in [-1.0, 0.0, 1.0, 2.0, f32::NAN, f32::INFINITY] {
             assert_eq!(linear_to_srgb_fast(c), linear_to_srgb(c), "{c}");
+        }
+    }
+
+    #[test]
+    fn srgb8_by_table_is_the_rounded_curve() {
+        let exact = |c: f32| -> u8 {
+            let c = f64::from(if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) });
+            let srgb = if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+            (srgb * 255.0).round() as u8
+        };
+        // Every 97th float in 0..=1, and the floats on both sides of every code boundary.
+        let mut boundaries = 0;
+        let mut previous = 0;
+        for bits in (0..=1.0f32.to_bits()).step_by(97).chain([1.0f32.to_bits()]) {
+            let c = f32::from_bits(bits);
+            let code = linear_to_srgb8(c);
+            assert_eq!(code, exact(c), "{c}");
+            if code != previous {
+                boundaries += 1;
+                // Walk back to the exact boundary between the two codes and check both sides of it.
+                let mut b = bits;
+                while linear_to_srgb8(f32::from_bits(b - 1)) == code {
+                    b -= 1;
+                }
+                for side in [b - 1, b] {
+                    assert_eq!(linear_to_srgb8(f32::from_bits(side)), exact(f32::from_bits(side)));
+                }
+                assert!(linear_to_srgb8(f32::from_bits(b - 1)) < code);
+            }
+            previous = code;
+        }
+        assert_eq!(boundaries, 255);
+        for (c, code) in [(-1.0, 0), (0.0, 0), (1.0, 255), (2.0, 255), (f32::NAN, 0), (f32::INFINITY, 255)] {
+            assert_eq!(linear_to_srgb8(c), code, "{c}");
         }
     }
 
