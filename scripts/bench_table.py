@@ -30,6 +30,13 @@ def ms(ns):
     return f"{ns / 1e6:.3f}" if ns < 1e9 else f"{ns / 1e9:.2f} s"
 
 
+def table_head(title, text_columns, number_columns):
+    """A markdown table's title, header and alignment rows: text columns left, number columns right."""
+    print(f"### {title}\n")
+    print("| " + " | ".join(text_columns + number_columns) + " |")
+    print("|" + "---|" * len(text_columns) + "--:|" * len(number_columns))
+
+
 def render_tables(results):
     stats = {}
     stats_file = root / "render-stats.tsv"
@@ -43,10 +50,9 @@ def render_tables(results):
     )
     if not cases:
         return
-    print("### Render time per frame (median, ms)\n")
-    print("| view | charset | size | maze | portal | brute force | brute ÷ portal "
-          "| visits / distinct cells | walls drawn (portal / brute) | wall samples |")
-    print("|---|---|---|---|--:|--:|--:|--:|--:|--:|")
+    table_head("Render time per frame (median, ms)", ["view", "charset", "size", "maze"],
+               ["portal", "brute force", "brute ÷ portal", "visits / distinct cells",
+                "walls drawn (portal / brute)", "wall samples"])
     for view, maze, charset, size in cases:
         base = f"render/{view}/{maze}/{charset}/{size}"
         portal = results.get(base + "/portal", (None,))[0]
@@ -62,9 +68,8 @@ def render_tables(results):
               f"| {s.get('cells_visited', '?')} / {s.get('distinct_cells', '?')} "
               f"| {s.get('walls_drawn', '?')} / {sb.get('walls_drawn', '?')} | {s.get('samples_written', '?')} |")
     print()
-    print("### Portal-pass frame time, 1000×1000 and 100×100 ÷ 10×10 (like views)\n")
-    print("| view | charset | size | 10×10 | 100×100 | 1000×1000 | 100² ÷ 10² | 1000² ÷ 10² |")
-    print("|---|---|---|--:|--:|--:|--:|--:|")
+    table_head("Portal-pass frame time, 1000×1000 and 100×100 ÷ 10×10 (like views)",
+               ["view", "charset", "size"], ["10×10", "100×100", "1000×1000", "100² ÷ 10²", "1000² ÷ 10²"])
     for view, charset, size in sorted({(c[0], c[2], c[3]) for c in cases},
                                       key=lambda c: (c[0], c[1], int(c[2].split("x")[0]))):
         t = [results.get(f"render/{view}/{m}/{charset}/{size}/portal", (None,))[0]
@@ -80,9 +85,8 @@ def breakdown_table(results):
     keys = sorted(k for k in results if k.startswith("breakdown/"))
     if not keys:
         return
-    print("### Where a 200×60 frame's time goes (median, ms)\n")
-    print("| view | maze | charset | portal pass | samples (all but glyphs) | glyphs, truecolor | glyphs, 256 |")
-    print("|---|---|---|--:|--:|--:|--:|")
+    table_head("Where a 200×60 frame's time goes (median, ms)", ["view", "maze", "charset"],
+               ["portal pass", "samples (all but glyphs)", "glyphs, truecolor", "glyphs, 256"])
     groups = sorted({tuple(k.split("/")[1:5]) for k in keys})
     for view, maze, charset, size in groups:
         base = f"breakdown/{view}/{maze}/{charset}/{size}/"
@@ -95,9 +99,8 @@ def breakdown_table(results):
 def encoder_tables(results):
     keys = sorted(k for k in results if k.startswith("encode-walk/"))
     if keys:
-        print("### Encoder time per frame over the walk (median, µs)\n")
-        print("| colours | mazewalk | ratatui (diff + crossterm) | full repaint | frames |")
-        print("|---|--:|--:|--:|--:|")
+        table_head("Encoder time per frame over the walk (median, µs)", ["colours"],
+                   ["mazewalk", "ratatui (diff + crossterm)", "full repaint", "frames"])
         for depth in sorted({k.split("/")[1] for k in keys}):
             row = []
             frames = None
@@ -117,9 +120,7 @@ def maze_table(results):
     keys = sorted(k for k in results if k.startswith("maze-"))
     if not keys:
         return
-    print("### Maze generation and loading (median)\n")
-    print("| benchmark | time |")
-    print("|---|--:|")
+    table_head("Maze generation and loading (median)", ["benchmark"], ["time"])
     for k in keys:
         ns = results[k][0]
         print(f"| {k} | {ns / 1e6:.0f} ms |" if ns < 1e9 else f"| {k} | {ns / 1e9:.2f} s |")
