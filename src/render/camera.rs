@@ -279,6 +279,18 @@ impl Eye {
         (world - self.eye).dot(self.forward)
     }
 
+    /// Grid depth as a function of view depth, for comparing a distance with the depth buffer.
+    #[must_use]
+    pub fn depth_by_distance(&self) -> DepthByDistance {
+        let (at_eye, per_unit) = (self.clip(self.eye), self.world_to_clip * self.forward.extend(0.0));
+        DepthByDistance {
+            clip_z: Vec2::new(at_eye.z, per_unit.z),
+            clip_w: Vec2::new(at_eye.w, per_unit.w),
+            scale: self.clip_to_grid.z_axis.z,
+            offset: self.clip_to_grid.w_axis.z,
+        }
+    }
+
     /// The ray through grid point (`gx`, `gy`): where it starts (on the near plane) and its unit-free
     /// direction in world space, such that `start + t·dir` has view depth `near + t` (perspective) or
     /// `t` (orthographic). Built from the camera basis, not the matrices, so all conventions agree.
@@ -294,6 +306,68 @@ impl Eye {
             Projection::Orthographic => {
                 let start = self.eye + self.right * (ndc_x * self.half_w) + self.up * (ndc_y * self.half_h);
                 (start, self.forward)
+            }
+        }
+    }
+}
+
+/// The grid depth of any point at a given view depth (distance along the view direction): a projection's
+/// clip z and w rows have no x or y terms, so both are affine in the view depth, and the viewport maps
+/// NDC z to grid depth by a scale and an offset. Two multiply-adds and a divide, where the full path
+/// (`Eye::grid(Eye::clip(p))`) is a 4×4 and a 3×4 product: the floor pass's depth test per sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DepthByDistance {
+    /// Clip z at view depth 0 and per unit of view depth.
+    clip_z: Vec2,
+    /// Clip w, likewise.
+    clip_w: Vec2,
+    /// The viewport's NDC z → grid depth.
+    scale: f32,
+    offset: f32,
+}
+
+impl DepthByDistance {
+    /// The grid depth at view depth `d`.
+    #[must_use]
+    pub fn grid_depth(&self, d: f32) -> f32 {
+        let (z, w) = (self.clip_z.x + self.clip_z.y * d, self.clip_w.x + self.clip_w.y * d);
+        self.scale * (z / w) + self.offset
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `DepthByDistance` agrees with the full clip → grid path for points all over the view volume, in
+    /// every projection and convention, pitched or level.
+    #[test]
+    fn depth_by_distance_matches_the_full_path() {
+        for convention in Convention::ALL {
+            for projection in [Projection::Perspective, Projection::Orthographic] {
+                for pitch_deg in [0.0, 35.0, -80.0] {
+                    let camera = Camera {
+                        convention,
+                        projection,
+                        pitch_deg,
+                        eye_z: 0.3,
+                        ..Camera::new(Vec2::new(2.0, -1.0), 30.0, 75.0)
+                    };
+                    let eye = camera.eye(120, 40, 1.0).expect("camera");
+                    let depth = eye.depth_by_distance();
+                    for (gx, gy, t) in
+                        [(0.5, 0.5, 0.0), (60.0, 20.0, 3.0), (119.5, 39.5, 40.0), (10.0, 33.0, 90.0)]
+                    {
+                        let (start, dir) = eye.ray(gx, gy);
+                        let p = start + dir * t;
+                        let full = eye.grid(eye.clip(p)).z;
+                        let fast = depth.grid_depth(eye.view_depth(p));
+                        assert!(
+                            (full - fast).abs() < 1e-5,
+                            "{convention:?} {projection:?} {pitch_deg}: {full} vs {fast}"
+                        );
+                    }
+                }
             }
         }
     }

@@ -281,7 +281,7 @@ impl Renderer {
         let ceiling = (CEILING_Z, CEILING, CEILING_SRGB.map(srgb_to_linear));
         let perspective = eye.camera.projection == Projection::Perspective;
         let start_depth = if perspective { eye.near } else { 0.0 };
-        let width = eye.width;
+        let (width, depth_at) = (eye.width, eye.depth_by_distance());
         for y in 0..eye.height {
             // `Eye::ray` is affine in the grid x: along a row, start and direction step by constants.
             let gy = y as f32 + 0.5;
@@ -308,7 +308,7 @@ impl Renderer {
                     }
                     let hit = start + dir * t;
                     // A wall stays where it is at least as near as the plane along this ray.
-                    if self.samples.id()[i] != NONE && self.samples.depth()[i] <= eye.grid(eye.clip(hit)).z {
+                    if self.samples.id()[i] != NONE && self.samples.depth()[i] <= depth_at.grid_depth(depth) {
                         continue;
                     }
                     (plane, hit, depth)
