@@ -53,6 +53,66 @@ impl Cell {
     pub const fn plain(ch: char) -> Cell {
         Cell { ch, fg: Color::Default, bg: Color::Default }
     }
+
+    /// The same look drawn the other way round, for a block glyph whose complement exists: `▀` in A on B
+    /// is `▄` in B on A, a blank on B is `█` in B, a quadrant or sextant is its complement with the
+    /// colours swapped. The encoder uses whichever form the terminal's current colours make cheaper.
+    #[must_use]
+    pub fn inverse(&self) -> Option<Cell> {
+        complement_glyph(self.ch).map(|ch| Cell { ch, fg: self.bg, bg: self.fg })
+    }
+
+    /// Whether two cells look the same on screen: the same glyph in the same colours, where a space
+    /// shows no foreground and a full block no background; or one is the other's [`Cell::inverse`]; a
+    /// block glyph whose two colours are equal looks like a blank of that colour.
+    #[must_use]
+    pub fn same_look(&self, other: &Cell) -> bool {
+        let (a, b) = (self.canonical(), other.canonical());
+        a.looks_like(&b) || a.inverse().is_some_and(|inverse| inverse.looks_like(&b))
+    }
+
+    /// The cell itself, or a blank where a block glyph is drawn in one colour (it looks like one).
+    #[must_use]
+    pub fn canonical(&self) -> Cell {
+        if self.fg == self.bg && complement_glyph(self.ch).is_some() {
+            Cell { ch: ' ', ..*self }
+        } else {
+            *self
+        }
+    }
+
+    fn looks_like(&self, other: &Cell) -> bool {
+        self.ch == other.ch
+            && (self.ch == ' ' || self.fg == other.fg)
+            && (self.ch == FULL_BLOCK || self.bg == other.bg)
+    }
+}
+
+const FULL_BLOCK: char = '█';
+
+/// The block glyph covering exactly the part of the cell `ch` leaves empty, for the block glyphs whose
+/// complement is also one: space and full block, the halves, the quadrants and the sextants.
+fn complement_glyph(ch: char) -> Option<char> {
+    const PAIRS: [(char, char); 8] = [
+        (' ', FULL_BLOCK),
+        ('▀', '▄'),
+        ('▌', '▐'),
+        ('▘', '▟'),
+        ('▝', '▙'),
+        ('▖', '▜'),
+        ('▗', '▛'),
+        ('▞', '▚'),
+    ];
+    if let Some(&(a, b)) = PAIRS.iter().find(|&&(a, b)| ch == a || ch == b) {
+        return Some(if ch == a { b } else { a });
+    }
+    // Sextants U+1FB00–U+1FB3B: masks 1–62 in order without 21 (`▌`) and 42 (`▐`); the complement of
+    // mask m is 63 − m, which skips the same two.
+    let index = u32::from(ch).checked_sub(0x1FB00).filter(|&i| i < 60)?;
+    let mask = index + 1 + u32::from(index + 1 >= 21);
+    let mask = mask + u32::from(mask >= 42);
+    let other = 63 - mask;
+    char::from_u32(0x1FB00 + other - 1 - u32::from(other > 21) - u32::from(other > 42))
 }
 
 impl Default for Cell {

@@ -2,15 +2,55 @@
 //! intended frame cell for cell (glyph, foreground, background), over random sequences of frames.
 
 use mazewalk::frame::{Cell, Color, Frame};
+use mazewalk::render::glyph::{HALF, QUAD, sextant_glyph};
 use mazewalk::term::encoder::{Encoder, full_repaint};
 use proptest::prelude::*;
 
-/// Glyphs the encoder meets: blanks (often, so tails and gaps happen), ASCII, shades, box drawing, a
-/// sextant. All one column wide, as the `Frame` guarantees.
-const GLYPHS: &[char] = &[' ', ' ', ' ', 'a', '#', '.', '█', '▓', '░', '─', '│', '┼', '🬀', 'é'];
+/// Glyphs the encoder meets: blanks (often, so tails and gaps happen), ASCII, shades, box drawing, block
+/// glyphs with complements (halves, quadrants, sextants). All one column wide, as the `Frame` guarantees.
+const GLYPHS: &[char] = &[
+    ' ', ' ', ' ', 'a', '#', '.', '█', '▓', '░', '─', '│', '┼', '🬀', 'é', '▀', '▄', '▌', '▐', '▘', '▟', '🬻',
+    '🬋',
+];
 
-/// Asserts the emulated screen shows `frame`: same glyph and background everywhere, same foreground
-/// wherever the glyph is not a space (a space shows no foreground, so the encoder doesn't send it).
+/// How a cell looks: a block glyph as the colour of each of its 2×6 sub-cells (so `▀` in A on B and
+/// `▄` in B on A look the same), any other glyph as itself, its foreground unless a space, and its
+/// background. Written from the renderer's glyph tables, independently of `Cell::same_look`.
+#[derive(Debug, PartialEq)]
+enum Look {
+    Block([Color; 12]),
+    Glyph(char, Option<Color>, Color),
+}
+
+/// Sub-cells a block glyph covers (bit `column + 2·row` of a 2-column, 6-row grid), from the
+/// renderer's tables.
+fn coverage(ch: char) -> Option<u16> {
+    // Every table entry as (glyph, sample mask, samples across, samples down).
+    let half = HALF.iter().enumerate().map(|(m, &g)| (g, m, 1, 2));
+    let quad = QUAD.iter().enumerate().map(|(m, &g)| (g, m, 2, 2));
+    let sextant = (0..64u8).map(|m| (sextant_glyph(m), usize::from(m), 2, 3));
+    let mut found = None;
+    for (_, mask, sx, sy) in half.chain(quad).chain(sextant).filter(|entry| entry.0 == ch) {
+        let (w, h) = (2 / sx, 6 / sy); // sub-cells per sample
+        let covered = (0..sx * sy).filter(|k| mask >> k & 1 == 1).flat_map(|k| {
+            let (x, y) = (k % sx, k / sx);
+            (x * w..x * w + w).flat_map(move |col| (y * h..y * h + h).map(move |row| 1u16 << (col + 2 * row)))
+        });
+        let c = covered.sum();
+        assert!(found.is_none_or(|f| f == c), "{ch:?} covers the same in every table");
+        found = Some(c);
+    }
+    found
+}
+
+fn look(cell: &Cell) -> Look {
+    match coverage(cell.ch) {
+        Some(c) => Look::Block(std::array::from_fn(|k| if c >> k & 1 == 1 { cell.fg } else { cell.bg })),
+        None => Look::Glyph(cell.ch, (cell.ch != ' ').then_some(cell.fg), cell.bg),
+    }
+}
+
+/// Asserts the emulated screen shows `frame`: every cell looks as intended (see [`Look`]).
 fn assert_screen_shows(parser: &vt100::Parser, frame: &Frame, context: impl Fn() -> String) {
     let screen = parser.screen();
     for y in 0..frame.height() {
@@ -18,20 +58,53 @@ fn assert_screen_shows(parser: &vt100::Parser, frame: &Frame, context: impl Fn()
             let want = frame.get(x, y).unwrap();
             let got = screen.cell(y as u16, x as u16).unwrap();
             let got_ch = got.contents().chars().next().unwrap_or(' '); // erased cells are empty
-            let fg_ok = want.ch == ' ' || got.fgcolor() == vt_color(want.fg);
-            if got_ch != want.ch || got.bgcolor() != vt_color(want.bg) || !fg_ok {
+            let got_cell = Cell { ch: got_ch, fg: from_vt(got.fgcolor()), bg: from_vt(got.bgcolor()) };
+            if look(&got_cell) != look(want) {
                 panic!(
-                    "cell ({x}, {y}) {}\nwant {want:?}\ngot  {got_ch:?} fg {:?} bg {:?}\n\
-                     want lines {:?}\ngot screen\n{}",
+                    "cell ({x}, {y}) {}\nwant {want:?}\ngot  {got_cell:?}\nwant lines {:?}\ngot screen\n{}",
                     context(),
-                    got.fgcolor(),
-                    got.bgcolor(),
                     frame.lines(),
                     screen.contents()
                 );
             }
         }
     }
+}
+
+fn from_vt(color: vt100::Color) -> Color {
+    match color {
+        vt100::Color::Default => Color::Default,
+        vt100::Color::Idx(n) => Color::Indexed(n),
+        vt100::Color::Rgb(r, g, b) => Color::Rgb(r, g, b),
+    }
+}
+
+/// `Cell::inverse` and `Cell::same_look` agree with how the glyphs look, for every block glyph of every
+/// charset and for other glyphs.
+#[test]
+fn inverse_cells_look_the_same_and_nothing_else_does() {
+    let (a, b, c) = (Color::Rgb(200, 10, 10), Color::Indexed(33), Color::Default);
+    let mut glyphs: Vec<char> = HALF.iter().chain(&QUAD).copied().chain((0..64).map(sextant_glyph)).collect();
+    glyphs.extend(['a', '░', '▓', '─', 'é']);
+    let mut inverses = 0;
+    for &g in &glyphs {
+        let cell = Cell { ch: g, fg: a, bg: b };
+        if let Some(inverse) = cell.inverse() {
+            inverses += 1;
+            assert_eq!(look(&inverse), look(&cell), "{cell:?} vs its inverse {inverse:?}");
+            assert!(cell.same_look(&inverse) && inverse.same_look(&cell));
+        } else {
+            assert!(coverage(g).is_none(), "block glyph {g:?} has no inverse");
+        }
+        // same_look is exactly "looks the same" against every cell of these glyphs and colours.
+        for &h in &glyphs {
+            for (fg, bg) in [(a, b), (b, a), (a, c), (c, b), (a, a)] {
+                let other = Cell { ch: h, fg, bg };
+                assert_eq!(cell.same_look(&other), look(&cell) == look(&other), "{cell:?} vs {other:?}");
+            }
+        }
+    }
+    assert_eq!(inverses, HALF.len() + QUAD.len() + 64, "every block glyph of every table has one");
 }
 
 /// An emulated terminal of `width × height` cells, no scrollback.
@@ -48,14 +121,6 @@ fn resize(parser: &mut vt100::Parser, width: usize, height: usize) {
 
 fn nonzero(n: usize) -> std::num::NonZeroU16 {
     std::num::NonZeroU16::new(u16::try_from(n).unwrap()).expect("frames in these tests are never empty")
-}
-
-fn vt_color(color: Color) -> vt100::Color {
-    match color {
-        Color::Default => vt100::Color::Default,
-        Color::Indexed(n) => vt100::Color::Idx(n),
-        Color::Rgb(r, g, b) => vt100::Color::Rgb(r, g, b),
-    }
 }
 
 fn arb_color() -> impl Strategy<Value = Color> {

@@ -164,7 +164,12 @@ impl Encoder {
     pub fn lower_bound(&self, frame: &Frame) -> usize {
         let full =
             !self.valid || self.screen.width() != frame.width() || self.screen.height() != frame.height();
-        let glyph_bytes = |c: &Cell| if c.ch == ' ' { 0 } else { c.ch.len_utf8() };
+        // The cheaper of the cell and its inverse; a blank may be erased, so it costs nothing.
+        let bytes = |c: &Cell| if c.ch == ' ' { 0 } else { c.ch.len_utf8() };
+        let glyph_bytes = |c: &Cell| {
+            let c = c.canonical();
+            c.inverse().map_or(bytes(&c), |inverse| bytes(&c).min(bytes(&inverse)))
+        };
         if full {
             frame.cells().iter().map(glyph_bytes).sum()
         } else {
@@ -200,7 +205,7 @@ pub fn ansi_lines(frame: &Frame, out: &mut Vec<u8>) {
         let mut pen = Pen { cursor: None, fg: Some(Color::Default), bg: Some(Color::Default) };
         for cell in frame.row(y).unwrap_or(&[]) {
             let fg = (cell.ch != ' ').then_some(cell.fg);
-            write_sgr(out, &mut pen, fg, cell.bg);
+            write_sgr(out, &mut pen, fg, Some(cell.bg));
             push_char(out, cell.ch);
         }
         if pen.fg != Some(Color::Default) || pen.bg != Some(Color::Default) {
@@ -210,10 +215,10 @@ pub fn ansi_lines(frame: &Frame, out: &mut Vec<u8>) {
     }
 }
 
-/// Whether two cells look the same: same glyph and background, and same foreground unless a space.
+/// Whether two cells look the same on screen ([`Cell::same_look`]): what the diff compares.
 #[must_use]
 pub fn same_look(a: &Cell, b: &Cell) -> bool {
-    a.ch == b.ch && a.bg == b.bg && (a.ch == ' ' || a.fg == b.fg)
+    a.same_look(b)
 }
 
 /// The terminal state the encoder tracks; `None` means unknown.
@@ -249,7 +254,7 @@ fn paint_full(frame: &Frame, bce: bool, out: &mut Vec<u8>) -> Pen {
 fn clear_and_paint(frame: &Frame, bg: Color, bce: bool, out: &mut Vec<u8>) -> Pen {
     let mut pen = Pen::UNKNOWN;
     // The reset form also clears attributes we don't track (bold…) that someone else may have left.
-    write_sgr_reset(out, &mut pen, None, bg);
+    write_sgr_reset(out, &mut pen, None, Some(bg));
     out.extend_from_slice(b"\x1b[2J");
     let blank = Frame::filled(frame.width(), frame.height(), Cell { ch: ' ', fg: Color::Default, bg });
     diff(&blank, frame, bce, &mut pen, out);
@@ -311,7 +316,7 @@ fn diff_row(
             let mark = out.len();
             let mut erase = *pen;
             reach(&mut erase, out, y, x, new, |pen, out| {
-                write_sgr(out, pen, None, bg);
+                write_sgr(out, pen, None, Some(bg));
                 out.extend_from_slice(b"\x1b[K");
             });
             let erase_len = out.len() - mark;
@@ -321,7 +326,7 @@ fn diff_row(
             if erase_len < out.len() - mark {
                 out.truncate(mark);
                 reach(pen, out, y, x, new, |pen, out| {
-                    write_sgr(out, pen, None, bg);
+                    write_sgr(out, pen, None, Some(bg));
                     out.extend_from_slice(b"\x1b[K");
                 });
             } else {
@@ -378,10 +383,16 @@ fn reach(
     route(pen, out, best.1);
 }
 
-/// Writes one cell at the cursor: colours if needed, then the glyph.
+/// Writes one cell at the cursor: colours if needed, then the glyph. Of the cell and its
+/// [`Cell::inverse`] (same look), the one whose colours cost fewer bytes from the current pen.
 fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize) {
-    let fg = (cell.ch != ' ').then_some(cell.fg); // a space shows no foreground
-    write_sgr(out, pen, fg, cell.bg);
+    let cell = cell.canonical();
+    let cell = match cell.inverse() {
+        Some(inverse) if sgr_len(pen, &inverse) < sgr_len(pen, &cell) => inverse,
+        _ => cell,
+    };
+    let (fg, bg) = shown_colors(&cell);
+    write_sgr(out, pen, fg, bg);
     push_char(out, cell.ch);
     pen.cursor = match pen.cursor {
         Some((x, y)) if x + 1 < width => Some((x + 1, y)),
@@ -403,45 +414,68 @@ enum Layer {
     Bg,
 }
 
-/// Sets the colours to `fg` (`None`: don't care) and `bg` in the shortest form, if they changed.
-fn write_sgr(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg: Color) {
-    let fg_change = fg.filter(|&fg| pen.fg != Some(fg));
-    let bg_change = (pen.bg != Some(bg)).then_some(bg);
-    if fg_change.is_none() && bg_change.is_none() {
-        return;
-    }
-    // Two candidates: just the changed colours, or a reset followed by the non-default ones.
-    let mark = out.len();
-    out.extend_from_slice(b"\x1b[");
-    let mut sep = false;
-    for (color, layer) in [(fg_change, Layer::Fg), (bg_change, Layer::Bg)] {
-        if let Some(color) = color {
-            if sep {
-                out.push(b';');
-            }
-            push_color(out, color, layer);
-            sep = true;
-        }
-    }
-    out.push(b'm');
-    let plain_end = out.len();
-    let mut reset_pen = *pen;
-    write_sgr_reset(out, &mut reset_pen, fg, bg);
-    let reset_len = out.len() - plain_end;
-    if reset_len < plain_end - mark {
-        out.copy_within(plain_end.., mark);
-        out.truncate(mark + reset_len);
-        *pen = reset_pen;
-    } else {
-        out.truncate(plain_end);
-        pen.fg = fg.or(pen.fg);
-        pen.bg = Some(bg);
-    }
+/// The colours a cell needs on screen: no foreground for a space, no background for a full block.
+fn shown_colors(cell: &Cell) -> (Option<Color>, Option<Color>) {
+    ((cell.ch != ' ').then_some(cell.fg), (cell.ch != '█').then_some(cell.bg))
 }
 
-/// Resets SGR and sets `fg` (`None`: leave default) and `bg` in one sequence: `\x1b[m`, `\x1b[0;41m`…
-fn write_sgr_reset(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg: Color) {
-    let fg = fg.unwrap_or(Color::Default);
+/// The bytes [`write_sgr`] would send to show `cell`'s colours from `pen`.
+fn sgr_len(pen: &Pen, cell: &Cell) -> usize {
+    let (fg, bg) = shown_colors(cell);
+    sgr_forms(pen, fg, bg).map_or(0, |(plain, reset)| plain.min(reset))
+}
+
+/// The lengths of the two ways to set `fg` and `bg` (`None`: don't care) from `pen`: just the changed
+/// colours, or a reset followed by the non-default ones; `None` when nothing changes.
+fn sgr_forms(pen: &Pen, fg: Option<Color>, bg: Option<Color>) -> Option<(usize, usize)> {
+    let changes = sgr_changes(pen, fg, bg);
+    let n = changes.iter().flatten().count();
+    if n == 0 {
+        return None;
+    }
+    // ESC [ p;p m: codes joined by `;`.
+    let plain = 3 + n - 1 + changes.iter().flatten().map(|&(c, layer)| color_len(c, layer)).sum::<usize>();
+    // ESC [ 0;p;p m, or ESC [ m when both are the defaults.
+    let params: usize = [(fg, Layer::Fg), (bg, Layer::Bg)]
+        .into_iter()
+        .filter_map(|(c, layer)| Some((c.filter(|&c| c != Color::Default)?, layer)))
+        .map(|(c, layer)| 1 + color_len(c, layer))
+        .sum();
+    let reset = 3 + if params > 0 { 1 + params } else { 0 };
+    Some((plain, reset))
+}
+
+/// The colours that differ from the pen's, with their layer: foreground, then background.
+fn sgr_changes(pen: &Pen, fg: Option<Color>, bg: Option<Color>) -> [Option<(Color, Layer)>; 2] {
+    [
+        fg.filter(|&c| pen.fg != Some(c)).map(|c| (c, Layer::Fg)),
+        bg.filter(|&c| pen.bg != Some(c)).map(|c| (c, Layer::Bg)),
+    ]
+}
+
+/// Sets the colours to `fg` and `bg` (`None`: don't care) in the shortest form, if they changed.
+fn write_sgr(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg: Option<Color>) {
+    let Some((plain, reset)) = sgr_forms(pen, fg, bg) else { return };
+    if reset < plain {
+        return write_sgr_reset(out, pen, fg, bg);
+    }
+    let start = out.len();
+    out.extend_from_slice(b"\x1b[");
+    for (i, (color, layer)) in sgr_changes(pen, fg, bg).into_iter().flatten().enumerate() {
+        if i > 0 {
+            out.push(b';');
+        }
+        push_color(out, color, layer);
+    }
+    out.push(b'm');
+    debug_assert_eq!(out.len() - start, plain);
+    pen.fg = fg.or(pen.fg);
+    pen.bg = bg.or(pen.bg);
+}
+
+/// Resets SGR and sets `fg` and `bg` (`None`: leave default) in one sequence: `\x1b[m`, `\x1b[0;41m`…
+fn write_sgr_reset(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg: Option<Color>) {
+    let (fg, bg) = (fg.unwrap_or(Color::Default), bg.unwrap_or(Color::Default));
     out.extend_from_slice(b"\x1b[");
     let colors = [(fg, Layer::Fg), (bg, Layer::Bg)];
     let mut non_default = colors.iter().filter(|(c, _)| *c != Color::Default).peekable();
@@ -479,6 +513,17 @@ fn push_color(out: &mut Vec<u8>, color: Color, layer: Layer) {
                 push_num(out, c.into());
             }
         }
+    }
+}
+
+/// The length of [`push_color`]'s parameters for `color`.
+fn color_len(color: Color, layer: Layer) -> usize {
+    let digits = |n: u8| 1 + usize::from(n >= 10) + usize::from(n >= 100);
+    match color {
+        Color::Default | Color::Indexed(0..=7) => 2,
+        Color::Indexed(8..=15) => 2 + usize::from(layer == Layer::Bg), // 90–97, 100–107
+        Color::Indexed(n) => 5 + digits(n),                            // 38;5;n
+        Color::Rgb(r, g, b) => 7 + digits(r) + digits(g) + digits(b),  // 38;2;r;g;b
     }
 }
 
@@ -651,7 +696,7 @@ mod tests {
     fn sgr(from: (Option<Color>, Option<Color>), fg: Option<Color>, bg: Color) -> (String, Pen) {
         let mut out = Vec::new();
         let mut pen = Pen { cursor: None, fg: from.0, bg: from.1 };
-        write_sgr(&mut out, &mut pen, fg, bg);
+        write_sgr(&mut out, &mut pen, fg, Some(bg));
         (String::from_utf8(out).unwrap(), pen)
     }
 
