@@ -30,7 +30,7 @@ use mazewalk::app::state::TURN_SPEED;
 use mazewalk::app::{App, Key, KeyKind};
 use mazewalk::frame::{Cell, Color, ColorDepth, Frame};
 use mazewalk::render::{Charset, Culling, RenderOptions, Renderer};
-use mazewalk::term::encoder::{Encoder, full_repaint};
+use mazewalk::term::encoder::{DEFAULT_TOLERANCE, Encoder, full_repaint};
 use ratatui::backend::CrosstermBackend;
 use ratatui::layout::Rect;
 use ratatui::style::Color as RColor;
@@ -224,6 +224,8 @@ impl Kinds {
 #[derive(Clone, Copy, Default)]
 struct Bytes {
     ours: usize,
+    /// Ours with the walkthrough's colour tolerance ([`DEFAULT_TOLERANCE`]).
+    ours_tolerant: usize,
     ratatui: usize,
     ratatui_literal: usize,
     naive: usize,
@@ -241,10 +243,10 @@ fn from_vt(color: vt100::Color) -> Color {
     }
 }
 
-/// Panics unless the emulated screen shows `frame`: every cell looks the same ([`Cell::same_look`]:
-/// glyph and colours, or the inverse block glyph in swapped colours; tested against the glyphs'
-/// coverage in `tests/term_encoder.rs`).
-fn check_screen(who: &str, parser: &vt100::Parser, frame: &Frame, k: usize) {
+/// Panics unless the emulated screen shows `frame`: every cell looks the same up to `tolerance` 8-bit
+/// steps per truecolor channel ([`Cell::looks_within`]: glyph and colours, or the inverse block glyph in
+/// swapped colours; tested against the glyphs' coverage in `tests/term_encoder.rs`).
+fn check_screen(who: &str, parser: &vt100::Parser, frame: &Frame, k: usize, tolerance: u8) {
     let screen = parser.screen();
     for y in 0..frame.height() {
         for x in 0..frame.width() {
@@ -252,7 +254,10 @@ fn check_screen(who: &str, parser: &vt100::Parser, frame: &Frame, k: usize) {
             let got = screen.cell(y as u16, x as u16).expect("in the screen");
             let ch = got.contents().chars().next().unwrap_or(' ');
             let got = Cell { ch, fg: from_vt(got.fgcolor()), bg: from_vt(got.bgcolor()) };
-            assert!(want.same_look(&got), "{who}: frame {k}, cell ({x}, {y}): want {want:?}, got {got:?}");
+            assert!(
+                want.looks_within(&got, tolerance),
+                "{who}: frame {k}, cell ({x}, {y}): want {want:?}, got {got:?}"
+            );
         }
     }
 }
@@ -260,9 +265,12 @@ fn check_screen(who: &str, parser: &vt100::Parser, frame: &Frame, k: usize) {
 /// Every frame's bytes by each method; both diffing streams are checked on an emulated terminal.
 fn measure_bytes(steps: &[Step]) -> Vec<Bytes> {
     let size = |n: usize| std::num::NonZeroU16::new(n as u16).expect("non-empty");
-    let (mut ours_vt, mut ratatui_vt) =
-        (vt100::Parser::new(size(ROWS), size(COLS), 0), vt100::Parser::new(size(ROWS), size(COLS), 0));
+    let terminal = || vt100::Parser::new(size(ROWS), size(COLS), 0);
+    let (mut ours_vt, mut tolerant_vt, mut ratatui_vt) = (terminal(), terminal(), terminal());
     let mut encoder = Encoder::new();
+    let mut tolerant = Encoder::new();
+    tolerant.set_tolerance(DEFAULT_TOLERANCE);
+    let mut tolerant_out = Vec::new();
     let copy = Rc::new(std::cell::RefCell::new(Vec::new()));
     let mut ratatui = Ratatui::new(Some(copy.clone()), false);
     let mut ratatui_literal = Ratatui::new(None, true);
@@ -272,6 +280,9 @@ fn measure_bytes(steps: &[Step]) -> Vec<Bytes> {
         let lower = encoder.lower_bound(&step.frame);
         out.clear();
         let stats = encoder.encode(&step.frame, &mut out);
+        tolerant_out.clear();
+        tolerant.encode(&step.frame, &mut tolerant_out);
+        tolerant_vt.process(&tolerant_out);
         naive.clear();
         full_repaint(&step.frame, &mut naive);
         let ratatui_bytes = ratatui.draw(&step.frame);
@@ -280,10 +291,12 @@ fn measure_bytes(steps: &[Step]) -> Vec<Bytes> {
         ratatui_vt.process(&copy.borrow());
         let ratatui_kinds = Kinds::of(&copy.borrow());
         copy.borrow_mut().clear();
-        check_screen("mazewalk", &ours_vt, &step.frame, k);
-        check_screen("ratatui", &ratatui_vt, &step.frame, k);
+        check_screen("mazewalk", &ours_vt, &step.frame, k, 0);
+        check_screen("mazewalk, tolerant", &tolerant_vt, &step.frame, k, DEFAULT_TOLERANCE);
+        check_screen("ratatui", &ratatui_vt, &step.frame, k, 0);
         all.push(Bytes {
             ours: stats.bytes,
+            ours_tolerant: tolerant_out.len(),
             ratatui: ratatui_bytes,
             ratatui_literal: ratatui_literal_bytes,
             naive: naive.len(),
@@ -326,14 +339,18 @@ fn report(depth: ColorDepth, steps: &[Step], bytes: &[Bytes]) -> (String, String
     let line = |md: &mut String, name: &str, rows: &[Bytes]| {
         let col = |f: fn(&Bytes) -> usize| rows.iter().map(f).collect::<Vec<_>>();
         let (ours, rat, lit) = (col(|b| b.ours), col(|b| b.ratatui), col(|b| b.ratatui_literal));
+        let tolerant = col(|b| b.ours_tolerant);
         let (naive, lower) = (col(|b| b.naive), col(|b| b.lower));
         let ratio = |a: f64, b: f64| if b > 0.0 { format!("{:.0} %", 100.0 * a / b) } else { "–".into() };
         let _ = writeln!(
             md,
-            "| {name} | {} | {:.0} / {:.0} | {:.0} / {:.0} | {:.0} | {:.0} | {:.0} / {:.0} | **{}** / {} | {} |",
+            "| {name} | {} | {:.0} / {:.0} | {:.0} / {:.0} | {:.0} / {:.0} | {:.0} | {:.0} | {:.0} / {:.0} \
+             | **{}** / {} | **{}** / {} | {} |",
             rows.len(),
             median(ours.clone()),
             mean(&ours),
+            median(tolerant.clone()),
+            mean(&tolerant),
             median(rat.clone()),
             mean(&rat),
             mean(&lit),
@@ -342,17 +359,20 @@ fn report(depth: ColorDepth, steps: &[Step], bytes: &[Bytes]) -> (String, String
             mean(&lower),
             ratio(mean(&ours), mean(&rat)),
             ratio(median(ours.clone()), median(rat.clone())),
+            ratio(mean(&tolerant), mean(&rat)),
+            ratio(median(tolerant.clone()), median(rat.clone())),
             ratio(mean(&ours), mean(&naive)),
         );
     };
     let _ = writeln!(md, "#### {depth:?}, {COLS}×{ROWS} half blocks\n");
     let _ = writeln!(
         md,
-        "| frames | n | mazewalk median / mean | ratatui median / mean | ratatui, literal cells, mean \
-         | full repaint median | lower bound median / mean | mazewalk ÷ ratatui, means / medians \
-         | mazewalk ÷ full repaint (means) |"
+        "| frames | n | mazewalk exact, median / mean | mazewalk ±{DEFAULT_TOLERANCE} (default), median / mean \
+         | ratatui median / mean | ratatui, literal cells, mean | full repaint median \
+         | lower bound median / mean | exact ÷ ratatui, means / medians | ±{DEFAULT_TOLERANCE} ÷ ratatui, means / medians \
+         | exact ÷ full repaint (means) |"
     );
-    let _ = writeln!(md, "|---|--:|--:|--:|--:|--:|--:|--:|--:|");
+    let _ = writeln!(md, "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|");
     line(&mut md, "**walking** (camera moved)", &rows(&|s| s.moved));
     line(&mut md, "idle (camera still)", &rows(&|s| !s.moved));
     let mut phases: Vec<&str> = Vec::new();

@@ -67,8 +67,27 @@ impl Cell {
     /// block glyph whose two colours are equal looks like a blank of that colour.
     #[must_use]
     pub fn same_look(&self, other: &Cell) -> bool {
+        self.looks_within(other, 0)
+    }
+
+    /// [`Cell::same_look`] up to `tolerance` 8-bit steps per channel between truecolor colours (other
+    /// colours must be equal): what the encoder's [`set_tolerance`](crate::term::encoder::Encoder::set_tolerance) leaves alone.
+    #[must_use]
+    pub fn looks_within(&self, other: &Cell, tolerance: u8) -> bool {
+        if self == other {
+            return true; // the diff's common case, first
+        }
+        let close = |a: Color, b: Color| match (a, b) {
+            (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) => {
+                r.abs_diff(r2) <= tolerance && g.abs_diff(g2) <= tolerance && b.abs_diff(b2) <= tolerance
+            }
+            _ => a == b,
+        };
+        let looks_like = |a: &Cell, b: &Cell| {
+            a.ch == b.ch && (a.ch == ' ' || close(a.fg, b.fg)) && (a.ch == FULL_BLOCK || close(a.bg, b.bg))
+        };
         let (a, b) = (self.canonical(), other.canonical());
-        a.looks_like(&b) || a.inverse().is_some_and(|inverse| inverse.looks_like(&b))
+        looks_like(&a, &b) || a.inverse().is_some_and(|inverse| looks_like(&inverse, &b))
     }
 
     /// The cell itself, or a blank where a block glyph is drawn in one colour (it looks like one).
@@ -79,12 +98,6 @@ impl Cell {
         } else {
             *self
         }
-    }
-
-    fn looks_like(&self, other: &Cell) -> bool {
-        self.ch == other.ch
-            && (self.ch == ' ' || self.fg == other.fg)
-            && (self.ch == FULL_BLOCK || self.bg == other.bg)
     }
 }
 

@@ -46,6 +46,10 @@ struct WalkArgs {
     maze: MazeArgs,
     #[command(flatten)]
     look: LookArgs,
+    /// Truecolor cells whose colours moved by at most this many 8-bit steps per channel since they were
+    /// sent stay as they are (fewer bytes while walking; 0: every change is sent exactly).
+    #[arg(long, value_name = "STEPS", default_value_t = encoder::DEFAULT_TOLERANCE, value_parser = clap::value_parser!(u8).range(0..=16))]
+    color_tolerance: u8,
 }
 
 /// Where the maze comes from.
@@ -223,7 +227,7 @@ fn cmd_walk(args: &WalkArgs) -> anyhow::Result<()> {
     }
     let mut app = App::new(maze, args.look.options(Culling::Portal), 0.0)?;
     let env = |k: &str| std::env::var(k).ok();
-    let outcome = run(&mut app, caps::detect_bce(env)).context("terminal")?;
+    let outcome = run(&mut app, caps::detect_bce(env), args.color_tolerance).context("terminal")?;
     if let Some(seconds) = outcome.finished {
         println!("You found the exit in {seconds:.1} s.");
     }

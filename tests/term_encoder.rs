@@ -50,8 +50,38 @@ fn look(cell: &Cell) -> Look {
     }
 }
 
+/// Whether two looks are the same up to `tolerance` 8-bit steps per channel of truecolor colours.
+fn looks_close(a: &Look, b: &Look, tolerance: u8) -> bool {
+    let close = |a: &Color, b: &Color| match (a, b) {
+        (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) => {
+            [r.abs_diff(*r2), g.abs_diff(*g2), b.abs_diff(*b2)].iter().all(|&d| d <= tolerance)
+        }
+        _ => a == b,
+    };
+    match (a, b) {
+        (Look::Block(a), Look::Block(b)) => a.iter().zip(b).all(|(a, b)| close(a, b)),
+        (Look::Glyph(ch, fg, bg), Look::Glyph(ch2, fg2, bg2)) => {
+            ch == ch2
+                && close(bg, bg2)
+                && fg.zip(*fg2).is_none_or(|(a, b)| close(&a, &b))
+                && fg.is_some() == fg2.is_some()
+        }
+        _ => false,
+    }
+}
+
 /// Asserts the emulated screen shows `frame`: every cell looks as intended (see [`Look`]).
 fn assert_screen_shows(parser: &vt100::Parser, frame: &Frame, context: impl Fn() -> String) {
+    assert_screen_shows_within(parser, frame, 0, context);
+}
+
+/// [`assert_screen_shows`] up to the encoder's colour `tolerance`.
+fn assert_screen_shows_within(
+    parser: &vt100::Parser,
+    frame: &Frame,
+    tolerance: u8,
+    context: impl Fn() -> String,
+) {
     let screen = parser.screen();
     for y in 0..frame.height() {
         for x in 0..frame.width() {
@@ -59,7 +89,7 @@ fn assert_screen_shows(parser: &vt100::Parser, frame: &Frame, context: impl Fn()
             let got = screen.cell(y as u16, x as u16).unwrap();
             let got_ch = got.contents().chars().next().unwrap_or(' '); // erased cells are empty
             let got_cell = Cell { ch: got_ch, fg: from_vt(got.fgcolor()), bg: from_vt(got.bgcolor()) };
-            if look(&got_cell) != look(want) {
+            if !looks_close(&look(&got_cell), &look(want), tolerance) {
                 panic!(
                     "cell ({x}, {y}) {}\nwant {want:?}\ngot  {got_cell:?}\nwant lines {:?}\ngot screen\n{}",
                     context(),
@@ -233,9 +263,14 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: ProptestConfig::default().cases.max(1000), ..Default::default() })]
 
     #[test]
-    fn the_emulated_screen_always_shows_the_last_frame((first, steps) in arb_frame_sequence(), bce in any::<bool>()) {
+    fn the_emulated_screen_always_shows_the_last_frame(
+        (first, steps) in arb_frame_sequence(),
+        bce in any::<bool>(),
+        tolerance in prop_oneof![3 => Just(0u8), 1 => 1u8..4],
+    ) {
         let mut encoder = Encoder::new();
         encoder.set_bce(bce);
+        encoder.set_tolerance(tolerance);
         let mut parser = terminal(first.width(), first.height());
         // The terminal starts with junk on it and odd colours set.
         parser.process(b"\x1b[1;1Hjunk\x1b[31;42mmore junk\x1b[7;3H");
@@ -261,7 +296,7 @@ proptest! {
                 prop_assert_eq!(stats.cells_changed, 0);
             }
             parser.process(&out);
-            assert_screen_shows(&parser, &frame, || format!("after step {i} {step:?}\nbytes {:?}", String::from_utf8_lossy(&out)));
+            assert_screen_shows_within(&parser, &frame, tolerance, || format!("after step {i} {step:?}\nbytes {:?}", String::from_utf8_lossy(&out)));
             prev = Some(frame.clone());
         }
     }
@@ -375,4 +410,48 @@ fn report_bytes_for_typical_scenarios() {
     );
     assert!(full < naive.len() / 2);
     assert_eq!(none, 0);
+}
+
+/// With a tolerance, colours that creep by one step a frame are resent whenever the screen would lag
+/// by more than the tolerance, never later; nothing is sent while they stay within it; other glyphs and
+/// indexed colours are always exact.
+#[test]
+fn a_tolerance_lets_small_changes_wait_but_never_drift() {
+    let (width, height) = (12, 4);
+    let frame_at = |t: u8| {
+        let mut frame = Frame::new(width, height);
+        for y in 0..height {
+            for x in 0..width {
+                let v = 100 + t + x as u8; // every cell one step brighter per frame
+                let ch = ['▀', ' ', '▄', '🬻'][y];
+                frame.set(x, y, Cell { ch, fg: Color::Rgb(v, v / 2, 40), bg: Color::Rgb(30, v, v / 3) });
+            }
+        }
+        frame.set(0, 0, Cell { ch: 'x', fg: Color::Indexed(100 + t), bg: Color::Default });
+        frame
+    };
+    for tolerance in [0u8, 1, 2] {
+        let mut encoder = Encoder::new();
+        encoder.set_tolerance(tolerance);
+        let mut parser = terminal(width, height);
+        let mut out = Vec::new();
+        let mut quiet_frames = 0;
+        for t in 0..12u8 {
+            let frame = frame_at(t);
+            out.clear();
+            let stats = encoder.encode(&frame, &mut out);
+            parser.process(&out);
+            assert_screen_shows_within(&parser, &frame, tolerance, || {
+                format!("tolerance {tolerance}, frame {t}")
+            });
+            // (The indexed cell changes every frame and is checked exactly: the tolerance is for
+            // truecolor only.)
+            if t > 0 && stats.cells_changed == 1 {
+                quiet_frames += 1; // only the indexed cell was sent
+            }
+        }
+        // The screen lags by one more step each frame; at tolerance + 1 the cells are resent: of the 11
+        // frames after the first, ⌊11 ⁄ (tolerance + 1)⌋ send them.
+        assert_eq!(quiet_frames, 11 - 11 / (usize::from(tolerance) + 1), "tolerance {tolerance}");
+    }
 }

@@ -51,15 +51,17 @@ pub struct Screen {
 }
 
 /// Runs the walkthrough until the user quits. The terminal is restored on return, on error, on panic
-/// and on SIGTERM / SIGHUP / SIGINT (the guard).
+/// and on SIGTERM / SIGHUP / SIGINT (the guard). `bce` and `color_tolerance` set up the encoder
+/// ([`Encoder::set_bce`], [`Encoder::set_tolerance`]).
 ///
 /// # Errors
 /// The terminal could not be set up, read or written.
-pub fn run(app: &mut App, bce: bool) -> io::Result<Outcome> {
+pub fn run(app: &mut App, bce: bool, color_tolerance: u8) -> io::Result<Outcome> {
     let mut terminal = TerminalGuard::enter(GuardOptions::default())?;
     app.releases = terminal.enabled().reports_key_releases();
     let mut encoder = Encoder::new();
     encoder.set_bce(bce);
+    encoder.set_tolerance(color_tolerance);
     let mut input = InputReader::new();
     let (cols, rows) = guard::size()?;
     let mut frame = Frame::new(cols.into(), rows.into());
