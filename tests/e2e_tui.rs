@@ -7,8 +7,9 @@
 //! 0×0), walking, turning with the mouse, resizes, that nothing is sent while nothing changes, and that
 //! the terminal is restored — the exact restore bytes last, the emulated screen back on the main
 //! screen with a cursor, the pty's termios as before the start — after `q`, Esc, Ctrl-C, Ctrl-Z
-//! (restore, then back), SIGTERM, SIGHUP and SIGINT (also mid-frame); a hang-up ends the process; a
-//! malformed maze is reported before the terminal is touched.
+//! (restore, then back), SIGTERM, SIGHUP and SIGINT (also mid-frame); a hang-up ends the process, with
+//! or without a SIGHUP (the pty as controlling terminal or only as stdio); a malformed maze is reported
+//! before the terminal is touched.
 //!
 //! Every wait polls with a deadline; a failing test kills its child (in `Drop`) and prints the screen.
 //! Unix only (ptys, signals).
@@ -63,6 +64,51 @@ enum Answers {
     Silent,
 }
 
+/// How the binary is attached to its pty.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Session {
+    /// It leads a session of its own with the pty as controlling terminal, as under a terminal
+    /// emulator, `ssh -t` or tmux: closing the pty sends it SIGHUP, resizing it SIGWINCH. Its process
+    /// group is orphaned (its parent, this test, is in another session), so the kernel discards
+    /// job-control stops: a SIGTSTP with the default action does nothing.
+    Leader,
+    /// A job, as a shell starts it: a process group of its own in this test's session, so not
+    /// orphaned (a stop really stops it), but with no controlling terminal at all: the pty is only its
+    /// stdin, stdout and stderr, so closing the pty sends no SIGHUP (and resizing it no SIGWINCH).
+    Job,
+}
+
+/// Gives up the controlling terminal `tty` (TIOCNOTTY, which rustix has no wrapper for); for a process
+/// that doesn't lead its session, that is all it does. Only async-signal-safe work: it runs in the child
+/// between fork and exec.
+fn give_up_controlling_terminal(tty: &OwnedFd) -> std::io::Result<()> {
+    // Linux's number on all architectures but MIPS and SPARC; the BSDs' and macOS's `_IO('t', 113)`.
+    #[cfg(all(
+        target_os = "linux",
+        not(any(target_arch = "mips", target_arch = "mips64", target_arch = "sparc64"))
+    ))]
+    const TIOCNOTTY: Option<rustix::ioctl::Opcode> = Some(0x5422);
+    #[cfg(any(target_os = "macos", target_os = "freebsd", target_os = "netbsd", target_os = "openbsd"))]
+    const TIOCNOTTY: Option<rustix::ioctl::Opcode> = Some(rustix::ioctl::opcode::none(b't', 113));
+    #[cfg(not(any(
+        all(
+            target_os = "linux",
+            not(any(target_arch = "mips", target_arch = "mips64", target_arch = "sparc64"))
+        ),
+        target_os = "macos",
+        target_os = "freebsd",
+        target_os = "netbsd",
+        target_os = "openbsd"
+    )))]
+    const TIOCNOTTY: Option<rustix::ioctl::Opcode> = None; // unknown here: keep it (only sizes differ)
+    if TIOCNOTTY.is_some() {
+        const OPCODE: rustix::ioctl::Opcode = if let Some(opcode) = TIOCNOTTY { opcode } else { 0 };
+        // SAFETY: TIOCNOTTY takes no argument and touches no memory of ours.
+        unsafe { rustix::ioctl::ioctl(tty, rustix::ioctl::NoArg::<OPCODE>::new())? };
+    }
+    Ok(())
+}
+
 /// The binary running in a pty.
 struct Tui {
     child: Child,
@@ -103,6 +149,11 @@ impl Tui {
     /// Starts `mazewalk ARGS` in a `cols × rows` pty with TERM=xterm-256color, as the session leader
     /// with the pty as its controlling terminal (so it gets SIGWINCH and can open /dev/tty).
     fn spawn(args: &[&str], cols: u16, rows: u16, answers: Answers) -> Tui {
+        Tui::spawn_as(Session::Leader, args, cols, rows, answers)
+    }
+
+    /// [`Tui::spawn`], attached to the pty as `session` says.
+    fn spawn_as(session: Session, args: &[&str], cols: u16, rows: u16, answers: Answers) -> Tui {
         let pty = rustix_openpty::openpty(None, Some(&winsize(cols, rows))).expect("openpty");
         let master = File::from(pty.controller);
         let slave = pty.user;
@@ -117,15 +168,29 @@ impl Tui {
             .stdin(stdio())
             .stdout(stdio())
             .stderr(stdio());
-        // SAFETY: runs in the forked child before exec and only makes two system calls (setsid,
-        // ioctl), which are async-signal-safe; it allocates nothing and takes no locks.
-        unsafe {
-            command.pre_exec(|| {
-                rustix::process::setsid()?;
-                // std has already made the pty the child's stdin (fd 0).
-                rustix::process::ioctl_tiocsctty(rustix::stdio::stdin())?;
-                Ok(())
-            });
+        match session {
+            // SAFETY: runs in the forked child before exec and only makes two system calls (setsid,
+            // ioctl), which are async-signal-safe; it allocates nothing and takes no locks.
+            Session::Leader => unsafe {
+                command.pre_exec(|| {
+                    rustix::process::setsid()?;
+                    // std has already made the pty the child's stdin (fd 0).
+                    rustix::process::ioctl_tiocsctty(rustix::stdio::stdin())?;
+                    Ok(())
+                });
+            },
+            Session::Job => {
+                command.process_group(0);
+                // Run from a terminal, this test has one as controlling terminal, and so would the
+                // child: it would read that terminal's size through /dev/tty. It gives it up instead.
+                let ctty = File::open("/dev/tty").ok().map(OwnedFd::from);
+                // SAFETY: runs in the forked child before exec and makes at most one system call
+                // (ioctl, async-signal-safe) on a descriptor opened before the fork; it allocates
+                // nothing and takes no locks.
+                unsafe {
+                    command.pre_exec(move || ctty.as_ref().map_or(Ok(()), give_up_controlling_terminal));
+                }
+            }
         }
         let child = command.spawn().expect("spawn mazewalk");
         drop(command); // closes the command's copies of the terminal side
@@ -320,17 +385,20 @@ impl Tui {
         termios::tcgetattr(self.slave.as_ref().expect("the terminal side is open")).expect("tcgetattr")
     }
 
-    /// Waits for the child to exit (within [`TIMEOUT`]), checks the pty is back in cooked mode, then
-    /// closes the terminal side and collects every byte the child wrote.
-    fn finish(&mut self) -> (ExitStatus, Vec<u8>) {
+    /// Waits for the child to exit; panics after [`TIMEOUT`].
+    fn wait_exit(&mut self) -> ExitStatus {
         let deadline = Instant::now() + TIMEOUT;
-        let status = loop {
+        loop {
             if let Some(status) = self.child.try_wait().expect("try_wait") {
-                break status;
+                return status;
             }
-            assert!(Instant::now() < deadline, "the child did not exit in time");
+            assert!(Instant::now() < deadline, "the child did not exit within {TIMEOUT:?}");
             std::thread::sleep(Duration::from_millis(10));
-        };
+        }
+    }
+
+    /// Asserts the terminal side is in cooked mode, with the very modes it had before the start.
+    fn assert_cooked(&self) {
         let (now, before) = (self.termios(), &self.cooked);
         assert!(
             now.local_modes.contains(LocalModes::ICANON | LocalModes::ECHO | LocalModes::ISIG),
@@ -342,6 +410,13 @@ impl Tui {
             (before.input_modes, before.output_modes, before.control_modes, before.local_modes),
             "the terminal modes differ from those before the start"
         );
+    }
+
+    /// Waits for the child to exit (within [`TIMEOUT`]), checks the pty is back in cooked mode, then
+    /// closes the terminal side and collects every byte the child wrote.
+    fn finish(&mut self) -> (ExitStatus, Vec<u8>) {
+        let status = self.wait_exit();
+        self.assert_cooked();
         drop(self.slave.take());
         // The child is gone and so is our copy of the terminal side: the reader sees EOF (EIO) once
         // it has read everything.
@@ -361,7 +436,12 @@ impl Tui {
 
     /// Starts the walkthrough of the built-in maze and waits for its first complete screen.
     fn walk(cols: u16, rows: u16, answers: Answers) -> Tui {
-        let tui = Tui::spawn(&[], cols, rows, answers);
+        Tui::walk_as(Session::Leader, cols, rows, answers)
+    }
+
+    /// [`Tui::walk`], attached to the pty as `session` says.
+    fn walk_as(session: Session, cols: u16, rows: u16, answers: Answers) -> Tui {
+        let tui = Tui::spawn_as(session, &[], cols, rows, answers);
         tui.wait_for("the first frame (alternate screen, hidden cursor, HUD)", |s| {
             let (rows, cols) = size(s);
             let hud = s.contents_between(rows - 1, 0, rows - 1, cols);
@@ -406,6 +486,19 @@ fn assert_restored(tui: &Tui, raw: &[u8], enabled: Enabled) {
     });
 }
 
+/// Whether the 3D view fills the screen above the HUD: nearly every cell has a glyph or a colour.
+fn view_drawn(s: &vt100::Screen) -> bool {
+    let (rows, cols) = size(s);
+    let drawn = (0..rows - 1)
+        .flat_map(|r| (0..cols).map(move |c| (r, c)))
+        .filter(|&(r, c)| {
+            let cell = s.cell(r, c).unwrap();
+            cell.contents().trim() != "" || cell.bgcolor() != vt100::Color::Default
+        })
+        .count();
+    drawn * 10 > usize::from(rows - 1) * usize::from(cols) * 9
+}
+
 /// The `(x, y)` position on the HUD.
 fn position(hud: &str) -> (f32, f32) {
     let inner = hud.split_once('(').and_then(|(_, r)| r.split_once(')')).map(|(p, _)| p);
@@ -442,22 +535,8 @@ fn walk_look_at_help_and_map_then_quit_restores_the_terminal() {
         visible(enter.as_bytes())
     );
 
-    // The 3D view fills the screen above the HUD: nearly every cell has a glyph or a colour.
-    tui.screen(|s| {
-        let (rows, cols) = size(s);
-        let drawn = (0..rows - 1)
-            .flat_map(|r| (0..cols).map(move |c| (r, c)))
-            .filter(|&(r, c)| {
-                let cell = s.cell(r, c).unwrap();
-                cell.contents().trim() != "" || cell.bgcolor() != vt100::Color::Default
-            })
-            .count();
-        assert!(
-            drawn * 10 > usize::from(rows - 1) * usize::from(cols) * 9,
-            "a blank 3D view:\n{}",
-            s.contents()
-        );
-    });
+    // The 3D view fills the screen above the HUD.
+    assert!(tui.screen(view_drawn), "a blank 3D view:\n{}", tui.screen(|s| s.contents()));
     let hud = tui.hud();
     assert!(hud.contains("cell "), "{hud:?}");
     let start = position(&hud);
@@ -560,14 +639,21 @@ fn a_hang_up_ends_the_walk() {
     let mut tui = Tui::walk(80, 24, Answers::Plain);
     tui.settle();
     tui.hang_up();
-    let deadline = Instant::now() + TIMEOUT;
-    let status = loop {
-        if let Some(status) = tui.child.try_wait().expect("try_wait") {
-            break status;
-        }
-        assert!(Instant::now() < deadline, "still running {TIMEOUT:?} after the hang-up");
-        std::thread::sleep(Duration::from_millis(10));
-    };
+    let status = tui.wait_exit();
+    assert_eq!(status.code(), Some(128 + Signal::HUP.as_raw()), "{status:?}");
+}
+
+#[test]
+fn a_terminal_that_vanishes_without_a_sighup_ends_the_walk() {
+    // The pty is not the binary's controlling terminal, so closing it sends no SIGHUP: the binary
+    // only learns from the terminal itself (reads return end of file, writes fail). It must exit
+    // promptly, as after a SIGHUP, rather than spin on reads that return nothing.
+    let mut tui = Tui::walk_as(Session::Job, 80, 24, Answers::Plain);
+    tui.settle();
+    let sent = Instant::now();
+    tui.hang_up();
+    let status = tui.wait_exit();
+    assert!(sent.elapsed() < Duration::from_secs(5), "took {:?} to exit", sent.elapsed());
     assert_eq!(status.code(), Some(128 + Signal::HUP.as_raw()), "{status:?}");
 }
 

@@ -2,7 +2,8 @@
 //!
 //! "Always" means: when the guard drops, when the program panics (a panic hook restores before the
 //! message prints), when SIGTERM, SIGHUP (the SSH connection dropped) or SIGINT arrive (restore, then
-//! exit with 128 + signal number), and around Ctrl-Z ([`TerminalGuard::suspend`]).
+//! exit with 128 + signal number), when the terminal hangs up without a SIGHUP (exit as for SIGHUP),
+//! and around Ctrl-Z ([`TerminalGuard::suspend`]).
 //!
 //! All those paths share one idempotent restore, [`restore_terminal`], behind one global lock that
 //! also serializes frame writes ([`TerminalGuard::write_frame`]): a signal can never cut a frame in
@@ -28,7 +29,8 @@ pub struct GuardOptions {
     pub focus_events: bool,
     /// Ask for the kitty keyboard protocol (key releases and repeats) if the terminal supports it.
     pub keyboard_enhancement: bool,
-    /// Restore the terminal and exit on SIGTERM, SIGHUP and SIGINT (Unix; installed once per process).
+    /// Restore the terminal and exit on SIGTERM, SIGHUP and SIGINT, and when the terminal hangs up
+    /// without a SIGHUP (Unix; installed once per process).
     pub handle_signals: bool,
 }
 
@@ -163,6 +165,7 @@ impl TerminalGuard {
         install_panic_hook();
         if options.handle_signals {
             install_signal_handler()?;
+            watch_for_hang_up()?;
         }
         let mut active = active();
         if active.is_some() {
@@ -312,6 +315,53 @@ fn install_signal_handler() -> io::Result<()> {
 #[cfg(not(unix))]
 fn install_signal_handler() -> io::Result<()> {
     Ok(()) // no POSIX signals; crossterm reports Ctrl-C as a key in raw mode
+}
+
+/// A terminal that goes away sends SIGHUP only to the session it controls; one that is merely our
+/// stdin (no controlling terminal, or another one) just hangs up: reads return end of file. crossterm
+/// 0.29's reader then loops on `read` inside `event::poll` without ever returning, at 100% CPU, so
+/// the event loop cannot notice. A thread sleeps in `poll(2)` on the terminal crossterm reads (stdin,
+/// else /dev/tty) for that hang-up alone, then ends the process as SIGHUP would: restore (which fails
+/// quietly on a dead terminal) and exit with 128 + SIGHUP.
+#[cfg(unix)]
+fn watch_for_hang_up() -> io::Result<()> {
+    use rustix::event::{PollFd, PollFlags};
+    use std::io::IsTerminal;
+    use std::os::fd::AsFd;
+    static WATCHING: Mutex<bool> = Mutex::new(false);
+    let mut watching = WATCHING.lock().unwrap_or_else(PoisonError::into_inner);
+    if *watching {
+        return Ok(());
+    }
+    let stdin = io::stdin();
+    let tty = if stdin.is_terminal() {
+        stdin.as_fd().try_clone_to_owned()?
+    } else {
+        std::fs::File::options().read(true).write(true).open("/dev/tty")?.into()
+    };
+    std::thread::Builder::new().name("mazewalk-hang-up".into()).spawn(move || {
+        // No events asked for: poll reports only hang-ups and errors, so keys don't wake this thread.
+        let mut fds = [PollFd::new(&tty, PollFlags::empty())];
+        loop {
+            match rustix::event::poll(&mut fds, None) {
+                Err(rustix::io::Errno::INTR) => continue,
+                Ok(_) if fds[0].revents().contains(PollFlags::HUP) => break,
+                // Anything else (POLLNVAL where ttys can't be polled, an error): give up watching
+                // rather than spin.
+                _ => return,
+            }
+        }
+        let mut active = active(); // kept until exit, as on a signal
+        let _ = restore_locked(&mut active);
+        std::process::exit(exit_code_for_signal(signal_hook::consts::SIGHUP));
+    })?;
+    *watching = true;
+    Ok(())
+}
+
+#[cfg(not(unix))]
+fn watch_for_hang_up() -> io::Result<()> {
+    Ok(())
 }
 
 /// Human-readable escape sequence, for test messages.
