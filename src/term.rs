@@ -1,7 +1,8 @@
 //! The terminal layer: the only place that knows about crossterm and escape sequences.
 //!
 //! - [`encoder`]: a [`Frame`](crate::frame::Frame) in, the fewest bytes out (pure);
-//! - [`guard`]: raw mode, alternate screen and the rest, always restored (drop, panic, signals, Ctrl-Z);
+//! - [`guard`]: raw mode, alternate screen and the rest, always restored (drop, panic, signals, hang-up,
+//!   Ctrl-Z and SIGTSTP);
 //! - [`caps`]: colour depth and BCE from the environment (pure);
 //! - [`input`]: crossterm events mapped to mazewalk's own [`Input`](input::Input).
 //!
@@ -26,13 +27,17 @@
 //!         match event {
 //!             Input::Key { key: Key::Char('q'), .. } => return Ok(()), // the guard restores on drop
 //!             Input::Key { key: Key::Char('z'), modifiers, .. } if modifiers.ctrl => {
-//!                 terminal.suspend(&mut encoder)?; // Ctrl-Z; back after `fg`, next frame full
-//!                 let (cols, rows) = guard::size()?;
-//!                 frame.resize(cols.into(), rows.into());
+//!                 terminal.suspend()?; // Ctrl-Z; back after `fg`
 //!             }
 //!             Input::Resize { cols, rows } => frame.resize(cols.into(), rows.into()),
 //!             _ => {} // hand the rest to the (pure) app state
 //!         }
+//!     }
+//!     if terminal.take_resumed() {
+//!         // Back from Ctrl-Z or SIGTSTP: the screen was cleared, the size may differ.
+//!         encoder.invalidate();
+//!         let (cols, rows) = guard::size()?;
+//!         frame.resize(cols.into(), rows.into());
 //!     }
 //!     // render into `frame` here
 //!     bytes.clear();

@@ -397,6 +397,24 @@ impl Tui {
         }
     }
 
+    /// Whether the child is stopped right now (SIGSTOP, SIGTSTP…); reaps nothing.
+    fn stopped(&self) -> bool {
+        use rustix::process::{WaitId, WaitIdOptions};
+        let options = WaitIdOptions::STOPPED | WaitIdOptions::NOHANG | WaitIdOptions::NOWAIT;
+        let status = rustix::process::waitid(WaitId::Pid(Pid::from_child(&self.child)), options);
+        status.expect("waitid").is_some_and(|s| s.stopped())
+    }
+
+    /// Waits until the child is stopped (`true`) or running again (`false`); panics after [`TIMEOUT`].
+    fn wait_stopped(&self, stopped: bool) {
+        let deadline = Instant::now() + TIMEOUT;
+        while self.stopped() != stopped {
+            let what = if stopped { "to stop" } else { "to continue" };
+            assert!(Instant::now() < deadline, "the child did not {what} within {TIMEOUT:?}");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
     /// Asserts the terminal side is in cooked mode, with the very modes it had before the start.
     fn assert_cooked(&self) {
         let (now, before) = (self.termios(), &self.cooked);
@@ -733,6 +751,71 @@ fn ctrl_z_restores_then_comes_back_with_a_full_repaint() {
     let (status, raw) = tui.finish();
     assert_eq!(status.code(), Some(0), "{status:?}");
     assert_restored(&tui, &raw, PLAIN);
+}
+
+/// Stops the walkthrough with `kill -TSTP` once `ready` (not the Ctrl-Z key: a signal from outside),
+/// as a job of this test's session, so that the stop is real. Checks it stops with the terminal
+/// restored — exactly `enabled` undone, whole frames only before that, cooked mode — then continues
+/// it and checks it re-enters game mode and repaints the whole maze, and quits with `quit`.
+fn a_stop_from_outside(answers: Answers, enabled: Enabled, ready: impl Fn(&mut Tui), quit: &[u8]) {
+    let mut tui = Tui::walk_as(Session::Job, 80, 24, answers);
+    ready(&mut tui);
+    tui.signal(Signal::TSTP);
+    tui.wait_stopped(true);
+    // The restore is the last thing written before the stop, so the screen shows it once it's all read.
+    tui.wait_for("the main screen while stopped", |s| !s.alternate_screen());
+    let raw = lock(&tui.shared).raw.clone();
+    assert_restored(&tui, &raw, enabled);
+    let body = &raw[..raw.len() - restore_sequence(enabled).len()];
+    let count = |pat: &[u8]| body.windows(pat.len()).filter(|w| *w == pat).count();
+    assert_eq!(count(b"\x1b[?2026h"), count(b"\x1b[?2026l"), "a frame was cut short by the stop");
+    tui.assert_cooked();
+    tui.assert_silent_for(Duration::from_millis(300), "while stopped");
+    assert!(tui.stopped(), "the stop did not last");
+
+    // Continued, as by `fg`: game mode again, then a full paint of the maze.
+    let before = tui.bytes_so_far();
+    tui.signal(Signal::CONT);
+    tui.wait_for("the maze after SIGCONT", |s| {
+        s.alternate_screen()
+            && s.hide_cursor()
+            && view_drawn(s)
+            && s.contents_between(23, 0, 23, 80).contains("heading")
+    });
+    tui.settle();
+    let after = lock(&tui.shared).raw[before..].to_vec();
+    let enter = enter_sequence(enabled);
+    assert!(after.starts_with(enter.as_bytes()), "no re-enter first after SIGCONT: {}", visible(&after));
+    let frame = &after[enter.len()..];
+    assert!(frame.starts_with(b"\x1b[?2026h"), "no frame after re-entering: {}", visible(&after));
+    assert!(frame.windows(4).any(|w| w == b"\x1b[2J"), "no full paint after SIGCONT: {}", visible(&after));
+    let t = tui.termios();
+    assert!(!t.local_modes.intersects(LocalModes::ICANON | LocalModes::ECHO), "not in raw mode again");
+    tui.assert_silent_for(Duration::from_millis(300), "idle after continuing");
+
+    tui.send(quit);
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, enabled);
+}
+
+#[test]
+fn sigtstp_from_outside_restores_and_stops_then_sigcont_repaints() {
+    a_stop_from_outside(Answers::Plain, PLAIN, |tui| tui.settle(), b"q");
+}
+
+#[test]
+fn sigtstp_in_the_middle_of_walking_stops_after_a_whole_frame() {
+    // With key releases reported, a held key walks until released: frames stream when SIGTSTP comes.
+    // After the stop the key counts as let go (its release may never come), so the walk stops.
+    let ready = |tui: &mut Tui| {
+        tui.send(b"\x1b[119u"); // w down, never released
+        let before = tui.bytes_so_far();
+        tui.wait_for_output(before, "a few frames of walking", |b| {
+            b.windows(8).filter(|w| *w == b"\x1b[?2026l").count() >= 3
+        });
+    };
+    a_stop_from_outside(Answers::Kitty, KITTY, ready, b"\x1b[113u");
 }
 
 #[test]

@@ -50,9 +50,9 @@ pub struct Screen {
     view: Frame,
 }
 
-/// Runs the walkthrough until the user quits. The terminal is restored on return, on error, on panic
-/// and on SIGTERM / SIGHUP / SIGINT (the guard). `bce` and `color_tolerance` set up the encoder
-/// ([`Encoder::set_bce`], [`Encoder::set_tolerance`]).
+/// Runs the walkthrough until the user quits. The terminal is restored on return, on error, on panic,
+/// on SIGTERM / SIGHUP / SIGINT or a hang-up, and around a stop (Ctrl-Z, SIGTSTP) (the guard). `bce`
+/// and `color_tolerance` set up the encoder ([`Encoder::set_bce`], [`Encoder::set_tolerance`]).
 ///
 /// # Errors
 /// The terminal could not be set up, read or written.
@@ -90,13 +90,7 @@ pub fn run(app: &mut App, bce: bool, color_tolerance: u8) -> io::Result<Outcome>
             let t = now(&clock);
             match event {
                 Input::Key { key: Key::Char('c'), modifiers, .. } if modifiers.ctrl => app.quit = true,
-                Input::Key { key: Key::Char('z'), modifiers, .. } if modifiers.ctrl => {
-                    app.focus_lost();
-                    terminal.suspend(&mut encoder)?;
-                    let (cols, rows) = guard::size()?;
-                    frame.resize(cols.into(), rows.into());
-                    dirty = true;
-                }
+                Input::Key { key: Key::Char('z'), modifiers, .. } if modifiers.ctrl => terminal.suspend()?,
                 Input::Key { key, action, .. } => dirty |= app.key(key, action, t),
                 Input::MouseDrag { dx, dy, .. } => dirty |= app.drag(dx, dy),
                 Input::Resize { cols, rows } => {
@@ -112,6 +106,16 @@ pub fn run(app: &mut App, bce: bool, color_tolerance: u8) -> io::Result<Outcome>
         }
         if app.quit {
             break;
+        }
+        if terminal.take_resumed() {
+            // Back from a stop (Ctrl-Z above, or SIGTSTP on the guard's signal thread, which wakes
+            // this loop): releases may have been missed, the screen was cleared and its size may have
+            // changed meanwhile.
+            app.focus_lost();
+            encoder.invalidate();
+            let (cols, rows) = guard::size()?;
+            frame.resize(cols.into(), rows.into());
+            dirty = true;
         }
         let t = now(&clock);
         dirty |= app.tick(t);

@@ -3,22 +3,26 @@
 //! "Always" means: when the guard drops, when the program panics (a panic hook restores before the
 //! message prints), when SIGTERM, SIGHUP (the SSH connection dropped) or SIGINT arrive (restore, then
 //! exit with 128 + signal number), when the terminal hangs up without a SIGHUP (exit as for SIGHUP),
-//! and around Ctrl-Z ([`TerminalGuard::suspend`]).
+//! and around a stop: the Ctrl-Z key ([`TerminalGuard::suspend`]) or SIGTSTP from outside (`kill
+//! -TSTP`) restore, stop, and on SIGCONT enter game mode again ([`TerminalGuard::take_resumed`] then
+//! tells the app to repaint everything).
 //!
 //! All those paths share one idempotent restore, [`restore_terminal`], behind one global lock that
 //! also serializes frame writes ([`TerminalGuard::write_frame`]): a signal can never cut a frame in
-//! half and then leave the rest of it on the restored main screen.
+//! half and then leave the rest of it on the restored main screen. A stop holds that lock from the
+//! restore until game mode is back, so no frame lands on the main screen meanwhile.
 //!
 //! The escape sequences are built by pure functions ([`enter_sequence`], [`restore_sequence`]) so
 //! their content and order are unit-tested without a terminal.
 
 use std::io::{self, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, MutexGuard, Once, PoisonError, TryLockError};
 
 use crossterm::Command;
 use crossterm::{cursor, event, style, terminal};
 
-use super::encoder::{Encoder, SYNC_END};
+use super::encoder::SYNC_END;
 
 /// What [`TerminalGuard::enter`] should turn on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,7 +34,7 @@ pub struct GuardOptions {
     /// Ask for the kitty keyboard protocol (key releases and repeats) if the terminal supports it.
     pub keyboard_enhancement: bool,
     /// Restore the terminal and exit on SIGTERM, SIGHUP and SIGINT, and when the terminal hangs up
-    /// without a SIGHUP (Unix; installed once per process).
+    /// without a SIGHUP; restore, stop and come back on SIGTSTP (Unix; installed once per process).
     pub handle_signals: bool,
 }
 
@@ -113,6 +117,10 @@ fn ansi(s: &mut String, command: impl Command) {
 /// Held while writing a frame and while restoring, so the two never interleave.
 static ACTIVE: Mutex<Option<Enabled>> = Mutex::new(None);
 
+/// Set when game mode was entered again after a stop, until the app takes it
+/// ([`TerminalGuard::take_resumed`]). Set and read under [`ACTIVE`]'s lock.
+static RESUMED: AtomicBool = AtomicBool::new(false);
+
 /// The global state, whether or not a panic poisoned the lock (the state is a plain value, always valid).
 fn active() -> MutexGuard<'static, Option<Enabled>> {
     ACTIVE.lock().unwrap_or_else(PoisonError::into_inner)
@@ -178,6 +186,7 @@ impl TerminalGuard {
             options.keyboard_enhancement && terminal::supports_keyboard_enhancement().unwrap_or(false);
         let enabled =
             Enabled { mouse: options.mouse, focus_events: options.focus_events, keyboard_enhancement };
+        RESUMED.store(false, Ordering::SeqCst);
         enter_locked(&mut active, enabled)?;
         Ok(TerminalGuard { enabled })
     }
@@ -189,13 +198,15 @@ impl TerminalGuard {
     }
 
     /// Writes one encoded frame to the terminal and flushes, unless the terminal was restored meanwhile
-    /// (a signal arrived): then nothing is written.
+    /// (a signal arrived), or game mode came back after a stop that the app has not taken yet
+    /// ([`take_resumed`](Self::take_resumed)): that frame was encoded for the screen before the stop.
+    /// Then nothing is written.
     ///
     /// # Errors
     /// The write failed (the terminal is gone).
     pub fn write_frame(&self, bytes: &[u8]) -> io::Result<()> {
         let active = active();
-        if active.is_none() || bytes.is_empty() {
+        if active.is_none() || bytes.is_empty() || RESUMED.load(Ordering::SeqCst) {
             return Ok(());
         }
         let mut stdout = io::stdout().lock();
@@ -211,29 +222,70 @@ impl TerminalGuard {
         restore_terminal()
     }
 
-    /// Ctrl-Z: restores the terminal, stops the process (SIGTSTP) and, once continued (SIGCONT),
-    /// enters game mode again and invalidates `encoder` so the next frame is a full paint. The app
-    /// should re-read the terminal size afterwards ([`size`]); it may have changed meanwhile.
-    /// Elsewhere than Unix there is no job control: this only invalidates the encoder.
+    /// Ctrl-Z: restores the terminal, stops the process as SIGTSTP would and, once continued
+    /// (SIGCONT), enters game mode again; then [`take_resumed`](Self::take_resumed) is true. SIGTSTP
+    /// from outside takes the same path, on the signal thread. Elsewhere than Unix there is no job
+    /// control: this only makes `take_resumed` true (a full repaint).
     ///
     /// # Errors
     /// Restoring, stopping or re-entering failed.
-    pub fn suspend(&mut self, encoder: &mut Encoder) -> io::Result<()> {
-        #[cfg(unix)]
-        {
-            restore_terminal()?;
-            // The default action stops us; `raise` returns after SIGCONT. (An orphaned process group
-            // ignores SIGTSTP: then it returns at once, and we simply carry on.)
-            signal_hook::low_level::raise(signal_hook::consts::SIGTSTP)?;
-            let mut active = active();
-            if active.is_none() {
-                terminal::enable_raw_mode()?;
-                enter_locked(&mut active, self.enabled)?;
-            }
-        }
-        encoder.invalidate();
-        Ok(())
+    pub fn suspend(&mut self) -> io::Result<()> {
+        stop_and_continue()
     }
+
+    /// Whether game mode was entered again after a stop (the Ctrl-Z key or SIGTSTP) since the last
+    /// call. If so, the screen was cleared and its size may have changed: invalidate the encoder,
+    /// re-read the [`size`] and draw a full frame. Until then [`write_frame`](Self::write_frame)
+    /// writes nothing.
+    #[must_use]
+    pub fn take_resumed(&self) -> bool {
+        let _active = active(); // ordered with a stop in progress
+        RESUMED.swap(false, Ordering::SeqCst)
+    }
+}
+
+/// A stop, from the Ctrl-Z key or SIGTSTP: restores the terminal if it is in game mode, stops the
+/// process unless nothing would ever continue it ([`stopping_is_safe`]) and, once continued, enters
+/// game mode again and sets [`RESUMED`]. All under the lock: no frame is written half before and half
+/// after, nor on the main screen. If the shell continues us in the background (`bg`), re-entering raw
+/// mode stops us again (SIGTTOU, default action) before anything is written, until `fg`.
+#[cfg(unix)]
+fn stop_and_continue() -> io::Result<()> {
+    let mut active = active();
+    let enabled = *active;
+    restore_locked(&mut active)?;
+    if stopping_is_safe() {
+        // SIGTSTP's default action, emulated with SIGSTOP (signal-hook handles SIGTSTP now); returns
+        // after SIGCONT.
+        signal_hook::low_level::emulate_default_handler(signal_hook::consts::SIGTSTP)?;
+    }
+    if let Some(enabled) = enabled {
+        terminal::enable_raw_mode()?;
+        enter_locked(&mut active, enabled)?;
+        RESUMED.store(true, Ordering::SeqCst);
+    }
+    Ok(())
+}
+
+#[cfg(not(unix))]
+fn stop_and_continue() -> io::Result<()> {
+    let _active = active();
+    RESUMED.store(true, Ordering::SeqCst); // nothing to stop: just a full repaint
+    Ok(())
+}
+
+/// Whether a job-control shell may continue us after a stop. The kernel discards SIGTSTP's default
+/// stop in an orphaned process group (no shell of its session would ever send SIGCONT), but SIGSTOP,
+/// which emulates it here, always stops; so this mirrors the kernel's rule for the usual cases: our
+/// parent is in our session (a shell, or `cargo run` under one) and our process group is not the
+/// session leader's. Under `xterm -e`, `setsid`, `ssh -t host mazewalk` or a tmux command we lead our
+/// own session: no stop, as the kernel would do for a real SIGTSTP.
+#[cfg(unix)]
+fn stopping_is_safe() -> bool {
+    use rustix::process::{getpgrp, getppid, getsid};
+    let Ok(session) = getsid(None) else { return false };
+    let parent_in_session = getppid().is_some_and(|parent| getsid(Some(parent)).ok() == Some(session));
+    parent_in_session && getpgrp() != session
 }
 
 impl Drop for TerminalGuard {
@@ -289,19 +341,37 @@ pub fn exit_code_for_signal(signal: i32) -> i32 {
     128 + signal
 }
 
-/// SIGTERM, SIGHUP, SIGINT: restore the terminal, exit with 128 + signo. A thread waits on
-/// `signal_hook::iterator::Signals`, so the restore runs in normal (not signal-handler) context.
+/// SIGTERM, SIGHUP, SIGINT: restore the terminal, exit with 128 + signo. SIGTSTP (`kill -TSTP`; the
+/// Ctrl-Z key arrives as a key in raw mode): the same stop as [`TerminalGuard::suspend`], then a
+/// SIGWINCH to ourselves, which wakes crossterm's `poll` with a resize event, so that the event loop
+/// sees [`TerminalGuard::take_resumed`] even when idle. A thread waits on
+/// `signal_hook::iterator::Signals`, so all this runs in normal (not signal-handler) context.
+///
+/// SIGTTIN and SIGTTOU keep their default action (stop): the kernel sends them when a background job
+/// touches the terminal, and we only run in the background after a stop (`bg`), when re-entering game
+/// mode, before anything is written. Catching them would turn that into a spin: the kernel re-sends
+/// SIGTTOU on every restarted `tcsetattr`, and the thread that would handle it is the one retrying.
 #[cfg(unix)]
 fn install_signal_handler() -> io::Result<()> {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGTSTP, SIGWINCH};
     static INSTALLED: Mutex<bool> = Mutex::new(false);
     let mut installed = INSTALLED.lock().unwrap_or_else(PoisonError::into_inner);
     if *installed {
         return Ok(());
     }
-    let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP, SIGINT])?;
+    let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP, SIGINT, SIGTSTP])?;
     std::thread::Builder::new().name("mazewalk-signals".into()).spawn(move || {
-        if let Some(signal) = signals.forever().next() {
+        for signal in signals.forever() {
+            if signal == SIGTSTP {
+                if let Err(err) = stop_and_continue() {
+                    // Game mode could not come back (the terminal is gone?): nothing sensible to do.
+                    let _ = restore_terminal();
+                    eprintln!("mazewalk: cannot continue after a stop: {err}");
+                    std::process::exit(1);
+                }
+                let _ = signal_hook::low_level::raise(SIGWINCH);
+                continue;
+            }
             // Keep the lock until exit: no frame may be written after the restore.
             let mut active = active();
             let _ = restore_locked(&mut active);
