@@ -280,12 +280,20 @@ fn stop_and_continue() -> io::Result<()> {
 /// parent is in our session (a shell, or `cargo run` under one) and our process group is not the
 /// session leader's. Under `xterm -e`, `setsid`, `ssh -t host mazewalk` or a tmux command we lead our
 /// own session: no stop, as the kernel would do for a real SIGTSTP.
+///
+/// Ids are as seen from our PID namespace: one outside it reads as 0 (a container or CI sandbox whose
+/// session leader is outside). Then the session still compares equal between us and our parent, but a
+/// parent outside (ppid 0) or a process group led from outside (pgrp 0) says nothing: no stop.
 #[cfg(unix)]
 fn stopping_is_safe() -> bool {
-    use rustix::process::{getpgrp, getppid, getsid};
+    use nix::unistd::{getpgrp, getppid, getsid};
+    let outside = |id: nix::unistd::Pid| id.as_raw() <= 0;
+    let (parent, group) = (getppid(), getpgrp());
+    if outside(parent) || outside(group) {
+        return false;
+    }
     let Ok(session) = getsid(None) else { return false };
-    let parent_in_session = getppid().is_some_and(|parent| getsid(Some(parent)).ok() == Some(session));
-    parent_in_session && getpgrp() != session
+    getsid(Some(parent)).ok() == Some(session) && group != session
 }
 
 impl Drop for TerminalGuard {
