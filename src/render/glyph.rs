@@ -12,7 +12,7 @@ use glam::Vec3;
 
 use super::palette::{Dither, ansi16, ansi16_dither, quantize_srgb8, to_srgb8};
 use super::samples::SampleBuffer;
-use super::shade::{linear_to_srgb_fast, luminance};
+use super::shade::{Srgb8Tables, linear_to_srgb_fast, luminance};
 use crate::frame::{Cell, Color, ColorDepth, Frame};
 
 /// How cells are drawn, and so how many samples each covers.
@@ -142,28 +142,55 @@ pub fn to_frame(
     if frame.width() != cols || frame.height() != rows {
         frame.resize(cols, rows);
     }
+    match charset {
+        Charset::Ascii => {
+            let color = samples.color();
+            for (i, cell) in frame.cells_mut().iter_mut().enumerate() {
+                let outline = if outlines { samples.outline()[i] } else { None };
+                *cell = ascii_cell(color[i], outline, depth);
+            }
+        }
+        Charset::Half => block_cells::<1, 2>(samples, charset, depth, frame),
+        Charset::Quad => block_cells::<2, 2>(samples, charset, depth, frame),
+        Charset::Sextant => block_cells::<2, 3>(samples, charset, depth, frame),
+    }
+}
+
+/// [`to_frame`] for a block charset of `SX × SY` samples per cell (the shape as constants, so the
+/// per-cell gathering unrolls); `frame` is already `cols × rows`.
+fn block_cells<const SX: usize, const SY: usize>(
+    samples: &SampleBuffer,
+    charset: Charset,
+    depth: ColorDepth,
+    frame: &mut Frame,
+) {
     let (width, color) = (samples.width(), samples.color());
-    // The samples of the cell at `base`, in bit order: row-major from the top-left (sample k is at
-    // (k % sx, k / sx)).
-    let cell_samples =
-        |base: usize| (0..sy).flat_map(move |dy| (0..sx).map(move |dx| color[base + dy * width + dx]));
+    let cols = frame.width();
+    let tables = Srgb8Tables::get();
     let mut srgb = [[0u8; 3]; 6];
-    for row in 0..rows {
-        for col in 0..cols {
-            let base = row * sy * width + col * sx;
-            let cell = if charset == Charset::Ascii {
-                let outline = if outlines { samples.outline()[base] } else { None };
-                ascii_cell(color[base], outline, depth)
-            } else if depth == ColorDepth::None {
-                let mean = cell_samples(base).sum::<Vec3>() / (sx * sy) as f32;
-                Cell::plain(BLOCK_RAMP[ramp_index(mean, BLOCK_RAMP.len())])
-            } else {
-                for (s, c) in srgb.iter_mut().zip(cell_samples(base)) {
-                    *s = to_srgb8(c);
+    for (row, cells) in frame.cells_mut().chunks_exact_mut(cols.max(1)).enumerate() {
+        // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
+        let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {
+            let start = (row * SY + dy) * width;
+            &color[start..start + cols * SX]
+        });
+        for (col, cell) in cells.iter_mut().enumerate() {
+            *cell = if depth == ColorDepth::None {
+                let mut sum = Vec3::ZERO;
+                for line in rows {
+                    for &c in &line[col * SX..col * SX + SX] {
+                        sum += c;
+                    }
                 }
-                block_cell(&srgb[..sx * sy], charset, depth)
+                Cell::plain(BLOCK_RAMP[ramp_index(sum / (SX * SY) as f32, BLOCK_RAMP.len())])
+            } else {
+                for (dy, line) in rows.iter().enumerate() {
+                    for dx in 0..SX {
+                        srgb[dy * SX + dx] = line[col * SX + dx].to_array().map(|c| tables.encode(c));
+                    }
+                }
+                block_cell(&srgb[..SX * SY], charset, depth)
             };
-            frame.set(col, row, cell);
         }
     }
 }
@@ -254,6 +281,7 @@ fn dithered(d: Dither) -> Cell {
 }
 
 /// One block cell from its samples (8-bit sRGB), in bit order, at a colour depth other than `None`.
+#[inline(always)] // into each `block_cells` shape: its cell comes back in registers, not through memory
 fn block_cell(srgb: &[[u8; 3]], charset: Charset, depth: ColorDepth) -> Cell {
     let first = srgb[0];
     if srgb[1..].iter().all(|&s| s == first) {
