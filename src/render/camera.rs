@@ -179,7 +179,10 @@ impl Camera {
         // or down never meets the degenerate "up parallel to forward" case and never flips.
         let forward = math::direction_from_yaw_pitch(yaw, pitch);
         let up = math::up_from_yaw_pitch(yaw, pitch);
-        let right = forward.cross(up);
+        // forward × up, which is level for every pitch: (sin yaw, -cos yaw, 0). Written out so its z is
+        // exactly 0, and a row of samples keeps one ray height and slope (the floor pass's row constants).
+        let right = Vec3::new(yaw.sin(), -yaw.cos(), 0.0);
+        debug_assert!(right.distance(forward.cross(up)) < 1e-5, "right = forward × up");
         let world_to_view = self.convention.look_to(eye, forward, up)?;
 
         // Horizontal fov across the whole grid; the physical aspect counts the samples' shape.

@@ -281,37 +281,56 @@ impl Renderer {
         let ceiling = (CEILING_Z, CEILING, CEILING_SRGB.map(srgb_to_linear));
         let perspective = eye.camera.projection == Projection::Perspective;
         let start_depth = if perspective { eye.near } else { 0.0 };
-        let (width, depth_at) = (eye.width, eye.depth_by_distance());
+        let depth_at = eye.depth_by_distance();
+        // Where a ray of height `start_z` and slope `dir_z` ends: which plane, how far along it (`t`;
+        // `None` when it starts inside the ground or the roof and shows that plane right there), its view
+        // depth, the grid depth a wall must beat to stay, and the fog there. `None`: it meets neither.
+        let meet = |start_z: f32, dir_z: f32| {
+            if start_z < FLOOR_Z || start_z > CEILING_Z {
+                let plane = if start_z < FLOOR_Z { floor } else { ceiling };
+                return Some((plane, None, start_depth, f32::NEG_INFINITY, fog.amount(start_depth)));
+            }
+            let plane = match dir_z {
+                z if z < 0.0 => floor,
+                z if z > 0.0 => ceiling,
+                _ => return None, // level: never meets either
+            };
+            let t = (plane.0 - start_z) / dir_z;
+            let depth = start_depth + t;
+            (t >= 0.0 && depth <= eye.far)
+                .then(|| (plane, Some(t), depth, depth_at.grid_depth(depth), fog.amount(depth)))
+        };
+        let width = eye.width;
         for y in 0..eye.height {
             // `Eye::ray` is affine in the grid x: along a row, start and direction step by constants.
             let gy = y as f32 + 0.5;
             let (start0, dir0) = eye.ray(0.5, gy);
             let (start1, dir1) = eye.ray(1.5, gy);
             let (start_step, dir_step) = (start1 - start0, dir1 - dir0);
+            // The camera's right vector is level, so along a row the rays keep their height and slope:
+            // where they end, how far, and the fog there are the row's (exactly what each ray would find).
+            let row = (start_step.z == 0.0 && dir_step.z == 0.0).then(|| meet(start0.z, dir0.z));
+            if row == Some(None) {
+                continue; // the whole row sees neither plane (a level row, or beyond the far plane)
+            }
             for x in 0..width {
                 let i = y * width + x;
                 let (start, dir) = (start0 + start_step * x as f32, dir0 + dir_step * x as f32);
-                let (plane, hit, depth) = if start.z < FLOOR_Z || start.z > CEILING_Z {
+                let Some((plane, t, _depth, wall_stays_at, fog_amount)) =
+                    row.unwrap_or_else(|| meet(start.z, dir.z))
+                else {
+                    continue;
+                };
+                let hit = match t {
                     // Inside the ground or the roof: that plane, seen where the ray starts.
-                    let plane = if start.z < FLOOR_Z { floor } else { ceiling };
-                    (plane, start, start_depth)
-                } else {
-                    let plane = match dir.z {
-                        z if z < 0.0 => floor,
-                        z if z > 0.0 => ceiling,
-                        _ => continue, // level: never meets either
-                    };
-                    let t = (plane.0 - start.z) / dir.z;
-                    let depth = start_depth + t;
-                    if !(t >= 0.0 && depth <= eye.far) {
-                        continue;
+                    None => start,
+                    Some(t) => {
+                        // A wall stays where it is at least as near as the plane along this ray.
+                        if self.samples.id()[i] != NONE && self.samples.depth()[i] <= wall_stays_at {
+                            continue;
+                        }
+                        start + dir * t
                     }
-                    let hit = start + dir * t;
-                    // A wall stays where it is at least as near as the plane along this ray.
-                    if self.samples.id()[i] != NONE && self.samples.depth()[i] <= depth_at.grid_depth(depth) {
-                        continue;
-                    }
-                    (plane, hit, depth)
                 };
                 let color = match shading {
                     Shading::ViewDepth => Vec3::ZERO,
@@ -320,7 +339,7 @@ impl Renderer {
                             checker(plane.2, Vec2::new(hit.x, hit.y), CHECKER_PERIOD, CHECKER_CONTRAST);
                         // The headlight shines along the ray (from the eye, or along the view axis when
                         // orthographic): hit - eye is a multiple of `dir`.
-                        fog.apply(lit(base, headlight_unit(Vec3::Z, dir), AMBIENT), depth)
+                        lit(base, headlight_unit(Vec3::Z, dir), AMBIENT).lerp(fog.color, fog_amount)
                     }
                 };
                 self.samples.write(i, color, f32::INFINITY, plane.1);
