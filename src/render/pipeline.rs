@@ -286,8 +286,12 @@ impl Renderer {
         // `None` when it starts inside the ground or the roof and shows that plane right there), its view
         // depth, the grid depth a wall must beat to stay, and the fog there. `None`: it meets neither.
         let meet = |start_z: f32, dir_z: f32| {
-            if start_z < FLOOR_Z || start_z > CEILING_Z {
-                let plane = if start_z < FLOOR_Z { floor } else { ceiling };
+            let inside = match start_z {
+                z if z < FLOOR_Z => Some(floor),
+                z if z > CEILING_Z => Some(ceiling),
+                _ => None,
+            };
+            if let Some(plane) = inside {
                 return Some((plane, None, start_depth, f32::NEG_INFINITY, fog.amount(start_depth)));
             }
             let plane = match dir_z {
