@@ -10,7 +10,8 @@
 //! Bytes do not depend on timing: they are computed once, checked (both byte streams, fed to the `vt100`
 //! terminal emulator, must show every frame exactly), printed, and written to
 //! `target/criterion/encoder-bytes.md` and `encoder-frames-*.tsv`. Criterion then times each encoder over
-//! the whole walk (`encode-walk/<depth>/<encoder>`; divide by the frame count for a frame).
+//! the whole walk (`encode-walk/<depth>/<encoder>`, ours exact and with the walkthrough's ±1 tolerance as
+//! `mazewalk_tolerant`; divide by the frame count for a frame).
 //!
 //! ```sh
 //! nice cargo bench --bench encoder -- --warm-up-time 1 --measurement-time 3 --sample-size 10
@@ -441,17 +442,20 @@ fn main() {
         let mut group = c.benchmark_group(format!("encode-walk/{}", depth_name(depth)));
         group.throughput(Throughput::Elements(frames.len() as u64));
         let mut out = Vec::with_capacity(1 << 20);
-        group.bench_function("mazewalk", |b| {
-            b.iter(|| {
-                let mut encoder = Encoder::new();
-                let mut total = 0;
-                for frame in &frames {
-                    out.clear();
-                    total += encoder.encode(black_box(frame), &mut out).bytes;
-                }
-                total
+        for (name, tolerance) in [("mazewalk", 0), ("mazewalk_tolerant", DEFAULT_TOLERANCE)] {
+            group.bench_function(name, |b| {
+                b.iter(|| {
+                    let mut encoder = Encoder::new();
+                    encoder.set_tolerance(tolerance);
+                    let mut total = 0;
+                    for frame in &frames {
+                        out.clear();
+                        total += encoder.encode(black_box(frame), &mut out).bytes;
+                    }
+                    total
+                });
             });
-        });
+        }
         group.bench_function("ratatui", |b| {
             b.iter(|| {
                 let mut ratatui = Ratatui::new(None, false);

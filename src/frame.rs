@@ -19,6 +19,20 @@ pub enum Color {
     Rgb(u8, u8, u8),
 }
 
+impl Color {
+    /// Whether two colours are within `tolerance` 8-bit steps per channel: truecolor colours that
+    /// close, or any colours that are equal.
+    #[must_use]
+    pub fn within(self, other: Color, tolerance: u8) -> bool {
+        match (self, other) {
+            (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) => {
+                r.abs_diff(r2) <= tolerance && g.abs_diff(g2) <= tolerance && b.abs_diff(b2) <= tolerance
+            }
+            _ => self == other,
+        }
+    }
+}
+
 /// How many colours the terminal can show; the renderer quantizes to it, the encoder emits its codes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ColorDepth {
@@ -72,22 +86,29 @@ impl Cell {
 
     /// [`Cell::same_look`] up to `tolerance` 8-bit steps per channel between truecolor colours (other
     /// colours must be equal): what the encoder's [`set_tolerance`](crate::term::encoder::Encoder::set_tolerance) leaves alone.
+    ///
+    /// Block glyphs (space, full block, halves, quadrants, sextants) are compared by what each part of
+    /// the cell shows: on a 2×6 grid of sub-cells (fine enough for all of them), every sub-cell's colour
+    /// in one is within `tolerance` of its colour in the other. So `▀` in A on B looks like `▄` in B on
+    /// A, and a `▀` whose two colours are within the tolerance of C looks like a blank on C. Other
+    /// glyphs must be the same, in colours within the tolerance.
     #[must_use]
     pub fn looks_within(&self, other: &Cell, tolerance: u8) -> bool {
         if self == other {
             return true; // the diff's common case, first
         }
-        let close = |a: Color, b: Color| match (a, b) {
-            (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) => {
-                r.abs_diff(r2) <= tolerance && g.abs_diff(g2) <= tolerance && b.abs_diff(b2) <= tolerance
-            }
-            _ => a == b,
+        let (Some(ink_a), Some(ink_b)) = (ink_mask(self.ch), ink_mask(other.ch)) else {
+            return self.ch == other.ch
+                && self.fg.within(other.fg, tolerance)
+                && self.bg.within(other.bg, tolerance);
         };
-        let looks_like = |a: &Cell, b: &Cell| {
-            a.ch == b.ch && (a.ch == ' ' || close(a.fg, b.fg)) && (a.ch == FULL_BLOCK || close(a.bg, b.bg))
-        };
-        let (a, b) = (self.canonical(), other.canonical());
-        looks_like(&a, &b) || a.inverse().is_some_and(|inverse| looks_like(&inverse, &b))
+        // The (up to) four regions where each cell shows its ink or its paper.
+        [(true, true), (true, false), (false, true), (false, false)].into_iter().all(|(in_a, in_b)| {
+            let side = |ink: u16, inside: bool| if inside { ink } else { !ink & ALL_SUBCELLS };
+            let color = |cell: &Cell, inside: bool| if inside { cell.fg } else { cell.bg };
+            side(ink_a, in_a) & side(ink_b, in_b) == 0
+                || color(self, in_a).within(color(other, in_b), tolerance)
+        })
     }
 
     /// The cell itself, or a blank where a block glyph is drawn in one colour (it looks like one).
@@ -102,6 +123,50 @@ impl Cell {
 }
 
 const FULL_BLOCK: char = '█';
+
+/// Every sub-cell of the 2×6 grid [`ink_mask`] works on.
+const ALL_SUBCELLS: u16 = 0xFFF;
+
+/// The sub-cells a block glyph inks, on a 2×6 grid (bit `x + 2·y`, y down): a half block is 3 sub-rows
+/// high, a quadrant 1 column × 3 sub-rows, a sextant 1 column × 2 sub-rows. `None` for other glyphs.
+fn ink_mask(ch: char) -> Option<u16> {
+    // Quadrants of the 2×6 grid: top-left, top-right, bottom-left, bottom-right.
+    const TL: u16 = 0x015;
+    const TR: u16 = 0x02A;
+    const BL: u16 = 0x540;
+    const BR: u16 = 0xA80;
+    Some(match ch {
+        ' ' => 0,
+        FULL_BLOCK => ALL_SUBCELLS,
+        '▀' => TL | TR,
+        '▄' => BL | BR,
+        '▌' => TL | BL,
+        '▐' => TR | BR,
+        '▘' => TL,
+        '▝' => TR,
+        '▖' => BL,
+        '▗' => BR,
+        '▞' => TR | BL,
+        '▚' => TL | BR,
+        '▛' => TL | TR | BL,
+        '▜' => TL | TR | BR,
+        '▙' => TL | BL | BR,
+        '▟' => TR | BL | BR,
+        _ => {
+            // Sextant bit k is column k % 2 of sextant row k / 2, i.e. sub-rows 2·(k / 2) and the next.
+            let sextant = sextant_mask(ch)?;
+            (0..6).filter(|k| sextant & (1 << k) != 0).map(|k| 0b101 << (k % 2 + 4 * (k / 2))).sum()
+        }
+    })
+}
+
+/// The 6-bit mask of a sextant glyph (bit 0 top-left, 1 top-right, 2 middle-left, … 5 bottom-right):
+/// U+1FB00–U+1FB3B list the masks 1–62 in order without 21 (`▌`) and 42 (`▐`).
+fn sextant_mask(ch: char) -> Option<u32> {
+    let index = u32::from(ch).checked_sub(0x1FB00).filter(|&i| i < 60)?;
+    let mask = index + 1 + u32::from(index + 1 >= 21);
+    Some(mask + u32::from(mask >= 42))
+}
 
 /// The block glyph covering exactly the part of the cell `ch` leaves empty, for the block glyphs whose
 /// complement is also one: space and full block, the halves, the quadrants and the sextants.
@@ -119,12 +184,8 @@ fn complement_glyph(ch: char) -> Option<char> {
     if let Some(&(a, b)) = PAIRS.iter().find(|&&(a, b)| ch == a || ch == b) {
         return Some(if ch == a { b } else { a });
     }
-    // Sextants U+1FB00–U+1FB3B: masks 1–62 in order without 21 (`▌`) and 42 (`▐`); the complement of
-    // mask m is 63 − m, which skips the same two.
-    let index = u32::from(ch).checked_sub(0x1FB00).filter(|&i| i < 60)?;
-    let mask = index + 1 + u32::from(index + 1 >= 21);
-    let mask = mask + u32::from(mask >= 42);
-    let other = 63 - mask;
+    // Sextants: the complement of mask m is 63 − m, which skips the same two as m.
+    let other = 63 - sextant_mask(ch)?;
     char::from_u32(0x1FB00 + other - 1 - u32::from(other > 21) - u32::from(other > 42))
 }
 

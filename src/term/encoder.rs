@@ -82,7 +82,8 @@ pub struct Encoder {
     sync_threshold: usize,
     /// Truecolor cells within this many 8-bit steps per channel of what is on screen are left as they are.
     tolerance: u8,
-    /// The frame as sent when `tolerance` keeps some cells: the screen where close, `frame` elsewhere.
+    /// Scratch for the frame as sent: `frame` up to `tolerance` (the screen where close, the pen's
+    /// colours where close); swapped into `screen` after each encode.
     effective: Frame,
     last: EncodeStats,
 }
@@ -148,22 +149,21 @@ impl Encoder {
         let full_paint =
             !self.valid || self.screen.width() != frame.width() || self.screen.height() != frame.height();
         out.extend_from_slice(SYNC_BEGIN);
-        let frame = if self.tolerance > 0 && !full_paint {
-            self.effective.clone_from(frame);
-            for (shown, cell) in self.screen.cells().iter().zip(self.effective.cells_mut()) {
-                if shown.looks_within(cell, self.tolerance) {
-                    *cell = *shown;
+        // `sent`: the frame as it will be on screen, which the tolerance may leave a little off `frame`.
+        let sent = &mut self.effective;
+        sent.clone_from(frame);
+        let cells_changed = if full_paint {
+            self.pen = paint_full(sent, self.bce, out);
+            sent.cells().len()
+        } else {
+            if self.tolerance > 0 {
+                for (shown, cell) in self.screen.cells().iter().zip(sent.cells_mut()) {
+                    if shown.looks_within(cell, self.tolerance) {
+                        *cell = *shown;
+                    }
                 }
             }
-            &self.effective
-        } else {
-            frame
-        };
-        let cells_changed = if full_paint {
-            self.pen = paint_full(frame, self.bce, out);
-            frame.cells().len()
-        } else {
-            diff(&self.screen, frame, self.bce, &mut self.pen, out)
+            diff(&self.screen, sent, self.bce, self.tolerance, &mut self.pen, out)
         };
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
@@ -173,7 +173,7 @@ impl Encoder {
         } else {
             out.extend_from_slice(SYNC_END);
         }
-        self.screen.clone_from(frame);
+        std::mem::swap(&mut self.screen, &mut self.effective); // the screen is now what was sent
         self.valid = true;
         self.last = EncodeStats { bytes: out.len() - start, cells_changed, full_paint };
         self.last
@@ -285,7 +285,7 @@ fn clear_and_paint(frame: &Frame, bg: Color, bce: bool, out: &mut Vec<u8>) -> Pe
     write_sgr_reset(out, &mut pen, None, Some(bg));
     out.extend_from_slice(b"\x1b[2J");
     let blank = Frame::filled(frame.width(), frame.height(), Cell { ch: ' ', fg: Color::Default, bg });
-    diff(&blank, frame, bce, &mut pen, out);
+    diff(&blank, &mut frame.clone(), bce, 0, &mut pen, out);
     pen
 }
 
@@ -299,14 +299,18 @@ fn most_common_blank_bg(frame: &Frame) -> Option<Color> {
     (bg != Color::Default).then_some(bg)
 }
 
-/// Writes what turns `old` into `new` (same size); returns the number of cells changed.
-fn diff(old: &Frame, new: &Frame, bce: bool, pen: &mut Pen, out: &mut Vec<u8>) -> usize {
+/// Writes what turns `old` into `new` (same size); returns the number of cells changed. A changed
+/// truecolor cell may take the pen's colour where that is within `tolerance` of its own (one SGR less);
+/// `new` is updated to what was sent.
+fn diff(old: &Frame, new: &mut Frame, bce: bool, tolerance: u8, pen: &mut Pen, out: &mut Vec<u8>) -> usize {
     debug_assert_eq!((old.width(), old.height()), (new.width(), new.height()));
+    let width = new.width().max(1);
     let mut changed = 0;
-    for y in 0..new.height() {
-        let (Some(old_row), Some(new_row)) = (old.row(y), new.row(y)) else { continue };
+    for (y, (old_row, new_row)) in
+        old.cells().chunks_exact(width).zip(new.cells_mut().chunks_exact_mut(width)).enumerate()
+    {
         let tail = erasable_tail(new_row, bce);
-        changed += diff_row(pen, out, y, 0, old_row, new_row, tail);
+        changed += diff_row(pen, out, y, 0, old_row, new_row, tail, tolerance);
     }
     changed
 }
@@ -321,15 +325,18 @@ fn erasable_tail(row: &[Cell], bce: bool) -> Option<(usize, Color)> {
     Some((row.len() - len, last.bg))
 }
 
-/// Encodes the changes of row `y` from column `from` on; returns the number of cells changed.
+/// Encodes the changes of row `y` from column `from` on; returns the number of cells changed. Changed
+/// cells are written within `tolerance` of `new` ([`write_cell`]) and `new` records what was sent.
+#[allow(clippy::too_many_arguments)]
 fn diff_row(
     pen: &mut Pen,
     out: &mut Vec<u8>,
     y: usize,
     from: usize,
     old: &[Cell],
-    new: &[Cell],
+    new: &mut [Cell],
     tail: Option<(usize, Color)>,
+    tolerance: u8,
 ) -> usize {
     let width = new.len();
     let mut changed = 0;
@@ -350,7 +357,8 @@ fn diff_row(
             let erase_len = out.len() - mark;
             out.truncate(mark);
             let mut write = *pen;
-            diff_row(&mut write, out, y, x, old, new, None);
+            // Exact (tolerance 0): a trial, so it must leave `new` as it is.
+            diff_row(&mut write, out, y, x, old, new, None, 0);
             if erase_len < out.len() - mark {
                 out.truncate(mark);
                 reach(pen, out, y, x, new, |pen, out| {
@@ -362,7 +370,10 @@ fn diff_row(
             }
             return changed;
         }
-        reach(pen, out, y, x, new, |pen, out| write_cell(out, pen, &new[x], width));
+        let (cell, mut sent) = (new[x], new[x]);
+        // `reach` tries routes and ends with the one it keeps: the last cell written is the one sent.
+        reach(pen, out, y, x, new, |pen, out| sent = write_cell(out, pen, &cell, width, tolerance));
+        new[x] = sent;
         changed += 1;
         from = x + 1;
     }
@@ -377,13 +388,13 @@ fn reach(
     y: usize,
     x: usize,
     row: &[Cell],
-    then: impl Fn(&mut Pen, &mut Vec<u8>),
+    mut then: impl FnMut(&mut Pen, &mut Vec<u8>),
 ) {
     let width = row.len();
-    let route = |pen: &mut Pen, out: &mut Vec<u8>, from: usize| {
+    let mut route = |pen: &mut Pen, out: &mut Vec<u8>, from: usize| {
         write_move(out, pen, from, y);
         for cell in &row[from..x] {
-            write_cell(out, pen, cell, width);
+            write_cell(out, pen, cell, width, 0); // on screen already: exactly as it is
         }
         then(pen, out);
     };
@@ -411,13 +422,30 @@ fn reach(
     route(pen, out, best.1);
 }
 
-/// Writes one cell at the cursor: colours if needed, then the glyph. Of the cell and its
-/// [`Cell::inverse`] (same look), the one whose colours cost fewer bytes from the current pen.
-fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize) {
+/// Writes one cell at the cursor: colours if needed, then the glyph; returns the cell as sent. Of the
+/// cell and its [`Cell::inverse`] (same look), the one whose colours cost fewer bytes from the current
+/// pen, each with the pen's colours kept where they are within `tolerance` of the cell's.
+fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize, tolerance: u8) -> Cell {
     let cell = cell.canonical();
-    let cell = match cell.inverse() {
-        Some(inverse) if sgr_len(pen, &inverse) < sgr_len(pen, &cell) => inverse,
-        _ => cell,
+    let near_pen = |mut cell: Cell| {
+        let keep = |want: Color, pen: Option<Color>| pen.filter(|p| p.within(want, tolerance));
+        cell.fg = keep(cell.fg, pen.fg).unwrap_or(cell.fg);
+        cell.bg = keep(cell.bg, pen.bg).unwrap_or(cell.bg);
+        cell
+    };
+    let cell = if tolerance == 0 {
+        match cell.inverse() {
+            Some(inverse) if sgr_len(pen, &inverse) < sgr_len(pen, &cell) => inverse,
+            _ => cell,
+        }
+    } else {
+        // The pen's colours where close enough; a glyph they leave in one colour may go as a blank.
+        let (plain, inverse) = (near_pen(cell), cell.inverse().map(near_pen));
+        [Some(plain), Some(plain.canonical()), inverse, inverse.map(|c| c.canonical())]
+            .into_iter()
+            .flatten()
+            .min_by_key(|c| sgr_len(pen, c))
+            .unwrap_or(plain)
     };
     let (fg, bg) = shown_colors(&cell);
     write_sgr(out, pen, fg, bg);
@@ -426,6 +454,7 @@ fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize) {
         Some((x, y)) if x + 1 < width => Some((x + 1, y)),
         _ => None, // after the last column: pending wrap, position unreliable
     };
+    cell
 }
 
 fn push_char(out: &mut Vec<u8>, ch: char) {
