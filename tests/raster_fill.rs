@@ -133,6 +133,29 @@ proptest! {
         prop_assert_eq!(polygon_coverage(W, H, &[a, b, c]), polygon_coverage(W, H, &[a, c, b]));
     }
 
+    /// Coverage by definition, sample by sample over the whole buffer (the rasterizer solves each row's
+    /// span instead): a centre strictly inside the triangle, or on an edge that is a top or a left edge
+    /// (y down: an edge going up, or a horizontal one going right, once the winding puts the interior on
+    /// the positive side) and inside the others. Each sample once, row by row.
+    #[test]
+    fn a_triangle_covers_exactly_the_centres_inside_it_by_the_top_left_rule(
+        a in arb_point(), b in arb_point(), c in arb_point(),
+    ) {
+        let (b, c) = if cross(a, b, c) < 0.0 { (c, b) } else { (b, c) };
+        let inside = |p: Vec2| {
+            cross(a, b, c) != 0.0
+                && [(a, b), (b, c), (c, a)].into_iter().all(|(s, t)| {
+                    let (e, d) = (cross(s, t, p), t - s);
+                    e > 0.0 || (e == 0.0 && (d.y < 0.0 || (d.y == 0.0 && d.x > 0.0)))
+                })
+        };
+        let expected: Vec<(usize, usize)> =
+            (0..H).flat_map(|y| (0..W).map(move |x| (x, y))).filter(|&(x, y)| inside(centre(x, y))).collect();
+        let mut got = Vec::new();
+        for_each_sample(W, H, [a, b, c], |x, y, _| got.push((x, y)));
+        prop_assert_eq!(got, expected);
+    }
+
     /// Top-left rule on an axis-aligned rectangle: centre (i + 0.5) is in iff x0 <= i + 0.5 < x1.
     #[test]
     fn an_axis_aligned_rectangle_covers_exactly_the_predicted_samples(

@@ -135,16 +135,25 @@ pub fn for_each_sample(
     let inv_area = 1.0 / area as f64;
 
     for y in y_lo..=y_hi {
-        let mut e = row;
-        for x in x_lo..=x_hi {
-            if e[0] >= 0 && e[1] >= 0 && e[2] >= 0 {
-                let w: [f32; 3] = std::array::from_fn(|k| ((e[k] - bias[k]) as f64 * inv_area) as f32);
-                let mut bary = [0.0; 3];
-                for k in 0..3 {
-                    bary[order[k]] = w[k];
-                }
-                hit(x as usize, y as usize, bary); // in [0, width) × [0, height) by the clamps above
+        // The row's span, solved exactly in integers: E_k(x_lo + i) = row_k + step_x_k · i ≥ 0 for all k.
+        let (mut first, mut last) = (0, x_hi - x_lo);
+        for k in 0..3 {
+            match step_x[k] {
+                s if s > 0 => first = first.max(((-row[k]).max(0) + s - 1) / s),
+                s if s < 0 => last = last.min(if row[k] < 0 { -1 } else { row[k] / -s }),
+                _ if row[k] < 0 => last = -1,
+                _ => {}
             }
+        }
+        let mut e: [i64; 3] = std::array::from_fn(|k| row[k] + step_x[k] * first);
+        for x in x_lo + first..=x_lo + last {
+            debug_assert!(e.iter().all(|&e| e >= 0));
+            let w: [f32; 3] = std::array::from_fn(|k| ((e[k] - bias[k]) as f64 * inv_area) as f32);
+            let mut bary = [0.0; 3];
+            for k in 0..3 {
+                bary[order[k]] = w[k];
+            }
+            hit(x as usize, y as usize, bary); // in [0, width) × [0, height) by the clamps above
             for k in 0..3 {
                 e[k] += step_x[k];
             }
