@@ -7,9 +7,11 @@
 //! 0×0), walking, turning with the mouse, resizes, that nothing is sent while nothing changes, and that
 //! the terminal is restored — the exact restore bytes last, the emulated screen back on the main
 //! screen with a cursor, the pty's termios as before the start — after `q`, Esc, Ctrl-C, Ctrl-Z
-//! (restore, then back), SIGTERM, SIGHUP and SIGINT (also mid-frame); a hang-up ends the process, with
-//! or without a SIGHUP (the pty as controlling terminal or only as stdio); a malformed maze is reported
-//! before the terminal is touched.
+//! (restore, then back), SIGTERM, SIGHUP and SIGINT (also mid-frame); SIGTSTP stops after restoring
+//! and SIGCONT brings game mode back, as it does after a SIGSTOP that restored nothing, while a shell
+//! took the terminal (raw mode and the screen taken back); a hang-up ends the process, with or without
+//! a SIGHUP (the pty as controlling terminal or only as stdio); a malformed maze is reported before
+//! the terminal is touched.
 //!
 //! Every wait polls with a deadline; a failing test kills its child (in `Drop`) and prints the screen.
 //! Unix only (ptys, signals).
@@ -25,7 +27,7 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use mazewalk::term::guard::{Enabled, enter_sequence, restore_sequence};
+use mazewalk::term::guard::{Enabled, enter_sequence, reenter_sequence, restore_sequence};
 use rustix::event::{PollFd, PollFlags, Timespec};
 use rustix::process::{Pid, Signal};
 use rustix::termios::{self, LocalModes, Winsize};
@@ -383,6 +385,16 @@ impl Tui {
     /// The termios of the terminal side right now.
     fn termios(&self) -> termios::Termios {
         termios::tcgetattr(self.slave.as_ref().expect("the terminal side is open")).expect("tcgetattr")
+    }
+
+    /// Plays a job-control shell's part while the child is stopped: puts the terminal side back in the
+    /// cooked modes it had before the start and writes `text` to it, over whatever the child left on
+    /// the screen.
+    fn shell_takes_over(&mut self, text: &str) {
+        let slave = self.slave.as_ref().expect("the terminal side is open");
+        termios::tcsetattr(slave, termios::OptionalActions::Now, &self.cooked).expect("tcsetattr");
+        let mut tty = File::from(slave.try_clone().expect("dup the pty"));
+        tty.write_all(text.as_bytes()).expect("write to the terminal side");
     }
 
     /// Waits for the child to exit; panics after [`TIMEOUT`].
@@ -786,6 +798,8 @@ fn a_stop_from_outside(answers: Answers, enabled: Enabled, ready: impl Fn(&mut T
     let after = lock(&tui.shared).raw[before..].to_vec();
     let enter = enter_sequence(enabled);
     assert!(after.starts_with(enter.as_bytes()), "no re-enter first after SIGCONT: {}", visible(&after));
+    let enters = after.windows(enter.len()).filter(|w| *w == enter.as_bytes()).count();
+    assert_eq!(enters, 1, "game mode re-entered twice: {}", visible(&after));
     let frame = &after[enter.len()..];
     assert!(frame.starts_with(b"\x1b[?2026h"), "no frame after re-entering: {}", visible(&after));
     assert!(frame.windows(4).any(|w| w == b"\x1b[2J"), "no full paint after SIGCONT: {}", visible(&after));
@@ -816,6 +830,84 @@ fn sigtstp_in_the_middle_of_walking_stops_after_a_whole_frame() {
         });
     };
     a_stop_from_outside(Answers::Kitty, KITTY, ready, b"\x1b[113u");
+}
+
+/// Stops the walkthrough with `kill -STOP` once `ready`: uncatchable, so it gets no chance to restore
+/// anything. While it is stopped, plays the part of the job-control shell it was stopped under: the
+/// terminal's cooked modes back, "Stopped" and a prompt written over the maze. Then continues it (as
+/// `fg` does) and checks that it takes the terminal back by itself: game mode re-entered, once, before
+/// any new frame (only the end of a frame cut short by the stop may come first), raw mode, a full
+/// paint of the maze over the shell's lines, then idle; and that `quit` restores the terminal.
+fn a_sigstop_from_outside(
+    session: Session,
+    answers: Answers,
+    enabled: Enabled,
+    ready: impl Fn(&mut Tui),
+    quit: &[u8],
+) {
+    let mut tui = Tui::walk_as(session, 80, 24, answers);
+    ready(&mut tui);
+    tui.signal(Signal::STOP);
+    tui.wait_stopped(true);
+    tui.shell_takes_over("\r\n[1]+  Stopped                 mazewalk\r\n$ fg\r\nmazewalk\r\n");
+    tui.wait_for("the shell's lines over the maze", |s| s.contents().contains("$ fg"));
+    tui.settle();
+    assert!(tui.stopped(), "the stop did not last");
+
+    let before = tui.bytes_so_far();
+    tui.signal(Signal::CONT);
+    tui.wait_for("the maze over the shell's lines after SIGCONT", |s| {
+        s.alternate_screen()
+            && s.hide_cursor()
+            && view_drawn(s)
+            && !s.contents().contains("Stopped")
+            && s.contents_between(23, 0, 23, 80).contains("heading")
+    });
+    tui.settle();
+    let after = lock(&tui.shared).raw[before..].to_vec();
+    let find = |hay: &[u8], pat: &[u8]| hay.windows(pat.len()).position(|w| w == pat);
+    let count = |hay: &[u8], pat: &[u8]| hay.windows(pat.len()).filter(|w| *w == pat).count();
+    let enter = reenter_sequence(enabled);
+    let at = find(&after, enter.as_bytes())
+        .unwrap_or_else(|| panic!("no re-enter after SIGCONT: {}", visible(&after)));
+    let cut = &after[..at];
+    assert!(
+        cut.is_empty() || (cut.ends_with(b"\x1b[?2026l") && find(cut, b"\x1b[?2026h").is_none()),
+        "written before game mode was back: {}",
+        visible(&after)
+    );
+    assert_eq!(count(&after, enter.as_bytes()), 1, "game mode re-entered twice: {}", visible(&after));
+    let frame = &after[at + enter.len()..];
+    assert!(frame.starts_with(b"\x1b[?2026h"), "no frame after re-entering: {}", visible(&after));
+    assert!(frame.windows(4).any(|w| w == b"\x1b[2J"), "no full paint after SIGCONT: {}", visible(&after));
+    let t = tui.termios();
+    assert!(!t.local_modes.intersects(LocalModes::ICANON | LocalModes::ECHO), "not in raw mode again");
+    tui.assert_silent_for(Duration::from_millis(300), "idle after continuing");
+
+    tui.send(quit);
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, enabled);
+}
+
+#[test]
+fn sigstop_from_outside_then_sigcont_takes_the_terminal_back() {
+    // The session leader, as under a terminal emulator or tmux, idle when stopped.
+    a_sigstop_from_outside(Session::Leader, Answers::Plain, PLAIN, |tui| tui.settle(), b"q");
+}
+
+#[test]
+fn sigstop_in_the_middle_of_walking_then_sigcont_repaints_before_any_new_frame() {
+    // A job, walking (a held key, with releases reported) when stopped: frames are due the moment it
+    // continues, yet none may be written before game mode is back. The held key counts as let go.
+    let ready = |tui: &mut Tui| {
+        tui.send(b"\x1b[119u"); // w down, never released
+        let before = tui.bytes_so_far();
+        tui.wait_for_output(before, "a few frames of walking", |b| {
+            b.windows(8).filter(|w| *w == b"\x1b[?2026l").count() >= 3
+        });
+    };
+    a_sigstop_from_outside(Session::Job, Answers::Kitty, KITTY, ready, b"\x1b[113u");
 }
 
 #[test]

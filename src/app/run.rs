@@ -51,8 +51,9 @@ pub struct Screen {
 }
 
 /// Runs the walkthrough until the user quits. The terminal is restored on return, on error, on panic,
-/// on SIGTERM / SIGHUP / SIGINT or a hang-up, and around a stop (Ctrl-Z, SIGTSTP) (the guard). `bce`
-/// and `color_tolerance` set up the encoder ([`Encoder::set_bce`], [`Encoder::set_tolerance`]).
+/// on SIGTERM / SIGHUP / SIGINT or a hang-up, and around a stop (Ctrl-Z, SIGTSTP; taken back after
+/// SIGSTOP) (the guard). `bce` and `color_tolerance` set up the encoder ([`Encoder::set_bce`],
+/// [`Encoder::set_tolerance`]).
 ///
 /// # Errors
 /// The terminal could not be set up, read or written.
@@ -108,9 +109,9 @@ pub fn run(app: &mut App, bce: bool, color_tolerance: u8) -> io::Result<Outcome>
             break;
         }
         if terminal.take_resumed() {
-            // Back from a stop (Ctrl-Z above, or SIGTSTP on the guard's signal thread, which wakes
-            // this loop): releases may have been missed, the screen was cleared and its size may have
-            // changed meanwhile.
+            // Back from a stop (Ctrl-Z above, or SIGTSTP or a SIGCONT after SIGSTOP on the guard's
+            // signal thread, which wakes this loop): releases may have been missed, the screen was
+            // cleared and its size may have changed meanwhile.
             app.focus_lost();
             encoder.invalidate();
             let (cols, rows) = guard::size()?;

@@ -5,7 +5,10 @@
 //! exit with 128 + signal number), when the terminal hangs up without a SIGHUP (exit as for SIGHUP),
 //! and around a stop: the Ctrl-Z key ([`TerminalGuard::suspend`]) or SIGTSTP from outside (`kill
 //! -TSTP`) restore, stop, and on SIGCONT enter game mode again ([`TerminalGuard::take_resumed`] then
-//! tells the app to repaint everything).
+//! tells the app to repaint everything). A stop that gives no warning (SIGSTOP from outside: `kill
+//! -STOP`, a debugger) can restore nothing, and the shell may reset the terminal's modes and write over
+//! the screen meanwhile: the SIGCONT that ends it takes the terminal back (raw mode, game mode entered
+//! again) and asks for the same full repaint.
 //!
 //! All those paths share one idempotent restore, [`restore_terminal`], behind one global lock that
 //! also serializes frame writes ([`TerminalGuard::write_frame`]): a signal can never cut a frame in
@@ -34,7 +37,8 @@ pub struct GuardOptions {
     /// Ask for the kitty keyboard protocol (key releases and repeats) if the terminal supports it.
     pub keyboard_enhancement: bool,
     /// Restore the terminal and exit on SIGTERM, SIGHUP and SIGINT, and when the terminal hangs up
-    /// without a SIGHUP; restore, stop and come back on SIGTSTP (Unix; installed once per process).
+    /// without a SIGHUP; restore, stop and come back on SIGTSTP; take the terminal back on SIGCONT
+    /// after a SIGSTOP (Unix; installed once per process).
     pub handle_signals: bool,
 }
 
@@ -108,6 +112,22 @@ pub fn restore_sequence(enabled: Enabled) -> String {
     s
 }
 
+/// The bytes that take the terminal back after a stop that restored nothing (SIGSTOP): the
+/// [`enter_sequence`], with our keyboard flags popped just before they are pushed again. They are
+/// most likely still on the alternate screen's stack; pushed twice, one would outlive the walk there.
+/// (If they are not, the pop of an empty stack only resets the flags.)
+#[must_use]
+pub fn reenter_sequence(enabled: Enabled) -> String {
+    let enter = enter_sequence(enabled);
+    if !enabled.keyboard_enhancement {
+        return enter;
+    }
+    let mut pop = String::new();
+    ansi(&mut pop, event::PopKeyboardEnhancementFlags);
+    let push = enter.rfind('\x1b').expect("the keyboard flags are pushed last");
+    format!("{}{pop}{}", &enter[..push], &enter[push..])
+}
+
 fn ansi(s: &mut String, command: impl Command) {
     // Writing into a String cannot fail.
     let _ = command.write_ansi(s);
@@ -120,6 +140,26 @@ static ACTIVE: Mutex<Option<Enabled>> = Mutex::new(None);
 /// Set when game mode was entered again after a stop, until the app takes it
 /// ([`TerminalGuard::take_resumed`]). Set and read under [`ACTIVE`]'s lock.
 static RESUMED: AtomicBool = AtomicBool::new(false);
+
+/// A SIGCONT arrived that the signal thread has not answered yet ([`continue_locked`]). Set by the
+/// signal handler itself (see [`install_signal_handler`]), answered under [`ACTIVE`]'s lock. While
+/// set, the screen may not be ours any more: [`TerminalGuard::write_frame`] writes nothing.
+static CONTINUED: AtomicBool = AtomicBool::new(false);
+
+/// Set (under [`ACTIVE`]'s lock) when our own stop ([`stop_and_continue`]) is over: its SIGCONT is
+/// answered already, game mode is back.
+#[cfg(unix)]
+static OWN_STOP: AtomicBool = AtomicBool::new(false);
+
+/// [`TerminalGuard::write_frame`] dropped a frame while a SIGCONT was unanswered: the screen lacks it
+/// even if game mode needs no taking back. Set and read under [`ACTIVE`]'s lock.
+static FRAME_HELD: AtomicBool = AtomicBool::new(false);
+
+/// Game mode was entered again: a full repaint is due (which also makes up for any held frame).
+fn resumed_locked() {
+    RESUMED.store(true, Ordering::SeqCst);
+    FRAME_HELD.store(false, Ordering::SeqCst);
+}
 
 /// The global state, whether or not a panic poisoned the lock (the state is a plain value, always valid).
 fn active() -> MutexGuard<'static, Option<Enabled>> {
@@ -187,7 +227,7 @@ impl TerminalGuard {
         let enabled =
             Enabled { mouse: options.mouse, focus_events: options.focus_events, keyboard_enhancement };
         RESUMED.store(false, Ordering::SeqCst);
-        enter_locked(&mut active, enabled)?;
+        enter_locked(&mut active, enabled, &enter_sequence(enabled))?;
         Ok(TerminalGuard { enabled })
     }
 
@@ -199,14 +239,19 @@ impl TerminalGuard {
 
     /// Writes one encoded frame to the terminal and flushes, unless the terminal was restored meanwhile
     /// (a signal arrived), or game mode came back after a stop that the app has not taken yet
-    /// ([`take_resumed`](Self::take_resumed)): that frame was encoded for the screen before the stop.
-    /// Then nothing is written.
+    /// ([`take_resumed`](Self::take_resumed)): that frame was encoded for the screen before the stop;
+    /// or a SIGCONT has not been answered yet: the terminal may be someone else's until then (it is
+    /// taken back, or the frame made up for, with a full repaint). Then nothing is written.
     ///
     /// # Errors
     /// The write failed (the terminal is gone).
     pub fn write_frame(&self, bytes: &[u8]) -> io::Result<()> {
         let active = active();
         if active.is_none() || bytes.is_empty() || RESUMED.load(Ordering::SeqCst) {
+            return Ok(());
+        }
+        if CONTINUED.load(Ordering::SeqCst) {
+            FRAME_HELD.store(true, Ordering::SeqCst);
             return Ok(());
         }
         let mut stdout = io::stdout().lock();
@@ -233,10 +278,10 @@ impl TerminalGuard {
         stop_and_continue()
     }
 
-    /// Whether game mode was entered again after a stop (the Ctrl-Z key or SIGTSTP) since the last
-    /// call. If so, the screen was cleared and its size may have changed: invalidate the encoder,
-    /// re-read the [`size`] and draw a full frame. Until then [`write_frame`](Self::write_frame)
-    /// writes nothing.
+    /// Whether game mode was entered again after a stop (the Ctrl-Z key, SIGTSTP, or SIGSTOP then
+    /// SIGCONT from outside) since the last call. If so, the screen was cleared and its size may have
+    /// changed: invalidate the encoder, re-read the [`size`] and draw a full frame. Until then
+    /// [`write_frame`](Self::write_frame) writes nothing.
     #[must_use]
     pub fn take_resumed(&self) -> bool {
         let _active = active(); // ordered with a stop in progress
@@ -248,7 +293,8 @@ impl TerminalGuard {
 /// process unless nothing would ever continue it ([`stopping_is_safe`]) and, once continued, enters
 /// game mode again and sets [`RESUMED`]. All under the lock: no frame is written half before and half
 /// after, nor on the main screen. If the shell continues us in the background (`bg`), re-entering raw
-/// mode stops us again (SIGTTOU, default action) before anything is written, until `fg`.
+/// mode stops us again (SIGTTOU, default action) before anything is written, until `fg`. The SIGCONT
+/// that ended the stop is marked answered ([`OWN_STOP`]): the signal thread leaves game mode alone.
 #[cfg(unix)]
 fn stop_and_continue() -> io::Result<()> {
     let mut active = active();
@@ -258,19 +304,52 @@ fn stop_and_continue() -> io::Result<()> {
         // SIGTSTP's default action, emulated with SIGSTOP (signal-hook handles SIGTSTP now); returns
         // after SIGCONT.
         signal_hook::low_level::emulate_default_handler(signal_hook::consts::SIGTSTP)?;
+        OWN_STOP.store(true, Ordering::SeqCst);
     }
     if let Some(enabled) = enabled {
         terminal::enable_raw_mode()?;
-        enter_locked(&mut active, enabled)?;
-        RESUMED.store(true, Ordering::SeqCst);
+        enter_locked(&mut active, enabled, &enter_sequence(enabled))?;
+        resumed_locked();
     }
     Ok(())
+}
+
+/// Answers a SIGCONT ([`CONTINUED`]), on the signal thread. The one that ended our own stop
+/// ([`OWN_STOP`]) needs nothing more (but a repaint, if a frame was held meanwhile); nor does one
+/// while not in game mode. Any other ended a stop that restored nothing, an uncatchable SIGSTOP from
+/// outside, or no stop at all: the job-control shell may have reset the terminal's modes and written
+/// over the screen, so raw mode is set again, game mode re-entered ([`reenter_sequence`]) and
+/// [`RESUMED`] set. All under the lock, as a stop: no frame is written half before and half after.
+/// In the background (`bg`), setting raw mode stops us (SIGTTOU) before anything is written, until
+/// `fg`. Returns whether the app must repaint everything.
+#[cfg(unix)]
+fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
+    if !CONTINUED.swap(false, Ordering::SeqCst) {
+        return Ok(false);
+    }
+    let own = OWN_STOP.swap(false, Ordering::SeqCst);
+    let Some(enabled) = *active else { return Ok(false) };
+    if own {
+        let held = FRAME_HELD.swap(false, Ordering::SeqCst);
+        RESUMED.fetch_or(held, Ordering::SeqCst);
+        return Ok(held);
+    }
+    // crossterm skips enabling raw mode while it believes it on: off (back to the modes from before
+    // game mode, which stay the ones to restore at the end), then on.
+    terminal::disable_raw_mode()?;
+    terminal::enable_raw_mode()?;
+    // A SIGCONT meanwhile (`fg`, which let the raw mode through after a stop in the background) is
+    // answered by this same re-entering.
+    CONTINUED.store(false, Ordering::SeqCst);
+    enter_locked(active, enabled, &reenter_sequence(enabled))?;
+    resumed_locked();
+    Ok(true)
 }
 
 #[cfg(not(unix))]
 fn stop_and_continue() -> io::Result<()> {
     let _active = active();
-    RESUMED.store(true, Ordering::SeqCst); // nothing to stop: just a full repaint
+    resumed_locked(); // nothing to stop: just a full repaint
     Ok(())
 }
 
@@ -302,12 +381,13 @@ impl Drop for TerminalGuard {
     }
 }
 
-/// With raw mode on: marks `enabled` active, then writes the enter sequence (restoring on failure).
-fn enter_locked(active: &mut Option<Enabled>, enabled: Enabled) -> io::Result<()> {
+/// With raw mode on: marks `enabled` active, then writes `sequence`, which enters it (restoring on
+/// failure).
+fn enter_locked(active: &mut Option<Enabled>, enabled: Enabled, sequence: &str) -> io::Result<()> {
     // Marked before writing, so a failure half-way is restored in full.
     *active = Some(enabled);
     let mut stdout = io::stdout().lock();
-    let written = stdout.write_all(enter_sequence(enabled).as_bytes()).and_then(|()| stdout.flush());
+    let written = stdout.write_all(sequence.as_bytes()).and_then(|()| stdout.flush());
     drop(stdout);
     if let Err(e) = written {
         let _ = restore_locked(active);
@@ -352,8 +432,13 @@ pub fn exit_code_for_signal(signal: i32) -> i32 {
 /// SIGTERM, SIGHUP, SIGINT: restore the terminal, exit with 128 + signo. SIGTSTP (`kill -TSTP`; the
 /// Ctrl-Z key arrives as a key in raw mode): the same stop as [`TerminalGuard::suspend`], then a
 /// SIGWINCH to ourselves, which wakes crossterm's `poll` with a resize event, so that the event loop
-/// sees [`TerminalGuard::take_resumed`] even when idle. A thread waits on
-/// `signal_hook::iterator::Signals`, so all this runs in normal (not signal-handler) context.
+/// sees [`TerminalGuard::take_resumed`] even when idle. SIGCONT: [`continue_locked`] (game mode back
+/// after a SIGSTOP from outside), then the same SIGWINCH if a repaint is due. A thread waits on
+/// `signal_hook::iterator::Signals`, so all this runs in normal (not signal-handler) context; only
+/// [`CONTINUED`] is set in the handler itself, registered first so that it is set by the time the
+/// thread hears of the SIGCONT. Linux runs that handler on the main thread whenever it can, before
+/// the thread goes on with its own code, so no frame gets out between a SIGCONT and the flag; where a
+/// kernel picks another thread, one frame might, and the full repaint that follows covers it.
 ///
 /// SIGTTIN and SIGTTOU keep their default action (stop): the kernel sends them when a background job
 /// touches the terminal, and we only run in the background after a stop (`bg`), when re-entering game
@@ -361,23 +446,34 @@ pub fn exit_code_for_signal(signal: i32) -> i32 {
 /// SIGTTOU on every restarted `tcsetattr`, and the thread that would handle it is the one retrying.
 #[cfg(unix)]
 fn install_signal_handler() -> io::Result<()> {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGTSTP, SIGWINCH};
+    use signal_hook::consts::{SIGCONT, SIGHUP, SIGINT, SIGTERM, SIGTSTP, SIGWINCH};
     static INSTALLED: Mutex<bool> = Mutex::new(false);
     let mut installed = INSTALLED.lock().unwrap_or_else(PoisonError::into_inner);
     if *installed {
         return Ok(());
     }
-    let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP, SIGINT, SIGTSTP])?;
+    // Before the iterator's own handler: actions run in the order registered.
+    signal_hook::flag::register(SIGCONT, &CONTINUED)?;
+    let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP, SIGINT, SIGTSTP, SIGCONT])?;
     std::thread::Builder::new().name("mazewalk-signals".into()).spawn(move || {
+        let cannot_continue = |err: io::Error| {
+            // Game mode could not come back (the terminal is gone?): nothing sensible to do.
+            let _ = restore_terminal();
+            eprintln!("mazewalk: cannot continue after a stop: {err}");
+            std::process::exit(1);
+        };
         for signal in signals.forever() {
-            if signal == SIGTSTP {
-                if let Err(err) = stop_and_continue() {
-                    // Game mode could not come back (the terminal is gone?): nothing sensible to do.
-                    let _ = restore_terminal();
-                    eprintln!("mazewalk: cannot continue after a stop: {err}");
-                    std::process::exit(1);
+            if signal == SIGTSTP || signal == SIGCONT {
+                let repaint = if signal == SIGTSTP {
+                    stop_and_continue().map(|()| true)
+                } else {
+                    continue_locked(&mut active()) // the lock is released at the end of this statement
+                };
+                match repaint {
+                    Ok(true) => drop(signal_hook::low_level::raise(SIGWINCH)),
+                    Ok(false) => {}
+                    Err(err) => cannot_continue(err),
                 }
-                let _ = signal_hook::low_level::raise(SIGWINCH);
                 continue;
             }
             // Keep the lock until exit: no frame may be written after the restore.
@@ -500,6 +596,22 @@ mod tests {
         );
         let plain = enter_sequence(Enabled::default());
         assert!(!plain.contains("\x1b[>") && !plain.contains("\x1b[?1000h"), "{}", visible(&plain));
+    }
+
+    #[test]
+    fn reenter_pops_the_keyboard_flags_before_pushing_them_again() {
+        // After a stop that restored nothing, our flags are likely still on the alternate screen's
+        // stack: popped on that screen, then pushed, so the stack holds them once.
+        let reenter = reenter_sequence(ALL);
+        assert_in_order(
+            &reenter,
+            &["\x1b[?1049h", "\x1b[?25l", "\x1b[?1000h", "\x1b[?1004h", "\x1b[<1u", "\x1b[>3u"],
+        );
+        assert!(reenter.ends_with("\x1b[>3u"), "{}", visible(&reenter));
+        assert_eq!(reenter.replace("\x1b[<1u", ""), enter_sequence(ALL));
+        // Without keyboard flags there is nothing to pop: the same bytes as entering.
+        let plain = Enabled { keyboard_enhancement: false, ..ALL };
+        assert_eq!(reenter_sequence(plain), enter_sequence(plain));
     }
 
     #[test]
