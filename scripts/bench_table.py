@@ -100,11 +100,12 @@ def encoder_tables(results):
     keys = sorted(k for k in results if k.startswith("encode-walk/"))
     if keys:
         table_head("Encoder time per frame over the walk (median, µs)", ["colours"],
-                   ["mazewalk", "ratatui (diff + crossterm)", "full repaint", "frames"])
+                   ["mazewalk exact", "mazewalk ±1 (default)", "ratatui (diff + crossterm)", "full repaint",
+                    "frames"])
         for depth in sorted({k.split("/")[1] for k in keys}):
             row = []
             frames = None
-            for name in ("mazewalk", "ratatui", "full_repaint"):
+            for name in ("mazewalk", "mazewalk_tolerant", "ratatui", "full_repaint"):
                 median, elements = results.get(f"encode-walk/{depth}/{name}", (None, None))
                 frames = elements or frames
                 row.append(f"{median / elements / 1e3:.1f}" if median and elements else "–")
