@@ -158,7 +158,8 @@ impl Encoder {
         } else {
             if self.tolerance > 0 {
                 for (shown, cell) in self.screen.cells().iter().zip(sent.cells_mut()) {
-                    if shown.looks_within(cell, self.tolerance) {
+                    // Only truecolor colours can be close without being equal; the diff finds the rest.
+                    if has_rgb(cell) && shown.looks_within(cell, self.tolerance) {
                         *cell = *shown;
                     }
                 }
@@ -433,7 +434,7 @@ fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize, toler
         cell.bg = keep(cell.bg, pen.bg).unwrap_or(cell.bg);
         cell
     };
-    let cell = if tolerance == 0 {
+    let cell = if tolerance == 0 || !has_rgb(&cell) {
         match cell.inverse() {
             Some(inverse) if sgr_len(pen, &inverse) < sgr_len(pen, &cell) => inverse,
             _ => cell,
@@ -455,6 +456,11 @@ fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize, toler
         _ => None, // after the last column: pending wrap, position unreliable
     };
     cell
+}
+
+/// Whether a cell has a truecolor colour, the only kind a tolerance applies to.
+fn has_rgb(cell: &Cell) -> bool {
+    matches!(cell.fg, Color::Rgb(..)) || matches!(cell.bg, Color::Rgb(..))
 }
 
 fn push_char(out: &mut Vec<u8>, ch: char) {
