@@ -788,19 +788,30 @@ fn a_stop_from_outside(answers: Answers, enabled: Enabled, ready: impl Fn(&mut T
     // Continued, as by `fg`: game mode again, then a full paint of the maze.
     let before = tui.bytes_so_far();
     tui.signal(Signal::CONT);
+    let after = continued(&mut tui, before, &enter_sequence(enabled), enabled, quit);
+    assert!(after.starts_with(enter_sequence(enabled).as_bytes()), "no re-enter first: {}", visible(&after));
+}
+
+/// After a SIGCONT sent when `before` bytes had been read: waits for the maze, checks that game mode
+/// was entered again once (by `enter`), then a full paint came, raw mode is back and all is idle; then
+/// quits with `quit` and checks the terminal is restored. Returns the bytes written after `before`
+/// (up to the quit).
+fn continued(tui: &mut Tui, before: usize, enter: &str, enabled: Enabled, quit: &[u8]) -> Vec<u8> {
     tui.wait_for("the maze after SIGCONT", |s| {
         s.alternate_screen()
             && s.hide_cursor()
             && view_drawn(s)
+            && !s.contents().contains("Stopped")
             && s.contents_between(23, 0, 23, 80).contains("heading")
     });
     tui.settle();
     let after = lock(&tui.shared).raw[before..].to_vec();
-    let enter = enter_sequence(enabled);
-    assert!(after.starts_with(enter.as_bytes()), "no re-enter first after SIGCONT: {}", visible(&after));
+    let find = |hay: &[u8], pat: &[u8]| hay.windows(pat.len()).position(|w| w == pat);
+    let at = find(&after, enter.as_bytes())
+        .unwrap_or_else(|| panic!("no re-enter after SIGCONT: {}", visible(&after)));
     let enters = after.windows(enter.len()).filter(|w| *w == enter.as_bytes()).count();
     assert_eq!(enters, 1, "game mode re-entered twice: {}", visible(&after));
-    let frame = &after[enter.len()..];
+    let frame = &after[at + enter.len()..];
     assert!(frame.starts_with(b"\x1b[?2026h"), "no frame after re-entering: {}", visible(&after));
     assert!(frame.windows(4).any(|w| w == b"\x1b[2J"), "no full paint after SIGCONT: {}", visible(&after));
     let t = tui.termios();
@@ -810,7 +821,8 @@ fn a_stop_from_outside(answers: Answers, enabled: Enabled, ready: impl Fn(&mut T
     tui.send(quit);
     let (status, raw) = tui.finish();
     assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, enabled);
+    assert_restored(tui, &raw, enabled);
+    after
 }
 
 #[test]
@@ -856,38 +868,15 @@ fn a_sigstop_from_outside(
 
     let before = tui.bytes_so_far();
     tui.signal(Signal::CONT);
-    tui.wait_for("the maze over the shell's lines after SIGCONT", |s| {
-        s.alternate_screen()
-            && s.hide_cursor()
-            && view_drawn(s)
-            && !s.contents().contains("Stopped")
-            && s.contents_between(23, 0, 23, 80).contains("heading")
-    });
-    tui.settle();
-    let after = lock(&tui.shared).raw[before..].to_vec();
-    let find = |hay: &[u8], pat: &[u8]| hay.windows(pat.len()).position(|w| w == pat);
-    let count = |hay: &[u8], pat: &[u8]| hay.windows(pat.len()).filter(|w| *w == pat).count();
     let enter = reenter_sequence(enabled);
-    let at = find(&after, enter.as_bytes())
-        .unwrap_or_else(|| panic!("no re-enter after SIGCONT: {}", visible(&after)));
-    let cut = &after[..at];
+    let after = continued(&mut tui, before, &enter, enabled, quit);
+    let find = |hay: &[u8], pat: &[u8]| hay.windows(pat.len()).position(|w| w == pat);
+    let cut = &after[..find(&after, enter.as_bytes()).unwrap_or(0)];
     assert!(
         cut.is_empty() || (cut.ends_with(b"\x1b[?2026l") && find(cut, b"\x1b[?2026h").is_none()),
         "written before game mode was back: {}",
         visible(&after)
     );
-    assert_eq!(count(&after, enter.as_bytes()), 1, "game mode re-entered twice: {}", visible(&after));
-    let frame = &after[at + enter.len()..];
-    assert!(frame.starts_with(b"\x1b[?2026h"), "no frame after re-entering: {}", visible(&after));
-    assert!(frame.windows(4).any(|w| w == b"\x1b[2J"), "no full paint after SIGCONT: {}", visible(&after));
-    let t = tui.termios();
-    assert!(!t.local_modes.intersects(LocalModes::ICANON | LocalModes::ECHO), "not in raw mode again");
-    tui.assert_silent_for(Duration::from_millis(300), "idle after continuing");
-
-    tui.send(quit);
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, enabled);
 }
 
 #[test]

@@ -286,6 +286,7 @@ fn clear_and_paint(frame: &Frame, bg: Color, bce: bool, out: &mut Vec<u8>) -> Pe
     write_sgr_reset(out, &mut pen, None, Some(bg));
     out.extend_from_slice(b"\x1b[2J");
     let blank = Frame::filled(frame.width(), frame.height(), Cell { ch: ' ', fg: Color::Default, bg });
+    // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
     diff(&blank, &mut frame.clone(), bce, 0, &mut pen, out);
     pen
 }
