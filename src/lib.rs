@@ -35,6 +35,7 @@
 
 pub mod app;
 pub mod frame;
+pub mod input;
 pub mod math;
 pub mod maze;
 pub mod render;
