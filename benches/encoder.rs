@@ -27,9 +27,10 @@ use std::io;
 use std::rc::Rc;
 
 use criterion::{Criterion, Throughput};
+use mazewalk::app::App;
 use mazewalk::app::state::TURN_SPEED;
-use mazewalk::app::{App, Key, KeyKind};
 use mazewalk::frame::{Cell, Color, ColorDepth, Frame};
+use mazewalk::input::{Key, KeyPhase};
 use mazewalk::render::{Charset, Culling, RenderOptions, Renderer};
 use mazewalk::term::encoder::{DEFAULT_TOLERANCE, Encoder, full_repaint};
 use ratatui::backend::CrosstermBackend;
@@ -90,7 +91,7 @@ fn walk(depth: ColorDepth) -> Vec<Step> {
     render(&app, "first frame", true);
     for (phase, key, seconds) in script() {
         if let Some(key) = key {
-            app.key(key, KeyKind::Press, now);
+            app.key(key, KeyPhase::Press, now);
         }
         let frames = (seconds * FPS).round() as u32;
         for _ in 0..frames {
@@ -100,7 +101,7 @@ fn walk(depth: ColorDepth) -> Vec<Step> {
             render(&app, phase, moved);
         }
         if let Some(key) = key {
-            app.key(key, KeyKind::Release, now);
+            app.key(key, KeyPhase::Release, now);
         }
     }
     steps

@@ -3,8 +3,10 @@
 
 pub mod controls;
 pub mod overlay;
+pub mod run;
+pub mod session;
 pub mod state;
 
-pub use controls::{Action, Key};
-pub use state::{App, KeyKind, MapMode};
-pub mod run;
+pub use controls::Action;
+pub use session::{Outcome, Session, SessionOptions};
+pub use state::{App, MapMode};

@@ -15,12 +15,13 @@ use std::time::Instant;
 use anyhow::{Context as _, bail};
 use clap::{Args, Parser, Subcommand};
 use glam::Vec2;
-use mazewalk::app::{App, run::run};
+use mazewalk::app::run::run;
+use mazewalk::app::{App, Session, SessionOptions};
 use mazewalk::frame::{ColorDepth, Frame};
 use mazewalk::maze::generate::{Algorithm, GenOptions, MAX_SIDE, generate, generate_grid};
 use mazewalk::maze::{self, Format, LoadError, Maze};
 use mazewalk::render::{Camera, Charset, Culling, Projection, RenderOptions, Renderer};
-use mazewalk::term::{caps, encoder};
+use mazewalk::term::{caps, encoder, guard};
 
 #[derive(Parser)]
 #[command(
@@ -176,12 +177,12 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         None => cmd_walk(&cli.walk),
-        Some(Command::Render(args)) => cmd_render(&args),
-        Some(Command::Gen(args)) => cmd_gen(&args),
-        Some(Command::Check(args)) => cmd_check(&args),
+        Some(Command::Render(args)) => cmd_render(&args).map(|()| ExitCode::SUCCESS),
+        Some(Command::Gen(args)) => cmd_gen(&args).map(|()| ExitCode::SUCCESS),
+        Some(Command::Check(args)) => cmd_check(&args).map(|()| ExitCode::SUCCESS),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(err) => {
             let load = err.downcast_ref::<LoadError>();
             match load {
@@ -219,19 +220,24 @@ impl LookArgs {
     }
 }
 
-fn cmd_walk(args: &WalkArgs) -> anyhow::Result<()> {
+fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     use std::io::IsTerminal as _;
     let maze = load_maze(&args.maze)?;
     if !std::io::stdin().is_terminal() || !std::io::stdout().is_terminal() {
         bail!("the walkthrough needs a terminal (try `mazewalk render` to print a frame, or --help)");
     }
-    let mut app = App::new(maze, args.look.options(Culling::Portal), 0.0)?;
+    let clock = Instant::now(); // the walk's time 0
+    let app = App::new(maze, args.look.options(Culling::Portal), 0.0)?;
     let env = |k: &str| std::env::var(k).ok();
-    let outcome = run(&mut app, caps::detect_bce(env), args.color_tolerance).context("terminal")?;
-    if let Some(seconds) = outcome.finished {
+    let options = SessionOptions { bce: caps::detect_bce(env), color_tolerance: args.color_tolerance };
+    let mut session = Session::new(app, 80, 24, options); // resized to the terminal by `run`
+    if let Some(signal) = run(&mut session, clock).context("terminal")?.signal() {
+        return Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)));
+    }
+    if let Some(seconds) = session.outcome().finished {
         println!("You found the exit in {seconds:.1} s.");
     }
-    Ok(())
+    Ok(ExitCode::SUCCESS)
 }
 
 fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {

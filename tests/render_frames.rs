@@ -4,11 +4,11 @@
 
 use glam::Vec2;
 use mazewalk::app::App;
-use mazewalk::app::run::{FrameCost, Screen, draw};
+use mazewalk::app::session::{FrameCost, Screen, draw};
 use mazewalk::frame::{ColorDepth, Frame};
 use mazewalk::maze;
 use mazewalk::render::{Camera, Charset, Culling, Projection, RenderOptions, Renderer};
-use mazewalk::term::{Key, KeyAction};
+use mazewalk::input::{Key, KeyPhase};
 use proptest::prelude::*;
 
 proptest! {
@@ -50,7 +50,7 @@ proptest! {
         let maze = maze::builtin().unwrap();
         let mut app = App::new(maze, RenderOptions::default(), 0.0).unwrap();
         for (i, k) in keys.iter().enumerate() {
-            app.key(Key::Char(*k), KeyAction::Press, i as f64 * 0.05);
+            app.key(Key::Char(*k), KeyPhase::Press, i as f64 * 0.05);
             app.tick(i as f64 * 0.05 + 0.04);
         }
         let mut screen = Screen::default();

@@ -88,7 +88,7 @@ impl Action {
     }
 }
 
-pub use crate::term::Key;
+use crate::input::Key;
 
 /// The action bound to `key`, if any.
 #[must_use]

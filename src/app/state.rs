@@ -3,7 +3,8 @@
 
 use glam::Vec2;
 
-use super::controls::{Action, Held, Key, action_for};
+use super::controls::{Action, Held, action_for};
+use crate::input::{Key, KeyPhase};
 use crate::maze::Maze;
 use crate::maze::movement::{Position, step};
 use crate::render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection, WALL_MARGIN};
@@ -37,8 +38,6 @@ pub enum MapMode {
     /// The map fills the screen.
     Full,
 }
-
-pub use crate::term::KeyAction as KeyKind;
 
 /// The walkthrough.
 #[derive(Clone, Debug)]
@@ -114,20 +113,20 @@ impl App {
     }
 
     /// A key event at time `now`. Returns true when the picture may have changed.
-    pub fn key(&mut self, key: Key, kind: KeyKind, now: f64) -> bool {
+    pub fn key(&mut self, key: Key, phase: KeyPhase, now: f64) -> bool {
         let Some(action) = action_for(key) else { return false };
         if action.is_continuous() {
-            match kind {
-                KeyKind::Release => self.held.release(action),
-                KeyKind::Press | KeyKind::Repeat => {
+            match phase {
+                KeyPhase::Release => self.held.release(action),
+                KeyPhase::Press | KeyPhase::Repeat => {
                     // Bring the motion up to date before the set of held keys changes.
                     self.tick(now);
-                    self.held.press(action, now, self.releases, kind == KeyKind::Repeat);
+                    self.held.press(action, now, self.releases, phase == KeyPhase::Repeat);
                 }
             }
             return true;
         }
-        if kind == KeyKind::Release {
+        if phase == KeyPhase::Release {
             return false;
         }
         match action {

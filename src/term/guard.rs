@@ -2,13 +2,17 @@
 //!
 //! "Always" means: when the guard drops, when the program panics (a panic hook restores before the
 //! message prints), when SIGTERM, SIGHUP (the SSH connection dropped) or SIGINT arrive (restore, then
-//! exit with 128 + signal number), when the terminal hangs up without a SIGHUP (exit as for SIGHUP),
-//! and around a stop: the Ctrl-Z key ([`TerminalGuard::suspend`]) or SIGTSTP from outside (`kill
-//! -TSTP`) restore, stop, and on SIGCONT enter game mode again ([`TerminalGuard::take_resumed`] then
-//! tells the app to repaint everything). A stop that gives no warning (SIGSTOP from outside: `kill
-//! -STOP`, a debugger) can restore nothing, and the shell may reset the terminal's modes and write over
-//! the screen meanwhile: the SIGCONT that ends it takes the terminal back (raw mode, game mode entered
-//! again) and asks for the same full repaint.
+//! tell the event loop, which returns so that `main` exits with 128 + signal number:
+//! [`TerminalGuard::take_exit`]), and around a stop: the Ctrl-Z key ([`TerminalGuard::suspend`]) or
+//! SIGTSTP from outside (`kill -TSTP`) restore, stop, and on SIGCONT enter game mode again
+//! ([`TerminalGuard::take_resumed`] then tells the app to repaint everything). A stop that gives no
+//! warning (SIGSTOP from outside: `kill -STOP`, a debugger) can restore nothing, and the shell may
+//! reset the terminal's modes and write over the screen meanwhile: the SIGCONT that ends it takes the
+//! terminal back (raw mode, game mode entered again) and asks for the same full repaint. (A terminal
+//! that hangs up without SIGHUP is seen by the event loop itself: its reads end.)
+//!
+//! The event loop sleeps in `poll(2)` on its input and on [`TerminalGuard::wakeups`], a self-pipe
+//! that SIGWINCH and the signal thread write to, so resizes, stops and exit signals wake it at once.
 //!
 //! All those paths share one idempotent restore, [`restore_terminal`], behind one global lock that
 //! also serializes frame writes ([`TerminalGuard::write_frame`]): a signal can never cut a frame in
@@ -19,7 +23,7 @@
 //! their content and order are unit-tested without a terminal.
 
 use std::io::{self, Write};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::{Mutex, MutexGuard, Once, PoisonError, TryLockError};
 
 use crossterm::Command;
@@ -36,8 +40,8 @@ pub struct GuardOptions {
     pub focus_events: bool,
     /// Ask for the kitty keyboard protocol (key releases and repeats) if the terminal supports it.
     pub keyboard_enhancement: bool,
-    /// Restore the terminal and exit on SIGTERM, SIGHUP and SIGINT, and when the terminal hangs up
-    /// without a SIGHUP; restore, stop and come back on SIGTSTP; take the terminal back on SIGCONT
+    /// Restore the terminal and end the walk on SIGTERM, SIGHUP and SIGINT; restore, stop and come
+    /// back on SIGTSTP; take the terminal back on SIGCONT
     /// after a SIGSTOP (Unix; installed once per process).
     pub handle_signals: bool,
 }
@@ -155,6 +159,28 @@ static OWN_STOP: AtomicBool = AtomicBool::new(false);
 /// even if game mode needs no taking back. Set and read under [`ACTIVE`]'s lock.
 static FRAME_HELD: AtomicBool = AtomicBool::new(false);
 
+/// Set by the signal thread once it has restored the terminal for a signal that ends the walk
+/// (SIGTERM, SIGHUP, SIGINT): the signal's number, or [`CANNOT_CONTINUE`]; 0 while none came. The
+/// event loop reads it ([`TerminalGuard::take_exit`]) and returns; `main` picks the exit status.
+static EXIT: AtomicI32 = AtomicI32::new(0);
+
+/// [`EXIT`]'s value when game mode could not come back after a stop (the terminal is gone?).
+const CANNOT_CONTINUE: i32 = -1;
+
+/// The self-pipe that wakes the event loop: SIGWINCH writes to it (in the signal handler), and the
+/// signal thread does after anything the loop must see (a stop ended, an exit signal).
+#[cfg(unix)]
+static WAKE: std::sync::OnceLock<(std::os::unix::net::UnixStream, std::os::unix::net::UnixStream)> =
+    std::sync::OnceLock::new();
+
+/// Wakes the event loop (a full pipe is awake already).
+fn wake() {
+    #[cfg(unix)]
+    if let Some((_, writer)) = WAKE.get() {
+        let _ = (&*writer).write(&[1]);
+    }
+}
+
 /// Game mode was entered again: a full repaint is due (which also makes up for any held frame).
 fn resumed_locked() {
     RESUMED.store(true, Ordering::SeqCst);
@@ -213,7 +239,6 @@ impl TerminalGuard {
         install_panic_hook();
         if options.handle_signals {
             install_signal_handler()?;
-            watch_for_hang_up()?;
         }
         let mut active = active();
         if active.is_some() {
@@ -286,6 +311,41 @@ impl TerminalGuard {
     pub fn take_resumed(&self) -> bool {
         let _active = active(); // ordered with a stop in progress
         RESUMED.swap(false, Ordering::SeqCst)
+    }
+
+    /// The signal that ended the walk, once the signal thread has restored the terminal for it
+    /// (SIGTERM, SIGHUP, SIGINT): the event loop should return, and the process exit with
+    /// [`exit_code_for_signal`].
+    ///
+    /// # Errors
+    /// Game mode could not be entered again after a stop (the terminal is gone?); it was restored.
+    pub fn take_exit(&self) -> io::Result<Option<i32>> {
+        match EXIT.swap(0, Ordering::SeqCst) {
+            0 => Ok(None),
+            CANNOT_CONTINUE => Err(io::Error::other("cannot continue after a stop")),
+            signal => Ok(Some(signal)),
+        }
+    }
+
+    /// A file descriptor that becomes readable when the event loop must look at the guard: a
+    /// resize (SIGWINCH), a stop that ended ([`take_resumed`](Self::take_resumed)), a signal that
+    /// ends the walk ([`take_exit`](Self::take_exit)). Poll it beside the input; read it empty with
+    /// [`drain_wakeups`](Self::drain_wakeups). `None` without signal handling.
+    #[cfg(unix)]
+    #[must_use]
+    pub fn wakeups(&self) -> Option<std::os::fd::BorrowedFd<'static>> {
+        use std::os::fd::AsFd;
+        WAKE.get().map(|(reader, _)| reader.as_fd())
+    }
+
+    /// Empties the [`wakeups`](Self::wakeups) pipe.
+    pub fn drain_wakeups(&self) {
+        #[cfg(unix)]
+        if let Some((reader, _)) = WAKE.get() {
+            use std::io::Read;
+            let mut buf = [0u8; 64];
+            while matches!((&*reader).read(&mut buf), Ok(n) if n > 0) {}
+        }
     }
 }
 
@@ -429,16 +489,17 @@ pub fn exit_code_for_signal(signal: i32) -> i32 {
     128 + signal
 }
 
-/// SIGTERM, SIGHUP, SIGINT: restore the terminal, exit with 128 + signo. SIGTSTP (`kill -TSTP`; the
-/// Ctrl-Z key arrives as a key in raw mode): the same stop as [`TerminalGuard::suspend`], then a
-/// SIGWINCH to ourselves, which wakes crossterm's `poll` with a resize event, so that the event loop
-/// sees [`TerminalGuard::take_resumed`] even when idle. SIGCONT: [`continue_locked`] (game mode back
-/// after a SIGSTOP from outside), then the same SIGWINCH if a repaint is due. A thread waits on
-/// `signal_hook::iterator::Signals`, so all this runs in normal (not signal-handler) context; only
-/// [`CONTINUED`] is set in the handler itself, registered first so that it is set by the time the
-/// thread hears of the SIGCONT. Linux runs that handler on the main thread whenever it can, before
-/// the thread goes on with its own code, so no frame gets out between a SIGCONT and the flag; where a
-/// kernel picks another thread, one frame might, and the full repaint that follows covers it.
+/// SIGTERM, SIGHUP, SIGINT: restore the terminal, then set [`EXIT`] and wake the event loop, which
+/// returns (`main` exits with 128 + signo). SIGTSTP (`kill -TSTP`; the Ctrl-Z key arrives as a key in
+/// raw mode): the same stop as [`TerminalGuard::suspend`], then a wake-up, so that the event loop sees
+/// [`TerminalGuard::take_resumed`] even when idle. SIGCONT: [`continue_locked`] (game mode back after a
+/// SIGSTOP from outside), then the same wake-up if a repaint is due. SIGWINCH writes to the wake-up
+/// pipe from the handler itself. A thread waits on `signal_hook::iterator::Signals`, so all else runs
+/// in normal (not signal-handler) context; only [`CONTINUED`] is set in the handler itself, registered
+/// first so that it is set by the time the thread hears of the SIGCONT. Linux runs that handler on the
+/// main thread whenever it can, before the thread goes on with its own code, so no frame gets out
+/// between a SIGCONT and the flag; where a kernel picks another thread, one frame might, and the full
+/// repaint that follows covers it.
 ///
 /// SIGTTIN and SIGTTOU keep their default action (stop): the kernel sends them when a background job
 /// touches the terminal, and we only run in the background after a stop (`bg`), when re-entering game
@@ -452,16 +513,15 @@ fn install_signal_handler() -> io::Result<()> {
     if *installed {
         return Ok(());
     }
+    let (reader, writer) = std::os::unix::net::UnixStream::pair()?;
+    reader.set_nonblocking(true)?;
+    writer.set_nonblocking(true)?;
+    signal_hook::low_level::pipe::register(SIGWINCH, writer.try_clone()?)?;
+    let _ = WAKE.set((reader, writer));
     // Before the iterator's own handler: actions run in the order registered.
     signal_hook::flag::register(SIGCONT, &CONTINUED)?;
     let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP, SIGINT, SIGTSTP, SIGCONT])?;
     std::thread::Builder::new().name("mazewalk-signals".into()).spawn(move || {
-        let cannot_continue = |err: io::Error| {
-            // Game mode could not come back (the terminal is gone?): nothing sensible to do.
-            let _ = restore_terminal();
-            eprintln!("mazewalk: cannot continue after a stop: {err}");
-            std::process::exit(1);
-        };
         for signal in signals.forever() {
             if signal == SIGTSTP || signal == SIGCONT {
                 let repaint = if signal == SIGTSTP {
@@ -470,16 +530,21 @@ fn install_signal_handler() -> io::Result<()> {
                     continue_locked(&mut active()) // the lock is released at the end of this statement
                 };
                 match repaint {
-                    Ok(true) => drop(signal_hook::low_level::raise(SIGWINCH)),
+                    Ok(true) => wake(),
                     Ok(false) => {}
-                    Err(err) => cannot_continue(err),
+                    Err(_) => {
+                        // Game mode could not come back (the terminal is gone?): restore and end.
+                        let _ = restore_terminal();
+                        EXIT.store(CANNOT_CONTINUE, Ordering::SeqCst);
+                        wake();
+                    }
                 }
                 continue;
             }
-            // Keep the lock until exit: no frame may be written after the restore.
-            let mut active = active();
-            let _ = restore_locked(&mut active);
-            std::process::exit(exit_code_for_signal(signal));
+            // Restored first; no frame is written after it (`write_frame` sees the terminal restored).
+            let _ = restore_terminal();
+            EXIT.store(signal, Ordering::SeqCst);
+            wake();
         }
     })?;
     *installed = true;
@@ -489,53 +554,6 @@ fn install_signal_handler() -> io::Result<()> {
 #[cfg(not(unix))]
 fn install_signal_handler() -> io::Result<()> {
     Ok(()) // no POSIX signals; crossterm reports Ctrl-C as a key in raw mode
-}
-
-/// A terminal that goes away sends SIGHUP only to the session it controls; one that is merely our
-/// stdin (no controlling terminal, or another one) just hangs up: reads return end of file. crossterm
-/// 0.29's reader then loops on `read` inside `event::poll` without ever returning, at 100% CPU, so
-/// the event loop cannot notice. A thread sleeps in `poll(2)` on the terminal crossterm reads (stdin,
-/// else /dev/tty) for that hang-up alone, then ends the process as SIGHUP would: restore (which fails
-/// quietly on a dead terminal) and exit with 128 + SIGHUP.
-#[cfg(unix)]
-fn watch_for_hang_up() -> io::Result<()> {
-    use rustix::event::{PollFd, PollFlags};
-    use std::io::IsTerminal;
-    use std::os::fd::AsFd;
-    static WATCHING: Mutex<bool> = Mutex::new(false);
-    let mut watching = WATCHING.lock().unwrap_or_else(PoisonError::into_inner);
-    if *watching {
-        return Ok(());
-    }
-    let stdin = io::stdin();
-    let tty = if stdin.is_terminal() {
-        stdin.as_fd().try_clone_to_owned()?
-    } else {
-        std::fs::File::options().read(true).write(true).open("/dev/tty")?.into()
-    };
-    std::thread::Builder::new().name("mazewalk-hang-up".into()).spawn(move || {
-        // No events asked for: poll reports only hang-ups and errors, so keys don't wake this thread.
-        let mut fds = [PollFd::new(&tty, PollFlags::empty())];
-        loop {
-            match rustix::event::poll(&mut fds, None) {
-                Err(rustix::io::Errno::INTR) => continue,
-                Ok(_) if fds[0].revents().contains(PollFlags::HUP) => break,
-                // Anything else (POLLNVAL where ttys can't be polled, an error): give up watching
-                // rather than spin.
-                _ => return,
-            }
-        }
-        let mut active = active(); // kept until exit, as on a signal
-        let _ = restore_locked(&mut active);
-        std::process::exit(exit_code_for_signal(signal_hook::consts::SIGHUP));
-    })?;
-    *watching = true;
-    Ok(())
-}
-
-#[cfg(not(unix))]
-fn watch_for_hang_up() -> io::Result<()> {
-    Ok(())
 }
 
 /// Human-readable escape sequence, for test messages.
