@@ -275,22 +275,21 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
     encoder::ansi_lines(&frame, &mut out);
     std::io::stdout().lock().write_all(&out).context("cannot write to stdout")?;
     if args.stats {
-        eprintln!(
-            "{{\"cells_visited\":{},\"distinct_cells\":{},\"portals_traversed\":{},\"walls_drawn\":{},\
-             \"triangles\":{},\"samples_written\":{},\"render_us\":{micros},\"culling\":\"{}\",\
-             \"cells_in_maze\":{}}}",
-            stats.portal.cells_visited,
-            stats.portal.distinct_cells,
-            stats.portal.portals_traversed,
-            stats.walls_drawn,
-            stats.triangles,
-            stats.samples_written,
-            match args.culling {
+        let json = serde_json::json!({
+            "cells_visited": stats.portal.cells_visited,
+            "distinct_cells": stats.portal.distinct_cells,
+            "portals_traversed": stats.portal.portals_traversed,
+            "walls_drawn": stats.walls_drawn,
+            "triangles": stats.triangles,
+            "samples_written": stats.samples_written,
+            "render_us": micros,
+            "culling": match args.culling {
                 Culling::Portal => "portal",
                 Culling::None => "none",
             },
-            maze.cell_count(),
-        );
+            "cells_in_maze": maze.cell_count(),
+        });
+        eprintln!("{json}");
     }
     if let Some(path) = &args.depth_out {
         let depths = renderer
@@ -375,13 +374,22 @@ fn summary(name: &str, format: Format, maze: &Maze) -> String {
     )
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, e.g. 20x10, found `{s}`"))?;
-    let side = |t: &str| match t.trim().parse::<u32>() {
-        Ok(n) if (1..=MAX_SIDE).contains(&n) => Ok(n),
-        _ => Err(format!("each side must be an integer in 1..={MAX_SIDE}, found `{t}`")),
+/// `WxH` with each side in `1..=max`: maze sizes (`--gen`, `gen --size`) and frame sizes.
+fn parse_dims<T>(s: &str, max: T, what: &str) -> Result<(T, T), String>
+where
+    T: std::str::FromStr + PartialOrd + From<u8> + std::fmt::Display + Copy,
+{
+    let (w, h) =
+        s.split_once(['x', 'X']).ok_or_else(|| format!("expected {what}, e.g. 20x10, found `{s}`"))?;
+    let side = |t: &str| match t.trim().parse::<T>() {
+        Ok(n) if n >= T::from(1) && n <= max => Ok(n),
+        _ => Err(format!("each side must be an integer in 1..={max}, found `{t}`")),
     };
     Ok((side(w)?, side(h)?))
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    parse_dims(s, MAX_SIDE, "WxH")
 }
 
 fn parse_loops(s: &str) -> Result<f32, String> {
@@ -448,11 +456,5 @@ fn parse_point(s: &str) -> Result<Vec2, String> {
 const MAX_FRAME_SIDE: usize = 2000;
 
 fn parse_frame_size(s: &str) -> Result<(usize, usize), String> {
-    let (w, h) =
-        s.split_once(['x', 'X']).ok_or_else(|| format!("expected COLSxROWS, e.g. 80x24, found `{s}`"))?;
-    let side = |t: &str| match t.trim().parse::<usize>() {
-        Ok(n) if (1..=MAX_FRAME_SIDE).contains(&n) => Ok(n),
-        _ => Err(format!("each side must be an integer in 1..={MAX_FRAME_SIDE}, found `{t}`")),
-    };
-    Ok((side(w)?, side(h)?))
+    parse_dims(s, MAX_FRAME_SIDE, "COLSxROWS")
 }

@@ -6,9 +6,9 @@ use glam::Vec2;
 use mazewalk::app::App;
 use mazewalk::app::session::{FrameCost, Screen, draw};
 use mazewalk::frame::{ColorDepth, Frame};
+use mazewalk::input::{Key, KeyPhase};
 use mazewalk::maze;
 use mazewalk::render::{Camera, Charset, Culling, Projection, RenderOptions, Renderer};
-use mazewalk::input::{Key, KeyPhase};
 use proptest::prelude::*;
 
 proptest! {
