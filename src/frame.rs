@@ -47,6 +47,34 @@ pub enum ColorDepth {
     TrueColor,
 }
 
+impl crate::names::Named for ColorDepth {
+    const WHAT: &'static str = "colour depth";
+    const NAMES: &'static [(&'static str, ColorDepth)] = &[
+        ("none", ColorDepth::None),
+        ("16", ColorDepth::Ansi16),
+        ("256", ColorDepth::Ansi256),
+        ("truecolor", ColorDepth::TrueColor),
+        ("0", ColorDepth::None),
+        ("mono", ColorDepth::None),
+        ("ansi", ColorDepth::Ansi16),
+        ("24bit", ColorDepth::TrueColor),
+        ("rgb", ColorDepth::TrueColor),
+    ];
+}
+
+impl std::str::FromStr for ColorDepth {
+    type Err = crate::names::UnknownName;
+    fn from_str(s: &str) -> Result<ColorDepth, Self::Err> {
+        crate::names::parse(s)
+    }
+}
+
+impl std::fmt::Display for ColorDepth {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        crate::names::fmt(*self, f)
+    }
+}
+
 /// One character cell of a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Cell {

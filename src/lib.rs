@@ -38,5 +38,6 @@ pub mod frame;
 pub mod input;
 pub mod math;
 pub mod maze;
+pub mod names;
 pub mod render;
 pub mod term;

@@ -74,7 +74,7 @@ struct LookArgs {
     #[arg(long, value_parser = parse_charset, default_value = "half")]
     charset: Charset,
     /// Colour depth: none, 16, 256 or truecolor (default: from COLORTERM/TERM; NO_COLOR gives none).
-    #[arg(long, value_parser = parse_color)]
+    #[arg(long)]
     color: Option<ColorDepth>,
     /// Terminal cell width / height (cells are about twice as tall as wide).
     #[arg(long, default_value_t = 0.5, value_parser = parse_cell_aspect)]
@@ -421,16 +421,6 @@ fn parse_projection(s: &str) -> Result<Projection, String> {
 
 fn parse_culling(s: &str) -> Result<Culling, String> {
     s.parse()
-}
-
-fn parse_color(s: &str) -> Result<ColorDepth, String> {
-    match s {
-        "none" | "0" | "mono" => Ok(ColorDepth::None),
-        "16" | "ansi" => Ok(ColorDepth::Ansi16),
-        "256" => Ok(ColorDepth::Ansi256),
-        "truecolor" | "24bit" | "rgb" => Ok(ColorDepth::TrueColor),
-        _ => Err(format!("unknown colour depth `{s}` (expected none, 16, 256 or truecolor)")),
-    }
 }
 
 fn parse_finite(s: &str) -> Result<f32, String> {

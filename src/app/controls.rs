@@ -49,26 +49,7 @@ pub enum Action {
 
 impl Action {
     /// The actions that act continuously while held (the rest fire once per press).
-    #[must_use]
-    pub const fn is_continuous(self) -> bool {
-        matches!(
-            self,
-            Action::Forward
-                | Action::Back
-                | Action::StrafeLeft
-                | Action::StrafeRight
-                | Action::TurnLeft
-                | Action::TurnRight
-                | Action::LookUp
-                | Action::LookDown
-                | Action::Rise
-                | Action::Sink
-                | Action::FovWider
-                | Action::FovNarrower
-        )
-    }
-
-    const CONTINUOUS: [Action; 12] = [
+    pub const CONTINUOUS: [Action; 12] = [
         Action::Forward,
         Action::Back,
         Action::StrafeLeft,
@@ -83,8 +64,15 @@ impl Action {
         Action::FovNarrower,
     ];
 
-    fn slot(self) -> usize {
-        Action::CONTINUOUS.iter().position(|&a| a == self).unwrap_or(0)
+    /// Whether the action acts continuously while held ([`CONTINUOUS`](Self::CONTINUOUS)).
+    #[must_use]
+    pub fn is_continuous(self) -> bool {
+        self.slot().is_some()
+    }
+
+    /// Its index in [`CONTINUOUS`](Self::CONTINUOUS).
+    fn slot(self) -> Option<usize> {
+        Action::CONTINUOUS.iter().position(|&a| a == self)
     }
 }
 
@@ -147,16 +135,14 @@ pub const REPEAT_HOLD: f64 = 0.12;
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Held {
     /// Per continuous action: `Some(until)` while held; `until = INFINITY` when a release will tell.
-    until: [Option<f64>; 12],
+    until: [Option<f64>; Action::CONTINUOUS.len()],
 }
 
 impl Held {
     /// A key went down at time `now` (seconds). `releases` says whether the terminal reports releases.
     pub fn press(&mut self, action: Action, now: f64, releases: bool, repeat: bool) {
-        if !action.is_continuous() {
-            return;
-        }
-        let slot = &mut self.until[action.slot()];
+        let Some(slot) = action.slot() else { return };
+        let slot = &mut self.until[slot];
         let until = if releases {
             f64::INFINITY
         } else {
@@ -170,14 +156,14 @@ impl Held {
 
     /// A key went up.
     pub fn release(&mut self, action: Action) {
-        if action.is_continuous() {
-            self.until[action.slot()] = None;
+        if let Some(slot) = action.slot() {
+            self.until[slot] = None;
         }
     }
 
     /// Lets go of everything (focus lost, suspend, reset).
     pub fn clear(&mut self) {
-        self.until = [None; 12];
+        self.until = [None; Action::CONTINUOUS.len()];
     }
 
     /// Drops holds that have run out by `now`.
@@ -192,7 +178,7 @@ impl Held {
     /// Whether `action` is held at `now`.
     #[must_use]
     pub fn is_held(&self, action: Action, now: f64) -> bool {
-        action.is_continuous() && self.until[action.slot()].is_some_and(|t| t >= now)
+        action.slot().is_some_and(|slot| self.until[slot].is_some_and(|t| t >= now))
     }
 
     /// +1, -1 or 0 from a pair of opposing actions.

@@ -1,0 +1,99 @@
+//! The names of the library's choices as the CLI and the maze files spell them (`half`, `256`,
+//! `orthographic`…): one table per enum, one parser, one typed error.
+//!
+//! ```
+//! use mazewalk::frame::ColorDepth;
+//! assert_eq!("256".parse::<ColorDepth>(), Ok(ColorDepth::Ansi256));
+//! assert_eq!(ColorDepth::Ansi256.to_string(), "256");
+//! let err = "257".parse::<ColorDepth>().unwrap_err();
+//! assert_eq!(err.to_string(), "unknown colour depth `257` (expected none, 16, 256 or truecolor)");
+//! ```
+
+use std::fmt;
+
+/// An enum whose values have names: the first name of each value is how it is written; any other is
+/// an alias that parses to it.
+pub trait Named: Sized + Copy + PartialEq + 'static {
+    /// What the values are, for messages ("colour depth").
+    const WHAT: &'static str;
+    /// Every name, canonical first for each value.
+    const NAMES: &'static [(&'static str, Self)];
+
+    /// The canonical name.
+    fn name(self) -> &'static str {
+        Self::NAMES.iter().find(|(_, v)| *v == self).map_or("?", |(n, _)| n)
+    }
+}
+
+/// A name that is none of a [`Named`] enum's.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {what} `{found}` (expected {expected})")]
+pub struct UnknownName {
+    /// What was asked for ("charset").
+    pub what: &'static str,
+    /// What was given, quoted safely (at most a few dozen characters, controls escaped).
+    pub found: String,
+    /// The canonical names, as a list for people ("a, b or c").
+    pub expected: String,
+}
+
+/// Parses `s` as one of `T`'s names.
+///
+/// # Errors
+/// [`UnknownName`] when it is none of them.
+pub fn parse<T: Named>(s: &str) -> Result<T, UnknownName> {
+    T::NAMES.iter().find(|(n, _)| *n == s).map(|&(_, v)| v).ok_or_else(|| {
+        let mut canonical: Vec<&str> = Vec::new();
+        for (n, v) in T::NAMES {
+            if T::NAMES.iter().find(|(_, w)| w == v).is_some_and(|(first, _)| first == n) {
+                canonical.push(n);
+            }
+        }
+        let expected = match canonical.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+            _ => canonical.join(""),
+        };
+        UnknownName { what: T::WHAT, found: quote(s), expected }
+    })
+}
+
+/// `s` for a message: at most [`QUOTE_CHARS`] characters (then an ellipsis), every control character
+/// escaped, so no input can flood a terminal or send it escape sequences through an error.
+#[must_use]
+pub fn quote(s: &str) -> String {
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i == QUOTE_CHARS {
+            out.push('…');
+            break;
+        }
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// The most characters [`quote`] keeps.
+pub const QUOTE_CHARS: usize = 40;
+
+/// Writes a [`Named`] value by its canonical name.
+pub fn fmt<T: Named>(value: T, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    f.write_str(value.name())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quoting_bounds_length_and_escapes_controls() {
+        assert_eq!(quote("half"), "half");
+        assert_eq!(quote("a\x1b]0;x\x07b\0"), "a\\u{1b}]0;x\\u{7}b\\u{0}");
+        let long = "x".repeat(10_000);
+        assert_eq!(quote(&long).chars().count(), QUOTE_CHARS + 1);
+        assert!(quote(&long).ends_with('…'));
+    }
+}
