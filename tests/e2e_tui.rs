@@ -662,6 +662,28 @@ fn sigint_restores_the_terminal() {
     signal_restores_the_terminal(Signal::INT);
 }
 
+/// Issue #13: every catchable signal whose default action ends the process (SIGQUIT, SIGUSR1,
+/// SIGALRM… and the real-time ones) restores everything the walk turned on — cooked modes, the main
+/// screen, the cursor, mouse reporting off, the kitty keyboard flags popped — and exits with 128 + n.
+#[test]
+fn every_catchable_ending_signal_restores_the_terminal() {
+    let signals = mazewalk::term::guard::ending_signals();
+    assert!(signals.len() >= 13, "{signals:?}");
+    // The named ones, and the first and last real-time signals (one code path serves the range).
+    let rt = signals.iter().position(|&s| s > 31).unwrap_or(signals.len());
+    let chosen = signals[..rt].iter().chain(signals[rt..].first()).chain(signals[rt..].last());
+    for &signal in chosen {
+        let mut tui = Tui::walk(80, 24, Answers::Kitty);
+        tui.settle();
+        let pid = tui.child.id().to_string();
+        let killed = Command::new("kill").arg(format!("-{signal}")).arg(&pid).status().expect("kill");
+        assert!(killed.success(), "kill -{signal}");
+        let (status, raw) = tui.finish();
+        assert_eq!(status.code(), Some(128 + signal), "signal {signal}: {status:?}");
+        assert_restored(&tui, &raw, KITTY);
+    }
+}
+
 #[test]
 fn a_hang_up_ends_the_walk() {
     // The terminal goes away (the SSH connection dropped): the kernel sends the session leader SIGHUP.

@@ -394,6 +394,24 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
         RESUMED.fetch_or(held, Ordering::SeqCst);
         return Ok(held);
     }
+    if in_background() {
+        // Continued in the background (`kill -CONT`, `bg`) after a stop that restored nothing: the
+        // shell has the terminal, its prompt on our alternate screen with mouse reporting on. Give
+        // both back (a write is allowed from the background; setting modes is not), then wait
+        // stopped for `fg` as a real SIGTTOU would make us; game mode comes back below.
+        let mut stdout = io::stdout().lock();
+        let _ = stdout.write_all(restore_sequence(enabled).as_bytes()).and_then(|()| stdout.flush());
+        drop(stdout);
+        while in_background() && stopping_is_safe() {
+            signal_hook::low_level::emulate_default_handler(signal_hook::consts::SIGTSTP)?;
+        }
+        CONTINUED.store(false, Ordering::SeqCst);
+        terminal::disable_raw_mode()?;
+        terminal::enable_raw_mode()?;
+        enter_locked(active, enabled, &enter_sequence(enabled))?;
+        resumed_locked();
+        return Ok(true);
+    }
     // crossterm skips enabling raw mode while it believes it on: off (back to the modes from before
     // game mode, which stay the ones to restore at the end), then on.
     terminal::disable_raw_mode()?;
@@ -404,6 +422,13 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
     enter_locked(active, enabled, &reenter_sequence(enabled))?;
     resumed_locked();
     Ok(true)
+}
+
+/// Whether our process group is in the background of the terminal (stdin): another group is its
+/// foreground. A terminal that is not our controlling one cannot tell: not in the background.
+#[cfg(unix)]
+fn in_background() -> bool {
+    nix::unistd::tcgetpgrp(io::stdin()).is_ok_and(|foreground| foreground != nix::unistd::getpgrp())
 }
 
 #[cfg(not(unix))]
@@ -489,7 +514,26 @@ pub fn exit_code_for_signal(signal: i32) -> i32 {
     128 + signal
 }
 
-/// SIGTERM, SIGHUP, SIGINT: restore the terminal, then set [`EXIT`] and wake the event loop, which
+/// The signals that end the walk (restore, then exit with 128 + the signal's number): every signal
+/// whose default action ends the process and that can be caught — SIGHUP, SIGINT, SIGQUIT, SIGABRT,
+/// SIGUSR1, SIGUSR2, SIGALRM, SIGTERM, SIGSTKFLT, SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO, SIGPWR
+/// (those that exist here) and the real-time signals SIGRTMIN..=SIGRTMAX — but the faults a program
+/// raises on itself (SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGTRAP, SIGSYS: a handler that returns would
+/// fault again) and SIGPIPE, which Rust programs ignore (a write to a closed pipe fails instead).
+#[cfg(unix)]
+#[must_use]
+pub fn ending_signals() -> Vec<i32> {
+    use signal_hook::consts::*;
+    let mut signals = vec![SIGHUP, SIGINT, SIGQUIT, SIGABRT, SIGUSR1, SIGUSR2, SIGALRM, SIGTERM];
+    signals.extend([SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO]);
+    #[cfg(any(target_os = "linux", target_os = "android"))]
+    signals.extend([libc::SIGSTKFLT, libc::SIGPWR]);
+    #[cfg(any(target_os = "linux", target_os = "android"))]
+    signals.extend(libc::SIGRTMIN()..=libc::SIGRTMAX());
+    signals
+}
+
+/// Every ending signal ([`ending_signals`]): restore the terminal, then set [`EXIT`] and wake the event loop, which
 /// returns (`main` exits with 128 + signo). SIGTSTP (`kill -TSTP`; the Ctrl-Z key arrives as a key in
 /// raw mode): the same stop as [`TerminalGuard::suspend`], then a wake-up, so that the event loop sees
 /// [`TerminalGuard::take_resumed`] even when idle. SIGCONT: [`continue_locked`] (game mode back after a
@@ -507,7 +551,7 @@ pub fn exit_code_for_signal(signal: i32) -> i32 {
 /// SIGTTOU on every restarted `tcsetattr`, and the thread that would handle it is the one retrying.
 #[cfg(unix)]
 fn install_signal_handler() -> io::Result<()> {
-    use signal_hook::consts::{SIGCONT, SIGHUP, SIGINT, SIGTERM, SIGTSTP, SIGWINCH};
+    use signal_hook::consts::{SIGCONT, SIGTSTP, SIGWINCH};
     static INSTALLED: Mutex<bool> = Mutex::new(false);
     let mut installed = INSTALLED.lock().unwrap_or_else(PoisonError::into_inner);
     if *installed {
@@ -520,7 +564,8 @@ fn install_signal_handler() -> io::Result<()> {
     let _ = WAKE.set((reader, writer));
     // Before the iterator's own handler: actions run in the order registered.
     signal_hook::flag::register(SIGCONT, &CONTINUED)?;
-    let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP, SIGINT, SIGTSTP, SIGCONT])?;
+    let mut signals =
+        signal_hook::iterator::Signals::new(ending_signals().into_iter().chain([SIGTSTP, SIGCONT]))?;
     std::thread::Builder::new().name("mazewalk-signals".into()).spawn(move || {
         for signal in signals.forever() {
             if signal == SIGTSTP || signal == SIGCONT {
