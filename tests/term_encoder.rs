@@ -508,3 +508,34 @@ fn a_tolerance_reuses_the_current_colour_along_gradients() {
     assert!(sgrs[0] >= cells, "exact: a colour code per cell ({sgrs:?})");
     assert!(sgrs[1] <= cells / 2 + height, "±1: about one per two cells ({sgrs:?})");
 }
+
+/// The encoder's bytes for a fixed walk through [`scene`] (full paint, then turning one column a frame
+/// with the background flickering by a step or two and the HUD changing, then standing still), exact and at the walkthrough's tolerance, pinned: a refactoring must
+/// not change a byte. A deliberate change to the encoding updates the numbers (and BENCHMARKS.md).
+#[test]
+fn a_fixed_walk_encodes_to_the_same_bytes() {
+    let (w, h) = (160, 48);
+    let mut totals = Vec::new();
+    for (bce, tolerance) in [(true, 0), (true, mazewalk::term::encoder::DEFAULT_TOLERANCE), (false, 0)] {
+        let mut encoder = Encoder::new();
+        encoder.set_bce(bce);
+        encoder.set_tolerance(tolerance);
+        let mut out = Vec::new();
+        let mut parser = terminal(w, h);
+        for shift in (0..24).chain([23, 23]) {
+            let mut frame = scene(w, h, shift);
+            for cell in frame.cells_mut() {
+                if let Color::Rgb(r, g, b) = cell.bg {
+                    cell.bg = Color::Rgb(r, g, b.saturating_add((shift % 3) as u8)); // a flicker of one step
+                }
+            }
+            frame.put_str(18, h - 1, &format!("{:02}", 60 - shift % 3), Color::Indexed(15), Color::Default);
+            let start = out.len();
+            encoder.encode(&frame, &mut out);
+            parser.process(&out[start..]);
+            assert_screen_shows_within(&parser, &frame, tolerance, || format!("shift {shift}"));
+        }
+        totals.push(out.len());
+    }
+    assert_eq!(totals, [1_308_056, 1_286_252, 1_358_276]);
+}
