@@ -291,13 +291,17 @@ fn clear_and_paint(frame: &Frame, bg: Color, bce: bool, out: &mut Vec<u8>) -> Pe
     pen
 }
 
-/// The most common background of space cells, if it is not the default.
+/// The most common background of space cells, if it is not the default. Ties go to the default, then
+/// to the colour met first (row-major), so that a frame always encodes to the same bytes.
 fn most_common_blank_bg(frame: &Frame) -> Option<Color> {
-    let mut counts: HashMap<Color, usize> = HashMap::new();
-    for cell in frame.cells().iter().filter(|c| c.ch == ' ') {
-        *counts.entry(cell.bg).or_default() += 1;
+    // Colour -> (blanks, index of its first blank).
+    let mut counts: HashMap<Color, (usize, usize)> = HashMap::new();
+    for (i, cell) in frame.cells().iter().enumerate().filter(|(_, c)| c.ch == ' ') {
+        counts.entry(cell.bg).or_insert((0, i)).0 += 1;
     }
-    let (bg, _) = counts.into_iter().max_by_key(|&(bg, n)| (n, bg == Color::Default))?;
+    let (bg, _) = counts
+        .into_iter()
+        .max_by_key(|&(bg, (n, first))| (n, bg == Color::Default, std::cmp::Reverse(first)))?;
     (bg != Color::Default).then_some(bg)
 }
 
@@ -848,6 +852,23 @@ mod tests {
         out.clear();
         encoder.encode(&frame, &mut out);
         assert!(out.len() > 100, "without BCE the blue blanks are written");
+    }
+
+    // issue #11: the clear colour of a full paint depended on `HashMap` order when two tied.
+    #[test]
+    fn full_paint_breaks_a_tie_of_blank_backgrounds_by_the_first_met() {
+        let (blue, red) = (Color::Indexed(4), Color::Indexed(1));
+        let blank = |bg| Cell { ch: ' ', fg: Color::Default, bg };
+        for (first, second) in [(blue, red), (red, blue)] {
+            let mut frame = Frame::filled(4, 2, blank(first));
+            (0..4).for_each(|x| frame.set(x, 1, blank(second)));
+            for _ in 0..20 {
+                assert_eq!(most_common_blank_bg(&frame), Some(first)); // a new hasher seed each time
+            }
+        }
+        let mut frame = Frame::filled(4, 2, blank(blue));
+        (0..4).for_each(|x| frame.set(x, 1, Cell::BLANK));
+        assert_eq!(most_common_blank_bg(&frame), None, "a tie with the default goes to the default");
     }
 
     #[test]
