@@ -32,15 +32,13 @@ mod sgr;
 use std::collections::HashMap;
 
 use crate::frame::{Cell, Color, Frame};
-use cursor::{write_cup, write_move};
-use sgr::{Layer, push_color, sgr_len, shown_colors, write_sgr, write_sgr_reset};
+use cursor::write_move;
+use sgr::{SGR_RESET, sgr_len, shown_colors, write_sgr, write_sgr_reset};
 
 /// Begin synchronized update (DEC mode 2026): the terminal holds the screen until the end marker.
 pub const SYNC_BEGIN: &[u8] = b"\x1b[?2026h";
 /// End synchronized update.
 pub const SYNC_END: &[u8] = b"\x1b[?2026l";
-/// Reset all SGR attributes (colours back to the terminal's defaults).
-pub const SGR_RESET: &[u8] = b"\x1b[0m";
 
 /// The colour tolerance the walkthrough uses ([`Encoder::set_tolerance`]): one 8-bit step per channel,
 /// below what anyone can see, and a sixth fewer bytes while walking in truecolor (see BENCHMARKS.md).
@@ -85,13 +83,11 @@ pub struct Encoder {
     valid: bool,
     pen: Pen,
     bce: bool,
-    sync_threshold: usize,
     /// Truecolor cells within this many 8-bit steps per channel of what is on screen are left as they are.
     tolerance: u8,
     /// Scratch for the frame as sent: `frame` up to `tolerance` (the screen where close, the pen's
     /// colours where close); swapped into `screen` after each encode.
     effective: Frame,
-    last: EncodeStats,
 }
 
 impl Default for Encoder {
@@ -109,10 +105,8 @@ impl Encoder {
             valid: false,
             pen: Pen::UNKNOWN,
             bce: true,
-            sync_threshold: 0,
             tolerance: 0,
             effective: Frame::default(),
-            last: EncodeStats::default(),
         }
     }
 
@@ -129,23 +123,11 @@ impl Encoder {
         self.invalidate();
     }
 
-    /// Wrap a frame in synchronized output only when its body is longer than `bytes` (default 0:
-    /// always). A tiny update arrives in one read and cannot tear, so 16 bytes of markers can be saved.
-    pub fn set_sync_threshold(&mut self, bytes: usize) {
-        self.sync_threshold = bytes;
-    }
-
     /// Leave a truecolor cell as the screen shows it while each of its colours is within `steps` 8-bit
     /// steps per channel of the new frame's (default 0: exact). The screen then differs from the frame by
     /// at most that much, never more: each frame is compared with what the screen shows.
     pub fn set_tolerance(&mut self, steps: u8) {
         self.tolerance = steps;
-    }
-
-    /// What the last [`Encoder::encode`] did.
-    #[must_use]
-    pub fn last_stats(&self) -> EncodeStats {
-        self.last
     }
 
     /// Appends to `out` the bytes that turn the previous frame into `frame`: nothing if they are equal,
@@ -175,61 +157,13 @@ impl Encoder {
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
             out.truncate(start);
-        } else if body <= self.sync_threshold {
-            out.drain(start..start + SYNC_BEGIN.len()); // cheap: the body is short
         } else {
             out.extend_from_slice(SYNC_END);
         }
         std::mem::swap(&mut self.screen, &mut self.effective); // the screen is now what was sent
         self.valid = true;
-        self.last = EncodeStats { bytes: out.len() - start, cells_changed, full_paint };
-        self.last
+        EncodeStats { bytes: out.len() - start, cells_changed, full_paint }
     }
-
-    /// The bytes that reset what the encoder may have left set (colours); the guard sends them on exit.
-    #[must_use]
-    pub fn reset_sequence() -> &'static [u8] {
-        SGR_RESET
-    }
-
-    /// A lower bound for the next frame: the UTF-8 bytes of just the non-blank glyphs that must change
-    /// (all of them if a full paint is due; blanks are left out, an erasure may cover any number of
-    /// them). No encoding can send less; benchmarks report it beside [`EncodeStats::bytes`].
-    #[must_use]
-    pub fn lower_bound(&self, frame: &Frame) -> usize {
-        let full =
-            !self.valid || self.screen.width() != frame.width() || self.screen.height() != frame.height();
-        // The cheaper of the cell and its inverse; a blank may be erased, so it costs nothing.
-        let bytes = |c: &Cell| if c.ch == ' ' { 0 } else { c.ch.len_utf8() };
-        let glyph_bytes = |c: &Cell| {
-            let c = c.canonical();
-            c.inverse().map_or(bytes(&c), |inverse| bytes(&c).min(bytes(&inverse)))
-        };
-        if full {
-            frame.cells().iter().map(glyph_bytes).sum()
-        } else {
-            (self.screen.cells().iter().zip(frame.cells()))
-                .filter(|(old, new)| !same_look(old, new))
-                .map(|(_, new)| glyph_bytes(new))
-                .sum()
-        }
-    }
-}
-
-/// The naive baseline for benchmarks: every cell with its full SGR, every row positioned absolutely.
-pub fn full_repaint(frame: &Frame, out: &mut Vec<u8>) {
-    for y in 0..frame.height() {
-        write_cup(out, 0, y);
-        for cell in frame.row(y).unwrap_or(&[]) {
-            out.extend_from_slice(b"\x1b[");
-            push_color(out, cell.fg, Layer::Fg);
-            out.push(b';');
-            push_color(out, cell.bg, Layer::Bg);
-            out.push(b'm');
-            push_char(out, cell.ch);
-        }
-    }
-    out.extend_from_slice(SGR_RESET);
 }
 
 /// `frame` as text lines for a pipe or a file (`mazewalk render`): no cursor moves, each line starts
@@ -248,12 +182,6 @@ pub fn ansi_lines(frame: &Frame, out: &mut Vec<u8>) {
         }
         out.push(b'\n');
     }
-}
-
-/// Whether two cells look the same on screen ([`Cell::same_look`]): what the diff compares.
-#[must_use]
-pub fn same_look(a: &Cell, b: &Cell) -> bool {
-    a.same_look(b)
 }
 
 /// The terminal state the encoder tracks; `None` means unknown.
@@ -353,13 +281,13 @@ fn diff_row(
     let width = new.len();
     let mut changed = 0;
     let mut from = from;
-    while let Some(x) = (from..width).find(|&i| !same_look(&old[i], &new[i])) {
+    while let Some(x) = (from..width).find(|&i| !old[i].same_look(&new[i])) {
         if let Some((start, bg)) = tail
             && x >= start
         {
             // Everything left to change is blank: erase to end of line, or write the cells, whichever is
             // shorter (try both, keep the shorter).
-            changed += (x..width).filter(|&i| !same_look(&old[i], &new[i])).count();
+            changed += (x..width).filter(|&i| !old[i].same_look(&new[i])).count();
             let mark = out.len();
             let mut erase = *pen;
             reach(&mut erase, out, y, x, new, |pen, out| {
@@ -565,16 +493,5 @@ mod tests {
         let mut frame = Frame::filled(4, 2, blank(blue));
         (0..4).for_each(|x| frame.set(x, 1, Cell::BLANK));
         assert_eq!(most_common_blank_bg(&frame), None, "a tie with the default goes to the default");
-    }
-
-    #[test]
-    fn sync_threshold_drops_the_markers_for_tiny_updates() {
-        let mut encoder = Encoder::new();
-        encoder.set_sync_threshold(64);
-        let mut out = Vec::new();
-        encoder.encode(&Frame::from_lines(&["ab"]), &mut out);
-        out.clear();
-        encoder.encode(&Frame::from_lines(&["ax"]), &mut out);
-        assert_eq!(out, b"\x1b[Hax");
     }
 }

@@ -107,7 +107,7 @@ fn write_csi(out: &mut Vec<u8>, n: usize, default: usize, final_byte: u8) {
 
 /// `CUP` to column `x`, row `y` (0-based), omitting default parameters: `\x1b[H`, `\x1b[5H`, `\x1b[5;9H`.
 /// (`\x1b[;9H` would save a byte on the top row, but an empty leading parameter is less portable.)
-pub(super) fn write_cup(out: &mut Vec<u8>, x: usize, y: usize) {
+fn write_cup(out: &mut Vec<u8>, x: usize, y: usize) {
     out.extend_from_slice(b"\x1b[");
     if x != 0 {
         push_num(out, y + 1);

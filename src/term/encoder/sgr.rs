@@ -6,9 +6,12 @@
 use super::{Pen, push_num};
 use crate::frame::{Cell, Color};
 
+/// Reset all SGR attributes (colours back to the terminal's defaults).
+pub(super) const SGR_RESET: &[u8] = b"\x1b[0m";
+
 /// Which of a cell's colours an SGR code sets.
 #[derive(Clone, Copy, PartialEq, Eq)]
-pub(super) enum Layer {
+enum Layer {
     Fg,
     Bg,
 }
@@ -91,7 +94,7 @@ pub(super) fn write_sgr_reset(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color
 }
 
 /// The shortest SGR parameters for `color` as foreground or background.
-pub(super) fn push_color(out: &mut Vec<u8>, color: Color, layer: Layer) {
+fn push_color(out: &mut Vec<u8>, color: Color, layer: Layer) {
     let base = if layer == Layer::Fg { 30 } else { 40 };
     match color {
         Color::Default => push_num(out, base + 9),
