@@ -244,9 +244,11 @@ impl Frame {
         Frame { width, height, cells: vec![cell; width * height] }
     }
 
-    /// A colourless frame from text lines (for tests): one cell per char, short lines padded with blanks.
+    /// A colourless frame from text lines: one cell per char, short lines padded with blanks. For the
+    /// crate's unit tests only.
+    #[cfg(test)]
     #[must_use]
-    pub fn from_lines<S: AsRef<str>>(lines: &[S]) -> Frame {
+    pub(crate) fn from_lines<S: AsRef<str>>(lines: &[S]) -> Frame {
         let height = lines.len();
         let width = lines.iter().map(|l| l.as_ref().chars().count()).max().unwrap_or(0);
         let mut frame = Frame::new(width, height);

@@ -3,8 +3,13 @@
 
 use mazewalk::frame::{Cell, Color, Frame};
 use mazewalk::render::glyph::{HALF, QUAD, sextant_glyph};
-use mazewalk::term::encoder::{Encoder, full_repaint};
+use mazewalk::term::encoder::Encoder;
 use proptest::prelude::*;
+
+#[path = "../benches/common/baseline.rs"]
+mod baseline;
+
+use baseline::{full_repaint, lower_bound};
 
 /// Glyphs the encoder meets: blanks (often, so tails and gaps happen), ASCII, shades, box drawing, block
 /// glyphs with complements (halves, quadrants, sextants). All one column wide, as the `Frame` guarantees.
@@ -82,23 +87,39 @@ fn assert_screen_shows_within(
     tolerance: u8,
     context: impl Fn() -> String,
 ) {
-    let screen = parser.screen();
+    let shown = screen_frame(parser);
     for y in 0..frame.height() {
         for x in 0..frame.width() {
-            let want = frame.get(x, y).unwrap();
-            let got = screen.cell(y as u16, x as u16).unwrap();
-            let got_ch = got.contents().chars().next().unwrap_or(' '); // erased cells are empty
-            let got_cell = Cell { ch: got_ch, fg: from_vt(got.fgcolor()), bg: from_vt(got.bgcolor()) };
-            if !looks_close(&look(&got_cell), &look(want), tolerance) {
+            let (want, got) = (frame.get(x, y).unwrap(), shown.get(x, y).unwrap());
+            if !looks_close(&look(got), &look(want), tolerance) {
                 panic!(
-                    "cell ({x}, {y}) {}\nwant {want:?}\ngot  {got_cell:?}\nwant lines {:?}\ngot screen\n{}",
+                    "cell ({x}, {y}) {}\nwant {want:?}\ngot  {got:?}\nwant lines {:?}\ngot screen\n{}",
                     context(),
                     frame.lines(),
-                    screen.contents()
+                    parser.screen().contents()
                 );
             }
         }
     }
+}
+
+/// What the emulated screen shows, as a frame.
+fn screen_frame(parser: &vt100::Parser) -> Frame {
+    let screen = parser.screen();
+    let (rows, cols) = screen.size();
+    let mut frame = Frame::new(cols.get().into(), rows.get().into());
+    for y in 0..rows.get() {
+        for x in 0..cols.get() {
+            let got = screen.cell(y, x).unwrap();
+            let ch = got.contents().chars().next().unwrap_or(' '); // erased cells are empty
+            frame.set(
+                x.into(),
+                y.into(),
+                Cell { ch, fg: from_vt(got.fgcolor()), bg: from_vt(got.bgcolor()) },
+            );
+        }
+    }
+    frame
 }
 
 fn from_vt(color: vt100::Color) -> Color {
@@ -267,7 +288,7 @@ fn apply(frame: &mut Frame, step: &Step) -> bool {
 fn same_look(a: &Frame, b: &Frame) -> bool {
     a.width() == b.width()
         && a.height() == b.height()
-        && a.cells().iter().zip(b.cells()).all(|(a, b)| mazewalk::term::encoder::same_look(a, b))
+        && a.cells().iter().zip(b.cells()).all(|(a, b)| a.same_look(b))
 }
 
 proptest! {
@@ -295,11 +316,16 @@ proptest! {
                 parser.process(b"\x1b[H\x1b[2;33;44mscribble\x1b[4;4Hhere");
             }
             resize(&mut parser, frame.width(), frame.height());
+            let resized = prev.as_ref().is_none_or(|p| (p.width(), p.height()) != (frame.width(), frame.height()));
+            let full_paint = invalidate || resized;
+            // The screen as shown (within the tolerance of `prev`), unless the encoder starts afresh.
+            let shown = (!full_paint).then(|| screen_frame(&parser));
+            let bound = lower_bound(shown.as_ref(), &frame, tolerance);
             out.clear();
-            let lower_bound = encoder.lower_bound(&frame);
             let stats = encoder.encode(&frame, &mut out);
+            prop_assert_eq!(stats.full_paint, full_paint);
             prop_assert_eq!(stats.bytes, out.len());
-            prop_assert!(lower_bound <= out.len(), "lower bound {} > {} bytes", lower_bound, out.len());
+            prop_assert!(bound <= out.len(), "lower bound {} > {} bytes", bound, out.len());
             prop_assert!(std::str::from_utf8(&out).is_ok());
             let unchanged = !invalidate && prev.as_ref().is_some_and(|p| same_look(p, &frame));
             if unchanged {
@@ -398,7 +424,7 @@ fn report_bytes_for_typical_scenarios() {
     assert_screen_shows(&parser, &first, || "full paint".into());
     out.clear();
     let turned = scene(w, h, 1);
-    let turn_bound = encoder.lower_bound(&turned);
+    let turn_bound = lower_bound(Some(&first), &turned, 0);
     let turn = encoder.encode(&turned, &mut out).bytes;
     parser.process(&out);
     assert_screen_shows(&parser, &turned, || "turn".into());
@@ -507,4 +533,35 @@ fn a_tolerance_reuses_the_current_colour_along_gradients() {
     let cells = width * height;
     assert!(sgrs[0] >= cells, "exact: a colour code per cell ({sgrs:?})");
     assert!(sgrs[1] <= cells / 2 + height, "±1: about one per two cells ({sgrs:?})");
+}
+
+/// The encoder's bytes for a fixed walk through [`scene`] (full paint, then turning one column a frame
+/// with the background flickering by a step or two and the HUD changing, then standing still), exact and at the walkthrough's tolerance, pinned: a refactoring must
+/// not change a byte. A deliberate change to the encoding updates the numbers (and BENCHMARKS.md).
+#[test]
+fn a_fixed_walk_encodes_to_the_same_bytes() {
+    let (w, h) = (160, 48);
+    let mut totals = Vec::new();
+    for (bce, tolerance) in [(true, 0), (true, mazewalk::term::encoder::DEFAULT_TOLERANCE), (false, 0)] {
+        let mut encoder = Encoder::new();
+        encoder.set_bce(bce);
+        encoder.set_tolerance(tolerance);
+        let mut out = Vec::new();
+        let mut parser = terminal(w, h);
+        for shift in (0..24).chain([23, 23]) {
+            let mut frame = scene(w, h, shift);
+            for cell in frame.cells_mut() {
+                if let Color::Rgb(r, g, b) = cell.bg {
+                    cell.bg = Color::Rgb(r, g, b.saturating_add((shift % 3) as u8)); // a flicker of one step
+                }
+            }
+            frame.put_str(18, h - 1, &format!("{:02}", 60 - shift % 3), Color::Indexed(15), Color::Default);
+            let start = out.len();
+            encoder.encode(&frame, &mut out);
+            parser.process(&out[start..]);
+            assert_screen_shows_within(&parser, &frame, tolerance, || format!("shift {shift}"));
+        }
+        totals.push(out.len());
+    }
+    assert_eq!(totals, [1_308_056, 1_286_252, 1_358_276]);
 }

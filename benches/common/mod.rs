@@ -1,4 +1,5 @@
-//! Shared by the benchmarks (and `examples/bench_walk.rs`): the mazes and the "like" viewpoints.
+//! Shared by the benchmarks (and `examples/profile_frame.rs`): the mazes and the "like" viewpoints;
+//! [`baseline`] holds the encoder's yardsticks (also used by `tests/term_encoder.rs`).
 //!
 //! Two views, found the same way in every maze size so that a 10×10 and a 1000×1000 maze show alike
 //! geometry and any difference in frame time comes from the maze's size alone:
@@ -6,8 +7,7 @@
 //! - **corridor**: a perfect maze carved by the backtracker (long corridors); the viewer stands in the
 //!   middle of the first cell of a straight dead-end corridor [`CORRIDOR_CELLS`] cells long whose side
 //!   walls are all closed, looking down it (the first seed from [`SEED`] on whose maze has one). The
-//!   visible walls are then the same in every maze (only
-//!   their colours differ).
+//!   visible walls are then the same in every maze (only their colours differ).
 //! - **open area**: Prim's maze with half the remaining walls removed ([`OPEN_LOOPS`]); the viewer stands
 //!   in a cell centre looking along one of 8 headings. The 10×10 maze's first view that sees at least
 //!   [`OPEN_MIN_CELLS`] distinct cells is the reference; the larger mazes use their first view (scanning
@@ -16,6 +16,8 @@
 //! Candidates are scanned in a fixed order, so the views are deterministic.
 
 #![allow(dead_code)] // each bench uses part of it
+
+pub mod baseline;
 
 use glam::{Vec2, vec2};
 use mazewalk::maze::Maze;

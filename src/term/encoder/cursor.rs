@@ -1,0 +1,154 @@
+//! Cursor moves: the shortest sequence from where the cursor is to where the next glyph goes, among
+//! absolute `CUP`, relative `CUF`/`CUB`/`CUD`/`CUU`, `CHA`/`VPA`, `\r`, `\r\n` and backspace. (Rewriting
+//! unchanged cells instead of moving is the diff's choice: see `reach` in the encoder.)
+
+use super::{Pen, push_num};
+
+/// Vertical part of a relative move.
+#[derive(Clone, Copy)]
+enum Vertical {
+    Stay,
+    /// `\r` (unless already in column 0) then `\n` × k: lands in column 0 whether or not `\n` implies
+    /// `\r`. Only downwards, and never from the last row (the move's target is on screen).
+    CrLf(usize),
+    Down(usize),
+    Up(usize),
+    /// `VPA`: absolute row, same column.
+    Row(usize),
+}
+
+/// Horizontal part of a relative move.
+#[derive(Clone, Copy)]
+enum Horizontal {
+    Stay,
+    Cr,
+    Right(usize),
+    Left(usize),
+    /// Backspaces: one byte each.
+    Back(usize),
+    /// `CHA`: absolute column.
+    Column(usize),
+}
+
+/// Moves the cursor to column `x`, row `y` by the shortest sequence (nothing if it is there).
+pub(super) fn write_move(out: &mut Vec<u8>, pen: &mut Pen, x: usize, y: usize) {
+    let from = pen.cursor;
+    pen.cursor = Some((x, y));
+    let Some((cx, cy)) = from else { return write_cup(out, x, y) };
+    if (cx, cy) == (x, y) {
+        return;
+    }
+    let verticals = [
+        Some(Vertical::Stay).filter(|_| cy == y),
+        Some(Vertical::CrLf(y.wrapping_sub(cy))).filter(|_| y > cy),
+        Some(Vertical::Down(y.wrapping_sub(cy))).filter(|_| y > cy),
+        Some(Vertical::Up(cy.wrapping_sub(y))).filter(|_| y < cy),
+        Some(Vertical::Row(y)).filter(|_| y != cy),
+    ];
+    let mark = out.len();
+    write_cup(out, x, y);
+    let mut best: (usize, Option<(Vertical, Horizontal)>) = (out.len() - mark, None);
+    out.truncate(mark);
+    for vertical in verticals.into_iter().flatten() {
+        let col = if matches!(vertical, Vertical::CrLf(_)) { 0 } else { cx };
+        let horizontals = [
+            Some(Horizontal::Stay).filter(|_| col == x),
+            Some(Horizontal::Cr).filter(|_| x == 0 && col != 0),
+            Some(Horizontal::Right(x.wrapping_sub(col))).filter(|_| x > col),
+            Some(Horizontal::Left(col.wrapping_sub(x))).filter(|_| x < col),
+            Some(Horizontal::Back(col.wrapping_sub(x))).filter(|_| x < col && col - x <= 3),
+            Some(Horizontal::Column(x)).filter(|_| x != col),
+        ];
+        for horizontal in horizontals.into_iter().flatten() {
+            write_relative(out, cx, vertical, horizontal);
+            if out.len() - mark < best.0 {
+                best = (out.len() - mark, Some((vertical, horizontal)));
+            }
+            out.truncate(mark);
+        }
+    }
+    match best.1 {
+        Some((vertical, horizontal)) => write_relative(out, cx, vertical, horizontal),
+        None => write_cup(out, x, y),
+    }
+}
+
+fn write_relative(out: &mut Vec<u8>, from_x: usize, vertical: Vertical, horizontal: Horizontal) {
+    match vertical {
+        Vertical::Stay => {}
+        Vertical::CrLf(k) => {
+            if from_x != 0 {
+                out.push(b'\r');
+            }
+            out.extend(std::iter::repeat_n(b'\n', k));
+        }
+        Vertical::Down(k) => write_csi(out, k, 1, b'B'),
+        Vertical::Up(k) => write_csi(out, k, 1, b'A'),
+        Vertical::Row(y) => write_csi(out, y + 1, 1, b'd'),
+    }
+    match horizontal {
+        Horizontal::Stay => {}
+        Horizontal::Cr => out.push(b'\r'),
+        Horizontal::Right(n) => write_csi(out, n, 1, b'C'),
+        Horizontal::Left(n) => write_csi(out, n, 1, b'D'),
+        Horizontal::Back(n) => out.extend(std::iter::repeat_n(b'\x08', n)),
+        Horizontal::Column(x) => write_csi(out, x + 1, 1, b'G'),
+    }
+}
+
+/// `ESC [ n final`, omitting `n` when it is the default.
+fn write_csi(out: &mut Vec<u8>, n: usize, default: usize, final_byte: u8) {
+    out.extend_from_slice(b"\x1b[");
+    if n != default {
+        push_num(out, n);
+    }
+    out.push(final_byte);
+}
+
+/// `CUP` to column `x`, row `y` (0-based), omitting default parameters: `\x1b[H`, `\x1b[5H`, `\x1b[5;9H`.
+/// (`\x1b[;9H` would save a byte on the top row, but an empty leading parameter is less portable.)
+fn write_cup(out: &mut Vec<u8>, x: usize, y: usize) {
+    out.extend_from_slice(b"\x1b[");
+    if x != 0 {
+        push_num(out, y + 1);
+        out.push(b';');
+        push_num(out, x + 1);
+    } else if y != 0 {
+        push_num(out, y + 1);
+    }
+    out.push(b'H');
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn moved(from: Option<(usize, usize)>, x: usize, y: usize) -> String {
+        let mut out = Vec::new();
+        let mut pen = Pen { cursor: from, ..Pen::UNKNOWN };
+        write_move(&mut out, &mut pen, x, y);
+        assert_eq!(pen.cursor, Some((x, y)));
+        String::from_utf8(out).unwrap()
+    }
+
+    #[test]
+    fn cursor_moves_pick_the_cheapest_form() {
+        assert_eq!(moved(None, 0, 0), "\x1b[H");
+        assert_eq!(moved(None, 0, 4), "\x1b[5H");
+        assert_eq!(moved(None, 8, 4), "\x1b[5;9H");
+        assert_eq!(moved(None, 8, 0), "\x1b[1;9H");
+        assert_eq!(moved(Some((3, 3)), 3, 3), "");
+        assert_eq!(moved(Some((5, 3)), 0, 3), "\r");
+        assert_eq!(moved(Some((5, 3)), 6, 3), "\x1b[C");
+        assert_eq!(moved(Some((5, 3)), 20, 3), "\x1b[15C");
+        assert_eq!(moved(Some((5, 3)), 4, 3), "\x08");
+        assert_eq!(moved(Some((50, 3)), 30, 3), "\x1b[20D");
+        assert_eq!(moved(Some((5, 3)), 0, 4), "\r\n");
+        assert_eq!(moved(Some((0, 3)), 0, 5), "\n\n");
+        assert_eq!(moved(Some((5, 3)), 5, 4), "\x1b[B");
+        assert_eq!(moved(Some((5, 3)), 1, 4), "\r\n\x1b[C");
+        assert_eq!(moved(Some((5, 3)), 2, 4), "\x1b[5;3H"); // ties with "\r\n\x1b[2C": absolute wins
+        assert_eq!(moved(Some((5, 9)), 5, 2), "\x1b[7A");
+        assert_eq!(moved(Some((70, 3)), 40, 30), "\x1b[31;41H");
+    }
+}

@@ -1,0 +1,177 @@
+//! Colours: the SGR (`ESC [ … m`) sequences that set the foreground and background, each colour in its
+//! shortest code (`30–37`/`40–47` and `90–97`/`100–107` for the 16 ANSI colours, `38;5;n` for the
+//! 256-colour palette, `38;2;r;g;b` for truecolor, `39`/`49` for the default), both changes in one
+//! sequence, or a reset (`\x1b[0;…m`) when that is shorter.
+
+use super::{Pen, push_num};
+use crate::frame::{Cell, Color};
+
+/// Reset all SGR attributes (colours back to the terminal's defaults).
+pub(super) const SGR_RESET: &[u8] = b"\x1b[0m";
+
+/// Which of a cell's colours an SGR code sets.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Layer {
+    Fg,
+    Bg,
+}
+
+/// The colours a cell needs on screen: no foreground for a space, no background for a full block.
+pub(super) fn shown_colors(cell: &Cell) -> (Option<Color>, Option<Color>) {
+    ((cell.ch != ' ').then_some(cell.fg), (cell.ch != '█').then_some(cell.bg))
+}
+
+/// The bytes [`write_sgr`] would send to show `cell`'s colours from `pen`.
+pub(super) fn sgr_len(pen: &Pen, cell: &Cell) -> usize {
+    let (fg, bg) = shown_colors(cell);
+    sgr_forms(pen, fg, bg).map_or(0, |(plain, reset)| plain.min(reset))
+}
+
+/// The lengths of the two ways to set `fg` and `bg` (`None`: don't care) from `pen`: just the changed
+/// colours, or a reset followed by the non-default ones; `None` when nothing changes.
+fn sgr_forms(pen: &Pen, fg: Option<Color>, bg: Option<Color>) -> Option<(usize, usize)> {
+    let changes = sgr_changes(pen, fg, bg);
+    let n = changes.iter().flatten().count();
+    if n == 0 {
+        return None;
+    }
+    // ESC [ p;p m: codes joined by `;`.
+    let plain = 3 + n - 1 + changes.iter().flatten().map(|&(c, layer)| color_len(c, layer)).sum::<usize>();
+    // ESC [ 0;p;p m, or ESC [ m when both are the defaults.
+    let params: usize = [(fg, Layer::Fg), (bg, Layer::Bg)]
+        .into_iter()
+        .filter_map(|(c, layer)| Some((c.filter(|&c| c != Color::Default)?, layer)))
+        .map(|(c, layer)| 1 + color_len(c, layer))
+        .sum();
+    let reset = 3 + if params > 0 { 1 + params } else { 0 };
+    Some((plain, reset))
+}
+
+/// The colours that differ from the pen's, with their layer: foreground, then background.
+fn sgr_changes(pen: &Pen, fg: Option<Color>, bg: Option<Color>) -> [Option<(Color, Layer)>; 2] {
+    [
+        fg.filter(|&c| pen.fg != Some(c)).map(|c| (c, Layer::Fg)),
+        bg.filter(|&c| pen.bg != Some(c)).map(|c| (c, Layer::Bg)),
+    ]
+}
+
+/// Sets the colours to `fg` and `bg` (`None`: don't care) in the shortest form, if they changed.
+pub(super) fn write_sgr(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg: Option<Color>) {
+    let Some((plain, reset)) = sgr_forms(pen, fg, bg) else { return };
+    if reset < plain {
+        return write_sgr_reset(out, pen, fg, bg);
+    }
+    let start = out.len();
+    out.extend_from_slice(b"\x1b[");
+    for (i, (color, layer)) in sgr_changes(pen, fg, bg).into_iter().flatten().enumerate() {
+        if i > 0 {
+            out.push(b';');
+        }
+        push_color(out, color, layer);
+    }
+    out.push(b'm');
+    debug_assert_eq!(out.len() - start, plain);
+    pen.fg = fg.or(pen.fg);
+    pen.bg = bg.or(pen.bg);
+}
+
+/// Resets SGR and sets `fg` and `bg` (`None`: leave default) in one sequence: `\x1b[m`, `\x1b[0;41m`…
+pub(super) fn write_sgr_reset(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg: Option<Color>) {
+    let (fg, bg) = (fg.unwrap_or(Color::Default), bg.unwrap_or(Color::Default));
+    out.extend_from_slice(b"\x1b[");
+    let colors = [(fg, Layer::Fg), (bg, Layer::Bg)];
+    let mut non_default = colors.iter().filter(|(c, _)| *c != Color::Default).peekable();
+    if non_default.peek().is_some() {
+        out.push(b'0');
+        for &(color, layer) in non_default {
+            out.push(b';');
+            push_color(out, color, layer);
+        }
+    }
+    out.push(b'm');
+    pen.fg = Some(fg);
+    pen.bg = Some(bg);
+}
+
+/// The shortest SGR parameters for `color` as foreground or background.
+fn push_color(out: &mut Vec<u8>, color: Color, layer: Layer) {
+    let base = if layer == Layer::Fg { 30 } else { 40 };
+    match color {
+        Color::Default => push_num(out, base + 9),
+        Color::Indexed(n @ 0..=7) => push_num(out, base + usize::from(n)),
+        Color::Indexed(n @ 8..=15) => push_num(out, base + 60 + usize::from(n - 8)),
+        Color::Indexed(n) => {
+            push_num(out, base + 8);
+            out.extend_from_slice(b";5;");
+            push_num(out, n.into());
+        }
+        Color::Rgb(r, g, b) => {
+            push_num(out, base + 8);
+            out.extend_from_slice(b";2;");
+            for (i, c) in [r, g, b].into_iter().enumerate() {
+                if i > 0 {
+                    out.push(b';');
+                }
+                push_num(out, c.into());
+            }
+        }
+    }
+}
+
+/// The length of [`push_color`]'s parameters for `color`.
+fn color_len(color: Color, layer: Layer) -> usize {
+    let digits = |n: u8| 1 + usize::from(n >= 10) + usize::from(n >= 100);
+    match color {
+        Color::Default | Color::Indexed(0..=7) => 2,
+        Color::Indexed(8..=15) => 2 + usize::from(layer == Layer::Bg), // 90–97, 100–107
+        Color::Indexed(n) => 5 + digits(n),                            // 38;5;n
+        Color::Rgb(r, g, b) => 7 + digits(r) + digits(g) + digits(b),  // 38;2;r;g;b
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sgr(from: (Option<Color>, Option<Color>), fg: Option<Color>, bg: Color) -> (String, Pen) {
+        let mut out = Vec::new();
+        let mut pen = Pen { cursor: None, fg: from.0, bg: from.1 };
+        write_sgr(&mut out, &mut pen, fg, Some(bg));
+        (String::from_utf8(out).unwrap(), pen)
+    }
+
+    #[test]
+    fn sgr_uses_the_shortest_code_for_each_colour_kind() {
+        let d = Some(Color::Default);
+        let cases = [
+            (Color::Indexed(1), "\x1b[31m"),
+            (Color::Indexed(9), "\x1b[91m"),
+            (Color::Indexed(100), "\x1b[38;5;100m"),
+            (Color::Rgb(1, 2, 3), "\x1b[38;2;1;2;3m"),
+        ];
+        for (color, want) in cases {
+            assert_eq!(sgr((d, d), Some(color), Color::Default).0, want);
+        }
+        assert_eq!(sgr((d, d), None, Color::Indexed(2)).0, "\x1b[42m");
+        assert_eq!(sgr((d, d), None, Color::Indexed(10)).0, "\x1b[102m");
+        assert_eq!(sgr((d, d), None, Color::Indexed(200)).0, "\x1b[48;5;200m");
+        assert_eq!(sgr((d, d), None, Color::Rgb(9, 8, 7)).0, "\x1b[48;2;9;8;7m");
+    }
+
+    #[test]
+    fn sgr_combines_changes_sends_nothing_when_unchanged_and_prefers_a_short_reset() {
+        let red = Some(Color::Indexed(1));
+        let rgb = Some(Color::Rgb(10, 20, 30));
+        assert_eq!(sgr((red, red), red, Color::Indexed(1)).0, "");
+        // A space doesn't care about the foreground: only the background is sent.
+        assert_eq!(sgr((red, red), None, Color::Indexed(4)).0, "\x1b[44m");
+        assert_eq!(sgr((red, red), Some(Color::Indexed(2)), Color::Indexed(4)).0, "\x1b[32;44m");
+        // Both back to default: the reset is shorter than 39;49.
+        let (bytes, pen) = sgr((rgb, rgb), Some(Color::Default), Color::Default);
+        assert_eq!(bytes, "\x1b[m");
+        assert_eq!((pen.fg, pen.bg), (Some(Color::Default), Some(Color::Default)));
+        assert_eq!(sgr((rgb, rgb), Some(Color::Default), Color::Indexed(1)).0, "\x1b[0;41m");
+        // Unknown state: everything is sent.
+        assert_eq!(sgr((None, None), red, Color::Default).0, "\x1b[0;31m");
+    }
+}
