@@ -15,7 +15,7 @@ use super::camera::{CEILING_Z, Camera, CameraError, Eye, FLOOR_Z, Projection};
 use super::glyph::{Charset, to_frame};
 use super::line::{line_glyph, line_points};
 use super::portal::{PortalPass, PortalStats};
-use super::raster::{ScreenVertex, fill_polygon};
+use super::raster::{GridVertex, fill_polygon};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{Fog, checker, headlight_unit, lit, srgb_to_linear};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -105,7 +105,7 @@ pub struct Renderer {
     portal: PortalPass,
     walls: Vec<u32>,
     scratch: ClipScratch,
-    screen: Vec<ScreenVertex<Vec3>>,
+    polygon_grid: Vec<GridVertex<Vec3>>,
     seen: Vec<u32>,
 }
 
@@ -237,10 +237,10 @@ impl Renderer {
                 continue; // portals are invisible
             }
             let Some(poly) = clip_wall(maze, eye, e, &mut self.scratch) else { continue }; // clip space
-            self.screen.clear();
+            self.polygon_grid.clear();
             for v in poly {
                 let grid = eye.grid(v.clip); // ÷w → NDC → viewport
-                self.screen.push(ScreenVertex {
+                self.polygon_grid.push(GridVertex {
                     pos: grid.truncate(),
                     depth: grid.z,
                     inv_w: 1.0 / v.clip.w,
@@ -252,8 +252,8 @@ impl Renderer {
             // Normals by the inverse transpose, normalized once per wall.
             let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
             let albedo = edge.color.map(srgb_to_linear);
-            stats.triangles += self.screen.len() - 2;
-            stats.samples_written += fill_polygon(&mut self.samples, &self.screen, e, |view: Vec3| {
+            stats.triangles += self.polygon_grid.len() - 2;
+            stats.samples_written += fill_polygon(&mut self.samples, &self.polygon_grid, e, |view: Vec3| {
                 let depth = view.z.abs(); // distance along the view axis (RH: -z, LH: +z)
                 match shading {
                     Shading::ViewDepth => Vec3::splat(depth),
