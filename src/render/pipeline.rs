@@ -1,7 +1,7 @@
 //! The pipeline in one place: maze + camera → samples → [`Frame`].
 //!
 //! ```text
-//! camera ─eye()─▶ world→view→clip→grid matrices
+//! camera ─eye()─▶ world→view, view→clip, NDC→grid matrices
 //! walls  ─portal pass (or all)─▶ wall ids, ascending
 //!   each wall: extrude (world) ─view─▶ view ─projection─▶ clip ─clip─▶ clip ─÷w─▶ NDC ─viewport─▶ grid
 //!              ─raster (top-left rule, depth LESS, Lambert via the normal matrix + fog)─▶ samples

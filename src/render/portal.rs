@@ -267,7 +267,7 @@ impl PortalPass {
         // near side of the portal's line for the far side and never come back.
         let along = b - a;
         let toward_left = match eye.camera.projection {
-            Projection::Perspective => along.perp_dot(eye.eye.truncate() - a),
+            Projection::Perspective => along.perp_dot(eye.position.truncate() - a),
             Projection::Orthographic => -along.perp_dot(eye.forward.truncate()),
         };
         let crosses_away = if cell_on_left { toward_left > 0.0 } else { toward_left < 0.0 };
@@ -295,7 +295,7 @@ impl PortalPass {
         let Some(mut bounds) = slab_footprint(&corners) else { return Vec::new() };
         // The flood starts in the eye's cell, so the box must hold the eye too: an eye on a vertex or
         // an edge line may be "in" a cell the near plane itself never touches.
-        bounds.add(eye.eye.truncate());
+        bounds.add(eye.position.truncate());
         // Rounding must not lose a seed: grow the footprint a little.
         let pad = 1e-3 + 1e-5 * (bounds.x1.abs().max(bounds.y1.abs()));
         bounds = Rect { x0: bounds.x0 - pad, y0: bounds.y0 - pad, x1: bounds.x1 + pad, y1: bounds.y1 + pad };
@@ -314,7 +314,7 @@ impl PortalPass {
         let centre = Vec2::new((bounds.x0 + bounds.x1) * 0.5, (bounds.y0 + bounds.y1) * 0.5);
         push(
             self,
-            maze.cell_containing(eye.eye.truncate()).or_else(|| maze.cell_containing(centre)),
+            maze.cell_containing(eye.position.truncate()).or_else(|| maze.cell_containing(centre)),
             &mut outside,
         );
         let mut i = 0;
