@@ -9,6 +9,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use thiserror::Error;
 
 use crate::math::{self, Convention, MathError};
+use crate::maze::geometry::{CEILING_Z, FLOOR_Z, WALL_MARGIN, heading_right};
 
 /// Perspective or orthographic projection.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -46,18 +47,12 @@ impl std::str::FromStr for Projection {
 pub const FOV_RANGE_DEG: (f32, f32) = (10.0, 170.0);
 /// Pitch is clamped to ±90°: straight up or down, never over the top.
 pub const PITCH_LIMIT_DEG: f32 = 90.0;
-/// Walls span z = -1 (floor) to z = +1 (ceiling).
-pub const FLOOR_Z: f32 = -1.0;
-/// Walls span z = -1 (floor) to z = +1 (ceiling).
-pub const CEILING_Z: f32 = 1.0;
 /// Half the width of the orthographic view at fov 90°, in maze units (one cell of the generated mazes).
 pub const ORTHO_HALF_WIDTH_AT_90: f32 = 8.0;
 /// How far the viewer sees, in maze units; fog reaches full strength there.
 pub const DEFAULT_VIEW_DISTANCE: f32 = 96.0;
 /// The near plane never exceeds this distance from the eye (maze units).
 pub const MAX_NEAR: f32 = 0.05;
-/// The collision margin the movement code keeps from walls; the near plane's corners stay inside it.
-pub const WALL_MARGIN: f32 = 0.25;
 
 /// What is wrong with a camera or the grid it renders into.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -179,9 +174,9 @@ impl Camera {
         // or down never meets the degenerate "up parallel to forward" case and never flips.
         let forward = math::direction_from_yaw_pitch(yaw, pitch);
         let up = math::up_from_yaw_pitch(yaw, pitch);
-        // forward × up, which is level for every pitch: (sin yaw, -cos yaw, 0). Written out so its z is
+        // forward × up, which is level for every pitch: the heading's right. Built in the plane so its z is
         // exactly 0, and a row of samples keeps one ray height and slope (the floor pass's row constants).
-        let right = Vec3::new(yaw.sin(), -yaw.cos(), 0.0);
+        let right = heading_right(yaw).extend(0.0);
         debug_assert!(right.distance(forward.cross(up)) < 1e-5, "right = forward × up");
         let world_to_view = self.convention.look_to(position, forward, up)?;
 

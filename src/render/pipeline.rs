@@ -11,7 +11,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::camera::{CEILING_Z, Camera, CameraError, Eye, FLOOR_Z, Projection};
+use super::camera::{Camera, CameraError, Eye, Projection};
 use super::glyph::{Charset, to_frame};
 use super::line::{line_glyph, line_points};
 use super::portal::{PortalPass, PortalStats};
@@ -21,6 +21,7 @@ use super::shade::{Fog, checker, headlight_unit, lit, srgb_to_linear};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
 use crate::frame::{ColorDepth, Frame};
 use crate::maze::Maze;
+use crate::maze::geometry::{CEILING_Z, FLOOR_Z};
 
 /// Light that reaches every surface, whatever its angle to the headlight.
 const AMBIENT: f32 = 0.25;
@@ -232,7 +233,7 @@ impl Renderer {
         let fog = Fog { color: FOG_COLOR, start: eye.far * 0.15, end: eye.far };
         let ortho = eye.camera.projection == Projection::Orthographic;
         for &e in &self.walls {
-            let edge = &maze.edges()[e as usize];
+            let edge = maze.edge(e);
             if !edge.opaque {
                 continue; // portals are invisible
             }
@@ -247,7 +248,7 @@ impl Renderer {
                     attrs: v.view,
                 });
             }
-            let (a, b) = (maze.vertices()[edge.start as usize], maze.vertices()[edge.end as usize]);
+            let (a, b) = maze.edge_points(e);
             let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
             // Normals by the inverse transpose, normalized once per wall.
             let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
