@@ -5,20 +5,20 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{Vec2, Vec3};
 use mazewalk::frame::{ColorDepth, Frame};
-use mazewalk::render::{Charset, SampleBuffer, ScreenVertex, fill_polygon, to_frame};
+use mazewalk::render::{Charset, GridVertex, SampleBuffer, fill_polygon, to_frame};
 
 const COLS: usize = 200;
 const ROWS: usize = 60;
 
 /// A corridor-like scene: 16 overlapping wall quads spanning the grid at different depths.
-fn scene(width: f32, height: f32) -> Vec<[ScreenVertex<Vec3>; 4]> {
+fn scene(width: f32, height: f32) -> Vec<[GridVertex<Vec3>; 4]> {
     (0..16)
         .map(|k| {
             let t = k as f32 / 16.0;
             let (x0, x1) = (width * t * 0.5, width * (1.0 - t * 0.5));
             let (y0, y1) = (height * t * 0.4, height * (1.0 - t * 0.4));
             let depth = 0.9 - 0.05 * k as f32;
-            [(x0, y0), (x1, y0 + 3.0), (x1, y1 - 3.0), (x0, y1)].map(|(x, y)| ScreenVertex {
+            [(x0, y0), (x1, y0 + 3.0), (x1, y1 - 3.0), (x0, y1)].map(|(x, y)| GridVertex {
                 pos: Vec2::new(x, y),
                 depth,
                 inv_w: 1.0 / (1.0 + k as f32),

@@ -22,6 +22,7 @@
 
 pub mod cs559;
 pub mod generate;
+pub mod geometry;
 pub mod grid;
 mod index;
 mod load;
@@ -124,7 +125,8 @@ pub struct Exit {
     pub point: Option<Vec2>,
 }
 
-/// An axis-aligned bounding box in the maze plane.
+/// An axis-aligned box in any 2D space (the maze plane, the sample grid): name each value by its space,
+/// `world_box`, `grid_box`. Empty when `min` > `max` on either axis; every test is inclusive.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
     /// Smallest x and y.
@@ -136,6 +138,12 @@ pub struct Aabb {
 impl Aabb {
     /// The empty box (`min` > `max`), the identity of [`Aabb::union_point`].
     pub const EMPTY: Aabb = Aabb { min: Vec2::splat(f32::INFINITY), max: Vec2::splat(f32::NEG_INFINITY) };
+
+    /// The box from `min` to `max`.
+    #[must_use]
+    pub const fn new(min: Vec2, max: Vec2) -> Aabb {
+        Aabb { min, max }
+    }
 
     /// The smallest box holding `self` and `p`.
     #[must_use]
@@ -149,10 +157,62 @@ impl Aabb {
         self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
     }
 
+    /// The overlap of two boxes (may be empty; touching boxes overlap in a line).
+    #[must_use]
+    pub fn intersection(self, other: Aabb) -> Aabb {
+        Aabb { min: self.min.max(other.min), max: self.max.min(other.max) }
+    }
+
+    /// `true` when the box holds no point.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        !self.min.cmple(self.max).all()
+    }
+
+    /// `true` when `other` lies inside `self` (boundary included).
+    #[must_use]
+    pub fn contains(&self, other: &Aabb) -> bool {
+        self.min.cmple(other.min).all() && self.max.cmpge(other.max).all()
+    }
+
+    /// The box's centre.
+    #[must_use]
+    pub fn centre(&self) -> Vec2 {
+        (self.min + self.max) * 0.5
+    }
+
     /// The box grown by `d` on every side.
     #[must_use]
     pub fn expand(self, d: f32) -> Aabb {
         Aabb { min: self.min - d, max: self.max + d }
+    }
+
+    /// `true` when segment `a`–`b` meets the closed box (Liang–Barsky on the slab intervals).
+    #[must_use]
+    pub fn touches_segment(&self, a: Vec2, b: Vec2) -> bool {
+        let d = b - a;
+        let (mut t0, mut t1) = (0.0f32, 1.0f32);
+        let slabs = [
+            (-d.x, a.x - self.min.x),
+            (d.x, self.max.x - a.x),
+            (-d.y, a.y - self.min.y),
+            (d.y, self.max.y - a.y),
+        ];
+        for (p, q) in slabs {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return false; // parallel to this slab and outside it
+                }
+            } else {
+                let t = q / p;
+                if p < 0.0 {
+                    t0 = t0.max(t);
+                } else {
+                    t1 = t1.min(t);
+                }
+            }
+        }
+        t0 <= t1
     }
 }
 
@@ -486,31 +546,6 @@ impl Maze {
             return None;
         }
         self.cell_index.query(p).iter().copied().find(|&c| self.cell_contains(c, p))
-    }
-
-    /// The cell containing `p` (same as [`Maze::cell_at`]; the name the brief uses).
-    #[must_use]
-    pub fn cell_containing(&self, p: Vec2) -> Option<CellId> {
-        self.cell_at(p)
-    }
-
-    /// Like [`Maze::cell_at`], trying `hint` and its neighbours first (for a point that moved a little).
-    #[must_use]
-    pub fn cell_at_from(&self, hint: CellId, p: Vec2) -> Option<CellId> {
-        if (hint as usize) < self.cell_count() {
-            if self.cell_contains(hint, p) {
-                return Some(hint);
-            }
-            for &e in self.cell_edges(hint) {
-                let edge = &self.edges[e as usize];
-                if let Some(n) = edge.other_side(hint).filter(|_| edge.is_portal())
-                    && self.cell_contains(n, p)
-                {
-                    return Some(n);
-                }
-            }
-        }
-        self.cell_at(p)
     }
 
     /// Number of transparent edges.

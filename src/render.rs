@@ -15,7 +15,7 @@
 //! use glam::{Vec2, Vec3};
 //! use mazewalk::frame::{ColorDepth, Frame};
 //! use mazewalk::render::shade::{Fog, headlight, lit};
-//! use mazewalk::render::{Charset, SampleBuffer, ScreenVertex, draw_line, fill_polygon, to_frame};
+//! use mazewalk::render::{Charset, SampleBuffer, GridVertex, draw_line, fill_polygon, to_frame};
 //!
 //! let (cols, rows, charset) = (8, 3, Charset::Half);
 //! let (sx, sy) = charset.samples_per_cell();
@@ -23,7 +23,7 @@
 //! samples.clear(Vec3::ZERO);
 //! // One wall polygon after clipping, divide by w and viewport; attrs = view-space position here.
 //! let wall = [(1.0, 1.0, -2.0), (7.0, 1.0, -2.0), (7.0, 5.0, -2.0), (1.0, 5.0, -2.0)].map(|(x, y, z)| {
-//!     ScreenVertex { pos: Vec2::new(x, y), depth: 0.5, inv_w: 1.0 / 2.0, attrs: Vec3::new(0.0, 0.0, z) }
+//!     GridVertex { pos: Vec2::new(x, y), depth: 0.5, inv_w: 1.0 / 2.0, attrs: Vec3::new(0.0, 0.0, z) }
 //! });
 //! let fog = Fog { color: Vec3::ZERO, start: 4.0, end: 20.0 };
 //! let (albedo, normal_view) = (Vec3::new(0.6, 0.3, 0.3), Vec3::Z);
@@ -59,5 +59,5 @@ pub use glyph::{Charset, to_frame};
 pub use line::{draw_line, line_glyph, line_points};
 pub use pipeline::{Culling, RenderOptions, RenderStats, Renderer};
 pub use portal::{PortalPass, PortalStats};
-pub use raster::{ScreenVertex, Varying, fill_polygon, fill_triangle};
+pub use raster::{GridVertex, Varying, fill_polygon, fill_triangle};
 pub use samples::SampleBuffer;

@@ -2,9 +2,7 @@
 
 use glam::{Vec2, Vec3};
 use mazewalk::render::SampleBuffer;
-use mazewalk::render::raster::{
-    ScreenVertex, fill_polygon, fill_triangle, for_each_sample, polygon_coverage,
-};
+use mazewalk::render::raster::{GridVertex, fill_polygon, fill_triangle, for_each_sample, polygon_coverage};
 use mazewalk::render::samples::{FAR, NONE};
 use proptest::prelude::*;
 
@@ -184,7 +182,7 @@ proptest! {
         size in (0usize..9, 0usize..9),
     ) {
         let mut buffer = SampleBuffer::new(size.0, size.1);
-        let tri: [ScreenVertex<f32>; 3] = std::array::from_fn(|k| ScreenVertex {
+        let tri: [GridVertex<f32>; 3] = std::array::from_fn(|k| GridVertex {
             pos: Vec2::new(coords[2 * k], coords[2 * k + 1]),
             depth: depths[k],
             inv_w: inv_w[k],
@@ -196,15 +194,15 @@ proptest! {
     }
 }
 
-fn flat(pos: [Vec2; 3], depth: f32) -> [ScreenVertex<()>; 3] {
-    pos.map(|pos| ScreenVertex { pos, depth, inv_w: 1.0, attrs: () })
+fn flat(pos: [Vec2; 3], depth: f32) -> [GridVertex<()>; 3] {
+    pos.map(|pos| GridVertex { pos, depth, inv_w: 1.0, attrs: () })
 }
 
 #[test]
 fn the_nearer_triangle_wins_whatever_the_draw_order() {
     let near = flat([Vec2::new(0.0, 0.0), Vec2::new(12.0, 0.0), Vec2::new(0.0, 12.0)], 0.3);
     let far = flat([Vec2::new(2.0, 2.0), Vec2::new(16.0, 2.0), Vec2::new(2.0, 12.0)], 0.6);
-    let draw = |order: [(&[ScreenVertex<()>; 3], u32); 2]| {
+    let draw = |order: [(&[GridVertex<()>; 3], u32); 2]| {
         let mut buffer = SampleBuffer::new(W, H);
         for (tri, id) in order {
             fill_triangle(&mut buffer, [&tri[0], &tri[1], &tri[2]], id, |()| Vec3::splat(id as f32));
@@ -259,7 +257,7 @@ fn attributes_are_perspective_correct_and_depth_is_ndc_z() {
             focal * view.y / w,
             ((far + near) * -view.z - 2.0 * far * near) / (far - near) / w,
         );
-        ScreenVertex {
+        GridVertex {
             pos: Vec2::new((ndc.x + 1.0) * 0.5 * width as f32, (1.0 - ndc.y) * 0.5 * height as f32),
             depth: (ndc.z + 1.0) * 0.5,
             inv_w: 1.0 / w,

@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 use mazewalk::frame::{ColorDepth, Frame};
-use mazewalk::render::raster::{ScreenVertex, fill_polygon};
+use mazewalk::render::raster::{GridVertex, fill_polygon};
 use mazewalk::render::{Charset, SampleBuffer, draw_line, line_points, to_frame};
 use proptest::prelude::*;
 
@@ -79,7 +79,7 @@ fn a_line_from_minus_to_plus_a_billion_crosses_the_grid_once() {
 #[test]
 fn outlines_are_hidden_behind_nearer_geometry() {
     let mut samples = SampleBuffer::new(9, 3);
-    let wall = [(3.0, 0.0), (6.0, 0.0), (6.0, 3.0), (3.0, 3.0)].map(|(x, y)| ScreenVertex {
+    let wall = [(3.0, 0.0), (6.0, 0.0), (6.0, 3.0), (3.0, 3.0)].map(|(x, y)| GridVertex {
         pos: glam::Vec2::new(x, y),
         depth: 0.2,
         inv_w: 1.0,

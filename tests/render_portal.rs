@@ -10,9 +10,9 @@ mod common;
 
 use glam::{Mat2, Vec2};
 use mazewalk::maze::generate::{Algorithm, GenOptions, generate};
+use mazewalk::maze::geometry::{WALL_MARGIN, heading_dir};
 use mazewalk::maze::movement::{Position, step};
 use mazewalk::maze::{self, Cells, Maze, Viewer};
-use mazewalk::render::camera::WALL_MARGIN;
 use mazewalk::render::oracle::{Agreement, portal_matches_brute};
 use mazewalk::render::{Camera, Charset, Culling, Projection, Renderer};
 use proptest::prelude::*;
@@ -118,7 +118,7 @@ fn resolve(maze: &Maze, place: &Place) -> Vec2 {
         Place::AgainstWall { cell, heading } => {
             let c = (cell % maze.cell_count()) as u32;
             let from = Position { cell: c, pos: centroid(maze, c) };
-            let dir = Vec2::from_angle(heading.to_radians());
+            let dir = heading_dir(heading.to_radians());
             step(maze, from, dir * 100.0, WALL_MARGIN).pos
         }
     }

@@ -5,10 +5,10 @@ use glam::Vec2;
 
 use super::controls::HELP;
 use crate::frame::{Cell, Color, Frame};
-use crate::maze::Maze;
+use crate::maze::geometry::heading_dir;
+use crate::maze::{Aabb, Maze};
 use crate::render::camera::Camera;
 use crate::render::line_points;
-use crate::render::portal::{Rect, segment_touches_rect};
 
 /// The smallest terminal the walkthrough draws in (columns, rows).
 pub const MIN_SIZE: (usize, usize) = (20, 6);
@@ -128,12 +128,12 @@ impl MapArea {
         MapArea { x: 0, y: 0, width, height, units_per_col, centre }
     }
 
-    /// The maze-plane rectangle one map character covers.
-    fn world_rect(&self, col: usize, row: usize) -> Rect {
+    /// The maze-plane box one map character covers.
+    fn world_box(&self, col: usize, row: usize) -> Aabb {
         let (u, v) = (self.units_per_col, 2.0 * self.units_per_col);
         let x0 = self.centre.x + (col as f32 - self.width as f32 / 2.0) * u;
         let y1 = self.centre.y - (row as f32 - self.height as f32 / 2.0) * v; // north is up
-        Rect { x0, y0: y1 - v, x1: x0 + u, y1 }
+        Aabb::new(Vec2::new(x0, y1 - v), Vec2::new(x0 + u, y1))
     }
 
     /// The map character (column, row) showing maze point `p`, as floats.
@@ -156,19 +156,17 @@ pub fn draw_map(
 ) {
     for row in 0..area.height {
         for col in 0..area.width {
-            let r = area.world_rect(col, row);
-            let centre = Vec2::new((r.x0 + r.x1) * 0.5, (r.y0 + r.y1) * 0.5);
-            let cell = match maze.cell_containing(centre) {
+            let world_box = area.world_box(col, row);
+            let cell = match maze.cell_at(world_box.centre()) {
                 None => ROCK,
                 Some(c) => {
-                    let wall = maze.cell_edges(c).iter().map(|&e| &maze.edges()[e as usize]).find(|edge| {
-                        let (a, b) =
-                            (maze.vertices()[edge.start as usize], maze.vertices()[edge.end as usize]);
-                        edge.opaque && segment_touches_rect(a, b, r)
+                    let wall = maze.cell_edges(c).iter().map(|&e| (e, maze.edge(e))).find(|&(e, edge)| {
+                        let (a, b) = maze.edge_points(e);
+                        edge.opaque && world_box.touches_segment(a, b)
                     });
                     let bg = if visited(c) { VISITED_BG } else { FLOOR_BG };
                     match wall {
-                        Some(edge) => Cell { ch: '█', fg: rgb(edge.color.to_array()), bg },
+                        Some((_, edge)) => Cell { ch: '█', fg: rgb(edge.color.to_array()), bg },
                         None => Cell { ch: ' ', fg: Color::Default, bg },
                     }
                 }
@@ -187,9 +185,9 @@ pub fn draw_map(
     // The view frustum: two rays at ±fov/2 from the heading, a few cells long, over floor only.
     let eye = area.to_map(camera.position);
     for side in [-0.5f32, 0.5] {
-        let a = (camera.yaw_deg + side * camera.hfov_deg).to_radians();
+        let heading = (camera.yaw_deg + side * camera.hfov_deg).to_radians();
         let reach = 12.0 * area.units_per_col;
-        let tip = area.to_map(camera.position + Vec2::new(a.cos(), a.sin()) * reach);
+        let tip = area.to_map(camera.position + heading_dir(heading) * reach);
         let (w, h) = (area.width, area.height);
         for (x, y) in line_points(eye.x as i64, eye.y as i64, tip.x as i64, tip.y as i64, w, h) {
             let (fx, fy) = (area.x + x, area.y + y);

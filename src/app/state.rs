@@ -6,8 +6,9 @@ use glam::Vec2;
 use super::controls::{Action, Held, action_for};
 use crate::input::{Key, KeyPhase};
 use crate::maze::Maze;
+use crate::maze::geometry::{WALL_MARGIN, clamp_eye_height, heading_dir, heading_right};
 use crate::maze::movement::{Position, step};
-use crate::render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection, WALL_MARGIN};
+use crate::render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection};
 use crate::render::{Charset, RenderOptions};
 
 /// Walking speed, maze units per second (a generated cell is 4 units).
@@ -20,8 +21,6 @@ pub const LOOK_SPEED: f32 = 70.0;
 pub const RISE_SPEED: f32 = 1.0;
 /// Field of view change, degrees per second.
 pub const FOV_SPEED: f32 = 45.0;
-/// The eye keeps this far from floor and ceiling.
-pub const EYE_MARGIN: f32 = 0.15;
 /// Degrees of look per cell of mouse drag.
 pub const DRAG_DEGREES_PER_CELL: f32 = 2.0;
 /// A frame longer than this (a stall, a suspend) advances the motion by this much only.
@@ -86,9 +85,8 @@ impl App {
         let viewer = maze.viewer();
         let mut camera =
             Camera::new(viewer.pos, viewer.dir_deg, viewer.fov_deg.clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1));
-        camera.eye_z = viewer.z.clamp(-1.0 + EYE_MARGIN, 1.0 - EYE_MARGIN);
-        let cell =
-            maze.cell_containing(viewer.pos).ok_or(StartOutsideMaze { x: viewer.pos.x, y: viewer.pos.y })?;
+        camera.eye_z = clamp_eye_height(viewer.z);
+        let cell = maze.cell_at(viewer.pos).ok_or(StartOutsideMaze { x: viewer.pos.x, y: viewer.pos.y })?;
         Ok(App {
             maze,
             camera,
@@ -205,14 +203,13 @@ impl App {
         }
         let before = (self.camera, self.cell);
         self.turn(turn * TURN_SPEED * dt, look * LOOK_SPEED * dt);
-        self.camera.eye_z =
-            (self.camera.eye_z + rise * RISE_SPEED * dt).clamp(-1.0 + EYE_MARGIN, 1.0 - EYE_MARGIN);
-        self.camera.hfov_deg = (self.camera.hfov_deg + zoom * FOV_SPEED * dt).clamp(FOV_RANGE_DEG.0, 150.0);
+        self.camera.eye_z = clamp_eye_height(self.camera.eye_z + rise * RISE_SPEED * dt);
+        self.camera.hfov_deg =
+            (self.camera.hfov_deg + zoom * FOV_SPEED * dt).clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1);
         if walk != Vec2::ZERO {
             // Walking stays level whatever the pitch: forward is the heading in the maze plane.
-            let yaw = self.camera.yaw_deg.to_radians();
-            let forward = Vec2::new(yaw.cos(), yaw.sin());
-            let right = Vec2::new(forward.y, -forward.x);
+            let heading = self.camera.yaw_deg.to_radians();
+            let (forward, right) = (heading_dir(heading), heading_right(heading));
             let delta = (forward * walk.x + right * walk.y).normalize_or_zero() * WALK_SPEED * dt;
             let to =
                 step(&self.maze, Position { cell: self.cell, pos: self.camera.position }, delta, WALL_MARGIN);

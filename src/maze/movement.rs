@@ -122,13 +122,6 @@ fn sweep(
     }
 }
 
-/// Clamps an eye height to stay `margin` away from the floor (-1) and ceiling (+1).
-#[must_use]
-pub fn clamp_eye_height(z: f32, margin: f32) -> f32 {
-    let margin = if margin.is_finite() { margin.clamp(0.0, 1.0) } else { 0.0 };
-    if z.is_nan() { 0.0 } else { z.clamp(-1.0 + margin, 1.0 - margin) }
-}
-
 /// Cells reachable from `start` through portals without leaving cells that touch `region`,
 /// `start` first, in breadth-first order.
 fn cells_near(maze: &Maze, start: CellId, region: &Aabb) -> Vec<CellId> {
@@ -314,13 +307,5 @@ mod tests {
         let m = two_rooms();
         let p = step(&m, Position { cell: 0, pos: vec2(2.0, 2.0) }, vec2(-1e5, 0.0), 0.25);
         assert!((p.pos.x - 0.25).abs() < 1e-3, "{p:?}");
-    }
-
-    #[test]
-    fn eye_height_stays_between_floor_and_ceiling() {
-        assert_eq!(clamp_eye_height(5.0, 0.1), 0.9);
-        assert_eq!(clamp_eye_height(-5.0, 0.1), -0.9);
-        assert_eq!(clamp_eye_height(0.3, 0.1), 0.3);
-        assert_eq!(clamp_eye_height(f32::NAN, 0.1), 0.0);
     }
 }

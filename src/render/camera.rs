@@ -1,14 +1,15 @@
 //! The camera: where the viewer stands and looks, and the matrices that follow from it.
 //!
 //! A [`Camera`] speaks the maze files' language (position in the maze plane, eye height, heading and a
-//! **horizontal** field of view in degrees); [`Camera::eye`] turns it into an [`Eye`]: the world → view →
-//! clip → grid matrices for one sample grid, built with the hand-written math core, plus the world-space
-//! basis the per-sample floor/ceiling rays use.
+//! **horizontal** field of view in degrees); [`Camera::eye`] turns it into an [`Eye`]: the world → view,
+//! view → clip and NDC → grid matrices for one sample grid, built with the hand-written math core, plus
+//! the world-space basis the per-sample floor/ceiling rays use.
 
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use thiserror::Error;
 
 use crate::math::{self, Convention, MathError};
+use crate::maze::geometry::{CEILING_Z, FLOOR_Z, WALL_MARGIN, heading_right};
 
 /// Perspective or orthographic projection.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -46,18 +47,12 @@ impl std::str::FromStr for Projection {
 pub const FOV_RANGE_DEG: (f32, f32) = (10.0, 170.0);
 /// Pitch is clamped to ±90°: straight up or down, never over the top.
 pub const PITCH_LIMIT_DEG: f32 = 90.0;
-/// Walls span z = -1 (floor) to z = +1 (ceiling).
-pub const FLOOR_Z: f32 = -1.0;
-/// Walls span z = -1 (floor) to z = +1 (ceiling).
-pub const CEILING_Z: f32 = 1.0;
 /// Half the width of the orthographic view at fov 90°, in maze units (one cell of the generated mazes).
 pub const ORTHO_HALF_WIDTH_AT_90: f32 = 8.0;
 /// How far the viewer sees, in maze units; fog reaches full strength there.
 pub const DEFAULT_VIEW_DISTANCE: f32 = 96.0;
 /// The near plane never exceeds this distance from the eye (maze units).
 pub const MAX_NEAR: f32 = 0.05;
-/// The collision margin the movement code keeps from walls; the near plane's corners stay inside it.
-pub const WALL_MARGIN: f32 = 0.25;
 
 /// What is wrong with a camera or the grid it renders into.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -174,16 +169,16 @@ impl Camera {
         }
         let yaw = self.yaw_deg.to_radians();
         let pitch = self.pitch_deg.clamp(-PITCH_LIMIT_DEG, PITCH_LIMIT_DEG).to_radians();
-        let eye = self.eye_world();
+        let position = self.eye_world();
         // The basis comes from yaw and pitch directly: `up` tilts with the view, so looking straight up
         // or down never meets the degenerate "up parallel to forward" case and never flips.
         let forward = math::direction_from_yaw_pitch(yaw, pitch);
         let up = math::up_from_yaw_pitch(yaw, pitch);
-        // forward × up, which is level for every pitch: (sin yaw, -cos yaw, 0). Written out so its z is
+        // forward × up, which is level for every pitch: the heading's right. Built in the plane so its z is
         // exactly 0, and a row of samples keeps one ray height and slope (the floor pass's row constants).
-        let right = Vec3::new(yaw.sin(), -yaw.cos(), 0.0);
+        let right = heading_right(yaw).extend(0.0);
         debug_assert!(right.distance(forward.cross(up)) < 1e-5, "right = forward × up");
-        let world_to_view = self.convention.look_to(eye, forward, up)?;
+        let world_to_view = self.convention.look_to(position, forward, up)?;
 
         // Horizontal fov across the whole grid; the physical aspect counts the samples' shape.
         let conv = self.convention;
@@ -205,7 +200,7 @@ impl Camera {
             }
         };
         let half_h = half_w / aspect;
-        let clip_to_grid = math::viewport(width as f32, height as f32, conv.depth_range())?;
+        let ndc_to_grid = math::viewport(width as f32, height as f32, conv.depth_range())?;
         let world_to_clip = view_to_clip * world_to_view;
         Ok(Eye {
             camera: *self,
@@ -213,9 +208,9 @@ impl Camera {
             height,
             world_to_view,
             world_to_clip,
-            clip_to_grid,
+            ndc_to_grid,
             normal_to_view: math::normal_matrix(world_to_view)?,
-            eye,
+            position,
             forward,
             right,
             up,
@@ -241,11 +236,11 @@ pub struct Eye {
     /// World → clip (projection · view).
     pub world_to_clip: Mat4,
     /// NDC → grid (the viewport), applied after the divide by w.
-    pub clip_to_grid: Mat4,
+    pub ndc_to_grid: Mat4,
     /// World normals → view normals (inverse transpose of the view's upper 3×3).
     pub normal_to_view: Mat3,
-    /// The eye, world space.
-    pub eye: Vec3,
+    /// The eye's position, world space.
+    pub position: Vec3,
     /// Unit view direction, world space.
     pub forward: Vec3,
     /// Unit screen-right, world space.
@@ -273,24 +268,24 @@ impl Eye {
     #[must_use]
     pub fn grid(&self, clip: Vec4) -> Vec3 {
         let ndc = clip.truncate() / clip.w;
-        self.clip_to_grid.transform_point3(ndc)
+        self.ndc_to_grid.transform_point3(ndc)
     }
 
     /// View-space depth (distance along the view direction) of a world point.
     #[must_use]
     pub fn view_depth(&self, world: Vec3) -> f32 {
-        (world - self.eye).dot(self.forward)
+        (world - self.position).dot(self.forward)
     }
 
     /// Grid depth as a function of view depth, for comparing a distance with the depth buffer.
     #[must_use]
     pub fn depth_by_distance(&self) -> DepthByDistance {
-        let (at_eye, per_unit) = (self.clip(self.eye), self.world_to_clip * self.forward.extend(0.0));
+        let (at_eye, per_unit) = (self.clip(self.position), self.world_to_clip * self.forward.extend(0.0));
         DepthByDistance {
             clip_z: Vec2::new(at_eye.z, per_unit.z),
             clip_w: Vec2::new(at_eye.w, per_unit.w),
-            scale: self.clip_to_grid.z_axis.z,
-            offset: self.clip_to_grid.w_axis.z,
+            scale: self.ndc_to_grid.z_axis.z,
+            offset: self.ndc_to_grid.w_axis.z,
         }
     }
 
@@ -304,10 +299,11 @@ impl Eye {
         match self.camera.projection {
             Projection::Perspective => {
                 let dir = self.forward + self.right * (ndc_x * self.half_w) + self.up * (ndc_y * self.half_h);
-                (self.eye + dir * self.near, dir)
+                (self.position + dir * self.near, dir)
             }
             Projection::Orthographic => {
-                let start = self.eye + self.right * (ndc_x * self.half_w) + self.up * (ndc_y * self.half_h);
+                let start =
+                    self.position + self.right * (ndc_x * self.half_w) + self.up * (ndc_y * self.half_h);
                 (start, self.forward)
             }
         }

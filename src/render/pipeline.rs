@@ -1,7 +1,7 @@
 //! The pipeline in one place: maze + camera → samples → [`Frame`].
 //!
 //! ```text
-//! camera ─eye()─▶ world→view→clip→grid matrices
+//! camera ─eye()─▶ world→view, view→clip, NDC→grid matrices
 //! walls  ─portal pass (or all)─▶ wall ids, ascending
 //!   each wall: extrude (world) ─view─▶ view ─projection─▶ clip ─clip─▶ clip ─÷w─▶ NDC ─viewport─▶ grid
 //!              ─raster (top-left rule, depth LESS, Lambert via the normal matrix + fog)─▶ samples
@@ -11,16 +11,17 @@
 
 use glam::{Vec2, Vec3};
 
-use super::camera::{CEILING_Z, Camera, CameraError, Eye, FLOOR_Z, Projection};
+use super::camera::{Camera, CameraError, Eye, Projection};
 use super::glyph::{Charset, to_frame};
 use super::line::{line_glyph, line_points};
 use super::portal::{PortalPass, PortalStats};
-use super::raster::{ScreenVertex, fill_polygon};
+use super::raster::{GridVertex, fill_polygon};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{Fog, checker, headlight_unit, lit, srgb_to_linear};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
 use crate::frame::{ColorDepth, Frame};
 use crate::maze::Maze;
+use crate::maze::geometry::{CEILING_Z, FLOOR_Z};
 
 /// Light that reaches every surface, whatever its angle to the headlight.
 const AMBIENT: f32 = 0.25;
@@ -105,7 +106,7 @@ pub struct Renderer {
     portal: PortalPass,
     walls: Vec<u32>,
     scratch: ClipScratch,
-    screen: Vec<ScreenVertex<Vec3>>,
+    polygon_grid: Vec<GridVertex<Vec3>>,
     seen: Vec<u32>,
 }
 
@@ -232,28 +233,28 @@ impl Renderer {
         let fog = Fog { color: FOG_COLOR, start: eye.far * 0.15, end: eye.far };
         let ortho = eye.camera.projection == Projection::Orthographic;
         for &e in &self.walls {
-            let edge = &maze.edges()[e as usize];
+            let edge = maze.edge(e);
             if !edge.opaque {
                 continue; // portals are invisible
             }
             let Some(poly) = clip_wall(maze, eye, e, &mut self.scratch) else { continue }; // clip space
-            self.screen.clear();
+            self.polygon_grid.clear();
             for v in poly {
                 let grid = eye.grid(v.clip); // ÷w → NDC → viewport
-                self.screen.push(ScreenVertex {
+                self.polygon_grid.push(GridVertex {
                     pos: grid.truncate(),
                     depth: grid.z,
                     inv_w: 1.0 / v.clip.w,
                     attrs: v.view,
                 });
             }
-            let (a, b) = (maze.vertices()[edge.start as usize], maze.vertices()[edge.end as usize]);
+            let (a, b) = maze.edge_points(e);
             let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
             // Normals by the inverse transpose, normalized once per wall.
             let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
             let albedo = edge.color.map(srgb_to_linear);
-            stats.triangles += self.screen.len() - 2;
-            stats.samples_written += fill_polygon(&mut self.samples, &self.screen, e, |view: Vec3| {
+            stats.triangles += self.polygon_grid.len() - 2;
+            stats.samples_written += fill_polygon(&mut self.samples, &self.polygon_grid, e, |view: Vec3| {
                 let depth = view.z.abs(); // distance along the view axis (RH: -z, LH: +z)
                 match shading {
                     Shading::ViewDepth => Vec3::splat(depth),

@@ -7,7 +7,7 @@
 //! "Triangle rasterization in practice", <https://fgiesen.wordpress.com/2013/02/08/triangle-rasterization-in-practice/>).
 //! Both windings are accepted (walls are two-sided); zero-area triangles cover nothing.
 //!
-//! Depth is interpolated linearly in screen space (NDC z is affine there); attributes are interpolated
+//! Depth is interpolated linearly in grid space (NDC z is affine there); attributes are interpolated
 //! perspective-correctly through `1/w`.
 
 use glam::{Vec2, Vec3, Vec4};
@@ -52,12 +52,12 @@ macro_rules! varying_by_ops {
 }
 varying_by_ops!(f32, Vec2, Vec3, Vec4);
 
-/// A vertex after the viewport transform.
+/// A vertex in grid space: after the divide by w and the viewport transform.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ScreenVertex<A> {
+pub struct GridVertex<A> {
     /// Grid position in samples: origin top-left, y down.
     pub pos: Vec2,
-    /// Depth in [0, 1], smaller = nearer; affine in screen space.
+    /// Depth in [0, 1], smaller = nearer; affine in grid space.
     pub depth: f32,
     /// `1 / w_clip`, for perspective-correct attributes; 1.0 under an orthographic projection.
     pub inv_w: f32,
@@ -87,7 +87,7 @@ fn is_top_left(a: [i64; 2], b: [i64; 2]) -> bool {
 }
 
 /// Calls `hit(x, y, bary)` for every sample of a `width × height` buffer whose centre the triangle covers
-/// (top-left rule on edges), with the screen-space barycentric weights of the centre in the order of `pos`.
+/// (top-left rule on edges), with the grid-space barycentric weights of the centre in the order of `pos`.
 ///
 /// The raw coverage function: either winding, nothing for zero-area or non-finite triangles, nothing
 /// outside the buffer, never more than `width * height` calls.
@@ -184,7 +184,7 @@ pub fn polygon_coverage(width: usize, height: usize, polygon: &[Vec2]) -> Vec<u3
 /// `inv_w` are skipped.
 pub fn fill_triangle<A: Varying>(
     buffer: &mut SampleBuffer,
-    tri: [&ScreenVertex<A>; 3],
+    tri: [&GridVertex<A>; 3],
     id: u32,
     mut shade: impl FnMut(A) -> Vec3,
 ) -> usize {
@@ -198,12 +198,12 @@ pub fn fill_triangle<A: Varying>(
     let mut written = 0;
     for_each_sample(width, buffer.height(), tri.map(|v| v.pos), |x, y, b| {
         let i = y * width + x;
-        // Affine in screen space; written relative to vertex 0 so a constant depth stays exact.
+        // Affine in grid space; written relative to vertex 0 so a constant depth stays exact.
         let z = depth[0] + b[1] * (depth[1] - depth[0]) + b[2] * (depth[2] - depth[0]);
         if z.is_nan() || z >= buffer.depth()[i] {
             return; // LESS: hidden (or tied) by what is already there
         }
-        // Perspective-correct weights: attr/w and 1/w are affine in screen space, attr is not.
+        // Perspective-correct weights: attr/w and 1/w are affine in grid space, attr is not.
         let pw = [b[0] * inv_w[0], b[1] * inv_w[1], b[2] * inv_w[2]];
         let sum = pw[0] + pw[1] + pw[2];
         let w = if sum.is_normal() { pw.map(|p| p / sum) } else { b }; // 1/w ≈ 0: fall back to affine
@@ -218,7 +218,7 @@ pub fn fill_triangle<A: Varying>(
 /// exactly, so no sample is written twice by one polygon, and polygons sharing an edge meet without cracks.
 pub fn fill_polygon<A: Varying>(
     buffer: &mut SampleBuffer,
-    polygon: &[ScreenVertex<A>],
+    polygon: &[GridVertex<A>],
     id: u32,
     mut shade: impl FnMut(A) -> Vec3,
 ) -> usize {

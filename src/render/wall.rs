@@ -2,9 +2,10 @@
 
 use glam::{Vec3, Vec4};
 
-use super::camera::{CEILING_Z, Eye, FLOOR_Z};
+use super::camera::Eye;
 use crate::math::{ClipPlane, ClipPlanes, ClipVertex, clip_polygon};
 use crate::maze::Maze;
+use crate::maze::geometry::{CEILING_Z, FLOOR_Z};
 
 /// A wall vertex on its way through the pipeline: clip-space position plus the view-space position
 /// (interpolated linearly in clip space, then perspective-correctly in the raster, for lighting and fog).
@@ -36,8 +37,7 @@ pub struct ClipScratch {
 /// Edge `e`'s wall quad in world space: start-floor, end-floor, end-ceiling, start-ceiling.
 #[must_use]
 pub fn wall_quad_world(maze: &Maze, e: u32) -> [Vec3; 4] {
-    let edge = &maze.edges()[e as usize];
-    let (a, b) = (maze.vertices()[edge.start as usize], maze.vertices()[edge.end as usize]);
+    let (a, b) = maze.edge_points(e);
     [a.extend(FLOOR_Z), b.extend(FLOOR_Z), b.extend(CEILING_Z), a.extend(CEILING_Z)]
 }
 
