@@ -30,7 +30,7 @@ use common::baseline::{full_repaint, lower_bound};
 use criterion::{Criterion, Throughput};
 use mazewalk::app::App;
 use mazewalk::app::state::TURN_SPEED;
-use mazewalk::frame::{Cell, Color, ColorDepth, Frame};
+use mazewalk::frame::{Cell, Color, ColorDepth, Frame, Region};
 use mazewalk::input::{Key, KeyPhase};
 use mazewalk::render::{Charset, Culling, RenderOptions, Renderer};
 use mazewalk::term::encoder::{DEFAULT_TOLERANCE, Encoder};
@@ -83,8 +83,16 @@ fn walk(depth: ColorDepth) -> Vec<Step> {
     let mut renderer = Renderer::new();
     let mut steps = Vec::new();
     let mut render = |app: &App, phase, moved| {
-        let mut frame = Frame::default();
-        renderer.render(app.maze(), &app.camera, &app.options, COLS, ROWS, &mut frame).expect("camera");
+        let mut frame = Frame::new(COLS, ROWS);
+        renderer
+            .render(
+                app.maze(),
+                &app.camera,
+                &app.options,
+                &mut frame,
+                Region { col: 0, row: 0, cols: COLS, rows: ROWS },
+            )
+            .expect("camera");
         steps.push(Step { phase, moved, frame });
     };
     let mut now = 0.0;

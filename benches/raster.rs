@@ -46,7 +46,8 @@ fn bench(c: &mut Criterion) {
         let mut frame = Frame::new(COLS, ROWS);
         for depth in [ColorDepth::TrueColor, ColorDepth::Ansi16] {
             c.bench_function(&format!("to_frame {charset} {depth:?}"), |b| {
-                b.iter(|| to_frame(black_box(&samples), charset, depth, true, &mut frame));
+                let region = frame.region();
+                b.iter(|| to_frame(black_box(&samples), charset, depth, true, &mut frame, region));
             });
         }
     }

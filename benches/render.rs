@@ -21,7 +21,7 @@ use std::hint::black_box;
 
 use common::{SIDES, Scene, View};
 use criterion::{BenchmarkId, Criterion};
-use mazewalk::frame::{ColorDepth, Frame};
+use mazewalk::frame::{ColorDepth, Frame, Region};
 use mazewalk::render::{Charset, Culling, PortalPass, RenderOptions, Renderer, to_frame};
 
 /// Terminal sizes (columns × rows).
@@ -59,9 +59,16 @@ fn record_stats(scenes: &[Scene], grids: &[(Charset, usize, usize)]) {
     let (mut renderer, mut frame) = (Renderer::new(), Frame::default());
     for scene in scenes {
         for &(charset, cols, rows) in grids {
+            frame.resize(cols, rows);
             for (culling, culling_name) in cullings() {
                 let s = renderer
-                    .render(&scene.maze, &scene.camera, &options(charset, culling), cols, rows, &mut frame)
+                    .render(
+                        &scene.maze,
+                        &scene.camera,
+                        &options(charset, culling),
+                        &mut frame,
+                        Region { col: 0, row: 0, cols, rows },
+                    )
                     .expect("benchmark camera");
                 let c = &scene.camera;
                 let _ = writeln!(
@@ -95,6 +102,7 @@ fn bench_frames(c: &mut Criterion, scenes: &[Scene], grids: &[(Charset, usize, u
     let (mut renderer, mut frame) = (Renderer::new(), Frame::default());
     for scene in scenes {
         for &(charset, cols, rows) in grids {
+            frame.resize(cols, rows);
             let n = scene.side;
             let mut group =
                 c.benchmark_group(format!("render/{}/{n}x{n}/{charset}/{cols}x{rows}", scene.view.name()));
@@ -103,7 +111,13 @@ fn bench_frames(c: &mut Criterion, scenes: &[Scene], grids: &[(Charset, usize, u
                 group.bench_function(BenchmarkId::from_parameter(name), |b| {
                     b.iter(|| {
                         renderer
-                            .render(&scene.maze, &scene.camera, black_box(&opts), cols, rows, &mut frame)
+                            .render(
+                                &scene.maze,
+                                &scene.camera,
+                                black_box(&opts),
+                                &mut frame,
+                                Region { col: 0, row: 0, cols, rows },
+                            )
                             .expect("benchmark camera")
                     });
                 });
@@ -117,7 +131,7 @@ fn bench_frames(c: &mut Criterion, scenes: &[Scene], grids: &[(Charset, usize, u
 fn bench_breakdown(c: &mut Criterion, scenes: &[Scene]) {
     let (cols, rows) = MAIN_SIZE;
     let mut renderer = Renderer::new();
-    let mut frame = Frame::default();
+    let mut frame = Frame::new(cols, rows);
     let mut pass = PortalPass::new();
     for scene in scenes.iter().filter(|s| s.side == *SIDES.last().expect("sizes")) {
         for charset in Charset::ALL {
@@ -147,6 +161,7 @@ fn bench_breakdown(c: &mut Criterion, scenes: &[Scene]) {
                             depth,
                             charset == Charset::Ascii,
                             &mut frame,
+                            Region { col: 0, row: 0, cols, rows },
                         )
                     });
                 });

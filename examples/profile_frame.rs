@@ -15,7 +15,7 @@ mod common;
 use std::time::Instant;
 
 use common::View;
-use mazewalk::frame::{ColorDepth, Frame};
+use mazewalk::frame::{ColorDepth, Frame, Region};
 use mazewalk::render::{Charset, Culling, RenderOptions, Renderer, to_frame};
 
 fn main() {
@@ -37,7 +37,9 @@ fn main() {
         cell_aspect: 0.5,
     };
     let (mut renderer, mut frame) = (Renderer::new(), Frame::new(cols, rows));
-    renderer.render(&scene.maze, &scene.camera, &options, cols, rows, &mut frame).expect("render");
+    renderer
+        .render(&scene.maze, &scene.camera, &options, &mut frame, Region { col: 0, row: 0, cols, rows })
+        .expect("render");
     let start = Instant::now();
     for _ in 0..reps {
         match part.as_str() {
@@ -46,10 +48,23 @@ fn main() {
                     .render_samples(&scene.maze, &scene.camera, charset, 0.5, Culling::Portal, cols, rows)
                     .expect("render");
             }
-            "glyphs" => to_frame(renderer.samples(), charset, ColorDepth::TrueColor, false, &mut frame),
+            "glyphs" => to_frame(
+                renderer.samples(),
+                charset,
+                ColorDepth::TrueColor,
+                false,
+                &mut frame,
+                Region { col: 0, row: 0, cols, rows },
+            ),
             _ => {
                 renderer
-                    .render(&scene.maze, &scene.camera, &options, cols, rows, &mut frame)
+                    .render(
+                        &scene.maze,
+                        &scene.camera,
+                        &options,
+                        &mut frame,
+                        Region { col: 0, row: 0, cols, rows },
+                    )
                     .expect("render");
             }
         }

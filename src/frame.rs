@@ -47,9 +47,10 @@ pub enum ColorDepth {
     TrueColor,
 }
 
-impl crate::names::Named for ColorDepth {
-    const WHAT: &'static str = "colour depth";
-    const NAMES: &'static [(&'static str, ColorDepth)] = &[
+crate::names::named!(
+    ColorDepth,
+    "colour depth",
+    [
         ("none", ColorDepth::None),
         ("16", ColorDepth::Ansi16),
         ("256", ColorDepth::Ansi256),
@@ -59,20 +60,21 @@ impl crate::names::Named for ColorDepth {
         ("ansi", ColorDepth::Ansi16),
         ("24bit", ColorDepth::TrueColor),
         ("rgb", ColorDepth::TrueColor),
-    ];
-}
+    ]
+);
 
-impl std::str::FromStr for ColorDepth {
-    type Err = crate::names::UnknownName;
-    fn from_str(s: &str) -> Result<ColorDepth, Self::Err> {
-        crate::names::parse(s)
-    }
-}
-
-impl std::fmt::Display for ColorDepth {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        crate::names::fmt(*self, f)
-    }
+/// A rectangle of cells in a frame: columns `col..col + cols`, rows `row..row + rows` (0-based from
+/// the top-left). The renderer draws the 3D view into one, the overlays go around and over it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Region {
+    /// Leftmost column.
+    pub col: usize,
+    /// Top row.
+    pub row: usize,
+    /// Width in cells.
+    pub cols: usize,
+    /// Height in cells.
+    pub rows: usize,
 }
 
 /// One character cell of a frame.
@@ -279,6 +281,31 @@ impl Frame {
     /// All cells, row-major, mutable.
     pub fn cells_mut(&mut self) -> &mut [Cell] {
         &mut self.cells
+    }
+
+    /// The whole frame as a [`Region`].
+    #[must_use]
+    pub fn region(&self) -> Region {
+        Region { col: 0, row: 0, cols: self.width, rows: self.height }
+    }
+
+    /// The rows of `region`, top to bottom, each the region's `cols` cells.
+    ///
+    /// # Panics
+    /// If `region` is not inside the frame.
+    pub fn region_rows_mut(&mut self, region: Region) -> impl Iterator<Item = &mut [Cell]> {
+        assert!(
+            region.col + region.cols <= self.width && region.row + region.rows <= self.height,
+            "{region:?} is not inside a {}×{} frame",
+            self.width,
+            self.height
+        );
+        let width = self.width.max(1);
+        self.cells
+            .chunks_exact_mut(width)
+            .skip(region.row)
+            .take(region.rows)
+            .map(move |line| &mut line[region.col..region.col + region.cols])
     }
 
     /// Row `y` as a slice of `width` cells, or `None` past the bottom.

@@ -17,7 +17,7 @@ use clap::{Args, Parser, Subcommand};
 use glam::Vec2;
 use mazewalk::app::run::run;
 use mazewalk::app::{App, Session, SessionOptions};
-use mazewalk::frame::{ColorDepth, Frame};
+use mazewalk::frame::{ColorDepth, Frame, Region};
 use mazewalk::maze::generate::{Algorithm, GenOptions, MAX_SIDE, generate, generate_grid};
 use mazewalk::maze::{self, Format, LoadError, Maze};
 use mazewalk::render::{Camera, Charset, Culling, Projection, RenderOptions, Renderer};
@@ -71,7 +71,7 @@ struct MazeArgs {
 #[derive(Args)]
 struct LookArgs {
     /// Glyphs: ascii (one sample per cell), half (▀, 1×2), quad (2×2) or sextant (2×3).
-    #[arg(long, value_parser = parse_charset, default_value = "half")]
+    #[arg(long, default_value = "half")]
     charset: Charset,
     /// Colour depth: none, 16, 256 or truecolor (default: from COLORTERM/TERM; NO_COLOR gives none).
     #[arg(long)]
@@ -100,7 +100,7 @@ struct GenArgs {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Carving algorithm: prim (bushy), dfs (long corridors), wilson (uniform).
-    #[arg(long, default_value = "prim", value_parser = parse_algo)]
+    #[arg(long, default_value = "prim")]
     algo: Algorithm,
     /// Fraction of the remaining interior walls to remove, adding cycles (0..=1).
     #[arg(long, default_value_t = 0.0, value_parser = parse_loops)]
@@ -129,22 +129,22 @@ struct RenderArgs {
     #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = parse_finite)]
     height: Option<f32>,
     /// Heading in degrees counter-clockwise from +x (default: the file's).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_heading)]
     heading: Option<f32>,
     /// Pitch in degrees, positive looks up (-90..=90).
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_finite)]
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_pitch)]
     pitch: f32,
     /// Horizontal field of view across the whole frame, degrees (10..=170; default: the file's).
-    #[arg(long, value_name = "DEG", value_parser = parse_finite)]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
     fov: Option<f32>,
     /// Frame size in terminal cells.
     #[arg(long, value_name = "COLSxROWS", default_value = "80x24", value_parser = parse_frame_size)]
     size: (usize, usize),
     /// perspective or orthographic.
-    #[arg(long, default_value = "perspective", value_parser = parse_projection)]
+    #[arg(long, default_value = "perspective")]
     projection: Projection,
     /// portal (cell-and-portal visibility) or none (every wall: brute force).
-    #[arg(long, default_value = "portal", value_parser = parse_culling)]
+    #[arg(long, default_value = "portal")]
     culling: Culling,
     /// Print one JSON object of counts and timing on stderr.
     #[arg(long)]
@@ -268,7 +268,7 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
     let mut frame = Frame::new(cols, rows);
     let started = Instant::now();
     let stats = renderer
-        .render(&maze, &camera, &options, cols, rows, &mut frame)
+        .render(&maze, &camera, &options, &mut frame, Region { col: 0, row: 0, cols, rows })
         .map_err(|e| Usage(e.to_string()))?;
     let micros = started.elapsed().as_micros();
     let mut out = Vec::with_capacity(cols * rows * 4);
@@ -283,10 +283,7 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
             "triangles": stats.triangles,
             "samples_written": stats.samples_written,
             "render_us": micros,
-            "culling": match args.culling {
-                Culling::Portal => "portal",
-                Culling::None => "none",
-            },
+            "culling": args.culling.to_string(),
             "cells_in_maze": maze.cell_count(),
         });
         eprintln!("{json}");
@@ -399,10 +396,6 @@ fn parse_loops(s: &str) -> Result<f32, String> {
     }
 }
 
-fn parse_algo(s: &str) -> Result<Algorithm, String> {
-    s.parse()
-}
-
 fn parse_format(s: &str) -> Result<Format, String> {
     match s {
         "cs559" => Ok(Format::Cs559),
@@ -411,22 +404,25 @@ fn parse_format(s: &str) -> Result<Format, String> {
     }
 }
 
-fn parse_charset(s: &str) -> Result<Charset, String> {
-    s.parse().map_err(|e: mazewalk::render::glyph::UnknownCharset| e.to_string())
-}
-
-fn parse_projection(s: &str) -> Result<Projection, String> {
-    s.parse()
-}
-
-fn parse_culling(s: &str) -> Result<Culling, String> {
-    s.parse()
-}
-
 fn parse_finite(s: &str) -> Result<f32, String> {
     match s.trim().parse::<f32>() {
         Ok(x) if x.is_finite() => Ok(x),
         _ => Err(format!("expected a finite number, found `{s}`")),
+    }
+}
+
+/// A heading in degrees: any within ±36,000 (a hundred turns), so that f32 still resolves it.
+fn parse_heading(s: &str) -> Result<f32, String> {
+    match parse_finite(s)? {
+        x if x.abs() <= 36_000.0 => Ok(x),
+        _ => Err("a heading must be within -36000..=36000 degrees".to_string()),
+    }
+}
+
+fn parse_pitch(s: &str) -> Result<f32, String> {
+    match parse_finite(s)? {
+        x if (-90.0..=90.0).contains(&x) => Ok(x),
+        x => Err(format!("pitch {x}° is outside -90..=90 (straight down to straight up)")),
     }
 }
 

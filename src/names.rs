@@ -9,8 +9,6 @@
 //! assert_eq!(err.to_string(), "unknown colour depth `257` (expected none, 16, 256 or truecolor)");
 //! ```
 
-use std::fmt;
-
 /// An enum whose values have names: the first name of each value is how it is written; any other is
 /// an alias that parses to it.
 pub trait Named: Sized + Copy + PartialEq + 'static {
@@ -79,10 +77,30 @@ pub fn quote(s: &str) -> String {
 /// The most characters [`quote`] keeps.
 pub const QUOTE_CHARS: usize = 40;
 
-/// Writes a [`Named`] value by its canonical name.
-pub fn fmt<T: Named>(value: T, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-    f.write_str(value.name())
+/// Implements [`Named`], `FromStr` (with [`UnknownName`]) and `Display` (the canonical name) for an
+/// enum from its table of names, canonical first for each value.
+macro_rules! named {
+    ($ty:ty, $what:literal, [$(($name:literal, $value:expr)),+ $(,)?]) => {
+        impl $crate::names::Named for $ty {
+            const WHAT: &'static str = $what;
+            const NAMES: &'static [(&'static str, $ty)] = &[$(($name, $value)),+];
+        }
+
+        impl std::str::FromStr for $ty {
+            type Err = $crate::names::UnknownName;
+            fn from_str(s: &str) -> Result<$ty, $crate::names::UnknownName> {
+                $crate::names::parse(s)
+            }
+        }
+
+        impl std::fmt::Display for $ty {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str($crate::names::Named::name(*self))
+            }
+        }
+    };
 }
+pub(crate) use named;
 
 #[cfg(test)]
 mod tests {

@@ -89,7 +89,8 @@ fn outlines_are_hidden_behind_nearer_geometry() {
     assert_eq!(draw_line(&mut samples, Vec3::new(0.5, 1.5, 0.5), Vec3::new(8.5, 1.5, 0.5), 1.0, 1e-4), 6);
     // On the wall's own depth the line shows (edges of a face are drawn at that face's depth).
     draw_line(&mut samples, Vec3::new(3.5, 0.5, 0.2), Vec3::new(3.5, 2.5, 0.2), 1.0, 1e-4);
-    let mut frame = Frame::new(0, 0);
-    to_frame(&samples, Charset::Ascii, ColorDepth::None, true, &mut frame);
+    let mut frame = Frame::new(9, 3);
+    let region = frame.region();
+    to_frame(&samples, Charset::Ascii, ColorDepth::None, true, &mut frame, region);
     assert_eq!(frame.lines(), ["   |++   ", "---|++---", "   |++   "]);
 }

@@ -5,7 +5,7 @@
 use glam::Vec2;
 use mazewalk::app::App;
 use mazewalk::app::session::{FrameCost, Screen, draw};
-use mazewalk::frame::{ColorDepth, Frame};
+use mazewalk::frame::{Cell, ColorDepth, Frame, Region};
 use mazewalk::input::{Key, KeyPhase};
 use mazewalk::maze;
 use mazewalk::render::{Camera, Charset, Culling, Projection, RenderOptions, Renderer};
@@ -35,10 +35,16 @@ proptest! {
             ..Camera::new(v.pos, yaw, fov)
         };
         let options = RenderOptions { charset, color_depth: depth, culling: Culling::Portal, cell_aspect: 0.5 };
-        let mut frame = Frame::new(0, 0);
-        Renderer::new().render(&maze, &camera, &options, cols, rows, &mut frame).unwrap();
-        prop_assert_eq!((frame.width(), frame.height()), (cols, rows));
-        prop_assert!(frame.lines().iter().all(|l| l.chars().count() == cols));
+        // A sentinel all around the view's region: nothing is drawn outside it.
+        let mut frame = Frame::filled(cols + 2, rows + 2, Cell::plain('¤'));
+        let view = Region { col: 1, row: 1, cols, rows };
+        Renderer::new().render(&maze, &camera, &options, &mut frame, view).unwrap();
+        for y in 0..rows + 2 {
+            for x in 0..cols + 2 {
+                let inside = (1..=cols).contains(&x) && (1..=rows).contains(&y);
+                prop_assert_eq!(frame.get(x, y).unwrap().ch == '¤', !inside, "cell ({}, {})", x, y);
+            }
+        }
     }
 
     #[test]
@@ -77,8 +83,9 @@ fn huge_frames_render() {
             culling: Culling::Portal,
             cell_aspect: 0.5,
         };
-        let mut frame = Frame::new(0, 0);
-        Renderer::new().render(&maze, &camera, &options, 1000, 300, &mut frame).unwrap();
+        let mut frame = Frame::new(1000, 300);
+        let region = frame.region();
+        Renderer::new().render(&maze, &camera, &options, &mut frame, region).unwrap();
         assert_eq!((frame.width(), frame.height()), (1000, 300));
     }
 }

@@ -188,8 +188,8 @@ fn portal_equals_brute(maze: &Maze, shot: &Shot) -> Result<Agreement, TestCaseEr
             shot.fov,
             shot.cols,
             shot.rows,
-            shot.charset.name(),
-            shot.projection.name()
+            shot.charset,
+            shot.projection
         ))
     })
 }

@@ -32,7 +32,7 @@ use std::time::Instant;
 
 use super::overlay::{self, MapArea};
 use super::state::{App, MapMode};
-use crate::frame::{Cell, Frame};
+use crate::frame::{Cell, Frame, Region};
 use crate::input::{Input, InputDecoder, Key};
 use crate::render::{Projection, RenderStats, Renderer};
 use crate::term::encoder::{self, Encoder};
@@ -80,8 +80,6 @@ pub struct FrameCost {
 pub struct Screen {
     /// The pipeline and its buffers.
     pub renderer: Renderer,
-    /// The 3D view (all rows but the HUD's).
-    view: Frame,
 }
 
 /// One player's walk: app state, renderer, encoder, input decoder and screen.
@@ -241,25 +239,17 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, cost: &FrameCost)
         overlay::draw_too_small(frame);
         return RenderStats::default();
     }
-    // The bottom row is the HUD; the 3D view gets the rest.
-    let view_rows = rows - 1;
-    let stats = match screen.renderer.render(
-        app.maze(),
-        &app.camera,
-        &app.options,
-        cols,
-        view_rows,
-        &mut screen.view,
-    ) {
+    // The bottom row is the HUD; the 3D view gets the rest, drawn in place.
+    let view = Region { col: 0, row: 0, cols, rows: rows - 1 };
+    let stats = match screen.renderer.render(app.maze(), &app.camera, &app.options, frame, view) {
         Ok(stats) => stats,
         Err(err) => {
-            screen.view.resize(cols, view_rows);
-            overlay::draw_box(&mut screen.view, "Cannot draw", &[err.to_string()]);
+            frame.fill(Cell::BLANK);
+            overlay::draw_box(frame, "Cannot draw", &[err.to_string()]);
             RenderStats::default()
         }
     };
-    frame.fill(Cell::BLANK);
-    frame.cells_mut()[..screen.view.cells().len()].copy_from_slice(screen.view.cells());
+    frame.region_rows_mut(Region { row: rows - 1, rows: 1, ..view }).for_each(|hud| hud.fill(Cell::BLANK));
     let portal = screen.renderer.portal();
     let visited = |c: u32| portal.was_visited(c);
     let area = match app.map {
@@ -309,7 +299,7 @@ fn hud_text(app: &App, stats: &RenderStats, cost: &FrameCost) -> String {
         fps,
         cost.bytes,
         c.hfov_deg,
-        app.options.charset.name(),
+        app.options.charset,
     )
 }
 

@@ -19,7 +19,6 @@
 //! ```
 
 use std::collections::VecDeque;
-use std::str::FromStr;
 
 use glam::{Vec2, Vec3, vec2};
 
@@ -79,17 +78,16 @@ pub enum Algorithm {
     Wilson,
 }
 
-impl FromStr for Algorithm {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Algorithm, String> {
-        match s {
-            "prim" => Ok(Algorithm::Prim),
-            "dfs" | "backtracker" => Ok(Algorithm::Backtracker),
-            "wilson" => Ok(Algorithm::Wilson),
-            _ => Err(format!("unknown algorithm `{s}` (prim, dfs, wilson)")),
-        }
-    }
-}
+crate::names::named!(
+    Algorithm,
+    "algorithm",
+    [
+        ("prim", Algorithm::Prim),
+        ("dfs", Algorithm::Backtracker),
+        ("wilson", Algorithm::Wilson),
+        ("backtracker", Algorithm::Backtracker),
+    ]
+);
 
 /// What to generate.
 #[derive(Clone, Debug, PartialEq)]

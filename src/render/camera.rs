@@ -21,27 +21,16 @@ pub enum Projection {
     Orthographic,
 }
 
-impl Projection {
-    /// The CLI name: `perspective` or `orthographic`.
-    #[must_use]
-    pub const fn name(self) -> &'static str {
-        match self {
-            Projection::Perspective => "perspective",
-            Projection::Orthographic => "orthographic",
-        }
-    }
-}
-
-impl std::str::FromStr for Projection {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "perspective" | "persp" => Ok(Projection::Perspective),
-            "orthographic" | "ortho" => Ok(Projection::Orthographic),
-            _ => Err(format!("unknown projection `{s}` (expected perspective or orthographic)")),
-        }
-    }
-}
+crate::names::named!(
+    Projection,
+    "projection",
+    [
+        ("perspective", Projection::Perspective),
+        ("orthographic", Projection::Orthographic),
+        ("persp", Projection::Perspective),
+        ("ortho", Projection::Orthographic),
+    ]
+);
 
 /// The narrowest and widest horizontal field of view, in degrees.
 pub const FOV_RANGE_DEG: (f32, f32) = (10.0, 170.0);

@@ -5,15 +5,12 @@
 //! block glyph drawing it; ascii maps luminance to a ramp and overlays the outline layer. Sample bits within
 //! a cell are numbered row-major from the top-left: bit `x + sx·y`.
 
-use std::fmt;
-use std::str::FromStr;
-
 use glam::Vec3;
 
 use super::palette::{Dither, ansi16, ansi16_dither, quantize_srgb8, to_srgb8};
 use super::samples::SampleBuffer;
 use super::shade::{Srgb8Tables, linear_to_srgb_fast, luminance};
-use crate::frame::{Cell, Color, ColorDepth, Frame};
+use crate::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// How cells are drawn, and so how many samples each covers.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -50,37 +47,18 @@ impl Charset {
         let (sx, sy) = self.samples_per_cell();
         cell_aspect * sy as f32 / sx as f32
     }
-
-    /// The name used on the command line.
-    #[must_use]
-    pub const fn name(self) -> &'static str {
-        match self {
-            Charset::Ascii => "ascii",
-            Charset::Half => "half",
-            Charset::Quad => "quad",
-            Charset::Sextant => "sextant",
-        }
-    }
 }
 
-impl fmt::Display for Charset {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-/// A charset name that is none of `ascii|half|quad|sextant`.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown charset {0:?} (expected ascii, half, quad or sextant)")]
-pub struct UnknownCharset(pub String);
-
-impl FromStr for Charset {
-    type Err = UnknownCharset;
-
-    fn from_str(s: &str) -> Result<Charset, UnknownCharset> {
-        Charset::ALL.into_iter().find(|c| c.name() == s).ok_or_else(|| UnknownCharset(s.to_owned()))
-    }
-}
+crate::names::named!(
+    Charset,
+    "charset",
+    [
+        ("ascii", Charset::Ascii),
+        ("half", Charset::Half),
+        ("quad", Charset::Quad),
+        ("sextant", Charset::Sextant),
+    ]
+);
 
 /// The ascii shading ramp, darkest first.
 pub const ASCII_RAMP: [char; 10] = [' ', '.', ':', '-', '=', '+', '*', '#', '%', '@'];
@@ -125,50 +103,59 @@ pub fn block_glyph(charset: Charset, mask: u8) -> char {
     }
 }
 
-/// Converts `samples` to cells of `frame` (resized to `cols × rows` = the whole cells the samples fill).
+/// Converts `samples` to the cells of `region` in `frame`: the region is as many cells as the samples
+/// fill (`samples.width() / sx × samples.height() / sy`); the rest of the frame is left alone.
 ///
 /// `outlines` overlays the outline layer (ascii only; the block charsets draw edges with their shapes).
 /// With [`ColorDepth::None`] every colour is [`Color::Default`] and shading comes from [`ASCII_RAMP`] or
 /// [`BLOCK_RAMP`]; with [`ColorDepth::Ansi16`] flat cells are dithered with [`SHADES`](super::palette::SHADES) mixes.
+///
+/// # Panics
+/// If `region` is not inside `frame` or not the samples' size in cells.
 pub fn to_frame(
     samples: &SampleBuffer,
     charset: Charset,
     depth: ColorDepth,
     outlines: bool,
     frame: &mut Frame,
+    region: Region,
 ) {
     let (sx, sy) = charset.samples_per_cell();
-    let (cols, rows) = (samples.width() / sx, samples.height() / sy);
-    if frame.width() != cols || frame.height() != rows {
-        frame.resize(cols, rows);
-    }
+    assert_eq!(
+        (samples.width() / sx, samples.height() / sy),
+        (region.cols, region.rows),
+        "the region is not the samples' size in cells"
+    );
     match charset {
         Charset::Ascii => {
-            let color = samples.color();
-            for (i, cell) in frame.cells_mut().iter_mut().enumerate() {
-                let outline = if outlines { samples.outline()[i] } else { None };
-                *cell = ascii_cell(color[i], outline, depth);
+            let (color, outline) = (samples.color(), samples.outline());
+            for (row, cells) in frame.region_rows_mut(region).enumerate() {
+                for (col, cell) in cells.iter_mut().enumerate() {
+                    let i = row * region.cols + col;
+                    *cell = ascii_cell(color[i], if outlines { outline[i] } else { None }, depth);
+                }
             }
         }
-        Charset::Half => block_cells::<1, 2>(samples, charset, depth, frame),
-        Charset::Quad => block_cells::<2, 2>(samples, charset, depth, frame),
-        Charset::Sextant => block_cells::<2, 3>(samples, charset, depth, frame),
+        Charset::Half => block_cells::<1, 2>(samples, charset, depth, frame, region),
+        Charset::Quad => block_cells::<2, 2>(samples, charset, depth, frame, region),
+        Charset::Sextant => block_cells::<2, 3>(samples, charset, depth, frame, region),
     }
 }
 
 /// [`to_frame`] for a block charset of `SX × SY` samples per cell (the shape as constants, so the
-/// per-cell gathering unrolls); `frame` is already `cols × rows`.
+/// per-cell gathering unrolls).
 fn block_cells<const SX: usize, const SY: usize>(
     samples: &SampleBuffer,
     charset: Charset,
     depth: ColorDepth,
     frame: &mut Frame,
+    region: Region,
 ) {
     let (width, color) = (samples.width(), samples.color());
-    let cols = frame.width();
+    let cols = region.cols;
     let tables = Srgb8Tables::get();
     let mut srgb = [[0u8; 3]; 6];
-    for (row, cells) in frame.cells_mut().chunks_exact_mut(cols.max(1)).enumerate() {
+    for (row, cells) in frame.region_rows_mut(region).enumerate() {
         // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
         let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {
             let start = (row * SY + dy) * width;

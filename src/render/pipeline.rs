@@ -19,7 +19,7 @@ use super::raster::{GridVertex, fill_polygon};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{Fog, checker, headlight_unit, lit, srgb_to_linear};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
-use crate::frame::{ColorDepth, Frame};
+use crate::frame::{ColorDepth, Frame, Region};
 use crate::maze::Maze;
 use crate::maze::geometry::{CEILING_Z, FLOOR_Z};
 
@@ -44,16 +44,7 @@ pub enum Culling {
     None,
 }
 
-impl std::str::FromStr for Culling {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "portal" => Ok(Culling::Portal),
-            "none" => Ok(Culling::None),
-            _ => Err(format!("unknown culling `{s}` (expected portal or none)")),
-        }
-    }
-}
+crate::names::named!(Culling, "culling", [("portal", Culling::Portal), ("none", Culling::None)]);
 
 /// How to turn samples into a frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -129,35 +120,25 @@ impl Renderer {
         &self.portal
     }
 
-    /// Renders `maze` from `camera` into `frame` (resized to `cols × rows`).
+    /// Renders `maze` from `camera` into `region` of `frame` (the rest of the frame is left alone).
     ///
     /// # Errors
     /// [`CameraError`] when the camera or the grid is unusable.
+    ///
+    /// # Panics
+    /// If `region` is not inside `frame`.
     pub fn render(
         &mut self,
         maze: &Maze,
         camera: &Camera,
         options: &RenderOptions,
-        cols: usize,
-        rows: usize,
         frame: &mut Frame,
+        region: Region,
     ) -> Result<RenderStats, CameraError> {
-        let stats = self.render_samples(
-            maze,
-            camera,
-            options.charset,
-            options.cell_aspect,
-            options.culling,
-            cols,
-            rows,
-        )?;
-        to_frame(
-            &self.samples,
-            options.charset,
-            options.color_depth,
-            options.charset == Charset::Ascii,
-            frame,
-        );
+        let RenderOptions { charset, color_depth, culling, cell_aspect } = *options;
+        let stats =
+            self.render_samples(maze, camera, charset, cell_aspect, culling, region.cols, region.rows)?;
+        to_frame(&self.samples, charset, color_depth, charset == Charset::Ascii, frame, region);
         Ok(stats)
     }
 
