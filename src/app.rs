@@ -2,6 +2,7 @@
 //! 3D view ([`overlay`]), and the event loop that wires them to the terminal ([`run`]).
 
 pub mod controls;
+pub mod flow;
 pub mod overlay;
 pub mod run;
 pub mod session;

@@ -49,8 +49,13 @@ struct WalkArgs {
     look: LookArgs,
     /// Truecolor cells whose colours moved by at most this many 8-bit steps per channel since they were
     /// sent stay as they are (fewer bytes while walking; 0: every change is sent exactly).
-    #[arg(long, value_name = "STEPS", default_value_t = encoder::DEFAULT_TOLERANCE, value_parser = clap::value_parser!(u8).range(0..=16))]
+    #[arg(long, value_name = "STEPS", default_value_t = encoder::DEFAULT_TOLERANCE, value_parser = clap::value_parser!(u8).range(0..=i64::from(encoder::MAX_TOLERANCE)))]
     color_tolerance: u8,
+    /// Send frames as fast as they are drawn, without waiting for the terminal to show the previous
+    /// ones (by default at most 2 frames are on their way: on a slow link the picture keeps up with
+    /// the keys instead of falling behind).
+    #[arg(long)]
+    no_flow_control: bool,
 }
 
 /// Where the maze comes from.
@@ -229,7 +234,11 @@ fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     let clock = Instant::now(); // the walk's time 0
     let app = App::new(maze, args.look.options(Culling::Portal), 0.0)?;
     let env = |k: &str| std::env::var(k).ok();
-    let options = SessionOptions { bce: caps::detect_bce(env), color_tolerance: args.color_tolerance };
+    let options = SessionOptions {
+        bce: caps::detect_bce(env),
+        color_tolerance: args.color_tolerance,
+        flow_control: !args.no_flow_control,
+    };
     let mut session = Session::new(app, 80, 24, options); // resized to the terminal by `run`
     if let Some(signal) = run(&mut session, clock).context("terminal")?.signal() {
         return Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)));

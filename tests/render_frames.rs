@@ -4,7 +4,7 @@
 
 use glam::Vec2;
 use mazewalk::app::App;
-use mazewalk::app::session::{FrameCost, Screen, draw};
+use mazewalk::app::session::{Hud, Screen, draw};
 use mazewalk::frame::{Cell, ColorDepth, Frame, Region};
 use mazewalk::input::{Key, KeyPhase};
 use mazewalk::maze;
@@ -61,7 +61,7 @@ proptest! {
         }
         let mut screen = Screen::default();
         let mut frame = Frame::new(cols, rows);
-        draw(&app, &mut screen, &mut frame, &FrameCost::default());
+        draw(&app, &mut screen, &mut frame, &Hud::default());
         prop_assert_eq!((frame.width(), frame.height()), (cols, rows));
         let text = frame.lines().join("\n");
         if cols < 20 || rows < 6 {

@@ -28,31 +28,51 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+use std::collections::VecDeque;
 use std::time::Instant;
+
+use super::flow::{FlowControl, QUERY};
 
 use super::overlay::{self, MapArea};
 use super::state::{App, MapMode};
 use crate::frame::{Cell, Frame, Region};
-use crate::input::{Input, InputDecoder, Key};
+use crate::input::{Input, InputDecoder, Key, Reply};
 use crate::render::{Projection, RenderStats, Renderer};
 use crate::term::encoder::{self, Encoder};
 
 /// The most frames per second drawn while something moves.
 pub const MAX_FPS: f64 = 60.0;
 
-/// How a session encodes its frames.
+/// How a session encodes and paces its frames.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SessionOptions {
     /// The terminal erases with the current background colour ([`Encoder::set_bce`]).
     pub bce: bool,
-    /// Colour tolerance in 8-bit steps ([`Encoder::set_tolerance`]).
+    /// Colour tolerance in 8-bit steps ([`Encoder::set_tolerance`]); raised while the terminal
+    /// answers slowly (see [`adaptive_tolerance`]).
     pub color_tolerance: u8,
+    /// End-to-end flow control ([`super::flow`]): a query after each frame, at most
+    /// [`MAX_UNACKED`](super::flow::MAX_UNACKED) frames unanswered.
+    pub flow_control: bool,
 }
 
 impl Default for SessionOptions {
     fn default() -> Self {
-        SessionOptions { bce: false, color_tolerance: encoder::DEFAULT_TOLERANCE }
+        SessionOptions { bce: false, color_tolerance: encoder::DEFAULT_TOLERANCE, flow_control: true }
     }
+}
+
+/// The colour tolerance for a frame when replies take `round_trip` seconds: the base while the link
+/// keeps up; more (fewer changed cells, fewer bytes) while frames take longer than a few frame
+/// intervals to reach the screen, which is when every byte saved shortens the wait for the next one.
+#[must_use]
+pub fn adaptive_tolerance(base: u8, round_trip: Option<f64>) -> u8 {
+    let extra = match round_trip {
+        Some(rtt) if rtt > 0.3 => 6,
+        Some(rtt) if rtt > 0.1 => 3,
+        _ => 0,
+    };
+    base.saturating_add(extra).min(encoder::MAX_TOLERANCE)
 }
 
 /// What the walk cost so far, and how it ended.
@@ -73,6 +93,17 @@ pub struct FrameCost {
     pub seconds: f64,
     /// Bytes the previous frame sent.
     pub bytes: usize,
+}
+
+/// The numbers the HUD shows besides the viewer's own.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Hud {
+    /// What the previous frame cost.
+    pub cost: FrameCost,
+    /// Frames actually drawn over the last second (this one included).
+    pub fps: usize,
+    /// Seconds since the walk (re)started, for the clock of a maze with an exit.
+    pub elapsed: f64,
 }
 
 /// The buffers one screen is drawn with, reused from frame to frame.
@@ -96,6 +127,10 @@ pub struct Session {
     cost: FrameCost,
     suspend: bool,
     outcome: Outcome,
+    options: SessionOptions,
+    flow: FlowControl,
+    /// When the frames of the last second were drawn (for the HUD's frame rate).
+    recent_frames: VecDeque<f64>,
 }
 
 impl Session {
@@ -118,6 +153,9 @@ impl Session {
             cost: FrameCost::default(),
             suspend: false,
             outcome: Outcome::default(),
+            options,
+            flow: FlowControl::default(),
+            recent_frames: VecDeque::new(),
         }
     }
 
@@ -167,7 +205,8 @@ impl Session {
             | Input::MouseUp { .. }
             | Input::Scroll(_)
             | Input::FocusGained
-            | Input::Reply(_) => {}
+            | Input::Reply(Reply::CursorPosition { .. } | Reply::KeyboardFlags(_)) => {}
+            Input::Reply(Reply::DeviceAttributes) => self.flow.answered(now),
         }
     }
 
@@ -202,8 +241,22 @@ impl Session {
     #[must_use]
     pub fn next_wake(&self, now: f64) -> Option<f64> {
         let frame_due = self.last_frame + 1.0 / MAX_FPS;
-        let drawing = (self.dirty || self.app.is_animating(now)).then_some(frame_due);
+        let drawing = match self.flow.deadline() {
+            // Held back by flow control: wait for a reply (input) or the timeout, ticking the motion
+            // on meanwhile so that the next frame shows where the viewer has got to.
+            Some(timeout) if self.options.flow_control => {
+                let ticking = self.app.is_animating(now).then_some(now + 1.0 / MAX_FPS);
+                Some(ticking.map_or(timeout, |t| t.min(timeout)))
+            }
+            _ => (self.dirty || self.app.is_animating(now)).then_some(frame_due),
+        };
         [drawing, self.app.held.next_expiry(), self.decoder.deadline()].into_iter().flatten().reduce(f64::min)
+    }
+
+    /// The end-to-end flow control's state (frames in flight, the terminal's reply time).
+    #[must_use]
+    pub fn flow(&self) -> &FlowControl {
+        &self.flow
     }
 
     /// Brings the walk to time `now` and, if the picture changed and a frame is due (at most
@@ -220,12 +273,27 @@ impl Session {
         if !self.dirty || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
             return false;
         }
+        if self.options.flow_control && !self.flow.may_send(now) {
+            return false; // the picture stays dirty: the next frame, once allowed, shows the latest
+        }
+        while self.recent_frames.front().is_some_and(|&t| t <= now - 1.0) {
+            self.recent_frames.pop_front();
+        }
+        self.recent_frames.push_back(now);
+        let hud = Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started };
         let started = Instant::now();
-        draw(&self.app, &mut self.screen, &mut self.frame, &self.cost);
+        draw(&self.app, &mut self.screen, &mut self.frame, &hud);
+        let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
+        self.encoder.set_tolerance(adaptive_tolerance(self.options.color_tolerance, round_trip));
+        let before = out.len();
         let stats = self.encoder.encode(&self.frame, out);
+        if self.options.flow_control {
+            out.extend_from_slice(QUERY);
+            self.flow.sent(now);
+        }
         self.cost = FrameCost { seconds: started.elapsed().as_secs_f64(), bytes: stats.bytes };
         self.outcome.frames += 1;
-        self.outcome.bytes += stats.bytes as u64;
+        self.outcome.bytes += (out.len() - before) as u64;
         (self.dirty, self.last_frame) = (false, now);
         true
     }
@@ -233,7 +301,7 @@ impl Session {
 
 /// Draws the whole screen for the current state into `frame` (its size is the terminal's): the 3D
 /// view, then the map, the HUD and any box. Pure: no I/O, so screens are tested as text.
-pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, cost: &FrameCost) -> RenderStats {
+pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> RenderStats {
     let (cols, rows) = (frame.width(), frame.height());
     if overlay::too_small(cols, rows) {
         overlay::draw_too_small(frame);
@@ -271,36 +339,57 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, cost: &FrameCost)
     } else if app.help {
         overlay::draw_box(frame, "Keys (? to close)", &overlay::help_lines());
     }
-    overlay::draw_hud(frame, &hud_text(app, &stats, cost)); // last: boxes never hide it
+    overlay::draw_hud(frame, &hud_text(app, &stats, hud, cols)); // last: boxes never hide it
     stats
 }
 
-/// The HUD line: where, which way, which cell, what the frame cost.
-fn hud_text(app: &App, stats: &RenderStats, cost: &FrameCost) -> String {
+/// The HUD line, `width` columns at most: the most useful fields first (where and which way), the
+/// exit clock, what frames cost, which cell, the view settings — each only if it fits whole — and
+/// "? help" always at the right end.
+fn hud_text(app: &App, stats: &RenderStats, hud: &Hud, width: usize) -> String {
+    const HELP: &str = "? help ";
     let c = &app.camera;
-    let ms = cost.seconds * 1e3;
-    let fps = if cost.seconds > 0.0 { (1.0 / cost.seconds).min(9999.0) } else { 0.0 };
     let projection = match c.projection {
         Projection::Perspective => "persp",
         Projection::Orthographic => "ortho",
     };
-    // Most useful first: a narrow terminal cuts the end off.
-    format!(
-        " ({:.1}, {:.1}) z{:+.1}  heading {:.0}° pitch {:+.0}°  cell {}  seen {}  {:.1} ms {:.0} fps {} B  \
-         fov {:.0}° {projection} {}  ? help",
-        c.position.x,
-        c.position.y,
-        c.eye_z,
-        c.yaw_deg,
-        c.pitch_deg,
-        app.cell,
-        stats.portal.distinct_cells,
-        ms,
-        fps,
-        cost.bytes,
-        c.hfov_deg,
-        app.options.charset,
-    )
+    let clock = match (app.maze().exit(), app.finished) {
+        (None, _) => None,
+        (Some(_), Some(took)) => Some(format!("exit in {}", clock_text(took))),
+        (Some(_), None) => Some(format!("time {}", clock_text(hud.elapsed))),
+    };
+    // (priority, text): lower numbers are kept first when the line is short of room; priority 0 is
+    // always there (cut at the end if even it does not fit).
+    let fields = [
+        (0, format!("({:.1}, {:.1}) z{:+.1}", c.position.x, c.position.y, c.eye_z)),
+        (0, format!("heading {:.0}° pitch {:+.0}°", c.yaw_deg, c.pitch_deg)),
+        (1, clock.unwrap_or_default()),
+        (2, format!("{} fps {} B", hud.fps, hud.cost.bytes)),
+        (3, format!("cell {} seen {}", app.cell, stats.portal.distinct_cells)),
+        (4, format!("fov {:.0}° {projection} {}", c.hfov_deg, app.options.charset)),
+        (5, format!("{:.1} ms", hud.cost.seconds * 1e3)),
+    ];
+    let len = |s: &str| s.chars().count();
+    let room = width.saturating_sub(len(HELP) + 1);
+    let mut keep = [true; 7];
+    let total = |keep: &[bool; 7]| -> usize {
+        fields.iter().zip(keep).filter(|((_, t), k)| **k && !t.is_empty()).map(|((_, t), _)| len(t) + 2).sum()
+    };
+    for priority in (1..=5).rev() {
+        for (i, (p, _)) in fields.iter().enumerate() {
+            if total(&keep) > room && *p == priority {
+                keep[i] = false;
+            }
+        }
+    }
+    let mut line = String::from(" ");
+    for ((_, text), _) in fields.iter().zip(keep).filter(|((_, t), k)| *k && !t.is_empty()) {
+        line.push_str(text);
+        line.push_str("  ");
+    }
+    let line: String = line.chars().take(room).collect();
+    let pad = width.saturating_sub(len(&line) + len(HELP));
+    format!("{line}{}{HELP}", " ".repeat(pad))
 }
 
 /// `m:ss.s` for the exit screen.
@@ -318,5 +407,73 @@ mod tests {
     fn clock_text_reads_minutes_and_seconds() {
         assert_eq!(clock_text(0.0), "0:00.0");
         assert_eq!(clock_text(75.25), "1:15.2");
+    }
+
+    fn session(options: SessionOptions) -> Session {
+        let app =
+            App::new(crate::maze::builtin().unwrap(), crate::render::RenderOptions::default(), 0.0).unwrap();
+        Session::new(app, 100, 30, options)
+    }
+
+    #[test]
+    fn the_hud_fits_any_width_by_priority_and_always_offers_help() {
+        let s = session(SessionOptions::default());
+        let stats = RenderStats::default();
+        let hud = Hud { fps: 57, elapsed: 83.0, ..Hud::default() };
+        for width in [20, 40, 60, 80, 120, 200] {
+            let line = hud_text(s.app(), &stats, &hud, width);
+            assert_eq!(line.chars().count(), width, "{line:?}");
+            assert!(line.ends_with("? help "), "{line:?}");
+            assert!(line.starts_with(" ("), "position first: {line:?}");
+        }
+        let at80 = hud_text(s.app(), &stats, &hud, 80);
+        assert!(
+            at80.contains("heading 0°") && at80.contains("time 1:23.0") && at80.contains("57 fps 0 B"),
+            "{at80:?}"
+        );
+        let wide = hud_text(s.app(), &stats, &hud, 200);
+        assert!(wide.contains("fov 90° persp half") && wide.contains("cell "), "{wide:?}");
+    }
+
+    #[test]
+    fn with_flow_control_frames_wait_for_replies_and_coalesce() {
+        let mut s = session(SessionOptions::default());
+        let mut out = Vec::new();
+        assert!(s.frame(0.0, &mut out));
+        assert!(out.ends_with(QUERY), "each frame ends with the query");
+        s.feed(b"\x1b[D", 0.02); // ← held (no releases: a press holds a while)
+        assert!(s.frame(0.02, &mut out), "a second frame may go before any reply");
+        let heading_sent = s.app().camera.yaw_deg;
+        assert!(!s.frame(0.05, &mut out) && !s.frame(0.3, &mut out), "two in flight: held back");
+        assert!(s.next_wake(0.3).is_some_and(|t| t > 0.3), "no busy wait while held back");
+        assert!(s.app().camera.yaw_deg > heading_sent, "the walk goes on meanwhile");
+        s.feed(b"\x1b[?62;22c", 0.4); // the first frame is on screen
+        out.clear();
+        assert!(s.frame(0.4, &mut out), "a reply lets the latest state out");
+        assert_eq!(s.flow().in_flight(), 2);
+    }
+
+    #[test]
+    fn without_replies_the_walk_goes_on_after_the_timeout() {
+        let mut s = session(SessionOptions::default());
+        let mut out = Vec::new();
+        s.frame(0.0, &mut out);
+        s.feed(b"w", 0.1);
+        s.frame(0.1, &mut out);
+        s.feed(b"w", 0.2);
+        assert!(!s.frame(0.2, &mut out));
+        assert!(s.frame(0.1 + crate::app::flow::ACK_TIMEOUT, &mut out));
+        assert!(s.flow().silent());
+        s.feed(b"w", 3.0);
+        assert!(s.frame(3.0, &mut out), "silent: no waiting");
+    }
+
+    #[test]
+    fn slow_replies_raise_the_colour_tolerance() {
+        assert_eq!(adaptive_tolerance(1, None), 1);
+        assert_eq!(adaptive_tolerance(1, Some(0.05)), 1);
+        assert_eq!(adaptive_tolerance(1, Some(0.2)), 4);
+        assert_eq!(adaptive_tolerance(1, Some(1.0)), 7);
+        assert_eq!(adaptive_tolerance(15, Some(1.0)), encoder::MAX_TOLERANCE);
     }
 }

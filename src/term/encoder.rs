@@ -44,6 +44,9 @@ pub const SYNC_END: &[u8] = b"\x1b[?2026l";
 /// below what anyone can see, and a sixth fewer bytes while walking in truecolor (see BENCHMARKS.md).
 pub const DEFAULT_TOLERANCE: u8 = 1;
 
+/// The largest colour tolerance accepted (8-bit steps per channel).
+pub const MAX_TOLERANCE: u8 = 16;
+
 /// A rewrite of unchanged cells longer than this never beats a cursor move (`CUP` is at most ~12 bytes).
 const MAX_REWRITE: usize = 12;
 

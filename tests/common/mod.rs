@@ -3,6 +3,8 @@
 // Each test crate includes this module and uses a different subset of it.
 #![allow(dead_code)]
 
+pub mod link;
+
 use glam::{Mat4, Vec3, Vec4};
 use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
 
