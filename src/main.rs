@@ -16,6 +16,7 @@ use anyhow::{Context as _, bail};
 use clap::{Args, Parser, Subcommand};
 use glam::Vec2;
 use mazewalk::app::run::run;
+use mazewalk::app::state::{self, Motion};
 use mazewalk::app::{App, Session, SessionOptions};
 use mazewalk::frame::{ColorDepth, Frame, Region};
 use mazewalk::maze::generate::{Algorithm, GenOptions, MAX_SIDE, generate, generate_grid};
@@ -56,6 +57,25 @@ struct WalkArgs {
     /// the keys instead of falling behind).
     #[arg(long)]
     no_flow_control: bool,
+    #[command(flatten)]
+    motion: MotionArgs,
+}
+
+/// How far a tap moves and how fast a held key moves.
+#[derive(Args)]
+struct MotionArgs {
+    /// Turning speed while ← or → is held, degrees per second (10..=720).
+    #[arg(long, value_name = "DEG_PER_S", default_value_t = state::TURN_SPEED, value_parser = |s: &str| parse_in(s, state::TURN_SPEED_RANGE))]
+    turn_speed: f32,
+    /// Walking speed while W/S/A/D is held, maze units per second (0.5..=40; a generated cell is 4).
+    #[arg(long, value_name = "UNITS_PER_S", default_value_t = state::WALK_SPEED, value_parser = |s: &str| parse_in(s, state::WALK_SPEED_RANGE))]
+    walk_speed: f32,
+    /// How far one tap of ← or → turns, degrees (1..=90).
+    #[arg(long, value_name = "DEG", default_value_t = state::TURN_STEP_DEG, value_parser = |s: &str| parse_in(s, state::TURN_STEP_RANGE_DEG))]
+    turn_step: f32,
+    /// How far one tap of W/S/A/D walks, maze units (0.05..=4).
+    #[arg(long, value_name = "UNITS", default_value_t = state::WALK_STEP, value_parser = |s: &str| parse_in(s, state::WALK_STEP_RANGE))]
+    walk_step: f32,
 }
 
 /// Where the maze comes from.
@@ -232,7 +252,14 @@ fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
         bail!("the walkthrough needs a terminal (try `mazewalk render` to print a frame, or --help)");
     }
     let clock = Instant::now(); // the walk's time 0
-    let app = App::new(maze, args.look.options(Culling::Portal), 0.0)?;
+    let mut app = App::new(maze, args.look.options(Culling::Portal), 0.0)?;
+    let m = &args.motion;
+    app.motion = Motion {
+        turn_speed_deg: m.turn_speed,
+        walk_speed: m.walk_speed,
+        turn_step_deg: m.turn_step,
+        walk_step: m.walk_step,
+    };
     let env = |k: &str| std::env::var(k).ok();
     let options = SessionOptions {
         bce: caps::detect_bce(env),
@@ -425,6 +452,14 @@ fn parse_heading(s: &str) -> Result<f32, String> {
     match parse_finite(s)? {
         x if x.abs() <= 36_000.0 => Ok(x),
         _ => Err("a heading must be within -36000..=36000 degrees".to_string()),
+    }
+}
+
+/// A number in `lo..=hi` (speeds and steps).
+fn parse_in(s: &str, (lo, hi): (f32, f32)) -> Result<f32, String> {
+    match parse_finite(s)? {
+        x if (lo..=hi).contains(&x) => Ok(x),
+        x => Err(format!("{x} is outside {lo}..={hi}")),
     }
 }
 

@@ -2,9 +2,8 @@
 //!
 //! Terminals that speak the kitty keyboard protocol report presses *and releases*, so an action is held
 //! exactly from press to release. Elsewhere only presses arrive, repeated by the terminal's auto-repeat
-//! after an initial delay (typically 250–600 ms, then 25–40 per second); there a press holds its action
-//! for [`FIRST_PRESS_HOLD`] and each repeat extends it by [`REPEAT_HOLD`], which bridges both the initial
-//! delay and the gaps between repeats without a visible stutter, and stops soon after the key is let go.
+//! after an initial delay (typically 250–600 ms, then every 30–100 ms). Either way a tap takes one step
+//! and a hold glides: see [`Held`].
 
 /// Something the viewer can do; each has a key (see [`HELP`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -21,6 +20,10 @@ pub enum Action {
     TurnLeft,
     /// Turn right (→).
     TurnRight,
+    /// Snap turn 90° left (`,` or `<`).
+    SnapLeft,
+    /// Snap turn 90° right (`.` or `>`).
+    SnapRight,
     /// Look up (↑).
     LookUp,
     /// Look down (↓).
@@ -91,6 +94,8 @@ pub fn action_for(key: Key) -> Option<Action> {
             ']' => Action::Rise,
             '+' | '=' => Action::FovWider,
             '-' | '_' => Action::FovNarrower,
+            ',' | '<' => Action::SnapLeft,
+            '.' | '>' => Action::SnapRight,
             'p' => Action::ToggleProjection,
             'm' => Action::CycleMap,
             'c' => Action::CycleCharset,
@@ -112,7 +117,8 @@ pub fn action_for(key: Key) -> Option<Action> {
 pub const HELP: &[(&str, &str)] = &[
     ("W / S", "walk forward / back"),
     ("A / D", "step left / right"),
-    ("← / →", "turn left / right"),
+    ("← / →", "turn left / right (tap: a step)"),
+    (", / .", "snap turn 90° left / right"),
     ("↑ / ↓", "look up / down"),
     ("[ / ]", "move down / up"),
     ("+ / -", "wider / narrower field of view"),
@@ -125,78 +131,149 @@ pub const HELP: &[(&str, &str)] = &[
     ("q / Esc", "quit"),
 ];
 
-/// How long a press holds its action when the terminal reports no releases (seconds): long enough to
-/// bridge a typical auto-repeat delay.
-pub const FIRST_PRESS_HOLD: f64 = 0.55;
-/// How long each auto-repeat extends the hold (seconds): longer than the gap between repeats.
-pub const REPEAT_HOLD: f64 = 0.12;
+/// Two presses of one key closer together than this (seconds) are the terminal's auto-repeat, not two
+/// taps. Auto-repeat comes every 30–100 ms on common settings; a person tapping fast manages about
+/// 150 ms between taps.
+pub const REPEAT_GAP: f64 = 0.125;
+/// How long a repeat keeps its key held, as a multiple of the repeat interval observed on that key: the
+/// next repeat is due after one interval, the other half is room for jitter (an SSH link).
+pub const REPEAT_HOLD_INTERVALS: f64 = 1.5;
+/// The shortest and longest a repeat keeps its key held (seconds), whatever interval was observed.
+pub const REPEAT_HOLD_RANGE: (f64, f64) = (0.05, 0.15);
+/// Presses closer than this (seconds) arrived together (one read, one packet) and say nothing about the
+/// repeat rate.
+const TOGETHER: f64 = 0.01;
 
-/// Which continuous actions are held, and until when.
+/// One continuous action's key.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct KeyState {
+    /// When it was last pressed (or repeated).
+    last_press: f64,
+    /// The auto-repeat interval observed on it (seconds), smoothed.
+    interval: Option<f64>,
+    /// Continuous motion from `.0` until `.1` (`INFINITY`: until the release).
+    glide: Option<(f64, f64)>,
+    /// After a step, continuous motion waits until this time: the step stood for it.
+    rest_until: f64,
+}
+
+impl Default for KeyState {
+    fn default() -> Self {
+        KeyState { last_press: f64::NEG_INFINITY, interval: None, glide: None, rest_until: f64::NEG_INFINITY }
+    }
+}
+
+/// Which continuous actions are held, and when they move.
+///
+/// **Tap = step, hold = glide.** A press takes one discrete step at once (the caller makes it when
+/// [`press`](Self::press) says so); motion becomes continuous only while the key is known to be held,
+/// and a step stands for the time it would have taken at full speed (the glide waits for it), so a hold
+/// moves as far as `speed × time` whichever way it started.
+///
+/// - With releases (kitty protocol), the key is held from its press to its release: a tap is exactly one
+///   step, a longer press glides on after the step's time until the release. Repeats change nothing.
+/// - Without releases, a press more than [`REPEAT_GAP`] after the key's previous press is a tap: one step,
+///   no glide. A press sooner than that (or while gliding) is the terminal's auto-repeat: no step, the key
+///   glides until [`REPEAT_HOLD_INTERVALS`] × the observed repeat interval (within [`REPEAT_HOLD_RANGE`])
+///   after the latest repeat, so it stops within that of the key being let go. The terminal's first
+///   repeat, after its initial delay (250–600 ms), cannot be told from a second tap, so a hold takes that
+///   second step too before it glides.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Held {
-    /// Per continuous action: `Some(until)` while held; `until = INFINITY` when a release will tell.
-    until: [Option<f64>; Action::CONTINUOUS.len()],
+    keys: [KeyState; Action::CONTINUOUS.len()],
 }
 
 impl Held {
-    /// A key went down at time `now` (seconds). `releases` says whether the terminal reports releases.
-    pub fn press(&mut self, action: Action, now: f64, releases: bool, repeat: bool) {
-        let Some(slot) = action.slot() else { return };
-        let slot = &mut self.until[slot];
-        let until = if releases {
-            f64::INFINITY
-        } else {
-            let still_held = slot.is_some_and(|t| t >= now);
-            let hold = if repeat || still_held { REPEAT_HOLD } else { FIRST_PRESS_HOLD };
-            // A repeat never shortens the first press's hold.
-            (now + hold).max(slot.unwrap_or(f64::NEG_INFINITY))
-        };
-        *slot = Some(until);
+    /// A key went down at time `now` (seconds); `releases`: the terminal reports releases; `repeat`: the
+    /// terminal said this is an auto-repeat; `step_seconds`: how long the action's step takes at full
+    /// speed. Returns whether the caller takes one step now.
+    pub fn press(
+        &mut self,
+        action: Action,
+        now: f64,
+        releases: bool,
+        repeat: bool,
+        step_seconds: f64,
+    ) -> bool {
+        let Some(slot) = action.slot() else { return false };
+        let key = &mut self.keys[slot];
+        let gap = now - key.last_press;
+        key.last_press = now;
+        if releases {
+            if repeat {
+                return false; // already gliding until the release
+            }
+            key.glide = Some((now + step_seconds, f64::INFINITY));
+            return true;
+        }
+        let gliding = key.glide.is_some_and(|(_, until)| until >= now);
+        if !repeat && !gliding && gap > REPEAT_GAP {
+            key.glide = None;
+            key.rest_until = now + step_seconds;
+            return true;
+        }
+        // Auto-repeat: the key is held.
+        if (TOGETHER..=REPEAT_HOLD_RANGE.1).contains(&gap) {
+            key.interval = Some(key.interval.map_or(gap, |interval| (interval + gap) / 2.0));
+        }
+        let hold = (REPEAT_HOLD_INTERVALS * key.interval.unwrap_or(REPEAT_GAP))
+            .clamp(REPEAT_HOLD_RANGE.0, REPEAT_HOLD_RANGE.1);
+        key.glide = Some(match key.glide {
+            Some((from, until)) => (from, until.max(now + hold)),
+            None => (now.max(key.rest_until), now + hold),
+        });
+        false
     }
 
     /// A key went up.
     pub fn release(&mut self, action: Action) {
         if let Some(slot) = action.slot() {
-            self.until[slot] = None;
+            self.keys[slot].glide = None;
         }
     }
 
     /// Lets go of everything (focus lost, suspend, reset).
     pub fn clear(&mut self) {
-        self.until = [None; Action::CONTINUOUS.len()];
+        self.keys = Default::default();
     }
 
-    /// Drops holds that have run out by `now`.
+    /// Drops glides that have run out by `now`.
     pub fn expire(&mut self, now: f64) {
-        for slot in &mut self.until {
-            if slot.is_some_and(|t| t < now) {
-                *slot = None;
+        for key in &mut self.keys {
+            if key.glide.is_some_and(|(_, until)| until < now) {
+                key.glide = None;
             }
         }
     }
 
-    /// Whether `action` is held at `now`.
+    /// Whether `action` is held at `now` (gliding, or about to once its step's time is up).
     #[must_use]
     pub fn is_held(&self, action: Action, now: f64) -> bool {
-        action.slot().is_some_and(|slot| self.until[slot].is_some_and(|t| t >= now))
+        action.slot().is_some_and(|slot| self.keys[slot].glide.is_some_and(|(_, until)| until >= now))
     }
 
-    /// +1, -1 or 0 from a pair of opposing actions.
+    /// For how many seconds between `from` and `to` `action` moves continuously.
     #[must_use]
-    pub fn axis(&self, plus: Action, minus: Action, now: f64) -> f32 {
-        f32::from(u8::from(self.is_held(plus, now))) - f32::from(u8::from(self.is_held(minus, now)))
+    pub fn moving_time(&self, action: Action, from: f64, to: f64) -> f64 {
+        let glide = action.slot().and_then(|slot| self.keys[slot].glide);
+        glide.map_or(0.0, |(start, until)| (to.min(until) - from.max(start)).max(0.0))
     }
 
     /// True while anything is held (the event loop keeps animating).
     #[must_use]
     pub fn any(&self, now: f64) -> bool {
-        self.until.iter().any(|s| s.is_some_and(|t| t >= now))
+        Action::CONTINUOUS.iter().any(|&action| self.is_held(action, now))
     }
 
     /// The earliest time a hold runs out, if any hold is timed.
     #[must_use]
     pub fn next_expiry(&self) -> Option<f64> {
-        self.until.iter().flatten().copied().filter(|t| t.is_finite()).reduce(f64::min)
+        self.keys
+            .iter()
+            .filter_map(|k| k.glide)
+            .map(|(_, until)| until)
+            .filter(|t| t.is_finite())
+            .reduce(f64::min)
     }
 }
 
@@ -212,49 +289,59 @@ mod tests {
         assert_eq!(action_for(Key::Left), Some(Action::TurnLeft));
         assert_eq!(action_for(Key::Up), Some(Action::LookUp));
         assert_eq!(action_for(Key::Esc), Some(Action::Quit));
+        assert_eq!(action_for(Key::Char('<')), Some(Action::SnapLeft));
+        assert_eq!(action_for(Key::Char('.')), Some(Action::SnapRight));
         assert_eq!(action_for(Key::Char('z')), None);
+        assert_eq!(action_for(Key::Char('x')), None);
     }
 
     #[test]
-    fn with_releases_a_key_is_held_until_released() {
+    fn with_releases_a_press_steps_then_glides_until_released() {
         let mut held = Held::default();
-        held.press(Action::Forward, 1.0, true, false);
-        assert!(held.is_held(Action::Forward, 100.0));
+        assert!(held.press(Action::Forward, 1.0, true, false, 0.2), "a press steps at once");
+        assert!(!held.press(Action::Forward, 1.5, true, true, 0.2), "a repeat does not");
+        assert_eq!(held.moving_time(Action::Forward, 1.0, 1.2), 0.0, "the step stands for its 0.2 s");
+        assert!((held.moving_time(Action::Forward, 1.0, 100.0) - 98.8).abs() < 1e-9);
+        assert_eq!(held.next_expiry(), None, "a release will tell");
         held.release(Action::Forward);
         assert!(!held.is_held(Action::Forward, 100.0));
         assert!(!held.any(100.0));
     }
 
     #[test]
-    fn without_releases_a_press_bridges_the_repeat_delay_and_then_stops() {
+    fn without_releases_taps_step_and_repeats_glide() {
         let mut held = Held::default();
-        held.press(Action::TurnLeft, 0.0, false, false);
-        assert!(held.is_held(Action::TurnLeft, 0.5), "bridges a 500 ms auto-repeat delay");
-        assert!(!held.is_held(Action::TurnLeft, 0.6), "stops soon after a single tap");
-        // Auto-repeat every 33 ms keeps it held; after the last repeat it stops within REPEAT_HOLD.
-        let mut t = 0.5;
-        while t < 2.0 {
-            held.press(Action::TurnLeft, t, false, true);
+        assert!(held.press(Action::TurnLeft, 0.0, false, false, 0.1), "a tap steps");
+        assert!(!held.any(0.0), "and does not glide");
+        assert!(held.press(Action::TurnLeft, 0.15, false, false, 0.1), "so does a tap 150 ms later");
+        // Auto-repeat every 33 ms: no more steps, a glide that stops soon after the last repeat.
+        let mut t = 0.15;
+        for _ in 0..30 {
             t += 0.033;
+            assert!(!held.press(Action::TurnLeft, t, false, false, 0.1), "a repeat at {t} stepped");
+            assert!(held.is_held(Action::TurnLeft, t));
         }
-        assert!(held.is_held(Action::TurnLeft, t));
-        held.expire(t + REPEAT_HOLD + 0.01);
-        assert!(!held.any(t + REPEAT_HOLD + 0.01));
+        let stop = held.next_expiry().unwrap();
+        let hold = (REPEAT_HOLD_INTERVALS * 0.033).clamp(REPEAT_HOLD_RANGE.0, REPEAT_HOLD_RANGE.1);
+        assert!((stop - t - hold).abs() < 1e-9, "stops {} s after the last repeat", stop - t);
+        held.expire(stop + 1e-6);
+        assert!(!held.any(stop + 1e-6));
     }
 
     #[test]
     fn opposing_keys_cancel_on_an_axis() {
         let mut held = Held::default();
-        held.press(Action::Forward, 0.0, true, false);
-        assert_eq!(held.axis(Action::Forward, Action::Back, 0.0), 1.0);
-        held.press(Action::Back, 0.0, true, false);
-        assert_eq!(held.axis(Action::Forward, Action::Back, 0.0), 0.0);
+        held.press(Action::Forward, 0.0, true, false, 0.0);
+        held.press(Action::Back, 0.5, true, false, 0.0);
+        let (forward, back) =
+            (held.moving_time(Action::Forward, 0.0, 1.0), held.moving_time(Action::Back, 0.0, 1.0));
+        assert_eq!(forward - back, 0.5, "they cancel once both are down");
     }
 
     #[test]
     fn one_shot_actions_are_never_held() {
         let mut held = Held::default();
-        held.press(Action::Quit, 0.0, true, false);
+        assert!(!held.press(Action::Quit, 0.0, true, false, 0.0));
         assert!(!held.any(0.0));
     }
 }

@@ -441,10 +441,16 @@ mod tests {
         let mut out = Vec::new();
         assert!(s.frame(0.0, &mut out));
         assert!(out.ends_with(QUERY), "each frame ends with the query");
-        s.feed(b"\x1b[D", 0.02); // ← held (no releases: a press holds a while)
+        s.feed(b"\x1b[D", 0.02); // ← tapped: one step
         assert!(s.frame(0.02, &mut out), "a second frame may go before any reply");
         let heading_sent = s.app().camera.yaw_deg;
-        assert!(!s.frame(0.05, &mut out) && !s.frame(0.3, &mut out), "two in flight: held back");
+        // ← held: the terminal's auto-repeat every 30 ms.
+        let mut t = 0.05;
+        while t < 0.3 {
+            s.feed(b"\x1b[D", t);
+            assert!(!s.frame(t, &mut out), "two in flight: held back at {t}");
+            t += 0.03;
+        }
         assert!(s.next_wake(0.3).is_some_and(|t| t > 0.3), "no busy wait while held back");
         assert!(s.app().camera.yaw_deg > heading_sent, "the walk goes on meanwhile");
         s.feed(b"\x1b[?62;22c", 0.4); // the first frame is on screen

@@ -11,20 +11,106 @@ use crate::maze::movement::{Position, step};
 use crate::render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection};
 use crate::render::{Charset, RenderOptions};
 
-/// Walking speed, maze units per second (a generated cell is 4 units).
+/// Walking speed by default, maze units per second (a generated cell is 4 units); see [`Motion`].
 pub const WALK_SPEED: f32 = 5.0;
-/// Turning speed, degrees per second.
+/// Turning speed by default, degrees per second; see [`Motion`].
 pub const TURN_SPEED: f32 = 110.0;
+/// How far one tap of W/S/A/D walks by default, maze units: a quarter of a generated cell.
+pub const WALK_STEP: f32 = 1.0;
+/// How far one tap of ←/→ turns by default, degrees: six taps make a right angle.
+pub const TURN_STEP_DEG: f32 = 15.0;
+/// The walking speeds `--walk-speed` accepts, maze units per second.
+pub const WALK_SPEED_RANGE: (f32, f32) = (0.5, 40.0);
+/// The turning speeds `--turn-speed` accepts, degrees per second.
+pub const TURN_SPEED_RANGE: (f32, f32) = (10.0, 720.0);
+/// The walk steps `--walk-step` accepts, maze units (at most a generated cell).
+pub const WALK_STEP_RANGE: (f32, f32) = (0.05, 4.0);
+/// The turn steps `--turn-step` accepts, degrees.
+pub const TURN_STEP_RANGE_DEG: (f32, f32) = (1.0, 90.0);
 /// Looking up/down, degrees per second.
 pub const LOOK_SPEED: f32 = 70.0;
+/// How far one tap of ↑/↓ looks, degrees.
+pub const LOOK_STEP_DEG: f32 = 10.0;
 /// Rising/sinking, maze units per second (floor to ceiling is 2).
 pub const RISE_SPEED: f32 = 1.0;
+/// How far one tap of `[`/`]` rises or sinks, maze units.
+pub const RISE_STEP: f32 = 0.1;
 /// Field of view change, degrees per second.
 pub const FOV_SPEED: f32 = 45.0;
+/// How much one tap of `+`/`-` changes the field of view, degrees.
+pub const FOV_STEP_DEG: f32 = 5.0;
+/// How long a snap turn (`,` `.`) takes, seconds.
+pub const SNAP_SECONDS: f64 = 0.15;
+/// A snap turn lands on a multiple of 90° when it would land within this many degrees of one, so
+/// repeated snaps stay on the maze's grid after a little drift; further off, it turns exactly 90°.
+pub const SNAP_ALIGN_DEG: f32 = 10.0;
 /// Degrees of look per cell of mouse drag.
 pub const DRAG_DEGREES_PER_CELL: f32 = 2.0;
 /// A frame longer than this (a stall, a suspend) advances the motion by this much only.
 pub const MAX_STEP: f64 = 0.1;
+
+/// How far a tap moves and how fast a held key moves: one player's settings (a server may give each
+/// player its own). Steps and speeds are positive; the binary takes them from flags within the `*_RANGE`
+/// constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Motion {
+    /// Walking speed, maze units per second.
+    pub walk_speed: f32,
+    /// Turning speed, degrees per second.
+    pub turn_speed_deg: f32,
+    /// How far one tap walks, maze units.
+    pub walk_step: f32,
+    /// How far one tap turns, degrees.
+    pub turn_step_deg: f32,
+}
+
+impl Default for Motion {
+    fn default() -> Self {
+        Motion {
+            walk_speed: WALK_SPEED,
+            turn_speed_deg: TURN_SPEED,
+            walk_step: WALK_STEP,
+            turn_step_deg: TURN_STEP_DEG,
+        }
+    }
+}
+
+impl Motion {
+    /// For a continuous action: its step (degrees or maze units) and its speed (the same per second).
+    fn step_and_speed(&self, action: Action) -> (f32, f32) {
+        match action {
+            Action::Forward | Action::Back | Action::StrafeLeft | Action::StrafeRight => {
+                (self.walk_step, self.walk_speed)
+            }
+            Action::TurnLeft | Action::TurnRight => (self.turn_step_deg, self.turn_speed_deg),
+            Action::LookUp | Action::LookDown => (LOOK_STEP_DEG, LOOK_SPEED),
+            Action::Rise | Action::Sink => (RISE_STEP, RISE_SPEED),
+            _ => (FOV_STEP_DEG, FOV_SPEED),
+        }
+    }
+}
+
+/// A snap turn under way: the heading eases from `from_deg` to `to_deg` (not wrapped to 0..360) over
+/// [`SNAP_SECONDS`] from `start`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Snap {
+    from_deg: f32,
+    to_deg: f32,
+    start: f64,
+}
+
+impl Snap {
+    /// The heading at `now`, not wrapped; `None` once the snap is over.
+    fn heading_at(&self, now: f64) -> Option<f32> {
+        let t = ((now - self.start) / SNAP_SECONDS) as f32;
+        if t >= 1.0 {
+            return None;
+        }
+        let t = t.max(0.0);
+        let eased = t * t * (3.0 - 2.0 * t); // smoothstep: starts and stops gently
+        Some(self.from_deg + (self.to_deg - self.from_deg) * eased)
+    }
+}
 
 /// Where the map is shown.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -57,6 +143,9 @@ pub struct App {
     pub held: Held,
     /// Whether the terminal reports key releases (kitty protocol).
     pub releases: bool,
+    /// Tap steps and glide speeds.
+    pub motion: Motion,
+    snap: Option<Snap>,
     /// When the walk started (seconds, the caller's clock).
     pub started: f64,
     /// Seconds it took to reach the exit, once reached.
@@ -97,6 +186,8 @@ impl App {
             help: false,
             held: Held::default(),
             releases: false,
+            motion: Motion::default(),
+            snap: None,
             started: now,
             finished: None,
             quit: false,
@@ -115,11 +206,18 @@ impl App {
         let Some(action) = action_for(key) else { return false };
         if action.is_continuous() {
             match phase {
-                KeyPhase::Release => self.held.release(action),
+                KeyPhase::Release => {
+                    self.tick(now); // the key moved until now
+                    self.held.release(action);
+                }
                 KeyPhase::Press | KeyPhase::Repeat => {
                     // Bring the motion up to date before the set of held keys changes.
                     self.tick(now);
-                    self.held.press(action, now, self.releases, phase == KeyPhase::Repeat);
+                    let (step, speed) = self.motion.step_and_speed(action);
+                    let step_seconds = f64::from(step / speed);
+                    if self.held.press(action, now, self.releases, phase == KeyPhase::Repeat, step_seconds) {
+                        self.take_step(action, step, now);
+                    }
                 }
             }
             return true;
@@ -146,9 +244,14 @@ impl App {
                 let i = all.iter().position(|&c| c == self.options.charset).unwrap_or(0);
                 self.options.charset = all[(i + 1) % all.len()];
             }
+            Action::SnapLeft | Action::SnapRight => {
+                self.tick(now); // the snap starts from where the viewer is now
+                self.snap_turn(if action == Action::SnapLeft { 90.0 } else { -90.0 }, now);
+            }
             Action::Reset => {
                 (self.camera, self.cell) = self.start;
                 self.held.clear();
+                self.snap = None;
                 (self.started, self.finished) = (now, None);
             }
             Action::Help => self.help = !self.help,
@@ -172,52 +275,112 @@ impl App {
         self.held.clear();
     }
 
+    /// One discrete step of a continuous action (a tap): `amount` degrees or maze units.
+    fn take_step(&mut self, action: Action, amount: f32, now: f64) {
+        match action {
+            Action::TurnLeft => self.turn(amount, 0.0),
+            Action::TurnRight => self.turn(-amount, 0.0),
+            Action::LookUp => self.turn(0.0, amount),
+            Action::LookDown => self.turn(0.0, -amount),
+            Action::Rise => self.rise(amount),
+            Action::Sink => self.rise(-amount),
+            Action::FovWider => self.zoom(amount),
+            Action::FovNarrower => self.zoom(-amount),
+            Action::Forward => self.walk(Vec2::new(amount, 0.0), now),
+            Action::Back => self.walk(Vec2::new(-amount, 0.0), now),
+            Action::StrafeRight => self.walk(Vec2::new(0.0, amount), now),
+            Action::StrafeLeft => self.walk(Vec2::new(0.0, -amount), now),
+            _ => {}
+        }
+    }
+
+    /// Starts a snap turn by `deg` (±90, counter-clockwise positive), after any snap under way. It lands
+    /// on a multiple of 90° when within [`SNAP_ALIGN_DEG`] of one, and never more than 180° ahead of the
+    /// heading (a held snap key turns in right angles, not ever faster).
+    fn snap_turn(&mut self, deg: f32, now: f64) {
+        let heading = self.snap.and_then(|s| s.heading_at(now)).unwrap_or(self.camera.yaw_deg);
+        let target = self.snap.map_or(self.camera.yaw_deg, |s| s.to_deg) + deg;
+        let aligned = (target / 90.0).round() * 90.0;
+        let to_deg = if (target - aligned).abs() <= SNAP_ALIGN_DEG { aligned } else { target };
+        if (to_deg - heading).abs() > 180.0 + SNAP_ALIGN_DEG {
+            return;
+        }
+        self.snap = Some(Snap { from_deg: heading, to_deg, start: now });
+    }
+
     fn turn(&mut self, yaw_deg: f32, pitch_deg: f32) {
+        if let Some(snap) = &mut self.snap {
+            // Turning during a snap carries the snap along.
+            snap.from_deg += yaw_deg;
+            snap.to_deg += yaw_deg;
+        }
         self.camera.yaw_deg = (self.camera.yaw_deg + yaw_deg).rem_euclid(360.0);
         self.camera.pitch_deg = (self.camera.pitch_deg + pitch_deg).clamp(-PITCH_LIMIT_DEG, PITCH_LIMIT_DEG);
     }
 
-    /// True while something moves by itself (held keys), so the loop keeps drawing frames.
-    #[must_use]
-    pub fn is_animating(&self, now: f64) -> bool {
-        self.held.any(now)
+    fn rise(&mut self, dz: f32) {
+        self.camera.eye_z = clamp_eye_height(self.camera.eye_z + dz);
     }
 
-    /// Advances held-key motion to time `now` at speeds independent of the frame rate. Returns true when
-    /// the viewer moved.
-    pub fn tick(&mut self, now: f64) -> bool {
-        let dt = (now - self.last_tick).clamp(0.0, MAX_STEP) as f32;
-        self.last_tick = now;
-        let h = &self.held;
-        let walk = Vec2::new(
-            h.axis(Action::Forward, Action::Back, now),
-            h.axis(Action::StrafeRight, Action::StrafeLeft, now),
-        );
-        let turn = h.axis(Action::TurnLeft, Action::TurnRight, now);
-        let look = h.axis(Action::LookUp, Action::LookDown, now);
-        let rise = h.axis(Action::Rise, Action::Sink, now);
-        let zoom = h.axis(Action::FovWider, Action::FovNarrower, now);
-        self.held.expire(now);
-        if dt == 0.0 || (walk == Vec2::ZERO && turn == 0.0 && look == 0.0 && rise == 0.0 && zoom == 0.0) {
-            return false;
-        }
-        let before = (self.camera, self.cell);
-        self.turn(turn * TURN_SPEED * dt, look * LOOK_SPEED * dt);
-        self.camera.eye_z = clamp_eye_height(self.camera.eye_z + rise * RISE_SPEED * dt);
-        self.camera.hfov_deg =
-            (self.camera.hfov_deg + zoom * FOV_SPEED * dt).clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1);
-        if walk != Vec2::ZERO {
-            // Walking stays level whatever the pitch: forward is the heading in the maze plane.
-            let heading = self.camera.yaw_deg.to_radians();
-            let (forward, right) = (heading_dir(heading), heading_right(heading));
-            let delta = (forward * walk.x + right * walk.y).normalize_or_zero() * WALK_SPEED * dt;
-            let to =
-                step(&self.maze, Position { cell: self.cell, pos: self.camera.position }, delta, WALL_MARGIN);
-            self.camera.position = to.pos;
-            self.cell = to.cell;
-        }
+    fn zoom(&mut self, deg: f32) {
+        self.camera.hfov_deg = (self.camera.hfov_deg + deg).clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1);
+    }
+
+    /// Walks by `by` maze units (x forward, y right; level whatever the pitch) as far as the walls let.
+    fn walk(&mut self, by: Vec2, now: f64) {
+        let heading = self.camera.yaw_deg.to_radians();
+        let delta = heading_dir(heading) * by.x + heading_right(heading) * by.y;
+        let to =
+            step(&self.maze, Position { cell: self.cell, pos: self.camera.position }, delta, WALL_MARGIN);
+        self.camera.position = to.pos;
+        self.cell = to.cell;
         if self.finished.is_none() && self.maze.exit().is_some_and(|exit| exit.cell == self.cell) {
             self.finished = Some(now - self.started);
+        }
+    }
+
+    /// True while something moves by itself (held keys, a snap turn), so the loop keeps drawing frames.
+    #[must_use]
+    pub fn is_animating(&self, now: f64) -> bool {
+        self.held.any(now) || self.snap.is_some()
+    }
+
+    /// Advances held-key motion and any snap turn to time `now` at speeds independent of the frame rate.
+    /// Returns true when the viewer moved.
+    pub fn tick(&mut self, now: f64) -> bool {
+        // A frame longer than MAX_STEP (a stall, a suspend) moves by MAX_STEP's worth only.
+        let from = self.last_tick.max(now - MAX_STEP);
+        self.last_tick = now;
+        let t = |action| self.held.moving_time(action, from, now) as f32;
+        let axis = |plus, minus| t(plus) - t(minus); // seconds of motion, signed
+        let walk =
+            Vec2::new(axis(Action::Forward, Action::Back), axis(Action::StrafeRight, Action::StrafeLeft));
+        let turn = axis(Action::TurnLeft, Action::TurnRight);
+        let look = axis(Action::LookUp, Action::LookDown);
+        let rise = axis(Action::Rise, Action::Sink);
+        let zoom = axis(Action::FovWider, Action::FovNarrower);
+        self.held.expire(now);
+        let before = (self.camera, self.cell);
+        if turn != 0.0 || look != 0.0 {
+            self.turn(turn * self.motion.turn_speed_deg, look * LOOK_SPEED);
+        }
+        if rise != 0.0 {
+            self.rise(rise * RISE_SPEED);
+        }
+        if zoom != 0.0 {
+            self.zoom(zoom * FOV_SPEED);
+        }
+        if walk != Vec2::ZERO {
+            // Diagonally no faster than straight: the longer of the two, in the combined direction.
+            let seconds = walk.x.abs().max(walk.y.abs());
+            self.walk(walk.normalize_or_zero() * seconds * self.motion.walk_speed, now);
+        }
+        if let Some(snap) = self.snap {
+            let heading = snap.heading_at(now);
+            self.camera.yaw_deg = heading.unwrap_or(snap.to_deg).rem_euclid(360.0);
+            if heading.is_none() {
+                self.snap = None;
+            }
         }
         (self.camera, self.cell) != before
     }
