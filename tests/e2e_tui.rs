@@ -516,6 +516,104 @@ fn assert_restored(tui: &Tui, raw: &[u8], enabled: Enabled) {
     });
 }
 
+/// The SGR sequences (`ESC [ params m`) in `bytes`, each as its parameter list.
+fn sgr_params(bytes: &[u8]) -> Vec<Vec<u16>> {
+    let mut found = Vec::new();
+    let mut i = 0;
+    while let Some(at) = bytes[i..].windows(2).position(|w| w == b"\x1b[") {
+        let start = i + at + 2;
+        let end = bytes[start..].iter().position(|b| !(b.is_ascii_digit() || *b == b';' || *b == b':'));
+        let Some(end) = end.map(|e| start + e) else { break };
+        if bytes[end] == b'm' {
+            let params = std::str::from_utf8(&bytes[start..end]).unwrap();
+            found.push(params.split([';', ':']).map(|p| p.parse().unwrap_or(0)).collect());
+        }
+        i = end;
+    }
+    found
+}
+
+/// The text of `bytes` with every escape sequence taken out (CSI sequences, and ESC + one byte).
+fn printed_text(bytes: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == 0x1b {
+            i += 1;
+            if bytes.get(i) == Some(&b'[') {
+                i += 1;
+                while i < bytes.len() && !(0x40..=0x7e).contains(&bytes[i]) {
+                    i += 1;
+                }
+            }
+            i += 1;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    out
+}
+
+/// Issue #14: the colour depth holds everywhere — 3D view, corner and full map, HUD, help box —
+/// over a walk that opens them all: no colour code at all with `--color none`, only the 16 ANSI
+/// colours with 16, no 24-bit codes with 256; and with `--charset ascii` every printed character is
+/// ASCII.
+#[test]
+fn the_colour_depth_and_the_ascii_charset_hold_on_the_whole_screen() {
+    for (color, charset) in
+        [("none", "ascii"), ("none", "half"), ("16", "half"), ("256", "sextant"), ("256", "ascii")]
+    {
+        let mut tui = Tui::spawn_as(
+            Session::Leader,
+            &["--color", color, "--charset", charset],
+            100,
+            30,
+            Answers::Plain,
+        );
+        tui.wait_for("the first frame", |s| s.contents().contains("help"));
+        for keys in [&b"w"[..], b"m", b"?", b"\x1b[D", b"?", b"m", b"m"] {
+            let before = tui.bytes_so_far();
+            tui.send(keys);
+            tui.wait_for_output(before, "a frame", ends_with_a_frame);
+        }
+        tui.send(b"q");
+        let (status, raw) = tui.finish();
+        assert_eq!(status.code(), Some(0), "{status:?}");
+        for params in sgr_params(&raw) {
+            let mut i = 0;
+            while i < params.len() {
+                let p = params[i];
+                let extended = matches!(p, 38 | 48);
+                let depth_of = match (extended, params.get(i + 1)) {
+                    (true, Some(5)) => 256,
+                    (true, Some(2)) => 24,
+                    (true, _) => 24,
+                    (false, _) if matches!(p, 30..=37 | 40..=47 | 90..=97 | 100..=107) => 16,
+                    _ => 0, // reset, default colours, attributes
+                };
+                let allowed = match color {
+                    "none" => depth_of == 0,
+                    "16" => depth_of <= 16,
+                    _ => depth_of != 24,
+                };
+                assert!(allowed, "--color {color} --charset {charset} sent SGR {params:?}");
+                i += match (extended, params.get(i + 1)) {
+                    (true, Some(5)) => 3,
+                    (true, Some(2)) => 5,
+                    _ => 1,
+                };
+            }
+        }
+        if charset == "ascii" {
+            let text = printed_text(&raw);
+            let odd: String =
+                String::from_utf8_lossy(&text).chars().filter(|c| !c.is_ascii()).take(20).collect();
+            assert!(odd.is_empty(), "--charset ascii printed {odd:?}");
+        }
+    }
+}
+
 /// Whether `bytes` end with a whole frame: its synchronized-output end, then the flow-control query.
 fn ends_with_a_frame(bytes: &[u8]) -> bool {
     bytes.strip_suffix(mazewalk::app::flow::QUERY).unwrap_or(bytes).ends_with(b"\x1b[?2026l")

@@ -1,14 +1,21 @@
 //! What is drawn over the 3D view: the map, the HUD line, the key help, the exit screen, and the message
 //! for a terminal too small to draw in. Pure: frames in, frames out; tested as text.
+//!
+//! The overlays keep to the walk's colour depth and charset ([`Style`]): with no colour they use the
+//! terminal's own colours and frame boxes with lines instead of a background; with `ascii` glyphs every
+//! character of map, HUD and boxes is ASCII. [`limit_colors`] takes every colour in a frame down to a
+//! depth (the overlays' palette indices, a wall's own truecolor on the map).
 
 use glam::Vec2;
 
 use super::controls::HELP;
-use crate::frame::{Cell, Color, Frame};
+use crate::frame::{Cell, Color, ColorDepth, Frame};
 use crate::maze::geometry::heading_dir;
 use crate::maze::{Aabb, Maze};
+use crate::render::Charset;
 use crate::render::camera::Camera;
 use crate::render::line_points;
+use crate::render::palette::{ansi16, quantize_srgb8, xterm_rgb};
 
 /// The smallest terminal the walkthrough draws in (columns, rows).
 pub const MIN_SIZE: (usize, usize) = (20, 6);
@@ -24,6 +31,75 @@ const VIEWER_FG: Color = Color::Indexed(226);
 const FRUSTUM_FG: Color = Color::Indexed(178);
 const EXIT_FG: Color = Color::Indexed(46);
 
+/// How the overlays draw: the walk's colour depth and whether only ASCII may be used.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Style {
+    /// The colour depth of the whole screen.
+    pub depth: ColorDepth,
+    /// Only ASCII characters (the `ascii` charset).
+    pub ascii: bool,
+}
+
+impl Style {
+    /// The style for a walk drawn with `charset` at `depth`.
+    #[must_use]
+    pub fn new(charset: Charset, depth: ColorDepth) -> Style {
+        Style { depth, ascii: charset == Charset::Ascii }
+    }
+
+    /// `unicode`, or `ascii` when only ASCII may be used.
+    fn glyph(self, unicode: char, ascii: char) -> char {
+        if self.ascii { ascii } else { unicode }
+    }
+
+    /// `text` with the non-ASCII characters the overlays use spelled in ASCII, when needed.
+    #[must_use]
+    pub fn text(self, text: &str) -> String {
+        if !self.ascii {
+            return text.to_string();
+        }
+        let mut out = String::with_capacity(text.len());
+        for c in text.chars() {
+            match c {
+                '°' => {}
+                '×' => out.push('x'),
+                '←' => out.push_str("Left"),
+                '→' => out.push_str("Right"),
+                '↑' => out.push_str("Up"),
+                '↓' => out.push_str("Down"),
+                c if c.is_ascii() => out.push(c),
+                _ => out.push('?'),
+            }
+        }
+        out
+    }
+}
+
+impl Default for Style {
+    fn default() -> Self {
+        Style { depth: ColorDepth::TrueColor, ascii: false }
+    }
+}
+
+/// Takes every colour in `frame` down to `depth`: truecolor to the nearest of 256 or 16 colours,
+/// palette indices above 15 to the nearest of the 16, and everything to the terminal's default with
+/// no colour at all — so not one code of a deeper palette is ever sent.
+pub fn limit_colors(frame: &mut Frame, depth: ColorDepth) {
+    let limit = |color: Color| match (color, depth) {
+        (_, ColorDepth::TrueColor) | (Color::Default, _) => color,
+        (_, ColorDepth::None) => Color::Default,
+        (Color::Rgb(r, g, b), _) => quantize_srgb8([r, g, b], depth),
+        (Color::Indexed(i), ColorDepth::Ansi16) if i >= 16 => Color::Indexed(ansi16(xterm_rgb(i))),
+        (Color::Indexed(_), _) => color,
+    };
+    if depth == ColorDepth::TrueColor {
+        return;
+    }
+    for cell in frame.cells_mut() {
+        (cell.fg, cell.bg) = (limit(cell.fg), limit(cell.bg));
+    }
+}
+
 /// True when a `cols × rows` terminal is too small for the walkthrough.
 #[must_use]
 pub fn too_small(cols: usize, rows: usize) -> bool {
@@ -32,10 +108,10 @@ pub fn too_small(cols: usize, rows: usize) -> bool {
 
 /// Fills `frame` with a short note that the terminal is too small: the longest wording that fits the
 /// width, on as many rows as there are (even 1×1 shows something).
-pub fn draw_too_small(frame: &mut Frame) {
+pub fn draw_too_small(frame: &mut Frame, style: Style) {
     frame.fill(Cell::BLANK);
     let (w, h) = (frame.width(), frame.height());
-    let need = format!("need {}×{}", MIN_SIZE.0, MIN_SIZE.1);
+    let need = style.text(&format!("need {}×{}", MIN_SIZE.0, MIN_SIZE.1));
     let title =
         ["terminal too small", "too small", "small", "!"].into_iter().find(|t| t.chars().count() <= w);
     let lines: Vec<&str> = title.into_iter().chain([need.as_str(), "q quits"]).take(h).collect();
@@ -46,40 +122,60 @@ pub fn draw_too_small(frame: &mut Frame) {
 }
 
 /// The HUD: one line at the bottom of the frame.
-pub fn draw_hud(frame: &mut Frame, text: &str) {
+pub fn draw_hud(frame: &mut Frame, text: &str, style: Style) {
     let Some(y) = frame.height().checked_sub(1) else { return };
     let w = frame.width();
     for x in 0..w {
         frame.set(x, y, Cell { ch: ' ', fg: HUD_FG, bg: HUD_BG });
     }
-    frame.put_str(0, y, text, HUD_FG, HUD_BG);
+    frame.put_str(0, y, &style.text(text), HUD_FG, HUD_BG);
 }
 
-/// A box of text lines centred in the frame (help, exit screen), clipped to the frame.
-pub fn draw_box(frame: &mut Frame, title: &str, lines: &[String]) {
+/// A box of text lines centred in the frame (help, exit screen), clipped to the frame. Without colour
+/// its background would not set it apart from the view: it gets a frame of lines instead.
+pub fn draw_box(frame: &mut Frame, title: &str, lines: &[String], style: Style) {
     let inner = lines.iter().map(|l| l.chars().count()).chain([title.chars().count()]).max().unwrap_or(0);
     let (bw, bh) = ((inner + 4).min(frame.width()), (lines.len() + 4).min(frame.height()));
     let (x0, y0) = ((frame.width() - bw) / 2, (frame.height() - bh) / 2);
+    let (fg, bg) =
+        if style.depth == ColorDepth::None { (Color::Default, Color::Default) } else { (BOX_FG, BOX_BG) };
     for y in y0..y0 + bh {
         for x in x0..x0 + bw {
-            frame.set(x, y, Cell { ch: ' ', fg: BOX_FG, bg: BOX_BG });
+            frame.set(x, y, Cell { ch: ' ', fg, bg });
         }
     }
+    if style.depth == ColorDepth::None && bw >= 2 && bh >= 2 {
+        let (x1, y1) = (x0 + bw - 1, y0 + bh - 1);
+        let line = |ch| Cell { ch, fg, bg };
+        for x in x0..=x1 {
+            frame.set(x, y0, line(style.glyph('─', '-')));
+            frame.set(x, y1, line(style.glyph('─', '-')));
+        }
+        for y in y0..=y1 {
+            frame.set(x0, y, line(style.glyph('│', '|')));
+            frame.set(x1, y, line(style.glyph('│', '|')));
+        }
+        for (x, y, ch) in [(x0, y0, '┌'), (x1, y0, '┐'), (x0, y1, '└'), (x1, y1, '┘')] {
+            frame.set(x, y, line(style.glyph(ch, '+')));
+        }
+    }
+    let title = style.text(title);
     let tx = x0 + bw.saturating_sub(title.chars().count()) / 2;
-    frame.put_str(tx, y0 + 1, title, BOX_FG, BOX_BG);
+    frame.put_str(tx, y0 + 1, &title, fg, bg);
     for (i, line) in lines.iter().enumerate() {
         if 3 + i >= bh {
             break;
         }
-        let clipped: String = line.chars().take(bw.saturating_sub(4)).collect();
-        frame.put_str(x0 + 2, y0 + 3 + i, &clipped, BOX_FG, BOX_BG);
+        let clipped: String = style.text(line).chars().take(bw.saturating_sub(4)).collect();
+        frame.put_str(x0 + 2, y0 + 3 + i, &clipped, fg, bg);
     }
 }
 
-/// The key help as box lines.
+/// The key help as box lines (in ASCII when the style asks for it).
 #[must_use]
-pub fn help_lines() -> Vec<String> {
-    HELP.iter().map(|(keys, what)| format!("{keys:<8} {what}")).collect()
+pub fn help_lines(style: Style) -> Vec<String> {
+    let width = HELP.iter().map(|(keys, _)| style.text(keys).chars().count()).max().unwrap_or(0);
+    HELP.iter().map(|(keys, what)| format!("{:<width$} {}", style.text(keys), style.text(what))).collect()
 }
 
 /// Where the map goes and how much of the maze one map character shows.
@@ -153,12 +249,14 @@ pub fn draw_map(
     maze: &Maze,
     camera: &Camera,
     visited: &dyn Fn(u32) -> bool,
+    style: Style,
 ) {
+    let rock = Cell { ch: style.glyph(ROCK.ch, ':'), ..ROCK };
     for row in 0..area.height {
         for col in 0..area.width {
             let world_box = area.world_box(col, row);
             let cell = match maze.cell_at(world_box.centre()) {
-                None => ROCK,
+                None => rock,
                 Some(c) => {
                     let wall = maze.cell_edges(c).iter().map(|&e| (e, maze.edge(e))).find(|&(e, edge)| {
                         let (a, b) = maze.edge_points(e);
@@ -166,7 +264,9 @@ pub fn draw_map(
                     });
                     let bg = if visited(c) { VISITED_BG } else { FLOOR_BG };
                     match wall {
-                        Some((_, edge)) => Cell { ch: '█', fg: rgb(edge.color.to_array()), bg },
+                        Some((_, edge)) => {
+                            Cell { ch: style.glyph('█', '#'), fg: rgb(edge.color.to_array()), bg }
+                        }
                         None => Cell { ch: ' ', fg: Color::Default, bg },
                     }
                 }
@@ -193,14 +293,22 @@ pub fn draw_map(
             let (fx, fy) = (area.x + x, area.y + y);
             if frame.get(fx, fy).is_some_and(|c| c.ch == ' ') {
                 let bg = frame.get(fx, fy).map_or(Color::Default, |c| c.bg);
-                frame.set(fx, fy, Cell { ch: '·', fg: FRUSTUM_FG, bg });
+                frame.set(fx, fy, Cell { ch: style.glyph('·', '.'), fg: FRUSTUM_FG, bg });
             }
         }
     }
     if let Some(exit) = maze.exit_point() {
         put(frame, exit, 'E', EXIT_FG);
     }
-    put(frame, camera.position, heading_arrow(camera.yaw_deg), VIEWER_FG);
+    let arrow = heading_arrow(camera.yaw_deg);
+    let arrow = if style.ascii { ascii_arrow(camera.yaw_deg) } else { arrow };
+    put(frame, camera.position, arrow, VIEWER_FG);
+}
+
+/// [`heading_arrow`] in ASCII: `>`, `^`, `<`, `v` by quadrant.
+#[must_use]
+pub fn ascii_arrow(yaw_deg: f32) -> char {
+    ['>', '^', '<', 'v'][((yaw_deg.rem_euclid(360.0) + 45.0) / 90.0) as usize % 4]
 }
 
 /// An arrow glyph pointing along the heading (counter-clockwise from east), in 45° steps.
@@ -224,11 +332,11 @@ mod tests {
     fn too_small_message_fits_any_size_without_panicking() {
         for (w, h) in [(0, 0), (1, 1), (5, 2), (19, 5), (80, 24)] {
             let mut frame = Frame::new(w, h);
-            draw_too_small(&mut frame);
+            draw_too_small(&mut frame, Style::default());
             assert_eq!((frame.width(), frame.height()), (w, h));
         }
         let mut frame = Frame::new(20, 3);
-        draw_too_small(&mut frame);
+        draw_too_small(&mut frame, Style::default());
         assert_eq!(frame.lines()[0], " terminal too small ");
         assert!(too_small(19, 24) && too_small(80, 5) && !too_small(20, 6));
     }
@@ -245,16 +353,66 @@ mod tests {
     #[test]
     fn hud_and_box_are_clipped_to_the_frame() {
         let mut frame = Frame::filled(12, 5, Cell::plain('.'));
-        draw_hud(&mut frame, "a long heads-up line");
+        draw_hud(&mut frame, "a long heads-up line", Style::default());
         assert_eq!(frame.lines()[4], "a long heads");
-        draw_box(&mut frame, "Help", &["one".to_string(), "two".to_string()]);
+        draw_box(&mut frame, "Help", &["one".to_string(), "two".to_string()], Style::default());
         let lines = frame.lines();
         // an 8×5 box (text + 2 padding each side) centred on the dots
         assert_eq!(lines[0], "..        ..");
         assert_eq!(lines[1], "..  Help  ..");
         assert_eq!(lines[3], "..  one   ..");
         let mut tiny = Frame::new(1, 1);
-        draw_box(&mut tiny, "Help", &help_lines());
-        draw_hud(&mut tiny, "x");
+        draw_box(&mut tiny, "Help", &help_lines(Style::default()), Style::default());
+        draw_hud(&mut tiny, "x", Style::default());
+    }
+
+    #[test]
+    fn without_colour_a_box_is_framed_and_with_ascii_everything_is_ascii() {
+        let style = Style { depth: ColorDepth::None, ascii: true };
+        let mut frame = Frame::filled(14, 6, Cell::plain('.'));
+        draw_box(&mut frame, "Keys", &help_lines(style)[2..3], style);
+        draw_hud(&mut frame, "heading 90° ← ×", style);
+        let lines = frame.lines();
+        assert_eq!(lines[0], "+------------+");
+        assert_eq!(lines[1], "|    Keys    |");
+        assert!(lines[3].starts_with("| Left / Rig"), "{lines:?}");
+        assert_eq!(lines[5], "heading 90 Lef");
+        assert!(lines.iter().all(|l| l.is_ascii()));
+        assert!(
+            frame.cells().iter().all(|c| c.fg == Color::Default && c.bg == Color::Default || c.bg == HUD_BG)
+        );
+        limit_colors(&mut frame, ColorDepth::None);
+        assert!(frame.cells().iter().all(|c| c.fg == Color::Default && c.bg == Color::Default));
+    }
+
+    #[test]
+    fn colours_are_limited_to_the_depth() {
+        let mut frame = Frame::new(3, 1);
+        frame.set(0, 0, Cell { ch: 'a', fg: Color::Rgb(200, 30, 30), bg: Color::Indexed(236) });
+        frame.set(1, 0, Cell { ch: 'b', fg: Color::Indexed(9), bg: Color::Default });
+        let mut f256 = frame.clone();
+        limit_colors(&mut f256, ColorDepth::Ansi256);
+        assert!(matches!(f256.cells()[0].fg, Color::Indexed(_)));
+        assert_eq!(f256.cells()[0].bg, Color::Indexed(236));
+        let mut f16 = frame.clone();
+        limit_colors(&mut f16, ColorDepth::Ansi16);
+        assert!(
+            f16.cells().iter().all(|c| !matches!(c.fg, Color::Rgb(..)) && !matches!(c.bg, Color::Rgb(..)))
+        );
+        assert!(
+            f16.cells()
+                .iter()
+                .all(|c| !matches!(c.fg, Color::Indexed(16..)) && !matches!(c.bg, Color::Indexed(16..)))
+        );
+        assert_eq!(f16.cells()[1].fg, Color::Indexed(9));
+    }
+
+    #[test]
+    fn ascii_arrows_point_by_quadrant() {
+        assert_eq!(ascii_arrow(0.0), '>');
+        assert_eq!(ascii_arrow(90.0), '^');
+        assert_eq!(ascii_arrow(180.0), '<');
+        assert_eq!(ascii_arrow(-90.0), 'v');
+        assert_eq!(ascii_arrow(44.0), '>');
     }
 }

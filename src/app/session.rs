@@ -33,7 +33,7 @@ use std::time::Instant;
 
 use super::flow::{FlowControl, QUERY};
 
-use super::overlay::{self, MapArea};
+use super::overlay::{self, MapArea, Style};
 use super::state::{App, MapMode};
 use crate::frame::{Cell, Frame, Region};
 use crate::input::{Input, InputDecoder, Key, Reply};
@@ -303,8 +303,9 @@ impl Session {
 /// view, then the map, the HUD and any box. Pure: no I/O, so screens are tested as text.
 pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> RenderStats {
     let (cols, rows) = (frame.width(), frame.height());
+    let style = Style::new(app.options.charset, app.options.color_depth);
     if overlay::too_small(cols, rows) {
-        overlay::draw_too_small(frame);
+        overlay::draw_too_small(frame, style);
         return RenderStats::default();
     }
     // The bottom row is the HUD; the 3D view gets the rest, drawn in place.
@@ -313,7 +314,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         Ok(stats) => stats,
         Err(err) => {
             frame.fill(Cell::BLANK);
-            overlay::draw_box(frame, "Cannot draw", &[err.to_string()]);
+            overlay::draw_box(frame, "Cannot draw", &[err.to_string()], style);
             RenderStats::default()
         }
     };
@@ -326,7 +327,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         MapMode::Full => Some(MapArea::full(frame, app.maze(), app.camera.position)),
     };
     if let Some(area) = area {
-        overlay::draw_map(frame, &area, app.maze(), &app.camera, &visited);
+        overlay::draw_map(frame, &area, app.maze(), &app.camera, &visited, style);
     }
     if let Some(seconds) = app.finished {
         let lines = [
@@ -335,11 +336,12 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
             "r  walk it again".to_string(),
             "q  quit".to_string(),
         ];
-        overlay::draw_box(frame, "Found the exit!", &lines);
+        overlay::draw_box(frame, "Found the exit!", &lines, style);
     } else if app.help {
-        overlay::draw_box(frame, "Keys (? to close)", &overlay::help_lines());
+        overlay::draw_box(frame, "Keys (? to close)", &overlay::help_lines(style), style);
     }
-    overlay::draw_hud(frame, &hud_text(app, &stats, hud, cols)); // last: boxes never hide it
+    overlay::draw_hud(frame, &hud_text(app, &stats, hud, cols), style); // last: boxes never hide it
+    overlay::limit_colors(frame, style.depth); // not one code deeper than the terminal's depth
     stats
 }
 
