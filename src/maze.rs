@@ -6,7 +6,7 @@
 //! `u32` indices into the maze's arrays; cell → edges is stored flat (CSR), see [`Maze::cell_edges`].
 //!
 //! Modules: [`cs559`] and [`grid`] read and write the two file formats ([`parse`] and [`load`] pick
-//! one), [`generate`] makes random mazes, [`movement`] moves a viewer without passing walls.
+//! one; the types they share live in a module of their own, so none of these depends on `load`), [`generate`] makes random mazes, [`movement`] moves a viewer without passing walls.
 //!
 //! ```
 //! # use mazewalk::maze;
@@ -26,14 +26,17 @@ pub mod grid;
 mod index;
 mod load;
 pub mod movement;
+mod text;
 mod validate;
 
 use glam::{DVec2, Vec2, Vec3};
 
 use index::SpatialGrid;
 pub use load::{
-    Format, LoadError, ParseError, ParseErrorKind, WriteError, detect_format, load, parse, write,
+    DEFAULT_MAX_BYTES, LoadError, LoadOptions, Loaded, detect_format, load, load_with, parse, parse_loaded,
+    write,
 };
+pub use text::{Format, ParseError, ParseErrorKind, QUOTE_CHARS, WriteError, quote, quote_path};
 
 /// The maze walked when none is given: `mazes/hand-drawn.grid`, compiled in (loops, colours, an exit).
 pub const BUILTIN: &str = include_str!("../mazes/hand-drawn.grid");
@@ -62,6 +65,10 @@ pub const COORD_BOUND: f32 = 1.0e6;
 /// Distance (maze units) within which a point counts as on an edge line, so a point exactly on a
 /// cell's boundary is inside it despite rounding.
 pub const ON_EDGE_TOLERANCE: f64 = 1.0e-4;
+
+/// Smallest area of a cell, in square maze units: a cell narrower than the on-edge tolerance is a
+/// sliver no viewer fits in.
+pub const MIN_CELL_AREA: f64 = 1.0e-6;
 
 /// A wall or portal between two vertices.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -276,6 +283,8 @@ pub enum MazeError {
     CellNotConvex { cell: CellId, vertex: VertexId },
     #[error("cell {cell} winds clockwise or has no area: its edges' left/right sides are swapped")]
     CellClockwise { cell: CellId },
+    #[error("cell {cell} has an area of {area:e}; a cell needs at least {MIN_CELL_AREA:e}")]
+    CellTooSmall { cell: CellId, area: f64 },
     #[error("edges {a} and {b} cross")]
     EdgesCross { a: EdgeId, b: EdgeId },
     #[error("edges {a} and {b} overlap (collinear)")]
@@ -288,6 +297,8 @@ pub enum MazeError {
     ViewerFov { fov_deg: f32 },
     #[error("the viewer at ({x}, {y}) is in no cell")]
     ViewerOutside { x: f32, y: f32 },
+    #[error("the viewer at ({x}, {y}) stands on wall {edge}; place it inside a cell")]
+    ViewerOnWall { x: f32, y: f32, edge: EdgeId },
     #[error("the exit names cell {cell}, but there are only {count} cells")]
     ExitCellOutOfRange { cell: CellId, count: usize },
     #[error("the exit point ({x}, {y}) is in no cell")]
@@ -337,10 +348,13 @@ impl MazeError {
             | CellTooFewEdges { cell, .. }
             | CellNotClosed { cell, .. }
             | CellNotConvex { cell, .. }
+            | CellTooSmall { cell, .. }
             | CellClockwise { cell } => Subject::Cell(cell),
-            ViewerNotFinite | ViewerHeight { .. } | ViewerFov { .. } | ViewerOutside { .. } => {
-                Subject::Viewer
-            }
+            ViewerNotFinite
+            | ViewerHeight { .. }
+            | ViewerFov { .. }
+            | ViewerOutside { .. }
+            | ViewerOnWall { .. } => Subject::Viewer,
             ExitCellOutOfRange { .. } | ExitOutside { .. } | ExitPointOutside { .. } => Subject::Exit,
         }
     }

@@ -3,7 +3,10 @@
 use glam::{DVec2, Vec2};
 
 use super::index::SpatialGrid;
-use super::{Aabb, COORD_BOUND, CellId, Cells, Edge, EdgeId, Maze, MazeError, VertexId, orient};
+use super::{
+    Aabb, COORD_BOUND, CellId, Cells, Edge, EdgeId, MIN_CELL_AREA, Maze, MazeError, ON_EDGE_TOLERANCE,
+    VertexId, orient,
+};
 
 /// Indices, sides, cell ↔ edge consistency, and each cell a closed convex counter-clockwise loop.
 pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Result<(), MazeError> {
@@ -161,6 +164,9 @@ fn cell_loop(
     if twice_area <= 0.0 {
         return Err(MazeError::CellClockwise { cell: c });
     }
+    if twice_area / 2.0 < MIN_CELL_AREA {
+        return Err(MazeError::CellTooSmall { cell: c, area: twice_area / 2.0 });
+    }
     match concave_at {
         Some(vertex) => Err(MazeError::CellNotConvex { cell: c, vertex }),
         None => Ok(()),
@@ -236,8 +242,26 @@ pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
     if !(v.fov_deg > 0.0 && v.fov_deg < 180.0) {
         return Err(MazeError::ViewerFov { fov_deg: v.fov_deg });
     }
-    if maze.cell_at(v.pos).is_none() {
+    let Some(cell) = maze.cell_at(v.pos) else {
         return Err(MazeError::ViewerOutside { x: v.pos.x, y: v.pos.y });
+    };
+    // on a wall line or vertex, the viewer could walk along the wall at distance 0: every wall
+    // through the point borders the cell found or, at a vertex, a cell across one of its portals
+    let on_wall = |c: CellId| {
+        maze.cell_edges(c).iter().copied().find(|&e| {
+            let (a, b) = maze.edge_points(e);
+            maze.edge(e).opaque
+                && segment_distance(v.pos.as_dvec2(), a.as_dvec2(), b.as_dvec2()) <= ON_EDGE_TOLERANCE
+        })
+    };
+    let near = std::iter::once(cell).chain(maze.cell_edges(cell).iter().filter_map(|&e| {
+        let edge = maze.edge(e);
+        edge.other_side(cell).filter(|_| edge.is_portal())
+    }));
+    for c in near {
+        if let Some(edge) = on_wall(c) {
+            return Err(MazeError::ViewerOnWall { x: v.pos.x, y: v.pos.y, edge });
+        }
     }
     if let Some(exit) = maze.exit() {
         if exit.cell as usize >= maze.cell_count() {
@@ -250,4 +274,11 @@ pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
         }
     }
     Ok(())
+}
+
+/// Distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+    (a + ab * t).distance(p)
 }
