@@ -26,6 +26,7 @@ pub mod grid;
 mod index;
 mod load;
 pub mod movement;
+mod sweep;
 mod text;
 mod validate;
 

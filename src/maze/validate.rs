@@ -3,9 +3,10 @@
 use glam::{DVec2, Vec2};
 
 use super::index::SpatialGrid;
+use super::sweep::{self, Conflict, conflict};
 use super::{
     Aabb, COORD_BOUND, CellId, Cells, Edge, EdgeId, MIN_CELL_AREA, Maze, MazeError, ON_EDGE_TOLERANCE,
-    VertexId, orient,
+    VertexId,
 };
 
 /// Indices, sides, cell ↔ edge consistency, and each cell a closed convex counter-clockwise loop.
@@ -173,12 +174,35 @@ fn cell_loop(
     }
 }
 
-/// No two edges cross or overlap; they may share end points. A bucket grid keeps it near O(n).
+/// No two edges cross or overlap; they may share end points (or one may end on another).
+///
+/// A bucket grid finds the candidate pairs in O(n) when the buckets stay small; long edges (a comb
+/// of tall thin cells, long diagonals) crowd every bucket, so when the grid would test more than a
+/// few pairs per edge, the Shamos–Hoey sweep ([`sweep`]) decides in O(n log n) instead.
 pub(super) fn no_crossings(maze: &Maze) -> Result<(), MazeError> {
     let segments: Vec<[Vec2; 2]> =
         maze.edges().iter().map(|e| [maze.vertex(e.start), maze.vertex(e.end)]).collect();
     let boxes: Vec<Aabb> = segments.iter().map(|&[a, b]| Aabb { min: a.min(b), max: a.max(b) }).collect();
     let grid = SpatialGrid::build(&boxes, maze.extents());
+    let pairs: usize = (0..grid.bucket_count()).map(|b| grid.bucket_items(b).len()).map(|k| k * k / 2).sum();
+    let found = if pairs > PAIRS_PER_EDGE * segments.len() + 1024 {
+        drop((grid, boxes));
+        sweep::first_conflict(&segments)
+    } else {
+        grid_conflict(&grid, &boxes, &segments)
+    };
+    match found {
+        None => Ok(()),
+        Some((a, b, Conflict::Cross)) => Err(MazeError::EdgesCross { a, b }),
+        Some((a, b, _)) => Err(MazeError::EdgesOverlap { a, b }),
+    }
+}
+
+/// Candidate pairs per edge above which the sweep is used (an ordinary maze's grid tests about 4).
+const PAIRS_PER_EDGE: usize = 32;
+
+/// The bad pair with the smallest bucket, testing every pair that shares a bucket.
+fn grid_conflict(grid: &SpatialGrid, boxes: &[Aabb], segments: &[[Vec2; 2]]) -> Option<(u32, u32, Conflict)> {
     for bucket in 0..grid.bucket_count() {
         let items = grid.bucket_items(bucket);
         for (i, &a) in items.iter().enumerate() {
@@ -190,39 +214,12 @@ pub(super) fn no_crossings(maze: &Maze) -> Result<(), MazeError> {
                 let [q1, q2] = segments[b as usize];
                 match conflict(p1.as_dvec2(), p2.as_dvec2(), q1.as_dvec2(), q2.as_dvec2()) {
                     Conflict::None => {}
-                    Conflict::Cross => return Err(MazeError::EdgesCross { a: a.min(b), b: a.max(b) }),
-                    Conflict::Overlap => return Err(MazeError::EdgesOverlap { a: a.min(b), b: a.max(b) }),
+                    c => return Some((a.min(b), a.max(b), c)),
                 }
             }
         }
     }
-    Ok(())
-}
-
-enum Conflict {
-    None,
-    Cross,
-    Overlap,
-}
-
-/// Segments p and q: a proper crossing, a collinear overlap of positive length, or neither
-/// (apart, or touching at a point).
-fn conflict(p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2) -> Conflict {
-    let (d1, d2) = (orient(q1, q2, p1), orient(q1, q2, p2));
-    let (d3, d4) = (orient(p1, p2, q1), orient(p1, p2, q2));
-    if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
-        return Conflict::Cross;
-    }
-    if d1 == 0.0 && d2 == 0.0 {
-        // collinear: overlap of the projections on the longer axis of p
-        let axis = if (p2 - p1).x.abs() >= (p2 - p1).y.abs() { DVec2::X } else { DVec2::Y };
-        let (a0, a1) = (p1.dot(axis).min(p2.dot(axis)), p1.dot(axis).max(p2.dot(axis)));
-        let (b0, b1) = (q1.dot(axis).min(q2.dot(axis)), q1.dot(axis).max(q2.dot(axis)));
-        if a1.min(b1) > a0.max(b0) {
-            return Conflict::Overlap;
-        }
-    }
-    Conflict::None
+    None
 }
 
 /// The viewer finite, at a sane height and fov, in a cell; the exit in range.
