@@ -377,11 +377,8 @@ impl Maze {
         validate::structure(&vertices, &edges, &cells)?;
         let extents = vertices.iter().fold(Aabb::EMPTY, |b, &v| b.union_point(v));
         // boxes grown by the tolerance, so a point that counts as in a cell finds it
-        let boxes: Vec<Aabb> = (0..cells.len())
-            .map(|c| cell_aabb(&vertices, &edges, &cells, c).expand(ON_EDGE_TOLERANCE as f32))
-            .collect();
-        let cell_index = SpatialGrid::build(&boxes, extents);
-        drop(boxes);
+        let cell_box = |c| cell_aabb(&vertices, &edges, &cells, c).expand(ON_EDGE_TOLERANCE as f32);
+        let cell_index = SpatialGrid::build(cells.len(), cell_box, extents);
         let maze = Maze { vertices, edges, cells, viewer, exit, extents, cell_index };
         validate::no_crossings(&maze)?;
         validate::viewer_and_exit(&maze)?;

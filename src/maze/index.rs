@@ -20,9 +20,9 @@ pub(crate) struct SpatialGrid {
 const MAX_ENTRIES_PER_ITEM: usize = 16;
 
 impl SpatialGrid {
-    /// Indexes items with boxes `boxes` inside `extents`, about one bucket per two items.
-    pub(crate) fn build(boxes: &[Aabb], extents: Aabb) -> SpatialGrid {
-        let n = boxes.len();
+    /// Indexes `n` items, item `i` with box `box_of(i)` inside `extents`, about one bucket per two
+    /// items. Boxes are computed when needed, not stored (a box per edge of a big maze is 64 MB).
+    pub(crate) fn build(n: usize, box_of: impl Fn(usize) -> Aabb, extents: Aabb) -> SpatialGrid {
         let size = (extents.max - extents.min).max(Vec2::splat(1e-6));
         // square buckets, about n/2 of them (a box the size of a bucket touches up to 4)
         let mut side = ((2.0 * size.x as f64 * size.y as f64) / n.max(1) as f64).sqrt().max(1e-6) as f32;
@@ -39,7 +39,7 @@ impl SpatialGrid {
                 offsets: Vec::new(),
                 items: Vec::new(),
             };
-            if let Some(grid) = grid.fill(boxes, MAX_ENTRIES_PER_ITEM * n + 1024) {
+            if let Some(grid) = grid.fill(n, &box_of, MAX_ENTRIES_PER_ITEM * n + 1024) {
                 return grid;
             }
             side *= 2.0; // long items cover many buckets: coarsen
@@ -48,12 +48,12 @@ impl SpatialGrid {
 
     /// Fills the buckets, or `None` if that would take more than `budget` entries (unless the grid
     /// is a single bucket already).
-    fn fill(mut self, boxes: &[Aabb], budget: usize) -> Option<SpatialGrid> {
+    fn fill(mut self, n: usize, box_of: &impl Fn(usize) -> Aabb, budget: usize) -> Option<SpatialGrid> {
         let buckets = self.nx * self.ny;
         let mut counts = vec![0u32; buckets + 1];
         let mut entries = 0usize;
-        for b in boxes {
-            if let Some((xs, ys)) = self.span(b) {
+        for i in 0..n {
+            if let Some((xs, ys)) = self.span(&box_of(i)) {
                 entries += xs.len() * ys.len();
                 if entries > budget && buckets > 1 {
                     return None;
@@ -70,8 +70,8 @@ impl SpatialGrid {
         }
         let mut next = counts.clone();
         let mut items = vec![0u32; entries];
-        for (i, b) in boxes.iter().enumerate() {
-            if let Some((xs, ys)) = self.span(b) {
+        for i in 0..n {
+            if let Some((xs, ys)) = self.span(&box_of(i)) {
                 for y in ys {
                     for x in xs.clone() {
                         let slot = &mut next[y * self.nx + x];

@@ -169,8 +169,10 @@ fn read_text(mut source: impl Read, max: u64, size_hint: u64) -> std::io::Result
             Err(e) if e.error_len().is_none() => (None, checked + e.valid_up_to()),
             Err(e) => (Some(checked + e.valid_up_to()), checked + e.valid_up_to()),
         };
-        if let Some(p) = bytes[checked..valid_end].iter().position(|&b| b == 0) {
-            bad = Some(checked + p);
+        // `contains` on bytes is a memchr: most chunks have no NUL
+        let new = &bytes[checked..valid_end];
+        if new.contains(&0) {
+            bad = new.iter().position(|&b| b == 0).map(|p| checked + p);
         }
         if let Some(at) = bad {
             bytes.truncate((at + 64).min(bytes.len()));

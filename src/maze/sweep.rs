@@ -54,36 +54,43 @@ pub(crate) fn conflict(p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2) -> Conflict {
     Conflict::None
 }
 
-/// The first bad pair the sweep meets, `(a, b, what)` with `a < b`, or `None` when no two of
-/// `segments` cross or overlap. Zero-length segments are not expected (the model rules them out).
-pub(crate) fn first_conflict(segments: &[[Vec2; 2]]) -> Option<(u32, u32, Conflict)> {
-    let n = segments.len();
-    // each segment from its lexicographically smaller end ("left") to the other
+/// The first bad pair the sweep meets among `n` segments, segment `i` being `segment(i)`:
+/// `(a, b, what)` with `a < b`, or `None` when no two cross or overlap. Zero-length segments are not
+/// expected (the model rules them out). Memory: 20 bytes a segment (two sorted id lists and the tree).
+pub(crate) fn first_conflict(n: usize, segment: impl Fn(u32) -> [Vec2; 2]) -> Option<(u32, u32, Conflict)> {
+    // each segment runs from its lexicographically smaller end ("left") to the other
     let key = |p: Vec2| (u64::from(ordered(p.x)) << 32) | u64::from(ordered(p.y));
-    let mut seg: Vec<[DVec2; 2]> = Vec::with_capacity(n);
-    // events: (point key, insert << 32 | segment); removals sort first at a point
-    let mut events: Vec<(u64, u64)> = Vec::with_capacity(2 * n);
-    for (i, &[a, b]) in segments.iter().enumerate() {
+    let ends = |i: u32| {
+        let [a, b] = segment(i);
         let (ka, kb) = (key(a), key(b));
-        let (l, r, kl, kr) = if ka <= kb { (a, b, ka, kb) } else { (b, a, kb, ka) };
-        seg.push([l.as_dvec2(), r.as_dvec2()]);
-        events.push((kl, 1 << 32 | i as u64));
-        events.push((kr, i as u64));
-    }
-    events.sort_unstable();
+        if ka <= kb { (ka, kb, a, b) } else { (kb, ka, b, a) }
+    };
+    let left = |i: u32| ends(i).0;
+    let right = |i: u32| ends(i).1;
+    let points = |i: u32| {
+        let (_, _, l, r) = ends(i);
+        [l.as_dvec2(), r.as_dvec2()]
+    };
+    let mut starts: Vec<u32> = (0..n as u32).collect();
+    starts.sort_unstable_by_key(|&i| left(i));
+    let mut stops = starts.clone();
+    stops.sort_unstable_by_key(|&i| right(i));
     let report = |a: u32, b: u32, c: Conflict| Some((a.min(b), a.max(b), c));
     let check = |a: u32, b: u32| {
-        let ([p1, p2], [q1, q2]) = (seg[a as usize], seg[b as usize]);
+        let ([p1, p2], [q1, q2]) = (points(a), points(b));
         conflict(p1, p2, q1, q2)
     };
     let mut tree = Treap::new(n);
-    for (_, code) in events {
-        let s = code as u32; // the low half
-        if code >> 32 == 1 {
-            let [l, r] = seg[s as usize];
+    let (mut i, mut j) = (0, 0);
+    while j < n {
+        // at one point, removals first
+        if i < n && left(starts[i]) < right(stops[j]) {
+            let s = starts[i];
+            i += 1;
+            let [l, r] = points(s);
             // s above (Greater) or below the active segment t, just right of s's left end
             let place = |t: u32| {
-                let [tl, tr] = seg[t as usize];
+                let [tl, tr] = points(t);
                 let o = orient(tl, tr, l);
                 let o = if o == 0.0 { orient(tl, tr, r) } else { o };
                 o.partial_cmp(&0.0).unwrap_or(Ordering::Equal)
@@ -100,6 +107,8 @@ pub(crate) fn first_conflict(segments: &[[Vec2; 2]]) -> Option<(u32, u32, Confli
                 }
             }
         } else {
+            let s = stops[j];
+            j += 1;
             let (below, above) = (tree.neighbour(s, 0), tree.neighbour(s, 1));
             tree.remove(s);
             if let (Some(a), Some(b)) = (below, above) {
@@ -265,7 +274,7 @@ mod tests {
     proptest! {
         #[test]
         fn the_sweep_agrees_with_every_pair(segments in arb_segments()) {
-            let found = first_conflict(&segments);
+            let found = first_conflict(segments.len(), |i| segments[i as usize]);
             prop_assert_eq!(found.is_some(), brute_force(&segments), "{:?} {:?}", segments, found);
             if let Some((a, b, c)) = found {
                 let ([p1, p2], [q1, q2]) = (segments[a as usize], segments[b as usize]);
@@ -284,8 +293,9 @@ mod tests {
                 segments.push([vec2(j, i), vec2(j + 1.0, i)]);
             }
         }
-        assert_eq!(first_conflict(&segments), None);
+        assert_eq!(first_conflict(segments.len(), |i| segments[i as usize]), None);
         segments.push([vec2(0.5, 0.5), vec2(9.5, 9.0)]);
-        assert!(matches!(first_conflict(&segments), Some((_, _, Conflict::Cross))));
+        let found = first_conflict(segments.len(), |i| segments[i as usize]);
+        assert!(matches!(found, Some((_, _, Conflict::Cross))), "{found:?}");
     }
 }

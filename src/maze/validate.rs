@@ -180,16 +180,22 @@ fn cell_loop(
 /// of tall thin cells, long diagonals) crowd every bucket, so when the grid would test more than a
 /// few pairs per edge, the Shamos–Hoey sweep ([`sweep`]) decides in O(n log n) instead.
 pub(super) fn no_crossings(maze: &Maze) -> Result<(), MazeError> {
-    let segments: Vec<[Vec2; 2]> =
-        maze.edges().iter().map(|e| [maze.vertex(e.start), maze.vertex(e.end)]).collect();
-    let boxes: Vec<Aabb> = segments.iter().map(|&[a, b]| Aabb { min: a.min(b), max: a.max(b) }).collect();
-    let grid = SpatialGrid::build(&boxes, maze.extents());
+    let n = maze.edges().len();
+    let segment = |e: usize| {
+        let (a, b) = maze.edge_points(e as EdgeId);
+        [a, b]
+    };
+    let edge_box = |e: usize| {
+        let [a, b] = segment(e);
+        Aabb { min: a.min(b), max: a.max(b) }
+    };
+    let grid = SpatialGrid::build(n, edge_box, maze.extents());
     let pairs: usize = (0..grid.bucket_count()).map(|b| grid.bucket_items(b).len()).map(|k| k * k / 2).sum();
-    let found = if pairs > PAIRS_PER_EDGE * segments.len() + 1024 {
-        drop((grid, boxes));
-        sweep::first_conflict(&segments)
+    let found = if pairs > PAIRS_PER_EDGE * n + 1024 {
+        drop(grid);
+        sweep::first_conflict(n, |e| segment(e as usize))
     } else {
-        grid_conflict(&grid, &boxes, &segments)
+        grid_conflict(&grid, edge_box, segment)
     };
     match found {
         None => Ok(()),
@@ -202,16 +208,20 @@ pub(super) fn no_crossings(maze: &Maze) -> Result<(), MazeError> {
 const PAIRS_PER_EDGE: usize = 32;
 
 /// The bad pair with the smallest bucket, testing every pair that shares a bucket.
-fn grid_conflict(grid: &SpatialGrid, boxes: &[Aabb], segments: &[[Vec2; 2]]) -> Option<(u32, u32, Conflict)> {
+fn grid_conflict(
+    grid: &SpatialGrid,
+    edge_box: impl Fn(usize) -> Aabb,
+    segment: impl Fn(usize) -> [Vec2; 2],
+) -> Option<(u32, u32, Conflict)> {
     for bucket in 0..grid.bucket_count() {
         let items = grid.bucket_items(bucket);
         for (i, &a) in items.iter().enumerate() {
-            let (box_a, [p1, p2]) = (boxes[a as usize], segments[a as usize]);
+            let (box_a, [p1, p2]) = (edge_box(a as usize), segment(a as usize));
             for &b in &items[i + 1..] {
-                if !box_a.intersects(&boxes[b as usize]) {
+                if !box_a.intersects(&edge_box(b as usize)) {
                     continue; // the common case: cheap to rule out
                 }
-                let [q1, q2] = segments[b as usize];
+                let [q1, q2] = segment(b as usize);
                 match conflict(p1.as_dvec2(), p2.as_dvec2(), q1.as_dvec2(), q2.as_dvec2()) {
                     Conflict::None => {}
                     c => return Some((a.min(b), a.max(b), c)),
