@@ -199,6 +199,11 @@ pub(crate) fn is_space(c: char) -> bool {
     matches!(c, ' ' | '\t' | '\n' | '\r' | '\x0B' | '\x0C')
 }
 
+/// [`is_space`] on a byte: space, or `\t` `\n` `\x0B` `\x0C` `\r` (9..=13), in two comparisons.
+pub(crate) fn is_space_byte(b: u8) -> bool {
+    b == b' ' || b.wrapping_sub(b'\t') <= b'\r' - b'\t'
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -222,6 +227,13 @@ mod tests {
         assert!(!looks_like_utf16(b"\x00\x00\x00\x00"));
         let e = decode("f", b"4\x00\n\x00").unwrap_err().1;
         assert_eq!(e.to_string(), "f:1:1: this looks like UTF-16; save the file as UTF-8");
+    }
+
+    #[test]
+    fn space_bytes_are_the_space_chars() {
+        for b in 0..=255u8 {
+            assert_eq!(is_space_byte(b), is_space(b as char), "{b}");
+        }
     }
 
     #[test]
