@@ -259,3 +259,14 @@ proptest! {
         }
     }
 }
+
+// issue #13: rows of spaces at the top or bottom of the map are floor, not dropped
+#[test]
+fn rows_of_spaces_are_floor() {
+    let m = parse("mazewalk-grid 1\n   \n @ \n   \n").unwrap();
+    assert_eq!(m.cell_count(), 9, "three rows of three floor tiles");
+    assert_eq!(m.viewer().pos, glam::vec2(6.0, 6.0), "the start is in the middle row");
+    // an empty line is still a separator, and trailing empty lines end the map
+    let m = parse("mazewalk-grid 1\n\n\n #\n @\n\n\n").unwrap();
+    assert_eq!(m.cell_count(), 3, "two floor tiles and the start");
+}

@@ -125,6 +125,12 @@ impl TileMap {
     /// A [`MazeError`](super::MazeError) when the map breaks the model's rules (no start tile, a
     /// coordinate beyond the bound); [`parse_str`] has ruled these out with located messages.
     pub fn to_maze(&self) -> Result<Maze, super::MazeError> {
+        self.build(false)
+    }
+
+    /// [`TileMap::to_maze`]; `checked_map` when [`parse_map`] made this map, so that the tiles, the
+    /// start and the coordinate bound are known good and the maze is valid by construction.
+    fn build(&self, checked_map: bool) -> Result<Maze, super::MazeError> {
         let (cols, rows) = (self.cols as i64, self.rows as i64);
         let t = self.tile;
         let tile_index = |x: i64, y: i64| ((rows - 1 - y) * cols + x) as usize;
@@ -227,7 +233,11 @@ impl TileMap {
         // no start tile: a viewer outside every cell, which Maze::new reports
         let viewer =
             viewer.unwrap_or(Viewer { pos: vec2(-1.0, -1.0) * t, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 });
-        Maze::new(vertices, edges, cells, viewer, exit)
+        if checked_map {
+            Maze::new_valid_by_construction(vertices, edges, cells, viewer, exit)
+        } else {
+            Maze::new(vertices, edges, cells, viewer, exit)
+        }
     }
 }
 
@@ -262,7 +272,7 @@ fn facing_name(deg: f32) -> Option<&'static str> {
 /// Parses grid text (already decoded); `file` names it in errors.
 pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
     let map = parse_map(file, text)?;
-    map.to_maze().map_err(|e| Loc { line: 1, col: 1 }.error(file, ParseErrorKind::Invalid(e)))
+    map.build(true).map_err(|e| Loc { line: 1, col: 1 }.error(file, ParseErrorKind::Invalid(e)))
 }
 
 /// Parses grid text into its tile map, checking every setting and tile.
