@@ -192,18 +192,20 @@ fn parse_i64(tok: &str) -> Option<i64> {
     if negative { Some(n) } else { n.checked_neg() }
 }
 
-/// A plain decimal of at most 7 digits (`-12.5`, `0.57`, `3996`: what mazes hold), or `None` for
-/// anything else, which `str::parse` then reads. Exact: both the digits (below 2^24) and the power of
+/// The token at the start of `bytes` (up to a space or the end) and its length, if it is a plain
+/// decimal of at most 7 digits (`-12.5`, `0.57`, `3996`: what mazes hold); `None` for anything else,
+/// which `str::parse` then reads. Exact: both the digits (below 2^24) and the power of
 /// ten are `f32`s, and one IEEE division rounds correctly (Clinger's fast path).
-fn parse_short_f32(tok: &str) -> Option<f32> {
-    let (negative, rest) = match tok.as_bytes() {
-        [b'-', rest @ ..] => (true, rest),
-        [b'+', rest @ ..] => (false, rest),
-        rest => (false, rest),
-    };
+fn short_f32(bytes: &[u8]) -> Option<(f32, usize)> {
     const TENS: [f32; 8] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7];
+    let (negative, skip) = match bytes.first() {
+        Some(b'-') => (true, 1),
+        Some(b'+') => (false, 1),
+        _ => (false, 0),
+    };
     let (mut m, mut digits, mut frac, mut point) = (0u32, 0usize, 0usize, false);
-    for &b in rest {
+    let mut len = skip;
+    for &b in &bytes[skip..] {
         match b {
             b'0'..=b'9' => {
                 m = m * 10 + u32::from(b - b'0');
@@ -214,14 +216,36 @@ fn parse_short_f32(tok: &str) -> Option<f32> {
                 }
             }
             b'.' if !point => point = true,
+            _ if is_space_byte(b) => break,
             _ => return None,
         }
+        len += 1;
     }
     if digits == 0 {
         return None;
     }
     let v = m as f32 / TENS[frac];
-    Some(if negative { -v } else { v })
+    Some((if negative { -v } else { v }, len))
+}
+
+/// An integer of at most 18 digits (no overflow) at the start of `bytes`, up to a space or the end,
+/// with its length; `None` for anything else, which [`parse_i64`] then reads.
+fn short_i64(bytes: &[u8]) -> Option<(i64, usize)> {
+    let skip = usize::from(matches!(bytes.first(), Some(b'-' | b'+')));
+    let mut n: i64 = 0;
+    let mut len = skip;
+    for &b in &bytes[skip..] {
+        match b {
+            b'0'..=b'9' if len - skip < 18 => n = n * 10 + i64::from(b - b'0'),
+            _ if is_space_byte(b) => break,
+            _ => return None,
+        }
+        len += 1;
+    }
+    if len == skip {
+        return None;
+    }
+    Some((if bytes[0] == b'-' { -n } else { n }, len))
 }
 
 /// Which field of a record is at fault, from the record's tokens read as integers and as numbers.
@@ -337,6 +361,13 @@ impl<'a> Reader<'a> {
     }
 
     fn integer(&mut self, what: &dyn Fn() -> String) -> Result<(i64, usize), ParseError> {
+        // the common case in one pass over the bytes; anything unusual takes the token path
+        self.skip_space();
+        if let Some((value, len)) = short_i64(&self.text.as_bytes()[self.pos..]) {
+            let at = self.pos;
+            self.pos += len;
+            return Ok((value, at));
+        }
         let (tok, at) = self.token(what)?;
         let value =
             parse_i64(tok).ok_or_else(|| self.expected(at, &format!("an integer ({})", what()), tok))?;
@@ -390,13 +421,14 @@ impl<'a> Reader<'a> {
 
     /// A finite `f32`.
     fn float(&mut self, what: &dyn Fn() -> String) -> Result<f32, ParseError> {
+        self.skip_space();
+        if let Some((value, len)) = short_f32(&self.text.as_bytes()[self.pos..]) {
+            self.pos += len;
+            return Ok(value);
+        }
         let (tok, at) = self.token(what)?;
-        let value = match parse_short_f32(tok) {
-            Some(v) => v,
-            None => {
-                tok.parse::<f32>().map_err(|_| self.expected(at, &format!("a number ({})", what()), tok))?
-            }
-        };
+        let value =
+            tok.parse::<f32>().map_err(|_| self.expected(at, &format!("a number ({})", what()), tok))?;
         if !value.is_finite() {
             return Err(self.error(at, ParseErrorKind::NotFinite { what: what(), value: quote(tok) }));
         }
@@ -438,7 +470,11 @@ impl<'a> Reader<'a> {
 
 #[cfg(test)]
 mod tests {
-    use super::{parse_i64, parse_short_f32};
+    use super::{parse_i64, short_f32, short_i64};
+
+    fn parse_short_f32(tok: &str) -> Option<f32> {
+        short_f32(tok.as_bytes()).filter(|&(_, len)| len == tok.len()).map(|(v, _)| v)
+    }
 
     #[test]
     fn short_decimals_read_as_std_reads_them() {
@@ -472,6 +508,13 @@ mod tests {
         {
             assert_eq!(parse_i64(tok), None, "{tok}");
             assert!(tok.parse::<i64>().is_err(), "{tok}");
+            assert_eq!(short_i64(tok.as_bytes()), None, "{tok}");
         }
+        // the one-pass reader stops at a space, and leaves long numbers to parse_i64
+        assert_eq!(short_i64(b"-12 7"), Some((-12, 3)));
+        assert_eq!(short_i64(b"123456789012345678"), Some((123_456_789_012_345_678, 18)));
+        assert_eq!(short_i64(b"1234567890123456789"), None);
+        assert_eq!(short_f32(b"0.5\n1"), Some((0.5, 3)));
+        assert_eq!(short_f32(b"0.5x"), None);
     }
 }
