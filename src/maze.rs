@@ -6,7 +6,10 @@
 //! `u32` indices into the maze's arrays; cell → edges is stored flat (CSR), see [`Maze::cell_edges`].
 //!
 //! Modules: [`cs559`] and [`grid`] read and write the two file formats ([`parse`] and [`load`] pick
-//! one; the types they share live in a module of their own, so none of these depends on `load`), [`generate`] makes random mazes, [`movement`] moves a viewer without passing walls.
+//! one; what the formats share, errors and positions and the quoting of input, lives in a module of
+//! its own that neither `load` nor a format sits above), [`generate`] makes random mazes, [`movement`]
+//! moves a viewer without passing walls. [`Maze::new`] validates in O(n log n) whatever the edges'
+//! shape: a bucket grid, or a Shamos–Hoey sweep when long edges crowd the buckets.
 //!
 //! ```
 //! # use mazewalk::maze;
