@@ -56,7 +56,7 @@ fn main() -> anyhow::Result<()> {
             format!("write {algo} {side} to {file}")
         }
         ["load", file] => {
-            let maze = maze::load(file)?;
+            let maze = maze::load(file)?.maze;
             let size = std::fs::metadata(file)?.len();
             format!("load {file} ({size} bytes): {} cells", maze.cell_count())
         }

@@ -90,6 +90,16 @@ struct MazeArgs {
     /// Seed for --gen (the same seed gives the same maze).
     #[arg(long, default_value_t = 1, requires = "gen")]
     seed: u64,
+    #[command(flatten)]
+    read: ReadArgs,
+}
+
+/// How maze files are read.
+#[derive(Args)]
+struct ReadArgs {
+    /// Refuse maze files larger than this many bytes (suffixes K, M, G: 1024-based).
+    #[arg(long, value_name = "BYTES", default_value = "256M", value_parser = parse_bytes)]
+    max_file_size: u64,
 }
 
 /// How frames look.
@@ -182,8 +192,10 @@ struct RenderArgs {
 
 #[derive(Args)]
 struct CheckArgs {
-    /// The maze file (CS559 or grid format; detected).
+    /// The maze file (CS559 or grid format; detected); `-` reads standard input.
     file: PathBuf,
+    #[command(flatten)]
+    read: ReadArgs,
 }
 
 /// Exit status for bad flags or values (as clap's).
@@ -215,8 +227,8 @@ fn main() -> ExitCode {
                 None => eprintln!("mazewalk: {err:#}"),
             }
             ExitCode::from(match load {
-                Some(LoadError::Parse(_)) => EXIT_DATA,
-                Some(LoadError::Io { .. }) => EXIT_NO_INPUT,
+                Some(LoadError::Parse(_) | LoadError::TooLarge { .. }) => EXIT_DATA,
+                Some(LoadError::Io { .. } | LoadError::NotAFile { .. }) => EXIT_NO_INPUT,
                 None if err.downcast_ref::<Usage>().is_some() => EXIT_USAGE,
                 None => 1,
             })
@@ -232,7 +244,7 @@ fn load_maze(args: &MazeArgs) -> anyhow::Result<Maze> {
         return Ok(generate(&opts)?);
     }
     match &args.maze {
-        Some(path) => Ok(maze::load(path)?),
+        Some(path) => Ok(maze::load_with(path, &args.read.options())?.maze),
         None => Ok(maze::builtin()?),
     }
 }
@@ -368,13 +380,29 @@ fn cmd_gen(args: &GenArgs) -> anyhow::Result<()> {
 }
 
 fn cmd_check(args: &CheckArgs) -> anyhow::Result<()> {
-    let bytes = std::fs::read(&args.file)
-        .map_err(|source| LoadError::Io { path: args.file.display().to_string(), source })?;
-    let name = args.file.display().to_string();
-    let format = maze::detect_format(&String::from_utf8_lossy(&bytes));
-    let maze = maze::parse(&name, &bytes).map_err(LoadError::from)?;
-    print!("{}", summary(&name, format, &maze));
+    let loaded = maze::load_with(&args.file, &args.read.options())?;
+    print!("{}", summary(&maze::quote_path(&args.file.display().to_string()), loaded.format, &loaded.maze));
     Ok(())
+}
+
+impl ReadArgs {
+    fn options(&self) -> maze::LoadOptions {
+        maze::LoadOptions { max_bytes: self.max_file_size }
+    }
+}
+
+/// `123`, `64K`, `256M`, `2G` (1024-based).
+fn parse_bytes(s: &str) -> Result<u64, String> {
+    let (digits, shift) = match s.trim().char_indices().last() {
+        Some((i, 'k' | 'K')) => (&s.trim()[..i], 10),
+        Some((i, 'm' | 'M')) => (&s.trim()[..i], 20),
+        Some((i, 'g' | 'G')) => (&s.trim()[..i], 30),
+        _ => (s.trim(), 0),
+    };
+    match digits.parse::<u64>().ok().and_then(|n| n.checked_mul(1 << shift)) {
+        Some(n) if n > 0 => Ok(n),
+        _ => Err(format!("expected a size in bytes such as 1000000, 512K, 256M or 2G, found `{s}`")),
+    }
 }
 
 /// The `check` report.

@@ -53,18 +53,18 @@ fn malformed_files_give_file_line_col_and_what_is_wrong() {
         (b"4\n0\xff 0".to_vec(), "f.maze:2:2: invalid UTF-8 (byte 0xff)"),
         (room_with(7, "0 1 0 -1 2 0.5 0.5 0.5").into_bytes(), "f.maze:7:10: edge 0 opaque flag is 2, out of range (0 or 1)"),
         (room_with(7, "0 1 -2 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:5: edge 0 left cell is -2, out of range"),
-        (room_with(12, "3 1 2 0 7").into_bytes(), "f.maze:12:9: the viewer's eye height 2 is not strictly between"),
-        // the model, pointing at the record at fault
-        (room_with(2, "0 1e7").into_bytes(), "f.maze:2:1: vertex 0 has a coordinate that is not finite or beyond"),
-        (room_with(7, "0 9 0 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:1: edge 0 names vertex 9, but there are only 4 vertices"),
-        (room_with(7, "0 0 0 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:1: edge 0 has zero length"),
-        (room_with(7, "0 1 3 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:1: edge 0 names cell 3, but there are only 1 cells"),
-        (room_with(7, "0 1 -1 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:1: edge 0 borders no cell"),
-        (room_with(7, "0 1 0 -1 0 0.5 0.5 0.5").into_bytes(), "f.maze:7:1: edge 0 is transparent but leads outside the maze"),
-        (room_with(7, "0 1 0 -1 1 0.5 1.5 0.5").into_bytes(), "f.maze:7:1: edge 0 has a colour component outside 0..1"),
-        (room_with(12, "3 1 2 -1").into_bytes(), "f.maze:7:1: edge 0 lists cell 0 on its left but cell 0 does not list edge 0"),
-        (room_with(12, "3 1 2 7").into_bytes(), "f.maze:12:1: cell 0 lists edge 7, but there are only 4 edges"),
-        (room_with(12, "3 1 2 2").into_bytes(), "f.maze:12:1: cell 0 lists edge 2 twice"),
+        (room_with(12, "3 1 2 0 7").into_bytes(), "f.maze:13:3: the viewer's eye height 2 is not strictly between"),
+        // the model, pointing at the field at fault (issue #13)
+        (room_with(2, "0 1e7").into_bytes(), "f.maze:2:3: vertex 0 has a coordinate that is not finite or beyond"),
+        (room_with(7, "0 9 0 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:3: edge 0 names vertex 9, but there are only 4 vertices"),
+        (room_with(7, "0 0 0 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:3: edge 0 has zero length"),
+        (room_with(7, "0 1 3 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:5: edge 0 names cell 3, but there are only 1 cells"),
+        (room_with(7, "0 1 -1 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:5: edge 0 borders no cell"),
+        (room_with(7, "0 1 0 -1 0 0.5 0.5 0.5").into_bytes(), "f.maze:7:10: edge 0 is transparent but leads outside the maze"),
+        (room_with(7, "0 1 0 -1 1 0.5 1.5 0.5").into_bytes(), "f.maze:7:16: edge 0 has a colour component outside 0..1"),
+        (room_with(12, "3 1 2 -1").into_bytes(), "f.maze:7:5: edge 0 lists cell 0 on its left but cell 0 does not list edge 0"),
+        (room_with(12, "3 1 2 7").into_bytes(), "f.maze:12:7: cell 0 lists edge 7, but there are only 4 edges"),
+        (room_with(12, "3 1 2 2").into_bytes(), "f.maze:12:7: cell 0 lists edge 2 twice"),
         (
             room_with(7, "0 1 -1 0 1 0.5 0.5 0.5").into_bytes(),
             "f.maze:12:1: cell 0's edges do not form one closed loop",
@@ -76,8 +76,8 @@ fn malformed_files_give_file_line_col_and_what_is_wrong() {
         (b"4 0 0 4 0 0 4 4 4 4 0 1 -1 0 1 .5 .5 .5 2 3 0 -1 1 .5 .5 .5 0 2 0 -1 1 .5 .5 .5 1 3 -1 0 1 .5 .5 .5 1 0 1 2 3 2 2 0 0 90".to_vec(),
             "f.maze:1:103: cell 0 winds clockwise or has no area"),
         (room_with(13, "9 9 0 90 90").into_bytes(), "f.maze:13:1: the viewer at (9, 9) is in no cell"),
-        (room_with(13, "2 2 1 90 90").into_bytes(), "f.maze:13:1: the viewer's eye height 1 is not strictly between"),
-        (room_with(13, "2 2 0 90 180").into_bytes(), "f.maze:13:1: the viewer's field of view 180° is not strictly between 0 and 180"),
+        (room_with(13, "2 2 1 90 90").into_bytes(), "f.maze:13:5: the viewer's eye height 1 is not strictly between"),
+        (room_with(13, "2 2 0 90 180").into_bytes(), "f.maze:13:10: the viewer's field of view 180° is not strictly between 0 and 180"),
         // the exit extension
         (format!("{ROOM}exit 3\n").into_bytes(), "f.maze:14:1: the exit names cell 3, but there are only 1 cells"),
         (format!("{ROOM}exit 9 9\n").into_bytes(), "f.maze:14:1: the exit point (9, 9) is in no cell"),
@@ -155,7 +155,7 @@ fn the_exit_extension_reads_a_cell_or_a_point() {
 #[test]
 fn errors_carry_a_kind_for_programs() {
     let e = maze::parse("f", room_with(7, "0 1 -1 -1 1 0.5 0.5 0.5").as_bytes()).unwrap_err();
-    assert_eq!((e.line, e.col), (7, 1));
+    assert_eq!((e.line, e.col), (7, 5), "the left cell field");
     assert_eq!(e.kind, ParseErrorKind::Invalid(MazeError::EdgeNoCell { edge: 0 }));
 }
 

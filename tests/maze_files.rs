@@ -12,7 +12,7 @@ fn shared(name: &str) -> String {
 #[test]
 fn real_course_files_load() {
     for (name, nv, ne, nc) in REAL {
-        let m = maze::load(shared(name)).unwrap_or_else(|e| panic!("{e}"));
+        let m = maze::load(shared(name)).unwrap_or_else(|e| panic!("{e}")).maze;
         assert_eq!((m.vertices().len(), m.edges().len(), m.cell_count()), (nv, ne, nc), "{name}");
         assert!(m.cell_at(m.viewer().pos).is_some());
     }
@@ -21,7 +21,7 @@ fn real_course_files_load() {
 #[test]
 fn real_course_files_round_trip() {
     for (name, ..) in REAL {
-        let m = maze::load(shared(name)).unwrap();
+        let m = maze::load(shared(name)).unwrap().maze;
         let text = maze::write(&m, Format::Cs559).unwrap();
         assert_eq!(maze::parse(name, text.as_bytes()).unwrap(), m, "{name}");
     }

@@ -112,8 +112,9 @@ fn thin_wall_mazes_are_refused_by_the_grid_writer() {
     let e = maze::write(&m, Format::Grid).unwrap_err();
     assert!(e.to_string().starts_with("cannot write as grid: edge "), "{e}");
     assert!(e.to_string().ends_with("is a wall between two cells (walls are tiles here)"), "{e}");
-    let real =
-        maze::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/mazes-cs559/maze-1x1-45.maze")).unwrap();
+    let real = maze::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/mazes-cs559/maze-1x1-45.maze"))
+        .unwrap()
+        .maze;
     assert!(maze::write(&real, Format::Grid).unwrap_err().to_string().contains("not a square tile"));
 }
 
@@ -188,7 +189,7 @@ fn every_example_in_mazes_loads_and_the_grid_ones_round_trip() {
     let mut n = 0;
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
-        let m = maze::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let m = maze::load(&path).unwrap_or_else(|e| panic!("{e}")).maze;
         assert!(m.cell_at(m.viewer().pos).is_some() && m.is_connected(), "{}", path.display());
         let text = std::fs::read_to_string(&path).unwrap();
         let format = maze::detect_format(&text);
@@ -257,4 +258,15 @@ proptest! {
             Err(e) => prop_assert!(e.line >= 1 && e.col >= 1),
         }
     }
+}
+
+// issue #13: rows of spaces at the top or bottom of the map are floor, not dropped
+#[test]
+fn rows_of_spaces_are_floor() {
+    let m = parse("mazewalk-grid 1\n   \n @ \n   \n").unwrap();
+    assert_eq!(m.cell_count(), 9, "three rows of three floor tiles");
+    assert_eq!(m.viewer().pos, glam::vec2(6.0, 6.0), "the start is in the middle row");
+    // an empty line is still a separator, and trailing empty lines end the map
+    let m = parse("mazewalk-grid 1\n\n\n #\n @\n\n\n").unwrap();
+    assert_eq!(m.cell_count(), 3, "two floor tiles and the start");
 }

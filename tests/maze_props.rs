@@ -24,7 +24,7 @@ fn arb_maze() -> impl Strategy<Value = Maze> {
 }
 
 fn real(name: &str) -> Maze {
-    maze::load(format!("{}/../shared/mazes-cs559/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+    maze::load(format!("{}/../shared/mazes-cs559/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap().maze
 }
 
 /// Signed area test in f64: > 0 when c is left of a → b.

@@ -20,7 +20,7 @@ fn files() -> Vec<(String, Maze)> {
     paths.sort();
     paths
         .into_iter()
-        .map(|p| (p.file_name().unwrap().to_string_lossy().replace('.', "_"), maze::load(&p).unwrap()))
+        .map(|p| (p.file_name().unwrap().to_string_lossy().replace('.', "_"), maze::load(&p).unwrap().maze))
         .collect()
 }
 

@@ -16,9 +16,10 @@
 
 use glam::{Vec2, Vec3, vec2};
 
-use super::load::{Loc, RecordLocs, is_space};
+use super::text::{Loc, is_space, is_space_byte, quote};
 use super::{
-    CellId, Cells, Edge, Exit, Format, Maze, MazeError, ParseError, ParseErrorKind, Viewer, WriteError,
+    COORD_BOUND, CellId, Cells, Edge, Exit, Format, Maze, MazeError, ParseError, ParseErrorKind, Viewer,
+    WriteError,
 };
 
 /// Edge slots per cell record.
@@ -26,13 +27,11 @@ const CELL_SLOTS: usize = 4;
 
 /// Parses CS559 text (already decoded); `file` names it in errors.
 pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
-    let mut r = Reader { file, text, pos: 0, loc: Loc { line: 1, col: 1 } };
-    let mut locs = RecordLocs { start: r.peek_loc(), ..RecordLocs::default() };
+    let mut r = Reader { file, text, pos: 0 };
 
     let (nv, cap) = r.count(&|| "vertex count".into(), "vertices", 2)?;
     let mut vertices = Vec::with_capacity(cap);
     for i in 0..nv {
-        locs.vertices.push(r.peek_loc());
         let x = r.float(&|| format!("vertex {i} x"))?;
         let y = r.float(&|| format!("vertex {i} y"))?;
         vertices.push(vec2(x, y));
@@ -41,7 +40,6 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
     let (ne, cap) = r.count(&|| "edge count".into(), "edges", 8)?;
     let mut edges = Vec::with_capacity(cap);
     for i in 0..ne {
-        locs.edges.push(r.peek_loc());
         let start = r.index(&|| format!("edge {i} start vertex"), false)?.unwrap_or_default();
         let end = r.index(&|| format!("edge {i} end vertex"), false)?.unwrap_or_default();
         let left = r.index(&|| format!("edge {i} left cell"), true)?;
@@ -57,7 +55,6 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
     let (nc, cap) = r.count(&|| "cell count".into(), "cells", CELL_SLOTS)?;
     let mut cells = Cells::with_capacity(cap, cap * CELL_SLOTS);
     for i in 0..nc {
-        locs.cells.push(r.peek_loc());
         let mut slots = [0; CELL_SLOTS];
         let mut n = 0;
         for k in 0..CELL_SLOTS {
@@ -69,13 +66,14 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
         cells.push(&slots[..n]);
     }
 
-    locs.viewer = r.peek_loc();
     let mut v = [0.0; 5];
     for (k, name) in ["x", "y", "z", "direction", "field of view"].iter().enumerate() {
         v[k] = r.float(&|| format!("viewer {name}"))?;
     }
     let viewer = Viewer { pos: vec2(v[0], v[1]), z: v[2], dir_deg: v[3], fov_deg: v[4] };
-    let exit = r.exit_extension(&mut locs)?;
+    let exit_at = r.exit_extension()?;
+    let layout = Layout { nv, ne, nc, exit_at: exit_at.as_ref().map(|e| e.1) };
+    let exit = exit_at.map(|e| e.0);
 
     let (exit, exit_point_cell) = match exit {
         Some(ExitSpec::Cell(cell)) => (Some(Exit { cell, point: None }), false),
@@ -84,19 +82,179 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
     };
     // an `exit X Y` point picks its cell once the maze stands
     let maze = Maze::new(vertices, edges, cells, viewer, exit.filter(|_| !exit_point_cell))
-        .map_err(|e| locs.locate(file, e))?;
+        .map_err(|e| layout.locate(file, text, e))?;
     match exit {
         Some(Exit { point: Some(p), .. }) if exit_point_cell => {
             let Some(cell) = maze.cell_at(p) else {
-                let loc = locs.exit.unwrap_or(locs.viewer);
-                return Err(
-                    loc.error(file, ParseErrorKind::Invalid(MazeError::ExitOutside { x: p.x, y: p.y }))
-                );
+                return Err(layout.locate(file, text, MazeError::ExitOutside { x: p.x, y: p.y }));
             };
             Ok(Maze { exit: Some(Exit { cell, point: Some(p) }), ..maze })
         }
         _ => Ok(maze),
     }
+}
+
+/// Where the records are, as token numbers: enough to find any record again when the model
+/// rejects it (a rare event, so it re-scans the text rather than keep a position per record).
+struct Layout {
+    nv: usize,
+    ne: usize,
+    nc: usize,
+    /// Byte offset of the `exit` line's first word.
+    exit_at: Option<usize>,
+}
+
+impl Layout {
+    /// The error located at the record, and within it the field, that `err` is about.
+    fn locate(&self, file: &str, text: &str, err: MazeError) -> ParseError {
+        use MazeError::*;
+        let (nv, ne, nc) = (self.nv, self.ne, self.nc);
+        let vertex = |v: u32| 1 + 2 * v as usize;
+        let edge = |e: u32| 2 + 2 * nv + 8 * e as usize;
+        let cell = |c: u32| 3 + 2 * nv + 8 * ne + 4 * c as usize;
+        let viewer = 3 + 2 * nv + 8 * ne + 4 * nc;
+        // the record's first token, and which of its fields is at fault (by the values in the file)
+        let (first, field): (usize, &FieldOf) = match err {
+            NoCells | TooMany { .. } => (0, &|_, _| 0),
+            VertexOutOfBounds { vertex: v } => {
+                (vertex(v), &|_, f| usize::from(f[0].is_finite() && f[0].abs() <= COORD_BOUND))
+            }
+            EdgeVertexOutOfRange { edge: e, vertex: v, .. } => {
+                (edge(e), &move |i, _| usize::from(i[0] != i64::from(v)))
+            }
+            EdgeDegenerate { edge: e, .. } => (edge(e), &|_, _| 1),
+            EdgeCellOutOfRange { edge: e, cell: c, .. } => {
+                (edge(e), &move |i, _| if i[2] == i64::from(c) { 2 } else { 3 })
+            }
+            EdgeSameCellBothSides { edge: e, .. } => (edge(e), &|_, _| 3),
+            EdgeNoCell { edge: e } => (edge(e), &|_, _| 2),
+            PortalToOutside { edge: e } => (edge(e), &|_, _| 4),
+            EdgeColor { edge: e } => {
+                (edge(e), &|_, f| (5..8).find(|&k| !(0.0..=1.0).contains(&f[k])).unwrap_or(5))
+            }
+            CellMissingEdge { edge: e, side, .. } => {
+                (edge(e), if side == "left" { &|_, _| 2 } else { &|_, _| 3 })
+            }
+            EdgesCross { a, b } | EdgesOverlap { a, b } => (edge(a.max(b)), &|_, _| 0),
+            CellEdgeOutOfRange { cell: c, edge: e, .. } | CellEdgeNotNeighbour { cell: c, edge: e } => {
+                (cell(c), &move |i, _| i.iter().position(|&x| x == i64::from(e)).unwrap_or(0))
+            }
+            CellEdgeDuplicate { cell: c, edge: e } => (cell(c), &move |i, _| {
+                i.iter().enumerate().filter(|&(_, &x)| x == i64::from(e)).nth(1).map_or(0, |p| p.0)
+            }),
+            CellTooFewEdges { cell: c, .. }
+            | CellNotClosed { cell: c, .. }
+            | CellNotConvex { cell: c, .. }
+            | CellTooSmall { cell: c, .. }
+            | CellClockwise { cell: c } => (cell(c), &|_, _| 0),
+            ViewerNotFinite => (viewer, &|_, f| {
+                let ok = [COORD_BOUND, COORD_BOUND, f32::MAX, COORD_BOUND, f32::MAX];
+                (0..5).find(|&k| !(f[k].is_finite() && f[k].abs() <= ok[k])).unwrap_or(0)
+            }),
+            ViewerHeight { .. } => (viewer, &|_, _| 2),
+            ViewerFov { .. } => (viewer, &|_, _| 4),
+            ViewerOutside { .. } | ViewerOnWall { .. } => (viewer, &|_, _| 0),
+            ExitCellOutOfRange { .. } | ExitOutside { .. } | ExitPointOutside { .. } => {
+                let at = self.exit_at.unwrap_or(0);
+                return Loc::of(text, at).error(file, ParseErrorKind::Invalid(err));
+            }
+        };
+        let tokens: Vec<(usize, &str)> = tokens(text).skip(first).take(8).collect();
+        let mut ints: Vec<i64> = tokens.iter().map(|t| t.1.parse().unwrap_or(i64::MIN)).collect();
+        let mut floats: Vec<f32> = tokens.iter().map(|t| t.1.parse().unwrap_or(f32::NAN)).collect();
+        ints.resize(8, i64::MIN);
+        floats.resize(8, f32::NAN);
+        let at = tokens.get(field(&ints, &floats)).or(tokens.first()).map_or(0, |t| t.0);
+        Loc::of(text, at).error(file, ParseErrorKind::Invalid(err))
+    }
+}
+
+/// A decimal integer with an optional sign, as `str::parse::<i64>` reads it (a third of its time on
+/// the short numbers of a maze file, where `integer` is half of the reader's time).
+fn parse_i64(tok: &str) -> Option<i64> {
+    let (negative, digits) = match tok.as_bytes() {
+        [b'-', rest @ ..] => (true, rest),
+        [b'+', rest @ ..] => (false, rest),
+        rest => (false, rest),
+    };
+    if digits.is_empty() {
+        return None;
+    }
+    // accumulate negatively, so i64::MIN fits
+    let mut n: i64 = 0;
+    for &b in digits {
+        let d = b.wrapping_sub(b'0');
+        if d > 9 {
+            return None;
+        }
+        n = n.checked_mul(10)?.checked_sub(i64::from(d))?;
+    }
+    if negative { Some(n) } else { n.checked_neg() }
+}
+
+/// The token at the start of `bytes` (up to a space or the end) and its length, if it is a plain
+/// decimal of at most 7 digits (`-12.5`, `0.57`, `3996`: what mazes hold); `None` for anything else,
+/// which `str::parse` then reads. Exact: both the digits (below 2^24) and the power of
+/// ten are `f32`s, and one IEEE division rounds correctly (Clinger's fast path).
+fn short_f32(bytes: &[u8]) -> Option<(f32, usize)> {
+    const TENS: [f32; 8] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7];
+    let (negative, skip) = match bytes.first() {
+        Some(b'-') => (true, 1),
+        Some(b'+') => (false, 1),
+        _ => (false, 0),
+    };
+    let (mut m, mut digits, mut frac, mut point) = (0u32, 0usize, 0usize, false);
+    let mut len = skip;
+    for &b in &bytes[skip..] {
+        match b {
+            b'0'..=b'9' => {
+                m = m * 10 + u32::from(b - b'0');
+                digits += 1;
+                frac += usize::from(point);
+                if digits > 7 {
+                    return None;
+                }
+            }
+            b'.' if !point => point = true,
+            _ if is_space_byte(b) => break,
+            _ => return None,
+        }
+        len += 1;
+    }
+    if digits == 0 {
+        return None;
+    }
+    let v = m as f32 / TENS[frac];
+    Some((if negative { -v } else { v }, len))
+}
+
+/// An integer of at most 18 digits (no overflow) at the start of `bytes`, up to a space or the end,
+/// with its length; `None` for anything else, which [`parse_i64`] then reads.
+fn short_i64(bytes: &[u8]) -> Option<(i64, usize)> {
+    let skip = usize::from(matches!(bytes.first(), Some(b'-' | b'+')));
+    let mut n: i64 = 0;
+    let mut len = skip;
+    for &b in &bytes[skip..] {
+        match b {
+            b'0'..=b'9' if len - skip < 18 => n = n * 10 + i64::from(b - b'0'),
+            _ if is_space_byte(b) => break,
+            _ => return None,
+        }
+        len += 1;
+    }
+    if len == skip {
+        return None;
+    }
+    Some((if bytes[0] == b'-' { -n } else { n }, len))
+}
+
+/// Which field of a record is at fault, from the record's tokens read as integers and as numbers.
+type FieldOf = dyn Fn(&[i64], &[f32]) -> usize;
+
+/// The whitespace-separated tokens of `text` and their byte offsets.
+fn tokens(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    let base = text.as_ptr() as usize;
+    text.split(is_space).filter(|t| !t.is_empty()).map(move |t| (t.as_ptr() as usize - base, t))
 }
 
 /// Writes `maze` in CS559 format; fails for a cell with more than 4 edges.
@@ -165,63 +323,55 @@ enum ExitSpec {
     Point(Vec2),
 }
 
-/// A cursor over the text handing out whitespace-separated tokens with their positions.
+/// A cursor over the text handing out whitespace-separated tokens with their byte offsets (lines and
+/// columns are worked out only for an error).
 struct Reader<'a> {
     file: &'a str,
     text: &'a str,
-    /// Byte offset of the cursor, and its line and column (kept in step: O(1) per character).
+    /// Byte offset of the cursor.
     pos: usize,
-    loc: Loc,
 }
 
 impl<'a> Reader<'a> {
-    /// Moves the cursor `len` bytes on, counting lines and characters.
-    fn advance(&mut self, len: usize) {
-        for c in self.text[self.pos..self.pos + len].chars() {
-            if c == '\n' {
-                self.loc = Loc { line: self.loc.line.saturating_add(1), col: 1 };
-            } else {
-                self.loc.col = self.loc.col.saturating_add(1);
-            }
-        }
-        self.pos += len;
-    }
-
     fn skip_space(&mut self) {
-        let rest = &self.text[self.pos..];
-        self.advance(rest.len() - rest.trim_start_matches(is_space).len());
+        let rest = &self.text.as_bytes()[self.pos..];
+        self.pos += rest.iter().position(|&b| !is_space_byte(b)).unwrap_or(rest.len());
     }
 
-    /// Where the next token starts (or the end of the file).
-    fn peek_loc(&mut self) -> Loc {
-        self.skip_space();
-        self.loc
+    fn error(&self, at: usize, kind: ParseErrorKind) -> ParseError {
+        Loc::of(self.text, at).error(self.file, kind)
     }
 
-    /// The next token and where it starts, or an end-of-file error naming `expected`.
-    fn token(&mut self, expected: &dyn Fn() -> String) -> Result<(&'a str, Loc), ParseError> {
+    /// The next token and its byte offset, or an end-of-file error naming `expected`.
+    fn token(&mut self, expected: &dyn Fn() -> String) -> Result<(&'a str, usize), ParseError> {
         self.skip_space();
         let start = self.pos;
-        let rest = &self.text[start..];
-        let len = rest.find(is_space).unwrap_or(rest.len());
-        let loc = self.loc;
+        let rest = &self.text.as_bytes()[start..];
+        let len = rest.iter().position(|&b| is_space_byte(b)).unwrap_or(rest.len());
         if len == 0 {
-            return Err(loc.error(self.file, ParseErrorKind::UnexpectedEof { expected: expected() }));
+            return Err(self.error(start, ParseErrorKind::UnexpectedEof { expected: expected() }));
         }
-        self.advance(len);
-        Ok((&rest[..len], loc))
+        self.pos += len;
+        // spaces are ASCII, so the token ends on a character boundary
+        Ok((&self.text[start..start + len], start))
     }
 
-    fn expected(&self, loc: Loc, expected: &str, found: &str) -> ParseError {
-        let found: String = found.chars().take(40).collect();
-        loc.error(self.file, ParseErrorKind::Expected { expected: expected.into(), found })
+    fn expected(&self, at: usize, expected: &str, found: &str) -> ParseError {
+        self.error(at, ParseErrorKind::Expected { expected: expected.into(), found: quote(found) })
     }
 
-    fn integer(&mut self, what: &dyn Fn() -> String) -> Result<(i64, Loc), ParseError> {
-        let (tok, loc) = self.token(what)?;
+    fn integer(&mut self, what: &dyn Fn() -> String) -> Result<(i64, usize), ParseError> {
+        // the common case in one pass over the bytes; anything unusual takes the token path
+        self.skip_space();
+        if let Some((value, len)) = short_i64(&self.text.as_bytes()[self.pos..]) {
+            let at = self.pos;
+            self.pos += len;
+            return Ok((value, at));
+        }
+        let (tok, at) = self.token(what)?;
         let value =
-            tok.parse::<i64>().map_err(|_| self.expected(loc, &format!("an integer ({})", what()), tok))?;
-        Ok((value, loc))
+            parse_i64(tok).ok_or_else(|| self.expected(at, &format!("an integer ({})", what()), tok))?;
+        Ok((value, at))
     }
 
     /// A record count, and how many records of `tokens` tokens the rest of the file could hold.
@@ -231,15 +381,13 @@ impl<'a> Reader<'a> {
         plural: &'static str,
         tokens: usize,
     ) -> Result<(usize, usize), ParseError> {
-        let (n, loc) = self.integer(what)?;
+        let (n, at) = self.integer(what)?;
         if n < 0 {
-            return Err(self.out_of_range(loc, what, n, "0 or more"));
+            return Err(self.out_of_range(at, what, n, "0 or more"));
         }
         let max = u64::from(u32::MAX - 1); // ids are u32, with one value left for "none"
         if n as u64 > max {
-            return Err(
-                loc.error(self.file, ParseErrorKind::CountTooLarge { what: plural, count: n as u64, max })
-            );
+            return Err(self.error(at, ParseErrorKind::CountTooLarge { what: plural, count: n as u64, max }));
         }
         // reserve only what the rest of the file could hold: each token takes a character and a separator
         let room = (self.text.len() - self.pos) / (2 * tokens) + 1;
@@ -248,48 +396,48 @@ impl<'a> Reader<'a> {
 
     /// An index, or `None` for `-1` when `may_be_none`. Range against counts is the model's check.
     fn index(&mut self, what: &dyn Fn() -> String, may_be_none: bool) -> Result<Option<u32>, ParseError> {
-        let (n, loc) = self.integer(what)?;
+        let (n, at) = self.integer(what)?;
         match n {
             -1 if may_be_none => Ok(None),
             0..=0xFFFF_FFFE => Ok(Some(n as u32)),
-            _ => Err(self.out_of_range(
-                loc,
-                what,
-                n,
-                if may_be_none { "-1 or 0..2^32-1" } else { "0..2^32-1" },
-            )),
+            _ => {
+                Err(self.out_of_range(at, what, n, if may_be_none { "-1 or 0..2^32-1" } else { "0..2^32-1" }))
+            }
         }
     }
 
     fn flag(&mut self, what: &dyn Fn() -> String) -> Result<bool, ParseError> {
-        let (n, loc) = self.integer(what)?;
+        let (n, at) = self.integer(what)?;
         match n {
             0 => Ok(false),
             1 => Ok(true),
-            _ => Err(self.out_of_range(loc, what, n, "0 or 1")),
+            _ => Err(self.out_of_range(at, what, n, "0 or 1")),
         }
     }
 
-    fn out_of_range(&self, loc: Loc, what: &dyn Fn() -> String, n: i64, range: &str) -> ParseError {
-        loc.error(
-            self.file,
-            ParseErrorKind::OutOfRange { what: what(), value: n.to_string(), range: range.into() },
-        )
+    fn out_of_range(&self, at: usize, what: &dyn Fn() -> String, n: i64, range: &str) -> ParseError {
+        self.error(at, ParseErrorKind::OutOfRange { what: what(), value: n.to_string(), range: range.into() })
     }
 
     /// A finite `f32`.
     fn float(&mut self, what: &dyn Fn() -> String) -> Result<f32, ParseError> {
-        let (tok, loc) = self.token(what)?;
+        self.skip_space();
+        if let Some((value, len)) = short_f32(&self.text.as_bytes()[self.pos..]) {
+            self.pos += len;
+            return Ok(value);
+        }
+        let (tok, at) = self.token(what)?;
         let value =
-            tok.parse::<f32>().map_err(|_| self.expected(loc, &format!("a number ({})", what()), tok))?;
+            tok.parse::<f32>().map_err(|_| self.expected(at, &format!("a number ({})", what()), tok))?;
         if !value.is_finite() {
-            return Err(loc.error(self.file, ParseErrorKind::NotFinite { what: what(), value: tok.into() }));
+            return Err(self.error(at, ParseErrorKind::NotFinite { what: what(), value: quote(tok) }));
         }
         Ok(value)
     }
 
-    /// After the viewer: the first line starting with the word `exit`, if any; all else is ignored.
-    fn exit_extension(&mut self, locs: &mut RecordLocs) -> Result<Option<ExitSpec>, ParseError> {
+    /// After the viewer: the first line starting with the word `exit`, if any, and where it starts;
+    /// all else is ignored.
+    fn exit_extension(&mut self) -> Result<Option<(ExitSpec, usize)>, ParseError> {
         // the rest of the viewer's line is ignored too
         let Some(nl) = self.text[self.pos..].find('\n') else { return Ok(None) };
         for line in self.text[self.pos + nl + 1..].split('\n') {
@@ -299,25 +447,74 @@ impl<'a> Reader<'a> {
             }
             let start = line.as_ptr() as usize - self.text.as_ptr() as usize;
             let word = start + line.find("exit").unwrap_or(0);
-            self.advance(word - self.pos);
-            let loc = self.loc;
-            self.advance("exit".len());
-            locs.exit = Some(loc);
+            self.pos = word + "exit".len();
             let args = words.count();
-            return Ok(Some(match args {
+            let spec = match args {
                 1 => {
-                    let (n, nloc) = self.integer(&|| "exit cell".into())?;
+                    let (n, at) = self.integer(&|| "exit cell".into())?;
                     match u32::try_from(n) {
                         Ok(c) if c < u32::MAX => ExitSpec::Cell(c),
-                        _ => return Err(self.out_of_range(nloc, &|| "exit cell".into(), n, "a cell index")),
+                        _ => return Err(self.out_of_range(at, &|| "exit cell".into(), n, "a cell index")),
                     }
                 }
                 2 => {
                     ExitSpec::Point(vec2(self.float(&|| "exit x".into())?, self.float(&|| "exit y".into())?))
                 }
-                _ => return Err(self.expected(loc, "`exit CELL` or `exit X Y`", line.trim())),
-            }));
+                _ => return Err(self.expected(word, "`exit CELL` or `exit X Y`", line.trim())),
+            };
+            return Ok(Some((spec, word)));
         }
         Ok(None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{parse_i64, short_f32, short_i64};
+
+    fn parse_short_f32(tok: &str) -> Option<f32> {
+        short_f32(tok.as_bytes()).filter(|&(_, len)| len == tok.len()).map(|(v, _)| v)
+    }
+
+    #[test]
+    fn short_decimals_read_as_std_reads_them() {
+        let mut tokens: Vec<String> =
+            ["0", "-0", "0.5", ".5", "5.", "-12.5", "+3", "3996", "0.57", "9999999", "0.123456", "-.0000001"]
+                .map(String::from)
+                .to_vec();
+        // every 4-digit decimal with the point anywhere
+        for m in (0..10_000).step_by(7) {
+            for k in 0..=4 {
+                let s = format!("{m:04}");
+                tokens.push(format!("{}.{}", &s[..4 - k], &s[4 - k..]));
+            }
+        }
+        for tok in &tokens {
+            let want: f32 = tok.parse().unwrap();
+            assert_eq!(parse_short_f32(tok).map(f32::to_bits), Some(want.to_bits()), "{tok}");
+        }
+        for tok in ["", ".", "-", "1e3", "12345678", "0.12345678", "1.2.3", "nan", "inf", "1_0"] {
+            assert_eq!(parse_short_f32(tok), None, "{tok}");
+        }
+    }
+
+    #[test]
+    fn integers_read_as_std_reads_them() {
+        for tok in ["0", "-1", "+7", "42", "-0", "9223372036854775807", "-9223372036854775808"] {
+            assert_eq!(parse_i64(tok), tok.parse().ok(), "{tok}");
+        }
+        for tok in
+            ["", "-", "+", "1.5", "x", "9223372036854775808", "-9223372036854775809", "1e3", "--1", "٣"]
+        {
+            assert_eq!(parse_i64(tok), None, "{tok}");
+            assert!(tok.parse::<i64>().is_err(), "{tok}");
+            assert_eq!(short_i64(tok.as_bytes()), None, "{tok}");
+        }
+        // the one-pass reader stops at a space, and leaves long numbers to parse_i64
+        assert_eq!(short_i64(b"-12 7"), Some((-12, 3)));
+        assert_eq!(short_i64(b"123456789012345678"), Some((123_456_789_012_345_678, 18)));
+        assert_eq!(short_i64(b"1234567890123456789"), None);
+        assert_eq!(short_f32(b"0.5\n1"), Some((0.5, 3)));
+        assert_eq!(short_f32(b"0.5x"), None);
     }
 }

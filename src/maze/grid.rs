@@ -18,8 +18,9 @@
 //!   `facing east|north|west|south` (the `@` start's heading, default east), `eye Z` (eye height,
 //!   default 0, strictly between the floor -1 and the ceiling +1), `fov DEG` (horizontal field of
 //!   view, default 90), and colour legend lines `L = #rrggbb` giving wall letter `L` (`A`–`Z` but `E`)
-//!   a colour; `# = #rrggbb` recolours `#` (default `#808080`). Blank lines are skipped.
-//! * The map starts at the first other line and runs to the end of the file. Every character is a
+//!   a colour; `# = #rrggbb` recolours `#` (default `#808080`). Empty lines are skipped.
+//! * The map starts at the first other line (a line of spaces is a map row: space is floor) and runs
+//!   to the end of the file, without trailing empty lines. Every character is a
 //!   tile; the top line is north (+y), the map's lower-left corner is the origin.
 //!   - `#` or a legend letter: a solid wall tile of that colour;
 //!   - space or `.`: open floor;
@@ -39,7 +40,7 @@ use std::fmt::Write as _;
 
 use glam::{Vec3, vec2};
 
-use super::load::{Loc, is_space};
+use super::text::{Loc, is_space, quote};
 use super::{
     CellId, Cells, Edge, EdgeId, Exit, Format, Maze, ParseError, ParseErrorKind, VertexId, Viewer, WriteError,
 };
@@ -124,6 +125,12 @@ impl TileMap {
     /// A [`MazeError`](super::MazeError) when the map breaks the model's rules (no start tile, a
     /// coordinate beyond the bound); [`parse_str`] has ruled these out with located messages.
     pub fn to_maze(&self) -> Result<Maze, super::MazeError> {
+        self.build(false)
+    }
+
+    /// [`TileMap::to_maze`]; `checked_map` when [`parse_map`] made this map, so that the tiles, the
+    /// start and the coordinate bound are known good and the maze is valid by construction.
+    fn build(&self, checked_map: bool) -> Result<Maze, super::MazeError> {
         let (cols, rows) = (self.cols as i64, self.rows as i64);
         let t = self.tile;
         let tile_index = |x: i64, y: i64| ((rows - 1 - y) * cols + x) as usize;
@@ -143,9 +150,22 @@ impl TileMap {
                 .then(|| cell_of[tile_index(x, y)])
                 .filter(|&c| c != u32::MAX)
         };
+        // exact sizes, so the two big arrays are allocated once and not doubled (4 M edges of a
+        // 1000 × 1000 maze are 160 MB): a side with a cell on either hand is an edge, a lattice point
+        // with a cell in any of its four tiles a vertex
+        let open = |x: i64, y: i64| cell(x, y).is_some();
+        let (mut n_edges, mut n_vertices) = (0usize, 0usize);
+        for y in 0..=rows {
+            for x in 0..=cols {
+                n_edges += usize::from(x < cols && (open(x, y) || open(x, y - 1)));
+                n_edges += usize::from(y < rows && (open(x - 1, y) || open(x, y)));
+                n_vertices +=
+                    usize::from(open(x, y) || open(x - 1, y) || open(x, y - 1) || open(x - 1, y - 1));
+            }
+        }
         // vertices: lattice points, numbered as the edges first use them
         let mut vertex_of = vec![u32::MAX; ((cols + 1) * (rows + 1)) as usize];
-        let mut vertices = Vec::new();
+        let mut vertices = Vec::with_capacity(n_vertices);
         let mut vertex = |x: i64, y: i64| -> VertexId {
             let slot = &mut vertex_of[(y * (cols + 1) + x) as usize];
             if *slot == u32::MAX {
@@ -154,7 +174,7 @@ impl TileMap {
             }
             *slot
         };
-        let mut edges = Vec::new();
+        let mut edges = Vec::with_capacity(n_edges);
         // horizontal side (x, y) runs east along the lattice line y: the tile above is on its left
         let mut h_edge = vec![u32::MAX; (cols * (rows + 1)) as usize];
         for y in 0..=rows {
@@ -213,7 +233,11 @@ impl TileMap {
         // no start tile: a viewer outside every cell, which Maze::new reports
         let viewer =
             viewer.unwrap_or(Viewer { pos: vec2(-1.0, -1.0) * t, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 });
-        Maze::new(vertices, edges, cells, viewer, exit)
+        if checked_map {
+            Maze::new_valid_by_construction(vertices, edges, cells, viewer, exit)
+        } else {
+            Maze::new(vertices, edges, cells, viewer, exit)
+        }
     }
 }
 
@@ -248,7 +272,7 @@ fn facing_name(deg: f32) -> Option<&'static str> {
 /// Parses grid text (already decoded); `file` names it in errors.
 pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
     let map = parse_map(file, text)?;
-    map.to_maze().map_err(|e| Loc { line: 1, col: 1 }.error(file, ParseErrorKind::Invalid(e)))
+    map.build(true).map_err(|e| Loc { line: 1, col: 1 }.error(file, ParseErrorKind::Invalid(e)))
 }
 
 /// Parses grid text into its tile map, checking every setting and tile.
@@ -257,9 +281,10 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
         let sat = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
         Loc { line: sat(line + 1), col: sat(col + 1) }.error(file, ParseErrorKind::Grid(msg))
     };
-    let lines: Vec<&str> = text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l)).collect();
+    // lines one at a time: a file of ten million newlines costs no memory per line
+    let mut lines = text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l)).enumerate().peekable();
     // line 1: magic and version
-    let first = lines[0];
+    let first = lines.next().map_or("", |l| l.1);
     let mut words = first.split(is_space).filter(|w| !w.is_empty());
     if words.next() != Some(MAGIC) {
         return Err(err(0, 0, format!("expected `{MAGIC} {VERSION}` on the first line")));
@@ -268,7 +293,11 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
         Some(v) if v == VERSION.to_string() => {}
         Some(v) => {
             let col = first.find(v).map_or(0, |b| first[..b].chars().count());
-            return Err(err(0, col, format!("unsupported grid version `{v}` (this reader knows {VERSION})")));
+            return Err(err(
+                0,
+                col,
+                format!("unsupported grid version `{}` (this reader knows {VERSION})", quote(v)),
+            ));
         }
         None => return Err(err(0, first.chars().count(), format!("expected the version after `{MAGIC}`"))),
     }
@@ -282,91 +311,97 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
         rows: 0,
         tiles: Vec::new(),
     };
-    // settings, until the first line that is none
-    let mut n = 1;
-    while n < lines.len() {
-        let line = lines[n];
-        let words: Vec<&str> = line.split(is_space).filter(|w| !w.is_empty()).collect();
+    // settings, until the first line that is none; empty lines are skipped, but a line with a space
+    // in it is a map row (space is floor)
+    let mut last = 0;
+    while let Some(&(n, line)) = lines.peek() {
+        last = n;
+        // four words tell a setting; a longer line is a map row or an error
+        let words: Vec<&str> = line.split(is_space).filter(|w| !w.is_empty()).take(4).collect();
         let col_of = |w: &str| line[..w.as_ptr() as usize - line.as_ptr() as usize].chars().count();
         let number = |w: &str, what: &str| -> Result<f32, ParseError> {
             w.parse::<f32>()
                 .ok()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| err(n, col_of(w), format!("expected a number ({what}), found `{w}`")))
+                .ok_or_else(|| err(n, col_of(w), format!("expected a number ({what}), found `{}`", quote(w))))
         };
         match words.as_slice() {
-            [] => {}
+            [] if line.is_empty() || !line.contains(' ') => {}
             ["tile", v] => {
                 map.tile = number(v, "tile side")?;
                 if !(0.01..=1000.0).contains(&map.tile) {
-                    return Err(err(n, col_of(v), format!("tile side {v} is out of range 0.01..=1000")));
+                    return Err(err(
+                        n,
+                        col_of(v),
+                        format!("tile side {} is out of range 0.01..=1000", quote(v)),
+                    ));
                 }
             }
             ["eye", v] => {
                 map.eye = number(v, "eye height")?;
                 if !(map.eye > -1.0 && map.eye < 1.0) {
-                    return Err(err(
-                        n,
-                        col_of(v),
-                        format!("eye height {v} is not strictly between -1 and 1"),
-                    ));
+                    let msg = format!("eye height {} is not strictly between -1 and 1", quote(v));
+                    return Err(err(n, col_of(v), msg));
                 }
             }
             ["fov", v] => {
                 map.fov_deg = number(v, "field of view")?;
                 if !(map.fov_deg > 0.0 && map.fov_deg < 180.0) {
-                    return Err(err(
-                        n,
-                        col_of(v),
-                        format!("field of view {v} is not strictly between 0 and 180"),
-                    ));
+                    let msg = format!("field of view {} is not strictly between 0 and 180", quote(v));
+                    return Err(err(n, col_of(v), msg));
                 }
             }
             ["facing", v] => {
                 let dir = ["east", "north", "west", "south"].iter().position(|d| d == v);
                 let Some(d) = dir else {
-                    return Err(err(
-                        n,
-                        col_of(v),
-                        format!("facing `{v}`: expected east, north, west or south"),
-                    ));
+                    let msg = format!("facing `{}`: expected east, north, west or south", quote(v));
+                    return Err(err(n, col_of(v), msg));
                 };
                 map.facing_deg = Some(d as f32 * 90.0);
             }
             [letter, "=", value] if letter.chars().count() == 1 => {
                 let ch = letter.as_bytes()[0];
                 if !is_wall(ch) {
-                    return Err(err(
-                        n,
-                        col_of(letter),
-                        format!("legend letter `{letter}`: use A-Z (not E) or #"),
-                    ));
+                    let msg = format!("legend letter `{}`: use A-Z (not E) or #", quote(letter));
+                    return Err(err(n, col_of(letter), msg));
                 }
                 let hex = value
                     .strip_prefix('#')
                     .filter(|h| h.len() == 6 && h.bytes().all(|b| b.is_ascii_hexdigit()));
                 let Some(hex) = hex else {
-                    return Err(err(n, col_of(value), format!("colour `{value}`: expected #rrggbb")));
+                    let msg = format!("colour `{}`: expected #rrggbb", quote(value));
+                    return Err(err(n, col_of(value), msg));
                 };
                 let channel = |k: usize| u8::from_str_radix(&hex[k..k + 2], 16).unwrap_or(0) as f32 / 255.0;
                 map.legend.retain(|(l, _)| *l != ch);
                 map.legend.push((ch, Vec3::new(channel(0), channel(2), channel(4))));
             }
             [word, ..] if word.bytes().all(|b| b.is_ascii_lowercase()) && *word != "v" => {
-                return Err(err(n, col_of(word), format!("unknown setting `{word}`")));
+                return Err(err(n, col_of(word), format!("unknown setting `{}`", quote(word))));
             }
             _ => break,
         }
-        n += 1;
+        lines.next();
     }
-    // the map: to the end, without trailing blank lines
-    let mut end = lines.len();
-    while end > n && lines[end - 1].trim_matches(is_space).is_empty() {
-        end -= 1;
+    // the map: to the end, without trailing empty lines (counted, not stored, until a row follows)
+    let top = lines.peek().map_or(last, |l| l.0);
+    let mut rows: Vec<&str> = Vec::new();
+    let mut empty = 0usize;
+    for (n, line) in lines {
+        if line.is_empty() {
+            empty += 1;
+            continue;
+        }
+        if rows.len() + empty >= MAX_TILES {
+            return Err(err(n, 0, format!("the map has more than {MAX_TILES} rows")));
+        }
+        rows.extend(std::iter::repeat_n("", empty));
+        empty = 0;
+        rows.push(line);
     }
-    let rows = &lines[n..end];
+    let n = top;
     if rows.is_empty() {
-        return Err(err(n.min(lines.len() - 1), 0, "expected the map after the settings".into()));
+        return Err(err(n, 0, "expected the map after the settings".into()));
     }
     let cols = rows.iter().map(|r| r.chars().count()).max().unwrap_or(0);
     if cols.saturating_mul(rows.len()) > MAX_TILES {
@@ -385,7 +420,8 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
         for (c, ch) in row.chars().enumerate() {
             let b = if ch.is_ascii() { ch as u8 } else { 0 };
             if !(is_open(b) || is_wall(b)) {
-                return Err(err(n + r, c, format!("unknown tile `{}`", ch.escape_debug())));
+                let hint = if ch == '\t' { " (a tab: use spaces or `.` for floor)" } else { "" };
+                return Err(err(n + r, c, format!("unknown tile `{}`{hint}", quote(&ch.to_string()))));
             }
             if b != b'#' && is_wall(b) && !map.legend.iter().any(|(l, _)| *l == b) {
                 return Err(err(

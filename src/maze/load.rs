@@ -1,69 +1,36 @@
-//! Reading and writing maze files: format detection, text decoding, located errors.
+//! Loading a maze: reading a file with a size limit, detecting its format, and dispatching to the
+//! format's reader. The types both formats share live in [`text`](super::text).
 
-use std::fmt;
+use std::io::Read;
 use std::path::Path;
 
-use super::{Maze, MazeError, Subject, cs559, grid};
+use super::text::{Format, ParseError, ParseErrorKind, WriteError, decode};
+use super::{Maze, cs559, grid};
 
-/// A maze file format.
+/// The default [`LoadOptions::max_bytes`]: 256 MiB, room for the largest maze `gen` writes
+/// (1000 × 1000 cells in CS559 format, about 130–160 MB).
+pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;
+
+/// How [`load_with`] reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
-    /// The original course project's numbers-only format, see [`cs559`].
-    Cs559,
-    /// mazewalk's hand-editable tile format, see [`grid`].
-    Grid,
+pub struct LoadOptions {
+    /// Files larger than this are refused before they are read (stdin: once this much has arrived).
+    pub max_bytes: u64,
 }
 
-impl fmt::Display for Format {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Format::Cs559 => "cs559",
-            Format::Grid => "grid",
-        })
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions { max_bytes: DEFAULT_MAX_BYTES }
     }
 }
 
-/// A malformed or invalid maze file: where, and what is wrong. Displays as `FILE:LINE:COL: message`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ParseError {
-    /// The file name given to the reader.
-    pub file: String,
-    /// 1-based line.
-    pub line: u32,
-    /// 1-based column, in characters.
-    pub col: u32,
-    /// What is wrong.
-    pub kind: ParseErrorKind,
-}
-
-impl fmt::Display for ParseError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}:{}: {}", self.file, self.line, self.col, self.kind)
-    }
-}
-
-impl std::error::Error for ParseError {}
-
-/// What is wrong with a maze file.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[allow(missing_docs)] // the fields are named by the messages
-pub enum ParseErrorKind {
-    #[error("invalid UTF-8 (byte 0x{byte:02x})")]
-    InvalidUtf8 { byte: u8 },
-    #[error("unexpected end of file: expected {expected}")]
-    UnexpectedEof { expected: String },
-    #[error("expected {expected}, found `{found}`")]
-    Expected { expected: String, found: String },
-    #[error("{what} {value} is not a finite number")]
-    NotFinite { what: String, value: String },
-    #[error("{what} is {value}, out of range ({range})")]
-    OutOfRange { what: String, value: String, range: String },
-    #[error("the file claims {count} {what}; at most {max} are supported")]
-    CountTooLarge { what: &'static str, count: u64, max: u64 },
-    #[error("{0}")]
-    Grid(String),
-    #[error("{0}")]
-    Invalid(MazeError),
+/// A loaded maze and the format it was read in.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The maze.
+    pub maze: Maze,
+    /// The file's format, as detected.
+    pub format: Format,
 }
 
 /// Why a maze could not be loaded.
@@ -77,45 +44,186 @@ pub enum LoadError {
         /// The operating system's reason.
         source: std::io::Error,
     },
+    /// The path names something other than a regular file (a FIFO, a device, a directory), which
+    /// might never end; `-` reads standard input.
+    #[error("{path}: not a regular file ({what}); to read a pipe, give `-` and redirect it to stdin")]
+    NotAFile {
+        /// The path as given.
+        path: String,
+        /// What it is instead.
+        what: &'static str,
+    },
+    /// The file is larger than the limit.
+    #[error(
+        "{path}: larger than the limit of {limit} bytes ({size}); raise it with --max-file-size if the file is a maze"
+    )]
+    TooLarge {
+        /// The path as given.
+        path: String,
+        /// The limit, bytes.
+        limit: u64,
+        /// What is known of the size: `N bytes`, or `more` for a stream.
+        size: String,
+    },
     /// The file is malformed or describes an invalid maze.
     #[error(transparent)]
     Parse(#[from] ParseError),
 }
 
-/// A maze that a format cannot express.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("cannot write as {format}: {reason}")]
-pub struct WriteError {
-    /// The format asked for.
-    pub format: Format,
-    /// Why not.
-    pub reason: String,
+/// [`load_with`] with the default options.
+///
+/// # Errors
+/// See [`load_with`].
+pub fn load(path: impl AsRef<Path>) -> Result<Loaded, LoadError> {
+    load_with(path, &LoadOptions::default())
 }
 
-/// Reads and parses the maze file at `path`, detecting the format.
-pub fn load(path: impl AsRef<Path>) -> Result<Maze, LoadError> {
+/// Reads and parses the maze file at `path` (`-`: standard input), detecting the format.
+///
+/// Only regular files are opened (without blocking: a FIFO is refused, not waited on); a file
+/// larger than `options.max_bytes` is refused before it is read. Reading stops at the first NUL
+/// byte or invalid UTF-8, since nothing after it can make the file a maze (binary input costs no
+/// more than its first chunk).
+///
+/// # Errors
+/// [`LoadError::Io`], [`LoadError::NotAFile`] and [`LoadError::TooLarge`] before parsing,
+/// [`LoadError::Parse`] after.
+pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Loaded, LoadError> {
     let path = path.as_ref();
-    let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Io { path: name.clone(), source })?;
-    Ok(parse(&name, &bytes)?)
+    let name = super::text::quote_path(&path.display().to_string());
+    let io = |source| LoadError::Io { path: name.clone(), source };
+    let bytes = if path == Path::new("-") {
+        read_text(std::io::stdin().lock(), options.max_bytes, 0).map_err(io)?
+    } else {
+        let file = open_regular(path, &name)?;
+        let size = file.metadata().map_err(io)?.len();
+        if size > options.max_bytes {
+            return Err(LoadError::TooLarge {
+                path: name,
+                limit: options.max_bytes,
+                size: format!("{size} bytes"),
+            });
+        }
+        read_text(file, options.max_bytes, size).map_err(io)?
+    };
+    let Some(bytes) = bytes else {
+        return Err(LoadError::TooLarge { path: name, limit: options.max_bytes, size: "more".into() });
+    };
+    Ok(parse_loaded(&name, &bytes)?)
+}
+
+/// Opens `path` for reading if it is a regular file, without blocking on a FIFO.
+fn open_regular(path: &Path, name: &str) -> Result<std::fs::File, LoadError> {
+    let mut open = std::fs::OpenOptions::new();
+    open.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt as _;
+        // a FIFO with no writer would block `open` forever; a regular file ignores the flag
+        open.custom_flags(rustix::fs::OFlags::NONBLOCK.bits() as i32);
+    }
+    let file = open.open(path).map_err(|source| LoadError::Io { path: name.into(), source })?;
+    let kind = file.metadata().map_err(|source| LoadError::Io { path: name.into(), source })?.file_type();
+    if kind.is_file() {
+        return Ok(file);
+    }
+    let what = if kind.is_dir() {
+        "a directory"
+    } else {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::FileTypeExt as _;
+            if kind.is_fifo() {
+                "a FIFO"
+            } else if kind.is_char_device() || kind.is_block_device() {
+                "a device"
+            } else if kind.is_socket() {
+                "a socket"
+            } else {
+                "not a file"
+            }
+        }
+        #[cfg(not(unix))]
+        "not a file"
+    };
+    Err(LoadError::NotAFile { path: name.into(), what })
+}
+
+/// Reads at most `max` bytes, stopping early after a NUL byte or invalid UTF-8 (keeping a few
+/// bytes past it for the error message); `None` if there were more than `max`.
+fn read_text(mut source: impl Read, max: u64, size_hint: u64) -> std::io::Result<Option<Vec<u8>>> {
+    const CHUNK: u64 = 64 << 10;
+    // a regular file's size is known: one allocation, no doubling
+    let mut bytes = Vec::with_capacity(usize::try_from(size_hint.min(max)).unwrap_or(0) + 1);
+    let mut checked = 0; // bytes[..checked] is UTF-8 without NUL
+    loop {
+        if (&mut source).take(CHUNK).read_to_end(&mut bytes)? == 0 {
+            break;
+        }
+        if bytes.len() as u64 > max {
+            return Ok(None);
+        }
+        let (mut bad, valid_end) = match std::str::from_utf8(&bytes[checked..]) {
+            Ok(_) => (None, bytes.len()),
+            // a character cut by the chunk's end: the next chunk completes it
+            Err(e) if e.error_len().is_none() => (None, checked + e.valid_up_to()),
+            Err(e) => (Some(checked + e.valid_up_to()), checked + e.valid_up_to()),
+        };
+        // `contains` on bytes is a memchr: most chunks have no NUL
+        let new = &bytes[checked..valid_end];
+        if new.contains(&0) {
+            bad = new.iter().position(|&b| b == 0).map(|p| checked + p);
+        }
+        if let Some(at) = bad {
+            bytes.truncate((at + 64).min(bytes.len()));
+            break;
+        }
+        checked = valid_end;
+    }
+    Ok(Some(bytes))
 }
 
 /// Parses a maze from `bytes` (a grid file if it starts with `mazewalk-grid`, else CS559);
 /// `name` is the file name used in error messages.
+///
+/// # Errors
+/// The first thing wrong, located.
 pub fn parse(name: &str, bytes: &[u8]) -> Result<Maze, ParseError> {
-    match decode(name, bytes) {
-        Ok(text) => match detect_format(text) {
-            Format::Cs559 => cs559::parse_str(name, text),
-            Format::Grid => grid::parse_str(name, text),
-        },
-        Err((prefix, bad_utf8)) => match detect_format(prefix) {
-            // the original reader stops after the viewer: junk after it is ignored, even binary
-            Format::Cs559 => match cs559::parse_str(name, prefix) {
-                Err(ParseError { kind: ParseErrorKind::UnexpectedEof { .. }, .. }) => Err(bad_utf8),
-                other => other,
-            },
-            Format::Grid => Err(bad_utf8),
-        },
+    parse_loaded(name, bytes).map(|l| l.maze)
+}
+
+/// [`parse`], also saying which format the text was in.
+///
+/// # Errors
+/// As [`parse`].
+pub fn parse_loaded(name: &str, bytes: &[u8]) -> Result<Loaded, ParseError> {
+    let (format, maze) = match decode(name, bytes) {
+        Ok(text) => {
+            let format = detect_format(text);
+            (format, parse_str(format, name, text))
+        }
+        Err((prefix, bad)) => {
+            let format = detect_format(prefix);
+            let maze = match format {
+                // the original reader stops after the viewer: junk after it is ignored, even binary
+                Format::Cs559 if !matches!(bad.kind, ParseErrorKind::Utf16) => {
+                    match cs559::parse_str(name, prefix) {
+                        Err(ParseError { kind: ParseErrorKind::UnexpectedEof { .. }, .. }) => Err(bad),
+                        other => other,
+                    }
+                }
+                _ => Err(bad),
+            };
+            (format, maze)
+        }
+    };
+    Ok(Loaded { maze: maze?, format })
+}
+
+fn parse_str(format: Format, name: &str, text: &str) -> Result<Maze, ParseError> {
+    match format {
+        Format::Cs559 => cs559::parse_str(name, text),
+        Format::Grid => grid::parse_str(name, text),
     }
 }
 
@@ -126,6 +234,9 @@ pub fn detect_format(text: &str) -> Format {
 }
 
 /// Writes `maze` in `format`, or says why the format cannot express it.
+///
+/// # Errors
+/// When the format cannot express the maze.
 pub fn write(maze: &Maze, format: Format) -> Result<String, WriteError> {
     match format {
         Format::Cs559 => cs559::write(maze),
@@ -133,70 +244,22 @@ pub fn write(maze: &Maze, format: Format) -> Result<String, WriteError> {
     }
 }
 
-/// Strips a byte-order mark and checks UTF-8; on failure returns the valid prefix and the error
-/// naming the first bad byte's position.
-pub(crate) fn decode<'a>(name: &str, bytes: &'a [u8]) -> Result<&'a str, (&'a str, ParseError)> {
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    std::str::from_utf8(bytes).map_err(|e| {
-        let good = std::str::from_utf8(&bytes[..e.valid_up_to()]).unwrap_or_default();
-        let (line, col) = line_col(good, good.len());
-        let kind = ParseErrorKind::InvalidUtf8 { byte: bytes[e.valid_up_to()] };
-        (good, ParseError { file: name.into(), line, col, kind })
-    })
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// 1-based line and character column of byte offset `at` in `text`.
-pub(crate) fn line_col(text: &str, at: usize) -> (u32, u32) {
-    let before = &text[..at];
-    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    let line = before.bytes().filter(|&b| b == b'\n').count() + 1;
-    let col = before[line_start..].chars().count() + 1;
-    (sat(line), sat(col))
-}
-
-fn sat(n: usize) -> u32 {
-    u32::try_from(n).unwrap_or(u32::MAX)
-}
-
-/// A position in a file, 1-based.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(crate) struct Loc {
-    pub line: u32,
-    pub col: u32,
-}
-
-impl Loc {
-    pub(crate) fn error(self, file: &str, kind: ParseErrorKind) -> ParseError {
-        ParseError { file: file.into(), line: self.line, col: self.col, kind }
-    }
-}
-
-/// Whitespace as C's `isspace` in the "C" locale.
-pub(crate) fn is_space(c: char) -> bool {
-    matches!(c, ' ' | '\t' | '\n' | '\r' | '\x0B' | '\x0C')
-}
-
-/// Where each record of a file starts, so a [`MazeError`] can point at the record at fault.
-#[derive(Debug, Default)]
-pub(crate) struct RecordLocs {
-    pub start: Loc,
-    pub vertices: Vec<Loc>,
-    pub edges: Vec<Loc>,
-    pub cells: Vec<Loc>,
-    pub viewer: Loc,
-    pub exit: Option<Loc>,
-}
-
-impl RecordLocs {
-    pub(crate) fn locate(&self, file: &str, err: MazeError) -> ParseError {
-        let loc = match err.subject() {
-            Subject::Maze => Some(self.start),
-            Subject::Vertex(v) => self.vertices.get(v as usize).copied(),
-            Subject::Edge(e) => self.edges.get(e as usize).copied(),
-            Subject::Cell(c) => self.cells.get(c as usize).copied(),
-            Subject::Viewer => Some(self.viewer),
-            Subject::Exit => self.exit.or(Some(self.viewer)),
-        };
-        loc.unwrap_or(self.start).error(file, ParseErrorKind::Invalid(err))
+    #[test]
+    fn reading_stops_at_binary_and_at_the_limit() {
+        let zeros = std::io::repeat(0).take(1 << 30);
+        assert_eq!(read_text(zeros, 1 << 40, 0).unwrap().unwrap().len(), 64);
+        let text = std::io::repeat(b'1').take(1 << 20);
+        assert_eq!(read_text(text, 1000, 0).unwrap(), None);
+        let text = std::io::repeat(b'1').take(1000);
+        assert_eq!(read_text(text, 1000, 0).unwrap().unwrap().len(), 1000);
+        // a character split across chunks is not an error
+        let s = "é".repeat(100_000);
+        assert_eq!(read_text(s.as_bytes(), 1 << 30, 0).unwrap().unwrap(), s.as_bytes());
+        let bad = [&b"12 "[..], &[0xff; 10], &[b'1'; 1000]].concat();
+        assert_eq!(read_text(&bad[..], 1 << 30, 0).unwrap().unwrap().len(), 3 + 64);
     }
 }

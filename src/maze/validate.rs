@@ -3,7 +3,11 @@
 use glam::{DVec2, Vec2};
 
 use super::index::SpatialGrid;
-use super::{Aabb, COORD_BOUND, CellId, Cells, Edge, EdgeId, Maze, MazeError, VertexId, orient};
+use super::sweep::{self, Conflict, conflict};
+use super::{
+    Aabb, COORD_BOUND, CellId, Cells, Edge, EdgeId, MIN_CELL_AREA, Maze, MazeError, ON_EDGE_TOLERANCE,
+    VertexId,
+};
 
 /// Indices, sides, cell ↔ edge consistency, and each cell a closed convex counter-clockwise loop.
 pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Result<(), MazeError> {
@@ -161,62 +165,71 @@ fn cell_loop(
     if twice_area <= 0.0 {
         return Err(MazeError::CellClockwise { cell: c });
     }
+    if twice_area / 2.0 < MIN_CELL_AREA {
+        return Err(MazeError::CellTooSmall { cell: c, area: twice_area / 2.0 });
+    }
     match concave_at {
         Some(vertex) => Err(MazeError::CellNotConvex { cell: c, vertex }),
         None => Ok(()),
     }
 }
 
-/// No two edges cross or overlap; they may share end points. A bucket grid keeps it near O(n).
+/// No two edges cross or overlap; they may share end points (or one may end on another).
+///
+/// A bucket grid finds the candidate pairs in O(n) when the buckets stay small; long edges (a comb
+/// of tall thin cells, long diagonals) crowd every bucket, so when the grid would test more than a
+/// few pairs per edge, the Shamos–Hoey sweep ([`sweep`]) decides in O(n log n) instead.
 pub(super) fn no_crossings(maze: &Maze) -> Result<(), MazeError> {
-    let segments: Vec<[Vec2; 2]> =
-        maze.edges().iter().map(|e| [maze.vertex(e.start), maze.vertex(e.end)]).collect();
-    let boxes: Vec<Aabb> = segments.iter().map(|&[a, b]| Aabb { min: a.min(b), max: a.max(b) }).collect();
-    let grid = SpatialGrid::build(&boxes, maze.extents());
+    let n = maze.edges().len();
+    let segment = |e: usize| {
+        let (a, b) = maze.edge_points(e as EdgeId);
+        [a, b]
+    };
+    let edge_box = |e: usize| {
+        let [a, b] = segment(e);
+        Aabb { min: a.min(b), max: a.max(b) }
+    };
+    let grid = SpatialGrid::build(n, edge_box, maze.extents());
+    let pairs: usize = (0..grid.bucket_count()).map(|b| grid.bucket_items(b).len()).map(|k| k * k / 2).sum();
+    let found = if pairs > PAIRS_PER_EDGE * n + 1024 {
+        drop(grid);
+        sweep::first_conflict(n, |e| segment(e as usize))
+    } else {
+        grid_conflict(&grid, edge_box, segment)
+    };
+    match found {
+        None => Ok(()),
+        Some((a, b, Conflict::Cross)) => Err(MazeError::EdgesCross { a, b }),
+        Some((a, b, _)) => Err(MazeError::EdgesOverlap { a, b }),
+    }
+}
+
+/// Candidate pairs per edge above which the sweep is used (an ordinary maze's grid tests about 4).
+const PAIRS_PER_EDGE: usize = 32;
+
+/// The bad pair with the smallest bucket, testing every pair that shares a bucket.
+fn grid_conflict(
+    grid: &SpatialGrid,
+    edge_box: impl Fn(usize) -> Aabb,
+    segment: impl Fn(usize) -> [Vec2; 2],
+) -> Option<(u32, u32, Conflict)> {
     for bucket in 0..grid.bucket_count() {
         let items = grid.bucket_items(bucket);
         for (i, &a) in items.iter().enumerate() {
-            let (box_a, [p1, p2]) = (boxes[a as usize], segments[a as usize]);
+            let (box_a, [p1, p2]) = (edge_box(a as usize), segment(a as usize));
             for &b in &items[i + 1..] {
-                if !box_a.intersects(&boxes[b as usize]) {
+                if !box_a.intersects(&edge_box(b as usize)) {
                     continue; // the common case: cheap to rule out
                 }
-                let [q1, q2] = segments[b as usize];
+                let [q1, q2] = segment(b as usize);
                 match conflict(p1.as_dvec2(), p2.as_dvec2(), q1.as_dvec2(), q2.as_dvec2()) {
                     Conflict::None => {}
-                    Conflict::Cross => return Err(MazeError::EdgesCross { a: a.min(b), b: a.max(b) }),
-                    Conflict::Overlap => return Err(MazeError::EdgesOverlap { a: a.min(b), b: a.max(b) }),
+                    c => return Some((a.min(b), a.max(b), c)),
                 }
             }
         }
     }
-    Ok(())
-}
-
-enum Conflict {
-    None,
-    Cross,
-    Overlap,
-}
-
-/// Segments p and q: a proper crossing, a collinear overlap of positive length, or neither
-/// (apart, or touching at a point).
-fn conflict(p1: DVec2, p2: DVec2, q1: DVec2, q2: DVec2) -> Conflict {
-    let (d1, d2) = (orient(q1, q2, p1), orient(q1, q2, p2));
-    let (d3, d4) = (orient(p1, p2, q1), orient(p1, p2, q2));
-    if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
-        return Conflict::Cross;
-    }
-    if d1 == 0.0 && d2 == 0.0 {
-        // collinear: overlap of the projections on the longer axis of p
-        let axis = if (p2 - p1).x.abs() >= (p2 - p1).y.abs() { DVec2::X } else { DVec2::Y };
-        let (a0, a1) = (p1.dot(axis).min(p2.dot(axis)), p1.dot(axis).max(p2.dot(axis)));
-        let (b0, b1) = (q1.dot(axis).min(q2.dot(axis)), q1.dot(axis).max(q2.dot(axis)));
-        if a1.min(b1) > a0.max(b0) {
-            return Conflict::Overlap;
-        }
-    }
-    Conflict::None
+    None
 }
 
 /// The viewer finite, at a sane height and fov, in a cell; the exit in range.
@@ -236,8 +249,26 @@ pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
     if !(v.fov_deg > 0.0 && v.fov_deg < 180.0) {
         return Err(MazeError::ViewerFov { fov_deg: v.fov_deg });
     }
-    if maze.cell_at(v.pos).is_none() {
+    let Some(cell) = maze.cell_at(v.pos) else {
         return Err(MazeError::ViewerOutside { x: v.pos.x, y: v.pos.y });
+    };
+    // on a wall line or vertex, the viewer could walk along the wall at distance 0: every wall
+    // through the point borders the cell found or, at a vertex, a cell across one of its portals
+    let on_wall = |c: CellId| {
+        maze.cell_edges(c).iter().copied().find(|&e| {
+            let (a, b) = maze.edge_points(e);
+            maze.edge(e).opaque
+                && segment_distance(v.pos.as_dvec2(), a.as_dvec2(), b.as_dvec2()) <= ON_EDGE_TOLERANCE
+        })
+    };
+    let near = std::iter::once(cell).chain(maze.cell_edges(cell).iter().filter_map(|&e| {
+        let edge = maze.edge(e);
+        edge.other_side(cell).filter(|_| edge.is_portal())
+    }));
+    for c in near {
+        if let Some(edge) = on_wall(c) {
+            return Err(MazeError::ViewerOnWall { x: v.pos.x, y: v.pos.y, edge });
+        }
     }
     if let Some(exit) = maze.exit() {
         if exit.cell as usize >= maze.cell_count() {
@@ -250,4 +281,11 @@ pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
         }
     }
     Ok(())
+}
+
+/// Distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+    (a + ab * t).distance(p)
 }
