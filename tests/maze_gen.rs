@@ -1,5 +1,7 @@
 //! The generator: perfect mazes, loops, determinism, pinned output, and CS559 round trips.
 
+mod common;
+
 use mazewalk::maze::generate::{Algorithm, GenError, GenOptions, SplitMix64, generate, layout};
 use mazewalk::maze::{self, Format, Maze};
 use proptest::prelude::*;
@@ -40,7 +42,8 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: ProptestConfig::default().cases.max(96), ..Default::default() })]
+    // Each case generates and checks whole mazes.
+    #![proptest_config(common::config_cases(96))]
 
     #[test]
     fn generated_mazes_are_perfect(o in arb_opts()) {

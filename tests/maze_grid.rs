@@ -1,5 +1,7 @@
 //! The grid format: reading hand-drawn maps, writing, round trips, and located errors.
 
+mod common;
+
 use glam::{Vec3, vec2};
 use mazewalk::maze::generate::{Algorithm, GenOptions, generate, generate_grid};
 use mazewalk::maze::grid::{self, DEFAULT_WALL};
@@ -28,7 +30,8 @@ fn arb_opts() -> impl Strategy<Value = GenOptions> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: ProptestConfig::default().cases.max(64), ..Default::default() })]
+    // Each case builds, writes and reads back a whole maze.
+    #![proptest_config(common::config_cases(64))]
 
     #[test]
     fn generated_tile_maps_round_trip_in_both_formats(o in arb_opts()) {
@@ -243,7 +246,8 @@ fn arb_grid_text() -> impl Strategy<Value = String> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: ProptestConfig::default().cases.max(256), ..Default::default() })]
+    // Each case parses a whole tile map.
+    #![proptest_config(common::config_cases(256))]
 
     // the reader's contract on any input: a maze or a located error, never a panic
     #[test]

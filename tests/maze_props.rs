@@ -1,14 +1,12 @@
 //! Properties of the model, the readers and movement, on generated and real mazes.
 
+mod common;
+
 use glam::{Vec2, vec2};
 use mazewalk::maze::generate::{Algorithm, GenOptions, generate};
 use mazewalk::maze::movement::{Position, step_traced};
 use mazewalk::maze::{self, Format, Maze};
 use proptest::prelude::*;
-
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig { cases: ProptestConfig::default().cases.max(cases), ..Default::default() }
-}
 
 fn arb_algorithm() -> impl Strategy<Value = Algorithm> {
     prop_oneof![Just(Algorithm::Prim), Just(Algorithm::Backtracker), Just(Algorithm::Wilson)]
@@ -82,7 +80,7 @@ fn random_walk(m: &Maze, seed: u64, steps: usize, radius: f32) {
 }
 
 proptest! {
-    #![proptest_config(config(1000))]
+    #![proptest_config(common::config())]
 
     #[test]
     fn cs559_write_then_read_is_the_identity(m in arb_maze()) {
@@ -122,7 +120,8 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(config(8))]
+    // Each case generates a maze and walks thousands of random steps through it.
+    #![proptest_config(common::config_cases(8))]
 
     /// 8 mazes × 12,500 steps = 100,000 steps by default.
     #[test]

@@ -1,5 +1,7 @@
 //! The rasterizer: watertight top-left coverage, depth test, perspective-correct attributes, robustness.
 
+mod common;
+
 use glam::{Vec2, Vec3};
 use mazewalk::render::SampleBuffer;
 use mazewalk::render::raster::{GridVertex, fill_polygon, fill_triangle, for_each_sample, polygon_coverage};
@@ -8,10 +10,6 @@ use proptest::prelude::*;
 
 const W: usize = 16;
 const H: usize = 12;
-
-fn config() -> ProptestConfig {
-    ProptestConfig { cases: ProptestConfig::default().cases.max(1000), ..Default::default() }
-}
 
 /// Coordinates around a 16×12 buffer, often on the half-sample grid so edges pass through sample
 /// centres and the top-left rule is what decides. All lie on the rasterizer's 1/256 fixed-point grid, so
@@ -68,7 +66,7 @@ fn centre(x: usize, y: usize) -> Vec2 {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(common::config())]
 
     /// Both diagonals of a convex quad: no sample twice, the same union, and the union matches the quad.
     #[test]

@@ -1,14 +1,12 @@
 //! Bresenham lines: endpoints, 8-connectivity, symmetry, clipping, and the depth-tested outline layer.
 
+mod common;
+
 use glam::Vec3;
 use mazewalk::frame::{ColorDepth, Frame};
 use mazewalk::render::raster::{GridVertex, fill_polygon};
 use mazewalk::render::{Charset, SampleBuffer, draw_line, line_points, to_frame};
 use proptest::prelude::*;
-
-fn config() -> ProptestConfig {
-    ProptestConfig { cases: ProptestConfig::default().cases.max(1000), ..Default::default() }
-}
 
 fn arb_endpoint(range: i64) -> impl Strategy<Value = (i64, i64)> {
     (-range..range, -range..range)
@@ -23,7 +21,7 @@ fn unclipped(p0: (i64, i64), p1: (i64, i64)) -> Vec<(i64, i64)> {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(common::config())]
 
     #[test]
     fn a_line_includes_both_endpoints_and_is_8_connected(p0 in arb_endpoint(200), p1 in arb_endpoint(200)) {

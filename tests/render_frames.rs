@@ -2,6 +2,8 @@
 //! heights right by the floor or ceiling, the extreme fields of view, every charset and projection;
 //! and the whole walkthrough screen (3D view, map, HUD, boxes) at any terminal size, 1×1 included.
 
+mod common;
+
 use glam::Vec2;
 use mazewalk::app::App;
 use mazewalk::app::session::{Hud, Screen, draw};
@@ -12,7 +14,8 @@ use mazewalk::render::{Camera, Charset, Culling, Projection, RenderOptions, Rend
 use proptest::prelude::*;
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+    // Each case renders whole frames at sizes up to 1000 columns.
+    #![proptest_config(common::config_cases(300))]
 
     #[test]
     fn any_camera_and_grid_gives_a_frame_of_that_size(

@@ -1,6 +1,8 @@
 //! The frame encoder checked by a real terminal emulator: its bytes, fed to `vt100`, must reproduce the
 //! intended frame cell for cell (glyph, foreground, background), over random sequences of frames.
 
+mod common;
+
 use mazewalk::frame::{Cell, Color, Frame};
 use mazewalk::render::glyph::{HALF, QUAD, sextant_glyph};
 use mazewalk::term::encoder::Encoder;
@@ -292,7 +294,7 @@ fn same_look(a: &Frame, b: &Frame) -> bool {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: ProptestConfig::default().cases.max(1000), ..Default::default() })]
+    #![proptest_config(common::config())]
 
     #[test]
     fn the_emulated_screen_always_shows_the_last_frame(

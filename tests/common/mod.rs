@@ -1,4 +1,5 @@
-//! Shared by the `math_*` property tests: the proptest configuration and tolerant comparisons.
+//! Shared by the tests: the proptest configuration of every property, tolerant comparisons, and the
+//! slow-link harness ([`link`]).
 
 // Each test crate includes this module and uses a different subset of it.
 #![allow(dead_code)]
@@ -8,18 +9,28 @@ pub mod link;
 use glam::{Mat4, Vec3, Vec4};
 use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
 
-/// At least 1,000 cases per property; more with `PROPTEST_CASES` (which `default()` reads).
+/// The configuration of every property in `tests/`: 1,000 cases ([`config_cases`] for the few that
+/// say why they run fewer), or exactly `PROPTEST_CASES` when that is set (more for a long soak, fewer
+/// for a quick look).
 ///
 /// Failing seeds go to `proptest-regressions/<test file>.txt`: proptest's default persistence looks
 /// for a `lib.rs` beside the source, which `tests/` lacks, so the file is named after the caller.
 #[track_caller]
 pub fn config() -> ProptestConfig {
+    config_cases(1000)
+}
+
+/// [`config`] with `cases` cases by default, for a property whose cases are expensive (each one
+/// generates and validates whole mazes, say): its caller says why in a comment.
+#[track_caller]
+pub fn config_cases(cases: u32) -> ProptestConfig {
     let caller = std::path::Path::new(std::panic::Location::caller().file());
-    let name = caller.file_stem().and_then(|s| s.to_str()).unwrap_or("math");
+    let name = caller.file_stem().and_then(|s| s.to_str()).unwrap_or("tests");
     // Leaked once per property run: `Direct` wants a `&'static str`.
     let path: &'static str = Box::leak(format!("proptest-regressions/{name}.txt").into_boxed_str());
+    let cases = std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(cases);
     ProptestConfig {
-        cases: ProptestConfig::default().cases.max(1000),
+        cases,
         failure_persistence: Some(Box::new(FileFailurePersistence::Direct(path))),
         ..ProptestConfig::default()
     }
