@@ -1,7 +1,10 @@
 //! mazewalk: a first-person 3D maze walkthrough for the terminal.
 //!
 //! The library holds everything testable; the `mazewalk` binary only wires it to the command line and
-//! the terminal. Everything below [`term`] and [`app`]'s event loop is pure: data in, data out, no I/O.
+//! the terminal. Everything is pure — data in, data out, time passed in as seconds — but three edges:
+//! [`term`] (this process's terminal), [`app::run`] (the local walk's loop) and [`maze::load`]
+//! (reading a file). One player's walk is an [`app::Session`]: terminal bytes in ([`input`]), frame
+//! bytes out.
 //!
 //! # The pipeline
 //!
@@ -18,13 +21,13 @@
 //! |---|---|
 //! | vectors | column vectors; a matrix transforms a point as `M * p`, so `T * R * S` scales first |
 //! | storage | column-major (glam's `Mat4` stores `x_axis, y_axis, z_axis, w_axis` columns) |
-//! | world axes | maze plane is x (east) / y (north); z is up; floor z = -1, ceiling z = +1; right-handed |
+//! | world axes | maze plane is x (east) / y (north); z is up; floor z = -1, ceiling z = +1 ([`maze::geometry`]); right-handed |
 //! | angles | radians inside the math; degrees only at the edges (maze files, CLI, HUD) |
-//! | yaw / heading | counter-clockwise from +x in the maze plane (the maze files' `dir`) |
-//! | pitch | positive looks up, clamped short of ±90° |
+//! | heading (yaw) | counter-clockwise from +x in the maze plane (the maze files' `dir`); [`maze::geometry::heading_dir`] turns it into a direction |
+//! | pitch | positive looks up, clamped to ±90° exactly (the basis is built from yaw and pitch: no flip) |
 //! | view space, right-handed | camera at the origin looking down -Z, +Y up, +X right (OpenGL) |
 //! | view space, left-handed | camera at the origin looking down +Z, +Y up, +X right (Direct3D) |
-//! | clip / NDC | x, y in [-1, 1] with +y up; z in [-1, 1] (OpenGL) or [0, 1] (Direct3D); visible iff -w <= x, y <= w and the z range times w |
+//! | clip / NDC | x, y in [-1, 1] with +y up; z in [-1, 1] (OpenGL, `Convention::RhGl`) or [0, 1] (Direct3D, `RhZo`/`LhZo`); visible iff -w <= x, y <= w and the z range times w |
 //! | viewport / grid | origin top-left, x right, y down; sample (i, j) covers [i, i+1) × [j, j+1) with its centre at (i + 0.5, j + 0.5); depth mapped to [0, 1] |
 //! | field of view | the CLI and files give the **horizontal** fov across the whole grid width, in degrees |
 //! | terminal cells | about twice as tall as wide: cell aspect (width / height) defaults to 0.5 |

@@ -33,7 +33,7 @@
 //!   between two open tiles is a portal; between an open tile and a wall tile an opaque wall of the
 //!   wall tile's colour; between an open tile and the outside an opaque wall coloured as `#`.
 //!
-//! [`write`] expresses a maze in this format when it is made of such tiles (e.g. one read from a grid
+//! [`write()`] expresses a maze in this format when it is made of such tiles (e.g. one read from a grid
 //! file or made by [`generate_grid`](super::generate::generate_grid)); otherwise it says why not.
 
 use std::fmt::Write as _;
