@@ -1,8 +1,9 @@
 //! Samples → [`Frame`] cells: ascii shading ramp, half blocks, quadrants and sextants.
 //!
-//! Each terminal cell covers `sx × sy` samples ([`Charset::samples_per_cell`]). The block charsets pick,
-//! per cell, the 2-colour partition of its samples that fits best (least squared error in sRGB) and the
-//! block glyph drawing it; ascii maps luminance to a ramp and overlays the outline layer. Sample bits within
+//! Each terminal cell covers `sx × sy` samples ([`Charset::samples_per_cell`]). In truecolor the block
+//! charsets pick, per cell, the 2-colour partition of its samples that fits best (least squared error in
+//! sRGB) and the block glyph drawing it; in 256 and 16 colours each sample is dithered to a palette entry
+//! first and the cell shows those entries. Ascii maps luminance to a ramp and overlays the outline layer. Sample bits within
 //! a cell are numbered row-major from the top-left: bit `x + sx·y`.
 
 use glam::Vec3;
