@@ -52,6 +52,9 @@ struct WalkArgs {
     /// sent stay as they are (fewer bytes while walking; 0: every change is sent exactly).
     #[arg(long, value_name = "STEPS", default_value_t = encoder::DEFAULT_TOLERANCE, value_parser = clap::value_parser!(u8).range(0..=i64::from(encoder::MAX_TOLERANCE)))]
     color_tolerance: u8,
+    /// Start the full-screen walk even where TERM says the terminal cannot take it (dumb, unset, empty).
+    #[arg(long)]
+    force_terminal: bool,
     /// Send frames as fast as they are drawn, without waiting for the terminal to show the previous
     /// ones (by default at most 2 frames are on their way: on a slow link the picture keeps up with
     /// the keys instead of falling behind).
@@ -172,7 +175,7 @@ struct RenderArgs {
     /// Horizontal field of view across the whole frame, degrees (10..=170; default: the file's).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
     fov: Option<f32>,
-    /// Frame size in terminal cells.
+    /// Frame size in terminal cells: at most 2000 per side and 1,000,000 cells in all.
     #[arg(long, value_name = "COLSxROWS", default_value = "80x24", value_parser = parse_frame_size)]
     size: (usize, usize),
     /// perspective or orthographic.
@@ -205,6 +208,45 @@ const EXIT_DATA: u8 = 65;
 /// Exit status for an unreadable input file (sysexits EX_NOINPUT).
 const EXIT_NO_INPUT: u8 = 66;
 
+/// Exit status when the reader of stdout went away: 128 + SIGPIPE, as shells report a tool killed by it.
+const EXIT_BROKEN_PIPE: u8 = 128 + 13;
+
+/// Whether `err` is, or was caused by, writing to a pipe nobody reads.
+fn is_broken_pipe(err: &anyhow::Error) -> bool {
+    let broken = |e: &std::io::Error| e.kind() == std::io::ErrorKind::BrokenPipe;
+    err.chain().any(|e| match e.downcast_ref::<maze::cs559::WriteToError>() {
+        Some(maze::cs559::WriteToError::Io(e)) => broken(e),
+        _ => e.downcast_ref::<std::io::Error>().is_some_and(broken),
+    })
+}
+
+/// Fails if stdout was closed (`>&-`), so that a command does not exit 0 having written nothing.
+/// The Rust runtime opens /dev/null read-write in place of a closed standard descriptor at start-up;
+/// a shell's `> /dev/null` opens it write-only. So /dev/null open for reading and writing means
+/// "closed" (and a descriptor that is really closed fails `fstat`).
+fn stdout_open() -> anyhow::Result<()> {
+    #[cfg(target_os = "linux")]
+    {
+        use rustix::fs::{FileType, OFlags, fcntl_getfl, fstat, major, minor};
+        let stdout = std::io::stdout();
+        let closed = match fstat(&stdout) {
+            Err(_) => true,
+            Ok(st) => {
+                let dev_null = FileType::from_raw_mode(st.st_mode) == FileType::CharacterDevice
+                    && (major(st.st_rdev), minor(st.st_rdev)) == (1, 3);
+                dev_null && fcntl_getfl(&stdout).is_ok_and(|f| f.contains(OFlags::RDWR))
+            }
+        };
+        if closed {
+            bail!("stdout is closed: nowhere to write");
+        }
+    }
+    Ok(())
+}
+
+/// Largest frame `render` makes, in cells (a million cells of sextants are 6 M samples, ~150 MB).
+const MAX_FRAME_CELLS: usize = 1_000_000;
+
 /// A flag value that parsed but makes no sense here (e.g. --at outside the maze): exit 2.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
@@ -220,6 +262,9 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(code) => code,
+        // A reader that went away (`mazewalk gen … | head`): end quietly, as if killed by SIGPIPE
+        // like other Unix tools (Rust programs ignore the signal and see the error instead).
+        Err(err) if is_broken_pipe(&err) => ExitCode::from(EXIT_BROKEN_PIPE),
         Err(err) => {
             let load = err.downcast_ref::<LoadError>();
             match load {
@@ -260,6 +305,15 @@ impl LookArgs {
 fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     use std::io::IsTerminal as _;
     let maze = load_maze(&args.maze)?;
+    let term = std::env::var("TERM").unwrap_or_default();
+    if !args.force_terminal && (term.is_empty() || term == "dumb") {
+        bail!(
+            "this terminal (TERM={}) cannot run the full-screen walk: it needs cursor movement and an \
+             alternate screen; set TERM to your terminal (e.g. xterm-256color), use `mazewalk render`, \
+             or start anyway with --force-terminal",
+            if term.is_empty() { "unset" } else { "dumb" }
+        );
+    }
     if !std::io::stdin().is_terminal() || !std::io::stdout().is_terminal() {
         bail!("the walkthrough needs a terminal (try `mazewalk render` to print a frame, or --help)");
     }
@@ -289,6 +343,15 @@ fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
+    stdout_open()?;
+    let (cols, rows) = args.size;
+    if cols * rows > MAX_FRAME_CELLS {
+        return Err(Usage(format!(
+            "--size {cols}x{rows} is {} cells; at most {MAX_FRAME_CELLS}",
+            cols * rows
+        ))
+        .into());
+    }
     let maze = load_maze(&args.maze)?;
     let viewer = maze.viewer();
     let position = args.at.unwrap_or(viewer.pos);
@@ -311,7 +374,6 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
     };
     camera.validate().map_err(|e| Usage(e.to_string()))?;
     let options = args.look.options(args.culling);
-    let (cols, rows) = args.size;
     let mut renderer = Renderer::new();
     let mut frame = Frame::new(cols, rows);
     let started = Instant::now();
@@ -367,7 +429,10 @@ fn cmd_gen(args: &GenArgs) -> anyhow::Result<()> {
             Box::new(File::create(path).with_context(|| format!("{}: cannot create", path.display()))?),
             path.display().to_string(),
         ),
-        None => (Box::new(std::io::stdout().lock()), "stdout".into()),
+        None => {
+            stdout_open()?;
+            (Box::new(std::io::stdout().lock()), "stdout".into())
+        }
     };
     let mut out = BufWriter::new(sink);
     match args.format {
@@ -380,8 +445,11 @@ fn cmd_gen(args: &GenArgs) -> anyhow::Result<()> {
 }
 
 fn cmd_check(args: &CheckArgs) -> anyhow::Result<()> {
+    stdout_open()?;
     let loaded = maze::load_with(&args.file, &args.read.options())?;
-    print!("{}", summary(&maze::quote_path(&args.file.display().to_string()), loaded.format, &loaded.maze));
+    let report = summary(&maze::quote_path(&args.file.display().to_string()), loaded.format, &loaded.maze);
+    let mut stdout = std::io::stdout().lock();
+    stdout.write_all(report.as_bytes()).and_then(|()| stdout.flush()).context("cannot write to stdout")?;
     Ok(())
 }
 

@@ -29,7 +29,7 @@ pub trait Named: Sized + Copy + PartialEq + 'static {
 pub struct UnknownName {
     /// What was asked for ("charset").
     pub what: &'static str,
-    /// What was given, quoted safely (at most a few dozen characters, controls escaped).
+    /// What was given, quoted safely ([`crate::maze::quote`]: at most 40 characters, controls escaped).
     pub found: String,
     /// The canonical names, as a list for people ("a, b or c").
     pub expected: String,
@@ -51,31 +51,9 @@ pub fn parse<T: Named>(s: &str) -> Result<T, UnknownName> {
             Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
             _ => canonical.join(""),
         };
-        UnknownName { what: T::WHAT, found: quote(s), expected }
+        UnknownName { what: T::WHAT, found: crate::maze::quote(s), expected }
     })
 }
-
-/// `s` for a message: at most [`QUOTE_CHARS`] characters (then an ellipsis), every control character
-/// escaped, so no input can flood a terminal or send it escape sequences through an error.
-#[must_use]
-pub fn quote(s: &str) -> String {
-    let mut out = String::new();
-    for (i, c) in s.chars().enumerate() {
-        if i == QUOTE_CHARS {
-            out.push('…');
-            break;
-        }
-        if c.is_control() {
-            out.extend(c.escape_default());
-        } else {
-            out.push(c);
-        }
-    }
-    out
-}
-
-/// The most characters [`quote`] keeps.
-pub const QUOTE_CHARS: usize = 40;
 
 /// Implements [`Named`], `FromStr` (with [`UnknownName`]) and `Display` (the canonical name) for an
 /// enum from its table of names, canonical first for each value.
@@ -101,17 +79,3 @@ macro_rules! named {
     };
 }
 pub(crate) use named;
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn quoting_bounds_length_and_escapes_controls() {
-        assert_eq!(quote("half"), "half");
-        assert_eq!(quote("a\x1b]0;x\x07b\0"), "a\\u{1b}]0;x\\u{7}b\\u{0}");
-        let long = "x".repeat(10_000);
-        assert_eq!(quote(&long).chars().count(), QUOTE_CHARS + 1);
-        assert!(quote(&long).ends_with('…'));
-    }
-}

@@ -8,6 +8,7 @@ fn mazewalk(args: &[&str]) -> Output {
         .args(args)
         .env_remove("NO_COLOR")
         .env("COLORTERM", "truecolor")
+        .env("TERM", "xterm-256color")
         .output()
         .expect("run mazewalk")
 }
@@ -200,4 +201,80 @@ fn the_walk_without_a_terminal_says_so_instead_of_breaking_anything() {
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     assert!(stderr(&out).contains("needs a terminal"), "{}", stderr(&out));
     assert!(out.stdout.is_empty(), "nothing may reach stdout: {:?}", stdout(&out));
+}
+
+// issue #13: a terminal that cannot take the full-screen walk is told so, not drawn on.
+#[test]
+fn a_dumb_or_unknown_terminal_is_told_clearly() {
+    for term in [Some("dumb"), Some(""), None] {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_mazewalk"));
+        match term {
+            Some(t) => cmd.env("TERM", t),
+            None => cmd.env_remove("TERM"),
+        };
+        let out = cmd.output().expect("run mazewalk");
+        assert_eq!(out.status.code(), Some(1), "TERM={term:?}: {}", stderr(&out));
+        assert!(
+            stderr(&out).contains("TERM=") && stderr(&out).contains("--force-terminal"),
+            "{}",
+            stderr(&out)
+        );
+        assert!(out.stdout.is_empty());
+    }
+}
+
+// issue #13: `gen … | head` ends quietly, as other tools killed by SIGPIPE do.
+#[test]
+fn a_reader_that_goes_away_ends_gen_quietly() {
+    use std::io::Read;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["gen", "--size", "400x400"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run mazewalk");
+    let mut head = [0u8; 10];
+    child.stdout.take().expect("piped").read_exact(&mut head).expect("the first bytes");
+    // The pipe's read end is dropped here: the next writes fail with EPIPE.
+    let out = child.wait_with_output().expect("wait");
+    assert_eq!(out.status.code(), Some(141), "{}", stderr(&out));
+    assert!(out.stderr.is_empty(), "no message: {}", stderr(&out));
+}
+
+// issue #13: with stdout closed, nothing claims success having written nothing.
+#[test]
+fn a_closed_stdout_is_an_error() {
+    for args in [&["render"][..], &["check", "mazes/hand-drawn.grid"], &["gen", "--size", "3x3"]] {
+        let out = Command::new("sh")
+            .arg("-c")
+            .arg("exec \"$0\" \"$@\" >&-")
+            .arg(env!("CARGO_BIN_EXE_mazewalk"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .expect("run sh");
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
+        assert!(stderr(&out).contains("stdout is closed"), "{}", stderr(&out));
+    }
+    // `> /dev/null` is not closed.
+    let out = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .arg("render")
+        .stdout(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
+// issue #13: frame sizes past the documented maximum are refused before any memory is spent.
+#[test]
+fn render_refuses_frames_past_the_maximum() {
+    for size in ["2000x2000", "1001x1000", "2001x10"] {
+        let out = mazewalk(&["render", "--size", size, "--charset", "sextant"]);
+        assert_eq!(out.status.code(), Some(2), "{size}: {}", stderr(&out));
+    }
+    assert!(
+        mazewalk(&["render", "--size", "1000x1000", "--color", "none", "--charset", "ascii"])
+            .status
+            .success()
+    );
 }

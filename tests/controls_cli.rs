@@ -8,6 +8,7 @@ fn mazewalk(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_mazewalk"))
         .args(args)
         .stdin(Stdio::null())
+        .env("TERM", "xterm-256color")
         .output()
         .expect("run mazewalk")
 }
