@@ -37,6 +37,7 @@
 #![warn(missing_docs)]
 
 pub mod app;
+pub mod cli;
 pub mod frame;
 pub mod input;
 pub mod math;

@@ -1,205 +1,30 @@
-//! The `mazewalk` binary: command-line wiring only; everything else lives in the library.
+//! The `mazewalk` binary: command-line wiring only — the flags are parsed by [`mazewalk::cli`], every
+//! command's work is the library's; here each command is dispatched and its outcome turned into an
+//! exit code.
 //!
 //! `mazewalk [MAZE]` walks a maze (the built-in one without MAZE); `render`, `gen` and `check` are the
 //! batch commands. Exit codes: 0 success, 2 usage errors (bad flags or values), 65 malformed or invalid
-//! maze data, 66 cannot read the file, 1 anything else (e.g. no terminal). Maze errors go to stderr
+//! maze data or a file over the size limit, 66 cannot read the file, 141 stdout's reader went away,
+//! 128 + n the walk ended by signal n, 1 anything else (e.g. no terminal). Maze errors go to stderr
 //! as `FILE:LINE:COL: message`.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use std::time::Instant;
 
 use anyhow::{Context as _, bail};
-use clap::{Args, Parser, Subcommand};
-use glam::Vec2;
+use clap::Parser as _;
 use mazewalk::app::run::run;
-use mazewalk::app::state::{self, Motion};
+use mazewalk::app::state::Motion;
 use mazewalk::app::{App, Session, SessionOptions};
-use mazewalk::frame::{ColorDepth, Frame, Region};
-use mazewalk::maze::generate::{Algorithm, GenOptions, MAX_SIDE, generate, generate_grid};
+use mazewalk::cli::{CheckArgs, Cli, Command, GenArgs, MAX_FRAME_CELLS, MazeArgs, RenderArgs, WalkArgs};
+use mazewalk::frame::{Frame, Region};
+use mazewalk::maze::generate::{GenOptions, generate, generate_grid};
 use mazewalk::maze::{self, Format, LoadError, Maze};
-use mazewalk::render::{Camera, Charset, Culling, Projection, RenderOptions, Renderer};
+use mazewalk::render::{Camera, Culling, Renderer};
 use mazewalk::term::{caps, encoder, guard};
-
-#[derive(Parser)]
-#[command(
-    name = "mazewalk",
-    version,
-    about = "A first-person 3D maze walkthrough for the terminal",
-    long_about = "A first-person 3D maze walkthrough for the terminal.\n\n\
-        Without a command, walks MAZE (CS559 or grid format), a fresh --gen maze, or the built-in maze.\n\
-        Keys: W/S walk, A/D strafe, arrows turn and look, [ ] down/up, + - fov, p projection, m map,\n\
-        c glyphs, r reset, ? help, q quit.",
-    args_conflicts_with_subcommands = true
-)]
-struct Cli {
-    #[command(subcommand)]
-    command: Option<Command>,
-    #[command(flatten)]
-    walk: WalkArgs,
-}
-
-#[derive(Args)]
-struct WalkArgs {
-    #[command(flatten)]
-    maze: MazeArgs,
-    #[command(flatten)]
-    look: LookArgs,
-    /// Truecolor cells whose colours moved by at most this many 8-bit steps per channel since they were
-    /// sent stay as they are (fewer bytes while walking; 0: every change is sent exactly).
-    #[arg(long, value_name = "STEPS", default_value_t = encoder::DEFAULT_TOLERANCE, value_parser = clap::value_parser!(u8).range(0..=i64::from(encoder::MAX_TOLERANCE)))]
-    color_tolerance: u8,
-    /// Start the full-screen walk even where TERM says the terminal cannot take it (dumb, unset, empty).
-    #[arg(long)]
-    force_terminal: bool,
-    /// Send frames as fast as they are drawn, without waiting for the terminal to show the previous
-    /// ones (by default at most 2 frames are on their way: on a slow link the picture keeps up with
-    /// the keys instead of falling behind).
-    #[arg(long)]
-    no_flow_control: bool,
-    #[command(flatten)]
-    motion: MotionArgs,
-}
-
-/// How far a tap moves and how fast a held key moves.
-#[derive(Args)]
-struct MotionArgs {
-    /// Turning speed while ← or → is held, degrees per second (10..=720).
-    #[arg(long, value_name = "DEG_PER_S", default_value_t = state::TURN_SPEED, value_parser = |s: &str| parse_in(s, state::TURN_SPEED_RANGE))]
-    turn_speed: f32,
-    /// Walking speed while W/S/A/D is held, maze units per second (0.5..=40; a generated cell is 4).
-    #[arg(long, value_name = "UNITS_PER_S", default_value_t = state::WALK_SPEED, value_parser = |s: &str| parse_in(s, state::WALK_SPEED_RANGE))]
-    walk_speed: f32,
-    /// How far one tap of ← or → turns, degrees (1..=90).
-    #[arg(long, value_name = "DEG", default_value_t = state::TURN_STEP_DEG, value_parser = |s: &str| parse_in(s, state::TURN_STEP_RANGE_DEG))]
-    turn_step: f32,
-    /// How far one tap of W/S/A/D walks, maze units (0.05..=4).
-    #[arg(long, value_name = "UNITS", default_value_t = state::WALK_STEP, value_parser = |s: &str| parse_in(s, state::WALK_STEP_RANGE))]
-    walk_step: f32,
-}
-
-/// Where the maze comes from.
-#[derive(Args)]
-struct MazeArgs {
-    /// Maze file (CS559 or grid format, detected); the built-in maze if omitted.
-    #[arg(value_name = "MAZE", conflicts_with = "gen")]
-    maze: Option<PathBuf>,
-    /// Walk a fresh random maze of WxH cells instead (with loops and an exit).
-    #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size)]
-    generate: Option<(u32, u32)>,
-    /// Seed for --gen (the same seed gives the same maze).
-    #[arg(long, default_value_t = 1, requires = "gen")]
-    seed: u64,
-    #[command(flatten)]
-    read: ReadArgs,
-}
-
-/// How maze files are read.
-#[derive(Args)]
-struct ReadArgs {
-    /// Refuse maze files larger than this many bytes (suffixes K, M, G: 1024-based).
-    #[arg(long, value_name = "BYTES", default_value = "256M", value_parser = parse_bytes)]
-    max_file_size: u64,
-}
-
-/// How frames look.
-#[derive(Args)]
-struct LookArgs {
-    /// Glyphs: ascii (one sample per cell), half (▀, 1×2), quad (2×2) or sextant (2×3).
-    #[arg(long, default_value = "half")]
-    charset: Charset,
-    /// Colour depth: none, 16, 256 or truecolor (default: from COLORTERM/TERM; NO_COLOR gives none).
-    #[arg(long)]
-    color: Option<ColorDepth>,
-    /// Terminal cell width / height (cells are about twice as tall as wide).
-    #[arg(long, default_value_t = 0.5, value_parser = parse_cell_aspect)]
-    cell_aspect: f32,
-}
-
-#[derive(Subcommand)]
-enum Command {
-    /// Render one frame to stdout and exit (plain text with --color none, ANSI otherwise).
-    Render(RenderArgs),
-    /// Generate a random maze (a perfect maze unless --loops is given).
-    Gen(GenArgs),
-    /// Load a maze file and print a summary, or the located error (exit 65).
-    Check(CheckArgs),
-}
-
-#[derive(Args)]
-struct GenArgs {
-    /// Cells east-west x north-south, e.g. 20x10 (each side 1..=1000).
-    #[arg(long, value_parser = parse_size)]
-    size: (u32, u32),
-    /// Random seed: the same seed gives the same maze on every platform.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
-    /// Carving algorithm: prim (bushy), dfs (long corridors), wilson (uniform).
-    #[arg(long, default_value = "prim")]
-    algo: Algorithm,
-    /// Fraction of the remaining interior walls to remove, adding cycles (0..=1).
-    #[arg(long, default_value_t = 0.0, value_parser = parse_loops)]
-    loops: f32,
-    /// Output format: cs559 (thin walls) or grid (tiles: a WxH maze becomes (2W+1)x(2H+1) tiles).
-    #[arg(long, default_value = "cs559", value_parser = parse_format)]
-    format: Format,
-    /// Mark the cell farthest from the start as the exit.
-    #[arg(long)]
-    exit: bool,
-    /// Write to FILE instead of stdout.
-    #[arg(short, long, value_name = "FILE")]
-    output: Option<PathBuf>,
-}
-
-#[derive(Args)]
-struct RenderArgs {
-    #[command(flatten)]
-    maze: MazeArgs,
-    #[command(flatten)]
-    look: LookArgs,
-    /// Eye position X,Y in the maze plane (default: the file's viewer).
-    #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
-    at: Option<Vec2>,
-    /// Eye height, strictly between the floor (-1) and the ceiling (+1).
-    #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = parse_finite)]
-    height: Option<f32>,
-    /// Heading in degrees counter-clockwise from +x (default: the file's).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_heading)]
-    heading: Option<f32>,
-    /// Pitch in degrees, positive looks up (-90..=90).
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_pitch)]
-    pitch: f32,
-    /// Horizontal field of view across the whole frame, degrees (10..=170; default: the file's).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
-    fov: Option<f32>,
-    /// Frame size in terminal cells: at most 2000 per side and 1,000,000 cells in all.
-    #[arg(long, value_name = "COLSxROWS", default_value = "80x24", value_parser = parse_frame_size)]
-    size: (usize, usize),
-    /// perspective or orthographic.
-    #[arg(long, default_value = "perspective")]
-    projection: Projection,
-    /// portal (cell-and-portal visibility) or none (every wall: brute force).
-    #[arg(long, default_value = "portal")]
-    culling: Culling,
-    /// Print one JSON object of counts and timing on stderr.
-    #[arg(long)]
-    stats: bool,
-    /// Write a CSV of ROWS lines × COLS values: the view-space depth of the wall seen through each
-    /// cell's centre, empty where none.
-    #[arg(long, value_name = "FILE")]
-    depth_out: Option<PathBuf>,
-}
-
-#[derive(Args)]
-struct CheckArgs {
-    /// The maze file (CS559 or grid format; detected); `-` reads standard input.
-    file: PathBuf,
-    #[command(flatten)]
-    read: ReadArgs,
-}
 
 /// Exit status for bad flags or values (as clap's).
 const EXIT_USAGE: u8 = 2;
@@ -243,9 +68,6 @@ fn stdout_open() -> anyhow::Result<()> {
     }
     Ok(())
 }
-
-/// Largest frame `render` makes, in cells (a million cells of sextants are 6 M samples, ~150 MB).
-const MAX_FRAME_CELLS: usize = 1_000_000;
 
 /// A flag value that parsed but makes no sense here (e.g. --at outside the maze): exit 2.
 #[derive(Debug, thiserror::Error)]
@@ -291,14 +113,6 @@ fn load_maze(args: &MazeArgs) -> anyhow::Result<Maze> {
     match &args.maze {
         Some(path) => Ok(maze::load_with(path, &args.read.options())?.maze),
         None => Ok(maze::builtin()?),
-    }
-}
-
-impl LookArgs {
-    fn options(&self, culling: Culling) -> RenderOptions {
-        let env = |k: &str| std::env::var(k).ok();
-        let color_depth = self.color.unwrap_or_else(|| caps::detect_color_depth(env));
-        RenderOptions { charset: self.charset, color_depth, culling, cell_aspect: self.cell_aspect }
     }
 }
 
@@ -453,26 +267,6 @@ fn cmd_check(args: &CheckArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-impl ReadArgs {
-    fn options(&self) -> maze::LoadOptions {
-        maze::LoadOptions { max_bytes: self.max_file_size }
-    }
-}
-
-/// `123`, `64K`, `256M`, `2G` (1024-based).
-fn parse_bytes(s: &str) -> Result<u64, String> {
-    let (digits, shift) = match s.trim().char_indices().last() {
-        Some((i, 'k' | 'K')) => (&s.trim()[..i], 10),
-        Some((i, 'm' | 'M')) => (&s.trim()[..i], 20),
-        Some((i, 'g' | 'G')) => (&s.trim()[..i], 30),
-        _ => (s.trim(), 0),
-    };
-    match digits.parse::<u64>().ok().and_then(|n| n.checked_mul(1 << shift)) {
-        Some(n) if n > 0 => Ok(n),
-        _ => Err(format!("expected a size in bytes such as 1000000, 512K, 256M or 2G, found `{s}`")),
-    }
-}
-
 /// The `check` report.
 fn summary(name: &str, format: Format, maze: &Maze) -> String {
     let e = maze.extents();
@@ -501,86 +295,4 @@ fn summary(name: &str, format: Format, maze: &Maze) -> String {
         maze.cell_at(v.pos).map_or("?".into(), |c| c.to_string()),
         if maze.is_perfect() { "yes" } else { "no" },
     )
-}
-
-/// `WxH` with each side in `1..=max`: maze sizes (`--gen`, `gen --size`) and frame sizes.
-fn parse_dims<T>(s: &str, max: T, what: &str) -> Result<(T, T), String>
-where
-    T: std::str::FromStr + PartialOrd + From<u8> + std::fmt::Display + Copy,
-{
-    let (w, h) =
-        s.split_once(['x', 'X']).ok_or_else(|| format!("expected {what}, e.g. 20x10, found `{s}`"))?;
-    let side = |t: &str| match t.trim().parse::<T>() {
-        Ok(n) if n >= T::from(1) && n <= max => Ok(n),
-        _ => Err(format!("each side must be an integer in 1..={max}, found `{t}`")),
-    };
-    Ok((side(w)?, side(h)?))
-}
-
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    parse_dims(s, MAX_SIDE, "WxH")
-}
-
-fn parse_loops(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
-        _ => Err(format!("expected a fraction in 0..=1, found `{s}`")),
-    }
-}
-
-fn parse_format(s: &str) -> Result<Format, String> {
-    match s {
-        "cs559" => Ok(Format::Cs559),
-        "grid" => Ok(Format::Grid),
-        _ => Err(format!("unknown format `{s}` (expected cs559 or grid)")),
-    }
-}
-
-fn parse_finite(s: &str) -> Result<f32, String> {
-    match s.trim().parse::<f32>() {
-        Ok(x) if x.is_finite() => Ok(x),
-        _ => Err(format!("expected a finite number, found `{s}`")),
-    }
-}
-
-/// A heading in degrees: any within ±36,000 (a hundred turns), so that f32 still resolves it.
-fn parse_heading(s: &str) -> Result<f32, String> {
-    match parse_finite(s)? {
-        x if x.abs() <= 36_000.0 => Ok(x),
-        _ => Err("a heading must be within -36000..=36000 degrees".to_string()),
-    }
-}
-
-/// A number in `lo..=hi` (speeds and steps).
-fn parse_in(s: &str, (lo, hi): (f32, f32)) -> Result<f32, String> {
-    match parse_finite(s)? {
-        x if (lo..=hi).contains(&x) => Ok(x),
-        x => Err(format!("{x} is outside {lo}..={hi}")),
-    }
-}
-
-fn parse_pitch(s: &str) -> Result<f32, String> {
-    match parse_finite(s)? {
-        x if (-90.0..=90.0).contains(&x) => Ok(x),
-        x => Err(format!("pitch {x}° is outside -90..=90 (straight down to straight up)")),
-    }
-}
-
-fn parse_cell_aspect(s: &str) -> Result<f32, String> {
-    match parse_finite(s)? {
-        x if (0.1..=4.0).contains(&x) => Ok(x),
-        x => Err(format!("cell aspect {x} is outside 0.1..=4 (width / height; about 0.5 for most fonts)")),
-    }
-}
-
-fn parse_point(s: &str) -> Result<Vec2, String> {
-    let (x, y) = s.split_once(',').ok_or_else(|| format!("expected X,Y, e.g. 2.5,3, found `{s}`"))?;
-    Ok(Vec2::new(parse_finite(x)?, parse_finite(y)?))
-}
-
-/// Largest frame `render` makes, per side (a 2000-column frame is already 8 screens wide).
-const MAX_FRAME_SIDE: usize = 2000;
-
-fn parse_frame_size(s: &str) -> Result<(usize, usize), String> {
-    parse_dims(s, MAX_FRAME_SIDE, "COLSxROWS")
 }

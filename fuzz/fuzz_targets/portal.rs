@@ -35,7 +35,8 @@ struct Input {
 }
 
 fn maze(input: &Input) -> Option<Maze> {
-    let algorithm = [Algorithm::Prim, Algorithm::Backtracker, Algorithm::Wilson][usize::from(input.algorithm % 3)];
+    let algorithm =
+        [Algorithm::Prim, Algorithm::Backtracker, Algorithm::Wilson][usize::from(input.algorithm % 3)];
     let opts = GenOptions {
         width: u32::from(input.width % 6) + 1,
         height: u32::from(input.height % 6) + 1,
@@ -55,7 +56,8 @@ fn maze(input: &Input) -> Option<Maze> {
         cells.push(base.cell_edges(c));
     }
     let ids = base.cell_edges(0);
-    let centroid = ids.iter().map(|&e| vertices[base.edge(e).start as usize]).sum::<Vec2>() / ids.len() as f32;
+    let centroid =
+        ids.iter().map(|&e| vertices[base.edge(e).start as usize]).sum::<Vec2>() / ids.len() as f32;
     let viewer = mazewalk::maze::Viewer { pos: centroid, ..*base.viewer() };
     Maze::new(vertices, base.edges().to_vec(), cells, viewer, None).ok()
 }

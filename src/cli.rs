@@ -1,0 +1,318 @@
+//! The command line: every command, flag and value parser of the `mazewalk` binary (clap), in the
+//! library so that a fuzz target and tests can parse argument lists exactly as the binary does. The
+//! binary (`src/main.rs`) only dispatches and picks exit codes. Parsing is pure; `LookArgs::options`
+//! reads the colour variables of the environment.
+//!
+//! ```
+//! use clap::Parser as _;
+//! use mazewalk::cli::{Cli, Command};
+//! let cli = Cli::try_parse_from(["mazewalk", "render", "--size", "40x12", "--fov", "-5"]).unwrap();
+//! assert!(matches!(cli.command, Some(Command::Render(_))));
+//! assert!(Cli::try_parse_from(["mazewalk", "render", "--pitch", "1000"]).is_err());
+//! ```
+
+// Each flag's doc comment is its `--help` text; the structs and parsers mirror the command line, item
+// by item, and need no second description.
+#![allow(missing_docs)]
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+use glam::Vec2;
+
+use crate::app::state;
+use crate::frame::ColorDepth;
+use crate::maze::generate::{Algorithm, MAX_SIDE};
+use crate::maze::{self, Format};
+use crate::render::{Charset, Culling, Projection, RenderOptions};
+use crate::term::{caps, encoder};
+
+#[derive(Parser)]
+#[command(
+    name = "mazewalk",
+    version,
+    about = "A first-person 3D maze walkthrough for the terminal",
+    long_about = "A first-person 3D maze walkthrough for the terminal.\n\n\
+        Without a command, walks MAZE (CS559 or grid format), a fresh --gen maze, or the built-in maze.\n\
+        Keys: W/S walk, A/D strafe, arrows turn and look, [ ] down/up, + - fov, p projection, m map,\n\
+        c glyphs, r reset, ? help, q quit.",
+    args_conflicts_with_subcommands = true
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    #[command(flatten)]
+    pub walk: WalkArgs,
+}
+
+#[derive(Args)]
+pub struct WalkArgs {
+    #[command(flatten)]
+    pub maze: MazeArgs,
+    #[command(flatten)]
+    pub look: LookArgs,
+    /// Truecolor cells whose colours moved by at most this many 8-bit steps per channel since they were
+    /// sent stay as they are (fewer bytes while walking; 0: every change is sent exactly).
+    #[arg(long, value_name = "STEPS", default_value_t = encoder::DEFAULT_TOLERANCE, value_parser = clap::value_parser!(u8).range(0..=i64::from(encoder::MAX_TOLERANCE)))]
+    pub color_tolerance: u8,
+    /// Start the full-screen walk even where TERM says the terminal cannot take it (dumb, unset, empty).
+    #[arg(long)]
+    pub force_terminal: bool,
+    /// Send frames as fast as they are drawn, without waiting for the terminal to show the previous
+    /// ones (by default at most 2 frames are on their way: on a slow link the picture keeps up with
+    /// the keys instead of falling behind).
+    #[arg(long)]
+    pub no_flow_control: bool,
+    #[command(flatten)]
+    pub motion: MotionArgs,
+}
+
+/// How far a tap moves and how fast a held key moves.
+#[derive(Args)]
+pub struct MotionArgs {
+    /// Turning speed while ← or → is held, degrees per second (10..=720).
+    #[arg(long, value_name = "DEG_PER_S", default_value_t = state::TURN_SPEED, value_parser = |s: &str| parse_in(s, state::TURN_SPEED_RANGE))]
+    pub turn_speed: f32,
+    /// Walking speed while W/S/A/D is held, maze units per second (0.5..=40; a generated cell is 4).
+    #[arg(long, value_name = "UNITS_PER_S", default_value_t = state::WALK_SPEED, value_parser = |s: &str| parse_in(s, state::WALK_SPEED_RANGE))]
+    pub walk_speed: f32,
+    /// How far one tap of ← or → turns, degrees (1..=90).
+    #[arg(long, value_name = "DEG", default_value_t = state::TURN_STEP_DEG, value_parser = |s: &str| parse_in(s, state::TURN_STEP_RANGE_DEG))]
+    pub turn_step: f32,
+    /// How far one tap of W/S/A/D walks, maze units (0.05..=4).
+    #[arg(long, value_name = "UNITS", default_value_t = state::WALK_STEP, value_parser = |s: &str| parse_in(s, state::WALK_STEP_RANGE))]
+    pub walk_step: f32,
+}
+
+/// Where the maze comes from.
+#[derive(Args)]
+pub struct MazeArgs {
+    /// Maze file (CS559 or grid format, detected); the built-in maze if omitted.
+    #[arg(value_name = "MAZE", conflicts_with = "gen")]
+    pub maze: Option<PathBuf>,
+    /// Walk a fresh random maze of WxH cells instead (with loops and an exit).
+    #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size)]
+    pub generate: Option<(u32, u32)>,
+    /// Seed for --gen (the same seed gives the same maze).
+    #[arg(long, default_value_t = 1, requires = "gen")]
+    pub seed: u64,
+    #[command(flatten)]
+    pub read: ReadArgs,
+}
+
+/// How maze files are read.
+#[derive(Args)]
+pub struct ReadArgs {
+    /// Refuse maze files larger than this many bytes (suffixes K, M, G: 1024-based).
+    #[arg(long, value_name = "BYTES", default_value = "256M", value_parser = parse_bytes)]
+    pub max_file_size: u64,
+}
+
+/// How frames look.
+#[derive(Args)]
+pub struct LookArgs {
+    /// Glyphs: ascii (one sample per cell), half (▀, 1×2), quad (2×2) or sextant (2×3).
+    #[arg(long, default_value = "half")]
+    pub charset: Charset,
+    /// Colour depth: none, 16, 256 or truecolor (default: from COLORTERM/TERM; NO_COLOR gives none).
+    #[arg(long)]
+    pub color: Option<ColorDepth>,
+    /// Terminal cell width / height (cells are about twice as tall as wide).
+    #[arg(long, default_value_t = 0.5, value_parser = parse_cell_aspect)]
+    pub cell_aspect: f32,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Render one frame to stdout and exit (plain text with --color none, ANSI otherwise).
+    Render(RenderArgs),
+    /// Generate a random maze (a perfect maze unless --loops is given).
+    Gen(GenArgs),
+    /// Load a maze file and print a summary, or the located error (exit 65).
+    Check(CheckArgs),
+}
+
+#[derive(Args)]
+pub struct GenArgs {
+    /// Cells east-west x north-south, e.g. 20x10 (each side 1..=1000).
+    #[arg(long, value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Random seed: the same seed gives the same maze on every platform.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Carving algorithm: prim (bushy), dfs (long corridors), wilson (uniform).
+    #[arg(long, default_value = "prim")]
+    pub algo: Algorithm,
+    /// Fraction of the remaining interior walls to remove, adding cycles (0..=1).
+    #[arg(long, default_value_t = 0.0, value_parser = parse_loops)]
+    pub loops: f32,
+    /// Output format: cs559 (thin walls) or grid (tiles: a WxH maze becomes (2W+1)x(2H+1) tiles).
+    #[arg(long, default_value = "cs559", value_parser = parse_format)]
+    pub format: Format,
+    /// Mark the cell farthest from the start as the exit.
+    #[arg(long)]
+    pub exit: bool,
+    /// Write to FILE instead of stdout.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+}
+
+#[derive(Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub maze: MazeArgs,
+    #[command(flatten)]
+    pub look: LookArgs,
+    /// Eye position X,Y in the maze plane (default: the file's viewer).
+    #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+    pub at: Option<Vec2>,
+    /// Eye height, strictly between the floor (-1) and the ceiling (+1).
+    #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub height: Option<f32>,
+    /// Heading in degrees counter-clockwise from +x (default: the file's).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_heading)]
+    pub heading: Option<f32>,
+    /// Pitch in degrees, positive looks up (-90..=90).
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_pitch)]
+    pub pitch: f32,
+    /// Horizontal field of view across the whole frame, degrees (10..=170; default: the file's).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub fov: Option<f32>,
+    /// Frame size in terminal cells: at most 2000 per side and 1,000,000 cells in all.
+    #[arg(long, value_name = "COLSxROWS", default_value = "80x24", value_parser = parse_frame_size)]
+    pub size: (usize, usize),
+    /// perspective or orthographic.
+    #[arg(long, default_value = "perspective")]
+    pub projection: Projection,
+    /// portal (cell-and-portal visibility) or none (every wall: brute force).
+    #[arg(long, default_value = "portal")]
+    pub culling: Culling,
+    /// Print one JSON object of counts and timing on stderr.
+    #[arg(long)]
+    pub stats: bool,
+    /// Write a CSV of ROWS lines × COLS values: the view-space depth of the wall seen through each
+    /// cell's centre, empty where none.
+    #[arg(long, value_name = "FILE")]
+    pub depth_out: Option<PathBuf>,
+}
+
+#[derive(Args)]
+pub struct CheckArgs {
+    /// The maze file (CS559 or grid format; detected); `-` reads standard input.
+    pub file: PathBuf,
+    #[command(flatten)]
+    pub read: ReadArgs,
+}
+
+impl LookArgs {
+    pub fn options(&self, culling: Culling) -> RenderOptions {
+        let env = |k: &str| std::env::var(k).ok();
+        let color_depth = self.color.unwrap_or_else(|| caps::detect_color_depth(env));
+        RenderOptions { charset: self.charset, color_depth, culling, cell_aspect: self.cell_aspect }
+    }
+}
+
+impl ReadArgs {
+    pub fn options(&self) -> maze::LoadOptions {
+        maze::LoadOptions { max_bytes: self.max_file_size }
+    }
+}
+
+/// `WxH` with each side in `1..=max`: maze sizes (`--gen`, `gen --size`) and frame sizes.
+pub fn parse_dims<T>(s: &str, max: T, what: &str) -> Result<(T, T), String>
+where
+    T: std::str::FromStr + PartialOrd + From<u8> + std::fmt::Display + Copy,
+{
+    let (w, h) =
+        s.split_once(['x', 'X']).ok_or_else(|| format!("expected {what}, e.g. 20x10, found `{s}`"))?;
+    let side = |t: &str| match t.trim().parse::<T>() {
+        Ok(n) if n >= T::from(1) && n <= max => Ok(n),
+        _ => Err(format!("each side must be an integer in 1..={max}, found `{t}`")),
+    };
+    Ok((side(w)?, side(h)?))
+}
+
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    parse_dims(s, MAX_SIDE, "WxH")
+}
+
+pub fn parse_loops(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
+        _ => Err(format!("expected a fraction in 0..=1, found `{s}`")),
+    }
+}
+
+pub fn parse_format(s: &str) -> Result<Format, String> {
+    match s {
+        "cs559" => Ok(Format::Cs559),
+        "grid" => Ok(Format::Grid),
+        _ => Err(format!("unknown format `{s}` (expected cs559 or grid)")),
+    }
+}
+
+pub fn parse_finite(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("expected a finite number, found `{s}`")),
+    }
+}
+
+/// A heading in degrees: any within ±36,000 (a hundred turns), so that f32 still resolves it.
+pub fn parse_heading(s: &str) -> Result<f32, String> {
+    match parse_finite(s)? {
+        x if x.abs() <= 36_000.0 => Ok(x),
+        _ => Err("a heading must be within -36000..=36000 degrees".to_string()),
+    }
+}
+
+/// A number in `lo..=hi` (speeds and steps).
+pub fn parse_in(s: &str, (lo, hi): (f32, f32)) -> Result<f32, String> {
+    match parse_finite(s)? {
+        x if (lo..=hi).contains(&x) => Ok(x),
+        x => Err(format!("{x} is outside {lo}..={hi}")),
+    }
+}
+
+pub fn parse_pitch(s: &str) -> Result<f32, String> {
+    match parse_finite(s)? {
+        x if (-90.0..=90.0).contains(&x) => Ok(x),
+        x => Err(format!("pitch {x}° is outside -90..=90 (straight down to straight up)")),
+    }
+}
+
+pub fn parse_cell_aspect(s: &str) -> Result<f32, String> {
+    match parse_finite(s)? {
+        x if (0.1..=4.0).contains(&x) => Ok(x),
+        x => Err(format!("cell aspect {x} is outside 0.1..=4 (width / height; about 0.5 for most fonts)")),
+    }
+}
+
+pub fn parse_point(s: &str) -> Result<Vec2, String> {
+    let (x, y) = s.split_once(',').ok_or_else(|| format!("expected X,Y, e.g. 2.5,3, found `{s}`"))?;
+    Ok(Vec2::new(parse_finite(x)?, parse_finite(y)?))
+}
+
+pub fn parse_frame_size(s: &str) -> Result<(usize, usize), String> {
+    parse_dims(s, MAX_FRAME_SIDE, "COLSxROWS")
+}
+
+/// `123`, `64K`, `256M`, `2G` (1024-based).
+pub fn parse_bytes(s: &str) -> Result<u64, String> {
+    let (digits, shift) = match s.trim().char_indices().last() {
+        Some((i, 'k' | 'K')) => (&s.trim()[..i], 10),
+        Some((i, 'm' | 'M')) => (&s.trim()[..i], 20),
+        Some((i, 'g' | 'G')) => (&s.trim()[..i], 30),
+        _ => (s.trim(), 0),
+    };
+    match digits.parse::<u64>().ok().and_then(|n| n.checked_mul(1 << shift)) {
+        Some(n) if n > 0 => Ok(n),
+        _ => Err(format!("expected a size in bytes such as 1000000, 512K, 256M or 2G, found `{s}`")),
+    }
+}
+
+/// Largest frame `render` makes, per side (a 2000-column frame is already 8 screens wide).
+pub const MAX_FRAME_SIDE: usize = 2000;
+
+/// Largest frame `render` makes, in cells (a million cells of sextants are 6 M samples, ~150 MB).
+pub const MAX_FRAME_CELLS: usize = 1_000_000;
