@@ -16,9 +16,11 @@
 //!   `-w <= x, y <= w` and `near(depth) * w <= z <= w`.
 //! * **Grid** (viewport output): origin top-left, x right, y down, depth in [0, 1].
 //!
-//! Three projection conventions are provided, named like glam's modules, and gathered in
-//! [`Convention`]: `*_rh_gl` (right-handed, depth [-1, 1]), `*_rh_zo` (right-handed, depth [0, 1]) and
-//! `*_lh_zo` (left-handed, depth [0, 1]).
+//! Three projection conventions are provided, named like glam's modules: [`Convention::RhGl`]
+//! (right-handed, depth [-1, 1]; `glam::camera::rh::proj::opengl`), [`Convention::RhZo`] (right-handed,
+//! depth [0, 1]; `rh::proj::directx`) and [`Convention::LhZo`] (left-handed, depth [0, 1];
+//! `lh::proj::directx`). Projections are methods of [`Convention`]: `conv.perspective(..)`,
+//! `conv.frustum(..)`, `conv.orthographic(..)`.
 //!
 //! # Errors
 //!
@@ -59,9 +61,7 @@ use glam::Vec3;
 pub use clip::{ClipPlane, ClipPlanes, ClipVertex, Coverage, classify, clip_polygon, outcode};
 pub use convention::{Convention, DepthRange};
 pub use projection::{
-    frustum_lh_zo, frustum_rh_gl, frustum_rh_zo, near_corner_distance, orthographic_hwidth,
-    orthographic_lh_zo, orthographic_rh_gl, orthographic_rh_zo, perspective_hfov, perspective_lh_zo,
-    perspective_rh_gl, perspective_rh_zo, physical_aspect, vertical_fov,
+    near_corner_distance, orthographic_hwidth, perspective_hfov, physical_aspect, vertical_fov,
 };
 pub use transform::{model, normal_matrix, rotation_x, rotation_y, rotation_z, scaling, translation};
 pub use view::{

@@ -8,7 +8,9 @@
 mod common;
 
 use glam::{Vec2, Vec4};
-use mazewalk::math::{ClipPlane, ClipPlanes, ClipVertex, Coverage, DepthRange, classify, clip_polygon};
+use mazewalk::math::{
+    ClipPlane, ClipPlanes, ClipVertex, Coverage, DepthRange, classify, clip_polygon, outcode,
+};
 use proptest::prelude::*;
 
 const REL: f32 = 1e-5;
@@ -201,5 +203,34 @@ proptest! {
                 prop_assert!(edge2.contains(p), "{p} cut differently: {edge1:?} vs {edge2:?}");
             }
         }
+    }
+
+    #[test]
+    fn a_polygon_lying_in_a_boundary_plane_is_inside(
+        depth in arb_depth(), plane in prop::sample::select(ClipPlane::ALL.to_vec()),
+        w in 0.1f32..3.0, points in prop::collection::vec((-0.99f32..0.99, -0.99f32..0.99, 0.01f32..0.99), 3..7),
+    ) {
+        // issue #12: a vertex on a plane counts as inside, so a polygon lying in a face of the clip
+        // volume is Inside (no clipping, passed through unchanged), never Outside. Each point is put
+        // exactly on `plane` (x = ±w, y = ±w, z = near end or w): the plane's distance is then exactly 0.
+        let near = match depth { DepthRange::NegOneToOne => -w, DepthRange::ZeroToOne => 0.0 };
+        let on_plane: Vec<Vec4> = points.iter().map(|&(a, b, c)| {
+            let (x, y, z) = (a * w, b * w, near + c * (w - near));
+            match plane {
+                ClipPlane::Left => Vec4::new(-w, y, z, w),
+                ClipPlane::Right => Vec4::new(w, y, z, w),
+                ClipPlane::Bottom => Vec4::new(x, -w, z, w),
+                ClipPlane::Top => Vec4::new(x, w, z, w),
+                ClipPlane::Near => Vec4::new(x, y, near, w),
+                ClipPlane::Far => Vec4::new(x, y, w, w),
+            }
+        }).collect();
+        for p in &on_plane {
+            prop_assert_eq!(plane.distance(*p, depth), 0.0);
+            prop_assert_eq!(outcode(*p, ClipPlanes::ALL, depth), ClipPlanes::NONE, "{}", p);
+        }
+        prop_assert_eq!(classify(&on_plane, ClipPlanes::ALL, depth), Coverage::Inside);
+        prop_assert_eq!(classify(&on_plane, plane.into(), depth), Coverage::Inside);
+        prop_assert_eq!(clip(&on_plane, depth), on_plane);
     }
 }

@@ -187,8 +187,8 @@ proptest! {
     ) {
         // A reflection of the whole world (eye, target, up and the point) through the plane z = 0.
         let mirror = |v: Vec3| Vec3::new(v.x, v.y, -v.z);
-        let rh = math::perspective_rh_zo(fov, aspect, n, f).unwrap() * math::look_at_rh(eye, target, up).unwrap();
-        let lh = math::perspective_lh_zo(fov, aspect, n, f).unwrap()
+        let rh = Convention::RhZo.perspective(fov, aspect, n, f).unwrap() * math::look_at_rh(eye, target, up).unwrap();
+        let lh = Convention::LhZo.perspective(fov, aspect, n, f).unwrap()
             * math::look_at_lh(mirror(eye), mirror(target), mirror(up)).unwrap();
         let (clip_rh, clip_lh) = (rh * p.extend(1.0), lh * mirror(p).extend(1.0));
         // Compare in clip space (no divide), relative to the scene's size.

@@ -35,8 +35,9 @@ impl DepthRange {
 /// The renderer draws the same scene in every convention and checks the frames agree, so the
 /// view constructors here ([`Convention::look_at`], [`Convention::look_to`]) take the crate's
 /// **right-handed world** and, for the left-handed convention, mirror it first (see
-/// [`Convention::world_mirror`]). The projections dispatch straight to the `*_rh_gl`, `*_rh_zo` and
-/// `*_lh_zo` functions.
+/// [`Convention::world_mirror`]). The projections ([`Convention::perspective`],
+/// [`Convention::frustum`], [`Convention::orthographic`]) are the crate's only projection API; each
+/// mirrors the glam function of the same name in the matching `glam::camera` module.
 ///
 /// ```
 /// use glam::{Vec3, Vec4};
@@ -135,20 +136,54 @@ impl Convention {
         }
     }
 
-    /// This convention's perspective projection from a vertical field of view (radians).
+    /// This convention's perspective projection from a vertical field of view `fov_y` (radians) and
+    /// `aspect` (width / height), through the symmetric [`Convention::frustum`]. Mirrors glam's
+    /// `perspective` in `rh::proj::opengl` (RhGl), `rh::proj::directx` (RhZo) and `lh::proj::directx`
+    /// (LhZo).
     ///
     /// # Errors
     ///
-    /// As [`super::perspective_rh_gl`].
+    /// [`MathError::NonFinite`]; [`MathError::FovOutOfRange`] unless `0 < fov_y < π`;
+    /// [`MathError::NotPositive`] for `aspect <= 0`; [`MathError::DepthNotPositive`] unless
+    /// `near, far > 0`; [`MathError::EmptyDepthRange`] for `near == far`; [`MathError::Overflow`].
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use mazewalk::math::Convention;
+    /// for conv in Convention::ALL {
+    ///     let proj = conv.perspective(1.2, 2.0, 0.5, 50.0)?;
+    ///     let range = conv.depth_range();
+    ///     // The near plane lands on the range's near end (-1 or 0), the far plane on 1.
+    ///     assert!((proj.project_point3(conv.forward() * 0.5).z - range.near()).abs() < 1e-5);
+    ///     assert!((proj.project_point3(conv.forward() * 50.0).z - range.far()).abs() < 1e-5);
+    /// }
+    /// # Ok::<(), mazewalk::math::MathError>(())
+    /// ```
     pub fn perspective(self, fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Mat4, MathError> {
         projection::perspective(self, fov_y, aspect, near, far)
     }
 
-    /// This convention's off-centre perspective frustum (bounds on the near plane).
+    /// This convention's off-centre perspective frustum whose near-plane rectangle is
+    /// `[left, right] × [bottom, top]` (`glFrustum`); `near` and `far` are distances along the forward
+    /// axis. Mirrors glam's `frustum` in the matching module (see [`Convention::perspective`]).
     ///
     /// # Errors
     ///
-    /// As [`super::frustum_rh_gl`].
+    /// [`MathError::NonFinite`]; [`MathError::ZeroWidth`] (`left == right`); [`MathError::ZeroHeight`]
+    /// (`bottom == top`); [`MathError::EmptyDepthRange`] (`near == far`);
+    /// [`MathError::DepthNotPositive`] unless `near, far > 0` (zero included); [`MathError::Overflow`]
+    /// when the bounds are too close or too large for `f32`.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use mazewalk::math::Convention;
+    /// let proj = Convention::RhGl.frustum(-1.0, 3.0, -1.0, 1.0, 1.0, 10.0)?;
+    /// // The near-plane corner (3, 1) maps to the NDC corner (1, 1, -1).
+    /// assert!(proj.project_point3(Vec3::new(3.0, 1.0, -1.0)).abs_diff_eq(Vec3::new(1.0, 1.0, -1.0), 1e-5));
+    /// let proj = Convention::LhZo.frustum(-1.0, 1.0, -1.0, 1.0, 1.0, 10.0)?;
+    /// assert!(proj.project_point3(Vec3::new(1.0, 1.0, 1.0)).abs_diff_eq(Vec3::new(1.0, 1.0, 0.0), 1e-5));
+    /// # Ok::<(), mazewalk::math::MathError>(())
+    /// ```
     pub fn frustum(
         self,
         left: f32,
@@ -161,11 +196,23 @@ impl Convention {
         projection::frustum(self, left, right, bottom, top, near, far)
     }
 
-    /// This convention's orthographic projection of the box `[left, right] × [bottom, top] × [near, far]`.
+    /// This convention's orthographic projection of the box `[left, right] × [bottom, top]` × distances
+    /// `[near, far]` onto the NDC cube (`glOrtho`; `near` may be <= 0). Mirrors glam's `orthographic`
+    /// in the matching module (see [`Convention::perspective`]).
     ///
     /// # Errors
     ///
-    /// As [`super::orthographic_rh_gl`].
+    /// [`MathError::NonFinite`], [`MathError::ZeroWidth`], [`MathError::ZeroHeight`],
+    /// [`MathError::EmptyDepthRange`], [`MathError::Overflow`].
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use mazewalk::math::Convention;
+    /// let proj = Convention::RhZo.orthographic(-2.0, 2.0, -1.0, 1.0, 0.0, 10.0)?;
+    /// assert!(proj.project_point3(Vec3::new(2.0, 1.0, -10.0)).abs_diff_eq(Vec3::ONE, 1e-6));
+    /// assert!(proj.project_point3(Vec3::new(-2.0, -1.0, 0.0)).abs_diff_eq(Vec3::new(-1.0, -1.0, 0.0), 1e-6));
+    /// # Ok::<(), mazewalk::math::MathError>(())
+    /// ```
     pub fn orthographic(
         self,
         left: f32,

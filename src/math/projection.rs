@@ -44,7 +44,7 @@ fn box_extent(
     Ok(extent)
 }
 
-/// Shared by every `frustum_*`: see [`frustum_rh_gl`] for the contract.
+/// [`Convention::frustum`]: see there for the contract.
 pub(super) fn frustum(
     conv: Convention,
     left: f32,
@@ -80,7 +80,7 @@ pub(super) fn frustum(
     )
 }
 
-/// Shared by every `orthographic_*`: see [`orthographic_rh_gl`] for the contract.
+/// [`Convention::orthographic`]: see there for the contract.
 pub(super) fn orthographic(
     conv: Convention,
     left: f32,
@@ -109,7 +109,7 @@ pub(super) fn orthographic(
     )
 }
 
-/// Shared by every `perspective_*`: see [`perspective_rh_gl`] for the contract.
+/// [`Convention::perspective`]: see there for the contract.
 pub(super) fn perspective(
     conv: Convention,
     fov_y: f32,
@@ -119,15 +119,18 @@ pub(super) fn perspective(
 ) -> Result<Mat4, MathError> {
     check_fov(fov_y)?;
     check_positive("aspect", aspect)?;
-    check_finite("near", near)?;
-    check_finite("far", far)?;
-    if !(near > 0.0 && far > 0.0) {
-        return Err(MathError::DepthNotPositive { near, far });
-    }
+    check_near(near, far)?;
     // The symmetric frustum whose near-plane rectangle subtends fov_y vertically.
     let top = near * (0.5 * fov_y).tan();
     let right = top * aspect;
     frustum(conv, -right, right, -top, top, near, far)
+}
+
+/// `Err` unless `near` is finite and `> 0`, checked before `near` scales the frustum's bounds (a zero
+/// `near` would otherwise be reported as a zero width). [`frustum`] checks `far`, and `near` again.
+fn check_near(near: f32, far: f32) -> Result<(), MathError> {
+    check_finite("near", near)?;
+    if near > 0.0 { Ok(()) } else { Err(MathError::DepthNotPositive { near, far }) }
 }
 
 /// `Err` unless `fov` is a finite angle in the open interval (0, π).
@@ -140,211 +143,6 @@ fn check_fov(fov: f32) -> Result<(), MathError> {
 fn check_positive(arg: &'static str, value: f32) -> Result<(), MathError> {
     check_finite(arg, value)?;
     if value > 0.0 { Ok(()) } else { Err(MathError::NotPositive { arg, value }) }
-}
-
-/// Right-handed, -Z forward. NDC z in [-1, 1] (OpenGL). Perspective from a vertical fov (radians) and
-/// aspect (width / height), through the symmetric [`frustum_rh_gl`]. Mirrors
-/// `glam::camera::rh::proj::opengl::perspective`.
-///
-/// # Errors
-///
-/// [`MathError::NonFinite`]; [`MathError::FovOutOfRange`] unless `0 < fov_y < π`;
-/// [`MathError::NotPositive`] for `aspect <= 0`; [`MathError::DepthNotPositive`] unless
-/// `near, far > 0`; [`MathError::EmptyDepthRange`] for `near == far`; [`MathError::Overflow`].
-///
-/// ```
-/// # use glam::Vec3;
-/// let proj = mazewalk::math::perspective_rh_gl(1.2, 2.0, 0.5, 50.0)?;
-/// assert!((proj.project_point3(Vec3::new(0.0, 0.0, -0.5)).z - -1.0).abs() < 1e-5); // near → -1
-/// assert!((proj.project_point3(Vec3::new(0.0, 0.0, -50.0)).z - 1.0).abs() < 1e-5); // far → 1
-/// # Ok::<(), mazewalk::math::MathError>(())
-/// ```
-pub fn perspective_rh_gl(fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Mat4, MathError> {
-    perspective(Convention::RhGl, fov_y, aspect, near, far)
-}
-
-/// Right-handed, -Z forward. NDC z in [0, 1]. Perspective from a vertical fov; mirrors
-/// `glam::camera::rh::proj::directx::perspective`.
-///
-/// # Errors
-///
-/// As [`perspective_rh_gl`].
-///
-/// ```
-/// # use glam::Vec3;
-/// let proj = mazewalk::math::perspective_rh_zo(1.2, 2.0, 0.5, 50.0)?;
-/// assert!(proj.project_point3(Vec3::new(0.0, 0.0, -0.5)).z.abs() < 1e-6); // near → 0
-/// # Ok::<(), mazewalk::math::MathError>(())
-/// ```
-pub fn perspective_rh_zo(fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Mat4, MathError> {
-    perspective(Convention::RhZo, fov_y, aspect, near, far)
-}
-
-/// Left-handed, +Z forward. NDC z in [0, 1] (Direct3D). Perspective from a vertical fov; mirrors
-/// `glam::camera::lh::proj::directx::perspective`.
-///
-/// # Errors
-///
-/// As [`perspective_rh_gl`].
-///
-/// ```
-/// # use glam::Vec3;
-/// let proj = mazewalk::math::perspective_lh_zo(1.2, 2.0, 0.5, 50.0)?;
-/// assert!((proj.project_point3(Vec3::new(0.0, 0.0, 50.0)).z - 1.0).abs() < 1e-5); // far → 1
-/// # Ok::<(), mazewalk::math::MathError>(())
-/// ```
-pub fn perspective_lh_zo(fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Mat4, MathError> {
-    perspective(Convention::LhZo, fov_y, aspect, near, far)
-}
-
-/// Right-handed, -Z forward. NDC z in [-1, 1] (OpenGL). The off-centre perspective frustum whose
-/// near-plane rectangle is `[left, right] × [bottom, top]` (`glFrustum`); mirrors
-/// `glam::camera::rh::proj::opengl::frustum`.
-///
-/// # Errors
-///
-/// [`MathError::NonFinite`]; [`MathError::ZeroWidth`] (`left == right`); [`MathError::ZeroHeight`]
-/// (`bottom == top`); [`MathError::EmptyDepthRange`] (`near == far`); [`MathError::DepthNotPositive`]
-/// unless `near, far > 0`; [`MathError::Overflow`] when the bounds are too close or too large for `f32`.
-///
-/// ```
-/// # use glam::Vec3;
-/// let proj = mazewalk::math::frustum_rh_gl(-1.0, 3.0, -1.0, 1.0, 1.0, 10.0)?;
-/// // The near-plane corner (3, 1) maps to the NDC corner (1, 1, -1).
-/// assert!(proj.project_point3(Vec3::new(3.0, 1.0, -1.0)).abs_diff_eq(Vec3::new(1.0, 1.0, -1.0), 1e-5));
-/// # Ok::<(), mazewalk::math::MathError>(())
-/// ```
-pub fn frustum_rh_gl(
-    left: f32,
-    right: f32,
-    bottom: f32,
-    top: f32,
-    near: f32,
-    far: f32,
-) -> Result<Mat4, MathError> {
-    frustum(Convention::RhGl, left, right, bottom, top, near, far)
-}
-
-/// Right-handed, -Z forward. NDC z in [0, 1]. Off-centre frustum; mirrors
-/// `glam::camera::rh::proj::directx::frustum`.
-///
-/// # Errors
-///
-/// As [`frustum_rh_gl`].
-///
-/// ```
-/// # use glam::Vec3;
-/// let proj = mazewalk::math::frustum_rh_zo(-1.0, 1.0, -1.0, 1.0, 1.0, 10.0)?;
-/// assert!(proj.project_point3(Vec3::new(-10.0, -10.0, -10.0)).abs_diff_eq(Vec3::new(-1.0, -1.0, 1.0), 1e-5));
-/// # Ok::<(), mazewalk::math::MathError>(())
-/// ```
-pub fn frustum_rh_zo(
-    left: f32,
-    right: f32,
-    bottom: f32,
-    top: f32,
-    near: f32,
-    far: f32,
-) -> Result<Mat4, MathError> {
-    frustum(Convention::RhZo, left, right, bottom, top, near, far)
-}
-
-/// Left-handed, +Z forward. NDC z in [0, 1] (Direct3D). Off-centre frustum; mirrors
-/// `glam::camera::lh::proj::directx::frustum`.
-///
-/// # Errors
-///
-/// As [`frustum_rh_gl`].
-///
-/// ```
-/// # use glam::Vec3;
-/// let proj = mazewalk::math::frustum_lh_zo(-1.0, 1.0, -1.0, 1.0, 1.0, 10.0)?;
-/// assert!(proj.project_point3(Vec3::new(1.0, 1.0, 1.0)).abs_diff_eq(Vec3::new(1.0, 1.0, 0.0), 1e-5));
-/// # Ok::<(), mazewalk::math::MathError>(())
-/// ```
-pub fn frustum_lh_zo(
-    left: f32,
-    right: f32,
-    bottom: f32,
-    top: f32,
-    near: f32,
-    far: f32,
-) -> Result<Mat4, MathError> {
-    frustum(Convention::LhZo, left, right, bottom, top, near, far)
-}
-
-/// Right-handed, -Z forward. NDC z in [-1, 1] (OpenGL). Maps the box `[left, right] × [bottom, top]`
-/// × distances `[near, far]` onto the NDC cube (`glOrtho`; `near` may be <= 0); mirrors
-/// `glam::camera::rh::proj::opengl::orthographic`.
-///
-/// # Errors
-///
-/// [`MathError::NonFinite`], [`MathError::ZeroWidth`], [`MathError::ZeroHeight`],
-/// [`MathError::EmptyDepthRange`], [`MathError::Overflow`].
-///
-/// ```
-/// # use glam::Vec3;
-/// let proj = mazewalk::math::orthographic_rh_gl(-2.0, 2.0, -1.0, 1.0, 0.0, 10.0)?;
-/// assert!(proj.project_point3(Vec3::new(2.0, 1.0, -10.0)).abs_diff_eq(Vec3::ONE, 1e-6));
-/// # Ok::<(), mazewalk::math::MathError>(())
-/// ```
-pub fn orthographic_rh_gl(
-    left: f32,
-    right: f32,
-    bottom: f32,
-    top: f32,
-    near: f32,
-    far: f32,
-) -> Result<Mat4, MathError> {
-    orthographic(Convention::RhGl, left, right, bottom, top, near, far)
-}
-
-/// Right-handed, -Z forward. NDC z in [0, 1]. Orthographic box; mirrors
-/// `glam::camera::rh::proj::directx::orthographic`.
-///
-/// # Errors
-///
-/// As [`orthographic_rh_gl`].
-///
-/// ```
-/// # use glam::Vec3;
-/// let proj = mazewalk::math::orthographic_rh_zo(-2.0, 2.0, -1.0, 1.0, 0.0, 10.0)?;
-/// assert!(proj.project_point3(Vec3::new(-2.0, -1.0, 0.0)).abs_diff_eq(Vec3::new(-1.0, -1.0, 0.0), 1e-6));
-/// # Ok::<(), mazewalk::math::MathError>(())
-/// ```
-pub fn orthographic_rh_zo(
-    left: f32,
-    right: f32,
-    bottom: f32,
-    top: f32,
-    near: f32,
-    far: f32,
-) -> Result<Mat4, MathError> {
-    orthographic(Convention::RhZo, left, right, bottom, top, near, far)
-}
-
-/// Left-handed, +Z forward. NDC z in [0, 1] (Direct3D). Orthographic box; mirrors
-/// `glam::camera::lh::proj::directx::orthographic`.
-///
-/// # Errors
-///
-/// As [`orthographic_rh_gl`].
-///
-/// ```
-/// # use glam::Vec3;
-/// let proj = mazewalk::math::orthographic_lh_zo(-2.0, 2.0, -1.0, 1.0, 0.0, 10.0)?;
-/// assert!(proj.project_point3(Vec3::new(2.0, 1.0, 10.0)).abs_diff_eq(Vec3::ONE, 1e-6));
-/// # Ok::<(), mazewalk::math::MathError>(())
-/// ```
-pub fn orthographic_lh_zo(
-    left: f32,
-    right: f32,
-    bottom: f32,
-    top: f32,
-    near: f32,
-    far: f32,
-) -> Result<Mat4, MathError> {
-    orthographic(Convention::LhZo, left, right, bottom, top, near, far)
 }
 
 /// The physical aspect (width / height) of a grid of `cols × rows` samples, each `sample_aspect` wide
@@ -389,7 +187,7 @@ pub fn vertical_fov(horizontal_fov: f32, aspect: f32) -> f32 {
 /// # Errors
 ///
 /// Those of [`physical_aspect`]; [`MathError::FovOutOfRange`] unless `0 < hfov < π`; and those of
-/// [`perspective_rh_gl`].
+/// [`Convention::perspective`].
 ///
 /// ```
 /// # use glam::Vec3;
@@ -410,10 +208,7 @@ pub fn perspective_hfov(
 ) -> Result<Mat4, MathError> {
     let aspect = physical_aspect(cols, rows, sample_aspect)?;
     check_fov(hfov)?;
-    check_finite("near", near)?;
-    if !(near > 0.0 && far > 0.0) {
-        return Err(MathError::DepthNotPositive { near, far });
-    }
+    check_near(near, far)?;
     // Straight to the frustum: half-width from the hfov, half-height through the aspect. Going via
     // vertical_fov would round-trip through atan and tan for nothing.
     let right = near * (0.5 * hfov).tan();
@@ -427,7 +222,7 @@ pub fn perspective_hfov(
 /// # Errors
 ///
 /// Those of [`physical_aspect`]; [`MathError::NotPositive`] for `half_width <= 0`; those of
-/// [`orthographic_rh_gl`].
+/// [`Convention::orthographic`].
 ///
 /// ```
 /// # use glam::Vec3;
@@ -472,34 +267,49 @@ mod tests {
 
     #[test]
     fn flat_frusta_are_errors() {
-        assert_eq!(frustum_rh_gl(1.0, 1.0, -1.0, 1.0, 1.0, 2.0), Err(MathError::ZeroWidth { left: 1.0 }));
-        assert_eq!(frustum_rh_zo(-1.0, 1.0, 2.0, 2.0, 1.0, 2.0), Err(MathError::ZeroHeight { bottom: 2.0 }));
         assert_eq!(
-            orthographic_lh_zo(-1.0, 1.0, -1.0, 1.0, 3.0, 3.0),
+            Convention::RhGl.frustum(1.0, 1.0, -1.0, 1.0, 1.0, 2.0),
+            Err(MathError::ZeroWidth { left: 1.0 })
+        );
+        assert_eq!(
+            Convention::RhZo.frustum(-1.0, 1.0, 2.0, 2.0, 1.0, 2.0),
+            Err(MathError::ZeroHeight { bottom: 2.0 })
+        );
+        assert_eq!(
+            Convention::LhZo.orthographic(-1.0, 1.0, -1.0, 1.0, 3.0, 3.0),
             Err(MathError::EmptyDepthRange { near: 3.0 })
         );
-        assert_eq!(perspective_rh_gl(1.0, 1.0, 2.0, 2.0), Err(MathError::EmptyDepthRange { near: 2.0 }));
+        assert_eq!(
+            Convention::RhGl.perspective(1.0, 1.0, 2.0, 2.0),
+            Err(MathError::EmptyDepthRange { near: 2.0 })
+        );
     }
 
     #[test]
     fn perspective_needs_positive_near_and_far() {
         assert_eq!(
-            perspective_rh_gl(1.0, 1.0, 0.0, 2.0),
+            Convention::RhGl.perspective(1.0, 1.0, 0.0, 2.0),
             Err(MathError::DepthNotPositive { near: 0.0, far: 2.0 })
         );
         assert_eq!(
-            frustum_lh_zo(-1.0, 1.0, -1.0, 1.0, 1.0, -2.0),
+            Convention::LhZo.frustum(-1.0, 1.0, -1.0, 1.0, 1.0, -2.0),
             Err(MathError::DepthNotPositive { near: 1.0, far: -2.0 })
         );
     }
 
     #[test]
     fn fov_and_aspect_are_checked() {
-        assert_eq!(perspective_rh_zo(0.0, 1.0, 1.0, 2.0), Err(MathError::FovOutOfRange { fov: 0.0 }));
-        let pi = std::f32::consts::PI;
-        assert_eq!(perspective_lh_zo(pi, 1.0, 1.0, 2.0), Err(MathError::FovOutOfRange { fov: pi }));
         assert_eq!(
-            perspective_rh_gl(1.0, -1.0, 1.0, 2.0),
+            Convention::RhZo.perspective(0.0, 1.0, 1.0, 2.0),
+            Err(MathError::FovOutOfRange { fov: 0.0 })
+        );
+        let pi = std::f32::consts::PI;
+        assert_eq!(
+            Convention::LhZo.perspective(pi, 1.0, 1.0, 2.0),
+            Err(MathError::FovOutOfRange { fov: pi })
+        );
+        assert_eq!(
+            Convention::RhGl.perspective(1.0, -1.0, 1.0, 2.0),
             Err(MathError::NotPositive { arg: "aspect", value: -1.0 })
         );
         assert_eq!(
@@ -520,11 +330,11 @@ mod tests {
     #[test]
     fn non_finite_bounds_are_errors() {
         assert_eq!(
-            frustum_rh_gl(f32::NEG_INFINITY, 1.0, -1.0, 1.0, 1.0, 2.0),
+            Convention::RhGl.frustum(f32::NEG_INFINITY, 1.0, -1.0, 1.0, 1.0, 2.0),
             Err(MathError::NonFinite { arg: "left", value: f32::NEG_INFINITY })
         );
         assert!(matches!(
-            perspective_rh_gl(1.0, 1.0, 1.0, f32::NAN),
+            Convention::RhGl.perspective(1.0, 1.0, 1.0, f32::NAN),
             Err(MathError::NonFinite { arg: "far", .. })
         ));
     }
@@ -532,13 +342,89 @@ mod tests {
     #[test]
     fn overflowing_bounds_are_errors() {
         assert_eq!(
-            orthographic_rh_gl(-3e38, 3e38, -1.0, 1.0, 0.0, 1.0),
+            Convention::RhGl.orthographic(-3e38, 3e38, -1.0, 1.0, 0.0, 1.0),
             Err(MathError::Overflow { what: "projection bounds" })
         );
         // 1 / (right - left) overflows for bounds one subnormal step apart.
         assert_eq!(
-            frustum_rh_zo(0.0, 1e-45, -1.0, 1.0, 1.0, 2.0),
+            Convention::RhZo.frustum(0.0, 1e-45, -1.0, 1.0, 1.0, 2.0),
             Err(MathError::Overflow { what: "frustum" })
         );
+    }
+
+    #[test]
+    fn zero_near_or_far_is_an_error() {
+        // Both planes strictly in front of the eye: zero is as invalid as negative (issue #12).
+        for conv in Convention::ALL {
+            assert_eq!(
+                conv.frustum(-1.0, 1.0, -1.0, 1.0, 0.0, 2.0),
+                Err(MathError::DepthNotPositive { near: 0.0, far: 2.0 })
+            );
+            assert_eq!(
+                conv.frustum(-1.0, 1.0, -1.0, 1.0, 1.0, 0.0),
+                Err(MathError::DepthNotPositive { near: 1.0, far: 0.0 })
+            );
+            assert_eq!(
+                conv.perspective(1.0, 1.0, 1.0, 0.0),
+                Err(MathError::DepthNotPositive { near: 1.0, far: 0.0 })
+            );
+            assert_eq!(
+                perspective_hfov(conv, 1.0, 10, 10, 0.5, 0.0, 2.0),
+                Err(MathError::DepthNotPositive { near: 0.0, far: 2.0 })
+            );
+            assert_eq!(
+                perspective_hfov(conv, 1.0, 10, 10, 0.5, 1.0, 0.0),
+                Err(MathError::DepthNotPositive { near: 1.0, far: 0.0 })
+            );
+        }
+    }
+
+    #[test]
+    fn a_non_finite_near_is_named() {
+        // `near` scales the bounds, so it is checked (and named) before they are built.
+        assert!(matches!(
+            Convention::RhZo.perspective(1.0, 1.0, f32::NAN, 2.0),
+            Err(MathError::NonFinite { arg: "near", .. })
+        ));
+        assert!(matches!(
+            perspective_hfov(Convention::LhZo, 1.0, 10, 10, 0.5, f32::INFINITY, 2.0),
+            Err(MathError::NonFinite { arg: "near", .. })
+        ));
+    }
+
+    #[test]
+    fn physical_aspect_is_columns_times_sample_aspect_over_rows() {
+        assert_eq!(physical_aspect(80, 20, 0.5), Ok(2.0));
+        assert_eq!(physical_aspect(3, 4, 1.0), Ok(0.75));
+        assert_eq!(physical_aspect(7, 2, 0.25), Ok(0.875));
+        assert_eq!(physical_aspect(10, 0, 0.5), Err(MathError::EmptyGrid { width: 10.0, height: 0.0 }));
+        assert_eq!(
+            physical_aspect(10, 10, 0.0),
+            Err(MathError::NotPositive { arg: "sample_aspect", value: 0.0 })
+        );
+        // A valid but extreme sample aspect whose product underflows to 0 or overflows to inf.
+        assert_eq!(
+            physical_aspect(1, 1 << 20, 1e-40),
+            Err(MathError::NotPositive { arg: "aspect", value: 0.0 })
+        );
+        assert!(matches!(
+            physical_aspect(usize::MAX, 1, 3e38),
+            Err(MathError::NonFinite { arg: "aspect", .. })
+        ));
+    }
+
+    #[test]
+    fn orthographic_hwidth_is_the_box_of_the_grid_aspect() {
+        for conv in Convention::ALL {
+            // 80 × 20 samples of aspect 0.5: physical aspect 2, so half-height = 4 / 2.
+            assert_eq!(
+                orthographic_hwidth(conv, 4.0, 80, 20, 0.5, 0.0, 10.0),
+                conv.orthographic(-4.0, 4.0, -2.0, 2.0, 0.0, 10.0)
+            );
+            assert_eq!(
+                orthographic_hwidth(conv, 3.0, 10, 20, 1.0, -1.0, 5.0),
+                conv.orthographic(-3.0, 3.0, -6.0, 6.0, -1.0, 5.0)
+            );
+        }
     }
 }

@@ -100,10 +100,17 @@ pub fn model(translation: Vec3, rotation: Mat4, scale: Vec3) -> Mat4 {
 /// Normals transform with it so they stay perpendicular to transformed tangents, even under
 /// non-uniform scale (where the plain 3×3 would tilt them). The result is not normalized.
 ///
+/// Works at any magnitude: a rotation times a uniform scale of 1e-30 or 1e30 has a normal matrix
+/// (the inverse is taken of the columns scaled to unit size, then scaled back), and a singular 3×3
+/// is refused however large or small its columns are.
+///
 /// # Errors
 ///
 /// [`MathError::NonFinite`] for a non-finite 3×3 part; [`MathError::Singular`] when the 3×3 part is
-/// singular or so ill-conditioned that its inverse is meaningless in `f32`.
+/// singular or so ill-conditioned that its inverse is meaningless in `f32`: a zero column, or columns
+/// whose directions span a parallelepiped of volume at most 1e-6 (the unit cube's is 1);
+/// [`MathError::Overflow`] when the inverse is well defined but too large for `f32` (a column shorter
+/// than about 3e-39, the reciprocal of `f32::MAX`).
 ///
 /// ```
 /// # use glam::Vec3;
@@ -115,20 +122,35 @@ pub fn model(translation: Vec3, rotation: Mat4, scale: Vec3) -> Mat4 {
 /// ```
 pub fn normal_matrix(model: Mat4) -> Result<Mat3, MathError> {
     let m = Mat3::from_mat4(model);
-    for col in [m.x_axis, m.y_axis, m.z_axis] {
+    let columns = [m.x_axis, m.y_axis, m.z_axis];
+    for col in columns {
         super::check_finite3("model", col)?;
     }
-    let determinant = m.determinant();
-    // Scale-free conditioning test: |det| over the product of the column lengths is 1 for orthogonal
-    // columns (any scale) and 0 for dependent ones (Hadamard's inequality).
-    let volume = m.x_axis.length() * m.y_axis.length() * m.z_axis.length();
-    if determinant.abs() <= 1e-6 * volume {
-        return Err(MathError::Singular { determinant });
+    let singular = || MathError::Singular { determinant: m.determinant() }; // reported, never tested
+    // M = U · diag(size): each column divided by its largest |entry|, so U's entries are at most 1
+    // and nothing below can overflow or underflow, whatever M's magnitude (issue #12).
+    let size = Vec3::from_array(columns.map(|col| col.abs().max_element()));
+    if size.min_element() == 0.0 {
+        return Err(singular()); // a zero column
     }
-    // A NaN determinant (from overflowing products) slips past the test above and is caught here.
-    let n = m.inverse().transpose();
-    if n.is_finite() { Ok(n) } else { Err(MathError::Singular { determinant }) }
+    let u = Mat3::from_cols(m.x_axis / size.x, m.y_axis / size.y, m.z_axis / size.z);
+    // Scale-free conditioning: |det| of the unit-length columns, the volume of the parallelepiped they
+    // span, is 1 for orthogonal columns and 0 for dependent ones (Hadamard's inequality). U's entries
+    // are at most 1, so this cannot be NaN; if it ever were, it would refuse.
+    let lengths = u.x_axis.length() * u.y_axis.length() * u.z_axis.length(); // each in [1, √3]
+    let volume = u.determinant().abs() / lengths;
+    if !volume.is_finite() || volume <= SINGULAR_VOLUME {
+        return Err(singular());
+    }
+    // M⁻ᵀ = (U · D)⁻ᵀ = U⁻ᵀ · D⁻¹: column j of U's normal matrix divided by size j.
+    let n = u.inverse().transpose();
+    let n = Mat3::from_cols(n.x_axis / size.x, n.y_axis / size.y, n.z_axis / size.z);
+    if n.is_finite() { Ok(n) } else { Err(MathError::Overflow { what: "normal matrix" }) }
 }
+
+/// At or below this volume spanned by the unit columns, [`normal_matrix`] calls a 3×3 singular: its
+/// inverse would amplify the columns' rounding (6e-8) past 6 %.
+const SINGULAR_VOLUME: f32 = 1e-6;
 
 #[cfg(test)]
 mod tests {

@@ -313,4 +313,18 @@ mod tests {
             assert!(view.transform_point3(Vec3::X).abs_diff_eq(-Vec3::Z, 1e-6));
         }
     }
+
+    #[test]
+    fn up_exactly_at_the_parallel_threshold_is_not_parallel() {
+        // up = (1, 1e-4, 0) normalizes to itself (1 + 1e-8 rounds to 1), so the sine of its angle to
+        // +x is exactly PARALLEL_SINE: the rule is "below counts as parallel", at the threshold is not.
+        let at = Vec3::new(1.0, PARALLEL_SINE, 0.0);
+        assert!(look_to_rh(Vec3::ZERO, Vec3::X, at).is_ok());
+        assert!(look_to_lh(Vec3::ZERO, Vec3::X, at).is_ok());
+        let below = Vec3::new(1.0, 0.99 * PARALLEL_SINE, 0.0);
+        assert_eq!(
+            look_to_rh(Vec3::ZERO, Vec3::X, below),
+            Err(MathError::UpParallel { dir: Vec3::X, up: below })
+        );
+    }
 }

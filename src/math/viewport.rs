@@ -47,4 +47,15 @@ mod tests {
         );
         assert!(matches!(viewport(f32::NAN, 1.0, DepthRange::ZeroToOne), Err(MathError::NonFinite { .. })));
     }
+
+    #[test]
+    fn a_grid_with_no_rows_or_no_columns_is_empty() {
+        // issue #12: zero height is refused as zero width is, whichever side is zero.
+        for (width, height) in [(10.0, 0.0), (0.0, 0.0), (-1.0, 5.0), (5.0, -1.0)] {
+            assert_eq!(
+                viewport(width, height, DepthRange::NegOneToOne),
+                Err(MathError::EmptyGrid { width, height })
+            );
+        }
+    }
 }

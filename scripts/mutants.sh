@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Mutation testing (issue #12), bounded for a small shared machine. Not run by CI.
+#
+#   scripts/mutants.sh              the math core, every mutant (.cargo/mutants.toml)
+#   scripts/mutants.sh render       raster, wall, portal and the encoder (.cargo/mutants-render.toml)
+#   scripts/mutants.sh math -- ARGS extra cargo-mutants arguments, e.g. `-f src/math/clip.rs`,
+#                                   `--re normal_matrix`, `--shard 1/4`
+#
+# One mutant at a time (-j 1) under `nice`, in the test profile. Not `--copy-target`: the copy loses
+# the files' times, so cargo rebuilds every dependency anyway (about 8 minutes on two busy cores,
+# once per run, before the first mutant). Results go to target/mutants-<scope>/mutants.out
+# (caught.txt, missed.txt, timeout.txt, unviable.txt); the exit status is cargo-mutants' own (0: no
+# mutant missed). Record the score and every survivor's reason in MUTANTS.md.
+#
+# Time: each mutant rebuilds the library and the selected test binaries (about 20-40 s on two busy
+# cores), so the math core's ~380 mutants take a few hours; shard (`--shard k/n`) to spread them.
+# MUTANTS_TIME_LIMIT (seconds, default 0: none) stops the run after that long, keeping what finished.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+scope="${1:-math}"
+[ $# -gt 0 ] && shift
+[ "${1:-}" = "--" ] && shift
+
+case "$scope" in
+  math) config=.cargo/mutants.toml ;;
+  render) config=.cargo/mutants-render.toml ;;
+  *) echo "usage: $0 [math|render] [-- cargo-mutants args]" >&2; exit 2 ;;
+esac
+
+if ! cargo mutants --version >/dev/null 2>&1; then
+  cargo install --locked cargo-mutants
+fi
+
+limit="${MUTANTS_TIME_LIMIT:-0}"
+run=(nice cargo mutants --config "$config" -j 1 -o "target/mutants-$scope" "$@")
+if [ "$limit" -gt 0 ]; then
+  # SIGINT lets cargo-mutants stop cleanly and write what it has.
+  exec timeout --signal=INT --kill-after=60 "$limit" "${run[@]}"
+else
+  exec "${run[@]}"
+fi
