@@ -19,10 +19,25 @@ struct Outcome {
     stderr: String,
 }
 
+/// This test's own scratch folder (tests run in parallel, each on a thread named after it).
+fn scratch_dir() -> PathBuf {
+    let test = std::thread::current().name().unwrap_or("main").replace("::", "-");
+    std::env::temp_dir().join(format!("mazewalk-hostile-{}-{test}", std::process::id()))
+}
+
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("mazewalk-hostile-{}", std::process::id()));
+    let dir = scratch_dir();
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
+}
+
+/// Removes the test's scratch folder when the test ends, whether it passed or not.
+struct Cleanup;
+
+impl Drop for Cleanup {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(scratch_dir());
+    }
 }
 
 /// Runs `mazewalk ARGS` with `stdin`, killing it after [`TIMEOUT`].
@@ -81,6 +96,7 @@ const DATA_OR_INPUT: &[i32] = &[65, 66, 2];
 
 #[test]
 fn every_corpus_file_is_refused_or_accepted_cleanly() {
+    let _cleanup = Cleanup;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/hostile");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
     files.sort();
@@ -93,6 +109,7 @@ fn every_corpus_file_is_refused_or_accepted_cleanly() {
 
 #[test]
 fn messages_name_the_problem() {
+    let _cleanup = Cleanup;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/hostile");
     for (name, wanted) in [
         ("utf16-bom.maze", ":1:1: this looks like UTF-16; save the file as UTF-8"),
@@ -116,6 +133,7 @@ fn messages_name_the_problem() {
 
 #[test]
 fn huge_tokens_lines_and_newlines_give_short_messages() {
+    let _cleanup = Cleanup;
     let ten_mb = 10 << 20;
     let cases: Vec<(&str, Vec<u8>)> = vec![
         ("token.maze", [b"4\n".as_slice(), &vec![b'7'; ten_mb]].concat()),
@@ -140,6 +158,7 @@ fn huge_tokens_lines_and_newlines_give_short_messages() {
 
 #[test]
 fn special_files_and_sparse_giants_end_with_an_error() {
+    let _cleanup = Cleanup;
     // a character device that never ends: refused unopened-for-reading
     check_file(Path::new("/dev/zero"), &[66]);
     // a FIFO with no writer: refused, not waited on
@@ -173,6 +192,7 @@ fn special_files_and_sparse_giants_end_with_an_error() {
 
 #[test]
 fn stdin_is_read_with_the_same_limits() {
+    let _cleanup = Cleanup;
     // `-` reads stdin: /dev/zero stops at its first byte
     let out = run(&["check", "-"], Stdio::from(File::open("/dev/zero").unwrap()));
     check_outcome("stdin /dev/zero", "-", &out, &[65]);
