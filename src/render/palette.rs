@@ -126,28 +126,43 @@ pub const SHADES: [char; 4] = [' ', '░', '▒', '▓'];
 /// The ANSI-16 mix of two colours and a shade glyph that comes nearest to an sRGB colour.
 ///
 /// Mixes are averaged in linear light (what the eye does with a fine pattern) and compared in sRGB.
-/// Looked up in a table of 32 levels per channel, built on first use; the 16 colours themselves are exact.
+/// Looked up at 32 levels per channel; each level's answer is searched the first time a frame needs
+/// it and kept (searching all 32,768 up front took ~45 ms, a first frame's whole budget many times
+/// over; a frame needs a few hundred). The 16 colours themselves are exact.
 #[must_use]
 pub fn ansi16_dither(rgb: [u8; 3]) -> Dither {
-    static TABLE: OnceLock<Vec<Dither>> = OnceLock::new();
-    let table = TABLE.get_or_init(|| {
-        let candidates = dither_candidates();
-        (0..32 * 32 * 32)
-            .map(|key: usize| {
-                let target = [key >> 10, (key >> 5) & 31, key & 31].map(|v| ((v << 3) + 4) as f32);
-                let d2 = |c: &[f32; 3]| (0..3).map(|k| (c[k] - target[k]).powi(2)).sum::<f32>();
-                candidates
-                    .iter()
-                    .min_by(|a, b| d2(&a.1).total_cmp(&d2(&b.1)))
-                    .map_or(Dither { glyph: ' ', fg: 0, bg: 0 }, |c| c.0)
-            })
-            .collect()
-    });
+    use std::sync::atomic::{AtomicU16, Ordering};
+    /// Per level: 0 = not searched yet, else 1 + glyph index · 256 + fg · 16 + bg.
+    static MEMO: OnceLock<Box<[AtomicU16]>> = OnceLock::new();
+    static CANDIDATES: OnceLock<Vec<(Dither, [f32; 3])>> = OnceLock::new();
     if let Some(exact) = ANSI16.iter().position(|&c| c == rgb) {
-        return Dither { glyph: ' ', fg: exact as u8, bg: exact as u8 }; // the table's buckets are coarser
+        return Dither { glyph: ' ', fg: exact as u8, bg: exact as u8 }; // the levels are coarser
     }
     let [r, g, b] = rgb.map(|v| usize::from(v >> 3));
-    table[(r << 10) | (g << 5) | b]
+    let key = (r << 10) | (g << 5) | b;
+    let memo = MEMO.get_or_init(|| (0..32 * 32 * 32).map(|_| AtomicU16::new(0)).collect());
+    let unpack = |packed: u16| {
+        let packed = packed - 1;
+        Dither {
+            glyph: SHADES[usize::from(packed >> 8)],
+            fg: ((packed >> 4) & 15) as u8,
+            bg: (packed & 15) as u8,
+        }
+    };
+    match memo[key].load(Ordering::Relaxed) {
+        0 => {}
+        packed => return unpack(packed),
+    }
+    let candidates = CANDIDATES.get_or_init(dither_candidates);
+    let target = [r, g, b].map(|v| ((v << 3) + 4) as f32);
+    let d2 = |c: &[f32; 3]| (0..3).map(|k| (c[k] - target[k]).powi(2)).sum::<f32>();
+    let best = candidates
+        .iter()
+        .min_by(|a, b| d2(&a.1).total_cmp(&d2(&b.1)))
+        .map_or(Dither { glyph: ' ', fg: 0, bg: 0 }, |c| c.0);
+    let glyph = SHADES.iter().position(|&g| g == best.glyph).unwrap_or(0) as u16;
+    memo[key].store(1 + (glyph << 8) + (u16::from(best.fg) << 4) + u16::from(best.bg), Ordering::Relaxed);
+    best
 }
 
 /// Every solid ANSI colour and every ¼, ½, ¾ mix of two different ones, with its sRGB appearance.
@@ -170,6 +185,21 @@ fn dither_candidates() -> Vec<(Dither, [f32; 3])> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_remembered_16_colour_mix_is_the_one_searched() {
+        let candidates = dither_candidates();
+        for key in (0..32 * 32 * 32).step_by(97) {
+            let rgb = [key >> 10, (key >> 5) & 31, key & 31].map(|v| ((v << 3) + 4) as u8);
+            if ANSI16.contains(&rgb) {
+                continue;
+            }
+            let d2 = |c: &[f32; 3]| (0..3).map(|k| (c[k] - f32::from(rgb[k])).powi(2)).sum::<f32>();
+            let best = candidates.iter().min_by(|a, b| d2(&a.1).total_cmp(&d2(&b.1))).unwrap().0;
+            assert_eq!(ansi16_dither(rgb), best, "{rgb:?} searched");
+            assert_eq!(ansi16_dither(rgb), best, "{rgb:?} remembered");
+        }
+    }
 
     #[test]
     fn pure_colours_map_to_their_obvious_indices() {
