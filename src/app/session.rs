@@ -179,8 +179,13 @@ impl Session {
 
     /// Bytes from the terminal, arriving at time `now`.
     pub fn feed(&mut self, bytes: &[u8], now: f64) {
-        let mut inputs = std::mem::take(&mut self.inputs);
-        self.decoder.feed(bytes, now, &mut inputs);
+        self.decode(now, |decoder, out| decoder.feed(bytes, now, out));
+    }
+
+    /// Runs `step` on the decoder and applies the inputs it produces, at time `now`.
+    fn decode(&mut self, now: f64, step: impl FnOnce(&mut InputDecoder, &mut Vec<Input>)) {
+        let mut inputs = std::mem::take(&mut self.inputs); // reused: no allocation per read
+        step(&mut self.decoder, &mut inputs);
         for input in inputs.drain(..) {
             self.input(input, now);
         }
@@ -263,12 +268,7 @@ impl Session {
     /// [`MAX_FPS`] a second), draws it and appends its bytes to `out`: only what changed since the
     /// last frame. Returns whether a frame was drawn (it may still be 0 bytes).
     pub fn frame(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
-        let mut inputs = std::mem::take(&mut self.inputs);
-        self.decoder.expire(now, &mut inputs);
-        for input in inputs.drain(..) {
-            self.input(input, now);
-        }
-        self.inputs = inputs;
+        self.decode(now, |decoder, out| decoder.expire(now, out)); // a lone Esc, a stalled sequence
         self.dirty |= self.app.tick(now);
         if !self.dirty || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
             return false;
