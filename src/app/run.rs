@@ -24,7 +24,7 @@ use crate::term::{GuardOptions, TerminalGuard, guard};
 pub enum Ended {
     /// The player quit.
     Quit,
-    /// A signal ended it (SIGTERM, SIGHUP, SIGINT); the terminal was restored.
+    /// A signal ended it (any of [`crate::term::guard::ending_signals`]); the terminal was restored.
     Signal(i32),
     /// The terminal hung up (its reads ended) without a SIGHUP.
     HangUp,
@@ -48,8 +48,8 @@ const SIGHUP: i32 = 1;
 
 /// Runs `session` on this process's terminal until the player quits, a signal ends it or the
 /// terminal hangs up. `clock` is the zero of the session's time (the instant its `App` was made at
-/// time 0). The terminal is restored on return, on error, on panic, on SIGTERM / SIGHUP / SIGINT and
-/// around a stop (Ctrl-Z, SIGTSTP; taken back after SIGSTOP) (the guard).
+/// time 0). The terminal is restored on return, on error, on panic, on every catchable signal that
+/// would end the process, and around a stop (Ctrl-Z, SIGTSTP; taken back after SIGSTOP) (the guard).
 ///
 /// # Errors
 /// The terminal could not be set up, read or written.

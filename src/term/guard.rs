@@ -159,8 +159,8 @@ static OWN_STOP: AtomicBool = AtomicBool::new(false);
 /// even if game mode needs no taking back. Set and read under [`ACTIVE`]'s lock.
 static FRAME_HELD: AtomicBool = AtomicBool::new(false);
 
-/// Set by the signal thread once it has restored the terminal for a signal that ends the walk
-/// (SIGTERM, SIGHUP, SIGINT): the signal's number, or [`CANNOT_CONTINUE`]; 0 while none came. The
+/// Set by the signal thread once it has restored the terminal for a signal that ends the walk (any
+/// of [`ending_signals`]): the signal's number, or [`CANNOT_CONTINUE`]; 0 while none came. The
 /// event loop reads it ([`TerminalGuard::take_exit`]) and returns; `main` picks the exit status.
 static EXIT: AtomicI32 = AtomicI32::new(0);
 
@@ -313,8 +313,8 @@ impl TerminalGuard {
         RESUMED.swap(false, Ordering::SeqCst)
     }
 
-    /// The signal that ended the walk, once the signal thread has restored the terminal for it
-    /// (SIGTERM, SIGHUP, SIGINT): the event loop should return, and the process exit with
+    /// The signal that ended the walk, once the signal thread has restored the terminal for it (any
+    /// of [`ending_signals`]): the event loop should return, and the process exit with
     /// [`exit_code_for_signal`].
     ///
     /// # Errors
