@@ -34,8 +34,8 @@ use crate::term::{caps, encoder};
     about = "A first-person 3D maze walkthrough for the terminal",
     long_about = "A first-person 3D maze walkthrough for the terminal.\n\n\
         Without a command, walks MAZE (CS559 or grid format), a fresh --gen maze, or the built-in maze.\n\
-        Keys: W/S walk, A/D strafe, arrows turn and look, [ ] down/up, + - fov, p projection, m map,\n\
-        c glyphs, r reset, ? help, q quit.",
+        Keys: W/S walk, A/D strafe, arrows turn and look (a tap steps, a hold glides), , . snap turn 90°,\n\
+        [ ] down/up, + - fov, p projection, m map, c glyphs, r reset, ? help, q quit.",
     args_conflicts_with_subcommands = true
 )]
 pub struct Cli {
