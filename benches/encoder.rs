@@ -75,6 +75,7 @@ fn walk(depth: ColorDepth) -> Vec<Step> {
         color_depth: depth,
         culling: Culling::Portal,
         cell_aspect: 0.5,
+        dither: true,
     };
     let mut app = App::new(scene.maze, options, 0.0).expect("viewer in the maze");
     app.camera = scene.camera;

@@ -47,7 +47,7 @@ fn bench(c: &mut Criterion) {
         for depth in [ColorDepth::TrueColor, ColorDepth::Ansi16] {
             c.bench_function(&format!("to_frame {charset} {depth:?}"), |b| {
                 let region = frame.region();
-                b.iter(|| to_frame(black_box(&samples), charset, depth, true, &mut frame, region));
+                b.iter(|| to_frame(black_box(&samples), charset, depth, true, true, &mut frame, region));
             });
         }
     }

@@ -48,7 +48,7 @@ fn grids() -> Vec<(Charset, usize, usize)> {
 }
 
 fn options(charset: Charset, culling: Culling) -> RenderOptions {
-    RenderOptions { charset, color_depth: ColorDepth::TrueColor, culling, cell_aspect: 0.5 }
+    RenderOptions { charset, color_depth: ColorDepth::TrueColor, culling, cell_aspect: 0.5, dither: true }
 }
 
 /// Prints and saves the counts of every case (they do not depend on timing).
@@ -159,6 +159,7 @@ fn bench_breakdown(c: &mut Criterion, scenes: &[Scene]) {
                             black_box(renderer.samples()),
                             charset,
                             depth,
+                            true,
                             charset == Charset::Ascii,
                             &mut frame,
                             Region { col: 0, row: 0, cols, rows },

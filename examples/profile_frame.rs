@@ -35,6 +35,7 @@ fn main() {
         color_depth: ColorDepth::TrueColor,
         culling: Culling::Portal,
         cell_aspect: 0.5,
+        dither: true,
     };
     let (mut renderer, mut frame) = (Renderer::new(), Frame::new(cols, rows));
     renderer
@@ -52,6 +53,7 @@ fn main() {
                 renderer.samples(),
                 charset,
                 ColorDepth::TrueColor,
+                false,
                 false,
                 &mut frame,
                 Region { col: 0, row: 0, cols, rows },

@@ -120,6 +120,10 @@ pub struct LookArgs {
     /// Terminal cell width / height (cells are about twice as tall as wide).
     #[arg(long, default_value_t = 0.5, value_parser = parse_cell_aspect)]
     pub cell_aspect: f32,
+    /// In 256 and 16 colours, give each sample its nearest palette entry instead of dithering between
+    /// two (fewer bytes, visible bands). The walk also stops dithering by itself on a slow link.
+    #[arg(long)]
+    pub no_dither: bool,
 }
 
 #[derive(Subcommand)]
@@ -208,7 +212,13 @@ impl LookArgs {
     pub fn options(&self, culling: Culling) -> RenderOptions {
         let env = |k: &str| std::env::var(k).ok();
         let color_depth = self.color.unwrap_or_else(|| caps::detect_color_depth(env));
-        RenderOptions { charset: self.charset, color_depth, culling, cell_aspect: self.cell_aspect }
+        RenderOptions {
+            charset: self.charset,
+            color_depth,
+            culling,
+            cell_aspect: self.cell_aspect,
+            dither: !self.no_dither,
+        }
     }
 }
 

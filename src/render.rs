@@ -36,7 +36,7 @@
 //! draw_line(&mut samples, Vec3::new(1.0, 1.0, 0.5), Vec3::new(7.0, 1.0, 0.5), charset.sample_aspect(0.5), 1e-4);
 //! let mut frame = Frame::new(cols, rows);
 //! let region = frame.region(); // the whole frame
-//! to_frame(&samples, charset, ColorDepth::TrueColor, false, &mut frame, region);
+//! to_frame(&samples, charset, ColorDepth::TrueColor, false, false, &mut frame, region);
 //! // Half blocks: `▀` inks the top sample over the bottom one; a cell of one colour is a blank in it.
 //! assert_eq!(frame.lines(), [" ▀▀▀▀▀▀ ", "        ", " ▀▀▀▀▀▀ "]);
 //! ```

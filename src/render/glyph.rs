@@ -1,13 +1,14 @@
 //! Samples → [`Frame`] cells: ascii shading ramp, half blocks, quadrants and sextants.
 //!
-//! Each terminal cell covers `sx × sy` samples ([`Charset::samples_per_cell`]). The block charsets pick,
-//! per cell, the 2-colour partition of its samples that fits best (least squared error in sRGB) and the
-//! block glyph drawing it; ascii maps luminance to a ramp and overlays the outline layer. Sample bits within
+//! Each terminal cell covers `sx × sy` samples ([`Charset::samples_per_cell`]). In truecolor the block
+//! charsets pick, per cell, the 2-colour partition of its samples that fits best (least squared error in
+//! sRGB) and the block glyph drawing it; in 256 and 16 colours each sample is dithered to a palette entry
+//! first and the cell shows those entries. Ascii maps luminance to a ramp and overlays the outline layer. Sample bits within
 //! a cell are numbered row-major from the top-left: bit `x + sx·y`.
 
 use glam::Vec3;
 
-use super::palette::{Dither, ansi16, ansi16_dither, quantize_srgb8, to_srgb8};
+use super::palette::{self, quantize_srgb8, threshold, xterm_rgb};
 use super::samples::SampleBuffer;
 use super::shade::{Srgb8Tables, linear_to_srgb_fast, luminance};
 use crate::frame::{Cell, Color, ColorDepth, Frame, Region};
@@ -108,7 +109,11 @@ pub fn block_glyph(charset: Charset, mask: u8) -> char {
 ///
 /// `outlines` overlays the outline layer (ascii only; the block charsets draw edges with their shapes).
 /// With [`ColorDepth::None`] every colour is [`Color::Default`] and shading comes from [`ASCII_RAMP`] or
-/// [`BLOCK_RAMP`]; with [`ColorDepth::Ansi16`] flat cells are dithered with [`SHADES`](super::palette::SHADES) mixes.
+/// [`BLOCK_RAMP`]. With [`ColorDepth::Ansi16`] and [`ColorDepth::Ansi256`] and `dither`, each sample is
+/// dithered to a palette entry first ([`palette::dither`], thresholds anchored at the samples'
+/// top-left), then the cell shows its samples' entries: a half-block cell is exactly its two samples.
+/// A cell across an edge (its samples further apart than a palette step) and every cell without
+/// `dither` is the best two-colour split of its samples, each side in its nearest entry.
 ///
 /// # Panics
 /// If `region` is not inside `frame` or not the samples' size in cells.
@@ -116,6 +121,7 @@ pub fn to_frame(
     samples: &SampleBuffer,
     charset: Charset,
     depth: ColorDepth,
+    dither: bool,
     outlines: bool,
     frame: &mut Frame,
     region: Region,
@@ -132,13 +138,14 @@ pub fn to_frame(
             for (row, cells) in frame.region_rows_mut(region).enumerate() {
                 for (col, cell) in cells.iter_mut().enumerate() {
                     let i = row * region.cols + col;
-                    *cell = ascii_cell(color[i], if outlines { outline[i] } else { None }, depth);
+                    let outline = if outlines { outline[i] } else { None };
+                    *cell = ascii_cell(color[i], outline, depth, dither.then(|| threshold(col, row)));
                 }
             }
         }
-        Charset::Half => block_cells::<1, 2>(samples, charset, depth, frame, region),
-        Charset::Quad => block_cells::<2, 2>(samples, charset, depth, frame, region),
-        Charset::Sextant => block_cells::<2, 3>(samples, charset, depth, frame, region),
+        Charset::Half => block_cells::<1, 2>(samples, charset, depth, dither, frame, region),
+        Charset::Quad => block_cells::<2, 2>(samples, charset, depth, dither, frame, region),
+        Charset::Sextant => block_cells::<2, 3>(samples, charset, depth, dither, frame, region),
     }
 }
 
@@ -148,6 +155,7 @@ fn block_cells<const SX: usize, const SY: usize>(
     samples: &SampleBuffer,
     charset: Charset,
     depth: ColorDepth,
+    dither: bool,
     frame: &mut Frame,
     region: Region,
 ) {
@@ -155,6 +163,7 @@ fn block_cells<const SX: usize, const SY: usize>(
     let cols = region.cols;
     let tables = Srgb8Tables::get();
     let mut srgb = [[0u8; 3]; 6];
+    let mut indices = [0u8; 6];
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
         let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {
@@ -176,7 +185,21 @@ fn block_cells<const SX: usize, const SY: usize>(
                         srgb[dy * SX + dx] = line[col * SX + dx].to_array().map(|c| tables.encode(c));
                     }
                 }
-                block_cell(&srgb[..SX * SY], charset, depth)
+                if depth == ColorDepth::TrueColor || !dither || spread(&srgb[..SX * SY]) > EDGE_SPREAD {
+                    block_cell(&srgb[..SX * SY], charset, depth)
+                } else {
+                    for (dy, line) in rows.iter().enumerate() {
+                        for dx in 0..SX {
+                            let (x, y) = (col * SX + dx, row * SY + dy);
+                            let k = dy * SX + dx;
+                            indices[k] = match palette::dither(line[x], srgb[k], depth, threshold(x, y)) {
+                                Color::Indexed(i) => i,
+                                _ => 0, // `dither` gives indices at these depths
+                            };
+                        }
+                    }
+                    indexed_cell(&indices[..SX * SY], charset)
+                }
             };
         }
     }
@@ -187,12 +210,32 @@ fn ramp_index(color: Vec3, len: usize) -> usize {
     ((linear_to_srgb_fast(luminance(color)) * (len - 1) as f32).round() as usize).min(len - 1)
 }
 
-/// One ascii cell: the outline glyph if any, else the ramp glyph; ink in the sample's colour.
-fn ascii_cell(color: Vec3, outline: Option<char>, depth: ColorDepth) -> Cell {
+/// One ascii cell: the outline glyph if any, else the ramp glyph; ink in the sample's colour, dithered
+/// with the sample's `threshold` (`None`: its nearest palette entry).
+fn ascii_cell(color: Vec3, outline: Option<char>, depth: ColorDepth, threshold: Option<f32>) -> Cell {
     let ch = outline.unwrap_or(ASCII_RAMP[ramp_index(color, ASCII_RAMP.len())]);
-    let fg = if ch == ' ' { Color::Default } else { quantize_srgb8(to_srgb8(color), depth) };
+    let srgb = color.to_array().map(|c| Srgb8Tables::get().encode(c));
+    let fg = match threshold {
+        _ if ch == ' ' => Color::Default,
+        Some(threshold) => palette::dither(color, srgb, depth, threshold),
+        None => quantize_srgb8(srgb, depth),
+    };
     Cell { ch, fg, bg: Color::Default }
 }
+
+/// The largest difference in any channel between two of a cell's samples (8-bit sRGB).
+fn spread(srgb: &[[u8; 3]]) -> u8 {
+    (0..3)
+        .map(|c| {
+            let (lo, hi) = srgb.iter().fold((255, 0), |(lo, hi), s| (s[c].min(lo), s[c].max(hi)));
+            hi.saturating_sub(lo)
+        })
+        .max()
+        .unwrap_or(0)
+}
+
+/// Above this [`spread`] a cell holds an edge: its two sides are quantized plainly, not dithered.
+const EDGE_SPREAD: u8 = 24;
 
 /// A two-colour split of a cell's samples: the samples in `mask` are ink, the rest background.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -259,42 +302,51 @@ fn solid(color: Color) -> Cell {
     Cell { ch: ' ', fg: color, bg: color } // ink unused: same as the background so equal cells compare equal
 }
 
-fn dithered(d: Dither) -> Cell {
-    if d.glyph == ' ' {
-        solid(Color::Indexed(d.bg))
-    } else {
-        Cell { ch: d.glyph, fg: Color::Indexed(d.fg), bg: Color::Indexed(d.bg) }
-    }
-}
-
-/// One block cell from its samples (8-bit sRGB), in bit order, at a colour depth other than `None`.
+/// One truecolor block cell from its samples (8-bit sRGB), in bit order: the best two-colour split.
 #[inline(always)] // into each `block_cells` shape: its cell comes back in registers, not through memory
 fn block_cell(srgb: &[[u8; 3]], charset: Charset, depth: ColorDepth) -> Cell {
     let first = srgb[0];
     if srgb[1..].iter().all(|&s| s == first) {
-        // Fast path, and what keeps flat areas stable: one colour.
-        return if depth == ColorDepth::Ansi16 {
-            dithered(ansi16_dither(first))
-        } else {
-            solid(quantize_srgb8(first, depth))
-        };
+        return solid(quantize_srgb8(first, depth)); // fast path: one colour
     }
     let Split { mask, ink, paper } = best_partition(srgb);
-    let (fg, bg) = match depth {
-        // 16 colours: keep the shape where the two sides differ in ANSI, else dither the cell's mean.
-        ColorDepth::Ansi16 => match (ansi16(ink), ansi16(paper)) {
-            (i, p) if mask == 0 || i == p => {
-                let total = srgb.iter().fold([0i32; 3], |a, s| [0, 1, 2].map(|c| a[c] + i32::from(s[c])));
-                return dithered(ansi16_dither(rounded_mean(total, srgb.len() as i32)));
-            }
-            (i, p) => (Color::Indexed(i), Color::Indexed(p)),
-        },
-        _ => (quantize_srgb8(ink, depth), quantize_srgb8(paper, depth)),
-    };
+    let (fg, bg) = (quantize_srgb8(ink, depth), quantize_srgb8(paper, depth));
     if mask == 0 || fg == bg {
         return solid(bg);
     }
     Cell { ch: block_glyph(charset, mask), fg, bg }
+}
+
+/// One block cell from its samples' palette entries (after dithering), in bit order.
+///
+/// Two entries or fewer, the cell shows them exactly (the last sample's is the background): always so
+/// for half blocks, and for every cell of a flat or smoothly shaded area, as [`palette::dither`] mixes two entries.
+/// More (quadrants and sextants across an edge): the best split of their colours, each side drawn in its
+/// most frequent entry (the earlier sample's on a tie).
+fn indexed_cell(indices: &[u8], charset: Charset) -> Cell {
+    let paper = indices[indices.len() - 1];
+    let Some(&ink) = indices.iter().find(|&&i| i != paper) else {
+        return solid(Color::Indexed(paper));
+    };
+    if indices.iter().all(|&i| i == paper || i == ink) {
+        let mask = indices.iter().enumerate().fold(0u8, |m, (k, &i)| m | u8::from(i == ink) << k);
+        return Cell { ch: block_glyph(charset, mask), fg: Color::Indexed(ink), bg: Color::Indexed(paper) };
+    }
+    let srgb: [[u8; 3]; 6] = std::array::from_fn(|k| indices.get(k).map_or([0; 3], |&i| xterm_rgb(i)));
+    let Split { mask, .. } = best_partition(&srgb[..indices.len()]);
+    let most_frequent = |side: bool| {
+        let on_side = |k: usize| (mask >> k & 1 == 1) == side;
+        let count = |i: u8| (0..indices.len()).filter(|&k| on_side(k) && indices[k] == i).count();
+        // `max_by_key` keeps the last maximum: reversed, that is the earliest sample's entry.
+        (0..indices.len()).filter(|&k| on_side(k)).map(|k| indices[k]).rev().max_by_key(|&i| count(i))
+    };
+    match (most_frequent(true), most_frequent(false)) {
+        (Some(ink), Some(paper)) if ink != paper => {
+            Cell { ch: block_glyph(charset, mask), fg: Color::Indexed(ink), bg: Color::Indexed(paper) }
+        }
+        (_, Some(paper)) => solid(Color::Indexed(paper)),
+        (ink, None) => solid(Color::Indexed(ink.unwrap_or(paper))),
+    }
 }
 
 #[cfg(test)]

@@ -2,13 +2,18 @@
 //!
 //! The renderer works in linear RGB; colours are sRGB-encoded here, once, when quantized (colours from
 //! files that are meant as display colours should go through [`srgb_to_linear`]
-//! first). Nearest colours are by squared distance in sRGB 0..255. The palettes are xterm's defaults.
+//! first). The palettes are xterm's defaults.
+//!
+//! The renderer dithers ([`dither`]): each sample shows one of two palette entries chosen in OKLab, by a
+//! screen-anchored ordered threshold ([`threshold`]). [`quantize`] is plain nearest colour by squared
+//! distance in sRGB 0..255, undithered: truecolor, and the reference the dithering is measured against.
 
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 use glam::Vec3;
 
-use super::shade::{Srgb8Tables, linear_to_srgb, srgb_to_linear};
+use super::shade::{Srgb8Tables, srgb_to_linear};
 use crate::frame::{Color, ColorDepth};
 
 /// xterm's default RGB for the 16 ANSI colours (black, red, green, yellow, blue, magenta, cyan, white,
@@ -109,97 +114,217 @@ pub fn quantize_srgb8(rgb: [u8; 3], depth: ColorDepth) -> Color {
     }
 }
 
-/// A colour shown as a shade glyph mixing two ANSI colours: `glyph` in `fg` over `bg`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Dither {
-    /// `' '` (bg only), `'░'` (¼ fg), `'▒'` (½) or `'▓'` (¾).
-    pub glyph: char,
-    /// ANSI index 0–15 of the ink.
-    pub fg: u8,
-    /// ANSI index 0–15 of the background.
-    pub bg: u8,
+/// The ordered-dither threshold of sample `(x, y)` (sample grid, origin top-left), in (0, 1).
+///
+/// The 2×2 Bayer matrix tiled over the sample grid: anchored to the screen, so a still picture keeps its
+/// pattern and the diff encoder sends nothing for it. Every 2×2 window of samples, aligned or not, holds
+/// one threshold from each quarter of (0, 1), so a mix averages out over any 2×2 samples to within ⅛.
+/// Not 4×4: that is no finer over 2×2 windows, and its sixteen levels flip scattered single samples
+/// as colours drift while walking, where 2×2 flips every other sample of a run (measured: 0.49× the
+/// plain error at 0.94× the bytes of 4×4, in 256 colours; BENCHMARKS.md).
+#[must_use]
+#[inline]
+pub fn threshold(x: usize, y: usize) -> f32 {
+    const BAYER2: [[u8; 2]; 2] = [[0, 2], [3, 1]];
+    (f32::from(BAYER2[y % 2][x % 2]) + 0.5) / 4.0
 }
 
-/// The shade glyphs by the fraction of ink they show (0, ¼, ½, ¾).
-pub const SHADES: [char; 4] = [' ', '░', '▒', '▓'];
-
-/// The ANSI-16 mix of two colours and a shade glyph that comes nearest to an sRGB colour.
+/// A linear colour quantized to `depth` with ordered dithering: the palette entry shown on a sample
+/// whose [`threshold`] is `threshold`. Truecolor and [`ColorDepth::None`] are as [`quantize`].
 ///
-/// Mixes are averaged in linear light (what the eye does with a fine pattern) and compared in sRGB.
-/// Looked up at 32 levels per channel; each level's answer is searched the first time a frame needs
-/// it and kept (searching all 32,768 up front took ~45 ms, a first frame's whole budget many times
-/// over; a frame needs a few hundred). The 16 colours themselves are exact.
+/// Each colour is shown as a mix of two palette entries `a` and `b` (a solid entry is a mix with itself):
+/// `b` on the samples whose threshold is below the ratio, `a` on the rest, so over a few samples the eye
+/// sees `a + (b − a)·ratio` in linear light. The pair is the one whose best mix comes nearest the colour
+/// in OKLab, with a penalty on the pair's own distance (a mix of far-apart colours is seen as grain, not
+/// as the mean: black and white dashes along a wall edge); it is looked up per 8-step sRGB bucket
+/// ([`mix_pair`]). The ratio is then exact for the sample's colour: its projection onto the pair's segment
+/// in linear RGB, so gradients stay smooth inside a bucket.
 #[must_use]
-pub fn ansi16_dither(rgb: [u8; 3]) -> Dither {
-    use std::sync::atomic::{AtomicU16, Ordering};
-    /// Per level: 0 = not searched yet, else 1 + glyph index · 256 + fg · 16 + bg.
-    static MEMO: OnceLock<Box<[AtomicU16]>> = OnceLock::new();
-    static CANDIDATES: OnceLock<Vec<(Dither, [f32; 3])>> = OnceLock::new();
-    if let Some(exact) = ANSI16.iter().position(|&c| c == rgb) {
-        return Dither { glyph: ' ', fg: exact as u8, bg: exact as u8 }; // the levels are coarser
+#[inline]
+pub fn dither(linear: Vec3, rgb: [u8; 3], depth: ColorDepth, threshold: f32) -> Color {
+    let palette = match depth {
+        ColorDepth::None | ColorDepth::TrueColor => return quantize_srgb8(rgb, depth),
+        ColorDepth::Ansi16 => Palette::Ansi16,
+        ColorDepth::Ansi256 => Palette::Xterm256,
+    };
+    // A palette entry shows as itself: its bucket's pair need not pass through it.
+    let exact = match palette {
+        Palette::Ansi16 => ANSI16.iter().position(|&c| c == rgb).map(|i| i as u8),
+        Palette::Xterm256 => exact256(rgb),
+    };
+    if let Some(index) = exact {
+        return Color::Indexed(index);
     }
-    let [r, g, b] = rgb.map(|v| usize::from(v >> 3));
-    let key = (r << 10) | (g << 5) | b;
-    let memo = MEMO.get_or_init(|| (0..32 * 32 * 32).map(|_| AtomicU16::new(0)).collect());
-    let unpack = |packed: u16| {
-        let packed = packed - 1;
-        Dither {
-            glyph: SHADES[usize::from(packed >> 8)],
-            fg: ((packed >> 4) & 15) as u8,
-            bg: (packed & 15) as u8,
+    let (a, b) = mix_pair(rgb, palette);
+    let ratio = mix_ratio(linear.clamp(Vec3::ZERO, Vec3::ONE), a, b);
+    Color::Indexed(if ratio > threshold { b } else { a })
+}
+
+/// The xterm-256 index (16–255) showing exactly `rgb`, if one does.
+#[inline]
+fn exact256(rgb: [u8; 3]) -> Option<u8> {
+    /// Each byte's cube level (0–5), or 6 where it is none.
+    const LEVEL: [u8; 256] = {
+        let mut table = [6u8; 256];
+        let mut k = 0;
+        while k < 6 {
+            table[CUBE_LEVELS[k] as usize] = k as u8;
+            k += 1;
+        }
+        table
+    };
+    let [r, g, b] = rgb.map(|v| LEVEL[usize::from(v)]);
+    if r < 6 && g < 6 && b < 6 {
+        return Some(16 + 36 * r + 6 * g + b);
+    }
+    let grey = rgb[0].wrapping_sub(8);
+    (rgb[0] == rgb[1] && rgb[1] == rgb[2] && grey.is_multiple_of(10) && grey <= 230).then(|| 232 + grey / 10)
+}
+
+/// Which palette [`dither`] mixes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Palette {
+    /// The 16 ANSI colours (xterm's defaults; terminals differ, so nothing finer is assumed).
+    Ansi16,
+    /// Indices 16–255 of xterm's 256 colours (the cube and the greys, the same on every terminal).
+    Xterm256,
+}
+
+/// The palette's 256 entries in linear RGB and in OKLab.
+struct Entries {
+    linear: [Vec3; 256],
+    oklab: [Vec3; 256],
+}
+
+/// [`Entries`], built on first use (768 `powf` and cube roots: a few µs).
+fn entries() -> &'static Entries {
+    static ENTRIES: OnceLock<Entries> = OnceLock::new();
+    ENTRIES.get_or_init(|| {
+        let linear: [Vec3; 256] = std::array::from_fn(|i| {
+            Vec3::from_array(xterm_rgb(i as u8).map(|v| srgb_to_linear(f32::from(v) / 255.0)))
+        });
+        Entries { linear, oklab: linear.map(oklab) }
+    })
+}
+
+/// OKLab of a linear sRGB colour (Björn Ottosson, <https://bottosson.github.io/posts/oklab/>): L in 0..1,
+/// Euclidean distance ≈ perceived difference.
+#[must_use]
+pub fn oklab(linear: Vec3) -> Vec3 {
+    let l = 0.412_221_46 * linear.x + 0.536_332_55 * linear.y + 0.051_445_995 * linear.z;
+    let m = 0.211_903_5 * linear.x + 0.680_699_5 * linear.y + 0.107_396_96 * linear.z;
+    let s = 0.088_302_46 * linear.x + 0.281_718_85 * linear.y + 0.629_978_7 * linear.z;
+    let [l, m, s] = [l, m, s].map(|v| v.max(0.0).cbrt());
+    Vec3::new(
+        0.210_454_26 * l + 0.793_617_8 * m - 0.004_072_047 * s,
+        1.977_998_5 * l - 2.428_592_2 * m + 0.450_593_7 * s,
+        0.025_904_037 * l + 0.782_771_77 * m - 0.808_675_77 * s,
+    )
+}
+
+/// The thresholds of every 2×2 window of samples within the repeating 2×2 tile of [`threshold`] (4
+/// windows, wrapping round): what the eye averages a mix over at the least.
+fn windows() -> [[f32; 4]; 4] {
+    std::array::from_fn(|w| {
+        let (x, y) = (w % 2, w / 2);
+        [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(dx, dy)| threshold(x + dx, y + dy))
+    })
+}
+
+/// The ratio of `b` in the mix of entries `a` and `b` nearest to `linear` (least squares in linear RGB).
+#[inline]
+fn mix_ratio(linear: Vec3, a: u8, b: u8) -> f32 {
+    let linear_of = &entries().linear;
+    let (pa, d) = (linear_of[usize::from(a)], linear_of[usize::from(b)] - linear_of[usize::from(a)]);
+    let d2 = d.length_squared();
+    if d2 > 0.0 { ((linear - pa).dot(d) / d2).clamp(0.0, 1.0) } else { 0.0 }
+}
+
+/// The pair of entries `(a, b)` [`dither`] mixes for sRGB colours in `rgb`'s bucket (8 steps a channel).
+///
+/// Memoized per bucket: each is searched the first time a frame shows it (a few µs), so a frame pays only
+/// for its own colours and no table is built up front (issue #16). Racing threads compute the same pair.
+fn mix_pair(rgb: [u8; 3], palette: Palette) -> (u8, u8) {
+    const BUCKETS: usize = 32 * 32 * 32;
+    // 0 is "not searched yet": a searched pair has bit 16 set.
+    static PAIRS: [[AtomicU32; BUCKETS]; 2] = [const { [const { AtomicU32::new(0) }; BUCKETS] }; 2];
+    let key = rgb.map(|v| usize::from(v >> 3));
+    let slot = &PAIRS[palette as usize][(key[0] << 10) | (key[1] << 5) | key[2]];
+    let mut packed = slot.load(Ordering::Relaxed);
+    if packed == 0 {
+        let centre = key.map(|v| ((v << 3) + 4) as u8); // the bucket's, so the pair is the same whoever asks
+        let (a, b) = search_pair(centre, palette);
+        packed = 1 << 16 | u32::from(b) << 8 | u32::from(a);
+        slot.store(packed, Ordering::Relaxed);
+    }
+    (packed as u8, (packed >> 8) as u8)
+}
+
+/// The best pair for `rgb` among the palette's candidates (see [`dither`]); the nearer entry first.
+fn search_pair(rgb: [u8; 3], palette: Palette) -> (u8, u8) {
+    let Entries { linear: linear_of, oklab: oklab_of } = entries();
+    let target_linear = Vec3::from_array(rgb.map(|v| srgb_to_linear(f32::from(v) / 255.0)));
+    let target = oklab(target_linear);
+    let mut candidates = [0u8; 16];
+    let n = match palette {
+        Palette::Ansi16 => {
+            candidates = std::array::from_fn(|i| i as u8);
+            16
+        }
+        Palette::Xterm256 => {
+            // The corners of the cube cell around the colour and the two greys around its mean: the
+            // entries within one palette step of it, where every useful mix lies.
+            let lo = rgb.map(|v| CUBE_LEVELS.iter().rposition(|&l| l <= v).unwrap_or(0));
+            let mut n = 0;
+            for corner in 0..8 {
+                let [r, g, b] = [0, 1, 2].map(|k| (lo[k] + (corner >> k & 1)).min(5) as u8);
+                let index = 16 + 36 * r + 6 * g + b;
+                if !candidates[..n].contains(&index) {
+                    candidates[n] = index;
+                    n += 1;
+                }
+            }
+            let mean = rgb.iter().map(|&v| f32::from(v)).sum::<f32>() / 3.0;
+            let below = ((mean - 8.0) / 10.0).floor().clamp(0.0, 23.0) as u8;
+            candidates[n] = 232 + below;
+            candidates[n + 1] = 232 + (below + 1).min(23);
+            n + 2
         }
     };
-    match memo[key].load(Ordering::Relaxed) {
-        0 => {}
-        packed => return unpack(packed),
-    }
-    let candidates = CANDIDATES.get_or_init(dither_candidates);
-    let target = [r, g, b].map(|v| ((v << 3) + 4) as f32);
-    let d2 = |c: &[f32; 3]| (0..3).map(|k| (c[k] - target[k]).powi(2)).sum::<f32>();
-    let best = candidates
-        .iter()
-        .min_by(|a, b| d2(&a.1).total_cmp(&d2(&b.1)))
-        .map_or(Dither { glyph: ' ', fg: 0, bg: 0 }, |c| c.0);
-    let glyph = SHADES.iter().position(|&g| g == best.glyph).unwrap_or(0) as u16;
-    memo[key].store(1 + (glyph << 8) + (u16::from(best.fg) << 4) + u16::from(best.bg), Ordering::Relaxed);
-    best
-}
-
-/// Every solid ANSI colour and every ¼, ½, ¾ mix of two different ones, with its sRGB appearance.
-fn dither_candidates() -> Vec<(Dither, [f32; 3])> {
-    let linear = ANSI16.map(|c| Vec3::from_array(c.map(|v| srgb_to_linear(f32::from(v) / 255.0))));
-    let mut out = Vec::new();
-    for bg in 0..16u8 {
-        out.push((Dither { glyph: ' ', fg: bg, bg }, ANSI16[usize::from(bg)].map(f32::from)));
-        for fg in bg + 1..16 {
-            for (k, &glyph) in SHADES.iter().enumerate().skip(1) {
-                let ink = k as f32 / 4.0;
-                let mix = linear[usize::from(bg)].lerp(linear[usize::from(fg)], ink);
-                out.push((Dither { glyph, fg, bg }, mix.to_array().map(|c| linear_to_srgb(c) * 255.0)));
+    let candidates = &candidates[..n];
+    let windows = windows();
+    let mut best = (f32::INFINITY, 0u8, 0u8);
+    for (i, &a) in candidates.iter().enumerate() {
+        for &b in &candidates[i..] {
+            let r = mix_ratio(target_linear, a, b);
+            // Scored as the eye sees it at the least: each 2×2 window of the pattern shows the mean of its
+            // samples, k of 4 of them `b`. The OKLab error summed over the windows counts both the mix's
+            // own error and its grain (sparse far-apart dots miss in most windows).
+            let mut windows_with = [0u32; 5];
+            for window in &windows {
+                windows_with[window.iter().filter(|&&t| r > t).count()] += 1;
+            }
+            let (pa, pb) = (linear_of[usize::from(a)], linear_of[usize::from(b)]);
+            let seen = |k: usize| match k {
+                0 => oklab_of[usize::from(a)],
+                4 => oklab_of[usize::from(b)],
+                _ => oklab(pa.lerp(pb, k as f32 / 4.0)),
+            };
+            let score = (0..5)
+                .filter(|&k| windows_with[k] > 0)
+                .map(|k| windows_with[k] as f32 * seen(k).distance(target))
+                .sum::<f32>();
+            if score < best.0 {
+                best = if r <= 0.5 { (score, a, b) } else { (score, b, a) };
             }
         }
     }
-    out
+    (best.1, best.2)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_remembered_16_colour_mix_is_the_one_searched() {
-        let candidates = dither_candidates();
-        for key in (0..32 * 32 * 32).step_by(97) {
-            let rgb = [key >> 10, (key >> 5) & 31, key & 31].map(|v| ((v << 3) + 4) as u8);
-            if ANSI16.contains(&rgb) {
-                continue;
-            }
-            let d2 = |c: &[f32; 3]| (0..3).map(|k| (c[k] - f32::from(rgb[k])).powi(2)).sum::<f32>();
-            let best = candidates.iter().min_by(|a, b| d2(&a.1).total_cmp(&d2(&b.1))).unwrap().0;
-            assert_eq!(ansi16_dither(rgb), best, "{rgb:?} searched");
-            assert_eq!(ansi16_dither(rgb), best, "{rgb:?} remembered");
-        }
-    }
 
     #[test]
     fn pure_colours_map_to_their_obvious_indices() {
@@ -250,8 +375,68 @@ mod tests {
         }
         for (index, &rgb) in ANSI16.iter().enumerate() {
             assert_eq!(usize::from(ansi16(rgb)), index);
-            let d = ansi16_dither(rgb);
-            assert_eq!(d.glyph, ' ', "solid {index}: {d:?}");
+        }
+    }
+
+    fn linear(rgb: [u8; 3]) -> Vec3 {
+        Vec3::from_array(rgb.map(|v| srgb_to_linear(f32::from(v) / 255.0)))
+    }
+
+    /// A palette entry is shown as itself on every sample: no grain where none is needed.
+    #[test]
+    fn palette_entries_dither_to_themselves() {
+        let all = |rgb: [u8; 3], depth| {
+            (0..4)
+                .flat_map(|y| (0..4).map(move |x| threshold(x, y)))
+                .map(move |t| dither(linear(rgb), rgb, depth, t))
+        };
+        for index in 16..=255u8 {
+            let rgb = xterm_rgb(index);
+            assert!(all(rgb, ColorDepth::Ansi256).all(|c| c == Color::Indexed(index)), "index {index}");
+        }
+        for index in 0..16u8 {
+            let rgb = xterm_rgb(index);
+            assert!(all(rgb, ColorDepth::Ansi16).all(|c| c == Color::Indexed(index)), "index {index}");
+        }
+    }
+
+    /// Over a 4×4 block of thresholds the mix averages (linear light) to the colour, within what the
+    /// palette can reach: the mean of a tile is nearer the colour than plain nearest quantization is.
+    #[test]
+    fn a_tile_of_dithered_samples_averages_to_the_colour() {
+        let mut seed = 0x1234_5678_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed >> 24) as u8
+        };
+        for depth in [ColorDepth::Ansi256, ColorDepth::Ansi16] {
+            let (mut dithered, mut plain) = (0.0, 0.0);
+            for _ in 0..500 {
+                let rgb = [next(), next(), next()];
+                let target = linear(rgb);
+                let shown = |c: Color| match c {
+                    Color::Indexed(i) => linear(xterm_rgb(i)),
+                    other => panic!("{other:?}"),
+                };
+                let mean =
+                    (0..16).map(|k| shown(dither(target, rgb, depth, threshold(k % 4, k / 4)))).sum::<Vec3>()
+                        / 16.0;
+                dithered += oklab(mean).distance(oklab(target));
+                plain += oklab(shown(quantize_srgb8(rgb, depth))).distance(oklab(target));
+            }
+            assert!(dithered < 0.5 * plain, "{depth:?}: dithered {dithered}, plain {plain}");
+        }
+    }
+
+    #[test]
+    fn thresholds_cover_every_2x2_window_evenly() {
+        for (x0, y0) in [(0, 0), (1, 0), (0, 1), (1, 1), (2, 0), (3, 5), (4, 6)] {
+            let mut quarters =
+                [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(dx, dy)| (threshold(x0 + dx, y0 + dy) * 4.0) as usize);
+            quarters.sort_unstable();
+            assert_eq!(quarters, [0, 1, 2, 3], "block at ({x0}, {y0})");
         }
     }
 }

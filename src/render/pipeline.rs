@@ -57,6 +57,9 @@ pub struct RenderOptions {
     pub culling: Culling,
     /// Terminal cell width / height (about 0.5).
     pub cell_aspect: f32,
+    /// Ordered dithering in 256 and 16 colours ([`palette::dither`](super::palette::dither)); off, each
+    /// sample takes its nearest palette entry. No effect in truecolor or without colour.
+    pub dither: bool,
 }
 
 impl Default for RenderOptions {
@@ -66,6 +69,7 @@ impl Default for RenderOptions {
             color_depth: ColorDepth::TrueColor,
             culling: Culling::Portal,
             cell_aspect: 0.5,
+            dither: true,
         }
     }
 }
@@ -135,10 +139,10 @@ impl Renderer {
         frame: &mut Frame,
         region: Region,
     ) -> Result<RenderStats, CameraError> {
-        let RenderOptions { charset, color_depth, culling, cell_aspect } = *options;
+        let RenderOptions { charset, color_depth, culling, cell_aspect, dither } = *options;
         let stats =
             self.render_samples(maze, camera, charset, cell_aspect, culling, region.cols, region.rows)?;
-        to_frame(&self.samples, charset, color_depth, charset == Charset::Ascii, frame, region);
+        to_frame(&self.samples, charset, color_depth, dither, charset == Charset::Ascii, frame, region);
         Ok(stats)
     }
 
