@@ -53,6 +53,7 @@ pub mod portal;
 pub mod raster;
 pub mod samples;
 pub mod shade;
+pub mod sprite;
 pub mod wall;
 
 pub use camera::{Camera, CameraError, Eye, Projection};
@@ -62,3 +63,4 @@ pub use pipeline::{Culling, RenderOptions, RenderStats, Renderer};
 pub use portal::{PortalPass, PortalStats};
 pub use raster::{GridVertex, Varying, fill_polygon, fill_triangle};
 pub use samples::SampleBuffer;
+pub use sprite::Sprite;

@@ -12,10 +12,10 @@ use super::controls::HELP;
 use crate::frame::{Cell, Color, ColorDepth, Frame};
 use crate::maze::geometry::heading_dir;
 use crate::maze::{Aabb, Maze};
-use crate::render::Charset;
 use crate::render::camera::Camera;
 use crate::render::line_points;
 use crate::render::palette::{ansi16, quantize_srgb8, xterm_rgb};
+use crate::render::{Charset, Sprite};
 
 /// The smallest terminal the walkthrough draws in (columns, rows).
 pub const MIN_SIZE: (usize, usize) = (20, 6);
@@ -248,6 +248,7 @@ pub fn draw_map(
     area: &MapArea,
     maze: &Maze,
     camera: &Camera,
+    others: &[Sprite],
     visited: &dyn Fn(u32) -> bool,
     style: Style,
 ) {
@@ -299,6 +300,10 @@ pub fn draw_map(
     }
     if let Some(exit) = maze.exit_point() {
         put(frame, exit, 'E', EXIT_FG);
+    }
+    for other in others {
+        let label = if other.label.is_ascii_graphic() { other.label } else { '?' };
+        put(frame, other.position, label, rgb(other.color.to_array()));
     }
     let arrow = heading_arrow(camera.yaw_deg);
     let arrow = if style.ascii { ascii_arrow(camera.yaw_deg) } else { arrow };

@@ -327,7 +327,14 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     // The bottom row is the HUD; the 3D view gets the rest, drawn in place.
     let view = Region { col: 0, row: 0, cols, rows: rows - 1 };
     let options = RenderOptions { dither: app.options.dither && !screen.slow_link, ..app.options };
-    let stats = match screen.renderer.render(app.maze(), &app.camera, &options, frame, view) {
+    let stats = match screen.renderer.render_with_sprites(
+        app.maze(),
+        &app.camera,
+        &options,
+        &app.others,
+        frame,
+        view,
+    ) {
         Ok(stats) => stats,
         Err(err) => {
             frame.fill(Cell::BLANK);
@@ -344,7 +351,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         MapMode::Full => Some(MapArea::full(frame, app.maze(), app.camera.position)),
     };
     if let Some(area) = area {
-        overlay::draw_map(frame, &area, app.maze(), &app.camera, &visited, style);
+        overlay::draw_map(frame, &area, app.maze(), &app.camera, &app.others, &visited, style);
     }
     if let Some(seconds) = app.finished {
         let lines = [

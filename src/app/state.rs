@@ -9,7 +9,7 @@ use crate::maze::Maze;
 use crate::maze::geometry::{WALL_MARGIN, clamp_eye_height, heading_dir, heading_right};
 use crate::maze::movement::{Position, step};
 use crate::render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection};
-use crate::render::{Charset, RenderOptions};
+use crate::render::{Charset, RenderOptions, Sprite};
 
 /// Walking speed by default, maze units per second (a generated cell is 4 units); see [`Motion`].
 pub const WALK_SPEED: f32 = 5.0;
@@ -152,6 +152,8 @@ pub struct App {
     pub finished: Option<f64>,
     /// Set by q / Esc.
     pub quit: bool,
+    /// The other figures in the maze (other players): drawn in the view and on the map.
+    pub others: Vec<Sprite>,
     last_tick: f64,
 }
 
@@ -191,6 +193,7 @@ impl App {
             started: now,
             finished: None,
             quit: false,
+            others: Vec::new(),
             last_tick: now,
         })
     }

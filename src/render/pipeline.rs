@@ -14,12 +14,14 @@ use glam::{Vec2, Vec3};
 use super::camera::{Camera, CameraError, Eye, Projection};
 use super::glyph::{Charset, to_frame};
 use super::line::{line_glyph, line_points};
+use super::palette;
 use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, fill_polygon};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{Fog, checker, headlight_unit, lit, srgb_to_linear};
+use super::sprite::{Sprite, SpritePass};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
-use crate::frame::{ColorDepth, Frame, Region};
+use crate::frame::{Cell, Color, ColorDepth, Frame, Region};
 use crate::maze::Maze;
 use crate::maze::geometry::{CEILING_Z, FLOOR_Z};
 
@@ -94,6 +96,11 @@ enum Shading {
     ViewDepth,
 }
 
+/// The fog of a view: from 15 % of the far distance, all fog at the far plane.
+fn fog_of(eye: &Eye) -> Fog {
+    Fog { color: FOG_COLOR, start: eye.far * 0.15, end: eye.far }
+}
+
 /// The renderer: the pipeline plus every buffer it reuses from frame to frame.
 #[derive(Debug, Default)]
 pub struct Renderer {
@@ -103,6 +110,7 @@ pub struct Renderer {
     scratch: ClipScratch,
     polygon_grid: Vec<GridVertex<Vec3>>,
     seen: Vec<u32>,
+    sprites: SpritePass,
 }
 
 impl Renderer {
@@ -139,11 +147,51 @@ impl Renderer {
         frame: &mut Frame,
         region: Region,
     ) -> Result<RenderStats, CameraError> {
+        self.render_with_sprites(maze, camera, options, &[], frame, region)
+    }
+
+    /// [`render`](Self::render) with figures standing in the maze ([`Sprite`]s: the other players),
+    /// depth-tested against the walls, each with its label on its head's cell.
+    ///
+    /// # Errors
+    /// [`CameraError`] when the camera or the grid is unusable.
+    ///
+    /// # Panics
+    /// If `region` is not inside `frame`.
+    pub fn render_with_sprites(
+        &mut self,
+        maze: &Maze,
+        camera: &Camera,
+        options: &RenderOptions,
+        sprites: &[Sprite],
+        frame: &mut Frame,
+        region: Region,
+    ) -> Result<RenderStats, CameraError> {
         let RenderOptions { charset, color_depth, culling, cell_aspect, dither } = *options;
-        let stats =
-            self.render_samples(maze, camera, charset, cell_aspect, culling, region.cols, region.rows)?;
+        let (cols, rows) = (region.cols, region.rows);
+        let stats = self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, sprites)?;
         to_frame(&self.samples, charset, color_depth, dither, charset == Charset::Ascii, frame, region);
+        self.label_sprites(charset, color_depth, frame, region);
         Ok(stats)
+    }
+
+    /// Each drawn figure's label on the cell of its head's centre, if the figure is what shows there.
+    fn label_sprites(&self, charset: Charset, depth: ColorDepth, frame: &mut Frame, region: Region) {
+        let (sx, sy) = charset.samples_per_cell();
+        let width = self.samples.width();
+        for label in &self.sprites.labels {
+            if self.samples.id()[label.sample] != label.id {
+                continue; // hidden there (a wall, a nearer figure)
+            }
+            let (x, y) = (label.sample % width / sx, label.sample / width / sy);
+            let bg = palette::quantize(label.color, depth);
+            // Dark ink on a light head (the head is a light tint of the figure's colour).
+            let fg = if depth == ColorDepth::None { Color::Default } else { Color::Indexed(0) };
+            // One printable ASCII character, whatever the caller passed (a name may hold anything).
+            let ch = if label.label.is_ascii_graphic() { label.label } else { '?' };
+            let cell = if depth == ColorDepth::None { Cell::plain(ch) } else { Cell { ch, fg, bg } };
+            frame.set(region.col + x, region.row + y, cell);
+        }
     }
 
     /// The pipeline up to the samples (no glyphs): what the frame is made of, sample by sample.
@@ -161,9 +209,33 @@ impl Renderer {
         cols: usize,
         rows: usize,
     ) -> Result<RenderStats, CameraError> {
+        self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, &[])
+    }
+
+    /// [`render_samples`](Self::render_samples) with figures.
+    #[allow(clippy::too_many_arguments)]
+    fn samples_with(
+        &mut self,
+        maze: &Maze,
+        camera: &Camera,
+        charset: Charset,
+        cell_aspect: f32,
+        culling: Culling,
+        cols: usize,
+        rows: usize,
+        sprites: &[Sprite],
+    ) -> Result<RenderStats, CameraError> {
         let (sx, sy) = charset.samples_per_cell();
         let eye = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // world→view→clip→grid
         let mut stats = self.draw(maze, &eye, culling, Shading::Color); // walls, floor, ceiling → samples
+        if !sprites.is_empty() {
+            let portal = &self.portal;
+            let visible = |cell: u32| culling == Culling::None || portal.was_visited(cell);
+            let fog = fog_of(&eye);
+            stats.samples_written += self.sprites.draw(&mut self.samples, &eye, &fog, sprites, visible); // figures
+        } else {
+            self.sprites.labels.clear();
+        }
         if charset == Charset::Ascii {
             self.outline_visible_walls(maze, &eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
         }
@@ -215,7 +287,7 @@ impl Renderer {
         // Ascending ids: depth ties resolve the same way whichever pass chose the walls.
         self.walls.sort_unstable();
 
-        let fog = Fog { color: FOG_COLOR, start: eye.far * 0.15, end: eye.far };
+        let fog = fog_of(eye);
         let ortho = eye.camera.projection == Projection::Orthographic;
         for &e in &self.walls {
             let edge = maze.edge(e);
