@@ -198,6 +198,10 @@ pub struct RenderArgs {
     /// cell's centre, empty where none.
     #[arg(long, value_name = "FILE")]
     pub depth_out: Option<PathBuf>,
+    /// Write the frame as a PNG picture instead of printing it: exactly what a terminal shows, each
+    /// sample a block of pixels (a cell is 12×24), indexed colours in xterm's palette; block charsets only.
+    #[arg(long, value_name = "FILE")]
+    pub png: Option<PathBuf>,
 }
 
 #[derive(Args)]

@@ -23,7 +23,7 @@ use mazewalk::cli::{CheckArgs, Cli, Command, GenArgs, MAX_FRAME_CELLS, MazeArgs,
 use mazewalk::frame::{Frame, Region};
 use mazewalk::maze::generate::{GenOptions, generate, generate_grid};
 use mazewalk::maze::{self, Format, LoadError, Maze};
-use mazewalk::render::{Camera, Culling, Renderer};
+use mazewalk::render::{Camera, Charset, Culling, Renderer};
 use mazewalk::term::{caps, encoder, guard};
 
 /// Exit status for bad flags or values (as clap's).
@@ -156,8 +156,28 @@ fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Writes `frame` as drawn with `charset` to a PNG file (8-bit RGB).
+fn write_png(path: &std::path::Path, frame: &Frame, charset: Charset) -> anyhow::Result<()> {
+    let (width, height, pixels) = mazewalk::render::picture::frame_pixels(frame, charset);
+    let file = File::create(path).with_context(|| format!("{}: cannot create", path.display()))?;
+    let mut png = png::Encoder::new(BufWriter::new(file), width as u32, height as u32);
+    png.set_color(png::ColorType::Rgb);
+    png.set_depth(png::BitDepth::Eight);
+    let mut writer = png.write_header().with_context(|| format!("{}: cannot write", path.display()))?;
+    writer.write_image_data(&pixels).with_context(|| format!("{}: cannot write", path.display()))?;
+    writer.finish().with_context(|| format!("{}: cannot write", path.display()))?;
+    Ok(())
+}
+
 fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
-    stdout_open()?;
+    if args.png.is_some() && args.look.charset == Charset::Ascii {
+        return Err(
+            Usage("--png draws the block charsets (half, quad, sextant); ascii is text".into()).into()
+        );
+    }
+    if args.png.is_none() {
+        stdout_open()?;
+    }
     let (cols, rows) = args.size;
     if cols * rows > MAX_FRAME_CELLS {
         return Err(Usage(format!(
@@ -195,9 +215,13 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
         .render(&maze, &camera, &options, &mut frame, Region { col: 0, row: 0, cols, rows })
         .map_err(|e| Usage(e.to_string()))?;
     let micros = started.elapsed().as_micros();
-    let mut out = Vec::with_capacity(cols * rows * 4);
-    encoder::ansi_lines(&frame, &mut out);
-    std::io::stdout().lock().write_all(&out).context("cannot write to stdout")?;
+    if let Some(path) = &args.png {
+        write_png(path, &frame, options.charset)?;
+    } else {
+        let mut out = Vec::with_capacity(cols * rows * 4);
+        encoder::ansi_lines(&frame, &mut out);
+        std::io::stdout().lock().write_all(&out).context("cannot write to stdout")?;
+    }
     if args.stats {
         let json = serde_json::json!({
             "cells_visited": stats.portal.cells_visited,

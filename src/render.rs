@@ -48,6 +48,7 @@ pub mod glyph;
 pub mod line;
 pub mod oracle;
 pub mod palette;
+pub mod picture;
 pub mod pipeline;
 pub mod portal;
 pub mod raster;

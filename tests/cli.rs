@@ -278,3 +278,23 @@ fn render_refuses_frames_past_the_maximum() {
             .success()
     );
 }
+
+#[test]
+fn render_png_writes_the_frame_as_a_picture_of_its_cells() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-png-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("frame.png");
+    let path_str = path.to_str().unwrap();
+    let out = mazewalk(&["render", "--size", "40x12", "--color", "truecolor", "--png", path_str]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.stdout.is_empty(), "the picture instead of the text");
+    let bytes = std::fs::read(&path).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    // IHDR: width and height, big-endian, right after the signature and the chunk header.
+    let width = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+    let height = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+    assert_eq!((width, height), (40 * 12, 12 * 24), "12×24 pixels a cell");
+    let ascii = mazewalk(&["render", "--charset", "ascii", "--png", path_str]);
+    assert_eq!(ascii.status.code(), Some(2), "ascii is text: {}", stderr(&ascii));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -18,8 +18,10 @@ use super::palette;
 use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, fill_polygon};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
-use super::shade::{Fog, checker, headlight_unit, lit, srgb_to_linear};
-use super::sprite::{Sprite, SpritePass};
+use super::shade::{
+    Fog, SUN_WORLD, checker, edge_color, headlight_unit, lit, srgb_to_linear, sun_factor, wall_albedo,
+};
+use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
 use crate::frame::{Cell, Color, ColorDepth, Frame, Region};
 use crate::maze::Maze;
@@ -35,6 +37,8 @@ const CEILING_SRGB: Vec3 = Vec3::new(0.30, 0.33, 0.42);
 /// The floor/ceiling checker: one square per generated maze cell, a gentle contrast to show motion.
 const CHECKER_PERIOD: f32 = 4.0;
 const CHECKER_CONTRAST: f32 = 0.18;
+/// How far (maze units) the exit's light reaches on the floor round it.
+const EXIT_GLOW_RADIUS: f32 = 2.0;
 
 /// Which walls go into the raster.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -111,6 +115,7 @@ pub struct Renderer {
     polygon_grid: Vec<GridVertex<Vec3>>,
     seen: Vec<u32>,
     sprites: SpritePass,
+    edge_marks: Vec<bool>,
 }
 
 impl Renderer {
@@ -228,14 +233,14 @@ impl Renderer {
         let (sx, sy) = charset.samples_per_cell();
         let eye = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // world→view→clip→grid
         let mut stats = self.draw(maze, &eye, culling, Shading::Color); // walls, floor, ceiling → samples
-        if !sprites.is_empty() {
-            let portal = &self.portal;
-            let visible = |cell: u32| culling == Culling::None || portal.was_visited(cell);
-            let fog = fog_of(&eye);
-            stats.samples_written += self.sprites.draw(&mut self.samples, &eye, &fog, sprites, visible); // figures
-        } else {
-            self.sprites.labels.clear();
+        let portal = &self.portal;
+        let visible = |cell: u32| culling == Culling::None || portal.was_visited(cell);
+        let fog = fog_of(&eye);
+        stats.samples_written += self.sprites.draw(&mut self.samples, &eye, &fog, sprites, visible); // figures
+        if let Some(point) = maze.exit().filter(|exit| visible(exit.cell)).and(maze.exit_point()) {
+            stats.samples_written += self.sprites.draw_beacon(&mut self.samples, &eye, &fog, point); // the exit
         }
+        self.draw_edges(maze); // where surfaces meet: darker (or lighter) samples
         if charset == Charset::Ascii {
             self.outline_visible_walls(maze, &eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
         }
@@ -289,6 +294,7 @@ impl Renderer {
 
         let fog = fog_of(eye);
         let ortho = eye.camera.projection == Projection::Orthographic;
+        let sun_view = (eye.normal_to_view * SUN_WORLD).normalize_or_zero(); // a direction: as normals go
         for &e in &self.walls {
             let edge = maze.edge(e);
             if !edge.opaque {
@@ -307,9 +313,12 @@ impl Renderer {
             }
             let (a, b) = maze.edge_points(e);
             let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
-            // Normals by the inverse transpose, normalized once per wall.
+            // Normals by the inverse transpose, normalized once per wall; turned toward the eye (walls
+            // are seen from both sides) for the sun, whose factor is then the wall's.
             let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
-            let albedo = edge.color.map(srgb_to_linear);
+            let facing =
+                if normal_view.dot(self.polygon_grid[0].attrs) > 0.0 { -normal_view } else { normal_view };
+            let albedo = wall_albedo(edge.color.map(srgb_to_linear)) * sun_factor(facing, sun_view);
             stats.triangles += self.polygon_grid.len() - 2;
             stats.samples_written += fill_polygon(&mut self.samples, &self.polygon_grid, e, |view: Vec3| {
                 let depth = view.z.abs(); // distance along the view axis (RH: -z, LH: +z)
@@ -323,7 +332,7 @@ impl Renderer {
                 }
             });
         }
-        self.fill_floor_and_ceiling(eye, &fog, shading);
+        self.fill_floor_and_ceiling(eye, &fog, shading, maze.exit_point());
         stats
     }
 
@@ -334,7 +343,7 @@ impl Renderer {
     /// whose ray meets the floor or ceiling first shows the floor or ceiling. So no wall is ever seen
     /// from under the floor, which also keeps the portal pass (which follows rays inside the
     /// floor-to-ceiling slab) exact against brute force.
-    fn fill_floor_and_ceiling(&mut self, eye: &Eye, fog: &Fog, shading: Shading) {
+    fn fill_floor_and_ceiling(&mut self, eye: &Eye, fog: &Fog, shading: Shading, exit: Option<Vec2>) {
         let floor = (FLOOR_Z, FLOOR, FLOOR_SRGB.map(srgb_to_linear));
         let ceiling = (CEILING_Z, CEILING, CEILING_SRGB.map(srgb_to_linear));
         let perspective = eye.camera.projection == Projection::Perspective;
@@ -397,8 +406,16 @@ impl Renderer {
                 let color = match shading {
                     Shading::ViewDepth => Vec3::ZERO,
                     Shading::Color => {
-                        let base =
-                            checker(plane.2, Vec2::new(hit.x, hit.y), CHECKER_PERIOD, CHECKER_CONTRAST);
+                        let on_plane = Vec2::new(hit.x, hit.y);
+                        let mut base = checker(plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST);
+                        if let Some(exit) = exit.filter(|_| plane.1 == FLOOR) {
+                            // The exit's light on the floor round it, fading out over EXIT_GLOW_RADIUS.
+                            let d2 = on_plane.distance_squared(exit);
+                            if d2 < EXIT_GLOW_RADIUS * EXIT_GLOW_RADIUS {
+                                let glow = 1.0 - d2.sqrt() / EXIT_GLOW_RADIUS;
+                                base = base.lerp(EXIT_GLOW, 0.8 * glow);
+                            }
+                        }
                         // The headlight shines along the ray (from the eye, or along the view axis when
                         // orthographic): hit - eye is a multiple of `dir`.
                         lit(base, headlight_unit(Vec3::Z, dir), AMBIENT).lerp(fog.color, fog_amount)
@@ -406,6 +423,52 @@ impl Renderer {
                 };
                 self.samples.write(i, color, f32::INFINITY, plane.1);
             }
+        }
+    }
+
+    /// Edges: where two neighbouring samples (right or below) belong to different surfaces, the nearer
+    /// one is drawn as an edge ([`edge_color`]): wall ends, corners, the seams with floor and ceiling,
+    /// the outlines of figures. One sample wide, so it survives at any size. Two walls on one line
+    /// (a long wall made of several edges) are one surface: no seam between them.
+    fn draw_edges(&mut self, maze: &Maze) {
+        let (width, height) = (self.samples.width(), self.samples.height());
+        self.edge_marks.clear();
+        self.edge_marks.resize(width * height, false);
+        let mut last = (NONE, NONE, false); // the last pair of walls compared, and whether they differ
+        let ids = self.samples.id();
+        let depth = self.samples.depth();
+        for y in 0..height {
+            for x in 0..width {
+                let i = y * width + x;
+                for j in [(x + 1 < width).then_some(i + 1), (y + 1 < height).then_some(i + width)]
+                    .into_iter()
+                    .flatten()
+                {
+                    let (a, b) = (ids[i], ids[j]);
+                    if a == b {
+                        continue;
+                    }
+                    let walls = maze.edges().len() as u32;
+                    let differ = match (a < walls, b < walls) {
+                        (true, true) => {
+                            if (last.0, last.1) != (a, b) {
+                                last = (a, b, !collinear(maze, a, b));
+                            }
+                            last.2
+                        }
+                        (false, false) => is_figure(a) || is_figure(b), // floor, ceiling, nothing: no edge
+                        _ => true,
+                    };
+                    if differ {
+                        let nearer = if depth[j] < depth[i] { j } else { i };
+                        self.edge_marks[nearer] = true;
+                    }
+                }
+            }
+        }
+        let colors = self.samples.color_mut();
+        for (color, _) in colors.iter_mut().zip(&self.edge_marks).filter(|(_, m)| **m) {
+            *color = edge_color(*color);
         }
     }
 
@@ -434,4 +497,13 @@ impl Renderer {
             }
         }
     }
+}
+
+/// Whether walls `a` and `b` lie on one line (within a ten-thousandth of the longer one's length).
+fn collinear(maze: &Maze, a: u32, b: u32) -> bool {
+    let ((p, q), (r, s)) = (maze.edge_points(a), maze.edge_points(b));
+    let (d, e) = (q - p, s - r);
+    let tolerance = 1e-4 * d.length().max(e.length());
+    let off_line = |point: Vec2| d.perp_dot(point - p).abs() / d.length().max(f32::MIN_POSITIVE);
+    d.length() > 0.0 && off_line(r) <= tolerance && off_line(s) <= tolerance
 }

@@ -31,6 +31,46 @@ pub fn lit(albedo: Vec3, diffuse: f32, ambient: f32) -> Vec3 {
     albedo * (ambient + (1.0 - ambient) * diffuse.clamp(0.0, 1.0))
 }
 
+/// The sun: a fixed directional light (world space, unit length, pointing toward the light: east by
+/// north-east, level), so walls facing different ways differ even without fog, and two walls meeting
+/// at a corner are told apart by their shade as well as by the edge between them. Its angle, atan(1/3)
+/// from east, spreads the four faces of a grid maze evenly: `n·s` is ±0.95 and ±0.32.
+pub const SUN_WORLD: Vec3 = Vec3::new(0.948_683_3, 0.316_227_76, 0.0);
+/// How much the sun changes a wall: from `SUN_LOW` × its headlit colour (turned away) to `SUN_HIGH` ×
+/// (facing it). Around 1 on average, so the picture keeps its brightness.
+pub const SUN_LOW: f32 = 0.7;
+/// See [`SUN_LOW`].
+pub const SUN_HIGH: f32 = 1.2;
+
+/// The sun's factor for a surface whose unit normal, turned toward the eye, is `facing`, with `sun`
+/// the unit direction to the sun, both in one space (view space in the pipeline: the normal through the
+/// normal matrix, the sun through the view's rotation). Half-Lambert (`½ + ½ n·s`), not Lambert: faces
+/// turned away from the sun still differ by how far they are turned, so each of a grid maze's four
+/// wall orientations has its own shade.
+#[must_use]
+pub fn sun_factor(facing: Vec3, sun: Vec3) -> f32 {
+    SUN_LOW + (SUN_HIGH - SUN_LOW) * (0.5 + 0.5 * facing.dot(sun)).clamp(0.0, 1.0)
+}
+
+/// The least light a wall reflects: a black wall (`0 0 0` in a course file) is drawn as a very dark
+/// grey, never as the fog. Added in proportion to how dark the colour's brightest channel is, so
+/// coloured walls keep their hue.
+pub const MIN_WALL_ALBEDO: f32 = 0.08;
+
+/// A wall colour (linear) lifted so it is never black: `albedo + MIN_WALL_ALBEDO · (1 − max channel)`.
+#[must_use]
+pub fn wall_albedo(albedo: Vec3) -> Vec3 {
+    let albedo = albedo.clamp(Vec3::ZERO, Vec3::ONE);
+    albedo + Vec3::splat(MIN_WALL_ALBEDO * (1.0 - albedo.max_element()))
+}
+
+/// An edge sample's colour: darker than the surface, or, on a surface too dark to darken visibly,
+/// lighter, so an edge shows on every colour.
+#[must_use]
+pub fn edge_color(color: Vec3) -> Vec3 {
+    if luminance(color) > 0.02 { color * 0.5 } else { color.lerp(Vec3::splat(0.06), 0.6) }
+}
+
 /// Linear distance fog: nothing before `start`, everything from `end` on, linear in between.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fog {

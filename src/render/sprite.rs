@@ -20,7 +20,7 @@ use super::raster::{GridVertex, fill_polygon};
 use super::samples::SampleBuffer;
 use super::shade::{Fog, srgb_to_linear};
 use crate::math::{ClipPlanes, ClipVertex, clip_polygon, model, rotation_z};
-use crate::maze::geometry::FLOOR_Z;
+use crate::maze::geometry::{CEILING_Z, FLOOR_Z};
 
 /// A figure's width across (maze units): a little less than a viewer's disc ([`WALL_MARGIN`] × 2 is
 /// 0.5) would make it a post; this reads as a person in a 4-unit corridor.
@@ -32,9 +32,21 @@ pub const SPRITE_WIDTH: f32 = 0.7;
 pub const SPRITE_HEIGHT: f32 = 1.45;
 /// At most this many figures are drawn in one frame (the rest are left out, farthest first).
 pub const MAX_SPRITES: usize = 1024;
-/// Coverage id of figure `k` in the sample buffer: `SPRITE_ID - k` (below the floor's and ceiling's ids,
-/// far above any wall's).
-pub const SPRITE_ID: u32 = u32::MAX - 3;
+/// Coverage id of the exit's beacon in the sample buffer (below the floor's and ceiling's ids).
+pub const EXIT_ID: u32 = u32::MAX - 3;
+/// Coverage id of figure `k` in the sample buffer: `SPRITE_ID - k` (below the exit's, far above any
+/// wall's).
+pub const SPRITE_ID: u32 = u32::MAX - 4;
+/// The exit's glow (linear RGB): its beacon and the light it casts on the floor.
+pub const EXIT_GLOW: Vec3 = Vec3::new(0.20, 1.0, 0.42);
+/// The beacon's width (maze units): a column of light from floor to ceiling over the exit.
+pub const BEACON_WIDTH: f32 = 1.0;
+
+/// Whether a coverage id is a figure's (or the beacon's).
+#[must_use]
+pub fn is_figure(id: u32) -> bool {
+    (SPRITE_ID - (MAX_SPRITES as u32 - 1)..=EXIT_ID).contains(&id)
+}
 
 /// One figure to draw.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,16 +84,16 @@ fn head() -> [Vec2; 8] {
     })
 }
 
-/// The model matrix of a figure standing at `feet` seen from `eye` (world): scale the unit figure to
-/// [`SPRITE_WIDTH`] × [`SPRITE_HEIGHT`], turn it about z so that its plane faces the eye (model +x goes
+/// The model matrix of a billboard standing at `feet` seen from `eye` (world): scale the unit box to
+/// `size` (width across × height; a figure's is [`SPRITE_WIDTH`] × [`SPRITE_HEIGHT`]), turn it about z so that its plane faces the eye (model +x goes
 /// to the viewer's right, model −y toward the viewer), stand it on the floor at `feet`. `None` when the
 /// eye is straight above or below the feet (no way to face it) or a value is not finite.
 #[must_use]
-pub fn model_matrix(feet: Vec2, eye: Vec3) -> Option<Mat4> {
+pub fn model_matrix(feet: Vec2, eye: Vec3, size: Vec2) -> Option<Mat4> {
     let to_feet = (feet - eye.truncate()).try_normalize()?; // the line of sight, in the maze plane
     // R_z(θ) takes +x to (cos θ, sin θ); the viewer's right of `to_feet` is (to_feet.y, −to_feet.x).
     let angle = (-to_feet.x).atan2(to_feet.y);
-    let m = model(feet.extend(FLOOR_Z), rotation_z(angle), Vec3::new(SPRITE_WIDTH, 1.0, SPRITE_HEIGHT));
+    let m = model(feet.extend(FLOOR_Z), rotation_z(angle), Vec3::new(size.x, 1.0, size.y));
     m.is_finite().then_some(m)
 }
 
@@ -90,7 +102,8 @@ pub fn model_matrix(feet: Vec2, eye: Vec3) -> Option<Mat4> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct SpriteVertex {
     clip: Vec4,
-    /// `x`: view depth (distance along the view axis, for the fog); `y`: model height in 0..1.
+    /// `x`: view depth (distance along the view axis, for the fog); `y`: model height in 0..1; `z`:
+    /// model x, −½..½ across.
     attrs: Vec3,
 }
 
@@ -154,7 +167,8 @@ impl SpritePass {
         for slot in 0..self.order.len() {
             let (_, k) = self.order[slot];
             let sprite = &sprites[k];
-            let Some(model) = model_matrix(sprite.position, eye.position) else { continue };
+            let size = Vec2::new(SPRITE_WIDTH, SPRITE_HEIGHT);
+            let Some(model) = model_matrix(sprite.position, eye.position, size) else { continue };
             let id = SPRITE_ID - slot as u32;
             let albedo = sprite.color.clamp(Vec3::ZERO, Vec3::ONE).map(srgb_to_linear);
             // Shoulders lit, feet in shadow; the head a lighter tint of the same colour.
@@ -178,6 +192,17 @@ impl SpritePass {
         written
     }
 
+    /// The exit's beacon at `point`: a column of light from floor to ceiling, a billboard like the
+    /// figures ([`BEACON_WIDTH`] wide), brightest along its middle and half as fogged as a wall, so it
+    /// shows down a long corridor. Depth-tested; returns the samples written.
+    pub fn draw_beacon(&mut self, samples: &mut SampleBuffer, eye: &Eye, fog: &Fog, point: Vec2) -> usize {
+        let size = Vec2::new(BEACON_WIDTH, CEILING_Z - FLOOR_Z);
+        let Some(model) = model_matrix(point, eye.position, size) else { return 0 };
+        let column = [Vec2::new(-0.5, 0.0), Vec2::new(0.5, 0.0), Vec2::new(0.5, 1.0), Vec2::new(-0.5, 1.0)];
+        let glow = |attrs: Vec3| fog.apply(EXIT_GLOW * (1.0 - 1.2 * attrs.z.abs()), 0.5 * attrs.x);
+        self.fill(samples, eye, model, &column, EXIT_ID, glow)
+    }
+
     /// One convex model-space polygon of a figure: model → world → clip, clipped against the view volume,
     /// ÷w and viewport, rasterized with `id`, each sample shaded by `shade(attrs)`.
     fn fill(
@@ -193,7 +218,7 @@ impl SpritePass {
         for &p in polygon {
             let world = model.transform_point3(Vec3::new(p.x, 0.0, p.y)); // model → world
             let clip = eye.world_to_clip * world.extend(1.0); // world → clip
-            self.input.push(SpriteVertex { clip, attrs: Vec3::new(eye.view_depth(world), p.y, 0.0) });
+            self.input.push(SpriteVertex { clip, attrs: Vec3::new(eye.view_depth(world), p.y, p.x) });
         }
         let depth = eye.camera.convention.depth_range();
         clip_polygon(&self.input, ClipPlanes::ALL, depth, &mut self.output, &mut self.temp);
@@ -218,11 +243,13 @@ impl SpritePass {
 mod tests {
     use super::*;
 
+    const FIGURE: Vec2 = Vec2::new(SPRITE_WIDTH, SPRITE_HEIGHT);
+
     #[test]
     fn the_model_matrix_stands_the_figure_on_the_floor_facing_the_eye() {
         let eye = Vec3::new(1.0, 2.0, 0.0);
         for feet in [Vec2::new(5.0, 2.0), Vec2::new(-3.0, -1.0), Vec2::new(1.0, 9.0), Vec2::new(0.5, 1.5)] {
-            let m = model_matrix(feet, eye).unwrap();
+            let m = model_matrix(feet, eye, FIGURE).unwrap();
             assert!(m.transform_point3(Vec3::ZERO).abs_diff_eq(feet.extend(FLOOR_Z), 1e-5), "feet");
             let top = m.transform_point3(Vec3::Z);
             assert!(
@@ -239,8 +266,8 @@ mod tests {
             let right = Vec2::new(-to_eye.y, to_eye.x); // heading_right of the line of sight, −to_eye
             assert!(across.truncate().normalize().dot(right) > 0.9999);
         }
-        assert_eq!(model_matrix(Vec2::new(1.0, 2.0), eye), None, "straight above: no facing");
-        assert_eq!(model_matrix(Vec2::new(f32::NAN, 2.0), eye), None);
+        assert_eq!(model_matrix(Vec2::new(1.0, 2.0), eye, FIGURE), None, "straight above: no facing");
+        assert_eq!(model_matrix(Vec2::new(f32::NAN, 2.0), eye, FIGURE), None);
     }
 
     #[test]

@@ -1,0 +1,129 @@
+//! The picture (issue #15): edges where surfaces meet, light by orientation, walls never black, the
+//! exit visible from down a corridor.
+
+use glam::{Vec2, Vec3};
+use mazewalk::frame::{Color, ColorDepth, Frame};
+use mazewalk::maze::{Maze, grid};
+use mazewalk::render::shade::luminance;
+use mazewalk::render::{Camera, Charset, Culling, RenderOptions, Renderer};
+
+fn maze(text: &str) -> Maze {
+    grid::parse_str("test.grid", text).unwrap()
+}
+
+fn samples(maze: &Maze, camera: &Camera, cols: usize, rows: usize) -> Renderer {
+    let mut renderer = Renderer::new();
+    renderer.render_samples(maze, camera, Charset::Ascii, 0.5, Culling::Portal, cols, rows).unwrap();
+    renderer
+}
+
+/// A room whose walls all have one colour; looking into its north-east corner from inside.
+const ROOM: &str = "mazewalk-grid 1
+# = #8080c0
+######
+#....#
+#....#
+#@...#
+######
+";
+
+#[test]
+fn two_walls_of_one_colour_meeting_at_a_corner_stay_distinct() {
+    let maze = maze(ROOM);
+    // From the middle of the room, facing the north-east corner (45°), 7 units from it.
+    let camera = Camera::new(Vec2::new(15.0, 11.0), 45.0, 90.0);
+    let (cols, rows) = (81, 40);
+    let renderer = samples(&maze, &camera, cols, rows);
+    let s = renderer.samples();
+    let y = rows / 2 - 1; // eye level: the corner is a vertical line through the middle
+    let row: Vec<(u32, Vec3)> = (0..cols).map(|x| (s.id()[y * cols + x], s.color()[y * cols + x])).collect();
+    let walls = maze.edges().len() as u32;
+    // Where a wall running east-west meets one running north-south (not a seam between two tiles' edges
+    // of one straight wall).
+    let direction = |id: u32| {
+        let (a, b) = maze.edge_points(id);
+        (b - a).normalize().abs()
+    };
+    let corner = (1..cols).find(|&x| {
+        row[x - 1].0 < walls && row[x].0 < walls && direction(row[x - 1].0).dot(direction(row[x].0)) < 0.5
+    });
+    let x = corner.expect("two walls meet in the view");
+    let (left, right) = (row[x - 4].1, row[x + 3].1); // inside each wall, off the edge
+    let edge = [row[x - 1].1, row[x].1];
+    // The walls face different ways: the sun lights them differently.
+    let (l, r) = (luminance(left), luminance(right));
+    assert!((l - r).abs() > 0.1 * l.max(r), "{left} vs {right}");
+    // The corner itself is drawn as an edge: darker than both walls beside it.
+    let darkest = luminance(edge[0]).min(luminance(edge[1]));
+    assert!(darkest < 0.8 * luminance(left).min(luminance(right)), "edge {edge:?}, walls {left} {right}");
+}
+
+#[test]
+fn a_black_wall_is_never_the_fog() {
+    let text = "mazewalk-grid 1
+K = #000000
+KKKKK
+K@..K
+KKKKK
+";
+    let maze = maze(text);
+    let camera = Camera::new(Vec2::new(2.0, 6.0), 0.0, 90.0); // facing the black east wall, 8 units off
+    let (cols, rows) = (40, 20);
+    let renderer = samples(&maze, &camera, cols, rows);
+    let s = renderer.samples();
+    let walls = maze.edges().len() as u32;
+    let i = (rows / 2) * cols + cols / 2;
+    assert!(s.id()[i] < walls, "a wall straight ahead");
+    // Far from the fog colour: several 8-bit steps apart once encoded.
+    let fog_free = luminance(s.color()[i]);
+    assert!(fog_free > 0.004, "wall luminance {fog_free}");
+    // And in every colour depth the wall's cells differ from the empty space beyond the far plane.
+    // (Without colour the shade glyphs can coincide; the wall's edges still draw it.)
+    for depth in [ColorDepth::Ansi16, ColorDepth::Ansi256, ColorDepth::TrueColor] {
+        let mut near = Frame::new(cols, rows);
+        let options =
+            RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
+        let region = near.region();
+        Renderer::new().render(&maze, &camera, &options, &mut near, region).unwrap();
+        // The same view seeing only 2 units far: the wall is beyond the far plane, the middle is fog.
+        let mut nothing = Frame::new(cols, rows);
+        let short = Camera { view_distance: 2.0, ..camera };
+        Renderer::new().render(&maze, &short, &options, &mut nothing, region).unwrap();
+        let middle = |f: &Frame| *f.get(cols / 2, rows / 2).unwrap();
+        assert_ne!(middle(&near), middle(&nothing), "{depth:?}: the black wall looks like empty space");
+    }
+}
+
+/// A straight corridor, the exit three cells ahead of the start (or plain floor there).
+fn corridor(exit: bool) -> Maze {
+    let tile = if exit { 'E' } else { '.' };
+    maze(&format!("mazewalk-grid 1\n#######\n#>..{tile}.#\n#######\n"))
+}
+
+#[test]
+fn the_exit_shows_three_cells_down_a_corridor_in_every_charset_and_colour_depth() {
+    let camera = Camera::new(Vec2::new(6.0, 6.0), 0.0, 90.0);
+    for charset in Charset::ALL {
+        for depth in [ColorDepth::None, ColorDepth::Ansi16, ColorDepth::Ansi256, ColorDepth::TrueColor] {
+            let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
+            let frame = |maze: &Maze| {
+                let mut frame = Frame::new(80, 24);
+                let region = frame.region();
+                Renderer::new().render(maze, &camera, &options, &mut frame, region).unwrap();
+                frame
+            };
+            let (with, without) = (frame(&corridor(true)), frame(&corridor(false)));
+            let differing = with.cells().iter().zip(without.cells()).filter(|(a, b)| a != b).count();
+            // A beacon across a few columns and the floor's glow: dozens of cells, not a speck.
+            assert!(differing >= 8, "{charset} {depth:?}: {differing} cells show the exit");
+            if depth == ColorDepth::TrueColor {
+                let green = with.cells().iter().any(|c| {
+                    [c.fg, c.bg]
+                        .iter()
+                        .any(|&k| matches!(k, Color::Rgb(r, g, b) if g > 150 && g > r + 60 && g > b + 40))
+                });
+                assert!(green, "{charset}: the exit glows green");
+            }
+        }
+    }
+}
