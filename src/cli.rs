@@ -63,6 +63,9 @@ pub struct WalkArgs {
     /// the keys instead of falling behind).
     #[arg(long)]
     pub no_flow_control: bool,
+    /// The map shows the whole maze and its exit from the start (by default only what you have seen).
+    #[arg(long)]
+    pub reveal_map: bool,
     #[command(flatten)]
     pub motion: MotionArgs,
 }

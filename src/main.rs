@@ -133,6 +133,7 @@ fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     }
     let clock = Instant::now(); // the walk's time 0
     let mut app = App::new(maze, args.look.options(Culling::Portal), 0.0)?;
+    app.reveal_map = args.reveal_map;
     let m = &args.motion;
     app.motion = Motion {
         turn_speed_deg: m.turn_speed,

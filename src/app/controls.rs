@@ -44,8 +44,12 @@ pub enum Action {
     CycleCharset,
     /// Back to the start (r).
     Reset,
-    /// Show or hide the key help (?).
+    /// Show or hide the key help (? or h).
     Help,
+    /// Portal culling ↔ brute force (b): every wall drawn, for comparison.
+    ToggleCulling,
+    /// Tint the map's cells the portal pass visited this frame (v), with a legend: culling, seen.
+    ToggleCullingTint,
     /// Leave (q, Esc).
     Quit,
 }
@@ -100,6 +104,8 @@ pub fn action_for(key: Key) -> Option<Action> {
             'm' => Action::CycleMap,
             'c' => Action::CycleCharset,
             'r' => Action::Reset,
+            'b' => Action::ToggleCulling,
+            'v' => Action::ToggleCullingTint,
             '?' | 'h' => Action::Help,
             'q' => Action::Quit,
             _ => return None,
@@ -115,20 +121,23 @@ pub fn action_for(key: Key) -> Option<Action> {
 
 /// The key help, one line per binding (shown by `?` and in README).
 pub const HELP: &[(&str, &str)] = &[
-    ("W / S", "walk forward / back"),
+    ("W / S", "walk forward / back (tap: a step, hold: glide)"),
     ("A / D", "step left / right"),
-    ("← / →", "turn left / right (tap: a step)"),
-    (", / .", "snap turn 90° left / right"),
+    ("← / →", "turn left / right (tap: 15°)"),
+    (", . or < >", "snap turn 90° left / right"),
     ("↑ / ↓", "look up / down"),
     ("[ / ]", "move down / up"),
     ("+ / -", "wider / narrower field of view"),
     ("drag", "look around with the mouse"),
     ("p", "perspective / orthographic"),
-    ("m", "map: corner / full / off"),
-    ("c", "next glyph mode"),
+    ("m", "map: corner / full / off (shows what you have seen)"),
+    ("v", "map: tint the cells the portal pass visits"),
+    ("b", "portal culling / brute force (every wall)"),
+    ("c", "glyphs: ascii, half ▀, quad ▚, sextant (2×3)"),
     ("r", "back to the start"),
-    ("?", "this help"),
-    ("q / Esc", "quit"),
+    ("? / h", "this help"),
+    ("Ctrl-Z", "suspend (fg to come back)"),
+    ("q / Esc / Ctrl-C", "quit"),
 ];
 
 /// Two presses of one key closer together than this (seconds) are the terminal's auto-repeat, not two

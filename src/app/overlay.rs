@@ -10,10 +10,8 @@ use glam::Vec2;
 
 use super::controls::HELP;
 use crate::frame::{Cell, Color, ColorDepth, Frame};
-use crate::maze::geometry::heading_dir;
 use crate::maze::{Aabb, Maze};
 use crate::render::camera::Camera;
-use crate::render::line_points;
 use crate::render::palette::{ansi16, quantize_srgb8, xterm_rgb};
 use crate::render::{Charset, Sprite};
 
@@ -24,11 +22,14 @@ const HUD_FG: Color = Color::Indexed(252);
 const HUD_BG: Color = Color::Indexed(236);
 const BOX_FG: Color = Color::Indexed(255);
 const BOX_BG: Color = Color::Indexed(24);
-const ROCK: Cell = Cell { ch: '░', fg: Color::Indexed(240), bg: Color::Indexed(234) };
 const FLOOR_BG: Color = Color::Indexed(235);
 const VISITED_BG: Color = Color::Indexed(17);
+/// The map's walls: one neutral colour (a maze's own colours made the map unreadable).
+const WALL_FG: Color = Color::Indexed(250);
+/// The floor the viewer is looking at, on the map.
+const WEDGE_BG: Color = Color::Indexed(239);
+const LEGEND_FG: Color = Color::Indexed(255);
 const VIEWER_FG: Color = Color::Indexed(226);
-const FRUSTUM_FG: Color = Color::Indexed(178);
 const EXIT_FG: Color = Color::Indexed(46);
 
 /// How the overlays draw: the walk's colour depth and whether only ASCII may be used.
@@ -241,34 +242,60 @@ impl MapArea {
     }
 }
 
-/// Draws the top-down map into `area`: rock outside the cells, walls in their colours, the cells the
-/// portal pass visited this frame tinted, the exit, the viewer and its view frustum.
+/// Draws the map into `area`: the cells the viewer has `seen` (fog of war: nothing else, not even
+/// the exit), walls in one neutral colour, the view wedge, the other players' initials and the viewer.
+/// `tint`, when given, marks the cells the portal pass visited this frame, with a legend.
+#[allow(clippy::too_many_arguments)]
 pub fn draw_map(
     frame: &mut Frame,
     area: &MapArea,
     maze: &Maze,
     camera: &Camera,
     others: &[Sprite],
-    visited: &dyn Fn(u32) -> bool,
+    seen: &dyn Fn(u32) -> bool,
+    tint: Option<&dyn Fn(u32) -> bool>,
     style: Style,
 ) {
-    let rock = Cell { ch: style.glyph(ROCK.ch, ':'), ..ROCK };
+    let wall = Cell { ch: style.glyph('█', '#'), fg: WALL_FG, bg: FLOOR_BG };
+    let (eye, half_fov) = (camera.position, (camera.hfov_deg * 0.5).to_radians());
+    let reach = 12.0 * area.units_per_col;
     for row in 0..area.height {
         for col in 0..area.width {
             let world_box = area.world_box(col, row);
-            let cell = match maze.cell_at(world_box.centre()) {
-                None => rock,
+            // The seen cell under the character: its centre, else a point near a corner (so a wall on
+            // the maze's outline, whose character is centred outside, is still drawn).
+            let inset = (world_box.max - world_box.min) * 0.1;
+            let probes = [
+                world_box.centre(),
+                world_box.min + inset,
+                Vec2::new(world_box.max.x - inset.x, world_box.min.y + inset.y),
+                Vec2::new(world_box.min.x + inset.x, world_box.max.y - inset.y),
+                world_box.max - inset,
+            ];
+            let found = probes.iter().find_map(|&p| maze.cell_at(p).filter(|&c| seen(c)));
+            let cell = match found {
+                None => Cell::BLANK, // unseen, or outside the maze
                 Some(c) => {
-                    let wall = maze.cell_edges(c).iter().map(|&e| (e, maze.edge(e))).find(|&(e, edge)| {
+                    let walled = maze.cell_edges(c).iter().any(|&e| {
                         let (a, b) = maze.edge_points(e);
-                        edge.opaque && world_box.touches_segment(a, b)
+                        maze.edge(e).opaque && world_box.touches_segment(a, b)
                     });
-                    let bg = if visited(c) { VISITED_BG } else { FLOOR_BG };
-                    match wall {
-                        Some((_, edge)) => {
-                            Cell { ch: style.glyph('█', '#'), fg: rgb(edge.color.to_array()), bg }
-                        }
-                        None => Cell { ch: ' ', fg: Color::Default, bg },
+                    let bg = match tint {
+                        Some(tint) if tint(c) => VISITED_BG,
+                        _ => FLOOR_BG,
+                    };
+                    if walled {
+                        Cell { bg, ..wall }
+                    } else {
+                        // Floor; inside the view wedge (within ±fov/2 of the heading, a dozen columns
+                        // out) a lighter floor.
+                        let to = world_box.centre() - eye;
+                        let off = (to.to_angle() - camera.yaw_deg.to_radians() + std::f32::consts::PI)
+                            .rem_euclid(std::f32::consts::TAU)
+                            - std::f32::consts::PI;
+                        let in_wedge = to.length() < reach && off.abs() <= half_fov;
+                        let bg = if in_wedge && bg == FLOOR_BG { WEDGE_BG } else { bg };
+                        Cell { ch: ' ', fg: Color::Default, bg }
                     }
                 }
             };
@@ -283,22 +310,7 @@ pub fn draw_map(
             frame.set(x, y, Cell { ch, fg, bg });
         }
     };
-    // The view frustum: two rays at ±fov/2 from the heading, a few cells long, over floor only.
-    let eye = area.to_map(camera.position);
-    for side in [-0.5f32, 0.5] {
-        let heading = (camera.yaw_deg + side * camera.hfov_deg).to_radians();
-        let reach = 12.0 * area.units_per_col;
-        let tip = area.to_map(camera.position + heading_dir(heading) * reach);
-        let (w, h) = (area.width, area.height);
-        for (x, y) in line_points(eye.x as i64, eye.y as i64, tip.x as i64, tip.y as i64, w, h) {
-            let (fx, fy) = (area.x + x, area.y + y);
-            if frame.get(fx, fy).is_some_and(|c| c.ch == ' ') {
-                let bg = frame.get(fx, fy).map_or(Color::Default, |c| c.bg);
-                frame.set(fx, fy, Cell { ch: style.glyph('·', '.'), fg: FRUSTUM_FG, bg });
-            }
-        }
-    }
-    if let Some(exit) = maze.exit_point() {
+    if let Some(exit) = maze.exit().filter(|exit| seen(exit.cell)).and(maze.exit_point()) {
         put(frame, exit, 'E', EXIT_FG);
     }
     for other in others {
@@ -308,6 +320,13 @@ pub fn draw_map(
     let arrow = heading_arrow(camera.yaw_deg);
     let arrow = if style.ascii { ascii_arrow(camera.yaw_deg) } else { arrow };
     put(frame, camera.position, arrow, VIEWER_FG);
+    if tint.is_some() && area.height > 1 {
+        // The legend, on the map's last row.
+        let legend = " portal pass: cells visited now ";
+        for (k, ch) in legend.chars().take(area.width).enumerate() {
+            frame.set(area.x + k, area.y + area.height - 1, Cell { ch, fg: LEGEND_FG, bg: VISITED_BG });
+        }
+    }
 }
 
 /// [`heading_arrow`] in ASCII: `>`, `^`, `<`, `v` by quadrant.

@@ -37,7 +37,7 @@ use super::overlay::{self, MapArea, Style};
 use super::state::{App, MapMode};
 use crate::frame::{Cell, Frame, Region};
 use crate::input::{Input, InputDecoder, Key, Reply};
-use crate::render::{Projection, RenderOptions, RenderStats, Renderer};
+use crate::render::{Culling, Projection, RenderOptions, RenderStats, Renderer};
 use crate::term::encoder::{self, Encoder};
 
 /// The most frames per second drawn while something moves.
@@ -174,6 +174,25 @@ impl Session {
         }
     }
 
+    /// Adds the cells the last frame showed to the map's seen cells: the portal pass's, or with brute
+    /// force the cells on both sides of every wall that reached a sample.
+    fn note_seen(&mut self) {
+        let renderer = &self.screen.renderer;
+        if self.app.options.culling == Culling::Portal {
+            self.app.mark_seen(renderer.portal().visited.iter().copied());
+        } else {
+            let maze = self.app.maze();
+            let walls = maze.edges().len() as u32;
+            let mut cells: Vec<u32> =
+                renderer.samples().id().iter().filter(|&&id| id < walls).copied().collect();
+            cells.sort_unstable();
+            cells.dedup();
+            let sides: Vec<u32> =
+                cells.iter().flat_map(|&e| [maze.edge(e).left, maze.edge(e).right]).flatten().collect();
+            self.app.mark_seen(sides);
+        }
+    }
+
     /// The walk's state.
     #[must_use]
     pub fn app(&self) -> &App {
@@ -300,6 +319,7 @@ impl Session {
         self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
         let started = Instant::now();
         draw(&self.app, &mut self.screen, &mut self.frame, &hud);
+        self.note_seen();
         self.encoder.set_tolerance(adaptive_tolerance(self.options.color_tolerance, round_trip));
         let before = out.len();
         let stats = self.encoder.encode(&self.frame, out);
@@ -343,15 +363,18 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         }
     };
     frame.region_rows_mut(Region { row: rows - 1, rows: 1, ..view }).for_each(|hud| hud.fill(Cell::BLANK));
+    // Cells visible in this frame: the portal pass's (with brute force it did not run: none new).
     let portal = screen.renderer.portal();
-    let visited = |c: u32| portal.was_visited(c);
+    let visible_now = |c: u32| app.options.culling == Culling::Portal && portal.was_visited(c);
+    let seen = |c: u32| app.has_seen(c) || visible_now(c);
+    let tint: Option<&dyn Fn(u32) -> bool> = app.culling_tint.then_some(&visible_now);
     let area = match app.map {
         MapMode::Off => None,
         MapMode::Corner => Some(MapArea::corner(frame, app.camera.position)),
         MapMode::Full => Some(MapArea::full(frame, app.maze(), app.camera.position)),
     };
     if let Some(area) = area {
-        overlay::draw_map(frame, &area, app.maze(), &app.camera, &app.others, &visited, style);
+        overlay::draw_map(frame, &area, app.maze(), &app.camera, &app.others, &seen, tint, style);
     }
     if let Some(seconds) = app.finished {
         let lines = [

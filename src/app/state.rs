@@ -9,7 +9,7 @@ use crate::maze::Maze;
 use crate::maze::geometry::{WALL_MARGIN, clamp_eye_height, heading_dir, heading_right};
 use crate::maze::movement::{Position, step};
 use crate::render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection};
-use crate::render::{Charset, RenderOptions, Sprite};
+use crate::render::{Charset, Culling, RenderOptions, Sprite};
 
 /// Walking speed by default, maze units per second (a generated cell is 4 units); see [`Motion`].
 pub const WALK_SPEED: f32 = 5.0;
@@ -154,6 +154,12 @@ pub struct App {
     pub quit: bool,
     /// The other figures in the maze (other players): drawn in the view and on the map.
     pub others: Vec<Sprite>,
+    /// The map shows every cell and the exit from the start (`--reveal-map`), not only those seen.
+    pub reveal_map: bool,
+    /// The map tints the cells the portal pass visited this frame (`v`), a lesson in culling.
+    pub culling_tint: bool,
+    /// Cells seen so far, one bit each (the map's fog of war).
+    seen: Vec<u64>,
     last_tick: f64,
 }
 
@@ -178,6 +184,7 @@ impl App {
             Camera::new(viewer.pos, viewer.dir_deg, viewer.fov_deg.clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1));
         camera.eye_z = clamp_eye_height(viewer.z);
         let cell = maze.cell_at(viewer.pos).ok_or(StartOutsideMaze { x: viewer.pos.x, y: viewer.pos.y })?;
+        let cells = maze.cell_count();
         Ok(App {
             maze,
             camera,
@@ -194,8 +201,27 @@ impl App {
             finished: None,
             quit: false,
             others: Vec::new(),
+            reveal_map: false,
+            culling_tint: false,
+            seen: vec![0; cells.div_ceil(64)],
             last_tick: now,
         })
+    }
+
+    /// Whether cell `c` shows on the map: seen at some time in the walk, or every cell with
+    /// [`reveal_map`](Self::reveal_map).
+    #[must_use]
+    pub fn has_seen(&self, c: u32) -> bool {
+        self.reveal_map || self.seen.get(c as usize / 64).is_some_and(|w| w >> (c % 64) & 1 == 1)
+    }
+
+    /// Records cells as seen (the renderer's visible cells of a frame); ids outside the maze are ignored.
+    pub fn mark_seen(&mut self, cells: impl IntoIterator<Item = u32>) {
+        for c in cells {
+            if let Some(word) = self.seen.get_mut(c as usize / 64) {
+                *word |= 1 << (c % 64);
+            }
+        }
     }
 
     /// The maze being walked.
@@ -258,6 +284,13 @@ impl App {
                 (self.started, self.finished) = (now, None);
             }
             Action::Help => self.help = !self.help,
+            Action::ToggleCulling => {
+                self.options.culling = match self.options.culling {
+                    Culling::Portal => Culling::None,
+                    Culling::None => Culling::Portal,
+                };
+            }
+            Action::ToggleCullingTint => self.culling_tint = !self.culling_tint,
             Action::Quit => self.quit = true,
             _ => {}
         }

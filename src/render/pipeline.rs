@@ -116,6 +116,8 @@ pub struct Renderer {
     seen: Vec<u32>,
     sprites: SpritePass,
     edge_marks: Vec<bool>,
+    /// Skip the edge pass (the portal oracle compares visibility, not the picture's edges).
+    pub(crate) no_edges: bool,
 }
 
 impl Renderer {
@@ -240,7 +242,9 @@ impl Renderer {
         if let Some(point) = maze.exit().filter(|exit| visible(exit.cell)).and(maze.exit_point()) {
             stats.samples_written += self.sprites.draw_beacon(&mut self.samples, &eye, &fog, point); // the exit
         }
-        self.draw_edges(maze); // where surfaces meet: darker (or lighter) samples
+        if !self.no_edges {
+            self.draw_edges(maze); // where surfaces meet: darker (or lighter) samples
+        }
         if charset == Charset::Ascii {
             self.outline_visible_walls(maze, &eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
         }
