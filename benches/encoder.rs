@@ -74,8 +74,7 @@ fn walk(depth: ColorDepth) -> Vec<Step> {
         charset: Charset::Half,
         color_depth: depth,
         culling: Culling::Portal,
-        cell_aspect: 0.5,
-        dither: true,
+        ..RenderOptions::default()
     };
     let mut app = App::new(scene.maze, options, 0.0).expect("viewer in the maze");
     app.camera = scene.camera;

@@ -5,7 +5,7 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{Vec2, Vec3};
 use mazewalk::frame::{ColorDepth, Frame};
-use mazewalk::render::{Charset, GridVertex, SampleBuffer, fill_polygon, to_frame};
+use mazewalk::render::{Charset, GridVertex, RenderOptions, SampleBuffer, fill_polygon, to_frame};
 
 const COLS: usize = 200;
 const ROWS: usize = 60;
@@ -47,7 +47,8 @@ fn bench(c: &mut Criterion) {
         for depth in [ColorDepth::TrueColor, ColorDepth::Ansi16] {
             c.bench_function(&format!("to_frame {charset} {depth:?}"), |b| {
                 let region = frame.region();
-                b.iter(|| to_frame(black_box(&samples), charset, depth, true, true, &mut frame, region));
+                let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
+                b.iter(|| to_frame(black_box(&samples), &options, &mut frame, region));
             });
         }
     }

@@ -48,7 +48,7 @@ fn grids() -> Vec<(Charset, usize, usize)> {
 }
 
 fn options(charset: Charset, culling: Culling) -> RenderOptions {
-    RenderOptions { charset, color_depth: ColorDepth::TrueColor, culling, cell_aspect: 0.5, dither: true }
+    RenderOptions { charset, color_depth: ColorDepth::TrueColor, culling, ..RenderOptions::default() }
 }
 
 /// Prints and saves the counts of every case (they do not depend on timing).
@@ -157,10 +157,7 @@ fn bench_breakdown(c: &mut Criterion, scenes: &[Scene]) {
                     b.iter(|| {
                         to_frame(
                             black_box(renderer.samples()),
-                            charset,
-                            depth,
-                            true,
-                            charset == Charset::Ascii,
+                            &RenderOptions { charset, color_depth: depth, ..RenderOptions::default() },
                             &mut frame,
                             Region { col: 0, row: 0, cols, rows },
                         )

@@ -61,8 +61,7 @@ fn options(depth: ColorDepth) -> RenderOptions {
         charset: Charset::Half,
         color_depth: depth,
         culling: Culling::Portal,
-        cell_aspect: 0.5,
-        dither: true,
+        ..RenderOptions::default()
     }
 }
 

@@ -34,8 +34,7 @@ fn main() {
         charset,
         color_depth: ColorDepth::TrueColor,
         culling: Culling::Portal,
-        cell_aspect: 0.5,
-        dither: true,
+        ..RenderOptions::default()
     };
     let (mut renderer, mut frame) = (Renderer::new(), Frame::new(cols, rows));
     renderer
@@ -49,15 +48,9 @@ fn main() {
                     .render_samples(&scene.maze, &scene.camera, charset, 0.5, Culling::Portal, cols, rows)
                     .expect("render");
             }
-            "glyphs" => to_frame(
-                renderer.samples(),
-                charset,
-                ColorDepth::TrueColor,
-                false,
-                false,
-                &mut frame,
-                Region { col: 0, row: 0, cols, rows },
-            ),
+            "glyphs" => {
+                to_frame(renderer.samples(), &options, &mut frame, Region { col: 0, row: 0, cols, rows })
+            }
             _ => {
                 renderer
                     .render(

@@ -24,7 +24,7 @@ use crate::app::state;
 use crate::frame::ColorDepth;
 use crate::maze::generate::{Algorithm, MAX_SIDE};
 use crate::maze::{self, Format};
-use crate::render::{Charset, Culling, Projection, RenderOptions};
+use crate::render::{Charset, Culling, Projection, Ramp, RenderOptions};
 use crate::term::{caps, encoder};
 
 #[derive(Parser)]
@@ -127,6 +127,9 @@ pub struct LookArgs {
     /// two (fewer bytes, visible bands). The walk also stops dithering by itself on a slow link.
     #[arg(long)]
     pub no_dither: bool,
+    /// The ascii charset's shading ramp: short (10 characters, ` .:-=+*#%@`) or long (70).
+    #[arg(long, default_value = "short")]
+    pub ramp: Ramp,
 }
 
 #[derive(Subcommand)]
@@ -225,6 +228,7 @@ impl LookArgs {
             culling,
             cell_aspect: self.cell_aspect,
             dither: !self.no_dither,
+            ramp: self.ramp,
         }
     }
 }

@@ -15,7 +15,7 @@
 //! use glam::{Vec2, Vec3};
 //! use mazewalk::frame::{ColorDepth, Frame};
 //! use mazewalk::render::shade::{Fog, headlight, lit};
-//! use mazewalk::render::{Charset, SampleBuffer, GridVertex, draw_line, fill_polygon, to_frame};
+//! use mazewalk::render::{Charset, RenderOptions, SampleBuffer, GridVertex, draw_line, fill_polygon, to_frame};
 //!
 //! let (cols, rows, charset) = (8, 3, Charset::Half);
 //! let (sx, sy) = charset.samples_per_cell();
@@ -36,7 +36,8 @@
 //! draw_line(&mut samples, Vec3::new(1.0, 1.0, 0.5), Vec3::new(7.0, 1.0, 0.5), charset.sample_aspect(0.5), 1e-4);
 //! let mut frame = Frame::new(cols, rows);
 //! let region = frame.region(); // the whole frame
-//! to_frame(&samples, charset, ColorDepth::TrueColor, false, false, &mut frame, region);
+//! let options = RenderOptions { charset, color_depth: ColorDepth::TrueColor, ..RenderOptions::default() };
+//! to_frame(&samples, &options, &mut frame, region);
 //! // Half blocks: `▀` inks the top sample over the bottom one; a cell of one colour is a blank in it.
 //! assert_eq!(frame.lines(), [" ▀▀▀▀▀▀ ", "        ", " ▀▀▀▀▀▀ "]);
 //! ```
@@ -58,7 +59,7 @@ pub mod sprite;
 pub mod wall;
 
 pub use camera::{Camera, CameraError, Eye, Projection};
-pub use glyph::{Charset, to_frame};
+pub use glyph::{Charset, Ramp, to_frame};
 pub use line::{draw_line, line_glyph, line_points};
 pub use pipeline::{Culling, RenderOptions, RenderStats, Renderer};
 pub use portal::{PortalPass, PortalStats};

@@ -3,9 +3,9 @@
 
 use glam::Vec3;
 use mazewalk::frame::{Cell, Color, ColorDepth, Frame};
-use mazewalk::render::glyph::{ASCII_RAMP, QUAD, block_glyph, sextant_glyph};
+use mazewalk::render::glyph::{self, ASCII_RAMP, QUAD, block_glyph, sextant_glyph};
 use mazewalk::render::shade::srgb_to_linear;
-use mazewalk::render::{Charset, SampleBuffer, to_frame};
+use mazewalk::render::{Charset, RenderOptions, SampleBuffer, to_frame};
 
 const RED: Vec3 = Vec3::new(1.0, 0.0, 0.0);
 const BLUE: Vec3 = Vec3::new(0.0, 0.0, 1.0);
@@ -27,7 +27,12 @@ fn render(buffer: &SampleBuffer, charset: Charset, depth: ColorDepth) -> Frame {
     let (sx, sy) = charset.samples_per_cell();
     let mut frame = Frame::filled(buffer.width() / sx, buffer.height() / sy, Cell::plain('?'));
     let region = frame.region();
-    to_frame(buffer, charset, depth, true, true, &mut frame, region);
+    to_frame(
+        buffer,
+        &RenderOptions { charset, color_depth: depth, ..RenderOptions::default() },
+        &mut frame,
+        region,
+    );
     frame
 }
 
@@ -37,9 +42,14 @@ fn grey(srgb: f32) -> Vec3 {
 
 #[test]
 fn ascii_maps_lightness_to_the_ramp_without_colour() {
-    let ramp: Vec<Vec3> = (0..10).map(|k| grey(k as f32 / 9.0)).collect();
+    // Lightness from RAMP_BOTTOM to RAMP_TOP spans the whole ramp, one step per glyph.
+    let (bottom, top) = (glyph::RAMP_BOTTOM, glyph::RAMP_TOP);
+    let ramp: Vec<Vec3> = (0..10).map(|k| grey(bottom + (top - bottom) * k as f32 / 9.0)).collect();
     let frame = render(&samples(&[&ramp]), Charset::Ascii, ColorDepth::None);
     assert_eq!(frame.lines(), [" .:-=+*#%@"]);
+    // Darker than the bottom is blank, lighter than the top the densest.
+    let ends = render(&samples(&[&[grey(0.02), grey(0.95)]]), Charset::Ascii, ColorDepth::None);
+    assert_eq!(ends.lines(), [" @"]);
     assert!(frame.cells().iter().all(|c| c.fg == Color::Default && c.bg == Color::Default));
     assert_eq!(ASCII_RAMP.iter().collect::<String>(), frame.lines()[0]);
 }
@@ -47,7 +57,8 @@ fn ascii_maps_lightness_to_the_ramp_without_colour() {
 #[test]
 fn ascii_in_colour_inks_the_glyph_and_leaves_the_background() {
     let frame = render(&samples(&[&[RED, Vec3::ZERO]]), Charset::Ascii, ColorDepth::TrueColor);
-    assert_eq!(frame.lines(), ["= "]); // red's lightness is 0.2126 linear → sRGB 0.5
+    // Red's lightness is 0.2126 linear → sRGB 0.5, stretched: (0.5 - 0.06) / 0.74 ≈ 0.59 → step 5 of 9.
+    assert_eq!(frame.lines(), ["+ "]);
     assert_eq!(frame.cells()[0].fg, Color::Rgb(255, 0, 0));
     assert_eq!(frame.cells()[0].bg, Color::Default);
     assert_eq!(frame.cells()[1], Cell::BLANK);

@@ -5,7 +5,7 @@ mod common;
 use glam::Vec3;
 use mazewalk::frame::{ColorDepth, Frame};
 use mazewalk::render::raster::{GridVertex, fill_polygon};
-use mazewalk::render::{Charset, SampleBuffer, draw_line, line_points, to_frame};
+use mazewalk::render::{Charset, RenderOptions, SampleBuffer, draw_line, line_points, to_frame};
 use proptest::prelude::*;
 
 fn arb_endpoint(range: i64) -> impl Strategy<Value = (i64, i64)> {
@@ -89,6 +89,8 @@ fn outlines_are_hidden_behind_nearer_geometry() {
     draw_line(&mut samples, Vec3::new(3.5, 0.5, 0.2), Vec3::new(3.5, 2.5, 0.2), 1.0, 1e-4);
     let mut frame = Frame::new(9, 3);
     let region = frame.region();
-    to_frame(&samples, Charset::Ascii, ColorDepth::None, false, true, &mut frame, region);
-    assert_eq!(frame.lines(), ["   |++   ", "---|++---", "   |++   "]);
+    let options =
+        RenderOptions { charset: Charset::Ascii, color_depth: ColorDepth::None, ..RenderOptions::default() };
+    to_frame(&samples, &options, &mut frame, region);
+    assert_eq!(frame.lines(), ["   |**   ", "---|**---", "   |**   "]); // grey 0.3 linear: lightness 0.58, step 6 of 9
 }

@@ -37,7 +37,7 @@ proptest! {
             projection: if ortho { Projection::Orthographic } else { Projection::Perspective },
             ..Camera::new(v.pos, yaw, fov)
         };
-        let options = RenderOptions { charset, color_depth: depth, culling: Culling::Portal, cell_aspect: 0.5, dither: true };
+        let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
         // A sentinel all around the view's region: nothing is drawn outside it.
         let mut frame = Frame::filled(cols + 2, rows + 2, Cell::plain('¤'));
         let view = Region { col: 1, row: 1, cols, rows };
@@ -84,8 +84,7 @@ fn huge_frames_render() {
             charset,
             color_depth: ColorDepth::TrueColor,
             culling: Culling::Portal,
-            cell_aspect: 0.5,
-            dither: true,
+            ..RenderOptions::default()
         };
         let mut frame = Frame::new(1000, 300);
         let region = frame.region();

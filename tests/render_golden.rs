@@ -28,7 +28,7 @@ fn frame(maze: &Maze, charset: Charset, culling: Culling) -> String {
     let v = maze.viewer();
     let camera = Camera { eye_z: v.z, ..Camera::new(v.pos, v.dir_deg, v.fov_deg) };
     let options =
-        RenderOptions { charset, color_depth: ColorDepth::None, culling, cell_aspect: 0.5, dither: true };
+        RenderOptions { charset, color_depth: ColorDepth::None, culling, ..RenderOptions::default() };
     let mut out = Frame::new(64, 20);
     let region = out.region();
     Renderer::new().render(maze, &camera, &options, &mut out, region).unwrap();

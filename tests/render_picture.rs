@@ -127,3 +127,65 @@ fn the_exit_shows_three_cells_down_a_corridor_in_every_charset_and_colour_depth(
         }
     }
 }
+
+/// Without colour, shade glyphs carry the picture: the walls' usual glyph is neither the floor's nor
+/// the ceiling's, in every block charset; the long ascii ramp uses many more characters than the short.
+#[test]
+fn without_colour_walls_floor_and_ceiling_take_different_glyphs() {
+    use mazewalk::render::Ramp;
+    use mazewalk::render::samples::{CEILING, FLOOR};
+    use std::collections::HashMap;
+    let maze = mazewalk::maze::builtin().unwrap();
+    let viewer = maze.viewer();
+    let camera = Camera::new(viewer.pos, viewer.dir_deg, 90.0);
+    let walls = maze.edges().len() as u32;
+    for charset in [Charset::Half, Charset::Quad, Charset::Sextant] {
+        let options = RenderOptions { charset, color_depth: ColorDepth::None, ..RenderOptions::default() };
+        let mut renderer = Renderer::new();
+        let mut frame = Frame::new(100, 30);
+        let region = frame.region();
+        renderer.render(&maze, &camera, &options, &mut frame, region).unwrap();
+        let (sx, sy) = charset.samples_per_cell();
+        let s = renderer.samples();
+        // Each cell by what all its samples show: a wall, the floor or the ceiling.
+        let mut glyphs: HashMap<&str, HashMap<char, usize>> = HashMap::new();
+        for row in 0..30 {
+            for col in 0..100 {
+                let ids: Vec<u32> = (0..sy)
+                    .flat_map(|dy| (0..sx).map(move |dx| (row * sy + dy) * s.width() + col * sx + dx))
+                    .map(|i| s.id()[i])
+                    .collect();
+                let kind = match ids[0] {
+                    id if ids.iter().all(|&i| i == id) && id < walls => "wall",
+                    FLOOR if ids.iter().all(|&i| i == FLOOR) => "floor",
+                    CEILING if ids.iter().all(|&i| i == CEILING) => "ceiling",
+                    _ => continue,
+                };
+                *glyphs.entry(kind).or_default().entry(frame.get(col, row).unwrap().ch).or_default() += 1;
+            }
+        }
+        let usual = |kind: &str| glyphs[kind].iter().max_by_key(|(_, n)| **n).map(|(c, _)| *c).unwrap();
+        let (wall, floor, ceiling) = (usual("wall"), usual("floor"), usual("ceiling"));
+        assert!(
+            wall != floor && wall != ceiling,
+            "{charset}: wall {wall:?}, floor {floor:?}, ceiling {ceiling:?}"
+        );
+    }
+    let distinct = |ramp| {
+        let options = RenderOptions {
+            charset: Charset::Ascii,
+            color_depth: ColorDepth::None,
+            ramp,
+            ..RenderOptions::default()
+        };
+        let mut frame = Frame::new(100, 30);
+        let region = frame.region();
+        Renderer::new().render(&maze, &camera, &options, &mut frame, region).unwrap();
+        let mut chars: Vec<char> = frame.cells().iter().map(|c| c.ch).collect();
+        chars.sort_unstable();
+        chars.dedup();
+        chars.len()
+    };
+    let (short, long) = (distinct(Ramp::Short), distinct(Ramp::Long));
+    assert!(long > short + 10, "long ramp {long} characters, short {short}");
+}

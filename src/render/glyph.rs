@@ -9,6 +9,7 @@
 use glam::Vec3;
 
 use super::palette::{self, quantize_srgb8, threshold, xterm_rgb};
+use super::pipeline::RenderOptions;
 use super::samples::SampleBuffer;
 use super::shade::{Srgb8Tables, linear_to_srgb_fast, luminance};
 use crate::frame::{Cell, Color, ColorDepth, Frame, Region};
@@ -64,6 +65,38 @@ crate::names::named!(
 /// The ascii shading ramp, darkest first.
 pub const ASCII_RAMP: [char; 10] = [' ', '.', ':', '-', '=', '+', '*', '#', '%', '@'];
 
+/// The long ascii ramp, darkest first: 70 characters by how much of the cell they ink (Paul Bourke's
+/// "character representation of grey scale images").
+pub const ASCII_RAMP_LONG: [char; 70] = [
+    ' ', '.', '\'', '`', '^', '"', ',', ':', ';', 'I', 'l', '!', 'i', '>', '<', '~', '+', '_', '-', '?', ']',
+    '[', '}', '{', '1', ')', '(', '|', '\\', '/', 't', 'f', 'j', 'r', 'x', 'n', 'u', 'v', 'c', 'z', 'X', 'Y',
+    'U', 'J', 'C', 'L', 'Q', '0', 'O', 'Z', 'm', 'w', 'q', 'p', 'd', 'b', 'k', 'h', 'a', 'o', '*', '#', 'M',
+    'W', '&', '8', '%', 'B', '@', '$',
+];
+
+/// Which ascii shading ramp: the 10 characters of [`ASCII_RAMP`] or the 70 of [`ASCII_RAMP_LONG`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Ramp {
+    /// 10 characters, bold steps.
+    #[default]
+    Short,
+    /// 70 characters, fine steps.
+    Long,
+}
+
+impl Ramp {
+    /// The ramp's characters, darkest first.
+    #[must_use]
+    pub fn glyphs(self) -> &'static [char] {
+        match self {
+            Ramp::Short => &ASCII_RAMP,
+            Ramp::Long => &ASCII_RAMP_LONG,
+        }
+    }
+}
+
+crate::names::named!(Ramp, "ramp", [("short", Ramp::Short), ("long", Ramp::Long)]);
+
 /// The colourless block-mode ramp, darkest first.
 pub const BLOCK_RAMP: [char; 5] = [' ', '░', '▒', '▓', '█'];
 
@@ -107,9 +140,11 @@ pub fn block_glyph(charset: Charset, mask: u8) -> char {
 /// Converts `samples` to the cells of `region` in `frame`: the region is as many cells as the samples
 /// fill (`samples.width() / sx × samples.height() / sy`); the rest of the frame is left alone.
 ///
-/// `outlines` overlays the outline layer (ascii only; the block charsets draw edges with their shapes).
-/// With [`ColorDepth::None`] every colour is [`Color::Default`] and shading comes from [`ASCII_RAMP`] or
-/// [`BLOCK_RAMP`]. With [`ColorDepth::Ansi16`] and [`ColorDepth::Ansi256`] and `dither`, each sample is
+/// Ascii overlays the outline layer (the block charsets draw edges with their shapes) on the ramp of
+/// `options.ramp` ([`ASCII_RAMP`] or [`ASCII_RAMP_LONG`]). With [`ColorDepth::None`] every colour is
+/// [`Color::Default`] and the block charsets shade with [`BLOCK_RAMP`]. Ramps are indexed by lightness
+/// stretched over the range a maze scene spans ([`ramp_index`]). With [`ColorDepth::Ansi16`] and
+/// [`ColorDepth::Ansi256`] and `options.dither`, each sample is
 /// dithered to a palette entry first ([`palette::dither`], thresholds anchored at the samples'
 /// top-left), then the cell shows its samples' entries: a half-block cell is exactly its two samples.
 /// A cell across an edge (its samples further apart than a palette step) and every cell without
@@ -117,15 +152,8 @@ pub fn block_glyph(charset: Charset, mask: u8) -> char {
 ///
 /// # Panics
 /// If `region` is not inside `frame` or not the samples' size in cells.
-pub fn to_frame(
-    samples: &SampleBuffer,
-    charset: Charset,
-    depth: ColorDepth,
-    dither: bool,
-    outlines: bool,
-    frame: &mut Frame,
-    region: Region,
-) {
+pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Frame, region: Region) {
+    let RenderOptions { charset, color_depth: depth, dither, ramp, .. } = *options;
     let (sx, sy) = charset.samples_per_cell();
     assert_eq!(
         (samples.width() / sx, samples.height() / sy),
@@ -138,8 +166,8 @@ pub fn to_frame(
             for (row, cells) in frame.region_rows_mut(region).enumerate() {
                 for (col, cell) in cells.iter_mut().enumerate() {
                     let i = row * region.cols + col;
-                    let outline = if outlines { outline[i] } else { None };
-                    *cell = ascii_cell(color[i], outline, depth, dither.then(|| threshold(col, row)));
+                    let threshold = dither.then(|| threshold(col, row));
+                    *cell = ascii_cell(color[i], outline[i], depth, ramp.glyphs(), threshold);
                 }
             }
         }
@@ -205,15 +233,32 @@ fn block_cells<const SX: usize, const SY: usize>(
     }
 }
 
-/// The index into a `len`-step ramp for a linear colour's lightness (sRGB-encoded luminance).
+/// The lightness (sRGB-encoded luminance) a ramp starts at: darker is its first glyph (fog, the far
+/// distance). See [`RAMP_TOP`].
+pub const RAMP_BOTTOM: f32 = 0.06;
+/// The lightness a ramp ends at: lighter is its last glyph. A lit wall near the viewer is about 0.75,
+/// floor and ceiling 0.3–0.5, so between the two the scene spans the whole ramp and walls, floor and
+/// ceiling take different glyphs (the plain 0–1 range left them all within two or three).
+pub const RAMP_TOP: f32 = 0.8;
+
+/// The index into a `len`-step ramp for a linear colour's lightness (sRGB-encoded luminance),
+/// stretched from [`RAMP_BOTTOM`]–[`RAMP_TOP`] to the ramp's ends.
 fn ramp_index(color: Vec3, len: usize) -> usize {
-    ((linear_to_srgb_fast(luminance(color)) * (len - 1) as f32).round() as usize).min(len - 1)
+    let lightness = linear_to_srgb_fast(luminance(color));
+    let t = ((lightness - RAMP_BOTTOM) / (RAMP_TOP - RAMP_BOTTOM)).clamp(0.0, 1.0);
+    ((t * (len - 1) as f32).round() as usize).min(len - 1)
 }
 
 /// One ascii cell: the outline glyph if any, else the ramp glyph; ink in the sample's colour, dithered
 /// with the sample's `threshold` (`None`: its nearest palette entry).
-fn ascii_cell(color: Vec3, outline: Option<char>, depth: ColorDepth, threshold: Option<f32>) -> Cell {
-    let ch = outline.unwrap_or(ASCII_RAMP[ramp_index(color, ASCII_RAMP.len())]);
+fn ascii_cell(
+    color: Vec3,
+    outline: Option<char>,
+    depth: ColorDepth,
+    ramp: &[char],
+    threshold: Option<f32>,
+) -> Cell {
+    let ch = outline.unwrap_or(ramp[ramp_index(color, ramp.len())]);
     let srgb = color.to_array().map(|c| Srgb8Tables::get().encode(c));
     let fg = match threshold {
         _ if ch == ' ' => Color::Default,

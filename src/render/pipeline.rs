@@ -12,7 +12,7 @@
 use glam::{Vec2, Vec3};
 
 use super::camera::{Camera, CameraError, Eye, Projection};
-use super::glyph::{Charset, to_frame};
+use super::glyph::{Charset, Ramp, to_frame};
 use super::line::{line_glyph, line_points};
 use super::palette;
 use super::portal::{PortalPass, PortalStats};
@@ -66,6 +66,8 @@ pub struct RenderOptions {
     /// Ordered dithering in 256 and 16 colours ([`palette::dither`](super::palette::dither)); off, each
     /// sample takes its nearest palette entry. No effect in truecolor or without colour.
     pub dither: bool,
+    /// The ascii charset's shading ramp.
+    pub ramp: Ramp,
 }
 
 impl Default for RenderOptions {
@@ -76,6 +78,7 @@ impl Default for RenderOptions {
             culling: Culling::Portal,
             cell_aspect: 0.5,
             dither: true,
+            ramp: Ramp::Short,
         }
     }
 }
@@ -174,10 +177,10 @@ impl Renderer {
         frame: &mut Frame,
         region: Region,
     ) -> Result<RenderStats, CameraError> {
-        let RenderOptions { charset, color_depth, culling, cell_aspect, dither } = *options;
+        let RenderOptions { charset, color_depth, culling, cell_aspect, .. } = *options;
         let (cols, rows) = (region.cols, region.rows);
         let stats = self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, sprites)?;
-        to_frame(&self.samples, charset, color_depth, dither, charset == Charset::Ascii, frame, region);
+        to_frame(&self.samples, options, frame, region);
         self.label_sprites(charset, color_depth, frame, region);
         Ok(stats)
     }
