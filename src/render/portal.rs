@@ -322,6 +322,73 @@ fn slab_footprint(corners: &[Vec3; 4]) -> Option<Aabb> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::maze::grid;
+    use crate::render::Camera;
+
+    fn maze(text: &str) -> Maze {
+        grid::parse_str("t.grid", text).unwrap()
+    }
+
+    fn eye_at(maze: &Maze, yaw: f32) -> Eye {
+        let viewer = maze.viewer();
+        Camera::new(viewer.pos, yaw, 90.0).eye(80, 48, 1.0).unwrap()
+    }
+
+    /// Five tiles in a row, looking down them from the first: one seed, each cell entered once, each of
+    /// the four portals crossed once, walls on both sides of every tile and at the far end.
+    #[test]
+    fn a_straight_corridor_is_counted_exactly() {
+        let corridor = maze("mazewalk-grid 1\n#######\n#>....#\n#######\n");
+        let mut pass = PortalPass::new();
+        let stats = pass.run(&corridor, &eye_at(&corridor, 0.0));
+        assert_eq!(
+            (stats.seeds, stats.cells_visited, stats.distinct_cells, stats.portals_traversed, stats.fell_back),
+            (1, 5, 5, 4, false)
+        );
+        let mut visited = pass.visited.clone();
+        visited.sort_unstable();
+        assert_eq!(visited, [0, 1, 2, 3, 4]);
+        assert!((0..5).all(|c| pass.was_visited(c)) && !pass.was_visited(5) && !pass.was_visited(u32::MAX));
+        assert_eq!(pass.walls.len(), 11, "{:?}", pass.walls);
+        // Turned round, the first tile's back wall is all there is.
+        let stats = pass.run(&corridor, &eye_at(&corridor, 180.0));
+        assert_eq!((stats.cells_visited, stats.portals_traversed), (1, 0));
+        assert!(pass.was_visited(0) && !pass.was_visited(1), "the last run's cells only");
+    }
+
+    /// One pass reused across mazes of other sizes (as the walk does when a file is reloaded, and a
+    /// server for several mazes would) finds what a fresh pass finds, also when only the number of cells
+    /// or only the number of edges changes, and after its frame counter wraps round.
+    #[test]
+    fn a_reused_pass_equals_a_fresh_one() {
+        let room = maze("mazewalk-grid 1\n####\n#..#\n#>.#\n####\n"); // 4 cells, 12 edges
+        let row = maze("mazewalk-grid 1\n######\n#>...#\n######\n"); // 4 cells, 13 edges
+        let long = maze("mazewalk-grid 1\n##########\n#>.......#\n##########\n"); // 8 cells
+        assert_eq!((room.cell_count(), row.cell_count()), (4, 4));
+        assert_ne!(room.edges().len(), row.edges().len());
+        let fresh = |m: &Maze| {
+            let mut pass = PortalPass::new();
+            pass.run(m, &eye_at(m, 30.0));
+            let (mut walls, mut cells) = (pass.walls.clone(), pass.visited.clone());
+            walls.sort_unstable();
+            cells.sort_unstable();
+            (walls, cells)
+        };
+        let mut pass = PortalPass::new();
+        for m in [&room, &row, &long, &room, &long, &row] {
+            pass.run(m, &eye_at(m, 30.0));
+            let (mut walls, mut cells) = (pass.walls.clone(), pass.visited.clone());
+            walls.sort_unstable();
+            cells.sort_unstable();
+            assert_eq!((walls, cells), fresh(m));
+        }
+        // Four billion frames later the counter wraps: old stamps must not read as this frame's.
+        let mut pass = PortalPass::new();
+        pass.run(&long, &eye_at(&long, 0.0)); // frame 1: every cell of the corridor visited
+        pass.stamp = u32::MAX;
+        pass.run(&long, &eye_at(&long, 180.0)); // stamp wraps to 0: forgotten, then 1
+        assert!(pass.was_visited(0) && !pass.was_visited(5), "{:?}", pass.visited);
+    }
 
     #[test]
     fn slab_footprint_cuts_at_floor_and_ceiling() {
