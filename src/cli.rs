@@ -130,6 +130,9 @@ pub struct LookArgs {
     /// The ascii charset's shading ramp: short (10 characters, ` .:-=+*#%@`) or long (70).
     #[arg(long, default_value = "short")]
     pub ramp: Ramp,
+    /// Brick walls and floor tiles filtered by distance (`t` toggles them in the walk).
+    #[arg(long)]
+    pub textures: bool,
 }
 
 #[derive(Subcommand)]
@@ -229,6 +232,7 @@ impl LookArgs {
             cell_aspect: self.cell_aspect,
             dither: !self.no_dither,
             ramp: self.ramp,
+            textures: self.textures,
         }
     }
 }

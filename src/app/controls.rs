@@ -50,6 +50,8 @@ pub enum Action {
     ToggleCulling,
     /// Tint the map's cells the portal pass visited this frame (v), with a legend: culling, seen.
     ToggleCullingTint,
+    /// Brick walls and filtered floor tiles on / off (t).
+    ToggleTextures,
     /// Leave (q, Esc).
     Quit,
 }
@@ -106,6 +108,7 @@ pub fn action_for(key: Key) -> Option<Action> {
             'r' => Action::Reset,
             'b' => Action::ToggleCulling,
             'v' => Action::ToggleCullingTint,
+            't' => Action::ToggleTextures,
             '?' | 'h' => Action::Help,
             'q' => Action::Quit,
             _ => return None,
@@ -134,6 +137,7 @@ pub const HELP: &[(&str, &str)] = &[
     ("v", "map: tint the cells the portal pass visits"),
     ("b", "portal culling / brute force (every wall)"),
     ("c", "glyphs: ascii, half ▀, quad ▚, sextant (2×3)"),
+    ("t", "textures: brick walls, floor tiles"),
     ("r", "back to the start"),
     ("? / h", "this help"),
     ("Ctrl-Z", "suspend (fg to come back)"),

@@ -291,6 +291,7 @@ impl App {
                 };
             }
             Action::ToggleCullingTint => self.culling_tint = !self.culling_tint,
+            Action::ToggleTextures => self.options.textures = !self.options.textures,
             Action::Quit => self.quit = true,
             _ => {}
         }

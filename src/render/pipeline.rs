@@ -19,11 +19,13 @@ use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, fill_polygon};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
-    Fog, SUN_WORLD, checker, edge_color, headlight_unit, lit, srgb_to_linear, sun_factor, wall_albedo,
+    Fog, SUN_WORLD, bricks, checker, checker_filtered, edge_color, headlight_unit, lit, srgb_to_linear,
+    sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
 use crate::frame::{Cell, Color, ColorDepth, Frame, Region};
+use crate::math::rigid_inverse;
 use crate::maze::Maze;
 use crate::maze::geometry::{CEILING_Z, FLOOR_Z};
 
@@ -68,6 +70,9 @@ pub struct RenderOptions {
     pub dither: bool,
     /// The ascii charset's shading ramp.
     pub ramp: Ramp,
+    /// Brick walls and filtered floor and ceiling tiles ([`bricks`], [`checker_filtered`]); off, walls
+    /// are plain and the tiles unfiltered.
+    pub textures: bool,
 }
 
 impl Default for RenderOptions {
@@ -79,6 +84,7 @@ impl Default for RenderOptions {
             cell_aspect: 0.5,
             dither: true,
             ramp: Ramp::Short,
+            textures: false,
         }
     }
 }
@@ -177,9 +183,10 @@ impl Renderer {
         frame: &mut Frame,
         region: Region,
     ) -> Result<RenderStats, CameraError> {
-        let RenderOptions { charset, color_depth, culling, cell_aspect, .. } = *options;
+        let RenderOptions { charset, color_depth, culling, cell_aspect, textures, .. } = *options;
         let (cols, rows) = (region.cols, region.rows);
-        let stats = self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, sprites)?;
+        let stats =
+            self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, sprites, textures)?;
         to_frame(&self.samples, options, frame, region);
         self.label_sprites(charset, color_depth, frame, region);
         Ok(stats)
@@ -219,7 +226,7 @@ impl Renderer {
         cols: usize,
         rows: usize,
     ) -> Result<RenderStats, CameraError> {
-        self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, &[])
+        self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, &[], false)
     }
 
     /// [`render_samples`](Self::render_samples) with figures.
@@ -234,10 +241,11 @@ impl Renderer {
         cols: usize,
         rows: usize,
         sprites: &[Sprite],
+        textures: bool,
     ) -> Result<RenderStats, CameraError> {
         let (sx, sy) = charset.samples_per_cell();
         let eye = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // world→view→clip→grid
-        let mut stats = self.draw(maze, &eye, culling, Shading::Color); // walls, floor, ceiling → samples
+        let mut stats = self.draw(maze, &eye, culling, Shading::Color, textures); // walls, floor, ceiling → samples
         let portal = &self.portal;
         let visible = |cell: u32| culling == Culling::None || portal.was_visited(cell);
         let fog = fog_of(&eye);
@@ -271,7 +279,7 @@ impl Renderer {
     ) -> Result<Vec<Option<f32>>, CameraError> {
         // One sample per cell, centred in the cell: exactly the ascii sampling.
         let eye = camera.eye(cols, rows, Charset::Ascii.sample_aspect(cell_aspect))?;
-        self.draw(maze, &eye, culling, Shading::ViewDepth);
+        self.draw(maze, &eye, culling, Shading::ViewDepth, false);
         let s = &self.samples;
         Ok(s.id()
             .iter()
@@ -281,7 +289,14 @@ impl Renderer {
     }
 
     /// Chooses the walls, rasterizes them, then fills floor and ceiling.
-    fn draw(&mut self, maze: &Maze, eye: &Eye, culling: Culling, shading: Shading) -> RenderStats {
+    fn draw(
+        &mut self,
+        maze: &Maze,
+        eye: &Eye,
+        culling: Culling,
+        shading: Shading,
+        textures: bool,
+    ) -> RenderStats {
         let mut stats = RenderStats::default();
         if self.samples.width() != eye.width || self.samples.height() != eye.height {
             self.samples.resize(eye.width, eye.height);
@@ -302,6 +317,9 @@ impl Renderer {
         let fog = fog_of(eye);
         let ortho = eye.camera.projection == Projection::Orthographic;
         let sun_view = (eye.normal_to_view * SUN_WORLD).normalize_or_zero(); // a direction: as normals go
+        let view_to_world = rigid_inverse(eye.world_to_view); // for texture coordinates on the walls
+        // Maze units one sample covers per unit of view depth (perspective), or in all (orthographic).
+        let per_sample = 2.0 * eye.half_w / eye.width.max(1) as f32;
         for &e in &self.walls {
             let edge = maze.edge(e);
             if !edge.opaque {
@@ -319,6 +337,7 @@ impl Renderer {
                 });
             }
             let (a, b) = maze.edge_points(e);
+            let along = (b - a).normalize_or_zero();
             let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
             // Normals by the inverse transpose, normalized once per wall; turned toward the eye (walls
             // are seen from both sides) for the sun, whose factor is then the wall's.
@@ -334,12 +353,22 @@ impl Renderer {
                     Shading::Color => {
                         // The headlight: from the eye (perspective) or along the view axis (orthographic).
                         let to_light = if ortho { Vec3::new(0.0, 0.0, view.z) } else { view };
-                        fog.apply(lit(albedo, headlight_unit(normal_view, to_light), AMBIENT), depth)
+                        let facing_eye = headlight_unit(normal_view, to_light);
+                        let mut color = lit(albedo, facing_eye, AMBIENT);
+                        if textures {
+                            // Texture coordinates: along the wall from its start, and height.
+                            let world = view_to_world.transform_point3(view);
+                            let u = (world.truncate() - a).dot(along);
+                            // A sample's footprint on the wall: wider where the wall is seen edge-on.
+                            let reach = if ortho { per_sample } else { per_sample * depth };
+                            color *= bricks(u, world.z, reach / facing_eye.max(0.25));
+                        }
+                        fog.apply(color, depth)
                     }
                 }
             });
         }
-        self.fill_floor_and_ceiling(eye, &fog, shading, maze.exit_point());
+        self.fill_floor_and_ceiling(eye, &fog, shading, maze.exit_point(), textures.then_some(per_sample));
         stats
     }
 
@@ -350,7 +379,16 @@ impl Renderer {
     /// whose ray meets the floor or ceiling first shows the floor or ceiling. So no wall is ever seen
     /// from under the floor, which also keeps the portal pass (which follows rays inside the
     /// floor-to-ceiling slab) exact against brute force.
-    fn fill_floor_and_ceiling(&mut self, eye: &Eye, fog: &Fog, shading: Shading, exit: Option<Vec2>) {
+    /// With `filter` (maze units a sample covers per unit of distance), the tiles fade to their mean as
+    /// they shrink below a sample ([`checker_filtered`]).
+    fn fill_floor_and_ceiling(
+        &mut self,
+        eye: &Eye,
+        fog: &Fog,
+        shading: Shading,
+        exit: Option<Vec2>,
+        filter: Option<f32>,
+    ) {
         let floor = (FLOOR_Z, FLOOR, FLOOR_SRGB.map(srgb_to_linear));
         let ceiling = (CEILING_Z, CEILING, CEILING_SRGB.map(srgb_to_linear));
         let perspective = eye.camera.projection == Projection::Perspective;
@@ -414,7 +452,16 @@ impl Renderer {
                     Shading::ViewDepth => Vec3::ZERO,
                     Shading::Color => {
                         let on_plane = Vec2::new(hit.x, hit.y);
-                        let mut base = checker(plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST);
+                        let mut base = match filter {
+                            // The footprint grows with the distance along the ray and the slant it meets
+                            // the plane at (1 / |dir.z| per unit of ray).
+                            Some(per) => {
+                                let slant = dir.length() / dir.z.abs().max(1e-3);
+                                let reach = per * t.unwrap_or(0.0) * slant.min(8.0);
+                                checker_filtered(plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST, reach)
+                            }
+                            None => checker(plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST),
+                        };
                         if let Some(exit) = exit.filter(|_| plane.1 == FLOOR) {
                             // The exit's light on the floor round it, fading out over EXIT_GLOW_RADIUS.
                             let d2 = on_plane.distance_squared(exit);

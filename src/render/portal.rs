@@ -342,7 +342,13 @@ mod tests {
         let mut pass = PortalPass::new();
         let stats = pass.run(&corridor, &eye_at(&corridor, 0.0));
         assert_eq!(
-            (stats.seeds, stats.cells_visited, stats.distinct_cells, stats.portals_traversed, stats.fell_back),
+            (
+                stats.seeds,
+                stats.cells_visited,
+                stats.distinct_cells,
+                stats.portals_traversed,
+                stats.fell_back
+            ),
             (1, 5, 5, 4, false)
         );
         let mut visited = pass.visited.clone();

@@ -71,6 +71,49 @@ pub fn edge_color(color: Vec3) -> Vec3 {
     if luminance(color) > 0.02 { color * 0.5 } else { color.lerp(Vec3::splat(0.06), 0.6) }
 }
 
+/// Brick courses: each course [`BRICK_HEIGHT`] tall, bricks [`BRICK_LENGTH`] long, every other course
+/// offset by half a brick, joined by mortar [`MORTAR`] wide (maze units).
+pub const BRICK_LENGTH: f32 = 1.0;
+/// See [`BRICK_LENGTH`].
+pub const BRICK_HEIGHT: f32 = 0.5;
+/// See [`BRICK_LENGTH`].
+pub const MORTAR: f32 = 0.06;
+/// How dark mortar is, as a factor on the wall's colour.
+const MORTAR_SHADE: f32 = 0.55;
+/// How much one brick's shade differs from the next (± half of it).
+const BRICK_VARIATION: f32 = 0.12;
+
+/// The brick texture's factor on a wall's colour at wall point (`u` along the wall, `v` = height z),
+/// filtered over a sample's `footprint` (maze units one sample covers there): mortar lines are
+/// antialiased over the footprint and fade to their average share, and the bricks' shade differences
+/// to none, as the footprint nears their period, so distant walls are an even tone instead of
+/// shimmering (the texture is filtered at the sample rate, a box filter by distance).
+#[must_use]
+pub fn bricks(u: f32, v: f32, footprint: f32) -> f32 {
+    let course = (v / BRICK_HEIGHT).floor();
+    let offset = if floor_is_odd(course) { 0.5 * BRICK_LENGTH } else { 0.0 };
+    let along = u / BRICK_LENGTH + offset / BRICK_LENGTH;
+    let brick = along.floor();
+    // Distance (maze units) to the nearest joint, across and along the courses.
+    let to_bed = (v / BRICK_HEIGHT - course).min(course + 1.0 - v / BRICK_HEIGHT) * BRICK_HEIGHT;
+    let to_head = (along - brick).min(brick + 1.0 - along) * BRICK_LENGTH;
+    let footprint = footprint.max(1e-4);
+    // A joint's coverage of the sample: a box filter of the line's edge, then, as the footprint grows
+    // toward the period, the line's average share of the period.
+    let joint = |distance: f32, period: f32| {
+        let sharp = ((0.5 * MORTAR - distance) / footprint + 0.5).clamp(0.0, 1.0);
+        let fade = (footprint / (0.5 * period)).clamp(0.0, 1.0);
+        sharp + (MORTAR / period - sharp) * fade
+    };
+    // Either joint: the union of the two coverages.
+    let mortar = 1.0 - (1.0 - joint(to_bed, BRICK_HEIGHT)) * (1.0 - joint(to_head, BRICK_LENGTH));
+    // Each brick its own shade, from a hash of its row and column, fading out with distance as well.
+    let hash = ((brick as i32).wrapping_mul(73_856_093) ^ (course as i32).wrapping_mul(19_349_663)) as u32;
+    let shade_fade = 1.0 - (footprint / (0.5 * BRICK_HEIGHT)).clamp(0.0, 1.0);
+    let tone = 1.0 + BRICK_VARIATION * ((hash % 1024) as f32 / 1023.0 - 0.5) * shade_fade;
+    tone + (MORTAR_SHADE - tone) * mortar
+}
+
 /// Linear distance fog: nothing before `start`, everything from `end` on, linear in between.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fog {
@@ -103,6 +146,8 @@ impl Fog {
 ///
 /// `world` is the point on the plane (x east, y north); squares are `period` world units wide; one square
 /// colour is `base`, the other `base · (1 - contrast)` (contrast 0..1, about 0.15 reads as subtle).
+///
+/// [`checker_filtered`] fades the squares into their mean as a sample's footprint nears their size.
 #[must_use]
 pub fn checker(base: Vec3, world: Vec2, period: f32, contrast: f32) -> Vec3 {
     // The square's parity in integers: `floor` and `rem_euclid` on floats are libm calls on baseline
@@ -110,6 +155,17 @@ pub fn checker(base: Vec3, world: Vec2, period: f32, contrast: f32) -> Vec3 {
     let cell = world / period;
     let odd = floor_is_odd(cell.x) != floor_is_odd(cell.y);
     if odd { base * (1.0 - contrast.clamp(0.0, 1.0)) } else { base }
+}
+
+/// [`checker`] seen through a sample covering `footprint` maze units: the contrast fades to nothing
+/// (both squares at their mean) as the footprint grows from a tenth of a square to half of one, so the
+/// far floor is even instead of a shimmer of aliased squares.
+#[must_use]
+pub fn checker_filtered(base: Vec3, world: Vec2, period: f32, contrast: f32, footprint: f32) -> Vec3 {
+    let fade = ((footprint / period - 0.1) / 0.4).clamp(0.0, 1.0);
+    let contrast = contrast.clamp(0.0, 1.0);
+    let sharp = checker(base, world, period, contrast);
+    sharp.lerp(base * (1.0 - 0.5 * contrast), fade)
 }
 
 /// Whether `v.floor()` is odd, in integers (exact for |v| < 2^63; NaN counts as even, like 0).
@@ -332,5 +388,38 @@ mod tests {
         for c in [0.0, 0.002, 0.2, 0.5, 1.0] {
             assert!((srgb_to_linear(linear_to_srgb(c)) - c).abs() < 1e-5);
         }
+    }
+
+    #[test]
+    fn bricks_have_dark_joints_and_fade_to_their_mean_far_away() {
+        // Near (a tiny footprint): mortar on the joints, brick in between.
+        let near = 1e-3;
+        assert!((bricks(0.5, 0.0, near) - MORTAR_SHADE).abs() < 0.01, "a bed joint at z = 0");
+        assert!((bricks(0.0, 0.25, near) - MORTAR_SHADE).abs() < 0.01, "a head joint");
+        assert!(bricks(0.5, 0.25, near) > 0.9, "mid-brick");
+        assert!((bricks(0.0, 0.75, near) - bricks(0.5, 0.75, near)).abs() > 0.2, "the next course is offset");
+        // Far (a footprint of a whole course or more): one even tone wherever the sample lands.
+        let far = 2.0 * BRICK_HEIGHT;
+        let tones: Vec<f32> =
+            (0..200).map(|k| bricks(k as f32 * 0.137, k as f32 * 0.071 - 1.0, far)).collect();
+        let (lo, hi) = tones.iter().fold((f32::MAX, f32::MIN), |(lo, hi), &t| (lo.min(t), hi.max(t)));
+        assert!(hi - lo < 0.02, "far bricks vary by {}", hi - lo);
+        // And that tone is the near pattern's mean (the filter keeps the brightness).
+        let n = 600;
+        let mean: f32 = (0..n * n)
+            .map(|k| bricks((k % n) as f32 / n as f32 * 40.0, (k / n) as f32 / n as f32 * 2.0 - 1.0, near))
+            .sum::<f32>()
+            / (n * n) as f32;
+        assert!((mean - tones[0]).abs() < 0.03, "near mean {mean}, far tone {}", tones[0]);
+    }
+
+    #[test]
+    fn the_checker_fades_to_its_mean_when_its_squares_shrink_below_a_sample() {
+        let base = Vec3::splat(0.5);
+        let (a, b) = (Vec2::new(0.5, 0.5), Vec2::new(1.5, 0.5));
+        assert_eq!(checker_filtered(base, a, 1.0, 0.2, 0.01), checker(base, a, 1.0, 0.2));
+        let far = |p| checker_filtered(base, p, 1.0, 0.2, 0.6);
+        assert_eq!(far(a), far(b));
+        assert!((far(a) - base * 0.9).abs().max_element() < 1e-6);
     }
 }
