@@ -189,3 +189,35 @@ fn without_colour_walls_floor_and_ceiling_take_different_glyphs() {
     let (short, long) = (distinct(Ramp::Short), distinct(Ramp::Long));
     assert!(long > short + 10, "long ramp {long} characters, short {short}");
 }
+
+/// Textures draw mortar joints on near walls (a spread of shades where the plain wall is smooth) and
+/// keep the wall's overall brightness.
+#[test]
+fn textured_walls_show_joints_up_close_and_keep_their_brightness() {
+    let maze = maze("mazewalk-grid 1\n#########\n#>......#\n#########\n");
+    let camera = Camera::new(Vec2::new(6.0, 6.0), 30.0, 90.0); // the north wall fills the left half
+    let walls = maze.edges().len() as u32;
+    let shades = |textures: bool| {
+        let mut renderer = Renderer::new();
+        let mut frame = Frame::new(80, 40);
+        let options = RenderOptions {
+            charset: Charset::Ascii,
+            color_depth: ColorDepth::TrueColor,
+            textures,
+            ..RenderOptions::default()
+        };
+        let region = frame.region();
+        renderer.render(&maze, &camera, &options, &mut frame, region).unwrap();
+        let s = renderer.samples();
+        (0..s.width() * s.height())
+            .filter(|&i| s.id()[i] < walls)
+            .map(|i| luminance(s.color()[i]))
+            .collect::<Vec<f32>>()
+    };
+    let (plain, textured) = (shades(false), shades(true));
+    assert_eq!(plain.len(), textured.len(), "the same walls cover the same samples");
+    let darker = plain.iter().zip(&textured).filter(|(p, t)| **t < 0.75 * **p).count();
+    assert!(darker > textured.len() / 20, "mortar on {darker} of {} wall samples", textured.len());
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
+    assert!((mean(&textured) / mean(&plain) - 0.92).abs() < 0.08, "{} vs {}", mean(&textured), mean(&plain));
+}
