@@ -18,7 +18,7 @@ use glam::{Vec2, Vec3, vec2};
 
 use super::text::{Loc, is_space, is_space_byte, quote};
 use super::{
-    COORD_BOUND, CellId, Cells, Edge, Exit, Format, Maze, MazeError, ParseError, ParseErrorKind, Viewer,
+    COORD_BOUND, CellId, Cells, Edge, Edges, Exit, Format, Maze, MazeError, ParseError, ParseErrorKind, Viewer,
     WriteError,
 };
 
@@ -38,7 +38,7 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
     }
 
     let (ne, cap) = r.count(&|| "edge count".into(), "edges", 8)?;
-    let mut edges = Vec::with_capacity(cap);
+    let mut edges = Edges::with_capacity(cap);
     for i in 0..ne {
         let start = r.index(&|| format!("edge {i} start vertex"), false)?.unwrap_or_default();
         let end = r.index(&|| format!("edge {i} end vertex"), false)?.unwrap_or_default();

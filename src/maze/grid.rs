@@ -42,7 +42,7 @@ use glam::{Vec3, vec2};
 
 use super::text::{Loc, is_space, quote};
 use super::{
-    CellId, Cells, Edge, EdgeId, Exit, Format, Maze, ParseError, ParseErrorKind, VertexId, Viewer, WriteError,
+    CellId, Cells, Edge, EdgeId, Edges, Exit, Format, Maze, ParseError, ParseErrorKind, VertexId, Viewer, WriteError,
 };
 
 /// The first word of a grid file.
@@ -174,7 +174,7 @@ impl TileMap {
             }
             *slot
         };
-        let mut edges = Vec::with_capacity(n_edges);
+        let mut edges = Edges::with_capacity(n_edges);
         // horizontal side (x, y) runs east along the lattice line y: the tile above is on its left
         let mut h_edge = vec![u32::MAX; (cols * (rows + 1)) as usize];
         for y in 0..=rows {
@@ -564,7 +564,7 @@ fn tiles_of(
     let hash = behind
         .iter()
         .find(|&&(_, nx, ny)| nx < 0 || ny < 0)
-        .map_or(DEFAULT_WALL, |&(e, ..)| maze.edges()[e].color);
+        .map_or(DEFAULT_WALL, |&(e, ..)| maze.edges().get(e).color);
     if hash != DEFAULT_WALL {
         check_rgb(hash)?;
         map.legend.push((b'#', hash));
@@ -572,7 +572,7 @@ fn tiles_of(
     // wall colours, from the opaque edges onto the wall tiles behind them
     let mut colored = vec![false; map.tiles.len()];
     for (e, nx, ny) in behind {
-        let letter = legend_letter(&mut map.legend, hash, maze.edges()[e].color)?;
+        let letter = legend_letter(&mut map.legend, hash, maze.edges().get(e).color)?;
         if nx < 0 || ny < 0 {
             if letter != b'#' {
                 return Err(no(format!("edge {e} faces the outside with a colour other than `#`")));

@@ -5,12 +5,12 @@ use glam::{DVec2, Vec2};
 use super::index::SpatialGrid;
 use super::sweep::{self, Conflict, conflict};
 use super::{
-    Aabb, COORD_BOUND, CellId, Cells, Edge, EdgeId, MIN_CELL_AREA, Maze, MazeError, ON_EDGE_TOLERANCE,
+    Aabb, COORD_BOUND, CellId, Cells, EdgeId, Edges, MIN_CELL_AREA, Maze, MazeError, ON_EDGE_TOLERANCE,
     VertexId,
 };
 
 /// Indices, sides, cell ↔ edge consistency, and each cell a closed convex counter-clockwise loop.
-pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Result<(), MazeError> {
+pub(super) fn structure(vertices: &[Vec2], edges: &Edges, cells: &Cells) -> Result<(), MazeError> {
     let max = u32::MAX as usize - 1;
     for (what, count) in [("vertices", vertices.len()), ("edges", edges.len()), ("cells", cells.len())] {
         if count > max {
@@ -60,9 +60,10 @@ pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Res
     for c in 0..nc {
         let cell = c as CellId;
         for &e in cells.get(c) {
-            let Some(edge) = edges.get(e as usize) else {
+            if e as usize >= edges.len() {
                 return Err(MazeError::CellEdgeOutOfRange { cell, edge: e, count: edges.len() });
-            };
+            }
+            let edge = edges.get(e as usize);
             if edge.left != Some(cell) && edge.right != Some(cell) {
                 return Err(MazeError::CellEdgeNotNeighbour { cell, edge: e });
             }
@@ -95,7 +96,7 @@ pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Res
 /// counter-clockwise loop.
 fn cell_loop(
     vertices: &[Vec2],
-    edges: &[Edge],
+    edges: &Edges,
     cells: &Cells,
     c: CellId,
     directed: &mut Vec<(VertexId, VertexId)>,
@@ -106,7 +107,7 @@ fn cell_loop(
     }
     directed.clear();
     directed.extend(ids.iter().map(|&e| {
-        let edge = &edges[e as usize];
+        let edge = edges.get(e as usize);
         if edge.left == Some(c) { (edge.start, edge.end) } else { (edge.end, edge.start) }
     }));
     // small cells (the usual 4 edges) search linearly; big ones sort and bisect
