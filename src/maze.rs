@@ -255,6 +255,19 @@ impl Cells {
         Cells { offsets, edges: Vec::with_capacity(edges) }
     }
 
+    /// Cells of `per_cell` edges each, cell `c` owning `edges[c * per_cell..][..per_cell]`.
+    ///
+    /// # Panics
+    /// In debug builds, if `edges.len()` is not a multiple of `per_cell`; always, if it exceeds
+    /// `u32::MAX`.
+    #[must_use]
+    pub fn uniform(edges: Vec<EdgeId>, per_cell: usize) -> Cells {
+        debug_assert!(per_cell > 0 && edges.len() % per_cell == 0, "whole cells");
+        u32::try_from(edges.len()).expect("fewer than 2^32 edge slots");
+        let offsets = (0..=edges.len() / per_cell).map(|c| (c * per_cell) as u32).collect();
+        Cells { offsets, edges }
+    }
+
     /// Appends a cell bounded by `edges` (any order).
     ///
     /// # Panics
@@ -616,13 +629,7 @@ impl Maze {
     }
 
     /// The maze and its cell index, unchecked.
-    fn assemble(
-        vertices: Vec<Vec2>,
-        edges: Edges,
-        cells: Cells,
-        viewer: Viewer,
-        exit: Option<Exit>,
-    ) -> Maze {
+    fn assemble(vertices: Vec<Vec2>, edges: Edges, cells: Cells, viewer: Viewer, exit: Option<Exit>) -> Maze {
         let extents = vertices.iter().fold(Aabb::EMPTY, |b, &v| b.union_point(v));
         // boxes grown by the tolerance, so a point that counts as in a cell finds it
         let cell_box = |c| cell_aabb(&vertices, &edges, &cells, c).expand(ON_EDGE_TOLERANCE as f32);
@@ -816,10 +823,13 @@ impl Maze {
     }
 }
 
+/// The box of cell `c`, a closed loop: every corner starts one of its edges counter-clockwise, so
+/// one end point per edge is enough.
 fn cell_aabb(vertices: &[Vec2], edges: &Edges, cells: &Cells, c: usize) -> Aabb {
     cells.get(c).iter().fold(Aabb::EMPTY, |b, &e| {
         let edge = edges.get(e as usize);
-        b.union_point(vertices[edge.start as usize]).union_point(vertices[edge.end as usize])
+        let corner = if edge.left == Some(c as CellId) { edge.start } else { edge.end };
+        b.union_point(vertices[corner as usize])
     })
 }
 

@@ -18,8 +18,8 @@ use glam::{Vec2, Vec3, vec2};
 
 use super::text::{Loc, is_space, is_space_byte, quote};
 use super::{
-    COORD_BOUND, CellId, Cells, Edge, Edges, Exit, Format, Maze, MazeError, ParseError, ParseErrorKind, Viewer,
-    WriteError,
+    COORD_BOUND, CellId, Cells, Edge, Edges, Exit, Format, Maze, MazeError, ParseError, ParseErrorKind,
+    Viewer, WriteError,
 };
 
 /// Edge slots per cell record.
