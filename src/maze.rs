@@ -597,9 +597,28 @@ impl Maze {
         viewer: Viewer,
         exit: Option<Exit>,
     ) -> Result<Maze, MazeError> {
-        validate::structure(&vertices, &edges, &cells)?;
-        let maze = Maze::assemble(vertices, edges, cells, viewer, exit);
-        validate::no_crossings(&maze)?;
+        // The crossing check needs only the vertices and edges: a big maze runs it on a second
+        // thread beside the cell checks and the cell index. The errors and their order are those
+        // of one check after the other: a crossing counts only once the cells have passed.
+        let cells_then_index = || {
+            validate::structure(&vertices, &edges, &cells)?;
+            Ok(cell_index(&vertices, &edges, &cells))
+        };
+        let crossings = || validate::crossings_of_parts(&vertices, &edges);
+        let (index, crossings) = if edges.len() >= PARALLEL_CHECK_EDGES {
+            std::thread::scope(|s| {
+                let crossings = s.spawn(crossings);
+                let index = cells_then_index();
+                (index, crossings.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)))
+            })
+        } else {
+            let index = cells_then_index();
+            let crossings = if index.is_ok() { crossings() } else { Ok(()) };
+            (index, crossings)
+        };
+        let (extents, cell_index) = index?;
+        crossings?;
+        let maze = Maze { vertices, edges, cells, viewer, exit, extents, cell_index };
         validate::viewer_and_exit(&maze)?;
         Ok(maze)
     }
@@ -619,22 +638,12 @@ impl Maze {
     ) -> Result<Maze, MazeError> {
         if cfg!(debug_assertions) {
             validate::structure(&vertices, &edges, &cells).expect("valid by construction");
+            validate::crossings_of_parts(&vertices, &edges).expect("valid by construction");
         }
-        let maze = Maze::assemble(vertices, edges, cells, viewer, exit);
-        if cfg!(debug_assertions) {
-            validate::no_crossings(&maze).expect("valid by construction");
-        }
+        let (extents, cell_index) = cell_index(&vertices, &edges, &cells);
+        let maze = Maze { vertices, edges, cells, viewer, exit, extents, cell_index };
         validate::viewer_and_exit(&maze)?;
         Ok(maze)
-    }
-
-    /// The maze and its cell index, unchecked.
-    fn assemble(vertices: Vec<Vec2>, edges: Edges, cells: Cells, viewer: Viewer, exit: Option<Exit>) -> Maze {
-        let extents = vertices.iter().fold(Aabb::EMPTY, |b, &v| b.union_point(v));
-        // boxes grown by the tolerance, so a point that counts as in a cell finds it
-        let cell_box = |c| cell_aabb(&vertices, &edges, &cells, c).expand(ON_EDGE_TOLERANCE as f32);
-        let cell_index = SpatialGrid::build(cells.len(), cell_box, extents);
-        Maze { vertices, edges, cells, viewer, exit, extents, cell_index }
     }
 
     /// All vertices; a [`VertexId`] indexes this.
@@ -821,6 +830,22 @@ impl Maze {
         }
         false
     }
+}
+
+/// Edges from which [`Maze::new`] checks crossings on a second thread (spawning one costs tens of µs).
+const PARALLEL_CHECK_EDGES: usize = 1 << 14;
+
+/// The extents of the vertices, and the cells by bucket, for [`Maze::cell_at`]: for checked cells.
+fn cell_index(vertices: &[Vec2], edges: &Edges, cells: &Cells) -> (Aabb, SpatialGrid) {
+    let extents = extents(vertices);
+    // boxes grown by the tolerance, so a point that counts as in a cell finds it
+    let cell_box = |c| cell_aabb(vertices, edges, cells, c).expand(ON_EDGE_TOLERANCE as f32);
+    (extents, SpatialGrid::build(cells.len(), cell_box, extents))
+}
+
+/// The bounding box of `vertices`.
+fn extents(vertices: &[Vec2]) -> Aabb {
+    vertices.iter().fold(Aabb::EMPTY, |b, &v| b.union_point(v))
 }
 
 /// The box of cell `c`, a closed loop: every corner starts one of its edges counter-clockwise, so

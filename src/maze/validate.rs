@@ -180,17 +180,32 @@ fn cell_loop(
 /// A bucket grid finds the candidate pairs in O(n) when the buckets stay small; long edges (a comb
 /// of tall thin cells, long diagonals) crowd every bucket, so when the grid would test more than a
 /// few pairs per edge, the Shamos–Hoey sweep ([`sweep`]) decides in O(n log n) instead.
-pub(super) fn no_crossings(maze: &Maze) -> Result<(), MazeError> {
-    let n = maze.edges().len();
+///
+/// Only from the vertices and edges, so it can run while the cells are checked: when a vertex is
+/// out of bounds or an edge's end out of range or at its start, it says `Ok` and leaves the error to
+/// [`structure`], which reports it first.
+pub(super) fn crossings_of_parts(vertices: &[Vec2], edges: &Edges) -> Result<(), MazeError> {
+    let n = vertices.len();
+    let usable = vertices.iter().all(|p| p.is_finite() && p.abs().max_element() <= COORD_BOUND)
+        && edges.iter().all(|e| {
+            (e.start as usize) < n
+                && (e.end as usize) < n
+                && vertices[e.start as usize] != vertices[e.end as usize]
+        });
+    if !usable {
+        return Ok(());
+    }
+    let extents = super::extents(vertices);
+    let n = edges.len();
     let segment = |e: usize| {
-        let (a, b) = maze.edge_points(e as EdgeId);
-        [a, b]
+        let edge = edges.get(e);
+        [vertices[edge.start as usize], vertices[edge.end as usize]]
     };
     let edge_box = |e: usize| {
         let [a, b] = segment(e);
         Aabb { min: a.min(b), max: a.max(b) }
     };
-    let grid = SpatialGrid::build(n, edge_box, maze.extents());
+    let grid = SpatialGrid::build(n, edge_box, extents);
     let pairs: usize = (0..grid.bucket_count()).map(|b| grid.bucket_items(b).len()).map(|k| k * k / 2).sum();
     let found = if pairs > PAIRS_PER_EDGE * n + 1024 {
         drop(grid);
