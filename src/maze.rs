@@ -809,7 +809,8 @@ impl Maze {
 
     /// `true` when some portals form a cycle: union-find over the portals in id order, with path
     /// halving (neighbouring ids are neighbouring cells in the usual maze, so this runs in cache
-    /// where a breadth-first search hops across the maze; 2 M cells: ≈ 40 ms less).
+    /// where a breadth-first search hops across the maze: `check` of the 1000 × 1000 grid file,
+    /// 2 M cells, took 1.1–1.3 s of CPU with the search and 0.7–0.8 s with this).
     fn portals_close_a_loop(&self) -> bool {
         let mut parent: Vec<CellId> = (0..self.cell_count() as CellId).collect();
         let root = |parent: &mut [CellId], mut c: CellId| {

@@ -268,8 +268,10 @@ pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
     let Some(cell) = maze.cell_at(v.pos) else {
         return Err(MazeError::ViewerOutside { x: v.pos.x, y: v.pos.y });
     };
-    // on a wall line or vertex, the viewer could walk along the wall at distance 0: every wall
-    // through the point borders the cell found or, at a vertex, a cell across one of its portals
+    // on a wall line or vertex, the viewer could walk along the wall at distance 0. A wall through
+    // the point lies in the box of a cell it borders, and the index lists every cell whose box holds
+    // the point: those are all searched, the cell found and its portal neighbours first (the wall
+    // the message names, when several pass through the point)
     let on_wall = |c: CellId| {
         maze.cell_edges(c).iter().copied().find(|&e| {
             let (a, b) = maze.edge_points(e);
@@ -277,10 +279,12 @@ pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
                 && segment_distance(v.pos.as_dvec2(), a.as_dvec2(), b.as_dvec2()) <= ON_EDGE_TOLERANCE
         })
     };
-    let near = std::iter::once(cell).chain(maze.cell_edges(cell).iter().filter_map(|&e| {
-        let edge = maze.edge(e);
-        edge.other_side(cell).filter(|_| edge.is_portal())
-    }));
+    let near = std::iter::once(cell)
+        .chain(maze.cell_edges(cell).iter().filter_map(|&e| {
+            let edge = maze.edge(e);
+            edge.other_side(cell).filter(|_| edge.is_portal())
+        }))
+        .chain(maze.cell_index.query(v.pos).iter().copied());
     for c in near {
         if let Some(edge) = on_wall(c) {
             return Err(MazeError::ViewerOnWall { x: v.pos.x, y: v.pos.y, edge });
