@@ -691,7 +691,7 @@ impl Maze {
     /// Edge `e`'s end points, start first.
     #[must_use]
     pub fn edge_points(&self, e: EdgeId) -> (Vec2, Vec2) {
-        let edge = self.edges.get(e as usize);
+        let edge = self.edges.packed[e as usize]; // not `get`: no flag or colour needed
         (self.vertex(edge.start), self.vertex(edge.end))
     }
 
@@ -853,8 +853,8 @@ fn extents(vertices: &[Vec2]) -> Aabb {
 /// one end point per edge is enough.
 fn cell_aabb(vertices: &[Vec2], edges: &Edges, cells: &Cells, c: usize) -> Aabb {
     cells.get(c).iter().fold(Aabb::EMPTY, |b, &e| {
-        let edge = edges.get(e as usize);
-        let corner = if edge.left == Some(c as CellId) { edge.start } else { edge.end };
+        let edge = edges.packed[e as usize]; // not `get`: no flag or colour needed
+        let corner = if edge.left == c as CellId { edge.start } else { edge.end };
         b.union_point(vertices[corner as usize])
     })
 }

@@ -153,7 +153,6 @@ impl TileMap {
         }
         let open = |x: i64, y: i64| open_at[((y + 1) * pad + x + 1) as usize];
         let h_side = |x: i64, y: i64| open(x, y) || open(x, y - 1); // along lattice row y
-        let v_side = |x: i64, y: i64| open(x - 1, y) || open(x, y); // along lattice column x
         let point = |x: i64, y: i64| h_side(x - 1, y) || h_side(x, y);
         // ids in a row: `row[x]` for column (or lattice point) x, `u32::MAX` where there is none
         let rank_row = |row: &mut Vec<u32>, base: u32, len: i64, exists: &dyn Fn(i64) -> bool| {
@@ -166,11 +165,7 @@ impl TileMap {
             }));
             next
         };
-        let count = |len: i64, exists: &dyn Fn(i64) -> bool| (0..len).filter(|&x| exists(x)).count();
-        let n_cells: usize = (0..rows).map(|y| count(cols, &|x| open(x, y))).sum();
-        let n_h: usize = (0..=rows).map(|y| count(cols, &|x| h_side(x, y))).sum();
-        let n_v: usize = (0..rows).map(|y| count(cols + 1, &|x| v_side(x, y))).sum();
-        let n_points: usize = (0..=rows).map(|y| count(cols + 1, &|x| point(x, y))).sum();
+        let n_cells = open_at.iter().filter(|&&o| o).count();
         let some = |id: u32| (id != u32::MAX).then_some(id);
         // wall colours by tile character
         let mut palette = [DEFAULT_WALL; 256];
@@ -180,8 +175,10 @@ impl TileMap {
         let side_color = |opaque: bool, wall: u8| if opaque { palette[wall as usize] } else { DEFAULT_WALL };
         // each cell's 4 slots, in the original's order +x, +y, -x, -y, filled as its sides are made
         let mut slots = vec![0 as EdgeId; 4 * n_cells];
-        let mut edges = Edges::with_capacity(n_h + n_v);
-        let mut vertices = Vec::with_capacity(n_points);
+        // room for the most there can be, each open tile's 4 sides and 4 corners: only the pages
+        // written become resident, and nothing is copied to grow
+        let mut edges = Edges::with_capacity(4 * n_cells);
+        let mut vertices = Vec::with_capacity(4 * n_cells);
         // horizontal sides: lattice row y runs east; the tile above (row y) is on the left
         let (mut below, mut above, mut points) = (Vec::new(), Vec::new(), Vec::new());
         let mut next_cell = 0;
@@ -259,7 +256,6 @@ impl TileMap {
                 }
             }
         }
-        debug_assert_eq!((edges.len(), vertices.len()), (n_h + n_v, n_points));
         drop(open_at); // before the model builds its index
         let cells = Cells::uniform(slots, 4);
         // no start tile: a viewer outside every cell, which Maze::new reports
