@@ -432,13 +432,20 @@ impl<'a> IntoIterator for &'a Edges {
     }
 }
 
+impl Extend<Edge> for Edges {
+    fn extend<I: IntoIterator<Item = Edge>>(&mut self, iter: I) {
+        let iter = iter.into_iter();
+        self.packed.reserve(iter.size_hint().0);
+        for e in iter {
+            self.push(e);
+        }
+    }
+}
+
 impl FromIterator<Edge> for Edges {
     fn from_iter<I: IntoIterator<Item = Edge>>(iter: I) -> Edges {
-        let iter = iter.into_iter();
-        let mut edges = Edges::with_capacity(iter.size_hint().0);
-        for e in iter {
-            edges.push(e);
-        }
+        let mut edges = Edges::new();
+        edges.extend(iter);
         edges
     }
 }
