@@ -262,7 +262,7 @@ impl Cells {
     /// `u32::MAX`.
     #[must_use]
     pub fn uniform(edges: Vec<EdgeId>, per_cell: usize) -> Cells {
-        debug_assert!(per_cell > 0 && edges.len() % per_cell == 0, "whole cells");
+        debug_assert!(per_cell > 0 && edges.len().is_multiple_of(per_cell), "whole cells");
         u32::try_from(edges.len()).expect("fewer than 2^32 edge slots");
         let offsets = (0..=edges.len() / per_cell).map(|c| (c * per_cell) as u32).collect();
         Cells { offsets, edges }
@@ -342,7 +342,7 @@ impl Edges {
     pub fn push(&mut self, edge: Edge) {
         debug_assert!(edge.left != Some(NO_CELL) && edge.right != Some(NO_CELL), "cell id u32::MAX");
         let n = self.packed.len();
-        if n % 64 == 0 {
+        if n.is_multiple_of(64) {
             self.opaque.push(0);
         }
         if let Some(word) = self.opaque.last_mut() {
