@@ -16,10 +16,10 @@ use std::hint::black_box;
 use criterion::{BatchSize, Criterion, Throughput};
 use glam::{Vec2, Vec3, vec2};
 use mazewalk::maze::generate::{GenOptions, generate};
-use mazewalk::maze::{Cells, Edge, Maze, Viewer};
+use mazewalk::maze::{Cells, Edge, Edges, Maze, Viewer};
 
 /// The parts `Maze::new` takes.
-type Parts = (Vec<Vec2>, Vec<Edge>, Cells, Viewer);
+type Parts = (Vec<Vec2>, Edges, Cells, Viewer);
 
 const GREY: Vec3 = Vec3::splat(0.5);
 
@@ -30,7 +30,7 @@ fn slanted(n: u32, h: f32, shear: f32) -> Parts {
     let top = |i: u32| n + 1 + i;
     let mut vertices: Vec<Vec2> = (0..=n).map(|i| vec2(i as f32, 0.0)).collect();
     vertices.extend((0..=n).map(|i| vec2(i as f32 + shear, h)));
-    let mut edges = Vec::new();
+    let mut edges = Edges::new();
     let mut cells = vec![Vec::new(); n as usize];
     // long edge i runs up: the cell to its west (i - 1) on its left, cell i on its right
     for i in 0..=n {
@@ -75,7 +75,7 @@ fn ordinary(n: u32) -> Parts {
     let side = (n as f64).sqrt().round() as u32;
     let maze =
         generate(&GenOptions { width: side, height: side, seed: 1, ..GenOptions::default() }).expect("maze");
-    (maze.vertices().to_vec(), maze.edges().to_vec(), maze.cells().clone(), *maze.viewer())
+    (maze.vertices().to_vec(), maze.edges().clone(), maze.cells().clone(), *maze.viewer())
 }
 
 fn build(parts: &Parts) -> Maze {

@@ -128,6 +128,27 @@ fn crossing_and_overlapping_edges_are_named() {
 }
 
 #[test]
+fn a_viewer_on_a_wall_two_cells_away_is_refused() {
+    // issue #13: five triangles fanned round the viewer's vertex; the one wall among the spokes
+    // borders neither the cell the viewer is found in nor that cell's portal neighbours
+    let text = "6  0 0  10 0  3 9  -8 6  -8 -6  3 -9
+        10
+        0 1 0 4 0 .5 .5 .5
+        0 2 1 0 0 .5 .5 .5
+        0 3 2 1 0 .5 .5 .5
+        0 4 3 2 1 .5 .5 .5
+        0 5 4 3 0 .5 .5 .5
+        1 2 0 -1 1 .5 .5 .5
+        2 3 1 -1 1 .5 .5 .5
+        3 4 2 -1 1 .5 .5 .5
+        4 5 3 -1 1 .5 .5 .5
+        5 1 4 -1 1 .5 .5 .5
+        5  0 5 1 -1  1 6 2 -1  2 7 3 -1  3 8 4 -1  4 9 0 -1
+        0 0 0 0 90";
+    assert_eq!(error(text), "f.maze:14:9: the viewer at (0, 0) stands on wall 3; place it inside a cell");
+}
+
+#[test]
 fn crlf_bom_and_trailing_junk_are_fine() {
     let crlf = format!("\u{feff}{}", ROOM.replace('\n', "\r\n"));
     assert!(maze::parse("f", crlf.as_bytes()).is_ok());

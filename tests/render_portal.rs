@@ -67,7 +67,7 @@ fn transformed(maze: &Maze, angle: f32, jitter: f32, seed: u64) -> Option<Maze> 
         ids.iter().map(|&e| vertices[maze.edge(e).start as usize]).sum::<Vec2>() / ids.len() as f32
     };
     let viewer = Viewer { pos: centroid(0), ..*maze.viewer() };
-    Maze::new(vertices, maze.edges().to_vec(), cells, viewer, None).ok()
+    Maze::new(vertices, maze.edges().clone(), cells, viewer, None).ok()
 }
 
 /// Where the camera stands, in terms of the maze (resolved once the maze is known).

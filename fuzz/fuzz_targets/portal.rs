@@ -59,7 +59,7 @@ fn maze(input: &Input) -> Option<Maze> {
     let centroid =
         ids.iter().map(|&e| vertices[base.edge(e).start as usize]).sum::<Vec2>() / ids.len() as f32;
     let viewer = mazewalk::maze::Viewer { pos: centroid, ..*base.viewer() };
-    Maze::new(vertices, base.edges().to_vec(), cells, viewer, None).ok()
+    Maze::new(vertices, base.edges().clone(), cells, viewer, None).ok()
 }
 
 fuzz_target!(|input: Input| {

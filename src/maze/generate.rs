@@ -23,7 +23,7 @@ use std::collections::VecDeque;
 use glam::{Vec2, Vec3, vec2};
 
 use super::grid::TileMap;
-use super::{CellId, Cells, Edge, Exit, Maze, Viewer};
+use super::{CellId, Cells, Edge, Edges, Exit, Maze, Viewer};
 
 /// Side of a generated cell, in maze units.
 pub const CELL_SIZE: f32 = 4.0;
@@ -418,14 +418,15 @@ fn thin_maze(l: &Layout, rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Maze
         }
     }
     let horizontal = w * (h + 1);
-    let mut edges = Vec::with_capacity((horizontal + (w + 1) * h) as usize);
+    let mut edges = Edges::with_capacity((horizontal + (w + 1) * h) as usize);
     // horizontal edge (i, j) runs east along y = 4j: the cell above is on its left
     for j in 0..=h {
         for i in 0..w {
             let left = (j < h).then(|| cell(i, j));
             let right = (j > 0).then(|| cell(i, j - 1));
             let opaque = right.is_none_or(|below| !l.north_open[below as usize]) || left.is_none();
-            edges.push(Edge { start: vid(i, j), end: vid(i + 1, j), left, right, opaque, color: Vec3::ZERO });
+            let color = pick_color(rng, palette);
+            edges.push(Edge { start: vid(i, j), end: vid(i + 1, j), left, right, opaque, color });
         }
     }
     // vertical edge (i, j) runs north along x = 4i: the cell to the west is on its left
@@ -434,11 +435,9 @@ fn thin_maze(l: &Layout, rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Maze
             let left = (i > 0).then(|| cell(i - 1, j));
             let right = (i < w).then(|| cell(i, j));
             let opaque = left.is_none_or(|west| !l.east_open[west as usize]) || right.is_none();
-            edges.push(Edge { start: vid(i, j), end: vid(i, j + 1), left, right, opaque, color: Vec3::ZERO });
+            let color = pick_color(rng, palette);
+            edges.push(Edge { start: vid(i, j), end: vid(i, j + 1), left, right, opaque, color });
         }
-    }
-    for e in &mut edges {
-        e.color = pick_color(rng, palette);
     }
     let mut cells = Cells::with_capacity((w * h) as usize, (4 * w * h) as usize);
     for j in 0..h {

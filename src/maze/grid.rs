@@ -42,7 +42,8 @@ use glam::{Vec3, vec2};
 
 use super::text::{Loc, is_space, quote};
 use super::{
-    CellId, Cells, Edge, EdgeId, Exit, Format, Maze, ParseError, ParseErrorKind, VertexId, Viewer, WriteError,
+    CellId, Cells, Edge, EdgeId, Edges, Exit, Format, Maze, ParseError, ParseErrorKind, VertexId, Viewer,
+    WriteError,
 };
 
 /// The first word of a grid file.
@@ -131,91 +132,118 @@ impl TileMap {
     /// [`TileMap::to_maze`]; `checked_map` when [`parse_map`] made this map, so that the tiles, the
     /// start and the coordinate bound are known good and the maze is valid by construction.
     fn build(&self, checked_map: bool) -> Result<Maze, super::MazeError> {
+        // Numbering (kept from the first, table-driven version of this function, which the tests
+        // keep as the oracle): cells are open tiles row by row from the bottom, west to east; edges
+        // are the horizontal sides lattice row by row, then the vertical ones tile row by row;
+        // vertices are lattice points in the order the horizontal sides first use them, i.e. row by
+        // row, west to east (every point beside an open tile touches a horizontal side). So each id
+        // is a row's base plus a rank within the row: the sweeps below keep a row or two of ids, not
+        // a table per tile (4 tables of 16 MB for a 1000 × 1000 maze's 2001 × 2001 tiles).
         let (cols, rows) = (self.cols as i64, self.rows as i64);
         let t = self.tile;
-        let tile_index = |x: i64, y: i64| ((rows - 1 - y) * cols + x) as usize;
-        // cells: open tiles, row by row from the bottom, west to east
-        let mut cell_of = vec![u32::MAX; self.tiles.len()];
-        let mut n_cells = 0u32;
-        for y in 0..rows {
-            for x in 0..cols {
-                if is_open(self.at(x, y)) {
-                    cell_of[tile_index(x, y)] = n_cells;
-                    n_cells += 1;
-                }
+        // open tiles with a border of outside around the map: a look-up without range checks
+        let pad = cols + 2;
+        let mut open_at = vec![false; (pad * (rows + 2)) as usize];
+        for (r, row) in self.tiles.chunks_exact(self.cols.max(1)).enumerate() {
+            let y = rows - 1 - r as i64;
+            let at = ((y + 1) * pad + 1) as usize;
+            for (slot, &ch) in open_at[at..at + row.len()].iter_mut().zip(row) {
+                *slot = is_open(ch);
             }
         }
-        let cell = |x: i64, y: i64| {
-            (x >= 0 && y >= 0 && x < cols && y < rows)
-                .then(|| cell_of[tile_index(x, y)])
-                .filter(|&c| c != u32::MAX)
+        let open = |x: i64, y: i64| open_at[((y + 1) * pad + x + 1) as usize];
+        let h_side = |x: i64, y: i64| open(x, y) || open(x, y - 1); // along lattice row y
+        let point = |x: i64, y: i64| h_side(x - 1, y) || h_side(x, y);
+        // ids in a row: `row[x]` for column (or lattice point) x, `u32::MAX` where there is none
+        let rank_row = |row: &mut Vec<u32>, base: u32, len: i64, exists: &dyn Fn(i64) -> bool| {
+            row.clear();
+            let mut next = base;
+            row.extend((0..len).map(|x| {
+                let id = if exists(x) { next } else { u32::MAX };
+                next += u32::from(id != u32::MAX);
+                id
+            }));
+            next
         };
-        // exact sizes, so the two big arrays are allocated once and not doubled (4 M edges of a
-        // 1000 × 1000 maze are 160 MB): a side with a cell on either hand is an edge, a lattice point
-        // with a cell in any of its four tiles a vertex
-        let open = |x: i64, y: i64| cell(x, y).is_some();
-        let (mut n_edges, mut n_vertices) = (0usize, 0usize);
-        for y in 0..=rows {
-            for x in 0..=cols {
-                n_edges += usize::from(x < cols && (open(x, y) || open(x, y - 1)));
-                n_edges += usize::from(y < rows && (open(x - 1, y) || open(x, y)));
-                n_vertices +=
-                    usize::from(open(x, y) || open(x - 1, y) || open(x, y - 1) || open(x - 1, y - 1));
-            }
+        let n_cells = open_at.iter().filter(|&&o| o).count();
+        let some = |id: u32| (id != u32::MAX).then_some(id);
+        // wall colours by tile character
+        let mut palette = [DEFAULT_WALL; 256];
+        for (ch, c) in palette.iter_mut().enumerate() {
+            *c = self.color(ch as u8);
         }
-        // vertices: lattice points, numbered as the edges first use them
-        let mut vertex_of = vec![u32::MAX; ((cols + 1) * (rows + 1)) as usize];
-        let mut vertices = Vec::with_capacity(n_vertices);
-        let mut vertex = |x: i64, y: i64| -> VertexId {
-            let slot = &mut vertex_of[(y * (cols + 1) + x) as usize];
-            if *slot == u32::MAX {
-                *slot = vertices.len() as VertexId;
-                vertices.push(vec2(x as f32, y as f32) * t);
-            }
-            *slot
-        };
-        let mut edges = Vec::with_capacity(n_edges);
-        // horizontal side (x, y) runs east along the lattice line y: the tile above is on its left
-        let mut h_edge = vec![u32::MAX; (cols * (rows + 1)) as usize];
+        let side_color = |opaque: bool, wall: u8| if opaque { palette[wall as usize] } else { DEFAULT_WALL };
+        // each cell's 4 slots, in the original's order +x, +y, -x, -y, filled as its sides are made
+        let mut slots = vec![0 as EdgeId; 4 * n_cells];
+        // room for the most there can be, each open tile's 4 sides and 4 corners: only the pages
+        // written become resident, and nothing is copied to grow
+        let mut edges = Edges::with_capacity(4 * n_cells);
+        let mut vertices = Vec::with_capacity(4 * n_cells);
+        // horizontal sides: lattice row y runs east; the tile above (row y) is on the left
+        let (mut below, mut above, mut points) = (Vec::new(), Vec::new(), Vec::new());
+        let mut next_cell = 0;
         for y in 0..=rows {
+            std::mem::swap(&mut below, &mut above);
+            next_cell = rank_row(&mut above, next_cell, cols, &|x| open(x, y));
+            if y == 0 {
+                below.clear();
+                below.resize(cols as usize, u32::MAX);
+            }
+            let first = vertices.len() as VertexId;
+            rank_row(&mut points, first, cols + 1, &|x| point(x, y));
+            vertices.extend(
+                (0..=cols).filter(|&x| points[x as usize] != u32::MAX).map(|x| vec2(x as f32, y as f32) * t),
+            );
             for x in 0..cols {
-                let (left, right) = (cell(x, y), cell(x, y - 1));
+                let (left, right) = (some(above[x as usize]), some(below[x as usize]));
                 if left.is_none() && right.is_none() {
                     continue;
                 }
+                let e = edges.len() as EdgeId;
+                if let Some(c) = left {
+                    slots[4 * c as usize + 3] = e;
+                }
+                if let Some(c) = right {
+                    slots[4 * c as usize + 1] = e;
+                }
+                let opaque = left.is_none() || right.is_none();
                 let wall = if left.is_none() { self.at(x, y) } else { self.at(x, y - 1) };
-                h_edge[(y * cols + x) as usize] = edges.len() as EdgeId;
-                let (start, end) = (vertex(x, y), vertex(x + 1, y));
-                let opaque = left.is_none() || right.is_none();
-                let color = if opaque { self.color(wall) } else { DEFAULT_WALL };
-                edges.push(Edge { start, end, left, right, opaque, color });
+                let (start, end) = (points[x as usize], points[x as usize + 1]);
+                edges.push(Edge { start, end, left, right, opaque, color: side_color(opaque, wall) });
             }
         }
-        // vertical side (x, y) runs north along the lattice line x: the tile to the west is on its left
-        let mut v_edge = vec![u32::MAX; ((cols + 1) * rows) as usize];
-        for y in 0..rows {
-            for x in 0..=cols {
-                let (left, right) = (cell(x - 1, y), cell(x, y));
-                if left.is_none() && right.is_none() {
-                    continue;
-                }
-                let wall = if left.is_none() { self.at(x - 1, y) } else { self.at(x, y) };
-                v_edge[(y * (cols + 1) + x) as usize] = edges.len() as EdgeId;
-                let (start, end) = (vertex(x, y), vertex(x, y + 1));
-                let opaque = left.is_none() || right.is_none();
-                let color = if opaque { self.color(wall) } else { DEFAULT_WALL };
-                edges.push(Edge { start, end, left, right, opaque, color });
-            }
-        }
-        let mut cells = Cells::with_capacity(n_cells as usize, 4 * n_cells as usize);
+        // vertical sides: lattice column x runs north along tile row y; the tile to the west is on
+        // the left. Rows of vertex and cell ids again, from the bases the first sweep counted.
+        let (mut lower, mut upper, mut cells_row) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut next_point, mut next_cell) = (0, 0);
         let (mut viewer, mut exit) = (None, None);
         for y in 0..rows {
+            if y == 0 {
+                next_point = rank_row(&mut upper, 0, cols + 1, &|x| point(x, 0));
+            }
+            std::mem::swap(&mut lower, &mut upper);
+            next_point = rank_row(&mut upper, next_point, cols + 1, &|x| point(x, y + 1));
+            next_cell = rank_row(&mut cells_row, next_cell, cols, &|x| open(x, y));
+            let cell = |x: i64| if (0..cols).contains(&x) { some(cells_row[x as usize]) } else { None };
+            for x in 0..=cols {
+                let (left, right) = (cell(x - 1), cell(x));
+                if left.is_none() && right.is_none() {
+                    continue;
+                }
+                let e = edges.len() as EdgeId;
+                if let Some(c) = left {
+                    slots[4 * c as usize] = e;
+                }
+                if let Some(c) = right {
+                    slots[4 * c as usize + 2] = e;
+                }
+                let opaque = left.is_none() || right.is_none();
+                let wall = if left.is_none() { self.at(x - 1, y) } else { self.at(x, y) };
+                let (start, end) = (lower[x as usize], upper[x as usize]);
+                edges.push(Edge { start, end, left, right, opaque, color: side_color(opaque, wall) });
+            }
             for x in 0..cols {
-                let Some(c) = cell(x, y) else { continue };
-                let h = |x: i64, y: i64| h_edge[(y * cols + x) as usize];
-                let v = |x: i64, y: i64| v_edge[(y * (cols + 1) + x) as usize];
-                // +x, +y, -x, -y, as the original lists them
-                cells.push(&[v(x + 1, y), h(x, y + 1), v(x, y), h(x, y)]);
+                let Some(c) = cell(x) else { continue };
                 let ch = self.at(x, y);
                 if ch == b'E' && exit.is_none() {
                     exit = Some(Exit { cell: c, point: None });
@@ -228,8 +256,8 @@ impl TileMap {
                 }
             }
         }
-        // the lookup tables are done with: free them before the model builds its own
-        drop((cell_of, vertex_of, h_edge, v_edge));
+        drop(open_at); // before the model builds its index
+        let cells = Cells::uniform(slots, 4);
         // no start tile: a viewer outside every cell, which Maze::new reports
         let viewer =
             viewer.unwrap_or(Viewer { pos: vec2(-1.0, -1.0) * t, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 });
@@ -564,7 +592,7 @@ fn tiles_of(
     let hash = behind
         .iter()
         .find(|&&(_, nx, ny)| nx < 0 || ny < 0)
-        .map_or(DEFAULT_WALL, |&(e, ..)| maze.edges()[e].color);
+        .map_or(DEFAULT_WALL, |&(e, ..)| maze.edges().get(e).color);
     if hash != DEFAULT_WALL {
         check_rgb(hash)?;
         map.legend.push((b'#', hash));
@@ -572,7 +600,7 @@ fn tiles_of(
     // wall colours, from the opaque edges onto the wall tiles behind them
     let mut colored = vec![false; map.tiles.len()];
     for (e, nx, ny) in behind {
-        let letter = legend_letter(&mut map.legend, hash, maze.edges()[e].color)?;
+        let letter = legend_letter(&mut map.legend, hash, maze.edges().get(e).color)?;
         if nx < 0 || ny < 0 {
             if letter != b'#' {
                 return Err(no(format!("edge {e} faces the outside with a colour other than `#`")));
@@ -644,6 +672,130 @@ mod tests {
         // the A tile's side facing the cell above it has A's colour
         let a = Vec3::new(0xcc as f32, 0x88 as f32, 0x44 as f32) / 255.0;
         assert_eq!(m.edges().iter().filter(|e| e.color == a && e.opaque).count(), 3);
+    }
+
+    #[test]
+    fn the_row_sweep_numbers_as_the_tables_did() {
+        use crate::maze::generate::{GenOptions, generate_grid};
+        let mut maps =
+            vec![parse_map("small", SMALL).unwrap(), parse_map("b", crate::maze::BUILTIN).unwrap()];
+        for (seed, loops) in [(1, 0.0), (2, 0.3), (3, 1.0)] {
+            let opts = GenOptions { width: 13, height: 7, seed, loops, exit: true, ..GenOptions::default() };
+            maps.push(generate_grid(&opts).unwrap());
+        }
+        // ragged rows, floor at the map's edge (outside beyond it)
+        maps.push(parse_map("r", "mazewalk-grid 1\n\n  .\n#@..\n.\n").unwrap());
+        for map in &maps {
+            assert_eq!(map.build(true).unwrap(), build_with_tables(map), "{}", map.to_text());
+        }
+    }
+
+    /// The first, table-driven version of `TileMap::build`: the oracle for its numbering.
+    fn build_with_tables(map: &TileMap) -> Maze {
+        let this = map;
+        let (cols, rows) = (this.cols as i64, this.rows as i64);
+        let t = this.tile;
+        let tile_index = |x: i64, y: i64| ((rows - 1 - y) * cols + x) as usize;
+        // cells: open tiles, row by row from the bottom, west to east
+        let mut cell_of = vec![u32::MAX; this.tiles.len()];
+        let mut n_cells = 0u32;
+        for y in 0..rows {
+            for x in 0..cols {
+                if is_open(this.at(x, y)) {
+                    cell_of[tile_index(x, y)] = n_cells;
+                    n_cells += 1;
+                }
+            }
+        }
+        let cell = |x: i64, y: i64| {
+            (x >= 0 && y >= 0 && x < cols && y < rows)
+                .then(|| cell_of[tile_index(x, y)])
+                .filter(|&c| c != u32::MAX)
+        };
+        // exact sizes, so the two big arrays are allocated once and not doubled (4 M edges of a
+        // 1000 × 1000 maze are 160 MB): a side with a cell on either hand is an edge, a lattice point
+        // with a cell in any of its four tiles a vertex
+        let open = |x: i64, y: i64| cell(x, y).is_some();
+        let (mut n_edges, mut n_vertices) = (0usize, 0usize);
+        for y in 0..=rows {
+            for x in 0..=cols {
+                n_edges += usize::from(x < cols && (open(x, y) || open(x, y - 1)));
+                n_edges += usize::from(y < rows && (open(x - 1, y) || open(x, y)));
+                n_vertices +=
+                    usize::from(open(x, y) || open(x - 1, y) || open(x, y - 1) || open(x - 1, y - 1));
+            }
+        }
+        // vertices: lattice points, numbered as the edges first use them
+        let mut vertex_of = vec![u32::MAX; ((cols + 1) * (rows + 1)) as usize];
+        let mut vertices = Vec::with_capacity(n_vertices);
+        let mut vertex = |x: i64, y: i64| -> VertexId {
+            let slot = &mut vertex_of[(y * (cols + 1) + x) as usize];
+            if *slot == u32::MAX {
+                *slot = vertices.len() as VertexId;
+                vertices.push(vec2(x as f32, y as f32) * t);
+            }
+            *slot
+        };
+        let mut edges = Edges::with_capacity(n_edges);
+        // horizontal side (x, y) runs east along the lattice line y: the tile above is on its left
+        let mut h_edge = vec![u32::MAX; (cols * (rows + 1)) as usize];
+        for y in 0..=rows {
+            for x in 0..cols {
+                let (left, right) = (cell(x, y), cell(x, y - 1));
+                if left.is_none() && right.is_none() {
+                    continue;
+                }
+                let wall = if left.is_none() { this.at(x, y) } else { this.at(x, y - 1) };
+                h_edge[(y * cols + x) as usize] = edges.len() as EdgeId;
+                let (start, end) = (vertex(x, y), vertex(x + 1, y));
+                let opaque = left.is_none() || right.is_none();
+                let color = if opaque { this.color(wall) } else { DEFAULT_WALL };
+                edges.push(Edge { start, end, left, right, opaque, color });
+            }
+        }
+        // vertical side (x, y) runs north along the lattice line x: the tile to the west is on its left
+        let mut v_edge = vec![u32::MAX; ((cols + 1) * rows) as usize];
+        for y in 0..rows {
+            for x in 0..=cols {
+                let (left, right) = (cell(x - 1, y), cell(x, y));
+                if left.is_none() && right.is_none() {
+                    continue;
+                }
+                let wall = if left.is_none() { this.at(x - 1, y) } else { this.at(x, y) };
+                v_edge[(y * (cols + 1) + x) as usize] = edges.len() as EdgeId;
+                let (start, end) = (vertex(x, y), vertex(x, y + 1));
+                let opaque = left.is_none() || right.is_none();
+                let color = if opaque { this.color(wall) } else { DEFAULT_WALL };
+                edges.push(Edge { start, end, left, right, opaque, color });
+            }
+        }
+        let mut cells = Cells::with_capacity(n_cells as usize, 4 * n_cells as usize);
+        let (mut viewer, mut exit) = (None, None);
+        for y in 0..rows {
+            for x in 0..cols {
+                let Some(c) = cell(x, y) else { continue };
+                let h = |x: i64, y: i64| h_edge[(y * cols + x) as usize];
+                let v = |x: i64, y: i64| v_edge[(y * (cols + 1) + x) as usize];
+                // +x, +y, -x, -y, as the original lists them
+                cells.push(&[v(x + 1, y), h(x, y + 1), v(x, y), h(x, y)]);
+                let ch = this.at(x, y);
+                if ch == b'E' && exit.is_none() {
+                    exit = Some(Exit { cell: c, point: None });
+                }
+                if let Some(dir) = start_dir(ch, this.facing_deg)
+                    && viewer.is_none()
+                {
+                    let pos = (vec2(x as f32, y as f32) + 0.5) * t;
+                    viewer = Some(Viewer { pos, z: this.eye, dir_deg: dir, fov_deg: this.fov_deg });
+                }
+            }
+        }
+        // the lookup tables are done with: free them before the model builds its own
+        drop((cell_of, vertex_of, h_edge, v_edge));
+        // no start tile: a viewer outside every cell, which Maze::new reports
+        let viewer =
+            viewer.unwrap_or(Viewer { pos: vec2(-1.0, -1.0) * t, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 });
+        Maze::new(vertices, edges, cells, viewer, exit).expect("a valid map")
     }
 
     #[test]

@@ -5,12 +5,12 @@ use glam::{DVec2, Vec2};
 use super::index::SpatialGrid;
 use super::sweep::{self, Conflict, conflict};
 use super::{
-    Aabb, COORD_BOUND, CellId, Cells, Edge, EdgeId, MIN_CELL_AREA, Maze, MazeError, ON_EDGE_TOLERANCE,
+    Aabb, COORD_BOUND, CellId, Cells, EdgeId, Edges, MIN_CELL_AREA, Maze, MazeError, ON_EDGE_TOLERANCE,
     VertexId,
 };
 
 /// Indices, sides, cell ↔ edge consistency, and each cell a closed convex counter-clockwise loop.
-pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Result<(), MazeError> {
+pub(super) fn structure(vertices: &[Vec2], edges: &Edges, cells: &Cells) -> Result<(), MazeError> {
     let max = u32::MAX as usize - 1;
     for (what, count) in [("vertices", vertices.len()), ("edges", edges.len()), ("cells", cells.len())] {
         if count > max {
@@ -60,9 +60,10 @@ pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Res
     for c in 0..nc {
         let cell = c as CellId;
         for &e in cells.get(c) {
-            let Some(edge) = edges.get(e as usize) else {
+            if e as usize >= edges.len() {
                 return Err(MazeError::CellEdgeOutOfRange { cell, edge: e, count: edges.len() });
-            };
+            }
+            let edge = edges.get(e as usize);
             if edge.left != Some(cell) && edge.right != Some(cell) {
                 return Err(MazeError::CellEdgeNotNeighbour { cell, edge: e });
             }
@@ -95,7 +96,7 @@ pub(super) fn structure(vertices: &[Vec2], edges: &[Edge], cells: &Cells) -> Res
 /// counter-clockwise loop.
 fn cell_loop(
     vertices: &[Vec2],
-    edges: &[Edge],
+    edges: &Edges,
     cells: &Cells,
     c: CellId,
     directed: &mut Vec<(VertexId, VertexId)>,
@@ -106,7 +107,7 @@ fn cell_loop(
     }
     directed.clear();
     directed.extend(ids.iter().map(|&e| {
-        let edge = &edges[e as usize];
+        let edge = edges.get(e as usize);
         if edge.left == Some(c) { (edge.start, edge.end) } else { (edge.end, edge.start) }
     }));
     // small cells (the usual 4 edges) search linearly; big ones sort and bisect
@@ -179,17 +180,32 @@ fn cell_loop(
 /// A bucket grid finds the candidate pairs in O(n) when the buckets stay small; long edges (a comb
 /// of tall thin cells, long diagonals) crowd every bucket, so when the grid would test more than a
 /// few pairs per edge, the Shamos–Hoey sweep ([`sweep`]) decides in O(n log n) instead.
-pub(super) fn no_crossings(maze: &Maze) -> Result<(), MazeError> {
-    let n = maze.edges().len();
+///
+/// Only from the vertices and edges, so it can run while the cells are checked: when a vertex is
+/// out of bounds or an edge's end out of range or at its start, it says `Ok` and leaves the error to
+/// [`structure`], which reports it first.
+pub(super) fn crossings_of_parts(vertices: &[Vec2], edges: &Edges) -> Result<(), MazeError> {
+    let n = vertices.len();
+    let usable = vertices.iter().all(|p| p.is_finite() && p.abs().max_element() <= COORD_BOUND)
+        && edges.iter().all(|e| {
+            (e.start as usize) < n
+                && (e.end as usize) < n
+                && vertices[e.start as usize] != vertices[e.end as usize]
+        });
+    if !usable {
+        return Ok(());
+    }
+    let extents = super::extents(vertices);
+    let n = edges.len();
     let segment = |e: usize| {
-        let (a, b) = maze.edge_points(e as EdgeId);
-        [a, b]
+        let edge = edges.get(e);
+        [vertices[edge.start as usize], vertices[edge.end as usize]]
     };
     let edge_box = |e: usize| {
         let [a, b] = segment(e);
         Aabb { min: a.min(b), max: a.max(b) }
     };
-    let grid = SpatialGrid::build(n, edge_box, maze.extents());
+    let grid = SpatialGrid::build(n, edge_box, extents);
     let pairs: usize = (0..grid.bucket_count()).map(|b| grid.bucket_items(b).len()).map(|k| k * k / 2).sum();
     let found = if pairs > PAIRS_PER_EDGE * n + 1024 {
         drop(grid);
@@ -252,8 +268,10 @@ pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
     let Some(cell) = maze.cell_at(v.pos) else {
         return Err(MazeError::ViewerOutside { x: v.pos.x, y: v.pos.y });
     };
-    // on a wall line or vertex, the viewer could walk along the wall at distance 0: every wall
-    // through the point borders the cell found or, at a vertex, a cell across one of its portals
+    // on a wall line or vertex, the viewer could walk along the wall at distance 0. A wall through
+    // the point lies in the box of a cell it borders, and the index lists every cell whose box holds
+    // the point: those are all searched, the cell found and its portal neighbours first (the wall
+    // the message names, when several pass through the point)
     let on_wall = |c: CellId| {
         maze.cell_edges(c).iter().copied().find(|&e| {
             let (a, b) = maze.edge_points(e);
@@ -261,10 +279,12 @@ pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
                 && segment_distance(v.pos.as_dvec2(), a.as_dvec2(), b.as_dvec2()) <= ON_EDGE_TOLERANCE
         })
     };
-    let near = std::iter::once(cell).chain(maze.cell_edges(cell).iter().filter_map(|&e| {
-        let edge = maze.edge(e);
-        edge.other_side(cell).filter(|_| edge.is_portal())
-    }));
+    let near = std::iter::once(cell)
+        .chain(maze.cell_edges(cell).iter().filter_map(|&e| {
+            let edge = maze.edge(e);
+            edge.other_side(cell).filter(|_| edge.is_portal())
+        }))
+        .chain(maze.cell_index.query(v.pos).iter().copied());
     for c in near {
         if let Some(edge) = on_wall(c) {
             return Err(MazeError::ViewerOnWall { x: v.pos.x, y: v.pos.y, edge });
