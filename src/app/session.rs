@@ -33,7 +33,7 @@ use std::time::Instant;
 
 use super::flow::{FlowControl, QUERY};
 
-use super::overlay::{self, MapArea, Style};
+use super::overlay::{self, MapArea, Peer, Style};
 use super::state::{App, MapMode};
 use crate::frame::{Cell, Frame, Region};
 use crate::input::{Input, InputDecoder, Key, Reply};
@@ -106,11 +106,16 @@ pub struct Hud {
     pub elapsed: f64,
 }
 
-/// The buffers one screen is drawn with, reused from frame to frame.
+/// The buffers one screen is drawn with, reused from frame to frame, and what a host shows besides the
+/// walk itself.
 #[derive(Debug, Default)]
 pub struct Screen {
     /// The pipeline and its buffers.
     pub renderer: Renderer,
+    /// Other players in the same maze (`mazewalk serve`), drawn on the map.
+    pub peers: Vec<Peer>,
+    /// A message for everyone (e.g. who reached the exit first), shown in a box until taken away.
+    pub notice: Option<String>,
 }
 
 /// One player's walk: app state, renderer, encoder, input decoder and screen.
@@ -177,6 +182,39 @@ impl Session {
         &self.frame
     }
 
+    /// The other players to draw (a host's view of a shared maze); the next frame is drawn only if
+    /// they differ from the ones drawn. Returns whether they did.
+    pub fn set_peers(&mut self, peers: &[Peer]) -> bool {
+        if self.screen.peers == peers {
+            return false;
+        }
+        self.screen.peers.clear();
+        self.screen.peers.extend_from_slice(peers);
+        self.dirty = true;
+        true
+    }
+
+    /// Shows `notice` in a box over the view (`None` takes it away).
+    pub fn set_notice(&mut self, notice: Option<String>) {
+        if self.screen.notice != notice {
+            self.screen.notice = notice;
+            self.dirty = true;
+        }
+    }
+
+    /// Whether the last frame's portal pass reached `cell`: something moving there may show in the
+    /// view, so a host redraws when it does.
+    #[must_use]
+    pub fn sees_cell(&self, cell: u32) -> bool {
+        self.screen.renderer.portal().was_visited(cell)
+    }
+
+    /// Where the last frame's map is, if it is shown.
+    #[must_use]
+    pub fn map_area(&self) -> Option<MapArea> {
+        map_area(&self.app, &self.frame)
+    }
+
     /// Bytes from the terminal, arriving at time `now`.
     pub fn feed(&mut self, bytes: &[u8], now: f64) {
         self.decode(now, |decoder, out| decoder.feed(bytes, now, out));
@@ -210,7 +248,10 @@ impl Session {
             | Input::MouseUp { .. }
             | Input::Scroll(_)
             | Input::FocusGained
-            | Input::Reply(Reply::CursorPosition { .. } | Reply::KeyboardFlags(_)) => {}
+            | Input::Reply(Reply::CursorPosition { .. }) => {}
+            // The answer to the kitty keyboard query (`CSI ? u`) a remote host sends after pushing its
+            // flags: flag 2 (report event types) means key releases will come.
+            Input::Reply(Reply::KeyboardFlags(flags)) => self.app.releases |= flags & 2 != 0,
             Input::Reply(Reply::DeviceAttributes) => self.flow.answered(now),
         }
     }
@@ -321,13 +362,9 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     frame.region_rows_mut(Region { row: rows - 1, rows: 1, ..view }).for_each(|hud| hud.fill(Cell::BLANK));
     let portal = screen.renderer.portal();
     let visited = |c: u32| portal.was_visited(c);
-    let area = match app.map {
-        MapMode::Off => None,
-        MapMode::Corner => Some(MapArea::corner(frame, app.camera.position)),
-        MapMode::Full => Some(MapArea::full(frame, app.maze(), app.camera.position)),
-    };
-    if let Some(area) = area {
+    if let Some(area) = map_area(app, frame) {
         overlay::draw_map(frame, &area, app.maze(), &app.camera, &visited, style);
+        overlay::draw_peers(frame, &area, &screen.peers, app.camera.position, style);
     }
     if let Some(seconds) = app.finished {
         let lines = [
@@ -339,10 +376,24 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         overlay::draw_box(frame, "Found the exit!", &lines, style);
     } else if app.help {
         overlay::draw_box(frame, "Keys (? to close)", &overlay::help_lines(style), style);
+    } else if let Some(notice) = &screen.notice {
+        overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
     }
     overlay::draw_hud(frame, &hud_text(app, &stats, hud, cols), style); // last: boxes never hide it
     overlay::limit_colors(frame, style.depth); // not one code deeper than the terminal's depth
     stats
+}
+
+/// Where the map goes on `frame` for the walk's map mode (`None`: no map).
+fn map_area(app: &App, frame: &Frame) -> Option<MapArea> {
+    if overlay::too_small(frame.width(), frame.height()) {
+        return None; // only the too-small message is drawn
+    }
+    match app.map {
+        MapMode::Off => None,
+        MapMode::Corner => Some(MapArea::corner(frame, app.camera.position)),
+        MapMode::Full => Some(MapArea::full(frame, app.maze(), app.camera.position)),
+    }
 }
 
 /// The HUD line, `width` columns at most: the most useful fields first (where and which way), the
