@@ -373,9 +373,11 @@ impl Handlers {
     }
 
     /// Refuses a command or subsystem on `channel`: the message on its stderr, exit status 1, closed.
+    /// (The request itself succeeds: OpenSSH's client would exit on a failure before it prints the
+    /// message.)
     fn refuse_command(channel: ChannelId, session: &mut Session) -> Result<(), russh::Error> {
+        session.channel_success(channel)?;
         session.extended_data(channel, 1, format!("{NO_EXEC_MESSAGE}\r\n").into_bytes())?;
-        session.channel_failure(channel)?;
         session.exit_status_request(channel, 1)?;
         session.eof(channel)?;
         session.close(channel)
