@@ -28,6 +28,10 @@ pub struct Limits {
     pub keepalive_max: usize,
     /// A frame that cannot be written for this long (a client that stopped reading) drops the player.
     pub write_timeout: Duration,
+    /// The kernel's send buffer per connection, bytes (`SO_SNDBUF`; Linux doubles it for its own
+    /// bookkeeping): with the SSH window's worth in russh, all a client that stops reading can make
+    /// the server hold.
+    pub send_buffer: usize,
 }
 
 impl Default for Limits {
@@ -44,6 +48,7 @@ impl Default for Limits {
             keepalive_interval: Duration::from_secs(15),
             keepalive_max: 3,
             write_timeout: Duration::from_secs(10),
+            send_buffer: 128 * 1024,
         }
     }
 }

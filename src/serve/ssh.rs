@@ -280,6 +280,7 @@ async fn until_shutdown(shutdown: &mut watch::Receiver<bool>) {
 /// the shutdown, and the disconnect log line.
 async fn connection(shared: Arc<Shared>, stream: TcpStream, peer: SocketAddr, _slot: Slot) {
     let _ = stream.set_nodelay(true);
+    let _ = socket2::SockRef::from(&stream).set_send_buffer_size(shared.limits.send_buffer);
     let (stream, cut) = CutStream::new(stream);
     let conn = Arc::new(Conn {
         peer,
@@ -295,6 +296,7 @@ async fn connection(shared: Arc<Shared>, stream: TcpStream, peer: SocketAddr, _s
     tokio::pin!(handshake);
     let mut shutdown = shared.shutdown.clone();
     let mut shutting_down = false;
+    let mut handshake_over = false;
     let ssh = async {
         match russh::server::run_stream(Arc::clone(&shared.config), stream, handler).await {
             Ok(session) => session.await,
@@ -305,7 +307,13 @@ async fn connection(shared: Arc<Shared>, stream: TcpStream, peer: SocketAddr, _s
     let result = loop {
         tokio::select! {
             result = &mut ssh => break result,
-            () = &mut handshake, if !conn.playing.load(Ordering::SeqCst) => conn.end("handshake timeout"),
+            // (A branch's condition is read when `select!` starts waiting, so the body looks again.)
+            () = &mut handshake, if !handshake_over => {
+                handshake_over = true;
+                if !conn.playing.load(Ordering::SeqCst) {
+                    conn.end("handshake timeout");
+                }
+            }
             () = until_shutdown(&mut shutdown), if !shutting_down => {
                 shutting_down = true;
                 if !conn.playing.load(Ordering::SeqCst) {
