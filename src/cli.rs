@@ -143,6 +143,37 @@ pub enum Command {
     Gen(GenArgs),
     /// Load a maze file and print a summary, or the located error (exit 65).
     Check(CheckArgs),
+    /// Host a maze over SSH: players connect with `ssh -p PORT HOST` and walk it together.
+    Serve(ServeArgs),
+}
+
+#[derive(Args)]
+pub struct ServeArgs {
+    #[command(flatten)]
+    pub maze: MazeArgs,
+    /// Address and port to listen on (0.0.0.0:2222 for every interface).
+    #[arg(long, value_name = "ADDR:PORT", default_value = "127.0.0.1:2222")]
+    pub listen: std::net::SocketAddr,
+    /// The server's ed25519 host key, made there on first start (default:
+    /// $XDG_STATE_HOME/mazewalk/host_ed25519_key, or ~/.local/state/mazewalk/host_ed25519_key).
+    #[arg(long, value_name = "FILE")]
+    pub host_key: Option<PathBuf>,
+    /// Let anyone in, with any user name and any key or none (a public game).
+    #[arg(long, conflicts_with = "authorized_keys")]
+    pub open: bool,
+    /// Let in only the keys listed in FILE (OpenSSH authorized_keys format; default:
+    /// ~/.ssh/authorized_keys, the keys that may log in to this account).
+    #[arg(long, value_name = "FILE")]
+    pub authorized_keys: Option<PathBuf>,
+    /// Connections at once, in all (1..=100000).
+    #[arg(long, value_name = "N", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub max_players: u32,
+    /// Connections at once from one IP address (1..=100000).
+    #[arg(long, value_name = "N", default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub max_per_address: u32,
+    /// Disconnect a player who sends nothing for this long (e.g. 90s, 30m, 2h; 1s..=7d).
+    #[arg(long, value_name = "DUR", default_value = "30m", value_parser = parse_duration)]
+    pub idle_timeout: std::time::Duration,
 }
 
 #[derive(Args)]
@@ -333,6 +364,25 @@ pub fn parse_bytes(s: &str) -> Result<u64, String> {
     match digits.parse::<u64>().ok().and_then(|n| n.checked_mul(1 << shift)) {
         Some(n) if n > 0 => Ok(n),
         _ => Err(format!("expected a size in bytes such as 1000000, 512K, 256M or 2G, found `{s}`")),
+    }
+}
+
+/// A duration: a whole number with `s`, `m`, `h` or `d` (seconds without a unit), 1 s to 7 days.
+pub fn parse_duration(s: &str) -> Result<std::time::Duration, String> {
+    let t = s.trim();
+    let (digits, unit) = match t.char_indices().last() {
+        Some((i, c @ ('s' | 'm' | 'h' | 'd'))) => (&t[..i], c),
+        _ => (t, 's'),
+    };
+    let scale = match unit {
+        'm' => 60,
+        'h' => 3600,
+        'd' => 86_400,
+        _ => 1,
+    };
+    match digits.parse::<u64>().ok().and_then(|n| n.checked_mul(scale)) {
+        Some(secs) if (1..=7 * 86_400).contains(&secs) => Ok(std::time::Duration::from_secs(secs)),
+        _ => Err(format!("expected a duration from 1s to 7d such as 90s, 30m or 2h, found `{s}`")),
     }
 }
 

@@ -3,7 +3,7 @@
 //! The library holds everything testable; the `mazewalk` binary only wires it to the command line and
 //! the terminal. Everything is pure — data in, data out, time passed in as seconds — but three edges:
 //! [`term`] (this process's terminal), [`app::run`] (the local walk's loop) and [`maze::load`]
-//! (reading a file). One player's walk is an [`app::Session`]: terminal bytes in ([`input`]), frame
+//! (reading a file), plus [`serve`], the SSH server that runs many players' sessions. One player's walk is an [`app::Session`]: terminal bytes in ([`input`]), frame
 //! bytes out.
 //!
 //! # The pipeline
@@ -44,4 +44,6 @@ pub mod math;
 pub mod maze;
 pub mod names;
 pub mod render;
+#[cfg(unix)]
+pub mod serve;
 pub mod term;

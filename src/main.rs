@@ -19,7 +19,9 @@ use clap::Parser as _;
 use mazewalk::app::run::run;
 use mazewalk::app::state::Motion;
 use mazewalk::app::{App, Session, SessionOptions};
-use mazewalk::cli::{CheckArgs, Cli, Command, GenArgs, MAX_FRAME_CELLS, MazeArgs, RenderArgs, WalkArgs};
+use mazewalk::cli::{
+    CheckArgs, Cli, Command, GenArgs, MAX_FRAME_CELLS, MazeArgs, RenderArgs, ServeArgs, WalkArgs,
+};
 use mazewalk::frame::{Frame, Region};
 use mazewalk::maze::generate::{GenOptions, generate, generate_grid};
 use mazewalk::maze::{self, Format, LoadError, Maze};
@@ -81,6 +83,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => cmd_render(&args).map(|()| ExitCode::SUCCESS),
         Some(Command::Gen(args)) => cmd_gen(&args).map(|()| ExitCode::SUCCESS),
         Some(Command::Check(args)) => cmd_check(&args).map(|()| ExitCode::SUCCESS),
+        Some(Command::Serve(args)) => cmd_serve(&args),
     };
     match result {
         Ok(code) => code,
@@ -168,6 +171,59 @@ fn write_png(path: &std::path::Path, frame: &Frame, charset: Charset) -> anyhow:
     writer.write_image_data(&pixels).with_context(|| format!("{}: cannot write", path.display()))?;
     writer.finish().with_context(|| format!("{}: cannot write", path.display()))?;
     Ok(())
+}
+
+/// `mazewalk serve`: checks the maze, the host key and who may play before listening, prints where and
+/// how to connect, then serves until SIGINT or SIGTERM (exit 128 + n, as the walk).
+#[cfg(unix)]
+fn cmd_serve(args: &ServeArgs) -> anyhow::Result<ExitCode> {
+    use mazewalk::render::RenderOptions;
+    use mazewalk::serve::{Access, Limits, ServeOptions, host_key};
+    let maze = load_maze(&args.maze)?;
+    App::new(maze.clone(), RenderOptions::default(), 0.0)?; // a start in no cell fails here, not per player
+    let env = |k: &str| std::env::var(k).ok();
+    let key_path = match &args.host_key {
+        Some(path) => path.clone(),
+        None => host_key::default_path(env)?,
+    };
+    let (host_key, made) = host_key::load_or_create(&key_path).context("host key")?;
+    let access = if args.open {
+        Access::Open
+    } else {
+        let path = match &args.authorized_keys {
+            Some(path) => path.clone(),
+            None => std::path::PathBuf::from(env("HOME").unwrap_or_default()).join(".ssh/authorized_keys"),
+        };
+        let keys = host_key::read_authorized_keys(&path)
+            .with_context(|| "who may play (give --authorized-keys FILE, or --open to let anyone in)")?;
+        if keys.is_empty() {
+            bail!("{}: no keys, so nobody could play (add some, or use --open)", path.display());
+        }
+        Access::Keys(keys)
+    };
+    let fingerprint = host_key::fingerprint(host_key.public_key());
+    let limits = Limits {
+        max_players: args.max_players as usize,
+        max_per_address: args.max_per_address as usize,
+        idle_timeout: args.idle_timeout,
+        ..Limits::default()
+    };
+    let options = ServeOptions { maze, listen: args.listen, host_key, access, limits };
+    tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
+    let signal = mazewalk::serve::run(options, |addr| {
+        let made = if made { ", made now" } else { "" };
+        println!("mazewalk: serving on {addr}");
+        println!("host key {fingerprint} ({}{made})", key_path.display());
+        println!("players connect with: ssh -p {} {}", addr.port(), addr.ip());
+        let _ = std::io::stdout().flush();
+    })
+    .with_context(|| format!("serving on {}", args.listen))?;
+    Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)))
+}
+
+#[cfg(not(unix))]
+fn cmd_serve(_: &ServeArgs) -> anyhow::Result<ExitCode> {
+    bail!("`mazewalk serve` runs on Unix only");
 }
 
 fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {

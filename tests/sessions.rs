@@ -118,22 +118,22 @@ fn a_quit_ends_one_session_only_and_a_resize_redraws_only_its_own() {
 }
 
 /// One player stands ahead of another: the other's session, told where the first stands
-/// (`App::others`), shows its figure and initial in the 3D view; the map's corner shows it too.
+/// (`Session::set_peers`, as a host does), shows its figure and initial in the 3D view.
 #[test]
 fn a_player_ahead_appears_in_the_others_view_with_its_initial() {
-    use glam::{Vec2, Vec3};
-    use mazewalk::render::Sprite;
+    use glam::Vec2;
+    use mazewalk::app::overlay::Peer;
+    use mazewalk::frame::Color;
     let mut watcher = Player::new();
     watcher.step(b"", 0.0);
     let camera = watcher.session.app().camera;
     let before = watcher.view();
     // A figure four units straight ahead, in the watcher's own cell or the next.
     let ahead = camera.position + Vec2::from_angle(camera.yaw_deg.to_radians()) * 4.0;
-    let maze = watcher.session.app().maze().clone();
-    let cell = maze.cell_at(ahead).expect("ahead is inside the maze");
-    watcher.session.app_mut().others =
-        vec![Sprite { position: ahead, cell, color: Vec3::new(0.9, 0.3, 0.2), label: 'Z' }];
-    watcher.session.invalidate();
+    assert!(watcher.session.app().maze().cell_at(ahead).is_some(), "ahead is inside the maze");
+    let peer = Peer { position: ahead, heading_deg: 180.0, initial: 'Z', color: Color::Rgb(230, 80, 50) };
+    assert!(watcher.session.set_peers(&[peer]), "a new peer: the picture must change");
+    assert!(!watcher.session.set_peers(&[peer]), "the same again: nothing to redraw");
     watcher.step(b"", 1.0);
     let after = watcher.view();
     assert_ne!(before, after, "the figure changed the picture");

@@ -1,5 +1,5 @@
-//! What is drawn over the 3D view: the map, the HUD line, the key help, the exit screen, and the message
-//! for a terminal too small to draw in. Pure: frames in, frames out; tested as text.
+//! What is drawn over the 3D view: the map (with the other players of a served maze), the HUD line, the
+//! key help, the exit screen, and the message for a terminal too small to draw in. Pure: frames in, frames out; tested as text.
 //!
 //! The overlays keep to the walk's colour depth and charset ([`Style`]): with no colour they use the
 //! terminal's own colours and frame boxes with lines instead of a background; with `ascii` glyphs every
@@ -11,9 +11,9 @@ use glam::Vec2;
 use super::controls::HELP;
 use crate::frame::{Cell, Color, ColorDepth, Frame};
 use crate::maze::{Aabb, Maze};
+use crate::render::Charset;
 use crate::render::camera::Camera;
 use crate::render::palette::{ansi16, quantize_srgb8, xterm_rgb};
-use crate::render::{Charset, Sprite};
 
 /// The smallest terminal the walkthrough draws in (columns, rows).
 pub const MIN_SIZE: (usize, usize) = (20, 6);
@@ -233,6 +233,14 @@ impl MapArea {
         Aabb::new(Vec2::new(x0, y1 - v), Vec2::new(x0 + u, y1))
     }
 
+    /// Whether maze point `p` shows on the map (a host redraws a player's screen when another player
+    /// moves inside it).
+    #[must_use]
+    pub fn shows(&self, p: Vec2) -> bool {
+        let m = self.to_map(p);
+        m.x >= 0.0 && m.y >= 0.0 && (m.x as usize) < self.width && (m.y as usize) < self.height
+    }
+
     /// The map character (column, row) showing maze point `p`, as floats.
     fn to_map(self, p: Vec2) -> Vec2 {
         Vec2::new(
@@ -243,7 +251,8 @@ impl MapArea {
 }
 
 /// Draws the map into `area`: the cells the viewer has `seen` (fog of war: nothing else, not even
-/// the exit), walls in one neutral colour, the view wedge, the other players' initials and the viewer.
+/// the exit), walls in one neutral colour, the view wedge and the viewer ([`draw_peers`] adds the other
+/// players).
 /// `tint`, when given, marks the cells the portal pass visited this frame, with a legend.
 #[allow(clippy::too_many_arguments)]
 pub fn draw_map(
@@ -251,7 +260,6 @@ pub fn draw_map(
     area: &MapArea,
     maze: &Maze,
     camera: &Camera,
-    others: &[Sprite],
     seen: &dyn Fn(u32) -> bool,
     tint: Option<&dyn Fn(u32) -> bool>,
     style: Style,
@@ -313,10 +321,6 @@ pub fn draw_map(
     if let Some(exit) = maze.exit().filter(|exit| seen(exit.cell)).and(maze.exit_point()) {
         put(frame, exit, 'E', EXIT_FG);
     }
-    for other in others {
-        let label = if other.label.is_ascii_graphic() { other.label } else { '?' };
-        put(frame, other.position, label, rgb(other.color.to_array()));
-    }
     let arrow = heading_arrow(camera.yaw_deg);
     let arrow = if style.ascii { ascii_arrow(camera.yaw_deg) } else { arrow };
     put(frame, camera.position, arrow, VIEWER_FG);
@@ -326,6 +330,37 @@ pub fn draw_map(
         for (k, ch) in legend.chars().take(area.width).enumerate() {
             frame.set(area.x + k, area.y + area.height - 1, Cell { ch, fg: LEGEND_FG, bg: VISITED_BG });
         }
+    }
+}
+
+/// Another player walking the same maze (`mazewalk serve`), as the map shows it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Peer {
+    /// Where the player stands (maze plane).
+    pub position: Vec2,
+    /// Which way the player faces, degrees counter-clockwise from +x.
+    pub heading_deg: f32,
+    /// The first letter of the player's name (ASCII).
+    pub initial: char,
+    /// The player's colour.
+    pub color: Color,
+}
+
+/// Draws each peer on the map in `area` as its initial in its colour (over walls and floor alike; the
+/// viewer's own arrow, drawn by [`draw_map`] before, stays on top where they meet).
+pub fn draw_peers(frame: &mut Frame, area: &MapArea, peers: &[Peer], viewer: Vec2, style: Style) {
+    let own = area.shows(viewer).then(|| area.to_map(viewer)).map(|m| (m.x as usize, m.y as usize));
+    for peer in peers.iter().filter(|p| area.shows(p.position)) {
+        let m = area.to_map(peer.position);
+        let (col, row) = (m.x as usize, m.y as usize);
+        if own == Some((col, row)) {
+            continue;
+        }
+        let (x, y) = (area.x + col, area.y + row);
+        let bg = frame.get(x, y).map_or(Color::Default, |c| c.bg);
+        let initial = if peer.initial.is_ascii_graphic() { peer.initial } else { '?' };
+        let fg = if style.depth == ColorDepth::None { Color::Default } else { peer.color };
+        frame.set(x, y, Cell { ch: initial, fg, bg });
     }
 }
 
@@ -343,11 +378,6 @@ pub fn heading_arrow(yaw_deg: f32) -> char {
     ARROWS[octant]
 }
 
-fn rgb([r, g, b]: [f32; 3]) -> Color {
-    let q = |c: f32| (c.clamp(0.0, 1.0) * 255.0).round() as u8;
-    Color::Rgb(q(r), q(g), q(b))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -363,6 +393,26 @@ mod tests {
         draw_too_small(&mut frame, Style::default());
         assert_eq!(frame.lines()[0], " terminal too small ");
         assert!(too_small(19, 24) && too_small(80, 5) && !too_small(20, 6));
+    }
+
+    #[test]
+    fn peers_show_as_their_initials_where_they_stand_and_nowhere_else() {
+        let mut frame = Frame::filled(10, 5, Cell::plain('.'));
+        // 1 unit per column, 2 per row, centred on (0, 0): column = x + 5, row = 2.5 - y / 2.
+        let area = MapArea { x: 0, y: 0, width: 10, height: 5, units_per_col: 1.0, centre: Vec2::ZERO };
+        let peer = |x: f32, y: f32, initial: char| Peer {
+            position: Vec2::new(x, y),
+            heading_deg: 0.0,
+            initial,
+            color: Color::Indexed(196),
+        };
+        let peers =
+            [peer(-4.5, 4.0, 'a'), peer(100.0, 0.0, 'b'), peer(0.5, 0.5, 'c'), peer(2.5, 0.5, '\x1b')];
+        draw_peers(&mut frame, &area, &peers, Vec2::new(0.5, 0.5), Style::default());
+        // `b` is off the map, `c` stands on the viewer (whose arrow wins), the escape byte is a `?`.
+        assert_eq!(frame.lines(), ["a.........", "..........", ".......?..", "..........", ".........."]);
+        assert_eq!(frame.get(0, 0).map(|c| c.fg), Some(Color::Indexed(196)));
+        assert!(area.shows(Vec2::new(-5.0, -4.9)) && !area.shows(Vec2::new(5.0, 0.0)));
     }
 
     #[test]

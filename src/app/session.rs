@@ -33,11 +33,14 @@ use std::time::Instant;
 
 use super::flow::{FlowControl, QUERY};
 
-use super::overlay::{self, MapArea, Style};
+use super::overlay::{self, MapArea, Peer, Style};
 use super::state::{App, MapMode};
-use crate::frame::{Cell, Frame, Region};
+use glam::Vec3;
+
+use crate::frame::{Cell, Color, Frame, Region};
 use crate::input::{Input, InputDecoder, Key, Reply};
-use crate::render::{Culling, Projection, RenderOptions, RenderStats, Renderer};
+use crate::render::palette::xterm_rgb;
+use crate::render::{Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite};
 use crate::term::encoder::{self, Encoder};
 
 /// The most frames per second drawn while something moves.
@@ -119,13 +122,20 @@ pub struct Hud {
     pub elapsed: f64,
 }
 
-/// The buffers one screen is drawn with, reused from frame to frame.
+/// The buffers one screen is drawn with, reused from frame to frame, and what a host shows besides the
+/// walk itself.
 #[derive(Debug, Default)]
 pub struct Screen {
     /// The pipeline and its buffers.
     pub renderer: Renderer,
     /// The link is slow ([`slow_link`]): no dithering, whatever the options say.
     pub slow_link: bool,
+    /// Other players in the same maze (`mazewalk serve`), drawn in the view and on the map.
+    pub peers: Vec<Peer>,
+    /// A message for everyone (e.g. who reached the exit first), shown in a box until taken away.
+    pub notice: Option<String>,
+    /// The peers as the renderer's figures (reused from frame to frame).
+    sprites: Vec<Sprite>,
 }
 
 /// One player's walk: app state, renderer, encoder, input decoder and screen.
@@ -211,6 +221,39 @@ impl Session {
         &self.frame
     }
 
+    /// The other players to draw (a host's view of a shared maze); the next frame is drawn only if
+    /// they differ from the ones drawn. Returns whether they did.
+    pub fn set_peers(&mut self, peers: &[Peer]) -> bool {
+        if self.screen.peers == peers {
+            return false;
+        }
+        self.screen.peers.clear();
+        self.screen.peers.extend_from_slice(peers);
+        self.dirty = true;
+        true
+    }
+
+    /// Shows `notice` in a box over the view (`None` takes it away).
+    pub fn set_notice(&mut self, notice: Option<String>) {
+        if self.screen.notice != notice {
+            self.screen.notice = notice;
+            self.dirty = true;
+        }
+    }
+
+    /// Whether the last frame's portal pass reached `cell`: something moving there may show in the
+    /// view, so a host redraws when it does.
+    #[must_use]
+    pub fn sees_cell(&self, cell: u32) -> bool {
+        self.screen.renderer.portal().was_visited(cell)
+    }
+
+    /// Where the last frame's map is, if it is shown.
+    #[must_use]
+    pub fn map_area(&self) -> Option<MapArea> {
+        map_area(&self.app, &self.frame)
+    }
+
     /// Bytes from the terminal, arriving at time `now`.
     pub fn feed(&mut self, bytes: &[u8], now: f64) {
         self.decode(now, |decoder, out| decoder.feed(bytes, now, out));
@@ -244,7 +287,10 @@ impl Session {
             | Input::MouseUp { .. }
             | Input::Scroll(_)
             | Input::FocusGained
-            | Input::Reply(Reply::CursorPosition { .. } | Reply::KeyboardFlags(_)) => {}
+            | Input::Reply(Reply::CursorPosition { .. }) => {}
+            // The answer to the kitty keyboard query (`CSI ? u`) a remote host sends after pushing its
+            // flags: flag 2 (report event types) means key releases will come.
+            Input::Reply(Reply::KeyboardFlags(flags)) => self.app.releases |= flags & 2 != 0,
             Input::Reply(Reply::DeviceAttributes) => self.flow.answered(now),
         }
     }
@@ -335,6 +381,19 @@ impl Session {
     }
 }
 
+/// A peer as the renderer draws it: a figure in the peer's colour with its initial, standing in the
+/// cell under it (`None` when it stands in no cell).
+fn figure(maze: &crate::maze::Maze, peer: &Peer) -> Option<Sprite> {
+    let cell = maze.cell_at(peer.position)?;
+    let rgb = match peer.color {
+        Color::Rgb(r, g, b) => [r, g, b],
+        Color::Indexed(i) => xterm_rgb(i),
+        Color::Default => [200, 200, 200],
+    };
+    let color = Vec3::from_array(rgb.map(|c| f32::from(c) / 255.0));
+    Some(Sprite { position: peer.position, cell, color, label: peer.initial })
+}
+
 /// Draws the whole screen for the current state into `frame` (its size is the terminal's): the 3D
 /// view, then the map, the HUD and any box. Pure: no I/O, so screens are tested as text.
 pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> RenderStats {
@@ -347,11 +406,14 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     // The bottom row is the HUD; the 3D view gets the rest, drawn in place.
     let view = Region { col: 0, row: 0, cols, rows: rows - 1 };
     let options = RenderOptions { dither: app.options.dither && !screen.slow_link, ..app.options };
+    // The other players, as figures standing in the maze.
+    screen.sprites.clear();
+    screen.sprites.extend(screen.peers.iter().filter_map(|peer| figure(app.maze(), peer)));
     let stats = match screen.renderer.render_with_sprites(
         app.maze(),
         &app.camera,
         &options,
-        &app.others,
+        &screen.sprites,
         frame,
         view,
     ) {
@@ -368,13 +430,9 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     let visible_now = |c: u32| app.options.culling == Culling::Portal && portal.was_visited(c);
     let seen = |c: u32| app.has_seen(c) || visible_now(c);
     let tint: Option<&dyn Fn(u32) -> bool> = app.culling_tint.then_some(&visible_now);
-    let area = match app.map {
-        MapMode::Off => None,
-        MapMode::Corner => Some(MapArea::corner(frame, app.camera.position)),
-        MapMode::Full => Some(MapArea::full(frame, app.maze(), app.camera.position)),
-    };
-    if let Some(area) = area {
-        overlay::draw_map(frame, &area, app.maze(), &app.camera, &app.others, &seen, tint, style);
+    if let Some(area) = map_area(app, frame) {
+        overlay::draw_map(frame, &area, app.maze(), &app.camera, &seen, tint, style);
+        overlay::draw_peers(frame, &area, &screen.peers, app.camera.position, style);
     }
     if let Some(seconds) = app.finished {
         let lines = [
@@ -386,10 +444,24 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         overlay::draw_box(frame, "Found the exit!", &lines, style);
     } else if app.help {
         overlay::draw_box(frame, "Keys (? to close)", &overlay::help_lines(style), style);
+    } else if let Some(notice) = &screen.notice {
+        overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
     }
     overlay::draw_hud(frame, &hud_text(app, &stats, hud, cols), style); // last: boxes never hide it
     overlay::limit_colors(frame, style.depth); // not one code deeper than the terminal's depth
     stats
+}
+
+/// Where the map goes on `frame` for the walk's map mode (`None`: no map).
+fn map_area(app: &App, frame: &Frame) -> Option<MapArea> {
+    if overlay::too_small(frame.width(), frame.height()) {
+        return None; // only the too-small message is drawn
+    }
+    match app.map {
+        MapMode::Off => None,
+        MapMode::Corner => Some(MapArea::corner(frame, app.camera.position)),
+        MapMode::Full => Some(MapArea::full(frame, app.maze(), app.camera.position)),
+    }
 }
 
 /// The HUD line, `width` columns at most: the most useful fields first (where and which way), the

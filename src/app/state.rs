@@ -9,7 +9,7 @@ use crate::maze::Maze;
 use crate::maze::geometry::{WALL_MARGIN, clamp_eye_height, heading_dir, heading_right};
 use crate::maze::movement::{Position, step};
 use crate::render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection};
-use crate::render::{Charset, Culling, RenderOptions, Sprite};
+use crate::render::{Charset, Culling, RenderOptions};
 
 /// Walking speed by default, maze units per second (a generated cell is 4 units); see [`Motion`].
 pub const WALK_SPEED: f32 = 5.0;
@@ -152,8 +152,6 @@ pub struct App {
     pub finished: Option<f64>,
     /// Set by q / Esc.
     pub quit: bool,
-    /// The other figures in the maze (other players): drawn in the view and on the map.
-    pub others: Vec<Sprite>,
     /// The map shows every cell and the exit from the start (`--reveal-map`), not only those seen.
     pub reveal_map: bool,
     /// The map tints the cells the portal pass visited this frame (`v`), a lesson in culling.
@@ -200,7 +198,6 @@ impl App {
             started: now,
             finished: None,
             quit: false,
-            others: Vec::new(),
             reveal_map: false,
             culling_tint: false,
             seen: vec![0; cells.div_ceil(64)],

@@ -250,6 +250,18 @@ mod tests {
         assert_eq!(all, [(0, 0), (0, 1), (1, 0), (1, 1)]);
     }
 
+    /// Attributes of any kind interpolate as `w₀·v₀ + w₁·v₁ + w₂·v₂`, component by component.
+    #[test]
+    fn varyings_are_weighted_sums_of_the_three_vertices() {
+        let v = [[1.0, 10.0], [2.0, 20.0], [4.0, 40.0]];
+        assert_eq!(<[f32; 2]>::weighted(v, [0.5, 0.25, 0.25]), [0.5 + 0.5 + 1.0, 5.0 + 5.0 + 10.0]);
+        assert_eq!(<[f32; 2]>::weighted(v, [0.0, 0.0, 1.0]), [4.0, 40.0]);
+        let w = Vec3::new(1.0, 2.0, 3.0);
+        assert_eq!(Vec3::weighted([w, w * 2.0, w * 4.0], [0.25, 0.25, 0.5]), w * 2.75);
+        let p = Vec2::new(1.0, -1.0);
+        assert_eq!(Vec2::weighted([p, p * 3.0, -p], [0.5, 0.5, 1.0]), p);
+    }
+
     #[test]
     fn barycentric_weights_are_in_the_callers_vertex_order() {
         let tri = [Vec2::new(0.5, 0.5), Vec2::new(0.5, 8.5), Vec2::new(8.5, 0.5)];

@@ -1,0 +1,164 @@
+//! The server's host key: an ed25519 key in OpenSSH format, made on first start and kept with 0600
+//! permissions in a folder only the owner may enter, so that players' `known_hosts` stay valid across
+//! restarts. Default place: `$XDG_STATE_HOME/mazewalk/host_ed25519_key`, else
+//! `~/.local/state/mazewalk/host_ed25519_key` (`--host-key FILE` overrides).
+//!
+//! Also the authorized-keys file: who may play when the server is not `--open`.
+
+use std::fs::{self, OpenOptions};
+use std::io::{self, Write as _};
+use std::os::unix::fs::{DirBuilderExt as _, OpenOptionsExt as _, PermissionsExt as _};
+use std::path::{Path, PathBuf};
+
+use russh::keys::ssh_key::private::Ed25519Keypair;
+use russh::keys::ssh_key::public::KeyData;
+use russh::keys::ssh_key::{self, LineEnding};
+use russh::keys::{HashAlg, PrivateKey, PublicKey};
+
+/// Why the host key or the authorized keys could not be had.
+#[derive(Debug, thiserror::Error)]
+pub enum KeyError {
+    /// Reading, creating or writing a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What failed.
+        source: io::Error,
+    },
+    /// The file is not a key (or not a list of keys) in OpenSSH format.
+    #[error("{}: not an OpenSSH key file: {source}", path.display())]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What the parser said.
+        source: ssh_key::Error,
+    },
+    /// The private key file may be read by others (as sshd, the server refuses it).
+    #[error("{}: permissions {mode:o} let others read the host key; chmod 600 it", path.display())]
+    TooOpen {
+        /// The file.
+        path: PathBuf,
+        /// Its permission bits.
+        mode: u32,
+    },
+    /// No place for the key: neither `XDG_STATE_HOME` nor `HOME` is set.
+    #[error("no place for the host key: set HOME or XDG_STATE_HOME, or give --host-key FILE")]
+    NoHome,
+}
+
+/// The host key's default path from the environment lookup `get` (`XDG_STATE_HOME`, `HOME`).
+///
+/// # Errors
+/// [`KeyError::NoHome`] when neither variable is set (or both are empty).
+pub fn default_path(get: impl Fn(&str) -> Option<String>) -> Result<PathBuf, KeyError> {
+    let non_empty = |k: &str| get(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+    let state = non_empty("XDG_STATE_HOME")
+        .or_else(|| non_empty("HOME").map(|home| home.join(".local").join("state")))
+        .ok_or(KeyError::NoHome)?;
+    Ok(state.join("mazewalk").join("host_ed25519_key"))
+}
+
+/// Reads the host key at `path`, or makes a new ed25519 key there (its folders with mode 0700, the
+/// file with mode 0600) if there is none. Returns the key and whether it was made now.
+///
+/// # Errors
+/// The file cannot be read, made or written, is not an OpenSSH private key, or others may read it.
+pub fn load_or_create(path: &Path) -> Result<(PrivateKey, bool), KeyError> {
+    let io = |source| KeyError::Io { path: path.to_path_buf(), source };
+    match fs::metadata(path) {
+        Ok(meta) => {
+            let mode = meta.permissions().mode() & 0o777;
+            if mode & 0o077 != 0 {
+                return Err(KeyError::TooOpen { path: path.to_path_buf(), mode });
+            }
+            let text = fs::read_to_string(path).map_err(io)?;
+            let key = PrivateKey::from_openssh(text.as_bytes())
+                .map_err(|source| KeyError::Format { path: path.to_path_buf(), source })?;
+            Ok((key, false))
+        }
+        Err(err) if err.kind() == io::ErrorKind::NotFound => {
+            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                fs::DirBuilder::new().recursive(true).mode(0o700).create(dir).map_err(io)?;
+            }
+            let mut seed = [0u8; 32];
+            getrandom::fill(&mut seed).map_err(|e| io(io::Error::other(e.to_string())))?;
+            let key = PrivateKey::from(Ed25519Keypair::from_seed(&seed));
+            seed.fill(0);
+            let text = key
+                .to_openssh(LineEnding::LF)
+                .map_err(|source| KeyError::Format { path: path.to_path_buf(), source })?;
+            // create_new: never overwrite a key another server made meanwhile.
+            let mut file =
+                OpenOptions::new().write(true).create_new(true).mode(0o600).open(path).map_err(io)?;
+            file.write_all(text.as_bytes()).and_then(|()| file.sync_all()).map_err(io)?;
+            Ok((key, true))
+        }
+        Err(err) => Err(io(err)),
+    }
+}
+
+/// The key's fingerprint as OpenSSH prints it (`SHA256:…`).
+#[must_use]
+pub fn fingerprint(key: &PublicKey) -> String {
+    key.fingerprint(HashAlg::Sha256).to_string()
+}
+
+/// The keys of an `authorized_keys` file (their comments and options such as `command=` are not
+/// honoured: a key listed is a key that may play).
+///
+/// # Errors
+/// The file cannot be read or a line is not a key.
+pub fn read_authorized_keys(path: &Path) -> Result<Vec<KeyData>, KeyError> {
+    let text =
+        fs::read_to_string(path).map_err(|source| KeyError::Io { path: path.to_path_buf(), source })?;
+    ssh_key::AuthorizedKeys::new(&text)
+        .map(|entry| entry.map(|e| e.public_key().key_data().clone()))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|source| KeyError::Format { path: path.to_path_buf(), source })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_place_is_the_state_folder() {
+        let env = |vars: &'static [(&'static str, &'static str)]| {
+            move |k: &str| vars.iter().find(|(n, _)| *n == k).map(|(_, v)| (*v).to_string())
+        };
+        assert_eq!(
+            default_path(env(&[("HOME", "/home/a")])).unwrap(),
+            Path::new("/home/a/.local/state/mazewalk/host_ed25519_key")
+        );
+        assert_eq!(
+            default_path(env(&[("HOME", "/home/a"), ("XDG_STATE_HOME", "/s")])).unwrap(),
+            Path::new("/s/mazewalk/host_ed25519_key")
+        );
+        assert!(matches!(default_path(env(&[("HOME", "")])), Err(KeyError::NoHome)));
+    }
+
+    #[test]
+    fn a_key_is_made_once_private_and_then_read_back() {
+        let dir = std::env::temp_dir().join(format!("mazewalk-host-key-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        let path = dir.join("deep").join("host_key");
+        let (made, new) = load_or_create(&path).unwrap();
+        assert!(new);
+        assert_eq!(fs::metadata(&path).unwrap().permissions().mode() & 0o777, 0o600);
+        assert_eq!(fs::metadata(path.parent().unwrap()).unwrap().permissions().mode() & 0o777, 0o700);
+        let (read, new) = load_or_create(&path).unwrap();
+        assert!(!new);
+        assert_eq!(fingerprint(made.public_key()), fingerprint(read.public_key()));
+        assert!(fingerprint(read.public_key()).starts_with("SHA256:"));
+        fs::set_permissions(&path, fs::Permissions::from_mode(0o644)).unwrap();
+        assert!(matches!(load_or_create(&path), Err(KeyError::TooOpen { mode: 0o644, .. })));
+        let keys = dir.join("authorized_keys");
+        let line = made.public_key().to_openssh().unwrap();
+        fs::write(&keys, format!("# a comment\n\n{line} someone@somewhere\n")).unwrap();
+        assert_eq!(read_authorized_keys(&keys).unwrap(), vec![made.public_key().key_data().clone()]);
+        fs::write(&keys, "ssh-ed25519 not-base64\n").unwrap();
+        assert!(matches!(read_authorized_keys(&keys), Err(KeyError::Format { .. })));
+        fs::remove_dir_all(&dir).unwrap();
+    }
+}

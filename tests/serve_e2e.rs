@@ -1,0 +1,436 @@
+//! End to end: `mazewalk serve` (the built binary) and the real OpenSSH client. Each `ssh -tt` runs in a
+//! pseudo-terminal (as its controlling terminal, through `setsid -c`, so that resizing the pty sends it
+//! SIGWINCH); a reader thread feeds everything it prints to a `vt100` emulator and answers the
+//! device-attributes queries as a terminal would. Loopback only; every wait has a deadline; children
+//! are killed on drop.
+//!
+//! Checks: two players see each other on the map and a player who leaves disappears from it; a resize
+//! redraws at the new size; `q` restores the terminal (main screen, cursor, keyboard flags popped,
+//! mouse off) and exits 0; commands, subsystems, port forwarding and a session without a pty are
+//! refused with a message; `--authorized-keys` lets in only its keys; SIGTERM tells every player the
+//! server is shutting down, restores their terminals and exits 143; one log line per connect and
+//! disconnect.
+#![cfg(unix)]
+
+use std::fs::File;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::num::NonZeroU16;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::time::{Duration, Instant};
+
+use mazewalk::serve::player::REMOTE;
+use mazewalk::serve::ssh::{NO_EXEC_MESSAGE, NO_PTY_MESSAGE, SHUTDOWN_MESSAGE};
+use mazewalk::term::guard::restore_sequence;
+use rustix::termios::{self, Winsize};
+
+/// Longest wait for anything. Generous for a loaded CI machine; each step takes well under a second.
+const TIMEOUT: Duration = Duration::from_secs(20);
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// A scratch folder of the test's own, removed on drop.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(name: &str) -> Scratch {
+        let dir = std::env::temp_dir().join(format!("mazewalk-serve-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("scratch folder");
+        Scratch(dir)
+    }
+
+    /// A fresh ed25519 key pair made by ssh-keygen; returns the private key's path.
+    fn key(&self, name: &str) -> PathBuf {
+        let path = self.0.join(name);
+        let status = Command::new("ssh-keygen")
+            .args(["-q", "-t", "ed25519", "-N", "", "-C", name, "-f"])
+            .arg(&path)
+            .stdin(Stdio::null())
+            .status()
+            .expect("ssh-keygen");
+        assert!(status.success());
+        path
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// The server binary, with its log.
+struct ServerProcess {
+    child: Child,
+    port: u16,
+    log: Arc<Mutex<String>>,
+}
+
+impl ServerProcess {
+    fn start(scratch: &Scratch, args: &[&str]) -> ServerProcess {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .arg("serve")
+            .args(["--listen", "127.0.0.1:0", "--host-key"])
+            .arg(scratch.0.join("host_key"))
+            .args(args)
+            .env("HOME", &scratch.0)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start mazewalk serve");
+        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
+        let mut line = String::new();
+        stdout.read_line(&mut line).expect("the first line");
+        let port = line
+            .trim()
+            .rsplit_once(':')
+            .and_then(|(_, port)| port.parse().ok())
+            .unwrap_or_else(|| panic!("expected `mazewalk: serving on ADDR:PORT`, got {line:?}"));
+        let log = Arc::new(Mutex::new(String::new()));
+        let stderr = child.stderr.take().expect("stderr");
+        let sink = Arc::clone(&log);
+        std::thread::spawn(move || {
+            for line in BufReader::new(stderr).lines() {
+                let Ok(line) = line else { break };
+                let mut log = lock(&sink);
+                log.push_str(&line);
+                log.push('\n');
+            }
+        });
+        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink())); // the rest
+        ServerProcess { child, port, log }
+    }
+
+    /// Waits until the log holds `n` lines containing `what`.
+    fn wait_log(&self, what: &str, n: usize) {
+        let deadline = Instant::now() + TIMEOUT;
+        while lock(&self.log).matches(what).count() < n {
+            assert!(
+                Instant::now() < deadline,
+                "timed out waiting for {n}× {what:?} in the log:\n{}",
+                lock(&self.log)
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    /// `ssh` to this server, not in a terminal: its exit status, stdout and stderr.
+    fn ssh_batch(&self, key: Option<&Path>, user: &str, args: &[&str]) -> (ExitStatus, String, String) {
+        let out = Command::new("ssh")
+            .args(ssh_args(self.port, key, user))
+            .args(args)
+            .stdin(Stdio::null())
+            .output()
+            .expect("run ssh");
+        (out.status, String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+    }
+}
+
+impl Drop for ServerProcess {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The client options every test uses: no config files, no known hosts, no prompts, only the given key.
+fn ssh_args(port: u16, key: Option<&Path>, user: &str) -> Vec<String> {
+    let mut args: Vec<String> = [
+        "-F",
+        "/dev/null",
+        "-p",
+        &port.to_string(),
+        "-o",
+        "StrictHostKeyChecking=no",
+        "-o",
+        "UserKnownHostsFile=/dev/null",
+        "-o",
+        "LogLevel=ERROR",
+        "-o",
+        "BatchMode=yes",
+        "-o",
+        "IdentitiesOnly=yes",
+        "-o",
+        "ConnectTimeout=10",
+    ]
+    .map(String::from)
+    .into();
+    if let Some(key) = key {
+        args.extend(["-i".to_string(), key.display().to_string()]);
+    } else {
+        args.extend(["-i".to_string(), "/dev/null".to_string()]);
+    }
+    args.push(format!("{user}@127.0.0.1"));
+    args
+}
+
+/// What the reader thread shares with the test.
+struct Screen {
+    parser: vt100::Parser,
+    raw: Vec<u8>,
+    eof: bool,
+}
+
+/// `ssh -tt` in a pty, read by a `vt100` emulator.
+struct Player {
+    child: Child,
+    master: File,
+    shared: Arc<Mutex<Screen>>,
+}
+
+fn winsize(cols: u16, rows: u16) -> Winsize {
+    Winsize { ws_row: rows, ws_col: cols, ws_xpixel: 0, ws_ypixel: 0 }
+}
+
+fn nz(n: u16) -> NonZeroU16 {
+    NonZeroU16::new(n).expect("non-zero")
+}
+
+impl Player {
+    fn connect(server: &ServerProcess, key: Option<&Path>, user: &str, cols: u16, rows: u16) -> Player {
+        let pty = rustix_openpty::openpty(None, Some(&winsize(cols, rows))).expect("openpty");
+        let master = File::from(pty.controller);
+        let slave = pty.user;
+        let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
+        let child = Command::new("setsid")
+            .args(["-c", "ssh", "-tt"])
+            .args(ssh_args(server.port, key, user))
+            .env("TERM", "xterm-256color")
+            .stdin(stdio())
+            .stdout(stdio())
+            .stderr(stdio())
+            .spawn()
+            .expect("spawn setsid -c ssh");
+        drop(slave);
+        let shared = Arc::new(Mutex::new(Screen {
+            parser: vt100::Parser::new(nz(rows), nz(cols), 0),
+            raw: Vec::new(),
+            eof: false,
+        }));
+        let mut input = master.try_clone().expect("dup");
+        let mut answer = master.try_clone().expect("dup");
+        let sink = Arc::clone(&shared);
+        std::thread::spawn(move || {
+            let mut buf = vec![0u8; 1 << 16];
+            let mut scanned = 0usize;
+            loop {
+                let n = match input.read(&mut buf) {
+                    Ok(0) | Err(_) => break, // EIO once ssh and every copy of the terminal side are gone
+                    Ok(n) => n,
+                };
+                let mut s = lock(&sink);
+                s.raw.extend_from_slice(&buf[..n]);
+                s.parser.process(&buf[..n]);
+                // Answer each device-attributes query (flow control), as an xterm would; a query may
+                // straddle two reads.
+                let from = scanned.saturating_sub(2);
+                let queries = s.raw[from..].windows(3).filter(|w| *w == b"\x1b[c").count();
+                scanned = s.raw.len();
+                drop(s);
+                for _ in 0..queries {
+                    let _ = answer.write_all(b"\x1b[?62;22c");
+                }
+            }
+            lock(&sink).eof = true;
+        });
+        Player { child, master, shared }
+    }
+
+    fn send(&mut self, bytes: &[u8]) {
+        self.master.write_all(bytes).expect("write to the pty");
+    }
+
+    fn resize(&mut self, cols: u16, rows: u16) {
+        lock(&self.shared).parser.screen_mut().set_size(nz(rows), nz(cols));
+        termios::tcsetwinsize(&self.master, winsize(cols, rows)).expect("resize the pty");
+    }
+
+    /// Polls the screen until `ok` holds; panics with the screen after [`TIMEOUT`].
+    fn wait_for(&self, what: &str, ok: impl Fn(&vt100::Screen, &[u8]) -> bool) {
+        let deadline = Instant::now() + TIMEOUT;
+        loop {
+            {
+                let s = lock(&self.shared);
+                if ok(s.parser.screen(), &s.raw) {
+                    return;
+                }
+                if Instant::now() > deadline {
+                    let tail =
+                        String::from_utf8_lossy(&s.raw[s.raw.len().saturating_sub(400)..]).into_owned();
+                    panic!(
+                        "timed out waiting for {what}; the screen shows:\n{}\nlast bytes: {tail:?}",
+                        s.parser.screen().contents()
+                    );
+                }
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    fn wait_exit(&mut self) -> ExitStatus {
+        let deadline = Instant::now() + TIMEOUT;
+        loop {
+            if let Some(status) = self.child.try_wait().expect("wait for ssh") {
+                return status;
+            }
+            assert!(Instant::now() < deadline, "ssh did not exit");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    fn raw(&self) -> Vec<u8> {
+        lock(&self.shared).raw.clone()
+    }
+}
+
+impl Drop for Player {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The game is on screen: the HUD's help hint on the bottom row.
+fn playing(screen: &vt100::Screen, _: &[u8]) -> bool {
+    let rows = screen.size().0.get();
+    screen.alternate_screen() && screen.contents_between(rows - 1, 0, rows - 1, u16::MAX).contains("? help")
+}
+
+/// Whether `ch` shows in the corner map (the top third of the right third of the screen).
+fn on_map(screen: &vt100::Screen, ch: char) -> bool {
+    let (rows, cols) = (screen.size().0.get(), screen.size().1.get());
+    let width = (cols / 3).min(40);
+    (0..rows / 3).any(|row| screen.contents_between(row, cols - width, row, cols).contains(ch))
+}
+
+/// The terminal is as before the game: main screen, cursor shown, mouse reports off.
+fn restored(screen: &vt100::Screen) -> bool {
+    !screen.alternate_screen()
+        && !screen.hide_cursor()
+        && screen.mouse_protocol_mode() == vt100::MouseProtocolMode::None
+}
+
+#[test]
+fn two_players_see_each_other_and_q_restores_the_terminal() {
+    let scratch = Scratch::new("two");
+    let server = ServerProcess::start(&scratch, &["--open"]);
+    let alice = Player::connect(&server, None, "alice", 100, 30);
+    alice.wait_for("alice's game", playing);
+    let mut bob = Player::connect(&server, None, "bob+1", 100, 30);
+    bob.wait_for("bob's game", playing);
+    // Both start on the same spot, where each one's own arrow is drawn: bob walks away a few steps.
+    bob.send(b"www");
+    alice.wait_for("bob on alice's map", |s, _| on_map(s, 'B'));
+    bob.wait_for("alice on bob's map", |s, _| on_map(s, 'A'));
+
+    bob.send(b"q");
+    assert!(bob.wait_exit().success(), "q ends ssh with exit status 0");
+    bob.wait_for("bob's terminal restored", |s, _| {
+        restored(s) && s.contents().contains("Thanks for walking.")
+    });
+    let raw = bob.raw();
+    let restore = restore_sequence(REMOTE);
+    let at = raw.windows(restore.len()).rposition(|w| w == restore.as_bytes());
+    assert!(
+        at.is_some(),
+        "the restore bytes (keyboard flags popped, mouse off, cursor, main screen) were sent"
+    );
+    alice.wait_for("bob gone from alice's map", |s, _| !on_map(s, 'B'));
+    server.wait_log("disconnected", 1);
+    let log = lock(&server.log).clone();
+    let bob_line = log.lines().find(|l| l.contains("disconnected") && l.contains("bob")).expect("bob's line");
+    for field in ["peer=127.0.0.1:", "user=", "key=", "seconds=", "bytes_in=", "bytes_out="] {
+        assert!(bob_line.contains(field), "{field} in {bob_line}");
+    }
+    assert!(bob_line.contains("user=\"bob1\""), "the name as others see it: {bob_line}");
+    assert_eq!(log.matches(" connected").count(), 2, "{log}");
+}
+
+#[test]
+fn a_resize_redraws_at_the_new_size() {
+    let scratch = Scratch::new("resize");
+    let server = ServerProcess::start(&scratch, &["--open"]);
+    let mut player = Player::connect(&server, None, "carol", 80, 24);
+    player.wait_for("the game", playing);
+    player.resize(120, 40);
+    player.wait_for("the HUD on row 40, full width", |s, raw| {
+        playing(s, raw) && s.contents_between(39, 100, 39, 120).contains("? help")
+    });
+    player.resize(30, 10);
+    player.wait_for("the HUD on row 10", |s, raw| {
+        playing(s, raw) && s.contents_between(9, 20, 9, 30).contains("help")
+    });
+}
+
+#[test]
+fn commands_forwarding_and_sessions_without_a_terminal_are_refused() {
+    let scratch = Scratch::new("refuse");
+    let server = ServerProcess::start(&scratch, &["--open"]);
+    let (status, _, stderr) = server.ssh_batch(None, "dave", &["echo", "hello"]);
+    assert_eq!(status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains(NO_EXEC_MESSAGE), "{stderr}");
+    let (status, _, stderr) = server.ssh_batch(None, "dave", &["-s", "sftp"]);
+    assert_ne!(status.code(), Some(0), "{stderr}");
+    assert!(stderr.contains(NO_EXEC_MESSAGE), "{stderr}");
+    let (status, stdout, _) = server.ssh_batch(None, "dave", &["-T"]);
+    assert_eq!(status.code(), Some(1));
+    assert!(stdout.contains(NO_PTY_MESSAGE), "{stdout}");
+    // -W: a direct-tcpip channel (local forwarding); -R: remote forwarding.
+    let (status, _, stderr) = server.ssh_batch(None, "dave", &["-W", "127.0.0.1:22"]);
+    assert_eq!(status.code(), Some(255));
+    assert!(stderr.contains("forwarding failed") || stderr.contains("prohibited"), "{stderr}");
+    let (status, _, stderr) =
+        server.ssh_batch(None, "dave", &["-N", "-o", "ExitOnForwardFailure=yes", "-R", "0:127.0.0.1:22"]);
+    assert_eq!(status.code(), Some(255));
+    assert!(stderr.contains("forwarding failed"), "{stderr}");
+}
+
+#[test]
+fn authorized_keys_let_in_only_their_keys() {
+    let scratch = Scratch::new("keys");
+    let (known, unknown) = (scratch.key("known"), scratch.key("unknown"));
+    let list = scratch.0.join("players");
+    std::fs::copy(known.with_extension("pub"), &list).expect("authorized keys");
+    let server = ServerProcess::start(&scratch, &["--authorized-keys", list.to_str().expect("utf-8")]);
+    let (status, _, stderr) = server.ssh_batch(Some(&unknown), "eve", &["-T"]);
+    assert_eq!(status.code(), Some(255), "{stderr}");
+    assert!(stderr.contains("Permission denied"), "{stderr}");
+    let (status, _, stderr) = server.ssh_batch(None, "eve", &["-T"]);
+    assert_eq!(status.code(), Some(255), "no key, no entry: {stderr}");
+    let mut player = Player::connect(&server, Some(&known), "frank", 80, 24);
+    player.wait_for("the game", playing);
+    server.wait_log("SHA256:", 1);
+    player.send(b"q");
+    assert!(player.wait_exit().success());
+}
+
+#[test]
+fn sigterm_says_goodbye_restores_every_terminal_and_exits_143() {
+    let scratch = Scratch::new("term");
+    let mut server = ServerProcess::start(&scratch, &["--open"]);
+    let mut players: Vec<Player> =
+        ["gina", "hugo"].iter().map(|u| Player::connect(&server, None, u, 80, 24)).collect();
+    for p in &players {
+        p.wait_for("the game", playing);
+    }
+    let pid = rustix::process::Pid::from_child(&server.child);
+    rustix::process::kill_process(pid, rustix::process::Signal::TERM).expect("SIGTERM");
+    for p in &mut players {
+        p.wait_for("the goodbye", |s, _| restored(s) && s.contents().contains(SHUTDOWN_MESSAGE));
+        assert_eq!(p.wait_exit().code(), Some(1), "the game ended, not by the player");
+    }
+    let deadline = Instant::now() + TIMEOUT;
+    let status = loop {
+        if let Some(status) = server.child.try_wait().expect("wait") {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "the server did not exit");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(status.code(), Some(143));
+}
