@@ -383,6 +383,13 @@ impl Edges {
         }
     }
 
+    /// Edge `e`'s start and end vertices (cheaper than [`Edges::get`], for the hot loops).
+    #[must_use]
+    pub fn ends(&self, e: usize) -> (VertexId, VertexId) {
+        let p = &self.packed[e];
+        (p.start, p.end)
+    }
+
     /// `true` when edge `e` is a wall (cheaper than [`Edges::get`]).
     #[must_use]
     pub fn is_opaque(&self, e: usize) -> bool {
@@ -698,8 +705,8 @@ impl Maze {
     /// Edge `e`'s end points, start first.
     #[must_use]
     pub fn edge_points(&self, e: EdgeId) -> (Vec2, Vec2) {
-        let edge = self.edges.packed[e as usize]; // not `get`: no flag or colour needed
-        (self.vertex(edge.start), self.vertex(edge.end))
+        let (start, end) = self.edges.ends(e as usize);
+        (self.vertex(start), self.vertex(end))
     }
 
     /// Edge `e`'s end points ordered counter-clockwise around `cell` (the cell on their left).

@@ -105,10 +105,11 @@ fn read_split(file: &str, text: &str) -> Option<Parts> {
         let second = s.spawn(|| {
             let bytes = text.as_bytes();
             let mut r = Reader { file, text, pos: skip_tokens(bytes, after_nv, 2 * nv)? };
-            let (ne, _) = r.count(&|| "edge count".into(), "edges", 8).ok()?;
+            let (ne, cap) = r.count(&|| "edge count".into(), "edges", 8).ok()?;
             let start = skip_tokens(bytes, r.pos, 8 * split(ne))?;
             r.pos = start;
-            let mut edges = Edges::with_capacity(ne - split(ne));
+            // a claimed count is not trusted: room for what the rest of the text can hold
+            let mut edges = Edges::with_capacity(cap.min(ne - split(ne)));
             read_edges(&mut r, split(ne)..ne, &mut edges).ok()?;
             Some((start, edges, read_cells_to_end(&mut r).ok()?))
         });
@@ -625,6 +626,10 @@ mod tests {
         let joined = lines.join("  \n ");
         let (split, in_order) = both(&joined.replace("\n", " "));
         assert_eq!(split.unwrap(), in_order.unwrap());
+        // a claimed count beyond the text: the same end-of-file error, and no room reserved for it
+        let claims = format!("3 0 0 1 0 0 1 4294967294 {}", "0 1 0 -1 1 .5 .5 .5 ".repeat(50));
+        let (split, in_order) = both(&claims);
+        assert_eq!(split.map_err(|e| e.to_string()), in_order.map_err(|e| e.to_string()));
         for at in [0, 1, 3, lines.len() / 3, lines.len() / 2, 2 * lines.len() / 3, lines.len() - 2] {
             for bad in ["x", "7", "", "1 2 3 4 5 6 7 8 9"] {
                 let mut broken = lines.clone();

@@ -187,10 +187,8 @@ fn cell_loop(
 pub(super) fn crossings_of_parts(vertices: &[Vec2], edges: &Edges) -> Result<(), MazeError> {
     let n = vertices.len();
     let usable = vertices.iter().all(|p| p.is_finite() && p.abs().max_element() <= COORD_BOUND)
-        && edges.iter().all(|e| {
-            (e.start as usize) < n
-                && (e.end as usize) < n
-                && vertices[e.start as usize] != vertices[e.end as usize]
+        && (0..edges.len()).map(|e| edges.ends(e)).all(|(start, end)| {
+            (start as usize) < n && (end as usize) < n && vertices[start as usize] != vertices[end as usize]
         });
     if !usable {
         return Ok(());
@@ -198,8 +196,8 @@ pub(super) fn crossings_of_parts(vertices: &[Vec2], edges: &Edges) -> Result<(),
     let extents = super::extents(vertices);
     let n = edges.len();
     let segment = |e: usize| {
-        let edge = edges.get(e);
-        [vertices[edge.start as usize], vertices[edge.end as usize]]
+        let (start, end) = edges.ends(e);
+        [vertices[start as usize], vertices[end as usize]]
     };
     let edge_box = |e: usize| {
         let [a, b] = segment(e);
