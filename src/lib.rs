@@ -1,10 +1,10 @@
 //! mazewalk: a first-person 3D maze walkthrough for the terminal.
 //!
 //! The library holds everything testable; the `mazewalk` binary only wires it to the command line and
-//! the terminal. Everything is pure — data in, data out, time passed in as seconds — but three edges:
-//! [`term`] (this process's terminal), [`app::run`] (the local walk's loop) and [`maze::load`]
-//! (reading a file), plus [`serve`], the SSH server that runs many players' sessions. One player's walk is an [`app::Session`]: terminal bytes in ([`input`]), frame
-//! bytes out.
+//! the terminal. Everything is pure — data in, data out, time passed in as seconds — but four edges:
+//! [`term`] (this process's terminal), [`app::run`] (the local walk's loop), [`maze::load`] (reading a
+//! file) and `serve::ssh` (the SSH server that runs many players' sessions, Unix only). One player's
+//! walk is an [`app::Session`]: terminal bytes in ([`input`]), frame bytes out.
 //!
 //! # The pipeline
 //!

@@ -50,11 +50,7 @@ async fn scenario() {
     if std::env::var_os("MAZEWALK_LOG").is_some() {
         let _ = tracing_subscriber::fmt().with_writer(std::io::stderr).try_init(); // the server's log lines
     }
-    let maze = mazewalk::maze::builtin().expect("built-in maze");
-    let listen: SocketAddr = "127.0.0.1:0".parse().expect("address");
-    let options =
-        ServeOptions { maze, listen, host_key: load::host_key(), access: Access::Open, limits: limits() };
-    let server = Server::start(options).await.expect("start the server");
+    let server = server_with(limits()).await;
     let addr = server.local_addr();
 
     // 50 players stand still.
@@ -153,4 +149,50 @@ async fn scenario() {
         assert!(!stats.closed && stats.frames >= 1, "idle players keep their connection");
     }
     server.shutdown().await;
+}
+
+/// A server on loopback with `limits`, open to all.
+async fn server_with(limits: Limits) -> Server {
+    let maze = mazewalk::maze::builtin().expect("built-in maze");
+    let listen: SocketAddr = "127.0.0.1:0".parse().expect("address");
+    let options = ServeOptions { maze, listen, host_key: load::host_key(), access: Access::Open, limits };
+    Server::start(options).await.expect("start the server")
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_idle_player_is_told_and_let_go_and_the_connection_limits_hold() {
+    tokio::time::timeout(DEADLINE, async {
+        let limits = Limits {
+            idle_timeout: Duration::from_secs(1),
+            max_players: 3,
+            max_per_address: 2,
+            ..Limits::default()
+        };
+        let server = server_with(limits).await;
+        let addr = server.local_addr();
+        let first = connect(addr, "first", (80, 24)).await.expect("the first player");
+        let _second = connect(addr, "second", (80, 24)).await.expect("the second player");
+        assert!(connect(addr, "third", (80, 24)).await.is_err(), "a third from the same address is refused");
+        connections_become(&server, 2, Duration::from_secs(10), "two from one address").await;
+
+        // The first says nothing: after the idle timeout it is told why, its terminal restored.
+        let Connected { handle: _handle, mut channel } = first;
+        let mut seen = Vec::new();
+        let started = Instant::now();
+        let status = loop {
+            match channel.wait().await {
+                Some(russh::ChannelMsg::Data { data }) => seen.extend_from_slice(&data),
+                Some(russh::ChannelMsg::ExitStatus { exit_status }) => break exit_status,
+                Some(_) => {}
+                None => panic!("closed without an exit status"),
+            }
+        };
+        let text = String::from_utf8_lossy(&seen);
+        assert!(started.elapsed() >= Duration::from_millis(900), "not before the timeout");
+        assert!(text.contains("without a key") && text.contains("\x1b[?1049l"), "{text:?}");
+        assert_eq!(status, 1);
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
 }

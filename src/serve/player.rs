@@ -79,6 +79,21 @@ pub fn color_depth(term: &str, colorterm: Option<&str>) -> ColorDepth {
     })
 }
 
+/// Whether `bytes` are nothing but whole answers a terminal sends by itself: `CSI ? … c` (device
+/// attributes, after every frame) and `CSI ? … u` (keyboard flags).
+#[must_use]
+pub fn only_replies(mut bytes: &[u8]) -> bool {
+    while !bytes.is_empty() {
+        let Some(rest) = bytes.strip_prefix(b"\x1b[?") else { return false };
+        let params = rest.iter().take_while(|b| b.is_ascii_digit() || **b == b';').count();
+        match rest.get(params) {
+            Some(b'c' | b'u') => bytes = &rest[params + 1..],
+            _ => return false,
+        }
+    }
+    true
+}
+
 /// One player's walk on a remote terminal.
 #[derive(Debug)]
 pub struct Player {
@@ -135,13 +150,16 @@ impl Player {
         }
     }
 
-    /// Bytes the player typed, arriving at `now`; beyond the input rate they are dropped.
-    pub fn feed(&mut self, bytes: &[u8], now: f64) {
+    /// Bytes from the player's terminal, arriving at `now`; beyond the input rate they are dropped.
+    /// Returns whether they held anything but the terminal's own answers (device attributes, keyboard
+    /// flags), which come without a key pressed: only the rest keeps a player from being idle.
+    pub fn feed(&mut self, bytes: &[u8], now: f64) -> bool {
         let allowed = self.input.take(bytes.len(), now);
         self.dropped += (bytes.len() - allowed) as u64;
         if allowed > 0 {
             self.session.feed(&bytes[..allowed], now);
         }
+        !only_replies(bytes)
     }
 
     /// The client's window changed.
@@ -273,6 +291,19 @@ mod tests {
         assert_eq!(p.dropped(), 200_000 - u64::from(Limits::default().input_burst));
         p.feed(b"q", 5.0);
         assert!(p.is_over());
+    }
+
+    #[test]
+    fn only_keys_count_as_input_not_the_terminals_answers() {
+        assert!(only_replies(b"\x1b[?62;22c"));
+        assert!(only_replies(b"\x1b[?62;22c\x1b[?1u\x1b[?1;2c"));
+        assert!(!only_replies(b"\x1b[?62;22cw"));
+        assert!(!only_replies(b"w"));
+        assert!(!only_replies(b"\x1b[?62;22"), "a cut answer may be anything");
+        assert!(!only_replies(b"\x1b[D"));
+        let mut p = player(80, 24);
+        assert!(!p.feed(b"\x1b[?62;22c", 0.0));
+        assert!(p.feed(b"w", 0.1));
     }
 
     #[test]

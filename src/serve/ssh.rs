@@ -710,8 +710,9 @@ async fn walk(
         tokio::select! {
             message = rx.wait() => match message {
                 Some(ChannelMsg::Data { data }) => {
-                    last_input = Instant::now();
-                    player.feed(&data, shared.now());
+                    if player.feed(&data, shared.now()) {
+                        last_input = Instant::now(); // a key, not just the terminal answering
+                    }
                 }
                 Some(ChannelMsg::WindowChange { col_width, row_height, .. }) => {
                     player.resize(col_width, row_height, shared.now());
