@@ -276,6 +276,8 @@ impl Session {
         match input {
             Input::Key { key: Key::Char('c'), modifiers, .. } if modifiers.ctrl => self.app.quit = true,
             Input::Key { key: Key::Char('z'), modifiers, .. } if modifiers.ctrl => self.suspend = true,
+            // Ctrl or Alt with a letter is not the letter (Ctrl-Q must not quit, Alt-W not walk).
+            Input::Key { key: Key::Char(_), modifiers, .. } if modifiers.ctrl || modifiers.alt => {}
             Input::Key { key, phase, .. } => self.dirty |= self.app.key(key, phase, now),
             Input::MouseDrag { dx, dy, .. } => self.dirty |= self.app.drag(dx, dy),
             Input::Resize { cols, rows } => {
@@ -335,7 +337,9 @@ impl Session {
             }
             _ => (self.dirty || self.app.is_animating(now)).then_some(frame_due),
         };
-        [drawing, self.app.held.next_expiry(), self.decoder.deadline()].into_iter().flatten().reduce(f64::min)
+        // Never before `now` (a frame due long ago, a session that has ended): a host sleeps until then.
+        let wake = [drawing, self.app.held.next_expiry(), self.decoder.deadline()].into_iter().flatten();
+        wake.reduce(f64::min).map(|t| if t.is_nan() { now } else { t.max(now) })
     }
 
     /// The end-to-end flow control's state (frames in flight, the terminal's reply time).
@@ -578,6 +582,30 @@ mod tests {
         out.clear();
         assert!(s.frame(0.4, &mut out), "a reply lets the latest state out");
         assert_eq!(s.flow().in_flight(), 2);
+    }
+
+    #[test]
+    fn ctrl_or_alt_letters_are_not_the_letters_and_wake_ups_are_never_in_the_past() {
+        use crate::input::{Modifiers, Protocol, encode};
+        let mut s = session(SessionOptions::default());
+        s.frame(0.0, &mut Vec::new());
+        for modifiers in [
+            Modifiers { ctrl: true, ..Modifiers::default() },
+            Modifiers { alt: true, ..Modifiers::default() },
+        ] {
+            for c in ['q', 'w', 'm'] {
+                let key = Input::Key { key: Key::Char(c), phase: crate::input::KeyPhase::Press, modifiers };
+                if let Some(bytes) = encode(&key, Protocol::Legacy) {
+                    s.feed(&bytes, 0.1); // as the bytes a terminal sends
+                }
+                s.input(key, 0.1);
+            }
+        }
+        assert!(!s.is_over(), "Ctrl-Q and Alt-Q do not quit");
+        assert_eq!(s.app().camera.position, s.app().maze().viewer().pos, "Ctrl-W / Alt-W do not walk");
+        s.feed(b"q", 0.2);
+        assert!(s.is_over());
+        assert!(s.next_wake(0.3).is_none_or(|t| t >= 0.3), "{:?}", s.next_wake(0.3));
     }
 
     #[test]
