@@ -29,9 +29,7 @@ use std::rc::Rc;
 use common::baseline::{full_repaint, lower_bound};
 use criterion::{Criterion, Throughput};
 use mazewalk::app::App;
-use mazewalk::app::state::TURN_SPEED;
 use mazewalk::frame::{Cell, Color, ColorDepth, Frame, Region};
-use mazewalk::input::{Key, KeyPhase};
 use mazewalk::render::{Charset, Culling, RenderOptions, Renderer};
 use mazewalk::term::encoder::{DEFAULT_TOLERANCE, Encoder};
 use ratatui::backend::CrosstermBackend;
@@ -41,23 +39,8 @@ use ratatui::{Terminal, TerminalOptions, Viewport};
 
 const COLS: usize = 160;
 const ROWS: usize = 48;
-/// Frames per second of the walk (the walkthrough's `MAX_FPS`).
-const FPS: f64 = 60.0;
 /// The maze the walk happens in (cells across).
 const MAZE_SIDE: u32 = 100;
-
-/// The script: a phase name, the key held (none: stand still) and for how long (seconds).
-fn script() -> Vec<(&'static str, Option<Key>, f64)> {
-    vec![
-        ("forward", Some(Key::Char('w')), 1.0),
-        ("turn 360°", Some(Key::Left), 360.0 / f64::from(TURN_SPEED)),
-        ("strafe", Some(Key::Char('d')), 0.5),
-        ("look up", Some(Key::Up), 1.0),
-        ("look down", Some(Key::Down), 2.0),
-        ("back to level", Some(Key::Up), 1.0),
-        ("stand still", None, 1.0),
-    ]
-}
 
 /// One frame of the walk.
 struct Step {
@@ -95,24 +78,7 @@ fn walk(depth: ColorDepth) -> Vec<Step> {
             .expect("camera");
         steps.push(Step { phase, moved, frame });
     };
-    let mut now = 0.0;
-    let mut frame_no = 0u32;
-    render(&app, "first frame", true);
-    for (phase, key, seconds) in script() {
-        if let Some(key) = key {
-            app.key(key, KeyPhase::Press, now);
-        }
-        let frames = (seconds * FPS).round() as u32;
-        for _ in 0..frames {
-            frame_no += 1;
-            now = f64::from(frame_no) / FPS;
-            let moved = app.tick(now);
-            render(&app, phase, moved);
-        }
-        if let Some(key) = key {
-            app.key(key, KeyPhase::Release, now);
-        }
-    }
+    common::play_walk(&mut app, &common::walk_script(), &mut render);
     steps
 }
 

@@ -32,9 +32,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use mazewalk::app::App;
-use mazewalk::app::state::TURN_SPEED;
 use mazewalk::frame::{Cell, Color, ColorDepth, Frame, Region};
-use mazewalk::input::{Key, KeyPhase};
 use mazewalk::maze::Maze;
 use mazewalk::maze::generate::{Algorithm, GenOptions, generate};
 use mazewalk::render::palette::{self, xterm_rgb};
@@ -241,31 +239,8 @@ fn walk_cameras() -> (Maze, Vec<(bool, Camera)>) {
     app.camera = scene.camera;
     app.cell = app.maze().cell_at(scene.camera.position).expect("camera in the maze");
     app.releases = true;
-    let script: [(Option<Key>, f64); 7] = [
-        (Some(Key::Char('w')), 1.0),
-        (Some(Key::Left), 360.0 / f64::from(TURN_SPEED)),
-        (Some(Key::Char('d')), 0.5),
-        (Some(Key::Up), 1.0),
-        (Some(Key::Down), 2.0),
-        (Some(Key::Up), 1.0),
-        (None, 1.0),
-    ];
-    let mut cameras = vec![(true, app.camera)];
-    let (mut now, mut n) = (0.0, 0u32);
-    for (key, seconds) in script {
-        if let Some(key) = key {
-            app.key(key, KeyPhase::Press, now);
-        }
-        for _ in 0..(seconds * 60.0).round() as u32 {
-            n += 1;
-            now = f64::from(n) / 60.0;
-            let moved = app.tick(now);
-            cameras.push((moved, app.camera));
-        }
-        if let Some(key) = key {
-            app.key(key, KeyPhase::Release, now);
-        }
-    }
+    let mut cameras = Vec::new();
+    common::play_walk(&mut app, &common::walk_script(), |app, _, moved| cameras.push((moved, app.camera)));
     (scene.maze, cameras)
 }
 

@@ -11,12 +11,13 @@
 //! frame after frame (mean over the frames where the camera moved). Time: render (samples and glyphs)
 //! per frame, median.
 
+#[path = "../benches/common/mod.rs"]
+mod common;
+
 use std::time::Instant;
 
 use mazewalk::app::App;
-use mazewalk::app::state::TURN_SPEED;
 use mazewalk::frame::{ColorDepth, Frame};
-use mazewalk::input::{Key, KeyPhase};
 use mazewalk::maze::Maze;
 use mazewalk::maze::generate::{GenOptions, generate};
 use mazewalk::render::{Camera, Charset, RenderOptions, Renderer};
@@ -25,35 +26,15 @@ use mazewalk::term::encoder::{self, Encoder};
 const COLS: usize = 160;
 const ROWS: usize = 48;
 
-/// Every frame's camera over the scripted walk, and whether it moved.
+/// Every frame's camera over the scripted walk (the encoder bench's, walking forward 2 s, not 1), and
+/// whether it moved.
 fn walk(maze: &Maze) -> Vec<(bool, Camera)> {
     let mut app = App::new(maze.clone(), RenderOptions::default(), 0.0).expect("viewer in the maze");
     app.releases = true;
-    let script: [(Option<Key>, f64); 7] = [
-        (Some(Key::Char('w')), 2.0),
-        (Some(Key::Left), 360.0 / f64::from(TURN_SPEED)),
-        (Some(Key::Char('d')), 0.5),
-        (Some(Key::Up), 1.0),
-        (Some(Key::Down), 2.0),
-        (Some(Key::Up), 1.0),
-        (None, 1.0),
-    ];
-    let mut cameras = vec![(true, app.camera)];
-    let (mut now, mut n) = (0.0, 0u32);
-    for (key, seconds) in script {
-        if let Some(key) = key {
-            app.key(key, KeyPhase::Press, now);
-        }
-        for _ in 0..(seconds * 60.0).round() as u32 {
-            n += 1;
-            now = f64::from(n) / 60.0;
-            let moved = app.tick(now);
-            cameras.push((moved, app.camera));
-        }
-        if let Some(key) = key {
-            app.key(key, KeyPhase::Release, now);
-        }
-    }
+    let mut script = common::walk_script();
+    script[0].2 = 2.0;
+    let mut cameras = Vec::new();
+    common::play_walk(&mut app, &script, |app, _, moved| cameras.push((moved, app.camera)));
     cameras
 }
 

@@ -20,6 +20,9 @@
 pub mod baseline;
 
 use glam::{Vec2, vec2};
+use mazewalk::app::App;
+use mazewalk::app::state::TURN_SPEED;
+use mazewalk::input::{Key, KeyPhase};
 use mazewalk::maze::Maze;
 use mazewalk::maze::generate::{Algorithm, CELL_SIZE, GenOptions, Layout, generate, layout};
 use mazewalk::render::{Camera, Charset, Culling, RenderStats, Renderer};
@@ -206,4 +209,46 @@ fn open_camera(maze: &Maze, side: u32, reference: RenderStats) -> Camera {
                 && near(s.samples_written, r.samples_written, 20)
         })
         .expect("an open view like the reference")
+}
+
+/// Frames a second of the scripted walk.
+pub const WALK_FPS: f64 = 60.0;
+
+/// The scripted walk the encoder bench and the examples replay: a phase name, the key held (none:
+/// stand still) and for how long (seconds).
+pub fn walk_script() -> Vec<(&'static str, Option<Key>, f64)> {
+    vec![
+        ("forward", Some(Key::Char('w')), 1.0),
+        ("turn 360°", Some(Key::Left), 360.0 / f64::from(TURN_SPEED)),
+        ("strafe", Some(Key::Char('d')), 0.5),
+        ("look up", Some(Key::Up), 1.0),
+        ("look down", Some(Key::Down), 2.0),
+        ("back to level", Some(Key::Up), 1.0),
+        ("stand still", None, 1.0),
+    ]
+}
+
+/// Plays `script` through `app`'s own key handlers at [`WALK_FPS`] (each key pressed, held for its
+/// time, released): `frame(app, phase, moved)` for the first frame and after every tick.
+pub fn play_walk(
+    app: &mut App,
+    script: &[(&'static str, Option<Key>, f64)],
+    mut frame: impl FnMut(&App, &'static str, bool),
+) {
+    let (mut now, mut frame_no) = (0.0, 0u32);
+    frame(app, "first frame", true);
+    for &(phase, key, seconds) in script {
+        if let Some(key) = key {
+            app.key(key, KeyPhase::Press, now);
+        }
+        for _ in 0..(seconds * WALK_FPS).round() as u32 {
+            frame_no += 1;
+            now = f64::from(frame_no) / WALK_FPS;
+            let moved = app.tick(now);
+            frame(app, phase, moved);
+        }
+        if let Some(key) = key {
+            app.key(key, KeyPhase::Release, now);
+        }
+    }
 }

@@ -8,6 +8,7 @@
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use thiserror::Error;
 
+use super::raster::GridVertex;
 use crate::math::{self, Convention, MathError};
 use crate::maze::geometry::{CEILING_Z, FLOOR_Z, WALL_MARGIN, heading_right};
 
@@ -258,6 +259,14 @@ impl Eye {
     pub fn grid(&self, clip: Vec4) -> Vec3 {
         let ndc = clip.truncate() / clip.w;
         self.ndc_to_grid.transform_point3(ndc)
+    }
+
+    /// A clipped vertex taken to the raster: ÷w → NDC → viewport, with `1/w` kept for perspective-correct
+    /// interpolation of `attrs`.
+    #[must_use]
+    pub fn grid_vertex<A>(&self, clip: Vec4, attrs: A) -> GridVertex<A> {
+        let grid = self.grid(clip);
+        GridVertex { pos: grid.truncate(), depth: grid.z, inv_w: 1.0 / clip.w, attrs }
     }
 
     /// View-space depth (distance along the view direction) of a world point.

@@ -327,15 +327,7 @@ impl Renderer {
             }
             let Some(poly) = clip_wall(maze, eye, e, &mut self.scratch) else { continue }; // clip space
             self.polygon_grid.clear();
-            for v in poly {
-                let grid = eye.grid(v.clip); // ÷w → NDC → viewport
-                self.polygon_grid.push(GridVertex {
-                    pos: grid.truncate(),
-                    depth: grid.z,
-                    inv_w: 1.0 / v.clip.w,
-                    attrs: v.view,
-                });
-            }
+            self.polygon_grid.extend(poly.iter().map(|v| eye.grid_vertex(v.clip, v.view))); // ÷w → NDC → viewport
             let (a, b) = maze.edge_points(e);
             let along = (b - a).normalize_or_zero();
             let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);

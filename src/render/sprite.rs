@@ -226,15 +226,7 @@ impl SpritePass {
             return 0;
         }
         self.grid.clear();
-        for v in &self.output {
-            let grid = eye.grid(v.clip); // ÷w → NDC → viewport
-            self.grid.push(GridVertex {
-                pos: grid.truncate(),
-                depth: grid.z,
-                inv_w: 1.0 / v.clip.w,
-                attrs: v.attrs,
-            });
-        }
+        self.grid.extend(self.output.iter().map(|v| eye.grid_vertex(v.clip, v.attrs))); // ÷w → NDC → viewport
         fill_polygon(samples, &self.grid, id, shade)
     }
 }
