@@ -234,6 +234,11 @@ pub struct RenderArgs {
     /// Print one JSON object of counts and timing on stderr.
     #[arg(long)]
     pub stats: bool,
+    /// Render the same frame N times (1..=100000); `--stats` then adds the median, fastest and slowest
+    /// render time (`render_us_median`, `render_us_min`, `render_us_max`): the first render of a
+    /// process (`render_us`) pays for cold caches and buffers, the median is the steady frame cost.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub repeat: u32,
     /// Write a CSV of ROWS lines × COLS values: the view-space depth of the wall seen through each
     /// cell's centre, empty where none.
     #[arg(long, value_name = "FILE")]

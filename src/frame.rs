@@ -23,6 +23,7 @@ impl Color {
     /// Whether two colours are within `tolerance` 8-bit steps per channel: truecolor colours that
     /// close, or any colours that are equal.
     #[must_use]
+    #[inline]
     pub fn within(self, other: Color, tolerance: u8) -> bool {
         match (self, other) {
             (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) => {
@@ -123,10 +124,18 @@ impl Cell {
     /// A, and a `▀` whose two colours are within the tolerance of C looks like a blank on C. Other
     /// glyphs must be the same, in colours within the tolerance.
     #[must_use]
+    #[inline] // the diff calls it on every cell of every frame: the common cases without a call
     pub fn looks_within(&self, other: &Cell, tolerance: u8) -> bool {
-        if self == other {
-            return true; // the diff's common case, first
-        }
+        // The diff's common case first, then the next most common (a shade drifting by a step).
+        self == other
+            || (self.ch == other.ch
+                && self.fg.within(other.fg, tolerance)
+                && self.bg.within(other.bg, tolerance))
+            || self.looks_within_by_regions(other, tolerance)
+    }
+
+    /// [`Cell::looks_within`] region by region.
+    fn looks_within_by_regions(&self, other: &Cell, tolerance: u8) -> bool {
         let (Some(ink_a), Some(ink_b)) = (ink_mask(self.ch), ink_mask(other.ch)) else {
             return self.ch == other.ch
                 && self.fg.within(other.fg, tolerance)

@@ -267,11 +267,20 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
     let options = args.look.options(args.culling);
     let mut renderer = Renderer::new();
     let mut frame = Frame::new(cols, rows);
-    let started = Instant::now();
-    let stats = renderer
-        .render(&maze, &camera, &options, &mut frame, Region { col: 0, row: 0, cols, rows })
-        .map_err(|e| Usage(e.to_string()))?;
-    let micros = started.elapsed().as_micros();
+    let region = Region { col: 0, row: 0, cols, rows };
+    let mut times_us = Vec::with_capacity(args.repeat as usize);
+    let mut stats = None;
+    for _ in 0..args.repeat {
+        let started = Instant::now();
+        stats = Some(
+            renderer
+                .render(&maze, &camera, &options, &mut frame, region)
+                .map_err(|e| Usage(e.to_string()))?,
+        );
+        times_us.push(started.elapsed().as_secs_f64() * 1e6);
+    }
+    let stats = stats.expect("--repeat is at least 1");
+    let micros = times_us[0].round() as u64; // the first, cold render
     if let Some(path) = &args.png {
         write_png(path, &frame, options.charset)?;
     } else {
@@ -280,7 +289,7 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
         std::io::stdout().lock().write_all(&out).context("cannot write to stdout")?;
     }
     if args.stats {
-        let json = serde_json::json!({
+        let mut json = serde_json::json!({
             "cells_visited": stats.portal.cells_visited,
             "distinct_cells": stats.portal.distinct_cells,
             "portals_traversed": stats.portal.portals_traversed,
@@ -291,6 +300,14 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
             "culling": args.culling.to_string(),
             "cells_in_maze": maze.cell_count(),
         });
+        if args.repeat > 1 {
+            times_us.sort_by(f64::total_cmp);
+            let median = times_us[times_us.len() / 2];
+            json["repeat"] = args.repeat.into();
+            json["render_us_median"] = ((median * 10.0).round() / 10.0).into();
+            json["render_us_min"] = ((times_us[0] * 10.0).round() / 10.0).into();
+            json["render_us_max"] = ((times_us[times_us.len() - 1] * 10.0).round() / 10.0).into();
+        }
         eprintln!("{json}");
     }
     if let Some(path) = &args.depth_out {

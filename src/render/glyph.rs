@@ -171,9 +171,28 @@ pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Fra
                 }
             }
         }
+        Charset::Half if depth == ColorDepth::TrueColor => half_truecolor(samples, frame, region),
         Charset::Half => block_cells::<1, 2>(samples, charset, depth, dither, frame, region),
         Charset::Quad => block_cells::<2, 2>(samples, charset, depth, dither, frame, region),
         Charset::Sextant => block_cells::<2, 3>(samples, charset, depth, dither, frame, region),
+    }
+}
+
+/// [`to_frame`] for half blocks in truecolor, the default: each cell is its two samples exactly (the top
+/// one the ink of `▀`, the bottom one the background; one colour is a space), what [`block_cells`] gives,
+/// in a loop with no branch per cell (whether a cell holds one colour or two is a coin toss on a
+/// textured floor) over a row of sRGB codes converted in one go.
+fn half_truecolor(samples: &SampleBuffer, frame: &mut Frame, region: Region) {
+    let (width, color) = (samples.width(), samples.color());
+    let tables = Srgb8Tables::get();
+    let encode = |c: &Vec3| Color::Rgb(tables.encode(c.x), tables.encode(c.y), tables.encode(c.z));
+    for (row, cells) in frame.region_rows_mut(region).enumerate() {
+        let top = &color[2 * row * width..][..cells.len()];
+        let bottom = &color[(2 * row + 1) * width..][..cells.len()];
+        for ((cell, t), b) in cells.iter_mut().zip(top).zip(bottom) {
+            let (fg, bg) = (encode(t), encode(b));
+            *cell = Cell { ch: HALF[usize::from(fg != bg)], fg, bg };
+        }
     }
 }
 

@@ -10,6 +10,8 @@
 //! ```
 
 use glam::{Vec2, Vec3};
+use wide::bytemuck::cast;
+use wide::{f32x8, i32x8};
 
 use super::camera::{Camera, CameraError, Eye, Projection};
 use super::glyph::{Charset, Ramp, to_frame};
@@ -125,8 +127,11 @@ pub struct Renderer {
     seen: Vec<u32>,
     sprites: SpritePass,
     edge_marks: Vec<bool>,
+    plane_row: PlaneRow,
     /// Skip the edge pass (the portal oracle compares visibility, not the picture's edges).
     pub(crate) no_edges: bool,
+    /// Shade every floor and ceiling sample by the reference path (the oracle of the row path).
+    pub(crate) reference_planes: bool,
 }
 
 impl Renderer {
@@ -387,8 +392,8 @@ impl Renderer {
         let start_depth = if perspective { eye.near } else { 0.0 };
         let depth_at = eye.depth_by_distance();
         // Where a ray of height `start_z` and slope `dir_z` ends: which plane, how far along it (`t`;
-        // `None` when it starts inside the ground or the roof and shows that plane right there), its view
-        // depth, the grid depth a wall must beat to stay, and the fog there. `None`: it meets neither.
+        // `None` when it starts inside the ground or the roof and shows that plane right there), the grid
+        // depth a wall must beat to stay, and the fog there. `None`: it meets neither.
         let meet = |start_z: f32, dir_z: f32| {
             let inside = match start_z {
                 z if z < FLOOR_Z => Some(floor),
@@ -396,7 +401,12 @@ impl Renderer {
                 _ => None,
             };
             if let Some(plane) = inside {
-                return Some((plane, None, start_depth, f32::NEG_INFINITY, fog.amount(start_depth)));
+                return Some(PlaneHit {
+                    plane,
+                    t: None,
+                    wall_stays_at: f32::NEG_INFINITY,
+                    fog: fog.amount(start_depth),
+                });
             }
             let plane = match dir_z {
                 z if z < 0.0 => floor,
@@ -405,69 +415,96 @@ impl Renderer {
             };
             let t = (plane.0 - start_z) / dir_z;
             let depth = start_depth + t;
-            (t >= 0.0 && depth <= eye.far)
-                .then(|| (plane, Some(t), depth, depth_at.grid_depth(depth), fog.amount(depth)))
+            (t >= 0.0 && depth <= eye.far).then(|| PlaneHit {
+                plane,
+                t: Some(t),
+                wall_stays_at: depth_at.grid_depth(depth),
+                fog: fog.amount(depth),
+            })
+        };
+        // The colour of a plane at `hit`, seen along `dir`: the reference, sample by sample.
+        let color_at = |hit: &PlaneHit, point: Vec3, dir: Vec3| -> Vec3 {
+            if shading == Shading::ViewDepth {
+                return Vec3::ZERO;
+            }
+            let on_plane = Vec2::new(point.x, point.y);
+            let mut base = match filter {
+                // The footprint grows with the distance along the ray and the slant it meets the plane
+                // at (1 / |dir.z| per unit of ray).
+                Some(per) => {
+                    let slant = dir.length() / dir.z.abs().max(1e-3);
+                    let reach = per * hit.t.unwrap_or(0.0) * slant.min(8.0);
+                    checker_filtered(hit.plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST, reach)
+                }
+                None => checker(hit.plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST),
+            };
+            if let Some(exit) = exit.filter(|_| hit.plane.1 == FLOOR) {
+                // The exit's light on the floor round it, fading out over EXIT_GLOW_RADIUS.
+                let d2 = on_plane.distance_squared(exit);
+                if d2 < EXIT_GLOW_RADIUS * EXIT_GLOW_RADIUS {
+                    let glow = 1.0 - d2.sqrt() / EXIT_GLOW_RADIUS;
+                    base = base.lerp(EXIT_GLOW, 0.8 * glow);
+                }
+            }
+            // The headlight shines along the ray (from the eye, or along the view axis when
+            // orthographic): hit - eye is a multiple of `dir`.
+            lit(base, headlight_unit(Vec3::Z, dir), AMBIENT).lerp(fog.color, hit.fog)
         };
         let width = eye.width;
+        let (colors, depths, ids) = self.samples.parts_mut();
         for y in 0..eye.height {
             // `Eye::ray` is affine in the grid x: along a row, start and direction step by constants.
             let gy = y as f32 + 0.5;
             let (start0, dir0) = eye.ray(0.5, gy);
             let (start1, dir1) = eye.ray(1.5, gy);
             let (start_step, dir_step) = (start1 - start0, dir1 - dir0);
+            let at = |x: usize| (start0 + start_step * x as f32, dir0 + dir_step * x as f32);
+            let row = y * width..(y + 1) * width;
+            let (colors, depths, ids) = (&mut colors[row.clone()], &mut depths[row.clone()], &mut ids[row]);
             // The camera's right vector is level, so along a row the rays keep their height and slope:
             // where they end, how far, and the fog there are the row's (exactly what each ray would find).
-            let row = (start_step.z == 0.0 && dir_step.z == 0.0).then(|| meet(start0.z, dir0.z));
-            if row == Some(None) {
-                continue; // the whole row sees neither plane (a level row, or beyond the far plane)
+            if start_step.z == 0.0 && dir_step.z == 0.0 {
+                let Some(hit) = meet(start0.z, dir0.z) else {
+                    continue; // the whole row sees neither plane (a level row, or beyond the far plane)
+                };
+                let (first, last) = (at(0), at(width.saturating_sub(1)));
+                let t = hit.t.unwrap_or(0.0);
+                let (a, b) = ((first.0 + first.1 * t).truncate(), (last.0 + last.1 * t).truncate());
+                let glows = exit.is_some_and(|exit| {
+                    hit.plane.1 == FLOOR && segment_distance(exit, a, b) <= EXIT_GLOW_RADIUS * 1.001
+                });
+                if shading == Shading::Color && !glows && !self.reference_planes {
+                    self.plane_row.fill_row(&hit, (start0, start_step), (dir0, dir_step), filter, width);
+                    let (paint, base) = (&self.plane_row.shade, hit.plane.2);
+                    let fog_term = fog.color * hit.fog;
+                    for x in 0..width {
+                        // A wall stays where it is at least as near as the plane along this ray.
+                        if hit.t.is_some() && ids[x] != NONE && depths[x] <= hit.wall_stays_at {
+                            continue;
+                        }
+                        colors[x] = base * paint[x] + fog_term;
+                        depths[x] = f32::INFINITY;
+                        ids[x] = hit.plane.1;
+                    }
+                    continue;
+                }
             }
             for x in 0..width {
-                let i = y * width + x;
-                let (start, dir) = (start0 + start_step * x as f32, dir0 + dir_step * x as f32);
-                let Some((plane, t, _depth, wall_stays_at, fog_amount)) =
-                    row.unwrap_or_else(|| meet(start.z, dir.z))
-                else {
-                    continue;
-                };
-                let hit = match t {
+                let (start, dir) = at(x);
+                let Some(hit) = meet(start.z, dir.z) else { continue };
+                let point = match hit.t {
                     // Inside the ground or the roof: that plane, seen where the ray starts.
                     None => start,
                     Some(t) => {
-                        // A wall stays where it is at least as near as the plane along this ray.
-                        if self.samples.id()[i] != NONE && self.samples.depth()[i] <= wall_stays_at {
-                            continue;
+                        if ids[x] != NONE && depths[x] <= hit.wall_stays_at {
+                            continue; // a wall at least as near as the plane along this ray stays
                         }
                         start + dir * t
                     }
                 };
-                let color = match shading {
-                    Shading::ViewDepth => Vec3::ZERO,
-                    Shading::Color => {
-                        let on_plane = Vec2::new(hit.x, hit.y);
-                        let mut base = match filter {
-                            // The footprint grows with the distance along the ray and the slant it meets
-                            // the plane at (1 / |dir.z| per unit of ray).
-                            Some(per) => {
-                                let slant = dir.length() / dir.z.abs().max(1e-3);
-                                let reach = per * t.unwrap_or(0.0) * slant.min(8.0);
-                                checker_filtered(plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST, reach)
-                            }
-                            None => checker(plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST),
-                        };
-                        if let Some(exit) = exit.filter(|_| plane.1 == FLOOR) {
-                            // The exit's light on the floor round it, fading out over EXIT_GLOW_RADIUS.
-                            let d2 = on_plane.distance_squared(exit);
-                            if d2 < EXIT_GLOW_RADIUS * EXIT_GLOW_RADIUS {
-                                let glow = 1.0 - d2.sqrt() / EXIT_GLOW_RADIUS;
-                                base = base.lerp(EXIT_GLOW, 0.8 * glow);
-                            }
-                        }
-                        // The headlight shines along the ray (from the eye, or along the view axis when
-                        // orthographic): hit - eye is a multiple of `dir`.
-                        lit(base, headlight_unit(Vec3::Z, dir), AMBIENT).lerp(fog.color, fog_amount)
-                    }
-                };
-                self.samples.write(i, color, f32::INFINITY, plane.1);
+                colors[x] = color_at(&hit, point, dir);
+                depths[x] = f32::INFINITY;
+                ids[x] = hit.plane.1;
             }
         }
     }
@@ -480,34 +517,36 @@ impl Renderer {
         let (width, height) = (self.samples.width(), self.samples.height());
         self.edge_marks.clear();
         self.edge_marks.resize(width * height, false);
+        let walls = maze.edges().len() as u32;
         let mut last = (NONE, NONE, false); // the last pair of walls compared, and whether they differ
-        let ids = self.samples.id();
-        let depth = self.samples.depth();
+        let mut differ = |a: u32, b: u32| match (a < walls, b < walls) {
+            (true, true) => {
+                if (last.0, last.1) != (a, b) {
+                    last = (a, b, !collinear(maze, a, b));
+                }
+                last.2
+            }
+            (false, false) => is_figure(a) || is_figure(b), // floor, ceiling, nothing: no edge
+            _ => true,
+        };
+        let (ids, depth, marks) = (self.samples.id(), self.samples.depth(), &mut self.edge_marks);
+        let mut mark = |i: usize, j: usize| {
+            let nearer = if depth[j] < depth[i] { j } else { i };
+            marks[nearer] = true;
+        };
+        // Neighbours to the right, then below; most pairs are one surface and cost one comparison.
         for y in 0..height {
-            for x in 0..width {
-                let i = y * width + x;
-                for j in [(x + 1 < width).then_some(i + 1), (y + 1 < height).then_some(i + width)]
-                    .into_iter()
-                    .flatten()
-                {
-                    let (a, b) = (ids[i], ids[j]);
-                    if a == b {
-                        continue;
-                    }
-                    let walls = maze.edges().len() as u32;
-                    let differ = match (a < walls, b < walls) {
-                        (true, true) => {
-                            if (last.0, last.1) != (a, b) {
-                                last = (a, b, !collinear(maze, a, b));
-                            }
-                            last.2
-                        }
-                        (false, false) => is_figure(a) || is_figure(b), // floor, ceiling, nothing: no edge
-                        _ => true,
-                    };
-                    if differ {
-                        let nearer = if depth[j] < depth[i] { j } else { i };
-                        self.edge_marks[nearer] = true;
+            let row = y * width;
+            for (x, pair) in ids[row..row + width].windows(2).enumerate() {
+                if pair[0] != pair[1] && differ(pair[0], pair[1]) {
+                    mark(row + x, row + x + 1);
+                }
+            }
+            if y + 1 < height {
+                let (here, below) = (&ids[row..row + width], &ids[row + width..row + 2 * width]);
+                for (x, (&a, &b)) in here.iter().zip(below).enumerate() {
+                    if a != b && differ(a, b) {
+                        mark(row + x, row + width + x);
                     }
                 }
             }
@@ -545,6 +584,92 @@ impl Renderer {
     }
 }
 
+/// Where a ray meets the floor or the ceiling (see `Renderer::fill_floor_and_ceiling`).
+#[derive(Clone, Copy, Debug)]
+struct PlaneHit {
+    /// The plane: its height, coverage id and linear colour.
+    plane: (f32, u32, Vec3),
+    /// How far along the ray; `None` when the ray starts inside the plane's solid side.
+    t: Option<f32>,
+    /// The grid depth a wall sample must reach (or beat) to stay in front of the plane.
+    wall_stays_at: f32,
+    /// The fog there (0..1).
+    fog: f32,
+}
+
+/// The floor and ceiling pass's scratch for one level row: the factor each sample multiplies its
+/// plane's colour by (checker, headlight, fog), computed in a straight loop over an array that the
+/// compiler vectorizes, where the per-sample reference (`color_at`) branches on every option.
+#[derive(Debug, Default)]
+struct PlaneRow {
+    shade: Vec<f32>,
+}
+
+impl PlaneRow {
+    /// Fills `shade` for the `width` samples of a row whose rays start at `start0 + start_step · x` and
+    /// go along `dir0 + dir_step · x` (both level steps), all ending on `hit`'s plane: the plane's colour
+    /// times `shade[x]`, plus the fog's colour times `hit.fog`, is the reference colour without glow.
+    #[allow(clippy::too_many_arguments)]
+    fn fill_row(
+        &mut self,
+        hit: &PlaneHit,
+        (start0, start_step): (Vec3, Vec3),
+        (dir0, dir_step): (Vec3, Vec3),
+        filter: Option<f32>,
+        width: usize,
+    ) {
+        self.shade.resize(width.div_ceil(LANES) * LANES, 0.0);
+        let s = f32x8::splat;
+        let t = s(hit.t.unwrap_or(0.0));
+        let dz = dir0.z.abs(); // the same for the whole row
+        let dz2 = s(dir0.z * dir0.z);
+        // lit(): ambient + (1 - ambient) · headlight, then what the fog leaves of it.
+        let keep = 1.0 - hit.fog;
+        let (ambient, diffuse) = (s(AMBIENT * keep), s((1.0 - AMBIENT) * keep));
+        let (dark, mean) = (s(1.0 - CHECKER_CONTRAST), s(1.0 - 0.5 * CHECKER_CONTRAST));
+        let per_square = s(1.0 / CHECKER_PERIOD);
+        let reach_per_slant = s(filter.unwrap_or(0.0) * hit.t.unwrap_or(0.0));
+        let lane = f32x8::from([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+        for (k, out) in self.shade.chunks_exact_mut(LANES).enumerate() {
+            // The same operations, in the same order, as the reference on each sample.
+            let x = s((k * LANES) as f32) + lane;
+            let (dx, dy) = (s(dir0.x) + s(dir_step.x) * x, s(dir0.y) + s(dir_step.y) * x);
+            let px = s(start0.x) + s(start_step.x) * x + dx * t;
+            let py = s(start0.y) + s(start_step.y) * x + dy * t;
+            let length = (dx * dx + dy * dy + dz2).sqrt();
+            let headlight = (s(dz) / length).min(s(1.0));
+            let odd = (floor_int(px * per_square) ^ floor_int(py * per_square)) & i32x8::splat(1);
+            let mut square = cast::<i32x8, f32x8>(odd.simd_eq(i32x8::splat(1))).select(dark, s(1.0));
+            if filter.is_some() {
+                // checker_filtered(): the squares fade to their mean as the footprint grows.
+                let reach = reach_per_slant * (length / s(dz.max(1e-3))).min(s(8.0));
+                let fade = ((reach * per_square - s(0.1)) / s(0.4)).clamp(s(0.0), s(1.0));
+                square += (mean - square) * fade;
+            }
+            out.copy_from_slice(&cast::<f32x8, [f32; LANES]>(square * (ambient + diffuse * headlight)));
+        }
+    }
+}
+
+/// Samples per SIMD step ([`f32x8`]: two SSE registers on baseline x86-64, one with AVX).
+const LANES: usize = 8;
+
+/// `floor(v)` as integers, lane by lane: truncate, then one less where that rounded up (negative
+/// non-integers). Exact for |v| < 2^31 (a checker square 2^33 units from the origin is beyond any
+/// maze); NaN and larger values give `i32::MIN`.
+fn floor_int(v: f32x8) -> i32x8 {
+    let t = v.fast_trunc_int();
+    t + cast::<f32x8, i32x8>(f32x8::from_i32x8(t).simd_gt(v)) // the mask is -1 where t > v
+}
+
+/// The distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f32 {
+    let ab = b - a;
+    let t =
+        if ab.length_squared() > 0.0 { ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
+    p.distance(a + ab * t)
+}
+
 /// Whether walls `a` and `b` lie on one line (within a ten-thousandth of the longer one's length).
 fn collinear(maze: &Maze, a: u32, b: u32) -> bool {
     let ((p, q), (r, s)) = (maze.edge_points(a), maze.edge_points(b));
@@ -552,4 +677,65 @@ fn collinear(maze: &Maze, a: u32, b: u32) -> bool {
     let tolerance = 1e-4 * d.length().max(e.length());
     let off_line = |point: Vec2| d.perp_dot(point - p).abs() / d.length().max(f32::MIN_POSITIVE);
     d.length() > 0.0 && off_line(r) <= tolerance && off_line(s) <= tolerance
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::maze::generate::{GenOptions, generate};
+
+    /// The floor and ceiling's row path (SIMD over a row) gives the reference's colour at every sample,
+    /// in level, pitched, low, orthographic and textured views, with the exit's glow in sight.
+    #[test]
+    fn the_row_path_of_floor_and_ceiling_matches_the_reference() {
+        let maze =
+            generate(&GenOptions { width: 6, height: 6, seed: 7, exit: true, ..GenOptions::default() })
+                .expect("maze");
+        let viewer = maze.viewer();
+        let exit = maze.exit_point().expect("a generated maze has an exit");
+        let cameras = [
+            Camera::new(viewer.pos, viewer.dir_deg, 90.0),
+            Camera { pitch_deg: 40.0, ..Camera::new(viewer.pos, viewer.dir_deg + 30.0, 70.0) },
+            Camera { pitch_deg: -75.0, eye_z: -0.9, ..Camera::new(viewer.pos, viewer.dir_deg, 100.0) },
+            Camera {
+                projection: Projection::Orthographic,
+                pitch_deg: -20.0,
+                ..Camera::new(viewer.pos, 10.0, 90.0)
+            },
+            // Standing near the exit, looking at its glow on the floor.
+            Camera { pitch_deg: -30.0, ..Camera::new(exit - Vec2::new(1.5, 0.0), 0.0, 90.0) },
+        ];
+        let mut glowing = 0;
+        for camera in cameras {
+            let Some(_) = maze.cell_at(camera.position) else { continue };
+            for textures in [false, true] {
+                let (mut fast, mut reference) = (Renderer::new(), Renderer::new());
+                reference.reference_planes = true;
+                for r in [&mut fast, &mut reference] {
+                    r.samples_with(
+                        &maze,
+                        &camera,
+                        Charset::Half,
+                        0.5,
+                        Culling::Portal,
+                        53,
+                        17,
+                        &[],
+                        textures,
+                    )
+                    .expect("camera");
+                }
+                let (f, r) = (fast.samples(), reference.samples());
+                assert_eq!(f.id(), r.id(), "{camera:?}");
+                for (i, (a, b)) in f.color().iter().zip(r.color()).enumerate() {
+                    assert!(
+                        (*a - *b).abs().max_element() <= 1e-5,
+                        "{camera:?} textures {textures}: sample {i}: {a} vs {b}"
+                    );
+                    glowing += usize::from(b.y > b.x * 1.5 && f.id()[i] == FLOOR);
+                }
+            }
+        }
+        assert!(glowing > 0, "no view saw the exit's glow on the floor");
+    }
 }

@@ -126,6 +126,11 @@ impl SampleBuffer {
         self.id[i] = id;
     }
 
+    /// Colours, depths and ids, mutable together (row loops that test and write all three).
+    pub(crate) fn parts_mut(&mut self) -> (&mut [Vec3], &mut [f32], &mut [u32]) {
+        (&mut self.color, &mut self.depth, &mut self.id)
+    }
+
     /// Outline glyphs, mutable, with the depths to test them against.
     pub(crate) fn outline_and_depth_mut(&mut self) -> (&mut [Option<char>], &[f32]) {
         (&mut self.outline, &self.depth)

@@ -168,15 +168,13 @@ pub fn checker_filtered(base: Vec3, world: Vec2, period: f32, contrast: f32, foo
     sharp.lerp(base * (1.0 - 0.5 * contrast), fade)
 }
 
-/// Whether `v.floor()` is odd, in integers (exact for |v| < 2^63; NaN counts as even, like 0).
+/// Whether `v.floor()` is odd, in integers (exact for |v| < 2^63, which holds every float of fewer
+/// integer digits; NaN counts as even, like 0). No branch: a 64-bit conversion, one comparison
+/// (`floor` and `rem_euclid` on floats are libm calls on baseline x86-64).
+#[inline]
 fn floor_is_odd(v: f32) -> bool {
-    if v.abs() < 8_388_608.0 {
-        // Below 2^23 (every real floor coordinate): 32-bit conversions, the cheap ones.
-        let t = v as i32; // truncates toward zero
-        (t - i32::from(t as f32 > v)) & 1 == 1
-    } else {
-        (v as i64) & 1 == 1 // from 2^23 on every float is an integer (NaN → 0, huge → saturated)
-    }
+    let t = v as i64; // truncates toward zero (saturates; NaN → 0)
+    t.wrapping_sub(i64::from(t as f32 > v)) & 1 == 1
 }
 
 /// The linear value of an sRGB-encoded channel (for colours read from files or the CLI).
@@ -262,15 +260,10 @@ impl Srgb8Tables {
     /// [`linear_to_srgb8`] with the tables in hand (hot loops fetch them once).
     #[inline]
     pub(crate) fn encode(&self, c: f32) -> u8 {
-        if c.is_nan() || c <= 0.0 {
-            return 0;
-        }
-        if c >= 1.0 {
-            return 255;
-        }
-        // c in (0, 1): the bucket index is in 0..4096 (a 32-bit conversion, the cheap one).
+        // No branch: the saturating conversion sends NaN and c ≤ 0 to bucket 0 (code 0, and NaN fails
+        // the comparison), c ≥ 1 to the last bucket, whose comparison with threshold[255] then gives 255.
         let start = self.bucket[((c * SRGB8_BUCKETS as f32) as u32 as usize).min(SRGB8_BUCKETS - 1)];
-        start + u8::from(c >= self.threshold[usize::from(start) + 1])
+        start.saturating_add(u8::from(c >= self.threshold[usize::from(start) + 1])) // +∞ ≥ [256]
     }
 
     fn new() -> Srgb8Tables {

@@ -354,6 +354,9 @@ fn reach(
             starts[2] = Some(0);
         }
     }
+    if starts[1..].iter().all(Option::is_none) {
+        return route(pen, out, x); // one way there (the cursor is on the row, or far): no trial
+    }
     let mark = out.len();
     let mut best = (usize::MAX, x);
     for from in starts.into_iter().flatten() {
