@@ -11,6 +11,8 @@
 //! perspective-correctly through `1/w`.
 
 use glam::{Vec2, Vec3, Vec4};
+use wide::bytemuck::cast;
+use wide::f32x8;
 
 use super::samples::SampleBuffer;
 
@@ -97,6 +99,48 @@ pub fn for_each_sample(
     pos: [Vec2; 3],
     mut hit: impl FnMut(usize, usize, [f32; 3]),
 ) {
+    for_each_span(width, height, pos, |span| {
+        for i in 0..span.len {
+            hit(span.x + i, span.y, span.bary(i));
+        }
+    });
+}
+
+/// One row's run of covered samples, with what gives each its barycentric weights exactly.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Span {
+    /// Row.
+    pub y: usize,
+    /// First column.
+    pub x: usize,
+    /// Samples covered (at least one).
+    pub len: usize,
+    /// Edge functions at the first sample, biased by the top-left rule (≥ 0 inside), and their steps
+    /// per sample to the right, in the normalised winding; vertex `order[k]` gets edge `k`'s weight.
+    edge: [i64; 3],
+    step: [i64; 3],
+    bias: [i64; 3],
+    order: [usize; 3],
+    inv_area: f64,
+}
+
+impl Span {
+    /// The barycentric weights of sample `i` of the span, in the caller's vertex order: the edge
+    /// functions at it in `i64`, exactly, divided by the area in `f64`.
+    #[inline]
+    pub fn bary(&self, i: usize) -> [f32; 3] {
+        let mut bary = [0.0; 3];
+        for k in 0..3 {
+            let e = self.edge[k] + self.step[k] * i as i64 - self.bias[k];
+            bary[self.order[k]] = (e as f64 * self.inv_area) as f32;
+        }
+        bary
+    }
+}
+
+/// Calls `span` for each row's run of samples the triangle covers, top to bottom (see
+/// [`for_each_sample`]: the same samples, grouped by row).
+pub(crate) fn for_each_span(width: usize, height: usize, pos: [Vec2; 3], mut span: impl FnMut(&Span)) {
     let (Some(p0), Some(p1), Some(p2)) = (snap(pos[0]), snap(pos[1]), snap(pos[2])) else { return };
     let (mut v, mut order) = ([p0, p1, p2], [0, 1, 2]);
     let mut area = edge(v[0], v[1], v[2]);
@@ -145,18 +189,19 @@ pub fn for_each_sample(
                 _ => {}
             }
         }
-        let mut e: [i64; 3] = std::array::from_fn(|k| row[k] + step_x[k] * first);
-        for x in x_lo + first..=x_lo + last {
-            debug_assert!(e.iter().all(|&e| e >= 0));
-            let w: [f32; 3] = std::array::from_fn(|k| ((e[k] - bias[k]) as f64 * inv_area) as f32);
-            let mut bary = [0.0; 3];
-            for k in 0..3 {
-                bary[order[k]] = w[k];
-            }
-            hit(x as usize, y as usize, bary); // in [0, width) × [0, height) by the clamps above
-            for k in 0..3 {
-                e[k] += step_x[k];
-            }
+        if first <= last {
+            let edge = std::array::from_fn(|k| row[k] + step_x[k] * first);
+            debug_assert!((0..3).all(|k| edge[k] >= 0 && edge[k] + step_x[k] * (last - first) >= 0));
+            span(&Span {
+                y: y as usize,
+                x: (x_lo + first) as usize, // in [0, width) by the clamps above
+                len: (last - first + 1) as usize,
+                edge,
+                step: step_x,
+                bias,
+                order,
+                inv_area,
+            });
         }
         for k in 0..3 {
             row[k] += step_y[k];
@@ -226,6 +271,89 @@ pub fn fill_polygon<A: Varying>(
     for k in 1..polygon.len().saturating_sub(1) {
         written += fill_triangle(buffer, [&polygon[0], &polygon[k], &polygon[k + 1]], id, &mut shade);
     }
+    written
+}
+
+/// Samples a SIMD step of [`fill_polygon_x8`] takes at once ([`f32x8`]: two SSE registers on baseline
+/// x86-64, one with AVX).
+pub(crate) const LANES: usize = 8;
+
+/// Three attributes (a view-space position, a linear colour) of [`LANES`] samples, lane by lane.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Lanes3 {
+    pub x: f32x8,
+    pub y: f32x8,
+    pub z: f32x8,
+}
+
+/// [`fill_polygon`] for `Vec3` attributes, eight samples of a row at a time: the same samples, depths and
+/// perspective-correct attributes, computed by the same operations in the same order lane by lane (so
+/// the same bits), with `shade` taking eight attributes and giving eight linear colours. What the
+/// pipeline draws walls with; the scalar [`fill_polygon`] stays the reference (and takes any closure).
+pub(crate) fn fill_polygon_x8(
+    buffer: &mut SampleBuffer,
+    polygon: &[GridVertex<Vec3>],
+    id: u32,
+    shade: &impl Fn(&Lanes3) -> Lanes3,
+) -> usize {
+    let mut written = 0;
+    for k in 1..polygon.len().saturating_sub(1) {
+        written += fill_triangle_x8(buffer, [&polygon[0], &polygon[k], &polygon[k + 1]], id, shade);
+    }
+    written
+}
+
+fn fill_triangle_x8(
+    buffer: &mut SampleBuffer,
+    tri: [&GridVertex<Vec3>; 3],
+    id: u32,
+    shade: &impl Fn(&Lanes3) -> Lanes3,
+) -> usize {
+    if !tri.iter().all(|v| v.depth.is_finite() && v.inv_w.is_finite()) {
+        return 0;
+    }
+    let s = f32x8::splat;
+    let (width, height) = (buffer.width(), buffer.height());
+    let depth0 = s(tri[0].depth);
+    let (depth_1, depth_2) = (s(tri[1].depth - tri[0].depth), s(tri[2].depth - tri[0].depth));
+    let inv_w = tri.map(|v| s(v.inv_w));
+    let attr = |c: fn(Vec3) -> f32| tri.map(|v| s(c(v.attrs)));
+    let (ax, ay, az) = (attr(|a| a.x), attr(|a| a.y), attr(|a| a.z));
+    let (colors, depths, ids) = buffer.parts_mut();
+    let mut written = 0;
+    for_each_span(width, height, tri.map(|v| v.pos), |span| {
+        let row = span.y * width + span.x;
+        for start in (0..span.len).step_by(LANES) {
+            let n = (span.len - start).min(LANES);
+            let at = row + start..row + start + n;
+            let mut bary = [[0.0; LANES]; 3];
+            for (lane, [b0, b1, b2]) in (0..n).map(|lane| (lane, span.bary(start + lane))) {
+                (bary[0][lane], bary[1][lane], bary[2][lane]) = (b0, b1, b2);
+            }
+            let b = bary.map(f32x8::from);
+            // Depth: affine in grid space, relative to vertex 0; LESS (NaN fails; padding lanes see -∞).
+            let z = depth0 + b[1] * depth_1 + b[2] * depth_2;
+            let mut old = [f32::NEG_INFINITY; LANES];
+            old[..n].copy_from_slice(&depths[at.clone()]);
+            let visible = z.simd_lt(f32x8::from(old)).to_bitmask();
+            if visible == 0 {
+                continue;
+            }
+            // Perspective-correct weights; where 1/w sums to ≈ 0, the affine ones.
+            let p = [b[0] * inv_w[0], b[1] * inv_w[1], b[2] * inv_w[2]];
+            let sum = p[0] + p[1] + p[2];
+            let normal = sum.is_finite() & sum.abs().simd_ge(s(f32::MIN_POSITIVE));
+            let w = [0, 1, 2].map(|k| normal.select(p[k] / sum, b[k]));
+            let weighted = |a: [f32x8; 3]| w[0] * a[0] + w[1] * a[1] + w[2] * a[2];
+            let color = shade(&Lanes3 { x: weighted(ax), y: weighted(ay), z: weighted(az) });
+            let [z, r, g, bl] = [z, color.x, color.y, color.z].map(cast::<f32x8, [f32; LANES]>);
+            for lane in (0..n).filter(|lane| visible >> lane & 1 == 1) {
+                let i = row + start + lane;
+                (colors[i], depths[i], ids[i]) = (Vec3::new(r[lane], g[lane], bl[lane]), z[lane], id);
+                written += 1;
+            }
+        }
+    });
     written
 }
 
