@@ -387,11 +387,19 @@ fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize, toler
     } else {
         // The pen's colours where close enough; a glyph they leave in one colour may go as a blank.
         let (plain, inverse) = (near_pen(cell), cell.inverse().map(near_pen));
-        [Some(plain), Some(plain.canonical()), inverse, inverse.map(|c| c.canonical())]
-            .into_iter()
-            .flatten()
-            .min_by_key(|c| sgr_len(pen, c))
-            .unwrap_or(plain)
+        let mut best = (sgr_len(pen, &plain), plain);
+        // The first of the cheapest, in this order (a canonical form only where it differs).
+        for candidate in
+            [Some(plain.canonical()), inverse, inverse.map(|c| c.canonical())].into_iter().flatten()
+        {
+            if candidate != best.1 {
+                let len = sgr_len(pen, &candidate);
+                if len < best.0 {
+                    best = (len, candidate);
+                }
+            }
+        }
+        best.1
     };
     let (fg, bg) = shown_colors(&cell);
     write_sgr(out, pen, fg, bg);
@@ -415,6 +423,19 @@ fn push_char(out: &mut Vec<u8>, ch: char) {
 
 /// `n` in decimal.
 fn push_num(out: &mut Vec<u8>, n: usize) {
+    // Colour channels and short moves, the usual numbers, without the loop.
+    match n {
+        0..=9 => return out.push(b'0' + n as u8),
+        10..=99 => return out.extend_from_slice(&[b'0' + (n / 10) as u8, b'0' + (n % 10) as u8]),
+        100..=255 => {
+            return out.extend_from_slice(&[
+                b'0' + (n / 100) as u8,
+                b'0' + (n / 10 % 10) as u8,
+                b'0' + (n % 10) as u8,
+            ]);
+        }
+        _ => {}
+    }
     let mut digits = [0u8; 20];
     let mut i = digits.len();
     let mut n = n;

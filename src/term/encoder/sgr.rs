@@ -30,19 +30,23 @@ pub(super) fn sgr_len(pen: &Pen, cell: &Cell) -> usize {
 /// The lengths of the two ways to set `fg` and `bg` (`None`: don't care) from `pen`: just the changed
 /// colours, or a reset followed by the non-default ones; `None` when nothing changes.
 fn sgr_forms(pen: &Pen, fg: Option<Color>, bg: Option<Color>) -> Option<(usize, usize)> {
-    let changes = sgr_changes(pen, fg, bg);
-    let n = changes.iter().flatten().count();
+    // Straight-line: the encoder asks this several times for every changed cell.
+    let [fg_change, bg_change] = sgr_changes(pen, fg, bg);
+    let changed =
+        |change: Option<(Color, Layer)>| change.map_or((0, 0), |(c, layer)| (1, color_len(c, layer)));
+    let ((n_fg, len_fg), (n_bg, len_bg)) = (changed(fg_change), changed(bg_change));
+    let n = n_fg + n_bg;
     if n == 0 {
         return None;
     }
     // ESC [ p;p m: codes joined by `;`.
-    let plain = 3 + n - 1 + changes.iter().flatten().map(|&(c, layer)| color_len(c, layer)).sum::<usize>();
+    let plain = 3 + n - 1 + len_fg + len_bg;
     // ESC [ 0;p;p m, or ESC [ m when both are the defaults.
-    let params: usize = [(fg, Layer::Fg), (bg, Layer::Bg)]
-        .into_iter()
-        .filter_map(|(c, layer)| Some((c.filter(|&c| c != Color::Default)?, layer)))
-        .map(|(c, layer)| 1 + color_len(c, layer))
-        .sum();
+    let param = |c: Option<Color>, layer| match c {
+        Some(c) if c != Color::Default => 1 + color_len(c, layer),
+        _ => 0,
+    };
+    let params = param(fg, Layer::Fg) + param(bg, Layer::Bg);
     let reset = 3 + if params > 0 { 1 + params } else { 0 };
     Some((plain, reset))
 }

@@ -1,0 +1,85 @@
+//! The whole frame as a player gets it: a [`Session`] walking the scripted walk (see `common`) draws
+//! each frame — 3D view, figures, HUD — and encodes it for the terminal (the diff against the frame
+//! before, truecolor, the default ±1 tolerance). One criterion iteration is the whole walk; the time
+//! per drawn frame and the frames a second one core keeps up are printed after the run from the
+//! medians in `target/criterion` (see `scripts/bench_table.py`), at 80×24, 120×40 and 200×60 in every
+//! charset.
+//!
+//! ```sh
+//! nice cargo bench --bench frame -- --warm-up-time 1 --measurement-time 3 --sample-size 10
+//! ```
+
+#[path = "common/mod.rs"]
+mod common;
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput};
+use mazewalk::app::{App, Session, SessionOptions};
+use mazewalk::frame::ColorDepth;
+use mazewalk::input::KeyPhase;
+use mazewalk::render::{Charset, Culling, RenderOptions};
+
+const SIZES: [(u16, u16); 3] = [(80, 24), (120, 40), (200, 60)];
+
+/// A session at the open view of the 100×100 maze with loops, its first frame (the full paint) sent.
+fn session(charset: Charset, cols: u16, rows: u16) -> Session {
+    let scene = common::scene(common::View::Open, 100);
+    let options = RenderOptions {
+        charset,
+        color_depth: ColorDepth::TrueColor,
+        culling: Culling::Portal,
+        ..RenderOptions::default()
+    };
+    let mut app = App::new(scene.maze, options, 0.0).expect("viewer in the maze");
+    app.camera = scene.camera;
+    app.cell = app.maze().cell_at(scene.camera.position).expect("camera in the maze");
+    app.releases = true; // presses and releases, as the kitty keyboard protocol reports them
+    let options = SessionOptions { flow_control: false, ..SessionOptions::default() }; // no terminal answers
+    let mut session = Session::new(app, cols, rows, options);
+    let mut out = Vec::new();
+    session.frame(0.0, &mut out);
+    session
+}
+
+/// Plays the walk script through `session` at [`common::WALK_FPS`]; returns the frames drawn.
+fn walk(session: &mut Session, out: &mut Vec<u8>) -> usize {
+    let (mut now, mut drawn) = (0.0, 0);
+    for (_, key, seconds) in common::walk_script() {
+        if let Some(key) = key {
+            session.app_mut().key(key, KeyPhase::Press, now);
+        }
+        for _ in 0..(seconds * common::WALK_FPS).round() as u32 {
+            now += 1.0 / common::WALK_FPS;
+            out.clear();
+            drawn += usize::from(session.frame(now, out));
+        }
+        if let Some(key) = key {
+            session.app_mut().key(key, KeyPhase::Release, now);
+        }
+    }
+    drawn
+}
+
+fn main() {
+    let mut c = Criterion::default().configure_from_args();
+    // The script decides which ticks draw (the camera moved), whatever the size or charset.
+    let drawn = walk(&mut session(Charset::Ascii, 80, 24), &mut Vec::new());
+    eprintln!("{drawn} frames drawn per walk");
+    for (cols, rows) in SIZES {
+        let mut group = c.benchmark_group(format!("frame/{cols}x{rows}"));
+        group.throughput(Throughput::Elements(drawn as u64));
+        for charset in Charset::ALL {
+            group.bench_function(charset.to_string(), |b| {
+                let mut out = Vec::with_capacity(1 << 20);
+                b.iter_batched_ref(
+                    || session(charset, cols, rows),
+                    |session| black_box(walk(session, &mut out)),
+                    criterion::BatchSize::LargeInput,
+                );
+            });
+        }
+        group.finish();
+    }
+    c.final_summary();
+}
