@@ -761,8 +761,10 @@ impl Maze {
         self.cell_edges(c).iter().all(|&e| {
             let (a, b) = self.edge_points_ccw(e, c);
             let (a, b) = (a.as_dvec2(), b.as_dvec2());
-            // signed distance of p from the edge line, positive on the cell's side (left)
-            (b - a).perp_dot(p - a) >= -ON_EDGE_TOLERANCE * (b - a).length()
+            // signed distance of p from the edge line, positive on the cell's side (left); the square
+            // root only for a point on the outer side (the map asks thousands of these a frame)
+            let side = (b - a).perp_dot(p - a);
+            side >= 0.0 || side >= -ON_EDGE_TOLERANCE * (b - a).length()
         })
     }
 
