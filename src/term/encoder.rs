@@ -359,12 +359,21 @@ fn reach(
     }
     let mark = out.len();
     let mut best = (usize::MAX, x);
-    for from in starts.into_iter().flatten() {
+    // The rewrites first and the plain move, the usual winner, last: when it wins, its trial stands
+    // (a route is a function of the pen, so running it again would write the same).
+    for from in starts[1..].iter().flatten().copied() {
         let mut trial = *pen;
         route(&mut trial, out, from);
         best = best.min((out.len() - mark, from));
         out.truncate(mark);
     }
+    let mut trial = *pen;
+    route(&mut trial, out, x);
+    if (out.len() - mark, x) < best {
+        *pen = trial;
+        return;
+    }
+    out.truncate(mark);
     route(pen, out, best.1);
 }
 
