@@ -131,7 +131,13 @@ fn a_player_ahead_appears_in_the_others_view_with_its_initial() {
     // A figure four units straight ahead, in the watcher's own cell or the next.
     let ahead = camera.position + Vec2::from_angle(camera.yaw_deg.to_radians()) * 4.0;
     assert!(watcher.session.app().maze().cell_at(ahead).is_some(), "ahead is inside the maze");
-    let peer = Peer { position: ahead, heading_deg: 180.0, initial: 'Z', color: Color::Rgb(230, 80, 50) };
+    let peer = Peer {
+        position: ahead,
+        heading_deg: 180.0,
+        initial: 'Z',
+        color: Color::Rgb(230, 80, 50),
+        cell: None,
+    };
     assert!(watcher.session.set_peers(&[peer]), "a new peer: the picture must change");
     assert!(!watcher.session.set_peers(&[peer]), "the same again: nothing to redraw");
     watcher.step(b"", 1.0);

@@ -53,6 +53,7 @@ fuzz_target!(|bytes: &[u8]| {
                         heading_deg: n as f32 * 7.0 + heading,
                         initial: char::from(b'A' + (i as u8)),
                         color: PLAYER_COLORS[i % PLAYER_COLORS.len()],
+                        cell: None,
                     })
                     .collect();
                 player.set_peers(&peers);

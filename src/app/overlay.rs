@@ -344,6 +344,9 @@ pub struct Peer {
     pub initial: char,
     /// The player's colour.
     pub color: Color,
+    /// The cell the player stands in, where the caller knows it (the server does); `None`: the
+    /// renderer looks it up (a point location per peer per frame).
+    pub cell: Option<u32>,
 }
 
 /// Draws each peer on the map in `area` as its initial in its colour (over walls and floor alike; the
@@ -405,6 +408,7 @@ mod tests {
             heading_deg: 0.0,
             initial,
             color: Color::Indexed(196),
+            cell: None,
         };
         let peers =
             [peer(-4.5, 4.0, 'a'), peer(100.0, 0.0, 'b'), peer(0.5, 0.5, 'c'), peer(2.5, 0.5, '\x1b')];

@@ -385,10 +385,11 @@ impl Session {
     }
 }
 
-/// A peer as the renderer draws it: a figure in the peer's colour with its initial, standing in the
-/// cell under it (`None` when it stands in no cell).
+/// A peer as the renderer draws it: a figure in the peer's colour with its initial, standing in its
+/// cell (the one the peer says, else the one under it; `None` when it stands in no cell).
 fn figure(maze: &crate::maze::Maze, peer: &Peer) -> Option<Sprite> {
-    let cell = maze.cell_at(peer.position)?;
+    let cell =
+        peer.cell.filter(|&c| (c as usize) < maze.cell_count()).or_else(|| maze.cell_at(peer.position))?;
     let rgb = match peer.color {
         Color::Rgb(r, g, b) => [r, g, b],
         Color::Indexed(i) => xterm_rgb(i),

@@ -321,7 +321,8 @@ mod tests {
         assert!(p.frame(0.0, &mut out));
         let (position, _, cell) = p.whereabouts();
         assert!(p.shows(position, cell), "the player's own cell is in view");
-        let peer = Peer { position, heading_deg: 0.0, initial: 'B', color: PLAYER_COLORS[1] };
+        let peer =
+            Peer { position, heading_deg: 0.0, initial: 'B', color: PLAYER_COLORS[1], cell: Some(cell) };
         assert!(p.set_peers(&[peer]));
         assert!(!p.set_peers(&[peer]), "the same peers: nothing to redraw");
         p.feed(b"\x1b[?62;22c", 0.5);

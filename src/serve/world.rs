@@ -36,7 +36,13 @@ impl Seen {
     #[must_use]
     pub fn peer(&self) -> Peer {
         let initial = self.name.chars().next().map_or('?', |c| c.to_ascii_uppercase());
-        Peer { position: self.position, heading_deg: self.heading_deg, initial, color: self.color }
+        Peer {
+            position: self.position,
+            heading_deg: self.heading_deg,
+            initial,
+            color: self.color,
+            cell: Some(self.cell),
+        }
     }
 }
 
