@@ -286,6 +286,11 @@ impl Player {
     fn raw(&self) -> Vec<u8> {
         lock(&self.shared).raw.clone()
     }
+
+    /// Whether `ok` holds for the screen as it is now.
+    fn shows(&self, ok: impl Fn(&vt100::Screen) -> bool) -> bool {
+        ok(lock(&self.shared).parser.screen())
+    }
 }
 
 impl Drop for Player {
@@ -349,6 +354,64 @@ fn two_players_see_each_other_and_q_restores_the_terminal() {
     }
     assert!(bob_line.contains("user=\"bob1\""), "the name as others see it: {bob_line}");
     assert_eq!(log.matches(" connected").count(), 2, "{log}");
+}
+
+/// Whether `ch` shows in the 3D view below the corner map (rows from a third of the screen down to the
+/// HUD): where a figure's label, its player's initial, is drawn on its head.
+fn in_view(screen: &vt100::Screen, ch: char) -> bool {
+    let rows = screen.size().0.get();
+    (rows / 3..rows - 1).any(|row| screen.contents_between(row, 0, row, u16::MAX).contains(ch))
+}
+
+/// The walker's position as the HUD shows it: `(x, y)` at the start of the bottom row.
+fn hud_position(screen: &vt100::Screen) -> Option<(f32, f32)> {
+    let rows = screen.size().0.get();
+    let hud = screen.contents_between(rows - 1, 0, rows - 1, u16::MAX);
+    let (x, y) = hud.trim_start().strip_prefix('(')?.split_once(')')?.0.split_once(',')?;
+    Some((x.trim().parse().ok()?, y.trim().parse().ok()?))
+}
+
+/// A corridor east from the start, and at its end a passage south whose first tiles the corridor's
+/// south wall hides from the start.
+const CORRIDOR_AND_BEND: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#########\n#@......#\n######..#\n######..#\n######..#\n#########\n";
+
+#[test]
+fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
+    let scratch = Scratch::new("figure");
+    let maze = scratch.0.join("bend.grid");
+    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let server = ServerProcess::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
+    let alice = Player::connect(&server, None, "alice", 100, 30);
+    alice.wait_for("alice's game", playing);
+    let mut bob = Player::connect(&server, None, "bob", 100, 30);
+    bob.wait_for("bob's game", playing);
+    assert!(!alice.shows(|s| in_view(s, 'B')), "bob stands on alice's own spot, not in front of her");
+    // Bob walks east down the corridor (a held key: auto-repeat every 40 ms), away from alice, who
+    // looks east.
+    let hold = |bob: &mut Player, key: &[u8], seconds: f64| {
+        for _ in 0..(seconds / 0.04) as u32 {
+            bob.send(key);
+            std::thread::sleep(Duration::from_millis(40));
+        }
+        std::thread::sleep(Duration::from_millis(300)); // the glide stops within one repeat interval
+    };
+    let snap = |bob: &mut Player, key: &[u8]| {
+        bob.send(key);
+        std::thread::sleep(Duration::from_millis(400)); // a snap turn takes 0.15 s
+    };
+    hold(&mut bob, b"w", 0.5);
+    alice.wait_for("bob's figure in alice's view", |s, _| in_view(s, 'B'));
+    // To the corridor's end (24 units at 5 units/s; the wall stops him), a right turn (south) and down
+    // the passage: behind the corridor's south wall as alice sees it.
+    hold(&mut bob, b"w", 6.0);
+    snap(&mut bob, b".");
+    hold(&mut bob, b"w", 2.5);
+    bob.wait_for("bob down the passage", |s, _| hud_position(s).is_some_and(|(x, y)| x > 24.0 && y < 12.0));
+    alice.wait_for("bob hidden by the wall", |s, _| playing(s, &[]) && !in_view(s, 'B'));
+    for _ in 0..25 {
+        std::thread::sleep(Duration::from_millis(40));
+        assert!(alice.shows(|s| !in_view(s, 'B')), "bob stays hidden while he stands behind the wall");
+    }
 }
 
 #[test]
