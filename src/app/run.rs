@@ -85,6 +85,9 @@ pub fn run(session: &mut Session, clock: Instant) -> io::Result<Ended> {
             continue;
         }
         if session.is_over() {
+            // The answers to the last frames' queries, read before the restore: one arriving after
+            // it would be echoed onto the shell's line (`^[[?62;22c`).
+            drain_answers(session, &stdin, &mut buf, now)?;
             break Ended::Quit;
         }
         bytes.clear();
@@ -122,4 +125,40 @@ pub fn run(session: &mut Session, clock: Instant) -> io::Result<Ended> {
         restored?; // a terminal that hung up cannot be written to: nothing to restore
     }
     Ok(ended)
+}
+
+/// How long a quitting walk waits for the terminal's answers to queries still in flight.
+const DRAIN_SECONDS: f64 = 0.25;
+
+/// Reads and decodes input until every frame's query is answered, the terminal is known not to answer
+/// ([`FlowControl::silent`](super::flow::FlowControl::silent)), it hangs up, or [`DRAIN_SECONDS`] pass.
+fn drain_answers(
+    session: &mut Session,
+    stdin: &io::Stdin,
+    buf: &mut [u8],
+    now: impl Fn() -> f64,
+) -> io::Result<()> {
+    use rustix::event::{PollFd, PollFlags, Timespec};
+
+    let deadline = now() + DRAIN_SECONDS;
+    while session.flow().in_flight() > 0 && !session.flow().silent() {
+        let wait = deadline - now();
+        if wait <= 0.0 {
+            break;
+        }
+        let timeout = Timespec { tv_sec: 0, tv_nsec: (wait.min(0.999) * 1e9) as _ };
+        let mut fds = [PollFd::new(stdin, PollFlags::IN)];
+        match rustix::event::poll(&mut fds, Some(&timeout)) {
+            Ok(0) => break, // nothing came in time
+            Ok(_) | Err(rustix::io::Errno::INTR) => {}
+            Err(err) => return Err(err.into()),
+        }
+        match rustix::io::read(stdin, &mut *buf) {
+            Ok(0) | Err(rustix::io::Errno::IO) => break,
+            Ok(n) => session.feed(&buf[..n], now()),
+            Err(rustix::io::Errno::INTR | rustix::io::Errno::AGAIN) => {}
+            Err(err) => return Err(err.into()),
+        }
+    }
+    Ok(())
 }
