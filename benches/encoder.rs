@@ -30,7 +30,7 @@ use common::baseline::{full_repaint, lower_bound};
 use criterion::{Criterion, Throughput};
 use mazewalk::app::App;
 use mazewalk::frame::{Cell, Color, ColorDepth, Frame, Region};
-use mazewalk::render::{Charset, Culling, RenderOptions, Renderer};
+use mazewalk::render::{Charset, Renderer};
 use mazewalk::term::encoder::{DEFAULT_TOLERANCE, Encoder};
 use ratatui::backend::CrosstermBackend;
 use ratatui::layout::Rect;
@@ -52,17 +52,7 @@ struct Step {
 
 /// Plays the script through [`App`] and renders every frame at `depth`.
 fn walk(depth: ColorDepth) -> Vec<Step> {
-    let scene = common::scene(common::View::Open, MAZE_SIDE);
-    let options = RenderOptions {
-        charset: Charset::Half,
-        color_depth: depth,
-        culling: Culling::Portal,
-        ..RenderOptions::default()
-    };
-    let mut app = App::new(scene.maze, options, 0.0).expect("viewer in the maze");
-    app.camera = scene.camera;
-    app.cell = app.maze().cell_at(scene.camera.position).expect("camera in the maze");
-    app.releases = true; // presses and releases, as the kitty keyboard protocol reports them
+    let mut app = common::walk_app(MAZE_SIDE, Charset::Half, depth);
     let mut renderer = Renderer::new();
     let mut steps = Vec::new();
     let mut render = |app: &App, phase, moved| {

@@ -15,26 +15,16 @@ mod common;
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
-use mazewalk::app::{App, Session, SessionOptions};
+use mazewalk::app::{Session, SessionOptions};
 use mazewalk::frame::ColorDepth;
 use mazewalk::input::KeyPhase;
-use mazewalk::render::{Charset, Culling, RenderOptions};
+use mazewalk::render::Charset;
 
 const SIZES: [(u16, u16); 3] = [(80, 24), (120, 40), (200, 60)];
 
 /// A session at the open view of the 100×100 maze with loops, its first frame (the full paint) sent.
 fn session(charset: Charset, cols: u16, rows: u16) -> Session {
-    let scene = common::scene(common::View::Open, 100);
-    let options = RenderOptions {
-        charset,
-        color_depth: ColorDepth::TrueColor,
-        culling: Culling::Portal,
-        ..RenderOptions::default()
-    };
-    let mut app = App::new(scene.maze, options, 0.0).expect("viewer in the maze");
-    app.camera = scene.camera;
-    app.cell = app.maze().cell_at(scene.camera.position).expect("camera in the maze");
-    app.releases = true; // presses and releases, as the kitty keyboard protocol reports them
+    let app = common::walk_app(100, charset, ColorDepth::TrueColor);
     let options = SessionOptions { flow_control: false, ..SessionOptions::default() }; // no terminal answers
     let mut session = Session::new(app, cols, rows, options);
     let mut out = Vec::new();

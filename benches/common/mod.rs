@@ -25,7 +25,7 @@ use mazewalk::app::state::TURN_SPEED;
 use mazewalk::input::{Key, KeyPhase};
 use mazewalk::maze::Maze;
 use mazewalk::maze::generate::{Algorithm, CELL_SIZE, GenOptions, Layout, generate, layout};
-use mazewalk::render::{Camera, Charset, Culling, RenderStats, Renderer};
+use mazewalk::render::{Camera, Charset, Culling, RenderOptions, RenderStats, Renderer};
 
 /// Maze sides benchmarked (cells across and up).
 pub const SIDES: [u32; 3] = [10, 100, 1000];
@@ -209,6 +209,19 @@ fn open_camera(maze: &Maze, side: u32, reference: RenderStats) -> Camera {
                 && near(s.samples_written, r.samples_written, 20)
         })
         .expect("an open view like the reference")
+}
+
+/// The walk's starting point: an [`App`] at the open view of the `side`×`side` maze with loops, in
+/// `charset` and `depth`, reporting presses and releases (as the kitty keyboard protocol does).
+pub fn walk_app(side: u32, charset: Charset, depth: mazewalk::frame::ColorDepth) -> App {
+    let scene = scene(View::Open, side);
+    let options =
+        RenderOptions { charset, color_depth: depth, culling: Culling::Portal, ..RenderOptions::default() };
+    let mut app = App::new(scene.maze, options, 0.0).expect("viewer in the maze");
+    app.camera = scene.camera;
+    app.cell = app.maze().cell_at(scene.camera.position).expect("camera in the maze");
+    app.releases = true;
+    app
 }
 
 /// Frames a second of the scripted walk.
