@@ -2,7 +2,7 @@
 
 use glam::{DVec2, Vec2};
 
-use super::index::SpatialGrid;
+use super::index::{SpatialGrid, Threads};
 use super::sweep::{self, Conflict, conflict};
 use super::{
     Aabb, COORD_BOUND, CellId, Cells, EdgeId, Edges, MIN_CELL_AREA, Maze, MazeError, ON_EDGE_TOLERANCE,
@@ -203,7 +203,8 @@ pub(super) fn crossings_of_parts(vertices: &[Vec2], edges: &Edges) -> Result<(),
         let [a, b] = segment(e);
         Aabb { min: a.min(b), max: a.max(b) }
     };
-    let grid = SpatialGrid::build(n, edge_box, extents);
+    // one thread: a big maze runs this beside the cell checks (`Maze::new`)
+    let grid = SpatialGrid::build(n, edge_box, extents, Threads::One);
     let pairs: usize = (0..grid.bucket_count()).map(|b| grid.bucket_items(b).len()).map(|k| k * k / 2).sum();
     let found = if pairs > PAIRS_PER_EDGE * n + 1024 {
         drop(grid);
