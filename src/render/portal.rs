@@ -131,14 +131,12 @@ impl PortalPass {
             stats.seeds += 1;
             self.stack.push((seed, grid_box));
         }
-        // A generous cap: the walk is acyclic, so this only guards against pathological inputs.
-        let cap = 16 * (maze.cell_count() + 1) + 4096;
         while let Some((cell, region)) = self.stack.pop() {
             if !self.enter(cell, region) {
                 continue;
             }
             stats.cells_visited += 1;
-            if stats.cells_visited > cap {
+            if past_the_cap(stats.cells_visited, maze.cell_count()) {
                 stats.fell_back = true;
                 self.walls.clear();
                 self.walls.extend(0..maze.edges().len() as u32);
@@ -298,6 +296,14 @@ impl PortalPass {
     }
 }
 
+/// `true` once the walk has made more visits than any real maze needs (16 per cell, plus 4096):
+/// the walk is acyclic, so this only guards against pathological inputs. Past it the pass draws
+/// every wall, which is exactly the brute-force frame: the cap's value changes the time a frame
+/// takes, never the picture (so its mutants are excluded from mutation testing, MUTANTS.md).
+fn past_the_cap(visits: usize, cells: usize) -> bool {
+    visits > 16 * (cells + 1) + 4096
+}
+
 /// The maze-plane (world x, y) bounding box of a planar convex polygon (world space) cut to the slab
 /// FLOOR_Z <= z <= CEILING_Z.
 fn slab_footprint(corners: &[Vec3; 4]) -> Option<Aabb> {
@@ -370,30 +376,112 @@ mod tests {
         let room = maze("mazewalk-grid 1\n####\n#..#\n#>.#\n####\n"); // 4 cells, 12 edges
         let row = maze("mazewalk-grid 1\n######\n#>...#\n######\n"); // 4 cells, 13 edges
         let long = maze("mazewalk-grid 1\n##########\n#>.......#\n##########\n"); // 8 cells
+        let wide = maze("mazewalk-grid 1\n#####\n#...#\n#>..#\n#####\n"); // 6 cells, 17 edges
+        let apart = maze("mazewalk-grid 1\n########\n#>...#.#\n########\n"); // 5 cells, 17 edges
         assert_eq!((room.cell_count(), row.cell_count()), (4, 4));
         assert_ne!(room.edges().len(), row.edges().len());
-        let fresh = |m: &Maze| {
-            let mut pass = PortalPass::new();
-            pass.run(m, &eye_at(m, 30.0));
+        assert_eq!((apart.cell_count(), wide.cell_count()), (5, 6));
+        assert_eq!(apart.edges().len(), wide.edges().len());
+        let result = |pass: &PortalPass| {
             let (mut walls, mut cells) = (pass.walls.clone(), pass.visited.clone());
             walls.sort_unstable();
             cells.sort_unstable();
             (walls, cells)
         };
+        let fresh = |m: &Maze, yaw: f32| {
+            let mut pass = PortalPass::new();
+            pass.run(m, &eye_at(m, yaw));
+            result(&pass)
+        };
         let mut pass = PortalPass::new();
-        for m in [&room, &row, &long, &room, &long, &row] {
+        for m in [&room, &row, &long, &room, &long, &row, &apart, &wide, &apart] {
             pass.run(m, &eye_at(m, 30.0));
-            let (mut walls, mut cells) = (pass.walls.clone(), pass.visited.clone());
-            walls.sort_unstable();
-            cells.sort_unstable();
-            assert_eq!((walls, cells), fresh(m));
+            assert_eq!(result(&pass), fresh(m, 30.0));
         }
-        // Four billion frames later the counter wraps: old stamps must not read as this frame's.
+        // Four billion frames later the counter wraps: neither the last frames' stamps nor the
+        // never-stamped zeros may read as this frame's.
         let mut pass = PortalPass::new();
-        pass.run(&long, &eye_at(&long, 0.0)); // frame 1: every cell of the corridor visited
+        pass.run(&long, &eye_at(&long, 180.0)); // frame 1: only the first cell visited
         pass.stamp = u32::MAX;
-        pass.run(&long, &eye_at(&long, 180.0)); // stamp wraps to 0: forgotten, then 1
-        assert!(pass.was_visited(0) && !pass.was_visited(5), "{:?}", pass.visited);
+        pass.run(&long, &eye_at(&long, 0.0)); // stamp wraps to 0: forgotten, then 1
+        assert_eq!(result(&pass), fresh(&long, 0.0));
+        assert!((0..8).all(|c| pass.was_visited(c)), "{:?}", pass.visited);
+    }
+
+    /// A 2 × 3 room (tile side 4): west column x 4..8, east column 8..12, rows y 4..8, 8..12, 12..16.
+    fn room_2x3() -> Maze {
+        maze("mazewalk-grid 1\n####\n#..#\n#..#\n#>.#\n####\n")
+    }
+
+    fn counts(stats: PortalStats) -> (usize, usize) {
+        (stats.seeds, stats.portals_traversed)
+    }
+
+    /// Rays from the eye never cross a portal whose line runs through the eye: an eye on the line
+    /// x = 8 between the room's two columns, looking north along it, seeds both bottom cells (it
+    /// stands on their shared portal) and crosses only the two northward portals of each column —
+    /// never the edge-on portals x = 8 ahead of it, from either side.
+    #[test]
+    fn a_portal_in_line_with_the_eye_is_crossed_neither_way() {
+        let room = room_2x3();
+        let eye = Camera::new(Vec2::new(8.0, 6.0), 90.0, 90.0).eye(80, 48, 1.0).unwrap();
+        let mut pass = PortalPass::new();
+        assert_eq!(counts(pass.run(&room, &eye)), (2, 4));
+    }
+
+    /// The orthographic rule: rays all run along the view, so a portal parallel to it is crossed
+    /// neither way. A 3 × 2 room looked along from its west end, exactly east (the view's direction
+    /// is exact at yaw 0): the near plane spans both rows, so both west cells are seeds, each row's
+    /// two eastward portals are crossed, and the three portals between the rows (parallel to the
+    /// view) are not.
+    #[test]
+    fn an_orthographic_view_never_crosses_a_portal_parallel_to_it() {
+        let room = maze("mazewalk-grid 1\n#####\n#...#\n#>..#\n#####\n"); // x 4..16, y 4..12
+        let mut camera = Camera::new(Vec2::new(6.0, 8.0), 0.0, 90.0);
+        camera.projection = Projection::Orthographic;
+        let eye = camera.eye(80, 48, 1.0).unwrap();
+        assert_eq!(eye.forward.truncate(), Vec2::X);
+        let mut pass = PortalPass::new();
+        let stats = pass.run(&room, &eye);
+        let outside = usize::from(eye.ray(0.0, 24.0).0.y > 12.0);
+        assert_eq!(counts(stats), (2 + outside, 4), "{stats:?}");
+    }
+
+    /// The seed footprint is grown by a rounding allowance that scales with the coordinates
+    /// (1e-3 + 1e-5 × the largest, 0.021 at x ≈ 2,000): far from the origin, a cell whose edge lies
+    /// within the allowance of the near plane is a seed, one beyond it is not.
+    #[test]
+    fn the_seed_allowance_grows_with_the_coordinates() {
+        let corridor = maze("mazewalk-grid 1\ntile 1000\n#####\n#>..#\n#####\n"); // x 1,000..4,000
+        let seeds_at = |gap: f32| {
+            let near = Camera::new(Vec2::new(1500.0, 1500.0), 0.0, 90.0).eye(80, 48, 1.0).unwrap().near;
+            // the near plane `gap` short of the portal x = 2,000 between cells 0 and 1
+            let eye =
+                Camera::new(Vec2::new(2000.0 - near - gap, 1500.0), 0.0, 90.0).eye(80, 48, 1.0).unwrap();
+            PortalPass::new().run(&corridor, &eye).seeds
+        };
+        assert_eq!(seeds_at(0.01), 2, "within the allowance");
+        assert_eq!(seeds_at(0.035), 1, "beyond it");
+    }
+
+    /// An eye just outside the maze whose near plane already lies inside a cell: rays start in that
+    /// cell, so it must be a seed, found through the outside (the eye and the footprint's centre are
+    /// both outside every cell). The pass agrees with brute force, sample for sample.
+    #[test]
+    fn an_eye_outside_with_the_near_plane_inside_a_cell_sees_the_cell() {
+        let room = room_2x3();
+        let near = Camera::new(Vec2::new(6.0, 6.0), 90.0, 90.0).eye(80, 48, 1.0).unwrap().near;
+        // south of the room's bottom wall y = 4, facing north: the near plane 0.4 near inside
+        let camera = Camera::new(Vec2::new(6.0, 4.0 - 0.6 * near), 90.0, 90.0);
+        let eye = camera.eye(80, 48, 1.0).unwrap();
+        assert!(
+            room.cell_at(eye.position.truncate()).is_none()
+                && room.cell_at(eye.ray(40.0, 24.0).0.truncate()).is_some()
+        );
+        let stats = PortalPass::new().run(&room, &eye);
+        assert!(stats.seeds >= 2, "the outside and the cell beyond the wall: {stats:?}");
+        crate::render::oracle::portal_matches_brute(&room, &camera, crate::render::Charset::Half, 40, 24)
+            .expect("the portal pass agrees with brute force");
     }
 
     #[test]
@@ -407,6 +495,16 @@ mod tests {
         ];
         let world_box = slab_footprint(&c).expect("crosses the slab");
         assert_eq!((world_box.min.x, world_box.max.x), (0.0, 1.0));
+        // A slanted parallelogram: its sides run x = z + 3 and x = z + 4, so the slab -1 <= z <= 1 cuts
+        // them at x = 2, 4 (floor) and 3, 5 (ceiling).
+        let slanted = [
+            Vec3::new(0.0, 0.0, -3.0),
+            Vec3::new(1.0, 0.0, -3.0),
+            Vec3::new(7.0, 0.0, 3.0),
+            Vec3::new(6.0, 0.0, 3.0),
+        ];
+        let cut = slab_footprint(&slanted).expect("crosses the slab");
+        assert!((cut.min.x - 2.0).abs() < 1e-5 && (cut.max.x - 5.0).abs() < 1e-5, "{cut:?}");
         // Entirely under the floor: no footprint.
         let below = c.map(|p| Vec3::new(p.x, p.y, -5.0));
         assert!(slab_footprint(&below).is_none());
