@@ -36,7 +36,7 @@ mod validate;
 
 use glam::{DVec2, Vec2, Vec3};
 
-use index::SpatialGrid;
+use index::{SpatialGrid, Threads};
 pub use load::{
     DEFAULT_MAX_BYTES, LoadError, LoadOptions, Loaded, detect_format, load, load_with, parse, parse_loaded,
     write,
@@ -616,7 +616,8 @@ impl Maze {
         // of one check after the other: a crossing counts only once the cells have passed.
         let cells_then_index = || {
             validate::structure(&vertices, &edges, &cells)?;
-            Ok(cell_index(&vertices, &edges, &cells))
+            // one thread for the index: the crossing check has the other core when the maze is big
+            Ok(cell_index(&vertices, &edges, &cells, Threads::One))
         };
         let crossings = || validate::crossings_of_parts(&vertices, &edges);
         let (index, crossings) = if edges.len() >= PARALLEL_CHECK_EDGES {
@@ -654,7 +655,7 @@ impl Maze {
             validate::structure(&vertices, &edges, &cells).expect("valid by construction");
             validate::crossings_of_parts(&vertices, &edges).expect("valid by construction");
         }
-        let (extents, cell_index) = cell_index(&vertices, &edges, &cells);
+        let (extents, cell_index) = cell_index(&vertices, &edges, &cells, Threads::Two);
         let maze = Maze { vertices, edges, cells, viewer, exit, extents, cell_index };
         validate::viewer_and_exit(&maze)?;
         Ok(maze)
@@ -853,11 +854,11 @@ impl Maze {
 const PARALLEL_CHECK_EDGES: usize = 1 << 14;
 
 /// The extents of the vertices, and the cells by bucket, for [`Maze::cell_at`]: for checked cells.
-fn cell_index(vertices: &[Vec2], edges: &Edges, cells: &Cells) -> (Aabb, SpatialGrid) {
+fn cell_index(vertices: &[Vec2], edges: &Edges, cells: &Cells, threads: Threads) -> (Aabb, SpatialGrid) {
     let extents = extents(vertices);
     // boxes grown by the tolerance, so a point that counts as in a cell finds it
     let cell_box = |c| cell_aabb(vertices, edges, cells, c).expand(ON_EDGE_TOLERANCE as f32);
-    (extents, SpatialGrid::build(cells.len(), cell_box, extents))
+    (extents, SpatialGrid::build(cells.len(), cell_box, extents, threads))
 }
 
 /// The bounding box of `vertices`.
