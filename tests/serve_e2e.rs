@@ -414,6 +414,33 @@ fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
     }
 }
 
+/// Three tiles east from the start, the last one the exit.
+const SHORT_RUN: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#####\n#@.E#\n#####\n";
+
+#[test]
+fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_after() {
+    let scratch = Scratch::new("exit");
+    let maze = scratch.0.join("run.grid");
+    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
+    let server = ServerProcess::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
+    let alice = Player::connect(&server, None, "alice", 100, 30);
+    alice.wait_for("alice's game", playing);
+    let mut bob = Player::connect(&server, None, "bob", 100, 30);
+    bob.wait_for("bob's game", playing);
+    let announced = |s: &vt100::Screen, _: &[u8]| s.contents().contains("bob reached the exit first");
+    assert!(!alice.shows(|s| announced(s, &[])), "nobody has reached the exit yet");
+    // Bob holds `w` (auto-repeat every 40 ms) east into the exit tile, 6 units away.
+    for _ in 0..50 {
+        bob.send(b"w");
+        std::thread::sleep(Duration::from_millis(40));
+    }
+    alice.wait_for("the announcement on alice's screen", announced);
+    bob.wait_for("bob's own exit box", |s, _| s.contents().contains("You found the exit in"));
+    let carol = Player::connect(&server, None, "carol", 100, 30);
+    carol.wait_for("the announcement on the screen of carol, who joined after", announced);
+    assert!(!alice.shows(|s| s.contents().contains("alice reached")), "only the first is announced");
+}
+
 #[test]
 fn a_resize_redraws_at_the_new_size() {
     let scratch = Scratch::new("resize");

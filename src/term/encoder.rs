@@ -463,6 +463,18 @@ fn push_num(out: &mut Vec<u8>, n: usize) {
 mod tests {
     use super::*;
 
+    /// Escape codes carry their numbers in plain decimal: every number the fast paths cover and
+    /// their edges, then the loop's (moves across wide screens, and the largest `usize`).
+    #[test]
+    fn push_num_writes_plain_decimal() {
+        let edges = [256, 999, 1000, 4095, 65535, 1 << 20, 1 << 31, usize::MAX / 10, usize::MAX];
+        for n in (0..=2000).chain(edges) {
+            let mut out = b"x".to_vec();
+            push_num(&mut out, n);
+            assert_eq!(out, format!("x{n}").into_bytes(), "{n}");
+        }
+    }
+
     #[test]
     fn erasable_tail_needs_spaces_of_one_background_and_bce_for_colour() {
         let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
