@@ -378,6 +378,52 @@ mod tests {
         assert_eq!(all, [(0, 0), (0, 1), (1, 0), (1, 1)]);
     }
 
+    /// The eight-lane fill writes what the scalar fill writes — the same samples, depths and
+    /// attributes — and both return how many samples they wrote: polygons of 3–5 corners, partly off
+    /// the grid, one behind another (its hidden samples are not written, so not counted).
+    #[test]
+    fn the_eight_lane_fill_writes_and_counts_what_the_scalar_fill_does() {
+        let vertex = |x: f32, y: f32, depth: f32, w: f32| GridVertex {
+            pos: Vec2::new(x, y),
+            depth,
+            inv_w: 1.0 / w,
+            attrs: Vec3::new(x * 0.01, y * 0.02, depth),
+        };
+        let polygons = [
+            vec![vertex(2.3, 1.7, 0.5, 1.0), vertex(30.9, 4.2, 0.4, 2.0), vertex(11.1, 20.6, 0.6, 3.0)],
+            vec![
+                vertex(-5.0, -3.0, 0.3, 1.5),
+                vertex(25.5, 2.5, 0.3, 1.5),
+                vertex(28.0, 17.0, 0.2, 4.0),
+                vertex(1.0, 22.0, 0.2, 4.0),
+            ],
+            vec![
+                vertex(10.0, 5.0, 0.1, 1.0),
+                vertex(20.0, 6.0, 0.9, 1.0),
+                vertex(24.0, 14.0, 0.9, 2.0),
+                vertex(15.0, 30.0, 0.1, 2.0),
+                vertex(8.0, 12.0, 0.1, 1.0),
+            ],
+        ];
+        let (mut scalar, mut lanes) = (SampleBuffer::new(33, 19), SampleBuffer::new(33, 19));
+        scalar.clear(Vec3::ZERO);
+        lanes.clear(Vec3::ZERO);
+        let mut total = 0;
+        for (id, polygon) in (0..).zip(&polygons) {
+            let before: Vec<u32> = scalar.id().to_vec();
+            let a = fill_polygon(&mut scalar, polygon, id, |attrs| attrs);
+            let b = fill_polygon_x8(&mut lanes, polygon, id, &|l: &Lanes3| *l);
+            assert_eq!(a, b, "polygon {id}: samples written");
+            let changed = scalar.id().iter().zip(&before).filter(|(now, was)| now != was).count();
+            assert!(a >= changed && a > 0, "polygon {id}: {a} written, {changed} changed hands");
+            total += a;
+        }
+        assert!(total > 33 * 19 / 2, "the polygons cover much of the grid: {total}");
+        assert_eq!(scalar.id(), lanes.id());
+        assert_eq!(scalar.depth(), lanes.depth());
+        assert_eq!(scalar.color(), lanes.color());
+    }
+
     /// Attributes of any kind interpolate as `w₀·v₀ + w₁·v₁ + w₂·v₂`, component by component.
     #[test]
     fn varyings_are_weighted_sums_of_the_three_vertices() {
