@@ -14,7 +14,8 @@
 #
 # Time: each mutant rebuilds the library and the selected test binaries (about 20-40 s on two busy
 # cores), so the math core's ~380 mutants take a few hours; shard (`--shard k/n`) to spread them.
-# MUTANTS_TIME_LIMIT (seconds, default 0: none) stops the run after that long, keeping what finished.
+# MUTANTS_TIME_LIMIT (seconds, default 0: none) stops the run after that long, keeping what finished;
+# MUTANTS_OUT (default target/mutants-<scope>) is where the results go.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -37,7 +38,8 @@ fi
 export CARGO_PROFILE_TEST_DEBUG="${CARGO_PROFILE_TEST_DEBUG:-false}"
 
 limit="${MUTANTS_TIME_LIMIT:-0}"
-run=(nice cargo mutants --config "$config" -j 1 -o "target/mutants-$scope" "$@")
+out="${MUTANTS_OUT:-target/mutants-$scope}" # another directory lets two shards run side by side
+run=(nice cargo mutants --config "$config" -j 1 -o "$out" "$@")
 if [ "$limit" -gt 0 ]; then
   # SIGINT lets cargo-mutants stop cleanly and write what it has.
   exec timeout --signal=INT --kill-after=60 "$limit" "${run[@]}"
