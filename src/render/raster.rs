@@ -419,6 +419,13 @@ mod tests {
             total += a;
         }
         assert!(total > 33 * 19 / 2, "the polygons cover much of the grid: {total}");
+        // A corner whose depth or 1/w is not finite (either one alone) draws nothing, either way.
+        for (depth, w) in [(f32::NAN, 1.0), (0.5, 0.0), (f32::INFINITY, 1.0), (0.5, f32::NAN)] {
+            let bad =
+                [vertex(1.0, 1.0, 0.05, 1.0), vertex(30.0, 2.0, 0.05, 1.0), vertex(9.0, 18.0, depth, w)];
+            assert_eq!(fill_polygon(&mut scalar, &bad, 9, |attrs| attrs), 0, "depth {depth}, w {w}");
+            assert_eq!(fill_polygon_x8(&mut lanes, &bad, 9, &|l: &Lanes3| *l), 0, "depth {depth}, w {w}");
+        }
         assert_eq!(scalar.id(), lanes.id());
         assert_eq!(scalar.depth(), lanes.depth());
         assert_eq!(scalar.color(), lanes.color());
