@@ -397,6 +397,17 @@ mod tests {
                 vertex(28.0, 17.0, 0.2, 4.0),
                 vertex(1.0, 22.0, 0.2, 4.0),
             ],
+            // 1/w summing past f32's range, and to zero: the affine weights, in both fills
+            vec![
+                vertex(3.0, 3.0, 0.05, 3e-39),
+                vertex(12.0, 3.0, 0.05, 3e-39),
+                vertex(6.0, 12.0, 0.05, 3e-39),
+            ],
+            vec![
+                vertex(20.0, 12.0, 0.04, f32::INFINITY),
+                vertex(32.0, 12.0, 0.04, f32::INFINITY),
+                vertex(26.0, 18.0, 0.04, f32::INFINITY),
+            ],
             vec![
                 vertex(10.0, 5.0, 0.1, 1.0),
                 vertex(20.0, 6.0, 0.9, 1.0),
