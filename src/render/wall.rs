@@ -71,14 +71,63 @@ pub fn clip_segment(eye: &Eye, p: Vec3, q: Vec3) -> Option<(Vec4, Vec4)> {
     for plane in ClipPlane::ALL {
         // Signed distances, linear in clip coordinates: inside where >= 0.
         let (da, db) = (plane.distance(a, depth), plane.distance(b, depth));
-        if da < 0.0 && db < 0.0 {
-            return None;
-        }
-        if da < 0.0 {
-            t0 = t0.max(da / (da - db));
-        } else if db < 0.0 {
-            t1 = t1.min(da / (da - db));
+        match (da < 0.0, db < 0.0) {
+            (true, true) => return None,                  // wholly outside this plane
+            (true, false) => t0 = t0.max(da / (da - db)), // enters at the crossing
+            (false, true) => t1 = t1.min(da / (da - db)), // leaves at the crossing
+            (false, false) => {}                          // wholly inside (on it counts as inside)
         }
     }
     (t0 <= t1).then(|| (a.lerp(b, t0), a.lerp(b, t1)))
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3};
+
+    use super::*;
+    use crate::math::{ClipPlane, Convention};
+    use crate::render::camera::{Camera, Projection};
+
+    /// An orthographic eye at (5, 5) looking exactly along +x, depth in [0, 1]: its near plane is
+    /// the world plane x = 5 (the eye's own), where clip z is exactly 0.
+    fn eye() -> Eye {
+        let mut camera = Camera::new(Vec2::new(5.0, 5.0), 0.0, 90.0);
+        camera.projection = Projection::Orthographic;
+        camera.convention = Convention::RhZo;
+        camera.eye(40, 20, 1.0).unwrap()
+    }
+
+    fn near_distance(eye: &Eye, clip: Vec4) -> f32 {
+        ClipPlane::Near.distance(clip, eye.camera.convention.depth_range())
+    }
+
+    /// Clipping a segment keeps exactly its part inside the view volume, a point on a boundary
+    /// plane counting as inside (as for polygons): a segment lying in the near plane is kept whole,
+    /// one touching it from behind keeps its touching point (either way round), one wholly behind
+    /// is gone, and one crossing it is cut at the plane.
+    #[test]
+    fn a_segment_keeps_its_part_inside_and_on_the_boundary() {
+        let eye = eye();
+        let on = Vec3::new(5.0, 5.5, 0.0);
+        let (on_too, behind, ahead) =
+            (Vec3::new(5.0, 4.5, 0.5), Vec3::new(4.0, 5.5, 0.0), Vec3::new(8.0, 5.0, 0.0));
+        assert_eq!(near_distance(&eye, eye.clip(on)), 0.0, "the test's premise: exactly on the plane");
+        assert_eq!(clip_segment(&eye, on, on_too), Some((eye.clip(on), eye.clip(on_too))), "lying in it");
+        assert_eq!(
+            clip_segment(&eye, on, behind),
+            Some((eye.clip(on), eye.clip(on))),
+            "touching, ahead first"
+        );
+        assert_eq!(
+            clip_segment(&eye, behind, on),
+            Some((eye.clip(on), eye.clip(on))),
+            "touching, behind first"
+        );
+        assert_eq!(clip_segment(&eye, behind, Vec3::new(3.0, 4.0, 0.5)), None, "wholly behind");
+        assert_eq!(clip_segment(&eye, on, ahead), Some((eye.clip(on), eye.clip(ahead))), "wholly inside");
+        let (a, b) = clip_segment(&eye, behind + Vec3::Y * 0.2, ahead).expect("crosses the near plane");
+        assert!(near_distance(&eye, a).abs() < 1e-6, "cut at the plane: {a}");
+        assert_eq!(b, eye.clip(ahead));
+    }
 }
