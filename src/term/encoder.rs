@@ -475,6 +475,102 @@ mod tests {
         }
     }
 
+    /// Nothing changed, nothing sent: not even the synchronized-update brackets.
+    #[test]
+    fn an_unchanged_frame_sends_nothing() {
+        let frame = Frame::from_lines(&["a maze", "walk"]);
+        let mut encoder = Encoder::new();
+        let mut out = b"earlier bytes".to_vec();
+        assert!(encoder.encode(&frame, &mut out).bytes > 0);
+        let before = out.len();
+        let stats = encoder.encode(&frame, &mut out);
+        assert_eq!((stats.bytes, stats.cells_changed, out.len()), (0, 0, before));
+    }
+
+    /// When blanking a row's tail, the shorter of erasing to the end of the line and writing the
+    /// blanks wins: one blank is a space (1 byte) rather than `\x1b[K` (3), eight are `\x1b[K`.
+    #[test]
+    fn a_blank_tail_is_erased_or_written_whichever_is_shorter() {
+        let mut encoder = Encoder::new();
+        let mut out = Vec::new();
+        encoder.encode(&Frame::from_lines(&["ab x  "]), &mut out);
+        out.clear();
+        encoder.encode(&Frame::from_lines(&["ab    "]), &mut out);
+        // the cursor stands just after the `x`: back one (BS) and a space
+        assert_eq!(out, b"\x1b[?2026h\x08 \x1b[?2026l");
+        encoder.encode(&Frame::from_lines(&["abcdefghij"]), &mut out);
+        out.clear();
+        encoder.encode(&Frame::from_lines(&["ab        "]), &mut out);
+        assert!(out.windows(3).any(|w| w == b"\x1b[K"), "{:?}", String::from_utf8_lossy(&out));
+    }
+
+    /// A full paint is the shorter of its two trials (clear to the default background, or to the
+    /// most common blank one), the default on a tie, whatever `out` held before.
+    #[test]
+    fn a_full_paint_is_the_shorter_trial() {
+        let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
+        let trial = |frame: &Frame, bg: Color| {
+            let mut out = Vec::new();
+            clear_and_paint(frame, bg, true, &mut out);
+            out
+        };
+        let mut ties = 0;
+        // (width, height, blue blanks row by row); 7×1 with 4 and 11×1 with 7 are ties
+        for (width, height, blues) in
+            [(8, 2, 0), (8, 2, 3), (8, 2, 9), (8, 2, 15), (40, 2, 30), (7, 1, 4), (11, 1, 7)]
+        {
+            let mut frame = Frame::filled(width, height, Cell::BLANK);
+            for k in 0..blues {
+                frame.set(k % width, k / width, blue);
+            }
+            frame.set(width - 1, height - 1, Cell::plain('x'));
+            let (default, coloured) = (trial(&frame, Color::Default), trial(&frame, Color::Indexed(4)));
+            let blue_is_commonest = most_common_blank_bg(&frame) == Some(Color::Indexed(4));
+            ties += usize::from(blue_is_commonest && coloured.len() == default.len());
+            let best = if blue_is_commonest && coloured.len() < default.len() { coloured } else { default };
+            let mut out = vec![b'.'; 100];
+            paint_full(&frame, true, &mut out);
+            assert_eq!(&out[100..], &best[..], "{blues} blue blanks in {width}×{height}");
+        }
+        assert_eq!(ties, 2, "the premise: two of the cases are ties");
+    }
+
+    /// `ansi_lines`: a frame in default colours is plain text; colours are set where they change
+    /// and reset at each line's end, so every line reads on its own.
+    #[test]
+    fn ansi_lines_are_plain_text_with_colours_where_they_change() {
+        let mut out = Vec::new();
+        ansi_lines(&Frame::from_lines(&["ab", " c"]), &mut out);
+        assert_eq!(out, b"ab\n c\n");
+        let red = Cell { ch: 'r', fg: Color::Indexed(1), bg: Color::Default };
+        let on_blue = Cell { ch: ' ', fg: Color::Indexed(1), bg: Color::Indexed(4) };
+        let mut frame = Frame::from_lines(&["a  ", "b  "]);
+        frame.set(1, 0, red);
+        frame.set(2, 0, on_blue);
+        let mut out = Vec::new();
+        ansi_lines(&frame, &mut out);
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.split_inclusive('\n').collect();
+        assert_eq!(lines.len(), 2);
+        assert_eq!(lines[1], "b  \n", "the second line needs no colour: the first reset its own");
+        assert!(lines[0].starts_with('a') && lines[0].ends_with("\x1b[0m\n"), "{:?}", lines[0]);
+        // a line ending in a coloured glyph on the default background is reset too
+        let mut out = Vec::new();
+        let mut frame = Frame::from_lines(&["a ", "b "]);
+        frame.set(1, 0, red);
+        ansi_lines(&frame, &mut out);
+        assert!(String::from_utf8(out).unwrap().starts_with("a\x1b[31mr\x1b[0m\nb \n"));
+        // the first line, read back as a terminal would
+        let n = |k| std::num::NonZeroU16::new(k).expect("non-zero");
+        let mut parser = vt100::Parser::new(n(1), n(3), 0);
+        parser.process(lines[0].trim_end_matches('\n').as_bytes());
+        let screen = parser.screen();
+        let cell = |x| screen.cell(0, x).expect("a cell");
+        assert_eq!((cell(0).contents(), cell(0).fgcolor()), ("a".into(), vt100::Color::Default));
+        assert_eq!((cell(1).contents(), cell(1).fgcolor()), ("r".into(), vt100::Color::Idx(1)));
+        assert_eq!(cell(2).bgcolor(), vt100::Color::Idx(4));
+    }
+
     #[test]
     fn erasable_tail_needs_spaces_of_one_background_and_bce_for_colour() {
         let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
