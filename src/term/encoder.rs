@@ -488,7 +488,8 @@ mod tests {
     }
 
     /// When blanking a row's tail, the shorter of erasing to the end of the line and writing the
-    /// blanks wins: one blank is a space (1 byte) rather than `\x1b[K` (3), eight are `\x1b[K`.
+    /// blanks wins (a tie writes): one blank is a space (1 byte) rather than `\x1b[K` (3), eight
+    /// are `\x1b[K`.
     #[test]
     fn a_blank_tail_is_erased_or_written_whichever_is_shorter() {
         let mut encoder = Encoder::new();
@@ -502,6 +503,13 @@ mod tests {
         out.clear();
         encoder.encode(&Frame::from_lines(&["ab        "]), &mut out);
         assert!(out.windows(3).any(|w| w == b"\x1b[K"), "{:?}", String::from_utf8_lossy(&out));
+        // three blanks or `\x1b[K`: a tie, and the blanks are written (the cursor ends where a
+        // write leaves it, not where the erase began)
+        encoder.encode(&Frame::from_lines(&["abxyz "]), &mut out);
+        out.clear();
+        encoder.encode(&Frame::from_lines(&["ab    "]), &mut out);
+        let text = String::from_utf8_lossy(&out);
+        assert!(text.contains("   ") && !text.contains("\x1b[K"), "{text:?}");
     }
 
     /// A full paint is the shorter of its two trials (clear to the default background, or to the
