@@ -350,7 +350,7 @@ fn reach(
         {
             starts[1] = Some(cx);
         }
-        if x > 0 && x <= MAX_REWRITE {
+        if (1..=MAX_REWRITE).contains(&x) {
             starts[2] = Some(0);
         }
     }
