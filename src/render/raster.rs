@@ -144,14 +144,16 @@ pub(crate) fn for_each_span(width: usize, height: usize, pos: [Vec2; 3], mut spa
     let (Some(p0), Some(p1), Some(p2)) = (snap(pos[0]), snap(pos[1]), snap(pos[2])) else { return };
     let (mut v, mut order) = ([p0, p1, p2], [0, 1, 2]);
     let mut area = edge(v[0], v[1], v[2]);
-    if area == 0 {
-        return; // degenerate: a line or a point covers no sample centre exactly enough to matter
-    }
-    if area < 0 {
-        // Normalise the winding so the interior is on the positive side of every edge.
-        v.swap(1, 2);
-        order.swap(1, 2);
-        area = -area;
+    match area.cmp(&0) {
+        // degenerate: a line or a point covers no sample centre exactly enough to matter
+        std::cmp::Ordering::Equal => return,
+        // normalise the winding so the interior is on the positive side of every edge
+        std::cmp::Ordering::Less => {
+            v.swap(1, 2);
+            order.swap(1, 2);
+            area = -area;
+        }
+        std::cmp::Ordering::Greater => {}
     }
 
     // Bounding box in samples whose centres (k * ONE + HALF) can lie inside, clamped to the buffer.

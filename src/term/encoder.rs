@@ -475,6 +475,25 @@ mod tests {
         }
     }
 
+    /// A cell goes as itself or as its inverse, whichever needs fewer colour bytes from the pen:
+    /// `▄` in B on A, with the pen at A on B, is `▀` in A on B and needs no colour code — at any
+    /// tolerance, in palette colours and in truecolor.
+    #[test]
+    fn a_cell_goes_as_its_inverse_when_the_pen_already_has_its_colours() {
+        for (a, b) in
+            [(Color::Indexed(4), Color::Indexed(11)), (Color::Rgb(10, 20, 30), Color::Rgb(200, 100, 0))]
+        {
+            for tolerance in [0, 1] {
+                let mut pen = Pen { cursor: Some((0, 0)), fg: Some(a), bg: Some(b) };
+                let mut out = Vec::new();
+                let sent = write_cell(&mut out, &mut pen, &Cell { ch: '▄', fg: b, bg: a }, 10, tolerance);
+                assert_eq!(String::from_utf8(out).unwrap(), "▀", "{a:?} on {b:?}, tolerance {tolerance}");
+                assert_eq!(sent, Cell { ch: '▀', fg: a, bg: b });
+                assert_eq!((pen.fg, pen.bg, pen.cursor), (Some(a), Some(b), Some((1, 0))));
+            }
+        }
+    }
+
     /// Nothing changed, nothing sent: not even the synchronized-update brackets.
     #[test]
     fn an_unchanged_frame_sends_nothing() {
