@@ -593,8 +593,8 @@ mod tests {
         parser.process(lines[0].trim_end_matches('\n').as_bytes());
         let screen = parser.screen();
         let cell = |x| screen.cell(0, x).expect("a cell");
-        assert_eq!((cell(0).contents(), cell(0).fgcolor()), ("a".into(), vt100::Color::Default));
-        assert_eq!((cell(1).contents(), cell(1).fgcolor()), ("r".into(), vt100::Color::Idx(1)));
+        assert_eq!((cell(0).contents(), cell(0).fgcolor()), ("a", vt100::Color::Default));
+        assert_eq!((cell(1).contents(), cell(1).fgcolor()), ("r", vt100::Color::Idx(1)));
         assert_eq!(cell(2).bgcolor(), vt100::Color::Idx(4));
     }
 
