@@ -380,6 +380,20 @@ mod tests {
         assert_eq!(all, [(0, 0), (0, 1), (1, 0), (1, 1)]);
     }
 
+    /// A row's run is solved exactly: a centre one fixed-point unit (1/256 sample) inside a right
+    /// edge is covered. The triangle (0, ½), (129/256, ½), (129/256, 129/256) holds the centre of
+    /// sample (0, 0) on its top edge (in, by the top-left rule) and a hair inside its right edge.
+    #[test]
+    fn a_centre_a_hair_inside_a_right_edge_is_covered() {
+        let u = 1.0 / 256.0;
+        let tri = [Vec2::new(0.0, 0.5), Vec2::new(129.0 * u, 0.5), Vec2::new(129.0 * u, 129.0 * u)];
+        assert_eq!(covered(4, 4, tri), [(0, 0)]);
+        // one unit further left, the right edge passes through the centre: a right edge's own
+        // centres are out
+        let on_edge = [Vec2::new(0.0, 0.5), Vec2::new(0.5, 0.5), Vec2::new(0.5, 129.0 * u)];
+        assert_eq!(covered(4, 4, on_edge), []);
+    }
+
     /// The eight-lane fill writes what the scalar fill writes — the same samples, depths and
     /// attributes — and both return how many samples they wrote: polygons of 3–5 corners, partly off
     /// the grid, one behind another (its hidden samples are not written, so not counted).
