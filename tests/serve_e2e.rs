@@ -371,6 +371,18 @@ fn hud_position(screen: &vt100::Screen) -> Option<(f32, f32)> {
     Some((x.trim().parse().ok()?, y.trim().parse().ok()?))
 }
 
+/// A server on the grid maze `text` (open to anyone), with alice and then bob in their games.
+fn alice_and_bob_in(scratch: &Scratch, text: &str) -> (ServerProcess, Player, Player) {
+    let maze = scratch.0.join("maze.grid");
+    std::fs::write(&maze, text).expect("write the maze");
+    let server = ServerProcess::start(scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
+    let alice = Player::connect(&server, None, "alice", 100, 30);
+    alice.wait_for("alice's game", playing);
+    let bob = Player::connect(&server, None, "bob", 100, 30);
+    bob.wait_for("bob's game", playing);
+    (server, alice, bob)
+}
+
 /// A corridor east from the start, and at its end a passage south whose first tiles the corridor's
 /// south wall hides from the start.
 const CORRIDOR_AND_BEND: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#########\n#@......#\n######..#\n######..#\n######..#\n#########\n";
@@ -378,13 +390,7 @@ const CORRIDOR_AND_BEND: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#######
 #[test]
 fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
     let scratch = Scratch::new("figure");
-    let maze = scratch.0.join("bend.grid");
-    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
-    let server = ServerProcess::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
-    let alice = Player::connect(&server, None, "alice", 100, 30);
-    alice.wait_for("alice's game", playing);
-    let mut bob = Player::connect(&server, None, "bob", 100, 30);
-    bob.wait_for("bob's game", playing);
+    let (_server, alice, mut bob) = alice_and_bob_in(&scratch, CORRIDOR_AND_BEND);
     assert!(!alice.shows(|s| in_view(s, 'B')), "bob stands on alice's own spot, not in front of her");
     // Bob walks east down the corridor (a held key: auto-repeat every 40 ms), away from alice, who
     // looks east.
@@ -420,13 +426,7 @@ const SHORT_RUN: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#####\n#@.E#\n#
 #[test]
 fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_after() {
     let scratch = Scratch::new("exit");
-    let maze = scratch.0.join("run.grid");
-    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
-    let server = ServerProcess::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
-    let alice = Player::connect(&server, None, "alice", 100, 30);
-    alice.wait_for("alice's game", playing);
-    let mut bob = Player::connect(&server, None, "bob", 100, 30);
-    bob.wait_for("bob's game", playing);
+    let (server, alice, mut bob) = alice_and_bob_in(&scratch, SHORT_RUN);
     let announced = |s: &vt100::Screen, _: &[u8]| s.contents().contains("bob reached the exit first");
     assert!(!alice.shows(|s| announced(s, &[])), "nobody has reached the exit yet");
     // Bob holds `w` (auto-repeat every 40 ms) east into the exit tile, 6 units away.
