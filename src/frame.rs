@@ -127,11 +127,16 @@ impl Cell {
     #[inline] // the diff calls it on every cell of every frame: the common cases without a call
     pub fn looks_within(&self, other: &Cell, tolerance: u8) -> bool {
         // The diff's common case first, then the next most common (a shade drifting by a step).
-        self == other
-            || (self.ch == other.ch
-                && self.fg.within(other.fg, tolerance)
-                && self.bg.within(other.bg, tolerance))
-            || self.looks_within_by_regions(other, tolerance)
+        if self == other {
+            return true;
+        }
+        if self.ch == other.ch {
+            // The same glyph: ink against ink, paper against paper (what the regions come to when the
+            // masks are equal; a space has no ink, a full block no paper).
+            return (self.ch == ' ' || self.fg.within(other.fg, tolerance))
+                && (self.ch == FULL_BLOCK || self.bg.within(other.bg, tolerance));
+        }
+        self.looks_within_by_regions(other, tolerance)
     }
 
     /// [`Cell::looks_within`] region by region.

@@ -33,7 +33,7 @@ use std::collections::HashMap;
 
 use crate::frame::{Cell, Color, Frame};
 use cursor::write_move;
-use sgr::{SGR_RESET, sgr_len, shown_colors, write_sgr, write_sgr_reset};
+use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
 
 /// Begin synchronized update (DEC mode 2026): the terminal holds the screen until the end marker.
 pub const SYNC_BEGIN: &[u8] = b"\x1b[?2026h";
@@ -293,10 +293,7 @@ fn diff_row(
             changed += (x..width).filter(|&i| !old[i].same_look(&new[i])).count();
             let mark = out.len();
             let mut erase = *pen;
-            reach(&mut erase, out, y, x, new, |pen, out| {
-                write_sgr(out, pen, None, Some(bg));
-                out.extend_from_slice(b"\x1b[K");
-            });
+            reach(&mut erase, out, y, x, new, Then::Erase(bg));
             let erase_len = out.len() - mark;
             out.truncate(mark);
             let mut write = *pen;
@@ -304,120 +301,188 @@ fn diff_row(
             diff_row(&mut write, out, y, x, old, new, None, 0);
             if erase_len < out.len() - mark {
                 out.truncate(mark);
-                reach(pen, out, y, x, new, |pen, out| {
-                    write_sgr(out, pen, None, Some(bg));
-                    out.extend_from_slice(b"\x1b[K");
-                });
+                reach(pen, out, y, x, new, Then::Erase(bg));
             } else {
                 *pen = write;
             }
             return changed;
         }
-        let (cell, mut sent) = (new[x], new[x]);
-        // `reach` tries routes and ends with the one it keeps: the last cell written is the one sent.
-        reach(pen, out, y, x, new, |pen, out| sent = write_cell(out, pen, &cell, width, tolerance));
-        new[x] = sent;
+        if let Some(sent) = reach(pen, out, y, x, new, Then::Cell(new[x], tolerance)) {
+            new[x] = sent;
+        }
         changed += 1;
         from = x + 1;
     }
     changed
 }
 
-/// Puts the cursor on column `x` of row `y` and runs `then`, by the cheapest route: a cursor move, or
-/// a move to an earlier column and a rewrite of the unchanged cells in between (from `row`).
-fn reach(
-    pen: &mut Pen,
-    out: &mut Vec<u8>,
-    y: usize,
-    x: usize,
-    row: &[Cell],
-    mut then: impl FnMut(&mut Pen, &mut Vec<u8>),
-) {
-    let width = row.len();
-    let mut route = |pen: &mut Pen, out: &mut Vec<u8>, from: usize| {
-        write_move(out, pen, from, y);
-        for cell in &row[from..x] {
-            write_cell(out, pen, cell, width, 0); // on screen already: exactly as it is
+/// What [`reach`] does once the cursor is there.
+#[derive(Clone, Copy, Debug)]
+enum Then {
+    /// Write this cell, within this tolerance ([`write_cell`]).
+    Cell(Cell, u8),
+    /// Erase to the end of the line in this background.
+    Erase(Color),
+}
+
+impl Then {
+    /// Does it; returns the cell as sent.
+    fn write(self, out: &mut Vec<u8>, pen: &mut Pen, width: usize) -> Option<Cell> {
+        match self {
+            Then::Cell(cell, tolerance) => Some(write_cell(out, pen, &cell, width, tolerance)),
+            Then::Erase(bg) => {
+                write_sgr(out, pen, None, Some(bg));
+                out.extend_from_slice(b"\x1b[K");
+                None
+            }
         }
-        then(pen, out);
-    };
-    let mut starts = [Some(x), None, None];
+    }
+
+    /// The bytes [`Then::write`] would send, leaving `pen` as it would.
+    fn price(self, pen: &mut Pen, width: usize) -> usize {
+        match self {
+            Then::Cell(cell, tolerance) => price_cell(pen, &cell, width, tolerance),
+            Then::Erase(bg) => {
+                let sgr = Sgr::new(pen, None, Some(bg));
+                sgr.apply(pen);
+                sgr.len() + 3
+            }
+        }
+    }
+}
+
+/// Puts the cursor on column `x` of row `y` and does `then`, by the cheapest route: a cursor move, or
+/// a move to an earlier column and a rewrite of the unchanged cells in between (from `row`). Returns
+/// the cell sent, if `then` sends one.
+fn reach(pen: &mut Pen, out: &mut Vec<u8>, y: usize, x: usize, row: &[Cell], then: Then) -> Option<Cell> {
+    let width = row.len();
+    let mut starts = [None, None];
     if pen.cursor != Some((x, y)) {
         if let Some((cx, cy)) = pen.cursor
             && cy == y
             && cx < x
             && x - cx <= MAX_REWRITE
         {
-            starts[1] = Some(cx);
+            starts[0] = Some(cx);
         }
         if (1..=MAX_REWRITE).contains(&x) {
-            starts[2] = Some(0);
+            starts[1] = Some(0);
         }
     }
-    if starts[1..].iter().all(Option::is_none) {
-        return route(pen, out, x); // one way there (the cursor is on the row, or far): no trial
-    }
-    let mark = out.len();
+    // The routes are priced, not written, and a rewrite stops being priced once it costs more than
+    // the best so far. The cheapest wins; of equals, the one starting furthest left (a rewrite beats
+    // the plain move on a tie).
     let mut best = (usize::MAX, x);
-    // The rewrites first and the plain move, the usual winner, last: when it wins, its trial stands
-    // (a route is a function of the pen, so running it again would write the same).
-    for from in starts[1..].iter().flatten().copied() {
-        let mut trial = *pen;
-        route(&mut trial, out, from);
-        best = best.min((out.len() - mark, from));
-        out.truncate(mark);
+    if starts.iter().any(Option::is_some) {
+        best.0 = price_route(pen, y, x, x, row, then, usize::MAX).unwrap_or(usize::MAX);
+        for from in starts.into_iter().flatten() {
+            if let Some(len) = price_route(pen, y, from, x, row, then, best.0) {
+                best = best.min((len, from));
+            }
+        }
     }
-    let mut trial = *pen;
-    route(&mut trial, out, x);
-    if (out.len() - mark, x) < best {
-        *pen = trial;
-        return;
+    write_move(out, pen, best.1, y);
+    for cell in &row[best.1..x] {
+        write_cell(out, pen, cell, width, 0); // on screen already: exactly as it is
     }
-    out.truncate(mark);
-    route(pen, out, best.1);
+    then.write(out, pen, width)
 }
 
-/// Writes one cell at the cursor: colours if needed, then the glyph; returns the cell as sent. Of the
-/// cell and its [`Cell::inverse`] (same look), the one whose colours cost fewer bytes from the current
-/// pen, each with the pen's colours kept where they are within `tolerance` of the cell's.
-fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize, tolerance: u8) -> Cell {
+/// The bytes of the route to column `x` that moves to column `from` and rewrites the cells between,
+/// then does `then`, if at most `limit`.
+fn price_route(
+    pen: &Pen,
+    y: usize,
+    from: usize,
+    x: usize,
+    row: &[Cell],
+    then: Then,
+    limit: usize,
+) -> Option<usize> {
+    let mut pen = *pen;
+    let mut len = move_len(&mut pen, from, y);
+    for cell in &row[from..x] {
+        len += price_cell(&mut pen, cell, row.len(), 0);
+        if len > limit {
+            return None;
+        }
+    }
+    len += then.price(&mut pen, row.len());
+    (len <= limit).then_some(len)
+}
+
+/// The bytes of [`write_move`] to (`x`, `y`), leaving the pen as it would.
+fn move_len(pen: &mut Pen, x: usize, y: usize) -> usize {
+    cursor::move_len(pen, x, y)
+}
+
+/// The form `cell` goes in from `pen` and its colour change: of the cell and its [`Cell::inverse`]
+/// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
+/// are within `tolerance` of the cell's.
+fn cell_form(pen: &Pen, cell: &Cell, tolerance: u8) -> (Cell, Sgr) {
     let cell = cell.canonical();
+    let priced = |cell: Cell| (cell, Sgr::to_cell(pen, &cell));
+    // (A cell that needs no colour change is never beaten: the searches below start only past it.)
+    if tolerance == 0 || !has_rgb(&cell) {
+        let plain = priced(cell);
+        if plain.1.len() > 0
+            && let Some(inverse) = cell.inverse().map(priced)
+            && inverse.1.len() < plain.1.len()
+        {
+            return inverse;
+        }
+        return plain;
+    }
+    // The pen's colours where close enough; a glyph they leave in one colour may go as a blank.
     let near_pen = |mut cell: Cell| {
         let keep = |want: Color, pen: Option<Color>| pen.filter(|p| p.within(want, tolerance));
         cell.fg = keep(cell.fg, pen.fg).unwrap_or(cell.fg);
         cell.bg = keep(cell.bg, pen.bg).unwrap_or(cell.bg);
         cell
     };
-    let cell = if tolerance == 0 || !has_rgb(&cell) {
-        match cell.inverse() {
-            Some(inverse) if sgr_len(pen, &inverse) < sgr_len(pen, &cell) => inverse,
-            _ => cell,
-        }
-    } else {
-        // The pen's colours where close enough; a glyph they leave in one colour may go as a blank.
-        let (plain, inverse) = (near_pen(cell), cell.inverse().map(near_pen));
-        let mut best = (sgr_len(pen, &plain), plain);
+    let plain = near_pen(cell);
+    let mut best = priced(plain);
+    if best.1.len() > 0 {
+        let inverse = cell.inverse().map(near_pen);
         // The first of the cheapest, in this order (a canonical form only where it differs).
         for candidate in
             [Some(plain.canonical()), inverse, inverse.map(|c| c.canonical())].into_iter().flatten()
         {
-            if candidate != best.1 {
-                let len = sgr_len(pen, &candidate);
-                if len < best.0 {
-                    best = (len, candidate);
+            if candidate != best.0 {
+                let priced = priced(candidate);
+                if priced.1.len() < best.1.len() {
+                    best = priced;
                 }
             }
         }
-        best.1
-    };
-    let (fg, bg) = shown_colors(&cell);
-    write_sgr(out, pen, fg, bg);
+    }
+    best
+}
+
+/// Writes one cell at the cursor in the form [`cell_form`] chooses: colours if needed, then the
+/// glyph; returns the cell as sent.
+fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize, tolerance: u8) -> Cell {
+    let (cell, sgr) = cell_form(pen, cell, tolerance);
+    sgr.write(out, pen);
     push_char(out, cell.ch);
+    advance(pen, width);
+    cell
+}
+
+/// The bytes [`write_cell`] would send, leaving `pen` as it would.
+fn price_cell(pen: &mut Pen, cell: &Cell, width: usize, tolerance: u8) -> usize {
+    let (cell, sgr) = cell_form(pen, cell, tolerance);
+    sgr.apply(pen);
+    advance(pen, width);
+    sgr.len() + cell.ch.len_utf8()
+}
+
+/// The cursor after a glyph.
+fn advance(pen: &mut Pen, width: usize) {
     pen.cursor = match pen.cursor {
         Some((x, y)) if x + 1 < width => Some((x + 1, y)),
         _ => None, // after the last column: pending wrap, position unreliable
     };
-    cell
 }
 
 /// Whether a cell has a truecolor colour, the only kind a tolerance applies to.

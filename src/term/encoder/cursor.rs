@@ -32,11 +32,35 @@ enum Horizontal {
 
 /// Moves the cursor to column `x`, row `y` by the shortest sequence (nothing if it is there).
 pub(super) fn write_move(out: &mut Vec<u8>, pen: &mut Pen, x: usize, y: usize) {
-    let from = pen.cursor;
+    let (len, route) = shortest_move(pen.cursor, x, y);
+    let start = out.len();
+    match (pen.cursor, route) {
+        (Some((cx, _)), Some((vertical, horizontal))) => write_relative(out, cx, vertical, horizontal),
+        _ if pen.cursor == Some((x, y)) => {}
+        _ => write_cup(out, x, y),
+    }
+    debug_assert_eq!(out.len() - start, len);
     pen.cursor = Some((x, y));
-    let Some((cx, cy)) = from else { return write_cup(out, x, y) };
+}
+
+/// The bytes [`write_move`] would send, leaving the pen as it would.
+pub(super) fn move_len(pen: &mut Pen, x: usize, y: usize) -> usize {
+    let (len, _) = shortest_move(pen.cursor, x, y);
+    pen.cursor = Some((x, y));
+    len
+}
+
+/// The shortest move from `from` to (`x`, `y`) and its bytes: a relative move, or `None` for `CUP`
+/// (or for nothing, when the cursor is there). Priced by arithmetic; the first of the shortest in
+/// this order, `CUP` first.
+fn shortest_move(
+    from: Option<(usize, usize)>,
+    x: usize,
+    y: usize,
+) -> (usize, Option<(Vertical, Horizontal)>) {
+    let Some((cx, cy)) = from else { return (cup_len(x, y), None) };
     if (cx, cy) == (x, y) {
-        return;
+        return (0, None);
     }
     let verticals = [
         Some(Vertical::Stay).filter(|_| cy == y),
@@ -45,10 +69,7 @@ pub(super) fn write_move(out: &mut Vec<u8>, pen: &mut Pen, x: usize, y: usize) {
         Some(Vertical::Up(cy.wrapping_sub(y))).filter(|_| y < cy),
         Some(Vertical::Row(y)).filter(|_| y != cy),
     ];
-    let mark = out.len();
-    write_cup(out, x, y);
-    let mut best: (usize, Option<(Vertical, Horizontal)>) = (out.len() - mark, None);
-    out.truncate(mark);
+    let mut best: (usize, Option<(Vertical, Horizontal)>) = (cup_len(x, y), None);
     for vertical in verticals.into_iter().flatten() {
         let col = if matches!(vertical, Vertical::CrLf(_)) { 0 } else { cx };
         let horizontals = [
@@ -60,17 +81,52 @@ pub(super) fn write_move(out: &mut Vec<u8>, pen: &mut Pen, x: usize, y: usize) {
             Some(Horizontal::Column(x)).filter(|_| x != col),
         ];
         for horizontal in horizontals.into_iter().flatten() {
-            write_relative(out, cx, vertical, horizontal);
-            if out.len() - mark < best.0 {
-                best = (out.len() - mark, Some((vertical, horizontal)));
+            let len = relative_len(cx, vertical, horizontal);
+            if len < best.0 {
+                best = (len, Some((vertical, horizontal)));
             }
-            out.truncate(mark);
         }
     }
-    match best.1 {
-        Some((vertical, horizontal)) => write_relative(out, cx, vertical, horizontal),
-        None => write_cup(out, x, y),
+    best
+}
+
+/// The bytes of [`write_relative`].
+fn relative_len(from_x: usize, vertical: Vertical, horizontal: Horizontal) -> usize {
+    let vertical = match vertical {
+        Vertical::Stay => 0,
+        Vertical::CrLf(k) => usize::from(from_x != 0) + k,
+        Vertical::Down(k) | Vertical::Up(k) => csi_len(k, 1),
+        Vertical::Row(y) => csi_len(y + 1, 1),
+    };
+    vertical
+        + match horizontal {
+            Horizontal::Stay => 0,
+            Horizontal::Cr => 1,
+            Horizontal::Right(n) | Horizontal::Left(n) => csi_len(n, 1),
+            Horizontal::Back(n) => n,
+            Horizontal::Column(x) => csi_len(x + 1, 1),
+        }
+}
+
+/// The bytes of [`write_csi`].
+fn csi_len(n: usize, default: usize) -> usize {
+    3 + if n != default { digits(n) } else { 0 }
+}
+
+/// The bytes of [`write_cup`].
+fn cup_len(x: usize, y: usize) -> usize {
+    3 + if x != 0 {
+        digits(y + 1) + 1 + digits(x + 1)
+    } else if y != 0 {
+        digits(y + 1)
+    } else {
+        0
     }
+}
+
+/// The decimal digits of `n`.
+fn digits(n: usize) -> usize {
+    n.checked_ilog10().map_or(1, |log| log as usize + 1)
 }
 
 fn write_relative(out: &mut Vec<u8>, from_x: usize, vertical: Vertical, horizontal: Horizontal) {

@@ -21,62 +21,120 @@ pub(super) fn shown_colors(cell: &Cell) -> (Option<Color>, Option<Color>) {
     ((cell.ch != ' ').then_some(cell.fg), (cell.ch != '█').then_some(cell.bg))
 }
 
-/// The bytes [`write_sgr`] would send to show `cell`'s colours from `pen`.
-pub(super) fn sgr_len(pen: &Pen, cell: &Cell) -> usize {
-    let (fg, bg) = shown_colors(cell);
-    sgr_forms(pen, fg, bg).map_or(0, |(plain, reset)| plain.min(reset))
+/// A colour change from a pen, priced: setting `fg` and `bg` (`None`: don't care) in the shorter of
+/// the two forms, just the changed colours or a reset followed by the non-default ones. The encoder
+/// prices candidate cells and routes with it and writes only the one it keeps.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Sgr {
+    fg: Option<Color>,
+    bg: Option<Color>,
+    form: Form,
 }
 
-/// The lengths of the two ways to set `fg` and `bg` (`None`: don't care) from `pen`: just the changed
-/// colours, or a reset followed by the non-default ones; `None` when nothing changes.
-fn sgr_forms(pen: &Pen, fg: Option<Color>, bg: Option<Color>) -> Option<(usize, usize)> {
-    // Straight-line: the encoder asks this several times for every changed cell.
-    let [fg_change, bg_change] = sgr_changes(pen, fg, bg);
-    let changed =
-        |change: Option<(Color, Layer)>| change.map_or((0, 0), |(c, layer)| (1, color_len(c, layer)));
-    let ((n_fg, len_fg), (n_bg, len_bg)) = (changed(fg_change), changed(bg_change));
-    let n = n_fg + n_bg;
-    if n == 0 {
-        return None;
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Form {
+    /// Nothing changes.
+    Keep,
+    /// `ESC [ p;p m` with the changed colours, this many bytes.
+    Plain(usize),
+    /// `ESC [ 0;p;p m` (or `ESC [ m`), this many bytes.
+    Reset(usize),
+}
+
+impl Sgr {
+    /// The change from `pen` to `fg` and `bg`.
+    #[inline]
+    pub(super) fn new(pen: &Pen, fg: Option<Color>, bg: Option<Color>) -> Sgr {
+        // Straight-line: the encoder prices several of these for every changed cell.
+        let change = |want: Option<Color>, pen: Option<Color>, layer| match want {
+            Some(c) if pen != Some(c) => (1, color_len(c, layer)),
+            _ => (0, 0),
+        };
+        let ((n_fg, len_fg), (n_bg, len_bg)) = (change(fg, pen.fg, Layer::Fg), change(bg, pen.bg, Layer::Bg));
+        let n = n_fg + n_bg;
+        let form = if n == 0 {
+            Form::Keep
+        } else {
+            // ESC [ p;p m: codes joined by `;`.
+            let plain = 3 + n - 1 + len_fg + len_bg;
+            let is_default = |c: Option<Color>| c.is_none_or(|c| c == Color::Default);
+            if !is_default(fg) && !is_default(bg) {
+                // Both colours non-default: the reset form repeats both and adds `0;`, never shorter.
+                Form::Plain(plain)
+            } else {
+                // ESC [ 0;p;p m, or ESC [ m when both are the defaults.
+                let param = |c: Option<Color>, layer| match c {
+                    Some(c) if c != Color::Default => 1 + color_len(c, layer),
+                    _ => 0,
+                };
+                let params = param(fg, Layer::Fg) + param(bg, Layer::Bg);
+                let reset = 3 + if params > 0 { 1 + params } else { 0 };
+                if reset < plain { Form::Reset(reset) } else { Form::Plain(plain) }
+            }
+        };
+        Sgr { fg, bg, form }
     }
-    // ESC [ p;p m: codes joined by `;`.
-    let plain = 3 + n - 1 + len_fg + len_bg;
-    // ESC [ 0;p;p m, or ESC [ m when both are the defaults.
-    let param = |c: Option<Color>, layer| match c {
-        Some(c) if c != Color::Default => 1 + color_len(c, layer),
-        _ => 0,
-    };
-    let params = param(fg, Layer::Fg) + param(bg, Layer::Bg);
-    let reset = 3 + if params > 0 { 1 + params } else { 0 };
-    Some((plain, reset))
-}
 
-/// The colours that differ from the pen's, with their layer: foreground, then background.
-fn sgr_changes(pen: &Pen, fg: Option<Color>, bg: Option<Color>) -> [Option<(Color, Layer)>; 2] {
-    [
-        fg.filter(|&c| pen.fg != Some(c)).map(|c| (c, Layer::Fg)),
-        bg.filter(|&c| pen.bg != Some(c)).map(|c| (c, Layer::Bg)),
-    ]
+    /// The change to `cell`'s shown colours.
+    #[inline]
+    pub(super) fn to_cell(pen: &Pen, cell: &Cell) -> Sgr {
+        let (fg, bg) = shown_colors(cell);
+        Sgr::new(pen, fg, bg)
+    }
+
+    /// Its bytes.
+    #[inline]
+    pub(super) fn len(&self) -> usize {
+        match self.form {
+            Form::Keep => 0,
+            Form::Plain(len) | Form::Reset(len) => len,
+        }
+    }
+
+    /// The pen after it, without writing it (for pricing).
+    #[inline]
+    pub(super) fn apply(&self, pen: &mut Pen) {
+        match self.form {
+            Form::Keep | Form::Plain(_) => {
+                pen.fg = self.fg.or(pen.fg);
+                pen.bg = self.bg.or(pen.bg);
+            }
+            Form::Reset(_) => {
+                pen.fg = Some(self.fg.unwrap_or(Color::Default));
+                pen.bg = Some(self.bg.unwrap_or(Color::Default));
+            }
+        }
+    }
+
+    /// Writes it (the pen must be the one it was priced from) and updates the pen.
+    pub(super) fn write(&self, out: &mut Vec<u8>, pen: &mut Pen) {
+        match self.form {
+            Form::Keep => {}
+            Form::Reset(_) => write_sgr_reset(out, pen, self.fg, self.bg),
+            Form::Plain(len) => {
+                let start = out.len();
+                out.extend_from_slice(b"\x1b[");
+                let fg = self.fg.filter(|&c| pen.fg != Some(c));
+                if let Some(c) = fg {
+                    push_color(out, c, Layer::Fg);
+                }
+                if let Some(c) = self.bg.filter(|&c| pen.bg != Some(c)) {
+                    if fg.is_some() {
+                        out.push(b';');
+                    }
+                    push_color(out, c, Layer::Bg);
+                }
+                out.push(b'm');
+                debug_assert_eq!(out.len() - start, len);
+                self.apply(pen);
+            }
+        }
+    }
 }
 
 /// Sets the colours to `fg` and `bg` (`None`: don't care) in the shortest form, if they changed.
 pub(super) fn write_sgr(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg: Option<Color>) {
-    let Some((plain, reset)) = sgr_forms(pen, fg, bg) else { return };
-    if reset < plain {
-        return write_sgr_reset(out, pen, fg, bg);
-    }
-    let start = out.len();
-    out.extend_from_slice(b"\x1b[");
-    for (i, (color, layer)) in sgr_changes(pen, fg, bg).into_iter().flatten().enumerate() {
-        if i > 0 {
-            out.push(b';');
-        }
-        push_color(out, color, layer);
-    }
-    out.push(b'm');
-    debug_assert_eq!(out.len() - start, plain);
-    pen.fg = fg.or(pen.fg);
-    pen.bg = bg.or(pen.bg);
+    Sgr::new(pen, fg, bg).write(out, pen);
 }
 
 /// Resets SGR and sets `fg` and `bg` (`None`: leave default) in one sequence: `\x1b[m`, `\x1b[0;41m`…
@@ -123,6 +181,7 @@ fn push_color(out: &mut Vec<u8>, color: Color, layer: Layer) {
 }
 
 /// The length of [`push_color`]'s parameters for `color`.
+#[inline]
 fn color_len(color: Color, layer: Layer) -> usize {
     let digits = |n: u8| 1 + usize::from(n >= 10) + usize::from(n >= 100);
     match color {
