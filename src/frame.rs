@@ -111,6 +111,7 @@ impl Cell {
     /// shows no foreground and a full block no background; or one is the other's [`Cell::inverse`]; a
     /// block glyph whose two colours are equal looks like a blank of that colour.
     #[must_use]
+    #[inline]
     pub fn same_look(&self, other: &Cell) -> bool {
         self.looks_within(other, 0)
     }
@@ -215,22 +216,29 @@ fn sextant_mask(ch: char) -> Option<u32> {
 /// The block glyph covering exactly the part of the cell `ch` leaves empty, for the block glyphs whose
 /// complement is also one: space and full block, the halves, the quadrants and the sextants.
 fn complement_glyph(ch: char) -> Option<char> {
-    const PAIRS: [(char, char); 8] = [
-        (' ', FULL_BLOCK),
-        ('▀', '▄'),
-        ('▌', '▐'),
-        ('▘', '▟'),
-        ('▝', '▙'),
-        ('▖', '▜'),
-        ('▗', '▛'),
-        ('▞', '▚'),
-    ];
-    if let Some(&(a, b)) = PAIRS.iter().find(|&&(a, b)| ch == a || ch == b) {
-        return Some(if ch == a { b } else { a });
-    }
-    // Sextants: the complement of mask m is 63 − m, which skips the same two as m.
-    let other = 63 - sextant_mask(ch)?;
-    char::from_u32(0x1FB00 + other - 1 - u32::from(other > 21) - u32::from(other > 42))
+    Some(match ch {
+        ' ' => FULL_BLOCK,
+        FULL_BLOCK => ' ',
+        '▀' => '▄',
+        '▄' => '▀',
+        '▌' => '▐',
+        '▐' => '▌',
+        '▘' => '▟',
+        '▟' => '▘',
+        '▝' => '▙',
+        '▙' => '▝',
+        '▖' => '▜',
+        '▜' => '▖',
+        '▗' => '▛',
+        '▛' => '▗',
+        '▞' => '▚',
+        '▚' => '▞',
+        _ => {
+            // Sextants: the complement of mask m is 63 − m, which skips the same two as m.
+            let other = 63 - sextant_mask(ch)?;
+            char::from_u32(0x1FB00 + other - 1 - u32::from(other > 21) - u32::from(other > 42))?
+        }
+    })
 }
 
 impl Default for Cell {

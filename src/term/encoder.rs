@@ -371,21 +371,34 @@ fn reach(pen: &mut Pen, out: &mut Vec<u8>, y: usize, x: usize, row: &[Cell], the
     }
     // The routes are priced, not written, and a rewrite stops being priced once it costs more than
     // the best so far. The cheapest wins; of equals, the one starting furthest left (a rewrite beats
-    // the plain move on a tie).
-    let mut best = (usize::MAX, x);
+    // the plain move on a tie). The plain move leaves the colours as they are: the target's form from
+    // the pen now is the one it would be written in, found once.
+    let plain_form = match then {
+        Then::Cell(cell, tolerance) => Some(cell_form(pen, &cell, tolerance)),
+        Then::Erase(_) => None,
+    };
+    let mut from = x;
     if starts.iter().any(Option::is_some) {
-        best.0 = price_route(pen, y, x, x, row, then, usize::MAX).unwrap_or(usize::MAX);
-        for from in starts.into_iter().flatten() {
-            if let Some(len) = price_route(pen, y, from, x, row, then, best.0) {
-                best = best.min((len, from));
+        let mut moved = *pen;
+        let mut best = move_len(&mut moved, x, y)
+            + match plain_form {
+                Some((cell, sgr)) => sgr.len() + cell.ch.len_utf8(),
+                None => then.price(&mut moved, width),
+            };
+        for start in starts.into_iter().flatten() {
+            if let Some(len) = price_route(pen, y, start, x, row, then, best) {
+                (best, from) = (len, start).min((best, from));
             }
         }
     }
-    write_move(out, pen, best.1, y);
-    for cell in &row[best.1..x] {
+    write_move(out, pen, from, y);
+    for cell in &row[from..x] {
         write_cell(out, pen, cell, width, 0); // on screen already: exactly as it is
     }
-    then.write(out, pen, width)
+    match plain_form {
+        Some(form) if from == x => Some(write_form(out, pen, form, width)),
+        _ => then.write(out, pen, width),
+    }
 }
 
 /// The bytes of the route to column `x` that moves to column `from` and rewrites the cells between,
@@ -401,6 +414,17 @@ fn price_route(
 ) -> Option<usize> {
     let mut pen = *pen;
     let mut len = move_len(&mut pen, from, y);
+    // First a floor from the glyphs alone (each cell's shortest form, a blank where it may go as one).
+    let floor: usize =
+        row[from..x]
+            .iter()
+            .map(|cell| {
+                if cell.ch == ' ' || cell.ch == '█' || cell.fg == cell.bg { 1 } else { cell.ch.len_utf8() }
+            })
+            .sum();
+    if len + floor + 1 > limit {
+        return None;
+    }
     for cell in &row[from..x] {
         len += price_cell(&mut pen, cell, row.len(), 0);
         if len > limit {
@@ -462,7 +486,11 @@ fn cell_form(pen: &Pen, cell: &Cell, tolerance: u8) -> (Cell, Sgr) {
 /// Writes one cell at the cursor in the form [`cell_form`] chooses: colours if needed, then the
 /// glyph; returns the cell as sent.
 fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize, tolerance: u8) -> Cell {
-    let (cell, sgr) = cell_form(pen, cell, tolerance);
+    write_form(out, pen, cell_form(pen, cell, tolerance), width)
+}
+
+/// Writes a cell in the form [`cell_form`] found from `pen`; returns the cell as sent.
+fn write_form(out: &mut Vec<u8>, pen: &mut Pen, (cell, sgr): (Cell, Sgr), width: usize) -> Cell {
     sgr.write(out, pen);
     push_char(out, cell.ch);
     advance(pen, width);
@@ -492,7 +520,12 @@ fn has_rgb(cell: &Cell) -> bool {
 
 fn push_char(out: &mut Vec<u8>, ch: char) {
     let mut buf = [0; 4];
-    out.extend_from_slice(ch.encode_utf8(&mut buf).as_bytes());
+    // Copies of a fixed length, without a call to `memcpy`: block glyphs are three bytes.
+    match ch.encode_utf8(&mut buf).len() {
+        1 => out.push(buf[0]),
+        3 => out.extend_from_slice(&buf[..3]),
+        len => out.extend_from_slice(&buf[..len]),
+    }
 }
 
 /// `n` in decimal.
