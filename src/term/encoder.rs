@@ -592,6 +592,42 @@ mod tests {
         }
     }
 
+    /// Routes are chosen by price, so a price must be exactly what writing sends and leave the pen as
+    /// writing does: every glyph kind, colour kind and pen (unknown, default, equal, near, far), at
+    /// tolerance 0 and 2, the cell in the middle and in the last column.
+    #[test]
+    fn a_cell_is_priced_at_exactly_the_bytes_it_is_written_in() {
+        let colors = [
+            Color::Default,
+            Color::Indexed(3),
+            Color::Indexed(12),
+            Color::Indexed(200),
+            Color::Rgb(10, 20, 30),
+            Color::Rgb(11, 21, 29),
+            Color::Rgb(200, 100, 0),
+        ];
+        let pens = std::iter::once(None).chain(colors.map(Some));
+        let pens: Vec<Option<Color>> = pens.collect();
+        let mut checked = 0;
+        for ch in [' ', '█', '▀', '▄', '▞', '\u{1FB00}', 'x', '·'] {
+            for (fg, bg) in colors.iter().flat_map(|&f| colors.map(|b| (f, b))) {
+                for (&pen_fg, &pen_bg) in pens.iter().flat_map(|f| pens.iter().map(move |b| (f, b))) {
+                    for (tolerance, x) in [(0, 3), (2, 3), (2, 9)] {
+                        let pen = Pen { cursor: Some((x, 1)), fg: pen_fg, bg: pen_bg };
+                        let (mut written, mut priced) = (pen, pen);
+                        let mut out = Vec::new();
+                        let cell = Cell { ch, fg, bg };
+                        write_cell(&mut out, &mut written, &cell, 10, tolerance);
+                        let len = price_cell(&mut priced, &cell, 10, tolerance);
+                        assert_eq!((len, priced), (out.len(), written), "{cell:?} from {pen:?}");
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(checked, 8 * 49 * 64 * 3);
+    }
+
     /// Nothing changed, nothing sent: not even the synchronized-update brackets.
     #[test]
     fn an_unchanged_frame_sends_nothing() {
