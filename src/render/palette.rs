@@ -260,6 +260,21 @@ fn mix_pair(rgb: [u8; 3], palette: Palette) -> (u8, u8) {
     (packed as u8, (packed >> 8) as u8)
 }
 
+/// The OKLab colour of every 16-colour mix of 1, 2 and 3 quarters (`[a][b][k − 1]`, `b` in `k` of 4
+/// samples), built on first use: every bucket's search scores all 136 pairs, and the cube roots were
+/// most of a 16-colour first frame (issue #16). Entries 0–15 of [`entries`].
+fn ansi16_mixes() -> &'static [[[Vec3; 3]; 16]; 16] {
+    static MIXES: OnceLock<[[[Vec3; 3]; 16]; 16]> = OnceLock::new();
+    MIXES.get_or_init(|| {
+        let linear_of = &entries().linear;
+        std::array::from_fn(|a| {
+            std::array::from_fn(|b| {
+                std::array::from_fn(|k| oklab(linear_of[a].lerp(linear_of[b], (k + 1) as f32 / 4.0)))
+            })
+        })
+    })
+}
+
 /// The best pair for `rgb` among the palette's candidates (see [`dither`]); the nearer entry first.
 fn search_pair(rgb: [u8; 3], palette: Palette) -> (u8, u8) {
     let Entries { linear: linear_of, oklab: oklab_of } = entries();
@@ -308,6 +323,7 @@ fn search_pair(rgb: [u8; 3], palette: Palette) -> (u8, u8) {
             let seen = |k: usize| match k {
                 0 => oklab_of[usize::from(a)],
                 4 => oklab_of[usize::from(b)],
+                _ if palette == Palette::Ansi16 => ansi16_mixes()[usize::from(a)][usize::from(b)][k - 1],
                 _ => oklab(pa.lerp(pb, k as f32 / 4.0)),
             };
             let score = (0..5)

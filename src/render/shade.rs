@@ -272,21 +272,32 @@ impl Srgb8Tables {
             let srgb = if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
             (srgb.clamp(0.0, 1.0) * 255.0).round() as u8
         };
+        // Built on a process's first frame, so cheap (issue #16: ≈ 0.5 ms when it bisected): each
+        // threshold starts from the curve's inverse at the code's lower half-step and walks the few
+        // floats to the exact boundary; the bit patterns of 0..=1 are ordered like the values.
         let mut threshold = [f32::INFINITY; 257];
         threshold[0] = 0.0;
         for (k, t) in threshold.iter_mut().enumerate().take(256).skip(1) {
-            // Bisect on the bit patterns of 0..=1 (ordered like the values) for the first code ≥ k.
-            let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
-            while lo < hi {
-                let mid = lo + (hi - lo) / 2;
-                if usize::from(code(f32::from_bits(mid))) >= k { hi = mid } else { lo = mid + 1 }
+            let guess = srgb_to_linear((k as f32 - 0.5) / 255.0).clamp(0.0, 1.0);
+            let mut bits = guess.to_bits();
+            while usize::from(code(f32::from_bits(bits))) < k {
+                bits += 1;
             }
-            *t = f32::from_bits(lo);
+            while bits > 0 && usize::from(code(f32::from_bits(bits - 1))) >= k {
+                bits -= 1;
+            }
+            *t = f32::from_bits(bits);
         }
-        let bucket = std::array::from_fn(|b| {
+        // Each bucket's start code: the thresholds at or below the start, counted in one walk.
+        let mut bucket = [0u8; SRGB8_BUCKETS];
+        let mut below = 0;
+        for (b, start_code) in bucket.iter_mut().enumerate() {
             let c = b as f32 / SRGB8_BUCKETS as f32;
-            threshold[1..].iter().take_while(|&&t| t <= c).count() as u8
-        });
+            while below < 255 && threshold[below + 1] <= c {
+                below += 1;
+            }
+            *start_code = below as u8;
+        }
         Srgb8Tables { bucket, threshold }
     }
 }
