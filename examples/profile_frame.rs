@@ -7,7 +7,7 @@
 //! ```
 //!
 //! Arguments: view (`corridor`|`open`), maze side, charset, columns, rows, part (`samples`, `glyphs`,
-//! `frame`), repetitions. Prints the mean time per repetition.
+//! `frame`), repetitions, colour depth (default truecolor). Prints the mean time per repetition.
 
 #[path = "../benches/common/mod.rs"]
 mod common;
@@ -28,14 +28,11 @@ fn main() {
         (arg(3, "200").parse().expect("cols"), arg(4, "60").parse().expect("rows"));
     let part = arg(5, "frame");
     let reps: u32 = arg(6, "2000").parse().expect("repetitions");
+    let depth: ColorDepth = arg(7, "truecolor").parse().expect("colour depth");
 
     let scene = common::scene(view, side);
-    let options = RenderOptions {
-        charset,
-        color_depth: ColorDepth::TrueColor,
-        culling: Culling::Portal,
-        ..RenderOptions::default()
-    };
+    let options =
+        RenderOptions { charset, color_depth: depth, culling: Culling::Portal, ..RenderOptions::default() };
     let (mut renderer, mut frame) = (Renderer::new(), Frame::new(cols, rows));
     renderer
         .render(&scene.maze, &scene.camera, &options, &mut frame, Region { col: 0, row: 0, cols, rows })

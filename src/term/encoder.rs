@@ -444,6 +444,12 @@ fn move_len(pen: &mut Pen, x: usize, y: usize) -> usize {
 /// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
 /// are within `tolerance` of the cell's.
 fn cell_form(pen: &Pen, cell: &Cell, tolerance: u8) -> (Cell, Sgr) {
+    find_form(pen, cell, tolerance, true)
+}
+
+/// [`cell_form`]; `shortcut`: skip the inverse forms where they cannot win (false: the whole
+/// search, the oracle the tests hold the shortcut to).
+fn find_form(pen: &Pen, cell: &Cell, tolerance: u8, shortcut: bool) -> (Cell, Sgr) {
     let cell = cell.canonical();
     let priced = |cell: Cell| (cell, Sgr::to_cell(pen, &cell));
     // (A cell that needs no colour change is never beaten: the searches below start only past it.)
@@ -466,6 +472,17 @@ fn cell_form(pen: &Pen, cell: &Cell, tolerance: u8) -> (Cell, Sgr) {
     };
     let plain = near_pen(cell);
     let mut best = priced(plain);
+    // Two truecolor colours, neither near the pen's other one: the inverse changes both colours, at
+    // the lengths the plain form's worst case has, so it cannot be shorter; and the plain form's two
+    // colours differ (the pen could only merge them by being near both), so it has no blank form.
+    let both_far = |pen: &Pen| {
+        matches!((cell.fg, cell.bg), (Color::Rgb(..), Color::Rgb(..)))
+            && !pen.fg.is_some_and(|p| p.within(cell.bg, tolerance))
+            && !pen.bg.is_some_and(|p| p.within(cell.fg, tolerance))
+    };
+    if shortcut && best.1.len() > 0 && both_far(pen) {
+        return best;
+    }
     if best.1.len() > 0 {
         let inverse = cell.inverse().map(near_pen);
         // The first of the cheapest, in this order (a canonical form only where it differs).
@@ -626,6 +643,33 @@ mod tests {
             }
         }
         assert_eq!(checked, 8 * 49 * 64 * 3);
+    }
+
+    /// The shortcut past the inverse forms finds what the whole search finds: truecolor cells of
+    /// every glyph kind, colours near and far from every pen, tolerances 1 and 3.
+    #[test]
+    fn the_form_search_shortcut_finds_what_the_whole_search_finds() {
+        let (a, b) = (Color::Rgb(100, 50, 200), Color::Rgb(30, 220, 9));
+        let colors = [a, Color::Rgb(101, 51, 199), b, Color::Rgb(32, 219, 9), Color::Rgb(0, 0, 0)];
+        let pens: Vec<Option<Color>> = [None, Some(Color::Default), Some(Color::Indexed(9))]
+            .into_iter()
+            .chain(colors.map(Some))
+            .collect();
+        for ch in [' ', '█', '▀', '▞', '\u{1FB05}', 'x'] {
+            for (fg, bg) in colors.iter().flat_map(|&f| colors.map(|b| (f, b))) {
+                for (&pen_fg, &pen_bg) in pens.iter().flat_map(|f| pens.iter().map(move |b| (f, b))) {
+                    for tolerance in [1, 3] {
+                        let pen = Pen { cursor: Some((0, 0)), fg: pen_fg, bg: pen_bg };
+                        let cell = Cell { ch, fg, bg };
+                        let (fast, whole) = (
+                            find_form(&pen, &cell, tolerance, true),
+                            find_form(&pen, &cell, tolerance, false),
+                        );
+                        assert_eq!((fast.0, fast.1.len()), (whole.0, whole.1.len()), "{cell:?} from {pen:?}");
+                    }
+                }
+            }
+        }
     }
 
     /// Nothing changed, nothing sent: not even the synchronized-update brackets.

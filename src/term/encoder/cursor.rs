@@ -62,6 +62,10 @@ fn shortest_move(
     if (cx, cy) == (x, y) {
         return (0, None);
     }
+    if cy == y && x > cx {
+        // The diff's usual move, on along the row: `CUF` is shorter than `CHA` (fewer digits) and `CUP`.
+        return (csi_len(x - cx, 1), Some((Vertical::Stay, Horizontal::Right(x - cx))));
+    }
     let verticals = [
         Some(Vertical::Stay).filter(|_| cy == y),
         Some(Vertical::CrLf(y.wrapping_sub(cy))).filter(|_| y > cy),
