@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 
-use super::palette::{self, quantize_srgb8, threshold, xterm_rgb};
+use super::palette::{self, Mix, quantize_srgb8, threshold, xterm_rgb};
 use super::pipeline::RenderOptions;
 use super::samples::SampleBuffer;
 use super::shade::{Srgb8Tables, linear_to_srgb_fast, luminance};
@@ -211,6 +211,7 @@ fn block_cells<const SX: usize, const SY: usize>(
     let tables = Srgb8Tables::get();
     let mut srgb = [[0u8; 3]; 6];
     let mut indices = [0u8; 6];
+    let mut mixes: [Option<([u8; 3], Mix)>; 6] = [None; 6];
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
         let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {
@@ -239,10 +240,14 @@ fn block_cells<const SX: usize, const SY: usize>(
                         for dx in 0..SX {
                             let (x, y) = (col * SX + dx, row * SY + dy);
                             let k = dy * SX + dx;
-                            indices[k] = match palette::dither(line[x], srgb[k], depth, threshold(x, y)) {
-                                Color::Indexed(i) => i,
-                                _ => 0, // `dither` gives indices at these depths
+                            // The mix of the colour this position had in the cell before, if the same.
+                            let mix = match mixes[k] {
+                                Some((rgb, mix)) if rgb == srgb[k] => Some(mix),
+                                _ => Mix::of(srgb[k], depth),
                             };
+                            mixes[k] = mix.map(|mix| (srgb[k], mix));
+                            // (`Mix::of` gives a mix at these depths.)
+                            indices[k] = mix.map_or(0, |mix| mix.pick(line[x], threshold(x, y)));
                         }
                     }
                     indexed_cell(&indices[..SX * SY], charset)

@@ -142,22 +142,57 @@ pub fn threshold(x: usize, y: usize) -> f32 {
 #[must_use]
 #[inline]
 pub fn dither(linear: Vec3, rgb: [u8; 3], depth: ColorDepth, threshold: f32) -> Color {
-    let palette = match depth {
-        ColorDepth::None | ColorDepth::TrueColor => return quantize_srgb8(rgb, depth),
-        ColorDepth::Ansi16 => Palette::Ansi16,
-        ColorDepth::Ansi256 => Palette::Xterm256,
-    };
-    // A palette entry shows as itself: its bucket's pair need not pass through it.
-    let exact = match palette {
-        Palette::Ansi16 => ANSI16.iter().position(|&c| c == rgb).map(|i| i as u8),
-        Palette::Xterm256 => exact256(rgb),
-    };
-    if let Some(index) = exact {
-        return Color::Indexed(index);
+    match Mix::of(rgb, depth) {
+        Some(mix) => Color::Indexed(mix.pick(linear, threshold)),
+        None => quantize_srgb8(rgb, depth),
     }
-    let (a, b) = mix_pair(rgb, palette);
-    let ratio = mix_ratio(linear.clamp(Vec3::ZERO, Vec3::ONE), a, b);
-    Color::Indexed(if ratio > threshold { b } else { a })
+}
+
+/// What [`dither`] shows for one 8-bit sRGB colour: an entry that is exactly it, or a pair to mix. A
+/// function of the colour alone, so a caller may keep it for the next sample of the same colour (the
+/// glyph pass does, per sub-cell position: neighbours along a row often share their colour).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Mix {
+    /// A palette entry shows as itself: its bucket's pair need not pass through it.
+    Exact(u8),
+    /// The bucket's pair `(a, b)` ([`mix_pair`]).
+    Pair(u8, u8),
+}
+
+impl Mix {
+    /// The mix for `rgb` at `depth`; `None` at the depths that do not dither (truecolor, none).
+    #[inline]
+    pub(crate) fn of(rgb: [u8; 3], depth: ColorDepth) -> Option<Mix> {
+        let palette = match depth {
+            ColorDepth::None | ColorDepth::TrueColor => return None,
+            ColorDepth::Ansi16 => Palette::Ansi16,
+            ColorDepth::Ansi256 => Palette::Xterm256,
+        };
+        let exact = match palette {
+            Palette::Ansi16 => ANSI16.iter().position(|&c| c == rgb).map(|i| i as u8),
+            Palette::Xterm256 => exact256(rgb),
+        };
+        Some(match exact {
+            Some(index) => Mix::Exact(index),
+            None => {
+                let (a, b) = mix_pair(rgb, palette);
+                Mix::Pair(a, b)
+            }
+        })
+    }
+
+    /// The entry shown on a sample of linear colour `linear` (of this mix's sRGB colour) whose
+    /// [`threshold`] is `threshold`.
+    #[inline]
+    pub(crate) fn pick(self, linear: Vec3, threshold: f32) -> u8 {
+        match self {
+            Mix::Exact(index) => index,
+            Mix::Pair(a, b) => {
+                let ratio = mix_ratio(linear.clamp(Vec3::ZERO, Vec3::ONE), a, b);
+                if ratio > threshold { b } else { a }
+            }
+        }
+    }
 }
 
 /// The xterm-256 index (16–255) showing exactly `rgb`, if one does.
