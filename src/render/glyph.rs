@@ -294,6 +294,10 @@ fn ascii_cell(
 
 /// The largest difference in any channel between two of a cell's samples (8-bit sRGB).
 fn spread(srgb: &[[u8; 3]]) -> u8 {
+    if let [a, b] = *srgb {
+        // Half blocks, every cell of the frame: two samples' spread is their difference.
+        return a[0].abs_diff(b[0]).max(a[1].abs_diff(b[1])).max(a[2].abs_diff(b[2]));
+    }
     (0..3)
         .map(|c| {
             let (lo, hi) = srgb.iter().fold((255, 0), |(lo, hi), s| (s[c].min(lo), s[c].max(hi)));
@@ -427,6 +431,14 @@ fn block_cell(srgb: &[[u8; 3]], charset: Charset, depth: ColorDepth) -> Cell {
 /// More (quadrants and sextants across an edge): the best split of their colours, each side drawn in its
 /// most frequent entry (the earlier sample's on a tie).
 fn indexed_cell(indices: &[u8], charset: Charset) -> Cell {
+    if let [ink, paper] = *indices {
+        // Half blocks: the top sample's entry on the bottom one's (what the general case gives).
+        return if ink == paper {
+            solid(Color::Indexed(paper))
+        } else {
+            Cell { ch: block_glyph(charset, 1), fg: Color::Indexed(ink), bg: Color::Indexed(paper) }
+        };
+    }
     let paper = indices[indices.len() - 1];
     let Some(&ink) = indices.iter().find(|&&i| i != paper) else {
         return solid(Color::Indexed(paper));
