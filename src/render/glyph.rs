@@ -478,6 +478,20 @@ mod tests {
         assert_eq!(Charset::Sextant.sample_aspect(0.5), 0.75);
     }
 
+    /// A dithered half-block cell is its top sample's entry (`▀`) on its bottom one's, a blank when
+    /// they are equal; the two-sample spread is the largest channel difference.
+    #[test]
+    fn a_dithered_half_block_is_its_top_entry_on_its_bottom_one() {
+        assert_eq!(
+            indexed_cell(&[21, 196], Charset::Half),
+            Cell { ch: '▀', fg: Color::Indexed(21), bg: Color::Indexed(196) }
+        );
+        assert_eq!(indexed_cell(&[40, 40], Charset::Half), solid(Color::Indexed(40)));
+        assert_eq!(spread(&[[10, 200, 30], [12, 190, 60]]), 30);
+        assert_eq!(spread(&[[200, 0, 0], [10, 0, 0]]), 190);
+        assert_eq!(spread(&[[7, 7, 7], [7, 7, 7]]), 0);
+    }
+
     #[test]
     fn best_partition_splits_two_colours() {
         let (a, b) = ([230, 25, 25], [25, 25, 230]);
