@@ -32,7 +32,7 @@ mod sgr;
 use std::collections::HashMap;
 
 use crate::frame::{Cell, Color, Frame};
-use cursor::write_move;
+use cursor::{move_len, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
 
 /// Begin synchronized update (DEC mode 2026): the terminal holds the screen until the end marker.
@@ -433,11 +433,6 @@ fn price_route(
     }
     len += then.price(&mut pen, row.len());
     (len <= limit).then_some(len)
-}
-
-/// The bytes of [`write_move`] to (`x`, `y`), leaving the pen as it would.
-fn move_len(pen: &mut Pen, x: usize, y: usize) -> usize {
-    cursor::move_len(pen, x, y)
 }
 
 /// The form `cell` goes in from `pen` and its colour change: of the cell and its [`Cell::inverse`]

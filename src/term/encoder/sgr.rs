@@ -17,7 +17,7 @@ enum Layer {
 }
 
 /// The colours a cell needs on screen: no foreground for a space, no background for a full block.
-pub(super) fn shown_colors(cell: &Cell) -> (Option<Color>, Option<Color>) {
+fn shown_colors(cell: &Cell) -> (Option<Color>, Option<Color>) {
     ((cell.ch != ' ').then_some(cell.fg), (cell.ch != '█').then_some(cell.bg))
 }
 
