@@ -311,14 +311,22 @@ pub struct Edges {
 /// The side value that means "outside" in [`Edges`]' storage.
 const NO_CELL: u32 = u32::MAX;
 
-/// An [`Edge`] without its opaque flag, sides as `u32` ([`NO_CELL`] = outside).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// An [`Edge`] without its opaque flag, sides as `u32` ([`NO_CELL`] = outside). `Zeroable`: a big
+/// array of them can be allocated zeroed and filled in parts (see the grid reader).
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Zeroable)]
 struct PackedEdge {
     start: VertexId,
     end: VertexId,
     left: u32,
     right: u32,
     color: Vec3,
+}
+
+impl PackedEdge {
+    fn new(start: VertexId, end: VertexId, left: Option<CellId>, right: Option<CellId>, color: Vec3) -> Self {
+        let side = |c: Option<CellId>| c.unwrap_or(NO_CELL);
+        PackedEdge { start, end, left: side(left), right: side(right), color }
+    }
 }
 
 impl Edges {
@@ -348,9 +356,21 @@ impl Edges {
         if let Some(word) = self.opaque.last_mut() {
             *word |= u64::from(edge.opaque) << (n % 64);
         }
-        let side = |c: Option<CellId>| c.unwrap_or(NO_CELL);
-        let (left, right) = (side(edge.left), side(edge.right));
-        self.packed.push(PackedEdge { start: edge.start, end: edge.end, left, right, color: edge.color });
+        self.packed.push(PackedEdge::new(edge.start, edge.end, edge.left, edge.right, edge.color));
+    }
+
+    /// Edges from their records, each a wall when it has the outside on a side and a portal
+    /// otherwise (the grid format's rule).
+    fn walls_where_outside(packed: Vec<PackedEdge>) -> Edges {
+        let opaque = packed
+            .chunks(64)
+            .map(|run| {
+                run.iter()
+                    .enumerate()
+                    .fold(0, |word, (i, p)| word | u64::from(p.left == NO_CELL || p.right == NO_CELL) << i)
+            })
+            .collect();
+        Edges { packed, opaque }
     }
 
     /// Number of edges.

@@ -38,11 +38,11 @@
 
 use std::fmt::Write as _;
 
-use glam::{Vec3, vec2};
+use glam::{Vec2, Vec3, vec2};
 
 use super::text::{Loc, is_space, quote};
 use super::{
-    CellId, Cells, Edge, EdgeId, Edges, Exit, Format, Maze, ParseError, ParseErrorKind, VertexId, Viewer,
+    CellId, Cells, EdgeId, Edges, Exit, Format, Maze, PackedEdge, ParseError, ParseErrorKind, Viewer,
     WriteError,
 };
 
@@ -132,133 +132,75 @@ impl TileMap {
     /// [`TileMap::to_maze`]; `checked_map` when [`parse_map`] made this map, so that the tiles, the
     /// start and the coordinate bound are known good and the maze is valid by construction.
     fn build(&self, checked_map: bool) -> Result<Maze, super::MazeError> {
+        let bands = if self.tiles.len() >= PARALLEL_TILES { 2 } else { 1 };
+        self.build_in_bands(checked_map, bands)
+    }
+
+    /// [`TileMap::build`], the map cut into `bands` runs of tile rows built at once on threads of
+    /// their own: the result does not depend on `bands`.
+    fn build_in_bands(&self, checked_map: bool, bands: usize) -> Result<Maze, super::MazeError> {
         // Numbering (kept from the first, table-driven version of this function, which the tests
         // keep as the oracle): cells are open tiles row by row from the bottom, west to east; edges
         // are the horizontal sides lattice row by row, then the vertical ones tile row by row;
         // vertices are lattice points in the order the horizontal sides first use them, i.e. row by
         // row, west to east (every point beside an open tile touches a horizontal side). So each id
-        // is a row's base plus a rank within the row: the sweeps below keep a row or two of ids, not
-        // a table per tile (4 tables of 16 MB for a 1000 × 1000 maze's 2001 × 2001 tiles).
-        let (cols, rows) = (self.cols as i64, self.rows as i64);
-        let t = self.tile;
-        // open tiles with a border of outside around the map: a look-up without range checks
-        let pad = cols + 2;
-        let mut open_at = vec![false; (pad * (rows + 2)) as usize];
-        for (r, row) in self.tiles.chunks_exact(self.cols.max(1)).enumerate() {
-            let y = rows - 1 - r as i64;
-            let at = ((y + 1) * pad + 1) as usize;
-            for (slot, &ch) in open_at[at..at + row.len()].iter_mut().zip(row) {
-                *slot = is_open(ch);
-            }
+        // is a row's base plus a rank within the row: a band needs only the bases at its first row,
+        // which a count of the bands before it gives, and a row or two of ids at a time (not a table
+        // per tile: 4 tables of 16 MB for a 1000 × 1000 maze's 2001 × 2001 tiles).
+        let sweep = Sweep::new(self);
+        let rows = self.rows;
+        let bands = bands.clamp(1, rows.max(1));
+        let bands: Vec<Band> = (0..bands)
+            .map(|k| Band { rows: rows * k / bands..rows * (k + 1) / bands, top: k + 1 == bands })
+            .collect();
+        let counts = all_at_once(
+            bands
+                .iter()
+                .map(|band| {
+                    let sweep = &sweep;
+                    move || sweep.count(band)
+                })
+                .collect(),
+        );
+        let total = counts.iter().fold(Counts::default(), |sum, c| sum.plus(c));
+        // zeroed, so no page is touched before the band that owns it writes it
+        let mut packed = bytemuck::zeroed_vec::<PackedEdge>(total.h + total.v);
+        let mut vertices = bytemuck::zeroed_vec::<Vec2>(total.points);
+        let mut slots = vec![0 as EdgeId; 4 * total.cells];
+        let (h_part, v_part) = packed.split_at_mut(total.h);
+        let mut parts = Vec::with_capacity(bands.len());
+        let (mut h_part, mut v_part, mut vertex_part, mut slot_part) =
+            (h_part, v_part, vertices.as_mut_slice(), slots.as_mut_slice());
+        let mut base = Counts { h: 0, v: total.h, ..Counts::default() };
+        for count in &counts {
+            let h;
+            let v;
+            let vs;
+            let ss;
+            (h, h_part) = std::mem::take(&mut h_part).split_at_mut(count.h);
+            (v, v_part) = std::mem::take(&mut v_part).split_at_mut(count.v);
+            (vs, vertex_part) = std::mem::take(&mut vertex_part).split_at_mut(count.points);
+            (ss, slot_part) = std::mem::take(&mut slot_part).split_at_mut(4 * count.cells);
+            parts.push((base, Out { h, v, vertices: vs, slots: ss }));
+            base = base.plus(count);
         }
-        let open = |x: i64, y: i64| open_at[((y + 1) * pad + x + 1) as usize];
-        let h_side = |x: i64, y: i64| open(x, y) || open(x, y - 1); // along lattice row y
-        let point = |x: i64, y: i64| h_side(x - 1, y) || h_side(x, y);
-        // ids in a row: `row[x]` for column (or lattice point) x, `u32::MAX` where there is none
-        let rank_row = |row: &mut Vec<u32>, base: u32, len: i64, exists: &dyn Fn(i64) -> bool| {
-            row.clear();
-            let mut next = base;
-            row.extend((0..len).map(|x| {
-                let id = if exists(x) { next } else { u32::MAX };
-                next += u32::from(id != u32::MAX);
-                id
-            }));
-            next
-        };
-        let n_cells = open_at.iter().filter(|&&o| o).count();
-        let some = |id: u32| (id != u32::MAX).then_some(id);
-        // wall colours by tile character
-        let mut palette = [DEFAULT_WALL; 256];
-        for (ch, c) in palette.iter_mut().enumerate() {
-            *c = self.color(ch as u8);
-        }
-        let side_color = |opaque: bool, wall: u8| if opaque { palette[wall as usize] } else { DEFAULT_WALL };
-        // each cell's 4 slots, in the original's order +x, +y, -x, -y, filled as its sides are made
-        let mut slots = vec![0 as EdgeId; 4 * n_cells];
-        // room for the most there can be, each open tile's 4 sides and 4 corners: only the pages
-        // written become resident, and nothing is copied to grow
-        let mut edges = Edges::with_capacity(4 * n_cells);
-        let mut vertices = Vec::with_capacity(4 * n_cells);
-        // horizontal sides: lattice row y runs east; the tile above (row y) is on the left
-        let (mut below, mut above, mut points) = (Vec::new(), Vec::new(), Vec::new());
-        let mut next_cell = 0;
-        for y in 0..=rows {
-            std::mem::swap(&mut below, &mut above);
-            next_cell = rank_row(&mut above, next_cell, cols, &|x| open(x, y));
-            if y == 0 {
-                below.clear();
-                below.resize(cols as usize, u32::MAX);
-            }
-            let first = vertices.len() as VertexId;
-            rank_row(&mut points, first, cols + 1, &|x| point(x, y));
-            vertices.extend(
-                (0..=cols).filter(|&x| points[x as usize] != u32::MAX).map(|x| vec2(x as f32, y as f32) * t),
-            );
-            for x in 0..cols {
-                let (left, right) = (some(above[x as usize]), some(below[x as usize]));
-                if left.is_none() && right.is_none() {
-                    continue;
-                }
-                let e = edges.len() as EdgeId;
-                if let Some(c) = left {
-                    slots[4 * c as usize + 3] = e;
-                }
-                if let Some(c) = right {
-                    slots[4 * c as usize + 1] = e;
-                }
-                let opaque = left.is_none() || right.is_none();
-                let wall = if left.is_none() { self.at(x, y) } else { self.at(x, y - 1) };
-                let (start, end) = (points[x as usize], points[x as usize + 1]);
-                edges.push(Edge { start, end, left, right, opaque, color: side_color(opaque, wall) });
-            }
-        }
-        // vertical sides: lattice column x runs north along tile row y; the tile to the west is on
-        // the left. Rows of vertex and cell ids again, from the bases the first sweep counted.
-        let (mut lower, mut upper, mut cells_row) = (Vec::new(), Vec::new(), Vec::new());
-        let (mut next_point, mut next_cell) = (0, 0);
-        let (mut viewer, mut exit) = (None, None);
-        for y in 0..rows {
-            if y == 0 {
-                next_point = rank_row(&mut upper, 0, cols + 1, &|x| point(x, 0));
-            }
-            std::mem::swap(&mut lower, &mut upper);
-            next_point = rank_row(&mut upper, next_point, cols + 1, &|x| point(x, y + 1));
-            next_cell = rank_row(&mut cells_row, next_cell, cols, &|x| open(x, y));
-            let cell = |x: i64| if (0..cols).contains(&x) { some(cells_row[x as usize]) } else { None };
-            for x in 0..=cols {
-                let (left, right) = (cell(x - 1), cell(x));
-                if left.is_none() && right.is_none() {
-                    continue;
-                }
-                let e = edges.len() as EdgeId;
-                if let Some(c) = left {
-                    slots[4 * c as usize] = e;
-                }
-                if let Some(c) = right {
-                    slots[4 * c as usize + 2] = e;
-                }
-                let opaque = left.is_none() || right.is_none();
-                let wall = if left.is_none() { self.at(x - 1, y) } else { self.at(x, y) };
-                let (start, end) = (lower[x as usize], upper[x as usize]);
-                edges.push(Edge { start, end, left, right, opaque, color: side_color(opaque, wall) });
-            }
-            for x in 0..cols {
-                let Some(c) = cell(x) else { continue };
-                let ch = self.at(x, y);
-                if ch == b'E' && exit.is_none() {
-                    exit = Some(Exit { cell: c, point: None });
-                }
-                if let Some(dir) = start_dir(ch, self.facing_deg)
-                    && viewer.is_none()
-                {
-                    let pos = (vec2(x as f32, y as f32) + 0.5) * t;
-                    viewer = Some(Viewer { pos, z: self.eye, dir_deg: dir, fov_deg: self.fov_deg });
-                }
-            }
-        }
-        drop(open_at); // before the model builds its index
+        let found = all_at_once(
+            bands
+                .iter()
+                .zip(parts)
+                .map(|(band, (base, out))| {
+                    let sweep = &sweep;
+                    move || sweep.fill(band, &base, out)
+                })
+                .collect(),
+        );
+        let viewer = found.iter().find_map(|f| f.0);
+        let exit = found.iter().find_map(|f| f.1);
+        drop(sweep); // before the model builds its index
+        let edges = Edges::walls_where_outside(packed);
         let cells = Cells::uniform(slots, 4);
         // no start tile: a viewer outside every cell, which Maze::new reports
+        let t = self.tile;
         let viewer =
             viewer.unwrap_or(Viewer { pos: vec2(-1.0, -1.0) * t, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 });
         if checked_map {
@@ -267,6 +209,255 @@ impl TileMap {
             Maze::new(vertices, edges, cells, viewer, exit)
         }
     }
+}
+
+/// Maps from which [`TileMap::build`] takes a second thread (a quarter of a million tiles
+/// take tens of ms; a thread costs tens of µs).
+const PARALLEL_TILES: usize = 1 << 18;
+
+/// A run of tile rows of a map, built as a piece: the cells of those rows, the vertical sides
+/// beside them, the horizontal sides and lattice points along their lower lattice lines, and for
+/// the `top` band the map's top line too.
+struct Band {
+    rows: std::ops::Range<usize>,
+    top: bool,
+}
+
+impl Band {
+    /// The lattice lines whose sides and points are this band's.
+    fn lines(&self) -> std::ops::Range<usize> {
+        self.rows.start..self.rows.end + usize::from(self.top)
+    }
+}
+
+/// How many of each thing a band makes; summed over the bands before one, its first ids.
+#[derive(Clone, Copy, Debug, Default)]
+struct Counts {
+    cells: usize,
+    points: usize,
+    /// Horizontal sides.
+    h: usize,
+    /// Vertical sides.
+    v: usize,
+}
+
+impl Counts {
+    fn plus(self, o: &Counts) -> Counts {
+        Counts {
+            cells: self.cells + o.cells,
+            points: self.points + o.points,
+            h: self.h + o.h,
+            v: self.v + o.v,
+        }
+    }
+}
+
+/// Where a band writes: its runs of the horizontal and vertical edges, vertices and cell slots.
+struct Out<'a> {
+    h: &'a mut [PackedEdge],
+    v: &'a mut [PackedEdge],
+    vertices: &'a mut [Vec2],
+    slots: &'a mut [EdgeId],
+}
+
+/// "No id here" in a row of ids.
+const NONE: u32 = u32::MAX;
+
+/// What the bands share: the open tiles with a border of outside (a look-up without range checks)
+/// and the wall colours by tile character.
+struct Sweep<'m> {
+    map: &'m TileMap,
+    /// Row `y + 1` (`y` = -1..=rows), column `x + 1` (`x` = -1..=cols): tile (x, y) is open.
+    open_at: Vec<bool>,
+    pad: usize,
+    palette: [Vec3; 256],
+}
+
+impl<'m> Sweep<'m> {
+    fn new(map: &'m TileMap) -> Sweep<'m> {
+        let pad = map.cols + 2;
+        let mut open_at = vec![false; pad * (map.rows + 2)];
+        for (r, row) in map.tiles.chunks_exact(map.cols.max(1)).enumerate() {
+            let at = (map.rows - r) * pad + 1; // tile row y = rows - 1 - r, padded row y + 1
+            for (slot, &ch) in open_at[at..at + row.len()].iter_mut().zip(row) {
+                *slot = is_open(ch);
+            }
+        }
+        let mut palette = [DEFAULT_WALL; 256];
+        for (ch, c) in palette.iter_mut().enumerate() {
+            *c = map.color(ch as u8);
+        }
+        Sweep { map, open_at, pad, palette }
+    }
+
+    /// Tile row `y` (-1..=rows), padded: entry `x + 1` says whether tile (x, y) is open.
+    fn open_row(&self, y: isize) -> &[bool] {
+        &self.open_at[(y + 1) as usize * self.pad..][..self.pad]
+    }
+
+    /// The open tiles of row `y` (`cols` entries).
+    fn cells_in(&self, y: isize) -> impl Iterator<Item = bool> + '_ {
+        self.open_row(y)[1..self.pad - 1].iter().copied()
+    }
+
+    /// Along lattice line `y`, under tile x: is there a horizontal side (a cell above or below)?
+    fn h_sides_in(&self, y: isize) -> impl Iterator<Item = bool> + '_ {
+        let (above, below) = (self.open_row(y), self.open_row(y - 1));
+        (1..self.pad - 1).map(move |x| above[x] | below[x])
+    }
+
+    /// Lattice points of line `y` (`cols + 1`): is there a cell in any of the four tiles around?
+    fn points_in(&self, y: isize) -> impl Iterator<Item = bool> + '_ {
+        let (above, below) = (self.open_row(y), self.open_row(y - 1));
+        (0..self.pad - 1).map(move |x| above[x] | above[x + 1] | below[x] | below[x + 1])
+    }
+
+    /// Vertical sides of tile row `y` (`cols + 1`): a cell to the west or east?
+    fn v_sides_in(&self, y: isize) -> impl Iterator<Item = bool> + '_ {
+        self.open_row(y).windows(2).map(|w| w[0] | w[1])
+    }
+
+    fn count(&self, band: &Band) -> Counts {
+        let n = |it: &mut dyn Iterator<Item = bool>| it.filter(|&b| b).count();
+        let mut c = Counts::default();
+        for y in band.rows.clone() {
+            c.cells += n(&mut self.cells_in(y as isize));
+            c.v += n(&mut self.v_sides_in(y as isize));
+        }
+        for y in band.lines() {
+            c.points += n(&mut self.points_in(y as isize));
+            c.h += n(&mut self.h_sides_in(y as isize));
+        }
+        c
+    }
+
+    /// An opaque side's colour is its wall tile's (`0`, outside, is coloured as `#`); a portal's
+    /// is the default.
+    fn side_color(&self, opaque: bool, wall: u8) -> Vec3 {
+        if opaque { self.palette[wall as usize] } else { DEFAULT_WALL }
+    }
+
+    /// Builds `band` into `out`, its ids starting from `base`; returns the first start and exit
+    /// tiles in it (row by row from the bottom, west to east).
+    fn fill(&self, band: &Band, base: &Counts, out: Out) -> (Option<Viewer>, Option<Exit>) {
+        let map = self.map;
+        let (cols, t) = (map.cols, map.tile);
+        let Out { h: h_out, v: v_out, vertices, slots } = out;
+        let (y0, y1) = (band.rows.start as isize, band.rows.end as isize);
+        let some = |id: u32| (id != NONE).then_some(id);
+        // ids in a row from `base`, `NONE` where there is nothing; returns the next row's base
+        let rank = |row: &mut Vec<u32>, base: usize, exists: &mut dyn Iterator<Item = bool>| {
+            row.clear();
+            let mut next = base as u32;
+            row.extend(exists.map(|e| {
+                let id = if e { next } else { NONE };
+                next += u32::from(e);
+                id
+            }));
+            next as usize
+        };
+        let mut place_points = |ids: &[u32], y: isize| {
+            for (x, &id) in ids.iter().enumerate().filter(|(_, id)| **id != NONE) {
+                vertices[id as usize - base.points] = vec2(x as f32, y as f32) * t;
+            }
+        };
+        // the cells below the band, numbered back from its first cell
+        let mut below = Vec::new();
+        let below_base = base.cells - self.cells_in(y0 - 1).filter(|&o| o).count();
+        rank(&mut below, below_base, &mut self.cells_in(y0 - 1));
+        let (mut h_here, mut p_here) = (Vec::new(), Vec::new());
+        let mut next_h = rank(&mut h_here, base.h, &mut self.h_sides_in(y0));
+        let mut next_point = rank(&mut p_here, base.points, &mut self.points_in(y0));
+        place_points(&p_here, y0);
+        let mut next_cell = base.cells;
+        let (mut here, mut h_up, mut p_up, mut v_ids) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut n_h, mut n_v) = (0, 0);
+        let (mut viewer, mut exit) = (None, None);
+        // the horizontal sides along lattice line y, between the cells `above` and `below`
+        let mut h_sides = |y: isize, ids: &[u32], points: &[u32], above: &[u32], below: &[u32]| {
+            for x in 0..cols {
+                if ids[x] == NONE {
+                    continue;
+                }
+                let (left, right) = (some(above[x]), some(below[x]));
+                let opaque = left.is_none() || right.is_none();
+                let wall =
+                    if left.is_none() { map.at(x as i64, y as i64) } else { map.at(x as i64, y as i64 - 1) };
+                let color = self.side_color(opaque, wall);
+                h_out[n_h] = PackedEdge::new(points[x], points[x + 1], left, right, color);
+                n_h += 1;
+            }
+        };
+        for y in y0..y1 {
+            next_cell = rank(&mut here, next_cell, &mut self.cells_in(y));
+            h_sides(y, &h_here, &p_here, &here, &below);
+            // the line above: its points are the next band's unless this is the top band's last row
+            next_point = rank(&mut p_up, next_point, &mut self.points_in(y + 1));
+            if y + 1 < y1 || band.top {
+                place_points(&p_up, y + 1);
+            }
+            next_h = rank(&mut h_up, next_h, &mut self.h_sides_in(y + 1));
+            // vertical sides: lattice column x runs north along tile row y, the tile to the west
+            // on its left
+            v_ids.clear();
+            for x in 0..=cols {
+                let left = if x > 0 { some(here[x - 1]) } else { None };
+                let right = if x < cols { some(here[x]) } else { None };
+                if left.is_none() && right.is_none() {
+                    v_ids.push(NONE);
+                    continue;
+                }
+                v_ids.push((base.v + n_v) as u32);
+                let opaque = left.is_none() || right.is_none();
+                let (xi, yi) = (x as i64, y as i64);
+                let wall = if left.is_none() { map.at(xi - 1, yi) } else { map.at(xi, yi) };
+                v_out[n_v] = PackedEdge::new(p_here[x], p_up[x], left, right, self.side_color(opaque, wall));
+                n_v += 1;
+            }
+            // each cell's 4 slots, in the original's order +x, +y, -x, -y
+            for x in 0..cols {
+                let Some(c) = some(here[x]) else { continue };
+                let at = 4 * (c as usize - base.cells);
+                slots[at..at + 4].copy_from_slice(&[v_ids[x + 1], h_up[x], v_ids[x], h_here[x]]);
+                let ch = map.at(x as i64, y as i64);
+                if ch == b'E' && exit.is_none() {
+                    exit = Some(Exit { cell: c, point: None });
+                }
+                if let Some(dir) = start_dir(ch, map.facing_deg)
+                    && viewer.is_none()
+                {
+                    let pos = (vec2(x as f32, y as f32) + 0.5) * t;
+                    viewer = Some(Viewer { pos, z: map.eye, dir_deg: dir, fov_deg: map.fov_deg });
+                }
+            }
+            std::mem::swap(&mut below, &mut here);
+            std::mem::swap(&mut h_here, &mut h_up);
+            std::mem::swap(&mut p_here, &mut p_up);
+        }
+        if band.top {
+            // the map's top line: nothing above it
+            let nothing = vec![NONE; cols];
+            h_sides(y1, &h_here, &p_here, &nothing, &below);
+        }
+        let _ = (next_h, next_point);
+        debug_assert_eq!((n_h, n_v), (h_out.len(), v_out.len()), "a band makes what it counted");
+        (viewer, exit)
+    }
+}
+
+/// Runs `jobs` at once, the first on this thread and each other on a thread of its own; their
+/// results in order.
+fn all_at_once<'a, T: Send + 'a>(jobs: Vec<impl FnOnce() -> T + Send + 'a>) -> Vec<T> {
+    let mut jobs = jobs.into_iter();
+    let Some(first) = jobs.next() else { return Vec::new() };
+    std::thread::scope(|s| {
+        let others: Vec<_> = jobs.map(|job| s.spawn(job)).collect();
+        let mut results = vec![first()];
+        for other in others {
+            results.push(other.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)));
+        }
+        results
+    })
 }
 
 fn is_open(ch: u8) -> bool {
@@ -657,6 +848,7 @@ fn legend_letter(legend: &mut Vec<(u8, Vec3)>, hash: Vec3, c: Vec3) -> Result<u8
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::maze::{Edge, VertexId};
 
     const SMALL: &str = "mazewalk-grid 1\nA = #cc8844\n\n#####\n#>.E#\n#.A.#\n#####\n";
 
@@ -685,8 +877,17 @@ mod tests {
         }
         // ragged rows, floor at the map's edge (outside beyond it)
         maps.push(parse_map("r", "mazewalk-grid 1\n\n  .\n#@..\n.\n").unwrap());
+        // one band, and cut into bands (as many as rows, and more: one row each)
         for map in &maps {
-            assert_eq!(map.build(true).unwrap(), build_with_tables(map), "{}", map.to_text());
+            let oracle = build_with_tables(map);
+            for bands in [1, 2, 3, map.rows, map.rows + 5] {
+                assert_eq!(
+                    map.build_in_bands(true, bands).unwrap(),
+                    oracle,
+                    "{bands} bands: {}",
+                    map.to_text()
+                );
+            }
         }
     }
 
