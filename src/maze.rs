@@ -359,18 +359,22 @@ impl Edges {
         self.packed.push(PackedEdge::new(edge.start, edge.end, edge.left, edge.right, edge.color));
     }
 
-    /// Edges from their records, each a wall when it has the outside on a side and a portal
-    /// otherwise (the grid format's rule).
-    fn walls_where_outside(packed: Vec<PackedEdge>) -> Edges {
+    /// Edges from their records and each one's opaque flag (`opaque(id, record)`).
+    fn from_records(packed: Vec<PackedEdge>, opaque: impl Fn(usize, &PackedEdge) -> bool) -> Edges {
         let opaque = packed
             .chunks(64)
-            .map(|run| {
-                run.iter()
-                    .enumerate()
-                    .fold(0, |word, (i, p)| word | u64::from(p.left == NO_CELL || p.right == NO_CELL) << i)
+            .enumerate()
+            .map(|(w, run)| {
+                run.iter().enumerate().fold(0, |word, (i, p)| word | u64::from(opaque(64 * w + i, p)) << i)
             })
             .collect();
         Edges { packed, opaque }
+    }
+
+    /// Edges from their records, each a wall when it has the outside on a side and a portal
+    /// otherwise (the grid format's rule).
+    fn walls_where_outside(packed: Vec<PackedEdge>) -> Edges {
+        Edges::from_records(packed, |_, p| p.left == NO_CELL || p.right == NO_CELL)
     }
 
     /// Number of edges.

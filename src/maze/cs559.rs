@@ -18,8 +18,8 @@ use glam::{Vec2, Vec3, vec2};
 
 use super::text::{Loc, is_space, is_space_byte, quote};
 use super::{
-    COORD_BOUND, CellId, Cells, Edge, Edges, Exit, Format, Maze, MazeError, ParseError, ParseErrorKind,
-    Viewer, WriteError,
+    COORD_BOUND, CellId, Cells, Edge, Edges, Exit, Format, Maze, MazeError, PackedEdge, ParseError,
+    ParseErrorKind, Viewer, WriteError,
 };
 
 /// Edge slots per cell record.
@@ -82,7 +82,7 @@ fn read_in_order(file: &str, text: &str) -> Result<Parts, ParseError> {
     let vertices = read_vertices(&mut r, nv, cap)?;
     let (ne, cap) = r.count(&|| "edge count".into(), "edges", 8)?;
     let mut edges = Edges::with_capacity(cap);
-    read_edges(&mut r, 0..ne, &mut edges)?;
+    read_edges(&mut r, 0..ne, |_, e| edges.push(e))?;
     let (nc, cells, viewer, exit_at) = read_cells_to_end(&mut r)?;
     Ok(Parts { vertices, edges, cells, viewer, exit_at, nv, ne, nc })
 }
@@ -94,41 +94,51 @@ fn read_in_order(file: &str, text: &str) -> Result<Parts, ParseError> {
 /// first error, exactly as if the text had been read in order (the parts are found by the same
 /// tokens the reader reads, so the records and their numbers are the same).
 fn read_split(file: &str, text: &str) -> Option<Parts> {
+    let bytes = text.as_bytes();
     let mut r = Reader { file, text, pos: 0 };
     let (nv, cap) = r.count(&|| "vertex count".into(), "vertices", 2).ok()?;
-    let after_nv = r.pos;
+    // the edge count, found by counting tokens, so the edges can be allocated once (zeroed: no
+    // page touched before its thread writes it) and each thread write its share in place
+    let mut at_ne = Reader { file, text, pos: skip_tokens(bytes, r.pos, 2 * nv)? };
+    let (ne, room) = at_ne.count(&|| "edge count".into(), "edges", 8).ok()?;
+    if room < ne {
+        return None; // more edges than the text can hold: the reader in order says where it ends
+    }
     // this thread's share: the vertices (2 tokens each) and the first 3/5 of the edges (8 each);
     // the other's: counting those (a seventh of the cost of reading them, measured), the rest of
     // the edges and the cells (4 each): about even for the usual file
-    let split = |ne: usize| ne / 5 * 3;
-    std::thread::scope(|s| {
+    let split = ne / 5 * 3;
+    let mut packed = bytemuck::zeroed_vec::<PackedEdge>(ne);
+    let mut opaque = vec![false; ne];
+    let (packed_first, packed_rest) = packed.split_at_mut(split);
+    let (opaque_first, opaque_rest) = opaque.split_at_mut(split);
+    // a reader's sink for edge `i` of a share that starts at `first`
+    let put = |records: &mut [PackedEdge], flags: &mut [bool], first: usize, i: usize, e: Edge| {
+        records[i - first] = PackedEdge::new(e.start, e.end, e.left, e.right, e.color);
+        flags[i - first] = e.opaque;
+    };
+    let parts = std::thread::scope(|s| {
         let second = s.spawn(|| {
-            let bytes = text.as_bytes();
-            let mut r = Reader { file, text, pos: skip_tokens(bytes, after_nv, 2 * nv)? };
-            let (ne, cap) = r.count(&|| "edge count".into(), "edges", 8).ok()?;
-            let start = skip_tokens(bytes, r.pos, 8 * split(ne))?;
-            r.pos = start;
-            // a claimed count is not trusted: room for what the rest of the text can hold
-            let mut edges = Edges::with_capacity(cap.min(ne - split(ne)));
-            read_edges(&mut r, split(ne)..ne, &mut edges).ok()?;
-            Some((start, edges, read_cells_to_end(&mut r).ok()?))
+            let mut r = Reader { file, text, pos: skip_tokens(bytes, at_ne.pos, 8 * split)? };
+            let start = r.pos;
+            read_edges(&mut r, split..ne, |i, e| put(packed_rest, opaque_rest, split, i, e)).ok()?;
+            Some((start, read_cells_to_end(&mut r).ok()?))
         });
         let first = (|| {
             let vertices = read_vertices(&mut r, nv, cap).ok()?;
-            let (ne, cap) = r.count(&|| "edge count".into(), "edges", 8).ok()?;
-            let mut edges = Edges::with_capacity(cap);
-            read_edges(&mut r, 0..split(ne), &mut edges).ok()?;
+            // the count this thread reads is the one counted to
+            r.count(&|| "edge count".into(), "edges", 8).ok().filter(|_| r.pos == at_ne.pos)?;
+            read_edges(&mut r, 0..split, |i, e| put(packed_first, opaque_first, 0, i, e)).ok()?;
             r.skip_space();
-            Some((vertices, ne, edges, r.pos))
+            Some((vertices, r.pos))
         })();
         let second = second.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        let ((vertices, ne, mut edges, end), (start, rest, (nc, cells, viewer, exit_at))) = (first?, second?);
-        if end != start {
-            return None;
-        }
-        edges.extend(&rest);
-        Some(Parts { vertices, edges, cells, viewer, exit_at, nv, ne, nc })
-    })
+        let ((vertices, end), (start, tail)) = (first?, second?);
+        (end == start).then_some((vertices, tail))
+    });
+    let (vertices, (nc, cells, viewer, exit_at)) = parts?;
+    let edges = Edges::from_records(packed, |i, _| opaque[i]);
+    Some(Parts { vertices, edges, cells, viewer, exit_at, nv, ne, nc })
 }
 
 /// The offset of the first byte of the token `k` tokens on from `pos` (`k` = 0: the next one), or
@@ -158,6 +168,10 @@ fn skip_tokens(bytes: &[u8], pos: usize, k: usize) -> Option<usize> {
 fn read_vertices(r: &mut Reader, nv: usize, cap: usize) -> Result<Vec<Vec2>, ParseError> {
     let mut vertices = Vec::with_capacity(cap);
     for i in 0..nv {
+        if let Some([x, y]) = r.plain(|s| Some([s.float()?, s.float()?])) {
+            vertices.push(vec2(x, y));
+            continue;
+        }
         let x = r.float(&|| format!("vertex {i} x"))?;
         let y = r.float(&|| format!("vertex {i} y"))?;
         vertices.push(vec2(x, y));
@@ -166,8 +180,27 @@ fn read_vertices(r: &mut Reader, nv: usize, cap: usize) -> Result<Vec<Vec2>, Par
 }
 
 /// Edges `ids`, appended to `edges`.
-fn read_edges(r: &mut Reader, ids: std::ops::Range<usize>, edges: &mut Edges) -> Result<(), ParseError> {
+fn read_edges(
+    r: &mut Reader,
+    ids: std::ops::Range<usize>,
+    mut put: impl FnMut(usize, Edge),
+) -> Result<(), ParseError> {
     for i in ids {
+        let plain = |s: &mut Plain| {
+            let (start, end) = (s.index()?, s.index()?);
+            let (left, right) = (s.side()?, s.side()?);
+            let opaque = match s.int()? {
+                0 => false,
+                1 => true,
+                _ => return None,
+            };
+            let color = Vec3::new(s.float()?, s.float()?, s.float()?);
+            Some(Edge { start, end, left, right, opaque, color })
+        };
+        if let Some(edge) = r.plain(plain) {
+            put(i, edge);
+            continue;
+        }
         let start = r.index(&|| format!("edge {i} start vertex"), false)?.unwrap_or_default();
         let end = r.index(&|| format!("edge {i} end vertex"), false)?.unwrap_or_default();
         let left = r.index(&|| format!("edge {i} left cell"), true)?;
@@ -177,7 +210,7 @@ fn read_edges(r: &mut Reader, ids: std::ops::Range<usize>, edges: &mut Edges) ->
         for (k, name) in ["red", "green", "blue"].iter().enumerate() {
             c[k] = r.float(&|| format!("edge {i} {name}"))?;
         }
-        edges.push(Edge { start, end, left, right, opaque, color: Vec3::from(c) });
+        put(i, Edge { start, end, left, right, opaque, color: Vec3::from(c) });
     }
     Ok(())
 }
@@ -191,6 +224,21 @@ fn read_cells_to_end(r: &mut Reader) -> Result<Tail, ParseError> {
     for i in 0..nc {
         let mut slots = [0; CELL_SLOTS];
         let mut n = 0;
+        let plain = |s: &mut Plain| {
+            let mut slots = [0; CELL_SLOTS];
+            let mut n = 0;
+            for _ in 0..CELL_SLOTS {
+                if let Some(e) = s.side()? {
+                    slots[n] = e;
+                    n += 1;
+                }
+            }
+            Some((slots, n))
+        };
+        if let Some((slots, n)) = r.plain(plain) {
+            cells.push(&slots[..n]);
+            continue;
+        }
         for k in 0..CELL_SLOTS {
             if let Some(e) = r.index(&|| format!("cell {i} edge {}", k + 1), true)? {
                 slots[n] = e;
@@ -438,6 +486,85 @@ enum ExitSpec {
 
 /// A cursor over the text handing out whitespace-separated tokens with their byte offsets (lines and
 /// columns are worked out only for an error).
+/// The fast path for a record: its tokens read in one pass over the bytes, each a plain number
+/// within its field's range, or `None` at the first that is not (the [`Reader`] then reads the
+/// record again token by token, and reports what is wrong). Most of loading a big file is here:
+/// without the per-token `Result`s, messages and cursor updates, and with [`digits`], parsing a
+/// 300 × 300 maze takes 12 % fewer instructions.
+struct Plain<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl Plain<'_> {
+    /// Skips spaces; `None` at the end of the text.
+    fn skip_space(&mut self) -> Option<()> {
+        while is_space_byte(*self.bytes.get(self.pos)?) {
+            self.pos += 1;
+        }
+        Some(())
+    }
+
+    /// `true` when the token ends here (a space or the end of the text follows).
+    fn token_ends(&self) -> bool {
+        self.bytes.get(self.pos).is_none_or(|&b| is_space_byte(b))
+    }
+
+    /// An integer of 1 to 7 digits, `-` allowed.
+    fn int(&mut self) -> Option<i64> {
+        self.skip_space()?;
+        let negative = self.bytes[self.pos] == b'-';
+        self.pos += usize::from(negative);
+        let (n, len) = digits(&self.bytes[self.pos..])?;
+        self.pos += len;
+        (len > 0 && self.token_ends()).then_some(if negative { -(n as i64) } else { n as i64 })
+    }
+
+    /// An id, `0..2^32-1`.
+    fn index(&mut self) -> Option<u32> {
+        self.int().and_then(|n| u32::try_from(n).ok()).filter(|&n| n != u32::MAX)
+    }
+
+    /// A cell id or `-1` (outside).
+    fn side(&mut self) -> Option<Option<u32>> {
+        match self.int()? {
+            -1 => Some(None),
+            n => u32::try_from(n).ok().filter(|&n| n != u32::MAX).map(Some),
+        }
+    }
+
+    /// A number as [`short_f32`] reads it.
+    fn float(&mut self) -> Option<f32> {
+        self.skip_space()?;
+        let (value, len) = short_f32(&self.bytes[self.pos..])?;
+        self.pos += len;
+        Some(value)
+    }
+}
+
+/// The value and length of the run of ASCII digits at the start of `bytes`, if it has at most 7
+/// (and 8 bytes can be read: the last few bytes of a text take the token reader). One word at a
+/// time: find the first non-digit byte, then sum the digits by pairs, quads and the whole word,
+/// a multiply each (the first digit in the lowest byte, as a little-endian load puts it). A
+/// fifth fewer instructions than a loop over the bytes, for the ids of a 1000 × 1000 maze.
+fn digits(bytes: &[u8]) -> Option<(u64, usize)> {
+    let word = u64::from_le_bytes(*bytes.first_chunk::<8>()?);
+    let d = word.wrapping_sub(0x3030_3030_3030_3030);
+    // a byte's top bit: below '0' (wrapped) or above '9' (+ 0x76 carries into it); the bytes
+    // before the first such are digits, and carry or borrow nothing into it
+    let non_digit = (d | d.wrapping_add(0x7676_7676_7676_7676)) & 0x8080_8080_8080_8080;
+    let len = (non_digit.trailing_zeros() / 8) as usize;
+    if len == 0 || len > 7 {
+        return (len == 0).then_some((0, 0));
+    }
+    // the digits to the top bytes, zeros (leading zero digits) below them
+    let d = d << (8 * (8 - len));
+    let d = ((d & 0x0F0F_0F0F_0F0F_0F0F).wrapping_mul(2561)) >> 8;
+    let d = ((d & 0x00FF_00FF_00FF_00FF).wrapping_mul(6_553_601)) >> 16;
+    let d = ((d & 0x0000_FFFF_0000_FFFF).wrapping_mul(42_949_672_960_001)) >> 32;
+    Some((d, len))
+}
+
 struct Reader<'a> {
     file: &'a str,
     text: &'a str,
@@ -446,6 +573,14 @@ struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
+    /// A record by its fast path `read` (see [`Plain`]); the cursor moves only when it succeeds.
+    fn plain<T>(&mut self, read: impl FnOnce(&mut Plain) -> Option<T>) -> Option<T> {
+        let mut plain = Plain { bytes: self.text.as_bytes(), pos: self.pos };
+        let record = read(&mut plain)?;
+        self.pos = plain.pos;
+        Some(record)
+    }
+
     fn skip_space(&mut self) {
         let rest = &self.text.as_bytes()[self.pos..];
         self.pos += rest.iter().position(|&b| !is_space_byte(b)).unwrap_or(rest.len());
@@ -583,7 +718,7 @@ impl<'a> Reader<'a> {
 
 #[cfg(test)]
 mod tests {
-    use super::{parse_i64, short_f32, short_i64};
+    use super::{Plain, parse_i64, short_f32, short_i64};
 
     fn parse_short_f32(tok: &str) -> Option<f32> {
         short_f32(tok.as_bytes()).filter(|&(_, len)| len == tok.len()).map(|(v, _)| v)
@@ -621,6 +756,7 @@ mod tests {
         let both = |text: &str| (super::parse_with("f", text, 0), super::parse_with("f", text, usize::MAX));
         let (split, in_order) = both(&text);
         assert_eq!(split.unwrap(), in_order.unwrap());
+        assert!(super::read_split("f", &text).is_some(), "a valid text is read on two threads");
         // records across lines, and errors in either part or in the counts: the same first error
         let lines: Vec<&str> = text.lines().collect();
         let joined = lines.join("  \n ");
@@ -665,6 +801,57 @@ mod tests {
             }
         }
         assert_eq!(super::skip_tokens(bytes, 0, starts.len()), None);
+    }
+
+    #[test]
+    fn the_plain_record_reader_reads_as_std_reads_or_leaves_the_token() {
+        let mut tokens = Vec::new();
+        for sign in ["", "-", "+"] {
+            for whole in ["", "0", "7", "42", "1234567", "12345678", "00000001", "9999999"] {
+                tokens.push(format!("{sign}{whole}"));
+                for frac in ["", "5", "25", "0625", "1234567"] {
+                    tokens.push(format!("{sign}{whole}.{frac}"));
+                }
+            }
+        }
+        tokens.extend(
+            ["1e3", "1x", "--1", "0x10", "٣", "1.2.3", "1..2", "-.", "1-", "12/3", "9:"].map(String::from),
+        );
+        let mut taken = 0;
+        for tok in tokens.iter().filter(|t| !t.is_empty()) {
+            // a space after, more tokens, or the end of the text (too short for a word: left alone)
+            for tail in [" 1 2 3 4 5 6 7 8", "\n", "\t9 9 9 9 9 9 9 9", ""] {
+                let text = format!("{tok}{tail}");
+                let mut p = Plain { bytes: text.as_bytes(), pos: 0 };
+                if let Some(v) = p.int() {
+                    assert_eq!(Ok(v), tok.parse::<i64>(), "{text:?}");
+                    assert_eq!(p.pos, tok.len(), "{text:?}");
+                    taken += 1;
+                }
+                let mut p = Plain { bytes: text.as_bytes(), pos: 0 };
+                if let Some(v) = p.float() {
+                    assert_eq!(v.to_bits(), tok.parse::<f32>().unwrap().to_bits(), "{text:?}");
+                    assert_eq!(p.pos, tok.len(), "{text:?}");
+                    taken += 1;
+                }
+            }
+        }
+        assert!(taken > 100, "{taken}");
+        // what mazes hold is taken, with a space or a line after it
+        for (tok, int) in [("42", Some(42)), ("-1", Some(-1)), ("1234567", Some(1_234_567)), ("0.57", None)] {
+            for tail in [" 0 0 0 0 0 0 0 0", "\n0 0 0 0 0 0 0 0"] {
+                let text = format!("{tok}{tail}");
+                assert_eq!(Plain { bytes: text.as_bytes(), pos: 0 }.int(), int, "{text:?}");
+                let float = tok.parse::<f32>().ok();
+                assert_eq!(Plain { bytes: text.as_bytes(), pos: 0 }.float(), float, "{text:?}");
+            }
+        }
+        // every value of 1 to 7 digits (a sample: all below 10^5, every 997th above)
+        for n in (0..100_000).chain((100_000..10_000_000).step_by(997)).chain([9_999_999]) {
+            let text = format!("{n} 0.57 -3.5 0 0 0 0");
+            let mut p = Plain { bytes: text.as_bytes(), pos: 0 };
+            assert_eq!((p.int(), p.float(), p.float()), (Some(n), Some(0.57), Some(-3.5)), "{text}");
+        }
     }
 
     #[test]
