@@ -197,18 +197,20 @@ pub struct MapArea {
 }
 
 impl MapArea {
-    /// A small map in the top-right corner, centred on the viewer, about 40 maze units across.
+    /// A small map in the top-right corner, centred on the viewer (to the nearest character), about
+    /// 40 maze units across.
     #[must_use]
     pub fn corner(frame: &Frame, viewer: Vec2) -> MapArea {
         let width = (frame.width() / 3).clamp(1, 40);
         let height = (frame.height() / 3).clamp(1, 14);
+        let units_per_col = 40.0 / width as f32;
         MapArea {
             x: frame.width() - width,
             y: 0,
             width,
             height,
-            units_per_col: 40.0 / width as f32,
-            centre: viewer,
+            units_per_col,
+            centre: snap(viewer, units_per_col),
         }
     }
 
@@ -221,7 +223,7 @@ impl MapArea {
         let fit = (size.x / width as f32).max(size.y / (2.0 * height as f32));
         // At most 2 units per column (half a generated cell): beyond that, follow the viewer.
         let (units_per_col, centre) =
-            if fit <= 2.0 { (fit.max(0.25), (lo + hi) * 0.5) } else { (2.0, viewer) };
+            if fit <= 2.0 { (fit.max(0.25), (lo + hi) * 0.5) } else { (2.0, snap(viewer, 2.0)) };
         MapArea { x: 0, y: 0, width, height, units_per_col, centre }
     }
 
@@ -250,6 +252,70 @@ impl MapArea {
     }
 }
 
+/// `p` moved to the nearest corner of the map's character lattice (`units_per_col` across, twice
+/// that down): a map centred there scrolls a whole character at a time, so its characters cover the
+/// same pieces of the maze from frame to frame while the viewer walks within one ([`MapCells`] keeps
+/// what they show, and the encoder has nothing to send for them).
+fn snap(p: Vec2, units_per_col: f32) -> Vec2 {
+    let step = Vec2::new(units_per_col, 2.0 * units_per_col);
+    (p / step).round() * step
+}
+
+/// What each character of a map shows of the maze, for one [`MapArea`]: the cells under its probe
+/// points (its centre, then points near its corners) and, for each, whether one of the cell's walls
+/// crosses the character. Worked out when the area changes (the map scrolled, the terminal was
+/// resized) and kept: a frame's map is then a look-up per character, not five point locations (the
+/// map was a sixth of a served frame's cost).
+#[derive(Clone, Debug, Default)]
+pub struct MapCells {
+    area: Option<MapArea>,
+    /// Per character, row by row: per probe, its cell ([`NO_CELL`] if none) and that cell's wall.
+    probes: Vec<[(u32, bool); 5]>,
+}
+
+/// "No cell under this probe" in [`MapCells`].
+const NO_CELL: u32 = u32::MAX;
+
+impl MapCells {
+    /// The probes of `area`'s characters, worked out now if the area is not the one kept.
+    fn for_area(&mut self, area: &MapArea, maze: &Maze) -> &[[(u32, bool); 5]] {
+        if self.area != Some(*area) {
+            self.probes.clear();
+            for row in 0..area.height {
+                for col in 0..area.width {
+                    self.probes.push(probes(area.world_box(col, row), maze));
+                }
+            }
+            self.area = Some(*area);
+        }
+        &self.probes
+    }
+}
+
+/// The cells under a map character covering `world_box`, and whether each has a wall through it.
+fn probes(world_box: Aabb, maze: &Maze) -> [(u32, bool); 5] {
+    // the character's centre, else a point near a corner (so a wall on the maze's outline, whose
+    // character is centred outside, is still drawn)
+    let inset = (world_box.max - world_box.min) * 0.1;
+    let points = [
+        world_box.centre(),
+        world_box.min + inset,
+        Vec2::new(world_box.max.x - inset.x, world_box.min.y + inset.y),
+        Vec2::new(world_box.min.x + inset.x, world_box.max.y - inset.y),
+        world_box.max - inset,
+    ];
+    points.map(|p| match maze.cell_at(p) {
+        None => (NO_CELL, false),
+        Some(c) => {
+            let walled = maze.cell_edges(c).iter().any(|&e| {
+                let (a, b) = maze.edge_points(e);
+                maze.edges().is_opaque(e as usize) && world_box.touches_segment(a, b)
+            });
+            (c, walled)
+        }
+    })
+}
+
 /// Draws the map into `area`: the cells the viewer has `seen` (fog of war: nothing else, not even
 /// the exit), walls in one neutral colour, the view wedge and the viewer ([`draw_peers`] adds the other
 /// players).
@@ -263,31 +329,20 @@ pub fn draw_map(
     seen: &dyn Fn(u32) -> bool,
     tint: Option<&dyn Fn(u32) -> bool>,
     style: Style,
+    cells: &mut MapCells,
 ) {
     let wall = Cell { ch: style.glyph('█', '#'), fg: WALL_FG, bg: FLOOR_BG };
     let (eye, half_fov) = (camera.position, (camera.hfov_deg * 0.5).to_radians());
     let reach = 12.0 * area.units_per_col;
+    let mut probes = cells.for_area(area, maze).iter();
     for row in 0..area.height {
         for col in 0..area.width {
             let world_box = area.world_box(col, row);
-            // The seen cell under the character: its centre, else a point near a corner (so a wall on
-            // the maze's outline, whose character is centred outside, is still drawn).
-            let inset = (world_box.max - world_box.min) * 0.1;
-            let probes = [
-                world_box.centre(),
-                world_box.min + inset,
-                Vec2::new(world_box.max.x - inset.x, world_box.min.y + inset.y),
-                Vec2::new(world_box.min.x + inset.x, world_box.max.y - inset.y),
-                world_box.max - inset,
-            ];
-            let found = probes.iter().find_map(|&p| maze.cell_at(p).filter(|&c| seen(c)));
+            // the first probe on a seen cell
+            let found = probes.next().and_then(|p| p.iter().find(|&&(c, _)| c != NO_CELL && seen(c)));
             let cell = match found {
                 None => Cell::BLANK, // unseen, or outside the maze
-                Some(c) => {
-                    let walled = maze.cell_edges(c).iter().any(|&e| {
-                        let (a, b) = maze.edge_points(e);
-                        maze.edge(e).opaque && world_box.touches_segment(a, b)
-                    });
+                Some(&(c, walled)) => {
                     let bg = match tint {
                         Some(tint) if tint(c) => VISITED_BG,
                         _ => FLOOR_BG,
@@ -396,6 +451,52 @@ mod tests {
         draw_too_small(&mut frame, Style::default());
         assert_eq!(frame.lines()[0], " terminal too small ");
         assert!(too_small(19, 24) && too_small(80, 5) && !too_small(20, 6));
+    }
+
+    #[test]
+    fn a_map_drawn_from_kept_cells_is_the_map_drawn_afresh() {
+        let maze = crate::maze::builtin().unwrap();
+        let start = maze.viewer().pos;
+        let mut kept = MapCells::default();
+        let cells = maze.cell_count() as u32;
+        // walking east and turning, as more of the maze is seen; the corner map and the full one
+        for step in 0..24 {
+            let position = start + Vec2::new(0.37 * step as f32, 0.11 * (step % 5) as f32);
+            let camera = Camera::new(position, 15.0 * step as f32, 90.0);
+            let seen = |c: u32| c % 3 != step as u32 % 3 || c == cells - 1;
+            for full in [false, true] {
+                let frame = Frame::new(90, 30);
+                let area = if full {
+                    MapArea::full(&frame, &maze, position)
+                } else {
+                    MapArea::corner(&frame, position)
+                };
+                let draw = |cells: &mut MapCells| {
+                    let mut frame = frame.clone();
+                    draw_map(&mut frame, &area, &maze, &camera, &seen, None, Style::default(), cells);
+                    frame
+                };
+                let from_kept = draw(&mut kept);
+                assert_eq!(from_kept, draw(&mut MapCells::default()), "step {step}, full {full}");
+                assert!(from_kept.cells().iter().any(|c| c.fg == WALL_FG), "step {step}, full {full}: walls");
+            }
+        }
+    }
+
+    #[test]
+    fn the_corner_map_scrolls_a_whole_character_at_a_time() {
+        let frame = Frame::new(120, 40);
+        let at = |x: f32, y: f32| MapArea::corner(&frame, Vec2::new(x, y));
+        // 40 columns: 1 unit a column, 2 a row
+        assert_eq!(at(10.2, 7.4), at(10.4, 7.9));
+        assert_eq!(at(10.2, 7.4).centre, Vec2::new(10.0, 8.0));
+        assert_ne!(at(10.2, 7.4), at(10.6, 7.4));
+        // the viewer stays within a character of the map's middle
+        for (x, y) in [(10.49, 6.99), (3.51, -1.01), (0.0, 0.0)] {
+            let area = at(x, y);
+            let m = area.to_map(Vec2::new(x, y)) - Vec2::new(area.width as f32, area.height as f32) / 2.0;
+            assert!(m.abs().max_element() <= 0.5, "{m}");
+        }
     }
 
     #[test]

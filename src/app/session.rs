@@ -33,7 +33,7 @@ use std::time::Instant;
 
 use super::flow::{FlowControl, QUERY};
 
-use super::overlay::{self, MapArea, Peer, Style};
+use super::overlay::{self, MapArea, MapCells, Peer, Style};
 use super::state::{App, MapMode};
 use glam::Vec3;
 
@@ -136,6 +136,8 @@ pub struct Screen {
     pub notice: Option<String>,
     /// The peers as the renderer's figures (reused from frame to frame).
     sprites: Vec<Sprite>,
+    /// What the map's characters show, kept while the map stays put.
+    map_cells: MapCells,
 }
 
 /// One player's walk: app state, renderer, encoder, input decoder and screen.
@@ -436,7 +438,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     let seen = |c: u32| app.has_seen(c) || visible_now(c);
     let tint: Option<&dyn Fn(u32) -> bool> = app.culling_tint.then_some(&visible_now);
     if let Some(area) = map_area(app, frame) {
-        overlay::draw_map(frame, &area, app.maze(), &app.camera, &seen, tint, style);
+        overlay::draw_map(frame, &area, app.maze(), &app.camera, &seen, tint, style, &mut screen.map_cells);
         overlay::draw_peers(frame, &area, &screen.peers, app.camera.position, style);
     }
     if let Some(seconds) = app.finished {
