@@ -86,18 +86,21 @@ impl Default for Style {
 /// palette indices above 15 to the nearest of the 16, and everything to the terminal's default with
 /// no colour at all — so not one code of a deeper palette is ever sent.
 pub fn limit_colors(frame: &mut Frame, depth: ColorDepth) {
-    let limit = |color: Color| match (color, depth) {
-        (_, ColorDepth::TrueColor) | (Color::Default, _) => color,
-        (_, ColorDepth::None) => Color::Default,
-        (Color::Rgb(r, g, b), _) => quantize_srgb8([r, g, b], depth),
-        (Color::Indexed(i), ColorDepth::Ansi16) if i >= 16 => Color::Indexed(ansi16(xterm_rgb(i))),
-        (Color::Indexed(_), _) => color,
+    // a colour already within the depth is left as it is (written back only when it changes: this
+    // runs over every cell of every frame)
+    let limit = |color: &mut Color| match (*color, depth) {
+        (Color::Default, _) | (_, ColorDepth::TrueColor) => {}
+        (_, ColorDepth::None) => *color = Color::Default,
+        (Color::Rgb(r, g, b), _) => *color = quantize_srgb8([r, g, b], depth),
+        (Color::Indexed(i), ColorDepth::Ansi16) if i >= 16 => *color = Color::Indexed(ansi16(xterm_rgb(i))),
+        (Color::Indexed(_), _) => {}
     };
     if depth == ColorDepth::TrueColor {
         return;
     }
     for cell in frame.cells_mut() {
-        (cell.fg, cell.bg) = (limit(cell.fg), limit(cell.bg));
+        limit(&mut cell.fg);
+        limit(&mut cell.bg);
     }
 }
 
