@@ -155,9 +155,8 @@ pub fn dither(linear: Vec3, rgb: [u8; 3], depth: ColorDepth, threshold: f32) -> 
 pub(crate) enum Mix {
     /// A palette entry shows as itself: its bucket's pair need not pass through it.
     Exact(u8),
-    /// The bucket's pair `(a, b)` ([`mix_pair`]), with what [`mix_ratio`] needs of it worked out
-    /// once: `a`'s linear colour, the step to `b`'s and its squared length.
-    Pair { a: u8, b: u8, from: Vec3, step: Vec3, step2: f32 },
+    /// The bucket's pair `(a, b)` ([`mix_pair`]).
+    Pair(u8, u8),
 }
 
 impl Mix {
@@ -177,8 +176,7 @@ impl Mix {
             Some(index) => Mix::Exact(index),
             None => {
                 let (a, b) = mix_pair(rgb, palette);
-                let (from, step) = mix_step(a, b);
-                Mix::Pair { a, b, from, step, step2: step.length_squared() }
+                Mix::Pair(a, b)
             }
         })
     }
@@ -189,8 +187,8 @@ impl Mix {
     pub(crate) fn pick(self, linear: Vec3, threshold: f32) -> u8 {
         match self {
             Mix::Exact(index) => index,
-            Mix::Pair { a, b, from, step, step2 } => {
-                let ratio = ratio_along(linear.clamp(Vec3::ZERO, Vec3::ONE), from, step, step2);
+            Mix::Pair(a, b) => {
+                let ratio = mix_ratio(linear.clamp(Vec3::ZERO, Vec3::ONE), a, b);
                 if ratio > threshold { b } else { a }
             }
         }
@@ -271,21 +269,10 @@ fn windows() -> [[f32; 4]; 4] {
 /// The ratio of `b` in the mix of entries `a` and `b` nearest to `linear` (least squares in linear RGB).
 #[inline]
 fn mix_ratio(linear: Vec3, a: u8, b: u8) -> f32 {
-    let (from, step) = mix_step(a, b);
-    ratio_along(linear, from, step, step.length_squared())
-}
-
-/// Entry `a`'s linear colour, and the step from it to `b`'s.
-#[inline]
-fn mix_step(a: u8, b: u8) -> (Vec3, Vec3) {
     let linear_of = &entries().linear;
-    (linear_of[usize::from(a)], linear_of[usize::from(b)] - linear_of[usize::from(a)])
-}
-
-/// [`mix_ratio`] from the pair's [`mix_step`] and its squared length `step2`.
-#[inline]
-fn ratio_along(linear: Vec3, from: Vec3, step: Vec3, step2: f32) -> f32 {
-    if step2 > 0.0 { ((linear - from).dot(step) / step2).clamp(0.0, 1.0) } else { 0.0 }
+    let (pa, d) = (linear_of[usize::from(a)], linear_of[usize::from(b)] - linear_of[usize::from(a)]);
+    let d2 = d.length_squared();
+    if d2 > 0.0 { ((linear - pa).dot(d) / d2).clamp(0.0, 1.0) } else { 0.0 }
 }
 
 /// The pair of entries `(a, b)` [`dither`] mixes for sRGB colours in `rgb`'s bucket (8 steps a channel).
