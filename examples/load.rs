@@ -89,7 +89,10 @@ impl ServerProcess {
             .spawn()
             .expect("start the server");
         let mut line = String::new();
-        BufReader::new(child.stdout.take().expect("stdout")).read_line(&mut line).expect("first line");
+        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
+        stdout.read_line(&mut line).expect("first line");
+        // the rest of what it prints, read and dropped: a closed pipe would end the server at its next line
+        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
         let addr = line.trim().rsplit_once(' ').and_then(|(_, a)| a.parse().ok()).expect("serving on ADDR");
         ServerProcess { child, addr, _scratch: scratch }
     }
