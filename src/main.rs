@@ -155,7 +155,7 @@ fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)));
     }
     if let Some(seconds) = session.outcome().finished {
-        println!("You found the exit in {seconds:.1} s.");
+        let _ = writeln!(std::io::stdout(), "You found the exit in {seconds:.1} s."); // the walk is over either way
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -212,10 +212,12 @@ fn cmd_serve(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
     let signal = mazewalk::serve::run(options, |addr| {
         let made = if made { ", made now" } else { "" };
-        println!("mazewalk: serving on {addr}");
-        println!("host key {fingerprint} ({}{made})", key_path.display());
-        println!("players connect with: ssh -p {} {}", addr.port(), addr.ip());
-        let _ = std::io::stdout().flush();
+        // for the host to read; a closed pipe (`serve | head -1`) must not end the server
+        let mut out = std::io::stdout().lock();
+        let _ = writeln!(out, "mazewalk: serving on {addr}")
+            .and_then(|()| writeln!(out, "host key {fingerprint} ({}{made})", key_path.display()))
+            .and_then(|()| writeln!(out, "players connect with: ssh -p {} {}", addr.port(), addr.ip()))
+            .and_then(|()| out.flush());
     })
     .with_context(|| format!("serving on {}", args.listen))?;
     Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)))

@@ -298,3 +298,25 @@ fn render_png_writes_the_frame_as_a_picture_of_its_cells() {
     assert_eq!(ascii.status.code(), Some(2), "ascii is text: {}", stderr(&ascii));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_server_whose_stdout_is_closed_keeps_serving() {
+    // `mazewalk serve | head -1`, head gone: the banner cannot be written, the server goes on
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-serve-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["serve", "--open", "--listen", "127.0.0.1:0", "--host-key"])
+        .arg(dir.join("key"))
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("start the server");
+    drop(child.stdout.take()); // the read end closed before the banner is written
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let running = child.try_wait().unwrap().is_none();
+    let _ = child.kill();
+    let status = child.wait().unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(running, "the server ended: {status}");
+}
