@@ -4,6 +4,8 @@
 //!   Prim's with `loops 0.5` (the open-area benchmark maze).
 //! - `maze-1000x1000/load/cs559`: `maze::load` of Prim's maze written to a temporary file in the CS559
 //!   format (about 128 MB): reading, parsing, validating and indexing.
+//! - `maze-1000x1000/load/grid`: the same for Prim's maze in the grid format (4 MB of tiles, 2001 ×
+//!   2001, which make 2 M cells and 6 M edges).
 //!
 //! Peak memory needs a process of its own: `cargo run --release --example peak_mem -- …`.
 //!
@@ -15,7 +17,7 @@ use std::hint::black_box;
 
 use criterion::Criterion;
 use mazewalk::maze;
-use mazewalk::maze::generate::{Algorithm, GenOptions, generate};
+use mazewalk::maze::generate::{Algorithm, GenOptions, generate, generate_grid};
 
 const SIDE: u32 = 1000;
 
@@ -48,7 +50,12 @@ fn main() {
     }
     drop(maze);
     group.bench_function("load/cs559", |b| b.iter(|| maze::load(black_box(&path)).expect("load").maze));
-    group.finish();
     let _ = std::fs::remove_file(&path);
+    let grid = std::env::temp_dir().join(format!("mazewalk-bench-{}.grid", std::process::id()));
+    std::fs::write(&grid, generate_grid(&options(Algorithm::Prim, 0.0)).expect("maze").to_text())
+        .expect("write the maze");
+    group.bench_function("load/grid", |b| b.iter(|| maze::load(black_box(&grid)).expect("load").maze));
+    let _ = std::fs::remove_file(&grid);
+    group.finish();
     c.final_summary();
 }
