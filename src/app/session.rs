@@ -442,12 +442,12 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         overlay::draw_peers(frame, &area, &screen.peers, app.camera.position, style);
     }
     if let Some(seconds) = app.finished {
-        let lines = [
-            format!("You found the exit in {}.", clock_text(seconds)),
-            String::new(),
-            "r  walk it again".to_string(),
-            "q  quit".to_string(),
-        ];
+        // in a served maze, the news (who was first) shows in the box too, not hidden behind it
+        let lines: Vec<String> = [format!("You found the exit in {}.", clock_text(seconds))]
+            .into_iter()
+            .chain(screen.notice.clone())
+            .chain([String::new(), "r  walk it again".to_string(), "q  quit".to_string()])
+            .collect();
         overlay::draw_box(frame, "Found the exit!", &lines, style);
     } else if app.help {
         overlay::draw_box(frame, "Keys (? to close)", &overlay::help_lines(style), style);
@@ -541,6 +541,17 @@ mod tests {
         let app =
             App::new(crate::maze::builtin().unwrap(), crate::render::RenderOptions::default(), 0.0).unwrap();
         Session::new(app, 100, 30, options)
+    }
+
+    #[test]
+    fn the_exit_box_also_shows_the_news() {
+        let mut s = session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        s.app_mut().finished = Some(83.0);
+        s.set_notice(Some("You reached the exit first, in 1:23.0!".into()));
+        s.frame(0.0, &mut Vec::new());
+        let text = s.screen().lines().join("\n");
+        assert!(text.contains("Found the exit!") && text.contains("You found the exit in 1:23.0."), "{text}");
+        assert!(text.contains("You reached the exit first, in 1:23.0!"), "{text}");
     }
 
     #[test]

@@ -669,7 +669,7 @@ async fn walk(
             world.peers_of(id, |position, cell| player.shows(position, cell), &mut peers);
             if let (Some(winner), false) = (world.winner(), seen_winner) {
                 seen_winner = true;
-                player.session_mut().set_notice(Some(winner.announcement()));
+                player.session_mut().set_notice(Some(winner.announcement_for(id)));
                 notice_until = Some(now + NOTICE_SECONDS);
             }
             drop(world);

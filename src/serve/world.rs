@@ -50,6 +50,8 @@ impl Seen {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Winner {
     /// Who.
+    pub id: PlayerId,
+    /// Their name.
     pub name: String,
     /// How long the walk took, seconds.
     pub seconds: f64,
@@ -60,6 +62,16 @@ impl Winner {
     #[must_use]
     pub fn announcement(&self) -> String {
         format!("{} reached the exit first, in {}!", self.name, clock_text(self.seconds))
+    }
+
+    /// The announcement as player `viewer` sees it: the winner is told it was them.
+    #[must_use]
+    pub fn announcement_for(&self, viewer: PlayerId) -> String {
+        if viewer == self.id {
+            format!("You reached the exit first, in {}!", clock_text(self.seconds))
+        } else {
+            self.announcement()
+        }
     }
 }
 
@@ -133,7 +145,7 @@ impl World {
             return None;
         }
         let name = self.players.get(&id)?.name.clone();
-        let winner = Winner { name, seconds };
+        let winner = Winner { id, name, seconds };
         let text = winner.announcement();
         self.winner = Some(winner);
         self.version += 1;
@@ -199,5 +211,8 @@ mod tests {
         assert_eq!(world.finished(b, 83.0).as_deref(), Some("bob reached the exit first, in 1:23.0!"));
         assert_eq!(world.finished(a, 10.0), None);
         assert_eq!(world.winner().map(|w| w.name.as_str()), Some("bob"));
+        let winner = world.winner().unwrap();
+        assert_eq!(winner.announcement_for(b), "You reached the exit first, in 1:23.0!");
+        assert_eq!(winner.announcement_for(a), "bob reached the exit first, in 1:23.0!");
     }
 }
