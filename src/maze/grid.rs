@@ -167,21 +167,20 @@ impl TileMap {
         let mut packed = bytemuck::zeroed_vec::<PackedEdge>(total.h + total.v);
         let mut vertices = bytemuck::zeroed_vec::<Vec2>(total.points);
         let mut slots = vec![0 as EdgeId; 4 * total.cells];
-        let (h_part, v_part) = packed.split_at_mut(total.h);
+        // each band's runs, in band order: its horizontal edges among all the horizontal ones, its
+        // vertical edges after those, its vertices, its cells' slots
+        let (mut h_rest, mut v_rest) = packed.split_at_mut(total.h);
+        let (mut vertex_rest, mut slot_rest) = (vertices.as_mut_slice(), slots.as_mut_slice());
         let mut parts = Vec::with_capacity(bands.len());
-        let (mut h_part, mut v_part, mut vertex_part, mut slot_part) =
-            (h_part, v_part, vertices.as_mut_slice(), slots.as_mut_slice());
         let mut base = Counts { h: 0, v: total.h, ..Counts::default() };
         for count in &counts {
-            let h;
-            let v;
-            let vs;
-            let ss;
-            (h, h_part) = std::mem::take(&mut h_part).split_at_mut(count.h);
-            (v, v_part) = std::mem::take(&mut v_part).split_at_mut(count.v);
-            (vs, vertex_part) = std::mem::take(&mut vertex_part).split_at_mut(count.points);
-            (ss, slot_part) = std::mem::take(&mut slot_part).split_at_mut(4 * count.cells);
-            parts.push((base, Out { h, v, vertices: vs, slots: ss }));
+            let out = Out {
+                h: take_front(&mut h_rest, count.h),
+                v: take_front(&mut v_rest, count.v),
+                vertices: take_front(&mut vertex_rest, count.points),
+                slots: take_front(&mut slot_rest, 4 * count.cells),
+            };
+            parts.push((base, out));
             base = base.plus(count);
         }
         let found = all_at_once(
@@ -439,10 +438,16 @@ impl<'m> Sweep<'m> {
             let nothing = vec![NONE; cols];
             h_sides(y1, &h_here, &p_here, &nothing, &below);
         }
-        let _ = (next_h, next_point);
         debug_assert_eq!((n_h, n_v), (h_out.len(), v_out.len()), "a band makes what it counted");
         (viewer, exit)
     }
+}
+
+/// The first `n` items of `rest`, which keeps the others.
+fn take_front<'a, T>(rest: &mut &'a mut [T], n: usize) -> &'a mut [T] {
+    let (front, back) = std::mem::take(rest).split_at_mut(n);
+    *rest = back;
+    front
 }
 
 /// Runs `jobs` at once, the first on this thread and each other on a thread of its own; their
