@@ -87,9 +87,10 @@ fn read_in_order(file: &str, text: &str) -> Result<Parts, ParseError> {
     Ok(Parts { vertices, edges, cells, viewer, exit_at, nv, ne, nc })
 }
 
-/// The records on two threads: this one reads the vertices and the first part of the edges while
-/// another counts its way to the rest (a token count is a few times cheaper than a parse)
-/// and reads from there to the end. `None` when either meets anything but valid records, or they
+/// The records on two threads. The edge count is found first, by counting tokens past the
+/// vertices; then this thread reads the vertices and the first part of the edges while another
+/// counts its way to the rest (a token count is a few times cheaper than a parse) and reads from
+/// there to the end, each writing its edges into its part of one array. `None` when either meets anything but valid records, or they
 /// disagree on where their parts meet: [`read_in_order`] then reads the text again and reports the
 /// first error, exactly as if the text had been read in order (the parts are found by the same
 /// tokens the reader reads, so the records and their numbers are the same).
@@ -105,8 +106,8 @@ fn read_split(file: &str, text: &str) -> Option<Parts> {
         return None; // more edges than the text can hold: the reader in order says where it ends
     }
     // this thread's share: the vertices (2 tokens each) and the first 3/5 of the edges (8 each);
-    // the other's: counting those (a seventh of the cost of reading them, measured), the rest of
-    // the edges and the cells (4 each): about even for the usual file
+    // the other's: counting those edges (a seventh of the cost of reading them, measured), the rest
+    // of the edges and the cells (4 each): about even for the usual file
     let split = ne / 5 * 3;
     let mut packed = bytemuck::zeroed_vec::<PackedEdge>(ne);
     let mut opaque = vec![false; ne];
