@@ -258,7 +258,7 @@ impl MapArea {
 /// `p` moved to the nearest corner of the map's character lattice (`units_per_col` across, twice
 /// that down): a map centred there scrolls a whole character at a time, so its characters cover the
 /// same pieces of the maze from frame to frame while the viewer walks within one ([`MapCells`] keeps
-/// what they show, and the encoder has nothing to send for them).
+/// what they show).
 fn snap(p: Vec2, units_per_col: f32) -> Vec2 {
     let step = Vec2::new(units_per_col, 2.0 * units_per_col);
     (p / step).round() * step
@@ -271,7 +271,8 @@ fn snap(p: Vec2, units_per_col: f32) -> Vec2 {
 /// map was a sixth of a served frame's cost).
 #[derive(Clone, Debug, Default)]
 pub struct MapCells {
-    area: Option<MapArea>,
+    /// The area and the maze (its cell and edge counts) the probes are for.
+    key: Option<(MapArea, usize, usize)>,
     /// Per character, row by row: per probe, its cell ([`NO_CELL`] if none) and that cell's wall.
     probes: Vec<[(u32, bool); 5]>,
 }
@@ -282,14 +283,15 @@ const NO_CELL: u32 = u32::MAX;
 impl MapCells {
     /// The probes of `area`'s characters, worked out now if the area is not the one kept.
     fn for_area(&mut self, area: &MapArea, maze: &Maze) -> &[[(u32, bool); 5]] {
-        if self.area != Some(*area) {
+        let key = (*area, maze.cell_count(), maze.edges().len());
+        if self.key != Some(key) {
             self.probes.clear();
             for row in 0..area.height {
                 for col in 0..area.width {
                     self.probes.push(probes(area.world_box(col, row), maze));
                 }
             }
-            self.area = Some(*area);
+            self.key = Some(key);
         }
         &self.probes
     }
