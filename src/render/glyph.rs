@@ -212,6 +212,7 @@ fn block_cells<const SX: usize, const SY: usize>(
     let mut srgb = [[0u8; 3]; 6];
     let mut indices = [0u8; 6];
     let mut mixes: [Option<([u8; 3], Mix)>; 6] = [None; 6];
+    let mut pairs: [Option<([u8; 3], (u8, u8))>; 6] = [None; 6];
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
         let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {
@@ -243,7 +244,7 @@ fn block_cells<const SX: usize, const SY: usize>(
                             // The mix of the colour this position had in the cell before, if the same.
                             let mix = match mixes[k] {
                                 Some((rgb, mix)) if rgb == srgb[k] => Some(mix),
-                                _ => Mix::of(srgb[k], depth),
+                                _ => Mix::of_near(srgb[k], depth, &mut pairs[k]),
                             };
                             mixes[k] = mix.map(|mix| (srgb[k], mix));
                             // (`Mix::of` gives a mix at these depths.)

@@ -163,6 +163,18 @@ impl Mix {
     /// The mix for `rgb` at `depth`; `None` at the depths that do not dither (truecolor, none).
     #[inline]
     pub(crate) fn of(rgb: [u8; 3], depth: ColorDepth) -> Option<Mix> {
+        Mix::of_near(rgb, depth, &mut None)
+    }
+
+    /// [`Mix::of`], given the bucket and pair of a colour looked up before (`last`, updated): the
+    /// pair is a function of the bucket, and the next sample's colour is often in the same one,
+    /// where the pair table (256 KB, read at random) need not be read again.
+    #[inline]
+    pub(crate) fn of_near(
+        rgb: [u8; 3],
+        depth: ColorDepth,
+        last: &mut Option<([u8; 3], (u8, u8))>,
+    ) -> Option<Mix> {
         let palette = match depth {
             ColorDepth::None | ColorDepth::TrueColor => return None,
             ColorDepth::Ansi16 => Palette::Ansi16,
@@ -175,7 +187,15 @@ impl Mix {
         Some(match exact {
             Some(index) => Mix::Exact(index),
             None => {
-                let (a, b) = mix_pair(rgb, palette);
+                let bucket = rgb.map(|v| v >> 3);
+                let (a, b) = match *last {
+                    Some((seen, pair)) if seen == bucket => pair,
+                    _ => {
+                        let pair = mix_pair(rgb, palette);
+                        *last = Some((bucket, pair));
+                        pair
+                    }
+                };
                 Mix::Pair(a, b)
             }
         })
@@ -478,6 +498,23 @@ mod tests {
                 plain += oklab(shown(quantize_srgb8(rgb, depth))).distance(oklab(target));
             }
             assert!(dithered < 0.5 * plain, "{depth:?}: dithered {dithered}, plain {plain}");
+        }
+    }
+
+    #[test]
+    fn a_mix_found_from_the_last_bucket_is_the_mix() {
+        // colours walking through buckets and back, in both palettes: the kept pair is used only
+        // within its bucket
+        for depth in [ColorDepth::Ansi256, ColorDepth::Ansi16] {
+            let mut last = None;
+            let mut kept = 0;
+            for k in 0..3000u32 {
+                let rgb = [(k / 5 % 256) as u8, (k / 11 % 256) as u8, (k * 3 % 256) as u8];
+                let before = last;
+                assert_eq!(Mix::of_near(rgb, depth, &mut last), Mix::of(rgb, depth), "{rgb:?} {depth:?}");
+                kept += usize::from(before.is_some() && before == last);
+            }
+            assert!(kept > 100, "the pair is kept along a bucket: {kept}");
         }
     }
 
