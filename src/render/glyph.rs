@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 
-use super::palette::{self, Mix, quantize_srgb8, threshold, xterm_rgb};
+use super::palette::{self, KeptPair, Mix, quantize_srgb8, threshold, xterm_rgb};
 use super::pipeline::RenderOptions;
 use super::samples::SampleBuffer;
 use super::shade::{Srgb8Tables, linear_to_srgb_fast, luminance};
@@ -212,7 +212,7 @@ fn block_cells<const SX: usize, const SY: usize>(
     let mut srgb = [[0u8; 3]; 6];
     let mut indices = [0u8; 6];
     let mut mixes: [Option<([u8; 3], Mix)>; 6] = [None; 6];
-    let mut pairs: [Option<([u8; 3], (u8, u8))>; 6] = [None; 6];
+    let mut pairs: [KeptPair; 6] = [None; 6];
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
         let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {

@@ -148,6 +148,9 @@ pub fn dither(linear: Vec3, rgb: [u8; 3], depth: ColorDepth, threshold: f32) -> 
     }
 }
 
+/// A colour's bucket (its sRGB bytes over 8) and the bucket's pair, kept by [`Mix::of_near`].
+pub(crate) type KeptPair = Option<([u8; 3], (u8, u8))>;
+
 /// What [`dither`] shows for one 8-bit sRGB colour: an entry that is exactly it, or a pair to mix. A
 /// function of the colour alone, so a caller may keep it for the next sample of the same colour (the
 /// glyph pass does, per sub-cell position: neighbours along a row often share their colour).
@@ -170,11 +173,7 @@ impl Mix {
     /// pair is a function of the bucket, and the next sample's colour is often in the same one,
     /// where the pair table (256 KB, read at random) need not be read again.
     #[inline]
-    pub(crate) fn of_near(
-        rgb: [u8; 3],
-        depth: ColorDepth,
-        last: &mut Option<([u8; 3], (u8, u8))>,
-    ) -> Option<Mix> {
+    pub(crate) fn of_near(rgb: [u8; 3], depth: ColorDepth, last: &mut KeptPair) -> Option<Mix> {
         let palette = match depth {
             ColorDepth::None | ColorDepth::TrueColor => return None,
             ColorDepth::Ansi16 => Palette::Ansi16,
