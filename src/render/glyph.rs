@@ -231,7 +231,7 @@ fn block_cells<const SX: usize, const SY: usize>(
             } else {
                 for (dy, line) in rows.iter().enumerate() {
                     for dx in 0..SX {
-                        srgb[dy * SX + dx] = line[col * SX + dx].to_array().map(|c| tables.encode(c));
+                        srgb[dy * SX + dx] = tables.encode3(line[col * SX + dx]);
                     }
                 }
                 if depth == ColorDepth::TrueColor || !dither || spread(&srgb[..SX * SY]) > EDGE_SPREAD {
@@ -271,7 +271,8 @@ pub const RAMP_TOP: f32 = 0.8;
 fn ramp_index(color: Vec3, len: usize) -> usize {
     let lightness = linear_to_srgb_fast(luminance(color));
     let t = ((lightness - RAMP_BOTTOM) / (RAMP_TOP - RAMP_BOTTOM)).clamp(0.0, 1.0);
-    ((t * (len - 1) as f32).round() as usize).min(len - 1)
+    // + 0.5 and truncate: `round` is a libm call on baseline x86-64 (t ≥ 0, so the same steps).
+    ((t * (len - 1) as f32 + 0.5) as usize).min(len - 1)
 }
 
 /// One ascii cell: the outline glyph if any, else the ramp glyph; ink in the sample's colour, dithered
@@ -284,7 +285,7 @@ fn ascii_cell(
     threshold: Option<f32>,
 ) -> Cell {
     let ch = outline.unwrap_or(ramp[ramp_index(color, ramp.len())]);
-    let srgb = color.to_array().map(|c| Srgb8Tables::get().encode(c));
+    let srgb = Srgb8Tables::get().encode3(color);
     let fg = match threshold {
         _ if ch == ' ' => Color::Default,
         Some(threshold) => palette::dither(color, srgb, depth, threshold),

@@ -44,8 +44,7 @@ pub const CUBE_LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
 #[must_use]
 #[inline]
 pub fn to_srgb8(linear: Vec3) -> [u8; 3] {
-    let tables = Srgb8Tables::get();
-    linear.to_array().map(|c| tables.encode(c))
+    Srgb8Tables::get().encode3(linear)
 }
 
 /// The RGB xterm shows for palette `index` (ANSI 16, cube, grey ramp).

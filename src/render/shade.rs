@@ -266,6 +266,12 @@ impl Srgb8Tables {
         start.saturating_add(u8::from(c >= self.threshold[usize::from(start) + 1])) // +∞ ≥ [256]
     }
 
+    /// [`Srgb8Tables::encode`] of each channel (written out: `to_array().map` left a call per sample).
+    #[inline(always)]
+    pub(crate) fn encode3(&self, c: Vec3) -> [u8; 3] {
+        [self.encode(c.x), self.encode(c.y), self.encode(c.z)]
+    }
+
     fn new() -> Srgb8Tables {
         let code = |c: f32| -> u8 {
             let c = f64::from(c);
