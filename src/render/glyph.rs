@@ -11,7 +11,7 @@ use glam::Vec3;
 use super::palette::{self, KeptPair, Mix, quantize_srgb8, threshold, xterm_rgb};
 use super::pipeline::RenderOptions;
 use super::samples::SampleBuffer;
-use super::shade::{Srgb8Tables, linear_to_srgb_fast, luminance};
+use super::shade::{Srgb8Tables, luminance, srgb_to_linear};
 use crate::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// How cells are drawn, and so how many samples each covers.
@@ -143,7 +143,7 @@ pub fn block_glyph(charset: Charset, mask: u8) -> char {
 /// Ascii overlays the outline layer (the block charsets draw edges with their shapes) on the ramp of
 /// `options.ramp` ([`ASCII_RAMP`] or [`ASCII_RAMP_LONG`]). With [`ColorDepth::None`] every colour is
 /// [`Color::Default`] and the block charsets shade with [`BLOCK_RAMP`]. Ramps are indexed by lightness
-/// stretched over the range a maze scene spans ([`ramp_index`]). With [`ColorDepth::Ansi16`] and
+/// stretched over the range a maze scene spans ([`RampSteps`]). With [`ColorDepth::Ansi16`] and
 /// [`ColorDepth::Ansi256`] and `options.dither`, each sample is
 /// dithered to a palette entry first ([`palette::dither`], thresholds anchored at the samples'
 /// top-left), then the cell shows its samples' entries: a half-block cell is exactly its two samples.
@@ -163,11 +163,14 @@ pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Fra
     match charset {
         Charset::Ascii => {
             let (color, outline) = (samples.color(), samples.outline());
+            let (glyphs, tables) = (ramp.glyphs(), Srgb8Tables::get());
+            let steps = RampSteps::new(glyphs.len());
             for (row, cells) in frame.region_rows_mut(region).enumerate() {
                 for (col, cell) in cells.iter_mut().enumerate() {
                     let i = row * region.cols + col;
+                    let ch = outline[i].unwrap_or(glyphs[steps.index(color[i])]);
                     let threshold = dither.then(|| threshold(col, row));
-                    *cell = ascii_cell(color[i], outline[i], depth, ramp.glyphs(), threshold);
+                    *cell = ascii_cell(ch, color[i], tables.encode3(color[i]), depth, threshold);
                 }
             }
         }
@@ -209,6 +212,7 @@ fn block_cells<const SX: usize, const SY: usize>(
     let (width, color) = (samples.width(), samples.color());
     let cols = region.cols;
     let tables = Srgb8Tables::get();
+    let block_ramp = RampSteps::new(BLOCK_RAMP.len());
     let mut srgb = [[0u8; 3]; 6];
     let mut indices = [0u8; 6];
     let mut mixes: [Option<([u8; 3], Mix)>; 6] = [None; 6];
@@ -227,7 +231,7 @@ fn block_cells<const SX: usize, const SY: usize>(
                         sum += c;
                     }
                 }
-                Cell::plain(BLOCK_RAMP[ramp_index(sum / (SX * SY) as f32, BLOCK_RAMP.len())])
+                Cell::plain(BLOCK_RAMP[block_ramp.index(sum / (SX * SY) as f32)])
             } else {
                 for (dy, line) in rows.iter().enumerate() {
                     for dx in 0..SX {
@@ -266,26 +270,46 @@ pub const RAMP_BOTTOM: f32 = 0.06;
 /// ceiling take different glyphs (the plain 0–1 range left them all within two or three).
 pub const RAMP_TOP: f32 = 0.8;
 
-/// The index into a `len`-step ramp for a linear colour's lightness (sRGB-encoded luminance),
-/// stretched from [`RAMP_BOTTOM`]–[`RAMP_TOP`] to the ramp's ends.
-fn ramp_index(color: Vec3, len: usize) -> usize {
-    let lightness = linear_to_srgb_fast(luminance(color));
-    let t = ((lightness - RAMP_BOTTOM) / (RAMP_TOP - RAMP_BOTTOM)).clamp(0.0, 1.0);
-    // + 0.5 and truncate: `round` is a libm call on baseline x86-64 (t ≥ 0, so the same steps).
-    ((t * (len - 1) as f32 + 0.5) as usize).min(len - 1)
+/// Where the steps of a ramp of `len` glyphs lie, in luminance (linear light): the lightness
+/// (sRGB-encoded luminance) stretched from [`RAMP_BOTTOM`]–[`RAMP_TOP`] to `0..=len − 1` and rounded
+/// gives a colour's glyph, so glyph `k + 1` starts where the stretched lightness reaches `k + ½`. Found
+/// once a frame, so a sample's glyph is a few comparisons of its luminance, with no sRGB encoding.
+struct RampSteps {
+    /// `up[k]`: the luminance glyph `k + 1` starts at; the first `len − 1` are used.
+    up: [f32; ASCII_RAMP_LONG.len() - 1],
+    len: usize,
 }
 
-/// One ascii cell: the outline glyph if any, else the ramp glyph; ink in the sample's colour, dithered
+impl RampSteps {
+    /// # Panics
+    /// If `len` is 0 or longer than the longest ramp.
+    fn new(len: usize) -> RampSteps {
+        assert!((1..=ASCII_RAMP_LONG.len()).contains(&len), "a ramp of {len} glyphs");
+        let mut up = [f32::INFINITY; ASCII_RAMP_LONG.len() - 1];
+        for (k, up) in up.iter_mut().enumerate().take(len - 1) {
+            let stretched = (k as f32 + 0.5) / (len - 1) as f32;
+            *up = srgb_to_linear(RAMP_BOTTOM + stretched * (RAMP_TOP - RAMP_BOTTOM));
+        }
+        RampSteps { up, len }
+    }
+
+    /// The ramp index for a linear colour (NaN: 0, the darkest).
+    #[inline]
+    fn index(&self, color: Vec3) -> usize {
+        let luminance = luminance(color);
+        let up = &self.up[..self.len - 1];
+        if up.len() <= 16 {
+            up.iter().filter(|&&step| luminance >= step).count() // no branch: a few vector compares
+        } else {
+            up.partition_point(|&step| luminance >= step)
+        }
+    }
+}
+
+/// One ascii cell: glyph `ch` inked in the sample's colour (`color`, linear; `srgb`, encoded), dithered
 /// with the sample's `threshold` (`None`: its nearest palette entry).
-fn ascii_cell(
-    color: Vec3,
-    outline: Option<char>,
-    depth: ColorDepth,
-    ramp: &[char],
-    threshold: Option<f32>,
-) -> Cell {
-    let ch = outline.unwrap_or(ramp[ramp_index(color, ramp.len())]);
-    let srgb = Srgb8Tables::get().encode3(color);
+#[inline]
+fn ascii_cell(ch: char, color: Vec3, srgb: [u8; 3], depth: ColorDepth, threshold: Option<f32>) -> Cell {
     let fg = match threshold {
         _ if ch == ' ' => Color::Default,
         Some(threshold) => palette::dither(color, srgb, depth, threshold),
@@ -469,6 +493,33 @@ fn indexed_cell(indices: &[u8], charset: Charset) -> Cell {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::shade::linear_to_srgb;
+
+    #[test]
+    fn a_ramp_step_is_the_rounded_stretched_lightness() {
+        // The definition, in f64 with the exact curve: [`RampSteps`] compares luminances instead.
+        let by_lightness = |color: Vec3, len: usize| {
+            let lightness = f64::from(linear_to_srgb(luminance(color)));
+            let (bottom, top) = (f64::from(RAMP_BOTTOM), f64::from(RAMP_TOP));
+            let t = ((lightness - bottom) / (top - bottom)).clamp(0.0, 1.0);
+            (t * (len - 1) as f64).round() as usize
+        };
+        for len in [1, 2, BLOCK_RAMP.len(), ASCII_RAMP.len(), ASCII_RAMP_LONG.len()] {
+            let steps = RampSteps::new(len);
+            let mut seen = vec![false; len];
+            for k in 0..=4000 {
+                let grey = Vec3::splat(k as f32 / 4000.0);
+                for color in [grey, grey * Vec3::new(1.0, 0.5, 0.2), grey * Vec3::new(0.1, 0.3, 1.0)] {
+                    let (got, want) = (steps.index(color), by_lightness(color, len));
+                    assert_eq!(got, want, "len {len}, {color}");
+                    seen[got] = true;
+                }
+            }
+            assert!(seen.iter().all(|&s| s), "len {len}: every glyph of the ramp is reached");
+            assert_eq!(steps.index(Vec3::NAN), 0);
+            assert_eq!(steps.index(Vec3::splat(2.0)), len - 1);
+        }
+    }
 
     #[test]
     fn charset_names_round_trip() {

@@ -190,42 +190,6 @@ pub fn linear_to_srgb(c: f32) -> f32 {
     if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
 }
 
-/// [`linear_to_srgb`] by table, for the per-sample hot path (glyphs): within 2e-7 of it (a 20 000th of
-/// an 8-bit step) everywhere in 0..1, several times faster than its `powf`.
-///
-/// Below the sRGB curve's linear toe (≤ 0.0031308) it is the same multiply. Above, the table holds the
-/// exact curve at 512 points per octave of the input (read off the float's exponent and top 9 mantissa
-/// bits, so the points crowd where the curve bends most) and interpolates linearly between them.
-#[must_use]
-pub fn linear_to_srgb_fast(c: f32) -> f32 {
-    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
-    if c <= 0.003_130_8 {
-        return c * 12.92;
-    }
-    let table = SRGB_TABLE.get_or_init(srgb_table);
-    // c in (2^-9, 1]: biased exponent 118..=127; index = octave · 512 + top 9 mantissa bits.
-    let bits = c.to_bits();
-    let i = ((bits >> SRGB_FRACTION_BITS) - SRGB_FIRST_KEY) as usize;
-    let t = (bits & ((1 << SRGB_FRACTION_BITS) - 1)) as f32 * (1.0 / (1 << SRGB_FRACTION_BITS) as f32);
-    let (a, b) = (table[i], table[i + 1]);
-    a + (b - a) * t
-}
-
-/// Mantissa bits below the table index (23 - 9: 512 points per octave).
-const SRGB_FRACTION_BITS: u32 = 14;
-/// The table key of 2^-9 (biased exponent 118), the octave holding the toe's end 0.0031308.
-const SRGB_FIRST_KEY: u32 = 118 << (23 - SRGB_FRACTION_BITS);
-/// Keys from 2^-9 to 1.0 (biased exponent 127, mantissa 0) inclusive, plus one to interpolate towards.
-const SRGB_TABLE_LEN: usize = 9 * 512 + 2;
-
-static SRGB_TABLE: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
-
-fn srgb_table() -> Vec<f32> {
-    (0..SRGB_TABLE_LEN as u32)
-        .map(|k| linear_to_srgb(f32::from_bits((SRGB_FIRST_KEY + k) << SRGB_FRACTION_BITS)))
-        .collect()
-}
-
 /// The 8-bit sRGB code of a linear channel: `round(255 · srgb(c))` with the curve evaluated in `f64`
 /// (clamped to 0..1; NaN → 0), by two table reads and one comparison: what the glyph pass calls for
 /// every channel of every sample.
@@ -334,21 +298,6 @@ mod tests {
         assert_eq!(fog.amount(4.0), 0.5);
         assert_eq!(fog.amount(9.0), 1.0);
         assert_eq!(fog.apply(Vec3::ZERO, 4.0), Vec3::splat(0.5));
-    }
-
-    #[test]
-    fn the_srgb_table_matches_the_curve() {
-        // Every 61st float in 0..=1 (about 17 million), the ends, the toe and NaN.
-        let step = 61;
-        let mut worst = 0.0f32;
-        for bits in (0..=1.0f32.to_bits()).step_by(step).chain([1.0f32.to_bits(), 0.003_130_8f32.to_bits()]) {
-            let c = f32::from_bits(bits);
-            worst = worst.max((linear_to_srgb_fast(c) - linear_to_srgb(c)).abs());
-        }
-        assert!(worst < 2e-7, "worst error {worst}");
-        for c in [-1.0, 0.0, 1.0, 2.0, f32::NAN, f32::INFINITY] {
-            assert_eq!(linear_to_srgb_fast(c), linear_to_srgb(c), "{c}");
-        }
     }
 
     #[test]
