@@ -91,6 +91,8 @@ pub struct Encoder {
     /// Scratch for the frame as sent: `frame` up to `tolerance` (the screen where close, the pen's
     /// colours where close); swapped into `screen` after each encode.
     effective: Frame,
+    /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
+    differs: Vec<bool>,
 }
 
 impl Default for Encoder {
@@ -110,6 +112,7 @@ impl Encoder {
             bce: true,
             tolerance: 0,
             effective: Frame::default(),
+            differs: Vec::new(),
         }
     }
 
@@ -147,15 +150,7 @@ impl Encoder {
             self.pen = paint_full(sent, self.bce, out);
             sent.cells().len()
         } else {
-            if self.tolerance > 0 {
-                for (shown, cell) in self.screen.cells().iter().zip(sent.cells_mut()) {
-                    // Only truecolor colours can be close without being equal; the diff finds the rest.
-                    if has_rgb(cell) && shown.looks_within(cell, self.tolerance) {
-                        *cell = *shown;
-                    }
-                }
-            }
-            diff(&self.screen, sent, self.bce, self.tolerance, &mut self.pen, out)
+            diff(&self.screen, sent, self.bce, self.tolerance, &mut self.pen, out, &mut self.differs)
         };
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
@@ -224,7 +219,7 @@ fn clear_and_paint(frame: &Frame, bg: Color, bce: bool, out: &mut Vec<u8>) -> Pe
     out.extend_from_slice(b"\x1b[2J");
     let blank = Frame::filled(frame.width(), frame.height(), Cell { ch: ' ', fg: Color::Default, bg });
     // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
-    diff(&blank, &mut frame.clone(), bce, 0, &mut pen, out);
+    diff(&blank, &mut frame.clone(), bce, 0, &mut pen, out, &mut Vec::new());
     pen
 }
 
@@ -245,17 +240,47 @@ fn most_common_blank_bg(frame: &Frame) -> Option<Color> {
 /// Writes what turns `old` into `new` (same size); returns the number of cells changed. A changed
 /// truecolor cell may take the pen's colour where that is within `tolerance` of its own (one SGR less);
 /// `new` is updated to what was sent.
-fn diff(old: &Frame, new: &mut Frame, bce: bool, tolerance: u8, pen: &mut Pen, out: &mut Vec<u8>) -> usize {
+/// Encodes the changes from `old` (on screen) to `new`; returns the number of cells changed. A
+/// truecolor cell of `new` within `tolerance` of `old` is left as `old` shows it (and set to it);
+/// `differs` is scratch.
+fn diff(
+    old: &Frame,
+    new: &mut Frame,
+    bce: bool,
+    tolerance: u8,
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    differs: &mut Vec<bool>,
+) -> usize {
     debug_assert_eq!((old.width(), old.height()), (new.width(), new.height()));
+    mark_changes(old, new, tolerance, differs);
     let width = new.width().max(1);
     let mut changed = 0;
-    for (y, (old_row, new_row)) in
-        old.cells().chunks_exact(width).zip(new.cells_mut().chunks_exact_mut(width)).enumerate()
+    for (y, ((old_row, new_row), differs)) in old
+        .cells()
+        .chunks_exact(width)
+        .zip(new.cells_mut().chunks_exact_mut(width))
+        .zip(differs.chunks_exact(width))
+        .enumerate()
     {
         let tail = erasable_tail(new_row, bce);
-        changed += diff_row(pen, out, y, 0, old_row, new_row, tail, tolerance);
+        changed += diff_row(pen, out, y, 0, old_row, new_row, differs, tail, tolerance);
     }
     changed
+}
+
+/// Which cells of `new` look different from `old` (one look comparison a cell: the diff's searches
+/// read the flags). A truecolor cell within `tolerance` of `old` is first set to `old`.
+fn mark_changes(old: &Frame, new: &mut Frame, tolerance: u8, differs: &mut Vec<bool>) {
+    differs.clear();
+    differs.extend(old.cells().iter().zip(new.cells_mut()).map(|(shown, cell)| {
+        // Only truecolor colours can be close without being equal.
+        if tolerance > 0 && has_rgb(cell) && shown.looks_within(cell, tolerance) {
+            *cell = *shown;
+            return false;
+        }
+        !shown.same_look(cell)
+    }));
 }
 
 /// Where a row's tail of same-background spaces starts, and that background, if `\x1b[K` may erase it.
@@ -268,8 +293,8 @@ fn erasable_tail(row: &[Cell], bce: bool) -> Option<(usize, Color)> {
     Some((row.len() - len, last.bg))
 }
 
-/// Encodes the changes of row `y` from column `from` on; returns the number of cells changed. Changed
-/// cells are written within `tolerance` of `new` ([`write_cell`]) and `new` records what was sent.
+/// Encodes the changes of row `y` from column `from` on (`differs`: which cells differ from `old`);
+/// returns the number of cells changed. Changed cells are written within `tolerance` of `new` ([`write_cell`]) and `new` records what was sent.
 #[allow(clippy::too_many_arguments)]
 fn diff_row(
     pen: &mut Pen,
@@ -278,19 +303,20 @@ fn diff_row(
     from: usize,
     old: &[Cell],
     new: &mut [Cell],
+    differs: &[bool],
     tail: Option<(usize, Color)>,
     tolerance: u8,
 ) -> usize {
     let width = new.len();
     let mut changed = 0;
     let mut from = from;
-    while let Some(x) = (from..width).find(|&i| !old[i].same_look(&new[i])) {
+    while let Some(x) = (from..width).find(|&i| differs[i]) {
         if let Some((start, bg)) = tail
             && x >= start
         {
             // Everything left to change is blank: erase to end of line, or write the cells, whichever is
             // shorter (try both, keep the shorter).
-            changed += (x..width).filter(|&i| !old[i].same_look(&new[i])).count();
+            changed += differs[x..].iter().filter(|&&d| d).count();
             let mark = out.len();
             let mut erase = *pen;
             reach(&mut erase, out, y, x, new, Then::Erase(bg));
@@ -298,7 +324,7 @@ fn diff_row(
             out.truncate(mark);
             let mut write = *pen;
             // Exact (tolerance 0): a trial, so it must leave `new` as it is.
-            diff_row(&mut write, out, y, x, old, new, None, 0);
+            diff_row(&mut write, out, y, x, old, new, differs, None, 0);
             if erase_len < out.len() - mark {
                 out.truncate(mark);
                 reach(pen, out, y, x, new, Then::Erase(bg));
