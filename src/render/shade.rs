@@ -208,7 +208,8 @@ const SRGB8_BUCKETS: usize = 4096;
 pub(crate) struct Srgb8Tables {
     /// Code at the start `b / 4096` of each bucket.
     bucket: [u8; SRGB8_BUCKETS],
-    /// The least `f32` with code ≥ k, for k in 0..=255; `[256]` is +∞ so the lookup needs no branch.
+    /// The least `f32` with code ≥ k, for k in 0..=255; `[256]` is NaN, which no input reaches or
+    /// passes (+∞ included), so the lookup needs no branch and no saturation.
     threshold: [f32; 257],
 }
 
@@ -225,9 +226,10 @@ impl Srgb8Tables {
     #[inline]
     pub(crate) fn encode(&self, c: f32) -> u8 {
         // No branch: the saturating conversion sends NaN and c ≤ 0 to bucket 0 (code 0, and NaN fails
-        // the comparison), c ≥ 1 to the last bucket, whose comparison with threshold[255] then gives 255.
+        // the comparison), c ≥ 1 to the last bucket, whose comparison with threshold[255] then gives 255
+        // (and with threshold[256], NaN, nothing more: the sum stays within a byte).
         let start = self.bucket[((c * SRGB8_BUCKETS as f32) as u32 as usize).min(SRGB8_BUCKETS - 1)];
-        start.saturating_add(u8::from(c >= self.threshold[usize::from(start) + 1])) // +∞ ≥ [256]
+        start + u8::from(c >= self.threshold[usize::from(start) + 1])
     }
 
     /// [`Srgb8Tables::encode`] of each channel (written out: `to_array().map` left a call per sample).
@@ -246,6 +248,7 @@ impl Srgb8Tables {
         // threshold starts from the curve's inverse at the code's lower half-step and walks the few
         // floats to the exact boundary; the bit patterns of 0..=1 are ordered like the values.
         let mut threshold = [f32::INFINITY; 257];
+        threshold[256] = f32::NAN;
         threshold[0] = 0.0;
         for (k, t) in threshold.iter_mut().enumerate().take(256).skip(1) {
             let guess = srgb_to_linear((k as f32 - 0.5) / 255.0).clamp(0.0, 1.0);
