@@ -372,6 +372,12 @@ fn best_partition(srgb: &[[u8; 3]]) -> Split {
         sum
     };
     let total = sum_of((1 << n) - 1);
+    // A split's score is |n·ink − n_ink·total|² / (n_ink·(n − n_ink)) (the squared distance between the
+    // two sides' means, weighted by their sizes: the most that a split's error falls below no split's).
+    // With each sample taken as n·s − total (n times its offset from the mean), n·ink − n_ink·total is
+    // the ink's sum of those: exact integers, one addition a channel per mask.
+    let centred: [[i32; 3]; 6] =
+        std::array::from_fn(|k| std::array::from_fn(|c| n as i32 * samples[k][c] - total[c]));
     // The best so far as the fraction score = numerator / denominator (mask 0 scores 0).
     let (mut best, mut best_num, mut best_den) = (0usize, 0i64, 1i64);
     // Masks in Gray-code order: each differs from the one before by one sample, which joins or leaves
@@ -382,9 +388,10 @@ fn best_partition(srgb: &[[u8; 3]]) -> Split {
         let k = step.trailing_zeros() as usize;
         mask ^= 1 << k;
         let sign = if mask >> k & 1 == 1 { 1 } else { -1 };
-        (0..3).for_each(|c| ink[c] += sign * samples[k][c]);
+        (0..3).for_each(|c| ink[c] += sign * centred[k][c]);
         n_ink += sign;
-        let num: i64 = (0..3).map(|c| i64::from(n as i32 * ink[c] - n_ink * total[c]).pow(2)).sum();
+        // At most 3 · (6 · 6 · 255)² < 2³¹.
+        let num = i64::from(ink[0] * ink[0] + ink[1] * ink[1] + ink[2] * ink[2]);
         let den = i64::from(n_ink * (n as i32 - n_ink));
         let (this, so_far) = (num * best_den, best_num * den);
         if this > so_far || (this == so_far && mask < best) {
