@@ -253,27 +253,23 @@ fn diff(
     differs: &mut Vec<bool>,
 ) -> usize {
     debug_assert_eq!((old.width(), old.height()), (new.width(), new.height()));
-    mark_changes(old, new, tolerance, differs);
     let width = new.width().max(1);
     let mut changed = 0;
-    for (y, ((old_row, new_row), differs)) in old
-        .cells()
-        .chunks_exact(width)
-        .zip(new.cells_mut().chunks_exact_mut(width))
-        .zip(differs.chunks_exact(width))
-        .enumerate()
+    for (y, (old_row, new_row)) in
+        old.cells().chunks_exact(width).zip(new.cells_mut().chunks_exact_mut(width)).enumerate()
     {
+        mark_changes(old_row, new_row, tolerance, differs);
         let tail = erasable_tail(new_row, bce);
-        changed += diff_row(pen, out, y, 0, old_row, new_row, differs, tail, tolerance);
+        changed += diff_row(pen, out, y, 0, new_row, &differs[..], tail, tolerance);
     }
     changed
 }
 
-/// Which cells of `new` look different from `old` (one look comparison a cell: the diff's searches
-/// read the flags). A truecolor cell within `tolerance` of `old` is first set to `old`.
-fn mark_changes(old: &Frame, new: &mut Frame, tolerance: u8, differs: &mut Vec<bool>) {
+/// Which cells of row `new` look different from row `old` (one look comparison a cell: the diff's
+/// searches read the flags). A truecolor cell within `tolerance` of `old` is first set to `old`.
+fn mark_changes(old: &[Cell], new: &mut [Cell], tolerance: u8, differs: &mut Vec<bool>) {
     differs.clear();
-    differs.extend(old.cells().iter().zip(new.cells_mut()).map(|(shown, cell)| {
+    differs.extend(old.iter().zip(new).map(|(shown, cell)| {
         // Only truecolor colours can be close without being equal.
         if tolerance > 0 && has_rgb(cell) && shown.looks_within(cell, tolerance) {
             *cell = *shown;
@@ -293,7 +289,7 @@ fn erasable_tail(row: &[Cell], bce: bool) -> Option<(usize, Color)> {
     Some((row.len() - len, last.bg))
 }
 
-/// Encodes the changes of row `y` from column `from` on (`differs`: which cells differ from `old`);
+/// Encodes the changes of row `y` from column `from` on (`differs`: which cells differ from the screen);
 /// returns the number of cells changed. Changed cells are written within `tolerance` of `new` ([`write_cell`]) and `new` records what was sent.
 #[allow(clippy::too_many_arguments)]
 fn diff_row(
@@ -301,7 +297,6 @@ fn diff_row(
     out: &mut Vec<u8>,
     y: usize,
     from: usize,
-    old: &[Cell],
     new: &mut [Cell],
     differs: &[bool],
     tail: Option<(usize, Color)>,
@@ -324,7 +319,7 @@ fn diff_row(
             out.truncate(mark);
             let mut write = *pen;
             // Exact (tolerance 0): a trial, so it must leave `new` as it is.
-            diff_row(&mut write, out, y, x, old, new, differs, None, 0);
+            diff_row(&mut write, out, y, x, new, differs, None, 0);
             if erase_len < out.len() - mark {
                 out.truncate(mark);
                 reach(pen, out, y, x, new, Then::Erase(bg));
