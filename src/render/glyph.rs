@@ -165,12 +165,14 @@ pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Fra
             let (color, outline) = (samples.color(), samples.outline());
             let (glyphs, tables) = (ramp.glyphs(), Srgb8Tables::get());
             let steps = RampSteps::new(glyphs.len());
+            // (Truecolor and no colour have nothing to dither: no threshold, and no call to find so.)
+            let dither = dither && matches!(depth, ColorDepth::Ansi16 | ColorDepth::Ansi256);
             for (row, cells) in frame.region_rows_mut(region).enumerate() {
                 for (col, cell) in cells.iter_mut().enumerate() {
                     let i = row * region.cols + col;
                     let ch = outline[i].unwrap_or(glyphs[steps.index(color[i])]);
                     let threshold = dither.then(|| threshold(col, row));
-                    *cell = ascii_cell(ch, color[i], tables.encode3(color[i]), depth, threshold);
+                    *cell = ascii_cell(ch, color[i], tables, depth, threshold);
                 }
             }
         }
@@ -306,12 +308,21 @@ impl RampSteps {
     }
 }
 
-/// One ascii cell: glyph `ch` inked in the sample's colour (`color`, linear; `srgb`, encoded), dithered
+/// One ascii cell: glyph `ch` inked in the sample's colour (`color`, linear), dithered
 /// with the sample's `threshold` (`None`: its nearest palette entry).
 #[inline]
-fn ascii_cell(ch: char, color: Vec3, srgb: [u8; 3], depth: ColorDepth, threshold: Option<f32>) -> Cell {
+fn ascii_cell(
+    ch: char,
+    color: Vec3,
+    tables: &Srgb8Tables,
+    depth: ColorDepth,
+    threshold: Option<f32>,
+) -> Cell {
+    if ch == ' ' {
+        return Cell::plain(' '); // no ink to colour
+    }
+    let srgb = tables.encode3(color);
     let fg = match threshold {
-        _ if ch == ' ' => Color::Default,
         Some(threshold) => palette::dither(color, srgb, depth, threshold),
         None => quantize_srgb8(srgb, depth),
     };
