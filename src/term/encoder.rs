@@ -237,12 +237,10 @@ fn most_common_blank_bg(frame: &Frame) -> Option<Color> {
     (bg != Color::Default).then_some(bg)
 }
 
-/// Writes what turns `old` into `new` (same size); returns the number of cells changed. A changed
-/// truecolor cell may take the pen's colour where that is within `tolerance` of its own (one SGR less);
-/// `new` is updated to what was sent.
-/// Encodes the changes from `old` (on screen) to `new`; returns the number of cells changed. A
-/// truecolor cell of `new` within `tolerance` of `old` is left as `old` shows it (and set to it);
-/// `differs` is scratch.
+/// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
+/// truecolor cell of `new` within `tolerance` of `old` is left as `old` shows it, and a changed one may
+/// take the pen's colour where that is within `tolerance` of its own (one SGR less); `new` is updated
+/// to what was sent. `differs` is scratch ([`mark_changes`]).
 fn diff(
     old: &Frame,
     new: &mut Frame,
