@@ -137,7 +137,29 @@ impl Cell {
             return (self.ch == ' ' || self.fg.within(other.fg, tolerance))
                 && (self.ch == FULL_BLOCK || self.bg.within(other.bg, tolerance));
         }
+        self.looks_within_other_glyph(other, tolerance)
+    }
+
+    /// [`Cell::looks_within`] for two different glyphs (out of line: the diff's inlined loop stays small).
+    #[inline(never)]
+    fn looks_within_other_glyph(&self, other: &Cell, tolerance: u8) -> bool {
+        // Half blocks (the default charset) and blanks: a top and a bottom half to compare.
+        if let (Some(a), Some(b)) = (self.halves(), other.halves()) {
+            return a[0].within(b[0], tolerance) && a[1].within(b[1], tolerance);
+        }
         self.looks_within_by_regions(other, tolerance)
+    }
+
+    /// The colours of the top and bottom halves of a blank, a half block or a full block.
+    #[inline]
+    fn halves(&self) -> Option<[Color; 2]> {
+        match self.ch {
+            ' ' => Some([self.bg; 2]),
+            FULL_BLOCK => Some([self.fg; 2]),
+            '▀' => Some([self.fg, self.bg]),
+            '▄' => Some([self.bg, self.fg]),
+            _ => None,
+        }
     }
 
     /// [`Cell::looks_within`] region by region.

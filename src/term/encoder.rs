@@ -268,10 +268,17 @@ fn diff(
 fn mark_changes(old: &[Cell], new: &mut [Cell], tolerance: u8, differs: &mut Vec<bool>) {
     differs.clear();
     differs.extend(old.iter().zip(new).map(|(shown, cell)| {
-        // Only truecolor colours can be close without being equal.
-        if tolerance > 0 && has_rgb(cell) && shown.looks_within(cell, tolerance) {
-            *cell = *shown;
-            return false;
+        if shown == cell {
+            return false; // the common case, inline
+        }
+        // Only truecolor colours can be close without being equal; a cell not within the tolerance
+        // does not look the same either (one comparison).
+        if tolerance > 0 && has_rgb(cell) {
+            let within = shown.looks_within(cell, tolerance);
+            if within {
+                *cell = *shown;
+            }
+            return !within;
         }
         !shown.same_look(cell)
     }));
