@@ -122,6 +122,8 @@ pub(crate) struct Span {
     bias: [i64; 3],
     order: [usize; 3],
     inv_area: f64,
+    /// Whether the area is below 2^53 (see [`Span::bary_x8`]).
+    exact_in_f64: bool,
 }
 
 impl Span {
@@ -133,6 +135,33 @@ impl Span {
         for k in 0..3 {
             let e = self.edge[k] + self.step[k] * i as i64 - self.bias[k];
             bary[self.order[k]] = (e as f64 * self.inv_area) as f32;
+        }
+        bary
+    }
+
+    /// [`Span::bary`] of samples `start..start + LANES`, lane by lane (lanes past the span's end get
+    /// weights off the triangle, for the caller to mask).
+    ///
+    /// The same bits as [`Span::bary`], eight at a time: an edge function on a covered sample lies in
+    /// `0..=area`, so while the area is below 2^53 it and its steps are integers an `f64` holds
+    /// exactly, and stepping it in `f64` (which vectorizes; `i64` → `f64` does not on x86-64) gives the
+    /// value `bary` converts. Larger triangles (beyond the pipeline's clipped walls) step in `i64`.
+    #[inline]
+    pub fn bary_x8(&self, start: usize) -> [[f32; LANES]; 3] {
+        let mut bary = [[0.0; LANES]; 3];
+        for k in 0..3 {
+            let first = self.edge[k] + self.step[k] * start as i64 - self.bias[k];
+            let out = &mut bary[self.order[k]];
+            if self.exact_in_f64 {
+                let (first, step) = (first as f64, self.step[k] as f64);
+                for (lane, out) in out.iter_mut().enumerate() {
+                    *out = ((first + step * lane as f64) * self.inv_area) as f32;
+                }
+            } else {
+                for (lane, out) in out.iter_mut().enumerate() {
+                    *out = ((first + self.step[k] * lane as i64) as f64 * self.inv_area) as f32;
+                }
+            }
         }
         bary
     }
@@ -179,6 +208,7 @@ pub(crate) fn for_each_span(width: usize, height: usize, pos: [Vec2; 3], mut spa
     let start = [x_lo * ONE + HALF, y_lo * ONE + HALF];
     let mut row: [i64; 3] = std::array::from_fn(|k| edge(edges[k].0, edges[k].1, start) + bias[k]);
     let inv_area = 1.0 / area as f64;
+    let exact_in_f64 = area < 1 << f64::MANTISSA_DIGITS;
 
     for y in y_lo..=y_hi {
         // The row's span, solved exactly in integers: E_k(x_lo + i) = row_k + step_x_k · i ≥ 0 for all k.
@@ -203,6 +233,7 @@ pub(crate) fn for_each_span(width: usize, height: usize, pos: [Vec2; 3], mut spa
                 bias,
                 order,
                 inv_area,
+                exact_in_f64,
             });
         }
         for k in 0..3 {
@@ -328,11 +359,7 @@ fn fill_triangle_x8(
         for start in (0..span.len).step_by(LANES) {
             let n = (span.len - start).min(LANES);
             let at = row + start..row + start + n;
-            let mut bary = [[0.0; LANES]; 3];
-            for (lane, [b0, b1, b2]) in (0..n).map(|lane| (lane, span.bary(start + lane))) {
-                (bary[0][lane], bary[1][lane], bary[2][lane]) = (b0, b1, b2);
-            }
-            let b = bary.map(f32x8::from);
+            let b = span.bary_x8(start).map(f32x8::from);
             // Depth: affine in grid space, relative to vertex 0; LESS (NaN fails; padding lanes see -∞).
             let z = depth0 + b[1] * depth_1 + b[2] * depth_2;
             let mut old = [f32::NEG_INFINITY; LANES];
@@ -349,6 +376,16 @@ fn fill_triangle_x8(
             let weighted = |a: [f32x8; 3]| w[0] * a[0] + w[1] * a[1] + w[2] * a[2];
             let color = shade(&Lanes3 { x: weighted(ax), y: weighted(ay), z: weighted(az) });
             let [z, r, g, bl] = [z, color.x, color.y, color.z].map(cast::<f32x8, [f32; LANES]>);
+            if visible == (1 << LANES) - 1 {
+                // Eight visible samples (the common case inside a wall): stored without a branch each.
+                for (lane, color) in colors[at.clone()].iter_mut().enumerate() {
+                    *color = Vec3::new(r[lane], g[lane], bl[lane]);
+                }
+                depths[at.clone()].copy_from_slice(&z);
+                ids[at].fill(id);
+                written += LANES;
+                continue;
+            }
             for lane in (0..n).filter(|lane| visible >> lane & 1 == 1) {
                 let i = row + start + lane;
                 (colors[i], depths[i], ids[i]) = (Vec3::new(r[lane], g[lane], bl[lane]), z[lane], id);
@@ -456,6 +493,34 @@ mod tests {
         assert_eq!(scalar.id(), lanes.id());
         assert_eq!(scalar.depth(), lanes.depth());
         assert_eq!(scalar.color(), lanes.color());
+    }
+
+    /// Eight lanes of weights are the bits of eight single ones, stepped in `f64` (the pipeline's
+    /// triangles) or, for a triangle of area 2^53 or more (one far beyond the grid), in `i64`.
+    #[test]
+    fn eight_lane_weights_are_the_single_weights() {
+        let triangles = [
+            [Vec2::new(2.3, 1.7), Vec2::new(30.9, 4.2), Vec2::new(11.1, 20.6)],
+            [Vec2::new(-5.0, -3.0), Vec2::new(28.0, 17.0), Vec2::new(25.5, 2.5)],
+            [Vec2::new(-9.0e5, -9.0e5), Vec2::new(9.0e5, -8.0e5), Vec2::new(3.0, 9.5e5)],
+        ];
+        let mut spans = [0; 3];
+        for (t, tri) in triangles.into_iter().enumerate() {
+            for_each_span(37, 23, tri, |span| {
+                spans[t] += 1;
+                assert_eq!(span.exact_in_f64, t < 2, "triangle {t} steps in f64");
+                for start in (0..span.len).step_by(LANES) {
+                    let lanes = span.bary_x8(start);
+                    for lane in 0..(span.len - start).min(LANES) {
+                        let single = span.bary(start + lane);
+                        for k in 0..3 {
+                            assert_eq!(lanes[k][lane].to_bits(), single[k].to_bits(), "{t} {span:?} {lane}");
+                        }
+                    }
+                }
+            });
+        }
+        assert!(spans.iter().all(|&n| n > 10), "every triangle covers rows: {spans:?}");
     }
 
     /// Attributes of any kind interpolate as `w₀·v₀ + w₁·v₁ + w₂·v₂`, component by component.
