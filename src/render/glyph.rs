@@ -300,11 +300,13 @@ impl RampSteps {
     #[inline]
     fn index(&self, color: Vec3) -> usize {
         let luminance = luminance(color);
-        let up = &self.up[..self.len - 1];
-        if up.len() <= 16 {
-            up.iter().filter(|&&step| luminance >= step).count() // no branch: a few vector compares
+        if self.len <= 17 {
+            // No branch and no loop: a fixed sixteen compares (four vector ones); the steps past the
+            // ramp's are +∞, which only +∞ reaches, hence the `min`.
+            let up: &[f32; 16] = self.up[..16].try_into().expect("sixteen steps");
+            up.iter().filter(|&&step| luminance >= step).count().min(self.len - 1)
         } else {
-            up.partition_point(|&step| luminance >= step)
+            self.up[..self.len - 1].partition_point(|&step| luminance >= step)
         }
     }
 }
@@ -550,6 +552,7 @@ mod tests {
             assert!(seen.iter().all(|&s| s), "len {len}: every glyph of the ramp is reached");
             assert_eq!(steps.index(Vec3::NAN), 0);
             assert_eq!(steps.index(Vec3::splat(2.0)), len - 1);
+            assert_eq!(steps.index(Vec3::INFINITY), len - 1, "len {len}: past the last glyph, the last");
         }
     }
 
