@@ -7,6 +7,8 @@
 //! a cell are numbered row-major from the top-left: bit `x + sx·y`.
 
 use glam::Vec3;
+use wide::bytemuck::cast;
+use wide::{f32x8, i32x8};
 
 use super::palette::{self, KeptPair, Mix, quantize_srgb8, threshold, xterm_rgb};
 use super::pipeline::RenderOptions;
@@ -163,17 +165,24 @@ pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Fra
     );
     match charset {
         Charset::Ascii => {
-            let (color, outline) = (samples.color(), samples.outline());
-            let (glyphs, tables) = (ramp.glyphs(), Srgb8Tables::get());
-            let steps = RampSteps::new(glyphs.len());
-            // (Truecolor and no colour have nothing to dither: no threshold, and no call to find so.)
-            let dither = dither && matches!(depth, ColorDepth::Ansi16 | ColorDepth::Ansi256);
-            for (row, cells) in frame.region_rows_mut(region).enumerate() {
-                for (col, cell) in cells.iter_mut().enumerate() {
-                    let i = row * region.cols + col;
-                    let ch = outline[i].unwrap_or(glyphs[steps.index(color[i])]);
-                    let threshold = dither.then(|| threshold(col, row));
-                    *cell = ascii_cell(ch, color[i], tables, depth, threshold);
+            let tables = Srgb8Tables::get();
+            // One loop per depth (the depth is the same for every cell); truecolor and no colour have
+            // nothing to dither.
+            let srgb = |color: Vec3| tables.encode3(color);
+            let to = (frame, region);
+            match depth {
+                ColorDepth::None => ascii_cells(samples, ramp, to, |_, _| Color::Default),
+                ColorDepth::TrueColor => ascii_cells(samples, ramp, to, |color, _| {
+                    let [r, g, b] = srgb(color);
+                    Color::Rgb(r, g, b)
+                }),
+                ColorDepth::Ansi16 | ColorDepth::Ansi256 if dither => {
+                    ascii_cells(samples, ramp, to, |color, (x, y)| {
+                        palette::dither(color, srgb(color), depth, threshold(x, y))
+                    });
+                }
+                ColorDepth::Ansi16 | ColorDepth::Ansi256 => {
+                    ascii_cells(samples, ramp, to, |color, _| quantize_srgb8(srgb(color), depth));
                 }
             }
         }
@@ -280,6 +289,8 @@ pub const RAMP_TOP: f32 = 0.8;
 struct RampSteps {
     /// `up[k]`: the luminance glyph `k + 1` starts at; the first `len − 1` are used.
     up: [f32; ASCII_RAMP_LONG.len() - 1],
+    /// The first sixteen of `up`, in lanes (every ramp but the long one fits).
+    up16: [f32x8; 2],
     len: usize,
 }
 
@@ -293,7 +304,8 @@ impl RampSteps {
             let stretched = (k as f32 + 0.5) / (len - 1) as f32;
             *up = srgb_to_linear(RAMP_BOTTOM + stretched * (RAMP_TOP - RAMP_BOTTOM));
         }
-        RampSteps { up, len }
+        let lanes = |from: usize| f32x8::from(<[f32; 8]>::try_from(&up[from..from + 8]).expect("eight"));
+        RampSteps { up, up16: [lanes(0), lanes(8)], len }
     }
 
     /// The ramp index for a linear colour (NaN: 0, the darkest).
@@ -301,35 +313,42 @@ impl RampSteps {
     fn index(&self, color: Vec3) -> usize {
         let luminance = luminance(color);
         if self.len <= 17 {
-            // No branch and no loop: a fixed sixteen compares (four vector ones); the steps past the
-            // ramp's are +∞, which only +∞ reaches, hence the `min`.
-            let up: &[f32; 16] = self.up[..16].try_into().expect("sixteen steps");
-            up.iter().filter(|&&step| luminance >= step).count().min(self.len - 1)
+            // No branch and no loop: sixteen compares in lanes, each -1 where the step is passed; the
+            // steps past the ramp's are +∞, which only +∞ reaches, hence the `min`.
+            let l = f32x8::splat(luminance);
+            let passed = |up: f32x8| cast::<f32x8, i32x8>(l.simd_ge(up));
+            let above = -(passed(self.up16[0]) + passed(self.up16[1])).reduce_add();
+            (above as usize).min(self.len - 1)
         } else {
             self.up[..self.len - 1].partition_point(|&step| luminance >= step)
         }
     }
 }
 
-/// One ascii cell: glyph `ch` inked in the sample's colour (`color`, linear), dithered
-/// with the sample's `threshold` (`None`: its nearest palette entry).
-#[inline]
-fn ascii_cell(
-    ch: char,
-    color: Vec3,
-    tables: &Srgb8Tables,
-    depth: ColorDepth,
-    threshold: Option<f32>,
-) -> Cell {
-    if ch == ' ' {
-        return Cell::plain(' '); // no ink to colour
+/// [`to_frame`] for the ascii charset, one sample per cell: its outline glyph or its ramp glyph, inked
+/// in `ink(colour, (column, row))` of its linear colour (a blank has no ink to colour).
+fn ascii_cells(
+    samples: &SampleBuffer,
+    ramp: Ramp,
+    (frame, region): (&mut Frame, Region),
+    ink: impl Fn(Vec3, (usize, usize)) -> Color,
+) {
+    let (color, outline) = (samples.color(), samples.outline());
+    let glyphs = ramp.glyphs();
+    let steps = RampSteps::new(glyphs.len());
+    for (row, cells) in frame.region_rows_mut(region).enumerate() {
+        let at = row * region.cols..(row + 1) * region.cols;
+        for (col, ((cell, &color), outline)) in
+            cells.iter_mut().zip(&color[at.clone()]).zip(&outline[at]).enumerate()
+        {
+            let ch = outline.unwrap_or_else(|| glyphs[steps.index(color)]);
+            *cell = if ch == ' ' {
+                Cell::plain(' ')
+            } else {
+                Cell { ch, fg: ink(color, (col, row)), bg: Color::Default }
+            };
+        }
     }
-    let srgb = tables.encode3(color);
-    let fg = match threshold {
-        Some(threshold) => palette::dither(color, srgb, depth, threshold),
-        None => quantize_srgb8(srgb, depth),
-    };
-    Cell { ch, fg, bg: Color::Default }
 }
 
 /// The largest difference in any channel between two of a cell's samples (8-bit sRGB).
