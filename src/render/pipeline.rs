@@ -567,7 +567,9 @@ impl Renderer {
     fn outline_visible_walls(&mut self, maze: &Maze, eye: &Eye, sample_aspect: f32) {
         let edges = maze.edges().len() as u32;
         self.seen.clear();
-        self.seen.extend(self.samples.id().iter().copied().filter(|&id| id < edges));
+        // One id per run of equal samples (a wall covers runs of a row), so the sort is of a few.
+        let runs = self.samples.id().chunk_by(|a, b| a == b).map(|run| run[0]);
+        self.seen.extend(runs.filter(|&id| id < edges));
         self.seen.sort_unstable();
         self.seen.dedup();
         let (w, h) = (eye.width, eye.height);
