@@ -46,6 +46,27 @@ use crate::term::encoder::{self, Encoder};
 /// The most frames per second drawn while something moves.
 pub const MAX_FPS: f64 = 60.0;
 
+/// The kitty keyboard protocol's "which flags are set?" query.
+const KEYBOARD_QUERY: &[u8] = b"\x1b[?u";
+
+/// The size drawn when a terminal gives none (a side of zero: some ptys, an SSH pty request without one).
+pub const DEFAULT_SIZE: (u16, u16) = (80, 24);
+
+/// The largest picture a session draws, columns and rows: a terminal larger than that shows it in its
+/// top-left corner. Beyond any real screen (a 4K monitor at a 6-pixel font is ≈ 640 × 270), and a
+/// bound on what a terminal's size can cost: one that claims 65535 × 65535 must not make a 50 GB frame.
+pub const MAX_SIZE: (u16, u16) = (1000, 400);
+
+/// The size a session draws for a terminal of `cols × rows`: a side of zero is unknown, so
+/// [`DEFAULT_SIZE`]'s; no side more than `max`'s.
+#[must_use]
+pub fn fit_size(cols: u32, rows: u32, max: (u16, u16)) -> (u16, u16) {
+    let side = |n: u32, default: u16, max: u16| {
+        if n == 0 { default } else { u16::try_from(n).unwrap_or(u16::MAX).min(max) }
+    };
+    (side(cols, DEFAULT_SIZE.0, max.0), side(rows, DEFAULT_SIZE.1, max.1))
+}
+
 /// How a session encodes and paces its frames.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SessionOptions {
@@ -158,6 +179,10 @@ pub struct Session {
     flow: FlowControl,
     /// When the frames of the last second were drawn (for the HUD's frame rate).
     recent_frames: VecDeque<f64>,
+    /// A kitty keyboard query (`CSI ? u`) is out and not yet answered: only its answer may turn key
+    /// releases on (a pasted or forged `CSI ? 3 u` would leave every key held until a release
+    /// that never comes).
+    keyboard_query: bool,
 }
 
 impl Session {
@@ -165,6 +190,7 @@ impl Session {
     /// the whole screen.
     #[must_use]
     pub fn new(app: App, cols: u16, rows: u16, options: SessionOptions) -> Session {
+        let (cols, rows) = fit_size(cols.into(), rows.into(), MAX_SIZE);
         let mut encoder = Encoder::new();
         encoder.set_bce(options.bce);
         encoder.set_tolerance(options.color_tolerance);
@@ -183,6 +209,7 @@ impl Session {
             options,
             flow: FlowControl::default(),
             recent_frames: VecDeque::new(),
+            keyboard_query: false,
         }
     }
 
@@ -283,6 +310,7 @@ impl Session {
             Input::Key { key, phase, .. } => self.dirty |= self.app.key(key, phase, now),
             Input::MouseDrag { dx, dy, .. } => self.dirty |= self.app.drag(dx, dy),
             Input::Resize { cols, rows } => {
+                let (cols, rows) = fit_size(cols.into(), rows.into(), MAX_SIZE);
                 self.frame.resize(cols.into(), rows.into());
                 self.dirty = true;
             }
@@ -292,11 +320,22 @@ impl Session {
             | Input::Scroll(_)
             | Input::FocusGained
             | Input::Reply(Reply::CursorPosition { .. }) => {}
-            // The answer to the kitty keyboard query (`CSI ? u`) a remote host sends after pushing its
-            // flags: flag 2 (report event types) means key releases will come.
-            Input::Reply(Reply::KeyboardFlags(flags)) => self.app.releases |= flags & 2 != 0,
+            // The answer to the kitty keyboard query ([`ask_keyboard_flags`](Self::ask_keyboard_flags)):
+            // flag 2 (report event types) means key releases will come. Unasked, it is ignored.
+            Input::Reply(Reply::KeyboardFlags(flags)) => {
+                if std::mem::take(&mut self.keyboard_query) {
+                    self.app.releases = flags & 2 != 0;
+                }
+            }
             Input::Reply(Reply::DeviceAttributes) => self.flow.answered(now),
         }
+    }
+
+    /// Appends the kitty keyboard query (`CSI ? u`, after the host pushed its flags): its answer says
+    /// whether key releases will come (terminals without the protocol ignore it).
+    pub fn ask_keyboard_flags(&mut self, out: &mut Vec<u8>) {
+        out.extend_from_slice(KEYBOARD_QUERY);
+        self.keyboard_query = true;
     }
 
     /// The terminal's screen was lost (a stop, a reconnect): the next frame paints everything, and
@@ -541,6 +580,28 @@ mod tests {
         let app =
             App::new(crate::maze::builtin().unwrap(), crate::render::RenderOptions::default(), 0.0).unwrap();
         Session::new(app, 100, 30, options)
+    }
+
+    /// A terminal's size, whatever it claims, costs a bounded frame: a side of zero is unknown
+    /// (80 × 24), a side past [`MAX_SIZE`] is drawn at it.
+    #[test]
+    fn any_claimed_size_draws_a_bounded_frame() {
+        let mut s = session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        for ((cols, rows), drawn) in [
+            ((65535, 65535), MAX_SIZE),
+            ((0, 0), DEFAULT_SIZE),
+            ((0, 50), (80, 50)),
+            ((120, 40), (120, 40)),
+            ((1, 1), (1, 1)),
+            ((5000, 3), (MAX_SIZE.0, 3)),
+        ] {
+            s.input(Input::Resize { cols, rows }, 0.0);
+            s.frame(0.0, &mut Vec::new());
+            let screen = s.screen();
+            assert_eq!((screen.width(), screen.height()), (drawn.0.into(), drawn.1.into()), "{cols}×{rows}");
+        }
+        let huge = Session::new(s.app().clone(), u16::MAX, u16::MAX, SessionOptions::default());
+        assert_eq!((huge.screen().width(), huge.screen().height()), (1000, 400));
     }
 
     #[test]

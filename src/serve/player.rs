@@ -8,6 +8,7 @@ use glam::Vec2;
 
 use super::limits::{Limits, RateLimit};
 use crate::app::overlay::Peer;
+use crate::app::session::fit_size;
 use crate::app::state::StartOutsideMaze;
 use crate::app::{App, Session, SessionOptions};
 use crate::frame::{Color, ColorDepth};
@@ -21,12 +22,6 @@ use crate::term::guard::{Enabled, enter_sequence, restore_sequence};
 /// flags are pushed blind (terminals without the protocol ignore the push and the pop) and then
 /// queried: only a terminal whose answer says so is trusted to report key releases.
 pub const REMOTE: Enabled = Enabled { mouse: true, focus_events: true, keyboard_enhancement: true };
-
-/// The kitty keyboard protocol's "which flags are set?" query.
-const KEYBOARD_QUERY: &[u8] = b"\x1b[?u";
-
-/// The size drawn when the client gives none (a zero in the pty request).
-pub const DEFAULT_SIZE: (u16, u16) = (80, 24);
 
 /// The longest player name, in characters.
 pub const MAX_NAME: usize = 16;
@@ -62,10 +57,7 @@ pub fn player_name(user: &str) -> String {
 /// rest is clamped to the limits (the picture is drawn at most that large, in the top-left corner).
 #[must_use]
 pub fn clamp_size(cols: u32, rows: u32, limits: &Limits) -> (u16, u16) {
-    let side = |n: u32, default: u16, max: u16| {
-        if n == 0 { default } else { u16::try_from(n).unwrap_or(u16::MAX).min(max) }
-    };
-    (side(cols, DEFAULT_SIZE.0, limits.max_cols), side(rows, DEFAULT_SIZE.1, limits.max_rows))
+    fit_size(cols, rows, (limits.max_cols, limits.max_rows))
 }
 
 /// The colour depth for a remote terminal: as locally, from its `TERM` and (when the client sent it)
@@ -135,9 +127,9 @@ impl Player {
     }
 
     /// The bytes that put the remote terminal into game mode (before the first frame).
-    pub fn enter(&self, out: &mut Vec<u8>) {
+    pub fn enter(&mut self, out: &mut Vec<u8>) {
         out.extend_from_slice(enter_sequence(REMOTE).as_bytes());
-        out.extend_from_slice(KEYBOARD_QUERY);
+        self.session.ask_keyboard_flags(out);
     }
 
     /// The bytes that give the terminal back — main screen, cursor shown, keyboard flags popped, mouse
@@ -254,7 +246,7 @@ mod tests {
     #[test]
     fn sizes_are_clamped_and_zero_means_unknown() {
         let limits = Limits::default();
-        assert_eq!(clamp_size(0, 0, &limits), DEFAULT_SIZE);
+        assert_eq!(clamp_size(0, 0, &limits), crate::app::session::DEFAULT_SIZE);
         assert_eq!(clamp_size(65535, 65535, &limits), (limits.max_cols, limits.max_rows));
         assert_eq!(clamp_size(u32::MAX, 1, &limits), (limits.max_cols, 1));
         let p = player(65535, 65535);
@@ -271,7 +263,7 @@ mod tests {
 
     #[test]
     fn leaving_restores_everything_entering_turned_on() {
-        let p = player(80, 24);
+        let mut p = player(80, 24);
         let (mut enter, mut leave) = (Vec::new(), Vec::new());
         p.enter(&mut enter);
         p.leave(Some("bye"), &mut leave);
@@ -310,8 +302,22 @@ mod tests {
     fn a_kitty_answer_with_event_types_turns_releases_on() {
         let mut p = player(80, 24);
         assert!(!p.session().app().releases);
+        p.enter(&mut Vec::new());
         p.feed(b"\x1b[?3u", 0.0);
         assert!(p.session().app().releases);
+    }
+
+    /// Only the answer to the query counts: the same bytes unasked (pasted, forged), or a second
+    /// answer, leave releases as they are, so taps stay taps.
+    #[test]
+    fn an_unasked_kitty_answer_changes_nothing() {
+        let mut p = player(80, 24);
+        p.feed(b"\x1b[?3u", 0.0);
+        assert!(!p.session().app().releases, "unasked");
+        p.enter(&mut Vec::new());
+        p.feed(b"\x1b[?1u", 0.1); // the answer: no event types
+        p.feed(b"\x1b[?3u", 0.2); // a second one, unasked
+        assert!(!p.session().app().releases, "only the first answer counts");
     }
 
     #[test]
