@@ -17,7 +17,7 @@ use std::time::Instant;
 use anyhow::{Context as _, bail};
 use clap::Parser as _;
 use mazewalk::app::run::run;
-use mazewalk::app::state::Motion;
+use mazewalk::app::state::{Motion, viewer_camera};
 use mazewalk::app::{App, Session, SessionOptions};
 use mazewalk::cli::{
     CheckArgs, Cli, Command, GenArgs, MAX_FRAME_CELLS, MazeArgs, RenderArgs, ServeArgs, WalkArgs,
@@ -259,11 +259,17 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
+    // The file's view as the walk starts from it (made usable: `viewer_camera`), then the flags,
+    // which must be usable as given.
+    let from_file = viewer_camera(viewer);
     let camera = Camera {
-        eye_z: args.height.unwrap_or(viewer.z),
+        position,
+        eye_z: args.height.unwrap_or(from_file.eye_z),
         pitch_deg: args.pitch,
         projection: args.projection,
-        ..Camera::new(position, args.heading.unwrap_or(viewer.dir_deg), args.fov.unwrap_or(viewer.fov_deg))
+        yaw_deg: args.heading.unwrap_or(from_file.yaw_deg),
+        hfov_deg: args.fov.unwrap_or(from_file.hfov_deg),
+        ..from_file
     };
     camera.validate().map_err(|e| Usage(e.to_string()))?;
     let options = args.look.options(args.culling);

@@ -320,3 +320,22 @@ fn a_server_whose_stdout_is_closed_keeps_serving() {
     std::fs::remove_dir_all(&dir).unwrap();
     assert!(running, "the server ended: {status}");
 }
+
+/// A file may ask for any field of view a number holds: `render` draws what the walk starts with
+/// (clamped to 10..=170°), as `check` accepts the file, where it used to refuse it as a usage error.
+#[test]
+fn a_files_field_of_view_out_of_range_is_clamped_as_the_walk_clamps_it() {
+    let text = std::fs::read_to_string(maze("tiny.maze")).unwrap();
+    assert!(text.contains("\n2 2 0 0 90"), "the viewer line of tiny.maze changed");
+    let path = std::env::temp_dir().join(format!("mazewalk-fov-{}.maze", std::process::id()));
+    for (fov, clamped) in [("5", "10"), ("179.5", "170")] {
+        std::fs::write(&path, text.replace("\n2 2 0 0 90", &format!("\n2 2 0 0 {fov}"))).unwrap();
+        let file = path.to_str().unwrap();
+        assert!(mazewalk(&["check", file]).status.success(), "fov {fov}: check");
+        let args = ["render", file, "--size", "40x12", "--color", "none", "--charset", "ascii"];
+        let (as_file, explicit) = (mazewalk(&args), mazewalk(&[&args[..], &["--fov", clamped]].concat()));
+        assert!(as_file.status.success(), "fov {fov}: {}", stderr(&as_file));
+        assert_eq!(stdout(&as_file), stdout(&explicit), "fov {fov} renders as {clamped}");
+    }
+    std::fs::remove_file(&path).unwrap();
+}

@@ -5,9 +5,9 @@ use glam::Vec2;
 
 use super::controls::{Action, Held, action_for};
 use crate::input::{Key, KeyPhase};
-use crate::maze::Maze;
 use crate::maze::geometry::{WALL_MARGIN, clamp_eye_height, heading_dir, heading_right};
 use crate::maze::movement::{Position, step};
+use crate::maze::{Maze, Viewer};
 use crate::render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection};
 use crate::render::{Charset, Culling, RenderOptions};
 
@@ -171,6 +171,16 @@ pub struct StartOutsideMaze {
     pub y: f32,
 }
 
+/// The camera a maze's viewer asks for, made usable: its field of view clamped to [`FOV_RANGE_DEG`] and
+/// its eye between floor and ceiling ([`clamp_eye_height`]), as a file may ask for anything in range of
+/// a number. The walk starts from it and `mazewalk render` renders from it, so a file that loads is a
+/// file both show.
+#[must_use]
+pub fn viewer_camera(viewer: &Viewer) -> Camera {
+    let fov = viewer.fov_deg.clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1);
+    Camera { eye_z: clamp_eye_height(viewer.z), ..Camera::new(viewer.pos, viewer.dir_deg, fov) }
+}
+
 impl App {
     /// A walkthrough of `maze` from its viewer, starting at time `now`.
     ///
@@ -178,9 +188,7 @@ impl App {
     /// [`StartOutsideMaze`] when the maze's viewer is not in a cell.
     pub fn new(maze: Maze, options: RenderOptions, now: f64) -> Result<App, StartOutsideMaze> {
         let viewer = maze.viewer();
-        let mut camera =
-            Camera::new(viewer.pos, viewer.dir_deg, viewer.fov_deg.clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1));
-        camera.eye_z = clamp_eye_height(viewer.z);
+        let camera = viewer_camera(viewer);
         let cell = maze.cell_at(viewer.pos).ok_or(StartOutsideMaze { x: viewer.pos.x, y: viewer.pos.y })?;
         let cells = maze.cell_count();
         Ok(App {
