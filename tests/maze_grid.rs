@@ -160,6 +160,14 @@ const MALFORMED: &[(&str, u32, u32, &str)] = &[
     ("mazewalk-grid 1\n#@E.E#\n", 2, 5, "a second exit tile `E`"),
     ("mazewalk-grid 1\n#..#\n", 2, 1, "the map has no start tile"),
     ("mazewalk-grid 1\ntile 4\n\n", 4, 1, "expected the map after the settings"),
+    // Old Mac line endings: one long line, said so rather than misread.
+    ("mazewalk-grid 1\rtile 2\r###\r#@#\r###\r", 1, 16, "a carriage return inside a line"),
+    (
+        "\nmazewalk-grid 1\n###\n#@#\n###\n",
+        1,
+        1,
+        "expected `mazewalk-grid 1` on the first line (the very first",
+    ),
 ];
 
 #[test]

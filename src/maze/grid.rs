@@ -509,9 +509,19 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
     let mut lines = text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l)).enumerate().peekable();
     // line 1: magic and version
     let first = lines.next().map_or("", |l| l.1);
+    if let Some(at) = first.find('\r') {
+        let col = first[..at].chars().count();
+        return Err(err(
+            0,
+            col,
+            "a carriage return inside a line: lines end in LF or CRLF, not CR alone".into(),
+        ));
+    }
     let mut words = first.split(is_space).filter(|w| !w.is_empty());
     if words.next() != Some(MAGIC) {
-        return Err(err(0, 0, format!("expected `{MAGIC} {VERSION}` on the first line")));
+        let blank =
+            if first.trim().is_empty() { " (the very first: nothing may come before it)" } else { "" };
+        return Err(err(0, 0, format!("expected `{MAGIC} {VERSION}` on the first line{blank}")));
     }
     match words.next() {
         Some(v) if v == VERSION.to_string() => {}
