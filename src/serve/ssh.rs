@@ -153,9 +153,14 @@ impl Conn {
         field.lock().unwrap_or_else(PoisonError::into_inner).clone()
     }
 
+    /// Records why the server ends the connection, for the log (the first reason is kept).
+    fn ending(&self, reason: &'static str) {
+        self.ended.lock().unwrap_or_else(PoisonError::into_inner).get_or_insert(reason);
+    }
+
     /// Ends the connection for `reason`: the stream is cut (the first reason is kept).
     fn end(&self, reason: &'static str) {
-        self.ended.lock().unwrap_or_else(PoisonError::into_inner).get_or_insert(reason);
+        self.ending(reason);
         self.cut.cut();
     }
 }
@@ -610,6 +615,7 @@ async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
     let message = match end {
         End::Shutdown => SHUTDOWN_MESSAGE.to_string(),
         End::Idle => {
+            conn.ending("idle timeout");
             format!("mazewalk: disconnected after {} s without a key", shared.limits.idle_timeout.as_secs())
         }
         _ => match player.session().outcome().finished {
