@@ -244,7 +244,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE")]
     pub depth_out: Option<PathBuf>,
     /// Write the frame as a PNG picture instead of printing it: exactly what a terminal shows, each
-    /// sample a block of pixels (a cell is 12×24), indexed colours in xterm's palette; block charsets only.
+    /// sample a block of pixels (a cell is 12×24), in 8-bit RGB (256 and 16 colours as xterm's palette
+    /// shows them); block charsets only.
     #[arg(long, value_name = "FILE")]
     pub png: Option<PathBuf>,
 }
