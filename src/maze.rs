@@ -557,7 +557,9 @@ pub enum MazeError {
     EdgesCross { a: EdgeId, b: EdgeId },
     #[error("edges {a} and {b} overlap (collinear)")]
     EdgesOverlap { a: EdgeId, b: EdgeId },
-    #[error("the viewer has a value that is not finite or out of range (|x|, |y| <= {COORD_BOUND})")]
+    #[error(
+        "the viewer has a value that is not finite, or a coordinate or direction (degrees) beyond ±{COORD_BOUND}"
+    )]
     ViewerNotFinite,
     #[error("the viewer's eye height {z} is not strictly between the floor (-1) and the ceiling (+1)")]
     ViewerHeight { z: f32 },
