@@ -145,25 +145,28 @@ impl Span {
     /// The same bits as [`Span::bary`], eight at a time: an edge function on a covered sample lies in
     /// `0..=area`, so while the area is below 2^53 it and its steps are integers an `f64` holds
     /// exactly, and stepping it in `f64` (which vectorizes; `i64` → `f64` does not on x86-64) gives the
-    /// value `bary` converts. Larger triangles (beyond the pipeline's clipped walls) step in `i64`.
+    /// value `bary` converts. Larger triangles (beyond the pipeline's clipped walls) take `bary` itself.
     #[inline]
     pub fn bary_x8(&self, start: usize) -> [[f32; LANES]; 3] {
+        if !self.exact_in_f64 {
+            return self.bary_one_by_one(start);
+        }
         let mut bary = [[0.0; LANES]; 3];
         for k in 0..3 {
-            let first = self.edge[k] + self.step[k] * start as i64 - self.bias[k];
-            let out = &mut bary[self.order[k]];
-            if self.exact_in_f64 {
-                let (first, step) = (first as f64, self.step[k] as f64);
-                for (lane, out) in out.iter_mut().enumerate() {
-                    *out = ((first + step * lane as f64) * self.inv_area) as f32;
-                }
-            } else {
-                for (lane, out) in out.iter_mut().enumerate() {
-                    *out = ((first + self.step[k] * lane as i64) as f64 * self.inv_area) as f32;
-                }
+            let first = (self.edge[k] + self.step[k] * start as i64 - self.bias[k]) as f64;
+            let step = self.step[k] as f64;
+            for (lane, out) in bary[self.order[k]].iter_mut().enumerate() {
+                *out = ((first + step * lane as f64) * self.inv_area) as f32;
             }
         }
         bary
+    }
+
+    /// [`Span::bary_x8`] by [`Span::bary`], for the rare triangle of area 2^53 or more.
+    #[cold]
+    fn bary_one_by_one(&self, start: usize) -> [[f32; LANES]; 3] {
+        let singles: [[f32; 3]; LANES] = std::array::from_fn(|lane| self.bary(start + lane));
+        std::array::from_fn(|k| singles.map(|single| single[k]))
     }
 }
 
@@ -496,7 +499,7 @@ mod tests {
     }
 
     /// Eight lanes of weights are the bits of eight single ones, stepped in `f64` (the pipeline's
-    /// triangles) or, for a triangle of area 2^53 or more (one far beyond the grid), in `i64`.
+    /// triangles) or, for a triangle of area 2^53 or more (one far beyond the grid), one by one.
     #[test]
     fn eight_lane_weights_are_the_single_weights() {
         let triangles = [
