@@ -32,11 +32,13 @@ enum Horizontal {
 
 /// Moves the cursor to column `x`, row `y` by the shortest sequence (nothing if it is there).
 pub(super) fn write_move(out: &mut Vec<u8>, pen: &mut Pen, x: usize, y: usize) {
+    if pen.cursor == Some((x, y)) {
+        return; // the diff's usual case: the next changed cell is the one after the last
+    }
     let (len, route) = shortest_move(pen.cursor, x, y);
     let start = out.len();
     match (pen.cursor, route) {
         (Some((cx, _)), Some((vertical, horizontal))) => write_relative(out, cx, vertical, horizontal),
-        _ if pen.cursor == Some((x, y)) => {}
         _ => write_cup(out, x, y),
     }
     debug_assert_eq!(out.len() - start, len);

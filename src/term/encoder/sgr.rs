@@ -3,7 +3,7 @@
 //! 256-colour palette, `38;2;r;g;b` for truecolor, `39`/`49` for the default), both changes in one
 //! sequence, or a reset (`\x1b[0;…m`) when that is shorter.
 
-use super::{Pen, push_num};
+use super::Pen;
 use crate::frame::{Cell, Color};
 
 /// Reset all SGR attributes (colours back to the terminal's defaults).
@@ -43,7 +43,7 @@ enum Form {
 
 impl Sgr {
     /// The change from `pen` to `fg` and `bg`.
-    #[inline]
+    #[inline(always)]
     pub(super) fn new(pen: &Pen, fg: Option<Color>, bg: Option<Color>) -> Sgr {
         // Straight-line: the encoder prices several of these for every changed cell.
         let change = |want: Option<Color>, pen: Option<Color>, layer| match want {
@@ -112,20 +112,20 @@ impl Sgr {
             Form::Keep => {}
             Form::Reset(_) => write_sgr_reset(out, pen, self.fg, self.bg),
             Form::Plain(len) => {
-                let start = out.len();
-                out.extend_from_slice(b"\x1b[");
+                let mut seq = Seq::start();
                 let fg = self.fg.filter(|&c| pen.fg != Some(c));
                 if let Some(c) = fg {
-                    push_color(out, c, Layer::Fg);
+                    seq.color(c, Layer::Fg);
                 }
                 if let Some(c) = self.bg.filter(|&c| pen.bg != Some(c)) {
                     if fg.is_some() {
-                        out.push(b';');
+                        seq.push(b";");
                     }
-                    push_color(out, c, Layer::Bg);
+                    seq.color(c, Layer::Bg);
                 }
-                out.push(b'm');
-                debug_assert_eq!(out.len() - start, len);
+                seq.push(b"m");
+                debug_assert_eq!(seq.len, len);
+                out.extend_from_slice(seq.bytes());
                 self.apply(pen);
             }
         }
@@ -140,47 +140,96 @@ pub(super) fn write_sgr(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg:
 /// Resets SGR and sets `fg` and `bg` (`None`: leave default) in one sequence: `\x1b[m`, `\x1b[0;41m`…
 pub(super) fn write_sgr_reset(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg: Option<Color>) {
     let (fg, bg) = (fg.unwrap_or(Color::Default), bg.unwrap_or(Color::Default));
-    out.extend_from_slice(b"\x1b[");
+    let mut seq = Seq::start();
     let colors = [(fg, Layer::Fg), (bg, Layer::Bg)];
     let mut non_default = colors.iter().filter(|(c, _)| *c != Color::Default).peekable();
     if non_default.peek().is_some() {
-        out.push(b'0');
+        seq.push(b"0");
         for &(color, layer) in non_default {
-            out.push(b';');
-            push_color(out, color, layer);
+            seq.push(b";");
+            seq.color(color, layer);
         }
     }
-    out.push(b'm');
+    seq.push(b"m");
+    out.extend_from_slice(seq.bytes());
     pen.fg = Some(fg);
     pen.bg = Some(bg);
 }
 
-/// The shortest SGR parameters for `color` as foreground or background.
-fn push_color(out: &mut Vec<u8>, color: Color, layer: Layer) {
-    let base = if layer == Layer::Fg { 30 } else { 40 };
-    match color {
-        Color::Default => push_num(out, base + 9),
-        Color::Indexed(n @ 0..=7) => push_num(out, base + usize::from(n)),
-        Color::Indexed(n @ 8..=15) => push_num(out, base + 60 + usize::from(n - 8)),
-        Color::Indexed(n) => {
-            push_num(out, base + 8);
-            out.extend_from_slice(b";5;");
-            push_num(out, n.into());
-        }
-        Color::Rgb(r, g, b) => {
-            push_num(out, base + 8);
-            out.extend_from_slice(b";2;");
-            for (i, c) in [r, g, b].into_iter().enumerate() {
-                if i > 0 {
-                    out.push(b';');
-                }
-                push_num(out, c.into());
+/// An SGR sequence assembled on the stack and appended in one copy: one capacity check a sequence,
+/// not one a digit (the encoder writes one for most changed cells of a truecolor frame).
+struct Seq {
+    /// The longest, `ESC [ 0 ; 38;2;r;g;b ; 48;2;r;g;b m`, is 38 bytes.
+    buf: [u8; 40],
+    len: usize,
+}
+
+impl Seq {
+    fn start() -> Seq {
+        let mut buf = [0; 40];
+        buf[..2].copy_from_slice(b"\x1b[");
+        Seq { buf, len: 2 }
+    }
+
+    fn push(&mut self, bytes: &[u8]) {
+        self.buf[self.len..self.len + bytes.len()].copy_from_slice(bytes);
+        self.len += bytes.len();
+    }
+
+    /// `n` in decimal: three bytes copied from [`DECIMAL`], of which `n`'s digits count.
+    fn num(&mut self, n: u8) {
+        let [digits @ .., count] = DECIMAL[usize::from(n)];
+        self.buf[self.len..self.len + 3].copy_from_slice(&digits);
+        self.len += usize::from(count);
+    }
+
+    /// The shortest SGR parameters for `color` as foreground or background.
+    fn color(&mut self, color: Color, layer: Layer) {
+        let base = if layer == Layer::Fg { 30 } else { 40 };
+        match color {
+            Color::Default => self.num(base + 9),
+            Color::Indexed(n @ 0..=7) => self.num(base + n),
+            Color::Indexed(n @ 8..=15) => self.num(base + 60 + (n - 8)),
+            Color::Indexed(n) => {
+                self.num(base + 8);
+                self.push(b";5;");
+                self.num(n);
+            }
+            Color::Rgb(r, g, b) => {
+                self.num(base + 8);
+                self.push(b";2;");
+                self.num(r);
+                self.push(b";");
+                self.num(g);
+                self.push(b";");
+                self.num(b);
             }
         }
     }
+
+    fn bytes(&self) -> &[u8] {
+        &self.buf[..self.len]
+    }
 }
 
-/// The length of [`push_color`]'s parameters for `color`.
+/// The decimal digits of 0–255, padded to three bytes, then their count.
+const DECIMAL: [[u8; 4]; 256] = {
+    let mut table = [[0; 4]; 256];
+    let mut n = 0;
+    while n < 256 {
+        let (hundreds, tens, ones) =
+            (b'0' + (n / 100) as u8, b'0' + (n / 10 % 10) as u8, b'0' + (n % 10) as u8);
+        table[n] = match n {
+            0..=9 => [ones, 0, 0, 1],
+            10..=99 => [tens, ones, 0, 2],
+            _ => [hundreds, tens, ones, 3],
+        };
+        n += 1;
+    }
+    table
+};
+
+/// The length of [`Seq::color`]'s parameters for `color`.
 #[inline]
 fn color_len(color: Color, layer: Layer) -> usize {
     let digits = |n: u8| 1 + usize::from(n >= 10) + usize::from(n >= 100);
@@ -201,6 +250,19 @@ mod tests {
         let mut pen = Pen { cursor: None, fg: from.0, bg: from.1 };
         write_sgr(&mut out, &mut pen, fg, Some(bg));
         (String::from_utf8(out).unwrap(), pen)
+    }
+
+    #[test]
+    fn a_sequence_spells_every_channel_value_and_holds_the_longest_reset() {
+        for n in 0..=255u8 {
+            let mut seq = Seq::start();
+            seq.num(n);
+            assert_eq!(seq.bytes(), format!("\x1b[{n}").as_bytes());
+        }
+        let white = Some(Color::Rgb(255, 255, 255));
+        let mut out = Vec::new();
+        write_sgr_reset(&mut out, &mut Pen::UNKNOWN, white, Some(Color::Rgb(100, 200, 255)));
+        assert_eq!(out, b"\x1b[0;38;2;255;255;255;48;2;100;200;255m");
     }
 
     #[test]
