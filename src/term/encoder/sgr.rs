@@ -260,8 +260,8 @@ mod tests {
             assert_eq!(seq.bytes(), format!("\x1b[{n}").as_bytes());
         }
         let white = Some(Color::Rgb(255, 255, 255));
-        let mut out = Vec::new();
-        write_sgr_reset(&mut out, &mut Pen::UNKNOWN, white, Some(Color::Rgb(100, 200, 255)));
+        let (mut out, mut pen) = (Vec::new(), Pen::UNKNOWN);
+        write_sgr_reset(&mut out, &mut pen, white, Some(Color::Rgb(100, 200, 255)));
         assert_eq!(out, b"\x1b[0;38;2;255;255;255;48;2;100;200;255m");
     }
 
