@@ -193,13 +193,10 @@ impl PortalPass {
         stats: &mut PortalStats,
     ) {
         let edge = maze.edge(e);
-        let Some(footprint) = self.footprint(maze, eye, e) else { return };
-        let seen = region.intersection(footprint);
-        if seen.is_empty() {
-            return;
-        }
+        // Projection is the pass's cost, so it comes last: a wall already chosen is not projected again,
+        // and a portal only once it is known to be crossed.
         if edge.opaque {
-            if self.wall_stamp[e as usize] != self.stamp {
+            if self.wall_stamp[e as usize] != self.stamp && self.seen(maze, eye, e, region).is_some() {
                 self.wall_stamp[e as usize] = self.stamp;
                 self.walls.push(e);
             }
@@ -224,10 +221,17 @@ impl PortalPass {
             Projection::Orthographic => -along.perp_dot(eye.forward.truncate()),
         };
         let crosses_away = if cell_on_left { toward_left > 0.0 } else { toward_left < 0.0 };
-        if crosses_away {
+        // (So the portal a cell was entered by is never projected from that side.)
+        if crosses_away && let Some(seen) = self.seen(maze, eye, e, region) {
             stats.portals_traversed += 1;
             self.stack.push((beyond, seen));
         }
+    }
+
+    /// The part of `region` edge `e`'s footprint covers, if any.
+    fn seen(&mut self, maze: &Maze, eye: &Eye, e: u32, region: Aabb) -> Option<Aabb> {
+        let seen = region.intersection(self.footprint(maze, eye, e)?);
+        (!seen.is_empty()).then_some(seen)
     }
 
     /// The inflated grid-space bounding box of edge `e`'s wall quad, clipped to the view volume.
