@@ -160,16 +160,21 @@ fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Writes `frame` as drawn with `charset` to a PNG file (8-bit RGB).
+/// Writes `frame` as drawn with `charset` to a PNG file (8-bit RGB), one row of cells at a time (the
+/// largest `--size` is a 12,000 × 24,000-pixel picture: never whole in memory).
 fn write_png(path: &std::path::Path, frame: &Frame, charset: Charset) -> anyhow::Result<()> {
-    let (width, height, pixels) = mazewalk::render::picture::frame_pixels(frame, charset);
+    use mazewalk::render::picture::{for_each_band, picture_size};
+    let cannot_write = || format!("{}: cannot write", path.display());
+    let (width, height) = picture_size(frame);
     let file = File::create(path).with_context(|| format!("{}: cannot create", path.display()))?;
     let mut png = png::Encoder::new(BufWriter::new(file), width as u32, height as u32);
     png.set_color(png::ColorType::Rgb);
     png.set_depth(png::BitDepth::Eight);
-    let mut writer = png.write_header().with_context(|| format!("{}: cannot write", path.display()))?;
-    writer.write_image_data(&pixels).with_context(|| format!("{}: cannot write", path.display()))?;
-    writer.finish().with_context(|| format!("{}: cannot write", path.display()))?;
+    let mut png = png.write_header().with_context(cannot_write)?;
+    let mut stream = png.stream_writer().with_context(cannot_write)?;
+    for_each_band(frame, charset, |band| stream.write_all(band)).with_context(cannot_write)?;
+    stream.finish().with_context(cannot_write)?;
+    png.finish().with_context(cannot_write)?; // the end chunk, and the buffer flushed: its errors too
     Ok(())
 }
 

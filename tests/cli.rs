@@ -294,6 +294,20 @@ fn render_png_writes_the_frame_as_a_picture_of_its_cells() {
     let width = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
     let height = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
     assert_eq!((width, height), (40 * 12, 12 * 24), "12×24 pixels a cell");
+    // Written band by band: the whole image decodes, and shows the view (not one colour).
+    let mut reader = png::Decoder::new(std::io::Cursor::new(&bytes)).read_info().expect("a PNG");
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut pixels).expect("every row");
+    assert_eq!((info.width, info.height, info.color_type), (width, height, png::ColorType::Rgb));
+    let distinct: std::collections::HashSet<&[u8]> = pixels.chunks(3).collect();
+    assert!(distinct.len() > 20, "{} colours", distinct.len());
+    assert_ne!(pixels[..width as usize * 3], pixels[pixels.len() - width as usize * 3..], "ceiling vs floor");
+    if std::path::Path::new("/dev/full").exists() {
+        // A write that fails, even in the last buffered bytes, is an error, not a truncated picture.
+        let full = mazewalk(&["render", "--size", "40x12", "--png", "/dev/full"]);
+        assert_eq!(full.status.code(), Some(1), "{}", stderr(&full));
+        assert!(stderr(&full).contains("/dev/full: cannot write"), "{}", stderr(&full));
+    }
     let ascii = mazewalk(&["render", "--charset", "ascii", "--png", path_str]);
     assert_eq!(ascii.status.code(), Some(2), "ascii is text: {}", stderr(&ascii));
     std::fs::remove_dir_all(&dir).unwrap();

@@ -43,31 +43,57 @@ fn rgb(color: Color, default: [u8; 3]) -> [u8; 3] {
 /// `frame` drawn with `charset`'s sample layout: `(width, height, RGB bytes)`, [`CELL_PIXELS`] per cell.
 #[must_use]
 pub fn frame_pixels(frame: &Frame, charset: Charset) -> (usize, usize, Vec<u8>) {
+    let (width, height) = picture_size(frame);
+    let mut pixels = Vec::with_capacity(width * height * 3);
+    for_each_band(frame, charset, |band| {
+        pixels.extend_from_slice(band);
+        Ok::<(), std::convert::Infallible>(())
+    })
+    .unwrap_or_else(|never| match never {});
+    (width, height, pixels)
+}
+
+/// The size in pixels of `frame`'s picture.
+#[must_use]
+pub fn picture_size(frame: &Frame) -> (usize, usize) {
+    (frame.width() * CELL_PIXELS.0, frame.height() * CELL_PIXELS.1)
+}
+
+/// [`frame_pixels`] one row of cells at a time, top to bottom: `band` gets that row's
+/// [`CELL_PIXELS`]`.1` lines of RGB pixels (so a picture is written without ever being whole in memory;
+/// the first error stops the bands).
+pub fn for_each_band<E>(
+    frame: &Frame,
+    charset: Charset,
+    mut band: impl FnMut(&[u8]) -> Result<(), E>,
+) -> Result<(), E> {
     let (cw, ch) = CELL_PIXELS;
     let (sx, sy) = if charset == Charset::Ascii { (1, 1) } else { charset.samples_per_cell() };
-    let (width, height) = (frame.width() * cw, frame.height() * ch);
-    let mut pixels = vec![0u8; width * height * 3];
-    for (k, cell) in frame.cells().iter().enumerate() {
-        let (col, row) = (k % frame.width().max(1), k / frame.width().max(1));
-        let (fg, bg) = (rgb(cell.fg, DEFAULT_FG), rgb(cell.bg, DEFAULT_BG));
-        let mask = glyph_mask(charset, cell.ch);
-        for py in 0..ch {
-            for px in 0..cw {
-                let inked = match mask {
-                    Some(mask) => mask >> ((px * sx / cw) + sx * (py * sy / ch)) & 1 == 1,
-                    // A character: a square of ink in the cell's middle third.
-                    None => {
-                        cell.ch != ' '
-                            && (cw / 3..2 * cw / 3).contains(&px)
-                            && (ch / 3..2 * ch / 3).contains(&py)
-                    }
-                };
-                let at = ((row * ch + py) * width + col * cw + px) * 3;
-                pixels[at..at + 3].copy_from_slice(&if inked { fg } else { bg });
+    let width = picture_size(frame).0;
+    let mut pixels = vec![0u8; width * ch * 3];
+    for row in frame.cells().chunks(frame.width().max(1)) {
+        for (col, cell) in row.iter().enumerate() {
+            let (fg, bg) = (rgb(cell.fg, DEFAULT_FG), rgb(cell.bg, DEFAULT_BG));
+            let mask = glyph_mask(charset, cell.ch);
+            for py in 0..ch {
+                for px in 0..cw {
+                    let inked = match mask {
+                        Some(mask) => mask >> ((px * sx / cw) + sx * (py * sy / ch)) & 1 == 1,
+                        // A character: a square of ink in the cell's middle third.
+                        None => {
+                            cell.ch != ' '
+                                && (cw / 3..2 * cw / 3).contains(&px)
+                                && (ch / 3..2 * ch / 3).contains(&py)
+                        }
+                    };
+                    let at = (py * width + col * cw + px) * 3;
+                    pixels[at..at + 3].copy_from_slice(&if inked { fg } else { bg });
+                }
             }
         }
+        band(&pixels)?;
     }
-    (width, height, pixels)
+    Ok(())
 }
 
 #[cfg(test)]
@@ -85,6 +111,32 @@ mod tests {
             }
         }
         assert_eq!(glyph_mask(Charset::Half, 'A'), None);
+    }
+
+    #[test]
+    fn each_band_is_one_row_of_cells_in_place() {
+        let mut frame = Frame::new(2, 2);
+        let colors = [[10, 0, 0], [0, 20, 0], [0, 0, 30], [40, 40, 0]];
+        for (k, [r, g, b]) in colors.into_iter().enumerate() {
+            frame.set(k % 2, k / 2, Cell { ch: ' ', fg: Color::Default, bg: Color::Rgb(r, g, b) });
+        }
+        let (mut bands, (w, _)) = (Vec::new(), picture_size(&frame));
+        for_each_band(&frame, Charset::Half, |band| {
+            bands.push(band.to_vec());
+            Ok::<_, ()>(())
+        })
+        .unwrap();
+        assert_eq!(bands.len(), 2);
+        let (cw, ch) = CELL_PIXELS;
+        for (k, color) in colors.iter().enumerate() {
+            let band = &bands[k / 2];
+            for (x, y) in [(0, 0), (cw - 1, ch - 1)] {
+                let at = (y * w + (k % 2) * cw + x) * 3;
+                assert_eq!(&band[at..at + 3], color, "cell {k} pixel ({x}, {y})");
+            }
+        }
+        let stop = for_each_band(&frame, Charset::Half, |_| Err("full"));
+        assert_eq!(stop, Err("full"), "the first error stops it");
     }
 
     #[test]
