@@ -220,7 +220,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_pitch)]
     pub pitch: f32,
     /// Horizontal field of view across the whole frame, degrees (10..=170; default: the file's).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_fov)]
     pub fov: Option<f32>,
     /// Frame size in terminal cells: at most 2000 per side and 1,000,000 cells in all.
     #[arg(long, value_name = "COLSxROWS", default_value = "80x24", value_parser = parse_frame_size)]
@@ -340,6 +340,14 @@ pub fn parse_pitch(s: &str) -> Result<f32, String> {
     match parse_finite(s)? {
         x if (-90.0..=90.0).contains(&x) => Ok(x),
         x => Err(format!("pitch {x}° is outside -90..=90 (straight down to straight up)")),
+    }
+}
+
+pub fn parse_fov(s: &str) -> Result<f32, String> {
+    let (lo, hi) = crate::render::camera::FOV_RANGE_DEG;
+    match parse_finite(s)? {
+        x if (lo..=hi).contains(&x) => Ok(x),
+        x => Err(format!("a field of view of {x}° is outside {lo}..={hi}°")),
     }
 }
 
