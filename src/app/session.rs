@@ -369,14 +369,18 @@ impl Session {
     #[must_use]
     pub fn next_wake(&self, now: f64) -> Option<f64> {
         let frame_due = self.last_frame + 1.0 / MAX_FPS;
+        let animating = self.app.is_animating(now);
         let drawing = match self.flow.deadline() {
+            // Nothing to draw: no frame is held back, whatever is in flight (a deadline kept after it
+            // passed would wake the host at once, again and again, on a stalled link).
+            _ if !self.dirty && !animating => None,
             // Held back by flow control: wait for a reply (input) or the timeout, ticking the motion
             // on meanwhile so that the next frame shows where the viewer has got to.
             Some(timeout) if self.options.flow_control => {
-                let ticking = self.app.is_animating(now).then_some(now + 1.0 / MAX_FPS);
+                let ticking = animating.then_some(now + 1.0 / MAX_FPS);
                 Some(ticking.map_or(timeout, |t| t.min(timeout)))
             }
-            _ => (self.dirty || self.app.is_animating(now)).then_some(frame_due),
+            _ => Some(frame_due),
         };
         // Never before `now` (a frame due long ago, a session that has ended): a host sleeps until then.
         let wake = [drawing, self.app.held.next_expiry(), self.decoder.deadline()].into_iter().flatten();
@@ -681,6 +685,27 @@ mod tests {
         s.feed(b"q", 0.2);
         assert!(s.is_over());
         assert!(s.next_wake(0.3).is_none_or(|t| t >= 0.3), "{:?}", s.next_wake(0.3));
+    }
+
+    #[test]
+    fn a_stalled_link_with_nothing_to_draw_sleeps() {
+        // Two frames unanswered (the link stalled, or a terminal that never answers), then the
+        // picture stops changing: nothing is held back, so nothing is due, before or after the
+        // reply timeout (it used to stay due at the timeout: a host waking at once, forever).
+        let mut s = session(SessionOptions::default());
+        let mut out = Vec::new();
+        assert!(s.frame(0.0, &mut out));
+        s.feed(b"m", 0.1); // the map: one change, no motion
+        assert!(s.frame(0.1, &mut out));
+        assert_eq!(s.flow().in_flight(), 2);
+        assert!(!s.frame(0.2, &mut out));
+        assert!(s.next_wake(0.2).is_some_and(|t| t > 0.2), "the key's hold runs out, later");
+        for now in [1.0, 2.5, 10.0] {
+            assert!(!s.frame(now, &mut out), "nothing new at {now}");
+            assert_eq!(s.next_wake(now), None, "asleep at {now}");
+        }
+        s.feed(b"m", 11.0); // a change past the timeout goes out at once
+        assert!(s.frame(11.0, &mut out));
     }
 
     #[test]
