@@ -6,9 +6,10 @@
 //! ```
 //! use clap::Parser as _;
 //! use mazewalk::cli::{Cli, Command};
-//! let cli = Cli::try_parse_from(["mazewalk", "render", "--size", "40x12", "--fov", "-5"]).unwrap();
+//! let cli = Cli::try_parse_from(["mazewalk", "render", "--size", "40x12", "--fov", "60"]).unwrap();
 //! assert!(matches!(cli.command, Some(Command::Render(_))));
 //! assert!(Cli::try_parse_from(["mazewalk", "render", "--pitch", "1000"]).is_err());
+//! assert!(Cli::try_parse_from(["mazewalk", "render", "--fov", "-5"]).is_err());
 //! ```
 
 // Each flag's doc comment is its `--help` text; the structs and parsers mirror the command line, item
