@@ -103,8 +103,20 @@ impl Cell {
     /// is `▄` in B on A, a blank on B is `█` in B, a quadrant or sextant is its complement with the
     /// colours swapped. The encoder uses whichever form the terminal's current colours make cheaper.
     #[must_use]
+    ///
+    /// None where a colour the cell shows is [`Color::Default`]: the default foreground and the default
+    /// background are different colours, so that one cannot change sides.
     pub fn inverse(&self) -> Option<Cell> {
+        if self.shows_a_default() {
+            return None;
+        }
         complement_glyph(self.ch).map(|ch| Cell { ch, fg: self.bg, bg: self.fg })
+    }
+
+    /// Whether the cell shows the terminal's default foreground or background (a space shows no
+    /// foreground, a full block no background).
+    fn shows_a_default(&self) -> bool {
+        (self.ch != ' ' && self.fg == Color::Default) || (self.ch != FULL_BLOCK && self.bg == Color::Default)
     }
 
     /// Whether two cells look the same on screen: the same glyph in the same colours, where a space
@@ -150,9 +162,13 @@ impl Cell {
         self.looks_within_by_regions(other, tolerance)
     }
 
-    /// The colours of the top and bottom halves of a blank, a half block or a full block.
+    /// The colours of the top and bottom halves of a blank, a half block or a full block; `None` for
+    /// other glyphs, and where a half shows a default colour (compared by layers instead).
     #[inline]
     fn halves(&self) -> Option<[Color; 2]> {
+        if self.shows_a_default() {
+            return None;
+        }
         match self.ch {
             ' ' => Some([self.bg; 2]),
             FULL_BLOCK => Some([self.fg; 2]),
@@ -173,15 +189,18 @@ impl Cell {
         [(true, true), (true, false), (false, true), (false, false)].into_iter().all(|(in_a, in_b)| {
             let side = |ink: u16, inside: bool| if inside { ink } else { !ink & ALL_SUBCELLS };
             let color = |cell: &Cell, inside: bool| if inside { cell.fg } else { cell.bg };
-            side(ink_a, in_a) & side(ink_b, in_b) == 0
-                || color(self, in_a).within(color(other, in_b), tolerance)
+            let (a, b) = (color(self, in_a), color(other, in_b));
+            // The default foreground and the default background are two colours.
+            let defaults_agree = (a != Color::Default && b != Color::Default) || in_a == in_b;
+            side(ink_a, in_a) & side(ink_b, in_b) == 0 || (defaults_agree && a.within(b, tolerance))
         })
     }
 
     /// The cell itself, or a blank where a block glyph is drawn in one colour (it looks like one).
     #[must_use]
     pub fn canonical(&self) -> Cell {
-        if self.fg == self.bg && complement_glyph(self.ch).is_some() {
+        // (Not in the defaults: a glyph in the default foreground on the default background shows two.)
+        if self.fg == self.bg && self.fg != Color::Default && complement_glyph(self.ch).is_some() {
             Cell { ch: ' ', ..*self }
         } else {
             *self
@@ -424,6 +443,25 @@ pub fn single_column(ch: char) -> char {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_default_foreground_and_background_are_two_colours() {
+        // What `--color none` draws: shades in the terminal's own colours, `█` the brightest.
+        let (full, blank) = (Cell::plain('█'), Cell::BLANK);
+        assert!(!full.same_look(&blank), "a full block in the default foreground is not a blank");
+        assert!(!Cell::plain('▌').same_look(&Cell::plain('▐')));
+        assert_eq!(Cell::plain('▀').canonical(), Cell::plain('▀'), "two colours, not one");
+        assert_eq!(blank.inverse(), None, "the default background cannot become a foreground");
+        assert_eq!(Cell::plain('▄').inverse(), None);
+        let blue = Color::Indexed(4);
+        let on_blue = Cell { ch: ' ', fg: Color::Default, bg: blue }; // the foreground is not shown
+        assert_eq!(on_blue.inverse(), Some(Cell { ch: '█', fg: blue, bg: Color::Default }));
+        assert!(Cell { ch: '▀', fg: Color::Default, bg: blue }.same_look(&Cell {
+            ch: '▀',
+            fg: Color::Default,
+            bg: blue
+        }));
+    }
 
     #[test]
     fn put_str_clips_at_the_right_edge_and_replaces_wide_glyphs() {

@@ -25,8 +25,17 @@ const GLYPHS: &[char] = &[
 /// background. Written from the renderer's glyph tables, independently of `Cell::same_look`.
 #[derive(Debug, PartialEq)]
 enum Look {
-    Block([Color; 12]),
+    Block([Shown; 12]),
     Glyph(char, Option<Color>, Color),
+}
+
+/// A colour as a part of a block glyph shows it: the terminal's default foreground and its default
+/// background are two different colours (light grey and black, say), though both are `Default`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Shown {
+    Color(Color),
+    DefaultForeground,
+    DefaultBackground,
 }
 
 /// Sub-cells a block glyph covers (bit `column + 2·row` of a 2-column, 6-row grid), from the
@@ -52,7 +61,12 @@ fn coverage(ch: char) -> Option<u16> {
 
 fn look(cell: &Cell) -> Look {
     match coverage(cell.ch) {
-        Some(c) => Look::Block(std::array::from_fn(|k| if c >> k & 1 == 1 { cell.fg } else { cell.bg })),
+        Some(c) => Look::Block(std::array::from_fn(|k| match (c >> k & 1 == 1, cell.fg, cell.bg) {
+            (true, Color::Default, _) => Shown::DefaultForeground,
+            (true, fg, _) => Shown::Color(fg),
+            (false, _, Color::Default) => Shown::DefaultBackground,
+            (false, _, bg) => Shown::Color(bg),
+        })),
         None => Look::Glyph(cell.ch, (cell.ch != ' ').then_some(cell.fg), cell.bg),
     }
 }
@@ -66,7 +80,10 @@ fn looks_close(a: &Look, b: &Look, tolerance: u8) -> bool {
         _ => a == b,
     };
     match (a, b) {
-        (Look::Block(a), Look::Block(b)) => a.iter().zip(b).all(|(a, b)| close(a, b)),
+        (Look::Block(a), Look::Block(b)) => a.iter().zip(b).all(|(a, b)| match (a, b) {
+            (Shown::Color(a), Shown::Color(b)) => close(a, b),
+            _ => a == b,
+        }),
         (Look::Glyph(ch, fg, bg), Look::Glyph(ch2, fg2, bg2)) => {
             ch == ch2
                 && close(bg, bg2)

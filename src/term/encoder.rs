@@ -741,22 +741,36 @@ mod tests {
             out
         };
         let mut ties = 0;
-        // (width, height, blue blanks row by row); 7×1 with 4 and 11×1 with 7 are ties
-        for (width, height, blues) in
-            [(8, 2, 0), (8, 2, 3), (8, 2, 9), (8, 2, 15), (40, 2, 30), (7, 1, 4), (11, 1, 7)]
-        {
+        // Frames row by row: `b` a blue blank, `d` a default blank, `x` a letter. "dbb" and "bbxd"
+        // are ties.
+        for rows in [
+            &["dddddddd", "dddddddx"][..],
+            &["bbbddddd", "dddddddx"],
+            &["bbbbbbbb", "bddddddx"],
+            &["bbbbbbbb", "bbbbbbbx"],
+            &["bbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbb", "bbbbbbbbbbbbbbbbbbbbbbbbbbbbbddddddddddx"],
+            &["dbb"],
+            &["bbxd"],
+        ] {
+            let (width, height) = (rows[0].len(), rows.len());
             let mut frame = Frame::filled(width, height, Cell::BLANK);
-            for k in 0..blues {
-                frame.set(k % width, k / width, blue);
+            for (y, row) in rows.iter().enumerate() {
+                for (x, kind) in row.chars().take(width).enumerate() {
+                    let cell = match kind {
+                        'b' => blue,
+                        'x' => Cell::plain('x'),
+                        _ => Cell::BLANK,
+                    };
+                    frame.set(x, y, cell);
+                }
             }
-            frame.set(width - 1, height - 1, Cell::plain('x'));
             let (default, coloured) = (trial(&frame, Color::Default), trial(&frame, Color::Indexed(4)));
             let blue_is_commonest = most_common_blank_bg(&frame) == Some(Color::Indexed(4));
             ties += usize::from(blue_is_commonest && coloured.len() == default.len());
             let best = if blue_is_commonest && coloured.len() < default.len() { coloured } else { default };
             let mut out = vec![b'.'; 100];
             paint_full(&frame, true, &mut out);
-            assert_eq!(&out[100..], &best[..], "{blues} blue blanks in {width}×{height}");
+            assert_eq!(&out[100..], &best[..], "{rows:?}");
         }
         assert_eq!(ties, 2, "the premise: two of the cases are ties");
     }
