@@ -42,6 +42,18 @@ pub enum KeyError {
         /// Its permission bits.
         mode: u32,
     },
+    /// The key is protected by a passphrase, which a server starting unattended cannot type.
+    #[error("{}: the host key has a passphrase; give a key without one (ssh-keygen -t ed25519 -N '' -f FILE)", path.display())]
+    Encrypted {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The path names a directory or another thing that is not a file.
+    #[error("{}: not a file; give the host key file's path", path.display())]
+    NotAFile {
+        /// The path.
+        path: PathBuf,
+    },
     /// No place for the key: neither `XDG_STATE_HOME` nor `HOME` is set.
     #[error("no place for the host key: set HOME or XDG_STATE_HOME, or give --host-key FILE")]
     NoHome,
@@ -68,6 +80,9 @@ pub fn load_or_create(path: &Path) -> Result<(PrivateKey, bool), KeyError> {
     let io = |source| KeyError::Io { path: path.to_path_buf(), source };
     match fs::metadata(path) {
         Ok(meta) => {
+            if !meta.is_file() {
+                return Err(KeyError::NotAFile { path: path.to_path_buf() });
+            }
             let mode = meta.permissions().mode() & 0o777;
             if mode & 0o077 != 0 {
                 return Err(KeyError::TooOpen { path: path.to_path_buf(), mode });
@@ -75,6 +90,10 @@ pub fn load_or_create(path: &Path) -> Result<(PrivateKey, bool), KeyError> {
             let text = fs::read_to_string(path).map_err(io)?;
             let key = PrivateKey::from_openssh(text.as_bytes())
                 .map_err(|source| KeyError::Format { path: path.to_path_buf(), source })?;
+            if key.is_encrypted() {
+                // (It parses: the public half is in the clear. Every handshake would fail.)
+                return Err(KeyError::Encrypted { path: path.to_path_buf() });
+            }
             Ok((key, false))
         }
         Err(err) if err.kind() == io::ErrorKind::NotFound => {
@@ -138,6 +157,17 @@ mod tests {
         assert!(matches!(default_path(env(&[("HOME", "")])), Err(KeyError::NoHome)));
     }
 
+    /// A throwaway ed25519 key with the passphrase `secret`.
+    const ENCRYPTED_KEY: &str = "-----BEGIN OPENSSH PRIVATE KEY-----
+b3BlbnNzaC1rZXktdjEAAAAACmFlczI1Ni1jdHIAAAAGYmNyeXB0AAAAGAAAABCj8NHZnl
+lIQyAnJuSXww7sAAAAEAAAAAEAAAAzAAAAC3NzaC1lZDI1NTE5AAAAIImypI4iL/4FB/6A
+B6xXtu8e4gvbqReOWrZZSz/4daGNAAAAkCfo1g0bNCR5Pur0wHMV4Zt8IEobH04nVhWbvk
+Yj671VdUFeEHbvCJXE9pPYezi+6BDRh3J7h6SvBGimoJ/i+GYsXEtXOObkwp6gEbDIJlZK
+LQqSRnHbD1ht80vUcKxG8liq8bpOLYZgg9989nIKlb/+3ZEQkfuFAJ7LtIDLwe+AgD+S9M
+Yhg9caVlscNzhaBQ==
+-----END OPENSSH PRIVATE KEY-----
+";
+
     #[test]
     fn a_key_is_made_once_private_and_then_read_back() {
         let dir = std::env::temp_dir().join(format!("mazewalk-host-key-{}", std::process::id()));
@@ -153,6 +183,15 @@ mod tests {
         assert!(fingerprint(read.public_key()).starts_with("SHA256:"));
         fs::set_permissions(&path, fs::Permissions::from_mode(0o644)).unwrap();
         assert!(matches!(load_or_create(&path), Err(KeyError::TooOpen { mode: 0o644, .. })));
+        // A key with a passphrase (`ssh-keygen -t ed25519 -N secret`): refused before serving.
+        let encrypted = dir.join("encrypted");
+        fs::write(&encrypted, ENCRYPTED_KEY).unwrap();
+        fs::set_permissions(&encrypted, fs::Permissions::from_mode(0o600)).unwrap();
+        let err = load_or_create(&encrypted).unwrap_err();
+        assert!(matches!(err, KeyError::Encrypted { .. }) && err.to_string().contains("passphrase"), "{err}");
+        // A directory is not a key, whatever its permissions.
+        let err = load_or_create(&dir).unwrap_err();
+        assert!(matches!(err, KeyError::NotAFile { .. }), "{err}");
         let keys = dir.join("authorized_keys");
         let line = made.public_key().to_openssh().unwrap();
         fs::write(&keys, format!("# a comment\n\n{line} someone@somewhere\n")).unwrap();
