@@ -8,13 +8,15 @@ use crate::frame::ColorDepth;
 /// | environment | depth |
 /// |---|---|
 /// | `NO_COLOR` set and non-empty ([no-color.org](https://no-color.org)) | `None` |
-/// | `COLORTERM=truecolor` or `24bit` | `TrueColor` |
+/// | `COLORTERM=truecolor` or `24bit`, except inside GNU screen (below) | `TrueColor` |
 /// | `TERM=dumb` | `None` |
 /// | `TERM` naming a truecolor terminal (`*-direct`, `xterm-kitty`, `alacritty`, `wezterm`, `foot*`, `xterm-ghostty`), or `WT_SESSION` set (Windows Terminal) | `TrueColor` |
 /// | `TERM` containing `256color` | `Ansi256` |
 /// | `TERM=linux`, `vt*`, anything else, or unset | `Ansi16` |
 ///
-/// The `TERM` names matter over SSH, which forwards `TERM` but not `COLORTERM`. Unknown or unset
+/// GNU screen 4 keeps the outer terminal's `COLORTERM` in its windows but cannot show 24-bit colour
+/// (it garbles it), so there `COLORTERM` is not believed ([`in_gnu_screen`]). The `TERM` names matter
+/// over SSH, which forwards `TERM` but not `COLORTERM`. Unknown or unset
 /// falls back to 16 colours: every colour terminal has them, and a wrong guess upwards shows garbage
 /// colours while a wrong guess downwards only shows fewer (`--color` raises it).
 #[must_use]
@@ -22,7 +24,9 @@ pub fn detect_color_depth(get: impl Fn(&str) -> Option<String>) -> ColorDepth {
     if get("NO_COLOR").is_some_and(|v| !v.is_empty()) {
         return ColorDepth::None;
     }
-    if get("COLORTERM").is_some_and(|v| matches!(v.to_ascii_lowercase().as_str(), "truecolor" | "24bit")) {
+    if get("COLORTERM").is_some_and(|v| matches!(v.to_ascii_lowercase().as_str(), "truecolor" | "24bit"))
+        && !in_gnu_screen(&get)
+    {
         return ColorDepth::TrueColor;
     }
     let term = get("TERM").unwrap_or_default().to_ascii_lowercase();
@@ -49,7 +53,15 @@ pub fn detect_color_depth(get: impl Fn(&str) -> Option<String>) -> ColorDepth {
 #[must_use]
 pub fn detect_bce(get: impl Fn(&str) -> Option<String>) -> bool {
     let term = get("TERM").unwrap_or_default();
-    !(term.starts_with("screen") && get("TMUX").is_none())
+    !(in_gnu_screen(&get) || (term.starts_with("screen") && get("TMUX").is_none()))
+}
+
+/// Whether the program runs in a GNU screen window, on positive evidence: screen's own `STY` outside
+/// tmux, or a `TERM` of screen's `screen.<outer terminal>` form (tmux never uses it), which also tells
+/// a GNU screen started inside tmux (where `TMUX` is inherited) from tmux itself.
+fn in_gnu_screen(get: impl Fn(&str) -> Option<String>) -> bool {
+    let term = get("TERM").unwrap_or_default();
+    term.starts_with("screen.") || (get("STY").is_some() && get("TMUX").is_none())
 }
 
 #[cfg(test)]
@@ -83,6 +95,18 @@ mod tests {
             (&[("TERM", "linux")], Ansi16),
             (&[("TERM", "vt100")], Ansi16),
             (&[("TERM", "xterm")], Ansi16),
+            // GNU screen keeps COLORTERM but garbles 24-bit colour; tmux shows it.
+            (&[("COLORTERM", "truecolor"), ("TERM", "screen.xterm-256color")], Ansi256),
+            (&[("COLORTERM", "truecolor"), ("TERM", "screen"), ("STY", "12.pts-0.host")], Ansi16),
+            (
+                &[("COLORTERM", "truecolor"), ("TERM", "screen.xterm-256color"), ("TMUX", "/tmp/t,1,0")],
+                Ansi256,
+            ),
+            (&[("COLORTERM", "truecolor"), ("TERM", "screen-256color"), ("TMUX", "/tmp/t,1,0")], TrueColor),
+            (
+                &[("COLORTERM", "truecolor"), ("TERM", "tmux-256color"), ("STY", "1.x"), ("TMUX", "/t,1,0")],
+                TrueColor,
+            ),
         ];
         for (vars, want) in table {
             assert_eq!(detect_color_depth(env(vars)), *want, "{vars:?}");
@@ -95,5 +119,8 @@ mod tests {
         assert!(detect_bce(env(&[])));
         assert!(!detect_bce(env(&[("TERM", "screen-256color")])));
         assert!(detect_bce(env(&[("TERM", "screen-256color"), ("TMUX", "/tmp/tmux-0/default,1,0")])));
+        // GNU screen started inside tmux: TMUX is inherited, the TERM is screen's own form.
+        assert!(!detect_bce(env(&[("TERM", "screen.xterm-256color"), ("TMUX", "/tmp/tmux-0/default,1,0")])));
+        assert!(!detect_bce(env(&[("TERM", "xterm-256color"), ("STY", "12.pts-0.host")])));
     }
 }
