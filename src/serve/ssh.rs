@@ -630,7 +630,27 @@ async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
         conn.end("stopped reading");
         return;
     }
+    drain_answers(&mut rx, &mut player, &shared).await;
     close(&tx, if end == End::Quit { 0 } else { 1 }).await;
+}
+
+/// Waits for the terminal's answers to the last frames' queries, reading and dropping whatever else
+/// comes, for at most two round trips (0.25–1 s). A channel closed before they arrive leaves them to
+/// the player's shell, typed at its prompt (`1;2c`). Gives up at once on a terminal that does not answer.
+async fn drain_answers(rx: &mut russh::ChannelReadHalf, player: &mut Player, shared: &Shared) {
+    let waiting =
+        |player: &Player| player.session().flow().in_flight() > 0 && !player.session().flow().silent();
+    let round_trip = player.session().flow().round_trip().unwrap_or(0.5);
+    let deadline = tokio::time::Instant::now() + Duration::from_secs_f64((2.0 * round_trip).clamp(0.25, 1.0));
+    while waiting(player) {
+        match tokio::time::timeout_at(deadline, rx.wait()).await {
+            Ok(Some(ChannelMsg::Data { data })) => {
+                player.feed(&data, shared.now());
+            }
+            Ok(Some(ChannelMsg::Eof | ChannelMsg::Close) | None) | Err(_) => break,
+            Ok(Some(_)) => {}
+        }
+    }
 }
 
 /// Sends the exit status, end of file and close on the channel.
