@@ -92,10 +92,11 @@ fn main() -> ExitCode {
         Err(err) if is_broken_pipe(&err) => ExitCode::from(EXIT_BROKEN_PIPE),
         Err(err) => {
             let load = err.downcast_ref::<LoadError>();
-            match load {
-                Some(e) => eprintln!("{e}"), // FILE:LINE:COL: message, for editors to jump to
-                None => eprintln!("mazewalk: {err:#}"),
-            }
+            // (Not eprintln!, which panics when stderr cannot be written: the exit code still tells.)
+            let _ = match load {
+                Some(e) => writeln!(std::io::stderr(), "{e}"), // FILE:LINE:COL: message, for editors
+                None => writeln!(std::io::stderr(), "mazewalk: {err:#}"),
+            };
             ExitCode::from(match load {
                 Some(LoadError::Parse(_) | LoadError::TooLarge { .. }) => EXIT_DATA,
                 Some(LoadError::Io { .. } | LoadError::NotAFile { .. }) => EXIT_NO_INPUT,
@@ -321,7 +322,7 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
             json["render_us_min"] = ((times_us[0] * 10.0).round() / 10.0).into();
             json["render_us_max"] = ((times_us[times_us.len() - 1] * 10.0).round() / 10.0).into();
         }
-        eprintln!("{json}");
+        writeln!(std::io::stderr(), "{json}").context("cannot write the stats to stderr")?;
     }
     if let Some(path) = &args.depth_out {
         let depths = renderer

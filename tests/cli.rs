@@ -354,3 +354,21 @@ fn a_files_field_of_view_out_of_range_is_clamped_as_the_walk_clamps_it() {
     }
     std::fs::remove_file(&path).unwrap();
 }
+
+#[test]
+fn an_unwritable_stderr_changes_the_message_not_the_exit_code() {
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else { return };
+    let run = |args: &[&str], stderr: std::fs::File| {
+        Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .args(args)
+            .stdout(std::process::Stdio::null())
+            .stderr(stderr)
+            .status()
+            .expect("run mazewalk")
+    };
+    // The error cannot be told, but it is still the missing file's exit code, not a panic's (101).
+    let missing = run(&["check", "/nonexistent/maze"], full.try_clone().unwrap());
+    assert_eq!(missing.code(), Some(66));
+    // --stats asked for numbers on stderr: not writing them is an error.
+    assert_eq!(run(&["render", "--stats"], full).code(), Some(1));
+}
