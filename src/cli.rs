@@ -141,6 +141,7 @@ pub enum Command {
     /// Render one frame to stdout and exit (plain text with --color none, ANSI otherwise).
     Render(RenderArgs),
     /// Generate a random maze (a perfect maze unless --loops is given).
+    #[command(visible_alias = "generate")]
     Gen(GenArgs),
     /// Load a maze file and print a summary, or the located error (exit 65).
     Check(CheckArgs),

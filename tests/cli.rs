@@ -192,6 +192,8 @@ fn gen_then_check_round_trips_through_a_file() {
     assert!(report.contains("cells:    84"), "{report}");
     assert!(report.contains("perfect:  no"), "{report}");
     assert!(!report.contains("exit:     none"), "{report}");
+    let spelled_out = mazewalk(&["generate", "--size", "12x7", "--seed", "3", "--loops", "0.2", "--exit"]);
+    assert!(spelled_out.status.success(), "`generate` is `gen`: {}", stderr(&spelled_out));
     let out = mazewalk(&["gen", "--size", "0x5"]);
     assert_eq!(out.status.code(), Some(2));
 }
