@@ -222,7 +222,12 @@ fn cmd_serve(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         let mut out = std::io::stdout().lock();
         let _ = writeln!(out, "mazewalk: serving on {addr}")
             .and_then(|()| writeln!(out, "host key {fingerprint} ({}{made})", key_path.display()))
-            .and_then(|()| writeln!(out, "players connect with: ssh -p {} {}", addr.port(), addr.ip()))
+            .and_then(|()| {
+                // Listening on every address: the players need one of this machine's names.
+                let host =
+                    if addr.ip().is_unspecified() { "THIS-HOST".to_string() } else { addr.ip().to_string() };
+                writeln!(out, "players connect with: ssh -p {} {host}", addr.port())
+            })
             .and_then(|()| out.flush());
     })
     .with_context(|| format!("serving on {}", args.listen))?;

@@ -325,6 +325,7 @@ async fn connection(shared: Arc<Shared>, stream: TcpStream, peer: SocketAddr, _s
                     conn.end("server shutting down");
                 } else {
                     // The player's task says goodbye and closes; cut whatever is left after a grace.
+                    conn.ending("server shutting down");
                     let conn = Arc::clone(&conn);
                     tokio::spawn(async move {
                         tokio::time::sleep(GOODBYE_GRACE).await;
@@ -334,11 +335,18 @@ async fn connection(shared: Arc<Shared>, stream: TcpStream, peer: SocketAddr, _s
             }
         }
     };
-    let error = result.err().map(|e| e.to_string());
+    let error = result.err().map(|e| match e {
+        // russh's words, in the log's (lower case, no library jargon)
+        russh::Error::KeepaliveTimeout => "keepalive timeout".to_string(),
+        russh::Error::IO(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            "connection lost".to_string()
+        }
+        e => e.to_string(),
+    });
     let reason = Conn::get(&conn.ended).map(str::to_string).or(error).unwrap_or_else(|| "closed".into());
     info!(
         peer = %peer,
-        user = Conn::get(&conn.user).as_deref().unwrap_or("-"),
+        user = %Conn::get(&conn.user).as_deref().unwrap_or("-"),
         key = Conn::get(&conn.key).as_deref().unwrap_or("-"),
         seconds = format_args!("{:.1}", started.elapsed().as_secs_f64()),
         bytes_in = conn.cut.bytes_in.load(Ordering::Relaxed),
