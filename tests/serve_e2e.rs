@@ -352,7 +352,9 @@ fn two_players_see_each_other_and_q_restores_the_terminal() {
     for field in ["peer=127.0.0.1:", "user=", "key=", "seconds=", "bytes_in=", "bytes_out="] {
         assert!(bob_line.contains(field), "{field} in {bob_line}");
     }
-    assert!(bob_line.contains("user=\"bob1\""), "the name as others see it: {bob_line}");
+    assert!(bob_line.contains("user=bob1 "), "the name as others see it: {bob_line}");
+    let joined = log.lines().find(|l| l.contains(" connected") && l.contains("bob")).expect("bob's joining");
+    assert!(joined.contains("user=bob1 "), "written alike on both lines: {joined}");
     assert_eq!(log.matches(" connected").count(), 2, "{log}");
 }
 
