@@ -8,9 +8,13 @@
 //! walk still simulated, so when a reply comes the next frame shows the **latest** state: frames
 //! coalesce, they never queue.
 //!
-//! A terminal that never answers (or a link that drops replies) must not freeze the walk: after
-//! [`ACK_TIMEOUT`] without a reply the session draws as if there were no flow control, still sending
-//! queries, and takes up flow control again at the first reply.
+//! A terminal that never answers must not freeze the walk: after [`ACK_TIMEOUT`] without a reply the
+//! session draws as if there were no flow control, still sending queries, and takes up flow control
+//! again at the first reply. A terminal that *has* answered and then goes quiet is not one of those:
+//! its link stalled, or its ssh client was stopped (Ctrl-Z, a laptop's lid). Frames sent at full
+//! rate would only fill buffers (and get a server's player dropped for not reading), so then one
+//! frame and its query go every [`ACK_TIMEOUT`] until a reply comes — which also recovers a reply
+//! that was lost (an input rate limit drops bytes).
 //!
 //! Pure: time comes in as seconds.
 //!
@@ -64,13 +68,17 @@ impl FlowControl {
             self.silent = true;
             self.sent.clear();
         }
-        true
+        self.deadline().is_none_or(|at| now >= at)
     }
 
     /// When a frame held back now may be sent even without a reply; `None` if none is held back.
     #[must_use]
     pub fn deadline(&self) -> Option<f64> {
-        (!self.silent && self.sent.len() >= MAX_UNACKED).then(|| self.sent[0] + ACK_TIMEOUT)
+        if self.silent {
+            // Quiet after answering: a stall. One frame an ACK_TIMEOUT (see the module's notes).
+            return self.round_trip.and(self.sent.back().map(|&at| at + ACK_TIMEOUT));
+        }
+        (self.sent.len() >= MAX_UNACKED).then(|| self.sent[0] + ACK_TIMEOUT)
     }
 
     /// A frame and its [`QUERY`] went out at `now`.
@@ -142,6 +150,27 @@ mod tests {
         assert!(flow.in_flight() <= MAX_REMEMBERED);
         flow.answered(200.0);
         assert!(!flow.silent());
+    }
+
+    #[test]
+    fn a_terminal_that_answered_and_went_quiet_gets_one_frame_a_timeout() {
+        let mut flow = FlowControl::default();
+        flow.sent(0.0);
+        flow.answered(0.1); // it answers
+        flow.sent(1.0);
+        flow.sent(1.1); // then nothing comes back (a stopped ssh client)
+        assert!(!flow.may_send(1.0 + ACK_TIMEOUT - 0.01));
+        assert!(flow.may_send(1.0 + ACK_TIMEOUT), "the timeout: one frame");
+        assert!(flow.silent());
+        flow.sent(3.0);
+        for t in [3.1, 4.0, 4.99] {
+            assert!(!flow.may_send(t), "not a flood at {t}");
+            assert_eq!(flow.deadline(), Some(3.0 + ACK_TIMEOUT));
+        }
+        assert!(flow.may_send(3.0 + ACK_TIMEOUT), "the next probe");
+        flow.sent(5.0);
+        flow.answered(5.2); // the link is back (or a lost reply was made up for)
+        assert!(!flow.silent() && flow.may_send(5.2) && flow.deadline().is_none());
     }
 
     #[test]

@@ -709,6 +709,27 @@ mod tests {
     }
 
     #[test]
+    fn a_stalled_link_gets_a_frame_a_timeout_not_a_flood() {
+        // The terminal answered, then its link stalled while ← was held (auto-repeat keeps coming
+        // from a stopped client's buffers, say): frames go one per ACK_TIMEOUT, not 60 a second.
+        let mut s = session(SessionOptions::default());
+        let mut out = Vec::new();
+        s.frame(0.0, &mut out);
+        s.feed(b"\x1b[?62;22c", 0.05);
+        let (mut drawn, mut t) = (0, 0.1);
+        while t < 10.1 {
+            s.feed(b"\x1b[D", t);
+            drawn += usize::from(s.frame(t, &mut out));
+            assert!(s.next_wake(t).is_some_and(|w| w > t), "no busy wait at {t}");
+            t += 0.03;
+        }
+        let probes = (10.0 / crate::app::flow::ACK_TIMEOUT) as usize;
+        assert!((2..=2 + probes + 1).contains(&drawn), "{drawn} frames in 10 s");
+        s.feed(b"\x1b[?62;22c", 10.2); // the link is back: frames flow again
+        assert!(s.frame(10.2, &mut out));
+    }
+
+    #[test]
     fn without_replies_the_walk_goes_on_after_the_timeout() {
         let mut s = session(SessionOptions::default());
         let mut out = Vec::new();
