@@ -21,7 +21,7 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
 use mazewalk::serve::player::REMOTE;
-use mazewalk::serve::ssh::{NO_EXEC_MESSAGE, NO_PTY_MESSAGE, SHUTDOWN_MESSAGE};
+use mazewalk::serve::ssh::{DUMB_TERMINAL_MESSAGE, NO_EXEC_MESSAGE, NO_PTY_MESSAGE, SHUTDOWN_MESSAGE};
 use mazewalk::term::guard::restore_sequence;
 use rustix::termios::{self, Winsize};
 
@@ -472,6 +472,16 @@ fn commands_forwarding_and_sessions_without_a_terminal_are_refused() {
     let (status, stdout, _) = server.ssh_batch(None, "dave", &["-T"]);
     assert_eq!(status.code(), Some(1));
     assert!(stdout.contains(NO_PTY_MESSAGE), "{stdout}");
+    // A terminal without cursor movement (an editor's shell buffer) is told so, as the local walk does.
+    let dumb = Command::new("ssh")
+        .env("TERM", "dumb")
+        .args(ssh_args(server.port, None, "dave"))
+        .arg("-tt")
+        .stdin(Stdio::null())
+        .output()
+        .expect("run ssh");
+    assert_eq!(dumb.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&dumb.stdout).contains(DUMB_TERMINAL_MESSAGE), "{dumb:?}");
     // -W: a direct-tcpip channel (local forwarding); -R: remote forwarding.
     let (status, _, stderr) = server.ssh_batch(None, "dave", &["-W", "127.0.0.1:22"]);
     assert_eq!(status.code(), Some(255));

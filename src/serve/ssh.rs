@@ -55,6 +55,8 @@ pub const SHUTDOWN_MESSAGE: &str = "mazewalk: server shutting down";
 /// What a client without a terminal is told.
 pub const NO_PTY_MESSAGE: &str =
     "mazewalk: this is a full-screen game and needs a terminal: connect with `ssh -t` (no command)";
+/// What a client whose terminal cannot show the game (`TERM=dumb`) is told.
+pub const DUMB_TERMINAL_MESSAGE: &str = "mazewalk: this terminal (TERM=dumb) cannot show the full-screen game: it needs cursor movement; connect from a terminal that has it (e.g. TERM=xterm-256color ssh …)";
 /// What a client asking to run a command or a subsystem is told.
 pub const NO_EXEC_MESSAGE: &str =
     "mazewalk: no commands or subsystems here, only the game: connect with `ssh -t` and no command";
@@ -586,6 +588,12 @@ async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
         close(&tx, 1).await;
         return;
     };
+    if pty.term.eq_ignore_ascii_case("dumb") {
+        // As the local walk refuses one: cursor moves and colours would be garbage on it.
+        let _ = tx.data_bytes(format!("{DUMB_TERMINAL_MESSAGE}\r\n").into_bytes()).await;
+        close(&tx, 1).await;
+        return;
+    }
     let user = Conn::get(&conn.user).unwrap_or_else(|| "player".into());
     let now = shared.now();
     let mut player = match Player::new(
