@@ -353,6 +353,7 @@ fn two_players_see_each_other_and_q_restores_the_terminal() {
         assert!(bob_line.contains(field), "{field} in {bob_line}");
     }
     assert!(bob_line.contains("user=bob1 "), "the name as others see it: {bob_line}");
+    assert!(bob_line.ends_with("reason=quit"), "{bob_line}");
     let joined = log.lines().find(|l| l.contains(" connected") && l.contains("bob")).expect("bob's joining");
     assert!(joined.contains("user=bob1 "), "written alike on both lines: {joined}");
     assert_eq!(log.matches(" connected").count(), 2, "{log}");

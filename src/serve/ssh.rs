@@ -634,10 +634,13 @@ async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
             conn.ending("idle timeout");
             format!("mazewalk: disconnected after {} s without a key", shared.limits.idle_timeout.as_secs())
         }
-        _ => match player.session().outcome().finished {
-            Some(seconds) => format!("You found the exit in {seconds:.1} s."),
-            None => "Thanks for walking.".to_string(),
-        },
+        _ => {
+            conn.ending("quit");
+            match player.session().outcome().finished {
+                Some(seconds) => format!("You found the exit in {seconds:.1} s."),
+                None => "Thanks for walking.".to_string(),
+            }
+        }
     };
     let mut out = Vec::new();
     player.leave(Some(&message), &mut out);
