@@ -102,10 +102,10 @@ impl Cell {
     /// The same look drawn the other way round, for a block glyph whose complement exists: `▀` in A on B
     /// is `▄` in B on A, a blank on B is `█` in B, a quadrant or sextant is its complement with the
     /// colours swapped. The encoder uses whichever form the terminal's current colours make cheaper.
-    #[must_use]
     ///
     /// None where a colour the cell shows is [`Color::Default`]: the default foreground and the default
     /// background are different colours, so that one cannot change sides.
+    #[must_use]
     pub fn inverse(&self) -> Option<Cell> {
         if self.shows_a_default() {
             return None;
