@@ -113,7 +113,10 @@ impl World {
     pub fn join(&mut self, name: &str, position: Vec2, heading_deg: f32, cell: u32) -> PlayerId {
         let id = PlayerId(self.next_id);
         self.next_id += 1;
-        let color = PLAYER_COLORS[(id.0 % PLAYER_COLORS.len() as u64) as usize];
+        // The colour the fewest players now wear (the first of those): all differ while there are
+        // enough to go round, however many have come and gone.
+        let wearing = |color: &Color| self.players.values().filter(|p| p.color == *color).count();
+        let color = *PLAYER_COLORS.iter().min_by_key(|c| wearing(c)).expect("a palette");
         self.players.insert(id, Seen { name: name.to_string(), position, heading_deg, cell, color });
         self.version += 1;
         id
@@ -180,6 +183,20 @@ impl World {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_newcomer_wears_a_free_colour() {
+        let mut world = World::new();
+        let ids: Vec<PlayerId> =
+            (0..PLAYER_COLORS.len()).map(|i| world.join(&format!("p{i}"), Vec2::ZERO, 0.0, 0)).collect();
+        let color_of = |world: &World, id: PlayerId| world.players[&id].color;
+        let freed = color_of(&world, ids[2]);
+        world.leave(ids[2]);
+        let newcomer = world.join("anna", Vec2::ZERO, 0.0, 0);
+        assert_eq!(color_of(&world, newcomer), freed, "the one colour nobody wears");
+        let colors: std::collections::HashSet<_> = world.players.values().map(|p| p.color).collect();
+        assert_eq!(colors.len(), PLAYER_COLORS.len(), "all different");
+    }
 
     #[test]
     fn players_see_the_others_not_themselves() {
