@@ -11,7 +11,7 @@
 
 use glam::{Vec2, Vec3};
 use wide::bytemuck::cast;
-use wide::{f32x8, i32x8};
+use wide::{f32x8, i32x8, u32x8};
 
 use super::camera::{Camera, CameraError, Eye, Projection};
 use super::glyph::{Charset, Ramp, to_frame};
@@ -126,7 +126,10 @@ pub struct Renderer {
     polygon_grid: Vec<GridVertex<Vec3>>,
     seen: Vec<u32>,
     sprites: SpritePass,
+    /// Which samples are edges: all false between frames (each frame unmarks what it marked).
     edge_marks: Vec<bool>,
+    /// The samples marked this frame, each once.
+    edge_list: Vec<u32>,
     plane_row: PlaneRow,
     /// Skip the edge pass (the portal oracle compares visibility, not the picture's edges).
     pub(crate) no_edges: bool,
@@ -521,8 +524,11 @@ impl Renderer {
     /// (a long wall made of several edges) are one surface: no seam between them.
     fn draw_edges(&mut self, maze: &Maze) {
         let (width, height) = (self.samples.width(), self.samples.height());
-        self.edge_marks.clear();
-        self.edge_marks.resize(width * height, false);
+        if self.edge_marks.len() != width * height {
+            self.edge_marks.clear();
+            self.edge_marks.resize(width * height, false);
+        }
+        self.edge_list.clear();
         let walls = maze.edges().len() as u32;
         let mut last = (NONE, NONE, false); // the last pair of walls compared, and whether they differ
         let mut differ = |a: u32, b: u32| match (a < walls, b < walls) {
@@ -535,31 +541,38 @@ impl Renderer {
             (false, false) => is_figure(a) || is_figure(b), // floor, ceiling, nothing: no edge
             _ => true,
         };
-        let (ids, depth, marks) = (self.samples.id(), self.samples.depth(), &mut self.edge_marks);
+        let (ids, depth) = (self.samples.id(), self.samples.depth());
+        let (marks, list) = (&mut self.edge_marks, &mut self.edge_list);
         let mut mark = |i: usize, j: usize| {
             let nearer = if depth[j] < depth[i] { j } else { i };
-            marks[nearer] = true;
+            if !marks[nearer] {
+                marks[nearer] = true;
+                list.push(nearer as u32);
+            }
         };
-        // Neighbours to the right, then below; most pairs are one surface and cost one comparison.
+        // Neighbours to the right, then below; most pairs are one surface, skipped eight at a time.
         for y in 0..height {
             let row = y * width;
-            for (x, pair) in ids[row..row + width].windows(2).enumerate() {
-                if pair[0] != pair[1] && differ(pair[0], pair[1]) {
+            let here = &ids[row..row + width];
+            for_each_difference(here, &here[1.min(width)..], |x| {
+                if differ(here[x], here[x + 1]) {
                     mark(row + x, row + x + 1);
                 }
-            }
+            });
             if y + 1 < height {
-                let (here, below) = (&ids[row..row + width], &ids[row + width..row + 2 * width]);
-                for (x, (&a, &b)) in here.iter().zip(below).enumerate() {
-                    if a != b && differ(a, b) {
+                let below = &ids[row + width..row + 2 * width];
+                for_each_difference(here, below, |x| {
+                    if differ(here[x], below[x]) {
                         mark(row + x, row + width + x);
                     }
-                }
+                });
             }
         }
         let colors = self.samples.color_mut();
-        for (color, _) in colors.iter_mut().zip(&self.edge_marks).filter(|(_, m)| **m) {
-            *color = edge_color(*color);
+        for &i in &self.edge_list {
+            let i = i as usize;
+            colors[i] = edge_color(colors[i]);
+            self.edge_marks[i] = false;
         }
     }
 
@@ -698,6 +711,27 @@ fn floor_int(v: f32x8) -> i32x8 {
     t + cast::<f32x8, i32x8>(f32x8::from_i32x8(t).simd_gt(v)) // the mask is -1 where t > v
 }
 
+/// Calls `f(x)` for each `x` where `a[x] != b[x]` (up to the shorter's length), in ascending order.
+/// Eight comparisons at a time: in a frame nearly every neighbour is the same surface.
+fn for_each_difference(a: &[u32], b: &[u32], mut f: impl FnMut(usize)) {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let whole = n - n % LANES;
+    for (start, (a8, b8)) in (0..).step_by(LANES).zip(a.chunks_exact(LANES).zip(b.chunks_exact(LANES))) {
+        let lanes = |v: &[u32]| u32x8::new(v.try_into().expect("eight"));
+        let mut differing = !lanes(a8).simd_eq(lanes(b8)).to_bitmask() & 0xff;
+        while differing != 0 {
+            f(start + differing.trailing_zeros() as usize);
+            differing &= differing - 1;
+        }
+    }
+    for x in whole..n {
+        if a[x] != b[x] {
+            f(x);
+        }
+    }
+}
+
 /// The distance from `p` to the segment `a`–`b`.
 fn segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f32 {
     let ab = b - a;
@@ -719,6 +753,26 @@ fn collinear(maze: &Maze, a: u32, b: u32) -> bool {
 mod tests {
     use super::*;
     use crate::maze::generate::{GenOptions, generate};
+
+    /// The lane scan finds exactly the positions a plain comparison does, at every length and offset.
+    #[test]
+    fn for_each_difference_finds_every_differing_position() {
+        let mut seed = 1u32;
+        let mut next = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            seed >> 29 // 0..8: many equal neighbours, some runs of differences
+        };
+        for len in 0..40 {
+            let a: Vec<u32> = (0..len).map(|_| next()).collect();
+            let b: Vec<u32> = (0..len + 3).map(|_| next()).collect();
+            for (a, b) in [(&a[..], &b[..]), (&b[..], &a[..]), (&a[..], &a[1.min(len)..])] {
+                let mut found = Vec::new();
+                for_each_difference(a, b, |x| found.push(x));
+                let expected: Vec<usize> = (0..a.len().min(b.len())).filter(|&x| a[x] != b[x]).collect();
+                assert_eq!(found, expected, "{a:?} {b:?}");
+            }
+        }
+    }
 
     /// The SIMD paths (walls eight samples at a time, floor and ceiling by rows) give the scalar
     /// reference's samples, in level, pitched, low, orthographic and textured views, with the exit's
