@@ -309,7 +309,7 @@ impl Renderer {
         if self.samples.width() != eye.width || self.samples.height() != eye.height {
             self.samples.resize(eye.width, eye.height);
         }
-        self.samples.clear(FOG_COLOR);
+        self.samples.clear_coverage(); // colours: every sample gets a wall's, a plane's or the fog's
 
         self.walls.clear();
         match culling {
@@ -474,7 +474,11 @@ impl Renderer {
             // where they end, how far, and the fog there are the row's (exactly what each ray would find).
             if start_step.z == 0.0 && dir_step.z == 0.0 {
                 let Some(hit) = meet(start0.z, dir0.z) else {
-                    continue; // the whole row sees neither plane (a level row, or beyond the far plane)
+                    // The whole row sees neither plane (a level row, or beyond the far plane): fog.
+                    for (color, _) in colors.iter_mut().zip(&*ids).filter(|(_, id)| **id == NONE) {
+                        *color = FOG_COLOR;
+                    }
+                    continue;
                 };
                 let (first, last) = (at(0), at(width.saturating_sub(1)));
                 let t = hit.t.unwrap_or(0.0);
@@ -500,7 +504,12 @@ impl Renderer {
             }
             for x in 0..width {
                 let (start, dir) = at(x);
-                let Some(hit) = meet(start.z, dir.z) else { continue };
+                let Some(hit) = meet(start.z, dir.z) else {
+                    if ids[x] == NONE {
+                        colors[x] = FOG_COLOR; // neither plane, no wall: fog
+                    }
+                    continue;
+                };
                 let point = match hit.t {
                     // Inside the ground or the roof: that plane, seen where the ray starts.
                     None => start,
@@ -753,6 +762,42 @@ fn collinear(maze: &Maze, a: u32, b: u32) -> bool {
 mod tests {
     use super::*;
     use crate::maze::generate::{GenOptions, generate};
+
+    /// A renderer reused from frame to frame (colours not cleared: each pass writes its own) gives a
+    /// fresh renderer's samples, including where nothing is seen (the fog beyond the view distance).
+    #[test]
+    fn a_reused_renderer_leaves_nothing_of_the_last_frame() {
+        let maze =
+            generate(&GenOptions { width: 12, height: 12, seed: 3, loops: 0.5, ..GenOptions::default() })
+                .expect("maze");
+        let viewer = maze.viewer();
+        let cameras = [
+            // Short sight: the far ends of corridors and the horizon are beyond it.
+            Camera { view_distance: 3.0, ..Camera::new(viewer.pos, viewer.dir_deg, 90.0) },
+            Camera { pitch_deg: -60.0, ..Camera::new(viewer.pos, viewer.dir_deg + 90.0, 70.0) },
+            Camera {
+                view_distance: 2.0,
+                pitch_deg: 25.0,
+                ..Camera::new(viewer.pos, viewer.dir_deg + 180.0, 100.0)
+            },
+            Camera { projection: Projection::Orthographic, ..Camera::new(viewer.pos, 30.0, 90.0) },
+        ];
+        let mut reused = Renderer::new();
+        let mut fog = 0;
+        for charset in [Charset::Half, Charset::Ascii] {
+            for camera in cameras.iter().chain(cameras.iter().rev()) {
+                let render = |r: &mut Renderer| {
+                    r.render_samples(&maze, camera, charset, 0.5, Culling::Portal, 41, 13).expect("camera");
+                };
+                let mut fresh = Renderer::new();
+                render(&mut fresh);
+                render(&mut reused);
+                assert_eq!(reused.samples(), fresh.samples(), "{charset:?} {camera:?}");
+                fog += fresh.samples().id().iter().filter(|&&id| id == NONE).count();
+            }
+        }
+        assert!(fog > 0, "no view saw the fog");
+    }
 
     /// The lane scan finds exactly the positions a plain comparison does, at every length and offset.
     #[test]

@@ -27,6 +27,8 @@ pub struct SampleBuffer {
     depth: Vec<f32>,
     id: Vec<u32>,
     outline: Vec<Option<char>>,
+    /// Whether any outline may be set (so clearing them is needed: most frames have none).
+    outlined: bool,
 }
 
 impl SampleBuffer {
@@ -53,9 +55,18 @@ impl SampleBuffer {
     /// Sets every sample to `background` at depth [`FAR`] with id [`NONE`] and no outline.
     pub fn clear(&mut self, background: Vec3) {
         self.color.fill(background);
+        self.clear_coverage();
+    }
+
+    /// [`clear`](Self::clear) but for the colours, which keep the last frame's: for a pass that writes
+    /// every sample's colour itself (the pipeline's floor and ceiling pass gives what no wall took
+    /// either a plane or the fog).
+    pub(crate) fn clear_coverage(&mut self) {
         self.depth.fill(FAR);
         self.id.fill(NONE);
-        self.outline.fill(None);
+        if std::mem::take(&mut self.outlined) {
+            self.outline.fill(None);
+        }
     }
 
     /// Samples per row.
@@ -116,6 +127,7 @@ impl SampleBuffer {
     pub fn put_outline(&mut self, x: usize, y: usize, glyph: Option<char>) {
         if let Some(i) = self.index(x, y) {
             self.outline[i] = glyph;
+            self.outlined = true;
         }
     }
 
@@ -133,6 +145,7 @@ impl SampleBuffer {
 
     /// Outline glyphs, mutable, with the depths to test them against.
     pub(crate) fn outline_and_depth_mut(&mut self) -> (&mut [Option<char>], &[f32]) {
+        self.outlined = true;
         (&mut self.outline, &self.depth)
     }
 }
