@@ -6,7 +6,7 @@
 //! first and the cell shows those entries. Ascii maps luminance to a ramp and overlays the outline layer. Sample bits within
 //! a cell are numbered row-major from the top-left: bit `x + sx·y`.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use wide::bytemuck::cast;
 use wide::{f32x8, i32x8};
 
@@ -245,14 +245,26 @@ fn block_cells<const SX: usize, const SY: usize>(
                 }
                 Cell::plain(BLOCK_RAMP[block_ramp.index(sum / (SX * SY) as f32)])
             } else {
+                let n = SX * SY;
+                let mut cell_samples = [Vec3A::ZERO; 6];
                 for (dy, line) in rows.iter().enumerate() {
                     for dx in 0..SX {
-                        srgb[dy * SX + dx] = tables.encode3(line[col * SX + dx]);
+                        cell_samples[dy * SX + dx] = non_negative(line[col * SX + dx]);
                     }
                 }
-                if depth == ColorDepth::TrueColor || !dither || spread(&srgb[..SX * SY]) > EDGE_SPREAD {
-                    block_cell(&srgb[..SX * SY], charset, depth)
+                let linear = &cell_samples[..n];
+                let (low, high) = code_range(tables, linear);
+                let spread = (0..3).map(|c| high[c] - low[c]).max().unwrap_or(0);
+                if depth == ColorDepth::TrueColor || !dither || spread > EDGE_SPREAD {
+                    if n > 2 && spread <= FLAT_SPREAD {
+                        // What `block_cell` gives such a cell, without encoding its samples one by one.
+                        solid(quantize_srgb8(flat_mean(tables, linear, low), depth))
+                    } else {
+                        sample_codes(tables, linear, (low, high), &mut srgb);
+                        block_cell(&srgb[..n], charset, depth)
+                    }
                 } else {
+                    sample_codes(tables, linear, (low, high), &mut srgb);
                     for (dy, line) in rows.iter().enumerate() {
                         for dx in 0..SX {
                             let (x, y) = (col * SX + dx, row * SY + dy);
@@ -351,6 +363,57 @@ fn ascii_cells(
     }
 }
 
+/// A sample in a SIMD register with NaN and negative channels as 0, which encode alike
+/// ([`Srgb8Tables::encode`]): for [`code_range`], [`sample_codes`] and [`flat_mean`].
+#[inline(always)]
+fn non_negative(linear: Vec3) -> Vec3A {
+    Vec3A::from(linear).max(Vec3A::ZERO) // `maxps` keeps its second operand where the first is NaN
+}
+
+/// The least and the greatest 8-bit sRGB code, per channel, of a cell's [`non_negative`] samples:
+/// two encodings a channel, whatever the number of samples (the code is monotone in the value).
+#[inline(always)]
+fn code_range(tables: &Srgb8Tables, linear: &[Vec3A]) -> ([u8; 3], [u8; 3]) {
+    let (low, high) = linear[1..].iter().fold((linear[0], linear[0]), |(l, h), &s| (l.min(s), h.max(s)));
+    (low.to_array().map(|c| tables.encode(c)), high.to_array().map(|c| tables.encode(c)))
+}
+
+/// The 8-bit sRGB codes of a cell's samples whose channels' codes lie in `range` ([`code_range`]):
+/// where a channel's codes are at most one apart (nine cells in ten), each sample's is its low code or
+/// the next, one comparison; elsewhere each sample is encoded.
+#[inline(always)]
+fn sample_codes(
+    tables: &Srgb8Tables,
+    linear: &[Vec3A],
+    (low, high): ([u8; 3], [u8; 3]),
+    out: &mut [[u8; 3]],
+) {
+    for c in 0..3 {
+        if high[c] - low[c] <= 1 {
+            let next = usize::from(low[c]) + 1;
+            for (out, sample) in out.iter_mut().zip(linear) {
+                out[c] = low[c] + u8::from(tables.reaches(sample[c], next));
+            }
+        } else {
+            for (out, sample) in out.iter_mut().zip(linear) {
+                out[c] = tables.encode(sample[c]);
+            }
+        }
+    }
+}
+
+/// The rounded mean of the 8-bit sRGB codes of a cell's samples whose channels each lie within one
+/// code of `low` ([`code_range`]): `low` per sample, plus one for each at or past the next code.
+#[inline(always)]
+fn flat_mean(tables: &Srgb8Tables, linear: &[Vec3A], low: [u8; 3]) -> [u8; 3] {
+    let n = linear.len() as i32;
+    let sum = std::array::from_fn(|c| {
+        let next = usize::from(low[c]) + 1;
+        n * i32::from(low[c]) + linear.iter().map(|s| i32::from(tables.reaches(s[c], next))).sum::<i32>()
+    });
+    rounded_mean(sum, n)
+}
+
 /// The largest difference in any channel between two of a cell's samples (8-bit sRGB).
 fn spread(srgb: &[[u8; 3]]) -> u8 {
     if let [a, b] = *srgb {
@@ -379,6 +442,23 @@ struct Split {
     ink: [u8; 3],
     paper: [u8; 3],
 }
+
+/// `360 / (k · (n − k))` for a cell of `n` samples (up to 6) split `k` to `n − k`: the weight that makes
+/// [`best_partition`]'s fractions integers with one denominator.
+const SPLIT_WEIGHT: [[i64; 6]; 7] = {
+    let mut weight = [[0; 6]; 7];
+    let mut n = 2;
+    while n <= 6 {
+        let mut k = 1;
+        while k < n {
+            weight[n][k] = 360 / (k * (n - k)) as i64;
+            assert!(weight[n][k] * (k * (n - k)) as i64 == 360);
+            k += 1;
+        }
+        n += 1;
+    }
+    weight
+};
 
 /// The 2-colour partition of a cell's 8-bit sRGB samples with the least squared error, each side drawn
 /// in its (rounded) mean. Only masks without the last sample are tried (a mask and its complement are the
@@ -414,24 +494,22 @@ fn best_partition(srgb: &[[u8; 3]]) -> Split {
     // the ink's sum of those: exact integers, one addition a channel per mask.
     let centred: [[i32; 3]; 6] =
         std::array::from_fn(|k| std::array::from_fn(|c| n as i32 * samples[k][c] - total[c]));
-    // The best so far as the fraction score = numerator / denominator (mask 0 scores 0).
-    let (mut best, mut best_num, mut best_den) = (0usize, 0i64, 1i64);
-    // Masks in Gray-code order: each differs from the one before by one sample, which joins or leaves
-    // the ink, so its sum and count follow by one addition (no table, no popcount: baseline x86-64 has
-    // no instruction for it).
-    let (mut mask, mut ink, mut n_ink) = (0usize, [0i32; 3], 0i32);
-    for step in 1..1usize << (n - 1) {
-        let k = step.trailing_zeros() as usize;
-        mask ^= 1 << k;
-        let sign = if mask >> k & 1 == 1 { 1 } else { -1 };
-        (0..3).for_each(|c| ink[c] += sign * centred[k][c]);
-        n_ink += sign;
-        // At most 3 · (6 · 6 · 255)² < 2³¹.
-        let num = i64::from(ink[0] * ink[0] + ink[1] * ink[1] + ink[2] * ink[2]);
-        let den = i64::from(n_ink * (n as i32 - n_ink));
-        let (this, so_far) = (num * best_den, best_num * den);
-        if this > so_far || (this == so_far && mask < best) {
-            (best, best_num, best_den) = (mask, num, den);
+    // Every mask in ascending order, each one's ink sum and count from the mask without its lowest
+    // sample's bit (found before it): one addition a channel per mask. Strictly greater scores win, so
+    // of equal ones the smaller mask stays. The fraction's denominator n_ink·(n − n_ink) divides 360
+    // for every n ≤ 6, so the score is compared as `numerator · 360 / denominator` in integers.
+    let mut ink_sums = [[0i32; 3]; 32];
+    let mut counts = [0usize; 32];
+    let (mut best, mut best_score) = (0usize, 0i64);
+    for mask in 1..1usize << (n - 1) {
+        let (rest, k) = (mask & (mask - 1), mask.trailing_zeros() as usize);
+        let ink: [i32; 3] = std::array::from_fn(|c| ink_sums[rest][c] + centred[k][c]);
+        let n_ink = counts[rest] + 1;
+        (ink_sums[mask], counts[mask]) = (ink, n_ink);
+        // At most 3 · (6 · 5 · 255)² · 120 < 2⁶³.
+        let score = i64::from(ink[0] * ink[0] + ink[1] * ink[1] + ink[2] * ink[2]) * SPLIT_WEIGHT[n][n_ink];
+        if score > best_score {
+            (best, best_score) = (mask, score);
         }
     }
     let n_ink = best.count_ones() as i32;
@@ -624,6 +702,51 @@ mod tests {
         // Three near-blacks and a white: the white alone, the others in their rounded mean.
         let split = best_partition(&[[0, 0, 0], [255, 255, 255], [1, 1, 1], [2, 2, 2]]);
         assert_eq!(split, Split { mask: 0b0010, ink: [255; 3], paper: [1; 3] });
+    }
+
+    /// A cell's codes from its range are each sample's own encoding, its range is theirs, and a cell
+    /// within one code per channel has the mean of them: for clustered values (most within a code of
+    /// each other), spread ones, values outside 0..1, and NaN.
+    #[test]
+    fn codes_from_a_cells_range_are_each_samples_own() {
+        let tables = Srgb8Tables::get();
+        let mut seed = 7u64;
+        let mut unit = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut flat_cells = 0;
+        for trial in 0..20_000 {
+            let n = [4, 6][trial % 2];
+            let base = unit() * 1.2 - 0.1;
+            let reach = [1e-4, 2e-3, 0.05, 0.6][trial / 2 % 4];
+            let linear: Vec<Vec3> = (0..n)
+                .map(|_| {
+                    let mut c =
+                        Vec3::new(base, base * 0.8, base * 0.5) + Vec3::new(unit(), unit(), unit()) * reach;
+                    if unit() < 0.01 {
+                        c.y = f32::NAN;
+                    }
+                    c
+                })
+                .collect();
+            let own: Vec<[u8; 3]> = linear.iter().map(|&c| tables.encode3(c)).collect();
+            let cell: Vec<Vec3A> = linear.iter().map(|&c| non_negative(c)).collect();
+            let (low, high) = code_range(tables, &cell);
+            for c in 0..3 {
+                assert_eq!(low[c], own.iter().map(|s| s[c]).min().unwrap(), "{linear:?}");
+                assert_eq!(high[c], own.iter().map(|s| s[c]).max().unwrap(), "{linear:?}");
+            }
+            let mut codes = [[0u8; 3]; 6];
+            sample_codes(tables, &cell, (low, high), &mut codes);
+            assert_eq!(&codes[..n], &own[..], "{linear:?}");
+            if spread(&own) <= FLAT_SPREAD {
+                flat_cells += 1;
+                let sum = std::array::from_fn(|c| own.iter().map(|s| i32::from(s[c])).sum());
+                assert_eq!(flat_mean(tables, &cell, low), rounded_mean(sum, n as i32), "{linear:?}");
+            }
+        }
+        assert!(flat_cells > 2_000, "{flat_cells} flat cells");
     }
 
     /// The integer search agrees with trying every split and measuring its error directly.

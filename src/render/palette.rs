@@ -104,6 +104,7 @@ pub fn quantize(linear: Vec3, depth: ColorDepth) -> Color {
 
 /// An sRGB colour quantized to `depth` (no dithering; [`ColorDepth::None`] gives [`Color::Default`]).
 #[must_use]
+#[inline] // truecolor, every cell of the block charsets: a wrapping, not a call
 pub fn quantize_srgb8(rgb: [u8; 3], depth: ColorDepth) -> Color {
     match depth {
         ColorDepth::None => Color::Default,

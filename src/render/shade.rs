@@ -232,6 +232,12 @@ impl Srgb8Tables {
         start + u8::from(c >= self.threshold[usize::from(start) + 1])
     }
 
+    /// Whether the code of `c` is at least `code` (0..=256; 256: never), by one comparison.
+    #[inline]
+    pub(crate) fn reaches(&self, c: f32, code: usize) -> bool {
+        c >= self.threshold[code]
+    }
+
     /// [`Srgb8Tables::encode`] of each channel (written out: `to_array().map` left a call per sample).
     #[inline(always)]
     pub(crate) fn encode3(&self, c: Vec3) -> [u8; 3] {
