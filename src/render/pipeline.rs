@@ -490,14 +490,15 @@ impl Renderer {
                     self.plane_row.fill_row(&hit, (start0, start_step), (dir0, dir_step), filter, width);
                     let (paint, base) = (&self.plane_row.shade, hit.plane.2);
                     let fog_term = fog.color * hit.fog;
-                    for x in 0..width {
-                        // A wall stays where it is at least as near as the plane along this ray.
-                        if hit.t.is_some() && ids[x] != NONE && depths[x] <= hit.wall_stays_at {
+                    // A wall stays where it is at least as near as the plane along this ray (none can
+                    // where the ray starts inside the plane's solid side).
+                    let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
+                    let samples = colors.iter_mut().zip(depths.iter_mut()).zip(ids.iter_mut()).zip(paint);
+                    for (((color, depth), id), &paint) in samples {
+                        if *id != NONE && *depth <= stays_at {
                             continue;
                         }
-                        colors[x] = base * paint[x] + fog_term;
-                        depths[x] = f32::INFINITY;
-                        ids[x] = hit.plane.1;
+                        (*color, *depth, *id) = (base * paint + fog_term, f32::INFINITY, hit.plane.1);
                     }
                     continue;
                 }
