@@ -242,12 +242,12 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub repeat: u32,
     /// Write a CSV of ROWS lines × COLS values: the view-space depth of the wall seen through each
-    /// cell's centre, empty where none.
+    /// cell's centre, empty where none (`-`: standard output, with --png FILE).
     #[arg(long, value_name = "FILE")]
     pub depth_out: Option<PathBuf>,
     /// Write the frame as a PNG picture instead of printing it: exactly what a terminal shows, each
     /// sample a block of pixels (a cell is 12×24), in 8-bit RGB (256 and 16 colours as xterm's palette
-    /// shows them); block charsets only.
+    /// shows them); block charsets only. `-` writes it to standard output (not a terminal).
     #[arg(long, value_name = "FILE")]
     pub png: Option<PathBuf>,
 }

@@ -9,7 +9,7 @@
 //! as `FILE:LINE:COL: message`.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, IsTerminal as _, Write};
 use std::process::ExitCode;
 
 use std::time::Instant;
@@ -121,7 +121,6 @@ fn load_maze(args: &MazeArgs) -> anyhow::Result<Maze> {
 }
 
 fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
-    use std::io::IsTerminal as _;
     let maze = load_maze(&args.maze)?;
     let term = std::env::var("TERM").unwrap_or_default();
     if !args.force_terminal && (term.is_empty() || term == "dumb") {
@@ -161,14 +160,31 @@ fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Writes `frame` as drawn with `charset` to a PNG file (8-bit RGB), one row of cells at a time (the
-/// largest `--size` is a 12,000 × 24,000-pixel picture: never whole in memory).
+/// Writes `frame` as drawn with `charset` as a PNG (8-bit RGB) to `path` (`-`: standard output), one
+/// row of cells at a time (the largest `--size` is a 12,000 × 24,000-pixel picture: never whole in
+/// memory).
 fn write_png(path: &std::path::Path, frame: &Frame, charset: Charset) -> anyhow::Result<()> {
-    use mazewalk::render::picture::{for_each_band, picture_size};
-    let cannot_write = || format!("{}: cannot write", path.display());
-    let (width, height) = picture_size(frame);
+    if path == STDOUT {
+        let stdout = std::io::stdout();
+        if stdout.is_terminal() {
+            return Err(Usage(
+                "--png -: standard output is a terminal, not the place for a picture; redirect it (> frame.png)"
+                    .into(),
+            )
+            .into());
+        }
+        return write_png_to(BufWriter::new(stdout.lock()), "stdout", frame, charset);
+    }
     let file = File::create(path).with_context(|| format!("{}: cannot create", path.display()))?;
-    let mut png = png::Encoder::new(BufWriter::new(file), width as u32, height as u32);
+    write_png_to(BufWriter::new(file), &path.display().to_string(), frame, charset)
+}
+
+/// [`write_png`] into `sink`, named `name` in errors.
+fn write_png_to(sink: impl Write, name: &str, frame: &Frame, charset: Charset) -> anyhow::Result<()> {
+    use mazewalk::render::picture::{for_each_band, picture_size};
+    let cannot_write = || format!("{name}: cannot write");
+    let (width, height) = picture_size(frame);
+    let mut png = png::Encoder::new(sink, width as u32, height as u32);
     png.set_color(png::ColorType::Rgb);
     png.set_depth(png::BitDepth::Eight);
     let mut png = png.write_header().with_context(cannot_write)?;
@@ -178,6 +194,9 @@ fn write_png(path: &std::path::Path, frame: &Frame, charset: Charset) -> anyhow:
     png.finish().with_context(cannot_write)?; // the end chunk, and the buffer flushed: its errors too
     Ok(())
 }
+
+/// The path that names standard output in `render --png` and `--depth-out`.
+const STDOUT: &str = "-";
 
 /// `mazewalk serve`: checks the maze, the host key and who may play before listening, prints where and
 /// how to connect, then serves until SIGINT or SIGTERM (exit 128 + n, as the walk).
@@ -245,7 +264,23 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
             Usage("--png draws the block charsets (half, quad, sextant); ascii is text".into()).into()
         );
     }
-    if args.png.is_none() {
+    // Where each output goes: the frame as text (without --png), the picture, the depths. At most one
+    // of them on standard output, and no two into one file (the second would overwrite the first).
+    let to_stdout = |path: &Option<std::path::PathBuf>| path.as_deref().is_some_and(|p| p == STDOUT);
+    if args.png.is_none() && to_stdout(&args.depth_out) {
+        return Err(Usage(
+            "--depth-out -: standard output already gets the frame; write the depths to a file, or the frame with --png FILE"
+                .into(),
+        )
+        .into());
+    }
+    if let (Some(png), Some(depths)) = (&args.png, &args.depth_out)
+        && png == depths
+    {
+        let what = if png == STDOUT { "standard output".to_owned() } else { png.display().to_string() };
+        return Err(Usage(format!("--png and --depth-out both write {what}: give them two places")).into());
+    }
+    if args.png.is_none() || to_stdout(&args.png) || to_stdout(&args.depth_out) {
         stdout_open()?;
     }
     let (cols, rows) = args.size;
@@ -340,7 +375,11 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
             csv.push_str(&fields.join(","));
             csv.push('\n');
         }
-        std::fs::write(path, csv).with_context(|| format!("{}: cannot write", path.display()))?;
+        if path == STDOUT {
+            std::io::stdout().lock().write_all(csv.as_bytes()).context("cannot write to stdout")?;
+        } else {
+            std::fs::write(path, csv).with_context(|| format!("{}: cannot write", path.display()))?;
+        }
     }
     Ok(())
 }

@@ -317,6 +317,40 @@ fn render_png_writes_the_frame_as_a_picture_of_its_cells() {
 }
 
 #[test]
+fn render_outputs_go_to_standard_output_by_dash_one_at_a_time() {
+    // `--png -`: the picture on standard output (a pipe here), whole.
+    let out = mazewalk(&["render", "--size", "40x12", "--png", "-"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mut reader = png::Decoder::new(std::io::Cursor::new(&out.stdout)).read_info().expect("a PNG");
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    assert_eq!(reader.next_frame(&mut pixels).expect("every row").width, 40 * 12);
+    // `--depth-out -` beside a picture in a file: the depths on standard output, a line a row.
+    let dir = std::env::temp_dir().join(format!("mazewalk-dash-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let picture = dir.join("frame.png");
+    let picture = picture.to_str().unwrap();
+    let out = mazewalk(&["render", "--size", "20x6", "--png", picture, "--depth-out", "-"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let csv = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(csv.lines().count(), 6, "{csv}");
+    assert!(csv.lines().all(|line| line.split(',').count() == 20), "{csv}");
+    assert!(csv.split([',', '\n']).any(|d| d.parse::<f32>().is_ok_and(|d| d > 0.0)), "{csv}");
+    assert_eq!(&std::fs::read(picture).unwrap()[..4], b"\x89PNG");
+    // Two outputs in one place: refused before anything is written.
+    for (args, says) in [
+        (&["--depth-out", "-"][..], "standard output already gets the frame"),
+        (&["--png", "-", "--depth-out", "-"][..], "both write standard output"),
+        (&["--png", picture, "--depth-out", picture][..], "both write"),
+    ] {
+        let out = mazewalk(&[&["render", "--size", "20x6"][..], args].concat());
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        assert!(stderr(&out).contains(says), "{args:?}: {}", stderr(&out));
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn a_server_whose_stdout_is_closed_keeps_serving() {
     // `mazewalk serve | head -1`, head gone: the banner cannot be written, the server goes on
     let dir = std::env::temp_dir().join(format!("mazewalk-cli-serve-{}", std::process::id()));
