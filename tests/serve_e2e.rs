@@ -494,6 +494,32 @@ fn commands_forwarding_and_sessions_without_a_terminal_are_refused() {
 }
 
 #[test]
+fn a_client_over_the_limits_is_told_why_by_its_own_ssh() {
+    // (Loopback: every client has one address.)
+    for (limits, told, logged) in [
+        (["--max-players", "1", "--max-per-address", "2"], "the server is full (one player", "server full"),
+        (
+            ["--max-players", "3", "--max-per-address", "1"],
+            "a connection from your address already",
+            "too many connections from this address",
+        ),
+    ] {
+        let scratch = Scratch::new("full");
+        let server = ServerProcess::start(&scratch, &[&["--open"][..], &limits].concat());
+        let mut alice = Player::connect(&server, None, "alice", 80, 24);
+        alice.wait_for("alice's game", playing);
+        let (status, _, stderr) = server.ssh_batch(None, "bob", &["-tt"]);
+        assert_eq!(status.code(), Some(255), "{stderr}");
+        assert!(stderr.contains(told) && stderr.contains("try again later"), "{limits:?}: {stderr}");
+        assert!(!stderr.contains("reset by peer"), "{stderr}");
+        server.wait_log(&format!("refused: {logged}"), 1);
+        // The game goes on for the one inside.
+        alice.send(b"q");
+        assert!(alice.wait_exit().success());
+    }
+}
+
+#[test]
 fn authorized_keys_let_in_only_their_keys() {
     let scratch = Scratch::new("keys");
     let (known, unknown) = (scratch.key("known"), scratch.key("unknown"));

@@ -6,7 +6,7 @@ use std::time::Duration;
 /// Every limit a server enforces. [`Limits::default`] is what `mazewalk serve` uses unless told.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits {
-    /// Connections at once, in all (`--max-players`); more are closed at once.
+    /// Connections at once, in all (`--max-players`); more are told why and closed.
     pub max_players: usize,
     /// Connections at once from one IP address (`--max-per-address`).
     pub max_per_address: usize,

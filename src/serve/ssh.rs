@@ -107,19 +107,95 @@ struct Slot {
 
 impl Slot {
     /// A place for a connection from `ip`, if the limits leave one (else why not).
-    fn take(shared: &Arc<Shared>, ip: IpAddr) -> Result<Slot, &'static str> {
+    fn take(shared: &Arc<Shared>, ip: IpAddr) -> Result<Slot, Refusal> {
         let mut c = shared.connections.lock().unwrap_or_else(PoisonError::into_inner);
         if c.total >= shared.limits.max_players {
-            return Err("server full");
+            return Err(Refusal::Full(shared.limits.max_players));
         }
         let from_ip = c.per_address.entry(ip).or_default();
         if *from_ip >= shared.limits.max_per_address {
-            return Err("too many connections from this address");
+            return Err(Refusal::FromThisAddress(shared.limits.max_per_address));
         }
         *from_ip += 1;
         c.total += 1;
         Ok(Slot { shared: Arc::clone(shared), ip })
     }
+}
+
+/// Why a connection gets no [`Slot`].
+#[derive(Clone, Copy, Debug)]
+enum Refusal {
+    /// `--max-players`, reached.
+    Full(usize),
+    /// `--max-per-address`, reached by the client's address.
+    FromThisAddress(usize),
+}
+
+impl Refusal {
+    /// For the log.
+    fn reason(self) -> &'static str {
+        match self {
+            Refusal::Full(_) => "server full",
+            Refusal::FromThisAddress(_) => "too many connections from this address",
+        }
+    }
+
+    /// For the client (its `ssh` prints it).
+    fn message(self) -> String {
+        match self {
+            Refusal::Full(1) => "mazewalk: the server is full (one player at a time); try again later".into(),
+            Refusal::Full(n) => format!("mazewalk: the server is full ({n} players); try again later"),
+            Refusal::FromThisAddress(n) => {
+                let n = if n == 1 { "a connection".to_owned() } else { format!("{n} connections") };
+                format!("mazewalk: {n} from your address already; close one, or try again later")
+            }
+        }
+    }
+}
+
+/// Refusals being told at once, at most (a flood beyond it is dropped unanswered).
+const MAX_REFUSALS_AT_ONCE: usize = 32;
+/// How long a refusal waits for the client to read it and hang up.
+const REFUSAL_GRACE: Duration = Duration::from_secs(2);
+
+/// Tells a client it was refused, in the only place before a key exchange that OpenSSH shows: an SSH
+/// identification, then a disconnect packet (unencrypted, as every packet before the key exchange is;
+/// `ssh` prints "Received disconnect from …: <the message>"). The client's own bytes are read until it
+/// hangs up: closing with them unread would reset the connection, and could lose ours on the way.
+async fn refuse(mut stream: TcpStream, refusal: Refusal) {
+    use tokio::io::{AsyncReadExt as _, AsyncWriteExt as _};
+    let mut bytes = format!("SSH-2.0-mazewalk_{}\r\n", env!("CARGO_PKG_VERSION")).into_bytes();
+    bytes.extend(disconnect_packet(SSH_DISCONNECT_TOO_MANY_CONNECTIONS, &refusal.message()));
+    let _ = tokio::time::timeout(REFUSAL_GRACE, async {
+        stream.write_all(&bytes).await?;
+        stream.shutdown().await?;
+        let mut sink = [0; 1024];
+        while stream.read(&mut sink).await? > 0 {}
+        Ok::<_, std::io::Error>(())
+    })
+    .await;
+}
+
+/// RFC 4253's reason code for a refusal by limits.
+const SSH_DISCONNECT_TOO_MANY_CONNECTIONS: u32 = 11;
+
+/// An `SSH_MSG_DISCONNECT` packet in the binary packet protocol before any key exchange (RFC 4253 §6,
+/// §11.1): length, padding length, the message (code, description, empty language tag), at least 4
+/// bytes of padding to a multiple of 8, no MAC.
+fn disconnect_packet(code: u32, description: &str) -> Vec<u8> {
+    const SSH_MSG_DISCONNECT: u8 = 1;
+    let mut payload = vec![SSH_MSG_DISCONNECT];
+    payload.extend(code.to_be_bytes());
+    payload.extend((description.len() as u32).to_be_bytes());
+    payload.extend(description.as_bytes());
+    payload.extend(0u32.to_be_bytes());
+    let unpadded = 4 + 1 + payload.len();
+    let padding = 4 + (8 - (unpadded + 4) % 8) % 8;
+    let mut packet = ((1 + payload.len() + padding) as u32).to_be_bytes().to_vec();
+    packet.push(padding as u8);
+    packet.extend(payload);
+    packet.extend(std::iter::repeat_n(0, padding));
+    packet
 }
 
 impl Drop for Slot {
@@ -254,17 +330,24 @@ impl Server {
 /// Accepts connections until shutdown, then waits for them to close.
 async fn accept_loop(listener: TcpListener, shared: Arc<Shared>) {
     let mut connections = JoinSet::new();
+    let mut refusals = JoinSet::new();
     let mut shutdown = shared.shutdown.clone();
     loop {
         tokio::select! {
             () = until_shutdown(&mut shutdown) => break,
             Some(_) = connections.join_next(), if !connections.is_empty() => {}
+            Some(_) = refusals.join_next(), if !refusals.is_empty() => {}
             accepted = listener.accept() => match accepted {
                 Ok((stream, peer)) => match Slot::take(&shared, peer.ip()) {
                     Ok(slot) => {
                         connections.spawn(connection(Arc::clone(&shared), stream, peer, slot));
                     }
-                    Err(why) => info!(peer = %peer, "refused: {why}"),
+                    Err(refusal) => {
+                        info!(peer = %peer, "refused: {}", refusal.reason());
+                        if refusals.len() < MAX_REFUSALS_AT_ONCE {
+                            refusals.spawn(refuse(stream, refusal));
+                        }
+                    }
                 },
                 Err(err) => {
                     // Out of file descriptors, say: wait a little rather than spin.
@@ -275,6 +358,7 @@ async fn accept_loop(listener: TcpListener, shared: Arc<Shared>) {
         }
     }
     drop(listener);
+    refusals.abort_all();
     while connections.join_next().await.is_some() {}
 }
 
@@ -778,6 +862,32 @@ async fn walk(
         }
         if conn.cut.is_cut() {
             return End::Gone;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every description gives a packet RFC 4253 allows: its length field is the rest, the whole a
+    /// multiple of 8 with 4 to 11 bytes of padding, and the message readable back.
+    #[test]
+    fn a_disconnect_packet_is_padded_to_the_block_and_reads_back() {
+        for len in 0..40 {
+            let description = "x".repeat(len);
+            let packet = disconnect_packet(SSH_DISCONNECT_TOO_MANY_CONNECTIONS, &description);
+            let length = u32::from_be_bytes(packet[..4].try_into().unwrap()) as usize;
+            assert_eq!(length + 4, packet.len());
+            assert_eq!(packet.len() % 8, 0, "{len}");
+            let padding = usize::from(packet[4]);
+            assert!((4..12).contains(&padding), "{padding}");
+            let payload = &packet[5..packet.len() - padding];
+            assert_eq!(payload[0], 1, "SSH_MSG_DISCONNECT");
+            assert_eq!(u32::from_be_bytes(payload[1..5].try_into().unwrap()), 11);
+            let text_len = u32::from_be_bytes(payload[5..9].try_into().unwrap()) as usize;
+            assert_eq!(&payload[9..9 + text_len], description.as_bytes());
+            assert_eq!(&payload[9 + text_len..], &[0, 0, 0, 0], "an empty language tag");
         }
     }
 }
