@@ -29,21 +29,31 @@ pub struct Seen {
     pub cell: u32,
     /// Its colour.
     pub color: Color,
+    /// The character it is shown by, on the map and on its figure's head ([`label_for`]).
+    pub label: char,
 }
 
 impl Seen {
     /// The player as the map draws it.
     #[must_use]
     pub fn peer(&self) -> Peer {
-        let initial = self.name.chars().next().map_or('?', |c| c.to_ascii_uppercase());
         Peer {
             position: self.position,
             heading_deg: self.heading_deg,
-            initial,
+            initial: self.label,
             color: self.color,
             cell: Some(self.cell),
         }
     }
+}
+
+/// The character a newcomer named `name` is shown by: the first character of its name (upper-cased)
+/// that no one in the maze is shown by now, so that `u1` and `u2`, or `anna` and `alan`, can be told
+/// apart (`U` and `2`; `A` and `L`); else a digit or letter no one shows; else its initial.
+fn label_for(name: &str, taken: impl Fn(char) -> bool) -> char {
+    let from_name = name.chars().filter(char::is_ascii_alphanumeric).map(|c| c.to_ascii_uppercase());
+    let spare = ('1'..='9').chain('A'..='Z').chain(['0']);
+    from_name.clone().chain(spare).find(|&c| !taken(c)).or_else(|| from_name.clone().next()).unwrap_or('?')
 }
 
 /// The first player to reach the exit.
@@ -117,7 +127,8 @@ impl World {
         // enough to go round, however many have come and gone.
         let wearing = |color: &Color| self.players.values().filter(|p| p.color == *color).count();
         let color = *PLAYER_COLORS.iter().min_by_key(|c| wearing(c)).expect("a palette");
-        self.players.insert(id, Seen { name: name.to_string(), position, heading_deg, cell, color });
+        let label = label_for(name, |c| self.players.values().any(|p| p.label == c));
+        self.players.insert(id, Seen { name: name.to_string(), position, heading_deg, cell, color, label });
         self.version += 1;
         id
     }
@@ -218,6 +229,26 @@ mod tests {
         world.peers_of(a, |_, _| true, &mut out);
         assert!(out.is_empty());
         assert_eq!(world.len(), 1);
+    }
+
+    /// Players whose names share an initial are shown by different characters, each from its own
+    /// name where it can be, and a label is free again once its player has left.
+    #[test]
+    fn players_are_told_apart_by_their_labels() {
+        let mut world = World::new();
+        let ids: Vec<PlayerId> = ["u1", "u2", "u3", "anna", "alan", "x", "x", "x"]
+            .iter()
+            .map(|n| world.join(n, Vec2::ZERO, 0.0, 0))
+            .collect();
+        let labels: Vec<char> = ids.iter().map(|&id| world.get(id).unwrap().label).collect();
+        assert_eq!(labels, ['U', '2', '3', 'A', 'L', 'X', '1', '4']);
+        world.leave(ids[0]);
+        let back = world.join("ursula", Vec2::ZERO, 0.0, 0);
+        assert_eq!(world.get(back).unwrap().label, 'U', "free again");
+        let mut out = Vec::new();
+        world.peers_of(back, |_, _| true, &mut out);
+        assert_eq!(out.iter().map(|p| p.initial).collect::<String>(), "23ALX14");
+        assert_eq!(label_for("", |_| false), '1', "(names are never empty: `player_name`)");
     }
 
     #[test]
