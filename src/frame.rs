@@ -7,6 +7,10 @@
 //! sextant glyphs all do); [`Frame::put_str`] replaces anything else with `?` so the grid and the
 //! terminal never disagree about where a column is.
 
+mod packed;
+
+pub(crate) use packed::{PackedCell, PackedColor};
+
 /// A colour as the terminal is asked to show it; the renderer quantizes to the depth in use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Color {
@@ -25,12 +29,7 @@ impl Color {
     #[must_use]
     #[inline]
     pub fn within(self, other: Color, tolerance: u8) -> bool {
-        match (self, other) {
-            (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) => {
-                r.abs_diff(r2) <= tolerance && g.abs_diff(g2) <= tolerance && b.abs_diff(b2) <= tolerance
-            }
-            _ => self == other,
-        }
+        PackedColor::pack(self).within(PackedColor::pack(other), tolerance)
     }
 }
 
@@ -107,23 +106,13 @@ impl Cell {
     /// background are different colours, so that one cannot change sides.
     #[must_use]
     pub fn inverse(&self) -> Option<Cell> {
-        if self.shows_a_default() {
-            return None;
-        }
-        complement_glyph(self.ch).map(|ch| Cell { ch, fg: self.bg, bg: self.fg })
-    }
-
-    /// Whether the cell shows the terminal's default foreground or background (a space shows no
-    /// foreground, a full block no background).
-    fn shows_a_default(&self) -> bool {
-        (self.ch != ' ' && self.fg == Color::Default) || (self.ch != FULL_BLOCK && self.bg == Color::Default)
+        PackedCell::pack(self).inverse().map(PackedCell::unpack)
     }
 
     /// Whether two cells look the same on screen: the same glyph in the same colours, where a space
     /// shows no foreground and a full block no background; or one is the other's [`Cell::inverse`]; a
     /// block glyph whose two colours are equal looks like a blank of that colour.
     #[must_use]
-    #[inline]
     pub fn same_look(&self, other: &Cell) -> bool {
         self.looks_within(other, 0)
     }
@@ -137,74 +126,14 @@ impl Cell {
     /// A, and a `▀` whose two colours are within the tolerance of C looks like a blank on C. Other
     /// glyphs must be the same, in colours within the tolerance.
     #[must_use]
-    #[inline] // the diff calls it on every cell of every frame: the common cases without a call
     pub fn looks_within(&self, other: &Cell, tolerance: u8) -> bool {
-        // The diff's common case first, then the next most common (a shade drifting by a step).
-        if self == other {
-            return true;
-        }
-        if self.ch == other.ch {
-            // The same glyph: ink against ink, paper against paper (what the regions come to when the
-            // masks are equal; a space has no ink, a full block no paper).
-            return (self.ch == ' ' || self.fg.within(other.fg, tolerance))
-                && (self.ch == FULL_BLOCK || self.bg.within(other.bg, tolerance));
-        }
-        self.looks_within_other_glyph(other, tolerance)
-    }
-
-    /// [`Cell::looks_within`] for two different glyphs (out of line: the diff's inlined loop stays small).
-    #[inline(never)]
-    fn looks_within_other_glyph(&self, other: &Cell, tolerance: u8) -> bool {
-        // Half blocks (the default charset) and blanks: a top and a bottom half to compare.
-        if let (Some(a), Some(b)) = (self.halves(), other.halves()) {
-            return a[0].within(b[0], tolerance) && a[1].within(b[1], tolerance);
-        }
-        self.looks_within_by_regions(other, tolerance)
-    }
-
-    /// The colours of the top and bottom halves of a blank, a half block or a full block; `None` for
-    /// other glyphs, and where a half shows a default colour (compared by layers instead).
-    #[inline]
-    fn halves(&self) -> Option<[Color; 2]> {
-        if self.shows_a_default() {
-            return None;
-        }
-        match self.ch {
-            ' ' => Some([self.bg; 2]),
-            FULL_BLOCK => Some([self.fg; 2]),
-            '▀' => Some([self.fg, self.bg]),
-            '▄' => Some([self.bg, self.fg]),
-            _ => None,
-        }
-    }
-
-    /// [`Cell::looks_within`] region by region.
-    fn looks_within_by_regions(&self, other: &Cell, tolerance: u8) -> bool {
-        let (Some(ink_a), Some(ink_b)) = (ink_mask(self.ch), ink_mask(other.ch)) else {
-            return self.ch == other.ch
-                && self.fg.within(other.fg, tolerance)
-                && self.bg.within(other.bg, tolerance);
-        };
-        // The (up to) four regions where each cell shows its ink or its paper.
-        [(true, true), (true, false), (false, true), (false, false)].into_iter().all(|(in_a, in_b)| {
-            let side = |ink: u16, inside: bool| if inside { ink } else { !ink & ALL_SUBCELLS };
-            let color = |cell: &Cell, inside: bool| if inside { cell.fg } else { cell.bg };
-            let (a, b) = (color(self, in_a), color(other, in_b));
-            // The default foreground and the default background are two colours.
-            let defaults_agree = (a != Color::Default && b != Color::Default) || in_a == in_b;
-            side(ink_a, in_a) & side(ink_b, in_b) == 0 || (defaults_agree && a.within(b, tolerance))
-        })
+        PackedCell::pack(self).looks_within(&PackedCell::pack(other), tolerance)
     }
 
     /// The cell itself, or a blank where a block glyph is drawn in one colour (it looks like one).
     #[must_use]
     pub fn canonical(&self) -> Cell {
-        // (Not in the defaults: a glyph in the default foreground on the default background shows two.)
-        if self.fg == self.bg && self.fg != Color::Default && complement_glyph(self.ch).is_some() {
-            Cell { ch: ' ', ..*self }
-        } else {
-            *self
-        }
+        PackedCell::pack(self).canonical().unpack()
     }
 }
 

@@ -31,7 +31,7 @@ mod sgr;
 
 use std::collections::HashMap;
 
-use crate::frame::{Cell, Color, Frame};
+use crate::frame::{Frame, PackedCell, PackedColor};
 use cursor::{move_len, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
 
@@ -81,8 +81,11 @@ pub struct EncodeStats {
 /// ```
 #[derive(Clone, Debug)]
 pub struct Encoder {
-    /// What the terminal shows, as far as we know; meaningless while `valid` is false.
-    screen: Frame,
+    /// What the terminal shows, as far as we know (row-major, `width` × `height`); meaningless while
+    /// `valid` is false.
+    screen: Vec<PackedCell>,
+    width: usize,
+    height: usize,
     valid: bool,
     pen: Pen,
     bce: bool,
@@ -90,7 +93,7 @@ pub struct Encoder {
     tolerance: u8,
     /// Scratch for the frame as sent: `frame` up to `tolerance` (the screen where close, the pen's
     /// colours where close); swapped into `screen` after each encode.
-    effective: Frame,
+    effective: Vec<PackedCell>,
     /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
     differs: Vec<bool>,
 }
@@ -106,12 +109,14 @@ impl Encoder {
     #[must_use]
     pub fn new() -> Encoder {
         Encoder {
-            screen: Frame::default(),
+            screen: Vec::new(),
+            width: 0,
+            height: 0,
             valid: false,
             pen: Pen::UNKNOWN,
             bce: true,
             tolerance: 0,
-            effective: Frame::default(),
+            effective: Vec::new(),
             differs: Vec::new(),
         }
     }
@@ -140,17 +145,19 @@ impl Encoder {
     /// a full paint if there is no (valid, same-sized) previous frame.
     pub fn encode(&mut self, frame: &Frame, out: &mut Vec<u8>) -> EncodeStats {
         let start = out.len();
-        let full_paint =
-            !self.valid || self.screen.width() != frame.width() || self.screen.height() != frame.height();
+        let (width, height) = (frame.width(), frame.height());
+        let full_paint = !self.valid || (self.width, self.height) != (width, height);
         out.extend_from_slice(SYNC_BEGIN);
-        // `sent`: the frame as it will be on screen, which the tolerance may leave a little off `frame`.
+        // `sent`: the frame as it will be on screen, which the tolerance may leave a little off `frame`;
+        // packed, as every comparison and price below reads it.
         let sent = &mut self.effective;
-        sent.clone_from(frame);
+        sent.clear();
+        sent.extend(frame.cells().iter().map(PackedCell::pack));
         let cells_changed = if full_paint {
-            self.pen = paint_full(sent, self.bce, out);
-            sent.cells().len()
+            self.pen = paint_full(sent, width, self.bce, out);
+            sent.len()
         } else {
-            diff(&self.screen, sent, self.bce, self.tolerance, &mut self.pen, out, &mut self.differs)
+            diff(&self.screen, sent, width, self.bce, self.tolerance, &mut self.pen, out, &mut self.differs)
         };
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
@@ -159,6 +166,7 @@ impl Encoder {
             out.extend_from_slice(SYNC_END);
         }
         std::mem::swap(&mut self.screen, &mut self.effective); // the screen is now what was sent
+        (self.width, self.height) = (width, height);
         self.valid = true;
         EncodeStats { bytes: out.len() - start, cells_changed, full_paint }
     }
@@ -169,13 +177,13 @@ impl Encoder {
 /// default colours gives plain text.
 pub fn ansi_lines(frame: &Frame, out: &mut Vec<u8>) {
     for y in 0..frame.height() {
-        let mut pen = Pen { cursor: None, fg: Some(Color::Default), bg: Some(Color::Default) };
-        for cell in frame.row(y).unwrap_or(&[]) {
+        let mut pen = Pen { cursor: None, fg: Some(PackedColor::DEFAULT), bg: Some(PackedColor::DEFAULT) };
+        for cell in frame.row(y).unwrap_or(&[]).iter().map(PackedCell::pack) {
             let fg = (cell.ch != ' ').then_some(cell.fg);
             write_sgr(out, &mut pen, fg, Some(cell.bg));
             push_char(out, cell.ch);
         }
-        if pen.fg != Some(Color::Default) || pen.bg != Some(Color::Default) {
+        if pen.fg != Some(PackedColor::DEFAULT) || pen.bg != Some(PackedColor::DEFAULT) {
             out.extend_from_slice(SGR_RESET);
         }
         out.push(b'\n');
@@ -187,8 +195,8 @@ pub fn ansi_lines(frame: &Frame, out: &mut Vec<u8>) {
 struct Pen {
     /// Cursor (column, row); unknown at start and after a glyph in the last column (pending wrap).
     cursor: Option<(usize, usize)>,
-    fg: Option<Color>,
-    bg: Option<Color>,
+    fg: Option<PackedColor>,
+    bg: Option<PackedColor>,
 }
 
 impl Pen {
@@ -196,13 +204,13 @@ impl Pen {
 }
 
 /// Clears the screen and paints `frame`, choosing the clear colour that gives the fewest bytes.
-fn paint_full(frame: &Frame, bce: bool, out: &mut Vec<u8>) -> Pen {
+fn paint_full(frame: &[PackedCell], width: usize, bce: bool, out: &mut Vec<u8>) -> Pen {
     let start = out.len();
-    let pen = clear_and_paint(frame, Color::Default, bce, out);
+    let pen = clear_and_paint(frame, width, PackedColor::DEFAULT, bce, out);
     // Clearing to the most common blank background saves writing those blanks (needs BCE).
     let Some(bg) = bce.then(|| most_common_blank_bg(frame)).flatten() else { return pen };
     let mut alt = Vec::with_capacity(out.len() - start);
-    let alt_pen = clear_and_paint(frame, bg, bce, &mut alt);
+    let alt_pen = clear_and_paint(frame, width, bg, bce, &mut alt);
     if alt.len() < out.len() - start {
         out.truncate(start);
         out.extend_from_slice(&alt);
@@ -212,50 +220,50 @@ fn paint_full(frame: &Frame, bce: bool, out: &mut Vec<u8>) -> Pen {
 }
 
 /// Resets SGR, sets the background `bg`, clears the screen, then sends `frame` as a diff.
-fn clear_and_paint(frame: &Frame, bg: Color, bce: bool, out: &mut Vec<u8>) -> Pen {
+fn clear_and_paint(frame: &[PackedCell], width: usize, bg: PackedColor, bce: bool, out: &mut Vec<u8>) -> Pen {
     let mut pen = Pen::UNKNOWN;
     // The reset form also clears attributes we don't track (bold…) that someone else may have left.
     write_sgr_reset(out, &mut pen, None, Some(bg));
     out.extend_from_slice(b"\x1b[2J");
-    let blank = Frame::filled(frame.width(), frame.height(), Cell { ch: ' ', fg: Color::Default, bg });
+    let blank = vec![PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg }; frame.len()];
     // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
-    diff(&blank, &mut frame.clone(), bce, 0, &mut pen, out, &mut Vec::new());
+    diff(&blank, &mut frame.to_vec(), width, bce, 0, &mut pen, out, &mut Vec::new());
     pen
 }
 
 /// The most common background of space cells, if it is not the default. Ties go to the default, then
 /// to the colour met first (row-major), so that a frame always encodes to the same bytes.
-fn most_common_blank_bg(frame: &Frame) -> Option<Color> {
+fn most_common_blank_bg(frame: &[PackedCell]) -> Option<PackedColor> {
     // Colour -> (blanks, index of its first blank).
-    let mut counts: HashMap<Color, (usize, usize)> = HashMap::new();
-    for (i, cell) in frame.cells().iter().enumerate().filter(|(_, c)| c.ch == ' ') {
+    let mut counts: HashMap<PackedColor, (usize, usize)> = HashMap::new();
+    for (i, cell) in frame.iter().enumerate().filter(|(_, c)| c.ch == ' ') {
         counts.entry(cell.bg).or_insert((0, i)).0 += 1;
     }
     let (bg, _) = counts
         .into_iter()
-        .max_by_key(|&(bg, (n, first))| (n, bg == Color::Default, std::cmp::Reverse(first)))?;
-    (bg != Color::Default).then_some(bg)
+        .max_by_key(|&(bg, (n, first))| (n, bg == PackedColor::DEFAULT, std::cmp::Reverse(first)))?;
+    (bg != PackedColor::DEFAULT).then_some(bg)
 }
 
 /// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
 /// truecolor cell of `new` within `tolerance` of `old` is left as `old` shows it, and a changed one may
 /// take the pen's colour where that is within `tolerance` of its own (one SGR less); `new` is updated
 /// to what was sent. `differs` is scratch ([`mark_changes`]).
+#[allow(clippy::too_many_arguments)]
 fn diff(
-    old: &Frame,
-    new: &mut Frame,
+    old: &[PackedCell],
+    new: &mut [PackedCell],
+    width: usize,
     bce: bool,
     tolerance: u8,
     pen: &mut Pen,
     out: &mut Vec<u8>,
     differs: &mut Vec<bool>,
 ) -> usize {
-    debug_assert_eq!((old.width(), old.height()), (new.width(), new.height()));
-    let width = new.width().max(1);
+    debug_assert_eq!(old.len(), new.len());
+    let width = width.max(1);
     let mut changed = 0;
-    for (y, (old_row, new_row)) in
-        old.cells().chunks_exact(width).zip(new.cells_mut().chunks_exact_mut(width)).enumerate()
-    {
+    for (y, (old_row, new_row)) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)).enumerate() {
         mark_changes(old_row, new_row, tolerance, differs);
         let tail = erasable_tail(new_row, bce);
         changed += diff_row(pen, out, y, 0, new_row, &differs[..], tail, tolerance);
@@ -265,7 +273,7 @@ fn diff(
 
 /// Which cells of row `new` look different from row `old` (one look comparison a cell: the diff's
 /// searches read the flags). A truecolor cell within `tolerance` of `old` is first set to `old`.
-fn mark_changes(old: &[Cell], new: &mut [Cell], tolerance: u8, differs: &mut Vec<bool>) {
+fn mark_changes(old: &[PackedCell], new: &mut [PackedCell], tolerance: u8, differs: &mut Vec<bool>) {
     differs.clear();
     differs.extend(old.iter().zip(new).map(|(shown, cell)| {
         if shown == cell {
@@ -273,21 +281,21 @@ fn mark_changes(old: &[Cell], new: &mut [Cell], tolerance: u8, differs: &mut Vec
         }
         // Only truecolor colours can be close without being equal; a cell not within the tolerance
         // does not look the same either (one comparison).
-        if tolerance > 0 && has_rgb(cell) {
+        if tolerance > 0 && cell.has_rgb() {
             let within = shown.looks_within(cell, tolerance);
             if within {
                 *cell = *shown;
             }
             return !within;
         }
-        !shown.same_look(cell)
+        !shown.looks_within(cell, 0)
     }));
 }
 
 /// Where a row's tail of same-background spaces starts, and that background, if `\x1b[K` may erase it.
-fn erasable_tail(row: &[Cell], bce: bool) -> Option<(usize, Color)> {
+fn erasable_tail(row: &[PackedCell], bce: bool) -> Option<(usize, PackedColor)> {
     let last = row.last().filter(|c| c.ch == ' ')?;
-    if !bce && last.bg != Color::Default {
+    if !bce && last.bg != PackedColor::DEFAULT {
         return None;
     }
     let len = row.iter().rev().take_while(|c| c.ch == ' ' && c.bg == last.bg).count();
@@ -302,9 +310,9 @@ fn diff_row(
     out: &mut Vec<u8>,
     y: usize,
     from: usize,
-    new: &mut [Cell],
+    new: &mut [PackedCell],
     differs: &[bool],
-    tail: Option<(usize, Color)>,
+    tail: Option<(usize, PackedColor)>,
     tolerance: u8,
 ) -> usize {
     let width = new.len();
@@ -346,14 +354,14 @@ fn diff_row(
 #[derive(Clone, Copy, Debug)]
 enum Then {
     /// Write this cell, within this tolerance ([`write_cell`]).
-    Cell(Cell, u8),
+    Cell(PackedCell, u8),
     /// Erase to the end of the line in this background.
-    Erase(Color),
+    Erase(PackedColor),
 }
 
 impl Then {
     /// Does it; returns the cell as sent.
-    fn write(self, out: &mut Vec<u8>, pen: &mut Pen, width: usize) -> Option<Cell> {
+    fn write(self, out: &mut Vec<u8>, pen: &mut Pen, width: usize) -> Option<PackedCell> {
         match self {
             Then::Cell(cell, tolerance) => Some(write_cell(out, pen, &cell, width, tolerance)),
             Then::Erase(bg) => {
@@ -380,7 +388,14 @@ impl Then {
 /// Puts the cursor on column `x` of row `y` and does `then`, by the cheapest route: a cursor move, or
 /// a move to an earlier column and a rewrite of the unchanged cells in between (from `row`). Returns
 /// the cell sent, if `then` sends one.
-fn reach(pen: &mut Pen, out: &mut Vec<u8>, y: usize, x: usize, row: &[Cell], then: Then) -> Option<Cell> {
+fn reach(
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    y: usize,
+    x: usize,
+    row: &[PackedCell],
+    then: Then,
+) -> Option<PackedCell> {
     let width = row.len();
     let mut starts = [None, None];
     if pen.cursor != Some((x, y)) {
@@ -434,7 +449,7 @@ fn price_route(
     y: usize,
     from: usize,
     x: usize,
-    row: &[Cell],
+    row: &[PackedCell],
     then: Then,
     limit: usize,
 ) -> Option<usize> {
@@ -461,20 +476,20 @@ fn price_route(
     (len <= limit).then_some(len)
 }
 
-/// The form `cell` goes in from `pen` and its colour change: of the cell and its [`Cell::inverse`]
+/// The form `cell` goes in from `pen` and its colour change: of the cell and its [`PackedCell::inverse`]
 /// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
 /// are within `tolerance` of the cell's.
-fn cell_form(pen: &Pen, cell: &Cell, tolerance: u8) -> (Cell, Sgr) {
+fn cell_form(pen: &Pen, cell: &PackedCell, tolerance: u8) -> (PackedCell, Sgr) {
     find_form(pen, cell, tolerance, true)
 }
 
 /// [`cell_form`]; `shortcut`: skip the inverse forms where they cannot win (false: the whole
 /// search, the oracle the tests hold the shortcut to).
-fn find_form(pen: &Pen, cell: &Cell, tolerance: u8, shortcut: bool) -> (Cell, Sgr) {
+fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (PackedCell, Sgr) {
     let cell = cell.canonical();
-    let priced = |cell: Cell| (cell, Sgr::to_cell(pen, &cell));
+    let priced = |cell: PackedCell| (cell, Sgr::to_cell(pen, &cell));
     // (A cell that needs no colour change is never beaten: the searches below start only past it.)
-    if tolerance == 0 || !has_rgb(&cell) {
+    if tolerance == 0 || !cell.has_rgb() {
         let plain = priced(cell);
         if plain.1.len() > 0
             && let Some(inverse) = cell.inverse().map(priced)
@@ -485,8 +500,8 @@ fn find_form(pen: &Pen, cell: &Cell, tolerance: u8, shortcut: bool) -> (Cell, Sg
         return plain;
     }
     // The pen's colours where close enough; a glyph they leave in one colour may go as a blank.
-    let near_pen = |mut cell: Cell| {
-        let keep = |want: Color, pen: Option<Color>| pen.filter(|p| p.within(want, tolerance));
+    let near_pen = |mut cell: PackedCell| {
+        let keep = |want: PackedColor, pen: Option<PackedColor>| pen.filter(|p| p.within(want, tolerance));
         cell.fg = keep(cell.fg, pen.fg).unwrap_or(cell.fg);
         cell.bg = keep(cell.bg, pen.bg).unwrap_or(cell.bg);
         cell
@@ -497,7 +512,8 @@ fn find_form(pen: &Pen, cell: &Cell, tolerance: u8, shortcut: bool) -> (Cell, Sg
     // the lengths the plain form's worst case has, so it cannot be shorter; and the plain form's two
     // colours differ (the pen could only merge them by being near both), so it has no blank form.
     let both_far = |pen: &Pen| {
-        matches!((cell.fg, cell.bg), (Color::Rgb(..), Color::Rgb(..)))
+        cell.fg.is_rgb()
+            && cell.bg.is_rgb()
             && !pen.fg.is_some_and(|p| p.within(cell.bg, tolerance))
             && !pen.bg.is_some_and(|p| p.within(cell.fg, tolerance))
     };
@@ -523,12 +539,18 @@ fn find_form(pen: &Pen, cell: &Cell, tolerance: u8, shortcut: bool) -> (Cell, Sg
 
 /// Writes one cell at the cursor in the form [`cell_form`] chooses: colours if needed, then the
 /// glyph; returns the cell as sent.
-fn write_cell(out: &mut Vec<u8>, pen: &mut Pen, cell: &Cell, width: usize, tolerance: u8) -> Cell {
+fn write_cell(
+    out: &mut Vec<u8>,
+    pen: &mut Pen,
+    cell: &PackedCell,
+    width: usize,
+    tolerance: u8,
+) -> PackedCell {
     write_form(out, pen, cell_form(pen, cell, tolerance), width)
 }
 
 /// Writes a cell in the form [`cell_form`] found from `pen`; returns the cell as sent.
-fn write_form(out: &mut Vec<u8>, pen: &mut Pen, (cell, sgr): (Cell, Sgr), width: usize) -> Cell {
+fn write_form(out: &mut Vec<u8>, pen: &mut Pen, (cell, sgr): (PackedCell, Sgr), width: usize) -> PackedCell {
     sgr.write(out, pen);
     push_char(out, cell.ch);
     advance(pen, width);
@@ -536,7 +558,7 @@ fn write_form(out: &mut Vec<u8>, pen: &mut Pen, (cell, sgr): (Cell, Sgr), width:
 }
 
 /// The bytes [`write_cell`] would send, leaving `pen` as it would.
-fn price_cell(pen: &mut Pen, cell: &Cell, width: usize, tolerance: u8) -> usize {
+fn price_cell(pen: &mut Pen, cell: &PackedCell, width: usize, tolerance: u8) -> usize {
     let (cell, sgr) = cell_form(pen, cell, tolerance);
     sgr.apply(pen);
     advance(pen, width);
@@ -549,11 +571,6 @@ fn advance(pen: &mut Pen, width: usize) {
         Some((x, y)) if x + 1 < width => Some((x + 1, y)),
         _ => None, // after the last column: pending wrap, position unreliable
     };
-}
-
-/// Whether a cell has a truecolor colour, the only kind a tolerance applies to.
-fn has_rgb(cell: &Cell) -> bool {
-    matches!(cell.fg, Color::Rgb(..)) || matches!(cell.bg, Color::Rgb(..))
 }
 
 fn push_char(out: &mut Vec<u8>, ch: char) {
@@ -598,6 +615,16 @@ fn push_num(out: &mut Vec<u8>, n: usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::frame::{Cell, Color};
+
+    fn packed(frame: &Frame) -> Vec<PackedCell> {
+        frame.cells().iter().map(PackedCell::pack).collect()
+    }
+
+    /// A pen at `cursor` with these colours.
+    fn pen(cursor: Option<(usize, usize)>, fg: Option<Color>, bg: Option<Color>) -> Pen {
+        Pen { cursor, fg: fg.map(PackedColor::pack), bg: bg.map(PackedColor::pack) }
+    }
 
     /// Escape codes carry their numbers in plain decimal: every number the fast paths cover and
     /// their edges, then the loop's (moves across wide screens, and the largest `usize`).
@@ -620,11 +647,13 @@ mod tests {
             [(Color::Indexed(4), Color::Indexed(11)), (Color::Rgb(10, 20, 30), Color::Rgb(200, 100, 0))]
         {
             for tolerance in [0, 1] {
-                let mut pen = Pen { cursor: Some((0, 0)), fg: Some(a), bg: Some(b) };
+                let mut pen = pen(Some((0, 0)), Some(a), Some(b));
                 let mut out = Vec::new();
-                let sent = write_cell(&mut out, &mut pen, &Cell { ch: '▄', fg: b, bg: a }, 10, tolerance);
+                let cell = PackedCell::pack(&Cell { ch: '▄', fg: b, bg: a });
+                let sent = write_cell(&mut out, &mut pen, &cell, 10, tolerance);
                 assert_eq!(String::from_utf8(out).unwrap(), "▀", "{a:?} on {b:?}, tolerance {tolerance}");
-                assert_eq!(sent, Cell { ch: '▀', fg: a, bg: b });
+                assert_eq!(sent.unpack(), Cell { ch: '▀', fg: a, bg: b });
+                let (a, b) = (PackedColor::pack(a), PackedColor::pack(b));
                 assert_eq!((pen.fg, pen.bg, pen.cursor), (Some(a), Some(b), Some((1, 0))));
             }
         }
@@ -651,10 +680,10 @@ mod tests {
             for (fg, bg) in colors.iter().flat_map(|&f| colors.map(|b| (f, b))) {
                 for (&pen_fg, &pen_bg) in pens.iter().flat_map(|f| pens.iter().map(move |b| (f, b))) {
                     for (tolerance, x) in [(0, 3), (2, 3), (2, 9)] {
-                        let pen = Pen { cursor: Some((x, 1)), fg: pen_fg, bg: pen_bg };
+                        let pen = pen(Some((x, 1)), pen_fg, pen_bg);
                         let (mut written, mut priced) = (pen, pen);
                         let mut out = Vec::new();
-                        let cell = Cell { ch, fg, bg };
+                        let cell = PackedCell::pack(&Cell { ch, fg, bg });
                         write_cell(&mut out, &mut written, &cell, 10, tolerance);
                         let len = price_cell(&mut priced, &cell, 10, tolerance);
                         assert_eq!((len, priced), (out.len(), written), "{cell:?} from {pen:?}");
@@ -680,8 +709,8 @@ mod tests {
             for (fg, bg) in colors.iter().flat_map(|&f| colors.map(|b| (f, b))) {
                 for (&pen_fg, &pen_bg) in pens.iter().flat_map(|f| pens.iter().map(move |b| (f, b))) {
                     for tolerance in [1, 3] {
-                        let pen = Pen { cursor: Some((0, 0)), fg: pen_fg, bg: pen_bg };
-                        let cell = Cell { ch, fg, bg };
+                        let pen = pen(Some((0, 0)), pen_fg, pen_bg);
+                        let cell = PackedCell::pack(&Cell { ch, fg, bg });
                         let (fast, whole) = (
                             find_form(&pen, &cell, tolerance, true),
                             find_form(&pen, &cell, tolerance, false),
@@ -737,7 +766,7 @@ mod tests {
         let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
         let trial = |frame: &Frame, bg: Color| {
             let mut out = Vec::new();
-            clear_and_paint(frame, bg, true, &mut out);
+            clear_and_paint(&packed(frame), frame.width(), PackedColor::pack(bg), true, &mut out);
             out
         };
         let mut ties = 0;
@@ -765,11 +794,12 @@ mod tests {
                 }
             }
             let (default, coloured) = (trial(&frame, Color::Default), trial(&frame, Color::Indexed(4)));
-            let blue_is_commonest = most_common_blank_bg(&frame) == Some(Color::Indexed(4));
+            let blue_is_commonest =
+                most_common_blank_bg(&packed(&frame)) == Some(PackedColor::pack(Color::Indexed(4)));
             ties += usize::from(blue_is_commonest && coloured.len() == default.len());
             let best = if blue_is_commonest && coloured.len() < default.len() { coloured } else { default };
             let mut out = vec![b'.'; 100];
-            paint_full(&frame, true, &mut out);
+            paint_full(&packed(&frame), frame.width(), true, &mut out);
             assert_eq!(&out[100..], &best[..], "{rows:?}");
         }
         assert_eq!(ties, 2, "the premise: two of the cases are ties");
@@ -813,15 +843,17 @@ mod tests {
 
     #[test]
     fn erasable_tail_needs_spaces_of_one_background_and_bce_for_colour() {
+        let tail =
+            |row: &[Cell], bce| erasable_tail(&row.iter().map(PackedCell::pack).collect::<Vec<_>>(), bce);
         let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
         let row = [Cell::plain('a'), Cell::BLANK, blue, blue];
-        assert_eq!(erasable_tail(&row, true), Some((2, Color::Indexed(4))));
-        assert_eq!(erasable_tail(&row, false), None);
+        assert_eq!(tail(&row, true), Some((2, PackedColor::pack(Color::Indexed(4)))));
+        assert_eq!(tail(&row, false), None);
         assert_eq!(
-            erasable_tail(&[Cell::plain('a'), Cell::BLANK, Cell::BLANK], false),
-            Some((1, Color::Default))
+            tail(&[Cell::plain('a'), Cell::BLANK, Cell::BLANK], false),
+            Some((1, PackedColor::DEFAULT))
         );
-        assert_eq!(erasable_tail(&[Cell::BLANK, Cell::plain('a')], true), None);
+        assert_eq!(tail(&[Cell::BLANK, Cell::plain('a')], true), None);
     }
 
     #[test]
@@ -871,11 +903,12 @@ mod tests {
             let mut frame = Frame::filled(4, 2, blank(first));
             (0..4).for_each(|x| frame.set(x, 1, blank(second)));
             for _ in 0..20 {
-                assert_eq!(most_common_blank_bg(&frame), Some(first)); // a new hasher seed each time
+                // a new hasher seed each time
+                assert_eq!(most_common_blank_bg(&packed(&frame)), Some(PackedColor::pack(first)));
             }
         }
         let mut frame = Frame::filled(4, 2, blank(blue));
         (0..4).for_each(|x| frame.set(x, 1, Cell::BLANK));
-        assert_eq!(most_common_blank_bg(&frame), None, "a tie with the default goes to the default");
+        assert_eq!(most_common_blank_bg(&packed(&frame)), None, "a tie with the default goes to the default");
     }
 }

@@ -4,7 +4,7 @@
 //! sequence, or a reset (`\x1b[0;…m`) when that is shorter.
 
 use super::Pen;
-use crate::frame::{Cell, Color};
+use crate::frame::{Color, PackedCell, PackedColor};
 
 /// Reset all SGR attributes (colours back to the terminal's defaults).
 pub(super) const SGR_RESET: &[u8] = b"\x1b[0m";
@@ -17,7 +17,7 @@ enum Layer {
 }
 
 /// The colours a cell needs on screen: no foreground for a space, no background for a full block.
-fn shown_colors(cell: &Cell) -> (Option<Color>, Option<Color>) {
+fn shown_colors(cell: &PackedCell) -> (Option<PackedColor>, Option<PackedColor>) {
     ((cell.ch != ' ').then_some(cell.fg), (cell.ch != '█').then_some(cell.bg))
 }
 
@@ -26,8 +26,8 @@ fn shown_colors(cell: &Cell) -> (Option<Color>, Option<Color>) {
 /// prices candidate cells and routes with it and writes only the one it keeps.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Sgr {
-    fg: Option<Color>,
-    bg: Option<Color>,
+    fg: Option<PackedColor>,
+    bg: Option<PackedColor>,
     form: Form,
 }
 
@@ -44,9 +44,9 @@ enum Form {
 impl Sgr {
     /// The change from `pen` to `fg` and `bg`.
     #[inline(always)]
-    pub(super) fn new(pen: &Pen, fg: Option<Color>, bg: Option<Color>) -> Sgr {
+    pub(super) fn new(pen: &Pen, fg: Option<PackedColor>, bg: Option<PackedColor>) -> Sgr {
         // Straight-line: the encoder prices several of these for every changed cell.
-        let change = |want: Option<Color>, pen: Option<Color>, layer| match want {
+        let change = |want: Option<PackedColor>, pen: Option<PackedColor>, layer| match want {
             Some(c) if pen != Some(c) => (1, color_len(c, layer)),
             _ => (0, 0),
         };
@@ -57,14 +57,14 @@ impl Sgr {
         } else {
             // ESC [ p;p m: codes joined by `;`.
             let plain = 3 + n - 1 + len_fg + len_bg;
-            let is_default = |c: Option<Color>| c.is_none_or(|c| c == Color::Default);
+            let is_default = |c: Option<PackedColor>| c.is_none_or(|c| c == PackedColor::DEFAULT);
             if !is_default(fg) && !is_default(bg) {
                 // Both colours non-default: the reset form repeats both and adds `0;`, never shorter.
                 Form::Plain(plain)
             } else {
                 // ESC [ 0;p;p m, or ESC [ m when both are the defaults.
-                let param = |c: Option<Color>, layer| match c {
-                    Some(c) if c != Color::Default => 1 + color_len(c, layer),
+                let param = |c: Option<PackedColor>, layer| match c {
+                    Some(c) if c != PackedColor::DEFAULT => 1 + color_len(c, layer),
                     _ => 0,
                 };
                 let params = param(fg, Layer::Fg) + param(bg, Layer::Bg);
@@ -77,7 +77,7 @@ impl Sgr {
 
     /// The change to `cell`'s shown colours.
     #[inline]
-    pub(super) fn to_cell(pen: &Pen, cell: &Cell) -> Sgr {
+    pub(super) fn to_cell(pen: &Pen, cell: &PackedCell) -> Sgr {
         let (fg, bg) = shown_colors(cell);
         Sgr::new(pen, fg, bg)
     }
@@ -100,8 +100,8 @@ impl Sgr {
                 pen.bg = self.bg.or(pen.bg);
             }
             Form::Reset(_) => {
-                pen.fg = Some(self.fg.unwrap_or(Color::Default));
-                pen.bg = Some(self.bg.unwrap_or(Color::Default));
+                pen.fg = Some(self.fg.unwrap_or(PackedColor::DEFAULT));
+                pen.bg = Some(self.bg.unwrap_or(PackedColor::DEFAULT));
             }
         }
     }
@@ -133,16 +133,21 @@ impl Sgr {
 }
 
 /// Sets the colours to `fg` and `bg` (`None`: don't care) in the shortest form, if they changed.
-pub(super) fn write_sgr(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg: Option<Color>) {
+pub(super) fn write_sgr(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<PackedColor>, bg: Option<PackedColor>) {
     Sgr::new(pen, fg, bg).write(out, pen);
 }
 
 /// Resets SGR and sets `fg` and `bg` (`None`: leave default) in one sequence: `\x1b[m`, `\x1b[0;41m`…
-pub(super) fn write_sgr_reset(out: &mut Vec<u8>, pen: &mut Pen, fg: Option<Color>, bg: Option<Color>) {
-    let (fg, bg) = (fg.unwrap_or(Color::Default), bg.unwrap_or(Color::Default));
+pub(super) fn write_sgr_reset(
+    out: &mut Vec<u8>,
+    pen: &mut Pen,
+    fg: Option<PackedColor>,
+    bg: Option<PackedColor>,
+) {
+    let (fg, bg) = (fg.unwrap_or(PackedColor::DEFAULT), bg.unwrap_or(PackedColor::DEFAULT));
     let mut seq = Seq::start();
     let colors = [(fg, Layer::Fg), (bg, Layer::Bg)];
-    let mut non_default = colors.iter().filter(|(c, _)| *c != Color::Default).peekable();
+    let mut non_default = colors.iter().filter(|(c, _)| *c != PackedColor::DEFAULT).peekable();
     if non_default.peek().is_some() {
         seq.push(b"0");
         for &(color, layer) in non_default {
@@ -184,9 +189,9 @@ impl Seq {
     }
 
     /// The shortest SGR parameters for `color` as foreground or background.
-    fn color(&mut self, color: Color, layer: Layer) {
+    fn color(&mut self, color: PackedColor, layer: Layer) {
         let base = if layer == Layer::Fg { 30 } else { 40 };
-        match color {
+        match color.unpack() {
             Color::Default => self.num(base + 9),
             Color::Indexed(n @ 0..=7) => self.num(base + n),
             Color::Indexed(n @ 8..=15) => self.num(base + 60 + (n - 8)),
@@ -231,9 +236,9 @@ const DECIMAL: [[u8; 4]; 256] = {
 
 /// The length of [`Seq::color`]'s parameters for `color`.
 #[inline]
-fn color_len(color: Color, layer: Layer) -> usize {
+fn color_len(color: PackedColor, layer: Layer) -> usize {
     let digits = |n: u8| 1 + usize::from(n >= 10) + usize::from(n >= 100);
-    match color {
+    match color.unpack() {
         Color::Default | Color::Indexed(0..=7) => 2,
         Color::Indexed(8..=15) => 2 + usize::from(layer == Layer::Bg), // 90–97, 100–107
         Color::Indexed(n) => 5 + digits(n),                            // 38;5;n
@@ -247,8 +252,9 @@ mod tests {
 
     fn sgr(from: (Option<Color>, Option<Color>), fg: Option<Color>, bg: Color) -> (String, Pen) {
         let mut out = Vec::new();
-        let mut pen = Pen { cursor: None, fg: from.0, bg: from.1 };
-        write_sgr(&mut out, &mut pen, fg, Some(bg));
+        let mut pen =
+            Pen { cursor: None, fg: from.0.map(PackedColor::pack), bg: from.1.map(PackedColor::pack) };
+        write_sgr(&mut out, &mut pen, fg.map(PackedColor::pack), Some(PackedColor::pack(bg)));
         (String::from_utf8(out).unwrap(), pen)
     }
 
@@ -259,9 +265,9 @@ mod tests {
             seq.num(n);
             assert_eq!(seq.bytes(), format!("\x1b[{n}").as_bytes());
         }
-        let white = Some(Color::Rgb(255, 255, 255));
+        let white = Some(PackedColor::pack(Color::Rgb(255, 255, 255)));
         let (mut out, mut pen) = (Vec::new(), Pen::UNKNOWN);
-        write_sgr_reset(&mut out, &mut pen, white, Some(Color::Rgb(100, 200, 255)));
+        write_sgr_reset(&mut out, &mut pen, white, Some(PackedColor::pack(Color::Rgb(100, 200, 255))));
         assert_eq!(out, b"\x1b[0;38;2;255;255;255;48;2;100;200;255m");
     }
 
@@ -294,7 +300,7 @@ mod tests {
         // Both back to default: the reset is shorter than 39;49.
         let (bytes, pen) = sgr((rgb, rgb), Some(Color::Default), Color::Default);
         assert_eq!(bytes, "\x1b[m");
-        assert_eq!((pen.fg, pen.bg), (Some(Color::Default), Some(Color::Default)));
+        assert_eq!((pen.fg, pen.bg), (Some(PackedColor::DEFAULT), Some(PackedColor::DEFAULT)));
         assert_eq!(sgr((rgb, rgb), Some(Color::Default), Color::Indexed(1)).0, "\x1b[0;41m");
         // Unknown state: everything is sent.
         assert_eq!(sgr((None, None), red, Color::Default).0, "\x1b[0;31m");
