@@ -68,16 +68,13 @@ impl PackedColor {
     #[inline]
     #[must_use]
     pub(crate) fn within(self, other: PackedColor, tolerance: u8) -> bool {
-        if self == other {
+        let (a, b) = (self.0.get(), other.0.get());
+        if a == b {
             return true;
         }
-        let ([kind, r, g, b], [kind2, r2, g2, b2]) =
-            (self.0.get().to_be_bytes(), other.0.get().to_be_bytes());
-        u32::from(kind) == RGB
-            && kind2 == kind
-            && r.abs_diff(r2) <= tolerance
-            && g.abs_diff(g2) <= tolerance
-            && b.abs_diff(b2) <= tolerance
+        // Both truecolor: the kinds are 1, 2 and 3, and only 1 | 1 is 1.
+        let channel = |shift: u32| ((a >> shift) as u8).abs_diff((b >> shift) as u8) <= tolerance;
+        (a | b) >> 24 == RGB && channel(16) && channel(8) && channel(0)
     }
 }
 

@@ -237,7 +237,7 @@ const DECIMAL: [[u8; 4]; 256] = {
 /// The length of [`Seq::color`]'s parameters for `color`.
 #[inline]
 fn color_len(color: PackedColor, layer: Layer) -> usize {
-    let digits = |n: u8| 1 + usize::from(n >= 10) + usize::from(n >= 100);
+    let digits = |n: u8| usize::from(DECIMAL[usize::from(n)][3]);
     match color.unpack() {
         Color::Default | Color::Indexed(0..=7) => 2,
         Color::Indexed(8..=15) => 2 + usize::from(layer == Layer::Bg), // 90–97, 100–107
