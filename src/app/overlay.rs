@@ -337,8 +337,11 @@ pub fn draw_map(
     cells: &mut MapCells,
 ) {
     let wall = Cell { ch: style.glyph('█', '#'), fg: WALL_FG, bg: FLOOR_BG };
-    let (eye, half_fov) = (camera.position, (camera.hfov_deg * 0.5).to_radians());
-    let reach = 12.0 * area.units_per_col;
+    let eye = camera.position;
+    // The view wedge: within a dozen columns, and within ±fov/2 of the heading, i.e. the cosine of
+    // the angle off the heading at least cos(fov/2) (no angle computed per cell).
+    let (reach, heading) = (12.0 * area.units_per_col, Vec2::from_angle(camera.yaw_deg.to_radians()));
+    let cos_half_fov = (camera.hfov_deg * 0.5).to_radians().cos();
     let mut probes = cells.for_area(area, maze).iter();
     for row in 0..area.height {
         for col in 0..area.width {
@@ -355,13 +358,10 @@ pub fn draw_map(
                     if walled {
                         Cell { bg, ..wall }
                     } else {
-                        // Floor; inside the view wedge (within ±fov/2 of the heading, a dozen columns
-                        // out) a lighter floor.
+                        // Floor; inside the view wedge a lighter floor.
                         let to = world_box.centre() - eye;
-                        let off = (to.to_angle() - camera.yaw_deg.to_radians() + std::f32::consts::PI)
-                            .rem_euclid(std::f32::consts::TAU)
-                            - std::f32::consts::PI;
-                        let in_wedge = to.length() < reach && off.abs() <= half_fov;
+                        let distance = to.length();
+                        let in_wedge = distance < reach && to.dot(heading) >= distance * cos_half_fov;
                         let bg = if in_wedge && bg == FLOOR_BG { WEDGE_BG } else { bg };
                         Cell { ch: ' ', fg: Color::Default, bg }
                     }
@@ -486,6 +486,53 @@ mod tests {
                 assert!(from_kept.cells().iter().any(|c| c.fg == WALL_FG), "step {step}, full {full}: walls");
             }
         }
+    }
+
+    /// The lighter floor is the view wedge: floor within a dozen columns whose direction from the
+    /// viewer is within ±fov/2 of the heading (by angles here, by a cosine in `draw_map`), at every
+    /// heading, for narrow and wide fields of view; none behind.
+    #[test]
+    fn the_map_lights_the_floor_in_the_view_wedge() {
+        let maze = crate::maze::builtin().unwrap();
+        let position = maze.viewer().pos;
+        let frame = Frame::new(120, 40);
+        let area = MapArea::corner(&frame, position);
+        let reach = 12.0 * area.units_per_col;
+        let (mut lit, mut checked) = (0, 0);
+        for (yaw, hfov) in [(0.0, 90.0), (37.0, 60.0), (180.0, 90.0), (-100.0, 120.0), (271.0, 30.0)] {
+            let camera = Camera::new(position, yaw, hfov);
+            let mut frame = frame.clone();
+            draw_map(
+                &mut frame,
+                &area,
+                &maze,
+                &camera,
+                &|_| true,
+                None,
+                Style::default(),
+                &mut MapCells::default(),
+            );
+            for row in 0..area.height {
+                for col in 0..area.width {
+                    let cell = frame.get(area.x + col, area.y + row).unwrap();
+                    if cell.ch != ' ' || !(cell.bg == WEDGE_BG || cell.bg == FLOOR_BG) {
+                        continue; // walls, the arrow, outside the maze
+                    }
+                    let to = area.world_box(col, row).centre() - position;
+                    let off = (to.to_angle().to_degrees() - yaw + 540.0).rem_euclid(360.0) - 180.0;
+                    let (near_edge, inside) = (
+                        (off.abs() - hfov / 2.0).abs() < 0.01 || (to.length() - reach).abs() < 0.01,
+                        off.abs() <= hfov / 2.0 && to.length() < reach,
+                    );
+                    if !near_edge {
+                        assert_eq!(cell.bg == WEDGE_BG, inside, "yaw {yaw}, fov {hfov}: {to} is {off}° off");
+                        lit += usize::from(inside);
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(lit > 20 && checked > 2 * lit, "{lit} lit of {checked}");
     }
 
     #[test]
