@@ -151,7 +151,7 @@ pub fn block_glyph(charset: Charset, mask: u8) -> char {
 /// top-left), then the cell shows its samples' entries: a half-block cell is exactly its two samples.
 /// A cell across an edge (its samples further apart than a palette step) and every cell without
 /// `dither` is the best two-colour split of its samples, each side in its nearest entry (a quadrant or
-/// sextant cell whose samples lie within a step of each other: their mean, see [`block_cell`]).
+/// sextant cell whose samples lie within a step of each other: their mean, see [`fitted_cell`]).
 ///
 /// # Panics
 /// If `region` is not inside `frame` or not the samples' size in cells.
@@ -254,15 +254,8 @@ fn block_cells<const SX: usize, const SY: usize>(
                 }
                 let linear = &cell_samples[..n];
                 let (low, high) = code_range(tables, linear);
-                let spread = (0..3).map(|c| high[c] - low[c]).max().unwrap_or(0);
-                if depth == ColorDepth::TrueColor || !dither || spread > EDGE_SPREAD {
-                    if n > 2 && spread <= FLAT_SPREAD {
-                        // What `block_cell` gives such a cell, without encoding its samples one by one.
-                        solid(quantize_srgb8(flat_mean(tables, linear, low), depth))
-                    } else {
-                        sample_codes(tables, linear, (low, high), &mut srgb);
-                        block_cell(&srgb[..n], charset, depth)
-                    }
+                if depth == ColorDepth::TrueColor || !dither || spread((low, high)) > EDGE_SPREAD {
+                    fitted_cell(tables, linear, (low, high), charset, depth)
                 } else {
                     sample_codes(tables, linear, (low, high), &mut srgb);
                     for (dy, line) in rows.iter().enumerate() {
@@ -414,19 +407,11 @@ fn flat_mean(tables: &Srgb8Tables, linear: &[Vec3A], low: [u8; 3]) -> [u8; 3] {
     rounded_mean(sum, n)
 }
 
-/// The largest difference in any channel between two of a cell's samples (8-bit sRGB).
-fn spread(srgb: &[[u8; 3]]) -> u8 {
-    if let [a, b] = *srgb {
-        // Half blocks, every cell of the frame: two samples' spread is their difference.
-        return a[0].abs_diff(b[0]).max(a[1].abs_diff(b[1])).max(a[2].abs_diff(b[2]));
-    }
-    (0..3)
-        .map(|c| {
-            let (lo, hi) = srgb.iter().fold((255, 0), |(lo, hi), s| (s[c].min(lo), s[c].max(hi)));
-            hi.saturating_sub(lo)
-        })
-        .max()
-        .unwrap_or(0)
+/// The largest difference in any channel between two of a cell's samples (8-bit sRGB), from their
+/// [`code_range`].
+#[inline(always)]
+fn spread((low, high): ([u8; 3], [u8; 3])) -> u8 {
+    (0..3).map(|c| high[c] - low[c]).max().unwrap_or(0)
 }
 
 /// At most this [`spread`], a quadrant or sextant cell is drawn in its samples' mean colour.
@@ -556,23 +541,31 @@ fn solid(color: Color) -> Cell {
     Cell { ch: ' ', fg: color, bg: color } // ink unused: same as the background so equal cells compare equal
 }
 
-/// One truecolor block cell from its samples (8-bit sRGB), in bit order: the best two-colour split; a
-/// quadrant or sextant cell whose samples are all within [`FLAT_SPREAD`] of each other is its mean colour
-/// (within a step of every sample, as the encoder's default tolerance; it saves the split's search,
-/// a third of a sextant frame, and sends a blank instead of a glyph in two colours).
+/// A block cell in its samples' colours, undithered (`linear`: the cell's [`non_negative`] samples in
+/// bit order, `range` their [`code_range`]). A quadrant or sextant cell whose samples are all within
+/// [`FLAT_SPREAD`] of each other is their mean colour: within a step of every sample, as the encoder's
+/// default tolerance; it saves the split's search (a third of a sextant frame), and sends a blank
+/// instead of a glyph in two colours. Any other cell is its [`block_cell`].
 #[inline(always)] // into each `block_cells` shape: its cell comes back in registers, not through memory
+fn fitted_cell(
+    tables: &Srgb8Tables,
+    linear: &[Vec3A],
+    range: ([u8; 3], [u8; 3]),
+    charset: Charset,
+    depth: ColorDepth,
+) -> Cell {
+    if linear.len() > 2 && spread(range) <= FLAT_SPREAD {
+        return solid(quantize_srgb8(flat_mean(tables, linear, range.0), depth));
+    }
+    let mut srgb = [[0u8; 3]; 6];
+    sample_codes(tables, linear, range, &mut srgb);
+    block_cell(&srgb[..linear.len()], charset, depth)
+}
+
+/// One block cell from its samples (8-bit sRGB), in bit order: the best two-colour split, each side
+/// quantized to `depth`; a blank where the two come out the same.
+#[inline(always)]
 fn block_cell(srgb: &[[u8; 3]], charset: Charset, depth: ColorDepth) -> Cell {
-    let first = srgb[0];
-    if srgb[1..].iter().all(|&s| s == first) {
-        return solid(quantize_srgb8(first, depth)); // fast path: one colour
-    }
-    if srgb.len() > 2 && spread(srgb) <= FLAT_SPREAD {
-        let mut sum = [0i32; 3];
-        for s in srgb {
-            (0..3).for_each(|c| sum[c] += i32::from(s[c]));
-        }
-        return solid(quantize_srgb8(rounded_mean(sum, srgb.len() as i32), depth));
-    }
     let Split { mask, ink, paper } = best_partition(srgb);
     let (fg, bg) = (quantize_srgb8(ink, depth), quantize_srgb8(paper, depth));
     if mask == 0 || fg == bg {
@@ -655,14 +648,22 @@ mod tests {
 
     #[test]
     fn a_block_cell_within_one_step_is_one_colour_and_a_wider_one_is_split() {
+        let tables = Srgb8Tables::get();
+        let fitted = |codes: &[[u8; 3]], charset| {
+            let linear: Vec<Vec3A> = codes
+                .iter()
+                .map(|code| non_negative(Vec3::from(code.map(|c| srgb_to_linear(f32::from(c) / 255.0)))))
+                .collect();
+            fitted_cell(tables, &linear, code_range(tables, &linear), charset, ColorDepth::TrueColor)
+        };
         let (a, b) = ([100, 50, 20], [101, 51, 20]);
         for (charset, n) in [(Charset::Quad, 4), (Charset::Sextant, 6)] {
             let flat: Vec<[u8; 3]> = (0..n).map(|k| if k % 2 == 0 { a } else { b }).collect();
-            let cell = block_cell(&flat, charset, ColorDepth::TrueColor);
+            let cell = fitted(&flat, charset);
             // The mean, rounded: every sample within one step of what is shown.
             assert_eq!(cell, solid(Color::Rgb(101, 51, 20)), "{charset:?}");
             let wider: Vec<[u8; 3]> = (0..n).map(|k| if k % 2 == 0 { a } else { [102, 50, 20] }).collect();
-            let cell = block_cell(&wider, charset, ColorDepth::TrueColor);
+            let cell = fitted(&wider, charset);
             assert_ne!(cell.ch, ' ', "{charset:?}: two steps apart is a split");
             assert_eq!((cell.fg, cell.bg), (Color::Rgb(100, 50, 20), Color::Rgb(102, 50, 20)), "{charset:?}");
         }
@@ -687,9 +688,6 @@ mod tests {
             Cell { ch: '▀', fg: Color::Indexed(21), bg: Color::Indexed(196) }
         );
         assert_eq!(indexed_cell(&[40, 40], Charset::Half), solid(Color::Indexed(40)));
-        assert_eq!(spread(&[[10, 200, 30], [12, 190, 60]]), 30);
-        assert_eq!(spread(&[[200, 0, 0], [10, 0, 0]]), 190);
-        assert_eq!(spread(&[[7, 7, 7], [7, 7, 7]]), 0);
     }
 
     #[test]
@@ -740,7 +738,7 @@ mod tests {
             let mut codes = [[0u8; 3]; 6];
             sample_codes(tables, &cell, (low, high), &mut codes);
             assert_eq!(&codes[..n], &own[..], "{linear:?}");
-            if spread(&own) <= FLAT_SPREAD {
+            if spread((low, high)) <= FLAT_SPREAD {
                 flat_cells += 1;
                 let sum = std::array::from_fn(|c| own.iter().map(|s| i32::from(s[c])).sum());
                 assert_eq!(flat_mean(tables, &cell, low), rounded_mean(sum, n as i32), "{linear:?}");
