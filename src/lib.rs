@@ -38,6 +38,7 @@
 
 pub mod app;
 pub mod cli;
+mod files;
 pub mod frame;
 pub mod input;
 pub mod math;

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use super::text::{Format, ParseError, ParseErrorKind, WriteError, decode};
 use super::{Maze, cs559, grid};
+use crate::files::OpenError;
 
 /// The default [`LoadOptions::max_bytes`]: 256 MiB, room for the largest maze `gen` writes
 /// (1000 × 1000 cells in CS559 format, about 130–160 MB).
@@ -112,41 +113,12 @@ pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Loaded
     Ok(parse_loaded(&name, &bytes)?)
 }
 
-/// Opens `path` for reading if it is a regular file, without blocking on a FIFO.
+/// [`crate::files::open_regular`], its refusals as [`LoadError`]s.
 fn open_regular(path: &Path, name: &str) -> Result<std::fs::File, LoadError> {
-    let mut open = std::fs::OpenOptions::new();
-    open.read(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt as _;
-        // a FIFO with no writer would block `open` forever; a regular file ignores the flag
-        open.custom_flags(rustix::fs::OFlags::NONBLOCK.bits() as i32);
-    }
-    let file = open.open(path).map_err(|source| LoadError::Io { path: name.into(), source })?;
-    let kind = file.metadata().map_err(|source| LoadError::Io { path: name.into(), source })?.file_type();
-    if kind.is_file() {
-        return Ok(file);
-    }
-    let what = if kind.is_dir() {
-        "a directory"
-    } else {
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::FileTypeExt as _;
-            if kind.is_fifo() {
-                "a FIFO"
-            } else if kind.is_char_device() || kind.is_block_device() {
-                "a device"
-            } else if kind.is_socket() {
-                "a socket"
-            } else {
-                "not a file"
-            }
-        }
-        #[cfg(not(unix))]
-        "not a file"
-    };
-    Err(LoadError::NotAFile { path: name.into(), what })
+    crate::files::open_regular(path).map_err(|error| match error {
+        OpenError::Io(source) => LoadError::Io { path: name.into(), source },
+        OpenError::NotAFile(what) => LoadError::NotAFile { path: name.into(), what },
+    })
 }
 
 /// [`read_text`] for a regular file of `size` bytes (as `stat` said). A big one is read in three

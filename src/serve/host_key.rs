@@ -6,7 +6,7 @@
 //! Also the authorized-keys file: who may play when the server is not `--open`.
 
 use std::fs::{self, OpenOptions};
-use std::io::{self, Write as _};
+use std::io::{self, Read as _, Write as _};
 use std::os::unix::fs::{DirBuilderExt as _, OpenOptionsExt as _, PermissionsExt as _};
 use std::path::{Path, PathBuf};
 
@@ -15,24 +15,42 @@ use russh::keys::ssh_key::public::KeyData;
 use russh::keys::ssh_key::{self, LineEnding};
 use russh::keys::{HashAlg, PrivateKey, PublicKey};
 
+use crate::files::{OpenError, open_regular};
+
 /// Why the host key or the authorized keys could not be had.
 #[derive(Debug, thiserror::Error)]
 pub enum KeyError {
-    /// Reading, creating or writing a file failed.
-    #[error("{}: {source}", path.display())]
+    /// Reading, creating or writing a file failed. (The reasons are part of the messages, not error
+    /// sources: a chain printed whole would say them twice.)
+    #[error("{}: {error}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
         /// What failed.
-        source: io::Error,
+        error: io::Error,
     },
     /// The file is not a key (or not a list of keys) in OpenSSH format.
-    #[error("{}: not an OpenSSH key file: {source}", path.display())]
+    #[error("{}: not an OpenSSH key file: {error}", path.display())]
     Format {
         /// The file.
         path: PathBuf,
         /// What the parser said.
-        source: ssh_key::Error,
+        error: ssh_key::Error,
+    },
+    /// The host key file holds something other than an OpenSSH private key.
+    #[error(
+        "{}: not an OpenSSH private key (no `{OPENSSH_PRIVATE_KEY}` line); make one with ssh-keygen -t ed25519, or give a path where none is yet",
+        path.display()
+    )]
+    NotAPrivateKey {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file is larger than any key file (it is read whole).
+    #[error("{}: larger than {MAX_KEY_FILE} bytes, too large for a key file", path.display())]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
     },
     /// The private key file may be read by others (as sshd, the server refuses it).
     #[error("{}: permissions {mode:o} let others read the host key; chmod 600 it", path.display())]
@@ -48,15 +66,41 @@ pub enum KeyError {
         /// The file.
         path: PathBuf,
     },
-    /// The path names a directory or another thing that is not a file.
-    #[error("{}: not a file; give the host key file's path", path.display())]
+    /// The path names a directory or another thing that is not a regular file.
+    #[error("{}: not a regular file ({what}); give a key file's path", path.display())]
     NotAFile {
         /// The path.
         path: PathBuf,
+        /// What it is instead ("a directory", "a FIFO"…).
+        what: &'static str,
     },
     /// No place for the key: neither `XDG_STATE_HOME` nor `HOME` is set.
     #[error("no place for the host key: set HOME or XDG_STATE_HOME, or give --host-key FILE")]
     NoHome,
+}
+
+/// The largest key file read: an ed25519 private key is about 400 bytes, an authorized key line about
+/// 100 (so some ten thousand players' keys fit).
+pub const MAX_KEY_FILE: u64 = 1 << 20;
+
+/// The first line of an OpenSSH private key file.
+const OPENSSH_PRIVATE_KEY: &str = "-----BEGIN OPENSSH PRIVATE KEY-----";
+
+/// The text of the key file at `path`: a regular file (a FIFO is refused, not waited on) of at most
+/// [`MAX_KEY_FILE`] bytes, in UTF-8.
+fn read_key_file(path: &Path) -> Result<String, KeyError> {
+    let io = |error| KeyError::Io { path: path.to_path_buf(), error };
+    let file = open_regular(path).map_err(|error| match error {
+        OpenError::Io(error) => io(error),
+        OpenError::NotAFile(what) => KeyError::NotAFile { path: path.to_path_buf(), what },
+    })?;
+    let mut text = String::new();
+    // (One byte past the limit tells a file over it, whatever its size said when opened.)
+    file.take(MAX_KEY_FILE + 1).read_to_string(&mut text).map_err(io)?;
+    if text.len() as u64 > MAX_KEY_FILE {
+        return Err(KeyError::TooLarge { path: path.to_path_buf() });
+    }
+    Ok(text)
 }
 
 /// The host key's default path from the environment lookup `get` (`XDG_STATE_HOME`, `HOME`).
@@ -77,19 +121,19 @@ pub fn default_path(get: impl Fn(&str) -> Option<String>) -> Result<PathBuf, Key
 /// # Errors
 /// The file cannot be read, made or written, is not an OpenSSH private key, or others may read it.
 pub fn load_or_create(path: &Path) -> Result<(PrivateKey, bool), KeyError> {
-    let io = |source| KeyError::Io { path: path.to_path_buf(), source };
+    let io = |error| KeyError::Io { path: path.to_path_buf(), error };
     match fs::metadata(path) {
         Ok(meta) => {
-            if !meta.is_file() {
-                return Err(KeyError::NotAFile { path: path.to_path_buf() });
-            }
             let mode = meta.permissions().mode() & 0o777;
-            if mode & 0o077 != 0 {
+            if meta.is_file() && mode & 0o077 != 0 {
                 return Err(KeyError::TooOpen { path: path.to_path_buf(), mode });
             }
-            let text = fs::read_to_string(path).map_err(io)?;
+            let text = read_key_file(path)?;
+            if !text.trim_start().starts_with(OPENSSH_PRIVATE_KEY) {
+                return Err(KeyError::NotAPrivateKey { path: path.to_path_buf() });
+            }
             let key = PrivateKey::from_openssh(text.as_bytes())
-                .map_err(|source| KeyError::Format { path: path.to_path_buf(), source })?;
+                .map_err(|error| KeyError::Format { path: path.to_path_buf(), error })?;
             if key.is_encrypted() {
                 // (It parses: the public half is in the clear. Every handshake would fail.)
                 return Err(KeyError::Encrypted { path: path.to_path_buf() });
@@ -106,7 +150,7 @@ pub fn load_or_create(path: &Path) -> Result<(PrivateKey, bool), KeyError> {
             seed.fill(0);
             let text = key
                 .to_openssh(LineEnding::LF)
-                .map_err(|source| KeyError::Format { path: path.to_path_buf(), source })?;
+                .map_err(|error| KeyError::Format { path: path.to_path_buf(), error })?;
             // create_new: never overwrite a key another server made meanwhile.
             let mut file =
                 OpenOptions::new().write(true).create_new(true).mode(0o600).open(path).map_err(io)?;
@@ -129,12 +173,11 @@ pub fn fingerprint(key: &PublicKey) -> String {
 /// # Errors
 /// The file cannot be read or a line is not a key.
 pub fn read_authorized_keys(path: &Path) -> Result<Vec<KeyData>, KeyError> {
-    let text =
-        fs::read_to_string(path).map_err(|source| KeyError::Io { path: path.to_path_buf(), source })?;
+    let text = read_key_file(path)?;
     ssh_key::AuthorizedKeys::new(&text)
         .map(|entry| entry.map(|e| e.public_key().key_data().clone()))
         .collect::<Result<Vec<_>, _>>()
-        .map_err(|source| KeyError::Format { path: path.to_path_buf(), source })
+        .map_err(|error| KeyError::Format { path: path.to_path_buf(), error })
 }
 
 #[cfg(test)]
@@ -198,6 +241,44 @@ Yhg9caVlscNzhaBQ==
         assert_eq!(read_authorized_keys(&keys).unwrap(), vec![made.public_key().key_data().clone()]);
         fs::write(&keys, "ssh-ed25519 not-base64\n").unwrap();
         assert!(matches!(read_authorized_keys(&keys), Err(KeyError::Format { .. })));
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Key files are read whole, so only regular files of a key file's size are: a FIFO is refused
+    /// without waiting for a writer, a device without reading it, a file past the limit after
+    /// reading one byte more; and each refusal says its reason once.
+    #[test]
+    fn only_a_regular_file_of_a_key_files_size_is_read() {
+        let dir = std::env::temp_dir().join(format!("mazewalk-key-files-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::DirBuilder::new().mode(0o700).create(&dir).unwrap();
+        let fifo = dir.join("fifo");
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        for (path, what) in [(fifo.as_path(), "a FIFO"), (Path::new("/dev/zero"), "a device")] {
+            let err = read_authorized_keys(path).unwrap_err();
+            assert!(matches!(err, KeyError::NotAFile { what: w, .. } if w == what), "{err}");
+            assert!(matches!(load_or_create(path), Err(KeyError::NotAFile { .. })));
+        }
+        let big = dir.join("big");
+        let line = "ssh-ed25519 AAAAC3NzaC1lZDI1NTE5AAAAIImypI4iL/4FB/6AB6xXtu8e4gvbqReOWrZZSz/4daGN a@b\n";
+        let lines = usize::try_from(MAX_KEY_FILE).unwrap() / line.len() + 1;
+        fs::write(&big, line.repeat(lines)).unwrap();
+        assert!(matches!(read_authorized_keys(&big), Err(KeyError::TooLarge { .. })));
+        fs::write(&big, line.repeat(lines - 1)).unwrap();
+        assert_eq!(read_authorized_keys(&big).unwrap().len(), lines - 1, "just under the limit");
+        // Not a private key at all: said so, not a parser's guess.
+        let garbage = dir.join("garbage");
+        fs::write(&garbage, "garbage\n").unwrap();
+        fs::set_permissions(&garbage, fs::Permissions::from_mode(0o600)).unwrap();
+        let err = load_or_create(&garbage).unwrap_err();
+        assert!(
+            matches!(err, KeyError::NotAPrivateKey { .. }) && err.to_string().contains("ssh-keygen"),
+            "{err}"
+        );
+        // The reason once, even printed as a chain of causes.
+        let missing = dir.join("missing");
+        let message = format!("{:#}", anyhow::Error::new(read_authorized_keys(&missing).unwrap_err()));
+        assert_eq!(message.matches("No such file").count(), 1, "{message}");
         fs::remove_dir_all(&dir).unwrap();
     }
 }
