@@ -17,7 +17,7 @@ use std::time::Instant;
 use anyhow::{Context as _, bail};
 use clap::Parser as _;
 use mazewalk::app::run::run;
-use mazewalk::app::state::{Motion, viewer_camera};
+use mazewalk::app::state::{Motion, stand, viewer_camera};
 use mazewalk::app::{App, Session, SessionOptions};
 use mazewalk::cli::{
     CheckArgs, Cli, Command, GenArgs, MAX_FRAME_CELLS, MazeArgs, RenderArgs, ServeArgs, WalkArgs,
@@ -294,7 +294,7 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
     let maze = load_maze(&args.maze)?;
     let viewer = maze.viewer();
     let position = args.at.unwrap_or(viewer.pos);
-    if maze.cell_at(position).is_none() {
+    let Some(stands) = stand(&maze, position) else {
         let e = maze.extents();
         let inside = position.cmpge(e.min).all() && position.cmple(e.max).all();
         let what = if inside { "is inside a wall (in no cell)" } else { "is outside the maze" };
@@ -304,12 +304,12 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
             position.x, position.y, lo.x, lo.y, hi.x, hi.y
         ))
         .into());
-    }
+    };
     // The file's view as the walk starts from it (made usable: `viewer_camera`), then the flags,
     // which must be usable as given.
     let from_file = viewer_camera(viewer);
     let camera = Camera {
-        position,
+        position: stands.pos,
         eye_z: args.height.unwrap_or(from_file.eye_z),
         pitch_deg: args.pitch,
         projection: args.projection,

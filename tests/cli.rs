@@ -25,6 +25,39 @@ fn maze(name: &str) -> String {
     format!("{}/mazes/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
+/// An eye put closer to a wall than the walk would ever stand (on it, a hair off it, in a viewer
+/// line of the file) sees the wall, from where the walk would stand: 0.25 from it. It saw through
+/// the wall (the near plane lies inside that margin).
+#[test]
+fn an_eye_against_a_wall_sees_the_wall_from_where_the_walk_stands() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-against-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let tiny = std::fs::read_to_string(maze("tiny.maze")).unwrap();
+    let against = dir.join("against.maze");
+    let (from, to) = ("2 2 0 0 90", "0.001 2 0 180 90");
+    assert!(tiny.lines().any(|l| l.trim() == from), "the premise: tiny.maze's viewer line");
+    std::fs::write(&against, tiny.replace(from, to)).unwrap();
+    let frame = |file: &str, at: Option<&str>| {
+        let mut args = vec!["render", file, "--heading", "180", "--size", "40x12", "--charset", "ascii"];
+        args.extend(["--color", "none"]);
+        if let Some(at) = at {
+            args.extend(["--at", at]);
+        }
+        let out = mazewalk(&args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        stdout(&out)
+    };
+    let tiny = maze("tiny.maze");
+    let standing = frame(&tiny, Some("0.25,2"));
+    for at in ["0,2", "0.0000001,2", "0.001,2", "0.1,2"] {
+        assert_eq!(frame(&tiny, Some(at)), standing, "--at {at}");
+    }
+    assert_eq!(frame(against.to_str().unwrap(), None), standing, "the file's viewer at 0.001");
+    // …and what it sees is the wall, as from further back, where no near plane reaches it.
+    assert_eq!(standing, frame(&tiny, Some("0.5,2")));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn render_prints_one_frame_of_the_requested_size() {
     let out = mazewalk(&["render", "--size", "50x12", "--charset", "ascii", "--color", "none"]);

@@ -6,7 +6,7 @@ use glam::Vec2;
 use super::controls::{Action, Held, action_for};
 use crate::input::{Key, KeyPhase};
 use crate::maze::geometry::{WALL_MARGIN, clamp_eye_height, heading_dir, heading_right};
-use crate::maze::movement::{Position, step};
+use crate::maze::movement::{Position, settle, step};
 use crate::maze::{Maze, Viewer};
 use crate::render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection};
 use crate::render::{Charset, Culling, RenderOptions};
@@ -181,15 +181,26 @@ pub fn viewer_camera(viewer: &Viewer) -> Camera {
     Camera { eye_z: clamp_eye_height(viewer.z), ..Camera::new(viewer.pos, viewer.dir_deg, fov) }
 }
 
+/// Where a viewer put at `pos` stands, and the cell holding it: at least [`WALL_MARGIN`] from every
+/// wall, as the walk keeps it ([`settle`]: the renderer's near plane lies inside the margin, so an eye
+/// closer would see through the wall). `None` when `pos` is in no cell. The walk starts there, and
+/// `mazewalk render` renders from there.
+#[must_use]
+pub fn stand(maze: &Maze, pos: Vec2) -> Option<Position> {
+    let cell = maze.cell_at(pos)?;
+    Some(settle(maze, Position { cell, pos }, WALL_MARGIN))
+}
+
 impl App {
-    /// A walkthrough of `maze` from its viewer, starting at time `now`.
+    /// A walkthrough of `maze` from its viewer (where it [`stand`]s), starting at time `now`.
     ///
     /// # Errors
     /// [`StartOutsideMaze`] when the maze's viewer is not in a cell.
     pub fn new(maze: Maze, options: RenderOptions, now: f64) -> Result<App, StartOutsideMaze> {
         let viewer = maze.viewer();
-        let camera = viewer_camera(viewer);
-        let cell = maze.cell_at(viewer.pos).ok_or(StartOutsideMaze { x: viewer.pos.x, y: viewer.pos.y })?;
+        let Position { cell, pos } =
+            stand(&maze, viewer.pos).ok_or(StartOutsideMaze { x: viewer.pos.x, y: viewer.pos.y })?;
+        let camera = Camera { position: pos, ..viewer_camera(viewer) };
         let cells = maze.cell_count();
         Ok(App {
             maze,

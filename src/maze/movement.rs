@@ -122,6 +122,53 @@ fn sweep(
     }
 }
 
+/// Where the viewer stands when put at `at`: at least `radius` from every opaque edge, as a [`step`]
+/// keeps it. A place closer is pushed out, away from the nearest wall first, a few rounds, each a
+/// [`step`] (so never through a wall). Where no place within reach is clear (a corridor narrower than
+/// the disc), the viewer stays as close to clear as the pushes got it. Non-finite input returns `at`.
+///
+/// The renderer relies on it: its near plane lies inside the margin, so an eye closer to a wall would
+/// see through it.
+#[must_use]
+pub fn settle(maze: &Maze, at: Position, radius: f32) -> Position {
+    const ROUNDS: usize = 8;
+    if (at.cell as usize) >= maze.cell_count() || !(at.pos.is_finite() && radius.is_finite() && radius > 0.0)
+    {
+        return at;
+    }
+    let r = f64::from(radius) + SKIN;
+    let region = Aabb { min: at.pos, max: at.pos }.expand(2.0 * radius + 1e-3);
+    let walls = walls_of(maze, &cells_near(maze, at.cell, &region));
+    let mut here = at;
+    for _ in 0..ROUNDS {
+        let p = here.pos.as_dvec2();
+        // The wall the disc overlaps most, and the way out of it.
+        let deepest = walls
+            .iter()
+            .filter_map(|w| {
+                let e = w.b - w.a;
+                let closest = w.a + e * ((p - w.a).dot(e) / e.length_squared()).clamp(0.0, 1.0);
+                let d = p.distance(closest);
+                let out = if d > 1e-9 {
+                    (p - closest) / d
+                } else if w.cell == here.cell {
+                    w.inward // on the wall line: out into the cell it stands in
+                } else {
+                    return None;
+                };
+                (d < r).then_some((r - d, out))
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        let Some((depth, out)) = deepest else { break };
+        let next = step(maze, here, (out * (depth + SKIN)).as_vec2(), radius);
+        if next == here {
+            break;
+        }
+        here = next;
+    }
+    here
+}
+
 /// Cells reachable from `start` through portals without leaving cells that touch `region`,
 /// `start` first, in breadth-first order.
 fn cells_near(maze: &Maze, start: CellId, region: &Aabb) -> Vec<CellId> {
@@ -238,6 +285,64 @@ mod tests {
             6 3 5 1
             2 2 0 0 90";
         parse("two", text.as_bytes()).unwrap()
+    }
+
+    /// The distance from `p` to the nearest opaque edge of `m`.
+    fn clearance(m: &Maze, p: Vec2) -> f32 {
+        (0..m.edges().len() as u32)
+            .filter(|&e| m.edge(e).opaque)
+            .map(|e| {
+                let (a, b) = m.edge_points(e);
+                let t = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                p.distance(a + (b - a) * t)
+            })
+            .fold(f32::INFINITY, f32::min)
+    }
+
+    /// A viewer put closer than the margin to walls (on a wall line, in a corner, beside a portal's
+    /// end) stands at the margin, in a cell holding it, moved no further than it had to be; one put
+    /// clear of every wall, or beside a portal, stays put.
+    #[test]
+    fn a_viewer_put_against_a_wall_stands_at_the_margin() {
+        let m = two_rooms();
+        let mut moved = 0;
+        for i in 0..=80 {
+            for j in 0..=40 {
+                let pos = vec2(i as f32 * 0.1, j as f32 * 0.1);
+                let Some(cell) = m.cell_at(pos) else { continue };
+                let at = Position { cell, pos };
+                let settled = settle(&m, at, 0.25);
+                assert!(m.cell_contains(settled.cell, settled.pos), "{at:?} → {settled:?}");
+                assert!(clearance(&m, settled.pos) >= 0.25, "{at:?} → {settled:?}");
+                let before = clearance(&m, pos);
+                if before >= 0.25 + 2e-4 {
+                    assert_eq!(settled, at, "clear already");
+                } else {
+                    moved += 1;
+                    // In a corner the way out is the diagonal: √2 × the margin.
+                    assert!(settled.pos.distance(pos) <= 0.36, "{at:?} → {settled:?}");
+                }
+            }
+        }
+        assert!(moved > 200, "{moved}");
+        // Beside the portal, between the rooms: no wall there.
+        let by_portal = Position { cell: 0, pos: vec2(3.99, 2.0) };
+        assert_eq!(settle(&m, by_portal, 0.25), by_portal);
+    }
+
+    /// A cell narrower than the disc has no clear place: the viewer stays inside it, never pushed
+    /// through a wall, and the input that means nothing leaves it where it is.
+    #[test]
+    fn a_viewer_in_a_cell_narrower_than_its_disc_stays_inside() {
+        let m = parse("thin", "4 0 0 0.3 0 0.3 4 0 4 4 0 1 0 -1 1 1 1 1 1 2 0 -1 1 1 1 1 2 3 0 -1 1 1 1 1 3 0 0 -1 1 1 1 1 1 0 1 2 3 0.15 2 0 90 90".as_bytes()).unwrap();
+        for x in [0.0, 0.01, 0.15, 0.29, 0.3] {
+            let at = Position { cell: 0, pos: vec2(x, 2.0) };
+            let settled = settle(&m, at, 0.25);
+            assert!(m.cell_contains(0, settled.pos) && settled.cell == 0, "{at:?} → {settled:?}");
+        }
+        let at = Position { cell: 0, pos: vec2(0.1, 2.0) };
+        assert_eq!(settle(&m, at, f32::NAN), at);
+        assert_eq!(settle(&m, Position { cell: 0, pos: vec2(f32::NAN, 2.0) }, 0.25).pos.y, 2.0);
     }
 
     #[test]
