@@ -553,6 +553,8 @@ pub enum MazeError {
     CellClockwise { cell: CellId },
     #[error("cell {cell} has an area of {area:e}; a cell needs at least {MIN_CELL_AREA:e}")]
     CellTooSmall { cell: CellId, area: f64 },
+    #[error("cell {cell} lies inside cell {other}: cells may share edges, not area")]
+    CellsOverlap { cell: CellId, other: CellId },
     #[error("edges {a} and {b} cross")]
     EdgesCross { a: EdgeId, b: EdgeId },
     #[error("edges {a} and {b} overlap (collinear)")]
@@ -619,6 +621,7 @@ impl MazeError {
             | CellNotClosed { cell, .. }
             | CellNotConvex { cell, .. }
             | CellTooSmall { cell, .. }
+            | CellsOverlap { cell, .. }
             | CellClockwise { cell } => Subject::Cell(cell),
             ViewerNotFinite
             | ViewerHeight { .. }
@@ -635,7 +638,8 @@ impl Maze {
     ///
     /// Checks, in order: sizes, coordinates finite and within [`COORD_BOUND`], edge indices and sides,
     /// cell ↔ edge consistency, each cell a closed counter-clockwise convex loop, no two edges crossing
-    /// or overlapping (sharing an endpoint is fine), the viewer in a cell, the exit in range.
+    /// or overlapping (sharing an endpoint is fine), no cell inside another, the viewer in a cell, the
+    /// exit in range.
     pub fn new(
         vertices: Vec<Vec2>,
         edges: Edges,
@@ -666,6 +670,7 @@ impl Maze {
         let (extents, cell_index) = index?;
         crossings?;
         let maze = Maze { vertices, edges, cells, viewer, exit, extents, cell_index };
+        validate::nesting(&maze)?;
         validate::viewer_and_exit(&maze)?;
         Ok(maze)
     }

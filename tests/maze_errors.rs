@@ -127,6 +127,70 @@ fn crossing_and_overlapping_edges_are_named() {
     assert!(matches!(e.kind, ParseErrorKind::Invalid(MazeError::EdgesCross { a: 1 | 3, b: 4 | 6 })), "{e}");
 }
 
+/// A room inside a room: no edges cross, but the cells share area (the walk went through the inner
+/// walls, and the renderers disagreed on what stood there). Refused at the inner cell's line,
+/// whichever order the file lists them in, and whichever cell's centre lies in the other.
+#[test]
+fn a_cell_inside_another_is_refused() {
+    let nested = |inner_first: bool, inner: [f32; 2]| {
+        let cells = if inner_first { ["4 5 6 7", "0 1 2 3"] } else { ["0 1 2 3", "4 5 6 7"] };
+        let [lo, hi] = inner;
+        let (o, i) = if inner_first { (1, 0) } else { (0, 1) };
+        format!(
+            "8  0 0 10 0 10 10 0 10  {lo} {lo} {hi} {lo} {hi} {hi} {lo} {hi}
+            8
+            0 1 {o} -1 1 .5 .5 .5
+            1 2 {o} -1 1 .5 .5 .5
+            2 3 {o} -1 1 .5 .5 .5
+            3 0 {o} -1 1 .5 .5 .5
+            4 5 {i} -1 1 .5 .5 .5
+            5 6 {i} -1 1 .5 .5 .5
+            6 7 {i} -1 1 .5 .5 .5
+            7 4 {i} -1 1 .5 .5 .5
+            2
+            {}
+            {}
+            0.5 0.5 0 45 90",
+            cells[0], cells[1]
+        )
+        .lines()
+        .map(str::trim)
+        .collect::<Vec<_>>()
+        .join("\n")
+    };
+    // The inner box round the outer one's centre (4..6), and off it (1..3).
+    for (inner, centred) in [([4.0, 6.0], true), ([1.0, 3.0], false)] {
+        for inner_first in [false, true] {
+            let text = nested(inner_first, inner);
+            let (line, cell, other) = if inner_first { (12, 0, 1) } else { (13, 1, 0) };
+            let want = format!("f.maze:{line}:1: cell {cell} lies inside cell {other}");
+            assert!(
+                error(&text).starts_with(&want),
+                "centred {centred}, inner first {inner_first}: {}",
+                error(&text)
+            );
+        }
+    }
+    // Side by side, sharing a wall: fine.
+    assert!(maze::parse("f.maze", crate_two_rooms().as_bytes()).is_ok());
+}
+
+/// Two 4 × 4 rooms sharing the wall x = 4 (a portal).
+fn crate_two_rooms() -> String {
+    "6 0 0 4 0 8 0 0 4 4 4 8 4
+    7
+    0 1 0 -1 1 .5 .5 .5
+    1 2 1 -1 1 .5 .5 .5
+    3 4 -1 0 1 .5 .5 .5
+    4 5 -1 1 1 .5 .5 .5
+    0 3 -1 0 1 .5 .5 .5
+    1 4 0 1 0 .5 .5 .5
+    2 5 1 -1 1 .5 .5 .5
+    2  5 2 4 0  6 3 5 1
+    2 2 0 0 90"
+        .to_string()
+}
+
 #[test]
 fn a_viewer_on_a_wall_two_cells_away_is_refused() {
     // issue #13: five triangles fanned round the viewer's vertex; the one wall among the spokes

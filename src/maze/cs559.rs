@@ -308,6 +308,7 @@ impl Layout {
             | CellNotClosed { cell: c, .. }
             | CellNotConvex { cell: c, .. }
             | CellTooSmall { cell: c, .. }
+            | CellsOverlap { cell: c, .. }
             | CellClockwise { cell: c } => (cell(c), &|_, _| 0),
             ViewerNotFinite => (viewer, &|_, f| {
                 let ok = [COORD_BOUND, COORD_BOUND, f32::MAX, COORD_BOUND, f32::MAX];
