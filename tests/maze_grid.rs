@@ -146,6 +146,8 @@ const MALFORMED: &[(&str, u32, u32, &str)] = &[
     ("mazewalk-grid 2\n#@#\n", 1, 15, "unsupported grid version `2`"),
     ("mazewalk-grid\n#@#\n", 1, 14, "expected the version after `mazewalk-grid`"),
     ("mazewalk-grid 1\ntile 0\n#@#\n", 2, 6, "tile side 0 is out of range"),
+    ("mazewalk-grid 1\ntile 0.5\n#@#\n", 2, 6, "tile side 0.5 is out of range: more than 0.5 (the viewer"),
+    ("mazewalk-grid 1\ntile 1001\n#@#\n", 2, 6, "tile side 1001 is out of range"),
     ("mazewalk-grid 1\ntile four\n#@#\n", 2, 6, "expected a number (tile side), found `four`"),
     ("mazewalk-grid 1\neye 1\n#@#\n", 2, 5, "eye height 1 is not strictly between -1 and 1"),
     ("mazewalk-grid 1\nfov 180\n#@#\n", 2, 5, "field of view 180 is not strictly between 0 and 180"),
@@ -218,6 +220,22 @@ fn grid_parse_map_exposes_the_tiles() {
 
 /// A mostly well-formed grid file: a few settings, then ragged rows of floor, walls and junk, with a
 /// start (and maybe an exit) dropped in at random places.
+/// The narrowest tile a file may give still lets the viewer walk down a corridor one tile wide (a
+/// tile of 0.1 loaded, and the walk could not move).
+#[test]
+fn the_viewer_walks_a_corridor_of_the_narrowest_tile() {
+    use mazewalk::maze::geometry::WALL_MARGIN;
+    use mazewalk::maze::movement::{Position, step};
+    let tile = grid::MIN_TILE + 0.01;
+    let m = parse(&format!("mazewalk-grid 1\ntile {tile}\n######\n#@...#\n######\n")).unwrap();
+    let mut at = Position::of_viewer(&m);
+    let start = at.pos;
+    for _ in 0..20 {
+        at = step(&m, at, vec2(0.1, 0.0), WALL_MARGIN);
+    }
+    assert!(at.pos.x > start.x + 2.0 * tile, "from {start} to {}", at.pos);
+}
+
 fn arb_grid_text() -> impl Strategy<Value = String> {
     let setting = prop_oneof![
         "tile [0-9]{1,2}(\\.[0-9])?",

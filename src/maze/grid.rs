@@ -14,7 +14,8 @@
 //! ```
 //!
 //! * Line 1 is `mazewalk-grid 1` (the format and its version).
-//! * Settings follow, one per line, each optional: `tile SIDE` (tile side in maze units, 0.01..=1000, default 4),
+//! * Settings follow, one per line, each optional: `tile SIDE` (tile side in maze units, more than
+//!   [`MIN_TILE`] = 0.5 and at most 1000, default 4),
 //!   `facing east|north|west|south` (the `@` start's heading, default east), `eye Z` (eye height,
 //!   default 0, strictly between the floor -1 and the ceiling +1), `fov DEG` (horizontal field of
 //!   view, default 90), and colour legend lines `L = #rrggbb` giving wall letter `L` (`A`–`Z` but `E`)
@@ -40,6 +41,7 @@ use std::fmt::Write as _;
 
 use glam::{Vec2, Vec3, vec2};
 
+use super::geometry::WALL_MARGIN;
 use super::text::{Loc, is_space, quote};
 use super::{
     CellId, Cells, EdgeId, Edges, Exit, Format, Maze, PackedEdge, ParseError, ParseErrorKind, Viewer,
@@ -52,6 +54,10 @@ pub const MAGIC: &str = "mazewalk-grid";
 pub const VERSION: u32 = 1;
 /// The colour of `#` walls and of the outside unless the legend says otherwise (`#808080`).
 pub const DEFAULT_WALL: Vec3 = Vec3::splat(128.0 / 255.0);
+/// A tile's side must be more than this: the viewer's disc ([`WALL_MARGIN`] round it) across, so
+/// that it fits between walls one tile apart (with a narrower tile the walk could not move).
+pub const MIN_TILE: f32 = 2.0 * WALL_MARGIN;
+
 /// Most tiles in a map (2048 × 2048), so a 1000 × 1000 generated maze fits.
 pub const MAX_TILES: usize = 2048 * 2048;
 
@@ -563,12 +569,13 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
             [] if line.is_empty() || !line.contains(' ') => {}
             ["tile", v] => {
                 map.tile = number(v, "tile side")?;
-                if !(0.01..=1000.0).contains(&map.tile) {
-                    return Err(err(
-                        n,
-                        col_of(v),
-                        format!("tile side {} is out of range 0.01..=1000", quote(v)),
-                    ));
+                if !(map.tile > MIN_TILE && map.tile <= 1000.0) {
+                    let why = "the viewer, a disc 0.5 across, must fit between walls a tile apart";
+                    let msg = format!(
+                        "tile side {} is out of range: more than {MIN_TILE} ({why}), at most 1000",
+                        quote(v)
+                    );
+                    return Err(err(n, col_of(v), msg));
                 }
             }
             ["eye", v] => {
