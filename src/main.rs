@@ -318,6 +318,14 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
         ..from_file
     };
     camera.validate().map_err(|e| Usage(e.to_string()))?;
+    // The depths' file made now, so that a place it cannot go stops the command before the frame
+    // is written anywhere.
+    let depth_file = match &args.depth_out {
+        Some(path) if path != STDOUT => {
+            Some(File::create(path).with_context(|| format!("{}: cannot create", path.display()))?)
+        }
+        _ => None,
+    };
     let options = args.look.options(args.culling);
     let mut renderer = Renderer::new();
     let mut frame = Frame::new(cols, rows);
@@ -375,10 +383,12 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
             csv.push_str(&fields.join(","));
             csv.push('\n');
         }
-        if path == STDOUT {
-            std::io::stdout().lock().write_all(csv.as_bytes()).context("cannot write to stdout")?;
-        } else {
-            std::fs::write(path, csv).with_context(|| format!("{}: cannot write", path.display()))?;
+        match depth_file {
+            Some(mut file) => {
+                file.write_all(csv.as_bytes())
+                    .with_context(|| format!("{}: cannot write", path.display()))?;
+            }
+            None => std::io::stdout().lock().write_all(csv.as_bytes()).context("cannot write to stdout")?,
         }
     }
     Ok(())
@@ -405,12 +415,15 @@ fn cmd_gen(args: &GenArgs) -> anyhow::Result<()> {
         }
     };
     let mut out = BufWriter::new(sink);
+    let cannot_write = || format!("{name}: cannot write");
     match args.format {
         // streamed: a 1000x1000 maze is 160 MB of text
-        Format::Cs559 => maze::cs559::write_to(&generate(&opts)?, &mut out)?,
-        Format::Grid => out.write_all(generate_grid(&opts)?.to_text().as_bytes())?,
+        Format::Cs559 => maze::cs559::write_to(&generate(&opts)?, &mut out).with_context(cannot_write)?,
+        Format::Grid => {
+            out.write_all(generate_grid(&opts)?.to_text().as_bytes()).with_context(cannot_write)?
+        }
     }
-    out.flush().with_context(|| format!("{name}: cannot write"))?;
+    out.flush().with_context(cannot_write)?;
     Ok(())
 }
 

@@ -380,7 +380,27 @@ fn render_outputs_go_to_standard_output_by_dash_one_at_a_time() {
         assert!(stderr(&out).contains(says), "{args:?}: {}", stderr(&out));
         assert!(out.stdout.is_empty(), "{args:?}");
     }
+    // A place the depths cannot go: refused before the frame is written (it was printed, then refused).
+    let dir_str = dir.to_str().unwrap();
+    let out = mazewalk(&["render", "--size", "20x6", "--depth-out", dir_str]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("cannot create"), "{}", stderr(&out));
+    assert!(out.stdout.is_empty(), "{}", stdout(&out));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A maze that cannot be written says where: every write, not only the last flush (`gen -o
+/// /dev/full` said only "No space left on device").
+#[test]
+fn gen_names_the_file_it_cannot_write() {
+    if !std::path::Path::new("/dev/full").exists() {
+        return;
+    }
+    for format in ["cs559", "grid"] {
+        let out = mazewalk(&["gen", "--size", "60x60", "--format", format, "-o", "/dev/full"]);
+        assert_eq!(out.status.code(), Some(1), "{format}: {}", stderr(&out));
+        assert!(stderr(&out).contains("/dev/full: cannot write"), "{format}: {}", stderr(&out));
+    }
 }
 
 #[test]
