@@ -445,13 +445,15 @@ fn summary(name: &str, format: Format, maze: &Maze) -> String {
         None => format!("cell {}", x.cell),
     });
     format!(
-        "{name}: ok\n  format:   {format}\n  cells:    {}\n  edges:    {} ({} opaque walls, {} portals)\n  \
+        "{name}: ok\n  format:   {format}\n  cells:    {}\n  edges:    {} ({} opaque {}, {} {})\n  \
          extents:  ({}, {}) .. ({}, {})\n  viewer:   ({}, {}) z {} facing {}° fov {}° in cell {}\n  \
          exit:     {exit}\n  perfect:  {}\n",
         maze.cell_count(),
         maze.edges().len(),
         maze.wall_count(),
+        if maze.wall_count() == 1 { "wall" } else { "walls" },
         maze.portal_count(),
+        if maze.portal_count() == 1 { "portal" } else { "portals" },
         e.min.x,
         e.min.y,
         e.max.x,

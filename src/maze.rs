@@ -521,11 +521,11 @@ pub enum MazeError {
     TooMany { what: &'static str, count: usize, max: usize },
     #[error("vertex {vertex} has a coordinate that is not finite or beyond ±{COORD_BOUND}")]
     VertexOutOfBounds { vertex: VertexId },
-    #[error("edge {edge} names vertex {vertex}, but there are only {count} vertices")]
+    #[error("edge {edge} names vertex {vertex}, but there {}", only(*count, "vertex", "vertices"))]
     EdgeVertexOutOfRange { edge: EdgeId, vertex: VertexId, count: usize },
     #[error("edge {edge} has zero length (vertices {start} and {end} coincide)")]
     EdgeDegenerate { edge: EdgeId, start: VertexId, end: VertexId },
-    #[error("edge {edge} names cell {cell}, but there are only {count} cells")]
+    #[error("edge {edge} names cell {cell}, but there {}", only(*count, "cell", "cells"))]
     EdgeCellOutOfRange { edge: EdgeId, cell: CellId, count: usize },
     #[error("edge {edge} has cell {cell} on both sides")]
     EdgeSameCellBothSides { edge: EdgeId, cell: CellId },
@@ -537,7 +537,7 @@ pub enum MazeError {
     EdgeColor { edge: EdgeId },
     #[error("edge {edge} lists cell {cell} on its {side} but cell {cell} does not list edge {edge}")]
     CellMissingEdge { edge: EdgeId, cell: CellId, side: &'static str },
-    #[error("cell {cell} lists edge {edge}, but there are only {count} edges")]
+    #[error("cell {cell} lists edge {edge}, but there {}", only(*count, "edge", "edges"))]
     CellEdgeOutOfRange { cell: CellId, edge: EdgeId, count: usize },
     #[error("cell {cell} lists edge {edge}, but edge {edge} names neither of its sides as cell {cell}")]
     CellEdgeNotNeighbour { cell: CellId, edge: EdgeId },
@@ -571,7 +571,7 @@ pub enum MazeError {
     ViewerOutside { x: f32, y: f32 },
     #[error("the viewer at ({x}, {y}) stands on wall {edge}; place it inside a cell")]
     ViewerOnWall { x: f32, y: f32, edge: EdgeId },
-    #[error("the exit names cell {cell}, but there are only {count} cells")]
+    #[error("the exit names cell {cell}, but there {}", only(*count, "cell", "cells"))]
     ExitCellOutOfRange { cell: CellId, count: usize },
     #[error("the exit point ({x}, {y}) is in no cell")]
     ExitOutside { x: f32, y: f32 },
@@ -631,6 +631,11 @@ impl MazeError {
             ExitCellOutOfRange { .. } | ExitOutside { .. } | ExitPointOutside { .. } => Subject::Exit,
         }
     }
+}
+
+/// "are only 4 cells", "is only 1 cell": the end of a message that an index is out of range.
+fn only(count: usize, one: &str, many: &str) -> String {
+    if count == 1 { format!("is only 1 {one}") } else { format!("are only {count} {many}") }
 }
 
 impl Maze {

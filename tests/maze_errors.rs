@@ -49,7 +49,9 @@ fn malformed_files_give_file_line_col_and_what_is_wrong() {
         (b"1000000000 0 0".to_vec(), "f.maze:1:15: unexpected end of file: expected vertex 1 x"),
         (b"1\nnan 0".to_vec(), "f.maze:2:1: vertex 0 x nan is not a finite number"),
         (b"1\n0 -inf".to_vec(), "f.maze:2:3: vertex 0 y -inf is not a finite number"),
-        (b"1\n0 1e39".to_vec(), "f.maze:2:3: vertex 0 y 1e39 is not a finite number"),
+        (b"1\n0 1e39".to_vec(), "f.maze:2:3: vertex 0 y is 1e39, out of range (within ±3.4028235e38)"),
+        (b"99999999999999999999".to_vec(), "f.maze:1:1: vertex count is 99999999999999999999, out of range (a 64-bit integer"),
+        (b"-99999999999999999999".to_vec(), "f.maze:1:1: vertex count is -99999999999999999999, out of range"),
         (b"4\n0\xff 0".to_vec(), "f.maze:2:2: invalid UTF-8 (byte 0xff)"),
         (room_with(7, "0 1 0 -1 2 0.5 0.5 0.5").into_bytes(), "f.maze:7:10: edge 0 opaque flag is 2, out of range (0 or 1)"),
         (room_with(7, "0 1 -2 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:5: edge 0 left cell is -2, out of range"),
@@ -58,7 +60,7 @@ fn malformed_files_give_file_line_col_and_what_is_wrong() {
         (room_with(2, "0 1e7").into_bytes(), "f.maze:2:3: vertex 0 has a coordinate that is not finite or beyond"),
         (room_with(7, "0 9 0 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:3: edge 0 names vertex 9, but there are only 4 vertices"),
         (room_with(7, "0 0 0 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:3: edge 0 has zero length"),
-        (room_with(7, "0 1 3 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:5: edge 0 names cell 3, but there are only 1 cells"),
+        (room_with(7, "0 1 3 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:5: edge 0 names cell 3, but there is only 1 cell"),
         (room_with(7, "0 1 -1 -1 1 0.5 0.5 0.5").into_bytes(), "f.maze:7:5: edge 0 borders no cell"),
         (room_with(7, "0 1 0 -1 0 0.5 0.5 0.5").into_bytes(), "f.maze:7:10: edge 0 is transparent but leads outside the maze"),
         (room_with(7, "0 1 0 -1 1 0.5 1.5 0.5").into_bytes(), "f.maze:7:16: edge 0 has a colour component outside 0..1"),
@@ -79,7 +81,7 @@ fn malformed_files_give_file_line_col_and_what_is_wrong() {
         (room_with(13, "2 2 1 90 90").into_bytes(), "f.maze:13:5: the viewer's eye height 1 is not strictly between"),
         (room_with(13, "2 2 0 90 180").into_bytes(), "f.maze:13:10: the viewer's field of view 180° is not strictly between 0 and 180"),
         // the exit extension
-        (format!("{ROOM}exit 3\n").into_bytes(), "f.maze:14:1: the exit names cell 3, but there are only 1 cells"),
+        (format!("{ROOM}exit 3\n").into_bytes(), "f.maze:14:1: the exit names cell 3, but there is only 1 cell"),
         (format!("{ROOM}exit 9 9\n").into_bytes(), "f.maze:14:1: the exit point (9, 9) is in no cell"),
         (format!("{ROOM}exit 1 2 3\n").into_bytes(), "f.maze:14:1: expected `exit CELL` or `exit X Y`, found `exit 1 2 3`"),
     ];

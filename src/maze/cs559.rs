@@ -619,8 +619,19 @@ impl<'a> Reader<'a> {
             return Ok((value, at));
         }
         let (tok, at) = self.token(what)?;
-        let value =
-            parse_i64(tok).ok_or_else(|| self.expected(at, &format!("an integer ({})", what()), tok))?;
+        let value = parse_i64(tok).ok_or_else(|| {
+            // All digits, but more than 64 bits hold: an integer, out of range.
+            let digits = tok.strip_prefix(['-', '+']).unwrap_or(tok);
+            if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) {
+                let range = "a 64-bit integer; the counts and indices are far smaller";
+                self.error(
+                    at,
+                    ParseErrorKind::OutOfRange { what: what(), value: quote(tok), range: range.into() },
+                )
+            } else {
+                self.expected(at, &format!("an integer ({})", what()), tok)
+            }
+        })?;
         Ok((value, at))
     }
 
@@ -680,6 +691,13 @@ impl<'a> Reader<'a> {
         let value =
             tok.parse::<f32>().map_err(|_| self.expected(at, &format!("a number ({})", what()), tok))?;
         if !value.is_finite() {
+            if tok.parse::<f64>().is_ok_and(f64::is_finite) {
+                // A number, too large for the 32-bit floats a maze is made of.
+                let range = format!("within ±{:e}", f32::MAX);
+                return Err(
+                    self.error(at, ParseErrorKind::OutOfRange { what: what(), value: quote(tok), range })
+                );
+            }
             return Err(self.error(at, ParseErrorKind::NotFinite { what: what(), value: quote(tok) }));
         }
         Ok(value)
