@@ -173,8 +173,13 @@ fn a_cell_inside_another_is_refused() {
             );
         }
     }
-    // Side by side, sharing a wall: fine.
+    // Side by side, sharing a wall: fine; also when one is a sliver, whose centre lies within the
+    // point location's tolerance of the other.
     assert!(maze::parse("f.maze", crate_two_rooms().as_bytes()).is_ok());
+    let sliver = crate_two_rooms().replacen("8 0 0 4 4 4 8 4", "4.00005 0 0 4 4 4 4.00005 4", 1);
+    assert!(sliver.contains("4.00005 4"), "the premise");
+    let m = maze::parse("f.maze", sliver.as_bytes());
+    assert!(m.as_ref().is_ok_and(|m| m.cell_count() == 2), "{:?}", m.err());
 }
 
 /// Two 4 × 4 rooms sharing the wall x = 4 (a portal).

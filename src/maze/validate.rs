@@ -248,11 +248,20 @@ fn grid_conflict(
 }
 
 /// No cell lies inside another. Edges do not cross (checked before), so two convex cells can share
-/// area only when one holds the other whole, and then it holds the inner one's centre (the mean of its
-/// corners, inside it): one point location a cell. Of two that overlap, the smaller is the inner one.
+/// area only when one holds the other whole, and then the inner one's centre (the mean of its corners)
+/// lies strictly inside the outer one: one point location a cell. Strictly, with no tolerance: the
+/// centre of a sliver beside a cell lies within the point location's tolerance of that cell. Of two
+/// that overlap, the smaller is the inner one.
 pub(super) fn nesting(maze: &Maze) -> Result<(), MazeError> {
     let corners =
         |c: CellId| maze.cell_edges(c).iter().map(move |&e| maze.edge_points_ccw(e, c).0.as_dvec2());
+    let strictly_inside = |c: CellId, p: DVec2| {
+        maze.cell_edges(c).iter().all(|&e| {
+            let (a, b) = maze.edge_points_ccw(e, c);
+            let (a, b) = (a.as_dvec2(), b.as_dvec2());
+            (b - a).perp_dot(p - a) > 0.0
+        })
+    };
     // (The shoelace sum over the cell's edges, each from the end its cell is left of: any order.)
     let twice_area = |c: CellId| -> f64 {
         let edges = maze.cell_edges(c).iter().map(|&e| maze.edge_points_ccw(e, c));
@@ -261,13 +270,13 @@ pub(super) fn nesting(maze: &Maze) -> Result<(), MazeError> {
     // The first overlap among cells `range`, by the lower cell of the two.
     let first_in = |range: std::ops::Range<CellId>| {
         range.into_iter().find_map(|c| {
-            let centre = (corners(c).sum::<DVec2>() / maze.cell_edges(c).len() as f64).as_vec2();
+            let centre = corners(c).sum::<DVec2>() / maze.cell_edges(c).len() as f64;
             let other = maze
                 .cell_index
-                .query(centre)
+                .query(centre.as_vec2())
                 .iter()
                 .copied()
-                .find(|&o| o != c && maze.cell_contains(o, centre))?;
+                .find(|&o| o != c && strictly_inside(o, centre))?;
             Some(if twice_area(c) <= twice_area(other) { (c, other) } else { (other, c) })
         })
     };
