@@ -444,9 +444,17 @@ fn summary(name: &str, format: Format, maze: &Maze) -> String {
         Some(p) => format!("cell {} at ({}, {})", x.cell, p.x, p.y),
         None => format!("cell {}", x.cell),
     });
+    // Where the walk starts instead, when the file's viewer stands closer to a wall than it may.
+    let moved = match stand(maze, v.pos) {
+        Some(at) if at.pos != v.pos => format!(
+            "\n            (closer than 0.25 to a wall: the walk starts at ({}, {}))",
+            at.pos.x, at.pos.y
+        ),
+        _ => String::new(),
+    };
     format!(
         "{name}: ok\n  format:   {format}\n  cells:    {}\n  edges:    {} ({} opaque {}, {} {})\n  \
-         extents:  ({}, {}) .. ({}, {})\n  viewer:   ({}, {}) z {} facing {}° fov {}° in cell {}\n  \
+         extents:  ({}, {}) .. ({}, {})\n  viewer:   ({}, {}) z {} facing {}° fov {}° in cell {}{moved}\n  \
          exit:     {exit}\n  perfect:  {}\n",
         maze.cell_count(),
         maze.edges().len(),

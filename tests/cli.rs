@@ -53,6 +53,10 @@ fn an_eye_against_a_wall_sees_the_wall_from_where_the_walk_stands() {
         assert_eq!(frame(&tiny, Some(at)), standing, "--at {at}");
     }
     assert_eq!(frame(against.to_str().unwrap(), None), standing, "the file's viewer at 0.001");
+    // `check` tells the maze's author where the walk starts instead.
+    let report = stdout(&mazewalk(&["check", against.to_str().unwrap()]));
+    assert!(report.contains("the walk starts at (0.25"), "{report}");
+    assert!(!stdout(&mazewalk(&["check", &tiny])).contains("the walk starts"), "tiny's viewer is clear");
     // …and what it sees is the wall, as from further back, where no near plane reaches it.
     assert_eq!(standing, frame(&tiny, Some("0.5,2")));
     std::fs::remove_dir_all(&dir).unwrap();
