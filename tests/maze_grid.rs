@@ -218,8 +218,6 @@ fn grid_parse_map_exposes_the_tiles() {
     assert_eq!((map.cols, map.rows, map.tiles.as_slice()), (2, 1, &b"#@"[..]));
 }
 
-/// A mostly well-formed grid file: a few settings, then ragged rows of floor, walls and junk, with a
-/// start (and maybe an exit) dropped in at random places.
 /// The narrowest tile a file may give still lets the viewer walk down a corridor one tile wide (a
 /// tile of 0.1 loaded, and the walk could not move).
 #[test]
@@ -236,6 +234,29 @@ fn the_viewer_walks_a_corridor_of_the_narrowest_tile() {
     assert!(at.pos.x > start.x + 2.0 * tile, "from {start} to {}", at.pos);
 }
 
+/// A maze of tiles narrower than a grid file's may be is not written as one (it would not read back),
+/// and the writer says why.
+#[test]
+fn tiles_too_narrow_for_a_grid_file_are_not_written() {
+    let mut map = grid::parse_map(
+        "m",
+        "mazewalk-grid 1
+#####
+#@..#
+#####
+",
+    )
+    .unwrap();
+    map.tile = 0.3;
+    let m = map.to_maze().unwrap();
+    let e = maze::write(&m, Format::Grid).unwrap_err().to_string();
+    assert!(e.contains("its tiles are 0.3 across; a grid file's are more than 0.5"), "{e}");
+    map.tile = 0.6;
+    assert!(maze::write(&map.to_maze().unwrap(), Format::Grid).is_ok());
+}
+
+/// A mostly well-formed grid file: a few settings, then ragged rows of floor, walls and junk, with a
+/// start (and maybe an exit) dropped in at random places.
 fn arb_grid_text() -> impl Strategy<Value = String> {
     let setting = prop_oneof![
         "tile [0-9]{1,2}(\\.[0-9])?",

@@ -690,7 +690,15 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
 
 /// Writes `maze` in grid format, if it is made of the format's square tiles in its numbering.
 pub fn write(maze: &Maze) -> Result<String, WriteError> {
-    let text = to_map(maze)?.to_text();
+    let map = to_map(maze)?;
+    if map.tile <= MIN_TILE {
+        let why = "so that the viewer fits between walls";
+        return Err(no(format!(
+            "its tiles are {} across; a grid file's are more than {MIN_TILE}, {why}",
+            map.tile
+        )));
+    }
+    let text = map.to_text();
     // the writer's guarantee: reading it back gives this very maze
     match parse_str("", &text) {
         Ok(back) if back == *maze => Ok(text),
