@@ -24,6 +24,7 @@ use mazewalk::cli::{
 };
 use mazewalk::frame::{Frame, Region};
 use mazewalk::maze::generate::{GenOptions, generate, generate_grid};
+use mazewalk::maze::geometry::WALL_MARGIN;
 use mazewalk::maze::{self, Format, LoadError, Maze};
 use mazewalk::render::{Camera, Charset, Culling, Renderer};
 use mazewalk::term::{caps, encoder, guard};
@@ -447,7 +448,7 @@ fn summary(name: &str, format: Format, maze: &Maze) -> String {
     // Where the walk starts instead, when the file's viewer stands closer to a wall than it may.
     let moved = match stand(maze, v.pos) {
         Some(at) if at.pos != v.pos => format!(
-            "\n            (closer than 0.25 to a wall: the walk starts at ({}, {}))",
+            "\n            (closer than {WALL_MARGIN} to a wall: the walk starts at ({}, {}))",
             at.pos.x, at.pos.y
         ),
         _ => String::new(),

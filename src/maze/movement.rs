@@ -145,18 +145,9 @@ pub fn settle(maze: &Maze, at: Position, radius: f32) -> Position {
         // The wall the disc overlaps most, and the way out of it.
         let deepest = walls
             .iter()
-            .filter_map(|w| {
-                let e = w.b - w.a;
-                let closest = w.a + e * ((p - w.a).dot(e) / e.length_squared()).clamp(0.0, 1.0);
-                let d = p.distance(closest);
-                let out = if d > 1e-9 {
-                    (p - closest) / d
-                } else if w.cell == here.cell {
-                    w.inward // on the wall line: out into the cell it stands in
-                } else {
-                    return None;
-                };
-                (d < r).then_some((r - d, out))
+            .filter_map(|w| match w.away(p, here.cell) {
+                (d, Some(out)) if d < r => Some((r - d, out)),
+                _ => None,
             })
             .max_by(|a, b| a.0.total_cmp(&b.0));
         let Some((depth, out)) = deepest else { break };
@@ -199,6 +190,22 @@ struct Wall {
     inward: DVec2,
 }
 
+impl Wall {
+    /// How far `p` is from the wall, and the unit normal out of it towards `p`: on the wall line,
+    /// out into `current` if the wall is one of its sides (`None` for another cell's wall).
+    fn away(&self, p: DVec2, current: CellId) -> (f64, Option<DVec2>) {
+        let e = self.b - self.a;
+        let closest = self.a + e * ((p - self.a).dot(e) / e.length_squared()).clamp(0.0, 1.0);
+        let dist = p.distance(closest);
+        let out = if dist > 1e-9 {
+            Some((p - closest) / dist)
+        } else {
+            (self.cell == current).then_some(self.inward) // on the wall line: the current cell's side is out
+        };
+        (dist, out)
+    }
+}
+
 fn walls_of(maze: &Maze, cells: &[CellId]) -> Vec<Wall> {
     let mut walls = Vec::new();
     for &c in cells {
@@ -219,19 +226,10 @@ fn walls_of(maze: &Maze, cells: &[CellId]) -> Vec<Wall> {
 fn contact(p: DVec2, m: DVec2, wall: &Wall, r: f64, current: CellId) -> Option<(f64, DVec2)> {
     let (a, b) = (wall.a, wall.b);
     let e = b - a;
-    let u = ((p - a).dot(e) / e.length_squared()).clamp(0.0, 1.0);
-    let closest = a + e * u;
-    let dist = p.distance(closest);
+    let (dist, out) = wall.away(p, current);
     if dist < r + SKIN {
         // already touching: block only motion further in
-        let n = if dist > 1e-9 {
-            (p - closest) / dist
-        } else if wall.cell == current {
-            wall.inward // standing on the wall line: the current cell's side is "out"
-        } else {
-            return None;
-        };
-        return (m.dot(n) < 0.0).then_some((0.0, n));
+        return out.filter(|&n| m.dot(n) < 0.0).map(|n| (0.0, n));
     }
     let mut best: Option<(f64, DVec2)> = None;
     let mut consider = |t: f64, n: DVec2| {
