@@ -72,13 +72,32 @@ fn stdout_open() -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Prints clap's help, version or usage error and gives its exit code, or says why it could not print.
+fn clap_exit(e: &clap::Error) -> ExitCode {
+    let code = ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(1));
+    match e.print().and_then(|()| std::io::stdout().flush()) {
+        Ok(()) => code,
+        // A usage error that stderr cannot show still has its exit code, as other errors below.
+        Err(_) if e.use_stderr() => code,
+        Err(err) if err.kind() == std::io::ErrorKind::BrokenPipe => ExitCode::from(EXIT_BROKEN_PIPE),
+        Err(err) => {
+            let _ = writeln!(std::io::stderr(), "mazewalk: cannot write to stdout: {err}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 /// A flag value that parsed but makes no sense here (e.g. --at outside the maze): exit 2.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
 struct Usage(String);
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // clap's own exit ignores a failed write, so `--help > /dev/full` would report success.
+        Err(e) => return clap_exit(&e),
+    };
     let result = match cli.command {
         None => cmd_walk(&cli.walk),
         Some(Command::Render(args)) => cmd_render(&args).map(|()| ExitCode::SUCCESS),

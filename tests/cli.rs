@@ -449,6 +449,22 @@ fn a_files_field_of_view_out_of_range_is_clamped_as_the_walk_clamps_it() {
 }
 
 #[test]
+fn help_and_version_that_cannot_be_written_fail() {
+    let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else { return };
+    for args in [&["--help"][..], &["--version"], &["help", "serve"]] {
+        let out = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .args(args)
+            .stdout(full.try_clone().unwrap())
+            .output()
+            .expect("run mazewalk");
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        assert!(stderr(&out).contains("cannot write to stdout"), "{args:?}: {}", stderr(&out));
+    }
+    // Written, they succeed.
+    assert!(mazewalk(&["--version"]).status.success());
+}
+
+#[test]
 fn an_unwritable_stderr_changes_the_message_not_the_exit_code() {
     let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") else { return };
     let run = |args: &[&str], stderr: std::fs::File| {
