@@ -381,6 +381,8 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
             "render_us": micros,
             "culling": args.culling.to_string(),
             "cells_in_maze": maze.cell_count(),
+            // Where the frame was seen from: the asked place, or the walk's margin off a wall.
+            "viewer": stands.pos.to_array().map(|x| (f64::from(x) * 1e4).round() / 1e4),
         });
         if args.repeat > 1 {
             times_us.sort_by(f64::total_cmp);

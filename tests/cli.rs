@@ -53,6 +53,11 @@ fn an_eye_against_a_wall_sees_the_wall_from_where_the_walk_stands() {
         assert_eq!(frame(&tiny, Some(at)), standing, "--at {at}");
     }
     assert_eq!(frame(against.to_str().unwrap(), None), standing, "the file's viewer at 0.001");
+    // `render --stats` tells where the frame was seen from.
+    let stats = mazewalk(&["render", &tiny, "--at", "0.001,2", "--stats", "--size", "8x4"]);
+    let json: serde_json::Value = serde_json::from_slice(&stats.stderr).expect("--stats is JSON");
+    let viewer = [&json["viewer"][0], &json["viewer"][1]].map(|v| v.as_f64().expect("two numbers"));
+    assert!((0.25..0.2505).contains(&viewer[0]) && viewer[1] == 2.0, "{json}");
     // `check` tells the maze's author where the walk starts instead.
     let report = stdout(&mazewalk(&["check", against.to_str().unwrap()]));
     assert!(report.contains("the walk starts at (0.25"), "{report}");
