@@ -4,6 +4,8 @@
 //! - `comb`: N unit-wide cells side by side, each N tall: N + 1 long vertical edges.
 //! - `diagonal`: N parallelogram cells between N + 1 parallel diagonals, each crossing the whole maze.
 //! - `ordinary`: a generated (Prim's) maze of about N cells.
+//! - `fan`: N thin triangles round one corner: every cell's box holds the corner, so a point
+//!   location tests many cells (the check that no cell lies inside another then sweeps instead).
 //!
 //! Also `cell_at/<shape>/N`: 1000 point locations at points spread over the maze.
 //!
@@ -70,6 +72,29 @@ fn slanted(n: u32, h: f32, shear: f32) -> Parts {
     (vertices, edges, flat, viewer)
 }
 
+/// N triangles round the origin, of radius N: spoke k from the centre to rim point k is a portal
+/// between triangles k - 1 and k, and triangle k's third side, from rim k to rim k + 1, a wall.
+fn fan(n: u32) -> Parts {
+    let rim = |k: u32| {
+        let a = std::f64::consts::TAU * f64::from(k % n) / f64::from(n);
+        vec2(a.cos() as f32, a.sin() as f32) * n as f32
+    };
+    let mut vertices = vec![Vec2::ZERO];
+    vertices.extend((0..n).map(rim));
+    let (mut edges, mut cells) = (Edges::new(), Cells::with_capacity(n as usize, 3 * n as usize));
+    for k in 0..n {
+        let (left, right) = (Some(k), Some((k + n - 1) % n));
+        edges.push(Edge { start: 0, end: k + 1, left, right, opaque: false, color: GREY });
+    }
+    for k in 0..n {
+        let (start, end) = (k + 1, (k + 1) % n + 1);
+        edges.push(Edge { start, end, left: Some(k), right: None, opaque: true, color: GREY });
+        cells.push(&[k, n + k, (k + 1) % n]);
+    }
+    let viewer = Viewer { pos: (rim(0) + rim(1)) / 3.0, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 };
+    (vertices, edges, cells, viewer)
+}
+
 /// A generated maze of about `n` cells, taken apart.
 fn ordinary(n: u32) -> Parts {
     let side = (n as f64).sqrt().round() as u32;
@@ -86,10 +111,11 @@ fn build(parts: &Parts) -> Maze {
 fn main() {
     let mut c = Criterion::default().configure_from_args();
     for n in [1_000u32, 10_000, 100_000] {
-        let shapes: [(&str, Parts); 3] = [
+        let shapes: [(&str, Parts); 4] = [
             ("comb", slanted(n, n as f32, 0.0)),
             ("diagonal", slanted(n, n as f32, n as f32)),
             ("ordinary", ordinary(n)),
+            ("fan", fan(n)),
         ];
         for (name, parts) in &shapes {
             let mut group = c.benchmark_group(format!("validate/{name}"));

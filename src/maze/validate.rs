@@ -252,7 +252,21 @@ fn grid_conflict(
 /// lies strictly inside the outer one: one point location a cell. Strictly, with no tolerance: the
 /// centre of a sliver beside a cell lies within the point location's tolerance of that cell. Of two
 /// that overlap, the smaller is the inner one.
+///
+/// The point location tests the cells whose boxes hold the bucket of the point: a handful in an
+/// ordinary maze, but long or thin cells (a fan round one corner, long diagonal corridors) crowd
+/// every bucket. When the locations would test more than a few cells a cell, the sweep
+/// ([`sweep::first_overlap`]) decides in O(n log n) instead.
 pub(super) fn nesting(maze: &Maze) -> Result<(), MazeError> {
+    let cells = maze.cell_count();
+    nesting_within(maze, CANDIDATES_PER_CELL * cells + 1024)
+}
+
+/// Point-location candidates per cell above which the sweep decides (an ordinary maze tests 1–4).
+const CANDIDATES_PER_CELL: usize = 32;
+
+/// [`nesting`], by point location while it tests at most `budget` candidates, else by the sweep.
+fn nesting_within(maze: &Maze, budget: usize) -> Result<(), MazeError> {
     let corners =
         |c: CellId| maze.cell_edges(c).iter().map(move |&e| maze.edge_points_ccw(e, c).0.as_dvec2());
     let strictly_inside = |c: CellId, p: DVec2| {
@@ -267,37 +281,52 @@ pub(super) fn nesting(maze: &Maze) -> Result<(), MazeError> {
         let edges = maze.cell_edges(c).iter().map(|&e| maze.edge_points_ccw(e, c));
         edges.map(|(a, b)| a.as_dvec2().perp_dot(b.as_dvec2())).sum()
     };
-    // The first overlap among cells `range`, by the lower cell of the two.
-    let first_in = |range: std::ops::Range<CellId>| {
-        range.into_iter().find_map(|c| {
+    let inner_first = |(a, b): (CellId, CellId)| if twice_area(a) <= twice_area(b) { (a, b) } else { (b, a) };
+    // The first overlap among cells `range`, by the lower cell of the two; `Err` past the budget.
+    let first_in = |range: std::ops::Range<CellId>, mut budget: usize| -> Result<_, Crowded> {
+        for c in range {
             let centre = corners(c).sum::<DVec2>() / maze.cell_edges(c).len() as f64;
-            let other = maze
-                .cell_index
-                .query(centre.as_vec2())
-                .iter()
-                .copied()
-                .find(|&o| o != c && strictly_inside(o, centre))?;
-            Some(if twice_area(c) <= twice_area(other) { (c, other) } else { (other, c) })
-        })
+            let candidates = maze.cell_index.query(centre.as_vec2());
+            budget = budget.checked_sub(candidates.len()).ok_or(Crowded)?;
+            if let Some(other) = candidates.iter().copied().find(|&o| o != c && strictly_inside(o, centre)) {
+                return Ok(Some(inner_first((c, other))));
+            }
+        }
+        Ok(None)
     };
     let cells = maze.cell_count() as CellId;
     // A big maze on two threads (a million cells: 0.1 s each), the error the same as on one.
-    let found = if maze.edges.len() >= super::PARALLEL_CHECK_EDGES {
+    let located = if maze.edges.len() >= super::PARALLEL_CHECK_EDGES {
         let half = cells / 2;
         std::thread::scope(|s| {
-            let second = s.spawn(|| first_in(half..cells));
-            let first = first_in(0..half);
+            let second = s.spawn(|| first_in(half..cells, budget / 2));
+            let first = first_in(0..half, budget / 2);
             let second = second.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-            first.or(second)
+            Ok(first?.or(second?))
         })
     } else {
-        first_in(0..cells)
+        first_in(0..cells, budget)
     };
+    let found = located.unwrap_or_else(|Crowded| {
+        let edges = &maze.edges;
+        let segment = |e: u32| {
+            let (start, end) = edges.ends(e as usize);
+            [maze.vertices[start as usize], maze.vertices[end as usize]]
+        };
+        let sides = |e: u32| {
+            let edge = edges.get(e as usize);
+            [edge.left, edge.right]
+        };
+        sweep::first_overlap(edges.len(), segment, sides).map(inner_first)
+    });
     match found {
         Some((cell, other)) => Err(MazeError::CellsOverlap { cell, other }),
         None => Ok(()),
     }
 }
+
+/// The point location would test too many cells.
+struct Crowded;
 
 /// The viewer finite, at a sane height and fov, in a cell; the exit in range.
 #[allow(clippy::nonminimal_bool)] // written as "not (valid)" so NaN fails every test
@@ -359,4 +388,117 @@ fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     let ab = b - a;
     let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
     (a + ab * t).distance(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec3, vec2};
+    use proptest::prelude::*;
+
+    use super::*;
+    use crate::maze::Edge;
+    use crate::maze::generate::{Algorithm, GenOptions, generate};
+
+    /// A generated maze with one more cell added, a convex polygon of `corners` (counter-clockwise),
+    /// walls all round; built as `Maze::new` builds it, but unchecked.
+    fn with_cell(maze: &Maze, corners: &[Vec2]) -> Maze {
+        let (mut vertices, mut edges, mut cells) = (maze.vertices.clone(), maze.edges.clone(), maze.cells.clone());
+        let (first_vertex, first_edge, cell) = (vertices.len() as u32, edges.len() as u32, cells.len() as u32);
+        vertices.extend(corners);
+        let k = corners.len() as u32;
+        for i in 0..k {
+            let (start, end) = (first_vertex + i, first_vertex + (i + 1) % k);
+            edges.push(Edge { start, end, left: Some(cell), right: None, opaque: true, color: Vec3::ONE });
+        }
+        cells.push(&(first_edge..first_edge + k).collect::<Vec<_>>());
+        let (extents, cell_index) = super::super::cell_index(&vertices, &edges, &cells, Threads::One);
+        Maze { vertices, edges, cells, viewer: *maze.viewer(), exit: None, extents, cell_index }
+    }
+
+    /// Cell `c`'s corners, counter-clockwise.
+    fn corners(maze: &Maze, c: CellId) -> Vec<Vec2> {
+        let mut at: Vec<Vec2> = maze.cell_edges(c).iter().map(|&e| maze.edge_points_ccw(e, c).0).collect();
+        let centre = at.iter().sum::<Vec2>() / at.len() as f32;
+        at.sort_by(|a, b| (*a - centre).to_angle().total_cmp(&(*b - centre).to_angle()));
+        at
+    }
+
+    fn maze(side: (u32, u32), seed: u64, loops: f32) -> Maze {
+        let (width, height) = side;
+        let algorithm = [Algorithm::Prim, Algorithm::Backtracker, Algorithm::Wilson][seed as usize % 3];
+        generate(&GenOptions { width, height, algorithm, seed, loops, ..GenOptions::default() }).unwrap()
+    }
+
+    proptest! {
+        /// The point location (an unbounded budget) and the sweep (none) agree: nothing overlaps in a
+        /// generated maze; a cell shrunk inside one of its cells, toward any point inside it, lies
+        /// inside that one; and a box round the whole maze holds every cell.
+        #[test]
+        fn the_sweep_and_the_point_location_find_the_same_overlaps(
+            side in (1u32..7, 1u32..7),
+            seed in 0u64..1000,
+            loops in 0.0f32..1.0,
+            host in any::<prop::sample::Index>(),
+            toward in (0.01f32..1.0, 0.01f32..1.0, 0.01f32..1.0),
+            scale in 0.01f32..0.99,
+        ) {
+            let maze = maze(side, seed, loops);
+            let both = |m: &Maze| (nesting_within(m, usize::MAX), nesting_within(m, 0));
+            prop_assert_eq!(both(&maze), (Ok(()), Ok(())));
+            let host = host.index(maze.cell_count()) as CellId;
+            let around = corners(&maze, host);
+            let weights = [toward.0, toward.1, toward.2];
+            let inside = around.iter().zip(weights.iter().cycle()).map(|(&p, &w)| p * w).sum::<Vec2>()
+                / around.iter().zip(weights.iter().cycle()).map(|(_, &w)| w).sum::<f32>();
+            let shrunk: Vec<Vec2> = around.iter().map(|&p| inside + (p - inside) * scale).collect();
+            let inner = with_cell(&maze, &shrunk);
+            let want = Err(MazeError::CellsOverlap { cell: maze.cell_count() as CellId, other: host });
+            prop_assert_eq!(both(&inner), (want.clone(), want));
+            let e = maze.extents();
+            let (lo, hi) = (e.min - 1.0, e.max + 1.0);
+            let round = with_cell(&maze, &[lo, vec2(hi.x, lo.y), hi, vec2(lo.x, hi.y)]);
+            let all = maze.cell_count() as CellId;
+            for found in [nesting_within(&round, usize::MAX), nesting_within(&round, 0)] {
+                prop_assert!(matches!(found, Err(MazeError::CellsOverlap { cell, other }) if cell < all && other == all), "{:?}", found);
+            }
+        }
+    }
+
+    /// A fan of thin triangles round one corner crowds every bucket of the point location: the
+    /// check goes to the sweep, which finds the cell inside one of them.
+    #[test]
+    fn a_fan_of_thin_cells_is_checked_by_the_sweep() {
+        let n = 2000;
+        let rim = |k: u32| {
+            let a = std::f32::consts::TAU * (k % n) as f32 / n as f32;
+            vec2(a.cos(), a.sin()) * 1000.0
+        };
+        let mut vertices = vec![Vec2::ZERO];
+        vertices.extend((0..n).map(rim));
+        let (mut edges, mut cells) = (Edges::new(), Cells::new());
+        let grey = Vec3::splat(0.5);
+        for k in 0..n {
+            // spoke k from the centre to rim k: triangle k on its left, k - 1 on its right
+            let (left, right) = (Some(k), Some((k + n - 1) % n));
+            edges.push(Edge { start: 0, end: k + 1, left, right, opaque: false, color: grey });
+        }
+        for k in 0..n {
+            let (start, end) = (k + 1, (k + 1) % n + 1);
+            edges.push(Edge { start, end, left: Some(k), right: None, opaque: true, color: grey });
+            cells.push(&[k, n + k, (k + 1) % n]);
+        }
+        let (extents, cell_index) = super::super::cell_index(&vertices, &edges, &cells, Threads::One);
+        let viewer = crate::maze::Viewer { pos: (rim(0) + rim(1)) / 3.0, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 };
+        let fan = Maze { vertices, edges, cells, viewer, exit: None, extents, cell_index };
+        let crowded = || {
+            let centre = corners(&fan, 700).iter().sum::<Vec2>() / 3.0;
+            fan.cell_index.query(centre).len()
+        };
+        assert!(crowded() > CANDIDATES_PER_CELL, "the premise: {} candidates", crowded());
+        assert_eq!(nesting(&fan), Ok(()));
+        let centre = corners(&fan, 700).iter().sum::<Vec2>() / 3.0;
+        let shrunk: Vec<Vec2> = corners(&fan, 700).iter().map(|&p| centre + (p - centre) * 0.5).collect();
+        let inner = with_cell(&fan, &shrunk);
+        assert_eq!(nesting(&inner), Err(MazeError::CellsOverlap { cell: n, other: 700 }));
+    }
 }
