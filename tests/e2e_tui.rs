@@ -78,6 +78,9 @@ enum Session {
     /// orphaned (a stop really stops it), but with no controlling terminal at all: the pty is only its
     /// stdin, stdout and stderr, so closing the pty sends no SIGHUP (and resizing it no SIGWINCH).
     Job,
+    /// Not the walk but an interactive bash leads the session, as in a terminal window: the walk is
+    /// typed at its prompt and runs as one of its jobs, stopped and continued by its job control.
+    Shell,
 }
 
 /// Gives up the controlling terminal `tty` (TIOCNOTTY, which rustix has no wrapper for); for a process
@@ -161,7 +164,13 @@ impl Tui {
         let slave = pty.user;
         let cooked = termios::tcgetattr(&slave).expect("tcgetattr");
         let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
-        let mut command = Command::new(env!("CARGO_BIN_EXE_mazewalk"));
+        let mut command = match session {
+            Session::Shell => Command::new("bash"),
+            _ => Command::new(env!("CARGO_BIN_EXE_mazewalk")),
+        };
+        if session == Session::Shell {
+            command.args(["--norc", "--noprofile", "-i"]);
+        }
         command
             .args(args)
             .env_clear()
@@ -170,10 +179,13 @@ impl Tui {
             .stdin(stdio())
             .stdout(stdio())
             .stderr(stdio());
+        if session == Session::Shell {
+            command.env("PS1", "$ ").env("PATH", std::env::var_os("PATH").unwrap_or_default());
+        }
         match session {
             // SAFETY: runs in the forked child before exec and only makes two system calls (setsid,
             // ioctl), which are async-signal-safe; it allocates nothing and takes no locks.
-            Session::Leader => unsafe {
+            Session::Leader | Session::Shell => unsafe {
                 command.pre_exec(|| {
                     rustix::process::setsid()?;
                     // std has already made the pty the child's stdin (fd 0).
@@ -949,6 +961,34 @@ fn continued(tui: &mut Tui, before: usize, enter: &str, enabled: Enabled, quit: 
     assert_eq!(status.code(), Some(0), "{status:?}");
     assert_restored(tui, &raw, enabled);
     after
+}
+
+/// `kill %1` on a walk stopped by Ctrl-Z at a job-control shell: bash sends SIGTERM, then SIGCONT.
+/// The walk wakes in the background, where taking the terminal back would stop it again (SIGTTOU)
+/// with the SIGTERM unanswered until `fg`: it must end there, as the signal asks (143).
+#[test]
+fn kill_at_the_shell_ends_a_walk_stopped_by_ctrl_z() {
+    let mut tui = Tui::spawn_as(Session::Shell, &[], 80, 24, Answers::Plain);
+    tui.wait_for("the prompt", |s| s.contents().contains("$ "));
+    tui.send(format!("{}\r", env!("CARGO_BIN_EXE_mazewalk")).as_bytes());
+    tui.wait_for("the first frame", |s| s.alternate_screen() && s.contents().contains("? help"));
+    tui.send(b"\x1a"); // Ctrl-Z
+    tui.wait_for("the shell's report of the stop", |s| {
+        !s.alternate_screen() && s.contents().contains("Stopped")
+    });
+    // (`wait %1` right after the kill could find the job still stopped, as the shell last saw it:
+    // wait while it is, then let the shell report the job.)
+    tui.send(b"p=$(jobs -p %1); kill %1\r");
+    tui.send(
+        b"for i in {1..200}; do [ \"$(cut -d' ' -f3 /proc/$p/stat 2>&-)\" = T ] || break; sleep 0.05; done\r",
+    );
+    tui.send(b"jobs; echo reported\r");
+    tui.wait_for("the shell's report", |s| s.contents().contains("\nreported"));
+    let screen = tui.screen(|s| s.contents());
+    assert!(screen.contains("Exit 143"), "{screen}");
+    assert!(!tui.stopped(), "the shell itself");
+    tui.send(b"exit\r");
+    assert!(tui.wait_exit().success());
 }
 
 #[test]

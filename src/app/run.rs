@@ -100,7 +100,11 @@ pub fn run(session: &mut Session, clock: Instant) -> io::Result<Ended> {
             Timespec { tv_sec: wait.trunc() as i64, tv_nsec: (wait.fract() * 1e9) as _ }
         });
         let wakeups = terminal.wakeups();
-        let mut fds = vec![PollFd::new(&stdin, PollFlags::IN)];
+        let reading = !terminal.ending(); // else the guard's wake-up with the signal is all to wait for
+        let mut fds = Vec::with_capacity(2);
+        if reading {
+            fds.push(PollFd::new(&stdin, PollFlags::IN));
+        }
         if let Some(fd) = &wakeups {
             fds.push(PollFd::from_borrowed_fd(*fd, PollFlags::IN));
         }
@@ -108,7 +112,7 @@ pub fn run(session: &mut Session, clock: Instant) -> io::Result<Ended> {
             Ok(_) | Err(rustix::io::Errno::INTR) => {}
             Err(err) => return Err(err.into()),
         }
-        let input_ready = fds[0].revents();
+        let input_ready = if reading { fds[0].revents() } else { PollFlags::empty() };
         drop(fds);
         terminal.drain_wakeups();
         if input_ready.intersects(PollFlags::IN | PollFlags::HUP | PollFlags::ERR) {

@@ -402,8 +402,10 @@ mod tests {
     /// A generated maze with one more cell added, a convex polygon of `corners` (counter-clockwise),
     /// walls all round; built as `Maze::new` builds it, but unchecked.
     fn with_cell(maze: &Maze, corners: &[Vec2]) -> Maze {
-        let (mut vertices, mut edges, mut cells) = (maze.vertices.clone(), maze.edges.clone(), maze.cells.clone());
-        let (first_vertex, first_edge, cell) = (vertices.len() as u32, edges.len() as u32, cells.len() as u32);
+        let (mut vertices, mut edges, mut cells) =
+            (maze.vertices.clone(), maze.edges.clone(), maze.cells.clone());
+        let (first_vertex, first_edge, cell) =
+            (vertices.len() as u32, edges.len() as u32, cells.len() as u32);
         vertices.extend(corners);
         let k = corners.len() as u32;
         for i in 0..k {
@@ -488,7 +490,8 @@ mod tests {
             cells.push(&[k, n + k, (k + 1) % n]);
         }
         let (extents, cell_index) = super::super::cell_index(&vertices, &edges, &cells, Threads::One);
-        let viewer = crate::maze::Viewer { pos: (rim(0) + rim(1)) / 3.0, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 };
+        let viewer =
+            crate::maze::Viewer { pos: (rim(0) + rim(1)) / 3.0, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 };
         let fan = Maze { vertices, edges, cells, viewer, exit: None, extents, cell_index };
         let crowded = || {
             let centre = corners(&fan, 700).iter().sum::<Vec2>() / 3.0;

@@ -150,6 +150,11 @@ static RESUMED: AtomicBool = AtomicBool::new(false);
 /// set, the screen may not be ours any more: [`TerminalGuard::write_frame`] writes nothing.
 static CONTINUED: AtomicBool = AtomicBool::new(false);
 
+/// Set by the signal handler itself when a signal that ends the walk arrives ([`ending_signals`]),
+/// before the signal thread answers it: a stop that ends sees it without waiting for the thread,
+/// which waits for the stop's lock.
+static ENDING: AtomicBool = AtomicBool::new(false);
+
 /// Set (under [`ACTIVE`]'s lock) when our own stop ([`stop_and_continue`]) is over: its SIGCONT is
 /// answered already, game mode is back.
 #[cfg(unix)]
@@ -327,6 +332,15 @@ impl TerminalGuard {
         }
     }
 
+    /// Whether a signal that ends the walk has arrived, perhaps before the signal thread has restored
+    /// the terminal for it and set [`take_exit`](Self::take_exit). Then read no more input: in the
+    /// background (`kill %1` continues a stopped walk there) a read would stop the process (SIGTTIN)
+    /// with the signal unanswered. The [`wakeups`](Self::wakeups) come all the same.
+    #[must_use]
+    pub fn ending(&self) -> bool {
+        ENDING.load(Ordering::SeqCst)
+    }
+
     /// A file descriptor that becomes readable when the event loop must look at the guard: a
     /// resize (SIGWINCH), a stop that ended ([`take_resumed`](Self::take_resumed)), a signal that
     /// ends the walk ([`take_exit`](Self::take_exit)). Poll it beside the input; read it empty with
@@ -365,6 +379,9 @@ fn stop_and_continue() -> io::Result<()> {
         // after SIGCONT.
         signal_hook::low_level::emulate_default_handler(signal_hook::consts::SIGTSTP)?;
         OWN_STOP.store(true, Ordering::SeqCst);
+        if stopped_for_fg()? {
+            return Ok(()); // the terminal stays restored; the signal thread ends the walk
+        }
     }
     if let Some(enabled) = enabled {
         terminal::enable_raw_mode()?;
@@ -402,8 +419,9 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
         let mut stdout = io::stdout().lock();
         let _ = stdout.write_all(restore_sequence(enabled).as_bytes()).and_then(|()| stdout.flush());
         drop(stdout);
-        while in_background() && stopping_is_safe() {
-            signal_hook::low_level::emulate_default_handler(signal_hook::consts::SIGTSTP)?;
+        if stopped_for_fg()? {
+            *active = None; // restored above; the signal thread ends the walk
+            return Ok(false);
         }
         CONTINUED.store(false, Ordering::SeqCst);
         terminal::disable_raw_mode()?;
@@ -422,6 +440,29 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
     enter_locked(active, enabled, &reenter_sequence(enabled))?;
     resumed_locked();
     Ok(true)
+}
+
+/// After a stop, while continued in the background: stops again until `fg`, as taking the terminal
+/// back would (SIGTTOU), unless a signal that ends the walk comes; then returns `true` and the
+/// terminal is left alone. `kill %1` on the stopped walk sends SIGTERM and then SIGCONT: it wakes in
+/// the background, and stopping again would leave the SIGTERM unanswered until `fg`. The signal's
+/// handler may run on another thread a moment after this one wakes: a short wait lets it land.
+#[cfg(unix)]
+fn stopped_for_fg() -> io::Result<bool> {
+    let ending = || {
+        let deadline = std::time::Instant::now() + std::time::Duration::from_millis(50);
+        while !ENDING.load(Ordering::SeqCst) && std::time::Instant::now() < deadline {
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        ENDING.load(Ordering::SeqCst)
+    };
+    while in_background() && stopping_is_safe() {
+        if ending() {
+            return Ok(true);
+        }
+        signal_hook::low_level::emulate_default_handler(signal_hook::consts::SIGTSTP)?;
+    }
+    Ok(ENDING.load(Ordering::SeqCst))
 }
 
 /// Whether our process group is in the background of the terminal (stdin): another group is its
@@ -564,6 +605,9 @@ fn install_signal_handler() -> io::Result<()> {
     let _ = WAKE.set((reader, writer));
     // Before the iterator's own handler: actions run in the order registered.
     signal_hook::flag::register(SIGCONT, &CONTINUED)?;
+    for signal in ending_signals() {
+        signal_hook::flag::register(signal, &ENDING)?;
+    }
     let mut signals =
         signal_hook::iterator::Signals::new(ending_signals().into_iter().chain([SIGTSTP, SIGCONT]))?;
     std::thread::Builder::new().name("mazewalk-signals".into()).spawn(move || {
