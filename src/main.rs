@@ -25,6 +25,7 @@ use mazewalk::cli::{
 use mazewalk::frame::{Frame, Region};
 use mazewalk::maze::generate::{GenOptions, generate, generate_grid};
 use mazewalk::maze::geometry::WALL_MARGIN;
+use mazewalk::maze::movement::is_clear;
 use mazewalk::maze::{self, Format, LoadError, Maze};
 use mazewalk::render::{Camera, Charset, Culling, Renderer};
 use mazewalk::term::{caps, encoder, guard};
@@ -325,6 +326,14 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
         ))
         .into());
     };
+    if !is_clear(&maze, stands, WALL_MARGIN) {
+        return Err(Usage(format!(
+            "--at {},{} has no room to stand: the walk keeps {WALL_MARGIN} from every wall, and no place near \
+             it is that far from them",
+            position.x, position.y
+        ))
+        .into());
+    }
     // The file's view as the walk starts from it (made usable: `viewer_camera`), then the flags,
     // which must be usable as given.
     let from_file = viewer_camera(viewer);

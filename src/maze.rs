@@ -571,6 +571,11 @@ pub enum MazeError {
     ViewerOutside { x: f32, y: f32 },
     #[error("the viewer at ({x}, {y}) stands on wall {edge}; place it inside a cell")]
     ViewerOnWall { x: f32, y: f32, edge: EdgeId },
+    #[error(
+        "the viewer at ({x}, {y}) has no room to stand: the walk keeps it {margin} from every wall, and no \
+         place in cell {cell} or beside it is that far from them"
+    )]
+    ViewerNoRoom { x: f32, y: f32, cell: CellId, margin: f32 },
     #[error("the exit names cell {cell}, but there {}", only(*count, "cell", "cells"))]
     ExitCellOutOfRange { cell: CellId, count: usize },
     #[error("the exit point ({x}, {y}) is in no cell")]
@@ -627,7 +632,8 @@ impl MazeError {
             | ViewerHeight { .. }
             | ViewerFov { .. }
             | ViewerOutside { .. }
-            | ViewerOnWall { .. } => Subject::Viewer,
+            | ViewerOnWall { .. }
+            | ViewerNoRoom { .. } => Subject::Viewer,
             ExitCellOutOfRange { .. } | ExitOutside { .. } | ExitPointOutside { .. } => Subject::Exit,
         }
     }

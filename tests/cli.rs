@@ -67,6 +67,27 @@ fn an_eye_against_a_wall_sees_the_wall_from_where_the_walk_stands() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `render --at` in a cell narrower than the viewer's disc: refused with the reason (from there the
+/// near plane cut every wall away: a blank frame). The maze itself, whose viewer has room, renders.
+#[test]
+fn render_at_a_place_with_no_room_to_stand_is_refused() {
+    let path = std::env::temp_dir().join(format!("mazewalk-cli-thin-{}.maze", std::process::id()));
+    // A cell 0.3 wide, and a 4 × 4 room of its own beside it where the viewer stands.
+    let thin = "8  0 0 0.3 0 0.3 4 0 4  10 0 14 0 14 4 10 4
+        8  0 1 0 -1 1 1 1 1  1 2 0 -1 1 1 1 1  2 3 0 -1 1 1 1 1  3 0 0 -1 1 1 1 1
+           4 5 1 -1 1 1 1 1  5 6 1 -1 1 1 1 1  6 7 1 -1 1 1 1 1  7 4 1 -1 1 1 1 1
+        2  0 1 2 3  4 5 6 7
+        12 2 0 90 90";
+    std::fs::write(&path, thin).unwrap();
+    let file = path.to_str().unwrap();
+    let args = ["render", file, "--size", "20x6", "--color", "none", "--charset", "ascii"];
+    assert!(mazewalk(&args).status.success(), "{}", stderr(&mazewalk(&args)));
+    let out = mazewalk(&[&args[..], &["--at", "0.15,2"]].concat());
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("--at 0.15,2 has no room to stand"), "{}", stderr(&out));
+    std::fs::remove_file(&path).unwrap();
+}
+
 #[test]
 fn render_prints_one_frame_of_the_requested_size() {
     let out = mazewalk(&["render", "--size", "50x12", "--charset", "ascii", "--color", "none"]);

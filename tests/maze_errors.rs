@@ -219,6 +219,30 @@ fn a_viewer_on_a_wall_two_cells_away_is_refused() {
     assert_eq!(error(text), "f.maze:14:9: the viewer at (0, 0) stands on wall 3; place it inside a cell");
 }
 
+/// The walk keeps the viewer 0.25 from every wall (the renderer's near plane lies inside that margin):
+/// a room narrower than 0.5 has no place for it, and from its middle every wall was cut away by the
+/// near plane (a blank frame, silently). Refused at the viewer's line; a room just wide enough loads.
+#[test]
+fn a_room_too_narrow_for_the_viewer_is_refused() {
+    let room =
+        |w: f32| ROOM.replace("\n4 0\n", &format!("\n{w} 0\n")).replace("\n4 4\n", &format!("\n{w} 4\n"));
+    let at = |w: f32| room(w).replace("2 2 0 90 90", &format!("{} 2 0 90 90", w / 2.0));
+    assert!(room(0.4).contains("0.4 4"), "the premise");
+    for w in [0.08, 0.3, 0.45] {
+        let want = format!("f.maze:13:1: the viewer at ({}, 2) has no room to stand", w / 2.0);
+        assert!(error(at(w)).starts_with(&want), "{w}: {}", error(at(w)));
+        assert!(matches!(
+            maze::parse("f.maze", at(w).as_bytes()).unwrap_err().kind,
+            ParseErrorKind::Invalid(MazeError::ViewerNoRoom { cell: 0, .. })
+        ));
+    }
+    // Room enough, even from a viewer put against the wall: the walk starts 0.25 from it.
+    for (w, x) in [(0.55, 0.275), (0.55, 0.01), (1.0, 0.5)] {
+        let text = room(w).replace("2 2 0 90 90", &format!("{x} 2 0 90 90"));
+        assert!(maze::parse("f.maze", text.as_bytes()).is_ok(), "{w} from {x}");
+    }
+}
+
 #[test]
 fn crlf_bom_and_trailing_junk_are_fine() {
     let crlf = format!("\u{feff}{}", ROOM.replace('\n', "\r\n"));

@@ -243,11 +243,13 @@ fn tiles_too_narrow_for_a_grid_file_are_not_written() {
         "mazewalk-grid 1
 #####
 #@..#
+#...#
+#...#
 #####
 ",
     )
     .unwrap();
-    map.tile = 0.3;
+    map.tile = 0.3; // (a room of 3 × 3 tiles, 0.9 across: room for the viewer)
     let m = map.to_maze().unwrap();
     let e = maze::write(&m, Format::Grid).unwrap_err().to_string();
     assert!(e.contains("its tiles are 0.3 across; a grid file's are more than 0.5"), "{e}");

@@ -316,7 +316,7 @@ impl Layout {
             }),
             ViewerHeight { .. } => (viewer, &|_, _| 2),
             ViewerFov { .. } => (viewer, &|_, _| 4),
-            ViewerOutside { .. } | ViewerOnWall { .. } => (viewer, &|_, _| 0),
+            ViewerOutside { .. } | ViewerOnWall { .. } | ViewerNoRoom { .. } => (viewer, &|_, _| 0),
             ExitCellOutOfRange { .. } | ExitOutside { .. } | ExitPointOutside { .. } => {
                 let at = self.exit_at.unwrap_or(0);
                 return Loc::of(text, at).error(file, ParseErrorKind::Invalid(err));

@@ -151,13 +151,27 @@ pub fn settle(maze: &Maze, at: Position, radius: f32) -> Position {
             })
             .max_by(|a, b| a.0.total_cmp(&b.0));
         let Some((depth, out)) = deepest else { break };
-        let next = step(maze, here, (out * (depth + SKIN)).as_vec2(), radius);
+        // Pushed as a disc that touches nothing yet: the full disc overlaps the walls it is pushed
+        // from, and the end of a wall's next piece along the same line (a grid's walls come a tile at
+        // a time) would block the push as a corner.
+        let nearest = walls.iter().map(|w| w.away(p, here.cell).0).fold(f64::INFINITY, f64::min);
+        let fits = ((nearest - 2.0 * SKIN).max(0.0) as f32).min(radius);
+        let next = step(maze, here, (out * (depth + SKIN)).as_vec2(), fits);
         if next == here {
             break;
         }
         here = next;
     }
     here
+}
+
+/// Whether the disc of `radius` round `at` is clear of every wall (as [`settle`] leaves it where
+/// there is room).
+#[must_use]
+pub fn is_clear(maze: &Maze, at: Position, radius: f32) -> bool {
+    let region = Aabb { min: at.pos, max: at.pos }.expand(radius + 1e-3);
+    let walls = walls_of(maze, &cells_near(maze, at.cell, &region));
+    walls.iter().all(|w| w.away(at.pos.as_dvec2(), at.cell).0 >= f64::from(radius) - SKIN)
 }
 
 /// Cells reachable from `start` through portals without leaving cells that touch `region`,
@@ -328,11 +342,40 @@ mod tests {
         assert_eq!(settle(&m, by_portal, 0.25), by_portal);
     }
 
+    /// A grid's walls come a tile at a time: in a room of 3 × 3 tiles 0.3 across, a viewer put
+    /// anywhere in the corner tile (the ends of the wall pieces beside it inside its disc) is pushed
+    /// clear. The full disc's push was blocked by those ends, as by corners, and stayed put.
+    #[test]
+    fn a_viewer_in_a_corner_of_split_walls_is_pushed_clear() {
+        let mut map =
+            crate::maze::grid::parse_map("m", "mazewalk-grid 1\n#####\n#...#\n#.@.#\n#...#\n#####\n")
+                .expect("map");
+        map.tile = 0.3;
+        let m = map.to_maze().expect("room for the viewer in the middle");
+        let mut starts = vec![vec2(0.450_000_02, 1.050_000_1)];
+        for i in 0..=12 {
+            for j in 0..=12 {
+                starts.push(vec2(0.3 + 0.3 * i as f32 / 12.0, 0.9 + 0.3 * j as f32 / 12.0));
+            }
+        }
+        for pos in starts {
+            let Some(cell) = m.cell_at(pos) else { continue };
+            let settled = settle(&m, Position { cell, pos }, 0.25);
+            assert!(is_clear(&m, settled, 0.25), "{pos:?} → {settled:?}");
+        }
+    }
+
     /// A cell narrower than the disc has no clear place: the viewer stays inside it, never pushed
     /// through a wall, and the input that means nothing leaves it where it is.
     #[test]
     fn a_viewer_in_a_cell_narrower_than_its_disc_stays_inside() {
-        let m = parse("thin", "4 0 0 0.3 0 0.3 4 0 4 4 0 1 0 -1 1 1 1 1 1 2 0 -1 1 1 1 1 2 3 0 -1 1 1 1 1 3 0 0 -1 1 1 1 1 1 0 1 2 3 0.15 2 0 90 90".as_bytes()).unwrap();
+        // (The viewer stands in a room of its own beside it: a maze that starts in the thin cell is
+        // refused.)
+        let thin = "8 0 0 0.3 0 0.3 4 0 4 10 0 14 0 14 4 10 4
+            8 0 1 0 -1 1 1 1 1 1 2 0 -1 1 1 1 1 2 3 0 -1 1 1 1 1 3 0 0 -1 1 1 1 1
+              4 5 1 -1 1 1 1 1 5 6 1 -1 1 1 1 1 6 7 1 -1 1 1 1 1 7 4 1 -1 1 1 1 1
+            2 0 1 2 3 4 5 6 7 12 2 0 90 90";
+        let m = parse("thin", thin.as_bytes()).unwrap();
         for x in [0.0, 0.01, 0.15, 0.29, 0.3] {
             let at = Position { cell: 0, pos: vec2(x, 2.0) };
             let settled = settle(&m, at, 0.25);

@@ -2,7 +2,9 @@
 
 use glam::{DVec2, Vec2};
 
+use super::geometry::WALL_MARGIN;
 use super::index::{SpatialGrid, Threads};
+use super::movement;
 use super::sweep::{self, Conflict, conflict};
 use super::{
     Aabb, COORD_BOUND, CellId, Cells, EdgeId, Edges, MIN_CELL_AREA, Maze, MazeError, ON_EDGE_TOLERANCE,
@@ -369,6 +371,14 @@ pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
         if let Some(edge) = on_wall(c) {
             return Err(MazeError::ViewerOnWall { x: v.pos.x, y: v.pos.y, edge });
         }
+    }
+    // The walk keeps the viewer a disc of WALL_MARGIN round clear of every wall (the renderer's near
+    // plane lies inside it) and moves a viewer closer out when it starts; a cell narrower than the
+    // disc has no such place, and from its middle the near plane would cut every wall away.
+    let stands = movement::settle(maze, movement::Position { cell, pos: v.pos }, WALL_MARGIN);
+    if !movement::is_clear(maze, stands, WALL_MARGIN) {
+        let (x, y, margin) = (v.pos.x, v.pos.y, WALL_MARGIN);
+        return Err(MazeError::ViewerNoRoom { x, y, cell, margin });
     }
     if let Some(exit) = maze.exit() {
         if exit.cell as usize >= maze.cell_count() {
