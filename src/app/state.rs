@@ -1,6 +1,8 @@
 //! The walkthrough's state and what each input does to it — pure: no terminal, no clock (time comes in
 //! as seconds), so every handler is unit-tested without a terminal.
 
+use std::sync::Arc;
+
 use glam::Vec2;
 
 use super::controls::{Action, Held, action_for};
@@ -127,7 +129,8 @@ pub enum MapMode {
 /// The walkthrough.
 #[derive(Clone, Debug)]
 pub struct App {
-    maze: Maze,
+    /// Shared: a server's players all walk one maze (a 1000 × 1000 one is ~75 MB).
+    maze: Arc<Maze>,
     /// The viewer.
     pub camera: Camera,
     /// The cell the viewer is in.
@@ -196,7 +199,12 @@ impl App {
     ///
     /// # Errors
     /// [`StartOutsideMaze`] when the maze's viewer is not in a cell.
-    pub fn new(maze: Maze, options: RenderOptions, now: f64) -> Result<App, StartOutsideMaze> {
+    pub fn new(
+        maze: impl Into<Arc<Maze>>,
+        options: RenderOptions,
+        now: f64,
+    ) -> Result<App, StartOutsideMaze> {
+        let maze = maze.into();
         let viewer = maze.viewer();
         let Position { cell, pos } =
             stand(&maze, viewer.pos).ok_or(StartOutsideMaze { x: viewer.pos.x, y: viewer.pos.y })?;

@@ -39,7 +39,10 @@
 //! visits falls back to drawing every wall (still exact, just slower) — it exists for safety, not use.
 //! The walk uses an explicit stack: no recursion, no depth limit, no stack overflow on 1000×1000 mazes.
 
+use std::collections::hash_map::Entry;
+
 use glam::{Vec2, Vec3};
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::camera::{Eye, Projection};
 use super::wall::{ClipScratch, clip_wall};
@@ -66,18 +69,20 @@ pub struct PortalStats {
     pub fell_back: bool,
 }
 
-/// Reusable state of the portal pass (sized once per maze, reused every frame: no per-frame clearing).
+/// Reusable state of the portal pass. What a frame has done per cell and per wall is kept in hash sets
+/// and maps, not arrays the size of the maze: a frame visits tens of cells, and every player of a
+/// server has a pass of its own (arrays took 36 MB a player on a 1000 × 1000 maze).
 #[derive(Debug, Default)]
 pub struct PortalPass {
-    stamp: u32,
-    wall_stamp: Vec<u32>,
-    cell_stamp: Vec<u32>,
-    /// Per cell, the grid box it was last explored with.
-    cell_region: Vec<Aabb>,
+    /// Walls chosen this frame.
+    chosen: FxHashSet<u32>,
+    /// The cells visited this frame, each with the grid box it was last explored with.
+    cell_region: FxHashMap<u32, Aabb>,
     outside_region: Option<Aabb>,
     stack: Vec<(u32, Aabb)>,
     flood: Vec<u32>,
-    seed_stamp: Vec<u32>,
+    /// Cells put in the seed flood this frame.
+    flooded: FxHashSet<u32>,
     scratch: ClipScratch,
     /// Walls (edge ids) chosen this frame, in the order found.
     pub walls: Vec<u32>,
@@ -95,26 +100,13 @@ impl PortalPass {
     /// True if `cell` was visited by the last [`PortalPass::run`].
     #[must_use]
     pub fn was_visited(&self, cell: u32) -> bool {
-        self.cell_stamp.get(cell as usize).is_some_and(|&s| s == self.stamp)
+        self.cell_region.contains_key(&cell)
     }
 
-    fn begin(&mut self, maze: &Maze) {
-        let (cells, edges) = (maze.cell_count(), maze.edges().len());
-        if self.cell_stamp.len() != cells || self.wall_stamp.len() != edges {
-            self.cell_stamp = vec![0; cells];
-            self.seed_stamp = vec![0; cells];
-            self.cell_region = vec![Aabb::EMPTY; cells];
-            self.wall_stamp = vec![0; edges];
-            self.stamp = 0;
-        }
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            // Wrapped after 4 billion frames: forget every old stamp once.
-            self.cell_stamp.fill(0);
-            self.seed_stamp.fill(0);
-            self.wall_stamp.fill(0);
-            self.stamp = 1;
-        }
+    fn begin(&mut self) {
+        self.chosen.clear();
+        self.cell_region.clear();
+        self.flooded.clear();
         self.walls.clear();
         self.visited.clear();
         self.stack.clear();
@@ -123,7 +115,7 @@ impl PortalPass {
 
     /// Finds the walls `eye` can see in `maze`; they end up in [`PortalPass::walls`].
     pub fn run(&mut self, maze: &Maze, eye: &Eye) -> PortalStats {
-        self.begin(maze);
+        self.begin();
         let mut stats = PortalStats::default();
         let grid_box = Aabb::new(Vec2::ZERO, Vec2::new(eye.width as f32, eye.height as f32)).expand(INFLATE);
 
@@ -169,16 +161,16 @@ impl PortalPass {
             self.outside_region = Some(region);
             return true;
         }
-        let i = cell as usize;
-        if self.cell_stamp[i] == self.stamp {
-            if self.cell_region[i].contains(&region) {
-                return false;
+        match self.cell_region.entry(cell) {
+            Entry::Occupied(mut explored) if !explored.get().contains(&region) => {
+                explored.insert(region);
             }
-        } else {
-            self.cell_stamp[i] = self.stamp;
-            self.visited.push(cell);
+            Entry::Occupied(_) => return false,
+            Entry::Vacant(first) => {
+                first.insert(region);
+                self.visited.push(cell);
+            }
         }
-        self.cell_region[i] = region;
         true
     }
 
@@ -196,8 +188,8 @@ impl PortalPass {
         // Projection is the pass's cost, so it comes last: a wall already chosen is not projected again,
         // and a portal only once it is known to be crossed.
         if edge.opaque {
-            if self.wall_stamp[e as usize] != self.stamp && self.seen(maze, eye, e, region).is_some() {
-                self.wall_stamp[e as usize] = self.stamp;
+            if !self.chosen.contains(&e) && self.seen(maze, eye, e, region).is_some() {
+                self.chosen.insert(e);
                 self.walls.push(e);
             }
             return;
@@ -258,10 +250,7 @@ impl PortalPass {
         let mut outside = false;
         self.flood.clear();
         let push = |pass: &mut PortalPass, cell: Option<u32>, outside: &mut bool| match cell {
-            Some(c) if pass.seed_stamp[c as usize] != pass.stamp => {
-                pass.seed_stamp[c as usize] = pass.stamp;
-                pass.flood.push(c);
-            }
+            Some(c) if pass.flooded.insert(c) => pass.flood.push(c),
             Some(_) => {}
             None => *outside = true,
         };

@@ -4,6 +4,8 @@
 //! Pure: bytes and sizes in, bytes out, time as seconds; the SSH side ([`super::ssh`]) only moves
 //! bytes, and the `serve` fuzz target drives this type with any bytes and window changes.
 
+use std::sync::Arc;
+
 use glam::Vec2;
 
 use super::limits::{Limits, RateLimit};
@@ -102,7 +104,7 @@ impl Player {
     /// # Errors
     /// The maze's start is in no cell.
     pub fn new(
-        maze: Maze,
+        maze: impl Into<Arc<Maze>>,
         term: &str,
         colorterm: Option<&str>,
         (cols, rows): (u32, u32),

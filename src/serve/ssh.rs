@@ -69,7 +69,7 @@ const GOODBYE_GRACE: Duration = Duration::from_secs(2);
 
 /// What all connections share.
 struct Shared {
-    maze: Maze,
+    maze: Arc<Maze>,
     access: Access,
     limits: Limits,
     config: Arc<russh::server::Config>,
@@ -287,7 +287,7 @@ impl Server {
         };
         let (shutdown, shutdown_rx) = watch::channel(false);
         let shared = Arc::new(Shared {
-            maze: options.maze,
+            maze: Arc::new(options.maze),
             access: options.access,
             limits,
             config: Arc::new(config),
@@ -681,7 +681,7 @@ async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
     let user = Conn::get(&conn.user).unwrap_or_else(|| "player".into());
     let now = shared.now();
     let mut player = match Player::new(
-        shared.maze.clone(),
+        Arc::clone(&shared.maze),
         &pty.term,
         colorterm.as_deref(),
         pty.size,
