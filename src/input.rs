@@ -263,6 +263,8 @@ struct State {
     last_mouse: Option<(u16, u16)>,
     /// Which button a drag holds.
     drag_button: Option<MouseButton>,
+    /// Bytes were dropped ([`InputDecoder::gap`]): skip to the next ESC or pause.
+    after_gap: bool,
 }
 
 impl InputDecoder {
@@ -275,11 +277,20 @@ impl InputDecoder {
     /// Decodes `bytes` (arriving at time `now`, seconds) and appends the inputs they complete to
     /// `out`. Never fails: bytes that mean nothing are skipped.
     pub fn feed(&mut self, bytes: &[u8], now: f64, out: &mut Vec<Input>) {
+        if self.state.after_gap && self.deadline().is_some_and(|at| now >= at) {
+            self.state.after_gap = false; // a pause since the gap: a fresh start
+        }
         if !bytes.is_empty() {
             (self.state.last_byte_at, self.state.unsettled) = (now, true);
         }
         for &byte in bytes {
             let state = &mut self.state;
+            if state.after_gap {
+                if byte != 0x1B {
+                    continue;
+                }
+                state.after_gap = false;
+            }
             if state.skip > 0 {
                 state.skip -= 1;
                 continue;
@@ -338,7 +349,16 @@ impl InputDecoder {
             out.push(Input::press(Key::Esc));
         }
         self.reset();
-        (self.state.in_paste, self.state.unsettled) = (false, false);
+        (self.state.in_paste, self.state.unsettled, self.state.after_gap) = (false, false, false);
+    }
+
+    /// Bytes were dropped here (a rate limit): the sequence they cut is dropped, an ESC waiting
+    /// for the rest of its sequence included (taken for the Esc key, it would quit), and so is
+    /// everything up to the next ESC or the next pause, which may be the cut sequence's end (`[C`
+    /// would be the keys `[` and `C`).
+    pub fn gap(&mut self) {
+        self.reset();
+        self.state.after_gap = true;
     }
 
     /// Drops whatever sequence is unfinished.

@@ -288,6 +288,12 @@ impl Session {
         self.decode(now, |decoder, out| decoder.feed(bytes, now, out));
     }
 
+    /// Bytes from the terminal were dropped after the last [`feed`](Self::feed) (a rate limit): see
+    /// [`InputDecoder::gap`].
+    pub fn input_gap(&mut self) {
+        self.decoder.gap();
+    }
+
     /// Runs `step` on the decoder and applies the inputs it produces, at time `now`.
     fn decode(&mut self, now: f64, step: impl FnOnce(&mut InputDecoder, &mut Vec<Input>)) {
         let mut inputs = std::mem::take(&mut self.inputs); // reused: no allocation per read

@@ -149,9 +149,13 @@ impl Player {
     /// flags), which come without a key pressed: only the rest keeps a player from being idle.
     pub fn feed(&mut self, bytes: &[u8], now: f64) -> bool {
         let allowed = self.input.take(bytes.len(), now);
-        self.dropped += (bytes.len() - allowed) as u64;
         if allowed > 0 {
             self.session.feed(&bytes[..allowed], now);
+        }
+        if allowed < bytes.len() {
+            // The cut may fall inside an escape sequence: its ESC must not become the Esc key.
+            self.dropped += (bytes.len() - allowed) as u64;
+            self.session.input_gap();
         }
         !only_replies(bytes)
     }
@@ -285,6 +289,32 @@ mod tests {
         assert_eq!(p.dropped(), 200_000 - u64::from(Limits::default().input_burst));
         p.feed(b"q", 5.0);
         assert!(p.is_over());
+    }
+
+    /// A paste of 30,000 arrow keys (90 KB) through the rate limit, at once and in ssh's 16 KB
+    /// reads: cuts fell inside sequences, and a cut right after an ESC (the 64 KiB burst is 21,845
+    /// arrows and one byte) left the Esc key once the paste paused, which quit. The arrows let through
+    /// turn; nothing else happens; after a pause `q` quits.
+    #[test]
+    fn a_flood_of_arrow_keys_cut_by_the_rate_limit_only_turns() {
+        let arrows = b"\x1b[C".repeat(30_000);
+        assert_eq!(Limits::default().input_burst % 3, 1, "the premise: the burst ends after an ESC");
+        for chunk in [arrows.len(), 16 * 1024 + 1] {
+            let mut p = player(80, 24);
+            let heading = p.session.app().camera.yaw_deg;
+            for (i, part) in arrows.chunks(chunk).enumerate() {
+                p.feed(part, i as f64 * 0.01);
+                let mut out = Vec::new();
+                p.frame(i as f64 * 0.01 + 0.005, &mut out);
+            }
+            assert!(p.dropped() > 0, "the premise: the rate limit cut");
+            let mut out = Vec::new();
+            p.frame(1.0, &mut out);
+            assert!(!p.is_over(), "{chunk}-byte reads: quit");
+            assert_ne!(p.session.app().camera.yaw_deg, heading, "the arrows let through turn");
+            p.feed(b"q", 2.0);
+            assert!(p.is_over());
+        }
     }
 
     #[test]
