@@ -220,7 +220,7 @@ fn write_png_to(sink: impl Write, name: &str, frame: &Frame, charset: Charset) -
 const STDOUT: &str = "-";
 
 /// `mazewalk serve`: checks the maze, the host key and who may play before listening, prints where and
-/// how to connect, then serves until SIGINT or SIGTERM (exit 128 + n, as the walk).
+/// how to connect, then serves until SIGINT, SIGTERM or SIGHUP (exit 128 + n, as the walk).
 #[cfg(unix)]
 fn cmd_serve(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     use mazewalk::render::RenderOptions;

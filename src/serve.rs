@@ -25,7 +25,8 @@ pub mod world;
 pub use limits::Limits;
 pub use ssh::{Access, ServeOptions, Server};
 
-/// Runs a server on a fresh tokio runtime until SIGINT or SIGTERM, then tells every player it is
+/// Runs a server on a fresh tokio runtime until SIGINT, SIGTERM or SIGHUP (the terminal it ran in
+/// closed), then tells every player it is
 /// shutting down, restores their terminals and closes. `ready` is called once listening, with the
 /// address. Returns the signal that ended it.
 ///
@@ -37,11 +38,13 @@ pub fn run(options: ServeOptions, ready: impl FnOnce(std::net::SocketAddr)) -> s
         use tokio::signal::unix::{SignalKind, signal};
         let mut interrupt = signal(SignalKind::interrupt())?;
         let mut terminate = signal(SignalKind::terminate())?;
+        let mut hangup = signal(SignalKind::hangup())?;
         let server = Server::start(options).await?;
         ready(server.local_addr());
         let signal = tokio::select! {
             _ = interrupt.recv() => SignalKind::interrupt(),
             _ = terminate.recv() => SignalKind::terminate(),
+            _ = hangup.recv() => SignalKind::hangup(),
         };
         tracing::info!(players = server.players(), "shutting down");
         server.shutdown().await;

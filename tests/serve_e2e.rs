@@ -540,7 +540,18 @@ fn authorized_keys_let_in_only_their_keys() {
 
 #[test]
 fn sigterm_says_goodbye_restores_every_terminal_and_exits_143() {
-    let scratch = Scratch::new("term");
+    a_signal_says_goodbye(rustix::process::Signal::TERM, 143);
+}
+
+/// The terminal the server runs in closed: the same goodbye (it used to die at once, leaving every
+/// player's terminal in game mode).
+#[test]
+fn sighup_says_goodbye_restores_every_terminal_and_exits_129() {
+    a_signal_says_goodbye(rustix::process::Signal::HUP, 129);
+}
+
+fn a_signal_says_goodbye(signal: rustix::process::Signal, code: i32) {
+    let scratch = Scratch::new(&format!("sig{}", signal.as_raw()));
     let mut server = ServerProcess::start(&scratch, &["--open"]);
     let mut players: Vec<Player> =
         ["gina", "hugo"].iter().map(|u| Player::connect(&server, None, u, 80, 24)).collect();
@@ -548,7 +559,7 @@ fn sigterm_says_goodbye_restores_every_terminal_and_exits_143() {
         p.wait_for("the game", playing);
     }
     let pid = rustix::process::Pid::from_child(&server.child);
-    rustix::process::kill_process(pid, rustix::process::Signal::TERM).expect("SIGTERM");
+    rustix::process::kill_process(pid, signal).expect("kill");
     for p in &mut players {
         p.wait_for("the goodbye", |s, _| restored(s) && s.contents().contains(SHUTDOWN_MESSAGE));
         assert_eq!(p.wait_exit().code(), Some(1), "the game ended, not by the player");
@@ -561,5 +572,5 @@ fn sigterm_says_goodbye_restores_every_terminal_and_exits_143() {
         assert!(Instant::now() < deadline, "the server did not exit");
         std::thread::sleep(Duration::from_millis(20));
     };
-    assert_eq!(status.code(), Some(143));
+    assert_eq!(status.code(), Some(code));
 }
