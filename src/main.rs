@@ -240,12 +240,22 @@ fn cmd_serve(args: &ServeArgs) -> anyhow::Result<ExitCode> {
             Some(path) => path.clone(),
             None => std::path::PathBuf::from(env("HOME").unwrap_or_default()).join(".ssh/authorized_keys"),
         };
-        let keys = host_key::read_authorized_keys(&path)
+        let read = host_key::read_authorized_keys(&path)
             .with_context(|| "who may play (give --authorized-keys FILE, or --open to let anyone in)")?;
-        if keys.is_empty() {
-            bail!("{}: no keys, so nobody could play (add some, or use --open)", path.display());
+        for left in &read.left_out {
+            let _ = writeln!(
+                std::io::stderr(),
+                "mazewalk: {}: key {} ({}) is limited by `{}`, which mazewalk does not enforce: it may not play",
+                path.display(),
+                left.number,
+                left.comment,
+                left.option
+            );
         }
-        Access::Keys(keys)
+        if read.keys.is_empty() {
+            bail!("{}: no keys that may play, so nobody could (add some, or use --open)", path.display());
+        }
+        Access::Keys(read.keys)
     };
     let fingerprint = host_key::fingerprint(host_key.public_key());
     let limits = Limits {

@@ -167,17 +167,68 @@ pub fn fingerprint(key: &PublicKey) -> String {
     key.fingerprint(HashAlg::Sha256).to_string()
 }
 
-/// The keys of an `authorized_keys` file (their comments and options such as `command=` are not
-/// honoured: a key listed is a key that may play).
+/// The keys of an `authorized_keys` file that may play, and those left out.
+#[derive(Debug, Default)]
+pub struct AuthorizedKeys {
+    /// The keys that may play.
+    pub keys: Vec<KeyData>,
+    /// Keys listed with an option that limits them (`from=`, `command=`, `restrict`, …), which the
+    /// server does not enforce: left out rather than let in unlimited.
+    pub left_out: Vec<LeftOut>,
+}
+
+/// A key of an `authorized_keys` file left out, and why.
+#[derive(Debug)]
+pub struct LeftOut {
+    /// Its place among the file's keys, from 1.
+    pub number: usize,
+    /// Its comment (often who it is).
+    pub comment: String,
+    /// The first option that limits it.
+    pub option: String,
+}
+
+/// Options that limit only what the game never offers (forwarding, X11, rc files, a pty it always
+/// has): harmless to ignore. Any other (`from=`, `command=`, `restrict`, `no-pty`, `expiry-time=`,
+/// `cert-authority`, `principals=`, `verify-required`, or one unknown) leaves its key out, as sshd
+/// skips a line whose options it cannot apply.
+const HARMLESS_OPTIONS: [&str; 13] = [
+    "no-port-forwarding",
+    "no-agent-forwarding",
+    "no-x11-forwarding",
+    "no-user-rc",
+    "port-forwarding",
+    "agent-forwarding",
+    "x11-forwarding",
+    "user-rc",
+    "pty",
+    "no-touch-required",
+    "permitopen",
+    "permitlisten",
+    "environment",
+];
+
+/// The keys of an `authorized_keys` file: those that may play, and those whose options limit them
+/// in ways the server does not enforce ([`HARMLESS_OPTIONS`]), left out. Comments are not checked.
 ///
 /// # Errors
 /// The file cannot be read or a line is not a key.
-pub fn read_authorized_keys(path: &Path) -> Result<Vec<KeyData>, KeyError> {
+pub fn read_authorized_keys(path: &Path) -> Result<AuthorizedKeys, KeyError> {
     let text = read_key_file(path)?;
-    ssh_key::AuthorizedKeys::new(&text)
-        .map(|entry| entry.map(|e| e.public_key().key_data().clone()))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|error| KeyError::Format { path: path.to_path_buf(), error })
+    let mut read = AuthorizedKeys::default();
+    for (number, entry) in (1..).zip(ssh_key::AuthorizedKeys::new(&text)) {
+        let entry = entry.map_err(|error| KeyError::Format { path: path.to_path_buf(), error })?;
+        let name = |option: &str| option.split('=').next().unwrap_or_default().to_ascii_lowercase();
+        match entry.config_opts().iter().find(|option| !HARMLESS_OPTIONS.contains(&name(option).as_str())) {
+            Some(option) => read.left_out.push(LeftOut {
+                number,
+                comment: entry.public_key().comment().to_string(),
+                option: option.to_string(),
+            }),
+            None => read.keys.push(entry.public_key().key_data().clone()),
+        }
+    }
+    Ok(read)
 }
 
 #[cfg(test)]
@@ -238,7 +289,24 @@ Yhg9caVlscNzhaBQ==
         let keys = dir.join("authorized_keys");
         let line = made.public_key().to_openssh().unwrap();
         fs::write(&keys, format!("# a comment\n\n{line} someone@somewhere\n")).unwrap();
-        assert_eq!(read_authorized_keys(&keys).unwrap(), vec![made.public_key().key_data().clone()]);
+        assert_eq!(read_authorized_keys(&keys).unwrap().keys, vec![made.public_key().key_data().clone()]);
+        // A key limited in a way the server does not enforce is left out, with the option; one
+        // limited only in what the game never offers is let in.
+        let limited = [
+            format!("from=\"10.1.2.3\" {line} alice"),
+            format!("command=\"ls\",no-pty {line} bob"),
+            format!("restrict {line} carol"),
+            format!("no-port-forwarding,no-X11-forwarding,no-agent-forwarding {line} dave"),
+        ];
+        fs::write(&keys, limited.join("\n")).unwrap();
+        let read = read_authorized_keys(&keys).unwrap();
+        assert_eq!(read.keys.len(), 1, "dave's");
+        let out: Vec<_> =
+            read.left_out.iter().map(|l| (l.number, l.comment.as_str(), l.option.as_str())).collect();
+        assert_eq!(
+            out,
+            [(1, "alice", "from=\"10.1.2.3\""), (2, "bob", "command=\"ls\""), (3, "carol", "restrict")]
+        );
         fs::write(&keys, "ssh-ed25519 not-base64\n").unwrap();
         assert!(matches!(read_authorized_keys(&keys), Err(KeyError::Format { .. })));
         fs::remove_dir_all(&dir).unwrap();
@@ -265,7 +333,7 @@ Yhg9caVlscNzhaBQ==
         fs::write(&big, line.repeat(lines)).unwrap();
         assert!(matches!(read_authorized_keys(&big), Err(KeyError::TooLarge { .. })));
         fs::write(&big, line.repeat(lines - 1)).unwrap();
-        assert_eq!(read_authorized_keys(&big).unwrap().len(), lines - 1, "just under the limit");
+        assert_eq!(read_authorized_keys(&big).unwrap().keys.len(), lines - 1, "just under the limit");
         // Not a private key at all: said so, not a parser's guess.
         let garbage = dir.join("garbage");
         fs::write(&garbage, "garbage\n").unwrap();
