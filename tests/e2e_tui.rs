@@ -64,7 +64,12 @@ enum Answers {
     Kitty,
     /// Nothing at all (a terminal, or a multiplexer, that ignores queries).
     Silent,
+    /// As [`Answers::Plain`], each answer [`SLOW_ANSWER`] late (a slow SSH link).
+    Slow,
 }
+
+/// How late [`Answers::Slow`] answers.
+const SLOW_ANSWER: Duration = Duration::from_millis(500);
 
 /// How the binary is attached to its pty.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -261,7 +266,14 @@ impl Tui {
                     }
                     scanned = s.raw.len();
                     drop(s);
-                    if !reply.is_empty() {
+                    if reply.is_empty() {
+                    } else if answers == Answers::Slow {
+                        let mut answer = answer.try_clone().expect("dup the pty");
+                        std::thread::spawn(move || {
+                            std::thread::sleep(SLOW_ANSWER);
+                            let _ = answer.write_all(&reply);
+                        });
+                    } else {
                         let _ = answer.write_all(&reply);
                     }
                 }
@@ -966,6 +978,27 @@ fn continued(tui: &mut Tui, before: usize, enter: &str, enabled: Enabled, quit: 
 /// `kill %1` on a walk stopped by Ctrl-Z at a job-control shell: bash sends SIGTERM, then SIGCONT.
 /// The walk wakes in the background, where taking the terminal back would stop it again (SIGTTOU)
 /// with the SIGTERM unanswered until `fg`: it must end there, as the signal asks (143).
+/// Over a slow link (each answer 0.5 s late), quitting waits for the answers to the last frames'
+/// queries: none is left for the shell to read, which would echo `^[[?62;22c` onto its line. (It
+/// waited a quarter of a second.)
+#[test]
+fn quitting_over_a_slow_link_leaves_no_answer_for_the_shell() {
+    let mut tui = Tui::walk(80, 24, Answers::Slow);
+    std::thread::sleep(3 * SLOW_ANSWER); // the first answers came: the round trip is known
+    tui.send(b"w");
+    std::thread::sleep(Duration::from_millis(100));
+    tui.send(b"q");
+    assert!(tui.wait_exit().success());
+    std::thread::sleep(2 * SLOW_ANSWER); // every answer still on its way has come
+    // Read as a shell's line editor reads (not by lines: an answer has no newline).
+    let slave = tui.slave.as_ref().expect("the terminal side");
+    let mut raw = termios::tcgetattr(slave).expect("tcgetattr");
+    raw.make_raw();
+    termios::tcsetattr(slave, termios::OptionalActions::Now, &raw).expect("tcsetattr");
+    let unread = rustix::io::ioctl_fionread(slave).expect("FIONREAD");
+    assert_eq!(unread, 0, "answers left for the shell");
+}
+
 #[test]
 fn kill_at_the_shell_ends_a_walk_stopped_by_ctrl_z() {
     let mut tui = Tui::spawn_as(Session::Shell, &[], 80, 24, Answers::Plain);

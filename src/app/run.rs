@@ -131,11 +131,19 @@ pub fn run(session: &mut Session, clock: Instant) -> io::Result<Ended> {
     Ok(ended)
 }
 
-/// How long a quitting walk waits for the terminal's answers to queries still in flight.
+/// How long a quitting walk waits at least for the terminal's answers to queries still in flight.
 const DRAIN_SECONDS: f64 = 0.25;
 
+/// How long it waits: twice the link's round trip (answers come a round trip after their queries),
+/// at least [`DRAIN_SECONDS`], at most the flow control's [`ACK_TIMEOUT`](super::flow::ACK_TIMEOUT),
+/// after which a terminal counts as one that does not answer. Over a 0.6 s round trip, a quarter of a
+/// second let the last answer land on the shell's line.
+fn drain_seconds(round_trip: Option<f64>) -> f64 {
+    (2.0 * round_trip.unwrap_or(0.0)).clamp(DRAIN_SECONDS, super::flow::ACK_TIMEOUT)
+}
+
 /// Reads and decodes input until every frame's query is answered, the terminal is known not to answer
-/// ([`FlowControl::silent`](super::flow::FlowControl::silent)), it hangs up, or [`DRAIN_SECONDS`] pass.
+/// ([`FlowControl::silent`](super::flow::FlowControl::silent)), it hangs up, or [`drain_seconds`] pass.
 fn drain_answers(
     session: &mut Session,
     stdin: &io::Stdin,
@@ -144,7 +152,7 @@ fn drain_answers(
 ) -> io::Result<()> {
     use rustix::event::{PollFd, PollFlags, Timespec};
 
-    let deadline = now() + DRAIN_SECONDS;
+    let deadline = now() + drain_seconds(session.flow().round_trip());
     while session.flow().in_flight() > 0 && !session.flow().silent() {
         let wait = deadline - now();
         if wait <= 0.0 {
