@@ -9,7 +9,7 @@ use crate::frame::ColorDepth;
 /// |---|---|
 /// | `NO_COLOR` set and non-empty ([no-color.org](https://no-color.org)) | `None` |
 /// | `COLORTERM=truecolor` or `24bit`, except inside GNU screen (below) | `TrueColor` |
-/// | `TERM=dumb` | `None` |
+/// | `TERM=dumb`, or a monochrome entry by terminfo's naming (`*-mono`, `*-m`: `xterm-mono`, `linux-m`) | `None` |
 /// | `TERM` naming a truecolor terminal (`*-direct`, `xterm-kitty`, `alacritty`, `wezterm`, `foot*`, `xterm-ghostty`), or `WT_SESSION` set (Windows Terminal) | `TrueColor` |
 /// | `TERM` containing `256color` | `Ansi256` |
 /// | `TERM=linux`, `vt*`, anything else, or unset | `Ansi16` |
@@ -31,7 +31,7 @@ pub fn detect_color_depth(get: impl Fn(&str) -> Option<String>) -> ColorDepth {
     }
     let term = get("TERM").unwrap_or_default().to_ascii_lowercase();
     const TRUECOLOR_TERMS: [&str; 5] = ["xterm-kitty", "alacritty", "wezterm", "xterm-ghostty", "contour"];
-    if term == "dumb" {
+    if term == "dumb" || term.ends_with("-mono") || term.ends_with("-m") {
         ColorDepth::None
     } else if term.ends_with("-direct")
         || term.starts_with("foot")
@@ -93,6 +93,9 @@ mod tests {
             (&[("TERM", "dumb")], None),
             (&[("TERM", "dumb"), ("COLORTERM", "truecolor")], TrueColor), // COLORTERM is explicit
             (&[("TERM", "linux")], Ansi16),
+            (&[("TERM", "xterm-mono")], None),
+            (&[("TERM", "linux-m")], None),
+            (&[("TERM", "xterm-mono"), ("COLORTERM", "truecolor")], TrueColor), // COLORTERM is explicit
             (&[("TERM", "vt100")], Ansi16),
             (&[("TERM", "xterm")], Ansi16),
             // GNU screen keeps COLORTERM but garbles 24-bit colour; tmux shows it.
