@@ -529,11 +529,23 @@ fn authorized_keys_let_in_only_their_keys() {
     let (status, _, stderr) = server.ssh_batch(Some(&unknown), "eve", &["-T"]);
     assert_eq!(status.code(), Some(255), "{stderr}");
     assert!(stderr.contains("Permission denied"), "{stderr}");
+    // The host's log says who tried with which key, and why it ended.
+    let listed = Command::new("ssh-keygen")
+        .arg("-lf")
+        .arg(unknown.with_extension("pub"))
+        .output()
+        .expect("ssh-keygen");
+    let listed = String::from_utf8_lossy(&listed.stdout).into_owned();
+    let print = listed.split_whitespace().nth(1).expect("a fingerprint");
+    server.wait_log("reason=authentication failed", 1);
+    let failed =
+        lock(&server.log).lines().find(|l| l.contains("authentication failed")).unwrap_or("").to_string();
+    assert!(failed.contains("user=eve") && failed.contains(print), "{failed}");
     let (status, _, stderr) = server.ssh_batch(None, "eve", &["-T"]);
     assert_eq!(status.code(), Some(255), "no key, no entry: {stderr}");
     let mut player = Player::connect(&server, Some(&known), "frank", 80, 24);
     player.wait_for("the game", playing);
-    server.wait_log("SHA256:", 1);
+    server.wait_log("user=frank", 1);
     player.send(b"q");
     assert!(player.wait_exit().success());
 }

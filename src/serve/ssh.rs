@@ -217,6 +217,8 @@ struct Conn {
     cut: Arc<Cut>,
     user: Mutex<Option<String>>,
     key: Mutex<Option<String>>,
+    /// The last key offered and refused (its fingerprint), for the log of a login that failed.
+    refused: Mutex<Option<String>>,
     playing: AtomicBool,
     /// Why it ended, when the server ended it (else the client did).
     ended: Mutex<Option<&'static str>>,
@@ -378,6 +380,7 @@ async fn connection(shared: Arc<Shared>, stream: TcpStream, peer: SocketAddr, _s
         cut,
         user: Mutex::new(None),
         key: Mutex::new(None),
+        refused: Mutex::new(None),
         playing: AtomicBool::new(false),
         ended: Mutex::new(None),
     });
@@ -429,11 +432,17 @@ async fn connection(shared: Arc<Shared>, stream: TcpStream, peer: SocketAddr, _s
         }
         e => e.to_string(),
     });
-    let reason = Conn::get(&conn.ended).map(str::to_string).or(error).unwrap_or_else(|| "closed".into());
+    // Keys were refused and none let in: the client gave up (it closes, or says nothing more).
+    let refused = Conn::get(&conn.key).is_none().then(|| Conn::get(&conn.refused)).flatten();
+    let reason = match (Conn::get(&conn.ended), &refused) {
+        (Some(ended), _) => ended.to_string(),
+        (None, Some(_)) => "authentication failed".to_string(),
+        (None, None) => error.unwrap_or_else(|| "closed".into()),
+    };
     info!(
         peer = %peer,
         user = %Conn::get(&conn.user).as_deref().unwrap_or("-"),
-        key = Conn::get(&conn.key).as_deref().unwrap_or("-"),
+        key = Conn::get(&conn.key).or(refused).as_deref().unwrap_or("-"),
         seconds = format_args!("{:.1}", started.elapsed().as_secs_f64()),
         bytes_in = conn.cut.bytes_in.load(Ordering::Relaxed),
         bytes_out = conn.cut.bytes_out.load(Ordering::Relaxed),
@@ -473,6 +482,15 @@ impl Handlers {
         Auth::Accept
     }
 
+    /// Refuses `user`'s key (or no key): the log of the connection will say whose and which.
+    fn refused(&self, user: &str, key: Option<&PublicKey>) -> Auth {
+        Conn::set(&self.conn.user, Some(player_name(user)));
+        if let Some(key) = key {
+            Conn::set(&self.conn.refused, Some(fingerprint(key)));
+        }
+        Handlers::rejected()
+    }
+
     fn rejected() -> Auth {
         let mut methods = MethodSet::empty();
         methods.push(MethodKind::PublicKey);
@@ -495,20 +513,25 @@ impl Handler for Handlers {
     type Error = russh::Error;
 
     async fn auth_none(&mut self, user: &str) -> Result<Auth, Self::Error> {
-        Ok(if self.may_play(None) { self.accepted(user, None) } else { Handlers::rejected() })
+        Ok(if self.may_play(None) { self.accepted(user, None) } else { self.refused(user, None) })
     }
 
     async fn auth_publickey_offered(
         &mut self,
-        _: &str,
+        user: &str,
         offer: PublicKeyOffer<'_>,
     ) -> Result<Auth, Self::Error> {
-        Ok(if self.may_play(Some(offer.public_key)) { Auth::Accept } else { Handlers::rejected() })
+        let key = offer.public_key;
+        Ok(if self.may_play(Some(key)) { Auth::Accept } else { self.refused(user, Some(key)) })
     }
 
     async fn auth_publickey(&mut self, user: &str, key: VerifiedPublicKey<'_>) -> Result<Auth, Self::Error> {
         let key = key.public_key;
-        Ok(if self.may_play(Some(key)) { self.accepted(user, Some(key)) } else { Handlers::rejected() })
+        Ok(if self.may_play(Some(key)) {
+            self.accepted(user, Some(key))
+        } else {
+            self.refused(user, Some(key))
+        })
     }
 
     async fn channel_open_session(
