@@ -203,17 +203,53 @@ fn write_png(path: &std::path::Path, frame: &Frame, charset: Charset) -> anyhow:
 /// [`write_png`] into `sink`, named `name` in errors.
 fn write_png_to(sink: impl Write, name: &str, frame: &Frame, charset: Charset) -> anyhow::Result<()> {
     use mazewalk::render::picture::{for_each_band, picture_size};
-    let cannot_write = || format!("{name}: cannot write");
+    let mut sink = PipeWatch { inner: sink, broken: false };
     let (width, height) = picture_size(frame);
-    let mut png = png::Encoder::new(sink, width as u32, height as u32);
-    png.set_color(png::ColorType::Rgb);
-    png.set_depth(png::BitDepth::Eight);
-    let mut png = png.write_header().with_context(cannot_write)?;
-    let mut stream = png.stream_writer().with_context(cannot_write)?;
-    for_each_band(frame, charset, |band| stream.write_all(band)).with_context(cannot_write)?;
-    stream.finish().with_context(cannot_write)?;
-    png.finish().with_context(cannot_write)?; // the end chunk, and the buffer flushed: its errors too
-    Ok(())
+    let mut encode = || -> anyhow::Result<()> {
+        let mut png = png::Encoder::new(&mut sink, width as u32, height as u32);
+        png.set_color(png::ColorType::Rgb);
+        png.set_depth(png::BitDepth::Eight);
+        let mut png = png.write_header()?;
+        let mut stream = png.stream_writer()?;
+        for_each_band(frame, charset, |band| stream.write_all(band))?;
+        stream.finish()?;
+        png.finish()?; // the end chunk, and the buffer flushed: its errors too
+        Ok(())
+    };
+    let result = encode();
+    // png's errors keep an io::Error's text but not its kind, which `is_broken_pipe` looks for.
+    let result = match result {
+        Err(_) if sink.broken => Err(std::io::Error::from(std::io::ErrorKind::BrokenPipe).into()),
+        result => result,
+    };
+    result.with_context(|| format!("{name}: cannot write"))
+}
+
+/// A writer that remembers whether a write failed because its reader went away.
+struct PipeWatch<W> {
+    inner: W,
+    broken: bool,
+}
+
+impl<W: Write> PipeWatch<W> {
+    fn watch<T>(&mut self, result: std::io::Result<T>) -> std::io::Result<T> {
+        if let Err(e) = &result {
+            self.broken |= e.kind() == std::io::ErrorKind::BrokenPipe;
+        }
+        result
+    }
+}
+
+impl<W: Write> Write for PipeWatch<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let result = self.inner.write(buf);
+        self.watch(result)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        let result = self.inner.flush();
+        self.watch(result)
+    }
 }
 
 /// The path that names standard output in `render --png` and `--depth-out`.

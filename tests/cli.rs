@@ -289,22 +289,26 @@ fn a_dumb_or_unknown_terminal_is_told_clearly() {
     }
 }
 
-// issue #13: `gen … | head` ends quietly, as other tools killed by SIGPIPE do.
+// issue #13: `gen … | head` ends quietly, as other tools killed by SIGPIPE do; so does
+// `render --png - | head -c 10` (it said "Broken pipe" and exited 1).
 #[test]
-fn a_reader_that_goes_away_ends_gen_quietly() {
+fn a_reader_that_goes_away_ends_gen_and_render_quietly() {
     use std::io::Read;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
-        .args(["gen", "--size", "400x400"])
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("run mazewalk");
-    let mut head = [0u8; 10];
-    child.stdout.take().expect("piped").read_exact(&mut head).expect("the first bytes");
-    // The pipe's read end is dropped here: the next writes fail with EPIPE.
-    let out = child.wait_with_output().expect("wait");
-    assert_eq!(out.status.code(), Some(141), "{}", stderr(&out));
-    assert!(out.stderr.is_empty(), "no message: {}", stderr(&out));
+    // Each writes far more than a pipe holds (64 KiB): a 600x300 picture is about 200 KB.
+    for args in [&["gen", "--size", "400x400"][..], &["render", "--size", "600x300", "--png", "-"]] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .args(args)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("run mazewalk");
+        let mut head = [0u8; 10];
+        child.stdout.take().expect("piped").read_exact(&mut head).expect("the first bytes");
+        // The pipe's read end is dropped here: the next writes fail with EPIPE.
+        let out = child.wait_with_output().expect("wait");
+        assert_eq!(out.status.code(), Some(141), "{args:?}: {}", stderr(&out));
+        assert!(out.stderr.is_empty(), "{args:?}: no message: {}", stderr(&out));
+    }
 }
 
 // issue #13: with stdout closed, nothing claims success having written nothing.
