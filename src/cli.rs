@@ -198,7 +198,7 @@ pub struct GenArgs {
     /// Mark the cell farthest from the start as the exit.
     #[arg(long)]
     pub exit: bool,
-    /// Write to FILE instead of stdout.
+    /// Write to FILE instead of stdout (`-`: stdout).
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
 }

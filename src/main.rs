@@ -252,7 +252,7 @@ impl<W: Write> Write for PipeWatch<W> {
     }
 }
 
-/// The path that names standard output in `render --png` and `--depth-out`.
+/// The path that names standard output in `render --png`, `--depth-out` and `gen -o`.
 const STDOUT: &str = "-";
 
 /// `mazewalk serve`: checks the maze, the host key and who may play before listening, prints where and
@@ -482,11 +482,11 @@ fn cmd_gen(args: &GenArgs) -> anyhow::Result<()> {
         ..GenOptions::default()
     };
     let (sink, name): (Box<dyn Write>, String) = match &args.output {
-        Some(path) => (
+        Some(path) if path != STDOUT => (
             Box::new(File::create(path).with_context(|| format!("{}: cannot create", path.display()))?),
             path.display().to_string(),
         ),
-        None => {
+        _ => {
             stdout_open()?;
             (Box::new(std::io::stdout().lock()), "stdout".into())
         }

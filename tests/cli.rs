@@ -269,6 +269,29 @@ fn the_walk_without_a_terminal_says_so_instead_of_breaking_anything() {
     assert!(out.stdout.is_empty(), "nothing may reach stdout: {:?}", stdout(&out));
 }
 
+// bbA #2: `gen -o -` made a file named `-`, while `check -` and `render --png -` take `-` as standard
+// input or output.
+#[test]
+fn gen_to_dash_writes_standard_output() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-gen-dash-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for format in ["cs559", "grid"] {
+        let args = ["gen", "--size", "5x4", "--seed", "7", "--format", format];
+        let plain = mazewalk(&args);
+        let dash = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .args(args)
+            .args(["-o", "-"])
+            .current_dir(&dir)
+            .output()
+            .expect("run mazewalk");
+        assert!(dash.status.success(), "{format}: {}", stderr(&dash));
+        assert!(!plain.stdout.is_empty());
+        assert_eq!(stdout(&dash), stdout(&plain), "{format}");
+        assert!(!dir.join("-").exists(), "{format}: a file named `-`");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 // issue #13: a terminal that cannot take the full-screen walk is told so, not drawn on.
 #[test]
 fn a_dumb_or_unknown_terminal_is_told_clearly() {
