@@ -195,7 +195,7 @@ pub struct GenArgs {
     /// Output format: cs559 (thin walls) or grid (tiles: a WxH maze becomes (2W+1)x(2H+1) tiles).
     #[arg(long, default_value = "cs559", value_parser = parse_format)]
     pub format: Format,
-    /// Mark the cell farthest from the start as the exit.
+    /// Mark the cell farthest from the start as the exit (in a 1x1 maze, the start itself).
     #[arg(long)]
     pub exit: bool,
     /// Write to FILE instead of stdout (`-`: stdout).

@@ -323,3 +323,31 @@ fn rows_of_spaces_are_floor() {
     let m = parse("mazewalk-grid 1\n\n\n #\n @\n\n\n").unwrap();
     assert_eq!(m.cell_count(), 3, "two floor tiles and the start");
 }
+
+// bbA #3: `gen --size 1x1 --exit` wrote `exit 0` in CS559 but no `E` in grid (the start took the
+// tile), so the two formats of one maze disagreed on its exit.
+#[test]
+fn a_generated_exit_survives_both_formats_even_on_the_start() {
+    for (width, height) in [(1, 1), (1, 3), (4, 2)] {
+        let o = GenOptions { width, height, exit: true, ..GenOptions::default() };
+        let cs559 = parse(&maze::write(&generate(&o).unwrap(), Format::Cs559).unwrap()).unwrap();
+        let text = generate_grid(&o).unwrap().to_text();
+        let grid = parse(&text).unwrap();
+        // the cells are numbered apart (a grid has corridor tiles): compare where the exits are
+        let exit_at = |m: &Maze| {
+            m.exit().map(|e| (m.cell_aabb(e.cell).min + m.cell_aabb(e.cell).max) / 2.0 - m.viewer().pos)
+        };
+        assert!(exit_at(&cs559).is_some(), "{width}x{height}");
+        let scale = 2.0; // a grid tile is a cell's side, and cells are two tiles apart
+        assert_eq!(exit_at(&cs559).map(|d| d * scale), exit_at(&grid), "{width}x{height}:\n{text}");
+        // and the grid text is canonical: written again, it reads back the same
+        assert_eq!(parse(&maze::write(&grid, Format::Grid).unwrap()).unwrap(), grid, "{width}x{height}");
+    }
+    let one = parse(
+        &generate_grid(&GenOptions { width: 1, height: 1, exit: true, ..GenOptions::default() })
+            .unwrap()
+            .to_text(),
+    )
+    .unwrap();
+    assert_eq!(one.exit().map(|e| e.cell), one.cell_at(one.viewer().pos), "the start is the exit");
+}

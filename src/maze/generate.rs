@@ -102,7 +102,7 @@ pub struct GenOptions {
     pub seed: u64,
     /// Fraction (0..=1) of the interior walls left after carving that are removed, adding cycles.
     pub loops: f32,
-    /// Mark the cell farthest from the start (by portal steps) as the exit.
+    /// Mark the cell farthest from the start (by portal steps) as the exit (in a 1×1 maze, the start).
     pub exit: bool,
     /// Wall colours to pick from; `None` = random, 0.25..=0.75 per channel in steps of 0.01 (as the original).
     pub palette: Option<Vec<Vec3>>,
@@ -481,9 +481,14 @@ pub fn generate_grid(opts: &GenOptions) -> Result<TileMap, GenError> {
     }
     // tile (x, y) counts y up from the bottom; text rows run top to bottom
     let mut set = |x: usize, y: usize, ch: u8| tiles[(rows - 1 - y) * cols + x] = ch;
+    let mut facing_deg = None;
     for c in 0..l.width * l.height {
         let (i, j) = ((c % l.width) as usize, (c / l.width) as usize);
-        let ch = if c == l.start {
+        let ch = if c == l.start && Some(c) == l.exit {
+            // a 1×1 maze: the `E` is the start too, facing as the setting says (east unwritten)
+            facing_deg = Some(l.start_dir_deg()).filter(|&d| d != 0.0);
+            b'E'
+        } else if c == l.start {
             b">^<v"[(l.start_dir_deg() / 90.0) as usize]
         } else if Some(c) == l.exit {
             b'E'
@@ -498,7 +503,7 @@ pub fn generate_grid(opts: &GenOptions) -> Result<TileMap, GenError> {
             set(2 * i + 1, 2 * j + 2, b'.');
         }
     }
-    Ok(TileMap { tile: CELL_SIZE, eye: 0.0, fov_deg: 90.0, facing_deg: None, legend, cols, rows, tiles })
+    Ok(TileMap { tile: CELL_SIZE, eye: 0.0, fov_deg: 90.0, facing_deg, legend, cols, rows, tiles })
 }
 
 /// The viewer's start for a layout, for callers placing it themselves.

@@ -27,7 +27,8 @@
 //!   - space or `.`: open floor;
 //!   - `@`: the start, facing as `facing` says; or an arrow `>` `^` `<` `v` (east, north, west, south)
 //!     instead of `@`; exactly one start, at its tile's centre;
-//!   - `E`: the exit (open floor; at most one).
+//!   - `E`: the exit (open floor; at most one). A map with an `E` and no start tile starts on the
+//!     `E`, facing as `facing` says: so a one-tile maze, whose only cell is start and exit, is written.
 //!
 //!   Rows may differ in length: past a row's end there is nothing (outside).
 //! * Each open tile is one square cell (numbered row by row from the bottom, west to east). The side
@@ -97,6 +98,11 @@ impl TileMap {
     fn color(&self, ch: u8) -> Vec3 {
         let ch = if ch == 0 { b'#' } else { ch };
         self.legend.iter().find(|(l, _)| *l == ch).map_or(DEFAULT_WALL, |&(_, c)| c)
+    }
+
+    /// Whether the walk starts on the exit: the map has an `E` and no start tile.
+    fn starts_on_exit(&self) -> bool {
+        !self.tiles.iter().any(|&t| start_dir(t, None, false).is_some()) && self.tiles.contains(&b'E')
     }
 
     /// The map as grid-format text.
@@ -276,6 +282,8 @@ struct Sweep<'m> {
     open_at: Vec<bool>,
     pad: usize,
     palette: [Vec3; 256],
+    /// The `E` tile is the start too ([`TileMap::starts_on_exit`]).
+    start_on_exit: bool,
 }
 
 impl<'m> Sweep<'m> {
@@ -292,7 +300,7 @@ impl<'m> Sweep<'m> {
         for (ch, c) in palette.iter_mut().enumerate() {
             *c = map.color(ch as u8);
         }
-        Sweep { map, open_at, pad, palette }
+        Sweep { map, open_at, pad, palette, start_on_exit: map.starts_on_exit() }
     }
 
     /// Tile row `y` (-1..=rows), padded: entry `x + 1` says whether tile (x, y) is open.
@@ -428,7 +436,7 @@ impl<'m> Sweep<'m> {
                 if ch == b'E' && exit.is_none() {
                     exit = Some(Exit { cell: c, point: None });
                 }
-                if let Some(dir) = start_dir(ch, map.facing_deg)
+                if let Some(dir) = start_dir(ch, map.facing_deg, self.start_on_exit)
                     && viewer.is_none()
                 {
                     let pos = (vec2(x as f32, y as f32) + 0.5) * t;
@@ -479,10 +487,11 @@ fn is_wall(ch: u8) -> bool {
     ch == b'#' || TileMap::LEGEND_LETTERS.contains(&ch)
 }
 
-/// The heading of a start tile, or `None` for any other tile.
-fn start_dir(ch: u8, facing: Option<f32>) -> Option<f32> {
+/// The heading of a start tile, or `None` for any other tile; `E` is one when `on_exit`.
+fn start_dir(ch: u8, facing: Option<f32>, on_exit: bool) -> Option<f32> {
     match ch {
         b'@' => Some(facing.unwrap_or(0.0)),
+        b'E' if on_exit => Some(facing.unwrap_or(0.0)),
         b'>' => Some(0.0),
         b'^' => Some(90.0),
         b'<' => Some(180.0),
@@ -671,7 +680,7 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
                     format!("wall letter `{ch}` has no colour in the legend (`{ch} = #rrggbb`)"),
                 ));
             }
-            if start_dir(b, None).is_some() && start.replace((r, c)).is_some() {
+            if start_dir(b, None, false).is_some() && start.replace((r, c)).is_some() {
                 return Err(err(n + r, c, "a second start tile (only one of @ > ^ < v)".into()));
             }
             if b == b'E' && exit.replace((r, c)).is_some() {
@@ -680,7 +689,7 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
             map.tiles[r * cols + c] = b;
         }
     }
-    if start.is_none() {
+    if start.is_none() && exit.is_none() {
         return Err(err(n, 0, "the map has no start tile (@ or an arrow > ^ < v)".into()));
     }
     map.cols = cols;
@@ -845,8 +854,12 @@ fn tiles_of(
     }
     if let Some(exit) = maze.exit() {
         let (x, y) = place[exit.cell as usize];
-        if exit.point.is_some() || exit.cell == start {
-            return Err(no("the exit has a point of its own or shares the start tile"));
+        if exit.point.is_some() {
+            return Err(no("the exit has a point of its own"));
+        }
+        if exit.cell == start {
+            // the `E` is the start too, facing as the setting says (east, the default, unwritten)
+            map.facing_deg = (v.dir_deg != 0.0).then_some(v.dir_deg);
         }
         map.tiles[index(x, y)] = b'E';
     }
@@ -1013,7 +1026,7 @@ mod tests {
                 if ch == b'E' && exit.is_none() {
                     exit = Some(Exit { cell: c, point: None });
                 }
-                if let Some(dir) = start_dir(ch, this.facing_deg)
+                if let Some(dir) = start_dir(ch, this.facing_deg, this.starts_on_exit())
                     && viewer.is_none()
                 {
                     let pos = (vec2(x as f32, y as f32) + 0.5) * t;
