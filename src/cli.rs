@@ -214,7 +214,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
     pub at: Option<Vec2>,
     /// Eye height, strictly between the floor (-1) and the ceiling (+1).
-    #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = parse_finite)]
+    #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = parse_height)]
     pub height: Option<f32>,
     /// Heading in degrees counter-clockwise from +x (default: the file's).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_heading)]
@@ -316,54 +316,66 @@ pub fn parse_format(s: &str) -> Result<Format, String> {
     }
 }
 
-pub fn parse_finite(s: &str) -> Result<f32, String> {
-    match s.trim().parse::<f32>() {
-        Ok(x) if x.is_finite() => Ok(x),
+/// An eye height; exactly -1 or 1 passes here and is refused with the camera (strictly between).
+pub fn parse_height(s: &str) -> Result<f32, String> {
+    parse_within(s, (-1.0, 1.0), |t| {
+        format!("eye height {t} is not strictly between the floor (-1) and the ceiling (+1)")
+    })
+}
+
+/// A number in `lo..=hi`, or the message `outside` makes of its text: a number too large for an
+/// `f32` is outside the range too, not "not a finite number".
+fn parse_within(s: &str, (lo, hi): (f32, f32), outside: impl Fn(&str) -> String) -> Result<f32, String> {
+    let t = s.trim();
+    match t.parse::<f64>() {
+        // parsed again as f32: a cast of the f64 could round twice
+        Ok(x) if (f64::from(lo)..=f64::from(hi)).contains(&x) => t.parse::<f32>().map_err(|e| e.to_string()),
+        Ok(x) if x.is_finite() => Err(outside(t)),
         _ => Err(format!("expected a finite number, found `{s}`")),
     }
 }
 
 /// A heading in degrees: any within ±36,000 (a hundred turns), so that f32 still resolves it.
 pub fn parse_heading(s: &str) -> Result<f32, String> {
-    match parse_finite(s)? {
-        x if x.abs() <= 36_000.0 => Ok(x),
-        _ => Err("a heading must be within -36000..=36000 degrees".to_string()),
-    }
+    parse_within(s, (-36_000.0, 36_000.0), |t| {
+        format!("heading {t}° is out of range: a heading must be within -36000..=36000 degrees")
+    })
 }
 
 /// A number in `lo..=hi` (speeds and steps).
 pub fn parse_in(s: &str, (lo, hi): (f32, f32)) -> Result<f32, String> {
-    match parse_finite(s)? {
-        x if (lo..=hi).contains(&x) => Ok(x),
-        x => Err(format!("{x} is outside {lo}..={hi}")),
-    }
+    parse_within(s, (lo, hi), |t| format!("{t} is outside {lo}..={hi}"))
 }
 
 pub fn parse_pitch(s: &str) -> Result<f32, String> {
-    match parse_finite(s)? {
-        x if (-90.0..=90.0).contains(&x) => Ok(x),
-        x => Err(format!("pitch {x}° is outside -90..=90 (straight down to straight up)")),
-    }
+    parse_within(s, (-90.0, 90.0), |t| {
+        format!("pitch {t}° is outside -90..=90 (straight down to straight up)")
+    })
 }
 
 pub fn parse_fov(s: &str) -> Result<f32, String> {
     let (lo, hi) = crate::render::camera::FOV_RANGE_DEG;
-    match parse_finite(s)? {
-        x if (lo..=hi).contains(&x) => Ok(x),
-        x => Err(format!("a field of view of {x}° is outside {lo}..={hi}°")),
-    }
+    parse_within(s, (lo, hi), |t| format!("a field of view of {t}° is outside {lo}..={hi}°"))
 }
 
 pub fn parse_cell_aspect(s: &str) -> Result<f32, String> {
-    match parse_finite(s)? {
-        x if (0.1..=4.0).contains(&x) => Ok(x),
-        x => Err(format!("cell aspect {x} is outside 0.1..=4 (width / height; about 0.5 for most fonts)")),
-    }
+    parse_within(s, (0.1, 4.0), |t| {
+        format!("cell aspect {t} is outside 0.1..=4 (width / height; about 0.5 for most fonts)")
+    })
 }
 
+/// `X,Y`: two numbers. One past the coordinate bound but an `f32` is told where the maze is, later.
 pub fn parse_point(s: &str) -> Result<Vec2, String> {
-    let (x, y) = s.split_once(',').ok_or_else(|| format!("expected X,Y, e.g. 2.5,3, found `{s}`"))?;
-    Ok(Vec2::new(parse_finite(x)?, parse_finite(y)?))
+    let bound = maze::COORD_BOUND;
+    let coord = |t: &str| {
+        parse_within(t, (f32::MIN, f32::MAX), |t| {
+            format!("{t} is out of range: a maze's X and Y are within ±{bound}")
+        })
+    };
+    match s.split(',').collect::<Vec<_>>()[..] {
+        [x, y] => Ok(Vec2::new(coord(x)?, coord(y)?)),
+        _ => Err(format!("expected two numbers X,Y, e.g. 2.5,3, found `{s}`")),
+    }
 }
 
 pub fn parse_frame_size(s: &str) -> Result<(usize, usize), String> {

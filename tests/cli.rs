@@ -201,6 +201,14 @@ fn bad_render_arguments_are_usage_errors() {
         (&["--at", "1e9,3"], "outside the maze"),
         (&["--at", "10,46"], "inside a wall"),
         (&["--at", "nope"], "X,Y"),
+        // bbA #4: finite numbers too large for an f32 are out of range, with the range
+        (&["--at", "1e308,1e308"], "1e308 is out of range: a maze's X and Y are within ±1000000"),
+        (&["--heading", "1e308"], "heading 1e308° is out of range: a heading must be within -36000..=36000"),
+        (
+            &["--height", "-1e99"],
+            "eye height -1e99 is not strictly between the floor (-1) and the ceiling (+1)",
+        ),
+        (&["--at", "2,2,2"], "expected two numbers X,Y, e.g. 2.5,3, found `2,2,2`"),
         (&["--color", "mauve"], "colour depth"),
         (&["--projection", "fisheye"], "projection"),
         (&["--culling", "some"], "culling"),

@@ -49,7 +49,11 @@ fn malformed_files_give_file_line_col_and_what_is_wrong() {
         (b"1000000000 0 0".to_vec(), "f.maze:1:15: unexpected end of file: expected vertex 1 x"),
         (b"1\nnan 0".to_vec(), "f.maze:2:1: vertex 0 x nan is not a finite number"),
         (b"1\n0 -inf".to_vec(), "f.maze:2:3: vertex 0 y -inf is not a finite number"),
-        (b"1\n0 1e39".to_vec(), "f.maze:2:3: vertex 0 y is 1e39, out of range (within ±3.4028235e38)"),
+        // bbA #4: a number too large for an f32 is told the field's range, not the f32's
+        (b"1\n0 1e39".to_vec(), "f.maze:2:3: vertex 0 y is 1e39, out of range (within ±1000000)"),
+        (room_with(7, "0 1 0 -1 1 0.5 1e39 0.5").into_bytes(), "f.maze:7:16: edge 0 green is 1e39, out of range (0..=1)"),
+        (room_with(13, "2 2 0 1e300 90").into_bytes(), "f.maze:13:7: viewer direction is 1e300, out of range (within ±1000000)"),
+        (room_with(13, "2 2 -1e99 0 90").into_bytes(), "f.maze:13:5: viewer z is -1e99, out of range (strictly between -1 and 1)"),
         (b"99999999999999999999".to_vec(), "f.maze:1:1: vertex count is 99999999999999999999, out of range (a 64-bit integer"),
         (b"-99999999999999999999".to_vec(), "f.maze:1:1: vertex count is -99999999999999999999, out of range"),
         (b"4\n0\xff 0".to_vec(), "f.maze:2:2: invalid UTF-8 (byte 0xff)"),

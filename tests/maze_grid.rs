@@ -149,6 +149,9 @@ const MALFORMED: &[(&str, u32, u32, &str)] = &[
     ("mazewalk-grid 1\ntile 0.5\n#@#\n", 2, 6, "tile side 0.5 is out of range: more than 0.5 (the viewer"),
     ("mazewalk-grid 1\ntile 1001\n#@#\n", 2, 6, "tile side 1001 is out of range"),
     ("mazewalk-grid 1\ntile four\n#@#\n", 2, 6, "expected a number (tile side), found `four`"),
+    // bbA #4: a number too large for an f32 is out of the setting's range, not "not a number"
+    ("mazewalk-grid 1\ntile 1e308\n#@#\n", 2, 6, "tile side 1e308 is out of range: more than 0.5"),
+    ("mazewalk-grid 1\neye -1e99\n#@#\n", 2, 5, "eye height -1e99 is not strictly between -1 and 1"),
     ("mazewalk-grid 1\neye 1\n#@#\n", 2, 5, "eye height 1 is not strictly between -1 and 1"),
     ("mazewalk-grid 1\nfov 180\n#@#\n", 2, 5, "field of view 180 is not strictly between 0 and 180"),
     ("mazewalk-grid 1\nfacing up\n#@#\n", 2, 8, "facing `up`: expected east, north, west or south"),

@@ -173,8 +173,9 @@ fn read_vertices(r: &mut Reader, nv: usize, cap: usize) -> Result<Vec<Vec2>, Par
             vertices.push(vec2(x, y));
             continue;
         }
-        let x = r.float(&|| format!("vertex {i} x"))?;
-        let y = r.float(&|| format!("vertex {i} y"))?;
+        let within = format!("within ±{COORD_BOUND}");
+        let x = r.float(&|| format!("vertex {i} x"), &within)?;
+        let y = r.float(&|| format!("vertex {i} y"), &within)?;
         vertices.push(vec2(x, y));
     }
     Ok(vertices)
@@ -209,7 +210,7 @@ fn read_edges(
         let opaque = r.flag(&|| format!("edge {i} opaque flag"))?;
         let mut c = [0.0; 3];
         for (k, name) in ["red", "green", "blue"].iter().enumerate() {
-            c[k] = r.float(&|| format!("edge {i} {name}"))?;
+            c[k] = r.float(&|| format!("edge {i} {name}"), "0..=1")?;
         }
         put(i, Edge { start, end, left, right, opaque, color: Vec3::from(c) });
     }
@@ -249,8 +250,16 @@ fn read_cells_to_end(r: &mut Reader) -> Result<Tail, ParseError> {
         cells.push(&slots[..n]);
     }
     let mut v = [0.0; 5];
-    for (k, name) in ["x", "y", "z", "direction", "field of view"].iter().enumerate() {
-        v[k] = r.float(&|| format!("viewer {name}"))?;
+    let within = format!("within ±{COORD_BOUND}");
+    let fields = [
+        ("x", within.as_str()),
+        ("y", &within),
+        ("z", "strictly between -1 and 1"),
+        ("direction", &within),
+        ("field of view", "strictly between 0 and 180"),
+    ];
+    for (k, (name, range)) in fields.iter().enumerate() {
+        v[k] = r.float(&|| format!("viewer {name}"), range)?;
     }
     let viewer = Viewer { pos: vec2(v[0], v[1]), z: v[2], dir_deg: v[3], fov_deg: v[4] };
     Ok((nc, cells, viewer, r.exit_extension()?))
@@ -680,8 +689,8 @@ impl<'a> Reader<'a> {
         self.error(at, ParseErrorKind::OutOfRange { what: what(), value: n.to_string(), range: range.into() })
     }
 
-    /// A finite `f32`.
-    fn float(&mut self, what: &dyn Fn() -> String) -> Result<f32, ParseError> {
+    /// A finite `f32`; `range` is the field's, which a number too large for an `f32` is told.
+    fn float(&mut self, what: &dyn Fn() -> String, range: &str) -> Result<f32, ParseError> {
         self.skip_space();
         if let Some((value, len)) = short_f32(&self.text.as_bytes()[self.pos..]) {
             self.pos += len;
@@ -692,8 +701,8 @@ impl<'a> Reader<'a> {
             tok.parse::<f32>().map_err(|_| self.expected(at, &format!("a number ({})", what()), tok))?;
         if !value.is_finite() {
             if tok.parse::<f64>().is_ok_and(f64::is_finite) {
-                // A number, too large for the 32-bit floats a maze is made of.
-                let range = format!("within ±{:e}", f32::MAX);
+                // A number, too large for the 32-bit floats a maze is made of, and so for the field.
+                let range = range.into();
                 return Err(
                     self.error(at, ParseErrorKind::OutOfRange { what: what(), value: quote(tok), range })
                 );
@@ -726,7 +735,9 @@ impl<'a> Reader<'a> {
                     }
                 }
                 2 => {
-                    ExitSpec::Point(vec2(self.float(&|| "exit x".into())?, self.float(&|| "exit y".into())?))
+                    let within = format!("within ±{COORD_BOUND}");
+                    let x = self.float(&|| "exit x".into(), &within)?;
+                    ExitSpec::Point(vec2(x, self.float(&|| "exit y".into(), &within)?))
                 }
                 _ => return Err(self.expected(word, "`exit CELL` or `exit X Y`", line.trim())),
             };

@@ -569,10 +569,14 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
         let words: Vec<&str> = line.split(is_space).filter(|w| !w.is_empty()).take(4).collect();
         let col_of = |w: &str| line[..w.as_ptr() as usize - line.as_ptr() as usize].chars().count();
         let number = |w: &str, what: &str| -> Result<f32, ParseError> {
-            w.parse::<f32>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| err(n, col_of(w), format!("expected a number ({what}), found `{}`", quote(w))))
+            match w.parse::<f32>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                // too large for an f32 (1e308): past every setting's range, which the caller then says
+                _ if w.parse::<f64>().is_ok_and(f64::is_finite) => {
+                    Ok(f32::MAX.copysign(w.parse().unwrap_or(1.0)))
+                }
+                _ => Err(err(n, col_of(w), format!("expected a number ({what}), found `{}`", quote(w)))),
+            }
         };
         match words.as_slice() {
             [] if line.is_empty() || !line.contains(' ') => {}
