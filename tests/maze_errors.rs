@@ -88,6 +88,9 @@ fn malformed_files_give_file_line_col_and_what_is_wrong() {
         (format!("{ROOM}exit 3\n").into_bytes(), "f.maze:14:1: the exit names cell 3, but there is only 1 cell"),
         (format!("{ROOM}exit 9 9\n").into_bytes(), "f.maze:14:1: the exit point (9, 9) is in no cell"),
         (format!("{ROOM}exit 1 2 3\n").into_bytes(), "f.maze:14:1: expected `exit CELL` or `exit X Y`, found `exit 1 2 3`"),
+        // bbA #5: a second exit line was ignored; a grid header in capitals read as a vertex count
+        (format!("{ROOM}exit 0\n\n  exit 0\n").into_bytes(), "f.maze:16:3: a second `exit` line (the first is on line 14)"),
+        (b"Mazewalk-Grid 1\n#@#\n".to_vec(), "f.maze:1:1: `Mazewalk-Grid` looks like a grid file's header, which is `mazewalk-grid 1` in lower case"),
     ];
     for (input, expected) in table {
         let got = error(&input);

@@ -152,6 +152,23 @@ const MALFORMED: &[(&str, u32, u32, &str)] = &[
     // bbA #4: a number too large for an f32 is out of the setting's range, not "not a number"
     ("mazewalk-grid 1\ntile 1e308\n#@#\n", 2, 6, "tile side 1e308 is out of range: more than 0.5"),
     ("mazewalk-grid 1\neye -1e99\n#@#\n", 2, 5, "eye height -1e99 is not strictly between -1 and 1"),
+    // bbA #5: a setting with too many or too few words, or given twice, says so
+    ("mazewalk-grid 1\ntile 4 4\n#@#\n", 2, 1, "`tile` takes one number: the tile side, e.g. `tile 4`"),
+    ("mazewalk-grid 1\ntile\n#@#\n", 2, 1, "`tile` takes one number"),
+    ("mazewalk-grid 1\n fov\n#@#\n", 2, 2, "`fov` takes one number"),
+    ("mazewalk-grid 1\nfacing east west\n#@#\n", 2, 1, "`facing` takes one word: east, north, west or south"),
+    (
+        "mazewalk-grid 1\ntile 4\neye 0.5\n\ntile 5\n#@#\n",
+        5,
+        1,
+        "a second `tile` setting (the first is on line 2)",
+    ),
+    (
+        "mazewalk-grid 1\nA = #ff0000\nA = #00ff00\n#@A\n",
+        3,
+        1,
+        "a second legend line for `A` (the first is on line 2)",
+    ),
     ("mazewalk-grid 1\neye 1\n#@#\n", 2, 5, "eye height 1 is not strictly between -1 and 1"),
     ("mazewalk-grid 1\nfov 180\n#@#\n", 2, 5, "field of view 180 is not strictly between 0 and 180"),
     ("mazewalk-grid 1\nfacing up\n#@#\n", 2, 8, "facing `up`: expected east, north, west or south"),

@@ -9,7 +9,7 @@
 //! 4. the viewer `x y z dir_deg fov_deg`.
 //!
 //! Anything after the viewer is ignored, as the original does, except mazewalk's optional
-//! extension, a line `exit CELL` or `exit X Y` (which the original ignores harmlessly).
+//! extension, a line `exit CELL` or `exit X Y` (at most one; the original ignores it harmlessly).
 //!
 //! The writer pads cells to 4 slots with `-1` and prints every `f32` in Rust's shortest
 //! round-trip form, so reading what it wrote gives back the same maze.
@@ -78,13 +78,29 @@ struct Parts {
 /// The records one after the other, stopping at the first error.
 fn read_in_order(file: &str, text: &str) -> Result<Parts, ParseError> {
     let mut r = Reader { file, text, pos: 0 };
-    let (nv, cap) = r.count(&|| "vertex count".into(), "vertices", 2)?;
+    let (nv, cap) =
+        r.count(&|| "vertex count".into(), "vertices", 2).map_err(|e| grid_header_hint(text, e))?;
     let vertices = read_vertices(&mut r, nv, cap)?;
     let (ne, cap) = r.count(&|| "edge count".into(), "edges", 8)?;
     let mut edges = Edges::with_capacity(cap);
     read_edges(&mut r, 0..ne, |_, e| edges.push(e))?;
     let (nc, cells, viewer, exit_at) = read_cells_to_end(&mut r)?;
     Ok(Parts { vertices, edges, cells, viewer, exit_at, nv, ne, nc })
+}
+
+/// `e`, or a hint in its place when the file starts with a grid header in the wrong letter case
+/// (`Mazewalk-Grid 1`), which is read as CS559 and so as a bad vertex count.
+fn grid_header_hint(text: &str, e: ParseError) -> ParseError {
+    let first = text.split(is_space).find(|w| !w.is_empty()).unwrap_or("");
+    if !first.eq_ignore_ascii_case(super::grid::MAGIC) {
+        return e;
+    }
+    let (magic, version) = (super::grid::MAGIC, super::grid::VERSION);
+    let msg = format!(
+        "`{}` looks like a grid file's header, which is `{magic} {version}` in lower case",
+        quote(first)
+    );
+    ParseError { kind: ParseErrorKind::Grid(msg), ..e }
 }
 
 /// The records on two threads. The edge count is found first, by counting tokens past the
@@ -713,7 +729,7 @@ impl<'a> Reader<'a> {
     }
 
     /// After the viewer: the first line starting with the word `exit`, if any, and where it starts;
-    /// all else is ignored.
+    /// a second such line is refused, all else is ignored.
     fn exit_extension(&mut self) -> Result<Option<(ExitSpec, usize)>, ParseError> {
         // the rest of the viewer's line is ignored too
         let Some(nl) = self.text[self.pos..].find('\n') else { return Ok(None) };
@@ -741,6 +757,16 @@ impl<'a> Reader<'a> {
                 }
                 _ => return Err(self.expected(word, "`exit CELL` or `exit X Y`", line.trim())),
             };
+            // a second `exit` line is refused: which one the walk would take is anyone's guess
+            let rest = &self.text[start + line.len()..];
+            let second = rest.split('\n').find(|l| l.split(is_space).find(|w| !w.is_empty()) == Some("exit"));
+            if let Some(second) = second {
+                let at =
+                    second.as_ptr() as usize - self.text.as_ptr() as usize + second.find("exit").unwrap_or(0);
+                let first_line = Loc::of(self.text, word).line;
+                let what = "`exit` line".to_string();
+                return Err(self.error(at, ParseErrorKind::Duplicate { what, first_line }));
+            }
             return Ok(Some((spec, word)));
         }
         Ok(None)

@@ -516,10 +516,10 @@ pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
 
 /// Parses grid text into its tile map, checking every setting and tile.
 pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
-    let err = |line: usize, col: usize, msg: String| {
-        let sat = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
-        Loc { line: sat(line + 1), col: sat(col + 1) }.error(file, ParseErrorKind::Grid(msg))
-    };
+    let sat = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+    // line and column from 0, as `lines` and `chars` count them
+    let loc = |line: usize, col: usize| Loc { line: sat(line + 1), col: sat(col + 1) };
+    let err = |line: usize, col: usize, msg: String| loc(line, col).error(file, ParseErrorKind::Grid(msg));
     // lines one at a time: a file of ten million newlines costs no memory per line
     let mut lines = text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l)).enumerate().peekable();
     // line 1: magic and version
@@ -563,6 +563,8 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
     // settings, until the first line that is none; empty lines are skipped, but a line with a space
     // in it is a map row (space is floor)
     let mut last = 0;
+    // each setting's name (a legend's letter) and the line that gave it: a second is refused
+    let mut seen: Vec<(&str, usize)> = Vec::new();
     while let Some(&(n, line)) = lines.peek() {
         last = n;
         // four words tell a setting; a longer line is a map row or an error
@@ -578,6 +580,23 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
                 _ => Err(err(n, col_of(w), format!("expected a number ({what}), found `{}`", quote(w)))),
             }
         };
+        let setting = match words.as_slice() {
+            [name @ ("tile" | "eye" | "fov" | "facing"), ..] => Some(*name),
+            [letter, "=", _] if letter.chars().count() == 1 => Some(*letter),
+            _ => None,
+        };
+        if let Some(name) = setting {
+            if let Some(&(_, first)) = seen.iter().find(|(s, _)| *s == name) {
+                let what = if words.get(1) == Some(&"=") {
+                    format!("legend line for `{}`", quote(name))
+                } else {
+                    format!("`{name}` setting")
+                };
+                let kind = ParseErrorKind::Duplicate { what, first_line: sat(first + 1) };
+                return Err(loc(n, col_of(words[0])).error(file, kind));
+            }
+            seen.push((name, n));
+        }
         match words.as_slice() {
             [] if line.is_empty() || !line.contains(' ') => {}
             ["tile", v] => {
@@ -627,8 +646,20 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
                     return Err(err(n, col_of(value), msg));
                 };
                 let channel = |k: usize| u8::from_str_radix(&hex[k..k + 2], 16).unwrap_or(0) as f32 / 255.0;
-                map.legend.retain(|(l, _)| *l != ch);
                 map.legend.push((ch, Vec3::new(channel(0), channel(2), channel(4))));
+            }
+            [name @ ("tile" | "eye" | "fov"), ..] => {
+                let what = match *name {
+                    "tile" => "the tile side, e.g. `tile 4`",
+                    "eye" => "the eye height, e.g. `eye 0.2`",
+                    _ => "the field of view in degrees, e.g. `fov 90`",
+                };
+                let msg = format!("`{name}` takes one number: {what}");
+                return Err(err(n, col_of(words[0]), msg));
+            }
+            ["facing", ..] => {
+                let msg = "`facing` takes one word: east, north, west or south".to_string();
+                return Err(err(n, col_of(words[0]), msg));
             }
             [word, ..] if word.bytes().all(|b| b.is_ascii_lowercase()) && *word != "v" => {
                 return Err(err(n, col_of(word), format!("unknown setting `{}`", quote(word))));

@@ -77,6 +77,8 @@ pub enum ParseErrorKind {
     NotFinite { what: String, value: String },
     #[error("{what} is {value}, out of range ({range})")]
     OutOfRange { what: String, value: String, range: String },
+    #[error("a second {what} (the first is on line {first_line})")]
+    Duplicate { what: String, first_line: u32 },
     #[error("the file claims {count} {what}; at most {max} are supported")]
     CountTooLarge { what: &'static str, count: u64, max: u64 },
     #[error("{0}")]
