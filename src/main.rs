@@ -143,13 +143,20 @@ fn load_maze(args: &MazeArgs) -> anyhow::Result<Maze> {
 
 fn cmd_walk(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     let maze = load_maze(&args.maze)?;
-    let term = std::env::var("TERM").unwrap_or_default();
-    if !args.force_terminal && (term.is_empty() || term == "dumb") {
+    let unfit = match std::env::var("TERM") {
+        Err(std::env::VarError::NotPresent) => Some("TERM is unset"),
+        Err(std::env::VarError::NotUnicode(_)) => Some("TERM is not UTF-8"),
+        Ok(term) if term.is_empty() => Some("TERM is empty"),
+        Ok(term) if term == "dumb" => Some("TERM=dumb"),
+        Ok(_) => None,
+    };
+    if let Some(unfit) = unfit
+        && !args.force_terminal
+    {
         bail!(
-            "this terminal (TERM={}) cannot run the full-screen walk: it needs cursor movement and an \
+            "this terminal ({unfit}) cannot run the full-screen walk: it needs cursor movement and an \
              alternate screen; set TERM to your terminal (e.g. xterm-256color), use `mazewalk render`, \
-             or start anyway with --force-terminal",
-            if term.is_empty() { "unset" } else { "dumb" }
+             or start anyway with --force-terminal"
         );
     }
     if !std::io::stdin().is_terminal() || !std::io::stdout().is_terminal() {

@@ -303,7 +303,8 @@ fn gen_to_dash_writes_standard_output() {
 // issue #13: a terminal that cannot take the full-screen walk is told so, not drawn on.
 #[test]
 fn a_dumb_or_unknown_terminal_is_told_clearly() {
-    for term in [Some("dumb"), Some(""), None] {
+    // bbA #6: an empty TERM was said to be unset
+    for (term, says) in [(Some("dumb"), "TERM=dumb"), (Some(""), "TERM is empty"), (None, "TERM is unset")] {
         let mut cmd = Command::new(env!("CARGO_BIN_EXE_mazewalk"));
         match term {
             Some(t) => cmd.env("TERM", t),
@@ -311,11 +312,7 @@ fn a_dumb_or_unknown_terminal_is_told_clearly() {
         };
         let out = cmd.output().expect("run mazewalk");
         assert_eq!(out.status.code(), Some(1), "TERM={term:?}: {}", stderr(&out));
-        assert!(
-            stderr(&out).contains("TERM=") && stderr(&out).contains("--force-terminal"),
-            "{}",
-            stderr(&out)
-        );
+        assert!(stderr(&out).contains(says) && stderr(&out).contains("--force-terminal"), "{}", stderr(&out));
         assert!(out.stdout.is_empty());
     }
 }
