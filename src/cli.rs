@@ -94,6 +94,9 @@ pub struct MazeArgs {
     /// Maze file (CS559 or grid format, detected); the built-in maze if omitted.
     #[arg(value_name = "MAZE", conflicts_with = "gen")]
     pub maze: Option<PathBuf>,
+    /// A second maze file, refused by its parser (else clap took it for a subcommand and said so).
+    #[arg(value_name = "MAZE", hide = true, num_args = 0.., value_parser = parse_second_maze)]
+    pub more: Vec<PathBuf>,
     /// Walk a fresh random maze of WxH cells instead (with loops and an exit).
     #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size)]
     pub generate: Option<(u32, u32)>,
@@ -281,6 +284,11 @@ impl ReadArgs {
     pub fn options(&self) -> maze::LoadOptions {
         maze::LoadOptions { max_bytes: self.max_file_size }
     }
+}
+
+/// Always an error: a command takes one maze file.
+pub fn parse_second_maze(s: &str) -> Result<PathBuf, String> {
+    Err(format!("one maze file at a time: `{s}` is a second"))
 }
 
 /// `WxH` with each side in `1..=max`: maze sizes (`--gen`, `gen --size`) and frame sizes.

@@ -317,6 +317,20 @@ fn a_dumb_or_unknown_terminal_is_told_clearly() {
     }
 }
 
+// bbA #7: a second maze file was taken for a subcommand ("the subcommand 'b.maze' cannot be used").
+#[test]
+fn a_second_maze_file_is_refused_as_one() {
+    for args in [&["a.maze", "b.maze"][..], &["render", "a.maze", "b.maze"]] {
+        let out = mazewalk(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        assert!(
+            stderr(&out).contains("one maze file at a time: `b.maze` is a second"),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
+}
+
 // issue #13: `gen … | head` ends quietly, as other tools killed by SIGPIPE do; so does
 // `render --png - | head -c 10` (it said "Broken pipe" and exited 1).
 #[test]
