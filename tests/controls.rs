@@ -247,3 +247,22 @@ fn other_continuous_keys_step_too() {
     assert!(app.camera.pitch_deg > pitch && app.camera.eye_z > z && app.camera.hfov_deg < fov);
     assert!(!app.is_animating(2.0));
 }
+
+/// Presses `key` (one-shot keys act on the press).
+fn press(app: &mut App, key: Key) {
+    app.key(key, KeyPhase::Press, 1.0);
+}
+
+#[test]
+fn esc_closes_the_help_and_quits_only_with_no_help_shown() {
+    let (mut esc, mut q) = (app(false), app(false));
+    press(&mut esc, Key::Char('?'));
+    assert!(esc.help);
+    press(&mut esc, Key::Esc);
+    assert!(!esc.help && !esc.quit, "Esc over the help closes it");
+    press(&mut esc, Key::Esc);
+    assert!(esc.quit, "Esc with nothing open quits");
+    press(&mut q, Key::Char('?'));
+    press(&mut q, Key::Char('q'));
+    assert!(q.quit, "q quits even over the help");
+}

@@ -52,7 +52,7 @@ pub enum Action {
     ToggleCullingTint,
     /// Brick walls and filtered floor tiles on / off (t).
     ToggleTextures,
-    /// Leave (q, Esc).
+    /// Leave (q, or Esc with no help shown: there it closes the help).
     Quit,
 }
 
@@ -139,7 +139,7 @@ pub const HELP: &[(&str, &str)] = &[
     ("c", "glyphs: ascii, half ▀, quad ▚, sextant (2×3)"),
     ("t", "textures: brick walls, floor tiles"),
     ("r", "back to the start"),
-    ("? / h", "this help"),
+    ("? / h", "this help (Esc closes it too)"),
     ("Ctrl-Z", "suspend (fg to come back)"),
     ("q / Esc / Ctrl-C", "quit"),
 ];

@@ -153,7 +153,7 @@ pub struct App {
     pub started: f64,
     /// Seconds it took to reach the exit, once reached.
     pub finished: Option<f64>,
-    /// Set by q / Esc.
+    /// Set by q, or by Esc with no help shown.
     pub quit: bool,
     /// The map shows every cell and the exit from the start (`--reveal-map`), not only those seen.
     pub reveal_map: bool,
@@ -316,6 +316,7 @@ impl App {
             }
             Action::ToggleCullingTint => self.culling_tint = !self.culling_tint,
             Action::ToggleTextures => self.options.textures = !self.options.textures,
+            Action::Quit if key == Key::Esc && self.help => self.help = false, // Esc closes the box first
             Action::Quit => self.quit = true,
             _ => {}
         }
