@@ -266,3 +266,27 @@ fn esc_closes_the_help_and_quits_only_with_no_help_shown() {
     press(&mut q, Key::Char('q'));
     assert!(q.quit, "q quits even over the help");
 }
+
+#[test]
+fn the_help_never_hides_under_the_exit_box() {
+    // two cells, the exit in the one the viewer does not start in
+    let opts = maze::generate::GenOptions { width: 2, height: 1, exit: true, ..Default::default() };
+    let mut app = App::new(maze::generate::generate(&opts).unwrap(), RenderOptions::default(), 0.0).unwrap();
+    app.releases = true;
+    let to_exit = app.maze().exit_point().unwrap() - app.camera.position;
+    app.camera.yaw_deg = to_exit.to_angle().to_degrees();
+    press(&mut app, Key::Char('?'));
+    for k in 0..8 {
+        let t = 1.0 + f64::from(k);
+        app.key(Key::Char('w'), KeyPhase::Press, t);
+        app.key(Key::Char('w'), KeyPhase::Release, t);
+    }
+    assert!(app.finished.is_some(), "walked to the exit");
+    assert!(!app.help, "the exit box takes the help's place");
+    press(&mut app, Key::Char('?'));
+    assert!(!app.help, "`?` under the exit box would pop up unseen after `r`");
+    press(&mut app, Key::Char('r'));
+    assert!(!app.help && app.finished.is_none(), "the walk starts again with no help");
+    press(&mut app, Key::Char('?'));
+    assert!(app.help);
+}

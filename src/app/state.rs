@@ -140,7 +140,7 @@ pub struct App {
     pub options: RenderOptions,
     /// The map overlay.
     pub map: MapMode,
-    /// The key help overlay.
+    /// The key help overlay (never under the exit box: `?` does nothing there).
     pub help: bool,
     /// Held keys.
     pub held: Held,
@@ -307,6 +307,8 @@ impl App {
                 self.snap = None;
                 (self.started, self.finished) = (now, None);
             }
+            // the exit box shows instead of the help: a toggle there would pop up unseen after `r`
+            Action::Help if self.finished.is_some() => return false,
             Action::Help => self.help = !self.help,
             Action::ToggleCulling => {
                 self.options.culling = match self.options.culling {
@@ -398,6 +400,7 @@ impl App {
         self.cell = to.cell;
         if self.finished.is_none() && self.maze.exit().is_some_and(|exit| exit.cell == self.cell) {
             self.finished = Some(now - self.started);
+            self.help = false; // the exit box takes its place; after `r` the walk starts with none
         }
     }
 
