@@ -135,6 +135,33 @@ pub fn draw_hud(frame: &mut Frame, text: &str, style: Style) {
     frame.put_str(0, y, &style.text(text), HUD_FG, HUD_BG);
 }
 
+/// The HUD line, exactly `width` columns: `fields` as (priority, text), lower numbers more important,
+/// shown in their order; each whole or not at all (a cut number reads as a wrong one: `heading 3` for
+/// 345°), the least important left out first; `help` at the right end whenever it fits.
+#[must_use]
+pub fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> String {
+    let len = |s: &str| s.chars().count();
+    let help = if len(help) < width { help } else { "" };
+    // a leading space, then each field followed by two
+    let mut room = width.saturating_sub(len(help) + 1);
+    let mut keep = vec![false; fields.len()];
+    let mut by_priority: Vec<usize> = (0..fields.len()).collect();
+    by_priority.sort_by_key(|&i| fields[i].0); // stable: of equal priority, the earlier first
+    for i in by_priority {
+        let need = len(&fields[i].1) + 2;
+        if !fields[i].1.is_empty() && need <= room {
+            (keep[i], room) = (true, room - need);
+        }
+    }
+    let mut line = String::from(if width > len(help) { " " } else { "" });
+    for (_, text) in fields.iter().zip(&keep).filter(|(_, k)| **k).map(|(f, _)| f) {
+        line.push_str(text);
+        line.push_str("  ");
+    }
+    let pad = width.saturating_sub(len(&line) + len(help));
+    format!("{line}{}{help}", " ".repeat(pad))
+}
+
 /// A box of text lines centred in the frame (help, exit screen), clipped to the frame. Without colour
 /// its background would not set it apart from the view: it gets a frame of lines instead.
 pub fn draw_box(frame: &mut Frame, title: &str, lines: &[String], style: Style) {
@@ -579,6 +606,58 @@ mod tests {
         assert_eq!(heading_arrow(-90.0), '↓');
         assert_eq!(heading_arrow(200.0), '←');
         assert_eq!(heading_arrow(44.0), '↗');
+    }
+
+    /// The HUD's fields as the walk makes them, at their longest.
+    fn hud_fields() -> Vec<(u8, String)> {
+        [
+            (0, "(-116.3, -50.8) z-0.8"),
+            (1, "heading 345° pitch -45°"),
+            (2, "time 12:34.5"),
+            (3, "57 fps 12345 B"),
+            (4, "cell 1234 seen 567"),
+            (5, "fov 120° persp sextant"),
+            (6, "12.3 ms"),
+        ]
+        .map(|(p, t)| (p, t.to_string()))
+        .to_vec()
+    }
+
+    // Bug: at narrow widths the HUD cut fields mid-number (`heading 3` for 345°, `z-0` for -0.8).
+    #[test]
+    fn the_hud_shows_whole_fields_only_the_least_important_left_out_first() {
+        let fields = hud_fields();
+        for width in 0..=140 {
+            let line = hud_line(&fields, "? help ", width);
+            assert_eq!(line.chars().count(), width, "{line:?}");
+            assert_eq!(line.ends_with("? help "), width > 7, "help at the right end when it fits: {line:?}");
+            let shown: Vec<&str> = line
+                .trim_end_matches("? help ")
+                .split("  ")
+                .map(str::trim)
+                .filter(|t| !t.is_empty())
+                .collect();
+            for text in &shown {
+                assert!(
+                    fields.iter().any(|(_, f)| f == text),
+                    "width {width}: a cut field {text:?} in {line:?}"
+                );
+            }
+            // fields come in their order; one is left out only if it does not fit beside the more
+            // important ones shown
+            let order: Vec<usize> =
+                shown.iter().map(|t| fields.iter().position(|(_, f)| f == t).unwrap()).collect();
+            assert!(order.windows(2).all(|w| w[0] < w[1]), "{line:?}");
+            let len = |i: usize| fields[i].1.chars().count() + 2;
+            for left_out in (0..fields.len()).filter(|i| !order.contains(i)) {
+                let before: usize = order.iter().filter(|&&i| i < left_out).map(|&i| len(i)).sum();
+                assert!(1 + before + len(left_out) + 7 > width, "width {width}: {left_out} fits in {line:?}");
+            }
+        }
+        assert_eq!(hud_line(&fields, "? help ", 32), " (-116.3, -50.8) z-0.8   ? help ");
+        // heading no longer fits: the shorter clock, less important, does
+        assert_eq!(hud_line(&fields, "? help ", 45), " (-116.3, -50.8) z-0.8  time 12:34.5  ? help ");
+        assert!(hud_line(&fields, "? help ", 140).contains("fov 120° persp sextant  12.3 ms"));
     }
 
     #[test]
