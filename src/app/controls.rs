@@ -122,8 +122,11 @@ pub fn action_for(key: Key) -> Option<Action> {
     })
 }
 
-/// The key help, one line per binding (shown by `?` and in README).
+/// The key help, one line per binding (shown by `?` and in README): how to leave first, as a small
+/// box keeps its first lines.
 pub const HELP: &[(&str, &str)] = &[
+    ("q / Ctrl-C", "quit (Esc too, with no help shown)"),
+    ("? / h", "this help (Esc closes it too)"),
     ("W / S", "walk forward / back (tap: a step, hold: glide)"),
     ("A / D", "step left / right"),
     ("← / →", "turn left / right (tap: 15°)"),
@@ -139,9 +142,7 @@ pub const HELP: &[(&str, &str)] = &[
     ("c", "glyphs: ascii, half ▀, quad ▚, sextant (2×3)"),
     ("t", "textures: brick walls, floor tiles"),
     ("r", "back to the start"),
-    ("? / h", "this help (Esc closes it too)"),
     ("Ctrl-Z", "suspend (fg to come back)"),
-    ("q / Esc / Ctrl-C", "quit"),
 ];
 
 /// Two presses of one key closer together than this (seconds) are the terminal's auto-repeat, not two

@@ -162,12 +162,32 @@ pub fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> String {
     format!("{line}{}{help}", " ".repeat(pad))
 }
 
-/// A box of text lines centred in the frame (help, exit screen), clipped to the frame. Without colour
-/// its background would not set it apart from the view: it gets a frame of lines instead.
+/// A box of text lines centred above the HUD's row (drawn over boxes), clipped to the frame. Without
+/// colour its background would not set it apart from the view: it gets a frame of lines instead.
+///
+/// Short of room, a box gives up spacing before text: its blank rows, then its padding (or frame);
+/// then its last lines, for a `…` row (so a box lists what matters most first). A line too wide loses
+/// words from its end, marked `…`, never part of one ([`fit_line`]).
 pub fn draw_box(frame: &mut Frame, title: &str, lines: &[String], style: Style) {
+    let (w, h) = (frame.width(), frame.height().saturating_sub(1));
     let inner = lines.iter().map(|l| l.chars().count()).chain([title.chars().count()]).max().unwrap_or(0);
-    let (bw, bh) = ((inner + 4).min(frame.width()), (lines.len() + 4).min(frame.height()));
-    let (x0, y0) = ((frame.width() - bw) / 2, (frame.height() - bh) / 2);
+    let side = if inner + 4 <= w { 2 } else { 1 };
+    let bw = (inner + 2 * side).min(w);
+    let text_width = bw.saturating_sub(2 * side);
+    // (rows above and below the text, a blank row under the title, the lines)
+    let mut rows: Vec<&str> = lines.iter().map(String::as_str).collect();
+    let (mut pad, mut gap) = (1, 1);
+    if rows.len() + 2 + 2 * pad > h {
+        (gap, pad) = (0, 1);
+        rows.retain(|l| !l.trim().is_empty());
+    }
+    if rows.len() + 1 + 2 * pad > h {
+        pad = 0;
+    }
+    let more = rows.len() + 1 > h;
+    rows.truncate(h.saturating_sub(2)); // room for the title and the `…` row
+    let bh = (rows.len() + usize::from(more) + 1 + gap + 2 * pad).min(h);
+    let (x0, y0) = ((w - bw) / 2, (h - bh) / 2);
     let (fg, bg) =
         if style.depth == ColorDepth::None { (Color::Default, Color::Default) } else { (BOX_FG, BOX_BG) };
     for y in y0..y0 + bh {
@@ -175,7 +195,7 @@ pub fn draw_box(frame: &mut Frame, title: &str, lines: &[String], style: Style) 
             frame.set(x, y, Cell { ch: ' ', fg, bg });
         }
     }
-    if style.depth == ColorDepth::None && bw >= 2 && bh >= 2 {
+    if style.depth == ColorDepth::None && bw >= 2 && pad == 1 {
         let (x1, y1) = (x0 + bw - 1, y0 + bh - 1);
         let line = |ch| Cell { ch, fg, bg };
         for x in x0..=x1 {
@@ -190,16 +210,50 @@ pub fn draw_box(frame: &mut Frame, title: &str, lines: &[String], style: Style) 
             frame.set(x, y, line(style.glyph(ch, '+')));
         }
     }
-    let title = style.text(title);
+    let ellipsis = if style.ascii { "..." } else { "…" };
+    let title = fit_line(&style.text(title), text_width, ellipsis);
     let tx = x0 + bw.saturating_sub(title.chars().count()) / 2;
-    frame.put_str(tx, y0 + 1, &title, fg, bg);
-    for (i, line) in lines.iter().enumerate() {
-        if 3 + i >= bh {
-            break;
-        }
-        let clipped: String = style.text(line).chars().take(bw.saturating_sub(4)).collect();
-        frame.put_str(x0 + 2, y0 + 3 + i, &clipped, fg, bg);
+    frame.put_str(tx, y0 + pad, &title, fg, bg);
+    let mut texts: Vec<String> =
+        rows.iter().map(|l| fit_line(&style.text(l), text_width, ellipsis)).collect();
+    // columns aligned on some rows only read as a jumble: if one row gave up its alignment, all do
+    if rows.iter().zip(&texts).any(|(row, text)| row.contains("  ") && !text.contains("  ")) {
+        let squeeze = |l: &&str| l.split_whitespace().collect::<Vec<_>>().join(" ");
+        texts = rows.iter().map(|l| fit_line(&style.text(&squeeze(l)), text_width, ellipsis)).collect();
     }
+    for (i, text) in texts.into_iter().chain(more.then(|| ellipsis.to_string())).enumerate() {
+        frame.put_str(x0 + side, y0 + pad + 1 + gap + i, &text, fg, bg);
+    }
+}
+
+/// `line` in at most `width` columns: whole, or shortened by words from its end with `ellipsis` after
+/// them. A line in two columns (a run of spaces between them) gives up its alignment when that keeps
+/// more of its second column. Only a first word wider than the box is cut.
+#[must_use]
+pub fn fit_line(line: &str, width: usize, ellipsis: &str) -> String {
+    let len = |s: &str| s.chars().count();
+    if len(line) <= width {
+        return line.to_string();
+    }
+    // the longest prefix ending at a word's end that leaves room for the ellipsis
+    let shorten = |line: &str| -> Option<String> {
+        let ends = line.char_indices().filter(|&(i, c)| c == ' ' && i > 0 && !line[..i].ends_with(' '));
+        let cut = ends.map(|(i, _)| i).rfind(|&i| len(&line[..i]) + len(ellipsis) <= width)?;
+        Some(format!("{}{ellipsis}", &line[..cut]))
+    };
+    let words = |s: &str| s.split_whitespace().count();
+    let squeezed = line.split_whitespace().collect::<Vec<_>>().join(" ");
+    let candidates = [shorten(line), (len(&squeezed) <= width).then(|| squeezed.clone()), shorten(&squeezed)];
+    if let Some(best) =
+        candidates.into_iter().flatten().max_by_key(|c| (words(c), usize::from(c.contains("  "))))
+    {
+        return best;
+    }
+    let keep = width.saturating_sub(len(ellipsis));
+    if keep == 0 {
+        return line.chars().take(width).collect();
+    }
+    format!("{}{ellipsis}", line.chars().take(keep).collect::<String>())
 }
 
 /// The key help as box lines (in ASCII when the style asks for it).
@@ -660,6 +714,70 @@ mod tests {
         assert!(hud_line(&fields, "? help ", 140).contains("fov 120° persp sextant  12.3 ms"));
     }
 
+    /// `frame`'s rows, trimmed at the right.
+    fn trimmed(frame: &Frame) -> Vec<String> {
+        frame.lines().iter().map(|l| l.trim_end().to_string()).collect()
+    }
+
+    // Bug: at small sizes the help stopped early without the quit row, descriptions were cut mid-word
+    // and the exit box read `You found the ex`, without "q quit".
+    #[test]
+    fn small_boxes_keep_the_first_lines_whole_words_and_say_what_is_left_out() {
+        let style = Style::default();
+        let mut frame = Frame::filled(20, 6, Cell::plain('.'));
+        draw_box(&mut frame, "Keys (? to close)", &help_lines(style), style);
+        assert_eq!(
+            trimmed(&frame),
+            [
+                " Keys (? to close)",
+                " q / Ctrl-C quit…",
+                " ? / h this help…",
+                " W / S walk…",
+                " …",
+                "...................."
+            ]
+        );
+        let exit: Vec<String> =
+            ["You found the exit in 0:05.0.", "", "r  walk it again", "q  quit"].map(String::from).to_vec();
+        let mut frame = Frame::filled(20, 6, Cell::plain('.'));
+        draw_box(&mut frame, "Found the exit!", &exit, style);
+        assert_eq!(
+            trimmed(&frame),
+            [
+                "  Found the exit!",
+                " You found the…",
+                " r  walk it again",
+                " q  quit",
+                "....................",
+                "...................."
+            ]
+        );
+        // every size: no word of a help row is cut, and some row tells of those left out
+        for (w, h) in [(60, 15), (40, 12), (30, 8), (20, 6)] {
+            let mut frame = Frame::filled(w, h, Cell::plain('.'));
+            draw_box(&mut frame, "Keys", &help_lines(style), style);
+            let words: Vec<&str> = HELP.iter().flat_map(|(k, d)| k.split(' ').chain(d.split(' '))).collect();
+            let rows = trimmed(&frame);
+            assert!(rows.iter().any(|r| r.trim() == "…"), "{w}×{h}: {rows:?}");
+            for row in &rows[2..h - 2] {
+                for word in row.split(' ').filter(|w| !w.is_empty()) {
+                    let word = word.trim_end_matches('…');
+                    assert!(word.is_empty() || words.contains(&word), "{w}×{h}: {word:?} in {row:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_line_is_shortened_by_whole_words() {
+        assert_eq!(fit_line("walk forward / back", 19, "…"), "walk forward / back");
+        assert_eq!(fit_line("walk forward / back", 18, "…"), "walk forward /…");
+        assert_eq!(fit_line("W / S      walk forward", 17, "…"), "W / S      walk…");
+        assert_eq!(fit_line("W / S      walk forward", 15, "…"), "W / S walk…");
+        assert_eq!(fit_line("W / S      walk forward", 14, "..."), "W / S walk...");
+        assert_eq!(fit_line("Unbreakable", 5, "…"), "Unbr…");
+    }
+
     #[test]
     fn hud_and_box_are_clipped_to_the_frame() {
         let mut frame = Frame::filled(12, 5, Cell::plain('.'));
@@ -667,10 +785,10 @@ mod tests {
         assert_eq!(frame.lines()[4], "a long heads");
         draw_box(&mut frame, "Help", &["one".to_string(), "two".to_string()], Style::default());
         let lines = frame.lines();
-        // an 8×5 box (text + 2 padding each side) centred on the dots
-        assert_eq!(lines[0], "..        ..");
-        assert_eq!(lines[1], "..  Help  ..");
-        assert_eq!(lines[3], "..  one   ..");
+        // an 8×4 box (text + 2 padding each side) above the HUD's row: no room for the spacing rows
+        assert_eq!(lines[0], "..  Help  ..");
+        assert_eq!(lines[1], "..  one   ..");
+        assert_eq!(lines[2], "..  two   ..");
         let mut tiny = Frame::new(1, 1);
         draw_box(&mut tiny, "Help", &help_lines(Style::default()), Style::default());
         draw_hud(&mut tiny, "x", Style::default());
@@ -680,12 +798,12 @@ mod tests {
     fn without_colour_a_box_is_framed_and_with_ascii_everything_is_ascii() {
         let style = Style { depth: ColorDepth::None, ascii: true };
         let mut frame = Frame::filled(14, 6, Cell::plain('.'));
-        draw_box(&mut frame, "Keys", &help_lines(style)[2..3], style);
+        draw_box(&mut frame, "Keys", &help_lines(style)[4..5], style);
         draw_hud(&mut frame, "heading 90° ← ×", style);
         let lines = frame.lines();
         assert_eq!(lines[0], "+------------+");
         assert_eq!(lines[1], "|    Keys    |");
-        assert!(lines[3].starts_with("| Left / Rig"), "{lines:?}");
+        assert_eq!(lines[3], "|Left /...   |", "whole words, in ASCII");
         assert_eq!(lines[5], "heading 90 Lef");
         assert!(lines.iter().all(|l| l.is_ascii()));
         assert!(
