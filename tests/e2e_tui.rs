@@ -738,9 +738,9 @@ fn walk_look_at_help_and_map_then_quit_restores_the_terminal() {
 
     // The help box opens and closes.
     tui.send(b"?");
-    tui.wait_for("the help box", |s| s.contents().contains("Keys (? to close)"));
+    tui.wait_for("the help box", |s| s.contents().contains("Keys (? or Esc to close)"));
     tui.send(b"?");
-    tui.wait_for("the help box to close", |s| !s.contents().contains("Keys (? to close)"));
+    tui.wait_for("the help box to close", |s| !s.contents().contains("Keys (? or Esc to close)"));
 
     // The map: corner (top right) → full screen → off → corner.
     let corner =

@@ -142,8 +142,9 @@ pub fn draw_hud(frame: &mut Frame, text: &str, style: Style) {
 pub fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> String {
     let len = |s: &str| s.chars().count();
     let help = if len(help) < width { help } else { "" };
-    // a leading space, then each field followed by two
-    let mut room = width.saturating_sub(len(help) + 1);
+    // A leading space, the fields two apart, at least one space before the help: each field costs
+    // its length and two spaces (the last's pair being the leading space and the one before help).
+    let mut room = width.saturating_sub(len(help));
     let mut keep = vec![false; fields.len()];
     let mut by_priority: Vec<usize> = (0..fields.len()).collect();
     by_priority.sort_by_key(|&i| fields[i].0); // stable: of equal priority, the earlier first
@@ -153,11 +154,8 @@ pub fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> String {
             (keep[i], room) = (true, room - need);
         }
     }
-    let mut line = String::from(if width > len(help) { " " } else { "" });
-    for (_, text) in fields.iter().zip(&keep).filter(|(_, k)| **k).map(|(f, _)| f) {
-        line.push_str(text);
-        line.push_str("  ");
-    }
+    let shown: Vec<&str> = fields.iter().zip(&keep).filter(|(_, k)| **k).map(|(f, _)| f.1.as_str()).collect();
+    let line = if shown.is_empty() { String::new() } else { format!(" {}", shown.join("  ")) };
     let pad = width.saturating_sub(len(&line) + len(help));
     format!("{line}{}{help}", " ".repeat(pad))
 }

@@ -499,7 +499,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
             .collect();
         overlay::draw_box(frame, "Found the exit!", &lines, style);
     } else if app.help {
-        overlay::draw_box(frame, "Keys (? to close)", &overlay::help_lines(style), style);
+        overlay::draw_box(frame, "Keys (? or Esc to close)", &overlay::help_lines(style), style);
     } else if let Some(notice) = &screen.notice {
         overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
     }
@@ -535,38 +535,19 @@ fn hud_text(app: &App, stats: &RenderStats, hud: &Hud, width: usize) -> String {
         (Some(_), Some(took)) => Some(format!("exit in {}", clock_text(took))),
         (Some(_), None) => Some(format!("time {}", clock_text(hud.elapsed))),
     };
-    // (priority, text): lower numbers are kept first when the line is short of room; priority 0 is
-    // always there (cut at the end if even it does not fit).
+    // (priority, text): lower numbers are kept first when the line is short of room
     let fields = [
-        (0, format!("({:.1}, {:.1}) z{:+.1}", c.position.x, c.position.y, c.eye_z)),
-        (0, format!("heading {:.0}° pitch {:+.0}°", c.yaw_deg, c.pitch_deg)),
-        (1, clock.unwrap_or_default()),
-        (2, format!("{} fps {} B", hud.fps, hud.cost.bytes)),
-        (3, format!("cell {} seen {}", app.cell, stats.portal.distinct_cells)),
-        (4, format!("fov {:.0}° {projection} {}", c.hfov_deg, app.options.charset)),
-        (5, format!("{:.1} ms", hud.cost.seconds * 1e3)),
+        // (the position apart from the height: it fits where the two would not, 20 columns)
+        (0, format!("({:.1}, {:.1})", c.position.x, c.position.y)),
+        (2, format!("z{:+.1}", c.eye_z)),
+        (1, format!("heading {:.0}° pitch {:+.0}°", c.yaw_deg, c.pitch_deg)),
+        (3, clock.unwrap_or_default()),
+        (4, format!("{} fps {} B", hud.fps, hud.cost.bytes)),
+        (5, format!("cell {} seen {}", app.cell, stats.portal.distinct_cells)),
+        (6, format!("fov {:.0}° {projection} {}", c.hfov_deg, app.options.charset)),
+        (7, format!("{:.1} ms", hud.cost.seconds * 1e3)),
     ];
-    let len = |s: &str| s.chars().count();
-    let room = width.saturating_sub(len(HELP) + 1);
-    let mut keep = [true; 7];
-    let total = |keep: &[bool; 7]| -> usize {
-        fields.iter().zip(keep).filter(|((_, t), k)| **k && !t.is_empty()).map(|((_, t), _)| len(t) + 2).sum()
-    };
-    for priority in (1..=5).rev() {
-        for (i, (p, _)) in fields.iter().enumerate() {
-            if total(&keep) > room && *p == priority {
-                keep[i] = false;
-            }
-        }
-    }
-    let mut line = String::from(" ");
-    for ((_, text), _) in fields.iter().zip(keep).filter(|((_, t), k)| *k && !t.is_empty()) {
-        line.push_str(text);
-        line.push_str("  ");
-    }
-    let line: String = line.chars().take(room).collect();
-    let pad = width.saturating_sub(len(&line) + len(HELP));
-    format!("{line}{}{HELP}", " ".repeat(pad))
+    overlay::hud_line(&fields, HELP, width)
 }
 
 /// `m:ss.s` for the exit screen.
