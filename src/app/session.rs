@@ -537,15 +537,16 @@ fn hud_text(app: &App, stats: &RenderStats, hud: &Hud, width: usize) -> String {
     };
     // (priority, text): lower numbers are kept first when the line is short of room
     let fields = [
-        // (the position apart from the height: it fits where the two would not, 20 columns)
+        // (position, height, heading and pitch apart: each fits where they together would not)
         (0, format!("({:.1}, {:.1})", c.position.x, c.position.y)),
-        (2, format!("z{:+.1}", c.eye_z)),
-        (1, format!("heading {:.0}° pitch {:+.0}°", c.yaw_deg, c.pitch_deg)),
-        (3, clock.unwrap_or_default()),
-        (4, format!("{} fps {} B", hud.fps, hud.cost.bytes)),
-        (5, format!("cell {} seen {}", app.cell, stats.portal.distinct_cells)),
-        (6, format!("fov {:.0}° {projection} {}", c.hfov_deg, app.options.charset)),
-        (7, format!("{:.1} ms", hud.cost.seconds * 1e3)),
+        (3, format!("z{:+.1}", c.eye_z)),
+        (1, format!("heading {:.0}°", c.yaw_deg)),
+        (2, format!("pitch {:+.0}°", c.pitch_deg)),
+        (4, clock.unwrap_or_default()),
+        (5, format!("{} fps {} B", hud.fps, hud.cost.bytes)),
+        (6, format!("cell {} seen {}", app.cell, stats.portal.distinct_cells)),
+        (7, format!("fov {:.0}° {projection} {}", c.hfov_deg, app.options.charset)),
+        (8, format!("{:.1} ms", hud.cost.seconds * 1e3)),
     ];
     overlay::hud_line(&fields, HELP, width)
 }
