@@ -28,10 +28,10 @@ use std::rc::Rc;
 
 use common::baseline::{full_repaint, lower_bound};
 use criterion::{Criterion, Throughput};
-use mazewalk::app::App;
-use mazewalk::frame::{Cell, Color, ColorDepth, Frame, Region};
-use mazewalk::render::{Charset, Renderer};
-use mazewalk::term::encoder::{DEFAULT_TOLERANCE, Encoder};
+use mazewalk_render::{Charset, Renderer};
+use mazewalk_term::encoder::{DEFAULT_TOLERANCE, Encoder};
+use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
+use mazewalk_walk::App;
 use ratatui::backend::CrosstermBackend;
 use ratatui::layout::Rect;
 use ratatui::style::Color as RColor;

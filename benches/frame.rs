@@ -15,10 +15,10 @@ mod common;
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
-use mazewalk::app::{Session, SessionOptions};
-use mazewalk::frame::ColorDepth;
-use mazewalk::input::KeyPhase;
-use mazewalk::render::Charset;
+use mazewalk_render::Charset;
+use mazewalk_term::frame::ColorDepth;
+use mazewalk_term::input::KeyPhase;
+use mazewalk_walk::{Session, SessionOptions};
 
 const SIZES: [(u16, u16); 3] = [(80, 24), (120, 40), (200, 60)];
 

@@ -16,8 +16,8 @@
 use std::hint::black_box;
 
 use criterion::Criterion;
-use mazewalk::maze;
-use mazewalk::maze::generate::{Algorithm, GenOptions, generate, generate_grid};
+use mazewalk_maze as maze;
+use mazewalk_maze::generate::{Algorithm, GenOptions, generate, generate_grid};
 
 const SIDE: u32 = 1000;
 

@@ -4,8 +4,8 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{Vec2, Vec3};
-use mazewalk::frame::{ColorDepth, Frame};
-use mazewalk::render::{Charset, GridVertex, RenderOptions, SampleBuffer, fill_polygon, to_frame};
+use mazewalk_render::{Charset, GridVertex, RenderOptions, SampleBuffer, fill_polygon, to_frame};
+use mazewalk_term::frame::{ColorDepth, Frame};
 
 const COLS: usize = 200;
 const ROWS: usize = 60;

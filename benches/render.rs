@@ -21,8 +21,8 @@ use std::hint::black_box;
 
 use common::{SIDES, Scene, View};
 use criterion::{BenchmarkId, Criterion};
-use mazewalk::frame::{ColorDepth, Frame, Region};
-use mazewalk::render::{Charset, Culling, PortalPass, RenderOptions, Renderer, to_frame};
+use mazewalk_render::{Charset, Culling, PortalPass, RenderOptions, Renderer, to_frame};
+use mazewalk_term::frame::{ColorDepth, Frame, Region};
 
 /// Terminal sizes (columns × rows).
 const SIZES: [(usize, usize); 3] = [(80, 24), (200, 60), (320, 90)];

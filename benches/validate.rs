@@ -17,8 +17,8 @@ use std::hint::black_box;
 
 use criterion::{BatchSize, Criterion, Throughput};
 use glam::{Vec2, Vec3, vec2};
-use mazewalk::maze::generate::{GenOptions, generate};
-use mazewalk::maze::{Cells, Edge, Edges, Maze, Viewer};
+use mazewalk_maze::generate::{GenOptions, generate};
+use mazewalk_maze::{Cells, Edge, Edges, Maze, Viewer};
 
 /// The parts `Maze::new` takes.
 type Parts = (Vec<Vec2>, Edges, Cells, Viewer);

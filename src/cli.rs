@@ -21,12 +21,12 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand};
 use glam::Vec2;
 
-use crate::app::state;
-use crate::frame::ColorDepth;
-use crate::maze::generate::{Algorithm, MAX_SIDE};
-use crate::maze::{self, Format};
-use crate::render::{Charset, Culling, Projection, Ramp, RenderOptions};
-use crate::term::{caps, encoder};
+use mazewalk_maze::generate::{Algorithm, MAX_SIDE};
+use mazewalk_maze::{self as maze, Format};
+use mazewalk_render::{Charset, Culling, Projection, Ramp, RenderOptions};
+use mazewalk_term::frame::ColorDepth;
+use mazewalk_term::{caps, encoder};
+use mazewalk_walk::state;
 
 #[derive(Parser)]
 #[command(
@@ -362,7 +362,7 @@ pub fn parse_pitch(s: &str) -> Result<f32, String> {
 }
 
 pub fn parse_fov(s: &str) -> Result<f32, String> {
-    let (lo, hi) = crate::render::camera::FOV_RANGE_DEG;
+    let (lo, hi) = mazewalk_render::camera::FOV_RANGE_DEG;
     parse_within(s, (lo, hi), |t| format!("a field of view of {t}° is outside {lo}..={hi}°"))
 }
 

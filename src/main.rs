@@ -16,19 +16,20 @@ use std::time::Instant;
 
 use anyhow::{Context as _, bail};
 use clap::Parser as _;
-use mazewalk::app::run::run;
-use mazewalk::app::state::{Motion, stand, viewer_camera};
-use mazewalk::app::{App, Session, SessionOptions};
 use mazewalk::cli::{
     CheckArgs, Cli, Command, GenArgs, MAX_FRAME_CELLS, MazeArgs, RenderArgs, ServeArgs, WalkArgs,
 };
-use mazewalk::frame::{Frame, Region};
-use mazewalk::maze::generate::{GenOptions, generate, generate_grid};
-use mazewalk::maze::geometry::WALL_MARGIN;
-use mazewalk::maze::movement::is_clear;
-use mazewalk::maze::{self, Format, LoadError, Maze};
-use mazewalk::render::{Camera, Charset, Culling, Renderer};
-use mazewalk::term::{caps, encoder, guard};
+use mazewalk::guard;
+use mazewalk::run::run;
+use mazewalk_maze::generate::{GenOptions, generate, generate_grid};
+use mazewalk_maze::geometry::WALL_MARGIN;
+use mazewalk_maze::movement::is_clear;
+use mazewalk_maze::{self as maze, Format, LoadError, Maze};
+use mazewalk_render::{Camera, Charset, Culling, Renderer};
+use mazewalk_term::frame::{Frame, Region};
+use mazewalk_term::{caps, encoder};
+use mazewalk_walk::state::{Motion, stand, viewer_camera};
+use mazewalk_walk::{App, Session, SessionOptions};
 
 /// Exit status for bad flags or values (as clap's).
 const EXIT_USAGE: u8 = 2;
@@ -209,7 +210,7 @@ fn write_png(path: &std::path::Path, frame: &Frame, charset: Charset) -> anyhow:
 
 /// [`write_png`] into `sink`, named `name` in errors.
 fn write_png_to(sink: impl Write, name: &str, frame: &Frame, charset: Charset) -> anyhow::Result<()> {
-    use mazewalk::render::picture::{for_each_band, picture_size};
+    use mazewalk_render::picture::{for_each_band, picture_size};
     let mut sink = PipeWatch { inner: sink, broken: false };
     let (width, height) = picture_size(frame);
     let mut encode = || -> anyhow::Result<()> {
@@ -264,10 +265,10 @@ const STDOUT: &str = "-";
 
 /// `mazewalk serve`: checks the maze, the host key and who may play before listening, prints where and
 /// how to connect, then serves until SIGINT, SIGTERM or SIGHUP (exit 128 + n, as the walk).
-#[cfg(unix)]
+#[cfg(all(unix, feature = "serve"))]
 fn cmd_serve(args: &ServeArgs) -> anyhow::Result<ExitCode> {
-    use mazewalk::render::RenderOptions;
-    use mazewalk::serve::{Access, Limits, ServeOptions, host_key};
+    use mazewalk_render::RenderOptions;
+    use mazewalk_serve::{Access, Limits, ServeOptions, host_key};
     let maze = load_maze(&args.maze)?;
     App::new(maze.clone(), RenderOptions::default(), 0.0)?; // a start in no cell fails here, not per player
     let env = |k: &str| std::env::var(k).ok();
@@ -309,7 +310,7 @@ fn cmd_serve(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     };
     let options = ServeOptions { maze, listen: args.listen, host_key, access, limits };
     tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
-    let signal = mazewalk::serve::run(options, |addr| {
+    let signal = mazewalk_serve::run(options, |addr| {
         let made = if made { ", made now" } else { "" };
         // for the host to read; a closed pipe (`serve | head -1`) must not end the server
         let mut out = std::io::stdout().lock();
@@ -327,8 +328,11 @@ fn cmd_serve(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)))
 }
 
-#[cfg(not(unix))]
+#[cfg(not(all(unix, feature = "serve")))]
 fn cmd_serve(_: &ServeArgs) -> anyhow::Result<ExitCode> {
+    if cfg!(unix) {
+        bail!("this mazewalk was built without `serve` (build it with the default features to host a maze)");
+    }
     bail!("`mazewalk serve` runs on Unix only");
 }
 

@@ -16,6 +16,9 @@
 //! Every wait polls with a deadline; a failing test kills its child (in `Drop`) and prints the screen.
 //! Unix only (ptys, signals).
 #![cfg(unix)]
+// A child's session and controlling terminal are set between fork and exec (`pre_exec`), and the
+// pty's TIOCNOTTY is a raw ioctl: the only unsafe code in the workspace, here in a test.
+#![allow(unsafe_code)]
 
 use std::fs::File;
 use std::io::{Read, Write};
@@ -27,7 +30,7 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use mazewalk::term::guard::{Enabled, enter_sequence, reenter_sequence, restore_sequence};
+use mazewalk_term::modes::{Enabled, enter_sequence, reenter_sequence, restore_sequence};
 use rustix::event::{PollFd, PollFlags, Timespec};
 use rustix::process::{Pid, Signal};
 use rustix::termios::{self, LocalModes, Winsize};
@@ -640,7 +643,7 @@ fn the_colour_depth_and_the_ascii_charset_hold_on_the_whole_screen() {
 
 /// Whether `bytes` end with a whole frame: its synchronized-output end, then the flow-control query.
 fn ends_with_a_frame(bytes: &[u8]) -> bool {
-    bytes.strip_suffix(mazewalk::app::flow::QUERY).unwrap_or(bytes).ends_with(b"\x1b[?2026l")
+    bytes.strip_suffix(mazewalk_walk::flow::QUERY).unwrap_or(bytes).ends_with(b"\x1b[?2026l")
 }
 
 /// Whether the 3D view fills the screen above the HUD: nearly every cell has a glyph or a colour.
@@ -795,7 +798,7 @@ fn sigint_restores_the_terminal() {
 /// screen, the cursor, mouse reporting off, the kitty keyboard flags popped — and exits with 128 + n.
 #[test]
 fn every_catchable_ending_signal_restores_the_terminal() {
-    let signals = mazewalk::term::guard::ending_signals();
+    let signals = mazewalk::guard::ending_signals();
     assert!(signals.len() >= 13, "{signals:?}");
     // The named ones, and the first and last real-time signals (one code path serves the range).
     let rt = signals.iter().position(|&s| s > 31).unwrap_or(signals.len());

@@ -20,9 +20,9 @@ use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
-use mazewalk::serve::player::REMOTE;
-use mazewalk::serve::ssh::{DUMB_TERMINAL_MESSAGE, NO_EXEC_MESSAGE, NO_PTY_MESSAGE, SHUTDOWN_MESSAGE};
-use mazewalk::term::guard::restore_sequence;
+use mazewalk_serve::player::REMOTE;
+use mazewalk_serve::ssh::{DUMB_TERMINAL_MESSAGE, NO_EXEC_MESSAGE, NO_PTY_MESSAGE, SHUTDOWN_MESSAGE};
+use mazewalk_term::modes::restore_sequence;
 use rustix::termios::{self, Winsize};
 
 /// Longest wait for anything. Generous for a loaded CI machine; each step takes well under a second.

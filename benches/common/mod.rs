@@ -1,5 +1,5 @@
-//! Shared by the benchmarks (and `examples/profile_frame.rs`): the mazes and the "like" viewpoints;
-//! [`baseline`] holds the encoder's yardsticks (also used by `tests/term_encoder.rs`).
+//! Shared by the benchmarks (and `examples/profile_frame.rs`): the mazes and the "like" viewpoints.
+//! The encoder's yardsticks are `crates/term/tests/baseline.rs` (the term crate's tests use them too).
 //!
 //! Two views, found the same way in every maze size so that a 10×10 and a 1000×1000 maze show alike
 //! geometry and any difference in frame time comes from the maze's size alone:
@@ -17,15 +17,16 @@
 
 #![allow(dead_code)] // each bench uses part of it
 
+#[path = "../../crates/term/tests/support/baseline.rs"]
 pub mod baseline;
 
 use glam::{Vec2, vec2};
-use mazewalk::app::App;
-use mazewalk::app::state::TURN_SPEED;
-use mazewalk::input::{Key, KeyPhase};
-use mazewalk::maze::Maze;
-use mazewalk::maze::generate::{Algorithm, CELL_SIZE, GenOptions, Layout, generate, layout};
-use mazewalk::render::{Camera, Charset, Culling, RenderOptions, RenderStats, Renderer};
+use mazewalk_maze::Maze;
+use mazewalk_maze::generate::{Algorithm, CELL_SIZE, GenOptions, Layout, generate, layout};
+use mazewalk_render::{Camera, Charset, Culling, RenderOptions, RenderStats, Renderer};
+use mazewalk_term::input::{Key, KeyPhase};
+use mazewalk_walk::App;
+use mazewalk_walk::state::TURN_SPEED;
 
 /// Maze sides benchmarked (cells across and up).
 pub const SIDES: [u32; 3] = [10, 100, 1000];
@@ -213,7 +214,7 @@ fn open_camera(maze: &Maze, side: u32, reference: RenderStats) -> Camera {
 
 /// The walk's starting point: an [`App`] at the open view of the `side`×`side` maze with loops, in
 /// `charset` and `depth`, reporting presses and releases (as the kitty keyboard protocol does).
-pub fn walk_app(side: u32, charset: Charset, depth: mazewalk::frame::ColorDepth) -> App {
+pub fn walk_app(side: u32, charset: Charset, depth: mazewalk_term::frame::ColorDepth) -> App {
     let scene = scene(View::Open, side);
     let options =
         RenderOptions { charset, color_depth: depth, culling: Culling::Portal, ..RenderOptions::default() };

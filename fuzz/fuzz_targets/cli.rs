@@ -8,8 +8,8 @@
 use clap::Parser as _;
 use libfuzzer_sys::fuzz_target;
 use mazewalk::cli::{Cli, Command};
-use mazewalk::maze;
-use mazewalk::render::{Camera, Renderer};
+use mazewalk_maze as maze;
+use mazewalk_render::{Camera, Renderer};
 
 fuzz_target!(|bytes: &[u8]| {
     // Up to the first 0xFF: the arguments, separated by NUL bytes; after it: grid settings lines.
@@ -37,7 +37,7 @@ fuzz_target!(|bytes: &[u8]| {
             // Keep each run cheap: the size limit is the CLI's own check, tested elsewhere.
             if camera.validate().is_ok() && cols * rows <= 4_000 {
                 let options = render.look.options(render.culling);
-                let mut frame = mazewalk::frame::Frame::new(cols, rows);
+                let mut frame = mazewalk_term::frame::Frame::new(cols, rows);
                 let region = frame.region();
                 let _ = Renderer::new().render(&maze, &camera, &options, &mut frame, region);
             }

@@ -5,7 +5,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use mazewalk::input::{ESC_TIMEOUT, Input, InputDecoder, Key, PASTE_IDLE};
+use mazewalk_term::input::{ESC_TIMEOUT, Input, InputDecoder, Key, PASTE_IDLE};
 
 fuzz_target!(|bytes: &[u8]| {
     let mut decoder = InputDecoder::new();

@@ -6,7 +6,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use mazewalk::maze::{self, Format, movement};
+use mazewalk_maze::{self as maze, Format, movement};
 
 fuzz_target!(|bytes: &[u8]| {
     let maze = match maze::parse("fuzz", bytes) {

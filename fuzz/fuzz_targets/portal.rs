@@ -7,10 +7,10 @@
 use arbitrary::Arbitrary;
 use glam::Vec2;
 use libfuzzer_sys::fuzz_target;
-use mazewalk::maze::generate::{Algorithm, GenOptions, generate};
-use mazewalk::maze::{Cells, Maze};
-use mazewalk::render::oracle::portal_matches_brute;
-use mazewalk::render::{Camera, Charset, Projection};
+use mazewalk_maze::generate::{Algorithm, GenOptions, generate};
+use mazewalk_maze::{Cells, Maze};
+use mazewalk_render::oracle::portal_matches_brute;
+use mazewalk_render::{Camera, Charset, Projection};
 
 #[derive(Arbitrary, Debug)]
 struct Input {
@@ -58,7 +58,7 @@ fn maze(input: &Input) -> Option<Maze> {
     let ids = base.cell_edges(0);
     let centroid =
         ids.iter().map(|&e| vertices[base.edge(e).start as usize]).sum::<Vec2>() / ids.len() as f32;
-    let viewer = mazewalk::maze::Viewer { pos: centroid, ..*base.viewer() };
+    let viewer = mazewalk_maze::Viewer { pos: centroid, ..*base.viewer() };
     Maze::new(vertices, base.edges().clone(), cells, viewer, None).ok()
 }
 
@@ -79,7 +79,7 @@ fuzz_target!(|input: Input| {
     let charset = Charset::ALL[usize::from(input.charset) % Charset::ALL.len()];
     let (cols, rows) = (usize::from(input.cols % 48) + 1, usize::from(input.rows % 16) + 1);
     if let Err(why) = portal_matches_brute(&maze, &camera, charset, cols, rows) {
-        let text = mazewalk::maze::write(&maze, mazewalk::maze::Format::Cs559).unwrap_or_default();
+        let text = mazewalk_maze::write(&maze, mazewalk_maze::Format::Cs559).unwrap_or_default();
         panic!("{why}\ncamera {camera:?}, {cols}×{rows} {charset:?}\nmaze:\n{text}");
     }
 });

@@ -1,4 +1,4 @@
-//! One served player's input path, without sockets (`mazewalk::serve::player::Player`): any bytes and
+//! One served player's input path, without sockets (`mazewalk_serve::player::Player`): any bytes and
 //! window changes, in any order and any chunks, with time passing and other players moving about.
 //! Asserts: no panic and no hang; the screen never exceeds the size limits; a frame's bytes stay
 //! within a fixed bound per cell; leaving always ends with the full restore sequence.
@@ -7,10 +7,10 @@
 
 use glam::Vec2;
 use libfuzzer_sys::fuzz_target;
-use mazewalk::app::overlay::Peer;
-use mazewalk::serve::Limits;
-use mazewalk::serve::player::{PLAYER_COLORS, Player, REMOTE};
-use mazewalk::term::guard::restore_sequence;
+use mazewalk_serve::Limits;
+use mazewalk_serve::player::{PLAYER_COLORS, Player, REMOTE};
+use mazewalk_term::modes::restore_sequence;
+use mazewalk_walk::overlay::Peer;
 
 /// Generous upper bound of a frame's bytes per screen cell (glyph, colours, cursor moves), plus the
 /// fixed part (synchronized output, the query).
@@ -20,8 +20,10 @@ fuzz_target!(|bytes: &[u8]| {
     let limits = Limits { max_cols: 160, max_rows: 60, ..Limits::default() }; // keeps runs quick
     let Some((&size, mut rest)) = bytes.split_first() else { return };
     let (cols, rows) = (u32::from(size & 0x0f) * 13, u32::from(size >> 4) * 5);
-    let maze = mazewalk::maze::builtin().expect("built-in maze");
-    let Ok(mut player) = Player::new(maze, "xterm-256color", None, (cols, rows), &limits, 0.0) else { return };
+    let maze = mazewalk_maze::builtin().expect("built-in maze");
+    let Ok(mut player) = Player::new(maze, "xterm-256color", None, (cols, rows), &limits, 0.0) else {
+        return;
+    };
     let mut out = Vec::new();
     player.enter(&mut out);
     let mut t = 0.0;
@@ -62,8 +64,14 @@ fuzz_target!(|bytes: &[u8]| {
         out.clear();
         player.frame(t, &mut out);
         let screen = player.session().screen();
-        assert!(screen.width() <= usize::from(limits.max_cols) && screen.height() <= usize::from(limits.max_rows));
-        assert!(out.len() <= 256 + screen.width() * screen.height() * MAX_BYTES_PER_CELL, "{} bytes", out.len());
+        assert!(
+            screen.width() <= usize::from(limits.max_cols) && screen.height() <= usize::from(limits.max_rows)
+        );
+        assert!(
+            out.len() <= 256 + screen.width() * screen.height() * MAX_BYTES_PER_CELL,
+            "{} bytes",
+            out.len()
+        );
         if player.is_over() {
             break;
         }

@@ -1,0 +1,220 @@
+//! The server under full load, for BENCHMARKS.md: `mazewalk serve` (the release binary, a process of
+//! its own, so that its CPU and memory are its own) on loopback, and scripted russh clients in this
+//! process.
+//!
+//! 1. Idle: N players connect (120×40) and stand still: the server's memory per player, its CPU and
+//!    the bytes sent over a quiet spell.
+//! 2. Walking: M players turn (every key changes the picture) at R keys a second for S seconds:
+//!    frames delivered per second per player, key-to-frame latency p50 / p99, the server's CPU and
+//!    memory, bytes per second per player.
+//!
+//! ```sh
+//! cargo build --release && cargo run --release --example load                # 1000 idle, 100 walking
+//! cargo run --release --example load -- --idle 200 --walkers 50 --seconds 5   # smaller
+//! ```
+
+#[path = "../../crates/serve/tests/serve_common/load.rs"]
+mod load;
+
+use std::io::{BufRead as _, BufReader};
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use load::{connect, cpu_seconds, quantile, rss_bytes};
+use tokio::sync::{Semaphore, watch};
+
+struct Args {
+    idle: usize,
+    walkers: usize,
+    cols: u32,
+    rows: u32,
+    rate: f64,
+    seconds: f64,
+}
+
+fn args() -> Args {
+    let mut a = Args { idle: 1000, walkers: 100, cols: 120, rows: 40, rate: 30.0, seconds: 10.0 };
+    let argv: Vec<String> = std::env::args().skip(1).collect();
+    for pair in argv.chunks(2) {
+        let value = pair.get(1).map_or("", String::as_str);
+        match pair[0].as_str() {
+            "--idle" => a.idle = value.parse().expect("--idle N"),
+            "--walkers" => a.walkers = value.parse().expect("--walkers N"),
+            "--rate" => a.rate = value.parse().expect("--rate KEYS_PER_S"),
+            "--seconds" => a.seconds = value.parse().expect("--seconds S"),
+            "--size" => {
+                let (c, r) = value.split_once('x').expect("--size COLSxROWS");
+                (a.cols, a.rows) = (c.parse().expect("cols"), r.parse().expect("rows"));
+            }
+            other => panic!("unknown argument {other}"),
+        }
+    }
+    a
+}
+
+/// The server process, killed on drop.
+struct ServerProcess {
+    child: Child,
+    addr: SocketAddr,
+    _scratch: PathBuf,
+}
+
+impl ServerProcess {
+    fn start() -> ServerProcess {
+        let exe = std::env::current_exe().expect("current exe");
+        let bin = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
+        assert!(bin.exists(), "{} is missing: run `cargo build --release` first", bin.display());
+        let scratch = std::env::temp_dir().join(format!("mazewalk-load-{}", std::process::id()));
+        std::fs::create_dir_all(&scratch).expect("scratch");
+        let mut child = Command::new(&bin)
+            .args([
+                "serve",
+                "--open",
+                "--listen",
+                "127.0.0.1:0",
+                "--max-players",
+                "5000",
+                "--max-per-address",
+                "5000",
+            ])
+            .arg("--host-key")
+            .arg(scratch.join("host_key"))
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start the server");
+        let mut line = String::new();
+        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
+        stdout.read_line(&mut line).expect("first line");
+        // the rest of what it prints, read and dropped: a closed pipe would end the server at its next line
+        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
+        let addr = line.trim().rsplit_once(' ').and_then(|(_, a)| a.parse().ok()).expect("serving on ADDR");
+        ServerProcess { child, addr, _scratch: scratch }
+    }
+
+    fn pid(&self) -> Option<u32> {
+        Some(self.child.id())
+    }
+}
+
+impl Drop for ServerProcess {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        let _ = std::fs::remove_dir_all(&self._scratch);
+    }
+}
+
+fn mib(bytes: u64) -> f64 {
+    bytes as f64 / (1024.0 * 1024.0)
+}
+
+#[tokio::main]
+async fn main() {
+    let a = args();
+    let server = ServerProcess::start();
+    let (addr, pid) = (server.addr, server.pid());
+    let size = (a.cols, a.rows);
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let rss_empty = rss_bytes(pid);
+    println!("server {addr}: {:.1} MiB resident with nobody in", mib(rss_empty));
+
+    // 1. Idle players.
+    let (stop, stopped) = watch::channel(false);
+    let idle_bytes = Arc::new(AtomicU64::new(0));
+    let gate = Arc::new(Semaphore::new(16)); // handshakes in flight at once
+    let started = Instant::now();
+    let mut connecting = Vec::new();
+    for i in 0..a.idle {
+        let (gate, stopped, idle_bytes) = (Arc::clone(&gate), stopped.clone(), Arc::clone(&idle_bytes));
+        connecting.push(tokio::spawn(async move {
+            let permit = gate.acquire_owned().await.expect("gate");
+            let connected = connect(addr, &format!("idle{i}"), size).await.expect("connect an idle player");
+            drop(permit);
+            load::idle(connected, idle_bytes, stopped).await
+        }));
+    }
+    // Wait until everyone has drawn and the joins' redraws have settled.
+    let mut last = u64::MAX;
+    loop {
+        tokio::time::sleep(Duration::from_secs(2)).await;
+        let now = idle_bytes.load(Ordering::Relaxed);
+        if now == last && started.elapsed() > Duration::from_secs(3) {
+            break;
+        }
+        last = now;
+    }
+    let join_seconds = started.elapsed().as_secs_f64();
+    let rss_idle = rss_bytes(pid);
+    let (cpu0, bytes0, t0) = (cpu_seconds(pid), idle_bytes.load(Ordering::Relaxed), Instant::now());
+    tokio::time::sleep(Duration::from_secs(10)).await;
+    let quiet = t0.elapsed().as_secs_f64();
+    let idle_cpu = (cpu_seconds(pid) - cpu0) / quiet;
+    let idle_sent = idle_bytes.load(Ordering::Relaxed) - bytes0;
+    println!(
+        "{} idle players (all in within {join_seconds:.0} s): server {:.1} MiB resident, {:.1} KiB per player; \
+         over {quiet:.0} s: CPU {:.2} % of one core, {idle_sent} bytes sent",
+        a.idle,
+        mib(rss_idle),
+        (rss_idle.saturating_sub(rss_empty)) as f64 / 1024.0 / a.idle.max(1) as f64,
+        idle_cpu * 100.0
+    );
+    stop.send_replace(true);
+    for handle in connecting {
+        let _ = handle.await;
+    }
+    tokio::time::sleep(Duration::from_secs(2)).await;
+
+    // 2. Walking players.
+    let mut walkers = Vec::new();
+    for i in 0..a.walkers {
+        let connected = connect(addr, &format!("walker{i}"), size).await.expect("connect a walker");
+        walkers.push(connected);
+    }
+    tokio::time::sleep(Duration::from_secs(1)).await;
+    let rss_walk_before = rss_bytes(pid);
+    let (cpu0, client_cpu0, t0) = (cpu_seconds(pid), cpu_seconds(None), Instant::now());
+    let tasks: Vec<_> =
+        walkers.into_iter().map(|c| tokio::spawn(load::walk(c, a.rate, a.seconds, b"\x1b[D"))).collect();
+    let mut latencies = Vec::new();
+    let (mut frames, mut bytes, mut closed) = (0u64, 0u64, 0usize);
+    let mut rss_walk = 0;
+    for task in tasks {
+        let stats = task.await.expect("walker");
+        rss_walk = rss_walk.max(rss_bytes(pid));
+        frames += stats.frames;
+        bytes += stats.bytes_after_first;
+        closed += usize::from(stats.closed);
+        latencies.extend(stats.latencies);
+    }
+    let elapsed = t0.elapsed().as_secs_f64();
+    let server_cpu = (cpu_seconds(pid) - cpu0) / elapsed;
+    let client_cpu = (cpu_seconds(None) - client_cpu0) / elapsed;
+    let n = a.walkers.max(1) as f64;
+    let (p50, p99, max) =
+        (quantile(&mut latencies, 0.5), quantile(&mut latencies, 0.99), quantile(&mut latencies, 1.0));
+    println!(
+        "{} walking at {} keys/s, {}x{}, {:.0} s: {:.1} frames/s per player delivered, key-to-frame p50 {:.1} ms \
+         p99 {:.1} ms max {:.1} ms; server CPU {:.0} % of one core (load generator {:.0} %), {:.1} MiB resident \
+         ({:.1} MiB before walking); {:.1} KiB/s per player; {closed} dropped",
+        a.walkers,
+        a.rate,
+        a.cols,
+        a.rows,
+        a.seconds,
+        frames as f64 / elapsed / n,
+        p50 * 1e3,
+        p99 * 1e3,
+        max * 1e3,
+        server_cpu * 100.0,
+        client_cpu * 100.0,
+        mib(rss_walk),
+        mib(rss_walk_before),
+        bytes as f64 / elapsed / n / 1024.0,
+    );
+}

@@ -1,0 +1,162 @@
+//! The generator: perfect mazes, loops, determinism, pinned output, and CS559 round trips.
+
+use mazewalk_testkit as common;
+
+use mazewalk_maze::generate::{Algorithm, GenError, GenOptions, SplitMix64, generate, layout};
+use mazewalk_maze::{self as maze, Format, Maze};
+use proptest::prelude::*;
+
+const ALGORITHMS: [Algorithm; 3] = [Algorithm::Prim, Algorithm::Backtracker, Algorithm::Wilson];
+
+fn arb_algorithm() -> impl Strategy<Value = Algorithm> {
+    prop_oneof![Just(Algorithm::Prim), Just(Algorithm::Backtracker), Just(Algorithm::Wilson)]
+}
+
+/// Perfect-maze options: sizes from 1×1 (no portals at all) to 24×24.
+fn arb_opts() -> impl Strategy<Value = GenOptions> {
+    (1u32..=24, 1u32..=24, any::<u64>(), arb_algorithm(), any::<bool>()).prop_map(
+        |(width, height, seed, algorithm, exit)| GenOptions {
+            width,
+            height,
+            seed,
+            algorithm,
+            exit,
+            ..GenOptions::default()
+        },
+    )
+}
+
+/// Interior walls of a w×h grid: the ones between two cells.
+fn interior(o: &GenOptions) -> usize {
+    ((o.width - 1) * o.height + o.width * (o.height - 1)) as usize
+}
+
+/// Every edge with the outside on one side is opaque (a closed boundary).
+fn boundary_closed(m: &Maze) -> bool {
+    m.edges().iter().all(|e| e.opaque || (e.left.is_some() && e.right.is_some()))
+}
+
+/// FNV-1a, 64 bits: a fixed hash for pinning generator output.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
+proptest! {
+    // Each case generates and checks whole mazes.
+    #![proptest_config(common::config_cases(96))]
+
+    #[test]
+    fn generated_mazes_are_perfect(o in arb_opts()) {
+        let m = generate(&o).unwrap();
+        prop_assert_eq!(m.cell_count(), (o.width * o.height) as usize);
+        prop_assert_eq!(m.portal_count() + 1, m.cell_count());
+        prop_assert!(m.is_connected());
+        prop_assert!(boundary_closed(&m));
+    }
+
+    #[test]
+    fn loops_remove_that_fraction_of_the_remaining_walls(o in arb_opts(), loops in 0.0f32..=1.0) {
+        let m = generate(&GenOptions { loops, ..o.clone() }).unwrap();
+        let remaining = interior(&o) - (m.cell_count() - 1);
+        let removed = (f64::from(loops) * remaining as f64).round() as usize;
+        prop_assert_eq!(m.portal_count(), m.cell_count() - 1 + removed);
+        prop_assert!(m.is_connected() && boundary_closed(&m));
+    }
+
+    #[test]
+    fn the_same_seed_gives_the_same_maze(o in arb_opts(), loops in 0.0f32..=1.0) {
+        let o = GenOptions { loops, ..o };
+        prop_assert_eq!(generate(&o).unwrap(), generate(&o).unwrap());
+    }
+
+    #[test]
+    fn cs559_write_then_read_is_the_identity(o in arb_opts(), loops in 0.0f32..=0.5) {
+        let m = generate(&GenOptions { loops, ..o }).unwrap();
+        let text = maze::write(&m, Format::Cs559).unwrap();
+        prop_assert_eq!(maze::parse("gen.maze", text.as_bytes()).unwrap(), m);
+    }
+
+    #[test]
+    fn the_viewer_starts_in_a_cell_centre_facing_an_open_side(o in arb_opts()) {
+        let m = generate(&o).unwrap();
+        let v = m.viewer();
+        prop_assert_eq!((v.pos, v.z, v.fov_deg), (glam::vec2(2.0, 2.0), 0.0, 90.0));
+        if m.cell_count() > 1 {
+            // cell edges are listed +x, +y, -x, -y: the one at index dir/90 is ahead
+            let ahead = m.cell_edges(0)[(v.dir_deg / 90.0) as usize];
+            prop_assert!(m.edge(ahead).is_portal());
+        }
+    }
+
+    #[test]
+    fn the_exit_is_a_farthest_cell(o in arb_opts()) {
+        let m = generate(&GenOptions { exit: true, ..o }).unwrap();
+        let dist = m.portal_distances(0);
+        let exit = m.exit().unwrap();
+        prop_assert_eq!(Some(&dist[exit.cell as usize]), dist.iter().max());
+    }
+}
+
+#[test]
+fn different_seeds_give_different_mazes() {
+    for algorithm in ALGORITHMS {
+        let mazes: Vec<_> = (0..16)
+            .map(|seed| {
+                layout(&GenOptions { width: 10, height: 10, seed, algorithm, ..GenOptions::default() })
+                    .unwrap()
+            })
+            .collect();
+        for (i, a) in mazes.iter().enumerate() {
+            assert!(mazes[i + 1..].iter().all(|b| a != b), "{algorithm:?}: seed {i} repeats");
+        }
+    }
+}
+
+// Pinned output: changing the PRNG, an algorithm, the numbering or the writer changes these on purpose only.
+#[test]
+fn one_small_maze_per_algorithm_is_pinned() {
+    let hashes: Vec<u64> = ALGORITHMS
+        .iter()
+        .map(|&algorithm| {
+            let o =
+                GenOptions { width: 6, height: 4, seed: 42, algorithm, exit: true, ..GenOptions::default() };
+            fnv1a(maze::write(&generate(&o).unwrap(), Format::Cs559).unwrap().as_bytes())
+        })
+        .collect();
+    assert_eq!(hashes, PINNED_HASHES);
+}
+
+const PINNED_HASHES: [u64; 3] = [7542345526414185877, 4721629497109246415, 844959765796670735];
+
+#[test]
+fn the_prng_is_pinned() {
+    // SplitMix64's reference sequence for seed 0
+    let mut r = SplitMix64::new(0);
+    let first: Vec<u64> = (0..3).map(|_| r.next_u64()).collect();
+    assert_eq!(first, [0xE220_A839_7B1D_CDAF, 0x6E78_9E6A_A1B9_65F4, 0x06C4_5D18_8009_454F]);
+}
+
+#[test]
+fn absurd_options_are_refused_with_the_limit() {
+    let o = |width, height, loops| GenOptions { width, height, loops, ..GenOptions::default() };
+    let e = generate(&o(1001, 1, 0.0)).unwrap_err();
+    assert_eq!(e.to_string(), "size 1001x1 is out of range: width and height must be 1..=1000");
+    assert!(matches!(generate(&o(0, 0, 0.0)), Err(GenError::Size { .. })));
+    assert!(matches!(generate(&o(3, 3, -0.1)), Err(GenError::Loops(_))));
+    assert!(matches!(generate(&o(3, 3, f32::INFINITY)), Err(GenError::Loops(_))));
+    let bad = GenOptions { palette: Some(vec![]), ..GenOptions::default() };
+    assert_eq!(generate(&bad).unwrap_err(), GenError::Palette);
+}
+
+#[test]
+fn a_palette_colours_every_edge_from_it() {
+    let palette = vec![glam::vec3(1.0, 0.0, 0.0), glam::vec3(0.0, 0.0, 1.0)];
+    let m = generate(&GenOptions { palette: Some(palette.clone()), ..GenOptions::default() }).unwrap();
+    assert!(m.edges().iter().all(|e| palette.contains(&e.color)));
+}
+
+#[test]
+fn default_colours_are_in_the_originals_range() {
+    let m = generate(&GenOptions::default()).unwrap();
+    assert!(m.edges().iter().all(|e| e.color.min_element() >= 0.25 && e.color.max_element() <= 0.75));
+}

@@ -1,0 +1,371 @@
+//! The camera: where the viewer stands and looks, and the matrices that follow from it.
+//!
+//! A [`Camera`] speaks the maze files' language (position in the maze plane, eye height, heading and a
+//! **horizontal** field of view in degrees); [`Camera::eye`] turns it into an [`Eye`]: the world → view,
+//! view → clip and NDC → grid matrices for one sample grid, built with the hand-written math core, plus
+//! the world-space basis the per-sample floor/ceiling rays use.
+
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use thiserror::Error;
+
+use super::raster::GridVertex;
+use mazewalk_math::{self as math, Convention, MathError};
+use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z, WALL_MARGIN, heading_right};
+
+/// Perspective or orthographic projection.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Projection {
+    /// Rays from the eye through the grid: far things look smaller.
+    #[default]
+    Perspective,
+    /// Parallel rays along the view direction: a blueprint-like view; fov sets the zoom.
+    Orthographic,
+}
+
+mazewalk_names::named!(
+    Projection,
+    "projection",
+    [
+        ("perspective", Projection::Perspective),
+        ("orthographic", Projection::Orthographic),
+        ("persp", Projection::Perspective),
+        ("ortho", Projection::Orthographic),
+    ]
+);
+
+/// The narrowest and widest horizontal field of view, in degrees.
+pub const FOV_RANGE_DEG: (f32, f32) = (10.0, 170.0);
+/// Pitch is clamped to ±90°: straight up or down, never over the top.
+pub const PITCH_LIMIT_DEG: f32 = 90.0;
+/// Half the width of the orthographic view at fov 90°, in maze units (one cell of the generated mazes).
+pub const ORTHO_HALF_WIDTH_AT_90: f32 = 8.0;
+/// How far the viewer sees, in maze units; fog reaches full strength there.
+pub const DEFAULT_VIEW_DISTANCE: f32 = 96.0;
+/// The near plane never exceeds this distance from the eye (maze units).
+pub const MAX_NEAR: f32 = 0.05;
+
+/// What is wrong with a camera or the grid it renders into.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum CameraError {
+    /// A camera parameter is NaN or infinite.
+    #[error("camera {what} is not a finite number ({value})")]
+    NotFinite {
+        /// Which parameter.
+        what: &'static str,
+        /// Its value.
+        value: f32,
+    },
+    /// The field of view is outside [`FOV_RANGE_DEG`].
+    #[error("field of view {0}° is outside {min}..={max}°", min = FOV_RANGE_DEG.0, max = FOV_RANGE_DEG.1)]
+    FovOutOfRange(f32),
+    /// The eye is not strictly between floor and ceiling.
+    #[error("eye height {0} is not strictly between the floor (-1) and the ceiling (+1)")]
+    EyeHeightOutOfRange(f32),
+    /// The sample grid has no area, or the cell aspect is unusable.
+    #[error("cannot render into a {width}×{height} sample grid with cell aspect {aspect}")]
+    BadGrid {
+        /// Samples across.
+        width: usize,
+        /// Samples down.
+        height: usize,
+        /// Sample width / sample height.
+        aspect: f32,
+    },
+    /// The math core refused the matrices (should not happen once the checks above pass).
+    #[error(transparent)]
+    Math(#[from] MathError),
+}
+
+/// A viewer in the maze, as the files and the CLI describe it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position in the maze plane (world x, y).
+    pub position: Vec2,
+    /// Eye height: world z, strictly between the floor (-1) and the ceiling (+1).
+    pub eye_z: f32,
+    /// Heading in degrees, counter-clockwise from +x (the files' `dir`).
+    pub yaw_deg: f32,
+    /// Degrees above the horizon (negative looks down); clamped to ±90°.
+    pub pitch_deg: f32,
+    /// Horizontal field of view across the whole grid width, in degrees (the files' `fov`).
+    pub hfov_deg: f32,
+    /// Perspective or orthographic.
+    pub projection: Projection,
+    /// Which handedness/depth convention the matrices use (the frame is the same for all three).
+    pub convention: Convention,
+    /// How far the viewer sees (the far plane), in maze units.
+    pub view_distance: f32,
+}
+
+impl Camera {
+    /// A level perspective camera at `position`, eye height 0, looking along `yaw_deg` with `hfov_deg`.
+    #[must_use]
+    pub fn new(position: Vec2, yaw_deg: f32, hfov_deg: f32) -> Camera {
+        Camera {
+            position,
+            eye_z: 0.0,
+            yaw_deg,
+            pitch_deg: 0.0,
+            hfov_deg,
+            projection: Projection::Perspective,
+            convention: Convention::RhGl,
+            view_distance: DEFAULT_VIEW_DISTANCE,
+        }
+    }
+
+    /// Checks the parameters that come from outside (files, CLI, keys).
+    ///
+    /// # Errors
+    /// [`CameraError`] naming the first bad parameter.
+    pub fn validate(&self) -> Result<(), CameraError> {
+        let finite = [
+            ("x", self.position.x),
+            ("y", self.position.y),
+            ("height", self.eye_z),
+            ("heading", self.yaw_deg),
+            ("pitch", self.pitch_deg),
+            ("fov", self.hfov_deg),
+            ("view distance", self.view_distance),
+        ];
+        if let Some(&(what, value)) = finite.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(CameraError::NotFinite { what, value });
+        }
+        if !(FOV_RANGE_DEG.0..=FOV_RANGE_DEG.1).contains(&self.hfov_deg) {
+            return Err(CameraError::FovOutOfRange(self.hfov_deg));
+        }
+        if !(self.eye_z > FLOOR_Z && self.eye_z < CEILING_Z) {
+            return Err(CameraError::EyeHeightOutOfRange(self.eye_z));
+        }
+        if self.view_distance <= 1.0 {
+            return Err(CameraError::NotFinite { what: "view distance", value: self.view_distance });
+        }
+        Ok(())
+    }
+
+    /// The eye in world space.
+    #[must_use]
+    pub fn eye_world(&self) -> Vec3 {
+        self.position.extend(self.eye_z)
+    }
+
+    /// The matrices for a `width × height` sample grid whose samples are `sample_aspect` (w / h) wide.
+    ///
+    /// # Errors
+    /// [`CameraError`] for a bad camera or an empty grid.
+    pub fn eye(&self, width: usize, height: usize, sample_aspect: f32) -> Result<Eye, CameraError> {
+        self.validate()?;
+        if width == 0 || height == 0 || !(sample_aspect.is_finite() && sample_aspect > 0.0) {
+            return Err(CameraError::BadGrid { width, height, aspect: sample_aspect });
+        }
+        let yaw = self.yaw_deg.to_radians();
+        let pitch = self.pitch_deg.clamp(-PITCH_LIMIT_DEG, PITCH_LIMIT_DEG).to_radians();
+        let position = self.eye_world();
+        // The basis comes from yaw and pitch directly: `up` tilts with the view, so looking straight up
+        // or down never meets the degenerate "up parallel to forward" case and never flips.
+        let forward = math::direction_from_yaw_pitch(yaw, pitch);
+        let up = math::up_from_yaw_pitch(yaw, pitch);
+        // forward × up, which is level for every pitch: the heading's right. Built in the plane so its z is
+        // exactly 0, and a row of samples keeps one ray height and slope (the floor pass's row constants).
+        let right = heading_right(yaw).extend(0.0);
+        debug_assert!(right.distance(forward.cross(up)) < 1e-5, "right = forward × up");
+        let world_to_view = self.convention.look_to(position, forward, up)?;
+
+        // Horizontal fov across the whole grid; the physical aspect counts the samples' shape.
+        let conv = self.convention;
+        let hfov = self.hfov_deg.to_radians();
+        let aspect = math::physical_aspect(width, height, sample_aspect)?;
+        let far = self.view_distance;
+        let (view_to_clip, near, half_w) = match self.projection {
+            Projection::Perspective => {
+                // Keep the near plane's farthest corner inside the wall margin, so a viewer standing
+                // against a wall never sees through it.
+                let near = MAX_NEAR.min(0.9 * WALL_MARGIN / math::near_corner_distance(1.0, hfov, aspect));
+                let proj = math::perspective_hfov(conv, hfov, width, height, sample_aspect, near, far)?;
+                (proj, near, (0.5 * hfov).tan())
+            }
+            Projection::Orthographic => {
+                // The fov zooms: 90° shows ORTHO_HALF_WIDTH_AT_90 units either side of the view axis.
+                let r = ORTHO_HALF_WIDTH_AT_90 * (0.5 * hfov).tan();
+                (math::orthographic_hwidth(conv, r, width, height, sample_aspect, 0.0, far)?, 0.0, r)
+            }
+        };
+        let half_h = half_w / aspect;
+        let ndc_to_grid = math::viewport(width as f32, height as f32, conv.depth_range())?;
+        let world_to_clip = view_to_clip * world_to_view;
+        Ok(Eye {
+            camera: *self,
+            width,
+            height,
+            world_to_view,
+            world_to_clip,
+            ndc_to_grid,
+            normal_to_view: math::normal_matrix(world_to_view)?,
+            position,
+            forward,
+            right,
+            up,
+            near,
+            far,
+            half_w,
+            half_h,
+        })
+    }
+}
+
+/// A camera set up for one sample grid: every matrix of the pipeline, in the camera's convention.
+#[derive(Clone, Copy, Debug)]
+pub struct Eye {
+    /// The camera this came from.
+    pub camera: Camera,
+    /// Samples across.
+    pub width: usize,
+    /// Samples down.
+    pub height: usize,
+    /// World → view (the look-at).
+    pub world_to_view: Mat4,
+    /// World → clip (projection · view).
+    pub world_to_clip: Mat4,
+    /// NDC → grid (the viewport), applied after the divide by w.
+    pub ndc_to_grid: Mat4,
+    /// World normals → view normals (inverse transpose of the view's upper 3×3).
+    pub normal_to_view: Mat3,
+    /// The eye's position, world space.
+    pub position: Vec3,
+    /// Unit view direction, world space.
+    pub forward: Vec3,
+    /// Unit screen-right, world space.
+    pub right: Vec3,
+    /// Unit screen-up, world space.
+    pub up: Vec3,
+    /// Near plane distance (0 for orthographic).
+    pub near: f32,
+    /// Far plane distance.
+    pub far: f32,
+    /// Perspective: tan(hfov/2); orthographic: half the view width in maze units.
+    pub half_w: f32,
+    /// Perspective: tan(vfov/2); orthographic: half the view height in maze units.
+    pub half_h: f32,
+}
+
+impl Eye {
+    /// World → clip for one point.
+    #[must_use]
+    pub fn clip(&self, world: Vec3) -> Vec4 {
+        self.world_to_clip * world.extend(1.0)
+    }
+
+    /// Clip → grid: divide by w (clip → NDC), then the viewport (NDC → grid x, y, depth in [0, 1]).
+    #[must_use]
+    pub fn grid(&self, clip: Vec4) -> Vec3 {
+        let ndc = clip.truncate() / clip.w;
+        self.ndc_to_grid.transform_point3(ndc)
+    }
+
+    /// A clipped vertex taken to the raster: ÷w → NDC → viewport, with `1/w` kept for perspective-correct
+    /// interpolation of `attrs`.
+    #[must_use]
+    pub fn grid_vertex<A>(&self, clip: Vec4, attrs: A) -> GridVertex<A> {
+        let grid = self.grid(clip);
+        GridVertex { pos: grid.truncate(), depth: grid.z, inv_w: 1.0 / clip.w, attrs }
+    }
+
+    /// View-space depth (distance along the view direction) of a world point.
+    #[must_use]
+    pub fn view_depth(&self, world: Vec3) -> f32 {
+        (world - self.position).dot(self.forward)
+    }
+
+    /// Grid depth as a function of view depth, for comparing a distance with the depth buffer.
+    #[must_use]
+    pub fn depth_by_distance(&self) -> DepthByDistance {
+        let (at_eye, per_unit) = (self.clip(self.position), self.world_to_clip * self.forward.extend(0.0));
+        DepthByDistance {
+            clip_z: Vec2::new(at_eye.z, per_unit.z),
+            clip_w: Vec2::new(at_eye.w, per_unit.w),
+            scale: self.ndc_to_grid.z_axis.z,
+            offset: self.ndc_to_grid.w_axis.z,
+        }
+    }
+
+    /// The ray through grid point (`gx`, `gy`): where it starts (on the near plane) and its unit-free
+    /// direction in world space, such that `start + t·dir` has view depth `near + t` (perspective) or
+    /// `t` (orthographic). Built from the camera basis, not the matrices, so all conventions agree.
+    #[must_use]
+    pub fn ray(&self, gx: f32, gy: f32) -> (Vec3, Vec3) {
+        let ndc_x = gx / self.width as f32 * 2.0 - 1.0;
+        let ndc_y = 1.0 - gy / self.height as f32 * 2.0; // grid y down, NDC y up
+        match self.camera.projection {
+            Projection::Perspective => {
+                let dir = self.forward + self.right * (ndc_x * self.half_w) + self.up * (ndc_y * self.half_h);
+                (self.position + dir * self.near, dir)
+            }
+            Projection::Orthographic => {
+                let start =
+                    self.position + self.right * (ndc_x * self.half_w) + self.up * (ndc_y * self.half_h);
+                (start, self.forward)
+            }
+        }
+    }
+}
+
+/// The grid depth of any point at a given view depth (distance along the view direction): a projection's
+/// clip z and w rows have no x or y terms, so both are affine in the view depth, and the viewport maps
+/// NDC z to grid depth by a scale and an offset. Two multiply-adds and a divide, where the full path
+/// (`Eye::grid(Eye::clip(p))`) is a 4×4 and a 3×4 product: the floor pass's depth test per sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DepthByDistance {
+    /// Clip z at view depth 0 and per unit of view depth.
+    clip_z: Vec2,
+    /// Clip w, likewise.
+    clip_w: Vec2,
+    /// The viewport's NDC z → grid depth.
+    scale: f32,
+    offset: f32,
+}
+
+impl DepthByDistance {
+    /// The grid depth at view depth `d`.
+    #[must_use]
+    pub fn grid_depth(&self, d: f32) -> f32 {
+        let (z, w) = (self.clip_z.x + self.clip_z.y * d, self.clip_w.x + self.clip_w.y * d);
+        self.scale * (z / w) + self.offset
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `DepthByDistance` agrees with the full clip → grid path for points all over the view volume, in
+    /// every projection and convention, pitched or level.
+    #[test]
+    fn depth_by_distance_matches_the_full_path() {
+        for convention in Convention::ALL {
+            for projection in [Projection::Perspective, Projection::Orthographic] {
+                for pitch_deg in [0.0, 35.0, -80.0] {
+                    let camera = Camera {
+                        convention,
+                        projection,
+                        pitch_deg,
+                        eye_z: 0.3,
+                        ..Camera::new(Vec2::new(2.0, -1.0), 30.0, 75.0)
+                    };
+                    let eye = camera.eye(120, 40, 1.0).expect("camera");
+                    let depth = eye.depth_by_distance();
+                    for (gx, gy, t) in
+                        [(0.5, 0.5, 0.0), (60.0, 20.0, 3.0), (119.5, 39.5, 40.0), (10.0, 33.0, 90.0)]
+                    {
+                        let (start, dir) = eye.ray(gx, gy);
+                        let p = start + dir * t;
+                        let full = eye.grid(eye.clip(p)).z;
+                        let fast = depth.grid_depth(eye.view_depth(p));
+                        assert!(
+                            (full - fast).abs() < 1e-5,
+                            "{convention:?} {projection:?} {pitch_deg}: {full} vs {fast}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

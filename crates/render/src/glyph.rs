@@ -1,0 +1,772 @@
+//! Samples → [`Frame`] cells: ascii shading ramp, half blocks, quadrants and sextants.
+//!
+//! Each terminal cell covers `sx × sy` samples ([`Charset::samples_per_cell`]). In truecolor the block
+//! charsets pick, per cell, the 2-colour partition of its samples that fits best (least squared error in
+//! sRGB) and the block glyph drawing it; in 256 and 16 colours each sample is dithered to a palette entry
+//! first and the cell shows those entries. Ascii maps luminance to a ramp and overlays the outline layer. Sample bits within
+//! a cell are numbered row-major from the top-left: bit `x + sx·y`.
+
+use glam::{Vec3, Vec3A};
+use wide::bytemuck::cast;
+use wide::{f32x8, i32x8};
+
+use super::palette::{self, KeptPair, Mix, quantize_srgb8, threshold, xterm_rgb};
+use super::pipeline::RenderOptions;
+use super::samples::SampleBuffer;
+use super::shade::{Srgb8Tables, luminance, srgb_to_linear};
+use mazewalk_term::blocks::{HALF, QUAD, sextant_glyph};
+use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
+
+/// How cells are drawn, and so how many samples each covers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Charset {
+    /// One sample per cell: a luminance ramp plus line outlines; readable without colour.
+    Ascii,
+    /// 1×2 samples: `▀` with the top sample as ink, the bottom one as background.
+    #[default]
+    Half,
+    /// 2×2 samples: the quadrant blocks `▘▝▀▖▌▞▛▗▚▐▜▄▙▟█`.
+    Quad,
+    /// 2×3 samples: the sextant blocks U+1FB00–U+1FB3B plus ` `, `▌`, `▐`, `█`.
+    Sextant,
+}
+
+impl Charset {
+    /// Every charset, in the order of their names.
+    pub const ALL: [Charset; 4] = [Charset::Ascii, Charset::Half, Charset::Quad, Charset::Sextant];
+
+    /// Samples per cell `(sx, sy)`; the pipeline sizes the buffer `cols·sx × rows·sy`.
+    #[must_use]
+    pub const fn samples_per_cell(self) -> (usize, usize) {
+        match self {
+            Charset::Ascii => (1, 1),
+            Charset::Half => (1, 2),
+            Charset::Quad => (2, 2),
+            Charset::Sextant => (2, 3),
+        }
+    }
+
+    /// A sample's width / height on screen, from the cell's (about 0.5): `cell_aspect · sy / sx`.
+    #[must_use]
+    pub fn sample_aspect(self, cell_aspect: f32) -> f32 {
+        let (sx, sy) = self.samples_per_cell();
+        cell_aspect * sy as f32 / sx as f32
+    }
+}
+
+mazewalk_names::named!(
+    Charset,
+    "charset",
+    [
+        ("ascii", Charset::Ascii),
+        ("half", Charset::Half),
+        ("quad", Charset::Quad),
+        ("sextant", Charset::Sextant),
+    ]
+);
+
+/// The ascii shading ramp, darkest first.
+pub const ASCII_RAMP: [char; 10] = [' ', '.', ':', '-', '=', '+', '*', '#', '%', '@'];
+
+/// The long ascii ramp, darkest first: 70 characters by how much of the cell they ink (Paul Bourke's
+/// "character representation of grey scale images").
+pub const ASCII_RAMP_LONG: [char; 70] = [
+    ' ', '.', '\'', '`', '^', '"', ',', ':', ';', 'I', 'l', '!', 'i', '>', '<', '~', '+', '_', '-', '?', ']',
+    '[', '}', '{', '1', ')', '(', '|', '\\', '/', 't', 'f', 'j', 'r', 'x', 'n', 'u', 'v', 'c', 'z', 'X', 'Y',
+    'U', 'J', 'C', 'L', 'Q', '0', 'O', 'Z', 'm', 'w', 'q', 'p', 'd', 'b', 'k', 'h', 'a', 'o', '*', '#', 'M',
+    'W', '&', '8', '%', 'B', '@', '$',
+];
+
+/// Which ascii shading ramp: the 10 characters of [`ASCII_RAMP`] or the 70 of [`ASCII_RAMP_LONG`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Ramp {
+    /// 10 characters, bold steps.
+    #[default]
+    Short,
+    /// 70 characters, fine steps.
+    Long,
+}
+
+impl Ramp {
+    /// The ramp's characters, darkest first.
+    #[must_use]
+    pub fn glyphs(self) -> &'static [char] {
+        match self {
+            Ramp::Short => &ASCII_RAMP,
+            Ramp::Long => &ASCII_RAMP_LONG,
+        }
+    }
+}
+
+mazewalk_names::named!(Ramp, "ramp", [("short", Ramp::Short), ("long", Ramp::Long)]);
+
+/// The colourless block-mode ramp, darkest first.
+pub const BLOCK_RAMP: [char; 5] = [' ', '░', '▒', '▓', '█'];
+
+/// The block glyph of `charset` for a sample mask (see the bit order in the module docs); `ascii` has
+/// none and gives `█` or ` `.
+#[must_use]
+pub fn block_glyph(charset: Charset, mask: u8) -> char {
+    match charset {
+        Charset::Ascii => HALF[usize::from(mask & 1) * 3],
+        Charset::Half => HALF[usize::from(mask & 3)],
+        Charset::Quad => QUAD[usize::from(mask & 15)],
+        Charset::Sextant => sextant_glyph(mask),
+    }
+}
+
+/// Converts `samples` to the cells of `region` in `frame`: the region is as many cells as the samples
+/// fill (`samples.width() / sx × samples.height() / sy`); the rest of the frame is left alone.
+///
+/// Ascii overlays the outline layer (the block charsets draw edges with their shapes) on the ramp of
+/// `options.ramp` ([`ASCII_RAMP`] or [`ASCII_RAMP_LONG`]). With [`ColorDepth::None`] every colour is
+/// [`Color::Default`] and the block charsets shade with [`BLOCK_RAMP`]. Ramps are indexed by lightness
+/// stretched over the range a maze scene spans ([`RampSteps`]). With [`ColorDepth::Ansi16`] and
+/// [`ColorDepth::Ansi256`] and `options.dither`, each sample is
+/// dithered to a palette entry first ([`palette::dither`], thresholds anchored at the samples'
+/// top-left), then the cell shows its samples' entries: a half-block cell is exactly its two samples.
+/// A cell across an edge (its samples further apart than a palette step) and every cell without
+/// `dither` is the best two-colour split of its samples, each side in its nearest entry (a quadrant or
+/// sextant cell whose samples lie within a step of each other: their mean, see [`fitted_cell`]).
+///
+/// # Panics
+/// If `region` is not inside `frame` or not the samples' size in cells.
+pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Frame, region: Region) {
+    let RenderOptions { charset, color_depth: depth, dither, ramp, .. } = *options;
+    let (sx, sy) = charset.samples_per_cell();
+    assert_eq!(
+        (samples.width() / sx, samples.height() / sy),
+        (region.cols, region.rows),
+        "the region is not the samples' size in cells"
+    );
+    match charset {
+        Charset::Ascii => {
+            let tables = Srgb8Tables::get();
+            // One loop per depth (the depth is the same for every cell); truecolor and no colour have
+            // nothing to dither.
+            let srgb = |color: Vec3| tables.encode3(color);
+            let to = (frame, region);
+            match depth {
+                ColorDepth::None => ascii_cells(samples, ramp, to, |_, _| Color::Default),
+                ColorDepth::TrueColor => ascii_cells(samples, ramp, to, |color, _| {
+                    let [r, g, b] = srgb(color);
+                    Color::Rgb(r, g, b)
+                }),
+                ColorDepth::Ansi16 | ColorDepth::Ansi256 if dither => {
+                    ascii_cells(samples, ramp, to, |color, (x, y)| {
+                        palette::dither(color, srgb(color), depth, threshold(x, y))
+                    });
+                }
+                ColorDepth::Ansi16 | ColorDepth::Ansi256 => {
+                    ascii_cells(samples, ramp, to, |color, _| quantize_srgb8(srgb(color), depth));
+                }
+            }
+        }
+        Charset::Half if depth == ColorDepth::TrueColor => half_truecolor(samples, frame, region),
+        Charset::Half => block_cells::<1, 2>(samples, charset, depth, dither, frame, region),
+        Charset::Quad => block_cells::<2, 2>(samples, charset, depth, dither, frame, region),
+        Charset::Sextant => block_cells::<2, 3>(samples, charset, depth, dither, frame, region),
+    }
+}
+
+/// [`to_frame`] for half blocks in truecolor, the default: each cell is its two samples exactly (the top
+/// one the ink of `▀`, the bottom one the background; one colour is a space), what [`block_cells`] gives,
+/// in a loop with no branch per cell (whether a cell holds one colour or two is a coin toss on a
+/// textured floor: a branch there is mispredicted often).
+fn half_truecolor(samples: &SampleBuffer, frame: &mut Frame, region: Region) {
+    let (width, color) = (samples.width(), samples.color());
+    let tables = Srgb8Tables::get();
+    let encode = |c: &Vec3| Color::Rgb(tables.encode(c.x), tables.encode(c.y), tables.encode(c.z));
+    for (row, cells) in frame.region_rows_mut(region).enumerate() {
+        let top = &color[2 * row * width..][..cells.len()];
+        let bottom = &color[(2 * row + 1) * width..][..cells.len()];
+        for ((cell, t), b) in cells.iter_mut().zip(top).zip(bottom) {
+            let (fg, bg) = (encode(t), encode(b));
+            *cell = Cell { ch: HALF[usize::from(fg != bg)], fg, bg };
+        }
+    }
+}
+
+/// [`to_frame`] for a block charset of `SX × SY` samples per cell (the shape as constants, so the
+/// per-cell gathering unrolls).
+fn block_cells<const SX: usize, const SY: usize>(
+    samples: &SampleBuffer,
+    charset: Charset,
+    depth: ColorDepth,
+    dither: bool,
+    frame: &mut Frame,
+    region: Region,
+) {
+    let (width, color) = (samples.width(), samples.color());
+    let cols = region.cols;
+    let tables = Srgb8Tables::get();
+    let block_ramp = RampSteps::new(BLOCK_RAMP.len());
+    let mut srgb = [[0u8; 3]; 6];
+    let mut indices = [0u8; 6];
+    let mut mixes: [Option<([u8; 3], Mix)>; 6] = [None; 6];
+    let mut pairs: [KeptPair; 6] = [None; 6];
+    for (row, cells) in frame.region_rows_mut(region).enumerate() {
+        // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
+        let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {
+            let start = (row * SY + dy) * width;
+            &color[start..start + cols * SX]
+        });
+        for (col, cell) in cells.iter_mut().enumerate() {
+            *cell = if depth == ColorDepth::None {
+                let mut sum = Vec3::ZERO;
+                for line in rows {
+                    for &c in &line[col * SX..col * SX + SX] {
+                        sum += c;
+                    }
+                }
+                Cell::plain(BLOCK_RAMP[block_ramp.index(sum / (SX * SY) as f32)])
+            } else {
+                let n = SX * SY;
+                let mut cell_samples = [Vec3A::ZERO; 6];
+                for (dy, line) in rows.iter().enumerate() {
+                    for dx in 0..SX {
+                        cell_samples[dy * SX + dx] = non_negative(line[col * SX + dx]);
+                    }
+                }
+                let linear = &cell_samples[..n];
+                let (low, high) = code_range(tables, linear);
+                if depth == ColorDepth::TrueColor || !dither || spread((low, high)) > EDGE_SPREAD {
+                    fitted_cell(tables, linear, (low, high), charset, depth)
+                } else {
+                    sample_codes(tables, linear, (low, high), &mut srgb);
+                    for (dy, line) in rows.iter().enumerate() {
+                        for dx in 0..SX {
+                            let (x, y) = (col * SX + dx, row * SY + dy);
+                            let k = dy * SX + dx;
+                            // The mix of the colour this position had in the cell before, if the same.
+                            let mix = match mixes[k] {
+                                Some((rgb, mix)) if rgb == srgb[k] => Some(mix),
+                                _ => Mix::of_near(srgb[k], depth, &mut pairs[k]),
+                            };
+                            mixes[k] = mix.map(|mix| (srgb[k], mix));
+                            // (`Mix::of` gives a mix at these depths.)
+                            indices[k] = mix.map_or(0, |mix| mix.pick(line[x], threshold(x, y)));
+                        }
+                    }
+                    indexed_cell(&indices[..SX * SY], charset)
+                }
+            };
+        }
+    }
+}
+
+/// The lightness (sRGB-encoded luminance) a ramp starts at: darker is its first glyph (fog, the far
+/// distance). See [`RAMP_TOP`].
+pub const RAMP_BOTTOM: f32 = 0.06;
+/// The lightness a ramp ends at: lighter is its last glyph. A lit wall near the viewer is about 0.75,
+/// floor and ceiling 0.3–0.5, so between the two the scene spans the whole ramp and walls, floor and
+/// ceiling take different glyphs (the plain 0–1 range left them all within two or three).
+pub const RAMP_TOP: f32 = 0.8;
+
+/// Where the steps of a ramp of `len` glyphs lie, in luminance (linear light): the lightness
+/// (sRGB-encoded luminance) stretched from [`RAMP_BOTTOM`]–[`RAMP_TOP`] to `0..=len − 1` and rounded
+/// gives a colour's glyph, so glyph `k + 1` starts where the stretched lightness reaches `k + ½`. Found
+/// once a frame, so a sample's glyph is a few comparisons of its luminance, with no sRGB encoding.
+struct RampSteps {
+    /// `up[k]`: the luminance glyph `k + 1` starts at; the first `len − 1` are used.
+    up: [f32; ASCII_RAMP_LONG.len() - 1],
+    /// The first sixteen of `up`, in lanes (every ramp but the long one fits).
+    up16: [f32x8; 2],
+    len: usize,
+}
+
+impl RampSteps {
+    /// # Panics
+    /// If `len` is 0 or longer than the longest ramp.
+    fn new(len: usize) -> RampSteps {
+        assert!((1..=ASCII_RAMP_LONG.len()).contains(&len), "a ramp of {len} glyphs");
+        let mut up = [f32::INFINITY; ASCII_RAMP_LONG.len() - 1];
+        for (k, up) in up.iter_mut().enumerate().take(len - 1) {
+            let stretched = (k as f32 + 0.5) / (len - 1) as f32;
+            *up = srgb_to_linear(RAMP_BOTTOM + stretched * (RAMP_TOP - RAMP_BOTTOM));
+        }
+        let lanes = |from: usize| f32x8::from(<[f32; 8]>::try_from(&up[from..from + 8]).expect("eight"));
+        RampSteps { up, up16: [lanes(0), lanes(8)], len }
+    }
+
+    /// The ramp index for a linear colour (NaN: 0, the darkest).
+    #[inline]
+    fn index(&self, color: Vec3) -> usize {
+        let luminance = luminance(color);
+        if self.len <= 17 {
+            // No branch and no loop: sixteen compares in lanes, each -1 where the step is passed; the
+            // steps past the ramp's are +∞, which only +∞ reaches, hence the `min`.
+            let l = f32x8::splat(luminance);
+            let passed = |up: f32x8| cast::<f32x8, i32x8>(l.simd_ge(up));
+            let above = -(passed(self.up16[0]) + passed(self.up16[1])).reduce_add();
+            (above as usize).min(self.len - 1)
+        } else {
+            self.up[..self.len - 1].partition_point(|&step| luminance >= step)
+        }
+    }
+}
+
+/// [`to_frame`] for the ascii charset, one sample per cell: its outline glyph or its ramp glyph, inked
+/// in `ink(colour, (column, row))` of its linear colour (a blank has no ink to colour).
+fn ascii_cells(
+    samples: &SampleBuffer,
+    ramp: Ramp,
+    (frame, region): (&mut Frame, Region),
+    ink: impl Fn(Vec3, (usize, usize)) -> Color,
+) {
+    let (color, outline) = (samples.color(), samples.outline());
+    let glyphs = ramp.glyphs();
+    let steps = RampSteps::new(glyphs.len());
+    for (row, cells) in frame.region_rows_mut(region).enumerate() {
+        let at = row * region.cols..(row + 1) * region.cols;
+        for (col, ((cell, &color), outline)) in
+            cells.iter_mut().zip(&color[at.clone()]).zip(&outline[at]).enumerate()
+        {
+            let ch = outline.unwrap_or_else(|| glyphs[steps.index(color)]);
+            *cell = if ch == ' ' {
+                Cell::plain(' ')
+            } else {
+                Cell { ch, fg: ink(color, (col, row)), bg: Color::Default }
+            };
+        }
+    }
+}
+
+/// A sample in a SIMD register with NaN and negative channels as 0, which encode alike
+/// ([`Srgb8Tables::encode`]): for [`code_range`], [`sample_codes`] and [`flat_mean`].
+#[inline(always)]
+fn non_negative(linear: Vec3) -> Vec3A {
+    Vec3A::from(linear).max(Vec3A::ZERO) // `maxps` keeps its second operand where the first is NaN
+}
+
+/// The least and the greatest 8-bit sRGB code, per channel, of a cell's [`non_negative`] samples:
+/// two encodings a channel, whatever the number of samples (the code is monotone in the value).
+#[inline(always)]
+fn code_range(tables: &Srgb8Tables, linear: &[Vec3A]) -> ([u8; 3], [u8; 3]) {
+    let (low, high) = linear[1..].iter().fold((linear[0], linear[0]), |(l, h), &s| (l.min(s), h.max(s)));
+    (low.to_array().map(|c| tables.encode(c)), high.to_array().map(|c| tables.encode(c)))
+}
+
+/// The 8-bit sRGB codes of a cell's samples whose channels' codes lie in `range` ([`code_range`]):
+/// where a channel's codes are at most one apart (nine cells in ten), each sample's is its low code or
+/// the next, one comparison; elsewhere each sample is encoded.
+#[inline(always)]
+fn sample_codes(
+    tables: &Srgb8Tables,
+    linear: &[Vec3A],
+    (low, high): ([u8; 3], [u8; 3]),
+    out: &mut [[u8; 3]],
+) {
+    for c in 0..3 {
+        if high[c] - low[c] <= 1 {
+            let next = usize::from(low[c]) + 1;
+            for (out, sample) in out.iter_mut().zip(linear) {
+                out[c] = low[c] + u8::from(tables.reaches(sample[c], next));
+            }
+        } else {
+            for (out, sample) in out.iter_mut().zip(linear) {
+                out[c] = tables.encode(sample[c]);
+            }
+        }
+    }
+}
+
+/// The rounded mean of the 8-bit sRGB codes of a cell's samples whose channels each lie within one
+/// code of `low` ([`code_range`]): `low` per sample, plus one for each at or past the next code.
+#[inline(always)]
+fn flat_mean(tables: &Srgb8Tables, linear: &[Vec3A], low: [u8; 3]) -> [u8; 3] {
+    let n = linear.len() as i32;
+    let sum = std::array::from_fn(|c| {
+        let next = usize::from(low[c]) + 1;
+        n * i32::from(low[c]) + linear.iter().map(|s| i32::from(tables.reaches(s[c], next))).sum::<i32>()
+    });
+    rounded_mean(sum, n)
+}
+
+/// The largest difference in any channel between two of a cell's samples (8-bit sRGB), from their
+/// [`code_range`].
+#[inline(always)]
+fn spread((low, high): ([u8; 3], [u8; 3])) -> u8 {
+    (0..3).map(|c| high[c] - low[c]).max().unwrap_or(0)
+}
+
+/// At most this [`spread`], a quadrant or sextant cell is drawn in its samples' mean colour.
+const FLAT_SPREAD: u8 = 1;
+
+/// Above this [`spread`] a cell holds an edge: its two sides are quantized plainly, not dithered.
+const EDGE_SPREAD: u8 = 24;
+
+/// A two-colour split of a cell's samples: the samples in `mask` are ink, the rest background.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Split {
+    mask: u8,
+    ink: [u8; 3],
+    paper: [u8; 3],
+}
+
+/// `360 / (k · (n − k))` for a cell of `n` samples (up to 6) split `k` to `n − k`: the weight that makes
+/// [`best_partition`]'s fractions integers with one denominator.
+const SPLIT_WEIGHT: [[i64; 6]; 7] = {
+    let mut weight = [[0; 6]; 7];
+    let mut n = 2;
+    while n <= 6 {
+        let mut k = 1;
+        while k < n {
+            weight[n][k] = 360 / (k * (n - k)) as i64;
+            assert!(weight[n][k] * (k * (n - k)) as i64 == 360);
+            k += 1;
+        }
+        n += 1;
+    }
+    weight
+};
+
+/// The 2-colour partition of a cell's 8-bit sRGB samples with the least squared error, each side drawn
+/// in its (rounded) mean. Only masks without the last sample are tried (a mask and its complement are the
+/// same split), so the last sample is always background and mask 0 means one colour.
+///
+/// Exact, in integers: the error of a split is the samples' total scatter minus the scatter between the
+/// two means, so the best split has the most between-means scatter, `|n·S_ink − n_ink·S|² ⁄ (n · n_ink ·
+/// n_paper)` with `S` the sum of all `n` samples and `S_ink` that of the `n_ink` ink samples. Ties keep
+/// the smaller mask.
+fn best_partition(srgb: &[[u8; 3]]) -> Split {
+    if let [a, b] = *srgb {
+        return Split { mask: u8::from(a != b), ink: a, paper: b }; // half blocks: each sample its own side
+    }
+    let n = srgb.len();
+    debug_assert!((1..=6).contains(&n), "{n} samples");
+    if let Some(split) = two_colours(srgb) {
+        return split; // the common case (flat or 8-bit-banded areas, wall edges): a split with no error
+    }
+    let samples: [[i32; 3]; 6] = std::array::from_fn(|k| srgb.get(k).map_or([0; 3], |s| s.map(i32::from)));
+    let sum_of = |mask: usize| {
+        let mut sum = [0; 3];
+        for (k, s) in samples.iter().enumerate() {
+            if mask >> k & 1 == 1 {
+                (0..3).for_each(|c| sum[c] += s[c]);
+            }
+        }
+        sum
+    };
+    let total = sum_of((1 << n) - 1);
+    // A split's score is |n·ink − n_ink·total|² / (n_ink·(n − n_ink)) (the squared distance between the
+    // two sides' means, weighted by their sizes: the most that a split's error falls below no split's).
+    // With each sample taken as n·s − total (n times its offset from the mean), n·ink − n_ink·total is
+    // the ink's sum of those: exact integers, one addition a channel per mask.
+    let centred: [[i32; 3]; 6] =
+        std::array::from_fn(|k| std::array::from_fn(|c| n as i32 * samples[k][c] - total[c]));
+    // Every mask in ascending order, each one's ink sum and count from the mask without its lowest
+    // sample's bit (found before it): one addition a channel per mask. Strictly greater scores win, so
+    // of equal ones the smaller mask stays. The fraction's denominator n_ink·(n − n_ink) divides 360
+    // for every n ≤ 6, so the score is compared as `numerator · 360 / denominator` in integers.
+    let mut ink_sums = [[0i32; 3]; 32];
+    let mut counts = [0usize; 32];
+    let (mut best, mut best_score) = (0usize, 0i64);
+    for mask in 1..1usize << (n - 1) {
+        let (rest, k) = (mask & (mask - 1), mask.trailing_zeros() as usize);
+        let ink: [i32; 3] = std::array::from_fn(|c| ink_sums[rest][c] + centred[k][c]);
+        let n_ink = counts[rest] + 1;
+        (ink_sums[mask], counts[mask]) = (ink, n_ink);
+        // At most 3 · (6 · 5 · 255)² · 120 < 2⁶³.
+        let score = i64::from(ink[0] * ink[0] + ink[1] * ink[1] + ink[2] * ink[2]) * SPLIT_WEIGHT[n][n_ink];
+        if score > best_score {
+            (best, best_score) = (mask, score);
+        }
+    }
+    let n_ink = best.count_ones() as i32;
+    let ink_sum = sum_of(best);
+    let paper = rounded_mean([0, 1, 2].map(|c| total[c] - ink_sum[c]), n as i32 - n_ink);
+    let ink = if n_ink == 0 { paper } else { rounded_mean(ink_sum, n_ink) };
+    Split { mask: best as u8, ink, paper }
+}
+
+/// The split of a cell of at most two distinct colours (the last sample's is the background): the
+/// only split with no error, so the one [`best_partition`]'s search would find; `None` for three or more.
+fn two_colours(srgb: &[[u8; 3]]) -> Option<Split> {
+    let (&paper, rest) = srgb.split_last()?;
+    let mut ink = paper;
+    let mut mask = 0u8;
+    for (k, &s) in rest.iter().enumerate() {
+        if s != paper {
+            if mask != 0 && s != ink {
+                return None;
+            }
+            (ink, mask) = (s, mask | 1 << k);
+        }
+    }
+    Some(Split { mask, ink, paper })
+}
+
+/// `sum / n` per channel, rounded to nearest (halves up), for sums of `n` (1 to 6) 8-bit values.
+fn rounded_mean(sum: [i32; 3], n: i32) -> [u8; 3] {
+    // A constant divisor per arm: multiplications, where a variable one costs three integer divisions.
+    fn by<const N: i32>(sum: [i32; 3]) -> [u8; 3] {
+        sum.map(|s| ((2 * s + N) / (2 * N)) as u8)
+    }
+    match n {
+        1 => by::<1>(sum),
+        2 => by::<2>(sum),
+        3 => by::<3>(sum),
+        4 => by::<4>(sum),
+        5 => by::<5>(sum),
+        _ => by::<6>(sum),
+    }
+}
+
+fn solid(color: Color) -> Cell {
+    Cell { ch: ' ', fg: color, bg: color } // ink unused: same as the background so equal cells compare equal
+}
+
+/// A block cell in its samples' colours, undithered (`linear`: the cell's [`non_negative`] samples in
+/// bit order, `range` their [`code_range`]). A quadrant or sextant cell whose samples are all within
+/// [`FLAT_SPREAD`] of each other is their mean colour: within a step of every sample, as the encoder's
+/// default tolerance; it saves the split's search (a third of a sextant frame), and sends a blank
+/// instead of a glyph in two colours. Any other cell is its [`block_cell`].
+#[inline(always)] // into each `block_cells` shape: its cell comes back in registers, not through memory
+fn fitted_cell(
+    tables: &Srgb8Tables,
+    linear: &[Vec3A],
+    range: ([u8; 3], [u8; 3]),
+    charset: Charset,
+    depth: ColorDepth,
+) -> Cell {
+    if linear.len() > 2 && spread(range) <= FLAT_SPREAD {
+        return solid(quantize_srgb8(flat_mean(tables, linear, range.0), depth));
+    }
+    let mut srgb = [[0u8; 3]; 6];
+    sample_codes(tables, linear, range, &mut srgb);
+    block_cell(&srgb[..linear.len()], charset, depth)
+}
+
+/// One block cell from its samples (8-bit sRGB), in bit order: the best two-colour split, each side
+/// quantized to `depth`; a blank where the two come out the same.
+#[inline(always)]
+fn block_cell(srgb: &[[u8; 3]], charset: Charset, depth: ColorDepth) -> Cell {
+    let Split { mask, ink, paper } = best_partition(srgb);
+    let (fg, bg) = (quantize_srgb8(ink, depth), quantize_srgb8(paper, depth));
+    if mask == 0 || fg == bg {
+        return solid(bg);
+    }
+    Cell { ch: block_glyph(charset, mask), fg, bg }
+}
+
+/// One block cell from its samples' palette entries (after dithering), in bit order.
+///
+/// Two entries or fewer, the cell shows them exactly (the last sample's is the background): always so
+/// for half blocks, and for every cell of a flat or smoothly shaded area, as [`palette::dither`] mixes two entries.
+/// More (quadrants and sextants across an edge): the best split of their colours, each side drawn in its
+/// most frequent entry (the earlier sample's on a tie).
+fn indexed_cell(indices: &[u8], charset: Charset) -> Cell {
+    if let [ink, paper] = *indices {
+        // Half blocks: the top sample's entry on the bottom one's (what the general case gives).
+        return if ink == paper {
+            solid(Color::Indexed(paper))
+        } else {
+            Cell { ch: block_glyph(charset, 1), fg: Color::Indexed(ink), bg: Color::Indexed(paper) }
+        };
+    }
+    let paper = indices[indices.len() - 1];
+    let Some(&ink) = indices.iter().find(|&&i| i != paper) else {
+        return solid(Color::Indexed(paper));
+    };
+    if indices.iter().all(|&i| i == paper || i == ink) {
+        let mask = indices.iter().enumerate().fold(0u8, |m, (k, &i)| m | u8::from(i == ink) << k);
+        return Cell { ch: block_glyph(charset, mask), fg: Color::Indexed(ink), bg: Color::Indexed(paper) };
+    }
+    let srgb: [[u8; 3]; 6] = std::array::from_fn(|k| indices.get(k).map_or([0; 3], |&i| xterm_rgb(i)));
+    let Split { mask, .. } = best_partition(&srgb[..indices.len()]);
+    let most_frequent = |side: bool| {
+        let on_side = |k: usize| (mask >> k & 1 == 1) == side;
+        let count = |i: u8| (0..indices.len()).filter(|&k| on_side(k) && indices[k] == i).count();
+        // `max_by_key` keeps the last maximum: reversed, that is the earliest sample's entry.
+        (0..indices.len()).filter(|&k| on_side(k)).map(|k| indices[k]).rev().max_by_key(|&i| count(i))
+    };
+    match (most_frequent(true), most_frequent(false)) {
+        (Some(ink), Some(paper)) if ink != paper => {
+            Cell { ch: block_glyph(charset, mask), fg: Color::Indexed(ink), bg: Color::Indexed(paper) }
+        }
+        (_, Some(paper)) => solid(Color::Indexed(paper)),
+        (ink, None) => solid(Color::Indexed(ink.unwrap_or(paper))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shade::linear_to_srgb;
+
+    #[test]
+    fn a_ramp_step_is_the_rounded_stretched_lightness() {
+        // The definition, in f64 with the exact curve: [`RampSteps`] compares luminances instead.
+        let by_lightness = |color: Vec3, len: usize| {
+            let lightness = f64::from(linear_to_srgb(luminance(color)));
+            let (bottom, top) = (f64::from(RAMP_BOTTOM), f64::from(RAMP_TOP));
+            let t = ((lightness - bottom) / (top - bottom)).clamp(0.0, 1.0);
+            (t * (len - 1) as f64).round() as usize
+        };
+        for len in [1, 2, BLOCK_RAMP.len(), ASCII_RAMP.len(), ASCII_RAMP_LONG.len()] {
+            let steps = RampSteps::new(len);
+            let mut seen = vec![false; len];
+            for k in 0..=4000 {
+                let grey = Vec3::splat(k as f32 / 4000.0);
+                for color in [grey, grey * Vec3::new(1.0, 0.5, 0.2), grey * Vec3::new(0.1, 0.3, 1.0)] {
+                    let (got, want) = (steps.index(color), by_lightness(color, len));
+                    assert_eq!(got, want, "len {len}, {color}");
+                    seen[got] = true;
+                }
+            }
+            assert!(seen.iter().all(|&s| s), "len {len}: every glyph of the ramp is reached");
+            assert_eq!(steps.index(Vec3::NAN), 0);
+            assert_eq!(steps.index(Vec3::splat(2.0)), len - 1);
+            assert_eq!(steps.index(Vec3::INFINITY), len - 1, "len {len}: past the last glyph, the last");
+        }
+    }
+
+    #[test]
+    fn a_block_cell_within_one_step_is_one_colour_and_a_wider_one_is_split() {
+        let tables = Srgb8Tables::get();
+        let fitted = |codes: &[[u8; 3]], charset| {
+            let linear: Vec<Vec3A> = codes
+                .iter()
+                .map(|code| non_negative(Vec3::from(code.map(|c| srgb_to_linear(f32::from(c) / 255.0)))))
+                .collect();
+            fitted_cell(tables, &linear, code_range(tables, &linear), charset, ColorDepth::TrueColor)
+        };
+        let (a, b) = ([100, 50, 20], [101, 51, 20]);
+        for (charset, n) in [(Charset::Quad, 4), (Charset::Sextant, 6)] {
+            let flat: Vec<[u8; 3]> = (0..n).map(|k| if k % 2 == 0 { a } else { b }).collect();
+            let cell = fitted(&flat, charset);
+            // The mean, rounded: every sample within one step of what is shown.
+            assert_eq!(cell, solid(Color::Rgb(101, 51, 20)), "{charset:?}");
+            let wider: Vec<[u8; 3]> = (0..n).map(|k| if k % 2 == 0 { a } else { [102, 50, 20] }).collect();
+            let cell = fitted(&wider, charset);
+            assert_ne!(cell.ch, ' ', "{charset:?}: two steps apart is a split");
+            assert_eq!((cell.fg, cell.bg), (Color::Rgb(100, 50, 20), Color::Rgb(102, 50, 20)), "{charset:?}");
+        }
+    }
+
+    #[test]
+    fn charset_names_round_trip() {
+        for c in Charset::ALL {
+            assert_eq!(c.to_string().parse::<Charset>(), Ok(c));
+        }
+        assert!("braille".parse::<Charset>().is_err());
+        assert_eq!(Charset::Half.sample_aspect(0.5), 1.0);
+        assert_eq!(Charset::Sextant.sample_aspect(0.5), 0.75);
+    }
+
+    /// A dithered half-block cell is its top sample's entry (`▀`) on its bottom one's, a blank when
+    /// they are equal; the two-sample spread is the largest channel difference.
+    #[test]
+    fn a_dithered_half_block_is_its_top_entry_on_its_bottom_one() {
+        assert_eq!(
+            indexed_cell(&[21, 196], Charset::Half),
+            Cell { ch: '▀', fg: Color::Indexed(21), bg: Color::Indexed(196) }
+        );
+        assert_eq!(indexed_cell(&[40, 40], Charset::Half), solid(Color::Indexed(40)));
+    }
+
+    #[test]
+    fn best_partition_splits_two_colours() {
+        let (a, b) = ([230, 25, 25], [25, 25, 230]);
+        let split = best_partition(&[a, b, a, b, a, a]);
+        assert_eq!(split, Split { mask: 0b00_1010, ink: b, paper: a }); // the last sample is background
+        assert_eq!(best_partition(&[a, a, a, a]).mask, 0);
+        assert_eq!(best_partition(&[a, b]), Split { mask: 1, ink: a, paper: b });
+        // Three near-blacks and a white: the white alone, the others in their rounded mean.
+        let split = best_partition(&[[0, 0, 0], [255, 255, 255], [1, 1, 1], [2, 2, 2]]);
+        assert_eq!(split, Split { mask: 0b0010, ink: [255; 3], paper: [1; 3] });
+    }
+
+    /// A cell's codes from its range are each sample's own encoding, its range is theirs, and a cell
+    /// within one code per channel has the mean of them: for clustered values (most within a code of
+    /// each other), spread ones, values outside 0..1, and NaN.
+    #[test]
+    fn codes_from_a_cells_range_are_each_samples_own() {
+        let tables = Srgb8Tables::get();
+        let mut seed = 7u64;
+        let mut unit = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut flat_cells = 0;
+        for trial in 0..20_000 {
+            let n = [4, 6][trial % 2];
+            let base = unit() * 1.2 - 0.1;
+            let reach = [1e-4, 2e-3, 0.05, 0.6][trial / 2 % 4];
+            let linear: Vec<Vec3> = (0..n)
+                .map(|_| {
+                    let mut c =
+                        Vec3::new(base, base * 0.8, base * 0.5) + Vec3::new(unit(), unit(), unit()) * reach;
+                    if unit() < 0.01 {
+                        c.y = f32::NAN;
+                    }
+                    c
+                })
+                .collect();
+            let own: Vec<[u8; 3]> = linear.iter().map(|&c| tables.encode3(c)).collect();
+            let cell: Vec<Vec3A> = linear.iter().map(|&c| non_negative(c)).collect();
+            let (low, high) = code_range(tables, &cell);
+            for c in 0..3 {
+                assert_eq!(low[c], own.iter().map(|s| s[c]).min().unwrap(), "{linear:?}");
+                assert_eq!(high[c], own.iter().map(|s| s[c]).max().unwrap(), "{linear:?}");
+            }
+            let mut codes = [[0u8; 3]; 6];
+            sample_codes(tables, &cell, (low, high), &mut codes);
+            assert_eq!(&codes[..n], &own[..], "{linear:?}");
+            if spread((low, high)) <= FLAT_SPREAD {
+                flat_cells += 1;
+                let sum = std::array::from_fn(|c| own.iter().map(|s| i32::from(s[c])).sum());
+                assert_eq!(flat_mean(tables, &cell, low), rounded_mean(sum, n as i32), "{linear:?}");
+            }
+        }
+        assert!(flat_cells > 2_000, "{flat_cells} flat cells");
+    }
+
+    /// The integer search agrees with trying every split and measuring its error directly.
+    #[test]
+    fn best_partition_has_the_least_squared_error() {
+        let error = |srgb: &[[u8; 3]], split: Split| -> f64 {
+            let exact_mean = |inside: bool| {
+                let chosen: Vec<_> =
+                    srgb.iter().enumerate().filter(|(k, _)| (split.mask >> k & 1 == 1) == inside).collect();
+                (0..3)
+                    .map(|c| {
+                        chosen.iter().map(|(_, s)| f64::from(s[c])).sum::<f64>() / chosen.len().max(1) as f64
+                    })
+                    .collect::<Vec<_>>()
+            };
+            let (ink, paper) = (exact_mean(true), exact_mean(false));
+            srgb.iter()
+                .enumerate()
+                .map(|(k, s)| {
+                    let m = if split.mask >> k & 1 == 1 { &ink } else { &paper };
+                    (0..3).map(|c| (f64::from(s[c]) - m[c]).powi(2)).sum::<f64>()
+                })
+                .sum()
+        };
+        let mut seed = 0x9E37_79B9_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed >> 24) as u8 & 0xF0 // few levels, so ties happen
+        };
+        for n in [2usize, 4, 6] {
+            for _ in 0..2000 {
+                let srgb: Vec<[u8; 3]> = (0..n).map(|_| [next(), next(), next()]).collect();
+                let split = best_partition(&srgb);
+                let best = (0..1u8 << (n - 1))
+                    .map(|mask| error(&srgb, Split { mask, ink: [0; 3], paper: [0; 3] }))
+                    .fold(f64::INFINITY, f64::min);
+                let chosen = error(&srgb, split);
+                assert!(
+                    chosen <= best + 1e-9,
+                    "{srgb:?}: mask {:#b} error {chosen}, best {best}",
+                    split.mask
+                );
+                assert!(split.mask >> (n - 1) == 0, "the last sample is background");
+            }
+        }
+    }
+}

@@ -1,0 +1,885 @@
+//! The pipeline in one place: maze + camera → samples → [`Frame`].
+//!
+//! ```text
+//! camera ─eye()─▶ world→view, view→clip, NDC→grid matrices
+//! walls  ─portal pass (or all)─▶ wall ids, ascending
+//!   each wall: extrude (world) ─view─▶ view ─projection─▶ clip ─clip─▶ clip ─÷w─▶ NDC ─viewport─▶ grid
+//!              ─raster (top-left rule, depth LESS, Lambert via the normal matrix + fog)─▶ samples
+//! floor / ceiling: per sample, the camera ray meets z = -1 / +1 (where no wall is nearer)
+//! ascii: outlines of the visible walls (Bresenham), then glyphs ─▶ Frame
+//! ```
+
+use glam::{Vec2, Vec3};
+use wide::bytemuck::cast;
+use wide::{f32x8, i32x8, u32x8};
+
+use super::camera::{Camera, CameraError, Eye, Projection};
+use super::glyph::{Charset, Ramp, to_frame};
+use super::line::{line_glyph, line_points};
+use super::palette;
+use super::portal::{PortalPass, PortalStats};
+use super::raster::{GridVertex, LANES, Lanes3, fill_polygon, fill_polygon_x8};
+use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
+use super::shade::{
+    Fog, SUN_WORLD, bricks, checker, checker_filtered, edge_color, headlight_unit, lit, srgb_to_linear,
+    sun_factor, wall_albedo,
+};
+use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
+use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
+use mazewalk_math::rigid_inverse;
+use mazewalk_maze::Maze;
+use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
+use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
+
+/// Light that reaches every surface, whatever its angle to the headlight.
+const AMBIENT: f32 = 0.25;
+/// Where nothing is hit: the fog's colour (linear RGB).
+const FOG_COLOR: Vec3 = Vec3::new(0.004, 0.005, 0.008);
+/// Floor and ceiling base colours (sRGB, like the maze files' wall colours).
+const FLOOR_SRGB: Vec3 = Vec3::new(0.42, 0.38, 0.33);
+const CEILING_SRGB: Vec3 = Vec3::new(0.30, 0.33, 0.42);
+/// The floor/ceiling checker: one square per generated maze cell, a gentle contrast to show motion.
+const CHECKER_PERIOD: f32 = 4.0;
+const CHECKER_CONTRAST: f32 = 0.18;
+/// How far (maze units) the exit's light reaches on the floor round it.
+const EXIT_GLOW_RADIUS: f32 = 2.0;
+
+/// Which walls go into the raster.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Culling {
+    /// Only walls the cell-and-portal walk can see (the default).
+    #[default]
+    Portal,
+    /// Every wall of the maze (brute force, the reference).
+    None,
+}
+
+mazewalk_names::named!(Culling, "culling", [("portal", Culling::Portal), ("none", Culling::None)]);
+
+/// How to turn samples into a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// Glyph mode (and so samples per cell).
+    pub charset: Charset,
+    /// Colour depth to quantize to.
+    pub color_depth: ColorDepth,
+    /// Portal pass or brute force.
+    pub culling: Culling,
+    /// Terminal cell width / height (about 0.5).
+    pub cell_aspect: f32,
+    /// Ordered dithering in 256 and 16 colours ([`palette::dither`](super::palette::dither)); off, each
+    /// sample takes its nearest palette entry. No effect in truecolor or without colour.
+    pub dither: bool,
+    /// The ascii charset's shading ramp.
+    pub ramp: Ramp,
+    /// Brick walls and filtered floor and ceiling tiles ([`bricks`], [`checker_filtered`]); off, walls
+    /// are plain and the tiles unfiltered.
+    pub textures: bool,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            charset: Charset::Half,
+            color_depth: ColorDepth::TrueColor,
+            culling: Culling::Portal,
+            cell_aspect: 0.5,
+            dither: true,
+            ramp: Ramp::Short,
+            textures: false,
+        }
+    }
+}
+
+/// What one frame cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RenderStats {
+    /// The portal pass's counts (zero for brute force).
+    pub portal: PortalStats,
+    /// Walls sent to the raster.
+    pub walls_drawn: usize,
+    /// Triangles rasterized (a clipped wall polygon of n vertices is n - 2 triangles).
+    pub triangles: usize,
+    /// Samples written by walls (after the depth test).
+    pub samples_written: usize,
+}
+
+/// What the shading closure computes per sample: a colour, or the view depth (for `--depth-out`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Shading {
+    Color,
+    ViewDepth,
+}
+
+/// The fog of a view: from 15 % of the far distance, all fog at the far plane.
+fn fog_of(eye: &Eye) -> Fog {
+    Fog { color: FOG_COLOR, start: eye.far * 0.15, end: eye.far }
+}
+
+/// The renderer: the pipeline plus every buffer it reuses from frame to frame.
+#[derive(Debug, Default)]
+pub struct Renderer {
+    samples: SampleBuffer,
+    portal: PortalPass,
+    walls: Vec<u32>,
+    scratch: ClipScratch,
+    polygon_grid: Vec<GridVertex<Vec3>>,
+    seen: Vec<u32>,
+    sprites: SpritePass,
+    /// Which samples are edges: all false between frames (each frame unmarks what it marked).
+    edge_marks: Vec<bool>,
+    /// The samples marked this frame, each once.
+    edge_list: Vec<u32>,
+    plane_row: PlaneRow,
+    /// Skip the edge pass (the portal oracle compares visibility, not the picture's edges).
+    pub(crate) no_edges: bool,
+    /// Shade every sample by the scalar reference paths (the oracle of the SIMD ones).
+    pub(crate) reference_shading: bool,
+}
+
+impl Renderer {
+    /// A renderer with empty buffers (they grow on first use).
+    #[must_use]
+    pub fn new() -> Renderer {
+        Renderer::default()
+    }
+
+    /// The samples of the last frame (colour, depth, id per sample).
+    #[must_use]
+    pub fn samples(&self) -> &SampleBuffer {
+        &self.samples
+    }
+
+    /// The portal pass of the last frame (walls found, cells visited).
+    #[must_use]
+    pub fn portal(&self) -> &PortalPass {
+        &self.portal
+    }
+
+    /// Renders `maze` from `camera` into `region` of `frame` (the rest of the frame is left alone).
+    ///
+    /// # Errors
+    /// [`CameraError`] when the camera or the grid is unusable.
+    ///
+    /// # Panics
+    /// If `region` is not inside `frame`.
+    pub fn render(
+        &mut self,
+        maze: &Maze,
+        camera: &Camera,
+        options: &RenderOptions,
+        frame: &mut Frame,
+        region: Region,
+    ) -> Result<RenderStats, CameraError> {
+        self.render_with_sprites(maze, camera, options, &[], frame, region)
+    }
+
+    /// [`render`](Self::render) with figures standing in the maze ([`Sprite`]s: the other players),
+    /// depth-tested against the walls, each with its label on its head's cell.
+    ///
+    /// # Errors
+    /// [`CameraError`] when the camera or the grid is unusable.
+    ///
+    /// # Panics
+    /// If `region` is not inside `frame`.
+    pub fn render_with_sprites(
+        &mut self,
+        maze: &Maze,
+        camera: &Camera,
+        options: &RenderOptions,
+        sprites: &[Sprite],
+        frame: &mut Frame,
+        region: Region,
+    ) -> Result<RenderStats, CameraError> {
+        let RenderOptions { charset, color_depth, culling, cell_aspect, textures, .. } = *options;
+        let (cols, rows) = (region.cols, region.rows);
+        let stats =
+            self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, sprites, textures)?;
+        to_frame(&self.samples, options, frame, region);
+        self.label_sprites(charset, color_depth, frame, region);
+        Ok(stats)
+    }
+
+    /// Each drawn figure's label on the cell of its head's centre, if the figure is what shows there.
+    fn label_sprites(&self, charset: Charset, depth: ColorDepth, frame: &mut Frame, region: Region) {
+        let (sx, sy) = charset.samples_per_cell();
+        let width = self.samples.width();
+        for label in &self.sprites.labels {
+            if self.samples.id()[label.sample] != label.id {
+                continue; // hidden there (a wall, a nearer figure)
+            }
+            let (x, y) = (label.sample % width / sx, label.sample / width / sy);
+            let bg = palette::quantize(label.color, depth);
+            // Dark ink on a light head (the head is a light tint of the figure's colour).
+            let fg = if depth == ColorDepth::None { Color::Default } else { Color::Indexed(0) };
+            // One printable ASCII character, whatever the caller passed (a name may hold anything).
+            let ch = if label.label.is_ascii_graphic() { label.label } else { '?' };
+            let cell = if depth == ColorDepth::None { Cell::plain(ch) } else { Cell { ch, fg, bg } };
+            frame.set(region.col + x, region.row + y, cell);
+        }
+    }
+
+    /// The pipeline up to the samples (no glyphs): what the frame is made of, sample by sample.
+    ///
+    /// # Errors
+    /// [`CameraError`] when the camera or the grid is unusable.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_samples(
+        &mut self,
+        maze: &Maze,
+        camera: &Camera,
+        charset: Charset,
+        cell_aspect: f32,
+        culling: Culling,
+        cols: usize,
+        rows: usize,
+    ) -> Result<RenderStats, CameraError> {
+        self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, &[], false)
+    }
+
+    /// [`render_samples`](Self::render_samples) with figures.
+    #[allow(clippy::too_many_arguments)]
+    fn samples_with(
+        &mut self,
+        maze: &Maze,
+        camera: &Camera,
+        charset: Charset,
+        cell_aspect: f32,
+        culling: Culling,
+        cols: usize,
+        rows: usize,
+        sprites: &[Sprite],
+        textures: bool,
+    ) -> Result<RenderStats, CameraError> {
+        let (sx, sy) = charset.samples_per_cell();
+        let eye = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // world→view→clip→grid
+        let mut stats = self.draw(maze, &eye, culling, Shading::Color, textures); // walls, floor, ceiling → samples
+        let portal = &self.portal;
+        let visible = |cell: u32| culling == Culling::None || portal.was_visited(cell);
+        let fog = fog_of(&eye);
+        stats.samples_written += self.sprites.draw(&mut self.samples, &eye, &fog, sprites, visible); // figures
+        if let Some(point) = maze.exit().filter(|exit| visible(exit.cell)).and(maze.exit_point()) {
+            stats.samples_written += self.sprites.draw_beacon(&mut self.samples, &eye, &fog, point); // the exit
+        }
+        if !self.no_edges {
+            self.draw_edges(maze); // where surfaces meet: darker (or lighter) samples
+        }
+        if charset == Charset::Ascii {
+            self.outline_visible_walls(maze, &eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
+        }
+        stats.walls_drawn = self.walls.len();
+        Ok(stats)
+    }
+
+    /// For each terminal cell, the view-space depth of the wall seen through the cell's centre (maze
+    /// units along the view direction), or `None` where no wall is seen: the `--depth-out` hook.
+    ///
+    /// # Errors
+    /// [`CameraError`] when the camera or the grid is unusable.
+    pub fn depth_at_cell_centres(
+        &mut self,
+        maze: &Maze,
+        camera: &Camera,
+        cell_aspect: f32,
+        culling: Culling,
+        cols: usize,
+        rows: usize,
+    ) -> Result<Vec<Option<f32>>, CameraError> {
+        // One sample per cell, centred in the cell: exactly the ascii sampling.
+        let eye = camera.eye(cols, rows, Charset::Ascii.sample_aspect(cell_aspect))?;
+        self.draw(maze, &eye, culling, Shading::ViewDepth, false);
+        let s = &self.samples;
+        Ok(s.id()
+            .iter()
+            .zip(s.color())
+            .map(|(&id, c)| (id < maze.edges().len() as u32).then_some(c.x))
+            .collect())
+    }
+
+    /// Chooses the walls, rasterizes them, then fills floor and ceiling.
+    fn draw(
+        &mut self,
+        maze: &Maze,
+        eye: &Eye,
+        culling: Culling,
+        shading: Shading,
+        textures: bool,
+    ) -> RenderStats {
+        let mut stats = RenderStats::default();
+        if self.samples.width() != eye.width || self.samples.height() != eye.height {
+            self.samples.resize(eye.width, eye.height);
+        }
+        self.samples.clear_coverage(); // colours: every sample gets a wall's, a plane's or the fog's
+
+        self.walls.clear();
+        match culling {
+            Culling::None => self.walls.extend(0..maze.edges().len() as u32),
+            Culling::Portal => {
+                stats.portal = self.portal.run(maze, eye);
+                self.walls.extend_from_slice(&self.portal.walls);
+            }
+        }
+        // Ascending ids: depth ties resolve the same way whichever pass chose the walls.
+        self.walls.sort_unstable();
+
+        let fog = fog_of(eye);
+        let ortho = eye.camera.projection == Projection::Orthographic;
+        let sun_view = (eye.normal_to_view * SUN_WORLD).normalize_or_zero(); // a direction: as normals go
+        let view_to_world = rigid_inverse(eye.world_to_view); // for texture coordinates on the walls
+        // Maze units one sample covers per unit of view depth (perspective), or in all (orthographic).
+        let per_sample = 2.0 * eye.half_w / eye.width.max(1) as f32;
+        for &e in &self.walls {
+            let edge = maze.edge(e);
+            if !edge.opaque {
+                continue; // portals are invisible
+            }
+            let Some(poly) = clip_wall(maze, eye, e, &mut self.scratch) else { continue }; // clip space
+            self.polygon_grid.clear();
+            self.polygon_grid.extend(poly.iter().map(|v| eye.grid_vertex(v.clip, v.view))); // ÷w → NDC → viewport
+            let (a, b) = maze.edge_points(e);
+            let along = (b - a).normalize_or_zero();
+            let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
+            // Normals by the inverse transpose, normalized once per wall; turned toward the eye (walls
+            // are seen from both sides) for the sun, whose factor is then the wall's.
+            let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
+            let facing =
+                if normal_view.dot(self.polygon_grid[0].attrs) > 0.0 { -normal_view } else { normal_view };
+            let albedo = wall_albedo(edge.color.map(srgb_to_linear)) * sun_factor(facing, sun_view);
+            stats.triangles += self.polygon_grid.len() - 2;
+            if shading == Shading::Color && !textures && !self.reference_shading {
+                // The same shading as below, eight samples at a time (same operations, same order).
+                let shade = |view: &Lanes3| wall_lanes(view, facing_wall(normal_view), albedo, ortho, &fog);
+                stats.samples_written += fill_polygon_x8(&mut self.samples, &self.polygon_grid, e, &shade);
+                continue;
+            }
+            stats.samples_written += fill_polygon(&mut self.samples, &self.polygon_grid, e, |view: Vec3| {
+                let depth = view.z.abs(); // distance along the view axis (RH: -z, LH: +z)
+                match shading {
+                    Shading::ViewDepth => Vec3::splat(depth),
+                    Shading::Color => {
+                        // The headlight: from the eye (perspective) or along the view axis (orthographic).
+                        let to_light = if ortho { Vec3::new(0.0, 0.0, view.z) } else { view };
+                        let facing_eye = headlight_unit(normal_view, to_light);
+                        let mut color = lit(albedo, facing_eye, AMBIENT);
+                        if textures {
+                            // Texture coordinates: along the wall from its start, and height.
+                            let world = view_to_world.transform_point3(view);
+                            let u = (world.truncate() - a).dot(along);
+                            // A sample's footprint on the wall: wider where the wall is seen edge-on.
+                            let reach = if ortho { per_sample } else { per_sample * depth };
+                            color *= bricks(u, world.z, reach / facing_eye.max(0.25));
+                        }
+                        fog.apply(color, depth)
+                    }
+                }
+            });
+        }
+        self.fill_floor_and_ceiling(eye, &fog, shading, maze.exit_point(), textures.then_some(per_sample));
+        stats
+    }
+
+    /// Floor and ceiling, per sample: where the sample's ray meets z = -1 or z = +1 before any wall.
+    ///
+    /// Floor and ceiling are solid: a ray that starts beyond them (an orthographic view cutting through
+    /// the floor, a near plane poking through it) shows that plane and nothing else, and a wall sample
+    /// whose ray meets the floor or ceiling first shows the floor or ceiling. So no wall is ever seen
+    /// from under the floor, which also keeps the portal pass (which follows rays inside the
+    /// floor-to-ceiling slab) exact against brute force.
+    /// With `filter` (maze units a sample covers per unit of distance), the tiles fade to their mean as
+    /// they shrink below a sample ([`checker_filtered`]).
+    fn fill_floor_and_ceiling(
+        &mut self,
+        eye: &Eye,
+        fog: &Fog,
+        shading: Shading,
+        exit: Option<Vec2>,
+        filter: Option<f32>,
+    ) {
+        let floor = (FLOOR_Z, FLOOR, FLOOR_SRGB.map(srgb_to_linear));
+        let ceiling = (CEILING_Z, CEILING, CEILING_SRGB.map(srgb_to_linear));
+        let perspective = eye.camera.projection == Projection::Perspective;
+        let start_depth = if perspective { eye.near } else { 0.0 };
+        let depth_at = eye.depth_by_distance();
+        // Where a ray of height `start_z` and slope `dir_z` ends: which plane, how far along it (`t`;
+        // `None` when it starts inside the ground or the roof and shows that plane right there), the grid
+        // depth a wall must beat to stay, and the fog there. `None`: it meets neither.
+        let meet = |start_z: f32, dir_z: f32| {
+            let inside = match start_z {
+                z if z < FLOOR_Z => Some(floor),
+                z if z > CEILING_Z => Some(ceiling),
+                _ => None,
+            };
+            if let Some(plane) = inside {
+                return Some(PlaneHit {
+                    plane,
+                    t: None,
+                    wall_stays_at: f32::NEG_INFINITY,
+                    fog: fog.amount(start_depth),
+                });
+            }
+            let plane = match dir_z {
+                z if z < 0.0 => floor,
+                z if z > 0.0 => ceiling,
+                _ => return None, // level: never meets either
+            };
+            let t = (plane.0 - start_z) / dir_z;
+            let depth = start_depth + t;
+            (t >= 0.0 && depth <= eye.far).then(|| PlaneHit {
+                plane,
+                t: Some(t),
+                wall_stays_at: depth_at.grid_depth(depth),
+                fog: fog.amount(depth),
+            })
+        };
+        // The colour of a plane at `hit`, seen along `dir`: the reference, sample by sample.
+        let color_at = |hit: &PlaneHit, point: Vec3, dir: Vec3| -> Vec3 {
+            if shading == Shading::ViewDepth {
+                return Vec3::ZERO;
+            }
+            let on_plane = Vec2::new(point.x, point.y);
+            let mut base = match filter {
+                // The footprint grows with the distance along the ray and the slant it meets the plane
+                // at (1 / |dir.z| per unit of ray).
+                Some(per) => {
+                    let slant = dir.length() / dir.z.abs().max(1e-3);
+                    let reach = per * hit.t.unwrap_or(0.0) * slant.min(8.0);
+                    checker_filtered(hit.plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST, reach)
+                }
+                None => checker(hit.plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST),
+            };
+            if let Some(exit) = exit.filter(|_| hit.plane.1 == FLOOR) {
+                // The exit's light on the floor round it, fading out over EXIT_GLOW_RADIUS.
+                let d2 = on_plane.distance_squared(exit);
+                if d2 < EXIT_GLOW_RADIUS * EXIT_GLOW_RADIUS {
+                    let glow = 1.0 - d2.sqrt() / EXIT_GLOW_RADIUS;
+                    base = base.lerp(EXIT_GLOW, 0.8 * glow);
+                }
+            }
+            // The headlight shines along the ray (from the eye, or along the view axis when
+            // orthographic): hit - eye is a multiple of `dir`.
+            lit(base, headlight_unit(Vec3::Z, dir), AMBIENT).lerp(fog.color, hit.fog)
+        };
+        let width = eye.width;
+        let (colors, depths, ids) = self.samples.parts_mut();
+        for y in 0..eye.height {
+            // `Eye::ray` is affine in the grid x: along a row, start and direction step by constants.
+            let gy = y as f32 + 0.5;
+            let (start0, dir0) = eye.ray(0.5, gy);
+            let (start1, dir1) = eye.ray(1.5, gy);
+            let (start_step, dir_step) = (start1 - start0, dir1 - dir0);
+            let at = |x: usize| (start0 + start_step * x as f32, dir0 + dir_step * x as f32);
+            let row = y * width..(y + 1) * width;
+            let (colors, depths, ids) = (&mut colors[row.clone()], &mut depths[row.clone()], &mut ids[row]);
+            // The camera's right vector is level, so along a row the rays keep their height and slope:
+            // where they end, how far, and the fog there are the row's (exactly what each ray would find).
+            if start_step.z == 0.0 && dir_step.z == 0.0 {
+                let Some(hit) = meet(start0.z, dir0.z) else {
+                    // The whole row sees neither plane (a level row, or beyond the far plane): fog.
+                    for (color, _) in colors.iter_mut().zip(&*ids).filter(|(_, id)| **id == NONE) {
+                        *color = FOG_COLOR;
+                    }
+                    continue;
+                };
+                let (first, last) = (at(0), at(width.saturating_sub(1)));
+                let t = hit.t.unwrap_or(0.0);
+                let (a, b) = ((first.0 + first.1 * t).truncate(), (last.0 + last.1 * t).truncate());
+                let glows = exit.is_some_and(|exit| {
+                    hit.plane.1 == FLOOR && segment_distance(exit, a, b) <= EXIT_GLOW_RADIUS * 1.001
+                });
+                if shading == Shading::Color && !glows && !self.reference_shading {
+                    self.plane_row.fill_row(&hit, (start0, start_step), (dir0, dir_step), filter, width);
+                    let (paint, base) = (&self.plane_row.shade, hit.plane.2);
+                    let fog_term = fog.color * hit.fog;
+                    // A wall stays where it is at least as near as the plane along this ray (none can
+                    // where the ray starts inside the plane's solid side).
+                    let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
+                    let samples = colors.iter_mut().zip(depths.iter_mut()).zip(ids.iter_mut()).zip(paint);
+                    for (((color, depth), id), &paint) in samples {
+                        if *id != NONE && *depth <= stays_at {
+                            continue;
+                        }
+                        (*color, *depth, *id) = (base * paint + fog_term, f32::INFINITY, hit.plane.1);
+                    }
+                    continue;
+                }
+            }
+            for x in 0..width {
+                let (start, dir) = at(x);
+                let Some(hit) = meet(start.z, dir.z) else {
+                    if ids[x] == NONE {
+                        colors[x] = FOG_COLOR; // neither plane, no wall: fog
+                    }
+                    continue;
+                };
+                let point = match hit.t {
+                    // Inside the ground or the roof: that plane, seen where the ray starts.
+                    None => start,
+                    Some(t) => {
+                        if ids[x] != NONE && depths[x] <= hit.wall_stays_at {
+                            continue; // a wall at least as near as the plane along this ray stays
+                        }
+                        start + dir * t
+                    }
+                };
+                colors[x] = color_at(&hit, point, dir);
+                depths[x] = f32::INFINITY;
+                ids[x] = hit.plane.1;
+            }
+        }
+    }
+
+    /// Edges: where two neighbouring samples (right or below) belong to different surfaces, the nearer
+    /// one is drawn as an edge ([`edge_color`]): wall ends, corners, the seams with floor and ceiling,
+    /// the outlines of figures. One sample wide, so it survives at any size. Two walls on one line
+    /// (a long wall made of several edges) are one surface: no seam between them.
+    fn draw_edges(&mut self, maze: &Maze) {
+        let (width, height) = (self.samples.width(), self.samples.height());
+        if self.edge_marks.len() != width * height {
+            self.edge_marks.clear();
+            self.edge_marks.resize(width * height, false);
+        }
+        self.edge_list.clear();
+        let walls = maze.edges().len() as u32;
+        let mut last = (NONE, NONE, false); // the last pair of walls compared, and whether they differ
+        let mut differ = |a: u32, b: u32| match (a < walls, b < walls) {
+            (true, true) => {
+                if (last.0, last.1) != (a, b) {
+                    last = (a, b, !collinear(maze, a, b));
+                }
+                last.2
+            }
+            (false, false) => is_figure(a) || is_figure(b), // floor, ceiling, nothing: no edge
+            _ => true,
+        };
+        let (ids, depth) = (self.samples.id(), self.samples.depth());
+        let (marks, list) = (&mut self.edge_marks, &mut self.edge_list);
+        let mut mark = |i: usize, j: usize| {
+            let nearer = if depth[j] < depth[i] { j } else { i };
+            if !marks[nearer] {
+                marks[nearer] = true;
+                list.push(nearer as u32);
+            }
+        };
+        // Neighbours to the right, then below; most pairs are one surface, skipped eight at a time.
+        for y in 0..height {
+            let row = y * width;
+            let here = &ids[row..row + width];
+            for_each_difference(here, &here[1.min(width)..], |x| {
+                if differ(here[x], here[x + 1]) {
+                    mark(row + x, row + x + 1);
+                }
+            });
+            if y + 1 < height {
+                let below = &ids[row + width..row + 2 * width];
+                for_each_difference(here, below, |x| {
+                    if differ(here[x], below[x]) {
+                        mark(row + x, row + width + x);
+                    }
+                });
+            }
+        }
+        let colors = self.samples.color_mut();
+        for &i in &self.edge_list {
+            let i = i as usize;
+            colors[i] = edge_color(colors[i]);
+            self.edge_marks[i] = false;
+        }
+    }
+
+    /// Ascii: the edges of every wall that won at least one sample, as line glyphs on that wall's samples.
+    fn outline_visible_walls(&mut self, maze: &Maze, eye: &Eye, sample_aspect: f32) {
+        let edges = maze.edges().len() as u32;
+        self.seen.clear();
+        // One id per run of equal samples (a wall covers runs of a row), so the sort is of a few.
+        let runs = self.samples.id().chunk_by(|a, b| a == b).map(|run| run[0]);
+        self.seen.extend(runs.filter(|&id| id < edges));
+        self.seen.sort_unstable();
+        self.seen.dedup();
+        let (w, h) = (eye.width, eye.height);
+        for &e in &self.seen {
+            let quad = wall_quad_world(maze, e);
+            for k in 0..4 {
+                let Some((p, q)) = clip_segment(eye, quad[k], quad[(k + 1) % 4]) else { continue };
+                let (gp, gq) = (eye.grid(p), eye.grid(q));
+                let glyph = line_glyph(gq.x - gp.x, gq.y - gp.y, sample_aspect);
+                let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
+                let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
+                for (x, y) in line_points(x0, y0, x1, y1, w, h) {
+                    // Only on this wall's own samples: exact, and the same in every culling mode.
+                    if self.samples.id()[y * w + x] == e {
+                        self.samples.put_outline(x, y, Some(glyph));
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Where a ray meets the floor or the ceiling (see `Renderer::fill_floor_and_ceiling`).
+#[derive(Clone, Copy, Debug)]
+struct PlaneHit {
+    /// The plane: its height, coverage id and linear colour.
+    plane: (f32, u32, Vec3),
+    /// How far along the ray; `None` when the ray starts inside the plane's solid side.
+    t: Option<f32>,
+    /// The grid depth a wall sample must reach (or beat) to stay in front of the plane.
+    wall_stays_at: f32,
+    /// The fog there (0..1).
+    fog: f32,
+}
+
+/// The floor and ceiling pass's scratch for one level row: the factor each sample multiplies its
+/// plane's colour by (checker, headlight, fog), computed in a straight loop over an array that the
+/// compiler vectorizes, where the per-sample reference (`color_at`) branches on every option.
+#[derive(Debug, Default)]
+struct PlaneRow {
+    shade: Vec<f32>,
+}
+
+impl PlaneRow {
+    /// Fills `shade` for the `width` samples of a row whose rays start at `start0 + start_step · x` and
+    /// go along `dir0 + dir_step · x` (both level steps), all ending on `hit`'s plane: the plane's colour
+    /// times `shade[x]`, plus the fog's colour times `hit.fog`, is the reference colour without glow.
+    #[allow(clippy::too_many_arguments)]
+    fn fill_row(
+        &mut self,
+        hit: &PlaneHit,
+        (start0, start_step): (Vec3, Vec3),
+        (dir0, dir_step): (Vec3, Vec3),
+        filter: Option<f32>,
+        width: usize,
+    ) {
+        self.shade.resize(width.div_ceil(LANES) * LANES, 0.0);
+        let s = f32x8::splat;
+        let t = s(hit.t.unwrap_or(0.0));
+        let dz = dir0.z.abs(); // the same for the whole row
+        let dz2 = s(dir0.z * dir0.z);
+        // lit(): ambient + (1 - ambient) · headlight, then what the fog leaves of it.
+        let keep = 1.0 - hit.fog;
+        let (ambient, diffuse) = (s(AMBIENT * keep), s((1.0 - AMBIENT) * keep));
+        let (dark, mean) = (s(1.0 - CHECKER_CONTRAST), s(1.0 - 0.5 * CHECKER_CONTRAST));
+        let per_square = s(1.0 / CHECKER_PERIOD);
+        let reach_per_slant = s(filter.unwrap_or(0.0) * hit.t.unwrap_or(0.0));
+        let lane = f32x8::from([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+        for (k, out) in self.shade.chunks_exact_mut(LANES).enumerate() {
+            // The same operations, in the same order, as the reference on each sample.
+            let x = s((k * LANES) as f32) + lane;
+            let (dx, dy) = (s(dir0.x) + s(dir_step.x) * x, s(dir0.y) + s(dir_step.y) * x);
+            let px = s(start0.x) + s(start_step.x) * x + dx * t;
+            let py = s(start0.y) + s(start_step.y) * x + dy * t;
+            let length = (dx * dx + dy * dy + dz2).sqrt();
+            let headlight = (s(dz) / length).min(s(1.0));
+            let odd = (floor_int(px * per_square) ^ floor_int(py * per_square)) & i32x8::splat(1);
+            let mut square = cast::<i32x8, f32x8>(odd.simd_eq(i32x8::splat(1))).select(dark, s(1.0));
+            if filter.is_some() {
+                // checker_filtered(): the squares fade to their mean as the footprint grows.
+                let reach = reach_per_slant * (length / s(dz.max(1e-3))).min(s(8.0));
+                let fade = ((reach * per_square - s(0.1)) / s(0.4)).clamp(s(0.0), s(1.0));
+                square += (mean - square) * fade;
+            }
+            out.copy_from_slice(&cast::<f32x8, [f32; LANES]>(square * (ambient + diffuse * headlight)));
+        }
+    }
+}
+
+/// What [`headlight_unit`] needs of a wall's unit normal, splatted for [`wall_lanes`].
+fn facing_wall(normal_view: Vec3) -> [f32x8; 3] {
+    [normal_view.x, normal_view.y, normal_view.z].map(f32x8::splat)
+}
+
+/// A wall's colour at eight view positions: [`headlight_unit`], [`lit`] and [`Fog::apply`] lane by
+/// lane, with the same operations in the same order as the scalar shading in `Renderer::draw`.
+fn wall_lanes(view: &Lanes3, normal: [f32x8; 3], albedo: Vec3, ortho: bool, fog: &Fog) -> Lanes3 {
+    let s = f32x8::splat;
+    let depth = view.z.abs();
+    // The headlight: from the eye (perspective) or along the view axis (orthographic).
+    let (tx, ty, tz) = if ortho { (s(0.0), s(0.0), view.z) } else { (view.x, view.y, view.z) };
+    let length = (tx * tx + ty * ty + tz * tz).sqrt();
+    let usable = length.simd_gt(s(0.0)) & length.is_finite();
+    let dot = normal[0] * tx + normal[1] * ty + normal[2] * tz;
+    let facing = usable.select((dot.abs() / length).min(s(1.0)), s(1.0));
+    let light = s(AMBIENT) + s(1.0 - AMBIENT) * facing.max(s(0.0)).min(s(1.0));
+    let amount = if fog.end <= fog.start {
+        depth.simd_ge(s(fog.start)).select(s(1.0), s(0.0))
+    } else {
+        ((depth - s(fog.start)) / s(fog.end - fog.start)).max(s(0.0)).min(s(1.0))
+    };
+    let keep = s(1.0) - amount;
+    let channel = |albedo: f32, fog: f32| s(albedo) * light * keep + s(fog) * amount;
+    Lanes3 {
+        x: channel(albedo.x, fog.color.x),
+        y: channel(albedo.y, fog.color.y),
+        z: channel(albedo.z, fog.color.z),
+    }
+}
+
+/// `floor(v)` as integers, lane by lane: truncate, then one less where that rounded up (negative
+/// non-integers). Exact for |v| < 2^31 (a checker square 2^33 units from the origin is beyond any
+/// maze); NaN and larger values give `i32::MIN`.
+fn floor_int(v: f32x8) -> i32x8 {
+    let t = v.fast_trunc_int();
+    t + cast::<f32x8, i32x8>(f32x8::from_i32x8(t).simd_gt(v)) // the mask is -1 where t > v
+}
+
+/// Calls `f(x)` for each `x` where `a[x] != b[x]` (up to the shorter's length), in ascending order.
+/// Eight comparisons at a time: in a frame nearly every neighbour is the same surface.
+fn for_each_difference(a: &[u32], b: &[u32], mut f: impl FnMut(usize)) {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let whole = n - n % LANES;
+    for (start, (a8, b8)) in (0..).step_by(LANES).zip(a.chunks_exact(LANES).zip(b.chunks_exact(LANES))) {
+        let lanes = |v: &[u32]| u32x8::new(v.try_into().expect("eight"));
+        let mut differing = !lanes(a8).simd_eq(lanes(b8)).to_bitmask() & 0xff;
+        while differing != 0 {
+            f(start + differing.trailing_zeros() as usize);
+            differing &= differing - 1;
+        }
+    }
+    for x in whole..n {
+        if a[x] != b[x] {
+            f(x);
+        }
+    }
+}
+
+/// The distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f32 {
+    let ab = b - a;
+    let t =
+        if ab.length_squared() > 0.0 { ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
+    p.distance(a + ab * t)
+}
+
+/// Whether walls `a` and `b` lie on one line (within a ten-thousandth of the longer one's length).
+fn collinear(maze: &Maze, a: u32, b: u32) -> bool {
+    let ((p, q), (r, s)) = (maze.edge_points(a), maze.edge_points(b));
+    let (d, e) = (q - p, s - r);
+    let tolerance = 1e-4 * d.length().max(e.length());
+    let off_line = |point: Vec2| d.perp_dot(point - p).abs() / d.length().max(f32::MIN_POSITIVE);
+    d.length() > 0.0 && off_line(r) <= tolerance && off_line(s) <= tolerance
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mazewalk_maze::generate::{GenOptions, generate};
+
+    /// A renderer reused from frame to frame (colours not cleared: each pass writes its own) gives a
+    /// fresh renderer's samples, including where nothing is seen (the fog beyond the view distance).
+    #[test]
+    fn a_reused_renderer_leaves_nothing_of_the_last_frame() {
+        let maze =
+            generate(&GenOptions { width: 12, height: 12, seed: 3, loops: 0.5, ..GenOptions::default() })
+                .expect("maze");
+        let viewer = maze.viewer();
+        let cameras = [
+            // Short sight: the far ends of corridors and the horizon are beyond it.
+            Camera { view_distance: 3.0, ..Camera::new(viewer.pos, viewer.dir_deg, 90.0) },
+            Camera { pitch_deg: -60.0, ..Camera::new(viewer.pos, viewer.dir_deg + 90.0, 70.0) },
+            Camera {
+                view_distance: 2.0,
+                pitch_deg: 25.0,
+                ..Camera::new(viewer.pos, viewer.dir_deg + 180.0, 100.0)
+            },
+            Camera { projection: Projection::Orthographic, ..Camera::new(viewer.pos, 30.0, 90.0) },
+        ];
+        let mut reused = Renderer::new();
+        let mut fog = 0;
+        for charset in [Charset::Half, Charset::Ascii] {
+            for camera in cameras.iter().chain(cameras.iter().rev()) {
+                let render = |r: &mut Renderer| {
+                    r.render_samples(&maze, camera, charset, 0.5, Culling::Portal, 41, 13).expect("camera");
+                };
+                let mut fresh = Renderer::new();
+                render(&mut fresh);
+                render(&mut reused);
+                assert_eq!(reused.samples(), fresh.samples(), "{charset:?} {camera:?}");
+                fog += fresh.samples().id().iter().filter(|&&id| id == NONE).count();
+            }
+        }
+        assert!(fog > 0, "no view saw the fog");
+    }
+
+    /// The lane scan finds exactly the positions a plain comparison does, at every length and offset.
+    #[test]
+    fn for_each_difference_finds_every_differing_position() {
+        let mut seed = 1u32;
+        let mut next = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            seed >> 29 // 0..8: many equal neighbours, some runs of differences
+        };
+        for len in 0..40 {
+            let a: Vec<u32> = (0..len).map(|_| next()).collect();
+            let b: Vec<u32> = (0..len + 3).map(|_| next()).collect();
+            for (a, b) in [(&a[..], &b[..]), (&b[..], &a[..]), (&a[..], &a[1.min(len)..])] {
+                let mut found = Vec::new();
+                for_each_difference(a, b, |x| found.push(x));
+                let expected: Vec<usize> = (0..a.len().min(b.len())).filter(|&x| a[x] != b[x]).collect();
+                assert_eq!(found, expected, "{a:?} {b:?}");
+            }
+        }
+    }
+
+    /// The SIMD paths (walls eight samples at a time, floor and ceiling by rows) give the scalar
+    /// reference's samples, in level, pitched, low, orthographic and textured views, with the exit's
+    /// glow in sight.
+    #[test]
+    fn the_simd_paths_match_the_scalar_reference() {
+        let maze =
+            generate(&GenOptions { width: 6, height: 6, seed: 7, exit: true, ..GenOptions::default() })
+                .expect("maze");
+        let viewer = maze.viewer();
+        let exit = maze.exit_point().expect("a generated maze has an exit");
+        let cameras = [
+            Camera::new(viewer.pos, viewer.dir_deg, 90.0),
+            Camera { pitch_deg: 40.0, ..Camera::new(viewer.pos, viewer.dir_deg + 30.0, 70.0) },
+            Camera { pitch_deg: -75.0, eye_z: -0.9, ..Camera::new(viewer.pos, viewer.dir_deg, 100.0) },
+            Camera {
+                projection: Projection::Orthographic,
+                pitch_deg: -20.0,
+                ..Camera::new(viewer.pos, 10.0, 90.0)
+            },
+            // Standing near the exit, looking at its glow on the floor.
+            Camera { pitch_deg: -30.0, ..Camera::new(exit - Vec2::new(1.5, 0.0), 0.0, 90.0) },
+        ];
+        let (mut glowing, mut walls) = (0, 0);
+        for camera in cameras {
+            let Some(_) = maze.cell_at(camera.position) else { continue };
+            for textures in [false, true] {
+                let (mut fast, mut reference) = (Renderer::new(), Renderer::new());
+                reference.reference_shading = true;
+                for r in [&mut fast, &mut reference] {
+                    r.samples_with(
+                        &maze,
+                        &camera,
+                        Charset::Half,
+                        0.5,
+                        Culling::Portal,
+                        53,
+                        17,
+                        &[],
+                        textures,
+                    )
+                    .expect("camera");
+                }
+                let (f, r) = (fast.samples(), reference.samples());
+                assert_eq!(f.id(), r.id(), "{camera:?}");
+                assert_eq!(f.depth(), r.depth(), "{camera:?}");
+                for (i, (a, b)) in f.color().iter().zip(r.color()).enumerate() {
+                    let plane = [FLOOR, CEILING].contains(&f.id()[i]);
+                    // Walls: the same operations in the same order, so the same bits; planes: the row
+                    // path factors the shading differently (a few ulps).
+                    let tolerance = if plane { 1e-5 } else { 0.0 };
+                    assert!(
+                        (*a - *b).abs().max_element() <= tolerance,
+                        "{camera:?} textures {textures}: sample {i}: {a} vs {b}"
+                    );
+                    glowing += usize::from(b.y > b.x * 1.5 && f.id()[i] == FLOOR);
+                    walls += usize::from(f.id()[i] < maze.edges().len() as u32);
+                }
+            }
+        }
+        assert!(glowing > 0, "no view saw the exit's glow on the floor");
+        assert!(walls > 1000, "the views show few walls: {walls} samples");
+    }
+}

@@ -1,0 +1,223 @@
+//! The picture (issue #15): edges where surfaces meet, light by orientation, walls never black, the
+//! exit visible from down a corridor.
+
+use glam::{Vec2, Vec3};
+use mazewalk_maze::{Maze, grid};
+use mazewalk_render::shade::luminance;
+use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer};
+use mazewalk_term::frame::{Color, ColorDepth, Frame};
+
+fn maze(text: &str) -> Maze {
+    grid::parse_str("test.grid", text).unwrap()
+}
+
+fn samples(maze: &Maze, camera: &Camera, cols: usize, rows: usize) -> Renderer {
+    let mut renderer = Renderer::new();
+    renderer.render_samples(maze, camera, Charset::Ascii, 0.5, Culling::Portal, cols, rows).unwrap();
+    renderer
+}
+
+/// A room whose walls all have one colour; looking into its north-east corner from inside.
+const ROOM: &str = "mazewalk-grid 1
+# = #8080c0
+######
+#....#
+#....#
+#@...#
+######
+";
+
+#[test]
+fn two_walls_of_one_colour_meeting_at_a_corner_stay_distinct() {
+    let maze = maze(ROOM);
+    // From the middle of the room, facing the north-east corner (45°), 7 units from it.
+    let camera = Camera::new(Vec2::new(15.0, 11.0), 45.0, 90.0);
+    let (cols, rows) = (81, 40);
+    let renderer = samples(&maze, &camera, cols, rows);
+    let s = renderer.samples();
+    let y = rows / 2 - 1; // eye level: the corner is a vertical line through the middle
+    let row: Vec<(u32, Vec3)> = (0..cols).map(|x| (s.id()[y * cols + x], s.color()[y * cols + x])).collect();
+    let walls = maze.edges().len() as u32;
+    // Where a wall running east-west meets one running north-south (not a seam between two tiles' edges
+    // of one straight wall).
+    let direction = |id: u32| {
+        let (a, b) = maze.edge_points(id);
+        (b - a).normalize().abs()
+    };
+    let corner = (1..cols).find(|&x| {
+        row[x - 1].0 < walls && row[x].0 < walls && direction(row[x - 1].0).dot(direction(row[x].0)) < 0.5
+    });
+    let x = corner.expect("two walls meet in the view");
+    let (left, right) = (row[x - 4].1, row[x + 3].1); // inside each wall, off the edge
+    let edge = [row[x - 1].1, row[x].1];
+    // The walls face different ways: the sun lights them differently.
+    let (l, r) = (luminance(left), luminance(right));
+    assert!((l - r).abs() > 0.1 * l.max(r), "{left} vs {right}");
+    // The corner itself is drawn as an edge: darker than both walls beside it.
+    let darkest = luminance(edge[0]).min(luminance(edge[1]));
+    assert!(darkest < 0.8 * luminance(left).min(luminance(right)), "edge {edge:?}, walls {left} {right}");
+}
+
+#[test]
+fn a_black_wall_is_never_the_fog() {
+    let text = "mazewalk-grid 1
+K = #000000
+KKKKK
+K@..K
+KKKKK
+";
+    let maze = maze(text);
+    let camera = Camera::new(Vec2::new(2.0, 6.0), 0.0, 90.0); // facing the black east wall, 8 units off
+    let (cols, rows) = (40, 20);
+    let renderer = samples(&maze, &camera, cols, rows);
+    let s = renderer.samples();
+    let walls = maze.edges().len() as u32;
+    let i = (rows / 2) * cols + cols / 2;
+    assert!(s.id()[i] < walls, "a wall straight ahead");
+    // Far from the fog colour: several 8-bit steps apart once encoded.
+    let fog_free = luminance(s.color()[i]);
+    assert!(fog_free > 0.004, "wall luminance {fog_free}");
+    // And in every colour depth the wall's cells differ from the empty space beyond the far plane.
+    // (Without colour the shade glyphs can coincide; the wall's edges still draw it.)
+    for depth in [ColorDepth::Ansi16, ColorDepth::Ansi256, ColorDepth::TrueColor] {
+        let mut near = Frame::new(cols, rows);
+        let options =
+            RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
+        let region = near.region();
+        Renderer::new().render(&maze, &camera, &options, &mut near, region).unwrap();
+        // The same view seeing only 2 units far: the wall is beyond the far plane, the middle is fog.
+        let mut nothing = Frame::new(cols, rows);
+        let short = Camera { view_distance: 2.0, ..camera };
+        Renderer::new().render(&maze, &short, &options, &mut nothing, region).unwrap();
+        let middle = |f: &Frame| *f.get(cols / 2, rows / 2).unwrap();
+        assert_ne!(middle(&near), middle(&nothing), "{depth:?}: the black wall looks like empty space");
+    }
+}
+
+/// A straight corridor, the exit three cells ahead of the start (or plain floor there).
+fn corridor(exit: bool) -> Maze {
+    let tile = if exit { 'E' } else { '.' };
+    maze(&format!("mazewalk-grid 1\n#######\n#>..{tile}.#\n#######\n"))
+}
+
+#[test]
+fn the_exit_shows_three_cells_down_a_corridor_in_every_charset_and_colour_depth() {
+    let camera = Camera::new(Vec2::new(6.0, 6.0), 0.0, 90.0);
+    for charset in Charset::ALL {
+        for depth in [ColorDepth::None, ColorDepth::Ansi16, ColorDepth::Ansi256, ColorDepth::TrueColor] {
+            let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
+            let frame = |maze: &Maze| {
+                let mut frame = Frame::new(80, 24);
+                let region = frame.region();
+                Renderer::new().render(maze, &camera, &options, &mut frame, region).unwrap();
+                frame
+            };
+            let (with, without) = (frame(&corridor(true)), frame(&corridor(false)));
+            let differing = with.cells().iter().zip(without.cells()).filter(|(a, b)| a != b).count();
+            // A beacon across a few columns and the floor's glow: dozens of cells, not a speck.
+            assert!(differing >= 8, "{charset} {depth:?}: {differing} cells show the exit");
+            if depth == ColorDepth::TrueColor {
+                let green = with.cells().iter().any(|c| {
+                    [c.fg, c.bg]
+                        .iter()
+                        .any(|&k| matches!(k, Color::Rgb(r, g, b) if g > 150 && g > r + 60 && g > b + 40))
+                });
+                assert!(green, "{charset}: the exit glows green");
+            }
+        }
+    }
+}
+
+/// Without colour, shade glyphs carry the picture: the walls' usual glyph is neither the floor's nor
+/// the ceiling's, in every block charset; the long ascii ramp uses many more characters than the short.
+#[test]
+fn without_colour_walls_floor_and_ceiling_take_different_glyphs() {
+    use mazewalk_render::Ramp;
+    use mazewalk_render::samples::{CEILING, FLOOR};
+    use std::collections::HashMap;
+    let maze = mazewalk_maze::builtin().unwrap();
+    let viewer = maze.viewer();
+    let camera = Camera::new(viewer.pos, viewer.dir_deg, 90.0);
+    let walls = maze.edges().len() as u32;
+    for charset in [Charset::Half, Charset::Quad, Charset::Sextant] {
+        let options = RenderOptions { charset, color_depth: ColorDepth::None, ..RenderOptions::default() };
+        let mut renderer = Renderer::new();
+        let mut frame = Frame::new(100, 30);
+        let region = frame.region();
+        renderer.render(&maze, &camera, &options, &mut frame, region).unwrap();
+        let (sx, sy) = charset.samples_per_cell();
+        let s = renderer.samples();
+        // Each cell by what all its samples show: a wall, the floor or the ceiling.
+        let mut glyphs: HashMap<&str, HashMap<char, usize>> = HashMap::new();
+        for row in 0..30 {
+            for col in 0..100 {
+                let ids: Vec<u32> = (0..sy)
+                    .flat_map(|dy| (0..sx).map(move |dx| (row * sy + dy) * s.width() + col * sx + dx))
+                    .map(|i| s.id()[i])
+                    .collect();
+                let kind = match ids[0] {
+                    id if ids.iter().all(|&i| i == id) && id < walls => "wall",
+                    FLOOR if ids.iter().all(|&i| i == FLOOR) => "floor",
+                    CEILING if ids.iter().all(|&i| i == CEILING) => "ceiling",
+                    _ => continue,
+                };
+                *glyphs.entry(kind).or_default().entry(frame.get(col, row).unwrap().ch).or_default() += 1;
+            }
+        }
+        let usual = |kind: &str| glyphs[kind].iter().max_by_key(|(_, n)| **n).map(|(c, _)| *c).unwrap();
+        let (wall, floor, ceiling) = (usual("wall"), usual("floor"), usual("ceiling"));
+        assert!(
+            wall != floor && wall != ceiling,
+            "{charset}: wall {wall:?}, floor {floor:?}, ceiling {ceiling:?}"
+        );
+    }
+    let distinct = |ramp| {
+        let options = RenderOptions {
+            charset: Charset::Ascii,
+            color_depth: ColorDepth::None,
+            ramp,
+            ..RenderOptions::default()
+        };
+        let mut frame = Frame::new(100, 30);
+        let region = frame.region();
+        Renderer::new().render(&maze, &camera, &options, &mut frame, region).unwrap();
+        let mut chars: Vec<char> = frame.cells().iter().map(|c| c.ch).collect();
+        chars.sort_unstable();
+        chars.dedup();
+        chars.len()
+    };
+    let (short, long) = (distinct(Ramp::Short), distinct(Ramp::Long));
+    assert!(long > short + 10, "long ramp {long} characters, short {short}");
+}
+
+/// Textures draw mortar joints on near walls (a spread of shades where the plain wall is smooth) and
+/// keep the wall's overall brightness.
+#[test]
+fn textured_walls_show_joints_up_close_and_keep_their_brightness() {
+    let maze = maze("mazewalk-grid 1\n#########\n#>......#\n#########\n");
+    let camera = Camera::new(Vec2::new(6.0, 6.0), 30.0, 90.0); // the north wall fills the left half
+    let walls = maze.edges().len() as u32;
+    let shades = |textures: bool| {
+        let mut renderer = Renderer::new();
+        let mut frame = Frame::new(80, 40);
+        let options = RenderOptions {
+            charset: Charset::Ascii,
+            color_depth: ColorDepth::TrueColor,
+            textures,
+            ..RenderOptions::default()
+        };
+        let region = frame.region();
+        renderer.render(&maze, &camera, &options, &mut frame, region).unwrap();
+        let s = renderer.samples();
+        (0..s.width() * s.height())
+            .filter(|&i| s.id()[i] < walls)
+            .map(|i| luminance(s.color()[i]))
+            .collect::<Vec<f32>>()
+    };
+    let (plain, textured) = (shades(false), shades(true));
+    assert_eq!(plain.len(), textured.len(), "the same walls cover the same samples");
+    let darker = plain.iter().zip(&textured).filter(|(p, t)| **t < 0.75 * **p).count();
+    assert!(darker > textured.len() / 20, "mortar on {darker} of {} wall samples", textured.len());
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
+    assert!((mean(&textured) / mean(&plain) - 0.92).abs() < 0.08, "{} vs {}", mean(&textured), mean(&plain));
+}

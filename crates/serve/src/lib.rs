@@ -1,0 +1,55 @@
+//! `mazewalk serve`: many players walk one maze over plain SSH, each with the stock `ssh` client, and
+//! see each other on the map.
+//!
+//! ```text
+//! TCP accept ─ limits (players in all, per address) ─▶ connection task: russh over a CutStream
+//!   handshake + auth (timeout; --open, or the authorized keys) ─▶ session channel ─▶ player task:
+//!     pty-req (TERM, size) · env COLORTERM · shell ─▶ Player (pure: a Session + enter/leave bytes,
+//!     clamped size, rate-limited input)
+//!     loop: channel data ─▶ Player::feed · window-change ─▶ resize · world version ─▶ peers
+//!           Player::frame ─▶ channel (write timeout) · whereabouts ─▶ World ─▶ version bump
+//!           sleep until input, Session::next_wake, a change in the world, idle timeout, shutdown
+//! ```
+//!
+//! The pure parts — [`player`] (one player without the connection), [`world`] (who is where, who
+//! won), [`limits`] — are tested without sockets; [`ssh`] is the I/O around them, [`host_key`] the key
+//! files. One world clock: every session's time is seconds since the server started.
+
+#![forbid(unsafe_code)]
+
+pub mod host_key;
+pub mod limits;
+pub mod player;
+pub mod ssh;
+pub mod stream;
+pub mod world;
+
+pub use limits::Limits;
+pub use ssh::{Access, ServeOptions, Server};
+
+/// Runs a server on a fresh tokio runtime until SIGINT, SIGTERM or SIGHUP (the terminal it ran in
+/// closed), then tells every player it is
+/// shutting down, restores their terminals and closes. `ready` is called once listening, with the
+/// address. Returns the signal that ended it.
+///
+/// # Errors
+/// The runtime cannot start, the address cannot be bound, or the signals cannot be watched.
+pub fn run(options: ServeOptions, ready: impl FnOnce(std::net::SocketAddr)) -> std::io::Result<i32> {
+    let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build()?;
+    runtime.block_on(async {
+        use tokio::signal::unix::{SignalKind, signal};
+        let mut interrupt = signal(SignalKind::interrupt())?;
+        let mut terminate = signal(SignalKind::terminate())?;
+        let mut hangup = signal(SignalKind::hangup())?;
+        let server = Server::start(options).await?;
+        ready(server.local_addr());
+        let signal = tokio::select! {
+            _ = interrupt.recv() => SignalKind::interrupt(),
+            _ = terminate.recv() => SignalKind::terminate(),
+            _ = hangup.recv() => SignalKind::hangup(),
+        };
+        tracing::info!(players = server.players(), "shutting down");
+        server.shutdown().await;
+        Ok(signal.as_raw_value())
+    })
+}

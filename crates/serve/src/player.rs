@@ -1,0 +1,370 @@
+//! One connected player, without the connection: a [`Session`] plus what a remote terminal needs that
+//! a local one gets from the guard — entering and leaving game mode in bytes, the pty's size clamped,
+//! colour depth from the pty's `TERM` (and `COLORTERM` if the client sent it), the input rate limited.
+//! Pure: bytes and sizes in, bytes out, time as seconds; the SSH side ([`super::ssh`]) only moves
+//! bytes, and the `serve` fuzz target drives this type with any bytes and window changes.
+
+use std::sync::Arc;
+
+use glam::Vec2;
+
+use super::limits::{Limits, RateLimit};
+use mazewalk_maze::Maze;
+use mazewalk_render::{Charset, RenderOptions};
+use mazewalk_term::caps;
+use mazewalk_term::frame::{Color, ColorDepth};
+use mazewalk_term::input::Input;
+use mazewalk_term::modes::{Enabled, enter_sequence, restore_sequence};
+use mazewalk_walk::overlay::Peer;
+use mazewalk_walk::session::fit_size;
+use mazewalk_walk::state::StartOutsideMaze;
+use mazewalk_walk::{App, Session, SessionOptions};
+
+/// What a remote terminal is asked to turn on: everything the local walk uses. The kitty keyboard
+/// flags are pushed blind (terminals without the protocol ignore the push and the pop) and then
+/// queried: only a terminal whose answer says so is trusted to report key releases.
+pub const REMOTE: Enabled = Enabled { mouse: true, focus_events: true, keyboard_enhancement: true };
+
+/// The longest player name, in characters.
+pub const MAX_NAME: usize = 16;
+
+/// The colours players are drawn in, by order of arrival (256-colour indices: bright and distinct from
+/// the map's own yellow viewer, green exit and grey walls; [`mazewalk_walk::overlay::limit_colors`] takes
+/// them down to the terminal's depth).
+pub const PLAYER_COLORS: [Color; 8] = [
+    Color::Indexed(196), // red
+    Color::Indexed(33),  // blue
+    Color::Indexed(201), // magenta
+    Color::Indexed(51),  // cyan
+    Color::Indexed(208), // orange
+    Color::Indexed(129), // purple
+    Color::Indexed(118), // lime
+    Color::Indexed(231), // white
+];
+
+/// The player name for an SSH user name: ASCII letters, digits, `-`, `_` and `.` only (no control
+/// characters, escape sequences, wide or invisible characters can reach another player's screen),
+/// at most [`MAX_NAME`] of them; `player` if none are left.
+#[must_use]
+pub fn player_name(user: &str) -> String {
+    let name: String = user
+        .chars()
+        .filter(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
+        .take(MAX_NAME)
+        .collect();
+    if name.is_empty() { "player".to_string() } else { name }
+}
+
+/// A terminal size from a pty request or window change: zero means "not given" (RFC 4254 §6.2), the
+/// rest is clamped to the limits (the picture is drawn at most that large, in the top-left corner).
+#[must_use]
+pub fn clamp_size(cols: u32, rows: u32, limits: &Limits) -> (u16, u16) {
+    fit_size(cols, rows, (limits.max_cols, limits.max_rows))
+}
+
+/// The colour depth for a remote terminal: as locally, from its `TERM` and (when the client sent it)
+/// `COLORTERM`.
+#[must_use]
+pub fn color_depth(term: &str, colorterm: Option<&str>) -> ColorDepth {
+    caps::detect_color_depth(|k| match k {
+        "TERM" => Some(term.to_string()),
+        "COLORTERM" => colorterm.map(str::to_string),
+        _ => None,
+    })
+}
+
+/// Whether `bytes` are nothing but whole answers a terminal sends by itself: `CSI ? … c` (device
+/// attributes, after every frame) and `CSI ? … u` (keyboard flags).
+#[must_use]
+pub fn only_replies(mut bytes: &[u8]) -> bool {
+    while !bytes.is_empty() {
+        let Some(rest) = bytes.strip_prefix(b"\x1b[?") else { return false };
+        let params = rest.iter().take_while(|b| b.is_ascii_digit() || **b == b';').count();
+        match rest.get(params) {
+            Some(b'c' | b'u') => bytes = &rest[params + 1..],
+            _ => return false,
+        }
+    }
+    true
+}
+
+/// One player's walk on a remote terminal.
+#[derive(Debug)]
+pub struct Player {
+    session: Session,
+    input: RateLimit,
+    limits: Limits,
+    dropped: u64,
+}
+
+impl Player {
+    /// A player walking `maze` from its start on a `cols × rows` terminal (as the pty request gave
+    /// them) of type `term`, at time `now`.
+    ///
+    /// # Errors
+    /// The maze's start is in no cell.
+    pub fn new(
+        maze: impl Into<Arc<Maze>>,
+        term: &str,
+        colorterm: Option<&str>,
+        (cols, rows): (u32, u32),
+        limits: &Limits,
+        now: f64,
+    ) -> Result<Player, StartOutsideMaze> {
+        let options = RenderOptions {
+            charset: Charset::Half,
+            color_depth: color_depth(term, colorterm),
+            ..RenderOptions::default()
+        };
+        let app = App::new(maze, options, now)?;
+        let env = |k: &str| (k == "TERM").then(|| term.to_string());
+        let session_options = SessionOptions { bce: caps::detect_bce(env), ..SessionOptions::default() };
+        let (cols, rows) = clamp_size(cols, rows, limits);
+        Ok(Player {
+            session: Session::new(app, cols, rows, session_options),
+            input: RateLimit::new(limits.input_rate, limits.input_burst, now),
+            limits: *limits,
+            dropped: 0,
+        })
+    }
+
+    /// The bytes that put the remote terminal into game mode (before the first frame).
+    pub fn enter(&mut self, out: &mut Vec<u8>) {
+        out.extend_from_slice(enter_sequence(REMOTE).as_bytes());
+        self.session.ask_keyboard_flags(out);
+    }
+
+    /// The bytes that give the terminal back — main screen, cursor shown, keyboard flags popped, mouse
+    /// and focus reports off — then `message` on a line of its own, if any.
+    pub fn leave(&self, message: Option<&str>, out: &mut Vec<u8>) {
+        out.extend_from_slice(restore_sequence(REMOTE).as_bytes());
+        if let Some(message) = message {
+            out.extend_from_slice(message.as_bytes());
+            out.extend_from_slice(b"\r\n");
+        }
+    }
+
+    /// Bytes from the player's terminal, arriving at `now`; beyond the input rate they are dropped.
+    /// Returns whether they held anything but the terminal's own answers (device attributes, keyboard
+    /// flags), which come without a key pressed: only the rest keeps a player from being idle.
+    pub fn feed(&mut self, bytes: &[u8], now: f64) -> bool {
+        let allowed = self.input.take(bytes.len(), now);
+        if allowed > 0 {
+            self.session.feed(&bytes[..allowed], now);
+        }
+        if allowed < bytes.len() {
+            // The cut may fall inside an escape sequence: its ESC must not become the Esc key.
+            self.dropped += (bytes.len() - allowed) as u64;
+            self.session.input_gap();
+        }
+        !only_replies(bytes)
+    }
+
+    /// The client's window changed.
+    pub fn resize(&mut self, cols: u32, rows: u32, now: f64) {
+        let (cols, rows) = clamp_size(cols, rows, &self.limits);
+        if (cols, rows) != (self.session.screen().width() as u16, self.session.screen().height() as u16) {
+            self.session.input(Input::Resize { cols, rows }, now);
+        }
+    }
+
+    /// Draws a frame if one is due ([`Session::frame`]), appending its bytes to `out`.
+    pub fn frame(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
+        let _ = self.session.take_suspend(); // Ctrl-Z cannot stop a server: ignored
+        self.session.frame(now, out)
+    }
+
+    /// When [`frame`](Self::frame) is due next if nothing arrives ([`Session::next_wake`]).
+    #[must_use]
+    pub fn next_wake(&self, now: f64) -> Option<f64> {
+        self.session.next_wake(now)
+    }
+
+    /// Whether the player quit (q, Esc, Ctrl-C).
+    #[must_use]
+    pub fn is_over(&self) -> bool {
+        self.session.is_over()
+    }
+
+    /// Input bytes dropped by the rate limit so far.
+    #[must_use]
+    pub fn dropped(&self) -> u64 {
+        self.dropped
+    }
+
+    /// Where the player stands, which way it faces (degrees) and in which cell.
+    #[must_use]
+    pub fn whereabouts(&self) -> (Vec2, f32, u32) {
+        let app = self.session.app();
+        (app.camera.position, app.camera.yaw_deg, app.cell)
+    }
+
+    /// Whether another player at `position` in `cell` shows on this player's screen: in a cell the
+    /// last frame's portal pass reached, or on its map.
+    #[must_use]
+    pub fn shows(&self, position: Vec2, cell: u32) -> bool {
+        self.session.sees_cell(cell) || self.session.map_area().is_some_and(|area| area.shows(position))
+    }
+
+    /// The other players to draw (the next frame is drawn only if they changed).
+    pub fn set_peers(&mut self, peers: &[Peer]) -> bool {
+        self.session.set_peers(peers)
+    }
+
+    /// The session, to read.
+    #[must_use]
+    pub fn session(&self) -> &Session {
+        &self.session
+    }
+
+    /// The session, to change (a notice, say).
+    pub fn session_mut(&mut self) -> &mut Session {
+        &mut self.session
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn player(cols: u32, rows: u32) -> Player {
+        Player::new(
+            mazewalk_maze::builtin().unwrap(),
+            "xterm-256color",
+            None,
+            (cols, rows),
+            &Limits::default(),
+            0.0,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn names_keep_only_harmless_ascii_and_are_capped() {
+        assert_eq!(player_name("alice"), "alice");
+        assert_eq!(player_name("\x1b[31mbob\x07"), "31mbob");
+        assert_eq!(player_name("ünï cødé"), "ncd");
+        assert_eq!(player_name(""), "player");
+        assert_eq!(player_name("\u{202e}\u{200b}"), "player");
+        assert_eq!(player_name(&"x".repeat(10_000)).len(), MAX_NAME);
+    }
+
+    #[test]
+    fn sizes_are_clamped_and_zero_means_unknown() {
+        let limits = Limits::default();
+        assert_eq!(clamp_size(0, 0, &limits), mazewalk_walk::session::DEFAULT_SIZE);
+        assert_eq!(clamp_size(65535, 65535, &limits), (limits.max_cols, limits.max_rows));
+        assert_eq!(clamp_size(u32::MAX, 1, &limits), (limits.max_cols, 1));
+        let p = player(65535, 65535);
+        assert_eq!((p.session().screen().width(), p.session().screen().height()), (400, 150));
+    }
+
+    #[test]
+    fn colour_depth_follows_term_and_colorterm() {
+        assert_eq!(color_depth("xterm-256color", None), ColorDepth::Ansi256);
+        assert_eq!(color_depth("xterm-256color", Some("truecolor")), ColorDepth::TrueColor);
+        assert_eq!(color_depth("dumb", None), ColorDepth::None);
+        assert_eq!(color_depth("", None), ColorDepth::Ansi16);
+    }
+
+    #[test]
+    fn leaving_restores_everything_entering_turned_on() {
+        let mut p = player(80, 24);
+        let (mut enter, mut leave) = (Vec::new(), Vec::new());
+        p.enter(&mut enter);
+        p.leave(Some("bye"), &mut leave);
+        let (enter, leave) = (String::from_utf8(enter).unwrap(), String::from_utf8(leave).unwrap());
+        assert!(enter.contains("\x1b[?1049h") && enter.contains("\x1b[>") && enter.ends_with("\x1b[?u"));
+        for undo in ["\x1b[<1u", "\x1b[?1000l", "\x1b[?25h", "\x1b[?1049l"] {
+            assert!(leave.contains(undo), "{undo:?} in {leave:?}");
+        }
+        assert!(leave.ends_with("bye\r\n"));
+    }
+
+    #[test]
+    fn input_beyond_the_rate_is_dropped_and_q_still_quits_later() {
+        let mut p = player(80, 24);
+        let flood = vec![b'x'; 200_000];
+        p.feed(&flood, 0.0);
+        assert_eq!(p.dropped(), 200_000 - u64::from(Limits::default().input_burst));
+        p.feed(b"q", 5.0);
+        assert!(p.is_over());
+    }
+
+    /// A paste of 30,000 arrow keys (90 KB) through the rate limit, at once and in ssh's 16 KB
+    /// reads: cuts fell inside sequences, and a cut right after an ESC (the 64 KiB burst is 21,845
+    /// arrows and one byte) left the Esc key once the paste paused, which quit. The arrows let through
+    /// turn; nothing else happens; after a pause `q` quits.
+    #[test]
+    fn a_flood_of_arrow_keys_cut_by_the_rate_limit_only_turns() {
+        let arrows = b"\x1b[C".repeat(30_000);
+        assert_eq!(Limits::default().input_burst % 3, 1, "the premise: the burst ends after an ESC");
+        for chunk in [arrows.len(), 16 * 1024 + 1] {
+            let mut p = player(80, 24);
+            let heading = p.session.app().camera.yaw_deg;
+            for (i, part) in arrows.chunks(chunk).enumerate() {
+                p.feed(part, i as f64 * 0.01);
+                let mut out = Vec::new();
+                p.frame(i as f64 * 0.01 + 0.005, &mut out);
+            }
+            assert!(p.dropped() > 0, "the premise: the rate limit cut");
+            let mut out = Vec::new();
+            p.frame(1.0, &mut out);
+            assert!(!p.is_over(), "{chunk}-byte reads: quit");
+            assert_ne!(p.session.app().camera.yaw_deg, heading, "the arrows let through turn");
+            p.feed(b"q", 2.0);
+            assert!(p.is_over());
+        }
+    }
+
+    #[test]
+    fn only_keys_count_as_input_not_the_terminals_answers() {
+        assert!(only_replies(b"\x1b[?62;22c"));
+        assert!(only_replies(b"\x1b[?62;22c\x1b[?1u\x1b[?1;2c"));
+        assert!(!only_replies(b"\x1b[?62;22cw"));
+        assert!(!only_replies(b"w"));
+        assert!(!only_replies(b"\x1b[?62;22"), "a cut answer may be anything");
+        assert!(!only_replies(b"\x1b[D"));
+        let mut p = player(80, 24);
+        assert!(!p.feed(b"\x1b[?62;22c", 0.0));
+        assert!(p.feed(b"w", 0.1));
+    }
+
+    #[test]
+    fn a_kitty_answer_with_event_types_turns_releases_on() {
+        let mut p = player(80, 24);
+        assert!(!p.session().app().releases);
+        p.enter(&mut Vec::new());
+        p.feed(b"\x1b[?3u", 0.0);
+        assert!(p.session().app().releases);
+    }
+
+    /// Only the answer to the query counts: the same bytes unasked (pasted, forged), or a second
+    /// answer, leave releases as they are, so taps stay taps.
+    #[test]
+    fn an_unasked_kitty_answer_changes_nothing() {
+        let mut p = player(80, 24);
+        p.feed(b"\x1b[?3u", 0.0);
+        assert!(!p.session().app().releases, "unasked");
+        p.enter(&mut Vec::new());
+        p.feed(b"\x1b[?1u", 0.1); // the answer: no event types
+        p.feed(b"\x1b[?3u", 0.2); // a second one, unasked
+        assert!(!p.session().app().releases, "only the first answer counts");
+    }
+
+    #[test]
+    fn peers_redraw_only_when_they_change() {
+        let mut p = player(80, 24);
+        let mut out = Vec::new();
+        assert!(p.frame(0.0, &mut out));
+        let (position, _, cell) = p.whereabouts();
+        assert!(p.shows(position, cell), "the player's own cell is in view");
+        let peer =
+            Peer { position, heading_deg: 0.0, initial: 'B', color: PLAYER_COLORS[1], cell: Some(cell) };
+        assert!(p.set_peers(&[peer]));
+        assert!(!p.set_peers(&[peer]), "the same peers: nothing to redraw");
+        p.feed(b"\x1b[?62;22c", 0.5);
+        assert!(p.frame(0.5, &mut out));
+        assert!(!p.frame(1.0, &mut out), "nothing changed since");
+    }
+}

@@ -1,0 +1,914 @@
+//! The frame encoder: a [`Frame`] in, the fewest bytes that make the terminal show it out.
+//!
+//! Pure: no I/O, no crossterm. The encoder remembers the frame it last sent (what the terminal shows)
+//! and the terminal's cursor and colour state, then writes only what changed, choosing for each step
+//! the cheapest of the equivalent escape sequences:
+//!
+//! - **cursor moves** (`encoder/cursor.rs`): absolute `CUP`, relative `CUF`/`CUB`/`CUD`/`CUU`,
+//!   `CHA`/`VPA`, `\r`, `\r\n`, backspace; or (here) simply rewriting a short unchanged gap when that is
+//!   fewer bytes;
+//! - **colours** (`encoder/sgr.rs`): one `SGR` per change, fg and bg combined, in the shortest form
+//!   (`30–37`, `90–97`, `38;5;n`, `38;2;r;g;b`, or a reset `\x1b[0;…m` when that is shorter);
+//! - **blank tails**: erase-to-end-of-line `\x1b[K` when it is cheaper than writing the blanks;
+//! - **full paints** (first frame, resize, [`Encoder::invalidate`]): clear the screen to the background
+//!   that saves the most, then send the frame as a diff against that blank screen.
+//!
+//! A frame is one buffer wrapped in synchronized output (`\x1b[?2026h` … `\x1b[?2026l`, ignored by
+//! terminals without it); an unchanged frame is zero bytes.
+//!
+//! Two facts about cells the encoder relies on: every glyph is one column wide (the [`Frame`]
+//! guarantees it), and a space shows only its background, so a space's foreground is neither sent nor
+//! compared.
+//!
+//! Terminal behaviour assumed (xterm and everything that imitates it): after a glyph in the last column
+//! the cursor is in the "pending wrap" state, whose position terminals disagree on, so the next move is
+//! absolute; `\n` may or may not imply `\r` (raw mode clears `OPOST`, but who knows), so it is only sent
+//! where both readings agree; erasures fill with the current background ("BCE"), which
+//! [`Encoder::set_bce`] can turn off for terminals that don't (GNU screen).
+
+mod cursor;
+mod sgr;
+
+use std::collections::HashMap;
+
+use crate::frame::{Frame, PackedCell, PackedColor};
+use cursor::{move_len, write_move};
+use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
+
+/// Begin synchronized update (DEC mode 2026): the terminal holds the screen until the end marker.
+pub const SYNC_BEGIN: &[u8] = b"\x1b[?2026h";
+/// End synchronized update.
+pub const SYNC_END: &[u8] = b"\x1b[?2026l";
+
+/// The colour tolerance the walkthrough uses ([`Encoder::set_tolerance`]): one 8-bit step per channel,
+/// below what anyone can see, and a sixth fewer bytes while walking in truecolor (see BENCHMARKS.md).
+pub const DEFAULT_TOLERANCE: u8 = 1;
+
+/// The largest colour tolerance accepted (8-bit steps per channel).
+pub const MAX_TOLERANCE: u8 = 16;
+
+/// A rewrite of unchanged cells longer than this never beats a cursor move (`CUP` is at most ~12 bytes).
+const MAX_REWRITE: usize = 12;
+
+/// What one [`Encoder::encode`] call did, for the HUD and benchmarks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EncodeStats {
+    /// Bytes appended to the output buffer (0 when nothing changed).
+    pub bytes: usize,
+    /// Cells whose look changed; every cell on a full paint.
+    pub cells_changed: usize,
+    /// Whether this was a full paint (first frame, resize or after [`Encoder::invalidate`]).
+    pub full_paint: bool,
+}
+
+/// Encodes frames as terminal output, diffing each against the previous one.
+///
+/// ```
+/// use mazewalk_term::frame::Frame;
+/// use mazewalk_term::encoder::Encoder;
+///
+/// let mut encoder = Encoder::new();
+/// let mut out = Vec::new();
+/// let mut frame = Frame::new(40, 2);
+/// encoder.encode(&frame, &mut out); // first frame: a full paint
+/// out.clear();
+/// encoder.encode(&frame, &mut out);
+/// assert!(out.is_empty()); // nothing changed: nothing sent
+/// frame.set(30, 1, mazewalk_term::frame::Cell::plain('x'));
+/// let stats = encoder.encode(&frame, &mut out);
+/// assert_eq!(stats.cells_changed, 1);
+/// assert_eq!(out, b"\x1b[?2026h\x1b[2;31Hx\x1b[?2026l"); // sync begin, move, glyph, sync end
+/// ```
+#[derive(Clone, Debug)]
+pub struct Encoder {
+    /// What the terminal shows, as far as we know (row-major, `width` × `height`); meaningless while
+    /// `valid` is false.
+    screen: Vec<PackedCell>,
+    width: usize,
+    height: usize,
+    valid: bool,
+    pen: Pen,
+    bce: bool,
+    /// Truecolor cells within this many 8-bit steps per channel of what is on screen are left as they are.
+    tolerance: u8,
+    /// Scratch for the frame as sent: `frame` up to `tolerance` (the screen where close, the pen's
+    /// colours where close); swapped into `screen` after each encode.
+    effective: Vec<PackedCell>,
+    /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
+    differs: Vec<bool>,
+}
+
+impl Default for Encoder {
+    fn default() -> Self {
+        Encoder::new()
+    }
+}
+
+impl Encoder {
+    /// An encoder whose first frame will be a full paint. Assumes BCE (see [`Encoder::set_bce`]).
+    #[must_use]
+    pub fn new() -> Encoder {
+        Encoder {
+            screen: Vec::new(),
+            width: 0,
+            height: 0,
+            valid: false,
+            pen: Pen::UNKNOWN,
+            bce: true,
+            tolerance: 0,
+            effective: Vec::new(),
+            differs: Vec::new(),
+        }
+    }
+
+    /// Forget what the terminal shows: the next frame is a full paint (after resume, a reset, a resize).
+    pub fn invalidate(&mut self) {
+        self.valid = false;
+        self.pen = Pen::UNKNOWN;
+    }
+
+    /// Whether erasures fill with the current background (true for xterm, VTE, kitty, tmux…; false for
+    /// GNU screen without `defbce on`). Without BCE only default-background blanks are erased.
+    pub fn set_bce(&mut self, bce: bool) {
+        self.bce = bce;
+        self.invalidate();
+    }
+
+    /// Leave a truecolor cell as the screen shows it while each of its colours is within `steps` 8-bit
+    /// steps per channel of the new frame's (default 0: exact). The screen then differs from the frame by
+    /// at most that much, never more: each frame is compared with what the screen shows.
+    pub fn set_tolerance(&mut self, steps: u8) {
+        self.tolerance = steps;
+    }
+
+    /// Appends to `out` the bytes that turn the previous frame into `frame`: nothing if they are equal,
+    /// a full paint if there is no (valid, same-sized) previous frame.
+    pub fn encode(&mut self, frame: &Frame, out: &mut Vec<u8>) -> EncodeStats {
+        let start = out.len();
+        let (width, height) = (frame.width(), frame.height());
+        let full_paint = !self.valid || (self.width, self.height) != (width, height);
+        out.extend_from_slice(SYNC_BEGIN);
+        // `sent`: the frame as it will be on screen, which the tolerance may leave a little off `frame`;
+        // packed, as every comparison and price below reads it.
+        let sent = &mut self.effective;
+        sent.clear();
+        sent.extend(frame.cells().iter().map(PackedCell::pack));
+        let cells_changed = if full_paint {
+            self.pen = paint_full(sent, width, self.bce, out);
+            sent.len()
+        } else {
+            diff(&self.screen, sent, width, self.bce, self.tolerance, &mut self.pen, out, &mut self.differs)
+        };
+        let body = out.len() - start - SYNC_BEGIN.len();
+        if body == 0 {
+            out.truncate(start);
+        } else {
+            out.extend_from_slice(SYNC_END);
+        }
+        std::mem::swap(&mut self.screen, &mut self.effective); // the screen is now what was sent
+        (self.width, self.height) = (width, height);
+        self.valid = true;
+        EncodeStats { bytes: out.len() - start, cells_changed, full_paint }
+    }
+}
+
+/// `frame` as text lines for a pipe or a file (`mazewalk render`): no cursor moves, each line starts
+/// from default colours, sets them only where they change and ends with a reset and `\n`. A frame of
+/// default colours gives plain text.
+pub fn ansi_lines(frame: &Frame, out: &mut Vec<u8>) {
+    for y in 0..frame.height() {
+        let mut pen = Pen { cursor: None, fg: Some(PackedColor::DEFAULT), bg: Some(PackedColor::DEFAULT) };
+        for cell in frame.row(y).unwrap_or(&[]).iter().map(PackedCell::pack) {
+            let fg = (cell.ch != ' ').then_some(cell.fg);
+            write_sgr(out, &mut pen, fg, Some(cell.bg));
+            push_char(out, cell.ch);
+        }
+        if pen.fg != Some(PackedColor::DEFAULT) || pen.bg != Some(PackedColor::DEFAULT) {
+            out.extend_from_slice(SGR_RESET);
+        }
+        out.push(b'\n');
+    }
+}
+
+/// The terminal state the encoder tracks; `None` means unknown.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Pen {
+    /// Cursor (column, row); unknown at start and after a glyph in the last column (pending wrap).
+    cursor: Option<(usize, usize)>,
+    fg: Option<PackedColor>,
+    bg: Option<PackedColor>,
+}
+
+impl Pen {
+    const UNKNOWN: Pen = Pen { cursor: None, fg: None, bg: None };
+}
+
+/// Clears the screen and paints `frame`, choosing the clear colour that gives the fewest bytes.
+fn paint_full(frame: &[PackedCell], width: usize, bce: bool, out: &mut Vec<u8>) -> Pen {
+    let start = out.len();
+    let pen = clear_and_paint(frame, width, PackedColor::DEFAULT, bce, out);
+    // Clearing to the most common blank background saves writing those blanks (needs BCE).
+    let Some(bg) = bce.then(|| most_common_blank_bg(frame)).flatten() else { return pen };
+    let mut alt = Vec::with_capacity(out.len() - start);
+    let alt_pen = clear_and_paint(frame, width, bg, bce, &mut alt);
+    if alt.len() < out.len() - start {
+        out.truncate(start);
+        out.extend_from_slice(&alt);
+        return alt_pen;
+    }
+    pen
+}
+
+/// Resets SGR, sets the background `bg`, clears the screen, then sends `frame` as a diff.
+fn clear_and_paint(frame: &[PackedCell], width: usize, bg: PackedColor, bce: bool, out: &mut Vec<u8>) -> Pen {
+    let mut pen = Pen::UNKNOWN;
+    // The reset form also clears attributes we don't track (bold…) that someone else may have left.
+    write_sgr_reset(out, &mut pen, None, Some(bg));
+    out.extend_from_slice(b"\x1b[2J");
+    let blank = vec![PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg }; frame.len()];
+    // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
+    diff(&blank, &mut frame.to_vec(), width, bce, 0, &mut pen, out, &mut Vec::new());
+    pen
+}
+
+/// The most common background of space cells, if it is not the default. Ties go to the default, then
+/// to the colour met first (row-major), so that a frame always encodes to the same bytes.
+fn most_common_blank_bg(frame: &[PackedCell]) -> Option<PackedColor> {
+    // Colour -> (blanks, index of its first blank).
+    let mut counts: HashMap<PackedColor, (usize, usize)> = HashMap::new();
+    for (i, cell) in frame.iter().enumerate().filter(|(_, c)| c.ch == ' ') {
+        counts.entry(cell.bg).or_insert((0, i)).0 += 1;
+    }
+    let (bg, _) = counts
+        .into_iter()
+        .max_by_key(|&(bg, (n, first))| (n, bg == PackedColor::DEFAULT, std::cmp::Reverse(first)))?;
+    (bg != PackedColor::DEFAULT).then_some(bg)
+}
+
+/// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
+/// truecolor cell of `new` within `tolerance` of `old` is left as `old` shows it, and a changed one may
+/// take the pen's colour where that is within `tolerance` of its own (one SGR less); `new` is updated
+/// to what was sent. `differs` is scratch ([`mark_changes`]).
+#[allow(clippy::too_many_arguments)]
+fn diff(
+    old: &[PackedCell],
+    new: &mut [PackedCell],
+    width: usize,
+    bce: bool,
+    tolerance: u8,
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    differs: &mut Vec<bool>,
+) -> usize {
+    debug_assert_eq!(old.len(), new.len());
+    let width = width.max(1);
+    let mut changed = 0;
+    for (y, (old_row, new_row)) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)).enumerate() {
+        mark_changes(old_row, new_row, tolerance, differs);
+        let tail = erasable_tail(new_row, bce);
+        changed += diff_row(pen, out, y, 0, new_row, &differs[..], tail, tolerance);
+    }
+    changed
+}
+
+/// Which cells of row `new` look different from row `old` (one look comparison a cell: the diff's
+/// searches read the flags). A truecolor cell within `tolerance` of `old` is first set to `old`.
+fn mark_changes(old: &[PackedCell], new: &mut [PackedCell], tolerance: u8, differs: &mut Vec<bool>) {
+    differs.clear();
+    differs.extend(old.iter().zip(new).map(|(shown, cell)| {
+        if shown == cell {
+            return false; // the common case, inline
+        }
+        // Only truecolor colours can be close without being equal; a cell not within the tolerance
+        // does not look the same either (one comparison).
+        if tolerance > 0 && cell.has_rgb() {
+            let within = shown.looks_within(cell, tolerance);
+            if within {
+                *cell = *shown;
+            }
+            return !within;
+        }
+        !shown.looks_within(cell, 0)
+    }));
+}
+
+/// Where a row's tail of same-background spaces starts, and that background, if `\x1b[K` may erase it.
+fn erasable_tail(row: &[PackedCell], bce: bool) -> Option<(usize, PackedColor)> {
+    let last = row.last().filter(|c| c.ch == ' ')?;
+    if !bce && last.bg != PackedColor::DEFAULT {
+        return None;
+    }
+    let len = row.iter().rev().take_while(|c| c.ch == ' ' && c.bg == last.bg).count();
+    Some((row.len() - len, last.bg))
+}
+
+/// Encodes the changes of row `y` from column `from` on (`differs`: which cells differ from the screen);
+/// returns the number of cells changed. Changed cells are written within `tolerance` of `new` ([`write_cell`]) and `new` records what was sent.
+#[allow(clippy::too_many_arguments)]
+fn diff_row(
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    y: usize,
+    from: usize,
+    new: &mut [PackedCell],
+    differs: &[bool],
+    tail: Option<(usize, PackedColor)>,
+    tolerance: u8,
+) -> usize {
+    let width = new.len();
+    let mut changed = 0;
+    let mut from = from;
+    while let Some(x) = (from..width).find(|&i| differs[i]) {
+        if let Some((start, bg)) = tail
+            && x >= start
+        {
+            // Everything left to change is blank: erase to end of line, or write the cells, whichever is
+            // shorter (try both, keep the shorter).
+            changed += differs[x..].iter().filter(|&&d| d).count();
+            let mark = out.len();
+            let mut erase = *pen;
+            reach(&mut erase, out, y, x, new, Then::Erase(bg));
+            let erase_len = out.len() - mark;
+            out.truncate(mark);
+            let mut write = *pen;
+            // Exact (tolerance 0): a trial, so it must leave `new` as it is.
+            diff_row(&mut write, out, y, x, new, differs, None, 0);
+            if erase_len < out.len() - mark {
+                out.truncate(mark);
+                reach(pen, out, y, x, new, Then::Erase(bg));
+            } else {
+                *pen = write;
+            }
+            return changed;
+        }
+        if let Some(sent) = reach(pen, out, y, x, new, Then::Cell(new[x], tolerance)) {
+            new[x] = sent;
+        }
+        changed += 1;
+        from = x + 1;
+    }
+    changed
+}
+
+/// What [`reach`] does once the cursor is there.
+#[derive(Clone, Copy, Debug)]
+enum Then {
+    /// Write this cell, within this tolerance ([`write_cell`]).
+    Cell(PackedCell, u8),
+    /// Erase to the end of the line in this background.
+    Erase(PackedColor),
+}
+
+impl Then {
+    /// Does it; returns the cell as sent.
+    fn write(self, out: &mut Vec<u8>, pen: &mut Pen, width: usize) -> Option<PackedCell> {
+        match self {
+            Then::Cell(cell, tolerance) => Some(write_cell(out, pen, &cell, width, tolerance)),
+            Then::Erase(bg) => {
+                write_sgr(out, pen, None, Some(bg));
+                out.extend_from_slice(b"\x1b[K");
+                None
+            }
+        }
+    }
+
+    /// The bytes [`Then::write`] would send, leaving `pen` as it would.
+    fn price(self, pen: &mut Pen, width: usize) -> usize {
+        match self {
+            Then::Cell(cell, tolerance) => price_cell(pen, &cell, width, tolerance),
+            Then::Erase(bg) => {
+                let sgr = Sgr::new(pen, None, Some(bg));
+                sgr.apply(pen);
+                sgr.len() + 3
+            }
+        }
+    }
+}
+
+/// Puts the cursor on column `x` of row `y` and does `then`, by the cheapest route: a cursor move, or
+/// a move to an earlier column and a rewrite of the unchanged cells in between (from `row`). Returns
+/// the cell sent, if `then` sends one.
+fn reach(
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    y: usize,
+    x: usize,
+    row: &[PackedCell],
+    then: Then,
+) -> Option<PackedCell> {
+    let width = row.len();
+    let mut starts = [None, None];
+    if pen.cursor != Some((x, y)) {
+        if let Some((cx, cy)) = pen.cursor
+            && cy == y
+            && cx < x
+            && x - cx <= MAX_REWRITE
+        {
+            starts[0] = Some(cx);
+        }
+        if (1..=MAX_REWRITE).contains(&x) {
+            starts[1] = Some(0);
+        }
+    }
+    // The routes are priced, not written, and a rewrite stops being priced once it costs more than
+    // the best so far. The cheapest wins; of equals, the one starting furthest left (a rewrite beats
+    // the plain move on a tie). The plain move leaves the colours as they are: the target's form from
+    // the pen now is the one it would be written in, found once.
+    let plain_form = match then {
+        Then::Cell(cell, tolerance) => Some(cell_form(pen, &cell, tolerance)),
+        Then::Erase(_) => None,
+    };
+    let mut from = x;
+    if starts.iter().any(Option::is_some) {
+        let mut moved = *pen;
+        let mut best = move_len(&mut moved, x, y)
+            + match plain_form {
+                Some((cell, sgr)) => sgr.len() + cell.ch.len_utf8(),
+                None => then.price(&mut moved, width),
+            };
+        for start in starts.into_iter().flatten() {
+            if let Some(len) = price_route(pen, y, start, x, row, then, best) {
+                (best, from) = (len, start).min((best, from));
+            }
+        }
+    }
+    write_move(out, pen, from, y);
+    for cell in &row[from..x] {
+        write_cell(out, pen, cell, width, 0); // on screen already: exactly as it is
+    }
+    match plain_form {
+        Some(form) if from == x => Some(write_form(out, pen, form, width)),
+        _ => then.write(out, pen, width),
+    }
+}
+
+/// The bytes of the route to column `x` that moves to column `from` and rewrites the cells between,
+/// then does `then`, if at most `limit`.
+fn price_route(
+    pen: &Pen,
+    y: usize,
+    from: usize,
+    x: usize,
+    row: &[PackedCell],
+    then: Then,
+    limit: usize,
+) -> Option<usize> {
+    let mut pen = *pen;
+    let mut len = move_len(&mut pen, from, y);
+    // First a floor from the glyphs alone (each cell's shortest form, a blank where it may go as one).
+    let floor: usize =
+        row[from..x]
+            .iter()
+            .map(|cell| {
+                if cell.ch == ' ' || cell.ch == '█' || cell.fg == cell.bg { 1 } else { cell.ch.len_utf8() }
+            })
+            .sum();
+    if len + floor + 1 > limit {
+        return None;
+    }
+    for cell in &row[from..x] {
+        len += price_cell(&mut pen, cell, row.len(), 0);
+        if len > limit {
+            return None;
+        }
+    }
+    len += then.price(&mut pen, row.len());
+    (len <= limit).then_some(len)
+}
+
+/// The form `cell` goes in from `pen` and its colour change: of the cell and its [`PackedCell::inverse`]
+/// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
+/// are within `tolerance` of the cell's.
+fn cell_form(pen: &Pen, cell: &PackedCell, tolerance: u8) -> (PackedCell, Sgr) {
+    find_form(pen, cell, tolerance, true)
+}
+
+/// [`cell_form`]; `shortcut`: skip the inverse forms where they cannot win (false: the whole
+/// search, the oracle the tests hold the shortcut to).
+fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (PackedCell, Sgr) {
+    let cell = cell.canonical();
+    let priced = |cell: PackedCell| (cell, Sgr::to_cell(pen, &cell));
+    // (A cell that needs no colour change is never beaten: the searches below start only past it.)
+    if tolerance == 0 || !cell.has_rgb() {
+        let plain = priced(cell);
+        if plain.1.len() > 0
+            && let Some(inverse) = cell.inverse().map(priced)
+            && inverse.1.len() < plain.1.len()
+        {
+            return inverse;
+        }
+        return plain;
+    }
+    // The pen's colours where close enough; a glyph they leave in one colour may go as a blank.
+    let near_pen = |mut cell: PackedCell| {
+        let keep = |want: PackedColor, pen: Option<PackedColor>| pen.filter(|p| p.within(want, tolerance));
+        cell.fg = keep(cell.fg, pen.fg).unwrap_or(cell.fg);
+        cell.bg = keep(cell.bg, pen.bg).unwrap_or(cell.bg);
+        cell
+    };
+    let plain = near_pen(cell);
+    let mut best = priced(plain);
+    // Two truecolor colours, neither near the pen's other one: the inverse changes both colours, at
+    // the lengths the plain form's worst case has, so it cannot be shorter; and the plain form's two
+    // colours differ (the pen could only merge them by being near both), so it has no blank form.
+    let both_far = |pen: &Pen| {
+        cell.fg.is_rgb()
+            && cell.bg.is_rgb()
+            && !pen.fg.is_some_and(|p| p.within(cell.bg, tolerance))
+            && !pen.bg.is_some_and(|p| p.within(cell.fg, tolerance))
+    };
+    if shortcut && best.1.len() > 0 && both_far(pen) {
+        return best;
+    }
+    if best.1.len() > 0 {
+        let inverse = cell.inverse().map(near_pen);
+        // The first of the cheapest, in this order (a canonical form only where it differs).
+        for candidate in
+            [Some(plain.canonical()), inverse, inverse.map(|c| c.canonical())].into_iter().flatten()
+        {
+            if candidate != best.0 {
+                let priced = priced(candidate);
+                if priced.1.len() < best.1.len() {
+                    best = priced;
+                }
+            }
+        }
+    }
+    best
+}
+
+/// Writes one cell at the cursor in the form [`cell_form`] chooses: colours if needed, then the
+/// glyph; returns the cell as sent.
+fn write_cell(
+    out: &mut Vec<u8>,
+    pen: &mut Pen,
+    cell: &PackedCell,
+    width: usize,
+    tolerance: u8,
+) -> PackedCell {
+    write_form(out, pen, cell_form(pen, cell, tolerance), width)
+}
+
+/// Writes a cell in the form [`cell_form`] found from `pen`; returns the cell as sent.
+fn write_form(out: &mut Vec<u8>, pen: &mut Pen, (cell, sgr): (PackedCell, Sgr), width: usize) -> PackedCell {
+    sgr.write(out, pen);
+    push_char(out, cell.ch);
+    advance(pen, width);
+    cell
+}
+
+/// The bytes [`write_cell`] would send, leaving `pen` as it would.
+fn price_cell(pen: &mut Pen, cell: &PackedCell, width: usize, tolerance: u8) -> usize {
+    let (cell, sgr) = cell_form(pen, cell, tolerance);
+    sgr.apply(pen);
+    advance(pen, width);
+    sgr.len() + cell.ch.len_utf8()
+}
+
+/// The cursor after a glyph.
+fn advance(pen: &mut Pen, width: usize) {
+    pen.cursor = match pen.cursor {
+        Some((x, y)) if x + 1 < width => Some((x + 1, y)),
+        _ => None, // after the last column: pending wrap, position unreliable
+    };
+}
+
+fn push_char(out: &mut Vec<u8>, ch: char) {
+    let mut buf = [0; 4];
+    // Copies of a fixed length, without a call to `memcpy`: block glyphs are three bytes.
+    match ch.encode_utf8(&mut buf).len() {
+        1 => out.push(buf[0]),
+        3 => out.extend_from_slice(&buf[..3]),
+        len => out.extend_from_slice(&buf[..len]),
+    }
+}
+
+/// `n` in decimal.
+fn push_num(out: &mut Vec<u8>, n: usize) {
+    // Colour channels and short moves, the usual numbers, without the loop.
+    match n {
+        0..=9 => return out.push(b'0' + n as u8),
+        10..=99 => return out.extend_from_slice(&[b'0' + (n / 10) as u8, b'0' + (n % 10) as u8]),
+        100..=255 => {
+            return out.extend_from_slice(&[
+                b'0' + (n / 100) as u8,
+                b'0' + (n / 10 % 10) as u8,
+                b'0' + (n % 10) as u8,
+            ]);
+        }
+        _ => {}
+    }
+    let mut digits = [0u8; 20];
+    let mut i = digits.len();
+    let mut n = n;
+    loop {
+        i -= 1;
+        digits[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    out.extend_from_slice(&digits[i..]);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frame::{Cell, Color};
+
+    fn packed(frame: &Frame) -> Vec<PackedCell> {
+        frame.cells().iter().map(PackedCell::pack).collect()
+    }
+
+    /// A pen at `cursor` with these colours.
+    fn pen(cursor: Option<(usize, usize)>, fg: Option<Color>, bg: Option<Color>) -> Pen {
+        Pen { cursor, fg: fg.map(PackedColor::pack), bg: bg.map(PackedColor::pack) }
+    }
+
+    /// Escape codes carry their numbers in plain decimal: every number the fast paths cover and
+    /// their edges, then the loop's (moves across wide screens, and the largest `usize`).
+    #[test]
+    fn push_num_writes_plain_decimal() {
+        let edges = [256, 999, 1000, 4095, 65535, 1 << 20, 1 << 31, usize::MAX / 10, usize::MAX];
+        for n in (0..=2000).chain(edges) {
+            let mut out = b"x".to_vec();
+            push_num(&mut out, n);
+            assert_eq!(out, format!("x{n}").into_bytes(), "{n}");
+        }
+    }
+
+    /// A cell goes as itself or as its inverse, whichever needs fewer colour bytes from the pen:
+    /// `▄` in B on A, with the pen at A on B, is `▀` in A on B and needs no colour code — at any
+    /// tolerance, in palette colours and in truecolor.
+    #[test]
+    fn a_cell_goes_as_its_inverse_when_the_pen_already_has_its_colours() {
+        for (a, b) in
+            [(Color::Indexed(4), Color::Indexed(11)), (Color::Rgb(10, 20, 30), Color::Rgb(200, 100, 0))]
+        {
+            for tolerance in [0, 1] {
+                let mut pen = pen(Some((0, 0)), Some(a), Some(b));
+                let mut out = Vec::new();
+                let cell = PackedCell::pack(&Cell { ch: '▄', fg: b, bg: a });
+                let sent = write_cell(&mut out, &mut pen, &cell, 10, tolerance);
+                assert_eq!(String::from_utf8(out).unwrap(), "▀", "{a:?} on {b:?}, tolerance {tolerance}");
+                assert_eq!(sent.unpack(), Cell { ch: '▀', fg: a, bg: b });
+                let (a, b) = (PackedColor::pack(a), PackedColor::pack(b));
+                assert_eq!((pen.fg, pen.bg, pen.cursor), (Some(a), Some(b), Some((1, 0))));
+            }
+        }
+    }
+
+    /// Routes are chosen by price, so a price must be exactly what writing sends and leave the pen as
+    /// writing does: every glyph kind, colour kind and pen (unknown, default, equal, near, far), at
+    /// tolerance 0 and 2, the cell in the middle and in the last column.
+    #[test]
+    fn a_cell_is_priced_at_exactly_the_bytes_it_is_written_in() {
+        let colors = [
+            Color::Default,
+            Color::Indexed(3),
+            Color::Indexed(12),
+            Color::Indexed(200),
+            Color::Rgb(10, 20, 30),
+            Color::Rgb(11, 21, 29),
+            Color::Rgb(200, 100, 0),
+        ];
+        let pens = std::iter::once(None).chain(colors.map(Some));
+        let pens: Vec<Option<Color>> = pens.collect();
+        let mut checked = 0;
+        for ch in [' ', '█', '▀', '▄', '▞', '\u{1FB00}', 'x', '·'] {
+            for (fg, bg) in colors.iter().flat_map(|&f| colors.map(|b| (f, b))) {
+                for (&pen_fg, &pen_bg) in pens.iter().flat_map(|f| pens.iter().map(move |b| (f, b))) {
+                    for (tolerance, x) in [(0, 3), (2, 3), (2, 9)] {
+                        let pen = pen(Some((x, 1)), pen_fg, pen_bg);
+                        let (mut written, mut priced) = (pen, pen);
+                        let mut out = Vec::new();
+                        let cell = PackedCell::pack(&Cell { ch, fg, bg });
+                        write_cell(&mut out, &mut written, &cell, 10, tolerance);
+                        let len = price_cell(&mut priced, &cell, 10, tolerance);
+                        assert_eq!((len, priced), (out.len(), written), "{cell:?} from {pen:?}");
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(checked, 8 * 49 * 64 * 3);
+    }
+
+    /// The shortcut past the inverse forms finds what the whole search finds: truecolor cells of
+    /// every glyph kind, colours near and far from every pen, tolerances 1 and 3.
+    #[test]
+    fn the_form_search_shortcut_finds_what_the_whole_search_finds() {
+        let (a, b) = (Color::Rgb(100, 50, 200), Color::Rgb(30, 220, 9));
+        let colors = [a, Color::Rgb(101, 51, 199), b, Color::Rgb(32, 219, 9), Color::Rgb(0, 0, 0)];
+        let pens: Vec<Option<Color>> = [None, Some(Color::Default), Some(Color::Indexed(9))]
+            .into_iter()
+            .chain(colors.map(Some))
+            .collect();
+        for ch in [' ', '█', '▀', '▞', '\u{1FB05}', 'x'] {
+            for (fg, bg) in colors.iter().flat_map(|&f| colors.map(|b| (f, b))) {
+                for (&pen_fg, &pen_bg) in pens.iter().flat_map(|f| pens.iter().map(move |b| (f, b))) {
+                    for tolerance in [1, 3] {
+                        let pen = pen(Some((0, 0)), pen_fg, pen_bg);
+                        let cell = PackedCell::pack(&Cell { ch, fg, bg });
+                        let (fast, whole) = (
+                            find_form(&pen, &cell, tolerance, true),
+                            find_form(&pen, &cell, tolerance, false),
+                        );
+                        assert_eq!((fast.0, fast.1.len()), (whole.0, whole.1.len()), "{cell:?} from {pen:?}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// Nothing changed, nothing sent: not even the synchronized-update brackets.
+    #[test]
+    fn an_unchanged_frame_sends_nothing() {
+        let frame = Frame::from_lines(&["a maze", "walk"]);
+        let mut encoder = Encoder::new();
+        let mut out = b"earlier bytes".to_vec();
+        assert!(encoder.encode(&frame, &mut out).bytes > 0);
+        let before = out.len();
+        let stats = encoder.encode(&frame, &mut out);
+        assert_eq!((stats.bytes, stats.cells_changed, out.len()), (0, 0, before));
+    }
+
+    /// When blanking a row's tail, the shorter of erasing to the end of the line and writing the
+    /// blanks wins (a tie writes): one blank is a space (1 byte) rather than `\x1b[K` (3), eight
+    /// are `\x1b[K`.
+    #[test]
+    fn a_blank_tail_is_erased_or_written_whichever_is_shorter() {
+        let mut encoder = Encoder::new();
+        let mut out = Vec::new();
+        encoder.encode(&Frame::from_lines(&["ab x  "]), &mut out);
+        out.clear();
+        encoder.encode(&Frame::from_lines(&["ab    "]), &mut out);
+        // the cursor stands just after the `x`: back one (BS) and a space
+        assert_eq!(out, b"\x1b[?2026h\x08 \x1b[?2026l");
+        encoder.encode(&Frame::from_lines(&["abcdefghij"]), &mut out);
+        out.clear();
+        encoder.encode(&Frame::from_lines(&["ab        "]), &mut out);
+        assert!(out.windows(3).any(|w| w == b"\x1b[K"), "{:?}", String::from_utf8_lossy(&out));
+        // three blanks or `\x1b[K`: a tie, and the blanks are written (the cursor ends where a
+        // write leaves it, not where the erase began)
+        encoder.encode(&Frame::from_lines(&["abxyz "]), &mut out);
+        out.clear();
+        encoder.encode(&Frame::from_lines(&["ab    "]), &mut out);
+        let text = String::from_utf8_lossy(&out);
+        assert!(text.contains("   ") && !text.contains("\x1b[K"), "{text:?}");
+    }
+
+    /// A full paint is the shorter of its two trials (clear to the default background, or to the
+    /// most common blank one), the default on a tie, whatever `out` held before.
+    #[test]
+    fn a_full_paint_is_the_shorter_trial() {
+        let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
+        let trial = |frame: &Frame, bg: Color| {
+            let mut out = Vec::new();
+            clear_and_paint(&packed(frame), frame.width(), PackedColor::pack(bg), true, &mut out);
+            out
+        };
+        let mut ties = 0;
+        // Frames row by row: `b` a blue blank, `d` a default blank, `x` a letter. "dbb" and "bbxd"
+        // are ties.
+        for rows in [
+            &["dddddddd", "dddddddx"][..],
+            &["bbbddddd", "dddddddx"],
+            &["bbbbbbbb", "bddddddx"],
+            &["bbbbbbbb", "bbbbbbbx"],
+            &["bbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbbb", "bbbbbbbbbbbbbbbbbbbbbbbbbbbbbddddddddddx"],
+            &["dbb"],
+            &["bbxd"],
+        ] {
+            let (width, height) = (rows[0].len(), rows.len());
+            let mut frame = Frame::filled(width, height, Cell::BLANK);
+            for (y, row) in rows.iter().enumerate() {
+                for (x, kind) in row.chars().take(width).enumerate() {
+                    let cell = match kind {
+                        'b' => blue,
+                        'x' => Cell::plain('x'),
+                        _ => Cell::BLANK,
+                    };
+                    frame.set(x, y, cell);
+                }
+            }
+            let (default, coloured) = (trial(&frame, Color::Default), trial(&frame, Color::Indexed(4)));
+            let blue_is_commonest =
+                most_common_blank_bg(&packed(&frame)) == Some(PackedColor::pack(Color::Indexed(4)));
+            ties += usize::from(blue_is_commonest && coloured.len() == default.len());
+            let best = if blue_is_commonest && coloured.len() < default.len() { coloured } else { default };
+            let mut out = vec![b'.'; 100];
+            paint_full(&packed(&frame), frame.width(), true, &mut out);
+            assert_eq!(&out[100..], &best[..], "{rows:?}");
+        }
+        assert_eq!(ties, 2, "the premise: two of the cases are ties");
+    }
+
+    /// `ansi_lines`: a frame in default colours is plain text; colours are set where they change
+    /// and reset at each line's end, so every line reads on its own.
+    #[test]
+    fn ansi_lines_are_plain_text_with_colours_where_they_change() {
+        let mut out = Vec::new();
+        ansi_lines(&Frame::from_lines(&["ab", " c"]), &mut out);
+        assert_eq!(out, b"ab\n c\n");
+        let red = Cell { ch: 'r', fg: Color::Indexed(1), bg: Color::Default };
+        let on_blue = Cell { ch: ' ', fg: Color::Indexed(1), bg: Color::Indexed(4) };
+        let mut frame = Frame::from_lines(&["a  ", "b  "]);
+        frame.set(1, 0, red);
+        frame.set(2, 0, on_blue);
+        let mut out = Vec::new();
+        ansi_lines(&frame, &mut out);
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.split_inclusive('\n').collect();
+        assert_eq!(lines.len(), 2);
+        assert_eq!(lines[1], "b  \n", "the second line needs no colour: the first reset its own");
+        assert!(lines[0].starts_with('a') && lines[0].ends_with("\x1b[0m\n"), "{:?}", lines[0]);
+        // a line ending in a coloured glyph on the default background is reset too
+        let mut out = Vec::new();
+        let mut frame = Frame::from_lines(&["a ", "b "]);
+        frame.set(1, 0, red);
+        ansi_lines(&frame, &mut out);
+        assert!(String::from_utf8(out).unwrap().starts_with("a\x1b[31mr\x1b[0m\nb \n"));
+        // the first line, read back as a terminal would
+        let n = |k| std::num::NonZeroU16::new(k).expect("non-zero");
+        let mut parser = vt100::Parser::new(n(1), n(3), 0);
+        parser.process(lines[0].trim_end_matches('\n').as_bytes());
+        let screen = parser.screen();
+        let cell = |x| screen.cell(0, x).expect("a cell");
+        assert_eq!((cell(0).contents(), cell(0).fgcolor()), ("a", vt100::Color::Default));
+        assert_eq!((cell(1).contents(), cell(1).fgcolor()), ("r", vt100::Color::Idx(1)));
+        assert_eq!(cell(2).bgcolor(), vt100::Color::Idx(4));
+    }
+
+    #[test]
+    fn erasable_tail_needs_spaces_of_one_background_and_bce_for_colour() {
+        let tail =
+            |row: &[Cell], bce| erasable_tail(&row.iter().map(PackedCell::pack).collect::<Vec<_>>(), bce);
+        let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
+        let row = [Cell::plain('a'), Cell::BLANK, blue, blue];
+        assert_eq!(tail(&row, true), Some((2, PackedColor::pack(Color::Indexed(4)))));
+        assert_eq!(tail(&row, false), None);
+        assert_eq!(
+            tail(&[Cell::plain('a'), Cell::BLANK, Cell::BLANK], false),
+            Some((1, PackedColor::DEFAULT))
+        );
+        assert_eq!(tail(&[Cell::BLANK, Cell::plain('a')], true), None);
+    }
+
+    #[test]
+    fn a_blank_tail_is_erased_when_that_is_cheaper() {
+        let mut encoder = Encoder::new();
+        let mut out = Vec::new();
+        encoder.encode(&Frame::from_lines(&["abcdefghij", "x"]), &mut out);
+        out.clear();
+        encoder.encode(&Frame::from_lines(&["ab        ", "x"]), &mut out);
+        // `\x1b[H` + rewriting "ab" (5 bytes) beats `\x1b[1;3H` (6 bytes).
+        assert_eq!(String::from_utf8(out).unwrap(), "\x1b[?2026h\x1b[Hab\x1b[K\x1b[?2026l");
+    }
+
+    #[test]
+    fn a_short_unchanged_gap_is_rewritten_instead_of_jumped() {
+        let mut encoder = Encoder::new();
+        let mut out = Vec::new();
+        encoder.encode(&Frame::from_lines(&["aaaaaaaaaa"]), &mut out);
+        out.clear();
+        encoder.encode(&Frame::from_lines(&["abab      "]), &mut out);
+        // Rewriting the unchanged 'a's at columns 0 and 2 (1 byte each) beats `\x1b[1;2H` and `\x1b[C`.
+        assert_eq!(out, b"\x1b[?2026h\x1b[Habab\x1b[K\x1b[?2026l");
+    }
+
+    #[test]
+    fn full_paint_clears_to_the_most_common_blank_background() {
+        let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
+        let mut frame = Frame::filled(20, 5, blue);
+        frame.set(3, 2, Cell::plain('x'));
+        let mut out = Vec::new();
+        let stats = Encoder::new().encode(&frame, &mut out);
+        assert!(stats.full_paint);
+        assert_eq!(out, b"\x1b[?2026h\x1b[0;44m\x1b[2J\x1b[3;4H\x1b[mx\x1b[?2026l");
+        let mut encoder = Encoder::new();
+        encoder.set_bce(false);
+        out.clear();
+        encoder.encode(&frame, &mut out);
+        assert!(out.len() > 100, "without BCE the blue blanks are written");
+    }
+
+    // issue #11: the clear colour of a full paint depended on `HashMap` order when two tied.
+    #[test]
+    fn full_paint_breaks_a_tie_of_blank_backgrounds_by_the_first_met() {
+        let (blue, red) = (Color::Indexed(4), Color::Indexed(1));
+        let blank = |bg| Cell { ch: ' ', fg: Color::Default, bg };
+        for (first, second) in [(blue, red), (red, blue)] {
+            let mut frame = Frame::filled(4, 2, blank(first));
+            (0..4).for_each(|x| frame.set(x, 1, blank(second)));
+            for _ in 0..20 {
+                // a new hasher seed each time
+                assert_eq!(most_common_blank_bg(&packed(&frame)), Some(PackedColor::pack(first)));
+            }
+        }
+        let mut frame = Frame::filled(4, 2, blank(blue));
+        (0..4).for_each(|x| frame.set(x, 1, Cell::BLANK));
+        assert_eq!(most_common_blank_bg(&packed(&frame)), None, "a tie with the default goes to the default");
+    }
+}

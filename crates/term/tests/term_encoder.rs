@@ -1,0 +1,586 @@
+//! The frame encoder checked by a real terminal emulator: its bytes, fed to `vt100`, must reproduce the
+//! intended frame cell for cell (glyph, foreground, background), over random sequences of frames.
+
+use mazewalk_testkit as common;
+
+use mazewalk_term::blocks::{HALF, QUAD, sextant_glyph};
+use mazewalk_term::encoder::Encoder;
+use mazewalk_term::frame::{Cell, Color, Frame};
+use proptest::prelude::*;
+
+#[path = "support/baseline.rs"]
+mod baseline;
+
+use baseline::{full_repaint, lower_bound};
+
+/// Glyphs the encoder meets: blanks (often, so tails and gaps happen), ASCII, shades, box drawing, block
+/// glyphs with complements (halves, quadrants, sextants). All one column wide, as the `Frame` guarantees.
+const GLYPHS: &[char] = &[
+    ' ', ' ', ' ', 'a', '#', '.', '█', '▓', '░', '─', '│', '┼', '🬀', 'é', '▀', '▄', '▌', '▐', '▘', '▟', '🬻',
+    '🬋',
+];
+
+/// How a cell looks: a block glyph as the colour of each of its 2×6 sub-cells (so `▀` in A on B and
+/// `▄` in B on A look the same), any other glyph as itself, its foreground unless a space, and its
+/// background. Written from the renderer's glyph tables, independently of `Cell::same_look`.
+#[derive(Debug, PartialEq)]
+enum Look {
+    Block([Shown; 12]),
+    Glyph(char, Option<Color>, Color),
+}
+
+/// A colour as a part of a block glyph shows it: the terminal's default foreground and its default
+/// background are two different colours (light grey and black, say), though both are `Default`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Shown {
+    Color(Color),
+    DefaultForeground,
+    DefaultBackground,
+}
+
+/// Sub-cells a block glyph covers (bit `column + 2·row` of a 2-column, 6-row grid), from the
+/// renderer's tables.
+fn coverage(ch: char) -> Option<u16> {
+    // Every table entry as (glyph, sample mask, samples across, samples down).
+    let half = HALF.iter().enumerate().map(|(m, &g)| (g, m, 1, 2));
+    let quad = QUAD.iter().enumerate().map(|(m, &g)| (g, m, 2, 2));
+    let sextant = (0..64u8).map(|m| (sextant_glyph(m), usize::from(m), 2, 3));
+    let mut found = None;
+    for (_, mask, sx, sy) in half.chain(quad).chain(sextant).filter(|entry| entry.0 == ch) {
+        let (w, h) = (2 / sx, 6 / sy); // sub-cells per sample
+        let covered = (0..sx * sy).filter(|k| mask >> k & 1 == 1).flat_map(|k| {
+            let (x, y) = (k % sx, k / sx);
+            (x * w..x * w + w).flat_map(move |col| (y * h..y * h + h).map(move |row| 1u16 << (col + 2 * row)))
+        });
+        let c = covered.sum();
+        assert!(found.is_none_or(|f| f == c), "{ch:?} covers the same in every table");
+        found = Some(c);
+    }
+    found
+}
+
+fn look(cell: &Cell) -> Look {
+    match coverage(cell.ch) {
+        Some(c) => Look::Block(std::array::from_fn(|k| match (c >> k & 1 == 1, cell.fg, cell.bg) {
+            (true, Color::Default, _) => Shown::DefaultForeground,
+            (true, fg, _) => Shown::Color(fg),
+            (false, _, Color::Default) => Shown::DefaultBackground,
+            (false, _, bg) => Shown::Color(bg),
+        })),
+        None => Look::Glyph(cell.ch, (cell.ch != ' ').then_some(cell.fg), cell.bg),
+    }
+}
+
+/// Whether two looks are the same up to `tolerance` 8-bit steps per channel of truecolor colours.
+fn looks_close(a: &Look, b: &Look, tolerance: u8) -> bool {
+    let close = |a: &Color, b: &Color| match (a, b) {
+        (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) => {
+            [r.abs_diff(*r2), g.abs_diff(*g2), b.abs_diff(*b2)].iter().all(|&d| d <= tolerance)
+        }
+        _ => a == b,
+    };
+    match (a, b) {
+        (Look::Block(a), Look::Block(b)) => a.iter().zip(b).all(|(a, b)| match (a, b) {
+            (Shown::Color(a), Shown::Color(b)) => close(a, b),
+            _ => a == b,
+        }),
+        (Look::Glyph(ch, fg, bg), Look::Glyph(ch2, fg2, bg2)) => {
+            ch == ch2
+                && close(bg, bg2)
+                && fg.zip(*fg2).is_none_or(|(a, b)| close(&a, &b))
+                && fg.is_some() == fg2.is_some()
+        }
+        _ => false,
+    }
+}
+
+/// Asserts the emulated screen shows `frame`: every cell looks as intended (see [`Look`]).
+fn assert_screen_shows(parser: &vt100::Parser, frame: &Frame, context: impl Fn() -> String) {
+    assert_screen_shows_within(parser, frame, 0, context);
+}
+
+/// [`assert_screen_shows`] up to the encoder's colour `tolerance`.
+fn assert_screen_shows_within(
+    parser: &vt100::Parser,
+    frame: &Frame,
+    tolerance: u8,
+    context: impl Fn() -> String,
+) {
+    let shown = screen_frame(parser);
+    for y in 0..frame.height() {
+        for x in 0..frame.width() {
+            let (want, got) = (frame.get(x, y).unwrap(), shown.get(x, y).unwrap());
+            if !looks_close(&look(got), &look(want), tolerance) {
+                panic!(
+                    "cell ({x}, {y}) {}\nwant {want:?}\ngot  {got:?}\nwant lines {:?}\ngot screen\n{}",
+                    context(),
+                    frame.lines(),
+                    parser.screen().contents()
+                );
+            }
+        }
+    }
+}
+
+/// What the emulated screen shows, as a frame.
+fn screen_frame(parser: &vt100::Parser) -> Frame {
+    let screen = parser.screen();
+    let (rows, cols) = screen.size();
+    let mut frame = Frame::new(cols.get().into(), rows.get().into());
+    for y in 0..rows.get() {
+        for x in 0..cols.get() {
+            let got = screen.cell(y, x).unwrap();
+            let ch = got.contents().chars().next().unwrap_or(' '); // erased cells are empty
+            frame.set(
+                x.into(),
+                y.into(),
+                Cell { ch, fg: from_vt(got.fgcolor()), bg: from_vt(got.bgcolor()) },
+            );
+        }
+    }
+    frame
+}
+
+fn from_vt(color: vt100::Color) -> Color {
+    match color {
+        vt100::Color::Default => Color::Default,
+        vt100::Color::Idx(n) => Color::Indexed(n),
+        vt100::Color::Rgb(r, g, b) => Color::Rgb(r, g, b),
+    }
+}
+
+/// `Cell::inverse` and `Cell::same_look` agree with how the glyphs look, for every block glyph of every
+/// charset and for other glyphs.
+#[test]
+fn inverse_cells_look_the_same_and_nothing_else_does() {
+    let (a, b, c) = (Color::Rgb(200, 10, 10), Color::Indexed(33), Color::Default);
+    let mut glyphs: Vec<char> = HALF.iter().chain(&QUAD).copied().chain((0..64).map(sextant_glyph)).collect();
+    glyphs.extend(['a', '░', '▓', '─', 'é']);
+    let mut inverses = 0;
+    for &g in &glyphs {
+        let cell = Cell { ch: g, fg: a, bg: b };
+        if let Some(inverse) = cell.inverse() {
+            inverses += 1;
+            assert_eq!(look(&inverse), look(&cell), "{cell:?} vs its inverse {inverse:?}");
+            assert!(cell.same_look(&inverse) && inverse.same_look(&cell));
+        } else {
+            assert!(coverage(g).is_none(), "block glyph {g:?} has no inverse");
+        }
+        // same_look is exactly "looks the same", and looks_within "looks the same up to the tolerance",
+        // against every cell of these glyphs and colours (`near` is 1 step from `a`, `nearer` 2).
+        let (near, nearer) = (Color::Rgb(201, 10, 9), Color::Rgb(200, 12, 10));
+        for &h in &glyphs {
+            for (fg, bg) in
+                [(a, b), (b, a), (a, c), (c, b), (a, a), (near, b), (b, nearer), (a, near), (near, near)]
+            {
+                let other = Cell { ch: h, fg, bg };
+                assert_eq!(cell.same_look(&other), look(&cell) == look(&other), "{cell:?} vs {other:?}");
+                for tolerance in 0..=2 {
+                    assert_eq!(
+                        cell.looks_within(&other, tolerance),
+                        looks_close(&look(&cell), &look(&other), tolerance),
+                        "{cell:?} vs {other:?} within {tolerance}"
+                    );
+                }
+            }
+        }
+    }
+    assert_eq!(inverses, HALF.len() + QUAD.len() + 64, "every block glyph of every table has one");
+}
+
+/// An emulated terminal of `width × height` cells, no scrollback.
+fn terminal(width: usize, height: usize) -> vt100::Parser {
+    vt100::Parser::new(nonzero(height), nonzero(width), 0)
+}
+
+/// Resizes the emulated terminal to the frame's size, as the real one would have been.
+fn resize(parser: &mut vt100::Parser, width: usize, height: usize) {
+    if parser.screen().size() != (nonzero(height), nonzero(width)) {
+        parser.set_size(nonzero(height), nonzero(width));
+    }
+}
+
+fn nonzero(n: usize) -> std::num::NonZeroU16 {
+    std::num::NonZeroU16::new(u16::try_from(n).unwrap()).expect("frames in these tests are never empty")
+}
+
+fn arb_color() -> impl Strategy<Value = Color> {
+    prop_oneof![
+        2 => Just(Color::Default),
+        2 => (0u8..16).prop_map(Color::Indexed),
+        1 => any::<u8>().prop_map(Color::Indexed),
+        2 => (any::<u8>(), any::<u8>(), any::<u8>()).prop_map(|(r, g, b)| Color::Rgb(r, g, b)),
+    ]
+}
+
+/// A small palette per sequence, so that colours repeat (runs, unchanged gaps, equal backgrounds).
+fn arb_palette() -> impl Strategy<Value = Vec<Color>> {
+    prop::collection::vec(arb_color(), 1..5)
+}
+
+fn arb_cell(palette: Vec<Color>) -> impl Strategy<Value = Cell> + Clone {
+    let n = palette.len();
+    (prop::sample::select(GLYPHS), 0..n, 0..n).prop_map(move |(ch, fg, bg)| Cell {
+        ch,
+        fg: palette[fg],
+        bg: palette[bg],
+    })
+}
+
+fn arb_size() -> impl Strategy<Value = (usize, usize)> {
+    prop_oneof![3 => (1usize..=12, 1usize..=6), 1 => (1usize..=40, 1usize..=12)]
+}
+
+/// A frame of random cells from `palette`.
+fn arb_frame(palette: Vec<Color>) -> impl Strategy<Value = Frame> {
+    arb_size().prop_flat_map(move |(w, h)| {
+        prop::collection::vec(arb_cell(palette.clone()), w * h).prop_map(move |cells| {
+            let mut frame = Frame::new(w, h);
+            frame.cells_mut().copy_from_slice(&cells);
+            frame
+        })
+    })
+}
+
+/// One step from a frame to the next.
+#[derive(Clone, Debug)]
+enum Step {
+    /// A few cells change (positions taken modulo the size).
+    Cells(Vec<(usize, usize, Cell)>),
+    /// A rectangle is filled with one cell.
+    Rect { x: usize, y: usize, w: usize, h: usize, cell: Cell },
+    /// Row `y` from column `x` becomes blanks with background `bg`.
+    BlankTail { x: usize, y: usize, bg: Color },
+    /// Nothing changes.
+    Same,
+    /// A new frame of another size (the emulated terminal is resized too).
+    Resize(Frame),
+    /// Someone scribbled on the terminal (resume from Ctrl-Z): the encoder is told to invalidate.
+    Invalidate,
+}
+
+fn arb_step(palette: Vec<Color>) -> impl Strategy<Value = Step> {
+    let cell = arb_cell(palette.clone());
+    let color = prop::sample::select(palette.clone());
+    prop_oneof![
+        4 => prop::collection::vec((0usize..64, 0usize..16, cell.clone()), 1..8).prop_map(Step::Cells),
+        2 => (0usize..40, 0usize..12, 1usize..40, 1usize..12, cell)
+            .prop_map(|(x, y, w, h, cell)| Step::Rect { x, y, w, h, cell }),
+        2 => (0usize..40, 0usize..12, color).prop_map(|(x, y, bg)| Step::BlankTail { x, y, bg }),
+        1 => Just(Step::Same),
+        1 => arb_frame(palette).prop_map(Step::Resize),
+        1 => Just(Step::Invalidate),
+    ]
+}
+
+/// A first frame and the steps that follow it, all from one palette.
+fn arb_frame_sequence() -> impl Strategy<Value = (Frame, Vec<Step>)> {
+    arb_palette().prop_flat_map(|palette| {
+        (arb_frame(palette.clone()), prop::collection::vec(arb_step(palette), 1..12))
+    })
+}
+
+/// Applies a step; returns whether the encoder must be invalidated.
+fn apply(frame: &mut Frame, step: &Step) -> bool {
+    let (w, h) = (frame.width(), frame.height());
+    match step {
+        Step::Cells(cells) => cells.iter().for_each(|&(x, y, cell)| frame.set(x % w, y % h, cell)),
+        Step::Rect { x, y, w: rw, h: rh, cell } => {
+            for yy in y % h..(y % h + rh).min(h) {
+                for xx in x % w..(x % w + rw).min(w) {
+                    frame.set(xx, yy, *cell);
+                }
+            }
+        }
+        Step::BlankTail { x, y, bg } => {
+            for xx in x % w..w {
+                frame.set(xx, y % h, Cell { ch: ' ', fg: Color::Default, bg: *bg });
+            }
+        }
+        Step::Same => {}
+        Step::Resize(next) => frame.clone_from(next),
+        Step::Invalidate => return true,
+    }
+    false
+}
+
+fn same_look(a: &Frame, b: &Frame) -> bool {
+    a.width() == b.width()
+        && a.height() == b.height()
+        && a.cells().iter().zip(b.cells()).all(|(a, b)| a.same_look(b))
+}
+
+proptest! {
+    #![proptest_config(common::config())]
+
+    #[test]
+    fn the_emulated_screen_always_shows_the_last_frame(
+        (first, steps) in arb_frame_sequence(),
+        bce in any::<bool>(),
+        tolerance in prop_oneof![3 => Just(0u8), 1 => 1u8..4],
+    ) {
+        let mut encoder = Encoder::new();
+        encoder.set_bce(bce);
+        encoder.set_tolerance(tolerance);
+        let mut parser = terminal(first.width(), first.height());
+        // The terminal starts with junk on it and odd colours set.
+        parser.process(b"\x1b[1;1Hjunk\x1b[31;42mmore junk\x1b[7;3H");
+        let mut frame = first.clone();
+        let mut prev: Option<Frame> = None;
+        let mut out = Vec::new();
+        for (i, step) in std::iter::once(&Step::Same).chain(&steps).enumerate() {
+            let invalidate = apply(&mut frame, step);
+            if invalidate {
+                encoder.invalidate();
+                parser.process(b"\x1b[H\x1b[2;33;44mscribble\x1b[4;4Hhere");
+            }
+            resize(&mut parser, frame.width(), frame.height());
+            let resized = prev.as_ref().is_none_or(|p| (p.width(), p.height()) != (frame.width(), frame.height()));
+            let full_paint = invalidate || resized;
+            // The screen as shown (within the tolerance of `prev`), unless the encoder starts afresh.
+            let shown = (!full_paint).then(|| screen_frame(&parser));
+            let bound = lower_bound(shown.as_ref(), &frame, tolerance);
+            out.clear();
+            let stats = encoder.encode(&frame, &mut out);
+            prop_assert_eq!(stats.full_paint, full_paint);
+            prop_assert_eq!(stats.bytes, out.len());
+            prop_assert!(bound <= out.len(), "lower bound {} > {} bytes", bound, out.len());
+            prop_assert!(std::str::from_utf8(&out).is_ok());
+            let unchanged = !invalidate && prev.as_ref().is_some_and(|p| same_look(p, &frame));
+            if unchanged {
+                prop_assert!(out.is_empty(), "unchanged frame sent {:?}", String::from_utf8_lossy(&out));
+                prop_assert_eq!(stats.cells_changed, 0);
+            }
+            parser.process(&out);
+            assert_screen_shows_within(&parser, &frame, tolerance, || format!("after step {i} {step:?}\nbytes {:?}", String::from_utf8_lossy(&out)));
+            prev = Some(frame.clone());
+        }
+    }
+}
+
+/// A maze-like truecolor scene: ceiling and floor gradients, a wall band with shaded glyphs, a HUD line.
+fn scene(width: usize, height: usize, shift: usize) -> Frame {
+    let mut frame = Frame::new(width, height);
+    for y in 0..height {
+        for x in 0..width {
+            let t = (y * 255 / height.max(1)) as u8;
+            let wall = (x + shift) % 40 < 24 && y > height / 4 && y < height * 3 / 4;
+            let cell = if wall {
+                let shade = (((x + shift) % 40) * 6) as u8;
+                Cell {
+                    ch: ['█', '▓', '▒', '░'][(x + shift) % 4],
+                    fg: Color::Rgb(200 - shade, 180 - shade, 120),
+                    bg: Color::Rgb(40, 30, 20),
+                }
+            } else if y < height / 2 {
+                Cell { ch: ' ', fg: Color::Default, bg: Color::Rgb(10, 10, 30 + t / 4) }
+            } else {
+                Cell { ch: '.', fg: Color::Rgb(90, 90, 90), bg: Color::Rgb(t / 3, t / 3, t / 3) }
+            };
+            frame.set(x, y, cell);
+        }
+    }
+    frame.put_str(0, height - 1, "pos 12.5,3.0  fps 60", Color::Indexed(15), Color::Default);
+    frame
+}
+
+#[test]
+fn an_unchanged_frame_costs_nothing_and_one_cell_a_handful_of_bytes() {
+    let mut encoder = Encoder::new();
+    let mut out = Vec::new();
+    let mut frame = scene(160, 48, 0);
+    encoder.encode(&frame, &mut out);
+    out.clear();
+    assert_eq!(encoder.encode(&frame, &mut out).bytes, 0);
+    assert!(out.is_empty());
+    frame.set(100, 30, Cell { ch: 'x', fg: Color::Rgb(255, 0, 0), bg: Color::Rgb(1, 2, 3) });
+    let stats = encoder.encode(&frame, &mut out);
+    assert_eq!(stats.cells_changed, 1);
+    // 16 bytes of sync markers, ~8 of cursor move, ~30 for two truecolor SGRs, 1 glyph.
+    assert!(out.len() < 64, "{} bytes: {:?}", out.len(), String::from_utf8_lossy(&out));
+    // The same in the default colours: move + glyph inside the sync markers.
+    frame.set(100, 30, Cell::plain('y'));
+    let mut encoder = Encoder::new();
+    encoder.encode(&Frame::new(160, 48), &mut out);
+    out.clear();
+    let mut plain = Frame::new(160, 48);
+    plain.set(100, 30, Cell::plain('y'));
+    encoder.encode(&plain, &mut out);
+    assert_eq!(out, b"\x1b[?2026h\x1b[31;101Hy\x1b[?2026l");
+    assert!(out.len() < 40);
+}
+
+#[test]
+fn the_last_row_never_gets_a_line_feed() {
+    // Changes on the last two rows, in column 0: "\r\n" would be cheapest if it were allowed to scroll.
+    let mut encoder = Encoder::new();
+    let mut out = Vec::new();
+    let mut frame = Frame::new(5, 2);
+    encoder.encode(&frame, &mut out);
+    let mut parser = terminal(5, 2);
+    parser.process(&out);
+    for step in 0..6 {
+        frame.set(0, step % 2, Cell::plain(char::from(b'a' + step as u8)));
+        frame.set(4, 1, Cell::plain('z'));
+        out.clear();
+        encoder.encode(&frame, &mut out);
+        parser.process(&out);
+        assert_screen_shows(&parser, &frame, || format!("step {step}"));
+    }
+}
+
+#[test]
+fn report_bytes_for_typical_scenarios() {
+    let (w, h) = (160, 48);
+    let mut out = Vec::new();
+    let first = scene(w, h, 0);
+    let mut naive = Vec::new();
+    full_repaint(&first, &mut naive);
+    let mut encoder = Encoder::new();
+    let full = encoder.encode(&first, &mut out).bytes;
+    let mut parser = terminal(w, h);
+    parser.process(&out);
+    assert_screen_shows(&parser, &first, || "full paint".into());
+    out.clear();
+    let turned = scene(w, h, 1);
+    let turn_bound = lower_bound(Some(&first), &turned, 0);
+    let turn = encoder.encode(&turned, &mut out).bytes;
+    parser.process(&out);
+    assert_screen_shows(&parser, &turned, || "turn".into());
+    out.clear();
+    let none = encoder.encode(&turned, &mut out).bytes;
+    let mut hud = turned.clone();
+    hud.put_str(18, h - 1, "59", Color::Indexed(15), Color::Default);
+    out.clear();
+    let hud_bytes = encoder.encode(&hud, &mut out).bytes;
+    let mut one = hud.clone();
+    one.set(100, 30, Cell { ch: 'x', fg: Color::Rgb(255, 0, 0), bg: Color::Rgb(1, 2, 3) });
+    out.clear();
+    let one_cell = encoder.encode(&one, &mut out).bytes;
+    let one_cell_text = String::from_utf8_lossy(&out).replace('\x1b', "ESC");
+    eprintln!(
+        "160x48 truecolor scene: full paint {full} B (naive every-cell SGR {} B); \
+         everything shifts one column {turn} B (glyph lower bound {turn_bound} B); \
+         HUD digits change {hud_bytes} B; one truecolor cell {one_cell} B ({one_cell_text}); no change {none} B",
+        naive.len()
+    );
+    assert!(full < naive.len() / 2);
+    assert_eq!(none, 0);
+}
+
+/// With a tolerance, colours that creep by one step a frame are resent whenever the screen would lag
+/// by more than the tolerance, never later; nothing is sent while they stay within it; other glyphs and
+/// indexed colours are always exact.
+#[test]
+fn a_tolerance_lets_small_changes_wait_but_never_drift() {
+    let (width, height) = (12, 4);
+    let frame_at = |t: u8| {
+        let mut frame = Frame::new(width, height);
+        for y in 0..height {
+            for x in 0..width {
+                let v = 100 + t + x as u8; // every cell one step brighter per frame
+                let ch = ['▀', ' ', '▄', '🬻'][y];
+                frame.set(x, y, Cell { ch, fg: Color::Rgb(v, v / 2, 40), bg: Color::Rgb(30, v, v / 3) });
+            }
+        }
+        frame.set(0, 0, Cell { ch: 'x', fg: Color::Indexed(100 + t), bg: Color::Default });
+        frame
+    };
+    for tolerance in [0u8, 1, 2] {
+        let mut encoder = Encoder::new();
+        encoder.set_tolerance(tolerance);
+        let mut parser = terminal(width, height);
+        let mut out = Vec::new();
+        for t in 0..40u8 {
+            let frame = frame_at(t);
+            out.clear();
+            let stats = encoder.encode(&frame, &mut out);
+            parser.process(&out);
+            // Never further off than the tolerance, however long the creep goes on.
+            assert_screen_shows_within(&parser, &frame, tolerance, || {
+                format!("tolerance {tolerance}, frame {t}")
+            });
+            // After the first paint the screen lags by t steps: while that is within the tolerance only
+            // the indexed cell is sent (it changes every frame and is always exact); the first frame
+            // beyond it sends every cell. (Later, cells lag by different amounts, as the pen's colours
+            // are reused within the tolerance: the check above is what holds.)
+            match t {
+                0 => {}
+                t if t <= tolerance => assert_eq!(stats.cells_changed, 1, "tolerance {tolerance}, frame {t}"),
+                t if t == tolerance + 1 => {
+                    assert_eq!(stats.cells_changed, width * height, "tolerance {tolerance}, frame {t}");
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
+/// With a tolerance, a changed cell whose colour is within it of the colour the terminal is already
+/// set to is sent in that colour: along a gradient of one step per cell, about every other cell needs
+/// no colour code. The screen stays within the tolerance of the frame.
+#[test]
+fn a_tolerance_reuses_the_current_colour_along_gradients() {
+    let (width, height) = (40, 3);
+    let gradient = |shift: u8| {
+        let mut frame = Frame::new(width, height);
+        for y in 0..height {
+            for x in 0..width {
+                let v = 60 + shift + x as u8 + 3 * y as u8;
+                frame.set(x, y, Cell { ch: '▀', fg: Color::Rgb(v, v, 90), bg: Color::Rgb(20, v, v) });
+            }
+        }
+        frame
+    };
+    let sgr_count = |bytes: &[u8]| String::from_utf8_lossy(bytes).matches('m').count();
+    let mut sgrs = Vec::new();
+    for tolerance in [0u8, 1] {
+        let mut encoder = Encoder::new();
+        encoder.set_tolerance(tolerance);
+        let mut parser = terminal(width, height);
+        let mut out = Vec::new();
+        encoder.encode(&gradient(0), &mut out); // first paint, exact
+        parser.process(&out);
+        out.clear();
+        let frame = gradient(50); // every cell changes by far more than the tolerance
+        let stats = encoder.encode(&frame, &mut out);
+        parser.process(&out);
+        assert_eq!(stats.cells_changed, width * height);
+        assert_screen_shows_within(&parser, &frame, tolerance, || format!("tolerance {tolerance}"));
+        sgrs.push(sgr_count(&out));
+    }
+    let cells = width * height;
+    assert!(sgrs[0] >= cells, "exact: a colour code per cell ({sgrs:?})");
+    assert!(sgrs[1] <= cells / 2 + height, "±1: about one per two cells ({sgrs:?})");
+}
+
+/// The encoder's bytes for a fixed walk through [`scene`] (full paint, then turning one column a frame
+/// with the background flickering by a step or two and the HUD changing, then standing still), exact and at the walkthrough's tolerance, pinned: a refactoring must
+/// not change a byte. A deliberate change to the encoding updates the numbers (and BENCHMARKS.md).
+#[test]
+fn a_fixed_walk_encodes_to_the_same_bytes() {
+    let (w, h) = (160, 48);
+    let mut totals = Vec::new();
+    for (bce, tolerance) in [(true, 0), (true, mazewalk_term::encoder::DEFAULT_TOLERANCE), (false, 0)] {
+        let mut encoder = Encoder::new();
+        encoder.set_bce(bce);
+        encoder.set_tolerance(tolerance);
+        let mut out = Vec::new();
+        let mut parser = terminal(w, h);
+        for shift in (0..24).chain([23, 23]) {
+            let mut frame = scene(w, h, shift);
+            for cell in frame.cells_mut() {
+                if let Color::Rgb(r, g, b) = cell.bg {
+                    cell.bg = Color::Rgb(r, g, b.saturating_add((shift % 3) as u8)); // a flicker of one step
+                }
+            }
+            frame.put_str(18, h - 1, &format!("{:02}", 60 - shift % 3), Color::Indexed(15), Color::Default);
+            let start = out.len();
+            encoder.encode(&frame, &mut out);
+            parser.process(&out[start..]);
+            assert_screen_shows_within(&parser, &frame, tolerance, || format!("shift {shift}"));
+        }
+        totals.push(out.len());
+    }
+    assert_eq!(totals, [1_308_056, 1_286_252, 1_358_276]);
+}

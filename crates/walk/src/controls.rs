@@ -1,0 +1,361 @@
+//! Keys → actions, and which actions are held right now (pure: time is passed in, never read).
+//!
+//! Terminals that speak the kitty keyboard protocol report presses *and releases*, so an action is held
+//! exactly from press to release. Elsewhere only presses arrive, repeated by the terminal's auto-repeat
+//! after an initial delay (typically 250–600 ms, then every 30–100 ms). Either way a tap takes one step
+//! and a hold glides: see [`Held`].
+
+/// Something the viewer can do; each has a key (see [`HELP`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Action {
+    /// Walk forward (W).
+    Forward,
+    /// Walk back (S).
+    Back,
+    /// Step left (A).
+    StrafeLeft,
+    /// Step right (D).
+    StrafeRight,
+    /// Turn left (←).
+    TurnLeft,
+    /// Turn right (→).
+    TurnRight,
+    /// Snap turn 90° left (`,` or `<`).
+    SnapLeft,
+    /// Snap turn 90° right (`.` or `>`).
+    SnapRight,
+    /// Look up (↑).
+    LookUp,
+    /// Look down (↓).
+    LookDown,
+    /// Rise toward the ceiling (]).
+    Rise,
+    /// Sink toward the floor ([).
+    Sink,
+    /// Widen the field of view (+).
+    FovWider,
+    /// Narrow the field of view (-).
+    FovNarrower,
+    /// Perspective ↔ orthographic (p).
+    ToggleProjection,
+    /// Map: off → corner → full screen (m).
+    CycleMap,
+    /// Next glyph mode (c).
+    CycleCharset,
+    /// Back to the start (r).
+    Reset,
+    /// Show or hide the key help (? or h).
+    Help,
+    /// Portal culling ↔ brute force (b): every wall drawn, for comparison.
+    ToggleCulling,
+    /// Tint the map's cells the portal pass visited this frame (v), with a legend: culling, seen.
+    ToggleCullingTint,
+    /// Brick walls and filtered floor tiles on / off (t).
+    ToggleTextures,
+    /// Leave (q, or Esc with no help shown: there it closes the help).
+    Quit,
+}
+
+impl Action {
+    /// The actions that act continuously while held (the rest fire once per press).
+    pub const CONTINUOUS: [Action; 12] = [
+        Action::Forward,
+        Action::Back,
+        Action::StrafeLeft,
+        Action::StrafeRight,
+        Action::TurnLeft,
+        Action::TurnRight,
+        Action::LookUp,
+        Action::LookDown,
+        Action::Rise,
+        Action::Sink,
+        Action::FovWider,
+        Action::FovNarrower,
+    ];
+
+    /// Whether the action acts continuously while held ([`CONTINUOUS`](Self::CONTINUOUS)).
+    #[must_use]
+    pub fn is_continuous(self) -> bool {
+        self.slot().is_some()
+    }
+
+    /// Its index in [`CONTINUOUS`](Self::CONTINUOUS).
+    fn slot(self) -> Option<usize> {
+        Action::CONTINUOUS.iter().position(|&a| a == self)
+    }
+}
+
+use mazewalk_term::input::Key;
+
+/// The action bound to `key`, if any.
+#[must_use]
+pub fn action_for(key: Key) -> Option<Action> {
+    Some(match key {
+        Key::Char(c) => match c.to_ascii_lowercase() {
+            'w' => Action::Forward,
+            's' => Action::Back,
+            'a' => Action::StrafeLeft,
+            'd' => Action::StrafeRight,
+            '[' => Action::Sink,
+            ']' => Action::Rise,
+            '+' | '=' => Action::FovWider,
+            '-' | '_' => Action::FovNarrower,
+            ',' | '<' => Action::SnapLeft,
+            '.' | '>' => Action::SnapRight,
+            'p' => Action::ToggleProjection,
+            'm' => Action::CycleMap,
+            'c' => Action::CycleCharset,
+            'r' => Action::Reset,
+            'b' => Action::ToggleCulling,
+            'v' => Action::ToggleCullingTint,
+            't' => Action::ToggleTextures,
+            '?' | 'h' => Action::Help,
+            'q' => Action::Quit,
+            _ => return None,
+        },
+        Key::Left => Action::TurnLeft,
+        Key::Right => Action::TurnRight,
+        Key::Up => Action::LookUp,
+        Key::Down => Action::LookDown,
+        Key::Esc => Action::Quit,
+        _ => return None,
+    })
+}
+
+/// The key help, one line per binding (shown by `?` and in README): how to leave first, as a small
+/// box keeps its first lines.
+pub const HELP: &[(&str, &str)] = &[
+    ("q / Ctrl-C", "quit (Esc too, with no help shown)"),
+    ("? / h", "this help (Esc closes it too)"),
+    ("W / S", "walk forward / back (tap: a step, hold: glide)"),
+    ("A / D", "step left / right"),
+    ("← / →", "turn left / right (tap: 15°)"),
+    (", . or < >", "snap turn 90° left / right"),
+    ("↑ / ↓", "look up / down"),
+    ("[ / ]", "move down / up"),
+    ("+ / -", "wider / narrower field of view"),
+    ("drag", "look around with the mouse"),
+    ("p", "perspective / orthographic"),
+    ("m", "map: corner / full / off (shows what you have seen)"),
+    ("v", "map: tint the cells the portal pass visits"),
+    ("b", "portal culling / brute force (every wall)"),
+    ("c", "glyphs: ascii, half ▀, quad ▚, sextant (2×3)"),
+    ("t", "textures: brick walls, floor tiles"),
+    ("r", "back to the start"),
+    ("Ctrl-Z", "suspend (fg to come back)"),
+];
+
+/// Two presses of one key closer together than this (seconds) are the terminal's auto-repeat, not two
+/// taps. Auto-repeat comes every 30–100 ms on common settings; a person tapping fast manages about
+/// 150 ms between taps.
+pub const REPEAT_GAP: f64 = 0.125;
+/// How long a repeat keeps its key held, as a multiple of the repeat interval observed on that key: the
+/// next repeat is due after one interval, the other half is room for jitter (an SSH link).
+pub const REPEAT_HOLD_INTERVALS: f64 = 1.5;
+/// The shortest and longest a repeat keeps its key held (seconds), whatever interval was observed.
+pub const REPEAT_HOLD_RANGE: (f64, f64) = (0.05, 0.15);
+/// Presses closer than this (seconds) arrived together (one read, one packet) and say nothing about the
+/// repeat rate.
+const TOGETHER: f64 = 0.01;
+
+/// One continuous action's key.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct KeyState {
+    /// When it was last pressed (or repeated).
+    last_press: f64,
+    /// The auto-repeat interval observed on it (seconds), smoothed.
+    interval: Option<f64>,
+    /// Continuous motion from `.0` until `.1` (`INFINITY`: until the release).
+    glide: Option<(f64, f64)>,
+    /// After a step, continuous motion waits until this time: the step stood for it.
+    rest_until: f64,
+}
+
+impl Default for KeyState {
+    fn default() -> Self {
+        KeyState { last_press: f64::NEG_INFINITY, interval: None, glide: None, rest_until: f64::NEG_INFINITY }
+    }
+}
+
+/// Which continuous actions are held, and when they move.
+///
+/// **Tap = step, hold = glide.** A press takes one discrete step at once (the caller makes it when
+/// [`press`](Self::press) says so); motion becomes continuous only while the key is known to be held,
+/// and a step stands for the time it would have taken at full speed (the glide waits for it), so a hold
+/// moves as far as `speed × time` whichever way it started.
+///
+/// - With releases (kitty protocol), the key is held from its press to its release: a tap is exactly one
+///   step, a longer press glides on after the step's time until the release. Repeats change nothing.
+/// - Without releases, a press more than [`REPEAT_GAP`] after the key's previous press is a tap: one step,
+///   no glide. A press sooner than that (or while gliding) is the terminal's auto-repeat: no step, the key
+///   glides until [`REPEAT_HOLD_INTERVALS`] × the observed repeat interval (within [`REPEAT_HOLD_RANGE`])
+///   after the latest repeat, so it stops within that of the key being let go. The terminal's first
+///   repeat, after its initial delay (250–600 ms), cannot be told from a second tap, so a hold takes that
+///   second step too before it glides.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Held {
+    keys: [KeyState; Action::CONTINUOUS.len()],
+}
+
+impl Held {
+    /// A key went down at time `now` (seconds); `releases`: the terminal reports releases; `repeat`: the
+    /// terminal said this is an auto-repeat; `step_seconds`: how long the action's step takes at full
+    /// speed. Returns whether the caller takes one step now.
+    pub fn press(
+        &mut self,
+        action: Action,
+        now: f64,
+        releases: bool,
+        repeat: bool,
+        step_seconds: f64,
+    ) -> bool {
+        let Some(slot) = action.slot() else { return false };
+        let key = &mut self.keys[slot];
+        let gap = now - key.last_press;
+        key.last_press = now;
+        if releases {
+            if repeat {
+                return false; // already gliding until the release
+            }
+            key.glide = Some((now + step_seconds, f64::INFINITY));
+            return true;
+        }
+        let gliding = key.glide.is_some_and(|(_, until)| until >= now);
+        if !repeat && !gliding && gap > REPEAT_GAP {
+            key.glide = None;
+            key.rest_until = now + step_seconds;
+            return true;
+        }
+        // Auto-repeat: the key is held.
+        if (TOGETHER..=REPEAT_HOLD_RANGE.1).contains(&gap) {
+            key.interval = Some(key.interval.map_or(gap, |interval| (interval + gap) / 2.0));
+        }
+        let hold = (REPEAT_HOLD_INTERVALS * key.interval.unwrap_or(REPEAT_GAP))
+            .clamp(REPEAT_HOLD_RANGE.0, REPEAT_HOLD_RANGE.1);
+        key.glide = Some(match key.glide {
+            Some((from, until)) => (from, until.max(now + hold)),
+            None => (now.max(key.rest_until), now + hold),
+        });
+        false
+    }
+
+    /// A key went up.
+    pub fn release(&mut self, action: Action) {
+        if let Some(slot) = action.slot() {
+            self.keys[slot].glide = None;
+        }
+    }
+
+    /// Lets go of everything (focus lost, suspend, reset).
+    pub fn clear(&mut self) {
+        self.keys = Default::default();
+    }
+
+    /// Drops glides that have run out by `now`.
+    pub fn expire(&mut self, now: f64) {
+        for key in &mut self.keys {
+            if key.glide.is_some_and(|(_, until)| until < now) {
+                key.glide = None;
+            }
+        }
+    }
+
+    /// Whether `action` is held at `now` (gliding, or about to once its step's time is up).
+    #[must_use]
+    pub fn is_held(&self, action: Action, now: f64) -> bool {
+        action.slot().is_some_and(|slot| self.keys[slot].glide.is_some_and(|(_, until)| until >= now))
+    }
+
+    /// For how many seconds between `from` and `to` `action` moves continuously.
+    #[must_use]
+    pub fn moving_time(&self, action: Action, from: f64, to: f64) -> f64 {
+        let glide = action.slot().and_then(|slot| self.keys[slot].glide);
+        glide.map_or(0.0, |(start, until)| (to.min(until) - from.max(start)).max(0.0))
+    }
+
+    /// True while anything is held (the event loop keeps animating).
+    #[must_use]
+    pub fn any(&self, now: f64) -> bool {
+        Action::CONTINUOUS.iter().any(|&action| self.is_held(action, now))
+    }
+
+    /// The earliest time a hold runs out, if any hold is timed.
+    #[must_use]
+    pub fn next_expiry(&self) -> Option<f64> {
+        self.keys
+            .iter()
+            .filter_map(|k| k.glide)
+            .map(|(_, until)| until)
+            .filter(|t| t.is_finite())
+            .reduce(f64::min)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_map_to_the_documented_actions() {
+        assert_eq!(action_for(Key::Char('W')), Some(Action::Forward));
+        assert_eq!(action_for(Key::Char(']')), Some(Action::Rise));
+        assert_eq!(action_for(Key::Char('[')), Some(Action::Sink));
+        assert_eq!(action_for(Key::Left), Some(Action::TurnLeft));
+        assert_eq!(action_for(Key::Up), Some(Action::LookUp));
+        assert_eq!(action_for(Key::Esc), Some(Action::Quit));
+        assert_eq!(action_for(Key::Char('<')), Some(Action::SnapLeft));
+        assert_eq!(action_for(Key::Char('.')), Some(Action::SnapRight));
+        assert_eq!(action_for(Key::Char('z')), None);
+        assert_eq!(action_for(Key::Char('x')), None);
+    }
+
+    #[test]
+    fn with_releases_a_press_steps_then_glides_until_released() {
+        let mut held = Held::default();
+        assert!(held.press(Action::Forward, 1.0, true, false, 0.2), "a press steps at once");
+        assert!(!held.press(Action::Forward, 1.5, true, true, 0.2), "a repeat does not");
+        assert_eq!(held.moving_time(Action::Forward, 1.0, 1.2), 0.0, "the step stands for its 0.2 s");
+        assert!((held.moving_time(Action::Forward, 1.0, 100.0) - 98.8).abs() < 1e-9);
+        assert_eq!(held.next_expiry(), None, "a release will tell");
+        held.release(Action::Forward);
+        assert!(!held.is_held(Action::Forward, 100.0));
+        assert!(!held.any(100.0));
+    }
+
+    #[test]
+    fn without_releases_taps_step_and_repeats_glide() {
+        let mut held = Held::default();
+        assert!(held.press(Action::TurnLeft, 0.0, false, false, 0.1), "a tap steps");
+        assert!(!held.any(0.0), "and does not glide");
+        assert!(held.press(Action::TurnLeft, 0.15, false, false, 0.1), "so does a tap 150 ms later");
+        // Auto-repeat every 33 ms: no more steps, a glide that stops soon after the last repeat.
+        let mut t = 0.15;
+        for _ in 0..30 {
+            t += 0.033;
+            assert!(!held.press(Action::TurnLeft, t, false, false, 0.1), "a repeat at {t} stepped");
+            assert!(held.is_held(Action::TurnLeft, t));
+        }
+        let stop = held.next_expiry().unwrap();
+        let hold = (REPEAT_HOLD_INTERVALS * 0.033).clamp(REPEAT_HOLD_RANGE.0, REPEAT_HOLD_RANGE.1);
+        assert!((stop - t - hold).abs() < 1e-9, "stops {} s after the last repeat", stop - t);
+        held.expire(stop + 1e-6);
+        assert!(!held.any(stop + 1e-6));
+    }
+
+    #[test]
+    fn opposing_keys_cancel_on_an_axis() {
+        let mut held = Held::default();
+        held.press(Action::Forward, 0.0, true, false, 0.0);
+        held.press(Action::Back, 0.5, true, false, 0.0);
+        let (forward, back) =
+            (held.moving_time(Action::Forward, 0.0, 1.0), held.moving_time(Action::Back, 0.0, 1.0));
+        assert_eq!(forward - back, 0.5, "they cancel once both are down");
+    }
+
+    #[test]
+    fn one_shot_actions_are_never_held() {
+        let mut held = Held::default();
+        assert!(!held.press(Action::Quit, 0.0, true, false, 0.0));
+        assert!(!held.any(0.0));
+    }
+}

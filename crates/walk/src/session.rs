@@ -1,0 +1,790 @@
+//! One player's walk: bytes from a terminal in, the bytes of the next frame out — pure: no globals,
+//! no terminal, no clock (time comes in as seconds on the caller's clock), no exit.
+//!
+//! ```text
+//! bytes ─InputDecoder─▶ Input ─▶ App (keys, drag, tick) ─▶ draw: 3D view + overlays ─▶ Frame ─Encoder─▶ bytes
+//! ```
+//!
+//! The local walkthrough ([`super::run`]) is a `Session` plus the terminal guard plus stdin and
+//! stdout; a server runs one `Session` per connection. The host reads its own clock, passes the
+//! bytes it got ([`Session::feed`]) and what only it knows ([`Input::Resize`], a stop), sleeps until
+//! [`Session::next_wake`], and writes whatever [`Session::frame`] produces.
+//!
+//! ```
+//! use mazewalk_walk::{App, Session, SessionOptions};
+//! use mazewalk_maze as maze;
+//! use mazewalk_render::RenderOptions;
+//!
+//! let app = App::new(maze::builtin()?, RenderOptions::default(), 0.0)?;
+//! let mut session = Session::new(app, 80, 24, SessionOptions::default());
+//! let mut bytes = Vec::new();
+//! assert!(session.frame(0.0, &mut bytes)); // the first frame: everything
+//! session.feed(b"w", 0.1); // a key press
+//! bytes.clear();
+//! assert!(session.frame(0.1, &mut bytes) && !bytes.is_empty()); // walked: what changed
+//! bytes.clear();
+//! session.feed(b"q", 0.2);
+//! assert!(session.is_over());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::collections::VecDeque;
+use std::time::Instant;
+
+use super::flow::{FlowControl, QUERY};
+
+use super::overlay::{self, MapArea, MapCells, Peer, Style};
+use super::state::{App, MapMode};
+use glam::Vec3;
+
+use mazewalk_render::palette::xterm_rgb;
+use mazewalk_render::{Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite};
+use mazewalk_term::encoder::{self, Encoder};
+use mazewalk_term::frame::{Cell, Color, Frame, Region};
+use mazewalk_term::input::{Input, InputDecoder, Key, Reply};
+
+/// The most frames per second drawn while something moves.
+pub const MAX_FPS: f64 = 60.0;
+
+/// The kitty keyboard protocol's "which flags are set?" query.
+const KEYBOARD_QUERY: &[u8] = b"\x1b[?u";
+
+/// The size drawn when a terminal gives none (a side of zero: some ptys, an SSH pty request without one).
+pub const DEFAULT_SIZE: (u16, u16) = (80, 24);
+
+/// The largest picture a session draws, columns and rows: a terminal larger than that shows it in its
+/// top-left corner. Beyond any real screen (a 4K monitor at a 6-pixel font is ≈ 640 × 270), and a
+/// bound on what a terminal's size can cost: one that claims 65535 × 65535 must not make a 50 GB frame.
+pub const MAX_SIZE: (u16, u16) = (1000, 400);
+
+/// The size a session draws for a terminal of `cols × rows`: a side of zero is unknown, so
+/// [`DEFAULT_SIZE`]'s; no side more than `max`'s.
+#[must_use]
+pub fn fit_size(cols: u32, rows: u32, max: (u16, u16)) -> (u16, u16) {
+    let side = |n: u32, default: u16, max: u16| {
+        if n == 0 { default } else { u16::try_from(n).unwrap_or(u16::MAX).min(max) }
+    };
+    (side(cols, DEFAULT_SIZE.0, max.0), side(rows, DEFAULT_SIZE.1, max.1))
+}
+
+/// How a session encodes and paces its frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SessionOptions {
+    /// The terminal erases with the current background colour ([`Encoder::set_bce`]).
+    pub bce: bool,
+    /// Colour tolerance in 8-bit steps ([`Encoder::set_tolerance`]); raised while the terminal
+    /// answers slowly (see [`adaptive_tolerance`]).
+    pub color_tolerance: u8,
+    /// End-to-end flow control ([`super::flow`]): a query after each frame, at most
+    /// [`MAX_UNACKED`](super::flow::MAX_UNACKED) frames unanswered.
+    pub flow_control: bool,
+}
+
+impl Default for SessionOptions {
+    fn default() -> Self {
+        SessionOptions { bce: false, color_tolerance: encoder::DEFAULT_TOLERANCE, flow_control: true }
+    }
+}
+
+/// The colour tolerance for a frame when replies take `round_trip` seconds: the base while the link
+/// keeps up; more (fewer changed cells, fewer bytes) while frames take longer than a few frame
+/// intervals to reach the screen, which is when every byte saved shortens the wait for the next one.
+#[must_use]
+pub fn adaptive_tolerance(base: u8, round_trip: Option<f64>) -> u8 {
+    let extra = match round_trip {
+        Some(rtt) if rtt > 0.3 => 6,
+        Some(rtt) if rtt > 0.1 => 3,
+        _ => 0,
+    };
+    base.saturating_add(extra).min(encoder::MAX_TOLERANCE)
+}
+
+/// Whether the link counts as slow, from the reply round trip in seconds and whether it counted as
+/// slow before: slow above 0.15 s, fast again below 0.08 s (between the two it stays as it was, so
+/// it does not flap). On a slow link the walk stops dithering: a dithered 256- or 16-colour frame
+/// costs about twice the bytes of a plain one while walking (BENCHMARKS.md, "Dithering").
+#[must_use]
+pub fn slow_link(was_slow: bool, round_trip: Option<f64>) -> bool {
+    match round_trip {
+        Some(rtt) if rtt > 0.15 => true,
+        Some(rtt) if rtt >= 0.08 => was_slow,
+        _ => false,
+    }
+}
+
+/// What the walk cost so far, and how it ended.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Outcome {
+    /// Seconds taken to reach the exit, if it was reached.
+    pub finished: Option<f64>,
+    /// Frames drawn.
+    pub frames: u64,
+    /// Bytes of all frames together.
+    pub bytes: u64,
+}
+
+/// What the last frame cost, for the HUD.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameCost {
+    /// Seconds spent making the previous frame (render + overlays + encode).
+    pub seconds: f64,
+    /// Bytes the previous frame sent.
+    pub bytes: usize,
+}
+
+/// The numbers the HUD shows besides the viewer's own.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Hud {
+    /// What the previous frame cost.
+    pub cost: FrameCost,
+    /// Frames actually drawn over the last second (this one included).
+    pub fps: usize,
+    /// Seconds since the walk (re)started, for the clock of a maze with an exit.
+    pub elapsed: f64,
+}
+
+/// The buffers one screen is drawn with, reused from frame to frame, and what a host shows besides the
+/// walk itself.
+#[derive(Debug, Default)]
+pub struct Screen {
+    /// The pipeline and its buffers.
+    pub renderer: Renderer,
+    /// The link is slow ([`slow_link`]): no dithering, whatever the options say.
+    pub slow_link: bool,
+    /// Other players in the same maze (`mazewalk serve`), drawn in the view and on the map.
+    pub peers: Vec<Peer>,
+    /// A message for everyone (e.g. who reached the exit first), shown in a box until taken away.
+    pub notice: Option<String>,
+    /// The peers as the renderer's figures (reused from frame to frame).
+    sprites: Vec<Sprite>,
+    /// What the map's characters show, kept while the map stays put.
+    map_cells: MapCells,
+}
+
+/// One player's walk: app state, renderer, encoder, input decoder and screen.
+#[derive(Debug)]
+pub struct Session {
+    app: App,
+    screen: Screen,
+    frame: Frame,
+    encoder: Encoder,
+    decoder: InputDecoder,
+    inputs: Vec<Input>,
+    dirty: bool,
+    last_frame: f64,
+    cost: FrameCost,
+    suspend: bool,
+    outcome: Outcome,
+    options: SessionOptions,
+    flow: FlowControl,
+    /// When the frames of the last second were drawn (for the HUD's frame rate).
+    recent_frames: VecDeque<f64>,
+    /// A kitty keyboard query (`CSI ? u`) is out and not yet answered: only its answer may turn key
+    /// releases on (a pasted or forged `CSI ? 3 u` would leave every key held until a release
+    /// that never comes).
+    keyboard_query: bool,
+}
+
+impl Session {
+    /// A session walking `app` on a `cols × rows` terminal; its first [`frame`](Self::frame) paints
+    /// the whole screen.
+    #[must_use]
+    pub fn new(app: App, cols: u16, rows: u16, options: SessionOptions) -> Session {
+        let (cols, rows) = fit_size(cols.into(), rows.into(), MAX_SIZE);
+        let mut encoder = Encoder::new();
+        encoder.set_bce(options.bce);
+        encoder.set_tolerance(options.color_tolerance);
+        Session {
+            app,
+            screen: Screen::default(),
+            frame: Frame::new(cols.into(), rows.into()),
+            encoder,
+            decoder: InputDecoder::new(),
+            inputs: Vec::new(),
+            dirty: true,
+            last_frame: f64::NEG_INFINITY,
+            cost: FrameCost::default(),
+            suspend: false,
+            outcome: Outcome::default(),
+            options,
+            flow: FlowControl::default(),
+            recent_frames: VecDeque::new(),
+            keyboard_query: false,
+        }
+    }
+
+    /// Adds the cells the last frame showed to the map's seen cells: the portal pass's, or with brute
+    /// force the cells on both sides of every wall that reached a sample.
+    fn note_seen(&mut self) {
+        let renderer = &self.screen.renderer;
+        if self.app.options.culling == Culling::Portal {
+            self.app.mark_seen(renderer.portal().visited.iter().copied());
+        } else {
+            let maze = self.app.maze();
+            let walls = maze.edges().len() as u32;
+            let mut cells: Vec<u32> =
+                renderer.samples().id().iter().filter(|&&id| id < walls).copied().collect();
+            cells.sort_unstable();
+            cells.dedup();
+            let sides: Vec<u32> =
+                cells.iter().flat_map(|&e| [maze.edge(e).left, maze.edge(e).right]).flatten().collect();
+            self.app.mark_seen(sides);
+        }
+    }
+
+    /// The walk's state.
+    #[must_use]
+    pub fn app(&self) -> &App {
+        &self.app
+    }
+
+    /// The walk's state, to change settings.
+    pub fn app_mut(&mut self) -> &mut App {
+        self.dirty = true;
+        &mut self.app
+    }
+
+    /// The screen as last drawn.
+    #[must_use]
+    pub fn screen(&self) -> &Frame {
+        &self.frame
+    }
+
+    /// The other players to draw (a host's view of a shared maze); the next frame is drawn only if
+    /// they differ from the ones drawn. Returns whether they did.
+    pub fn set_peers(&mut self, peers: &[Peer]) -> bool {
+        if self.screen.peers == peers {
+            return false;
+        }
+        self.screen.peers.clear();
+        self.screen.peers.extend_from_slice(peers);
+        self.dirty = true;
+        true
+    }
+
+    /// Shows `notice` in a box over the view (`None` takes it away).
+    pub fn set_notice(&mut self, notice: Option<String>) {
+        if self.screen.notice != notice {
+            self.screen.notice = notice;
+            self.dirty = true;
+        }
+    }
+
+    /// Whether the last frame's portal pass reached `cell`: something moving there may show in the
+    /// view, so a host redraws when it does.
+    #[must_use]
+    pub fn sees_cell(&self, cell: u32) -> bool {
+        self.screen.renderer.portal().was_visited(cell)
+    }
+
+    /// Where the last frame's map is, if it is shown.
+    #[must_use]
+    pub fn map_area(&self) -> Option<MapArea> {
+        map_area(&self.app, &self.frame)
+    }
+
+    /// Bytes from the terminal, arriving at time `now`.
+    pub fn feed(&mut self, bytes: &[u8], now: f64) {
+        self.decode(now, |decoder, out| decoder.feed(bytes, now, out));
+    }
+
+    /// Bytes from the terminal were dropped after the last [`feed`](Self::feed) (a rate limit): see
+    /// [`InputDecoder::gap`].
+    pub fn input_gap(&mut self) {
+        self.decoder.gap();
+    }
+
+    /// Runs `step` on the decoder and applies the inputs it produces, at time `now`.
+    fn decode(&mut self, now: f64, step: impl FnOnce(&mut InputDecoder, &mut Vec<Input>)) {
+        let mut inputs = std::mem::take(&mut self.inputs); // reused: no allocation per read
+        step(&mut self.decoder, &mut inputs);
+        for input in inputs.drain(..) {
+            self.input(input, now);
+        }
+        self.inputs = inputs;
+    }
+
+    /// One input at time `now`: keys and drags move the viewer, `Ctrl-C` quits, `Ctrl-Z` asks the host
+    /// for a stop ([`take_suspend`](Self::take_suspend)), a resize redraws, losing focus lets go of
+    /// held keys (no release will come).
+    pub fn input(&mut self, input: Input, now: f64) {
+        match input {
+            Input::Key { key: Key::Char('c'), modifiers, .. } if modifiers.ctrl => self.app.quit = true,
+            Input::Key { key: Key::Char('z'), modifiers, .. } if modifiers.ctrl => self.suspend = true,
+            // Ctrl or Alt with a letter is not the letter (Ctrl-Q must not quit, Alt-W not walk).
+            Input::Key { key: Key::Char(_), modifiers, .. } if modifiers.ctrl || modifiers.alt => {}
+            Input::Key { key, phase, .. } => self.dirty |= self.app.key(key, phase, now),
+            Input::MouseDrag { dx, dy, .. } => self.dirty |= self.app.drag(dx, dy),
+            Input::Resize { cols, rows } => {
+                let (cols, rows) = fit_size(cols.into(), rows.into(), MAX_SIZE);
+                self.frame.resize(cols.into(), rows.into());
+                self.dirty = true;
+            }
+            Input::FocusLost => self.app.focus_lost(),
+            Input::MouseDown { .. }
+            | Input::MouseUp { .. }
+            | Input::Scroll(_)
+            | Input::FocusGained
+            | Input::Reply(Reply::CursorPosition { .. }) => {}
+            // The answer to the kitty keyboard query ([`ask_keyboard_flags`](Self::ask_keyboard_flags)):
+            // flag 2 (report event types) means key releases will come. Unasked, it is ignored.
+            Input::Reply(Reply::KeyboardFlags(flags)) => {
+                if std::mem::take(&mut self.keyboard_query) {
+                    self.app.releases = flags & 2 != 0;
+                }
+            }
+            Input::Reply(Reply::DeviceAttributes) => self.flow.answered(now),
+        }
+    }
+
+    /// Appends the kitty keyboard query (`CSI ? u`, after the host pushed its flags): its answer says
+    /// whether key releases will come (terminals without the protocol ignore it).
+    pub fn ask_keyboard_flags(&mut self, out: &mut Vec<u8>) {
+        out.extend_from_slice(KEYBOARD_QUERY);
+        self.keyboard_query = true;
+    }
+
+    /// The terminal's screen was lost (a stop, a reconnect): the next frame paints everything, and
+    /// held keys are let go (their releases may have been missed).
+    pub fn invalidate(&mut self) {
+        self.encoder.invalidate();
+        self.app.focus_lost();
+        self.dirty = true;
+    }
+
+    /// Whether `Ctrl-Z` asked for a stop since the last call (the host decides what a stop is).
+    pub fn take_suspend(&mut self) -> bool {
+        std::mem::take(&mut self.suspend)
+    }
+
+    /// Whether the player quit (q, Esc, Ctrl-C).
+    #[must_use]
+    pub fn is_over(&self) -> bool {
+        self.app.quit
+    }
+
+    /// Frames and bytes so far, and the time to the exit if it was reached.
+    #[must_use]
+    pub fn outcome(&self) -> Outcome {
+        Outcome { finished: self.app.finished, ..self.outcome }
+    }
+
+    /// When to call [`frame`](Self::frame) next, if nothing arrives before: a frame is due, held keys
+    /// move the viewer, a hold runs out, or an unfinished input sequence times out. `None`: nothing
+    /// will change until input arrives.
+    #[must_use]
+    pub fn next_wake(&self, now: f64) -> Option<f64> {
+        let frame_due = self.last_frame + 1.0 / MAX_FPS;
+        let animating = self.app.is_animating(now);
+        let drawing = match self.flow.deadline() {
+            // Nothing to draw: no frame is held back, whatever is in flight (a deadline kept after it
+            // passed would wake the host at once, again and again, on a stalled link).
+            _ if !self.dirty && !animating => None,
+            // Held back by flow control: wait for a reply (input) or the timeout, ticking the motion
+            // on meanwhile so that the next frame shows where the viewer has got to.
+            Some(timeout) if self.options.flow_control => {
+                let ticking = animating.then_some(now + 1.0 / MAX_FPS);
+                Some(ticking.map_or(timeout, |t| t.min(timeout)))
+            }
+            _ => Some(frame_due),
+        };
+        // Never before `now` (a frame due long ago, a session that has ended): a host sleeps until then.
+        let wake = [drawing, self.app.held.next_expiry(), self.decoder.deadline()].into_iter().flatten();
+        wake.reduce(f64::min).map(|t| if t.is_nan() { now } else { t.max(now) })
+    }
+
+    /// The end-to-end flow control's state (frames in flight, the terminal's reply time).
+    #[must_use]
+    pub fn flow(&self) -> &FlowControl {
+        &self.flow
+    }
+
+    /// Brings the walk to time `now` and, if the picture changed and a frame is due (at most
+    /// [`MAX_FPS`] a second), draws it and appends its bytes to `out`: only what changed since the
+    /// last frame. Returns whether a frame was drawn (it may still be 0 bytes).
+    pub fn frame(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
+        self.decode(now, |decoder, out| decoder.expire(now, out)); // a lone Esc, a stalled sequence
+        self.dirty |= self.app.tick(now);
+        if !self.dirty || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
+            return false;
+        }
+        if self.options.flow_control && !self.flow.may_send(now) {
+            return false; // the picture stays dirty: the next frame, once allowed, shows the latest
+        }
+        while self.recent_frames.front().is_some_and(|&t| t <= now - 1.0) {
+            self.recent_frames.pop_front();
+        }
+        self.recent_frames.push_back(now);
+        let hud = Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started };
+        let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
+        self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
+        let started = Instant::now();
+        draw(&self.app, &mut self.screen, &mut self.frame, &hud);
+        self.note_seen();
+        self.encoder.set_tolerance(adaptive_tolerance(self.options.color_tolerance, round_trip));
+        let before = out.len();
+        let stats = self.encoder.encode(&self.frame, out);
+        if self.options.flow_control {
+            out.extend_from_slice(QUERY);
+            self.flow.sent(now);
+        }
+        self.cost = FrameCost { seconds: started.elapsed().as_secs_f64(), bytes: stats.bytes };
+        self.outcome.frames += 1;
+        self.outcome.bytes += (out.len() - before) as u64;
+        (self.dirty, self.last_frame) = (false, now);
+        true
+    }
+}
+
+/// A peer as the renderer draws it: a figure in the peer's colour with its initial, standing in its
+/// cell (the one the peer says, else the one under it; `None` when it stands in no cell).
+fn figure(maze: &mazewalk_maze::Maze, peer: &Peer) -> Option<Sprite> {
+    let cell =
+        peer.cell.filter(|&c| (c as usize) < maze.cell_count()).or_else(|| maze.cell_at(peer.position))?;
+    let rgb = match peer.color {
+        Color::Rgb(r, g, b) => [r, g, b],
+        Color::Indexed(i) => xterm_rgb(i),
+        Color::Default => [200, 200, 200],
+    };
+    let color = Vec3::from_array(rgb.map(|c| f32::from(c) / 255.0));
+    Some(Sprite { position: peer.position, cell, color, label: peer.initial })
+}
+
+/// Draws the whole screen for the current state into `frame` (its size is the terminal's): the 3D
+/// view, then the map, the HUD and any box. Pure: no I/O, so screens are tested as text.
+pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> RenderStats {
+    let (cols, rows) = (frame.width(), frame.height());
+    let style = Style::new(app.options.charset, app.options.color_depth);
+    if overlay::too_small(cols, rows) {
+        overlay::draw_too_small(frame, style);
+        return RenderStats::default();
+    }
+    // The bottom row is the HUD; the 3D view gets the rest, drawn in place.
+    let view = Region { col: 0, row: 0, cols, rows: rows - 1 };
+    let options = RenderOptions { dither: app.options.dither && !screen.slow_link, ..app.options };
+    // The other players, as figures standing in the maze.
+    screen.sprites.clear();
+    screen.sprites.extend(screen.peers.iter().filter_map(|peer| figure(app.maze(), peer)));
+    let stats = match screen.renderer.render_with_sprites(
+        app.maze(),
+        &app.camera,
+        &options,
+        &screen.sprites,
+        frame,
+        view,
+    ) {
+        Ok(stats) => stats,
+        Err(err) => {
+            frame.fill(Cell::BLANK);
+            overlay::draw_box(frame, "Cannot draw", &[err.to_string()], style);
+            RenderStats::default()
+        }
+    };
+    frame.region_rows_mut(Region { row: rows - 1, rows: 1, ..view }).for_each(|hud| hud.fill(Cell::BLANK));
+    // Cells visible in this frame: the portal pass's (with brute force it did not run: none new).
+    let portal = screen.renderer.portal();
+    let visible_now = |c: u32| app.options.culling == Culling::Portal && portal.was_visited(c);
+    let seen = |c: u32| app.has_seen(c) || visible_now(c);
+    let tint: Option<&dyn Fn(u32) -> bool> = app.culling_tint.then_some(&visible_now);
+    if let Some(area) = map_area(app, frame) {
+        overlay::draw_map(frame, &area, app.maze(), &app.camera, &seen, tint, style, &mut screen.map_cells);
+        overlay::draw_peers(frame, &area, &screen.peers, app.camera.position, style);
+    }
+    if let Some(seconds) = app.finished {
+        // in a served maze, the news (who was first) shows in the box too, not hidden behind it
+        let lines: Vec<String> = [format!("You found the exit in {}.", clock_text(seconds))]
+            .into_iter()
+            .chain(screen.notice.clone())
+            .chain([String::new(), "r  walk it again".to_string(), "q  quit".to_string()])
+            .collect();
+        overlay::draw_box(frame, "Found the exit!", &lines, style);
+    } else if app.help {
+        overlay::draw_box(frame, "Keys (? or Esc to close)", &overlay::help_lines(style), style);
+    } else if let Some(notice) = &screen.notice {
+        overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
+    }
+    overlay::draw_hud(frame, &hud_text(app, &stats, hud, cols), style); // last: boxes never hide it
+    overlay::limit_colors(frame, style.depth); // not one code deeper than the terminal's depth
+    stats
+}
+
+/// Where the map goes on `frame` for the walk's map mode (`None`: no map).
+fn map_area(app: &App, frame: &Frame) -> Option<MapArea> {
+    if overlay::too_small(frame.width(), frame.height()) {
+        return None; // only the too-small message is drawn
+    }
+    match app.map {
+        MapMode::Off => None,
+        MapMode::Corner => Some(MapArea::corner(frame, app.camera.position)),
+        MapMode::Full => Some(MapArea::full(frame, app.maze(), app.camera.position)),
+    }
+}
+
+/// The HUD line, `width` columns at most: the most useful fields first (where and which way), the
+/// exit clock, what frames cost, which cell, the view settings — each only if it fits whole — and
+/// "? help" always at the right end.
+fn hud_text(app: &App, stats: &RenderStats, hud: &Hud, width: usize) -> String {
+    const HELP: &str = "? help ";
+    let c = &app.camera;
+    let projection = match c.projection {
+        Projection::Perspective => "persp",
+        Projection::Orthographic => "ortho",
+    };
+    let clock = match (app.maze().exit(), app.finished) {
+        (None, _) => None,
+        (Some(_), Some(took)) => Some(format!("exit in {}", clock_text(took))),
+        (Some(_), None) => Some(format!("time {}", clock_text(hud.elapsed))),
+    };
+    // (priority, text): lower numbers are kept first when the line is short of room
+    let fields = [
+        // (position, height, heading and pitch apart: each fits where they together would not)
+        (0, format!("({:.1}, {:.1})", c.position.x, c.position.y)),
+        (3, format!("z{:+.1}", c.eye_z)),
+        (1, format!("heading {:.0}°", c.yaw_deg)),
+        (2, format!("pitch {:+.0}°", c.pitch_deg)),
+        (4, clock.unwrap_or_default()),
+        (5, format!("{} fps {} B", hud.fps, hud.cost.bytes)),
+        (6, format!("cell {} seen {}", app.cell, stats.portal.distinct_cells)),
+        (7, format!("fov {:.0}° {projection} {}", c.hfov_deg, app.options.charset)),
+        (8, format!("{:.1} ms", hud.cost.seconds * 1e3)),
+    ];
+    overlay::hud_line(&fields, HELP, width)
+}
+
+/// `m:ss.s` for the exit screen.
+#[must_use]
+pub fn clock_text(seconds: f64) -> String {
+    let minutes = (seconds / 60.0).floor();
+    format!("{}:{:04.1}", minutes as u64, seconds - minutes * 60.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clock_text_reads_minutes_and_seconds() {
+        assert_eq!(clock_text(0.0), "0:00.0");
+        assert_eq!(clock_text(75.25), "1:15.2");
+    }
+
+    fn session(options: SessionOptions) -> Session {
+        let app = App::new(mazewalk_maze::builtin().unwrap(), mazewalk_render::RenderOptions::default(), 0.0)
+            .unwrap();
+        Session::new(app, 100, 30, options)
+    }
+
+    /// A terminal's size, whatever it claims, costs a bounded frame: a side of zero is unknown
+    /// (80 × 24), a side past [`MAX_SIZE`] is drawn at it.
+    #[test]
+    fn any_claimed_size_draws_a_bounded_frame() {
+        let mut s = session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        for ((cols, rows), drawn) in [
+            ((65535, 65535), MAX_SIZE),
+            ((0, 0), DEFAULT_SIZE),
+            ((0, 50), (80, 50)),
+            ((120, 40), (120, 40)),
+            ((1, 1), (1, 1)),
+            ((5000, 3), (MAX_SIZE.0, 3)),
+        ] {
+            s.input(Input::Resize { cols, rows }, 0.0);
+            s.frame(0.0, &mut Vec::new());
+            let screen = s.screen();
+            assert_eq!((screen.width(), screen.height()), (drawn.0.into(), drawn.1.into()), "{cols}×{rows}");
+        }
+        let huge = Session::new(s.app().clone(), u16::MAX, u16::MAX, SessionOptions::default());
+        assert_eq!((huge.screen().width(), huge.screen().height()), (1000, 400));
+    }
+
+    #[test]
+    fn the_exit_box_also_shows_the_news() {
+        let mut s = session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        s.app_mut().finished = Some(83.0);
+        s.set_notice(Some("You reached the exit first, in 1:23.0!".into()));
+        s.frame(0.0, &mut Vec::new());
+        let text = s.screen().lines().join("\n");
+        assert!(text.contains("Found the exit!") && text.contains("You found the exit in 1:23.0."), "{text}");
+        assert!(text.contains("You reached the exit first, in 1:23.0!"), "{text}");
+    }
+
+    #[test]
+    fn the_hud_fits_any_width_by_priority_and_always_offers_help() {
+        let s = session(SessionOptions::default());
+        let stats = RenderStats::default();
+        let hud = Hud { fps: 57, elapsed: 83.0, ..Hud::default() };
+        for width in [20, 40, 60, 80, 120, 200] {
+            let line = hud_text(s.app(), &stats, &hud, width);
+            assert_eq!(line.chars().count(), width, "{line:?}");
+            assert!(line.ends_with("? help "), "{line:?}");
+            assert!(line.starts_with(" ("), "position first: {line:?}");
+        }
+        let at80 = hud_text(s.app(), &stats, &hud, 80);
+        assert!(
+            at80.contains("heading 0°") && at80.contains("time 1:23.0") && at80.contains("57 fps 0 B"),
+            "{at80:?}"
+        );
+        let wide = hud_text(s.app(), &stats, &hud, 200);
+        assert!(wide.contains("fov 90° persp half") && wide.contains("cell "), "{wide:?}");
+    }
+
+    #[test]
+    fn with_flow_control_frames_wait_for_replies_and_coalesce() {
+        let mut s = session(SessionOptions::default());
+        let mut out = Vec::new();
+        assert!(s.frame(0.0, &mut out));
+        assert!(out.ends_with(QUERY), "each frame ends with the query");
+        s.feed(b"\x1b[D", 0.02); // ← tapped: one step
+        assert!(s.frame(0.02, &mut out), "a second frame may go before any reply");
+        let heading_sent = s.app().camera.yaw_deg;
+        // ← held: the terminal's auto-repeat every 30 ms.
+        let mut t = 0.05;
+        while t < 0.3 {
+            s.feed(b"\x1b[D", t);
+            assert!(!s.frame(t, &mut out), "two in flight: held back at {t}");
+            t += 0.03;
+        }
+        assert!(s.next_wake(0.3).is_some_and(|t| t > 0.3), "no busy wait while held back");
+        assert!(s.app().camera.yaw_deg > heading_sent, "the walk goes on meanwhile");
+        s.feed(b"\x1b[?62;22c", 0.4); // the first frame is on screen
+        out.clear();
+        assert!(s.frame(0.4, &mut out), "a reply lets the latest state out");
+        assert_eq!(s.flow().in_flight(), 2);
+    }
+
+    #[test]
+    fn ctrl_or_alt_letters_are_not_the_letters_and_wake_ups_are_never_in_the_past() {
+        use mazewalk_term::input::{Modifiers, Protocol, encode};
+        let mut s = session(SessionOptions::default());
+        s.frame(0.0, &mut Vec::new());
+        for modifiers in [
+            Modifiers { ctrl: true, ..Modifiers::default() },
+            Modifiers { alt: true, ..Modifiers::default() },
+        ] {
+            for c in ['q', 'w', 'm'] {
+                let key =
+                    Input::Key { key: Key::Char(c), phase: mazewalk_term::input::KeyPhase::Press, modifiers };
+                if let Some(bytes) = encode(&key, Protocol::Legacy) {
+                    s.feed(&bytes, 0.1); // as the bytes a terminal sends
+                }
+                s.input(key, 0.1);
+            }
+        }
+        assert!(!s.is_over(), "Ctrl-Q and Alt-Q do not quit");
+        assert_eq!(s.app().camera.position, s.app().maze().viewer().pos, "Ctrl-W / Alt-W do not walk");
+        s.feed(b"q", 0.2);
+        assert!(s.is_over());
+        assert!(s.next_wake(0.3).is_none_or(|t| t >= 0.3), "{:?}", s.next_wake(0.3));
+    }
+
+    #[test]
+    fn a_stalled_link_with_nothing_to_draw_sleeps() {
+        // Two frames unanswered (the link stalled, or a terminal that never answers), then the
+        // picture stops changing: nothing is held back, so nothing is due, before or after the
+        // reply timeout (it used to stay due at the timeout: a host waking at once, forever).
+        let mut s = session(SessionOptions::default());
+        let mut out = Vec::new();
+        assert!(s.frame(0.0, &mut out));
+        s.feed(b"m", 0.1); // the map: one change, no motion
+        assert!(s.frame(0.1, &mut out));
+        assert_eq!(s.flow().in_flight(), 2);
+        assert!(!s.frame(0.2, &mut out));
+        assert!(s.next_wake(0.2).is_some_and(|t| t > 0.2), "the key's hold runs out, later");
+        for now in [1.0, 2.5, 10.0] {
+            assert!(!s.frame(now, &mut out), "nothing new at {now}");
+            assert_eq!(s.next_wake(now), None, "asleep at {now}");
+        }
+        s.feed(b"m", 11.0); // a change past the timeout goes out at once
+        assert!(s.frame(11.0, &mut out));
+    }
+
+    #[test]
+    fn a_stalled_link_gets_a_frame_a_timeout_not_a_flood() {
+        // The terminal answered, then its link stalled while ← was held (auto-repeat keeps coming
+        // from a stopped client's buffers, say): frames go one per ACK_TIMEOUT, not 60 a second.
+        let mut s = session(SessionOptions::default());
+        let mut out = Vec::new();
+        s.frame(0.0, &mut out);
+        s.feed(b"\x1b[?62;22c", 0.05);
+        let (mut drawn, mut t) = (0, 0.1);
+        while t < 10.1 {
+            s.feed(b"\x1b[D", t);
+            drawn += usize::from(s.frame(t, &mut out));
+            assert!(s.next_wake(t).is_some_and(|w| w > t), "no busy wait at {t}");
+            t += 0.03;
+        }
+        let probes = (10.0 / crate::flow::ACK_TIMEOUT) as usize;
+        assert!((2..=2 + probes + 1).contains(&drawn), "{drawn} frames in 10 s");
+        s.feed(b"\x1b[?62;22c", 10.2); // the link is back: frames flow again
+        assert!(s.frame(10.2, &mut out));
+    }
+
+    #[test]
+    fn without_replies_the_walk_goes_on_after_the_timeout() {
+        let mut s = session(SessionOptions::default());
+        let mut out = Vec::new();
+        s.frame(0.0, &mut out);
+        s.feed(b"w", 0.1);
+        s.frame(0.1, &mut out);
+        s.feed(b"w", 0.2);
+        assert!(!s.frame(0.2, &mut out));
+        assert!(s.frame(0.1 + crate::flow::ACK_TIMEOUT, &mut out));
+        assert!(s.flow().silent());
+        s.feed(b"w", 3.0);
+        assert!(s.frame(3.0, &mut out), "silent: no waiting");
+    }
+
+    /// The 3D view's cells (all rows but the HUD) as drawn by a fresh session at 256 colours.
+    fn view_cells(s: &Session) -> Vec<Cell> {
+        let frame = s.screen();
+        frame.cells()[..frame.width() * (frame.height() - 1)].to_vec()
+    }
+
+    #[test]
+    fn a_slow_link_stops_dithering_and_a_fast_one_brings_it_back() {
+        use mazewalk_term::frame::ColorDepth;
+        let options = RenderOptions { color_depth: ColorDepth::Ansi256, ..RenderOptions::default() };
+        let app =
+            |dither| App::new(mazewalk_maze::builtin().unwrap(), RenderOptions { dither, ..options }, 0.0);
+        let still = |dither| {
+            let mut s = Session::new(app(dither).unwrap(), 100, 30, SessionOptions::default());
+            s.frame(0.0, &mut Vec::new());
+            view_cells(&s)
+        };
+        let (dithered, plain) = (still(true), still(false));
+        assert_ne!(dithered, plain, "the built-in view has colours between palette entries");
+
+        let mut s = Session::new(app(true).unwrap(), 100, 30, SessionOptions::default());
+        let mut out = Vec::new();
+        let mut t = 0.0;
+        // Each frame answered 0.4 s after it went: the link is slow.
+        for _ in 0..4 {
+            assert!(s.frame(t, &mut out));
+            s.feed(b"\x1b[?62;22c", t + 0.4);
+            t += 0.4;
+            s.invalidate();
+        }
+        assert!(s.frame(t, &mut out));
+        assert_eq!(view_cells(&s), plain, "slow: nearest entries only");
+        // Then answered at once, until the round trip has settled under 0.08 s.
+        for _ in 0..20 {
+            s.feed(b"\x1b[?62;22c", t + 0.01);
+            t += 0.02;
+            s.invalidate();
+            assert!(s.frame(t, &mut out));
+        }
+        assert_eq!(view_cells(&s), dithered, "fast again: dithered");
+    }
+
+    #[test]
+    fn slow_replies_raise_the_colour_tolerance() {
+        assert_eq!(adaptive_tolerance(1, None), 1);
+        // Slow past 0.15 s, fast again under 0.08 s, as it was in between.
+        assert!(!slow_link(false, None) && !slow_link(true, None));
+        assert!(slow_link(false, Some(0.2)) && !slow_link(false, Some(0.1)) && slow_link(true, Some(0.1)));
+        assert!(!slow_link(true, Some(0.05)));
+        assert_eq!(adaptive_tolerance(1, Some(0.05)), 1);
+        assert_eq!(adaptive_tolerance(1, Some(0.2)), 4);
+        assert_eq!(adaptive_tolerance(1, Some(1.0)), 7);
+        assert_eq!(adaptive_tolerance(15, Some(1.0)), encoder::MAX_TOLERANCE);
+    }
+}

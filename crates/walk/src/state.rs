@@ -1,0 +1,452 @@
+//! The walkthrough's state and what each input does to it — pure: no terminal, no clock (time comes in
+//! as seconds), so every handler is unit-tested without a terminal.
+
+use std::sync::Arc;
+
+use glam::Vec2;
+
+use super::controls::{Action, Held, action_for};
+use mazewalk_maze::geometry::{WALL_MARGIN, clamp_eye_height, heading_dir, heading_right};
+use mazewalk_maze::movement::{Position, settle, step};
+use mazewalk_maze::{Maze, Viewer};
+use mazewalk_render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection};
+use mazewalk_render::{Charset, Culling, RenderOptions};
+use mazewalk_term::input::{Key, KeyPhase};
+
+/// Walking speed by default, maze units per second (a generated cell is 4 units); see [`Motion`].
+pub const WALK_SPEED: f32 = 5.0;
+/// Turning speed by default, degrees per second; see [`Motion`].
+pub const TURN_SPEED: f32 = 110.0;
+/// How far one tap of W/S/A/D walks by default, maze units: a quarter of a generated cell.
+pub const WALK_STEP: f32 = 1.0;
+/// How far one tap of ←/→ turns by default, degrees: six taps make a right angle.
+pub const TURN_STEP_DEG: f32 = 15.0;
+/// The walking speeds `--walk-speed` accepts, maze units per second.
+pub const WALK_SPEED_RANGE: (f32, f32) = (0.5, 40.0);
+/// The turning speeds `--turn-speed` accepts, degrees per second.
+pub const TURN_SPEED_RANGE: (f32, f32) = (10.0, 720.0);
+/// The walk steps `--walk-step` accepts, maze units (at most a generated cell).
+pub const WALK_STEP_RANGE: (f32, f32) = (0.05, 4.0);
+/// The turn steps `--turn-step` accepts, degrees.
+pub const TURN_STEP_RANGE_DEG: (f32, f32) = (1.0, 90.0);
+/// Looking up/down, degrees per second.
+pub const LOOK_SPEED: f32 = 70.0;
+/// How far one tap of ↑/↓ looks, degrees.
+pub const LOOK_STEP_DEG: f32 = 10.0;
+/// Rising/sinking, maze units per second (floor to ceiling is 2).
+pub const RISE_SPEED: f32 = 1.0;
+/// How far one tap of `[`/`]` rises or sinks, maze units.
+pub const RISE_STEP: f32 = 0.1;
+/// Field of view change, degrees per second.
+pub const FOV_SPEED: f32 = 45.0;
+/// How much one tap of `+`/`-` changes the field of view, degrees.
+pub const FOV_STEP_DEG: f32 = 5.0;
+/// How long a snap turn (`,` `.`) takes, seconds.
+pub const SNAP_SECONDS: f64 = 0.15;
+/// A snap turn lands on a multiple of 90° when it would land within this many degrees of one, so
+/// repeated snaps stay on the maze's grid after a little drift; further off, it turns exactly 90°.
+pub const SNAP_ALIGN_DEG: f32 = 10.0;
+/// Degrees of look per cell of mouse drag.
+pub const DRAG_DEGREES_PER_CELL: f32 = 2.0;
+/// A frame longer than this (a stall, a suspend) advances the motion by this much only.
+pub const MAX_STEP: f64 = 0.1;
+
+/// How far a tap moves and how fast a held key moves: one player's settings (a server may give each
+/// player its own). Steps and speeds are positive; the binary takes them from flags within the `*_RANGE`
+/// constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Motion {
+    /// Walking speed, maze units per second.
+    pub walk_speed: f32,
+    /// Turning speed, degrees per second.
+    pub turn_speed_deg: f32,
+    /// How far one tap walks, maze units.
+    pub walk_step: f32,
+    /// How far one tap turns, degrees.
+    pub turn_step_deg: f32,
+}
+
+impl Default for Motion {
+    fn default() -> Self {
+        Motion {
+            walk_speed: WALK_SPEED,
+            turn_speed_deg: TURN_SPEED,
+            walk_step: WALK_STEP,
+            turn_step_deg: TURN_STEP_DEG,
+        }
+    }
+}
+
+impl Motion {
+    /// For a continuous action: its step (degrees or maze units) and its speed (the same per second).
+    fn step_and_speed(&self, action: Action) -> (f32, f32) {
+        match action {
+            Action::Forward | Action::Back | Action::StrafeLeft | Action::StrafeRight => {
+                (self.walk_step, self.walk_speed)
+            }
+            Action::TurnLeft | Action::TurnRight => (self.turn_step_deg, self.turn_speed_deg),
+            Action::LookUp | Action::LookDown => (LOOK_STEP_DEG, LOOK_SPEED),
+            Action::Rise | Action::Sink => (RISE_STEP, RISE_SPEED),
+            _ => (FOV_STEP_DEG, FOV_SPEED),
+        }
+    }
+}
+
+/// A snap turn under way: the heading eases from `from_deg` to `to_deg` (not wrapped to 0..360) over
+/// [`SNAP_SECONDS`] from `start`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Snap {
+    from_deg: f32,
+    to_deg: f32,
+    start: f64,
+}
+
+impl Snap {
+    /// The heading at `now`, not wrapped; `None` once the snap is over.
+    fn heading_at(&self, now: f64) -> Option<f32> {
+        let t = ((now - self.start) / SNAP_SECONDS) as f32;
+        if t >= 1.0 {
+            return None;
+        }
+        let t = t.max(0.0);
+        let eased = t * t * (3.0 - 2.0 * t); // smoothstep: starts and stops gently
+        Some(self.from_deg + (self.to_deg - self.from_deg) * eased)
+    }
+}
+
+/// Where the map is shown.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MapMode {
+    /// No map.
+    Off,
+    /// A small map in the top-right corner.
+    #[default]
+    Corner,
+    /// The map fills the screen.
+    Full,
+}
+
+/// The walkthrough.
+#[derive(Clone, Debug)]
+pub struct App {
+    /// Shared: a server's players all walk one maze (a 1000 × 1000 one is ~75 MB).
+    maze: Arc<Maze>,
+    /// The viewer.
+    pub camera: Camera,
+    /// The cell the viewer is in.
+    pub cell: u32,
+    start: (Camera, u32),
+    /// How frames are drawn.
+    pub options: RenderOptions,
+    /// The map overlay.
+    pub map: MapMode,
+    /// The key help overlay (never under the exit box: `?` does nothing there).
+    pub help: bool,
+    /// Held keys.
+    pub held: Held,
+    /// Whether the terminal reports key releases (kitty protocol).
+    pub releases: bool,
+    /// Tap steps and glide speeds.
+    pub motion: Motion,
+    snap: Option<Snap>,
+    /// When the walk started (seconds, the caller's clock).
+    pub started: f64,
+    /// Seconds it took to reach the exit, once reached.
+    pub finished: Option<f64>,
+    /// Set by q, or by Esc with no help shown.
+    pub quit: bool,
+    /// The map shows every cell and the exit from the start (`--reveal-map`), not only those seen.
+    pub reveal_map: bool,
+    /// The map tints the cells the portal pass visited this frame (`v`), a lesson in culling.
+    pub culling_tint: bool,
+    /// Cells seen so far, one bit each (the map's fog of war).
+    seen: Vec<u64>,
+    last_tick: f64,
+}
+
+/// The viewer's start is not inside any cell.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("the viewer's start ({x}, {y}) is not inside any cell of the maze")]
+pub struct StartOutsideMaze {
+    /// Start x.
+    pub x: f32,
+    /// Start y.
+    pub y: f32,
+}
+
+/// The camera a maze's viewer asks for, made usable: its field of view clamped to [`FOV_RANGE_DEG`] and
+/// its eye between floor and ceiling ([`clamp_eye_height`]), as a file may ask for anything in range of
+/// a number. The walk starts from it and `mazewalk render` renders from it, so a file that loads is a
+/// file both show.
+#[must_use]
+pub fn viewer_camera(viewer: &Viewer) -> Camera {
+    let fov = viewer.fov_deg.clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1);
+    Camera { eye_z: clamp_eye_height(viewer.z), ..Camera::new(viewer.pos, viewer.dir_deg, fov) }
+}
+
+/// Where a viewer put at `pos` stands, and the cell holding it: at least [`WALL_MARGIN`] from every
+/// wall, as the walk keeps it ([`settle`]: the renderer's near plane lies inside the margin, so an eye
+/// closer would see through the wall). `None` when `pos` is in no cell. The walk starts there, and
+/// `mazewalk render` renders from there.
+#[must_use]
+pub fn stand(maze: &Maze, pos: Vec2) -> Option<Position> {
+    let cell = maze.cell_at(pos)?;
+    Some(settle(maze, Position { cell, pos }, WALL_MARGIN))
+}
+
+impl App {
+    /// A walkthrough of `maze` from its viewer (where it [`stand`]s), starting at time `now`.
+    ///
+    /// # Errors
+    /// [`StartOutsideMaze`] when the maze's viewer is not in a cell.
+    pub fn new(
+        maze: impl Into<Arc<Maze>>,
+        options: RenderOptions,
+        now: f64,
+    ) -> Result<App, StartOutsideMaze> {
+        let maze = maze.into();
+        let viewer = maze.viewer();
+        let Position { cell, pos } =
+            stand(&maze, viewer.pos).ok_or(StartOutsideMaze { x: viewer.pos.x, y: viewer.pos.y })?;
+        let camera = Camera { position: pos, ..viewer_camera(viewer) };
+        let cells = maze.cell_count();
+        Ok(App {
+            maze,
+            camera,
+            cell,
+            start: (camera, cell),
+            options,
+            map: MapMode::Corner,
+            help: false,
+            held: Held::default(),
+            releases: false,
+            motion: Motion::default(),
+            snap: None,
+            started: now,
+            finished: None,
+            quit: false,
+            reveal_map: false,
+            culling_tint: false,
+            seen: vec![0; cells.div_ceil(64)],
+            last_tick: now,
+        })
+    }
+
+    /// Whether cell `c` shows on the map: seen at some time in the walk, or every cell with
+    /// [`reveal_map`](Self::reveal_map).
+    #[must_use]
+    pub fn has_seen(&self, c: u32) -> bool {
+        self.reveal_map || self.seen.get(c as usize / 64).is_some_and(|w| w >> (c % 64) & 1 == 1)
+    }
+
+    /// Records cells as seen (the renderer's visible cells of a frame); ids outside the maze are ignored.
+    pub fn mark_seen(&mut self, cells: impl IntoIterator<Item = u32>) {
+        for c in cells {
+            if let Some(word) = self.seen.get_mut(c as usize / 64) {
+                *word |= 1 << (c % 64);
+            }
+        }
+    }
+
+    /// The maze being walked.
+    #[must_use]
+    pub fn maze(&self) -> &Maze {
+        &self.maze
+    }
+
+    /// A key event at time `now`. Returns true when the picture may have changed.
+    pub fn key(&mut self, key: Key, phase: KeyPhase, now: f64) -> bool {
+        let Some(action) = action_for(key) else { return false };
+        if action.is_continuous() {
+            match phase {
+                KeyPhase::Release => {
+                    self.tick(now); // the key moved until now
+                    self.held.release(action);
+                }
+                KeyPhase::Press | KeyPhase::Repeat => {
+                    // Bring the motion up to date before the set of held keys changes.
+                    self.tick(now);
+                    let (step, speed) = self.motion.step_and_speed(action);
+                    let step_seconds = f64::from(step / speed);
+                    if self.held.press(action, now, self.releases, phase == KeyPhase::Repeat, step_seconds) {
+                        self.take_step(action, step, now);
+                    }
+                }
+            }
+            return true;
+        }
+        if phase == KeyPhase::Release {
+            return false;
+        }
+        match action {
+            Action::ToggleProjection => {
+                self.camera.projection = match self.camera.projection {
+                    Projection::Perspective => Projection::Orthographic,
+                    Projection::Orthographic => Projection::Perspective,
+                };
+            }
+            Action::CycleMap => {
+                self.map = match self.map {
+                    MapMode::Off => MapMode::Corner,
+                    MapMode::Corner => MapMode::Full,
+                    MapMode::Full => MapMode::Off,
+                };
+            }
+            Action::CycleCharset => {
+                let all = Charset::ALL;
+                let i = all.iter().position(|&c| c == self.options.charset).unwrap_or(0);
+                self.options.charset = all[(i + 1) % all.len()];
+            }
+            Action::SnapLeft | Action::SnapRight => {
+                self.tick(now); // the snap starts from where the viewer is now
+                self.snap_turn(if action == Action::SnapLeft { 90.0 } else { -90.0 }, now);
+            }
+            Action::Reset => {
+                (self.camera, self.cell) = self.start;
+                self.held.clear();
+                self.snap = None;
+                (self.started, self.finished) = (now, None);
+            }
+            // the exit box shows instead of the help: a toggle there would pop up unseen after `r`
+            Action::Help if self.finished.is_some() => return false,
+            Action::Help => self.help = !self.help,
+            Action::ToggleCulling => {
+                self.options.culling = match self.options.culling {
+                    Culling::Portal => Culling::None,
+                    Culling::None => Culling::Portal,
+                };
+            }
+            Action::ToggleCullingTint => self.culling_tint = !self.culling_tint,
+            Action::ToggleTextures => self.options.textures = !self.options.textures,
+            Action::Quit if key == Key::Esc && self.help => self.help = false, // Esc closes the box first
+            Action::Quit => self.quit = true,
+            _ => {}
+        }
+        true
+    }
+
+    /// A mouse drag by (`dx`, `dy`) terminal cells: look around.
+    pub fn drag(&mut self, dx: i32, dy: i32) -> bool {
+        if dx == 0 && dy == 0 {
+            return false;
+        }
+        self.turn(-(dx as f32) * DRAG_DEGREES_PER_CELL, -(dy as f32) * DRAG_DEGREES_PER_CELL);
+        true
+    }
+
+    /// The terminal lost focus: releases will not arrive, so let go of every key.
+    pub fn focus_lost(&mut self) {
+        self.held.clear();
+    }
+
+    /// One discrete step of a continuous action (a tap): `amount` degrees or maze units.
+    fn take_step(&mut self, action: Action, amount: f32, now: f64) {
+        match action {
+            Action::TurnLeft => self.turn(amount, 0.0),
+            Action::TurnRight => self.turn(-amount, 0.0),
+            Action::LookUp => self.turn(0.0, amount),
+            Action::LookDown => self.turn(0.0, -amount),
+            Action::Rise => self.rise(amount),
+            Action::Sink => self.rise(-amount),
+            Action::FovWider => self.zoom(amount),
+            Action::FovNarrower => self.zoom(-amount),
+            Action::Forward => self.walk(Vec2::new(amount, 0.0), now),
+            Action::Back => self.walk(Vec2::new(-amount, 0.0), now),
+            Action::StrafeRight => self.walk(Vec2::new(0.0, amount), now),
+            Action::StrafeLeft => self.walk(Vec2::new(0.0, -amount), now),
+            _ => {}
+        }
+    }
+
+    /// Starts a snap turn by `deg` (±90, counter-clockwise positive), after any snap under way. It lands
+    /// on a multiple of 90° when within [`SNAP_ALIGN_DEG`] of one, and never more than 180° ahead of the
+    /// heading (a held snap key turns in right angles, not ever faster).
+    fn snap_turn(&mut self, deg: f32, now: f64) {
+        let heading = self.snap.and_then(|s| s.heading_at(now)).unwrap_or(self.camera.yaw_deg);
+        let target = self.snap.map_or(self.camera.yaw_deg, |s| s.to_deg) + deg;
+        let aligned = (target / 90.0).round() * 90.0;
+        let to_deg = if (target - aligned).abs() <= SNAP_ALIGN_DEG { aligned } else { target };
+        if (to_deg - heading).abs() > 180.0 + SNAP_ALIGN_DEG {
+            return;
+        }
+        self.snap = Some(Snap { from_deg: heading, to_deg, start: now });
+    }
+
+    fn turn(&mut self, yaw_deg: f32, pitch_deg: f32) {
+        if let Some(snap) = &mut self.snap {
+            // Turning during a snap carries the snap along.
+            snap.from_deg += yaw_deg;
+            snap.to_deg += yaw_deg;
+        }
+        self.camera.yaw_deg = (self.camera.yaw_deg + yaw_deg).rem_euclid(360.0);
+        self.camera.pitch_deg = (self.camera.pitch_deg + pitch_deg).clamp(-PITCH_LIMIT_DEG, PITCH_LIMIT_DEG);
+    }
+
+    fn rise(&mut self, dz: f32) {
+        self.camera.eye_z = clamp_eye_height(self.camera.eye_z + dz);
+    }
+
+    fn zoom(&mut self, deg: f32) {
+        self.camera.hfov_deg = (self.camera.hfov_deg + deg).clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1);
+    }
+
+    /// Walks by `by` maze units (x forward, y right; level whatever the pitch) as far as the walls let.
+    fn walk(&mut self, by: Vec2, now: f64) {
+        let heading = self.camera.yaw_deg.to_radians();
+        let delta = heading_dir(heading) * by.x + heading_right(heading) * by.y;
+        let to =
+            step(&self.maze, Position { cell: self.cell, pos: self.camera.position }, delta, WALL_MARGIN);
+        self.camera.position = to.pos;
+        self.cell = to.cell;
+        if self.finished.is_none() && self.maze.exit().is_some_and(|exit| exit.cell == self.cell) {
+            self.finished = Some(now - self.started);
+            self.help = false; // the exit box takes its place; after `r` the walk starts with none
+        }
+    }
+
+    /// True while something moves by itself (held keys, a snap turn), so the loop keeps drawing frames.
+    #[must_use]
+    pub fn is_animating(&self, now: f64) -> bool {
+        self.held.any(now) || self.snap.is_some()
+    }
+
+    /// Advances held-key motion and any snap turn to time `now` at speeds independent of the frame rate.
+    /// Returns true when the viewer moved.
+    pub fn tick(&mut self, now: f64) -> bool {
+        // A frame longer than MAX_STEP (a stall, a suspend) moves by MAX_STEP's worth only.
+        let from = self.last_tick.max(now - MAX_STEP);
+        self.last_tick = now;
+        let t = |action| self.held.moving_time(action, from, now) as f32;
+        let axis = |plus, minus| t(plus) - t(minus); // seconds of motion, signed
+        let walk =
+            Vec2::new(axis(Action::Forward, Action::Back), axis(Action::StrafeRight, Action::StrafeLeft));
+        let turn = axis(Action::TurnLeft, Action::TurnRight);
+        let look = axis(Action::LookUp, Action::LookDown);
+        let rise = axis(Action::Rise, Action::Sink);
+        let zoom = axis(Action::FovWider, Action::FovNarrower);
+        self.held.expire(now);
+        let before = (self.camera, self.cell);
+        if turn != 0.0 || look != 0.0 {
+            self.turn(turn * self.motion.turn_speed_deg, look * LOOK_SPEED);
+        }
+        if rise != 0.0 {
+            self.rise(rise * RISE_SPEED);
+        }
+        if zoom != 0.0 {
+            self.zoom(zoom * FOV_SPEED);
+        }
+        if walk != Vec2::ZERO {
+            // Diagonally no faster than straight: the longer of the two, in the combined direction.
+            let seconds = walk.x.abs().max(walk.y.abs());
+            self.walk(walk.normalize_or_zero() * seconds * self.motion.walk_speed, now);
+        }
+        if let Some(snap) = self.snap {
+            let heading = snap.heading_at(now);
+            self.camera.yaw_deg = heading.unwrap_or(snap.to_deg).rem_euclid(360.0);
+            if heading.is_none() {
+                self.snap = None;
+            }
+        }
+        (self.camera, self.cell) != before
+    }
+}

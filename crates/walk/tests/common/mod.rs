@@ -1,0 +1,5 @@
+//! Shared by the walk crate's tests: the slow-link harness.
+
+#![allow(dead_code)]
+
+pub mod link;

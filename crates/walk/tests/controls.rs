@@ -1,0 +1,292 @@
+//! Tap = step, hold = glide (issue #14): scripted key timings played into the pure [`App`], the way a
+//! terminal without key releases (auto-repeat only) or with them (kitty protocol) would send them, with a
+//! tick at every frame as the event loop does.
+
+use mazewalk_maze as maze;
+use mazewalk_maze::geometry::WALL_MARGIN;
+use mazewalk_render::RenderOptions;
+use mazewalk_term::input::{Key, KeyPhase};
+use mazewalk_walk::App;
+use mazewalk_walk::controls::{REPEAT_HOLD_INTERVALS, REPEAT_HOLD_RANGE};
+use mazewalk_walk::state::{Motion, SNAP_ALIGN_DEG, SNAP_SECONDS, TURN_SPEED, TURN_STEP_DEG, WALK_STEP};
+
+/// Frames per second of the scripted event loop.
+const FPS: f64 = 60.0;
+/// Headings are f32 degrees summed over up to a few hundred frames: a few thousandths of a degree.
+const DEG_TOL: f32 = 0.01;
+
+/// The built-in maze: the viewer starts in the middle of a tile, heading 0° (east, +x), down a corridor.
+fn app(releases: bool) -> App {
+    let mut app = App::new(maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
+    app.releases = releases;
+    assert_eq!(app.camera.yaw_deg, 0.0);
+    app
+}
+
+/// What happens at a time in a script.
+#[derive(Clone, Copy, Debug)]
+enum Event {
+    Press(Key),
+    Release(Key),
+}
+
+/// Plays `events` (sorted by time) into `app` with a tick every frame from `from` to `to` and one at
+/// `to`, the way the session does: each event at its time, ticks between. Returns the heading after
+/// each tick.
+fn play(app: &mut App, events: &[(f64, Event)], from: f64, to: f64) -> Vec<f32> {
+    let mut events = events.iter().peekable();
+    let frames = ((from * FPS).ceil() as u32..).map(|n| f64::from(n) / FPS).take_while(|&t| t < to);
+    let mut headings = Vec::new();
+    for now in frames.chain([to]) {
+        while let Some(&(t, event)) = events.next_if(|(t, _)| *t <= now) {
+            match event {
+                Event::Press(key) => app.key(key, KeyPhase::Press, t),
+                Event::Release(key) => app.key(key, KeyPhase::Release, t),
+            };
+        }
+        app.tick(now);
+        headings.push(app.camera.yaw_deg);
+    }
+    assert!(events.next().is_none(), "events after the end of the script");
+    headings
+}
+
+/// The heading turned left from 0°, in (-180, 180].
+fn turned(app: &App) -> f32 {
+    let d = app.camera.yaw_deg.rem_euclid(360.0);
+    if d > 180.0 { d - 360.0 } else { d }
+}
+
+/// A key held without releases: pressed at `t0`, auto-repeated after `delay` every `interval` until `end`.
+/// Returns the events and the time of the last repeat.
+fn held(key: Key, t0: f64, delay: f64, interval: f64, end: f64) -> (Vec<(f64, Event)>, f64) {
+    let mut events = vec![(t0, Event::Press(key))];
+    let mut t = t0 + delay;
+    while t <= end {
+        events.push((t, Event::Press(key)));
+        t += interval;
+    }
+    let last = events.last().unwrap().0;
+    (events, last)
+}
+
+#[test]
+fn without_releases_a_tap_turns_exactly_one_step() {
+    let mut app = app(false);
+    assert!(app.key(Key::Left, KeyPhase::Press, 1.0));
+    assert_eq!(turned(&app), TURN_STEP_DEG, "at once");
+    play(&mut app, &[], 1.0, 3.0);
+    assert_eq!(turned(&app), TURN_STEP_DEG, "and no further");
+    assert!(!app.is_animating(3.0));
+    assert_eq!(app.held.next_expiry(), None);
+}
+
+#[test]
+fn without_releases_four_taps_150_ms_apart_turn_four_steps() {
+    let mut app = app(false);
+    let taps: Vec<_> = (0..4).map(|i| (1.0 + 0.15 * f64::from(i), Event::Press(Key::Left))).collect();
+    play(&mut app, &taps, 1.0, 2.5);
+    assert!((turned(&app) - 4.0 * TURN_STEP_DEG).abs() < DEG_TOL, "{}", turned(&app));
+    // Six taps, even faster ones (130 ms apart), make a right angle.
+    let mut app = self::app(false);
+    let taps: Vec<_> = (0..6).map(|i| (1.0 + 0.13 * f64::from(i), Event::Press(Key::Left))).collect();
+    play(&mut app, &taps, 1.0, 2.5);
+    assert!((turned(&app) - 90.0).abs() < DEG_TOL, "{}", turned(&app));
+}
+
+/// Holds ← with auto-repeat every `interval` after a 500 ms delay, for repeats until 2.5 s, and checks
+/// the turn: the first step, then from the first repeat on `speed × time` (the first repeat's step
+/// standing for its share), until the glide stops within [`REPEAT_HOLD_INTERVALS`] of the last repeat.
+fn hold_turns_by_speed_and_stops(interval: f64, motion: Motion) {
+    let mut app = app(false);
+    app.motion = motion;
+    let (events, last) = held(Key::Left, 1.0, 0.5, interval, 2.5);
+    let headings = play(&mut app, &events, 1.0, last);
+    let hold = (REPEAT_HOLD_INTERVALS * interval).clamp(REPEAT_HOLD_RANGE.0, REPEAT_HOLD_RANGE.1);
+    let stop = app.held.next_expiry().expect("gliding, with a time to stop");
+    assert!((stop - (last + hold)).abs() < 1e-9, "stops {} s after the last repeat", stop - last);
+    assert!(app.is_animating(last));
+    play(&mut app, &[], last + 1.0 / FPS, last + 1.0);
+    assert!(!app.is_animating(last + 1.0));
+    let glide = (stop - 1.5) as f32; // from the first repeat to the stop
+    let expected = motion.turn_step_deg + motion.turn_speed_deg * glide;
+    assert!(
+        (turned(&app) - expected).abs() < DEG_TOL,
+        "{interval} s repeats: turned {}, expected {expected}",
+        turned(&app)
+    );
+    // Never a step per repeat: after the two steps (the tap, the first repeat), no frame turns by more
+    // than a frame's worth of speed.
+    let per_frame = motion.turn_speed_deg / FPS as f32 + DEG_TOL;
+    let jumps = headings.windows(2).filter(|w| (w[1] - w[0]).abs() > per_frame).count();
+    assert!(jumps <= 1, "{jumps} jumps"); // the first step happened before the first frame
+}
+
+#[test]
+fn without_releases_a_hold_with_30_ms_repeats_glides_and_stops() {
+    hold_turns_by_speed_and_stops(0.03, Motion::default());
+}
+
+#[test]
+fn without_releases_a_hold_with_100_ms_repeats_glides_and_stops() {
+    hold_turns_by_speed_and_stops(0.1, Motion::default());
+}
+
+#[test]
+fn turn_speed_and_step_are_per_app_settings() {
+    let motion = Motion { turn_speed_deg: 45.0, turn_step_deg: 5.0, ..Motion::default() };
+    hold_turns_by_speed_and_stops(0.04, motion);
+    let mut app = app(false);
+    app.motion.turn_step_deg = 90.0;
+    app.key(Key::Right, KeyPhase::Press, 1.0);
+    assert_eq!(app.camera.yaw_deg, 270.0);
+}
+
+#[test]
+fn with_releases_a_tap_is_one_step_and_a_hold_glides_until_the_release() {
+    let mut app = app(true);
+    let tap = [(1.0, Event::Press(Key::Left)), (1.04, Event::Release(Key::Left))];
+    play(&mut app, &tap, 1.0, 2.0);
+    assert_eq!(turned(&app), TURN_STEP_DEG, "a quick tap is not lost");
+    // Held for 1 s: as far as the speed takes it in 1 s (the step being the start of it).
+    let mut app = self::app(true);
+    let hold = [(1.0, Event::Press(Key::Left)), (2.0, Event::Release(Key::Left))];
+    play(&mut app, &hold, 1.0, 3.0);
+    assert!((turned(&app) - TURN_SPEED).abs() < DEG_TOL, "{}", turned(&app));
+    assert!(!app.is_animating(3.0));
+    // Repeats reported by the protocol change nothing.
+    let mut app = self::app(true);
+    app.key(Key::Left, KeyPhase::Press, 1.0);
+    for i in 1..10 {
+        app.key(Key::Left, KeyPhase::Repeat, 1.0 + 0.1 * f64::from(i));
+    }
+    app.key(Key::Left, KeyPhase::Release, 2.0);
+    assert!((turned(&app) - TURN_SPEED).abs() < DEG_TOL, "{}", turned(&app));
+}
+
+#[test]
+fn a_snap_turn_is_90_degrees_animated_and_stays_on_the_grid() {
+    let mut app = app(false);
+    assert!(app.key(Key::Char('.'), KeyPhase::Press, 1.0));
+    assert!(app.is_animating(1.0), "the loop keeps drawing");
+    app.tick(1.0 + SNAP_SECONDS / 2.0);
+    assert!((turned(&app) + 45.0).abs() < DEG_TOL, "half way at half time: {}", turned(&app));
+    app.tick(1.0 + SNAP_SECONDS);
+    assert_eq!(app.camera.yaw_deg, 270.0, "exactly 90° right");
+    assert!(!app.is_animating(1.0 + SNAP_SECONDS));
+    // Four snaps left, one after the other: exactly back, each on a multiple of 90°.
+    for i in 0..4 {
+        let t = 2.0 + f64::from(i);
+        app.key(Key::Char(','), KeyPhase::Press, t);
+        play(&mut app, &[], t, t + 0.5);
+        assert_eq!(app.camera.yaw_deg % 90.0, 0.0, "{}", app.camera.yaw_deg);
+    }
+    assert_eq!(app.camera.yaw_deg, 270.0);
+    // A little off the grid (a mouse drag of 2 cells = 4°): the snap lands back on it.
+    app.drag(-2, 0);
+    assert_eq!(app.camera.yaw_deg, 274.0);
+    app.key(Key::Char('<'), KeyPhase::Press, 7.0);
+    play(&mut app, &[], 7.0, 7.5);
+    assert_eq!(app.camera.yaw_deg, 0.0);
+    // A tap off the grid (15°) is kept: the snap turns exactly 90° from there.
+    app.key(Key::Left, KeyPhase::Press, 8.0);
+    app.key(Key::Char('>'), KeyPhase::Press, 8.5);
+    play(&mut app, &[], 8.5, 9.0);
+    assert!((turned(&app) - (15.0 - 90.0)).abs() < DEG_TOL, "{}", turned(&app));
+}
+
+#[test]
+fn snaps_in_a_row_add_up_and_a_held_snap_key_stays_on_the_grid() {
+    let mut app = app(false);
+    app.key(Key::Char(','), KeyPhase::Press, 1.0);
+    app.tick(1.05);
+    app.key(Key::Char(','), KeyPhase::Press, 1.08);
+    play(&mut app, &[], 1.08, 2.0);
+    assert_eq!(app.camera.yaw_deg, 180.0, "two snaps: half a turn");
+    // Held, with auto-repeat every 30 ms: never more than half a turn behind, always landing on the grid.
+    let (events, last) = held(Key::Char('.'), 3.0, 0.5, 0.03, 4.0);
+    let headings = play(&mut app, &events, 3.0, last + 1.0);
+    assert_eq!(app.camera.yaw_deg % 90.0, 0.0, "{}", app.camera.yaw_deg);
+    // At most 180° (and the alignment) ahead, eased by smoothstep, whose speed peaks at 1.5× average.
+    let per_frame = (180.0 + SNAP_ALIGN_DEG) / (SNAP_SECONDS * FPS) as f32 * 1.5 + DEG_TOL;
+    for w in headings.windows(2) {
+        let d = (w[1] - w[0]).rem_euclid(360.0);
+        let d = d.min(360.0 - d);
+        assert!(d <= per_frame, "{} → {}", w[0], w[1]);
+    }
+}
+
+#[test]
+fn a_walking_tap_moves_one_step_and_never_through_a_wall() {
+    let mut app = app(false);
+    let start = app.camera.position;
+    app.key(Key::Char('w'), KeyPhase::Press, 1.0);
+    play(&mut app, &[], 1.0, 2.0);
+    let moved = app.camera.position - start;
+    assert!((moved.x - WALK_STEP).abs() < 1e-5 && moved.y.abs() < 1e-5, "{moved}");
+    assert!(!app.is_animating(2.0));
+    // Back toward the wall behind the start (2 units: half a tile): taps stop at the wall's margin.
+    let wall_x = start.x - 2.0;
+    for i in 0..6 {
+        let t = 3.0 + 0.2 * f64::from(i);
+        app.key(Key::Char('s'), KeyPhase::Press, t);
+        assert!(app.camera.position.x >= wall_x + WALL_MARGIN - 1e-4, "{} at tap {i}", app.camera.position);
+        assert_eq!(app.maze().cell_at(app.camera.position), Some(app.cell));
+    }
+    assert!((app.camera.position.x - (wall_x + WALL_MARGIN)).abs() < 1e-3, "{}", app.camera.position);
+}
+
+#[test]
+fn other_continuous_keys_step_too() {
+    let mut app = app(false);
+    let (pitch, z, fov) = (app.camera.pitch_deg, app.camera.eye_z, app.camera.hfov_deg);
+    app.key(Key::Up, KeyPhase::Press, 1.0);
+    app.key(Key::Char(']'), KeyPhase::Press, 1.0);
+    app.key(Key::Char('-'), KeyPhase::Press, 1.0);
+    play(&mut app, &[], 1.0, 2.0);
+    assert!(app.camera.pitch_deg > pitch && app.camera.eye_z > z && app.camera.hfov_deg < fov);
+    assert!(!app.is_animating(2.0));
+}
+
+/// Presses `key` (one-shot keys act on the press).
+fn press(app: &mut App, key: Key) {
+    app.key(key, KeyPhase::Press, 1.0);
+}
+
+#[test]
+fn esc_closes_the_help_and_quits_only_with_no_help_shown() {
+    let (mut esc, mut q) = (app(false), app(false));
+    press(&mut esc, Key::Char('?'));
+    assert!(esc.help);
+    press(&mut esc, Key::Esc);
+    assert!(!esc.help && !esc.quit, "Esc over the help closes it");
+    press(&mut esc, Key::Esc);
+    assert!(esc.quit, "Esc with nothing open quits");
+    press(&mut q, Key::Char('?'));
+    press(&mut q, Key::Char('q'));
+    assert!(q.quit, "q quits even over the help");
+}
+
+#[test]
+fn the_help_never_hides_under_the_exit_box() {
+    // two cells, the exit in the one the viewer does not start in
+    let opts = maze::generate::GenOptions { width: 2, height: 1, exit: true, ..Default::default() };
+    let mut app = App::new(maze::generate::generate(&opts).unwrap(), RenderOptions::default(), 0.0).unwrap();
+    app.releases = true;
+    let to_exit = app.maze().exit_point().unwrap() - app.camera.position;
+    app.camera.yaw_deg = to_exit.to_angle().to_degrees();
+    press(&mut app, Key::Char('?'));
+    for k in 0..8 {
+        let t = 1.0 + f64::from(k);
+        app.key(Key::Char('w'), KeyPhase::Press, t);
+        app.key(Key::Char('w'), KeyPhase::Release, t);
+    }
+    assert!(app.finished.is_some(), "walked to the exit");
+    assert!(!app.help, "the exit box takes the help's place");
+    press(&mut app, Key::Char('?'));
+    assert!(!app.help, "`?` under the exit box would pop up unseen after `r`");
+    press(&mut app, Key::Char('r'));
+    assert!(!app.help && app.finished.is_none(), "the walk starts again with no help");
+    press(&mut app, Key::Char('?'));
+    assert!(app.help);
+}

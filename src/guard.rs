@@ -1,0 +1,614 @@
+//! The terminal guard: puts the terminal into full-screen game mode and always puts it back.
+//!
+//! "Always" means: when the guard drops, when the program panics (a panic hook restores before the
+//! message prints), when SIGTERM, SIGHUP (the SSH connection dropped) or SIGINT arrive (restore, then
+//! tell the event loop, which returns so that `main` exits with 128 + signal number:
+//! [`TerminalGuard::take_exit`]), and around a stop: the Ctrl-Z key ([`TerminalGuard::suspend`]) or
+//! SIGTSTP from outside (`kill -TSTP`) restore, stop, and on SIGCONT enter game mode again
+//! ([`TerminalGuard::take_resumed`] then tells the app to repaint everything). A stop that gives no
+//! warning (SIGSTOP from outside: `kill -STOP`, a debugger) can restore nothing, and the shell may
+//! reset the terminal's modes and write over the screen meanwhile: the SIGCONT that ends it takes the
+//! terminal back (raw mode, game mode entered again) and asks for the same full repaint. (A terminal
+//! that hangs up without SIGHUP is seen by the event loop itself: its reads end.)
+//!
+//! The event loop sleeps in `poll(2)` on its input and on [`TerminalGuard::wakeups`], a self-pipe
+//! that SIGWINCH and the signal thread write to, so resizes, stops and exit signals wake it at once.
+//!
+//! All those paths share one idempotent restore, [`restore_terminal`], behind one global lock that
+//! also serializes frame writes ([`TerminalGuard::write_frame`]): a signal can never cut a frame in
+//! half and then leave the rest of it on the restored main screen. A stop holds that lock from the
+//! restore until game mode is back, so no frame lands on the main screen meanwhile.
+//!
+//! The escape sequences are the pure [`mazewalk_term::modes`]' (a server sends the same ones to its
+//! players); this module only writes them, and owns raw mode, the signals and the locks.
+
+use std::io::{self, Write};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+use std::sync::{Mutex, MutexGuard, Once, PoisonError, TryLockError};
+
+use crossterm::terminal;
+pub use mazewalk_term::modes::Enabled;
+use mazewalk_term::modes::{enter_sequence, reenter_sequence, restore_sequence};
+
+/// What [`TerminalGuard::enter`] should turn on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GuardOptions {
+    /// Capture the mouse (drag to look around). Stops the terminal's own text selection.
+    pub mouse: bool,
+    /// Report focus changes, so the app can release held keys when the window loses focus.
+    pub focus_events: bool,
+    /// Ask for the kitty keyboard protocol (key releases and repeats) if the terminal supports it.
+    pub keyboard_enhancement: bool,
+    /// Restore the terminal and end the walk on SIGTERM, SIGHUP and SIGINT; restore, stop and come
+    /// back on SIGTSTP; take the terminal back on SIGCONT
+    /// after a SIGSTOP (Unix; installed once per process).
+    pub handle_signals: bool,
+}
+
+impl Default for GuardOptions {
+    /// Everything on.
+    fn default() -> Self {
+        GuardOptions { mouse: true, focus_events: true, keyboard_enhancement: true, handle_signals: true }
+    }
+}
+
+/// What is enabled on the terminal right now (`None`: the terminal is in its normal state).
+/// Held while writing a frame and while restoring, so the two never interleave.
+static ACTIVE: Mutex<Option<Enabled>> = Mutex::new(None);
+
+/// Set when game mode was entered again after a stop, until the app takes it
+/// ([`TerminalGuard::take_resumed`]). Set and read under [`ACTIVE`]'s lock.
+static RESUMED: AtomicBool = AtomicBool::new(false);
+
+/// A SIGCONT arrived that the signal thread has not answered yet ([`continue_locked`]). Set by the
+/// signal handler itself (see [`install_signal_handler`]), answered under [`ACTIVE`]'s lock. While
+/// set, the screen may not be ours any more: [`TerminalGuard::write_frame`] writes nothing.
+static CONTINUED: AtomicBool = AtomicBool::new(false);
+
+/// Set by the signal handler itself when a signal that ends the walk arrives ([`ending_signals`]),
+/// before the signal thread answers it: a stop that ends sees it without waiting for the thread,
+/// which waits for the stop's lock.
+static ENDING: AtomicBool = AtomicBool::new(false);
+
+/// Set (under [`ACTIVE`]'s lock) when our own stop ([`stop_and_continue`]) is over: its SIGCONT is
+/// answered already, game mode is back.
+#[cfg(unix)]
+static OWN_STOP: AtomicBool = AtomicBool::new(false);
+
+/// [`TerminalGuard::write_frame`] dropped a frame while a SIGCONT was unanswered: the screen lacks it
+/// even if game mode needs no taking back. Set and read under [`ACTIVE`]'s lock.
+static FRAME_HELD: AtomicBool = AtomicBool::new(false);
+
+/// Set by the signal thread once it has restored the terminal for a signal that ends the walk (any
+/// of [`ending_signals`]): the signal's number, or [`CANNOT_CONTINUE`]; 0 while none came. The
+/// event loop reads it ([`TerminalGuard::take_exit`]) and returns; `main` picks the exit status.
+static EXIT: AtomicI32 = AtomicI32::new(0);
+
+/// [`EXIT`]'s value when game mode could not come back after a stop (the terminal is gone?).
+const CANNOT_CONTINUE: i32 = -1;
+
+/// The self-pipe that wakes the event loop: SIGWINCH writes to it (in the signal handler), and the
+/// signal thread does after anything the loop must see (a stop ended, an exit signal).
+#[cfg(unix)]
+static WAKE: std::sync::OnceLock<(std::os::unix::net::UnixStream, std::os::unix::net::UnixStream)> =
+    std::sync::OnceLock::new();
+
+/// Wakes the event loop (a full pipe is awake already).
+fn wake() {
+    #[cfg(unix)]
+    if let Some((_, writer)) = WAKE.get() {
+        let _ = (&*writer).write(&[1]);
+    }
+}
+
+/// Game mode was entered again: a full repaint is due (which also makes up for any held frame).
+fn resumed_locked() {
+    RESUMED.store(true, Ordering::SeqCst);
+    FRAME_HELD.store(false, Ordering::SeqCst);
+}
+
+/// The global state, whether or not a panic poisoned the lock (the state is a plain value, always valid).
+fn active() -> MutexGuard<'static, Option<Enabled>> {
+    ACTIVE.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Restores the terminal if a guard has it in game mode; does nothing otherwise. Idempotent, callable
+/// from any thread (the signal thread, the panic hook, `Drop`).
+///
+/// # Errors
+/// Writing the restore sequence or leaving raw mode failed (e.g. the terminal is gone after SIGHUP).
+/// The state is marked restored anyway: there is nothing more to try.
+pub fn restore_terminal() -> io::Result<()> {
+    restore_locked(&mut active())
+}
+
+fn restore_locked(active: &mut Option<Enabled>) -> io::Result<()> {
+    let Some(enabled) = active.take() else { return Ok(()) };
+    let mut stdout = io::stdout().lock();
+    let written = stdout.write_all(restore_sequence(enabled).as_bytes()).and_then(|()| stdout.flush());
+    let raw_off = terminal::disable_raw_mode();
+    written.and(raw_off)
+}
+
+/// Raw mode, alternate screen and friends for as long as it lives; see the [module docs](self).
+///
+/// ```no_run
+/// use mazewalk::guard::{GuardOptions, TerminalGuard};
+///
+/// let guard = TerminalGuard::enter(GuardOptions::default())?;
+/// if !guard.enabled().reports_key_releases() {
+///     // time out held keys instead
+/// }
+/// guard.write_frame(b"\x1b[Hhello")?;
+/// drop(guard); // the terminal is back to normal
+/// # Ok::<(), std::io::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct TerminalGuard {
+    enabled: Enabled,
+}
+
+impl TerminalGuard {
+    /// Enters game mode with `options`; returns the guard, whose [`enabled`](Self::enabled) tells what
+    /// the terminal accepted. Installs the panic hook (and the signal thread) on first use.
+    ///
+    /// # Errors
+    /// Another guard is active (`AlreadyExists`), the signal handler could not be installed, or the
+    /// terminal refused raw mode or a write (then whatever was enabled is restored first).
+    pub fn enter(options: GuardOptions) -> io::Result<TerminalGuard> {
+        install_panic_hook();
+        if options.handle_signals {
+            install_signal_handler()?;
+        }
+        let mut active = active();
+        if active.is_some() {
+            return Err(io::Error::new(io::ErrorKind::AlreadyExists, "the terminal is already in game mode"));
+        }
+        terminal::enable_raw_mode()?;
+        // The query needs raw mode (it reads the terminal's answer); a terminal that doesn't answer the
+        // kitty query still answers the device-attributes query that follows it, so this won't hang.
+        let keyboard_enhancement =
+            options.keyboard_enhancement && terminal::supports_keyboard_enhancement().unwrap_or(false);
+        let enabled =
+            Enabled { mouse: options.mouse, focus_events: options.focus_events, keyboard_enhancement };
+        RESUMED.store(false, Ordering::SeqCst);
+        enter_locked(&mut active, enabled, &enter_sequence(enabled))?;
+        Ok(TerminalGuard { enabled })
+    }
+
+    /// What is enabled (e.g. whether key releases are reported).
+    #[must_use]
+    pub fn enabled(&self) -> Enabled {
+        self.enabled
+    }
+
+    /// Writes one encoded frame to the terminal and flushes, unless the terminal was restored meanwhile
+    /// (a signal arrived), or game mode came back after a stop that the app has not taken yet
+    /// ([`take_resumed`](Self::take_resumed)): that frame was encoded for the screen before the stop;
+    /// or a SIGCONT has not been answered yet: the terminal may be someone else's until then (it is
+    /// taken back, or the frame made up for, with a full repaint). Then nothing is written.
+    ///
+    /// # Errors
+    /// The write failed (the terminal is gone).
+    pub fn write_frame(&self, bytes: &[u8]) -> io::Result<()> {
+        let active = active();
+        if active.is_none() || bytes.is_empty() || RESUMED.load(Ordering::SeqCst) {
+            return Ok(());
+        }
+        if CONTINUED.load(Ordering::SeqCst) {
+            FRAME_HELD.store(true, Ordering::SeqCst);
+            return Ok(());
+        }
+        let mut stdout = io::stdout().lock();
+        stdout.write_all(bytes)?;
+        stdout.flush()
+    }
+
+    /// Restores the terminal now (as `Drop` would); idempotent.
+    ///
+    /// # Errors
+    /// See [`restore_terminal`].
+    pub fn restore(&mut self) -> io::Result<()> {
+        restore_terminal()
+    }
+
+    /// Ctrl-Z: restores the terminal, stops the process as SIGTSTP would and, once continued
+    /// (SIGCONT), enters game mode again; then [`take_resumed`](Self::take_resumed) is true. SIGTSTP
+    /// from outside takes the same path, on the signal thread. Elsewhere than Unix there is no job
+    /// control: this only makes `take_resumed` true (a full repaint).
+    ///
+    /// # Errors
+    /// Restoring, stopping or re-entering failed.
+    pub fn suspend(&mut self) -> io::Result<()> {
+        stop_and_continue()
+    }
+
+    /// Whether game mode was entered again after a stop (the Ctrl-Z key, SIGTSTP, or SIGSTOP then
+    /// SIGCONT from outside) since the last call. If so, the screen was cleared and its size may have
+    /// changed: invalidate the encoder, re-read the [`size`] and draw a full frame. Until then
+    /// [`write_frame`](Self::write_frame) writes nothing.
+    #[must_use]
+    pub fn take_resumed(&self) -> bool {
+        let _active = active(); // ordered with a stop in progress
+        RESUMED.swap(false, Ordering::SeqCst)
+    }
+
+    /// The signal that ended the walk, once the signal thread has restored the terminal for it (any
+    /// of [`ending_signals`]): the event loop should return, and the process exit with
+    /// [`exit_code_for_signal`].
+    ///
+    /// # Errors
+    /// Game mode could not be entered again after a stop (the terminal is gone?); it was restored.
+    pub fn take_exit(&self) -> io::Result<Option<i32>> {
+        match EXIT.swap(0, Ordering::SeqCst) {
+            0 => Ok(None),
+            CANNOT_CONTINUE => Err(io::Error::other("cannot continue after a stop")),
+            signal => Ok(Some(signal)),
+        }
+    }
+
+    /// Whether a signal that ends the walk has arrived, perhaps before the signal thread has restored
+    /// the terminal for it and set [`take_exit`](Self::take_exit). Then read no more input: in the
+    /// background (`kill %1` continues a stopped walk there) a read would stop the process (SIGTTIN)
+    /// with the signal unanswered. The [`wakeups`](Self::wakeups) come all the same.
+    #[must_use]
+    pub fn ending(&self) -> bool {
+        ENDING.load(Ordering::SeqCst)
+    }
+
+    /// A file descriptor that becomes readable when the event loop must look at the guard: a
+    /// resize (SIGWINCH), a stop that ended ([`take_resumed`](Self::take_resumed)), a signal that
+    /// ends the walk ([`take_exit`](Self::take_exit)). Poll it beside the input; read it empty with
+    /// [`drain_wakeups`](Self::drain_wakeups). `None` without signal handling.
+    #[cfg(unix)]
+    #[must_use]
+    pub fn wakeups(&self) -> Option<std::os::fd::BorrowedFd<'static>> {
+        use std::os::fd::AsFd;
+        WAKE.get().map(|(reader, _)| reader.as_fd())
+    }
+
+    /// Empties the [`wakeups`](Self::wakeups) pipe.
+    pub fn drain_wakeups(&self) {
+        #[cfg(unix)]
+        if let Some((reader, _)) = WAKE.get() {
+            use std::io::Read;
+            let mut buf = [0u8; 64];
+            while matches!((&*reader).read(&mut buf), Ok(n) if n > 0) {}
+        }
+    }
+}
+
+/// A stop, from the Ctrl-Z key or SIGTSTP: restores the terminal if it is in game mode, stops the
+/// process unless nothing would ever continue it ([`stopping_is_safe`]) and, once continued, enters
+/// game mode again and sets [`RESUMED`]. All under the lock: no frame is written half before and half
+/// after, nor on the main screen. If the shell continues us in the background (`bg`), re-entering raw
+/// mode stops us again (SIGTTOU, default action) before anything is written, until `fg`. The SIGCONT
+/// that ended the stop is marked answered ([`OWN_STOP`]): the signal thread leaves game mode alone.
+#[cfg(unix)]
+fn stop_and_continue() -> io::Result<()> {
+    let mut active = active();
+    let enabled = *active;
+    restore_locked(&mut active)?;
+    if stopping_is_safe() {
+        // SIGTSTP's default action, emulated with SIGSTOP (signal-hook handles SIGTSTP now); returns
+        // after SIGCONT.
+        signal_hook::low_level::emulate_default_handler(signal_hook::consts::SIGTSTP)?;
+        OWN_STOP.store(true, Ordering::SeqCst);
+        if stopped_for_fg()? {
+            return Ok(()); // the terminal stays restored; the signal thread ends the walk
+        }
+    }
+    if let Some(enabled) = enabled {
+        terminal::enable_raw_mode()?;
+        enter_locked(&mut active, enabled, &enter_sequence(enabled))?;
+        resumed_locked();
+    }
+    Ok(())
+}
+
+/// Answers a SIGCONT ([`CONTINUED`]), on the signal thread. The one that ended our own stop
+/// ([`OWN_STOP`]) needs nothing more (but a repaint, if a frame was held meanwhile); nor does one
+/// while not in game mode. Any other ended a stop that restored nothing, an uncatchable SIGSTOP from
+/// outside, or no stop at all: the job-control shell may have reset the terminal's modes and written
+/// over the screen, so raw mode is set again, game mode re-entered ([`reenter_sequence`]) and
+/// [`RESUMED`] set. All under the lock, as a stop: no frame is written half before and half after.
+/// In the background (`bg`), setting raw mode stops us (SIGTTOU) before anything is written, until
+/// `fg`. Returns whether the app must repaint everything.
+#[cfg(unix)]
+fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
+    if !CONTINUED.swap(false, Ordering::SeqCst) {
+        return Ok(false);
+    }
+    let own = OWN_STOP.swap(false, Ordering::SeqCst);
+    let Some(enabled) = *active else { return Ok(false) };
+    if own {
+        let held = FRAME_HELD.swap(false, Ordering::SeqCst);
+        RESUMED.fetch_or(held, Ordering::SeqCst);
+        return Ok(held);
+    }
+    if in_background() {
+        // Continued in the background (`kill -CONT`, `bg`) after a stop that restored nothing: the
+        // shell has the terminal, its prompt on our alternate screen with mouse reporting on. Give
+        // both back (a write is allowed from the background; setting modes is not), then wait
+        // stopped for `fg` as a real SIGTTOU would make us; game mode comes back below.
+        let mut stdout = io::stdout().lock();
+        let _ = stdout.write_all(restore_sequence(enabled).as_bytes()).and_then(|()| stdout.flush());
+        drop(stdout);
+        if stopped_for_fg()? {
+            *active = None; // restored above; the signal thread ends the walk
+            return Ok(false);
+        }
+        CONTINUED.store(false, Ordering::SeqCst);
+        terminal::disable_raw_mode()?;
+        terminal::enable_raw_mode()?;
+        enter_locked(active, enabled, &enter_sequence(enabled))?;
+        resumed_locked();
+        return Ok(true);
+    }
+    // crossterm skips enabling raw mode while it believes it on: off (back to the modes from before
+    // game mode, which stay the ones to restore at the end), then on.
+    terminal::disable_raw_mode()?;
+    terminal::enable_raw_mode()?;
+    // A SIGCONT meanwhile (`fg`, which let the raw mode through after a stop in the background) is
+    // answered by this same re-entering.
+    CONTINUED.store(false, Ordering::SeqCst);
+    enter_locked(active, enabled, &reenter_sequence(enabled))?;
+    resumed_locked();
+    Ok(true)
+}
+
+/// After a stop, while continued in the background: stops again until `fg`, as taking the terminal
+/// back would (SIGTTOU), unless a signal that ends the walk comes; then returns `true` and the
+/// terminal is left alone. `kill %1` on the stopped walk sends SIGTERM and then SIGCONT: it wakes in
+/// the background, and stopping again would leave the SIGTERM unanswered until `fg`. The signal's
+/// handler may run on another thread a moment after this one wakes: a short wait lets it land.
+#[cfg(unix)]
+fn stopped_for_fg() -> io::Result<bool> {
+    let ending = || {
+        let deadline = std::time::Instant::now() + std::time::Duration::from_millis(50);
+        while !ENDING.load(Ordering::SeqCst) && std::time::Instant::now() < deadline {
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        ENDING.load(Ordering::SeqCst)
+    };
+    while in_background() && stopping_is_safe() {
+        if ending() {
+            return Ok(true);
+        }
+        signal_hook::low_level::emulate_default_handler(signal_hook::consts::SIGTSTP)?;
+    }
+    Ok(ENDING.load(Ordering::SeqCst))
+}
+
+/// Whether our process group is in the background of the terminal (stdin): another group is its
+/// foreground. A terminal that is not our controlling one cannot tell: not in the background.
+#[cfg(unix)]
+fn in_background() -> bool {
+    nix::unistd::tcgetpgrp(io::stdin()).is_ok_and(|foreground| foreground != nix::unistd::getpgrp())
+}
+
+#[cfg(not(unix))]
+fn stop_and_continue() -> io::Result<()> {
+    let _active = active();
+    resumed_locked(); // nothing to stop: just a full repaint
+    Ok(())
+}
+
+/// Whether a job-control shell may continue us after a stop. The kernel discards SIGTSTP's default
+/// stop in an orphaned process group (no shell of its session would ever send SIGCONT), but SIGSTOP,
+/// which emulates it here, always stops; so this mirrors the kernel's rule for the usual cases: our
+/// parent is in our session (a shell, or `cargo run` under one) and our process group is not the
+/// session leader's. Under `xterm -e`, `setsid`, `ssh -t host mazewalk` or a tmux command we lead our
+/// own session: no stop, as the kernel would do for a real SIGTSTP.
+///
+/// Ids are as seen from our PID namespace: one outside it reads as 0 (a container or CI sandbox whose
+/// session leader is outside). Then the session still compares equal between us and our parent, but a
+/// parent outside (ppid 0) or a process group led from outside (pgrp 0) says nothing: no stop.
+#[cfg(unix)]
+fn stopping_is_safe() -> bool {
+    use nix::unistd::{getpgrp, getppid, getsid};
+    let outside = |id: nix::unistd::Pid| id.as_raw() <= 0;
+    let (parent, group) = (getppid(), getpgrp());
+    if outside(parent) || outside(group) {
+        return false;
+    }
+    let Ok(session) = getsid(None) else { return false };
+    getsid(Some(parent)).ok() == Some(session) && group != session
+}
+
+impl Drop for TerminalGuard {
+    fn drop(&mut self) {
+        let _ = restore_terminal(); // nothing better to do with an error while dropping
+    }
+}
+
+/// With raw mode on: marks `enabled` active, then writes `sequence`, which enters it (restoring on
+/// failure).
+fn enter_locked(active: &mut Option<Enabled>, enabled: Enabled, sequence: &str) -> io::Result<()> {
+    // Marked before writing, so a failure half-way is restored in full.
+    *active = Some(enabled);
+    let mut stdout = io::stdout().lock();
+    let written = stdout.write_all(sequence.as_bytes()).and_then(|()| stdout.flush());
+    drop(stdout);
+    if let Err(e) = written {
+        let _ = restore_locked(active);
+        return Err(e);
+    }
+    Ok(())
+}
+
+/// The terminal size in (columns, rows).
+///
+/// # Errors
+/// There is no terminal to ask.
+pub fn size() -> io::Result<(u16, u16)> {
+    terminal::size()
+}
+
+/// Restores the terminal before the panic message prints (else it would vanish with the alternate
+/// screen, in raw mode). Installed once, chained to the previous hook.
+fn install_panic_hook() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            match ACTIVE.try_lock() {
+                Ok(mut active) => drop(restore_locked(&mut active)),
+                Err(TryLockError::Poisoned(p)) => drop(restore_locked(&mut p.into_inner())),
+                // Held by another thread (restoring already) or by this one mid-write: the guard's
+                // `Drop` restores during unwinding, once the lock is released.
+                Err(TryLockError::WouldBlock) => {}
+            }
+            previous(info);
+        }));
+    });
+}
+
+/// Exit status for death by `signal`, as shells report it.
+#[must_use]
+pub fn exit_code_for_signal(signal: i32) -> i32 {
+    128 + signal
+}
+
+/// The signals that end the walk (restore, then exit with 128 + the signal's number): every signal
+/// whose default action ends the process and that can be caught — SIGHUP, SIGINT, SIGQUIT, SIGABRT,
+/// SIGUSR1, SIGUSR2, SIGALRM, SIGTERM, SIGSTKFLT, SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO, SIGPWR
+/// (those that exist here) and the real-time signals SIGRTMIN..=SIGRTMAX — but the faults a program
+/// raises on itself (SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGTRAP, SIGSYS: a handler that returns would
+/// fault again) and SIGPIPE, which Rust programs ignore (a write to a closed pipe fails instead).
+#[cfg(unix)]
+#[must_use]
+pub fn ending_signals() -> Vec<i32> {
+    use signal_hook::consts::*;
+    let mut signals = vec![SIGHUP, SIGINT, SIGQUIT, SIGABRT, SIGUSR1, SIGUSR2, SIGALRM, SIGTERM];
+    signals.extend([SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO]);
+    #[cfg(any(target_os = "linux", target_os = "android"))]
+    signals.extend([libc::SIGSTKFLT, libc::SIGPWR]);
+    #[cfg(any(target_os = "linux", target_os = "android"))]
+    signals.extend(libc::SIGRTMIN()..=libc::SIGRTMAX());
+    signals
+}
+
+/// Every ending signal ([`ending_signals`]): restore the terminal, then set [`EXIT`] and wake the event loop, which
+/// returns (`main` exits with 128 + signo). SIGTSTP (`kill -TSTP`; the Ctrl-Z key arrives as a key in
+/// raw mode): the same stop as [`TerminalGuard::suspend`], then a wake-up, so that the event loop sees
+/// [`TerminalGuard::take_resumed`] even when idle. SIGCONT: [`continue_locked`] (game mode back after a
+/// SIGSTOP from outside), then the same wake-up if a repaint is due. SIGWINCH writes to the wake-up
+/// pipe from the handler itself. A thread waits on `signal_hook::iterator::Signals`, so all else runs
+/// in normal (not signal-handler) context; only [`CONTINUED`] is set in the handler itself, registered
+/// first so that it is set by the time the thread hears of the SIGCONT. Linux runs that handler on the
+/// main thread whenever it can, before the thread goes on with its own code, so no frame gets out
+/// between a SIGCONT and the flag; where a kernel picks another thread, one frame might, and the full
+/// repaint that follows covers it.
+///
+/// SIGTTIN and SIGTTOU keep their default action (stop): the kernel sends them when a background job
+/// touches the terminal, and we only run in the background after a stop (`bg`), when re-entering game
+/// mode, before anything is written. Catching them would turn that into a spin: the kernel re-sends
+/// SIGTTOU on every restarted `tcsetattr`, and the thread that would handle it is the one retrying.
+#[cfg(unix)]
+fn install_signal_handler() -> io::Result<()> {
+    use signal_hook::consts::{SIGCONT, SIGTSTP, SIGWINCH};
+    static INSTALLED: Mutex<bool> = Mutex::new(false);
+    let mut installed = INSTALLED.lock().unwrap_or_else(PoisonError::into_inner);
+    if *installed {
+        return Ok(());
+    }
+    let (reader, writer) = std::os::unix::net::UnixStream::pair()?;
+    reader.set_nonblocking(true)?;
+    writer.set_nonblocking(true)?;
+    signal_hook::low_level::pipe::register(SIGWINCH, writer.try_clone()?)?;
+    let _ = WAKE.set((reader, writer));
+    // Before the iterator's own handler: actions run in the order registered.
+    signal_hook::flag::register(SIGCONT, &CONTINUED)?;
+    for signal in ending_signals() {
+        signal_hook::flag::register(signal, &ENDING)?;
+    }
+    let mut signals =
+        signal_hook::iterator::Signals::new(ending_signals().into_iter().chain([SIGTSTP, SIGCONT]))?;
+    std::thread::Builder::new().name("mazewalk-signals".into()).spawn(move || {
+        for signal in signals.forever() {
+            if signal == SIGTSTP || signal == SIGCONT {
+                let repaint = if signal == SIGTSTP {
+                    stop_and_continue().map(|()| true)
+                } else {
+                    continue_locked(&mut active()) // the lock is released at the end of this statement
+                };
+                match repaint {
+                    Ok(true) => wake(),
+                    Ok(false) => {}
+                    Err(_) => {
+                        // Game mode could not come back (the terminal is gone?): restore and end.
+                        let _ = restore_terminal();
+                        EXIT.store(CANNOT_CONTINUE, Ordering::SeqCst);
+                        wake();
+                    }
+                }
+                continue;
+            }
+            // Restored first; no frame is written after it (`write_frame` sees the terminal restored).
+            let _ = restore_terminal();
+            EXIT.store(signal, Ordering::SeqCst);
+            wake();
+        }
+    })?;
+    *installed = true;
+    Ok(())
+}
+
+#[cfg(not(unix))]
+fn install_signal_handler() -> io::Result<()> {
+    Ok(()) // no POSIX signals; crossterm reports Ctrl-C as a key in raw mode
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The modes' hand-written bytes are crossterm's (the commands this guard used to write).
+    #[test]
+    fn the_mode_sequences_are_crossterms_commands() {
+        use crossterm::Command;
+        use crossterm::{cursor, event, style, terminal};
+        fn ansi(commands: &[&dyn Fn(&mut String)]) -> String {
+            let mut s = String::new();
+            commands.iter().for_each(|c| c(&mut s));
+            s
+        }
+        let flags = event::KeyboardEnhancementFlags::DISAMBIGUATE_ESCAPE_CODES
+            | event::KeyboardEnhancementFlags::REPORT_EVENT_TYPES;
+        let enter = ansi(&[
+            &|s| terminal::EnterAlternateScreen.write_ansi(s).unwrap(),
+            &|s| cursor::Hide.write_ansi(s).unwrap(),
+            &|s| event::DisableBracketedPaste.write_ansi(s).unwrap(),
+            &|s| event::EnableMouseCapture.write_ansi(s).unwrap(),
+            &|s| event::EnableFocusChange.write_ansi(s).unwrap(),
+            &|s| event::PushKeyboardEnhancementFlags(flags).write_ansi(s).unwrap(),
+        ]);
+        assert_eq!(enter_sequence(Enabled::ALL), enter);
+        let restore = ansi(&[
+            &|s| s.push_str("\x1b[?2026l"),
+            &|s| event::PopKeyboardEnhancementFlags.write_ansi(s).unwrap(),
+            &|s| event::DisableMouseCapture.write_ansi(s).unwrap(),
+            &|s| event::DisableFocusChange.write_ansi(s).unwrap(),
+            &|s| cursor::Show.write_ansi(s).unwrap(),
+            &|s| style::ResetColor.write_ansi(s).unwrap(),
+            &|s| terminal::LeaveAlternateScreen.write_ansi(s).unwrap(),
+        ]);
+        assert_eq!(restore_sequence(Enabled::ALL), restore);
+    }
+
+    #[test]
+    fn restoring_an_inactive_terminal_does_nothing() {
+        // No guard is active in tests (no tty): the shared restore path is a no-op, twice.
+        assert!(active().is_none());
+        restore_terminal().unwrap();
+        restore_terminal().unwrap();
+    }
+
+    #[test]
+    fn signals_exit_as_shells_report_them() {
+        assert_eq!(exit_code_for_signal(1), 129); // SIGHUP
+        assert_eq!(exit_code_for_signal(2), 130); // SIGINT
+        assert_eq!(exit_code_for_signal(15), 143); // SIGTERM
+    }
+}

@@ -1,0 +1,176 @@
+//! The local walkthrough: a [`Session`] plus the terminal guard plus stdin and stdout — the one place
+//! where the pure walk meets this process's terminal.
+//!
+//! ```text
+//! stdin bytes ─▶ Session::feed        SIGWINCH / stop / exit signal ─▶ guard's wake-up pipe
+//!        ╲                                         ╱
+//!         poll(2) on both, until Session::next_wake ─▶ Session::frame ─▶ one write to stdout
+//! ```
+//!
+//! Event-driven: while nothing moves it sleeps in `poll` and sends nothing at all. Local and served
+//! play share one path: the bytes the terminal sends go through the same decoder either way. (Unix
+//! only: elsewhere crossterm's reader would have to stand in for `poll` on stdin, and it hands out
+//! decoded events, not bytes.)
+
+use std::io;
+use std::time::Instant;
+
+use crate::guard::{self, GuardOptions, TerminalGuard};
+use mazewalk_term::input::Input;
+use mazewalk_walk::Session;
+
+/// How a walk ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ended {
+    /// The player quit.
+    Quit,
+    /// A signal ended it (any of [`crate::guard::ending_signals`]); the terminal was restored.
+    Signal(i32),
+    /// The terminal hung up (its reads ended) without a SIGHUP.
+    HangUp,
+}
+
+impl Ended {
+    /// The signal the process should report having died of: its own, or SIGHUP for a hang-up (as
+    /// if the terminal had sent one); `None` after a quit.
+    #[must_use]
+    pub fn signal(self) -> Option<i32> {
+        match self {
+            Ended::Quit => None,
+            Ended::Signal(signal) => Some(signal),
+            Ended::HangUp => Some(SIGHUP),
+        }
+    }
+}
+
+/// SIGHUP's number (1 on every Unix).
+const SIGHUP: i32 = 1;
+
+/// Runs `session` on this process's terminal until the player quits, a signal ends it or the
+/// terminal hangs up. `clock` is the zero of the session's time (the instant its `App` was made at
+/// time 0). The terminal is restored on return, on error, on panic, on every catchable signal that
+/// would end the process, and around a stop (Ctrl-Z, SIGTSTP; taken back after SIGSTOP) (the guard).
+///
+/// # Errors
+/// The terminal could not be set up, read or written.
+#[cfg(unix)]
+pub fn run(session: &mut Session, clock: Instant) -> io::Result<Ended> {
+    use rustix::event::{PollFd, PollFlags, Timespec};
+
+    let mut terminal = TerminalGuard::enter(GuardOptions::default())?;
+    session.app_mut().releases = terminal.enabled().reports_key_releases();
+    let (mut cols, mut rows) = guard::size()?;
+    let now = || clock.elapsed().as_secs_f64();
+    session.input(Input::Resize { cols, rows }, now());
+    let stdin = io::stdin();
+    let mut buf = [0u8; 4096];
+    let mut bytes = Vec::new();
+    let ended = loop {
+        if let Some(signal) = terminal.take_exit()? {
+            break Ended::Signal(signal);
+        }
+        if terminal.take_resumed() {
+            // Back from a stop: the screen was cleared, releases may have been missed, and the size
+            // may have changed meanwhile.
+            session.invalidate();
+            (cols, rows) = (0, 0);
+        }
+        let size = guard::size()?;
+        if size != (cols, rows) {
+            (cols, rows) = size;
+            session.input(Input::Resize { cols, rows }, now());
+        }
+        if session.take_suspend() {
+            terminal.suspend()?; // Ctrl-Z; back here after `fg`
+            continue;
+        }
+        if session.is_over() {
+            // The answers to the last frames' queries, read before the restore: one arriving after
+            // it would be echoed onto the shell's line (`^[[?62;22c`).
+            drain_answers(session, &stdin, &mut buf, now)?;
+            break Ended::Quit;
+        }
+        bytes.clear();
+        if session.frame(now(), &mut bytes) {
+            terminal.write_frame(&bytes)?;
+        }
+        // Sleep until input, a wake-up from the guard, or the session's next deadline.
+        let timeout = session.next_wake(now()).map(|at| {
+            let wait = (at - now()).max(0.0);
+            Timespec { tv_sec: wait.trunc() as i64, tv_nsec: (wait.fract() * 1e9) as _ }
+        });
+        let wakeups = terminal.wakeups();
+        let reading = !terminal.ending(); // else the guard's wake-up with the signal is all to wait for
+        let mut fds = Vec::with_capacity(2);
+        if reading {
+            fds.push(PollFd::new(&stdin, PollFlags::IN));
+        }
+        if let Some(fd) = &wakeups {
+            fds.push(PollFd::from_borrowed_fd(*fd, PollFlags::IN));
+        }
+        match rustix::event::poll(&mut fds, timeout.as_ref()) {
+            Ok(_) | Err(rustix::io::Errno::INTR) => {}
+            Err(err) => return Err(err.into()),
+        }
+        let input_ready = if reading { fds[0].revents() } else { PollFlags::empty() };
+        drop(fds);
+        terminal.drain_wakeups();
+        if input_ready.intersects(PollFlags::IN | PollFlags::HUP | PollFlags::ERR) {
+            match rustix::io::read(&stdin, &mut buf) {
+                Ok(0) | Err(rustix::io::Errno::IO) => break Ended::HangUp,
+                Ok(n) => session.feed(&buf[..n], now()),
+                Err(rustix::io::Errno::INTR | rustix::io::Errno::AGAIN) => {}
+                Err(err) => return Err(err.into()),
+            }
+        }
+    };
+    let restored = terminal.restore();
+    if ended != Ended::HangUp {
+        restored?; // a terminal that hung up cannot be written to: nothing to restore
+    }
+    Ok(ended)
+}
+
+/// How long a quitting walk waits at least for the terminal's answers to queries still in flight.
+const DRAIN_SECONDS: f64 = 0.25;
+
+/// How long it waits: twice the link's round trip (answers come a round trip after their queries),
+/// at least [`DRAIN_SECONDS`], at most the flow control's [`ACK_TIMEOUT`](mazewalk_walk::flow::ACK_TIMEOUT),
+/// after which a terminal counts as one that does not answer. Over a 0.6 s round trip, a quarter of a
+/// second let the last answer land on the shell's line.
+fn drain_seconds(round_trip: Option<f64>) -> f64 {
+    (2.0 * round_trip.unwrap_or(0.0)).clamp(DRAIN_SECONDS, mazewalk_walk::flow::ACK_TIMEOUT)
+}
+
+/// Reads and decodes input until every frame's query is answered, the terminal is known not to answer
+/// ([`FlowControl::silent`](super::flow::FlowControl::silent)), it hangs up, or [`drain_seconds`] pass.
+fn drain_answers(
+    session: &mut Session,
+    stdin: &io::Stdin,
+    buf: &mut [u8],
+    now: impl Fn() -> f64,
+) -> io::Result<()> {
+    use rustix::event::{PollFd, PollFlags, Timespec};
+
+    let deadline = now() + drain_seconds(session.flow().round_trip());
+    while session.flow().in_flight() > 0 && !session.flow().silent() {
+        let wait = deadline - now();
+        if wait <= 0.0 {
+            break;
+        }
+        let timeout = Timespec { tv_sec: 0, tv_nsec: (wait.min(0.999) * 1e9) as _ };
+        let mut fds = [PollFd::new(stdin, PollFlags::IN)];
+        match rustix::event::poll(&mut fds, Some(&timeout)) {
+            Ok(0) => break, // nothing came in time
+            Ok(_) | Err(rustix::io::Errno::INTR) => {}
+            Err(err) => return Err(err.into()),
+        }
+        match rustix::io::read(stdin, &mut *buf) {
+            Ok(0) | Err(rustix::io::Errno::IO) => break,
+            Ok(n) => session.feed(&buf[..n], now()),
+            Err(rustix::io::Errno::INTR | rustix::io::Errno::AGAIN) => {}
+            Err(err) => return Err(err.into()),
+        }
+    }
+    Ok(())
+}
