@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
-# Mutation testing (issue #12), bounded for a small shared machine. Not run by CI.
+# Mutation testing, one crate at a time, bounded for a small shared machine. Not run by CI.
 #
-#   scripts/mutants.sh              the math core, every mutant (.cargo/mutants.toml)
-#   scripts/mutants.sh render       raster, wall, portal and the encoder (.cargo/mutants-render.toml)
-#   scripts/mutants.sh math -- ARGS extra cargo-mutants arguments, e.g. `-f src/math/clip.rs`,
+#   scripts/mutants.sh              the math crate, every mutant (.cargo/mutants-math.toml)
+#   scripts/mutants.sh render       raster, wall clipper and portal pass (.cargo/mutants-render.toml)
+#   scripts/mutants.sh term         the frame encoder (.cargo/mutants-term.toml)
+#   scripts/mutants.sh math -- ARGS extra cargo-mutants arguments, e.g. `-f crates/math/src/clip.rs`,
 #                                   `--re normal_matrix`, `--shard 1/4`
+#
+# Each scope builds and tests its own crate only (`-p`): a mutant of the math crate rebuilds the
+# math crate and its tests, nothing above it.
 #
 # One mutant at a time (-j 1) under `nice`, in the test profile. Not `--copy-target`: the copy loses
 # the files' times, so cargo rebuilds every dependency anyway (about 8 minutes on two busy cores,
@@ -12,8 +16,8 @@
 # (caught.txt, missed.txt, timeout.txt, unviable.txt); the exit status is cargo-mutants' own (0: no
 # mutant missed). Record the score and every survivor's reason in MUTANTS.md.
 #
-# Time: each mutant rebuilds the library and the selected test binaries (about 20-40 s on two busy
-# cores), so the math core's ~380 mutants take a few hours; shard (`--shard k/n`) to spread them.
+# Time: each mutant rebuilds its crate and that crate's test binaries; MUTANTS.md has each scope's
+# last run time. Shard (`--shard k/n`) to spread a long run.
 # MUTANTS_TIME_LIMIT (seconds, default 0: none) stops the run after that long, keeping what finished;
 # MUTANTS_OUT (default target/mutants-<scope>) is where the results go.
 set -euo pipefail
@@ -24,9 +28,8 @@ scope="${1:-math}"
 [ "${1:-}" = "--" ] && shift
 
 case "$scope" in
-  math) config=.cargo/mutants.toml ;;
-  render) config=.cargo/mutants-render.toml ;;
-  *) echo "usage: $0 [math|render] [-- cargo-mutants args]" >&2; exit 2 ;;
+  math | render | term) config=.cargo/mutants-$scope.toml; package=mazewalk-$scope ;;
+  *) echo "usage: $0 [math|render|term] [-- cargo-mutants args]" >&2; exit 2 ;;
 esac
 
 if ! cargo mutants --version >/dev/null 2>&1; then
@@ -39,7 +42,7 @@ export CARGO_PROFILE_TEST_DEBUG="${CARGO_PROFILE_TEST_DEBUG:-false}"
 
 limit="${MUTANTS_TIME_LIMIT:-0}"
 out="${MUTANTS_OUT:-target/mutants-$scope}" # another directory lets two shards run side by side
-run=(nice cargo mutants --config "$config" -j 1 -o "$out" "$@")
+run=(nice cargo mutants --config "$config" -p "$package" -j 1 -o "$out" "$@")
 if [ "$limit" -gt 0 ]; then
   # SIGINT lets cargo-mutants stop cleanly and write what it has.
   exec timeout --signal=INT --kill-after=60 "$limit" "${run[@]}"
