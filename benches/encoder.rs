@@ -28,7 +28,7 @@ use std::rc::Rc;
 
 use common::baseline::{full_repaint, lower_bound};
 use criterion::{Criterion, Throughput};
-use mazewalk_render::{Charset, Renderer};
+use mazewalk_render::{Charset, Renderer, Target};
 use mazewalk_term::encoder::{DEFAULT_TOLERANCE, Encoder};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 use mazewalk_walk::App;
@@ -61,9 +61,9 @@ fn walk(depth: ColorDepth) -> Vec<Step> {
             .render(
                 app.maze(),
                 &app.camera,
+                &[],
                 &app.options,
-                &mut frame,
-                Region { col: 0, row: 0, cols: COLS, rows: ROWS },
+                Target::Frame(&mut frame, Region { col: 0, row: 0, cols: COLS, rows: ROWS }),
             )
             .expect("camera");
         steps.push(Step { phase, moved, frame });

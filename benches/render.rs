@@ -21,7 +21,7 @@ use std::hint::black_box;
 
 use common::{SIDES, Scene, View};
 use criterion::{BenchmarkId, Criterion};
-use mazewalk_render::{Charset, Culling, PortalPass, RenderOptions, Renderer, to_frame};
+use mazewalk_render::{Charset, Culling, PortalPass, RenderOptions, Renderer, Target, to_frame};
 use mazewalk_term::frame::{ColorDepth, Frame, Region};
 
 /// Terminal sizes (columns × rows).
@@ -65,9 +65,9 @@ fn record_stats(scenes: &[Scene], grids: &[(Charset, usize, usize)]) {
                     .render(
                         &scene.maze,
                         &scene.camera,
+                        &[],
                         &options(charset, culling),
-                        &mut frame,
-                        Region { col: 0, row: 0, cols, rows },
+                        Target::Frame(&mut frame, Region { col: 0, row: 0, cols, rows }),
                     )
                     .expect("benchmark camera");
                 let c = &scene.camera;
@@ -114,9 +114,9 @@ fn bench_frames(c: &mut Criterion, scenes: &[Scene], grids: &[(Charset, usize, u
                             .render(
                                 &scene.maze,
                                 &scene.camera,
+                                &[],
                                 black_box(&opts),
-                                &mut frame,
-                                Region { col: 0, row: 0, cols, rows },
+                                Target::Frame(&mut frame, Region { col: 0, row: 0, cols, rows }),
                             )
                             .expect("benchmark camera")
                     });
@@ -144,13 +144,25 @@ fn bench_breakdown(c: &mut Criterion, scenes: &[Scene]) {
             group.bench_function("render_samples", |b| {
                 b.iter(|| {
                     renderer
-                        .render_samples(&scene.maze, &scene.camera, charset, 0.5, Culling::Portal, cols, rows)
+                        .render(
+                            &scene.maze,
+                            &scene.camera,
+                            &[],
+                            &RenderOptions { charset, culling: Culling::Portal, ..RenderOptions::default() },
+                            Target::Samples { cols, rows },
+                        )
                         .expect("benchmark camera")
                 });
             });
             // The samples to_frame reads (also when a filter skips the bench above).
             renderer
-                .render_samples(&scene.maze, &scene.camera, charset, 0.5, Culling::Portal, cols, rows)
+                .render(
+                    &scene.maze,
+                    &scene.camera,
+                    &[],
+                    &RenderOptions { charset, culling: Culling::Portal, ..RenderOptions::default() },
+                    Target::Samples { cols, rows },
+                )
                 .expect("benchmark camera");
             for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
                 group.bench_function(format!("to_frame_{depth:?}"), |b| {

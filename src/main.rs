@@ -25,7 +25,7 @@ use mazewalk_maze::generate::{GenOptions, generate, generate_grid};
 use mazewalk_maze::geometry::WALL_MARGIN;
 use mazewalk_maze::movement::is_clear;
 use mazewalk_maze::{self as maze, Format, LoadError, Maze};
-use mazewalk_render::{Camera, Charset, Culling, Renderer};
+use mazewalk_render::{Camera, Charset, Culling, Renderer, Target};
 use mazewalk_term::frame::{Frame, Region};
 use mazewalk_term::{caps, encoder};
 use mazewalk_walk::state::{Motion, stand, viewer_camera};
@@ -422,7 +422,7 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
         let started = Instant::now();
         stats = Some(
             renderer
-                .render(&maze, &camera, &options, &mut frame, region)
+                .render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region))
                 .map_err(|e| Usage(e.to_string()))?,
         );
         times_us.push(started.elapsed().as_secs_f64() * 1e6);
@@ -461,9 +461,10 @@ fn cmd_render(args: &RenderArgs) -> anyhow::Result<()> {
         writeln!(std::io::stderr(), "{json}").context("cannot write the stats to stderr")?;
     }
     if let Some(path) = &args.depth_out {
-        let depths = renderer
-            .depth_at_cell_centres(&maze, &camera, options.cell_aspect, args.culling, cols, rows)
+        renderer
+            .render(&maze, &camera, &[], &options, Target::Depths { cols, rows })
             .map_err(|e| Usage(e.to_string()))?;
+        let depths: Vec<Option<f32>> = renderer.cell_depths().collect();
         let mut csv = String::with_capacity(depths.len() * 8);
         for row in depths.chunks(cols) {
             let fields: Vec<String> =

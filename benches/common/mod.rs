@@ -23,7 +23,7 @@ pub mod baseline;
 use glam::{Vec2, vec2};
 use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{Algorithm, CELL_SIZE, GenOptions, Layout, generate, layout};
-use mazewalk_render::{Camera, Charset, Culling, RenderOptions, RenderStats, Renderer};
+use mazewalk_render::{Camera, Charset, Culling, RenderOptions, RenderStats, Renderer, Target};
 use mazewalk_term::input::{Key, KeyPhase};
 use mazewalk_walk::App;
 use mazewalk_walk::state::TURN_SPEED;
@@ -176,7 +176,13 @@ fn corridor_camera(l: &Layout) -> Option<Camera> {
 fn portal_stats(renderer: &mut Renderer, maze: &Maze, camera: &Camera) -> RenderStats {
     let (cols, rows) = MATCH_GRID;
     renderer
-        .render_samples(maze, camera, Charset::Half, 0.5, Culling::Portal, cols, rows)
+        .render(
+            maze,
+            camera,
+            &[],
+            &RenderOptions { charset: Charset::Half, culling: Culling::Portal, ..RenderOptions::default() },
+            Target::Samples { cols, rows },
+        )
         .expect("benchmark camera")
 }
 

@@ -35,7 +35,7 @@ use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{Algorithm, GenOptions, generate};
 use mazewalk_render::palette::{self, xterm_rgb};
 use mazewalk_render::shade::srgb_to_linear;
-use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer};
+use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer, Target};
 use mazewalk_term::encoder::Encoder;
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 use mazewalk_walk::App;
@@ -73,7 +73,7 @@ fn frame_of(
 ) -> Frame {
     let mut frame = Frame::new(COLS, ROWS);
     let region = Region { col: 0, row: 0, cols: COLS, rows: ROWS };
-    renderer.render(maze, camera, &options(depth), &mut frame, region).expect("camera");
+    renderer.render(maze, camera, &[], &options(depth), Target::Frame(&mut frame, region)).expect("camera");
     if method == Method::Plain {
         let samples = renderer.samples();
         let w = samples.width();

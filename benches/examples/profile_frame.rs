@@ -15,7 +15,7 @@ mod common;
 use std::time::Instant;
 
 use common::View;
-use mazewalk_render::{Charset, Culling, RenderOptions, Renderer, to_frame};
+use mazewalk_render::{Charset, Culling, RenderOptions, Renderer, Target, to_frame};
 use mazewalk_term::frame::{ColorDepth, Frame, Region};
 
 fn main() {
@@ -35,14 +35,26 @@ fn main() {
         RenderOptions { charset, color_depth: depth, culling: Culling::Portal, ..RenderOptions::default() };
     let (mut renderer, mut frame) = (Renderer::new(), Frame::new(cols, rows));
     renderer
-        .render(&scene.maze, &scene.camera, &options, &mut frame, Region { col: 0, row: 0, cols, rows })
+        .render(
+            &scene.maze,
+            &scene.camera,
+            &[],
+            &options,
+            Target::Frame(&mut frame, Region { col: 0, row: 0, cols, rows }),
+        )
         .expect("render");
     let start = Instant::now();
     for _ in 0..reps {
         match part.as_str() {
             "samples" => {
                 renderer
-                    .render_samples(&scene.maze, &scene.camera, charset, 0.5, Culling::Portal, cols, rows)
+                    .render(
+                        &scene.maze,
+                        &scene.camera,
+                        &[],
+                        &RenderOptions { charset, culling: Culling::Portal, ..RenderOptions::default() },
+                        Target::Samples { cols, rows },
+                    )
                     .expect("render");
             }
             "glyphs" => {
@@ -53,9 +65,9 @@ fn main() {
                     .render(
                         &scene.maze,
                         &scene.camera,
+                        &[],
                         &options,
-                        &mut frame,
-                        Region { col: 0, row: 0, cols, rows },
+                        Target::Frame(&mut frame, Region { col: 0, row: 0, cols, rows }),
                     )
                     .expect("render");
             }

@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{GenOptions, generate};
-use mazewalk_render::{Camera, Charset, RenderOptions, Renderer};
+use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, Target};
 use mazewalk_term::encoder::{self, Encoder};
 use mazewalk_term::frame::{ColorDepth, Frame};
 use mazewalk_walk::App;
@@ -72,7 +72,9 @@ fn main() {
                 for (k, (moved, camera)) in cameras.iter().enumerate() {
                     let region = frame.region();
                     let started = Instant::now();
-                    renderer.render(maze, camera, &options, &mut frame, region).expect("camera");
+                    renderer
+                        .render(maze, camera, &[], &options, Target::Frame(&mut frame, region))
+                        .expect("camera");
                     times.push(started.elapsed().as_secs_f64() * 1e3);
                     out.clear();
                     let sent = encoder.encode(&frame, &mut out).bytes;

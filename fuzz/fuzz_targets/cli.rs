@@ -9,7 +9,7 @@ use clap::Parser as _;
 use libfuzzer_sys::fuzz_target;
 use mazewalk::cli::{Cli, Command};
 use mazewalk_maze as maze;
-use mazewalk_render::{Camera, Renderer};
+use mazewalk_render::{Camera, Renderer, Target};
 
 fuzz_target!(|bytes: &[u8]| {
     // Up to the first 0xFF: the arguments, separated by NUL bytes; after it: grid settings lines.
@@ -39,7 +39,7 @@ fuzz_target!(|bytes: &[u8]| {
                 let options = render.look.options(render.culling);
                 let mut frame = mazewalk_term::frame::Frame::new(cols, rows);
                 let region = frame.region();
-                let _ = Renderer::new().render(&maze, &camera, &options, &mut frame, region);
+                let _ = Renderer::new().render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region));
             }
         }
     }

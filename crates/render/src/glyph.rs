@@ -10,95 +10,12 @@ use glam::{Vec3, Vec3A};
 use wide::bytemuck::cast;
 use wide::{f32x8, i32x8};
 
+use super::options::{ASCII_RAMP_LONG, Charset, Ramp, RenderOptions};
 use super::palette::{self, KeptPair, Mix, quantize_srgb8, threshold, xterm_rgb};
-use super::pipeline::RenderOptions;
 use super::samples::SampleBuffer;
 use super::shade::{Srgb8Tables, luminance, srgb_to_linear};
 use mazewalk_term::blocks::{HALF, QUAD, sextant_glyph};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
-
-/// How cells are drawn, and so how many samples each covers.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Charset {
-    /// One sample per cell: a luminance ramp plus line outlines; readable without colour.
-    Ascii,
-    /// 1×2 samples: `▀` with the top sample as ink, the bottom one as background.
-    #[default]
-    Half,
-    /// 2×2 samples: the quadrant blocks `▘▝▀▖▌▞▛▗▚▐▜▄▙▟█`.
-    Quad,
-    /// 2×3 samples: the sextant blocks U+1FB00–U+1FB3B plus ` `, `▌`, `▐`, `█`.
-    Sextant,
-}
-
-impl Charset {
-    /// Every charset, in the order of their names.
-    pub const ALL: [Charset; 4] = [Charset::Ascii, Charset::Half, Charset::Quad, Charset::Sextant];
-
-    /// Samples per cell `(sx, sy)`; the pipeline sizes the buffer `cols·sx × rows·sy`.
-    #[must_use]
-    pub const fn samples_per_cell(self) -> (usize, usize) {
-        match self {
-            Charset::Ascii => (1, 1),
-            Charset::Half => (1, 2),
-            Charset::Quad => (2, 2),
-            Charset::Sextant => (2, 3),
-        }
-    }
-
-    /// A sample's width / height on screen, from the cell's (about 0.5): `cell_aspect · sy / sx`.
-    #[must_use]
-    pub fn sample_aspect(self, cell_aspect: f32) -> f32 {
-        let (sx, sy) = self.samples_per_cell();
-        cell_aspect * sy as f32 / sx as f32
-    }
-}
-
-mazewalk_names::named!(
-    Charset,
-    "charset",
-    [
-        ("ascii", Charset::Ascii),
-        ("half", Charset::Half),
-        ("quad", Charset::Quad),
-        ("sextant", Charset::Sextant),
-    ]
-);
-
-/// The ascii shading ramp, darkest first.
-pub const ASCII_RAMP: [char; 10] = [' ', '.', ':', '-', '=', '+', '*', '#', '%', '@'];
-
-/// The long ascii ramp, darkest first: 70 characters by how much of the cell they ink (Paul Bourke's
-/// "character representation of grey scale images").
-pub const ASCII_RAMP_LONG: [char; 70] = [
-    ' ', '.', '\'', '`', '^', '"', ',', ':', ';', 'I', 'l', '!', 'i', '>', '<', '~', '+', '_', '-', '?', ']',
-    '[', '}', '{', '1', ')', '(', '|', '\\', '/', 't', 'f', 'j', 'r', 'x', 'n', 'u', 'v', 'c', 'z', 'X', 'Y',
-    'U', 'J', 'C', 'L', 'Q', '0', 'O', 'Z', 'm', 'w', 'q', 'p', 'd', 'b', 'k', 'h', 'a', 'o', '*', '#', 'M',
-    'W', '&', '8', '%', 'B', '@', '$',
-];
-
-/// Which ascii shading ramp: the 10 characters of [`ASCII_RAMP`] or the 70 of [`ASCII_RAMP_LONG`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Ramp {
-    /// 10 characters, bold steps.
-    #[default]
-    Short,
-    /// 70 characters, fine steps.
-    Long,
-}
-
-impl Ramp {
-    /// The ramp's characters, darkest first.
-    #[must_use]
-    pub fn glyphs(self) -> &'static [char] {
-        match self {
-            Ramp::Short => &ASCII_RAMP,
-            Ramp::Long => &ASCII_RAMP_LONG,
-        }
-    }
-}
-
-mazewalk_names::named!(Ramp, "ramp", [("short", Ramp::Short), ("long", Ramp::Long)]);
 
 /// The colourless block-mode ramp, darkest first.
 pub const BLOCK_RAMP: [char; 5] = [' ', '░', '▒', '▓', '█'];
@@ -604,7 +521,7 @@ mod tests {
             let t = ((lightness - bottom) / (top - bottom)).clamp(0.0, 1.0);
             (t * (len - 1) as f64).round() as usize
         };
-        for len in [1, 2, BLOCK_RAMP.len(), ASCII_RAMP.len(), ASCII_RAMP_LONG.len()] {
+        for len in [1, 2, BLOCK_RAMP.len(), crate::options::ASCII_RAMP.len(), ASCII_RAMP_LONG.len()] {
             let steps = RampSteps::new(len);
             let mut seen = vec![false; len];
             for k in 0..=4000 {

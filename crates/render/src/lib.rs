@@ -49,6 +49,7 @@
 pub mod camera;
 pub mod glyph;
 pub mod line;
+pub mod options;
 pub mod oracle;
 pub mod palette;
 pub mod picture;
@@ -61,9 +62,10 @@ pub mod sprite;
 pub mod wall;
 
 pub use camera::{Camera, CameraError, Eye, Projection};
-pub use glyph::{Charset, Ramp, to_frame};
+pub use glyph::to_frame;
 pub use line::{draw_line, line_glyph, line_points};
-pub use pipeline::{Culling, RenderOptions, RenderStats, Renderer};
+pub use options::{Charset, Culling, Ramp, RenderOptions};
+pub use pipeline::{RenderStats, Renderer, Target};
 pub use portal::{PortalPass, PortalStats};
 pub use raster::{GridVertex, Varying, fill_polygon, fill_triangle};
 pub use samples::SampleBuffer;

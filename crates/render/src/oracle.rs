@@ -15,8 +15,9 @@
 use glam::Vec2;
 
 use super::camera::{Camera, Eye};
-use super::glyph::Charset;
-use super::pipeline::{Culling, Renderer};
+use super::options::Charset;
+use super::options::{Culling, RenderOptions};
+use super::pipeline::{Renderer, Target};
 use super::wall::{ClipScratch, clip_wall};
 use mazewalk_maze::Maze;
 
@@ -51,7 +52,14 @@ pub fn portal_matches_brute(
     let (mut brute, mut portal) = (Renderer::new(), Renderer::new());
     (brute.no_edges, portal.no_edges) = (true, true);
     let draw = |r: &mut Renderer, culling| {
-        r.render_samples(maze, camera, charset, 0.5, culling, cols, rows).map_err(|e| e.to_string())
+        r.render(
+            maze,
+            camera,
+            &[],
+            &RenderOptions { charset, culling, ..RenderOptions::default() },
+            Target::Samples { cols, rows },
+        )
+        .map_err(|e| e.to_string())
     };
     draw(&mut brute, Culling::None)?;
     let stats = draw(&mut portal, Culling::Portal)?;

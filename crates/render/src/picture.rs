@@ -7,7 +7,7 @@
 //! are not block glyphs (the HUD's letters, a figure's initial) show as their cell's background with a
 //! square of ink in the middle, a stand-in for the character.
 
-use super::glyph::Charset;
+use super::options::Charset;
 use super::palette::xterm_rgb;
 use mazewalk_term::blocks::{HALF, QUAD, sextant_glyph};
 use mazewalk_term::frame::{Color, Frame};

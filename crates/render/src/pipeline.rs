@@ -14,8 +14,9 @@ use wide::bytemuck::cast;
 use wide::{f32x8, i32x8, u32x8};
 
 use super::camera::{Camera, CameraError, Eye, Projection};
-use super::glyph::{Charset, Ramp, to_frame};
+use super::glyph::to_frame;
 use super::line::{line_glyph, line_points};
+use super::options::{Charset, Culling, RenderOptions};
 use super::palette;
 use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, LANES, Lanes3, fill_polygon, fill_polygon_x8};
@@ -43,53 +44,6 @@ const CHECKER_PERIOD: f32 = 4.0;
 const CHECKER_CONTRAST: f32 = 0.18;
 /// How far (maze units) the exit's light reaches on the floor round it.
 const EXIT_GLOW_RADIUS: f32 = 2.0;
-
-/// Which walls go into the raster.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Culling {
-    /// Only walls the cell-and-portal walk can see (the default).
-    #[default]
-    Portal,
-    /// Every wall of the maze (brute force, the reference).
-    None,
-}
-
-mazewalk_names::named!(Culling, "culling", [("portal", Culling::Portal), ("none", Culling::None)]);
-
-/// How to turn samples into a frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderOptions {
-    /// Glyph mode (and so samples per cell).
-    pub charset: Charset,
-    /// Colour depth to quantize to.
-    pub color_depth: ColorDepth,
-    /// Portal pass or brute force.
-    pub culling: Culling,
-    /// Terminal cell width / height (about 0.5).
-    pub cell_aspect: f32,
-    /// Ordered dithering in 256 and 16 colours ([`palette::dither`](super::palette::dither)); off, each
-    /// sample takes its nearest palette entry. No effect in truecolor or without colour.
-    pub dither: bool,
-    /// The ascii charset's shading ramp.
-    pub ramp: Ramp,
-    /// Brick walls and filtered floor and ceiling tiles ([`bricks`], [`checker_filtered`]); off, walls
-    /// are plain and the tiles unfiltered.
-    pub textures: bool,
-}
-
-impl Default for RenderOptions {
-    fn default() -> Self {
-        RenderOptions {
-            charset: Charset::Half,
-            color_depth: ColorDepth::TrueColor,
-            culling: Culling::Portal,
-            cell_aspect: 0.5,
-            dither: true,
-            ramp: Ramp::Short,
-            textures: false,
-        }
-    }
-}
 
 /// What one frame cost.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -135,6 +89,32 @@ pub struct Renderer {
     pub(crate) no_edges: bool,
     /// Shade every sample by the scalar reference paths (the oracle of the SIMD ones).
     pub(crate) reference_shading: bool,
+    /// Ids below this are walls (the last frame's maze's edge count).
+    wall_ids: u32,
+}
+
+/// Where [`Renderer::render`] puts the picture.
+#[derive(Debug)]
+pub enum Target<'a> {
+    /// Glyphs into a region of a frame; the rest of the frame is left alone (the walk, `mazewalk
+    /// render`).
+    Frame(&'a mut Frame, Region),
+    /// Only the samples of a `cols × rows`-cell picture, no glyphs: what a frame is made of, sample by
+    /// sample, read back with [`Renderer::samples`] (the portal oracle, the benches).
+    Samples {
+        /// Cells across.
+        cols: usize,
+        /// Cells down.
+        rows: usize,
+    },
+    /// The view-space depth of the wall through each cell's centre of a `cols × rows` picture, read
+    /// back with [`Renderer::cell_depths`]; figures and glyphs play no part.
+    Depths {
+        /// Cells across.
+        cols: usize,
+        /// Cells down.
+        rows: usize,
+    },
 }
 
 impl Renderer {
@@ -156,48 +136,76 @@ impl Renderer {
         &self.portal
     }
 
-    /// Renders `maze` from `camera` into `region` of `frame` (the rest of the frame is left alone).
+    /// Renders `maze` from `camera`, with figures standing in it ([`Sprite`]s: the other players,
+    /// depth-tested against the walls, each with its label on its head's cell), into `target`: the
+    /// one entry point of the pipeline, whatever the picture is for.
+    ///
+    /// ```
+    /// use mazewalk_render::{Camera, RenderOptions, Renderer, Target};
+    /// use mazewalk_term::Frame;
+    ///
+    /// let maze = mazewalk_maze::builtin()?;
+    /// let v = maze.viewer();
+    /// let camera = Camera { eye_z: v.z, ..Camera::new(v.pos, v.dir_deg, v.fov_deg) };
+    /// let mut frame = Frame::new(40, 12);
+    /// let region = frame.region();
+    /// let options = RenderOptions::default(); // half blocks, truecolor, portal culling
+    /// let target = Target::Frame(&mut frame, region);
+    /// let stats = Renderer::new().render(&maze, &camera, &[], &options, target)?; // no figures
+    /// assert!(stats.walls_drawn > 0);
+    /// assert!(frame.cells().iter().any(|c| c.ch == '▀'));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     ///
     /// # Errors
     /// [`CameraError`] when the camera or the grid is unusable.
     ///
     /// # Panics
-    /// If `region` is not inside `frame`.
+    /// If a [`Target::Frame`]'s region is not inside its frame.
     pub fn render(
         &mut self,
         maze: &Maze,
         camera: &Camera,
-        options: &RenderOptions,
-        frame: &mut Frame,
-        region: Region,
-    ) -> Result<RenderStats, CameraError> {
-        self.render_with_sprites(maze, camera, options, &[], frame, region)
-    }
-
-    /// [`render`](Self::render) with figures standing in the maze ([`Sprite`]s: the other players),
-    /// depth-tested against the walls, each with its label on its head's cell.
-    ///
-    /// # Errors
-    /// [`CameraError`] when the camera or the grid is unusable.
-    ///
-    /// # Panics
-    /// If `region` is not inside `frame`.
-    pub fn render_with_sprites(
-        &mut self,
-        maze: &Maze,
-        camera: &Camera,
-        options: &RenderOptions,
         sprites: &[Sprite],
-        frame: &mut Frame,
-        region: Region,
+        options: &RenderOptions,
+        target: Target<'_>,
     ) -> Result<RenderStats, CameraError> {
         let RenderOptions { charset, color_depth, culling, cell_aspect, textures, .. } = *options;
-        let (cols, rows) = (region.cols, region.rows);
-        let stats =
-            self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, sprites, textures)?;
-        to_frame(&self.samples, options, frame, region);
-        self.label_sprites(charset, color_depth, frame, region);
-        Ok(stats)
+        match target {
+            Target::Frame(frame, region) => {
+                let (cols, rows) = (region.cols, region.rows);
+                let stats = self.samples_with(
+                    maze,
+                    camera,
+                    charset,
+                    cell_aspect,
+                    culling,
+                    cols,
+                    rows,
+                    sprites,
+                    textures,
+                )?;
+                to_frame(&self.samples, options, frame, region);
+                self.label_sprites(charset, color_depth, frame, region);
+                Ok(stats)
+            }
+            Target::Samples { cols, rows } => {
+                self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, sprites, textures)
+            }
+            Target::Depths { cols, rows } => {
+                // One sample per cell, centred in the cell: exactly the ascii sampling.
+                let eye = camera.eye(cols, rows, Charset::Ascii.sample_aspect(cell_aspect))?;
+                Ok(self.draw(maze, &eye, culling, Shading::ViewDepth, false))
+            }
+        }
+    }
+
+    /// After a [`Target::Depths`] render, for each terminal cell (row by row) the view-space depth of
+    /// the wall seen through the cell's centre (maze units along the view direction), or `None` where
+    /// no wall is seen: the `--depth-out` hook.
+    pub fn cell_depths(&self) -> impl Iterator<Item = Option<f32>> + '_ {
+        let s = &self.samples;
+        s.id().iter().zip(s.color()).map(|(&id, c)| (id < self.wall_ids).then_some(c.x))
     }
 
     /// Each drawn figure's label on the cell of its head's centre, if the figure is what shows there.
@@ -220,24 +228,6 @@ impl Renderer {
     }
 
     /// The pipeline up to the samples (no glyphs): what the frame is made of, sample by sample.
-    ///
-    /// # Errors
-    /// [`CameraError`] when the camera or the grid is unusable.
-    #[allow(clippy::too_many_arguments)]
-    pub fn render_samples(
-        &mut self,
-        maze: &Maze,
-        camera: &Camera,
-        charset: Charset,
-        cell_aspect: f32,
-        culling: Culling,
-        cols: usize,
-        rows: usize,
-    ) -> Result<RenderStats, CameraError> {
-        self.samples_with(maze, camera, charset, cell_aspect, culling, cols, rows, &[], false)
-    }
-
-    /// [`render_samples`](Self::render_samples) with figures.
     #[allow(clippy::too_many_arguments)]
     fn samples_with(
         &mut self,
@@ -271,31 +261,6 @@ impl Renderer {
         Ok(stats)
     }
 
-    /// For each terminal cell, the view-space depth of the wall seen through the cell's centre (maze
-    /// units along the view direction), or `None` where no wall is seen: the `--depth-out` hook.
-    ///
-    /// # Errors
-    /// [`CameraError`] when the camera or the grid is unusable.
-    pub fn depth_at_cell_centres(
-        &mut self,
-        maze: &Maze,
-        camera: &Camera,
-        cell_aspect: f32,
-        culling: Culling,
-        cols: usize,
-        rows: usize,
-    ) -> Result<Vec<Option<f32>>, CameraError> {
-        // One sample per cell, centred in the cell: exactly the ascii sampling.
-        let eye = camera.eye(cols, rows, Charset::Ascii.sample_aspect(cell_aspect))?;
-        self.draw(maze, &eye, culling, Shading::ViewDepth, false);
-        let s = &self.samples;
-        Ok(s.id()
-            .iter()
-            .zip(s.color())
-            .map(|(&id, c)| (id < maze.edges().len() as u32).then_some(c.x))
-            .collect())
-    }
-
     /// Chooses the walls, rasterizes them, then fills floor and ceiling.
     fn draw(
         &mut self,
@@ -310,6 +275,7 @@ impl Renderer {
             self.samples.resize(eye.width, eye.height);
         }
         self.samples.clear_coverage(); // colours: every sample gets a wall's, a plane's or the fog's
+        self.wall_ids = maze.edges().len() as u32;
 
         self.walls.clear();
         match culling {
@@ -788,7 +754,14 @@ mod tests {
         for charset in [Charset::Half, Charset::Ascii] {
             for camera in cameras.iter().chain(cameras.iter().rev()) {
                 let render = |r: &mut Renderer| {
-                    r.render_samples(&maze, camera, charset, 0.5, Culling::Portal, 41, 13).expect("camera");
+                    r.render(
+                        &maze,
+                        camera,
+                        &[],
+                        &RenderOptions { charset, culling: Culling::Portal, ..RenderOptions::default() },
+                        Target::Samples { cols: 41, rows: 13 },
+                    )
+                    .expect("camera");
                 };
                 let mut fresh = Renderer::new();
                 render(&mut fresh);

@@ -2,7 +2,8 @@
 //! quantization and ordered dithering in 256 and 16 colours, and odd sizes.
 
 use glam::Vec3;
-use mazewalk_render::glyph::{self, ASCII_RAMP, block_glyph};
+use mazewalk_render::glyph::{self, block_glyph};
+use mazewalk_render::options::ASCII_RAMP;
 use mazewalk_render::shade::srgb_to_linear;
 use mazewalk_render::{Charset, RenderOptions, SampleBuffer, to_frame};
 use mazewalk_term::blocks::{QUAD, sextant_glyph};

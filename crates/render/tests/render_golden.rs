@@ -3,7 +3,7 @@
 //! Review a changed snapshot with `cargo insta review` (or read the `.snap.new` beside it).
 
 use mazewalk_maze::{self as maze, Maze};
-use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer};
+use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer, Target};
 use mazewalk_term::frame::{ColorDepth, Frame};
 
 fn files() -> Vec<(String, Maze)> {
@@ -30,7 +30,7 @@ fn frame(maze: &Maze, charset: Charset, culling: Culling) -> String {
         RenderOptions { charset, color_depth: ColorDepth::None, culling, ..RenderOptions::default() };
     let mut out = Frame::new(64, 20);
     let region = out.region();
-    Renderer::new().render(maze, &camera, &options, &mut out, region).unwrap();
+    Renderer::new().render(maze, &camera, &[], &options, Target::Frame(&mut out, region)).unwrap();
     out.lines().join("\n")
 }
 

@@ -4,7 +4,7 @@
 use glam::{Vec2, Vec3};
 use mazewalk_maze::{Maze, grid};
 use mazewalk_render::shade::luminance;
-use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer};
+use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer, Target};
 use mazewalk_term::frame::{Color, ColorDepth, Frame};
 
 fn maze(text: &str) -> Maze {
@@ -13,7 +13,15 @@ fn maze(text: &str) -> Maze {
 
 fn samples(maze: &Maze, camera: &Camera, cols: usize, rows: usize) -> Renderer {
     let mut renderer = Renderer::new();
-    renderer.render_samples(maze, camera, Charset::Ascii, 0.5, Culling::Portal, cols, rows).unwrap();
+    renderer
+        .render(
+            maze,
+            camera,
+            &[],
+            &RenderOptions { charset: Charset::Ascii, culling: Culling::Portal, ..RenderOptions::default() },
+            Target::Samples { cols, rows },
+        )
+        .unwrap();
     renderer
 }
 
@@ -84,11 +92,11 @@ KKKKK
         let options =
             RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
         let region = near.region();
-        Renderer::new().render(&maze, &camera, &options, &mut near, region).unwrap();
+        Renderer::new().render(&maze, &camera, &[], &options, Target::Frame(&mut near, region)).unwrap();
         // The same view seeing only 2 units far: the wall is beyond the far plane, the middle is fog.
         let mut nothing = Frame::new(cols, rows);
         let short = Camera { view_distance: 2.0, ..camera };
-        Renderer::new().render(&maze, &short, &options, &mut nothing, region).unwrap();
+        Renderer::new().render(&maze, &short, &[], &options, Target::Frame(&mut nothing, region)).unwrap();
         let middle = |f: &Frame| *f.get(cols / 2, rows / 2).unwrap();
         assert_ne!(middle(&near), middle(&nothing), "{depth:?}: the black wall looks like empty space");
     }
@@ -109,7 +117,9 @@ fn the_exit_shows_three_cells_down_a_corridor_in_every_charset_and_colour_depth(
             let frame = |maze: &Maze| {
                 let mut frame = Frame::new(80, 24);
                 let region = frame.region();
-                Renderer::new().render(maze, &camera, &options, &mut frame, region).unwrap();
+                Renderer::new()
+                    .render(maze, &camera, &[], &options, Target::Frame(&mut frame, region))
+                    .unwrap();
                 frame
             };
             let (with, without) = (frame(&corridor(true)), frame(&corridor(false)));
@@ -144,7 +154,7 @@ fn without_colour_walls_floor_and_ceiling_take_different_glyphs() {
         let mut renderer = Renderer::new();
         let mut frame = Frame::new(100, 30);
         let region = frame.region();
-        renderer.render(&maze, &camera, &options, &mut frame, region).unwrap();
+        renderer.render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
         let (sx, sy) = charset.samples_per_cell();
         let s = renderer.samples();
         // Each cell by what all its samples show: a wall, the floor or the ceiling.
@@ -180,7 +190,7 @@ fn without_colour_walls_floor_and_ceiling_take_different_glyphs() {
         };
         let mut frame = Frame::new(100, 30);
         let region = frame.region();
-        Renderer::new().render(&maze, &camera, &options, &mut frame, region).unwrap();
+        Renderer::new().render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
         let mut chars: Vec<char> = frame.cells().iter().map(|c| c.ch).collect();
         chars.sort_unstable();
         chars.dedup();
@@ -207,7 +217,7 @@ fn textured_walls_show_joints_up_close_and_keep_their_brightness() {
             ..RenderOptions::default()
         };
         let region = frame.region();
-        renderer.render(&maze, &camera, &options, &mut frame, region).unwrap();
+        renderer.render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
         let s = renderer.samples();
         (0..s.width() * s.height())
             .filter(|&i| s.id()[i] < walls)

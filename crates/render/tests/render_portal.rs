@@ -14,7 +14,7 @@ use mazewalk_maze::geometry::{WALL_MARGIN, heading_dir};
 use mazewalk_maze::movement::{Position, step};
 use mazewalk_maze::{self as maze, Cells, Maze, Viewer};
 use mazewalk_render::oracle::{Agreement, portal_matches_brute};
-use mazewalk_render::{Camera, Charset, Culling, Projection, Renderer};
+use mazewalk_render::{Camera, Charset, Culling, Projection, RenderOptions, Renderer, Target};
 use proptest::prelude::*;
 
 /// A generated maze, maybe rotated and with its vertices jittered (cells stay convex or it is
@@ -228,8 +228,15 @@ fn the_portal_pass_visits_few_cells_of_a_large_maze() {
     let viewer = maze.viewer();
     let camera = Camera::new(viewer.pos, viewer.dir_deg, 90.0);
     let mut renderer = Renderer::new();
-    let stats =
-        renderer.render_samples(&maze, &camera, Charset::Half, 0.5, Culling::Portal, 120, 40).unwrap();
+    let stats = renderer
+        .render(
+            &maze,
+            &camera,
+            &[],
+            &RenderOptions { charset: Charset::Half, culling: Culling::Portal, ..RenderOptions::default() },
+            Target::Samples { cols: 120, rows: 40 },
+        )
+        .unwrap();
     let ratio = maze.cell_count() as f64 / stats.portal.distinct_cells as f64;
     eprintln!(
         "200×200 corridor view: {} of {} cells visited ({ratio:.0}× fewer), {} portals crossed, {} walls drawn",

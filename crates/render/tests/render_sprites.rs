@@ -3,7 +3,7 @@
 use glam::{Vec2, Vec3};
 use mazewalk_maze::{Maze, grid};
 use mazewalk_render::sprite::SPRITE_ID;
-use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer, Sprite};
+use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer, Sprite, Target};
 use mazewalk_term::frame::{ColorDepth, Frame};
 
 /// A corridor along the top row with a block below it; the start `>` at (6, 14) facing east.
@@ -43,7 +43,7 @@ fn render(maze: &Maze, camera: &Camera, sprites: &[Sprite], options: RenderOptio
     let mut renderer = Renderer::new();
     let mut frame = Frame::new(80, 24);
     let region = frame.region();
-    renderer.render_with_sprites(maze, camera, &options, sprites, &mut frame, region).unwrap();
+    renderer.render(maze, camera, sprites, &options, Target::Frame(&mut frame, region)).unwrap();
     let samples = renderer.samples();
     let columns = (0..samples.width())
         .filter(|&x| {

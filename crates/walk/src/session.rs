@@ -38,7 +38,7 @@ use super::state::{App, MapMode};
 use glam::Vec3;
 
 use mazewalk_render::palette::xterm_rgb;
-use mazewalk_render::{Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite};
+use mazewalk_render::{Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
 use mazewalk_term::encoder::{self, Encoder};
 use mazewalk_term::frame::{Cell, Color, Frame, Region};
 use mazewalk_term::input::{Input, InputDecoder, Key, Reply};
@@ -465,13 +465,12 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     // The other players, as figures standing in the maze.
     screen.sprites.clear();
     screen.sprites.extend(screen.peers.iter().filter_map(|peer| figure(app.maze(), peer)));
-    let stats = match screen.renderer.render_with_sprites(
+    let stats = match screen.renderer.render(
         app.maze(),
         &app.camera,
-        &options,
         &screen.sprites,
-        frame,
-        view,
+        &options,
+        Target::Frame(frame, view),
     ) {
         Ok(stats) => stats,
         Err(err) => {

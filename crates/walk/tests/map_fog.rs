@@ -1,7 +1,7 @@
 //! The map's fog of war: only cells the viewer has seen are drawn, and the exit once seen.
 
 use mazewalk_maze::{Maze, grid};
-use mazewalk_render::{RenderOptions, Renderer};
+use mazewalk_render::{RenderOptions, Renderer, Target};
 use mazewalk_term::frame::Frame;
 use mazewalk_walk::state::MapMode;
 use mazewalk_walk::{App, Session, SessionOptions};
@@ -48,7 +48,7 @@ fn at_the_start_the_map_holds_exactly_the_cells_in_view_and_no_exit() {
     let mut renderer = Renderer::new();
     let mut frame = Frame::new(100, 29);
     let region = frame.region();
-    renderer.render(app.maze(), &app.camera, &app.options, &mut frame, region).unwrap();
+    renderer.render(app.maze(), &app.camera, &[], &app.options, Target::Frame(&mut frame, region)).unwrap();
     let mut visible = renderer.portal().visited.clone();
     visible.sort_unstable();
     let seen: Vec<u32> = (0..app.maze().cell_count() as u32).filter(|&c| app.has_seen(c)).collect();

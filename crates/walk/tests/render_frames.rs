@@ -6,7 +6,7 @@ use mazewalk_testkit as common;
 
 use glam::Vec2;
 use mazewalk_maze as maze;
-use mazewalk_render::{Camera, Charset, Culling, Projection, RenderOptions, Renderer};
+use mazewalk_render::{Camera, Charset, Culling, Projection, RenderOptions, Renderer, Target};
 use mazewalk_term::frame::{Cell, ColorDepth, Frame, Region};
 use mazewalk_term::input::{Key, KeyPhase};
 use mazewalk_walk::App;
@@ -41,7 +41,7 @@ proptest! {
         // A sentinel all around the view's region: nothing is drawn outside it.
         let mut frame = Frame::filled(cols + 2, rows + 2, Cell::plain('¤'));
         let view = Region { col: 1, row: 1, cols, rows };
-        Renderer::new().render(&maze, &camera, &options, &mut frame, view).unwrap();
+        Renderer::new().render(&maze, &camera, &[], &options, Target::Frame(&mut frame, view)).unwrap();
         for y in 0..rows + 2 {
             for x in 0..cols + 2 {
                 let inside = (1..=cols).contains(&x) && (1..=rows).contains(&y);
@@ -88,7 +88,7 @@ fn huge_frames_render() {
         };
         let mut frame = Frame::new(1000, 300);
         let region = frame.region();
-        Renderer::new().render(&maze, &camera, &options, &mut frame, region).unwrap();
+        Renderer::new().render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
         assert_eq!((frame.width(), frame.height()), (1000, 300));
     }
 }
