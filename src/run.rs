@@ -91,7 +91,9 @@ pub fn run(session: &mut Session, clock: Instant) -> io::Result<Ended> {
             break Ended::Quit;
         }
         bytes.clear();
+        let started = Instant::now();
         if session.frame(now(), &mut bytes) {
+            session.frame_cost(started.elapsed().as_secs_f64()); // the HUD shows it next frame
             terminal.write_frame(&bytes)?;
         }
         // Sleep until input, a wake-up from the guard, or the session's next deadline.

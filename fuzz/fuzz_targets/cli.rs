@@ -39,7 +39,8 @@ fuzz_target!(|bytes: &[u8]| {
                 let options = render.look.options(render.culling);
                 let mut frame = mazewalk_term::frame::Frame::new(cols, rows);
                 let region = frame.region();
-                let _ = Renderer::new().render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region));
+                let _ =
+                    Renderer::new().render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region));
             }
         }
     }

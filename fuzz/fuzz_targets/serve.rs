@@ -8,9 +8,9 @@
 use glam::Vec2;
 use libfuzzer_sys::fuzz_target;
 use mazewalk_serve::Limits;
-use mazewalk_serve::player::{PLAYER_COLORS, Player, REMOTE};
+use mazewalk_serve::player::{Player, REMOTE};
+use mazewalk_serve::world::{PlayerId, World};
 use mazewalk_term::modes::restore_sequence;
-use mazewalk_walk::overlay::Peer;
 
 /// Generous upper bound of a frame's bytes per screen cell (glyph, colours, cursor moves), plus the
 /// fixed part (synchronized output, the query).
@@ -24,6 +24,10 @@ fuzz_target!(|bytes: &[u8]| {
     let Ok(mut player) = Player::new(maze, "xterm-256color", None, (cols, rows), &limits, 0.0) else {
         return;
     };
+    let mut world = World::new();
+    let (position, heading, cell) = player.whereabouts();
+    player.joined(world.join("me", position, heading, cell));
+    let others: Vec<PlayerId> = (0..8).map(|i| world.join(&format!("p{i}"), Vec2::ZERO, 0.0, cell)).collect();
     let mut out = Vec::new();
     player.enter(&mut out);
     let mut t = 0.0;
@@ -48,17 +52,19 @@ fuzz_target!(|bytes: &[u8]| {
             }
             2 => t += n as f64 / 20.0,
             _ => {
+                // The others move about (some to the exit), as a look at the world shows them.
                 let (position, heading, _) = player.whereabouts();
-                let peers: Vec<Peer> = (0..n % 8)
-                    .map(|i| Peer {
-                        position: position + Vec2::new(i as f32 - 3.0, (n % 5) as f32 - 2.0),
-                        heading_deg: n as f32 * 7.0 + heading,
-                        initial: char::from(b'A' + (i as u8)),
-                        color: PLAYER_COLORS[i % PLAYER_COLORS.len()],
-                        cell: None,
-                    })
-                    .collect();
-                player.set_peers(&peers);
+                for (i, &id) in others.iter().enumerate().take(n % 9) {
+                    let at = position + Vec2::new(i as f32 - 3.0, (n % 5) as f32 - 2.0);
+                    world.moved(id, at, n as f32 * 7.0 + heading, cell);
+                    if n % 7 == i {
+                        world.finished(id, t);
+                    }
+                }
+                player.world_changed(t);
+                if player.look_due(t) {
+                    player.look(&world.look(), t);
+                }
             }
         }
         out.clear();

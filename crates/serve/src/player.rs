@@ -1,14 +1,21 @@
 //! One connected player, without the connection: a [`Session`] plus what a remote terminal needs that
 //! a local one gets from the guard — entering and leaving game mode in bytes, the pty's size clamped,
-//! colour depth from the pty's `TERM` (and `COLORTERM` if the client sent it), the input rate limited.
-//! Pure: bytes and sizes in, bytes out, time as seconds; the SSH side ([`super::ssh`]) only moves
-//! bytes, and the `serve` fuzz target drives this type with any bytes and window changes.
+//! colour depth from the pty's `TERM` (and `COLORTERM` if the client sent it), the input rate limited —
+//! and the game's rules for one player in a shared world: how often it looks at the others
+//! ([`Player::look_due`], at most [`WORLD_LOOKS_PER_SECOND`]), which of them it draws, the winner's
+//! notice (shown once, for [`NOTICE_SECONDS`]), and what the world learns from it ([`Player::news`]:
+//! where it is, and its finish, once).
+//!
+//! Pure: bytes, sizes and looks at the world in, bytes and news out, time as seconds; the SSH side
+//! ([`super::ssh`]) moves bytes and holds the world's lock for the data only, and the `serve` fuzz
+//! target drives this type with any bytes and window changes.
 
 use std::sync::Arc;
 
 use glam::Vec2;
 
 use super::limits::{Limits, RateLimit};
+use super::world::{Look, PlayerId};
 use mazewalk_maze::Maze;
 use mazewalk_render::{Charset, RenderOptions};
 use mazewalk_term::caps;
@@ -24,6 +31,12 @@ use mazewalk_walk::{App, Session, SessionOptions};
 /// flags are pushed blind (terminals without the protocol ignore the push and the pop) and then
 /// queried: only a terminal whose answer says so is trusted to report key releases.
 pub const REMOTE: Enabled = Enabled { mouse: true, focus_events: true, keyboard_enhancement: true };
+
+/// How long the announcement of the first player at the exit stays on screen, seconds.
+pub const NOTICE_SECONDS: f64 = 8.0;
+
+/// A player looks at the others at most this often a second (their moves coalesce meanwhile).
+pub const WORLD_LOOKS_PER_SECOND: f64 = 30.0;
 
 /// The longest player name, in characters.
 pub const MAX_NAME: usize = 16;
@@ -95,6 +108,33 @@ pub struct Player {
     input: RateLimit,
     limits: Limits,
     dropped: u64,
+    /// Its id in the world, once it has joined.
+    id: Option<PlayerId>,
+    /// When to look at the world next (`None`: not until it changes).
+    look_at: Option<f64>,
+    /// When it last looked.
+    last_look: f64,
+    /// The others it draws, as of its last look (reused).
+    peers: Vec<Peer>,
+    /// When the notice on screen goes away.
+    notice_until: Option<f64>,
+    /// The winner has been announced to it.
+    seen_winner: bool,
+    /// Its finish has been told to the world.
+    reported_finish: bool,
+}
+
+/// What the world learns from a player after a frame ([`Player::news`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct News {
+    /// Where the player stands.
+    pub position: Vec2,
+    /// Which way it faces, degrees counter-clockwise from +x.
+    pub heading_deg: f32,
+    /// The cell it stands in.
+    pub cell: u32,
+    /// It reached the exit after this many seconds: told once.
+    pub finished: Option<f64>,
 }
 
 impl Player {
@@ -125,6 +165,13 @@ impl Player {
             input: RateLimit::new(limits.input_rate, limits.input_burst, now),
             limits: *limits,
             dropped: 0,
+            id: None,
+            look_at: Some(now), // look at the world at once
+            last_look: f64::NEG_INFINITY,
+            peers: Vec::new(),
+            notice_until: None,
+            seen_winner: false,
+            reported_finish: false,
         })
     }
 
@@ -168,16 +215,81 @@ impl Player {
         }
     }
 
-    /// Draws a frame if one is due ([`Session::frame`]), appending its bytes to `out`.
+    /// Draws a frame if one is due ([`Session::frame`]), appending its bytes to `out`; a notice whose
+    /// time is up goes first.
     pub fn frame(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
         let _ = self.session.take_suspend(); // Ctrl-Z cannot stop a server: ignored
+        if self.notice_until.is_some_and(|until| now >= until) {
+            self.notice_until = None;
+            self.session.set_notice(None);
+        }
         self.session.frame(now, out)
     }
 
-    /// When [`frame`](Self::frame) is due next if nothing arrives ([`Session::next_wake`]).
+    /// When [`frame`](Self::frame) or a look at the world is due next if nothing arrives: the
+    /// session's next wake ([`Session::next_wake`]), a look, or the notice's end.
     #[must_use]
     pub fn next_wake(&self, now: f64) -> Option<f64> {
-        self.session.next_wake(now)
+        [self.session.next_wake(now), self.look_at, self.notice_until]
+            .into_iter()
+            .flatten()
+            .reduce(f64::min)
+            .map(|at| at.max(now))
+    }
+
+    /// The player joined the world as `id`.
+    pub fn joined(&mut self, id: PlayerId) {
+        self.id = Some(id);
+    }
+
+    /// The world changed at `now`: look again, but no sooner than [`WORLD_LOOKS_PER_SECOND`] allows
+    /// after the last look.
+    pub fn world_changed(&mut self, now: f64) {
+        if self.look_at.is_none() {
+            self.look_at = Some((self.last_look + 1.0 / WORLD_LOOKS_PER_SECOND).max(now));
+        }
+    }
+
+    /// Whether a look at the world is scheduled (then a change to the world need not be heard of: the
+    /// look will see it).
+    #[must_use]
+    pub fn look_scheduled(&self) -> bool {
+        self.look_at.is_some()
+    }
+
+    /// Whether a look at the world is due at `now` (take one with [`World::look`](super::world::World::look)
+    /// and hand it to [`look`](Self::look)).
+    #[must_use]
+    pub fn look_due(&self, now: f64) -> bool {
+        self.look_at.is_some_and(|at| now >= at)
+    }
+
+    /// What the world looks like at `now`: the others this player shows (in a cell its last frame's
+    /// portal pass reached, or on its map) are drawn, and a winner it has not been told of is announced
+    /// for [`NOTICE_SECONDS`]. Returns whether the picture changed.
+    pub fn look(&mut self, look: &Look, now: f64) -> bool {
+        (self.look_at, self.last_look) = (None, now);
+        let me = self.id.unwrap_or(PlayerId(u64::MAX));
+        let mut peers = std::mem::take(&mut self.peers);
+        look.peers_of(me, |position, cell| self.shows(position, cell), &mut peers);
+        let mut changed = self.session.set_peers(&peers);
+        self.peers = peers;
+        if let (Some(winner), false) = (&look.winner, self.seen_winner) {
+            self.seen_winner = true;
+            self.session.set_notice(Some(winner.announcement_for(me)));
+            self.notice_until = Some(now + NOTICE_SECONDS);
+            changed = true;
+        }
+        changed
+    }
+
+    /// What the world should learn after a frame: where the player is, and its finish the first time
+    /// it is asked after the player reached the exit.
+    pub fn news(&mut self) -> News {
+        let (position, heading_deg, cell) = self.whereabouts();
+        let finished = self.session.app().finished.filter(|_| !self.reported_finish);
+        self.reported_finish |= finished.is_some();
+        News { position, heading_deg, cell, finished }
     }
 
     /// Whether the player quit (q, Esc, Ctrl-C).
@@ -206,11 +318,6 @@ impl Player {
         self.session.sees_cell(cell) || self.session.map_area().is_some_and(|area| area.shows(position))
     }
 
-    /// The other players to draw (the next frame is drawn only if they changed).
-    pub fn set_peers(&mut self, peers: &[Peer]) -> bool {
-        self.session.set_peers(peers)
-    }
-
     /// The session, to read.
     #[must_use]
     pub fn session(&self) -> &Session {
@@ -226,6 +333,7 @@ impl Player {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::world::World;
 
     fn player(cols: u32, rows: u32) -> Player {
         Player::new(
@@ -355,16 +463,53 @@ mod tests {
     #[test]
     fn peers_redraw_only_when_they_change() {
         let mut p = player(80, 24);
+        let mut world = World::new();
+        let (position, heading, cell) = p.whereabouts();
+        p.joined(world.join("alice", position, heading, cell));
         let mut out = Vec::new();
         assert!(p.frame(0.0, &mut out));
-        let (position, _, cell) = p.whereabouts();
         assert!(p.shows(position, cell), "the player's own cell is in view");
-        let peer =
-            Peer { position, heading_deg: 0.0, initial: 'B', color: PLAYER_COLORS[1], cell: Some(cell) };
-        assert!(p.set_peers(&[peer]));
-        assert!(!p.set_peers(&[peer]), "the same peers: nothing to redraw");
+        world.join("bob", position + Vec2::X, 0.0, cell);
+        assert!(p.look(&world.look(), 0.1), "bob came into view");
+        assert!(!p.look(&world.look(), 0.2), "the same peers: nothing to redraw");
         p.feed(b"\x1b[?62;22c", 0.5);
         assert!(p.frame(0.5, &mut out));
         assert!(!p.frame(1.0, &mut out), "nothing changed since");
+    }
+
+    /// Issue #18's game rules, now in the pure player: looks at the world come at most
+    /// WORLD_LOOKS_PER_SECOND a second however often it changes, the winner is announced once and for
+    /// NOTICE_SECONDS, and the world hears of a finish once.
+    #[test]
+    fn looks_are_paced_the_winner_is_told_once_and_a_finish_reported_once() {
+        let mut p = player(80, 24);
+        let mut world = World::new();
+        let (position, heading, cell) = p.whereabouts();
+        let me = world.join("alice", position, heading, cell);
+        p.joined(me);
+        assert!(p.look_due(0.0), "a newcomer looks at once");
+        p.look(&world.look(), 0.0);
+        assert!(!p.look_due(0.0));
+        p.world_changed(0.001);
+        assert!(!p.look_due(0.01) && p.look_due(1.0 / WORLD_LOOKS_PER_SECOND), "paced");
+        assert_eq!(p.next_wake(0.01).map(|t| t <= 1.0 / WORLD_LOOKS_PER_SECOND), Some(true));
+
+        let bob = world.join("bob", position, 0.0, cell);
+        world.finished(bob, 83.0);
+        p.look(&world.look(), 1.0);
+        let mut out = Vec::new();
+        p.frame(1.0, &mut out);
+        let text = p.session().screen().lines().join("\n");
+        assert!(text.contains("bob reached the exit first, in 1:23.0!"), "{text}");
+        p.world_changed(1.5);
+        p.look(&world.look(), 1.5);
+        p.frame(1.0 + NOTICE_SECONDS + 0.1, &mut out);
+        let text = p.session().screen().lines().join("\n");
+        assert!(!text.contains("reached the exit first"), "gone after {NOTICE_SECONDS} s, not shown again");
+
+        assert_eq!(p.news().finished, None, "not at the exit");
+        p.session_mut().app_mut().finished = Some(90.0);
+        assert_eq!(p.news().finished, Some(90.0));
+        assert_eq!(p.news().finished, None, "told once");
     }
 }

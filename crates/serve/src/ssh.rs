@@ -24,7 +24,6 @@ use super::player::{Player, player_name};
 use super::stream::{Cut, CutStream};
 use super::world::{PlayerId, World};
 use mazewalk_maze::Maze;
-use mazewalk_walk::overlay::Peer;
 
 /// Who may play.
 #[derive(Clone, Debug)]
@@ -60,10 +59,6 @@ pub const DUMB_TERMINAL_MESSAGE: &str = "mazewalk: this terminal (TERM=dumb) can
 /// What a client asking to run a command or a subsystem is told.
 pub const NO_EXEC_MESSAGE: &str =
     "mazewalk: no commands or subsystems here, only the game: connect with `ssh -t` and no command";
-/// How long the announcement of the first player at the exit stays on screen, seconds.
-const NOTICE_SECONDS: f64 = 8.0;
-/// A player's task looks at the others at most this often a second (their moves coalesce meanwhile).
-const WORLD_CHECKS_PER_SECOND: f64 = 30.0;
 /// How long a shutting-down server waits for its players' goodbyes before cutting them off.
 const GOODBYE_GRACE: Duration = Duration::from_secs(2);
 
@@ -719,8 +714,13 @@ async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
         }
     };
     let (position, heading, cell) = player.whereabouts();
-    let id = shared.world().join(&user, position, heading, cell);
-    shared.world_version.send_replace(shared.world().version());
+    let id = {
+        let mut world = shared.world();
+        let id = world.join(&user, position, heading, cell);
+        shared.world_version.send_replace(world.version());
+        id
+    };
+    player.joined(id);
     conn.playing.store(true, Ordering::SeqCst);
     let end = walk(&shared, &conn, &tx, &mut rx, &mut player, id).await;
     {
@@ -799,13 +799,7 @@ async fn walk(
     player.enter(&mut out);
     let mut versions = shared.world_version.subscribe();
     let mut shutdown = shared.shutdown.clone();
-    let mut peers: Vec<Peer> = Vec::new();
     let mut last_input = Instant::now();
-    let mut world_check: Option<f64> = Some(0.0); // look at the world at once
-    let mut last_world_check = f64::NEG_INFINITY;
-    let mut notice_until: Option<f64> = None;
-    let mut reported_finish = false;
-    let mut seen_winner = false;
     loop {
         if *shutdown.borrow_and_update() {
             return End::Shutdown;
@@ -814,24 +808,14 @@ async fn walk(
             return End::Quit;
         }
         let now = shared.now();
-        if world_check.is_some_and(|at| now >= at) {
-            world_check = None;
-            last_world_check = now;
-            let world = shared.world();
-            world.peers_of(id, |position, cell| player.shows(position, cell), &mut peers);
-            if let (Some(winner), false) = (world.winner(), seen_winner) {
-                seen_winner = true;
-                player.session_mut().set_notice(Some(winner.announcement_for(id)));
-                notice_until = Some(now + NOTICE_SECONDS);
-            }
-            drop(world);
-            player.set_peers(&peers);
+        if player.look_due(now) {
+            let look = shared.world().look(); // the lock: for the snapshot's two `Arc`s only
+            player.look(&look, now);
         }
-        if notice_until.is_some_and(|until| now >= until) {
-            notice_until = None;
-            player.session_mut().set_notice(None);
+        let started = Instant::now();
+        if player.frame(now, &mut out) {
+            player.session_mut().frame_cost(started.elapsed().as_secs_f64());
         }
-        player.frame(now, &mut out);
         if !out.is_empty() {
             let bytes = std::mem::take(&mut out);
             match tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(bytes)).await {
@@ -841,12 +825,11 @@ async fn walk(
             }
         }
         // Tell the others where this player is now, and whether it won.
-        let (position, heading, cell) = player.whereabouts();
+        let news = player.news();
         {
             let mut world = shared.world();
-            let mut changed = world.moved(id, position, heading, cell);
-            if let (Some(seconds), false) = (player.session().app().finished, reported_finish) {
-                reported_finish = true;
+            let mut changed = world.moved(id, news.position, news.heading_deg, news.cell);
+            if let Some(seconds) = news.finished {
                 changed |= world.finished(id, seconds).is_some();
             }
             if changed {
@@ -856,7 +839,7 @@ async fn walk(
         // Sleep until input, the session's next deadline, a change in the world, the idle timeout or
         // the shutdown: nothing at all happens for a player who stands still among others who do.
         let now = shared.now();
-        let wake = [player.next_wake(now), world_check, notice_until].into_iter().flatten().reduce(f64::min);
+        let wake = player.next_wake(now);
         let sleep = wake.map(|at| tokio::time::sleep(Duration::from_secs_f64((at - now).clamp(0.0, 3600.0))));
         let idle = tokio::time::sleep_until((last_input + shared.limits.idle_timeout).into());
         tokio::select! {
@@ -873,12 +856,12 @@ async fn walk(
                 Some(_) => {}
             },
             () = async { if let Some(sleep) = sleep { sleep.await } else { std::future::pending().await } } => {}
-            changed = versions.changed(), if world_check.is_none() => {
+            changed = versions.changed(), if !player.look_scheduled() => {
                 if changed.is_err() {
                     return End::Shutdown; // the server is gone
                 }
                 versions.borrow_and_update();
-                world_check = Some((last_world_check + 1.0 / WORLD_CHECKS_PER_SECOND).max(shared.now()));
+                player.world_changed(shared.now());
             }
             () = idle => return End::Idle,
             _ = shutdown.changed() => {}

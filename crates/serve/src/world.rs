@@ -1,16 +1,20 @@
 //! The shared world of a served maze: who is in it, where each player stands, and who reached the exit
-//! first. Pure data behind one lock in the server; every change bumps [`World::version`], which the
-//! server publishes so that each player's task looks again (and redraws only if what it shows of the
-//! others changed: [`super::player::Player::shows`]).
+//! first. Pure data behind one lock in the server, held for data only: a change writes a few fields
+//! and bumps [`World::version`]; a look ([`World::look`]) copies out a snapshot of everyone (an `Arc`,
+//! rebuilt once per version), which each player's task filters by what it shows
+//! ([`Player::look`](crate::player::Player::look)) after the lock is gone. The server publishes the
+//! version so that each player's task looks again (and redraws only if what it shows of the others
+//! changed).
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use glam::Vec2;
 
 use super::player::PLAYER_COLORS;
 use mazewalk_term::frame::Color;
 use mazewalk_walk::overlay::Peer;
-use mazewalk_walk::session::clock_text;
+use mazewalk_walk::screen::clock_text;
 
 /// A player's id in the world, unique for the server's lifetime.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -85,13 +89,27 @@ impl Winner {
     }
 }
 
+/// What a player's task takes from the world at a look: everyone as of the world's last change, and
+/// the winner. Cheap to take (two `Arc`s), so the world's lock is held for no more than that.
+#[derive(Clone, Debug, Default)]
+pub struct Look {
+    /// Every player, in order of arrival, as of [`version`](Self::version).
+    pub players: Arc<[(PlayerId, Seen)]>,
+    /// The first to reach the exit, if anyone has.
+    pub winner: Option<Arc<Winner>>,
+    /// The world's version it was taken at.
+    pub version: u64,
+}
+
 /// Everyone in the maze.
 #[derive(Debug, Default)]
 pub struct World {
     players: BTreeMap<PlayerId, Seen>,
     next_id: u64,
-    winner: Option<Winner>,
+    winner: Option<Arc<Winner>>,
     version: u64,
+    /// The last look handed out, while the version is the same.
+    look: Option<Look>,
 }
 
 impl World {
@@ -161,7 +179,7 @@ impl World {
         let name = self.players.get(&id)?.name.clone();
         let winner = Winner { id, name, seconds };
         let text = winner.announcement();
-        self.winner = Some(winner);
+        self.winner = Some(Arc::new(winner));
         self.version += 1;
         Some(text)
     }
@@ -169,7 +187,7 @@ impl World {
     /// The first to reach the exit, if anyone has.
     #[must_use]
     pub fn winner(&self) -> Option<&Winner> {
-        self.winner.as_ref()
+        self.winner.as_deref()
     }
 
     /// One player, if it is in the world.
@@ -178,6 +196,21 @@ impl World {
         self.players.get(&id)
     }
 
+    /// Everyone and the winner, as of now: the snapshot of this version (made at the first look
+    /// after a change, then shared by every look until the next change).
+    pub fn look(&mut self) -> Look {
+        if let Some(look) = self.look.as_ref().filter(|look| look.version == self.version) {
+            return look.clone();
+        }
+        let players: Arc<[(PlayerId, Seen)]> =
+            self.players.iter().map(|(&id, seen)| (id, seen.clone())).collect();
+        let look = Look { players, winner: self.winner.clone(), version: self.version };
+        self.look = Some(look.clone());
+        look
+    }
+}
+
+impl Look {
     /// The players other than `me` for which `shows(position, cell)` holds, as the map draws them,
     /// into `out` (cleared first), in order of arrival.
     pub fn peers_of(&self, me: PlayerId, shows: impl Fn(Vec2, u32) -> bool, out: &mut Vec<Peer>) {
@@ -185,7 +218,7 @@ impl World {
         out.extend(
             self.players
                 .iter()
-                .filter(|&(&id, seen)| id != me && shows(seen.position, seen.cell))
+                .filter(|(id, seen)| *id != me && shows(seen.position, seen.cell))
                 .map(|(_, seen)| seen.peer()),
         );
     }
@@ -215,18 +248,18 @@ mod tests {
         let a = world.join("alice", Vec2::ZERO, 0.0, 0);
         let b = world.join("bob", Vec2::new(4.0, 0.0), 90.0, 1);
         let mut out = Vec::new();
-        world.peers_of(a, |_, _| true, &mut out);
+        world.look().peers_of(a, |_, _| true, &mut out);
         assert_eq!(out.len(), 1);
         assert_eq!((out[0].initial, out[0].position), ('B', Vec2::new(4.0, 0.0)));
         assert_ne!(out[0].color, world.get(a).unwrap().color, "each its own colour");
-        world.peers_of(a, |_, cell| cell == 0, &mut out);
+        world.look().peers_of(a, |_, cell| cell == 0, &mut out);
         assert!(out.is_empty(), "bob's cell is not shown to alice");
         let v = world.version();
         assert!(!world.moved(b, Vec2::new(4.0, 0.0), 90.0, 1), "standing still changes nothing");
         assert!(world.moved(b, Vec2::new(5.0, 0.0), 90.0, 1));
         assert!(world.version() > v);
         world.leave(b);
-        world.peers_of(a, |_, _| true, &mut out);
+        world.look().peers_of(a, |_, _| true, &mut out);
         assert!(out.is_empty());
         assert_eq!(world.len(), 1);
     }
@@ -246,9 +279,22 @@ mod tests {
         let back = world.join("ursula", Vec2::ZERO, 0.0, 0);
         assert_eq!(world.get(back).unwrap().label, 'U', "free again");
         let mut out = Vec::new();
-        world.peers_of(back, |_, _| true, &mut out);
+        world.look().peers_of(back, |_, _| true, &mut out);
         assert_eq!(out.iter().map(|p| p.initial).collect::<String>(), "23ALX14");
         assert_eq!(label_for("", |_| false), '1', "(names are never empty: `player_name`)");
+    }
+
+    #[test]
+    fn a_look_is_shared_until_the_world_changes() {
+        let mut world = World::new();
+        let a = world.join("alice", Vec2::ZERO, 0.0, 0);
+        let (first, second) = (world.look(), world.look());
+        assert!(Arc::ptr_eq(&first.players, &second.players), "one snapshot per version");
+        world.moved(a, Vec2::ONE, 0.0, 0);
+        let third = world.look();
+        assert!(!Arc::ptr_eq(&first.players, &third.players));
+        assert_eq!(third.players[0].1.position, Vec2::ONE, "the snapshot is of now");
+        assert_eq!(first.players[0].1.position, Vec2::ZERO, "an old look keeps what it saw");
     }
 
     #[test]

@@ -1,12 +1,15 @@
-//! The walkthrough: pure state and key handlers ([`state`], [`controls`]), the overlays drawn over the
-//! 3D view ([`overlay`]), and the event loop that wires them to the terminal ([`run`]).
+//! One player's walk through a maze, pure: the walk's state and its key handlers ([`state`],
+//! [`controls`]), the overlays drawn over the 3D view ([`overlay`]), the composed screen ([`screen`]),
+//! end-to-end flow control ([`flow`]) and the [`Session`] that ties them to a terminal's bytes. No
+//! I/O, no clock (time comes in as seconds): the `mazewalk` binary runs a session on its own
+//! terminal, `mazewalk serve` one per SSH channel.
 
 #![forbid(unsafe_code)]
 
 pub mod controls;
 pub mod flow;
 pub mod overlay;
-
+pub mod screen;
 pub mod session;
 pub mod state;
 

@@ -10,7 +10,7 @@ use mazewalk_render::{Camera, Charset, Culling, Projection, RenderOptions, Rende
 use mazewalk_term::frame::{Cell, ColorDepth, Frame, Region};
 use mazewalk_term::input::{Key, KeyPhase};
 use mazewalk_walk::App;
-use mazewalk_walk::session::{Hud, Screen, draw};
+use mazewalk_walk::screen::{Hud, Screen, draw};
 use proptest::prelude::*;
 
 proptest! {

@@ -1,0 +1,207 @@
+//! One screen of the walk, composed: the 3D view, then the map, the boxes and the HUD over it, with
+//! colours limited to the terminal's depth. Pure: the walk's state, what the host shows besides it
+//! (other players, a notice) and the HUD's numbers in, a [`Frame`] out, so whole screens are tested
+//! as text.
+//!
+//! ```text
+//! App + Screen (peers, notice) + Hud ─draw─▶ Frame: view rows (Renderer) · map · box · HUD row
+//! ```
+
+use glam::Vec3;
+
+use crate::overlay::{self, MapArea, MapCells, Peer, Style};
+use crate::state::{App, MapMode};
+use mazewalk_render::palette::xterm_rgb;
+use mazewalk_render::{Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
+use mazewalk_term::frame::{Cell, Color, Frame, Region};
+
+/// What the last frame cost, for the HUD.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameCost {
+    /// Seconds the host measured making the previous frame (render + overlays + encode).
+    pub seconds: f64,
+    /// Bytes the previous frame sent.
+    pub bytes: usize,
+}
+
+/// The numbers the HUD shows besides the viewer's own.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Hud {
+    /// What the previous frame cost.
+    pub cost: FrameCost,
+    /// Frames actually drawn over the last second (this one included).
+    pub fps: usize,
+    /// Seconds since the walk (re)started, for the clock of a maze with an exit.
+    pub elapsed: f64,
+}
+
+/// The buffers one screen is drawn with, reused from frame to frame, and what a host shows besides the
+/// walk itself.
+#[derive(Debug, Default)]
+pub struct Screen {
+    /// The pipeline and its buffers.
+    pub renderer: Renderer,
+    /// The link is slow ([`slow_link`](crate::session::slow_link)): no dithering, whatever the options
+    /// say.
+    pub slow_link: bool,
+    /// Other players in the same maze (`mazewalk serve`), drawn in the view and on the map.
+    pub peers: Vec<Peer>,
+    /// A message for everyone (e.g. who reached the exit first), shown in a box until taken away.
+    pub notice: Option<String>,
+    /// The peers as the renderer's figures (reused from frame to frame).
+    sprites: Vec<Sprite>,
+    /// What the map's characters show, kept while the map stays put.
+    map_cells: MapCells,
+}
+
+/// A peer as the renderer draws it: a figure in the peer's colour with its initial, standing in its
+/// cell (the one the peer says, else the one under it; `None` when it stands in no cell).
+fn figure(maze: &mazewalk_maze::Maze, peer: &Peer) -> Option<Sprite> {
+    let cell =
+        peer.cell.filter(|&c| (c as usize) < maze.cell_count()).or_else(|| maze.cell_at(peer.position))?;
+    let rgb = match peer.color {
+        Color::Rgb(r, g, b) => [r, g, b],
+        Color::Indexed(i) => xterm_rgb(i),
+        Color::Default => [200, 200, 200],
+    };
+    let color = Vec3::from_array(rgb.map(|c| f32::from(c) / 255.0));
+    Some(Sprite { position: peer.position, cell, color, label: peer.initial })
+}
+
+/// Draws the whole screen for the current state into `frame` (its size is the terminal's): the 3D
+/// view, then the map, the HUD and any box. Pure: no I/O, so screens are tested as text.
+pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> RenderStats {
+    let (cols, rows) = (frame.width(), frame.height());
+    let style = Style::new(app.options.charset, app.options.color_depth);
+    if overlay::too_small(cols, rows) {
+        overlay::draw_too_small(frame, style);
+        return RenderStats::default();
+    }
+    // The bottom row is the HUD; the 3D view gets the rest, drawn in place.
+    let view = Region { col: 0, row: 0, cols, rows: rows - 1 };
+    let options = RenderOptions { dither: app.options.dither && !screen.slow_link, ..app.options };
+    // The other players, as figures standing in the maze.
+    screen.sprites.clear();
+    screen.sprites.extend(screen.peers.iter().filter_map(|peer| figure(app.maze(), peer)));
+    let stats = match screen.renderer.render(
+        app.maze(),
+        &app.camera,
+        &screen.sprites,
+        &options,
+        Target::Frame(frame, view),
+    ) {
+        Ok(stats) => stats,
+        Err(err) => {
+            frame.fill(Cell::BLANK);
+            overlay::draw_box(frame, "Cannot draw", &[err.to_string()], style);
+            RenderStats::default()
+        }
+    };
+    frame.region_rows_mut(Region { row: rows - 1, rows: 1, ..view }).for_each(|hud| hud.fill(Cell::BLANK));
+    // Cells visible in this frame: the portal pass's (with brute force it did not run: none new).
+    let portal = screen.renderer.portal();
+    let visible_now = |c: u32| app.options.culling == Culling::Portal && portal.was_visited(c);
+    let seen = |c: u32| app.has_seen(c) || visible_now(c);
+    let tint: Option<&dyn Fn(u32) -> bool> = app.culling_tint.then_some(&visible_now);
+    if let Some(area) = map_area(app, frame) {
+        overlay::draw_map(frame, &area, app.maze(), &app.camera, &seen, tint, style, &mut screen.map_cells);
+        overlay::draw_peers(frame, &area, &screen.peers, app.camera.position, style);
+    }
+    if let Some(seconds) = app.finished {
+        // in a served maze, the news (who was first) shows in the box too, not hidden behind it
+        let lines: Vec<String> = [format!("You found the exit in {}.", clock_text(seconds))]
+            .into_iter()
+            .chain(screen.notice.clone())
+            .chain([String::new(), "r  walk it again".to_string(), "q  quit".to_string()])
+            .collect();
+        overlay::draw_box(frame, "Found the exit!", &lines, style);
+    } else if app.help {
+        overlay::draw_box(frame, "Keys (? or Esc to close)", &overlay::help_lines(style), style);
+    } else if let Some(notice) = &screen.notice {
+        overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
+    }
+    overlay::draw_hud(frame, &hud_text(app, &stats, hud, cols), style); // last: boxes never hide it
+    overlay::limit_colors(frame, style.depth); // not one code deeper than the terminal's depth
+    stats
+}
+
+/// Where the map goes on `frame` for the walk's map mode (`None`: no map).
+pub(crate) fn map_area(app: &App, frame: &Frame) -> Option<MapArea> {
+    if overlay::too_small(frame.width(), frame.height()) {
+        return None; // only the too-small message is drawn
+    }
+    match app.map {
+        MapMode::Off => None,
+        MapMode::Corner => Some(MapArea::corner(frame, app.camera.position)),
+        MapMode::Full => Some(MapArea::full(frame, app.maze(), app.camera.position)),
+    }
+}
+
+/// The HUD line, `width` columns at most: the most useful fields first (where and which way), the
+/// exit clock, what frames cost, which cell, the view settings — each only if it fits whole — and
+/// "? help" always at the right end.
+fn hud_text(app: &App, stats: &RenderStats, hud: &Hud, width: usize) -> String {
+    const HELP: &str = "? help ";
+    let c = &app.camera;
+    let projection = match c.projection {
+        Projection::Perspective => "persp",
+        Projection::Orthographic => "ortho",
+    };
+    let clock = match (app.maze().exit(), app.finished) {
+        (None, _) => None,
+        (Some(_), Some(took)) => Some(format!("exit in {}", clock_text(took))),
+        (Some(_), None) => Some(format!("time {}", clock_text(hud.elapsed))),
+    };
+    // (priority, text): lower numbers are kept first when the line is short of room
+    let fields = [
+        // (position, height, heading and pitch apart: each fits where they together would not)
+        (0, format!("({:.1}, {:.1})", c.position.x, c.position.y)),
+        (3, format!("z{:+.1}", c.eye_z)),
+        (1, format!("heading {:.0}°", c.yaw_deg)),
+        (2, format!("pitch {:+.0}°", c.pitch_deg)),
+        (4, clock.unwrap_or_default()),
+        (5, format!("{} fps {} B", hud.fps, hud.cost.bytes)),
+        (6, format!("cell {} seen {}", app.cell, stats.portal.distinct_cells)),
+        (7, format!("fov {:.0}° {projection} {}", c.hfov_deg, app.options.charset)),
+        (8, format!("{:.1} ms", hud.cost.seconds * 1e3)),
+    ];
+    overlay::hud_line(&fields, HELP, width)
+}
+
+/// `m:ss.s` for the exit screen.
+#[must_use]
+pub fn clock_text(seconds: f64) -> String {
+    let minutes = (seconds / 60.0).floor();
+    format!("{}:{:04.1}", minutes as u64, seconds - minutes * 60.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clock_text_reads_minutes_and_seconds() {
+        assert_eq!(clock_text(0.0), "0:00.0");
+        assert_eq!(clock_text(75.25), "1:15.2");
+    }
+
+    #[test]
+    fn the_hud_fits_any_width_by_priority_and_always_offers_help() {
+        let app = App::new(mazewalk_maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
+        let stats = RenderStats::default();
+        let hud = Hud { fps: 57, elapsed: 83.0, ..Hud::default() };
+        for width in [20, 40, 60, 80, 120, 200] {
+            let line = hud_text(&app, &stats, &hud, width);
+            assert_eq!(line.chars().count(), width, "{line:?}");
+            assert!(line.ends_with("? help "), "{line:?}");
+            assert!(line.starts_with(" ("), "position first: {line:?}");
+        }
+        let at80 = hud_text(&app, &stats, &hud, 80);
+        assert!(
+            at80.contains("heading 0°") && at80.contains("time 1:23.0") && at80.contains("57 fps 0 B"),
+            "{at80:?}"
+        );
+        let wide = hud_text(&app, &stats, &hud, 200);
+        assert!(wide.contains("fov 90° persp half") && wide.contains("cell "), "{wide:?}");
+    }
+}
