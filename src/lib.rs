@@ -6,6 +6,7 @@
 #![forbid(unsafe_code)]
 
 pub mod cli;
+pub mod commands;
 #[cfg(unix)]
 pub mod guard;
 #[cfg(unix)]

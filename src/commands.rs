@@ -1,0 +1,71 @@
+//! The work of each command of the `mazewalk` binary, one module a command; `main.rs` parses the
+//! command line, dispatches here and turns the outcome into an exit code. What the commands share:
+//! the maze the flags name, usage errors, and writing to standard output that may be closed or go
+//! away.
+
+use anyhow::bail;
+
+use crate::cli::MazeArgs;
+use mazewalk_maze::generate::{GenOptions, generate};
+use mazewalk_maze::{self as maze, Maze};
+
+pub mod check;
+pub mod generate;
+pub mod render;
+pub mod serve;
+#[cfg(unix)]
+pub mod walk;
+
+/// A flag value that parsed but makes no sense here (e.g. --at outside the maze): exit 2.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Usage(pub String);
+
+/// The path that names standard output in `render --png`, `--depth-out` and `gen -o`.
+pub const STDOUT: &str = "-";
+
+/// Whether `err` is, or was caused by, writing to a pipe nobody reads.
+pub fn is_broken_pipe(err: &anyhow::Error) -> bool {
+    let broken = |e: &std::io::Error| e.kind() == std::io::ErrorKind::BrokenPipe;
+    err.chain().any(|e| match e.downcast_ref::<maze::cs559::WriteToError>() {
+        Some(maze::cs559::WriteToError::Io(e)) => broken(e),
+        _ => e.downcast_ref::<std::io::Error>().is_some_and(broken),
+    })
+}
+
+/// Fails if stdout was closed (`>&-`), so that a command does not exit 0 having written nothing.
+/// The Rust runtime opens /dev/null read-write in place of a closed standard descriptor at start-up;
+/// a shell's `> /dev/null` opens it write-only. So /dev/null open for reading and writing means
+/// "closed" (and a descriptor that is really closed fails `fstat`).
+pub fn stdout_open() -> anyhow::Result<()> {
+    #[cfg(target_os = "linux")]
+    {
+        use rustix::fs::{FileType, OFlags, fcntl_getfl, fstat, major, minor};
+        let stdout = std::io::stdout();
+        let closed = match fstat(&stdout) {
+            Err(_) => true,
+            Ok(st) => {
+                let dev_null = FileType::from_raw_mode(st.st_mode) == FileType::CharacterDevice
+                    && (major(st.st_rdev), minor(st.st_rdev)) == (1, 3);
+                dev_null && fcntl_getfl(&stdout).is_ok_and(|f| f.contains(OFlags::RDWR))
+            }
+        };
+        if closed {
+            bail!("stdout is closed: nowhere to write");
+        }
+    }
+    Ok(())
+}
+
+/// Loads, generates or unpacks the maze the flags name.
+pub fn load_maze(args: &MazeArgs) -> anyhow::Result<Maze> {
+    if let Some((width, height)) = args.generate {
+        let opts =
+            GenOptions { width, height, seed: args.seed, loops: 0.1, exit: true, ..GenOptions::default() };
+        return Ok(generate(&opts)?);
+    }
+    match &args.maze {
+        Some(path) => Ok(maze::load_with(path, &args.read.options())?.maze),
+        None => Ok(maze::builtin()?),
+    }
+}

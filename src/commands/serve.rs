@@ -1,0 +1,88 @@
+//! `mazewalk serve`: checks the maze, the host key and who may play, then hosts the maze over SSH
+//! (the serve crate) until a signal ends it.
+
+use std::process::ExitCode;
+
+use crate::cli::ServeArgs;
+
+/// `mazewalk serve`: checks the maze, the host key and who may play before listening, prints where and
+/// how to connect, then serves until SIGINT, SIGTERM or SIGHUP (exit 128 + n, as the walk).
+#[cfg(all(unix, feature = "serve"))]
+pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
+    use std::io::Write;
+
+    use anyhow::{Context as _, bail};
+    use mazewalk_render::RenderOptions;
+    use mazewalk_serve::{Access, Limits, ServeOptions, host_key};
+    use mazewalk_walk::App;
+
+    use super::load_maze;
+    use crate::guard;
+    let maze = load_maze(&args.maze)?;
+    App::new(maze.clone(), RenderOptions::default(), 0.0)?; // a start in no cell fails here, not per player
+    let env = |k: &str| std::env::var(k).ok();
+    let key_path = match &args.host_key {
+        Some(path) => path.clone(),
+        None => host_key::default_path(env)?,
+    };
+    let (host_key, made) = host_key::load_or_create(&key_path).context("host key")?;
+    let access = if args.open {
+        Access::Open
+    } else {
+        let path = match &args.authorized_keys {
+            Some(path) => path.clone(),
+            None => std::path::PathBuf::from(env("HOME").unwrap_or_default()).join(".ssh/authorized_keys"),
+        };
+        let read = host_key::read_authorized_keys(&path)
+            .with_context(|| "who may play (give --authorized-keys FILE, or --open to let anyone in)")?;
+        for left in &read.left_out {
+            let _ = writeln!(
+                std::io::stderr(),
+                "mazewalk: {}: key {} ({}) is limited by `{}`, which mazewalk does not enforce: it may not play",
+                path.display(),
+                left.number,
+                left.comment,
+                left.option
+            );
+        }
+        if read.keys.is_empty() {
+            bail!("{}: no keys that may play, so nobody could (add some, or use --open)", path.display());
+        }
+        Access::Keys(read.keys)
+    };
+    let fingerprint = host_key::fingerprint(host_key.public_key());
+    let limits = Limits {
+        max_players: args.max_players as usize,
+        max_per_address: args.max_per_address as usize,
+        idle_timeout: args.idle_timeout,
+        ..Limits::default()
+    };
+    let options = ServeOptions { maze, listen: args.listen, host_key, access, limits };
+    tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
+    let signal = mazewalk_serve::run(options, |addr| {
+        let made = if made { ", made now" } else { "" };
+        // for the host to read; a closed pipe (`serve | head -1`) must not end the server
+        let mut out = std::io::stdout().lock();
+        let _ = writeln!(out, "mazewalk: serving on {addr}")
+            .and_then(|()| writeln!(out, "host key {fingerprint} ({}{made})", key_path.display()))
+            .and_then(|()| {
+                // Listening on every address: the players need one of this machine's names.
+                let host =
+                    if addr.ip().is_unspecified() { "THIS-HOST".to_string() } else { addr.ip().to_string() };
+                writeln!(out, "players connect with: ssh -p {} {host}", addr.port())
+            })
+            .and_then(|()| out.flush());
+    })
+    .with_context(|| format!("serving on {}", args.listen))?;
+    Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)))
+}
+
+#[cfg(not(all(unix, feature = "serve")))]
+pub fn run(_: &ServeArgs) -> anyhow::Result<ExitCode> {
+    if cfg!(unix) {
+        anyhow::bail!(
+            "this mazewalk was built without `serve` (build it with the default features to host a maze)"
+        );
+    }
+    anyhow::bail!("`mazewalk serve` runs on Unix only");
+}
