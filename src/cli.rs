@@ -121,7 +121,8 @@ pub struct LookArgs {
     /// Glyphs: ascii (one sample per cell), half (▀, 1×2), quad (2×2) or sextant (2×3).
     #[arg(long, default_value = "half")]
     pub charset: Charset,
-    /// Colour depth: none, 16, 256 or truecolor (default: from COLORTERM/TERM; NO_COLOR gives none).
+    /// Colour depth: none, 16, 256 or truecolor (default: from NO_COLOR, COLORTERM and TERM; the walk
+    /// also reads terminfo, asks tmux, and asks the terminal itself for truecolor).
     #[arg(long)]
     pub color: Option<ColorDepth>,
     /// Terminal cell width / height (cells are about twice as tall as wide).

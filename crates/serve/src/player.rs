@@ -79,18 +79,33 @@ pub fn clamp_size(cols: u32, rows: u32, limits: &Limits) -> (u16, u16) {
 /// `COLORTERM`.
 #[must_use]
 pub fn color_depth(term: &str, colorterm: Option<&str>) -> ColorDepth {
-    caps::detect_color_depth(|k| match k {
+    color_plan(term, colorterm).depth
+}
+
+/// The colour depth a remote terminal starts with and whether to ask it for truecolor
+/// ([`caps::plan_color_depth`] with what the client sent: the server knows nothing of the
+/// player's terminfo or tmux).
+#[must_use]
+pub fn color_plan(term: &str, colorterm: Option<&str>) -> caps::ColorPlan {
+    let env = |k: &str| match k {
         "TERM" => Some(term.to_string()),
         "COLORTERM" => colorterm.map(str::to_string),
         _ => None,
-    })
+    };
+    caps::plan_color_depth(env, caps::ColorFacts::default())
 }
 
 /// Whether `bytes` are nothing but whole answers a terminal sends by itself: `CSI ? … c` (device
-/// attributes, after every frame) and `CSI ? … u` (keyboard flags).
+/// attributes, after every frame), `CSI ? … u` (keyboard flags) and `DCS … ST` (the truecolor
+/// questions' answers).
 #[must_use]
 pub fn only_replies(mut bytes: &[u8]) -> bool {
     while !bytes.is_empty() {
+        if let Some(string) = bytes.strip_prefix(b"\x1bP") {
+            let Some(end) = string.windows(2).position(|w| w == b"\x1b\\") else { return false };
+            bytes = &string[end + 2..];
+            continue;
+        }
         let Some(rest) = bytes.strip_prefix(b"\x1b[?") else { return false };
         let params = rest.iter().take_while(|b| b.is_ascii_digit() || **b == b';').count();
         match rest.get(params) {
@@ -122,6 +137,8 @@ pub struct Player {
     seen_winner: bool,
     /// Its finish has been told to the world.
     reported_finish: bool,
+    /// Its terminal is to be asked for truecolor ([`color_plan`]).
+    ask_truecolor: bool,
 }
 
 /// What the world learns from a player after a frame ([`Player::news`]).
@@ -151,11 +168,9 @@ impl Player {
         limits: &Limits,
         now: f64,
     ) -> Result<Player, StartOutsideMaze> {
-        let options = RenderOptions {
-            charset: Charset::Half,
-            color_depth: color_depth(term, colorterm),
-            ..RenderOptions::default()
-        };
+        let plan = color_plan(term, colorterm);
+        let options =
+            RenderOptions { charset: Charset::Half, color_depth: plan.depth, ..RenderOptions::default() };
         let app = App::new(maze, options, now)?;
         let env = |k: &str| (k == "TERM").then(|| term.to_string());
         let session_options = SessionOptions { bce: caps::detect_bce(env), ..SessionOptions::default() };
@@ -172,12 +187,16 @@ impl Player {
             notice_until: None,
             seen_winner: false,
             reported_finish: false,
+            ask_truecolor: plan.ask,
         })
     }
 
     /// The bytes that put the remote terminal into game mode (before the first frame).
     pub fn enter(&mut self, out: &mut Vec<u8>) {
         out.extend_from_slice(enter_sequence(REMOTE).as_bytes());
+        if self.ask_truecolor {
+            self.session.ask_truecolor(out); // the answer, if any, lives in the session
+        }
         self.session.ask_keyboard_flags(out);
     }
 
@@ -375,6 +394,36 @@ mod tests {
         assert_eq!(color_depth("", None), ColorDepth::Ansi16);
     }
 
+    // issue #33: every player's terminal is asked for truecolor (through its session), unless what the
+    // client sent decides; a yes raises the player's depth, a forged yes later does not.
+    #[test]
+    fn a_players_terminal_is_asked_for_truecolor() {
+        use mazewalk_term::caps::TRUECOLOR_QUERY;
+        let asked = |p: &mut Player| {
+            let mut enter = Vec::new();
+            p.enter(&mut enter);
+            enter.windows(TRUECOLOR_QUERY.len()).any(|w| w == TRUECOLOR_QUERY)
+        };
+        let mut p = player(80, 24);
+        assert!(asked(&mut p));
+        assert!(p.frame(0.0, &mut Vec::new()));
+        assert!(!p.feed(b"\x1bP1$r0;48:2::1:2:3m\x1b\\", 0.1), "an answer is not activity");
+        assert_eq!(p.session().color_depth(), ColorDepth::TrueColor);
+        let mut other = player(80, 24);
+        asked(&mut other);
+        other.frame(0.0, &mut Vec::new());
+        other.feed(b"\x1b[?62;22c", 0.1); // the first frame's answer: the questions are over
+        other.feed(b"\x1bP1$r0;48:2::1:2:3m\x1b\\", 0.2);
+        assert_eq!(other.session().color_depth(), ColorDepth::Ansi256);
+        let limits = Limits::default();
+        let maze = || mazewalk_maze::builtin().unwrap();
+        let mut told =
+            Player::new(maze(), "xterm-256color", Some("truecolor"), (80, 24), &limits, 0.0).unwrap();
+        assert!(!asked(&mut told));
+        let mut tmux = Player::new(maze(), "tmux-256color", None, (80, 24), &limits, 0.0).unwrap();
+        assert!(!asked(&mut tmux), "a tmux on the player's side answers nothing (and 3.4 may crash)");
+    }
+
     #[test]
     fn leaving_restores_everything_entering_turned_on() {
         let mut p = player(80, 24);
@@ -433,6 +482,9 @@ mod tests {
         assert!(!only_replies(b"w"));
         assert!(!only_replies(b"\x1b[?62;22"), "a cut answer may be anything");
         assert!(!only_replies(b"\x1b[D"));
+        // issue #33: the answers to the truecolor questions are answers too
+        assert!(only_replies(b"\x1bP1$r0;48:2::1:2:3m\x1b\\\x1bP1+r524742=38\x1b\\\x1b[?62;22c"));
+        assert!(!only_replies(b"\x1bP1$r0;48:2::1:2:3m"), "an unfinished string may be anything");
         let mut p = player(80, 24);
         assert!(!p.feed(b"\x1b[?62;22c", 0.0));
         assert!(p.feed(b"w", 0.1));

@@ -31,13 +31,14 @@
 
 use std::collections::VecDeque;
 
-use crate::flow::{FlowControl, QUERY};
+use crate::flow::{ACK_TIMEOUT, FlowControl, QUERY};
 use crate::overlay::{MapArea, Peer};
 use crate::screen::{self, FrameCost, Hud, Screen};
 use crate::state::App;
 use mazewalk_render::Culling;
+use mazewalk_term::caps::TRUECOLOR_QUERY;
 use mazewalk_term::encoder::{self, Encoder};
-use mazewalk_term::frame::Frame;
+use mazewalk_term::frame::{ColorDepth, Frame};
 use mazewalk_term::input::{Input, InputDecoder, Key, Reply};
 
 /// The most frames per second drawn while something moves.
@@ -142,6 +143,23 @@ pub struct Session {
     /// releases on (a pasted or forged `CSI ? 3 u` would leave every key held until a release
     /// that never comes).
     keyboard_query: bool,
+    /// The truecolor questions ([`ask_truecolor`](Self::ask_truecolor)) and how far their answers
+    /// may still come.
+    truecolor_query: TruecolorQuery,
+}
+
+/// Where the truecolor questions stand: only answers to questions asked, before the terminal has
+/// answered the device-attributes query sent after them, count (a pasted or forged answer later
+/// must not change the colours of a walk under way).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum TruecolorQuery {
+    /// Not asked, or no more answers count.
+    Closed,
+    /// Asked; the clock starts with the next frame.
+    Asked,
+    /// Asked at this time: answers count until the next device-attributes reply, or for
+    /// [`ACK_TIMEOUT`] from a terminal that answers no query at all.
+    Open(f64),
 }
 
 impl Session {
@@ -169,6 +187,7 @@ impl Session {
             flow: FlowControl::default(),
             recent_frames: VecDeque::new(),
             keyboard_query: false,
+            truecolor_query: TruecolorQuery::Closed,
         }
     }
 
@@ -298,8 +317,54 @@ impl Session {
                     self.app.releases = flags & 2 != 0;
                 }
             }
-            Input::Reply(Reply::DeviceAttributes) => self.flow.answered(now),
+            Input::Reply(Reply::DeviceAttributes) => {
+                // Everything the terminal had to say about the questions before it came before this.
+                if matches!(self.truecolor_query, TruecolorQuery::Open(_)) {
+                    self.truecolor_query = TruecolorQuery::Closed;
+                }
+                self.flow.answered(now);
+            }
+            // An answer to the truecolor questions ([`ask_truecolor`](Self::ask_truecolor)): a yes
+            // raises the depth to truecolor, once, with a full repaint; a no changes nothing (the
+            // environment's depth stays). Unasked or late, it is ignored.
+            Input::Reply(Reply::DirectColor(yes)) => {
+                let open = match self.truecolor_query {
+                    TruecolorQuery::Asked => true,
+                    TruecolorQuery::Open(since) => now - since <= ACK_TIMEOUT,
+                    TruecolorQuery::Closed => false,
+                };
+                if yes && open {
+                    self.truecolor_query = TruecolorQuery::Closed;
+                    if self.app.options.color_depth != ColorDepth::TrueColor {
+                        self.app.options.color_depth = ColorDepth::TrueColor;
+                        self.encoder.invalidate();
+                        self.dirty = true;
+                    }
+                }
+            }
         }
+    }
+
+    /// Appends the truecolor questions ([`TRUECOLOR_QUERY`]), to send before the first frame (after
+    /// the host entered game mode), when the colour depth is the environment's guess
+    /// ([`plan_color_depth`](mazewalk_term::caps::plan_color_depth) says whether to ask): a terminal
+    /// that says it shows 24-bit colour gets it from then on (a full repaint); one that says nothing,
+    /// no, or garbage keeps the depth the walk started with. Answers count until the terminal has
+    /// answered the device-attributes query that follows the first frame (with flow control off, one
+    /// is sent here), or for [`ACK_TIMEOUT`] — never later: a pasted or forged answer cannot change
+    /// the colours of a walk under way.
+    pub fn ask_truecolor(&mut self, out: &mut Vec<u8>) {
+        out.extend_from_slice(TRUECOLOR_QUERY);
+        if !self.options.flow_control {
+            out.extend_from_slice(QUERY); // the fence the frames would have sent
+        }
+        self.truecolor_query = TruecolorQuery::Asked;
+    }
+
+    /// The colour depth frames are drawn at (the truecolor questions may have raised it).
+    #[must_use]
+    pub fn color_depth(&self) -> ColorDepth {
+        self.app.options.color_depth
     }
 
     /// Appends the kitty keyboard query (`CSI ? u`, after the host pushed its flags): its answer says
@@ -368,6 +433,9 @@ impl Session {
     /// [`MAX_FPS`] a second), draws it and appends its bytes to `out`: only what changed since the
     /// last frame. Returns whether a frame was drawn (it may still be 0 bytes).
     pub fn frame(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
+        if self.truecolor_query == TruecolorQuery::Asked {
+            self.truecolor_query = TruecolorQuery::Open(now);
+        }
         self.decode(now, |decoder, out| decoder.expire(now, out)); // a lone Esc, a stalled sequence
         self.dirty |= self.app.tick(now);
         if !self.dirty || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
