@@ -276,6 +276,7 @@ impl Session {
     /// [`InputDecoder::gap`].
     pub fn input_gap(&mut self) {
         self.decoder.gap();
+        self.flow.resync(); // replies may have been among the bytes dropped
     }
 
     /// Runs `step` on the decoder and applies the inputs it produces, at time `now`.
