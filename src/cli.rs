@@ -36,7 +36,7 @@ use mazewalk_walk::state;
     long_about = "A first-person 3D maze walkthrough for the terminal.\n\n\
         Without a command, walks MAZE (CS559 or grid format), a fresh --gen maze, or the built-in maze.\n\
         Keys: W/S walk, A/D strafe, arrows turn and look (a tap steps, a hold glides), , . snap turn 90°,\n\
-        [ ] down/up, + - fov, p projection, m map, c glyphs, r reset, ? help, q quit.",
+        [ ] down/up, + - fov, p projection, m map, c glyphs, r reset, i figures, ? help, q quit.",
     args_conflicts_with_subcommands = true
 )]
 pub struct Cli {
@@ -67,6 +67,10 @@ pub struct WalkArgs {
     /// The map shows the whole maze and its exit from the start (by default only what you have seen).
     #[arg(long)]
     pub reveal_map: bool,
+    /// Show the developer figures in the HUD from the start: frames per second, bytes of the last
+    /// frame, cell, cells the portal pass visited, ms per frame (`i` shows and hides them).
+    #[arg(long)]
+    pub dev_figures: bool,
     #[command(flatten)]
     pub motion: MotionArgs,
 }

@@ -370,7 +370,7 @@ fn in_view(screen: &vt100::Screen, ch: char) -> bool {
 fn hud_position(screen: &vt100::Screen) -> Option<(f32, f32)> {
     let rows = screen.size().0.get();
     let hud = screen.contents_between(rows - 1, 0, rows - 1, u16::MAX);
-    let (x, y) = hud.trim_start().strip_prefix('(')?.split_once(')')?.0.split_once(',')?;
+    let (x, y) = hud.split_once('(')?.1.split_once(')')?.0.split_once(',')?; // (after the heading)
     Some((x.trim().parse().ok()?, y.trim().parse().ok()?))
 }
 

@@ -47,6 +47,7 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     let options = RenderOptions { color_depth: plan.depth, ..args.look.options(Culling::Portal) };
     let mut app = App::new(maze, options, 0.0)?;
     app.reveal_map = args.reveal_map;
+    app.figures = args.dev_figures;
     let m = &args.motion;
     app.motion = Motion {
         turn_speed_deg: m.turn_speed,

@@ -52,7 +52,10 @@ pub enum Action {
     ToggleCullingTint,
     /// Brick walls and filtered floor tiles on / off (t).
     ToggleTextures,
-    /// Leave (q, or Esc with no help shown: there it closes the help).
+    /// The developer figures in the HUD on / off (i): frames per second, bytes, cell, cells seen, ms.
+    ToggleFigures,
+    /// Leave (q, or Esc with no box shown: there it closes the box). After a minute of walking it asks
+    /// first.
     Quit,
 }
 
@@ -109,6 +112,7 @@ pub fn action_for(key: Key) -> Option<Action> {
             'b' => Action::ToggleCulling,
             'v' => Action::ToggleCullingTint,
             't' => Action::ToggleTextures,
+            'i' => Action::ToggleFigures,
             '?' | 'h' => Action::Help,
             'q' => Action::Quit,
             _ => return None,
@@ -125,7 +129,7 @@ pub fn action_for(key: Key) -> Option<Action> {
 /// The key help, one line per binding (shown by `?` and in README): how to leave first, as a small
 /// box keeps its first lines.
 pub const HELP: &[(&str, &str)] = &[
-    ("q / Ctrl-C", "quit (Esc too, with no help shown)"),
+    ("q / Ctrl-C", "quit (Esc too, with no box shown)"),
     ("? / h", "this help (Esc closes it too)"),
     ("W / S", "walk forward / back (tap: a step, hold: glide)"),
     ("A / D", "step left / right"),
@@ -141,6 +145,7 @@ pub const HELP: &[(&str, &str)] = &[
     ("b", "portal culling / brute force (every wall)"),
     ("c", "glyphs: ascii, half ▀, quad ▚, sextant (2×3)"),
     ("t", "textures: brick walls, floor tiles"),
+    ("i", "developer figures: fps, bytes, cell, ms"),
     ("r", "back to the start"),
     ("Ctrl-Z", "suspend (fg to come back)"),
 ];
@@ -303,6 +308,28 @@ impl Held {
     /// Lets go of everything (focus lost, suspend, reset).
     pub fn clear(&mut self) {
         self.keys = Default::default();
+    }
+
+    /// Stops all motion but remembers when each key was last pressed, so that a key still held comes
+    /// on as auto-repeat ([`recently_pressed`](Self::recently_pressed)), not as a fresh tap.
+    pub fn clear_motion(&mut self) {
+        for key in &mut self.keys {
+            key.glide = None;
+        }
+    }
+
+    /// A press of `action`'s key that moves nothing (a box took it), at `now`.
+    pub fn note_press(&mut self, action: Action, now: f64) {
+        if let Some(slot) = action.slot() {
+            self.keys[slot].last_press = now;
+        }
+    }
+
+    /// Whether `action`'s key was pressed within [`REPEAT_GAP`] before `now`: a press now is its
+    /// auto-repeat (or a tap too quick to mean anything else).
+    #[must_use]
+    pub fn recently_pressed(&self, action: Action, now: f64) -> bool {
+        action.slot().is_some_and(|slot| now - self.keys[slot].last_press < REPEAT_GAP)
     }
 
     /// Drops glides that have run out by `now`.

@@ -146,6 +146,8 @@ pub struct Session {
     /// The truecolor questions ([`ask_truecolor`](Self::ask_truecolor)) and how far their answers
     /// may still come.
     truecolor_query: TruecolorQuery,
+    /// The whole seconds the HUD's exit clock showed last.
+    clock_shown: Option<u64>,
 }
 
 /// Where the truecolor questions stand: only answers to questions asked, before the terminal has
@@ -188,7 +190,16 @@ impl Session {
             recent_frames: VecDeque::new(),
             keyboard_query: false,
             truecolor_query: TruecolorQuery::Closed,
+            clock_shown: None,
         }
+    }
+
+    /// The whole seconds the exit clock shows at `now` while it runs (a maze with an exit not found
+    /// yet): it ticks once a second, standing still too (a few bytes).
+    fn running_clock(&self, now: f64) -> Option<u64> {
+        let app = &self.app;
+        (app.maze().exit().is_some() && app.finished.is_none())
+            .then(|| (now - app.started).max(0.0).floor() as u64)
     }
 
     /// Adds the cells the last frame showed to the map's seen cells: the portal pass's, or with brute
@@ -240,6 +251,15 @@ impl Session {
         true
     }
 
+    /// How many players walk the maze (a host's count, the HUD shows it as "3 in"; `None`: not
+    /// shown). The next frame is drawn only if it changed.
+    pub fn set_players_in(&mut self, players: Option<usize>) {
+        if self.screen.players_in != players {
+            self.screen.players_in = players;
+            self.dirty = true;
+        }
+    }
+
     /// Shows `notice` in a box over the view (`None` takes it away).
     pub fn set_notice(&mut self, notice: Option<String>) {
         if self.screen.notice != notice {
@@ -258,7 +278,7 @@ impl Session {
     /// Where the last frame's map is, if it is shown.
     #[must_use]
     pub fn map_area(&self) -> Option<MapArea> {
-        screen::map_area(&self.app, &self.frame)
+        self.screen.map
     }
 
     /// What making the last frame cost the host, in seconds of its own clock (render, overlays and
@@ -419,8 +439,11 @@ impl Session {
             }
             _ => Some(frame_due),
         };
+        // The exit clock's next tick (if the frame is held back, the reply that lets it go wakes the host).
+        let tick = self.running_clock(now).map(|s| self.app.started + (s + 1) as f64);
         // Never before `now` (a frame due long ago, a session that has ended): a host sleeps until then.
-        let wake = [drawing, self.app.held.next_expiry(), self.decoder.deadline()].into_iter().flatten();
+        let wake =
+            [drawing, tick, self.app.held.next_expiry(), self.decoder.deadline()].into_iter().flatten();
         wake.reduce(f64::min).map(|t| if t.is_nan() { now } else { t.max(now) })
     }
 
@@ -439,6 +462,8 @@ impl Session {
         }
         self.decode(now, |decoder, out| decoder.expire(now, out)); // a lone Esc, a stalled sequence
         self.dirty |= self.app.tick(now);
+        let clock = self.running_clock(now);
+        self.dirty |= clock != self.clock_shown;
         if !self.dirty || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
             return false;
         }
@@ -464,7 +489,7 @@ impl Session {
         self.cost = FrameCost { bytes: stats.bytes, ..self.cost }; // the seconds: from the host
         self.outcome.frames += 1;
         self.outcome.bytes += (out.len() - before) as u64;
-        (self.dirty, self.last_frame) = (false, now);
+        (self.dirty, self.last_frame, self.clock_shown) = (false, now, clock);
         true
     }
 }
@@ -474,6 +499,14 @@ mod tests {
     use super::*;
     use mazewalk_render::RenderOptions;
     use mazewalk_term::frame::Cell;
+
+    /// A session in a maze without an exit: no clock ticks.
+    fn no_exit_session(options: SessionOptions) -> Session {
+        let opts =
+            mazewalk_maze::generate::GenOptions { width: 4, height: 3, exit: false, ..Default::default() };
+        let maze = mazewalk_maze::generate::generate(&opts).unwrap();
+        Session::new(App::new(maze, RenderOptions::default(), 0.0).unwrap(), 100, 30, options)
+    }
 
     fn session(options: SessionOptions) -> Session {
         let app = App::new(mazewalk_maze::builtin().unwrap(), mazewalk_render::RenderOptions::default(), 0.0)
@@ -507,6 +540,7 @@ mod tests {
     fn the_exit_box_also_shows_the_news() {
         let mut s = session(SessionOptions { flow_control: false, ..SessionOptions::default() });
         s.app_mut().finished = Some(83.0);
+        s.app_mut().exit_box = true;
         s.set_notice(Some("You reached the exit first, in 1:23.0!".into()));
         s.frame(0.0, &mut Vec::new());
         let text = s.screen().lines().join("\n");
@@ -567,8 +601,9 @@ mod tests {
     fn a_stalled_link_with_nothing_to_draw_sleeps() {
         // Two frames unanswered (the link stalled, or a terminal that never answers), then the
         // picture stops changing: nothing is held back, so nothing is due, before or after the
-        // reply timeout (it used to stay due at the timeout: a host waking at once, forever).
-        let mut s = session(SessionOptions::default());
+        // reply timeout (it used to stay due at the timeout: a host waking at once, forever). (A maze
+        // with no exit: an exit's clock ticks every second.)
+        let mut s = no_exit_session(SessionOptions::default());
         let mut out = Vec::new();
         assert!(s.frame(0.0, &mut out));
         s.feed(b"m", 0.1); // the map: one change, no motion
