@@ -7,7 +7,7 @@ mod common;
 
 use common::*;
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
-use mazewalk_math::{self as math, Convention, DepthRange};
+use mazewalk_math::{self as math, Convention, DepthRange, MathError};
 use proptest::prelude::*;
 
 /// Projects a view-space point to NDC.
@@ -32,6 +32,33 @@ proptest! {
             prop_assert!(close(r.determinant(), 1.0, 1e-5, 1.0));
             prop_assert_eq!(view.row(3), Vec4::W); // affine: no projective part
         }
+    }
+
+    #[test]
+    fn cameras_just_above_the_up_parallel_threshold_are_orthonormal(
+        (eye, dir, up) in arb_up_near_parallel(1.01e-4, 3e-4), scale in prop::sample::select(vec![1e-3f32, 1.0, 1e3]),
+    ) {
+        // The view's rotation and the camera-to-world basis are orthonormal to 1e-6 (a few ULPs of
+        // rounding in each product entry, 6e-8 each, with margin), however nearly parallel the
+        // accepted up is; before the re-orthogonalisation they were off by up to 4.2e-4 here.
+        let (dir, up) = (dir * scale, up / scale); // lengths play no part
+        for (view, to_world) in [
+            (math::look_to_rh(eye, dir, up).unwrap(), math::camera_to_world_rh(eye, dir, up).unwrap()),
+            (math::look_to_lh(eye, dir, up).unwrap(), math::camera_to_world_lh(eye, dir, up).unwrap()),
+        ] {
+            for r in [Mat3::from_mat4(view), Mat3::from_mat4(to_world)] {
+                let off = (r * r.transpose() - Mat3::IDENTITY).to_cols_array().map(f32::abs);
+                prop_assert!(off.iter().all(|&e| e <= 1e-6), "R·Rᵀ - I = {off:?}");
+                prop_assert!(close(r.determinant(), 1.0, 1e-6, 1.0), "det {}", r.determinant());
+            }
+        }
+    }
+
+    #[test]
+    fn up_just_below_the_threshold_is_parallel((eye, dir, up) in arb_up_near_parallel(0.0, 0.99e-4)) {
+        // The other side of the rule: a sine below 1e-4 (by more than its ~1e-7 rounding) is refused.
+        prop_assert_eq!(math::look_to_rh(eye, dir, up), Err(MathError::UpParallel { dir, up }));
+        prop_assert_eq!(math::look_to_lh(eye, dir, up), Err(MathError::UpParallel { dir, up }));
     }
 
     #[test]
