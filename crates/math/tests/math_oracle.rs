@@ -32,6 +32,24 @@ fn glam_perspective(conv: Convention) -> fn(f32, f32, f32, f32) -> Mat4 {
     }
 }
 
+type Infinite = fn(f32, f32, f32) -> Mat4;
+
+/// glam's infinite perspectives, forward and reversed, where it has them: for the [0, 1] conventions
+/// (`directx`); its `opengl` modules have none, and `math_depth.rs` checks RhGl's against the limit.
+fn glam_perspective_infinite(conv: Convention) -> Option<(Infinite, Infinite)> {
+    match conv {
+        Convention::RhGl => None,
+        Convention::RhZo => Some((
+            camera::rh::proj::directx::perspective_infinite,
+            camera::rh::proj::directx::perspective_infinite_reverse,
+        )),
+        Convention::LhZo => Some((
+            camera::lh::proj::directx::perspective_infinite,
+            camera::lh::proj::directx::perspective_infinite_reverse,
+        )),
+    }
+}
+
 type Box6 = fn(f32, f32, f32, f32, f32, f32) -> Mat4;
 
 fn glam_frustum(conv: Convention) -> Box6 {
@@ -92,6 +110,20 @@ proptest! {
         let lh = math::look_to_lh(eye, dir, up).unwrap();
         let glam_lh = camera::lh::view::look_to_mat4(eye, dir, up);
         prop_assert!(view_close(lh, glam_lh, eye), "lh\nours   {lh}\ntheirs {glam_lh}");
+    }
+
+    #[test]
+    fn infinite_perspectives_match_glam(
+        conv in arb_convention().prop_filter("glam has no OpenGL-range infinite perspective", |c| *c != Convention::RhGl),
+        (fov, aspect, n, _) in arb_perspective(),
+    ) {
+        let (forward, reverse) = glam_perspective_infinite(conv).unwrap();
+        let ours = conv.perspective_infinite(fov, aspect, n).unwrap();
+        let theirs = forward(fov, aspect, n);
+        prop_assert!(mat4_close(ours, theirs, REL), "{conv:?}\nours   {ours}\ntheirs {theirs}");
+        let ours = conv.perspective_infinite_reverse(fov, aspect, n).unwrap();
+        let theirs = reverse(fov, aspect, n);
+        prop_assert!(mat4_close(ours, theirs, REL), "{conv:?} reversed\nours   {ours}\ntheirs {theirs}");
     }
 
     #[test]
