@@ -127,13 +127,6 @@ proptest! {
     }
 
     #[test]
-    fn right_handed_conventions_dispatch_to_the_rh_view((eye, target, up) in arb_eye_target_up()) {
-        let rh = math::look_at_rh(eye, target, up).unwrap();
-        prop_assert_eq!(Convention::RhGl.look_at(eye, target, up), Ok(rh));
-        prop_assert_eq!(Convention::RhZo.look_to(eye, target - eye, up), math::look_to_rh(eye, target - eye, up));
-    }
-
-    #[test]
     fn elementary_transforms_match_glam(offset in arb_point(100.0), factors in arb_point(10.0), angle in -10.0f32..10.0) {
         prop_assert_eq!(math::translation(offset), Mat4::from_translation(offset));
         prop_assert_eq!(math::scaling(factors), Mat4::from_scale(factors));
