@@ -97,6 +97,13 @@ impl Convention {
     /// The reflection taking the crate's right-handed world into this convention's world: identity for
     /// the right-handed conventions, `z → -z` for the left-handed one. A reflection flips handedness,
     /// which is what keeps the image the same way round.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use mazewalk_math::Convention;
+    /// assert_eq!(Convention::RhZo.world_mirror().transform_point3(Vec3::ONE), Vec3::ONE);
+    /// assert_eq!(Convention::LhZo.world_mirror().transform_point3(Vec3::ONE), Vec3::new(1.0, 1.0, -1.0));
+    /// ```
     #[must_use]
     pub fn world_mirror(self) -> Mat4 {
         if self.is_right_handed() {
@@ -113,6 +120,19 @@ impl Convention {
     /// # Errors
     ///
     /// As [`super::look_at_rh`].
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use mazewalk_math::Convention;
+    /// let (eye, target) = (Vec3::new(1.0, 1.0, 0.5), Vec3::new(1.0, 4.0, 0.5)); // looking north
+    /// for conv in Convention::ALL {
+    ///     let view = conv.look_at(eye, target, Vec3::Z)?;
+    ///     // The target 3 units down the forward axis (-Z or +Z), east (+x in the world) on the right.
+    ///     assert!(view.transform_point3(target).abs_diff_eq(conv.forward() * 3.0, 1e-6));
+    ///     assert!(view.transform_point3(target + Vec3::X).x > 0.0);
+    /// }
+    /// # Ok::<(), mazewalk_math::MathError>(())
+    /// ```
     pub fn look_at(self, eye: Vec3, target: Vec3, up: Vec3) -> Result<Mat4, MathError> {
         if self.is_right_handed() {
             view::look_at_rh(eye, target, up)
@@ -129,6 +149,14 @@ impl Convention {
     /// # Errors
     ///
     /// As [`super::look_to_rh`].
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use mazewalk_math::Convention;
+    /// let view = Convention::LhZo.look_to(Vec3::ZERO, Vec3::Y, Vec3::Z)?; // looking north
+    /// assert!(view.transform_point3(Vec3::new(0.0, 2.0, 1.0)).abs_diff_eq(Vec3::new(0.0, 1.0, 2.0), 1e-6));
+    /// # Ok::<(), mazewalk_math::MathError>(())
+    /// ```
     pub fn look_to(self, eye: Vec3, dir: Vec3, up: Vec3) -> Result<Mat4, MathError> {
         if self.is_right_handed() {
             view::look_to_rh(eye, dir, up)
