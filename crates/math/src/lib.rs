@@ -55,6 +55,11 @@
 
 #![forbid(unsafe_code)]
 
+/// The README's Rust examples, run as doctests (the README is the crate's page on its own).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
+
 mod clip;
 mod convention;
 mod projection;
