@@ -195,10 +195,10 @@ impl Convention {
     }
 
     /// [`Convention::perspective`] with the far plane at infinity (`far → ∞`): the near plane lands
-    /// on the range's near end (-1 or 0) and depth approaches 1 with distance. Nothing in front of
-    /// the near plane is clipped by depth. Mirrors glam's `perspective_infinite` in
-    /// `rh::proj::directx` (RhZo) and `lh::proj::directx` (LhZo); RhGl is its limit (glam's opengl
-    /// module has none): `z_ndc = 1 - 2·near/d`.
+    /// on the range's near end (-1 or 0) and depth approaches 1 with distance. The far clip plane
+    /// (`z <= w`) then holds for every point, so depth clips at the near plane only. Mirrors glam's
+    /// `perspective_infinite` in `rh::proj::directx` (RhZo) and `lh::proj::directx` (LhZo); RhGl is
+    /// its limit (glam's opengl module has none): `z_ndc = 1 - 2·near/d`.
     ///
     /// # Errors
     ///
@@ -224,8 +224,9 @@ impl Convention {
     /// the range's near end (-1 or 0). The same as `perspective(fov_y, aspect, far, near)` (a near
     /// plane beyond the far one is reversed depth), named so that it reads as meant. On [0, 1] a
     /// float depth buffer then keeps its precision far away (see the crate's README); on [-1, 1] the
-    /// viewport's `(z + 1) / 2` rounds that away again. glam has no finite reversed perspective; its
-    /// limit (`far → ∞`) is [`Convention::perspective_infinite_reverse`].
+    /// values near -1 and the viewport's `(z + 1) / 2` round most of that away again. glam has no
+    /// finite reversed perspective; its limit (`far → ∞`) is
+    /// [`Convention::perspective_infinite_reverse`].
     ///
     /// The clip volume is the same one (`-w <= x, y <= w`, `near(depth)·w <= z <= w`) and
     /// [`crate::ClipPlanes::ALL`] clips it as before, with the planes' depth roles swapped:
