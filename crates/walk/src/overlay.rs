@@ -13,7 +13,7 @@ use mazewalk_maze::{Aabb, Maze};
 use mazewalk_render::Charset;
 use mazewalk_render::camera::Camera;
 use mazewalk_render::palette::{ansi16, quantize_srgb8, xterm_rgb};
-use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame};
+use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// The smallest terminal the walkthrough draws in (columns, rows).
 pub const MIN_SIZE: (usize, usize) = (20, 6);
@@ -100,6 +100,12 @@ impl Default for Style {
 /// palette indices above 15 to the nearest of the 16, and everything to the terminal's default with
 /// no colour at all — so not one code of a deeper palette is ever sent.
 pub fn limit_colors(frame: &mut Frame, depth: ColorDepth) {
+    let region = frame.region();
+    limit_colors_in(frame, region, depth);
+}
+
+/// [`limit_colors`] in `region` of `frame` only.
+pub fn limit_colors_in(frame: &mut Frame, region: Region, depth: ColorDepth) {
     // a colour already within the depth is left as it is (written back only when it changes: this
     // runs over every cell of every frame)
     let limit = |color: &mut Color| match (*color, depth) {
@@ -112,9 +118,11 @@ pub fn limit_colors(frame: &mut Frame, depth: ColorDepth) {
     if depth == ColorDepth::TrueColor {
         return;
     }
-    for cell in frame.cells_mut() {
-        limit(&mut cell.fg);
-        limit(&mut cell.bg);
+    for row in frame.region_rows_mut(region) {
+        for cell in row {
+            limit(&mut cell.fg);
+            limit(&mut cell.bg);
+        }
     }
 }
 

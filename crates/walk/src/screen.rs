@@ -52,6 +52,8 @@ pub struct Screen {
     pub players_in: Option<usize>,
     /// Where the last frame's map was drawn.
     pub map: Option<MapArea>,
+    /// What the last frame's render did (the HUD's developer figures).
+    stats: RenderStats,
     /// The peers as the renderer's figures (reused from frame to frame).
     sprites: Vec<Sprite>,
     /// What the map's characters show, kept while the map stays put.
@@ -78,7 +80,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     let (cols, rows) = (frame.width(), frame.height());
     let style = Style::new(app.options.charset, app.options.color_depth);
     if overlay::too_small(cols, rows) {
-        screen.map = None;
+        (screen.map, screen.stats) = (None, RenderStats::default());
         overlay::draw_too_small(frame, style);
         return RenderStats::default();
     }
@@ -139,10 +141,24 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     } else if let Some(notice) = &screen.notice {
         overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
     }
-    let hud_line = hud_text(app, &stats, hud, screen.players_in, style, cols);
-    overlay::draw_hud(frame, &hud_line, style); // last: boxes never hide it
+    screen.stats = stats;
+    draw_hud(app, screen, frame, hud); // last: boxes never hide it
     overlay::limit_colors(frame, style.depth); // not one code deeper than the terminal's depth
     stats
+}
+
+/// Draws the HUD's row of `frame` only, over what [`draw`] drew last: when nothing but the HUD's
+/// numbers changed (the exit clock ticked), the view need not be rendered again.
+pub fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud) {
+    let (cols, rows) = (frame.width(), frame.height());
+    if overlay::too_small(cols, rows) {
+        return; // the too-small note has no HUD
+    }
+    let style = Style::new(app.options.charset, app.options.color_depth);
+    let line = hud_text(app, &screen.stats, hud, screen.players_in, style, cols);
+    overlay::draw_hud(frame, &line, style);
+    let row = Region { col: 0, row: rows - 1, cols, rows: 1 };
+    overlay::limit_colors_in(frame, row, style.depth);
 }
 
 /// Where the map goes on `frame` for the walk's map mode (`None`: no map).

@@ -463,8 +463,8 @@ impl Session {
         self.decode(now, |decoder, out| decoder.expire(now, out)); // a lone Esc, a stalled sequence
         self.dirty |= self.app.tick(now);
         let clock = self.running_clock(now);
-        self.dirty |= clock != self.clock_shown;
-        if !self.dirty || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
+        let ticked = clock != self.clock_shown; // only the HUD's clock, if nothing else changed
+        if !(self.dirty || ticked) || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
             return false;
         }
         if self.options.flow_control && !self.flow.may_send(now) {
@@ -476,9 +476,13 @@ impl Session {
         self.recent_frames.push_back(now);
         let hud = Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started };
         let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
-        self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
-        screen::draw(&self.app, &mut self.screen, &mut self.frame, &hud);
-        self.note_seen();
+        if self.dirty {
+            self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
+            screen::draw(&self.app, &mut self.screen, &mut self.frame, &hud);
+            self.note_seen();
+        } else {
+            screen::draw_hud(&self.app, &self.screen, &mut self.frame, &hud); // the view is as it was
+        }
         self.encoder.set_tolerance(adaptive_tolerance(self.options.color_tolerance, round_trip));
         let before = out.len();
         let stats = self.encoder.encode(&self.frame, out);

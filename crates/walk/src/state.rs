@@ -349,8 +349,8 @@ impl App {
                 self.snap_turn(if action == Action::SnapLeft { 90.0 } else { -90.0 }, now);
             }
             Action::Reset => self.reset(now),
-            // the exit box shows instead of the help: a toggle there would pop up unseen after `r`
-            Action::Help if self.finished.is_some() => return false,
+            // the exit box shows instead of the help: a toggle there would pop up unseen after it
+            Action::Help if self.exit_box => return false,
             Action::Help => self.help = !self.help,
             Action::ToggleCulling => {
                 self.options.culling = match self.options.culling {
