@@ -36,13 +36,14 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         let read = host_key::read_authorized_keys(&path)
             .with_context(|| "who may play (give --authorized-keys FILE, or --open to let anyone in)")?;
         for left in &read.left_out {
+            // (The comment and the option are the file's text: quoted, control characters escaped.)
             let _ = writeln!(
                 std::io::stderr(),
                 "mazewalk: {}: key {} ({}) is limited by `{}`, which mazewalk does not enforce: it may not play",
                 path.display(),
                 left.number,
-                left.comment,
-                left.option
+                mazewalk_maze::quote(&left.comment),
+                mazewalk_maze::quote(&left.option)
             );
         }
         if read.keys.is_empty() {
@@ -51,30 +52,53 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         Access::Keys(read.keys)
     };
     let fingerprint = host_key::fingerprint(host_key.public_key());
+    let listen = resolve(&args.listen)?;
     let limits = Limits {
         max_players: args.max_players as usize,
+        max_handshakes: args.max_handshakes as usize,
         max_per_address: args.max_per_address as usize,
         idle_timeout: args.idle_timeout,
         ..Limits::default()
     };
-    let options = ServeOptions { maze, listen: args.listen, host_key, access, limits };
+    let options = ServeOptions { maze, listen, host_key, access, limits };
     tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
-    let signal = mazewalk_serve::run(options, |addr| {
+    let signal = mazewalk_serve::run(options, |addrs| {
         let made = if made { ", made now" } else { "" };
+        let list: Vec<String> = addrs.iter().map(ToString::to_string).collect();
+        let addr = addrs[0];
         // for the host to read; a closed pipe (`serve | head -1`) must not end the server
         let mut out = std::io::stdout().lock();
-        let _ = writeln!(out, "mazewalk: serving on {addr}")
+        let _ = writeln!(out, "mazewalk: serving on {}", list.join(", "))
             .and_then(|()| writeln!(out, "host key {fingerprint} ({}{made})", key_path.display()))
             .and_then(|()| {
                 // Listening on every address: the players need one of this machine's names.
-                let host =
-                    if addr.ip().is_unspecified() { "THIS-HOST".to_string() } else { addr.ip().to_string() };
+                let host = match addr.ip() {
+                    ip if ip.is_unspecified() => "THIS-HOST".to_string(),
+                    std::net::IpAddr::V6(ip) => format!("{ip}"),
+                    ip => ip.to_string(),
+                };
                 writeln!(out, "players connect with: ssh -p {} {host}", addr.port())
             })
             .and_then(|()| out.flush());
-    })
-    .with_context(|| format!("serving on {}", args.listen))?;
+    })?; // (its errors say what failed: "cannot listen on 127.0.0.1:2222: Address already in use")
     Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)))
+}
+
+/// The addresses of `--listen` (a host name's, looked up now).
+#[cfg(all(unix, feature = "serve"))]
+fn resolve(listen: &str) -> anyhow::Result<Vec<std::net::SocketAddr>> {
+    use std::net::ToSocketAddrs as _;
+    let mut addrs: Vec<std::net::SocketAddr> = listen
+        .to_socket_addrs()
+        .map_err(|e| anyhow::anyhow!("--listen {}: cannot look it up: {e}", mazewalk_maze::quote(listen)))?
+        .collect();
+    addrs.dedup();
+    anyhow::ensure!(
+        !addrs.is_empty(),
+        "--listen {}: the name has no addresses",
+        mazewalk_maze::quote(listen)
+    );
+    Ok(addrs)
 }
 
 #[cfg(not(all(unix, feature = "serve")))]
