@@ -72,9 +72,13 @@ struct ServerProcess {
 
 impl ServerProcess {
     fn start(scratch: &Scratch, args: &[&str]) -> ServerProcess {
+        ServerProcess::start_on(scratch, "127.0.0.1:0", args)
+    }
+
+    fn start_on(scratch: &Scratch, listen: &str, args: &[&str]) -> ServerProcess {
         let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
             .arg("serve")
-            .args(["--listen", "127.0.0.1:0", "--host-key"])
+            .args(["--listen", listen, "--host-key"])
             .arg(scratch.0.join("host_key"))
             .args(args)
             .env("HOME", &scratch.0)
@@ -88,7 +92,9 @@ impl ServerProcess {
         stdout.read_line(&mut line).expect("the first line");
         let port = line
             .trim()
-            .rsplit_once(':')
+            .split(", ")
+            .next()
+            .and_then(|first| first.rsplit_once(':'))
             .and_then(|(_, port)| port.parse().ok())
             .unwrap_or_else(|| panic!("expected `mazewalk: serving on ADDR:PORT`, got {line:?}"));
         let log = Arc::new(Mutex::new(String::new()));
@@ -543,11 +549,52 @@ fn authorized_keys_let_in_only_their_keys() {
     assert!(failed.contains("user=eve") && failed.contains(print), "{failed}");
     let (status, _, stderr) = server.ssh_batch(None, "eve", &["-T"]);
     assert_eq!(status.code(), Some(255), "no key, no entry: {stderr}");
+    // Issue #34: a login that offered no key was logged as `closed` (and a password one with user=-).
+    server.wait_log("reason=authentication failed (none)", 1);
+    let failed = lock(&server.log)
+        .lines()
+        .find(|l| l.ends_with("authentication failed (none)"))
+        .unwrap_or("")
+        .to_string();
+    assert!(failed.contains("user=eve "), "{failed}");
+    // Issue #34: the first `none` request counted as one of the 6 tries, so a key listed 6th was
+    // refused; as with sshd, five refused keys and then the right one get in.
+    let strangers: Vec<PathBuf> = (1..=5).map(|i| scratch.key(&format!("stranger{i}"))).collect();
+    let mut six: Vec<String> =
+        strangers.iter().flat_map(|k| ["-i".to_string(), k.display().to_string()]).collect();
+    six.extend(["-i".to_string(), known.display().to_string(), "-T".to_string()]);
+    let six: Vec<&str> = six.iter().map(String::as_str).collect();
+    let (status, stdout, stderr) = server.ssh_batch(None, "gus", &six);
+    assert_eq!(status.code(), Some(1), "logged in (and told to use a terminal): {stderr}");
+    assert!(stdout.contains(NO_PTY_MESSAGE), "{stdout}");
     let mut player = Player::connect(&server, Some(&known), "frank", 80, 24);
     player.wait_for("the game", playing);
     server.wait_log("user=frank", 1);
     player.send(b"q");
     assert!(player.wait_exit().success());
+}
+
+/// Issue #34, low: a port in use read like success ("serving on 127.0.0.1:2222: Address already in
+/// use"), and `--listen localhost:2222` was refused.
+#[test]
+fn a_port_in_use_is_said_plainly_and_a_host_name_is_looked_up() {
+    let scratch = Scratch::new("listen");
+    let server = ServerProcess::start_on(&scratch, "localhost:0", &["--open"]);
+    let (status, stdout, _) = server.ssh_batch(None, "ida", &["-T"]);
+    assert_eq!(status.code(), Some(1), "a game on localhost's address");
+    assert!(stdout.contains(NO_PTY_MESSAGE), "{stdout}");
+    let taken = format!("127.0.0.1:{}", server.port);
+    let second = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["serve", "--open", "--listen", &taken, "--host-key"])
+        .arg(scratch.0.join("host_key"))
+        .env("HOME", &scratch.0)
+        .stdin(Stdio::null())
+        .output()
+        .expect("run a second server");
+    let (out, err) = (String::from_utf8_lossy(&second.stdout), String::from_utf8_lossy(&second.stderr));
+    assert_eq!(second.status.code(), Some(1), "{err}");
+    assert!(!out.contains("serving on") && !err.contains("serving on"), "{out}{err}");
+    assert!(err.contains(&format!("cannot listen on {taken}")) && err.contains("in use"), "{err}");
 }
 
 #[test]
@@ -585,4 +632,67 @@ fn a_signal_says_goodbye(signal: rustix::process::Signal, code: i32) {
         std::thread::sleep(Duration::from_millis(20));
     };
     assert_eq!(status.code(), Some(code));
+}
+
+/// A Python 3 with paramiko (Debian's python3-paramiko; `.ci/run` installs it).
+fn python_with_paramiko() -> &'static str {
+    ["/usr/bin/python3", "python3"]
+        .into_iter()
+        .find(|python| {
+            Command::new(python)
+                .args(["-c", "import paramiko"])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .status()
+                .is_ok_and(|s| s.success())
+        })
+        .expect("python3 with paramiko (apt-get install python3-paramiko)")
+}
+
+/// Issue #34, low: a player that types but never reads (paramiko, whose transport reads the socket
+/// but never reopens a window its program does not read) kept a shutting-down server 8–9.5 s; the
+/// grace is 2 s. Its goodbye waited on the full window for the write timeout, and russh's own task,
+/// waiting to hand over keys the player's task no longer took, never saw the cut.
+#[test]
+fn a_player_who_types_but_never_reads_holds_shutdown_no_longer_than_the_grace() {
+    let scratch = Scratch::new("unread");
+    let mut server = ServerProcess::start(&scratch, &["--open"]);
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/clients/typist.py");
+    let mut typist = Command::new(python_with_paramiko())
+        .arg(&script)
+        .args([&server.port.to_string(), "4"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run the typist");
+    let mut said = BufReader::new(typist.stdout.take().expect("stdout"));
+    let mut line = String::new();
+    said.read_line(&mut line).expect("the typist's first line");
+    assert_eq!(line.trim(), "typing");
+    // 4 s of turns at 200×60 fill the 2 MB window within a second or two; then the keys pile up.
+    line.clear();
+    said.read_line(&mut line).expect("the typist's second line");
+    assert!(line.starts_with("typed"), "{line:?}");
+    let started = Instant::now();
+    let pid = rustix::process::Pid::from_child(&server.child);
+    rustix::process::kill_process(pid, rustix::process::Signal::TERM).expect("kill");
+    let deadline = Instant::now() + TIMEOUT;
+    let status = loop {
+        if let Some(status) = server.child.try_wait().expect("wait") {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "the server did not exit");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let took = started.elapsed();
+    let _ = typist.kill();
+    let _ = typist.wait();
+    assert_eq!(status.code(), Some(143));
+    let log = lock(&server.log).clone();
+    let line = log.lines().find(|l| l.contains("disconnected")).unwrap_or_default().to_string();
+    let bytes_out: u64 =
+        line.split("bytes_out=").nth(1).and_then(|v| v.split(' ').next()?.parse().ok()).unwrap_or(0);
+    assert!(bytes_out > 2_000_000, "the premise: the window filled ({bytes_out} bytes out): {log}");
+    assert!(took < Duration::from_millis(3500), "shutdown took {took:?} (a grace of 2 s)");
 }

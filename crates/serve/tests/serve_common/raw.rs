@@ -55,7 +55,7 @@ pub fn kexinit(kex: &str) -> Vec<u8> {
     packet(&payload)
 }
 
-/// A KEXINIT whose key exchange list is `names` junk names (about 17 KB for 1000): what a client that
+/// A KEXINIT whose key exchange list is `names` junk names (about 15 KB for 600): what a client that
 /// wants the server's log to grow sends (issue #34).
 #[must_use]
 pub fn junk_kexinit(names: usize) -> Vec<u8> {
