@@ -530,8 +530,13 @@ fn authorized_keys_let_in_only_their_keys() {
     let scratch = Scratch::new("keys");
     let (known, unknown) = (scratch.key("known"), scratch.key("unknown"));
     let list = scratch.0.join("players");
-    std::fs::copy(known.with_extension("pub"), &list).expect("authorized keys");
+    // Issue #34: a borg line (a quoted option with spaces) failed the whole file and the server
+    // did not start; now it is left out, said with its line, and the rest is read.
+    let public = |key: &Path| std::fs::read_to_string(key.with_extension("pub")).expect("a public key");
+    let borg = format!("restrict,command=\"borg serve --restrict-to-path /srv/backup\" {}", public(&unknown));
+    std::fs::write(&list, format!("{borg}{}", public(&known))).expect("authorized keys");
     let server = ServerProcess::start(&scratch, &["--authorized-keys", list.to_str().expect("utf-8")]);
+    server.wait_log("players:1: the key of unknown is limited by `command=\"borg serve", 1);
     let (status, _, stderr) = server.ssh_batch(Some(&unknown), "eve", &["-T"]);
     assert_eq!(status.code(), Some(255), "{stderr}");
     assert!(stderr.contains("Permission denied"), "{stderr}");

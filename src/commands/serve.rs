@@ -35,15 +35,25 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         };
         let read = host_key::read_authorized_keys(&path)
             .with_context(|| "who may play (give --authorized-keys FILE, or --open to let anyone in)")?;
-        for left in &read.left_out {
-            // (The comment and the option are the file's text: quoted, control characters escaped.)
+        // (The comments, options and reasons hold the file's text: quoted, control characters escaped.)
+        let quote = mazewalk_maze::quote;
+        for skipped in &read.skipped {
             let _ = writeln!(
                 std::io::stderr(),
-                "mazewalk: {}: key {} ({}) is limited by `{}`, which mazewalk does not enforce: it may not play",
+                "mazewalk: {}:{}: skipped: {}",
                 path.display(),
-                left.number,
-                mazewalk_maze::quote(&left.comment),
-                mazewalk_maze::quote(&left.option)
+                skipped.line,
+                skipped.why
+            );
+        }
+        for left in &read.left_out {
+            let _ = writeln!(
+                std::io::stderr(),
+                "mazewalk: {}:{}: the key of {} is limited by `{}`, which mazewalk does not enforce: it may not play",
+                path.display(),
+                left.line,
+                quote(&left.comment),
+                quote(&left.option)
             );
         }
         if read.keys.is_empty() {

@@ -16,12 +16,13 @@
 //! The pure parts — [`player`] (one player without the connection), [`world`] (who is where, who
 //! won), [`limits`], [`slots`] (who may hold a connection), [`logs`] (what is logged) and
 //! [`algorithms`] (what is offered) — are tested without sockets; [`ssh`] is the I/O around them,
-//! [`host_key`] the key files. One world clock: every session's time is seconds since the server
+//! [`host_key`] the key files, [`authorized_keys`] who may play. One world clock: every session's time is seconds since the server
 //! started.
 
 #![forbid(unsafe_code)]
 
 pub mod algorithms;
+pub mod authorized_keys;
 pub mod host_key;
 pub mod limits;
 pub mod logs;
