@@ -295,7 +295,12 @@ impl Player {
 
     /// Whether `ok` holds for the screen as it is now.
     fn shows(&self, ok: impl Fn(&vt100::Screen) -> bool) -> bool {
-        ok(lock(&self.shared).parser.screen())
+        self.read(ok)
+    }
+
+    /// What `f` reads off the screen as it is now.
+    fn read<T>(&self, f: impl Fn(&vt100::Screen) -> T) -> T {
+        f(lock(&self.shared).parser.screen())
     }
 }
 
@@ -334,10 +339,22 @@ fn two_players_see_each_other_and_q_restores_the_terminal() {
     alice.wait_for("alice's game", playing);
     let mut bob = Player::connect(&server, None, "bob+1", 100, 30);
     bob.wait_for("bob's game", playing);
-    // Both start on the same spot, where each one's own arrow is drawn: bob walks away a few steps.
-    bob.send(b"www");
+    // Issue #34: everyone started on one point, inside the others. Now each gets a spot of its own
+    // (bob one step behind alice), and each sees the other on the map at once.
     alice.wait_for("bob on alice's map", |s, _| on_map(s, 'B'));
     bob.wait_for("alice on bob's map", |s, _| on_map(s, 'A'));
+    let (at_alice, at_bob) = (alice.read(hud_position), bob.read(hud_position));
+    assert!(at_alice.zip(at_bob).is_some_and(|(a, b)| a != b), "{at_alice:?} {at_bob:?}");
+    // The HUD counts the players; Tab lists them, each with its label, time in the maze and best.
+    alice.wait_for("2 in on the HUD", |s, _| hud_row(s).contains("2 in"));
+    let mut alice = alice;
+    alice.send(b"\t");
+    alice.wait_for("the player list", |s, _| {
+        let text = s.contents();
+        text.contains("Players: 2") && text.contains("A  alice (you)") && text.contains("B  bob1")
+    });
+    alice.send(b"\t");
+    alice.wait_for("the list closed", |s, _| !s.contents().contains("Players: 2"));
 
     bob.send(b"q");
     assert!(bob.wait_exit().success(), "q ends ssh with exit status 0");
@@ -370,6 +387,12 @@ fn two_players_see_each_other_and_q_restores_the_terminal() {
 fn in_view(screen: &vt100::Screen, ch: char) -> bool {
     let rows = screen.size().0.get();
     (rows / 3..rows - 1).any(|row| screen.contents_between(row, 0, row, u16::MAX).contains(ch))
+}
+
+/// The HUD's row.
+fn hud_row(screen: &vt100::Screen) -> String {
+    let rows = screen.size().0.get();
+    screen.contents_between(rows - 1, 0, rows - 1, u16::MAX)
 }
 
 /// The walker's position as the HUD shows it: `(x, y)` at the start of the bottom row.
@@ -445,6 +468,11 @@ fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_a
     }
     alice.wait_for("the announcement on alice's screen", announced);
     bob.wait_for("bob's own exit box", |s, _| s.contents().contains("You found the exit in"));
+    // Issue #34: the winner was not logged. Now it is (and every finish).
+    server.wait_log("reached the exit first", 1);
+    let won =
+        lock(&server.log).lines().find(|l| l.contains("reached the exit first")).unwrap_or("").to_string();
+    assert!(won.contains("user=bob ") && won.contains("seconds="), "{won}");
     let carol = Player::connect(&server, None, "carol", 100, 30);
     carol.wait_for("the announcement on the screen of carol, who joined after", announced);
     assert!(!alice.shows(|s| s.contents().contains("alice reached")), "only the first is announced");

@@ -14,7 +14,7 @@
 //! ```
 //!
 //! The pure parts — [`player`] (one player without the connection), [`world`] (who is where, who
-//! won), [`limits`], [`slots`] (who may hold a connection), [`logs`] (what is logged) and
+//! won), [`spawn`] (where newcomers start), [`limits`], [`slots`] (who may hold a connection), [`logs`] (what is logged) and
 //! [`algorithms`] (what is offered) — are tested without sockets; [`ssh`] is the I/O around them,
 //! [`host_key`] the key files, [`authorized_keys`] who may play. One world clock: every session's time is seconds since the server
 //! started.
@@ -28,6 +28,7 @@ pub mod limits;
 pub mod logs;
 pub mod player;
 pub mod slots;
+pub mod spawn;
 pub mod ssh;
 pub mod stream;
 pub mod world;

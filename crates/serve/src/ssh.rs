@@ -28,6 +28,7 @@ use super::limits::Limits;
 use super::logs::{self, LogLimit};
 use super::player::{Player, player_name};
 use super::slots::{ConnId, Refusal, Slots, address_group};
+use super::spawn::Spawns;
 use super::stream::{Cut, CutStream};
 use super::world::{PlayerId, World};
 use mazewalk_maze::Maze;
@@ -87,6 +88,8 @@ struct Shared {
     shutdown: watch::Receiver<bool>,
     /// The server's clock: every session's time is seconds since this instant.
     clock: Instant,
+    /// Where newcomers start.
+    spawns: Spawns,
     slots: Mutex<Slots>,
     /// Every open connection, by its slot's id (to close one pushed out of its slot).
     conns: Mutex<HashMap<ConnId, Arc<Conn>>>,
@@ -306,6 +309,9 @@ impl Server {
     /// # Errors
     /// No address can be bound (the message names it: "cannot listen on ADDR: …").
     pub async fn start(options: ServeOptions) -> std::io::Result<Server> {
+        let spawns = Spawns::new(&options.maze).ok_or_else(|| {
+            std::io::Error::new(std::io::ErrorKind::InvalidInput, "the maze's start is in no cell")
+        })?;
         let listeners = bind(&options.listen).await?;
         let local_addrs =
             listeners.iter().map(TcpListener::local_addr).collect::<std::io::Result<Vec<_>>>()?;
@@ -348,6 +354,7 @@ impl Server {
             world_version: watch::Sender::new(0),
             shutdown: shutdown_rx,
             clock,
+            spawns,
             slots: Mutex::new(Slots::new(&limits)),
             conns: Mutex::new(HashMap::new()),
             log_limit: Mutex::new(LogLimit::new(0.0)),
@@ -891,10 +898,12 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
             return;
         }
     };
-    let (position, heading, cell) = player.whereabouts();
     let id = {
+        // A spot of its own, chosen and taken under one lock (two newcomers never get the same).
         let mut world = shared.world();
-        let id = world.join(&user, position, heading, cell);
+        player.place(shared.spawns.pick(&world.positions()).pos);
+        let (position, heading, cell) = player.whereabouts();
+        let id = world.join(&user, position, heading, cell, now);
         shared.world_version.send_replace(world.version());
         id
     };
@@ -1023,14 +1032,22 @@ async fn walk(
         }
         // Tell the others where this player is now, and whether it won.
         let news = player.news();
-        {
+        let first = {
             let mut world = shared.world();
-            let mut changed = world.moved(id, news.position, news.heading_deg, news.cell);
-            if let Some(seconds) = news.finished {
-                changed |= world.finished(id, seconds).is_some();
-            }
-            if changed {
+            let before = world.version();
+            world.moved(id, news.position, news.heading_deg, news.cell);
+            let first = news.finished.and_then(|seconds| world.finished(id, seconds)).is_some();
+            if world.version() != before {
                 shared.world_version.send_replace(world.version());
+            }
+            first
+        };
+        if let Some(seconds) = news.finished {
+            // The winner always; every other finish within the log limit.
+            if first || shared.log_ok(conn.group) {
+                let user = Conn::get(&conn.user).unwrap_or_default();
+                let what = if first { "reached the exit first" } else { "reached the exit" };
+                info!(peer = %conn.peer, user = %user, seconds = format_args!("{seconds:.1}"), "{what}");
             }
         }
         // Sleep until input, the session's next deadline, a change in the world, the idle timeout or
