@@ -150,6 +150,8 @@ pub enum Command {
     Check(CheckArgs),
     /// Host a maze over SSH: players connect with `ssh -p PORT HOST` and walk it together.
     Serve(ServeArgs),
+    /// Print the best times kept by `serve`: of one maze, or of every maze served.
+    Records(RecordsArgs),
 }
 
 #[derive(Args)]
@@ -184,6 +186,35 @@ pub struct ServeArgs {
     /// Disconnect a player who sends nothing for this long (e.g. 90s, 30m, 2h; 1s..=7d).
     #[arg(long, value_name = "DUR", default_value = "30m", value_parser = parse_duration)]
     pub idle_timeout: std::time::Duration,
+    /// Keep the best times in this SQLite file (default: records.sqlite beside the host key).
+    #[arg(long, value_name = "FILE", conflicts_with = "no_records")]
+    pub records: Option<PathBuf>,
+    /// Keep no best times.
+    #[arg(long)]
+    pub no_records: bool,
+}
+
+#[derive(Args)]
+pub struct RecordsArgs {
+    /// Only this maze's best times (a file, or --gen WxH --seed N as it was served); every maze's
+    /// if omitted.
+    #[arg(value_name = "MAZE")]
+    pub maze: Option<PathBuf>,
+    /// The maze served with --gen WxH (and --seed N).
+    #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size, conflicts_with = "maze")]
+    pub generate: Option<(u32, u32)>,
+    /// Seed for --gen.
+    #[arg(long, default_value_t = 1, requires = "gen")]
+    pub seed: u64,
+    /// The built-in maze's best times.
+    #[arg(long, conflicts_with_all = ["maze", "gen"])]
+    pub builtin: bool,
+    /// The records file (default: records.sqlite in the host key's default folder,
+    /// $XDG_STATE_HOME/mazewalk or ~/.local/state/mazewalk).
+    #[arg(long, value_name = "FILE")]
+    pub records: Option<PathBuf>,
+    #[command(flatten)]
+    pub read: ReadArgs,
 }
 
 #[derive(Args)]

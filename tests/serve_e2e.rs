@@ -452,6 +452,23 @@ fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
     }
 }
 
+/// `--no-records` keeps none: no file is made.
+#[test]
+fn no_records_makes_no_file() {
+    let scratch = Scratch::new("norecords");
+    let server = ServerProcess::start(&scratch, &["--open", "--no-records"]);
+    let (status, _, _) = server.ssh_batch(None, "ida", &["-T"]);
+    assert_eq!(status.code(), Some(1));
+    assert!(!scratch.0.join("records.sqlite").exists());
+    let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["records", "--records"])
+        .arg(scratch.0.join("records.sqlite"))
+        .output()
+        .expect("mazewalk records");
+    assert_eq!(listed.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&listed.stderr).contains("no records yet"), "{listed:?}");
+}
+
 /// Three tiles east from the start, the last one the exit.
 const SHORT_RUN: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#####\n#@.E#\n#####\n";
 
@@ -476,6 +493,26 @@ fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_a
     let carol = Player::connect(&server, None, "carol", 100, 30);
     carol.wait_for("the announcement on the screen of carol, who joined after", announced);
     assert!(!alice.shows(|s| s.contents().contains("alice reached")), "only the first is announced");
+    // The best times are kept (beside the host key) and shown in the exit box with the rank.
+    bob.wait_for("the best times in bob's exit box", |s, _| {
+        let text = s.contents();
+        text.contains("Best times here (1 player)") && text.contains("1. bob") && text.contains("you")
+    });
+    let records = scratch.0.join("records.sqlite");
+    let maze = scratch.0.join("maze.grid");
+    for args in [vec![], vec![maze.to_str().expect("utf-8")]] {
+        let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .arg("records")
+            .args(&args)
+            .arg("--records")
+            .arg(&records)
+            .output()
+            .expect("mazewalk records");
+        let text = String::from_utf8_lossy(&listed.stdout);
+        assert!(listed.status.success(), "{listed:?}");
+        assert!(text.contains("maze.grid") && text.contains("1 player, 1 finish"), "{text}");
+        assert!(text.contains("   1. bob"), "{text}");
+    }
 }
 
 #[test]

@@ -70,8 +70,14 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         idle_timeout: args.idle_timeout,
         ..Limits::default()
     };
-    let options = ServeOptions { maze, listen, host_key, access, limits };
     tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
+    let records = if args.no_records {
+        None
+    } else {
+        let path = args.records.clone().unwrap_or_else(|| key_path.with_file_name("records.sqlite"));
+        keep_records(&path, &maze, super::maze_name(&args.maze))
+    };
+    let options = ServeOptions { maze, listen, host_key, access, limits, records: records.clone() };
     let signal = mazewalk_serve::run(options, |addrs| {
         let made = if made { ", made now" } else { "" };
         let list: Vec<String> = addrs.iter().map(ToString::to_string).collect();
@@ -91,7 +97,44 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
             })
             .and_then(|()| out.flush());
     })?; // (its errors say what failed: "cannot listen on 127.0.0.1:2222: Address already in use")
+    if let Some(keeper) = records {
+        // The finishes handed over before the end are written (a few at most; bounded anyway).
+        let _ = keeper.records.close(std::time::Duration::from_secs(3));
+    }
     Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)))
+}
+
+/// The records of `maze` in the SQLite file at `path`, on their thread; what fails is said and the
+/// server goes on without records (a damaged file is kept aside and a new one made).
+#[cfg(all(unix, feature = "serve"))]
+fn keep_records(
+    path: &std::path::Path,
+    maze: &mazewalk_maze::Maze,
+    name: String,
+) -> Option<mazewalk_serve::records::Keeper> {
+    use mazewalk_serve::records::{Keeper, Records, Report, Sqlite, SqliteOptions};
+    let (db, aside) = match Sqlite::open(path, SqliteOptions::default()) {
+        Ok(opened) => opened,
+        Err(err) => {
+            tracing::warn!("records: {err}; serving without records");
+            return None;
+        }
+    };
+    if let Some(aside) = aside {
+        tracing::warn!(
+            "records: {} was damaged: kept as {}; a new one is made",
+            path.display(),
+            aside.display()
+        );
+    }
+    let report: Report = std::sync::Arc::new(|line: &str| tracing::warn!("{line}"));
+    match Records::start(db, report) {
+        Ok(records) => Some(Keeper { records, maze: maze.content_hash(), maze_name: name }),
+        Err(err) => {
+            tracing::warn!("records: cannot start their thread: {err}; serving without records");
+            None
+        }
+    }
 }
 
 /// The addresses of `--listen` (a host name's, looked up now).
@@ -111,6 +154,7 @@ fn resolve(listen: &str) -> anyhow::Result<Vec<std::net::SocketAddr>> {
     Ok(addrs)
 }
 
+/// Without `serve` (or off Unix): says why it cannot.
 #[cfg(not(all(unix, feature = "serve")))]
 pub fn run(_: &ServeArgs) -> anyhow::Result<ExitCode> {
     if cfg!(unix) {

@@ -16,7 +16,8 @@
 //! The pure parts — [`player`] (one player without the connection), [`world`] (who is where, who
 //! won), [`spawn`] (where newcomers start), [`limits`], [`slots`] (who may hold a connection), [`logs`] (what is logged) and
 //! [`algorithms`] (what is offered) — are tested without sockets; [`ssh`] is the I/O around them,
-//! [`host_key`] the key files, [`authorized_keys`] who may play. One world clock: every session's time is seconds since the server
+//! [`host_key`] the key files, [`authorized_keys`] who may play, [`records`] the best times
+//! (SQLite, on a thread of its own). One world clock: every session's time is seconds since the server
 //! started.
 
 #![forbid(unsafe_code)]
@@ -27,6 +28,7 @@ pub mod host_key;
 pub mod limits;
 pub mod logs;
 pub mod player;
+pub mod records;
 pub mod slots;
 pub mod spawn;
 pub mod ssh;

@@ -27,6 +27,7 @@ use super::host_key::fingerprint;
 use super::limits::Limits;
 use super::logs::{self, LogLimit};
 use super::player::{Player, player_name};
+use super::records::{Keeper, Standing, standing_lines};
 use super::slots::{ConnId, Refusal, Slots, address_group};
 use super::spawn::Spawns;
 use super::stream::{Cut, CutStream};
@@ -56,6 +57,8 @@ pub struct ServeOptions {
     pub access: Access,
     /// The limits.
     pub limits: Limits,
+    /// Where the best times go (`None`: not kept).
+    pub records: Option<Keeper>,
 }
 
 /// What a player is told when the server shuts down.
@@ -90,6 +93,8 @@ struct Shared {
     clock: Instant,
     /// Where newcomers start.
     spawns: Spawns,
+    /// Where the best times go.
+    records: Option<Keeper>,
     slots: Mutex<Slots>,
     /// Every open connection, by its slot's id (to close one pushed out of its slot).
     conns: Mutex<HashMap<ConnId, Arc<Conn>>>,
@@ -355,6 +360,7 @@ impl Server {
             shutdown: shutdown_rx,
             clock,
             spawns,
+            records: options.records,
             slots: Mutex::new(Slots::new(&limits)),
             conns: Mutex::new(HashMap::new()),
             log_limit: Mutex::new(LogLimit::new(0.0)),
@@ -1000,6 +1006,9 @@ async fn walk(
     let mut versions = shared.world_version.subscribe();
     let mut shutdown = shared.shutdown.clone();
     let mut last_input = Instant::now();
+    // The records' answer to the last finish (the maze's best times for the exit box), on its way.
+    let mut standing: Option<tokio::sync::oneshot::Receiver<Option<Standing>>> = None;
+    let user = Conn::get(&conn.user).unwrap_or_default();
     loop {
         if *shutdown.borrow_and_update() {
             return End::Shutdown;
@@ -1045,9 +1054,13 @@ async fn walk(
         if let Some(seconds) = news.finished {
             // The winner always; every other finish within the log limit.
             if first || shared.log_ok(conn.group) {
-                let user = Conn::get(&conn.user).unwrap_or_default();
                 let what = if first { "reached the exit first" } else { "reached the exit" };
                 info!(peer = %conn.peer, user = %user, seconds = format_args!("{seconds:.1}"), "{what}");
+            }
+            // Kept, without waiting: the standing comes back while the player plays on.
+            if let Some(keeper) = &shared.records {
+                player.session_mut().set_standings(Vec::new());
+                standing = keeper.finish(&user, seconds);
             }
         }
         // Sleep until input, the session's next deadline, a change in the world, the idle timeout or
@@ -1076,6 +1089,12 @@ async fn walk(
                 }
                 versions.borrow_and_update();
                 player.world_changed(shared.now());
+            }
+            answer = async { standing.as_mut().expect("checked").await }, if standing.is_some() => {
+                standing = None;
+                if let Ok(Some(answer)) = answer {
+                    player.session_mut().set_standings(standing_lines(&answer, &user));
+                }
             }
             () = idle => return End::Idle,
             _ = shutdown.changed() => {}

@@ -25,7 +25,14 @@ const DEADLINE: Duration = Duration::from_secs(60);
 async fn server(access: Access, limits: Limits) -> Server {
     let maze = mazewalk_maze::builtin().expect("built-in maze");
     let listen: SocketAddr = "127.0.0.1:0".parse().expect("address");
-    let options = ServeOptions { maze, listen: vec![listen], host_key: load::host_key(), access, limits };
+    let options = ServeOptions {
+        maze,
+        listen: vec![listen],
+        host_key: load::host_key(),
+        access,
+        limits,
+        records: None,
+    };
     Server::start(options).await.expect("start the server")
 }
 
