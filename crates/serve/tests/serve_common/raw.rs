@@ -119,3 +119,35 @@ pub fn until_closed(stream: &mut TcpStream, within: Duration) -> Option<Duration
         }
     }
 }
+
+/// Reads what the server sends until it closes the connection or sends a packet other than its
+/// KEXINIT (its answer to ours: a key exchange reply, a disconnect); returns how long that took, or
+/// `None` if neither came within `within`.
+pub fn until_answered(stream: &mut TcpStream, within: Duration) -> Option<Duration> {
+    let start = Instant::now();
+    let mut got: Vec<u8> = Vec::new();
+    let mut buf = [0u8; 4096];
+    loop {
+        // the identification line, then packets: [length u32][padding u8][type u8]…
+        if let Some(end) = got.windows(2).position(|w| w == b"\r\n") {
+            let mut at = end + 2;
+            while got.len() >= at + 6 {
+                let len = u32::from_be_bytes([got[at], got[at + 1], got[at + 2], got[at + 3]]) as usize;
+                if got[at + 5] != KEXINIT {
+                    return Some(start.elapsed());
+                }
+                at += 4 + len;
+            }
+        }
+        let left = within.checked_sub(start.elapsed())?;
+        stream.set_read_timeout(Some(left.max(Duration::from_millis(1)))).ok()?;
+        match stream.read(&mut buf) {
+            Ok(0) => return Some(start.elapsed()),
+            Ok(n) => got.extend_from_slice(&buf[..n]),
+            Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {
+                return None;
+            }
+            Err(_) => return Some(start.elapsed()),
+        }
+    }
+}
