@@ -1,9 +1,9 @@
 //! Issue #34, high 2: the server's log grew as fast as clients liked — a loop of key exchanges
 //! offering 17 KB of junk algorithm names grew it by 128 MB in 5 s (the library's error, holding the
 //! client's whole list, logged verbatim), refusals of a full address by 234 KiB/s, forwarding
-//! requests after login by 2 MB/s. Each flood runs here for a second or two against an in-process
-//! server whose log is captured, and the log's growth is bounded. (One test in this file: the log
-//! capture is the process's.)
+//! requests after login by 2 MB/s. Each flood runs here for a second or less against an in-process
+//! server whose log is captured, and the log's growth is bounded; and a failed password login is
+//! logged with its user and why. (One test in this file: the log capture is the process's.)
 #![cfg(target_os = "linux")]
 
 #[path = "serve_common/load.rs"]
@@ -147,6 +147,23 @@ async fn floods_of_junk_key_exchanges_refusals_and_forwarding_requests_leave_the
         eprintln!("forwarding requests: {asked}, the log grew {grown} bytes");
         assert!(asked >= 100, "the premise: a flood ({asked} requests)");
         assert!(grown < 8 * 1024, "the log grew {grown} bytes in 0.5 s");
+        server.shutdown().await;
+
+        // 4. Issue #34: a failed password login was logged as `closed` with `user=-`.
+        let server = start(Limits::default()).await;
+        let config = Arc::new(russh::client::Config::default());
+        let mut handle =
+            russh::client::connect(config, server.local_addr(), load::Client).await.expect("key exchange");
+        let auth = handle.authenticate_password("pat", "hunter2").await.expect("an answer");
+        assert!(!auth.success());
+        drop(handle);
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while !log.text().contains("user=pat ") {
+            assert!(Instant::now() < deadline, "no line for pat:\n{}", log.text());
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+        let line = log.text().lines().find(|l| l.contains("user=pat ")).unwrap_or_default().to_string();
+        assert!(line.ends_with("reason=authentication failed (password)"), "{line}");
         server.shutdown().await;
     })
     .await
