@@ -10,6 +10,7 @@
 use glam::Vec3;
 
 use crate::overlay::{self, MapArea, MapCells, Peer, Style};
+use crate::roster;
 use crate::state::{App, MapMode};
 use mazewalk_render::palette::xterm_rgb;
 use mazewalk_render::{Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
@@ -33,6 +34,8 @@ pub struct Hud {
     pub fps: usize,
     /// Seconds since the walk (re)started, for the clock of a maze with an exit.
     pub elapsed: f64,
+    /// The host's time now (seconds), for the player list's times.
+    pub now: f64,
 }
 
 /// The buffers one screen is drawn with, reused from frame to frame, and what a host shows besides the
@@ -48,8 +51,14 @@ pub struct Screen {
     pub peers: Vec<Peer>,
     /// A message for everyone (e.g. who reached the exit first), shown in a box until taken away.
     pub notice: Option<String>,
+    /// Everyone in a served maze, for the player list (`Tab`); empty when not served.
+    pub roster: Vec<roster::Entry>,
+    /// The player list is open.
+    pub show_roster: bool,
     /// How many players walk the maze (`mazewalk serve`), for the HUD ("3 in").
     pub players_in: Option<usize>,
+    /// More lines for the exit box (a served maze's best times).
+    pub standings: Vec<String>,
     /// Where the last frame's map was drawn.
     pub map: Option<MapArea>,
     /// What the last frame's render did (the HUD's developer figures).
@@ -124,6 +133,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         let lines: Vec<String> = [format!("You found the exit in {}.", clock_text(seconds))]
             .into_iter()
             .chain(screen.notice.clone())
+            .chain(screen.standings.iter().cloned())
             .chain([
                 String::new(),
                 "r    walk it again".to_string(),
@@ -136,10 +146,16 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         let lines = ["q    quit".to_string(), "any  walk on".to_string()];
         overlay::draw_box(frame, "Quit?", &lines, style);
     } else if app.help {
-        let lines = overlay::help_lines(style, app.maze().exit().is_some());
+        let mut lines = overlay::help_lines(style, app.maze().exit().is_some());
+        if !screen.roster.is_empty() {
+            lines.push(roster::HELP_LINE.to_string()); // a served maze's player list
+        }
         overlay::draw_box(frame, "Keys (? or Esc to close)", &lines, style);
     } else if let Some(notice) = &screen.notice {
         overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
+    }
+    if screen.show_roster && !screen.roster.is_empty() {
+        roster::draw(frame, &screen.roster, hud.now, style); // asked for: over the other boxes
     }
     screen.stats = stats;
     draw_hud(app, screen, frame, hud); // last: boxes never hide it
