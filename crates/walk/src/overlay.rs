@@ -356,15 +356,16 @@ impl MapArea {
         MapArea::whole(0, 0, width, height, u, snap(centre, u))
     }
 
-    /// This map cut down to the characters that show a `seen` cell (and the viewer's own), kept in
-    /// the top-right corner of where it was: at the start of a walk a corner map is the corridor in
-    /// view, not a box of black; it grows as the walk sees more, up to the whole area.
+    /// This map cut down to the characters that show a `seen` cell or one of the points `also` (the
+    /// viewer, the other players), kept in the top-right corner of where it was: at the start of a
+    /// walk a corner map is the corridor in view, not a box of black; it grows as the walk sees more,
+    /// up to the whole area.
     #[must_use]
     pub fn fit_to_seen(
         &self,
         maze: &Maze,
         seen: &dyn Fn(u32) -> bool,
-        viewer: Vec2,
+        also: impl IntoIterator<Item = Vec2>,
         cells: &mut MapCells,
     ) -> MapArea {
         let probes = cells.for_area(self, maze);
@@ -381,7 +382,7 @@ impl MapArea {
                 }
             }
         }
-        if let Some((col, row)) = self.lattice_char(viewer) {
+        for (col, row) in also.into_iter().filter_map(|p| self.lattice_char(p)) {
             include(col, row);
         }
         if lo.0 > hi.0 {

@@ -121,7 +121,10 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     let tint: Option<&dyn Fn(u32) -> bool> = app.culling_tint.then_some(&visible_now);
     screen.map = map_area(app, frame).map(|area| match app.map {
         // the corner map: what has been seen, not a box of black over the view
-        MapMode::Corner => area.fit_to_seen(app.maze(), &seen, app.camera.position, &mut screen.map_cells),
+        MapMode::Corner => {
+            let also = std::iter::once(app.camera.position).chain(screen.peers.iter().map(|p| p.position));
+            area.fit_to_seen(app.maze(), &seen, also, &mut screen.map_cells)
+        }
         _ => area,
     });
     if let Some(area) = &screen.map {
@@ -177,8 +180,9 @@ pub fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud) {
     overlay::limit_colors_in(frame, row, style.depth);
 }
 
-/// Where the map goes on `frame` for the walk's map mode (`None`: no map).
-fn map_area(app: &App, frame: &Frame) -> Option<MapArea> {
+/// Where the map goes on `frame` for the walk's map mode (`None`: no map): the whole area, before the
+/// corner map is fitted to what it shows.
+pub(crate) fn map_area(app: &App, frame: &Frame) -> Option<MapArea> {
     if overlay::too_small(frame.width(), frame.height()) {
         return None; // only the too-small message is drawn
     }

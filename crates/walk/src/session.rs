@@ -295,9 +295,17 @@ impl Session {
         self.screen.renderer.portal().was_visited(cell)
     }
 
-    /// Where the last frame's map is, if it is shown.
+    /// Where the map is, if it is shown: all the area it may cover (the corner map draws the part of
+    /// it that shows what has been seen and the other players in it, so a player anywhere in it
+    /// shows: a host draws those).
     #[must_use]
     pub fn map_area(&self) -> Option<MapArea> {
+        screen::map_area(&self.app, &self.frame)
+    }
+
+    /// Where the last frame's map was drawn: the corner map fitted to what it shows.
+    #[must_use]
+    pub fn map_drawn(&self) -> Option<MapArea> {
         self.screen.map
     }
 

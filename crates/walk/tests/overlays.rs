@@ -168,9 +168,10 @@ fn map_text(frame: &Frame, area: &MapArea) -> Vec<String> {
 fn the_corner_map_is_small_and_sized_to_what_has_been_seen() {
     let mut s = session(maze::builtin().unwrap(), 120, 40);
     s.frame(0.0, &mut Vec::new());
-    let area = s.map_area().expect("a corner map");
+    let area = s.map_drawn().expect("a corner map");
     assert!(area.width * area.height * 6 <= 120 * 40, "{area:?}");
     let whole = MapArea::corner(s.screen(), s.app().camera.position);
+    assert_eq!(s.map_area(), Some(whole), "a host counts the whole corner as the map's");
     assert!(area.width * area.height < whole.width * whole.height / 2, "{area:?} of {whole:?}");
     assert_eq!((area.x + area.width, area.y), (120, 0), "in the top-right corner");
     let frame = s.screen();
@@ -190,7 +191,7 @@ fn the_corner_map_is_small_and_sized_to_what_has_been_seen() {
     let mut all = session(maze::builtin().unwrap(), 120, 40);
     all.app_mut().reveal_map = true;
     all.frame(0.0, &mut Vec::new());
-    let revealed = all.map_area().unwrap();
+    let revealed = all.map_drawn().unwrap();
     assert!(revealed.width * revealed.height > area.width * area.height, "{revealed:?} vs {area:?}");
     assert!(revealed.width <= whole.width && revealed.height <= whole.height);
 }
@@ -297,4 +298,28 @@ fn the_help_tells_of_the_exit_and_in_ascii_spells_everything() {
     s.frame(0.0, &mut Vec::new());
     let text = s.screen().lines().join("\n");
     assert!(text.is_ascii() && text.contains("heading 0 deg E"), "{text}");
+}
+
+// The corner map fitted to what has been seen still shows the other players in its area, seen or
+// not (a host draws the players its map area holds: `Session::map_area` is the whole corner).
+#[test]
+fn the_fitted_corner_map_shows_the_other_players_in_its_area() {
+    use mazewalk_walk::overlay::Peer;
+    let mut s = session(maze::builtin().unwrap(), 120, 40);
+    s.frame(0.0, &mut Vec::new());
+    let whole = s.map_area().unwrap();
+    // a point of the built-in maze in the corner's area but out of sight of the start: south, behind
+    // the corridor's wall
+    let at = s.app().camera.position + Vec2::new(4.0, -8.0);
+    assert!(whole.shows(at) && !s.map_drawn().unwrap().shows(at), "unseen, in the area");
+    let peer = Peer { position: at, heading_deg: 0.0, initial: 'Z', color: Color::Indexed(196), cell: None };
+    s.set_peers(&[peer]);
+    s.frame(0.1, &mut Vec::new());
+    let drawn = s.map_drawn().unwrap();
+    assert!(drawn.shows(at), "{drawn:?}");
+    assert!(
+        map_text(s.screen(), &drawn).iter().any(|row| row.contains('Z')),
+        "{:?}",
+        map_text(s.screen(), &drawn)
+    );
 }
