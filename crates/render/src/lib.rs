@@ -55,6 +55,7 @@ pub mod palette;
 pub mod picture;
 pub mod pipeline;
 pub mod portal;
+pub mod quality;
 pub mod raster;
 pub mod samples;
 pub mod shade;
