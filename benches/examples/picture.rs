@@ -146,7 +146,8 @@ fn main() {
         print!("| {name} | {:.1} |", t.surfaces_apart);
         for (mode, depth, dither) in MODES {
             let frame = render(&mut renderer, maze, camera, &options(Charset::Half, depth, dither));
-            let m = quality::measure(&quality::shown(&frame, Charset::Half), &truth, &ids, width);
+            let shown = quality::shown(&frame, Charset::Half);
+            let m = quality::measure(&shown, &truth, &ids, width);
             all.entry(mode).or_default().push(m);
             print!(" {:.1} / {:.0} / {:.1} |", 100.0 * m.grain, m.hue_error_deg, m.surfaces_apart);
         }
