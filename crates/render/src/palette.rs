@@ -356,22 +356,14 @@ impl LightRamp {
             .collect();
         let n = candidates.len();
         // best[j]: the least cost of levels 0..=level ending on candidate j; from[level][j]: the
-        // candidate of the level before on that path. A step from candidate i to a lighter j costs
-        // `step[i][j]`: infinite from a coloured entry to a grey (a ramp's greys are its dark end:
-        // once coloured it stays so, and a wall is never a grey blob amid its colour), and between
-        // two coloured entries [`Weights::step`] times their chroma difference squared (a wall's
-        // bands keep its saturation instead of passing through a vivid entry between two pale ones).
+        // candidate of the level before on that path. A step from candidate i to a lighter j: from a
+        // grey, free; from a coloured entry to a grey, never (a ramp's greys are its dark end: once
+        // coloured it stays so, and a wall is never a grey blob amid its colour); between two
+        // coloured entries, [`Weights::step`] times their chroma difference squared (a wall's bands
+        // keep its saturation instead of passing through a vivid entry between two pale ones).
         let weights = palette.weights();
-        let step: Vec<f32> = (0..n * n)
-            .map(|k| {
-                let (a, b) = (&candidates[k / n], &candidates[k % n]);
-                match (a.chroma < GREY_ENTRY, b.chroma < GREY_ENTRY) {
-                    (false, true) => f32::INFINITY,
-                    (false, false) => weights.step * (a.chroma - b.chroma).powi(2),
-                    _ => 0.0,
-                }
-            })
-            .collect();
+        let grey: Vec<bool> = candidates.iter().map(|e| e.chroma < GREY_ENTRY).collect();
+        let coloured: Vec<usize> = (0..n).filter(|&i| !grey[i]).collect();
         let mut best = vec![0.0f32; n];
         let mut next = vec![0.0f32; n];
         let mut from = vec![0u8; LEVELS * n];
@@ -379,14 +371,24 @@ impl LightRamp {
             let s = s_max * (level as f32 + 0.5) / LEVELS as f32;
             let target = palette.target(direction * s);
             let target_chroma = target.y.hypot(target.z);
+            // The best path so far ending on a grey no lighter than j: a step from it costs nothing.
+            let mut from_grey = (f32::INFINITY, 0usize);
             for j in 0..n {
                 let (mut before, mut at) = (if level == 0 { 0.0 } else { best[j] }, j);
                 if level > 0 {
-                    for i in 0..j {
-                        let via = best[i] + step[i * n + j];
-                        if via < before {
-                            (before, at) = (via, i);
+                    if from_grey.0 < before {
+                        (before, at) = from_grey;
+                    }
+                    if !grey[j] {
+                        for &i in coloured.iter().take_while(|&&i| i < j) {
+                            let step = weights.step * (candidates[i].chroma - candidates[j].chroma).powi(2);
+                            if best[i] + step < before {
+                                (before, at) = (best[i] + step, i);
+                            }
                         }
+                    }
+                    if grey[j] && best[j] < from_grey.0 {
+                        from_grey = (best[j], j);
                     }
                 }
                 from[level * n + j] = at as u8;
