@@ -149,7 +149,7 @@ fn main() {
             let shown = quality::shown(&frame, Charset::Half);
             let m = quality::measure(&shown, &truth, &ids, width);
             all.entry(mode).or_default().push(m);
-            print!(" {:.1} / {:.0} / {:.1} |", 100.0 * m.grain, m.hue_error_deg, m.surfaces_apart);
+            print!(" {:.2} / {:.1} / {:.1} |", 100.0 * m.grain, m.hue_error_deg, m.surfaces_apart);
         }
         println!();
     }

@@ -37,8 +37,8 @@ const AMBIENT: f32 = 0.25;
 /// Where nothing is hit: the fog's colour (linear RGB).
 const FOG_COLOR: Vec3 = Vec3::ZERO;
 /// Floor and ceiling base colours (sRGB, like the maze files' wall colours).
-const FLOOR_SRGB: Vec3 = Vec3::new(0.50, 0.45, 0.38);
-const CEILING_SRGB: Vec3 = Vec3::new(0.22, 0.24, 0.29);
+const FLOOR_SRGB: Vec3 = Vec3::new(0.49, 0.46, 0.41);
+const CEILING_SRGB: Vec3 = Vec3::new(0.23, 0.24, 0.27);
 /// The floor/ceiling checker: one square per generated maze cell, a gentle contrast to show motion.
 const CHECKER_PERIOD: f32 = 4.0;
 const CHECKER_CONTRAST: f32 = 0.18;
