@@ -19,7 +19,7 @@ use super::world::{Look, PlayerId};
 use mazewalk_maze::Maze;
 use mazewalk_render::{Charset, RenderOptions};
 use mazewalk_term::caps;
-use mazewalk_term::frame::{Color, ColorDepth};
+use mazewalk_term::frame::ColorDepth;
 use mazewalk_term::input::Input;
 use mazewalk_term::modes::{Enabled, enter_sequence, restore_sequence};
 use mazewalk_walk::overlay::Peer;
@@ -40,20 +40,6 @@ pub const WORLD_LOOKS_PER_SECOND: f64 = 30.0;
 
 /// The longest player name, in characters.
 pub const MAX_NAME: usize = 16;
-
-/// The colours players are drawn in, by order of arrival (256-colour indices: bright and distinct from
-/// the map's own yellow viewer, green exit and grey walls; [`mazewalk_walk::overlay::limit_colors`] takes
-/// them down to the terminal's depth).
-pub const PLAYER_COLORS: [Color; 8] = [
-    Color::Indexed(196), // red
-    Color::Indexed(33),  // blue
-    Color::Indexed(201), // magenta
-    Color::Indexed(51),  // cyan
-    Color::Indexed(208), // orange
-    Color::Indexed(129), // purple
-    Color::Indexed(118), // lime
-    Color::Indexed(231), // white
-];
 
 /// The player name for an SSH user name: ASCII letters, digits, `-`, `_` and `.` only (no control
 /// characters, escape sequences, wide or invisible characters can reach another player's screen),
