@@ -21,7 +21,7 @@
 use glam::Vec3;
 
 use super::options::Charset;
-use super::palette::{oklab, xterm_rgb};
+use super::palette::{hue_difference, oklab, xterm_rgb};
 use super::picture::glyph_mask;
 use super::shade::srgb_to_linear;
 use mazewalk_term::frame::{Color, Frame};
@@ -135,12 +135,7 @@ fn hue_error_deg(frame: &[Vec3], truth: &[Vec3]) -> f64 {
             continue;
         }
         let (fc, fh) = chroma_hue(f);
-        let error = if fc < GREY {
-            180.0
-        } else {
-            let d = (fh - th).abs().rem_euclid(std::f32::consts::TAU);
-            f64::from(d.min(std::f32::consts::TAU - d).to_degrees())
-        };
+        let error = if fc < GREY { 180.0 } else { f64::from(hue_difference(fh, th).to_degrees()) };
         sum += error;
         n += 1;
     }
