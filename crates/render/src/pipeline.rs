@@ -218,7 +218,7 @@ impl Renderer {
                 continue; // hidden there (a wall, a nearer figure)
             }
             let (x, y) = (label.sample % width / sx, label.sample / width / sy);
-            let bg = palette::quantize(label.color, depth);
+            let bg = palette::picture_color(label.color, depth); // as the head it stands on
             // Dark ink on a light head (the head is a light tint of the figure's colour).
             let fg = if depth == ColorDepth::None { Color::Default } else { Color::Indexed(0) };
             // One printable ASCII character, whatever the caller passed (a name may hold anything).
