@@ -23,6 +23,7 @@ use mazewalk_term::frame::ColorDepth;
 use mazewalk_term::input::Input;
 use mazewalk_term::modes::{Enabled, enter_sequence, restore_sequence};
 use mazewalk_walk::overlay::Peer;
+use mazewalk_walk::roster;
 use mazewalk_walk::session::fit_size;
 use mazewalk_walk::state::StartOutsideMaze;
 use mazewalk_walk::{App, Session, SessionOptions};
@@ -102,6 +103,8 @@ pub struct Player {
     last_look: f64,
     /// The others it draws, as of its last look (reused).
     peers: Vec<Peer>,
+    /// Everyone, for the player list, as of its last look (reused).
+    roster: Vec<roster::Entry>,
     /// When the notice on screen goes away.
     notice_until: Option<f64>,
     /// The winner has been announced to it.
@@ -155,6 +158,7 @@ impl Player {
             look_at: Some(now), // look at the world at once
             last_look: f64::NEG_INFINITY,
             peers: Vec::new(),
+            roster: Vec::new(),
             notice_until: None,
             seen_winner: false,
             reported_finish: false,
@@ -223,6 +227,12 @@ impl Player {
             .map(|at| at.max(now))
     }
 
+    /// The player starts at `position` (where a viewer stands there) instead of the maze's start,
+    /// and `r` brings it back there: its own spot in a shared maze ([`crate::spawn`]).
+    pub fn place(&mut self, position: Vec2) {
+        self.session.app_mut().set_start(position);
+    }
+
     /// The player joined the world as `id`.
     pub fn joined(&mut self, id: PlayerId) {
         self.id = Some(id);
@@ -260,6 +270,18 @@ impl Player {
         look.peers_of(me, |position, cell| self.shows(position, cell), &mut peers);
         let mut changed = self.session.set_peers(&peers);
         self.peers = peers;
+        // The player list (everyone, itself too) and the HUD's count.
+        self.roster.clear();
+        self.roster.extend(look.players.iter().map(|(id, seen)| roster::Entry {
+            name: seen.name.clone(),
+            label: seen.label,
+            color: seen.color,
+            joined_at: seen.joined_at,
+            best: seen.best,
+            me: *id == me,
+        }));
+        self.session.set_roster(&self.roster);
+        self.session.set_players_in(Some(look.players.len()));
         if let (Some(winner), false) = (&look.winner, self.seen_winner) {
             self.seen_winner = true;
             self.session.set_notice(Some(winner.announcement_for(me)));
@@ -451,11 +473,11 @@ mod tests {
         let mut p = player(80, 24);
         let mut world = World::new();
         let (position, heading, cell) = p.whereabouts();
-        p.joined(world.join("alice", position, heading, cell));
+        p.joined(world.join("alice", position, heading, cell, 0.0));
         let mut out = Vec::new();
         assert!(p.frame(0.0, &mut out));
         assert!(p.shows(position, cell), "the player's own cell is in view");
-        world.join("bob", position + Vec2::X, 0.0, cell);
+        world.join("bob", position + Vec2::X, 0.0, cell, 0.0);
         assert!(p.look(&world.look(), 0.1), "bob came into view");
         assert!(!p.look(&world.look(), 0.2), "the same peers: nothing to redraw");
         p.feed(b"\x1b[?62;22c", 0.5);
@@ -471,7 +493,7 @@ mod tests {
         let mut p = player(80, 24);
         let mut world = World::new();
         let (position, heading, cell) = p.whereabouts();
-        let me = world.join("alice", position, heading, cell);
+        let me = world.join("alice", position, heading, cell, 0.0);
         p.joined(me);
         assert!(p.look_due(0.0), "a newcomer looks at once");
         p.look(&world.look(), 0.0);
@@ -480,7 +502,7 @@ mod tests {
         assert!(!p.look_due(0.01) && p.look_due(1.0 / WORLD_LOOKS_PER_SECOND), "paced");
         assert_eq!(p.next_wake(0.01).map(|t| t <= 1.0 / WORLD_LOOKS_PER_SECOND), Some(true));
 
-        let bob = world.join("bob", position, 0.0, cell);
+        let bob = world.join("bob", position, 0.0, cell, 0.0);
         world.finished(bob, 83.0);
         p.look(&world.look(), 1.0);
         let mut out = Vec::new();
@@ -497,5 +519,47 @@ mod tests {
         p.session_mut().app_mut().finished = Some(90.0);
         assert_eq!(p.news().finished, Some(90.0));
         assert_eq!(p.news().finished, None, "told once");
+    }
+
+    /// Issue #34: two players on one spot showed as `B` in the view and `C` on the map. The one in
+    /// front (the nearer, of equals the first) is the one both show.
+    #[test]
+    fn a_player_has_one_label_in_the_view_and_on_the_map() {
+        let mut p = player(100, 30);
+        let mut world = World::new();
+        let (position, heading, cell) = p.whereabouts();
+        p.joined(world.join("alice", position, heading, cell, 0.0));
+        let ahead = position + 2.0 * mazewalk_maze::geometry::heading_dir(heading);
+        let bob = world.join("bob", ahead, 0.0, cell, 0.0);
+        let carol = world.join("carol", ahead, 0.0, cell, 0.0);
+        let mut out = Vec::new();
+        p.frame(0.0, &mut out);
+        p.look(&world.look(), 0.1);
+        p.frame(0.2, &mut out);
+        let area = p.session().map_area().expect("the corner map");
+        let lines = p.session().screen().lines();
+        let in_map = |ch: char| {
+            lines.iter().enumerate().any(|(y, l)| {
+                l.chars().enumerate().any(|(x, c)| {
+                    c == ch
+                        && (area.x..area.x + area.width).contains(&x)
+                        && (area.y..area.y + area.height).contains(&y)
+                })
+            })
+        };
+        let in_view = |ch: char| {
+            lines.iter().enumerate().any(|(y, l)| {
+                y + 1 < lines.len()
+                    && l.chars().enumerate().any(|(x, c)| {
+                        c == ch
+                            && !((area.x..area.x + area.width).contains(&x)
+                                && (area.y..area.y + area.height).contains(&y))
+                    })
+            })
+        };
+        let (b, c) = (world.get(bob).unwrap().label, world.get(carol).unwrap().label);
+        assert_eq!((b, c), ('B', 'C'));
+        assert!(in_view('B') && in_map('B'), "bob, the first, in front in both:\n{}", lines.join("\n"));
+        assert!(!in_view('C') && !in_map('C'), "carol behind him in both:\n{}", lines.join("\n"));
     }
 }

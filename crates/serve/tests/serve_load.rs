@@ -155,7 +155,14 @@ async fn scenario() {
 async fn server_with(limits: Limits) -> Server {
     let maze = mazewalk_maze::builtin().expect("built-in maze");
     let listen: SocketAddr = "127.0.0.1:0".parse().expect("address");
-    let options = ServeOptions { maze, listen, host_key: load::host_key(), access: Access::Open, limits };
+    let options = ServeOptions {
+        maze,
+        listen: vec![listen],
+        host_key: load::host_key(),
+        access: Access::Open,
+        limits,
+        records: None,
+    };
     Server::start(options).await.expect("start the server")
 }
 

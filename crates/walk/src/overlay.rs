@@ -489,10 +489,16 @@ pub struct Peer {
 }
 
 /// Draws each peer on the map in `area` as its initial in its colour (over walls and floor alike; the
-/// viewer's own arrow, drawn by [`draw_map`] before, stays on top where they meet).
+/// viewer's own arrow, drawn by [`draw_map`] before, stays on top where they meet). Where peers share
+/// a character, the one the view shows in front shows: the nearest the viewer, of equally near ones
+/// the first (as the renderer draws figures), so a player has one label in the view and on the map.
 pub fn draw_peers(frame: &mut Frame, area: &MapArea, peers: &[Peer], viewer: Vec2, style: Style) {
     let own = area.shows(viewer).then(|| area.to_map(viewer)).map(|m| (m.x as usize, m.y as usize));
-    for peer in peers.iter().filter(|p| area.shows(p.position)) {
+    // farthest first and, of equals, the last first: the one in front is drawn last
+    let mut order: Vec<(f32, usize)> =
+        peers.iter().enumerate().map(|(i, p)| (p.position.distance_squared(viewer), i)).collect();
+    order.sort_by(|a, b| b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)));
+    for peer in order.iter().map(|&(_, i)| &peers[i]).filter(|p| area.shows(p.position)) {
         let m = area.to_map(peer.position);
         let (col, row) = (m.x as usize, m.y as usize);
         if own == Some((col, row)) {

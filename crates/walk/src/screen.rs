@@ -10,6 +10,7 @@
 use glam::Vec3;
 
 use crate::overlay::{self, MapArea, MapCells, Peer, Style};
+use crate::roster;
 use crate::state::{App, MapMode};
 use mazewalk_render::palette::xterm_rgb;
 use mazewalk_render::{Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
@@ -33,6 +34,8 @@ pub struct Hud {
     pub fps: usize,
     /// Seconds since the walk (re)started, for the clock of a maze with an exit.
     pub elapsed: f64,
+    /// The host's time now (seconds), for the player list's times.
+    pub now: f64,
 }
 
 /// The buffers one screen is drawn with, reused from frame to frame, and what a host shows besides the
@@ -48,6 +51,14 @@ pub struct Screen {
     pub peers: Vec<Peer>,
     /// A message for everyone (e.g. who reached the exit first), shown in a box until taken away.
     pub notice: Option<String>,
+    /// Everyone in a served maze, for the player list (`Tab`); empty when not served.
+    pub roster: Vec<roster::Entry>,
+    /// The player list is open.
+    pub show_roster: bool,
+    /// Players in a served maze, for the HUD ("3 in").
+    pub players_in: Option<usize>,
+    /// More lines for the exit box (a served maze's best times).
+    pub standings: Vec<String>,
     /// The peers as the renderer's figures (reused from frame to frame).
     sprites: Vec<Sprite>,
     /// What the map's characters show, kept while the map stays put.
@@ -112,15 +123,24 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         let lines: Vec<String> = [format!("You found the exit in {}.", clock_text(seconds))]
             .into_iter()
             .chain(screen.notice.clone())
+            .chain(screen.standings.iter().cloned())
             .chain([String::new(), "r  walk it again".to_string(), "q  quit".to_string()])
             .collect();
         overlay::draw_box(frame, "Found the exit!", &lines, style);
     } else if app.help {
-        overlay::draw_box(frame, "Keys (? or Esc to close)", &overlay::help_lines(style), style);
+        let mut lines = overlay::help_lines(style);
+        if !screen.roster.is_empty() {
+            lines.push(roster::HELP_LINE.to_string()); // a served maze's player list
+        }
+        overlay::draw_box(frame, "Keys (? or Esc to close)", &lines, style);
     } else if let Some(notice) = &screen.notice {
         overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
     }
-    overlay::draw_hud(frame, &hud_text(app, &stats, hud, cols), style); // last: boxes never hide it
+    if screen.show_roster && !screen.roster.is_empty() {
+        roster::draw(frame, &screen.roster, hud.now, style); // asked for: over the other boxes
+    }
+    let players_in = screen.players_in.map(|n| format!("{n} in"));
+    overlay::draw_hud(frame, &hud_text(app, &stats, hud, players_in, cols), style); // last: boxes never hide it
     overlay::limit_colors(frame, style.depth); // not one code deeper than the terminal's depth
     stats
 }
@@ -140,7 +160,7 @@ pub(crate) fn map_area(app: &App, frame: &Frame) -> Option<MapArea> {
 /// The HUD line, `width` columns at most: the most useful fields first (where and which way), the
 /// exit clock, what frames cost, which cell, the view settings — each only if it fits whole — and
 /// "? help" always at the right end.
-fn hud_text(app: &App, stats: &RenderStats, hud: &Hud, width: usize) -> String {
+fn hud_text(app: &App, stats: &RenderStats, hud: &Hud, players_in: Option<String>, width: usize) -> String {
     const HELP: &str = "? help ";
     let c = &app.camera;
     let projection = match c.projection {
@@ -160,6 +180,7 @@ fn hud_text(app: &App, stats: &RenderStats, hud: &Hud, width: usize) -> String {
         (1, format!("heading {:.0}°", c.yaw_deg)),
         (2, format!("pitch {:+.0}°", c.pitch_deg)),
         (4, clock.unwrap_or_default()),
+        (4, players_in.unwrap_or_default()),
         (5, format!("{} fps {} B", hud.fps, hud.cost.bytes)),
         (6, format!("cell {} seen {}", app.cell, stats.portal.distinct_cells)),
         (7, format!("fov {:.0}° {projection} {}", c.hfov_deg, app.options.charset)),
@@ -191,17 +212,19 @@ mod tests {
         let stats = RenderStats::default();
         let hud = Hud { fps: 57, elapsed: 83.0, ..Hud::default() };
         for width in [20, 40, 60, 80, 120, 200] {
-            let line = hud_text(&app, &stats, &hud, width);
+            let line = hud_text(&app, &stats, &hud, None, width);
             assert_eq!(line.chars().count(), width, "{line:?}");
             assert!(line.ends_with("? help "), "{line:?}");
             assert!(line.starts_with(" ("), "position first: {line:?}");
         }
-        let at80 = hud_text(&app, &stats, &hud, 80);
+        let at80 = hud_text(&app, &stats, &hud, None, 80);
         assert!(
             at80.contains("heading 0°") && at80.contains("time 1:23.0") && at80.contains("57 fps 0 B"),
             "{at80:?}"
         );
-        let wide = hud_text(&app, &stats, &hud, 200);
+        let wide = hud_text(&app, &stats, &hud, None, 200);
         assert!(wide.contains("fov 90° persp half") && wide.contains("cell "), "{wide:?}");
+        let served = hud_text(&app, &stats, &hud, Some("3 in".into()), 80);
+        assert!(served.contains("time 1:23.0  3 in"), "a served maze's count beside the clock: {served:?}");
     }
 }

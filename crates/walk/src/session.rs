@@ -33,12 +33,13 @@ use std::collections::VecDeque;
 
 use crate::flow::{FlowControl, QUERY};
 use crate::overlay::{MapArea, Peer};
+use crate::roster;
 use crate::screen::{self, FrameCost, Hud, Screen};
 use crate::state::App;
 use mazewalk_render::Culling;
 use mazewalk_term::encoder::{self, Encoder};
 use mazewalk_term::frame::Frame;
-use mazewalk_term::input::{Input, InputDecoder, Key, Reply};
+use mazewalk_term::input::{Input, InputDecoder, Key, KeyPhase, Reply};
 
 /// The most frames per second drawn while something moves.
 pub const MAX_FPS: f64 = 60.0;
@@ -221,6 +222,33 @@ impl Session {
         true
     }
 
+    /// Everyone in a served maze, for the player list (`Tab` opens and closes it; empty: no list, and
+    /// `Tab` does nothing). Redraws only if the list is open and changed.
+    pub fn set_roster(&mut self, entries: &[roster::Entry]) {
+        if self.screen.roster != entries {
+            self.screen.roster.clear();
+            self.screen.roster.extend_from_slice(entries);
+            self.dirty |= self.screen.show_roster;
+            self.screen.show_roster &= !entries.is_empty();
+        }
+    }
+
+    /// The number of players in a served maze, for the HUD (`None`: not served).
+    pub fn set_players_in(&mut self, players: Option<usize>) {
+        if self.screen.players_in != players {
+            self.screen.players_in = players;
+            self.dirty = true;
+        }
+    }
+
+    /// More lines for the exit box: a served maze's best times.
+    pub fn set_standings(&mut self, lines: Vec<String>) {
+        if self.screen.standings != lines {
+            self.screen.standings = lines;
+            self.dirty = true;
+        }
+    }
+
     /// Shows `notice` in a box over the view (`None` takes it away).
     pub fn set_notice(&mut self, notice: Option<String>) {
         if self.screen.notice != notice {
@@ -278,6 +306,17 @@ impl Session {
             Input::Key { key: Key::Char('z'), modifiers, .. } if modifiers.ctrl => self.suspend = true,
             // Ctrl or Alt with a letter is not the letter (Ctrl-Q must not quit, Alt-W not walk).
             Input::Key { key: Key::Char(_), modifiers, .. } if modifiers.ctrl || modifiers.alt => {}
+            // The player list of a served maze: Tab opens and closes it, Esc closes it (not the walk).
+            Input::Key { key: Key::Tab, phase, .. } if !self.screen.roster.is_empty() => {
+                if phase == KeyPhase::Press {
+                    self.screen.show_roster = !self.screen.show_roster;
+                    self.dirty = true;
+                }
+            }
+            Input::Key { key: Key::Esc, .. } if self.screen.show_roster => {
+                self.screen.show_roster = false;
+                self.dirty = true;
+            }
             Input::Key { key, phase, .. } => self.dirty |= self.app.key(key, phase, now),
             Input::MouseDrag { dx, dy, .. } => self.dirty |= self.app.drag(dx, dy),
             Input::Resize { cols, rows } => {
@@ -353,8 +392,11 @@ impl Session {
             }
             _ => Some(frame_due),
         };
+        // The open player list's times tick each second.
+        let roster = self.screen.show_roster.then(|| now.floor() + 1.0);
         // Never before `now` (a frame due long ago, a session that has ended): a host sleeps until then.
-        let wake = [drawing, self.app.held.next_expiry(), self.decoder.deadline()].into_iter().flatten();
+        let wake =
+            [drawing, self.app.held.next_expiry(), self.decoder.deadline(), roster].into_iter().flatten();
         wake.reduce(f64::min).map(|t| if t.is_nan() { now } else { t.max(now) })
     }
 
@@ -370,6 +412,7 @@ impl Session {
     pub fn frame(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
         self.decode(now, |decoder, out| decoder.expire(now, out)); // a lone Esc, a stalled sequence
         self.dirty |= self.app.tick(now);
+        self.dirty |= self.screen.show_roster && now.floor() > self.last_frame.floor(); // its times tick
         if !self.dirty || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
             return false;
         }
@@ -380,7 +423,8 @@ impl Session {
             self.recent_frames.pop_front();
         }
         self.recent_frames.push_back(now);
-        let hud = Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started };
+        let hud =
+            Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started, now };
         let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
         self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
         screen::draw(&self.app, &mut self.screen, &mut self.frame, &hud);
@@ -410,6 +454,39 @@ mod tests {
         let app = App::new(mazewalk_maze::builtin().unwrap(), mazewalk_render::RenderOptions::default(), 0.0)
             .unwrap();
         Session::new(app, 100, 30, options)
+    }
+
+    /// Issue #34: a served maze's player list. Tab opens and closes it, Esc closes it without ending
+    /// the walk, its times tick each second while it is open; without a list Tab does nothing.
+    #[test]
+    fn tab_shows_the_player_list_and_esc_closes_it_not_the_walk() {
+        let mut s = session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        let mut out = Vec::new();
+        s.frame(0.0, &mut out);
+        s.feed(b"\t", 0.1);
+        assert!(!s.frame(0.2, &mut out), "no list: Tab does nothing");
+        let me = roster::Entry {
+            name: "ada".into(),
+            label: 'A',
+            color: mazewalk_term::frame::Color::Indexed(196),
+            joined_at: 0.0,
+            best: None,
+            me: true,
+        };
+        s.set_roster(std::slice::from_ref(&me));
+        s.set_players_in(Some(1));
+        assert!(s.frame(0.3, &mut out));
+        assert!(s.screen().lines().last().unwrap().contains("1 in"), "the HUD counts the players");
+        s.feed(b"\t", 1.4);
+        assert!(s.frame(1.5, &mut out));
+        let text = s.screen().lines().join("\n");
+        assert!(text.contains("Players: 1") && text.contains("A  ada (you)      0:01"), "{text}");
+        assert!(s.next_wake(1.5).is_some_and(|t| t <= 2.0), "its times tick each second");
+        assert!(s.frame(2.0, &mut out) && s.screen().lines().join("\n").contains("0:02"));
+        s.input(mazewalk_term::input::Input::press(Key::Esc), 2.2);
+        assert!(!s.is_over(), "Esc closed the list, not the walk");
+        assert!(s.frame(2.3, &mut out));
+        assert!(!s.screen().lines().join("\n").contains("Players:"));
     }
 
     /// A terminal's size, whatever it claims, costs a bounded frame: a side of zero is unknown

@@ -232,6 +232,17 @@ impl App {
         })
     }
 
+    /// Makes where a viewer put at `position` stands ([`stand`]) the walk's start — the viewer goes
+    /// there, facing as the maze's viewer does, and `r` comes back there — for a host that gives each
+    /// of its players a spot of its own (`mazewalk serve`). `false`, and nothing changed, when
+    /// `position` is in no cell.
+    pub fn set_start(&mut self, position: Vec2) -> bool {
+        let Some(Position { cell, pos }) = stand(&self.maze, position) else { return false };
+        self.start = (Camera { position: pos, ..self.start.0 }, cell);
+        (self.camera, self.cell) = self.start;
+        true
+    }
+
     /// Whether cell `c` shows on the map: seen at some time in the walk, or every cell with
     /// [`reveal_map`](Self::reveal_map).
     #[must_use]
