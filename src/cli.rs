@@ -132,9 +132,13 @@ pub struct LookArgs {
     /// Terminal cell width / height (cells are about twice as tall as wide).
     #[arg(long, default_value_t = 0.5, value_parser = parse_cell_aspect)]
     pub cell_aspect: f32,
-    /// In 256 and 16 colours, give each sample its nearest palette entry instead of dithering between
-    /// two (fewer bytes, visible bands). The walk also stops dithering by itself on a slow link.
+    /// In 256 and 16 colours, mix neighbouring palette entries that are close in an ordered pattern
+    /// where the shading falls between them (smoother, about 1.5× the bytes; the walk stops mixing
+    /// by itself on a slow link). By default each surface is drawn in clean bands of its own hues.
     #[arg(long)]
+    pub dither: bool,
+    /// The default (kept so that scripts written for the old dithered default still run).
+    #[arg(long, hide = true, conflicts_with = "dither")]
     pub no_dither: bool,
     /// The ascii charset's shading ramp: short (10 characters, ` .:-=+*#%@`) or long (70).
     #[arg(long, default_value = "short")]
@@ -314,7 +318,7 @@ impl LookArgs {
             color_depth,
             culling,
             cell_aspect: self.cell_aspect,
-            dither: !self.no_dither,
+            dither: self.dither,
             ramp: self.ramp,
             textures: self.textures,
         }
