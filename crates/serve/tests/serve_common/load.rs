@@ -65,7 +65,7 @@ pub async fn connect_with_window(
 ) -> Result<Connected, russh::Error> {
     let stream = tokio::net::TcpStream::connect(addr).await?;
     stream.set_nodelay(true)?;
-    connect_stream(stream, user, size, window_size).await
+    connect_stream(stream, user, size, window_size, false).await
 }
 
 /// [`connect`] over a TCP connection already made (from an address of the caller's choice, say).
@@ -78,7 +78,7 @@ pub async fn connect_over(
     size: (u32, u32),
 ) -> Result<Connected, russh::Error> {
     stream.set_nodelay(true)?;
-    connect_stream(stream, user, size, client::Config::default().window_size).await
+    connect_stream(stream, user, size, client::Config::default().window_size, false).await
 }
 
 /// [`connect`] over `stream`.
@@ -87,6 +87,7 @@ async fn connect_stream<S>(
     user: &str,
     (cols, rows): (u32, u32),
     window_size: u32,
+    truecolor: bool,
 ) -> Result<Connected, russh::Error>
 where
     S: tokio::io::AsyncRead + tokio::io::AsyncWrite + Unpin + Send + 'static,
@@ -97,13 +98,17 @@ where
         return Err(russh::Error::NotAuthenticated);
     }
     let channel = handle.channel_open_session().await?;
+    if truecolor {
+        channel.set_env(true, "COLORTERM", "truecolor").await?;
+    }
     channel.request_pty(true, "xterm-256color", cols, rows, 0, 0, &[]).await?;
     channel.request_shell(true).await?;
     Ok(Connected { handle, channel })
 }
 
 /// Connects as [`connect`] does, over a stream that stops reading once the returned flag is set:
-/// a client that stops reading (its keys still go out).
+/// a client that stops reading (its keys still go out). It asks for truecolor (`COLORTERM`), whose
+/// frames are the largest, so that what the server sends piles up soonest.
 ///
 /// # Errors
 /// As [`connect`].
@@ -123,6 +128,7 @@ pub async fn connect_deaf(
         user,
         size,
         client::Config::default().window_size,
+        true, // the largest frames: what the server sends piles up soonest
     )
     .await?;
     Ok((connected, deaf))
