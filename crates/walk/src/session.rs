@@ -100,8 +100,8 @@ pub fn adaptive_tolerance(base: u8, round_trip: Option<f64>) -> u8 {
 
 /// Whether the link counts as slow, from the reply round trip in seconds and whether it counted as
 /// slow before: slow above 0.15 s, fast again below 0.08 s (between the two it stays as it was, so
-/// it does not flap). On a slow link the walk stops dithering: a dithered 256- or 16-colour frame
-/// costs about twice the bytes of a plain one while walking (BENCHMARKS.md, "Dithering").
+/// it does not flap). On a slow link the walk stops dithering (`--dither`, off by default): a
+/// dithered 256- or 16-colour frame costs about 1.5× the bytes of a plain one while walking.
 #[must_use]
 pub fn slow_link(was_slow: bool, round_trip: Option<f64>) -> bool {
     match round_trip {
