@@ -20,7 +20,7 @@
 
 use std::collections::VecDeque;
 
-use glam::{Vec2, Vec3, vec2};
+use glam::{Vec3, vec2};
 
 use super::grid::TileMap;
 use super::{CellId, Cells, Edge, Edges, Exit, Maze, Viewer};
@@ -504,12 +504,6 @@ pub fn generate_grid(opts: &GenOptions) -> Result<TileMap, GenError> {
         }
     }
     Ok(TileMap { tile: CELL_SIZE, eye: 0.0, fov_deg: 90.0, facing_deg, legend, cols, rows, tiles })
-}
-
-/// The viewer's start for a layout, for callers placing it themselves.
-#[must_use]
-pub fn start_position(l: &Layout) -> Vec2 {
-    (vec2((l.start % l.width) as f32, (l.start / l.width) as f32) + 0.5) * CELL_SIZE
 }
 
 #[cfg(test)]

@@ -50,9 +50,9 @@ use super::{
 };
 
 /// The first word of a grid file.
-pub const MAGIC: &str = "mazewalk-grid";
+pub(crate) const MAGIC: &str = "mazewalk-grid";
 /// The format version this reader and writer speak.
-pub const VERSION: u32 = 1;
+pub(crate) const VERSION: u32 = 1;
 /// The colour of `#` walls and of the outside unless the legend says otherwise (`#808080`).
 pub const DEFAULT_WALL: Vec3 = Vec3::splat(128.0 / 255.0);
 /// A tile's side must be more than this: the viewer's disc ([`WALL_MARGIN`] round it) across, so
@@ -60,7 +60,7 @@ pub const DEFAULT_WALL: Vec3 = Vec3::splat(128.0 / 255.0);
 pub const MIN_TILE: f32 = 2.0 * WALL_MARGIN;
 
 /// Most tiles in a map (2048 × 2048), so a 1000 × 1000 generated maze fits.
-pub const MAX_TILES: usize = 2048 * 2048;
+pub(crate) const MAX_TILES: usize = 2048 * 2048;
 
 /// A parsed grid map: settings plus the tile characters, before it becomes a [`Maze`].
 #[derive(Clone, Debug, PartialEq)]
@@ -85,7 +85,7 @@ pub struct TileMap {
 
 impl TileMap {
     /// The letters a legend may define, in the order the writer hands them out.
-    pub const LEGEND_LETTERS: &'static [u8] = b"ABCDFGHIJKLMNOPQRSTUVWXYZ";
+    pub(crate) const LEGEND_LETTERS: &'static [u8] = b"ABCDFGHIJKLMNOPQRSTUVWXYZ";
 
     /// The tile at column `x`, `y` rows up from the bottom; `0` outside the map.
     fn at(&self, x: i64, y: i64) -> u8 {

@@ -49,7 +49,7 @@ pub use load::{
 pub use text::{Format, ParseError, ParseErrorKind, QUOTE_CHARS, WriteError, quote, quote_path};
 
 /// The maze walked when none is given: `mazes/hand-drawn.grid`, compiled in (loops, colours, an exit).
-pub const BUILTIN: &str = include_str!("../../../mazes/hand-drawn.grid");
+pub(crate) const BUILTIN: &str = include_str!("../../../mazes/hand-drawn.grid");
 
 /// The name the built-in maze goes by in messages.
 pub const BUILTIN_NAME: &str = "built-in maze";
@@ -63,22 +63,22 @@ pub fn builtin() -> Result<Maze, ParseError> {
 }
 
 /// Index of a vertex in [`Maze::vertices`].
-pub type VertexId = u32;
+pub(crate) type VertexId = u32;
 /// Index of an edge in [`Maze::edges`].
-pub type EdgeId = u32;
+pub(crate) type EdgeId = u32;
 /// Index of a cell, `0..maze.cell_count()`.
-pub type CellId = u32;
+pub(crate) type CellId = u32;
 
 /// Largest accepted |x| or |y| of any coordinate, in maze units.
 pub const COORD_BOUND: f32 = 1.0e6;
 
 /// Distance (maze units) within which a point counts as on an edge line, so a point exactly on a
 /// cell's boundary is inside it despite rounding.
-pub const ON_EDGE_TOLERANCE: f64 = 1.0e-4;
+pub(crate) const ON_EDGE_TOLERANCE: f64 = 1.0e-4;
 
 /// Smallest area of a cell, in square maze units: a cell narrower than the on-edge tolerance is a
 /// sliver no viewer fits in.
-pub const MIN_CELL_AREA: f64 = 1.0e-6;
+pub(crate) const MIN_CELL_AREA: f64 = 1.0e-6;
 
 /// A wall or portal between two vertices.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -421,7 +421,7 @@ impl Edges {
 
     /// `true` when `cell` is on edge `e`'s left (cheaper than [`Edges::get`], for the hot loops).
     #[must_use]
-    pub fn is_left_of(&self, e: usize, cell: CellId) -> bool {
+    pub(crate) fn is_left_of(&self, e: usize, cell: CellId) -> bool {
         self.packed[e].left == cell
     }
 
@@ -433,7 +433,7 @@ impl Edges {
 
     /// Number of opaque edges, a word of flags at a time.
     #[must_use]
-    pub fn opaque_count(&self) -> usize {
+    pub(crate) fn opaque_count(&self) -> usize {
         self.opaque.iter().map(|w| w.count_ones() as usize).sum()
     }
 
@@ -587,61 +587,6 @@ pub enum MazeError {
     ExitOutside { x: f32, y: f32 },
     #[error("the exit point ({x}, {y}) is not inside cell {cell}")]
     ExitPointOutside { cell: CellId, x: f32, y: f32 },
-}
-
-/// The part of the maze a [`MazeError`] is about, so a reader can point at its record.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Subject {
-    /// The maze as a whole.
-    Maze,
-    /// A vertex record.
-    Vertex(VertexId),
-    /// An edge record.
-    Edge(EdgeId),
-    /// A cell record.
-    Cell(CellId),
-    /// The viewer record.
-    Viewer,
-    /// The exit record.
-    Exit,
-}
-
-impl MazeError {
-    /// The record at fault.
-    #[must_use]
-    pub fn subject(&self) -> Subject {
-        use MazeError::*;
-        match *self {
-            NoCells | TooMany { .. } => Subject::Maze,
-            VertexOutOfBounds { vertex } => Subject::Vertex(vertex),
-            EdgeVertexOutOfRange { edge, .. }
-            | EdgeDegenerate { edge, .. }
-            | EdgeCellOutOfRange { edge, .. }
-            | EdgeSameCellBothSides { edge, .. }
-            | EdgeNoCell { edge }
-            | PortalToOutside { edge }
-            | EdgeColor { edge }
-            | CellMissingEdge { edge, .. } => Subject::Edge(edge),
-            // the later of two conflicting edges: the one a reader has just added
-            EdgesCross { a, b } | EdgesOverlap { a, b } => Subject::Edge(a.max(b)),
-            CellEdgeOutOfRange { cell, .. }
-            | CellEdgeNotNeighbour { cell, .. }
-            | CellEdgeDuplicate { cell, .. }
-            | CellTooFewEdges { cell, .. }
-            | CellNotClosed { cell, .. }
-            | CellNotConvex { cell, .. }
-            | CellTooSmall { cell, .. }
-            | CellsOverlap { cell, .. }
-            | CellClockwise { cell } => Subject::Cell(cell),
-            ViewerNotFinite
-            | ViewerHeight { .. }
-            | ViewerFov { .. }
-            | ViewerOutside { .. }
-            | ViewerOnWall { .. }
-            | ViewerNoRoom { .. } => Subject::Viewer,
-            ExitCellOutOfRange { .. } | ExitOutside { .. } | ExitPointOutside { .. } => Subject::Exit,
-        }
-    }
 }
 
 /// "are only 4 cells", "is only 1 cell": the end of a message that an index is out of range.

@@ -38,11 +38,11 @@ pub const FOV_RANGE_DEG: (f32, f32) = (10.0, 170.0);
 /// Pitch is clamped to ±90°: straight up or down, never over the top.
 pub const PITCH_LIMIT_DEG: f32 = 90.0;
 /// Half the width of the orthographic view at fov 90°, in maze units (one cell of the generated mazes).
-pub const ORTHO_HALF_WIDTH_AT_90: f32 = 8.0;
+pub(crate) const ORTHO_HALF_WIDTH_AT_90: f32 = 8.0;
 /// How far the viewer sees, in maze units; fog reaches full strength there.
-pub const DEFAULT_VIEW_DISTANCE: f32 = 96.0;
+pub(crate) const DEFAULT_VIEW_DISTANCE: f32 = 96.0;
 /// The near plane never exceeds this distance from the eye (maze units).
-pub const MAX_NEAR: f32 = 0.05;
+pub(crate) const MAX_NEAR: f32 = 0.05;
 
 /// What is wrong with a camera or the grid it renders into.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -144,7 +144,7 @@ impl Camera {
 
     /// The eye in world space.
     #[must_use]
-    pub fn eye_world(&self) -> Vec3 {
+    pub(crate) fn eye_world(&self) -> Vec3 {
         self.position.extend(self.eye_z)
     }
 
@@ -264,20 +264,20 @@ impl Eye {
     /// A clipped vertex taken to the raster: ÷w → NDC → viewport, with `1/w` kept for perspective-correct
     /// interpolation of `attrs`.
     #[must_use]
-    pub fn grid_vertex<A>(&self, clip: Vec4, attrs: A) -> GridVertex<A> {
+    pub(crate) fn grid_vertex<A>(&self, clip: Vec4, attrs: A) -> GridVertex<A> {
         let grid = self.grid(clip);
         GridVertex { pos: grid.truncate(), depth: grid.z, inv_w: 1.0 / clip.w, attrs }
     }
 
     /// View-space depth (distance along the view direction) of a world point.
     #[must_use]
-    pub fn view_depth(&self, world: Vec3) -> f32 {
+    pub(crate) fn view_depth(&self, world: Vec3) -> f32 {
         (world - self.position).dot(self.forward)
     }
 
     /// Grid depth as a function of view depth, for comparing a distance with the depth buffer.
     #[must_use]
-    pub fn depth_by_distance(&self) -> DepthByDistance {
+    pub(crate) fn depth_by_distance(&self) -> DepthByDistance {
         let (at_eye, per_unit) = (self.clip(self.position), self.world_to_clip * self.forward.extend(0.0));
         DepthByDistance {
             clip_z: Vec2::new(at_eye.z, per_unit.z),
@@ -313,7 +313,7 @@ impl Eye {
 /// NDC z to grid depth by a scale and an offset. Two multiply-adds and a divide, where the full path
 /// (`Eye::grid(Eye::clip(p))`) is a 4×4 and a 3×4 product: the floor pass's depth test per sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DepthByDistance {
+pub(crate) struct DepthByDistance {
     /// Clip z at view depth 0 and per unit of view depth.
     clip_z: Vec2,
     /// Clip w, likewise.
@@ -326,7 +326,7 @@ pub struct DepthByDistance {
 impl DepthByDistance {
     /// The grid depth at view depth `d`.
     #[must_use]
-    pub fn grid_depth(&self, d: f32) -> f32 {
+    pub(crate) fn grid_depth(&self, d: f32) -> f32 {
         let (z, w) = (self.clip_z.x + self.clip_z.y * d, self.clip_w.x + self.clip_w.y * d);
         self.scale * (z / w) + self.offset
     }

@@ -20,12 +20,12 @@ use mazewalk_term::blocks::{HALF, QUAD, sextant_glyph};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// The colourless block-mode ramp of walls (and everything but floor and ceiling), darkest first.
-pub const BLOCK_RAMP: [char; 5] = [' ', '░', '▒', '▓', '█'];
+pub(crate) const BLOCK_RAMP: [char; 5] = [' ', '░', '▒', '▓', '█'];
 /// The colourless block-mode glyphs of the floor, darkest first: bars at the foot of the cell, lower
 /// one eighth, one quarter, three eighths (issue #33: floor, ceiling and walls each their own glyphs).
-pub const FLOOR_BLOCKS: [char; 4] = [' ', '▁', '▂', '▃'];
+pub(crate) const FLOOR_BLOCKS: [char; 4] = [' ', '▁', '▂', '▃'];
 /// The colourless block-mode glyphs of the ceiling, darkest first: a bar at the top of the cell.
-pub const CEILING_BLOCKS: [char; 2] = [' ', '▔'];
+pub(crate) const CEILING_BLOCKS: [char; 2] = [' ', '▔'];
 
 /// The block glyph of `charset` for a sample mask (see the bit order in the module docs); `ascii` has
 /// none and gives `█` or ` `.
@@ -192,10 +192,10 @@ pub const RAMP_BOTTOM: f32 = 0.05;
 pub const RAMP_TOP: f32 = 0.6;
 /// The lightness range of the floor's glyphs ([`FLOOR_BLOCKS`], [`ASCII_FLOOR`]): from the far floor
 /// (about 0.15) to the floor at the viewer's feet (about 0.4).
-pub const FLOOR_RANGE: (f32, f32) = (0.1, 0.4);
+pub(crate) const FLOOR_RANGE: (f32, f32) = (0.1, 0.4);
 /// The lightness range of the ceiling's glyphs ([`CEILING_BLOCKS`], [`ASCII_CEILING`]): the ceiling is
 /// darker than the floor, marked where it is near.
-pub const CEILING_RANGE: (f32, f32) = (0.02, 0.2);
+pub(crate) const CEILING_RANGE: (f32, f32) = (0.02, 0.2);
 
 /// Which glyphs a sample takes without colour: the floor's, the ceiling's, or a wall's (anything else:
 /// walls, figures, the exit's beacon, the fog).

@@ -57,7 +57,7 @@ pub const ASCII_RAMP: [char; 10] = [' ', '.', ':', '-', '=', '+', '*', '#', '%',
 
 /// The long ascii ramp, darkest first: 70 characters by how much of the cell they ink (Paul Bourke's
 /// "character representation of grey scale images").
-pub const ASCII_RAMP_LONG: [char; 70] = [
+pub(crate) const ASCII_RAMP_LONG: [char; 70] = [
     ' ', '.', '\'', '`', '^', '"', ',', ':', ';', 'I', 'l', '!', 'i', '>', '<', '~', '+', '_', '-', '?', ']',
     '[', '}', '{', '1', ')', '(', '|', '\\', '/', 't', 'f', 'j', 'r', 'x', 'n', 'u', 'v', 'c', 'z', 'X', 'Y',
     'U', 'J', 'C', 'L', 'Q', '0', 'O', 'Z', 'm', 'w', 'q', 'p', 'd', 'b', 'k', 'h', 'a', 'o', '*', '#', 'M',
@@ -67,9 +67,9 @@ pub const ASCII_RAMP_LONG: [char; 70] = [
 /// The ascii glyphs of the floor, darkest first: marks low in the cell, none of them a wall's ([`ASCII_RAMP`]),
 /// so that floor and walls are told apart without colour (issue #33). The long ramp leaves them out
 /// for walls.
-pub const ASCII_FLOOR: [char; 3] = [' ', ',', '_'];
+pub(crate) const ASCII_FLOOR: [char; 3] = [' ', ',', '_'];
 /// The ascii glyphs of the ceiling, darkest first: marks high in the cell (see [`ASCII_FLOOR`]).
-pub const ASCII_CEILING: [char; 3] = [' ', '`', '"'];
+pub(crate) const ASCII_CEILING: [char; 3] = [' ', '`', '"'];
 
 /// Which ascii shading ramp: the 10 characters of [`ASCII_RAMP`] or the 70 of [`ASCII_RAMP_LONG`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -23,7 +23,7 @@ use mazewalk_maze::Maze;
 
 /// How close (in samples) a sample centre must be to a wall's projected outline for snapping to decide
 /// its coverage: four times the rasterizer's 1/256 sample precision.
-pub const SNAP: f32 = 1.0 / 64.0;
+pub(crate) const SNAP: f32 = 1.0 / 64.0;
 
 /// What a successful comparison found.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -20,7 +20,7 @@ use mazewalk_term::frame::{Color, ColorDepth};
 
 /// xterm's default RGB for the 16 ANSI colours (black, red, green, yellow, blue, magenta, cyan, white,
 /// then the bright eight).
-pub const ANSI16: [[u8; 3]; 16] = [
+pub(crate) const ANSI16: [[u8; 3]; 16] = [
     [0, 0, 0],
     [205, 0, 0],
     [0, 205, 0],
@@ -40,12 +40,12 @@ pub const ANSI16: [[u8; 3]; 16] = [
 ];
 
 /// The levels of each axis of xterm's 6×6×6 colour cube (indices 16–231).
-pub const CUBE_LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
+pub(crate) const CUBE_LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
 
 /// A linear colour as sRGB bytes (clamped to 0..1 first; NaN → 0).
 #[must_use]
 #[inline]
-pub fn to_srgb8(linear: Vec3) -> [u8; 3] {
+pub(crate) fn to_srgb8(linear: Vec3) -> [u8; 3] {
     Srgb8Tables::get().encode3(linear)
 }
 
@@ -68,7 +68,7 @@ fn distance2(a: [u8; 3], b: [u8; 3]) -> u32 {
 
 /// The nearest xterm-256 index in 16–231 (cube) or 232–255 (greys) to an sRGB colour.
 #[must_use]
-pub fn xterm256(rgb: [u8; 3]) -> u8 {
+pub(crate) fn xterm256(rgb: [u8; 3]) -> u8 {
     // Both candidates come from small tables of `cube_level` and `grey_index` (built on first use), as
     // this runs twice per cell in 256 colours.
     static TABLES: OnceLock<([u8; 256], [u8; 766])> = OnceLock::new();
@@ -100,7 +100,7 @@ pub fn ansi16(rgb: [u8; 3]) -> u8 {
 
 /// A linear colour quantized to `depth` (no dithering; [`ColorDepth::None`] gives [`Color::Default`]).
 #[must_use]
-pub fn quantize(linear: Vec3, depth: ColorDepth) -> Color {
+pub(crate) fn quantize(linear: Vec3, depth: ColorDepth) -> Color {
     quantize_srgb8(to_srgb8(linear), depth)
 }
 
@@ -134,7 +134,7 @@ fn entries() -> &'static Entries {
 /// OKLab of a linear sRGB colour (Björn Ottosson, <https://bottosson.github.io/posts/oklab/>): L in 0..1,
 /// Euclidean distance ≈ perceived difference.
 #[must_use]
-pub fn oklab(linear: Vec3) -> Vec3 {
+pub(crate) fn oklab(linear: Vec3) -> Vec3 {
     let l = 0.412_221_46 * linear.x + 0.536_332_55 * linear.y + 0.051_445_995 * linear.z;
     let m = 0.211_903_5 * linear.x + 0.680_699_5 * linear.y + 0.107_396_96 * linear.z;
     let s = 0.088_302_46 * linear.x + 0.281_718_85 * linear.y + 0.629_978_7 * linear.z;
@@ -180,7 +180,7 @@ const COLOURED: f32 = 0.045;
 
 /// The difference of two hue angles (radians), in 0..=π.
 #[must_use]
-pub fn hue_difference(a: f32, b: f32) -> f32 {
+pub(crate) fn hue_difference(a: f32, b: f32) -> f32 {
     let d = (a - b).abs() % std::f32::consts::TAU;
     d.min(std::f32::consts::TAU - d)
 }
@@ -233,7 +233,7 @@ impl Palette {
     /// A ramp holds greys and the entries whose hue is within this of its chromaticity's (radians):
     /// 30° in 256 colours; 45° in 16, whose six hues are 60° apart (an orange wall is red there).
     #[must_use]
-    pub fn hue_span(self) -> f32 {
+    pub(crate) fn hue_span(self) -> f32 {
         match self {
             Palette::Xterm256 => 30f32.to_radians(),
             Palette::Ansi16 => 45f32.to_radians(),
@@ -300,7 +300,7 @@ fn ramp_entries(palette: Palette) -> &'static [RampEntry] {
 /// Chromaticities are looked up on a grid of `r / (r + g + b)` and `g / (r + g + b)` (linear) in steps
 /// of `1 / CHROMA_STEPS`; a surface lit by white light and fogged toward black keeps its chromaticity
 /// at every distance and angle, so it keeps its ramp.
-pub const CHROMA_STEPS: usize = 96;
+pub(crate) const CHROMA_STEPS: usize = 96;
 const SLOTS: usize = (CHROMA_STEPS + 1) * (CHROMA_STEPS + 1);
 /// A ramp is chosen at this many lightness levels from black to the brightest colour of its
 /// chromaticity.
@@ -320,7 +320,7 @@ const BLACK: f32 = 1e-6;
 /// for a coloured sample dearest) plus the cost of its steps (a change of chroma between coloured
 /// entries).
 #[derive(Clone, Debug, PartialEq)]
-pub struct LightRamp {
+pub(crate) struct LightRamp {
     /// `starts[k]`: the intensity (`r + g + b`, linear) from which `entries[k + 1]` is shown.
     starts: Vec<f32>,
     entries: Vec<u8>,
@@ -428,6 +428,7 @@ impl LightRamp {
 
     /// The ramp's entries, darkest first.
     #[must_use]
+    #[cfg(test)]
     pub fn entries(&self) -> &[u8] {
         &self.entries
     }
@@ -445,7 +446,7 @@ impl LightRamp {
     /// lighter on the samples whose threshold is below its share); elsewhere [`LightRamp::entry`].
     #[must_use]
     #[inline]
-    pub fn entry_dithered(&self, t: f32, threshold: f32) -> u8 {
+    pub(crate) fn entry_dithered(&self, t: f32, threshold: f32) -> u8 {
         let k = self.starts.partition_point(|&start| t >= start);
         let pair = if t < self.centres[k] && k > 0 && self.close[k - 1] {
             k - 1
@@ -463,7 +464,7 @@ impl LightRamp {
 /// Two palette entries this close (OKLab) or closer are mixed by [`LightRamp::entry_dithered`]: a
 /// pattern of them is seen as their mix, not as grain (issue #33's grain is a pair of neighbours more
 /// than this further apart than in truecolor).
-pub const MIX_STEP: f32 = 0.06;
+pub(crate) const MIX_STEP: f32 = 0.06;
 
 /// The ordered-dither threshold of sample `(x, y)` (sample grid, origin top-left), in (0, 1): the 2×2
 /// Bayer matrix tiled over the sample grid, anchored to the screen so a still picture keeps its
@@ -505,7 +506,8 @@ fn slot_ramp(slot: usize, palette: Palette) -> &'static LightRamp {
 
 /// The light ramp of `linear`'s chromaticity in `palette` (of grey for black).
 #[must_use]
-pub fn light_ramp(linear: Vec3, palette: Palette) -> &'static LightRamp {
+#[cfg(test)]
+pub(crate) fn light_ramp(linear: Vec3, palette: Palette) -> &'static LightRamp {
     let grey = (CHROMA_STEPS / 3) * (CHROMA_STEPS + 1) + CHROMA_STEPS / 3;
     slot_ramp(slot(linear).map_or(grey, |(slot, _)| slot), palette)
 }
@@ -525,7 +527,7 @@ pub fn ramp_entry(linear: Vec3, palette: Palette) -> u8 {
 /// ([`LightRamp::entry_dithered`]).
 #[must_use]
 #[inline]
-pub fn ramp_entry_dithered(linear: Vec3, palette: Palette, threshold: f32) -> u8 {
+pub(crate) fn ramp_entry_dithered(linear: Vec3, palette: Palette, threshold: f32) -> u8 {
     match slot(linear) {
         Some((slot, t)) => slot_ramp(slot, palette).entry_dithered(t, threshold),
         None => ramp_entries(palette)[0].index,
@@ -535,7 +537,7 @@ pub fn ramp_entry_dithered(linear: Vec3, palette: Palette, threshold: f32) -> u8
 /// A linear colour as the picture shows it at `depth`: exact in truecolor, its [`ramp_entry`] in 256
 /// and 16 colours, the default colour without colour.
 #[must_use]
-pub fn picture_color(linear: Vec3, depth: ColorDepth) -> Color {
+pub(crate) fn picture_color(linear: Vec3, depth: ColorDepth) -> Color {
     match Palette::of(depth) {
         Some(palette) => Color::Indexed(ramp_entry(linear, palette)),
         None => quantize(linear, depth),

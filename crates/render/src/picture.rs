@@ -14,7 +14,7 @@ use mazewalk_term::frame::{Color, Frame};
 
 /// The pixels of one terminal cell in a picture: 12 wide, 24 tall (cells are about half as wide as
 /// tall), which every charset's samples divide (half 12×12, quad 6×12, sextant 6×8).
-pub const CELL_PIXELS: (usize, usize) = (12, 24);
+pub(crate) const CELL_PIXELS: (usize, usize) = (12, 24);
 
 /// The default foreground and background the picture assumes (sRGB).
 const DEFAULT_FG: [u8; 3] = [229, 229, 229];
@@ -23,7 +23,7 @@ const DEFAULT_BG: [u8; 3] = [0, 0, 0];
 /// Which samples of a `charset` cell `ch` inks (bit order of [`super::glyph`]: row-major from the
 /// top-left), or `None` when `ch` is not one of its block glyphs.
 #[must_use]
-pub fn glyph_mask(charset: Charset, ch: char) -> Option<u8> {
+pub(crate) fn glyph_mask(charset: Charset, ch: char) -> Option<u8> {
     match charset {
         Charset::Ascii => None,
         Charset::Half => HALF.iter().position(|&g| g == ch).map(|m| m as u8),
@@ -43,7 +43,8 @@ fn rgb(color: Color, default: [u8; 3]) -> [u8; 3] {
 
 /// `frame` drawn with `charset`'s sample layout: `(width, height, RGB bytes)`, [`CELL_PIXELS`] per cell.
 #[must_use]
-pub fn frame_pixels(frame: &Frame, charset: Charset) -> (usize, usize, Vec<u8>) {
+#[cfg(test)]
+pub(crate) fn frame_pixels(frame: &Frame, charset: Charset) -> (usize, usize, Vec<u8>) {
     let (width, height) = picture_size(frame);
     let mut pixels = Vec::with_capacity(width * height * 3);
     for_each_band(frame, charset, |band| {

@@ -28,9 +28,9 @@ use mazewalk_term::frame::{Color, Frame};
 
 /// A pair of neighbouring samples is grain where the frame puts them this much further apart (OKLab)
 /// than the truecolor frame does.
-pub const GRAIN_STEP: f32 = 0.06;
+pub(crate) const GRAIN_STEP: f32 = 0.06;
 /// Samples whose truecolor chroma (OKLab) is above this count toward the hue error.
-pub const CHROMATIC: f32 = 0.04;
+pub(crate) const CHROMATIC: f32 = 0.04;
 /// A frame's sample with less chroma than this has lost its hue: 180° of hue error.
 pub const GREY: f32 = 0.01;
 
@@ -40,7 +40,7 @@ const DEFAULT_BG: [u8; 3] = [0, 0, 0];
 
 /// OKLab of an sRGB colour.
 #[must_use]
-pub fn oklab_srgb8(rgb: [u8; 3]) -> Vec3 {
+pub(crate) fn oklab_srgb8(rgb: [u8; 3]) -> Vec3 {
     oklab(Vec3::from_array(rgb.map(|v| srgb_to_linear(f32::from(v) / 255.0))))
 }
 
@@ -144,7 +144,7 @@ fn hue_error_deg(frame: &[Vec3], truth: &[Vec3]) -> f64 {
 
 /// The ids of the three largest surfaces (most samples first; ties: the smaller id first).
 #[must_use]
-pub fn largest_surfaces(ids: &[u32]) -> Vec<u32> {
+pub(crate) fn largest_surfaces(ids: &[u32]) -> Vec<u32> {
     let mut counts = std::collections::HashMap::new();
     for &id in ids {
         *counts.entry(id).or_insert(0usize) += 1;
@@ -156,7 +156,7 @@ pub fn largest_surfaces(ids: &[u32]) -> Vec<u32> {
 
 /// The mean OKLab colour of `frame` over the samples of surface `id`.
 #[must_use]
-pub fn surface_mean(frame: &[Vec3], ids: &[u32], id: u32) -> Vec3 {
+pub(crate) fn surface_mean(frame: &[Vec3], ids: &[u32], id: u32) -> Vec3 {
     let (sum, n) = frame
         .iter()
         .zip(ids)

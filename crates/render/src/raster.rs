@@ -17,11 +17,11 @@ use wide::f32x8;
 use super::samples::SampleBuffer;
 
 /// Fractional bits of the fixed-point grid vertices are snapped to (1/256 of a sample).
-pub const SUBPIXEL_BITS: u32 = 8;
+pub(crate) const SUBPIXEL_BITS: u32 = 8;
 /// Largest accepted |coordinate| in samples; a triangle with a vertex beyond it (or not finite) is skipped.
 /// The pipeline clips against the frustum first, so this only guards against overflow: at 2^20 samples
 /// and 8 fractional bits the edge functions stay below 2^60.
-pub const MAX_COORD: f32 = (1u32 << 20) as f32;
+pub(crate) const MAX_COORD: f32 = (1u32 << 20) as f32;
 
 const ONE: i64 = 1 << SUBPIXEL_BITS;
 const HALF: i64 = ONE / 2;
@@ -130,7 +130,7 @@ impl Span {
     /// The barycentric weights of sample `i` of the span, in the caller's vertex order: the edge
     /// functions at it in `i64`, exactly, divided by the area in `f64`.
     #[inline]
-    pub fn bary(&self, i: usize) -> [f32; 3] {
+    pub(crate) fn bary(&self, i: usize) -> [f32; 3] {
         let mut bary = [0.0; 3];
         for k in 0..3 {
             let e = self.edge[k] + self.step[k] * i as i64 - self.bias[k];
@@ -147,7 +147,7 @@ impl Span {
     /// exactly, and stepping it in `f64` (which vectorizes; `i64` → `f64` does not on x86-64) gives the
     /// value `bary` converts. Larger triangles (beyond the pipeline's clipped walls) take `bary` itself.
     #[inline]
-    pub fn bary_x8(&self, start: usize) -> [[f32; LANES]; 3] {
+    pub(crate) fn bary_x8(&self, start: usize) -> [[f32; LANES]; 3] {
         if !self.exact_in_f64 {
             return self.bary_one_by_one(start);
         }

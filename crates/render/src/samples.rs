@@ -112,7 +112,7 @@ impl SampleBuffer {
     }
 
     /// Colours, mutable (for a pipeline that paints the background itself).
-    pub fn color_mut(&mut self) -> &mut [Vec3] {
+    pub(crate) fn color_mut(&mut self) -> &mut [Vec3] {
         &mut self.color
     }
 
@@ -124,7 +124,7 @@ impl SampleBuffer {
     }
 
     /// Sets the outline glyph of sample `(x, y)`; writes outside the buffer are ignored.
-    pub fn put_outline(&mut self, x: usize, y: usize, glyph: Option<char>) {
+    pub(crate) fn put_outline(&mut self, x: usize, y: usize, glyph: Option<char>) {
         if let Some(i) = self.index(x, y) {
             self.outline[i] = glyph;
             self.outlined = true;

@@ -6,15 +6,17 @@
 
 use glam::{Vec2, Vec3};
 
-/// Lambert with a light at the eye, two-sided (walls are seen from both sides): `|n · l|` with `l` the
-/// unit direction from the surface point `view` to the eye, in [0, 1]. 1.0 at the eye itself.
+/// [`headlight_unit`] for any normal (the tests' reference).
 #[must_use]
-pub fn headlight(normal_view: Vec3, view: Vec3) -> f32 {
+#[cfg(test)]
+pub(crate) fn headlight(normal_view: Vec3, view: Vec3) -> f32 {
     headlight_unit(normal_view.normalize_or_zero(), view)
 }
 
-/// [`headlight`] for a normal already of unit length (or zero): what the per-sample loops call, with the
-/// normal normalized once per surface. `|n · view| / |view|`; 1.0 where `view` has no usable length.
+/// Lambert with a light at the eye, two-sided (walls are seen from both sides): `|n · l|` with `l` the
+/// unit direction from the surface point `view` to the eye, in [0, 1], for a normal already of unit
+/// length (or zero): the per-sample loops normalize it once per surface. `|n · view| / |view|`; 1.0
+/// where `view` has no usable length (the eye itself).
 #[must_use]
 pub fn headlight_unit(unit_normal: Vec3, view: Vec3) -> f32 {
     let length = view.length();
@@ -35,12 +37,12 @@ pub fn lit(albedo: Vec3, diffuse: f32, ambient: f32) -> Vec3 {
 /// north-east, level), so walls facing different ways differ even without fog, and two walls meeting
 /// at a corner are told apart by their shade as well as by the edge between them. Its angle, atan(1/3)
 /// from east, spreads the four faces of a grid maze evenly: `n·s` is ±0.95 and ±0.32.
-pub const SUN_WORLD: Vec3 = Vec3::new(0.948_683_3, 0.316_227_76, 0.0);
+pub(crate) const SUN_WORLD: Vec3 = Vec3::new(0.948_683_3, 0.316_227_76, 0.0);
 /// How much the sun changes a wall: from `SUN_LOW` × its headlit colour (turned away) to `SUN_HIGH` ×
 /// (facing it). Around 1 on average, so the picture keeps its brightness.
-pub const SUN_LOW: f32 = 0.7;
+pub(crate) const SUN_LOW: f32 = 0.7;
 /// See [`SUN_LOW`].
-pub const SUN_HIGH: f32 = 1.2;
+pub(crate) const SUN_HIGH: f32 = 1.2;
 
 /// The sun's factor for a surface whose unit normal, turned toward the eye, is `facing`, with `sun`
 /// the unit direction to the sun, both in one space (view space in the pipeline: the normal through the
@@ -48,18 +50,18 @@ pub const SUN_HIGH: f32 = 1.2;
 /// turned away from the sun still differ by how far they are turned, so each of a grid maze's four
 /// wall orientations has its own shade.
 #[must_use]
-pub fn sun_factor(facing: Vec3, sun: Vec3) -> f32 {
+pub(crate) fn sun_factor(facing: Vec3, sun: Vec3) -> f32 {
     SUN_LOW + (SUN_HIGH - SUN_LOW) * (0.5 + 0.5 * facing.dot(sun)).clamp(0.0, 1.0)
 }
 
 /// The least light a wall reflects: a black wall (`0 0 0` in a course file) is drawn as a very dark
 /// grey, never as the fog. Added in proportion to how dark the colour's brightest channel is, so
 /// coloured walls keep their hue.
-pub const MIN_WALL_ALBEDO: f32 = 0.08;
+pub(crate) const MIN_WALL_ALBEDO: f32 = 0.08;
 
 /// A wall colour (linear) lifted so it is never black: `albedo + MIN_WALL_ALBEDO · (1 − max channel)`.
 #[must_use]
-pub fn wall_albedo(albedo: Vec3) -> Vec3 {
+pub(crate) fn wall_albedo(albedo: Vec3) -> Vec3 {
     let albedo = albedo.clamp(Vec3::ZERO, Vec3::ONE);
     albedo + Vec3::splat(MIN_WALL_ALBEDO * (1.0 - albedo.max_element()))
 }
@@ -67,17 +69,17 @@ pub fn wall_albedo(albedo: Vec3) -> Vec3 {
 /// An edge sample's colour: darker than the surface, or, on a surface too dark to darken visibly,
 /// lighter, so an edge shows on every colour.
 #[must_use]
-pub fn edge_color(color: Vec3) -> Vec3 {
+pub(crate) fn edge_color(color: Vec3) -> Vec3 {
     if luminance(color) > 0.02 { color * 0.5 } else { color.lerp(Vec3::splat(0.06), 0.6) }
 }
 
 /// Brick courses: each course [`BRICK_HEIGHT`] tall, bricks [`BRICK_LENGTH`] long, every other course
 /// offset by half a brick, joined by mortar [`MORTAR`] wide (maze units).
-pub const BRICK_LENGTH: f32 = 1.0;
+pub(crate) const BRICK_LENGTH: f32 = 1.0;
 /// See [`BRICK_LENGTH`].
-pub const BRICK_HEIGHT: f32 = 0.5;
+pub(crate) const BRICK_HEIGHT: f32 = 0.5;
 /// See [`BRICK_LENGTH`].
-pub const MORTAR: f32 = 0.06;
+pub(crate) const MORTAR: f32 = 0.06;
 /// How dark mortar is, as a factor on the wall's colour.
 const MORTAR_SHADE: f32 = 0.55;
 /// How much one brick's shade differs from the next (± half of it).
@@ -89,7 +91,7 @@ const BRICK_VARIATION: f32 = 0.12;
 /// to none, as the footprint nears their period, so distant walls are an even tone instead of
 /// shimmering (the texture is filtered at the sample rate, a box filter by distance).
 #[must_use]
-pub fn bricks(u: f32, v: f32, footprint: f32) -> f32 {
+pub(crate) fn bricks(u: f32, v: f32, footprint: f32) -> f32 {
     let course = (v / BRICK_HEIGHT).floor();
     let offset = if floor_is_odd(course) { 0.5 * BRICK_LENGTH } else { 0.0 };
     let along = u / BRICK_LENGTH + offset / BRICK_LENGTH;
@@ -130,7 +132,7 @@ pub struct Fog {
 }
 
 /// The share of the way to [`Fog::end`] over which what is left of the light fades out.
-pub const FOG_FADE: f32 = 0.25;
+pub(crate) const FOG_FADE: f32 = 0.25;
 
 impl Fog {
     /// How much of a surface's light is left at `distance` (1 at the eye, 0 from `end` on).
@@ -161,7 +163,7 @@ impl Fog {
 ///
 /// [`checker_filtered`] fades the squares into their mean as a sample's footprint nears their size.
 #[must_use]
-pub fn checker(base: Vec3, world: Vec2, period: f32, contrast: f32) -> Vec3 {
+pub(crate) fn checker(base: Vec3, world: Vec2, period: f32, contrast: f32) -> Vec3 {
     // The square's parity in integers: `floor` and `rem_euclid` on floats are libm calls on baseline
     // x86-64, and this runs for every floor and ceiling sample.
     let cell = world / period;
@@ -173,7 +175,7 @@ pub fn checker(base: Vec3, world: Vec2, period: f32, contrast: f32) -> Vec3 {
 /// (both squares at their mean) as the footprint grows from a tenth of a square to half of one, so the
 /// far floor is even instead of a shimmer of aliased squares.
 #[must_use]
-pub fn checker_filtered(base: Vec3, world: Vec2, period: f32, contrast: f32, footprint: f32) -> Vec3 {
+pub(crate) fn checker_filtered(base: Vec3, world: Vec2, period: f32, contrast: f32, footprint: f32) -> Vec3 {
     let fade = ((footprint / period - 0.1) / 0.4).clamp(0.0, 1.0);
     let contrast = contrast.clamp(0.0, 1.0);
     let sharp = checker(base, world, period, contrast);
@@ -197,21 +199,23 @@ pub fn srgb_to_linear(c: f32) -> f32 {
 
 /// The sRGB encoding of a linear channel in 0..1 (clamped; NaN → 0).
 #[must_use]
-pub fn linear_to_srgb(c: f32) -> f32 {
+#[cfg(test)]
+pub(crate) fn linear_to_srgb(c: f32) -> f32 {
     let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
     if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
 }
 
 /// The 8-bit sRGB code of a linear channel: `round(255 · srgb(c))` with the curve evaluated in `f64`
-/// (clamped to 0..1; NaN → 0), by two table reads and one comparison: what the glyph pass calls for
-/// every channel of every sample.
+/// (clamped to 0..1; NaN → 0), by two table reads and one comparison: what the glyph pass computes
+/// with [`Srgb8Tables`] for every channel of every sample (this one-channel form is for the tests).
 ///
 /// `threshold[k]` is the least `f32` whose code is at least `k`. The curve is monotone, so the code of
 /// `c` is the number of thresholds at or below it; a 4096-bucket table gives the code at each bucket's
 /// start, and as the curve rises by less than one code per bucket (its steepest slope, 255 · 12.92 at
 /// the toe, is 0.8 codes per 1/4096) at most one threshold more lies inside the bucket.
 #[must_use]
-pub fn linear_to_srgb8(c: f32) -> u8 {
+#[cfg(test)]
+pub(crate) fn linear_to_srgb8(c: f32) -> u8 {
     Srgb8Tables::get().encode(c)
 }
 

@@ -26,25 +26,25 @@ use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
 /// 0.5) would make it a post; this reads as a person in a 4-unit corridor.
 ///
 /// [`WALL_MARGIN`]: mazewalk_maze::geometry::WALL_MARGIN
-pub const SPRITE_WIDTH: f32 = 0.7;
+pub(crate) const SPRITE_WIDTH: f32 = 0.7;
 /// A figure's height from the floor (maze units; floor to ceiling is 2): the head just above a
 /// standing viewer's eye.
-pub const SPRITE_HEIGHT: f32 = 1.45;
+pub(crate) const SPRITE_HEIGHT: f32 = 1.45;
 /// At most this many figures are drawn in one frame (the rest are left out, farthest first).
-pub const MAX_SPRITES: usize = 1024;
+pub(crate) const MAX_SPRITES: usize = 1024;
 /// Coverage id of the exit's beacon in the sample buffer (below the floor's and ceiling's ids).
-pub const EXIT_ID: u32 = u32::MAX - 3;
+pub(crate) const EXIT_ID: u32 = u32::MAX - 3;
 /// Coverage id of figure `k` in the sample buffer: `SPRITE_ID - k` (below the exit's, far above any
 /// wall's).
 pub const SPRITE_ID: u32 = u32::MAX - 4;
 /// The exit's glow (linear RGB): its beacon and the light it casts on the floor.
-pub const EXIT_GLOW: Vec3 = Vec3::new(0.20, 1.0, 0.42);
+pub(crate) const EXIT_GLOW: Vec3 = Vec3::new(0.20, 1.0, 0.42);
 /// The beacon's width (maze units): a column of light from floor to ceiling over the exit.
-pub const BEACON_WIDTH: f32 = 1.0;
+pub(crate) const BEACON_WIDTH: f32 = 1.0;
 
 /// Whether a coverage id is a figure's (or the beacon's).
 #[must_use]
-pub fn is_figure(id: u32) -> bool {
+pub(crate) fn is_figure(id: u32) -> bool {
     (SPRITE_ID - (MAX_SPRITES as u32 - 1)..=EXIT_ID).contains(&id)
 }
 
@@ -89,7 +89,7 @@ fn head() -> [Vec2; 8] {
 /// to the viewer's right, model −y toward the viewer), stand it on the floor at `feet`. `None` when the
 /// eye is straight above or below the feet (no way to face it) or a value is not finite.
 #[must_use]
-pub fn model_matrix(feet: Vec2, eye: Vec3, size: Vec2) -> Option<Mat4> {
+pub(crate) fn model_matrix(feet: Vec2, eye: Vec3, size: Vec2) -> Option<Mat4> {
     let to_feet = (feet - eye.truncate()).try_normalize()?; // the line of sight, in the maze plane
     // R_z(θ) takes +x to (cos θ, sin θ); the viewer's right of `to_feet` is (to_feet.y, −to_feet.x).
     let angle = (-to_feet.x).atan2(to_feet.y);
@@ -118,7 +118,7 @@ impl ClipVertex for SpriteVertex {
 
 /// Where a drawn figure's label goes: the sample under its head's centre, if the figure won it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Label {
+pub(crate) struct Label {
     /// Sample index (row-major) of the head's centre.
     pub sample: usize,
     /// The figure's coverage id.
@@ -131,7 +131,7 @@ pub struct Label {
 
 /// The figures' own buffers, reused from frame to frame.
 #[derive(Debug, Default)]
-pub struct SpritePass {
+pub(crate) struct SpritePass {
     input: Vec<SpriteVertex>,
     output: Vec<SpriteVertex>,
     temp: Vec<SpriteVertex>,
@@ -195,7 +195,7 @@ impl SpritePass {
     /// The exit's beacon at `point`: a column of light from floor to ceiling, a billboard like the
     /// figures ([`BEACON_WIDTH`] wide), brightest along its middle and half as fogged as a wall, so it
     /// shows down a long corridor. Depth-tested; returns the samples written.
-    pub fn draw_beacon(&mut self, samples: &mut SampleBuffer, eye: &Eye, fog: &Fog, point: Vec2) -> usize {
+    pub(crate) fn draw_beacon(&mut self, samples: &mut SampleBuffer, eye: &Eye, fog: &Fog, point: Vec2) -> usize {
         let size = Vec2::new(BEACON_WIDTH, CEILING_Z - FLOOR_Z);
         let Some(model) = model_matrix(point, eye.position, size) else { return 0 };
         let column = [Vec2::new(-0.5, 0.0), Vec2::new(0.5, 0.0), Vec2::new(0.5, 1.0), Vec2::new(-0.5, 1.0)];

@@ -10,7 +10,7 @@ use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
 /// A wall vertex on its way through the pipeline: clip-space position plus the view-space position
 /// (interpolated linearly in clip space, then perspective-correctly in the raster, for lighting and fog).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WallVertex {
+pub(crate) struct WallVertex {
     /// Clip space.
     pub clip: Vec4,
     /// View space (for shading: distance, light direction).
@@ -28,7 +28,7 @@ impl ClipVertex for WallVertex {
 
 /// Buffers reused by every clip, so the hot path does not allocate.
 #[derive(Debug, Default, Clone)]
-pub struct ClipScratch {
+pub(crate) struct ClipScratch {
     input: Vec<WallVertex>,
     output: Vec<WallVertex>,
     temp: Vec<WallVertex>,
@@ -36,14 +36,14 @@ pub struct ClipScratch {
 
 /// Edge `e`'s wall quad in world space: start-floor, end-floor, end-ceiling, start-ceiling.
 #[must_use]
-pub fn wall_quad_world(maze: &Maze, e: u32) -> [Vec3; 4] {
+pub(crate) fn wall_quad_world(maze: &Maze, e: u32) -> [Vec3; 4] {
     let (a, b) = maze.edge_points(e);
     [a.extend(FLOOR_Z), b.extend(FLOOR_Z), b.extend(CEILING_Z), a.extend(CEILING_Z)]
 }
 
 /// Edge `e`'s wall quad taken world → view → clip and clipped against the whole view volume, in
 /// homogeneous clip space (nothing is divided by w before this). `None` when nothing is left.
-pub fn clip_wall<'s>(
+pub(crate) fn clip_wall<'s>(
     maze: &Maze,
     eye: &Eye,
     e: u32,
@@ -64,7 +64,7 @@ pub fn clip_wall<'s>(
 /// (Liang–Barsky on the homogeneous plane distances, so nothing is divided by w first). `None` when
 /// nothing is left. Used for the ascii outlines.
 #[must_use]
-pub fn clip_segment(eye: &Eye, p: Vec3, q: Vec3) -> Option<(Vec4, Vec4)> {
+pub(crate) fn clip_segment(eye: &Eye, p: Vec3, q: Vec3) -> Option<(Vec4, Vec4)> {
     let (a, b) = (eye.clip(p), eye.clip(q));
     let (mut t0, mut t1) = (0.0f32, 1.0f32);
     let depth = eye.camera.convention.depth_range();

@@ -37,14 +37,14 @@ pub fn sextant_glyph(mask: u8) -> char {
 }
 
 /// `█`: every part of the cell inked.
-pub const FULL_BLOCK: char = '█';
+pub(crate) const FULL_BLOCK: char = '█';
 
 /// Every sub-cell of the 2×6 grid [`ink_mask`] works on.
-pub const ALL_SUBCELLS: u16 = 0xFFF;
+pub(crate) const ALL_SUBCELLS: u16 = 0xFFF;
 
 /// The sub-cells a block glyph inks, on a 2×6 grid (bit `x + 2·y`, y down): a half block is 3 sub-rows
 /// high, a quadrant 1 column × 3 sub-rows, a sextant 1 column × 2 sub-rows. `None` for other glyphs.
-pub fn ink_mask(ch: char) -> Option<u16> {
+pub(crate) fn ink_mask(ch: char) -> Option<u16> {
     // Quadrants of the 2×6 grid: top-left, top-right, bottom-left, bottom-right.
     const TL: u16 = 0x015;
     const TR: u16 = 0x02A;
@@ -77,7 +77,7 @@ pub fn ink_mask(ch: char) -> Option<u16> {
 
 /// The 6-bit mask of a sextant glyph (bit 0 top-left, 1 top-right, 2 middle-left, … 5 bottom-right):
 /// U+1FB00–U+1FB3B list the masks 1–62 in order without 21 (`▌`) and 42 (`▐`).
-pub fn sextant_mask(ch: char) -> Option<u32> {
+pub(crate) fn sextant_mask(ch: char) -> Option<u32> {
     let index = u32::from(ch).checked_sub(0x1FB00).filter(|&i| i < 60)?;
     let mask = index + 1 + u32::from(index + 1 >= 21);
     Some(mask + u32::from(mask >= 42))
@@ -85,7 +85,7 @@ pub fn sextant_mask(ch: char) -> Option<u32> {
 
 /// The block glyph covering exactly the part of the cell `ch` leaves empty, for the block glyphs whose
 /// complement is also one: space and full block, the halves, the quadrants and the sextants.
-pub fn complement_glyph(ch: char) -> Option<char> {
+pub(crate) fn complement_glyph(ch: char) -> Option<char> {
     Some(match ch {
         ' ' => FULL_BLOCK,
         FULL_BLOCK => ' ',

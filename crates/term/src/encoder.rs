@@ -36,9 +36,9 @@ use cursor::{move_len, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
 
 /// Begin synchronized update (DEC mode 2026): the terminal holds the screen until the end marker.
-pub const SYNC_BEGIN: &[u8] = b"\x1b[?2026h";
+pub(crate) const SYNC_BEGIN: &[u8] = b"\x1b[?2026h";
 /// End synchronized update.
-pub const SYNC_END: &[u8] = b"\x1b[?2026l";
+pub(crate) const SYNC_END: &[u8] = b"\x1b[?2026l";
 
 /// The colour tolerance the walkthrough uses ([`Encoder::set_tolerance`]): one 8-bit step per channel,
 /// below what anyone can see, and a sixth fewer bytes while walking in truecolor (see BENCHMARKS.md).

@@ -287,7 +287,7 @@ impl Frame {
 /// Conservative: accepts printable ASCII and the Latin-1 to block/sextant ranges mazewalk draws with
 /// (U+00A0–U+2FFF minus combining marks, U+1FB00–U+1FBFF legacy computing), nothing East-Asian-wide.
 #[must_use]
-pub fn single_column(ch: char) -> char {
+pub(crate) fn single_column(ch: char) -> char {
     let c = ch as u32;
     let ok = (0x20..0x7F).contains(&c)
         || ((0xA0..0x3000).contains(&c) && !(0x0300..0x0370).contains(&c) && !(0x1100..0x1160).contains(&c))
