@@ -14,7 +14,7 @@
 //! `mazewalk_tolerant`; divide by the frame count for a frame).
 //!
 //! ```sh
-//! nice cargo bench --bench encoder -- --warm-up-time 1 --measurement-time 3 --sample-size 10
+//! nice cargo bench -p mazewalk-bench --bench encoder -- --warm-up-time 1 --measurement-time 3 --sample-size 10
 //! ```
 
 #[path = "common/mod.rs"]

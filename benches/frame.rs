@@ -6,7 +6,7 @@
 //! charset.
 //!
 //! ```sh
-//! nice cargo bench --bench frame -- --warm-up-time 1 --measurement-time 3 --sample-size 10
+//! nice cargo bench -p mazewalk-bench --bench frame -- --warm-up-time 1 --measurement-time 3 --sample-size 10
 //! ```
 
 #[path = "common/mod.rs"]

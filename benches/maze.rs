@@ -7,10 +7,10 @@
 //! - `maze-1000x1000/load/grid`: the same for Prim's maze in the grid format (4 MB of tiles, 2001 ×
 //!   2001, which make 2 M cells and 6 M edges).
 //!
-//! Peak memory needs a process of its own: `cargo run --release --example peak_mem -- …`.
+//! Peak memory needs a process of its own: `cargo run --release -p mazewalk-bench --example peak_mem -- …`.
 //!
 //! ```sh
-//! nice cargo bench --bench maze -- --warm-up-time 1 --measurement-time 3 --sample-size 10
+//! nice cargo bench -p mazewalk-bench --bench maze -- --warm-up-time 1 --measurement-time 3 --sample-size 10
 //! ```
 
 use std::hint::black_box;

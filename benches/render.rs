@@ -10,7 +10,7 @@
 //! `target/criterion/render-stats.tsv` (see `scripts/bench_table.py`).
 //!
 //! ```sh
-//! nice cargo bench --bench render -- --warm-up-time 1 --measurement-time 3 --sample-size 10
+//! nice cargo bench -p mazewalk-bench --bench render -- --warm-up-time 1 --measurement-time 3 --sample-size 10
 //! ```
 
 #[path = "common/mod.rs"]

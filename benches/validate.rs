@@ -10,7 +10,7 @@
 //! Also `cell_at/<shape>/N`: 1000 point locations at points spread over the maze.
 //!
 //! ```sh
-//! nice cargo bench --bench validate -- --warm-up-time 1 --measurement-time 3 --sample-size 10
+//! nice cargo bench -p mazewalk-bench --bench validate -- --warm-up-time 1 --measurement-time 3 --sample-size 10
 //! ```
 
 use std::hint::black_box;

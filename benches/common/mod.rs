@@ -1,5 +1,5 @@
 //! Shared by the benchmarks (and `examples/profile_frame.rs`): the mazes and the "like" viewpoints.
-//! The encoder's yardsticks are `crates/term/tests/baseline.rs` (the term crate's tests use them too).
+//! The encoder's yardsticks are `crates/term/tests/support/baseline.rs` (the term crate's tests use them too).
 //!
 //! Two views, found the same way in every maze size so that a 10×10 and a 1000×1000 maze show alike
 //! geometry and any difference in frame time comes from the maze's size alone:

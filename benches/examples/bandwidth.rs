@@ -3,7 +3,7 @@
 //! to the HUD's frame-time field). Prints the markdown tables of BENCHMARKS.md.
 //!
 //! ```sh
-//! cargo run --release --example bandwidth
+//! cargo run --release -p mazewalk-bench --example bandwidth
 //! ```
 
 #[path = "../../crates/walk/tests/common/link.rs"]

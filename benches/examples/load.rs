@@ -9,8 +9,8 @@
 //!    memory, bytes per second per player.
 //!
 //! ```sh
-//! cargo build --release && cargo run --release --example load                # 1000 idle, 100 walking
-//! cargo run --release --example load -- --idle 200 --walkers 50 --seconds 5   # smaller
+//! cargo build --release && cargo run --release -p mazewalk-bench --example load                # 1000 idle, 100 walking
+//! cargo run --release -p mazewalk-bench --example load -- --idle 200 --walkers 50 --seconds 5   # smaller
 //! ```
 
 #[path = "../../crates/serve/tests/serve_common/load.rs"]

@@ -1,9 +1,9 @@
 //! Peak memory (and wall time) of generating, writing or loading one maze, in a process of its own.
 //!
 //! ```sh
-//! cargo run --release --example peak_mem -- gen prim 1000        # generate only
-//! cargo run --release --example peak_mem -- write prim 1000 FILE  # generate, write CS559 to FILE
-//! cargo run --release --example peak_mem -- load FILE             # maze::load
+//! cargo run --release -p mazewalk-bench --example peak_mem -- gen prim 1000        # generate only
+//! cargo run --release -p mazewalk-bench --example peak_mem -- write prim 1000 FILE  # generate, write CS559 to FILE
+//! cargo run --release -p mazewalk-bench --example peak_mem -- load FILE             # maze::load
 //! ```
 //!
 //! Algorithms: `prim`, `dfs`, `wilson`, or `prim-loops` (Prim's with loops 0.5). Prints one line:

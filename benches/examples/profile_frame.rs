@@ -1,7 +1,7 @@
 //! One benchmark view rendered over and over, for `perf record` (no criterion around it):
 //!
 //! ```sh
-//! cargo build --release --example profile_frame
+//! cargo build --release -p mazewalk-bench --example profile_frame
 //! perf record ./target/release/examples/profile_frame corridor 10 half 200 60 samples 3000
 //! perf report
 //! ```

@@ -2,7 +2,7 @@
 //! the same run.
 //!
 //! ```sh
-//! nice cargo run --release --example texture_cost
+//! nice cargo run --release -p mazewalk-bench --example texture_cost
 //! ```
 //!
 //! The walk: through the app's own key handlers at 60 frames a second (forward 2 s, a full turn,
