@@ -195,7 +195,13 @@ impl SpritePass {
     /// The exit's beacon at `point`: a column of light from floor to ceiling, a billboard like the
     /// figures ([`BEACON_WIDTH`] wide), brightest along its middle and half as fogged as a wall, so it
     /// shows down a long corridor. Depth-tested; returns the samples written.
-    pub(crate) fn draw_beacon(&mut self, samples: &mut SampleBuffer, eye: &Eye, fog: &Fog, point: Vec2) -> usize {
+    pub(crate) fn draw_beacon(
+        &mut self,
+        samples: &mut SampleBuffer,
+        eye: &Eye,
+        fog: &Fog,
+        point: Vec2,
+    ) -> usize {
         let size = Vec2::new(BEACON_WIDTH, CEILING_Z - FLOOR_Z);
         let Some(model) = model_matrix(point, eye.position, size) else { return 0 };
         let column = [Vec2::new(-0.5, 0.0), Vec2::new(0.5, 0.0), Vec2::new(0.5, 1.0), Vec2::new(-0.5, 1.0)];

@@ -85,7 +85,7 @@ pub(crate) fn sextant_mask(ch: char) -> Option<u32> {
 
 /// The block glyph covering exactly the part of the cell `ch` leaves empty, for the block glyphs whose
 /// complement is also one: space and full block, the halves, the quadrants and the sextants.
-pub(crate) fn complement_glyph(ch: char) -> Option<char> {
+pub fn complement_glyph(ch: char) -> Option<char> {
     Some(match ch {
         ' ' => FULL_BLOCK,
         FULL_BLOCK => ' ',

@@ -12,8 +12,22 @@
 //! | kitty keyboard flags 1 (disambiguate) + 2 (report event types) | pushed `CSI > 3 u` | popped `CSI < 1 u` |
 //!
 //! These are the bytes crossterm 0.29's commands write (the binary's guard tests compare them).
+//!
+//! And the two questions a walk asks while it runs, whose answers arrive as input
+//! ([`crate::input`] decodes them):
+//!
+//! | question | bytes | answer |
+//! |---|---|---|
+//! | primary device attributes: after each frame, the flow control's fence | `CSI c` | `CSI ? … c`, once the frame before it is drawn |
+//! | the kitty keyboard flags in force | `CSI ? u` | `CSI ? flags u` (kitty-protocol terminals only) |
 
 use crate::encoder::SYNC_END;
+
+/// Primary device attributes, `CSI c`: every terminal answers, in order with what it draws.
+pub const DEVICE_ATTRIBUTES_QUERY: &[u8] = b"\x1b[c";
+
+/// The kitty keyboard protocol's "which flags are set?", `CSI ? u`.
+pub const KEYBOARD_FLAGS_QUERY: &[u8] = b"\x1b[?u";
 
 /// Which of the optional modes are on (what [`restore_sequence`] turns off again).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

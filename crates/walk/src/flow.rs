@@ -42,8 +42,8 @@
 
 use std::collections::VecDeque;
 
-/// The query sent after each frame: primary device attributes.
-pub const QUERY: &[u8] = b"\x1b[c";
+/// The query sent after each frame: primary device attributes (`CSI c`).
+pub use mazewalk_term::modes::DEVICE_ATTRIBUTES_QUERY as QUERY;
 
 /// Frames that may be on their way at once: one on screen-bound, one queued behind it keeps the
 /// link busy without letting a backlog build.

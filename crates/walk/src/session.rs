@@ -45,8 +45,7 @@ use mazewalk_term::input::{Input, InputDecoder, Key, KeyPhase, Reply};
 /// The most frames per second drawn while something moves.
 pub const MAX_FPS: f64 = 60.0;
 
-/// The kitty keyboard protocol's "which flags are set?" query.
-const KEYBOARD_QUERY: &[u8] = b"\x1b[?u";
+use mazewalk_term::modes::KEYBOARD_FLAGS_QUERY as KEYBOARD_QUERY;
 
 /// The size drawn when a terminal gives none (a side of zero: some ptys, an SSH pty request without one).
 pub const DEFAULT_SIZE: (u16, u16) = (80, 24);
