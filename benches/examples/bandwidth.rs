@@ -6,7 +6,7 @@
 //! cargo run --release -p mazewalk-bench --example bandwidth
 //! ```
 
-#[path = "../../crates/walk/tests/common/link.rs"]
+#[path = "../../crates/walk/tests/walk/common/link.rs"]
 mod link;
 
 use link::{LinkConfig, Sim};

@@ -1,5 +1,5 @@
 //! The math core against two oracles nobody here wrote: nalgebra, in f64, and cgmath, in f64. glam
-//! (`crates/math/tests/math_oracle.rs`) is the first oracle; a bug shared with glam's conventions
+//! (`crates/math/tests/math/math_oracle.rs`) is the first oracle; a bug shared with glam's conventions
 //! would pass there and must fail here. Each property also checks the two oracles against each other
 //! (to 1e-12, f64 rounding), so a disagreement between them cannot hide behind our tolerance.
 //!
@@ -40,7 +40,7 @@
 //! `arb_frustum` bounds). Views: 1e-5 on the rotation (the right axis of `arb_eye_target_up` may be a
 //! cross product of vectors 3° apart, amplifying ε about 20×), translation relative to `|eye| + 1`.
 
-#[path = "../../math/tests/common/mod.rs"]
+#[path = "../../math/tests/math/common/mod.rs"]
 mod common;
 
 use cgmath::SquareMatrix;

@@ -6,7 +6,7 @@
 //!
 //! Tolerances are stated beside each check, relative to the magnitudes involved (ε = 6e-8).
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{Mat4, Vec4};

@@ -3,7 +3,7 @@
 //! Tolerances are relative to the magnitudes involved (see `common::close`): 1e-5 for a handful of
 //! roundings (1 ULP = 6e-8), 1e-4 where a projective divide or a general 4×4 inverse amplifies them.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};

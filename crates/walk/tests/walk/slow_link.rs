@@ -3,7 +3,7 @@
 //! and a round trip of the keys; without it frames queue in the link and the picture falls behind
 //! and keeps turning long after the key is let go. Virtual time: the figures are deterministic.
 
-mod common;
+use crate::common;
 
 use common::link::{LinkConfig, Sim};
 use mazewalk_maze as maze;

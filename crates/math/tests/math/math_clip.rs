@@ -10,7 +10,7 @@
 //! six planes compound that. The exact properties state theirs from ε = 2⁻²⁴ (f32's unit roundoff,
 //! 6e-8) and that same magnitude, next to each (`cut_tolerance`, `EXACT_ULPS`).
 
-mod common;
+use crate::common;
 
 use glam::{DVec2, DVec4, Vec2, Vec4};
 use mazewalk_math::{

@@ -7,7 +7,7 @@
 //! they differ by a few ULPs (1 ULP = 6e-8 relative); 1e-5 leaves room for the ~20× amplification
 //! from normalizing a right vector at the 3° limit of `arb_eye_target_up`.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{Mat4, Quat, Vec3, camera};

@@ -5,7 +5,7 @@
 //! conditioned, so the product is a few ULPs (6e-8 each) from the identity at any scale; 1e-4 leaves a
 //! wide margin while still catching any wrong column (an error of order 1).
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{Mat3, Mat4, Quat, Vec3};

@@ -1,0 +1,12 @@
+//! The render crate's integration tests, one binary (one link) for all of them: frames as text, the
+//! rasterizer and lines, golden frames, the picture and its quality measures, the portal pass against
+//! brute force, figures.
+
+mod glyph_frames;
+mod picture_quality;
+mod raster_fill;
+mod raster_lines;
+mod render_golden;
+mod render_picture;
+mod render_portal;
+mod render_sprites;

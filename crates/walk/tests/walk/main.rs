@@ -1,0 +1,12 @@
+//! The walk crate's integration tests, one binary (one link) for all of them: controls (taps and
+//! holds), the map's fog, overlays, frames at every size, sessions through a vt100 screen, flow control
+//! on a slow link, the colour-depth questions.
+
+mod common;
+mod controls;
+mod map_fog;
+mod overlays;
+mod render_frames;
+mod sessions;
+mod slow_link;
+mod truecolor;
