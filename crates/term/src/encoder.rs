@@ -455,14 +455,12 @@ fn price_route(
 ) -> Option<usize> {
     let mut pen = *pen;
     let mut len = move_len(&mut pen, from, y);
-    // First a floor from the glyphs alone (each cell's shortest form, a blank where it may go as one).
-    let floor: usize =
-        row[from..x]
-            .iter()
-            .map(|cell| {
-                if cell.ch == ' ' || cell.ch == '█' || cell.fg == cell.bg { 1 } else { cell.ch.len_utf8() }
-            })
-            .sum();
+    // First a floor from the glyphs alone (each cell's shortest form: one byte where it may go as a
+    // blank — a full block, a glyph in one colour — else its glyph's; a blank is one byte anyway).
+    let floor: usize = row[from..x]
+        .iter()
+        .map(|cell| if cell.ch == '█' || cell.fg == cell.bg { 1 } else { cell.ch.len_utf8() })
+        .sum();
     if len + floor + 1 > limit {
         return None;
     }
@@ -720,6 +718,171 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Rows whose cells cost exactly their glyph floor from a pen in colour 3 on grey (`x` in the
+    /// pen's colours, a blank, a full block whose ink is the pen's background and a half block of
+    /// one colour, both going as a blank): the cases where a route's price is tight against its
+    /// limit; and rows in default colours and rows that change colour, where it is not.
+    fn route_cases() -> (Vec<Vec<PackedCell>>, Vec<Pen>, Vec<Then>) {
+        let grey = Color::Indexed(8);
+        let cell = |ch, fg, bg| PackedCell::pack(&Cell { ch, fg, bg });
+        let ink = Color::Indexed(3);
+        let tight = [
+            cell('x', ink, grey),
+            cell(' ', ink, grey),
+            cell('█', grey, Color::Indexed(4)),
+            cell('▀', grey, grey),
+        ];
+        let plain = [
+            cell('x', Color::Default, Color::Default),
+            cell(' ', Color::Default, Color::Default),
+            cell('█', Color::Default, Color::Default),
+            cell('▀', Color::Default, Color::Default),
+        ];
+        let colourful = [
+            cell('x', Color::Indexed(3), Color::Default),
+            cell('▄', grey, Color::Rgb(40, 50, 60)),
+            cell(' ', Color::Default, grey),
+            cell('█', Color::Rgb(200, 10, 10), grey),
+            cell('\u{1FB00}', Color::Indexed(12), Color::Indexed(200)),
+        ];
+        let mut rows = Vec::new();
+        for k in 0..tight.len() {
+            rows.push((0..12).map(|i| tight[(i + k) % tight.len()]).collect::<Vec<_>>());
+            rows.push((0..12).map(|i| plain[(i + k) % plain.len()]).collect());
+            rows.push((0..12).map(|i| colourful[(i * 3 + k) % colourful.len()]).collect());
+            rows.push((0..12).map(|i| if i % 3 == k % 3 { colourful[k] } else { plain[i % 4] }).collect());
+        }
+        let pens = [
+            pen(None, None, None),
+            pen(Some((0, 1)), Some(Color::Default), Some(Color::Default)),
+            pen(Some((2, 1)), Some(Color::Default), Some(Color::Default)),
+            pen(Some((5, 1)), Some(ink), Some(grey)),
+            pen(Some((0, 1)), Some(ink), Some(grey)),
+            pen(Some((9, 2)), Some(ink), Some(grey)),
+            pen(Some((1, 0)), Some(Color::Default), Some(Color::Default)),
+            pen(Some((7, 3)), Some(Color::Rgb(40, 50, 60)), Some(Color::Default)),
+        ];
+        let thens = vec![
+            Then::Cell(cell('y', Color::Default, Color::Default), 0),
+            Then::Cell(cell('y', ink, grey), 0),
+            Then::Cell(cell('▞', grey, Color::Rgb(40, 50, 60)), 0),
+            Then::Cell(cell('▞', grey, Color::Rgb(41, 50, 60)), 2),
+            Then::Erase(PackedColor::DEFAULT),
+            Then::Erase(PackedColor::pack(grey)),
+        ];
+        (rows, pens.to_vec(), thens)
+    }
+
+    /// The route that moves to `from`, rewrites the cells up to `x` exactly, then does `then`,
+    /// written out: its bytes and the pen it leaves.
+    fn written_route(
+        pen: &Pen,
+        y: usize,
+        from: usize,
+        x: usize,
+        row: &[PackedCell],
+        then: Then,
+    ) -> (Vec<u8>, Pen) {
+        let (mut pen, mut out) = (*pen, Vec::new());
+        write_move(&mut out, &mut pen, from, y);
+        for cell in &row[from..x] {
+            write_cell(&mut out, &mut pen, cell, row.len(), 0);
+        }
+        then.write(&mut out, &mut pen, row.len());
+        (out, pen)
+    }
+
+    /// Routes are compared by price, and a route is dropped once it costs more than the best so far:
+    /// its price is exactly the bytes writing it sends, and it is dropped only when those exceed the
+    /// limit (at the limit it is kept, so that ties are decided by the rule, not by the pruning).
+    #[test]
+    fn a_route_is_priced_at_exactly_its_bytes_and_dropped_only_above_its_limit() {
+        let (rows, pens, thens) = route_cases();
+        let mut tight = 0;
+        for row in &rows {
+            for pen in &pens {
+                for &then in &thens {
+                    for x in 1..row.len() {
+                        for from in 0..x {
+                            let (out, _) = written_route(pen, 1, from, x, row, then);
+                            let exact = out.len();
+                            let case = format!("{then:?} at {x} from {from}, {pen:?}, {row:?}");
+                            assert_eq!(
+                                price_route(pen, 1, from, x, row, then, usize::MAX),
+                                Some(exact),
+                                "{case}"
+                            );
+                            assert_eq!(price_route(pen, 1, from, x, row, then, exact), Some(exact), "{case}");
+                            assert_eq!(price_route(pen, 1, from, x, row, then, exact - 1), None, "{case}");
+                            let mut moved = *pen;
+                            tight += usize::from(move_len(&mut moved, from, 1) + (x - from) + 1 == exact);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(tight > 100, "the glyph floor is met exactly in {tight} routes");
+    }
+
+    /// What follows a move is priced at exactly its bytes, leaving the pen as writing it does.
+    #[test]
+    fn a_cell_or_an_erase_is_priced_at_exactly_its_bytes() {
+        let (_, pens, thens) = route_cases();
+        for pen in &pens {
+            for &then in &thens {
+                let (mut written, mut priced, mut out) = (*pen, *pen, Vec::new());
+                then.write(&mut out, &mut written, 12);
+                assert_eq!(
+                    (then.price(&mut priced, 12), priced),
+                    (out.len(), written),
+                    "{then:?} from {pen:?}"
+                );
+            }
+        }
+    }
+
+    /// The cursor gets where it must by the cheapest route: a move, or a move to the cursor's own
+    /// column or to the line's start and a rewrite of the unchanged cells from there (at most
+    /// [`MAX_REWRITE`] of them); of equal routes, the one starting furthest left.
+    #[test]
+    fn the_cheapest_route_is_taken_and_of_equals_the_leftmost() {
+        let (rows, pens, thens) = route_cases();
+        let mut rewrites = 0;
+        for row in &rows {
+            for pen in &pens {
+                for &then in &thens {
+                    for x in 0..row.len() {
+                        let mut starts = vec![x];
+                        if pen.cursor != Some((x, 1)) {
+                            if let Some((cx, 1)) = pen.cursor
+                                && cx < x
+                                && x - cx <= MAX_REWRITE
+                            {
+                                starts.push(cx);
+                            }
+                            if (1..=MAX_REWRITE).contains(&x) {
+                                starts.push(0);
+                            }
+                        }
+                        let best = starts
+                            .iter()
+                            .map(|&from| {
+                                let (out, pen) = written_route(pen, 1, from, x, row, then);
+                                ((out.len(), from), out, pen)
+                            })
+                            .min_by_key(|(key, _, _)| *key)
+                            .unwrap();
+                        rewrites += usize::from(best.0.1 < x);
+                        let (mut reached, mut out) = (*pen, Vec::new());
+                        reach(&mut reached, &mut out, 1, x, row, then);
+                        assert_eq!((out, reached), (best.1, best.2), "{then:?} at {x} from {pen:?}, {row:?}");
+                    }
+                }
+            }
+        }
+        assert!(rewrites > 100, "a rewrite wins in {rewrites} cases");
     }
 
     /// Nothing changed, nothing sent: not even the synchronized-update brackets.
