@@ -60,7 +60,7 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
         )?;
         let width = kept.top.iter().map(|b| b.player.chars().count()).max().unwrap_or(0);
         for (rank, best) in (1..).zip(&kept.top) {
-            let clock = mazewalk_walk::screen::clock_text(best.seconds);
+            let clock = mazewalk_walk::clock::clock_text(best.seconds);
             writeln!(out, "{rank:>4}. {:<width$}  {clock:>8}  {}", best.player, date(best.at))?;
         }
     }

@@ -7,6 +7,7 @@
 
 #![forbid(unsafe_code)]
 
+pub mod clock;
 pub mod controls;
 pub mod flow;
 pub mod overlay;

@@ -12,8 +12,8 @@
 
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame};
 
+use crate::clock::clock_text;
 use crate::overlay::{Style, fit_line};
-use crate::screen::clock_text;
 
 /// One player in the list.
 #[derive(Clone, Debug, PartialEq)]

@@ -9,6 +9,7 @@
 
 use glam::Vec3;
 
+pub use crate::clock::{clock_text, running_clock_text}; // the exit clock, where its users first found it
 use crate::overlay::{self, MapArea, MapCells, Peer, Style};
 use crate::roster;
 use crate::state::{App, MapMode};
@@ -243,29 +244,9 @@ pub fn compass_point(yaw_deg: f32) -> &'static str {
     POINTS[((yaw_deg.rem_euclid(360.0) + 22.5) / 45.0) as usize % 8]
 }
 
-/// `m:ss` for the exit clock while it runs: it ticks once a second.
-#[must_use]
-pub fn running_clock_text(seconds: f64) -> String {
-    let whole = seconds.max(0.0).floor() as u64;
-    format!("{}:{:02}", whole / 60, whole % 60)
-}
-
-/// `m:ss.s` for the exit screen.
-#[must_use]
-pub fn clock_text(seconds: f64) -> String {
-    let minutes = (seconds / 60.0).floor();
-    format!("{}:{:04.1}", minutes as u64, seconds - minutes * 60.0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn clock_text_reads_minutes_and_seconds() {
-        assert_eq!(clock_text(0.0), "0:00.0");
-        assert_eq!(clock_text(75.25), "1:15.2");
-    }
 
     #[test]
     fn the_hud_fits_any_width_by_priority_and_always_offers_help() {
@@ -318,8 +299,5 @@ mod tests {
         {
             assert_eq!(compass_point(yaw), point, "{yaw}°");
         }
-        assert_eq!(running_clock_text(83.9), "1:23");
-        assert_eq!(running_clock_text(0.0), "0:00");
-        assert_eq!(running_clock_text(3600.0), "60:00");
     }
 }
