@@ -20,6 +20,7 @@
 pub mod host_key;
 pub mod limits;
 pub mod player;
+pub mod shared;
 pub mod ssh;
 pub mod stream;
 pub mod world;
