@@ -11,8 +11,14 @@
 //! ```
 //!
 //! [`codec`] is the wire format (untrusted input, decoded with bounds), [`view`] the rules (what to
-//! send, what the others have, who keeps a label), both pure.
-#![allow(missing_docs)]
+//! send, what the others have, who keeps a label), both pure; [`redis`] the keys, connections and
+//! commands; [`task`] the world task that drives them ([`SharedWorld::join`]) for a [`Host`].
 
 pub mod codec;
+pub mod redis;
+pub mod task;
 pub mod view;
+
+pub use codec::{Bounds, ServerId};
+pub use redis::WorldError;
+pub use task::{Host, LocalFinish, SharedWorld, Stats, WorldConfig};

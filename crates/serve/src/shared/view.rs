@@ -373,7 +373,7 @@ mod tests {
         let relabelled = PlayerRecord { label: 'Q', ..c.clone() };
         let m = out.tick(0.1, &[b2.clone(), relabelled.clone()], vec![], None, 0).unwrap();
         assert!(
-            matches!(&m.body, Body::Delta { joined, .. } if joined == &[relabelled.clone()]),
+            matches!(&m.body, Body::Delta { joined, .. } if joined == std::slice::from_ref(&relabelled)),
             "sent again whole"
         );
         assert!(matches!(out.tick(1.0, &[b2, relabelled], vec![], None, 0).unwrap().body, Body::Full { .. }));
@@ -386,7 +386,7 @@ mod tests {
         out.tick(0.0, std::slice::from_ref(&a), vec![], None, 0);
         let done = Finish { id: 1, name: "alice".into(), seconds: 12.0, won: true };
         let m = out.tick(0.5, std::slice::from_ref(&a), vec![done.clone()], None, 0).unwrap();
-        assert!(matches!(&m.body, Body::Delta { finished, .. } if finished == &[done.clone()]));
+        assert!(matches!(&m.body, Body::Delta { finished, .. } if finished == std::slice::from_ref(&done)));
         let m = out.tick(1.0, &[a], vec![done.clone()], None, 0).unwrap();
         assert!(matches!(&m.body, Body::Full { finished, .. } if finished == &[done]), "in a full one too");
     }
