@@ -174,6 +174,10 @@ impl SharedWorld {
             counted: Stats::default(),
             players: Vec::new(),
             finished: Vec::new(),
+            others_dirty: false,
+            others_told: f64::NEG_INFINITY,
+            labels: Vec::new(),
+            labels_dirty: true,
             last_drop_log: f64::NEG_INFINITY,
             dropped_logged: 0,
         };
@@ -265,6 +269,13 @@ struct Task {
     counted: Stats,
     players: Vec<PlayerRecord>,
     finished: Vec<LocalFinish>,
+    /// The others changed since the host last heard (it hears at most once a tick).
+    others_dirty: bool,
+    /// When the host last heard of the others.
+    others_told: f64,
+    /// This server's labels at the last tick, and whether the others changed since.
+    labels: Vec<(u32, char)>,
+    labels_dirty: bool,
     last_drop_log: f64,
     dropped_logged: u64,
 }
@@ -297,7 +308,10 @@ impl Task {
         let now = self.now();
         // Silence counts only while this server hears the channel.
         if self.subscribed && self.others.expire(now) {
-            self.host.others(&self.others, self.online);
+            self.others_changed(now);
+        }
+        if self.others_dirty {
+            self.tell_others(now);
         }
         self.players.clear();
         self.host.locals(&mut self.players, &mut self.finished);
@@ -311,12 +325,16 @@ impl Task {
                 None => push_bounded(&mut self.claims, f),
             }
         }
-        if self.online {
+        // Labels: checked when the others or this server's labels changed.
+        let labels: Vec<(u32, char)> = self.players.iter().map(|p| (p.id, p.label)).collect();
+        if self.online && (self.labels_dirty || labels != self.labels) {
+            self.labels_dirty = false;
             let conflicts = self.others.label_conflicts(&self.players);
             if !conflicts.is_empty() {
                 self.host.relabel(&conflicts);
             }
         }
+        self.labels = labels;
         if self.con.is_some() {
             self.claim_next();
             while let Some(record) = self.records.pop_front() {
@@ -366,7 +384,7 @@ impl Task {
     fn hear(&mut self, bytes: &[u8], now: f64) {
         let Ok(heard) = self.others.hear(bytes, now) else { return };
         if heard.changed {
-            self.host.others(&self.others, self.online);
+            self.others_changed(now);
         }
         let Some(server) = heard.server else { return };
         for finish in &heard.finished {
@@ -379,6 +397,22 @@ impl Task {
         if let Some(winner) = heard.winner {
             self.adopt(winner);
         }
+    }
+
+    /// The view of the others changed at `now`: the host hears of it at once, or at the next tick
+    /// if it heard less than a tick ago (with many servers, many messages a tick make one update).
+    fn others_changed(&mut self, now: f64) {
+        self.labels_dirty = true;
+        if now - self.others_told >= 1.0 / TICKS_PER_SECOND {
+            self.tell_others(now);
+        } else {
+            self.others_dirty = true;
+        }
+    }
+
+    fn tell_others(&mut self, now: f64) {
+        (self.others_dirty, self.others_told) = (false, now);
+        self.host.others(&self.others, self.online);
     }
 
     /// Someone else's claim on the win, as heard.
@@ -507,12 +541,13 @@ impl Task {
         let online = self.con.is_some() && self.subscribed;
         if online != self.online {
             self.online = online;
+            self.labels_dirty = true;
             if online {
                 info!(world = %self.link.url, "the world is online");
             } else {
                 self.counted.outages += 1;
             }
-            self.host.others(&self.others, online);
+            self.tell_others(self.now());
         }
     }
 

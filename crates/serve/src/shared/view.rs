@@ -287,15 +287,24 @@ impl Others {
     }
 
     /// This server's players (`locals`) who show a label that a player on another server who
-    /// came first also shows ([`yields_label`]): they should take another, if one is free.
+    /// came first also shows ([`yields_label`]): they should take another, if one is free. `?`
+    /// (shown when no label is free) is everyone's. O(others + locals).
     #[must_use]
     pub fn label_conflicts(&self, locals: &[PlayerRecord]) -> Vec<u32> {
+        // The first comer of each label among the others.
+        let mut first: BTreeMap<char, (ServerId, &PlayerRecord)> = BTreeMap::new();
+        for (server, p) in self.players().filter(|(_, p)| p.label != '?') {
+            match first.get(&p.label) {
+                Some(&earlier) if !yields_label(earlier, (server, p)) => {}
+                _ => {
+                    first.insert(p.label, (server, p));
+                }
+            }
+        }
         locals
             .iter()
             .filter(|mine| {
-                self.players().any(|(server, theirs)| {
-                    theirs.label == mine.label && yields_label((self.me, mine), (server, theirs))
-                })
+                first.get(&mine.label).is_some_and(|&theirs| yields_label((self.me, mine), theirs))
             })
             .map(|p| p.id)
             .collect()
@@ -475,6 +484,11 @@ mod tests {
         assert!(view.label_conflicts(&[other]).is_empty());
         assert!(yields_label((ServerId(2), &late), (ServerId(1), &early)));
         assert!(!yields_label((ServerId(1), &early), (ServerId(2), &late)));
+        let unlabelled = PlayerRecord { label: '?', ..late.clone() };
+        let mut two = Outbox::new(ServerId(3), MAZE);
+        let other_unlabelled = PlayerRecord { label: '?', ..early.clone() };
+        view.hear(&wire(&two.tick(0.0, &[other_unlabelled], vec![], None, 0).unwrap()), 0.0).unwrap();
+        assert!(view.label_conflicts(&[unlabelled]).is_empty(), "`?` is everyone's");
         let same_time = PlayerRecord { joined_ms: 10, ..late };
         assert!(
             yields_label((ServerId(2), &same_time), (ServerId(1), &early))
