@@ -32,7 +32,7 @@ fn bounds() -> Bounds {
 }
 
 fn config(redis: &RedisServer) -> WorldConfig {
-    WorldConfig { url: redis.url(0), maze_hash: MAZE.into(), bounds: bounds() }
+    WorldConfig { url: redis.url(0), maze_hash: MAZE.into(), bounds: bounds(), ca: None }
 }
 
 async fn join(redis: &RedisServer, host: &Arc<TestHost>) -> SharedWorld {
@@ -439,6 +439,34 @@ async fn a_server_publishes_at_most_30_times_a_second_whatever_its_players() {
         b.other("w99").is_some_and(|p| p.at == last)
     })
     .await;
+    world_a.leave().await;
+    world_b.leave().await;
+}
+
+/// `rediss://`: two servers share a world over TLS, trusting the Redis's CA (`ca`); a server that
+/// does not trust it is refused with the reason.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_world_over_tls() {
+    let redis = RedisServer::start_tls().await;
+    let tls = WorldConfig { ca: redis.ca(), ..config(&redis) };
+    assert!(tls.url.starts_with("rediss://"));
+    let (a, b) = (Arc::new(TestHost::default()), Arc::new(TestHost::default()));
+    a.join("alice", at(1.0, 1.0));
+    b.join("bob", at(2.0, 2.0));
+    let world_a = SharedWorld::join(tls.clone(), Arc::clone(&a) as Arc<dyn mazewalk_serve::shared::Host>)
+        .await
+        .unwrap();
+    let world_b = SharedWorld::join(tls.clone(), Arc::clone(&b) as Arc<dyn mazewalk_serve::shared::Host>)
+        .await
+        .unwrap();
+    eventually(Duration::from_secs(3), "each sees the other", || {
+        a.other("bob").is_some() && b.other("alice").is_some()
+    })
+    .await;
+    let untrusting = WorldConfig { ca: None, ..tls };
+    let err = SharedWorld::join(untrusting, Arc::new(TestHost::default())).await.err().expect("refused");
+    assert!(matches!(err, WorldError::Unreachable { .. }), "{err}");
+    assert!(err.to_string().to_lowercase().contains("certificate"), "{err}");
     world_a.leave().await;
     world_b.leave().await;
 }

@@ -55,6 +55,12 @@ pub enum WorldError {
         /// What the client said.
         source: RedisError,
     },
+    /// A CA was given for a world without TLS.
+    #[error("--world-ca is for a world over TLS (rediss://…), not {url}")]
+    CaWithoutTls {
+        /// The URL, without its password.
+        url: String,
+    },
     /// Redis did not answer.
     #[error("cannot reach the world at {url}: {source}")]
     Unreachable {
@@ -141,15 +147,25 @@ pub struct Link {
 impl Link {
     /// The link to the world at `url` (`redis://[user:pass@]host:port[/db]`, `rediss://` for TLS,
     /// `redis+unix:///path` for a socket) for the maze hashed `maze_hash`. Connects to nothing yet.
+    /// A `rediss://` server's certificate is checked against the system's roots, or against `ca`
+    /// (PEM) when given (redis-cli's `--cacert`: a Redis with a certificate of its own CA).
     ///
     /// # Errors
-    /// The URL is not a Redis URL.
-    pub fn new(url: &str, maze_hash: &str) -> Result<Link, WorldError> {
+    /// The URL is not a Redis URL, or `ca` is given for a URL without TLS.
+    pub fn new(url: &str, maze_hash: &str, ca: Option<&[u8]>) -> Result<Link, WorldError> {
         // rustls asks for a process-wide crypto provider; ring is russh's too. Installing it twice is
         // refused harmlessly.
         let _ = rustls::crypto::ring::default_provider().install_default();
         let shown = redacted(url);
-        let client = Client::open(url).map_err(|source| WorldError::Url { url: shown.clone(), source })?;
+        let bad_url = |source| WorldError::Url { url: shown.clone(), source };
+        let client = match ca {
+            None => Client::open(url).map_err(bad_url)?,
+            Some(_) if !url.starts_with("rediss://") => return Err(WorldError::CaWithoutTls { url: shown }),
+            Some(pem) => {
+                let certificates = redis::TlsCertificates { client_tls: None, root_cert: Some(pem.to_vec()) };
+                Client::build_with_tls(url, certificates).map_err(bad_url)?
+            }
+        };
         let db = client.get_connection_info().redis_settings().db();
         Ok(Link { client, url: shown, keys: Keys::new(maze_hash, db) })
     }
@@ -413,9 +429,11 @@ mod tests {
 
     #[test]
     fn a_bad_url_is_told_without_its_password() {
-        let err = Link::new("http://u:secret@h/", "abc").unwrap_err();
+        let err = Link::new("http://u:secret@h/", "abc", None).unwrap_err();
         let text = err.to_string();
         assert!(text.starts_with("--world http://***@h/:"), "{text}");
         assert!(!text.contains("secret"));
+        let err = Link::new("redis://u:secret@h/", "abc", Some(b"pem")).unwrap_err();
+        assert_eq!(err.to_string(), "--world-ca is for a world over TLS (rediss://…), not redis://***@h/");
     }
 }

@@ -66,6 +66,9 @@ pub struct WorldConfig {
     pub maze_hash: String,
     /// The maze's bounds, for checking what the others say.
     pub bounds: Bounds,
+    /// The certificate (PEM) of the CA that signed a `rediss://` Redis's certificate, when it is
+    /// not one the system trusts.
+    pub ca: Option<Vec<u8>>,
 }
 
 /// What the world task has done so far, for logs, tests and benchmarks.
@@ -126,7 +129,7 @@ impl SharedWorld {
     /// # Errors
     /// The URL is bad, Redis does not answer, or the world walks another maze.
     pub async fn join(config: WorldConfig, host: Arc<dyn Host>) -> Result<SharedWorld, WorldError> {
-        let link = Link::new(&config.url, &config.maze_hash)?;
+        let link = Link::new(&config.url, &config.maze_hash, config.ca.as_deref())?;
         let unreachable = |source: RedisError| WorldError::Unreachable { url: link.url.clone(), source };
         let mut con = link.connect().await.map_err(unreachable)?;
         let world = link::claim_world(&mut con, &link.keys, &config.maze_hash).await.map_err(unreachable)?;
