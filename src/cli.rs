@@ -36,7 +36,7 @@ use mazewalk_walk::state;
     long_about = "A first-person 3D maze walkthrough for the terminal.\n\n\
         Without a command, walks MAZE (CS559 or grid format), a fresh --gen maze, or the built-in maze.\n\
         Keys: W/S walk, A/D strafe, arrows turn and look (a tap steps, a hold glides), , . snap turn 90°,\n\
-        [ ] down/up, + - fov, p projection, m map, c glyphs, r reset, ? help, q quit.",
+        [ ] down/up, + - fov, p projection, m map, c glyphs, r reset, i figures, ? help, q quit.",
     args_conflicts_with_subcommands = true
 )]
 pub struct Cli {
@@ -67,6 +67,10 @@ pub struct WalkArgs {
     /// The map shows the whole maze and its exit from the start (by default only what you have seen).
     #[arg(long)]
     pub reveal_map: bool,
+    /// Show the developer figures in the HUD from the start: frames per second, bytes of the last
+    /// frame, cell, cells the portal pass visited, ms per frame (`i` shows and hides them).
+    #[arg(long)]
+    pub dev_figures: bool,
     #[command(flatten)]
     pub motion: MotionArgs,
 }
@@ -121,15 +125,20 @@ pub struct LookArgs {
     /// Glyphs: ascii (one sample per cell), half (▀, 1×2), quad (2×2) or sextant (2×3).
     #[arg(long, default_value = "half")]
     pub charset: Charset,
-    /// Colour depth: none, 16, 256 or truecolor (default: from COLORTERM/TERM; NO_COLOR gives none).
+    /// Colour depth: none, 16, 256 or truecolor (default: from NO_COLOR, COLORTERM and TERM; the walk
+    /// also reads terminfo, asks tmux, and asks the terminal itself for truecolor).
     #[arg(long)]
     pub color: Option<ColorDepth>,
     /// Terminal cell width / height (cells are about twice as tall as wide).
     #[arg(long, default_value_t = 0.5, value_parser = parse_cell_aspect)]
     pub cell_aspect: f32,
-    /// In 256 and 16 colours, give each sample its nearest palette entry instead of dithering between
-    /// two (fewer bytes, visible bands). The walk also stops dithering by itself on a slow link.
+    /// In 256 and 16 colours, mix neighbouring palette entries that are close in an ordered pattern
+    /// where the shading falls between them (smoother, about 1.5× the bytes; the walk stops mixing
+    /// by itself on a slow link). By default each surface is drawn in clean bands of its own hues.
     #[arg(long)]
+    pub dither: bool,
+    /// The default (kept so that scripts written for the old dithered default still run).
+    #[arg(long, hide = true, conflicts_with = "dither")]
     pub no_dither: bool,
     /// The ascii charset's shading ramp: short (10 characters, ` .:-=+*#%@`) or long (70).
     #[arg(long, default_value = "short")]
@@ -150,15 +159,18 @@ pub enum Command {
     Check(CheckArgs),
     /// Host a maze over SSH: players connect with `ssh -p PORT HOST` and walk it together.
     Serve(ServeArgs),
+    /// Print the best times kept by `serve`: of one maze, or of every maze served.
+    Records(RecordsArgs),
 }
 
 #[derive(Args)]
 pub struct ServeArgs {
     #[command(flatten)]
     pub maze: MazeArgs,
-    /// Address and port to listen on (0.0.0.0:2222 for every interface).
-    #[arg(long, value_name = "ADDR:PORT", default_value = "127.0.0.1:2222")]
-    pub listen: std::net::SocketAddr,
+    /// Address and port to listen on: 0.0.0.0:2222 for every IPv4 interface, [::]:2222 for every
+    /// interface, or a host name (localhost:2222 listens on each of its addresses).
+    #[arg(long, value_name = "HOST:PORT", default_value = "127.0.0.1:2222", value_parser = parse_listen)]
+    pub listen: String,
     /// The server's ed25519 host key, made there on first start (default:
     /// $XDG_STATE_HOME/mazewalk/host_ed25519_key, or ~/.local/state/mazewalk/host_ed25519_key).
     #[arg(long, value_name = "FILE")]
@@ -170,15 +182,48 @@ pub struct ServeArgs {
     /// ~/.ssh/authorized_keys, the keys that may log in to this account).
     #[arg(long, value_name = "FILE")]
     pub authorized_keys: Option<PathBuf>,
-    /// Connections at once, in all (1..=100000).
+    /// Players at once, in all (1..=100000).
     #[arg(long, value_name = "N", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub max_players: u32,
-    /// Connections at once from one IP address (1..=100000).
+    /// Connections still logging in (key exchange and authentication) at once, in all; they never
+    /// take a player's slot (1..=100000).
+    #[arg(long, value_name = "N", default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub max_handshakes: u32,
+    /// Connections at once from one IP address, or one IPv6 /64 (1..=100000).
     #[arg(long, value_name = "N", default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub max_per_address: u32,
     /// Disconnect a player who sends nothing for this long (e.g. 90s, 30m, 2h; 1s..=7d).
     #[arg(long, value_name = "DUR", default_value = "30m", value_parser = parse_duration)]
     pub idle_timeout: std::time::Duration,
+    /// Keep the best times in this SQLite file (default: records.sqlite beside the host key).
+    #[arg(long, value_name = "FILE", conflicts_with = "no_records")]
+    pub records: Option<PathBuf>,
+    /// Keep no best times.
+    #[arg(long)]
+    pub no_records: bool,
+}
+
+#[derive(Args)]
+pub struct RecordsArgs {
+    /// Only this maze's best times (a file, or --gen WxH --seed N as it was served); every maze's
+    /// if omitted.
+    #[arg(value_name = "MAZE")]
+    pub maze: Option<PathBuf>,
+    /// The maze served with --gen WxH (and --seed N).
+    #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size, conflicts_with = "maze")]
+    pub generate: Option<(u32, u32)>,
+    /// Seed for --gen.
+    #[arg(long, default_value_t = 1, requires = "gen")]
+    pub seed: u64,
+    /// The built-in maze's best times.
+    #[arg(long, conflicts_with_all = ["maze", "gen"])]
+    pub builtin: bool,
+    /// The records file (default: records.sqlite in the host key's default folder,
+    /// $XDG_STATE_HOME/mazewalk or ~/.local/state/mazewalk).
+    #[arg(long, value_name = "FILE")]
+    pub records: Option<PathBuf>,
+    #[command(flatten)]
+    pub read: ReadArgs,
 }
 
 #[derive(Args)]
@@ -273,7 +318,7 @@ impl LookArgs {
             color_depth,
             culling,
             cell_aspect: self.cell_aspect,
-            dither: !self.no_dither,
+            dither: self.dither,
             ramp: self.ramp,
             textures: self.textures,
         }
@@ -401,6 +446,28 @@ pub fn parse_bytes(s: &str) -> Result<u64, String> {
     match digits.parse::<u64>().ok().and_then(|n| n.checked_mul(1 << shift)) {
         Some(n) if n > 0 => Ok(n),
         _ => Err(format!("expected a size in bytes such as 1000000, 512K, 256M or 2G, found `{s}`")),
+    }
+}
+
+/// `HOST:PORT` as `--listen` takes it: an IP address and port (`[…]` around an IPv6 address), or a
+/// host name and port, which `serve` looks up when it starts (not here: parsing does no I/O).
+pub fn parse_listen(s: &str) -> Result<String, String> {
+    if s.parse::<std::net::SocketAddr>().is_ok() {
+        return Ok(s.to_string());
+    }
+    let bad = || {
+        format!(
+            "expected HOST:PORT such as 127.0.0.1:2222, [::1]:2222 or localhost:2222, found `{}`",
+            maze::quote(s)
+        )
+    };
+    let (host, port) = s.rsplit_once(':').ok_or_else(bad)?;
+    let host_ok = !host.is_empty()
+        && host.len() <= 253
+        && host.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '.' | '_'));
+    match port.parse::<u16>() {
+        Ok(_) if host_ok => Ok(s.to_string()),
+        _ => Err(bad()),
     }
 }
 

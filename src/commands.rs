@@ -11,6 +11,7 @@ use mazewalk_maze::{self as maze, Maze};
 
 pub mod check;
 pub mod generate;
+pub mod records;
 pub mod render;
 pub mod serve;
 #[cfg(unix)]
@@ -55,6 +56,17 @@ pub fn stdout_open() -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// What the maze the flags name is called in messages and records: its path as given, the built-in
+/// maze's name, or the `--gen` flags that make it.
+#[must_use]
+pub fn maze_name(args: &MazeArgs) -> String {
+    match (&args.maze, args.generate) {
+        (_, Some((w, h))) => format!("--gen {w}x{h} --seed {}", args.seed),
+        (Some(path), None) => maze::quote_path(&path.display().to_string()),
+        (None, None) => maze::BUILTIN_NAME.to_string(),
+    }
 }
 
 /// Loads, generates or unpacks the maze the flags name.

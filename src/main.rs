@@ -53,6 +53,7 @@ fn main() -> ExitCode {
         Some(Command::Gen(args)) => commands::generate::run(&args).map(|()| ExitCode::SUCCESS),
         Some(Command::Check(args)) => commands::check::run(&args).map(|()| ExitCode::SUCCESS),
         Some(Command::Serve(args)) => commands::serve::run(&args),
+        Some(Command::Records(args)) => commands::records::run(&args).map(|()| ExitCode::SUCCESS),
     };
     match result {
         Ok(code) => code,

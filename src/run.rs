@@ -48,17 +48,25 @@ const SIGHUP: i32 = 1;
 
 /// Runs `session` on this process's terminal until the player quits, a signal ends it or the
 /// terminal hangs up. `clock` is the zero of the session's time (the instant its `App` was made at
-/// time 0). The terminal is restored on return, on error, on panic, on every catchable signal that
+/// time 0). With `ask_truecolor`, the terminal is asked whether it shows 24-bit colour before the
+/// first frame ([`Session::ask_truecolor`]; its answer comes in with the keys). The terminal is restored on return, on error, on panic, on every catchable signal that
 /// would end the process, and around a stop (Ctrl-Z, SIGTSTP; taken back after SIGSTOP) (the guard).
 ///
 /// # Errors
 /// The terminal could not be set up, read or written.
 #[cfg(unix)]
-pub fn run(session: &mut Session, clock: Instant) -> io::Result<Ended> {
+pub fn run(session: &mut Session, clock: Instant, ask_truecolor: bool) -> io::Result<Ended> {
     use rustix::event::{PollFd, PollFlags, Timespec};
 
     let mut terminal = TerminalGuard::enter(GuardOptions::default())?;
     session.app_mut().releases = terminal.enabled().reports_key_releases();
+    if ask_truecolor {
+        // after the guard's own keyboard query is answered (it reads that answer itself), before the
+        // first frame, which paints over whatever a terminal that does not understand it shows
+        let mut question = Vec::new();
+        session.ask_truecolor(&mut question);
+        terminal.write_frame(&question)?;
+    }
     let (mut cols, mut rows) = guard::size()?;
     let now = || clock.elapsed().as_secs_f64();
     session.input(Input::Resize { cols, rows }, now());

@@ -72,9 +72,13 @@ struct ServerProcess {
 
 impl ServerProcess {
     fn start(scratch: &Scratch, args: &[&str]) -> ServerProcess {
+        ServerProcess::start_on(scratch, "127.0.0.1:0", args)
+    }
+
+    fn start_on(scratch: &Scratch, listen: &str, args: &[&str]) -> ServerProcess {
         let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
             .arg("serve")
-            .args(["--listen", "127.0.0.1:0", "--host-key"])
+            .args(["--listen", listen, "--host-key"])
             .arg(scratch.0.join("host_key"))
             .args(args)
             .env("HOME", &scratch.0)
@@ -88,7 +92,9 @@ impl ServerProcess {
         stdout.read_line(&mut line).expect("the first line");
         let port = line
             .trim()
-            .rsplit_once(':')
+            .split(", ")
+            .next()
+            .and_then(|first| first.rsplit_once(':'))
             .and_then(|(_, port)| port.parse().ok())
             .unwrap_or_else(|| panic!("expected `mazewalk: serving on ADDR:PORT`, got {line:?}"));
         let log = Arc::new(Mutex::new(String::new()));
@@ -289,7 +295,12 @@ impl Player {
 
     /// Whether `ok` holds for the screen as it is now.
     fn shows(&self, ok: impl Fn(&vt100::Screen) -> bool) -> bool {
-        ok(lock(&self.shared).parser.screen())
+        self.read(ok)
+    }
+
+    /// What `f` reads off the screen as it is now.
+    fn read<T>(&self, f: impl Fn(&vt100::Screen) -> T) -> T {
+        f(lock(&self.shared).parser.screen())
     }
 }
 
@@ -328,10 +339,22 @@ fn two_players_see_each_other_and_q_restores_the_terminal() {
     alice.wait_for("alice's game", playing);
     let mut bob = Player::connect(&server, None, "bob+1", 100, 30);
     bob.wait_for("bob's game", playing);
-    // Both start on the same spot, where each one's own arrow is drawn: bob walks away a few steps.
-    bob.send(b"www");
+    // Issue #34: everyone started on one point, inside the others. Now each gets a spot of its own
+    // (bob one step behind alice), and each sees the other on the map at once.
     alice.wait_for("bob on alice's map", |s, _| on_map(s, 'B'));
     bob.wait_for("alice on bob's map", |s, _| on_map(s, 'A'));
+    let (at_alice, at_bob) = (alice.read(hud_position), bob.read(hud_position));
+    assert!(at_alice.zip(at_bob).is_some_and(|(a, b)| a != b), "{at_alice:?} {at_bob:?}");
+    // The HUD counts the players; Tab lists them, each with its label, time in the maze and best.
+    alice.wait_for("2 in on the HUD", |s, _| hud_row(s).contains("2 in"));
+    let mut alice = alice;
+    alice.send(b"\t");
+    alice.wait_for("the player list", |s, _| {
+        let text = s.contents();
+        text.contains("Players: 2") && text.contains("A  alice (you)") && text.contains("B  bob1")
+    });
+    alice.send(b"\t");
+    alice.wait_for("the list closed", |s, _| !s.contents().contains("Players: 2"));
 
     bob.send(b"q");
     assert!(bob.wait_exit().success(), "q ends ssh with exit status 0");
@@ -366,11 +389,17 @@ fn in_view(screen: &vt100::Screen, ch: char) -> bool {
     (rows / 3..rows - 1).any(|row| screen.contents_between(row, 0, row, u16::MAX).contains(ch))
 }
 
+/// The HUD's row.
+fn hud_row(screen: &vt100::Screen) -> String {
+    let rows = screen.size().0.get();
+    screen.contents_between(rows - 1, 0, rows - 1, u16::MAX)
+}
+
 /// The walker's position as the HUD shows it: `(x, y)` at the start of the bottom row.
 fn hud_position(screen: &vt100::Screen) -> Option<(f32, f32)> {
     let rows = screen.size().0.get();
     let hud = screen.contents_between(rows - 1, 0, rows - 1, u16::MAX);
-    let (x, y) = hud.trim_start().strip_prefix('(')?.split_once(')')?.0.split_once(',')?;
+    let (x, y) = hud.split_once('(')?.1.split_once(')')?.0.split_once(',')?; // (after the heading)
     Some((x.trim().parse().ok()?, y.trim().parse().ok()?))
 }
 
@@ -423,6 +452,23 @@ fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
     }
 }
 
+/// `--no-records` keeps none: no file is made.
+#[test]
+fn no_records_makes_no_file() {
+    let scratch = Scratch::new("norecords");
+    let server = ServerProcess::start(&scratch, &["--open", "--no-records"]);
+    let (status, _, _) = server.ssh_batch(None, "ida", &["-T"]);
+    assert_eq!(status.code(), Some(1));
+    assert!(!scratch.0.join("records.sqlite").exists());
+    let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["records", "--records"])
+        .arg(scratch.0.join("records.sqlite"))
+        .output()
+        .expect("mazewalk records");
+    assert_eq!(listed.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&listed.stderr).contains("no records yet"), "{listed:?}");
+}
+
 /// Three tiles east from the start, the last one the exit.
 const SHORT_RUN: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#####\n#@.E#\n#####\n";
 
@@ -439,9 +485,34 @@ fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_a
     }
     alice.wait_for("the announcement on alice's screen", announced);
     bob.wait_for("bob's own exit box", |s, _| s.contents().contains("You found the exit in"));
+    // Issue #34: the winner was not logged. Now it is (and every finish).
+    server.wait_log("reached the exit first", 1);
+    let won =
+        lock(&server.log).lines().find(|l| l.contains("reached the exit first")).unwrap_or("").to_string();
+    assert!(won.contains("user=bob ") && won.contains("seconds="), "{won}");
     let carol = Player::connect(&server, None, "carol", 100, 30);
     carol.wait_for("the announcement on the screen of carol, who joined after", announced);
     assert!(!alice.shows(|s| s.contents().contains("alice reached")), "only the first is announced");
+    // The best times are kept (beside the host key) and shown in the exit box with the rank.
+    bob.wait_for("the best times in bob's exit box", |s, _| {
+        let text = s.contents();
+        text.contains("Best times here (1 player)") && text.contains("1. bob") && text.contains("you")
+    });
+    let records = scratch.0.join("records.sqlite");
+    let maze = scratch.0.join("maze.grid");
+    for args in [vec![], vec![maze.to_str().expect("utf-8")]] {
+        let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .arg("records")
+            .args(&args)
+            .arg("--records")
+            .arg(&records)
+            .output()
+            .expect("mazewalk records");
+        let text = String::from_utf8_lossy(&listed.stdout);
+        assert!(listed.status.success(), "{listed:?}");
+        assert!(text.contains("maze.grid") && text.contains("1 player, 1 finish"), "{text}");
+        assert!(text.contains("   1. bob"), "{text}");
+    }
 }
 
 #[test]
@@ -524,8 +595,13 @@ fn authorized_keys_let_in_only_their_keys() {
     let scratch = Scratch::new("keys");
     let (known, unknown) = (scratch.key("known"), scratch.key("unknown"));
     let list = scratch.0.join("players");
-    std::fs::copy(known.with_extension("pub"), &list).expect("authorized keys");
+    // Issue #34: a borg line (a quoted option with spaces) failed the whole file and the server
+    // did not start; now it is left out, said with its line, and the rest is read.
+    let public = |key: &Path| std::fs::read_to_string(key.with_extension("pub")).expect("a public key");
+    let borg = format!("restrict,command=\"borg serve --restrict-to-path /srv/backup\" {}", public(&unknown));
+    std::fs::write(&list, format!("{borg}{}", public(&known))).expect("authorized keys");
     let server = ServerProcess::start(&scratch, &["--authorized-keys", list.to_str().expect("utf-8")]);
+    server.wait_log("players:1: the key of unknown is limited by `command=\"borg serve", 1);
     let (status, _, stderr) = server.ssh_batch(Some(&unknown), "eve", &["-T"]);
     assert_eq!(status.code(), Some(255), "{stderr}");
     assert!(stderr.contains("Permission denied"), "{stderr}");
@@ -543,11 +619,52 @@ fn authorized_keys_let_in_only_their_keys() {
     assert!(failed.contains("user=eve") && failed.contains(print), "{failed}");
     let (status, _, stderr) = server.ssh_batch(None, "eve", &["-T"]);
     assert_eq!(status.code(), Some(255), "no key, no entry: {stderr}");
+    // Issue #34: a login that offered no key was logged as `closed` (and a password one with user=-).
+    server.wait_log("reason=authentication failed (none)", 1);
+    let failed = lock(&server.log)
+        .lines()
+        .find(|l| l.ends_with("authentication failed (none)"))
+        .unwrap_or("")
+        .to_string();
+    assert!(failed.contains("user=eve "), "{failed}");
+    // Issue #34: the first `none` request counted as one of the 6 tries, so a key listed 6th was
+    // refused; as with sshd, five refused keys and then the right one get in.
+    let strangers: Vec<PathBuf> = (1..=5).map(|i| scratch.key(&format!("stranger{i}"))).collect();
+    let mut six: Vec<String> =
+        strangers.iter().flat_map(|k| ["-i".to_string(), k.display().to_string()]).collect();
+    six.extend(["-i".to_string(), known.display().to_string(), "-T".to_string()]);
+    let six: Vec<&str> = six.iter().map(String::as_str).collect();
+    let (status, stdout, stderr) = server.ssh_batch(None, "gus", &six);
+    assert_eq!(status.code(), Some(1), "logged in (and told to use a terminal): {stderr}");
+    assert!(stdout.contains(NO_PTY_MESSAGE), "{stdout}");
     let mut player = Player::connect(&server, Some(&known), "frank", 80, 24);
     player.wait_for("the game", playing);
     server.wait_log("user=frank", 1);
     player.send(b"q");
     assert!(player.wait_exit().success());
+}
+
+/// Issue #34, low: a port in use read like success ("serving on 127.0.0.1:2222: Address already in
+/// use"), and `--listen localhost:2222` was refused.
+#[test]
+fn a_port_in_use_is_said_plainly_and_a_host_name_is_looked_up() {
+    let scratch = Scratch::new("listen");
+    let server = ServerProcess::start_on(&scratch, "localhost:0", &["--open"]);
+    let (status, stdout, _) = server.ssh_batch(None, "ida", &["-T"]);
+    assert_eq!(status.code(), Some(1), "a game on localhost's address");
+    assert!(stdout.contains(NO_PTY_MESSAGE), "{stdout}");
+    let taken = format!("127.0.0.1:{}", server.port);
+    let second = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["serve", "--open", "--listen", &taken, "--host-key"])
+        .arg(scratch.0.join("host_key"))
+        .env("HOME", &scratch.0)
+        .stdin(Stdio::null())
+        .output()
+        .expect("run a second server");
+    let (out, err) = (String::from_utf8_lossy(&second.stdout), String::from_utf8_lossy(&second.stderr));
+    assert_eq!(second.status.code(), Some(1), "{err}");
+    assert!(!out.contains("serving on") && !err.contains("serving on"), "{out}{err}");
+    assert!(err.contains(&format!("cannot listen on {taken}")) && err.contains("in use"), "{err}");
 }
 
 #[test]
@@ -585,4 +702,67 @@ fn a_signal_says_goodbye(signal: rustix::process::Signal, code: i32) {
         std::thread::sleep(Duration::from_millis(20));
     };
     assert_eq!(status.code(), Some(code));
+}
+
+/// A Python 3 with paramiko (Debian's python3-paramiko; `.ci/run` installs it).
+fn python_with_paramiko() -> &'static str {
+    ["/usr/bin/python3", "python3"]
+        .into_iter()
+        .find(|python| {
+            Command::new(python)
+                .args(["-c", "import paramiko"])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .status()
+                .is_ok_and(|s| s.success())
+        })
+        .expect("python3 with paramiko (apt-get install python3-paramiko)")
+}
+
+/// Issue #34, low: a player that types but never reads (paramiko, whose transport reads the socket
+/// but never reopens a window its program does not read) kept a shutting-down server 8–9.5 s; the
+/// grace is 2 s. Its goodbye waited on the full window for the write timeout, and russh's own task,
+/// waiting to hand over keys the player's task no longer took, never saw the cut.
+#[test]
+fn a_player_who_types_but_never_reads_holds_shutdown_no_longer_than_the_grace() {
+    let scratch = Scratch::new("unread");
+    let mut server = ServerProcess::start(&scratch, &["--open"]);
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/clients/typist.py");
+    let mut typist = Command::new(python_with_paramiko())
+        .arg(&script)
+        .args([&server.port.to_string(), "2.5"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run the typist");
+    let mut said = BufReader::new(typist.stdout.take().expect("stdout"));
+    let mut line = String::new();
+    said.read_line(&mut line).expect("the typist's first line");
+    assert_eq!(line.trim(), "typing");
+    // 2.5 s of turns at 200×60 fill the 2 MB window within a second or so; then the keys pile up.
+    line.clear();
+    said.read_line(&mut line).expect("the typist's second line");
+    assert!(line.starts_with("typed"), "{line:?}");
+    let started = Instant::now();
+    let pid = rustix::process::Pid::from_child(&server.child);
+    rustix::process::kill_process(pid, rustix::process::Signal::TERM).expect("kill");
+    let deadline = Instant::now() + TIMEOUT;
+    let status = loop {
+        if let Some(status) = server.child.try_wait().expect("wait") {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "the server did not exit");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let took = started.elapsed();
+    let _ = typist.kill();
+    let _ = typist.wait();
+    assert_eq!(status.code(), Some(143));
+    let log = lock(&server.log).clone();
+    let line = log.lines().find(|l| l.contains("disconnected")).unwrap_or_default().to_string();
+    let bytes_out: u64 =
+        line.split("bytes_out=").nth(1).and_then(|v| v.split(' ').next()?.parse().ok()).unwrap_or(0);
+    assert!(bytes_out > 2_000_000, "the premise: the window filled ({bytes_out} bytes out): {log}");
+    assert!(took < Duration::from_millis(3500), "shutdown took {took:?} (a grace of 2 s)");
 }

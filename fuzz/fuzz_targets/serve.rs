@@ -26,8 +26,9 @@ fuzz_target!(|bytes: &[u8]| {
     };
     let mut world = World::new();
     let (position, heading, cell) = player.whereabouts();
-    player.joined(world.join("me", position, heading, cell));
-    let others: Vec<PlayerId> = (0..8).map(|i| world.join(&format!("p{i}"), Vec2::ZERO, 0.0, cell)).collect();
+    player.joined(world.join("me", position, heading, cell, 0.0));
+    let others: Vec<PlayerId> =
+        (0..8).map(|i| world.join(&format!("p{i}"), Vec2::ZERO, 0.0, cell, 0.0)).collect();
     let mut out = Vec::new();
     player.enter(&mut out);
     let mut t = 0.0;

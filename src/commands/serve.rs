@@ -35,14 +35,25 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         };
         let read = host_key::read_authorized_keys(&path)
             .with_context(|| "who may play (give --authorized-keys FILE, or --open to let anyone in)")?;
+        // (The comments, options and reasons hold the file's text: quoted, control characters escaped.)
+        let quote = mazewalk_maze::quote;
+        for skipped in &read.skipped {
+            let _ = writeln!(
+                std::io::stderr(),
+                "mazewalk: {}:{}: skipped: {}",
+                path.display(),
+                skipped.line,
+                skipped.why
+            );
+        }
         for left in &read.left_out {
             let _ = writeln!(
                 std::io::stderr(),
-                "mazewalk: {}: key {} ({}) is limited by `{}`, which mazewalk does not enforce: it may not play",
+                "mazewalk: {}:{}: the key of {} is limited by `{}`, which mazewalk does not enforce: it may not play",
                 path.display(),
-                left.number,
-                left.comment,
-                left.option
+                left.line,
+                quote(&left.comment),
+                quote(&left.option)
             );
         }
         if read.keys.is_empty() {
@@ -51,32 +62,99 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         Access::Keys(read.keys)
     };
     let fingerprint = host_key::fingerprint(host_key.public_key());
+    let listen = resolve(&args.listen)?;
     let limits = Limits {
         max_players: args.max_players as usize,
+        max_handshakes: args.max_handshakes as usize,
         max_per_address: args.max_per_address as usize,
         idle_timeout: args.idle_timeout,
         ..Limits::default()
     };
-    let options = ServeOptions { maze, listen: args.listen, host_key, access, limits };
     tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
-    let signal = mazewalk_serve::run(options, |addr| {
+    let records = if args.no_records {
+        None
+    } else {
+        let path = args.records.clone().unwrap_or_else(|| key_path.with_file_name("records.sqlite"));
+        keep_records(&path, &maze, super::maze_name(&args.maze))
+    };
+    let options = ServeOptions { maze, listen, host_key, access, limits, records: records.clone() };
+    let signal = mazewalk_serve::run(options, |addrs| {
         let made = if made { ", made now" } else { "" };
+        let list: Vec<String> = addrs.iter().map(ToString::to_string).collect();
+        let addr = addrs[0];
         // for the host to read; a closed pipe (`serve | head -1`) must not end the server
         let mut out = std::io::stdout().lock();
-        let _ = writeln!(out, "mazewalk: serving on {addr}")
+        let _ = writeln!(out, "mazewalk: serving on {}", list.join(", "))
             .and_then(|()| writeln!(out, "host key {fingerprint} ({}{made})", key_path.display()))
             .and_then(|()| {
                 // Listening on every address: the players need one of this machine's names.
-                let host =
-                    if addr.ip().is_unspecified() { "THIS-HOST".to_string() } else { addr.ip().to_string() };
+                let host = match addr.ip() {
+                    ip if ip.is_unspecified() => "THIS-HOST".to_string(),
+                    std::net::IpAddr::V6(ip) => format!("{ip}"),
+                    ip => ip.to_string(),
+                };
                 writeln!(out, "players connect with: ssh -p {} {host}", addr.port())
             })
             .and_then(|()| out.flush());
-    })
-    .with_context(|| format!("serving on {}", args.listen))?;
+    })?; // (its errors say what failed: "cannot listen on 127.0.0.1:2222: Address already in use")
+    if let Some(keeper) = records {
+        // The finishes handed over before the end are written (a few at most; bounded anyway).
+        let _ = keeper.records.close(std::time::Duration::from_secs(3));
+    }
     Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)))
 }
 
+/// The records of `maze` in the SQLite file at `path`, on their thread; what fails is said and the
+/// server goes on without records (a damaged file is kept aside and a new one made).
+#[cfg(all(unix, feature = "serve"))]
+fn keep_records(
+    path: &std::path::Path,
+    maze: &mazewalk_maze::Maze,
+    name: String,
+) -> Option<mazewalk_serve::records::Keeper> {
+    use mazewalk_serve::records::{Keeper, Records, Report, Sqlite, SqliteOptions};
+    let (db, aside) = match Sqlite::open(path, SqliteOptions::default()) {
+        Ok(opened) => opened,
+        Err(err) => {
+            tracing::warn!("records: {err}; serving without records");
+            return None;
+        }
+    };
+    if let Some(aside) = aside {
+        tracing::warn!(
+            "records: {} was damaged: kept as {}; a new one is made",
+            path.display(),
+            aside.display()
+        );
+    }
+    let report: Report = std::sync::Arc::new(|line: &str| tracing::warn!("{line}"));
+    match Records::start(db, report) {
+        Ok(records) => Some(Keeper { records, maze: maze.content_hash(), maze_name: name }),
+        Err(err) => {
+            tracing::warn!("records: cannot start their thread: {err}; serving without records");
+            None
+        }
+    }
+}
+
+/// The addresses of `--listen` (a host name's, looked up now).
+#[cfg(all(unix, feature = "serve"))]
+fn resolve(listen: &str) -> anyhow::Result<Vec<std::net::SocketAddr>> {
+    use std::net::ToSocketAddrs as _;
+    let mut addrs: Vec<std::net::SocketAddr> = listen
+        .to_socket_addrs()
+        .map_err(|e| anyhow::anyhow!("--listen {}: cannot look it up: {e}", mazewalk_maze::quote(listen)))?
+        .collect();
+    addrs.dedup();
+    anyhow::ensure!(
+        !addrs.is_empty(),
+        "--listen {}: the name has no addresses",
+        mazewalk_maze::quote(listen)
+    );
+    Ok(addrs)
+}
+
+/// Without `serve` (or off Unix): says why it cannot.
 #[cfg(not(all(unix, feature = "serve")))]
 pub fn run(_: &ServeArgs) -> anyhow::Result<ExitCode> {
     if cfg!(unix) {

@@ -1,8 +1,8 @@
 //! `mazewalk [MAZE]`: the full-screen walk on this process's terminal.
 
-use std::io::{IsTerminal as _, Write};
-use std::process::ExitCode;
-use std::time::Instant;
+use std::io::{IsTerminal as _, Read as _, Write};
+use std::process::{Command, ExitCode, Stdio};
+use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, bail};
 
@@ -10,8 +10,8 @@ use super::load_maze;
 use crate::cli::WalkArgs;
 use crate::guard;
 use crate::run::run as run_session;
-use mazewalk_render::Culling;
-use mazewalk_term::caps;
+use mazewalk_render::{Culling, RenderOptions};
+use mazewalk_term::caps::{self, ColorFacts, ColorPlan};
 use mazewalk_walk::state::Motion;
 use mazewalk_walk::{App, Session, SessionOptions};
 
@@ -38,9 +38,16 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     if !std::io::stdin().is_terminal() || !std::io::stdout().is_terminal() {
         bail!("the walkthrough needs a terminal (try `mazewalk render` to print a frame, or --help)");
     }
+    let env = |k: &str| std::env::var(k).ok();
+    let plan = match args.look.color {
+        Some(depth) => ColorPlan { depth, ask: false },
+        None => caps::plan_color_depth(env, color_facts(env)),
+    };
     let clock = Instant::now(); // the walk's time 0
-    let mut app = App::new(maze, args.look.options(Culling::Portal), 0.0)?;
+    let options = RenderOptions { color_depth: plan.depth, ..args.look.options(Culling::Portal) };
+    let mut app = App::new(maze, options, 0.0)?;
     app.reveal_map = args.reveal_map;
+    app.figures = args.dev_figures;
     let m = &args.motion;
     app.motion = Motion {
         turn_speed_deg: m.turn_speed,
@@ -48,18 +55,71 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
         turn_step_deg: m.turn_step,
         walk_step: m.walk_step,
     };
-    let env = |k: &str| std::env::var(k).ok();
     let options = SessionOptions {
         bce: caps::detect_bce(env),
         color_tolerance: args.color_tolerance,
         flow_control: !args.no_flow_control,
     };
     let mut session = Session::new(app, 80, 24, options); // resized to the terminal by `run`
-    if let Some(signal) = run_session(&mut session, clock).context("terminal")?.signal() {
+    if let Some(signal) = run_session(&mut session, clock, plan.ask).context("terminal")?.signal() {
         return Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)));
     }
     if let Some(seconds) = session.outcome().finished {
         let _ = writeln!(std::io::stdout(), "You found the exit in {seconds:.1} s."); // the walk is over either way
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// How long each of the system's tools may take to answer about the terminal (`infocmp`, `tmux`):
+/// they answer in milliseconds, and a walk must not hang on one that does not.
+const TOOL_TIMEOUT: Duration = Duration::from_millis(500);
+
+/// The most of a tool's output read (bytes): a terminfo description is a few KB.
+const TOOL_OUTPUT_LIMIT: u64 = 256 * 1024;
+
+/// What the system says about the terminal's 24-bit colour: the terminfo entry of `TERM`
+/// (`infocmp -x`), and inside tmux (`TMUX` set) whether tmux's client has the `RGB` feature (tmux
+/// answers no query itself). A tool that is missing, fails or is slow says nothing.
+fn color_facts(env: impl Fn(&str) -> Option<String>) -> ColorFacts {
+    let decided = env("NO_COLOR").is_some_and(|v| !v.is_empty())
+        || env("COLORTERM").is_some_and(|v| matches!(v.as_str(), "truecolor" | "24bit"));
+    if decided {
+        return ColorFacts::default(); // nothing to look up
+    }
+    let terminfo_rgb = env("TERM")
+        .filter(|term| !term.is_empty() && !term.starts_with('-'))
+        .and_then(|term| tool_output(Command::new("infocmp").arg("-x").arg(term)))
+        .map(|text| caps::terminfo_has_truecolor(&text));
+    let tmux_rgb = env("TMUX")
+        .and_then(|_| {
+            tool_output(Command::new("tmux").args(["display-message", "-p", "#{client_termfeatures}"]))
+        })
+        .map(|text| caps::tmux_has_rgb(&text));
+    ColorFacts { terminfo_rgb, tmux_rgb }
+}
+
+/// What `command` writes to stdout, if it exits successfully within [`TOOL_TIMEOUT`] (else it is
+/// killed): at most [`TOOL_OUTPUT_LIMIT`] bytes, as text.
+fn tool_output(command: &mut Command) -> Option<String> {
+    let mut child = command.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::null()).spawn().ok()?;
+    let stdout = child.stdout.take()?;
+    // Read on a thread: a tool that writes more than a pipe holds must not block until the timeout.
+    let reader = std::thread::spawn(move || {
+        let mut text = String::new();
+        stdout.take(TOOL_OUTPUT_LIMIT).read_to_string(&mut text).ok().map(|_| text)
+    });
+    let deadline = Instant::now() + TOOL_TIMEOUT;
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(2)),
+            _ => {
+                let _ = child.kill();
+                let _ = child.wait();
+                break None;
+            }
+        }
+    };
+    let text = reader.join().ok().flatten();
+    status.filter(std::process::ExitStatus::success).and(text)
 }

@@ -6,6 +6,11 @@
 //! a signed distance that is linear in the clip coordinates and `>= 0` inside, so an edge crosses a
 //! plane where that distance, interpolated linearly along the edge, is zero. Clipping in clip space
 //! (not NDC) keeps points behind the eye (w < 0) from wrapping round through infinity.
+//!
+//! The same planes serve every projection of the crate. With reversed depth
+//! ([`crate::Convention::perspective_reverse`]) the volume is unchanged and the depth planes swap
+//! roles: [`ClipPlane::Near`] cuts at the far plane and [`ClipPlane::Far`] at the near plane. With an
+//! infinite far plane the plane at the far end clips nothing in front of the eye.
 
 use glam::Vec4;
 
@@ -57,9 +62,10 @@ pub enum ClipPlane {
     Bottom,
     /// `y <= w`.
     Top,
-    /// `z >= -w` (depth [-1, 1]) or `z >= 0` (depth [0, 1]).
+    /// `z >= -w` (depth [-1, 1]) or `z >= 0` (depth [0, 1]): the depth range's near end, so the
+    /// near plane (the far plane, with reversed depth).
     Near,
-    /// `z <= w`.
+    /// `z <= w`: the range's far end, so the far plane (the near plane, with reversed depth).
     Far,
 }
 

@@ -4,7 +4,8 @@ use glam::{Mat4, Vec3, Vec4};
 
 use super::{MathError, projection, view};
 
-/// The NDC depth range a projection produces.
+/// The NDC depth range a projection produces. Reversed depth
+/// ([`Convention::perspective_reverse`]) keeps the range and swaps which plane lands on which end.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum DepthRange {
     /// z in [-1, 1], near plane at -1 (OpenGL).
@@ -14,7 +15,7 @@ pub enum DepthRange {
 }
 
 impl DepthRange {
-    /// NDC z of the near plane: -1 or 0.
+    /// The range's near end, -1 or 0: NDC z of the near plane (of the far plane, with reversed depth).
     #[must_use]
     pub const fn near(self) -> f32 {
         match self {
@@ -23,7 +24,7 @@ impl DepthRange {
         }
     }
 
-    /// NDC z of the far plane: always 1.
+    /// The range's far end, always 1: NDC z of the far plane (of the near plane, with reversed depth).
     #[must_use]
     pub const fn far(self) -> f32 {
         1.0
@@ -36,8 +37,10 @@ impl DepthRange {
 /// view constructors here ([`Convention::look_at`], [`Convention::look_to`]) take the crate's
 /// **right-handed world** and, for the left-handed convention, mirror it first (see
 /// [`Convention::world_mirror`]). The projections ([`Convention::perspective`],
-/// [`Convention::frustum`], [`Convention::orthographic`]) are the crate's only projection API; each
-/// mirrors the glam function of the same name in the matching `glam::camera` module.
+/// [`Convention::frustum`], [`Convention::orthographic`], [`Convention::perspective_infinite`],
+/// [`Convention::perspective_reverse`], [`Convention::perspective_infinite_reverse`]) are the crate's
+/// only projection API; each mirrors the glam function of the same name in the matching
+/// `glam::camera` module, where glam has one.
 ///
 /// ```
 /// use glam::{Vec3, Vec4};
@@ -94,6 +97,13 @@ impl Convention {
     /// The reflection taking the crate's right-handed world into this convention's world: identity for
     /// the right-handed conventions, `z → -z` for the left-handed one. A reflection flips handedness,
     /// which is what keeps the image the same way round.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use mazewalk_math::Convention;
+    /// assert_eq!(Convention::RhZo.world_mirror().transform_point3(Vec3::ONE), Vec3::ONE);
+    /// assert_eq!(Convention::LhZo.world_mirror().transform_point3(Vec3::ONE), Vec3::new(1.0, 1.0, -1.0));
+    /// ```
     #[must_use]
     pub fn world_mirror(self) -> Mat4 {
         if self.is_right_handed() {
@@ -110,6 +120,19 @@ impl Convention {
     /// # Errors
     ///
     /// As [`super::look_at_rh`].
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use mazewalk_math::Convention;
+    /// let (eye, target) = (Vec3::new(1.0, 1.0, 0.5), Vec3::new(1.0, 4.0, 0.5)); // looking north
+    /// for conv in Convention::ALL {
+    ///     let view = conv.look_at(eye, target, Vec3::Z)?;
+    ///     // The target 3 units down the forward axis (-Z or +Z), east (+x in the world) on the right.
+    ///     assert!(view.transform_point3(target).abs_diff_eq(conv.forward() * 3.0, 1e-6));
+    ///     assert!(view.transform_point3(target + Vec3::X).x > 0.0);
+    /// }
+    /// # Ok::<(), mazewalk_math::MathError>(())
+    /// ```
     pub fn look_at(self, eye: Vec3, target: Vec3, up: Vec3) -> Result<Mat4, MathError> {
         if self.is_right_handed() {
             view::look_at_rh(eye, target, up)
@@ -126,6 +149,14 @@ impl Convention {
     /// # Errors
     ///
     /// As [`super::look_to_rh`].
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use mazewalk_math::Convention;
+    /// let view = Convention::LhZo.look_to(Vec3::ZERO, Vec3::Y, Vec3::Z)?; // looking north
+    /// assert!(view.transform_point3(Vec3::new(0.0, 2.0, 1.0)).abs_diff_eq(Vec3::new(0.0, 1.0, 2.0), 1e-6));
+    /// # Ok::<(), mazewalk_math::MathError>(())
+    /// ```
     pub fn look_to(self, eye: Vec3, dir: Vec3, up: Vec3) -> Result<Mat4, MathError> {
         if self.is_right_handed() {
             view::look_to_rh(eye, dir, up)
@@ -161,6 +192,94 @@ impl Convention {
     /// ```
     pub fn perspective(self, fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Mat4, MathError> {
         projection::perspective(self, fov_y, aspect, near, far)
+    }
+
+    /// [`Convention::perspective`] with the far plane at infinity (`far → ∞`): the near plane lands
+    /// on the range's near end (-1 or 0) and depth approaches 1 with distance. The far clip plane
+    /// (`z <= w`) then holds for every point, so depth clips at the near plane only. Mirrors glam's
+    /// `perspective_infinite` in `rh::proj::directx` (RhZo) and `lh::proj::directx` (LhZo); RhGl is
+    /// its limit (glam's opengl module has none): `z_ndc = 1 - 2·near/d`.
+    ///
+    /// # Errors
+    ///
+    /// [`MathError::NonFinite`]; [`MathError::FovOutOfRange`] unless `0 < fov_y < π`;
+    /// [`MathError::NotPositive`] for `aspect <= 0`; [`MathError::DepthNotPositive`] (with `far`
+    /// infinite) unless `near > 0`; [`MathError::Overflow`].
+    ///
+    /// ```
+    /// use mazewalk_math::Convention;
+    /// for conv in Convention::ALL {
+    ///     let proj = conv.perspective_infinite(1.2, 2.0, 0.5)?;
+    ///     let depth = |d: f32| proj.project_point3(conv.forward() * d).z;
+    ///     assert!((depth(0.5) - conv.depth_range().near()).abs() < 1e-6); // the near plane
+    ///     assert!(depth(1e6) < 1.0 && 1.0 - depth(1e6) < 1e-5); // far away: just short of 1
+    /// }
+    /// # Ok::<(), mazewalk_math::MathError>(())
+    /// ```
+    pub fn perspective_infinite(self, fov_y: f32, aspect: f32, near: f32) -> Result<Mat4, MathError> {
+        projection::perspective_infinite(self, fov_y, aspect, near, projection::Depth::Forward)
+    }
+
+    /// [`Convention::perspective`] with reversed depth: the near plane lands on 1, the far plane on
+    /// the range's near end (-1 or 0). The same as `perspective(fov_y, aspect, far, near)` (a near
+    /// plane beyond the far one is reversed depth), named so that it reads as meant. On [0, 1] a
+    /// float depth buffer then keeps its precision far away (see the crate's README); on [-1, 1] the
+    /// values near -1 and the viewport's `(z + 1) / 2` round most of that away again. glam has no
+    /// finite reversed perspective; its limit (`far → ∞`) is
+    /// [`Convention::perspective_infinite_reverse`].
+    ///
+    /// The clip volume is the same one (`-w <= x, y <= w`, `near(depth)·w <= z <= w`) and
+    /// [`crate::ClipPlanes::ALL`] clips it as before, with the planes' depth roles swapped:
+    /// [`crate::ClipPlane::Near`] (`z >= near(depth)·w`) is then the far plane and
+    /// [`crate::ClipPlane::Far`] (`z <= w`) the near one. A depth test keeps the *larger* depth.
+    ///
+    /// # Errors
+    ///
+    /// As [`Convention::perspective`].
+    ///
+    /// ```
+    /// use mazewalk_math::Convention;
+    /// for conv in Convention::ALL {
+    ///     let proj = conv.perspective_reverse(1.2, 2.0, 0.5, 50.0)?;
+    ///     let depth = |d: f32| proj.project_point3(conv.forward() * d).z;
+    ///     assert!((depth(0.5) - 1.0).abs() < 1e-5); // near → 1
+    ///     assert!((depth(50.0) - conv.depth_range().near()).abs() < 1e-5); // far → -1 or 0
+    ///     assert!(depth(2.0) > depth(3.0)); // nearer is larger
+    /// }
+    /// # Ok::<(), mazewalk_math::MathError>(())
+    /// ```
+    pub fn perspective_reverse(
+        self,
+        fov_y: f32,
+        aspect: f32,
+        near: f32,
+        far: f32,
+    ) -> Result<Mat4, MathError> {
+        projection::perspective_reverse(self, fov_y, aspect, near, far)
+    }
+
+    /// [`Convention::perspective_reverse`] with the far plane at infinity: the near plane lands on 1
+    /// and depth approaches the range's near end (-1 or 0) with distance. The standard projection of
+    /// engines with a float depth buffer on [0, 1]: `z_ndc = near/d`, a value that keeps every digit
+    /// however far away. Mirrors glam's `perspective_infinite_reverse` in `rh::proj::directx` (RhZo)
+    /// and `lh::proj::directx` (LhZo); RhGl is the limit of its finite reversed form,
+    /// `z_ndc = 2·near/d - 1`. Clipping as in [`Convention::perspective_reverse`]:
+    /// [`crate::ClipPlane::Far`] is the near plane; [`crate::ClipPlane::Near`] clips nothing in front.
+    ///
+    /// # Errors
+    ///
+    /// As [`Convention::perspective_infinite`].
+    ///
+    /// ```
+    /// use mazewalk_math::Convention;
+    /// let proj = Convention::RhZo.perspective_infinite_reverse(1.2, 2.0, 0.5)?;
+    /// let depth = |d: f32| proj.project_point3(Convention::RhZo.forward() * d).z;
+    /// assert_eq!(depth(0.5), 1.0); // near → 1
+    /// assert!((depth(5e5) - 1e-6).abs() < 1e-12); // near / d, to the last digit
+    /// # Ok::<(), mazewalk_math::MathError>(())
+    /// ```
+    pub fn perspective_infinite_reverse(self, fov_y: f32, aspect: f32, near: f32) -> Result<Mat4, MathError> {
+        projection::perspective_infinite(self, fov_y, aspect, near, projection::Depth::Reverse)
     }
 
     /// This convention's off-centre perspective frustum whose near-plane rectangle is

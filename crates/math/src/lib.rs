@@ -13,14 +13,18 @@
 //!   (Direct3D); both have +Y up and +X right.
 //! * **Clip / NDC**: x, y in [-1, 1] with +y up; z in [-1, 1] ([`DepthRange::NegOneToOne`], OpenGL) or
 //!   [0, 1] ([`DepthRange::ZeroToOne`], Direct3D). A clip-space point is visible iff
-//!   `-w <= x, y <= w` and `near(depth) * w <= z <= w`.
+//!   `-w <= x, y <= w` and `near(depth) * w <= z <= w`. Depth runs forward (the near plane at the
+//!   range's near end, the far plane at 1) except in the `*_reverse` projections, where it runs from
+//!   1 at the near plane to the near end at the far plane; the clip volume is the same either way.
 //! * **Grid** (viewport output): origin top-left, x right, y down, depth in [0, 1].
 //!
 //! Three projection conventions are provided, named like glam's modules: [`Convention::RhGl`]
 //! (right-handed, depth [-1, 1]; `glam::camera::rh::proj::opengl`), [`Convention::RhZo`] (right-handed,
 //! depth [0, 1]; `rh::proj::directx`) and [`Convention::LhZo`] (left-handed, depth [0, 1];
 //! `lh::proj::directx`). Projections are methods of [`Convention`]: `conv.perspective(..)`,
-//! `conv.frustum(..)`, `conv.orthographic(..)`.
+//! `conv.frustum(..)`, `conv.orthographic(..)`, and the perspective with an infinite far plane and
+//! with reversed depth, `conv.perspective_infinite(..)`, `conv.perspective_reverse(..)` and
+//! `conv.perspective_infinite_reverse(..)`.
 //!
 //! # Errors
 //!
@@ -50,6 +54,11 @@
 //! ```
 
 #![forbid(unsafe_code)]
+
+/// The README's Rust examples, run as doctests (the README is the crate's page on its own).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
 
 mod clip;
 mod convention;

@@ -54,29 +54,59 @@ pub(super) fn frustum(
     near: f32,
     far: f32,
 ) -> Result<Mat4, MathError> {
+    frustum_depth(conv, left, right, bottom, top, near, far, Depth::Forward)
+}
+
+/// Which way depth runs: forward (the near plane at the range's near end, the far plane at 1) or
+/// reversed (the near plane at 1, the far plane at the near end).
+#[derive(Clone, Copy)]
+pub(super) enum Depth {
+    Forward,
+    Reverse,
+}
+
+/// A frustum whose depth runs `order`: [`frustum`], and [`perspective_reverse`] through it.
+#[expect(clippy::too_many_arguments, reason = "glFrustum's six numbers, and the depth order")]
+fn frustum_depth(
+    conv: Convention,
+    left: f32,
+    right: f32,
+    bottom: f32,
+    top: f32,
+    near: f32,
+    far: f32,
+    order: Depth,
+) -> Result<Mat4, MathError> {
     let (width, height, depth) = box_extent(left, right, bottom, top, near, far)?;
     if !(near > 0.0 && far > 0.0) {
         return Err(MathError::DepthNotPositive { near, far });
     }
-    let s = forward_sign(conv);
-    // w_clip = distance d = s·z, so that dividing by w is the perspective divide.
     // x on the near plane is n·x/d; mapping [l, r] to [-1, 1] and multiplying through by d gives
     // x_clip = 2n/(r-l)·x - (r+l)/(r-l)·d. Likewise for y.
     let (xx, yy) = (2.0 * near / width, 2.0 * near / height);
-    let (zx, zy) = (-s * (right + left) / width, -s * (top + bottom) / height);
-    // z_ndc = a + b/d, with a and b solved so d = near gives the range's near end, d = far gives 1.
-    let (a, b) = match conv.depth_range() {
-        DepthRange::NegOneToOne => ((far + near) / depth, -2.0 * far * near / depth),
-        DepthRange::ZeroToOne => (far / depth, -far * near / depth),
+    let (zx, zy) = (-(right + left) / width, -(top + bottom) / height);
+    // z_ndc = a + b/d, with a and b solved so that d = near and d = far give the range's ends. Reversed,
+    // z_ndc becomes -z_ndc on [-1, 1] and 1 - z_ndc on [0, 1]: written out rather than subtracted, so
+    // that -n/(f-n) keeps its digits (1 - f/(f-n) would cancel them when f ≫ n).
+    let (a, b) = match (conv.depth_range(), order) {
+        (DepthRange::NegOneToOne, Depth::Forward) => ((far + near) / depth, -2.0 * far * near / depth),
+        (DepthRange::ZeroToOne, Depth::Forward) => (far / depth, -far * near / depth),
+        (DepthRange::NegOneToOne, Depth::Reverse) => (-(far + near) / depth, 2.0 * far * near / depth),
+        (DepthRange::ZeroToOne, Depth::Reverse) => (-near / depth, far * near / depth),
     };
-    finite_or_overflow(
-        "frustum",
-        Mat4::from_cols(
-            Vec4::new(xx, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, yy, 0.0, 0.0),
-            Vec4::new(zx, zy, s * a, s), // z_clip = a·d + b, w_clip = d
-            Vec4::new(0.0, 0.0, b, 0.0),
-        ),
+    finite_or_overflow("frustum", perspective_matrix(conv, xx, yy, zx, zy, a, b))
+}
+
+/// The perspective matrix with `w_clip = d`, the distance in front of the eye (`s·z`), so that
+/// dividing by w is the perspective divide: `x_clip = xx·x + zx·d`, `y_clip = yy·y + zy·d`,
+/// `z_clip = a·d + b` (so `z_ndc = a + b/d`).
+fn perspective_matrix(conv: Convention, xx: f32, yy: f32, zx: f32, zy: f32, a: f32, b: f32) -> Mat4 {
+    let s = forward_sign(conv);
+    Mat4::from_cols(
+        Vec4::new(xx, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, yy, 0.0, 0.0),
+        Vec4::new(s * zx, s * zy, s * a, s), // the coefficients of d = s·z
+        Vec4::new(0.0, 0.0, b, 0.0),
     )
 }
 
@@ -124,6 +154,46 @@ pub(super) fn perspective(
     let top = near * (0.5 * fov_y).tan();
     let right = top * aspect;
     frustum(conv, -right, right, -top, top, near, far)
+}
+
+/// [`Convention::perspective_reverse`]: see there for the contract.
+pub(super) fn perspective_reverse(
+    conv: Convention,
+    fov_y: f32,
+    aspect: f32,
+    near: f32,
+    far: f32,
+) -> Result<Mat4, MathError> {
+    check_fov(fov_y)?;
+    check_positive("aspect", aspect)?;
+    check_near(near, far)?;
+    let top = near * (0.5 * fov_y).tan();
+    let right = top * aspect;
+    frustum_depth(conv, -right, right, -top, top, near, far, Depth::Reverse)
+}
+
+/// [`Convention::perspective_infinite`] (forward) and [`Convention::perspective_infinite_reverse`].
+pub(super) fn perspective_infinite(
+    conv: Convention,
+    fov_y: f32,
+    aspect: f32,
+    near: f32,
+    order: Depth,
+) -> Result<Mat4, MathError> {
+    check_fov(fov_y)?;
+    check_positive("aspect", aspect)?;
+    check_near(near, f32::INFINITY)?;
+    // The symmetric frustum's 2n/(r-l) and 2n/(t-b), with r = n·tan(fov/2)·aspect and t = n·tan(fov/2):
+    // n cancels, so they need no near-plane rectangle.
+    let yy = 1.0 / (0.5 * fov_y).tan();
+    // The finite depth coefficients as far → ∞: a → the far end's value, b → its near·(range) term.
+    let (a, b) = match (conv.depth_range(), order) {
+        (DepthRange::NegOneToOne, Depth::Forward) => (1.0, -2.0 * near),
+        (DepthRange::ZeroToOne, Depth::Forward) => (1.0, -near),
+        (DepthRange::NegOneToOne, Depth::Reverse) => (-1.0, 2.0 * near),
+        (DepthRange::ZeroToOne, Depth::Reverse) => (0.0, near),
+    };
+    finite_or_overflow("infinite perspective", perspective_matrix(conv, yy / aspect, yy, 0.0, 0.0, a, b))
 }
 
 /// `Err` unless `near` is finite and `> 0`, checked before `near` scales the frustum's bounds (a zero

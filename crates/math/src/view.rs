@@ -36,8 +36,12 @@ fn camera_axes(dir: Vec3, up: Vec3, right_handed: bool) -> Result<[Vec3; 3], Mat
     if sine < PARALLEL_SINE {
         return Err(MathError::UpParallel { dir, up });
     }
-    let right = right / sine;
-    // The camera's true up: perpendicular to both, already unit length (right ⟂ forward, both unit).
+    // Re-orthogonalised (one Gram–Schmidt step): the cross product of nearly parallel unit vectors
+    // keeps its absolute rounding (a few ULPs of 1) while its length shrinks to the sine, so near the
+    // threshold `right` leans towards `forward` by up to ε / sine (4e-4 at 1e-4). Removing its
+    // component along `forward` leaves an error of a few ULPs whatever the angle.
+    let right = (right - right.dot(forward) * forward).normalize();
+    // The camera's true up: perpendicular to both, unit length (right ⟂ forward, both unit).
     let true_up = if right_handed { right.cross(forward) } else { forward.cross(right) };
     Ok([right, true_up, forward])
 }

@@ -5,7 +5,8 @@ use glam::{Mat4, Vec4};
 use super::{DepthRange, MathError, check_finite};
 
 /// NDC → grid: origin top-left, x right, y down, depth to [0, 1]. NDC x = -1 → 0, x = +1 → `width`;
-/// NDC y = +1 → 0, y = -1 → `height`; NDC z from `depth`'s range → [0, 1] (0 at the near plane).
+/// NDC y = +1 → 0, y = -1 → `height`; NDC z from `depth`'s range → [0, 1] (0 at the range's near
+/// end: the near plane, or the far plane with reversed depth).
 ///
 /// # Errors
 ///

@@ -7,7 +7,7 @@ mod common;
 
 use common::*;
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
-use mazewalk_math::{self as math, Convention, DepthRange};
+use mazewalk_math::{self as math, Convention, DepthRange, MathError};
 use proptest::prelude::*;
 
 /// Projects a view-space point to NDC.
@@ -32,6 +32,33 @@ proptest! {
             prop_assert!(close(r.determinant(), 1.0, 1e-5, 1.0));
             prop_assert_eq!(view.row(3), Vec4::W); // affine: no projective part
         }
+    }
+
+    #[test]
+    fn cameras_just_above_the_up_parallel_threshold_are_orthonormal(
+        (eye, dir, up) in arb_up_near_parallel(1.01e-4, 3e-4), scale in prop::sample::select(vec![1e-3f32, 1.0, 1e3]),
+    ) {
+        // The view's rotation and the camera-to-world basis are orthonormal to 1e-6 (a few ULPs of
+        // rounding in each product entry, 6e-8 each, with margin), however nearly parallel the
+        // accepted up is; before the re-orthogonalisation they were off by up to 4.2e-4 here.
+        let (dir, up) = (dir * scale, up / scale); // lengths play no part
+        for (view, to_world) in [
+            (math::look_to_rh(eye, dir, up).unwrap(), math::camera_to_world_rh(eye, dir, up).unwrap()),
+            (math::look_to_lh(eye, dir, up).unwrap(), math::camera_to_world_lh(eye, dir, up).unwrap()),
+        ] {
+            for r in [Mat3::from_mat4(view), Mat3::from_mat4(to_world)] {
+                let off = (r * r.transpose() - Mat3::IDENTITY).to_cols_array().map(f32::abs);
+                prop_assert!(off.iter().all(|&e| e <= 1e-6), "R·Rᵀ - I = {off:?}");
+                prop_assert!(close(r.determinant(), 1.0, 1e-6, 1.0), "det {}", r.determinant());
+            }
+        }
+    }
+
+    #[test]
+    fn up_just_below_the_threshold_is_parallel((eye, dir, up) in arb_up_near_parallel(0.0, 0.99e-4)) {
+        // The other side of the rule: a sine below 1e-4 (by more than its ~1e-7 rounding) is refused.
+        prop_assert_eq!(math::look_to_rh(eye, dir, up), Err(MathError::UpParallel { dir, up }));
+        prop_assert_eq!(math::look_to_lh(eye, dir, up), Err(MathError::UpParallel { dir, up }));
     }
 
     #[test]
@@ -112,11 +139,39 @@ proptest! {
     }
 
     #[test]
-    fn perspective_is_the_symmetric_frustum(conv in arb_convention(), (fov, aspect, n, f) in arb_perspective()) {
-        let top = n * (fov / 2.0).tan();
-        let right = top * aspect;
-        let frustum = conv.frustum(-right, right, -top, top, n, f).unwrap();
-        prop_assert!(mat4_close(conv.perspective(fov, aspect, n, f).unwrap(), frustum, 1e-6));
+    fn perspective_puts_the_field_of_view_on_the_ndc_edges(
+        conv in arb_convention(), (fov, aspect, n, f) in arb_perspective(), u in 0.0f32..1.0,
+    ) {
+        // A ray fov/2 above the view axis meets the top edge of NDC at every distance, and the ray
+        // whose slope is aspect times as wide meets the right edge: the view's height and width.
+        let proj = conv.perspective(fov, aspect, n, f).unwrap();
+        let d = n + (f - n) * u;
+        let slope = (fov / 2.0).tan(); // height / distance
+        let top = ndc(proj, ahead(conv, 0.0, d * slope, d));
+        let right = ndc(proj, ahead(conv, d * slope * aspect, 0.0, d));
+        // x_ndc = (2n/(r-l))·x/d: a handful of roundings, relative.
+        prop_assert!(close(top.y, 1.0, 1e-5, 1.0) && close(top.x, 0.0, 1e-5, 1.0), "top edge: {top}");
+        prop_assert!(close(right.x, 1.0, 1e-5, 1.0) && close(right.y, 0.0, 1e-5, 1.0), "right edge: {right}");
+    }
+
+    #[test]
+    fn every_convention_sees_the_world_the_same_way_round(
+        conv in arb_convention(), (eye, target, up) in arb_eye_target_up(), along in 0.1f32..10.0, side in 0.1f32..10.0, lift in 0.1f32..10.0,
+    ) {
+        // World right-handed: looking along dir with up roughly up, dir × up points to the right.
+        // Every convention's view puts what is ahead on its forward axis, what is to the right at
+        // +x and what is above at +y, whichever handedness its view space has.
+        let dir = (target - eye).normalize();
+        let right = dir.cross(up).normalize();
+        let above = right.cross(dir);
+        let view = conv.look_at(eye, target, up).unwrap();
+        let scale = eye.abs().max_element() + 20.0; // translations cancel |eye|-sized terms
+        let ahead = view.transform_point3(eye + dir * along);
+        prop_assert!(close3(ahead, conv.forward() * along, 1e-5, scale), "{conv:?}: ahead → {ahead}");
+        let to_the_right = view.transform_point3(eye + dir * along + right * side);
+        prop_assert!(close(to_the_right.x, side, 1e-5, scale) && close(to_the_right.y, 0.0, 1e-5, scale), "{conv:?}: right → {to_the_right}");
+        let up_there = view.transform_point3(eye + dir * along + above * lift);
+        prop_assert!(close(up_there.y, lift, 1e-5, scale) && close(up_there.x, 0.0, 1e-5, scale), "{conv:?}: above → {up_there}");
     }
 
     #[test]

@@ -32,6 +32,24 @@ fn glam_perspective(conv: Convention) -> fn(f32, f32, f32, f32) -> Mat4 {
     }
 }
 
+type Infinite = fn(f32, f32, f32) -> Mat4;
+
+/// glam's infinite perspectives, forward and reversed, where it has them: for the [0, 1] conventions
+/// (`directx`); its `opengl` modules have none, and `math_depth.rs` checks RhGl's against the limit.
+fn glam_perspective_infinite(conv: Convention) -> Option<(Infinite, Infinite)> {
+    match conv {
+        Convention::RhGl => None,
+        Convention::RhZo => Some((
+            camera::rh::proj::directx::perspective_infinite,
+            camera::rh::proj::directx::perspective_infinite_reverse,
+        )),
+        Convention::LhZo => Some((
+            camera::lh::proj::directx::perspective_infinite,
+            camera::lh::proj::directx::perspective_infinite_reverse,
+        )),
+    }
+}
+
 type Box6 = fn(f32, f32, f32, f32, f32, f32) -> Mat4;
 
 fn glam_frustum(conv: Convention) -> Box6 {
@@ -95,10 +113,17 @@ proptest! {
     }
 
     #[test]
-    fn right_handed_conventions_dispatch_to_the_rh_view((eye, target, up) in arb_eye_target_up()) {
-        let rh = math::look_at_rh(eye, target, up).unwrap();
-        prop_assert_eq!(Convention::RhGl.look_at(eye, target, up), Ok(rh));
-        prop_assert_eq!(Convention::RhZo.look_to(eye, target - eye, up), math::look_to_rh(eye, target - eye, up));
+    fn infinite_perspectives_match_glam(
+        conv in arb_convention().prop_filter("glam has no OpenGL-range infinite perspective", |c| *c != Convention::RhGl),
+        (fov, aspect, n, _) in arb_perspective(),
+    ) {
+        let (forward, reverse) = glam_perspective_infinite(conv).unwrap();
+        let ours = conv.perspective_infinite(fov, aspect, n).unwrap();
+        let theirs = forward(fov, aspect, n);
+        prop_assert!(mat4_close(ours, theirs, REL), "{conv:?}\nours   {ours}\ntheirs {theirs}");
+        let ours = conv.perspective_infinite_reverse(fov, aspect, n).unwrap();
+        let theirs = reverse(fov, aspect, n);
+        prop_assert!(mat4_close(ours, theirs, REL), "{conv:?} reversed\nours   {ours}\ntheirs {theirs}");
     }
 
     #[test]

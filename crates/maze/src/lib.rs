@@ -30,6 +30,7 @@ pub mod files;
 pub mod generate;
 pub mod geometry;
 pub mod grid;
+mod hash;
 mod index;
 mod load;
 pub mod movement;
@@ -39,6 +40,7 @@ mod validate;
 
 use glam::{DVec2, Vec2, Vec3};
 
+pub use hash::ContentHash;
 use index::{SpatialGrid, Threads};
 pub use load::{
     DEFAULT_MAX_BYTES, LoadError, LoadOptions, Loaded, detect_format, load, load_with, parse, parse_loaded,

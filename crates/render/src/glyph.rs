@@ -2,23 +2,30 @@
 //!
 //! Each terminal cell covers `sx × sy` samples ([`Charset::samples_per_cell`]). In truecolor the block
 //! charsets pick, per cell, the 2-colour partition of its samples that fits best (least squared error in
-//! sRGB) and the block glyph drawing it; in 256 and 16 colours each sample is dithered to a palette entry
-//! first and the cell shows those entries. Ascii maps luminance to a ramp and overlays the outline layer. Sample bits within
-//! a cell are numbered row-major from the top-left: bit `x + sx·y`.
+//! sRGB) and the block glyph drawing it; in 256 and 16 colours each sample takes the entry of its light
+//! ramp ([`palette::ramp_entry`]) first and the cell shows those entries. Without colour, and in ascii
+//! at every depth, the floor, the ceiling and the walls each shade with glyphs of their own, by lightness.
+//! Ascii overlays the outline layer. Sample bits within a cell are numbered row-major from the top-left:
+//! bit `x + sx·y`.
 
 use glam::{Vec3, Vec3A};
 use wide::bytemuck::cast;
 use wide::{f32x8, i32x8};
 
-use super::options::{ASCII_RAMP_LONG, Charset, Ramp, RenderOptions};
-use super::palette::{self, KeptPair, Mix, quantize_srgb8, threshold, xterm_rgb};
-use super::samples::SampleBuffer;
+use super::options::{ASCII_CEILING, ASCII_FLOOR, ASCII_RAMP_LONG, Charset, Ramp, RenderOptions};
+use super::palette::{self, Palette, quantize_srgb8, ramp_entry, ramp_entry_dithered, threshold, xterm_rgb};
+use super::samples::{CEILING, FLOOR, SampleBuffer};
 use super::shade::{Srgb8Tables, luminance, srgb_to_linear};
 use mazewalk_term::blocks::{HALF, QUAD, sextant_glyph};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
-/// The colourless block-mode ramp, darkest first.
+/// The colourless block-mode ramp of walls (and everything but floor and ceiling), darkest first.
 pub const BLOCK_RAMP: [char; 5] = [' ', '░', '▒', '▓', '█'];
+/// The colourless block-mode glyphs of the floor, darkest first: bars at the foot of the cell, lower
+/// one eighth, one quarter, three eighths (issue #33: floor, ceiling and walls each their own glyphs).
+pub const FLOOR_BLOCKS: [char; 4] = [' ', '▁', '▂', '▃'];
+/// The colourless block-mode glyphs of the ceiling, darkest first: a bar at the top of the cell.
+pub const CEILING_BLOCKS: [char; 2] = [' ', '▔'];
 
 /// The block glyph of `charset` for a sample mask (see the bit order in the module docs); `ascii` has
 /// none and gives `█` or ` `.
@@ -35,17 +42,20 @@ pub fn block_glyph(charset: Charset, mask: u8) -> char {
 /// Converts `samples` to the cells of `region` in `frame`: the region is as many cells as the samples
 /// fill (`samples.width() / sx × samples.height() / sy`); the rest of the frame is left alone.
 ///
-/// Ascii overlays the outline layer (the block charsets draw edges with their shapes) on the ramp of
-/// `options.ramp` ([`ASCII_RAMP`] or [`ASCII_RAMP_LONG`]). With [`ColorDepth::None`] every colour is
-/// [`Color::Default`] and the block charsets shade with [`BLOCK_RAMP`]. Ramps are indexed by lightness
-/// stretched over the range a maze scene spans ([`RampSteps`]). With [`ColorDepth::Ansi16`] and
-/// [`ColorDepth::Ansi256`] and `options.dither`, each sample is
-/// dithered to a palette entry first ([`palette::dither`], thresholds anchored at the samples'
-/// top-left), then the cell shows its samples' entries: a half-block cell is exactly its two samples.
-/// A cell across an edge (its samples further apart than a palette step) and every cell without
-/// `dither` is the best two-colour split of its samples, each side in its nearest entry (a quadrant or
-/// sextant cell whose samples lie within a step of each other: their mean, see [`fitted_cell`]).
+/// Ascii overlays the outline layer (the block charsets draw edges with their shapes) on glyphs by
+/// surface (the samples' coverage ids): walls on the ramp of `options.ramp` ([`ASCII_RAMP`] or
+/// [`ASCII_RAMP_LONG`], less the floor's and the ceiling's glyphs), the floor on [`ASCII_FLOOR`], the
+/// ceiling on [`ASCII_CEILING`]. With [`ColorDepth::None`] every colour is [`Color::Default`] and a block
+/// cell is the glyph of the surface most of its samples show: [`BLOCK_RAMP`] for walls,
+/// [`FLOOR_BLOCKS`], [`CEILING_BLOCKS`]. Each ramp is indexed by lightness stretched over the range its
+/// surface spans in a maze scene ([`RAMP_BOTTOM`]–[`RAMP_TOP`], [`FLOOR_RANGE`], [`CEILING_RANGE`]).
+/// With [`ColorDepth::Ansi16`] and [`ColorDepth::Ansi256`] each sample takes its light ramp's entry
+/// ([`palette::ramp_entry`]; with `options.dither`, [`palette::ramp_entry_dithered`] by the samples'
+/// screen-anchored [`threshold`]s, block charsets only), then the cell shows its samples' entries: a
+/// half-block cell is exactly its two samples, a quadrant or sextant cell with more than two entries
+/// is the best split of them, each side in its most frequent entry.
 ///
+/// [`ASCII_RAMP`]: super::options::ASCII_RAMP
 /// # Panics
 /// If `region` is not inside `frame` or not the samples' size in cells.
 pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Frame, region: Region) {
@@ -60,22 +70,17 @@ pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Fra
         Charset::Ascii => {
             let tables = Srgb8Tables::get();
             // One loop per depth (the depth is the same for every cell); truecolor and no colour have
-            // nothing to dither.
+            // nothing to quantize.
             let srgb = |color: Vec3| tables.encode3(color);
             let to = (frame, region);
             match depth {
-                ColorDepth::None => ascii_cells(samples, ramp, to, |_, _| Color::Default),
-                ColorDepth::TrueColor => ascii_cells(samples, ramp, to, |color, _| {
+                ColorDepth::None => ascii_cells(samples, ramp, to, |_| Color::Default),
+                ColorDepth::TrueColor => ascii_cells(samples, ramp, to, |color| {
                     let [r, g, b] = srgb(color);
                     Color::Rgb(r, g, b)
                 }),
-                ColorDepth::Ansi16 | ColorDepth::Ansi256 if dither => {
-                    ascii_cells(samples, ramp, to, |color, (x, y)| {
-                        palette::dither(color, srgb(color), depth, threshold(x, y))
-                    });
-                }
                 ColorDepth::Ansi16 | ColorDepth::Ansi256 => {
-                    ascii_cells(samples, ramp, to, |color, _| quantize_srgb8(srgb(color), depth));
+                    ascii_cells(samples, ramp, to, |color| palette::picture_color(color, depth));
                 }
             }
         }
@@ -117,11 +122,12 @@ fn block_cells<const SX: usize, const SY: usize>(
     let (width, color) = (samples.width(), samples.color());
     let cols = region.cols;
     let tables = Srgb8Tables::get();
-    let block_ramp = RampSteps::new(BLOCK_RAMP.len());
-    let mut srgb = [[0u8; 3]; 6];
+    let ids = samples.id();
+    let block_ramps = SurfaceRamps::new(&BLOCK_RAMP, &FLOOR_BLOCKS, &CEILING_BLOCKS);
+    let palette = Palette::of(depth);
     let mut indices = [0u8; 6];
-    let mut mixes: [Option<([u8; 3], Mix)>; 6] = [None; 6];
-    let mut pairs: [KeptPair; 6] = [None; 6];
+    // Each sub-cell position's last colour and its entry: along a row neighbours often share theirs.
+    let mut last = [(Vec3::NAN, 0u8); 6];
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
         let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {
@@ -130,60 +136,112 @@ fn block_cells<const SX: usize, const SY: usize>(
         });
         for (col, cell) in cells.iter_mut().enumerate() {
             *cell = if depth == ColorDepth::None {
-                let mut sum = Vec3::ZERO;
-                for line in rows {
-                    for &c in &line[col * SX..col * SX + SX] {
-                        sum += c;
+                // The surface most of the cell's samples show (a wall on a tie), in their mean colour.
+                let mut sums = [(Vec3::ZERO, 0usize); 3];
+                for (dy, line) in rows.iter().enumerate() {
+                    let row_ids = &ids[(row * SY + dy) * width..];
+                    for dx in 0..SX {
+                        let x = col * SX + dx;
+                        let sum = &mut sums[Surface::of(row_ids[x]) as usize];
+                        *sum = (sum.0 + line[x], sum.1 + 1);
                     }
                 }
-                Cell::plain(BLOCK_RAMP[block_ramp.index(sum / (SX * SY) as f32)])
+                let surface = [Surface::Wall, Surface::Floor, Surface::Ceiling]
+                    .into_iter()
+                    .rev()
+                    .max_by_key(|&s| sums[s as usize].1)
+                    .unwrap_or(Surface::Wall);
+                let (sum, n) = sums[surface as usize];
+                Cell::plain(block_ramps.glyph(surface, sum / n.max(1) as f32))
+            } else if let Some(palette) = palette {
+                // Each sample its ramp's entry, then the cell shows those entries.
+                for (dy, line) in rows.iter().enumerate() {
+                    for dx in 0..SX {
+                        let (k, sample) = (dy * SX + dx, line[col * SX + dx]);
+                        indices[k] = if dither {
+                            let (x, y) = (col * SX + dx, row * SY + dy);
+                            ramp_entry_dithered(sample, palette, threshold(x, y))
+                        } else {
+                            if last[k].0 != sample {
+                                last[k] = (sample, ramp_entry(sample, palette));
+                            }
+                            last[k].1
+                        };
+                    }
+                }
+                indexed_cell(&indices[..SX * SY], charset)
             } else {
-                let n = SX * SY;
                 let mut cell_samples = [Vec3A::ZERO; 6];
                 for (dy, line) in rows.iter().enumerate() {
                     for dx in 0..SX {
                         cell_samples[dy * SX + dx] = non_negative(line[col * SX + dx]);
                     }
                 }
-                let linear = &cell_samples[..n];
-                let (low, high) = code_range(tables, linear);
-                if depth == ColorDepth::TrueColor || !dither || spread((low, high)) > EDGE_SPREAD {
-                    fitted_cell(tables, linear, (low, high), charset, depth)
-                } else {
-                    sample_codes(tables, linear, (low, high), &mut srgb);
-                    for (dy, line) in rows.iter().enumerate() {
-                        for dx in 0..SX {
-                            let (x, y) = (col * SX + dx, row * SY + dy);
-                            let k = dy * SX + dx;
-                            // The mix of the colour this position had in the cell before, if the same.
-                            let mix = match mixes[k] {
-                                Some((rgb, mix)) if rgb == srgb[k] => Some(mix),
-                                _ => Mix::of_near(srgb[k], depth, &mut pairs[k]),
-                            };
-                            mixes[k] = mix.map(|mix| (srgb[k], mix));
-                            // (`Mix::of` gives a mix at these depths.)
-                            indices[k] = mix.map_or(0, |mix| mix.pick(line[x], threshold(x, y)));
-                        }
-                    }
-                    indexed_cell(&indices[..SX * SY], charset)
-                }
+                let linear = &cell_samples[..SX * SY];
+                fitted_cell(tables, linear, code_range(tables, linear), charset, depth)
             };
         }
     }
 }
 
-/// The lightness (sRGB-encoded luminance) a ramp starts at: darker is its first glyph (fog, the far
-/// distance). See [`RAMP_TOP`].
-pub const RAMP_BOTTOM: f32 = 0.06;
-/// The lightness a ramp ends at: lighter is its last glyph. A lit wall near the viewer is about 0.75,
-/// floor and ceiling 0.3–0.5, so between the two the scene spans the whole ramp and walls, floor and
-/// ceiling take different glyphs (the plain 0–1 range left them all within two or three).
-pub const RAMP_TOP: f32 = 0.8;
+/// The lightness (sRGB-encoded luminance) a wall ramp starts at: darker is its first glyph (fog, the
+/// far distance). See [`RAMP_TOP`].
+pub const RAMP_BOTTOM: f32 = 0.05;
+/// The lightness a wall ramp ends at: lighter is its last glyph. A lit wall near the viewer is about
+/// 0.5, one six cells away about 0.25, so walls span the ramp from near to far.
+pub const RAMP_TOP: f32 = 0.6;
+/// The lightness range of the floor's glyphs ([`FLOOR_BLOCKS`], [`ASCII_FLOOR`]): from the far floor
+/// (about 0.15) to the floor at the viewer's feet (about 0.4).
+pub const FLOOR_RANGE: (f32, f32) = (0.1, 0.4);
+/// The lightness range of the ceiling's glyphs ([`CEILING_BLOCKS`], [`ASCII_CEILING`]): the ceiling is
+/// darker than the floor, marked where it is near.
+pub const CEILING_RANGE: (f32, f32) = (0.02, 0.2);
 
-/// Where the steps of a ramp of `len` glyphs lie, in luminance (linear light): the lightness
-/// (sRGB-encoded luminance) stretched from [`RAMP_BOTTOM`]–[`RAMP_TOP`] to `0..=len − 1` and rounded
-/// gives a colour's glyph, so glyph `k + 1` starts where the stretched lightness reaches `k + ½`. Found
-/// once a frame, so a sample's glyph is a few comparisons of its luminance, with no sRGB encoding.
+/// Which glyphs a sample takes without colour: the floor's, the ceiling's, or a wall's (anything else:
+/// walls, figures, the exit's beacon, the fog).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Surface {
+    Wall,
+    Floor,
+    Ceiling,
+}
+
+impl Surface {
+    fn of(id: u32) -> Surface {
+        match id {
+            FLOOR => Surface::Floor,
+            CEILING => Surface::Ceiling,
+            _ => Surface::Wall,
+        }
+    }
+}
+
+/// The glyph ramps of the three surfaces, and where their steps lie.
+struct SurfaceRamps<'a> {
+    glyphs: [&'a [char]; 3],
+    steps: [RampSteps; 3],
+}
+
+impl<'a> SurfaceRamps<'a> {
+    fn new(wall: &'a [char], floor: &'a [char], ceiling: &'a [char]) -> SurfaceRamps<'a> {
+        SurfaceRamps {
+            glyphs: [wall, floor, ceiling],
+            steps: [
+                RampSteps::new(wall.len(), (RAMP_BOTTOM, RAMP_TOP)),
+                RampSteps::new(floor.len(), FLOOR_RANGE),
+                RampSteps::new(ceiling.len(), CEILING_RANGE),
+            ],
+        }
+    }
+
+    /// The glyph of a linear colour on `surface`.
+    #[inline]
+    fn glyph(&self, surface: Surface, color: Vec3) -> char {
+        let k = surface as usize;
+        self.glyphs[k][self.steps[k].index(color)]
+    }
+}
+
 struct RampSteps {
     /// `up[k]`: the luminance glyph `k + 1` starts at; the first `len − 1` are used.
     up: [f32; ASCII_RAMP_LONG.len() - 1],
@@ -195,12 +253,12 @@ struct RampSteps {
 impl RampSteps {
     /// # Panics
     /// If `len` is 0 or longer than the longest ramp.
-    fn new(len: usize) -> RampSteps {
+    fn new(len: usize, (bottom, top): (f32, f32)) -> RampSteps {
         assert!((1..=ASCII_RAMP_LONG.len()).contains(&len), "a ramp of {len} glyphs");
         let mut up = [f32::INFINITY; ASCII_RAMP_LONG.len() - 1];
         for (k, up) in up.iter_mut().enumerate().take(len - 1) {
             let stretched = (k as f32 + 0.5) / (len - 1) as f32;
-            *up = srgb_to_linear(RAMP_BOTTOM + stretched * (RAMP_TOP - RAMP_BOTTOM));
+            *up = srgb_to_linear(bottom + stretched * (top - bottom));
         }
         let lanes = |from: usize| f32x8::from(<[f32; 8]>::try_from(&up[from..from + 8]).expect("eight"));
         RampSteps { up, up16: [lanes(0), lanes(8)], len }
@@ -223,28 +281,32 @@ impl RampSteps {
     }
 }
 
-/// [`to_frame`] for the ascii charset, one sample per cell: its outline glyph or its ramp glyph, inked
-/// in `ink(colour, (column, row))` of its linear colour (a blank has no ink to colour).
+/// [`to_frame`] for the ascii charset, one sample per cell: its outline glyph or its surface's ramp
+/// glyph (walls: `ramp` without the floor's and the ceiling's glyphs), inked in `ink(colour)` of its
+/// linear colour (a blank has no ink to colour).
 fn ascii_cells(
     samples: &SampleBuffer,
     ramp: Ramp,
     (frame, region): (&mut Frame, Region),
-    ink: impl Fn(Vec3, (usize, usize)) -> Color,
+    ink: impl Fn(Vec3) -> Color,
 ) {
-    let (color, outline) = (samples.color(), samples.outline());
-    let glyphs = ramp.glyphs();
-    let steps = RampSteps::new(glyphs.len());
+    let (color, outline, ids) = (samples.color(), samples.outline(), samples.id());
+    let mut wall = [' '; ASCII_RAMP_LONG.len()];
+    let mut len = 0;
+    for &g in ramp.glyphs() {
+        if g == ' ' || !(ASCII_FLOOR.contains(&g) || ASCII_CEILING.contains(&g)) {
+            (wall[len], len) = (g, len + 1);
+        }
+    }
+    let ramps = SurfaceRamps::new(&wall[..len], &ASCII_FLOOR, &ASCII_CEILING);
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         let at = row * region.cols..(row + 1) * region.cols;
-        for (col, ((cell, &color), outline)) in
-            cells.iter_mut().zip(&color[at.clone()]).zip(&outline[at]).enumerate()
+        for ((cell, (&color, &id)), outline) in
+            cells.iter_mut().zip(color[at.clone()].iter().zip(&ids[at.clone()])).zip(&outline[at])
         {
-            let ch = outline.unwrap_or_else(|| glyphs[steps.index(color)]);
-            *cell = if ch == ' ' {
-                Cell::plain(' ')
-            } else {
-                Cell { ch, fg: ink(color, (col, row)), bg: Color::Default }
-            };
+            let ch = outline.unwrap_or_else(|| ramps.glyph(Surface::of(id), color));
+            *cell =
+                if ch == ' ' { Cell::plain(' ') } else { Cell { ch, fg: ink(color), bg: Color::Default } };
         }
     }
 }
@@ -309,9 +371,6 @@ fn spread((low, high): ([u8; 3], [u8; 3])) -> u8 {
 
 /// At most this [`spread`], a quadrant or sextant cell is drawn in its samples' mean colour.
 const FLAT_SPREAD: u8 = 1;
-
-/// Above this [`spread`] a cell holds an edge: its two sides are quantized plainly, not dithered.
-const EDGE_SPREAD: u8 = 24;
 
 /// A two-colour split of a cell's samples: the samples in `mask` are ink, the rest background.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -467,10 +526,10 @@ fn block_cell(srgb: &[[u8; 3]], charset: Charset, depth: ColorDepth) -> Cell {
     Cell { ch: block_glyph(charset, mask), fg, bg }
 }
 
-/// One block cell from its samples' palette entries (after dithering), in bit order.
+/// One block cell from its samples' palette entries, in bit order.
 ///
 /// Two entries or fewer, the cell shows them exactly (the last sample's is the background): always so
-/// for half blocks, and for every cell of a flat or smoothly shaded area, as [`palette::dither`] mixes two entries.
+/// for half blocks, and for every cell of a flat or smoothly shaded area (a surface's bands).
 /// More (quadrants and sextants across an edge): the best split of their colours, each side drawn in its
 /// most frequent entry (the earlier sample's on a tie).
 fn indexed_cell(indices: &[u8], charset: Charset) -> Cell {
@@ -517,12 +576,12 @@ mod tests {
         // The definition, in f64 with the exact curve: [`RampSteps`] compares luminances instead.
         let by_lightness = |color: Vec3, len: usize| {
             let lightness = f64::from(linear_to_srgb(luminance(color)));
-            let (bottom, top) = (f64::from(RAMP_BOTTOM), f64::from(RAMP_TOP));
+            let (bottom, top) = (f64::from(FLOOR_RANGE.0), f64::from(FLOOR_RANGE.1));
             let t = ((lightness - bottom) / (top - bottom)).clamp(0.0, 1.0);
             (t * (len - 1) as f64).round() as usize
         };
         for len in [1, 2, BLOCK_RAMP.len(), crate::options::ASCII_RAMP.len(), ASCII_RAMP_LONG.len()] {
-            let steps = RampSteps::new(len);
+            let steps = RampSteps::new(len, FLOOR_RANGE);
             let mut seen = vec![false; len];
             for k in 0..=4000 {
                 let grey = Vec3::splat(k as f32 / 4000.0);
@@ -572,10 +631,10 @@ mod tests {
         assert_eq!(Charset::Sextant.sample_aspect(0.5), 0.75);
     }
 
-    /// A dithered half-block cell is its top sample's entry (`▀`) on its bottom one's, a blank when
-    /// they are equal; the two-sample spread is the largest channel difference.
+    /// An indexed half-block cell is its top sample's entry (`▀`) on its bottom one's, a blank when
+    /// they are equal.
     #[test]
-    fn a_dithered_half_block_is_its_top_entry_on_its_bottom_one() {
+    fn an_indexed_half_block_is_its_top_entry_on_its_bottom_one() {
         assert_eq!(
             indexed_cell(&[21, 196], Charset::Half),
             Cell { ch: '▀', fg: Color::Indexed(21), bg: Color::Indexed(196) }

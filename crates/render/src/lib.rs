@@ -25,7 +25,7 @@
 //! let wall = [(1.0, 1.0, -2.0), (7.0, 1.0, -2.0), (7.0, 5.0, -2.0), (1.0, 5.0, -2.0)].map(|(x, y, z)| {
 //!     GridVertex { pos: Vec2::new(x, y), depth: 0.5, inv_w: 1.0 / 2.0, attrs: Vec3::new(0.0, 0.0, z) }
 //! });
-//! let fog = Fog { color: Vec3::ZERO, start: 4.0, end: 20.0 };
+//! let fog = Fog { color: Vec3::ZERO, half: 8.0, end: 20.0 };
 //! let (albedo, normal_view) = (Vec3::new(0.6, 0.3, 0.3), Vec3::Z);
 //! let wall_id = 7;
 //! let written = fill_polygon(&mut samples, &wall, wall_id, |view: Vec3| {
@@ -55,6 +55,7 @@ pub mod palette;
 pub mod picture;
 pub mod pipeline;
 pub mod portal;
+pub mod quality;
 pub mod raster;
 pub mod samples;
 pub mod shade;

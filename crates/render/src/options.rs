@@ -64,6 +64,13 @@ pub const ASCII_RAMP_LONG: [char; 70] = [
     'W', '&', '8', '%', 'B', '@', '$',
 ];
 
+/// The ascii glyphs of the floor, darkest first: marks low in the cell, none of them a wall's ([`ASCII_RAMP`]),
+/// so that floor and walls are told apart without colour (issue #33). The long ramp leaves them out
+/// for walls.
+pub const ASCII_FLOOR: [char; 3] = [' ', ',', '_'];
+/// The ascii glyphs of the ceiling, darkest first: marks high in the cell (see [`ASCII_FLOOR`]).
+pub const ASCII_CEILING: [char; 3] = [' ', '`', '"'];
+
 /// Which ascii shading ramp: the 10 characters of [`ASCII_RAMP`] or the 70 of [`ASCII_RAMP_LONG`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Ramp {
@@ -110,8 +117,10 @@ pub struct RenderOptions {
     pub culling: Culling,
     /// Terminal cell width / height (about 0.5).
     pub cell_aspect: f32,
-    /// Ordered dithering in 256 and 16 colours ([`palette::dither`](crate::palette::dither)); off, each
-    /// sample takes its nearest palette entry. No effect in truecolor or without colour.
+    /// In 256 and 16 colours, block charsets only: where a sample lies between two neighbouring
+    /// entries of its light ramp that are perceptually close, a 2×2 ordered mix of the two
+    /// ([`LightRamp::entry_dithered`](crate::palette::LightRamp::entry_dithered)): smoother shading,
+    /// no grain, more bytes. Off (the default), each sample takes its ramp's entry: calm bands.
     pub dither: bool,
     /// The ascii charset's shading ramp.
     pub ramp: Ramp,
@@ -128,7 +137,7 @@ impl Default for RenderOptions {
             color_depth: ColorDepth::TrueColor,
             culling: Culling::Portal,
             cell_aspect: 0.5,
-            dither: true,
+            dither: false,
             ramp: Ramp::Short,
             textures: false,
         }

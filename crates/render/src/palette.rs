@@ -4,12 +4,14 @@
 //! files that are meant as display colours should go through [`srgb_to_linear`]
 //! first). The palettes are xterm's defaults.
 //!
-//! The renderer dithers ([`dither`]): each sample shows one of two palette entries chosen in OKLab, by a
-//! screen-anchored ordered threshold ([`threshold`]). [`quantize`] is plain nearest colour by squared
-//! distance in sRGB 0..255, undithered: truecolor, and the reference the dithering is measured against.
+//! The picture in 256 and 16 colours is drawn from light ramps ([`LightRamp`], issue #33): every
+//! sample of one chromaticity (a surface lit by white light and fogged toward black keeps its own)
+//! takes the entry of that chromaticity's ramp at its intensity, entries chosen in OKLab for hue as
+//! well as lightness, in order of lightness, each holding one run: calm bands of the surface's own
+//! hue, no pattern. [`picture_color`] is that at any depth. [`quantize`] is plain nearest colour by
+//! squared distance in sRGB 0..255: truecolor, and the overlays' colours.
 
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicU32, Ordering};
 
 use glam::Vec3;
 
@@ -114,150 +116,18 @@ pub fn quantize_srgb8(rgb: [u8; 3], depth: ColorDepth) -> Color {
     }
 }
 
-/// The ordered-dither threshold of sample `(x, y)` (sample grid, origin top-left), in (0, 1).
-///
-/// The 2×2 Bayer matrix tiled over the sample grid: anchored to the screen, so a still picture keeps its
-/// pattern and the diff encoder sends nothing for it. Every 2×2 window of samples, aligned or not, holds
-/// one threshold from each quarter of (0, 1), so a mix averages out over any 2×2 samples to within ⅛.
-/// Not 4×4: that is no finer over 2×2 windows, and its sixteen levels flip scattered single samples
-/// as colours drift while walking, where 2×2 flips every other sample of a run (measured: 0.49× the
-/// plain error at 0.94× the bytes of 4×4, in 256 colours; BENCHMARKS.md).
-#[must_use]
-#[inline]
-pub fn threshold(x: usize, y: usize) -> f32 {
-    const BAYER2: [[u8; 2]; 2] = [[0, 2], [3, 1]];
-    (f32::from(BAYER2[y % 2][x % 2]) + 0.5) / 4.0
-}
-
-/// A linear colour quantized to `depth` with ordered dithering: the palette entry shown on a sample
-/// whose [`threshold`] is `threshold`. Truecolor and [`ColorDepth::None`] are as [`quantize`].
-///
-/// Each colour is shown as a mix of two palette entries `a` and `b` (a solid entry is a mix with itself):
-/// `b` on the samples whose threshold is below the ratio, `a` on the rest, so over a few samples the eye
-/// sees `a + (b − a)·ratio` in linear light. The pair is the one whose best mix comes nearest the colour
-/// in OKLab, with a penalty on the pair's own distance (a mix of far-apart colours is seen as grain, not
-/// as the mean: black and white dashes along a wall edge); it is looked up per 8-step sRGB bucket
-/// ([`mix_pair`]). The ratio is then exact for the sample's colour: its projection onto the pair's segment
-/// in linear RGB, so gradients stay smooth inside a bucket.
-#[must_use]
-#[inline]
-pub fn dither(linear: Vec3, rgb: [u8; 3], depth: ColorDepth, threshold: f32) -> Color {
-    match Mix::of(rgb, depth) {
-        Some(mix) => Color::Indexed(mix.pick(linear, threshold)),
-        None => quantize_srgb8(rgb, depth),
-    }
-}
-
-/// A colour's bucket (its sRGB bytes over 8) and the bucket's pair, kept by [`Mix::of_near`].
-pub(crate) type KeptPair = Option<([u8; 3], (u8, u8))>;
-
-/// What [`dither`] shows for one 8-bit sRGB colour: an entry that is exactly it, or a pair to mix. A
-/// function of the colour alone, so a caller may keep it for the next sample of the same colour (the
-/// glyph pass does, per sub-cell position: neighbours along a row often share their colour).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Mix {
-    /// A palette entry shows as itself: its bucket's pair need not pass through it.
-    Exact(u8),
-    /// The bucket's pair `(a, b)` ([`mix_pair`]).
-    Pair(u8, u8),
-}
-
-impl Mix {
-    /// The mix for `rgb` at `depth`; `None` at the depths that do not dither (truecolor, none).
-    #[inline]
-    pub(crate) fn of(rgb: [u8; 3], depth: ColorDepth) -> Option<Mix> {
-        Mix::of_near(rgb, depth, &mut None)
-    }
-
-    /// [`Mix::of`], given the bucket and pair of a colour looked up before (`last`, updated): the
-    /// pair is a function of the bucket, and the next sample's colour is often in the same one,
-    /// where the pair table (256 KB, read at random) need not be read again.
-    #[inline]
-    pub(crate) fn of_near(rgb: [u8; 3], depth: ColorDepth, last: &mut KeptPair) -> Option<Mix> {
-        let palette = match depth {
-            ColorDepth::None | ColorDepth::TrueColor => return None,
-            ColorDepth::Ansi16 => Palette::Ansi16,
-            ColorDepth::Ansi256 => Palette::Xterm256,
-        };
-        let exact = match palette {
-            Palette::Ansi16 => ANSI16.iter().position(|&c| c == rgb).map(|i| i as u8),
-            Palette::Xterm256 => exact256(rgb),
-        };
-        Some(match exact {
-            Some(index) => Mix::Exact(index),
-            None => {
-                let bucket = rgb.map(|v| v >> 3);
-                let (a, b) = match *last {
-                    Some((seen, pair)) if seen == bucket => pair,
-                    _ => {
-                        let pair = mix_pair(rgb, palette);
-                        *last = Some((bucket, pair));
-                        pair
-                    }
-                };
-                Mix::Pair(a, b)
-            }
-        })
-    }
-
-    /// The entry shown on a sample of linear colour `linear` (of this mix's sRGB colour) whose
-    /// [`threshold`] is `threshold`.
-    #[inline]
-    pub(crate) fn pick(self, linear: Vec3, threshold: f32) -> u8 {
-        match self {
-            Mix::Exact(index) => index,
-            Mix::Pair(a, b) => {
-                let ratio = mix_ratio(linear.clamp(Vec3::ZERO, Vec3::ONE), a, b);
-                if ratio > threshold { b } else { a }
-            }
-        }
-    }
-}
-
-/// The xterm-256 index (16–255) showing exactly `rgb`, if one does.
-#[inline]
-fn exact256(rgb: [u8; 3]) -> Option<u8> {
-    /// Each byte's cube level (0–5), or 6 where it is none.
-    const LEVEL: [u8; 256] = {
-        let mut table = [6u8; 256];
-        let mut k = 0;
-        while k < 6 {
-            table[CUBE_LEVELS[k] as usize] = k as u8;
-            k += 1;
-        }
-        table
-    };
-    let [r, g, b] = rgb.map(|v| LEVEL[usize::from(v)]);
-    if r < 6 && g < 6 && b < 6 {
-        return Some(16 + 36 * r + 6 * g + b);
-    }
-    let grey = rgb[0].wrapping_sub(8);
-    (rgb[0] == rgb[1] && rgb[1] == rgb[2] && grey.is_multiple_of(10) && grey <= 230).then(|| 232 + grey / 10)
-}
-
-/// Which palette [`dither`] mixes from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Palette {
-    /// The 16 ANSI colours (xterm's defaults; terminals differ, so nothing finer is assumed).
-    Ansi16,
-    /// Indices 16–255 of xterm's 256 colours (the cube and the greys, the same on every terminal).
-    Xterm256,
-}
-
-/// The palette's 256 entries in linear RGB and in OKLab.
+/// The palette's 256 entries in OKLab.
 struct Entries {
-    linear: [Vec3; 256],
     oklab: [Vec3; 256],
 }
 
 /// [`Entries`], built on first use (768 `powf` and cube roots: a few µs).
 fn entries() -> &'static Entries {
     static ENTRIES: OnceLock<Entries> = OnceLock::new();
-    ENTRIES.get_or_init(|| {
-        let linear: [Vec3; 256] = std::array::from_fn(|i| {
-            Vec3::from_array(xterm_rgb(i as u8).map(|v| srgb_to_linear(f32::from(v) / 255.0)))
-        });
-        Entries { linear, oklab: linear.map(oklab) }
+    ENTRIES.get_or_init(|| Entries {
+        oklab: std::array::from_fn(|i| {
+            oklab(Vec3::from_array(xterm_rgb(i as u8).map(|v| srgb_to_linear(f32::from(v) / 255.0))))
+        }),
     })
 }
 
@@ -276,120 +146,400 @@ pub fn oklab(linear: Vec3) -> Vec3 {
     )
 }
 
-/// The thresholds of every 2×2 window of samples within the repeating 2×2 tile of [`threshold`] (4
-/// windows, wrapping round): what the eye averages a mix over at the least.
-fn windows() -> [[f32; 4]; 4] {
-    std::array::from_fn(|w| {
-        let (x, y) = (w % 2, w / 2);
-        [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(dx, dy)| threshold(x + dx, y + dy))
-    })
+/// How a light ramp chooses its entries: the weights of [`cost`] and of a ramp's steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Weights {
+    /// A hue shift (ΔH: the chord between the two hues at their chromas), per unit squared.
+    hue: f32,
+    /// A chroma difference, per unit squared.
+    chroma: f32,
+    /// A grey entry shown for a coloured target, per unit of the target's chroma squared.
+    grey: f32,
+    /// A step between two coloured entries of a ramp, per unit of their chroma difference squared.
+    step: f32,
 }
 
-/// The ratio of `b` in the mix of entries `a` and `b` nearest to `linear` (least squares in linear RGB).
-#[inline]
-fn mix_ratio(linear: Vec3, a: u8, b: u8) -> f32 {
-    let linear_of = &entries().linear;
-    let (pa, d) = (linear_of[usize::from(a)], linear_of[usize::from(b)] - linear_of[usize::from(a)]);
-    let d2 = d.length_squared();
-    if d2 > 0.0 { ((linear - pa).dot(d) / d2).clamp(0.0, 1.0) } else { 0.0 }
+/// The cost of showing OKLab colour `target` (of chroma `target_chroma`) as `entry`: lightness and
+/// hue as a viewer weighs them. A hue shift costs [`Weights::hue`] times a lightness step as large,
+/// and a grey entry loses the hue altogether, which costs [`Weights::grey`] times the target's
+/// chroma squared on top: a blue wall may come out a little more or less blue, lighter or darker,
+/// but not grey or violet.
+fn cost(target: Vec3, target_chroma: f32, entry: &RampEntry, w: &Weights) -> f32 {
+    let dl = entry.lab.x - target.x;
+    let (da, db) = (entry.lab.y - target.y, entry.lab.z - target.z);
+    let dc = entry.chroma - target_chroma;
+    let dh2 = (da * da + db * db - dc * dc).max(0.0);
+    let grey = if entry.chroma < GREY_ENTRY { w.grey * target_chroma * target_chroma } else { 0.0 };
+    dl * dl + w.chroma * dc * dc + w.hue * dh2 + grey
 }
 
-/// The pair of entries `(a, b)` [`dither`] mixes for sRGB colours in `rgb`'s bucket (8 steps a channel).
-///
-/// Memoized per bucket: each is searched the first time a frame shows it (a few µs), so a frame pays only
-/// for its own colours and no table is built up front (issue #16). Racing threads compute the same pair.
-fn mix_pair(rgb: [u8; 3], palette: Palette) -> (u8, u8) {
-    const BUCKETS: usize = 32 * 32 * 32;
-    // 0 is "not searched yet": a searched pair has bit 16 set.
-    static PAIRS: [[AtomicU32; BUCKETS]; 2] = [const { [const { AtomicU32::new(0) }; BUCKETS] }; 2];
-    let key = rgb.map(|v| usize::from(v >> 3));
-    let slot = &PAIRS[palette as usize][(key[0] << 10) | (key[1] << 5) | key[2]];
-    let mut packed = slot.load(Ordering::Relaxed);
-    if packed == 0 {
-        let centre = key.map(|v| ((v << 3) + 4) as u8); // the bucket's, so the pair is the same whoever asks
-        let (a, b) = search_pair(centre, palette);
-        packed = 1 << 16 | u32::from(b) << 8 | u32::from(a);
-        slot.store(packed, Ordering::Relaxed);
+/// An entry with less chroma than this is grey (the cube's and the ramp's greys have none).
+const GREY_ENTRY: f32 = 0.015;
+/// A chromaticity whose brightest colour has less chroma than this is grey: its ramp holds greys only.
+const COLOURED: f32 = 0.045;
+
+/// The difference of two hue angles (radians), in 0..=π.
+#[must_use]
+pub fn hue_difference(a: f32, b: f32) -> f32 {
+    let d = (a - b).abs() % std::f32::consts::TAU;
+    d.min(std::f32::consts::TAU - d)
+}
+
+/// Which palette a light ramp is built from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Palette {
+    /// The 16 ANSI colours (xterm's defaults; terminals differ, see [`Palette::of`]).
+    Ansi16,
+    /// Indices 16–255 of xterm's 256 colours (the cube and the greys, the same on every terminal).
+    Xterm256,
+}
+
+impl Palette {
+    /// The palette of a colour depth: `None` for truecolor and no colour.
+    ///
+    /// The 16 colours' real values depend on the terminal's theme; their ramps are measured on xterm's
+    /// defaults, but are made of what holds in nearly every theme: black, the two greys and white in
+    /// that order of lightness, and each hue's normal and bright colour, the bright one lighter.
+    #[must_use]
+    pub fn of(depth: ColorDepth) -> Option<Palette> {
+        match depth {
+            ColorDepth::Ansi16 => Some(Palette::Ansi16),
+            ColorDepth::Ansi256 => Some(Palette::Xterm256),
+            ColorDepth::None | ColorDepth::TrueColor => None,
+        }
     }
-    (packed as u8, (packed >> 8) as u8)
+
+    /// The palette's entries.
+    fn indices(self) -> std::ops::RangeInclusive<u8> {
+        match self {
+            Palette::Ansi16 => 0..=15,
+            Palette::Xterm256 => 16..=255,
+        }
+    }
+
+    /// How its ramps weigh hue, chroma, greys and steps ([`cost`], [`LightRamp::new`]), chosen on
+    /// the measures of issue #33 (`benches/examples/picture.rs`). In 256 colours the cube has an
+    /// entry near most hues at some chroma: hue weighs four times as much as lightness (ΔH²: 16), so a
+    /// wall keeps its hue within about 10°, and its bands keep its saturation (steps: 3.5) rather than
+    /// pass through a vivid entry between two pale ones. In 16 colours there are six hues: hue weighs
+    /// less (4), or every wall between two of them would be grey.
+    fn weights(self) -> Weights {
+        match self {
+            Palette::Xterm256 => Weights { hue: 16.0, chroma: 1.0, grey: 8.0, step: 3.5 },
+            Palette::Ansi16 => Weights { hue: 4.0, chroma: 1.0, grey: 8.0, step: 4.0 },
+        }
+    }
+
+    /// A ramp holds greys and the entries whose hue is within this of its chromaticity's (radians):
+    /// 30° in 256 colours; 45° in 16, whose six hues are 60° apart (an orange wall is red there).
+    #[must_use]
+    pub fn hue_span(self) -> f32 {
+        match self {
+            Palette::Xterm256 => 30f32.to_radians(),
+            Palette::Ansi16 => 45f32.to_radians(),
+        }
+    }
+
+    /// The OKLab colour a ramp of this palette aims at for a sample of OKLab colour `lab`: itself in
+    /// 256 colours. In 16 colours, whose greys are black, L 0.6, 0.92 and white, the lightness of a
+    /// maze scene (walls up to about 0.65 near, the ceiling about 0.25) is stretched over the
+    /// palette's, so the floor, the ceiling and the walls, near and far, fall on different entries.
+    fn target(self, lab: Vec3) -> Vec3 {
+        match self {
+            Palette::Xterm256 => lab,
+            Palette::Ansi16 => {
+                let (low, high) = STRETCH_16;
+                let l = ((lab.x - low) / (high - low)).clamp(0.0, 1.0);
+                let scale = if lab.x > 0.0 { l / lab.x } else { 0.0 };
+                Vec3::new(l, lab.y * scale, lab.z * scale)
+            }
+        }
+    }
 }
 
-/// The OKLab colour of every 16-colour mix of 1, 2 and 3 quarters (`[a][b][k − 1]`, `b` in `k` of 4
-/// samples), built on first use: every bucket's search scores all 136 pairs, and the cube roots were
-/// most of a 16-colour first frame (issue #16). Entries 0–15 of [`entries`].
-fn ansi16_mixes() -> &'static [[[Vec3; 3]; 16]; 16] {
-    static MIXES: OnceLock<[[[Vec3; 3]; 16]; 16]> = OnceLock::new();
-    MIXES.get_or_init(|| {
-        let linear_of = &entries().linear;
-        std::array::from_fn(|a| {
-            std::array::from_fn(|b| {
-                std::array::from_fn(|k| oklab(linear_of[a].lerp(linear_of[b], (k + 1) as f32 / 4.0)))
+impl Palette {
+    /// The scene lightness whose [`Palette::target`] has lightness `l`.
+    fn untarget_lightness(self, l: f32) -> f32 {
+        match self {
+            Palette::Xterm256 => l,
+            Palette::Ansi16 => STRETCH_16.0 + l * (STRETCH_16.1 - STRETCH_16.0),
+        }
+    }
+}
+
+/// The scene lightness (OKLab L) stretched to 0 and to 1 in 16 colours (see [`Palette::target`]).
+const STRETCH_16: (f32, f32) = (0.25, 0.65);
+
+/// One palette entry as the ramps see it.
+#[derive(Clone, Copy, Debug)]
+struct RampEntry {
+    index: u8,
+    lab: Vec3,
+    chroma: f32,
+    /// Hue angle (radians).
+    hue: f32,
+}
+
+/// A palette's entries in order of lightness (then index), built on first use.
+fn ramp_entries(palette: Palette) -> &'static [RampEntry] {
+    static SORTED: [OnceLock<Vec<RampEntry>>; 2] = [OnceLock::new(), OnceLock::new()];
+    SORTED[palette as usize].get_or_init(|| {
+        let oklab_of = &entries().oklab;
+        let mut sorted: Vec<RampEntry> = palette
+            .indices()
+            .map(|index| {
+                let lab = oklab_of[usize::from(index)];
+                RampEntry { index, lab, chroma: lab.y.hypot(lab.z), hue: lab.z.atan2(lab.y) }
             })
-        })
+            .collect();
+        sorted.sort_by(|a, b| a.lab.x.total_cmp(&b.lab.x).then(a.index.cmp(&b.index)));
+        sorted
     })
 }
 
-/// The best pair for `rgb` among the palette's candidates (see [`dither`]); the nearer entry first.
-fn search_pair(rgb: [u8; 3], palette: Palette) -> (u8, u8) {
-    let Entries { linear: linear_of, oklab: oklab_of } = entries();
-    let target_linear = Vec3::from_array(rgb.map(|v| srgb_to_linear(f32::from(v) / 255.0)));
-    let target = oklab(target_linear);
-    let mut candidates = [0u8; 16];
-    let n = match palette {
-        Palette::Ansi16 => {
-            candidates = std::array::from_fn(|i| i as u8);
-            16
-        }
-        Palette::Xterm256 => {
-            // The corners of the cube cell around the colour and the two greys around its mean: the
-            // entries within one palette step of it, where every useful mix lies.
-            let lo = rgb.map(|v| CUBE_LEVELS.iter().rposition(|&l| l <= v).unwrap_or(0));
-            let mut n = 0;
-            for corner in 0..8 {
-                let [r, g, b] = [0, 1, 2].map(|k| (lo[k] + (corner >> k & 1)).min(5) as u8);
-                let index = 16 + 36 * r + 6 * g + b;
-                if !candidates[..n].contains(&index) {
-                    candidates[n] = index;
-                    n += 1;
+/// Chromaticities are looked up on a grid of `r / (r + g + b)` and `g / (r + g + b)` (linear) in steps
+/// of `1 / CHROMA_STEPS`; a surface lit by white light and fogged toward black keeps its chromaticity
+/// at every distance and angle, so it keeps its ramp.
+pub const CHROMA_STEPS: usize = 96;
+const SLOTS: usize = (CHROMA_STEPS + 1) * (CHROMA_STEPS + 1);
+/// A ramp is chosen at this many lightness levels from black to the brightest colour of its
+/// chromaticity.
+const LEVELS: usize = 64;
+/// Below this intensity (`r + g + b`, linear) a colour is black.
+const BLACK: f32 = 1e-6;
+
+/// A light ramp: the palette entries a surface of one chromaticity shows as its light changes, from
+/// dark to light. Entries are in order of lightness and each holds one run of intensities, so a wall
+/// darkens along its own ramp in clean bands instead of jumping between unrelated entries; each is
+/// chosen for its hue as well as its lightness.
+///
+/// Built by dynamic programming over 64 lightness levels of the chromaticity: of the sequences
+/// of entries non-decreasing in lightness, made of greys and of entries within the palette's
+/// [`hue_span`](Palette::hue_span) of the chromaticity's hue, greys only below the coloured ones, the
+/// one with the least total cost (lightness, hue and chroma weighed as a viewer weighs them, a grey
+/// for a coloured sample dearest) plus the cost of its steps (a change of chroma between coloured
+/// entries).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightRamp {
+    /// `starts[k]`: the intensity (`r + g + b`, linear) from which `entries[k + 1]` is shown.
+    starts: Vec<f32>,
+    entries: Vec<u8>,
+    /// `centres[k]`: the intensity at which the chromaticity has the lightness of `entries[k]` (as the
+    /// palette aims at it, [`Palette::target`]): where a mix of it with a neighbour is all of it.
+    centres: Vec<f32>,
+    /// `close[k]`: whether `entries[k]` and `entries[k + 1]` are close enough to mix
+    /// ([`LightRamp::entry_dithered`]).
+    close: Vec<bool>,
+}
+
+impl LightRamp {
+    /// The ramp of the chromaticity `chroma` (linear RGB, any scale) in `palette`.
+    #[must_use]
+    pub fn new(chroma: Vec3, palette: Palette) -> LightRamp {
+        let chroma = chroma.max(Vec3::ZERO);
+        let sum = chroma.x + chroma.y + chroma.z;
+        let chroma = if sum > 0.0 && sum.is_finite() { chroma / sum } else { Vec3::splat(1.0 / 3.0) };
+        // Intensity t: the colour is t · chroma; OKLab scales by t^(1/3) (its cube roots of a linear
+        // map), so level s = t^(1/3) aims at s · oklab(chroma), up to the brightest t, where a channel
+        // reaches 1.
+        let direction = oklab(chroma);
+        let s_max = (1.0 / chroma.max_element()).cbrt();
+        // Greys, and the entries of the chromaticity's own hue: a ramp never passes through another.
+        let hue = direction.z.atan2(direction.y);
+        let coloured = direction.y.hypot(direction.z) * s_max >= COLOURED;
+        let candidates: Vec<RampEntry> = ramp_entries(palette)
+            .iter()
+            .filter(|e| {
+                e.chroma < GREY_ENTRY || (coloured && hue_difference(e.hue, hue) <= palette.hue_span())
+            })
+            .copied()
+            .collect();
+        let n = candidates.len();
+        // best[j]: the least cost of levels 0..=level ending on candidate j; from[level][j]: the
+        // candidate of the level before on that path. A step from candidate i to a lighter j: from a
+        // grey, free; from a coloured entry to a grey, never (a ramp's greys are its dark end: once
+        // coloured it stays so, and a wall is never a grey blob amid its colour); between two
+        // coloured entries, [`Weights::step`] times their chroma difference squared (a wall's bands
+        // keep its saturation instead of passing through a vivid entry between two pale ones).
+        let weights = palette.weights();
+        let grey: Vec<bool> = candidates.iter().map(|e| e.chroma < GREY_ENTRY).collect();
+        let coloured: Vec<usize> = (0..n).filter(|&i| !grey[i]).collect();
+        let mut best = vec![0.0f32; n];
+        let mut next = vec![0.0f32; n];
+        let mut from = vec![0u8; LEVELS * n];
+        for level in 0..LEVELS {
+            let s = s_max * (level as f32 + 0.5) / LEVELS as f32;
+            let target = palette.target(direction * s);
+            let target_chroma = target.y.hypot(target.z);
+            // The best path so far ending on a grey no lighter than j: a step from it costs nothing.
+            let mut from_grey = (f32::INFINITY, 0usize);
+            for j in 0..n {
+                let (mut before, mut at) = (if level == 0 { 0.0 } else { best[j] }, j);
+                if level > 0 {
+                    if from_grey.0 < before {
+                        (before, at) = from_grey;
+                    }
+                    if !grey[j] {
+                        for &i in coloured.iter().take_while(|&&i| i < j) {
+                            let step = weights.step * (candidates[i].chroma - candidates[j].chroma).powi(2);
+                            if best[i] + step < before {
+                                (before, at) = (best[i] + step, i);
+                            }
+                        }
+                    }
+                    if grey[j] && best[j] < from_grey.0 {
+                        from_grey = (best[j], j);
+                    }
                 }
+                from[level * n + j] = at as u8;
+                next[j] = before + cost(target, target_chroma, &candidates[j], &weights);
             }
-            let mean = rgb.iter().map(|&v| f32::from(v)).sum::<f32>() / 3.0;
-            let below = ((mean - 8.0) / 10.0).floor().clamp(0.0, 23.0) as u8;
-            candidates[n] = 232 + below;
-            candidates[n + 1] = 232 + (below + 1).min(23);
-            n + 2
+            std::mem::swap(&mut best, &mut next);
         }
-    };
-    let candidates = &candidates[..n];
-    let windows = windows();
-    let mut best = (f32::INFINITY, 0u8, 0u8);
-    for (i, &a) in candidates.iter().enumerate() {
-        for &b in &candidates[i..] {
-            let r = mix_ratio(target_linear, a, b);
-            // Scored as the eye sees it at the least: each 2×2 window of the pattern shows the mean of its
-            // samples, k of 4 of them `b`. The OKLab error summed over the windows counts both the mix's
-            // own error and its grain (sparse far-apart dots miss in most windows).
-            let mut windows_with = [0u32; 5];
-            for window in &windows {
-                windows_with[window.iter().filter(|&&t| r > t).count()] += 1;
-            }
-            let (pa, pb) = (linear_of[usize::from(a)], linear_of[usize::from(b)]);
-            let seen = |k: usize| match k {
-                0 => oklab_of[usize::from(a)],
-                4 => oklab_of[usize::from(b)],
-                _ if palette == Palette::Ansi16 => ansi16_mixes()[usize::from(a)][usize::from(b)][k - 1],
-                _ => oklab(pa.lerp(pb, k as f32 / 4.0)),
-            };
-            let score = (0..5)
-                .filter(|&k| windows_with[k] > 0)
-                .map(|k| windows_with[k] as f32 * seen(k).distance(target))
-                .sum::<f32>();
-            if score < best.0 {
-                best = if r <= 0.5 { (score, a, b) } else { (score, b, a) };
+        let mut at = (0..n).min_by(|&a, &b| best[a].total_cmp(&best[b])).unwrap_or(0);
+        let mut path = vec![0usize; LEVELS];
+        for level in (0..LEVELS).rev() {
+            path[level] = at;
+            at = usize::from(from[level * n + at]);
+        }
+        let (mut starts, mut entries) = (Vec::new(), vec![candidates[path[0]].index]);
+        for level in 1..LEVELS {
+            if path[level] != path[level - 1] {
+                let s = s_max * level as f32 / LEVELS as f32;
+                starts.push(s * s * s);
+                entries.push(candidates[path[level]].index);
             }
         }
+        let oklab_of = &self::entries().oklab;
+        let centres = entries
+            .iter()
+            .map(|&e| {
+                let l = palette.untarget_lightness(oklab_of[usize::from(e)].x);
+                let s = if direction.x > 0.0 { (l / direction.x).min(s_max) } else { 0.0 };
+                s * s * s
+            })
+            .collect();
+        let close = entries
+            .windows(2)
+            .map(|pair| oklab_of[usize::from(pair[0])].distance(oklab_of[usize::from(pair[1])]) <= MIX_STEP)
+            .collect();
+        LightRamp { starts, entries, centres, close }
     }
-    (best.1, best.2)
+
+    /// The ramp's entries, darkest first.
+    #[must_use]
+    pub fn entries(&self) -> &[u8] {
+        &self.entries
+    }
+
+    /// The entry shown at intensity `t` (`r + g + b`, linear).
+    #[must_use]
+    #[inline]
+    pub fn entry(&self, t: f32) -> u8 {
+        self.entries[self.starts.partition_point(|&start| t >= start)]
+    }
+
+    /// The entry shown at intensity `t` on a sample whose ordered-dither threshold is `threshold`
+    /// ([`threshold`], in (0, 1)): between the centres of two neighbouring entries that are
+    /// [close](MIX_STEP), a mix of the two in proportion to where `t` lies between them (the
+    /// lighter on the samples whose threshold is below its share); elsewhere [`LightRamp::entry`].
+    #[must_use]
+    #[inline]
+    pub fn entry_dithered(&self, t: f32, threshold: f32) -> u8 {
+        let k = self.starts.partition_point(|&start| t >= start);
+        let pair = if t < self.centres[k] && k > 0 && self.close[k - 1] {
+            k - 1
+        } else if t > self.centres[k] && k + 1 < self.entries.len() && self.close[k] {
+            k
+        } else {
+            return self.entries[k];
+        };
+        let (low, high) = (self.centres[pair], self.centres[pair + 1]);
+        let share = if high > low { (t - low) / (high - low) } else { 0.0 };
+        self.entries[if share > threshold { pair + 1 } else { pair }]
+    }
+}
+
+/// Two palette entries this close (OKLab) or closer are mixed by [`LightRamp::entry_dithered`]: a
+/// pattern of them is seen as their mix, not as grain (issue #33's grain is a pair of neighbours more
+/// than this further apart than in truecolor).
+pub const MIX_STEP: f32 = 0.06;
+
+/// The ordered-dither threshold of sample `(x, y)` (sample grid, origin top-left), in (0, 1): the 2×2
+/// Bayer matrix tiled over the sample grid, anchored to the screen so a still picture keeps its
+/// pattern and the diff encoder sends nothing for it.
+#[must_use]
+#[inline]
+pub fn threshold(x: usize, y: usize) -> f32 {
+    const BAYER2: [[u8; 2]; 2] = [[0, 2], [3, 1]];
+    (f32::from(BAYER2[y % 2][x % 2]) + 0.5) / 4.0
+}
+
+/// The chromaticity slot of a linear colour (clamped to 0..1, NaN as 0) and its intensity `r + g + b`;
+/// `None` for black.
+#[inline]
+fn slot(linear: Vec3) -> Option<(usize, f32)> {
+    let c = linear.max(Vec3::ZERO).min(Vec3::ONE);
+    let t = c.x + c.y + c.z;
+    if t < BLACK {
+        return None;
+    }
+    let scale = CHROMA_STEPS as f32 / t;
+    let (r, g) = ((c.x * scale).round() as usize, (c.y * scale).round() as usize);
+    Some((r.min(CHROMA_STEPS) * (CHROMA_STEPS + 1) + g.min(CHROMA_STEPS), t))
+}
+
+/// The ramp of a chromaticity slot, built on first use: a frame pays only for the chromaticities it
+/// shows (a few tens: each wall colour, floor, ceiling, the exit's glow), each about 20 µs, and they
+/// stay for the process's later frames.
+fn slot_ramp(slot: usize, palette: Palette) -> &'static LightRamp {
+    static RAMPS: [[OnceLock<Box<LightRamp>>; SLOTS]; 2] =
+        [const { [const { OnceLock::new() }; SLOTS] }, const { [const { OnceLock::new() }; SLOTS] }];
+    RAMPS[palette as usize][slot].get_or_init(|| {
+        let (r, g) = (slot / (CHROMA_STEPS + 1), slot % (CHROMA_STEPS + 1));
+        let step = 1.0 / CHROMA_STEPS as f32;
+        let chroma = Vec3::new(r as f32 * step, g as f32 * step, (1.0 - (r + g) as f32 * step).max(0.0));
+        Box::new(LightRamp::new(chroma, palette))
+    })
+}
+
+/// The light ramp of `linear`'s chromaticity in `palette` (of grey for black).
+#[must_use]
+pub fn light_ramp(linear: Vec3, palette: Palette) -> &'static LightRamp {
+    let grey = (CHROMA_STEPS / 3) * (CHROMA_STEPS + 1) + CHROMA_STEPS / 3;
+    slot_ramp(slot(linear).map_or(grey, |(slot, _)| slot), palette)
+}
+
+/// The entry of `palette` showing a linear colour: the entry of its chromaticity's [`LightRamp`] at
+/// its intensity (black: the palette's darkest).
+#[must_use]
+#[inline]
+pub fn ramp_entry(linear: Vec3, palette: Palette) -> u8 {
+    match slot(linear) {
+        Some((slot, t)) => slot_ramp(slot, palette).entry(t),
+        None => ramp_entries(palette)[0].index,
+    }
+}
+
+/// [`ramp_entry`] on a sample whose ordered-dither threshold is `threshold`
+/// ([`LightRamp::entry_dithered`]).
+#[must_use]
+#[inline]
+pub fn ramp_entry_dithered(linear: Vec3, palette: Palette, threshold: f32) -> u8 {
+    match slot(linear) {
+        Some((slot, t)) => slot_ramp(slot, palette).entry_dithered(t, threshold),
+        None => ramp_entries(palette)[0].index,
+    }
+}
+
+/// A linear colour as the picture shows it at `depth`: exact in truecolor, its [`ramp_entry`] in 256
+/// and 16 colours, the default colour without colour.
+#[must_use]
+pub fn picture_color(linear: Vec3, depth: ColorDepth) -> Color {
+    match Palette::of(depth) {
+        Some(palette) => Color::Indexed(ramp_entry(linear, palette)),
+        None => quantize(linear, depth),
+    }
 }
 
 #[cfg(test)]
@@ -452,69 +602,139 @@ mod tests {
         Vec3::from_array(rgb.map(|v| srgb_to_linear(f32::from(v) / 255.0)))
     }
 
-    /// A palette entry is shown as itself on every sample: no grain where none is needed.
+    fn lab_of(index: u8) -> Vec3 {
+        entries().oklab[usize::from(index)]
+    }
+
+    fn is_grey(index: u8) -> bool {
+        let lab = lab_of(index);
+        lab.y.hypot(lab.z) < GREY_ENTRY
+    }
+
+    /// A chromaticity: linear RGB with at least one channel above zero.
+    fn arb_chroma() -> impl proptest::strategy::Strategy<Value = Vec3> {
+        use proptest::prelude::*;
+        (0.0f32..=1.0, 0.0f32..=1.0, 0.0f32..=1.0)
+            .prop_filter("not black", |(r, g, b)| r + g + b > 1e-3)
+            .prop_map(|(r, g, b)| Vec3::new(r, g, b))
+    }
+
+    /// The properties of every light ramp (issue #33): its entries in order of lightness, each one run
+    /// of intensities; greys only at its dark end, every other entry within the palette's hue span of
+    /// the chromaticity's hue; the entry shown never darker for a brighter colour of the chromaticity.
     #[test]
-    fn palette_entries_dither_to_themselves() {
-        let all = |rgb: [u8; 3], depth| {
-            (0..4)
-                .flat_map(|y| (0..4).map(move |x| threshold(x, y)))
-                .map(move |t| dither(linear(rgb), rgb, depth, t))
-        };
+    fn a_light_ramp_is_monotone_in_lightness_and_stays_within_its_hue() {
+        use proptest::prelude::*;
+        // 256 cases: each builds two ramps by dynamic programming (a few ms each in the test profile).
+        proptest!(mazewalk_testkit::config_cases(256), |(chroma in arb_chroma())| {
+            let hue = {
+                let lab = oklab(chroma / (chroma.x + chroma.y + chroma.z));
+                lab.z.atan2(lab.y)
+            };
+            for palette in [Palette::Xterm256, Palette::Ansi16] {
+                let ramp = LightRamp::new(chroma, palette);
+                let entries = ramp.entries();
+                prop_assert_eq!(entries.len(), ramp.starts.len() + 1);
+                prop_assert!(ramp.starts.windows(2).all(|w| w[0] < w[1]), "{:?}", ramp.starts);
+                for pair in entries.windows(2) {
+                    prop_assert!(pair[0] != pair[1], "{:?}: one run each", entries);
+                    prop_assert!(lab_of(pair[0]).x <= lab_of(pair[1]).x, "{:?}: darkest first", entries);
+                    prop_assert!(is_grey(pair[0]) || !is_grey(pair[1]), "{:?}: greys at the dark end", entries);
+                }
+                for &e in entries.iter().filter(|&&e| !is_grey(e)) {
+                    let lab = lab_of(e);
+                    let off = hue_difference(lab.z.atan2(lab.y), hue);
+                    prop_assert!(off <= palette.hue_span() + 1e-4, "{}: {}° off", e, off.to_degrees());
+                }
+                prop_assert!(entries.iter().all(|&e| palette.indices().contains(&e)));
+                // Brighter and brighter colours of the chromaticity: never a darker entry.
+                let scale = chroma / chroma.max_element();
+                let mut last = 0.0f32;
+                for k in 0..=200 {
+                    let shown = lab_of(ramp_entry(scale * (k as f32 / 200.0), palette)).x;
+                    prop_assert!(shown >= last - 1e-6, "{:?} at {}: {} after {}", chroma, k, shown, last);
+                    last = shown;
+                }
+            }
+        });
+    }
+
+    /// Greys stay grey, in both palettes, and a palette's own colours are shown as themselves or as
+    /// an entry within a small step of them.
+    #[test]
+    fn greys_take_greys_and_palette_colours_come_out_near_themselves() {
+        for v in (0..=255u8).step_by(5) {
+            let grey = linear([v; 3]);
+            for palette in [Palette::Xterm256, Palette::Ansi16] {
+                let e = ramp_entry(grey, palette);
+                assert!(is_grey(e), "grey {v} in {palette:?}: entry {e}");
+            }
+        }
+        let mut exact = 0;
         for index in 16..=255u8 {
-            let rgb = xterm_rgb(index);
-            assert!(all(rgb, ColorDepth::Ansi256).all(|c| c == Color::Indexed(index)), "index {index}");
+            let shown = ramp_entry(linear(xterm_rgb(index)), Palette::Xterm256);
+            let off = lab_of(shown).distance(lab_of(index));
+            assert!(off < 0.07, "entry {index} shown as {shown}, {off:.3} off");
+            exact += usize::from(shown == index);
         }
-        for index in 0..16u8 {
-            let rgb = xterm_rgb(index);
-            assert!(all(rgb, ColorDepth::Ansi16).all(|c| c == Color::Indexed(index)), "index {index}");
+        assert!(exact >= 230, "{exact} of 240 entries shown as themselves");
+    }
+
+    /// 256 colours keep a wall's hue (issue #33: blue turned violet): the built-in maze's walls and
+    /// a generated maze's pastels, lit and fogged from dim to full, within 12° wherever they have
+    /// chroma to show.
+    #[test]
+    fn in_256_colours_wall_colours_keep_their_hue() {
+        for rgb in
+            [[0x44, 0x77, 0xaa], [0xcc, 0x88, 0x44], [0x66, 0xaa, 0x55], [150, 120, 180], [190, 140, 110]]
+        {
+            let wall = linear(rgb);
+            for k in 5..=20 {
+                let colour = wall * (k as f32 / 20.0);
+                let target = oklab(colour);
+                if target.y.hypot(target.z) < 0.05 {
+                    continue; // as good as grey: the hue error of issue #33 leaves it out
+                }
+                let shown = lab_of(ramp_entry(colour, Palette::Xterm256));
+                let off = hue_difference(shown.z.atan2(shown.y), target.z.atan2(target.y)).to_degrees();
+                assert!(!is_grey(ramp_entry(colour, Palette::Xterm256)), "{rgb:?} × {k}/20 shown grey");
+                assert!(off <= 20.0, "{rgb:?} × {k}/20: {off:.0}° off");
+            }
         }
     }
 
-    /// Over a 4×4 block of thresholds the mix averages (linear light) to the colour, within what the
-    /// palette can reach: the mean of a tile is nearer the colour than plain nearest quantization is.
+    /// Dithering mixes only two neighbouring entries of a ramp that are close, in proportion: the
+    /// mean over a 2×2 tile of thresholds moves with the intensity.
     #[test]
-    fn a_tile_of_dithered_samples_averages_to_the_colour() {
-        let mut seed = 0x1234_5678_u32;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            (seed >> 24) as u8
-        };
-        for depth in [ColorDepth::Ansi256, ColorDepth::Ansi16] {
-            let (mut dithered, mut plain) = (0.0, 0.0);
-            for _ in 0..500 {
-                let rgb = [next(), next(), next()];
-                let target = linear(rgb);
-                let shown = |c: Color| match c {
-                    Color::Indexed(i) => linear(xterm_rgb(i)),
-                    other => panic!("{other:?}"),
-                };
-                let mean =
-                    (0..16).map(|k| shown(dither(target, rgb, depth, threshold(k % 4, k / 4)))).sum::<Vec3>()
-                        / 16.0;
-                dithered += oklab(mean).distance(oklab(target));
-                plain += oklab(shown(quantize_srgb8(rgb, depth))).distance(oklab(target));
+    fn dithering_mixes_only_close_neighbours() {
+        let mut mixed = 0;
+        for rgb in [[128, 128, 128], [0x44, 0x77, 0xaa], [200, 180, 150]] {
+            let chroma = linear(rgb);
+            for palette in [Palette::Xterm256, Palette::Ansi16] {
+                let ramp = light_ramp(chroma, palette);
+                let top = 1.0 / (chroma / (chroma.x + chroma.y + chroma.z)).max_element();
+                let mut last_mean = 0.0f32;
+                for k in 1..=400 {
+                    let t = top * k as f32 / 400.0;
+                    let plain = ramp.entry(t);
+                    let tile: Vec<u8> =
+                        (0..4).map(|w| ramp.entry_dithered(t, threshold(w % 2, w / 2))).collect();
+                    for &e in &tile {
+                        if e != plain {
+                            mixed += 1;
+                            assert!(
+                                lab_of(e).distance(lab_of(plain)) <= MIX_STEP,
+                                "{rgb:?}: {e} with {plain}"
+                            );
+                        }
+                    }
+                    let mean = tile.iter().map(|&e| lab_of(e).x).sum::<f32>() / 4.0;
+                    assert!(mean >= last_mean - 1e-6, "{rgb:?} {palette:?} at {t}: {mean} after {last_mean}");
+                    last_mean = mean;
+                }
             }
-            assert!(dithered < 0.5 * plain, "{depth:?}: dithered {dithered}, plain {plain}");
         }
-    }
-
-    #[test]
-    fn a_mix_found_from_the_last_bucket_is_the_mix() {
-        // colours walking through buckets and back, in both palettes: the kept pair is used only
-        // within its bucket
-        for depth in [ColorDepth::Ansi256, ColorDepth::Ansi16] {
-            let mut last = None;
-            let mut kept = 0;
-            for k in 0..3000u32 {
-                let rgb = [(k / 5 % 256) as u8, (k / 11 % 256) as u8, (k * 3 % 256) as u8];
-                let before = last;
-                assert_eq!(Mix::of_near(rgb, depth, &mut last), Mix::of(rgb, depth), "{rgb:?} {depth:?}");
-                kept += usize::from(before.is_some() && before == last);
-            }
-            assert!(kept > 100, "the pair is kept along a bucket: {kept}");
-        }
+        assert!(mixed > 0, "the greys' close steps are mixed somewhere");
     }
 
     #[test]

@@ -22,8 +22,8 @@ use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, LANES, Lanes3, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
-    Fog, SUN_WORLD, bricks, checker, checker_filtered, edge_color, headlight_unit, lit, srgb_to_linear,
-    sun_factor, wall_albedo,
+    FOG_FADE, Fog, SUN_WORLD, bricks, checker, checker_filtered, edge_color, headlight_unit, lit,
+    srgb_to_linear, sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -35,10 +35,10 @@ use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 /// Light that reaches every surface, whatever its angle to the headlight.
 const AMBIENT: f32 = 0.25;
 /// Where nothing is hit: the fog's colour (linear RGB).
-const FOG_COLOR: Vec3 = Vec3::new(0.004, 0.005, 0.008);
+const FOG_COLOR: Vec3 = Vec3::ZERO;
 /// Floor and ceiling base colours (sRGB, like the maze files' wall colours).
-const FLOOR_SRGB: Vec3 = Vec3::new(0.42, 0.38, 0.33);
-const CEILING_SRGB: Vec3 = Vec3::new(0.30, 0.33, 0.42);
+const FLOOR_SRGB: Vec3 = Vec3::new(0.49, 0.46, 0.41);
+const CEILING_SRGB: Vec3 = Vec3::new(0.23, 0.24, 0.27);
 /// The floor/ceiling checker: one square per generated maze cell, a gentle contrast to show motion.
 const CHECKER_PERIOD: f32 = 4.0;
 const CHECKER_CONTRAST: f32 = 0.18;
@@ -65,9 +65,10 @@ enum Shading {
     ViewDepth,
 }
 
-/// The fog of a view: from 15 % of the far distance, all fog at the far plane.
+/// The fog of a view: half the light left at a fifth of the far distance (19 maze units, about five
+/// generated cells, at the default view distance), all fog at the far plane.
 fn fog_of(eye: &Eye) -> Fog {
-    Fog { color: FOG_COLOR, start: eye.far * 0.15, end: eye.far }
+    Fog { color: FOG_COLOR, half: eye.far * 0.2, end: eye.far }
 }
 
 /// The renderer: the pipeline plus every buffer it reuses from frame to frame.
@@ -217,7 +218,7 @@ impl Renderer {
                 continue; // hidden there (a wall, a nearer figure)
             }
             let (x, y) = (label.sample % width / sx, label.sample / width / sy);
-            let bg = palette::quantize(label.color, depth);
+            let bg = palette::picture_color(label.color, depth); // as the head it stands on
             // Dark ink on a light head (the head is a light tint of the figure's colour).
             let fg = if depth == ColorDepth::None { Color::Default } else { Color::Indexed(0) };
             // One printable ASCII character, whatever the caller passed (a name may hold anything).
@@ -665,11 +666,11 @@ fn wall_lanes(view: &Lanes3, normal: [f32x8; 3], albedo: Vec3, ortho: bool, fog:
     let dot = normal[0] * tx + normal[1] * ty + normal[2] * tz;
     let facing = usable.select((dot.abs() / length).min(s(1.0)), s(1.0));
     let light = s(AMBIENT) + s(1.0 - AMBIENT) * facing.max(s(0.0)).min(s(1.0));
-    let amount = if fog.end <= fog.start {
-        depth.simd_ge(s(fog.start)).select(s(1.0), s(0.0))
-    } else {
-        ((depth - s(fog.start)) / s(fog.end - fog.start)).max(s(0.0)).min(s(1.0))
-    };
+    // Fog::keep, then Fog::amount, in its order.
+    let fade =
+        ((s(fog.end) - depth) / s((FOG_FADE * fog.end).max(f32::MIN_POSITIVE))).max(s(0.0)).min(s(1.0));
+    let r = depth.max(s(0.0)) / s(fog.half.max(f32::MIN_POSITIVE));
+    let amount = s(1.0) - fade / (s(1.0) + r * r);
     let keep = s(1.0) - amount;
     let channel = |albedo: f32, fog: f32| s(albedo) * light * keep + s(fog) * amount;
     Lanes3 {

@@ -333,6 +333,23 @@ mod tests {
         Camera::new(viewer.pos, yaw, 90.0).eye(80, 48, 1.0).unwrap()
     }
 
+    /// No "visited" flag: a cell is explored again only through a region its earlier ones do not cover
+    /// (the rule that keeps the pass from redoing work a cell reached through two portals already did).
+    #[test]
+    fn a_cell_is_explored_again_only_through_a_region_not_covered_yet() {
+        let mut pass = PortalPass::default();
+        pass.begin();
+        let wide = Aabb::new(Vec2::new(0.0, 0.0), Vec2::new(40.0, 20.0));
+        let inside = Aabb::new(Vec2::new(5.0, 5.0), Vec2::new(30.0, 15.0));
+        let beside = Aabb::new(Vec2::new(30.0, 0.0), Vec2::new(60.0, 20.0));
+        assert!(pass.enter(3, inside), "first time");
+        assert!(pass.enter(3, wide), "a region the first does not cover");
+        assert!(!pass.enter(3, inside), "covered by the region explored last");
+        assert!(pass.enter(3, beside), "not covered");
+        assert_eq!(pass.visited, [3], "listed once, however often explored");
+        assert!(pass.enter(OUTSIDE, wide) && !pass.enter(OUTSIDE, inside), "outside the maze alike");
+    }
+
     /// Five tiles in a row, looking down them from the first: one seed, each cell entered once, each of
     /// the four portals crossed once, walls on both sides of every tile and at the far end.
     #[test]

@@ -114,25 +114,37 @@ pub fn bricks(u: f32, v: f32, footprint: f32) -> f32 {
     tone + (MORTAR_SHADE - tone) * mortar
 }
 
-/// Linear distance fog: nothing before `start`, everything from `end` on, linear in between.
+/// Distance fog: the light that reaches the eye from a surface falls off with its distance as from a
+/// lamp the viewer carries, `keep = 1 / (1 + (distance / half)²)` (half of it left at `half`), and
+/// over the last [`FOG_FADE`] of the way to `end` the rest fades to the fog's colour, which is all
+/// there is from `end` on. A wall six cells away is then much darker than the same wall one cell away
+/// (issue #33: the depth you can read), and nothing pops in at the far plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fog {
     /// The colour distant things fade to (linear RGB).
     pub color: Vec3,
-    /// Distance (world units) where fog begins.
-    pub start: f32,
-    /// Distance where the fog is complete; `end <= start` means a hard cut at `start`.
+    /// Distance (world units) at which half the light is left.
+    pub half: f32,
+    /// Distance where the fog is complete (the far plane).
     pub end: f32,
 }
 
+/// The share of the way to [`Fog::end`] over which what is left of the light fades out.
+pub const FOG_FADE: f32 = 0.25;
+
 impl Fog {
-    /// How much fog at `distance`: `clamp((distance - start) / (end - start), 0, 1)`.
+    /// How much of a surface's light is left at `distance` (1 at the eye, 0 from `end` on).
+    #[must_use]
+    pub fn keep(&self, distance: f32) -> f32 {
+        let fade = ((self.end - distance) / (FOG_FADE * self.end).max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+        let r = distance.max(0.0) / self.half.max(f32::MIN_POSITIVE);
+        fade / (1.0 + r * r)
+    }
+
+    /// How much fog at `distance`: `1 − keep`, in 0..1.
     #[must_use]
     pub fn amount(&self, distance: f32) -> f32 {
-        if self.end <= self.start {
-            return if distance >= self.start { 1.0 } else { 0.0 };
-        }
-        ((distance - self.start) / (self.end - self.start)).clamp(0.0, 1.0)
+        1.0 - self.keep(distance)
     }
 
     /// `color` seen through the fog at `distance`.
@@ -301,12 +313,19 @@ mod tests {
     }
 
     #[test]
-    fn fog_is_linear_between_start_and_end() {
-        let fog = Fog { color: Vec3::ONE, start: 2.0, end: 6.0 };
-        assert_eq!(fog.amount(1.0), 0.0);
-        assert_eq!(fog.amount(4.0), 0.5);
-        assert_eq!(fog.amount(9.0), 1.0);
+    fn fog_halves_the_light_at_half_and_is_whole_at_the_end() {
+        let fog = Fog { color: Vec3::ONE, half: 4.0, end: 40.0 };
+        assert_eq!(fog.amount(0.0), 0.0);
+        assert!((fog.keep(4.0) - 0.5).abs() < 1e-6);
+        assert!((fog.keep(8.0) - 0.2).abs() < 1e-6, "1 / (1 + 2²)");
+        assert_eq!(fog.amount(40.0), 1.0);
+        assert_eq!(fog.amount(90.0), 1.0);
+        // The last quarter fades out what is left: at 35, 50 % of 1/(1 + 8.75²).
+        assert!((fog.keep(35.0) - 0.5 / (1.0 + 8.75f32.powi(2))).abs() < 1e-6);
         assert_eq!(fog.apply(Vec3::ZERO, 4.0), Vec3::splat(0.5));
+        // Nearer is never foggier.
+        let amounts: Vec<f32> = (0..=100).map(|k| fog.amount(k as f32 * 0.5)).collect();
+        assert!(amounts.windows(2).all(|w| w[0] <= w[1]), "{amounts:?}");
     }
 
     #[test]

@@ -92,5 +92,6 @@ fn outlines_are_hidden_behind_nearer_geometry() {
     let options =
         RenderOptions { charset: Charset::Ascii, color_depth: ColorDepth::None, ..RenderOptions::default() };
     to_frame(&samples, &options, &mut frame, region);
-    assert_eq!(frame.lines(), ["   |**   ", "---|**---", "   |**   "]); // grey 0.3 linear: lightness 0.58, step 6 of 9
+    // Grey 0.3 linear: lightness 0.58, stretched over the walls' range (0.05–0.6): step 9 of 9.
+    assert_eq!(frame.lines(), ["   |@@   ", "---|@@---", "   |@@   "]);
 }

@@ -3,7 +3,8 @@
 //! restarts. Default place: `$XDG_STATE_HOME/mazewalk/host_ed25519_key`, else
 //! `~/.local/state/mazewalk/host_ed25519_key` (`--host-key FILE` overrides).
 //!
-//! Also the authorized-keys file: who may play when the server is not `--open`.
+//! Also where the authorized-keys file is read from ([`read_authorized_keys`]; what its lines mean is
+//! [`authorized_keys`](crate::authorized_keys)).
 
 use std::fs::{self, OpenOptions};
 use std::io::{self, Read as _, Write as _};
@@ -11,10 +12,10 @@ use std::os::unix::fs::{DirBuilderExt as _, OpenOptionsExt as _, PermissionsExt 
 use std::path::{Path, PathBuf};
 
 use russh::keys::ssh_key::private::Ed25519Keypair;
-use russh::keys::ssh_key::public::KeyData;
 use russh::keys::ssh_key::{self, LineEnding};
 use russh::keys::{HashAlg, PrivateKey, PublicKey};
 
+use super::authorized_keys::{self, AuthorizedKeys};
 use mazewalk_maze::files::{OpenError, open_regular};
 
 /// Why the host key or the authorized keys could not be had.
@@ -86,21 +87,29 @@ pub const MAX_KEY_FILE: u64 = 1 << 20;
 /// The first line of an OpenSSH private key file.
 const OPENSSH_PRIVATE_KEY: &str = "-----BEGIN OPENSSH PRIVATE KEY-----";
 
-/// The text of the key file at `path`: a regular file (a FIFO is refused, not waited on) of at most
-/// [`MAX_KEY_FILE`] bytes, in UTF-8.
-fn read_key_file(path: &Path) -> Result<String, KeyError> {
+/// The bytes of the key file at `path`: a regular file (a FIFO is refused, not waited on) of at most
+/// [`MAX_KEY_FILE`] bytes.
+fn read_file(path: &Path) -> Result<Vec<u8>, KeyError> {
     let io = |error| KeyError::Io { path: path.to_path_buf(), error };
     let file = open_regular(path).map_err(|error| match error {
         OpenError::Io(error) => io(error),
         OpenError::NotAFile(what) => KeyError::NotAFile { path: path.to_path_buf(), what },
     })?;
-    let mut text = String::new();
+    let mut bytes = Vec::new();
     // (One byte past the limit tells a file over it, whatever its size said when opened.)
-    file.take(MAX_KEY_FILE + 1).read_to_string(&mut text).map_err(io)?;
-    if text.len() as u64 > MAX_KEY_FILE {
+    file.take(MAX_KEY_FILE + 1).read_to_end(&mut bytes).map_err(io)?;
+    if bytes.len() as u64 > MAX_KEY_FILE {
         return Err(KeyError::TooLarge { path: path.to_path_buf() });
     }
-    Ok(text)
+    Ok(bytes)
+}
+
+/// The text of the key file at `path` ([`read_file`]), in UTF-8.
+fn read_key_file(path: &Path) -> Result<String, KeyError> {
+    String::from_utf8(read_file(path)?).map_err(|_| KeyError::Io {
+        path: path.to_path_buf(),
+        error: io::Error::new(io::ErrorKind::InvalidData, "not UTF-8 text"),
+    })
 }
 
 /// The host key's default path from the environment lookup `get` (`XDG_STATE_HOME`, `HOME`).
@@ -167,68 +176,14 @@ pub fn fingerprint(key: &PublicKey) -> String {
     key.fingerprint(HashAlg::Sha256).to_string()
 }
 
-/// The keys of an `authorized_keys` file that may play, and those left out.
-#[derive(Debug, Default)]
-pub struct AuthorizedKeys {
-    /// The keys that may play.
-    pub keys: Vec<KeyData>,
-    /// Keys listed with an option that limits them (`from=`, `command=`, `restrict`, …), which the
-    /// server does not enforce: left out rather than let in unlimited.
-    pub left_out: Vec<LeftOut>,
-}
-
-/// A key of an `authorized_keys` file left out, and why.
-#[derive(Debug)]
-pub struct LeftOut {
-    /// Its place among the file's keys, from 1.
-    pub number: usize,
-    /// Its comment (often who it is).
-    pub comment: String,
-    /// The first option that limits it.
-    pub option: String,
-}
-
-/// Options that limit only what the game never offers (forwarding, X11, rc files, a pty it always
-/// has): harmless to ignore. Any other (`from=`, `command=`, `restrict`, `no-pty`, `expiry-time=`,
-/// `cert-authority`, `principals=`, `verify-required`, or one unknown) leaves its key out, as sshd
-/// skips a line whose options it cannot apply.
-const HARMLESS_OPTIONS: [&str; 13] = [
-    "no-port-forwarding",
-    "no-agent-forwarding",
-    "no-x11-forwarding",
-    "no-user-rc",
-    "port-forwarding",
-    "agent-forwarding",
-    "x11-forwarding",
-    "user-rc",
-    "pty",
-    "no-touch-required",
-    "permitopen",
-    "permitlisten",
-    "environment",
-];
-
-/// The keys of an `authorized_keys` file: those that may play, and those whose options limit them
-/// in ways the server does not enforce ([`HARMLESS_OPTIONS`]), left out. Comments are not checked.
+/// Reads the `authorized_keys` file at `path` ([`authorized_keys`](crate::authorized_keys): line by
+/// line as sshd does; a line that cannot be read is skipped and reported, never the whole file).
 ///
 /// # Errors
-/// The file cannot be read or a line is not a key.
+/// The file cannot be read (missing, not a regular file, larger than [`MAX_KEY_FILE`]).
 pub fn read_authorized_keys(path: &Path) -> Result<AuthorizedKeys, KeyError> {
-    let text = read_key_file(path)?;
-    let mut read = AuthorizedKeys::default();
-    for (number, entry) in (1..).zip(ssh_key::AuthorizedKeys::new(&text)) {
-        let entry = entry.map_err(|error| KeyError::Format { path: path.to_path_buf(), error })?;
-        let name = |option: &str| option.split('=').next().unwrap_or_default().to_ascii_lowercase();
-        match entry.config_opts().iter().find(|option| !HARMLESS_OPTIONS.contains(&name(option).as_str())) {
-            Some(option) => read.left_out.push(LeftOut {
-                number,
-                comment: entry.public_key().comment().to_string(),
-                option: option.to_string(),
-            }),
-            None => read.keys.push(entry.public_key().key_data().clone()),
-        }
-    }
-    Ok(read)
+    let bytes = read_file(path)?;
+    Ok(authorized_keys::parse(&String::from_utf8_lossy(&bytes))) // (only comments may be other than ASCII)
 }
 
 #[cfg(test)]
@@ -290,25 +245,13 @@ Yhg9caVlscNzhaBQ==
         let line = made.public_key().to_openssh().unwrap();
         fs::write(&keys, format!("# a comment\n\n{line} someone@somewhere\n")).unwrap();
         assert_eq!(read_authorized_keys(&keys).unwrap().keys, vec![made.public_key().key_data().clone()]);
-        // A key limited in a way the server does not enforce is left out, with the option; one
-        // limited only in what the game never offers is let in.
-        let limited = [
-            format!("from=\"10.1.2.3\" {line} alice"),
-            format!("command=\"ls\",no-pty {line} bob"),
-            format!("restrict {line} carol"),
-            format!("no-port-forwarding,no-X11-forwarding,no-agent-forwarding {line} dave"),
-        ];
-        fs::write(&keys, limited.join("\n")).unwrap();
+        // A line that is not a key is skipped, not the whole file (issue #34); a comment in Latin-1
+        // does not fail it either.
+        let mut bytes = format!("ssh-ed25519 not-base64\n{line} caf").into_bytes();
+        bytes.extend(b"\xe9\n");
+        fs::write(&keys, bytes).unwrap();
         let read = read_authorized_keys(&keys).unwrap();
-        assert_eq!(read.keys.len(), 1, "dave's");
-        let out: Vec<_> =
-            read.left_out.iter().map(|l| (l.number, l.comment.as_str(), l.option.as_str())).collect();
-        assert_eq!(
-            out,
-            [(1, "alice", "from=\"10.1.2.3\""), (2, "bob", "command=\"ls\""), (3, "carol", "restrict")]
-        );
-        fs::write(&keys, "ssh-ed25519 not-base64\n").unwrap();
-        assert!(matches!(read_authorized_keys(&keys), Err(KeyError::Format { .. })));
+        assert_eq!((read.keys.len(), read.skipped.len(), read.skipped[0].line), (1, 1, 1));
         fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -2,25 +2,36 @@
 //! see each other on the map.
 //!
 //! ```text
-//! TCP accept ─ limits (players in all, per address) ─▶ connection task: russh over a CutStream
+//! TCP accept ─ slots (handshakes apart from players, per address group, connection rate)
+//!   ─▶ connection task: russh over a CutStream (curve25519 / ML-KEM only)
 //!   handshake + auth (timeout; --open, or the authorized keys) ─▶ session channel ─▶ player task:
 //!     pty-req (TERM, size) · env COLORTERM · shell ─▶ Player (pure: a Session + enter/leave bytes,
 //!     clamped size, rate-limited input)
 //!     loop: channel data ─▶ Player::feed · window-change ─▶ resize · world version ─▶ peers
 //!           Player::frame ─▶ channel (write timeout) · whereabouts ─▶ World ─▶ version bump
 //!           sleep until input, Session::next_wake, a change in the world, idle timeout, shutdown
+//!   game over ─▶ the connection closed (one game per connection)
 //! ```
 //!
 //! The pure parts — [`player`] (one player without the connection), [`world`] (who is where, who
-//! won), [`limits`] — are tested without sockets; [`ssh`] is the I/O around them, [`host_key`] the key
-//! files. One world clock: every session's time is seconds since the server started.
+//! won), [`spawn`] (where newcomers start), [`limits`], [`slots`] (who may hold a connection), [`logs`] (what is logged) and
+//! [`algorithms`] (what is offered) — are tested without sockets; [`ssh`] is the I/O around them,
+//! [`host_key`] the key files, [`authorized_keys`] who may play, [`records`] the best times
+//! (SQLite, on a thread of its own). One world clock: every session's time is seconds since the server
+//! started.
 
 #![forbid(unsafe_code)]
 
+pub mod algorithms;
+pub mod authorized_keys;
 pub mod host_key;
 pub mod limits;
+pub mod logs;
 pub mod player;
+pub mod records;
 pub mod shared;
+pub mod slots;
+pub mod spawn;
 pub mod ssh;
 pub mod stream;
 pub mod world;
@@ -31,11 +42,11 @@ pub use ssh::{Access, ServeOptions, Server};
 /// Runs a server on a fresh tokio runtime until SIGINT, SIGTERM or SIGHUP (the terminal it ran in
 /// closed), then tells every player it is
 /// shutting down, restores their terminals and closes. `ready` is called once listening, with the
-/// address. Returns the signal that ended it.
+/// addresses. Returns the signal that ended it.
 ///
 /// # Errors
 /// The runtime cannot start, the address cannot be bound, or the signals cannot be watched.
-pub fn run(options: ServeOptions, ready: impl FnOnce(std::net::SocketAddr)) -> std::io::Result<i32> {
+pub fn run(options: ServeOptions, ready: impl FnOnce(&[std::net::SocketAddr])) -> std::io::Result<i32> {
     let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build()?;
     runtime.block_on(async {
         use tokio::signal::unix::{SignalKind, signal};
@@ -43,7 +54,7 @@ pub fn run(options: ServeOptions, ready: impl FnOnce(std::net::SocketAddr)) -> s
         let mut terminate = signal(SignalKind::terminate())?;
         let mut hangup = signal(SignalKind::hangup())?;
         let server = Server::start(options).await?;
-        ready(server.local_addr());
+        ready(server.local_addrs());
         let signal = tokio::select! {
             _ = interrupt.recv() => SignalKind::interrupt(),
             _ = terminate.recv() => SignalKind::terminate(),

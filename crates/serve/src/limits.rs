@@ -6,12 +6,24 @@ use std::time::Duration;
 /// Every limit a server enforces. [`Limits::default`] is what `mazewalk serve` uses unless told.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits {
-    /// Connections at once, in all (`--max-players`); more are told why and closed.
+    /// Players at once (`--max-players`): connections that logged in. More are told why and closed.
     pub max_players: usize,
-    /// Connections at once from one IP address (`--max-per-address`).
+    /// Connections still in the handshake (key exchange and authentication) at once, in all
+    /// (`--max-handshakes`): they never take a player's slot. When these are all taken, a newcomer
+    /// from an address with fewer of them takes the oldest of the address that holds the most.
+    pub max_handshakes: usize,
+    /// Connections at once from one address (`--max-per-address`), players and handshakes: an IPv4
+    /// address, or an IPv6 /64 ([`address_group`](crate::slots::address_group)).
     pub max_per_address: usize,
+    /// New connections a second from one address, once it has opened `2 × max_per_address` at once;
+    /// more are refused.
+    pub connect_rate: f64,
     /// From the TCP connection to a started game: key exchange, authentication, pty and shell.
     pub handshake_timeout: Duration,
+    /// After the game ends (the player quit or closed the channel) the connection is closed if the
+    /// client has not closed it by then: a game's connection carries one game (issue #34: a client
+    /// holding it open kept a player's slot).
+    pub after_game: Duration,
     /// A player who sends nothing for this long is disconnected (`--idle-timeout`).
     pub idle_timeout: Duration,
     /// The largest terminal drawn, columns; a larger pty is drawn at this size (top-left).
@@ -38,8 +50,11 @@ impl Default for Limits {
     fn default() -> Self {
         Limits {
             max_players: 256,
+            max_handshakes: 32,
             max_per_address: 16,
+            connect_rate: 8.0,
             handshake_timeout: Duration::from_secs(20),
+            after_game: Duration::from_secs(2),
             idle_timeout: Duration::from_secs(30 * 60),
             max_cols: 400,
             max_rows: 150,
@@ -66,8 +81,26 @@ impl RateLimit {
     /// A full bucket at time `now`.
     #[must_use]
     pub fn new(rate: u32, burst: u32, now: f64) -> RateLimit {
+        RateLimit::per_second(f64::from(rate), burst, now)
+    }
+
+    /// A full bucket at time `now` that refills by one every `interval` seconds.
+    #[must_use]
+    pub fn new_per_interval(interval: f64, burst: u32, now: f64) -> RateLimit {
+        RateLimit::per_second(1.0 / interval.max(1e-9), burst, now)
+    }
+
+    /// A full bucket at time `now` that refills at `rate` a second (a fraction allowed).
+    #[must_use]
+    pub fn per_second(rate: f64, burst: u32, now: f64) -> RateLimit {
         let burst = f64::from(burst.max(1));
-        RateLimit { rate: f64::from(rate), burst, tokens: burst, last: now }
+        RateLimit { rate: rate.max(0.0), burst, tokens: burst, last: now }
+    }
+
+    /// Whether the bucket is full again at `now` (it has forgotten everything taken).
+    #[must_use]
+    pub fn is_full(&self, now: f64) -> bool {
+        self.tokens + (now - self.last).max(0.0) * self.rate >= self.burst
     }
 
     /// How many of `n` bytes arriving at `now` may pass (the rest are dropped).

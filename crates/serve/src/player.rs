@@ -19,10 +19,11 @@ use super::world::{Look, PlayerId};
 use mazewalk_maze::Maze;
 use mazewalk_render::{Charset, RenderOptions};
 use mazewalk_term::caps;
-use mazewalk_term::frame::{Color, ColorDepth};
+use mazewalk_term::frame::ColorDepth;
 use mazewalk_term::input::Input;
 use mazewalk_term::modes::{Enabled, enter_sequence, restore_sequence};
 use mazewalk_walk::overlay::Peer;
+use mazewalk_walk::roster;
 use mazewalk_walk::session::fit_size;
 use mazewalk_walk::state::StartOutsideMaze;
 use mazewalk_walk::{App, Session, SessionOptions};
@@ -40,20 +41,6 @@ pub const WORLD_LOOKS_PER_SECOND: f64 = 30.0;
 
 /// The longest player name, in characters.
 pub const MAX_NAME: usize = 16;
-
-/// The colours players are drawn in, by order of arrival (256-colour indices: bright and distinct from
-/// the map's own yellow viewer, green exit and grey walls; [`mazewalk_walk::overlay::limit_colors`] takes
-/// them down to the terminal's depth).
-pub const PLAYER_COLORS: [Color; 8] = [
-    Color::Indexed(196), // red
-    Color::Indexed(33),  // blue
-    Color::Indexed(201), // magenta
-    Color::Indexed(51),  // cyan
-    Color::Indexed(208), // orange
-    Color::Indexed(129), // purple
-    Color::Indexed(118), // lime
-    Color::Indexed(231), // white
-];
 
 /// The player name for an SSH user name: ASCII letters, digits, `-`, `_` and `.` only (no control
 /// characters, escape sequences, wide or invisible characters can reach another player's screen),
@@ -79,18 +66,33 @@ pub fn clamp_size(cols: u32, rows: u32, limits: &Limits) -> (u16, u16) {
 /// `COLORTERM`.
 #[must_use]
 pub fn color_depth(term: &str, colorterm: Option<&str>) -> ColorDepth {
-    caps::detect_color_depth(|k| match k {
+    color_plan(term, colorterm).depth
+}
+
+/// The colour depth a remote terminal starts with and whether to ask it for truecolor
+/// ([`caps::plan_color_depth`] with what the client sent: the server knows nothing of the
+/// player's terminfo or tmux).
+#[must_use]
+pub fn color_plan(term: &str, colorterm: Option<&str>) -> caps::ColorPlan {
+    let env = |k: &str| match k {
         "TERM" => Some(term.to_string()),
         "COLORTERM" => colorterm.map(str::to_string),
         _ => None,
-    })
+    };
+    caps::plan_color_depth(env, caps::ColorFacts::default())
 }
 
 /// Whether `bytes` are nothing but whole answers a terminal sends by itself: `CSI ? … c` (device
-/// attributes, after every frame) and `CSI ? … u` (keyboard flags).
+/// attributes, after every frame), `CSI ? … u` (keyboard flags) and `DCS … ST` (the truecolor
+/// questions' answers).
 #[must_use]
 pub fn only_replies(mut bytes: &[u8]) -> bool {
     while !bytes.is_empty() {
+        if let Some(string) = bytes.strip_prefix(b"\x1bP") {
+            let Some(end) = string.windows(2).position(|w| w == b"\x1b\\") else { return false };
+            bytes = &string[end + 2..];
+            continue;
+        }
         let Some(rest) = bytes.strip_prefix(b"\x1b[?") else { return false };
         let params = rest.iter().take_while(|b| b.is_ascii_digit() || **b == b';').count();
         match rest.get(params) {
@@ -116,12 +118,16 @@ pub struct Player {
     last_look: f64,
     /// The others it draws, as of its last look (reused).
     peers: Vec<Peer>,
+    /// Everyone, for the player list, as of its last look (reused).
+    roster: Vec<roster::Entry>,
     /// When the notice on screen goes away.
     notice_until: Option<f64>,
     /// The winner has been announced to it.
     seen_winner: bool,
     /// Its finish has been told to the world.
     reported_finish: bool,
+    /// Its terminal is to be asked for truecolor ([`color_plan`]).
+    ask_truecolor: bool,
 }
 
 /// What the world learns from a player after a frame ([`Player::news`]).
@@ -151,11 +157,9 @@ impl Player {
         limits: &Limits,
         now: f64,
     ) -> Result<Player, StartOutsideMaze> {
-        let options = RenderOptions {
-            charset: Charset::Half,
-            color_depth: color_depth(term, colorterm),
-            ..RenderOptions::default()
-        };
+        let plan = color_plan(term, colorterm);
+        let options =
+            RenderOptions { charset: Charset::Half, color_depth: plan.depth, ..RenderOptions::default() };
         let app = App::new(maze, options, now)?;
         let env = |k: &str| (k == "TERM").then(|| term.to_string());
         let session_options = SessionOptions { bce: caps::detect_bce(env), ..SessionOptions::default() };
@@ -169,15 +173,20 @@ impl Player {
             look_at: Some(now), // look at the world at once
             last_look: f64::NEG_INFINITY,
             peers: Vec::new(),
+            roster: Vec::new(),
             notice_until: None,
             seen_winner: false,
             reported_finish: false,
+            ask_truecolor: plan.ask,
         })
     }
 
     /// The bytes that put the remote terminal into game mode (before the first frame).
     pub fn enter(&mut self, out: &mut Vec<u8>) {
         out.extend_from_slice(enter_sequence(REMOTE).as_bytes());
+        if self.ask_truecolor {
+            self.session.ask_truecolor(out); // the answer, if any, lives in the session
+        }
         self.session.ask_keyboard_flags(out);
     }
 
@@ -237,6 +246,12 @@ impl Player {
             .map(|at| at.max(now))
     }
 
+    /// The player starts at `position` (where a viewer stands there) instead of the maze's start,
+    /// and `r` brings it back there: its own spot in a shared maze ([`crate::spawn`]).
+    pub fn place(&mut self, position: Vec2) {
+        self.session.app_mut().set_start(position);
+    }
+
     /// The player joined the world as `id`.
     pub fn joined(&mut self, id: PlayerId) {
         self.id = Some(id);
@@ -274,6 +289,18 @@ impl Player {
         look.peers_of(me, |position, cell| self.shows(position, cell), &mut peers);
         let mut changed = self.session.set_peers(&peers);
         self.peers = peers;
+        // The player list (everyone, itself too) and the HUD's count.
+        self.roster.clear();
+        self.roster.extend(look.players.iter().map(|(id, seen)| roster::Entry {
+            name: seen.name.clone(),
+            label: seen.label,
+            color: seen.color,
+            joined_at: seen.joined_at,
+            best: seen.best,
+            me: *id == me,
+        }));
+        self.session.set_roster(&self.roster);
+        self.session.set_players_in(Some(look.players.len()));
         if let (Some(winner), false) = (&look.winner, self.seen_winner) {
             self.seen_winner = true;
             self.session.set_notice(Some(winner.announcement_for(me)));
@@ -375,6 +402,36 @@ mod tests {
         assert_eq!(color_depth("", None), ColorDepth::Ansi16);
     }
 
+    // issue #33: every player's terminal is asked for truecolor (through its session), unless what the
+    // client sent decides; a yes raises the player's depth, a forged yes later does not.
+    #[test]
+    fn a_players_terminal_is_asked_for_truecolor() {
+        use mazewalk_term::caps::TRUECOLOR_QUERY;
+        let asked = |p: &mut Player| {
+            let mut enter = Vec::new();
+            p.enter(&mut enter);
+            enter.windows(TRUECOLOR_QUERY.len()).any(|w| w == TRUECOLOR_QUERY)
+        };
+        let mut p = player(80, 24);
+        assert!(asked(&mut p));
+        assert!(p.frame(0.0, &mut Vec::new()));
+        assert!(!p.feed(b"\x1bP1$r0;48:2::1:2:3m\x1b\\", 0.1), "an answer is not activity");
+        assert_eq!(p.session().color_depth(), ColorDepth::TrueColor);
+        let mut other = player(80, 24);
+        asked(&mut other);
+        other.frame(0.0, &mut Vec::new());
+        other.feed(b"\x1b[?62;22c", 0.1); // the first frame's answer: the questions are over
+        other.feed(b"\x1bP1$r0;48:2::1:2:3m\x1b\\", 0.2);
+        assert_eq!(other.session().color_depth(), ColorDepth::Ansi256);
+        let limits = Limits::default();
+        let maze = || mazewalk_maze::builtin().unwrap();
+        let mut told =
+            Player::new(maze(), "xterm-256color", Some("truecolor"), (80, 24), &limits, 0.0).unwrap();
+        assert!(!asked(&mut told));
+        let mut tmux = Player::new(maze(), "tmux-256color", None, (80, 24), &limits, 0.0).unwrap();
+        assert!(!asked(&mut tmux), "a tmux on the player's side answers nothing (and 3.4 may crash)");
+    }
+
     #[test]
     fn leaving_restores_everything_entering_turned_on() {
         let mut p = player(80, 24);
@@ -433,6 +490,9 @@ mod tests {
         assert!(!only_replies(b"w"));
         assert!(!only_replies(b"\x1b[?62;22"), "a cut answer may be anything");
         assert!(!only_replies(b"\x1b[D"));
+        // issue #33: the answers to the truecolor questions are answers too
+        assert!(only_replies(b"\x1bP1$r0;48:2::1:2:3m\x1b\\\x1bP1+r524742=38\x1b\\\x1b[?62;22c"));
+        assert!(!only_replies(b"\x1bP1$r0;48:2::1:2:3m"), "an unfinished string may be anything");
         let mut p = player(80, 24);
         assert!(!p.feed(b"\x1b[?62;22c", 0.0));
         assert!(p.feed(b"w", 0.1));
@@ -465,16 +525,17 @@ mod tests {
         let mut p = player(80, 24);
         let mut world = World::new();
         let (position, heading, cell) = p.whereabouts();
-        p.joined(world.join("alice", position, heading, cell));
+        p.joined(world.join("alice", position, heading, cell, 0.0));
         let mut out = Vec::new();
         assert!(p.frame(0.0, &mut out));
         assert!(p.shows(position, cell), "the player's own cell is in view");
-        world.join("bob", position + Vec2::X, 0.0, cell);
+        world.join("bob", position + Vec2::X, 0.0, cell, 0.0);
         assert!(p.look(&world.look(), 0.1), "bob came into view");
         assert!(!p.look(&world.look(), 0.2), "the same peers: nothing to redraw");
         p.feed(b"\x1b[?62;22c", 0.5);
         assert!(p.frame(0.5, &mut out));
-        assert!(!p.frame(1.0, &mut out), "nothing changed since");
+        // (within the same second: at 1.0 the built-in maze's exit clock ticks)
+        assert!(!p.frame(0.9, &mut out), "nothing changed since");
     }
 
     /// Issue #18's game rules, now in the pure player: looks at the world come at most
@@ -485,7 +546,7 @@ mod tests {
         let mut p = player(80, 24);
         let mut world = World::new();
         let (position, heading, cell) = p.whereabouts();
-        let me = world.join("alice", position, heading, cell);
+        let me = world.join("alice", position, heading, cell, 0.0);
         p.joined(me);
         assert!(p.look_due(0.0), "a newcomer looks at once");
         p.look(&world.look(), 0.0);
@@ -494,7 +555,7 @@ mod tests {
         assert!(!p.look_due(0.01) && p.look_due(1.0 / WORLD_LOOKS_PER_SECOND), "paced");
         assert_eq!(p.next_wake(0.01).map(|t| t <= 1.0 / WORLD_LOOKS_PER_SECOND), Some(true));
 
-        let bob = world.join("bob", position, 0.0, cell);
+        let bob = world.join("bob", position, 0.0, cell, 0.0);
         world.finished(bob, 83.0);
         p.look(&world.look(), 1.0);
         let mut out = Vec::new();
@@ -511,5 +572,47 @@ mod tests {
         p.session_mut().app_mut().finished = Some(90.0);
         assert_eq!(p.news().finished, Some(90.0));
         assert_eq!(p.news().finished, None, "told once");
+    }
+
+    /// Issue #34: two players on one spot showed as `B` in the view and `C` on the map. The one in
+    /// front (the nearer, of equals the first) is the one both show.
+    #[test]
+    fn a_player_has_one_label_in_the_view_and_on_the_map() {
+        let mut p = player(100, 30);
+        let mut world = World::new();
+        let (position, heading, cell) = p.whereabouts();
+        p.joined(world.join("alice", position, heading, cell, 0.0));
+        let ahead = position + 2.0 * mazewalk_maze::geometry::heading_dir(heading);
+        let bob = world.join("bob", ahead, 0.0, cell, 0.0);
+        let carol = world.join("carol", ahead, 0.0, cell, 0.0);
+        let mut out = Vec::new();
+        p.frame(0.0, &mut out);
+        p.look(&world.look(), 0.1);
+        p.frame(0.2, &mut out);
+        let area = p.session().map_area().expect("the corner map");
+        let lines = p.session().screen().lines();
+        let in_map = |ch: char| {
+            lines.iter().enumerate().any(|(y, l)| {
+                l.chars().enumerate().any(|(x, c)| {
+                    c == ch
+                        && (area.x..area.x + area.width).contains(&x)
+                        && (area.y..area.y + area.height).contains(&y)
+                })
+            })
+        };
+        let in_view = |ch: char| {
+            lines.iter().enumerate().any(|(y, l)| {
+                y + 1 < lines.len()
+                    && l.chars().enumerate().any(|(x, c)| {
+                        c == ch
+                            && !((area.x..area.x + area.width).contains(&x)
+                                && (area.y..area.y + area.height).contains(&y))
+                    })
+            })
+        };
+        let (b, c) = (world.get(bob).unwrap().label, world.get(carol).unwrap().label);
+        assert_eq!((b, c), ('B', 'C'));
+        assert!(in_view('B') && in_map('B'), "bob, the first, in front in both:\n{}", lines.join("\n"));
+        assert!(!in_view('C') && !in_map('C'), "carol behind him in both:\n{}", lines.join("\n"));
     }
 }

@@ -5,22 +5,31 @@
 
 use std::collections::HashMap;
 use std::net::{IpAddr, SocketAddr};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
 use russh::keys::ssh_key::public::KeyData;
 use russh::keys::{PrivateKey, PublicKey};
-use russh::server::{Auth, ChannelOpenHandle, Handler, Msg, PublicKeyOffer, Session, VerifiedPublicKey};
-use russh::{Channel, ChannelId, ChannelMsg, ChannelOpenFailure, ChannelWriteHalf, MethodKind, MethodSet};
+use russh::server::{
+    Auth, ChannelOpenHandle, Handle, Handler, Msg, PublicKeyOffer, Session, VerifiedPublicKey,
+};
+use russh::{
+    Channel, ChannelId, ChannelMsg, ChannelOpenFailure, ChannelWriteHalf, Disconnect, MethodKind, MethodSet,
+};
 use tokio::net::{TcpListener, TcpStream};
-use tokio::sync::watch;
+use tokio::sync::{mpsc, watch};
 use tokio::task::JoinSet;
 use tracing::{info, warn};
 
+use super::algorithms;
 use super::host_key::fingerprint;
 use super::limits::Limits;
+use super::logs::{self, LogLimit};
 use super::player::{Player, player_name};
+use super::records::{Keeper, Standing, standing_lines};
+use super::slots::{ConnId, Refusal, Slots, address_group};
+use super::spawn::Spawns;
 use super::stream::{Cut, CutStream};
 use super::world::{PlayerId, World};
 use mazewalk_maze::Maze;
@@ -39,14 +48,17 @@ pub enum Access {
 pub struct ServeOptions {
     /// The maze everyone walks.
     pub maze: Maze,
-    /// Where to listen.
-    pub listen: SocketAddr,
+    /// Where to listen: every address is bound (a host name's addresses, say); port 0 on the first
+    /// picks a free port, which the others then use too.
+    pub listen: Vec<SocketAddr>,
     /// The host key.
     pub host_key: PrivateKey,
     /// Who may play.
     pub access: Access,
     /// The limits.
     pub limits: Limits,
+    /// Where the best times go (`None`: not kept).
+    pub records: Option<Keeper>,
 }
 
 /// What a player is told when the server shuts down.
@@ -59,8 +71,13 @@ pub const DUMB_TERMINAL_MESSAGE: &str = "mazewalk: this terminal (TERM=dumb) can
 /// What a client asking to run a command or a subsystem is told.
 pub const NO_EXEC_MESSAGE: &str =
     "mazewalk: no commands or subsystems here, only the game: connect with `ssh -t` and no command";
+/// What a client still connected after its game is told as the server closes the connection.
+pub const GAME_OVER_MESSAGE: &str = "mazewalk: the game is over; one game per connection";
 /// How long a shutting-down server waits for its players' goodbyes before cutting them off.
 const GOODBYE_GRACE: Duration = Duration::from_secs(2);
+/// Failed authentication attempts per connection, as sshd's default `MaxAuthTries`. The `none`
+/// request a client sends first to learn the methods is not one of them (as in sshd).
+pub const MAX_AUTH_TRIES: usize = 6;
 
 /// What all connections share.
 struct Shared {
@@ -74,77 +91,58 @@ struct Shared {
     shutdown: watch::Receiver<bool>,
     /// The server's clock: every session's time is seconds since this instant.
     clock: Instant,
-    connections: Mutex<Connections>,
+    /// Where newcomers start.
+    spawns: Spawns,
+    /// Where the best times go.
+    records: Option<Keeper>,
+    slots: Mutex<Slots>,
+    /// Every open connection, by its slot's id (to close one pushed out of its slot).
+    conns: Mutex<HashMap<ConnId, Arc<Conn>>>,
+    /// Which lines about connections are logged.
+    log_limit: Mutex<LogLimit>,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 impl Shared {
     fn world(&self) -> MutexGuard<'_, World> {
-        self.world.lock().unwrap_or_else(PoisonError::into_inner)
+        lock(&self.world)
     }
 
     fn now(&self) -> f64 {
         self.clock.elapsed().as_secs_f64()
     }
+
+    /// Whether a line about a connection from `group` may be logged now ([`LogLimit`]).
+    fn log_ok(&self, group: IpAddr) -> bool {
+        lock(&self.log_limit).allow(group, self.now())
+    }
+
+    /// Logs what the log limit left out since the last summary.
+    fn log_suppressed(&self) {
+        let summary = lock(&self.log_limit).take_suppressed(self.now());
+        for (group, lines) in &summary.groups {
+            info!(addresses = %group, lines, "log lines suppressed (rate limit)");
+        }
+        if summary.others.1 > 0 {
+            let (groups, lines) = summary.others;
+            info!(addresses = groups, lines, "log lines suppressed from other addresses (rate limit)");
+        }
+    }
 }
 
-/// Open connections, in all and per address.
-#[derive(Default)]
-struct Connections {
-    total: usize,
-    per_address: HashMap<IpAddr, usize>,
-}
-
-/// One open connection's place in [`Connections`], given back on drop.
+/// An open connection's slot ([`Slots`]), given back on drop.
 struct Slot {
     shared: Arc<Shared>,
-    ip: IpAddr,
+    id: ConnId,
 }
 
-impl Slot {
-    /// A place for a connection from `ip`, if the limits leave one (else why not).
-    fn take(shared: &Arc<Shared>, ip: IpAddr) -> Result<Slot, Refusal> {
-        let mut c = shared.connections.lock().unwrap_or_else(PoisonError::into_inner);
-        if c.total >= shared.limits.max_players {
-            return Err(Refusal::Full(shared.limits.max_players));
-        }
-        let from_ip = c.per_address.entry(ip).or_default();
-        if *from_ip >= shared.limits.max_per_address {
-            return Err(Refusal::FromThisAddress(shared.limits.max_per_address));
-        }
-        *from_ip += 1;
-        c.total += 1;
-        Ok(Slot { shared: Arc::clone(shared), ip })
-    }
-}
-
-/// Why a connection gets no [`Slot`].
-#[derive(Clone, Copy, Debug)]
-enum Refusal {
-    /// `--max-players`, reached.
-    Full(usize),
-    /// `--max-per-address`, reached by the client's address.
-    FromThisAddress(usize),
-}
-
-impl Refusal {
-    /// For the log.
-    fn reason(self) -> &'static str {
-        match self {
-            Refusal::Full(_) => "server full",
-            Refusal::FromThisAddress(_) => "too many connections from this address",
-        }
-    }
-
-    /// For the client (its `ssh` prints it).
-    fn message(self) -> String {
-        match self {
-            Refusal::Full(1) => "mazewalk: the server is full (one player at a time); try again later".into(),
-            Refusal::Full(n) => format!("mazewalk: the server is full ({n} players); try again later"),
-            Refusal::FromThisAddress(n) => {
-                let n = if n == 1 { "a connection".to_owned() } else { format!("{n} connections") };
-                format!("mazewalk: {n} from your address already; close one, or try again later")
-            }
-        }
+impl Drop for Slot {
+    fn drop(&mut self) {
+        lock(&self.shared.slots).release(self.id);
+        lock(&self.shared.conns).remove(&self.id);
     }
 }
 
@@ -193,44 +191,63 @@ fn disconnect_packet(code: u32, description: &str) -> Vec<u8> {
     packet
 }
 
-impl Drop for Slot {
-    fn drop(&mut self) {
-        let mut c = self.shared.connections.lock().unwrap_or_else(PoisonError::into_inner);
-        c.total -= 1;
-        if let Some(n) = c.per_address.get_mut(&self.ip) {
-            *n -= 1;
-            if *n == 0 {
-                c.per_address.remove(&self.ip);
-            }
-        }
-    }
-}
-
 /// What one connection's tasks share: who it is, whether it plays, its stream's cut and counts.
 struct Conn {
+    id: ConnId,
     peer: SocketAddr,
+    /// The address group it is counted and logged in ([`address_group`]).
+    group: IpAddr,
     cut: Arc<Cut>,
     user: Mutex<Option<String>>,
     key: Mutex<Option<String>>,
     /// The last key offered and refused (its fingerprint), for the log of a login that failed.
     refused: Mutex<Option<String>>,
+    /// The authentication methods tried and refused (`none`, `password`, …), in order, each once.
+    methods_refused: Mutex<Vec<&'static str>>,
+    /// Authentication requests so far.
+    auth_requests: AtomicUsize,
+    /// Logged in.
+    authenticated: AtomicBool,
     playing: AtomicBool,
     /// Why it ended, when the server ended it (else the client did).
     ended: Mutex<Option<&'static str>>,
+    /// The session's handle once the SSH session runs (to send a disconnect).
+    handle: Mutex<Option<Handle>>,
+    /// Its "connected" line was logged (so its "disconnected" line is too, whatever the log limit).
+    logged: AtomicBool,
 }
 
 impl Conn {
+    fn new(id: ConnId, peer: SocketAddr, cut: Arc<Cut>) -> Conn {
+        Conn {
+            id,
+            peer,
+            group: address_group(peer.ip()),
+            cut,
+            user: Mutex::new(None),
+            key: Mutex::new(None),
+            refused: Mutex::new(None),
+            methods_refused: Mutex::new(Vec::new()),
+            auth_requests: AtomicUsize::new(0),
+            authenticated: AtomicBool::new(false),
+            playing: AtomicBool::new(false),
+            ended: Mutex::new(None),
+            handle: Mutex::new(None),
+            logged: AtomicBool::new(false),
+        }
+    }
+
     fn set<T>(field: &Mutex<T>, value: T) {
-        *field.lock().unwrap_or_else(PoisonError::into_inner) = value;
+        *lock(field) = value;
     }
 
     fn get<T: Clone>(field: &Mutex<T>) -> T {
-        field.lock().unwrap_or_else(PoisonError::into_inner).clone()
+        lock(field).clone()
     }
 
     /// Records why the server ends the connection, for the log (the first reason is kept).
     fn ending(&self, reason: &'static str) {
-        self.ended.lock().unwrap_or_else(PoisonError::into_inner).get_or_insert(reason);
+        lock(&self.ended).get_or_insert(reason);
     }
 
     /// Ends the connection for `reason`: the stream is cut (the first reason is kept).
@@ -238,24 +255,71 @@ impl Conn {
         self.ending(reason);
         self.cut.cut();
     }
+
+    /// Ends the connection for `reason` as politely as a client lets it: a disconnect message (the
+    /// client's `ssh` prints `description`), and the stream cut after `grace` whatever the client does.
+    async fn close(&self, reason: &'static str, description: &str, grace: Duration) {
+        self.ending(reason);
+        if let Some(handle) = Conn::get(&self.handle) {
+            let sent = handle.disconnect(Disconnect::ByApplication, description.into(), String::new());
+            let _ = tokio::time::timeout(grace, sent).await;
+            let _ = tokio::time::timeout(grace, self.cut.cut_off()).await;
+        }
+        self.cut.cut();
+    }
 }
 
 /// A running server.
 pub struct Server {
-    local_addr: SocketAddr,
+    local_addrs: Vec<SocketAddr>,
     shutdown: watch::Sender<bool>,
     shared: Arc<Shared>,
     accept: tokio::task::JoinHandle<()>,
+}
+
+/// Binds every address of `listen` (see [`ServeOptions::listen`]); an address that cannot be bound is
+/// warned of and left out, as sshd does, unless none can be.
+async fn bind(listen: &[SocketAddr]) -> std::io::Result<Vec<TcpListener>> {
+    let mut listeners: Vec<TcpListener> = Vec::new();
+    let mut first_error = None;
+    for &addr in listen {
+        // Port 0 asks for a free port: the first address's, then the same one on the others.
+        let addr = match listeners.first().map(TcpListener::local_addr) {
+            Some(Ok(first)) if addr.port() == 0 => SocketAddr::new(addr.ip(), first.port()),
+            _ => addr,
+        };
+        match TcpListener::bind(addr).await {
+            Ok(listener) => listeners.push(listener),
+            Err(err) => {
+                let err = std::io::Error::new(err.kind(), format!("cannot listen on {addr}: {err}"));
+                if listen.len() > 1 {
+                    warn!("{err}");
+                }
+                first_error.get_or_insert(err);
+            }
+        }
+    }
+    match first_error {
+        Some(err) if listeners.is_empty() => Err(err),
+        None if listeners.is_empty() => {
+            Err(std::io::Error::new(std::io::ErrorKind::InvalidInput, "no address to listen on"))
+        }
+        _ => Ok(listeners),
+    }
 }
 
 impl Server {
     /// Binds `options.listen` and starts accepting players (on the current tokio runtime).
     ///
     /// # Errors
-    /// The address cannot be bound.
+    /// No address can be bound (the message names it: "cannot listen on ADDR: …").
     pub async fn start(options: ServeOptions) -> std::io::Result<Server> {
-        let listener = TcpListener::bind(options.listen).await?;
-        let local_addr = listener.local_addr()?;
+        let spawns = Spawns::new(&options.maze).ok_or_else(|| {
+            std::io::Error::new(std::io::ErrorKind::InvalidInput, "the maze's start is in no cell")
+        })?;
+        let listeners = bind(&options.listen).await?;
+        let local_addrs =
+            listeners.iter().map(TcpListener::local_addr).collect::<std::io::Result<Vec<_>>>()?;
         let limits = options.limits;
         let mut methods = MethodSet::empty();
         methods.push(MethodKind::PublicKey);
@@ -268,10 +332,12 @@ impl Server {
             ),
             methods,
             keys: vec![options.host_key],
+            preferred: algorithms::preferred(),
             // OpenSSH tries "none" first to learn the methods: no delay for that one.
             auth_rejection_time: Duration::from_millis(500),
             auth_rejection_time_initial: Some(Duration::ZERO),
-            max_auth_attempts: 6,
+            // russh counts every refusal, the first `none` too; sshd does not count that one.
+            max_auth_attempts: MAX_AUTH_TRIES + 1,
             // Our receive window and queue: what a client can make us hold before it must wait.
             window_size: 256 * 1024,
             maximum_packet_size: 32 * 1024,
@@ -283,6 +349,7 @@ impl Server {
             ..russh::server::Config::default()
         };
         let (shutdown, shutdown_rx) = watch::channel(false);
+        let clock = Instant::now();
         let shared = Arc::new(Shared {
             maze: Arc::new(options.maze),
             access: options.access,
@@ -291,17 +358,27 @@ impl Server {
             world: Mutex::new(World::new()),
             world_version: watch::Sender::new(0),
             shutdown: shutdown_rx,
-            clock: Instant::now(),
-            connections: Mutex::new(Connections::default()),
+            clock,
+            spawns,
+            records: options.records,
+            slots: Mutex::new(Slots::new(&limits)),
+            conns: Mutex::new(HashMap::new()),
+            log_limit: Mutex::new(LogLimit::new(0.0)),
         });
-        let accept = tokio::spawn(accept_loop(listener, Arc::clone(&shared)));
-        Ok(Server { local_addr, shutdown, shared, accept })
+        let accept = tokio::spawn(accept_loop(listeners, Arc::clone(&shared)));
+        Ok(Server { local_addrs, shutdown, shared, accept })
     }
 
-    /// The address it listens on (with the port the system chose for port 0).
+    /// The first address it listens on (with the port the system chose for port 0).
     #[must_use]
     pub fn local_addr(&self) -> SocketAddr {
-        self.local_addr
+        self.local_addrs[0]
+    }
+
+    /// Every address it listens on.
+    #[must_use]
+    pub fn local_addrs(&self) -> &[SocketAddr] {
+        &self.local_addrs
     }
 
     /// Players in the maze now.
@@ -313,7 +390,14 @@ impl Server {
     /// Open connections now (players and those still connecting).
     #[must_use]
     pub fn connections(&self) -> usize {
-        self.shared.connections.lock().unwrap_or_else(PoisonError::into_inner).total
+        let slots = lock(&self.shared.slots);
+        slots.players() + slots.handshakes()
+    }
+
+    /// Connections still in the handshake now (key exchange and authentication).
+    #[must_use]
+    pub fn handshakes(&self) -> usize {
+        lock(&self.shared.slots).handshakes()
     }
 
     /// Tells every player the server is shutting down, restores their terminals, closes every
@@ -325,38 +409,95 @@ impl Server {
 }
 
 /// Accepts connections until shutdown, then waits for them to close.
-async fn accept_loop(listener: TcpListener, shared: Arc<Shared>) {
+async fn accept_loop(listeners: Vec<TcpListener>, shared: Arc<Shared>) {
+    // One task per listener hands its connections over, one at a time.
+    let (accepted_tx, mut accepted) = mpsc::channel::<(TcpStream, SocketAddr)>(1);
+    let mut acceptors = JoinSet::new();
+    for listener in listeners {
+        acceptors.spawn(accept(listener, accepted_tx.clone(), shared.shutdown.clone()));
+    }
+    drop(accepted_tx);
     let mut connections = JoinSet::new();
     let mut refusals = JoinSet::new();
     let mut shutdown = shared.shutdown.clone();
+    let mut summary = tokio::time::interval(Duration::from_secs(logs::SUMMARY_SECONDS));
+    summary.tick().await; // (the first tick is at once)
     loop {
         tokio::select! {
             () = until_shutdown(&mut shutdown) => break,
             Some(_) = connections.join_next(), if !connections.is_empty() => {}
             Some(_) = refusals.join_next(), if !refusals.is_empty() => {}
-            accepted = listener.accept() => match accepted {
-                Ok((stream, peer)) => match Slot::take(&shared, peer.ip()) {
-                    Ok(slot) => {
-                        connections.spawn(connection(Arc::clone(&shared), stream, peer, slot));
+            _ = summary.tick() => shared.log_suppressed(),
+            Some((stream, peer)) = accepted.recv() => admit(&shared, stream, peer, &mut connections, &mut refusals),
+        }
+    }
+    acceptors.abort_all();
+    refusals.abort_all();
+    while connections.join_next().await.is_some() {}
+    shared.log_suppressed();
+}
+
+/// Accepts connections on `listener` into `accepted` until shutdown.
+async fn accept(
+    listener: TcpListener,
+    accepted: mpsc::Sender<(TcpStream, SocketAddr)>,
+    mut shutdown: watch::Receiver<bool>,
+) {
+    let mut warned = None::<Instant>;
+    loop {
+        tokio::select! {
+            () = until_shutdown(&mut shutdown) => return,
+            result = listener.accept() => match result {
+                Ok(connection) => {
+                    if accepted.send(connection).await.is_err() {
+                        return;
                     }
-                    Err(refusal) => {
-                        info!(peer = %peer, "refused: {}", refusal.reason());
-                        if refusals.len() < MAX_REFUSALS_AT_ONCE {
-                            refusals.spawn(refuse(stream, refusal));
-                        }
-                    }
-                },
+                }
                 Err(err) => {
-                    // Out of file descriptors, say: wait a little rather than spin.
-                    warn!("accept failed: {err}");
+                    // Out of file descriptors, say: wait a little rather than spin, and say so
+                    // once a minute at most.
+                    if warned.is_none_or(|at| at.elapsed() > Duration::from_secs(60)) {
+                        warn!("accept failed: {err}");
+                        warned = Some(Instant::now());
+                    }
                     tokio::time::sleep(Duration::from_millis(100)).await;
                 }
             },
         }
     }
-    drop(listener);
-    refusals.abort_all();
-    while connections.join_next().await.is_some() {}
+}
+
+/// A new connection: a slot for it (pushing out another's handshake, perhaps), or a refusal.
+fn admit(
+    shared: &Arc<Shared>,
+    stream: TcpStream,
+    peer: SocketAddr,
+    connections: &mut JoinSet<()>,
+    refusals: &mut JoinSet<()>,
+) {
+    let admitted = lock(&shared.slots).admit(peer.ip(), shared.now());
+    match admitted {
+        Ok(admitted) => {
+            if let Some(conn) = admitted.evicted.and_then(|id| lock(&shared.conns).get(&id).cloned()) {
+                conn.end("pushed out: every handshake slot taken");
+            }
+            let _ = stream.set_nodelay(true);
+            let _ = socket2::SockRef::from(&stream).set_send_buffer_size(shared.limits.send_buffer);
+            let (stream, cut) = CutStream::new(stream);
+            let conn = Arc::new(Conn::new(admitted.id, peer, cut));
+            lock(&shared.conns).insert(admitted.id, Arc::clone(&conn));
+            let slot = Slot { shared: Arc::clone(shared), id: admitted.id };
+            connections.spawn(connection(Arc::clone(shared), stream, conn, slot));
+        }
+        Err(refusal) => {
+            if shared.log_ok(address_group(peer.ip())) {
+                info!(peer = %peer, "refused: {}", refusal.reason());
+            }
+            if refusals.len() < MAX_REFUSALS_AT_ONCE {
+                refusals.spawn(refuse(stream, refusal));
+            }
+        }
+    }
 }
 
 /// Returns once the server is shutting down (or gone).
@@ -366,19 +507,7 @@ async fn until_shutdown(shutdown: &mut watch::Receiver<bool>) {
 
 /// One connection, from accept to close: russh's task under a cut-able stream, the handshake timeout,
 /// the shutdown, and the disconnect log line.
-async fn connection(shared: Arc<Shared>, stream: TcpStream, peer: SocketAddr, _slot: Slot) {
-    let _ = stream.set_nodelay(true);
-    let _ = socket2::SockRef::from(&stream).set_send_buffer_size(shared.limits.send_buffer);
-    let (stream, cut) = CutStream::new(stream);
-    let conn = Arc::new(Conn {
-        peer,
-        cut,
-        user: Mutex::new(None),
-        key: Mutex::new(None),
-        refused: Mutex::new(None),
-        playing: AtomicBool::new(false),
-        ended: Mutex::new(None),
-    });
+async fn connection(shared: Arc<Shared>, stream: CutStream<TcpStream>, conn: Arc<Conn>, _slot: Slot) {
     let started = Instant::now();
     let handler = Handlers { shared: Arc::clone(&shared), conn: Arc::clone(&conn), session_open: false };
     let handshake = tokio::time::sleep(shared.limits.handshake_timeout);
@@ -388,7 +517,10 @@ async fn connection(shared: Arc<Shared>, stream: TcpStream, peer: SocketAddr, _s
     let mut handshake_over = false;
     let ssh = async {
         match russh::server::run_stream(Arc::clone(&shared.config), stream, handler).await {
-            Ok(session) => session.await,
+            Ok(session) => {
+                Conn::set(&conn.handle, Some(session.handle()));
+                session.await
+            }
             Err(err) => Err(err),
         }
     };
@@ -419,31 +551,29 @@ async fn connection(shared: Arc<Shared>, stream: TcpStream, peer: SocketAddr, _s
             }
         }
     };
-    let error = result.err().map(|e| match e {
-        // russh's words, in the log's (lower case, no library jargon)
-        russh::Error::KeepaliveTimeout => "keepalive timeout".to_string(),
-        russh::Error::IO(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
-            "connection lost".to_string()
-        }
-        e => e.to_string(),
-    });
-    // Keys were refused and none let in: the client gave up (it closes, or says nothing more).
-    let refused = Conn::get(&conn.key).is_none().then(|| Conn::get(&conn.refused)).flatten();
-    let reason = match (Conn::get(&conn.ended), &refused) {
+    Conn::set(&conn.handle, None);
+    let error = result.err().map(|e| logs::error_reason(&e));
+    let logged_in = conn.authenticated.load(Ordering::SeqCst);
+    let methods = Conn::get(&conn.methods_refused);
+    let refused = Conn::get(&conn.refused);
+    let reason = match (Conn::get(&conn.ended), logged_in || methods.is_empty()) {
         (Some(ended), _) => ended.to_string(),
-        (None, Some(_)) => "authentication failed".to_string(),
-        (None, None) => error.unwrap_or_else(|| "closed".into()),
+        // Refused and never let in: the client gave up (it closes, or says nothing more).
+        (None, false) => format!("authentication failed ({})", methods.join(", ")),
+        (None, true) => error.unwrap_or_else(|| "closed".into()),
     };
-    info!(
-        peer = %peer,
-        user = %Conn::get(&conn.user).as_deref().unwrap_or("-"),
-        key = Conn::get(&conn.key).or(refused).as_deref().unwrap_or("-"),
-        seconds = format_args!("{:.1}", started.elapsed().as_secs_f64()),
-        bytes_in = conn.cut.bytes_in.load(Ordering::Relaxed),
-        bytes_out = conn.cut.bytes_out.load(Ordering::Relaxed),
-        reason = %reason,
-        "disconnected"
-    );
+    if conn.logged.load(Ordering::SeqCst) || shared.log_ok(conn.group) {
+        info!(
+            peer = %conn.peer,
+            user = %Conn::get(&conn.user).as_deref().unwrap_or("-"),
+            key = Conn::get(&conn.key).or(refused).as_deref().unwrap_or("-"),
+            seconds = format_args!("{:.1}", started.elapsed().as_secs_f64()),
+            bytes_in = conn.cut.bytes_in.load(Ordering::Relaxed),
+            bytes_out = conn.cut.bytes_out.load(Ordering::Relaxed),
+            reason = %reason,
+            "disconnected"
+        );
+    }
 }
 
 /// russh's callbacks for one connection: authentication, and the answers to channel requests. The
@@ -463,30 +593,40 @@ impl Handlers {
         }
     }
 
+    /// A request for `user` arrived: the name is kept for the log whatever comes of it.
+    fn request(&self, user: &str) {
+        self.conn.auth_requests.fetch_add(1, Ordering::SeqCst);
+        Conn::set(&self.conn.user, Some(player_name(user)));
+    }
+
     fn accepted(&self, user: &str, key: Option<&PublicKey>) -> Auth {
         let name = player_name(user);
         let fingerprint = key.map(fingerprint);
-        info!(
-            peer = %self.conn.peer,
-            user = %name,
-            key = fingerprint.as_deref().unwrap_or("-"),
-            "connected"
-        );
+        self.conn.authenticated.store(true, Ordering::SeqCst);
+        if self.shared.log_ok(self.conn.group) {
+            self.conn.logged.store(true, Ordering::SeqCst);
+            info!(
+                peer = %self.conn.peer,
+                user = %name,
+                key = fingerprint.as_deref().unwrap_or("-"),
+                "connected"
+            );
+        }
         Conn::set(&self.conn.user, Some(name));
         Conn::set(&self.conn.key, fingerprint);
         Auth::Accept
     }
 
-    /// Refuses `user`'s key (or no key): the log of the connection will say whose and which.
-    fn refused(&self, user: &str, key: Option<&PublicKey>) -> Auth {
-        Conn::set(&self.conn.user, Some(player_name(user)));
+    /// Refuses a request by `method` (with `key`, if one): the log of the connection will say whose
+    /// and which.
+    fn refused(&self, method: &'static str, key: Option<&PublicKey>) -> Auth {
+        let mut methods = lock(&self.conn.methods_refused);
+        if !methods.contains(&method) {
+            methods.push(method);
+        }
         if let Some(key) = key {
             Conn::set(&self.conn.refused, Some(fingerprint(key)));
         }
-        Handlers::rejected()
-    }
-
-    fn rejected() -> Auth {
         let mut methods = MethodSet::empty();
         methods.push(MethodKind::PublicKey);
         Auth::Reject { proceed_with_methods: Some(methods), partial_success: false }
@@ -502,13 +642,36 @@ impl Handlers {
         session.eof(channel)?;
         session.close(channel)
     }
+
+    /// Logs `line` about this connection, within the log limit.
+    fn log(&self, line: std::fmt::Arguments<'_>) {
+        if self.shared.log_ok(self.conn.group) {
+            info!(peer = %self.conn.peer, "{line}");
+        }
+    }
 }
 
 impl Handler for Handlers {
     type Error = russh::Error;
 
     async fn auth_none(&mut self, user: &str) -> Result<Auth, Self::Error> {
-        Ok(if self.may_play(None) { self.accepted(user, None) } else { self.refused(user, None) })
+        self.request(user);
+        Ok(if self.may_play(None) { self.accepted(user, None) } else { self.refused("none", None) })
+    }
+
+    async fn auth_password(&mut self, user: &str, _: &str) -> Result<Auth, Self::Error> {
+        self.request(user);
+        Ok(self.refused("password", None))
+    }
+
+    async fn auth_keyboard_interactive<'a>(
+        &'a mut self,
+        user: &str,
+        _: &str,
+        _: Option<russh::server::Response<'a>>,
+    ) -> Result<Auth, Self::Error> {
+        self.request(user);
+        Ok(self.refused("keyboard-interactive", None))
     }
 
     async fn auth_publickey_offered(
@@ -516,17 +679,34 @@ impl Handler for Handlers {
         user: &str,
         offer: PublicKeyOffer<'_>,
     ) -> Result<Auth, Self::Error> {
+        self.request(user);
         let key = offer.public_key;
-        Ok(if self.may_play(Some(key)) { Auth::Accept } else { self.refused(user, Some(key)) })
+        Ok(if !algorithms::refused_signature(offer.algorithm) && self.may_play(Some(key)) {
+            Auth::Accept // a probe: the client signs next
+        } else {
+            self.refused("publickey", Some(key))
+        })
     }
 
     async fn auth_publickey(&mut self, user: &str, key: VerifiedPublicKey<'_>) -> Result<Auth, Self::Error> {
-        let key = key.public_key;
-        Ok(if self.may_play(Some(key)) {
+        // (A signed request that follows an accepted probe is not counted twice.)
+        Conn::set(&self.conn.user, Some(player_name(user)));
+        let (algorithm, key) = (key.algorithm, key.public_key);
+        Ok(if !algorithms::refused_signature(algorithm) && self.may_play(Some(key)) {
             self.accepted(user, Some(key))
         } else {
-            self.refused(user, Some(key))
+            self.refused("publickey", Some(key))
         })
+    }
+
+    async fn auth_succeeded(&mut self, session: &mut Session) -> Result<(), Self::Error> {
+        let promoted = lock(&self.shared.slots).promote(self.conn.id);
+        if let Err(refusal) = promoted {
+            // Every player's slot was taken while this one logged in.
+            self.conn.ending(refusal.reason());
+            session.disconnect(Disconnect::TooManyConnections, &refusal.message(), "")?;
+        }
+        Ok(())
     }
 
     async fn channel_open_session(
@@ -554,7 +734,7 @@ impl Handler for Handlers {
         reply: ChannelOpenHandle,
         _: &mut Session,
     ) -> Result<(), Self::Error> {
-        info!(peer = %self.conn.peer, "refused port forwarding to {}:{port}", player_name(host));
+        self.log(format_args!("refused port forwarding to {}:{port}", player_name(host)));
         reply.reject(ChannelOpenFailure::AdministrativelyProhibited).await;
         Ok(())
     }
@@ -593,7 +773,7 @@ impl Handler for Handlers {
         _: &[u8],
         session: &mut Session,
     ) -> Result<(), Self::Error> {
-        info!(peer = %self.conn.peer, "refused a command");
+        self.log(format_args!("refused a command"));
         Handlers::refuse_command(channel, session)
     }
 
@@ -603,7 +783,7 @@ impl Handler for Handlers {
         name: &str,
         session: &mut Session,
     ) -> Result<(), Self::Error> {
-        info!(peer = %self.conn.peer, "refused subsystem {}", player_name(name));
+        self.log(format_args!("refused subsystem {}", player_name(name)));
         Handlers::refuse_command(channel, session)
     }
 
@@ -624,7 +804,7 @@ impl Handler for Handlers {
     }
 
     async fn tcpip_forward(&mut self, _: &str, port: &mut u32, _: &mut Session) -> Result<bool, Self::Error> {
-        info!(peer = %self.conn.peer, "refused remote port forwarding of port {port}");
+        self.log(format_args!("refused remote port forwarding of port {port}"));
         Ok(false)
     }
 }
@@ -657,9 +837,20 @@ fn bounded(s: &str) -> String {
     s.chars().take(MAX_TERM).collect()
 }
 
+/// The connection's one session channel: the game, then — if the client keeps the connection open
+/// after it (a multiplexing master, a client that never hangs up) — the connection closed after
+/// [`Limits::after_game`], so that it gives its slot back.
+async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
+    game(&shared, &conn, channel).await;
+    let after = tokio::time::timeout(shared.limits.after_game, conn.cut.cut_off());
+    if after.await.is_err() {
+        conn.close("game over", GAME_OVER_MESSAGE, Duration::from_secs(1)).await;
+    }
+}
+
 /// One player: waits for the pty and the shell, then walks — input from the channel, frames to it,
 /// the others from the world — until the player quits, idles out, stalls, goes, or the server stops.
-async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
+async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
     let (mut rx, tx) = channel.split();
     let mut pty: Option<Pty> = None;
     let mut colorterm: Option<String> = None;
@@ -713,16 +904,18 @@ async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
             return;
         }
     };
-    let (position, heading, cell) = player.whereabouts();
     let id = {
+        // A spot of its own, chosen and taken under one lock (two newcomers never get the same).
         let mut world = shared.world();
-        let id = world.join(&user, position, heading, cell);
+        player.place(shared.spawns.pick(&world.positions()).pos);
+        let (position, heading, cell) = player.whereabouts();
+        let id = world.join(&user, position, heading, cell, now);
         shared.world_version.send_replace(world.version());
         id
     };
     player.joined(id);
     conn.playing.store(true, Ordering::SeqCst);
-    let end = walk(&shared, &conn, &tx, &mut rx, &mut player, id).await;
+    let end = walk(shared, conn, &tx, &mut rx, &mut player, id).await;
     {
         let mut world = shared.world();
         world.leave(id);
@@ -751,13 +944,26 @@ async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
     };
     let mut out = Vec::new();
     player.leave(Some(&message), &mut out);
-    let write = tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(out));
-    if !matches!(write.await, Ok(Ok(()))) {
+    // A shutting-down server waits for the goodbye no longer than its grace; either way a cut ends
+    // the wait (a client that types but never reads fills the channel's queue, and russh's task,
+    // waiting to hand it over, would not see the cut until this write gave up).
+    let patience = if end == End::Shutdown {
+        GOODBYE_GRACE.min(shared.limits.write_timeout)
+    } else {
+        shared.limits.write_timeout
+    };
+    let written = tokio::select! {
+        written = tokio::time::timeout(patience, tx.data_bytes(out)) => matches!(written, Ok(Ok(()))),
+        () = conn.cut.cut_off() => false,
+    };
+    if !written {
         conn.end("stopped reading");
         return;
     }
-    drain_answers(&mut rx, &mut player, &shared).await;
-    close(&tx, if end == End::Quit { 0 } else { 1 }).await;
+    tokio::select! {
+        () = drain_answers(&mut rx, &mut player, shared) => close(&tx, if end == End::Quit { 0 } else { 1 }).await,
+        () = conn.cut.cut_off() => {}
+    }
 }
 
 /// Waits for the terminal's answers to the last frames' queries, reading and dropping whatever else
@@ -800,6 +1006,9 @@ async fn walk(
     let mut versions = shared.world_version.subscribe();
     let mut shutdown = shared.shutdown.clone();
     let mut last_input = Instant::now();
+    // The records' answer to the last finish (the maze's best times for the exit box), on its way.
+    let mut standing: Option<tokio::sync::oneshot::Receiver<Option<Standing>>> = None;
+    let user = Conn::get(&conn.user).unwrap_or_default();
     loop {
         if *shutdown.borrow_and_update() {
             return End::Shutdown;
@@ -818,22 +1027,40 @@ async fn walk(
         }
         if !out.is_empty() {
             let bytes = std::mem::take(&mut out);
-            match tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(bytes)).await {
-                Ok(Ok(())) => {}
-                Ok(Err(_)) => return End::Gone,
-                Err(_) => return End::Stalled,
+            let write = tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(bytes));
+            tokio::select! {
+                written = write => match written {
+                    Ok(Ok(())) => {}
+                    Ok(Err(_)) => return End::Gone,
+                    Err(_) => return End::Stalled,
+                },
+                () = conn.cut.cut_off() => return End::Gone,
+                // (At shutdown a frame stuck in a full window gives way to the goodbye.)
+                () = until_shutdown(&mut shutdown) => return End::Shutdown,
             }
         }
         // Tell the others where this player is now, and whether it won.
         let news = player.news();
-        {
+        let first = {
             let mut world = shared.world();
-            let mut changed = world.moved(id, news.position, news.heading_deg, news.cell);
-            if let Some(seconds) = news.finished {
-                changed |= world.finished(id, seconds).is_some();
-            }
-            if changed {
+            let before = world.version();
+            world.moved(id, news.position, news.heading_deg, news.cell);
+            let first = news.finished.and_then(|seconds| world.finished(id, seconds)).is_some();
+            if world.version() != before {
                 shared.world_version.send_replace(world.version());
+            }
+            first
+        };
+        if let Some(seconds) = news.finished {
+            // The winner always; every other finish within the log limit.
+            if first || shared.log_ok(conn.group) {
+                let what = if first { "reached the exit first" } else { "reached the exit" };
+                info!(peer = %conn.peer, user = %user, seconds = format_args!("{seconds:.1}"), "{what}");
+            }
+            // Kept, without waiting: the standing comes back while the player plays on.
+            if let Some(keeper) = &shared.records {
+                player.session_mut().set_standings(Vec::new());
+                standing = keeper.finish(&user, seconds);
             }
         }
         // Sleep until input, the session's next deadline, a change in the world, the idle timeout or
@@ -863,8 +1090,15 @@ async fn walk(
                 versions.borrow_and_update();
                 player.world_changed(shared.now());
             }
+            answer = async { standing.as_mut().expect("checked").await }, if standing.is_some() => {
+                standing = None;
+                if let Ok(Some(answer)) = answer {
+                    player.session_mut().set_standings(standing_lines(&answer, &user));
+                }
+            }
             () = idle => return End::Idle,
             _ = shutdown.changed() => {}
+            () = conn.cut.cut_off() => return End::Gone,
         }
         if conn.cut.is_cut() {
             return End::Gone;

@@ -11,16 +11,31 @@ use std::sync::{Arc, Mutex, PoisonError};
 use std::task::{Context, Poll, Waker};
 
 use tokio::io::{AsyncRead, AsyncWrite, ReadBuf};
+use tokio::sync::watch;
 
 /// The outside handle of a [`CutStream`]: its byte counts and its cut.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct Cut {
     cut: AtomicBool,
+    /// Turns true at the cut, for tasks that wait on other things meanwhile ([`Cut::cut_off`]).
+    signal: watch::Sender<bool>,
     wakers: Mutex<[Option<Waker>; 2]>,
     /// Bytes read from the client.
     pub bytes_in: AtomicU64,
     /// Bytes written to the client.
     pub bytes_out: AtomicU64,
+}
+
+impl Default for Cut {
+    fn default() -> Self {
+        Cut {
+            cut: AtomicBool::new(false),
+            signal: watch::Sender::new(false),
+            wakers: Mutex::default(),
+            bytes_in: AtomicU64::new(0),
+            bytes_out: AtomicU64::new(0),
+        }
+    }
 }
 
 impl Cut {
@@ -29,6 +44,14 @@ impl Cut {
         self.cut.store(true, Ordering::SeqCst);
         let wakers = std::mem::take(&mut *self.wakers.lock().unwrap_or_else(PoisonError::into_inner));
         wakers.into_iter().flatten().for_each(Waker::wake);
+        self.signal.send_replace(true);
+    }
+
+    /// Returns once the stream is cut: for a task waiting on something else (a write to a channel
+    /// whose client reads nothing), which must give up when the connection is gone.
+    pub async fn cut_off(&self) {
+        let mut cut = self.signal.subscribe();
+        let _ = cut.wait_for(|&c| c).await.is_ok(); // the guard is dropped here
     }
 
     /// Whether [`cut`](Self::cut) was called.
@@ -116,8 +139,14 @@ mod tests {
             stream.read(&mut buf).await // blocks: the client sends nothing more
         });
         tokio::task::yield_now().await;
+        let waiter = {
+            let cut = Arc::clone(&cut);
+            tokio::spawn(async move { cut.cut_off().await })
+        };
         cut.cut();
         let read = tokio::time::timeout(std::time::Duration::from_secs(5), reader).await.unwrap().unwrap();
+        tokio::time::timeout(std::time::Duration::from_secs(5), waiter).await.unwrap().unwrap();
+        cut.cut_off().await; // after the cut: at once
         assert_eq!(read.unwrap_err().kind(), io::ErrorKind::ConnectionAborted);
         assert_eq!((cut.bytes_in.load(Ordering::Relaxed), cut.bytes_out.load(Ordering::Relaxed)), (5, 2));
     }

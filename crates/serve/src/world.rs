@@ -11,10 +11,23 @@ use std::sync::Arc;
 
 use glam::Vec2;
 
-use super::player::PLAYER_COLORS;
 use mazewalk_term::frame::Color;
 use mazewalk_walk::overlay::Peer;
 use mazewalk_walk::screen::clock_text;
+
+/// The colours players are drawn in, by order of arrival (256-colour indices: bright and distinct from
+/// the map's own yellow viewer, green exit and grey walls; [`mazewalk_walk::overlay::limit_colors`] takes
+/// them down to the terminal's depth).
+pub const PLAYER_COLORS: [Color; 8] = [
+    Color::Indexed(196), // red
+    Color::Indexed(33),  // blue
+    Color::Indexed(201), // magenta
+    Color::Indexed(51),  // cyan
+    Color::Indexed(208), // orange
+    Color::Indexed(129), // purple
+    Color::Indexed(118), // lime
+    Color::Indexed(231), // white
+];
 
 /// A player's id in the world, unique for the server's lifetime.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -33,8 +46,13 @@ pub struct Seen {
     pub cell: u32,
     /// Its colour.
     pub color: Color,
-    /// The character it is shown by, on the map and on its figure's head ([`label_for`]).
+    /// The character it is shown by, on the map, on its figure's head and in the player list
+    /// ([`label_for`]).
     pub label: char,
+    /// When it joined (the server's clock, seconds).
+    pub joined_at: f64,
+    /// Its best time to the exit (seconds) since it joined, if it has reached it.
+    pub best: Option<f64>,
 }
 
 impl Seen {
@@ -137,8 +155,9 @@ impl World {
         self.players.is_empty()
     }
 
-    /// A player named `name` joins at `position` in `cell`; its colour follows the order of arrival.
-    pub fn join(&mut self, name: &str, position: Vec2, heading_deg: f32, cell: u32) -> PlayerId {
+    /// A player named `name` joins at `position` in `cell` at time `now`; its colour is the one the
+    /// fewest wear.
+    pub fn join(&mut self, name: &str, position: Vec2, heading_deg: f32, cell: u32, now: f64) -> PlayerId {
         let id = PlayerId(self.next_id);
         self.next_id += 1;
         // The colour the fewest players now wear (the first of those): all differ while there are
@@ -146,7 +165,17 @@ impl World {
         let wearing = |color: &Color| self.players.values().filter(|p| p.color == *color).count();
         let color = *PLAYER_COLORS.iter().min_by_key(|c| wearing(c)).expect("a palette");
         let label = label_for(name, |c| self.players.values().any(|p| p.label == c));
-        self.players.insert(id, Seen { name: name.to_string(), position, heading_deg, cell, color, label });
+        let seen = Seen {
+            name: name.to_string(),
+            position,
+            heading_deg,
+            cell,
+            color,
+            label,
+            joined_at: now,
+            best: None,
+        };
+        self.players.insert(id, seen);
         self.version += 1;
         id
     }
@@ -170,13 +199,18 @@ impl World {
         true
     }
 
-    /// The player reached the exit after `seconds`: if it is the first, it is the winner, and the
-    /// announcement is returned.
+    /// The player reached the exit after `seconds`: its best time is kept (for the player list), and
+    /// if it is the first to reach it, it is the winner and the announcement is returned.
     pub fn finished(&mut self, id: PlayerId, seconds: f64) -> Option<String> {
+        let seen = self.players.get_mut(&id)?;
+        if seen.best.is_none_or(|best| seconds < best) {
+            seen.best = Some(seconds);
+            self.version += 1;
+        }
         if self.winner.is_some() {
             return None;
         }
-        let name = self.players.get(&id)?.name.clone();
+        let name = seen.name.clone();
         let winner = Winner { id, name, seconds };
         let text = winner.announcement();
         self.winner = Some(Arc::new(winner));
@@ -188,6 +222,12 @@ impl World {
     #[must_use]
     pub fn winner(&self) -> Option<&Winner> {
         self.winner.as_deref()
+    }
+
+    /// Where every player stands.
+    #[must_use]
+    pub fn positions(&self) -> Vec<Vec2> {
+        self.players.values().map(|p| p.position).collect()
     }
 
     /// One player, if it is in the world.
@@ -232,11 +272,11 @@ mod tests {
     fn a_newcomer_wears_a_free_colour() {
         let mut world = World::new();
         let ids: Vec<PlayerId> =
-            (0..PLAYER_COLORS.len()).map(|i| world.join(&format!("p{i}"), Vec2::ZERO, 0.0, 0)).collect();
+            (0..PLAYER_COLORS.len()).map(|i| world.join(&format!("p{i}"), Vec2::ZERO, 0.0, 0, 0.0)).collect();
         let color_of = |world: &World, id: PlayerId| world.players[&id].color;
         let freed = color_of(&world, ids[2]);
         world.leave(ids[2]);
-        let newcomer = world.join("anna", Vec2::ZERO, 0.0, 0);
+        let newcomer = world.join("anna", Vec2::ZERO, 0.0, 0, 0.0);
         assert_eq!(color_of(&world, newcomer), freed, "the one colour nobody wears");
         let colors: std::collections::HashSet<_> = world.players.values().map(|p| p.color).collect();
         assert_eq!(colors.len(), PLAYER_COLORS.len(), "all different");
@@ -245,8 +285,8 @@ mod tests {
     #[test]
     fn players_see_the_others_not_themselves() {
         let mut world = World::new();
-        let a = world.join("alice", Vec2::ZERO, 0.0, 0);
-        let b = world.join("bob", Vec2::new(4.0, 0.0), 90.0, 1);
+        let a = world.join("alice", Vec2::ZERO, 0.0, 0, 0.0);
+        let b = world.join("bob", Vec2::new(4.0, 0.0), 90.0, 1, 0.0);
         let mut out = Vec::new();
         world.look().peers_of(a, |_, _| true, &mut out);
         assert_eq!(out.len(), 1);
@@ -271,12 +311,12 @@ mod tests {
         let mut world = World::new();
         let ids: Vec<PlayerId> = ["u1", "u2", "u3", "anna", "alan", "x", "x", "x"]
             .iter()
-            .map(|n| world.join(n, Vec2::ZERO, 0.0, 0))
+            .map(|n| world.join(n, Vec2::ZERO, 0.0, 0, 0.0))
             .collect();
         let labels: Vec<char> = ids.iter().map(|&id| world.get(id).unwrap().label).collect();
         assert_eq!(labels, ['U', '2', '3', 'A', 'L', 'X', '1', '4']);
         world.leave(ids[0]);
-        let back = world.join("ursula", Vec2::ZERO, 0.0, 0);
+        let back = world.join("ursula", Vec2::ZERO, 0.0, 0, 0.0);
         assert_eq!(world.get(back).unwrap().label, 'U', "free again");
         let mut out = Vec::new();
         world.look().peers_of(back, |_, _| true, &mut out);
@@ -287,7 +327,7 @@ mod tests {
     #[test]
     fn a_look_is_shared_until_the_world_changes() {
         let mut world = World::new();
-        let a = world.join("alice", Vec2::ZERO, 0.0, 0);
+        let a = world.join("alice", Vec2::ZERO, 0.0, 0, 0.0);
         let (first, second) = (world.look(), world.look());
         assert!(Arc::ptr_eq(&first.players, &second.players), "one snapshot per version");
         world.moved(a, Vec2::ONE, 0.0, 0);
@@ -300,13 +340,20 @@ mod tests {
     #[test]
     fn only_the_first_at_the_exit_wins() {
         let mut world = World::new();
-        let a = world.join("alice", Vec2::ZERO, 0.0, 0);
-        let b = world.join("bob", Vec2::ZERO, 0.0, 0);
+        let a = world.join("alice", Vec2::ZERO, 0.0, 0, 0.0);
+        let b = world.join("bob", Vec2::ZERO, 0.0, 0, 0.0);
         assert_eq!(world.finished(b, 83.0).as_deref(), Some("bob reached the exit first, in 1:23.0!"));
         assert_eq!(world.finished(a, 10.0), None);
         assert_eq!(world.winner().map(|w| w.name.as_str()), Some("bob"));
         let winner = world.winner().unwrap();
         assert_eq!(winner.announcement_for(b), "You reached the exit first, in 1:23.0!");
         assert_eq!(winner.announcement_for(a), "bob reached the exit first, in 1:23.0!");
+        // Every finish counts for the player list: each player's best.
+        let v = world.version();
+        assert_eq!(world.finished(a, 12.0), None);
+        assert_eq!(world.get(a).unwrap().best, Some(10.0), "a slower finish keeps the best");
+        assert_eq!(world.version(), v, "nothing changed");
+        world.finished(b, 70.0);
+        assert_eq!((world.get(b).unwrap().best, world.version() > v), (Some(70.0), true));
     }
 }

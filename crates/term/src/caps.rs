@@ -1,5 +1,12 @@
-//! Terminal capabilities from the environment: colour depth and background-colour erase. Pure: the
-//! caller passes the lookup, e.g. `|k| std::env::var(k).ok()`; a CLI flag overrides the result.
+//! Terminal capabilities: colour depth and background-colour erase from the environment, and whether
+//! to ask the terminal itself about 24-bit colour. Pure: the caller passes the lookup, e.g.
+//! `|k| std::env::var(k).ok()`, and what it learnt from the system's tools ([`ColorFacts`]: terminfo,
+//! tmux); a CLI flag overrides the result.
+//!
+//! Truecolor is decided as Neovim does since 0.10 ([`plan_color_depth`]): `COLORTERM`, then terminfo,
+//! then — inside tmux — tmux's own word on its client, else the terminal is asked
+//! ([`TRUECOLOR_QUERY`]) while the walk starts at the depth the environment promises; a positive
+//! answer ([`Reply::DirectColor`](crate::input::Reply::DirectColor)) raises it to truecolor.
 
 use crate::frame::ColorDepth;
 
@@ -44,6 +51,133 @@ pub fn detect_color_depth(get: impl Fn(&str) -> Option<String>) -> ColorDepth {
     } else {
         ColorDepth::Ansi16
     }
+}
+
+/// The questions about 24-bit colour, sent once at the start (on the alternate screen, before the first
+/// frame, which paints over anything a terminal that does not understand them might show):
+///
+/// 1. set the background to RGB (1, 2, 3) and ask for the pen back (DECRQSS `m`): a terminal that keeps
+///    24-bit colour answers `DCS 1 $ r …48:2…:1:2:3 m ST` (xterm, kitty, foot, Ghostty, iTerm2, VTE ≥
+///    0.78, Windows Terminal), one that does not `…48:5:N…`; then reset the pen at once;
+/// 2. ask for the terminfo capabilities `RGB` and `Tc` (XTGETTCAP, one query each: xterm drops the rest
+///    of a list after a name it does not know): `DCS 1 + r 524742[=…] ST` (xterm, foot, Ghostty,
+///    WezTerm, iTerm2), `DCS 1 + r 5463… ST` (kitty).
+///
+/// Silence or a `0` ("invalid") answer proves nothing (Alacritty, Konsole and tmux show 24-bit colour
+/// and answer neither). No device-attributes query here: the one after the first frame fences the
+/// answers (a terminal answers in order), see `Session::ask_truecolor` in mazewalk-walk.
+pub const TRUECOLOR_QUERY: &[u8] =
+    b"\x1b[0m\x1b[48;2;1;2;3m\x1bP$qm\x1b\\\x1b[0m\x1bP+q524742\x1b\\\x1bP+q5463\x1b\\";
+
+/// What the system's own tools say about the terminal's 24-bit colour, learnt by the caller (the
+/// binary runs `infocmp -x` and `tmux display`; a server knows neither about its players).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ColorFacts {
+    /// Whether `TERM`'s terminfo entry promises 24-bit colour ([`terminfo_has_truecolor`]); `None`:
+    /// not looked up.
+    pub terminfo_rgb: Option<bool>,
+    /// Inside tmux: whether tmux's client has the `RGB` feature ([`tmux_has_rgb`]); `None`: not asked.
+    pub tmux_rgb: Option<bool>,
+}
+
+/// The colour depth to start with, and whether to ask the terminal for more ([`TRUECOLOR_QUERY`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ColorPlan {
+    /// The depth of the first frame.
+    pub depth: ColorDepth,
+    /// Whether to ask the terminal: a positive answer raises the depth to truecolor.
+    pub ask: bool,
+}
+
+/// How deep the colours go and whether to ask the terminal, first match wins (Neovim ≥ 0.10's order,
+/// with GNU screen, tmux and consoles that cannot be asked set apart):
+///
+/// | what | depth | ask |
+/// |---|---|---|
+/// | `NO_COLOR` set and non-empty | none | no |
+/// | `COLORTERM=truecolor` or `24bit`, outside GNU screen | truecolor | no |
+/// | in GNU screen (it garbles 24-bit colour) | [`detect_color_depth`]'s | no |
+/// | terminfo has `Tc`, `RGB`, or `setrgbf` and `setrgbb` | truecolor | no |
+/// | in tmux (`TMUX` set, or `TERM` `tmux*`/`screen*`): tmux's client has `RGB` | truecolor | no |
+/// | in tmux otherwise (tmux answers no query, and a DCS query can crash tmux 3.4) | [`detect_color_depth`]'s | no |
+/// | [`detect_color_depth`] says truecolor or none | that | no |
+/// | `COLORTERM` set to anything else (as Neovim: the environment has spoken) | [`detect_color_depth`]'s | no |
+/// | `TERM=linux`, `vt*`, or `TERM_PROGRAM=Apple_Terminal` (may print the question as text) | [`detect_color_depth`]'s | no |
+/// | anything else (`xterm-256color` over SSH, most of the time) | [`detect_color_depth`]'s | yes |
+#[must_use]
+pub fn plan_color_depth(get: impl Fn(&str) -> Option<String>, facts: ColorFacts) -> ColorPlan {
+    let known = |depth| ColorPlan { depth, ask: false };
+    let env_depth = detect_color_depth(&get);
+    if get("NO_COLOR").is_some_and(|v| !v.is_empty()) {
+        return known(ColorDepth::None);
+    }
+    if env_depth == ColorDepth::TrueColor && get("COLORTERM").is_some_and(|v| !v.is_empty()) {
+        return known(env_depth); // COLORTERM=truecolor, believed
+    }
+    if in_gnu_screen(&get) {
+        return known(env_depth);
+    }
+    if facts.terminfo_rgb == Some(true) {
+        return known(ColorDepth::TrueColor);
+    }
+    let term = get("TERM").unwrap_or_default().to_ascii_lowercase();
+    if get("TMUX").is_some() || term.starts_with("tmux") || term.starts_with("screen") {
+        return known(if facts.tmux_rgb == Some(true) { ColorDepth::TrueColor } else { env_depth });
+    }
+    let silent_console = term == "linux" || term.starts_with("vt");
+    if matches!(env_depth, ColorDepth::TrueColor | ColorDepth::None)
+        || get("COLORTERM").is_some_and(|v| !v.is_empty())
+        || silent_console
+        || get("TERM_PROGRAM").is_some_and(|p| p == "Apple_Terminal")
+    {
+        return known(env_depth);
+    }
+    ColorPlan { depth: env_depth, ask: true }
+}
+
+/// Whether `infocmp -x`'s description of a terminal promises 24-bit colour: the extended boolean `Tc`
+/// or `RGB`, or both strings `setrgbf` and `setrgbb` (what Neovim's TUI looks for). Anything else in
+/// the text is ignored, so a partial or garbled description is simply not a promise.
+///
+/// ```
+/// use mazewalk_term::caps::terminfo_has_truecolor;
+/// assert!(terminfo_has_truecolor("xterm-direct|xterm with direct-color indexing,\n\tRGB, am,\n"));
+/// assert!(!terminfo_has_truecolor("xterm-256color|xterm with 256 colors,\n\tam, bce, colors#0x100,\n"));
+/// ```
+#[must_use]
+pub fn terminfo_has_truecolor(infocmp: &str) -> bool {
+    // Capabilities are separated by commas, one or several a line after the names line; a comma or a
+    // backslash inside a string value is escaped (`\,`, `\\`).
+    let mut caps: Vec<String> = Vec::new();
+    let mut cap = String::new();
+    let mut chars = infocmp
+        .lines()
+        .skip_while(|l| !l.starts_with(char::is_whitespace))
+        .flat_map(|l| l.chars().chain(['\n']));
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' => cap.extend([c].into_iter().chain(chars.next())),
+            ',' => caps.push(std::mem::take(&mut cap).trim().to_string()),
+            c => cap.push(c),
+        }
+    }
+    let caps: Vec<&str> = caps.iter().map(String::as_str).collect();
+    let boolean = |name: &str| caps.contains(&name);
+    let string =
+        |name: &str| caps.iter().any(|c| c.strip_prefix(name).is_some_and(|rest| rest.starts_with('=')));
+    boolean("Tc") || boolean("RGB") || (string("setrgbf") && string("setrgbb"))
+}
+
+/// Whether tmux's `#{client_termfeatures}` (features joined by commas) lists `RGB`.
+///
+/// ```
+/// use mazewalk_term::caps::tmux_has_rgb;
+/// assert!(tmux_has_rgb("bpaste,ccolour,clipboard,cstyle,focus,RGB,title\n"));
+/// assert!(!tmux_has_rgb("bpaste,ccolour,clipboard,cstyle,focus,title"));
+/// ```
+#[must_use]
+pub fn tmux_has_rgb(features: &str) -> bool {
+    features.trim().split(',').any(|f| f.trim() == "RGB")
 }
 
 /// Whether erasing fills with the current background colour (BCE), for
@@ -114,6 +248,88 @@ mod tests {
         for (vars, want) in table {
             assert_eq!(detect_color_depth(env(vars)), *want, "{vars:?}");
         }
+    }
+
+    // issue #33: truecolor wherever the terminal can show it, decided as Neovim does.
+    #[test]
+    fn color_plan_table() {
+        use ColorDepth::*;
+        let none = ColorFacts::default();
+        let terminfo = ColorFacts { terminfo_rgb: Some(true), ..none };
+        let no_terminfo = ColorFacts { terminfo_rgb: Some(false), ..none };
+        let tmux_rgb = ColorFacts { tmux_rgb: Some(true), ..none };
+        let tmux_plain = ColorFacts { tmux_rgb: Some(false), terminfo_rgb: Some(false) };
+        let ask = |depth| ColorPlan { depth, ask: true };
+        let known = |depth| ColorPlan { depth, ask: false };
+        type Vars<'a> = &'a [(&'a str, &'a str)];
+        let table: &[(Vars, ColorFacts, ColorPlan)] = &[
+            // over SSH: TERM only, no COLORTERM: ask
+            (&[("TERM", "xterm-256color")], none, ask(Ansi256)),
+            (&[("TERM", "xterm-256color")], no_terminfo, ask(Ansi256)),
+            (&[("TERM", "xterm")], none, ask(Ansi16)),
+            (&[("TERM", "xterm-256color"), ("COLORTERM", "")], none, ask(Ansi256)),
+            // COLORTERM decides, either way
+            (&[("TERM", "xterm-256color"), ("COLORTERM", "truecolor")], none, known(TrueColor)),
+            (&[("TERM", "xterm-256color"), ("COLORTERM", "24bit")], no_terminfo, known(TrueColor)),
+            (&[("TERM", "xterm-256color"), ("COLORTERM", "256")], none, known(Ansi256)),
+            (&[("TERM", "xterm-256color"), ("COLORTERM", "256")], terminfo, known(TrueColor)),
+            // terminfo
+            (&[("TERM", "xterm-256color")], terminfo, known(TrueColor)),
+            (&[("TERM", "xterm-direct")], none, known(TrueColor)),
+            (&[("TERM", "xterm-kitty")], none, known(TrueColor)),
+            // NO_COLOR and monochrome: never asked
+            (&[("TERM", "xterm-256color"), ("NO_COLOR", "1")], terminfo, known(None)),
+            (&[("TERM", "xterm-mono")], none, known(None)),
+            (&[("TERM", "dumb")], none, known(None)),
+            // tmux: its client's features, never the terminal
+            (&[("TERM", "tmux-256color"), ("TMUX", "/tmp/t,1,0")], tmux_rgb, known(TrueColor)),
+            (&[("TERM", "tmux-256color"), ("TMUX", "/tmp/t,1,0")], tmux_plain, known(Ansi256)),
+            (&[("TERM", "screen-256color"), ("TMUX", "/tmp/t,1,0")], none, known(Ansi256)),
+            (&[("TERM", "xterm-256color"), ("TMUX", "/tmp/t,1,0")], none, known(Ansi256)),
+            // a tmux over SSH (TMUX is not forwarded): not asked either
+            (&[("TERM", "tmux-256color")], none, known(Ansi256)),
+            (&[("TERM", "screen")], none, known(Ansi16)),
+            // GNU screen garbles 24-bit colour whatever terminfo says
+            (&[("TERM", "screen.xterm-256color"), ("COLORTERM", "truecolor")], terminfo, known(Ansi256)),
+            (&[("TERM", "xterm-256color"), ("STY", "1.pts-0.host")], terminfo, known(Ansi256)),
+            // consoles that may print the question
+            (&[("TERM", "linux")], none, known(Ansi16)),
+            (&[("TERM", "vt220")], none, known(Ansi16)),
+            (&[("TERM", "xterm-256color"), ("TERM_PROGRAM", "Apple_Terminal")], none, known(Ansi256)),
+        ];
+        for (vars, facts, want) in table {
+            assert_eq!(plan_color_depth(env(vars), *facts), *want, "{vars:?} {facts:?}");
+        }
+    }
+
+    #[test]
+    fn terminfo_promises_truecolor_by_tc_rgb_or_both_rgb_strings() {
+        // `infocmp -x -1` and the default layout (several capabilities a line)
+        let direct = "#\tReconstructed via infocmp from file: /usr/share/terminfo/x/xterm-direct\nxterm-direct|xterm with direct-color indexing,\n\tRGB,\n\tam,\n\tcolors#0x1000000,\n";
+        assert!(terminfo_has_truecolor(direct));
+        let kitty = "xterm-kitty|KovIdTTY,\n\tTc, am, ccc,\n\tsetrgbb=\\E[48\\:2\\:%p1%d\\:%p2%d\\:%p3%dm,\n\tsetrgbf=\\E[38\\:2\\:%p1%d\\:%p2%d\\:%p3%dm,\n";
+        assert!(terminfo_has_truecolor(kitty));
+        let strings_only =
+            "x|x,\n\tsetrgbb=\\E[48;2;%p1%d;%p2%d;%p3%dm, setrgbf=\\E[38;2;%p1%d;%p2%d;%p3%dm,\n";
+        assert!(terminfo_has_truecolor(strings_only));
+        let one_string = "x|x,\n\tsetrgbf=\\E[38;2;%p1%d;%p2%d;%p3%dm,\n";
+        assert!(!terminfo_has_truecolor(one_string));
+        let plain = "xterm-256color|xterm with 256 colors,\n\tam, bce, ccc, km, mc5i,\n\tcolors#0x100, cols#80,\n\tsetab=\\E[%?%p1%{8}%<%t4%p1%d%e%p1%{16}%<%t10%p1%{8}%-%d%e48;5;%p1%d%;m,\n";
+        assert!(!terminfo_has_truecolor(plain));
+        // the names line is not a capability: a terminal named "RGB" promises nothing
+        assert!(!terminfo_has_truecolor("RGB|Tc|a terminal,\n\tam,\n"));
+        assert!(!terminfo_has_truecolor(""));
+        assert!(!terminfo_has_truecolor("infocmp: couldn't open terminfo file"));
+        // a value that merely mentions a name
+        assert!(!terminfo_has_truecolor("x|x,\n\tuser1=RGB\\,Tc,\n"));
+    }
+
+    #[test]
+    fn tmux_features_list_rgb_or_not() {
+        assert!(tmux_has_rgb("RGB"));
+        assert!(tmux_has_rgb("256,RGB,bpaste"));
+        assert!(!tmux_has_rgb(""));
+        assert!(!tmux_has_rgb("256,bpaste,RGBX"));
     }
 
     #[test]

@@ -13,9 +13,11 @@
 //! - focus in/out (`CSI I`/`CSI O`); bracketed paste (`CSI 200~ … CSI 201~`) is dropped whole, so
 //!   pasted text never walks the viewer;
 //! - the terminal's **replies**: primary device attributes (`CSI ? … c`), a cursor position report
-//!   (`CSI row ; col R`) and the kitty keyboard flags (`CSI ? flags u`), surfaced as
+//!   (`CSI row ; col R`), the kitty keyboard flags (`CSI ? flags u`) and the answers about 24-bit
+//!   colour ([`Reply::DirectColor`]: DECRQSS and XTGETTCAP strings, `DCS … ST`), surfaced as
 //!   [`Input::Reply`] (a reply arrives only after the terminal has processed everything sent before
-//!   the query: the basis of end-to-end flow control).
+//!   the query: the basis of end-to-end flow control). A string's terminator `ESC \` is never the
+//!   Esc key, even when a read ends between its two bytes.
 //!
 //! A lone `Esc` is ambiguous with the start of a sequence: it is resolved as the Esc key when no
 //! byte follows within [`ESC_TIMEOUT`] (ask [`InputDecoder::deadline`] when, and call
@@ -157,6 +159,12 @@ pub enum Reply {
     },
     /// The kitty keyboard protocol's flags (the answer to `CSI ? u`): the terminal speaks it.
     KeyboardFlags(u16),
+    /// An answer to [`TRUECOLOR_QUERY`](crate::caps::TRUECOLOR_QUERY): `true` when it says the
+    /// terminal shows 24-bit colour (DECRQSS gives back the pen `48:2…:1:2:3`; XTGETTCAP knows `RGB`
+    /// or `Tc`), `false` when it says it does not (the pen came back as a palette colour; `RGB` is
+    /// `-1`). Answers that prove nothing (`DCS 0 $ r`, `DCS 0 + r`, other capabilities) and garbage
+    /// are no reply at all.
+    DirectColor(bool),
 }
 
 /// One input event. Grid coordinates are 0-based columns and rows from the top-left.
@@ -265,7 +273,32 @@ struct State {
     drag_button: Option<MouseButton>,
     /// Bytes were dropped ([`InputDecoder::gap`]): skip to the next ESC or pause.
     after_gap: bool,
+    /// The DCS string being read, if it is one of the answers mazewalk asks for.
+    dcs: Option<DcsAnswer>,
+    /// Its bytes so far (at most [`MAX_DCS`]).
+    dcs_data: Vec<u8>,
+    /// What the DCS string that just ended answered, emitted unless it was cancelled (CAN, SUB).
+    dcs_answer: Option<bool>,
+    /// Set by the tokenizer when a string (OSC, DCS) ends.
+    string_ended: bool,
+    /// The last byte was an ESC that ended a string: the first half of its terminator `ESC \`, not
+    /// the Esc key, even if the `\` is late.
+    terminator: bool,
+    /// A pause came after such an ESC: a `\` next is the rest of the terminator, not the key.
+    late_terminator: bool,
 }
+
+/// The DCS answers [`InputDecoder`] reads ([`Reply::DirectColor`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum DcsAnswer {
+    /// `DCS 1 $ r … ST`: DECRQSS's valid answer.
+    Decrqss,
+    /// `DCS 1 + r … ST`: XTGETTCAP's answer for capabilities it knows.
+    Xtgettcap,
+}
+
+/// The longest DCS answer kept (bytes): a pen or a few capabilities. Longer ones are garbage.
+const MAX_DCS: usize = 256;
 
 impl InputDecoder {
     /// A decoder between sequences, that has seen no mouse yet.
@@ -285,6 +318,9 @@ impl InputDecoder {
         }
         for &byte in bytes {
             let state = &mut self.state;
+            if std::mem::take(&mut state.late_terminator) && byte == b'\\' {
+                continue;
+            }
             if state.after_gap {
                 if byte != 0x1B {
                     continue;
@@ -303,16 +339,28 @@ impl InputDecoder {
                 continue;
             }
             if state.pending == 1 && state.pending_first == 0x1B && byte == 0x1B {
-                // Esc, Esc: the first was the key (the tokenizer would restart the sequence).
-                if !state.in_paste {
+                // Esc, Esc: the first was the key (the tokenizer would restart the sequence) — unless
+                // it ended a string.
+                if !state.in_paste && !state.terminator {
                     out.push(Input::press(Key::Esc));
                 }
                 state.pending = 0;
             }
-            state.completed = false;
+            (state.completed, state.string_ended) = (false, false);
             let mut performer = Performer { state, out };
             self.parser.advance(&mut performer, &[byte]);
             let state = &mut self.state;
+            if byte == 0x1B {
+                state.terminator = state.string_ended;
+            } else if state.completed {
+                state.terminator = false;
+            }
+            if let Some(direct) = state.dcs_answer.take()
+                && !matches!(byte, 0x18 | 0x1A) // CAN and SUB cancel a string
+                && !state.in_paste
+            {
+                out.push(Input::Reply(Reply::DirectColor(direct)));
+            }
             if byte == 0x1B || (0xC2..=0xF4).contains(&byte) {
                 // Starts a sequence or a character, even when it also ended an invalid one.
                 (state.pending, state.pending_first) = (1, byte);
@@ -345,10 +393,14 @@ impl InputDecoder {
         if self.deadline().is_none_or(|at| now < at) {
             return;
         }
-        if self.state.pending == 1 && self.state.pending_first == 0x1B && !self.state.in_paste {
+        let state = &self.state;
+        let lone_esc = state.pending == 1 && state.pending_first == 0x1B && !state.in_paste;
+        let terminator = lone_esc && state.terminator;
+        if lone_esc && !terminator {
             out.push(Input::press(Key::Esc));
         }
         self.reset();
+        self.state.late_terminator = terminator;
         (self.state.in_paste, self.state.unsettled, self.state.after_gap) = (false, false, false);
     }
 
@@ -365,7 +417,9 @@ impl InputDecoder {
     fn reset(&mut self) {
         self.parser = Parser::new();
         let state = &mut self.state;
-        (state.pending, state.ss3, state.skip) = (0, false, 0);
+        (state.pending, state.ss3, state.skip, state.terminator) = (0, false, 0, false);
+        state.dcs = None;
+        state.dcs_data.clear();
     }
 }
 
@@ -541,6 +595,7 @@ impl Perform for Performer<'_> {
         self.state.completed = true;
         match (intermediates, byte) {
             ([], b'O') => self.state.ss3 = true,
+            ([], b'\\') => {} // ST, the end of a string: never Alt-\
             // Alt-x arrives as ESC x.
             ([], 0x20..=0x7E) => {
                 self.key(
@@ -601,12 +656,92 @@ impl Perform for Performer<'_> {
     }
 
     fn osc_dispatch(&mut self, _params: &[&[u8]], _bell_terminated: bool) {
-        self.state.completed = true;
+        (self.state.completed, self.state.string_ended) = (true, true);
+    }
+
+    fn hook(&mut self, params: &Params, intermediates: &[u8], ignore: bool, action: char) {
+        let valid = !ignore && params.len() == 1 && params.iter().next() == Some(&[1][..]);
+        self.state.dcs = match (intermediates, action) {
+            ([b'$'], 'r') if valid => Some(DcsAnswer::Decrqss),
+            ([b'+'], 'r') if valid => Some(DcsAnswer::Xtgettcap),
+            _ => None,
+        };
+        self.state.dcs_data.clear();
+    }
+
+    fn put(&mut self, byte: u8) {
+        let state = &mut *self.state;
+        if state.dcs.is_some() {
+            if state.dcs_data.len() < MAX_DCS {
+                state.dcs_data.push(byte);
+            } else {
+                state.dcs = None; // too long for an answer of ours: garbage
+            }
+        }
     }
 
     fn unhook(&mut self) {
-        self.state.completed = true;
+        (self.state.completed, self.state.string_ended) = (true, true);
+        // (emitted by `feed` once it knows the string was ended, not cancelled)
+        self.state.dcs_answer = match self.state.dcs.take() {
+            Some(DcsAnswer::Decrqss) => decrqss_direct_color(&self.state.dcs_data),
+            Some(DcsAnswer::Xtgettcap) => xtgettcap_direct_color(&self.state.dcs_data),
+            None => None,
+        };
+        self.state.dcs_data.clear();
     }
+}
+
+/// What DECRQSS's answer for the pen (`Pt` of `DCS 1 $ r Pt ST`, e.g. `0;48:2::1:2:3m`) says about
+/// 24-bit colour after `CSI 48;2;1;2;3 m`: `Some(true)` when the background came back as RGB
+/// (1, 2, 3) — in any of the colon forms terminals use (`48:2:1:2:3` kitty, `48:2::1:2:3` xterm,
+/// `48:2:1:1:2:3` iTerm2) or the semicolon form —, `Some(false)` when it came back as another
+/// background (a palette entry), `None` when it names none (not an answer to our question).
+fn decrqss_direct_color(pt: &[u8]) -> Option<bool> {
+    let sgr = std::str::from_utf8(pt.strip_suffix(b"m")?).ok()?;
+    let params: Vec<&str> = sgr.split(';').collect();
+    let number = |s: &str| s.parse::<u32>().ok();
+    for (i, param) in params.iter().enumerate() {
+        let sub: Vec<&str> = param.split(':').collect();
+        let rgb = match sub[..] {
+            ["48", "2", .., r, g, b] if sub.len() <= 6 => [number(r), number(g), number(b)],
+            ["48", "5", _] => return Some(false),
+            // the semicolon form: 48;2;r;g;b or 48;5;n
+            ["48"] => match params.get(i + 1..i + 5) {
+                Some(&["2", r, g, b]) => [number(r), number(g), number(b)],
+                _ if params.get(i + 1) == Some(&"5") => return Some(false),
+                _ => continue,
+            },
+            _ => continue,
+        };
+        return Some(rgb == [Some(1), Some(2), Some(3)]);
+    }
+    None
+}
+
+/// What XTGETTCAP's answer (`Pt` of `DCS 1 + r Pt ST`: `name[=value]` pairs in hex, `;`-separated)
+/// says about 24-bit colour: `Some(true)` for `Tc`, or `RGB` with no value or a positive one (`8`,
+/// `8/8/8`); `Some(false)` for `RGB` = `-1` (xterm without direct colour); `None` when it names
+/// neither, or is not hex.
+fn xtgettcap_direct_color(pt: &[u8]) -> Option<bool> {
+    let hex = |s: &[u8]| -> Option<Vec<u8>> {
+        s.len().is_multiple_of(2).then_some(())?;
+        s.chunks(2).map(|pair| u8::from_str_radix(std::str::from_utf8(pair).ok()?, 16).ok()).collect()
+    };
+    let mut said = None;
+    for pair in pt.split(|&b| b == b';') {
+        let mut parts = pair.splitn(2, |&b| b == b'=');
+        let name = hex(parts.next()?)?;
+        let value = parts.next().map(hex).map(|v| v.and_then(|v| String::from_utf8(v).ok()));
+        let yes = match (&name[..], value) {
+            (b"Tc", _) => true,
+            (b"RGB", None) => true,
+            (b"RGB", Some(Some(v))) => v.split('/').next().and_then(|n| n.trim().parse::<i32>().ok())? > 0,
+            _ => continue,
+        };
+        said = Some(said.unwrap_or(false) || yes);
+    }
+    said
 }
 
 /// How [`encode`] writes keys: as a terminal without the kitty protocol, or with it (flags 1 | 2:
@@ -643,6 +778,9 @@ pub fn encode(input: &Input, protocol: Protocol) -> Option<Vec<u8>> {
         Input::Reply(Reply::DeviceAttributes) => Some(b"\x1b[?62;22c".to_vec()),
         Input::Reply(Reply::CursorPosition { row, col }) => Some(format!("\x1b[{row};{col}R").into_bytes()),
         Input::Reply(Reply::KeyboardFlags(flags)) => Some(format!("\x1b[?{flags}u").into_bytes()),
+        // (xterm's answers to DECRQSS for the pen)
+        Input::Reply(Reply::DirectColor(true)) => Some(b"\x1bP1$r0;48:2::1:2:3m\x1b\\".to_vec()),
+        Input::Reply(Reply::DirectColor(false)) => Some(b"\x1bP1$r0;48:5:16m\x1b\\".to_vec()),
     }
 }
 
@@ -859,6 +997,85 @@ mod tests {
         );
     }
 
+    // issue #33: the answers real terminals give to the truecolor questions (caps::TRUECOLOR_QUERY).
+    #[test]
+    fn truecolor_answers_of_real_terminals() {
+        let yes = Input::Reply(Reply::DirectColor(true));
+        let no = Input::Reply(Reply::DirectColor(false));
+        let table: &[(&str, &[u8], &[Input])] = &[
+            // DECRQSS for the pen after 48;2;1;2;3
+            ("xterm", b"\x1bP1$r0;48:2::1:2:3m\x1b\\", &[yes]),
+            ("kitty", b"\x1bP1$r0;48:2:1:2:3m\x1b\\", &[yes]),
+            ("iTerm2", b"\x1bP1$r0;48:2:1:1:2:3m\x1b\\", &[yes]),
+            ("semicolons", b"\x1bP1$r0;48;2;1;2;3m\x1b\\", &[yes]),
+            ("xterm, no direct colour", b"\x1bP1$r0;48:5:16m\x1b\\", &[no]),
+            ("another colour", b"\x1bP1$r0;48:2::9:9:9m\x1b\\", &[no]),
+            ("WezTerm, tmux 3.6", b"\x1bP0$r\x1b\\", &[]),
+            ("no background", b"\x1bP1$r0m\x1b\\", &[]),
+            // XTGETTCAP for RGB, then Tc
+            ("xterm RGB", b"\x1bP1+r524742=38\x1b\\\x1bP0+r\x1b\\", &[yes]),
+            ("WezTerm", b"\x1bP1+r524742=382F382F38\x1b\\\x1bP1+r5463=31\x1b\\", &[yes, yes]),
+            ("kitty", b"\x1bP0+r524742\x1b\\\x1bP1+r5463\x1b\\", &[yes]),
+            ("kitty, lower-case hex", b"\x1bP1+r5463=3f\x1b\\", &[yes]),
+            ("iTerm2, one string", b"\x1bP1+r524742=38;5463\x1b\\", &[yes]),
+            ("xterm, no direct colour", b"\x1bP1+r524742=2D31\x1b\\", &[no]),
+            ("other capability", b"\x1bP1+r636F6C6F7273=323536\x1b\\", &[]),
+            // 8-bit ST
+            ("8-bit ST", b"\x1bP1$r0;48:2::1:2:3m\x9c", &[yes]),
+            // garbage
+            ("not hex", b"\x1bP1+rRGB\x1b\\", &[]),
+            ("odd hex", b"\x1bP1+r52474\x1b\\", &[]),
+            ("bad value", b"\x1bP1+r524742=zz\x1b\\", &[]),
+            (
+                "cancelled (CAN)",
+                b"\x1bP1$r0;48:2::1:2:3m\x18",
+                &[Input::Key {
+                    key: Key::Char('x'),
+                    phase: KeyPhase::Press,
+                    modifiers: Modifiers { ctrl: true, ..Modifiers::NONE },
+                }],
+            ),
+            ("other DCS", b"\x1bP>|xterm(390)\x1b\\", &[]),
+            ("two parameters", b"\x1bP1;1$r0;48:2::1:2:3m\x1b\\", &[]),
+        ];
+        for (terminal, bytes, want) in table {
+            let mut bytes = bytes.to_vec();
+            bytes.push(b'w'); // a key after it still arrives, and nothing else does
+            let mut want = want.to_vec();
+            want.push(Input::press(Key::Char('w')));
+            for cut in 0..=bytes.len() {
+                assert_eq!(decode(&[&bytes[..cut], &bytes[cut..]]), want, "{terminal}, cut at {cut}");
+            }
+        }
+        let long = [&b"\x1bP1$r0;"[..], &b"1;".repeat(MAX_DCS), b"48:2::1:2:3m\x1b\\q"].concat();
+        assert_eq!(decode(&[&long]), [Input::press(Key::Char('q'))], "too long for an answer");
+    }
+
+    // issue #33: over SSH a read can end between a string's ESC and its `\`: the ESC is not the Esc
+    // key (which quits), however late the `\`; and `ESC \` is never Alt-\.
+    #[test]
+    fn a_string_terminator_split_across_reads_is_not_the_esc_key() {
+        for string in [&b"\x1bP1$r0;48:2::1:2:3m"[..], b"\x1bP0+r", b"\x1b]11;rgb:0000/0000/0000"] {
+            let mut d = InputDecoder::new();
+            let mut out = Vec::new();
+            d.feed(string, 0.0, &mut out);
+            d.feed(b"\x1b", 0.01, &mut out);
+            d.expire(1.0, &mut out); // the `\` is late
+            d.feed(b"\\w", 1.0, &mut out);
+            d.expire(2.0, &mut out);
+            assert!(!out.contains(&Input::press(Key::Esc)), "{out:?}");
+            assert_eq!(out.last(), Some(&Input::press(Key::Char('w'))), "{out:?}");
+            assert!(out.iter().all(|i| !matches!(i, Input::Key { key: Key::Char('\\'), .. })), "{out:?}");
+        }
+        // A real Esc after a string still counts.
+        let mut d = InputDecoder::new();
+        let mut out = Vec::new();
+        d.feed(b"\x1bP0+r\x1b\\", 0.0, &mut out);
+        d.feed(b"\x1b", 0.5, &mut out);
+        d.expire(1.0, &mut out);
+        assert_eq!(out, [Input::press(Key::Esc)]);
+    }
+
     #[test]
     fn an_endless_string_is_dropped_in_bounded_memory() {
         let mut d = InputDecoder::new();
@@ -901,6 +1118,10 @@ mod tests {
                 let bytes = encode(&input, protocol).unwrap();
                 assert_eq!(decode(&[&bytes]), [input], "{key:?} {protocol:?} {bytes:?}");
             }
+        }
+        for reply in [Reply::DirectColor(true), Reply::DirectColor(false), Reply::KeyboardFlags(3)] {
+            let bytes = encode(&Input::Reply(reply), Protocol::Legacy).unwrap();
+            assert_eq!(decode(&[&bytes]), [Input::Reply(reply)]);
         }
     }
 }

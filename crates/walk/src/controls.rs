@@ -52,7 +52,10 @@ pub enum Action {
     ToggleCullingTint,
     /// Brick walls and filtered floor tiles on / off (t).
     ToggleTextures,
-    /// Leave (q, or Esc with no help shown: there it closes the help).
+    /// The developer figures in the HUD on / off (i): frames per second, bytes, cell, cells seen, ms.
+    ToggleFigures,
+    /// Leave (q, or Esc with no box shown: there it closes the box). After a minute of walking it asks
+    /// first.
     Quit,
 }
 
@@ -109,6 +112,7 @@ pub fn action_for(key: Key) -> Option<Action> {
             'b' => Action::ToggleCulling,
             'v' => Action::ToggleCullingTint,
             't' => Action::ToggleTextures,
+            'i' => Action::ToggleFigures,
             '?' | 'h' => Action::Help,
             'q' => Action::Quit,
             _ => return None,
@@ -125,7 +129,7 @@ pub fn action_for(key: Key) -> Option<Action> {
 /// The key help, one line per binding (shown by `?` and in README): how to leave first, as a small
 /// box keeps its first lines.
 pub const HELP: &[(&str, &str)] = &[
-    ("q / Ctrl-C", "quit (Esc too, with no help shown)"),
+    ("q / Ctrl-C", "quit (Esc too, with no box shown)"),
     ("? / h", "this help (Esc closes it too)"),
     ("W / S", "walk forward / back (tap: a step, hold: glide)"),
     ("A / D", "step left / right"),
@@ -141,14 +145,27 @@ pub const HELP: &[(&str, &str)] = &[
     ("b", "portal culling / brute force (every wall)"),
     ("c", "glyphs: ascii, half ▀, quad ▚, sextant (2×3)"),
     ("t", "textures: brick walls, floor tiles"),
+    ("i", "developer figures: fps, bytes, cell, ms"),
     ("r", "back to the start"),
     ("Ctrl-Z", "suspend (fg to come back)"),
 ];
 
-/// Two presses of one key closer together than this (seconds) are the terminal's auto-repeat, not two
-/// taps. Auto-repeat comes every 30–100 ms on common settings; a person tapping fast manages about
-/// 150 ms between taps.
+/// Without releases, a press this soon after the key's previous press (seconds) is either a tap or the
+/// terminal's auto-repeat, depending on how the run of presses began (see [`Held`]). Auto-repeat comes
+/// every 30–50 ms on common settings (up to 100 ms on some); its first repeat comes only after an
+/// initial delay of 250–600 ms, which is what tells a held key from a person tapping.
 pub const REPEAT_GAP: f64 = 0.125;
+/// The shortest initial delay before a terminal's auto-repeat starts (seconds), with room for jitter:
+/// a press at least this long after the one before may be the first repeat of a held key. Faster
+/// presses that did not follow such a pause are taps (a person manages 60–100 ms between taps).
+pub const REPEAT_DELAY_MIN: f64 = 0.2;
+/// A press at least this long after the key's previous one (seconds) starts a new run: longer than any
+/// initial delay (600 ms on common settings, 1 s at most).
+pub const RUN_GAP: f64 = 1.0;
+/// Presses closer together than this (seconds) come faster than anyone taps: auto-repeat, even in a
+/// run that began with no pause (a terminal whose initial delay is set shorter than
+/// [`REPEAT_DELAY_MIN`]) — unless they arrived together ([`TOGETHER`]: taps held up on the way).
+pub const MIN_TAP_GAP: f64 = 0.055;
 /// How long a repeat keeps its key held, as a multiple of the repeat interval observed on that key: the
 /// next repeat is due after one interval, the other half is room for jitter (an SSH link).
 pub const REPEAT_HOLD_INTERVALS: f64 = 1.5;
@@ -157,6 +174,18 @@ pub const REPEAT_HOLD_RANGE: (f64, f64) = (0.05, 0.15);
 /// Presses closer than this (seconds) arrived together (one read, one packet) and say nothing about the
 /// repeat rate.
 const TOGETHER: f64 = 0.01;
+
+/// How a key's current run of presses (without releases) began, which decides what a quick press means.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Run {
+    /// Presses with no pause before them: quick presses are taps.
+    Taps,
+    /// The last press came after a pause as long as an auto-repeat's initial delay: a quick press now
+    /// is the auto-repeat.
+    AfterPause,
+    /// The auto-repeat has shown itself: quick presses are repeats.
+    Repeating,
+}
 
 /// One continuous action's key.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -169,11 +198,19 @@ struct KeyState {
     glide: Option<(f64, f64)>,
     /// After a step, continuous motion waits until this time: the step stood for it.
     rest_until: f64,
+    /// How the current run of presses began.
+    run: Run,
 }
 
 impl Default for KeyState {
     fn default() -> Self {
-        KeyState { last_press: f64::NEG_INFINITY, interval: None, glide: None, rest_until: f64::NEG_INFINITY }
+        KeyState {
+            last_press: f64::NEG_INFINITY,
+            interval: None,
+            glide: None,
+            rest_until: f64::NEG_INFINITY,
+            run: Run::Taps,
+        }
     }
 }
 
@@ -186,12 +223,19 @@ impl Default for KeyState {
 ///
 /// - With releases (kitty protocol), the key is held from its press to its release: a tap is exactly one
 ///   step, a longer press glides on after the step's time until the release. Repeats change nothing.
-/// - Without releases, a press more than [`REPEAT_GAP`] after the key's previous press is a tap: one step,
-///   no glide. A press sooner than that (or while gliding) is the terminal's auto-repeat: no step, the key
-///   glides until [`REPEAT_HOLD_INTERVALS`] × the observed repeat interval (within [`REPEAT_HOLD_RANGE`])
-///   after the latest repeat, so it stops within that of the key being let go. The terminal's first
-///   repeat, after its initial delay (250–600 ms), cannot be told from a second tap, so a hold takes that
-///   second step too before it glides.
+/// - Without releases, only presses arrive, and what tells a held key from taps is how a terminal's
+///   auto-repeat begins: the first repeat comes after an initial delay (250–600 ms), then the rest
+///   quickly and regularly (30–50 ms apart); a person tapping fast presses 60–100 ms apart with no such
+///   pause first. So a press is a tap (one step, no glide) unless it comes within [`REPEAT_GAP`] of the
+///   key's previous press *and* the run of presses showed the auto-repeat's pause (a press
+///   [`REPEAT_DELAY_MIN`]..[`RUN_GAP`] after the one before). Such a press, or any press while gliding,
+///   is the auto-repeat: no step, the key glides until [`REPEAT_HOLD_INTERVALS`] × the observed repeat
+///   interval (within [`REPEAT_HOLD_RANGE`]) after the latest repeat, so it stops within that of the
+///   key being let go. The first repeat, after the initial delay, cannot be told from a second tap, so
+///   a hold takes that second step too before it glides. A terminal whose initial delay is set shorter
+///   than [`REPEAT_DELAY_MIN`] shows itself by presses faster than anyone taps ([`MIN_TAP_GAP`]).
+///   What stays ambiguous: a tap, a pause of a quarter to a whole second, then two quick taps — the
+///   last one glides for a moment instead of stepping.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Held {
     keys: [KeyState; Action::CONTINUOUS.len()],
@@ -221,11 +265,26 @@ impl Held {
             return true;
         }
         let gliding = key.glide.is_some_and(|(_, until)| until >= now);
-        if !repeat && !gliding && gap > REPEAT_GAP {
+        let repeating = repeat
+            || gliding
+            || (gap < REPEAT_GAP
+                && match key.run {
+                    Run::AfterPause | Run::Repeating => true,
+                    Run::Taps => (TOGETHER..MIN_TAP_GAP).contains(&gap),
+                });
+        if !repeating {
+            key.run = if gap >= RUN_GAP {
+                Run::Taps
+            } else if gap >= REPEAT_DELAY_MIN {
+                Run::AfterPause
+            } else {
+                key.run // a tap within the run
+            };
             key.glide = None;
             key.rest_until = now + step_seconds;
             return true;
         }
+        key.run = Run::Repeating;
         // Auto-repeat: the key is held.
         if (TOGETHER..=REPEAT_HOLD_RANGE.1).contains(&gap) {
             key.interval = Some(key.interval.map_or(gap, |interval| (interval + gap) / 2.0));
@@ -249,6 +308,28 @@ impl Held {
     /// Lets go of everything (focus lost, suspend, reset).
     pub fn clear(&mut self) {
         self.keys = Default::default();
+    }
+
+    /// Stops all motion but remembers when each key was last pressed, so that a key still held comes
+    /// on as auto-repeat ([`recently_pressed`](Self::recently_pressed)), not as a fresh tap.
+    pub fn clear_motion(&mut self) {
+        for key in &mut self.keys {
+            key.glide = None;
+        }
+    }
+
+    /// A press of `action`'s key that moves nothing (a box took it), at `now`.
+    pub fn note_press(&mut self, action: Action, now: f64) {
+        if let Some(slot) = action.slot() {
+            self.keys[slot].last_press = now;
+        }
+    }
+
+    /// Whether `action`'s key was pressed within [`REPEAT_GAP`] before `now`: a press now is its
+    /// auto-repeat (or a tap too quick to mean anything else).
+    #[must_use]
+    pub fn recently_pressed(&self, action: Action, now: f64) -> bool {
+        action.slot().is_some_and(|slot| now - self.keys[slot].last_press < REPEAT_GAP)
     }
 
     /// Drops glides that have run out by `now`.

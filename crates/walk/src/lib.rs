@@ -1,5 +1,6 @@
 //! One player's walk through a maze, pure: the walk's state and its key handlers ([`state`],
-//! [`controls`]), the overlays drawn over the 3D view ([`overlay`]), the composed screen ([`screen`]),
+//! [`controls`]), the overlays drawn over the 3D view ([`overlay`], and a served maze's player list,
+//! [`roster`]), the composed screen ([`screen`]),
 //! end-to-end flow control ([`flow`]) and the [`Session`] that ties them to a terminal's bytes. No
 //! I/O, no clock (time comes in as seconds): the `mazewalk` binary runs a session on its own
 //! terminal, `mazewalk serve` one per SSH channel.
@@ -9,6 +10,7 @@
 pub mod controls;
 pub mod flow;
 pub mod overlay;
+pub mod roster;
 pub mod screen;
 pub mod session;
 pub mod state;

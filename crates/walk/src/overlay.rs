@@ -13,10 +13,16 @@ use mazewalk_maze::{Aabb, Maze};
 use mazewalk_render::Charset;
 use mazewalk_render::camera::Camera;
 use mazewalk_render::palette::{ansi16, quantize_srgb8, xterm_rgb};
-use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame};
+use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// The smallest terminal the walkthrough draws in (columns, rows).
 pub const MIN_SIZE: (usize, usize) = (20, 6);
+
+/// The map's scale where it does not show a whole maze: maze units per column (a row is twice as
+/// tall). A generated maze's 4-unit cell is then 4 columns by 2 rows: a wall and a passage in each
+/// direction, so walls and passages read one character apart (coarser, a cell's walls and its
+/// floor fell in the same row).
+pub const MAP_UNITS_PER_COL: f32 = 1.0;
 
 const HUD_FG: Color = Color::Indexed(252);
 const HUD_BG: Color = Color::Indexed(236);
@@ -53,7 +59,8 @@ impl Style {
         if self.ascii { ascii } else { unicode }
     }
 
-    /// `text` with the non-ASCII characters the overlays use spelled in ASCII, when needed.
+    /// `text` with the non-ASCII characters the overlays use spelled in ASCII, when needed: degrees
+    /// as ` deg`, arrows as words, a block glyph shown as an example (`half ▀`) left out.
     #[must_use]
     pub fn text(self, text: &str) -> String {
         if !self.ascii {
@@ -62,7 +69,14 @@ impl Style {
         let mut out = String::with_capacity(text.len());
         for c in text.chars() {
             match c {
-                '°' => {}
+                '°' => out.push_str(" deg"),
+                // block elements and sextants: the glyph itself, nothing to spell
+                '\u{2580}'..='\u{259F}' | '\u{1FB00}'..='\u{1FB3B}' => {
+                    if out.ends_with(' ') {
+                        out.pop();
+                    }
+                }
+                '…' => out.push_str("..."),
                 '×' => out.push('x'),
                 '←' => out.push_str("Left"),
                 '→' => out.push_str("Right"),
@@ -86,6 +100,12 @@ impl Default for Style {
 /// palette indices above 15 to the nearest of the 16, and everything to the terminal's default with
 /// no colour at all — so not one code of a deeper palette is ever sent.
 pub fn limit_colors(frame: &mut Frame, depth: ColorDepth) {
+    let region = frame.region();
+    limit_colors_in(frame, region, depth);
+}
+
+/// [`limit_colors`] in `region` of `frame` only.
+pub fn limit_colors_in(frame: &mut Frame, region: Region, depth: ColorDepth) {
     // a colour already within the depth is left as it is (written back only when it changes: this
     // runs over every cell of every frame)
     let limit = |color: &mut Color| match (*color, depth) {
@@ -98,9 +118,11 @@ pub fn limit_colors(frame: &mut Frame, depth: ColorDepth) {
     if depth == ColorDepth::TrueColor {
         return;
     }
-    for cell in frame.cells_mut() {
-        limit(&mut cell.fg);
-        limit(&mut cell.bg);
+    for row in frame.region_rows_mut(region) {
+        for cell in row {
+            limit(&mut cell.fg);
+            limit(&mut cell.bg);
+        }
     }
 }
 
@@ -254,66 +276,127 @@ pub fn fit_line(line: &str, width: usize, ellipsis: &str) -> String {
     format!("{}{ellipsis}", line.chars().take(keep).collect::<String>())
 }
 
-/// The key help as box lines (in ASCII when the style asks for it).
+/// The help's line about the goal, in a maze with an exit.
+pub const GOAL: (&str, &str) = ("goal", "find the exit: E on the map, a green beacon ahead");
+
+/// The key help as box lines (in ASCII when the style asks for it): how to quit and close it first,
+/// then the goal in a maze with an exit, then the keys.
 #[must_use]
-pub fn help_lines(style: Style) -> Vec<String> {
-    let width = HELP.iter().map(|(keys, _)| style.text(keys).chars().count()).max().unwrap_or(0);
-    HELP.iter().map(|(keys, what)| format!("{:<width$} {}", style.text(keys), style.text(what))).collect()
+pub fn help_lines(style: Style, has_exit: bool) -> Vec<String> {
+    let rows: Vec<(&str, &str)> =
+        HELP[..2].iter().copied().chain(has_exit.then_some(GOAL)).chain(HELP[2..].iter().copied()).collect();
+    let width = rows.iter().map(|(keys, _)| style.text(keys).chars().count()).max().unwrap_or(0);
+    rows.iter().map(|(keys, what)| format!("{:<width$} {}", style.text(keys), style.text(what))).collect()
 }
 
 /// Where the map goes and how much of the maze one map character shows.
+///
+/// The map's characters form a lattice over the maze plane, `lattice` columns × rows centred on
+/// `centre`, each `units_per_col` wide and twice that tall; the frame shows the part of it from lattice
+/// character `from` on, `width` × `height` characters at (`x`, `y`) — all of it, unless the map was
+/// fitted to what has been seen ([`MapArea::fit_to_seen`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MapArea {
     /// Left column in the frame.
     pub x: usize,
     /// Top row in the frame.
     pub y: usize,
-    /// Columns.
+    /// Columns shown.
     pub width: usize,
-    /// Rows.
+    /// Rows shown.
     pub height: usize,
     /// Maze units per map column (a row shows twice as much: terminal cells are twice as tall).
     pub units_per_col: f32,
-    /// The maze point at the area's centre.
+    /// The maze point at the lattice's centre.
     pub centre: Vec2,
+    /// The whole lattice, columns and rows.
+    lattice: (usize, usize),
+    /// The lattice character shown at (`x`, `y`).
+    from: (usize, usize),
 }
 
 impl MapArea {
-    /// A small map in the top-right corner, centred on the viewer (to the nearest character), about
-    /// 40 maze units across.
+    /// A map of `width × height` characters at (`x`, `y`), the whole lattice shown.
+    fn whole(x: usize, y: usize, width: usize, height: usize, units_per_col: f32, centre: Vec2) -> MapArea {
+        MapArea { x, y, width, height, units_per_col, centre, lattice: (width, height), from: (0, 0) }
+    }
+
+    /// A small map in the top-right corner at [`MAP_UNITS_PER_COL`], centred on the viewer (to the
+    /// nearest character), a third of the frame's width and height at most, so a ninth of it
+    /// ([`fit_to_seen`](Self::fit_to_seen) draws what has been seen of it).
     #[must_use]
     pub fn corner(frame: &Frame, viewer: Vec2) -> MapArea {
         let width = (frame.width() / 3).clamp(1, 40);
         let height = (frame.height() / 3).clamp(1, 14);
-        let units_per_col = 40.0 / width as f32;
-        MapArea {
-            x: frame.width() - width,
-            y: 0,
-            width,
-            height,
-            units_per_col,
-            centre: snap(viewer, units_per_col),
-        }
+        let u = MAP_UNITS_PER_COL;
+        MapArea::whole(frame.width() - width, 0, width, height, u, snap(viewer, u))
     }
 
-    /// The whole frame: the whole maze if it fits at a readable scale, else a window on the viewer.
+    /// The whole frame but the HUD's row: the whole maze if it fits at [`MAP_UNITS_PER_COL`] or
+    /// closer, else a window at that scale on the part of the maze round the viewer — the viewer in
+    /// it, the window within the maze's outline (and one character round it) rather than centred on
+    /// the viewer, which showed half a screen of nothing by the maze's sides.
     #[must_use]
     pub fn full(frame: &Frame, maze: &Maze, viewer: Vec2) -> MapArea {
         let (width, height) = (frame.width().max(1), frame.height().saturating_sub(1).max(1));
         let (lo, hi) = (maze.extents().min, maze.extents().max);
         let size = hi - lo;
         let fit = (size.x / width as f32).max(size.y / (2.0 * height as f32));
-        // At most 2 units per column (half a generated cell): beyond that, follow the viewer.
-        let (units_per_col, centre) =
-            if fit <= 2.0 { (fit.max(0.25), (lo + hi) * 0.5) } else { (2.0, snap(viewer, 2.0)) };
-        MapArea { x: 0, y: 0, width, height, units_per_col, centre }
+        if fit <= MAP_UNITS_PER_COL {
+            return MapArea::whole(0, 0, width, height, fit.max(0.25), (lo + hi) * 0.5);
+        }
+        let u = MAP_UNITS_PER_COL;
+        // half the window, in maze units; the window may reach a character past the outline
+        let half = Vec2::new(width as f32 * u, height as f32 * 2.0 * u) * 0.5;
+        let (lo, hi) = (lo - Vec2::splat(u), hi + Vec2::splat(u));
+        let axis = |v: f32, lo: f32, hi: f32, half: f32| {
+            if hi - lo <= 2.0 * half { (lo + hi) * 0.5 } else { v.clamp(lo + half, hi - half) }
+        };
+        let centre = Vec2::new(axis(viewer.x, lo.x, hi.x, half.x), axis(viewer.y, lo.y, hi.y, half.y));
+        MapArea::whole(0, 0, width, height, u, snap(centre, u))
     }
 
-    /// The maze-plane box one map character covers.
+    /// This map cut down to the characters that show a `seen` cell or one of the points `also` (the
+    /// viewer, the other players), kept in the top-right corner of where it was: at the start of a
+    /// walk a corner map is the corridor in view, not a box of black; it grows as the walk sees more,
+    /// up to the whole area.
+    #[must_use]
+    pub fn fit_to_seen(
+        &self,
+        maze: &Maze,
+        seen: &dyn Fn(u32) -> bool,
+        also: impl IntoIterator<Item = Vec2>,
+        cells: &mut MapCells,
+    ) -> MapArea {
+        let probes = cells.for_area(self, maze);
+        let (mut lo, mut hi) = ((usize::MAX, usize::MAX), (0, 0));
+        let mut include = |col: usize, row: usize| {
+            lo = (lo.0.min(col), lo.1.min(row));
+            hi = (hi.0.max(col), hi.1.max(row));
+        };
+        for row in self.from.1..self.from.1 + self.height {
+            for col in self.from.0..self.from.0 + self.width {
+                let p = &probes[row * self.lattice.0 + col];
+                if p.iter().any(|&(c, _)| c != NO_CELL && seen(c)) {
+                    include(col, row);
+                }
+            }
+        }
+        for (col, row) in also.into_iter().filter_map(|p| self.lattice_char(p)) {
+            include(col, row);
+        }
+        if lo.0 > hi.0 {
+            return *self; // nothing seen here (a viewer outside the maze): the whole area
+        }
+        let (width, height) = (hi.0 - lo.0 + 1, hi.1 - lo.1 + 1);
+        MapArea { x: self.x + self.width - width, width, height, from: lo, ..*self }
+    }
+
+    /// The maze-plane box lattice character (`col`, `row`) covers.
     fn world_box(&self, col: usize, row: usize) -> Aabb {
         let (u, v) = (self.units_per_col, 2.0 * self.units_per_col);
-        let x0 = self.centre.x + (col as f32 - self.width as f32 / 2.0) * u;
-        let y1 = self.centre.y - (row as f32 - self.height as f32 / 2.0) * v; // north is up
+        let x0 = self.centre.x + (col as f32 - self.lattice.0 as f32 / 2.0) * u;
+        let y1 = self.centre.y - (row as f32 - self.lattice.1 as f32 / 2.0) * v; // north is up
         Aabb::new(Vec2::new(x0, y1 - v), Vec2::new(x0 + u, y1))
     }
 
@@ -321,16 +404,30 @@ impl MapArea {
     /// moves inside it).
     #[must_use]
     pub fn shows(&self, p: Vec2) -> bool {
-        let m = self.to_map(p);
-        m.x >= 0.0 && m.y >= 0.0 && (m.x as usize) < self.width && (m.y as usize) < self.height
+        self.frame_cell(p).is_some()
     }
 
-    /// The map character (column, row) showing maze point `p`, as floats.
+    /// The lattice character showing maze point `p`, as floats.
     fn to_map(self, p: Vec2) -> Vec2 {
         Vec2::new(
-            (p.x - self.centre.x) / self.units_per_col + self.width as f32 / 2.0,
-            -(p.y - self.centre.y) / (2.0 * self.units_per_col) + self.height as f32 / 2.0,
+            (p.x - self.centre.x) / self.units_per_col + self.lattice.0 as f32 / 2.0,
+            -(p.y - self.centre.y) / (2.0 * self.units_per_col) + self.lattice.1 as f32 / 2.0,
         )
+    }
+
+    /// The lattice character (column, row) showing maze point `p`, if `p` is on the lattice.
+    fn lattice_char(&self, p: Vec2) -> Option<(usize, usize)> {
+        let m = self.to_map(p);
+        let on =
+            m.x >= 0.0 && m.y >= 0.0 && (m.x as usize) < self.lattice.0 && (m.y as usize) < self.lattice.1;
+        on.then_some((m.x as usize, m.y as usize))
+    }
+
+    /// The frame cell (column, row) showing maze point `p`, if the map shows it.
+    fn frame_cell(&self, p: Vec2) -> Option<(usize, usize)> {
+        let (col, row) = self.lattice_char(p)?;
+        let (col, row) = (col.checked_sub(self.from.0)?, row.checked_sub(self.from.1)?);
+        (col < self.width && row < self.height).then_some((self.x + col, self.y + row))
     }
 }
 
@@ -360,13 +457,16 @@ pub struct MapCells {
 const NO_CELL: u32 = u32::MAX;
 
 impl MapCells {
-    /// The probes of `area`'s characters, worked out now if the area is not the one kept.
+    /// The probes of the characters of `area`'s whole lattice, row by row, worked out now if the
+    /// lattice is not the one kept (whatever part of it is shown).
     fn for_area(&mut self, area: &MapArea, maze: &Maze) -> &[[(u32, bool); 5]] {
-        let key = (*area, maze.cell_count(), maze.edges().len());
+        let lattice =
+            MapArea { x: 0, y: 0, width: area.lattice.0, height: area.lattice.1, from: (0, 0), ..*area };
+        let key = (lattice, maze.cell_count(), maze.edges().len());
         if self.key != Some(key) {
             self.probes.clear();
-            for row in 0..area.height {
-                for col in 0..area.width {
+            for row in 0..area.lattice.1 {
+                for col in 0..area.lattice.0 {
                     self.probes.push(probes(area.world_box(col, row), maze));
                 }
             }
@@ -377,7 +477,17 @@ impl MapCells {
 }
 
 /// The cells under a map character covering `world_box`, and whether each has a wall through it.
+///
+/// A wall on the line between two characters (the usual case: a generated maze's walls lie on
+/// multiples of its cell size, and so do the lattice's lines) belongs to the character after it, east
+/// or south: the box is half-open, `[min, max)`, so that a wall is drawn one character thick.
 fn probes(world_box: Aabb, maze: &Maze) -> [(u32, bool); 5] {
+    // [min, max) on x, (min, max] on y (north is up: the southern edge is the one left out)
+    let size = world_box.max - world_box.min;
+    let half_open = Aabb::new(
+        Vec2::new(world_box.min.x, world_box.min.y + size.y * 1e-4),
+        Vec2::new(world_box.max.x - size.x * 1e-4, world_box.max.y),
+    );
     // the character's centre, else a point near a corner (so a wall on the maze's outline, whose
     // character is centred outside, is still drawn)
     let inset = (world_box.max - world_box.min) * 0.1;
@@ -393,7 +503,7 @@ fn probes(world_box: Aabb, maze: &Maze) -> [(u32, bool); 5] {
         Some(c) => {
             let walled = maze.cell_edges(c).iter().any(|&e| {
                 let (a, b) = maze.edge_points(e);
-                maze.edges().is_opaque(e as usize) && world_box.touches_segment(a, b)
+                maze.edges().is_opaque(e as usize) && half_open.touches_segment(a, b)
             });
             (c, walled)
         }
@@ -421,12 +531,14 @@ pub fn draw_map(
     // the angle off the heading at least cos(fov/2) (no angle computed per cell).
     let (reach, heading) = (12.0 * area.units_per_col, Vec2::from_angle(camera.yaw_deg.to_radians()));
     let cos_half_fov = (camera.hfov_deg * 0.5).to_radians().cos();
-    let mut probes = cells.for_area(area, maze).iter();
+    let probes = cells.for_area(area, maze);
     for row in 0..area.height {
         for col in 0..area.width {
-            let world_box = area.world_box(col, row);
+            let (lattice_col, lattice_row) = (area.from.0 + col, area.from.1 + row);
+            let world_box = area.world_box(lattice_col, lattice_row);
             // the first probe on a seen cell
-            let found = probes.next().and_then(|p| p.iter().find(|&&(c, _)| c != NO_CELL && seen(c)));
+            let probe = probes.get(lattice_row * area.lattice.0 + lattice_col);
+            let found = probe.and_then(|p| p.iter().find(|&&(c, _)| c != NO_CELL && seen(c)));
             let cell = match found {
                 None => Cell::BLANK, // unseen, or outside the maze
                 Some(&(c, walled)) => {
@@ -450,9 +562,7 @@ pub fn draw_map(
         }
     }
     let put = |frame: &mut Frame, p: Vec2, ch: char, fg: Color| {
-        let m = area.to_map(p);
-        if m.x >= 0.0 && m.y >= 0.0 && (m.x as usize) < area.width && (m.y as usize) < area.height {
-            let (x, y) = (area.x + m.x as usize, area.y + m.y as usize);
+        if let Some((x, y)) = area.frame_cell(p) {
             let bg = frame.get(x, y).map_or(Color::Default, |c| c.bg);
             frame.set(x, y, Cell { ch, fg, bg });
         }
@@ -489,16 +599,20 @@ pub struct Peer {
 }
 
 /// Draws each peer on the map in `area` as its initial in its colour (over walls and floor alike; the
-/// viewer's own arrow, drawn by [`draw_map`] before, stays on top where they meet).
+/// viewer's own arrow, drawn by [`draw_map`] before, stays on top where they meet). Where peers share
+/// a character, the one the view shows in front shows: the nearest the viewer, of equally near ones
+/// the first (as the renderer draws figures), so a player has one label in the view and on the map.
 pub fn draw_peers(frame: &mut Frame, area: &MapArea, peers: &[Peer], viewer: Vec2, style: Style) {
-    let own = area.shows(viewer).then(|| area.to_map(viewer)).map(|m| (m.x as usize, m.y as usize));
-    for peer in peers.iter().filter(|p| area.shows(p.position)) {
-        let m = area.to_map(peer.position);
-        let (col, row) = (m.x as usize, m.y as usize);
-        if own == Some((col, row)) {
+    let own = area.frame_cell(viewer);
+    // farthest first and, of equals, the last first: the one in front is drawn last
+    let mut order: Vec<(f32, usize)> =
+        peers.iter().enumerate().map(|(i, p)| (p.position.distance_squared(viewer), i)).collect();
+    order.sort_by(|a, b| b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)));
+    for peer in order.iter().map(|&(_, i)| &peers[i]) {
+        let Some((x, y)) = area.frame_cell(peer.position) else { continue };
+        if own == Some((x, y)) {
             continue;
         }
-        let (x, y) = (area.x + col, area.y + row);
         let bg = frame.get(x, y).map_or(Color::Default, |c| c.bg);
         let initial = if peer.initial.is_ascii_graphic() { peer.initial } else { '?' };
         let fg = if style.depth == ColorDepth::None { Color::Default } else { peer.color };
@@ -634,7 +748,7 @@ mod tests {
     fn peers_show_as_their_initials_where_they_stand_and_nowhere_else() {
         let mut frame = Frame::filled(10, 5, Cell::plain('.'));
         // 1 unit per column, 2 per row, centred on (0, 0): column = x + 5, row = 2.5 - y / 2.
-        let area = MapArea { x: 0, y: 0, width: 10, height: 5, units_per_col: 1.0, centre: Vec2::ZERO };
+        let area = MapArea::whole(0, 0, 10, 5, 1.0, Vec2::ZERO);
         let peer = |x: f32, y: f32, initial: char| Peer {
             position: Vec2::new(x, y),
             heading_deg: 0.0,
@@ -723,7 +837,7 @@ mod tests {
     fn small_boxes_keep_the_first_lines_whole_words_and_say_what_is_left_out() {
         let style = Style::default();
         let mut frame = Frame::filled(20, 6, Cell::plain('.'));
-        draw_box(&mut frame, "Keys (? to close)", &help_lines(style), style);
+        draw_box(&mut frame, "Keys (? to close)", &help_lines(style, false), style);
         assert_eq!(
             trimmed(&frame),
             [
@@ -753,7 +867,7 @@ mod tests {
         // every size: no word of a help row is cut, and some row tells of those left out
         for (w, h) in [(60, 15), (40, 12), (30, 8), (20, 6)] {
             let mut frame = Frame::filled(w, h, Cell::plain('.'));
-            draw_box(&mut frame, "Keys", &help_lines(style), style);
+            draw_box(&mut frame, "Keys", &help_lines(style, false), style);
             let words: Vec<&str> = HELP.iter().flat_map(|(k, d)| k.split(' ').chain(d.split(' '))).collect();
             let rows = trimmed(&frame);
             assert!(rows.iter().any(|r| r.trim() == "…"), "{w}×{h}: {rows:?}");
@@ -788,7 +902,7 @@ mod tests {
         assert_eq!(lines[1], "..  one   ..");
         assert_eq!(lines[2], "..  two   ..");
         let mut tiny = Frame::new(1, 1);
-        draw_box(&mut tiny, "Help", &help_lines(Style::default()), Style::default());
+        draw_box(&mut tiny, "Help", &help_lines(Style::default(), false), Style::default());
         draw_hud(&mut tiny, "x", Style::default());
     }
 
@@ -796,13 +910,13 @@ mod tests {
     fn without_colour_a_box_is_framed_and_with_ascii_everything_is_ascii() {
         let style = Style { depth: ColorDepth::None, ascii: true };
         let mut frame = Frame::filled(14, 6, Cell::plain('.'));
-        draw_box(&mut frame, "Keys", &help_lines(style)[4..5], style);
+        draw_box(&mut frame, "Keys", &help_lines(style, false)[4..5], style);
         draw_hud(&mut frame, "heading 90° ← ×", style);
         let lines = frame.lines();
         assert_eq!(lines[0], "+------------+");
         assert_eq!(lines[1], "|    Keys    |");
         assert_eq!(lines[3], "|Left /...   |", "whole words, in ASCII");
-        assert_eq!(lines[5], "heading 90 Lef");
+        assert_eq!(lines[5], "heading 90 deg");
         assert!(lines.iter().all(|l| l.is_ascii()));
         assert!(
             frame.cells().iter().all(|c| c.fg == Color::Default && c.bg == Color::Default || c.bg == HUD_BG)

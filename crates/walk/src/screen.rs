@@ -10,6 +10,7 @@
 use glam::Vec3;
 
 use crate::overlay::{self, MapArea, MapCells, Peer, Style};
+use crate::roster;
 use crate::state::{App, MapMode};
 use mazewalk_render::palette::xterm_rgb;
 use mazewalk_render::{Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
@@ -33,6 +34,8 @@ pub struct Hud {
     pub fps: usize,
     /// Seconds since the walk (re)started, for the clock of a maze with an exit.
     pub elapsed: f64,
+    /// The host's time now (seconds), for the player list's times.
+    pub now: f64,
 }
 
 /// The buffers one screen is drawn with, reused from frame to frame, and what a host shows besides the
@@ -48,6 +51,18 @@ pub struct Screen {
     pub peers: Vec<Peer>,
     /// A message for everyone (e.g. who reached the exit first), shown in a box until taken away.
     pub notice: Option<String>,
+    /// Everyone in a served maze, for the player list (`Tab`); empty when not served.
+    pub roster: Vec<roster::Entry>,
+    /// The player list is open.
+    pub show_roster: bool,
+    /// How many players walk the maze (`mazewalk serve`), for the HUD ("3 in").
+    pub players_in: Option<usize>,
+    /// More lines for the exit box (a served maze's best times).
+    pub standings: Vec<String>,
+    /// Where the last frame's map was drawn.
+    pub map: Option<MapArea>,
+    /// What the last frame's render did (the HUD's developer figures).
+    stats: RenderStats,
     /// The peers as the renderer's figures (reused from frame to frame).
     sprites: Vec<Sprite>,
     /// What the map's characters show, kept while the map stays put.
@@ -74,6 +89,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     let (cols, rows) = (frame.width(), frame.height());
     let style = Style::new(app.options.charset, app.options.color_depth);
     if overlay::too_small(cols, rows) {
+        (screen.map, screen.stats) = (None, RenderStats::default());
         overlay::draw_too_small(frame, style);
         return RenderStats::default();
     }
@@ -103,29 +119,69 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     let visible_now = |c: u32| app.options.culling == Culling::Portal && portal.was_visited(c);
     let seen = |c: u32| app.has_seen(c) || visible_now(c);
     let tint: Option<&dyn Fn(u32) -> bool> = app.culling_tint.then_some(&visible_now);
-    if let Some(area) = map_area(app, frame) {
-        overlay::draw_map(frame, &area, app.maze(), &app.camera, &seen, tint, style, &mut screen.map_cells);
-        overlay::draw_peers(frame, &area, &screen.peers, app.camera.position, style);
+    screen.map = map_area(app, frame).map(|area| match app.map {
+        // the corner map: what has been seen, not a box of black over the view
+        MapMode::Corner => {
+            let also = std::iter::once(app.camera.position).chain(screen.peers.iter().map(|p| p.position));
+            area.fit_to_seen(app.maze(), &seen, also, &mut screen.map_cells)
+        }
+        _ => area,
+    });
+    if let Some(area) = &screen.map {
+        overlay::draw_map(frame, area, app.maze(), &app.camera, &seen, tint, style, &mut screen.map_cells);
+        overlay::draw_peers(frame, area, &screen.peers, app.camera.position, style);
     }
-    if let Some(seconds) = app.finished {
+    if let Some(seconds) = app.finished.filter(|_| app.exit_box) {
         // in a served maze, the news (who was first) shows in the box too, not hidden behind it
         let lines: Vec<String> = [format!("You found the exit in {}.", clock_text(seconds))]
             .into_iter()
             .chain(screen.notice.clone())
-            .chain([String::new(), "r  walk it again".to_string(), "q  quit".to_string()])
+            .chain(screen.standings.iter().cloned())
+            .chain([
+                String::new(),
+                "r    walk it again".to_string(),
+                "q    quit".to_string(),
+                "any  walk on".to_string(),
+            ])
             .collect();
         overlay::draw_box(frame, "Found the exit!", &lines, style);
+    } else if app.confirm_quit {
+        let lines = ["q    quit".to_string(), "any  walk on".to_string()];
+        overlay::draw_box(frame, "Quit?", &lines, style);
     } else if app.help {
-        overlay::draw_box(frame, "Keys (? or Esc to close)", &overlay::help_lines(style), style);
+        let mut lines = overlay::help_lines(style, app.maze().exit().is_some());
+        if !screen.roster.is_empty() {
+            lines.push(roster::HELP_LINE.to_string()); // a served maze's player list
+        }
+        overlay::draw_box(frame, "Keys (? or Esc to close)", &lines, style);
     } else if let Some(notice) = &screen.notice {
         overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
     }
-    overlay::draw_hud(frame, &hud_text(app, &stats, hud, cols), style); // last: boxes never hide it
+    if screen.show_roster && !screen.roster.is_empty() {
+        roster::draw(frame, &screen.roster, hud.now, style); // asked for: over the other boxes
+    }
+    screen.stats = stats;
+    draw_hud(app, screen, frame, hud); // last: boxes never hide it
     overlay::limit_colors(frame, style.depth); // not one code deeper than the terminal's depth
     stats
 }
 
-/// Where the map goes on `frame` for the walk's map mode (`None`: no map).
+/// Draws the HUD's row of `frame` only, over what [`draw`] drew last: when nothing but the HUD's
+/// numbers changed (the exit clock ticked), the view need not be rendered again.
+pub fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud) {
+    let (cols, rows) = (frame.width(), frame.height());
+    if overlay::too_small(cols, rows) {
+        return; // the too-small note has no HUD
+    }
+    let style = Style::new(app.options.charset, app.options.color_depth);
+    let line = hud_text(app, &screen.stats, hud, screen.players_in, style, cols);
+    overlay::draw_hud(frame, &line, style);
+    let row = Region { col: 0, row: rows - 1, cols, rows: 1 };
+    overlay::limit_colors_in(frame, row, style.depth);
+}
+
+/// Where the map goes on `frame` for the walk's map mode (`None`: no map): the whole area, before the
+/// corner map is fitted to what it shows.
 pub(crate) fn map_area(app: &App, frame: &Frame) -> Option<MapArea> {
     if overlay::too_small(frame.width(), frame.height()) {
         return None; // only the too-small message is drawn
@@ -137,10 +193,18 @@ pub(crate) fn map_area(app: &App, frame: &Frame) -> Option<MapArea> {
     }
 }
 
-/// The HUD line, `width` columns at most: the most useful fields first (where and which way), the
-/// exit clock, what frames cost, which cell, the view settings — each only if it fits whole — and
-/// "? help" always at the right end.
-fn hud_text(app: &App, stats: &RenderStats, hud: &Hud, width: usize) -> String {
+/// The HUD line, `width` columns at most: what a player needs first — which way they face (heading
+/// and compass point), the exit clock, how many players are in (a served maze) —, then where they
+/// are, the view settings and, with [`App::figures`], the developer figures (frames per second,
+/// bytes, cell, cells seen, ms): each only if it fits whole, and "? help" always at the right end.
+fn hud_text(
+    app: &App,
+    stats: &RenderStats,
+    hud: &Hud,
+    players_in: Option<usize>,
+    style: Style,
+    width: usize,
+) -> String {
     const HELP: &str = "? help ";
     let c = &app.camera;
     let projection = match c.projection {
@@ -150,22 +214,40 @@ fn hud_text(app: &App, stats: &RenderStats, hud: &Hud, width: usize) -> String {
     let clock = match (app.maze().exit(), app.finished) {
         (None, _) => None,
         (Some(_), Some(took)) => Some(format!("exit in {}", clock_text(took))),
-        (Some(_), None) => Some(format!("time {}", clock_text(hud.elapsed))),
+        (Some(_), None) => Some(format!("time {}", running_clock_text(hud.elapsed))),
     };
+    let dev = |text: String| if app.figures { text } else { String::new() };
     // (priority, text): lower numbers are kept first when the line is short of room
     let fields = [
-        // (position, height, heading and pitch apart: each fits where they together would not)
-        (0, format!("({:.1}, {:.1})", c.position.x, c.position.y)),
-        (3, format!("z{:+.1}", c.eye_z)),
-        (1, format!("heading {:.0}°", c.yaw_deg)),
-        (2, format!("pitch {:+.0}°", c.pitch_deg)),
-        (4, clock.unwrap_or_default()),
-        (5, format!("{} fps {} B", hud.fps, hud.cost.bytes)),
-        (6, format!("cell {} seen {}", app.cell, stats.portal.distinct_cells)),
+        (0, format!("heading {:.0}° {}", c.yaw_deg, compass_point(c.yaw_deg))),
+        (1, clock.unwrap_or_default()),
+        (2, players_in.map(|n| format!("{n} in")).unwrap_or_default()),
+        // (position, height and pitch apart: each fits where they together would not)
+        (3, format!("({:.1}, {:.1})", c.position.x, c.position.y)),
+        (5, format!("z{:+.1}", c.eye_z)),
+        (6, format!("pitch {:+.0}°", c.pitch_deg)),
         (7, format!("fov {:.0}° {projection} {}", c.hfov_deg, app.options.charset)),
-        (8, format!("{:.1} ms", hud.cost.seconds * 1e3)),
+        (4, dev(format!("{} fps {} B", hud.fps, hud.cost.bytes))),
+        (8, dev(format!("cell {} seen {}", app.cell, stats.portal.distinct_cells))),
+        (9, dev(format!("{:.1} ms", hud.cost.seconds * 1e3))),
     ];
-    overlay::hud_line(&fields, HELP, width)
+    // fitted as shown (in ASCII a degree sign takes four columns)
+    overlay::hud_line(&fields.map(|(priority, text)| (priority, style.text(&text))), HELP, width)
+}
+
+/// The compass point of a heading (degrees counter-clockwise from east, +x; north, +y, is up on the
+/// map), to the nearest of eight.
+#[must_use]
+pub fn compass_point(yaw_deg: f32) -> &'static str {
+    const POINTS: [&str; 8] = ["E", "NE", "N", "NW", "W", "SW", "S", "SE"];
+    POINTS[((yaw_deg.rem_euclid(360.0) + 22.5) / 45.0) as usize % 8]
+}
+
+/// `m:ss` for the exit clock while it runs: it ticks once a second.
+#[must_use]
+pub fn running_clock_text(seconds: f64) -> String {
+    let whole = seconds.max(0.0).floor() as u64;
+    format!("{}:{:02}", whole / 60, whole % 60)
 }
 
 /// `m:ss.s` for the exit screen.
@@ -189,19 +271,55 @@ mod tests {
     fn the_hud_fits_any_width_by_priority_and_always_offers_help() {
         let app = App::new(mazewalk_maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
         let stats = RenderStats::default();
-        let hud = Hud { fps: 57, elapsed: 83.0, ..Hud::default() };
+        let hud = Hud { fps: 57, elapsed: 83.4, ..Hud::default() };
         for width in [20, 40, 60, 80, 120, 200] {
-            let line = hud_text(&app, &stats, &hud, width);
+            let line = hud_text(&app, &stats, &hud, Some(3), Style::default(), width);
             assert_eq!(line.chars().count(), width, "{line:?}");
             assert!(line.ends_with("? help "), "{line:?}");
-            assert!(line.starts_with(" ("), "position first: {line:?}");
+            // where the player faces first (at 20 columns only the shorter clock fits beside the help)
+            assert!(line.starts_with(if width > 20 { " heading 0° E" } else { " time 1:23" }), "{line:?}");
         }
-        let at80 = hud_text(&app, &stats, &hud, 80);
+        let at40 = hud_text(&app, &stats, &hud, Some(3), Style::default(), 40);
+        assert_eq!(at40, " heading 0° E  time 1:23  3 in   ? help ");
+        let at80 = hud_text(&app, &stats, &hud, None, Style::default(), 80);
         assert!(
-            at80.contains("heading 0°") && at80.contains("time 1:23.0") && at80.contains("57 fps 0 B"),
+            at80.contains("time 1:23") && at80.contains("(6.0, 50.0)") && !at80.contains(" in "),
             "{at80:?}"
         );
-        let wide = hud_text(&app, &stats, &hud, 200);
-        assert!(wide.contains("fov 90° persp half") && wide.contains("cell "), "{wide:?}");
+        let wide = hud_text(&app, &stats, &hud, None, Style::default(), 200);
+        assert!(wide.contains("fov 90° persp half"), "{wide:?}");
+        // in ASCII, fitted as shown: degrees spelled out, the help still at the right end
+        let ascii = Style { ascii: true, ..Style::default() };
+        for width in 20..60 {
+            let line = hud_text(&app, &stats, &hud, Some(3), ascii, width);
+            assert!(line.is_ascii() && line.len() == width && line.ends_with("? help "), "{line:?}");
+        }
+    }
+
+    // issue #33: the developer figures (fps, bytes, cell, seen, ms) are behind `i`.
+    #[test]
+    fn the_developer_figures_show_only_when_asked_for() {
+        let mut app = App::new(mazewalk_maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
+        let (stats, hud) = (RenderStats::default(), Hud { fps: 57, elapsed: 1.0, ..Hud::default() });
+        let plain = hud_text(&app, &stats, &hud, None, Style::default(), 200);
+        for figure in [" fps ", " B ", "cell ", "seen ", " ms"] {
+            assert!(!plain.contains(figure), "{figure:?} in {plain:?}");
+        }
+        app.figures = true;
+        let dev = hud_text(&app, &stats, &hud, None, Style::default(), 200);
+        assert!(dev.contains("57 fps 0 B") && dev.contains("cell ") && dev.contains(" ms"), "{dev:?}");
+    }
+
+    #[test]
+    fn compass_points_follow_the_heading_with_north_up_on_the_map() {
+        // 0° is east (+x), counter-clockwise: 90° north (+y, up on the map)
+        let points = [(0.0, "E"), (44.0, "NE"), (90.0, "N"), (135.0, "NW"), (180.0, "W"), (225.0, "SW")];
+        for (yaw, point) in points.into_iter().chain([(270.0, "S"), (337.6, "E"), (-90.0, "S"), (360.0, "E")])
+        {
+            assert_eq!(compass_point(yaw), point, "{yaw}°");
+        }
+        assert_eq!(running_clock_text(83.9), "1:23");
+        assert_eq!(running_clock_text(0.0), "0:00");
+        assert_eq!(running_clock_text(3600.0), "60:00");
     }
 }

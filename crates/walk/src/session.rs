@@ -31,14 +31,16 @@
 
 use std::collections::VecDeque;
 
-use crate::flow::{FlowControl, QUERY};
+use crate::flow::{ACK_TIMEOUT, FlowControl, QUERY};
 use crate::overlay::{MapArea, Peer};
+use crate::roster;
 use crate::screen::{self, FrameCost, Hud, Screen};
 use crate::state::App;
 use mazewalk_render::Culling;
+use mazewalk_term::caps::TRUECOLOR_QUERY;
 use mazewalk_term::encoder::{self, Encoder};
-use mazewalk_term::frame::Frame;
-use mazewalk_term::input::{Input, InputDecoder, Key, Reply};
+use mazewalk_term::frame::{ColorDepth, Frame};
+use mazewalk_term::input::{Input, InputDecoder, Key, KeyPhase, Reply};
 
 /// The most frames per second drawn while something moves.
 pub const MAX_FPS: f64 = 60.0;
@@ -142,6 +144,25 @@ pub struct Session {
     /// releases on (a pasted or forged `CSI ? 3 u` would leave every key held until a release
     /// that never comes).
     keyboard_query: bool,
+    /// The truecolor questions ([`ask_truecolor`](Self::ask_truecolor)) and how far their answers
+    /// may still come.
+    truecolor_query: TruecolorQuery,
+    /// The whole seconds the HUD's exit clock showed last.
+    clock_shown: Option<u64>,
+}
+
+/// Where the truecolor questions stand: only answers to questions asked, before the terminal has
+/// answered the device-attributes query sent after them, count (a pasted or forged answer later
+/// must not change the colours of a walk under way).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum TruecolorQuery {
+    /// Not asked, or no more answers count.
+    Closed,
+    /// Asked; the clock starts with the next frame.
+    Asked,
+    /// Asked at this time: answers count until the next device-attributes reply, or for
+    /// [`ACK_TIMEOUT`] from a terminal that answers no query at all.
+    Open(f64),
 }
 
 impl Session {
@@ -169,7 +190,17 @@ impl Session {
             flow: FlowControl::default(),
             recent_frames: VecDeque::new(),
             keyboard_query: false,
+            truecolor_query: TruecolorQuery::Closed,
+            clock_shown: None,
         }
+    }
+
+    /// The whole seconds the exit clock shows at `now` while it runs (a maze with an exit not found
+    /// yet): it ticks once a second, standing still too (a few bytes).
+    fn running_clock(&self, now: f64) -> Option<u64> {
+        let app = &self.app;
+        (app.maze().exit().is_some() && app.finished.is_none())
+            .then(|| (now - app.started).max(0.0).floor() as u64)
     }
 
     /// Adds the cells the last frame showed to the map's seen cells: the portal pass's, or with brute
@@ -221,6 +252,34 @@ impl Session {
         true
     }
 
+    /// Everyone in a served maze, for the player list (`Tab` opens and closes it; empty: no list, and
+    /// `Tab` does nothing). Redraws only if the list is open and changed.
+    pub fn set_roster(&mut self, entries: &[roster::Entry]) {
+        if self.screen.roster != entries {
+            self.screen.roster.clear();
+            self.screen.roster.extend_from_slice(entries);
+            self.dirty |= self.screen.show_roster;
+            self.screen.show_roster &= !entries.is_empty();
+        }
+    }
+
+    /// How many players walk the maze (a host's count, the HUD shows it as "3 in"; `None`: not
+    /// served). The next frame is drawn only if it changed.
+    pub fn set_players_in(&mut self, players: Option<usize>) {
+        if self.screen.players_in != players {
+            self.screen.players_in = players;
+            self.dirty = true;
+        }
+    }
+
+    /// More lines for the exit box: a served maze's best times.
+    pub fn set_standings(&mut self, lines: Vec<String>) {
+        if self.screen.standings != lines {
+            self.screen.standings = lines;
+            self.dirty = true;
+        }
+    }
+
     /// Shows `notice` in a box over the view (`None` takes it away).
     pub fn set_notice(&mut self, notice: Option<String>) {
         if self.screen.notice != notice {
@@ -236,10 +295,18 @@ impl Session {
         self.screen.renderer.portal().was_visited(cell)
     }
 
-    /// Where the last frame's map is, if it is shown.
+    /// Where the map is, if it is shown: all the area it may cover (the corner map draws the part of
+    /// it that shows what has been seen and the other players in it, so a player anywhere in it
+    /// shows: a host draws those).
     #[must_use]
     pub fn map_area(&self) -> Option<MapArea> {
         screen::map_area(&self.app, &self.frame)
+    }
+
+    /// Where the last frame's map was drawn: the corner map fitted to what it shows.
+    #[must_use]
+    pub fn map_drawn(&self) -> Option<MapArea> {
+        self.screen.map
     }
 
     /// What making the last frame cost the host, in seconds of its own clock (render, overlays and
@@ -257,6 +324,7 @@ impl Session {
     /// [`InputDecoder::gap`].
     pub fn input_gap(&mut self) {
         self.decoder.gap();
+        self.flow.resync(); // replies may have been among the bytes dropped
     }
 
     /// Runs `step` on the decoder and applies the inputs it produces, at time `now`.
@@ -278,6 +346,17 @@ impl Session {
             Input::Key { key: Key::Char('z'), modifiers, .. } if modifiers.ctrl => self.suspend = true,
             // Ctrl or Alt with a letter is not the letter (Ctrl-Q must not quit, Alt-W not walk).
             Input::Key { key: Key::Char(_), modifiers, .. } if modifiers.ctrl || modifiers.alt => {}
+            // The player list of a served maze: Tab opens and closes it, Esc closes it (not the walk).
+            Input::Key { key: Key::Tab, phase, .. } if !self.screen.roster.is_empty() => {
+                if phase == KeyPhase::Press {
+                    self.screen.show_roster = !self.screen.show_roster;
+                    self.dirty = true;
+                }
+            }
+            Input::Key { key: Key::Esc, .. } if self.screen.show_roster => {
+                self.screen.show_roster = false;
+                self.dirty = true;
+            }
             Input::Key { key, phase, .. } => self.dirty |= self.app.key(key, phase, now),
             Input::MouseDrag { dx, dy, .. } => self.dirty |= self.app.drag(dx, dy),
             Input::Resize { cols, rows } => {
@@ -298,8 +377,54 @@ impl Session {
                     self.app.releases = flags & 2 != 0;
                 }
             }
-            Input::Reply(Reply::DeviceAttributes) => self.flow.answered(now),
+            Input::Reply(Reply::DeviceAttributes) => {
+                // Everything the terminal had to say about the questions before it came before this.
+                if matches!(self.truecolor_query, TruecolorQuery::Open(_)) {
+                    self.truecolor_query = TruecolorQuery::Closed;
+                }
+                self.flow.answered(now);
+            }
+            // An answer to the truecolor questions ([`ask_truecolor`](Self::ask_truecolor)): a yes
+            // raises the depth to truecolor, once, with a full repaint; a no changes nothing (the
+            // environment's depth stays). Unasked or late, it is ignored.
+            Input::Reply(Reply::DirectColor(yes)) => {
+                let open = match self.truecolor_query {
+                    TruecolorQuery::Asked => true,
+                    TruecolorQuery::Open(since) => now - since <= ACK_TIMEOUT,
+                    TruecolorQuery::Closed => false,
+                };
+                if yes && open {
+                    self.truecolor_query = TruecolorQuery::Closed;
+                    if self.app.options.color_depth != ColorDepth::TrueColor {
+                        self.app.options.color_depth = ColorDepth::TrueColor;
+                        self.encoder.invalidate();
+                        self.dirty = true;
+                    }
+                }
+            }
         }
+    }
+
+    /// Appends the truecolor questions ([`TRUECOLOR_QUERY`]), to send before the first frame (after
+    /// the host entered game mode), when the colour depth is the environment's guess
+    /// ([`plan_color_depth`](mazewalk_term::caps::plan_color_depth) says whether to ask): a terminal
+    /// that says it shows 24-bit colour gets it from then on (a full repaint); one that says nothing,
+    /// no, or garbage keeps the depth the walk started with. Answers count until the terminal has
+    /// answered the device-attributes query that follows the first frame (with flow control off, one
+    /// is sent here), or for [`ACK_TIMEOUT`] — never later: a pasted or forged answer cannot change
+    /// the colours of a walk under way.
+    pub fn ask_truecolor(&mut self, out: &mut Vec<u8>) {
+        out.extend_from_slice(TRUECOLOR_QUERY);
+        if !self.options.flow_control {
+            out.extend_from_slice(QUERY); // the fence the frames would have sent
+        }
+        self.truecolor_query = TruecolorQuery::Asked;
+    }
+
+    /// The colour depth frames are drawn at (the truecolor questions may have raised it).
+    #[must_use]
+    pub fn color_depth(&self) -> ColorDepth {
+        self.app.options.color_depth
     }
 
     /// Appends the kitty keyboard query (`CSI ? u`, after the host pushed its flags): its answer says
@@ -353,9 +478,13 @@ impl Session {
             }
             _ => Some(frame_due),
         };
+        // The exit clock's next tick (if the frame is held back, the reply that lets it go wakes the
+        // host), and the open player list's times, which tick each second too.
+        let tick = self.running_clock(now).map(|s| self.app.started + (s + 1) as f64);
+        let roster = self.screen.show_roster.then(|| now.floor() + 1.0);
         // Never before `now` (a frame due long ago, a session that has ended): a host sleeps until then.
-        let wake = [drawing, self.app.held.next_expiry(), self.decoder.deadline()].into_iter().flatten();
-        wake.reduce(f64::min).map(|t| if t.is_nan() { now } else { t.max(now) })
+        let wake = [drawing, tick, roster, self.app.held.next_expiry(), self.decoder.deadline()];
+        wake.into_iter().flatten().reduce(f64::min).map(|t| if t.is_nan() { now } else { t.max(now) })
     }
 
     /// The end-to-end flow control's state (frames in flight, the terminal's reply time).
@@ -368,9 +497,15 @@ impl Session {
     /// [`MAX_FPS`] a second), draws it and appends its bytes to `out`: only what changed since the
     /// last frame. Returns whether a frame was drawn (it may still be 0 bytes).
     pub fn frame(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
+        if self.truecolor_query == TruecolorQuery::Asked {
+            self.truecolor_query = TruecolorQuery::Open(now);
+        }
         self.decode(now, |decoder, out| decoder.expire(now, out)); // a lone Esc, a stalled sequence
         self.dirty |= self.app.tick(now);
-        if !self.dirty || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
+        self.dirty |= self.screen.show_roster && now.floor() > self.last_frame.floor(); // its times tick
+        let clock = self.running_clock(now);
+        let ticked = clock != self.clock_shown; // only the HUD's clock, if nothing else changed
+        if !(self.dirty || ticked) || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
             return false;
         }
         if self.options.flow_control && !self.flow.may_send(now) {
@@ -380,11 +515,16 @@ impl Session {
             self.recent_frames.pop_front();
         }
         self.recent_frames.push_back(now);
-        let hud = Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started };
+        let hud =
+            Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started, now };
         let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
-        self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
-        screen::draw(&self.app, &mut self.screen, &mut self.frame, &hud);
-        self.note_seen();
+        if self.dirty {
+            self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
+            screen::draw(&self.app, &mut self.screen, &mut self.frame, &hud);
+            self.note_seen();
+        } else {
+            screen::draw_hud(&self.app, &self.screen, &mut self.frame, &hud); // the view is as it was
+        }
         self.encoder.set_tolerance(adaptive_tolerance(self.options.color_tolerance, round_trip));
         let before = out.len();
         let stats = self.encoder.encode(&self.frame, out);
@@ -395,7 +535,7 @@ impl Session {
         self.cost = FrameCost { bytes: stats.bytes, ..self.cost }; // the seconds: from the host
         self.outcome.frames += 1;
         self.outcome.bytes += (out.len() - before) as u64;
-        (self.dirty, self.last_frame) = (false, now);
+        (self.dirty, self.last_frame, self.clock_shown) = (false, now, clock);
         true
     }
 }
@@ -406,10 +546,51 @@ mod tests {
     use mazewalk_render::RenderOptions;
     use mazewalk_term::frame::Cell;
 
+    /// A session in a maze without an exit: no clock ticks.
+    fn no_exit_session(options: SessionOptions) -> Session {
+        let opts =
+            mazewalk_maze::generate::GenOptions { width: 4, height: 3, exit: false, ..Default::default() };
+        let maze = mazewalk_maze::generate::generate(&opts).unwrap();
+        Session::new(App::new(maze, RenderOptions::default(), 0.0).unwrap(), 100, 30, options)
+    }
+
     fn session(options: SessionOptions) -> Session {
         let app = App::new(mazewalk_maze::builtin().unwrap(), mazewalk_render::RenderOptions::default(), 0.0)
             .unwrap();
         Session::new(app, 100, 30, options)
+    }
+
+    /// Issue #34: a served maze's player list. Tab opens and closes it, Esc closes it without ending
+    /// the walk, its times tick each second while it is open; without a list Tab does nothing.
+    #[test]
+    fn tab_shows_the_player_list_and_esc_closes_it_not_the_walk() {
+        let mut s = session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        let mut out = Vec::new();
+        s.frame(0.0, &mut out);
+        s.feed(b"\t", 0.1);
+        assert!(!s.frame(0.2, &mut out), "no list: Tab does nothing");
+        let me = roster::Entry {
+            name: "ada".into(),
+            label: 'A',
+            color: mazewalk_term::frame::Color::Indexed(196),
+            joined_at: 0.0,
+            best: None,
+            me: true,
+        };
+        s.set_roster(std::slice::from_ref(&me));
+        s.set_players_in(Some(1));
+        assert!(s.frame(0.3, &mut out));
+        assert!(s.screen().lines().last().unwrap().contains("1 in"), "the HUD counts the players");
+        s.feed(b"\t", 1.4);
+        assert!(s.frame(1.5, &mut out));
+        let text = s.screen().lines().join("\n");
+        assert!(text.contains("Players: 1") && text.contains("A  ada (you)      0:01"), "{text}");
+        assert!(s.next_wake(1.5).is_some_and(|t| t <= 2.0), "its times tick each second");
+        assert!(s.frame(2.0, &mut out) && s.screen().lines().join("\n").contains("0:02"));
+        s.input(mazewalk_term::input::Input::press(Key::Esc), 2.2);
+        assert!(!s.is_over(), "Esc closed the list, not the walk");
+        assert!(s.frame(2.3, &mut out));
+        assert!(!s.screen().lines().join("\n").contains("Players:"));
     }
 
     /// A terminal's size, whatever it claims, costs a bounded frame: a side of zero is unknown
@@ -438,6 +619,7 @@ mod tests {
     fn the_exit_box_also_shows_the_news() {
         let mut s = session(SessionOptions { flow_control: false, ..SessionOptions::default() });
         s.app_mut().finished = Some(83.0);
+        s.app_mut().exit_box = true;
         s.set_notice(Some("You reached the exit first, in 1:23.0!".into()));
         s.frame(0.0, &mut Vec::new());
         let text = s.screen().lines().join("\n");
@@ -498,8 +680,9 @@ mod tests {
     fn a_stalled_link_with_nothing_to_draw_sleeps() {
         // Two frames unanswered (the link stalled, or a terminal that never answers), then the
         // picture stops changing: nothing is held back, so nothing is due, before or after the
-        // reply timeout (it used to stay due at the timeout: a host waking at once, forever).
-        let mut s = session(SessionOptions::default());
+        // reply timeout (it used to stay due at the timeout: a host waking at once, forever). (A maze
+        // with no exit: an exit's clock ticks every second.)
+        let mut s = no_exit_session(SessionOptions::default());
         let mut out = Vec::new();
         assert!(s.frame(0.0, &mut out));
         s.feed(b"m", 0.1); // the map: one change, no motion

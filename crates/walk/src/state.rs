@@ -50,6 +50,12 @@ pub const SNAP_ALIGN_DEG: f32 = 10.0;
 pub const DRAG_DEGREES_PER_CELL: f32 = 2.0;
 /// A frame longer than this (a stall, a suspend) advances the motion by this much only.
 pub const MAX_STEP: f64 = 0.1;
+/// After walking this long (seconds), `q` asks before it quits: a stray key must not throw a long
+/// walk away.
+pub const CONFIRM_QUIT_AFTER: f64 = 60.0;
+/// For this long after the exit box opens (seconds), keys do not close it: one pressed or held to
+/// walk into the exit must not hide the box before it is seen.
+pub const EXIT_BOX_GRACE: f64 = 0.5;
 
 /// How far a tap moves and how fast a held key moves: one player's settings (a server may give each
 /// player its own). Steps and speeds are positive; the binary takes them from flags within the `*_RANGE`
@@ -153,8 +159,17 @@ pub struct App {
     pub started: f64,
     /// Seconds it took to reach the exit, once reached.
     pub finished: Option<f64>,
-    /// Set by q, or by Esc with no help shown.
+    /// Set by q, or by Esc with no box shown (after [`CONFIRM_QUIT_AFTER`], by a second q).
     pub quit: bool,
+    /// The box that asks whether to quit, after a q late in a walk.
+    pub confirm_quit: bool,
+    /// The box that says the exit was found is shown (from reaching it until a key closes it).
+    pub exit_box: bool,
+    /// When the exit box opened (seconds).
+    exit_box_since: f64,
+    /// The HUD shows the developer figures (`i`, `--dev-figures`): frames per second, bytes, cell,
+    /// cells seen, ms per frame.
+    pub figures: bool,
     /// The map shows every cell and the exit from the start (`--reveal-map`), not only those seen.
     pub reveal_map: bool,
     /// The map tints the cells the portal pass visited this frame (`v`), a lesson in culling.
@@ -225,11 +240,26 @@ impl App {
             started: now,
             finished: None,
             quit: false,
+            confirm_quit: false,
+            exit_box: false,
+            exit_box_since: f64::NEG_INFINITY,
+            figures: false,
             reveal_map: false,
             culling_tint: false,
             seen: vec![0; cells.div_ceil(64)],
             last_tick: now,
         })
+    }
+
+    /// Makes where a viewer put at `position` stands ([`stand`]) the walk's start — the viewer goes
+    /// there, facing as the maze's viewer does, and `r` comes back there — for a host that gives each
+    /// of its players a spot of its own (`mazewalk serve`). `false`, and nothing changed, when
+    /// `position` is in no cell.
+    pub fn set_start(&mut self, position: Vec2) -> bool {
+        let Some(Position { cell, pos }) = stand(&self.maze, position) else { return false };
+        self.start = (Camera { position: pos, ..self.start.0 }, cell);
+        (self.camera, self.cell) = self.start;
+        true
     }
 
     /// Whether cell `c` shows on the map: seen at some time in the walk, or every cell with
@@ -255,8 +285,36 @@ impl App {
     }
 
     /// A key event at time `now`. Returns true when the picture may have changed.
+    ///
+    /// A box that asks for a key takes the next one: the exit box closes with any key (`r` walks
+    /// again and `q` quits, as it says; Esc only closes it), the question whether to quit quits with
+    /// `q` and closes with any other key.
     pub fn key(&mut self, key: Key, phase: KeyPhase, now: f64) -> bool {
-        let Some(action) = action_for(key) else { return false };
+        let action = action_for(key);
+        if phase == KeyPhase::Press && self.exit_box {
+            // a key held or pressed to walk into the exit is not an answer (its auto-repeat comes as
+            // presses without the kitty protocol): only a fresh press after the grace
+            let repeating = action.is_some_and(|a| self.held.recently_pressed(a, now));
+            if let Some(a) = action {
+                self.held.note_press(a, now);
+            }
+            if now - self.exit_box_since < EXIT_BOX_GRACE || repeating {
+                return false;
+            }
+            self.exit_box = false;
+            match action {
+                Some(Action::Reset) => self.reset(now),
+                Some(Action::Quit) if key != Key::Esc => self.quit = true,
+                _ => {}
+            }
+            return true;
+        }
+        if phase == KeyPhase::Press && self.confirm_quit {
+            self.confirm_quit = false;
+            self.quit = action == Some(Action::Quit) && key != Key::Esc;
+            return true;
+        }
+        let Some(action) = action else { return false };
         if action.is_continuous() {
             match phase {
                 KeyPhase::Release => {
@@ -301,14 +359,9 @@ impl App {
                 self.tick(now); // the snap starts from where the viewer is now
                 self.snap_turn(if action == Action::SnapLeft { 90.0 } else { -90.0 }, now);
             }
-            Action::Reset => {
-                (self.camera, self.cell) = self.start;
-                self.held.clear();
-                self.snap = None;
-                (self.started, self.finished) = (now, None);
-            }
-            // the exit box shows instead of the help: a toggle there would pop up unseen after `r`
-            Action::Help if self.finished.is_some() => return false,
+            Action::Reset => self.reset(now),
+            // the exit box shows instead of the help: a toggle there would pop up unseen after it
+            Action::Help if self.exit_box => return false,
             Action::Help => self.help = !self.help,
             Action::ToggleCulling => {
                 self.options.culling = match self.options.culling {
@@ -318,11 +371,26 @@ impl App {
             }
             Action::ToggleCullingTint => self.culling_tint = !self.culling_tint,
             Action::ToggleTextures => self.options.textures = !self.options.textures,
+            Action::ToggleFigures => self.figures = !self.figures,
             Action::Quit if key == Key::Esc && self.help => self.help = false, // Esc closes the box first
+            // a stray q late in a walk asks first (a finished walk's box says q quits: it does)
+            Action::Quit if now - self.started > CONFIRM_QUIT_AFTER && self.finished.is_none() => {
+                self.help = false;
+                self.confirm_quit = true;
+            }
             Action::Quit => self.quit = true,
             _ => {}
         }
         true
+    }
+
+    /// Back to the start, the clock from zero.
+    fn reset(&mut self, now: f64) {
+        (self.camera, self.cell) = self.start;
+        self.held.clear();
+        self.snap = None;
+        (self.started, self.finished) = (now, None);
+        (self.exit_box, self.confirm_quit) = (false, false);
     }
 
     /// A mouse drag by (`dx`, `dy`) terminal cells: look around.
@@ -400,7 +468,11 @@ impl App {
         self.cell = to.cell;
         if self.finished.is_none() && self.maze.exit().is_some_and(|exit| exit.cell == self.cell) {
             self.finished = Some(now - self.started);
-            self.help = false; // the exit box takes its place; after `r` the walk starts with none
+            // the exit box takes the help's place (after `r` the walk starts with none); the keys
+            // that walked here let go, so that the box is seen
+            (self.help, self.confirm_quit) = (false, false);
+            (self.exit_box, self.exit_box_since) = (true, now);
+            self.held.clear_motion();
         }
     }
 

@@ -98,9 +98,14 @@ fn without_releases_four_taps_150_ms_apart_turn_four_steps() {
 /// the turn: the first step, then from the first repeat on `speed × time` (the first repeat's step
 /// standing for its share), until the glide stops within [`REPEAT_HOLD_INTERVALS`] of the last repeat.
 fn hold_turns_by_speed_and_stops(interval: f64, motion: Motion) {
+    hold_with_delay_turns_by_speed_and_stops(0.5, interval, motion);
+}
+
+/// [`hold_turns_by_speed_and_stops`] with the auto-repeat's initial `delay`.
+fn hold_with_delay_turns_by_speed_and_stops(delay: f64, interval: f64, motion: Motion) {
     let mut app = app(false);
     app.motion = motion;
-    let (events, last) = held(Key::Left, 1.0, 0.5, interval, 2.5);
+    let (events, last) = held(Key::Left, 1.0, delay, interval, 2.5);
     let headings = play(&mut app, &events, 1.0, last);
     let hold = (REPEAT_HOLD_INTERVALS * interval).clamp(REPEAT_HOLD_RANGE.0, REPEAT_HOLD_RANGE.1);
     let stop = app.held.next_expiry().expect("gliding, with a time to stop");
@@ -108,11 +113,11 @@ fn hold_turns_by_speed_and_stops(interval: f64, motion: Motion) {
     assert!(app.is_animating(last));
     play(&mut app, &[], last + 1.0 / FPS, last + 1.0);
     assert!(!app.is_animating(last + 1.0));
-    let glide = (stop - 1.5) as f32; // from the first repeat to the stop
+    let glide = (stop - (1.0 + delay)) as f32; // from the first repeat to the stop
     let expected = motion.turn_step_deg + motion.turn_speed_deg * glide;
     assert!(
         (turned(&app) - expected).abs() < DEG_TOL,
-        "{interval} s repeats: turned {}, expected {expected}",
+        "{interval} s repeats after {delay} s: turned {}, expected {expected}",
         turned(&app)
     );
     // Never a step per repeat: after the two steps (the tap, the first repeat), no frame turns by more
@@ -120,6 +125,73 @@ fn hold_turns_by_speed_and_stops(interval: f64, motion: Motion) {
     let per_frame = motion.turn_speed_deg / FPS as f32 + DEG_TOL;
     let jumps = headings.windows(2).filter(|w| (w[1] - w[0]).abs() > per_frame).count();
     assert!(jumps <= 1, "{jumps} jumps"); // the first step happened before the first frame
+}
+
+// issue #33: taps 60–100 ms apart were taken for auto-repeat (anything under 125 ms was): four of them
+// turned 36–55° and walked less than four steps.
+#[test]
+fn without_releases_four_quick_taps_turn_and_walk_four_steps() {
+    for interval in [0.06, 0.075, 0.09, 0.1] {
+        let mut app = app(false);
+        let taps: Vec<_> = (0..4).map(|i| (1.0 + interval * f64::from(i), Event::Press(Key::Left))).collect();
+        play(&mut app, &taps, 1.0, 2.5);
+        assert!((turned(&app) - 4.0 * TURN_STEP_DEG).abs() < DEG_TOL, "{interval} s: {}", turned(&app));
+        assert!(!app.is_animating(2.5));
+
+        let mut app = self::app(false);
+        let start = app.camera.position;
+        let taps: Vec<_> =
+            (0..4).map(|i| (1.0 + interval * f64::from(i), Event::Press(Key::Char('w')))).collect();
+        play(&mut app, &taps, 1.0, 2.5);
+        let moved = app.camera.position - start;
+        assert!((moved.x - 4.0 * WALK_STEP).abs() < 1e-4 && moved.y.abs() < 1e-4, "{interval} s: {moved}");
+    }
+}
+
+// issue #33: a person's taps are irregular; each of them is a step, whatever the rhythm within
+// 60–100 ms, and taps that reach the walk together (held up on the way) are steps too.
+#[test]
+fn without_releases_irregular_quick_taps_are_each_a_step() {
+    for gaps in [
+        &[0.06, 0.1, 0.07, 0.09, 0.06][..],
+        &[0.1, 0.06, 0.06, 0.1],
+        &[0.0, 0.0, 0.0],
+        &[0.08, 0.0, 0.0, 0.2],
+    ] {
+        let mut app = app(false);
+        let mut t = 1.0;
+        let mut taps = vec![(t, Event::Press(Key::Left))];
+        for gap in gaps {
+            t += gap;
+            taps.push((t, Event::Press(Key::Left)));
+        }
+        play(&mut app, &taps, 1.0, t + 1.0);
+        let expected = taps.len() as f32 * TURN_STEP_DEG;
+        assert!((turned(&app) - expected).abs() < DEG_TOL, "{gaps:?}: {} for {expected}", turned(&app));
+    }
+}
+
+// issue #33: a terminal's auto-repeat (30–50 ms apart after a 250–600 ms delay) still glides.
+#[test]
+fn without_releases_common_auto_repeat_settings_glide_and_stop() {
+    for delay in [0.25, 0.4, 0.6] {
+        for interval in [0.03, 0.04, 0.05] {
+            hold_with_delay_turns_by_speed_and_stops(delay, interval, Motion::default());
+        }
+    }
+}
+
+/// A terminal whose auto-repeat starts sooner than any common setting (150 ms) is still seen as one:
+/// presses 30 ms apart come faster than anyone taps.
+#[test]
+fn without_releases_a_short_repeat_delay_glides_after_a_step_or_two() {
+    let mut app = app(false);
+    let (events, last) = held(Key::Left, 1.0, 0.15, 0.03, 2.5);
+    let headings = play(&mut app, &events, 1.0, last + 1.0);
+    let per_frame = TURN_SPEED / FPS as f32 + DEG_TOL;
+    let jumps = headings.windows(2).filter(|w| (w[1] - w[0]).abs() > per_frame).count();
+    assert!(jumps <= 1, "{jumps} jumps");
+    assert!(turned(&app) > 2.0 * TURN_STEP_DEG + TURN_SPEED, "glided: {}", turned(&app));
 }
 
 #[test]
@@ -276,17 +348,79 @@ fn the_help_never_hides_under_the_exit_box() {
     let to_exit = app.maze().exit_point().unwrap() - app.camera.position;
     app.camera.yaw_deg = to_exit.to_angle().to_degrees();
     press(&mut app, Key::Char('?'));
-    for k in 0..8 {
-        let t = 1.0 + f64::from(k);
+    let mut t = 1.0;
+    while app.finished.is_none() && t < 10.0 {
         app.key(Key::Char('w'), KeyPhase::Press, t);
         app.key(Key::Char('w'), KeyPhase::Release, t);
+        t += 1.0;
     }
     assert!(app.finished.is_some(), "walked to the exit");
-    assert!(!app.help, "the exit box takes the help's place");
-    press(&mut app, Key::Char('?'));
-    assert!(!app.help, "`?` under the exit box would pop up unseen after `r`");
-    press(&mut app, Key::Char('r'));
-    assert!(!app.help && app.finished.is_none(), "the walk starts again with no help");
-    press(&mut app, Key::Char('?'));
-    assert!(app.help);
+    assert!(app.exit_box && !app.help, "the exit box takes the help's place");
+    // (issue #33) a key closes the exit box; `?` then does not pop the help up as well
+    app.key(Key::Char('?'), KeyPhase::Press, t + 1.0);
+    assert!(!app.exit_box && !app.help, "`?` closes the exit box, no more");
+    app.key(Key::Char('?'), KeyPhase::Press, t + 2.0);
+    assert!(app.help, "with the box closed the help works again");
+    app.key(Key::Char('r'), KeyPhase::Press, t + 3.0);
+    assert!(app.finished.is_none(), "the walk starts again");
+}
+
+mod properties {
+    use super::*;
+    use mazewalk_testkit as common;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(common::config())]
+
+        // issue #33: any rhythm of 2–8 taps, each 60–100 ms after the one before, is that many steps.
+        #[test]
+        fn quick_taps_are_each_one_step(gaps in prop::collection::vec(0.06f64..=0.1, 1..8)) {
+            let mut app = app(false);
+            let mut t = 1.0;
+            let mut taps = vec![(t, Event::Press(Key::Left))];
+            for gap in &gaps {
+                t += gap;
+                taps.push((t, Event::Press(Key::Left)));
+            }
+            play(&mut app, &taps, 1.0, t + 1.0);
+            let expected = (taps.len() as f32 * TURN_STEP_DEG).rem_euclid(360.0);
+            prop_assert!((app.camera.yaw_deg - expected).abs() < DEG_TOL, "{} for {expected}", app.camera.yaw_deg);
+        }
+
+        // issue #33: a terminal's auto-repeat — an initial delay of 250–600 ms, then a press every
+        // 30–50 ms, each a few ms early or late on the way — glides: two steps (the press and the first
+        // repeat), then never more than a frame's worth of speed between frames, and it stops within
+        // the longest hold of the last repeat.
+        #[test]
+        fn auto_repeat_glides(
+            delay in 0.25f64..=0.6,
+            interval in 0.03f64..=0.05,
+            jitter in prop::collection::vec(-0.005f64..=0.005, 80),
+        ) {
+            let mut app = app(false);
+            let mut events = vec![(1.0, Event::Press(Key::Left))];
+            let mut t = 1.0 + delay;
+            for j in &jitter {
+                if t > 2.5 {
+                    break;
+                }
+                events.push((t + j, Event::Press(Key::Left)));
+                t += interval;
+            }
+            let last = events.last().unwrap().0;
+            let headings = play(&mut app, &events, 1.0, last + 1.0);
+            let per_frame = TURN_SPEED / FPS as f32 + DEG_TOL;
+            let jumps = headings.windows(2).filter(|w| {
+                let d = (w[1] - w[0]).rem_euclid(360.0);
+                d.min(360.0 - d) > per_frame
+            }).count();
+            prop_assert!(jumps <= 1, "{jumps} jumps");
+            let turned = |h: f32| h.rem_euclid(360.0);
+            let glided = turned(*headings.last().unwrap()) - 2.0 * TURN_STEP_DEG;
+            let least = TURN_SPEED * ((last - (1.0 + delay)) as f32 - 0.15);
+            prop_assert!(glided >= least, "glided {glided}°, expected at least {least}°");
+            prop_assert!(!app.is_animating(last + REPEAT_HOLD_RANGE.1 + 1e-6));
+        }
+    }
 }

@@ -70,7 +70,7 @@ proptest! {
         if cols < 20 || rows < 6 {
             prop_assert!(text.contains(if cols >= 5 { "small" } else { "!" }), "{}", text);
         } else {
-            prop_assert!(frame.lines()[rows - 1].starts_with(" ("), "HUD missing: {}", text);
+            prop_assert!(frame.lines()[rows - 1].ends_with("? help "), "HUD missing: {}", text);
         }
     }
 }

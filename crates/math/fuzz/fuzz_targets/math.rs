@@ -64,6 +64,9 @@ fuzz_target!(|input: Input| {
         }
         finite(&conv.orthographic(l, r, b, t, n, f));
         finite(&conv.perspective(input.fov, input.aspect, n, f));
+        finite(&conv.perspective_reverse(input.fov, input.aspect, n, f));
+        finite(&conv.perspective_infinite(input.fov, input.aspect, n));
+        finite(&conv.perspective_infinite_reverse(input.fov, input.aspect, n));
         finite(&math::perspective_hfov(
             conv,
             input.fov,

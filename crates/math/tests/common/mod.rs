@@ -68,6 +68,21 @@ pub fn arb_eye_dir_up() -> impl Strategy<Value = (Vec3, Vec3, Vec3)> {
         })
 }
 
+/// A look-to camera `(eye, unit dir, unit up)` whose up is nearly parallel (or anti-parallel) to the
+/// view direction: the sine of their angle is in `[min_sine, max_sine)`, built in f64 and rounded to
+/// f32 (which moves the sine by about 1e-7 of its 1e-4, so keep the range 1 % clear of a threshold).
+pub fn arb_up_near_parallel(min_sine: f64, max_sine: f64) -> impl Strategy<Value = (Vec3, Vec3, Vec3)> {
+    (arb_point(100.0), arb_unit(), arb_unit(), min_sine..max_sine, any::<bool>()).prop_filter_map(
+        "the second vector is parallel to the direction",
+        |(eye, dir, other, sine, opposite)| {
+            let d = dir.as_dvec3().normalize();
+            let side = (other.as_dvec3() - d * d.dot(other.as_dvec3())).try_normalize()?; // ⟂ d
+            let cosine = (1.0 - sine * sine).sqrt() * if opposite { -1.0 } else { 1.0 };
+            Some((eye, dir, (d * cosine + side * sine).as_vec3()))
+        },
+    )
+}
+
 /// A perspective frustum `[left, right, bottom, top, near, far]`: bounds within 10 units, width and
 /// height at least 0.01 (so `(r+l)/(r-l)` stays below ~2e3), near in [0.01, 10], far/near in
 /// [1.01, 1e3].

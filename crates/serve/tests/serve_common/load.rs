@@ -68,6 +68,19 @@ pub async fn connect_with_window(
     connect_stream(stream, user, size, window_size).await
 }
 
+/// [`connect`] over a TCP connection already made (from an address of the caller's choice, say).
+///
+/// # Errors
+/// As [`connect`].
+pub async fn connect_over(
+    stream: tokio::net::TcpStream,
+    user: &str,
+    size: (u32, u32),
+) -> Result<Connected, russh::Error> {
+    stream.set_nodelay(true)?;
+    connect_stream(stream, user, size, client::Config::default().window_size).await
+}
+
 /// [`connect`] over `stream`.
 async fn connect_stream<S>(
     stream: S,

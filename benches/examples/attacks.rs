@@ -1,0 +1,347 @@
+//! Issue #34's attacks on `mazewalk serve`, reproduced at full strength against two server binaries in
+//! one run — "before" and "after" — for BENCHMARKS.md ("The server on the open internet"). Each
+//! server is a process of its own on loopback (its CPU and log are its own); the clients are in this
+//! process. Throughout each attack a witness player turns at 10 keys a second; its key-to-frame
+//! latency (p50, p99, worst) says what the attack costs the players already in.
+//!
+//! 1. **group18**: two attackers at once, again and again, offer only
+//!    `diffie-hellman-group18-sha512` and send an 8192-bit half they never computed.
+//! 2. **junk kex**: four attackers at once, again and again, offer 600 junk key exchange names
+//!    (15 KB); the server's log growth is measured.
+//! 3. **held slots**: a server of 11 players; 10 log in, quit with `q` and keep their connections
+//!    open; a newcomer then tries to log in.
+//! 4. **handshakes**: 16 addresses (127.0.0.2–17) × 16 connections that say their version and
+//!    nothing more, held; a newcomer from another address then tries to log in.
+//!
+//! ```sh
+//! cargo build --release                           # the "after" binary: target/release/mazewalk
+//! git worktree add /tmp/serve-before <commit> && (cd /tmp/serve-before && cargo build --release)
+//! cargo run --release -p mazewalk-bench --example attacks -- \
+//!     --before /tmp/serve-before/target/release/mazewalk --seconds 10   # [--only group18]
+//! ```
+//!
+//! Only flags both binaries know are passed: `--open --listen --host-key --max-players
+//! --max-per-address`; each server's limits are otherwise its defaults.
+
+#[path = "../../crates/serve/tests/serve_common/load.rs"]
+mod load;
+#[path = "../../crates/serve/tests/serve_common/raw.rs"]
+mod raw;
+
+use std::io::{BufRead as _, BufReader, Write as _};
+use std::net::{IpAddr, SocketAddr};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use load::{connect, cpu_seconds, quantile};
+
+struct Args {
+    before: Option<PathBuf>,
+    after: PathBuf,
+    seconds: f64,
+    only: Option<String>,
+}
+
+fn args() -> Args {
+    let exe = std::env::current_exe().expect("current exe");
+    let after = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
+    let mut a = Args { before: None, after, seconds: 10.0, only: None };
+    let argv: Vec<String> = std::env::args().skip(1).collect();
+    for pair in argv.chunks(2) {
+        let value = pair.get(1).map_or("", String::as_str);
+        match pair[0].as_str() {
+            "--before" => a.before = Some(value.into()),
+            "--after" => a.after = value.into(),
+            "--seconds" => a.seconds = value.parse().expect("--seconds S"),
+            "--only" => a.only = Some(value.into()),
+            other => panic!("unknown argument {other}"),
+        }
+    }
+    a
+}
+
+/// A server process with its log in a file, killed on drop.
+struct ServerProcess {
+    child: Child,
+    addr: SocketAddr,
+    log: PathBuf,
+    scratch: PathBuf,
+}
+
+impl ServerProcess {
+    fn start(bin: &Path, max_players: u32, max_per_address: u32) -> ServerProcess {
+        static RUN: AtomicU64 = AtomicU64::new(0);
+        let scratch = std::env::temp_dir().join(format!(
+            "mazewalk-attacks-{}-{}",
+            std::process::id(),
+            RUN.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&scratch).expect("scratch");
+        let log = scratch.join("log");
+        let mut child = Command::new(bin)
+            .args(["serve", "--open", "--listen", "127.0.0.1:0"])
+            .args([
+                "--max-players",
+                &max_players.to_string(),
+                "--max-per-address",
+                &max_per_address.to_string(),
+            ])
+            .arg("--host-key")
+            .arg(scratch.join("host_key"))
+            .env("HOME", &scratch)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(std::fs::File::create(&log).expect("log file"))
+            .spawn()
+            .expect("start the server");
+        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
+        let mut line = String::new();
+        stdout.read_line(&mut line).expect("first line");
+        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
+        let addr = line
+            .trim()
+            .split(", ")
+            .next()
+            .and_then(|l| l.rsplit_once(' '))
+            .and_then(|(_, a)| a.parse().ok())
+            .expect("serving on ADDR");
+        ServerProcess { child, addr, log, scratch }
+    }
+
+    fn pid(&self) -> Option<u32> {
+        Some(self.child.id())
+    }
+
+    fn log_bytes(&self) -> u64 {
+        std::fs::metadata(&self.log).map_or(0, |m| m.len())
+    }
+}
+
+impl Drop for ServerProcess {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        let _ = std::fs::remove_dir_all(&self.scratch);
+    }
+}
+
+/// What one attack did to one server.
+#[derive(Default)]
+struct Outcome {
+    p50_ms: f64,
+    p99_ms: f64,
+    max_ms: f64,
+    keys: usize,
+    server_cpu: f64,
+    note: String,
+}
+
+/// Runs `attack` while a witness turns for `seconds`; returns the witness's latencies and the
+/// server's CPU seconds meanwhile.
+async fn witnessed<F>(server: &ServerProcess, seconds: f64, attack: F) -> (Outcome, F::Output)
+where
+    F: std::future::Future + Send + 'static,
+    F::Output: Send + 'static,
+{
+    let witness = connect(server.addr, "witness", (80, 24)).await.expect("the witness");
+    let cpu0 = cpu_seconds(server.pid());
+    let attack = tokio::spawn(attack);
+    let stats = load::walk(witness, 10.0, seconds, b"\x1b[D").await;
+    let result = attack.await.expect("the attack");
+    let server_cpu = cpu_seconds(server.pid()) - cpu0;
+    let mut latencies = stats.latencies;
+    let outcome = Outcome {
+        p50_ms: quantile(&mut latencies, 0.5) * 1e3,
+        p99_ms: quantile(&mut latencies, 0.99) * 1e3,
+        max_ms: quantile(&mut latencies, 1.0) * 1e3,
+        keys: latencies.len(),
+        server_cpu,
+        note: String::new(),
+    };
+    (outcome, result)
+}
+
+/// Runs `one` on `threads` threads again and again until `stop`; returns how many times it ran.
+async fn repeat(threads: usize, stop: Arc<AtomicBool>, one: impl Fn(u64) + Send + Sync + 'static) -> u64 {
+    let one = Arc::new(one);
+    let count = Arc::new(AtomicU64::new(0));
+    let tasks: Vec<_> = (0..threads)
+        .map(|_| {
+            let (one, stop, count) = (Arc::clone(&one), Arc::clone(&stop), Arc::clone(&count));
+            tokio::task::spawn_blocking(move || {
+                while !stop.load(Ordering::Relaxed) {
+                    one(count.fetch_add(1, Ordering::Relaxed));
+                }
+            })
+        })
+        .collect();
+    for task in tasks {
+        let _ = task.await;
+    }
+    count.load(Ordering::Relaxed)
+}
+
+/// Stops `stop` after `seconds`.
+fn stop_after(seconds: f64) -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_secs_f64(seconds));
+        flag.store(true, Ordering::Relaxed);
+    });
+    stop
+}
+
+async fn group18(bin: &Path, seconds: f64) -> Outcome {
+    let server = ServerProcess::start(bin, 256, 16);
+    let addr = server.addr;
+    let (mut outcome, handshakes) = witnessed(&server, seconds, async move {
+        repeat(2, stop_after(seconds), move |i| {
+            if let Ok(mut stream) = raw::connect(None, addr) {
+                let _ = stream.write_all(&raw::kexinit("diffie-hellman-group18-sha512"));
+                let _ = stream.write_all(&raw::kexdh_init(8192, i));
+                // the server's reply (it computed its half) or its refusal: then the next one
+                let _ = raw::until_answered(&mut stream, Duration::from_secs(10));
+            }
+        })
+        .await
+    })
+    .await;
+    outcome.note = format!("{handshakes} handshakes tried");
+    outcome
+}
+
+async fn junk_kex(bin: &Path, seconds: f64) -> Outcome {
+    let server = ServerProcess::start(bin, 256, 16);
+    let addr = server.addr;
+    let log0 = server.log_bytes();
+    let kexinit = Arc::new(raw::junk_kexinit(600));
+    let (mut outcome, connections) = witnessed(&server, seconds, async move {
+        repeat(4, stop_after(seconds), move |_| {
+            if let Ok(mut stream) = raw::connect(None, addr) {
+                let _ = stream.write_all(&kexinit);
+                let _ = raw::until_closed(&mut stream, Duration::from_secs(2));
+            }
+        })
+        .await
+    })
+    .await;
+    let grown = server.log_bytes() - log0;
+    outcome.note = format!(
+        "{connections} connections; log grew {:.1} KiB ({:.1} KiB/s)",
+        grown as f64 / 1024.0,
+        grown as f64 / 1024.0 / seconds
+    );
+    outcome
+}
+
+async fn held_slots(bin: &Path, seconds: f64) -> Outcome {
+    let server = ServerProcess::start(bin, 11, 100);
+    let addr = server.addr;
+    let (mut outcome, newcomer) = witnessed(&server, seconds, async move {
+        let mut held = Vec::new();
+        for i in 0..10 {
+            if let Ok(load::Connected { handle, channel }) =
+                connect(addr, &format!("holder{i}"), (80, 24)).await
+            {
+                let _ = channel.data(&b"q"[..]).await;
+                held.push((handle, channel)); // the game ends; the connection is kept
+            }
+        }
+        tokio::time::sleep(Duration::from_secs_f64(seconds / 2.0)).await;
+        let still_open = held.iter().filter(|(h, _)| !h.is_closed()).count();
+        let started = Instant::now();
+        let newcomer = connect(addr, "newcomer", (80, 24)).await;
+        (still_open, newcomer.is_ok(), started.elapsed())
+    })
+    .await;
+    let (still_open, got_in, took) = newcomer;
+    outcome.note = format!(
+        "{still_open} of 10 quit connections still open after {:.0} s; a newcomer {}",
+        seconds / 2.0,
+        if got_in { format!("got in ({:.0} ms)", took.as_secs_f64() * 1e3) } else { "was refused".into() }
+    );
+    outcome
+}
+
+async fn handshakes(bin: &Path, seconds: f64) -> Outcome {
+    let server = ServerProcess::start(bin, 256, 16);
+    let addr = server.addr;
+    let (mut outcome, newcomer) = witnessed(&server, seconds, async move {
+        let held = tokio::task::spawn_blocking(move || {
+            let mut held = Vec::new();
+            for n in 2..18u8 {
+                for _ in 0..16 {
+                    if let Ok(stream) = raw::connect(Some(IpAddr::from([127, 0, 0, n])), addr) {
+                        held.push(stream);
+                    }
+                }
+            }
+            held
+        })
+        .await
+        .expect("the flood");
+        tokio::time::sleep(Duration::from_secs_f64(seconds / 2.0)).await;
+        let socket = tokio::net::TcpSocket::new_v4().expect("socket");
+        socket.bind(SocketAddr::new(IpAddr::from([127, 0, 0, 200]), 0)).expect("bind");
+        let started = Instant::now();
+        let newcomer = match socket.connect(addr).await {
+            Ok(stream) => load::connect_over(stream, "newcomer", (80, 24)).await.is_ok(),
+            Err(_) => false,
+        };
+        let took = started.elapsed();
+        drop(held);
+        (newcomer, took)
+    })
+    .await;
+    let (got_in, took) = newcomer;
+    outcome.note = format!(
+        "256 silent connections from 16 addresses held; a newcomer {}",
+        if got_in { format!("got in ({:.0} ms)", took.as_secs_f64() * 1e3) } else { "was refused".into() }
+    );
+    outcome
+}
+
+#[tokio::main]
+async fn main() {
+    let a = args();
+    let mut binaries: Vec<(&str, PathBuf)> = Vec::new();
+    if let Some(before) = &a.before {
+        binaries.push(("before", before.clone()));
+    }
+    binaries.push(("after", a.after.clone()));
+    for (_, bin) in &binaries {
+        assert!(bin.exists(), "{} is missing: build it first (`cargo build --release`)", bin.display());
+    }
+    println!(
+        "| attack | binary | witness p50 / p99 / worst (ms) | keys answered | server CPU (s) | what else |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for attack in ["group18", "junk kex", "held slots", "handshakes"] {
+        if a.only.as_ref().is_some_and(|only| !attack.starts_with(only.as_str())) {
+            continue;
+        }
+        for (which, bin) in &binaries {
+            let outcome = match attack {
+                "group18" => group18(bin, a.seconds).await,
+                "junk kex" => junk_kex(bin, a.seconds).await,
+                "held slots" => held_slots(bin, a.seconds).await,
+                _ => handshakes(bin, a.seconds).await,
+            };
+            println!(
+                "| {attack} | {which} | {:.1} / {:.1} / {:.0} | {} of {:.0} | {:.2} | {} |",
+                outcome.p50_ms,
+                outcome.p99_ms,
+                outcome.max_ms,
+                outcome.keys,
+                a.seconds * 10.0,
+                outcome.server_cpu,
+                outcome.note
+            );
+            tokio::time::sleep(Duration::from_millis(500)).await;
+        }
+    }
+}

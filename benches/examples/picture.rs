@@ -1,0 +1,262 @@
+//! Issue #33: how the picture reads in 256 and 16 colours beside truecolor, how far you can see depth
+//! in it, how apart its surfaces are, and what it costs on the wire.
+//!
+//! ```sh
+//! nice cargo run --release -p mazewalk-bench --example picture
+//! ```
+//!
+//! **Measures** ([`mazewalk_render::quality`]: grain, hue error, surfaces apart; OKLab, per sample, no
+//! blur) of nine views of three mazes (the built-in maze, the course file
+//! `mazes/cs559/maze-10x10-100.maze`, and `--gen 20x15 --seed 3`, each from its viewer and turned 90°
+//! and 180°) at 120×40 half blocks, each colour frame against the truecolor frame of the same view.
+//! Every depth is rendered with dithering on and off (`RenderOptions::dither`); the default is marked.
+//!
+//! **Depth**: the same wall face straight ahead at 4 and at 24 maze units (1 and 6 cells of a generated
+//! maze or a 4-unit grid tile) down a corridor of the built-in maze's colours: the OKLab lightness of
+//! the frame's samples in the middle of the face, near minus far, at every depth.
+//!
+//! **No colour**: the distinct glyphs of the built-in view in half blocks, and the glyph ascii draws
+//! most on its floor and on its ceiling.
+//!
+//! **Bytes**: the encoder bench's walk (`benches/common`: forward, a full turn, strafe, look up and
+//! down, stand still; 60 frames a second through the app's own key handlers) at 120×40, encoded
+//! exactly frame after frame; mean bytes per walking frame.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+use std::collections::BTreeMap;
+
+use glam::Vec3;
+use mazewalk_maze::Maze;
+use mazewalk_maze::generate::{GenOptions, generate};
+use mazewalk_render::quality::{self, Measures};
+use mazewalk_render::samples::{CEILING, FLOOR};
+use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer, Target};
+use mazewalk_term::encoder::Encoder;
+use mazewalk_term::frame::{ColorDepth, Frame, Region};
+use mazewalk_walk::state::{stand, viewer_camera};
+
+const COLS: usize = 120;
+const ROWS: usize = 40;
+
+/// The frames compared with truecolor: a name, the depth, dithering.
+const MODES: [(&str, ColorDepth, bool); 4] = [
+    ("256, dithered", ColorDepth::Ansi256, true),
+    ("256, undithered", ColorDepth::Ansi256, false),
+    ("16, dithered", ColorDepth::Ansi16, true),
+    ("16, undithered", ColorDepth::Ansi16, false),
+];
+
+fn options(charset: Charset, color_depth: ColorDepth, dither: bool) -> RenderOptions {
+    RenderOptions { charset, color_depth, culling: Culling::Portal, dither, ..RenderOptions::default() }
+}
+
+fn render(renderer: &mut Renderer, maze: &Maze, camera: &Camera, options: &RenderOptions) -> Frame {
+    let mut frame = Frame::new(COLS, ROWS);
+    let region = Region { col: 0, row: 0, cols: COLS, rows: ROWS };
+    renderer.render(maze, camera, &[], options, Target::Frame(&mut frame, region)).expect("camera");
+    frame
+}
+
+/// The camera of `maze`'s viewer as `mazewalk render` makes it, turned by `turn_deg`.
+fn turned(maze: &Maze, turn_deg: f32) -> Camera {
+    let viewer = maze.viewer();
+    let from_file = viewer_camera(viewer);
+    let stands = stand(maze, viewer.pos).expect("the viewer stands in the maze");
+    Camera { position: stands.pos, yaw_deg: from_file.yaw_deg + turn_deg, ..from_file }
+}
+
+/// The nine views: a name, the maze and the camera.
+fn views() -> Vec<(String, Maze, Camera)> {
+    let course = concat!(env!("CARGO_MANIFEST_DIR"), "/../mazes/cs559/maze-10x10-100.maze");
+    let mazes = [
+        ("built-in", mazewalk_maze::builtin().expect("built-in maze")),
+        ("cs559 10x10", mazewalk_maze::load(course).expect("course file").maze),
+        (
+            "gen 20x15 seed 3",
+            // As `mazewalk --gen 20x15 --seed 3` makes it.
+            generate(&GenOptions {
+                width: 20,
+                height: 15,
+                seed: 3,
+                loops: 0.1,
+                exit: true,
+                ..GenOptions::default()
+            })
+            .expect("generated maze"),
+        ),
+    ];
+    let mut out = Vec::new();
+    for (name, maze) in mazes {
+        for turn in [0.0, 90.0, 180.0] {
+            out.push((format!("{name}, turned {turn}°"), maze.clone(), turned(&maze, turn)));
+        }
+    }
+    out
+}
+
+/// The lightness (OKLab L) of the frame's samples in the middle fifth of the picture that show the
+/// wall the middle sample shows.
+fn middle_lightness(shown: &[Vec3], ids: &[u32], width: usize) -> f32 {
+    let height = shown.len() / width;
+    let wall = ids[height / 2 * width + width / 2];
+    let (mut sum, mut n) = (0.0, 0);
+    for y in height * 2 / 5..height * 3 / 5 {
+        for x in width * 2 / 5..width * 3 / 5 {
+            if ids[y * width + x] == wall {
+                sum += shown[y * width + x].x;
+                n += 1;
+            }
+        }
+    }
+    sum / n.max(1) as f32
+}
+
+/// A corridor nine tiles long ending in a wall of `color` (sRGB hex), facing east down it.
+fn corridor(color: &str) -> Maze {
+    let text = format!(
+        "mazewalk-grid 1\ntile 4\nfacing east\nW = {color}\n\n###########\n#@........W\n###########\n"
+    );
+    mazewalk_maze::parse("corridor", text.as_bytes()).expect("corridor maze")
+}
+
+fn main() {
+    let mut renderer = Renderer::new();
+    let views = views();
+    // Per mode: the measures of every view.
+    let mut all: BTreeMap<&str, Vec<Measures>> = BTreeMap::new();
+    println!(
+        "Measures against the truecolor frame, half blocks {COLS}×{ROWS} (grain % / hue error ° / surfaces apart ×100):\n"
+    );
+    print!("| view | truecolor, surfaces apart |");
+    for (name, ..) in MODES {
+        print!(" {name} |");
+    }
+    println!("\n|---|--:|{}", "--:|".repeat(MODES.len()));
+    let default_dither = RenderOptions::default().dither;
+    for (name, maze, camera) in &views {
+        let truth_frame =
+            render(&mut renderer, maze, camera, &options(Charset::Half, ColorDepth::TrueColor, true));
+        let truth = quality::shown(&truth_frame, Charset::Half);
+        let ids = renderer.samples().id().to_vec();
+        let width = renderer.samples().width();
+        let t = quality::measure(&truth, &truth, &ids, width);
+        all.entry("truecolor").or_default().push(t);
+        print!("| {name} | {:.1} |", t.surfaces_apart);
+        for (mode, depth, dither) in MODES {
+            let frame = render(&mut renderer, maze, camera, &options(Charset::Half, depth, dither));
+            let shown = quality::shown(&frame, Charset::Half);
+            let m = quality::measure(&shown, &truth, &ids, width);
+            all.entry(mode).or_default().push(m);
+            print!(" {:.2} / {:.1} / {:.1} |", 100.0 * m.grain, m.hue_error_deg, m.surfaces_apart);
+        }
+        println!();
+    }
+    println!(
+        "\nOver the {} views (min–max; surfaces apart also as a share of truecolor's, least):\n",
+        views.len()
+    );
+    println!("| frame | default | grain % | hue error ° | surfaces apart | ÷ truecolor's |");
+    println!("|---|---|--:|--:|--:|--:|");
+    let truecolor = all["truecolor"].clone();
+    let range = |v: &[f64]| {
+        let (lo, hi) =
+            v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+        (lo, hi)
+    };
+    for (mode, depth, dither) in
+        std::iter::once(("truecolor", ColorDepth::TrueColor, default_dither)).chain(MODES)
+    {
+        let m = &all[mode];
+        let (g0, g1) = range(&m.iter().map(|m| 100.0 * m.grain).collect::<Vec<_>>());
+        let (h0, h1) = range(&m.iter().map(|m| m.hue_error_deg).collect::<Vec<_>>());
+        let (s0, s1) = range(&m.iter().map(|m| m.surfaces_apart).collect::<Vec<_>>());
+        let ratio = m
+            .iter()
+            .zip(&truecolor)
+            .map(|(m, t)| m.surfaces_apart / t.surfaces_apart)
+            .fold(f64::INFINITY, f64::min);
+        let default = if depth == ColorDepth::TrueColor || dither == default_dither { "yes" } else { "" };
+        println!("| {mode} | {default} | {g0:.1}–{g1:.1} | {h0:.0}–{h1:.0} | {s0:.1}–{s1:.1} | {ratio:.2} |");
+    }
+
+    println!("\nDepth: OKLab lightness of the middle of a wall face at 4 and 24 units, near − far:\n");
+    println!("| wall | truecolor | 256 | 16 |");
+    println!("|---|--:|--:|--:|");
+    for (name, color) in [
+        ("#4477aa (blue)", "#4477aa"),
+        ("#808080 (grey)", "#808080"),
+        ("#cc8844 (orange)", "#cc8844"),
+        ("#66aa55 (green)", "#66aa55"),
+    ] {
+        let maze = corridor(color);
+        let camera = turned(&maze, 0.0);
+        print!("| {name} |");
+        for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256, ColorDepth::Ansi16] {
+            let at = |x: f32, renderer: &mut Renderer| {
+                let camera = Camera { position: glam::Vec2::new(x, camera.position.y), ..camera };
+                let frame = render(renderer, &maze, &camera, &options(Charset::Half, depth, default_dither));
+                let ids = renderer.samples().id().to_vec();
+                middle_lightness(&quality::shown(&frame, Charset::Half), &ids, renderer.samples().width())
+            };
+            // The wall's face is at x = 40 (ten 4-unit tiles from the west edge).
+            let (near, far) = (at(36.0, &mut renderer), at(16.0, &mut renderer));
+            print!(" {near:.2} − {far:.2} = **{:.2}** |", near - far);
+        }
+        println!();
+    }
+
+    println!("\nNo colour, the built-in view:\n");
+    let (_, builtin, camera) = &views[0];
+    let half = render(&mut renderer, builtin, camera, &options(Charset::Half, ColorDepth::None, false));
+    let mut glyphs: BTreeMap<char, usize> = BTreeMap::new();
+    for cell in half.cells() {
+        *glyphs.entry(cell.ch).or_default() += 1;
+    }
+    let listed: Vec<String> = glyphs.iter().map(|(g, n)| format!("`{g}` {n}")).collect();
+    println!("- half blocks: {} distinct glyphs ({})", glyphs.len(), listed.join(", "));
+    let ascii = render(&mut renderer, builtin, camera, &options(Charset::Ascii, ColorDepth::None, false));
+    let ids = renderer.samples().id();
+    let most = |surface: u32| {
+        let mut counts: BTreeMap<char, usize> = BTreeMap::new();
+        for (cell, &id) in ascii.cells().iter().zip(ids) {
+            if id == surface {
+                *counts.entry(cell.ch).or_default() += 1;
+            }
+        }
+        counts.into_iter().max_by_key(|&(_, n)| n).map_or(' ', |(g, _)| g)
+    };
+    println!("- ascii: floor mostly `{}`, ceiling mostly `{}`", most(FLOOR), most(CEILING));
+
+    let (walk_maze, cameras) = {
+        let mut app = common::walk_app(100, Charset::Half, ColorDepth::Ansi256);
+        let mut cameras = Vec::new();
+        common::play_walk(&mut app, &common::walk_script(), |app, _, moved| {
+            cameras.push((moved, app.camera))
+        });
+        (app.maze().clone(), cameras)
+    };
+    println!(
+        "\nBytes per walking frame, {COLS}×{ROWS} half blocks, the encoder walk ({} frames, exact encoder):\n",
+        cameras.len()
+    );
+    println!("| frame | walking mean | walking median |");
+    println!("|---|--:|--:|");
+    for (mode, depth, dither) in MODES {
+        let mut encoder = Encoder::new();
+        let mut out = Vec::new();
+        let mut walking = Vec::new();
+        for (k, &(moved, camera)) in cameras.iter().enumerate() {
+            let frame = render(&mut renderer, &walk_maze, &camera, &options(Charset::Half, depth, dither));
+            out.clear();
+            let bytes = encoder.encode(&frame, &mut out).bytes;
+            if moved && k > 0 {
+                walking.push(bytes);
+            }
+        }
+        walking.sort_unstable();
+        let mean = walking.iter().sum::<usize>() as f64 / walking.len().max(1) as f64;
+        println!("| {mode} | {mean:.0} | {} |", walking.get(walking.len() / 2).copied().unwrap_or(0));
+    }
+}

@@ -1,0 +1,198 @@
+//! Issue #33: a picture a player can find the way by, in the colours the player really has. The
+//! targets of the issue, on views of the built-in maze, a course file and a generated maze at the
+//! size a terminal has (120×40 half blocks), measured by `mazewalk_render::quality` (grain, hue error,
+//! surfaces apart: OKLab, per sample) against the truecolor frame of the same view.
+
+use glam::Vec2;
+use mazewalk_maze::generate::{GenOptions, generate};
+use mazewalk_maze::{self as maze, Maze};
+use mazewalk_render::quality::{self, Measures};
+use mazewalk_render::samples::{CEILING, FLOOR};
+use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer, Target};
+use mazewalk_term::frame::{ColorDepth, Frame};
+use std::collections::{BTreeMap, BTreeSet};
+
+const COLS: usize = 120;
+const ROWS: usize = 40;
+
+fn options(charset: Charset, color_depth: ColorDepth) -> RenderOptions {
+    RenderOptions { charset, color_depth, culling: Culling::Portal, ..RenderOptions::default() }
+}
+
+/// The frame of `camera` in `maze`, and the coverage ids of its samples.
+fn render(maze: &Maze, camera: &Camera, options: &RenderOptions) -> (Frame, Vec<u32>) {
+    let mut frame = Frame::new(COLS, ROWS);
+    let region = frame.region();
+    let mut renderer = Renderer::new();
+    renderer.render(maze, camera, &[], options, Target::Frame(&mut frame, region)).expect("camera");
+    (frame, renderer.samples().id().to_vec())
+}
+
+/// The maze's viewer turned by `turn_deg`.
+fn turned(maze: &Maze, turn_deg: f32) -> Camera {
+    let v = maze.viewer();
+    Camera { eye_z: v.z, ..Camera::new(v.pos, v.dir_deg + turn_deg, v.fov_deg) }
+}
+
+/// Views of the three kinds of maze: the built-in one, a course file, a generated one (as
+/// `mazewalk --gen 20x15 --seed 3` makes it), each from its viewer and turned about.
+fn views() -> Vec<(String, Maze, Camera)> {
+    let course = maze::load(mazewalk_testkit::maze_path("cs559/maze-10x10-100.maze")).expect("course").maze;
+    let generated = generate(&GenOptions {
+        width: 20,
+        height: 15,
+        seed: 3,
+        loops: 0.1,
+        exit: true,
+        ..GenOptions::default()
+    })
+    .expect("generated maze");
+    let mut out = Vec::new();
+    for (name, maze) in
+        [("built-in", maze::builtin().expect("built-in")), ("cs559", course), ("gen", generated)]
+    {
+        for turn in [0.0, 90.0, 180.0] {
+            out.push((format!("{name} turned {turn}°"), maze.clone(), turned(&maze, turn)));
+        }
+    }
+    out
+}
+
+/// The measures of every view at `depth` beside the truecolor frame's, as (name, frame, truecolor).
+fn measured(depth: ColorDepth) -> Vec<(String, Measures, Measures)> {
+    views()
+        .into_iter()
+        .map(|(name, maze, camera)| {
+            let (truth, ids) = render(&maze, &camera, &options(Charset::Half, ColorDepth::TrueColor));
+            let (frame, _) = render(&maze, &camera, &options(Charset::Half, depth));
+            let width = COLS * Charset::Half.samples_per_cell().0;
+            let truth = quality::shown(&truth, Charset::Half);
+            let measures = quality::measure(&quality::shown(&frame, Charset::Half), &truth, &ids, width);
+            (name, measures, quality::measure(&truth, &truth, &ids, width))
+        })
+        .collect()
+}
+
+// issue #33: 256 colours were a checkerboard grain over every surface (29–35 % of neighbouring
+// samples), or, undithered, nearly grey (hue 23–49° off) with floor and ceiling alike.
+#[test]
+fn in_256_colours_every_view_is_calm_true_to_hue_and_keeps_its_surfaces_apart() {
+    for (name, m, truth) in measured(ColorDepth::Ansi256) {
+        assert!(m.grain <= 0.02, "{name}: grain {:.1} %", 100.0 * m.grain);
+        assert!(m.hue_error_deg <= 12.0, "{name}: hue error {:.1}°", m.hue_error_deg);
+        assert!(
+            m.surfaces_apart >= 0.8 * truth.surfaces_apart,
+            "{name}: surfaces {:.1} apart, truecolor {:.1}",
+            m.surfaces_apart,
+            truth.surfaces_apart
+        );
+    }
+}
+
+// issue #33: 16 colours, dithered, were half grain (48–52 %) with floor, ceiling and walls 0.0–0.6 apart.
+#[test]
+fn in_16_colours_every_view_is_calm_and_keeps_its_surfaces_apart() {
+    for (name, m, truth) in measured(ColorDepth::Ansi16) {
+        assert!(m.grain <= 0.05, "{name}: grain {:.1} %", 100.0 * m.grain);
+        assert!(
+            m.surfaces_apart >= 0.6 * truth.surfaces_apart,
+            "{name}: surfaces {:.1} apart, truecolor {:.1}",
+            m.surfaces_apart,
+            truth.surfaces_apart
+        );
+    }
+}
+
+// issue #33: floor and ceiling were close in colour (surfaces 6.4 apart on the built-in maze).
+#[test]
+fn in_truecolor_floor_ceiling_and_walls_of_the_built_in_maze_stand_apart() {
+    for (name, _, truth) in
+        measured(ColorDepth::TrueColor).into_iter().filter(|(n, ..)| n.starts_with("built-in"))
+    {
+        assert!(truth.surfaces_apart >= 12.0, "{name}: surfaces {:.1} apart", truth.surfaces_apart);
+    }
+}
+
+/// A corridor nine 4-unit tiles long ending in a wall of `color`, facing east down it; the wall's
+/// face is at x = 40.
+fn corridor(color: &str) -> Maze {
+    let text = format!(
+        "mazewalk-grid 1\ntile 4\nfacing east\nW = {color}\n\n###########\n#@........W\n###########\n"
+    );
+    maze::parse("corridor", text.as_bytes()).expect("corridor maze")
+}
+
+/// The mean OKLab lightness the frame shows on the samples of the middle fifth of the picture that
+/// cover the wall seen through its centre.
+fn middle_lightness(frame: &Frame, ids: &[u32]) -> f32 {
+    let shown = quality::shown(frame, Charset::Half);
+    let (width, height) = (COLS, 2 * ROWS);
+    let wall = ids[height / 2 * width + width / 2];
+    let middle: Vec<f32> = (height * 2 / 5..height * 3 / 5)
+        .flat_map(|y| (width * 2 / 5..width * 3 / 5).map(move |x| y * width + x))
+        .filter(|&i| ids[i] == wall)
+        .map(|i| shown[i].x)
+        .collect();
+    assert!(middle.len() >= 20, "the wall shows in the middle: {} samples", middle.len());
+    middle.iter().sum::<f32>() / middle.len() as f32
+}
+
+// issue #33: walls kept one colour near and far; distance was hard to see.
+#[test]
+fn a_wall_six_cells_away_is_darker_than_the_same_wall_one_cell_away_at_every_depth() {
+    for color in ["#4477aa", "#808080", "#cc8844", "#66aa55"] {
+        let maze = corridor(color);
+        for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256, ColorDepth::Ansi16] {
+            let lightness = |x: f32| {
+                let camera = Camera { position: Vec2::new(x, maze.viewer().pos.y), ..turned(&maze, 0.0) };
+                let (frame, ids) = render(&maze, &camera, &options(Charset::Half, depth));
+                middle_lightness(&frame, &ids)
+            };
+            let (near, far) = (lightness(36.0), lightness(16.0)); // 4 and 24 units from the wall
+            assert!(near - far >= 0.12, "{color} {depth:?}: lightness {near:.2} at 4 units, {far:.2} at 24");
+        }
+    }
+}
+
+/// The glyphs `frame` shows on cells most of whose samples are `surface` (a wall: any other id).
+fn glyphs_on(frame: &Frame, ids: &[u32], charset: Charset, surface: Option<u32>) -> BTreeMap<char, usize> {
+    let (sx, sy) = charset.samples_per_cell();
+    let width = COLS * sx;
+    let mut out = BTreeMap::new();
+    for (k, cell) in frame.cells().iter().enumerate() {
+        let (col, row) = (k % COLS, k / COLS);
+        let mut counts: BTreeMap<Option<u32>, usize> = BTreeMap::new();
+        for bit in 0..sx * sy {
+            let id = ids[(row * sy + bit / sx) * width + col * sx + bit % sx];
+            *counts.entry([FLOOR, CEILING].contains(&id).then_some(id)).or_default() += 1;
+        }
+        if counts.get(&surface).is_some_and(|&n| 2 * n > sx * sy) {
+            *out.entry(cell.ch).or_default() += 1;
+        }
+    }
+    out
+}
+
+// issue #33: without colour, floor and ceiling were both `░` in half blocks, both `:` in ascii.
+#[test]
+fn without_colour_floor_ceiling_and_walls_each_have_glyphs_of_their_own() {
+    let builtin = maze::builtin().expect("built-in");
+    let camera = turned(&builtin, 0.0);
+    for charset in [Charset::Half, Charset::Ascii] {
+        let (frame, ids) = render(&builtin, &camera, &options(charset, ColorDepth::None));
+        let [floor, ceiling, walls] = [Some(FLOOR), Some(CEILING), None].map(|surface| {
+            let glyphs = glyphs_on(&frame, &ids, charset, surface);
+            // Blanks (the dark far end) and ascii's outlines are shared.
+            let own: BTreeSet<char> = glyphs.keys().copied().filter(|&g| !" |/\\-".contains(g)).collect();
+            assert!(!own.is_empty(), "{charset}: a surface without glyphs of its own: {glyphs:?}");
+            own
+        });
+        assert!(floor.is_disjoint(&ceiling), "{charset}: floor {floor:?}, ceiling {ceiling:?}");
+        assert!(floor.is_disjoint(&walls), "{charset}: floor {floor:?}, walls {walls:?}");
+        assert!(ceiling.is_disjoint(&walls), "{charset}: ceiling {ceiling:?}, walls {walls:?}");
+        let distinct: BTreeSet<char> = frame.cells().iter().map(|c| c.ch).collect();
+        if charset == Charset::Half {
+            assert!(distinct.len() >= 4, "half blocks: {distinct:?}");
+        }
+    }
+}

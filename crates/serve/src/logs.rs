@@ -1,0 +1,252 @@
+//! The server's log kept bounded whatever clients do (issue #34: a loop of junk key exchanges grew it
+//! by 128 MB in 5 s). Two rules:
+//!
+//! - **Text from outside is clipped.** An error from the SSH library is logged as a short reason of
+//!   our own ([`error_reason`]); any text it carries that a client chose (russh's "no common algorithm"
+//!   error holds the client's whole list) is cut to a few names of at most [`QUOTE_CHARS`] characters,
+//!   control characters escaped ([`clip`]).
+//! - **Lines about connections are rate-limited per address group** ([`LogLimit`]): a burst, then a
+//!   trickle, per group (an IPv4 address, an IPv6 /64: [`address_group`](crate::slots::address_group))
+//!   and in all. What is left out is counted and summed up in one line per group every
+//!   [`SUMMARY_SECONDS`] ("N more lines suppressed").
+//!
+//! Pure: time comes in as seconds.
+
+use std::collections::HashMap;
+use std::net::IpAddr;
+
+use super::limits::RateLimit;
+
+/// Most characters of one piece of client-chosen text in a log line.
+pub const QUOTE_CHARS: usize = 48;
+
+/// Most characters of a library error's text in a log line.
+pub const ERROR_CHARS: usize = 160;
+
+/// Most names of a client's algorithm list quoted in a log line.
+pub const NAMES_QUOTED: usize = 4;
+
+/// Lines one address group may log at once …
+pub const GROUP_BURST: u32 = 20;
+/// … and then one every this many seconds.
+pub const GROUP_INTERVAL: f64 = 5.0;
+/// Lines all groups together may log at once …
+pub const GLOBAL_BURST: u32 = 200;
+/// … and then this many a second.
+pub const GLOBAL_RATE: u32 = 20;
+/// How often the suppressed lines are summed up in the log.
+pub const SUMMARY_SECONDS: u64 = 10;
+/// Address groups whose counts are kept; beyond it, lines of new groups count against the global
+/// budget only, and their suppressed lines are summed up together.
+pub const TRACKED_GROUPS: usize = 4096;
+/// Groups named one by one in a summary; the rest are summed up in one more line.
+pub const SUMMARY_GROUPS: usize = 8;
+
+/// `text` as a log line shows it: control and formatting characters (escape sequences, NUL, bidi
+/// overrides) escaped, so nothing a client sent can move the cursor or hide text on the host's
+/// terminal, and at most `max` characters of that (escapes included), then `…`.
+#[must_use]
+pub fn clip(text: &str, max: usize) -> String {
+    let mut out = String::with_capacity(text.len().min(4 * max));
+    let mut shown = 0;
+    for c in text.chars() {
+        let escaped = c.is_control()
+            || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2060}'..='\u{206f}' | '\u{feff}');
+        let piece: String = if escaped { c.escape_default().collect() } else { c.to_string() };
+        let len = piece.chars().count();
+        if shown + len > max {
+            out.push('…');
+            break;
+        }
+        shown += len;
+        out.push_str(&piece);
+    }
+    out
+}
+
+/// Why a connection ended, from the SSH library's error: a short reason of our own words, never the
+/// library's text whole (see the module's doc).
+#[must_use]
+pub fn error_reason(err: &russh::Error) -> String {
+    use russh::Error as E;
+    match err {
+        E::NoCommonAlgo { kind, theirs, .. } => {
+            let kind = format!("{kind:?}").to_ascii_lowercase();
+            let quoted: Vec<String> =
+                theirs.iter().take(NAMES_QUOTED).map(|n| clip(n.as_ref(), QUOTE_CHARS)).collect();
+            let more = theirs.len().saturating_sub(NAMES_QUOTED);
+            let more = if more > 0 { format!(" (+{more} more)") } else { String::new() };
+            format!("no common {kind} algorithm; the client offered {}{more}", quoted.join(","))
+        }
+        E::KeepaliveTimeout => "keepalive timeout".into(),
+        E::InactivityTimeout => "inactivity timeout".into(),
+        E::Version => "not an SSH client (bad identification line)".into(),
+        E::PacketSize(n) => format!("bad packet size {n}"),
+        E::PacketAuth | E::DecryptionError => "a packet failed its integrity check".into(),
+        E::Kex | E::KexInit => "key exchange failed".into(),
+        E::UnknownAlgo => "unknown algorithm".into(),
+        E::HUP | E::Disconnect => "closed".into(),
+        E::StrictKeyExchangeViolation { .. } => "strict key exchange violated".into(),
+        E::IO(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => "connection lost".into(),
+        E::IO(io) => format!("connection error: {}", clip(&io.to_string(), ERROR_CHARS)),
+        other => clip(&other.to_string().to_lowercase(), ERROR_CHARS),
+    }
+}
+
+/// One address group's budget and what it had left out.
+#[derive(Clone, Copy, Debug)]
+struct Group {
+    bucket: RateLimit,
+    suppressed: u64,
+}
+
+/// Lines left out since the last summary ([`LogLimit::take_suppressed`]).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Suppressed {
+    /// The groups with most lines left out, most first (at most [`SUMMARY_GROUPS`]).
+    pub groups: Vec<(IpAddr, u64)>,
+    /// The rest: how many groups (untracked ones as one), and their lines.
+    pub others: (usize, u64),
+}
+
+/// Which connection log lines are written: see the module's doc.
+#[derive(Debug)]
+pub struct LogLimit {
+    groups: HashMap<IpAddr, Group>,
+    global: RateLimit,
+    /// Lines left out for the global budget or of groups past [`TRACKED_GROUPS`] (no group of
+    /// their own).
+    untracked: u64,
+}
+
+impl LogLimit {
+    /// Full budgets at time `now`.
+    #[must_use]
+    pub fn new(now: f64) -> LogLimit {
+        LogLimit {
+            groups: HashMap::new(),
+            global: RateLimit::new(GLOBAL_RATE, GLOBAL_BURST, now),
+            untracked: 0,
+        }
+    }
+
+    /// Whether a line about a connection from `group` may be written at `now`; if not, it is counted.
+    pub fn allow(&mut self, group: IpAddr, now: f64) -> bool {
+        if !self.groups.contains_key(&group) && self.groups.len() >= TRACKED_GROUPS {
+            self.forget_quiet(now);
+        }
+        let tracked = self.groups.len() < TRACKED_GROUPS || self.groups.contains_key(&group);
+        if !tracked {
+            let allowed = self.global.take(1, now) == 1;
+            self.untracked += u64::from(!allowed);
+            return allowed;
+        }
+        let entry = self.groups.entry(group).or_insert_with(|| Group {
+            bucket: RateLimit::new_per_interval(GROUP_INTERVAL, GROUP_BURST, now),
+            suppressed: 0,
+        });
+        // The group's budget first: a group past its own does not use up everyone's.
+        let allowed = entry.bucket.take(1, now) == 1 && self.global.take(1, now) == 1;
+        entry.suppressed += u64::from(!allowed);
+        allowed
+    }
+
+    /// The lines left out since the last call, for a summary; the counts start again from 0, and
+    /// groups with nothing left out and a full budget are forgotten.
+    pub fn take_suppressed(&mut self, now: f64) -> Suppressed {
+        let mut counts: Vec<(IpAddr, u64)> = self
+            .groups
+            .iter_mut()
+            .filter(|(_, g)| g.suppressed > 0)
+            .map(|(ip, g)| (*ip, std::mem::take(&mut g.suppressed)))
+            .collect();
+        counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        let rest = counts.split_off(counts.len().min(SUMMARY_GROUPS));
+        let untracked = std::mem::take(&mut self.untracked);
+        let others =
+            (rest.len() + usize::from(untracked > 0), rest.iter().map(|(_, n)| n).sum::<u64>() + untracked);
+        self.forget_quiet(now);
+        Suppressed { groups: counts, others }
+    }
+
+    /// Forgets the groups that have nothing left out and their whole budget back.
+    fn forget_quiet(&mut self, now: f64) {
+        self.groups.retain(|_, g| g.suppressed > 0 || !g.bucket.is_full(now));
+    }
+
+    /// Address groups whose counts are kept now.
+    #[must_use]
+    pub fn tracked(&self) -> usize {
+        self.groups.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn client_text_is_clipped_and_escaped() {
+        assert_eq!(clip("abc", 10), "abc");
+        assert_eq!(clip("\x1b[2J\x07x", 20), "\\u{1b}[2J\\u{7}x");
+        assert_eq!(clip("\x1b[2J", 8), "\\u{1b}[2…", "the escapes count");
+        assert_eq!(clip(&"y".repeat(1 << 20), 5), "yyyyy…");
+        assert_eq!(clip("\u{202e}gnp.exe", 20), "\\u{202e}gnp.exe");
+    }
+
+    /// Issue #34: russh's "no common algorithm" error carried the client's whole list (17 KB) into
+    /// the log. Now: a few names, each clipped, and how many more.
+    #[test]
+    fn a_no_common_algorithm_error_names_a_few_of_the_clients_algorithms() {
+        // (russh's error holds its own `Name`s; build one the way its negotiation does.)
+        let theirs: Vec<String> = (0..2000).map(|i| format!("junk-{i}-{}", "x".repeat(100))).collect();
+        let err = russh::Error::NoCommonAlgo {
+            kind: russh::AlgorithmKind::Kex,
+            ours: vec!["curve25519-sha256".into()],
+            theirs: theirs.clone(),
+        };
+        assert!(err.to_string().len() > 200_000, "the premise: the library's text is huge");
+        let reason = error_reason(&err);
+        assert!(reason.len() < 400, "{} bytes: {reason}", reason.len());
+        assert!(reason.starts_with("no common kex algorithm; the client offered junk-0-x"), "{reason}");
+        assert!(reason.ends_with("(+1996 more)"), "{reason}");
+        let io = russh::Error::IO(std::io::Error::other("\x1b]0;evil\x07".repeat(1000)));
+        let reason = error_reason(&io);
+        assert!(reason.chars().count() <= ERROR_CHARS + 40 && !reason.contains('\x1b'), "{reason}");
+    }
+
+    #[test]
+    fn a_group_gets_a_burst_then_a_trickle_and_others_are_not_held_back() {
+        let mut limit = LogLimit::new(0.0);
+        let loud: IpAddr = "192.0.2.1".parse().unwrap();
+        let quiet: IpAddr = "198.51.100.7".parse().unwrap();
+        let allowed = (0..1000).filter(|i| limit.allow(loud, f64::from(*i) * 0.001)).count();
+        assert_eq!(allowed, GROUP_BURST as usize, "the burst, within one second");
+        assert!(limit.allow(quiet, 1.0), "another address still logs");
+        assert!(!limit.allow(loud, 1.0));
+        assert!(limit.allow(loud, 1.0 + GROUP_INTERVAL), "one more after the interval");
+        let summary = limit.take_suppressed(2.0 + GROUP_INTERVAL);
+        assert_eq!(summary.groups, [(loud, 1000 - GROUP_BURST as u64 + 1)]);
+        assert_eq!(summary.others, (0, 0));
+        assert_eq!(limit.take_suppressed(3.0 + GROUP_INTERVAL), Suppressed::default(), "counts start again");
+    }
+
+    /// Many addresses at once: the global budget bounds the lines; memory stays bounded by
+    /// TRACKED_GROUPS; the summary names a few groups and sums up the rest.
+    #[test]
+    fn many_addresses_share_a_global_budget_and_bounded_memory() {
+        let mut limit = LogLimit::new(0.0);
+        let mut allowed = 0;
+        for i in 0..20_000u32 {
+            let ip = IpAddr::from(std::net::Ipv4Addr::from(0x0a00_0000u32 + i));
+            allowed += usize::from(limit.allow(ip, f64::from(i) * 1e-5));
+        }
+        // 0.2 s went by: the global burst and a few lines of its rate.
+        assert!((GLOBAL_BURST as usize..GLOBAL_BURST as usize + 10).contains(&allowed), "{allowed}");
+        assert!(limit.tracked() <= TRACKED_GROUPS);
+        let summary = limit.take_suppressed(1.0);
+        let named: u64 = summary.groups.iter().map(|(_, n)| n).sum();
+        assert!(summary.groups.len() <= SUMMARY_GROUPS);
+        assert_eq!(named + summary.others.1, 20_000 - allowed as u64, "every line left out is counted");
+    }
+}

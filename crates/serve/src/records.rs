@@ -1,0 +1,591 @@
+//! The best times of a served maze, kept across restarts: every finish goes to a [`Store`], which
+//! answers with the maze's best ten and the player's rank ([`Standing`], shown in the exit box).
+//!
+//! ```text
+//! player's task ─try_send─▶ [bounded queue] ─▶ records thread: Store::record (SQLite) ─oneshot─▶ exit box
+//! ```
+//!
+//! - **Keyed by the maze's content** ([`Maze::content_hash`](mazewalk_maze::Maze::content_hash)), so a
+//!   maze keeps its records whatever its file is called, and an edited maze starts afresh.
+//! - **Never in a player's way.** A finish is handed to the records thread with `try_send`: a full
+//!   queue drops it (counted, reported once); the answer comes back on a oneshot channel the player's
+//!   task polls beside its input. The database is touched on that thread only, never on the async
+//!   workers.
+//! - **Faults are reported once and the game goes on.** A database locked by another program (past
+//!   its busy timeout) skips that finish; read-only, full, damaged or unusable, it ends records for
+//!   the server's run. A damaged file found at start is kept aside (`FILE.damaged-UNIXTIME`), never
+//!   written over, and a new one made ([`Sqlite::open`]).
+//! - **One file, many servers.** SQLite in WAL mode with a busy timeout: servers on one file (two
+//!   mazes, say) each write their finishes, readers never block writers.
+//!
+//! [`Store`] is the seam for another backend (the shared world's Redis sorted sets): the server only
+//! calls [`Store::record`]; `mazewalk records` calls [`Store::mazes`].
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, PoisonError, mpsc};
+use std::time::Duration;
+
+use mazewalk_maze::ContentHash;
+use rusqlite::{Connection, ErrorCode, OpenFlags, OptionalExtension as _, params};
+use tokio::sync::oneshot;
+
+/// How many best times a [`Standing`] lists.
+pub const TOP: usize = 10;
+
+/// Finishes waiting for the records thread, at most; more are dropped (and counted).
+pub const QUEUE: usize = 64;
+
+/// One player reaching the exit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Finish {
+    /// The maze.
+    pub maze: ContentHash,
+    /// What the host called it (a file name, "built-in maze", "--gen 30x20 --seed 7").
+    pub maze_name: String,
+    /// The player's name.
+    pub player: String,
+    /// Seconds from the start to the exit.
+    pub seconds: f64,
+    /// When, seconds since the Unix epoch.
+    pub at: i64,
+}
+
+/// A player's best time on a maze.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Best {
+    /// The player's name.
+    pub player: String,
+    /// Seconds.
+    pub seconds: f64,
+    /// When it was made, seconds since the Unix epoch.
+    pub at: i64,
+}
+
+/// Where a player stands on a maze after a finish.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Standing {
+    /// The maze's best [`TOP`] players, best first (each player once, with its best time).
+    pub top: Vec<Best>,
+    /// The player's own best time on the maze (this finish or an earlier one).
+    pub best: f64,
+    /// Its rank among the players of the maze by their best times, from 1.
+    pub rank: usize,
+    /// How many players have finished the maze.
+    pub players: usize,
+}
+
+/// One maze's records, for `mazewalk records`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MazeRecords {
+    /// The maze's content hash, in hex.
+    pub maze: String,
+    /// What the host called it when it was first served.
+    pub name: String,
+    /// Players who finished it.
+    pub players: usize,
+    /// Finishes in all.
+    pub finishes: usize,
+    /// The best [`TOP`].
+    pub top: Vec<Best>,
+}
+
+/// What went wrong with the records.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fault {
+    /// Another program held the database longer than the busy timeout (this finish is not kept;
+    /// the next may be).
+    Busy,
+    /// The database cannot be written (a read-only file, folder or disk).
+    ReadOnly,
+    /// The file cannot be opened or made.
+    CannotOpen,
+    /// The file is not a database, or a damaged one.
+    Damaged,
+    /// The disk, or the database's size limit, is full.
+    Full,
+    /// A newer mazewalk made it (its schema is unknown here).
+    Newer,
+    /// Anything else SQLite or the file system said.
+    Other,
+}
+
+/// A fault, with the file and what SQLite said.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{}: {}{}", path.display(), fault_text(*fault), if detail.is_empty() { String::new() } else { format!(" ({detail})") })]
+pub struct RecordsError {
+    /// The database file.
+    pub path: PathBuf,
+    /// What kind of fault.
+    pub fault: Fault,
+    /// SQLite's or the system's words.
+    pub detail: String,
+}
+
+fn fault_text(fault: Fault) -> &'static str {
+    match fault {
+        Fault::Busy => "the database is locked by another program",
+        Fault::ReadOnly => "the database cannot be written",
+        Fault::CannotOpen => "the database cannot be opened",
+        Fault::Damaged => "not a records database, or a damaged one",
+        Fault::Full => "the database is full",
+        Fault::Newer => "made by a newer mazewalk",
+        Fault::Other => "the database failed",
+    }
+}
+
+impl RecordsError {
+    fn new(path: &Path, fault: Fault, detail: impl Into<String>) -> RecordsError {
+        RecordsError { path: path.to_path_buf(), fault, detail: detail.into() }
+    }
+
+    fn sqlite(path: &Path, err: &rusqlite::Error) -> RecordsError {
+        let fault = match err.sqlite_error_code() {
+            Some(ErrorCode::DatabaseBusy | ErrorCode::DatabaseLocked) => Fault::Busy,
+            Some(ErrorCode::ReadOnly) => Fault::ReadOnly,
+            Some(ErrorCode::CannotOpen | ErrorCode::PermissionDenied) => Fault::CannotOpen,
+            Some(ErrorCode::NotADatabase | ErrorCode::DatabaseCorrupt) => Fault::Damaged,
+            Some(ErrorCode::DiskFull) => Fault::Full,
+            _ => Fault::Other,
+        };
+        RecordsError::new(path, fault, crate::logs::clip(&err.to_string(), crate::logs::ERROR_CHARS))
+    }
+
+    /// Whether the next finish may fare better (a lock held for a while).
+    #[must_use]
+    pub fn is_transient(&self) -> bool {
+        self.fault == Fault::Busy
+    }
+}
+
+/// Where best times are kept: the server calls [`record`](Self::record) for every finish (on a
+/// thread of its own, never on the async workers), `mazewalk records` calls [`mazes`](Self::mazes).
+pub trait Store: Send + 'static {
+    /// Keeps `finish`, and says where its player stands on its maze now.
+    ///
+    /// # Errors
+    /// The store failed; nothing was kept.
+    fn record(&mut self, finish: &Finish) -> Result<Standing, RecordsError>;
+
+    /// Every maze with finishes (or only `maze`), each with its best [`TOP`].
+    ///
+    /// # Errors
+    /// The store failed.
+    fn mazes(&mut self, maze: Option<&ContentHash>) -> Result<Vec<MazeRecords>, RecordsError>;
+}
+
+/// How a SQLite database is opened.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SqliteOptions {
+    /// How long a write waits for another program's lock before giving up on that finish.
+    pub busy_timeout: Duration,
+    /// The database's size limit, bytes: past it, writes fail as a full disk would ([`Fault::Full`]).
+    pub max_bytes: u64,
+}
+
+impl Default for SqliteOptions {
+    fn default() -> Self {
+        // 64 MiB: about a million finishes.
+        SqliteOptions { busy_timeout: Duration::from_secs(2), max_bytes: 64 << 20 }
+    }
+}
+
+/// The records in a SQLite file (bundled SQLite, WAL mode).
+#[derive(Debug)]
+pub struct Sqlite {
+    conn: Connection,
+    path: PathBuf,
+}
+
+/// The schema, version 1 (`PRAGMA user_version`).
+const SCHEMA: &str = "
+    CREATE TABLE mazes (
+        hash TEXT PRIMARY KEY,     -- Maze::content_hash, hex
+        name TEXT NOT NULL,        -- what the host called it when first served
+        first_seen INTEGER NOT NULL
+    );
+    CREATE TABLE finishes (
+        maze TEXT NOT NULL REFERENCES mazes(hash),
+        player TEXT NOT NULL,
+        seconds REAL NOT NULL,
+        at INTEGER NOT NULL        -- Unix seconds
+    );
+    CREATE INDEX finishes_by_maze ON finishes (maze, player, seconds);
+    PRAGMA user_version = 1;
+";
+
+impl Sqlite {
+    /// Opens the records at `path` for a server, making the file (and its folder, mode 0700) if there
+    /// is none. A file that is not a records database, or a damaged one, is kept aside as
+    /// `FILE.damaged-UNIXTIME` (never written over) and a new one made: the second value says where
+    /// it went.
+    ///
+    /// # Errors
+    /// The file cannot be opened, made or written, or a newer mazewalk made it.
+    pub fn open(path: &Path, options: SqliteOptions) -> Result<(Sqlite, Option<PathBuf>), RecordsError> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
+            use std::os::unix::fs::DirBuilderExt as _;
+            std::fs::DirBuilder::new()
+                .recursive(true)
+                .mode(0o700)
+                .create(dir)
+                .map_err(|e| RecordsError::new(path, Fault::CannotOpen, e.to_string()))?;
+        }
+        match Sqlite::open_writable(path, options) {
+            Err(err) if err.fault == Fault::Damaged => {
+                let aside = keep_aside(path)?;
+                Ok((Sqlite::open_writable(path, options)?, Some(aside)))
+            }
+            opened => opened.map(|db| (db, None)),
+        }
+    }
+
+    fn open_writable(path: &Path, options: SqliteOptions) -> Result<Sqlite, RecordsError> {
+        let sqlite = |e: rusqlite::Error| RecordsError::sqlite(path, &e);
+        let flags = OpenFlags::SQLITE_OPEN_READ_WRITE
+            | OpenFlags::SQLITE_OPEN_CREATE
+            | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+        let conn = Connection::open_with_flags(path, flags).map_err(sqlite)?;
+        // (SQLite opens a file it may not write read-only, silently: asked, it says so)
+        if conn.is_readonly(rusqlite::MAIN_DB).map_err(sqlite)? {
+            return Err(RecordsError::new(
+                path,
+                Fault::ReadOnly,
+                "opened read-only: the file may not be written",
+            ));
+        }
+        conn.busy_timeout(options.busy_timeout).map_err(sqlite)?;
+        // (`open` reads nothing: the first statement finds a file that is not a database.)
+        let mode: String =
+            conn.pragma_update_and_check(None, "journal_mode", "WAL", |r| r.get(0)).map_err(sqlite)?;
+        if !mode.eq_ignore_ascii_case("wal") {
+            // (a read-only file answers with its old mode)
+            return Err(RecordsError::new(path, Fault::ReadOnly, format!("journal mode {mode}, not wal")));
+        }
+        conn.pragma_update(None, "synchronous", "NORMAL").map_err(sqlite)?;
+        let page: i64 = conn.query_row("PRAGMA page_size", [], |r| r.get(0)).map_err(sqlite)?;
+        let pages = (options.max_bytes / page.max(512) as u64).max(8);
+        let _: i64 =
+            conn.query_row(&format!("PRAGMA max_page_count = {pages}"), [], |r| r.get(0)).map_err(sqlite)?;
+        let check: String = conn.query_row("PRAGMA quick_check", [], |r| r.get(0)).map_err(sqlite)?;
+        if check != "ok" {
+            return Err(RecordsError::new(path, Fault::Damaged, check));
+        }
+        let db = Sqlite { conn, path: path.to_path_buf() };
+        match db.version()? {
+            0 => db.conn.execute_batch(&format!("BEGIN IMMEDIATE; {SCHEMA} COMMIT;")).map_err(sqlite)?,
+            1 => {}
+            newer => return Err(RecordsError::new(path, Fault::Newer, format!("schema version {newer}"))),
+        }
+        Ok(db)
+    }
+
+    /// Opens the records at `path` to read them (`mazewalk records`); changes nothing.
+    ///
+    /// # Errors
+    /// The file does not exist, cannot be read, is not a records database, or is a newer one.
+    pub fn open_to_read(path: &Path) -> Result<Sqlite, RecordsError> {
+        let sqlite = |e: rusqlite::Error| RecordsError::sqlite(path, &e);
+        if !path.is_file() {
+            return Err(RecordsError::new(path, Fault::CannotOpen, "no such file: no records yet"));
+        }
+        let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+        let conn = Connection::open_with_flags(path, flags).map_err(sqlite)?;
+        conn.busy_timeout(Duration::from_secs(2)).map_err(sqlite)?;
+        let db = Sqlite { conn, path: path.to_path_buf() };
+        match db.version()? {
+            1 => Ok(db),
+            0 => Err(RecordsError::new(path, Fault::Damaged, "no records tables")),
+            newer => Err(RecordsError::new(path, Fault::Newer, format!("schema version {newer}"))),
+        }
+    }
+
+    fn version(&self) -> Result<i64, RecordsError> {
+        self.conn
+            .query_row("PRAGMA user_version", [], |r| r.get(0))
+            .map_err(|e| RecordsError::sqlite(&self.path, &e))
+    }
+
+    /// The best [`TOP`] of `maze`, best first.
+    fn top(conn: &Connection, maze: &str) -> rusqlite::Result<Vec<Best>> {
+        // (SQLite gives the bare column `at` of the row holding the MIN)
+        let mut stmt = conn.prepare(
+            "SELECT player, MIN(seconds) AS best, at FROM finishes WHERE maze = ?1
+             GROUP BY player ORDER BY best, at, player LIMIT ?2",
+        )?;
+        let rows = stmt.query_map(params![maze, TOP as i64], |r| {
+            Ok(Best { player: r.get(0)?, seconds: r.get(1)?, at: r.get(2)? })
+        })?;
+        rows.collect()
+    }
+}
+
+/// Moves a damaged database (and its `-wal` and `-shm`) aside; returns the new name.
+fn keep_aside(path: &Path) -> Result<PathBuf, RecordsError> {
+    let secs = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
+    let with = |suffix: &str| {
+        let mut name = path.as_os_str().to_owned();
+        name.push(suffix);
+        PathBuf::from(name)
+    };
+    let aside =
+        (0..100)
+            .map(|n| {
+                if n == 0 { with(&format!(".damaged-{secs}")) } else { with(&format!(".damaged-{secs}-{n}")) }
+            })
+            .find(|p| !p.exists())
+            .ok_or_else(|| RecordsError::new(path, Fault::Damaged, "no free name to keep it aside"))?;
+    std::fs::rename(path, &aside)
+        .map_err(|e| RecordsError::new(path, Fault::Damaged, format!("cannot keep it aside: {e}")))?;
+    for part in ["-wal", "-shm"] {
+        let (from, to) = (with(part), {
+            let mut n = aside.as_os_str().to_owned();
+            n.push(part);
+            PathBuf::from(n)
+        });
+        if from.exists() {
+            let _ = std::fs::rename(from, to);
+        }
+    }
+    Ok(aside)
+}
+
+impl Store for Sqlite {
+    fn record(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
+        let path = self.path.clone();
+        let sqlite = |e: rusqlite::Error| RecordsError::sqlite(&path, &e);
+        let maze = finish.maze.to_string();
+        let tx =
+            self.conn.transaction_with_behavior(rusqlite::TransactionBehavior::Immediate).map_err(sqlite)?;
+        tx.execute(
+            "INSERT OR IGNORE INTO mazes (hash, name, first_seen) VALUES (?1, ?2, ?3)",
+            params![maze, finish.maze_name, finish.at],
+        )
+        .map_err(sqlite)?;
+        tx.execute(
+            "INSERT INTO finishes (maze, player, seconds, at) VALUES (?1, ?2, ?3, ?4)",
+            params![maze, finish.player, finish.seconds, finish.at],
+        )
+        .map_err(sqlite)?;
+        let best: f64 = tx
+            .query_row(
+                "SELECT MIN(seconds) FROM finishes WHERE maze = ?1 AND player = ?2",
+                params![maze, finish.player],
+                |r| r.get(0),
+            )
+            .map_err(sqlite)?;
+        let ahead: i64 = tx
+            .query_row(
+                "SELECT COUNT(*) FROM (SELECT player FROM finishes WHERE maze = ?1 AND player <> ?2
+                 GROUP BY player HAVING MIN(seconds) < ?3)",
+                params![maze, finish.player, best],
+                |r| r.get(0),
+            )
+            .map_err(sqlite)?;
+        let players: i64 = tx
+            .query_row("SELECT COUNT(DISTINCT player) FROM finishes WHERE maze = ?1", params![maze], |r| {
+                r.get(0)
+            })
+            .map_err(sqlite)?;
+        let top = Sqlite::top(&tx, &maze).map_err(sqlite)?;
+        tx.commit().map_err(sqlite)?;
+        Ok(Standing { top, best, rank: ahead as usize + 1, players: players as usize })
+    }
+
+    fn mazes(&mut self, maze: Option<&ContentHash>) -> Result<Vec<MazeRecords>, RecordsError> {
+        let path = self.path.clone();
+        let sqlite = |e: rusqlite::Error| RecordsError::sqlite(&path, &e);
+        let only = maze.map(ToString::to_string);
+        let mut stmt = self
+            .conn
+            .prepare(
+                "SELECT m.hash, m.name, COUNT(DISTINCT f.player), COUNT(f.player) FROM mazes m
+                 LEFT JOIN finishes f ON f.maze = m.hash WHERE ?1 IS NULL OR m.hash = ?1
+                 GROUP BY m.hash ORDER BY m.first_seen, m.hash",
+            )
+            .map_err(sqlite)?;
+        let rows: Vec<(String, String, i64, i64)> = stmt
+            .query_map(params![only], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?)))
+            .and_then(Iterator::collect)
+            .map_err(sqlite)?;
+        rows.into_iter()
+            .map(|(hash, name, players, finishes)| {
+                let top = Sqlite::top(&self.conn, &hash).map_err(sqlite)?;
+                Ok(MazeRecords {
+                    maze: hash,
+                    name,
+                    players: players as usize,
+                    finishes: finishes as usize,
+                    top,
+                })
+            })
+            .collect()
+    }
+}
+
+impl Sqlite {
+    /// Whether the database holds `maze` (for a clear message when it does not).
+    ///
+    /// # Errors
+    /// The database failed.
+    pub fn knows(&self, maze: &ContentHash) -> Result<bool, RecordsError> {
+        self.conn
+            .query_row("SELECT 1 FROM mazes WHERE hash = ?1", params![maze.to_string()], |_| Ok(()))
+            .optional()
+            .map(|found| found.is_some())
+            .map_err(|e| RecordsError::sqlite(&self.path, &e))
+    }
+}
+
+/// What the records thread says to the host (the server logs it; tests collect it).
+pub type Report = Arc<dyn Fn(&str) + Send + Sync>;
+
+/// A finish on its way to the records thread, with where to send the answer.
+type Job = (Finish, oneshot::Sender<Option<Standing>>);
+
+/// The records thread's handle: hands it finishes without waiting (see the module's doc). Clones share
+/// the thread, which ends when the last clone is dropped.
+#[derive(Clone)]
+pub struct Records {
+    jobs: mpsc::SyncSender<Job>,
+    dropped: Arc<AtomicU64>,
+    report: Report,
+    /// Hangs up when the thread ends (every clone holds the receiving end's partner).
+    done: Arc<Mutex<mpsc::Receiver<()>>>,
+}
+
+impl std::fmt::Debug for Records {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Records")
+            .field("dropped", &self.dropped.load(Ordering::Relaxed))
+            .finish_non_exhaustive()
+    }
+}
+
+impl Records {
+    /// Starts the records thread over `store`; what goes wrong is said once through `report`.
+    ///
+    /// # Errors
+    /// The thread cannot be started.
+    pub fn start(store: impl Store, report: Report) -> std::io::Result<Records> {
+        let (jobs, queue) = mpsc::sync_channel::<Job>(QUEUE);
+        let (ended, done) = mpsc::channel::<()>();
+        let thread_report = Arc::clone(&report);
+        std::thread::Builder::new().name("records".into()).spawn(move || {
+            keep(store, &queue, &*thread_report);
+            drop(ended);
+        })?;
+        let done = Arc::new(Mutex::new(done));
+        Ok(Records { jobs, dropped: Arc::new(AtomicU64::new(0)), report, done })
+    }
+
+    /// Lets the thread finish what it was handed (once every other clone is gone too) and waits for it,
+    /// `within` at most. Returns whether it finished.
+    #[must_use]
+    pub fn close(self, within: Duration) -> bool {
+        let Records { jobs, done, .. } = self;
+        drop(jobs);
+        let done = done.lock().unwrap_or_else(PoisonError::into_inner);
+        matches!(done.recv_timeout(within), Err(mpsc::RecvTimeoutError::Disconnected))
+    }
+
+    /// Hands `finish` to the records thread without waiting: the answer (the player's standing, or
+    /// `None` when it could not be kept) comes on the returned channel. `None` when the queue is full
+    /// (the finish is dropped and counted; the first drop is reported) or the thread is gone.
+    #[must_use]
+    pub fn finish(&self, finish: Finish) -> Option<oneshot::Receiver<Option<Standing>>> {
+        let (answer, standing) = oneshot::channel();
+        match self.jobs.try_send((finish, answer)) {
+            Ok(()) => Some(standing),
+            Err(mpsc::TrySendError::Full(_)) => {
+                if self.dropped.fetch_add(1, Ordering::Relaxed) == 0 {
+                    (self.report)("records: the database is slow: finishes are dropped while it catches up");
+                }
+                None
+            }
+            Err(mpsc::TrySendError::Disconnected(_)) => None,
+        }
+    }
+
+    /// Finishes dropped so far because the queue was full.
+    #[must_use]
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Ordering::Relaxed)
+    }
+}
+
+/// The records thread: keeps each finish, reports a fault once (a transient one once per streak),
+/// and after a lasting fault answers `None` to all.
+fn keep(mut store: impl Store, queue: &mpsc::Receiver<Job>, report: &(dyn Fn(&str) + Send + Sync)) {
+    let mut broken = false;
+    let mut busy_streak = false;
+    while let Ok((finish, answer)) = queue.recv() {
+        if broken {
+            let _ = answer.send(None);
+            continue;
+        }
+        match store.record(&finish) {
+            Ok(standing) => {
+                busy_streak = false;
+                let _ = answer.send(Some(standing));
+            }
+            Err(err) if err.is_transient() => {
+                if !std::mem::replace(&mut busy_streak, true) {
+                    report(&format!("records: {err}; finishes meanwhile are not kept"));
+                }
+                let _ = answer.send(None);
+            }
+            Err(err) => {
+                broken = true;
+                report(&format!("records: {err}; the game goes on without records"));
+                let _ = answer.send(None);
+            }
+        }
+    }
+}
+
+/// A server's records: where finishes go, and the maze they are kept under.
+#[derive(Clone, Debug)]
+pub struct Keeper {
+    /// The records thread.
+    pub records: Records,
+    /// The maze's content hash.
+    pub maze: ContentHash,
+    /// What the host calls the maze.
+    pub maze_name: String,
+}
+
+impl Keeper {
+    /// Hands over `player`'s finish in `seconds`, now ([`Records::finish`]).
+    #[must_use]
+    pub fn finish(&self, player: &str, seconds: f64) -> Option<oneshot::Receiver<Option<Standing>>> {
+        let at =
+            std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
+        self.records.finish(Finish {
+            maze: self.maze,
+            maze_name: self.maze_name.clone(),
+            player: player.to_string(),
+            seconds,
+            at: i64::try_from(at).unwrap_or(i64::MAX),
+        })
+    }
+}
+
+/// The lines of the exit box for `standing`: the maze's best ten, the player's row marked, and its
+/// rank below them when it is not among them.
+#[must_use]
+pub fn standing_lines(standing: &Standing, player: &str) -> Vec<String> {
+    let clock = mazewalk_walk::screen::clock_text;
+    let width = standing.top.iter().map(|b| b.player.chars().count()).max().unwrap_or(0);
+    let players =
+        if standing.players == 1 { "1 player".to_string() } else { format!("{} players", standing.players) };
+    let mut lines = vec![String::new(), format!("Best times here ({players})")];
+    for (i, best) in standing.top.iter().enumerate() {
+        let you = if best.player == player { "  you" } else { "" };
+        lines.push(format!("{:>2}. {:<width$}  {}{you}", i + 1, best.player, clock(best.seconds)));
+    }
+    if !standing.top.iter().any(|b| b.player == player) {
+        lines.push(format!("{:>2}. {player}  {}  you", standing.rank, clock(standing.best)));
+    }
+    lines
+}

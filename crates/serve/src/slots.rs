@@ -1,0 +1,324 @@
+//! Who may hold a connection open: the server's slots, pure (ids and addresses in, verdicts out; time
+//! as seconds). Issue #34 found two ways to lock every player out: connections still in the handshake
+//! counted against `--max-players`, and addresses were counted one by one, so one IPv6 /64 — the
+//! smallest block a home or a cloud machine gets — was billions of addresses.
+//!
+//! - **Players and handshakes apart.** A connection starts as a *handshake* (key exchange and
+//!   authentication), one of at most [`Limits::max_handshakes`]; it becomes a *player* when it logs
+//!   in ([`Slots::promote`]), one of at most [`Limits::max_players`]. Handshakes never take a player's
+//!   slot, so a flood of them cannot push out anyone in the game.
+//! - **Fair handshakes.** When every handshake slot is taken, a newcomer from an address group
+//!   holding fewer of them takes the oldest of the group holding the most (if that group would
+//!   still hold more than the newcomer's): a few addresses cannot keep everyone else out by
+//!   holding all the slots. (Many addresses each holding one can, for as long as they hold them;
+//!   the handshake timeout ends each.)
+//! - **Address groups.** [`address_group`]: an IPv4 address, or an IPv6 address's /64. Each group
+//!   has at most [`Limits::max_per_address`] connections of both kinds, and opens new ones at most
+//!   [`Limits::connect_rate`] a second after a burst of twice that many.
+
+use std::collections::{BTreeMap, HashMap};
+use std::net::{IpAddr, Ipv6Addr};
+
+use super::limits::{Limits, RateLimit};
+
+/// The group an address is counted in: an IPv4 address (also when written as an IPv4-mapped IPv6
+/// address, as a dual-stack listener sees it), or the /64 an IPv6 address is in.
+#[must_use]
+pub fn address_group(ip: IpAddr) -> IpAddr {
+    match ip {
+        IpAddr::V4(_) => ip,
+        IpAddr::V6(v6) => match v6.to_ipv4_mapped() {
+            Some(v4) => IpAddr::V4(v4),
+            None => IpAddr::V6(Ipv6Addr::from(u128::from(v6) & (u128::MAX << 64))),
+        },
+    }
+}
+
+/// A connection's id, in the order they came (so the smallest is the oldest).
+pub type ConnId = u64;
+
+/// Why a connection gets no slot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Refusal {
+    /// `--max-players`, reached.
+    Full(usize),
+    /// `--max-per-address`, reached by the client's address group.
+    FromThisAddress(usize),
+    /// Every handshake slot is taken, none by an address holding more than the newcomer's.
+    Busy,
+    /// The address opened new connections faster than [`Limits::connect_rate`].
+    TooFast,
+}
+
+impl Refusal {
+    /// For the log.
+    #[must_use]
+    pub fn reason(self) -> &'static str {
+        match self {
+            Refusal::Full(_) => "server full",
+            Refusal::FromThisAddress(_) => "too many connections from this address",
+            Refusal::Busy => "too many connections logging in",
+            Refusal::TooFast => "connecting too fast",
+        }
+    }
+
+    /// For the client (its `ssh` prints it).
+    #[must_use]
+    pub fn message(self) -> String {
+        match self {
+            Refusal::Full(1) => "mazewalk: the server is full (one player at a time); try again later".into(),
+            Refusal::Full(n) => format!("mazewalk: the server is full ({n} players); try again later"),
+            Refusal::FromThisAddress(n) => {
+                let n = if n == 1 { "a connection".to_owned() } else { format!("{n} connections") };
+                format!("mazewalk: {n} from your address already; close one, or try again later")
+            }
+            Refusal::Busy => {
+                "mazewalk: too many players are logging in right now; try again in a few seconds".into()
+            }
+            Refusal::TooFast => {
+                "mazewalk: too many new connections from your address; try again in a few seconds".into()
+            }
+        }
+    }
+}
+
+/// A new connection's slot: its id, and the handshake it pushed out, if any (to be closed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Admitted {
+    /// The new connection's id.
+    pub id: ConnId,
+    /// The handshake that made room for it.
+    pub evicted: Option<ConnId>,
+}
+
+/// Connections of one address group.
+#[derive(Clone, Copy, Debug, Default)]
+struct Counts {
+    handshakes: usize,
+    players: usize,
+}
+
+/// Every open connection's slot (see the module's doc).
+#[derive(Debug)]
+pub struct Slots {
+    limits: Limits,
+    next_id: ConnId,
+    /// Handshakes by id (oldest first), with their group.
+    handshakes: BTreeMap<ConnId, IpAddr>,
+    /// Players by id, with their group.
+    players: HashMap<ConnId, IpAddr>,
+    groups: HashMap<IpAddr, Counts>,
+    /// New connections' budgets, by group (forgotten once full again).
+    rates: HashMap<IpAddr, RateLimit>,
+}
+
+impl Slots {
+    /// No connections, under `limits`.
+    #[must_use]
+    pub fn new(limits: &Limits) -> Slots {
+        Slots {
+            limits: *limits,
+            next_id: 0,
+            handshakes: BTreeMap::new(),
+            players: HashMap::new(),
+            groups: HashMap::new(),
+            rates: HashMap::new(),
+        }
+    }
+
+    /// A handshake slot for a new connection from `ip` at `now`, or why not.
+    ///
+    /// # Errors
+    /// The [`Refusal`]: players full, the address group's connections or rate, no handshake slot.
+    pub fn admit(&mut self, ip: IpAddr, now: f64) -> Result<Admitted, Refusal> {
+        let group = address_group(ip);
+        let limits = &self.limits;
+        if self.rates.len() > 4 * (self.handshakes.len() + self.players.len()) + 1024 {
+            self.rates.retain(|_, bucket| !bucket.is_full(now)); // bounded by what is recent
+        }
+        let burst = u32::try_from(2 * limits.max_per_address).unwrap_or(u32::MAX);
+        let rate =
+            self.rates.entry(group).or_insert_with(|| RateLimit::per_second(limits.connect_rate, burst, now));
+        if rate.take(1, now) == 0 {
+            return Err(Refusal::TooFast);
+        }
+        if self.players.len() >= limits.max_players {
+            return Err(Refusal::Full(limits.max_players));
+        }
+        let counts = self.groups.get(&group).copied().unwrap_or_default();
+        if counts.handshakes + counts.players >= limits.max_per_address {
+            return Err(Refusal::FromThisAddress(limits.max_per_address));
+        }
+        let evicted = if self.handshakes.len() >= limits.max_handshakes {
+            Some(self.victim(counts.handshakes).ok_or(Refusal::Busy)?)
+        } else {
+            None
+        };
+        if let Some(victim) = evicted {
+            self.release(victim);
+        }
+        let id = self.next_id;
+        self.next_id += 1;
+        self.handshakes.insert(id, group);
+        self.groups.entry(group).or_default().handshakes += 1;
+        Ok(Admitted { id, evicted })
+    }
+
+    /// The handshake to push out for a newcomer whose group holds `theirs` handshakes: the oldest of
+    /// the group holding the most, if it holds at least two more (else none: it would not be fairer).
+    fn victim(&self, theirs: usize) -> Option<ConnId> {
+        let (group, most) = self
+            .groups
+            .iter()
+            .filter(|(_, c)| c.handshakes > 0)
+            .max_by_key(|(ip, c)| (c.handshakes, std::cmp::Reverse(**ip)))
+            .map(|(ip, c)| (*ip, c.handshakes))?;
+        (most >= theirs + 2).then(|| self.handshakes.iter().find(|(_, g)| **g == group).map(|(id, _)| *id))?
+    }
+
+    /// The handshake `id` logged in: it becomes a player.
+    ///
+    /// # Errors
+    /// [`Refusal::Full`] when every player's slot is taken (it stays a handshake).
+    pub fn promote(&mut self, id: ConnId) -> Result<(), Refusal> {
+        let Some(&group) = self.handshakes.get(&id) else {
+            return Ok(()); // a player already, or gone
+        };
+        if self.players.len() >= self.limits.max_players {
+            return Err(Refusal::Full(self.limits.max_players));
+        }
+        self.handshakes.remove(&id);
+        self.players.insert(id, group);
+        let counts = self.groups.entry(group).or_default();
+        counts.handshakes -= 1;
+        counts.players += 1;
+        Ok(())
+    }
+
+    /// The connection `id` closed (or was pushed out): its slot is free.
+    pub fn release(&mut self, id: ConnId) {
+        let (group, was_player) = match (self.handshakes.remove(&id), self.players.remove(&id)) {
+            (Some(group), _) => (group, false),
+            (None, Some(group)) => (group, true),
+            (None, None) => return,
+        };
+        if let Some(counts) = self.groups.get_mut(&group) {
+            if was_player {
+                counts.players -= 1;
+            } else {
+                counts.handshakes -= 1;
+            }
+            if counts.players + counts.handshakes == 0 {
+                self.groups.remove(&group);
+            }
+        }
+    }
+
+    /// Players now.
+    #[must_use]
+    pub fn players(&self) -> usize {
+        self.players.len()
+    }
+
+    /// Handshakes now.
+    #[must_use]
+    pub fn handshakes(&self) -> usize {
+        self.handshakes.len()
+    }
+
+    /// Whether `id` holds a slot (as a handshake or a player).
+    #[must_use]
+    pub fn holds(&self, id: ConnId) -> bool {
+        self.handshakes.contains_key(&id) || self.players.contains_key(&id)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ip(s: &str) -> IpAddr {
+        s.parse().unwrap()
+    }
+
+    fn limits(max_players: usize, max_handshakes: usize, max_per_address: usize) -> Limits {
+        Limits { max_players, max_handshakes, max_per_address, connect_rate: 1000.0, ..Limits::default() }
+    }
+
+    /// Issue #34: one /64 is one address; an IPv4-mapped address is its IPv4 address.
+    #[test]
+    fn ipv6_addresses_are_grouped_by_their_64() {
+        assert_eq!(address_group(ip("2001:db8:1:2:aaaa:bbbb:cccc:dddd")), ip("2001:db8:1:2::"));
+        assert_eq!(address_group(ip("2001:db8:1:2::1")), address_group(ip("2001:db8:1:2:ffff::9")));
+        assert_ne!(address_group(ip("2001:db8:1:2::1")), address_group(ip("2001:db8:1:3::1")));
+        assert_eq!(address_group(ip("::ffff:192.0.2.7")), ip("192.0.2.7"));
+        assert_eq!(address_group(ip("192.0.2.7")), ip("192.0.2.7"));
+        let mut slots = Slots::new(&limits(100, 100, 2));
+        slots.admit(ip("2001:db8::1"), 0.0).unwrap();
+        slots.admit(ip("2001:db8::2:3"), 0.0).unwrap();
+        assert_eq!(
+            slots.admit(ip("2001:db8::ffff:1"), 0.0),
+            Err(Refusal::FromThisAddress(2)),
+            "the same /64"
+        );
+        assert!(slots.admit(ip("2001:db8:0:1::1"), 0.0).is_ok(), "the next /64");
+    }
+
+    /// Issue #34: connections in the handshake filled --max-players and locked players out. Now
+    /// they have their own slots: players still get in, and players never lose theirs to them.
+    #[test]
+    fn handshakes_never_take_a_players_slot() {
+        let mut slots = Slots::new(&limits(2, 4, 100));
+        let a = slots.admit(ip("10.0.0.1"), 0.0).unwrap().id;
+        slots.promote(a).unwrap();
+        for i in 0..3 {
+            slots.admit(ip(&format!("10.0.1.{i}")), 0.0).unwrap();
+        }
+        assert_eq!((slots.players(), slots.handshakes()), (1, 3));
+        let b = slots.admit(ip("10.0.2.1"), 0.0).unwrap().id;
+        slots.promote(b).unwrap();
+        assert_eq!(slots.players(), 2);
+        assert_eq!(slots.admit(ip("10.0.3.1"), 0.0), Err(Refusal::Full(2)), "players full: refused at once");
+        slots.release(a);
+        assert!(slots.admit(ip("10.0.3.1"), 0.0).is_ok());
+    }
+
+    #[test]
+    fn a_newcomer_takes_the_oldest_handshake_of_the_address_holding_most() {
+        let mut slots = Slots::new(&limits(100, 4, 100));
+        let flood: Vec<ConnId> = (0..3).map(|_| slots.admit(ip("192.0.2.1"), 0.0).unwrap().id).collect();
+        let other = slots.admit(ip("192.0.2.2"), 0.0).unwrap().id;
+        assert_eq!(
+            slots.admit(ip("192.0.2.1"), 0.0),
+            Err(Refusal::Busy),
+            "the flooder cannot push out others"
+        );
+        let newcomer = slots.admit(ip("198.51.100.1"), 0.0).unwrap();
+        assert_eq!(newcomer.evicted, Some(flood[0]), "the oldest of the address holding most");
+        assert!(!slots.holds(flood[0]) && slots.holds(other));
+        // Two each: nobody holds two more than a newcomer with one (it stays refused).
+        assert_eq!(slots.admit(ip("192.0.2.2"), 0.0), Err(Refusal::Busy));
+        assert_eq!(slots.handshakes(), 4);
+    }
+
+    #[test]
+    fn an_address_connecting_too_fast_is_slowed_and_every_slot_comes_back() {
+        let mut slots = Slots::new(&Limits { connect_rate: 2.0, ..limits(100, 100, 3) });
+        let mut ids = Vec::new();
+        for i in 0..6 {
+            let id = slots.admit(ip("192.0.2.9"), 0.0).unwrap().id;
+            assert!(i < 3 || slots.handshakes() <= 3);
+            slots.release(id);
+            ids.push(id);
+        }
+        assert_eq!(slots.admit(ip("192.0.2.9"), 0.0), Err(Refusal::TooFast), "a burst of 2 × 3");
+        assert!(slots.admit(ip("192.0.2.9"), 0.5).is_ok(), "one more after 1 / rate");
+        assert!(slots.admit(ip("192.0.2.10"), 0.5).is_ok(), "another address is not slowed");
+        let left: Vec<ConnId> = (0..100).filter(|&id| slots.holds(id)).collect();
+        for id in left {
+            slots.release(id);
+        }
+        assert_eq!((slots.players(), slots.handshakes()), (0, 0));
+        assert!(slots.groups.is_empty(), "nothing kept for closed connections");
+    }
+}

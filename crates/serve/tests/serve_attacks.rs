@@ -1,0 +1,230 @@
+//! Issue #34's attacks, each as a quick bounded test against an in-process server on loopback (the
+//! full reproductions, with a witness player's latency before and after, are
+//! `benches/examples/attacks.rs`): a key exchange that costs the server a second of CPU, an `ssh-rsa`
+//! (SHA-1) signature, a connection kept after its game, and a flood of handshakes. (A player that
+//! types but never reads at shutdown is `tests/serve_e2e.rs`'s: it takes a client that stops
+//! adjusting its window, as OpenSSH does when its terminal is not read; russh's client never stops.)
+#![cfg(target_os = "linux")]
+
+#[path = "serve_common/load.rs"]
+mod load;
+#[path = "serve_common/raw.rs"]
+mod raw;
+
+use std::net::{IpAddr, SocketAddr};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use load::{Connected, connect, quantile};
+use mazewalk_serve::{Access, Limits, ServeOptions, Server};
+use russh::keys::{HashAlg, PrivateKeyWithHashAlg};
+
+/// Each test's deadline.
+const DEADLINE: Duration = Duration::from_secs(60);
+
+async fn server(access: Access, limits: Limits) -> Server {
+    let maze = mazewalk_maze::builtin().expect("built-in maze");
+    let listen: SocketAddr = "127.0.0.1:0".parse().expect("address");
+    let options = ServeOptions {
+        maze,
+        listen: vec![listen],
+        host_key: load::host_key(),
+        access,
+        limits,
+        records: None,
+    };
+    Server::start(options).await.expect("start the server")
+}
+
+/// Waits until `ok` holds, or panics after `within`.
+async fn eventually(within: Duration, what: &str, ok: impl Fn() -> bool) {
+    let deadline = Instant::now() + within;
+    while !ok() {
+        assert!(Instant::now() < deadline, "timed out: {what}");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+}
+
+/// Issue #34, high 1: a client offering only `diffie-hellman-group18-sha512` and sending its half
+/// uncomputed cost the server 0.9 s of CPU a handshake (release build). Now the server does not offer
+/// it: each such connection is closed in milliseconds, before any exponentiation.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_offering_only_finite_field_diffie_hellman_is_refused_at_once() {
+    tokio::time::timeout(DEADLINE, async {
+        let server = server(Access::Open, Limits::default()).await;
+        let addr = server.local_addr();
+        let took = tokio::task::spawn_blocking(move || {
+            let started = Instant::now();
+            for i in 0..10 {
+                let mut stream = raw::connect(None, addr).expect("connect");
+                use std::io::Write as _;
+                let _ = stream.write_all(&raw::kexinit("diffie-hellman-group18-sha512"));
+                let _ = stream.write_all(&raw::kexdh_init(8192, i));
+                let closed = raw::until_closed(&mut stream, Duration::from_secs(5));
+                assert!(closed.is_some(), "connection {i} still open after 5 s");
+            }
+            started.elapsed()
+        })
+        .await
+        .expect("the attacker");
+        // (Ten group18 handshakes took ≥ 9 s of server CPU before; milliseconds each now.)
+        assert!(took < Duration::from_secs(3), "10 refusals took {took:?}");
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
+
+/// An RSA key pair made by ssh-keygen (as a player's would be), read back by russh.
+fn rsa_key() -> (russh::keys::PrivateKey, tempdir::Dir) {
+    let dir = tempdir::Dir::new("rsa");
+    let path = dir.0.join("id_rsa");
+    let status = std::process::Command::new("ssh-keygen")
+        .args(["-q", "-t", "rsa", "-b", "2048", "-N", "", "-f"])
+        .arg(&path)
+        .stdin(std::process::Stdio::null())
+        .status()
+        .expect("ssh-keygen");
+    assert!(status.success());
+    (russh::keys::load_secret_key(&path, None).expect("read the key"), dir)
+}
+
+mod tempdir {
+    /// A scratch folder, removed on drop.
+    pub struct Dir(pub std::path::PathBuf);
+
+    impl Dir {
+        pub fn new(name: &str) -> Dir {
+            let dir = std::env::temp_dir().join(format!("mazewalk-attacks-{name}-{}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&dir);
+            std::fs::create_dir_all(&dir).expect("scratch folder");
+            Dir(dir)
+        }
+    }
+
+    impl Drop for Dir {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+/// Issue #34, low: `ssh-rsa` signatures (RSA over SHA-1) were accepted; OpenSSH 8.8 and later refuse
+/// them. The same key signing with SHA-256 or SHA-512 is let in.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_rsa_key_logs_in_with_sha2_but_not_with_sha1() {
+    tokio::time::timeout(DEADLINE, async {
+        let (key, _dir) = rsa_key();
+        let key = Arc::new(key);
+        let access = Access::Keys(vec![key.public_key().key_data().clone()]);
+        let server = server(access, Limits::default()).await;
+        let addr = server.local_addr();
+        for (hash, let_in) in [(None, false), (Some(HashAlg::Sha256), true), (Some(HashAlg::Sha512), true)] {
+            let config = Arc::new(russh::client::Config::default());
+            let mut handle =
+                russh::client::connect(config, addr, load::Client).await.expect("the key exchange");
+            let auth = handle
+                .authenticate_publickey("rosa", PrivateKeyWithHashAlg::new(Arc::clone(&key), hash))
+                .await
+                .expect("an answer");
+            assert_eq!(auth.success(), let_in, "{hash:?}");
+        }
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
+
+/// Issue #34, medium 4: when the game ended (`q`, or the client closing the channel) the connection
+/// stayed open, holding a slot for good (`ssh -o ControlPersist=yes`, paramiko). Now the server
+/// closes it after `after_game`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_connection_closes_when_its_game_ends() {
+    tokio::time::timeout(DEADLINE, async {
+        let limits = Limits { after_game: Duration::from_millis(300), ..Limits::default() };
+        let server = server(Access::Open, limits).await;
+        let addr = server.local_addr();
+        // One quits with q, the other closes its channel; neither closes its connection.
+        let quitter = connect(addr, "quitter", (80, 24)).await.expect("connect");
+        let closer = connect(addr, "closer", (80, 24)).await.expect("connect");
+        eventually(Duration::from_secs(10), "both playing", || server.players() == 2).await;
+        let Connected { handle: quitter, channel } = quitter;
+        channel.data(&b"q"[..]).await.expect("q");
+        let Connected { handle: closer, channel } = closer;
+        channel.close().await.expect("close the channel");
+        eventually(Duration::from_secs(10), "both games over", || server.players() == 0).await;
+        let ended = Instant::now();
+        eventually(Duration::from_secs(10), "the server closes both connections", || {
+            quitter.is_closed() && closer.is_closed()
+        })
+        .await;
+        assert_eq!(server.connections(), 0, "both slots are free");
+        assert!(ended.elapsed() < Duration::from_secs(5), "{:?}", ended.elapsed());
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
+
+/// A loopback address of its own (Linux routes all of 127/8 to loopback): address group `n`.
+fn address(n: u8) -> IpAddr {
+    IpAddr::from([127, 0, 0, n])
+}
+
+/// Issue #34, medium 5: connections still in the handshake took players' slots (16 addresses × 16
+/// connections locked every player out). Now: a witness already playing keeps its latency, a newcomer
+/// from another address gets in while the flood holds every handshake slot, and the flood never holds
+/// more than its slots.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_flood_of_handshakes_neither_slows_players_nor_keeps_newcomers_out() {
+    tokio::time::timeout(DEADLINE, async {
+        let limits = Limits {
+            max_players: 4,
+            max_handshakes: 8,
+            max_per_address: 16,
+            handshake_timeout: Duration::from_secs(30), // the flood holds its slots throughout
+            ..Limits::default()
+        };
+        let server = server(Access::Open, limits).await;
+        let addr = server.local_addr();
+        let witness = connect(addr, "witness", (80, 24)).await.expect("the witness");
+        let witness = tokio::spawn(load::walk(witness, 10.0, 4.0, b"\x1b[D"));
+        // Four addresses open 12 silent connections each, as fast as they can, and keep them.
+        let flood = tokio::task::spawn_blocking(move || {
+            let mut held = Vec::new();
+            for n in 2..6 {
+                for _ in 0..12 {
+                    if let Ok(stream) = raw::connect(Some(address(n)), addr) {
+                        held.push(stream);
+                    }
+                }
+            }
+            held
+        })
+        .await
+        .expect("the flood");
+        eventually(Duration::from_secs(10), "the flood holds every handshake slot", || {
+            server.handshakes() == 8
+        })
+        .await;
+        // A newcomer from an address of its own pushes out one of the flood's and logs in.
+        let stream = tokio::net::TcpSocket::new_v4().expect("socket");
+        stream.bind(SocketAddr::new(address(9), 0)).expect("bind");
+        let stream = stream.connect(addr).await.expect("connect the newcomer");
+        let newcomer = load::connect_over(stream, "newcomer", (80, 24)).await;
+        assert!(newcomer.is_ok(), "a newcomer gets in during the flood: {:?}", newcomer.err());
+        eventually(Duration::from_secs(10), "the newcomer playing", || server.players() == 2).await;
+        assert!(server.handshakes() <= 8, "the flood holds no more than its slots");
+        let stats = witness.await.expect("the witness");
+        assert!(!stats.closed, "the witness keeps playing");
+        let mut latencies = stats.latencies;
+        let p99 = quantile(&mut latencies, 0.99);
+        eprintln!("witness during the flood: {} keys, p99 {:.1} ms", latencies.len(), p99 * 1e3);
+        assert!(latencies.len() >= 20, "the witness's keys were answered: {}", latencies.len());
+        assert!(p99 < 0.5, "p99 key-to-frame {p99:.3} s during the flood");
+        drop(flood);
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}

@@ -1,0 +1,267 @@
+//! The records against the real SQLite (bundled): ranks and the best ten, two stores on one file at
+//! once, and the faults — a database locked by another program, a read-only one, a damaged one, a
+//! full one — each reported once while the game goes on; and the records thread never keeps a
+//! player waiting.
+#![cfg(unix)]
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, Instant};
+
+use mazewalk_maze::ContentHash;
+use mazewalk_serve::records::{
+    Fault, Finish, QUEUE, Records, Report, Sqlite, SqliteOptions, Standing, Store, standing_lines,
+};
+
+/// A scratch folder, removed on drop.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(name: &str) -> Scratch {
+        let dir = std::env::temp_dir().join(format!("mazewalk-records-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("scratch folder");
+        Scratch(dir)
+    }
+
+    fn db(&self) -> PathBuf {
+        self.0.join("records.sqlite")
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+const MAZE: ContentHash = ContentHash([7; 32]);
+const OTHER: ContentHash = ContentHash([9; 32]);
+
+fn finish(maze: ContentHash, player: &str, seconds: f64) -> Finish {
+    Finish { maze, maze_name: "test.maze".into(), player: player.into(), seconds, at: 1_800_000_000 }
+}
+
+fn open(path: &Path) -> Sqlite {
+    let (db, aside) = Sqlite::open(path, SqliteOptions::default()).expect("open the records");
+    assert_eq!(aside, None);
+    db
+}
+
+/// What the records thread reported.
+fn collector() -> (Report, Arc<Mutex<Vec<String>>>) {
+    let said = Arc::new(Mutex::new(Vec::new()));
+    let sink = Arc::clone(&said);
+    let report: Report = Arc::new(move |line: &str| {
+        sink.lock().unwrap_or_else(PoisonError::into_inner).push(line.to_string())
+    });
+    (report, said)
+}
+
+fn said(lines: &Arc<Mutex<Vec<String>>>) -> Vec<String> {
+    lines.lock().unwrap_or_else(PoisonError::into_inner).clone()
+}
+
+/// Waits for a standing from the records thread.
+fn answer(records: &Records, f: Finish) -> Option<Standing> {
+    let pending = records.finish(f)?;
+    let runtime = tokio::runtime::Builder::new_current_thread().enable_time().build().expect("runtime");
+    runtime.block_on(async { tokio::time::timeout(Duration::from_secs(20), pending).await.ok()?.ok()? })
+}
+
+#[test]
+fn a_finish_gets_its_rank_and_the_best_ten_each_player_once() {
+    let scratch = Scratch::new("rank");
+    let mut db = open(&scratch.db());
+    db.record(&finish(MAZE, "alice", 50.0)).unwrap();
+    db.record(&finish(MAZE, "bob", 40.0)).unwrap();
+    let s = db.record(&finish(MAZE, "alice", 30.0)).unwrap();
+    assert_eq!((s.rank, s.best, s.players), (1, 30.0, 2));
+    let s = db.record(&finish(MAZE, "carol", 60.0)).unwrap();
+    assert_eq!((s.rank, s.players), (3, 3));
+    let names: Vec<(&str, f64)> = s.top.iter().map(|b| (b.player.as_str(), b.seconds)).collect();
+    assert_eq!(names, [("alice", 30.0), ("bob", 40.0), ("carol", 60.0)], "each player once, at its best");
+    let s = db.record(&finish(MAZE, "alice", 99.0)).unwrap();
+    assert_eq!((s.rank, s.best), (1, 30.0), "a slower run keeps the best");
+    // Another maze is another table of times.
+    assert_eq!(db.record(&finish(OTHER, "bob", 70.0)).unwrap().rank, 1);
+    // Past the ten: the rank says where.
+    for i in 0..12 {
+        db.record(&finish(MAZE, &format!("p{i:02}"), 10.0 + f64::from(i))).unwrap();
+    }
+    let s = db.record(&finish(MAZE, "zed", 80.0)).unwrap();
+    assert_eq!((s.top.len(), s.rank, s.players), (10, 16, 16));
+    let lines = standing_lines(&s, "zed");
+    assert_eq!(lines[1], "Best times here (16 players)");
+    assert_eq!(lines.last().unwrap(), "16. zed  1:20.0  you");
+    assert_eq!(lines[2], " 1. p00  0:10.0");
+    // Kept: a new connection reads them back.
+    drop(db);
+    let mut again = Sqlite::open_to_read(&scratch.db()).unwrap();
+    let mazes = again.mazes(None).unwrap();
+    assert_eq!(mazes.len(), 2);
+    assert_eq!((mazes[0].players, mazes[0].finishes, mazes[0].name.as_str()), (16, 18, "test.maze"));
+    assert_eq!(mazes[0].top[0].player, "p00");
+    assert!(again.knows(&OTHER).unwrap() && !again.knows(&ContentHash([1; 32])).unwrap());
+}
+
+/// Two servers on one file (WAL and a busy timeout): every finish of both is kept.
+#[test]
+fn two_stores_on_one_file_keep_every_finish() {
+    let scratch = Scratch::new("two");
+    let path = scratch.db();
+    drop(open(&path));
+    let writers: Vec<_> = ["left", "right"]
+        .into_iter()
+        .map(|who| {
+            let path = path.clone();
+            std::thread::spawn(move || {
+                let mut db = open(&path);
+                for i in 0..150 {
+                    db.record(&finish(MAZE, &format!("{who}{}", i % 7), f64::from(i)))
+                        .expect("a finish kept");
+                }
+            })
+        })
+        .collect();
+    for writer in writers {
+        writer.join().expect("a writer");
+    }
+    let mazes = Sqlite::open_to_read(&path).unwrap().mazes(Some(&MAZE)).unwrap();
+    assert_eq!((mazes[0].finishes, mazes[0].players), (300, 14));
+}
+
+/// Another program holds the database: that finish is not kept (after the busy timeout), said once
+/// for the streak; the game goes on, and once the lock is gone finishes are kept again.
+#[test]
+fn a_locked_database_skips_finishes_until_the_lock_goes() {
+    let scratch = Scratch::new("locked");
+    let path = scratch.db();
+    let options = SqliteOptions { busy_timeout: Duration::from_millis(100), ..SqliteOptions::default() };
+    let (db, _) = Sqlite::open(&path, options).unwrap();
+    let (report, lines) = collector();
+    let records = Records::start(db, report).unwrap();
+    assert!(answer(&records, finish(MAZE, "ann", 10.0)).is_some());
+    let other = rusqlite::Connection::open(&path).unwrap();
+    other.execute_batch("BEGIN EXCLUSIVE").unwrap();
+    for _ in 0..3 {
+        assert_eq!(answer(&records, finish(MAZE, "ann", 9.0)), None, "not kept while locked");
+    }
+    let reported = said(&lines);
+    assert_eq!(reported.len(), 1, "{reported:?}");
+    assert!(reported[0].contains("locked by another program"), "{reported:?}");
+    other.execute_batch("COMMIT").unwrap();
+    let standing = answer(&records, finish(MAZE, "ann", 8.0)).expect("kept again");
+    assert_eq!(standing.best, 8.0);
+}
+
+/// Makes `path` impossible to write for this process: `chattr +i` for root (whom permissions do not
+/// stop), mode 0444 otherwise. Undone on drop.
+struct ReadOnly(PathBuf);
+
+impl ReadOnly {
+    fn make(path: &Path) -> ReadOnly {
+        if rustix::process::geteuid().is_root() {
+            let status = std::process::Command::new("chattr").arg("+i").arg(path).status().expect("chattr");
+            assert!(status.success(), "chattr +i {} (root ignores file modes)", path.display());
+        } else {
+            use std::os::unix::fs::PermissionsExt as _;
+            std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o444)).unwrap();
+        }
+        ReadOnly(path.to_path_buf())
+    }
+}
+
+impl Drop for ReadOnly {
+    fn drop(&mut self) {
+        let _ = std::process::Command::new("chattr").arg("-i").arg(&self.0).status();
+        use std::os::unix::fs::PermissionsExt as _;
+        let _ = std::fs::set_permissions(&self.0, std::fs::Permissions::from_mode(0o644));
+    }
+}
+
+/// A database that cannot be written is said so at once (the server then serves without records).
+#[test]
+fn a_read_only_database_is_refused_plainly() {
+    let scratch = Scratch::new("readonly");
+    let path = scratch.db();
+    open(&path).record(&finish(MAZE, "ann", 10.0)).unwrap();
+    // (no -wal or -shm left beside it: a clean close checkpoints the WAL)
+    let _guard = ReadOnly::make(&path);
+    let err = Sqlite::open(&path, SqliteOptions::default()).unwrap_err();
+    assert!(matches!(err.fault, Fault::ReadOnly | Fault::CannotOpen), "{err}");
+    assert!(err.to_string().starts_with(&path.display().to_string()), "{err}");
+    // The records can still be read.
+    let mazes = Sqlite::open_to_read(&path).unwrap().mazes(None).unwrap();
+    assert_eq!(mazes[0].finishes, 1);
+}
+
+/// A file that is not a records database, or a damaged one, is kept aside unchanged and a new one
+/// made.
+#[test]
+fn a_damaged_database_is_kept_aside_and_a_new_one_made() {
+    let scratch = Scratch::new("damaged");
+    let path = scratch.db();
+    std::fs::write(&path, "these are not the records you are looking for\n".repeat(100)).unwrap();
+    let (mut db, aside) = Sqlite::open(&path, SqliteOptions::default()).unwrap();
+    let aside = aside.expect("kept aside");
+    assert!(aside.display().to_string().contains("records.sqlite.damaged-"), "{}", aside.display());
+    assert!(std::fs::read_to_string(&aside).unwrap().starts_with("these are not"), "kept as it was");
+    assert_eq!(db.record(&finish(MAZE, "ann", 10.0)).unwrap().rank, 1, "a new one works");
+    drop(db);
+    // A real database whose pages were overwritten: found at the next start, kept aside too.
+    let mut bytes = std::fs::read(&path).unwrap();
+    assert!(bytes.len() >= 8192, "the premise: more than one page");
+    for b in &mut bytes[4096..] {
+        *b = 0xA5;
+    }
+    std::fs::write(&path, &bytes).unwrap();
+    let (_, aside) = Sqlite::open(&path, SqliteOptions::default()).unwrap();
+    assert_eq!(std::fs::read(aside.expect("kept aside")).unwrap(), bytes);
+}
+
+/// A full database (its size limit here; a full disk says the same): said once, and the game goes on
+/// without records.
+#[test]
+fn a_full_database_ends_records_for_the_run_said_once() {
+    let scratch = Scratch::new("full");
+    let options = SqliteOptions { max_bytes: 48 * 1024, ..SqliteOptions::default() };
+    let (db, _) = Sqlite::open(&scratch.db(), options).unwrap();
+    let (report, lines) = collector();
+    let records = Records::start(db, report).unwrap();
+    let long_name = "x".repeat(200);
+    let mut kept = 0;
+    for i in 0..400 {
+        match answer(&records, finish(MAZE, &format!("{long_name}{i}"), f64::from(i))) {
+            Some(_) => kept += 1,
+            None => break,
+        }
+    }
+    assert!(kept > 10 && kept < 400, "the premise: it filled up after {kept} finishes");
+    assert_eq!(answer(&records, finish(MAZE, "late", 1.0)), None, "no records after that");
+    let reported = said(&lines);
+    assert_eq!(reported.len(), 1, "{reported:?}");
+    assert!(reported[0].contains("is full") && reported[0].contains("without records"), "{reported:?}");
+}
+
+/// However slow the database, handing a finish over never waits: past the queue, finishes are dropped
+/// (counted, said once).
+#[test]
+fn handing_a_finish_over_never_waits() {
+    let scratch = Scratch::new("slow");
+    let path = scratch.db();
+    let options = SqliteOptions { busy_timeout: Duration::from_secs(1), ..SqliteOptions::default() };
+    let (db, _) = Sqlite::open(&path, options).unwrap();
+    let other = rusqlite::Connection::open(&path).unwrap();
+    other.execute_batch("BEGIN EXCLUSIVE").unwrap(); // each finish waits its full second
+    let (report, lines) = collector();
+    let records = Records::start(db, report).unwrap();
+    let started = Instant::now();
+    let pending: Vec<_> = (0..QUEUE + 40).map(|i| records.finish(finish(MAZE, "ann", i as f64))).collect();
+    let took = started.elapsed();
+    assert!(took < Duration::from_millis(200), "handing {} finishes over took {took:?}", pending.len());
+    assert!(records.dropped() >= 30, "past the queue: dropped ({})", records.dropped());
+    assert!(said(&lines).iter().any(|l| l.contains("slow")), "{:?}", said(&lines));
+    assert_eq!(said(&lines).iter().filter(|l| l.contains("slow")).count(), 1, "said once");
+    drop(other);
+}

@@ -1,0 +1,325 @@
+//! Overlays for players (issue #33): the HUD's compass point and ticking clock, the corner map sized
+//! to what has been seen, the full map's walls and viewer, the exit box that any key closes, the
+//! question before a stray q quits a long walk, and a help that tells of the exit. Screens as text,
+//! through the Session's bytes where the HUD's timing matters.
+
+use glam::Vec2;
+use mazewalk_maze as maze;
+use mazewalk_maze::generate::{GenOptions, generate};
+use mazewalk_render::{Charset, RenderOptions};
+use mazewalk_term::frame::{Color, ColorDepth, Frame};
+use mazewalk_term::input::{Key, KeyPhase};
+use mazewalk_walk::overlay::{self, MapArea, MapCells, Style};
+use mazewalk_walk::state::{CONFIRM_QUIT_AFTER, EXIT_BOX_GRACE};
+use mazewalk_walk::{App, Session, SessionOptions};
+
+fn session(maze: maze::Maze, cols: u16, rows: u16) -> Session {
+    let app = App::new(maze, RenderOptions::default(), 0.0).unwrap();
+    Session::new(app, cols, rows, SessionOptions { flow_control: false, ..SessionOptions::default() })
+}
+
+fn hud(s: &Session) -> String {
+    s.screen().lines().last().unwrap().clone()
+}
+
+/// Two cells side by side, the exit in the east one; the viewer starts in the west one facing it.
+fn two_cells() -> maze::Maze {
+    let m = generate(&GenOptions { width: 2, height: 1, exit: true, ..GenOptions::default() }).unwrap();
+    assert!(m.exit().is_some());
+    m
+}
+
+/// An app in [`two_cells`] that faces the exit.
+fn facing_the_exit() -> App {
+    let mut app = App::new(two_cells(), RenderOptions::default(), 0.0).unwrap();
+    let to_exit = app.maze().exit_point().unwrap() - app.camera.position;
+    app.camera.yaw_deg = to_exit.to_angle().to_degrees();
+    app
+}
+
+#[test]
+fn the_hud_shows_where_the_player_faces_and_how_many_are_in() {
+    let mut s = session(maze::builtin().unwrap(), 160, 30);
+    s.set_players_in(Some(3));
+    s.frame(0.0, &mut Vec::new());
+    let line = hud(&s);
+    assert!(line.starts_with(" heading 0° E  time 0:00  3 in"), "{line:?}");
+    assert!(!line.contains("fps") && !line.contains("cell "), "no developer figures: {line:?}");
+    s.feed(b"i", 0.1); // the developer figures
+    s.frame(0.1, &mut Vec::new());
+    assert!(hud(&s).contains(" fps ") && hud(&s).contains("cell "), "{:?}", hud(&s));
+    s.set_players_in(None);
+    s.frame(0.5, &mut Vec::new());
+    assert!(!hud(&s).contains(" in "), "{:?}", hud(&s));
+}
+
+// issue #33: the exit clock ticks every second while it runs, standing still too, for a few bytes.
+#[test]
+fn the_exit_clock_ticks_every_second_for_a_few_bytes() {
+    let mut s = session(maze::builtin().unwrap(), 120, 40);
+    let mut out = Vec::new();
+    s.frame(0.0, &mut out);
+    for second in 1..=3u32 {
+        let at = s.next_wake(f64::from(second) - 0.9).expect("the clock wakes the host");
+        assert!((at - f64::from(second)).abs() < 1e-9, "wakes at the second: {at}");
+        out.clear();
+        assert!(s.frame(at, &mut out), "a frame at {at}");
+        assert!(hud(&s).contains(&format!("time 0:0{second}")), "{:?}", hud(&s));
+        assert!(out.len() < 60, "{} bytes for a tick", out.len());
+    }
+    // found: the clock stops (nothing more to draw)
+    let mut s = session(two_cells(), 80, 24);
+    s.app_mut().finished = Some(12.3);
+    s.frame(0.0, &mut Vec::new());
+    assert!(hud(&s).contains("exit in 0:12.3"), "{:?}", hud(&s));
+    assert_eq!(s.next_wake(0.5), None);
+    // no exit, no clock
+    let mut s =
+        session(generate(&GenOptions { width: 3, height: 3, ..GenOptions::default() }).unwrap(), 80, 24);
+    s.frame(0.0, &mut Vec::new());
+    assert_eq!(s.next_wake(0.5), None);
+    assert!(!hud(&s).contains("time"), "{:?}", hud(&s));
+}
+
+// issue #33: the exit box closes with any key; Esc does not quit; a key held to walk into the exit
+// does not close it before it is seen.
+#[test]
+fn the_exit_box_closes_with_any_key_and_esc_does_not_quit() {
+    for (key, quits, resets) in [
+        (Key::Char('x'), false, false),
+        (Key::Esc, false, false),
+        (Key::Char('w'), false, false),
+        (Key::Char('q'), true, false),
+        (Key::Char('r'), false, true),
+    ] {
+        let mut app = facing_the_exit();
+        // W held without key releases: a press, then the auto-repeat every 33 ms until 3 s
+        let mut t = 1.0;
+        app.key(Key::Char('w'), KeyPhase::Press, t);
+        t += 0.5;
+        while t < 3.0 {
+            app.key(Key::Char('w'), KeyPhase::Press, t);
+            app.tick(t);
+            t += 0.033;
+        }
+        assert!(app.finished.is_some() && app.exit_box, "walked into the exit, the box is up");
+        assert!(!app.is_animating(t), "the box stopped the walk");
+        let at = app.camera.position;
+        app.key(key, KeyPhase::Press, t + EXIT_BOX_GRACE + 0.1);
+        app.tick(t + 1.0);
+        assert!(!app.exit_box, "{key:?} closes the box");
+        assert_eq!(app.quit, quits, "{key:?}");
+        assert_eq!(app.finished.is_none(), resets, "{key:?}");
+        if !resets {
+            assert_eq!(app.camera.position, at, "{key:?} only closes the box");
+        }
+    }
+    // a key pressed at once after reaching the exit does not close the box unseen
+    let mut app = facing_the_exit();
+    let mut t = 1.0;
+    while app.finished.is_none() {
+        app.key(Key::Char('w'), KeyPhase::Press, t);
+        app.tick(t + 0.1);
+        t += 0.2;
+    }
+    assert!(app.exit_box);
+    app.key(Key::Char('x'), KeyPhase::Press, t);
+    assert!(app.exit_box, "within the grace");
+    app.key(Key::Char('x'), KeyPhase::Press, t + EXIT_BOX_GRACE);
+    assert!(!app.exit_box, "after it");
+}
+
+// issue #33: a stray q after more than a minute asks; q again quits, any other key walks on.
+#[test]
+fn a_stray_q_late_in_a_walk_asks_once() {
+    let mut app = App::new(maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
+    app.key(Key::Char('q'), KeyPhase::Press, CONFIRM_QUIT_AFTER + 1.0);
+    assert!(app.confirm_quit && !app.quit, "asks");
+    app.key(Key::Char('x'), KeyPhase::Press, CONFIRM_QUIT_AFTER + 2.0);
+    assert!(!app.confirm_quit && !app.quit, "any other key walks on");
+    app.key(Key::Char('q'), KeyPhase::Press, CONFIRM_QUIT_AFTER + 3.0);
+    app.key(Key::Esc, KeyPhase::Press, CONFIRM_QUIT_AFTER + 4.0);
+    assert!(!app.confirm_quit && !app.quit, "Esc walks on");
+    app.key(Key::Char('q'), KeyPhase::Press, CONFIRM_QUIT_AFTER + 5.0);
+    app.key(Key::Char('q'), KeyPhase::Press, CONFIRM_QUIT_AFTER + 6.0);
+    assert!(app.quit, "q, q quits");
+    // within the first minute q quits at once
+    let mut early = App::new(maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
+    early.key(Key::Char('q'), KeyPhase::Press, 30.0);
+    assert!(early.quit);
+    // the box says so
+    let mut s = session(maze::builtin().unwrap(), 80, 24);
+    s.feed(b"q", CONFIRM_QUIT_AFTER + 1.0);
+    s.frame(CONFIRM_QUIT_AFTER + 1.0, &mut Vec::new());
+    let text = s.screen().lines().join("\n");
+    assert!(text.contains("Quit?") && text.contains("q    quit") && !s.is_over(), "{text}");
+}
+
+/// The map characters drawn in `area` that are not the view's (a box over it is the map's).
+fn map_text(frame: &Frame, area: &MapArea) -> Vec<String> {
+    (area.y..area.y + area.height)
+        .map(|y| (area.x..area.x + area.width).map(|x| frame.get(x, y).unwrap().ch).collect())
+        .collect()
+}
+
+// issue #33: the corner map takes at most a sixth of the screen at 120×40, and at the start it is
+// what has been seen, not a mostly empty black box.
+#[test]
+fn the_corner_map_is_small_and_sized_to_what_has_been_seen() {
+    let mut s = session(maze::builtin().unwrap(), 120, 40);
+    s.frame(0.0, &mut Vec::new());
+    let area = s.map_drawn().expect("a corner map");
+    assert!(area.width * area.height * 6 <= 120 * 40, "{area:?}");
+    let whole = MapArea::corner(s.screen(), s.app().camera.position);
+    assert_eq!(s.map_area(), Some(whole), "a host counts the whole corner as the map's");
+    assert!(area.width * area.height < whole.width * whole.height / 2, "{area:?} of {whole:?}");
+    assert_eq!((area.x + area.width, area.y), (120, 0), "in the top-right corner");
+    let frame = s.screen();
+    let cells: Vec<_> = (area.y..area.y + area.height)
+        .flat_map(|y| (area.x..area.x + area.width).map(move |x| (x, y)))
+        .map(|(x, y)| frame.get(x, y).unwrap())
+        .collect();
+    let blank = cells.iter().filter(|c| c.ch == ' ' && c.bg == Color::Default).count();
+    assert!(
+        blank * 4 < cells.len(),
+        "{blank} of {} blank:\n{}",
+        cells.len(),
+        map_text(frame, &area).join("\n")
+    );
+    // With more seen, more map (the whole maze revealed: as much of the corner as the maze covers;
+    // the viewer starts by the maze's north-west corner, so not all of it).
+    let mut all = session(maze::builtin().unwrap(), 120, 40);
+    all.app_mut().reveal_map = true;
+    all.frame(0.0, &mut Vec::new());
+    let revealed = all.map_drawn().unwrap();
+    assert!(revealed.width * revealed.height > area.width * area.height, "{revealed:?} vs {area:?}");
+    assert!(revealed.width <= whole.width && revealed.height <= whole.height);
+}
+
+/// The full map of `maze` from `viewer`, every cell seen, on a `cols × rows` screen.
+fn full_map(maze: &maze::Maze, viewer: Vec2, cols: usize, rows: usize) -> (Frame, MapArea) {
+    let mut frame = Frame::new(cols, rows);
+    let area = MapArea::full(&frame, maze, viewer);
+    let camera = mazewalk_render::Camera::new(viewer, 90.0, 90.0);
+    overlay::draw_map(
+        &mut frame,
+        &area,
+        maze,
+        &camera,
+        &|_| true,
+        None,
+        Style::default(),
+        &mut MapCells::default(),
+    );
+    (frame, area)
+}
+
+// issue #33: walls one character thick on the full map (a wall on the line between two characters
+// was drawn in both).
+#[test]
+fn the_full_maps_walls_are_one_character_thick() {
+    // a small maze drawn large (0.25 units a column) and a bigger one at one unit a column
+    let small = generate(&GenOptions { width: 3, height: 2, ..GenOptions::default() }).unwrap();
+    let big = generate(&GenOptions { width: 12, height: 8, ..GenOptions::default() }).unwrap();
+    for (maze, cols, rows) in [(small, 60, 20), (big, 120, 40)] {
+        let viewer = maze.viewer().pos;
+        let (frame, area) = full_map(&maze, viewer, cols, rows);
+        let text = map_text(&frame, &area);
+        // a wall is a run of blocks three long or more; drawn twice as thick, the run would have a
+        // twin beside it
+        let grid: Vec<Vec<bool>> = text.iter().map(|row| row.chars().map(|c| c == '█').collect()).collect();
+        let wall = |x: usize, y: usize| grid.get(y).and_then(|row| row.get(x)).copied().unwrap_or(false);
+        for y in 1..area.height - 1 {
+            for x in 1..area.width - 1 {
+                let horizontal = |y| wall(x - 1, y) && wall(x, y) && wall(x + 1, y);
+                let vertical = |x| wall(x, y - 1) && wall(x, y) && wall(x, y + 1);
+                assert!(
+                    !(horizontal(y) && horizontal(y + 1)),
+                    "a double wall at row {y}:\n{}",
+                    text.join("\n")
+                );
+                assert!(
+                    !(vertical(x) && vertical(x + 1)),
+                    "a double wall at column {x}:\n{}",
+                    text.join("\n")
+                );
+            }
+        }
+    }
+}
+
+// issue #33: a maze larger than the screen: the full map keeps the viewer in view, anywhere in the
+// maze, with the window inside the maze (not half a screen of nothing by its side), above the HUD.
+#[test]
+fn the_full_map_keeps_the_viewer_in_view_and_fills_the_screen() {
+    let maze = generate(&GenOptions { width: 60, height: 40, ..GenOptions::default() }).unwrap();
+    let (lo, hi) = (maze.extents().min, maze.extents().max);
+    for viewer in
+        [lo + Vec2::splat(2.0), hi - Vec2::splat(2.0), (lo + hi) * 0.5, Vec2::new(lo.x + 2.0, hi.y - 2.0)]
+    {
+        let (frame, area) = full_map(&maze, viewer, 120, 40);
+        assert_eq!((area.x, area.y, area.width, area.height), (0, 0, 120, 39), "above the HUD");
+        assert!(area.shows(viewer), "{viewer} off the map");
+        let arrow = frame.lines()[..39].iter().any(|l| l.contains('↑'));
+        assert!(arrow, "the viewer's arrow at {viewer}");
+        let blank_rows = frame.lines()[..39].iter().filter(|l| l.trim().is_empty()).count();
+        let blank_cols = (0..120).filter(|&x| (0..39).all(|y| frame.get(x, y).unwrap().ch == ' ')).count();
+        assert!(
+            blank_rows <= 1 && blank_cols <= 1,
+            "{viewer}: {blank_rows} blank rows, {blank_cols} blank columns"
+        );
+    }
+}
+
+// issue #33: the help says there is an exit to find; in ascii no `?` stands for a glyph or a degree.
+#[test]
+fn the_help_tells_of_the_exit_and_in_ascii_spells_everything() {
+    let with_exit = overlay::help_lines(Style::default(), true);
+    assert!(with_exit.iter().any(|l| l.contains("find the exit")), "{with_exit:?}");
+    assert!(!overlay::help_lines(Style::default(), false).iter().any(|l| l.contains("exit")));
+    let ascii = Style { depth: ColorDepth::Ansi16, ascii: true };
+    let unicode = overlay::help_lines(Style::default(), true);
+    for (line, original) in overlay::help_lines(ascii, true).iter().zip(&unicode) {
+        assert!(line.is_ascii(), "{line:?}");
+        // the only `?` are the key's own ("? / h")
+        assert_eq!(line.matches('?').count(), original.matches('?').count(), "{line:?} for {original:?}");
+    }
+    let lines = overlay::help_lines(ascii, true).join("\n");
+    assert!(lines.contains("half, quad, sextant (2x3)") && lines.contains("(tap: 15 deg)"), "{lines}");
+    // the whole screen in ascii: HUD and boxes
+    let options = RenderOptions { charset: Charset::Ascii, ..RenderOptions::default() };
+    let mut s = Session::new(
+        App::new(maze::builtin().unwrap(), options, 0.0).unwrap(),
+        100,
+        40,
+        SessionOptions::default(),
+    );
+    s.feed(b"?", 0.0);
+    s.frame(0.0, &mut Vec::new());
+    let text = s.screen().lines().join("\n");
+    assert!(text.is_ascii() && text.contains("heading 0 deg E"), "{text}");
+}
+
+// The corner map fitted to what has been seen still shows the other players in its area, seen or
+// not (a host draws the players its map area holds: `Session::map_area` is the whole corner).
+#[test]
+fn the_fitted_corner_map_shows_the_other_players_in_its_area() {
+    use mazewalk_walk::overlay::Peer;
+    let mut s = session(maze::builtin().unwrap(), 120, 40);
+    s.frame(0.0, &mut Vec::new());
+    let whole = s.map_area().unwrap();
+    // a point of the built-in maze in the corner's area but out of sight of the start: south, behind
+    // the corridor's wall
+    let at = s.app().camera.position + Vec2::new(4.0, -8.0);
+    assert!(whole.shows(at) && !s.map_drawn().unwrap().shows(at), "unseen, in the area");
+    let peer = Peer { position: at, heading_deg: 0.0, initial: 'Z', color: Color::Indexed(196), cell: None };
+    s.set_peers(&[peer]);
+    s.frame(0.1, &mut Vec::new());
+    let drawn = s.map_drawn().unwrap();
+    assert!(drawn.shows(at), "{drawn:?}");
+    assert!(
+        map_text(s.screen(), &drawn).iter().any(|row| row.contains('Z')),
+        "{:?}",
+        map_text(s.screen(), &drawn)
+    );
+}

@@ -1,0 +1,103 @@
+//! `mazewalk records`: the best times `serve` kept, of one maze (named as it was served: a file,
+//! `--gen WxH --seed N`, `--builtin`) or of every maze in the records file.
+
+use crate::cli::RecordsArgs;
+
+/// `mazewalk records`: prints each maze's best times (read only; the file is not changed).
+#[cfg(all(unix, feature = "serve"))]
+pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
+    use std::io::Write as _;
+
+    use anyhow::Context as _;
+    use mazewalk_serve::host_key;
+    use mazewalk_serve::records::{Sqlite, Store as _};
+
+    use super::{load_maze, maze_name, stdout_open};
+    use crate::cli::{MazeArgs, ReadArgs};
+    let path = match &args.records {
+        Some(path) => path.clone(),
+        None => host_key::default_path(|k| std::env::var(k).ok())?.with_file_name("records.sqlite"),
+    };
+    let maze = if args.maze.is_some() || args.generate.is_some() || args.builtin {
+        let named = MazeArgs {
+            maze: args.maze.clone(),
+            more: Vec::new(),
+            generate: args.generate,
+            seed: args.seed,
+            read: ReadArgs { max_file_size: args.read.max_file_size },
+        };
+        Some((load_maze(&named)?.content_hash(), maze_name(&named)))
+    } else {
+        None
+    };
+    stdout_open()?;
+    let mut db = Sqlite::open_to_read(&path).map_err(anyhow::Error::new).context("records")?;
+    let mazes = db.mazes(maze.as_ref().map(|(hash, _)| hash)).context("records")?;
+    let mut out = std::io::stdout().lock();
+    if let Some((hash, name)) = &maze {
+        if mazes.is_empty() {
+            writeln!(out, "{name}: no finishes kept in {} (maze {hash})", path.display())?;
+            return Ok(());
+        }
+    } else if mazes.is_empty() {
+        writeln!(out, "no finishes kept in {}", path.display())?;
+        return Ok(());
+    }
+    for (i, kept) in mazes.iter().enumerate() {
+        if i > 0 {
+            writeln!(out)?;
+        }
+        let players =
+            if kept.players == 1 { "1 player".to_string() } else { format!("{} players", kept.players) };
+        let finishes =
+            if kept.finishes == 1 { "1 finish".to_string() } else { format!("{} finishes", kept.finishes) };
+        // (the name is what a host gave: quoted as any text from outside)
+        writeln!(
+            out,
+            "{} (maze {}…): {players}, {finishes}",
+            mazewalk_maze::quote(&kept.name),
+            &kept.maze[..12]
+        )?;
+        let width = kept.top.iter().map(|b| b.player.chars().count()).max().unwrap_or(0);
+        for (rank, best) in (1..).zip(&kept.top) {
+            let clock = mazewalk_walk::screen::clock_text(best.seconds);
+            writeln!(out, "{rank:>4}. {:<width$}  {clock:>8}  {}", best.player, date(best.at))?;
+        }
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// `YYYY-MM-DD` (UTC) of Unix time `at` (days from the civil calendar: Howard Hinnant's algorithm).
+#[cfg(all(unix, feature = "serve"))]
+fn date(at: i64) -> String {
+    let days = at.div_euclid(86_400);
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}")
+}
+
+/// Without `serve` (or off Unix): says why it cannot.
+#[cfg(not(all(unix, feature = "serve")))]
+pub fn run(_: &RecordsArgs) -> anyhow::Result<()> {
+    anyhow::bail!(
+        "this mazewalk was built without `serve`, which keeps the records (build it with the default features)"
+    );
+}
+
+#[cfg(all(test, unix, feature = "serve"))]
+mod tests {
+    #[test]
+    fn dates_are_civil_utc() {
+        assert_eq!(super::date(0), "1970-01-01");
+        assert_eq!(super::date(951_782_400), "2000-02-29");
+        assert_eq!(super::date(1_800_000_000), "2027-01-15");
+    }
+}
