@@ -39,6 +39,9 @@ pub const NOTICE_SECONDS: f64 = 8.0;
 /// A player looks at the others at most this often a second (their moves coalesce meanwhile).
 pub const WORLD_LOOKS_PER_SECOND: f64 = 30.0;
 
+/// What the HUD says while a shared world's Redis is away (`--world`).
+pub const WORLD_OFFLINE: &str = "world offline";
+
 /// The longest player name, in characters.
 pub const MAX_NAME: usize = 16;
 
@@ -301,6 +304,8 @@ impl Player {
         }));
         self.session.set_roster(&self.roster);
         self.session.set_players_in(Some(look.players.len()));
+        // A shared world whose Redis is away: the others stand frozen where last heard.
+        self.session.set_status(look.online.filter(|online| !online).map(|_| WORLD_OFFLINE));
         if let (Some(winner), false) = (&look.winner, self.seen_winner) {
             self.seen_winner = true;
             self.session.set_notice(Some(winner.announcement_for(me)));
