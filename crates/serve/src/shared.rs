@@ -12,9 +12,11 @@
 //!
 //! [`codec`] is the wire format (untrusted input, decoded with bounds), [`view`] the rules (what to
 //! send, what the others have, who keeps a label), both pure; [`redis`] the keys, connections and
-//! commands; [`task`] the world task that drives them ([`SharedWorld::join`]) for a [`Host`].
+//! commands; [`task`] the world task that drives them ([`SharedWorld::join`]) for a [`Host`];
+//! [`records`] the best times in Redis behind the records' `Store`.
 
 pub mod codec;
+pub mod records;
 pub mod redis;
 pub mod task;
 pub mod view;
