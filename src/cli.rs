@@ -201,6 +201,15 @@ pub struct ServeArgs {
     /// Keep no best times.
     #[arg(long)]
     pub no_records: bool,
+    /// Walk one world with every server started with this URL and the same maze:
+    /// redis://[USER:PASS@]HOST:PORT[/DB], or rediss://… for TLS. The best times then live in that
+    /// Redis (--records is not used).
+    #[arg(long, value_name = "URL", conflicts_with = "records")]
+    pub world: Option<String>,
+    /// The certificate (PEM) of the CA that signed a rediss:// world's certificate, when the system
+    /// does not trust it (as redis-cli's --cacert).
+    #[arg(long, value_name = "FILE", requires = "world")]
+    pub world_ca: Option<PathBuf>,
 }
 
 #[derive(Args)]
