@@ -463,11 +463,12 @@ impl World {
                     || self.shared.iter().flat_map(|s| &s.remote).any(|(_, p)| p.label == c)
             };
             let label = label_for(&name, taken);
-            if !taken(label) && self.players[&id].label != label {
-                if let Some(seen) = self.players.get_mut(&id) {
-                    seen.label = label;
-                    changed = true;
-                }
+            if !taken(label)
+                && let Some(seen) = self.players.get_mut(&id)
+                && seen.label != label
+            {
+                seen.label = label;
+                changed = true;
             }
         }
         if changed {
