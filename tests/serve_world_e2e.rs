@@ -4,8 +4,9 @@
 //!
 //! Checks: bob on server B shows on the map of alice on server A, and the HUD counts both; bob reaches
 //! the exit and alice's screen announces it, and bob's exit box ranks him from the world's records in
-//! Redis; server B killed (SIGKILL, no goodbye), bob leaves alice's view within 5 s; Redis killed,
-//! alice's HUD says the world is offline. Loopback only; every wait has a deadline; every child is
+//! Redis; server B killed (SIGKILL, no goodbye), bob leaves alice's view within 5 s; server C
+//! stopped (SIGTERM) tells carol, then leaves the world, and carol leaves alice's view at once; Redis
+//! killed, alice's HUD says the world is offline. Loopback only; every wait has a deadline; every child is
 //! killed on drop.
 #![cfg(unix)]
 
@@ -325,6 +326,22 @@ fn two_servers_walk_one_world_on_redis() {
     alice.wait_for("bob gone from alice's map", |s| !on_map(s, 'B') && hud_row(s).contains("1 in"));
     let gone = killed.elapsed();
     assert!(gone <= Duration::from_secs(5), "bob left alice's view {gone:?} after server B died");
+
+    // Server C stopped by SIGTERM tells its player goodbye, then leaves the world: carol leaves
+    // alice's view at once, well before the 3 s of silence a killed server takes.
+    let mut server_c = Server::start(&scratch, "c", &maze, &redis.url());
+    let carol = Player::connect(server_c.port, "carol");
+    carol.wait_for("carol's game on server C", playing);
+    alice.wait_for("carol (server C) on alice's map", |s| on_map(s, 'C') && hud_row(s).contains("2 in"));
+    let pid = rustix::process::Pid::from_child(&server_c.child);
+    rustix::process::kill_process(pid, rustix::process::Signal::TERM).expect("SIGTERM server C");
+    let stopped = Instant::now();
+    carol.wait_for("carol told the server is shutting down", |s| s.contents().contains("shutting down"));
+    alice.wait_for("carol gone from alice's map", |s| !on_map(s, 'C') && hud_row(s).contains("1 in"));
+    let gone = stopped.elapsed();
+    assert!(gone < Duration::from_millis(2500), "carol left alice's view {gone:?} after SIGTERM");
+    let status = server_c.child.wait().expect("server C's exit");
+    assert_eq!(status.code(), Some(143), "SIGTERM's exit code");
 
     // Redis dies: alice walks on, and her HUD says the world is offline.
     redis.child.kill().expect("SIGKILL redis-server");
