@@ -55,13 +55,49 @@ fn free_port() -> u16 {
 struct Redis {
     child: Child,
     port: u16,
+    tls: bool,
 }
 
 impl Redis {
     fn start(dir: &std::path::Path) -> Redis {
+        Redis::start_with(dir, &[])
+    }
+
+    /// One that speaks TLS only, with a certificate for 127.0.0.1 signed by a CA of its own, made by
+    /// `openssl` in `dir` (`ca.pem`).
+    fn start_tls(dir: &std::path::Path) -> Redis {
+        make_certificates(dir);
+        let file = |name: &str| dir.join(name).display().to_string();
+        let (cert, key, ca) = (file("redis.pem"), file("redis.key"), file("ca.pem"));
+        let mut redis = Redis::start_with(
+            dir,
+            &[
+                "--tls-port",
+                "PORT",
+                "--port",
+                "0",
+                "--tls-auth-clients",
+                "no",
+                "--tls-cert-file",
+                &cert,
+                "--tls-key-file",
+                &key,
+                "--tls-ca-cert-file",
+                &ca,
+            ],
+        );
+        redis.tls = true;
+        redis
+    }
+
+    fn start_with(dir: &std::path::Path, tls: &[&str]) -> Redis {
         let port = free_port();
+        let port_arg = port.to_string();
+        let tls: Vec<&str> = tls.iter().map(|&a| if a == "PORT" { port_arg.as_str() } else { a }).collect();
+        let plain = ["--port", port_arg.as_str()];
         let child = Command::new("redis-server")
-            .args(["--port", &port.to_string(), "--bind", "127.0.0.1", "--protected-mode", "no"])
+            .args(if tls.is_empty() { &plain[..] } else { &tls[..] })
+            .args(["--bind", "127.0.0.1", "--protected-mode", "no"])
             .arg("--dir")
             .arg(dir)
             .args(["--save", "", "--appendonly", "no", "--daemonize", "no"])
@@ -72,18 +108,21 @@ impl Redis {
             .unwrap_or_else(|err| {
                 panic!("redis-server ({err}): install Debian's redis-server (.ci/run does)")
             });
-        let redis = Redis { child, port };
+        let redis = Redis { child, port, tls: !tls.is_empty() };
         let deadline = Instant::now() + Duration::from_secs(10);
-        while !redis.pongs() {
+        while !redis.listens() {
             assert!(Instant::now() < deadline, "redis-server did not answer within 10 s");
             std::thread::sleep(Duration::from_millis(20));
         }
         redis
     }
 
-    /// Whether it answers a PING (inline command, RESP reply).
-    fn pongs(&self) -> bool {
+    /// Whether it answers a PING (inline command, RESP reply); over TLS, whether it takes connections.
+    fn listens(&self) -> bool {
         let Ok(mut stream) = TcpStream::connect(("127.0.0.1", self.port)) else { return false };
+        if self.tls {
+            return true;
+        }
         let _ = stream.set_read_timeout(Some(Duration::from_secs(1)));
         let mut reply = [0u8; 7];
         stream.write_all(b"PING\r\n").is_ok()
@@ -92,7 +131,8 @@ impl Redis {
     }
 
     fn url(&self) -> String {
-        format!("redis://127.0.0.1:{}/0", self.port)
+        let scheme = if self.tls { "rediss" } else { "redis" };
+        format!("{scheme}://127.0.0.1:{}/0", self.port)
     }
 }
 
@@ -101,6 +141,75 @@ impl Drop for Redis {
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
+}
+
+/// A CA, and a certificate for 127.0.0.1 it signed, made by `openssl` in `dir` (`ca.pem`, `redis.pem`,
+/// `redis.key`).
+fn make_certificates(dir: &std::path::Path) {
+    let openssl = |args: &[&str]| {
+        let status = Command::new("openssl")
+            .args(args)
+            .current_dir(dir)
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .unwrap_or_else(|err| panic!("openssl could not be run ({err}): install it (.ci/run does)"));
+        assert!(status.success(), "openssl {args:?}");
+    };
+    let ec = ["-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:prime256v1", "-nodes"];
+    let ca = ["-keyout", "ca.key", "-out", "ca.pem", "-days", "2", "-subj", "/CN=mazewalk test CA"];
+    openssl(&[&["req", "-x509"][..], &ec, &ca].concat());
+    let csr = ["-keyout", "redis.key", "-out", "redis.csr", "-subj", "/CN=127.0.0.1"];
+    openssl(&[&["req"][..], &ec, &csr].concat());
+    std::fs::write(dir.join("ext.cnf"), "subjectAltName=IP:127.0.0.1\nbasicConstraints=CA:FALSE\n")
+        .expect("ext.cnf");
+    openssl(&[
+        "x509",
+        "-req",
+        "-in",
+        "redis.csr",
+        "-CA",
+        "ca.pem",
+        "-CAkey",
+        "ca.key",
+        "-CAcreateserial",
+        "-out",
+        "redis.pem",
+        "-days",
+        "2",
+        "-extfile",
+        "ext.cnf",
+    ]);
+}
+
+/// `mazewalk serve ARGS` that must refuse to start: its exit code and what it said, within 10 s.
+fn refused(scratch: &Scratch, args: &[&str]) -> (Option<i32>, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .arg("serve")
+        .args(["--listen", "127.0.0.1:0", "--open", "--host-key"])
+        .arg(scratch.0.join("host_key_refused"))
+        .args(args)
+        .env("HOME", &scratch.0)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start mazewalk serve");
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status;
+        }
+        if started.elapsed() > Duration::from_secs(10) {
+            let _ = child.kill();
+            panic!("mazewalk serve {args:?} did not give up within 10 s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut said = String::new();
+    child.stderr.take().expect("stderr").read_to_string(&mut said).expect("its stderr");
+    (status.code(), said)
 }
 
 /// `mazewalk serve`, with its log.
@@ -113,11 +222,22 @@ struct Server {
 impl Server {
     /// A server of its own host key `name` on `maze`, in the world at `world`.
     fn start(scratch: &Scratch, name: &str, maze: &std::path::Path, world: &str) -> Server {
+        Server::start_with(scratch, name, maze, world, &[])
+    }
+
+    fn start_with(
+        scratch: &Scratch,
+        name: &str,
+        maze: &std::path::Path,
+        world: &str,
+        more: &[&str],
+    ) -> Server {
         let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
             .arg("serve")
             .args(["--listen", "127.0.0.1:0", "--open", "--world", world, "--host-key"])
             .arg(scratch.0.join(format!("host_key_{name}")))
             .arg(maze)
+            .args(more)
             .env("HOME", &scratch.0)
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
@@ -348,4 +468,62 @@ fn two_servers_walk_one_world_on_redis() {
     alice.wait_for("world offline on alice's HUD", |s| hud_row(s).contains("world offline"));
     let log = lock(&server_a.log).clone();
     assert!(log.contains("joined the shared world"), "{log}");
+}
+
+// issue #35: a server that cannot join the world says why at once and exits 1: Redis away, another
+// maze in the world (both hashes named), a CA for a world without TLS.
+#[test]
+fn a_server_that_cannot_join_the_world_says_why_and_exits_1() {
+    let scratch = Scratch::new("refused");
+    let away = format!("redis://127.0.0.1:{}/0", free_port());
+    let started = Instant::now();
+    let (code, said) = refused(&scratch, &["--gen", "4x4", "--world", &away]);
+    assert_eq!(code, Some(1), "{said}");
+    assert!(said.contains("cannot reach the world at redis://127.0.0.1:"), "{said}");
+    assert!(started.elapsed() < Duration::from_secs(5), "bounded: {:?}", started.elapsed());
+
+    let redis = Redis::start(&scratch.0);
+    let maze = scratch.0.join("maze.grid");
+    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
+    let server = Server::start(&scratch, "a", &maze, &redis.url());
+    let (code, said) = refused(&scratch, &["--gen", "4x4", "--world", &redis.url()]);
+    assert_eq!(code, Some(1), "{said}");
+    // (both hashes, 64 hex digits each, and different)
+    let hashes: Vec<&str> = said.split(|c: char| !c.is_ascii_hexdigit()).filter(|w| w.len() == 64).collect();
+    assert_eq!(hashes.len(), 2, "both hashes named: {said}");
+    assert_ne!(hashes[0], hashes[1], "{said}");
+    assert!(said.contains("walks the maze") && said.contains("/1"), "{said}");
+    drop(server);
+
+    let ca = scratch.0.join("any.pem");
+    std::fs::write(&ca, "not a certificate").expect("a file");
+    let (code, said) =
+        refused(&scratch, &["--gen", "4x4", "--world", &redis.url(), "--world-ca", ca.to_str().unwrap()]);
+    assert_eq!(code, Some(1), "{said}");
+    assert!(said.contains("--world-ca is for a world over TLS"), "{said}");
+}
+
+// issue #35: rediss:// with --world-ca FILE: two servers share a world over TLS with a Redis whose
+// certificate a CA of its own signed; without the CA, the server refuses to start and says why.
+#[test]
+fn two_servers_share_a_world_over_tls_with_their_own_ca() {
+    let scratch = Scratch::new("tls");
+    let redis = Redis::start_tls(&scratch.0);
+    assert!(redis.url().starts_with("rediss://"));
+    let maze = scratch.0.join("maze.grid");
+    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
+    let ca = scratch.0.join("ca.pem");
+    let ca = ca.to_str().expect("a UTF-8 path");
+    let server_a = Server::start_with(&scratch, "a", &maze, &redis.url(), &["--world-ca", ca]);
+    let server_b = Server::start_with(&scratch, "b", &maze, &redis.url(), &["--world-ca", ca]);
+    let alice = Player::connect(server_a.port, "alice");
+    alice.wait_for("alice's game on server A", playing);
+    let bob = Player::connect(server_b.port, "bob");
+    bob.wait_for("bob's game on server B", playing);
+    alice.wait_for("bob (server B, over TLS) on alice's map", |s| {
+        on_map(s, 'B') && hud_row(s).contains("2 in")
+    });
+    let (code, said) = refused(&scratch, &[maze.to_str().expect("utf-8"), "--world", &redis.url()]);
+    assert_eq!(code, Some(1), "{said}");
+    assert!(said.to_lowercase().contains("certificate"), "the reason: {said}");
 }
