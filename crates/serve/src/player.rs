@@ -142,6 +142,8 @@ pub struct News {
     pub heading_deg: f32,
     /// The cell it stands in.
     pub cell: u32,
+    /// How far it looks up (+) or down (−), degrees.
+    pub pitch_deg: f32,
     /// It reached the exit after this many seconds: told once.
     pub finished: Option<f64>,
 }
@@ -321,7 +323,8 @@ impl Player {
         let (position, heading_deg, cell) = self.whereabouts();
         let finished = self.session.app().finished.filter(|_| !self.reported_finish);
         self.reported_finish |= finished.is_some();
-        News { position, heading_deg, cell, finished }
+        let pitch_deg = self.session.app().camera.pitch_deg;
+        News { position, heading_deg, cell, pitch_deg, finished }
     }
 
     /// Whether the player quit (q, Esc, Ctrl-C).

@@ -1142,6 +1142,7 @@ async fn walk(
             let mut world = shared.world();
             let before = world.version();
             world.moved(id, news.position, news.heading_deg, news.cell);
+            world.pitched(id, news.pitch_deg);
             let first = news.finished.and_then(|seconds| world.finished(id, seconds)).is_some();
             if world.version() != before {
                 shared.world_changed(&world);

@@ -62,6 +62,9 @@ pub struct Seen {
     pub position: Vec2,
     /// Which way it faces, degrees counter-clockwise from +x.
     pub heading_deg: f32,
+    /// How far it looks up (+) or down (−), degrees (shared with the other servers of a `--world`;
+    /// the figures do not show it).
+    pub pitch_deg: f32,
     /// The cell it stands in.
     pub cell: u32,
     /// Its colour.
@@ -214,6 +217,7 @@ impl World {
             name: name.to_string(),
             position,
             heading_deg,
+            pitch_deg: 0.0,
             cell,
             color,
             label,
@@ -242,6 +246,14 @@ impl World {
         (seen.position, seen.heading_deg, seen.cell) = (position, heading_deg, cell);
         self.version += 1;
         true
+    }
+
+    /// The player now looks `pitch_deg` up (+) or down (−). Only the world task of a shared world
+    /// reads it (once a tick, under the lock): the version is not bumped, no one else looks again.
+    pub fn pitched(&mut self, id: PlayerId, pitch_deg: f32) {
+        if let Some(seen) = self.players.get_mut(&id) {
+            seen.pitch_deg = pitch_deg;
+        }
     }
 
     /// The player reached the exit after `seconds`: its best time is kept (for the player list), and
@@ -363,7 +375,7 @@ impl World {
             at: crate::shared::codec::Whereabouts {
                 position: seen.position,
                 heading_deg: seen.heading_deg.rem_euclid(360.0),
-                pitch_deg: 0.0,
+                pitch_deg: if seen.pitch_deg.is_finite() { seen.pitch_deg.clamp(-90.0, 90.0) } else { 0.0 },
                 cell: seen.cell,
             },
         }));
@@ -382,6 +394,7 @@ impl World {
                     name: p.name.clone(),
                     position: p.at.position,
                     heading_deg: p.at.heading_deg,
+                    pitch_deg: p.at.pitch_deg,
                     cell: p.at.cell,
                     color: PLAYER_COLORS[usize::from(p.color) % PLAYER_COLORS.len()],
                     label: p.label,
@@ -652,6 +665,11 @@ mod tests {
         assert_eq!(finished, [LocalFinish { id: 0, name: "alice".into(), seconds: 30.0 }]);
         world.locals(&mut players, &mut finished);
         assert_eq!(finished.len(), 1, "taken once");
+        // the pitch goes to the others, without a look here
+        let v = world.version();
+        world.pitched(a, 12.0);
+        world.locals(&mut players, &mut finished);
+        assert_eq!((players[0].at.pitch_deg, world.version()), (12.0, v));
         // bob on server 2 won first, as Redis says
         let others = others_with(&[(2, 5, "bob", 'B', Vec2::ZERO)]);
         world.set_others(&others, true, 1.0);
