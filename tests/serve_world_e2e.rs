@@ -4,10 +4,11 @@
 //!
 //! Checks: bob on server B shows on the map of alice on server A, and the HUD counts both; bob reaches
 //! the exit and alice's screen announces it, and bob's exit box ranks him from the world's records in
-//! Redis; server B killed (SIGKILL, no goodbye), bob leaves alice's view within 5 s; server C
-//! stopped (SIGTERM) tells carol, then leaves the world, and carol leaves alice's view at once; Redis
-//! killed, alice's HUD says the world is offline. Loopback only; every wait has a deadline; every child is
-//! killed on drop.
+//! Redis (which `mazewalk records --world` lists too); server B killed (SIGKILL, no goodbye), bob
+//! leaves alice's view within 5 s; server C stopped (SIGTERM) tells carol, then leaves the world, and
+//! carol leaves alice's view at once; Redis killed, alice's HUD says the world is offline. A server
+//! that cannot join says why and exits 1; a world over TLS with `--world-ca`. Loopback only; every
+//! wait has a deadline; every child is killed on drop.
 #![cfg(unix)]
 
 use std::fs::File;
@@ -438,6 +439,23 @@ fn two_servers_walk_one_world_on_redis() {
         let text = s.contents();
         text.contains("Best times here (1 player)") && text.contains("1. bob")
     });
+
+    // `mazewalk records --world` reads the same table.
+    let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .arg("records")
+        .arg(&maze)
+        .args(["--world", &redis.url()])
+        .output()
+        .expect("mazewalk records --world");
+    let text = String::from_utf8_lossy(&listed.stdout);
+    assert!(listed.status.success(), "{listed:?}");
+    assert!(text.contains("maze.grid") && text.contains("1 player, 1 finish"), "{text}");
+    assert!(text.contains("   1. bob"), "{text}");
+    let unnamed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["records", "--world", &redis.url()])
+        .output()
+        .expect("run");
+    assert!(!unnamed.status.success() && String::from_utf8_lossy(&unnamed.stderr).contains("name the maze"));
 
     // Server B dies without a word: bob leaves alice's view within 5 s (3 s of silence).
     assert!(alice.shows(|s| on_map(s, 'B')), "bob still shows before his server dies");
