@@ -434,6 +434,17 @@ fn two_servers_walk_one_world_on_redis() {
     }
     alice.wait_for("the announcement on alice's screen (server A)", announced);
     bob.wait_for("bob's own exit box", |s| s.contents().contains("You found the exit in"));
+    // Every finish reaches the other servers: bob's best time is in alice's player list.
+    let mut alice = alice;
+    alice.send(b"\t");
+    alice.wait_for("bob's best time in alice's player list", |s| {
+        s.contents().lines().any(|line| {
+            let best = line.split_whitespace().last().unwrap_or("");
+            line.contains("B  bob") && best.contains(':') && best.contains('.') // m:ss.s
+        })
+    });
+    alice.send(b"\t");
+    alice.wait_for("the list closed", |s| !s.contents().contains("Players: 2"));
     // The best times are the world's, in Redis: bob's exit box ranks him there.
     bob.wait_for("the world's best times in bob's exit box", |s| {
         let text = s.contents();
