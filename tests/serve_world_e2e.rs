@@ -419,10 +419,17 @@ fn two_servers_walk_one_world_on_redis() {
     alice.wait_for("alice's game on server A", playing);
     let mut bob = Player::connect(server_b.port, "bob");
     bob.wait_for("bob's game on server B", playing);
-    // Each sees the other, across servers, on the map; the HUD counts the world's players.
+    // The HUD counts the world's players. Bob then walks 3 steps east (3 units: a map character or
+    // more from wherever he started, short of the exit 6 units away) and each sees the other, across
+    // servers, on the map (on one spot, the map shows only the one in front: the viewer).
+    alice.wait_for("2 in on alice's HUD", |s| hud_row(s).contains("2 in"));
+    bob.wait_for("2 in on bob's HUD", |s| hud_row(s).contains("2 in"));
+    for _ in 0..3 {
+        bob.send(b"w");
+        std::thread::sleep(Duration::from_millis(60));
+    }
     alice.wait_for("bob (server B) on alice's map", |s| on_map(s, 'B'));
     bob.wait_for("alice (server A) on bob's map", |s| on_map(s, 'A'));
-    alice.wait_for("2 in on alice's HUD", |s| hud_row(s).contains("2 in"));
     assert!(!alice.shows(|s| hud_row(s).contains("world offline")), "Redis is up");
 
     // Bob holds `w` east into the exit tile; alice, on the other server, is told.
@@ -481,12 +488,18 @@ fn two_servers_walk_one_world_on_redis() {
     let mut server_c = Server::start(&scratch, "c", &maze, &redis.url());
     let carol = Player::connect(server_c.port, "carol");
     carol.wait_for("carol's game on server C", playing);
-    alice.wait_for("carol (server C) on alice's map", |s| on_map(s, 'C') && hud_row(s).contains("2 in"));
+    // (Carol starts next to alice, maybe on her map character: the player list shows her.)
+    alice.send(b"\t");
+    alice.wait_for("carol (server C) in alice's player list", |s| {
+        s.contents().contains("C  carol") && hud_row(s).contains("2 in")
+    });
     let pid = rustix::process::Pid::from_child(&server_c.child);
     rustix::process::kill_process(pid, rustix::process::Signal::TERM).expect("SIGTERM server C");
     let stopped = Instant::now();
     carol.wait_for("carol told the server is shutting down", |s| s.contents().contains("shutting down"));
-    alice.wait_for("carol gone from alice's map", |s| !on_map(s, 'C') && hud_row(s).contains("1 in"));
+    alice.wait_for("carol gone from alice's list", |s| {
+        !s.contents().contains("carol") && hud_row(s).contains("1 in")
+    });
     let gone = stopped.elapsed();
     assert!(gone < Duration::from_millis(2500), "carol left alice's view {gone:?} after SIGTERM");
     let status = server_c.child.wait().expect("server C's exit");
@@ -545,12 +558,13 @@ fn two_servers_share_a_world_over_tls_with_their_own_ca() {
     let ca = ca.to_str().expect("a UTF-8 path");
     let server_a = Server::start_with(&scratch, "a", &maze, &redis.url(), &["--world-ca", ca]);
     let server_b = Server::start_with(&scratch, "b", &maze, &redis.url(), &["--world-ca", ca]);
-    let alice = Player::connect(server_a.port, "alice");
+    let mut alice = Player::connect(server_a.port, "alice");
     alice.wait_for("alice's game on server A", playing);
     let bob = Player::connect(server_b.port, "bob");
     bob.wait_for("bob's game on server B", playing);
-    alice.wait_for("bob (server B, over TLS) on alice's map", |s| {
-        on_map(s, 'B') && hud_row(s).contains("2 in")
+    alice.send(b"\t"); // (they may start on one map character: the player list shows both)
+    alice.wait_for("bob (server B, over TLS) in alice's player list", |s| {
+        s.contents().contains("B  bob") && hud_row(s).contains("2 in")
     });
     let (code, said) = refused(&scratch, &[maze.to_str().expect("utf-8"), "--world", &redis.url()]);
     assert_eq!(code, Some(1), "{said}");
