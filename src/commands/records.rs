@@ -85,7 +85,9 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
         let width = kept.top.iter().map(|b| b.player.chars().count()).max().unwrap_or(0);
         for (rank, best) in (1..).zip(&kept.top) {
             let clock = mazewalk_walk::screen::clock_text(best.seconds);
-            writeln!(out, "{rank:>4}. {:<width$}  {clock:>8}  {}", best.player, date(best.at))?;
+            // (a world's best kept while its records were away has no date: 0)
+            let when = if best.at > 0 { date(best.at) } else { "-".to_string() };
+            writeln!(out, "{rank:>4}. {:<width$}  {clock:>8}  {when}", best.player)?;
         }
     }
     out.flush()?;

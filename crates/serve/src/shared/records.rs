@@ -3,7 +3,9 @@
 //!
 //! ```text
 //! mazewalk:{H}:best               best time, seconds, by player name (sorted set; ZADD LT: only better)
-//! mazewalk:{H}:best:at            when each best was made, Unix seconds, by player name (hash)
+//! mazewalk:{H}:best:at            when each best was made, Unix seconds, by player name (hash;
+//!                                 none for a best only the world task kept, Redis being away
+//!                                 from the records: read as 0)
 //! mazewalk:{H}:finishes           finishes in all (a counter)
 //! mazewalk:{H}:name               what the first server to keep a finish called the maze
 //! ```
@@ -148,14 +150,6 @@ impl Store for RedisStore {
                 .arg("NX")
                 .query_async(con)
                 .await?;
-            if improved > 0 {
-                redis::cmd("HSET")
-                    .arg(&keys.at)
-                    .arg(&finish.player)
-                    .arg(finish.at)
-                    .query_async::<i64>(con)
-                    .await?;
-            }
             let (best, players): (Option<f64>, i64) = redis::pipe()
                 .cmd("ZSCORE")
                 .arg(&keys.best)
@@ -165,6 +159,17 @@ impl Store for RedisStore {
                 .query_async(con)
                 .await?;
             let best = best.filter(|b| b.is_finite()).unwrap_or(finish.seconds);
+            // When the best was made: this finish, if it is the best (the world task may have put
+            // its time in the set first: ZADD then said nothing changed).
+            if improved > 0 || best == finish.seconds {
+                redis::cmd("HSET")
+                    .arg(&keys.at)
+                    .arg(&finish.player)
+                    .arg(finish.at)
+                    .query_async::<i64>(con)
+                    .await?;
+            }
+
             let ahead: i64 = redis::cmd("ZCOUNT")
                 .arg(&keys.best)
                 .arg("-inf")
