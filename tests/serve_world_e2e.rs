@@ -2,13 +2,14 @@
 //! ports, one real `redis-server` (Debian's package, started here on a free loopback port), and stock
 //! `ssh -tt` clients in pseudo-terminals read by a `vt100` emulator (as tests/serve_e2e.rs does).
 //!
-//! Checks: bob on server B shows on the map of alice on server A, and the HUD counts both; bob reaches
-//! the exit and alice's screen announces it, and bob's exit box ranks him from the world's records in
-//! Redis (which `mazewalk records --world` lists too); server B killed (SIGKILL, no goodbye), bob
-//! leaves alice's view within 5 s; server C stopped (SIGTERM) tells carol, then leaves the world, and
-//! carol leaves alice's view at once; Redis killed, alice's HUD says the world is offline. A server
-//! that cannot join says why and exits 1; a world over TLS with `--world-ca`. Loopback only; every
-//! wait has a deadline; every child is killed on drop.
+//! Checks: bob on server B shows on the map of alice on server A, and the HUD counts both; bob
+//! reaches the exit and alice's screen announces it, and bob's exit box ranks him from the world's
+//! records in Redis (which `mazewalk records --world` lists too); server B killed (SIGKILL, no
+//! goodbye), bob leaves alice's view within 5 s; server C stopped (SIGTERM) tells carol, then
+//! leaves the world, and carol leaves alice's view at once; Redis killed, alice turns and her HUD
+//! says the world is offline, Redis back, online again. A server that cannot join says why and
+//! exits 1; a world over TLS with `--world-ca`. Loopback only; every wait has a deadline; every
+//! child is killed on drop.
 #![cfg(unix)]
 
 use std::fs::File;
@@ -92,7 +93,17 @@ impl Redis {
     }
 
     fn start_with(dir: &std::path::Path, tls: &[&str]) -> Redis {
-        let port = free_port();
+        Redis::start_on(dir, free_port(), tls)
+    }
+
+    /// Starts it again (empty) on the same port, after it was killed.
+    fn restart(&mut self, dir: &std::path::Path) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        *self = Redis::start_on(dir, self.port, &[]);
+    }
+
+    fn start_on(dir: &std::path::Path, port: u16, tls: &[&str]) -> Redis {
         let port_arg = port.to_string();
         let tls: Vec<&str> = tls.iter().map(|&a| if a == "PORT" { port_arg.as_str() } else { a }).collect();
         let plain = ["--port", port_arg.as_str()];
@@ -375,6 +386,10 @@ impl Player {
     fn shows(&self, ok: impl Fn(&vt100::Screen) -> bool) -> bool {
         ok(lock(&self.shared).parser.screen())
     }
+
+    fn read<T>(&self, f: impl Fn(&vt100::Screen) -> T) -> T {
+        f(lock(&self.shared).parser.screen())
+    }
 }
 
 impl Drop for Player {
@@ -505,9 +520,23 @@ fn two_servers_walk_one_world_on_redis() {
     let status = server_c.child.wait().expect("server C's exit");
     assert_eq!(status.code(), Some(143), "SIGTERM's exit code");
 
-    // Redis dies: alice walks on, and her HUD says the world is offline.
+    // Redis dies: alice walks on, and her HUD says the world is offline; Redis back (empty), the
+    // world is online again.
+    alice.send(b"\t"); // (the player list closed)
+    alice.wait_for("the list closed", |s| !s.contents().contains("Players: 1"));
     redis.child.kill().expect("SIGKILL redis-server");
     alice.wait_for("world offline on alice's HUD", |s| hud_row(s).contains("world offline"));
+    let heading = alice.read(hud_row);
+    alice.send(b"\x1b[D"); // ← turns her 15°
+    alice.wait_for("alice turning while the world is offline", |s| {
+        let hud = hud_row(s);
+        hud.contains("world offline") && hud.contains("heading 15°") && hud != heading
+    });
+    redis.restart(&scratch.0);
+    alice.wait_for("the world online again on alice's HUD", |s| {
+        let hud = hud_row(s);
+        !hud.contains("world offline") && hud.contains("1 in")
+    });
     let log = lock(&server_a.log).clone();
     assert!(log.contains("joined the shared world"), "{log}");
 }
