@@ -201,6 +201,15 @@ pub struct ServeArgs {
     /// Keep no best times.
     #[arg(long)]
     pub no_records: bool,
+    /// Walk one world with every server started with this URL and the same maze:
+    /// redis://[USER:PASS@]HOST:PORT[/DB], or rediss://… for TLS. The best times then live in that
+    /// Redis (--records is not used).
+    #[arg(long, value_name = "URL", conflicts_with = "records")]
+    pub world: Option<String>,
+    /// The certificate (PEM) of the CA that signed a rediss:// world's certificate, when the system
+    /// does not trust it (as redis-cli's --cacert).
+    #[arg(long, value_name = "FILE", requires = "world")]
+    pub world_ca: Option<PathBuf>,
 }
 
 #[derive(Args)]
@@ -220,8 +229,15 @@ pub struct RecordsArgs {
     pub builtin: bool,
     /// The records file (default: records.sqlite in the host key's default folder,
     /// $XDG_STATE_HOME/mazewalk or ~/.local/state/mazewalk).
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", conflicts_with = "world")]
     pub records: Option<PathBuf>,
+    /// The best times of the shared world at this URL (as `serve --world` was given) instead of a
+    /// file; the maze must be named.
+    #[arg(long, value_name = "URL")]
+    pub world: Option<String>,
+    /// The CA's certificate (PEM) of a rediss:// world's Redis, as for `serve --world-ca`.
+    #[arg(long, value_name = "FILE", requires = "world")]
+    pub world_ca: Option<PathBuf>,
     #[command(flatten)]
     pub read: ReadArgs,
 }

@@ -8,9 +8,14 @@
 //!    frames delivered per second per player, key-to-frame latency p50 / p99, the server's CPU and
 //!    memory, bytes per second per player.
 //!
+//! With `--servers N --world redis://…` (issue #35) it starts N servers in one shared world on that
+//! Redis and spreads the players over them round-robin: the same figures, the CPU and memory summed
+//! over the servers.
+//!
 //! ```sh
 //! cargo build --release && cargo run --release -p mazewalk-bench --example load                # 1000 idle, 100 walking
 //! cargo run --release -p mazewalk-bench --example load -- --idle 200 --walkers 50 --seconds 5   # smaller
+//! cargo run --release -p mazewalk-bench --example load -- --idle 0 --walkers 90 --servers 3 --world redis://127.0.0.1:6379/0
 //! ```
 
 #[path = "../../crates/serve/tests/serve_common/load.rs"]
@@ -34,10 +39,21 @@ struct Args {
     rows: u32,
     rate: f64,
     seconds: f64,
+    servers: usize,
+    world: Option<String>,
 }
 
 fn args() -> Args {
-    let mut a = Args { idle: 1000, walkers: 100, cols: 120, rows: 40, rate: 30.0, seconds: 10.0 };
+    let mut a = Args {
+        idle: 1000,
+        walkers: 100,
+        cols: 120,
+        rows: 40,
+        rate: 30.0,
+        seconds: 10.0,
+        servers: 1,
+        world: None,
+    };
     let argv: Vec<String> = std::env::args().skip(1).collect();
     for pair in argv.chunks(2) {
         let value = pair.get(1).map_or("", String::as_str);
@@ -46,6 +62,8 @@ fn args() -> Args {
             "--walkers" => a.walkers = value.parse().expect("--walkers N"),
             "--rate" => a.rate = value.parse().expect("--rate KEYS_PER_S"),
             "--seconds" => a.seconds = value.parse().expect("--seconds S"),
+            "--servers" => a.servers = value.parse().expect("--servers N"),
+            "--world" => a.world = Some(value.to_string()),
             "--size" => {
                 let (c, r) = value.split_once('x').expect("--size COLSxROWS");
                 (a.cols, a.rows) = (c.parse().expect("cols"), r.parse().expect("rows"));
@@ -53,6 +71,7 @@ fn args() -> Args {
             other => panic!("unknown argument {other}"),
         }
     }
+    assert!(a.servers >= 1 && (a.servers == 1 || a.world.is_some()), "--servers N needs --world URL");
     a
 }
 
@@ -64,11 +83,11 @@ struct ServerProcess {
 }
 
 impl ServerProcess {
-    fn start() -> ServerProcess {
+    fn start(n: usize, world: Option<&str>) -> ServerProcess {
         let exe = std::env::current_exe().expect("current exe");
         let bin = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
         assert!(bin.exists(), "{} is missing: run `cargo build --release` first", bin.display());
-        let scratch = std::env::temp_dir().join(format!("mazewalk-load-{}", std::process::id()));
+        let scratch = std::env::temp_dir().join(format!("mazewalk-load-{}-{n}", std::process::id()));
         std::fs::create_dir_all(&scratch).expect("scratch");
         let mut child = Command::new(&bin)
             .args([
@@ -83,6 +102,7 @@ impl ServerProcess {
             ])
             .arg("--host-key")
             .arg(scratch.join("host_key"))
+            .args(world.map(|url| ["--world", url]).into_iter().flatten())
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
@@ -117,8 +137,14 @@ fn mib(bytes: u64) -> f64 {
 #[tokio::main]
 async fn main() {
     let a = args();
-    let server = ServerProcess::start();
+    let servers: Vec<ServerProcess> =
+        (0..a.servers).map(|n| ServerProcess::start(n, a.world.as_deref())).collect();
+    let server = &servers[0];
     let (addr, pid) = (server.addr, server.pid());
+    let addrs: Vec<SocketAddr> = servers.iter().map(|s| s.addr).collect();
+    let pids: Vec<Option<u32>> = servers.iter().map(ServerProcess::pid).collect();
+    let cpu_all = || pids.iter().map(|&p| cpu_seconds(p)).sum::<f64>();
+    let rss_all = || pids.iter().map(|&p| rss_bytes(p)).sum::<u64>();
     let size = (a.cols, a.rows);
     tokio::time::sleep(Duration::from_millis(300)).await;
     let rss_empty = rss_bytes(pid);
@@ -173,12 +199,13 @@ async fn main() {
     // 2. Walking players.
     let mut walkers = Vec::new();
     for i in 0..a.walkers {
-        let connected = connect(addr, &format!("walker{i}"), size).await.expect("connect a walker");
+        let at = addrs[i % addrs.len()];
+        let connected = connect(at, &format!("walker{i}"), size).await.expect("connect a walker");
         walkers.push(connected);
     }
     tokio::time::sleep(Duration::from_secs(1)).await;
-    let rss_walk_before = rss_bytes(pid);
-    let (cpu0, client_cpu0, t0) = (cpu_seconds(pid), cpu_seconds(None), Instant::now());
+    let rss_walk_before = rss_all();
+    let (cpu0, client_cpu0, t0) = (cpu_all(), cpu_seconds(None), Instant::now());
     let tasks: Vec<_> =
         walkers.into_iter().map(|c| tokio::spawn(load::walk(c, a.rate, a.seconds, b"\x1b[D"))).collect();
     let mut latencies = Vec::new();
@@ -186,18 +213,25 @@ async fn main() {
     let mut rss_walk = 0;
     for task in tasks {
         let stats = task.await.expect("walker");
-        rss_walk = rss_walk.max(rss_bytes(pid));
+        rss_walk = rss_walk.max(rss_all());
         frames += stats.frames;
         bytes += stats.bytes_after_first;
         closed += usize::from(stats.closed);
         latencies.extend(stats.latencies);
     }
     let elapsed = t0.elapsed().as_secs_f64();
-    let server_cpu = (cpu_seconds(pid) - cpu0) / elapsed;
+    let server_cpu = (cpu_all() - cpu0) / elapsed;
     let client_cpu = (cpu_seconds(None) - client_cpu0) / elapsed;
     let n = a.walkers.max(1) as f64;
     let (p50, p99, max) =
         (quantile(&mut latencies, 0.5), quantile(&mut latencies, 0.99), quantile(&mut latencies, 1.0));
+    if a.servers > 1 {
+        println!(
+            "{} servers in one world ({} walkers each): CPU and memory summed",
+            a.servers,
+            a.walkers / a.servers
+        );
+    }
     println!(
         "{} walking at {} keys/s, {}x{}, {:.0} s: {:.1} frames/s per player delivered, key-to-frame p50 {:.1} ms \
          p99 {:.1} ms max {:.1} ms; server CPU {:.0} % of one core (load generator {:.0} %), {:.1} MiB resident \

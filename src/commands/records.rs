@@ -1,5 +1,6 @@
 //! `mazewalk records`: the best times `serve` kept, of one maze (named as it was served: a file,
-//! `--gen WxH --seed N`, `--builtin`) or of every maze in the records file.
+//! `--gen WxH --seed N`, `--builtin`) or of every maze in the records file; with `--world URL`, of the
+//! named maze in that shared world's Redis.
 
 use crate::cli::RecordsArgs;
 
@@ -10,7 +11,7 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
 
     use anyhow::Context as _;
     use mazewalk_serve::host_key;
-    use mazewalk_serve::records::{Sqlite, Store as _};
+    use mazewalk_serve::records::{Sqlite, Store};
 
     use super::{load_maze, maze_name, stdout_open};
     use crate::cli::{MazeArgs, ReadArgs};
@@ -30,17 +31,40 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
     } else {
         None
     };
+    let (mut store, place): (Box<dyn Store>, String) = match &args.world {
+        None => {
+            let db = Sqlite::open_to_read(&path).map_err(anyhow::Error::new).context("records")?;
+            (Box::new(db), path.display().to_string())
+        }
+        Some(url) => {
+            let Some((hash, _)) = &maze else {
+                anyhow::bail!(
+                    "records --world: name the maze (MAZE, --gen WxH --seed N or --builtin): a world's records are kept by maze"
+                );
+            };
+            let ca = match &args.world_ca {
+                Some(path) => {
+                    Some(std::fs::read(path).with_context(|| format!("--world-ca {}", path.display()))?)
+                }
+                None => None,
+            };
+            let store = mazewalk_serve::shared::records::RedisStore::new(url, ca.as_deref(), *hash)
+                .map_err(anyhow::Error::new)
+                .context("records")?;
+            let place = format!("the world at {}", mazewalk_serve::shared::redis::redacted(url));
+            (Box::new(store), place)
+        }
+    };
     stdout_open()?;
-    let mut db = Sqlite::open_to_read(&path).map_err(anyhow::Error::new).context("records")?;
-    let mazes = db.mazes(maze.as_ref().map(|(hash, _)| hash)).context("records")?;
+    let mazes = store.mazes(maze.as_ref().map(|(hash, _)| hash)).context("records")?;
     let mut out = std::io::stdout().lock();
     if let Some((hash, name)) = &maze {
         if mazes.is_empty() {
-            writeln!(out, "{name}: no finishes kept in {} (maze {hash})", path.display())?;
+            writeln!(out, "{name}: no finishes kept in {place} (maze {hash})")?;
             return Ok(());
         }
     } else if mazes.is_empty() {
-        writeln!(out, "no finishes kept in {}", path.display())?;
+        writeln!(out, "no finishes kept in {place}")?;
         return Ok(());
     }
     for (i, kept) in mazes.iter().enumerate() {
@@ -61,7 +85,9 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
         let width = kept.top.iter().map(|b| b.player.chars().count()).max().unwrap_or(0);
         for (rank, best) in (1..).zip(&kept.top) {
             let clock = mazewalk_walk::clock::clock_text(best.seconds);
-            writeln!(out, "{rank:>4}. {:<width$}  {clock:>8}  {}", best.player, date(best.at))?;
+            // (a world's best kept while its records were away has no date: 0)
+            let when = if best.at > 0 { date(best.at) } else { "-".to_string() };
+            writeln!(out, "{rank:>4}. {:<width$}  {clock:>8}  {when}", best.player)?;
         }
     }
     out.flush()?;

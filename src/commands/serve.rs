@@ -13,6 +13,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
 
     use anyhow::{Context as _, bail};
     use mazewalk_render::RenderOptions;
+    use mazewalk_serve::shared::{Bounds, WorldConfig};
     use mazewalk_serve::{Access, Limits, ServeOptions, host_key};
     use mazewalk_walk::App;
 
@@ -71,14 +72,33 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         ..Limits::default()
     };
     tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
-    let records = if args.no_records {
-        None
-    } else {
-        let path = args.records.clone().unwrap_or_else(|| key_path.with_file_name("records.sqlite"));
-        keep_records(&path, &maze, super::maze_name(&args.maze))
+    let world = match &args.world {
+        None => None,
+        Some(url) => {
+            let ca = match &args.world_ca {
+                Some(path) => {
+                    Some(std::fs::read(path).with_context(|| format!("--world-ca {}", path.display()))?)
+                }
+                None => None,
+            };
+            Some(WorldConfig {
+                url: url.clone(),
+                maze_hash: maze.content_hash().to_string(),
+                bounds: Bounds::of(&maze),
+                ca,
+            })
+        }
+    };
+    let records = match (&world, args.no_records) {
+        (_, true) => None,
+        (Some(world), false) => keep_world_records(world, &maze, super::maze_name(&args.maze)),
+        (None, false) => {
+            let path = args.records.clone().unwrap_or_else(|| key_path.with_file_name("records.sqlite"));
+            keep_records(&path, &maze, super::maze_name(&args.maze))
+        }
     };
     let options = ServeOptions { maze, listen, host_key, access, limits, records: records.clone() };
-    let signal = mazewalk_serve::run(options, |addrs| {
+    let signal = mazewalk_serve::run_in(options, world, |addrs| {
         let made = if made { ", made now" } else { "" };
         let list: Vec<String> = addrs.iter().map(ToString::to_string).collect();
         let addr = addrs[0];
@@ -130,6 +150,34 @@ fn keep_records(
     let report: Report = std::sync::Arc::new(|line: &str| tracing::warn!("{line}"));
     match Records::start(db, report) {
         Ok(records) => Some(Keeper { records, maze: maze.content_hash(), maze_name: name }),
+        Err(err) => {
+            tracing::warn!("records: cannot start their thread: {err}; serving without records");
+            None
+        }
+    }
+}
+
+/// The records of `maze` in the shared world's Redis (`--world`), on their thread; what fails is
+/// said and the server goes on without records.
+#[cfg(all(unix, feature = "serve"))]
+fn keep_world_records(
+    world: &mazewalk_serve::shared::WorldConfig,
+    maze: &mazewalk_maze::Maze,
+    name: String,
+) -> Option<mazewalk_serve::records::Keeper> {
+    use mazewalk_serve::records::{Keeper, Records, Report};
+    use mazewalk_serve::shared::records::RedisStore;
+    let hash = maze.content_hash();
+    let store = match RedisStore::new(&world.url, world.ca.as_deref(), hash) {
+        Ok(store) => store,
+        Err(err) => {
+            tracing::warn!("records: {err}; serving without records");
+            return None;
+        }
+    };
+    let report: Report = std::sync::Arc::new(|line: &str| tracing::warn!("{line}"));
+    match Records::start(store, report) {
+        Ok(records) => Some(Keeper { records, maze: hash, maze_name: name }),
         Err(err) => {
             tracing::warn!("records: cannot start their thread: {err}; serving without records");
             None

@@ -29,6 +29,7 @@ pub mod limits;
 pub mod logs;
 pub mod player;
 pub mod records;
+pub mod shared;
 pub mod slots;
 pub mod spawn;
 pub mod ssh;
@@ -46,13 +47,26 @@ pub use ssh::{Access, ServeOptions, Server};
 /// # Errors
 /// The runtime cannot start, the address cannot be bound, or the signals cannot be watched.
 pub fn run(options: ServeOptions, ready: impl FnOnce(&[std::net::SocketAddr])) -> std::io::Result<i32> {
+    run_in(options, None, ready)
+}
+
+/// [`run`], with the world shared on Redis when `world` is given (`--world`): joined before the
+/// first player is let in, left after the players were told of the shutdown.
+///
+/// # Errors
+/// As [`run`]; and the shared world cannot be joined ([`Server::start_in`]).
+pub fn run_in(
+    options: ServeOptions,
+    world: Option<shared::WorldConfig>,
+    ready: impl FnOnce(&[std::net::SocketAddr]),
+) -> std::io::Result<i32> {
     let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build()?;
     runtime.block_on(async {
         use tokio::signal::unix::{SignalKind, signal};
         let mut interrupt = signal(SignalKind::interrupt())?;
         let mut terminate = signal(SignalKind::terminate())?;
         let mut hangup = signal(SignalKind::hangup())?;
-        let server = Server::start(options).await?;
+        let server = Server::start_in(options, world).await?;
         ready(server.local_addrs());
         let signal = tokio::select! {
             _ = interrupt.recv() => SignalKind::interrupt(),

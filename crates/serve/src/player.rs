@@ -39,6 +39,9 @@ pub const NOTICE_SECONDS: f64 = 8.0;
 /// A player looks at the others at most this often a second (their moves coalesce meanwhile).
 pub const WORLD_LOOKS_PER_SECOND: f64 = 30.0;
 
+/// What the HUD says while a shared world's Redis is away (`--world`).
+pub const WORLD_OFFLINE: &str = "world offline";
+
 /// The longest player name, in characters.
 pub const MAX_NAME: usize = 16;
 
@@ -139,6 +142,8 @@ pub struct News {
     pub heading_deg: f32,
     /// The cell it stands in.
     pub cell: u32,
+    /// How far it looks up (+) or down (−), degrees.
+    pub pitch_deg: f32,
     /// It reached the exit after this many seconds: told once.
     pub finished: Option<f64>,
 }
@@ -301,6 +306,8 @@ impl Player {
         }));
         self.session.set_roster(&self.roster);
         self.session.set_players_in(Some(look.players.len()));
+        // A shared world whose Redis is away: the others stand frozen where last heard.
+        self.session.set_status(look.online.filter(|online| !online).map(|_| WORLD_OFFLINE));
         if let (Some(winner), false) = (&look.winner, self.seen_winner) {
             self.seen_winner = true;
             self.session.set_notice(Some(winner.announcement_for(me)));
@@ -316,7 +323,8 @@ impl Player {
         let (position, heading_deg, cell) = self.whereabouts();
         let finished = self.session.app().finished.filter(|_| !self.reported_finish);
         self.reported_finish |= finished.is_some();
-        News { position, heading_deg, cell, finished }
+        let pitch_deg = self.session.app().camera.pitch_deg;
+        News { position, heading_deg, cell, pitch_deg, finished }
     }
 
     /// Whether the player quit (q, Esc, Ctrl-C).

@@ -18,8 +18,9 @@
 //! - **One file, many servers.** SQLite in WAL mode with a busy timeout: servers on one file (two
 //!   mazes, say) each write their finishes, readers never block writers.
 //!
-//! [`Store`] is the seam for another backend (the shared world's Redis sorted sets): the server only
-//! calls [`Store::record`]; `mazewalk records` calls [`Store::mazes`].
+//! [`Store`] is the seam for another backend: with `--world` the best times live in the shared
+//! world's Redis ([`RedisStore`](crate::shared::records::RedisStore), a sorted set per maze). The
+//! server only calls [`Store::record`]; `mazewalk records` calls [`Store::mazes`].
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -106,7 +107,10 @@ pub enum Fault {
     Full,
     /// A newer mazewalk made it (its schema is unknown here).
     Newer,
-    /// Anything else SQLite or the file system said.
+    /// The records' Redis (a shared world's, `--world`) does not answer (this finish is not kept;
+    /// the next may be).
+    Unreachable,
+    /// Anything else SQLite, Redis or the file system said.
     Other,
 }
 
@@ -130,6 +134,7 @@ fn fault_text(fault: Fault) -> &'static str {
         Fault::Damaged => "not a records database, or a damaged one",
         Fault::Full => "the database is full",
         Fault::Newer => "made by a newer mazewalk",
+        Fault::Unreachable => "Redis does not answer",
         Fault::Other => "the database failed",
     }
 }
@@ -151,10 +156,10 @@ impl RecordsError {
         RecordsError::new(path, fault, crate::logs::clip(&err.to_string(), crate::logs::ERROR_CHARS))
     }
 
-    /// Whether the next finish may fare better (a lock held for a while).
+    /// Whether the next finish may fare better (a lock held for a while, a Redis away for a while).
     #[must_use]
     pub fn is_transient(&self) -> bool {
-        self.fault == Fault::Busy
+        matches!(self.fault, Fault::Busy | Fault::Unreachable)
     }
 }
 
@@ -575,7 +580,7 @@ impl Keeper {
 /// rank below them when it is not among them.
 #[must_use]
 pub fn standing_lines(standing: &Standing, player: &str) -> Vec<String> {
-    let clock = mazewalk_walk::screen::clock_text;
+    let clock = mazewalk_walk::clock::clock_text;
     let width = standing.top.iter().map(|b| b.player.chars().count()).max().unwrap_or(0);
     let players =
         if standing.players == 1 { "1 player".to_string() } else { format!("{} players", standing.players) };

@@ -28,6 +28,9 @@ use super::limits::Limits;
 use super::logs::{self, LogLimit};
 use super::player::{Player, player_name};
 use super::records::{Keeper, Standing, standing_lines};
+use super::shared::codec::{Finish, PlayerRecord, WinnerRecord};
+use super::shared::view::Others;
+use super::shared::{Host, LocalFinish, ServerId, SharedWorld, WorldConfig};
 use super::slots::{ConnId, Refusal, Slots, address_group};
 use super::spawn::Spawns;
 use super::stream::{Cut, CutStream};
@@ -85,9 +88,8 @@ struct Shared {
     access: Access,
     limits: Limits,
     config: Arc<russh::server::Config>,
-    world: Mutex<World>,
-    /// The world's version, for the players' tasks to wait on.
-    world_version: watch::Sender<u64>,
+    /// The world and its version (shared with the world task of a `--world` server).
+    world: Arc<WorldCell>,
     shutdown: watch::Receiver<bool>,
     /// The server's clock: every session's time is seconds since this instant.
     clock: Instant,
@@ -106,9 +108,63 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
+/// The world, and its version for the players' tasks to wait on.
+struct WorldCell {
+    world: Mutex<World>,
+    version: watch::Sender<u64>,
+    /// The server's clock (as [`Shared::clock`]).
+    clock: Instant,
+}
+
+impl WorldCell {
+    /// Changes the world with `change` under its lock, and publishes its version if it changed.
+    fn change<R>(&self, change: impl FnOnce(&mut World) -> R) -> R {
+        let mut world = lock(&self.world);
+        let before = world.version();
+        let result = change(&mut world);
+        if world.version() != before {
+            self.version.send_replace(world.version());
+        }
+        result
+    }
+}
+
+/// The world task's view of this server's world (`--world`): it takes the players and their
+/// finishes, and brings the others, the winner, their finishes and relabels. Each call holds the
+/// world's lock for data only.
+impl Host for WorldCell {
+    fn locals(&self, players: &mut Vec<PlayerRecord>, finished: &mut Vec<LocalFinish>) {
+        lock(&self.world).locals(players, finished);
+    }
+
+    fn others(&self, others: &Others, online: bool) {
+        let now = self.clock.elapsed().as_secs_f64();
+        self.change(|world| world.set_others(others, online, now));
+    }
+
+    fn winner(&self, winner: &WinnerRecord) {
+        if self.change(|world| world.set_winner(winner)) {
+            info!(player = %winner.name, seconds = format_args!("{:.1}", winner.seconds), "the world's winner");
+        }
+    }
+
+    fn finished(&self, server: ServerId, finish: &Finish) {
+        self.change(|world| world.remote_finished(server, finish));
+    }
+
+    fn relabel(&self, ids: &[u32]) {
+        self.change(|world| world.relabel(ids));
+    }
+}
+
 impl Shared {
     fn world(&self) -> MutexGuard<'_, World> {
-        lock(&self.world)
+        lock(&self.world.world)
+    }
+
+    /// Publishes the world's version (after a change under [`world`](Self::world)'s lock).
+    fn world_changed(&self, world: &World) {
+        self.world.version.send_replace(world.version());
     }
 
     fn now(&self) -> f64 {
@@ -275,6 +331,8 @@ pub struct Server {
     shutdown: watch::Sender<bool>,
     shared: Arc<Shared>,
     accept: tokio::task::JoinHandle<()>,
+    /// The shared world it is part of (`--world`).
+    world: Option<SharedWorld>,
 }
 
 /// Binds every address of `listen` (see [`ServeOptions::listen`]); an address that cannot be bound is
@@ -314,6 +372,16 @@ impl Server {
     /// # Errors
     /// No address can be bound (the message names it: "cannot listen on ADDR: …").
     pub async fn start(options: ServeOptions) -> std::io::Result<Server> {
+        Server::start_in(options, None).await
+    }
+
+    /// [`start`](Self::start), with the world shared on Redis when `world` is given (`--world`):
+    /// the world is joined (its maze checked) after binding and before the first player is let in.
+    ///
+    /// # Errors
+    /// As [`start`](Self::start); and Redis does not answer, or its world walks another maze (the
+    /// message, a [`WorldError`](crate::shared::WorldError)'s, names both hashes).
+    pub async fn start_in(options: ServeOptions, world: Option<WorldConfig>) -> std::io::Result<Server> {
         let spawns = Spawns::new(&options.maze).ok_or_else(|| {
             std::io::Error::new(std::io::ErrorKind::InvalidInput, "the maze's start is in no cell")
         })?;
@@ -350,13 +418,32 @@ impl Server {
         };
         let (shutdown, shutdown_rx) = watch::channel(false);
         let clock = Instant::now();
+        let in_world = match &world {
+            None => World::new(),
+            Some(_) => {
+                let since = u64::try_from(clock.elapsed().as_millis()).unwrap_or(0);
+                World::shared(crate::shared::task::unix_ms().saturating_sub(since))
+            }
+        };
+        let cell = Arc::new(WorldCell { world: Mutex::new(in_world), version: watch::Sender::new(0), clock });
+        let joined = match world {
+            None => None,
+            Some(config) => {
+                let host: Arc<dyn Host> = Arc::clone(&cell) as Arc<dyn Host>;
+                // (Its message says it all; its sources would repeat it.)
+                let joined = SharedWorld::join(config, host)
+                    .await
+                    .map_err(|e| std::io::Error::other(e.to_string()))?;
+                cell.change(|w| w.set_server(joined.server()));
+                Some(joined)
+            }
+        };
         let shared = Arc::new(Shared {
             maze: Arc::new(options.maze),
             access: options.access,
             limits,
             config: Arc::new(config),
-            world: Mutex::new(World::new()),
-            world_version: watch::Sender::new(0),
+            world: cell,
             shutdown: shutdown_rx,
             clock,
             spawns,
@@ -366,7 +453,7 @@ impl Server {
             log_limit: Mutex::new(LogLimit::new(0.0)),
         });
         let accept = tokio::spawn(accept_loop(listeners, Arc::clone(&shared)));
-        Ok(Server { local_addrs, shutdown, shared, accept })
+        Ok(Server { local_addrs, shutdown, shared, accept, world: joined })
     }
 
     /// The first address it listens on (with the port the system chose for port 0).
@@ -401,10 +488,20 @@ impl Server {
     }
 
     /// Tells every player the server is shutting down, restores their terminals, closes every
-    /// connection and stops listening; returns when all are closed.
+    /// connection and stops listening; then leaves the shared world, if any (the other servers are
+    /// told at once); returns when all are closed.
     pub async fn shutdown(self) {
         self.shutdown.send_replace(true);
         let _ = self.accept.await;
+        if let Some(world) = self.world {
+            world.leave().await;
+        }
+    }
+
+    /// What the world task has done so far (`None`: the world is this server's alone).
+    #[must_use]
+    pub fn world_stats(&self) -> Option<crate::shared::Stats> {
+        self.world.as_ref().map(SharedWorld::stats)
     }
 }
 
@@ -910,7 +1007,7 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         player.place(shared.spawns.pick(&world.positions()).pos);
         let (position, heading, cell) = player.whereabouts();
         let id = world.join(&user, position, heading, cell, now);
-        shared.world_version.send_replace(world.version());
+        shared.world_changed(&world);
         id
     };
     player.joined(id);
@@ -919,7 +1016,7 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
     {
         let mut world = shared.world();
         world.leave(id);
-        shared.world_version.send_replace(world.version());
+        shared.world_changed(&world);
     }
     if end == End::Stalled {
         conn.end("stopped reading");
@@ -1003,7 +1100,7 @@ async fn walk(
 ) -> End {
     let mut out = Vec::with_capacity(16 * 1024);
     player.enter(&mut out);
-    let mut versions = shared.world_version.subscribe();
+    let mut versions = shared.world.version.subscribe();
     let mut shutdown = shared.shutdown.clone();
     let mut last_input = Instant::now();
     // The records' answer to the last finish (the maze's best times for the exit box), on its way.
@@ -1045,9 +1142,10 @@ async fn walk(
             let mut world = shared.world();
             let before = world.version();
             world.moved(id, news.position, news.heading_deg, news.cell);
+            world.pitched(id, news.pitch_deg);
             let first = news.finished.and_then(|seconds| world.finished(id, seconds)).is_some();
             if world.version() != before {
-                shared.world_version.send_replace(world.version());
+                shared.world_changed(&world);
             }
             first
         };

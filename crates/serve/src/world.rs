@@ -5,15 +5,23 @@
 //! ([`Player::look`](crate::player::Player::look)) after the lock is gone. The server publishes the
 //! version so that each player's task looks again (and redraws only if what it shows of the others
 //! changed).
+//!
+//! Served with `--world` ([`crate::shared`]), the world also holds the other servers' players
+//! ([`World::set_others`]: after this server's own, in a separate id space, [`remote_id`]), whether
+//! the world is online ([`Look::online`]), and its first finish comes from Redis's claim
+//! ([`World::set_winner`]) rather than from this server's first finish.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use glam::Vec2;
 
+use crate::shared::codec::{Finish, PlayerRecord, WinnerRecord};
+use crate::shared::view::Others;
+use crate::shared::{LocalFinish, ServerId};
 use mazewalk_term::frame::Color;
 use mazewalk_walk::overlay::Peer;
-use mazewalk_walk::screen::clock_text;
+use mazewalk_walk::clock::clock_text;
 
 /// The colours players are drawn in, by order of arrival (256-colour indices: bright and distinct from
 /// the map's own yellow viewer, green exit and grey walls; [`mazewalk_walk::overlay::limit_colors`] takes
@@ -29,9 +37,21 @@ pub const PLAYER_COLORS: [Color; 8] = [
     Color::Indexed(231), // white
 ];
 
-/// A player's id in the world, unique for the server's lifetime.
+/// A player's id in the world, unique for the server's lifetime. This server's players count up
+/// from 0; another server's (shared world) have the top bit set ([`remote_id`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct PlayerId(pub u64);
+
+/// The top bit of every other server's player's id.
+const REMOTE: u64 = 1 << 63;
+
+/// The id of player `id` of server `server` in this server's world: the top bit set, the rest a mix
+/// of both (never one of this server's own ids).
+#[must_use]
+pub fn remote_id(server: ServerId, id: u32) -> PlayerId {
+    let mixed = server.0.wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left(32) ^ u64::from(id);
+    PlayerId(REMOTE | mixed)
+}
 
 /// One player as the others see it.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,6 +62,9 @@ pub struct Seen {
     pub position: Vec2,
     /// Which way it faces, degrees counter-clockwise from +x.
     pub heading_deg: f32,
+    /// How far it looks up (+) or down (−), degrees (shared with the other servers of a `--world`;
+    /// the figures do not show it).
+    pub pitch_deg: f32,
     /// The cell it stands in.
     pub cell: u32,
     /// Its colour.
@@ -117,6 +140,9 @@ pub struct Look {
     pub winner: Option<Arc<Winner>>,
     /// The world's version it was taken at.
     pub version: u64,
+    /// Served with `--world`: whether this server hears the shared world now (`None`: the world is
+    /// this server's alone).
+    pub online: Option<bool>,
 }
 
 /// Everyone in the maze.
@@ -128,7 +154,29 @@ pub struct World {
     version: u64,
     /// The last look handed out, while the version is the same.
     look: Option<Look>,
+    /// The shared world's part (`None`: in-process).
+    shared: Option<SharedPart>,
 }
+
+/// What a world served with `--world` holds besides its own players.
+#[derive(Debug)]
+struct SharedPart {
+    /// This server's id in the shared world, once joined.
+    me: Option<ServerId>,
+    /// The Unix time (ms) of the server's clock's zero, to tell the others when players joined.
+    epoch_ms: u64,
+    /// The other servers' players, as last heard (frozen while offline).
+    remote: Vec<(PlayerId, Seen)>,
+    /// The other servers' players' best times heard since this server started.
+    remote_best: HashMap<PlayerId, f64>,
+    /// This server hears the world.
+    online: bool,
+    /// This server's finishes not yet taken by the world task.
+    finishes: Vec<LocalFinish>,
+}
+
+/// This server's finishes kept for the world task at most (beyond, the oldest go).
+const MAX_FINISHES: usize = 1024;
 
 impl World {
     /// An empty world.
@@ -162,13 +210,14 @@ impl World {
         self.next_id += 1;
         // The colour the fewest players now wear (the first of those): all differ while there are
         // enough to go round, however many have come and gone.
-        let wearing = |color: &Color| self.players.values().filter(|p| p.color == *color).count();
+        let wearing = |color: &Color| self.everyone().filter(|p| p.color == *color).count();
         let color = *PLAYER_COLORS.iter().min_by_key(|c| wearing(c)).expect("a palette");
-        let label = label_for(name, |c| self.players.values().any(|p| p.label == c));
+        let label = label_for(name, |c| self.everyone().any(|p| p.label == c));
         let seen = Seen {
             name: name.to_string(),
             position,
             heading_deg,
+            pitch_deg: 0.0,
             cell,
             color,
             label,
@@ -199,13 +248,31 @@ impl World {
         true
     }
 
+    /// The player now looks `pitch_deg` up (+) or down (−). Only the world task of a shared world
+    /// reads it (once a tick, under the lock): the version is not bumped, no one else looks again.
+    pub fn pitched(&mut self, id: PlayerId, pitch_deg: f32) {
+        if let Some(seen) = self.players.get_mut(&id) {
+            seen.pitch_deg = pitch_deg;
+        }
+    }
+
     /// The player reached the exit after `seconds`: its best time is kept (for the player list), and
-    /// if it is the first to reach it, it is the winner and the announcement is returned.
+    /// if it is the first to reach it, it is the winner and the announcement is returned. In a shared
+    /// world the finish waits for the world task instead, which claims the win in Redis
+    /// ([`set_winner`](Self::set_winner)): `None` then.
     pub fn finished(&mut self, id: PlayerId, seconds: f64) -> Option<String> {
         let seen = self.players.get_mut(&id)?;
         if seen.best.is_none_or(|best| seconds < best) {
             seen.best = Some(seconds);
             self.version += 1;
+        }
+        if let Some(shared) = &mut self.shared {
+            if shared.finishes.len() >= MAX_FINISHES {
+                shared.finishes.remove(0);
+            }
+            let id = local_u32(id);
+            shared.finishes.push(LocalFinish { id, name: seen.name.clone(), seconds });
+            return None;
         }
         if self.winner.is_some() {
             return None;
@@ -224,10 +291,16 @@ impl World {
         self.winner.as_deref()
     }
 
-    /// Where every player stands.
+    /// Where every player stands (the other servers' too).
     #[must_use]
     pub fn positions(&self) -> Vec<Vec2> {
-        self.players.values().map(|p| p.position).collect()
+        self.everyone().map(|p| p.position).collect()
+    }
+
+    /// This server's players, then the other servers'.
+    fn everyone(&self) -> impl Iterator<Item = &Seen> {
+        let remote = self.shared.iter().flat_map(|s| s.remote.iter().map(|(_, seen)| seen));
+        self.players.values().chain(remote)
     }
 
     /// One player, if it is in the world.
@@ -242,11 +315,179 @@ impl World {
         if let Some(look) = self.look.as_ref().filter(|look| look.version == self.version) {
             return look.clone();
         }
+        let remote = self.shared.iter().flat_map(|s| s.remote.iter().cloned());
         let players: Arc<[(PlayerId, Seen)]> =
-            self.players.iter().map(|(&id, seen)| (id, seen.clone())).collect();
-        let look = Look { players, winner: self.winner.clone(), version: self.version };
+            self.players.iter().map(|(&id, seen)| (id, seen.clone())).chain(remote).collect();
+        let online = self.shared.as_ref().map(|s| s.online);
+        let look = Look { players, winner: self.winner.clone(), version: self.version, online };
         self.look = Some(look.clone());
         look
+    }
+}
+
+/// This server's player `id` as the shared world knows it (ids count up from 0: a server's lifetime
+/// never reaches 2³² players).
+fn local_u32(id: PlayerId) -> u32 {
+    u32::try_from(id.0).unwrap_or(u32::MAX)
+}
+
+/// The shared world's colour index of `color` (0 for a colour not in the palette).
+fn color_index(color: Color) -> u8 {
+    PLAYER_COLORS.iter().position(|&c| c == color).map_or(0, |i| i as u8)
+}
+
+impl World {
+    /// An empty world that is part of a shared one (`--world`): its clock's zero was at `epoch_ms`
+    /// (Unix milliseconds). It is offline until the world task says otherwise.
+    #[must_use]
+    pub fn shared(epoch_ms: u64) -> World {
+        let part = SharedPart {
+            me: None,
+            epoch_ms,
+            remote: Vec::new(),
+            remote_best: HashMap::new(),
+            online: false,
+            finishes: Vec::new(),
+        };
+        World { shared: Some(part), ..World::default() }
+    }
+
+    /// This server's id in the shared world (known once it has joined).
+    pub fn set_server(&mut self, me: ServerId) {
+        if let Some(shared) = &mut self.shared {
+            shared.me = Some(me);
+        }
+    }
+
+    /// This server's players for the world task, into `players` (cleared first, in id order), and
+    /// their finishes since the last call, appended to `finished`.
+    pub fn locals(&mut self, players: &mut Vec<PlayerRecord>, finished: &mut Vec<LocalFinish>) {
+        players.clear();
+        let Some(shared) = &mut self.shared else { return };
+        finished.append(&mut shared.finishes);
+        let epoch_ms = shared.epoch_ms;
+        players.extend(self.players.iter().map(|(&id, seen)| PlayerRecord {
+            id: local_u32(id),
+            joined_ms: epoch_ms.saturating_add((seen.joined_at.max(0.0) * 1e3) as u64),
+            color: color_index(seen.color),
+            label: seen.label,
+            name: seen.name.clone(),
+            at: crate::shared::codec::Whereabouts {
+                position: seen.position,
+                heading_deg: seen.heading_deg.rem_euclid(360.0),
+                pitch_deg: if seen.pitch_deg.is_finite() { seen.pitch_deg.clamp(-90.0, 90.0) } else { 0.0 },
+                cell: seen.cell,
+            },
+        }));
+    }
+
+    /// The other servers' players as the world task has them, and whether the world is online, at
+    /// `now` (the server's clock). Returns whether that changed anything.
+    pub fn set_others(&mut self, others: &Others, online: bool, now: f64) -> bool {
+        let Some(shared) = &mut self.shared else { return false };
+        let now_ms = shared.epoch_ms.saturating_add((now.max(0.0) * 1e3) as u64);
+        let remote: Vec<(PlayerId, Seen)> = others
+            .players()
+            .map(|(server, p)| {
+                let id = remote_id(server, p.id);
+                let seen = Seen {
+                    name: p.name.clone(),
+                    position: p.at.position,
+                    heading_deg: p.at.heading_deg,
+                    pitch_deg: p.at.pitch_deg,
+                    cell: p.at.cell,
+                    color: PLAYER_COLORS[usize::from(p.color) % PLAYER_COLORS.len()],
+                    label: p.label,
+                    joined_at: now - now_ms.saturating_sub(p.joined_ms) as f64 / 1e3,
+                    best: shared.remote_best.get(&id).copied(),
+                };
+                (id, seen)
+            })
+            .collect();
+        // (The join time moves with the clock's rounding: compared without it.)
+        let same = shared.remote.len() == remote.len()
+            && shared.remote.iter().zip(&remote).all(|((a, sa), (b, sb))| {
+                a == b && Seen { joined_at: 0.0, ..sa.clone() } == Seen { joined_at: 0.0, ..sb.clone() }
+            });
+        if same && shared.online == online {
+            return false;
+        }
+        if !same {
+            let gone: Vec<PlayerId> = shared
+                .remote_best
+                .keys()
+                .filter(|id| !remote.iter().any(|(r, _)| r == *id))
+                .copied()
+                .collect();
+            for id in gone {
+                shared.remote_best.remove(&id);
+            }
+            shared.remote = remote;
+        }
+        shared.online = online;
+        self.version += 1;
+        true
+    }
+
+    /// The world's winner, as Redis has it (the first claim): announced as an in-process winner is.
+    /// Returns whether it changed.
+    pub fn set_winner(&mut self, winner: &WinnerRecord) -> bool {
+        let Some(shared) = &self.shared else { return false };
+        let id = if shared.me == Some(winner.server) {
+            PlayerId(u64::from(winner.id))
+        } else {
+            remote_id(winner.server, winner.id)
+        };
+        let new = Winner { id, name: winner.name.clone(), seconds: winner.seconds };
+        if self.winner.as_deref() == Some(&new) {
+            return false;
+        }
+        self.winner = Some(Arc::new(new));
+        self.version += 1;
+        true
+    }
+
+    /// A player of another server reached the exit: its best time shows in the player list.
+    /// Returns whether that changed anything.
+    pub fn remote_finished(&mut self, server: ServerId, finish: &Finish) -> bool {
+        let Some(shared) = &mut self.shared else { return false };
+        let id = remote_id(server, finish.id);
+        let Some((_, seen)) = shared.remote.iter_mut().find(|(r, _)| *r == id) else { return false };
+        if seen.best.is_some_and(|best| best <= finish.seconds) {
+            return false;
+        }
+        seen.best = Some(finish.seconds);
+        shared.remote_best.insert(id, finish.seconds);
+        self.version += 1;
+        true
+    }
+
+    /// These players of this server show a label an earlier player of another server shows: each
+    /// takes another if one is free (else keeps its own: never a label someone else shows).
+    /// Returns whether any changed.
+    pub fn relabel(&mut self, ids: &[u32]) -> bool {
+        let mut changed = false;
+        for &id in ids {
+            let id = PlayerId(u64::from(id));
+            let Some(seen) = self.players.get(&id) else { continue };
+            let name = seen.name.clone();
+            let taken = |c: char| {
+                self.players.iter().any(|(&other, p)| other != id && p.label == c)
+                    || self.shared.iter().flat_map(|s| &s.remote).any(|(_, p)| p.label == c)
+            };
+            let label = label_for(&name, taken);
+            if !taken(label)
+                && let Some(seen) = self.players.get_mut(&id)
+                && seen.label != label
+            {
+                seen.label = label;
+                changed = true;
+            }
+        }
+        if changed {
+            self.version += 1;
+        }
+        changed
     }
 }
 
@@ -355,5 +596,110 @@ mod tests {
         assert_eq!(world.version(), v, "nothing changed");
         world.finished(b, 70.0);
         assert_eq!((world.get(b).unwrap().best, world.version() > v), (Some(70.0), true));
+    }
+
+    /// Players of another server, as the world task hears them (issue #35).
+    fn others_with(players: &[(u64, u32, &str, char, Vec2)]) -> crate::shared::view::Others {
+        use crate::shared::codec::{Body, Bounds, Message, Whereabouts};
+        let bounds = Bounds { min: Vec2::splat(-100.0), max: Vec2::splat(100.0), cells: 100 };
+        let mut others = Others::new(ServerId(1), 7, bounds);
+        for (i, &(server, id, name, label, position)) in players.iter().enumerate() {
+            let record = PlayerRecord {
+                id,
+                joined_ms: 1_000,
+                color: 0,
+                label,
+                name: name.into(),
+                at: Whereabouts { position, heading_deg: 0.0, pitch_deg: 0.0, cell: 3 },
+            };
+            let message = Message {
+                maze: 7,
+                server: ServerId(server),
+                seq: i as u64 + 1,
+                sent_ms: 1_000,
+                body: Body::Full { players: vec![record], finished: Vec::new(), winner: None },
+            };
+            others.apply(message, 0.0);
+        }
+        others
+    }
+
+    // issue #35: the other servers' players are in every look, after this server's, never "me".
+    #[test]
+    fn a_shared_world_shows_the_other_servers_players() {
+        let mut world = World::shared(0);
+        world.set_server(ServerId(1));
+        let a = world.join("alice", Vec2::ZERO, 0.0, 0, 0.0);
+        assert_eq!(world.look().online, Some(false), "offline until the world task says");
+        let others = others_with(&[(2, 0, "bob", 'B', Vec2::new(3.0, 4.0))]);
+        assert!(world.set_others(&others, true, 1.0));
+        assert!(!world.set_others(&others, true, 1.5), "nothing new");
+        let look = world.look();
+        assert_eq!(look.online, Some(true));
+        assert_eq!(look.players.len(), 2);
+        let mut out = Vec::new();
+        look.peers_of(a, |_, _| true, &mut out);
+        assert_eq!((out[0].initial, out[0].position), ('B', Vec2::new(3.0, 4.0)));
+        assert!(look.players[1].0.0 >= REMOTE, "a remote id is never one of ours");
+        // a newcomer here takes neither bob's label nor the colour the fewest wear
+        let b2 = world.join("bert", Vec2::ZERO, 0.0, 0, 2.0);
+        assert_eq!(world.get(b2).unwrap().label, 'E', "B is bob's (on the other server)");
+        // the world goes offline: bob stays where he was, the look says so
+        assert!(world.set_others(&others, false, 3.0));
+        assert_eq!((world.look().online, world.look().players.len()), (Some(false), 3));
+        // in-process worlds say nothing of it
+        assert_eq!(World::new().look().online, None);
+    }
+
+    // issue #35: in a shared world the first finish here is not the winner until Redis says so.
+    #[test]
+    fn a_shared_worlds_winner_comes_from_its_claim() {
+        let mut world = World::shared(0);
+        world.set_server(ServerId(1));
+        let a = world.join("alice", Vec2::ZERO, 0.0, 0, 0.0);
+        assert_eq!(world.finished(a, 30.0), None, "not crowned here");
+        assert!(world.winner().is_none());
+        let (mut players, mut finished) = (Vec::new(), Vec::new());
+        world.locals(&mut players, &mut finished);
+        assert_eq!((players.len(), players[0].name.as_str()), (1, "alice"));
+        assert_eq!(finished, [LocalFinish { id: 0, name: "alice".into(), seconds: 30.0 }]);
+        world.locals(&mut players, &mut finished);
+        assert_eq!(finished.len(), 1, "taken once");
+        // the pitch goes to the others, without a look here
+        let v = world.version();
+        world.pitched(a, 12.0);
+        world.locals(&mut players, &mut finished);
+        assert_eq!((players[0].at.pitch_deg, world.version()), (12.0, v));
+        // bob on server 2 won first, as Redis says
+        let others = others_with(&[(2, 5, "bob", 'B', Vec2::ZERO)]);
+        world.set_others(&others, true, 1.0);
+        let bob = WinnerRecord { server: ServerId(2), id: 5, seconds: 12.0, name: "bob".into() };
+        assert!(world.set_winner(&bob));
+        assert!(!world.set_winner(&bob), "once");
+        let winner = world.look().winner.unwrap();
+        assert_eq!(winner.announcement_for(a), "bob reached the exit first, in 0:12.0!");
+        assert_eq!(winner.id, remote_id(ServerId(2), 5));
+        // his finish shows in the player list
+        let finish = Finish { id: 5, name: "bob".into(), seconds: 12.0, won: true };
+        assert!(world.remote_finished(ServerId(2), &finish));
+        let look = world.look();
+        assert_eq!(look.players.iter().find(|(_, s)| s.name == "bob").unwrap().1.best, Some(12.0));
+        // our own win, as Redis says it, is announced to the winner as theirs
+        let ours = WinnerRecord { server: ServerId(1), id: 0, seconds: 30.0, name: "alice".into() };
+        world.set_winner(&ours);
+        assert_eq!(world.winner().unwrap().announcement_for(a), "You reached the exit first, in 0:30.0!");
+    }
+
+    // issue #35: a label an earlier player of another server shows is given up for a free one.
+    #[test]
+    fn a_relabel_takes_a_free_label_only() {
+        let mut world = World::shared(0);
+        let a = world.join("bea", Vec2::ZERO, 0.0, 0, 0.0);
+        assert_eq!(world.get(a).unwrap().label, 'B');
+        let others = others_with(&[(2, 0, "bob", 'B', Vec2::ZERO)]);
+        world.set_others(&others, true, 1.0);
+        assert!(world.relabel(&[0]));
+        assert_eq!(world.get(a).unwrap().label, 'E');
+        assert!(!world.relabel(&[0]), "E is free: kept");
     }
 }

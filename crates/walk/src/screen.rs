@@ -9,7 +9,7 @@
 
 use glam::Vec3;
 
-pub use crate::clock::{clock_text, running_clock_text}; // the exit clock, where its users first found it
+use crate::clock::{clock_text, running_clock_text};
 use crate::overlay::{self, MapArea, MapCells, Peer, Style};
 use crate::roster;
 use crate::state::{App, MapMode};
@@ -58,6 +58,9 @@ pub struct Screen {
     pub show_roster: bool,
     /// How many players walk the maze (`mazewalk serve`), for the HUD ("3 in").
     pub players_in: Option<usize>,
+    /// A host's word on its own state for the HUD, right after the heading (e.g. "world offline"
+    /// while a shared world's Redis is away).
+    pub status: Option<String>,
     /// More lines for the exit box (a served maze's best times).
     pub standings: Vec<String>,
     /// Where the last frame's map was drawn.
@@ -175,7 +178,8 @@ pub fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud) {
         return; // the too-small note has no HUD
     }
     let style = Style::new(app.options.charset, app.options.color_depth);
-    let line = hud_text(app, &screen.stats, hud, screen.players_in, style, cols);
+    let served = (screen.players_in, screen.status.as_deref());
+    let line = hud_text_with(app, &screen.stats, hud, served, style, cols);
     overlay::draw_hud(frame, &line, style);
     let row = Region { col: 0, row: rows - 1, cols, rows: 1 };
     overlay::limit_colors_in(frame, row, style.depth);
@@ -194,15 +198,28 @@ pub(crate) fn map_area(app: &App, frame: &Frame) -> Option<MapArea> {
     }
 }
 
-/// The HUD line, `width` columns at most: what a player needs first — which way they face (heading
-/// and compass point), the exit clock, how many players are in (a served maze) —, then where they
-/// are, the view settings and, with [`App::figures`], the developer figures (frames per second,
-/// bytes, cell, cells seen, ms): each only if it fits whole, and "? help" always at the right end.
+/// The HUD line without a host's status (the tests' shorthand).
+#[cfg(test)]
 fn hud_text(
     app: &App,
     stats: &RenderStats,
     hud: &Hud,
     players_in: Option<usize>,
+    style: Style,
+    width: usize,
+) -> String {
+    hud_text_with(app, stats, hud, (players_in, None), style, width)
+}
+
+/// The HUD line, `width` columns at most: what a player needs first — a host's status when it has
+/// one ("world offline"), which way they face (heading and compass point), the exit clock, how many
+/// players are in (a served maze) —, then where they are, the view settings and, with [`App::figures`], the developer figures (frames per second,
+/// bytes, cell, cells seen, ms): each only if it fits whole, and "? help" always at the right end.
+fn hud_text_with(
+    app: &App,
+    stats: &RenderStats,
+    hud: &Hud,
+    (players_in, status): (Option<usize>, Option<&str>),
     style: Style,
     width: usize,
 ) -> String {
@@ -220,6 +237,7 @@ fn hud_text(
     let dev = |text: String| if app.figures { text } else { String::new() };
     // (priority, text): lower numbers are kept first when the line is short of room
     let fields = [
+        (0, status.unwrap_or_default().to_string()),
         (0, format!("heading {:.0}° {}", c.yaw_deg, compass_point(c.yaw_deg))),
         (1, clock.unwrap_or_default()),
         (2, players_in.map(|n| format!("{n} in")).unwrap_or_default()),
@@ -275,6 +293,18 @@ mod tests {
             let line = hud_text(&app, &stats, &hud, Some(3), ascii, width);
             assert!(line.is_ascii() && line.len() == width && line.ends_with("? help "), "{line:?}");
         }
+    }
+
+    // issue #35: a shared world's Redis away shows first in the HUD, before the heading.
+    #[test]
+    fn a_hosts_status_comes_first_in_the_hud() {
+        let app = App::new(mazewalk_maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
+        let (stats, hud) = (RenderStats::default(), Hud { elapsed: 83.4, ..Hud::default() });
+        let line = hud_text_with(&app, &stats, &hud, (Some(3), Some("world offline")), Style::default(), 60);
+        assert!(line.starts_with(" world offline  heading 0° E  time 1:23  3 in"), "{line:?}");
+        let narrow =
+            hud_text_with(&app, &stats, &hud, (Some(3), Some("world offline")), Style::default(), 30);
+        assert!(narrow.starts_with(" world offline "), "kept before the rest: {narrow:?}");
     }
 
     // issue #33: the developer figures (fps, bytes, cell, seen, ms) are behind `i`.

@@ -271,6 +271,15 @@ impl Session {
         }
     }
 
+    /// A host's word on its own state for the HUD (`None`: nothing to say), e.g. "world offline". The
+    /// next frame is drawn only if it changed.
+    pub fn set_status(&mut self, status: Option<&str>) {
+        if self.screen.status.as_deref() != status {
+            self.screen.status = status.map(str::to_owned);
+            self.dirty = true;
+        }
+    }
+
     /// More lines for the exit box: a served maze's best times.
     pub fn set_standings(&mut self, lines: Vec<String>) {
         if self.screen.standings != lines {

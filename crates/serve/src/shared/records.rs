@@ -1,0 +1,216 @@
+//! The best times of a shared world (`--world`), kept in Redis behind the records' [`Store`]: every
+//! server of the world writes there, so the exit box ranks a player among every server's players.
+//!
+//! ```text
+//! mazewalk:{H}:best               best time, seconds, by player name (sorted set; ZADD LT: only better)
+//! mazewalk:{H}:best:at            when each best was made, Unix seconds, by player name (hash;
+//!                                 none for a best only the world task kept, Redis being away
+//!                                 from the records: read as 0)
+//! mazewalk:{H}:finishes           finishes in all (a counter)
+//! mazewalk:{H}:name               what the first server to keep a finish called the maze
+//! ```
+//!
+//! The store runs on the records thread ([`Records`](crate::records::Records)), never on the async
+//! workers: it has a runtime of its own, one thread, that only its calls drive. A Redis that does not
+//! answer fails the finish at hand ([`Fault::Unreachable`], transient: the next one tries again),
+//! within the link's timeouts. What Redis says is untrusted: a name that is not a player name or a
+//! time that is not a time is left out of the table.
+
+use std::path::PathBuf;
+
+use mazewalk_maze::ContentHash;
+use redis::RedisResult;
+use redis::aio::MultiplexedConnection;
+
+use super::redis::{Keys, Link, WorldError};
+use crate::player::player_name;
+use crate::records::{Best, Fault, Finish, MazeRecords, RecordsError, Standing, Store, TOP};
+
+/// The best times of one world in its Redis.
+pub struct RedisStore {
+    link: Link,
+    runtime: tokio::runtime::Runtime,
+    con: Option<MultiplexedConnection>,
+    maze: ContentHash,
+}
+
+impl std::fmt::Debug for RedisStore {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RedisStore").field("url", &self.link.url).finish_non_exhaustive()
+    }
+}
+
+/// The keys of the records beside the world's own.
+struct RecordKeys {
+    best: String,
+    at: String,
+    finishes: String,
+    name: String,
+}
+
+impl RecordKeys {
+    fn of(keys: &Keys) -> RecordKeys {
+        let tag = keys.best.strip_suffix(":best").unwrap_or(&keys.best);
+        RecordKeys {
+            best: keys.best.clone(),
+            at: format!("{}:at", keys.best),
+            finishes: format!("{tag}:finishes"),
+            name: format!("{tag}:name"),
+        }
+    }
+}
+
+impl RedisStore {
+    /// The records of the world at `url` (with `ca` for a `rediss://` Redis of its own CA) for the maze
+    /// `maze`. Connects to nothing yet: the first finish does.
+    ///
+    /// # Errors
+    /// The URL is not a Redis URL, or `ca` is given without TLS; or the runtime cannot start.
+    pub fn new(url: &str, ca: Option<&[u8]>, maze: ContentHash) -> Result<RedisStore, WorldError> {
+        let link = Link::new(url, &maze.to_string(), ca)?;
+        let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().map_err(|e| {
+            WorldError::Unreachable { url: link.url.clone(), source: redis::RedisError::from(e) }
+        })?;
+        Ok(RedisStore { link, runtime, con: None, maze })
+    }
+
+    fn error(&self, err: &redis::RedisError) -> RecordsError {
+        let fault = if err.is_io_error() || err.is_timeout() || err.is_connection_dropped() {
+            Fault::Unreachable
+        } else {
+            Fault::Other
+        };
+        let detail = crate::logs::clip(&err.to_string(), crate::logs::ERROR_CHARS);
+        RecordsError { path: PathBuf::from(&self.link.url), fault, detail }
+    }
+
+    /// Runs `f` on a connection (made if there is none; dropped on a failure, to be made again).
+    fn with<T>(
+        &mut self,
+        f: impl AsyncFnOnce(&mut MultiplexedConnection, &RecordKeys) -> RedisResult<T>,
+    ) -> Result<T, RecordsError> {
+        let keys = RecordKeys::of(&self.link.keys);
+        let (link, con) = (&self.link, &mut self.con);
+        let result = self.runtime.block_on(async {
+            if con.is_none() {
+                *con = Some(link.connect().await?);
+            }
+            let Some(c) = con.as_mut() else { unreachable!("made above") };
+            f(c, &keys).await
+        });
+        result.map_err(|err| {
+            self.con = None;
+            self.error(&err)
+        })
+    }
+}
+
+/// The best `TOP` of the sorted set at `keys`, best first, with when each was made; entries Redis
+/// holds that are not a player's name and a time are left out.
+async fn top(con: &mut MultiplexedConnection, keys: &RecordKeys) -> RedisResult<Vec<Best>> {
+    let rows: Vec<(String, f64)> =
+        redis::cmd("ZRANGE").arg(&keys.best).arg(0).arg(TOP - 1).arg("WITHSCORES").query_async(con).await?;
+    let rows: Vec<(String, f64)> = rows
+        .into_iter()
+        .filter(|(name, seconds)| player_name(name) == *name && seconds.is_finite() && *seconds >= 0.0)
+        .collect();
+    if rows.is_empty() {
+        return Ok(Vec::new());
+    }
+    let mut hmget = redis::cmd("HMGET");
+    hmget.arg(&keys.at);
+    for (name, _) in &rows {
+        hmget.arg(name);
+    }
+    let ats: Vec<Option<i64>> = hmget.query_async(con).await?;
+    Ok(rows
+        .into_iter()
+        .zip(ats.into_iter().chain(std::iter::repeat(None)))
+        .map(|((player, seconds), at)| Best { player, seconds, at: at.unwrap_or(0) })
+        .collect())
+}
+
+impl Store for RedisStore {
+    fn record(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
+        let finish = finish.clone();
+        self.with(async move |con, keys| {
+            let (improved, ..): (i64, i64, Option<String>) = redis::pipe()
+                .atomic()
+                .cmd("ZADD")
+                .arg(&keys.best)
+                .arg("LT")
+                .arg("CH")
+                .arg(finish.seconds)
+                .arg(&finish.player)
+                .cmd("INCR")
+                .arg(&keys.finishes)
+                .cmd("SET")
+                .arg(&keys.name)
+                .arg(&finish.maze_name)
+                .arg("NX")
+                .query_async(con)
+                .await?;
+            let (best, players): (Option<f64>, i64) = redis::pipe()
+                .cmd("ZSCORE")
+                .arg(&keys.best)
+                .arg(&finish.player)
+                .cmd("ZCARD")
+                .arg(&keys.best)
+                .query_async(con)
+                .await?;
+            let best = best.filter(|b| b.is_finite()).unwrap_or(finish.seconds);
+            // When the best was made: this finish, if it is the best (the world task may have put
+            // its time in the set first: ZADD then said nothing changed).
+            if improved > 0 || best == finish.seconds {
+                redis::cmd("HSET")
+                    .arg(&keys.at)
+                    .arg(&finish.player)
+                    .arg(finish.at)
+                    .query_async::<i64>(con)
+                    .await?;
+            }
+
+            let ahead: i64 = redis::cmd("ZCOUNT")
+                .arg(&keys.best)
+                .arg("-inf")
+                .arg(format!("({best}"))
+                .query_async(con)
+                .await?;
+            let top = top(con, keys).await?;
+            let players = usize::try_from(players).unwrap_or(0).max(1);
+            let rank = usize::try_from(ahead).unwrap_or(0).saturating_add(1).min(players);
+            Ok(Standing { top, best, rank, players })
+        })
+    }
+
+    fn mazes(&mut self, maze: Option<&ContentHash>) -> Result<Vec<MazeRecords>, RecordsError> {
+        if maze.is_some_and(|m| *m != self.maze) {
+            return Ok(Vec::new()); // one world, one maze
+        }
+        let hash = self.maze.to_string();
+        self.with(async move |con, keys| {
+            let (players, finishes, name): (i64, Option<i64>, Option<String>) = redis::pipe()
+                .cmd("ZCARD")
+                .arg(&keys.best)
+                .cmd("GET")
+                .arg(&keys.finishes)
+                .cmd("GET")
+                .arg(&keys.name)
+                .query_async(con)
+                .await?;
+            if players == 0 {
+                return Ok(Vec::new());
+            }
+            let top = top(con, keys).await?;
+            let name: String =
+                name.unwrap_or_default().chars().filter(|c| !c.is_control()).take(256).collect();
+            Ok(vec![MazeRecords {
+                maze: hash,
+                name,
+                players: usize::try_from(players).unwrap_or(0),
+                finishes: usize::try_from(finishes.unwrap_or(0)).unwrap_or(0),
+                top,
+            }])
+        })
+    }
+}

@@ -1,0 +1,440 @@
+//! The Redis side of the shared world: the URL, the keys and channel of a world, the connections
+//! (one for commands, one subscribed; each reconnects by itself), and the few commands the world
+//! task sends. Nothing here decides anything: [`super::task`] does.
+//!
+//! Keys, all of one maze under the hash tag `{H}` (the maze hash's first 16 hex digits) so that in
+//! Redis Cluster a world's keys share one slot:
+//!
+//! ```text
+//! mazewalk:world                  the world's maze hash (TTL 30 s, refreshed by every server)
+//! mazewalk:{H}:winner             the first at the exit (SET NX; no TTL)
+//! mazewalk:{H}:best               best times, seconds by player name (a sorted set; ZADD LT)
+//! mazewalk:{H}:best:at, :finishes, :name   the rest of the records (super::records)
+//! mazewalk:{H}:server:<id>        each server's last full message (TTL 5 s, refreshed every second)
+//! mazewalk:{H}:<db>:news          the channel (Redis channels ignore the database: it is named in)
+//! ```
+
+use std::time::Duration;
+
+use futures_util::StreamExt as _;
+use redis::aio::{MultiplexedConnection, PubSubSink, PubSubStream};
+use redis::{AsyncConnectionConfig, Client, RedisError, RedisResult};
+use thiserror::Error;
+use tokio::sync::mpsc;
+
+use super::codec::{MAX_MESSAGE_BYTES, ServerId};
+
+/// How long a connection attempt may take.
+pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(1);
+/// How long a command may wait for its answer before the connection counts as lost.
+pub const RESPONSE_TIMEOUT: Duration = Duration::from_millis(500);
+/// How often the subscribed connection is checked with a PING (a Redis that vanished without
+/// closing the connection never ends the stream).
+pub const PING_EVERY: Duration = Duration::from_secs(1);
+/// Waits between reconnection attempts: from the first to the last, then the last again (Redis back
+/// is heard within this much).
+const BACKOFF: [Duration; 4] = [
+    Duration::from_millis(50),
+    Duration::from_millis(100),
+    Duration::from_millis(200),
+    Duration::from_millis(400),
+];
+/// A server's presence key lives this long unless refreshed (it is, every second).
+pub const PRESENCE_TTL_SECONDS: u64 = 5;
+/// The world's maze key lives this long unless refreshed: a world no server walked for this long
+/// takes the next server's maze.
+pub const WORLD_TTL_SECONDS: u64 = 30;
+
+/// Why the world could not be joined.
+#[derive(Debug, Error)]
+pub enum WorldError {
+    /// The URL is not a Redis URL.
+    #[error("--world {url}: {source}")]
+    Url {
+        /// The URL, without its password.
+        url: String,
+        /// What the client said.
+        source: RedisError,
+    },
+    /// A CA was given for a world without TLS.
+    #[error("--world-ca is for a world over TLS (rediss://…), not {url}")]
+    CaWithoutTls {
+        /// The URL, without its password.
+        url: String,
+    },
+    /// Redis did not answer.
+    #[error("cannot reach the world at {url}: {source}")]
+    Unreachable {
+        /// The URL, without its password.
+        url: String,
+        /// What the client said.
+        source: RedisError,
+    },
+    /// The world walks another maze.
+    #[error(
+        "the world at {url} walks the maze {world}, and this server's maze is {ours}: start it with \
+         the world's maze, or give it a world of its own (another Redis database, e.g. {url_db1})"
+    )]
+    OtherMaze {
+        /// The URL, without its password.
+        url: String,
+        /// The same with database 1 (a suggestion).
+        url_db1: String,
+        /// The world's maze hash.
+        world: String,
+        /// This server's.
+        ours: String,
+    },
+}
+
+/// `url` without its user name and password, for messages and logs.
+#[must_use]
+pub fn redacted(url: &str) -> String {
+    let Some((scheme, rest)) = url.split_once("://") else { return url.to_owned() };
+    let authority_end = rest.find(['/', '?', '#']).unwrap_or(rest.len());
+    let (authority, path) = rest.split_at(authority_end);
+    match authority.rsplit_once('@') {
+        Some((_, host)) => format!("{scheme}://***@{host}{path}"),
+        None => url.to_owned(),
+    }
+}
+
+/// The names of one world's keys and channel.
+#[derive(Clone, Debug)]
+pub struct Keys {
+    /// The world's maze hash.
+    pub world: String,
+    /// The winner.
+    pub winner: String,
+    /// The best times.
+    pub best: String,
+    /// Every server's presence key starts with this.
+    pub servers: String,
+    /// The channel.
+    pub channel: String,
+}
+
+impl Keys {
+    /// The keys of the world of the maze whose content hash is `maze_hash` in database `db`.
+    #[must_use]
+    pub fn new(maze_hash: &str, db: i64) -> Keys {
+        let tag: String = maze_hash.chars().take(16).collect();
+        Keys {
+            world: "mazewalk:world".into(),
+            winner: format!("mazewalk:{{{tag}}}:winner"),
+            best: format!("mazewalk:{{{tag}}}:best"),
+            servers: format!("mazewalk:{{{tag}}}:server:"),
+            channel: format!("mazewalk:{{{tag}}}:{db}:news"),
+        }
+    }
+
+    /// Server `server`'s presence key.
+    #[must_use]
+    pub fn server(&self, server: ServerId) -> String {
+        format!("{}{:016x}", self.servers, server.0)
+    }
+}
+
+/// One world's Redis: its client and keys.
+#[derive(Clone, Debug)]
+pub struct Link {
+    client: Client,
+    /// The URL without its password.
+    pub url: String,
+    /// The keys.
+    pub keys: Keys,
+}
+
+impl Link {
+    /// The link to the world at `url` (`redis://[user:pass@]host:port[/db]`, `rediss://` for TLS,
+    /// `redis+unix:///path` for a socket) for the maze hashed `maze_hash`. Connects to nothing yet.
+    /// A `rediss://` server's certificate is checked against the system's roots, or against `ca`
+    /// (PEM) when given (redis-cli's `--cacert`: a Redis with a certificate of its own CA).
+    ///
+    /// # Errors
+    /// The URL is not a Redis URL, or `ca` is given for a URL without TLS.
+    pub fn new(url: &str, maze_hash: &str, ca: Option<&[u8]>) -> Result<Link, WorldError> {
+        // rustls asks for a process-wide crypto provider; ring is russh's too. Installing it twice is
+        // refused harmlessly.
+        let _ = rustls::crypto::ring::default_provider().install_default();
+        let shown = redacted(url);
+        let bad_url = |source| WorldError::Url { url: shown.clone(), source };
+        let client = match ca {
+            None => Client::open(url).map_err(bad_url)?,
+            Some(_) if !url.starts_with("rediss://") => return Err(WorldError::CaWithoutTls { url: shown }),
+            Some(pem) => {
+                let certificates = redis::TlsCertificates { client_tls: None, root_cert: Some(pem.to_vec()) };
+                Client::build_with_tls(url, certificates).map_err(bad_url)?
+            }
+        };
+        let db = client.get_connection_info().redis_settings().db();
+        Ok(Link { client, url: shown, keys: Keys::new(maze_hash, db) })
+    }
+
+    /// A connection for commands (pipelined: clones share it), with the timeouts above.
+    ///
+    /// # Errors
+    /// Redis cannot be reached in [`CONNECT_TIMEOUT`], or refuses.
+    pub async fn connect(&self) -> RedisResult<MultiplexedConnection> {
+        let config = AsyncConnectionConfig::new()
+            .set_connection_timeout(Some(CONNECT_TIMEOUT))
+            .set_response_timeout(Some(RESPONSE_TIMEOUT));
+        let mut con = self.client.get_multiplexed_async_connection_with_config(&config).await?;
+        let _: String = redis::cmd("PING").query_async(&mut con).await?; // answers, and has loaded its data
+        Ok(con)
+    }
+
+    /// A connection subscribed to the world's channel.
+    async fn subscribe(&self) -> RedisResult<(PubSubSink, PubSubStream)> {
+        let timed_out = || RedisError::from(std::io::Error::from(std::io::ErrorKind::TimedOut));
+        let pubsub = tokio::time::timeout(CONNECT_TIMEOUT, self.client.get_async_pubsub())
+            .await
+            .map_err(|_| timed_out())??;
+        let (mut sink, stream) = pubsub.split();
+        tokio::time::timeout(RESPONSE_TIMEOUT, sink.subscribe(&self.keys.channel))
+            .await
+            .map_err(|_| timed_out())??;
+        Ok((sink, stream))
+    }
+
+    /// Connects for commands, again and again until Redis answers (backing off up to 400 ms).
+    pub async fn reconnect(&self) -> MultiplexedConnection {
+        let mut attempt = 0;
+        loop {
+            if let Ok(con) = self.connect().await {
+                return con;
+            }
+            tokio::time::sleep(BACKOFF[attempt.min(BACKOFF.len() - 1)]).await;
+            attempt += 1;
+        }
+    }
+
+    /// Listens to the world's channel for good: subscribes, forwards every message, checks the
+    /// connection with a PING every [`PING_EVERY`], and on any failure says so and subscribes again
+    /// (backing off up to 400 ms). Ends when `to` is closed.
+    pub async fn listen(self, to: mpsc::Sender<Heard>) {
+        let mut attempt = 0;
+        loop {
+            if let Ok((mut sink, mut stream)) = self.subscribe().await {
+                attempt = 0;
+                if to.send(Heard::Up).await.is_err() {
+                    return;
+                }
+                let mut ping = tokio::time::interval(PING_EVERY);
+                ping.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+                loop {
+                    tokio::select! {
+                        message = stream.next() => {
+                            let Some(message) = message else { break }; // the connection closed
+                            let bytes = message.get_payload_bytes();
+                            // Checked before copying: the decoder checks again.
+                            let heard =
+                                if bytes.len() > MAX_MESSAGE_BYTES { Heard::TooLong(bytes.len()) } else { Heard::Message(bytes.to_vec()) };
+                            if to.send(heard).await.is_err() {
+                                return;
+                            }
+                        }
+                        _ = ping.tick() => {
+                            let pong = tokio::time::timeout(RESPONSE_TIMEOUT, sink.ping::<redis::Value>()).await;
+                            if !matches!(pong, Ok(Ok(_))) {
+                                break;
+                            }
+                        }
+                    }
+                }
+                if to.send(Heard::Down).await.is_err() {
+                    return;
+                }
+            }
+            tokio::time::sleep(BACKOFF[attempt.min(BACKOFF.len() - 1)]).await;
+            attempt += 1;
+        }
+    }
+}
+
+/// What the subscribed connection hears.
+#[derive(Debug)]
+pub enum Heard {
+    /// Subscribed (again).
+    Up,
+    /// A message on the world's channel.
+    Message(Vec<u8>),
+    /// A message longer than [`MAX_MESSAGE_BYTES`] (dropped unread).
+    TooLong(usize),
+    /// The subscription is lost (Redis gone, or silent): reconnecting.
+    Down,
+}
+
+/// The world's maze, claimed for `maze_hash` if nobody walks it, its TTL refreshed if it is
+/// `maze_hash`; returns the world's maze hash (another one: this server must not join).
+const CLAIM_WORLD: &str = "local v = redis.call('GET', KEYS[1]) \
+    if not v then redis.call('SET', KEYS[1], ARGV[1], 'EX', ARGV[2]) return ARGV[1] end \
+    if v == ARGV[1] then redis.call('EXPIRE', KEYS[1], ARGV[2]) end \
+    return v";
+
+/// Claims (or keeps) the world for the maze `maze_hash`; returns the world's maze hash.
+///
+/// # Errors
+/// Redis failed.
+pub async fn claim_world(
+    con: &mut MultiplexedConnection,
+    keys: &Keys,
+    maze_hash: &str,
+) -> RedisResult<String> {
+    redis::cmd("EVAL")
+        .arg(CLAIM_WORLD)
+        .arg(1)
+        .arg(&keys.world)
+        .arg(maze_hash)
+        .arg(WORLD_TTL_SECONDS)
+        .query_async(con)
+        .await
+}
+
+/// Publishes `message`; a full one also becomes the server's presence (with its TTL) and keeps the
+/// world's maze claimed. One round trip. Returns the world's maze hash when it was checked.
+///
+/// # Errors
+/// Redis failed.
+pub async fn publish(
+    con: &mut MultiplexedConnection,
+    keys: &Keys,
+    server: ServerId,
+    message: &[u8],
+    full: Option<&str>,
+) -> RedisResult<Option<String>> {
+    let mut pipe = redis::pipe();
+    pipe.cmd("PUBLISH").arg(&keys.channel).arg(message).ignore();
+    if let Some(maze_hash) = full {
+        pipe.cmd("SET").arg(keys.server(server)).arg(message).arg("EX").arg(PRESENCE_TTL_SECONDS).ignore();
+        pipe.cmd("EVAL").arg(CLAIM_WORLD).arg(1).arg(&keys.world).arg(maze_hash).arg(WORLD_TTL_SECONDS);
+        let (world,): (String,) = pipe.query_async(con).await?;
+        Ok(Some(world))
+    } else {
+        pipe.query_async::<()>(con).await?;
+        Ok(None)
+    }
+}
+
+/// Claims the win for `record` (the encoded winner) unless someone has it: `None` if the claim is
+/// this one's, else the winner's record as stored.
+///
+/// # Errors
+/// Redis failed.
+pub async fn claim_winner(
+    con: &mut MultiplexedConnection,
+    keys: &Keys,
+    record: &[u8],
+) -> RedisResult<Option<Vec<u8>>> {
+    // SET NX GET (Redis 7): sets if absent, and answers the value that was there (nil if none).
+    redis::cmd("SET").arg(&keys.winner).arg(record).arg("NX").arg("GET").query_async(con).await
+}
+
+/// The winner's record as stored, if any.
+///
+/// # Errors
+/// Redis failed.
+pub async fn winner(con: &mut MultiplexedConnection, keys: &Keys) -> RedisResult<Option<Vec<u8>>> {
+    redis::cmd("GET").arg(&keys.winner).query_async(con).await
+}
+
+/// Records a walk of `seconds` by `name`: kept if it is the player's best.
+///
+/// # Errors
+/// Redis failed.
+pub async fn record(
+    con: &mut MultiplexedConnection,
+    keys: &Keys,
+    name: &str,
+    seconds: f64,
+) -> RedisResult<()> {
+    redis::cmd("ZADD")
+        .arg(&keys.best)
+        .arg("LT")
+        .arg(seconds)
+        .arg(name)
+        .query_async::<i64>(con)
+        .await
+        .map(drop)
+}
+
+/// The `n` best times, best first: (name, seconds).
+///
+/// # Errors
+/// Redis failed.
+pub async fn best(con: &mut MultiplexedConnection, keys: &Keys, n: usize) -> RedisResult<Vec<(String, f64)>> {
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    redis::cmd("ZRANGE").arg(&keys.best).arg(0).arg(n - 1).arg("WITHSCORES").query_async(con).await
+}
+
+/// The servers present: their last full messages (at most `max` of them, each checked by the caller).
+///
+/// # Errors
+/// Redis failed.
+pub async fn presences(
+    con: &mut MultiplexedConnection,
+    keys: &Keys,
+    max: usize,
+) -> RedisResult<Vec<Vec<u8>>> {
+    let pattern = format!("{}*", keys.servers); // braces are not special in a SCAN pattern
+    let mut names: Vec<String> = Vec::new();
+    let mut cursor: u64 = 0;
+    loop {
+        let (next, batch): (u64, Vec<String>) = redis::cmd("SCAN")
+            .arg(cursor)
+            .arg("MATCH")
+            .arg(&pattern)
+            .arg("COUNT")
+            .arg(100)
+            .query_async(con)
+            .await?;
+        names.extend(batch);
+        cursor = next;
+        if cursor == 0 || names.len() >= max {
+            break;
+        }
+    }
+    names.truncate(max);
+    if names.is_empty() {
+        return Ok(Vec::new());
+    }
+    let values: Vec<Option<Vec<u8>>> = redis::cmd("MGET").arg(&names).query_async(con).await?;
+    Ok(values.into_iter().flatten().collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn passwords_are_left_out_of_messages() {
+        assert_eq!(redacted("redis://u:secret@example.org:6380/2"), "redis://***@example.org:6380/2");
+        assert_eq!(redacted("rediss://:p@h/"), "rediss://***@h/");
+        assert_eq!(redacted("redis://h:6379"), "redis://h:6379");
+        assert_eq!(redacted("redis://h/0?x=a@b"), "redis://h/0?x=a@b");
+        assert_eq!(redacted("nonsense"), "nonsense");
+    }
+
+    /// A world's keys share one hash tag (one Cluster slot); its channel names the database.
+    #[test]
+    fn a_worlds_keys_share_a_hash_tag() {
+        let keys = Keys::new("0123456789abcdef0123", 3);
+        for key in [&keys.winner, &keys.best, &keys.channel, &keys.server(ServerId(255))] {
+            assert!(key.contains("{0123456789abcdef}"), "{key}");
+        }
+        assert_eq!(keys.channel, "mazewalk:{0123456789abcdef}:3:news");
+        assert_eq!(keys.server(ServerId(255)), "mazewalk:{0123456789abcdef}:server:00000000000000ff");
+    }
+
+    #[test]
+    fn a_bad_url_is_told_without_its_password() {
+        let err = Link::new("http://u:secret@h/", "abc", None).unwrap_err();
+        let text = err.to_string();
+        assert!(text.starts_with("--world http://***@h/:"), "{text}");
+        assert!(!text.contains("secret"));
+        let err = Link::new("redis://u:secret@h/", "abc", Some(b"pem")).unwrap_err();
+        assert_eq!(err.to_string(), "--world-ca is for a world over TLS (rediss://…), not redis://***@h/");
+    }
+}

@@ -1,0 +1,75 @@
+//! Issue #35: a shared world's best times in a real `redis-server` (started on a free loopback port,
+//! killed at the end), behind the records' `Store`: two servers' stores rank their players together,
+//! a slower finish keeps the best, what Redis holds that is not a name and a time stays out of the
+//! table, and a Redis away fails one finish (a transient fault) without ending the records.
+#![cfg(target_os = "linux")]
+
+#[path = "redis_common/redis_server.rs"]
+mod redis_server;
+
+use mazewalk_maze::ContentHash;
+use mazewalk_serve::records::{Fault, Finish, Store};
+use mazewalk_serve::shared::records::RedisStore;
+use redis_server::{Persistence, RedisServer};
+
+fn finish(maze: ContentHash, player: &str, seconds: f64, at: i64) -> Finish {
+    Finish { maze, maze_name: "maze.grid".into(), player: player.into(), seconds, at }
+}
+
+#[test]
+fn two_servers_keep_one_table_of_best_times_in_redis() {
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    let mut redis = runtime.block_on(RedisServer::start(Persistence::None));
+    let maze = ContentHash([7; 32]);
+    // (The stores run on the records thread, outside any runtime: here, the test's own thread.)
+    let mut a = RedisStore::new(&redis.url(0), None, maze).expect("store A");
+    let mut b = RedisStore::new(&redis.url(0), None, maze).expect("store B");
+
+    let alice = a.record(&finish(maze, "alice", 61.5, 1_000)).expect("alice's finish");
+    assert_eq!((alice.rank, alice.players, alice.best), (1, 1, 61.5));
+    let bob = b.record(&finish(maze, "bob", 12.0, 1_001)).expect("bob's finish");
+    assert_eq!((bob.rank, bob.players), (1, 2), "ranked among both servers' players");
+    let names: Vec<(&str, f64, i64)> = bob.top.iter().map(|t| (t.player.as_str(), t.seconds, t.at)).collect();
+    assert_eq!(names, [("bob", 12.0, 1_001), ("alice", 61.5, 1_000)]);
+    // A slower finish keeps the best (and when it was made); a better one replaces it.
+    let again = a.record(&finish(maze, "alice", 70.0, 1_002)).expect("slower");
+    assert_eq!((again.best, again.rank), (61.5, 2));
+    assert_eq!(again.top[1].at, 1_000);
+    let better = a.record(&finish(maze, "alice", 10.0, 1_003)).expect("better");
+    assert_eq!((better.best, better.rank, better.top[0].player.as_str()), (10.0, 1, "alice"));
+
+    // The world task may put a finish's time in the set before the records do: its date is kept all
+    // the same.
+    runtime.block_on(async {
+        let mut con = redis.connection(0).await;
+        let best = "mazewalk:{0707070707070707}:best";
+        let _: i64 =
+            redis::cmd("ZADD").arg(best).arg("LT").arg(40.0).arg("dave").query_async(&mut con).await.unwrap();
+    });
+    let dave = b.record(&finish(maze, "dave", 40.0, 1_006)).expect("dave's finish");
+    assert_eq!(dave.top.iter().find(|t| t.player == "dave").map(|t| t.at), Some(1_006));
+
+    // What Redis holds is untrusted: a name no player has, a time that is not one, stay out.
+    runtime.block_on(async {
+        let mut con = redis.connection(0).await;
+        let best = "mazewalk:{0707070707070707}:best";
+        let _: i64 =
+            redis::cmd("ZADD").arg(best).arg(1.0).arg("\x1b[2Jevil").query_async(&mut con).await.unwrap();
+        let _: i64 = redis::cmd("ZADD").arg(best).arg("-inf").arg("neg").query_async(&mut con).await.unwrap();
+    });
+    let records = b.mazes(Some(&maze)).expect("the world's records");
+    assert_eq!(records.len(), 1);
+    let shown: Vec<&str> = records[0].top.iter().map(|t| t.player.as_str()).collect();
+    assert_eq!(shown, ["alice", "bob", "dave"], "{records:?}");
+    assert_eq!((records[0].finishes, records[0].name.as_str()), (5, "maze.grid"));
+    assert!(b.mazes(Some(&ContentHash([8; 32]))).expect("another maze").is_empty());
+
+    // Redis away: that finish fails as a passing fault; back, the next is kept.
+    redis.stop();
+    let err = a.record(&finish(maze, "carol", 30.0, 1_004)).expect_err("Redis is away");
+    assert_eq!(err.fault, Fault::Unreachable, "{err}");
+    assert!(err.is_transient());
+    runtime.block_on(redis.restart());
+    let carol = a.record(&finish(maze, "carol", 30.0, 1_005)).expect("Redis is back");
+    assert_eq!((carol.rank, carol.players), (1, 1), "an empty Redis after the restart");
+}
