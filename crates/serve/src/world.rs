@@ -20,8 +20,8 @@ use crate::shared::codec::{Finish, PlayerRecord, WinnerRecord};
 use crate::shared::view::Others;
 use crate::shared::{LocalFinish, ServerId};
 use mazewalk_term::frame::Color;
-use mazewalk_walk::overlay::Peer;
 use mazewalk_walk::clock::clock_text;
+use mazewalk_walk::overlay::Peer;
 
 /// The colours players are drawn in, by order of arrival (256-colour indices: bright and distinct from
 /// the map's own yellow viewer, green exit and grey walls; [`mazewalk_walk::overlay::limit_colors`] takes
