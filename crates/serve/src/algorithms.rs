@@ -57,7 +57,7 @@ const MACS: &[mac::Name] = &[mac::HMAC_SHA512_ETM, mac::HMAC_SHA256_ETM, mac::HM
 
 /// The algorithms the server offers (see the table above).
 #[must_use]
-pub fn preferred() -> Preferred {
+pub(crate) fn preferred() -> Preferred {
     Preferred {
         kex: Cow::Borrowed(KEX),
         key: Cow::Borrowed(KEYS),
@@ -72,7 +72,7 @@ pub fn preferred() -> Preferred {
 /// SHA-1. (russh checks that a signature's algorithm is the one the request named, so refusing the
 /// name refuses the signature.)
 #[must_use]
-pub fn refused_signature(algorithm: &Algorithm) -> bool {
+pub(crate) fn refused_signature(algorithm: &Algorithm) -> bool {
     matches!(algorithm, Algorithm::Rsa { hash: None })
 }
 

@@ -165,7 +165,7 @@ fn options_end(line: &str) -> Option<usize> {
 
 /// The options field split at commas outside double quotes (in which `\"` is a quote).
 #[must_use]
-pub fn split_options(options: &str) -> Vec<&str> {
+pub(crate) fn split_options(options: &str) -> Vec<&str> {
     let (mut out, mut start, mut quoted, mut escaped) = (Vec::new(), 0, false, false);
     for (i, c) in options.char_indices() {
         match c {

@@ -82,7 +82,7 @@ pub enum KeyError {
 
 /// The largest key file read: an ed25519 private key is about 400 bytes, an authorized key line about
 /// 100 (so some ten thousand players' keys fit).
-pub const MAX_KEY_FILE: u64 = 1 << 20;
+pub(crate) const MAX_KEY_FILE: u64 = 1 << 20;
 
 /// The first line of an OpenSSH private key file.
 const OPENSSH_PRIVATE_KEY: &str = "-----BEGIN OPENSSH PRIVATE KEY-----";

@@ -70,7 +70,7 @@ impl Default for Limits {
 
 /// A token bucket over bytes: `rate` a second, at most `burst` at once.
 #[derive(Clone, Copy, Debug)]
-pub struct RateLimit {
+pub(crate) struct RateLimit {
     rate: f64,
     burst: f64,
     tokens: f64,
@@ -86,20 +86,20 @@ impl RateLimit {
 
     /// A full bucket at time `now` that refills by one every `interval` seconds.
     #[must_use]
-    pub fn new_per_interval(interval: f64, burst: u32, now: f64) -> RateLimit {
+    pub(crate) fn new_per_interval(interval: f64, burst: u32, now: f64) -> RateLimit {
         RateLimit::per_second(1.0 / interval.max(1e-9), burst, now)
     }
 
     /// A full bucket at time `now` that refills at `rate` a second (a fraction allowed).
     #[must_use]
-    pub fn per_second(rate: f64, burst: u32, now: f64) -> RateLimit {
+    pub(crate) fn per_second(rate: f64, burst: u32, now: f64) -> RateLimit {
         let burst = f64::from(burst.max(1));
         RateLimit { rate: rate.max(0.0), burst, tokens: burst, last: now }
     }
 
     /// Whether the bucket is full again at `now` (it has forgotten everything taken).
     #[must_use]
-    pub fn is_full(&self, now: f64) -> bool {
+    pub(crate) fn is_full(&self, now: f64) -> bool {
         self.tokens + (now - self.last).max(0.0) * self.rate >= self.burst
     }
 

@@ -21,26 +21,26 @@ use super::limits::RateLimit;
 pub const QUOTE_CHARS: usize = 48;
 
 /// Most characters of a library error's text in a log line.
-pub const ERROR_CHARS: usize = 160;
+pub(crate) const ERROR_CHARS: usize = 160;
 
 /// Most names of a client's algorithm list quoted in a log line.
-pub const NAMES_QUOTED: usize = 4;
+pub(crate) const NAMES_QUOTED: usize = 4;
 
 /// Lines one address group may log at once …
-pub const GROUP_BURST: u32 = 20;
+pub(crate) const GROUP_BURST: u32 = 20;
 /// … and then one every this many seconds.
-pub const GROUP_INTERVAL: f64 = 5.0;
+pub(crate) const GROUP_INTERVAL: f64 = 5.0;
 /// Lines all groups together may log at once …
-pub const GLOBAL_BURST: u32 = 200;
+pub(crate) const GLOBAL_BURST: u32 = 200;
 /// … and then this many a second.
-pub const GLOBAL_RATE: u32 = 20;
+pub(crate) const GLOBAL_RATE: u32 = 20;
 /// How often the suppressed lines are summed up in the log.
-pub const SUMMARY_SECONDS: u64 = 10;
+pub(crate) const SUMMARY_SECONDS: u64 = 10;
 /// Address groups whose counts are kept; beyond it, lines of new groups count against the global
 /// budget only, and their suppressed lines are summed up together.
-pub const TRACKED_GROUPS: usize = 4096;
+pub(crate) const TRACKED_GROUPS: usize = 4096;
 /// Groups named one by one in a summary; the rest are summed up in one more line.
-pub const SUMMARY_GROUPS: usize = 8;
+pub(crate) const SUMMARY_GROUPS: usize = 8;
 
 /// `text` as a log line shows it: control and formatting characters (escape sequences, NUL, bidi
 /// overrides) escaped, so nothing a client sent can move the cursor or hide text on the host's
@@ -67,7 +67,7 @@ pub fn clip(text: &str, max: usize) -> String {
 /// Why a connection ended, from the SSH library's error: a short reason of our own words, never the
 /// library's text whole (see the module's doc).
 #[must_use]
-pub fn error_reason(err: &russh::Error) -> String {
+pub(crate) fn error_reason(err: &russh::Error) -> String {
     use russh::Error as E;
     match err {
         E::NoCommonAlgo { kind, theirs, .. } => {
@@ -102,7 +102,7 @@ struct Group {
 
 /// Lines left out since the last summary ([`LogLimit::take_suppressed`]).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct Suppressed {
+pub(crate) struct Suppressed {
     /// The groups with most lines left out, most first (at most [`SUMMARY_GROUPS`]).
     pub groups: Vec<(IpAddr, u64)>,
     /// The rest: how many groups (untracked ones as one), and their lines.
@@ -111,7 +111,7 @@ pub struct Suppressed {
 
 /// Which connection log lines are written: see the module's doc.
 #[derive(Debug)]
-pub struct LogLimit {
+pub(crate) struct LogLimit {
     groups: HashMap<IpAddr, Group>,
     global: RateLimit,
     /// Lines left out for the global budget or of groups past [`TRACKED_GROUPS`] (no group of
@@ -153,7 +153,7 @@ impl LogLimit {
 
     /// The lines left out since the last call, for a summary; the counts start again from 0, and
     /// groups with nothing left out and a full budget are forgotten.
-    pub fn take_suppressed(&mut self, now: f64) -> Suppressed {
+    pub(crate) fn take_suppressed(&mut self, now: f64) -> Suppressed {
         let mut counts: Vec<(IpAddr, u64)> = self
             .groups
             .iter_mut()
@@ -176,6 +176,7 @@ impl LogLimit {
 
     /// Address groups whose counts are kept now.
     #[must_use]
+    #[cfg(test)]
     pub fn tracked(&self) -> usize {
         self.groups.len()
     }

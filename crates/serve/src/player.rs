@@ -34,22 +34,22 @@ use mazewalk_walk::{App, Session, SessionOptions};
 pub const REMOTE: Enabled = Enabled { mouse: true, focus_events: true, keyboard_enhancement: true };
 
 /// How long the announcement of the first player at the exit stays on screen, seconds.
-pub const NOTICE_SECONDS: f64 = 8.0;
+pub(crate) const NOTICE_SECONDS: f64 = 8.0;
 
 /// A player looks at the others at most this often a second (their moves coalesce meanwhile).
-pub const WORLD_LOOKS_PER_SECOND: f64 = 30.0;
+pub(crate) const WORLD_LOOKS_PER_SECOND: f64 = 30.0;
 
 /// What the HUD says while a shared world's Redis is away (`--world`).
-pub const WORLD_OFFLINE: &str = "world offline";
+pub(crate) const WORLD_OFFLINE: &str = "world offline";
 
 /// The longest player name, in characters.
-pub const MAX_NAME: usize = 16;
+pub(crate) const MAX_NAME: usize = 16;
 
 /// The player name for an SSH user name: ASCII letters, digits, `-`, `_` and `.` only (no control
 /// characters, escape sequences, wide or invisible characters can reach another player's screen),
 /// at most [`MAX_NAME`] of them; `player` if none are left.
 #[must_use]
-pub fn player_name(user: &str) -> String {
+pub(crate) fn player_name(user: &str) -> String {
     let name: String = user
         .chars()
         .filter(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
@@ -61,7 +61,7 @@ pub fn player_name(user: &str) -> String {
 /// A terminal size from a pty request or window change: zero means "not given" (RFC 4254 §6.2), the
 /// rest is clamped to the limits (the picture is drawn at most that large, in the top-left corner).
 #[must_use]
-pub fn clamp_size(cols: u32, rows: u32, limits: &Limits) -> (u16, u16) {
+pub(crate) fn clamp_size(cols: u32, rows: u32, limits: &Limits) -> (u16, u16) {
     fit_size(cols, rows, (limits.max_cols, limits.max_rows))
 }
 
@@ -76,7 +76,7 @@ pub fn color_depth(term: &str, colorterm: Option<&str>) -> ColorDepth {
 /// ([`caps::plan_color_depth`] with what the client sent: the server knows nothing of the
 /// player's terminfo or tmux).
 #[must_use]
-pub fn color_plan(term: &str, colorterm: Option<&str>) -> caps::ColorPlan {
+pub(crate) fn color_plan(term: &str, colorterm: Option<&str>) -> caps::ColorPlan {
     let env = |k: &str| match k {
         "TERM" => Some(term.to_string()),
         "COLORTERM" => colorterm.map(str::to_string),
@@ -89,7 +89,7 @@ pub fn color_plan(term: &str, colorterm: Option<&str>) -> caps::ColorPlan {
 /// attributes, after every frame), `CSI ? … u` (keyboard flags) and `DCS … ST` (the truecolor
 /// questions' answers).
 #[must_use]
-pub fn only_replies(mut bytes: &[u8]) -> bool {
+pub(crate) fn only_replies(mut bytes: &[u8]) -> bool {
     while !bytes.is_empty() {
         if let Some(string) = bytes.strip_prefix(b"\x1bP") {
             let Some(end) = string.windows(2).position(|w| w == b"\x1b\\") else { return false };
@@ -273,7 +273,7 @@ impl Player {
     /// Whether a look at the world is scheduled (then a change to the world need not be heard of: the
     /// look will see it).
     #[must_use]
-    pub fn look_scheduled(&self) -> bool {
+    pub(crate) fn look_scheduled(&self) -> bool {
         self.look_at.is_some()
     }
 
@@ -360,7 +360,7 @@ impl Player {
     }
 
     /// The session, to change (a notice, say).
-    pub fn session_mut(&mut self) -> &mut Session {
+    pub(crate) fn session_mut(&mut self) -> &mut Session {
         &mut self.session
     }
 }

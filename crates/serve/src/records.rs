@@ -32,7 +32,7 @@ use rusqlite::{Connection, ErrorCode, OpenFlags, OptionalExtension as _, params}
 use tokio::sync::oneshot;
 
 /// How many best times a [`Standing`] lists.
-pub const TOP: usize = 10;
+pub(crate) const TOP: usize = 10;
 
 /// Finishes waiting for the records thread, at most; more are dropped (and counted).
 pub const QUEUE: usize = 64;

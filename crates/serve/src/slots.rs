@@ -24,7 +24,7 @@ use super::limits::{Limits, RateLimit};
 /// The group an address is counted in: an IPv4 address (also when written as an IPv4-mapped IPv6
 /// address, as a dual-stack listener sees it), or the /64 an IPv6 address is in.
 #[must_use]
-pub fn address_group(ip: IpAddr) -> IpAddr {
+pub(crate) fn address_group(ip: IpAddr) -> IpAddr {
     match ip {
         IpAddr::V4(_) => ip,
         IpAddr::V6(v6) => match v6.to_ipv4_mapped() {
@@ -35,11 +35,11 @@ pub fn address_group(ip: IpAddr) -> IpAddr {
 }
 
 /// A connection's id, in the order they came (so the smallest is the oldest).
-pub type ConnId = u64;
+pub(crate) type ConnId = u64;
 
 /// Why a connection gets no slot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Refusal {
+pub(crate) enum Refusal {
     /// `--max-players`, reached.
     Full(usize),
     /// `--max-per-address`, reached by the client's address group.
@@ -84,7 +84,7 @@ impl Refusal {
 
 /// A new connection's slot: its id, and the handshake it pushed out, if any (to be closed).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Admitted {
+pub(crate) struct Admitted {
     /// The new connection's id.
     pub id: ConnId,
     /// The handshake that made room for it.
@@ -100,7 +100,7 @@ struct Counts {
 
 /// Every open connection's slot (see the module's doc).
 #[derive(Debug)]
-pub struct Slots {
+pub(crate) struct Slots {
     limits: Limits,
     next_id: ConnId,
     /// Handshakes by id (oldest first), with their group.
@@ -130,7 +130,7 @@ impl Slots {
     ///
     /// # Errors
     /// The [`Refusal`]: players full, the address group's connections or rate, no handshake slot.
-    pub fn admit(&mut self, ip: IpAddr, now: f64) -> Result<Admitted, Refusal> {
+    pub(crate) fn admit(&mut self, ip: IpAddr, now: f64) -> Result<Admitted, Refusal> {
         let group = address_group(ip);
         let limits = &self.limits;
         if self.rates.len() > 4 * (self.handshakes.len() + self.players.len()) + 1024 {
@@ -180,7 +180,7 @@ impl Slots {
     ///
     /// # Errors
     /// [`Refusal::Full`] when every player's slot is taken (it stays a handshake).
-    pub fn promote(&mut self, id: ConnId) -> Result<(), Refusal> {
+    pub(crate) fn promote(&mut self, id: ConnId) -> Result<(), Refusal> {
         let Some(&group) = self.handshakes.get(&id) else {
             return Ok(()); // a player already, or gone
         };
@@ -228,6 +228,7 @@ impl Slots {
 
     /// Whether `id` holds a slot (as a handshake or a player).
     #[must_use]
+    #[cfg(test)]
     pub fn holds(&self, id: ConnId) -> bool {
         self.handshakes.contains_key(&id) || self.players.contains_key(&id)
     }

@@ -21,13 +21,13 @@ use mazewalk_walk::state::stand;
 
 /// How close another player may be to a newcomer's spot, maze units: a figure is 0.7 wide, a viewer's
 /// disc 0.5; a metre apart, side by side, each sees the other as a figure, not a wall of colour.
-pub const SPACING: f32 = 1.0;
+pub(crate) const SPACING: f32 = 1.0;
 
 /// The lattice of spots tried, maze units.
-pub const LATTICE: f32 = 0.5;
+pub(crate) const LATTICE: f32 = 0.5;
 
 /// Cells searched at most, from the start's outwards.
-pub const MAX_CELLS: usize = 64;
+pub(crate) const MAX_CELLS: usize = 64;
 
 /// Spots tried at most in one cell (a huge cell is sampled around the start).
 const MAX_SPOTS_PER_CELL: usize = 4096;
@@ -35,7 +35,7 @@ const MAX_SPOTS_PER_CELL: usize = 4096;
 /// The spots a newcomer may get, worked out once per maze (the choice among them, [`Spawns::pick`],
 /// is made under the world's lock, so it is kept cheap).
 #[derive(Clone, Debug)]
-pub struct Spawns {
+pub(crate) struct Spawns {
     /// The maze's start, where a viewer stands.
     start: Position,
     /// The spots of each ring of cells, nearest the start first.
@@ -90,7 +90,8 @@ impl Spawns {
 /// A free spot for a newcomer in `maze` whose other players stand at `others` ([`Spawns`]); `None`
 /// only when the maze's start is in no cell.
 #[must_use]
-pub fn free_spot(maze: &Maze, others: &[Vec2]) -> Option<Position> {
+#[cfg(test)]
+pub(crate) fn free_spot(maze: &Maze, others: &[Vec2]) -> Option<Position> {
     Some(Spawns::new(maze)?.pick(others))
 }
 

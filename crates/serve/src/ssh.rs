@@ -75,12 +75,12 @@ pub const DUMB_TERMINAL_MESSAGE: &str = "mazewalk: this terminal (TERM=dumb) can
 pub const NO_EXEC_MESSAGE: &str =
     "mazewalk: no commands or subsystems here, only the game: connect with `ssh -t` and no command";
 /// What a client still connected after its game is told as the server closes the connection.
-pub const GAME_OVER_MESSAGE: &str = "mazewalk: the game is over; one game per connection";
+pub(crate) const GAME_OVER_MESSAGE: &str = "mazewalk: the game is over; one game per connection";
 /// How long a shutting-down server waits for its players' goodbyes before cutting them off.
 const GOODBYE_GRACE: Duration = Duration::from_secs(2);
 /// Failed authentication attempts per connection, as sshd's default `MaxAuthTries`. The `none`
 /// request a client sends first to learn the methods is not one of them (as in sshd).
-pub const MAX_AUTH_TRIES: usize = 6;
+pub(crate) const MAX_AUTH_TRIES: usize = 6;
 
 /// What all connections share.
 struct Shared {
@@ -464,7 +464,7 @@ impl Server {
 
     /// Every address it listens on.
     #[must_use]
-    pub fn local_addrs(&self) -> &[SocketAddr] {
+    pub(crate) fn local_addrs(&self) -> &[SocketAddr] {
         &self.local_addrs
     }
 

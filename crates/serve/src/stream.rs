@@ -15,7 +15,7 @@ use tokio::sync::watch;
 
 /// The outside handle of a [`CutStream`]: its byte counts and its cut.
 #[derive(Debug)]
-pub struct Cut {
+pub(crate) struct Cut {
     cut: AtomicBool,
     /// Turns true at the cut, for tasks that wait on other things meanwhile ([`Cut::cut_off`]).
     signal: watch::Sender<bool>,
@@ -56,7 +56,7 @@ impl Cut {
 
     /// Whether [`cut`](Self::cut) was called.
     #[must_use]
-    pub fn is_cut(&self) -> bool {
+    pub(crate) fn is_cut(&self) -> bool {
         self.cut.load(Ordering::SeqCst)
     }
 
@@ -73,7 +73,7 @@ impl Cut {
 
 /// A stream that counts its bytes and can be cut.
 #[derive(Debug)]
-pub struct CutStream<S> {
+pub(crate) struct CutStream<S> {
     inner: S,
     cut: Arc<Cut>,
 }

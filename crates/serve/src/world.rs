@@ -26,7 +26,7 @@ use mazewalk_walk::overlay::Peer;
 /// The colours players are drawn in, by order of arrival (256-colour indices: bright and distinct from
 /// the map's own yellow viewer, green exit and grey walls; [`mazewalk_walk::overlay::limit_colors`] takes
 /// them down to the terminal's depth).
-pub const PLAYER_COLORS: [Color; 8] = [
+pub(crate) const PLAYER_COLORS: [Color; 8] = [
     Color::Indexed(196), // red
     Color::Indexed(33),  // blue
     Color::Indexed(201), // magenta
@@ -48,7 +48,7 @@ const REMOTE: u64 = 1 << 63;
 /// The id of player `id` of server `server` in this server's world: the top bit set, the rest a mix
 /// of both (never one of this server's own ids).
 #[must_use]
-pub fn remote_id(server: ServerId, id: u32) -> PlayerId {
+pub(crate) fn remote_id(server: ServerId, id: u32) -> PlayerId {
     let mixed = server.0.wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left(32) ^ u64::from(id);
     PlayerId(REMOTE | mixed)
 }
@@ -121,7 +121,7 @@ impl Winner {
 
     /// The announcement as player `viewer` sees it: the winner is told it was them.
     #[must_use]
-    pub fn announcement_for(&self, viewer: PlayerId) -> String {
+    pub(crate) fn announcement_for(&self, viewer: PlayerId) -> String {
         if viewer == self.id {
             format!("You reached the exit first, in {}!", clock_text(self.seconds))
         } else {
@@ -353,7 +353,7 @@ impl World {
     }
 
     /// This server's id in the shared world (known once it has joined).
-    pub fn set_server(&mut self, me: ServerId) {
+    pub(crate) fn set_server(&mut self, me: ServerId) {
         if let Some(shared) = &mut self.shared {
             shared.me = Some(me);
         }
@@ -383,7 +383,7 @@ impl World {
 
     /// The other servers' players as the world task has them, and whether the world is online, at
     /// `now` (the server's clock). Returns whether that changed anything.
-    pub fn set_others(&mut self, others: &Others, online: bool, now: f64) -> bool {
+    pub(crate) fn set_others(&mut self, others: &Others, online: bool, now: f64) -> bool {
         let Some(shared) = &mut self.shared else { return false };
         let now_ms = shared.epoch_ms.saturating_add((now.max(0.0) * 1e3) as u64);
         let remote: Vec<(PlayerId, Seen)> = others
@@ -431,7 +431,7 @@ impl World {
 
     /// The world's winner, as Redis has it (the first claim): announced as an in-process winner is.
     /// Returns whether it changed.
-    pub fn set_winner(&mut self, winner: &WinnerRecord) -> bool {
+    pub(crate) fn set_winner(&mut self, winner: &WinnerRecord) -> bool {
         let Some(shared) = &self.shared else { return false };
         let id = if shared.me == Some(winner.server) {
             PlayerId(u64::from(winner.id))
@@ -449,7 +449,7 @@ impl World {
 
     /// A player of another server reached the exit: its best time shows in the player list.
     /// Returns whether that changed anything.
-    pub fn remote_finished(&mut self, server: ServerId, finish: &Finish) -> bool {
+    pub(crate) fn remote_finished(&mut self, server: ServerId, finish: &Finish) -> bool {
         let Some(shared) = &mut self.shared else { return false };
         let id = remote_id(server, finish.id);
         let Some((_, seen)) = shared.remote.iter_mut().find(|(r, _)| *r == id) else { return false };
@@ -494,7 +494,7 @@ impl World {
 impl Look {
     /// The players other than `me` for which `shows(position, cell)` holds, as the map draws them,
     /// into `out` (cleared first), in order of arrival.
-    pub fn peers_of(&self, me: PlayerId, shows: impl Fn(Vec2, u32) -> bool, out: &mut Vec<Peer>) {
+    pub(crate) fn peers_of(&self, me: PlayerId, shows: impl Fn(Vec2, u32) -> bool, out: &mut Vec<Peer>) {
         out.clear();
         out.extend(
             self.players

@@ -2,7 +2,7 @@
 
 /// `m:ss` for the exit clock while it runs: it ticks once a second.
 #[must_use]
-pub fn running_clock_text(seconds: f64) -> String {
+pub(crate) fn running_clock_text(seconds: f64) -> String {
     let whole = seconds.max(0.0).floor() as u64;
     format!("{}:{:02}", whole / 60, whole % 60)
 }

@@ -61,7 +61,7 @@ pub enum Action {
 
 impl Action {
     /// The actions that act continuously while held (the rest fire once per press).
-    pub const CONTINUOUS: [Action; 12] = [
+    pub(crate) const CONTINUOUS: [Action; 12] = [
         Action::Forward,
         Action::Back,
         Action::StrafeLeft,
@@ -78,7 +78,7 @@ impl Action {
 
     /// Whether the action acts continuously while held ([`CONTINUOUS`](Self::CONTINUOUS)).
     #[must_use]
-    pub fn is_continuous(self) -> bool {
+    pub(crate) fn is_continuous(self) -> bool {
         self.slot().is_some()
     }
 
@@ -92,7 +92,7 @@ use mazewalk_term::input::Key;
 
 /// The action bound to `key`, if any.
 #[must_use]
-pub fn action_for(key: Key) -> Option<Action> {
+pub(crate) fn action_for(key: Key) -> Option<Action> {
     Some(match key {
         Key::Char(c) => match c.to_ascii_lowercase() {
             'w' => Action::Forward,
@@ -128,7 +128,7 @@ pub fn action_for(key: Key) -> Option<Action> {
 
 /// The key help, one line per binding (shown by `?` and in README): how to leave first, as a small
 /// box keeps its first lines.
-pub const HELP: &[(&str, &str)] = &[
+pub(crate) const HELP: &[(&str, &str)] = &[
     ("q / Ctrl-C", "quit (Esc too, with no box shown)"),
     ("? / h", "this help (Esc closes it too)"),
     ("W / S", "walk forward / back (tap: a step, hold: glide)"),
@@ -154,18 +154,18 @@ pub const HELP: &[(&str, &str)] = &[
 /// terminal's auto-repeat, depending on how the run of presses began (see [`Held`]). Auto-repeat comes
 /// every 30–50 ms on common settings (up to 100 ms on some); its first repeat comes only after an
 /// initial delay of 250–600 ms, which is what tells a held key from a person tapping.
-pub const REPEAT_GAP: f64 = 0.125;
+pub(crate) const REPEAT_GAP: f64 = 0.125;
 /// The shortest initial delay before a terminal's auto-repeat starts (seconds), with room for jitter:
 /// a press at least this long after the one before may be the first repeat of a held key. Faster
 /// presses that did not follow such a pause are taps (a person manages 60–100 ms between taps).
-pub const REPEAT_DELAY_MIN: f64 = 0.2;
+pub(crate) const REPEAT_DELAY_MIN: f64 = 0.2;
 /// A press at least this long after the key's previous one (seconds) starts a new run: longer than any
 /// initial delay (600 ms on common settings, 1 s at most).
-pub const RUN_GAP: f64 = 1.0;
+pub(crate) const RUN_GAP: f64 = 1.0;
 /// Presses closer together than this (seconds) come faster than anyone taps: auto-repeat, even in a
 /// run that began with no pause (a terminal whose initial delay is set shorter than
 /// [`REPEAT_DELAY_MIN`]) — unless they arrived together ([`TOGETHER`]: taps held up on the way).
-pub const MIN_TAP_GAP: f64 = 0.055;
+pub(crate) const MIN_TAP_GAP: f64 = 0.055;
 /// How long a repeat keeps its key held, as a multiple of the repeat interval observed on that key: the
 /// next repeat is due after one interval, the other half is room for jitter (an SSH link).
 pub const REPEAT_HOLD_INTERVALS: f64 = 1.5;
@@ -312,14 +312,14 @@ impl Held {
 
     /// Stops all motion but remembers when each key was last pressed, so that a key still held comes
     /// on as auto-repeat ([`recently_pressed`](Self::recently_pressed)), not as a fresh tap.
-    pub fn clear_motion(&mut self) {
+    pub(crate) fn clear_motion(&mut self) {
         for key in &mut self.keys {
             key.glide = None;
         }
     }
 
     /// A press of `action`'s key that moves nothing (a box took it), at `now`.
-    pub fn note_press(&mut self, action: Action, now: f64) {
+    pub(crate) fn note_press(&mut self, action: Action, now: f64) {
         if let Some(slot) = action.slot() {
             self.keys[slot].last_press = now;
         }
@@ -328,7 +328,7 @@ impl Held {
     /// Whether `action`'s key was pressed within [`REPEAT_GAP`] before `now`: a press now is its
     /// auto-repeat (or a tap too quick to mean anything else).
     #[must_use]
-    pub fn recently_pressed(&self, action: Action, now: f64) -> bool {
+    pub(crate) fn recently_pressed(&self, action: Action, now: f64) -> bool {
         action.slot().is_some_and(|slot| now - self.keys[slot].last_press < REPEAT_GAP)
     }
 
@@ -343,13 +343,13 @@ impl Held {
 
     /// Whether `action` is held at `now` (gliding, or about to once its step's time is up).
     #[must_use]
-    pub fn is_held(&self, action: Action, now: f64) -> bool {
+    pub(crate) fn is_held(&self, action: Action, now: f64) -> bool {
         action.slot().is_some_and(|slot| self.keys[slot].glide.is_some_and(|(_, until)| until >= now))
     }
 
     /// For how many seconds between `from` and `to` `action` moves continuously.
     #[must_use]
-    pub fn moving_time(&self, action: Action, from: f64, to: f64) -> f64 {
+    pub(crate) fn moving_time(&self, action: Action, from: f64, to: f64) -> f64 {
         let glide = action.slot().and_then(|slot| self.keys[slot].glide);
         glide.map_or(0.0, |(start, until)| (to.min(until) - from.max(start)).max(0.0))
     }

@@ -53,11 +53,11 @@ pub const MAX_UNACKED: usize = 2;
 pub const ACK_TIMEOUT: f64 = 2.0;
 
 /// A reply is overdue (taken as lost) after this many round trips…
-pub const OVERDUE_ROUND_TRIPS: f64 = 2.0;
+pub(crate) const OVERDUE_ROUND_TRIPS: f64 = 2.0;
 
 /// … and at least this long (seconds) more than one round trip (the round trip varies with a frame's
 /// size: a full repaint takes longer to carry than the frames that set the average).
-pub const OVERDUE_MARGIN: f64 = 0.1;
+pub(crate) const OVERDUE_MARGIN: f64 = 0.1;
 
 /// At most this many queries are remembered (a terminal that stopped answering can't grow it).
 const MAX_REMEMBERED: usize = 64;
@@ -100,7 +100,7 @@ impl FlowControl {
     /// was sent (else the link is quiet, not losing replies: see [`ACK_TIMEOUT`]), and never later
     /// than [`ACK_TIMEOUT`]. `None` with nothing in flight or no round trip known.
     #[must_use]
-    pub fn overdue_at(&self) -> Option<f64> {
+    pub(crate) fn overdue_at(&self) -> Option<f64> {
         let (rtt, &oldest) = (self.round_trip?, self.sent.front()?);
         if self.last_reply.is_none_or(|reply| reply < oldest) {
             return None;

@@ -16,13 +16,13 @@ use mazewalk_render::palette::{ansi16, quantize_srgb8, xterm_rgb};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// The smallest terminal the walkthrough draws in (columns, rows).
-pub const MIN_SIZE: (usize, usize) = (20, 6);
+pub(crate) const MIN_SIZE: (usize, usize) = (20, 6);
 
 /// The map's scale where it does not show a whole maze: maze units per column (a row is twice as
 /// tall). A generated maze's 4-unit cell is then 4 columns by 2 rows: a wall and a passage in each
 /// direction, so walls and passages read one character apart (coarser, a cell's walls and its
 /// floor fell in the same row).
-pub const MAP_UNITS_PER_COL: f32 = 1.0;
+pub(crate) const MAP_UNITS_PER_COL: f32 = 1.0;
 
 const HUD_FG: Color = Color::Indexed(252);
 const HUD_BG: Color = Color::Indexed(236);
@@ -105,7 +105,7 @@ pub fn limit_colors(frame: &mut Frame, depth: ColorDepth) {
 }
 
 /// [`limit_colors`] in `region` of `frame` only.
-pub fn limit_colors_in(frame: &mut Frame, region: Region, depth: ColorDepth) {
+pub(crate) fn limit_colors_in(frame: &mut Frame, region: Region, depth: ColorDepth) {
     // a colour already within the depth is left as it is (written back only when it changes: this
     // runs over every cell of every frame)
     let limit = |color: &mut Color| match (*color, depth) {
@@ -128,13 +128,13 @@ pub fn limit_colors_in(frame: &mut Frame, region: Region, depth: ColorDepth) {
 
 /// True when a `cols × rows` terminal is too small for the walkthrough.
 #[must_use]
-pub fn too_small(cols: usize, rows: usize) -> bool {
+pub(crate) fn too_small(cols: usize, rows: usize) -> bool {
     cols < MIN_SIZE.0 || rows < MIN_SIZE.1
 }
 
 /// Fills `frame` with a short note that the terminal is too small: the longest wording that fits the
 /// width, on as many rows as there are (even 1×1 shows something).
-pub fn draw_too_small(frame: &mut Frame, style: Style) {
+pub(crate) fn draw_too_small(frame: &mut Frame, style: Style) {
     frame.fill(Cell::BLANK);
     let (w, h) = (frame.width(), frame.height());
     let need = style.text(&format!("need {}×{}", MIN_SIZE.0, MIN_SIZE.1));
@@ -148,7 +148,7 @@ pub fn draw_too_small(frame: &mut Frame, style: Style) {
 }
 
 /// The HUD: one line at the bottom of the frame.
-pub fn draw_hud(frame: &mut Frame, text: &str, style: Style) {
+pub(crate) fn draw_hud(frame: &mut Frame, text: &str, style: Style) {
     let Some(y) = frame.height().checked_sub(1) else { return };
     let w = frame.width();
     for x in 0..w {
@@ -161,7 +161,7 @@ pub fn draw_hud(frame: &mut Frame, text: &str, style: Style) {
 /// shown in their order; each whole or not at all (a cut number reads as a wrong one: `heading 3` for
 /// 345°), the least important left out first; `help` at the right end whenever it fits.
 #[must_use]
-pub fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> String {
+pub(crate) fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> String {
     let len = |s: &str| s.chars().count();
     let help = if len(help) < width { help } else { "" };
     // A leading space, the fields two apart, at least one space before the help: each field costs
@@ -188,7 +188,7 @@ pub fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> String {
 /// Short of room, a box gives up spacing before text: its blank rows, then its padding (or frame);
 /// then its last lines, for a `…` row (so a box lists what matters most first). A line too wide loses
 /// words from its end, marked `…`, never part of one ([`fit_line`]).
-pub fn draw_box(frame: &mut Frame, title: &str, lines: &[String], style: Style) {
+pub(crate) fn draw_box(frame: &mut Frame, title: &str, lines: &[String], style: Style) {
     let (w, h) = (frame.width(), frame.height().saturating_sub(1));
     let inner = lines.iter().map(|l| l.chars().count()).chain([title.chars().count()]).max().unwrap_or(0);
     let side = if inner + 4 <= w { 2 } else { 1 };
@@ -250,7 +250,7 @@ pub fn draw_box(frame: &mut Frame, title: &str, lines: &[String], style: Style) 
 /// them. A line in two columns (a run of spaces between them) gives up its alignment when that keeps
 /// more of its second column. Only a first word wider than the box is cut.
 #[must_use]
-pub fn fit_line(line: &str, width: usize, ellipsis: &str) -> String {
+pub(crate) fn fit_line(line: &str, width: usize, ellipsis: &str) -> String {
     let len = |s: &str| s.chars().count();
     if len(line) <= width {
         return line.to_string();
@@ -277,7 +277,7 @@ pub fn fit_line(line: &str, width: usize, ellipsis: &str) -> String {
 }
 
 /// The help's line about the goal, in a maze with an exit.
-pub const GOAL: (&str, &str) = ("goal", "find the exit: E on the map, a green beacon ahead");
+pub(crate) const GOAL: (&str, &str) = ("goal", "find the exit: E on the map, a green beacon ahead");
 
 /// The key help as box lines (in ASCII when the style asks for it): how to quit and close it first,
 /// then the goal in a maze with an exit, then the keys.
@@ -361,7 +361,7 @@ impl MapArea {
     /// walk a corner map is the corridor in view, not a box of black; it grows as the walk sees more,
     /// up to the whole area.
     #[must_use]
-    pub fn fit_to_seen(
+    pub(crate) fn fit_to_seen(
         &self,
         maze: &Maze,
         seen: &dyn Fn(u32) -> bool,
@@ -602,7 +602,7 @@ pub struct Peer {
 /// viewer's own arrow, drawn by [`draw_map`] before, stays on top where they meet). Where peers share
 /// a character, the one the view shows in front shows: the nearest the viewer, of equally near ones
 /// the first (as the renderer draws figures), so a player has one label in the view and on the map.
-pub fn draw_peers(frame: &mut Frame, area: &MapArea, peers: &[Peer], viewer: Vec2, style: Style) {
+pub(crate) fn draw_peers(frame: &mut Frame, area: &MapArea, peers: &[Peer], viewer: Vec2, style: Style) {
     let own = area.frame_cell(viewer);
     // farthest first and, of equals, the last first: the one in front is drawn last
     let mut order: Vec<(f32, usize)> =
@@ -622,13 +622,13 @@ pub fn draw_peers(frame: &mut Frame, area: &MapArea, peers: &[Peer], viewer: Vec
 
 /// [`heading_arrow`] in ASCII: `>`, `^`, `<`, `v` by quadrant.
 #[must_use]
-pub fn ascii_arrow(yaw_deg: f32) -> char {
+pub(crate) fn ascii_arrow(yaw_deg: f32) -> char {
     ['>', '^', '<', 'v'][((yaw_deg.rem_euclid(360.0) + 45.0) / 90.0) as usize % 4]
 }
 
 /// An arrow glyph pointing along the heading (counter-clockwise from east), in 45° steps.
 #[must_use]
-pub fn heading_arrow(yaw_deg: f32) -> char {
+pub(crate) fn heading_arrow(yaw_deg: f32) -> char {
     const ARROWS: [char; 8] = ['→', '↗', '↑', '↖', '←', '↙', '↓', '↘'];
     let octant = ((yaw_deg.rem_euclid(360.0) + 22.5) / 45.0) as usize % 8;
     ARROWS[octant]

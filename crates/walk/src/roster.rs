@@ -33,7 +33,7 @@ pub struct Entry {
 }
 
 /// The key help's line for the list (added in a served maze).
-pub const HELP_LINE: &str = "Tab        who is in the maze, their times";
+pub(crate) const HELP_LINE: &str = "Tab        who is in the maze, their times";
 
 /// The box's colours (those of the walk's other boxes).
 const FG: Color = Color::Indexed(255);
@@ -41,7 +41,7 @@ const BG: Color = Color::Indexed(24);
 
 /// `h:mm:ss` or `m:ss` for a time in the maze (whole seconds).
 #[must_use]
-pub fn duration_text(seconds: f64) -> String {
+pub(crate) fn duration_text(seconds: f64) -> String {
     let s = seconds.max(0.0) as u64;
     let (h, m, s) = (s / 3600, s / 60 % 60, s % 60);
     if h > 0 { format!("{h}:{m:02}:{s:02}") } else { format!("{m}:{s:02}") }

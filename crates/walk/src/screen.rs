@@ -172,7 +172,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
 
 /// Draws the HUD's row of `frame` only, over what [`draw`] drew last: when nothing but the HUD's
 /// numbers changed (the exit clock ticked), the view need not be rendered again.
-pub fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud) {
+pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud) {
     let (cols, rows) = (frame.width(), frame.height());
     if overlay::too_small(cols, rows) {
         return; // the too-small note has no HUD
@@ -257,7 +257,7 @@ fn hud_text_with(
 /// The compass point of a heading (degrees counter-clockwise from east, +x; north, +y, is up on the
 /// map), to the nearest of eight.
 #[must_use]
-pub fn compass_point(yaw_deg: f32) -> &'static str {
+pub(crate) fn compass_point(yaw_deg: f32) -> &'static str {
     const POINTS: [&str; 8] = ["E", "NE", "N", "NW", "W", "SW", "S", "SE"];
     POINTS[((yaw_deg.rem_euclid(360.0) + 22.5) / 45.0) as usize % 8]
 }

@@ -43,7 +43,7 @@ use mazewalk_term::frame::{ColorDepth, Frame};
 use mazewalk_term::input::{Input, InputDecoder, Key, KeyPhase, Reply};
 
 /// The most frames per second drawn while something moves.
-pub const MAX_FPS: f64 = 60.0;
+pub(crate) const MAX_FPS: f64 = 60.0;
 
 use mazewalk_term::modes::KEYBOARD_FLAGS_QUERY as KEYBOARD_QUERY;
 
@@ -53,7 +53,7 @@ pub const DEFAULT_SIZE: (u16, u16) = (80, 24);
 /// The largest picture a session draws, columns and rows: a terminal larger than that shows it in its
 /// top-left corner. Beyond any real screen (a 4K monitor at a 6-pixel font is ≈ 640 × 270), and a
 /// bound on what a terminal's size can cost: one that claims 65535 × 65535 must not make a 50 GB frame.
-pub const MAX_SIZE: (u16, u16) = (1000, 400);
+pub(crate) const MAX_SIZE: (u16, u16) = (1000, 400);
 
 /// The size a session draws for a terminal of `cols × rows`: a side of zero is unknown, so
 /// [`DEFAULT_SIZE`]'s; no side more than `max`'s.
@@ -88,7 +88,7 @@ impl Default for SessionOptions {
 /// keeps up; more (fewer changed cells, fewer bytes) while frames take longer than a few frame
 /// intervals to reach the screen, which is when every byte saved shortens the wait for the next one.
 #[must_use]
-pub fn adaptive_tolerance(base: u8, round_trip: Option<f64>) -> u8 {
+pub(crate) fn adaptive_tolerance(base: u8, round_trip: Option<f64>) -> u8 {
     let extra = match round_trip {
         Some(rtt) if rtt > 0.3 => 6,
         Some(rtt) if rtt > 0.1 => 3,

@@ -30,26 +30,26 @@ pub const WALK_STEP_RANGE: (f32, f32) = (0.05, 4.0);
 /// The turn steps `--turn-step` accepts, degrees.
 pub const TURN_STEP_RANGE_DEG: (f32, f32) = (1.0, 90.0);
 /// Looking up/down, degrees per second.
-pub const LOOK_SPEED: f32 = 70.0;
+pub(crate) const LOOK_SPEED: f32 = 70.0;
 /// How far one tap of ↑/↓ looks, degrees.
-pub const LOOK_STEP_DEG: f32 = 10.0;
+pub(crate) const LOOK_STEP_DEG: f32 = 10.0;
 /// Rising/sinking, maze units per second (floor to ceiling is 2).
-pub const RISE_SPEED: f32 = 1.0;
+pub(crate) const RISE_SPEED: f32 = 1.0;
 /// How far one tap of `[`/`]` rises or sinks, maze units.
-pub const RISE_STEP: f32 = 0.1;
+pub(crate) const RISE_STEP: f32 = 0.1;
 /// Field of view change, degrees per second.
-pub const FOV_SPEED: f32 = 45.0;
+pub(crate) const FOV_SPEED: f32 = 45.0;
 /// How much one tap of `+`/`-` changes the field of view, degrees.
-pub const FOV_STEP_DEG: f32 = 5.0;
+pub(crate) const FOV_STEP_DEG: f32 = 5.0;
 /// How long a snap turn (`,` `.`) takes, seconds.
 pub const SNAP_SECONDS: f64 = 0.15;
 /// A snap turn lands on a multiple of 90° when it would land within this many degrees of one, so
 /// repeated snaps stay on the maze's grid after a little drift; further off, it turns exactly 90°.
 pub const SNAP_ALIGN_DEG: f32 = 10.0;
 /// Degrees of look per cell of mouse drag.
-pub const DRAG_DEGREES_PER_CELL: f32 = 2.0;
+pub(crate) const DRAG_DEGREES_PER_CELL: f32 = 2.0;
 /// A frame longer than this (a stall, a suspend) advances the motion by this much only.
-pub const MAX_STEP: f64 = 0.1;
+pub(crate) const MAX_STEP: f64 = 0.1;
 /// After walking this long (seconds), `q` asks before it quits: a stray key must not throw a long
 /// walk away.
 pub const CONFIRM_QUIT_AFTER: f64 = 60.0;
@@ -270,7 +270,7 @@ impl App {
     }
 
     /// Records cells as seen (the renderer's visible cells of a frame); ids outside the maze are ignored.
-    pub fn mark_seen(&mut self, cells: impl IntoIterator<Item = u32>) {
+    pub(crate) fn mark_seen(&mut self, cells: impl IntoIterator<Item = u32>) {
         for c in cells {
             if let Some(word) = self.seen.get_mut(c as usize / 64) {
                 *word |= 1 << (c % 64);
@@ -403,7 +403,7 @@ impl App {
     }
 
     /// The terminal lost focus: releases will not arrive, so let go of every key.
-    pub fn focus_lost(&mut self) {
+    pub(crate) fn focus_lost(&mut self) {
         self.held.clear();
     }
 

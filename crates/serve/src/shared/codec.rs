@@ -45,7 +45,7 @@ pub const VERSION: u8 = 1;
 pub const HEADER_BYTES: usize = 36;
 /// The longest message decoded: a full message of [`MAX_PLAYERS`] players with the longest names
 /// fits (4,096 × 51 bytes ≈ 204 KiB); anything longer is dropped unread.
-pub const MAX_MESSAGE_BYTES: usize = 256 * 1024;
+pub(crate) const MAX_MESSAGE_BYTES: usize = 256 * 1024;
 /// The most players (or moves, leaves, finishes) in one list of one message.
 pub const MAX_PLAYERS: usize = 4096;
 /// The largest |heading| accepted, degrees (a server sends [0, 360]; the rest is wrapped into it).
@@ -302,7 +302,7 @@ pub fn encode(message: &Message, out: &mut Vec<u8>) {
 
 /// A winner record's bytes (the value of the world's winner key).
 #[must_use]
-pub fn encode_winner(winner: &WinnerRecord) -> Vec<u8> {
+pub(crate) fn encode_winner(winner: &WinnerRecord) -> Vec<u8> {
     let mut out = Vec::with_capacity(21 + winner.name.len());
     put_winner(&mut out, winner);
     out
@@ -545,7 +545,7 @@ impl<'a> Reader<'a> {
 
 /// Whether `c` is a label a server hands out: an ASCII digit, an upper-case ASCII letter, or `?`.
 #[must_use]
-pub fn is_label(c: char) -> bool {
+pub(crate) fn is_label(c: char) -> bool {
     c.is_ascii_digit() || c.is_ascii_uppercase() || c == '?'
 }
 

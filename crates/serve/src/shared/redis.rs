@@ -25,12 +25,12 @@ use tokio::sync::mpsc;
 use super::codec::{MAX_MESSAGE_BYTES, ServerId};
 
 /// How long a connection attempt may take.
-pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(1);
+pub(crate) const CONNECT_TIMEOUT: Duration = Duration::from_secs(1);
 /// How long a command may wait for its answer before the connection counts as lost.
-pub const RESPONSE_TIMEOUT: Duration = Duration::from_millis(500);
+pub(crate) const RESPONSE_TIMEOUT: Duration = Duration::from_millis(500);
 /// How often the subscribed connection is checked with a PING (a Redis that vanished without
 /// closing the connection never ends the stream).
-pub const PING_EVERY: Duration = Duration::from_secs(1);
+pub(crate) const PING_EVERY: Duration = Duration::from_secs(1);
 /// Waits between reconnection attempts: from the first to the last, then the last again (Redis back
 /// is heard within this much).
 const BACKOFF: [Duration; 4] = [
@@ -40,10 +40,10 @@ const BACKOFF: [Duration; 4] = [
     Duration::from_millis(400),
 ];
 /// A server's presence key lives this long unless refreshed (it is, every second).
-pub const PRESENCE_TTL_SECONDS: u64 = 5;
+pub(crate) const PRESENCE_TTL_SECONDS: u64 = 5;
 /// The world's maze key lives this long unless refreshed: a world no server walked for this long
 /// takes the next server's maze.
-pub const WORLD_TTL_SECONDS: u64 = 30;
+pub(crate) const WORLD_TTL_SECONDS: u64 = 30;
 
 /// Why the world could not be joined.
 #[derive(Debug, Error)]

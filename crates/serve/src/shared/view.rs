@@ -16,18 +16,18 @@ use super::codec::{
 
 /// A server publishes at most this many messages a second, whatever its number of players: the
 /// players that moved within a tick go out together.
-pub const TICKS_PER_SECOND: f64 = 30.0;
+pub(crate) const TICKS_PER_SECOND: f64 = 30.0;
 /// Seconds between a server's full messages (everyone, even if nobody moved): the heartbeat that
 /// keeps it alive in the others' views and repairs anything they missed.
-pub const FULL_EVERY: f64 = 1.0;
+pub(crate) const FULL_EVERY: f64 = 1.0;
 /// A server not heard from for this long (while this one hears Redis) has gone: its players leave
 /// the view. Three missed heartbeats.
-pub const SILENCE: f64 = 3.0;
+pub(crate) const SILENCE: f64 = 3.0;
 
 /// What one server tells the others: the difference between its players now and what it last
 /// published, once a tick at most, and all of them every [`FULL_EVERY`] seconds.
 #[derive(Debug)]
-pub struct Outbox {
+pub(crate) struct Outbox {
     server: ServerId,
     maze: u64,
     seq: u64,
@@ -252,7 +252,7 @@ impl Others {
 
     /// This server hears Redis again at `now` after an outage: everyone's silence counts from now
     /// (their messages could not arrive meanwhile).
-    pub fn reconnected(&mut self, now: f64) {
+    pub(crate) fn reconnected(&mut self, now: f64) {
         for known in self.servers.values_mut() {
             known.heard = now;
         }
@@ -290,7 +290,7 @@ impl Others {
     /// came first also shows ([`yields_label`]): they should take another, if one is free. `?`
     /// (shown when no label is free) is everyone's. O(others + locals).
     #[must_use]
-    pub fn label_conflicts(&self, locals: &[PlayerRecord]) -> Vec<u32> {
+    pub(crate) fn label_conflicts(&self, locals: &[PlayerRecord]) -> Vec<u32> {
         // The first comer of each label among the others.
         let mut first: BTreeMap<char, (ServerId, &PlayerRecord)> = BTreeMap::new();
         for (server, p) in self.players().filter(|(_, p)| p.label != '?') {
@@ -315,7 +315,7 @@ impl Others {
 /// one who joined later yields — by the join times, then the server ids, then the player ids, an
 /// order every server computes alike, so exactly one of the two yields.
 #[must_use]
-pub fn yields_label(mine: (ServerId, &PlayerRecord), theirs: (ServerId, &PlayerRecord)) -> bool {
+pub(crate) fn yields_label(mine: (ServerId, &PlayerRecord), theirs: (ServerId, &PlayerRecord)) -> bool {
     let key = |(server, p): (ServerId, &PlayerRecord)| (p.joined_ms, server, p.id);
     key(mine) > key(theirs)
 }
