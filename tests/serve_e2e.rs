@@ -417,7 +417,7 @@ fn alice_and_bob_in(scratch: &Scratch, text: &str) -> (ServerProcess, Player, Pl
 
 /// A corridor east from the start, and at its end a passage south whose first tiles the corridor's
 /// south wall hides from the start.
-const CORRIDOR_AND_BEND: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#########\n#@......#\n######..#\n######..#\n######..#\n#########\n";
+const CORRIDOR_AND_BEND: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#######\n#@....#\n####..#\n####..#\n####..#\n#######\n";
 
 #[test]
 fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
@@ -439,12 +439,12 @@ fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
     };
     hold(&mut bob, b"w", 0.5);
     alice.wait_for("bob's figure in alice's view", |s, _| in_view(s, 'B'));
-    // To the corridor's end (24 units at 5 units/s; the wall stops him), a right turn (south) and down
-    // the passage: behind the corridor's south wall as alice sees it.
-    hold(&mut bob, b"w", 6.0);
+    // To the corridor's end (about 17 units at 5 units/s; the wall stops him), a right turn (south)
+    // and down the passage: behind the corridor's south wall as alice sees it.
+    hold(&mut bob, b"w", 4.0);
     snap(&mut bob, b".");
-    hold(&mut bob, b"w", 2.5);
-    bob.wait_for("bob down the passage", |s, _| hud_position(s).is_some_and(|(x, y)| x > 24.0 && y < 12.0));
+    hold(&mut bob, b"w", 2.0);
+    bob.wait_for("bob down the passage", |s, _| hud_position(s).is_some_and(|(x, y)| x > 16.0 && y < 12.0));
     alice.wait_for("bob hidden by the wall", |s, _| playing(s, &[]) && !in_view(s, 'B'));
     for _ in 0..25 {
         std::thread::sleep(Duration::from_millis(40));
