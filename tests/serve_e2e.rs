@@ -417,7 +417,8 @@ fn alice_and_bob_in(scratch: &Scratch, text: &str) -> (ServerProcess, Player, Pl
 
 /// A corridor east from the start, and at its end a passage south whose first tiles the corridor's
 /// south wall hides from the start.
-const CORRIDOR_AND_BEND: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#######\n#@....#\n####..#\n####..#\n####..#\n#######\n";
+const CORRIDOR_AND_BEND: &str =
+    "mazewalk-grid 1\ntile 4\nfacing east\n\n#######\n#@....#\n####..#\n####..#\n####..#\n#######\n";
 
 #[test]
 fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
