@@ -25,6 +25,7 @@ use mazewalk_term::modes::{Enabled, enter_sequence, restore_sequence};
 use mazewalk_walk::overlay::Peer;
 use mazewalk_walk::roster;
 use mazewalk_walk::session::fit_size;
+
 use mazewalk_walk::state::StartOutsideMaze;
 use mazewalk_walk::{App, Session, SessionOptions};
 
@@ -41,22 +42,6 @@ pub(crate) const WORLD_LOOKS_PER_SECOND: f64 = 30.0;
 
 /// What the HUD says while a shared world's Redis is away (`--world`).
 pub(crate) const WORLD_OFFLINE: &str = "world offline";
-
-/// The longest player name, in characters.
-pub(crate) const MAX_NAME: usize = 16;
-
-/// The player name for an SSH user name: ASCII letters, digits, `-`, `_` and `.` only (no control
-/// characters, escape sequences, wide or invisible characters can reach another player's screen),
-/// at most [`MAX_NAME`] of them; `player` if none are left.
-#[must_use]
-pub(crate) fn player_name(user: &str) -> String {
-    let name: String = user
-        .chars()
-        .filter(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
-        .take(MAX_NAME)
-        .collect();
-    if name.is_empty() { "player".to_string() } else { name }
-}
 
 /// A terminal size from a pty request or window change: zero means "not given" (RFC 4254 §6.2), the
 /// rest is clamped to the limits (the picture is drawn at most that large, in the top-left corner).
@@ -380,16 +365,6 @@ mod tests {
             0.0,
         )
         .unwrap()
-    }
-
-    #[test]
-    fn names_keep_only_harmless_ascii_and_are_capped() {
-        assert_eq!(player_name("alice"), "alice");
-        assert_eq!(player_name("\x1b[31mbob\x07"), "31mbob");
-        assert_eq!(player_name("ünï cødé"), "ncd");
-        assert_eq!(player_name(""), "player");
-        assert_eq!(player_name("\u{202e}\u{200b}"), "player");
-        assert_eq!(player_name(&"x".repeat(10_000)).len(), MAX_NAME);
     }
 
     #[test]

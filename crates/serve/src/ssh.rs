@@ -24,9 +24,10 @@ use tracing::{info, warn};
 
 use super::algorithms;
 use super::host_key::fingerprint;
+use super::identity::player_name;
 use super::limits::Limits;
 use super::logs::{self, LogLimit};
-use super::player::{Player, player_name};
+use super::player::Player;
 use super::records::{Keeper, Standing, standing_lines};
 use super::shared::codec::{Finish, PlayerRecord, WinnerRecord};
 use super::shared::view::Others;

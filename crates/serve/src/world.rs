@@ -23,19 +23,7 @@ use mazewalk_term::frame::Color;
 use mazewalk_walk::clock::clock_text;
 use mazewalk_walk::overlay::Peer;
 
-/// The colours players are drawn in, by order of arrival (256-colour indices: bright and distinct from
-/// the map's own yellow viewer, green exit and grey walls; [`mazewalk_walk::overlay::limit_colors`] takes
-/// them down to the terminal's depth).
-pub(crate) const PLAYER_COLORS: [Color; 8] = [
-    Color::Indexed(196), // red
-    Color::Indexed(33),  // blue
-    Color::Indexed(201), // magenta
-    Color::Indexed(51),  // cyan
-    Color::Indexed(208), // orange
-    Color::Indexed(129), // purple
-    Color::Indexed(118), // lime
-    Color::Indexed(231), // white
-];
+use crate::identity::PLAYER_COLORS;
 
 /// A player's id in the world, unique for the server's lifetime. This server's players count up
 /// from 0; another server's (shared world) have the top bit set ([`remote_id`]).

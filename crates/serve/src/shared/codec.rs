@@ -33,8 +33,8 @@
 use glam::Vec2;
 use thiserror::Error;
 
-use crate::player::{MAX_NAME, player_name};
-use crate::world::PLAYER_COLORS;
+use crate::identity::PLAYER_COLORS;
+use crate::identity::{MAX_NAME, player_name};
 use mazewalk_maze::Maze;
 
 /// The two bytes every message starts with.

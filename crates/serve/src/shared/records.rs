@@ -23,7 +23,7 @@ use redis::RedisResult;
 use redis::aio::MultiplexedConnection;
 
 use super::redis::{Keys, Link, WorldError};
-use crate::player::player_name;
+use crate::identity::player_name;
 use crate::records::{Best, Fault, Finish, MazeRecords, RecordsError, Standing, Store, TOP};
 
 /// The best times of one world in its Redis.
