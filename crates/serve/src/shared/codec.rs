@@ -511,7 +511,9 @@ impl<'a> Reader<'a> {
         if cell >= bounds.cells {
             return Err(DecodeError::Cell(cell));
         }
-        Ok(Whereabouts { position, heading_deg: heading_deg.rem_euclid(360.0), pitch_deg, cell })
+        // `rem_euclid` of a tiny negative heading rounds to 360.0 itself in f32: that is 0.
+        let heading_deg = Some(heading_deg.rem_euclid(360.0)).filter(|&h| h < 360.0).unwrap_or(0.0);
+        Ok(Whereabouts { position, heading_deg, pitch_deg, cell })
     }
 
     fn player(&mut self, bounds: &Bounds) -> Result<PlayerRecord, DecodeError> {
@@ -717,6 +719,21 @@ mod tests {
             panic!("decodes");
         };
         assert_eq!(moved[0].at.heading_deg, 270.0);
+        // A heading a hair below zero wraps to 360.0 in f32 arithmetic: it is read as 0 (found by
+        // the fuzz target `world_codec`).
+        let hair = Whereabouts { heading_deg: -1e-6, ..at(1.0, 1.0, 1) };
+        let m = message(Body::Delta {
+            joined: vec![],
+            moved: vec![Move { id: 1, at: hair }],
+            left: vec![],
+            finished: vec![],
+        });
+        let Ok(Message { body: Body::Delta { moved, .. }, .. }) =
+            decode(&bytes(&m), maze_tag("abc"), &bounds())
+        else {
+            panic!("decodes");
+        };
+        assert_eq!(moved[0].at.heading_deg, 0.0);
     }
 
     #[test]
