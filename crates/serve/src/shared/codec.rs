@@ -706,34 +706,26 @@ mod tests {
 
     #[test]
     fn headings_are_wrapped_into_a_turn() {
-        let spun = Whereabouts { heading_deg: -90.0, ..at(1.0, 1.0, 1) };
-        let m = message(Body::Delta {
-            joined: vec![],
-            moved: vec![Move { id: 1, at: spun }],
-            left: vec![],
-            finished: vec![],
-        });
-        let Ok(Message { body: Body::Delta { moved, .. }, .. }) =
-            decode(&bytes(&m), maze_tag("abc"), &bounds())
-        else {
-            panic!("decodes");
+        // The heading a move sent as `heading_deg` is read back as.
+        let read_as = |heading_deg: f32| {
+            let at = Whereabouts { heading_deg, ..at(1.0, 1.0, 1) };
+            let m = message(Body::Delta {
+                joined: vec![],
+                moved: vec![Move { id: 1, at }],
+                left: vec![],
+                finished: vec![],
+            });
+            let Ok(Message { body: Body::Delta { moved, .. }, .. }) =
+                decode(&bytes(&m), maze_tag("abc"), &bounds())
+            else {
+                panic!("decodes");
+            };
+            moved[0].at.heading_deg
         };
-        assert_eq!(moved[0].at.heading_deg, 270.0);
+        assert_eq!(read_as(-90.0), 270.0);
         // A heading a hair below zero wraps to 360.0 in f32 arithmetic: it is read as 0 (found by
         // the fuzz target `world_codec`).
-        let hair = Whereabouts { heading_deg: -1e-6, ..at(1.0, 1.0, 1) };
-        let m = message(Body::Delta {
-            joined: vec![],
-            moved: vec![Move { id: 1, at: hair }],
-            left: vec![],
-            finished: vec![],
-        });
-        let Ok(Message { body: Body::Delta { moved, .. }, .. }) =
-            decode(&bytes(&m), maze_tag("abc"), &bounds())
-        else {
-            panic!("decodes");
-        };
-        assert_eq!(moved[0].at.heading_deg, 0.0);
+        assert_eq!(read_as(-1e-6), 0.0);
     }
 
     #[test]
