@@ -121,8 +121,82 @@ fn corridor(color: &str) -> Maze {
     mazewalk_maze::parse("corridor", text.as_bytes()).expect("corridor maze")
 }
 
+/// The mazes of the held-out views: generated mazes the other measures never see, a course file, the
+/// built-in maze.
+fn held_out_mazes() -> Vec<(String, Maze)> {
+    let mut mazes: Vec<(String, Maze)> = [(12, 8, 101), (20, 15, 202), (30, 20, 303)]
+        .into_iter()
+        .map(|(width, height, seed)| {
+            let opts = GenOptions { width, height, seed, loops: 0.1, exit: true, ..GenOptions::default() };
+            (format!("gen {width}x{height} seed {seed}"), generate(&opts).expect("generated maze"))
+        })
+        .collect();
+    let course = concat!(env!("CARGO_MANIFEST_DIR"), "/../mazes/cs559/maze-10x10-100.maze");
+    mazes.push(("cs559 10x10".into(), mazewalk_maze::load(course).expect("course file").maze));
+    mazes.push(("built-in".into(), mazewalk_maze::builtin().expect("built-in maze")));
+    mazes
+}
+
+/// Issue #39's measures over held-out views ([`quality::held_out_views`]: in cells, nose to a wall,
+/// down corridors), every depth against truecolor: the median view and the worst.
+fn held_out(renderer: &mut Renderer) {
+    const PER_MAZE: usize = 30;
+    let mut rows: BTreeMap<&str, Vec<Measures>> = BTreeMap::new();
+    let mut worst_view: BTreeMap<&str, (f64, String)> = BTreeMap::new();
+    for (name, maze) in held_out_mazes() {
+        for (k, (kind, camera)) in quality::held_out_views(&maze, 39, PER_MAZE).into_iter().enumerate() {
+            let truth_frame =
+                render(renderer, &maze, &camera, &options(Charset::Half, ColorDepth::TrueColor, false));
+            let truth = quality::shown(&truth_frame, Charset::Half);
+            let ids = renderer.samples().id().to_vec();
+            let width = renderer.samples().width();
+            for (mode, depth, dither) in MODES.into_iter().filter(|m| !m.2) {
+                let frame = render(renderer, &maze, &camera, &options(Charset::Half, depth, dither));
+                let m = quality::measure(&quality::shown(&frame, Charset::Half), &truth, &ids, width);
+                let label = format!(
+                    "{name} #{k} {kind:?} at ({:.2}, {:.2}) heading {:.0}°",
+                    camera.position.x, camera.position.y, camera.yaw_deg
+                );
+                let worst = worst_view.entry(mode).or_insert((0.0, String::new()));
+                if m.mean_error > worst.0 {
+                    *worst = (m.mean_error, label);
+                }
+                rows.entry(mode).or_default().push(m);
+            }
+        }
+    }
+    println!(
+        "\nHeld-out views (issue #39): {PER_MAZE} views of each of {} mazes, half blocks {COLS}×{ROWS}, median view / worst view:\n",
+        held_out_mazes().len()
+    );
+    println!("| frame | mean OKLab error | p95 error | chroma ratio | hue error ° | grain % |");
+    println!("|---|--:|--:|--:|--:|--:|");
+    for (mode, m) in &rows {
+        let stat = |f: &dyn Fn(&Measures) -> f64| {
+            let mut v: Vec<f64> = m.iter().map(f).collect();
+            v.sort_by(f64::total_cmp);
+            (v[v.len() / 2], v[0], v[v.len() - 1])
+        };
+        let (e, _, e1) = stat(&|m| m.mean_error);
+        let (p, _, p1) = stat(&|m| m.p95_error);
+        let (c, c0, c1) = stat(&|m| m.chroma_ratio);
+        let (h, _, h1) = stat(&|m| m.hue_error_deg);
+        let (g, _, g1) = stat(&|m| 100.0 * m.grain);
+        println!(
+            "| {mode} | {e:.3} / {e1:.3} | {p:.3} / {p1:.3} | {c:.2} ({c0:.2}–{c1:.2}) | {h:.1} / {h1:.1} | {g:.2} / {g1:.2} |"
+        );
+    }
+    for (mode, (e, label)) in worst_view {
+        println!("- worst view in {mode}: {label} (mean error {e:.3})");
+    }
+}
+
 fn main() {
     let mut renderer = Renderer::new();
+    held_out(&mut renderer);
+    if std::env::args().any(|a| a == "--held-out") {
+        return;
+    }
     let views = views();
     // Per mode: the measures of every view.
     let mut all: BTreeMap<&str, Vec<Measures>> = BTreeMap::new();

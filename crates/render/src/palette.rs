@@ -153,6 +153,9 @@ struct Weights {
     hue: f32,
     /// A chroma difference, per unit squared.
     chroma: f32,
+    /// The factor on [`Weights::chroma`] where the entry is more saturated than the target: a wall
+    /// shown more vivid than it is hides the fade into the dark (issue #39), a greyer one does not.
+    over: f32,
     /// A grey entry shown for a coloured target, per unit of the target's chroma squared.
     grey: f32,
     /// A step between two coloured entries of a ramp, per unit of their chroma difference squared.
@@ -170,7 +173,8 @@ fn cost(target: Vec3, target_chroma: f32, entry: &RampEntry, w: &Weights) -> f32
     let dc = entry.chroma - target_chroma;
     let dh2 = (da * da + db * db - dc * dc).max(0.0);
     let grey = if entry.chroma < GREY_ENTRY { w.grey * target_chroma * target_chroma } else { 0.0 };
-    dl * dl + w.chroma * dc * dc + w.hue * dh2 + grey
+    let chroma = if dc > 0.0 { w.chroma * w.over } else { w.chroma };
+    dl * dl + chroma * dc * dc + w.hue * dh2 + grey
 }
 
 /// An entry with less chroma than this is grey (the cube's and the ramp's greys have none).
@@ -218,24 +222,28 @@ impl Palette {
     }
 
     /// How its ramps weigh hue, chroma, greys and steps ([`cost`], [`LightRamp::new`]), chosen on
-    /// the measures of issue #33 (`benches/examples/picture.rs`). In 256 colours the cube has an
-    /// entry near most hues at some chroma: hue weighs four times as much as lightness (ΔH²: 16), so a
-    /// wall keeps its hue within about 10°, and its bands keep its saturation (steps: 3.5) rather than
-    /// pass through a vivid entry between two pale ones. In 16 colours there are six hues: hue weighs
-    /// less (4), or every wall between two of them would be grey.
+    /// the measures of issues #33 and #39 over held-out views (`benches/examples/picture.rs`). In 256
+    /// colours the cube is coarse for muted colours (a tan wall's nearest entry is a grey 0.05 away
+    /// in OKLab, its nearest of its hue twice as saturated): hue weighs eight times as much as
+    /// lightness (ΔH²: 8) and a grey for a coloured sample dearly (20), so a wall keeps its hue, but
+    /// an entry more saturated than the wall costs three times a greyer one, so muted walls are not
+    /// painted vivid (issue #39: the median chromatic sample was 3.3× truecolor's), and its bands
+    /// keep their saturation (steps: 2). In 16 colours there are six hues: hue weighs 4, greys 8, or every wall
+    /// between two hues would be grey.
     fn weights(self) -> Weights {
         match self {
-            Palette::Xterm256 => Weights { hue: 16.0, chroma: 1.0, grey: 8.0, step: 3.5 },
-            Palette::Ansi16 => Weights { hue: 4.0, chroma: 1.0, grey: 8.0, step: 4.0 },
+            Palette::Xterm256 => Weights { hue: 8.0, chroma: 1.0, over: 3.0, grey: 20.0, step: 2.0 },
+            Palette::Ansi16 => Weights { hue: 4.0, chroma: 1.0, over: 1.0, grey: 8.0, step: 4.0 },
         }
     }
 
     /// A ramp holds greys and the entries whose hue is within this of its chromaticity's (radians):
-    /// 30° in 256 colours; 45° in 16, whose six hues are 60° apart (an orange wall is red there).
+    /// 40° in 256 colours (the pale entries of a hue are few); 45° in 16, whose six hues are 60°
+    /// apart (an orange wall is red there).
     #[must_use]
     pub(crate) fn hue_span(self) -> f32 {
         match self {
-            Palette::Xterm256 => 30f32.to_radians(),
+            Palette::Xterm256 => 40f32.to_radians(),
             Palette::Ansi16 => 45f32.to_radians(),
         }
     }
@@ -682,9 +690,11 @@ mod tests {
         assert!(exact >= 230, "{exact} of 240 entries shown as themselves");
     }
 
-    /// 256 colours keep a wall's hue (issue #33: blue turned violet): the built-in maze's walls and
-    /// a generated maze's pastels, lit and fogged from dim to full, within 12° wherever they have
-    /// chroma to show.
+    /// 256 colours keep a wall's hue (issue #33: blue turned violet) without painting it more vivid
+    /// than it is (issue #39: a tan wall shown orange): the built-in maze's walls and a generated
+    /// maze's pastels, lit and fogged from dim to full, never grey where they have chroma to show,
+    /// within 35° of their hue (the cube has few pale entries: a dim pastel's nearest of its own hue
+    /// is often twice as saturated), and at most 1.7× their chroma.
     #[test]
     fn in_256_colours_wall_colours_keep_their_hue() {
         for rgb in
@@ -700,7 +710,9 @@ mod tests {
                 let shown = lab_of(ramp_entry(colour, Palette::Xterm256));
                 let off = hue_difference(shown.z.atan2(shown.y), target.z.atan2(target.y)).to_degrees();
                 assert!(!is_grey(ramp_entry(colour, Palette::Xterm256)), "{rgb:?} × {k}/20 shown grey");
-                assert!(off <= 20.0, "{rgb:?} × {k}/20: {off:.0}° off");
+                assert!(off <= 35.0, "{rgb:?} × {k}/20: {off:.0}° off");
+                let vivid = shown.y.hypot(shown.z) / target.y.hypot(target.z);
+                assert!(vivid <= 1.7, "{rgb:?} × {k}/20: {vivid:.2}× the chroma");
             }
         }
     }

@@ -22,8 +22,8 @@ use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, LANES, Lanes3, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
-    FOG_FADE, Fog, SUN_WORLD, bricks, checker, checker_filtered, edge_color, headlight_unit, lit,
-    srgb_to_linear, sun_factor, wall_albedo,
+    FOG_FADE, Fog, SUN_WORLD, bricks, checker, checker_filtered, edge_color, headlight, lit, seam_color,
+    slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -32,8 +32,14 @@ use mazewalk_maze::Maze;
 use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
-/// Light that reaches every surface, whatever its angle to the headlight.
-const AMBIENT: f32 = 0.25;
+/// Light that reaches a wall whatever its angle to the headlight: the share of its colour a wall seen
+/// edge-on (a corridor's side wall) keeps, against all of it for a wall faced squarely.
+const AMBIENT: f32 = 0.65;
+/// The same for the floor and the ceiling, seen edge-on when the view is level: below the walls', so
+/// walls, what a player finds the way by, stand out from both.
+const FLOOR_AMBIENT: f32 = 0.5;
+/// See [`FLOOR_AMBIENT`].
+const CEILING_AMBIENT: f32 = 0.45;
 /// Where nothing is hit: the fog's colour (linear RGB).
 const FOG_COLOR: Vec3 = Vec3::ZERO;
 /// Floor and ceiling base colours (sRGB, like the maze files' wall colours).
@@ -81,8 +87,8 @@ pub struct Renderer {
     polygon_grid: Vec<GridVertex<Vec3>>,
     seen: Vec<u32>,
     sprites: SpritePass,
-    /// Which samples are edges: all false between frames (each frame unmarks what it marked).
-    edge_marks: Vec<bool>,
+    /// Which samples are edges or seams: all `None` between frames (each frame unmarks what it marked).
+    edge_marks: Vec<Mark>,
     /// The samples marked this frame, each once.
     edge_list: Vec<u32>,
     plane_row: PlaneRow,
@@ -254,6 +260,7 @@ impl Renderer {
         }
         if !self.no_edges {
             self.draw_edges(maze); // where surfaces meet: darker (or lighter) samples
+            self.draw_cell_bounds(maze, &eye, culling); // cell boundaries on floor and ceiling: fainter lines
         }
         if charset == Charset::Ascii {
             self.outline_visible_walls(maze, &eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
@@ -312,10 +319,12 @@ impl Renderer {
             let facing =
                 if normal_view.dot(self.polygon_grid[0].attrs) > 0.0 { -normal_view } else { normal_view };
             let albedo = wall_albedo(edge.color.map(srgb_to_linear)) * sun_factor(facing, sun_view);
+            // The headlight along the view axis: one light for the whole wall.
+            let lit_albedo = lit(albedo, headlight(normal_view), AMBIENT);
             stats.triangles += self.polygon_grid.len() - 2;
             if shading == Shading::Color && !textures && !self.reference_shading {
                 // The same shading as below, eight samples at a time (same operations, same order).
-                let shade = |view: &Lanes3| wall_lanes(view, facing_wall(normal_view), albedo, ortho, &fog);
+                let shade = |view: &Lanes3| wall_lanes(view, lit_albedo, &fog);
                 stats.samples_written += fill_polygon_x8(&mut self.samples, &self.polygon_grid, e, &shade);
                 continue;
             }
@@ -324,17 +333,16 @@ impl Renderer {
                 match shading {
                     Shading::ViewDepth => Vec3::splat(depth),
                     Shading::Color => {
-                        // The headlight: from the eye (perspective) or along the view axis (orthographic).
-                        let to_light = if ortho { Vec3::new(0.0, 0.0, view.z) } else { view };
-                        let facing_eye = headlight_unit(normal_view, to_light);
-                        let mut color = lit(albedo, facing_eye, AMBIENT);
+                        let mut color = lit_albedo;
                         if textures {
                             // Texture coordinates: along the wall from its start, and height.
                             let world = view_to_world.transform_point3(view);
                             let u = (world.truncate() - a).dot(along);
-                            // A sample's footprint on the wall: wider where the wall is seen edge-on.
+                            // A sample's footprint on the wall: wider where the wall is seen edge-on
+                            // (the slant of the ray from the eye, or of the view axis, to the wall).
+                            let ray = if ortho { Vec3::new(0.0, 0.0, view.z) } else { view };
                             let reach = if ortho { per_sample } else { per_sample * depth };
-                            color *= bricks(u, world.z, reach / facing_eye.max(0.25));
+                            color *= bricks(u, world.z, reach / slant_cosine(normal_view, ray).max(0.25));
                         }
                         fog.apply(color, depth)
                     }
@@ -366,6 +374,12 @@ impl Renderer {
         let ceiling = (CEILING_Z, CEILING, CEILING_SRGB.map(srgb_to_linear));
         let perspective = eye.camera.projection == Projection::Perspective;
         let start_depth = if perspective { eye.near } else { 0.0 };
+        // The headlight on floor and ceiling: one light for each plane (both face the same way); the
+        // floor, under the lamp the viewer carries, keeps more of its colour than the ceiling.
+        let facing_planes = headlight((eye.normal_to_view * Vec3::Z).normalize_or_zero());
+        let floor_light = FLOOR_AMBIENT + (1.0 - FLOOR_AMBIENT) * facing_planes;
+        let ceiling_light = CEILING_AMBIENT + (1.0 - CEILING_AMBIENT) * facing_planes;
+        let plane_light = |plane: u32| if plane == FLOOR { floor_light } else { ceiling_light };
         let depth_at = eye.depth_by_distance();
         // Where a ray of height `start_z` and slope `dir_z` ends: which plane, how far along it (`t`;
         // `None` when it starts inside the ground or the roof and shows that plane right there), the grid
@@ -422,9 +436,7 @@ impl Renderer {
                     base = base.lerp(EXIT_GLOW, 0.8 * glow);
                 }
             }
-            // The headlight shines along the ray (from the eye, or along the view axis when
-            // orthographic): hit - eye is a multiple of `dir`.
-            lit(base, headlight_unit(Vec3::Z, dir), AMBIENT).lerp(fog.color, hit.fog)
+            (base * plane_light(hit.plane.1)).lerp(fog.color, hit.fog)
         };
         let width = eye.width;
         let (colors, depths, ids) = self.samples.parts_mut();
@@ -454,7 +466,14 @@ impl Renderer {
                     hit.plane.1 == FLOOR && segment_distance(exit, a, b) <= EXIT_GLOW_RADIUS * 1.001
                 });
                 if shading == Shading::Color && !glows && !self.reference_shading {
-                    self.plane_row.fill_row(&hit, (start0, start_step), (dir0, dir_step), filter, width);
+                    self.plane_row.fill_row(
+                        &hit,
+                        (start0, start_step),
+                        (dir0, dir_step),
+                        filter,
+                        width,
+                        plane_light(hit.plane.1),
+                    );
                     let (paint, base) = (&self.plane_row.shade, hit.plane.2);
                     let fog_term = fog.color * hit.fog;
                     // A wall stays where it is at least as near as the plane along this ray (none can
@@ -498,58 +517,117 @@ impl Renderer {
     /// Edges: where two neighbouring samples (right or below) belong to different surfaces, the nearer
     /// one is drawn as an edge ([`edge_color`]): wall ends, corners, the seams with floor and ceiling,
     /// the outlines of figures. One sample wide, so it survives at any size. Two walls on one line
-    /// (a long wall made of several edges) are one surface: no seam between them.
+    /// (a long wall made of several edges, one a cell) meet at a cell boundary: a seam, fainter than an
+    /// edge ([`seam_color`]), so a player counts the cells a wall runs along (issue #39).
     fn draw_edges(&mut self, maze: &Maze) {
         let (width, height) = (self.samples.width(), self.samples.height());
         if self.edge_marks.len() != width * height {
             self.edge_marks.clear();
-            self.edge_marks.resize(width * height, false);
+            self.edge_marks.resize(width * height, Mark::None);
         }
         self.edge_list.clear();
         let walls = maze.edges().len() as u32;
-        let mut last = (NONE, NONE, false); // the last pair of walls compared, and whether they differ
+        let mut last = (NONE, NONE, Mark::None); // the last pair of walls compared, and what they make
         let mut differ = |a: u32, b: u32| match (a < walls, b < walls) {
             (true, true) => {
                 if (last.0, last.1) != (a, b) {
-                    last = (a, b, !collinear(maze, a, b));
+                    last = (a, b, if collinear(maze, a, b) { Mark::Seam } else { Mark::Edge });
                 }
                 last.2
             }
-            (false, false) => is_figure(a) || is_figure(b), // floor, ceiling, nothing: no edge
-            _ => true,
+            (false, false) if is_figure(a) || is_figure(b) => Mark::Edge,
+            (false, false) => Mark::None, // floor, ceiling, nothing: no edge
+            _ => Mark::Edge,
         };
         let (ids, depth) = (self.samples.id(), self.samples.depth());
         let (marks, list) = (&mut self.edge_marks, &mut self.edge_list);
-        let mut mark = |i: usize, j: usize| {
-            let nearer = if depth[j] < depth[i] { j } else { i };
-            if !marks[nearer] {
-                marks[nearer] = true;
-                list.push(nearer as u32);
+        let mut mark = |i: usize, j: usize, what: Mark| {
+            if what == Mark::None {
+                return;
             }
+            // An edge on the nearer sample; a seam on the sample left of (or above) the boundary, so
+            // a seam seen square-on is one sample wide whichever wall is nearer.
+            let at = match what {
+                Mark::Edge => {
+                    if depth[j] < depth[i] {
+                        j
+                    } else {
+                        i
+                    }
+                }
+                _ => i,
+            };
+            if marks[at] == Mark::None {
+                list.push(at as u32);
+            }
+            marks[at] = marks[at].max(what);
         };
         // Neighbours to the right, then below; most pairs are one surface, skipped eight at a time.
         for y in 0..height {
             let row = y * width;
             let here = &ids[row..row + width];
             for_each_difference(here, &here[1.min(width)..], |x| {
-                if differ(here[x], here[x + 1]) {
-                    mark(row + x, row + x + 1);
-                }
+                mark(row + x, row + x + 1, differ(here[x], here[x + 1]));
             });
             if y + 1 < height {
                 let below = &ids[row + width..row + 2 * width];
                 for_each_difference(here, below, |x| {
-                    if differ(here[x], below[x]) {
-                        mark(row + x, row + width + x);
-                    }
+                    mark(row + x, row + width + x, differ(here[x], below[x]));
                 });
             }
         }
         let colors = self.samples.color_mut();
         for &i in &self.edge_list {
             let i = i as usize;
-            colors[i] = edge_color(colors[i]);
-            self.edge_marks[i] = false;
+            colors[i] = match self.edge_marks[i] {
+                Mark::Edge => edge_color(colors[i]),
+                _ => seam_color(colors[i]),
+            };
+            self.edge_marks[i] = Mark::None;
+        }
+    }
+
+    /// Cell boundaries on floor and ceiling: each opening of a cell the pass visited (of every cell,
+    /// brute force), as a line one sample wide where it lies on the floor (and on the ceiling) in view, in
+    /// [`seam_color`]. With the seams on the walls, a corridor reads as a row of cells a player can
+    /// count, and a side opening as a break in the wall with its own boundary line (issue #39). Exact:
+    /// a ray meets the floor once, so where a sample shows the floor and the boundary projects onto
+    /// it, the boundary is what the sample shows.
+    fn draw_cell_bounds(&mut self, maze: &Maze, eye: &Eye, culling: Culling) {
+        let (w, h) = (eye.width, eye.height);
+        self.edge_list.clear();
+        self.seen.clear();
+        match culling {
+            Culling::None => self.seen.extend(0..maze.edges().len() as u32),
+            Culling::Portal => {
+                for &cell in &self.portal.visited {
+                    self.seen.extend_from_slice(maze.cell_edges(cell));
+                }
+            }
+        }
+        self.seen.retain(|&e| !maze.edge(e).opaque);
+        self.seen.sort_unstable();
+        self.seen.dedup();
+        for &e in &self.seen {
+            let (a, b) = maze.edge_points(e);
+            for (z, plane) in [(FLOOR_Z, FLOOR), (CEILING_Z, CEILING)] {
+                let Some((p, q)) = clip_segment(eye, a.extend(z), b.extend(z)) else { continue };
+                let (gp, gq) = (eye.grid(p), eye.grid(q));
+                let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
+                let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
+                for (x, y) in line_points(x0, y0, x1, y1, w, h) {
+                    let i = y * w + x;
+                    if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None {
+                        self.edge_marks[i] = Mark::Seam;
+                        self.edge_list.push(i as u32);
+                    }
+                }
+            }
+        }
+        let colors = self.samples.color_mut();
+        for &i in &self.edge_list {
+            colors[i as usize] = seam_color(colors[i as usize]);
+            self.edge_marks[i as usize] = Mark::None;
         }
     }
 
@@ -580,6 +658,18 @@ impl Renderer {
             }
         }
     }
+}
+
+/// What a sample on a boundary between surfaces is drawn as (the stronger wins).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
+enum Mark {
+    /// Not on a boundary.
+    #[default]
+    None,
+    /// A cell boundary: two walls on one line, or an opening on the floor or ceiling.
+    Seam,
+    /// Where two surfaces meet: a corner, a wall's end, the floor, a figure.
+    Edge,
 }
 
 /// Where a ray meets the floor or the ceiling (see `Renderer::fill_floor_and_ceiling`).
@@ -615,15 +705,15 @@ impl PlaneRow {
         (dir0, dir_step): (Vec3, Vec3),
         filter: Option<f32>,
         width: usize,
+        light: f32,
     ) {
         self.shade.resize(width.div_ceil(LANES) * LANES, 0.0);
         let s = f32x8::splat;
         let t = s(hit.t.unwrap_or(0.0));
         let dz = dir0.z.abs(); // the same for the whole row
         let dz2 = s(dir0.z * dir0.z);
-        // lit(): ambient + (1 - ambient) · headlight, then what the fog leaves of it.
-        let keep = 1.0 - hit.fog;
-        let (ambient, diffuse) = (s(AMBIENT * keep), s((1.0 - AMBIENT) * keep));
+        // The plane's light, then what the fog leaves of it.
+        let lit_kept = s(light * (1.0 - hit.fog));
         let (dark, mean) = (s(1.0 - CHECKER_CONTRAST), s(1.0 - 0.5 * CHECKER_CONTRAST));
         let per_square = s(1.0 / CHECKER_PERIOD);
         let reach_per_slant = s(filter.unwrap_or(0.0) * hit.t.unwrap_or(0.0));
@@ -634,49 +724,36 @@ impl PlaneRow {
             let (dx, dy) = (s(dir0.x) + s(dir_step.x) * x, s(dir0.y) + s(dir_step.y) * x);
             let px = s(start0.x) + s(start_step.x) * x + dx * t;
             let py = s(start0.y) + s(start_step.y) * x + dy * t;
-            let length = (dx * dx + dy * dy + dz2).sqrt();
-            let headlight = (s(dz) / length).min(s(1.0));
             let odd = (floor_int(px * per_square) ^ floor_int(py * per_square)) & i32x8::splat(1);
             let mut square = cast::<i32x8, f32x8>(odd.simd_eq(i32x8::splat(1))).select(dark, s(1.0));
             if filter.is_some() {
                 // checker_filtered(): the squares fade to their mean as the footprint grows.
+                let length = (dx * dx + dy * dy + dz2).sqrt();
                 let reach = reach_per_slant * (length / s(dz.max(1e-3))).min(s(8.0));
                 let fade = ((reach * per_square - s(0.1)) / s(0.4)).clamp(s(0.0), s(1.0));
                 square += (mean - square) * fade;
             }
-            out.copy_from_slice(&cast::<f32x8, [f32; LANES]>(square * (ambient + diffuse * headlight)));
+            out.copy_from_slice(&cast::<f32x8, [f32; LANES]>(square * lit_kept));
         }
     }
 }
 
-/// What [`headlight_unit`] needs of a wall's unit normal, splatted for [`wall_lanes`].
-fn facing_wall(normal_view: Vec3) -> [f32x8; 3] {
-    [normal_view.x, normal_view.y, normal_view.z].map(f32x8::splat)
-}
-
-/// A wall's colour at eight view positions: [`headlight_unit`], [`lit`] and [`Fog::apply`] lane by
+/// A wall's colour at eight view positions: its lit colour `lit_albedo` through [`Fog::apply`] lane by
 /// lane, with the same operations in the same order as the scalar shading in `Renderer::draw`.
-fn wall_lanes(view: &Lanes3, normal: [f32x8; 3], albedo: Vec3, ortho: bool, fog: &Fog) -> Lanes3 {
+fn wall_lanes(view: &Lanes3, lit_albedo: Vec3, fog: &Fog) -> Lanes3 {
     let s = f32x8::splat;
     let depth = view.z.abs();
-    // The headlight: from the eye (perspective) or along the view axis (orthographic).
-    let (tx, ty, tz) = if ortho { (s(0.0), s(0.0), view.z) } else { (view.x, view.y, view.z) };
-    let length = (tx * tx + ty * ty + tz * tz).sqrt();
-    let usable = length.simd_gt(s(0.0)) & length.is_finite();
-    let dot = normal[0] * tx + normal[1] * ty + normal[2] * tz;
-    let facing = usable.select((dot.abs() / length).min(s(1.0)), s(1.0));
-    let light = s(AMBIENT) + s(1.0 - AMBIENT) * facing.max(s(0.0)).min(s(1.0));
     // Fog::keep, then Fog::amount, in its order.
     let fade =
         ((s(fog.end) - depth) / s((FOG_FADE * fog.end).max(f32::MIN_POSITIVE))).max(s(0.0)).min(s(1.0));
     let r = depth.max(s(0.0)) / s(fog.half.max(f32::MIN_POSITIVE));
     let amount = s(1.0) - fade / (s(1.0) + r * r);
     let keep = s(1.0) - amount;
-    let channel = |albedo: f32, fog: f32| s(albedo) * light * keep + s(fog) * amount;
+    let channel = |albedo: f32, fog: f32| s(albedo) * keep + s(fog) * amount;
     Lanes3 {
-        x: channel(albedo.x, fog.color.x),
-        y: channel(albedo.y, fog.color.y),
-        z: channel(albedo.z, fog.color.z),
+        x: channel(lit_albedo.x, fog.color.x),
+        y: channel(lit_albedo.y, fog.color.y),
+        z: channel(lit_albedo.z, fog.color.z),
     }
 }
 

@@ -13,18 +13,97 @@
 //!   (below [`GREY`]);
 //! - **surfaces apart** ([`Measures::surfaces_apart`]): the smallest OKLab distance (×100) between the
 //!   frame's mean colours (means of OKLab) over the three largest surfaces of the view (by coverage id:
-//!   typically the floor, the ceiling and one wall).
+//!   typically the floor, the ceiling and one wall);
+//! - **error** ([`Measures::mean_error`], [`Measures::p95_error`]): the OKLab distance of each sample to
+//!   the truecolor frame's, its mean and its 95th percentile over the frame (issue #39);
+//! - **chroma ratio** ([`Measures::chroma_ratio`]): over the truecolor frame's chromatic samples, the
+//!   median chroma the frame shows ÷ the median chroma of truecolor: above 1, the palette paints the
+//!   scene more vivid than it is; below, greyer.
 //!
 //! Pure functions on frames and coverage ids; the measuring tool (`benches/examples/picture.rs`) and
 //! the tests call them.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
+use super::camera::Camera;
 use super::options::Charset;
 use super::palette::{hue_difference, oklab, xterm_rgb};
 use super::picture::glyph_mask;
 use super::shade::srgb_to_linear;
+use mazewalk_maze::Maze;
 use mazewalk_term::frame::{Color, Frame};
+
+/// What [`held_out_views`] makes of a view.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ViewKind {
+    /// Anywhere in a cell (at least a fifth of the way from its walls), any heading.
+    InCell,
+    /// A quarter unit from one of a cell's walls (the closest the walk lets a player stand), facing
+    /// it within ±60°.
+    NoseToWall,
+    /// From a cell's centroid through one of its openings: down a corridor.
+    Corridor,
+}
+
+/// `n` views of `maze` drawn from `seed` (the same seed, the same views): the kinds of [`ViewKind`] in
+/// turn, each with the maze viewer's eye height and field of view. The views the colour measures of
+/// issue #39 are taken over, so that no one frame stands for the picture.
+#[must_use]
+pub fn held_out_views(maze: &Maze, seed: u64, n: usize) -> Vec<(ViewKind, Camera)> {
+    let mut state = seed ^ 0x9E37_79B9_7F4A_7C15;
+    // SplitMix64, as the maze generator: a uniform float in 0..1.
+    let mut unit = move || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let viewer = maze.viewer();
+    let camera = |position: Vec2, yaw: f32| Camera {
+        eye_z: viewer.z,
+        ..Camera::new(position, yaw.to_degrees().rem_euclid(360.0), viewer.fov_deg)
+    };
+    let cells = maze.cell_count();
+    let mut out = Vec::with_capacity(n);
+    let kinds = [ViewKind::InCell, ViewKind::NoseToWall, ViewKind::Corridor];
+    // Bounded: a maze with no cell a view fits in gives fewer views, not a hang.
+    for _ in 0..n.saturating_mul(50) {
+        if out.len() == n || cells == 0 {
+            break;
+        }
+        let kind = kinds[out.len() % kinds.len()];
+        let cell = ((unit() * cells as f32) as usize).min(cells - 1) as u32;
+        let edges = maze.cell_edges(cell);
+        if edges.is_empty() {
+            continue;
+        }
+        let e = edges[((unit() * edges.len() as f32) as usize).min(edges.len() - 1)];
+        let (a, b) = maze.edge_points_ccw(e, cell);
+        let centroid = maze.cell_centroid(cell);
+        let view = match kind {
+            ViewKind::InCell => {
+                let on_edge = a.lerp(b, unit());
+                Some(camera(centroid.lerp(on_edge, 0.8 * unit()), unit() * std::f32::consts::TAU))
+            }
+            ViewKind::NoseToWall if maze.edge(e).opaque && a.distance(b) > 0.6 => {
+                let inward = (b - a).perp().normalize_or_zero(); // the cell is left of its ccw edges
+                let at = a.lerp(b, 0.2 + 0.6 * unit()) + 0.25 * inward;
+                let facing = (-inward).y.atan2((-inward).x) + (unit() - 0.5) * 120f32.to_radians();
+                maze.cell_contains(cell, at).then(|| camera(at, facing))
+            }
+            ViewKind::Corridor if !maze.edge(e).opaque => {
+                let through = a.lerp(b, 0.5) - centroid;
+                Some(camera(centroid, through.y.atan2(through.x)))
+            }
+            _ => None,
+        };
+        if let Some(view) = view {
+            out.push((kind, view));
+        }
+    }
+    out
+}
 
 /// A pair of neighbouring samples is grain where the frame puts them this much further apart (OKLab)
 /// than the truecolor frame does.
@@ -79,6 +158,13 @@ pub struct Measures {
     /// The smallest OKLab distance ×100 between the mean colours of the three largest surfaces; the
     /// distance of two where the view has two, 0 where it has fewer.
     pub surfaces_apart: f64,
+    /// Mean OKLab distance of a sample to the truecolor frame's.
+    pub mean_error: f64,
+    /// 95th percentile of that distance.
+    pub p95_error: f64,
+    /// Median chroma of the frame over the truecolor frame's chromatic samples ÷ truecolor's median
+    /// there; 1 where truecolor has no chromatic sample.
+    pub chroma_ratio: f64,
 }
 
 /// The measures of `frame` against `truth` (both from [`shown`], the same size), with `ids` the
@@ -91,11 +177,37 @@ pub struct Measures {
 pub fn measure(frame: &[Vec3], truth: &[Vec3], ids: &[u32], width: usize) -> Measures {
     assert!(frame.len() == truth.len() && truth.len() == ids.len(), "one sample each");
     assert!(width > 0 && frame.len().is_multiple_of(width), "whole rows");
+    let mut errors: Vec<f32> = frame.iter().zip(truth).map(|(f, t)| f.distance(*t)).collect();
     Measures {
         grain: grain(frame, truth, width),
         hue_error_deg: hue_error_deg(frame, truth),
         surfaces_apart: surfaces_apart(frame, ids),
+        mean_error: errors.iter().map(|&e| f64::from(e)).sum::<f64>() / errors.len().max(1) as f64,
+        p95_error: percentile(&mut errors, 0.95),
+        chroma_ratio: chroma_ratio(frame, truth),
     }
+}
+
+/// The `q` quantile (0..=1, nearest rank) of `values` (reordered); 0 for none.
+fn percentile(values: &mut [f32], q: f64) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let rank = ((q * values.len() as f64).ceil() as usize).clamp(1, values.len()) - 1;
+    let (_, value, _) = values.select_nth_unstable_by(rank, f32::total_cmp);
+    f64::from(*value)
+}
+
+/// Median chroma of `frame` ÷ median chroma of `truth`, both over the truth's chromatic samples.
+fn chroma_ratio(frame: &[Vec3], truth: &[Vec3]) -> f64 {
+    let (mut shown, mut true_chroma): (Vec<f32>, Vec<f32>) = frame
+        .iter()
+        .zip(truth)
+        .map(|(&f, &t)| (chroma_hue(f).0, chroma_hue(t).0))
+        .filter(|&(_, t)| t > CHROMATIC)
+        .unzip();
+    let truth_median = percentile(&mut true_chroma, 0.5);
+    if truth_median > 0.0 { percentile(&mut shown, 0.5) / truth_median } else { 1.0 }
 }
 
 /// The share of neighbouring pairs (right, down) the frame sets [`GRAIN_STEP`] further apart.
@@ -198,7 +310,8 @@ mod tests {
             (0..40).map(|k| oklab_srgb8([(k * 6) as u8, 100, (250 - k * 5) as u8])).collect();
         let ids: Vec<u32> = (0..40).map(|k| k / 14).collect();
         let m = measure(&truth, &truth, &ids, 8);
-        assert_eq!((m.grain, m.hue_error_deg), (0.0, 0.0));
+        assert_eq!((m.grain, m.hue_error_deg, m.mean_error, m.p95_error), (0.0, 0.0, 0.0, 0.0));
+        assert_eq!(m.chroma_ratio, 1.0);
         assert!(m.surfaces_apart > 10.0, "{m:?}");
     }
 
@@ -219,6 +332,24 @@ mod tests {
         let expected = f64::from((h1 - h2).abs().to_degrees());
         let expected = if expected > 180.0 { 360.0 - expected } else { expected };
         assert!((measure(&other, &bluish, &[0; 4], 2).hue_error_deg - expected).abs() < 1e-3);
+    }
+
+    #[test]
+    fn errors_are_per_sample_distances_and_chroma_is_compared_by_medians() {
+        let truth = vec![Vec3::new(0.5, 0.1, 0.0); 20];
+        // Nineteen samples off by 0.01 in lightness, one off by 0.2: the mean sees both, the 95th
+        // percentile (the 19th of 20) only the small one.
+        let mut frame = vec![Vec3::new(0.51, 0.1, 0.0); 20];
+        frame[7] = Vec3::new(0.7, 0.1, 0.0);
+        let m = measure(&frame, &truth, &[0; 20], 5);
+        assert!((m.mean_error - (19.0 * 0.01 + 0.2) / 20.0).abs() < 1e-5, "{m:?}");
+        assert!((m.p95_error - 0.01).abs() < 1e-5, "{m:?}");
+        assert!((m.chroma_ratio - 1.0).abs() < 1e-6);
+        // Twice as saturated, then grey.
+        let vivid = vec![Vec3::new(0.5, 0.2, 0.0); 20];
+        assert!((measure(&vivid, &truth, &[0; 20], 5).chroma_ratio - 2.0).abs() < 1e-5);
+        let grey = vec![Vec3::new(0.5, 0.0, 0.0); 20];
+        assert_eq!(measure(&grey, &truth, &[0; 20], 5).chroma_ratio, 0.0);
     }
 
     #[test]

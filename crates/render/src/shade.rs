@@ -1,4 +1,5 @@
-//! Shading: a headlight at the eye (Lambert plus ambient), distance fog, floor and ceiling colours.
+//! Shading: a headlight along the view axis (Lambert plus ambient), a sun, distance fog, floor and
+//! ceiling colours.
 //!
 //! Small pure functions on linear RGB in 0..1, called per sample by the pipeline's shading closure.
 //! Positions and normals are in view space (the eye at the origin); normals come through the normal
@@ -6,19 +7,25 @@
 
 use glam::{Vec2, Vec3};
 
-/// [`headlight_unit`] for any normal (the tests' reference).
+/// The headlight: a lamp the viewer carries, shining along the view axis like a torch's beam (not a
+/// bare bulb at the eye): Lambert, two-sided (walls are seen from both sides), `|n · axis|` for a unit
+/// view-space normal, in [0, 1] — `|n.z|`, the axis being ±z in every convention. Every point of a
+/// flat surface gets the same light, so where a palette must step the light, the steps follow the
+/// geometry (lines along walls and floor, as depth does), never circles round the centre of the view
+/// (issue #39: a light at the eye drew bullseyes on near walls in 256 colours). A wall faced squarely
+/// gets all of it, a corridor's side walls none: a wall that blocks the way reads lighter than the
+/// walls along it.
 #[must_use]
-#[cfg(test)]
-pub(crate) fn headlight(normal_view: Vec3, view: Vec3) -> f32 {
-    headlight_unit(normal_view.normalize_or_zero(), view)
+pub fn headlight(unit_normal_view: Vec3) -> f32 {
+    if unit_normal_view.is_finite() { unit_normal_view.z.abs().min(1.0) } else { 1.0 }
 }
 
-/// Lambert with a light at the eye, two-sided (walls are seen from both sides): `|n · l|` with `l` the
-/// unit direction from the surface point `view` to the eye, in [0, 1], for a normal already of unit
-/// length (or zero): the per-sample loops normalize it once per surface. `|n · view| / |view|`; 1.0
-/// where `view` has no usable length (the eye itself).
+/// The cosine of the angle between a surface's unit normal and the ray `view` from the eye to the
+/// surface point (view space), in [0, 1]: how squarely the ray meets the surface, which sets a
+/// sample's footprint on it (a texture's filter). `|n · view| / |view|`; 1.0 where `view` has no
+/// usable length (the eye itself).
 #[must_use]
-pub fn headlight_unit(unit_normal: Vec3, view: Vec3) -> f32 {
+pub fn slant_cosine(unit_normal: Vec3, view: Vec3) -> f32 {
     let length = view.length();
     if !(length > 0.0 && length.is_finite()) {
         return 1.0;
@@ -71,6 +78,14 @@ pub(crate) fn wall_albedo(albedo: Vec3) -> Vec3 {
 #[must_use]
 pub(crate) fn edge_color(color: Vec3) -> Vec3 {
     if luminance(color) > 0.02 { color * 0.5 } else { color.lerp(Vec3::splat(0.06), 0.6) }
+}
+
+/// A seam sample's colour (a cell boundary: two walls of one line meeting, an opening's line on the
+/// floor): between the surface and its [`edge_color`], so cells can be counted without the seams
+/// reading as corners.
+#[must_use]
+pub(crate) fn seam_color(color: Vec3) -> Vec3 {
+    color.lerp(edge_color(color), 0.6)
 }
 
 /// Brick courses: each course [`BRICK_HEIGHT`] tall, bricks [`BRICK_LENGTH`] long, every other course
@@ -309,11 +324,15 @@ mod tests {
 
     #[test]
     fn headlight_is_full_face_on_and_zero_edge_on_from_either_side() {
-        let wall = Vec3::new(0.0, 0.0, -3.0);
-        assert!((headlight(Vec3::Z, wall) - 1.0).abs() < 1e-6);
-        assert!((headlight(-Vec3::Z * 5.0, wall) - 1.0).abs() < 1e-6); // back face, unnormalised
-        assert!(headlight(Vec3::X, wall).abs() < 1e-6);
+        assert!((headlight(Vec3::Z) - 1.0).abs() < 1e-6);
+        assert!((headlight(-Vec3::Z) - 1.0).abs() < 1e-6); // the back face
+        assert!(headlight(Vec3::X).abs() < 1e-6); // a side wall, seen edge-on
+        assert!((headlight(Vec3::new(0.6, 0.0, 0.8)) - 0.8).abs() < 1e-6);
         assert_eq!(lit(Vec3::ONE, 0.0, 0.25), Vec3::splat(0.25));
+        // A ray meeting a wall squarely, and grazing it.
+        let wall = Vec3::new(0.0, 0.0, -3.0);
+        assert!((slant_cosine(Vec3::Z, wall) - 1.0).abs() < 1e-6);
+        assert!(slant_cosine(Vec3::X, wall).abs() < 1e-6);
     }
 
     #[test]
