@@ -129,6 +129,55 @@ fn the_exit_box_closes_with_any_key_and_esc_does_not_quit() {
     assert!(!app.exit_box, "after it");
 }
 
+// issue #39: the exit box redrew as the host changed what it shows: its "first" line went when the
+// host took its notice away, a few seconds in. While open it shows what it showed (the standings added
+// when the records answer); only the HUD follows the world (players come and go).
+#[test]
+fn the_exit_box_holds_still_while_open() {
+    let (cols, rows) = (100, 30);
+    let mut s = session(two_cells(), cols, rows);
+    let above_hud = |s: &Session| s.screen().lines()[..usize::from(rows) - 1].join("\n");
+    let standings = |players: u32| {
+        vec![
+            String::new(),
+            format!("Best times here ({players} players)"),
+            " 1. ada  1:23.0  you".to_string(),
+        ]
+    };
+    s.set_players_in(Some(2));
+    s.app_mut().finished = Some(83.0);
+    s.app_mut().exit_box = true;
+    s.set_notice(Some("You reached the exit first, in 1:23.0!".into()));
+    s.frame(0.0, &mut Vec::new());
+    let opened = above_hud(&s);
+    assert!(opened.contains("You found the exit in 1:23.0.") && opened.contains("exit first"), "{opened}");
+    s.set_standings(standings(2)); // the records answered
+    s.frame(0.5, &mut Vec::new());
+    let shown = above_hud(&s);
+    assert!(shown.contains("exit first") && shown.contains("Best times here (2 players)"), "{shown}");
+    // the host takes the notice away, a player comes, the standings are asked again: the box stays
+    s.set_notice(None);
+    s.set_players_in(Some(3));
+    s.set_standings(standings(3));
+    for t in [5.0, 6.0, 30.0] {
+        s.frame(t, &mut Vec::new());
+        assert_eq!(above_hud(&s), shown, "at {t} s");
+    }
+    assert!(hud(&s).contains("3 in"), "{}", hud(&s));
+    // closed, it holds nothing: opened again (the walk walked again), it shows what the host shows then
+    s.feed(b"x", 31.0);
+    s.frame(31.0, &mut Vec::new());
+    assert!(!above_hud(&s).contains("Found the exit!"));
+    s.set_standings(Vec::new());
+    s.app_mut().exit_box = true;
+    s.frame(32.0, &mut Vec::new());
+    let again = above_hud(&s);
+    assert!(
+        again.contains("Found the exit!") && !again.contains("exit first") && !again.contains("Best"),
+        "{again}"
+    );
+}
+
 // issue #33: a stray q after more than a minute asks; q again quits, any other key walks on.
 #[test]
 fn a_stray_q_late_in_a_walk_asks_once() {
