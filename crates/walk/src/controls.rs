@@ -158,6 +158,9 @@ pub const HOLD_GAP: f64 = 0.058;
 /// Presses closer than this (seconds) arrived together (one read, one packet: taps held up on the way)
 /// and say nothing about the repeat rate: each is a tap, unless the key is already gliding.
 pub const TOGETHER: f64 = 0.01;
+/// How long a link may hold key presses back (seconds) and let them go together: presses that arrive
+/// [`TOGETHER`] this soon after the key was last seen repeating are its auto-repeat, bunched.
+pub const STALL: f64 = 0.5;
 /// How long a repeat keeps its key held, as a multiple of the repeat interval observed on that key: the
 /// next repeat is due after one interval, the other half is room for jitter (an SSH link).
 pub const REPEAT_HOLD_INTERVALS: f64 = 1.5;
@@ -179,11 +182,19 @@ struct KeyState {
     glide: Option<(f64, f64)>,
     /// After a step, continuous motion waits until this time: the step stood for it.
     rest_until: f64,
+    /// When a press of it was last taken for its auto-repeat.
+    repeated_at: f64,
 }
 
 impl Default for KeyState {
     fn default() -> Self {
-        KeyState { last_press: f64::NEG_INFINITY, interval: None, glide: None, rest_until: f64::NEG_INFINITY }
+        KeyState {
+            last_press: f64::NEG_INFINITY,
+            interval: None,
+            glide: None,
+            rest_until: f64::NEG_INFINITY,
+            repeated_at: f64::NEG_INFINITY,
+        }
     }
 }
 
@@ -201,13 +212,16 @@ impl Default for KeyState {
 ///   (250–600 ms), then one every 30–50 ms. The delay cannot tell a held key from taps (a tap may follow
 ///   any pause), the repeat rate can: so a press is a tap — one whole step, ending any glide, as the key
 ///   must have been let go — unless it comes within [`HOLD_GAP`] of the key's previous press (or
-///   [`TOGETHER`] with it while gliding). Such a press is the auto-repeat: no step, the key glides until
+///   [`TOGETHER`] with it while gliding or within [`STALL`] of a repeat: a stalled link let a
+///   hold's repeats go at once). Such a press is the auto-repeat: no step, the key glides until
 ///   [`REPEAT_HOLD_INTERVALS`] × the observed repeat interval (within [`REPEAT_HOLD_RANGE`]) after the
 ///   latest repeat, so it stops within that of the key being let go. A hold therefore takes two steps
 ///   (the press, and its first repeat, which looks like a tap after a pause) and glides from its second
 ///   repeat on; taps are never merged into a hold, whatever their rhythm and pauses (issue #39).
 ///   What stays ambiguous: a terminal repeating slower than [`HOLD_GAP`] (some repeat every 100 ms) is
-///   read as taps, a step per repeat.
+///   read as taps, a step per repeat; a repeat that a link delays past [`HOLD_GAP`] takes a step (which
+///   stands for its share of the glide); taps that a link lets go together within [`STALL`] of a hold
+///   are taken for its repeats.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Held {
     keys: [KeyState; Action::CONTINUOUS.len()],
@@ -238,13 +252,17 @@ impl Held {
         }
         let gliding = key.glide.filter(|&(_, until)| until >= now);
         let repeat_rate = (TOGETHER..HOLD_GAP).contains(&gap);
-        if !(repeat || repeat_rate || (gliding.is_some() && gap < TOGETHER)) {
+        // presses that arrive together are taps held up on the way, unless the key was just held:
+        // then a stalled link let its repeats go at once (the first of them took a step, as a tap)
+        let bunched = gap < TOGETHER && (gliding.is_some() || now - key.repeated_at < STALL);
+        if !(repeat || repeat_rate || bunched) {
             // A tap: one step, standing for its time at full speed.
             key.glide = None;
             key.rest_until = now + step_seconds;
             return true;
         }
         // Auto-repeat: the key is held.
+        key.repeated_at = now;
         if repeat_rate {
             key.interval = Some(key.interval.map_or(gap, |interval| (interval + gap) / 2.0));
         }

@@ -57,6 +57,19 @@ fn turned(app: &App) -> f32 {
     if d > 180.0 { d - 360.0 } else { d }
 }
 
+/// How far the heading turned left over `headings` (one a frame), unwrapped.
+fn unwrapped(start: f32, headings: &[f32]) -> f32 {
+    let mut prev = start;
+    headings
+        .iter()
+        .map(|&h| {
+            let d = (h - prev + 180.0).rem_euclid(360.0) - 180.0;
+            prev = h;
+            d
+        })
+        .sum()
+}
+
 /// A key held without releases: pressed at `t0`, auto-repeated after `delay` every `interval` until `end`.
 /// Returns the events and the time of the last repeat.
 fn held(key: Key, t0: f64, delay: f64, interval: f64, end: f64) -> (Vec<(f64, Event)>, f64) {
@@ -211,6 +224,29 @@ fn without_releases_walking_taps_after_a_pause_walk_a_step_each() {
         play(&mut app, &taps, 1.0, 3.0);
         let moved = app.camera.position - start;
         assert!((moved.x - 5.0 * WALK_STEP).abs() < 1e-4 && moved.y.abs() < 1e-4, "{gap} s: {moved}");
+    }
+}
+
+// issue #39: over a link that stalls now and then (an SSH connection on a busy network), a hold's
+// repeats arrive in a bunch: the first after a pause longer than a tap's gap (a step, as a tap would
+// be), the rest with it. Those are the held key, not taps: the turn stays near the hold's
+// `speed × time`, never a step per repeat.
+#[test]
+fn without_releases_a_hold_whose_repeats_arrive_in_bunches_still_glides() {
+    for (stall_at, stall) in [(2.0, 0.1), (2.0, 0.2), (1.7, 0.3)] {
+        let mut app = app(false);
+        let (events, last) = held(Key::Left, 1.0, 0.5, 0.033, 3.0);
+        // what is sent while the link stalls arrives when it ends, together
+        let held_up = |t: f64| if (stall_at..stall_at + stall).contains(&t) { stall_at + stall } else { t };
+        let events: Vec<_> = events.into_iter().map(|(t, e)| (held_up(t), e)).collect();
+        let headings = play(&mut app, &events, 1.0, last + 1.0);
+        let glide = 2.0 * TURN_STEP_DEG + TURN_SPEED * (last - 1.5) as f32; // the hold's, no stall
+        let turned = unwrapped(0.0, &headings);
+        // the bunch's first press took a step, and the glide stopped for the stall (up to 0.3 s)
+        assert!(
+            (turned - glide).abs() < TURN_STEP_DEG + TURN_SPEED * stall as f32,
+            "a {stall} s stall at {stall_at} s: turned {turned}°, the hold's glide {glide}°"
+        );
     }
 }
 
@@ -547,19 +583,6 @@ mod taps_always_count {
         holds.iter().fold((0.0, 0.0), |(lo, hi), h| {
             (lo + glide(h, REPEAT_HOLD_RANGE.0), hi + glide(h, REPEAT_HOLD_RANGE.1))
         })
-    }
-
-    /// How far the heading turned left over `headings` (one a frame), unwrapped.
-    fn unwrapped(start: f32, headings: &[f32]) -> f32 {
-        let mut prev = start;
-        headings
-            .iter()
-            .map(|&h| {
-                let d = (h - prev + 180.0).rem_euclid(360.0) - 180.0;
-                prev = h;
-                d
-            })
-            .sum()
     }
 
     /// A straight corridor 25 cells (100 units) long, the viewer at its west end facing east.
