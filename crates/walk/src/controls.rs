@@ -157,10 +157,10 @@ pub(crate) const HELP: &[(&str, &str)] = &[
 pub const HOLD_GAP: f64 = 0.058;
 /// Presses closer than this (seconds) arrived together (one read, one packet: taps held up on the way)
 /// and say nothing about the repeat rate: each is a tap, unless the key is already gliding.
-pub const TOGETHER: f64 = 0.01;
+pub(crate) const TOGETHER: f64 = 0.01;
 /// How long a link may hold key presses back (seconds) and let them go together: presses that arrive
 /// [`TOGETHER`] this soon after the key was last seen repeating are its auto-repeat, bunched.
-pub const STALL: f64 = 0.5;
+pub(crate) const STALL: f64 = 0.5;
 /// How long a repeat keeps its key held, as a multiple of the repeat interval observed on that key: the
 /// next repeat is due after one interval, the other half is room for jitter (an SSH link).
 pub const REPEAT_HOLD_INTERVALS: f64 = 1.5;
