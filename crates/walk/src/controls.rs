@@ -212,7 +212,7 @@ impl Default for KeyState {
 ///   (250–600 ms), then one every 30–50 ms. The delay cannot tell a held key from taps (a tap may follow
 ///   any pause), the repeat rate can: so a press is a tap — one whole step, ending any glide, as the key
 ///   must have been let go — unless it comes within [`HOLD_GAP`] of the key's previous press (or
-///   [`TOGETHER`] with it while gliding or within [`STALL`] of a repeat: a stalled link let a
+///   `TOGETHER` with it while gliding or within `STALL` of a repeat: a stalled link let a
 ///   hold's repeats go at once). Such a press is the auto-repeat: no step, the key glides until
 ///   [`REPEAT_HOLD_INTERVALS`] × the observed repeat interval (within [`REPEAT_HOLD_RANGE`]) after the
 ///   latest repeat, so it stops within that of the key being let go. A hold therefore takes two steps
@@ -220,7 +220,7 @@ impl Default for KeyState {
 ///   repeat on; taps are never merged into a hold, whatever their rhythm and pauses (issue #39).
 ///   What stays ambiguous: a terminal repeating slower than [`HOLD_GAP`] (some repeat every 100 ms) is
 ///   read as taps, a step per repeat; a repeat that a link delays past [`HOLD_GAP`] takes a step (which
-///   stands for its share of the glide); taps that a link lets go together within [`STALL`] of a hold
+///   stands for its share of the glide); taps that a link lets go together within `STALL` of a hold
 ///   are taken for its repeats.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Held {

@@ -344,11 +344,11 @@ impl MapArea {
     /// it, the window within the maze's outline (and one character round it) rather than centred on
     /// the viewer, which showed half a screen of nothing by the maze's sides.
     ///
-    /// The whole maze is drawn at the finest of [`FULL_MAP_COLS_PER_CELL`] that fits, its outline
-    /// included (issue #39: the east and south walls, each a character past the last cell, fell off a
-    /// map scaled to the maze's width and height alone), with the maze's corner on a character's
-    /// corner: every generated cell is then the same whole number of characters, its walls in the
-    /// same columns and rows as its neighbours'.
+    /// The whole maze is drawn at the finest scale that fits (4 to 16 columns a generated cell), its
+    /// outline included (issue #39: the east and south walls, each a character past the last cell,
+    /// fell off a map scaled to the maze's width and height alone), with the maze's corner on a
+    /// character's corner: every generated cell is then the same whole number of characters, its walls
+    /// in the same columns and rows as its neighbours'.
     #[must_use]
     pub fn full(frame: &Frame, maze: &Maze, viewer: Vec2) -> MapArea {
         let (width, height) = (frame.width().max(1), frame.height().saturating_sub(1).max(1));
