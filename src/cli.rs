@@ -311,8 +311,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE")]
     pub depth_out: Option<PathBuf>,
     /// Write the frame as a PNG picture instead of printing it: exactly what a terminal shows, each
-    /// sample a block of pixels (a cell is 12×24), in 8-bit RGB (256 and 16 colours as xterm's palette
-    /// shows them); block charsets only. `-` writes it to standard output (not a terminal).
+    /// sample a block of pixels (a cell is 12×24), in 8-bit RGB; in truecolor unless --color says
+    /// otherwise (256 and 16 colours as xterm's palette shows them), whatever TERM says; block
+    /// charsets only. `-` writes it to standard output (not a terminal).
     #[arg(long, value_name = "FILE")]
     pub png: Option<PathBuf>,
 }

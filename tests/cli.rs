@@ -553,3 +553,93 @@ fn an_unwritable_stderr_changes_the_message_not_the_exit_code() {
     // --stats asked for numbers on stderr: not writing them is an error.
     assert_eq!(run(&["render", "--stats"], full).code(), Some(1));
 }
+
+/// The `mazewalk render …` commands README.md shows (in a code span, or a line of a code block),
+/// each split into its arguments; not the synopsis (`[--at X,Y] …`) nor one that names a placeholder
+/// (a word in capitals: FILE, N).
+fn readme_render_commands() -> Vec<Vec<String>> {
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let mut commands = Vec::new();
+    let mut in_block = false;
+    for line in readme.lines() {
+        if line.trim_start().starts_with("```") {
+            in_block = !in_block;
+            continue;
+        }
+        let candidates: Vec<&str> =
+            if in_block { vec![line.trim()] } else { line.split('`').skip(1).step_by(2).collect() };
+        for text in candidates.into_iter().filter(|t| t.starts_with("mazewalk render")) {
+            let words: Vec<String> = text.split_whitespace().map(str::to_owned).collect();
+            let placeholder = |w: &String| {
+                w.contains(['[', '…'])
+                    || w.chars().any(|c| c.is_ascii_uppercase()) && !w.contains(char::is_lowercase)
+            };
+            if !words.iter().any(placeholder) {
+                commands.push(words);
+            }
+        }
+    }
+    commands
+}
+
+// issue #39: README's `mazewalk render --size 100x30 --png` needed a file name. Every render command
+// README shows runs as written, in an empty directory, where a user of tmux with
+// `TERM=xterm-256color` and no COLORTERM would run it; each picture is written where it says.
+#[test]
+fn readme_render_commands_run_as_written() {
+    let commands = readme_render_commands();
+    let pictures = commands.iter().filter(|c| c.iter().any(|w| w == "--png")).count();
+    assert!(commands.len() >= 6 && pictures >= 5, "README's render commands: {commands:?}");
+    let dir = std::env::temp_dir().join(format!("mazewalk-readme-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for words in &commands {
+        let out = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .args(&words[1..])
+            .current_dir(&dir)
+            .env("TERM", "xterm-256color")
+            .env_remove("COLORTERM")
+            .env_remove("NO_COLOR")
+            .output()
+            .unwrap();
+        let command = words.join(" ");
+        assert!(out.status.success(), "{command}: {}", stderr(&out));
+        if let Some(at) = words.iter().position(|w| w == "--png") {
+            let picture = std::fs::read(dir.join(&words[at + 1])).expect(&command);
+            assert_eq!(&picture[..8], b"\x89PNG\r\n\x1a\n", "{command}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The pixels of a PNG.
+fn png_pixels(bytes: &[u8]) -> Vec<u8> {
+    let mut reader = png::Decoder::new(std::io::Cursor::new(bytes)).read_info().expect("a PNG");
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    reader.next_frame(&mut pixels).expect("every row");
+    pixels
+}
+
+// issue #39: `render --png` took its colour depth from TERM (256 colours in tmux without COLORTERM),
+// not the picture's. A picture is in truecolor whatever the environment says, unless --color says.
+#[test]
+fn render_png_is_truecolor_unless_color_says_otherwise() {
+    let picture = |color: Option<&str>, env: &[(&str, &str)]| {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_mazewalk"));
+        command
+            .args(["render", "--size", "40x12", "--png", "-"])
+            .args(color.map(|c| ["--color", c]).iter().flatten());
+        command.env_remove("COLORTERM").env_remove("NO_COLOR").envs(env.iter().copied());
+        let out = command.output().unwrap();
+        assert!(out.status.success(), "{color:?} {env:?}: {}", stderr(&out));
+        png_pixels(&out.stdout)
+    };
+    let truecolor = picture(Some("truecolor"), &[("TERM", "xterm-256color")]);
+    let palette = picture(Some("256"), &[("COLORTERM", "truecolor")]);
+    assert_ne!(truecolor, palette, "the premise: 256 colours look different");
+    for env in
+        [&[("TERM", "xterm-256color")][..], &[("TERM", "xterm")], &[("TERM", "dumb"), ("NO_COLOR", "1")]]
+    {
+        assert!(picture(None, env) == truecolor, "{env:?}: not the truecolor picture");
+    }
+    assert!(picture(Some("256"), &[("TERM", "xterm")]) == palette, "--color chooses");
+}

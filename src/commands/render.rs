@@ -14,7 +14,7 @@ use mazewalk_maze::geometry::WALL_MARGIN;
 use mazewalk_maze::movement::{Position, is_clear};
 use mazewalk_render::{Camera, Charset, RenderStats, Renderer, Target};
 use mazewalk_term::encoder;
-use mazewalk_term::frame::{Frame, Region};
+use mazewalk_term::frame::{ColorDepth, Frame, Region};
 use mazewalk_walk::state::{stand, viewer_camera};
 
 /// Renders the frame the flags describe and writes it (text or PNG), its statistics and its depths.
@@ -30,7 +30,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
         _ => None,
     };
-    let options = args.look.options(args.culling);
+    let mut options = args.look.options(args.culling);
+    if args.png.is_some() && args.look.color.is_none() {
+        // a picture is no terminal: its colours are the frame's own unless --color asks for fewer
+        options.color_depth = ColorDepth::TrueColor;
+    }
     let (cols, rows) = args.size;
     let mut renderer = Renderer::new();
     let mut frame = Frame::new(cols, rows);

@@ -2,7 +2,7 @@
 //!
 //! Terminals that speak the kitty keyboard protocol report presses *and releases*, so an action is held
 //! exactly from press to release. Elsewhere only presses arrive, repeated by the terminal's auto-repeat
-//! after an initial delay (typically 250–600 ms, then every 30–100 ms). Either way a tap takes one step
+//! after an initial delay (typically 250–600 ms, then every 30–50 ms). Either way a tap takes one step
 //! and a hold glides: see [`Held`].
 
 /// Something the viewer can do; each has a key (see [`HELP`]).
@@ -150,42 +150,26 @@ pub(crate) const HELP: &[(&str, &str)] = &[
     ("Ctrl-Z", "suspend (fg to come back)"),
 ];
 
-/// Without releases, a press this soon after the key's previous press (seconds) is either a tap or the
-/// terminal's auto-repeat, depending on how the run of presses began (see [`Held`]). Auto-repeat comes
-/// every 30–50 ms on common settings (up to 100 ms on some); its first repeat comes only after an
-/// initial delay of 250–600 ms, which is what tells a held key from a person tapping.
-pub(crate) const REPEAT_GAP: f64 = 0.125;
-/// The shortest initial delay before a terminal's auto-repeat starts (seconds), with room for jitter:
-/// a press at least this long after the one before may be the first repeat of a held key. Faster
-/// presses that did not follow such a pause are taps (a person manages 60–100 ms between taps).
-pub(crate) const REPEAT_DELAY_MIN: f64 = 0.2;
-/// A press at least this long after the key's previous one (seconds) starts a new run: longer than any
-/// initial delay (600 ms on common settings, 1 s at most).
-pub(crate) const RUN_GAP: f64 = 1.0;
-/// Presses closer together than this (seconds) come faster than anyone taps: auto-repeat, even in a
-/// run that began with no pause (a terminal whose initial delay is set shorter than
-/// [`REPEAT_DELAY_MIN`]) — unless they arrived together ([`TOGETHER`]: taps held up on the way).
-pub(crate) const MIN_TAP_GAP: f64 = 0.055;
+/// Without releases, a press closer than this (seconds) to the key's previous press is the terminal's
+/// auto-repeat: repeats come every 30–50 ms on common settings, and a person taps no faster than every
+/// 60 ms. Between the two, with room for a repeat arriving a few ms late and for a tap's gap computed in
+/// floating point: a tap 60 ms after the last one still counts.
+pub const HOLD_GAP: f64 = 0.058;
+/// Presses closer than this (seconds) arrived together (one read, one packet: taps held up on the way)
+/// and say nothing about the repeat rate: each is a tap, unless the key is already gliding.
+pub(crate) const TOGETHER: f64 = 0.01;
+/// How long a link may hold key presses back (seconds) and let them go together: presses that arrive
+/// [`TOGETHER`] this soon after the key was last seen repeating are its auto-repeat, bunched.
+pub(crate) const STALL: f64 = 0.5;
 /// How long a repeat keeps its key held, as a multiple of the repeat interval observed on that key: the
 /// next repeat is due after one interval, the other half is room for jitter (an SSH link).
 pub const REPEAT_HOLD_INTERVALS: f64 = 1.5;
-/// The shortest and longest a repeat keeps its key held (seconds), whatever interval was observed.
-pub const REPEAT_HOLD_RANGE: (f64, f64) = (0.05, 0.15);
-/// Presses closer than this (seconds) arrived together (one read, one packet) and say nothing about the
-/// repeat rate.
-const TOGETHER: f64 = 0.01;
-
-/// How a key's current run of presses (without releases) began, which decides what a quick press means.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Run {
-    /// Presses with no pause before them: quick presses are taps.
-    Taps,
-    /// The last press came after a pause as long as an auto-repeat's initial delay: a quick press now
-    /// is the auto-repeat.
-    AfterPause,
-    /// The auto-repeat has shown itself: quick presses are repeats.
-    Repeating,
-}
+/// The shortest and longest a repeat keeps its key held (seconds), whatever interval was observed (the
+/// interval is at most [`HOLD_GAP`], so the glide stops within 87 ms of the last repeat).
+pub const REPEAT_HOLD_RANGE: (f64, f64) = (0.05, REPEAT_HOLD_INTERVALS * HOLD_GAP);
+/// A press this soon after the key's previous one (seconds) is not an answer to the exit box: the key
+/// walked the viewer into the exit and is still held (or tapped faster than anyone reads).
+pub(crate) const ANSWER_GAP: f64 = 0.125;
 
 /// One continuous action's key.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -198,8 +182,8 @@ struct KeyState {
     glide: Option<(f64, f64)>,
     /// After a step, continuous motion waits until this time: the step stood for it.
     rest_until: f64,
-    /// How the current run of presses began.
-    run: Run,
+    /// When a press of it was last taken for its auto-repeat.
+    repeated_at: f64,
 }
 
 impl Default for KeyState {
@@ -209,7 +193,7 @@ impl Default for KeyState {
             interval: None,
             glide: None,
             rest_until: f64::NEG_INFINITY,
-            run: Run::Taps,
+            repeated_at: f64::NEG_INFINITY,
         }
     }
 }
@@ -223,19 +207,21 @@ impl Default for KeyState {
 ///
 /// - With releases (kitty protocol), the key is held from its press to its release: a tap is exactly one
 ///   step, a longer press glides on after the step's time until the release. Repeats change nothing.
-/// - Without releases, only presses arrive, and what tells a held key from taps is how a terminal's
-///   auto-repeat begins: the first repeat comes after an initial delay (250–600 ms), then the rest
-///   quickly and regularly (30–50 ms apart); a person tapping fast presses 60–100 ms apart with no such
-///   pause first. So a press is a tap (one step, no glide) unless it comes within [`REPEAT_GAP`] of the
-///   key's previous press *and* the run of presses showed the auto-repeat's pause (a press
-///   [`REPEAT_DELAY_MIN`]..[`RUN_GAP`] after the one before). Such a press, or any press while gliding,
-///   is the auto-repeat: no step, the key glides until [`REPEAT_HOLD_INTERVALS`] × the observed repeat
-///   interval (within [`REPEAT_HOLD_RANGE`]) after the latest repeat, so it stops within that of the
-///   key being let go. The first repeat, after the initial delay, cannot be told from a second tap, so
-///   a hold takes that second step too before it glides. A terminal whose initial delay is set shorter
-///   than [`REPEAT_DELAY_MIN`] shows itself by presses faster than anyone taps ([`MIN_TAP_GAP`]).
-///   What stays ambiguous: a tap, a pause of a quarter to a whole second, then two quick taps — the
-///   last one glides for a moment instead of stepping.
+/// - Without releases, only presses arrive. A person taps at most every 60 ms, pausing as long as they
+///   like between taps; a terminal's auto-repeat sends its first repeat after an initial delay
+///   (250–600 ms), then one every 30–50 ms. The delay cannot tell a held key from taps (a tap may follow
+///   any pause), the repeat rate can: so a press is a tap — one whole step, ending any glide, as the key
+///   must have been let go — unless it comes within [`HOLD_GAP`] of the key's previous press (or
+///   `TOGETHER` with it while gliding or within `STALL` of a repeat: a stalled link let a
+///   hold's repeats go at once). Such a press is the auto-repeat: no step, the key glides until
+///   [`REPEAT_HOLD_INTERVALS`] × the observed repeat interval (within [`REPEAT_HOLD_RANGE`]) after the
+///   latest repeat, so it stops within that of the key being let go. A hold therefore takes two steps
+///   (the press, and its first repeat, which looks like a tap after a pause) and glides from its second
+///   repeat on; taps are never merged into a hold, whatever their rhythm and pauses (issue #39).
+///   What stays ambiguous: a terminal repeating slower than [`HOLD_GAP`] (some repeat every 100 ms) is
+///   read as taps, a step per repeat; a repeat that a link delays past [`HOLD_GAP`] takes a step (which
+///   stands for its share of the glide); taps that a link lets go together within `STALL` of a hold
+///   are taken for its repeats.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Held {
     keys: [KeyState; Action::CONTINUOUS.len()],
@@ -264,34 +250,25 @@ impl Held {
             key.glide = Some((now + step_seconds, f64::INFINITY));
             return true;
         }
-        let gliding = key.glide.is_some_and(|(_, until)| until >= now);
-        let repeating = repeat
-            || gliding
-            || (gap < REPEAT_GAP
-                && match key.run {
-                    Run::AfterPause | Run::Repeating => true,
-                    Run::Taps => (TOGETHER..MIN_TAP_GAP).contains(&gap),
-                });
-        if !repeating {
-            key.run = if gap >= RUN_GAP {
-                Run::Taps
-            } else if gap >= REPEAT_DELAY_MIN {
-                Run::AfterPause
-            } else {
-                key.run // a tap within the run
-            };
+        let gliding = key.glide.filter(|&(_, until)| until >= now);
+        let repeat_rate = (TOGETHER..HOLD_GAP).contains(&gap);
+        // presses that arrive together are taps held up on the way, unless the key was just held:
+        // then a stalled link let its repeats go at once (the first of them took a step, as a tap)
+        let bunched = gap < TOGETHER && (gliding.is_some() || now - key.repeated_at < STALL);
+        if !(repeat || repeat_rate || bunched) {
+            // A tap: one step, standing for its time at full speed.
             key.glide = None;
             key.rest_until = now + step_seconds;
             return true;
         }
-        key.run = Run::Repeating;
         // Auto-repeat: the key is held.
-        if (TOGETHER..=REPEAT_HOLD_RANGE.1).contains(&gap) {
+        key.repeated_at = now;
+        if repeat_rate {
             key.interval = Some(key.interval.map_or(gap, |interval| (interval + gap) / 2.0));
         }
-        let hold = (REPEAT_HOLD_INTERVALS * key.interval.unwrap_or(REPEAT_GAP))
+        let hold = (REPEAT_HOLD_INTERVALS * key.interval.unwrap_or(HOLD_GAP))
             .clamp(REPEAT_HOLD_RANGE.0, REPEAT_HOLD_RANGE.1);
-        key.glide = Some(match key.glide {
+        key.glide = Some(match gliding {
             Some((from, until)) => (from, until.max(now + hold)),
             None => (now.max(key.rest_until), now + hold),
         });
@@ -325,11 +302,11 @@ impl Held {
         }
     }
 
-    /// Whether `action`'s key was pressed within [`REPEAT_GAP`] before `now`: a press now is its
+    /// Whether `action`'s key was pressed within [`ANSWER_GAP`] before `now`: a press now is its
     /// auto-repeat (or a tap too quick to mean anything else).
     #[must_use]
     pub(crate) fn recently_pressed(&self, action: Action, now: f64) -> bool {
-        action.slot().is_some_and(|slot| now - self.keys[slot].last_press < REPEAT_GAP)
+        action.slot().is_some_and(|slot| now - self.keys[slot].last_press < ANSWER_GAP)
     }
 
     /// Drops glides that have run out by `now`.

@@ -24,6 +24,13 @@ pub(crate) const MIN_SIZE: (usize, usize) = (20, 6);
 /// floor fell in the same row).
 pub(crate) const MAP_UNITS_PER_COL: f32 = 1.0;
 
+/// The side of a generated maze's cell (and of the built-in maze's tiles), maze units.
+const GRID_CELL: f32 = mazewalk_maze::generate::CELL_SIZE;
+/// The scales the full map may draw a whole maze at, finest first: columns per [`GRID_CELL`] (a row
+/// is twice as tall, so each is even: a cell is a whole number of rows too). The coarsest is
+/// [`MAP_UNITS_PER_COL`]'s; a maze that does not fit at it scrolls.
+const FULL_MAP_COLS_PER_CELL: [f32; 7] = [16.0, 14.0, 12.0, 10.0, 8.0, 6.0, 4.0];
+
 const HUD_FG: Color = Color::Indexed(252);
 const HUD_BG: Color = Color::Indexed(236);
 const BOX_FG: Color = Color::Indexed(255);
@@ -336,14 +343,36 @@ impl MapArea {
     /// closer, else a window at that scale on the part of the maze round the viewer — the viewer in
     /// it, the window within the maze's outline (and one character round it) rather than centred on
     /// the viewer, which showed half a screen of nothing by the maze's sides.
+    ///
+    /// The whole maze is drawn at the finest scale that fits (4 to 16 columns a generated cell), its
+    /// outline included (issue #39: the east and south walls, each a character past the last cell,
+    /// fell off a map scaled to the maze's width and height alone), with the maze's corner on a
+    /// character's corner: every generated cell is then the same whole number of characters, its walls
+    /// in the same columns and rows as its neighbours'.
     #[must_use]
     pub fn full(frame: &Frame, maze: &Maze, viewer: Vec2) -> MapArea {
         let (width, height) = (frame.width().max(1), frame.height().saturating_sub(1).max(1));
         let (lo, hi) = (maze.extents().min, maze.extents().max);
         let size = hi - lo;
-        let fit = (size.x / width as f32).max(size.y / (2.0 * height as f32));
-        if fit <= MAP_UNITS_PER_COL {
-            return MapArea::whole(0, 0, width, height, fit.max(0.25), (lo + hi) * 0.5);
+        // characters the maze takes at `u` units a column: its extent, and one for the far outline
+        let needs = |u: f32| {
+            let chars = |extent: f32, unit: f32| (extent / unit - 1e-3).ceil().max(0.0) as usize + 1;
+            (chars(size.x, u), chars(size.y, 2.0 * u))
+        };
+        let fits = FULL_MAP_COLS_PER_CELL.iter().map(|&k| GRID_CELL / k).find(|&u| {
+            let (cols, rows) = needs(u);
+            cols <= width && rows <= height
+        });
+        if let Some(u) = fits {
+            // the maze's north-west corner on the corner of character (`left`, `top`), the maze
+            // centred within a character
+            let (cols, rows) = needs(u);
+            let (left, top) = ((width - cols) / 2, (height - rows) / 2);
+            let centre = Vec2::new(
+                lo.x + (width as f32 / 2.0 - left as f32) * u,
+                hi.y + (top as f32 - height as f32 / 2.0) * 2.0 * u,
+            );
+            return MapArea::whole(0, 0, width, height, u, centre);
         }
         let u = MAP_UNITS_PER_COL;
         // half the window, in maze units; the window may reach a character past the outline
@@ -441,7 +470,8 @@ fn snap(p: Vec2, units_per_col: f32) -> Vec2 {
 }
 
 /// What each character of a map shows of the maze, for one [`MapArea`]: the cells under its probe
-/// points (its centre, then points near its corners) and, for each, whether one of the cell's walls
+/// points (its centre, then points near its corners; for a character outside the maze, the cell
+/// just west or north whose wall is its outline) and, for each, whether one of the cell's walls
 /// crosses the character. Worked out when the area changes (the map scrolled, the terminal was
 /// resized) and kept: a frame's map is then a look-up per character, not five point locations (the
 /// map was a sixth of a served frame's cost).
@@ -482,11 +512,13 @@ impl MapCells {
 /// multiples of its cell size, and so do the lattice's lines) belongs to the character after it, east
 /// or south: the box is half-open, `[min, max)`, so that a wall is drawn one character thick.
 fn probes(world_box: Aabb, maze: &Maze) -> [(u32, bool); 5] {
-    // [min, max) on x, (min, max] on y (north is up: the southern edge is the one left out)
-    let size = world_box.max - world_box.min;
+    // [min, max) on x, (min, max] on y (north is up: the southern edge is the one left out), each
+    // shifted a thousandth of the box toward the edge it keeps: a lattice line computed a rounding
+    // error off a wall (at 0.4 units a column, say) still gives the wall to the same character
+    let e = (world_box.max - world_box.min) * 1e-3;
     let half_open = Aabb::new(
-        Vec2::new(world_box.min.x, world_box.min.y + size.y * 1e-4),
-        Vec2::new(world_box.max.x - size.x * 1e-4, world_box.max.y),
+        Vec2::new(world_box.min.x - e.x, world_box.min.y + e.y),
+        Vec2::new(world_box.max.x - e.x, world_box.max.y + e.y),
     );
     // the character's centre, else a point near a corner (so a wall on the maze's outline, whose
     // character is centred outside, is still drawn)
@@ -498,7 +530,7 @@ fn probes(world_box: Aabb, maze: &Maze) -> [(u32, bool); 5] {
         Vec2::new(world_box.min.x + inset.x, world_box.max.y - inset.y),
         world_box.max - inset,
     ];
-    points.map(|p| match maze.cell_at(p) {
+    let probe = |p: Vec2| match maze.cell_at(p) {
         None => (NO_CELL, false),
         Some(c) => {
             let walled = maze.cell_edges(c).iter().any(|&e| {
@@ -507,7 +539,23 @@ fn probes(world_box: Aabb, maze: &Maze) -> [(u32, bool); 5] {
             });
             (c, walled)
         }
-    })
+    };
+    let mut found = points.map(probe);
+    if found.iter().all(|&(c, _)| c == NO_CELL) {
+        // Outside the maze, a character may still hold its outline: a wall on its west or north edge
+        // (or its north-west corner) belongs to it, and the cell it bounds lies just west or north
+        // (issue #39: the east and south outline were missing). Only the wall is taken from there,
+        // never the floor.
+        let outside = [
+            Vec2::new(world_box.min.x - inset.x, world_box.centre().y),
+            Vec2::new(world_box.centre().x, world_box.max.y + inset.y),
+            Vec2::new(world_box.min.x - inset.x, world_box.max.y + inset.y),
+        ];
+        if let Some(&(c, _)) = outside.map(probe).iter().find(|&&(_, walled)| walled) {
+            found[0] = (c, true);
+        }
+    }
+    found
 }
 
 /// Draws the map into `area`: the cells the viewer has `seen` (fog of war: nothing else, not even

@@ -71,6 +71,34 @@ pub struct Screen {
     sprites: Vec<Sprite>,
     /// What the map's characters show, kept while the map stays put.
     map_cells: MapCells,
+    /// What the open exit box shows besides the time, held until it closes.
+    exit_news: ExitNews,
+}
+
+/// The host's lines in the exit box, held from when the box opens until it closes (issue #39: the box
+/// lost its "first" line when the host took the notice away, mid-read): the notice and the standings
+/// as each first came while the box was open, whatever the host says later.
+#[derive(Debug, Default)]
+struct ExitNews {
+    notice: Option<String>,
+    standings: Vec<String>,
+}
+
+impl ExitNews {
+    /// Takes what the host shows now where nothing is held yet; `open`: whether the exit box is open
+    /// (closed, nothing is held).
+    fn update(&mut self, open: bool, notice: Option<&String>, standings: &[String]) {
+        if !open {
+            *self = ExitNews::default();
+            return;
+        }
+        if self.notice.is_none() {
+            self.notice = notice.cloned();
+        }
+        if self.standings.is_empty() {
+            self.standings = standings.to_vec();
+        }
+    }
 }
 
 /// A peer as the renderer draws it: a figure in the peer's colour with its initial, standing in its
@@ -135,12 +163,15 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         overlay::draw_map(frame, area, app.maze(), &app.camera, &seen, tint, style, &mut screen.map_cells);
         overlay::draw_peers(frame, area, &screen.peers, app.camera.position, style);
     }
-    if let Some(seconds) = app.finished.filter(|_| app.exit_box) {
+    let exit_box = app.finished.filter(|_| app.exit_box);
+    screen.exit_news.update(exit_box.is_some(), screen.notice.as_ref(), &screen.standings);
+    if let Some(seconds) = exit_box {
         // in a served maze, the news (who was first) shows in the box too, not hidden behind it
+        let news = &screen.exit_news;
         let lines: Vec<String> = [format!("You found the exit in {}.", clock_text(seconds))]
             .into_iter()
-            .chain(screen.notice.clone())
-            .chain(screen.standings.iter().cloned())
+            .chain(news.notice.clone())
+            .chain(news.standings.iter().cloned())
             .chain([
                 String::new(),
                 "r    walk it again".to_string(),

@@ -129,6 +129,55 @@ fn the_exit_box_closes_with_any_key_and_esc_does_not_quit() {
     assert!(!app.exit_box, "after it");
 }
 
+// issue #39: the exit box redrew as the host changed what it shows: its "first" line went when the
+// host took its notice away, a few seconds in. While open it shows what it showed (the standings added
+// when the records answer); only the HUD follows the world (players come and go).
+#[test]
+fn the_exit_box_holds_still_while_open() {
+    let (cols, rows) = (100, 30);
+    let mut s = session(two_cells(), cols, rows);
+    let above_hud = |s: &Session| s.screen().lines()[..usize::from(rows) - 1].join("\n");
+    let standings = |players: u32| {
+        vec![
+            String::new(),
+            format!("Best times here ({players} players)"),
+            " 1. ada  1:23.0  you".to_string(),
+        ]
+    };
+    s.set_players_in(Some(2));
+    s.app_mut().finished = Some(83.0);
+    s.app_mut().exit_box = true;
+    s.set_notice(Some("You reached the exit first, in 1:23.0!".into()));
+    s.frame(0.0, &mut Vec::new());
+    let opened = above_hud(&s);
+    assert!(opened.contains("You found the exit in 1:23.0.") && opened.contains("exit first"), "{opened}");
+    s.set_standings(standings(2)); // the records answered
+    s.frame(0.5, &mut Vec::new());
+    let shown = above_hud(&s);
+    assert!(shown.contains("exit first") && shown.contains("Best times here (2 players)"), "{shown}");
+    // the host takes the notice away, a player comes, the standings are asked again: the box stays
+    s.set_notice(None);
+    s.set_players_in(Some(3));
+    s.set_standings(standings(3));
+    for t in [5.0, 6.0, 30.0] {
+        s.frame(t, &mut Vec::new());
+        assert_eq!(above_hud(&s), shown, "at {t} s");
+    }
+    assert!(hud(&s).contains("3 in"), "{}", hud(&s));
+    // closed, it holds nothing: opened again (the walk walked again), it shows what the host shows then
+    s.feed(b"x", 31.0);
+    s.frame(31.0, &mut Vec::new());
+    assert!(!above_hud(&s).contains("Found the exit!"));
+    s.set_standings(Vec::new());
+    s.app_mut().exit_box = true;
+    s.frame(32.0, &mut Vec::new());
+    let again = above_hud(&s);
+    assert!(
+        again.contains("Found the exit!") && !again.contains("exit first") && !again.contains("Best"),
+        "{again}"
+    );
+}
+
 // issue #33: a stray q after more than a minute asks; q again quits, any other key walks on.
 #[test]
 fn a_stray_q_late_in_a_walk_asks_once() {
@@ -268,6 +317,99 @@ fn the_full_map_keeps_the_viewer_in_view_and_fills_the_screen() {
             blank_rows <= 1 && blank_cols <= 1,
             "{viewer}: {blank_rows} blank rows, {blank_cols} blank columns"
         );
+    }
+}
+
+/// The characters of the map that draw a wall, as (column, row) in the frame.
+fn wall_chars(frame: &Frame, area: &MapArea) -> Vec<(usize, usize)> {
+    let chars =
+        (area.y..area.y + area.height).flat_map(|y| (area.x..area.x + area.width).map(move |x| (x, y)));
+    chars.filter(|&(x, y)| frame.get(x, y).unwrap().ch == '█').collect()
+}
+
+// issue #39: the full map of a `--gen 20x15` maze at 120×40 lost its east and south walls (its scale
+// fitted the maze's width and height, not the outline a character past them). At several maze and
+// screen sizes: a maze that fits at one unit a column or finer is drawn whole, its outline closed and
+// every cell the same size; a larger one scrolls with the viewer's surroundings in view. Either way
+// the viewer's arrow is on the screen.
+#[test]
+fn the_full_map_fits_the_maze_or_keeps_the_viewers_surroundings() {
+    // (maze, whether its outline is all wall: a generated maze's is, the built-in one opens onto nothing)
+    let grid = |width, height| {
+        (generate(&GenOptions { width, height, seed: 3, ..GenOptions::default() }).unwrap(), true)
+    };
+    let mazes = [
+        grid(3, 2),
+        grid(12, 8),
+        grid(20, 15),
+        grid(16, 9),
+        grid(40, 12),
+        grid(60, 40),
+        (maze::builtin().unwrap(), false),
+    ];
+    for (maze, closed_outline) in &mazes {
+        let (lo, hi) = (maze.extents().min, maze.extents().max);
+        let size = hi - lo;
+        for (cols, rows) in [(40, 12), (80, 24), (100, 30), (120, 40), (200, 60)] {
+            // the viewer at its start and by each corner of the maze
+            let inset = Vec2::splat(1.5);
+            let corners = [lo + inset, hi - inset, Vec2::new(lo.x, hi.y) + Vec2::new(1.5, -1.5)];
+            for viewer in std::iter::once(maze.viewer().pos).chain(corners) {
+                let (frame, area) = full_map(maze, viewer, cols, rows);
+                let case = format!("{size} maze at {cols}x{rows}, viewer at {viewer}");
+                let text = || frame.lines()[..rows - 1].join("\n");
+                assert!(area.shows(viewer), "{case}: the viewer is off the map");
+                let arrows: Vec<(usize, usize)> = (0..rows - 1)
+                    .flat_map(|y| (0..cols).map(move |x| (x, y)))
+                    .filter(|&(x, y)| "→↗↑↖←↙↓↘".contains(frame.get(x, y).unwrap().ch))
+                    .collect();
+                assert_eq!(arrows.len(), 1, "{case}: the viewer's arrow\n{}", text());
+                let walls = wall_chars(&frame, &area);
+                let (x0, x1) =
+                    (walls.iter().map(|w| w.0).min().unwrap(), walls.iter().map(|w| w.0).max().unwrap());
+                let (y0, y1) =
+                    (walls.iter().map(|w| w.1).min().unwrap(), walls.iter().map(|w| w.1).max().unwrap());
+                let fits = size.x + 1.0 <= cols as f32 && size.y / 2.0 + 1.0 <= (rows - 1) as f32;
+                if fits {
+                    // the outline: a closed rectangle of walls, the maze's extent at the map's scale
+                    let u = area.units_per_col;
+                    assert!(u <= 1.0, "{case}: {u} units a column");
+                    let chars = |units: f32| (units / u).round() as usize;
+                    assert_eq!(
+                        (x1 - x0, y1 - y0),
+                        (chars(size.x), chars(size.y / 2.0)),
+                        "{case}\n{}",
+                        text()
+                    );
+                    // (the viewer's arrow stands over a wall near one)
+                    let wall = |x, y| walls.contains(&(x, y)) || arrows[0] == (x, y);
+                    let closed = (x0..=x1).all(|x| wall(x, y0) && wall(x, y1))
+                        && (y0..=y1).all(|y| wall(x0, y) && wall(x1, y));
+                    assert!(closed || !closed_outline, "{case}: the outline is open\n{}", text());
+                    // every cell of a grid the same size: the walls stand on multiples of a cell
+                    let cell = (4.0 / u).round();
+                    assert!((4.0 / u - cell).abs() < 1e-3, "{case}: {} columns a cell", 4.0 / u);
+                    assert!(
+                        walls
+                            .iter()
+                            .all(|&(x, y)| (x - x0) % cell as usize == 0
+                                || (y - y0) % (cell as usize / 2) == 0),
+                        "{case}\n{}",
+                        text()
+                    );
+                } else {
+                    // scrolled at one unit a column: what lies within a dozen columns and six rows of
+                    // the viewer (three cells across, one and a half up and down) is on the map
+                    assert_eq!(area.units_per_col, 1.0, "{case}");
+                    for dx in [-12.0, 0.0, 12.0] {
+                        for dy in [-12.0, 0.0, 12.0] {
+                            let p = (viewer + Vec2::new(dx, dy)).clamp(lo, hi);
+                            assert!(area.shows(p), "{case}: {p} is off the map");
+                        }
+                    }
+                }
+            }
+        }
     }
 }
 
