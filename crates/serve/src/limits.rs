@@ -53,7 +53,7 @@ impl Default for Limits {
     fn default() -> Self {
         Limits {
             max_players: 256,
-            max_handshakes: 32,
+            max_handshakes: 128,
             max_per_address: 16,
             connect_rate: 8.0,
             handshake_timeout: Duration::from_secs(20),
