@@ -31,6 +31,8 @@ use mazewalk_maze::ContentHash;
 use rusqlite::{Connection, ErrorCode, OpenFlags, OptionalExtension as _, params};
 use tokio::sync::oneshot;
 
+use crate::identity::player_name;
+
 /// How many best times a [`Standing`] lists.
 pub(crate) const TOP: usize = 10;
 
@@ -577,19 +579,22 @@ impl Keeper {
 }
 
 /// The lines of the exit box for `standing`: the maze's best ten, the player's row marked, and its
-/// rank below them when it is not among them.
+/// rank below them when it is not among them. Every name is shown as [`player_name`] cleans it
+/// (issue #40: the records file, or whoever wrote it, may hold anything).
 #[must_use]
 pub fn standing_lines(standing: &Standing, player: &str) -> Vec<String> {
     let clock = mazewalk_walk::clock::clock_text;
-    let width = standing.top.iter().map(|b| b.player.chars().count()).max().unwrap_or(0);
+    let names: Vec<String> = standing.top.iter().map(|b| player_name(&b.player)).collect();
+    let player = player_name(player);
+    let width = names.iter().map(|n| n.chars().count()).max().unwrap_or(0);
     let players =
         if standing.players == 1 { "1 player".to_string() } else { format!("{} players", standing.players) };
     let mut lines = vec![String::new(), format!("Best times here ({players})")];
-    for (i, best) in standing.top.iter().enumerate() {
-        let you = if best.player == player { "  you" } else { "" };
-        lines.push(format!("{:>2}. {:<width$}  {}{you}", i + 1, best.player, clock(best.seconds)));
+    for (i, (best, name)) in standing.top.iter().zip(&names).enumerate() {
+        let you = if *name == player { "  you" } else { "" };
+        lines.push(format!("{:>2}. {name:<width$}  {}{you}", i + 1, clock(best.seconds)));
     }
-    if !standing.top.iter().any(|b| b.player == player) {
+    if !names.contains(&player) {
         lines.push(format!("{:>2}. {player}  {}  you", standing.rank, clock(standing.best)));
     }
     lines
