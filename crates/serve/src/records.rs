@@ -758,6 +758,7 @@ fn keep(mut store: impl Store, queue: &mpsc::Receiver<Job>, report: &(dyn Fn(&st
                     while let Some(unsaved) = memory.unsaved.pop_front() {
                         if store.record(&unsaved).is_err() {
                             memory.unsaved.push_front(unsaved);
+                            failing = true; // (said already)
                             break;
                         }
                     }
