@@ -13,8 +13,8 @@
 //!   connected, exchanged keys or asked to log in: [`Slots::progress`]), whichever address holds it.
 //!   A client that says its version and waits is the first pushed out; a player's client, whose key
 //!   exchange takes milliseconds, moves on before its turn comes. Attackers opening `R` connections
-//!   a second into `N` slots leave each handshake `N / R` seconds between steps (64 ms at 500 a
-//!   second into 32), whatever number of addresses they use.
+//!   a second into `N` slots leave each handshake `N / R` seconds between steps (256 ms at 500 a
+//!   second into the default 128), whatever number of addresses they use.
 //! - **Address groups.** [`address_group`]: an IPv4 address, or an IPv6 address's /64. Each group
 //!   has at most [`Limits::max_per_address`] connections of both kinds, and opens new ones at most
 //!   [`Limits::connect_rate`] a second after a burst of twice that many.
