@@ -707,6 +707,17 @@ impl Memory {
         Some(self.mazes.entry(maze).or_default())
     }
 
+    /// Writes the finishes the store missed, oldest first, until one fails; whether all went.
+    fn flush(&mut self, store: &mut impl Store) -> bool {
+        while let Some(unsaved) = self.unsaved.pop_front() {
+            if store.record(&unsaved).is_err() {
+                self.unsaved.push_front(unsaved);
+                return false;
+            }
+        }
+        true
+    }
+
     /// The store could not keep `finish`: remembered, and the player's standing among what is known.
     fn remember(&mut self, finish: &Finish) -> Standing {
         self.unsaved.push_back(finish.clone());
@@ -751,28 +762,23 @@ fn keep(mut store: impl Store, queue: &mpsc::Receiver<Job>, report: &(dyn Fn(&st
         if let Some(line) = store.check() {
             report(&line);
         }
-        let standing = match store.record(&finish) {
-            Ok(standing) => {
-                if std::mem::take(&mut failing) {
-                    // The finishes it missed, oldest first; a new fault leaves the rest for later.
-                    while let Some(unsaved) = memory.unsaved.pop_front() {
-                        if store.record(&unsaved).is_err() {
-                            memory.unsaved.push_front(unsaved);
-                            failing = true; // (said already)
-                            break;
-                        }
-                    }
-                }
+        // While it fails, the finishes it missed go first, oldest first; while they cannot, this
+        // one is not tried either.
+        let tried = if failing && !memory.flush(&mut store) { None } else { Some(store.record(&finish)) };
+        let standing = match tried {
+            Some(Ok(standing)) => {
+                failing = false;
                 memory.stored(&finish, &standing);
                 standing
             }
-            Err(err) => {
+            Some(Err(err)) => {
                 if !std::mem::replace(&mut failing, true) && said.is_none_or(|at| at.elapsed() >= SAY_AGAIN) {
                     said = Some(std::time::Instant::now());
                     report(&format!("records: {err}; finishes are kept in memory for the ranking meanwhile"));
                 }
                 memory.remember(&finish)
             }
+            None => memory.remember(&finish), // (said already)
         };
         let _ = answer.send(Some(standing));
     }
