@@ -186,8 +186,9 @@ pub struct ServeArgs {
     #[arg(long, value_name = "N", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub max_players: u32,
     /// Connections still logging in (key exchange and authentication) at once, in all; they never
-    /// take a player's slot (1..=100000).
-    #[arg(long, value_name = "N", default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    /// take a player's slot. When all are taken, a newcomer takes the slot of the one longest
+    /// without progress (1..=100000).
+    #[arg(long, value_name = "N", default_value_t = 128, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub max_handshakes: u32,
     /// Connections at once from one IP address, or one IPv6 /64 (1..=100000).
     #[arg(long, value_name = "N", default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=100_000))]

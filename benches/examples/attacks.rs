@@ -12,12 +12,19 @@
 //!    open; a newcomer then tries to log in.
 //! 4. **handshakes**: 16 addresses (127.0.0.2–17) × 16 connections that say their version and
 //!    nothing more, held; a newcomer from another address then tries to log in.
+//! 5. **idle handshakes** (issue #40): attackers on `--addresses` loopback addresses (127.1.x.y, one
+//!    after another) open connections that say `SSH-2.0-x` and wait, `--rates` a second (each rate a
+//!    run of its own, on a fresh server); meanwhile newcomers — stock `ssh -tt` in a pty, one after
+//!    another, each from an address of its own (127.2.x.y) — count as in when the game's first frame
+//!    (its alternate screen) arrives within 3 s.
 //!
 //! ```sh
 //! cargo build --release                           # the "after" binary: target/release/mazewalk
 //! git worktree add /tmp/serve-before <commit> && (cd /tmp/serve-before && cargo build --release)
 //! cargo run --release -p mazewalk-bench --example attacks -- \
 //!     --before /tmp/serve-before/target/release/mazewalk --seconds 10   # [--only group18]
+//! cargo run --release -p mazewalk-bench --example attacks -- --only idle \
+//!     --addresses 1000 --rates 100,500,2000 --seconds 20    # [--before …] [--max-handshakes N]
 //! ```
 //!
 //! Only flags both binaries know are passed: `--open --listen --host-key --max-players
@@ -43,12 +50,26 @@ struct Args {
     after: PathBuf,
     seconds: f64,
     only: Option<String>,
+    /// Idle handshakes opened a second, one run each (attack 5).
+    rates: Vec<f64>,
+    /// The addresses they come from (attack 5).
+    addresses: u32,
+    /// `--max-handshakes` for the servers of attack 5 (their default if not given).
+    max_handshakes: Option<u32>,
 }
 
 fn args() -> Args {
     let exe = std::env::current_exe().expect("current exe");
     let after = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
-    let mut a = Args { before: None, after, seconds: 10.0, only: None };
+    let mut a = Args {
+        before: None,
+        after,
+        seconds: 10.0,
+        only: None,
+        rates: vec![500.0],
+        addresses: 1000,
+        max_handshakes: None,
+    };
     let argv: Vec<String> = std::env::args().skip(1).collect();
     for pair in argv.chunks(2) {
         let value = pair.get(1).map_or("", String::as_str);
@@ -57,6 +78,9 @@ fn args() -> Args {
             "--after" => a.after = value.into(),
             "--seconds" => a.seconds = value.parse().expect("--seconds S"),
             "--only" => a.only = Some(value.into()),
+            "--rates" => a.rates = value.split(',').map(|r| r.parse().expect("--rates R,R,…")).collect(),
+            "--addresses" => a.addresses = value.parse().expect("--addresses N"),
+            "--max-handshakes" => a.max_handshakes = Some(value.parse().expect("--max-handshakes N")),
             other => panic!("unknown argument {other}"),
         }
     }
@@ -73,6 +97,10 @@ struct ServerProcess {
 
 impl ServerProcess {
     fn start(bin: &Path, max_players: u32, max_per_address: u32) -> ServerProcess {
+        ServerProcess::start_with(bin, max_players, max_per_address, &[])
+    }
+
+    fn start_with(bin: &Path, max_players: u32, max_per_address: u32, more: &[String]) -> ServerProcess {
         static RUN: AtomicU64 = AtomicU64::new(0);
         let scratch = std::env::temp_dir().join(format!(
             "mazewalk-attacks-{}-{}",
@@ -89,6 +117,7 @@ impl ServerProcess {
                 "--max-per-address",
                 &max_per_address.to_string(),
             ])
+            .args(more)
             .arg("--host-key")
             .arg(scratch.join("host_key"))
             .env("HOME", &scratch)
@@ -305,6 +334,136 @@ async fn handshakes(bin: &Path, seconds: f64) -> Outcome {
     outcome
 }
 
+/// Attacker address `n` (0..65,536): 127.1.x.y.
+fn attacker(n: u32) -> IpAddr {
+    IpAddr::from([127, 1, (n >> 8) as u8, n as u8])
+}
+
+/// Opens idle handshakes to `addr` (`SSH-2.0-x`, then nothing) `rate` a second from `addresses`
+/// addresses in turn until `stop`; each is held until the server closes it (30 s at most). Returns
+/// how many were opened.
+async fn idle_flood(addr: SocketAddr, addresses: u32, rate: f64, stop: Arc<AtomicBool>) -> u64 {
+    use tokio::io::{AsyncReadExt as _, AsyncWriteExt as _};
+    let started = tokio::time::Instant::now();
+    let mut opened = 0u64;
+    while !stop.load(Ordering::Relaxed) {
+        tokio::time::sleep_until(started + Duration::from_secs_f64(opened as f64 / rate)).await;
+        let from = attacker((opened % u64::from(addresses)) as u32);
+        opened += 1;
+        tokio::spawn(async move {
+            let socket = tokio::net::TcpSocket::new_v4().ok()?;
+            socket.bind(SocketAddr::new(from, 0)).ok()?;
+            let mut stream =
+                tokio::time::timeout(Duration::from_secs(5), socket.connect(addr)).await.ok()?.ok()?;
+            stream.write_all(b"SSH-2.0-x\r\n").await.ok()?;
+            let mut sink = [0u8; 2048];
+            let held = async {
+                while stream.read(&mut sink).await.ok()? > 0 {}
+                Some(())
+            };
+            let _ = tokio::time::timeout(Duration::from_secs(30), held).await;
+            Some(())
+        });
+    }
+    opened
+}
+
+/// Stock `ssh -tt` in an 80×24 pty from `from`, as `newcomer`: how long until the game's first frame
+/// (the alternate screen) arrives, or `None` if not within `within`. The client is killed after.
+fn ssh_newcomer(addr: SocketAddr, from: IpAddr, within: Duration) -> Option<Duration> {
+    use std::io::Read as _;
+    let size = rustix::termios::Winsize { ws_row: 24, ws_col: 80, ws_xpixel: 0, ws_ypixel: 0 };
+    let pty = rustix_openpty::openpty(None, Some(&size)).expect("openpty");
+    let master = std::fs::File::from(pty.controller);
+    let slave = pty.user;
+    let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
+    let started = Instant::now();
+    let mut child = Command::new("setsid")
+        .args([
+            "-c",
+            "ssh",
+            "-tt",
+            "-F",
+            "/dev/null",
+            "-b",
+            &from.to_string(),
+            "-p",
+            &addr.port().to_string(),
+        ])
+        .args([
+            "-o",
+            "StrictHostKeyChecking=no",
+            "-o",
+            "UserKnownHostsFile=/dev/null",
+            "-o",
+            "LogLevel=ERROR",
+        ])
+        .args(["-o", "BatchMode=yes", "-o", "IdentitiesOnly=yes", "-i", "/dev/null"])
+        .arg(format!("newcomer@{}", addr.ip()))
+        .env("TERM", "xterm-256color")
+        .stdin(stdio())
+        .stdout(stdio())
+        .stderr(stdio())
+        .spawn()
+        .expect("spawn setsid -c ssh");
+    drop(slave);
+    let (seen, first_frame) = std::sync::mpsc::channel();
+    let mut screen = master;
+    std::thread::spawn(move || {
+        let (mut got, mut buf) = (Vec::new(), [0u8; 4096]);
+        while let Ok(n @ 1..) = screen.read(&mut buf) {
+            got.extend_from_slice(&buf[..n]);
+            if got.windows(8).any(|w| w == b"\x1b[?1049h") {
+                let _ = seen.send(());
+                return;
+            }
+        }
+    });
+    let got_in = first_frame.recv_timeout(within).ok().map(|()| started.elapsed());
+    let _ = child.kill();
+    let _ = child.wait();
+    got_in
+}
+
+async fn idle_handshakes(bin: &Path, a: &Args, rate: f64) -> Outcome {
+    let (seconds, addresses) = (a.seconds, a.addresses);
+    let more: Vec<String> =
+        a.max_handshakes.iter().flat_map(|n| ["--max-handshakes".to_string(), n.to_string()]).collect();
+    let server = ServerProcess::start_with(bin, 256, 16, &more);
+    let addr = server.addr;
+    let (mut outcome, (opened, newcomers)) = witnessed(&server, seconds, async move {
+        let stop = stop_after(seconds);
+        let flood = tokio::spawn(idle_flood(addr, addresses, rate, Arc::clone(&stop)));
+        tokio::time::sleep(Duration::from_millis(500)).await; // every slot taken
+        let newcomers = tokio::task::spawn_blocking(move || {
+            let mut took = Vec::new();
+            for k in 0u32.. {
+                if stop.load(Ordering::Relaxed) {
+                    break;
+                }
+                let from = IpAddr::from([127, 2, (k / 250) as u8, (k % 250 + 1) as u8]);
+                took.push(ssh_newcomer(addr, from, Duration::from_secs(3)));
+                std::thread::sleep(Duration::from_millis(200));
+            }
+            took
+        })
+        .await
+        .expect("the newcomers");
+        (flood.await.expect("the flood"), newcomers)
+    })
+    .await;
+    let mut times: Vec<f64> = newcomers.iter().flatten().map(Duration::as_secs_f64).collect();
+    let median = if times.is_empty() { f64::NAN } else { quantile(&mut times, 0.5) * 1e3 };
+    outcome.note = format!(
+        "{opened} idle handshakes ({rate:.0}/s from {addresses} addresses); newcomers (stock ssh) in within 3 s: \
+         **{} of {}** ({:.0} %), median {median:.0} ms",
+        times.len(),
+        newcomers.len(),
+        100.0 * times.len() as f64 / newcomers.len().max(1) as f64
+    );
+    outcome
+}
+
 #[tokio::main]
 async fn main() {
     let a = args();
@@ -320,15 +479,21 @@ async fn main() {
         "| attack | binary | witness p50 / p99 / worst (ms) | keys answered | server CPU (s) | what else |"
     );
     println!("|---|---|---|---|---|---|");
-    for attack in ["group18", "junk kex", "held slots", "handshakes"] {
+    let mut attacks: Vec<(String, Option<f64>)> = ["group18", "junk kex", "held slots", "handshakes"]
+        .iter()
+        .map(|a| ((*a).to_string(), None))
+        .collect();
+    attacks.extend(a.rates.iter().map(|&rate| (format!("idle handshakes {rate:.0}/s"), Some(rate))));
+    for (attack, rate) in &attacks {
         if a.only.as_ref().is_some_and(|only| !attack.starts_with(only.as_str())) {
             continue;
         }
         for (which, bin) in &binaries {
-            let outcome = match attack {
-                "group18" => group18(bin, a.seconds).await,
-                "junk kex" => junk_kex(bin, a.seconds).await,
-                "held slots" => held_slots(bin, a.seconds).await,
+            let outcome = match (attack.as_str(), rate) {
+                (_, Some(rate)) => idle_handshakes(bin, &a, *rate).await,
+                ("group18", _) => group18(bin, a.seconds).await,
+                ("junk kex", _) => junk_kex(bin, a.seconds).await,
+                ("held slots", _) => held_slots(bin, a.seconds).await,
                 _ => handshakes(bin, a.seconds).await,
             };
             println!(

@@ -11,6 +11,7 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
 
     use anyhow::Context as _;
     use mazewalk_serve::host_key;
+    use mazewalk_serve::identity::player_name;
     use mazewalk_serve::records::{Sqlite, Store};
 
     use super::{load_maze, maze_name, stdout_open};
@@ -82,12 +83,14 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
             mazewalk_maze::quote(&kept.name),
             &kept.maze[..12]
         )?;
-        let width = kept.top.iter().map(|b| b.player.chars().count()).max().unwrap_or(0);
-        for (rank, best) in (1..).zip(&kept.top) {
+        // (names as every screen shows them: the file may hold anything, escapes too; issue #40)
+        let names: Vec<String> = kept.top.iter().map(|b| player_name(&b.player)).collect();
+        let width = names.iter().map(|n| n.chars().count()).max().unwrap_or(0);
+        for (rank, (best, name)) in (1..).zip(kept.top.iter().zip(&names)) {
             let clock = mazewalk_walk::clock::clock_text(best.seconds);
             // (a world's best kept while its records were away has no date: 0)
             let when = if best.at > 0 { date(best.at) } else { "-".to_string() };
-            writeln!(out, "{rank:>4}. {:<width$}  {clock:>8}  {when}", best.player)?;
+            writeln!(out, "{rank:>4}. {name:<width$}  {clock:>8}  {when}")?;
         }
     }
     out.flush()?;

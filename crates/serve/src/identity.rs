@@ -8,9 +8,10 @@ pub(crate) const MAX_NAME: usize = 16;
 
 /// The player name for an SSH user name: ASCII letters, digits, `-`, `_` and `.` only (no control
 /// characters, escape sequences, wide or invisible characters can reach another player's screen),
-/// at most [`MAX_NAME`] of them; `player` if none are left.
+/// at most [`MAX_NAME`] of them; `player` if none are left. Every name shown is cleaned by it, from
+/// wherever it came: an SSH user name, the records file, the shared world.
 #[must_use]
-pub(crate) fn player_name(user: &str) -> String {
+pub fn player_name(user: &str) -> String {
     let name: String = user
         .chars()
         .filter(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))

@@ -25,7 +25,7 @@
 pub mod algorithms;
 pub mod authorized_keys;
 pub mod host_key;
-mod identity;
+pub mod identity;
 pub mod limits;
 pub mod logs;
 pub mod player;

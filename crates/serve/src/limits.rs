@@ -10,7 +10,7 @@ pub struct Limits {
     pub max_players: usize,
     /// Connections still in the handshake (key exchange and authentication) at once, in all
     /// (`--max-handshakes`): they never take a player's slot. When these are all taken, a newcomer
-    /// from an address with fewer of them takes the oldest of the address that holds the most.
+    /// takes the slot of the one that has gone longest without progress ([`Slots`](crate::slots)).
     pub max_handshakes: usize,
     /// Connections at once from one address (`--max-per-address`), players and handshakes: an IPv4
     /// address, or an IPv6 /64 ([`address_group`](crate::slots::address_group)).
@@ -20,6 +20,9 @@ pub struct Limits {
     pub connect_rate: f64,
     /// From the TCP connection to a started game: key exchange, authentication, pty and shell.
     pub handshake_timeout: Duration,
+    /// From the TCP connection to the keys exchanged: a client that has not finished its key
+    /// exchange by then gives its slot up (a player's takes milliseconds, a few round trips).
+    pub kex_timeout: Duration,
     /// After the game ends (the player quit or closed the channel) the connection is closed if the
     /// client has not closed it by then: a game's connection carries one game (issue #34: a client
     /// holding it open kept a player's slot).
@@ -50,10 +53,11 @@ impl Default for Limits {
     fn default() -> Self {
         Limits {
             max_players: 256,
-            max_handshakes: 32,
+            max_handshakes: 128,
             max_per_address: 16,
             connect_rate: 8.0,
             handshake_timeout: Duration::from_secs(20),
+            kex_timeout: Duration::from_secs(6),
             after_game: Duration::from_secs(2),
             idle_timeout: Duration::from_secs(30 * 60),
             max_cols: 400,

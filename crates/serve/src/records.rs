@@ -11,17 +11,31 @@
 //!   queue drops it (counted, reported once); the answer comes back on a oneshot channel the player's
 //!   task polls beside its input. The database is touched on that thread only, never on the async
 //!   workers.
-//! - **Faults are reported once and the game goes on.** A database locked by another program (past
-//!   its busy timeout) skips that finish; read-only, full, damaged or unusable, it ends records for
-//!   the server's run. A damaged file found at start is kept aside (`FILE.damaged-UNIXTIME`), never
-//!   written over, and a new one made ([`Sqlite::open`]).
-//! - **One file, many servers.** SQLite in WAL mode with a busy timeout: servers on one file (two
-//!   mazes, say) each write their finishes, readers never block writers.
+//! - **Faults are reported once and the game goes on.** A finish the store cannot keep (a database
+//!   locked by another program past its busy timeout, read-only, full, damaged, a Redis away) is
+//!   kept in memory for the players' ranking — among the store's last best ten and this run's —
+//!   and written when the store takes finishes again (the latest [`UNSAVED`] of them). The fault is
+//!   said once, and again only after the store has worked in between, at most once a minute. A
+//!   damaged file found at start is kept aside (`FILE.damaged-UNIXTIME`), never written over, and a
+//!   new one made ([`Sqlite::open`]).
+//! - **A file deleted or replaced while serving** is noticed before the next finish (the path's
+//!   device and inode against the open file's, [`Store::check`]), said, and opened again: made
+//!   anew if gone, kept aside if damaged.
+//! - **No memory-mapped file, so no SIGBUS** (issue #40). A mapped page that the disk can no longer
+//!   back — WAL's `-shm` made immutable, an ext4 remounted read-only after an error — kills the
+//!   process on its next write. So `mmap_size` is 0 and the journal is a rollback journal, not WAL
+//!   (whose index lives in the mapped `-shm`); a file left in WAL mode by an older mazewalk is taken
+//!   out of it under `locking_mode=EXCLUSIVE`, in which SQLite keeps the WAL index in heap memory
+//!   and never maps `-shm` (sqlite.org/wal.html, "Use of WAL Without Shared-Memory").
+//! - **One file, many servers.** A rollback journal with a busy timeout: servers on one file (two
+//!   mazes, say) each write their finishes; a write waits for another's, a few milliseconds.
 //!
 //! [`Store`] is the seam for another backend: with `--world` the best times live in the shared
 //! world's Redis ([`RedisStore`](crate::shared::records::RedisStore), a sorted set per maze). The
 //! server only calls [`Store::record`]; `mazewalk records` calls [`Store::mazes`].
 
+use std::collections::HashMap;
+use std::os::unix::fs::MetadataExt as _;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, PoisonError, mpsc};
@@ -30,6 +44,8 @@ use std::time::Duration;
 use mazewalk_maze::ContentHash;
 use rusqlite::{Connection, ErrorCode, OpenFlags, OptionalExtension as _, params};
 use tokio::sync::oneshot;
+
+use crate::identity::player_name;
 
 /// How many best times a [`Standing`] lists.
 pub(crate) const TOP: usize = 10;
@@ -177,6 +193,13 @@ pub trait Store: Send + 'static {
     /// # Errors
     /// The store failed.
     fn mazes(&mut self, maze: Option<&ContentHash>) -> Result<Vec<MazeRecords>, RecordsError>;
+
+    /// Called before each [`record`](Self::record): whether the store is still the one it opened. A
+    /// file deleted or replaced meanwhile is opened again; the line says what happened (for the log,
+    /// once per change). `None`: nothing changed (or the store has no file).
+    fn check(&mut self) -> Option<String> {
+        None
+    }
 }
 
 /// How a SQLite database is opened.
@@ -195,11 +218,32 @@ impl Default for SqliteOptions {
     }
 }
 
-/// The records in a SQLite file (bundled SQLite, WAL mode).
+/// The records in a SQLite file (bundled SQLite, a rollback journal, nothing memory-mapped).
 #[derive(Debug)]
 pub struct Sqlite {
     conn: Connection,
     path: PathBuf,
+    options: SqliteOptions,
+    /// The device and inode of the file opened (`None`: none there), to notice another in its place.
+    file: Option<(u64, u64)>,
+    /// The file went and none could be opened in its place: nothing is written.
+    lost: bool,
+}
+
+/// Whether a WAL index or log is beside `path` (a server of an older mazewalk runs on it, or was
+/// killed): such a `-shm` may be one the disk no longer backs. (Looked at without opening anything:
+/// closing any descriptor of the database file would drop SQLite's locks on it in this process.)
+fn wal_beside(path: &Path) -> bool {
+    ["-wal", "-shm"].iter().any(|suffix| {
+        let mut name = path.as_os_str().to_owned();
+        name.push(suffix);
+        Path::new(&name).exists()
+    })
+}
+
+/// The device and inode of the file at `path`, if any.
+fn file_id(path: &Path) -> Option<(u64, u64)> {
+    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
 }
 
 /// The schema, version 1 (`PRAGMA user_version`).
@@ -236,12 +280,26 @@ impl Sqlite {
                 .create(dir)
                 .map_err(|e| RecordsError::new(path, Fault::CannotOpen, e.to_string()))?;
         }
-        match Sqlite::open_writable(path, options) {
+        match Sqlite::open_writable_within(path, options) {
             Err(err) if err.fault == Fault::Damaged => {
                 let aside = keep_aside(path)?;
                 Ok((Sqlite::open_writable(path, options)?, Some(aside)))
             }
             opened => opened.map(|db| (db, None)),
+        }
+    }
+
+    /// [`open_writable`](Self::open_writable), tried again while another writer makes it answer
+    /// "busy" at once (see [`Store::record`]), within the busy timeout.
+    fn open_writable_within(path: &Path, options: SqliteOptions) -> Result<Sqlite, RecordsError> {
+        let started = std::time::Instant::now();
+        loop {
+            match Sqlite::open_writable(path, options) {
+                Err(err) if err.fault == Fault::Busy && started.elapsed() < options.busy_timeout => {
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+                done => return done,
+            }
         }
     }
 
@@ -260,14 +318,35 @@ impl Sqlite {
             ));
         }
         conn.busy_timeout(options.busy_timeout).map_err(sqlite)?;
+        // Nothing mapped (see the module's doc): no mmap, and out of WAL without touching `-shm`.
         // (`open` reads nothing: the first statement finds a file that is not a database.)
-        let mode: String =
-            conn.pragma_update_and_check(None, "journal_mode", "WAL", |r| r.get(0)).map_err(sqlite)?;
-        if !mode.eq_ignore_ascii_case("wal") {
-            // (a read-only file answers with its old mode)
-            return Err(RecordsError::new(path, Fault::ReadOnly, format!("journal mode {mode}, not wal")));
+        let _: i64 = conn.pragma_update_and_check(None, "mmap_size", 0, |r| r.get(0)).map_err(sqlite)?;
+        let leftover = wal_beside(path);
+        if leftover {
+            let _: String = conn
+                .pragma_update_and_check(None, "locking_mode", "EXCLUSIVE", |r| r.get(0))
+                .map_err(sqlite)?;
         }
-        conn.pragma_update(None, "synchronous", "NORMAL").map_err(sqlite)?;
+        // (Only WAL persists in the file; every connection starts in DELETE otherwise. A WAL file
+        // without a `-shm` beside gets a new one of ours for the moment it takes to leave WAL.)
+        let mode: String = conn.query_row("PRAGMA journal_mode", [], |r| r.get(0)).map_err(sqlite)?;
+        if mode.eq_ignore_ascii_case("wal") {
+            let mode: String =
+                conn.pragma_update_and_check(None, "journal_mode", "DELETE", |r| r.get(0)).map_err(sqlite)?;
+            if !mode.eq_ignore_ascii_case("delete") {
+                // (a read-only file answers with its old mode)
+                return Err(RecordsError::new(
+                    path,
+                    Fault::ReadOnly,
+                    format!("journal mode {mode}, not delete"),
+                ));
+            }
+        }
+        if leftover {
+            // (the lock goes at the next statement's end)
+            let _: String =
+                conn.pragma_update_and_check(None, "locking_mode", "NORMAL", |r| r.get(0)).map_err(sqlite)?;
+        }
         let page: i64 = conn.query_row("PRAGMA page_size", [], |r| r.get(0)).map_err(sqlite)?;
         let pages = (options.max_bytes / page.max(512) as u64).max(8);
         let _: i64 =
@@ -276,12 +355,13 @@ impl Sqlite {
         if check != "ok" {
             return Err(RecordsError::new(path, Fault::Damaged, check));
         }
-        let db = Sqlite { conn, path: path.to_path_buf() };
+        let mut db = Sqlite { conn, path: path.to_path_buf(), options, file: None, lost: false };
         match db.version()? {
             0 => db.conn.execute_batch(&format!("BEGIN IMMEDIATE; {SCHEMA} COMMIT;")).map_err(sqlite)?,
             1 => {}
             newer => return Err(RecordsError::new(path, Fault::Newer, format!("schema version {newer}"))),
         }
+        db.file = file_id(path);
         Ok(db)
     }
 
@@ -297,7 +377,9 @@ impl Sqlite {
         let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
         let conn = Connection::open_with_flags(path, flags).map_err(sqlite)?;
         conn.busy_timeout(Duration::from_secs(2)).map_err(sqlite)?;
-        let db = Sqlite { conn, path: path.to_path_buf() };
+        let _: i64 = conn.pragma_update_and_check(None, "mmap_size", 0, |r| r.get(0)).map_err(sqlite)?;
+        let options = SqliteOptions::default();
+        let db = Sqlite { conn, path: path.to_path_buf(), options, file: file_id(path), lost: false };
         match db.version()? {
             1 => Ok(db),
             0 => Err(RecordsError::new(path, Fault::Damaged, "no records tables")),
@@ -355,8 +437,9 @@ fn keep_aside(path: &Path) -> Result<PathBuf, RecordsError> {
     Ok(aside)
 }
 
-impl Store for Sqlite {
-    fn record(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
+impl Sqlite {
+    /// One try at [`Store::record`]'s transaction.
+    fn record_once(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
         let path = self.path.clone();
         let sqlite = |e: rusqlite::Error| RecordsError::sqlite(&path, &e);
         let maze = finish.maze.to_string();
@@ -395,6 +478,50 @@ impl Store for Sqlite {
         let top = Sqlite::top(&tx, &maze).map_err(sqlite)?;
         tx.commit().map_err(sqlite)?;
         Ok(Standing { top, best, rank: ahead as usize + 1, players: players as usize })
+    }
+}
+
+impl Store for Sqlite {
+    fn record(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
+        if self.lost {
+            return Err(RecordsError::new(&self.path, Fault::CannotOpen, "gone while serving"));
+        }
+        // Two writers on one file with a rollback journal can each wait for the other; SQLite then
+        // answers one of them "busy" at once rather than wait (sqlite.org/c3ref/busy_handler.html):
+        // that one tries its transaction again, within the busy timeout.
+        let started = std::time::Instant::now();
+        loop {
+            match self.record_once(finish) {
+                Err(err) if err.fault == Fault::Busy && started.elapsed() < self.options.busy_timeout => {
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+                done => return done,
+            }
+        }
+    }
+
+    fn check(&mut self) -> Option<String> {
+        let now = file_id(&self.path);
+        if now == self.file {
+            return None;
+        }
+        self.file = now; // (said once per change)
+        let what = if now.is_none() { "was deleted" } else { "was replaced" };
+        let path = self.path.display();
+        Some(match Sqlite::open(&self.path, self.options) {
+            Ok((db, aside)) => {
+                let made = if now.is_none() { "a new one is made" } else { "the new one is used" };
+                let aside = aside.map(|a| format!(" (the file found there kept as {})", a.display()));
+                let line =
+                    format!("records: {path} {what} while serving; {made}{}", aside.unwrap_or_default());
+                *self = db;
+                line
+            }
+            Err(err) => {
+                self.lost = true;
+                format!("records: {path} {what} while serving and cannot be opened again: {err}")
+            }
+        })
     }
 
     fn mazes(&mut self, maze: Option<&ContentHash>) -> Result<Vec<MazeRecords>, RecordsError> {
@@ -494,8 +621,8 @@ impl Records {
         matches!(done.recv_timeout(within), Err(mpsc::RecvTimeoutError::Disconnected))
     }
 
-    /// Hands `finish` to the records thread without waiting: the answer (the player's standing, or
-    /// `None` when it could not be kept) comes on the returned channel. `None` when the queue is full
+    /// Hands `finish` to the records thread without waiting: the answer (the player's standing, from
+    /// the store or, while it fails, from memory) comes on the returned channel. `None` when the queue is full
     /// (the finish is dropped and counted; the first drop is reported) or the thread is gone.
     #[must_use]
     pub fn finish(&self, finish: Finish) -> Option<oneshot::Receiver<Option<Standing>>> {
@@ -519,33 +646,141 @@ impl Records {
     }
 }
 
-/// The records thread: keeps each finish, reports a fault once (a transient one once per streak),
-/// and after a lasting fault answers `None` to all.
+/// Finishes the store could not keep that are written when it takes them again, at most (the
+/// latest; the ranking in memory keeps every player's best whatever this says).
+pub const UNSAVED: usize = 256;
+/// Players' bests kept in memory for the ranking while the store fails, at most, in all mazes.
+const MEMORY: usize = 10_000;
+/// A fault is said again at most this often (after the store worked in between).
+const SAY_AGAIN: Duration = Duration::from_secs(60);
+
+/// A maze's ranking while its store fails: the store's last answer, and this run's bests.
+#[derive(Debug, Default)]
+struct Remembered {
+    /// The store's last best ten, and how many players it had.
+    top: Vec<Best>,
+    players: usize,
+    /// Each player's best in this run (kept by the store or not).
+    bests: HashMap<String, Best>,
+}
+
+/// The records thread's memory: what the players' ranking needs while the store fails (bounded by
+/// [`MEMORY`] players and [`UNSAVED`] finishes).
+#[derive(Debug, Default)]
+struct Memory {
+    mazes: HashMap<ContentHash, Remembered>,
+    bests: usize,
+    unsaved: std::collections::VecDeque<Finish>,
+}
+
+impl Memory {
+    /// The store kept `finish` and answered `standing`: the maze's ranking as the store has it.
+    fn stored(&mut self, finish: &Finish, standing: &Standing) {
+        if let Some(maze) = self.maze(finish.maze) {
+            maze.top.clone_from(&standing.top);
+            maze.players = standing.players;
+        }
+        self.note(finish);
+    }
+
+    /// `finish`'s player's best on its maze, kept (if there is room).
+    fn note(&mut self, finish: &Finish) {
+        let room = self.bests < MEMORY;
+        let Some(maze) = self.maze(finish.maze) else { return };
+        let mine = Best { player: finish.player.clone(), seconds: finish.seconds, at: finish.at };
+        match maze.bests.get_mut(&finish.player) {
+            Some(best) if best.seconds <= mine.seconds => {}
+            Some(best) => *best = mine,
+            None if room => {
+                maze.bests.insert(finish.player.clone(), mine);
+                self.bests += 1;
+            }
+            None => {}
+        }
+    }
+
+    /// The maze's memory, if it has one or there is room for one.
+    fn maze(&mut self, maze: ContentHash) -> Option<&mut Remembered> {
+        if !self.mazes.contains_key(&maze) && self.mazes.len() >= MEMORY {
+            return None;
+        }
+        Some(self.mazes.entry(maze).or_default())
+    }
+
+    /// Writes the finishes the store missed, oldest first, until one fails; whether all went.
+    fn flush(&mut self, store: &mut impl Store) -> bool {
+        while let Some(unsaved) = self.unsaved.pop_front() {
+            if store.record(&unsaved).is_err() {
+                self.unsaved.push_front(unsaved);
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The store could not keep `finish`: remembered, and the player's standing among what is known.
+    fn remember(&mut self, finish: &Finish) -> Standing {
+        self.unsaved.push_back(finish.clone());
+        if self.unsaved.len() > UNSAVED {
+            self.unsaved.pop_front();
+        }
+        let mine = Best { player: finish.player.clone(), seconds: finish.seconds, at: finish.at };
+        self.note(finish);
+        let none = Remembered::default();
+        Memory::standing(self.mazes.get(&finish.maze).unwrap_or(&none), mine)
+    }
+
+    /// Where `mine`'s player stands among `maze`'s store's best ten and this run's bests (players of
+    /// earlier runs below the ten are not known: the rank may be higher than the store's would be).
+    fn standing(maze: &Remembered, mine: Best) -> Standing {
+        let mut all: HashMap<&str, &Best> = HashMap::new();
+        for best in maze.top.iter().chain(maze.bests.values()).chain(std::iter::once(&mine)) {
+            let kept = all.entry(best.player.as_str()).or_insert(best);
+            if best.seconds < kept.seconds {
+                *kept = best;
+            }
+        }
+        let mut list: Vec<Best> = all.into_values().cloned().collect();
+        list.sort_by(|a, b| {
+            a.seconds.total_cmp(&b.seconds).then(a.at.cmp(&b.at)).then(a.player.cmp(&b.player))
+        });
+        let best = list.iter().find(|b| b.player == mine.player).map_or(mine.seconds, |b| b.seconds);
+        let ahead = list.iter().filter(|b| b.seconds < best && b.player != mine.player).count();
+        let players = maze.players.max(list.len());
+        list.truncate(TOP);
+        Standing { top: list, best, rank: ahead + 1, players }
+    }
+}
+
+/// The records thread: keeps each finish in the store (or, while it fails, in [`Memory`]), and
+/// answers every finish with its standing; says each change of the store's file and each fault.
 fn keep(mut store: impl Store, queue: &mpsc::Receiver<Job>, report: &(dyn Fn(&str) + Send + Sync)) {
-    let mut broken = false;
-    let mut busy_streak = false;
+    let mut memory = Memory::default();
+    let mut failing = false;
+    let mut said: Option<std::time::Instant> = None;
     while let Ok((finish, answer)) = queue.recv() {
-        if broken {
-            let _ = answer.send(None);
-            continue;
+        if let Some(line) = store.check() {
+            report(&line);
         }
-        match store.record(&finish) {
-            Ok(standing) => {
-                busy_streak = false;
-                let _ = answer.send(Some(standing));
+        // While it fails, the finishes it missed go first, oldest first; while they cannot, this
+        // one is not tried either.
+        let tried = if failing && !memory.flush(&mut store) { None } else { Some(store.record(&finish)) };
+        let standing = match tried {
+            Some(Ok(standing)) => {
+                failing = false;
+                memory.stored(&finish, &standing);
+                standing
             }
-            Err(err) if err.is_transient() => {
-                if !std::mem::replace(&mut busy_streak, true) {
-                    report(&format!("records: {err}; finishes meanwhile are not kept"));
+            Some(Err(err)) => {
+                if !std::mem::replace(&mut failing, true) && said.is_none_or(|at| at.elapsed() >= SAY_AGAIN) {
+                    said = Some(std::time::Instant::now());
+                    report(&format!("records: {err}; finishes are kept in memory for the ranking meanwhile"));
                 }
-                let _ = answer.send(None);
+                memory.remember(&finish)
             }
-            Err(err) => {
-                broken = true;
-                report(&format!("records: {err}; the game goes on without records"));
-                let _ = answer.send(None);
-            }
-        }
+            None => memory.remember(&finish), // (said already)
+        };
+        let _ = answer.send(Some(standing));
     }
 }
 
@@ -577,19 +812,22 @@ impl Keeper {
 }
 
 /// The lines of the exit box for `standing`: the maze's best ten, the player's row marked, and its
-/// rank below them when it is not among them.
+/// rank below them when it is not among them. Every name is shown as [`player_name`] cleans it
+/// (issue #40: the records file, or whoever wrote it, may hold anything).
 #[must_use]
 pub fn standing_lines(standing: &Standing, player: &str) -> Vec<String> {
     let clock = mazewalk_walk::clock::clock_text;
-    let width = standing.top.iter().map(|b| b.player.chars().count()).max().unwrap_or(0);
+    let names: Vec<String> = standing.top.iter().map(|b| player_name(&b.player)).collect();
+    let player = player_name(player);
+    let width = names.iter().map(|n| n.chars().count()).max().unwrap_or(0);
     let players =
         if standing.players == 1 { "1 player".to_string() } else { format!("{} players", standing.players) };
     let mut lines = vec![String::new(), format!("Best times here ({players})")];
-    for (i, best) in standing.top.iter().enumerate() {
-        let you = if best.player == player { "  you" } else { "" };
-        lines.push(format!("{:>2}. {:<width$}  {}{you}", i + 1, best.player, clock(best.seconds)));
+    for (i, (best, name)) in standing.top.iter().zip(&names).enumerate() {
+        let you = if *name == player { "  you" } else { "" };
+        lines.push(format!("{:>2}. {name:<width$}  {}{you}", i + 1, clock(best.seconds)));
     }
-    if !standing.top.iter().any(|b| b.player == player) {
+    if !names.contains(&player) {
         lines.push(format!("{:>2}. {player}  {}  you", standing.rank, clock(standing.best)));
     }
     lines

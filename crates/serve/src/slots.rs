@@ -7,11 +7,14 @@
 //!   authentication), one of at most [`Limits::max_handshakes`]; it becomes a *player* when it logs
 //!   in ([`Slots::promote`]), one of at most [`Limits::max_players`]. Handshakes never take a player's
 //!   slot, so a flood of them cannot push out anyone in the game.
-//! - **Fair handshakes.** When every handshake slot is taken, a newcomer from an address group
-//!   holding fewer of them takes the oldest of the group holding the most (if that group would
-//!   still hold more than the newcomer's): a few addresses cannot keep everyone else out by
-//!   holding all the slots. (Many addresses each holding one can, for as long as they hold them;
-//!   the handshake timeout ends each.)
+//! - **No lockout by idle handshakes** (issue #40). A handshake that has not exchanged keys within
+//!   [`Limits::kex_timeout`] is closed. When every handshake slot is taken, a newcomer is never
+//!   refused: it takes the slot of the handshake that has gone longest without progress (since it
+//!   connected, exchanged keys or asked to log in: [`Slots::progress`]), whichever address holds it.
+//!   A client that says its version and waits is the first pushed out; a player's client, whose key
+//!   exchange takes milliseconds, moves on before its turn comes. Attackers opening `R` connections
+//!   a second into `N` slots leave each handshake `N / R` seconds between steps (256 ms at 500 a
+//!   second into the default 128), whatever number of addresses they use.
 //! - **Address groups.** [`address_group`]: an IPv4 address, or an IPv6 address's /64. Each group
 //!   has at most [`Limits::max_per_address`] connections of both kinds, and opens new ones at most
 //!   [`Limits::connect_rate`] a second after a burst of twice that many.
@@ -44,7 +47,7 @@ pub(crate) enum Refusal {
     Full(usize),
     /// `--max-per-address`, reached by the client's address group.
     FromThisAddress(usize),
-    /// Every handshake slot is taken, none by an address holding more than the newcomer's.
+    /// No handshake slots at all (`max_handshakes` is 0): nobody can log in.
     Busy,
     /// The address opened new connections faster than [`Limits::connect_rate`].
     TooFast,
@@ -91,6 +94,14 @@ pub(crate) struct Admitted {
     pub evicted: Option<ConnId>,
 }
 
+/// A connection still in the handshake.
+#[derive(Clone, Copy, Debug)]
+struct Handshake {
+    group: IpAddr,
+    /// When it last moved on (connected, exchanged keys, asked to log in), seconds.
+    progress: f64,
+}
+
 /// Connections of one address group.
 #[derive(Clone, Copy, Debug, Default)]
 struct Counts {
@@ -103,8 +114,8 @@ struct Counts {
 pub(crate) struct Slots {
     limits: Limits,
     next_id: ConnId,
-    /// Handshakes by id (oldest first), with their group.
-    handshakes: BTreeMap<ConnId, IpAddr>,
+    /// Handshakes by id (oldest first).
+    handshakes: BTreeMap<ConnId, Handshake>,
     /// Players by id, with their group.
     players: HashMap<ConnId, IpAddr>,
     groups: HashMap<IpAddr, Counts>,
@@ -150,7 +161,7 @@ impl Slots {
             return Err(Refusal::FromThisAddress(limits.max_per_address));
         }
         let evicted = if self.handshakes.len() >= limits.max_handshakes {
-            Some(self.victim(counts.handshakes).ok_or(Refusal::Busy)?)
+            Some(self.victim().ok_or(Refusal::Busy)?)
         } else {
             None
         };
@@ -159,21 +170,23 @@ impl Slots {
         }
         let id = self.next_id;
         self.next_id += 1;
-        self.handshakes.insert(id, group);
+        self.handshakes.insert(id, Handshake { group, progress: now });
         self.groups.entry(group).or_default().handshakes += 1;
         Ok(Admitted { id, evicted })
     }
 
-    /// The handshake to push out for a newcomer whose group holds `theirs` handshakes: the oldest of
-    /// the group holding the most, if it holds at least two more (else none: it would not be fairer).
-    fn victim(&self, theirs: usize) -> Option<ConnId> {
-        let (group, most) = self
-            .groups
-            .iter()
-            .filter(|(_, c)| c.handshakes > 0)
-            .max_by_key(|(ip, c)| (c.handshakes, std::cmp::Reverse(**ip)))
-            .map(|(ip, c)| (*ip, c.handshakes))?;
-        (most >= theirs + 2).then(|| self.handshakes.iter().find(|(_, g)| **g == group).map(|(id, _)| *id))?
+    /// The handshake to push out for a newcomer: the one longest without progress (the oldest of
+    /// those, on a tie). A scan of at most `max_handshakes`, once per newcomer when all are taken.
+    fn victim(&self) -> Option<ConnId> {
+        self.handshakes.iter().min_by(|a, b| a.1.progress.total_cmp(&b.1.progress)).map(|(id, _)| *id)
+    }
+
+    /// The handshake `id` moved on at `now` (exchanged keys, asked to log in): it is pushed out
+    /// after those that have not since.
+    pub(crate) fn progress(&mut self, id: ConnId, now: f64) {
+        if let Some(handshake) = self.handshakes.get_mut(&id) {
+            handshake.progress = handshake.progress.max(now);
+        }
     }
 
     /// The handshake `id` logged in: it becomes a player.
@@ -181,7 +194,7 @@ impl Slots {
     /// # Errors
     /// [`Refusal::Full`] when every player's slot is taken (it stays a handshake).
     pub(crate) fn promote(&mut self, id: ConnId) -> Result<(), Refusal> {
-        let Some(&group) = self.handshakes.get(&id) else {
+        let Some(group) = self.handshakes.get(&id).map(|h| h.group) else {
             return Ok(()); // a player already, or gone
         };
         if self.players.len() >= self.limits.max_players {
@@ -198,7 +211,7 @@ impl Slots {
     /// The connection `id` closed (or was pushed out): its slot is free.
     pub fn release(&mut self, id: ConnId) {
         let (group, was_player) = match (self.handshakes.remove(&id), self.players.remove(&id)) {
-            (Some(group), _) => (group, false),
+            (Some(handshake), _) => (handshake.group, false),
             (None, Some(group)) => (group, true),
             (None, None) => return,
         };
@@ -284,22 +297,61 @@ mod tests {
         assert!(slots.admit(ip("10.0.3.1"), 0.0).is_ok());
     }
 
+    /// Issue #40: a newcomer takes the slot of the handshake longest without progress, whoever holds
+    /// it; one that moved on (exchanged keys, asked to log in) is pushed out after the idle ones.
     #[test]
-    fn a_newcomer_takes_the_oldest_handshake_of_the_address_holding_most() {
+    fn a_newcomer_pushes_out_the_handshake_longest_without_progress() {
         let mut slots = Slots::new(&limits(100, 4, 100));
-        let flood: Vec<ConnId> = (0..3).map(|_| slots.admit(ip("192.0.2.1"), 0.0).unwrap().id).collect();
-        let other = slots.admit(ip("192.0.2.2"), 0.0).unwrap().id;
-        assert_eq!(
-            slots.admit(ip("192.0.2.1"), 0.0),
-            Err(Refusal::Busy),
-            "the flooder cannot push out others"
-        );
-        let newcomer = slots.admit(ip("198.51.100.1"), 0.0).unwrap();
-        assert_eq!(newcomer.evicted, Some(flood[0]), "the oldest of the address holding most");
-        assert!(!slots.holds(flood[0]) && slots.holds(other));
-        // Two each: nobody holds two more than a newcomer with one (it stays refused).
-        assert_eq!(slots.admit(ip("192.0.2.2"), 0.0), Err(Refusal::Busy));
-        assert_eq!(slots.handshakes(), 4);
+        let held: Vec<ConnId> =
+            (0..4).map(|i| slots.admit(ip(&format!("192.0.2.{i}")), f64::from(i)).unwrap().id).collect();
+        slots.progress(held[0], 3.5); // the oldest exchanged its keys: it is the newest in progress
+        let first = slots.admit(ip("198.51.100.1"), 4.0).unwrap();
+        assert_eq!(first.evicted, Some(held[1]), "the oldest idle one, not the oldest");
+        let second = slots.admit(ip("192.0.2.1"), 5.0).unwrap();
+        assert_eq!(second.evicted, Some(held[2]), "any address may push out any other's");
+        assert!(slots.holds(held[0]) && slots.holds(first.id) && slots.holds(second.id));
+        assert_eq!(slots.handshakes(), 4, "never more than the slots");
+        slots.progress(ConnId::MAX, 6.0); // a connection that is gone: nothing happens
+        assert_eq!(Slots::new(&limits(100, 0, 100)).admit(ip("192.0.2.9"), 0.0), Err(Refusal::Busy));
+    }
+
+    /// Issue #40's attack: 1,000 addresses open 500 idle handshakes a second into 32 slots (each
+    /// address once every 2 s: no per-address limit stops them). A newcomer that moves on every 20 ms
+    /// (a key exchange on loopback takes a few) logs in; one that says nothing is pushed out after
+    /// 32 arrivals, 64 ms.
+    #[test]
+    fn idle_handshakes_from_a_thousand_addresses_cannot_keep_a_player_out() {
+        let mut slots = Slots::new(&limits(100, 32, 16));
+        let mut now = 0.0;
+        let mut attacker = 0u32;
+        let mut attack = |slots: &mut Slots, now: f64| {
+            let from = IpAddr::from([10, 0, (attacker / 250) as u8, (attacker % 250) as u8]);
+            attacker = (attacker + 1) % 1000;
+            slots.admit(from, now).expect("an attacker is never refused either");
+        };
+        for _ in 0..2000 {
+            now += 0.002;
+            attack(&mut slots, now);
+        }
+        assert_eq!(slots.handshakes(), 32);
+        let player = slots.admit(ip("198.51.100.7"), now).expect("a newcomer gets a slot").id;
+        let idle = slots.admit(ip("198.51.100.8"), now).expect("a newcomer gets a slot").id;
+        for step in 1..=40 {
+            now += 0.002;
+            attack(&mut slots, now);
+            if step % 10 == 0 {
+                slots.progress(player, now); // keys exchanged, then the login asked for…
+            }
+            if step == 20 {
+                assert!(slots.holds(idle), "the older idle ones go first");
+            }
+            if step == 32 {
+                assert!(!slots.holds(idle), "the idle newcomer is gone within 32 arrivals");
+            }
+        }
+        assert!(slots.holds(player));
+        slots.promote(player).expect("logged in");
+        assert_eq!((slots.players(), slots.handshakes()), (1, 31), "its handshake slot is free again");
     }
 
     #[test]

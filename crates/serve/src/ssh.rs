@@ -263,6 +263,8 @@ struct Conn {
     methods_refused: Mutex<Vec<&'static str>>,
     /// Authentication requests so far.
     auth_requests: AtomicUsize,
+    /// Keys exchanged (the client asked for authentication, encrypted).
+    keys: AtomicBool,
     /// Logged in.
     authenticated: AtomicBool,
     playing: AtomicBool,
@@ -286,6 +288,7 @@ impl Conn {
             refused: Mutex::new(None),
             methods_refused: Mutex::new(Vec::new()),
             auth_requests: AtomicUsize::new(0),
+            keys: AtomicBool::new(false),
             authenticated: AtomicBool::new(false),
             playing: AtomicBool::new(false),
             ended: Mutex::new(None),
@@ -610,6 +613,9 @@ async fn connection(shared: Arc<Shared>, stream: CutStream<TcpStream>, conn: Arc
     let handler = Handlers { shared: Arc::clone(&shared), conn: Arc::clone(&conn), session_open: false };
     let handshake = tokio::time::sleep(shared.limits.handshake_timeout);
     tokio::pin!(handshake);
+    let kex = tokio::time::sleep(shared.limits.kex_timeout);
+    tokio::pin!(kex);
+    let mut kex_over = false;
     let mut shutdown = shared.shutdown.clone();
     let mut shutting_down = false;
     let mut handshake_over = false;
@@ -631,6 +637,12 @@ async fn connection(shared: Arc<Shared>, stream: CutStream<TcpStream>, conn: Arc
                 handshake_over = true;
                 if !conn.playing.load(Ordering::SeqCst) {
                     conn.end("handshake timeout");
+                }
+            }
+            () = &mut kex, if !kex_over => {
+                kex_over = true;
+                if !conn.keys.load(Ordering::SeqCst) {
+                    conn.end("key exchange timeout");
                 }
             }
             () = until_shutdown(&mut shutdown), if !shutting_down => {
@@ -691,10 +703,17 @@ impl Handlers {
         }
     }
 
-    /// A request for `user` arrived: the name is kept for the log whatever comes of it.
+    /// A request for `user` arrived: the name is kept for the log whatever comes of it, and the
+    /// handshake has moved on ([`Slots::progress`]; russh ends it after a few refusals).
     fn request(&self, user: &str) {
         self.conn.auth_requests.fetch_add(1, Ordering::SeqCst);
         Conn::set(&self.conn.user, Some(player_name(user)));
+        self.progress();
+    }
+
+    /// The handshake moved on: it keeps its slot longer than those that did not.
+    fn progress(&self) {
+        lock(&self.shared.slots).progress(self.conn.id, self.shared.now());
     }
 
     fn accepted(&self, user: &str, key: Option<&PublicKey>) -> Auth {
@@ -751,6 +770,13 @@ impl Handlers {
 
 impl Handler for Handlers {
     type Error = russh::Error;
+
+    /// The keys are exchanged: the client's first encrypted request (for authentication) is here.
+    async fn authentication_banner(&mut self) -> Result<Option<String>, Self::Error> {
+        self.conn.keys.store(true, Ordering::SeqCst);
+        self.progress();
+        Ok(None)
+    }
 
     async fn auth_none(&mut self, user: &str) -> Result<Auth, Self::Error> {
         self.request(user);

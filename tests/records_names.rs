@@ -1,0 +1,46 @@
+//! Issue #40, low: `mazewalk records` printed the player names in the records file as they were, so a
+//! file holding OSC 52 (the clipboard), OSC 0 (the window title), `ESC[2J` or U+202E acted on the
+//! terminal of whoever listed it. Each name is now shown as SSH user names are cleaned.
+#![cfg(all(unix, feature = "serve"))]
+
+use std::process::Command;
+
+use mazewalk_maze::ContentHash;
+use mazewalk_serve::records::{Finish, Sqlite, SqliteOptions, Store};
+
+#[test]
+fn records_prints_hostile_names_cleaned() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-records-names-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    let path = dir.join("records.sqlite");
+    let hostile = ["\x1b]52;c;ZXZpbA==\x07mallory", "\x1b]0;pwned\x07eve", "\x1b[2Jwipe", "\u{202e}evil"];
+    {
+        let (mut db, _) = Sqlite::open(&path, SqliteOptions::default()).expect("open the records");
+        for (i, player) in hostile.iter().enumerate() {
+            let finish = Finish {
+                maze: ContentHash([3; 32]),
+                maze_name: "x.maze".into(),
+                player: (*player).into(),
+                seconds: 10.0 + i as f64,
+                at: 1_800_000_000,
+            };
+            db.record(&finish).expect("keep a finish");
+        }
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["records", "--records"])
+        .arg(&path)
+        .output()
+        .expect("mazewalk records");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(out.status.success(), "{out:?}");
+    let stdout = String::from_utf8(out.stdout).expect("UTF-8");
+    let raw = |c: char| {
+        c.is_control() && c != '\n' || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}')
+    };
+    assert!(!stdout.chars().any(raw), "{stdout:?}");
+    for name in ["52cZXZpbAmallory", "0pwnedeve", "2Jwipe", "evil"] {
+        assert!(stdout.contains(name), "{name} in {stdout:?}");
+    }
+}
