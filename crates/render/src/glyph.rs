@@ -16,6 +16,7 @@ use super::options::{ASCII_CEILING, ASCII_FLOOR, ASCII_RAMP_LONG, Charset, Ramp,
 use super::palette::{self, Palette, quantize_srgb8, ramp_entry, ramp_entry_dithered, threshold, xterm_rgb};
 use super::samples::{CEILING, FLOOR, SampleBuffer};
 use super::shade::{Srgb8Tables, luminance, srgb_to_linear};
+use super::sprite::EXIT_ID;
 use mazewalk_term::blocks::{HALF, QUAD, sextant_glyph};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
@@ -281,6 +282,10 @@ impl RampSteps {
     }
 }
 
+/// The exit beacon's glyphs in ascii (its green bands, its white ones): left out of the walls' ramp,
+/// so nothing but the beacon looks like it (issue #39).
+pub(crate) const BEACON_GLYPHS: [char; 2] = ['$', '!'];
+
 /// [`to_frame`] for the ascii charset, one sample per cell: its outline glyph or its surface's ramp
 /// glyph (walls: `ramp` without the floor's and the ceiling's glyphs), inked in `ink(colour)` of its
 /// linear colour (a blank has no ink to colour).
@@ -294,7 +299,8 @@ fn ascii_cells(
     let mut wall = [' '; ASCII_RAMP_LONG.len()];
     let mut len = 0;
     for &g in ramp.glyphs() {
-        if g == ' ' || !(ASCII_FLOOR.contains(&g) || ASCII_CEILING.contains(&g)) {
+        let others = [&ASCII_FLOOR[..], &ASCII_CEILING[..], &BEACON_GLYPHS[..]];
+        if g == ' ' || !others.iter().any(|glyphs| glyphs.contains(&g)) {
             (wall[len], len) = (g, len + 1);
         }
     }
@@ -304,7 +310,12 @@ fn ascii_cells(
         for ((cell, (&color, &id)), outline) in
             cells.iter_mut().zip(color[at.clone()].iter().zip(&ids[at.clone()])).zip(&outline[at])
         {
-            let ch = outline.unwrap_or_else(|| ramps.glyph(Surface::of(id), color));
+            let ch = outline.unwrap_or_else(|| match id {
+                // The beacon's bands: green `$`, white `!`, glyphs no wall is drawn with.
+                EXIT_ID if color.y > 2.0 * color.x => BEACON_GLYPHS[0],
+                EXIT_ID => BEACON_GLYPHS[1],
+                _ => ramps.glyph(Surface::of(id), color),
+            });
             *cell =
                 if ch == ' ' { Cell::plain(' ') } else { Cell { ch, fg: ink(color), bg: Color::Default } };
         }

@@ -14,7 +14,7 @@
 //! ```
 //! use glam::{Vec2, Vec3};
 //! use mazewalk_term::frame::{ColorDepth, Frame};
-//! use mazewalk_render::shade::{Fog, headlight_unit, lit};
+//! use mazewalk_render::shade::{Fog, headlight, lit};
 //! use mazewalk_render::{Charset, RenderOptions, SampleBuffer, GridVertex, draw_line, fill_polygon, to_frame};
 //!
 //! let (cols, rows, charset) = (8, 3, Charset::Half);
@@ -29,7 +29,7 @@
 //! let (albedo, normal_view) = (Vec3::new(0.6, 0.3, 0.3), Vec3::Z);
 //! let wall_id = 7;
 //! let written = fill_polygon(&mut samples, &wall, wall_id, |view: Vec3| {
-//!     fog.apply(lit(albedo, headlight_unit(normal_view, view), 0.2), view.length()) // Lambert + fog per sample
+//!     fog.apply(lit(albedo, headlight(normal_view), 0.2), view.z.abs()) // Lambert + fog by depth
 //! });
 //! assert_eq!(written, 6 * 4);
 //! // Ascii outlines: an edge at the wall's depth (sample aspect from the cell aspect).

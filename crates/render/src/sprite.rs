@@ -41,6 +41,10 @@ pub const SPRITE_ID: u32 = u32::MAX - 4;
 pub(crate) const EXIT_GLOW: Vec3 = Vec3::new(0.20, 1.0, 0.42);
 /// The beacon's width (maze units): a column of light from floor to ceiling over the exit.
 pub(crate) const BEACON_WIDTH: f32 = 1.0;
+/// The beacon's green bands, each with a white one above it, floor to ceiling.
+pub(crate) const BEACON_BANDS: f32 = 3.0;
+/// The beacon's white (linear RGB): a touch of its green.
+pub(crate) const BEACON_WHITE: Vec3 = Vec3::new(0.85, 1.0, 0.9);
 
 /// Whether a coverage id is a figure's (or the beacon's).
 #[must_use]
@@ -194,7 +198,9 @@ impl SpritePass {
 
     /// The exit's beacon at `point`: a column of light from floor to ceiling, a billboard like the
     /// figures ([`BEACON_WIDTH`] wide), brightest along its middle and half as fogged as a wall, so it
-    /// shows down a long corridor. Depth-tested; returns the samples written.
+    /// shows down a long corridor, banded green and white like a lighthouse ([`BEACON_BANDS`] of
+    /// each): a look no wall has in any colour depth, nor in ascii, where the bands are two glyphs
+    /// (issue #39: a green wall was chased for the beacon). Depth-tested; returns the samples written.
     pub(crate) fn draw_beacon(
         &mut self,
         samples: &mut SampleBuffer,
@@ -205,7 +211,11 @@ impl SpritePass {
         let size = Vec2::new(BEACON_WIDTH, CEILING_Z - FLOOR_Z);
         let Some(model) = model_matrix(point, eye.position, size) else { return 0 };
         let column = [Vec2::new(-0.5, 0.0), Vec2::new(0.5, 0.0), Vec2::new(0.5, 1.0), Vec2::new(-0.5, 1.0)];
-        let glow = |attrs: Vec3| fog.apply(EXIT_GLOW * (1.0 - 1.2 * attrs.z.abs()), 0.5 * attrs.x);
+        let glow = |attrs: Vec3| {
+            let white = (attrs.y * BEACON_BANDS).fract() >= 0.5;
+            let colour = if white { BEACON_WHITE } else { EXIT_GLOW };
+            fog.apply(colour * (1.0 - 1.2 * attrs.z.abs()), 0.5 * attrs.x)
+        };
         self.fill(samples, eye, model, &column, EXIT_ID, glow)
     }
 

@@ -130,7 +130,7 @@ fn the_exit_shows_three_cells_down_a_corridor_in_every_charset_and_colour_depth(
                 let green = with.cells().iter().any(|c| {
                     [c.fg, c.bg]
                         .iter()
-                        .any(|&k| matches!(k, Color::Rgb(r, g, b) if g > 150 && g > r + 60 && g > b + 40))
+                        .any(|&k| matches!(k, Color::Rgb(r, g, b) if g > 150 && u16::from(g) > u16::from(r) + 60 && u16::from(g) > u16::from(b) + 40))
                 });
                 assert!(green, "{charset}: the exit glows green");
             }
