@@ -1,15 +1,27 @@
-//! The renderer's back end: samples, rasterization, shading and glyphs — pure data in, pure data out.
+//! The CPU renderer: a maze and a camera in, a character [`Frame`](mazewalk_term::Frame) out — pure
+//! data in, pure data out. The whole pipeline is the two functions at the end of this file, one stage a
+//! line; each stage is a method of [`Renderer`] in [`pipeline`], the matrices are `mazewalk_math`'s.
 //!
 //! ```text
-//! clipped polygons in grid space ─raster─▶ SampleBuffer (colour, depth, id, outline) ─glyph─▶ Frame
+//! maze + camera
+//!   ─eye()───────▶ world→view (look-at), view→clip (projection), NDC→grid (viewport): Eye   camera.rs
+//!   ─portal pass─▶ the walls that can be seen, cell to cell through openings              portal.rs
+//!   each wall: quad (world) ─view─▶ view ─projection─▶ clip ─clip─▶ clip ─÷w─▶ NDC ─viewport─▶ grid
+//!              ─raster (top-left rule, depth LESS)─▶ samples, shaded: sun and headlight through the
+//!              normal matrix, fog by depth                                      wall.rs, raster.rs, shade.rs
+//!   floor, ceiling: each sample's ray meets z = ∓1 where no wall is nearer                 pipeline.rs
+//!   figures, the exit's beacon: billboards through the same chain                          sprite.rs
+//!   edges, seams, cell lines; ascii outlines (Bresenham)                                    pipeline.rs
+//!   ─glyphs──────▶ half blocks, quadrants, sextants or ascii, colours to the depth ─▶ Frame glyph.rs, palette.rs
 //! ```
 //!
 //! The grid is measured in samples (origin top-left, y down, sample `(x, y)` centred at
 //! `(x + 0.5, y + 0.5)`); a terminal cell holds [`Charset::samples_per_cell`] of them. Colours are linear
 //! RGB in 0..1 until [`glyph::to_frame`] encodes them to sRGB and quantizes to the [`ColorDepth`].
-//! Depth is in [0, 1], smaller = nearer, tested LESS.
+//! Depth is in [0, 1], smaller = nearer, tested LESS. The conventions (handedness, depth range, column
+//! vectors) are the math crate's, stated once in its README.
 //!
-//! # How the pipeline calls it
+//! # The pieces, called by hand
 //!
 //! ```
 //! use glam::{Vec2, Vec3};
@@ -71,3 +83,69 @@ pub use portal::{PortalPass, PortalStats};
 pub use raster::{GridVertex, Varying, fill_polygon, fill_triangle};
 pub use samples::SampleBuffer;
 pub use sprite::Sprite;
+
+use pipeline::{Light, Shading, fog_of};
+
+/// The pipeline in one screen.
+impl Renderer {
+    /// The pipeline up to the samples (no glyphs): what the frame is made of, sample by sample.
+    ///
+    /// The whole chain in order, one stage a line (tinyrenderer's `our_gl` in spirit); every stage is
+    /// a method below, and the matrices are the math crate's.
+    #[allow(clippy::too_many_arguments)]
+    fn samples_with(
+        &mut self,
+        maze: &mazewalk_maze::Maze,
+        camera: &Camera,
+        charset: Charset,
+        cell_aspect: f32,
+        culling: Culling,
+        cols: usize,
+        rows: usize,
+        sprites: &[Sprite],
+        textures: bool,
+    ) -> Result<RenderStats, CameraError> {
+        let (sx, sy) = charset.samples_per_cell();
+        let eye = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // look-at, projection, viewport
+        let mut stats = self.draw(maze, &eye, culling, Shading::Color, textures); // portal pass, walls, floor, ceiling
+        let visible = |cell: u32| culling == Culling::None || self.portal.was_visited(cell);
+        let fog = fog_of(&eye);
+        stats.samples_written += self.sprites.draw(&mut self.samples, &eye, &fog, sprites, visible); // figures
+        if let Some(point) = maze.exit().filter(|exit| visible(exit.cell)).and(maze.exit_point()) {
+            stats.samples_written += self.sprites.draw_beacon(&mut self.samples, &eye, &fog, point); // the exit
+        }
+        if !self.no_edges {
+            self.draw_edges(maze); // where surfaces meet: edges; where cells meet along a wall: seams
+            self.draw_cell_bounds(maze, &eye, culling); // cell boundaries on floor and ceiling: fainter lines
+        }
+        if charset == Charset::Ascii {
+            self.outline_visible_walls(maze, &eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
+        }
+        stats.walls_drawn = self.walls.len();
+        Ok(stats)
+    }
+
+    /// The 3D part of the pipeline for `eye`: choose the walls, draw each through the whole chain,
+    /// then floor and ceiling where no wall is nearer.
+    fn draw(
+        &mut self,
+        maze: &mazewalk_maze::Maze,
+        eye: &Eye,
+        culling: Culling,
+        shading: Shading,
+        textures: bool,
+    ) -> RenderStats {
+        self.begin(maze, eye); // every sample uncovered, the buffer sized to the grid
+        let mut stats = self.choose_walls(maze, eye, culling); // portal pass: cell to cell through openings
+        let light = Light::of(eye); // the fog, the sun and the headlight of this view
+        for k in 0..self.walls.len() {
+            let e = self.walls[k]; // model → world → view → clip → clip → ÷w → NDC → viewport → raster
+            let (triangles, written) = self.draw_wall(maze, eye, &light, e, shading, textures);
+            (stats.triangles, stats.samples_written) =
+                (stats.triangles + triangles, stats.samples_written + written);
+        }
+        let filter = textures.then_some(light.per_sample); // floor and ceiling: each ray meets z = ∓1
+        self.fill_floor_and_ceiling(eye, &light.fog, shading, maze.exit_point(), filter);
+        stats
+    }
+}

@@ -66,27 +66,52 @@ pub struct RenderStats {
 
 /// What the shading closure computes per sample: a colour, or the view depth (for `--depth-out`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Shading {
+pub(crate) enum Shading {
     Color,
     ViewDepth,
 }
 
+/// What lights a view, the same for all its walls.
+pub(crate) struct Light {
+    pub(crate) fog: Fog,
+    /// The sun's direction in view space (a direction: it turns as normals do).
+    sun_view: Vec3,
+    /// Orthographic: the headlight's rays are parallel, footprints the same at every depth.
+    ortho: bool,
+    /// View → world, for texture coordinates on the walls.
+    view_to_world: glam::Mat4,
+    /// Maze units one sample covers per unit of view depth (perspective), or in all (orthographic).
+    pub(crate) per_sample: f32,
+}
+
+impl Light {
+    pub(crate) fn of(eye: &Eye) -> Light {
+        Light {
+            fog: fog_of(eye),
+            sun_view: (eye.normal_to_view * SUN_WORLD).normalize_or_zero(),
+            ortho: eye.camera.projection == Projection::Orthographic,
+            view_to_world: rigid_inverse(eye.world_to_view),
+            per_sample: 2.0 * eye.half_w / eye.width.max(1) as f32,
+        }
+    }
+}
+
 /// The fog of a view: half the light left at a fifth of the far distance (19 maze units, about five
 /// generated cells, at the default view distance), all fog at the far plane.
-fn fog_of(eye: &Eye) -> Fog {
+pub(crate) fn fog_of(eye: &Eye) -> Fog {
     Fog { color: FOG_COLOR, half: eye.far * 0.2, end: eye.far }
 }
 
 /// The renderer: the pipeline plus every buffer it reuses from frame to frame.
 #[derive(Debug, Default)]
 pub struct Renderer {
-    samples: SampleBuffer,
-    portal: PortalPass,
-    walls: Vec<u32>,
+    pub(crate) samples: SampleBuffer,
+    pub(crate) portal: PortalPass,
+    pub(crate) walls: Vec<u32>,
     scratch: ClipScratch,
     polygon_grid: Vec<GridVertex<Vec3>>,
     seen: Vec<u32>,
-    sprites: SpritePass,
+    pub(crate) sprites: SpritePass,
     /// Which samples are edges or seams: all `None` between frames (each frame unmarks what it marked).
     edge_marks: Vec<Mark>,
     /// The samples marked this frame, each once.
@@ -234,57 +259,19 @@ impl Renderer {
         }
     }
 
-    /// The pipeline up to the samples (no glyphs): what the frame is made of, sample by sample.
-    #[allow(clippy::too_many_arguments)]
-    fn samples_with(
-        &mut self,
-        maze: &Maze,
-        camera: &Camera,
-        charset: Charset,
-        cell_aspect: f32,
-        culling: Culling,
-        cols: usize,
-        rows: usize,
-        sprites: &[Sprite],
-        textures: bool,
-    ) -> Result<RenderStats, CameraError> {
-        let (sx, sy) = charset.samples_per_cell();
-        let eye = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // world→view→clip→grid
-        let mut stats = self.draw(maze, &eye, culling, Shading::Color, textures); // walls, floor, ceiling → samples
-        let portal = &self.portal;
-        let visible = |cell: u32| culling == Culling::None || portal.was_visited(cell);
-        let fog = fog_of(&eye);
-        stats.samples_written += self.sprites.draw(&mut self.samples, &eye, &fog, sprites, visible); // figures
-        if let Some(point) = maze.exit().filter(|exit| visible(exit.cell)).and(maze.exit_point()) {
-            stats.samples_written += self.sprites.draw_beacon(&mut self.samples, &eye, &fog, point); // the exit
-        }
-        if !self.no_edges {
-            self.draw_edges(maze); // where surfaces meet: darker (or lighter) samples
-            self.draw_cell_bounds(maze, &eye, culling); // cell boundaries on floor and ceiling: fainter lines
-        }
-        if charset == Charset::Ascii {
-            self.outline_visible_walls(maze, &eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
-        }
-        stats.walls_drawn = self.walls.len();
-        Ok(stats)
-    }
-
-    /// Chooses the walls, rasterizes them, then fills floor and ceiling.
-    fn draw(
-        &mut self,
-        maze: &Maze,
-        eye: &Eye,
-        culling: Culling,
-        shading: Shading,
-        textures: bool,
-    ) -> RenderStats {
-        let mut stats = RenderStats::default();
+    /// A new frame's samples: sized to the grid, none covered.
+    pub(crate) fn begin(&mut self, maze: &Maze, eye: &Eye) {
         if self.samples.width() != eye.width || self.samples.height() != eye.height {
             self.samples.resize(eye.width, eye.height);
         }
         self.samples.clear_coverage(); // colours: every sample gets a wall's, a plane's or the fog's
         self.wall_ids = maze.edges().len() as u32;
+    }
 
+    /// The walls to draw, into `self.walls`: the portal pass's (or every wall, brute force), ascending
+    /// so that depth ties resolve the same way whichever pass chose them.
+    pub(crate) fn choose_walls(&mut self, maze: &Maze, eye: &Eye, culling: Culling) -> RenderStats {
+        let mut stats = RenderStats::default();
         self.walls.clear();
         match culling {
             Culling::None => self.walls.extend(0..maze.edges().len() as u32),
@@ -293,64 +280,71 @@ impl Renderer {
                 self.walls.extend_from_slice(&self.portal.walls);
             }
         }
-        // Ascending ids: depth ties resolve the same way whichever pass chose the walls.
         self.walls.sort_unstable();
-
-        let fog = fog_of(eye);
-        let ortho = eye.camera.projection == Projection::Orthographic;
-        let sun_view = (eye.normal_to_view * SUN_WORLD).normalize_or_zero(); // a direction: as normals go
-        let view_to_world = rigid_inverse(eye.world_to_view); // for texture coordinates on the walls
-        // Maze units one sample covers per unit of view depth (perspective), or in all (orthographic).
-        let per_sample = 2.0 * eye.half_w / eye.width.max(1) as f32;
-        for &e in &self.walls {
-            let edge = maze.edge(e);
-            if !edge.opaque {
-                continue; // portals are invisible
-            }
-            let Some(poly) = clip_wall(maze, eye, e, &mut self.scratch) else { continue }; // clip space
-            self.polygon_grid.clear();
-            self.polygon_grid.extend(poly.iter().map(|v| eye.grid_vertex(v.clip, v.view))); // ÷w → NDC → viewport
-            let (a, b) = maze.edge_points(e);
-            let along = (b - a).normalize_or_zero();
-            let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
-            // Normals by the inverse transpose, normalized once per wall; turned toward the eye (walls
-            // are seen from both sides) for the sun, whose factor is then the wall's.
-            let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
-            let facing =
-                if normal_view.dot(self.polygon_grid[0].attrs) > 0.0 { -normal_view } else { normal_view };
-            let albedo = wall_albedo(edge.color.map(srgb_to_linear)) * sun_factor(facing, sun_view);
-            // The headlight along the view axis: one light for the whole wall.
-            let lit_albedo = lit(albedo, headlight(normal_view), AMBIENT);
-            stats.triangles += self.polygon_grid.len() - 2;
-            if shading == Shading::Color && !textures && !self.reference_shading {
-                // The same shading as below, eight samples at a time (same operations, same order).
-                let shade = |view: &Lanes3| wall_lanes(view, lit_albedo, &fog);
-                stats.samples_written += fill_polygon_x8(&mut self.samples, &self.polygon_grid, e, &shade);
-                continue;
-            }
-            stats.samples_written += fill_polygon(&mut self.samples, &self.polygon_grid, e, |view: Vec3| {
-                let depth = view.z.abs(); // distance along the view axis (RH: -z, LH: +z)
-                match shading {
-                    Shading::ViewDepth => Vec3::splat(depth),
-                    Shading::Color => {
-                        let mut color = lit_albedo;
-                        if textures {
-                            // Texture coordinates: along the wall from its start, and height.
-                            let world = view_to_world.transform_point3(view);
-                            let u = (world.truncate() - a).dot(along);
-                            // A sample's footprint on the wall: wider where the wall is seen edge-on
-                            // (the slant of the ray from the eye, or of the view axis, to the wall).
-                            let ray = if ortho { Vec3::new(0.0, 0.0, view.z) } else { view };
-                            let reach = if ortho { per_sample } else { per_sample * depth };
-                            color *= bricks(u, world.z, reach / slant_cosine(normal_view, ray).max(0.25));
-                        }
-                        fog.apply(color, depth)
-                    }
-                }
-            });
-        }
-        self.fill_floor_and_ceiling(eye, &fog, shading, maze.exit_point(), textures.then_some(per_sample));
         stats
+    }
+
+    /// One wall through the whole chain: its quad extruded in world space (the model is the world:
+    /// walls stand where the maze puts them), to view and clip space, clipped against the view volume,
+    /// divided by w to NDC and mapped to the grid by the viewport, then rasterized (top-left rule,
+    /// depth LESS), each sample shaded: Lambert from the headlight and the sun through the normal
+    /// matrix, then fog. Returns the triangles rasterized and the samples written.
+    pub(crate) fn draw_wall(
+        &mut self,
+        maze: &Maze,
+        eye: &Eye,
+        light: &Light,
+        e: u32,
+        shading: Shading,
+        textures: bool,
+    ) -> (usize, usize) {
+        let edge = maze.edge(e);
+        if !edge.opaque {
+            return (0, 0); // portals are invisible
+        }
+        let Some(poly) = clip_wall(maze, eye, e, &mut self.scratch) else { return (0, 0) }; // world → clip, clipped
+        self.polygon_grid.clear();
+        self.polygon_grid.extend(poly.iter().map(|v| eye.grid_vertex(v.clip, v.view))); // ÷w → NDC → viewport
+        let (a, b) = maze.edge_points(e);
+        let along = (b - a).normalize_or_zero();
+        let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
+        // Normals by the inverse transpose, normalized once per wall; turned toward the eye (walls
+        // are seen from both sides) for the sun, whose factor is then the wall's.
+        let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
+        let facing =
+            if normal_view.dot(self.polygon_grid[0].attrs) > 0.0 { -normal_view } else { normal_view };
+        let albedo = wall_albedo(edge.color.map(srgb_to_linear)) * sun_factor(facing, light.sun_view);
+        // The headlight along the view axis: one light for the whole wall.
+        let lit_albedo = lit(albedo, headlight(normal_view), AMBIENT);
+        let triangles = self.polygon_grid.len() - 2;
+        let fog = &light.fog;
+        if shading == Shading::Color && !textures && !self.reference_shading {
+            // The same shading as below, eight samples at a time (same operations, same order).
+            let shade = |view: &Lanes3| wall_lanes(view, lit_albedo, fog);
+            return (triangles, fill_polygon_x8(&mut self.samples, &self.polygon_grid, e, &shade));
+        }
+        let (ortho, per_sample, view_to_world) = (light.ortho, light.per_sample, light.view_to_world);
+        let written = fill_polygon(&mut self.samples, &self.polygon_grid, e, |view: Vec3| {
+            let depth = view.z.abs(); // distance along the view axis (RH: -z, LH: +z)
+            match shading {
+                Shading::ViewDepth => Vec3::splat(depth),
+                Shading::Color => {
+                    let mut color = lit_albedo;
+                    if textures {
+                        // Texture coordinates: along the wall from its start, and height.
+                        let world = view_to_world.transform_point3(view);
+                        let u = (world.truncate() - a).dot(along);
+                        // A sample's footprint on the wall: wider where the wall is seen edge-on
+                        // (the slant of the ray from the eye, or of the view axis, to the wall).
+                        let ray = if ortho { Vec3::new(0.0, 0.0, view.z) } else { view };
+                        let reach = if ortho { per_sample } else { per_sample * depth };
+                        color *= bricks(u, world.z, reach / slant_cosine(normal_view, ray).max(0.25));
+                    }
+                    fog.apply(color, depth)
+                }
+            }
+        });
+        (triangles, written)
     }
 
     /// Floor and ceiling, per sample: where the sample's ray meets z = -1 or z = +1 before any wall.
@@ -362,7 +356,7 @@ impl Renderer {
     /// floor-to-ceiling slab) exact against brute force.
     /// With `filter` (maze units a sample covers per unit of distance), the tiles fade to their mean as
     /// they shrink below a sample ([`checker_filtered`]).
-    fn fill_floor_and_ceiling(
+    pub(crate) fn fill_floor_and_ceiling(
         &mut self,
         eye: &Eye,
         fog: &Fog,
@@ -519,7 +513,7 @@ impl Renderer {
     /// the outlines of figures. One sample wide, so it survives at any size. Two walls on one line
     /// (a long wall made of several edges, one a cell) meet at a cell boundary: a seam, fainter than an
     /// edge ([`seam_color`]), so a player counts the cells a wall runs along (issue #39).
-    fn draw_edges(&mut self, maze: &Maze) {
+    pub(crate) fn draw_edges(&mut self, maze: &Maze) {
         let (width, height) = (self.samples.width(), self.samples.height());
         if self.edge_marks.len() != width * height {
             self.edge_marks.clear();
@@ -593,7 +587,7 @@ impl Renderer {
     /// count, and a side opening as a break in the wall with its own boundary line (issue #39). Exact:
     /// a ray meets the floor once, so where a sample shows the floor and the boundary projects onto
     /// it, the boundary is what the sample shows.
-    fn draw_cell_bounds(&mut self, maze: &Maze, eye: &Eye, culling: Culling) {
+    pub(crate) fn draw_cell_bounds(&mut self, maze: &Maze, eye: &Eye, culling: Culling) {
         let (w, h) = (eye.width, eye.height);
         self.edge_list.clear();
         self.seen.clear();
@@ -632,7 +626,7 @@ impl Renderer {
     }
 
     /// Ascii: the edges of every wall that won at least one sample, as line glyphs on that wall's samples.
-    fn outline_visible_walls(&mut self, maze: &Maze, eye: &Eye, sample_aspect: f32) {
+    pub(crate) fn outline_visible_walls(&mut self, maze: &Maze, eye: &Eye, sample_aspect: f32) {
         let edges = maze.edges().len() as u32;
         self.seen.clear();
         // One id per run of equal samples (a wall covers runs of a row), so the sort is of a few.
