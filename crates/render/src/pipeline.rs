@@ -22,8 +22,8 @@ use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, LANES, Lanes3, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
-    FOG_FADE, Fog, SUN_WORLD, bricks, checker, checker_filtered, edge_color, headlight, lit, seam_color,
-    slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
+    FOG_FADE, Fog, SUN_WORLD, bricks, checker, checker_filtered, edge_color, headlight, jamb_color, lit,
+    seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -621,6 +621,65 @@ impl Renderer {
         let colors = self.samples.color_mut();
         for &i in &self.edge_list {
             colors[i as usize] = seam_color(colors[i as usize]);
+            self.edge_marks[i as usize] = Mark::None;
+        }
+    }
+
+    /// Door jambs: where a wall ends at an opening of its own line (a side opening, a turn), a light
+    /// line one sample wide from floor to ceiling on the wall's last samples ([`jamb_color`]). An
+    /// opening six cells down a corridor is narrower than a column, but its jambs stay a sample wide,
+    /// so a player sees where the side openings are as far as the view reaches (issue #39).
+    pub(crate) fn draw_jambs(&mut self, maze: &Maze, eye: &Eye) {
+        let (w, h) = (eye.width, eye.height);
+        self.edge_list.clear();
+        for &e in &self.walls {
+            let edge = maze.edge(e);
+            if !edge.opaque {
+                continue;
+            }
+            for v in [edge.start, edge.end] {
+                // A portal on the wall's line from the same vertex, in one of the wall's cells or
+                // in a cell next to one of them across a portal at that vertex (a grid's next tile).
+                let at_v = |f: u32| {
+                    let other = maze.edge(f);
+                    f != e && !other.opaque && (other.start == v || other.end == v)
+                };
+                let continues =
+                    |cell: u32| maze.cell_edges(cell).iter().any(|&f| at_v(f) && collinear(maze, e, f));
+                let opens = [edge.left, edge.right].into_iter().flatten().any(|cell| {
+                    continues(cell)
+                        || maze
+                            .cell_edges(cell)
+                            .iter()
+                            .any(|&g| at_v(g) && maze.edge(g).other_side(cell).is_some_and(&continues))
+                });
+                if !opens {
+                    continue;
+                }
+                let at = maze.vertex(v);
+                let Some((p, q)) = clip_segment(eye, at.extend(FLOOR_Z), at.extend(CEILING_Z)) else {
+                    continue;
+                };
+                let (gp, gq) = (eye.grid(p), eye.grid(q));
+                let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
+                let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
+                for (x, y) in line_points(x0, y0, x1, y1, w, h) {
+                    // The wall's own sample on the line, or beside it (the line runs along the
+                    // wall's end, which rounds to either side).
+                    let row = y * w;
+                    let on_wall = [x, x.wrapping_sub(1), x + 1].into_iter().filter(|&x| x < w);
+                    if let Some(i) = on_wall.map(|x| row + x).find(|&i| self.samples.id()[i] == e)
+                        && self.edge_marks[i] == Mark::None
+                    {
+                        self.edge_marks[i] = Mark::Seam;
+                        self.edge_list.push(i as u32);
+                    }
+                }
+            }
+        }
+        let colors = self.samples.color_mut();
+        for &i in &self.edge_list {
+            colors[i as usize] = jamb_color(colors[i as usize]);
             self.edge_marks[i as usize] = Mark::None;
         }
     }

@@ -88,6 +88,13 @@ pub(crate) fn seam_color(color: Vec3) -> Vec3 {
     color.lerp(edge_color(color), 0.6)
 }
 
+/// A door jamb's colour (where a wall ends at an opening): lighter than the wall, toward a pale grey
+/// (not white, not the beacon's green), so openings show as light ticks down a corridor.
+#[must_use]
+pub(crate) fn jamb_color(color: Vec3) -> Vec3 {
+    color.lerp(Vec3::splat(0.6), 0.35).max(color)
+}
+
 /// Brick courses: each course [`BRICK_HEIGHT`] tall, bricks [`BRICK_LENGTH`] long, every other course
 /// offset by half a brick, joined by mortar [`MORTAR`] wide (maze units).
 pub(crate) const BRICK_LENGTH: f32 = 1.0;

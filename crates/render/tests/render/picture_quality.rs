@@ -92,10 +92,12 @@ fn in_256_colours_every_view_is_calm_true_to_hue_and_keeps_its_surfaces_apart() 
 }
 
 // issue #33: 16 colours, dithered, were half grain (48–52 %) with floor, ceiling and walls 0.0–0.6 apart.
+// Issue #39's cell lines, seams and jambs are drawn one sample wide, and 16 colours step each one a
+// whole palette entry from its surface: up to 6 % (5.1 % on the built-in view), not 5.
 #[test]
 fn in_16_colours_every_view_is_calm_and_keeps_its_surfaces_apart() {
     for (name, m, truth) in measured(ColorDepth::Ansi16) {
-        assert!(m.grain <= 0.05, "{name}: grain {:.1} %", 100.0 * m.grain);
+        assert!(m.grain <= 0.06, "{name}: grain {:.1} %", 100.0 * m.grain);
         assert!(
             m.surfaces_apart >= 0.6 * truth.surfaces_apart,
             "{name}: surfaces {:.1} apart, truecolor {:.1}",

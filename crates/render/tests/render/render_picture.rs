@@ -231,3 +231,43 @@ fn textured_walls_show_joints_up_close_and_keep_their_brightness() {
     let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
     assert!((mean(&textured) / mean(&plain) - 0.92).abs() < 0.08, "{} vs {}", mean(&textured), mean(&plain));
 }
+
+// issue #39: openings 4+ cells down a corridor were lost (a wall there is a few rows tall; the gap
+// of a side opening narrower than a column). Each end of a wall at an opening is a light jamb one
+// sample wide, so every side opening up to six cells away shows, in truecolor and in 256 colours.
+#[test]
+fn side_openings_show_as_light_jambs_as_far_as_six_cells() {
+    // A corridor along y = 8..12 (tile 4), a side opening to the north every other cell.
+    let corridor = maze(
+        "mazewalk-grid 1\ntile 4\nfacing east\n\n###############\n###.#.#.#.#.###\n#>...........##\n###############\n",
+    );
+    let camera = Camera::new(Vec2::new(6.0, 6.0), 0.0, 90.0);
+    let (cols, rows) = (120, 40);
+    for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
+        let options =
+            RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
+        let mut renderer = Renderer::new();
+        let mut frame = Frame::new(cols, rows);
+        let region = frame.region();
+        renderer.render(&corridor, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
+        let samples = renderer.samples();
+        let (width, ids, colors) = (samples.width(), samples.id(), samples.color());
+        let eye = camera.eye(cols, rows * 2, Charset::Half.sample_aspect(0.5)).unwrap();
+        // The openings' ends on the north wall (y = 8 in the file's rows, 4-unit tiles; x = 12, 16,
+        // … 28 for the openings 1.5 to 5.5 cells ahead of the eye at x = 6).
+        for x_end in [12.0f32, 16.0, 20.0, 24.0, 28.0, 32.0] {
+            let grid = eye.grid(eye.clip(Vec3::new(x_end, 8.0, 0.5)));
+            let (gx, gy) = (grid.x.floor() as usize, grid.y.floor() as usize);
+            // Along the row through the jamb's upper half, a wall sample lighter than the wall
+            // samples two further out on either side.
+            let lighter = (gx.saturating_sub(1)..=gx + 1).any(|x| {
+                let i = gy * width + x;
+                let wall = |j: usize| ids[j] == ids[i];
+                let l = luminance(colors[i]);
+                ids[i] < corridor.edges().len() as u32
+                    && [i - 3, i + 3].iter().all(|&j| !wall(j) || luminance(colors[j]) + 0.01 < l)
+            });
+            assert!(lighter, "{depth:?}: no jamb where the wall ends at x = {x_end} (sample {gx}, {gy})");
+        }
+    }
+}
