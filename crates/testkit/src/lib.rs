@@ -1,10 +1,30 @@
-//! What the tests of every mazewalk crate share: the proptest configuration of every property, a
-//! tolerant comparison, and the check that a system program a test runs is installed. A dev-dependency only; it depends on no mazewalk crate (so a crate's tests and
-//! its library never see two copies of one type).
+//! What the tests and benches of every mazewalk crate share, in one copy: the proptest configuration
+//! of every property, a tolerant comparison, the check that a system program a test runs is
+//! installed ([`require_tool`]) and the `redis-server` they start ([`redis_server`]). A
+//! dev-dependency only.
+//!
+//! The harnesses that drive a mazewalk crate are behind a feature named after it (`term`, `walk`,
+//! `pty`, `serve`, `redis`), so that the math crate's tests, say, build none of them. Only a crate's
+//! integration tests and the benches use them: a crate's own unit tests would see a second copy of
+//! its types.
 
 use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
 
+#[cfg(feature = "term")]
+pub mod baseline;
+#[cfg(feature = "walk")]
+pub mod link;
+#[cfg(feature = "serve")]
+pub mod load;
+#[cfg(all(unix, feature = "pty"))]
+pub mod pty_link;
+#[cfg(feature = "serve")]
+pub mod raw_ssh;
+#[cfg(feature = "redis")]
+pub mod redis_async;
 pub mod redis_server;
+#[cfg(feature = "serve")]
+pub mod world_host;
 
 /// The configuration of every property: 1,000 cases ([`config_cases`] for the few that say why they
 /// run fewer), or exactly `PROPTEST_CASES` when that is set (more for a long soak, fewer for a quick

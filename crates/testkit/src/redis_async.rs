@@ -1,10 +1,9 @@
-//! The tests' `redis-server` ([`mazewalk_testkit::redis_server`], the one copy) for async tests: the
-//! blocking start and restart on tokio's blocking threads, so a test's runtime keeps running the
-//! server under test meanwhile, and a `redis` client of the test's own.
-#![allow(dead_code)] // each includer uses a part
+//! The tests' `redis-server` ([`redis_server`](crate::redis_server), the one copy) for async tests
+//! and benches: the blocking start and restart on tokio's blocking threads, so that a test's runtime
+//! keeps running the server under test meanwhile, and a `redis` client of the test's own.
 
-pub use mazewalk_testkit::redis_server::Persistence;
-use mazewalk_testkit::redis_server::RedisServer as Blocking;
+pub use crate::redis_server::Persistence;
+use crate::redis_server::RedisServer as Blocking;
 
 /// One `redis-server` process.
 pub struct RedisServer {
