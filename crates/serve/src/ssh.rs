@@ -1116,7 +1116,9 @@ async fn walk(
         }
         let now = shared.now();
         if player.look_due(now) {
-            let look = shared.world().look(); // the lock: for the snapshot's two `Arc`s only
+            // Under the lock: the snapshot's two `Arc`s cloned, after rebuilding it if the world
+            // changed since the last look (World::look).
+            let look = shared.world().look();
             player.look(&look, now);
         }
         let started = Instant::now();
