@@ -165,7 +165,7 @@ pub enum Command {
 pub struct ServeArgs {
     #[command(flatten)]
     pub maze: MazeArgs,
-    /// Address and port to listen on: 0.0.0.0:2222 for every IPv4 interface, [::]:2222 for every
+    /// Address and port to listen on: 0.0.0.0:2222 for every IPv4 interface, `[::]:2222` for every
     /// interface, or a host name (localhost:2222 listens on each of its addresses).
     #[arg(long, value_name = "HOST:PORT", default_value = "127.0.0.1:2222", value_parser = parse_listen)]
     pub listen: String,
@@ -200,7 +200,7 @@ pub struct ServeArgs {
     #[arg(long)]
     pub no_records: bool,
     /// Walk one world with every server started with this URL and the same maze:
-    /// redis://[USER:PASS@]HOST:PORT[/DB], or rediss://… for TLS. The best times then live in that
+    /// `redis://[USER:PASS@]HOST:PORT[/DB]`, or `rediss://…` for TLS. The best times then live in that
     /// Redis (--records is not used).
     #[arg(long, value_name = "URL", conflicts_with = "records")]
     pub world: Option<String>,

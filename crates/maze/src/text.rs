@@ -1,7 +1,7 @@
 //! What the readers and writers of both formats share: the formats' names, located errors, text
 //! decoding and positions. Pieces of a file that a message shows go through [`quote`] (mazewalk-names).
 //!
-//! [`load`](super::load) dispatches to [`cs559`](super::cs559) and [`grid`](super::grid); both import
+//! [`load`](super::load()) dispatches to [`cs559`](super::cs559) and [`grid`](super::grid); both import
 //! this module and nothing of each other or of `load`, so the modules form no cycle.
 
 pub use mazewalk_names::{QUOTE_CHARS, quote, quote_path};

@@ -210,7 +210,7 @@ const REFUSAL_GRACE: Duration = Duration::from_secs(2);
 
 /// Tells a client it was refused, in the only place before a key exchange that OpenSSH shows: an SSH
 /// identification, then a disconnect packet (unencrypted, as every packet before the key exchange is;
-/// `ssh` prints "Received disconnect from …: <the message>"). The client's own bytes are read until it
+/// `ssh` prints "Received disconnect from …: \<the message\>"). The client's own bytes are read until it
 /// hangs up: closing with them unread would reset the connection, and could lose ours on the way.
 async fn refuse(mut stream: TcpStream, refusal: Refusal) {
     use tokio::io::{AsyncReadExt as _, AsyncWriteExt as _};
