@@ -46,7 +46,9 @@ pub use load::{
     DEFAULT_MAX_BYTES, LoadError, LoadOptions, Loaded, detect_format, load, load_with, parse, parse_loaded,
     write,
 };
-pub use text::{Format, ParseError, ParseErrorKind, QUOTE_CHARS, WriteError, quote, quote_path};
+pub use text::{
+    Format, ParseError, ParseErrorKind, QUOTE_CHARS, WriteError, quote, quote_path, quote_within,
+};
 
 /// The maze walked when none is given: `mazes/hand-drawn.grid`, compiled in (loops, colours, an exit).
 pub(crate) const BUILTIN: &str = include_str!("../../../mazes/hand-drawn.grid");

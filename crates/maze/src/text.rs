@@ -4,7 +4,7 @@
 //! [`load`](super::load()) dispatches to [`cs559`](super::cs559) and [`grid`](super::grid); both import
 //! this module and nothing of each other or of `load`, so the modules form no cycle.
 
-pub use mazewalk_names::{QUOTE_CHARS, quote, quote_path};
+pub use mazewalk_names::{QUOTE_CHARS, quote, quote_path, quote_within};
 use std::fmt;
 
 use super::MazeError;
