@@ -255,7 +255,7 @@ pub struct GenArgs {
     #[arg(long, default_value_t = 0.0, value_parser = parse_loops)]
     pub loops: f32,
     /// Output format: cs559 (thin walls) or grid (tiles: a WxH maze becomes (2W+1)x(2H+1) tiles).
-    #[arg(long, default_value = "cs559", value_parser = parse_format)]
+    #[arg(long, default_value = "cs559")]
     pub format: Format,
     /// Mark the cell farthest from the start as the exit (in a 1x1 maze, the start itself).
     #[arg(long)]
@@ -372,14 +372,6 @@ pub fn parse_loops(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {
         Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
         _ => Err(format!("expected a fraction in 0..=1, found `{s}`")),
-    }
-}
-
-pub fn parse_format(s: &str) -> Result<Format, String> {
-    match s {
-        "cs559" => Ok(Format::Cs559),
-        "grid" => Ok(Format::Grid),
-        _ => Err(format!("unknown format `{s}` (expected cs559 or grid)")),
     }
 }
 

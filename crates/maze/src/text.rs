@@ -18,14 +18,7 @@ pub enum Format {
     Grid,
 }
 
-impl fmt::Display for Format {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Format::Cs559 => "cs559",
-            Format::Grid => "grid",
-        })
-    }
-}
+mazewalk_names::named!(Format, "format", [("cs559", Format::Cs559), ("grid", Format::Grid)]);
 
 /// A maze that a format cannot express.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
