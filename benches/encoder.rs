@@ -17,8 +17,7 @@
 //! nice cargo bench -p mazewalk-bench --bench encoder -- --warm-up-time 1 --measurement-time 3 --sample-size 10
 //! ```
 
-#[path = "common/mod.rs"]
-mod common;
+use mazewalk_bench::common;
 
 use std::cell::Cell as StdCell;
 use std::fmt::Write as _;
@@ -26,11 +25,11 @@ use std::hint::black_box;
 use std::io;
 use std::rc::Rc;
 
-use common::baseline::{full_repaint, lower_bound};
 use criterion::{Criterion, Throughput};
 use mazewalk_render::{Charset, Renderer, Target};
 use mazewalk_term::encoder::{DEFAULT_TOLERANCE, Encoder};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
+use mazewalk_testkit::baseline::{full_repaint, lower_bound};
 use mazewalk_walk::App;
 use ratatui::backend::CrosstermBackend;
 use ratatui::layout::Rect;

@@ -9,8 +9,7 @@
 //! nice cargo bench -p mazewalk-bench --bench frame -- --warm-up-time 1 --measurement-time 3 --sample-size 10
 //! ```
 
-#[path = "common/mod.rs"]
-mod common;
+use mazewalk_bench::common;
 
 use std::hint::black_box;
 

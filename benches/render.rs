@@ -13,8 +13,7 @@
 //! nice cargo bench -p mazewalk-bench --bench render -- --warm-up-time 1 --measurement-time 3 --sample-size 10
 //! ```
 
-#[path = "common/mod.rs"]
-mod common;
+use mazewalk_bench::common;
 
 use std::fmt::Write as _;
 use std::hint::black_box;

@@ -6,8 +6,9 @@
 #
 # Each round clones each commit into a new directory (nothing of the working tree, no target/), with
 # the course files placed beside a clone that still reads them from ../shared/mazes-cs559 (commits
-# from before the repository kept its own copy), then times `cargo test --locked` from scratch
-# (dependencies compiled, tests run). The crates' sources come from cargo's registry cache, which
+# from before the repository kept its own copy), then times the README's test command of that
+# commit from scratch (dependencies compiled, tests run): `scripts/test-all --locked` where the commit
+# has it (cargo-nextest, when installed, runs the test binaries in parallel), else `cargo test --locked`. The crates' sources come from cargo's registry cache, which
 # the first round fills; the printed line per run is: commit, round, wall seconds, exit status.
 # Not run by CI (a round takes several minutes on two cores).
 set -euo pipefail
@@ -35,7 +36,11 @@ for round in $(seq "$rounds"); do
     (cd "$dir" && cargo fetch --locked -q)
     start=$(date +%s.%N)
     status=0
-    (cd "$dir" && cargo test --locked -q >"$work/log" 2>&1) || status=$?
+    if [ -x "$dir/scripts/test-all" ]; then
+      (cd "$dir" && scripts/test-all --locked >"$work/log" 2>&1) || status=$?
+    else
+      (cd "$dir" && cargo test --locked -q >"$work/log" 2>&1) || status=$?
+    fi
     end=$(date +%s.%N)
     printf '%s\tround %s\t%.1f s\texit %s\n' "$commit" "$round" "$(echo "$end - $start" | bc)" "$status"
     if [ "$status" -ne 0 ]; then tail -n 30 "$work/log" >&2; fi

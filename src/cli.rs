@@ -33,10 +33,7 @@ use mazewalk_walk::state;
     name = "mazewalk",
     version,
     about = "A first-person 3D maze walkthrough for the terminal",
-    long_about = "A first-person 3D maze walkthrough for the terminal.\n\n\
-        Without a command, walks MAZE (CS559 or grid format), a fresh --gen maze, or the built-in maze.\n\
-        Keys: W/S walk, A/D strafe, arrows turn and look (a tap steps, a hold glides), , . snap turn 90°,\n\
-        [ ] down/up, + - fov, p projection, m map, c glyphs, r reset, i figures, ? help, q quit.",
+    long_about = long_about(),
     args_conflicts_with_subcommands = true
 )]
 pub struct Cli {
@@ -104,8 +101,9 @@ pub struct MazeArgs {
     /// Walk a fresh random maze of WxH cells instead (with loops and an exit).
     #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size)]
     pub generate: Option<(u32, u32)>,
-    /// Seed for --gen (the same seed gives the same maze).
-    #[arg(long, default_value_t = 1, requires = "gen")]
+    /// Seed for --gen (the same seed gives the same maze: the one `mazewalk gen --size WxH --seed N
+    /// --loops 0.1 --exit` writes).
+    #[arg(long, default_value_t = DEFAULT_SEED, requires = "gen")]
     pub seed: u64,
     #[command(flatten)]
     pub read: ReadArgs,
@@ -167,7 +165,7 @@ pub enum Command {
 pub struct ServeArgs {
     #[command(flatten)]
     pub maze: MazeArgs,
-    /// Address and port to listen on: 0.0.0.0:2222 for every IPv4 interface, [::]:2222 for every
+    /// Address and port to listen on: 0.0.0.0:2222 for every IPv4 interface, `[::]:2222` for every
     /// interface, or a host name (localhost:2222 listens on each of its addresses).
     #[arg(long, value_name = "HOST:PORT", default_value = "127.0.0.1:2222", value_parser = parse_listen)]
     pub listen: String,
@@ -203,7 +201,7 @@ pub struct ServeArgs {
     #[arg(long)]
     pub no_records: bool,
     /// Walk one world with every server started with this URL and the same maze:
-    /// redis://[USER:PASS@]HOST:PORT[/DB], or rediss://… for TLS. The best times then live in that
+    /// `redis://[USER:PASS@]HOST:PORT[/DB]`, or `rediss://…` for TLS. The best times then live in that
     /// Redis (--records is not used).
     #[arg(long, value_name = "URL", conflicts_with = "records")]
     pub world: Option<String>,
@@ -223,7 +221,7 @@ pub struct RecordsArgs {
     #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size, conflicts_with = "maze")]
     pub generate: Option<(u32, u32)>,
     /// Seed for --gen.
-    #[arg(long, default_value_t = 1, requires = "gen")]
+    #[arg(long, default_value_t = DEFAULT_SEED, requires = "gen")]
     pub seed: u64,
     /// The built-in maze's best times.
     #[arg(long, conflicts_with_all = ["maze", "gen"])]
@@ -249,7 +247,7 @@ pub struct GenArgs {
     #[arg(long, value_parser = parse_size)]
     pub size: (u32, u32),
     /// Random seed: the same seed gives the same maze on every platform.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = DEFAULT_SEED)]
     pub seed: u64,
     /// Carving algorithm: prim (bushy), dfs (long corridors), wilson (uniform).
     #[arg(long, default_value = "prim")]
@@ -258,7 +256,7 @@ pub struct GenArgs {
     #[arg(long, default_value_t = 0.0, value_parser = parse_loops)]
     pub loops: f32,
     /// Output format: cs559 (thin walls) or grid (tiles: a WxH maze becomes (2W+1)x(2H+1) tiles).
-    #[arg(long, default_value = "cs559", value_parser = parse_format)]
+    #[arg(long, default_value = "cs559")]
     pub format: Format,
     /// Mark the cell farthest from the start as the exit (in a 1x1 maze, the start itself).
     #[arg(long)]
@@ -376,14 +374,6 @@ pub fn parse_loops(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {
         Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
         _ => Err(format!("expected a fraction in 0..=1, found `{s}`")),
-    }
-}
-
-pub fn parse_format(s: &str) -> Result<Format, String> {
-    match s {
-        "cs559" => Ok(Format::Cs559),
-        "grid" => Ok(Format::Grid),
-        _ => Err(format!("unknown format `{s}` (expected cs559 or grid)")),
     }
 }
 
@@ -507,6 +497,22 @@ pub fn parse_duration(s: &str) -> Result<std::time::Duration, String> {
         _ => Err(format!("expected a duration from 1s to 7d such as 90s, 30m or 2h, found `{s}`")),
     }
 }
+
+/// `mazewalk --help`'s description: what it does, then the keys, from the one table the walk's `?`
+/// help shows (`mazewalk_walk::overlay::help_lines`).
+fn long_about() -> String {
+    let keys = mazewalk_walk::overlay::help_lines(mazewalk_walk::overlay::Style::default(), false);
+    format!(
+        "A first-person 3D maze walkthrough for the terminal.\n\n\
+         Without a command, walks MAZE (CS559 or grid format), a fresh --gen maze, or the built-in \
+         maze.\n\nKeys:\n  {}",
+        keys.join("\n  ")
+    )
+}
+
+/// The seed of a generated maze when none is given, for `gen` and `--gen` alike (so that the same
+/// size, with the same options, gives the same maze).
+pub const DEFAULT_SEED: u64 = 1;
 
 /// Largest frame `render` makes, per side (a 2000-column frame is already 8 screens wide).
 pub const MAX_FRAME_SIDE: usize = 2000;

@@ -153,7 +153,7 @@ fn drain_seconds(round_trip: Option<f64>) -> f64 {
 }
 
 /// Reads and decodes input until every frame's query is answered, the terminal is known not to answer
-/// ([`FlowControl::silent`](super::flow::FlowControl::silent)), it hangs up, or [`drain_seconds`] pass.
+/// ([`FlowControl::silent`](mazewalk_walk::flow::FlowControl::silent)), it hangs up, or [`drain_seconds`] pass.
 fn drain_answers(
     session: &mut Session,
     stdin: &io::Stdin,

@@ -17,7 +17,8 @@
 //! Unix only (ptys, signals).
 #![cfg(unix)]
 // A child's session and controlling terminal are set between fork and exec (`pre_exec`), and the
-// pty's TIOCNOTTY is a raw ioctl: the only unsafe code in the workspace, here in a test.
+// pty's TIOCNOTTY is a raw ioctl: unsafe code, allowed in tests only (here, and the same `pre_exec`
+// in crates/testkit/src/pty_link.rs); the workspace's crates deny it.
 #![allow(unsafe_code)]
 
 use std::fs::File;

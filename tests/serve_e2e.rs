@@ -1,8 +1,8 @@
 //! End to end: `mazewalk serve` (the built binary) and the real OpenSSH client. Each `ssh -tt` runs in a
 //! pseudo-terminal (as its controlling terminal, through `setsid -c`, so that resizing the pty sends it
 //! SIGWINCH); a reader thread feeds everything it prints to a `vt100` emulator and answers the
-//! device-attributes queries as a terminal would. Loopback only; every wait has a deadline; children
-//! are killed on drop.
+//! device-attributes queries as a terminal would (`tests/common`, shared with serve_world_e2e.rs).
+//! Loopback only; every wait has a deadline; children are killed on drop.
 //!
 //! Checks: two players see each other on the map and a player who leaves disappears from it; a resize
 //! redraws at the new size; `q` restores the terminal (main screen, cursor, keyboard flags popped,
@@ -12,317 +12,18 @@
 //! disconnect.
 #![cfg(unix)]
 
-use std::fs::File;
-use std::io::{BufRead, BufReader, Read, Write};
-use std::num::NonZeroU16;
+mod common;
+
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Stdio};
-use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use common::{Player, Scratch, Server, TIMEOUT, hud_row, on_map, playing, ssh_args};
 use mazewalk_serve::player::REMOTE;
 use mazewalk_serve::ssh::{DUMB_TERMINAL_MESSAGE, NO_EXEC_MESSAGE, NO_PTY_MESSAGE, SHUTDOWN_MESSAGE};
 use mazewalk_term::modes::restore_sequence;
-use rustix::termios::{self, Winsize};
-
-/// Longest wait for anything. Generous for a loaded CI machine; each step takes well under a second.
-const TIMEOUT: Duration = Duration::from_secs(20);
-
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(PoisonError::into_inner)
-}
-
-/// A scratch folder of the test's own, removed on drop.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Scratch {
-        let dir = std::env::temp_dir().join(format!("mazewalk-serve-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("scratch folder");
-        Scratch(dir)
-    }
-
-    /// A fresh ed25519 key pair made by ssh-keygen; returns the private key's path.
-    fn key(&self, name: &str) -> PathBuf {
-        let path = self.0.join(name);
-        let status = Command::new("ssh-keygen")
-            .args(["-q", "-t", "ed25519", "-N", "", "-C", name, "-f"])
-            .arg(&path)
-            .stdin(Stdio::null())
-            .status()
-            .expect("ssh-keygen");
-        assert!(status.success());
-        path
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// The server binary, with its log.
-struct ServerProcess {
-    child: Child,
-    port: u16,
-    log: Arc<Mutex<String>>,
-}
-
-impl ServerProcess {
-    fn start(scratch: &Scratch, args: &[&str]) -> ServerProcess {
-        ServerProcess::start_on(scratch, "127.0.0.1:0", args)
-    }
-
-    fn start_on(scratch: &Scratch, listen: &str, args: &[&str]) -> ServerProcess {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
-            .arg("serve")
-            .args(["--listen", listen, "--host-key"])
-            .arg(scratch.0.join("host_key"))
-            .args(args)
-            .env("HOME", &scratch.0)
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start mazewalk serve");
-        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        let mut line = String::new();
-        stdout.read_line(&mut line).expect("the first line");
-        let port = line
-            .trim()
-            .split(", ")
-            .next()
-            .and_then(|first| first.rsplit_once(':'))
-            .and_then(|(_, port)| port.parse().ok())
-            .unwrap_or_else(|| panic!("expected `mazewalk: serving on ADDR:PORT`, got {line:?}"));
-        let log = Arc::new(Mutex::new(String::new()));
-        let stderr = child.stderr.take().expect("stderr");
-        let sink = Arc::clone(&log);
-        std::thread::spawn(move || {
-            for line in BufReader::new(stderr).lines() {
-                let Ok(line) = line else { break };
-                let mut log = lock(&sink);
-                log.push_str(&line);
-                log.push('\n');
-            }
-        });
-        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink())); // the rest
-        ServerProcess { child, port, log }
-    }
-
-    /// Waits until the log holds `n` lines containing `what`.
-    fn wait_log(&self, what: &str, n: usize) {
-        let deadline = Instant::now() + TIMEOUT;
-        while lock(&self.log).matches(what).count() < n {
-            assert!(
-                Instant::now() < deadline,
-                "timed out waiting for {n}× {what:?} in the log:\n{}",
-                lock(&self.log)
-            );
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-
-    /// `ssh` to this server, not in a terminal: its exit status, stdout and stderr.
-    fn ssh_batch(&self, key: Option<&Path>, user: &str, args: &[&str]) -> (ExitStatus, String, String) {
-        let out = Command::new("ssh")
-            .args(ssh_args(self.port, key, user))
-            .args(args)
-            .stdin(Stdio::null())
-            .output()
-            .expect("run ssh");
-        (out.status, String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
-    }
-}
-
-impl Drop for ServerProcess {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// The client options every test uses: no config files, no known hosts, no prompts, only the given key.
-fn ssh_args(port: u16, key: Option<&Path>, user: &str) -> Vec<String> {
-    let mut args: Vec<String> = [
-        "-F",
-        "/dev/null",
-        "-p",
-        &port.to_string(),
-        "-o",
-        "StrictHostKeyChecking=no",
-        "-o",
-        "UserKnownHostsFile=/dev/null",
-        "-o",
-        "LogLevel=ERROR",
-        "-o",
-        "BatchMode=yes",
-        "-o",
-        "IdentitiesOnly=yes",
-        "-o",
-        "ConnectTimeout=10",
-    ]
-    .map(String::from)
-    .into();
-    if let Some(key) = key {
-        args.extend(["-i".to_string(), key.display().to_string()]);
-    } else {
-        args.extend(["-i".to_string(), "/dev/null".to_string()]);
-    }
-    args.push(format!("{user}@127.0.0.1"));
-    args
-}
-
-/// What the reader thread shares with the test.
-struct Screen {
-    parser: vt100::Parser,
-    raw: Vec<u8>,
-    eof: bool,
-}
-
-/// `ssh -tt` in a pty, read by a `vt100` emulator.
-struct Player {
-    child: Child,
-    master: File,
-    shared: Arc<Mutex<Screen>>,
-}
-
-fn winsize(cols: u16, rows: u16) -> Winsize {
-    Winsize { ws_row: rows, ws_col: cols, ws_xpixel: 0, ws_ypixel: 0 }
-}
-
-fn nz(n: u16) -> NonZeroU16 {
-    NonZeroU16::new(n).expect("non-zero")
-}
-
-impl Player {
-    fn connect(server: &ServerProcess, key: Option<&Path>, user: &str, cols: u16, rows: u16) -> Player {
-        let pty = rustix_openpty::openpty(None, Some(&winsize(cols, rows))).expect("openpty");
-        let master = File::from(pty.controller);
-        let slave = pty.user;
-        let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
-        let child = Command::new("setsid")
-            .args(["-c", "ssh", "-tt"])
-            .args(ssh_args(server.port, key, user))
-            .env("TERM", "xterm-256color")
-            .stdin(stdio())
-            .stdout(stdio())
-            .stderr(stdio())
-            .spawn()
-            .expect("spawn setsid -c ssh");
-        drop(slave);
-        let shared = Arc::new(Mutex::new(Screen {
-            parser: vt100::Parser::new(nz(rows), nz(cols), 0),
-            raw: Vec::new(),
-            eof: false,
-        }));
-        let mut input = master.try_clone().expect("dup");
-        let mut answer = master.try_clone().expect("dup");
-        let sink = Arc::clone(&shared);
-        std::thread::spawn(move || {
-            let mut buf = vec![0u8; 1 << 16];
-            let mut scanned = 0usize;
-            loop {
-                let n = match input.read(&mut buf) {
-                    Ok(0) | Err(_) => break, // EIO once ssh and every copy of the terminal side are gone
-                    Ok(n) => n,
-                };
-                let mut s = lock(&sink);
-                s.raw.extend_from_slice(&buf[..n]);
-                s.parser.process(&buf[..n]);
-                // Answer each device-attributes query (flow control), as an xterm would; a query may
-                // straddle two reads.
-                let from = scanned.saturating_sub(2);
-                let queries = s.raw[from..].windows(3).filter(|w| *w == b"\x1b[c").count();
-                scanned = s.raw.len();
-                drop(s);
-                for _ in 0..queries {
-                    let _ = answer.write_all(b"\x1b[?62;22c");
-                }
-            }
-            lock(&sink).eof = true;
-        });
-        Player { child, master, shared }
-    }
-
-    fn send(&mut self, bytes: &[u8]) {
-        self.master.write_all(bytes).expect("write to the pty");
-    }
-
-    fn resize(&mut self, cols: u16, rows: u16) {
-        lock(&self.shared).parser.screen_mut().set_size(nz(rows), nz(cols));
-        termios::tcsetwinsize(&self.master, winsize(cols, rows)).expect("resize the pty");
-    }
-
-    /// Polls the screen until `ok` holds; panics with the screen after [`TIMEOUT`].
-    fn wait_for(&self, what: &str, ok: impl Fn(&vt100::Screen, &[u8]) -> bool) {
-        let deadline = Instant::now() + TIMEOUT;
-        loop {
-            {
-                let s = lock(&self.shared);
-                if ok(s.parser.screen(), &s.raw) {
-                    return;
-                }
-                if Instant::now() > deadline {
-                    let tail =
-                        String::from_utf8_lossy(&s.raw[s.raw.len().saturating_sub(400)..]).into_owned();
-                    panic!(
-                        "timed out waiting for {what}; the screen shows:\n{}\nlast bytes: {tail:?}",
-                        s.parser.screen().contents()
-                    );
-                }
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-
-    fn wait_exit(&mut self) -> ExitStatus {
-        let deadline = Instant::now() + TIMEOUT;
-        loop {
-            if let Some(status) = self.child.try_wait().expect("wait for ssh") {
-                return status;
-            }
-            assert!(Instant::now() < deadline, "ssh did not exit");
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-
-    fn raw(&self) -> Vec<u8> {
-        lock(&self.shared).raw.clone()
-    }
-
-    /// Whether `ok` holds for the screen as it is now.
-    fn shows(&self, ok: impl Fn(&vt100::Screen) -> bool) -> bool {
-        self.read(ok)
-    }
-
-    /// What `f` reads off the screen as it is now.
-    fn read<T>(&self, f: impl Fn(&vt100::Screen) -> T) -> T {
-        f(lock(&self.shared).parser.screen())
-    }
-}
-
-impl Drop for Player {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// The game is on screen: the HUD's help hint on the bottom row.
-fn playing(screen: &vt100::Screen, _: &[u8]) -> bool {
-    let rows = screen.size().0.get();
-    screen.alternate_screen() && screen.contents_between(rows - 1, 0, rows - 1, u16::MAX).contains("? help")
-}
-
-/// Whether `ch` shows in the corner map (the top third of the right third of the screen).
-fn on_map(screen: &vt100::Screen, ch: char) -> bool {
-    let (rows, cols) = (screen.size().0.get(), screen.size().1.get());
-    let width = (cols / 3).min(40);
-    (0..rows / 3).any(|row| screen.contents_between(row, cols - width, row, cols).contains(ch))
-}
+use mazewalk_testkit::{require_python_module, require_tool};
 
 /// The terminal is as before the game: main screen, cursor shown, mouse reports off.
 fn restored(screen: &vt100::Screen) -> bool {
@@ -334,10 +35,10 @@ fn restored(screen: &vt100::Screen) -> bool {
 #[test]
 fn two_players_see_each_other_and_q_restores_the_terminal() {
     let scratch = Scratch::new("two");
-    let server = ServerProcess::start(&scratch, &["--open"]);
-    let alice = Player::connect(&server, None, "alice", 100, 30);
+    let server = Server::start(&scratch, &["--open"]);
+    let alice = Player::connect(server.port, None, "alice", 100, 30);
     alice.wait_for("alice's game", playing);
-    let mut bob = Player::connect(&server, None, "bob+1", 100, 30);
+    let mut bob = Player::connect(server.port, None, "bob+1", 100, 30);
     bob.wait_for("bob's game", playing);
     // Issue #34: everyone started on one point, inside the others. Now each gets a spot of its own
     // (bob one step behind alice), and each sees the other on the map at once.
@@ -370,7 +71,7 @@ fn two_players_see_each_other_and_q_restores_the_terminal() {
     );
     alice.wait_for("bob gone from alice's map", |s, _| !on_map(s, 'B'));
     server.wait_log("disconnected", 1);
-    let log = lock(&server.log).clone();
+    let log = server.log();
     let bob_line = log.lines().find(|l| l.contains("disconnected") && l.contains("bob")).expect("bob's line");
     for field in ["peer=127.0.0.1:", "user=", "key=", "seconds=", "bytes_in=", "bytes_out="] {
         assert!(bob_line.contains(field), "{field} in {bob_line}");
@@ -389,12 +90,6 @@ fn in_view(screen: &vt100::Screen, ch: char) -> bool {
     (rows / 3..rows - 1).any(|row| screen.contents_between(row, 0, row, u16::MAX).contains(ch))
 }
 
-/// The HUD's row.
-fn hud_row(screen: &vt100::Screen) -> String {
-    let rows = screen.size().0.get();
-    screen.contents_between(rows - 1, 0, rows - 1, u16::MAX)
-}
-
 /// The walker's position as the HUD shows it: `(x, y)` at the start of the bottom row.
 fn hud_position(screen: &vt100::Screen) -> Option<(f32, f32)> {
     let rows = screen.size().0.get();
@@ -404,13 +99,13 @@ fn hud_position(screen: &vt100::Screen) -> Option<(f32, f32)> {
 }
 
 /// A server on the grid maze `text` (open to anyone), with alice and then bob in their games.
-fn alice_and_bob_in(scratch: &Scratch, text: &str) -> (ServerProcess, Player, Player) {
+fn alice_and_bob_in(scratch: &Scratch, text: &str) -> (Server, Player, Player) {
     let maze = scratch.0.join("maze.grid");
     std::fs::write(&maze, text).expect("write the maze");
-    let server = ServerProcess::start(scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
-    let alice = Player::connect(&server, None, "alice", 100, 30);
+    let server = Server::start(scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
+    let alice = Player::connect(server.port, None, "alice", 100, 30);
     alice.wait_for("alice's game", playing);
-    let bob = Player::connect(&server, None, "bob", 100, 30);
+    let bob = Player::connect(server.port, None, "bob", 100, 30);
     bob.wait_for("bob's game", playing);
     (server, alice, bob)
 }
@@ -457,7 +152,7 @@ fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
 #[test]
 fn no_records_makes_no_file() {
     let scratch = Scratch::new("norecords");
-    let server = ServerProcess::start(&scratch, &["--open", "--no-records"]);
+    let server = Server::start(&scratch, &["--open", "--no-records"]);
     let (status, _, _) = server.ssh_batch(None, "ida", &["-T"]);
     assert_eq!(status.code(), Some(1));
     assert!(!scratch.0.join("records.sqlite").exists());
@@ -488,10 +183,9 @@ fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_a
     bob.wait_for("bob's own exit box", |s, _| s.contents().contains("You found the exit in"));
     // Issue #34: the winner was not logged. Now it is (and every finish).
     server.wait_log("reached the exit first", 1);
-    let won =
-        lock(&server.log).lines().find(|l| l.contains("reached the exit first")).unwrap_or("").to_string();
+    let won = server.log().lines().find(|l| l.contains("reached the exit first")).unwrap_or("").to_string();
     assert!(won.contains("user=bob ") && won.contains("seconds="), "{won}");
-    let carol = Player::connect(&server, None, "carol", 100, 30);
+    let carol = Player::connect(server.port, None, "carol", 100, 30);
     carol.wait_for("the announcement on the screen of carol, who joined after", announced);
     assert!(!alice.shows(|s| s.contents().contains("alice reached")), "only the first is announced");
     // The best times are kept (beside the host key) and shown in the exit box with the rank.
@@ -519,8 +213,8 @@ fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_a
 #[test]
 fn a_resize_redraws_at_the_new_size() {
     let scratch = Scratch::new("resize");
-    let server = ServerProcess::start(&scratch, &["--open"]);
-    let mut player = Player::connect(&server, None, "carol", 80, 24);
+    let server = Server::start(&scratch, &["--open"]);
+    let mut player = Player::connect(server.port, None, "carol", 80, 24);
     player.wait_for("the game", playing);
     player.resize(120, 40);
     player.wait_for("the HUD on row 40, full width", |s, raw| {
@@ -535,7 +229,7 @@ fn a_resize_redraws_at_the_new_size() {
 #[test]
 fn commands_forwarding_and_sessions_without_a_terminal_are_refused() {
     let scratch = Scratch::new("refuse");
-    let server = ServerProcess::start(&scratch, &["--open"]);
+    let server = Server::start(&scratch, &["--open"]);
     let (status, _, stderr) = server.ssh_batch(None, "dave", &["echo", "hello"]);
     assert_eq!(status.code(), Some(1), "{stderr}");
     assert!(stderr.contains(NO_EXEC_MESSAGE), "{stderr}");
@@ -546,6 +240,7 @@ fn commands_forwarding_and_sessions_without_a_terminal_are_refused() {
     assert_eq!(status.code(), Some(1));
     assert!(stdout.contains(NO_PTY_MESSAGE), "{stdout}");
     // A terminal without cursor movement (an editor's shell buffer) is told so, as the local walk does.
+    require_tool("ssh", "openssh-client");
     let dumb = Command::new("ssh")
         .env("TERM", "dumb")
         .args(ssh_args(server.port, None, "dave"))
@@ -577,8 +272,8 @@ fn a_client_over_the_limits_is_told_why_by_its_own_ssh() {
         ),
     ] {
         let scratch = Scratch::new("full");
-        let server = ServerProcess::start(&scratch, &[&["--open"][..], &limits].concat());
-        let mut alice = Player::connect(&server, None, "alice", 80, 24);
+        let server = Server::start(&scratch, &[&["--open"][..], &limits].concat());
+        let mut alice = Player::connect(server.port, None, "alice", 80, 24);
         alice.wait_for("alice's game", playing);
         let (status, _, stderr) = server.ssh_batch(None, "bob", &["-tt"]);
         assert_eq!(status.code(), Some(255), "{stderr}");
@@ -601,7 +296,7 @@ fn authorized_keys_let_in_only_their_keys() {
     let public = |key: &Path| std::fs::read_to_string(key.with_extension("pub")).expect("a public key");
     let borg = format!("restrict,command=\"borg serve --restrict-to-path /srv/backup\" {}", public(&unknown));
     std::fs::write(&list, format!("{borg}{}", public(&known))).expect("authorized keys");
-    let server = ServerProcess::start(&scratch, &["--authorized-keys", list.to_str().expect("utf-8")]);
+    let server = Server::start(&scratch, &["--authorized-keys", list.to_str().expect("utf-8")]);
     server.wait_log("players:1: the key of unknown is limited by `command=\"borg serve", 1);
     let (status, _, stderr) = server.ssh_batch(Some(&unknown), "eve", &["-T"]);
     assert_eq!(status.code(), Some(255), "{stderr}");
@@ -615,18 +310,14 @@ fn authorized_keys_let_in_only_their_keys() {
     let listed = String::from_utf8_lossy(&listed.stdout).into_owned();
     let print = listed.split_whitespace().nth(1).expect("a fingerprint");
     server.wait_log("reason=authentication failed", 1);
-    let failed =
-        lock(&server.log).lines().find(|l| l.contains("authentication failed")).unwrap_or("").to_string();
+    let failed = server.log().lines().find(|l| l.contains("authentication failed")).unwrap_or("").to_string();
     assert!(failed.contains("user=eve") && failed.contains(print), "{failed}");
     let (status, _, stderr) = server.ssh_batch(None, "eve", &["-T"]);
     assert_eq!(status.code(), Some(255), "no key, no entry: {stderr}");
     // Issue #34: a login that offered no key was logged as `closed` (and a password one with user=-).
     server.wait_log("reason=authentication failed (none)", 1);
-    let failed = lock(&server.log)
-        .lines()
-        .find(|l| l.ends_with("authentication failed (none)"))
-        .unwrap_or("")
-        .to_string();
+    let failed =
+        server.log().lines().find(|l| l.ends_with("authentication failed (none)")).unwrap_or("").to_string();
     assert!(failed.contains("user=eve "), "{failed}");
     // Issue #34: the first `none` request counted as one of the 6 tries, so a key listed 6th was
     // refused; as with sshd, five refused keys and then the right one get in.
@@ -638,7 +329,7 @@ fn authorized_keys_let_in_only_their_keys() {
     let (status, stdout, stderr) = server.ssh_batch(None, "gus", &six);
     assert_eq!(status.code(), Some(1), "logged in (and told to use a terminal): {stderr}");
     assert!(stdout.contains(NO_PTY_MESSAGE), "{stdout}");
-    let mut player = Player::connect(&server, Some(&known), "frank", 80, 24);
+    let mut player = Player::connect(server.port, Some(&known), "frank", 80, 24);
     player.wait_for("the game", playing);
     server.wait_log("user=frank", 1);
     player.send(b"q");
@@ -650,7 +341,7 @@ fn authorized_keys_let_in_only_their_keys() {
 #[test]
 fn a_port_in_use_is_said_plainly_and_a_host_name_is_looked_up() {
     let scratch = Scratch::new("listen");
-    let server = ServerProcess::start_on(&scratch, "localhost:0", &["--open"]);
+    let server = Server::start_on(&scratch, "localhost:0", "host_key", &["--open"]);
     let (status, stdout, _) = server.ssh_batch(None, "ida", &["-T"]);
     assert_eq!(status.code(), Some(1), "a game on localhost's address");
     assert!(stdout.contains(NO_PTY_MESSAGE), "{stdout}");
@@ -682,9 +373,9 @@ fn sighup_says_goodbye_restores_every_terminal_and_exits_129() {
 
 fn a_signal_says_goodbye(signal: rustix::process::Signal, code: i32) {
     let scratch = Scratch::new(&format!("sig{}", signal.as_raw()));
-    let mut server = ServerProcess::start(&scratch, &["--open"]);
+    let mut server = Server::start(&scratch, &["--open"]);
     let mut players: Vec<Player> =
-        ["gina", "hugo"].iter().map(|u| Player::connect(&server, None, u, 80, 24)).collect();
+        ["gina", "hugo"].iter().map(|u| Player::connect(server.port, None, u, 80, 24)).collect();
     for p in &players {
         p.wait_for("the game", playing);
     }
@@ -705,21 +396,6 @@ fn a_signal_says_goodbye(signal: rustix::process::Signal, code: i32) {
     assert_eq!(status.code(), Some(code));
 }
 
-/// A Python 3 with paramiko (Debian's python3-paramiko; `.ci/run` installs it).
-fn python_with_paramiko() -> &'static str {
-    ["/usr/bin/python3", "python3"]
-        .into_iter()
-        .find(|python| {
-            Command::new(python)
-                .args(["-c", "import paramiko"])
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .status()
-                .is_ok_and(|s| s.success())
-        })
-        .expect("python3 with paramiko (apt-get install python3-paramiko)")
-}
-
 /// Issue #34, low: a player that types but never reads (paramiko, whose transport reads the socket
 /// but never reopens a window its program does not read) kept a shutting-down server 8–9.5 s; the
 /// grace is 2 s. Its goodbye waited on the full window for the write timeout, and russh's own task,
@@ -727,9 +403,9 @@ fn python_with_paramiko() -> &'static str {
 #[test]
 fn a_player_who_types_but_never_reads_holds_shutdown_no_longer_than_the_grace() {
     let scratch = Scratch::new("unread");
-    let mut server = ServerProcess::start(&scratch, &["--open"]);
+    let mut server = Server::start(&scratch, &["--open"]);
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/clients/typist.py");
-    let mut typist = Command::new(python_with_paramiko())
+    let mut typist = Command::new(require_python_module("paramiko", "python3-paramiko"))
         .arg(&script)
         .args([&server.port.to_string(), "2.5"])
         .stdin(Stdio::null())
@@ -760,7 +436,7 @@ fn a_player_who_types_but_never_reads_holds_shutdown_no_longer_than_the_grace() 
     let _ = typist.kill();
     let _ = typist.wait();
     assert_eq!(status.code(), Some(143));
-    let log = lock(&server.log).clone();
+    let log = server.log();
     let line = log.lines().find(|l| l.contains("disconnected")).unwrap_or_default().to_string();
     let bytes_out: u64 =
         line.split("bytes_out=").nth(1).and_then(|v| v.split(' ').next()?.parse().ok()).unwrap_or(0);

@@ -7,12 +7,9 @@
 //! another binary, is `benches/examples/slow_link_pty.rs` (BENCHMARKS.md).
 #![cfg(unix)]
 
-#[path = "common/pty_link.rs"]
-mod pty_link;
-
 use std::path::Path;
 
-use pty_link::{Hold, Link, measure};
+use mazewalk_testkit::pty_link::{Hold, Link, measure};
 
 #[test]
 fn the_picture_stops_soon_after_the_key_even_when_answers_are_lost() {

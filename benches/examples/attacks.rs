@@ -30,10 +30,8 @@
 //! Only flags both binaries know are passed: `--open --listen --host-key --max-players
 //! --max-per-address`; each server's limits are otherwise its defaults.
 
-#[path = "../../crates/serve/tests/serve_common/load.rs"]
-mod load;
-#[path = "../../crates/serve/tests/serve_common/raw.rs"]
-mod raw;
+use mazewalk_testkit::load;
+use mazewalk_testkit::raw_ssh as raw;
 
 use std::io::{BufRead as _, BufReader, Write as _};
 use std::net::{IpAddr, SocketAddr};

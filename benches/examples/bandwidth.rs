@@ -6,8 +6,7 @@
 //! cargo run --release -p mazewalk-bench --example bandwidth
 //! ```
 
-#[path = "../../crates/walk/tests/walk/common/link.rs"]
-mod link;
+use mazewalk_testkit::link;
 
 use link::{LinkConfig, Sim};
 use mazewalk_maze as maze;

@@ -18,8 +18,7 @@
 //! cargo run --release -p mazewalk-bench --example load -- --idle 0 --walkers 90 --servers 3 --world redis://127.0.0.1:6379/0
 //! ```
 
-#[path = "../../crates/serve/tests/serve_common/load.rs"]
-mod load;
+use mazewalk_testkit::load;
 
 use std::io::{BufRead as _, BufReader};
 use std::net::SocketAddr;

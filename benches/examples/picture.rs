@@ -22,8 +22,7 @@
 //! down, stand still; 60 frames a second through the app's own key handlers) at 120×40, encoded
 //! exactly frame after frame; mean bytes per walking frame.
 
-#[path = "../common/mod.rs"]
-mod common;
+use mazewalk_bench::common;
 
 use std::collections::BTreeMap;
 

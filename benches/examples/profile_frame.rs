@@ -9,8 +9,7 @@
 //! Arguments: view (`corridor`|`open`), maze side, charset, columns, rows, part (`samples`, `glyphs`,
 //! `frame`), repetitions, colour depth (default truecolor). Prints the mean time per repetition.
 
-#[path = "../common/mod.rs"]
-mod common;
+use mazewalk_bench::common;
 
 use std::time::Instant;
 

@@ -11,8 +11,7 @@
 //!     --binary before=/tmp/walk-before/target/release/mazewalk --binary after=target/release/mazewalk
 //! ```
 
-#[path = "../../tests/common/pty_link.rs"]
-mod pty_link;
+use mazewalk_testkit::pty_link;
 
 use std::path::PathBuf;
 

@@ -11,8 +11,7 @@
 //! frame after frame (mean over the frames where the camera moved). Time: render (samples and glyphs)
 //! per frame, median.
 
-#[path = "../common/mod.rs"]
-mod common;
+use mazewalk_bench::common;
 
 use std::time::Instant;
 

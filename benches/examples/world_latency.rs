@@ -9,10 +9,8 @@
 //! cargo build --release && cargo run --release -p mazewalk-bench --example world_latency -- 20   # 20 s
 //! ```
 
-#[path = "../../crates/serve/tests/serve_common/load.rs"]
-mod load;
-#[path = "../../crates/serve/tests/redis_common/redis_server.rs"]
-mod redis_server;
+use mazewalk_testkit::load;
+use mazewalk_testkit::redis_async as redis_server;
 
 use std::io::{BufRead as _, BufReader};
 use std::net::SocketAddr;

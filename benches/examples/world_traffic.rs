@@ -10,10 +10,8 @@
 //! cargo run --release -p mazewalk-bench --example world_traffic -- 3       # 3 s per W
 //! ```
 
-#[path = "../../crates/serve/tests/redis_common/host.rs"]
-mod host;
-#[path = "../../crates/serve/tests/redis_common/redis_server.rs"]
-mod redis_server;
+use mazewalk_testkit::redis_async as redis_server;
+use mazewalk_testkit::world_host as host;
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};

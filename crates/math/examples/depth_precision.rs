@@ -9,8 +9,9 @@
 //! The stored depth is what a renderer keeps: the point at distance `d` straight ahead, through the
 //! projection, the divide by w and the viewport (NDC depth → [0, 1]), all in f32. "Distinct" counts
 //! the different stored values among 999,901 distances 1 mm apart, from the near plane (0.1) to
-//! 1000; "step at D" is the smallest increase of distance past D that changes the stored value (the
-//! depth buffer cannot tell apart two surfaces closer than that).
+//! 1000; "step at D" is the smallest decrease of distance below D that changes the stored value
+//! (`step`: how close in front of a surface at D another must be for the depth test to tell them
+//! apart).
 
 use glam::{Mat4, Vec3};
 use mazewalk_math::{Convention, MathError, viewport};

@@ -191,7 +191,7 @@ impl Convention {
     /// # Ok::<(), mazewalk_math::MathError>(())
     /// ```
     pub fn perspective(self, fov_y: f32, aspect: f32, near: f32, far: f32) -> Result<Mat4, MathError> {
-        projection::perspective(self, fov_y, aspect, near, far)
+        projection::perspective(self, fov_y, aspect, near, far, projection::Depth::Forward)
     }
 
     /// [`Convention::perspective`] with the far plane at infinity (`far → ∞`): the near plane lands
@@ -255,7 +255,7 @@ impl Convention {
         near: f32,
         far: f32,
     ) -> Result<Mat4, MathError> {
-        projection::perspective_reverse(self, fov_y, aspect, near, far)
+        projection::perspective(self, fov_y, aspect, near, far, projection::Depth::Reverse)
     }
 
     /// [`Convention::perspective_reverse`] with the far plane at infinity: the near plane lands on 1

@@ -1,64 +1,7 @@
-//! The graphics math core: transforms, view, projection, viewport and clipping, written by hand on
-//! glam's `Vec`/`Mat` types (glam's own `camera` module is the oracle in the tests, never used here).
-//!
-//! # Conventions
-//!
-//! The crate-wide table lives in the crate docs; this module relies on these parts of it:
-//!
-//! * **Column vectors, column-major.** A matrix transforms a point as `M * p`, so in `T * R * S` the
-//!   scale applies first. glam stores `Mat4` as four columns `x_axis, y_axis, z_axis, w_axis`.
-//! * **Radians** everywhere in this module.
-//! * **World**: right-handed, z up; yaw counter-clockwise from +x, pitch positive up.
-//! * **View space**: right-handed looks down **-Z** (OpenGL), left-handed looks down **+Z**
-//!   (Direct3D); both have +Y up and +X right.
-//! * **Clip / NDC**: x, y in [-1, 1] with +y up; z in [-1, 1] ([`DepthRange::NegOneToOne`], OpenGL) or
-//!   [0, 1] ([`DepthRange::ZeroToOne`], Direct3D). A clip-space point is visible iff
-//!   `-w <= x, y <= w` and `near(depth) * w <= z <= w`. Depth runs forward (the near plane at the
-//!   range's near end, the far plane at 1) except in the `*_reverse` projections, where it runs from
-//!   1 at the near plane to the near end at the far plane; the clip volume is the same either way.
-//! * **Grid** (viewport output): origin top-left, x right, y down, depth in [0, 1].
-//!
-//! Three projection conventions are provided, named like glam's modules: [`Convention::RhGl`]
-//! (right-handed, depth [-1, 1]; `glam::camera::rh::proj::opengl`), [`Convention::RhZo`] (right-handed,
-//! depth [0, 1]; `rh::proj::directx`) and [`Convention::LhZo`] (left-handed, depth [0, 1];
-//! `lh::proj::directx`). Projections are methods of [`Convention`]: `conv.perspective(..)`,
-//! `conv.frustum(..)`, `conv.orthographic(..)`, and the perspective with an infinite far plane and
-//! with reversed depth, `conv.perspective_infinite(..)`, `conv.perspective_reverse(..)` and
-//! `conv.perspective_infinite_reverse(..)`.
-//!
-//! # Errors
-//!
-//! Every constructor that can be handed degenerate input (eye on the target, up parallel to the view
-//! direction, an empty frustum, a non-positive near plane, non-finite numbers, a result that overflows)
-//! returns `Result<_, MathError>`: it never yields a NaN or infinite matrix silently. The elementary
-//! transforms ([`translation`], [`scaling`], [`rotation_x`], …) cannot fail for finite input and are
-//! infallible; non-finite input propagates into the matrix, as it does in glam.
-//!
-//! # The pipeline in a few lines
-//!
-//! ```
-//! use glam::{Vec3, Vec4};
-//! use mazewalk_math::{self as math, Convention};
-//!
-//! let conv = Convention::RhGl;
-//! let view = conv.look_at(Vec3::ZERO, Vec3::X, Vec3::Z)?; // world → view: stand at the origin, face east
-//! let proj = math::perspective_hfov(conv, 90f32.to_radians(), 80, 24, 0.5, 0.1, 100.0)?; // view → clip
-//! let viewport = math::viewport(80.0, 24.0, conv.depth_range())?; // NDC → grid
-//!
-//! let world = Vec4::new(5.0, 0.0, 0.0, 1.0); // straight ahead
-//! let clip = proj * view * world;
-//! let ndc = clip.truncate() / clip.w; // perspective divide
-//! let grid = viewport.transform_point3(ndc);
-//! assert!((grid.x - 40.0).abs() < 1e-4 && (grid.y - 12.0).abs() < 1e-4); // the centre of the grid
-//! # Ok::<(), math::MathError>(())
-//! ```
-
+// The crate's documentation is its README (what docs.rs and the repository show alike): the
+// conventions table, the matrices written out, how each is checked. Its Rust examples run as doctests.
+#![doc = include_str!("../README.md")]
 #![forbid(unsafe_code)]
-
-/// The README's Rust examples, run as doctests (the README is the crate's page on its own).
-#[cfg(doctest)]
-#[doc = include_str!("../README.md")]
-struct ReadmeDoctests;
 
 mod clip;
 mod convention;

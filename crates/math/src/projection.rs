@@ -65,7 +65,7 @@ pub(super) enum Depth {
     Reverse,
 }
 
-/// A frustum whose depth runs `order`: [`frustum`], and [`perspective_reverse`] through it.
+/// A frustum whose depth runs `order`: [`frustum`], and [`perspective`] (both orders) through it.
 #[expect(clippy::too_many_arguments, reason = "glFrustum's six numbers, and the depth order")]
 fn frustum_depth(
     conv: Convention,
@@ -139,13 +139,15 @@ pub(super) fn orthographic(
     )
 }
 
-/// [`Convention::perspective`]: see there for the contract.
+/// [`Convention::perspective`] (forward) and [`Convention::perspective_reverse`]: see there for the
+/// contract.
 pub(super) fn perspective(
     conv: Convention,
     fov_y: f32,
     aspect: f32,
     near: f32,
     far: f32,
+    order: Depth,
 ) -> Result<Mat4, MathError> {
     check_fov(fov_y)?;
     check_positive("aspect", aspect)?;
@@ -153,23 +155,7 @@ pub(super) fn perspective(
     // The symmetric frustum whose near-plane rectangle subtends fov_y vertically.
     let top = near * (0.5 * fov_y).tan();
     let right = top * aspect;
-    frustum(conv, -right, right, -top, top, near, far)
-}
-
-/// [`Convention::perspective_reverse`]: see there for the contract.
-pub(super) fn perspective_reverse(
-    conv: Convention,
-    fov_y: f32,
-    aspect: f32,
-    near: f32,
-    far: f32,
-) -> Result<Mat4, MathError> {
-    check_fov(fov_y)?;
-    check_positive("aspect", aspect)?;
-    check_near(near, far)?;
-    let top = near * (0.5 * fov_y).tan();
-    let right = top * aspect;
-    frustum_depth(conv, -right, right, -top, top, near, far, Depth::Reverse)
+    frustum_depth(conv, -right, right, -top, top, near, far, order)
 }
 
 /// [`Convention::perspective_infinite`] (forward) and [`Convention::perspective_infinite_reverse`].

@@ -5,7 +5,7 @@
 //! oriented so the cell lies on its left, form one counter-clockwise convex loop. Ids are plain
 //! `u32` indices into the maze's arrays; cell → edges is stored flat (CSR), see [`Maze::cell_edges`].
 //!
-//! Modules: [`cs559`] and [`grid`] read and write the two file formats ([`parse`] and [`load`] pick
+//! Modules: [`cs559`] and [`grid`] read and write the two file formats ([`parse`] and [`load()`] pick
 //! one; what the formats share, errors and positions and the quoting of input, lives in a module of
 //! its own that neither `load` nor a format sits above), [`generate`] makes random mazes, [`movement`]
 //! moves a viewer without passing walls. [`Maze::new`] validates in O(n log n) whatever the edges'
@@ -46,7 +46,9 @@ pub use load::{
     DEFAULT_MAX_BYTES, LoadError, LoadOptions, Loaded, detect_format, load, load_with, parse, parse_loaded,
     write,
 };
-pub use text::{Format, ParseError, ParseErrorKind, QUOTE_CHARS, WriteError, quote, quote_path};
+pub use text::{
+    Format, ParseError, ParseErrorKind, QUOTE_CHARS, WriteError, quote, quote_path, quote_within,
+};
 
 /// The maze walked when none is given: `mazes/hand-drawn.grid`, compiled in (loops, colours, an exit).
 pub(crate) const BUILTIN: &str = include_str!("../../../mazes/hand-drawn.grid");
@@ -492,7 +494,7 @@ impl FromIterator<Edge> for Edges {
     }
 }
 
-/// A validated maze. Build one with [`Maze::new`], a reader ([`parse`], [`load`]) or [`generate`].
+/// A validated maze. Build one with [`Maze::new`], a reader ([`parse`], [`load()`]) or [`generate`].
 #[derive(Clone, Debug)]
 pub struct Maze {
     vertices: Vec<Vec2>,

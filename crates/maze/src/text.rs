@@ -1,10 +1,10 @@
 //! What the readers and writers of both formats share: the formats' names, located errors, text
 //! decoding and positions. Pieces of a file that a message shows go through [`quote`] (mazewalk-names).
 //!
-//! [`load`](super::load) dispatches to [`cs559`](super::cs559) and [`grid`](super::grid); both import
+//! [`load`](super::load()) dispatches to [`cs559`](super::cs559) and [`grid`](super::grid); both import
 //! this module and nothing of each other or of `load`, so the modules form no cycle.
 
-pub use mazewalk_names::{QUOTE_CHARS, quote, quote_path};
+pub use mazewalk_names::{QUOTE_CHARS, quote, quote_path, quote_within};
 use std::fmt;
 
 use super::MazeError;
@@ -18,14 +18,7 @@ pub enum Format {
     Grid,
 }
 
-impl fmt::Display for Format {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Format::Cs559 => "cs559",
-            Format::Grid => "grid",
-        })
-    }
-}
+mazewalk_names::named!(Format, "format", [("cs559", Format::Cs559), ("grid", Format::Grid)]);
 
 /// A maze that a format cannot express.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

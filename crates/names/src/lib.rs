@@ -89,31 +89,38 @@ macro_rules! named {
 /// Most characters of a piece of text a message quotes; longer pieces end in `…`.
 pub const QUOTE_CHARS: usize = 40;
 
-/// A piece of untrusted text (a file's, a flag's, a client's) as a message shows it: at most [`QUOTE_CHARS`] characters and an ellipsis,
+/// A piece of untrusted text (a file's, a flag's, a client's) as a message shows it: at most [`QUOTE_CHARS`] characters (escapes included) and an ellipsis,
 /// control and formatting characters (escape sequences, NUL, bidi overrides) escaped as `\u{1b}`.
 #[must_use]
 pub fn quote(s: &str) -> String {
-    escape(s, QUOTE_CHARS)
+    quote_within(s, QUOTE_CHARS)
 }
 
 /// A path as a message shows it: control characters escaped, at any length.
 #[must_use]
 pub fn quote_path(s: &str) -> String {
-    escape(s, usize::MAX)
+    quote_within(s, usize::MAX)
 }
 
-/// `s` with control characters escaped, cut after `max` characters with `…`.
-fn escape(s: &str, max: usize) -> String {
+/// [`quote`] with another limit: `s` with control and formatting characters escaped, and at most
+/// `max` characters of that (escapes included, so the result is bounded whatever `s` holds), then
+/// `…`. The one escaping of untrusted text: messages ([`quote`]) and the server's log lines (each
+/// with its own limit) both use it.
+#[must_use]
+pub fn quote_within(s: &str, max: usize) -> String {
     let mut out = String::with_capacity(s.len().min(4 * max.min(1024)));
-    for (i, c) in s.chars().enumerate() {
-        if i == max {
+    let mut shown = 0usize;
+    for c in s.chars() {
+        // Cc controls, plus Cf formatting characters that reorder or hide text (U+200B..U+206F, BOM)
+        let escaped = c.is_control()
+            || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2060}'..='\u{206f}' | '\u{feff}');
+        let len = if escaped { c.escape_default().count() } else { 1 };
+        if shown.saturating_add(len) > max {
             out.push('…');
             break;
         }
-        // Cc controls, plus Cf formatting characters that reorder or hide text (U+200B..U+206F, BOM)
-        if c.is_control()
-            || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2060}'..='\u{206f}' | '\u{feff}')
-        {
+        shown += len;
+        if escaped {
             out.extend(c.escape_default());
         } else {
             out.push(c);
@@ -134,5 +141,10 @@ mod tests {
         let long = "x".repeat(10_000_000);
         assert_eq!(quote(&long), format!("{}…", "x".repeat(QUOTE_CHARS)));
         assert_eq!(quote("\u{202e}evil"), "\\u{202e}evil");
+        // The escapes count against the limit: the result is bounded whatever the input holds.
+        let escapes = "\x1b".repeat(1000);
+        assert_eq!(quote(&escapes), format!("{}…", "\\u{1b}".repeat(QUOTE_CHARS / 6)));
+        assert_eq!(quote_within("\x1b[2J", 8), "\\u{1b}[2…");
+        assert_eq!(quote_within("abc", 3), "abc");
     }
 }

@@ -61,7 +61,7 @@ pub fn picture_size(frame: &Frame) -> (usize, usize) {
     (frame.width() * CELL_PIXELS.0, frame.height() * CELL_PIXELS.1)
 }
 
-/// [`frame_pixels`] one row of cells at a time, top to bottom: `band` gets that row's
+/// `frame_pixels` (the tests' whole picture) one row of cells at a time, top to bottom: `band` gets that row's
 /// [`CELL_PIXELS`]`.1` lines of RGB pixels (so a picture is written without ever being whole in memory;
 /// the first error stops the bands).
 pub fn for_each_band<E>(

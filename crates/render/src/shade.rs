@@ -260,7 +260,7 @@ impl Srgb8Tables {
         SRGB8_TABLES.get_or_init(Srgb8Tables::new)
     }
 
-    /// [`linear_to_srgb8`] with the tables in hand (hot loops fetch them once).
+    /// `linear_to_srgb8` (the tests' one-channel form) with the tables in hand (hot loops fetch them once).
     #[inline]
     pub(crate) fn encode(&self, c: f32) -> u8 {
         // No branch: the saturating conversion sends NaN and c ≤ 0 to bucket 0 (code 0, and NaN fails

@@ -235,9 +235,10 @@ fn read_key(s: &str) -> Result<PublicKey, String> {
     Ok(key)
 }
 
-/// A piece of the file as a message shows it (bounded, control characters escaped).
+/// A piece of the file as a message shows it (bounded, control characters escaped), as every
+/// message quotes untrusted text.
 fn quote(s: &str) -> String {
-    super::logs::clip(s, super::logs::QUOTE_CHARS)
+    mazewalk_maze::quote(s)
 }
 
 #[cfg(test)]

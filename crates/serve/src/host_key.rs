@@ -4,7 +4,7 @@
 //! `~/.local/state/mazewalk/host_ed25519_key` (`--host-key FILE` overrides).
 //!
 //! Also where the authorized-keys file is read from ([`read_authorized_keys`]; what its lines mean is
-//! [`authorized_keys`](crate::authorized_keys)).
+//! [`authorized_keys`]).
 
 use std::fs::{self, OpenOptions};
 use std::io::{self, Read as _, Write as _};
@@ -176,7 +176,7 @@ pub fn fingerprint(key: &PublicKey) -> String {
     key.fingerprint(HashAlg::Sha256).to_string()
 }
 
-/// Reads the `authorized_keys` file at `path` ([`authorized_keys`](crate::authorized_keys): line by
+/// Reads the `authorized_keys` file at `path` ([`authorized_keys`]: line by
 /// line as sshd does; a line that cannot be read is skipped and reported, never the whole file).
 ///
 /// # Errors

@@ -3,7 +3,7 @@
 //!
 //! - **Text from outside is clipped.** An error from the SSH library is logged as a short reason of
 //!   our own ([`error_reason`]); any text it carries that a client chose (russh's "no common algorithm"
-//!   error holds the client's whole list) is cut to a few names of at most [`QUOTE_CHARS`] characters,
+//!   error holds the client's whole list) is cut to a few names of at most [`NAME_CHARS`] characters,
 //!   control characters escaped ([`clip`]).
 //! - **Lines about connections are rate-limited per address group** ([`LogLimit`]): a burst, then a
 //!   trickle, per group (an IPv4 address, an IPv6 /64: [`address_group`](crate::slots::address_group))
@@ -17,8 +17,10 @@ use std::net::IpAddr;
 
 use super::limits::RateLimit;
 
-/// Most characters of one piece of client-chosen text in a log line.
-pub const QUOTE_CHARS: usize = 48;
+/// Most characters of one algorithm name a client offered, quoted in a log line: 48, so that every
+/// name OpenSSH knows shows whole (the longest, `sk-ecdsa-sha2-nistp256-cert-v01@openssh.com`, has
+/// 43), where a message's quote of untrusted text ([`mazewalk_maze::QUOTE_CHARS`], 40) would cut it.
+pub const NAME_CHARS: usize = 48;
 
 /// Most characters of a library error's text in a log line.
 pub(crate) const ERROR_CHARS: usize = 160;
@@ -47,21 +49,7 @@ pub(crate) const SUMMARY_GROUPS: usize = 8;
 /// terminal, and at most `max` characters of that (escapes included), then `…`.
 #[must_use]
 pub fn clip(text: &str, max: usize) -> String {
-    let mut out = String::with_capacity(text.len().min(4 * max));
-    let mut shown = 0;
-    for c in text.chars() {
-        let escaped = c.is_control()
-            || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2060}'..='\u{206f}' | '\u{feff}');
-        let piece: String = if escaped { c.escape_default().collect() } else { c.to_string() };
-        let len = piece.chars().count();
-        if shown + len > max {
-            out.push('…');
-            break;
-        }
-        shown += len;
-        out.push_str(&piece);
-    }
-    out
+    mazewalk_maze::quote_within(text, max) // the one escaping of untrusted text
 }
 
 /// Why a connection ended, from the SSH library's error: a short reason of our own words, never the
@@ -73,7 +61,7 @@ pub(crate) fn error_reason(err: &russh::Error) -> String {
         E::NoCommonAlgo { kind, theirs, .. } => {
             let kind = format!("{kind:?}").to_ascii_lowercase();
             let quoted: Vec<String> =
-                theirs.iter().take(NAMES_QUOTED).map(|n| clip(n.as_ref(), QUOTE_CHARS)).collect();
+                theirs.iter().take(NAMES_QUOTED).map(|n| clip(n.as_ref(), NAME_CHARS)).collect();
             let more = theirs.len().saturating_sub(NAMES_QUOTED);
             let more = if more > 0 { format!(" (+{more} more)") } else { String::new() };
             format!("no common {kind} algorithm; the client offered {}{more}", quoted.join(","))

@@ -210,7 +210,7 @@ const REFUSAL_GRACE: Duration = Duration::from_secs(2);
 
 /// Tells a client it was refused, in the only place before a key exchange that OpenSSH shows: an SSH
 /// identification, then a disconnect packet (unencrypted, as every packet before the key exchange is;
-/// `ssh` prints "Received disconnect from …: <the message>"). The client's own bytes are read until it
+/// `ssh` prints "Received disconnect from …: \<the message\>"). The client's own bytes are read until it
 /// hangs up: closing with them unread would reset the connection, and could lose ours on the way.
 async fn refuse(mut stream: TcpStream, refusal: Refusal) {
     use tokio::io::{AsyncReadExt as _, AsyncWriteExt as _};
@@ -1142,7 +1142,9 @@ async fn walk(
         }
         let now = shared.now();
         if player.look_due(now) {
-            let look = shared.world().look(); // the lock: for the snapshot's two `Arc`s only
+            // Under the lock: the snapshot's two `Arc`s cloned, after rebuilding it if the world
+            // changed since the last look (World::look).
+            let look = shared.world().look();
             player.look(&look, now);
         }
         let started = Instant::now();

@@ -4,8 +4,7 @@
 //! table, and a Redis away fails one finish (a transient fault) without ending the records.
 #![cfg(target_os = "linux")]
 
-#[path = "redis_common/redis_server.rs"]
-mod redis_server;
+use mazewalk_testkit::redis_async as redis_server;
 
 use mazewalk_maze::ContentHash;
 use mazewalk_serve::records::{Fault, Finish, Store};

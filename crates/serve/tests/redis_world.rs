@@ -4,14 +4,12 @@
 //! while every player keeps its pace, and within 2 s of Redis coming back the views agree again;
 //! Redis restarted empty or from its file never crowns a second winner; garbage from Redis is
 //! dropped and counted; a server with another maze is refused. The servers here are world tasks
-//! on one runtime, each with its own host (`redis_common/host.rs`); the end-to-end test runs
+//! on one runtime, each with its own host (`mazewalk_testkit::world_host`); the end-to-end test runs
 //! `mazewalk serve` processes.
 #![cfg(target_os = "linux")]
 
-#[path = "redis_common/host.rs"]
-mod host;
-#[path = "redis_common/redis_server.rs"]
-mod redis_server;
+use mazewalk_testkit::redis_async as redis_server;
+use mazewalk_testkit::world_host as host;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};

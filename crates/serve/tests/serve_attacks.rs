@@ -6,10 +6,8 @@
 //! adjusting its window, as OpenSSH does when its terminal is not read; russh's client never stops.)
 #![cfg(target_os = "linux")]
 
-#[path = "serve_common/load.rs"]
-mod load;
-#[path = "serve_common/raw.rs"]
-mod raw;
+use mazewalk_testkit::load;
+use mazewalk_testkit::raw_ssh as raw;
 
 use std::net::{IpAddr, SocketAddr};
 use std::sync::Arc;
@@ -79,6 +77,7 @@ async fn a_client_offering_only_finite_field_diffie_hellman_is_refused_at_once()
 fn rsa_key() -> (russh::keys::PrivateKey, tempdir::Dir) {
     let dir = tempdir::Dir::new("rsa");
     let path = dir.0.join("id_rsa");
+    mazewalk_testkit::require_tool("ssh-keygen", "openssh-client");
     let status = std::process::Command::new("ssh-keygen")
         .args(["-q", "-t", "rsa", "-b", "2048", "-N", "", "-f"])
         .arg(&path)

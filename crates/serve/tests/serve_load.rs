@@ -7,8 +7,7 @@
 //! their timeouts; the others are unaffected. Bounded in count and time.
 #![cfg(target_os = "linux")]
 
-#[path = "serve_common/load.rs"]
-mod load;
+use mazewalk_testkit::load;
 
 use std::net::SocketAddr;
 use std::sync::Arc;

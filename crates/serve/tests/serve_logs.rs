@@ -6,10 +6,8 @@
 //! logged with its user and why. (One test in this file: the log capture is the process's.)
 #![cfg(target_os = "linux")]
 
-#[path = "serve_common/load.rs"]
-mod load;
-#[path = "serve_common/raw.rs"]
-mod raw;
+use mazewalk_testkit::load;
+use mazewalk_testkit::raw_ssh as raw;
 
 use std::io::Write as _;
 use std::net::SocketAddr;

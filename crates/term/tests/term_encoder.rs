@@ -8,10 +8,7 @@ use mazewalk_term::encoder::Encoder;
 use mazewalk_term::frame::{Cell, Color, Frame};
 use proptest::prelude::*;
 
-#[path = "support/baseline.rs"]
-mod baseline;
-
-use baseline::{full_repaint, lower_bound};
+use mazewalk_testkit::baseline::{full_repaint, lower_bound};
 
 /// Glyphs the encoder meets: blanks (often, so tails and gaps happen), ASCII, shades, box drawing, block
 /// glyphs with complements (halves, quadrants, sextants). All one column wide, as the `Frame` guarantees.

@@ -1,8 +1,30 @@
-//! What the tests of every mazewalk crate share: the proptest configuration of every property and a
-//! tolerant comparison. A dev-dependency only; it depends on no mazewalk crate (so a crate's tests and
-//! its library never see two copies of one type).
+//! What the tests and benches of every mazewalk crate share, in one copy: the proptest configuration
+//! of every property, a tolerant comparison, the check that a system program a test runs is
+//! installed ([`require_tool`]) and the `redis-server` they start ([`redis_server`]). A
+//! dev-dependency only.
+//!
+//! The harnesses that drive a mazewalk crate are behind a feature named after it (`term`, `walk`,
+//! `pty`, `serve`, `redis`), so that the math crate's tests, say, build none of them. Only a crate's
+//! integration tests and the benches use them: a crate's own unit tests would see a second copy of
+//! its types.
 
 use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
+
+#[cfg(feature = "term")]
+pub mod baseline;
+#[cfg(feature = "walk")]
+pub mod link;
+#[cfg(feature = "serve")]
+pub mod load;
+#[cfg(all(unix, feature = "pty"))]
+pub mod pty_link;
+#[cfg(feature = "serve")]
+pub mod raw_ssh;
+#[cfg(feature = "redis")]
+pub mod redis_async;
+pub mod redis_server;
+#[cfg(feature = "serve")]
+pub mod world_host;
 
 /// The configuration of every property: 1,000 cases ([`config_cases`] for the few that say why they
 /// run fewer), or exactly `PROPTEST_CASES` when that is set (more for a long soak, fewer for a quick
@@ -50,4 +72,91 @@ pub const MAZES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../mazes");
 #[must_use]
 pub fn maze_path(name: &str) -> String {
     format!("{MAZES}/{name}")
+}
+
+/// What `scripts/test-all` says about itself, in every missing-tool message: it installs them all.
+const INSTALL_ALL: &str = "scripts/test-all installs every tool the tests need";
+
+/// Fails the calling test at once, in one line naming the Debian package to install, unless the
+/// program `tool` is on `PATH`. Call it first in a test that runs a system program (`redis-server`,
+/// `ssh`, `openssl`…), so a bare `cargo test` on a machine without it says what to install rather
+/// than panicking deep in the test, and never passes by skipping.
+///
+/// # Panics
+/// When `tool` is not on `PATH`.
+#[track_caller]
+pub fn require_tool(tool: &str, package: &str) {
+    if find_on_path(tool).is_none() {
+        panic!("this test runs `{tool}`, which is not installed: apt-get install {package} ({INSTALL_ALL})");
+    }
+}
+
+/// [`require_tool`] for a Python 3 module (`paramiko`): `python3` must import it. Returns the
+/// interpreter to run (`/usr/bin/python3` first, Debian's own, then `python3` on `PATH`).
+///
+/// # Panics
+/// When no `python3` imports `module`.
+#[track_caller]
+#[must_use]
+pub fn require_python_module(module: &str, package: &str) -> &'static str {
+    ["/usr/bin/python3", "python3"]
+        .into_iter()
+        .find(|python| {
+            std::process::Command::new(python)
+                .args(["-c", &format!("import {module}")])
+                .stdin(std::process::Stdio::null())
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .status()
+                .is_ok_and(|status| status.success())
+        })
+        .unwrap_or_else(|| {
+            panic!(
+                "this test runs python3 with `{module}`, which is not installed: apt-get install \
+                 {package} ({INSTALL_ALL})"
+            )
+        })
+}
+
+/// The first executable file named `tool` in the folders of `PATH` (or `tool` itself, when it is
+/// a path).
+fn find_on_path(tool: &str) -> Option<std::path::PathBuf> {
+    let executable = |path: &std::path::Path| {
+        std::fs::metadata(path).is_ok_and(|m| {
+            #[cfg(unix)]
+            let runnable = std::os::unix::fs::PermissionsExt::mode(&m.permissions()) & 0o111 != 0;
+            #[cfg(not(unix))]
+            let runnable = true;
+            m.is_file() && runnable
+        })
+    };
+    if tool.contains('/') {
+        let path = std::path::PathBuf::from(tool);
+        return executable(&path).then_some(path);
+    }
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path).map(|dir| dir.join(tool)).find(|candidate| executable(candidate))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_tool_on_path_is_found_and_a_missing_one_named_with_its_package() {
+        require_tool("sh", "dash"); // every Unix has it
+        let missing = std::panic::catch_unwind(|| require_tool("mazewalk-no-such-tool", "some-package"));
+        let message = *missing.expect_err("a missing tool fails").downcast::<String>().expect("a message");
+        assert!(message.contains("`mazewalk-no-such-tool`"), "{message}");
+        assert!(message.contains("apt-get install some-package"), "{message}");
+        assert!(!message.contains('\n'), "one line: {message}");
+    }
+
+    #[test]
+    fn a_missing_python_module_is_named_with_its_package() {
+        let missing =
+            std::panic::catch_unwind(|| require_python_module("mazewalk_no_such_module", "python3-no-such"));
+        let message = *missing.expect_err("a missing module fails").downcast::<String>().expect("a message");
+        assert!(message.contains("apt-get install python3-no-such"), "{message}");
+    }
 }

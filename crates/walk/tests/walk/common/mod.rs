@@ -2,4 +2,4 @@
 
 #![allow(dead_code)]
 
-pub mod link;
+pub use mazewalk_testkit::link;

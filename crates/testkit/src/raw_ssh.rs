@@ -2,7 +2,6 @@
 //! before the key exchange are plain (RFC 4253 §6), so a client that does no cryptography at all can
 //! offer what it likes and send its half of a Diffie-Hellman exchange without computing it. Blocking
 //! I/O on `std::net`, every read with a timeout.
-#![allow(dead_code)] // each includer uses a part
 
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};

@@ -1,6 +1,6 @@
-//! Yardsticks for the frame encoder, shared by `benches/encoder.rs` (through `common`) and
-//! `tests/term_encoder.rs` (by `#[path]`): a naive full repaint and a lower bound on what any encoding
-//! must send. Neither is part of the product.
+//! Yardsticks for the frame encoder, shared by `benches/encoder.rs` and the term crate's
+//! `tests/term_encoder.rs`: a naive full repaint and a lower bound on what any encoding must send.
+//! Neither is part of the product.
 
 use std::io::Write as _;
 

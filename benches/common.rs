@@ -1,5 +1,5 @@
-//! Shared by the benchmarks (and `examples/profile_frame.rs`): the mazes and the "like" viewpoints.
-//! The encoder's yardsticks are `crates/term/tests/support/baseline.rs` (the term crate's tests use them too).
+//! Shared by the benchmarks and the examples: the mazes and the "like" viewpoints. The encoder's
+//! yardsticks are `mazewalk_testkit::baseline` (the term crate's tests use them too).
 //!
 //! Two views, found the same way in every maze size so that a 10×10 and a 1000×1000 maze show alike
 //! geometry and any difference in frame time comes from the maze's size alone:
@@ -14,11 +14,6 @@
 //!   outward from the centre) whose distinct cells and walls drawn are both within ±10 % of it.
 //!
 //! Candidates are scanned in a fixed order, so the views are deterministic.
-
-#![allow(dead_code)] // each bench uses part of it
-
-#[path = "../../crates/term/tests/support/baseline.rs"]
-pub mod baseline;
 
 use glam::{Vec2, vec2};
 use mazewalk_maze::Maze;

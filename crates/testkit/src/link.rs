@@ -3,6 +3,7 @@
 //! `one_way` seconds at a vt100 emulator, which answers every device-attributes query back through
 //! the same delay, as a real terminal at the end of an SSH connection would. Keys typed at the
 //! terminal reach the session after `one_way` too. Deterministic: no clock, no threads.
+#![allow(missing_docs)] // moved from the tests that share it, whose items were not documented one by one
 
 use std::collections::VecDeque;
 
