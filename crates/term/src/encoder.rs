@@ -40,12 +40,15 @@ pub(crate) const SYNC_BEGIN: &[u8] = b"\x1b[?2026h";
 /// End synchronized update.
 pub(crate) const SYNC_END: &[u8] = b"\x1b[?2026l";
 
-/// The colour tolerance the walkthrough uses ([`Encoder::set_tolerance`]): one 8-bit step per channel,
-/// below what anyone can see, and a sixth fewer bytes while walking in truecolor (see BENCHMARKS.md).
-pub const DEFAULT_TOLERANCE: u8 = 1;
+/// The colour tolerance the walkthrough uses ([`Encoder::set_tolerance`]): two [`TOLERANCE_STEP`]s, an
+/// OKLab distance of 0.02, about what an eye can just tell apart side by side; walking and turning
+/// in truecolor cost a fraction of the exact bytes (see BENCHMARKS.md).
+pub const DEFAULT_TOLERANCE: u8 = 2;
 
-/// The largest colour tolerance accepted (8-bit steps per channel).
+/// The largest colour tolerance accepted, in [`TOLERANCE_STEP`]s (an OKLab distance of 0.16).
 pub const MAX_TOLERANCE: u8 = 16;
+
+pub use crate::frame::TOLERANCE_STEP;
 
 /// A rewrite of unchanged cells longer than this never beats a cursor move (`CUP` is at most ~12 bytes).
 const MAX_REWRITE: usize = 12;
@@ -89,7 +92,7 @@ pub struct Encoder {
     valid: bool,
     pen: Pen,
     bce: bool,
-    /// Truecolor cells within this many 8-bit steps per channel of what is on screen are left as they are.
+    /// Truecolor cells within this many [`TOLERANCE_STEP`]s (OKLab) of what is on screen are left as they are.
     tolerance: u8,
     /// Scratch for the frame as sent: `frame` up to `tolerance` (the screen where close, the pen's
     /// colours where close); swapped into `screen` after each encode.
@@ -134,8 +137,8 @@ impl Encoder {
         self.invalidate();
     }
 
-    /// Leave a truecolor cell as the screen shows it while each of its colours is within `steps` 8-bit
-    /// steps per channel of the new frame's (default 0: exact). The screen then differs from the frame by
+    /// Leave a truecolor cell as the screen shows it while each of its colours is within `steps`
+    /// [`TOLERANCE_STEP`]s of the new frame's: an OKLab distance of `steps` × 0.01 (default 0: exact). The screen then differs from the frame by
     /// at most that much, never more: each frame is compared with what the screen shows.
     pub fn set_tolerance(&mut self, steps: u8) {
         self.tolerance = steps;
