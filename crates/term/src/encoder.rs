@@ -31,6 +31,7 @@ mod sgr;
 
 use std::collections::HashMap;
 
+use crate::blocks::FULL_BLOCK;
 use crate::frame::{Frame, PackedCell, PackedColor};
 use cursor::{move_len, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
@@ -518,7 +519,11 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
             && !pen.fg.is_some_and(|p| p.within(cell.bg, tolerance))
             && !pen.bg.is_some_and(|p| p.within(cell.fg, tolerance))
     };
-    if shortcut && best.1.len() > 0 && both_far(pen) {
+    // A cell of halves within the tolerance of one colour (a blank, a full block, a half block of
+    // two near colours) may go as a blank in it (below): the shortcut holds only where they are not.
+    let halves = cell.halves();
+    let one_colour = halves.is_some_and(|[top, bottom]| top.within(bottom, tolerance));
+    if shortcut && best.1.len() > 0 && both_far(pen) && !one_colour {
         return best;
     }
     if best.1.len() > 0 {
@@ -532,6 +537,32 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
                 if priced.1.len() < best.1.len() {
                     best = priced;
                 }
+            }
+        }
+    }
+    // Issue #42: a blank, a half block or a full block whose two halves are both within the tolerance
+    // of one colour — the pen's background or ink, or either half's own — may show that colour alone,
+    // as a blank (one byte) or, in the pen's ink, a full block: a wall's gentle vertical gradient then
+    // costs one colour a cell, or none. Bytes are glyph and colours together here.
+    if let Some([top, bottom]) = halves
+        && best.1.len() > 0
+    {
+        let bytes = |(cell, sgr): &(PackedCell, Sgr)| sgr.len() + cell.ch.len_utf8();
+        let colours = [pen.bg, pen.fg, Some(top), Some(bottom)];
+        for (k, colour) in colours.into_iter().enumerate() {
+            let Some(colour) = colour.filter(|c| c.within(top, tolerance) && c.within(bottom, tolerance))
+            else {
+                continue;
+            };
+            let candidate = if k == 1 {
+                PackedCell { ch: FULL_BLOCK, fg: colour, bg: cell.bg } // the pen's ink: no background shown
+            } else {
+                PackedCell { ch: ' ', fg: colour, bg: colour }
+            };
+            let priced = priced(candidate);
+            // (A new colour must also save colour bytes: it changes the pen the cells after it reuse.)
+            if bytes(&priced) < bytes(&best) && (k < 2 || priced.1.len() < best.1.len()) {
+                best = priced;
             }
         }
     }

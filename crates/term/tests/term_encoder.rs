@@ -569,6 +569,49 @@ fn a_tolerance_lets_small_changes_wait_but_never_drift() {
     }
 }
 
+/// Issue #42: a half block whose two halves are within the tolerance of one colour (a wall's gentle
+/// vertical gradient) goes as a blank in one colour: a single colour code and a one-byte glyph where
+/// the exact encoding needs two codes and a three-byte glyph; the screen stays within the tolerance.
+/// (Glyphs and colours together: 60 cells in 2,363 bytes exact, 449 at the default tolerance.)
+#[test]
+fn a_half_block_of_two_near_colours_goes_as_a_blank() {
+    let (width, height) = (30, 2);
+    let wall = |shift: u8| {
+        let mut frame = Frame::new(width, height);
+        for y in 0..height {
+            for x in 0..width {
+                let v = 90 + shift + (12 * x / 5) as u8; // a new colour every cell or so along the row
+                frame.set(
+                    x,
+                    y,
+                    Cell { ch: '▀', fg: Color::Rgb(v, v + 20, 140), bg: Color::Rgb(v + 1, v + 21, 141) },
+                );
+            }
+        }
+        frame
+    };
+    let mut sizes = Vec::new();
+    for tolerance in [0u8, 2] {
+        let mut encoder = Encoder::new();
+        encoder.set_tolerance(tolerance);
+        let mut parser = terminal(width, height);
+        let mut out = Vec::new();
+        encoder.encode(&wall(0), &mut out);
+        parser.process(&out);
+        out.clear();
+        let frame = wall(60); // every cell far from what is shown
+        encoder.encode(&frame, &mut out);
+        parser.process(&out);
+        assert_screen_shows_within(&parser, &frame, tolerance, || format!("tolerance {tolerance}"));
+        let text = String::from_utf8_lossy(&out).into_owned();
+        sizes.push((out.len(), text.matches('▀').count() + text.matches('▄').count()));
+    }
+    assert_eq!(sizes[0].1, width * height, "exact: every cell a half block ({sizes:?})");
+    // (A half block stays where the pen's two colours already fit it: three bytes, no colour code.)
+    assert!(sizes[1].1 <= width * height / 10, "within 0.02: blanks ({sizes:?})");
+    assert!(sizes[1].0 * 2 < sizes[0].0, "less than half the bytes ({sizes:?})");
+}
+
 /// With a tolerance, a changed cell whose colour is within it of the colour the terminal is already
 /// set to is sent in that colour: along a gradient of one step per cell, about every other cell needs
 /// no colour code. The screen stays within the tolerance of the frame.

@@ -210,7 +210,7 @@ impl PackedCell {
     /// The colours of the top and bottom halves of a blank, a half block or a full block; `None` for
     /// other glyphs, and where a half shows a default colour (compared by layers instead).
     #[inline]
-    fn halves(&self) -> Option<[PackedColor; 2]> {
+    pub(crate) fn halves(&self) -> Option<[PackedColor; 2]> {
         if self.shows_a_default() {
             return None;
         }
