@@ -99,10 +99,35 @@ static LINEAR: std::sync::LazyLock<[f32; 256]> = std::sync::LazyLock::new(|| {
     })
 });
 
+/// Slots of [`MEMO`]: a power of two.
+const MEMO_SLOTS: usize = 1 << 12;
+
+thread_local! {
+    /// The OKLab of the colours met lately on this thread, by a hash of the word (0: empty; no
+    /// truecolor word is 0). A frame has a few thousand colours and the encoder asks about each
+    /// several times (against the screen, the pen, its other half), at a fifth of a conversion's cost.
+    /// What it holds is a pure function of the word: it changes no answer.
+    static MEMO: std::cell::RefCell<[(u32, [f32; 3]); MEMO_SLOTS]> =
+        const { std::cell::RefCell::new([(0, [0.0; 3]); MEMO_SLOTS]) };
+}
+
+/// [`convert`], remembered ([`MEMO`]).
+#[inline]
+fn oklab(word: u32) -> [f32; 3] {
+    let slot = (word.wrapping_mul(0x9E37_79B1) >> (32 - MEMO_SLOTS.trailing_zeros())) as usize;
+    MEMO.with_borrow_mut(|memo| {
+        let entry = &mut memo[slot];
+        if entry.0 != word {
+            *entry = (word, convert(word));
+        }
+        entry.1
+    })
+}
+
 /// The OKLab coordinates (L, a, b) of a truecolor word `0x01RRGGBB` (Björn Ottosson's matrices,
 /// <https://bottosson.github.io/posts/oklab/>).
 #[inline]
-fn oklab(word: u32) -> [f32; 3] {
+fn convert(word: u32) -> [f32; 3] {
     let table = &*LINEAR;
     let [_, r, g, b] = word.to_be_bytes().map(|c| table[usize::from(c)]);
     let l = 0.412_221_46 * r + 0.536_332_55 * g + 0.051_445_995 * b;
