@@ -139,8 +139,9 @@ impl Encoder {
     }
 
     /// Leave a truecolor cell as the screen shows it while each of its colours is within `steps`
-    /// [`TOLERANCE_STEP`]s of the new frame's: an OKLab distance of `steps` × 0.01 (default 0: exact). The screen then differs from the frame by
-    /// at most that much, never more: each frame is compared with what the screen shows.
+    /// [`TOLERANCE_STEP`]s of the new frame's: an OKLab distance of `steps` × 0.01 (default 0: exact).
+    /// The screen then differs from the frame by at most that much, never more: each frame is compared
+    /// with what the screen shows.
     pub fn set_tolerance(&mut self, steps: u8) {
         self.tolerance = steps;
     }
@@ -480,7 +481,8 @@ fn price_route(
 
 /// The form `cell` goes in from `pen` and its colour change: of the cell and its [`PackedCell::inverse`]
 /// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
-/// are within `tolerance` of the cell's.
+/// are within `tolerance` of the cell's; and, in truecolor, a blank or a full block in one colour
+/// within `tolerance` of both halves of a half-block cell where that is fewer bytes.
 fn cell_form(pen: &Pen, cell: &PackedCell, tolerance: u8) -> (PackedCell, Sgr) {
     find_form(pen, cell, tolerance, true)
 }
