@@ -78,7 +78,7 @@ impl PackedColor {
             return false;
         }
         let limit = f32::from(tolerance) * TOLERANCE_STEP;
-        let (p, q) = (oklab(a), oklab(b));
+        let [p, q] = oklab([a, b]);
         let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
         d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= limit * limit
     }
@@ -111,16 +111,18 @@ thread_local! {
         const { std::cell::RefCell::new([(0, [0.0; 3]); MEMO_SLOTS]) };
 }
 
-/// [`convert`], remembered ([`MEMO`]).
+/// [`convert`] of both words, remembered ([`MEMO`]; one visit to the thread's memo for the pair).
 #[inline]
-fn oklab(word: u32) -> [f32; 3] {
-    let slot = (word.wrapping_mul(0x9E37_79B1) >> (32 - MEMO_SLOTS.trailing_zeros())) as usize;
+fn oklab(words: [u32; 2]) -> [[f32; 3]; 2] {
     MEMO.with_borrow_mut(|memo| {
-        let entry = &mut memo[slot];
-        if entry.0 != word {
-            *entry = (word, convert(word));
-        }
-        entry.1
+        words.map(|word| {
+            let entry =
+                &mut memo[(word.wrapping_mul(0x9E37_79B1) >> (32 - MEMO_SLOTS.trailing_zeros())) as usize];
+            if entry.0 != word {
+                *entry = (word, convert(word));
+            }
+            entry.1
+        })
     })
 }
 
