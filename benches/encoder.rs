@@ -10,7 +10,7 @@
 //! Bytes do not depend on timing: they are computed once, checked (both byte streams, fed to the `vt100`
 //! terminal emulator, must show every frame exactly), printed, and written to
 //! `target/criterion/encoder-bytes.md` and `encoder-frames-*.tsv`. Criterion then times each encoder over
-//! the whole walk (`encode-walk/<depth>/<encoder>`, ours exact and with the walkthrough's ±1 tolerance as
+//! the whole walk (`encode-walk/<depth>/<encoder>`, ours exact and with the walkthrough's tolerance (OKLab 0.02) as
 //! `mazewalk_tolerant`; divide by the frame count for a frame).
 //!
 //! ```sh
@@ -334,9 +334,9 @@ fn report(depth: ColorDepth, steps: &[Step], bytes: &[Bytes]) -> (String, String
     let _ = writeln!(md, "#### {depth:?}, {COLS}×{ROWS} half blocks\n");
     let _ = writeln!(
         md,
-        "| frames | n | mazewalk exact, median / mean | mazewalk ±{DEFAULT_TOLERANCE} (default), median / mean \
+        "| frames | n | mazewalk exact, median / mean | mazewalk at tolerance {DEFAULT_TOLERANCE} (default), median / mean \
          | ratatui median / mean | ratatui, literal cells, mean | full repaint median \
-         | lower bound median / mean | exact ÷ ratatui, means / medians | ±{DEFAULT_TOLERANCE} ÷ ratatui, means / medians \
+         | lower bound median / mean | exact ÷ ratatui, means / medians | tolerant ÷ ratatui, means / medians \
          | exact ÷ full repaint (means) |"
     );
     let _ = writeln!(md, "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|");

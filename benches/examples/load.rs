@@ -17,6 +17,11 @@
 //! cargo run --release -p mazewalk-bench --example load -- --idle 200 --walkers 50 --seconds 5   # smaller
 //! cargo run --release -p mazewalk-bench --example load -- --idle 0 --walkers 90 --servers 3 --world redis://127.0.0.1:6379/0
 //! ```
+//!
+//! With `--callgrind FILE` (issue #42) the server runs under `valgrind --tool=callgrind` and is
+//! stopped with SIGINT, so that it writes FILE: `scripts/callgrind_stages.py FILE` gives a served
+//! frame's cost by stage. Under valgrind a server draws a few frames a second: keep the key rate
+//! low enough that each key gets a frame of its own (`--idle 0 --walkers 4 --rate 4 --seconds 15`).
 
 use mazewalk_testkit::load;
 
@@ -40,6 +45,7 @@ struct Args {
     seconds: f64,
     servers: usize,
     world: Option<String>,
+    callgrind: Option<String>,
 }
 
 fn args() -> Args {
@@ -52,6 +58,7 @@ fn args() -> Args {
         seconds: 10.0,
         servers: 1,
         world: None,
+        callgrind: None,
     };
     let argv: Vec<String> = std::env::args().skip(1).collect();
     for pair in argv.chunks(2) {
@@ -63,6 +70,7 @@ fn args() -> Args {
             "--seconds" => a.seconds = value.parse().expect("--seconds S"),
             "--servers" => a.servers = value.parse().expect("--servers N"),
             "--world" => a.world = Some(value.to_string()),
+            "--callgrind" => a.callgrind = Some(value.to_string()),
             "--size" => {
                 let (c, r) = value.split_once('x').expect("--size COLSxROWS");
                 (a.cols, a.rows) = (c.parse().expect("cols"), r.parse().expect("rows"));
@@ -74,21 +82,31 @@ fn args() -> Args {
     a
 }
 
-/// The server process, killed on drop.
+/// The server process, killed on drop (under callgrind: stopped by SIGINT, and waited for while it
+/// writes its profile).
 struct ServerProcess {
     child: Child,
     addr: SocketAddr,
     _scratch: PathBuf,
+    callgrind: bool,
 }
 
 impl ServerProcess {
-    fn start(n: usize, world: Option<&str>) -> ServerProcess {
+    fn start(n: usize, world: Option<&str>, callgrind: Option<&str>) -> ServerProcess {
         let exe = std::env::current_exe().expect("current exe");
         let bin = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
         assert!(bin.exists(), "{} is missing: run `cargo build --release` first", bin.display());
         let scratch = std::env::temp_dir().join(format!("mazewalk-load-{}-{n}", std::process::id()));
         std::fs::create_dir_all(&scratch).expect("scratch");
-        let mut child = Command::new(&bin)
+        let mut command = match callgrind {
+            Some(out) => {
+                let mut valgrind = Command::new("valgrind");
+                valgrind.args(["--tool=callgrind", &format!("--callgrind-out-file={out}")]).arg(&bin);
+                valgrind
+            }
+            None => Command::new(&bin),
+        };
+        let mut child = command
             .args([
                 "serve",
                 "--open",
@@ -113,7 +131,7 @@ impl ServerProcess {
         // the rest of what it prints, read and dropped: a closed pipe would end the server at its next line
         std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
         let addr = line.trim().rsplit_once(' ').and_then(|(_, a)| a.parse().ok()).expect("serving on ADDR");
-        ServerProcess { child, addr, _scratch: scratch }
+        ServerProcess { child, addr, _scratch: scratch, callgrind: callgrind.is_some() }
     }
 
     fn pid(&self) -> Option<u32> {
@@ -123,6 +141,10 @@ impl ServerProcess {
 
 impl Drop for ServerProcess {
     fn drop(&mut self) {
+        if self.callgrind {
+            let _ = Command::new("kill").args(["-INT", &self.child.id().to_string()]).status();
+            let _ = self.child.wait();
+        }
         let _ = self.child.kill();
         let _ = self.child.wait();
         let _ = std::fs::remove_dir_all(&self._scratch);
@@ -137,7 +159,7 @@ fn mib(bytes: u64) -> f64 {
 async fn main() {
     let a = args();
     let servers: Vec<ServerProcess> =
-        (0..a.servers).map(|n| ServerProcess::start(n, a.world.as_deref())).collect();
+        (0..a.servers).map(|n| ServerProcess::start(n, a.world.as_deref(), a.callgrind.as_deref())).collect();
     let server = &servers[0];
     let (addr, pid) = (server.addr, server.pid());
     let addrs: Vec<SocketAddr> = servers.iter().map(|s| s.addr).collect();

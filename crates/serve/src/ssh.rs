@@ -27,7 +27,7 @@ use super::host_key::fingerprint;
 use super::identity::player_name;
 use super::limits::Limits;
 use super::logs::{self, LogLimit};
-use super::player::Player;
+use super::player::{News, Player};
 use super::records::{Keeper, Standing, standing_lines};
 use super::shared::codec::{Finish, PlayerRecord, WinnerRecord};
 use super::shared::view::Others;
@@ -35,7 +35,7 @@ use super::shared::{Host, LocalFinish, ServerId, SharedWorld, WorldConfig};
 use super::slots::{ConnId, Refusal, Slots, address_group};
 use super::spawn::Spawns;
 use super::stream::{Cut, CutStream};
-use super::world::{PlayerId, World};
+use super::world::{Look, PlayerId, World};
 use mazewalk_maze::Maze;
 
 /// Who may play.
@@ -127,6 +127,35 @@ impl WorldCell {
             self.version.send_replace(world.version());
         }
         result
+    }
+
+    /// A look at the world for a player whose subscription to the version is `seen`, which then
+    /// counts every version the look shows as seen (under the lock, where versions are published): a
+    /// change the player has looked at does not wake it again.
+    fn look(&self, seen: &mut watch::Receiver<u64>) -> Look {
+        let mut world = lock(&self.world);
+        seen.borrow_and_update();
+        world.look() // the snapshot's two `Arc`s
+    }
+
+    /// Tells the world a player's news under its lock, and publishes the version if that changed it.
+    /// A player is not woken by its own move (issue #42): where its subscription `seen` had seen
+    /// every version before, it counts the new one as seen too. A finish still wakes it (its best
+    /// time is in the player list). Returns whether the finish is the world's first.
+    fn tell(&self, id: PlayerId, news: &News, seen: &mut watch::Receiver<u64>) -> bool {
+        let mut world = lock(&self.world);
+        let up_to_date = seen.has_changed().is_ok_and(|changed| !changed);
+        let before = world.version();
+        world.moved(id, news.position, news.heading_deg, news.cell);
+        world.pitched(id, news.pitch_deg);
+        let first = news.finished.and_then(|seconds| world.finished(id, seconds)).is_some();
+        if world.version() != before {
+            self.version.send_replace(world.version());
+            if up_to_date && news.finished.is_none() {
+                seen.borrow_and_update();
+            }
+        }
+        first
     }
 }
 
@@ -1143,8 +1172,8 @@ async fn walk(
         let now = shared.now();
         if player.look_due(now) {
             // Under the lock: the snapshot's two `Arc`s cloned, after rebuilding it if the world
-            // changed since the last look (World::look).
-            let look = shared.world().look();
+            // changed since the last look (World::look); every version it shows counts as seen.
+            let look = shared.world.look(&mut versions);
             player.look(&look, now);
         }
         let started = Instant::now();
@@ -1167,17 +1196,7 @@ async fn walk(
         }
         // Tell the others where this player is now, and whether it won.
         let news = player.news();
-        let first = {
-            let mut world = shared.world();
-            let before = world.version();
-            world.moved(id, news.position, news.heading_deg, news.cell);
-            world.pitched(id, news.pitch_deg);
-            let first = news.finished.and_then(|seconds| world.finished(id, seconds)).is_some();
-            if world.version() != before {
-                shared.world_changed(&world);
-            }
-            first
-        };
+        let first = shared.world.tell(id, &news, &mut versions);
         if let Some(seconds) = news.finished {
             // The winner always; every other finish within the log limit.
             if first || shared.log_ok(conn.group) {
@@ -1236,6 +1255,51 @@ async fn walk(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec2;
+
+    /// Issue #42: a player's own move does not wake its task to look at the world; another's move
+    /// does, until a look shows it; a move made while another's is still unseen leaves it to be seen;
+    /// standing still changes nothing; a finish wakes even the finisher (its best time is listed).
+    #[test]
+    fn a_player_is_not_woken_by_its_own_move() {
+        let cell = WorldCell {
+            world: Mutex::new(World::new()),
+            version: watch::Sender::new(0),
+            clock: Instant::now(),
+        };
+        let (a, b) = cell.change(|world| {
+            (
+                world.join("alice", Vec2::ZERO, 0.0, 0, 0.0),
+                world.join("bob", Vec2::new(4.0, 0.0), 0.0, 1, 0.0),
+            )
+        });
+        let (mut seen_a, mut seen_b) = (cell.version.subscribe(), cell.version.subscribe());
+        let woken = |seen: &watch::Receiver<u64>| seen.has_changed().expect("the world is there");
+        let at = |x: f32| News {
+            position: Vec2::new(x, 0.0),
+            heading_deg: 0.0,
+            cell: 0,
+            pitch_deg: 0.0,
+            finished: None,
+        };
+        cell.tell(a, &at(0.5), &mut seen_a);
+        assert!(!woken(&seen_a), "alice's own move");
+        assert!(woken(&seen_b), "bob is told alice moved");
+        let look = cell.look(&mut seen_b);
+        assert!(!woken(&seen_b), "bob's look showed it");
+        assert_eq!(look.players.len(), 2);
+        cell.tell(b, &at(4.5), &mut seen_b);
+        assert!(woken(&seen_a) && !woken(&seen_b), "bob's move wakes alice, not bob");
+        cell.tell(a, &at(0.7), &mut seen_a);
+        assert!(woken(&seen_a), "bob's move is still to be seen by alice");
+        cell.look(&mut seen_a);
+        let version = *cell.version.borrow();
+        cell.tell(a, &at(0.7), &mut seen_a);
+        assert_eq!(*cell.version.borrow(), version, "standing still changes nothing");
+        assert!(!woken(&seen_a));
+        cell.tell(a, &News { finished: Some(12.0), ..at(0.9) }, &mut seen_a);
+        assert!(woken(&seen_a) && woken(&seen_b), "a finish wakes everyone");
+    }
 
     /// Every description gives a packet RFC 4253 allows: its length field is the rest, the whole a
     /// multiple of 8 with 4 to 11 bytes of padding, and the message readable back.

@@ -31,6 +31,7 @@ mod sgr;
 
 use std::collections::HashMap;
 
+use crate::blocks::FULL_BLOCK;
 use crate::frame::{Frame, PackedCell, PackedColor};
 use cursor::{move_len, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
@@ -40,12 +41,15 @@ pub(crate) const SYNC_BEGIN: &[u8] = b"\x1b[?2026h";
 /// End synchronized update.
 pub(crate) const SYNC_END: &[u8] = b"\x1b[?2026l";
 
-/// The colour tolerance the walkthrough uses ([`Encoder::set_tolerance`]): one 8-bit step per channel,
-/// below what anyone can see, and a sixth fewer bytes while walking in truecolor (see BENCHMARKS.md).
-pub const DEFAULT_TOLERANCE: u8 = 1;
+/// The colour tolerance the walkthrough uses ([`Encoder::set_tolerance`]): two [`TOLERANCE_STEP`]s, an
+/// OKLab distance of 0.02, about what an eye can just tell apart side by side; walking and turning
+/// in truecolor cost a fraction of the exact bytes (see BENCHMARKS.md).
+pub const DEFAULT_TOLERANCE: u8 = 2;
 
-/// The largest colour tolerance accepted (8-bit steps per channel).
+/// The largest colour tolerance accepted, in [`TOLERANCE_STEP`]s (an OKLab distance of 0.16).
 pub const MAX_TOLERANCE: u8 = 16;
+
+pub use crate::frame::TOLERANCE_STEP;
 
 /// A rewrite of unchanged cells longer than this never beats a cursor move (`CUP` is at most ~12 bytes).
 const MAX_REWRITE: usize = 12;
@@ -89,7 +93,7 @@ pub struct Encoder {
     valid: bool,
     pen: Pen,
     bce: bool,
-    /// Truecolor cells within this many 8-bit steps per channel of what is on screen are left as they are.
+    /// Truecolor cells within this many [`TOLERANCE_STEP`]s (OKLab) of what is on screen are left as they are.
     tolerance: u8,
     /// Scratch for the frame as sent: `frame` up to `tolerance` (the screen where close, the pen's
     /// colours where close); swapped into `screen` after each encode.
@@ -134,9 +138,10 @@ impl Encoder {
         self.invalidate();
     }
 
-    /// Leave a truecolor cell as the screen shows it while each of its colours is within `steps` 8-bit
-    /// steps per channel of the new frame's (default 0: exact). The screen then differs from the frame by
-    /// at most that much, never more: each frame is compared with what the screen shows.
+    /// Leave a truecolor cell as the screen shows it while each of its colours is within `steps`
+    /// [`TOLERANCE_STEP`]s of the new frame's: an OKLab distance of `steps` × 0.01 (default 0: exact).
+    /// The screen then differs from the frame by at most that much, never more: each frame is compared
+    /// with what the screen shows.
     pub fn set_tolerance(&mut self, steps: u8) {
         self.tolerance = steps;
     }
@@ -476,7 +481,8 @@ fn price_route(
 
 /// The form `cell` goes in from `pen` and its colour change: of the cell and its [`PackedCell::inverse`]
 /// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
-/// are within `tolerance` of the cell's.
+/// are within `tolerance` of the cell's; and, in truecolor, a blank or a full block in one colour
+/// within `tolerance` of both halves of a half-block cell where that is fewer bytes.
 fn cell_form(pen: &Pen, cell: &PackedCell, tolerance: u8) -> (PackedCell, Sgr) {
     find_form(pen, cell, tolerance, true)
 }
@@ -515,7 +521,11 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
             && !pen.fg.is_some_and(|p| p.within(cell.bg, tolerance))
             && !pen.bg.is_some_and(|p| p.within(cell.fg, tolerance))
     };
-    if shortcut && best.1.len() > 0 && both_far(pen) {
+    // A cell of halves within the tolerance of one colour (a blank, a full block, a half block of
+    // two near colours) may go as a blank in it (below): the shortcut holds only where they are not.
+    let halves = cell.halves();
+    let one_colour = halves.is_some_and(|[top, bottom]| top.within(bottom, tolerance));
+    if shortcut && best.1.len() > 0 && both_far(pen) && !one_colour {
         return best;
     }
     if best.1.len() > 0 {
@@ -529,6 +539,32 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
                 if priced.1.len() < best.1.len() {
                     best = priced;
                 }
+            }
+        }
+    }
+    // Issue #42: a blank, a half block or a full block whose two halves are both within the tolerance
+    // of one colour — the pen's background or ink, or either half's own — may show that colour alone,
+    // as a blank (one byte) or, in the pen's ink, a full block: a wall's gentle vertical gradient then
+    // costs one colour a cell, or none. Bytes are glyph and colours together here.
+    if let Some([top, bottom]) = halves
+        && best.1.len() > 0
+    {
+        let bytes = |(cell, sgr): &(PackedCell, Sgr)| sgr.len() + cell.ch.len_utf8();
+        let colours = [pen.bg, pen.fg, Some(top), Some(bottom)];
+        for (k, colour) in colours.into_iter().enumerate() {
+            let Some(colour) = colour.filter(|c| c.within(top, tolerance) && c.within(bottom, tolerance))
+            else {
+                continue;
+            };
+            let candidate = if k == 1 {
+                PackedCell { ch: FULL_BLOCK, fg: colour, bg: cell.bg } // the pen's ink: no background shown
+            } else {
+                PackedCell { ch: ' ', fg: colour, bg: colour }
+            };
+            let priced = priced(candidate);
+            // (A new colour must also save colour bytes: it changes the pen the cells after it reuse.)
+            if bytes(&priced) < bytes(&best) && (k < 2 || priced.1.len() < best.1.len()) {
+                best = priced;
             }
         }
     }

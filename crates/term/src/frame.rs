@@ -9,6 +9,7 @@
 
 mod packed;
 
+pub use packed::TOLERANCE_STEP;
 pub(crate) use packed::{PackedCell, PackedColor};
 
 /// A colour as the terminal is asked to show it; the renderer quantizes to the depth in use.
@@ -24,8 +25,8 @@ pub enum Color {
 }
 
 impl Color {
-    /// Whether two colours are within `tolerance` 8-bit steps per channel: truecolor colours that
-    /// close, or any colours that are equal.
+    /// Whether two colours are within `tolerance` [`TOLERANCE_STEP`]s (an OKLab distance of
+    /// `tolerance` × 0.01): truecolor colours that close, or any colours that are equal.
     #[must_use]
     #[inline]
     pub fn within(self, other: Color, tolerance: u8) -> bool {
@@ -117,8 +118,8 @@ impl Cell {
         self.looks_within(other, 0)
     }
 
-    /// [`Cell::same_look`] up to `tolerance` 8-bit steps per channel between truecolor colours (other
-    /// colours must be equal): what the encoder's [`set_tolerance`](crate::encoder::Encoder::set_tolerance) leaves alone.
+    /// [`Cell::same_look`] up to `tolerance` [`TOLERANCE_STEP`]s (OKLab) between truecolor colours
+    /// (other colours must be equal): what the encoder's [`set_tolerance`](crate::encoder::Encoder::set_tolerance) leaves alone.
     ///
     /// Block glyphs (space, full block, halves, quadrants, sextants) are compared by what each part of
     /// the cell shows: on a 2×6 grid of sub-cells (fine enough for all of them), every sub-cell's colour

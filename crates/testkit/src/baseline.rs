@@ -61,8 +61,8 @@ fn push_u8(out: &mut Vec<u8>, n: u8) {
 }
 
 /// A lower bound for the bytes of any encoding that turns a screen showing `shown` into one showing
-/// `frame`, each cell within `tolerance` 8-bit steps per truecolor channel ([`Cell::looks_within`]):
-/// the UTF-8 bytes of the non-blank glyphs that must change. `None` (an unknown screen, or one of
+/// `frame`, each cell within `tolerance` steps of 0.01 in OKLab between truecolor colours
+/// ([`Cell::looks_within`]): the UTF-8 bytes of the non-blank glyphs that must change. `None` (an unknown screen, or one of
 /// another size) means a full paint: every glyph. Blanks count nothing (an erasure may cover any number
 /// of them), and a block glyph counts the cheaper of itself and its [`Cell::inverse`].
 pub fn lower_bound(shown: Option<&Frame>, frame: &Frame, tolerance: u8) -> usize {

@@ -70,7 +70,7 @@ pub fn fit_size(cols: u32, rows: u32, max: (u16, u16)) -> (u16, u16) {
 pub struct SessionOptions {
     /// The terminal erases with the current background colour ([`Encoder::set_bce`]).
     pub bce: bool,
-    /// Colour tolerance in 8-bit steps ([`Encoder::set_tolerance`]); raised while the terminal
+    /// Colour tolerance in steps of 0.01 in OKLab ([`Encoder::set_tolerance`]); raised while the terminal
     /// answers slowly (see [`adaptive_tolerance`]).
     pub color_tolerance: u8,
     /// End-to-end flow control ([`super::flow`]): a query after each frame, at most

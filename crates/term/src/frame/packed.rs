@@ -64,8 +64,8 @@ impl PackedColor {
         self.0.get() >> 24 == RGB
     }
 
-    /// Whether two colours are within `tolerance` 8-bit steps per channel: truecolor colours that
-    /// close, or any colours that are equal.
+    /// Whether two colours are within `tolerance` [`TOLERANCE_STEP`]s of each other in OKLab
+    /// (truecolor colours that close), or equal (any colours).
     #[inline]
     #[must_use]
     pub(crate) fn within(self, other: PackedColor, tolerance: u8) -> bool {
@@ -74,9 +74,86 @@ impl PackedColor {
             return true;
         }
         // Both truecolor: the kinds are 1, 2 and 3, and only 1 | 1 is 1.
-        let channel = |shift: u32| ((a >> shift) as u8).abs_diff((b >> shift) as u8) <= tolerance;
-        (a | b) >> 24 == RGB && channel(16) && channel(8) && channel(0)
+        if tolerance == 0 || (a | b) >> 24 != RGB {
+            return false;
+        }
+        let limit = f32::from(tolerance) * TOLERANCE_STEP;
+        let [p, q] = oklab([a, b]);
+        let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+        d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= limit * limit
     }
+}
+
+/// One step of the truecolor tolerance: an OKLab distance (ΔE_OK) of 0.01, about half of what an eye
+/// can tell apart side by side (a just-noticeable difference is about 0.02). Perceptual rather than
+/// per channel: an 8-bit step is a bigger change in a dark colour than in a light one, so a wall's
+/// slow falloff with distance stays within a step or two of what was sent where the eye cannot see
+/// it, and is resent where it can.
+pub const TOLERANCE_STEP: f32 = 0.01;
+
+/// The 8-bit sRGB codes' linear values (the sRGB transfer function), built once.
+static LINEAR: std::sync::LazyLock<[f32; 256]> = std::sync::LazyLock::new(|| {
+    std::array::from_fn(|code| {
+        let v = code as f64 / 255.0;
+        (if v <= 0.040_45 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }) as f32
+    })
+});
+
+/// Slots of [`MEMO`]: a power of two.
+const MEMO_SLOTS: usize = 1 << 12;
+
+thread_local! {
+    /// The OKLab of the colours met lately on this thread, by a hash of the word (0: empty; no
+    /// truecolor word is 0). A frame has a few thousand colours and the encoder asks about each
+    /// several times (against the screen, the pen, its other half), at a fifth of a conversion's cost.
+    /// What it holds is a pure function of the word: it changes no answer.
+    static MEMO: std::cell::RefCell<[(u32, [f32; 3]); MEMO_SLOTS]> =
+        const { std::cell::RefCell::new([(0, [0.0; 3]); MEMO_SLOTS]) };
+}
+
+/// [`convert`] of both words, remembered ([`MEMO`]; one visit to the thread's memo for the pair).
+#[inline]
+fn oklab(words: [u32; 2]) -> [[f32; 3]; 2] {
+    MEMO.with_borrow_mut(|memo| {
+        words.map(|word| {
+            let entry =
+                &mut memo[(word.wrapping_mul(0x9E37_79B1) >> (32 - MEMO_SLOTS.trailing_zeros())) as usize];
+            if entry.0 != word {
+                *entry = (word, convert(word));
+            }
+            entry.1
+        })
+    })
+}
+
+/// The OKLab coordinates (L, a, b) of a truecolor word `0x01RRGGBB` (Björn Ottosson's matrices,
+/// <https://bottosson.github.io/posts/oklab/>).
+#[inline]
+fn convert(word: u32) -> [f32; 3] {
+    let table = &*LINEAR;
+    let [_, r, g, b] = word.to_be_bytes().map(|c| table[usize::from(c)]);
+    let l = 0.412_221_46 * r + 0.536_332_55 * g + 0.051_445_995 * b;
+    let m = 0.211_903_5 * r + 0.680_699_5 * g + 0.107_396_96 * b;
+    let s = 0.088_302_46 * r + 0.281_718_85 * g + 0.629_978_7 * b;
+    let [l, m, s] = [l, m, s].map(cbrt);
+    [
+        0.210_454_26 * l + 0.793_617_8 * m - 0.004_072_047 * s,
+        1.977_998_5 * l - 2.428_592_2 * m + 0.450_593_7 * s,
+        0.025_904_037 * l + 0.782_771_77 * m - 0.808_675_77 * s,
+    ]
+}
+
+/// The cube root of `x` in [0, 1] (a linear colour's cone response), to 2e-6 of it: a first guess
+/// from the float's bits (a third of the exponent and mantissa), then two Newton steps, with no call
+/// or branch.
+#[inline]
+fn cbrt(x: f32) -> f32 {
+    let x = x.max(1e-12); // black: its root is 1e-4, as near 0 as an OKLab distance can tell
+    let mut y = f32::from_bits(x.to_bits() / 3 + 0x2a50_8935);
+    for _ in 0..2 {
+        y = (2.0 * y + x / (y * y)) * (1.0 / 3.0);
+    }
+    y
 }
 
 /// A [`Cell`] with [`PackedColor`]s: comparing two is comparing three words.
@@ -160,7 +237,7 @@ impl PackedCell {
     /// The colours of the top and bottom halves of a blank, a half block or a full block; `None` for
     /// other glyphs, and where a half shows a default colour (compared by layers instead).
     #[inline]
-    fn halves(&self) -> Option<[PackedColor; 2]> {
+    pub(crate) fn halves(&self) -> Option<[PackedColor; 2]> {
         if self.shows_a_default() {
             return None;
         }
@@ -208,33 +285,68 @@ impl PackedCell {
 mod tests {
     use super::*;
 
-    /// Every colour has one spelling: packing is one-to-one and unpacking gives the colour back, and
-    /// the tolerance applies to truecolor channels alone.
+    /// OKLab of 8-bit sRGB in f64 with the library cube root: the oracle for the encoder's f32 one.
+    fn oklab_reference([r, g, b]: [u8; 3]) -> [f64; 3] {
+        let linear = |c: u8| {
+            let v = f64::from(c) / 255.0;
+            if v <= 0.040_45 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
+        };
+        let (r, g, b) = (linear(r), linear(g), linear(b));
+        let l = (0.412_221_470_8 * r + 0.536_332_536_3 * g + 0.051_445_992_9 * b).cbrt();
+        let m = (0.211_903_498_2 * r + 0.680_699_545_1 * g + 0.107_396_956_6 * b).cbrt();
+        let s = (0.088_302_461_9 * r + 0.281_718_837_6 * g + 0.629_978_700_5 * b).cbrt();
+        [
+            0.210_454_255_3 * l + 0.793_617_785 * m - 0.004_072_046_8 * s,
+            1.977_998_495_1 * l - 2.428_592_205 * m + 0.450_593_709_9 * s,
+            0.025_904_037_1 * l + 0.782_771_766_2 * m - 0.808_675_766 * s,
+        ]
+    }
+
+    /// Every colour has one spelling: packing is one-to-one and unpacking gives the colour back; the
+    /// tolerance applies to truecolor colours alone, as an OKLab distance (against an f64 oracle; pairs
+    /// within 1e-5 of the limit, where f32 rounding may go either way, are not held to it).
     #[test]
     fn a_packed_colour_is_the_colour_and_equal_words_are_equal_colours() {
         let mut colors = vec![Color::Default];
         colors.extend((0..=255).map(Color::Indexed));
-        colors.extend(
-            [0, 1, 2, 127, 128, 254, 255].iter().flat_map(|&r| {
-                [0, 7, 255].iter().flat_map(move |&g| [0, 9, 255].map(|b| Color::Rgb(r, g, b)))
-            }),
-        );
+        colors.extend([0, 1, 2, 3, 20, 21, 127, 128, 130, 254, 255].iter().flat_map(|&r| {
+            [0, 7, 8, 250, 255].iter().flat_map(move |&g| [0, 9, 12, 255].map(|b| Color::Rgb(r, g, b)))
+        }));
+        let mut near_limit = 0;
         for &a in &colors {
             assert_eq!(PackedColor::pack(a).unpack(), a);
             assert_eq!(PackedColor::pack(a).is_rgb(), matches!(a, Color::Rgb(..)));
             for &b in &colors {
                 assert_eq!(PackedColor::pack(a) == PackedColor::pack(b), a == b, "{a:?} {b:?}");
-                for tolerance in [0, 1, 2, 200] {
+                for tolerance in [0, 1, 2, 5, 16, 200] {
                     let within = match (a, b) {
-                        (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) => [(r, r2), (g, g2), (b, b2)]
-                            .iter()
-                            .all(|&(x, y)| i32::from(x).abs_diff(i32::from(y)) <= u32::from(tolerance)),
-                        _ => a == b,
+                        _ if a == b => Some(true),
+                        (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) if tolerance > 0 => {
+                            let (p, q) = (oklab_reference([r, g, b]), oklab_reference([r2, g2, b2]));
+                            let d = (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
+                            let limit = f64::from(tolerance) * f64::from(TOLERANCE_STEP);
+                            ((d - limit).abs() > 1e-5).then_some(d <= limit)
+                        }
+                        _ => Some(false),
                     };
-                    assert_eq!(PackedColor::pack(a).within(PackedColor::pack(b), tolerance), within);
+                    match within {
+                        Some(within) => assert_eq!(
+                            PackedColor::pack(a).within(PackedColor::pack(b), tolerance),
+                            within,
+                            "{a:?} {b:?} within {tolerance}"
+                        ),
+                        None => near_limit += 1,
+                    }
                 }
             }
         }
+        assert!(near_limit < 50, "{near_limit} pairs too near the limit to tell");
+        // One 8-bit step is a bigger change in a dark colour than in a light one.
+        let step = |v: u8| oklab_reference([v + 1; 3])[0] - oklab_reference([v; 3])[0];
+        assert!(step(2) > 0.012 && step(250) < 0.003, "{} {}", step(2), step(250));
+        let (dark, light) = ((2, 3), (250, 251));
+        let grey = |v: u8| PackedColor::pack(Color::Rgb(v, v, v));
+        assert!(!grey(dark.0).within(grey(dark.1), 1) && grey(light.0).within(grey(light.1), 1));
         assert_eq!(std::mem::size_of::<Option<PackedColor>>(), 4);
     }
 }

@@ -9,4 +9,5 @@ mod overlays;
 mod render_frames;
 mod sessions;
 mod slow_link;
+mod tolerance_picture;
 mod truecolor;

@@ -1,0 +1,35 @@
+//! A first paint and 39 frames of turning (`←` 30 times a second) through the walk's session, for
+//! callgrind's count of what the encoder spends on them (issue #42): no link, no clock.
+//!
+//! ```sh
+//! cargo build --release -p mazewalk-bench --example turn_frames
+//! valgrind --tool=callgrind ./target/release/examples/turn_frames truecolor   # COLS ROWS optional
+//! callgrind_annotate --inclusive=yes callgrind.out.* | grep 'Encoder::encode \['
+//! ```
+
+use mazewalk_maze as maze;
+use mazewalk_render::{Charset, RenderOptions};
+use mazewalk_term::frame::ColorDepth;
+use mazewalk_walk::{App, Session, SessionOptions};
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let arg = |i: usize, default: &str| args.get(i).cloned().unwrap_or_else(|| default.to_owned());
+    let depth: ColorDepth = arg(0, "truecolor").parse().expect("colour depth");
+    let (cols, rows): (u16, u16) =
+        (arg(1, "120").parse().expect("cols"), arg(2, "40").parse().expect("rows"));
+    let options = RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
+    let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("a start cell");
+    let mut session =
+        Session::new(app, cols, rows, SessionOptions { flow_control: false, ..SessionOptions::default() });
+    let (mut out, mut bytes) = (Vec::new(), 0);
+    session.frame(0.0, &mut out);
+    for i in 1..40 {
+        let now = f64::from(i) / 30.0;
+        session.feed(b"\x1b[D", now);
+        out.clear();
+        session.frame(now, &mut out);
+        bytes += out.len();
+    }
+    println!("{depth} {cols}x{rows}: {bytes} bytes in 39 frames of turning");
+}

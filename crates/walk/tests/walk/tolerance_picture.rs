@@ -1,0 +1,104 @@
+//! Issue #42: the truecolor tolerance is perceptual (an OKLab distance), and what the terminal shows
+//! stays close to the exact frames. Walks and turns through generated mazes not used to choose the
+//! tolerance (the built-in maze was), at 120×40 in truecolor with the default tolerance; after every
+//! frame the vt100 screen, read back as a frame, is compared sample by sample in OKLab with the frame
+//! the session drew ([`Session::screen`]).
+
+use mazewalk_maze::generate::{Algorithm, GenOptions, generate};
+use mazewalk_maze::{self as maze};
+use mazewalk_render::quality::shown;
+use mazewalk_render::{Charset, RenderOptions};
+use mazewalk_term::encoder::{DEFAULT_TOLERANCE, TOLERANCE_STEP};
+use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame};
+use mazewalk_walk::{App, Session, SessionOptions};
+
+const COLS: u16 = 120;
+const ROWS: u16 = 40;
+
+/// The vt100 screen as a frame (its glyphs and colours).
+fn screen_frame(parser: &vt100::Parser) -> Frame {
+    let color = |c: vt100::Color| match c {
+        vt100::Color::Default => Color::Default,
+        vt100::Color::Idx(i) => Color::Indexed(i),
+        vt100::Color::Rgb(r, g, b) => Color::Rgb(r, g, b),
+    };
+    let screen = parser.screen();
+    let mut frame = Frame::new(COLS.into(), ROWS.into());
+    for y in 0..ROWS {
+        for x in 0..COLS {
+            let cell = screen.cell(y, x).expect("on screen");
+            let ch = cell.contents().chars().next().unwrap_or(' ');
+            frame.set(x.into(), y.into(), Cell { ch, fg: color(cell.fgcolor()), bg: color(cell.bgcolor()) });
+        }
+    }
+    frame
+}
+
+/// Every sample's OKLab distance between what the terminal shows and the exact frame: (sum, count,
+/// largest).
+fn distances(parser: &vt100::Parser, exact: &Frame) -> (f64, usize, f32) {
+    let (got, want) = (shown(&screen_frame(parser), Charset::Half), shown(exact, Charset::Half));
+    let mut sum = 0.0;
+    let mut largest = 0.0f32;
+    for (a, b) in got.iter().zip(&want) {
+        let d = a.distance(*b);
+        sum += f64::from(d);
+        largest = largest.max(d);
+    }
+    (sum, got.len(), largest)
+}
+
+/// Holds each key for 1.5 s at 30 presses a second (walking forward, turning each way, strafing),
+/// drawing after each; returns the mean distance over every sample of every frame, the largest, and
+/// the frames drawn.
+fn walk_through(maze: maze::Maze) -> (f64, f32, usize) {
+    let options = RenderOptions { color_depth: ColorDepth::TrueColor, ..RenderOptions::default() };
+    let app = App::new(maze, options, 0.0).expect("a start cell");
+    let mut session =
+        Session::new(app, COLS, ROWS, SessionOptions { flow_control: false, ..SessionOptions::default() });
+    let nz = |n: u16| std::num::NonZeroU16::new(n).expect("not zero");
+    let mut parser = vt100::Parser::new(nz(ROWS), nz(COLS), 0);
+    let (mut sum, mut count, mut largest, mut frames) = (0.0, 0, 0.0f32, 0);
+    let mut out = Vec::new();
+    let keys: [&[u8]; 5] = [b"w", b"\x1b[D", b"w", b"\x1b[C", b"d"];
+    for (k, key) in keys.iter().enumerate() {
+        for i in 0..45 {
+            let now = (k * 45 + i) as f64 / 30.0;
+            session.feed(key, now);
+            out.clear();
+            if session.frame(now, &mut out) {
+                parser.process(&out);
+                let (s, n, l) = distances(&parser, session.screen());
+                (sum, count, largest, frames) = (sum + s, count + n, largest.max(l), frames + 1);
+            }
+        }
+    }
+    (sum / count.max(1) as f64, largest, frames)
+}
+
+/// The mean OKLab distance of the picture from the exact frames stays within 0.01 (issue #42's
+/// goal), and no sample is ever further off than the tolerance allows (a cell within it is left as
+/// sent; one beyond it is resent): over four generated mazes of two algorithms.
+#[test]
+fn the_truecolor_picture_stays_within_a_hundredth_of_the_exact_frames() {
+    let limit = f32::from(DEFAULT_TOLERANCE) * TOLERANCE_STEP;
+    let mut means = Vec::new();
+    for (seed, algorithm, loops) in [
+        (11, Algorithm::Prim, 0.3),
+        (12, Algorithm::Backtracker, 0.0),
+        (13, Algorithm::Prim, 0.6),
+        (14, Algorithm::Backtracker, 0.2),
+    ] {
+        let opts =
+            GenOptions { width: 12, height: 12, algorithm, seed, loops, exit: true, ..GenOptions::default() };
+        let (mean, largest, frames) = walk_through(generate(&opts).expect("a maze"));
+        assert!(frames > 150, "seed {seed}: {frames} frames drawn");
+        // The encoder's OKLab is f32 with a fast cube root (to 2e-6): a hair of slack.
+        assert!(largest <= limit + 1e-4, "seed {seed}: a sample {largest} off, beyond the tolerance {limit}");
+        means.push(mean);
+    }
+    let mean = means.iter().sum::<f64>() / means.len() as f64;
+    eprintln!("mean OKLab distance from the exact frames per maze {means:.4?}, overall {mean:.4}");
+    assert!(mean <= 0.01, "mean distance {mean}");
+    assert!(mean > 0.0, "the tolerance left nothing off: the walk did not exercise it");
+}

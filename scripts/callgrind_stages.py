@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""A served frame's cost by stage, from a callgrind profile of `mazewalk serve` (BENCHMARKS.md).
+
+    valgrind --tool=callgrind --callgrind-out-file=cg.out target/release/mazewalk serve ...
+    scripts/callgrind_stages.py cg.out [more.out ...]
+
+Prints, per frame drawn (calls of `Encoder::encode`), the inclusive instruction counts of each stage,
+and the frames and looks counted. Several files: one column each (an A/B in one table).
+"""
+
+import os
+import re
+import subprocess
+import sys
+
+# (stage, function names whose inclusive counts are summed): the functions of the project and of russh
+# and ring that each stage runs under, as callgrind names them.
+STAGES = [
+    ("whole process", None),
+    ("player task: `Session::frame`", ["mazewalk_walk::session::Session::frame"]),
+    ("render (`Renderer::render`)", ["mazewalk_render::pipeline::Renderer::render"]),
+    ("portal pass", ["mazewalk_render::portal::PortalPass::run"]),
+    ("raster (polygon fills)", ["mazewalk_render::raster::fill_polygon_x8", "mazewalk_render::raster::fill_polygon"]),
+    ("samples: portal, raster, shading", ["mazewalk_render::pipeline::Renderer::samples_with"]),
+    ("figures (sprites)", ["mazewalk_render::sprite::SpritePass::draw"]),
+    ("glyphs (`glyph::to_frame`)", ["mazewalk_render::glyph::to_frame"]),
+    ("screen: render + HUD + map + colours", ["mazewalk_walk::screen::draw"]),
+    ("encoder (`Encoder::encode`)", ["mazewalk_term::encoder::Encoder::encode"]),
+    (
+        "SSH cipher (ring ChaCha20-Poly1305)",
+        [
+            "ring::aead::chacha20_poly1305_openssh::SealingKey::seal_in_place",
+            "ring::aead::chacha20_poly1305_openssh::OpeningKey::open_in_place",
+            "ring::aead::chacha20_poly1305_openssh::OpeningKey::decrypt_packet_length",
+        ],
+    ),
+    ("key exchanges (logins)", ["<russh::kex::KexAlgorithm as russh::kex::KexAlgorithmImplementor>::server_dh"]),
+    ("world: looks", ["mazewalk_serve::world::World::look"]),
+    ("world: moves", ["mazewalk_serve::world::World::moved", "mazewalk_serve::world::World::pitched"]),
+]
+COUNTED = ["mazewalk_term::encoder::Encoder::encode", "mazewalk_serve::world::World::look",
+           "mazewalk_walk::session::Session::frame"]
+
+
+def inclusive(path):
+    """Function name -> inclusive instructions (functions of the binary, not inlined attributions)."""
+    text = subprocess.run(
+        ["callgrind_annotate", "--inclusive=yes", "--threshold=100", os.path.abspath(path)],
+        # Away from the sources: inside the tree it splits a function's inclusive count by file.
+        cwd="/", check=True, capture_output=True, text=True,
+    ).stdout
+    costs = {}
+    for line in text.splitlines():
+        m = re.match(r"\s*([\d,]+) \([^)]*\)\s+\S*?:(.*) \[[^\]]+\]$", line)
+        if m:
+            name = m.group(2)
+            costs[name] = max(costs.get(name, 0), int(m.group(1).replace(",", "")))
+        m = re.match(r"\s*([\d,]+) \([^)]*\)\s+PROGRAM TOTALS", line)
+        if m:
+            costs[None] = int(m.group(1).replace(",", ""))
+    return costs
+
+
+def calls(path):
+    """Function name -> calls, summed over every call site."""
+    names, counts, cfn = {}, {}, None
+    with open(path) as f:
+        for line in f:
+            m = re.match(r"(c?fn)=\((\d+)\)(?: (.*))?", line)
+            if m:
+                if m.group(3):
+                    names[m.group(2)] = m.group(3).strip()
+                if m.group(1) == "cfn":
+                    cfn = m.group(2)
+            elif line.startswith("calls="):
+                name = names.get(cfn)
+                counts[name] = counts.get(name, 0) + int(line[6:].split()[0])
+    return counts
+
+
+def main():
+    paths = sys.argv[1:]
+    if not paths:
+        sys.exit(__doc__)
+    columns = []
+    for path in paths:
+        costs, counted = inclusive(path), calls(path)
+        frames = max(counted.get(COUNTED[0], 0), 1)
+        columns.append((costs, counted, frames))
+    print("| stage | " + " | ".join(f"`{p}` (k instr./frame)" for p in paths) + " |")
+    print("|---|" + "--:|" * len(paths))
+    for stage, names in STAGES:
+        cells = []
+        for costs, _, frames in columns:
+            total = costs.get(None, 0) if names is None else sum(costs.get(n, 0) for n in names)
+            cells.append(f"{total / frames / 1e3:,.0f}")
+        print(f"| {stage} | " + " | ".join(cells) + " |")
+    for name in COUNTED:
+        print(f"| calls of `{name.rsplit('::', 2)[-2]}::{name.rsplit('::', 1)[-1]}` | "
+              + " | ".join(f"{c.get(name, 0):,}" for _, c, _ in columns) + " |")
+
+
+if __name__ == "__main__":
+    main()
