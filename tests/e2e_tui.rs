@@ -1450,3 +1450,51 @@ fn asciinema_cat_prints(path: &std::path::Path, expected: &[u8]) {
         printed.iter().zip(expected).position(|(a, b)| a != b)
     );
 }
+
+/// A walk ended by a signal still leaves a whole recording: the restore the signal thread wrote
+/// last, everything flushed.
+#[test]
+fn a_recording_ended_by_a_signal_is_whole() {
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("e2e-signal.cast");
+    let _ = std::fs::remove_file(&path);
+    let mut tui = Tui::spawn(&["--record", path.to_str().unwrap()], 80, 24, Answers::Plain);
+    tui.wait_for("the first frame", |s| s.contents().contains("heading"));
+    tui.send(b"m");
+    tui.settle();
+    tui.signal(Signal::TERM);
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(128 + 15), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+    let (_, events) = parse_cast(&std::fs::read_to_string(&path).expect("the cast is UTF-8 text"));
+    let data: String = events.iter().filter(|e| e.1 == "o").map(|e| e.2.as_str()).collect();
+    assert!(
+        data.as_bytes() == raw,
+        "the recording ({} bytes) is not what was sent ({})",
+        data.len(),
+        raw.len()
+    );
+}
+
+/// A recording that cannot be written (a full disk: /dev/full) stops; the walk goes on, and says so
+/// once, after the terminal is restored.
+#[test]
+fn a_recording_that_cannot_be_written_stops_and_the_walk_goes_on() {
+    let mut tui = Tui::spawn(&["--record", "/dev/full"], 80, 24, Answers::Plain);
+    tui.wait_for("the first frame", |s| s.contents().contains("heading"));
+    let start = position(&tui.hud());
+    tui.send(b"w");
+    tui.wait_for("the HUD position to change after w", |s| {
+        let (rows, cols) = size(s);
+        position(&s.contents_between(rows - 1, 0, rows - 1, cols)) != start
+    });
+    tui.settle();
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    let text = String::from_utf8_lossy(&raw);
+    let restore = restore_sequence(PLAIN);
+    let (during, after) = text.rsplit_once(restore.as_str()).expect("a restore sequence");
+    let message = "mazewalk: the recording /dev/full stopped: No space left on device";
+    assert!(!during.contains("recording"), "said during the walk: {}", visible(during.as_bytes()));
+    assert_eq!(after.matches(message).count(), 1, "after the restore: {after:?}");
+}
