@@ -21,6 +21,9 @@
 //!
 //! The escape sequences are the pure [`mazewalk_term::modes`]' (a server sends the same ones to its
 //! players); this module only writes them, and owns raw mode, the signals and the locks.
+//!
+//! Every byte it writes to the terminal can be copied, as written, to a recording
+//! ([`tee_writes`]: `--record`), from whichever thread writes it.
 
 use std::io::{self, Write};
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};

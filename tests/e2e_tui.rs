@@ -11,7 +11,9 @@
 //! and SIGCONT brings game mode back, as it does after a SIGSTOP that restored nothing, while a shell
 //! took the terminal (raw mode and the screen taken back); a hang-up ends the process, with or without
 //! a SIGHUP (the pty as controlling terminal or only as stdio); a malformed maze is reported before
-//! the terminal is touched.
+//! the terminal is touched; `--record` writes an asciicast of exactly the bytes the terminal received,
+//! which replays into the same screens (and `asciinema cat` prints the same bytes), also when a
+//! signal ends the walk, and a recording that cannot be written stops while the walk goes on.
 //!
 //! Every wait polls with a deadline; a failing test kills its child (in `Drop`) and prints the screen.
 //! Unix only (ptys, signals).
