@@ -121,6 +121,12 @@ impl<W: Write> CastWriter<W> {
         if data.is_empty() || self.error.is_some() {
             return;
         }
+        if self.pending.is_empty()
+            && let Ok(text) = std::str::from_utf8(data)
+        {
+            self.event(time, "o", text); // the usual case: a whole frame, UTF-8, not copied
+            return;
+        }
         let joined;
         let mut rest: &[u8] = if self.pending.is_empty() {
             data
