@@ -277,6 +277,12 @@ impl Recorder {
         self.with(|cast, now| cast.marker(now, label));
     }
 
+    /// How many bytes sent were not UTF-8 and were recorded as U+FFFD (none from the walk's frames).
+    #[must_use]
+    pub fn replaced(&self) -> u64 {
+        self.with(|cast, _| cast.replaced())
+    }
+
     /// Flushes the file.
     ///
     /// # Errors

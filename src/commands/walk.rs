@@ -67,12 +67,19 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
         None => None,
     };
     let ended = run_session(&mut session, clock, plan.ask, recorder.as_ref());
-    if let (Some(recorder), Some(path)) = (&recorder, &args.record)
-        && let Err(err) = recorder.finish()
-    {
+    if let (Some(recorder), Some(path)) = (&recorder, &args.record) {
         // once, now that the terminal is restored; the walk went on without it
         let path = mazewalk_maze::quote_path(&path.display().to_string());
-        let _ = writeln!(std::io::stderr(), "mazewalk: the recording {path} stopped: {err}");
+        if let Err(err) = recorder.finish() {
+            let _ = writeln!(std::io::stderr(), "mazewalk: the recording {path} stopped: {err}");
+        }
+        let replaced = recorder.replaced();
+        if replaced > 0 {
+            let _ = writeln!(
+                std::io::stderr(),
+                "mazewalk: the recording {path} has U+FFFD in place of {replaced} bytes that were not UTF-8"
+            );
+        }
     }
     if let Some(signal) = ended.context("terminal")?.signal() {
         return Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)));
