@@ -69,6 +69,10 @@ pub struct WalkArgs {
     /// frame, cell, cells the portal pass visited, ms per frame (`i` shows and hides them).
     #[arg(long)]
     pub dev_figures: bool,
+    /// Record the walk to FILE as an asciicast (v2; play it with `asciinema play FILE`): every byte
+    /// sent to the terminal, timed, with the terminal's size and colour depth.
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
     #[command(flatten)]
     pub motion: MotionArgs,
 }

@@ -21,6 +21,9 @@
 //!
 //! The escape sequences are the pure [`mazewalk_term::modes`]' (a server sends the same ones to its
 //! players); this module only writes them, and owns raw mode, the signals and the locks.
+//!
+//! Every byte it writes to the terminal can be copied, as written, to a recording
+//! ([`tee_writes`]: `--record`), from whichever thread writes it.
 
 use std::io::{self, Write};
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
@@ -107,6 +110,46 @@ fn resumed_locked() {
     FRAME_HELD.store(false, Ordering::SeqCst);
 }
 
+/// Where a copy of every byte written to the terminal goes ([`tee_writes`]), if anywhere. Locked
+/// only inside [`ACTIVE`]'s lock, by the writes.
+type Tee = Box<dyn FnMut(&[u8]) + Send>;
+static TEE: Mutex<Option<Tee>> = Mutex::new(None);
+
+/// What crossterm's `terminal::supports_keyboard_enhancement` writes to the terminal (to /dev/tty,
+/// else stdout): the kitty keyboard flags query, then the device attributes query.
+const KEYBOARD_QUERY: &[u8] = b"\x1b[?u\x1b[c";
+
+/// Hands `bytes`, just written to the terminal, to the [`tee_writes`] copy if there is one.
+fn tee(bytes: &[u8]) {
+    if let Some(tee) = TEE.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
+        tee(bytes);
+    }
+}
+
+/// Until the returned [`Teeing`] drops, every byte the guard writes to the terminal — game mode on,
+/// the keyboard query, frames, game mode off, from any thread (a signal's restore too) — is also
+/// handed to `copy`, in the order written, right after it was written (`--record`).
+pub fn tee_writes(copy: impl FnMut(&[u8]) + Send + 'static) -> Teeing {
+    let _active = active(); // ordered with the writes
+    *TEE.lock().unwrap_or_else(PoisonError::into_inner) = Some(Box::new(copy));
+    Teeing { _private: () }
+}
+
+/// Copies the terminal's bytes while it lives ([`tee_writes`]); dropping it stops (and drops the copy).
+#[derive(Debug)]
+#[must_use = "the copy stops when this drops"]
+pub struct Teeing {
+    _private: (),
+}
+
+impl Drop for Teeing {
+    fn drop(&mut self) {
+        let _active = active();
+        let copy = TEE.lock().unwrap_or_else(PoisonError::into_inner).take();
+        drop(copy);
+    }
+}
+
 /// The global state, whether or not a panic poisoned the lock (the state is a plain value, always valid).
 fn active() -> MutexGuard<'static, Option<Enabled>> {
     ACTIVE.lock().unwrap_or_else(PoisonError::into_inner)
@@ -125,7 +168,12 @@ pub fn restore_terminal() -> io::Result<()> {
 fn restore_locked(active: &mut Option<Enabled>) -> io::Result<()> {
     let Some(enabled) = active.take() else { return Ok(()) };
     let mut stdout = io::stdout().lock();
-    let written = stdout.write_all(restore_sequence(enabled).as_bytes()).and_then(|()| stdout.flush());
+    let restore = restore_sequence(enabled);
+    let written = stdout.write_all(restore.as_bytes());
+    if written.is_ok() {
+        tee(restore.as_bytes());
+    }
+    let written = written.and_then(|()| stdout.flush());
     let raw_off = terminal::disable_raw_mode();
     written.and(raw_off)
 }
@@ -167,6 +215,9 @@ impl TerminalGuard {
         terminal::enable_raw_mode()?;
         // The query needs raw mode (it reads the terminal's answer); a terminal that doesn't answer the
         // kitty query still answers the device-attributes query that follows it, so this won't hang.
+        if options.keyboard_enhancement {
+            tee(KEYBOARD_QUERY); // written before the answer is awaited
+        }
         let keyboard_enhancement =
             options.keyboard_enhancement && terminal::supports_keyboard_enhancement().unwrap_or(false);
         let enabled =
@@ -201,6 +252,7 @@ impl TerminalGuard {
         }
         let mut stdout = io::stdout().lock();
         stdout.write_all(bytes)?;
+        tee(bytes);
         stdout.flush()
     }
 
@@ -332,7 +384,11 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
         // both back (a write is allowed from the background; setting modes is not), then wait
         // stopped for `fg` as a real SIGTTOU would make us; game mode comes back below.
         let mut stdout = io::stdout().lock();
-        let _ = stdout.write_all(restore_sequence(enabled).as_bytes()).and_then(|()| stdout.flush());
+        let restore = restore_sequence(enabled);
+        if stdout.write_all(restore.as_bytes()).is_ok() {
+            tee(restore.as_bytes());
+        }
+        let _ = stdout.flush();
         drop(stdout);
         if stopped_for_fg()? {
             *active = None; // restored above; the signal thread ends the walk
@@ -428,7 +484,11 @@ fn enter_locked(active: &mut Option<Enabled>, enabled: Enabled, sequence: &str) 
     // Marked before writing, so a failure half-way is restored in full.
     *active = Some(enabled);
     let mut stdout = io::stdout().lock();
-    let written = stdout.write_all(sequence.as_bytes()).and_then(|()| stdout.flush());
+    let written = stdout.write_all(sequence.as_bytes());
+    if written.is_ok() {
+        tee(sequence.as_bytes());
+    }
+    let written = written.and_then(|()| stdout.flush());
     drop(stdout);
     if let Err(e) = written {
         let _ = restore_locked(active);

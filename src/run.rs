@@ -15,6 +15,7 @@
 use std::io;
 use std::time::Instant;
 
+use crate::cast::Recorder;
 use crate::guard::{self, GuardOptions, TerminalGuard};
 use mazewalk_term::input::Input;
 use mazewalk_walk::Session;
@@ -49,15 +50,36 @@ const SIGHUP: i32 = 1;
 /// Runs `session` on this process's terminal until the player quits, a signal ends it or the
 /// terminal hangs up. `clock` is the zero of the session's time (the instant its `App` was made at
 /// time 0). With `ask_truecolor`, the terminal is asked whether it shows 24-bit colour before the
-/// first frame ([`Session::ask_truecolor`]; its answer comes in with the keys). The terminal is restored on return, on error, on panic, on every catchable signal that
-/// would end the process, and around a stop (Ctrl-Z, SIGTSTP; taken back after SIGSTOP) (the guard).
+/// first frame ([`Session::ask_truecolor`]; its answer comes in with the keys). The terminal is
+/// restored on return, on error, on panic, on every catchable signal that would end the process, and
+/// around a stop (Ctrl-Z, SIGTSTP; taken back after SIGSTOP) (the guard).
+///
+/// With a `recorder` (`--record`), every byte written to the terminal goes into it as well (the
+/// guard's [`tee_writes`](guard::tee_writes), from game mode on to game mode off), with each resize
+/// seen and a marker when the colour depth changes; the caller flushes it ([`Recorder::finish`]).
 ///
 /// # Errors
 /// The terminal could not be set up, read or written.
 #[cfg(unix)]
-pub fn run(session: &mut Session, clock: Instant, ask_truecolor: bool) -> io::Result<Ended> {
+pub fn run(
+    session: &mut Session,
+    clock: Instant,
+    ask_truecolor: bool,
+    recorder: Option<&Recorder>,
+) -> io::Result<Ended> {
     use rustix::event::{PollFd, PollFlags, Timespec};
 
+    // Declared before the terminal, so dropped after it: a restore on the way out is recorded too.
+    let _teeing = recorder.map(|recorder| {
+        let recorder = recorder.clone();
+        guard::tee_writes(move |bytes| recorder.output(bytes))
+    });
+    let record_size = |cols, rows| {
+        if let Some(recorder) = recorder {
+            recorder.resize(cols, rows);
+        }
+    };
+    let mut depth = session.color_depth();
     let mut terminal = TerminalGuard::enter(GuardOptions::default())?;
     session.app_mut().releases = terminal.enabled().reports_key_releases();
     if ask_truecolor {
@@ -68,6 +90,7 @@ pub fn run(session: &mut Session, clock: Instant, ask_truecolor: bool) -> io::Re
         terminal.write_frame(&question)?;
     }
     let (mut cols, mut rows) = guard::size()?;
+    record_size(cols, rows);
     let now = || clock.elapsed().as_secs_f64();
     session.input(Input::Resize { cols, rows }, now());
     let stdin = io::stdin();
@@ -86,6 +109,7 @@ pub fn run(session: &mut Session, clock: Instant, ask_truecolor: bool) -> io::Re
         let size = guard::size()?;
         if size != (cols, rows) {
             (cols, rows) = size;
+            record_size(cols, rows);
             session.input(Input::Resize { cols, rows }, now());
         }
         if session.take_suspend() {
@@ -98,12 +122,19 @@ pub fn run(session: &mut Session, clock: Instant, ask_truecolor: bool) -> io::Re
             drain_answers(session, &stdin, &mut buf, now)?;
             break Ended::Quit;
         }
+        if let Some(recorder) = recorder
+            && session.color_depth() != depth
+        {
+            depth = session.color_depth(); // the terminal's answer raised it: marked before the repaint
+            recorder.marker(&format!("color_depth {depth}"));
+        }
         bytes.clear();
         let started = Instant::now();
         if session.frame(now(), &mut bytes) {
             session.frame_cost(started.elapsed().as_secs_f64()); // the HUD shows it next frame
             terminal.write_frame(&bytes)?;
         }
+
         // Sleep until input, a wake-up from the guard, or the session's next deadline.
         let timeout = session.next_wake(now()).map(|at| {
             let wait = (at - now()).max(0.0);

@@ -11,7 +11,9 @@
 //! and SIGCONT brings game mode back, as it does after a SIGSTOP that restored nothing, while a shell
 //! took the terminal (raw mode and the screen taken back); a hang-up ends the process, with or without
 //! a SIGHUP (the pty as controlling terminal or only as stdio); a malformed maze is reported before
-//! the terminal is touched.
+//! the terminal is touched; `--record` writes an asciicast of exactly the bytes the terminal received,
+//! which replays into the same screens (and `asciinema cat` prints the same bytes), also when a
+//! signal ends the walk, and a recording that cannot be written stops while the walk goes on.
 //!
 //! Every wait polls with a deadline; a failing test kills its child (in `Drop`) and prints the screen.
 //! Unix only (ptys, signals).
@@ -1238,4 +1240,264 @@ fn a_malformed_maze_is_reported_before_the_terminal_is_touched() {
         "no FILE:LINE:COL: message: {text:?}"
     );
     assert!(!text.contains('\x1b'), "escape sequences were sent: {}", visible(&raw));
+}
+
+/// One event of an asciicast: its time, its kind (`o`, `r`, `m`) and its data.
+type CastEvent = (f64, String, String);
+
+/// Parses an asciicast v2 file: its header and its events, each line checked.
+fn parse_cast(text: &str) -> (serde_json::Value, Vec<CastEvent>) {
+    let mut lines = text.lines();
+    let header: serde_json::Value = serde_json::from_str(lines.next().expect("a header line")).expect("JSON");
+    let events = lines
+        .map(|line| {
+            let (time, kind, data): CastEvent =
+                serde_json::from_str(line).unwrap_or_else(|e| panic!("not an event ({e}): {line:?}"));
+            (time, kind, data)
+        })
+        .collect();
+    (header, events)
+}
+
+/// Where a [`replay`] stands: the next event, the bytes of it played already, the output bytes
+/// played in all.
+#[derive(Default)]
+struct Replayed {
+    at: usize,
+    done: usize,
+    played: usize,
+}
+
+/// Replays `events` into `parser` until `upto` bytes of output are played in all (an `o` event is
+/// split there) or the events end. Resizes (`r`) resize the emulated screen.
+fn replay(parser: &mut vt100::Parser, events: &[CastEvent], pos: &mut Replayed, upto: usize) {
+    while pos.played < upto && pos.at < events.len() {
+        let (_, kind, data) = &events[pos.at];
+        match kind.as_str() {
+            "o" => {
+                let bytes = &data.as_bytes()[pos.done..];
+                let take = bytes.len().min(upto - pos.played);
+                parser.process(&bytes[..take]);
+                pos.played += take;
+                pos.done += take;
+                if take < bytes.len() {
+                    return; // the rest of this event comes after `upto`
+                }
+            }
+            "r" => {
+                let (cols, rows) = data.split_once('x').expect("COLSxROWS");
+                parser.screen_mut().set_size(nz(rows.parse().unwrap()), nz(cols.parse().unwrap()));
+            }
+            _ => {}
+        }
+        pos.at += 1;
+        pos.done = 0;
+    }
+}
+
+/// A screen as a terminal shows it: size, alternate screen or not, and every cell with its colours
+/// and attributes, the cursor and the modes (vt100's escape-sequence rendering of its whole state).
+fn screen_state(s: &vt100::Screen) -> (u16, u16, bool, String) {
+    let (rows, cols) = size(s);
+    (rows, cols, s.alternate_screen(), s.state_formatted())
+}
+
+/// Issue #43: `--record FILE` writes an asciicast v2 — header, then `[time, "o", data]` events — of
+/// exactly the bytes the terminal received, resizes as `r` events; replayed into a terminal emulator
+/// it shows the very screens the terminal showed, at each checkpoint of a walk (view, map, help, a
+/// resize) and at the end; and the real `asciinema cat` prints the same bytes (where installed).
+#[test]
+fn record_writes_an_asciicast_of_exactly_what_the_terminal_received() {
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("e2e-walk.cast");
+    let _ = std::fs::remove_file(&path);
+    let started = Instant::now();
+    let mut tui = Tui::spawn(&["--record", path.to_str().unwrap()], 100, 30, Answers::Plain);
+    tui.wait_for("the first frame", |s| s.contents().contains("heading"));
+    // Checkpoints: the bytes received so far and the screen they made.
+    let mut checkpoints = Vec::new();
+    let mut checkpoint = |tui: &Tui| {
+        tui.settle();
+        let s = lock(&tui.shared);
+        checkpoints.push((s.raw.len(), screen_state(s.parser.screen())));
+    };
+    checkpoint(&tui);
+    for keys in [&b"w"[..], b"\x1b[D", b"m", b"?"] {
+        let before = tui.bytes_so_far();
+        tui.send(keys);
+        tui.wait_for_output(before, "a frame", ends_with_a_frame);
+        checkpoint(&tui);
+    }
+    tui.resize(90, 28);
+    tui.wait_for("the HUD on the last row at 90×28", |s| s.contents_between(27, 0, 27, 90).contains("?"));
+    checkpoint(&tui);
+    tui.send(b"?");
+    tui.wait_for("the help box to close", |s| !s.contents().contains("Keys (? or Esc to close)"));
+    checkpoint(&tui);
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    let elapsed = started.elapsed().as_secs_f64();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+    let final_screen = tui.screen(screen_state);
+
+    // (a) The header, and the output events' data is every byte the terminal received, in order.
+    let text = std::fs::read_to_string(&path).expect("the cast is UTF-8 text");
+    assert!(text.ends_with('\n'), "the last line is cut short");
+    let (header, events) = parse_cast(&text);
+    assert_eq!(header["version"], 2, "{header}");
+    assert_eq!((header["width"].as_u64(), header["height"].as_u64()), (Some(100), Some(30)), "{header}");
+    assert_eq!(header["env"]["TERM"], "xterm-256color", "{header}");
+    let depth = header["mazewalk"]["color_depth"].as_str().unwrap_or_default();
+    assert!(["none", "16", "256", "truecolor"].contains(&depth), "no colour depth: {header}");
+    assert!(header["timestamp"].as_u64().is_some_and(|t| t > 1_600_000_000), "{header}");
+    let times: Vec<f64> = events.iter().map(|e| e.0).collect();
+    assert!(times.windows(2).all(|w| w[0] <= w[1]), "times go back: {times:?}");
+    assert!(times.first().is_some_and(|&t| t >= 0.0) && times.last().is_some_and(|&t| t <= elapsed));
+    let kinds: Vec<&str> = events.iter().map(|e| e.1.as_str()).collect();
+    assert!(kinds.iter().all(|k| ["o", "r", "m"].contains(k)), "{kinds:?}");
+    let resizes: Vec<&str> = events.iter().filter(|e| e.1 == "r").map(|e| e.2.as_str()).collect();
+    assert_eq!(resizes, ["90x28"]);
+    let data: String = events.iter().filter(|e| e.1 == "o").map(|e| e.2.as_str()).collect();
+    assert!(
+        data.as_bytes() == raw,
+        "the recorded data ({} bytes) differs from what the terminal received ({} bytes): first at byte {:?}",
+        data.len(),
+        raw.len(),
+        data.bytes().zip(&raw).position(|(a, &b)| a != b)
+    );
+    assert!(data.starts_with(&enter_sequence(PLAIN)) || data.contains(&enter_sequence(PLAIN)));
+
+    // (b) Replayed into an emulator of the header's size, the cast shows the terminal's screens.
+    let mut parser = vt100::Parser::new(nz(30), nz(100), 0);
+    let mut pos = Replayed::default();
+    for (i, (offset, shown)) in checkpoints.iter().enumerate() {
+        replay(&mut parser, &events, &mut pos, *offset);
+        assert_eq!(pos.played, *offset);
+        let replayed = screen_state(parser.screen());
+        assert!(
+            replayed == *shown,
+            "checkpoint {i}: the replayed screen differs:\n{}\n--- the terminal showed:\n{}",
+            visible(replayed.3.as_bytes()),
+            visible(shown.3.as_bytes())
+        );
+    }
+    replay(&mut parser, &events, &mut pos, usize::MAX);
+    assert_eq!(pos.at, events.len());
+    assert!(screen_state(parser.screen()) == final_screen, "the final screen differs");
+
+    // (c) The real asciinema prints the same bytes.
+    asciinema_cat_prints(&path, data.as_bytes());
+}
+
+/// Runs `asciinema cat FILE` (it needs a controlling terminal: a pty of its own) and checks that it
+/// exits 0 having printed `expected`. Skipped, loudly, where asciinema is not installed.
+fn asciinema_cat_prints(path: &std::path::Path, expected: &[u8]) {
+    let pty = rustix_openpty::openpty(None, Some(&winsize(100, 30))).expect("openpty");
+    let mut command = Command::new("asciinema");
+    command
+        .arg("cat")
+        .arg(path)
+        .stdin(Stdio::from(pty.user.try_clone().expect("dup the pty")))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    // SAFETY: runs in the forked child before exec and only makes two system calls (setsid, ioctl),
+    // which are async-signal-safe; it allocates nothing and takes no locks.
+    unsafe {
+        command.pre_exec(|| {
+            rustix::process::setsid()?;
+            rustix::process::ioctl_tiocsctty(rustix::stdio::stdin())?;
+            Ok(())
+        });
+    }
+    let mut child = match command.spawn() {
+        Ok(child) => child,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            eprintln!("SKIPPED: `asciinema cat` (asciinema is not installed; Debian package `asciinema`)");
+            return;
+        }
+        Err(e) => panic!("cannot start asciinema: {e}"),
+    };
+    drop(command);
+    let mut stdout = child.stdout.take().unwrap();
+    let mut stderr = child.stderr.take().unwrap();
+    let out = std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        stdout.read_to_end(&mut bytes).map(|_| bytes)
+    });
+    let err = std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let _ = stderr.read_to_end(&mut bytes);
+        bytes
+    });
+    let deadline = Instant::now() + TIMEOUT;
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("try_wait") {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("asciinema cat did not exit within {TIMEOUT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    drop(pty);
+    let printed = out.join().unwrap().expect("read asciinema's output");
+    let err = err.join().unwrap();
+    assert!(status.success(), "asciinema cat: {status:?}: {}", String::from_utf8_lossy(&err));
+    assert!(
+        printed == expected,
+        "asciinema cat printed {} bytes, the cast holds {}: first difference at byte {:?}",
+        printed.len(),
+        expected.len(),
+        printed.iter().zip(expected).position(|(a, b)| a != b)
+    );
+}
+
+/// A walk ended by a signal still leaves a whole recording: the restore the signal thread wrote
+/// last, everything flushed.
+#[test]
+fn a_recording_ended_by_a_signal_is_whole() {
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("e2e-signal.cast");
+    let _ = std::fs::remove_file(&path);
+    let mut tui = Tui::spawn(&["--record", path.to_str().unwrap()], 80, 24, Answers::Plain);
+    tui.wait_for("the first frame", |s| s.contents().contains("heading"));
+    tui.send(b"m");
+    tui.settle();
+    tui.signal(Signal::TERM);
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(128 + 15), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+    let (_, events) = parse_cast(&std::fs::read_to_string(&path).expect("the cast is UTF-8 text"));
+    let data: String = events.iter().filter(|e| e.1 == "o").map(|e| e.2.as_str()).collect();
+    assert!(
+        data.as_bytes() == raw,
+        "the recording ({} bytes) is not what was sent ({})",
+        data.len(),
+        raw.len()
+    );
+}
+
+/// A recording that cannot be written (a full disk: /dev/full) stops; the walk goes on, and says so
+/// once, after the terminal is restored.
+#[test]
+fn a_recording_that_cannot_be_written_stops_and_the_walk_goes_on() {
+    let mut tui = Tui::spawn(&["--record", "/dev/full"], 80, 24, Answers::Plain);
+    tui.wait_for("the first frame", |s| s.contents().contains("heading"));
+    let start = position(&tui.hud());
+    tui.send(b"w");
+    tui.wait_for("the HUD position to change after w", |s| {
+        let (rows, cols) = size(s);
+        position(&s.contents_between(rows - 1, 0, rows - 1, cols)) != start
+    });
+    tui.settle();
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    let text = String::from_utf8_lossy(&raw);
+    let restore = restore_sequence(PLAIN);
+    let (during, after) = text.rsplit_once(restore.as_str()).expect("a restore sequence");
+    let message = "mazewalk: the recording /dev/full stopped: No space left on device";
+    assert!(!during.contains("recording"), "said during the walk: {}", visible(during.as_bytes()));
+    assert_eq!(after.matches(message).count(), 1, "after the restore: {after:?}");
 }

@@ -6,7 +6,8 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, bail};
 
-use super::load_maze;
+use super::{load_maze, maze_name};
+use crate::cast::{Header, Recorder};
 use crate::cli::WalkArgs;
 use crate::guard;
 use crate::run::run as run_session;
@@ -61,13 +62,59 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
         flow_control: !args.no_flow_control,
     };
     let mut session = Session::new(app, 80, 24, options); // resized to the terminal by `run`
-    if let Some(signal) = run_session(&mut session, clock, plan.ask).context("terminal")?.signal() {
+    let recorder = match &args.record {
+        Some(path) => Some(start_recording(path, args, plan, clock)?),
+        None => None,
+    };
+    let ended = run_session(&mut session, clock, plan.ask, recorder.as_ref());
+    if let (Some(recorder), Some(path)) = (&recorder, &args.record) {
+        // once, now that the terminal is restored; the walk went on without it
+        let path = mazewalk_maze::quote_path(&path.display().to_string());
+        if let Err(err) = recorder.finish() {
+            let _ = writeln!(std::io::stderr(), "mazewalk: the recording {path} stopped: {err}");
+        }
+        let replaced = recorder.replaced();
+        if replaced > 0 {
+            let _ = writeln!(
+                std::io::stderr(),
+                "mazewalk: the recording {path} has U+FFFD in place of {replaced} bytes that were not UTF-8"
+            );
+        }
+    }
+    if let Some(signal) = ended.context("terminal")?.signal() {
         return Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)));
     }
     if let Some(seconds) = session.outcome().finished {
         let _ = writeln!(std::io::stdout(), "You found the exit in {seconds:.1} s."); // the walk is over either way
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Creates the `--record` file at `path` and writes its header: the terminal's size now, the colour
+/// depth the walk starts at, TERM and COLORTERM.
+fn start_recording(
+    path: &std::path::Path,
+    args: &WalkArgs,
+    plan: ColorPlan,
+    clock: Instant,
+) -> anyhow::Result<Recorder> {
+    let (width, height) = guard::size().context("terminal size")?;
+    let header = Header {
+        width,
+        height,
+        timestamp: std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .ok()
+            .map(|d| d.as_secs()),
+        title: format!("mazewalk {}", maze_name(&args.maze)),
+        term: std::env::var("TERM").ok(),
+        colorterm: std::env::var("COLORTERM").ok(),
+        color_depth: plan.depth,
+        charset: args.look.charset,
+        asked_truecolor: plan.ask,
+    };
+    let shown = mazewalk_maze::quote_path(&path.display().to_string());
+    Recorder::create(path, &header, clock).with_context(|| format!("cannot record to {shown}"))
 }
 
 /// How long each of the system's tools may take to answer about the terminal (`infocmp`, `tmux`):
