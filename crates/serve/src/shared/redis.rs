@@ -14,6 +14,8 @@
 //! mazewalk:{H}:<db>:news          the channel (Redis channels ignore the database: it is named in)
 //! ```
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::Duration;
 
 use futures_util::StreamExt as _;
@@ -23,6 +25,8 @@ use thiserror::Error;
 use tokio::sync::mpsc;
 
 use super::codec::{MAX_MESSAGE_BYTES, ServerId};
+use crate::identity::player_name;
+use crate::logs::{ERROR_CHARS, clip};
 
 /// How long a connection attempt may take.
 pub(crate) const CONNECT_TIMEOUT: Duration = Duration::from_secs(1);
@@ -44,6 +48,10 @@ pub(crate) const PRESENCE_TTL_SECONDS: u64 = 5;
 /// The world's maze key lives this long unless refreshed: a world no server walked for this long
 /// takes the next server's maze.
 pub(crate) const WORLD_TTL_SECONDS: u64 = 30;
+/// The bytes of messages the subscribed connection holds for the world task at most; beyond, what
+/// arrives is dropped unread and counted (issue #40: a flood of 36,000 messages grew a server by
+/// 360 MB). A second of a busy world's traffic is far less.
+pub const MAX_QUEUED_BYTES: usize = 8 << 20;
 
 /// Why the world could not be joined.
 #[derive(Debug, Error)]
@@ -62,18 +70,19 @@ pub enum WorldError {
         /// The URL, without its password.
         url: String,
     },
-    /// Redis did not answer.
-    #[error("cannot reach the world at {url}: {source}")]
+    /// Redis did not answer. (Its text is Redis's, or the network's: clipped and escaped.)
+    #[error("cannot reach the world at {url}: {}", clip(&source.to_string(), ERROR_CHARS))]
     Unreachable {
         /// The URL, without its password.
         url: String,
         /// What the client said.
         source: RedisError,
     },
-    /// The world walks another maze.
+    /// The world walks another maze. (The world's hash is Redis's word: clipped and escaped.)
     #[error(
-        "the world at {url} walks the maze {world}, and this server's maze is {ours}: start it with \
-         the world's maze, or give it a world of its own (another Redis database, e.g. {url_db1})"
+        "the world at {url} walks the maze {}, and this server's maze is {ours}: start it with \
+         the world's maze, or give it a world of its own (another Redis database, e.g. {url_db1})",
+        clip(world, ERROR_CHARS)
     )]
     OtherMaze {
         /// The URL, without its password.
@@ -209,10 +218,12 @@ impl Link {
         }
     }
 
-    /// Listens to the world's channel for good: subscribes, forwards every message, checks the
-    /// connection with a PING every [`PING_EVERY`], and on any failure says so and subscribes again
-    /// (backing off up to 400 ms). Ends when `to` is closed.
-    pub async fn listen(self, to: mpsc::Sender<Heard>) {
+    /// Listens to the world's channel for good: subscribes, forwards every message while `inbox`
+    /// holds less than [`MAX_QUEUED_BYTES`] and `to` has room (else drops it, counted in `inbox`:
+    /// never waits, so neither Redis's buffer nor the client's grows), checks the connection with a
+    /// PING every [`PING_EVERY`], and on any failure says so and subscribes again (backing off up to
+    /// 400 ms). Ends when `to` is closed.
+    pub async fn listen(self, to: mpsc::Sender<Heard>, inbox: Inbox) {
         let mut attempt = 0;
         loop {
             if let Ok((mut sink, mut stream)) = self.subscribe().await {
@@ -228,10 +239,22 @@ impl Link {
                             let Some(message) = message else { break }; // the connection closed
                             let bytes = message.get_payload_bytes();
                             // Checked before copying: the decoder checks again.
-                            let heard =
-                                if bytes.len() > MAX_MESSAGE_BYTES { Heard::TooLong(bytes.len()) } else { Heard::Message(bytes.to_vec()) };
-                            if to.send(heard).await.is_err() {
-                                return;
+                            let heard = if bytes.len() > MAX_MESSAGE_BYTES {
+                                Heard::TooLong(bytes.len())
+                            } else if inbox.reserve(bytes.len()) {
+                                Heard::Message(bytes.to_vec())
+                            } else {
+                                inbox.drop_one();
+                                continue;
+                            };
+                            let len = if let Heard::Message(m) = &heard { m.len() } else { 0 };
+                            match to.try_send(heard) {
+                                Ok(()) => {}
+                                Err(mpsc::error::TrySendError::Full(_)) => {
+                                    inbox.taken(len);
+                                    inbox.drop_one();
+                                }
+                                Err(mpsc::error::TrySendError::Closed(_)) => return,
                             }
                         }
                         _ = ping.tick() => {
@@ -249,6 +272,40 @@ impl Link {
             tokio::time::sleep(BACKOFF[attempt.min(BACKOFF.len() - 1)]).await;
             attempt += 1;
         }
+    }
+}
+
+/// The bytes the subscribed connection holds for the world task, and the messages it dropped for
+/// want of room ([`MAX_QUEUED_BYTES`]). Shared by the two.
+#[derive(Clone, Debug, Default)]
+pub struct Inbox {
+    queued: Arc<AtomicUsize>,
+    dropped: Arc<AtomicU64>,
+}
+
+impl Inbox {
+    /// Room for `len` more bytes: reserved if there is.
+    fn reserve(&self, len: usize) -> bool {
+        self.queued
+            .fetch_update(Ordering::AcqRel, Ordering::Acquire, |q| {
+                (q + len <= MAX_QUEUED_BYTES).then_some(q + len)
+            })
+            .is_ok()
+    }
+
+    fn drop_one(&self) {
+        self.dropped.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// A message of `len` bytes was taken (read by the world task, or dropped after all).
+    pub fn taken(&self, len: usize) {
+        self.queued.fetch_sub(len, Ordering::AcqRel);
+    }
+
+    /// Messages dropped so far.
+    #[must_use]
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Ordering::Relaxed)
     }
 }
 
@@ -366,7 +423,13 @@ pub async fn best(con: &mut MultiplexedConnection, keys: &Keys, n: usize) -> Red
     if n == 0 {
         return Ok(Vec::new());
     }
-    redis::cmd("ZRANGE").arg(&keys.best).arg(0).arg(n - 1).arg("WITHSCORES").query_async(con).await
+    let rows: Vec<(String, f64)> =
+        redis::cmd("ZRANGE").arg(&keys.best).arg(0).arg(n - 1).arg("WITHSCORES").query_async(con).await?;
+    // Redis's word: a name that is not a player's name or a time that is not a time is left out.
+    Ok(rows
+        .into_iter()
+        .filter(|(name, seconds)| player_name(name) == *name && seconds.is_finite() && *seconds >= 0.0)
+        .collect())
 }
 
 /// The servers present: their last full messages (at most `max` of them, each checked by the caller).
@@ -426,6 +489,25 @@ mod tests {
         }
         assert_eq!(keys.channel, "mazewalk:{0123456789abcdef}:3:news");
         assert_eq!(keys.server(ServerId(255)), "mazewalk:{0123456789abcdef}:server:00000000000000ff");
+    }
+
+    // issue #40: a hostile Redis's texts reach the host's terminal escaped.
+    #[test]
+    fn redis_texts_in_errors_are_escaped() {
+        let source =
+            RedisError::from((redis::ErrorKind::Io, "refused", "\x1b]0;owned\x07\x1b[2J".to_string()));
+        let err = WorldError::Unreachable { url: "redis://h/".into(), source };
+        let text = err.to_string();
+        assert!(!text.contains('\x1b') && !text.contains('\x07'), "{text:?}");
+        assert!(text.contains("\\u{1b}]0;owned"), "{text}");
+        let err = WorldError::OtherMaze {
+            url: "redis://h/".into(),
+            url_db1: "redis://h/1".into(),
+            world: format!("\u{202e}{}", "x".repeat(10_000)),
+            ours: "abc".into(),
+        };
+        let text = err.to_string();
+        assert!(!text.contains('\u{202e}') && text.len() < 1000, "{} bytes", text.len());
     }
 
     #[test]
