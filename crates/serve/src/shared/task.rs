@@ -483,7 +483,7 @@ impl Task {
         {
             // Only after Redis lost the key and another claim was stored meanwhile, or a writer
             // set it: Redis decides.
-            warn!(known = %known.name, stored = %winner.name, "the world's winner changed in Redis");
+            warn!(world = %self.link.url, known = %known.name, stored = %winner.name, "the world's winner changed in Redis");
         }
         self.winner = Some(winner.clone());
         self.host.winner(&winner);
