@@ -318,3 +318,42 @@ async fn hostile_names_from_redis_never_reach_a_host_or_the_log() {
     let text = log.text();
     assert!(!text.contains('\x1b') && !text.contains('\u{202e}'), "the log holds a raw escape:\n{text:?}");
 }
+
+/// Keys a writer set to anything — the winner key a hash, a presence key a list or 1 MB, the
+/// world's maze key 1 MB of escapes — are read with bounds: a server joins (or is refused with a
+/// short, escaped reason), reads no more than a message's size of any key, and never goes offline
+/// over a type error.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn keys_a_writer_set_to_anything_are_read_with_bounds() {
+    let redis = RedisServer::start(Persistence::None).await;
+    let mut con = redis.connection(0).await;
+    let keys = Keys::new(MAZE, 0);
+    let _: i64 = redis::cmd("HSET").arg(&keys.winner).arg("f").arg("v").query_async(&mut con).await.unwrap();
+    let list = format!("{}00000000000000aa", keys.servers);
+    let _: i64 = redis::cmd("RPUSH").arg(&list).arg("x").query_async(&mut con).await.unwrap();
+    let huge = format!("{}00000000000000bb", keys.servers);
+    let _: () = redis::cmd("SET").arg(&huge).arg(vec![b'M'; 1 << 20]).query_async(&mut con).await.unwrap();
+    let a = Arc::new(TestHost::default());
+    let alice = a.join("alice", at(1.0, 1.0));
+    let world_a = join(config(&redis), &a).await;
+    eventually(Duration::from_secs(2), "online", || a.lock().online).await;
+    a.finish(alice, 10.0);
+    tokio::time::sleep(Duration::from_millis(1500)).await;
+    let stats = world_a.stats();
+    assert!(stats.online && stats.outages == 0, "no type error took the world offline: {stats:?}");
+    assert!(a.lock().winners.is_empty(), "the winner key is not a winner record: no winner");
+    // (Read, it would have been refused by the decoder and counted.)
+    assert_eq!(stats.heard.dropped, 0, "the 1 MB presence key was not read: {stats:?}");
+    world_a.leave().await;
+
+    // The world's maze key, 1 MB of escapes: refused, in a line of reasonable length, escaped.
+    let _: () = redis::cmd("SET")
+        .arg(&keys.world)
+        .arg("\x1b[2J".repeat(250_000))
+        .query_async(&mut con)
+        .await
+        .unwrap();
+    let err = SharedWorld::join(config(&redis), Arc::new(TestHost::default())).await.err().expect("refused");
+    let text = err.to_string();
+    assert!(text.len() < 1000 && !text.contains('\x1b'), "{} bytes: {text:?}", text.len());
+}

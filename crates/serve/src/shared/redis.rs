@@ -324,10 +324,41 @@ pub enum Heard {
 
 /// The world's maze, claimed for `maze_hash` if nobody walks it, its TTL refreshed if it is
 /// `maze_hash`; returns the world's maze hash (another one: this server must not join).
-const CLAIM_WORLD: &str = "local v = redis.call('GET', KEYS[1]) \
-    if not v then redis.call('SET', KEYS[1], ARGV[1], 'EX', ARGV[2]) return ARGV[1] end \
+/// Whatever a writer left there, the answer is short: a value that is not a string, or its first
+/// [`MAX_HASH_BYTES`] bytes.
+const CLAIM_WORLD: &str = "local t = redis.call('TYPE', KEYS[1]).ok \
+    if t == 'none' then redis.call('SET', KEYS[1], ARGV[1], 'EX', ARGV[2]) return ARGV[1] end \
+    if t ~= 'string' then return '(a ' .. t .. ', not a maze hash)' end \
+    local v = redis.call('GET', KEYS[1]) \
     if v == ARGV[1] then redis.call('EXPIRE', KEYS[1], ARGV[2]) end \
-    return v";
+    return string.sub(v, 1, 128)";
+
+/// The longest maze hash read back from the world's key (a SHA-256 in hex is 64).
+const MAX_HASH_BYTES: usize = 128;
+
+/// The value at `KEYS[1]` if it is a string of at most `ARGV[1]` bytes, `""` if it is anything
+/// else (a writer's: the caller's decoder refuses it), nil if there is none. Redis answers no more
+/// than the limit, whatever the key holds, and never a type error.
+const GET_BOUNDED: &str = "local t = redis.call('TYPE', KEYS[1]).ok \
+    if t == 'none' then return false end \
+    if t ~= 'string' or redis.call('STRLEN', KEYS[1]) > tonumber(ARGV[1]) then return '' end \
+    return redis.call('GET', KEYS[1])";
+
+/// SET NX GET, bounded as [`GET_BOUNDED`]: stores `ARGV[1]` at `KEYS[1]` if there is nothing
+/// there (answering nil), else answers what is there.
+const CLAIM_BOUNDED: &str = "local t = redis.call('TYPE', KEYS[1]).ok \
+    if t == 'none' then redis.call('SET', KEYS[1], ARGV[1]) return false end \
+    if t ~= 'string' or redis.call('STRLEN', KEYS[1]) > tonumber(ARGV[2]) then return '' end \
+    return redis.call('GET', KEYS[1])";
+
+/// The longest winner record read (a name is at most 16 bytes: far less).
+const MAX_WINNER_BYTES: usize = 4096;
+
+/// The world's maze hash as Redis answered it (bytes a writer may have chosen: made text here, and
+/// shown clipped and escaped).
+fn hash_text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(&bytes[..bytes.len().min(MAX_HASH_BYTES)]).into_owned()
+}
 
 /// Claims (or keeps) the world for the maze `maze_hash`; returns the world's maze hash.
 ///
@@ -344,8 +375,9 @@ pub async fn claim_world(
         .arg(&keys.world)
         .arg(maze_hash)
         .arg(WORLD_TTL_SECONDS)
-        .query_async(con)
+        .query_async::<Vec<u8>>(con)
         .await
+        .map(|bytes| hash_text(&bytes))
 }
 
 /// Publishes `message`; a full one also becomes the server's presence (with its TTL) and keeps the
@@ -365,8 +397,8 @@ pub async fn publish(
     if let Some(maze_hash) = full {
         pipe.cmd("SET").arg(keys.server(server)).arg(message).arg("EX").arg(PRESENCE_TTL_SECONDS).ignore();
         pipe.cmd("EVAL").arg(CLAIM_WORLD).arg(1).arg(&keys.world).arg(maze_hash).arg(WORLD_TTL_SECONDS);
-        let (world,): (String,) = pipe.query_async(con).await?;
-        Ok(Some(world))
+        let (world,): (Vec<u8>,) = pipe.query_async(con).await?;
+        Ok(Some(hash_text(&world)))
     } else {
         pipe.query_async::<()>(con).await?;
         Ok(None)
@@ -383,8 +415,15 @@ pub async fn claim_winner(
     keys: &Keys,
     record: &[u8],
 ) -> RedisResult<Option<Vec<u8>>> {
-    // SET NX GET (Redis 7): sets if absent, and answers the value that was there (nil if none).
-    redis::cmd("SET").arg(&keys.winner).arg(record).arg("NX").arg("GET").query_async(con).await
+    // SET NX GET (Redis 7), in a script that answers no more than MAX_WINNER_BYTES.
+    redis::cmd("EVAL")
+        .arg(CLAIM_BOUNDED)
+        .arg(1)
+        .arg(&keys.winner)
+        .arg(record)
+        .arg(MAX_WINNER_BYTES)
+        .query_async(con)
+        .await
 }
 
 /// The winner's record as stored, if any.
@@ -392,7 +431,7 @@ pub async fn claim_winner(
 /// # Errors
 /// Redis failed.
 pub async fn winner(con: &mut MultiplexedConnection, keys: &Keys) -> RedisResult<Option<Vec<u8>>> {
-    redis::cmd("GET").arg(&keys.winner).query_async(con).await
+    redis::cmd("EVAL").arg(GET_BOUNDED).arg(1).arg(&keys.winner).arg(MAX_WINNER_BYTES).query_async(con).await
 }
 
 /// Records a walk of `seconds` by `name`: kept if it is the player's best.
@@ -442,10 +481,10 @@ pub async fn presences(
     max: usize,
 ) -> RedisResult<Vec<Vec<u8>>> {
     let pattern = format!("{}*", keys.servers); // braces are not special in a SCAN pattern
-    let mut names: Vec<String> = Vec::new();
+    let mut names: Vec<Vec<u8>> = Vec::new();
     let mut cursor: u64 = 0;
-    loop {
-        let (next, batch): (u64, Vec<String>) = redis::cmd("SCAN")
+    for _ in 0..MAX_SCANS {
+        let (next, batch): (u64, Vec<Vec<u8>>) = redis::cmd("SCAN")
             .arg(cursor)
             .arg("MATCH")
             .arg(&pattern)
@@ -463,9 +502,23 @@ pub async fn presences(
     if names.is_empty() {
         return Ok(Vec::new());
     }
-    let values: Vec<Option<Vec<u8>>> = redis::cmd("MGET").arg(&names).query_async(con).await?;
-    Ok(values.into_iter().flatten().collect())
+    let mut get = redis::cmd("EVAL");
+    get.arg(GET_PRESENCES).arg(names.len()).arg(&names).arg(MAX_MESSAGE_BYTES);
+    get.query_async(con).await
 }
+
+/// SCAN calls at most when reading the presence keys (100 keys each: a million keys).
+const MAX_SCANS: usize = 10_000;
+
+/// The values of `KEYS` that are strings of at most `ARGV[1]` bytes (presence keys a writer set to
+/// anything else are left out, and Redis never answers more than the keys × the limit).
+const GET_PRESENCES: &str = "local out = {} \
+    for _, k in ipairs(KEYS) do \
+        if redis.call('TYPE', k).ok == 'string' and redis.call('STRLEN', k) <= tonumber(ARGV[1]) then \
+            out[#out + 1] = redis.call('GET', k) \
+        end \
+    end \
+    return out";
 
 #[cfg(test)]
 mod tests {

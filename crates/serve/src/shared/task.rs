@@ -190,6 +190,7 @@ impl SharedWorld {
             online: false,
             outbox: Outbox::new(server, tag),
             others: Others::new(server, tag, config.bounds).with_caps(config.caps),
+            caps: config.caps,
             inbox,
             reading_winner: false,
             winner_read_due: false,
@@ -286,6 +287,7 @@ struct Task {
     online: bool,
     outbox: Outbox,
     others: Others,
+    caps: Caps,
     /// What the subscribed connection holds for this task, and what it dropped.
     inbox: link::Inbox,
     /// The world's winner as Redis holds it (read, or this server's claim stored): never a
@@ -700,10 +702,12 @@ impl Task {
 
     fn spawn_presences(&mut self) {
         let Some(mut con) = self.con.clone() else { return };
+        // No more than the view keeps (each up to a message's size: bounded memory).
+        let max = self.caps.servers.min(MAX_SERVERS);
         self.counted.commands += 2;
         let (keys, done) = (self.link.keys.clone(), self.done_tx.clone());
         tokio::spawn(async move {
-            let _ = done.send(Done::Presences(link::presences(&mut con, &keys, MAX_SERVERS).await));
+            let _ = done.send(Done::Presences(link::presences(&mut con, &keys, max).await));
         });
     }
 
