@@ -50,8 +50,8 @@ impl Host for Timed {
     fn winner(&self, winner: &WinnerRecord) {
         self.host.winner(winner);
     }
-    fn finished(&self, server: ServerId, finish: &Finish) {
-        self.host.finished(server, finish);
+    fn finished(&self, server: ServerId, finishes: &[Finish]) {
+        self.host.finished(server, finishes);
     }
     fn relabel(&self, ids: &[u32]) {
         self.host.relabel(ids);

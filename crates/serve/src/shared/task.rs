@@ -102,7 +102,7 @@ pub struct Stats {
     /// Messages dropped unread for their size.
     pub too_long: u64,
     /// Messages dropped unread because the world task had more than [`MAX_QUEUED_BYTES`] (or
-    /// 1,024 messages) still to read: a flood does not grow the server's memory.
+    /// 1,024 messages) still to read: the world task's queue stays bounded whatever arrives.
     ///
     /// [`MAX_QUEUED_BYTES`]: super::redis::MAX_QUEUED_BYTES
     pub overflow: u64,

@@ -596,6 +596,48 @@ mod tests {
         assert_eq!((view.servers().count(), view.len()), (1, 40));
     }
 
+    /// The view's count of players (kept as messages come, never summed per message) is the number
+    /// it holds, and within the cap, through any sequence of full messages, deltas, goodbyes and
+    /// silences from servers over the cap too.
+    #[test]
+    fn the_players_count_follows_any_sequence_of_messages() {
+        let caps = Caps { servers: 4, players: 30 };
+        let mut view = Others::new(ServerId(99), MAZE, bounds()).with_caps(caps);
+        let mut outs: Vec<Outbox> = (1..=6).map(|k| Outbox::new(ServerId(k), MAZE)).collect();
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        for step in 0..3000 {
+            let now = f64::from(step) * 0.05;
+            let k = next(6) as usize;
+            let players: Vec<PlayerRecord> =
+                (0..next(16) as u32).map(|i| p(i * 2 + next(2) as u32, "x", 1.0 + next(5) as f32)).collect();
+            let mut players = players;
+            players.sort_by_key(|p| p.id);
+            players.dedup_by_key(|p| p.id);
+            let message = match next(10) {
+                0 => outs[k].bye(0),
+                1 => {
+                    view.expire(now);
+                    continue;
+                }
+                _ => match outs[k].tick(now, &players, vec![], None, 0) {
+                    Some(m) => m,
+                    None => continue,
+                },
+            };
+            view.hear(&wire(&message), now).unwrap();
+            assert_eq!(view.len(), view.players().count(), "at step {step}");
+            assert!(view.len() <= caps.players && view.servers().count() <= caps.servers, "at step {step}");
+        }
+        let counts = view.counts();
+        assert!(counts.over_players > 0 && counts.over_servers > 0, "the caps were reached: {counts:?}");
+    }
+
     /// A finish that won is a claim, passed on as one (the world task asks Redis).
     #[test]
     fn a_winning_finish_is_a_claim() {
