@@ -12,8 +12,10 @@
 //! its peak (`VmHWM`), its CPU seconds, and its log bytes per minute during the flood.
 //!
 //! Then, for each binary, the **claims** flood alone: small full messages from one invented server,
-//! each naming a new winner, published as fast as one pipelined connection can for `seconds`; each
-//! server's log bytes per minute and the SETs Redis counted (`INFO commandstats`) are reported.
+//! each naming a new winner, published as fast as one pipelined connection can for `seconds`; and
+//! the **junk** flood: 200 KB messages that are not messages, as fast. Each server's log bytes per
+//! minute, its RSS idle and peak, and the SETs Redis counted (`INFO commandstats`) are reported.
+//! `--periods none` runs these two only.
 //!
 //! ```sh
 //! cargo build --release                           # the "after" binary: target/release/mazewalk
@@ -83,6 +85,7 @@ fn args() -> Args {
             "--before" => a.before = Some(value.into()),
             "--after" => a.after = value.into(),
             "--seconds" => a.seconds = value.parse().expect("--seconds S"),
+            "--periods" if value == "none" => a.periods = Vec::new(),
             "--periods" => a.periods = value.split(',').map(|p| p.parse().expect("--periods 2,1")).collect(),
             other => panic!("unknown argument {other}"),
         }
@@ -200,8 +203,17 @@ async fn calls(con: &mut redis::aio::MultiplexedConnection, command: &str) -> u6
         .unwrap_or(0)
 }
 
-/// The claims flood against `bin`: (messages, log bytes a minute of A and B, SETs a second).
-async fn claims(bin: &Path, seconds: f64) -> (u64, [f64; 2], f64) {
+/// What a claims or junk flood did to one binary.
+struct Flooded {
+    messages: u64,
+    log_per_minute: [f64; 2],
+    sets_per_second: f64,
+    idle_rss: [u64; 2],
+    peak_rss: [u64; 2],
+}
+
+/// The claims flood (or with `junk`, the junk flood) against `bin`.
+async fn claims(bin: &Path, seconds: f64, junk: bool) -> Flooded {
     let redis = RedisServer::start(Persistence::None).await;
     let scratch = std::env::temp_dir().join(format!("mazewalk-world-claims-{}", std::process::id()));
     std::fs::create_dir_all(&scratch).expect("scratch");
@@ -225,13 +237,19 @@ async fn claims(bin: &Path, seconds: f64) -> (u64, [f64; 2], f64) {
     ];
     tokio::time::sleep(Duration::from_secs(2)).await;
     let log0 = [servers[0].log_bytes(), servers[1].log_bytes()];
+    let idle_rss = [rss_bytes(servers[0].pid()), rss_bytes(servers[1].pid())];
     let sets0 = calls(&mut con, "set").await;
+    let garbage: Vec<u8> = (0..200_000u32).map(|i| (i.wrapping_mul(2_654_435_761) >> 24) as u8).collect();
     let start = std::time::Instant::now();
     let mut n = 0u64;
     while start.elapsed().as_secs_f64() < seconds {
         let mut pipe = redis::pipe();
-        for _ in 0..500 {
+        for _ in 0..if junk { 20 } else { 500 } {
             n += 1;
+            if junk {
+                pipe.cmd("PUBLISH").arg(&keys.channel).arg(&garbage).ignore();
+                continue;
+            }
             let claim = WinnerRecord { server: ServerId(7), id: 0, seconds: 0.1, name: format!("W{n}") };
             let message = Message {
                 maze: maze_tag(&hash),
@@ -252,9 +270,16 @@ async fn claims(bin: &Path, seconds: f64) -> (u64, [f64; 2], f64) {
     tokio::time::sleep(Duration::from_secs(2)).await; // what the servers still had to read
     let sets = calls(&mut con, "set").await - sets0;
     let logs = [servers[0].log_bytes() - log0[0], servers[1].log_bytes() - log0[1]];
+    let peak_rss = [servers[0].peak_rss(), servers[1].peak_rss()];
     drop(servers);
     let _ = std::fs::remove_dir_all(&scratch);
-    (n, logs.map(|b| b as f64 * 60.0 / (elapsed + 2.0)), sets as f64 / (elapsed + 2.0))
+    Flooded {
+        messages: n,
+        log_per_minute: logs.map(|b| b as f64 * 60.0 / (elapsed + 2.0)),
+        sets_per_second: sets as f64 / (elapsed + 2.0),
+        idle_rss,
+        peak_rss,
+    }
 }
 
 /// What the flood did to one binary.
@@ -405,14 +430,24 @@ async fn main() {
             print(label, period, args.seconds, &outcome);
         }
     }
-    for (label, bin) in &bins {
-        let (n, logs, sets) = claims(bin, args.seconds).await;
-        println!(
-            "{label:>6} claims: {n} messages in {} s; log A {:.0} KB/min, B {:.0} KB/min; {sets:.0} SETs/s into Redis \
-             (2 presence keys a second are the servers' own)",
-            args.seconds,
-            logs[0] / 1024.0,
-            logs[1] / 1024.0
-        );
+    let mb = |b: u64| b as f64 / (1 << 20) as f64;
+    for (what, junk) in [("claims", false), ("junk", true)] {
+        for (label, bin) in &bins {
+            let f = claims(bin, args.seconds, junk).await;
+            println!(
+                "{label:>6} {what}: {} messages in {} s; log A {:.0} KB/min, B {:.0} KB/min; RSS idle → peak \
+                 A {:.1} → {:.1} MB, B {:.1} → {:.1} MB; {:.0} SETs/s into Redis (2 presence keys a second are \
+                 the servers' own)",
+                f.messages,
+                args.seconds,
+                f.log_per_minute[0] / 1024.0,
+                f.log_per_minute[1] / 1024.0,
+                mb(f.idle_rss[0]),
+                mb(f.peak_rss[0]),
+                mb(f.idle_rss[1]),
+                mb(f.peak_rss[1]),
+                f.sets_per_second,
+            );
+        }
     }
 }
