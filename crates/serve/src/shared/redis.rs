@@ -18,9 +18,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::Duration;
 
-use futures_util::StreamExt as _;
-use redis::aio::{MultiplexedConnection, PubSubSink, PubSubStream};
-use redis::{AsyncConnectionConfig, Client, RedisError, RedisResult};
+use redis::aio::{AsyncPushSender, MultiplexedConnection, SendError};
+use redis::{
+    AsyncConnectionConfig, Client, ProtocolVersion, PushInfo, PushKind, RedisError, RedisResult, Value,
+};
 use thiserror::Error;
 use tokio::sync::mpsc;
 
@@ -148,6 +149,9 @@ impl Keys {
 #[derive(Clone, Debug)]
 pub struct Link {
     client: Client,
+    /// The same, speaking RESP3, for the subscribed connection: its messages come to
+    /// [`Deliver`] as the connection reads them, with no queue of the client's own between.
+    subscriber: Client,
     /// The URL without its password.
     pub url: String,
     /// The keys.
@@ -176,8 +180,11 @@ impl Link {
                 Client::build_with_tls(url, certificates).map_err(bad_url)?
             }
         };
-        let db = client.get_connection_info().redis_settings().db();
-        Ok(Link { client, url: shown, keys: Keys::new(maze_hash, db) })
+        let info = client.get_connection_info();
+        let db = info.redis_settings().db();
+        let resp3 = info.redis_settings().clone().set_protocol(ProtocolVersion::RESP3);
+        let subscriber = Client::open(info.clone().set_redis_settings(resp3)).map_err(bad_url)?;
+        Ok(Link { client, subscriber, url: shown, keys: Keys::new(maze_hash, db) })
     }
 
     /// A connection for commands (pipelined: clones share it), with the timeouts above.
@@ -193,17 +200,15 @@ impl Link {
         Ok(con)
     }
 
-    /// A connection subscribed to the world's channel.
-    async fn subscribe(&self) -> RedisResult<(PubSubSink, PubSubStream)> {
-        let timed_out = || RedisError::from(std::io::Error::from(std::io::ErrorKind::TimedOut));
-        let pubsub = tokio::time::timeout(CONNECT_TIMEOUT, self.client.get_async_pubsub())
-            .await
-            .map_err(|_| timed_out())??;
-        let (mut sink, stream) = pubsub.split();
-        tokio::time::timeout(RESPONSE_TIMEOUT, sink.subscribe(&self.keys.channel))
-            .await
-            .map_err(|_| timed_out())??;
-        Ok((sink, stream))
+    /// A connection subscribed to the world's channel (RESP3), its messages handed to `deliver`.
+    async fn subscribe(&self, deliver: Deliver) -> RedisResult<MultiplexedConnection> {
+        let config = AsyncConnectionConfig::new()
+            .set_connection_timeout(Some(CONNECT_TIMEOUT))
+            .set_response_timeout(Some(RESPONSE_TIMEOUT))
+            .set_push_sender(deliver);
+        let mut con = self.subscriber.get_multiplexed_async_connection_with_config(&config).await?;
+        con.subscribe(&self.keys.channel).await?;
+        Ok(con)
     }
 
     /// Connects for commands, again and again until Redis answers (backing off up to 400 ms).
@@ -218,15 +223,18 @@ impl Link {
         }
     }
 
-    /// Listens to the world's channel for good: subscribes, forwards every message while `inbox`
-    /// holds less than [`MAX_QUEUED_BYTES`] and `to` has room (else drops it, counted in `inbox`:
-    /// never waits, so neither Redis's buffer nor the client's grows), checks the connection with a
-    /// PING every [`PING_EVERY`], and on any failure says so and subscribes again (backing off up to
-    /// 400 ms). Ends when `to` is closed.
+    /// Listens to the world's channel for good: subscribes, hands every message to `to` while
+    /// `inbox` holds less than [`MAX_QUEUED_BYTES`] and `to` has room (else drops it, counted in
+    /// `inbox`), as the connection reads it ([`Deliver`]: never waiting, and with no queue between,
+    /// so neither Redis's buffer nor this process's grows whatever is published); checks the
+    /// connection with a PING every [`PING_EVERY`], and on any failure says so and subscribes again
+    /// (backing off up to 400 ms). Ends when `to` is closed.
     pub async fn listen(self, to: mpsc::Sender<Heard>, inbox: Inbox) {
         let mut attempt = 0;
         loop {
-            if let Ok((mut sink, mut stream)) = self.subscribe().await {
+            let down = Arc::new(tokio::sync::Notify::new());
+            let deliver = Deliver { to: to.clone(), inbox: inbox.clone(), down: Arc::clone(&down) };
+            if let Ok(mut con) = self.subscribe(deliver).await {
                 attempt = 0;
                 if to.send(Heard::Up).await.is_err() {
                     return;
@@ -235,36 +243,18 @@ impl Link {
                 ping.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
                 loop {
                     tokio::select! {
-                        message = stream.next() => {
-                            let Some(message) = message else { break }; // the connection closed
-                            let bytes = message.get_payload_bytes();
-                            // Checked before copying: the decoder checks again.
-                            let heard = if bytes.len() > MAX_MESSAGE_BYTES {
-                                Heard::TooLong(bytes.len())
-                            } else if inbox.reserve(bytes.len()) {
-                                Heard::Message(bytes.to_vec())
-                            } else {
-                                inbox.drop_one();
-                                continue;
-                            };
-                            let len = if let Heard::Message(m) = &heard { m.len() } else { 0 };
-                            match to.try_send(heard) {
-                                Ok(()) => {}
-                                Err(mpsc::error::TrySendError::Full(_)) => {
-                                    inbox.taken(len);
-                                    inbox.drop_one();
-                                }
-                                Err(mpsc::error::TrySendError::Closed(_)) => return,
-                            }
-                        }
+                        () = down.notified() => break, // the connection closed
+                        () = to.closed() => return,
                         _ = ping.tick() => {
-                            let pong = tokio::time::timeout(RESPONSE_TIMEOUT, sink.ping::<redis::Value>()).await;
+                            let cmd = redis::cmd("PING");
+                            let pong = tokio::time::timeout(RESPONSE_TIMEOUT, cmd.query_async::<Value>(&mut con)).await;
                             if !matches!(pong, Ok(Ok(_))) {
                                 break;
                             }
                         }
                     }
                 }
+                drop(con);
                 if to.send(Heard::Down).await.is_err() {
                     return;
                 }
@@ -272,6 +262,44 @@ impl Link {
             tokio::time::sleep(BACKOFF[attempt.min(BACKOFF.len() - 1)]).await;
             attempt += 1;
         }
+    }
+}
+
+/// What the subscribed connection reads, handed on as it is read (on the connection's own task:
+/// quick, and never waiting): a message to the world task if it is not too long and there is room,
+/// else dropped and counted; the connection's end to [`Link::listen`].
+struct Deliver {
+    to: mpsc::Sender<Heard>,
+    inbox: Inbox,
+    down: Arc<tokio::sync::Notify>,
+}
+
+impl AsyncPushSender for Deliver {
+    fn send(&self, info: PushInfo) -> Result<(), SendError> {
+        match info.kind {
+            PushKind::Message => {
+                // [channel, payload]: the payload is moved, not copied.
+                let Some(Value::BulkString(bytes)) = info.data.into_iter().nth(1) else { return Ok(()) };
+                let len = bytes.len();
+                // Checked before it is queued: the decoder checks again.
+                let heard = if len > MAX_MESSAGE_BYTES {
+                    Heard::TooLong(len)
+                } else if self.inbox.reserve(len) {
+                    Heard::Message(bytes)
+                } else {
+                    self.inbox.drop_one();
+                    return Ok(());
+                };
+                let queued = if matches!(heard, Heard::Message(_)) { len } else { 0 };
+                if self.to.try_send(heard).is_err() {
+                    self.inbox.taken(queued);
+                    self.inbox.drop_one();
+                }
+            }
+            PushKind::Disconnection => self.down.notify_one(),
+            _ => {}
+        }
+        Ok(())
     }
 }
 
