@@ -214,6 +214,14 @@ pub struct ServeArgs {
     /// does not trust it (as redis-cli's --cacert).
     #[arg(long, value_name = "FILE", requires = "world")]
     pub world_ca: Option<PathBuf>,
+    /// With --world: other servers kept in view at once; messages from more are dropped and
+    /// counted (1..=4096).
+    #[arg(long, value_name = "N", default_value_t = 16, requires = "world", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub max_remote_servers: u32,
+    /// With --world: other servers' players kept in view at once, in all; more are left out and
+    /// counted (1..=65536).
+    #[arg(long, value_name = "N", default_value_t = 1024, requires = "world", value_parser = clap::value_parser!(u32).range(1..=65_536))]
+    pub max_remote_players: u32,
 }
 
 #[derive(Args)]

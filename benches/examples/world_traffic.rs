@@ -48,8 +48,8 @@ impl Host for Timed {
     fn winner(&self, winner: &WinnerRecord) {
         self.host.winner(winner);
     }
-    fn finished(&self, server: ServerId, finish: &Finish) {
-        self.host.finished(server, finish);
+    fn finished(&self, server: ServerId, finishes: &[Finish]) {
+        self.host.finished(server, finishes);
     }
     fn relabel(&self, ids: &[u32]) {
         self.host.relabel(ids);
@@ -71,7 +71,7 @@ async fn main() {
     let seconds: f64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(10.0);
     let redis = RedisServer::start(Persistence::None).await;
     let bounds = Bounds { min: Vec2::ZERO, max: Vec2::splat(1000.0), cells: 1 };
-    let config = WorldConfig { url: redis.url(0), maze_hash: MAZE.into(), bounds, ca: None };
+    let config = WorldConfig::new(&redis.url(0), MAZE, bounds);
     println!(
         "walkers | A: commands/s | A → Redis KB/s | Redis → each server KB/s | move A → world B p50 / p99 ms | samples"
     );

@@ -13,7 +13,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
 
     use anyhow::{Context as _, bail};
     use mazewalk_render::RenderOptions;
-    use mazewalk_serve::shared::{Bounds, WorldConfig};
+    use mazewalk_serve::shared::{Bounds, Caps, WorldConfig};
     use mazewalk_serve::{Access, Limits, ServeOptions, host_key};
     use mazewalk_walk::App;
 
@@ -81,11 +81,12 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
                 }
                 None => None,
             };
+            let caps =
+                Caps { servers: args.max_remote_servers as usize, players: args.max_remote_players as usize };
             Some(WorldConfig {
-                url: url.clone(),
-                maze_hash: maze.content_hash().to_string(),
-                bounds: Bounds::of(&maze),
                 ca,
+                caps,
+                ..WorldConfig::new(url, &maze.content_hash().to_string(), Bounds::of(&maze))
             })
         }
     };

@@ -24,3 +24,4 @@ pub mod view;
 pub use codec::{Bounds, ServerId};
 pub use redis::WorldError;
 pub use task::{Host, LocalFinish, SharedWorld, Stats, WorldConfig};
+pub use view::Caps;

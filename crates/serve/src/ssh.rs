@@ -178,8 +178,8 @@ impl Host for WorldCell {
         }
     }
 
-    fn finished(&self, server: ServerId, finish: &Finish) {
-        self.change(|world| world.remote_finished(server, finish));
+    fn finished(&self, server: ServerId, finishes: &[Finish]) {
+        self.change(|world| world.remote_finished(server, finishes));
     }
 
     fn relabel(&self, ids: &[u32]) {

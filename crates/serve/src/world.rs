@@ -155,6 +155,9 @@ struct SharedPart {
     epoch_ms: u64,
     /// The other servers' players, as last heard (frozen while offline).
     remote: Vec<(PlayerId, Seen)>,
+    /// Where each of them is in `remote` (a finish or a gone player is found in O(1), never by a
+    /// scan: `remote` holds up to `--max-remote-players`).
+    index: HashMap<PlayerId, usize>,
     /// The other servers' players' best times heard since this server started.
     remote_best: HashMap<PlayerId, f64>,
     /// This server hears the world.
@@ -333,6 +336,7 @@ impl World {
             me: None,
             epoch_ms,
             remote: Vec::new(),
+            index: HashMap::new(),
             remote_best: HashMap::new(),
             online: false,
             finishes: Vec::new(),
@@ -401,15 +405,10 @@ impl World {
             return false;
         }
         if !same {
-            let gone: Vec<PlayerId> = shared
-                .remote_best
-                .keys()
-                .filter(|id| !remote.iter().any(|(r, _)| r == *id))
-                .copied()
-                .collect();
-            for id in gone {
-                shared.remote_best.remove(&id);
-            }
+            // issue #40: a scan of `remote` per best time here was O(players²) under the lock.
+            shared.index = remote.iter().enumerate().map(|(i, (id, _))| (*id, i)).collect();
+            let index = &shared.index;
+            shared.remote_best.retain(|id, _| index.contains_key(id));
             shared.remote = remote;
         }
         shared.online = online;
@@ -435,40 +434,48 @@ impl World {
         true
     }
 
-    /// A player of another server reached the exit: its best time shows in the player list.
-    /// Returns whether that changed anything.
-    pub(crate) fn remote_finished(&mut self, server: ServerId, finish: &Finish) -> bool {
+    /// Players of server `server` reached the exit: their best times show in the player list.
+    /// O(finishes) (issue #40). Returns whether that changed anything.
+    pub(crate) fn remote_finished(&mut self, server: ServerId, finishes: &[Finish]) -> bool {
         let Some(shared) = &mut self.shared else { return false };
-        let id = remote_id(server, finish.id);
-        let Some((_, seen)) = shared.remote.iter_mut().find(|(r, _)| *r == id) else { return false };
-        if seen.best.is_some_and(|best| best <= finish.seconds) {
-            return false;
+        let mut changed = false;
+        for finish in finishes {
+            let id = remote_id(server, finish.id);
+            let Some(&i) = shared.index.get(&id) else { continue };
+            let seen = &mut shared.remote[i].1;
+            if seen.best.is_some_and(|best| best <= finish.seconds) {
+                continue;
+            }
+            seen.best = Some(finish.seconds);
+            shared.remote_best.insert(id, finish.seconds);
+            changed = true;
         }
-        seen.best = Some(finish.seconds);
-        shared.remote_best.insert(id, finish.seconds);
-        self.version += 1;
-        true
+        if changed {
+            self.version += 1;
+        }
+        changed
     }
 
     /// These players of this server show a label an earlier player of another server shows: each
     /// takes another if one is free (else keeps its own: never a label someone else shows).
     /// Returns whether any changed.
     pub fn relabel(&mut self, ids: &[u32]) -> bool {
+        // How many show each label, counted once: O(players + ids), not a scan per candidate.
+        let mut shown: HashMap<char, usize> = HashMap::new();
+        for seen in self.everyone() {
+            *shown.entry(seen.label).or_default() += 1;
+        }
         let mut changed = false;
         for &id in ids {
             let id = PlayerId(u64::from(id));
-            let Some(seen) = self.players.get(&id) else { continue };
-            let name = seen.name.clone();
-            let taken = |c: char| {
-                self.players.iter().any(|(&other, p)| other != id && p.label == c)
-                    || self.shared.iter().flat_map(|s| &s.remote).any(|(_, p)| p.label == c)
-            };
-            let label = label_for(&name, taken);
-            if !taken(label)
-                && let Some(seen) = self.players.get_mut(&id)
-                && seen.label != label
-            {
+            let Some(seen) = self.players.get_mut(&id) else { continue };
+            let own = seen.label;
+            let taken = |c: char| shown.get(&c).copied().unwrap_or(0) > usize::from(c == own);
+            let label = label_for(&seen.name, taken);
+            if !taken(label) && label != own {
                 seen.label = label;
+                *shown.entry(own).or_default() -= 1;
+                *shown.entry(label).or_default() += 1;
                 changed = true;
             }
         }
@@ -669,13 +676,39 @@ mod tests {
         assert_eq!(winner.id, remote_id(ServerId(2), 5));
         // his finish shows in the player list
         let finish = Finish { id: 5, name: "bob".into(), seconds: 12.0, won: true };
-        assert!(world.remote_finished(ServerId(2), &finish));
+        assert!(world.remote_finished(ServerId(2), std::slice::from_ref(&finish)));
+        assert!(!world.remote_finished(ServerId(2), &[finish]), "no better");
         let look = world.look();
         assert_eq!(look.players.iter().find(|(_, s)| s.name == "bob").unwrap().1.best, Some(12.0));
         // our own win, as Redis says it, is announced to the winner as theirs
         let ours = WinnerRecord { server: ServerId(1), id: 0, seconds: 30.0, name: "alice".into() };
         world.set_winner(&ours);
         assert_eq!(world.winner().unwrap().announcement_for(a), "You reached the exit first, in 0:30.0!");
+    }
+
+    // issue #40: finishes and departures of other servers' players are found by id, not by a scan
+    // (it was O(players²) under the world's lock): a best time stays while its player does, and
+    // goes with it; finishes of players not in the world change nothing.
+    #[test]
+    fn remote_best_times_follow_their_players() {
+        let mut world = World::shared(0);
+        world.set_server(ServerId(1));
+        let both = others_with(&[(2, 5, "bob", 'B', Vec2::ZERO), (3, 6, "cy", 'C', Vec2::ONE)]);
+        world.set_others(&both, true, 1.0);
+        let finish = |id, seconds| Finish { id, name: "x".into(), seconds, won: false };
+        assert!(world.remote_finished(ServerId(2), &[finish(5, 20.0), finish(5, 12.0), finish(7, 1.0)]));
+        assert!(world.remote_finished(ServerId(3), &[finish(6, 30.0)]));
+        let best = |world: &mut World, name: &str| {
+            world.look().players.iter().find(|(_, s)| s.name == name).and_then(|(_, s)| s.best)
+        };
+        assert_eq!((best(&mut world, "bob"), best(&mut world, "cy")), (Some(12.0), Some(30.0)));
+        assert!(!world.remote_finished(ServerId(9), &[finish(5, 1.0)]), "no such player");
+        // cy's server is gone: its best time goes with it; bob's stays through an update.
+        let bob_only = others_with(&[(2, 5, "bob", 'B', Vec2::X)]);
+        world.set_others(&bob_only, true, 2.0);
+        assert_eq!((best(&mut world, "bob"), world.look().players.len()), (Some(12.0), 1));
+        world.set_others(&both, true, 3.0);
+        assert_eq!(best(&mut world, "cy"), None, "forgotten");
     }
 
     // issue #35: a label an earlier player of another server shows is given up for a free one.

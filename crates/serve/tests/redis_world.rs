@@ -30,7 +30,7 @@ fn bounds() -> Bounds {
 }
 
 fn config(redis: &RedisServer) -> WorldConfig {
-    WorldConfig { url: redis.url(0), maze_hash: MAZE.into(), bounds: bounds(), ca: None }
+    WorldConfig::new(&redis.url(0), MAZE, bounds())
 }
 
 async fn join(redis: &RedisServer, host: &Arc<TestHost>) -> SharedWorld {

@@ -7,10 +7,8 @@
 //! `benches/examples/attacks.rs --only idle`.)
 #![cfg(target_os = "linux")]
 
-#[path = "serve_common/load.rs"]
-mod load;
-#[path = "serve_common/raw.rs"]
-mod raw;
+use mazewalk_testkit::load;
+use mazewalk_testkit::raw_ssh as raw;
 
 use std::collections::VecDeque;
 use std::net::{IpAddr, SocketAddr, TcpStream};

@@ -5,8 +5,7 @@
 //! SQLite; the test stops by itself.
 #![cfg(target_os = "linux")]
 
-#[path = "serve_common/load.rs"]
-mod load;
+use mazewalk_testkit::load;
 
 use std::net::SocketAddr;
 use std::path::PathBuf;

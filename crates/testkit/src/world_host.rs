@@ -113,8 +113,8 @@ impl Host for TestHost {
         self.lock().winners.push(winner.clone());
     }
 
-    fn finished(&self, server: ServerId, finish: &Finish) {
-        self.lock().heard_finishes.push((server, finish.clone()));
+    fn finished(&self, server: ServerId, finishes: &[Finish]) {
+        self.lock().heard_finishes.extend(finishes.iter().map(|f| (server, f.clone())));
     }
 
     fn relabel(&self, ids: &[u32]) {

@@ -302,7 +302,7 @@ pub fn encode(message: &Message, out: &mut Vec<u8>) {
 
 /// A winner record's bytes (the value of the world's winner key).
 #[must_use]
-pub(crate) fn encode_winner(winner: &WinnerRecord) -> Vec<u8> {
+pub fn encode_winner(winner: &WinnerRecord) -> Vec<u8> {
     let mut out = Vec::with_capacity(21 + winner.name.len());
     put_winner(&mut out, winner);
     out

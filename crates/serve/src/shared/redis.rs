@@ -14,15 +14,20 @@
 //! mazewalk:{H}:<db>:news          the channel (Redis channels ignore the database: it is named in)
 //! ```
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::Duration;
 
-use futures_util::StreamExt as _;
-use redis::aio::{MultiplexedConnection, PubSubSink, PubSubStream};
-use redis::{AsyncConnectionConfig, Client, RedisError, RedisResult};
+use redis::aio::{AsyncPushSender, MultiplexedConnection, SendError};
+use redis::{
+    AsyncConnectionConfig, Client, ProtocolVersion, PushInfo, PushKind, RedisError, RedisResult, Value,
+};
 use thiserror::Error;
 use tokio::sync::mpsc;
 
 use super::codec::{MAX_MESSAGE_BYTES, ServerId};
+use crate::identity::player_name;
+use crate::logs::{ERROR_CHARS, clip};
 
 /// How long a connection attempt may take.
 pub(crate) const CONNECT_TIMEOUT: Duration = Duration::from_secs(1);
@@ -44,6 +49,10 @@ pub(crate) const PRESENCE_TTL_SECONDS: u64 = 5;
 /// The world's maze key lives this long unless refreshed: a world no server walked for this long
 /// takes the next server's maze.
 pub(crate) const WORLD_TTL_SECONDS: u64 = 30;
+/// The bytes of messages the subscribed connection holds for the world task at most; beyond, what
+/// arrives is dropped unread and counted (issue #40: a flood of 36,000 messages grew a server by
+/// 360 MB). A second of a busy world's traffic is far less.
+pub const MAX_QUEUED_BYTES: usize = 8 << 20;
 
 /// Why the world could not be joined.
 #[derive(Debug, Error)]
@@ -62,18 +71,19 @@ pub enum WorldError {
         /// The URL, without its password.
         url: String,
     },
-    /// Redis did not answer.
-    #[error("cannot reach the world at {url}: {source}")]
+    /// Redis did not answer. (Its text is Redis's, or the network's: clipped and escaped.)
+    #[error("cannot reach the world at {url}: {}", clip(&source.to_string(), ERROR_CHARS))]
     Unreachable {
         /// The URL, without its password.
         url: String,
         /// What the client said.
         source: RedisError,
     },
-    /// The world walks another maze.
+    /// The world walks another maze. (The world's hash is Redis's word: clipped and escaped.)
     #[error(
-        "the world at {url} walks the maze {world}, and this server's maze is {ours}: start it with \
-         the world's maze, or give it a world of its own (another Redis database, e.g. {url_db1})"
+        "the world at {url} walks the maze {}, and this server's maze is {ours}: start it with \
+         the world's maze, or give it a world of its own (another Redis database, e.g. {url_db1})",
+        clip(world, ERROR_CHARS)
     )]
     OtherMaze {
         /// The URL, without its password.
@@ -139,6 +149,9 @@ impl Keys {
 #[derive(Clone, Debug)]
 pub struct Link {
     client: Client,
+    /// The same, speaking RESP3, for the subscribed connection: its messages come to
+    /// [`Deliver`] as the connection reads them, with no queue of the client's own between.
+    subscriber: Client,
     /// The URL without its password.
     pub url: String,
     /// The keys.
@@ -167,8 +180,11 @@ impl Link {
                 Client::build_with_tls(url, certificates).map_err(bad_url)?
             }
         };
-        let db = client.get_connection_info().redis_settings().db();
-        Ok(Link { client, url: shown, keys: Keys::new(maze_hash, db) })
+        let info = client.get_connection_info();
+        let db = info.redis_settings().db();
+        let resp3 = info.redis_settings().clone().set_protocol(ProtocolVersion::RESP3);
+        let subscriber = Client::open(info.clone().set_redis_settings(resp3)).map_err(bad_url)?;
+        Ok(Link { client, subscriber, url: shown, keys: Keys::new(maze_hash, db) })
     }
 
     /// A connection for commands (pipelined: clones share it), with the timeouts above.
@@ -184,17 +200,15 @@ impl Link {
         Ok(con)
     }
 
-    /// A connection subscribed to the world's channel.
-    async fn subscribe(&self) -> RedisResult<(PubSubSink, PubSubStream)> {
-        let timed_out = || RedisError::from(std::io::Error::from(std::io::ErrorKind::TimedOut));
-        let pubsub = tokio::time::timeout(CONNECT_TIMEOUT, self.client.get_async_pubsub())
-            .await
-            .map_err(|_| timed_out())??;
-        let (mut sink, stream) = pubsub.split();
-        tokio::time::timeout(RESPONSE_TIMEOUT, sink.subscribe(&self.keys.channel))
-            .await
-            .map_err(|_| timed_out())??;
-        Ok((sink, stream))
+    /// A connection subscribed to the world's channel (RESP3), its messages handed to `deliver`.
+    async fn subscribe(&self, deliver: Deliver) -> RedisResult<MultiplexedConnection> {
+        let config = AsyncConnectionConfig::new()
+            .set_connection_timeout(Some(CONNECT_TIMEOUT))
+            .set_response_timeout(Some(RESPONSE_TIMEOUT))
+            .set_push_sender(deliver);
+        let mut con = self.subscriber.get_multiplexed_async_connection_with_config(&config).await?;
+        con.subscribe(&self.keys.channel).await?;
+        Ok(con)
     }
 
     /// Connects for commands, again and again until Redis answers (backing off up to 400 ms).
@@ -209,13 +223,18 @@ impl Link {
         }
     }
 
-    /// Listens to the world's channel for good: subscribes, forwards every message, checks the
+    /// Listens to the world's channel for good: subscribes, hands every message to `to` while
+    /// `inbox` holds less than [`MAX_QUEUED_BYTES`] and `to` has room (else drops it, counted in
+    /// `inbox`), as the connection reads it ([`Deliver`]: never waiting, and with no queue between,
+    /// so neither Redis's buffer nor this process's grows whatever is published); checks the
     /// connection with a PING every [`PING_EVERY`], and on any failure says so and subscribes again
     /// (backing off up to 400 ms). Ends when `to` is closed.
-    pub async fn listen(self, to: mpsc::Sender<Heard>) {
+    pub async fn listen(self, to: mpsc::Sender<Heard>, inbox: Inbox) {
         let mut attempt = 0;
         loop {
-            if let Ok((mut sink, mut stream)) = self.subscribe().await {
+            let down = Arc::new(tokio::sync::Notify::new());
+            let deliver = Deliver { to: to.clone(), inbox: inbox.clone(), down: Arc::clone(&down) };
+            if let Ok(mut con) = self.subscribe(deliver).await {
                 attempt = 0;
                 if to.send(Heard::Up).await.is_err() {
                     return;
@@ -224,24 +243,18 @@ impl Link {
                 ping.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
                 loop {
                     tokio::select! {
-                        message = stream.next() => {
-                            let Some(message) = message else { break }; // the connection closed
-                            let bytes = message.get_payload_bytes();
-                            // Checked before copying: the decoder checks again.
-                            let heard =
-                                if bytes.len() > MAX_MESSAGE_BYTES { Heard::TooLong(bytes.len()) } else { Heard::Message(bytes.to_vec()) };
-                            if to.send(heard).await.is_err() {
-                                return;
-                            }
-                        }
+                        () = down.notified() => break, // the connection closed
+                        () = to.closed() => return,
                         _ = ping.tick() => {
-                            let pong = tokio::time::timeout(RESPONSE_TIMEOUT, sink.ping::<redis::Value>()).await;
+                            let cmd = redis::cmd("PING");
+                            let pong = tokio::time::timeout(RESPONSE_TIMEOUT, cmd.query_async::<Value>(&mut con)).await;
                             if !matches!(pong, Ok(Ok(_))) {
                                 break;
                             }
                         }
                     }
                 }
+                drop(con);
                 if to.send(Heard::Down).await.is_err() {
                     return;
                 }
@@ -249,6 +262,78 @@ impl Link {
             tokio::time::sleep(BACKOFF[attempt.min(BACKOFF.len() - 1)]).await;
             attempt += 1;
         }
+    }
+}
+
+/// What the subscribed connection reads, handed on as it is read (on the connection's own task:
+/// quick, and never waiting): a message to the world task if it is not too long and there is room,
+/// else dropped and counted; the connection's end to [`Link::listen`].
+struct Deliver {
+    to: mpsc::Sender<Heard>,
+    inbox: Inbox,
+    down: Arc<tokio::sync::Notify>,
+}
+
+impl AsyncPushSender for Deliver {
+    fn send(&self, info: PushInfo) -> Result<(), SendError> {
+        match info.kind {
+            PushKind::Message => {
+                // [channel, payload]: the payload is moved, not copied.
+                let Some(Value::BulkString(bytes)) = info.data.into_iter().nth(1) else { return Ok(()) };
+                let len = bytes.len();
+                // Checked before it is queued: the decoder checks again.
+                let heard = if len > MAX_MESSAGE_BYTES {
+                    Heard::TooLong(len)
+                } else if self.inbox.reserve(len) {
+                    Heard::Message(bytes)
+                } else {
+                    self.inbox.drop_one();
+                    return Ok(());
+                };
+                let queued = if matches!(heard, Heard::Message(_)) { len } else { 0 };
+                if self.to.try_send(heard).is_err() {
+                    self.inbox.taken(queued);
+                    self.inbox.drop_one();
+                }
+            }
+            PushKind::Disconnection => self.down.notify_one(),
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+/// The bytes the subscribed connection holds for the world task, and the messages it dropped for
+/// want of room ([`MAX_QUEUED_BYTES`]). Shared by the two.
+#[derive(Clone, Debug, Default)]
+pub struct Inbox {
+    queued: Arc<AtomicUsize>,
+    dropped: Arc<AtomicU64>,
+}
+
+impl Inbox {
+    /// Room for `len` more bytes: reserved if there is.
+    fn reserve(&self, len: usize) -> bool {
+        self.queued
+            .fetch_update(Ordering::AcqRel, Ordering::Acquire, |q| {
+                (q + len <= MAX_QUEUED_BYTES).then_some(q + len)
+            })
+            .is_ok()
+    }
+
+    fn drop_one(&self) {
+        self.dropped.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// A message of `len` bytes was taken (read by the world task, or dropped after all).
+    pub fn taken(&self, len: usize) {
+        self.queued.fetch_sub(len, Ordering::AcqRel);
+    }
+
+    /// Messages dropped so far.
+    #[must_use]
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Ordering::Relaxed)
     }
 }
 
@@ -267,10 +352,41 @@ pub enum Heard {
 
 /// The world's maze, claimed for `maze_hash` if nobody walks it, its TTL refreshed if it is
 /// `maze_hash`; returns the world's maze hash (another one: this server must not join).
-const CLAIM_WORLD: &str = "local v = redis.call('GET', KEYS[1]) \
-    if not v then redis.call('SET', KEYS[1], ARGV[1], 'EX', ARGV[2]) return ARGV[1] end \
+/// Whatever a writer left there, the answer is short: a value that is not a string, or its first
+/// [`MAX_HASH_BYTES`] bytes.
+const CLAIM_WORLD: &str = "local t = redis.call('TYPE', KEYS[1]).ok \
+    if t == 'none' then redis.call('SET', KEYS[1], ARGV[1], 'EX', ARGV[2]) return ARGV[1] end \
+    if t ~= 'string' then return '(a ' .. t .. ', not a maze hash)' end \
+    local v = redis.call('GET', KEYS[1]) \
     if v == ARGV[1] then redis.call('EXPIRE', KEYS[1], ARGV[2]) end \
-    return v";
+    return string.sub(v, 1, 128)";
+
+/// The longest maze hash read back from the world's key (a SHA-256 in hex is 64).
+const MAX_HASH_BYTES: usize = 128;
+
+/// The value at `KEYS[1]` if it is a string of at most `ARGV[1]` bytes, `""` if it is anything
+/// else (a writer's: the caller's decoder refuses it), nil if there is none. Redis answers no more
+/// than the limit, whatever the key holds, and never a type error.
+const GET_BOUNDED: &str = "local t = redis.call('TYPE', KEYS[1]).ok \
+    if t == 'none' then return false end \
+    if t ~= 'string' or redis.call('STRLEN', KEYS[1]) > tonumber(ARGV[1]) then return '' end \
+    return redis.call('GET', KEYS[1])";
+
+/// SET NX GET, bounded as [`GET_BOUNDED`]: stores `ARGV[1]` at `KEYS[1]` if there is nothing
+/// there (answering nil), else answers what is there.
+const CLAIM_BOUNDED: &str = "local t = redis.call('TYPE', KEYS[1]).ok \
+    if t == 'none' then redis.call('SET', KEYS[1], ARGV[1]) return false end \
+    if t ~= 'string' or redis.call('STRLEN', KEYS[1]) > tonumber(ARGV[2]) then return '' end \
+    return redis.call('GET', KEYS[1])";
+
+/// The longest winner record read (a name is at most 16 bytes: far less).
+const MAX_WINNER_BYTES: usize = 4096;
+
+/// The world's maze hash as Redis answered it (bytes a writer may have chosen: made text here, and
+/// shown clipped and escaped).
+fn hash_text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(&bytes[..bytes.len().min(MAX_HASH_BYTES)]).into_owned()
+}
 
 /// Claims (or keeps) the world for the maze `maze_hash`; returns the world's maze hash.
 ///
@@ -287,8 +403,9 @@ pub async fn claim_world(
         .arg(&keys.world)
         .arg(maze_hash)
         .arg(WORLD_TTL_SECONDS)
-        .query_async(con)
+        .query_async::<Vec<u8>>(con)
         .await
+        .map(|bytes| hash_text(&bytes))
 }
 
 /// Publishes `message`; a full one also becomes the server's presence (with its TTL) and keeps the
@@ -308,8 +425,8 @@ pub async fn publish(
     if let Some(maze_hash) = full {
         pipe.cmd("SET").arg(keys.server(server)).arg(message).arg("EX").arg(PRESENCE_TTL_SECONDS).ignore();
         pipe.cmd("EVAL").arg(CLAIM_WORLD).arg(1).arg(&keys.world).arg(maze_hash).arg(WORLD_TTL_SECONDS);
-        let (world,): (String,) = pipe.query_async(con).await?;
-        Ok(Some(world))
+        let (world,): (Vec<u8>,) = pipe.query_async(con).await?;
+        Ok(Some(hash_text(&world)))
     } else {
         pipe.query_async::<()>(con).await?;
         Ok(None)
@@ -326,8 +443,15 @@ pub async fn claim_winner(
     keys: &Keys,
     record: &[u8],
 ) -> RedisResult<Option<Vec<u8>>> {
-    // SET NX GET (Redis 7): sets if absent, and answers the value that was there (nil if none).
-    redis::cmd("SET").arg(&keys.winner).arg(record).arg("NX").arg("GET").query_async(con).await
+    // SET NX GET (Redis 7), in a script that answers no more than MAX_WINNER_BYTES.
+    redis::cmd("EVAL")
+        .arg(CLAIM_BOUNDED)
+        .arg(1)
+        .arg(&keys.winner)
+        .arg(record)
+        .arg(MAX_WINNER_BYTES)
+        .query_async(con)
+        .await
 }
 
 /// The winner's record as stored, if any.
@@ -335,7 +459,7 @@ pub async fn claim_winner(
 /// # Errors
 /// Redis failed.
 pub async fn winner(con: &mut MultiplexedConnection, keys: &Keys) -> RedisResult<Option<Vec<u8>>> {
-    redis::cmd("GET").arg(&keys.winner).query_async(con).await
+    redis::cmd("EVAL").arg(GET_BOUNDED).arg(1).arg(&keys.winner).arg(MAX_WINNER_BYTES).query_async(con).await
 }
 
 /// Records a walk of `seconds` by `name`: kept if it is the player's best.
@@ -366,7 +490,13 @@ pub async fn best(con: &mut MultiplexedConnection, keys: &Keys, n: usize) -> Red
     if n == 0 {
         return Ok(Vec::new());
     }
-    redis::cmd("ZRANGE").arg(&keys.best).arg(0).arg(n - 1).arg("WITHSCORES").query_async(con).await
+    let rows: Vec<(String, f64)> =
+        redis::cmd("ZRANGE").arg(&keys.best).arg(0).arg(n - 1).arg("WITHSCORES").query_async(con).await?;
+    // Redis's word: a name that is not a player's name or a time that is not a time is left out.
+    Ok(rows
+        .into_iter()
+        .filter(|(name, seconds)| player_name(name) == *name && seconds.is_finite() && *seconds >= 0.0)
+        .collect())
 }
 
 /// The servers present: their last full messages (at most `max` of them, each checked by the caller).
@@ -379,10 +509,10 @@ pub async fn presences(
     max: usize,
 ) -> RedisResult<Vec<Vec<u8>>> {
     let pattern = format!("{}*", keys.servers); // braces are not special in a SCAN pattern
-    let mut names: Vec<String> = Vec::new();
+    let mut names: Vec<Vec<u8>> = Vec::new();
     let mut cursor: u64 = 0;
-    loop {
-        let (next, batch): (u64, Vec<String>) = redis::cmd("SCAN")
+    for _ in 0..MAX_SCANS {
+        let (next, batch): (u64, Vec<Vec<u8>>) = redis::cmd("SCAN")
             .arg(cursor)
             .arg("MATCH")
             .arg(&pattern)
@@ -400,9 +530,23 @@ pub async fn presences(
     if names.is_empty() {
         return Ok(Vec::new());
     }
-    let values: Vec<Option<Vec<u8>>> = redis::cmd("MGET").arg(&names).query_async(con).await?;
-    Ok(values.into_iter().flatten().collect())
+    let mut get = redis::cmd("EVAL");
+    get.arg(GET_PRESENCES).arg(names.len()).arg(&names).arg(MAX_MESSAGE_BYTES);
+    get.query_async(con).await
 }
+
+/// SCAN calls at most when reading the presence keys (100 keys each: a million keys).
+const MAX_SCANS: usize = 10_000;
+
+/// The values of `KEYS` that are strings of at most `ARGV[1]` bytes (presence keys a writer set to
+/// anything else are left out, and Redis never answers more than the keys × the limit).
+const GET_PRESENCES: &str = "local out = {} \
+    for _, k in ipairs(KEYS) do \
+        if redis.call('TYPE', k).ok == 'string' and redis.call('STRLEN', k) <= tonumber(ARGV[1]) then \
+            out[#out + 1] = redis.call('GET', k) \
+        end \
+    end \
+    return out";
 
 #[cfg(test)]
 mod tests {
@@ -426,6 +570,25 @@ mod tests {
         }
         assert_eq!(keys.channel, "mazewalk:{0123456789abcdef}:3:news");
         assert_eq!(keys.server(ServerId(255)), "mazewalk:{0123456789abcdef}:server:00000000000000ff");
+    }
+
+    // issue #40: a hostile Redis's texts reach the host's terminal escaped.
+    #[test]
+    fn redis_texts_in_errors_are_escaped() {
+        let source =
+            RedisError::from((redis::ErrorKind::Io, "refused", "\x1b]0;owned\x07\x1b[2J".to_string()));
+        let err = WorldError::Unreachable { url: "redis://h/".into(), source };
+        let text = err.to_string();
+        assert!(!text.contains('\x1b') && !text.contains('\x07'), "{text:?}");
+        assert!(text.contains("\\u{1b}]0;owned"), "{text}");
+        let err = WorldError::OtherMaze {
+            url: "redis://h/".into(),
+            url_db1: "redis://h/1".into(),
+            world: format!("\u{202e}{}", "x".repeat(10_000)),
+            ours: "abc".into(),
+        };
+        let text = err.to_string();
+        assert!(!text.contains('\u{202e}') && text.len() < 1000, "{} bytes", text.len());
     }
 
     #[test]

@@ -7,7 +7,9 @@
 //! every tick (1/30 s):  the host's players ─▶ Outbox ─▶ PUBLISH (a full one with its presence key)
 //!                       finishes ─▶ SET NX winner (the first) · ZADD best (each)
 //!                       silent servers expire · labels another server's earlier player shows ─▶ relabel
-//! each message heard:   Others ─▶ the host's view of the other servers, finishes, the winner
+//! each message heard:   Others ─▶ the host's view of the other servers (within its caps), finishes;
+//!                       a winner claimed that is not the one known ─▶ GET winner (once a second
+//!                       at most): the winner is only ever what Redis holds, never a message's word
 //! Redis lost:           the host hears "offline" (the others freeze); commands reconnect, the
 //!                       subscription resubscribes; once back: a full message, the winner
 //!                       re-asserted, the finishes and records kept meanwhile sent, the others'
@@ -26,7 +28,9 @@ use tracing::{info, warn};
 
 use super::codec::{self, Bounds, Finish, PlayerRecord, ServerId, WinnerRecord, maze_tag};
 use super::redis::{self as link, Heard, Link, WorldError};
-use super::view::{Counts, Others, Outbox, TICKS_PER_SECOND};
+use super::view::{Caps, Counts, Others, Outbox, TICKS_PER_SECOND};
+use crate::limits::RateLimit;
+use crate::logs::{ERROR_CHARS, GROUP_BURST, GROUP_INTERVAL, SUMMARY_SECONDS, clip};
 
 /// The server's own world, as the world task sees it (the in-process world implements it).
 /// Each call is quick and takes the world's lock for the data only.
@@ -39,8 +43,8 @@ pub trait Host: Send + Sync + 'static {
     fn others(&self, others: &Others, online: bool);
     /// The world's winner, first known or corrected.
     fn winner(&self, winner: &WinnerRecord);
-    /// A player on another server reached the exit.
-    fn finished(&self, server: ServerId, finish: &Finish);
+    /// Players on another server reached the exit (one call per message heard).
+    fn finished(&self, server: ServerId, finishes: &[Finish]);
     /// These players of this server show a label that an earlier player on another server shows:
     /// each should take another label if one is free.
     fn relabel(&self, ids: &[u32]);
@@ -69,6 +73,17 @@ pub struct WorldConfig {
     /// The certificate (PEM) of the CA that signed a `rediss://` Redis's certificate, when it is
     /// not one the system trusts.
     pub ca: Option<Vec<u8>>,
+    /// How much of the other servers this one keeps (`--max-remote-servers`, `--max-remote-players`).
+    pub caps: Caps,
+}
+
+impl WorldConfig {
+    /// The world at `url` for the maze hashed `maze_hash` within `bounds`, with no CA of its own and
+    /// the default caps.
+    #[must_use]
+    pub fn new(url: &str, maze_hash: &str, bounds: Bounds) -> WorldConfig {
+        WorldConfig { url: url.into(), maze_hash: maze_hash.into(), bounds, ca: None, caps: Caps::default() }
+    }
 }
 
 /// What the world task has done so far, for logs, tests and benchmarks.
@@ -86,6 +101,13 @@ pub struct Stats {
     pub heard_bytes: u64,
     /// Messages dropped unread for their size.
     pub too_long: u64,
+    /// Messages dropped unread because the world task had more than [`MAX_QUEUED_BYTES`] (or
+    /// 1,024 messages) still to read: the world task's queue stays bounded whatever arrives.
+    ///
+    /// [`MAX_QUEUED_BYTES`]: super::redis::MAX_QUEUED_BYTES
+    pub overflow: u64,
+    /// Times the winner was read from Redis because a message claimed another.
+    pub winner_reads: u64,
     /// Whether the world is online now.
     pub online: bool,
     /// Times the world went offline.
@@ -113,6 +135,8 @@ const BYE_TIMEOUT: Duration = Duration::from_millis(500);
 const DROP_LOG_EVERY: f64 = 10.0;
 /// Other servers read from their presence keys at most (a world of more is not expected).
 const MAX_SERVERS: usize = 1024;
+/// Seconds between two reads of the winner from Redis at least, however many messages claim one.
+const WINNER_READ_EVERY: f64 = 1.0;
 
 /// Milliseconds since the Unix epoch.
 #[must_use]
@@ -150,7 +174,8 @@ impl SharedWorld {
         let server = ServerId(getrandom::u64().unwrap_or_else(|_| unix_ms() ^ u64::from(std::process::id())));
         let tag = maze_tag(&config.maze_hash);
         let (heard_tx, heard) = mpsc::channel(1024);
-        let listener = tokio::spawn(link.clone().listen(heard_tx));
+        let inbox = link::Inbox::default();
+        let listener = tokio::spawn(link.clone().listen(heard_tx, inbox.clone()));
         let (done_tx, done) = mpsc::unbounded_channel();
         let (stop, stopping) = watch::channel(false);
         let stats = Arc::new(Mutex::new(Stats::default()));
@@ -164,7 +189,13 @@ impl SharedWorld {
             subscribed: false,
             online: false,
             outbox: Outbox::new(server, tag),
-            others: Others::new(server, tag, config.bounds),
+            others: Others::new(server, tag, config.bounds).with_caps(config.caps),
+            caps: config.caps,
+            inbox,
+            reading_winner: false,
+            winner_read_due: false,
+            winner_read_at: f64::NEG_INFINITY,
+            warnings: Warnings::new(0.0),
             winner,
             claiming: false,
             claims: VecDeque::new(),
@@ -239,6 +270,7 @@ enum Done {
     Claimed(Option<LocalFinish>, RedisResult<Option<Vec<u8>>>, WinnerRecord),
     Recorded((String, f64), RedisResult<()>),
     Presences(RedisResult<Vec<Vec<u8>>>),
+    Read(RedisResult<Option<Vec<u8>>>),
 }
 
 struct Task {
@@ -255,7 +287,20 @@ struct Task {
     online: bool,
     outbox: Outbox,
     others: Others,
+    caps: Caps,
+    /// What the subscribed connection holds for this task, and what it dropped.
+    inbox: link::Inbox,
+    /// The world's winner as Redis holds it (read, or this server's claim stored): never a
+    /// message's word.
     winner: Option<WinnerRecord>,
+    /// A read of the winner is in flight.
+    reading_winner: bool,
+    /// A message claimed a winner other than the known one: read it from Redis when allowed.
+    winner_read_due: bool,
+    /// When the winner was last read.
+    winner_read_at: f64,
+    /// The budget of warnings.
+    warnings: Warnings,
     /// A claim on the winner is in flight.
     claiming: bool,
     /// Finishes waiting to claim the win (while no winner is known).
@@ -351,6 +396,7 @@ impl Task {
                 }
             }
         }
+        self.read_winner(now);
         self.log_drops(now);
         self.share_stats();
     }
@@ -375,6 +421,7 @@ impl Task {
             }
             Heard::TooLong(_) => self.counted.too_long += 1,
             Heard::Message(bytes) => {
+                self.inbox.taken(bytes.len());
                 self.counted.heard_bytes += bytes.len() as u64;
                 self.hear(&bytes, now);
             }
@@ -390,15 +437,13 @@ impl Task {
             self.others_changed(now);
         }
         let Some(server) = heard.server else { return };
-        for finish in &heard.finished {
-            self.host.finished(server, finish);
-            if finish.won {
-                let name = finish.name.clone();
-                self.adopt(WinnerRecord { server, id: finish.id, seconds: finish.seconds, name });
-            }
+        if !heard.finished.is_empty() {
+            self.host.finished(server, &heard.finished);
         }
-        if let Some(winner) = heard.winner {
-            self.adopt(winner);
+        // A claim is only a hint (issue #40: anyone who may publish can claim): Redis is asked.
+        if heard.winner.is_some() && heard.winner != self.winner {
+            self.winner_read_due = true;
+            self.read_winner(now);
         }
     }
 
@@ -418,19 +463,29 @@ impl Task {
         self.host.others(&self.others, self.online);
     }
 
-    /// Someone else's claim on the win, as heard.
+    /// The winner's record as Redis holds it (read, or answered to a claim): the world's winner.
+    fn stored_winner(&mut self, bytes: &[u8]) {
+        match codec::decode_winner(bytes) {
+            Ok(stored) => self.adopt(stored),
+            Err(err) => {
+                if self.warnings.allow(self.now()) {
+                    warn!(world = %self.link.url, "the world's winner key holds no winner ({err}); ignored");
+                }
+            }
+        }
+    }
+
+    /// The world's winner, as Redis holds it.
     fn adopt(&mut self, winner: WinnerRecord) {
         if self.winner.as_ref() == Some(&winner) {
             return;
         }
-        if let Some(known) = &self.winner {
-            // Two winners: only after Redis lost a claim (restarted empty) and a server that never
-            // knew of it claimed again. Redis decides: the claim re-asserted (SET NX GET) stores
-            // the known one if Redis has none, else answers the stored one, which then every server
-            // adopts.
-            warn!(known = %known.name, heard = %winner.name, "two winners heard; asking the world");
-            self.spawn_claim(None, known.clone());
-            return;
+        if let Some(known) = &self.winner
+            && self.warnings.allow(self.now())
+        {
+            // Only after Redis lost the key and another claim was stored meanwhile, or a writer
+            // set it: Redis decides.
+            warn!(world = %self.link.url, known = %known.name, stored = %winner.name, "the world's winner changed in Redis");
         }
         self.winner = Some(winner.clone());
         self.host.winner(&winner);
@@ -438,6 +493,22 @@ impl Task {
         for f in self.claims.drain(..) {
             self.ready.push(Finish { id: f.id, name: f.name, seconds: f.seconds, won: false });
         }
+    }
+
+    /// Reads the winner from Redis if a message asked for it and the last read was
+    /// [`WINNER_READ_EVERY`] ago (one in flight at most).
+    fn read_winner(&mut self, now: f64) {
+        if !self.winner_read_due || self.reading_winner || now - self.winner_read_at < WINNER_READ_EVERY {
+            return;
+        }
+        let Some(mut con) = self.con.clone() else { return }; // when Redis is back
+        (self.winner_read_due, self.reading_winner, self.winner_read_at) = (false, true, now);
+        self.counted.commands += 1;
+        self.counted.winner_reads += 1;
+        let (keys, done) = (self.link.keys.clone(), self.done_tx.clone());
+        tokio::spawn(async move {
+            let _ = done.send(Done::Read(link::winner(&mut con, &keys).await));
+        });
     }
 
     fn done(&mut self, done: Done) {
@@ -455,7 +526,10 @@ impl Task {
                 self.publishing -= 1;
                 match result {
                     Ok(Some(world)) if world != self.maze_hash => {
-                        warn!(world = %world, ours = %self.maze_hash, "the world's maze changed while Redis was away");
+                        if self.warnings.allow(self.now()) {
+                            let world = clip(&world, ERROR_CHARS);
+                            warn!(world = %world, ours = %self.maze_hash, "the world's maze changed while Redis was away");
+                        }
                     }
                     Ok(_) => {}
                     Err(err) => self.lost(&err),
@@ -490,12 +564,7 @@ impl Task {
                                 won: false,
                             });
                         }
-                        if let Ok(stored) = codec::decode_winner(&stored)
-                            && self.winner.as_ref() != Some(&stored)
-                        {
-                            self.winner = None; // the stored one is the world's
-                            self.adopt(stored);
-                        }
+                        self.stored_winner(&stored); // the stored one is the world's
                     }
                     Err(err) => {
                         if let Some(f) = finish {
@@ -509,6 +578,23 @@ impl Task {
                 if let Err(err) = result {
                     push_bounded(&mut self.records, record);
                     self.lost(&err);
+                }
+            }
+            Done::Read(result) => {
+                self.reading_winner = false;
+                match result {
+                    Ok(Some(stored)) => self.stored_winner(&stored),
+                    // Redis lost the key (restarted empty): the known winner, which came from it,
+                    // is stored again; a claim heard meanwhile is not.
+                    Ok(None) => {
+                        if let Some(known) = self.winner.clone() {
+                            self.spawn_claim(None, known);
+                        }
+                    }
+                    Err(err) => {
+                        self.winner_read_due = true;
+                        self.lost(&err);
+                    }
                 }
             }
             Done::Presences(result) => match result {
@@ -526,8 +612,8 @@ impl Task {
 
     /// A command failed: the connection is dropped and made again in the background.
     fn lost(&mut self, err: &RedisError) {
-        if self.con.take().is_some() {
-            warn!(world = %self.link.url, "the world is offline: {err}");
+        if self.con.take().is_some() && self.warnings.allow(self.now()) {
+            warn!(world = %self.link.url, "the world is offline: {}", clip(&err.to_string(), ERROR_CHARS));
         }
         if !self.reconnecting {
             self.reconnecting = true;
@@ -546,7 +632,9 @@ impl Task {
             self.online = online;
             self.labels_dirty = true;
             if online {
-                info!(world = %self.link.url, "the world is online");
+                if self.warnings.allow(self.now()) {
+                    info!(world = %self.link.url, "the world is online");
+                }
             } else {
                 self.counted.outages += 1;
             }
@@ -614,19 +702,37 @@ impl Task {
 
     fn spawn_presences(&mut self) {
         let Some(mut con) = self.con.clone() else { return };
+        // No more than the view keeps (each up to a message's size: bounded memory).
+        let max = self.caps.servers.min(MAX_SERVERS);
         self.counted.commands += 2;
         let (keys, done) = (self.link.keys.clone(), self.done_tx.clone());
         tokio::spawn(async move {
-            let _ = done.send(Done::Presences(link::presences(&mut con, &keys, MAX_SERVERS).await));
+            let _ = done.send(Done::Presences(link::presences(&mut con, &keys, max).await));
         });
     }
 
-    /// Dropped messages, in one line per [`DROP_LOG_EVERY`] seconds at most.
+    /// Dropped messages, in one line per [`DROP_LOG_EVERY`] seconds at most, and the warnings the
+    /// budget left out, summed up every [`SUMMARY_SECONDS`].
     fn log_drops(&mut self, now: f64) {
-        let dropped = self.counted.heard.dropped + self.counted.too_long;
+        self.counted.overflow = self.inbox.dropped();
+        let heard = self.counted.heard;
+        let dropped = heard.dropped + self.counted.too_long + self.counted.overflow + heard.over_servers;
         if dropped > self.dropped_logged && now - self.last_drop_log >= DROP_LOG_EVERY {
-            warn!(world = %self.link.url, "dropped {} malformed messages from the world", dropped - self.dropped_logged);
+            warn!(
+                world = %self.link.url,
+                "dropped {} messages from the world (malformed: {}, too long: {}, over the queue: {}, \
+                 from servers over --max-remote-servers: {}); players left out over --max-remote-players: {}",
+                dropped - self.dropped_logged,
+                heard.dropped,
+                self.counted.too_long,
+                self.counted.overflow,
+                heard.over_servers,
+                heard.over_players,
+            );
             (self.dropped_logged, self.last_drop_log) = (dropped, now);
+        }
+        if let Some(suppressed) = self.warnings.summary(now) {
+            warn!(world = %self.link.url, "{suppressed} more warnings about the world suppressed");
         }
     }
 
@@ -644,6 +750,42 @@ impl Task {
     }
 }
 
+/// The world task's warnings, rate-limited as the connection log is ([`crate::logs`]): a burst of
+/// [`GROUP_BURST`], then one every [`GROUP_INTERVAL`] seconds; what is left out is counted and summed
+/// up in one line every [`SUMMARY_SECONDS`] (issue #40: a writer made every message log a line).
+#[derive(Debug)]
+struct Warnings {
+    bucket: RateLimit,
+    suppressed: u64,
+    summed_at: f64,
+}
+
+impl Warnings {
+    fn new(now: f64) -> Warnings {
+        Warnings {
+            bucket: RateLimit::new_per_interval(GROUP_INTERVAL, GROUP_BURST, now),
+            suppressed: 0,
+            summed_at: now,
+        }
+    }
+
+    /// Whether a warning may be logged at `now`; if not, it is counted.
+    fn allow(&mut self, now: f64) -> bool {
+        let allowed = self.bucket.take(1, now) == 1;
+        self.suppressed += u64::from(!allowed);
+        allowed
+    }
+
+    /// The warnings left out since the last summary, when one is due at `now`.
+    fn summary(&mut self, now: f64) -> Option<u64> {
+        if self.suppressed == 0 || now - self.summed_at < SUMMARY_SECONDS as f64 {
+            return None;
+        }
+        self.summed_at = now;
+        Some(std::mem::take(&mut self.suppressed))
+    }
+}
+
 /// Appends `item`, dropping the oldest beyond [`MAX_PENDING`].
 fn push_bounded<T>(queue: &mut VecDeque<T>, item: T) {
     if queue.len() >= MAX_PENDING {
@@ -655,6 +797,18 @@ fn push_bounded<T>(queue: &mut VecDeque<T>, item: T) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn warnings_come_in_a_burst_then_a_trickle_and_the_rest_are_summed_up() {
+        let mut warnings = Warnings::new(0.0);
+        let allowed = (0..10_000).filter(|i| warnings.allow(f64::from(*i) * 1e-4)).count();
+        assert_eq!(allowed, GROUP_BURST as usize, "the burst, in one second");
+        assert_eq!(warnings.summary(5.0), None, "not yet due");
+        assert!(warnings.allow(1.0 + GROUP_INTERVAL), "one more after the interval");
+        let due = SUMMARY_SECONDS as f64;
+        assert_eq!(warnings.summary(due), Some(10_000 - GROUP_BURST as u64), "every one left out, counted");
+        assert_eq!(warnings.summary(2.0 * due), None, "counts start again");
+    }
 
     #[test]
     fn the_suggested_url_names_database_1() {

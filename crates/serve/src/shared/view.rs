@@ -123,6 +123,22 @@ impl Outbox {
     }
 }
 
+/// How much of the other servers one server keeps, whatever Redis carries (`--max-remote-servers`,
+/// `--max-remote-players`): the work per message and the memory of the view are bounded by them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Caps {
+    /// Other servers at once; messages from more are dropped (and counted) until one leaves.
+    pub servers: usize,
+    /// Other servers' players at once, in all; players beyond are left out (and counted).
+    pub players: usize,
+}
+
+impl Default for Caps {
+    fn default() -> Self {
+        Caps { servers: 16, players: 1024 }
+    }
+}
+
 /// Messages heard and what became of them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counts {
@@ -137,6 +153,10 @@ pub struct Counts {
     /// Moves of players the view did not know of (their join was missed: the next full message
     /// brings them).
     pub unknown: u64,
+    /// Messages from a server beyond [`Caps::servers`], dropped.
+    pub over_servers: u64,
+    /// Players left out of messages for [`Caps::players`].
+    pub over_players: u64,
 }
 
 /// One other server as this one knows it.
@@ -154,9 +174,9 @@ pub struct Heard {
     pub server: Option<ServerId>,
     /// The view changed (someone joined, moved, left or was relabelled).
     pub changed: bool,
-    /// Players of that server who reached the exit.
+    /// Players of that server who reached the exit (those in the view only).
     pub finished: Vec<Finish>,
-    /// The winner as that server knows it.
+    /// The winner as that server claims it (a claim only: the winner is read from Redis).
     pub winner: Option<WinnerRecord>,
     /// Milliseconds since the Unix epoch at which it was sent (by the sender's clock).
     pub sent_ms: u64,
@@ -168,7 +188,10 @@ pub struct Others {
     me: ServerId,
     maze: u64,
     bounds: Bounds,
+    caps: Caps,
     servers: BTreeMap<ServerId, Known>,
+    /// Players of all servers in `servers`, kept as they change (never summed per message).
+    players: usize,
     counts: Counts,
 }
 
@@ -177,7 +200,21 @@ impl Others {
     /// must be within `bounds`.
     #[must_use]
     pub fn new(me: ServerId, maze: u64, bounds: Bounds) -> Others {
-        Others { me, maze, bounds, servers: BTreeMap::new(), counts: Counts::default() }
+        Others {
+            me,
+            maze,
+            bounds,
+            caps: Caps::default(),
+            servers: BTreeMap::new(),
+            players: 0,
+            counts: Counts::default(),
+        }
+    }
+
+    /// The same view, keeping at most `caps` of the other servers.
+    #[must_use]
+    pub fn with_caps(self, caps: Caps) -> Others {
+        Others { caps, ..self }
     }
 
     /// A message heard at `now` (seconds): decoded, checked, and applied.
@@ -189,13 +226,25 @@ impl Others {
         Ok(self.apply(message, now))
     }
 
-    /// A decoded message, applied.
+    /// A decoded message, applied. O(its length) whatever the view holds: beyond [`Caps`], a new
+    /// server's messages are dropped and players are left out (both counted).
     pub fn apply(&mut self, message: Message, now: f64) -> Heard {
         let mut heard = Heard { server: Some(message.server), sent_ms: message.sent_ms, ..Heard::default() };
         if message.server == self.me {
             self.counts.own += 1;
             return heard;
         }
+        if !self.servers.contains_key(&message.server) {
+            if matches!(message.body, Body::Bye) {
+                return heard; // nothing to forget
+            }
+            if self.servers.len() >= self.caps.servers {
+                self.counts.over_servers += 1;
+                return Heard { server: None, ..heard };
+            }
+        }
+        let cap = self.caps.players;
+        let total = &mut self.players;
         let known = self.servers.entry(message.server).or_insert(Known {
             seq: 0,
             heard: now,
@@ -209,16 +258,28 @@ impl Others {
         self.counts.applied += 1;
         match message.body {
             Body::Full { players, finished, winner } => {
-                let players: BTreeMap<u32, PlayerRecord> = players.into_iter().map(|p| (p.id, p)).collect();
+                // Room for this server's players: the cap less everyone else's.
+                let room = cap.saturating_sub(*total - known.players.len());
+                let offered = players.len();
+                let players: BTreeMap<u32, PlayerRecord> =
+                    players.into_iter().take(room).map(|p| (p.id, p)).collect();
+                self.counts.over_players += offered.saturating_sub(room) as u64;
                 heard.changed = players != known.players;
+                *total = *total - known.players.len() + players.len();
                 known.players = players;
                 heard.finished = finished;
                 heard.winner = winner;
             }
             Body::Delta { joined, moved, left, finished } => {
                 for p in joined {
+                    if !known.players.contains_key(&p.id) && *total >= cap {
+                        self.counts.over_players += 1;
+                        continue;
+                    }
                     heard.changed |= known.players.get(&p.id) != Some(&p);
-                    known.players.insert(p.id, p);
+                    if known.players.insert(p.id, p).is_none() {
+                        *total += 1;
+                    }
                 }
                 for m in moved {
                     match known.players.get_mut(&m.id) {
@@ -230,14 +291,30 @@ impl Others {
                     }
                 }
                 for id in left {
-                    heard.changed |= known.players.remove(&id).is_some();
+                    if known.players.remove(&id).is_some() {
+                        heard.changed = true;
+                        *total -= 1;
+                    }
                 }
                 heard.finished = finished;
             }
             Body::Bye => {
                 heard.changed = !known.players.is_empty();
+                *total -= known.players.len();
                 self.servers.remove(&message.server);
             }
+        }
+        // A finish that won is a claim on the win, like a full message's winner (the world task
+        // reads the winner from Redis when it hears one).
+        if heard.winner.is_none()
+            && let Some(f) = heard.finished.iter().find(|f| f.won)
+        {
+            let (server, id, seconds, name) = (message.server, f.id, f.seconds, f.name.clone());
+            heard.winner = Some(WinnerRecord { server, id, seconds, name });
+        }
+        // Finishes of players not in the view (left out, or never there) say nothing to anyone.
+        if let Some(known) = self.servers.get(&message.server) {
+            heard.finished.retain(|f| known.players.contains_key(&f.id));
         }
         heard
     }
@@ -245,9 +322,16 @@ impl Others {
     /// Forgets the servers not heard from for [`SILENCE`] seconds at `now`. Returns whether anyone
     /// left the view. Call it only while this server hears Redis (else everyone would go).
     pub fn expire(&mut self, now: f64) -> bool {
-        let before = self.servers.values().map(|k| k.players.len()).sum::<usize>();
-        self.servers.retain(|_, known| now - known.heard < SILENCE);
-        before != self.servers.values().map(|k| k.players.len()).sum::<usize>()
+        let before = self.players;
+        let total = &mut self.players;
+        self.servers.retain(|_, known| {
+            let keep = now - known.heard < SILENCE;
+            if !keep {
+                *total -= known.players.len();
+            }
+            keep
+        });
+        before != self.players
     }
 
     /// This server hears Redis again at `now` after an outage: everyone's silence counts from now
@@ -266,7 +350,7 @@ impl Others {
     /// How many players the other servers have.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.servers.values().map(|k| k.players.len()).sum()
+        self.players
     }
 
     /// Whether no other server has a player.
@@ -421,7 +505,7 @@ mod tests {
         assert!(!view.hear(&wire(&own), 0.2).unwrap().changed);
         assert!(view.hear(&wire(&two.bye(0)), 0.3).unwrap().changed);
         assert_eq!(names(&view), ["1:alice@1"]);
-        assert_eq!(view.counts(), Counts { applied: 4, own: 1, stale: 1, dropped: 0, unknown: 0 });
+        assert_eq!(view.counts(), Counts { applied: 4, own: 1, stale: 1, ..Counts::default() });
         assert!(view.hear(b"\x00garbage", 0.4).is_err());
         assert_eq!(view.counts().dropped, 1);
     }
@@ -468,6 +552,102 @@ mod tests {
         let full = one.tick(1.0, &[p(1, "alice", 3.0)], vec![], None, 0).unwrap();
         assert!(view.hear(&wire(&full), 1.0).unwrap().changed);
         assert_eq!(names(&view), ["1:alice@3"]);
+    }
+
+    // issue #40: one writer invented 10 servers of 4,096 players each. The view keeps at most
+    // `Caps::servers` servers and `Caps::players` players, counts what it left out, and frees the
+    // room when a server leaves.
+    #[test]
+    fn the_view_keeps_within_its_caps_and_counts_the_rest() {
+        let caps = Caps { servers: 3, players: 50 };
+        let mut view = Others::new(ServerId(99), MAZE, bounds()).with_caps(caps);
+        let mut outs: Vec<Outbox> = (1..=10).map(|k| Outbox::new(ServerId(k), MAZE)).collect();
+        let crowd = |k: u32| (0..40).map(|i| p(i, &format!("s{k}p{i}"), 1.0)).collect::<Vec<_>>();
+        for (k, out) in outs.iter_mut().enumerate() {
+            let m = out.tick(0.0, &crowd(k as u32), vec![], None, 0).unwrap();
+            view.hear(&wire(&m), 0.0).unwrap();
+        }
+        assert_eq!((view.servers().count(), view.len(), view.players().count()), (3, 50, 50));
+        let counts = view.counts();
+        assert_eq!((counts.applied, counts.over_servers, counts.over_players), (3, 7, 30 + 40));
+        // A delta joining more to a full view is left out too; a move of a kept player is not.
+        let mut more = crowd(0);
+        more.push(p(100, "late", 2.0));
+        more[0].at = at(3.0);
+        let m = outs[0].tick(0.1, &more, vec![], None, 0).unwrap();
+        assert!(view.hear(&wire(&m), 0.1).unwrap().changed);
+        assert_eq!((view.len(), view.counts().over_players), (50, 71));
+        // Finishes of players left out are not passed on.
+        let finish = |id| Finish { id, name: "x".into(), seconds: 1.0, won: false };
+        let m = outs[1].tick(0.2, &crowd(1), vec![finish(0), finish(39)], None, 0).unwrap();
+        let heard = view.hear(&wire(&m), 0.2).unwrap();
+        assert_eq!(
+            heard.finished.iter().map(|f| f.id).collect::<Vec<_>>(),
+            [0],
+            "player 39 of server 2 is not in view"
+        );
+        // The first server says goodbye: room for another.
+        view.hear(&wire(&outs[0].bye(0)), 0.3).unwrap();
+        assert_eq!(view.len(), 10);
+        let m = outs[5].tick(1.0, &crowd(5), vec![], None, 0).unwrap();
+        view.hear(&wire(&m), 1.0).unwrap();
+        assert_eq!((view.servers().count(), view.len()), (3, 50));
+        assert!(view.expire(0.9 + SILENCE), "all but server 6 fell silent");
+        assert_eq!((view.servers().count(), view.len()), (1, 40));
+    }
+
+    /// The view's count of players (kept as messages come, never summed per message) is the number
+    /// it holds, and within the cap, through any sequence of full messages, deltas, goodbyes and
+    /// silences from servers over the cap too.
+    #[test]
+    fn the_players_count_follows_any_sequence_of_messages() {
+        let caps = Caps { servers: 4, players: 30 };
+        let mut view = Others::new(ServerId(99), MAZE, bounds()).with_caps(caps);
+        let mut outs: Vec<Outbox> = (1..=6).map(|k| Outbox::new(ServerId(k), MAZE)).collect();
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        for step in 0..3000 {
+            let now = f64::from(step) * 0.05;
+            let k = next(6) as usize;
+            let players: Vec<PlayerRecord> =
+                (0..next(16) as u32).map(|i| p(i * 2 + next(2) as u32, "x", 1.0 + next(5) as f32)).collect();
+            let mut players = players;
+            players.sort_by_key(|p| p.id);
+            players.dedup_by_key(|p| p.id);
+            let message = match next(10) {
+                0 => outs[k].bye(0),
+                1 => {
+                    view.expire(now);
+                    continue;
+                }
+                _ => match outs[k].tick(now, &players, vec![], None, 0) {
+                    Some(m) => m,
+                    None => continue,
+                },
+            };
+            view.hear(&wire(&message), now).unwrap();
+            assert_eq!(view.len(), view.players().count(), "at step {step}");
+            assert!(view.len() <= caps.players && view.servers().count() <= caps.servers, "at step {step}");
+        }
+        let counts = view.counts();
+        assert!(counts.over_players > 0 && counts.over_servers > 0, "the caps were reached: {counts:?}");
+    }
+
+    /// A finish that won is a claim, passed on as one (the world task asks Redis).
+    #[test]
+    fn a_winning_finish_is_a_claim() {
+        let mut view = Others::new(ServerId(3), MAZE, bounds());
+        let mut one = Outbox::new(ServerId(1), MAZE);
+        let won = Finish { id: 1, name: "alice".into(), seconds: 9.0, won: true };
+        let m = one.tick(0.0, &[p(1, "alice", 1.0)], vec![won], None, 0).unwrap();
+        let heard = view.hear(&wire(&m), 0.0).unwrap();
+        let claim = WinnerRecord { server: ServerId(1), id: 1, seconds: 9.0, name: "alice".into() };
+        assert_eq!(heard.winner, Some(claim));
     }
 
     /// Of two players showing one label, whoever joined later yields, and only one of the two.
