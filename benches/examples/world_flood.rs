@@ -26,10 +26,8 @@
 //!
 //! Only flags both binaries know are passed: each server's caps are its defaults.
 
-#[path = "../../crates/serve/tests/serve_common/load.rs"]
-mod load;
-#[path = "../../crates/serve/tests/redis_common/redis_server.rs"]
-mod redis_server;
+use mazewalk_testkit::load;
+use mazewalk_testkit::redis_async as redis_server;
 
 use std::io::{BufRead as _, BufReader};
 use std::net::SocketAddr;

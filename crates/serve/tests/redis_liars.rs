@@ -6,10 +6,8 @@
 //! from Redis that are not player names never reach a host.
 #![cfg(target_os = "linux")]
 
-#[path = "redis_common/host.rs"]
-mod host;
-#[path = "redis_common/redis_server.rs"]
-mod redis_server;
+use mazewalk_testkit::redis_async as redis_server;
+use mazewalk_testkit::world_host as host;
 
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::{Duration, Instant};
