@@ -237,9 +237,14 @@ impl Player {
     }
 
     /// The player starts at `position` (where a viewer stands there) instead of the maze's start,
-    /// and `r` brings it back there: its own spot in a shared maze ([`crate::spawn`]).
-    pub fn place(&mut self, position: Vec2) {
-        self.session.app_mut().set_start(position);
+    /// facing `heading_deg` (the maze's heading when `None`), and `r` brings it back there: its own
+    /// spot in a shared maze ([`crate::spawn`]).
+    pub fn place(&mut self, position: Vec2, heading_deg: Option<f32>) {
+        let app = self.session.app_mut();
+        app.set_start(position);
+        if let Some(heading) = heading_deg {
+            app.set_start_heading(heading);
+        }
     }
 
     /// The player joined the world as `id`.

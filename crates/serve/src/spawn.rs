@@ -5,10 +5,13 @@
 //! The spots tried are a lattice [`LATTICE`] apart, anchored at the start (so the start itself is the
 //! first), in the start's cell, then in the cells next to it across an opening, then further out, up to
 //! [`MAX_CELLS`] cells. A spot is free when a viewer can stand there (at least the walk's wall margin
-//! from every wall) and every other player is at least [`SPACING`] away. The first free spot of the
-//! nearest ring of cells is taken, the one nearest the start (of equally near ones, the one most
-//! behind the start's heading: newcomers see those before them, not the other way); with none free anywhere (a crowd of
-//! hundreds in a small maze), the spot farthest from everyone.
+//! from every wall) and every other player is at least a cell away (the spot's cell's narrower side;
+//! issue #39: three players spawned a metre apart in one cell, the second seeing only the first's
+//! back). The first free spot of the nearest ring of cells is taken, the one nearest the start (of
+//! equally near ones, the one most behind the start's heading); with none a cell apart, the first at
+//! least [`SPACING`] from everyone; with none of those (a crowd of hundreds in a small maze), the spot
+//! farthest from everyone. A newcomer away from the start faces its cell's longest straight way on
+//! (the opening through which the most cells follow in a line), not a wall or another's back.
 
 use std::collections::{HashSet, VecDeque};
 
@@ -39,7 +42,18 @@ pub(crate) struct Spawns {
     /// The maze's start, where a viewer stands.
     start: Position,
     /// The spots of each ring of cells, nearest the start first.
-    rings: Vec<Vec<Position>>,
+    rings: Vec<Vec<Spot>>,
+}
+
+/// Where a newcomer may stand.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Spot {
+    /// The place.
+    pub at: Position,
+    /// How far from everyone it is a cell apart: its cell's narrower side.
+    apart: f32,
+    /// The heading to face there, degrees: `None` in the start's cell (the maze's own heading).
+    pub heading: Option<f32>,
 }
 
 impl Spawns {
@@ -50,13 +64,20 @@ impl Spawns {
         let rings = rings(maze, start.cell)
             .into_iter()
             .map(|ring| {
-                let mut spots: Vec<Position> =
-                    ring.iter().flat_map(|&cell| spots_in(maze, cell, start.pos)).collect();
+                let mut spots: Vec<Spot> = ring
+                    .iter()
+                    .flat_map(|&cell| {
+                        let size = maze.cell_aabb(cell).max - maze.cell_aabb(cell).min;
+                        let heading = (cell != start.cell).then(|| longest_way(maze, cell));
+                        let apart = size.x.min(size.y).max(SPACING);
+                        spots_in(maze, cell, start.pos).into_iter().map(move |at| Spot { at, apart, heading })
+                    })
+                    .collect();
                 // nearest the start first; of equally near, the one most behind it (out of the view
                 // of whoever stands on the start, with them in view)
                 let ahead = heading_dir(maze.viewer().dir_deg);
-                let key = |p: &Position| {
-                    let d = p.pos - start.pos;
+                let key = |p: &Spot| {
+                    let d = p.at.pos - start.pos;
                     ((d.length() / LATTICE * 4.0).round() as i64, d.dot(ahead))
                 };
                 spots.sort_by(|a, b| {
@@ -71,11 +92,15 @@ impl Spawns {
 
     /// A free spot for a newcomer whose other players stand at `others` (see the module's doc).
     #[must_use]
-    pub fn pick(&self, others: &[Vec2]) -> Position {
+    pub fn pick(&self, others: &[Vec2]) -> Spot {
         let clearance = |p: Vec2| others.iter().map(|o| o.distance(p)).fold(f32::INFINITY, f32::min);
-        let mut best_crowded: Option<(f32, Position)> = None;
-        for spot in self.rings.iter().flatten() {
-            let room = clearance(spot.pos);
+        let spots = || self.rings.iter().flatten();
+        if let Some(spot) = spots().find(|spot| clearance(spot.at.pos) >= spot.apart) {
+            return *spot; // a cell apart
+        }
+        let mut best_crowded: Option<(f32, Spot)> = None;
+        for spot in spots() {
+            let room = clearance(spot.at.pos);
             if room >= SPACING {
                 return *spot;
             }
@@ -83,7 +108,8 @@ impl Spawns {
                 best_crowded = Some((room, *spot));
             }
         }
-        best_crowded.map_or(self.start, |(_, spot)| spot)
+        let start = Spot { at: self.start, apart: SPACING, heading: None };
+        best_crowded.map_or(start, |(_, spot)| spot)
     }
 }
 
@@ -92,7 +118,37 @@ impl Spawns {
 #[must_use]
 #[cfg(test)]
 pub(crate) fn free_spot(maze: &Maze, others: &[Vec2]) -> Option<Position> {
-    Some(Spawns::new(maze)?.pick(others))
+    Some(Spawns::new(maze)?.pick(others).at)
+}
+
+/// The heading (degrees) from `cell` through its opening with the most cells in a straight line
+/// beyond it (up to 16; ties: the first opening), or the maze's heading in a cell with no opening.
+fn longest_way(maze: &Maze, cell: u32) -> f32 {
+    let centre = maze.cell_centroid(cell);
+    let mut best: Option<(usize, Vec2)> = None;
+    for &e in maze.cell_edges(cell) {
+        let edge = maze.edge(e);
+        let Some(mut next) = edge.other_side(cell).filter(|_| !edge.opaque) else { continue };
+        let (a, b) = maze.edge_points(e);
+        let way = ((a + b) * 0.5 - centre).normalize_or_zero();
+        let mut run = 1;
+        // On through the opening of each next cell that keeps the line (within about 25°).
+        while run < 16 {
+            let from = maze.cell_centroid(next);
+            let ahead = maze.cell_edges(next).iter().find_map(|&f| {
+                let other = maze.edge(f);
+                let (p, q) = maze.edge_points(f);
+                let towards = ((p + q) * 0.5 - from).normalize_or_zero();
+                (!other.opaque && towards.dot(way) > 0.9).then(|| other.other_side(next)).flatten()
+            });
+            let Some(beyond) = ahead else { break };
+            (next, run) = (beyond, run + 1);
+        }
+        if best.is_none_or(|(longest, _)| run > longest) {
+            best = Some((run, way));
+        }
+    }
+    best.map_or(maze.viewer().dir_deg, |(_, way)| way.y.atan2(way.x).to_degrees().rem_euclid(360.0))
 }
 
 /// The cells around `start` in rings: the start's cell, then the cells across its openings, then
@@ -163,10 +219,11 @@ mod tests {
         mazewalk_maze::parse("test.grid", text.as_bytes()).unwrap()
     }
 
-    /// Issue #34: every player spawned on the same point. Now the first gets the start, each next a
-    /// spot at least SPACING from everyone, in the start's cell while it has room.
+    /// Issue #34: every player spawned on the same point. Issue #39: three spawned a metre apart in
+    /// one cell, the second seeing the first's back. Now the first gets the start, each next a cell
+    /// apart from everyone while the maze has room (here, one a cell), then at least SPACING.
     #[test]
-    fn newcomers_spread_out_from_the_start() {
+    fn newcomers_spread_out_from_the_start_a_cell_apart() {
         let maze = maze(CORRIDOR);
         let start = stand(&maze, maze.viewer().pos).unwrap();
         let mut here: Vec<Vec2> = Vec::new();
@@ -175,16 +232,35 @@ mod tests {
             if n == 0 {
                 assert_eq!(spot.pos, start.pos, "the first stands on the start");
             }
-            for other in &here {
-                assert!(other.distance(spot.pos) >= SPACING, "{n}: {:?} too near {other:?}", spot.pos);
-            }
+            let nearest = here.iter().map(|o| o.distance(spot.pos)).fold(f32::INFINITY, f32::min);
+            let wanted = if n < 3 { 4.0 } else { SPACING };
+            assert!(nearest >= wanted, "{n}: {:?} only {nearest} from another", spot.pos);
             assert_eq!(maze.cell_at(spot.pos), Some(spot.cell));
             assert_eq!(stand(&maze, spot.pos).unwrap().pos, spot.pos, "clear of the walls");
             here.push(spot.pos);
         }
-        let in_start_cell = here.iter().filter(|p| maze.cell_at(**p) == Some(start.cell)).count();
-        assert!(in_start_cell >= 4, "the start's cell first: {in_start_cell}");
-        assert!(here[1].x < start.pos.x, "the second behind the first (facing east): {:?}", here[1]);
+        let cells: HashSet<Option<u32>> = here[..3].iter().map(|p| maze.cell_at(*p)).collect();
+        assert_eq!(cells.len(), 3, "the first three, one a cell: {:?}", &here[..3]);
+    }
+
+    /// A newcomer away from the start faces the longest straight way out of its cell.
+    #[test]
+    fn a_newcomer_faces_the_longest_way_on() {
+        // An L: the start's cell at the corner; east three cells, north one.
+        let maze = maze("mazewalk-grid 1\ntile 4\nfacing north\n\n######\n#.####\n#@...#\n######\n");
+        let spawns = Spawns::new(&maze).unwrap();
+        let first = spawns.pick(&[]);
+        assert_eq!(first.heading, None, "the first faces as the maze says");
+        let second = spawns.pick(&[first.at.pos]);
+        let heading = second.heading.expect("away from the start: a heading");
+        let way = Vec2::from_angle(heading.to_radians());
+        // Whichever cell it got, it looks down the corridor's length, not into the wall it stands by.
+        let cell = second.at.cell;
+        let straight_on = |d: Vec2| {
+            (1..=3).filter(|k| maze.cell_at(maze.cell_centroid(cell) + d * 4.0 * *k as f32).is_some()).count()
+        };
+        let best = [Vec2::X, Vec2::Y, -Vec2::X, -Vec2::Y].into_iter().map(straight_on).max().unwrap();
+        assert_eq!(straight_on(way.round()), best, "heading {heading}° from {:?}", second.at.pos);
     }
 
     #[test]

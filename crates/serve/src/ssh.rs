@@ -1060,7 +1060,8 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
     let id = {
         // A spot of its own, chosen and taken under one lock (two newcomers never get the same).
         let mut world = shared.world();
-        player.place(shared.spawns.pick(&world.positions()).pos);
+        let spot = shared.spawns.pick(&world.positions());
+        player.place(spot.at.pos, spot.heading);
         let (position, heading, cell) = player.whereabouts();
         let id = world.join(&user, position, heading, cell, now);
         shared.world_changed(&world);

@@ -262,6 +262,16 @@ impl App {
         true
     }
 
+    /// Where this walk starts faces `yaw_deg` (degrees counter-clockwise from +x; a served newcomer
+    /// looks down its cell's longest way, not at a wall or another player's back); the viewer is put
+    /// back on the start.
+    pub fn set_start_heading(&mut self, yaw_deg: f32) {
+        if yaw_deg.is_finite() {
+            self.start.0.yaw_deg = yaw_deg.rem_euclid(360.0);
+            (self.camera, self.cell) = self.start;
+        }
+    }
+
     /// Whether cell `c` shows on the map: seen at some time in the walk, or every cell with
     /// [`reveal_map`](Self::reveal_map).
     #[must_use]
