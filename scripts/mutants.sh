@@ -3,7 +3,8 @@
 #
 #   scripts/mutants.sh              the math crate, every mutant (.cargo/mutants-math.toml)
 #   scripts/mutants.sh render       raster, wall clipper and portal pass (.cargo/mutants-render.toml)
-#   scripts/mutants.sh term         the frame encoder (.cargo/mutants-term.toml)
+#   scripts/mutants.sh term         the frame encoder, its cursor and SGR modules (.cargo/mutants-term.toml)
+#   scripts/mutants.sh walk         the walk's input and tap logic (.cargo/mutants-walk.toml)
 #   scripts/mutants.sh math -- ARGS extra cargo-mutants arguments, e.g. `-f crates/math/src/clip.rs`,
 #                                   `--re normal_matrix`, `--shard 1/4`
 #
@@ -28,8 +29,8 @@ scope="${1:-math}"
 [ "${1:-}" = "--" ] && shift
 
 case "$scope" in
-  math | render | term) config=.cargo/mutants-$scope.toml; package=mazewalk-$scope ;;
-  *) echo "usage: $0 [math|render|term] [-- cargo-mutants args]" >&2; exit 2 ;;
+  math | render | term | walk) config=.cargo/mutants-$scope.toml; package=mazewalk-$scope ;;
+  *) echo "usage: $0 [math|render|term|walk] [-- cargo-mutants args]" >&2; exit 2 ;;
 esac
 
 if ! cargo mutants --version >/dev/null 2>&1; then
