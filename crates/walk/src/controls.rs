@@ -365,6 +365,38 @@ mod tests {
         assert_eq!(action_for(Key::Char('.')), Some(Action::SnapRight));
         assert_eq!(action_for(Key::Char('z')), None);
         assert_eq!(action_for(Key::Char('x')), None);
+        // Every binding of README's keys table, capitals too (a terminal with Shift or Caps Lock).
+        let bindings = [
+            ("wW", Action::Forward),
+            ("sS", Action::Back),
+            ("aA", Action::StrafeLeft),
+            ("dD", Action::StrafeRight),
+            ("[", Action::Sink),
+            ("]", Action::Rise),
+            ("+=", Action::FovWider),
+            ("-_", Action::FovNarrower),
+            (",<", Action::SnapLeft),
+            (".>", Action::SnapRight),
+            ("pP", Action::ToggleProjection),
+            ("mM", Action::CycleMap),
+            ("cC", Action::CycleCharset),
+            ("rR", Action::Reset),
+            ("bB", Action::ToggleCulling),
+            ("vV", Action::ToggleCullingTint),
+            ("tT", Action::ToggleTextures),
+            ("iI", Action::ToggleFigures),
+            ("?hH", Action::Help),
+            ("qQ", Action::Quit),
+        ];
+        for (keys, action) in bindings {
+            for key in keys.chars() {
+                assert_eq!(action_for(Key::Char(key)), Some(action), "{key:?}");
+            }
+        }
+        let arrows = [(Key::Right, Action::TurnRight), (Key::Down, Action::LookDown)];
+        for (key, action) in arrows {
+            assert_eq!(action_for(key), Some(action), "{key:?}");
+        }
     }
 
     #[test]
