@@ -211,6 +211,23 @@ pub struct ServeArgs {
     /// does not trust it (as redis-cli's --cacert).
     #[arg(long, value_name = "FILE", requires = "world")]
     pub world_ca: Option<PathBuf>,
+    /// How log lines (on stderr) are written: text, or json (one object a line: time, level, event,
+    /// address, player, message, and the line's other fields) for journald and log shippers.
+    #[arg(long, value_name = "FORMAT", default_value = "text")]
+    pub log_format: LogFormat,
+    /// Serve /metrics (Prometheus' text format) over HTTP on this address, e.g. 127.0.0.1:9222
+    /// (off unless given; an address other than loopback lets other machines read it).
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_listen)]
+    pub http: Option<String>,
+}
+
+/// `serve --log-format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum LogFormat {
+    /// Lines for a person to read.
+    Text,
+    /// One JSON object a line.
+    Json,
 }
 
 #[derive(Args)]

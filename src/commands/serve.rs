@@ -71,7 +71,11 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         idle_timeout: args.idle_timeout,
         ..Limits::default()
     };
-    tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
+    let log = tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false);
+    match args.log_format {
+        crate::cli::LogFormat::Text => log.init(),
+        crate::cli::LogFormat::Json => log.event_format(mazewalk_serve::logs::JsonLines).init(),
+    }
     let world = match &args.world {
         None => None,
         Some(url) => {

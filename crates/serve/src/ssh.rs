@@ -858,7 +858,7 @@ impl Handler for Handlers {
         reply: ChannelOpenHandle,
         _: &mut Session,
     ) -> Result<(), Self::Error> {
-        self.log(format_args!("refused port forwarding to {}:{port}", player_name(host)));
+        self.log(format_args!("refused port forwarding: {}:{port}", player_name(host)));
         reply.reject(ChannelOpenFailure::AdministrativelyProhibited).await;
         Ok(())
     }
@@ -907,7 +907,7 @@ impl Handler for Handlers {
         name: &str,
         session: &mut Session,
     ) -> Result<(), Self::Error> {
-        self.log(format_args!("refused subsystem {}", player_name(name)));
+        self.log(format_args!("refused subsystem: {}", player_name(name)));
         Handlers::refuse_command(channel, session)
     }
 
@@ -928,7 +928,7 @@ impl Handler for Handlers {
     }
 
     async fn tcpip_forward(&mut self, _: &str, port: &mut u32, _: &mut Session) -> Result<bool, Self::Error> {
-        self.log(format_args!("refused remote port forwarding of port {port}"));
+        self.log(format_args!("refused remote port forwarding: port {port}"));
         Ok(false)
     }
 }
