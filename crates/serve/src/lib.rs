@@ -25,9 +25,11 @@
 pub mod algorithms;
 pub mod authorized_keys;
 pub mod host_key;
+pub mod http;
 pub mod identity;
 pub mod limits;
 pub mod logs;
+pub mod metrics;
 pub mod player;
 pub mod records;
 pub mod shared;
@@ -61,6 +63,20 @@ pub fn run_in(
     world: Option<shared::WorldConfig>,
     ready: impl FnOnce(&[std::net::SocketAddr]),
 ) -> std::io::Result<i32> {
+    run_with(options, world, None, |addrs, _| ready(addrs))
+}
+
+/// [`run_in`], with `/metrics` served over HTTP on `http` when given (`--http`, [`http`]); `ready`
+/// gets the HTTP address bound too.
+///
+/// # Errors
+/// As [`run_in`]; and the HTTP address cannot be bound.
+pub fn run_with(
+    options: ServeOptions,
+    world: Option<shared::WorldConfig>,
+    http: Option<std::net::SocketAddr>,
+    ready: impl FnOnce(&[std::net::SocketAddr], Option<std::net::SocketAddr>),
+) -> std::io::Result<i32> {
     let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build()?;
     runtime.block_on(async {
         use tokio::signal::unix::{SignalKind, signal};
@@ -68,7 +84,11 @@ pub fn run_in(
         let mut terminate = signal(SignalKind::terminate())?;
         let mut hangup = signal(SignalKind::hangup())?;
         let server = Server::start_in(options, world).await?;
-        ready(server.local_addrs());
+        let http = match http {
+            Some(addr) => Some(server.serve_http(addr).await?),
+            None => None,
+        };
+        ready(server.local_addrs(), http);
         let signal = tokio::select! {
             _ = interrupt.recv() => SignalKind::interrupt(),
             _ = terminate.recv() => SignalKind::terminate(),
