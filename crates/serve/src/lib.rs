@@ -17,7 +17,8 @@
 //! won), [`spawn`] (where newcomers start), [`limits`], [`slots`] (who may hold a connection), [`logs`] (what is logged) and
 //! [`algorithms`] (what is offered) — are tested without sockets; [`ssh`] is the I/O around them,
 //! [`host_key`] the key files, [`authorized_keys`] who may play, [`records`] the best times
-//! (SQLite, on a thread of its own). One world clock: every session's time is seconds since the server
+//! (SQLite, on a thread of its own), [`http`] the `--http` listener and [`metrics`] what its
+//! `/metrics` shows. One world clock: every session's time is seconds since the server
 //! started.
 
 #![forbid(unsafe_code)]
