@@ -215,8 +215,9 @@ pub struct ServeArgs {
     /// address, player, message, and the line's other fields) for journald and log shippers.
     #[arg(long, value_name = "FORMAT", default_value = "text")]
     pub log_format: LogFormat,
-    /// Serve /metrics (Prometheus' text format) over HTTP on this address, e.g. 127.0.0.1:9222
-    /// (off unless given; an address other than loopback lets other machines read it).
+    /// Serve /metrics (Prometheus' text format) and a live status page (/) over HTTP on this
+    /// address, e.g. 127.0.0.1:9222 (off unless given; an address other than loopback lets other
+    /// machines read them).
     #[arg(long, value_name = "HOST:PORT", value_parser = parse_listen)]
     pub http: Option<String>,
 }

@@ -16,7 +16,7 @@ use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
-use mazewalk_serve::http::{HEADER_TIMEOUT, MAX_CONNECTIONS, MAX_HEAD_BYTES};
+use mazewalk_serve::http::{HEADER_TIMEOUT, MAX_CONNECTIONS, MAX_EVENT_CLIENTS, MAX_HEAD_BYTES};
 
 /// Longest wait for anything (a loaded CI machine).
 const TIMEOUT: Duration = Duration::from_secs(20);
@@ -133,6 +133,45 @@ impl Serve {
     }
 }
 
+/// An event stream from `/events`, read as it comes.
+struct Events {
+    lines: BufReader<TcpStream>,
+}
+
+impl Events {
+    fn open(addr: SocketAddr) -> Events {
+        let mut stream = TcpStream::connect(addr).expect("connect to --http");
+        stream.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+        stream.write_all(b"GET /events HTTP/1.1\r\nHost: localhost\r\n\r\n").expect("ask for events");
+        Events { lines: BufReader::new(stream) }
+    }
+
+    /// The status line.
+    fn status(&mut self) -> String {
+        let mut line = String::new();
+        self.lines.read_line(&mut line).expect("the status line");
+        line.trim().to_string()
+    }
+
+    /// The next event's data that satisfies `ok`.
+    fn next(&mut self, ok: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
+        let deadline = Instant::now() + TIMEOUT;
+        let mut last = serde_json::Value::Null;
+        loop {
+            assert!(Instant::now() < deadline, "no such event; the last: {last}");
+            let mut line = String::new();
+            assert!(self.lines.read_line(&mut line).expect("an event") > 0, "the stream ended");
+            if let Some(data) = line.trim_end().strip_prefix("data: ") {
+                let event: serde_json::Value = serde_json::from_str(data).expect("an event's JSON");
+                last.clone_from(&event);
+                if ok(&event) {
+                    return event;
+                }
+            }
+        }
+    }
+}
+
 impl Drop for Serve {
     fn drop(&mut self) {
         let _ = self.child.kill();
@@ -233,6 +272,38 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
         std::thread::sleep(Duration::from_millis(150));
     }
     serve.wait_value("mazewalk_key_to_frame_seconds_count", |v| v >= 1.0);
+
+    // The status page, the maze and the players live.
+    let (status, page) = serve.http(b"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    assert_eq!(status, 200);
+    assert!(
+        page.contains("new EventSource(\"/events\")")
+            && !page.contains("http://")
+            && !page.contains("https://"),
+        "{page}"
+    );
+    let (status, maze) = serve.http(b"GET /maze.json HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    assert_eq!(status, 200);
+    let maze: serde_json::Value = serde_json::from_str(&maze).expect("the maze's JSON");
+    assert!(maze["walls"].as_array().is_some_and(|w| w.len() > 10), "{maze}");
+    let mut events = Events::open(serve.http);
+    assert_eq!(events.status(), "HTTP/1.1 200 OK");
+    let walker = |e: &serde_json::Value| {
+        e["players"].as_array().is_some_and(|p| p.len() == 1 && p[0]["name"] == "walker")
+    };
+    let first = events.next(walker)["players"][0].clone();
+    let step = Instant::now();
+    player.send(b"\x1b[D"); // turn left
+    let turned = events.next(|e| walker(e) && e["players"][0]["heading"] != first["heading"]);
+    eprintln!("the page heard a turn in {:?}: {first} -> {}", step.elapsed(), turned["players"][0]);
+    // The streams are capped: past the cap, 503.
+    let mut streams: Vec<Events> = (1..MAX_EVENT_CLIENTS).map(|_| Events::open(serve.http)).collect();
+    for stream in &mut streams {
+        assert_eq!(stream.status(), "HTTP/1.1 200 OK");
+    }
+    assert_eq!(Events::open(serve.http).status(), "HTTP/1.1 503 Service Unavailable");
+    drop(streams);
+    drop(events);
     assert!(serve.value("mazewalk_frames_sent_total") > frames, "the keys brought frames");
     assert!(serve.value("mazewalk_key_to_frame_seconds_sum") < 3.0 * TIMEOUT.as_secs_f64());
     assert!(lock(&player.seen).len() > 1000, "the player saw the game");

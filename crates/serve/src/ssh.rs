@@ -506,7 +506,8 @@ impl Server {
         }
     }
 
-    /// Serves `/metrics` over HTTP on `addr` until the shutdown ([`crate::http`]); returns the address
+    /// Serves `/metrics` and the status page over HTTP on `addr` until the shutdown ([`crate::http`]);
+    /// returns the address
     /// bound (port 0 picks one).
     ///
     /// # Errors
@@ -524,8 +525,17 @@ impl Server {
             world: world.as_ref().map(|stats| *lock(stats)),
         }));
         let registry = crate::metrics::registry(&self.shared.metrics, live);
-        let site = crate::http::Site { registry };
-        let (local, _task) = crate::http::start(addr, site, self.shared.shutdown.clone()).await?;
+        let name = self.shared.records.as_ref().map_or("the maze", |keeper| keeper.maze_name.as_str());
+        let shared = Arc::clone(&self.shared);
+        let site = crate::http::Site {
+            registry,
+            maze: crate::http::maze_json(&self.shared.maze, name),
+            versions: self.shared.world.version.subscribe(),
+            players: Box::new(move || crate::http::players_json(&shared.world().look())),
+            streams: AtomicUsize::new(0),
+            shutdown: self.shared.shutdown.clone(),
+        };
+        let (local, _task) = crate::http::start(addr, site).await?;
         Ok(local)
     }
 
