@@ -5,7 +5,9 @@
 //! text (when promtool is on PATH: Debian's `prometheus` package); every log line is one JSON object
 //! with the player's address and name; hostile HTTP gets 4xx (unknown path, other methods, a head
 //! too large) and a client that never finishes its head is cut; past the connection cap a newcomer is
-//! closed at once. Every wait has a deadline; the children are killed on drop.
+//! closed at once. And the status page in a headless Chromium (Debian's `chromium`, when on PATH):
+//! the player drawn on the map, moved when it walks, nothing logged to the console. Every wait has a
+//! deadline; the children are killed on drop.
 #![cfg(unix)]
 
 use std::fs::File;
@@ -35,8 +37,9 @@ struct Serve {
 }
 
 impl Serve {
-    fn start() -> Serve {
-        let dir = std::env::temp_dir().join(format!("mazewalk-serve-http-{}", std::process::id()));
+    /// Starts a server whose scratch folder is named after `test`.
+    fn start(test: &str) -> Serve {
+        let dir = std::env::temp_dir().join(format!("mazewalk-serve-http-{test}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("scratch folder");
         let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
@@ -256,7 +259,7 @@ impl Drop for Player {
 
 #[test]
 fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
-    let serve = Serve::start();
+    let serve = Serve::start("metrics");
     assert_eq!(serve.value("mazewalk_joins_total"), 0.0);
     assert_eq!(serve.value("mazewalk_players"), 0.0);
 
@@ -286,6 +289,7 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
     assert_eq!(status, 200);
     let maze: serde_json::Value = serde_json::from_str(&maze).expect("the maze's JSON");
     assert!(maze["walls"].as_array().is_some_and(|w| w.len() > 10), "{maze}");
+    assert_eq!(maze["name"], mazewalk_maze::BUILTIN_NAME, "the maze as the host named it");
     let mut events = Events::open(serve.http);
     assert_eq!(events.status(), "HTTP/1.1 200 OK");
     let walker = |e: &serde_json::Value| {
@@ -388,4 +392,91 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
     let waited = started.elapsed();
     assert!(waited >= HEADER_TIMEOUT && waited < HEADER_TIMEOUT + TIMEOUT, "{waited:?}");
     assert_eq!(serve.value("mazewalk_players"), 0.0, "and /metrics answers again");
+}
+
+/// Pixels of a screenshot, (x, y).
+type Pixels = [(u32, u32)];
+
+/// The yellow of the players' dots, heading lines and labels on the status page's map.
+const PLAYER_YELLOW: [u8; 3] = [0xff, 0xcc, 0x33];
+
+/// A headless Chromium's screenshot of `url`: the pixels of the players' yellow (x, y), and what
+/// Chromium logged (the page's console among it).
+fn screenshot(chromium: &str, url: &str, png: &std::path::Path) -> (Vec<(u32, u32)>, String) {
+    let out = Command::new(chromium)
+        .args([
+            "--headless=new",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--hide-scrollbars",
+            "--enable-logging=stderr",
+        ])
+        .args(["--v=0", "--window-size=1000,700", "--timeout=3000"])
+        .arg(format!("--screenshot={}", png.display()))
+        .arg(url)
+        .stdin(Stdio::null())
+        .output()
+        .expect("run chromium");
+    let log = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "chromium: {log}");
+    let decoder = png::Decoder::new(BufReader::new(File::open(png).expect("the screenshot")));
+    let mut reader = decoder.read_info().expect("a PNG");
+    let mut buf = vec![0; reader.output_buffer_size().expect("its size")];
+    let info = reader.next_frame(&mut buf).expect("its pixels");
+    let channels = info.color_type.samples();
+    assert!(channels >= 3, "{:?}", info.color_type);
+    let mut yellow = Vec::new();
+    for y in 0..info.height {
+        let row = &buf[y as usize * info.line_size..][..info.line_size];
+        for x in 0..info.width {
+            if row[x as usize * channels..][..3] == PLAYER_YELLOW {
+                yellow.push((x, y));
+            }
+        }
+    }
+    (yellow, log)
+}
+
+fn centroid(pixels: &[(u32, u32)]) -> (f64, f64) {
+    let n = pixels.len().max(1) as f64;
+    let (sx, sy) = pixels.iter().fold((0.0, 0.0), |(sx, sy), &(x, y)| (sx + f64::from(x), sy + f64::from(y)));
+    (sx / n, sy / n)
+}
+
+/// The status page in a real browser (Debian's `chromium`, when on PATH): it draws the player the
+/// SSH side has, moves it when the player walks, and logs nothing to the console.
+#[test]
+fn a_headless_chromium_shows_the_player_walking_on_the_status_page() {
+    let Some(chromium) = ["chromium", "chromium-browser"]
+        .into_iter()
+        .find(|c| Command::new(c).arg("--version").output().is_ok_and(|o| o.status.success()))
+    else {
+        eprintln!("chromium not on PATH: the status page was not checked in a browser");
+        return;
+    };
+    let serve = Serve::start("chromium");
+    let url = format!("http://{}/", serve.http);
+    let png = serve.dir.join("page.png");
+    let (empty, _) = screenshot(chromium, &url, &png);
+    assert!(empty.is_empty(), "nobody plays yet, yet {} yellow pixels", empty.len());
+    let mut player = Player::connect(serve.ssh_port, "walker");
+    serve.wait_value("mazewalk_players", |v| v == 1.0);
+    let shoot_until = |what: &str, ok: &dyn Fn(&Pixels) -> bool| {
+        // (Chromium may take its picture before the first event arrives: again, a few times.)
+        for _ in 0..10 {
+            let (yellow, log) = screenshot(chromium, &url, &png);
+            let console: Vec<&str> = log.lines().filter(|l| l.contains(":CONSOLE")).collect();
+            assert!(console.is_empty(), "the page logged: {console:?}");
+            if ok(&yellow) {
+                return yellow;
+            }
+        }
+        panic!("the page never showed {what}");
+    };
+    let before = shoot_until("the player", &|y| y.len() > 20);
+    player.send(b"w"); // a step forward (east, from the built-in maze's start)
+    serve.wait_value("mazewalk_frames_sent_total", |v| v > 0.0);
+    let from = centroid(&before);
+    let after = shoot_until("the player moved", &|y| y.len() > 20 && (centroid(y).0 - from.0).abs() > 2.0);
+    eprintln!("the player's dot moved from {from:?} to {:?}", centroid(&after));
 }

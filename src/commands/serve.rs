@@ -65,7 +65,10 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     let fingerprint = host_key::fingerprint(host_key.public_key());
     let listen = resolve("--listen", &args.listen)?;
     let http = match &args.http {
-        Some(http) => Some(*resolve("--http", http)?.first().expect("resolve gives at least one address")),
+        Some(http) => {
+            let addr = *resolve("--http", http)?.first().expect("resolve gives at least one address");
+            Some((addr, super::maze_name(&args.maze)))
+        }
         None => None,
     };
     let limits = Limits {

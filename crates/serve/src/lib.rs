@@ -67,15 +67,16 @@ pub fn run_in(
     run_with(options, world, None, |addrs, _| ready(addrs))
 }
 
-/// [`run_in`], with `/metrics` served over HTTP on `http` when given (`--http`, [`http`]); `ready`
-/// gets the HTTP address bound too.
+/// [`run_in`], with `/metrics` and the status page served over HTTP when `http` is given (`--http`,
+/// [`http`]): the address, and the maze's name as the page shows it; `ready` gets the HTTP address
+/// bound too.
 ///
 /// # Errors
 /// As [`run_in`]; and the HTTP address cannot be bound.
 pub fn run_with(
     options: ServeOptions,
     world: Option<shared::WorldConfig>,
-    http: Option<std::net::SocketAddr>,
+    http: Option<(std::net::SocketAddr, String)>,
     ready: impl FnOnce(&[std::net::SocketAddr], Option<std::net::SocketAddr>),
 ) -> std::io::Result<i32> {
     let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build()?;
@@ -86,7 +87,7 @@ pub fn run_with(
         let mut hangup = signal(SignalKind::hangup())?;
         let server = Server::start_in(options, world).await?;
         let http = match http {
-            Some(addr) => Some(server.serve_http(addr).await?),
+            Some((addr, name)) => Some(server.serve_http(addr, &name).await?),
             None => None,
         };
         ready(server.local_addrs(), http);

@@ -506,13 +506,13 @@ impl Server {
         }
     }
 
-    /// Serves `/metrics` and the status page over HTTP on `addr` until the shutdown ([`crate::http`]);
-    /// returns the address
+    /// Serves `/metrics` and the status page (of the maze called `maze_name`) over HTTP on `addr` until
+    /// the shutdown ([`crate::http`]); returns the address
     /// bound (port 0 picks one).
     ///
     /// # Errors
     /// The address cannot be bound.
-    pub async fn serve_http(&self, addr: SocketAddr) -> std::io::Result<SocketAddr> {
+    pub async fn serve_http(&self, addr: SocketAddr, maze_name: &str) -> std::io::Result<SocketAddr> {
         let shared = Arc::clone(&self.shared);
         let world = self.world.as_ref().map(SharedWorld::stats_cell);
         let live = crate::metrics::Live(Box::new(move || crate::metrics::Snapshot {
@@ -525,11 +525,10 @@ impl Server {
             world: world.as_ref().map(|stats| *lock(stats)),
         }));
         let registry = crate::metrics::registry(&self.shared.metrics, live);
-        let name = self.shared.records.as_ref().map_or("the maze", |keeper| keeper.maze_name.as_str());
         let shared = Arc::clone(&self.shared);
         let site = crate::http::Site {
             registry,
-            maze: crate::http::maze_json(&self.shared.maze, name),
+            maze: crate::http::maze_json(&self.shared.maze, maze_name),
             versions: self.shared.world.version.subscribe(),
             players: Box::new(move || crate::http::players_json(&shared.world().look())),
             streams: AtomicUsize::new(0),
