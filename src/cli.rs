@@ -222,6 +222,24 @@ pub struct ServeArgs {
     /// counted (1..=65536).
     #[arg(long, value_name = "N", default_value_t = 1024, requires = "world", value_parser = clap::value_parser!(u32).range(1..=65_536))]
     pub max_remote_players: u32,
+    /// How log lines (on stderr) are written: text, or json (one object a line: time, level, event,
+    /// address, player, message, and the line's other fields) for journald and log shippers.
+    #[arg(long, value_name = "FORMAT", default_value = "text")]
+    pub log_format: LogFormat,
+    /// Serve /metrics (Prometheus' text format) and a live status page (/) over HTTP on this
+    /// address, e.g. 127.0.0.1:9222 (off unless given; an address other than loopback lets other
+    /// machines read them).
+    #[arg(long, value_name = "HOST:PORT", value_parser = parse_listen)]
+    pub http: Option<String>,
+}
+
+/// `serve --log-format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum LogFormat {
+    /// Lines for a person to read.
+    Text,
+    /// One JSON object a line.
+    Json,
 }
 
 #[derive(Args)]

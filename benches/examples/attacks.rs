@@ -18,6 +18,11 @@
 //!    another, each from an address of its own (127.2.x.y) — count as in when the game's first frame
 //!    (its alternate screen) arrives within 3 s.
 //!
+//! 6. **http** (issue #44; a binary that knows `--http` only): the server also serves `--http`;
+//!    three attackers at once, again and again: a slowloris (half a request head, held), an
+//!    event-stream client (`GET /events`, held), a 32 KiB header; up to 2,000 of their connections
+//!    held open at once.
+//!
 //! ```sh
 //! cargo build --release                           # the "after" binary: target/release/mazewalk
 //! git worktree add /tmp/serve-before <commit> && (cd /tmp/serve-before && cargo build --release)
@@ -89,6 +94,8 @@ fn args() -> Args {
 struct ServerProcess {
     child: Child,
     addr: SocketAddr,
+    /// Its `--http` address, when given one.
+    http: Option<SocketAddr>,
     log: PathBuf,
     scratch: PathBuf,
 }
@@ -127,6 +134,17 @@ impl ServerProcess {
         let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
         let mut line = String::new();
         stdout.read_line(&mut line).expect("first line");
+        let mut http = None;
+        if more.iter().any(|m| m == "--http") {
+            let mut next = String::new();
+            while http.is_none() && stdout.read_line(&mut next).expect("a line") > 0 {
+                http = next
+                    .trim()
+                    .strip_prefix("metrics at http://")
+                    .and_then(|a| a.strip_suffix("/metrics")?.parse().ok());
+                next.clear();
+            }
+        }
         std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
         let addr = line
             .trim()
@@ -135,7 +153,7 @@ impl ServerProcess {
             .and_then(|l| l.rsplit_once(' '))
             .and_then(|(_, a)| a.parse().ok())
             .expect("serving on ADDR");
-        ServerProcess { child, addr, log, scratch }
+        ServerProcess { child, addr, http, log, scratch }
     }
 
     fn pid(&self) -> Option<u32> {
@@ -462,6 +480,63 @@ async fn idle_handshakes(bin: &Path, a: &Args, rate: f64) -> Outcome {
     outcome
 }
 
+async fn http(bin: &Path, seconds: f64) -> Outcome {
+    use std::io::Read as _;
+    let more = ["--http".to_string(), "127.0.0.1:0".to_string()];
+    let server = ServerProcess::start_with(bin, 256, 16, &more);
+    let http = server.http.expect("the --http address");
+    let held = Arc::new(std::sync::Mutex::new(std::collections::VecDeque::new()));
+    let counts = Arc::new([(); 5].map(|()| AtomicU64::new(0))); // loris, events 200, events other, big 431, big other
+    let (held2, counts2) = (Arc::clone(&held), Arc::clone(&counts));
+    let (mut outcome, attempts) = witnessed(&server, seconds, async move {
+        repeat(3, stop_after(seconds), move |i| {
+            let Ok(mut stream) = std::net::TcpStream::connect(http) else { return };
+            let _ = stream.set_read_timeout(Some(Duration::from_secs(2)));
+            let kind = i % 3;
+            let mut status = [0u8; 12];
+            match kind {
+                0 => {
+                    let _ = stream.write_all(b"GET /metrics HTTP/1.1\r\nHost: x\r\nX-Slow: ");
+                    counts2[0].fetch_add(1, Ordering::Relaxed);
+                }
+                1 => {
+                    let _ = stream.write_all(b"GET /events HTTP/1.1\r\nHost: x\r\n\r\n");
+                    let ok = stream.read_exact(&mut status).is_ok() && &status[9..12] == b"200";
+                    counts2[if ok { 1 } else { 2 }].fetch_add(1, Ordering::Relaxed);
+                }
+                _ => {
+                    let head = format!(
+                        "GET /metrics HTTP/1.1\r\nHost: x\r\nX-Big: {}\r\n\r\n",
+                        "a".repeat(32 * 1024)
+                    );
+                    let _ = stream.write_all(head.as_bytes());
+                    let ok = stream.read_exact(&mut status).is_ok() && &status[9..12] == b"431";
+                    counts2[if ok { 3 } else { 4 }].fetch_add(1, Ordering::Relaxed);
+                    return;
+                }
+            }
+            let mut held = held2.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            held.push_back(stream);
+            if held.len() > 2000 {
+                held.pop_front();
+            }
+        })
+        .await
+    })
+    .await;
+    held.lock().unwrap_or_else(std::sync::PoisonError::into_inner).clear();
+    let c: Vec<u64> = counts.iter().map(|n| n.load(Ordering::Relaxed)).collect();
+    outcome.note = format!(
+        "{attempts} HTTP connections: {} slowloris heads; {} event streams ({} answered 200, the rest refused or closed at the cap); {} 32 KiB headers ({} answered 431)",
+        c[0],
+        c[1] + c[2],
+        c[1],
+        c[3] + c[4],
+        c[3]
+    );
+    outcome
+}
+
 #[tokio::main]
 async fn main() {
     let a = args();
@@ -477,7 +552,7 @@ async fn main() {
         "| attack | binary | witness p50 / p99 / worst (ms) | keys answered | server CPU (s) | what else |"
     );
     println!("|---|---|---|---|---|---|");
-    let mut attacks: Vec<(String, Option<f64>)> = ["group18", "junk kex", "held slots", "handshakes"]
+    let mut attacks: Vec<(String, Option<f64>)> = ["group18", "junk kex", "held slots", "handshakes", "http"]
         .iter()
         .map(|a| ((*a).to_string(), None))
         .collect();
@@ -487,11 +562,15 @@ async fn main() {
             continue;
         }
         for (which, bin) in &binaries {
+            if attack == "http" && *which == "before" {
+                continue; // (a binary without --http)
+            }
             let outcome = match (attack.as_str(), rate) {
                 (_, Some(rate)) => idle_handshakes(bin, &a, *rate).await,
                 ("group18", _) => group18(bin, a.seconds).await,
                 ("junk kex", _) => junk_kex(bin, a.seconds).await,
                 ("held slots", _) => held_slots(bin, a.seconds).await,
+                ("http", _) => http(bin, a.seconds).await,
                 _ => handshakes(bin, a.seconds).await,
             };
             println!(

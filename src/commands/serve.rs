@@ -63,7 +63,14 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         Access::Keys(read.keys)
     };
     let fingerprint = host_key::fingerprint(host_key.public_key());
-    let listen = resolve(&args.listen)?;
+    let listen = resolve("--listen", &args.listen)?;
+    let http = match &args.http {
+        Some(http) => {
+            let addr = *resolve("--http", http)?.first().expect("resolve gives at least one address");
+            Some((addr, super::maze_name(&args.maze)))
+        }
+        None => None,
+    };
     let limits = Limits {
         max_players: args.max_players as usize,
         max_handshakes: args.max_handshakes as usize,
@@ -71,7 +78,11 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         idle_timeout: args.idle_timeout,
         ..Limits::default()
     };
-    tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false).init();
+    let log = tracing_subscriber::fmt().with_writer(std::io::stderr).with_target(false);
+    match args.log_format {
+        crate::cli::LogFormat::Text => log.init(),
+        crate::cli::LogFormat::Json => log.event_format(mazewalk_serve::logs::JsonLines).init(),
+    }
     let world = match &args.world {
         None => None,
         Some(url) => {
@@ -99,7 +110,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let options = ServeOptions { maze, listen, host_key, access, limits, records: records.clone() };
-    let signal = mazewalk_serve::run_in(options, world, |addrs| {
+    let signal = mazewalk_serve::run_with(options, world, http, |addrs, http| {
         let made = if made { ", made now" } else { "" };
         let list: Vec<String> = addrs.iter().map(ToString::to_string).collect();
         let addr = addrs[0];
@@ -115,6 +126,10 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
                     ip => ip.to_string(),
                 };
                 writeln!(out, "players connect with: ssh -p {} {host}", addr.port())
+            })
+            .and_then(|()| match http {
+                Some(http) => writeln!(out, "metrics at http://{http}/metrics"),
+                None => Ok(()),
             })
             .and_then(|()| out.flush());
     })?; // (its errors say what failed: "cannot listen on 127.0.0.1:2222: Address already in use")
@@ -186,20 +201,16 @@ fn keep_world_records(
     }
 }
 
-/// The addresses of `--listen` (a host name's, looked up now).
+/// The addresses of `flag`'s value `listen` (a host name's, looked up now).
 #[cfg(all(unix, feature = "serve"))]
-fn resolve(listen: &str) -> anyhow::Result<Vec<std::net::SocketAddr>> {
+fn resolve(flag: &str, listen: &str) -> anyhow::Result<Vec<std::net::SocketAddr>> {
     use std::net::ToSocketAddrs as _;
     let mut addrs: Vec<std::net::SocketAddr> = listen
         .to_socket_addrs()
-        .map_err(|e| anyhow::anyhow!("--listen {}: cannot look it up: {e}", mazewalk_maze::quote(listen)))?
+        .map_err(|e| anyhow::anyhow!("{flag} {}: cannot look it up: {e}", mazewalk_maze::quote(listen)))?
         .collect();
     addrs.dedup();
-    anyhow::ensure!(
-        !addrs.is_empty(),
-        "--listen {}: the name has no addresses",
-        mazewalk_maze::quote(listen)
-    );
+    anyhow::ensure!(!addrs.is_empty(), "{flag} {}: the name has no addresses", mazewalk_maze::quote(listen));
     Ok(addrs)
 }
 

@@ -17,7 +17,8 @@
 //! won), [`spawn`] (where newcomers start), [`limits`], [`slots`] (who may hold a connection), [`logs`] (what is logged) and
 //! [`algorithms`] (what is offered) — are tested without sockets; [`ssh`] is the I/O around them,
 //! [`host_key`] the key files, [`authorized_keys`] who may play, [`records`] the best times
-//! (SQLite, on a thread of its own). One world clock: every session's time is seconds since the server
+//! (SQLite, on a thread of its own), [`http`] the `--http` listener and [`metrics`] what its
+//! `/metrics` shows. One world clock: every session's time is seconds since the server
 //! started.
 
 #![forbid(unsafe_code)]
@@ -25,9 +26,11 @@
 pub mod algorithms;
 pub mod authorized_keys;
 pub mod host_key;
+pub mod http;
 pub mod identity;
 pub mod limits;
 pub mod logs;
+pub mod metrics;
 pub mod player;
 pub mod records;
 pub mod shared;
@@ -61,6 +64,21 @@ pub fn run_in(
     world: Option<shared::WorldConfig>,
     ready: impl FnOnce(&[std::net::SocketAddr]),
 ) -> std::io::Result<i32> {
+    run_with(options, world, None, |addrs, _| ready(addrs))
+}
+
+/// [`run_in`], with `/metrics` and the status page served over HTTP when `http` is given (`--http`,
+/// [`http`]): the address, and the maze's name as the page shows it; `ready` gets the HTTP address
+/// bound too.
+///
+/// # Errors
+/// As [`run_in`]; and the HTTP address cannot be bound.
+pub fn run_with(
+    options: ServeOptions,
+    world: Option<shared::WorldConfig>,
+    http: Option<(std::net::SocketAddr, String)>,
+    ready: impl FnOnce(&[std::net::SocketAddr], Option<std::net::SocketAddr>),
+) -> std::io::Result<i32> {
     let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build()?;
     runtime.block_on(async {
         use tokio::signal::unix::{SignalKind, signal};
@@ -68,7 +86,11 @@ pub fn run_in(
         let mut terminate = signal(SignalKind::terminate())?;
         let mut hangup = signal(SignalKind::hangup())?;
         let server = Server::start_in(options, world).await?;
-        ready(server.local_addrs());
+        let http = match http {
+            Some((addr, name)) => Some(server.serve_http(addr, &name).await?),
+            None => None,
+        };
+        ready(server.local_addrs(), http);
         let signal = tokio::select! {
             _ = interrupt.recv() => SignalKind::interrupt(),
             _ = terminate.recv() => SignalKind::terminate(),

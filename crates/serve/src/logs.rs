@@ -10,7 +10,11 @@
 //!   and in all. What is left out is counted and summed up in one line per group every
 //!   [`SUMMARY_SECONDS`] ("N more lines suppressed").
 //!
-//! Pure: time comes in as seconds.
+//! How a line is written is the subscriber's choice: today's text, or [`JsonLines`] (`--log-format
+//! json`), one JSON object a line for journald and log shippers. Either way the same lines, through
+//! the same limits: the format only changes their shape.
+//!
+//! The limits are pure: time comes in as seconds.
 
 use std::collections::HashMap;
 use std::net::IpAddr;
@@ -170,6 +174,146 @@ impl LogLimit {
     }
 }
 
+/// Log lines as JSON objects, one a line: `time` (RFC 3339, UTC), `level`, `event` (a short name:
+/// the message's first words, see [`event_name`]), `address` (the client's, when the line is about a
+/// connection), `player` (its user name, when known), `message` (the whole line, as the text format
+/// says it), then the line's other fields under their own names (`seconds`, `reason`, `key`, …).
+/// Strings are escaped by serde_json, and the control characters it leaves as they are (DEL, the C1
+/// controls, bidi overrides) as `\uXXXX` too: no byte a client chose reaches the log as a control.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct JsonLines;
+
+impl<S, N> tracing_subscriber::fmt::FormatEvent<S, N> for JsonLines
+where
+    S: tracing::Subscriber + for<'a> tracing_subscriber::registry::LookupSpan<'a>,
+    N: for<'a> tracing_subscriber::fmt::FormatFields<'a> + 'static,
+{
+    fn format_event(
+        &self,
+        _: &tracing_subscriber::fmt::FmtContext<'_, S, N>,
+        mut writer: tracing_subscriber::fmt::format::Writer<'_>,
+        event: &tracing::Event<'_>,
+    ) -> std::fmt::Result {
+        use tracing_subscriber::fmt::time::{FormatTime as _, SystemTime};
+        let mut time = String::new();
+        SystemTime.format_time(&mut tracing_subscriber::fmt::format::Writer::new(&mut time))?;
+        let mut fields = JsonFields::default();
+        event.record(&mut fields);
+        let level = event.metadata().level().as_str().to_ascii_lowercase();
+        writeln!(writer, "{}", fields.line(&time, &level))
+    }
+}
+
+/// One event's fields on their way to a JSON line.
+#[derive(Default)]
+struct JsonFields {
+    message: String,
+    address: Option<serde_json::Value>,
+    player: Option<serde_json::Value>,
+    others: Vec<(&'static str, serde_json::Value)>,
+}
+
+impl JsonFields {
+    fn put(&mut self, field: &tracing::field::Field, value: serde_json::Value) {
+        match field.name() {
+            "message" => self.message = value.as_str().map_or_else(|| value.to_string(), str::to_string),
+            "peer" => self.address = Some(value),
+            "user" | "player" => self.player = Some(value),
+            name => self.others.push((name, value)),
+        }
+    }
+
+    /// The JSON object, keys in a fixed order (serde_json's map would sort them).
+    fn line(self, time: &str, level: &str) -> String {
+        use serde_json::Value;
+        let event = event_name(&self.message);
+        let mut pairs: Vec<(&str, Value)> = vec![
+            ("time", Value::from(time)),
+            ("level", Value::from(level)),
+            ("event", Value::from(event)),
+            ("address", self.address.unwrap_or(Value::Null)),
+            ("player", self.player.unwrap_or(Value::Null)),
+            ("message", Value::from(self.message)),
+        ];
+        for (name, value) in self.others {
+            if !pairs.iter().any(|(key, _)| *key == name) {
+                pairs.push((name, value));
+            }
+        }
+        let mut line = String::from("{");
+        for (i, (key, value)) in pairs.iter().enumerate() {
+            if i > 0 {
+                line.push(',');
+            }
+            line.push_str(&Value::from(*key).to_string());
+            line.push(':');
+            line.push_str(&value.to_string());
+        }
+        line.push('}');
+        escape_controls(&line)
+    }
+}
+
+impl tracing::field::Visit for JsonFields {
+    fn record_debug(&mut self, field: &tracing::field::Field, value: &dyn std::fmt::Debug) {
+        // (`%value` fields come here as Display wrapped in Debug: this is their Display text.)
+        self.put(field, serde_json::Value::from(format!("{value:?}")));
+    }
+
+    fn record_str(&mut self, field: &tracing::field::Field, value: &str) {
+        self.put(field, serde_json::Value::from(value));
+    }
+
+    fn record_u64(&mut self, field: &tracing::field::Field, value: u64) {
+        self.put(field, serde_json::Value::from(value));
+    }
+
+    fn record_i64(&mut self, field: &tracing::field::Field, value: i64) {
+        self.put(field, serde_json::Value::from(value));
+    }
+
+    fn record_f64(&mut self, field: &tracing::field::Field, value: f64) {
+        self.put(field, serde_json::Value::from(value)); // (NaN and infinities: null)
+    }
+
+    fn record_bool(&mut self, field: &tracing::field::Field, value: bool) {
+        self.put(field, serde_json::Value::from(value));
+    }
+}
+
+/// A line's short name for filtering: the lowercase words of its message before the first `:`, `(`
+/// or digit, joined by `_` ("disconnected", "refused", "reached_the_exit_first",
+/// "log_lines_suppressed"); what follows a colon (an address, a reason, a name a client chose) is
+/// never part of it.
+#[must_use]
+pub fn event_name(message: &str) -> String {
+    let head = message.split([':', '(']).next().unwrap_or_default();
+    let head: String = head
+        .chars()
+        .take_while(|c| c.is_ascii_alphabetic() || matches!(c, ' ' | '\'' | '-'))
+        .filter(|c| *c != '\'')
+        .map(|c| c.to_ascii_lowercase())
+        .collect();
+    head.split_whitespace().take(8).collect::<Vec<_>>().join("_")
+}
+
+/// `json` with the characters serde_json leaves unescaped but a terminal may act on (DEL, C1
+/// controls, the bidi and zero-width formatting characters) escaped as `\uXXXX`: they can only be in
+/// its strings, where that escape means the same character.
+fn escape_controls(json: &str) -> String {
+    let mut out = String::with_capacity(json.len());
+    for c in json.chars() {
+        let risky = c.is_control()
+            || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2060}'..='\u{206f}' | '\u{feff}');
+        if risky {
+            out.push_str(&format!("\\u{:04x}", u32::from(c)));
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -237,5 +381,70 @@ mod tests {
         let named: u64 = summary.groups.iter().map(|(_, n)| n).sum();
         assert!(summary.groups.len() <= SUMMARY_GROUPS);
         assert_eq!(named + summary.others.1, 20_000 - allowed as u64, "every line left out is counted");
+    }
+
+    /// `--log-format json`: every line one object with the fields a log shipper filters on, the
+    /// client's text escaped (nothing below U+0020, no DEL, C1 or bidi control left raw), and the
+    /// text that follows a colon never part of `event`.
+    #[test]
+    fn json_lines_are_one_object_each_with_client_text_escaped() {
+        use std::sync::{Arc, Mutex};
+        #[derive(Clone, Default)]
+        struct Capture(Arc<Mutex<Vec<u8>>>);
+        impl std::io::Write for Capture {
+            fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+                self.0.lock().unwrap().extend_from_slice(buf);
+                Ok(buf.len())
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let capture = Capture::default();
+        let writer = capture.clone();
+        let subscriber =
+            tracing_subscriber::fmt().with_writer(move || writer.clone()).event_format(JsonLines).finish();
+        let peer: std::net::SocketAddr = "192.0.2.7:5000".parse().unwrap();
+        let hostile = "\x1b]0;owned\x07\u{202e}\u{9b}2J\"\\\u{7f}\nfake=line";
+        tracing::subscriber::with_default(subscriber, || {
+            tracing::info!(peer = %peer, user = %hostile, seconds = format_args!("{:.1}", 12.34), bytes_out = 4096u64, "disconnected");
+            tracing::warn!(peer = %peer, "refused subsystem: {hostile}");
+            tracing::info!(players = 3usize, "shutting down");
+        });
+        let bytes = capture.0.lock().unwrap().clone();
+        let text = String::from_utf8(bytes).expect("UTF-8");
+        let risky = |c: char| {
+            (c.is_control() && c != '\n') || matches!(c, '\u{202a}'..='\u{202e}' | '\u{200b}'..='\u{200f}')
+        };
+        assert!(!text.chars().any(risky), "a raw control character: {text:?}");
+        let lines: Vec<serde_json::Value> =
+            text.lines().map(|l| serde_json::from_str(l).expect("one JSON object a line")).collect();
+        assert_eq!(lines.len(), 3, "{text}");
+        let first = &lines[0];
+        assert_eq!(first["level"], "info");
+        assert_eq!(first["event"], "disconnected");
+        assert_eq!(first["address"], "192.0.2.7:5000");
+        assert_eq!(first["player"], hostile, "escaped, and read back whole");
+        assert_eq!(first["seconds"], "12.3");
+        assert_eq!(first["bytes_out"], 4096);
+        let time = first["time"].as_str().expect("a time");
+        assert!(time.len() >= 20 && time.ends_with('Z') && time.as_bytes()[10] == b'T', "{time}");
+        assert_eq!(lines[1]["level"], "warn");
+        assert_eq!(lines[1]["event"], "refused_subsystem");
+        assert_eq!(lines[1]["message"], format!("refused subsystem: {hostile}"));
+        assert_eq!(lines[2]["event"], "shutting_down");
+        assert_eq!(lines[2]["address"], serde_json::Value::Null);
+        assert_eq!(lines[2]["players"], 3);
+    }
+
+    #[test]
+    fn an_event_name_is_the_messages_first_words() {
+        assert_eq!(event_name("disconnected"), "disconnected");
+        assert_eq!(event_name("refused: every player's slot is taken"), "refused");
+        assert_eq!(event_name("log lines suppressed (rate limit)"), "log_lines_suppressed");
+        assert_eq!(event_name("the world's winner"), "the_worlds_winner");
+        assert_eq!(event_name("refused remote port forwarding: port 80"), "refused_remote_port_forwarding");
+        assert_eq!(event_name("dropped 3 malformed messages"), "dropped");
+        assert_eq!(event_name(""), "");
     }
 }

@@ -581,6 +581,7 @@ type Job = (Finish, oneshot::Sender<Option<Standing>>);
 pub struct Records {
     jobs: mpsc::SyncSender<Job>,
     dropped: Arc<AtomicU64>,
+    tally: Arc<Tally>,
     report: Report,
     /// Hangs up when the thread ends (every clone holds the receiving end's partner).
     done: Arc<Mutex<mpsc::Receiver<()>>>,
@@ -603,12 +604,14 @@ impl Records {
         let (jobs, queue) = mpsc::sync_channel::<Job>(QUEUE);
         let (ended, done) = mpsc::channel::<()>();
         let thread_report = Arc::clone(&report);
+        let tally = Arc::new(Tally::default());
+        let thread_tally = Arc::clone(&tally);
         std::thread::Builder::new().name("records".into()).spawn(move || {
-            keep(store, &queue, &*thread_report);
+            keep(store, &queue, &*thread_report, &thread_tally);
             drop(ended);
         })?;
         let done = Arc::new(Mutex::new(done));
-        Ok(Records { jobs, dropped: Arc::new(AtomicU64::new(0)), report, done })
+        Ok(Records { jobs, dropped: Arc::new(AtomicU64::new(0)), tally, report, done })
     }
 
     /// Lets the thread finish what it was handed (once every other clone is gone too) and waits for it,
@@ -644,6 +647,20 @@ impl Records {
     pub fn dropped(&self) -> u64 {
         self.dropped.load(Ordering::Relaxed)
     }
+
+    /// Finishes the store kept as they came, and those it could not (kept in memory for the ranking
+    /// and written once it works again), so far.
+    #[must_use]
+    pub fn written_failed(&self) -> (u64, u64) {
+        (self.tally.written.load(Ordering::Relaxed), self.tally.failed.load(Ordering::Relaxed))
+    }
+}
+
+/// What the records thread did with the finishes as they came ([`Records::written_failed`]).
+#[derive(Debug, Default)]
+struct Tally {
+    written: AtomicU64,
+    failed: AtomicU64,
 }
 
 /// Finishes the store could not keep that are written when it takes them again, at most (the
@@ -754,7 +771,12 @@ impl Memory {
 
 /// The records thread: keeps each finish in the store (or, while it fails, in [`Memory`]), and
 /// answers every finish with its standing; says each change of the store's file and each fault.
-fn keep(mut store: impl Store, queue: &mpsc::Receiver<Job>, report: &(dyn Fn(&str) + Send + Sync)) {
+fn keep(
+    mut store: impl Store,
+    queue: &mpsc::Receiver<Job>,
+    report: &(dyn Fn(&str) + Send + Sync),
+    tally: &Tally,
+) {
     let mut memory = Memory::default();
     let mut failing = false;
     let mut said: Option<std::time::Instant> = None;
@@ -765,6 +787,8 @@ fn keep(mut store: impl Store, queue: &mpsc::Receiver<Job>, report: &(dyn Fn(&st
         // While it fails, the finishes it missed go first, oldest first; while they cannot, this
         // one is not tried either.
         let tried = if failing && !memory.flush(&mut store) { None } else { Some(store.record(&finish)) };
+        let written = matches!(tried, Some(Ok(_)));
+        (if written { &tally.written } else { &tally.failed }).fetch_add(1, Ordering::Relaxed);
         let standing = match tried {
             Some(Ok(standing)) => {
                 failing = false;

@@ -27,6 +27,7 @@ use super::host_key::fingerprint;
 use super::identity::player_name;
 use super::limits::Limits;
 use super::logs::{self, LogLimit};
+use super::metrics::Metrics;
 use super::player::{News, Player};
 use super::records::{Keeper, Standing, standing_lines};
 use super::shared::codec::{Finish, PlayerRecord, WinnerRecord};
@@ -103,6 +104,8 @@ struct Shared {
     conns: Mutex<HashMap<ConnId, Arc<Conn>>>,
     /// Which lines about connections are logged.
     log_limit: Mutex<LogLimit>,
+    /// What `/metrics` counts (`--http`).
+    metrics: Metrics,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -484,6 +487,7 @@ impl Server {
             slots: Mutex::new(Slots::new(&limits)),
             conns: Mutex::new(HashMap::new()),
             log_limit: Mutex::new(LogLimit::new(0.0)),
+            metrics: Metrics::default(),
         });
         let accept = tokio::spawn(accept_loop(listeners, Arc::clone(&shared)));
         Ok(Server { local_addrs, shutdown, shared, accept, world: joined })
@@ -529,6 +533,44 @@ impl Server {
         if let Some(world) = self.world {
             world.leave().await;
         }
+    }
+
+    /// Serves `/metrics` and the status page (of the maze called `maze_name`) over HTTP on `addr` until
+    /// the shutdown ([`crate::http`]); returns the address
+    /// bound (port 0 picks one).
+    ///
+    /// # Errors
+    /// The address cannot be bound.
+    pub async fn serve_http(&self, addr: SocketAddr, maze_name: &str) -> std::io::Result<SocketAddr> {
+        let shared = Arc::clone(&self.shared);
+        let world = self.world.as_ref().map(SharedWorld::stats_cell);
+        let live = crate::metrics::Live(Box::new(move || crate::metrics::Snapshot {
+            players: shared.world().len(),
+            handshakes: lock(&shared.slots).handshakes(),
+            records: shared.records.as_ref().map(|keeper| {
+                let (written, failed) = keeper.records.written_failed();
+                (written, failed, keeper.records.dropped())
+            }),
+            world: world.as_ref().map(|stats| *lock(stats)),
+        }));
+        let registry = crate::metrics::registry(&self.shared.metrics, live);
+        let shared = Arc::clone(&self.shared);
+        let site = crate::http::Site {
+            registry,
+            maze: crate::http::maze_json(&self.shared.maze, maze_name),
+            versions: self.shared.world.version.subscribe(),
+            players: Box::new(move || crate::http::players_json(&shared.world().look())),
+            streams: AtomicUsize::new(0),
+            shutdown: self.shared.shutdown.clone(),
+        };
+        let (local, _task) = crate::http::start(addr, site).await?;
+        Ok(local)
+    }
+
+    /// What `/metrics` counts as it happens.
+    #[must_use]
+    pub fn metrics(&self) -> &Metrics {
+        &self.shared.metrics
     }
 
     /// What the world task has done so far (`None`: the world is this server's alone).
@@ -620,6 +662,7 @@ fn admit(
             connections.spawn(connection(Arc::clone(shared), stream, conn, slot));
         }
         Err(refusal) => {
+            shared.metrics.refused(&refusal);
             if shared.log_ok(address_group(peer.ip())) {
                 info!(peer = %peer, "refused: {}", refusal.reason());
             }
@@ -887,7 +930,7 @@ impl Handler for Handlers {
         reply: ChannelOpenHandle,
         _: &mut Session,
     ) -> Result<(), Self::Error> {
-        self.log(format_args!("refused port forwarding to {}:{port}", player_name(host)));
+        self.log(format_args!("refused port forwarding: {}:{port}", player_name(host)));
         reply.reject(ChannelOpenFailure::AdministrativelyProhibited).await;
         Ok(())
     }
@@ -936,7 +979,7 @@ impl Handler for Handlers {
         name: &str,
         session: &mut Session,
     ) -> Result<(), Self::Error> {
-        self.log(format_args!("refused subsystem {}", player_name(name)));
+        self.log(format_args!("refused subsystem: {}", player_name(name)));
         Handlers::refuse_command(channel, session)
     }
 
@@ -957,7 +1000,7 @@ impl Handler for Handlers {
     }
 
     async fn tcpip_forward(&mut self, _: &str, port: &mut u32, _: &mut Session) -> Result<bool, Self::Error> {
-        self.log(format_args!("refused remote port forwarding of port {port}"));
+        self.log(format_args!("refused remote port forwarding: port {port}"));
         Ok(false)
     }
 }
@@ -1068,6 +1111,7 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         id
     };
     player.joined(id);
+    shared.metrics.joined();
     conn.playing.store(true, Ordering::SeqCst);
     let end = walk(shared, conn, &tx, &mut rx, &mut player, id).await;
     {
@@ -1160,6 +1204,8 @@ async fn walk(
     let mut versions = shared.world.version.subscribe();
     let mut shutdown = shared.shutdown.clone();
     let mut last_input = Instant::now();
+    // The first key the next frame answers (for /metrics).
+    let mut key_at: Option<Instant> = None;
     // The records' answer to the last finish (the maze's best times for the exit box), on its way.
     let mut standing: Option<tokio::sync::oneshot::Receiver<Option<Standing>>> = None;
     let user = Conn::get(&conn.user).unwrap_or_default();
@@ -1178,15 +1224,20 @@ async fn walk(
             player.look(&look, now);
         }
         let started = Instant::now();
-        if player.frame(now, &mut out) {
+        let drew = player.frame(now, &mut out);
+        if drew {
             player.session_mut().frame_cost(started.elapsed().as_secs_f64());
         }
         if !out.is_empty() {
             let bytes = std::mem::take(&mut out);
+            let len = bytes.len();
             let write = tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(bytes));
             tokio::select! {
                 written = write => match written {
-                    Ok(Ok(())) => {}
+                    Ok(Ok(())) => {
+                        let key = if drew { key_at.take().map(|at| at.elapsed().as_secs_f64()) } else { None };
+                        shared.metrics.sent(len, drew, key);
+                    }
                     Ok(Err(_)) => return End::Gone,
                     Err(_) => return End::Stalled,
                 },
@@ -1221,6 +1272,7 @@ async fn walk(
                 Some(ChannelMsg::Data { data }) => {
                     if player.feed(&data, shared.now()) {
                         last_input = Instant::now(); // a key, not just the terminal answering
+                        key_at.get_or_insert(last_input);
                     }
                 }
                 Some(ChannelMsg::WindowChange { col_width, row_height, .. }) => {

@@ -254,9 +254,11 @@ fn a_full_database_is_said_once_and_the_ranking_goes_on_in_memory() {
     let reported = said(&lines);
     assert_eq!(reported.len(), 1, "{reported:?}");
     assert!(reported[0].contains("is full") && reported[0].contains("kept in memory"), "{reported:?}");
+    let (written, failed) = records.written_failed(); // (as /metrics shows them)
     drop(records);
     let kept = Sqlite::open_to_read(&scratch.db()).unwrap().mazes(Some(&MAZE)).unwrap()[0].finishes;
     assert!(kept > 10 && kept < 400, "the premise: it filled up after {kept} finishes");
+    assert_eq!((written, failed), (kept as u64, 401 - kept as u64), "every finish counted, as it went");
 }
 
 /// However slow the database, handing a finish over never waits: past the queue, finishes are dropped

@@ -232,6 +232,11 @@ impl SharedWorld {
         *self.stats.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
+    /// Where [`stats`](Self::stats) are kept, to read them later (`/metrics`).
+    pub(crate) fn stats_cell(&self) -> Arc<Mutex<Stats>> {
+        Arc::clone(&self.stats)
+    }
+
     /// The `n` best times in the world, best first (name, seconds).
     ///
     /// # Errors

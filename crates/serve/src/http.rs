@@ -1,0 +1,328 @@
+//! `serve --http ADDR`: a small HTTP/1.1 listener beside the SSH one, on the same tokio runtime
+//! (hyper 1). It serves `/metrics` ([`metrics`](crate::metrics)), the status page at `/` (plain
+//! HTML, CSS and JS from the binary: no CDN, no third-party request), the maze's walls at
+//! `/maze.json` and the players' whereabouts as Server-Sent Events at `/events`; every other path is
+//! 404, every method but GET and HEAD 405.
+//!
+//! Bounded like the SSH side, whoever connects:
+//! - at most [`MAX_CONNECTIONS`] connections at once; past it a newcomer is closed at once;
+//! - at most [`MAX_EVENT_CLIENTS`] event streams (503 past it); each holds at most
+//!   [`EVENT_BUFFER`] events not yet written: a reader too slow for that is dropped (its browser
+//!   reconnects), never buffered for; at most [`EVENT_RATE`] events a second each;
+//! - the request's head within [`HEADER_TIMEOUT`] (a slowloris client is cut), at most
+//!   [`MAX_HEAD_BYTES`] of it (hyper answers 431 past that), and a connection lives
+//!   [`CONNECTION_LIFETIME`] at most, keep-alive or not;
+//! - request bodies are never read.
+
+use std::convert::Infallible;
+use std::net::SocketAddr;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Duration;
+
+use http_body_util::Full;
+use hyper::body::{Bytes, Incoming};
+use hyper::{Method, Request, Response, StatusCode};
+use hyper_util::rt::{TokioIo, TokioTimer};
+use prometheus_client::registry::Registry;
+use tokio::net::TcpListener;
+use tokio::sync::watch;
+
+/// Connections at once, at most.
+pub const MAX_CONNECTIONS: usize = 64;
+/// How long a client has to send a request's head.
+pub const HEADER_TIMEOUT: Duration = Duration::from_secs(5);
+/// The longest a connection stays open.
+pub const CONNECTION_LIFETIME: Duration = Duration::from_secs(60);
+/// The most bytes of a request's head (hyper's read buffer; its least is 8 KiB).
+pub const MAX_HEAD_BYTES: usize = 16 * 1024;
+/// Event streams at once, at most.
+pub const MAX_EVENT_CLIENTS: usize = 32;
+/// Events waiting to be written to one stream, at most.
+pub const EVENT_BUFFER: usize = 8;
+/// Events a second to one stream, at most.
+pub const EVENT_RATE: u32 = 10;
+/// An event (or a comment) at least this often, so that proxies keep the stream open.
+const EVENT_KEEPALIVE: Duration = Duration::from_secs(15);
+
+/// The status page.
+const PAGE: &str = include_str!("status.html");
+
+/// What the listener serves.
+pub(crate) struct Site {
+    /// Encoded at each scrape of `/metrics`.
+    pub registry: Registry,
+    /// `/maze.json`: the maze's name, bounds and walls.
+    pub maze: String,
+    /// The world's version, to wait for a change.
+    pub versions: watch::Receiver<u64>,
+    /// The players now, as an event's JSON.
+    pub players: Box<dyn Fn() -> String + Send + Sync>,
+    /// Event streams open now.
+    pub streams: AtomicUsize,
+    /// The server's shutdown.
+    pub shutdown: watch::Receiver<bool>,
+}
+
+/// Binds `addr` and serves `site` until `shutdown` turns true; returns the bound address and the task.
+///
+/// # Errors
+/// The address cannot be bound.
+pub(crate) async fn start(
+    addr: SocketAddr,
+    site: Site,
+) -> std::io::Result<(SocketAddr, tokio::task::JoinHandle<()>)> {
+    let shutdown = site.shutdown.clone();
+    let listener = TcpListener::bind(addr)
+        .await
+        .map_err(|e| std::io::Error::new(e.kind(), format!("--http: cannot listen on {addr}: {e}")))?;
+    let local = listener.local_addr()?;
+    let task = tokio::spawn(accept_loop(listener, Arc::new(site), shutdown));
+    Ok((local, task))
+}
+
+async fn accept_loop(listener: TcpListener, site: Arc<Site>, mut shutdown: watch::Receiver<bool>) {
+    let open = Arc::new(AtomicUsize::new(0));
+    loop {
+        let accepted = tokio::select! {
+            _ = shutdown.wait_for(|&s| s) => return,
+            accepted = listener.accept() => accepted,
+        };
+        let Ok((stream, _)) = accepted else {
+            // Out of descriptors, say: wait a little rather than spin.
+            tokio::time::sleep(Duration::from_millis(100)).await;
+            continue;
+        };
+        if open.load(Ordering::SeqCst) >= MAX_CONNECTIONS {
+            drop(stream); // closed unanswered: the cap holds whatever the clients do
+            continue;
+        }
+        open.fetch_add(1, Ordering::SeqCst);
+        let guard = Open(Arc::clone(&open));
+        let site = Arc::clone(&site);
+        let mut shutdown = shutdown.clone();
+        tokio::spawn(async move {
+            let _guard = guard;
+            let service = hyper::service::service_fn(move |request| {
+                let site = Arc::clone(&site);
+                async move { Ok::<_, Infallible>(answer(&site, &request)) }
+            });
+            let connection = hyper::server::conn::http1::Builder::new()
+                .timer(TokioTimer::new())
+                .header_read_timeout(HEADER_TIMEOUT)
+                .max_buf_size(MAX_HEAD_BYTES)
+                .serve_connection(TokioIo::new(stream), service);
+            tokio::select! {
+                _ = tokio::time::timeout(CONNECTION_LIFETIME, connection) => {}
+                _ = shutdown.wait_for(|&s| s) => {}
+            }
+        });
+    }
+}
+
+/// Counts an open connection while it lives.
+struct Open(Arc<AtomicUsize>);
+
+impl Drop for Open {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+type Body = http_body_util::combinators::BoxBody<Bytes, Infallible>;
+
+fn answer(site: &Arc<Site>, request: &Request<Incoming>) -> Response<Body> {
+    use http_body_util::BodyExt as _;
+    let head = request.method() == Method::HEAD;
+    let respond = |status: StatusCode, content_type: &'static str, body: String| {
+        let body = if head { Bytes::new() } else { Bytes::from(body) };
+        let mut response = Response::new(Full::new(body).boxed());
+        *response.status_mut() = status;
+        let headers = response.headers_mut();
+        headers.insert(hyper::header::CONTENT_TYPE, hyper::header::HeaderValue::from_static(content_type));
+        headers.insert(hyper::header::CACHE_CONTROL, hyper::header::HeaderValue::from_static("no-store"));
+        headers.insert(
+            hyper::header::CONTENT_SECURITY_POLICY,
+            hyper::header::HeaderValue::from_static(
+                "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; connect-src 'self'",
+            ),
+        );
+        response
+    };
+    if !matches!(*request.method(), Method::GET | Method::HEAD) {
+        let mut response = respond(StatusCode::METHOD_NOT_ALLOWED, "text/plain", "GET or HEAD only\n".into());
+        response
+            .headers_mut()
+            .insert(hyper::header::ALLOW, hyper::header::HeaderValue::from_static("GET, HEAD"));
+        return response;
+    }
+    match request.uri().path() {
+        "/metrics" => {
+            respond(StatusCode::OK, crate::metrics::CONTENT_TYPE, crate::metrics::encode(&site.registry))
+        }
+        "/" => respond(StatusCode::OK, "text/html; charset=utf-8", PAGE.into()),
+        "/maze.json" => respond(StatusCode::OK, "application/json", site.maze.clone()),
+        "/events" if head => respond(StatusCode::OK, "text/event-stream", String::new()),
+        "/events" => match events(site) {
+            Some(body) => {
+                let mut response = Response::new(body);
+                let headers = response.headers_mut();
+                headers.insert(
+                    hyper::header::CONTENT_TYPE,
+                    hyper::header::HeaderValue::from_static("text/event-stream"),
+                );
+                headers.insert(
+                    hyper::header::CACHE_CONTROL,
+                    hyper::header::HeaderValue::from_static("no-store"),
+                );
+                response
+            }
+            None => respond(
+                StatusCode::SERVICE_UNAVAILABLE,
+                "text/plain",
+                "too many event streams; try again later\n".into(),
+            ),
+        },
+        _ => respond(StatusCode::NOT_FOUND, "text/plain", "not found: try / or /metrics\n".into()),
+    }
+}
+
+/// An event stream: the players now, then again at each change of the world (at most
+/// [`EVENT_RATE`] a second), a comment every [`EVENT_KEEPALIVE`] otherwise. `None` past
+/// [`MAX_EVENT_CLIENTS`].
+fn events(site: &Arc<Site>) -> Option<Body> {
+    use http_body_util::BodyExt as _;
+    if site.streams.fetch_add(1, Ordering::SeqCst) >= MAX_EVENT_CLIENTS {
+        site.streams.fetch_sub(1, Ordering::SeqCst);
+        return None;
+    }
+    let (tx, rx) = tokio::sync::mpsc::channel::<Bytes>(EVENT_BUFFER);
+    let site = Arc::clone(site);
+    tokio::spawn(async move {
+        let _stream = Stream(Arc::clone(&site));
+        let mut versions = site.versions.clone();
+        let mut shutdown = site.shutdown.clone();
+        // (The browser reconnects this soon after the connection's lifetime ends it.)
+        let mut next = Bytes::from_static(b"retry: 1000\n\n");
+        loop {
+            versions.borrow_and_update();
+            let event = format!("{}data: {}\n\n", String::from_utf8_lossy(&next), (site.players)());
+            next = Bytes::new();
+            // A reader whose buffer is full is too slow: its stream ends (dropped, not waited for).
+            if tx.try_send(Bytes::from(event)).is_err() {
+                return;
+            }
+            tokio::select! {
+                () = tokio::time::sleep(Duration::from_secs(1) / EVENT_RATE) => {}
+                () = tx.closed() => return,
+            }
+            tokio::select! {
+                changed = versions.changed() => if changed.is_err() { return },
+                () = tokio::time::sleep(EVENT_KEEPALIVE) => {
+                    if tx.try_send(Bytes::from_static(b": keepalive\n\n")).is_err() {
+                        return;
+                    }
+                }
+                _ = shutdown.wait_for(|&s| s) => return,
+                () = tx.closed() => return,
+            }
+        }
+    });
+    let frames = futures_util::stream::unfold(rx, |mut rx| async move {
+        rx.recv().await.map(|bytes| (Ok(hyper::body::Frame::data(bytes)), rx))
+    });
+    Some(http_body_util::StreamBody::new(frames).boxed())
+}
+
+/// Counts an event stream while it lives.
+struct Stream(Arc<Site>);
+
+impl Drop for Stream {
+    fn drop(&mut self) {
+        self.0.streams.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+/// Walls drawn on the page's map, at most (a larger maze's page shows the players only).
+pub const MAX_MAP_WALLS: usize = 50_000;
+
+/// `/maze.json`: `name`, the maze's bounds, its walls as `[x1, y1, x2, y2]` (up to
+/// [`MAX_MAP_WALLS`]) and the exit's point.
+#[must_use]
+pub(crate) fn maze_json(maze: &mazewalk_maze::Maze, name: &str) -> String {
+    let extents = maze.extents();
+    let walls: Vec<[f32; 4]> = maze
+        .edges()
+        .iter()
+        .filter(|e| e.opaque)
+        .take(MAX_MAP_WALLS + 1)
+        .map(|e| {
+            let (a, b) = (maze.vertex(e.start), maze.vertex(e.end));
+            [a.x, a.y, b.x, b.y]
+        })
+        .collect();
+    let walls = if walls.len() > MAX_MAP_WALLS { Vec::new() } else { walls };
+    let exit = maze.exit_point().map(|p| [p.x, p.y]);
+    serde_json::json!({
+        "name": name,
+        "min": [extents.min.x, extents.min.y],
+        "max": [extents.max.x, extents.max.y],
+        "walls": walls,
+        "exit": exit,
+    })
+    .to_string()
+}
+
+/// An event: every player in the world (names as the game shows them), where and facing where.
+#[must_use]
+pub(crate) fn players_json(look: &crate::world::Look) -> String {
+    let players: Vec<serde_json::Value> = look
+        .players
+        .iter()
+        .map(|(_, seen)| {
+            serde_json::json!({
+                "name": seen.name,
+                "label": seen.label.to_string(),
+                "x": seen.position.x,
+                "y": seen.position.y,
+                "heading": seen.heading_deg,
+                "best": seen.best,
+            })
+        })
+        .collect();
+    let winner = look.winner.as_ref().map(|w| serde_json::json!({ "name": w.name, "seconds": w.seconds }));
+    serde_json::json!({ "players": players, "winner": winner, "online": look.online }).to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A reader that never reads: its stream holds [`EVENT_BUFFER`] events, then ends (the count of
+    /// streams goes back down) however often the world changes; nothing more is buffered for it.
+    #[tokio::test]
+    async fn a_reader_too_slow_is_dropped_not_buffered_for() {
+        let (version, versions) = watch::channel(0u64);
+        let (_stop, shutdown) = watch::channel(false);
+        let site = Arc::new(Site {
+            registry: Registry::default(),
+            maze: String::new(),
+            versions,
+            players: Box::new(|| "{}".into()),
+            streams: AtomicUsize::new(0),
+            shutdown,
+        });
+        let body = events(&site).expect("a stream");
+        assert_eq!(site.streams.load(Ordering::SeqCst), 1);
+        let deadline = tokio::time::Instant::now() + Duration::from_secs(20);
+        let mut changes = 0;
+        while site.streams.load(Ordering::SeqCst) > 0 {
+            assert!(tokio::time::Instant::now() < deadline, "still streaming after {changes} changes");
+            version.send_modify(|v| *v += 1);
+            changes += 1;
+            tokio::time::sleep(Duration::from_secs(1) / EVENT_RATE + Duration::from_millis(20)).await;
+        }
+        assert!(changes > EVENT_BUFFER, "dropped after {changes} changes");
+        drop(body);
+    }
+}

@@ -1,0 +1,298 @@
+//! What `serve --http` shows at `/metrics`, in Prometheus' text format (0.0.4), encoded by the
+//! official client crate (`prometheus-client`). Two kinds of numbers:
+//!
+//! - **Counted as it happens** ([`Metrics`]): joins, refusals by reason, frames and bytes sent, the
+//!   time from a key to the frame that follows it. Atomics, cheap enough to keep whether or not
+//!   anyone scrapes.
+//! - **Read at each scrape** ([`Snapshot`], through [`Live`]): players and handshakes now, the
+//!   records' writes and failures, the shared world's messages (`--world`). They are kept elsewhere
+//!   already; the scrape asks for them.
+//!
+//! Names follow Prometheus' conventions: `mazewalk_` first, base units (`_seconds`, `_bytes`),
+//! counters end in `_total`.
+
+use prometheus_client::collector::Collector;
+use prometheus_client::encoding::{DescriptorEncoder, EncodeMetric as _};
+use prometheus_client::metrics::counter::{ConstCounter, Counter};
+use prometheus_client::metrics::family::Family;
+use prometheus_client::metrics::gauge::ConstGauge;
+use prometheus_client::metrics::histogram::{Histogram, exponential_buckets};
+use prometheus_client::metrics::info::Info;
+use prometheus_client::registry::{Registry, Unit};
+
+use crate::slots::Refusal;
+
+/// A refusal's reason as a label.
+type Reason = Vec<(&'static str, &'static str)>;
+
+/// The numbers counted as they happen (see the module's doc). Clones share them.
+#[derive(Clone, Debug)]
+pub struct Metrics {
+    joins: Counter,
+    refusals: Family<Reason, Counter>,
+    frames: Counter,
+    bytes: Counter,
+    key_to_frame: Histogram,
+}
+
+/// Every refusal's reason, as its label says it.
+const REASONS: [&str; 4] = ["slots", "per_address", "handshakes", "rate"];
+
+impl Default for Metrics {
+    fn default() -> Metrics {
+        let refusals = Family::<Reason, Counter>::default();
+        for reason in REASONS {
+            let _ = refusals.get_or_create(&vec![("reason", reason)]); // shown at 0 from the start
+        }
+        Metrics {
+            joins: Counter::default(),
+            refusals,
+            frames: Counter::default(),
+            bytes: Counter::default(),
+            // 0.5 ms to 1 s, doubling: a frame on a LAN is a few ms, a slow link's hundreds.
+            key_to_frame: Histogram::new(exponential_buckets(0.0005, 2.0, 12)),
+        }
+    }
+}
+
+impl Metrics {
+    /// A player joined the maze.
+    pub(crate) fn joined(&self) {
+        self.joins.inc();
+    }
+
+    /// A connection was refused for `refusal`.
+    pub(crate) fn refused(&self, refusal: &Refusal) {
+        let reason = match refusal {
+            Refusal::Full(_) => REASONS[0],
+            Refusal::FromThisAddress(_) => REASONS[1],
+            Refusal::Busy => REASONS[2],
+            Refusal::TooFast => REASONS[3],
+        };
+        self.refusals.get_or_create(&vec![("reason", reason)]).inc();
+    }
+
+    /// `bytes` were handed to a player's channel; `frame`: they held a frame; `key`: the seconds since
+    /// the first key that frame answers.
+    pub(crate) fn sent(&self, bytes: usize, frame: bool, key: Option<f64>) {
+        self.bytes.inc_by(bytes as u64);
+        if frame {
+            self.frames.inc();
+        }
+        if let Some(seconds) = key {
+            self.key_to_frame.observe(seconds);
+        }
+    }
+
+    /// Joins so far.
+    #[must_use]
+    pub fn joins(&self) -> u64 {
+        self.joins.get()
+    }
+}
+
+/// The numbers read at each scrape (see the module's doc).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Snapshot {
+    /// Players in the maze on this server now.
+    pub players: usize,
+    /// Connections still logging in now.
+    pub handshakes: usize,
+    /// The records' (written, failed, dropped) so far, when records are kept.
+    pub records: Option<(u64, u64, u64)>,
+    /// The shared world's task, with `--world`.
+    pub world: Option<crate::shared::Stats>,
+}
+
+/// Reads a [`Snapshot`] at each scrape.
+pub struct Live(pub Box<dyn Fn() -> Snapshot + Send + Sync>);
+
+impl std::fmt::Debug for Live {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Live")
+    }
+}
+
+fn gauge(encoder: &mut DescriptorEncoder, name: &str, help: &str, value: i64) -> std::fmt::Result {
+    let gauge = ConstGauge::new(value);
+    gauge.encode(encoder.encode_descriptor(name, help, None, gauge.metric_type())?)
+}
+
+fn counter(
+    encoder: &mut DescriptorEncoder,
+    name: &str,
+    help: &str,
+    unit: Option<&Unit>,
+    value: u64,
+) -> std::fmt::Result {
+    let counter = ConstCounter::new(value);
+    counter.encode(encoder.encode_descriptor(name, help, unit, counter.metric_type())?)
+}
+
+impl Collector for Live {
+    fn encode(&self, mut encoder: DescriptorEncoder) -> std::fmt::Result {
+        let now = (self.0)();
+        let whole = |n: usize| i64::try_from(n).unwrap_or(i64::MAX);
+        gauge(&mut encoder, "players", "Players in the maze on this server now.", whole(now.players))?;
+        gauge(
+            &mut encoder,
+            "handshakes",
+            "Connections still logging in (key exchange, authentication) now.",
+            whole(now.handshakes),
+        )?;
+        if let Some((written, failed, dropped)) = now.records {
+            counter(&mut encoder, "records_written", "Finishes written to the records.", None, written)?;
+            counter(
+                &mut encoder,
+                "records_failed",
+                "Finishes the records store failed to write (kept in memory, written later).",
+                None,
+                failed,
+            )?;
+            counter(
+                &mut encoder,
+                "records_dropped",
+                "Finishes dropped because the records queue was full.",
+                None,
+                dropped,
+            )?;
+        }
+        if let Some(world) = now.world {
+            let heard = world.heard;
+            let received =
+                heard.applied + heard.own + heard.stale + heard.dropped + heard.unknown + world.too_long;
+            counter(
+                &mut encoder,
+                "world_messages_received",
+                "Messages heard from the shared world.",
+                None,
+                received,
+            )?;
+            counter(
+                &mut encoder,
+                "world_messages_dropped",
+                "Messages from the shared world dropped: malformed, out of bounds, another maze or too long.",
+                None,
+                heard.dropped + world.too_long,
+            )?;
+            counter(
+                &mut encoder,
+                "world_messages_published",
+                "Messages this server published to the shared world.",
+                None,
+                world.published,
+            )?;
+            counter(
+                &mut encoder,
+                "world_received",
+                "Bytes heard from the shared world.",
+                Some(&Unit::Bytes),
+                world.heard_bytes,
+            )?;
+            counter(
+                &mut encoder,
+                "world_published",
+                "Bytes published to the shared world.",
+                Some(&Unit::Bytes),
+                world.published_bytes,
+            )?;
+            gauge(
+                &mut encoder,
+                "world_online",
+                "Whether the shared world (Redis) answers now (1) or not (0).",
+                i64::from(world.online),
+            )?;
+            counter(
+                &mut encoder,
+                "world_outages",
+                "Times the shared world went offline.",
+                None,
+                world.outages,
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// The registry `/metrics` encodes: `metrics`, what `live` reads, and the build's version.
+#[must_use]
+pub fn registry(metrics: &Metrics, live: Live) -> Registry {
+    let mut registry = Registry::with_prefix("mazewalk");
+    registry.register("joins", "Players who joined the maze", metrics.joins.clone());
+    registry.register(
+        "refusals",
+        "Connections refused, by reason: slots (every player's slot taken), per_address, handshakes (every handshake slot taken), rate",
+        metrics.refusals.clone(),
+    );
+    registry.register("frames_sent", "Frames handed to players' SSH channels", metrics.frames.clone());
+    registry.register_with_unit(
+        "sent",
+        "Bytes handed to players' SSH channels (frames, terminal set-up and goodbyes)",
+        Unit::Bytes,
+        metrics.bytes.clone(),
+    );
+    registry.register_with_unit(
+        "key_to_frame",
+        "Time from a key's arrival to the next frame handed to the player's SSH channel",
+        Unit::Seconds,
+        metrics.key_to_frame.clone(),
+    );
+    registry.register("build", "The mazewalk build", Info::new(vec![("version", env!("CARGO_PKG_VERSION"))]));
+    registry.register_collector(Box::new(live));
+    registry
+}
+
+/// `registry` in Prometheus' text format.
+#[must_use]
+pub fn encode(registry: &Registry) -> String {
+    let mut text = String::new();
+    // (Writing to a String cannot fail; an encoder's own error would leave what it wrote.)
+    let _ = prometheus_client::encoding::prometheus_text::encode(&mut text, registry);
+    text
+}
+
+/// The `Content-Type` of [`encode`]'s text.
+pub const CONTENT_TYPE: &str = prometheus_client::encoding::prometheus_text::CONTENT_TYPE;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The names and values a scrape shows, counted and read live alike.
+    #[test]
+    fn the_text_has_the_counted_and_the_live_numbers() {
+        let metrics = Metrics::default();
+        metrics.joined();
+        metrics.joined();
+        metrics.refused(&Refusal::Full(4));
+        metrics.refused(&Refusal::FromThisAddress(2));
+        metrics.refused(&Refusal::FromThisAddress(2));
+        metrics.sent(1000, true, Some(0.003));
+        metrics.sent(24, false, None);
+        let live =
+            Live(Box::new(|| Snapshot { players: 3, handshakes: 1, records: Some((5, 1, 0)), world: None }));
+        let text = encode(&registry(&metrics, live));
+        for line in [
+            "mazewalk_joins_total 2",
+            "mazewalk_refusals_total{reason=\"slots\"} 1",
+            "mazewalk_refusals_total{reason=\"per_address\"} 2",
+            "mazewalk_refusals_total{reason=\"handshakes\"} 0",
+            "mazewalk_frames_sent_total 1",
+            "mazewalk_sent_bytes_total 1024",
+            "mazewalk_key_to_frame_seconds_count 1",
+            "mazewalk_key_to_frame_seconds_bucket{le=\"0.004\"} 1",
+            "mazewalk_key_to_frame_seconds_bucket{le=\"0.002\"} 0",
+            "mazewalk_players 3",
+            "mazewalk_handshakes 1",
+            "mazewalk_records_written_total 5",
+            "mazewalk_records_failed_total 1",
+        ] {
+            assert!(text.lines().any(|l| l == line), "no line {line:?} in:\n{text}");
+        }
+        assert!(
+            text.contains(&format!("mazewalk_build_info{{version=\"{}\"}} 1", env!("CARGO_PKG_VERSION"))),
+            "{text}"
+        );
+        assert!(!text.contains("world_"), "no world without --world:\n{text}");
+    }
+}

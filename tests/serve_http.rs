@@ -1,0 +1,482 @@
+//! End to end: `mazewalk serve --http 127.0.0.1:0 --log-format json` (the built binary), scraped over
+//! loopback, while a real `ssh -tt` player (in a pty, answering the device-attributes queries as a
+//! terminal does) joins, walks and quits. Checks: `/metrics` counts the join, the frames, the bytes and
+//! the key-to-frame times, and the player leaving; Prometheus' own `promtool check metrics` accepts the
+//! text (when promtool is on PATH: Debian's `prometheus` package); every log line is one JSON object
+//! with the player's address and name; hostile HTTP gets 4xx (unknown path, other methods, a head
+//! too large) and a client that never finishes its head is cut; past the connection cap a newcomer is
+//! closed at once. And the status page in a headless Chromium (Debian's `chromium`, when on PATH):
+//! the player drawn on the map, moved when it walks, nothing logged to the console. Every wait has a
+//! deadline; the children are killed on drop.
+#![cfg(unix)]
+
+use std::fs::File;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::time::{Duration, Instant};
+
+use mazewalk_serve::http::{HEADER_TIMEOUT, MAX_CONNECTIONS, MAX_EVENT_CLIENTS, MAX_HEAD_BYTES};
+
+/// Longest wait for anything (a loaded CI machine).
+const TIMEOUT: Duration = Duration::from_secs(20);
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// The server and a scratch folder, both gone on drop.
+struct Serve {
+    child: Child,
+    ssh_port: u16,
+    http: SocketAddr,
+    log: Arc<Mutex<String>>,
+    dir: PathBuf,
+}
+
+impl Serve {
+    /// Starts a server whose scratch folder is named after `test`.
+    fn start(test: &str) -> Serve {
+        let dir = std::env::temp_dir().join(format!("mazewalk-serve-http-{test}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("scratch folder");
+        let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .args([
+                "serve",
+                "--open",
+                "--listen",
+                "127.0.0.1:0",
+                "--http",
+                "127.0.0.1:0",
+                "--log-format",
+                "json",
+            ])
+            .arg("--host-key")
+            .arg(dir.join("host_key"))
+            .arg("--records")
+            .arg(dir.join("records.sqlite"))
+            .env("HOME", &dir)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start mazewalk serve");
+        let stdout = BufReader::new(child.stdout.take().expect("stdout"));
+        let (mut ssh_port, mut http) = (None, None);
+        for line in stdout.lines() {
+            let line = line.expect("a line of stdout");
+            if let Some(rest) = line.strip_prefix("mazewalk: serving on ") {
+                ssh_port = rest.rsplit_once(':').and_then(|(_, p)| p.parse::<u16>().ok());
+            }
+            if let Some(rest) = line.strip_prefix("metrics at http://") {
+                http = rest.strip_suffix("/metrics").and_then(|a| a.parse().ok());
+                break;
+            }
+        }
+        let log = Arc::new(Mutex::new(String::new()));
+        let stderr = child.stderr.take().expect("stderr");
+        let sink = Arc::clone(&log);
+        std::thread::spawn(move || {
+            for line in BufReader::new(stderr).lines() {
+                let Ok(line) = line else { break };
+                lock(&sink).push_str(&(line + "\n"));
+            }
+        });
+        Serve {
+            child,
+            ssh_port: ssh_port.expect("the SSH port on stdout"),
+            http: http.expect("`metrics at http://ADDR/metrics` on stdout"),
+            log,
+            dir,
+        }
+    }
+
+    /// One HTTP request (`request` is its whole head and body); the status and the body.
+    fn http(&self, request: &[u8]) -> (u16, String) {
+        let mut stream = TcpStream::connect(self.http).expect("connect to --http");
+        stream.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+        stream.write_all(request).expect("send the request");
+        let mut answer = Vec::new();
+        let _ = stream.read_to_end(&mut answer);
+        let answer = String::from_utf8_lossy(&answer).into_owned();
+        let status = answer.split(' ').nth(1).and_then(|s| s.parse().ok()).unwrap_or(0);
+        let body = answer.split_once("\r\n\r\n").map(|(_, b)| b.to_string()).unwrap_or_default();
+        (status, body)
+    }
+
+    fn scrape(&self) -> String {
+        let (status, body) =
+            self.http(b"GET /metrics HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n");
+        assert_eq!(status, 200, "{body}");
+        body
+    }
+
+    /// The value of the sample named exactly `name` (labels included) in the last scrape.
+    fn value(&self, name: &str) -> f64 {
+        let text = self.scrape();
+        text.lines()
+            .find_map(|l| l.strip_prefix(name).and_then(|rest| rest.strip_prefix(' ')))
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("no sample {name} in:\n{text}"))
+    }
+
+    /// Waits until `name`'s value satisfies `ok`.
+    fn wait_value(&self, name: &str, ok: impl Fn(f64) -> bool) -> f64 {
+        let deadline = Instant::now() + TIMEOUT;
+        loop {
+            let value = self.value(name);
+            if ok(value) {
+                return value;
+            }
+            assert!(Instant::now() < deadline, "{name} stayed at {value}");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+}
+
+/// An event stream from `/events`, read as it comes.
+struct Events {
+    lines: BufReader<TcpStream>,
+}
+
+impl Events {
+    fn open(addr: SocketAddr) -> Events {
+        let mut stream = TcpStream::connect(addr).expect("connect to --http");
+        stream.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+        stream.write_all(b"GET /events HTTP/1.1\r\nHost: localhost\r\n\r\n").expect("ask for events");
+        Events { lines: BufReader::new(stream) }
+    }
+
+    /// The status line.
+    fn status(&mut self) -> String {
+        let mut line = String::new();
+        self.lines.read_line(&mut line).expect("the status line");
+        line.trim().to_string()
+    }
+
+    /// The next event's data that satisfies `ok`.
+    fn next(&mut self, ok: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
+        let deadline = Instant::now() + TIMEOUT;
+        let mut last = serde_json::Value::Null;
+        loop {
+            assert!(Instant::now() < deadline, "no such event; the last: {last}");
+            let mut line = String::new();
+            assert!(self.lines.read_line(&mut line).expect("an event") > 0, "the stream ended");
+            if let Some(data) = line.trim_end().strip_prefix("data: ") {
+                let event: serde_json::Value = serde_json::from_str(data).expect("an event's JSON");
+                last.clone_from(&event);
+                if ok(&event) {
+                    return event;
+                }
+            }
+        }
+    }
+}
+
+impl Drop for Serve {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+/// `ssh -tt` in a pty; everything it prints is read and the device-attributes queries answered.
+struct Player {
+    child: Child,
+    master: File,
+    seen: Arc<Mutex<Vec<u8>>>,
+}
+
+impl Player {
+    fn connect(port: u16, user: &str) -> Player {
+        let size = rustix::termios::Winsize { ws_row: 24, ws_col: 80, ws_xpixel: 0, ws_ypixel: 0 };
+        let pty = rustix_openpty::openpty(None, Some(&size)).expect("openpty");
+        let master = File::from(pty.controller);
+        let slave = pty.user;
+        let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
+        let child = Command::new("setsid")
+            .args(["-c", "ssh", "-tt", "-F", "/dev/null", "-p", &port.to_string()])
+            .args([
+                "-o",
+                "StrictHostKeyChecking=no",
+                "-o",
+                "UserKnownHostsFile=/dev/null",
+                "-o",
+                "LogLevel=ERROR",
+            ])
+            .args(["-o", "BatchMode=yes", "-o", "IdentitiesOnly=yes", "-i", "/dev/null"])
+            .arg(format!("{user}@127.0.0.1"))
+            .env("TERM", "xterm-256color")
+            .stdin(stdio())
+            .stdout(stdio())
+            .stderr(stdio())
+            .spawn()
+            .expect("spawn setsid -c ssh");
+        drop(slave);
+        let seen = Arc::new(Mutex::new(Vec::new()));
+        let (mut input, mut answer) = (master.try_clone().expect("dup"), master.try_clone().expect("dup"));
+        let sink = Arc::clone(&seen);
+        std::thread::spawn(move || {
+            let mut buf = vec![0u8; 1 << 16];
+            let mut scanned = 0usize;
+            while let Ok(n @ 1..) = input.read(&mut buf) {
+                let mut seen = lock(&sink);
+                seen.extend_from_slice(&buf[..n]);
+                let from = scanned.saturating_sub(2);
+                let queries = seen[from..].windows(3).filter(|w| *w == b"\x1b[c").count();
+                scanned = seen.len();
+                drop(seen);
+                for _ in 0..queries {
+                    let _ = answer.write_all(b"\x1b[?62;22c");
+                }
+            }
+        });
+        Player { child, master, seen }
+    }
+
+    fn send(&mut self, bytes: &[u8]) {
+        self.master.write_all(bytes).expect("write to the pty");
+    }
+
+    fn wait_exit(&mut self) {
+        let deadline = Instant::now() + TIMEOUT;
+        while self.child.try_wait().expect("wait for ssh").is_none() {
+            assert!(Instant::now() < deadline, "ssh did not exit");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+}
+
+impl Drop for Player {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[test]
+fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
+    let serve = Serve::start("metrics");
+    assert_eq!(serve.value("mazewalk_joins_total"), 0.0);
+    assert_eq!(serve.value("mazewalk_players"), 0.0);
+
+    let mut player = Player::connect(serve.ssh_port, "walker");
+    serve.wait_value("mazewalk_players", |v| v == 1.0);
+    assert_eq!(serve.value("mazewalk_joins_total"), 1.0);
+    let frames = serve.wait_value("mazewalk_frames_sent_total", |v| v > 0.0);
+    let bytes = serve.value("mazewalk_sent_bytes_total");
+    assert!(bytes > 1000.0, "a frame is more than a few bytes: {bytes}");
+    // Keys, a pause between them so that each gets a frame of its own.
+    for _ in 0..3 {
+        player.send(b"\x1b[A");
+        std::thread::sleep(Duration::from_millis(150));
+    }
+    serve.wait_value("mazewalk_key_to_frame_seconds_count", |v| v >= 1.0);
+
+    // The status page, the maze and the players live.
+    let (status, page) = serve.http(b"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    assert_eq!(status, 200);
+    assert!(
+        page.contains("new EventSource(\"/events\")")
+            && !page.contains("http://")
+            && !page.contains("https://"),
+        "{page}"
+    );
+    let (status, maze) = serve.http(b"GET /maze.json HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    assert_eq!(status, 200);
+    let maze: serde_json::Value = serde_json::from_str(&maze).expect("the maze's JSON");
+    assert!(maze["walls"].as_array().is_some_and(|w| w.len() > 10), "{maze}");
+    assert_eq!(maze["name"], mazewalk_maze::BUILTIN_NAME, "the maze as the host named it");
+    let mut events = Events::open(serve.http);
+    assert_eq!(events.status(), "HTTP/1.1 200 OK");
+    let walker = |e: &serde_json::Value| {
+        e["players"].as_array().is_some_and(|p| p.len() == 1 && p[0]["name"] == "walker")
+    };
+    let first = events.next(walker)["players"][0].clone();
+    let step = Instant::now();
+    player.send(b"\x1b[D"); // turn left
+    let turned = events.next(|e| walker(e) && e["players"][0]["heading"] != first["heading"]);
+    eprintln!("the page heard a turn in {:?}: {first} -> {}", step.elapsed(), turned["players"][0]);
+    // The streams are capped: past the cap, 503.
+    let mut streams: Vec<Events> = (1..MAX_EVENT_CLIENTS).map(|_| Events::open(serve.http)).collect();
+    for stream in &mut streams {
+        assert_eq!(stream.status(), "HTTP/1.1 200 OK");
+    }
+    assert_eq!(Events::open(serve.http).status(), "HTTP/1.1 503 Service Unavailable");
+    drop(streams);
+    drop(events);
+    assert!(serve.value("mazewalk_frames_sent_total") > frames, "the keys brought frames");
+    assert!(serve.value("mazewalk_key_to_frame_seconds_sum") < 3.0 * TIMEOUT.as_secs_f64());
+    assert!(lock(&player.seen).len() > 1000, "the player saw the game");
+
+    // Prometheus' own parser and linter, when installed.
+    let text = serve.scrape();
+    match Command::new("promtool")
+        .args(["check", "metrics"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+    {
+        Ok(mut promtool) => {
+            promtool.stdin.take().expect("stdin").write_all(text.as_bytes()).expect("feed promtool");
+            let out = promtool.wait_with_output().expect("promtool");
+            assert!(
+                out.status.success(),
+                "promtool check metrics: {}{}\n{text}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        Err(err) => eprintln!("promtool not run ({err}): install Debian's `prometheus` for it"),
+    }
+
+    player.send(b"q");
+    player.wait_exit();
+    serve.wait_value("mazewalk_players", |v| v == 0.0);
+
+    // The log: one JSON object a line, the player's lines with its address and name.
+    let deadline = Instant::now() + TIMEOUT;
+    while !lock(&serve.log).contains("\"disconnected\"") {
+        assert!(Instant::now() < deadline, "no disconnect line:\n{}", lock(&serve.log));
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let log = lock(&serve.log).clone();
+    let lines: Vec<serde_json::Value> =
+        log.lines().map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{e}: {l:?}"))).collect();
+    let connected = lines.iter().find(|l| l["event"] == "connected").expect("a connected line");
+    assert_eq!(connected["player"], "walker");
+    assert!(connected["address"].as_str().is_some_and(|a| a.starts_with("127.0.0.1:")), "{connected}");
+    assert!(lines.iter().all(|l| l["time"].is_string() && l["level"].is_string()), "{log}");
+
+    // Hostile HTTP: 4xx, and the server goes on.
+    let (status, _) = serve.http(b"GET /../../etc/passwd HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    assert_eq!(status, 404);
+    let (status, _) =
+        serve.http(b"POST /metrics HTTP/1.1\r\nHost: x\r\nContent-Length: 3\r\nConnection: close\r\n\r\nabc");
+    assert_eq!(status, 405);
+    let big = format!(
+        "GET /metrics HTTP/1.1\r\nHost: x\r\nX-Big: {}\r\nConnection: close\r\n\r\n",
+        "a".repeat(2 * MAX_HEAD_BYTES)
+    );
+    let (status, _) = serve.http(big.as_bytes());
+    assert_eq!(status, 431, "a head too large");
+    let (status, _) = serve.http(b"\x16\x03\x01\x02\x00garbage\r\n\r\n");
+    assert_eq!(status, 400, "not HTTP");
+
+    // Slow clients: every connection slot held by a head that never ends; the next is closed at
+    // once, and the holders are cut after the header timeout, leaving room again.
+    let started = Instant::now();
+    let holders: Vec<TcpStream> = (0..MAX_CONNECTIONS)
+        .map(|_| {
+            let mut s = TcpStream::connect(serve.http).expect("connect");
+            s.write_all(b"GET /metrics HTTP/1.1\r\nHost: x\r\n").expect("half a head");
+            s
+        })
+        .collect();
+    std::thread::sleep(Duration::from_millis(300)); // (all accepted)
+    let mut late = TcpStream::connect(serve.http).expect("connect");
+    late.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+    let _ = late.write_all(b"GET /metrics HTTP/1.1\r\nHost: x\r\n\r\n");
+    let mut answer = Vec::new();
+    let _ = late.read_to_end(&mut answer);
+    assert!(answer.is_empty(), "past the cap, closed unanswered: {:?}", String::from_utf8_lossy(&answer));
+    for mut holder in holders {
+        holder.set_read_timeout(Some(TIMEOUT)).expect("timeout");
+        let mut sink = Vec::new();
+        let _ = holder.read_to_end(&mut sink); // closed by the server (with a 408, or without a word)
+    }
+    let waited = started.elapsed();
+    assert!(waited >= HEADER_TIMEOUT && waited < HEADER_TIMEOUT + TIMEOUT, "{waited:?}");
+    assert_eq!(serve.value("mazewalk_players"), 0.0, "and /metrics answers again");
+}
+
+/// Pixels of a screenshot, (x, y).
+type Pixels = [(u32, u32)];
+
+/// The yellow of the players' dots, heading lines and labels on the status page's map.
+const PLAYER_YELLOW: [u8; 3] = [0xff, 0xcc, 0x33];
+
+/// A headless Chromium's screenshot of `url`: the pixels of the players' yellow (x, y), and what
+/// Chromium logged (the page's console among it).
+fn screenshot(chromium: &str, url: &str, png: &std::path::Path) -> (Vec<(u32, u32)>, String) {
+    let out = Command::new(chromium)
+        .args([
+            "--headless=new",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--hide-scrollbars",
+            "--enable-logging=stderr",
+        ])
+        .args(["--v=0", "--window-size=1000,700", "--timeout=3000"])
+        .arg(format!("--screenshot={}", png.display()))
+        .arg(url)
+        .stdin(Stdio::null())
+        .output()
+        .expect("run chromium");
+    let log = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "chromium: {log}");
+    let decoder = png::Decoder::new(BufReader::new(File::open(png).expect("the screenshot")));
+    let mut reader = decoder.read_info().expect("a PNG");
+    let mut buf = vec![0; reader.output_buffer_size().expect("its size")];
+    let info = reader.next_frame(&mut buf).expect("its pixels");
+    let channels = info.color_type.samples();
+    assert!(channels >= 3, "{:?}", info.color_type);
+    let mut yellow = Vec::new();
+    for y in 0..info.height {
+        let row = &buf[y as usize * info.line_size..][..info.line_size];
+        for x in 0..info.width {
+            if row[x as usize * channels..][..3] == PLAYER_YELLOW {
+                yellow.push((x, y));
+            }
+        }
+    }
+    (yellow, log)
+}
+
+fn centroid(pixels: &[(u32, u32)]) -> (f64, f64) {
+    let n = pixels.len().max(1) as f64;
+    let (sx, sy) = pixels.iter().fold((0.0, 0.0), |(sx, sy), &(x, y)| (sx + f64::from(x), sy + f64::from(y)));
+    (sx / n, sy / n)
+}
+
+/// The status page in a real browser (Debian's `chromium`, when on PATH): it draws the player the
+/// SSH side has, moves it when the player walks, and logs nothing to the console.
+#[test]
+fn a_headless_chromium_shows_the_player_walking_on_the_status_page() {
+    let Some(chromium) = ["chromium", "chromium-browser"]
+        .into_iter()
+        .find(|c| Command::new(c).arg("--version").output().is_ok_and(|o| o.status.success()))
+    else {
+        eprintln!("chromium not on PATH: the status page was not checked in a browser");
+        return;
+    };
+    let serve = Serve::start("chromium");
+    let url = format!("http://{}/", serve.http);
+    let png = serve.dir.join("page.png");
+    let (empty, _) = screenshot(chromium, &url, &png);
+    assert!(empty.is_empty(), "nobody plays yet, yet {} yellow pixels", empty.len());
+    let mut player = Player::connect(serve.ssh_port, "walker");
+    serve.wait_value("mazewalk_players", |v| v == 1.0);
+    let shoot_until = |what: &str, ok: &dyn Fn(&Pixels) -> bool| {
+        // (Chromium may take its picture before the first event arrives: again, a few times.)
+        for _ in 0..10 {
+            let (yellow, log) = screenshot(chromium, &url, &png);
+            let console: Vec<&str> = log.lines().filter(|l| l.contains(":CONSOLE")).collect();
+            assert!(console.is_empty(), "the page logged: {console:?}");
+            if ok(&yellow) {
+                return yellow;
+            }
+        }
+        panic!("the page never showed {what}");
+    };
+    let before = shoot_until("the player", &|y| y.len() > 20);
+    player.send(b"w"); // a step forward (east, from the built-in maze's start)
+    serve.wait_value("mazewalk_frames_sent_total", |v| v > 0.0);
+    let from = centroid(&before);
+    let after = shoot_until("the player moved", &|y| y.len() > 20 && (centroid(y).0 - from.0).abs() > 2.0);
+    eprintln!("the player's dot moved from {from:?} to {:?}", centroid(&after));
+}
