@@ -588,7 +588,7 @@ impl Renderer {
     /// a ray meets the floor once, so where a sample shows the floor and the boundary projects onto
     /// it, the boundary is what the sample shows.
     pub(crate) fn draw_cell_bounds(&mut self, maze: &Maze, eye: &Eye, culling: Culling) {
-        let (w, h) = (eye.width, eye.height);
+        let w = eye.width;
         self.edge_list.clear();
         self.seen.clear();
         match culling {
@@ -605,11 +605,7 @@ impl Renderer {
         for &e in &self.seen {
             let (a, b) = maze.edge_points(e);
             for (z, plane) in [(FLOOR_Z, FLOOR), (CEILING_Z, CEILING)] {
-                let Some((p, q)) = clip_segment(eye, a.extend(z), b.extend(z)) else { continue };
-                let (gp, gq) = (eye.grid(p), eye.grid(q));
-                let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
-                let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
-                for (x, y) in line_points(x0, y0, x1, y1, w, h) {
+                for (x, y) in segment_samples(eye, a.extend(z), b.extend(z)) {
                     let i = y * w + x;
                     if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None {
                         self.edge_marks[i] = Mark::Seam;
@@ -630,7 +626,7 @@ impl Renderer {
     /// opening six cells down a corridor is narrower than a column, but its jambs stay a sample wide,
     /// so a player sees where the side openings are as far as the view reaches (issue #39).
     pub(crate) fn draw_jambs(&mut self, maze: &Maze, eye: &Eye) {
-        let (w, h) = (eye.width, eye.height);
+        let w = eye.width;
         self.edge_list.clear();
         for &e in &self.walls {
             let edge = maze.edge(e);
@@ -657,13 +653,7 @@ impl Renderer {
                     continue;
                 }
                 let at = maze.vertex(v);
-                let Some((p, q)) = clip_segment(eye, at.extend(FLOOR_Z), at.extend(CEILING_Z)) else {
-                    continue;
-                };
-                let (gp, gq) = (eye.grid(p), eye.grid(q));
-                let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
-                let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
-                for (x, y) in line_points(x0, y0, x1, y1, w, h) {
+                for (x, y) in segment_samples(eye, at.extend(FLOOR_Z), at.extend(CEILING_Z)) {
                     // The wall's own sample on the line, or beside it (the line runs along the
                     // wall's end, which rounds to either side).
                     let row = y * w;
@@ -837,6 +827,25 @@ fn for_each_difference(a: &[u32], b: &[u32], mut f: impl FnMut(usize)) {
             f(x);
         }
     }
+}
+
+/// The samples a world segment `p`–`q` passes over in view: clipped against the view volume,
+/// projected to the grid, Bresenham between the samples of its ends (none where it is out of view).
+fn segment_samples(eye: &Eye, p: Vec3, q: Vec3) -> impl Iterator<Item = (usize, usize)> {
+    clip_segment(eye, p, q).into_iter().flat_map(|(p, q)| {
+        let (gp, mut gq) = (eye.grid(p), eye.grid(q));
+        // A segment upright (or level) on the grid up to rounding, a vertical in a level view, stays
+        // in one column (row) of samples rather than stepping at a rounding's whim.
+        if (gq.x - gp.x).abs() < 1e-3 {
+            gq.x = gp.x;
+        }
+        if (gq.y - gp.y).abs() < 1e-3 {
+            gq.y = gp.y;
+        }
+        let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
+        let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
+        line_points(x0, y0, x1, y1, eye.width, eye.height)
+    })
 }
 
 /// The distance from `p` to the segment `a`–`b`.
