@@ -448,4 +448,67 @@ mod tests {
         assert!(!held.press(Action::Quit, 0.0, true, false, 0.0));
         assert!(!held.any(0.0));
     }
+
+    /// A held key's repeats extend one glide from its first repeat on: the motion between repeats is
+    /// all there, not restarted at each.
+    #[test]
+    fn repeats_extend_one_glide_from_the_first() {
+        let mut held = Held::default();
+        assert!(held.press(Action::Forward, 0.0, false, false, 0.0), "the press: a step");
+        assert!(held.press(Action::Forward, 0.5, false, false, 0.0), "the first repeat: a step");
+        for t in [0.53, 0.56, 0.59] {
+            assert!(!held.press(Action::Forward, t, false, false, 0.0), "repeats glide");
+        }
+        let moving = held.moving_time(Action::Forward, 0.53, 0.6);
+        assert!((moving - 0.07).abs() < 1e-9, "glided {moving} s of the 0.07 s from 0.53");
+    }
+
+    /// Focus lost, suspend or reset: nothing moves on; a box's `clear_motion` stops the glides but a
+    /// key still held comes back as a repeat, not as a tap.
+    #[test]
+    fn clearing_stops_every_glide() {
+        let mut held = Held::default();
+        held.press(Action::TurnLeft, 0.0, true, false, 0.1);
+        held.press(Action::Forward, 0.0, true, false, 0.1);
+        assert!(held.any(1.0));
+        held.clear_motion();
+        assert!(!held.any(1.0) && held.next_expiry().is_none());
+        assert!(held.recently_pressed(Action::Forward, 0.05), "the press is remembered");
+        held.press(Action::Back, 2.0, true, false, 0.1);
+        held.clear();
+        assert!(!held.any(2.5) && held.next_expiry().is_none());
+        assert!(!held.recently_pressed(Action::Back, 2.05), "nothing is remembered");
+    }
+
+    /// A glide that ran out is dropped by `expire`: the session is not woken for it again.
+    #[test]
+    fn expired_glides_are_dropped() {
+        let mut held = Held::default();
+        held.press(Action::Forward, 0.0, false, false, 0.0);
+        held.press(Action::Forward, 0.5, false, false, 0.0);
+        held.press(Action::Forward, 0.53, false, false, 0.0);
+        let until = held.next_expiry().expect("a timed glide");
+        held.expire(until);
+        assert_eq!(held.next_expiry(), Some(until), "not yet run out at its end");
+        held.expire(until + 0.001);
+        assert_eq!(held.next_expiry(), None, "run out");
+    }
+
+    /// The bounds of the time windows are exclusive: a press exactly `ANSWER_GAP` after the last is
+    /// not recent; presses together exactly `STALL` after the key last repeated are taps.
+    #[test]
+    fn the_windows_end_where_they_say() {
+        let mut held = Held::default();
+        held.note_press(Action::Forward, 1.0);
+        assert!(held.recently_pressed(Action::Forward, 1.0 + ANSWER_GAP / 2.0));
+        assert!(!held.recently_pressed(Action::Forward, 1.0 + ANSWER_GAP));
+        // A hold whose last repeat is at 0.25; its glide has run out by 0.745.
+        let mut held = Held::default();
+        for t in [0.0, 0.2, 0.22, 0.25] {
+            held.press(Action::TurnLeft, t, false, false, 0.0);
+        }
+        held.expire(0.745);
+        assert!(held.press(Action::TurnLeft, 0.745, false, false, 0.0), "a tap after a pause");
+        assert!(held.press(Action::TurnLeft, 0.75, false, false, 0.0), "STALL after the repeat: a tap");
+    }
 }
