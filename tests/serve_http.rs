@@ -31,6 +31,8 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 struct Serve {
     child: Child,
     ssh_port: u16,
+    /// The host key's fingerprint, as the server printed it.
+    host_key: String,
     http: SocketAddr,
     log: Arc<Mutex<String>>,
     dir: PathBuf,
@@ -64,9 +66,12 @@ impl Serve {
             .spawn()
             .expect("start mazewalk serve");
         let stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        let (mut ssh_port, mut http) = (None, None);
+        let (mut ssh_port, mut http, mut host_key) = (None, None, None);
         for line in stdout.lines() {
             let line = line.expect("a line of stdout");
+            if let Some(rest) = line.strip_prefix("host key ") {
+                host_key = rest.split_whitespace().next().map(str::to_string);
+            }
             if let Some(rest) = line.strip_prefix("mazewalk: serving on ") {
                 ssh_port = rest.rsplit_once(':').and_then(|(_, p)| p.parse::<u16>().ok());
             }
@@ -87,6 +92,7 @@ impl Serve {
         Serve {
             child,
             ssh_port: ssh_port.expect("the SSH port on stdout"),
+            host_key: host_key.expect("`host key SHA256:…` on stdout"),
             http: http.expect("`metrics at http://ADDR/metrics` on stdout"),
             log,
             dir,
@@ -290,6 +296,10 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
     let maze: serde_json::Value = serde_json::from_str(&maze).expect("the maze's JSON");
     assert!(maze["walls"].as_array().is_some_and(|w| w.len() > 10), "{maze}");
     assert_eq!(maze["name"], mazewalk_maze::BUILTIN_NAME, "the maze as the host named it");
+    // How to join: the SSH port and the host key a newcomer's `ssh` will show.
+    assert_eq!(maze["ssh_port"], serve.ssh_port, "{maze}");
+    assert_eq!(maze["host_key"], serve.host_key.as_str(), "{maze}");
+    assert!(serve.host_key.starts_with("SHA256:"), "{}", serve.host_key);
     let mut events = Events::open(serve.http);
     assert_eq!(events.status(), "HTTP/1.1 200 OK");
     let walker = |e: &serde_json::Value| {

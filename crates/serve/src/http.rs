@@ -246,10 +246,19 @@ impl Drop for Stream {
 /// Walls drawn on the page's map, at most (a larger maze's page shows the players only).
 pub const MAX_MAP_WALLS: usize = 50_000;
 
+/// How a player joins the game this page shows.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Joining {
+    /// The SSH server's port.
+    pub ssh_port: Option<u16>,
+    /// The host key's fingerprint (`SHA256:…`), so a newcomer can check what `ssh` asks about.
+    pub host_key: Option<String>,
+}
+
 /// `/maze.json`: `name`, the maze's bounds, its walls as `[x1, y1, x2, y2]` (up to
-/// [`MAX_MAP_WALLS`]) and the exit's point.
+/// [`MAX_MAP_WALLS`]), the exit's point, and how to join: `ssh_port` and `host_key`.
 #[must_use]
-pub(crate) fn maze_json(maze: &mazewalk_maze::Maze, name: &str) -> String {
+pub(crate) fn maze_json(maze: &mazewalk_maze::Maze, name: &str, joining: &Joining) -> String {
     let extents = maze.extents();
     let walls: Vec<[f32; 4]> = maze
         .edges()
@@ -269,6 +278,8 @@ pub(crate) fn maze_json(maze: &mazewalk_maze::Maze, name: &str) -> String {
         "max": [extents.max.x, extents.max.y],
         "walls": walls,
         "exit": exit,
+        "ssh_port": joining.ssh_port,
+        "host_key": joining.host_key,
     })
     .to_string()
 }

@@ -557,7 +557,7 @@ impl Server {
         let shared = Arc::clone(&self.shared);
         let site = crate::http::Site {
             registry,
-            maze: crate::http::maze_json(&self.shared.maze, maze_name),
+            maze: crate::http::maze_json(&self.shared.maze, maze_name, &self.joining()),
             versions: self.shared.world.version.subscribe(),
             players: Box::new(move || crate::http::players_json(&shared.world().look())),
             streams: AtomicUsize::new(0),
@@ -565,6 +565,15 @@ impl Server {
         };
         let (local, _task) = crate::http::start(addr, site).await?;
         Ok(local)
+    }
+
+    /// How a player joins, for the status page: this server's SSH port and its host key's
+    /// fingerprint (SHA-256, as `ssh` shows it when it first meets the host).
+    fn joining(&self) -> crate::http::Joining {
+        crate::http::Joining {
+            ssh_port: self.local_addrs.first().map(SocketAddr::port),
+            host_key: self.shared.config.keys.first().map(|key| fingerprint(key.public_key())),
+        }
     }
 
     /// What `/metrics` counts as it happens.
