@@ -1041,11 +1041,12 @@ fn kill_at_the_shell_ends_a_walk_stopped_by_ctrl_z() {
     tui.wait_for("the shell's report of the stop", |s| {
         !s.alternate_screen() && s.contents().contains("Stopped")
     });
-    // (`wait %1` right after the kill could find the job still stopped, as the shell last saw it:
-    // wait while it is, then let the shell report the job.)
+    // (`wait %1` right after the kill could find the job still stopped, as the shell last saw it,
+    // or woken and still on its way out: wait until it has ended (gone, or a zombie for the shell
+    // to reap), at most 10 s, then let the shell report the job.)
     tui.send(b"p=$(jobs -p %1); kill %1\r");
     tui.send(
-        b"for i in {1..200}; do [ \"$(cut -d' ' -f3 /proc/$p/stat 2>&-)\" = T ] || break; sleep 0.05; done\r",
+        b"for i in {1..200}; do s=$(cut -d' ' -f3 /proc/$p/stat 2>&-); [ -z \"$s\" ] || [ \"$s\" = Z ] && break; sleep 0.05; done\r",
     );
     tui.send(b"jobs; echo reported\r");
     tui.wait_for("the shell's report", |s| s.contents().contains("\nreported"));
