@@ -119,7 +119,10 @@ const CORRIDOR_AND_BEND: &str =
 fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
     let scratch = Scratch::new("figure");
     let (_server, alice, mut bob) = alice_and_bob_in(&scratch, CORRIDOR_AND_BEND);
-    assert!(!alice.shows(|s| in_view(s, 'B')), "bob stands on alice's own spot, not in front of her");
+    // Bob spawns a cell ahead of alice, facing on down the corridor (its longest way): in her view,
+    // his back to her, and not on her own spot.
+    alice.wait_for("bob's figure a cell ahead of alice", |s, _| in_view(s, 'B'));
+    assert!(!bob.shows(|s| in_view(s, 'A')), "bob faces away from alice");
     // Bob walks east down the corridor (a held key: auto-repeat every 40 ms), away from alice, who
     // looks east.
     let hold = |bob: &mut Player, key: &[u8], seconds: f64| {
