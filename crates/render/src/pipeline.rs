@@ -614,11 +614,7 @@ impl Renderer {
                 }
             }
         }
-        let colors = self.samples.color_mut();
-        for &i in &self.edge_list {
-            colors[i as usize] = seam_color(colors[i as usize]);
-            self.edge_marks[i as usize] = Mark::None;
-        }
+        self.paint_marked(seam_color);
     }
 
     /// Door jambs: where a wall ends at an opening of its own line (a side opening, a turn), a light
@@ -667,9 +663,14 @@ impl Renderer {
                 }
             }
         }
+        self.paint_marked(jamb_color);
+    }
+
+    /// The samples listed in `edge_list` drawn in `paint` of their colour, and unmarked.
+    fn paint_marked(&mut self, paint: fn(Vec3) -> Vec3) {
         let colors = self.samples.color_mut();
         for &i in &self.edge_list {
-            colors[i as usize] = jamb_color(colors[i as usize]);
+            colors[i as usize] = paint(colors[i as usize]);
             self.edge_marks[i as usize] = Mark::None;
         }
     }
