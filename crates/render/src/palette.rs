@@ -135,15 +135,7 @@ fn entries() -> &'static Entries {
 /// Euclidean distance ≈ perceived difference.
 #[must_use]
 pub(crate) fn oklab(linear: Vec3) -> Vec3 {
-    let l = 0.412_221_46 * linear.x + 0.536_332_55 * linear.y + 0.051_445_995 * linear.z;
-    let m = 0.211_903_5 * linear.x + 0.680_699_5 * linear.y + 0.107_396_96 * linear.z;
-    let s = 0.088_302_46 * linear.x + 0.281_718_85 * linear.y + 0.629_978_7 * linear.z;
-    let [l, m, s] = [l, m, s].map(|v| v.max(0.0).cbrt());
-    Vec3::new(
-        0.210_454_26 * l + 0.793_617_8 * m - 0.004_072_047 * s,
-        1.977_998_5 * l - 2.428_592_2 * m + 0.450_593_7 * s,
-        0.025_904_037 * l + 0.782_771_77 * m - 0.808_675_77 * s,
-    )
+    Vec3::from_array(mazewalk_term::frame::oklab(linear.to_array(), |v| v.max(0.0).cbrt()))
 }
 
 /// How a light ramp chooses its entries: the weights of [`cost`] and of a ramp's steps.

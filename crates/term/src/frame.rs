@@ -10,6 +10,25 @@
 mod packed;
 
 pub use packed::TOLERANCE_STEP;
+
+/// OKLab (L, a, b) of a linear sRGB colour (Björn Ottosson's matrices,
+/// <https://bottosson.github.io/posts/oklab/>), with `cbrt` the cube root to apply to the cone
+/// responses (each at least 0 for a colour in gamut): Euclidean distance there is close to the
+/// difference a person sees. The one transform both the encoder's tolerance (with a fast root) and the
+/// renderer's palette (with the library's) use.
+#[must_use]
+#[inline]
+pub fn oklab([r, g, b]: [f32; 3], cbrt: impl Fn(f32) -> f32) -> [f32; 3] {
+    let l = 0.412_221_46 * r + 0.536_332_55 * g + 0.051_445_995 * b;
+    let m = 0.211_903_5 * r + 0.680_699_5 * g + 0.107_396_96 * b;
+    let s = 0.088_302_46 * r + 0.281_718_85 * g + 0.629_978_7 * b;
+    let [l, m, s] = [l, m, s].map(cbrt);
+    [
+        0.210_454_26 * l + 0.793_617_8 * m - 0.004_072_047 * s,
+        1.977_998_5 * l - 2.428_592_2 * m + 0.450_593_7 * s,
+        0.025_904_037 * l + 0.782_771_77 * m - 0.808_675_77 * s,
+    ]
+}
 pub(crate) use packed::{PackedCell, PackedColor};
 
 /// A colour as the terminal is asked to show it; the renderer quantizes to the depth in use.

@@ -132,15 +132,7 @@ fn oklab(words: [u32; 2]) -> [[f32; 3]; 2] {
 fn convert(word: u32) -> [f32; 3] {
     let table = &*LINEAR;
     let [_, r, g, b] = word.to_be_bytes().map(|c| table[usize::from(c)]);
-    let l = 0.412_221_46 * r + 0.536_332_55 * g + 0.051_445_995 * b;
-    let m = 0.211_903_5 * r + 0.680_699_5 * g + 0.107_396_96 * b;
-    let s = 0.088_302_46 * r + 0.281_718_85 * g + 0.629_978_7 * b;
-    let [l, m, s] = [l, m, s].map(cbrt);
-    [
-        0.210_454_26 * l + 0.793_617_8 * m - 0.004_072_047 * s,
-        1.977_998_5 * l - 2.428_592_2 * m + 0.450_593_7 * s,
-        0.025_904_037 * l + 0.782_771_77 * m - 0.808_675_77 * s,
-    ]
+    super::oklab([r, g, b], cbrt)
 }
 
 /// The cube root of `x` in [0, 1] (a linear colour's cone response), to 2e-6 of it: a first guess
