@@ -417,11 +417,12 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
 /// back would (SIGTTOU), unless a signal that ends the walk comes; then returns `true` and the
 /// terminal is left alone. `kill %1` on the stopped walk sends SIGTERM and then SIGCONT: it wakes in
 /// the background, and stopping again would leave the SIGTERM unanswered until `fg`. The signal's
-/// handler may run on another thread a moment after this one wakes: a short wait lets it land.
+/// handler may run on another thread a moment after this one wakes (on a loaded machine, tens of
+/// milliseconds later): a wait of up to a quarter of a second lets it land.
 #[cfg(unix)]
 fn stopped_for_fg() -> io::Result<bool> {
     let ending = || {
-        let deadline = std::time::Instant::now() + std::time::Duration::from_millis(50);
+        let deadline = std::time::Instant::now() + std::time::Duration::from_millis(250);
         while !ENDING.load(Ordering::SeqCst) && std::time::Instant::now() < deadline {
             std::thread::sleep(std::time::Duration::from_millis(2));
         }

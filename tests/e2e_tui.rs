@@ -1042,13 +1042,13 @@ fn kill_at_the_shell_ends_a_walk_stopped_by_ctrl_z() {
         !s.alternate_screen() && s.contents().contains("Stopped")
     });
     // (`wait %1` right after the kill could find the job still stopped, as the shell last saw it,
-    // or woken and still on its way out: wait until it has ended (gone, or a zombie for the shell
-    // to reap), at most 10 s, then let the shell report the job.)
-    tui.send(b"p=$(jobs -p %1); kill %1\r");
+    // or woken and still on its way out: ask the shell's own job table, in the shell itself (no
+    // subshell, no /proc, which a PID namespace may not match), until the job is neither stopped
+    // nor running, at most 10 s; its last report is printed.)
+    tui.send(b"r=$(mktemp); kill %1\r");
     tui.send(
-        b"for i in {1..200}; do s=$(cut -d' ' -f3 /proc/$p/stat 2>&-); [ -z \"$s\" ] || [ \"$s\" = Z ] && break; sleep 0.05; done\r",
+        b"for i in {1..200}; do jobs %1 >$r 2>&1; grep -qE 'Stopped|Running' $r || break; sleep 0.05; done; cat $r; rm $r; echo reported\r",
     );
-    tui.send(b"jobs; echo reported\r");
     tui.wait_for("the shell's report", |s| s.contents().contains("\nreported"));
     let screen = tui.screen(|s| s.contents());
     assert!(screen.contains("Exit 143"), "{screen}");
