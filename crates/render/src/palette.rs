@@ -330,7 +330,18 @@ pub(crate) struct LightRamp {
     /// `close[k]`: whether `entries[k]` and `entries[k + 1]` are close enough to mix
     /// ([`LightRamp::entry_dithered`]).
     close: Vec<bool>,
+    /// `first[q]`: how many of `starts` lie in buckets below `q` ([`LightRamp::bucket`]): the entry
+    /// at an intensity in bucket `q` is `entries[first[q]]` unless a start in that bucket lies below
+    /// it. A table read and a comparison a sample, where a search over `starts` was several.
+    first: [u8; BUCKETS],
+    /// Buckets per unit of intensity: [`BUCKETS`] over the chromaticity's intensities.
+    per_bucket: f32,
 }
+
+/// How many buckets [`LightRamp::index`] divides a ramp's intensities into: many times its entries
+/// (at most a few tens), so that a bucket seldom holds a start (the starts crowd toward black, where a bucket may
+/// hold several; each is one comparison more).
+const BUCKETS: usize = 256;
 
 impl LightRamp {
     /// The ramp of the chromaticity `chroma` (linear RGB, any scale) in `palette`.
@@ -423,7 +434,34 @@ impl LightRamp {
             .windows(2)
             .map(|pair| oklab_of[usize::from(pair[0])].distance(oklab_of[usize::from(pair[1])]) <= MIX_STEP)
             .collect();
-        LightRamp { starts, entries, centres, close }
+        // Buckets over 0..=the brightest intensity (any positive scale would be exact; this one
+        // spreads the starts).
+        let top = s_max * s_max * s_max;
+        let per_bucket = if top > 0.0 && top.is_finite() { BUCKETS as f32 / top } else { 0.0 };
+        let mut ramp = LightRamp { starts, entries, centres, close, first: [0; BUCKETS], per_bucket };
+        let below = |q: usize| ramp.starts.iter().filter(|&&start| ramp.bucket(start) < q).count();
+        let first = std::array::from_fn(|q| u8::try_from(below(q)).expect("at most LEVELS starts"));
+        ramp.first = first;
+        ramp
+    }
+
+    /// The bucket of intensity `t` in [`LightRamp::first`]: non-decreasing in `t` (a product by a
+    /// positive constant, truncated, clamped), so a start in a lower bucket than `t`'s lies below `t`,
+    /// and one in a higher bucket above it.
+    #[inline]
+    fn bucket(&self, t: f32) -> usize {
+        ((t * self.per_bucket) as usize).min(BUCKETS - 1)
+    }
+
+    /// How many of the ramp's starts lie at or below intensity `t` (`starts.partition_point(|&s| t >=
+    /// s)`, NaN: 0): those of the buckets below `t`'s, by the table, then those of its own bucket.
+    #[inline]
+    fn index(&self, t: f32) -> usize {
+        let mut k = usize::from(self.first[self.bucket(t)]);
+        while k < self.starts.len() && t >= self.starts[k] {
+            k += 1;
+        }
+        k
     }
 
     /// The ramp's entries, darkest first.
@@ -437,7 +475,7 @@ impl LightRamp {
     #[must_use]
     #[inline]
     pub fn entry(&self, t: f32) -> u8 {
-        self.entries[self.starts.partition_point(|&start| t >= start)]
+        self.entries[self.index(t)]
     }
 
     /// The entry shown at intensity `t` on a sample whose ordered-dither threshold is `threshold`
@@ -447,7 +485,7 @@ impl LightRamp {
     #[must_use]
     #[inline]
     pub(crate) fn entry_dithered(&self, t: f32, threshold: f32) -> u8 {
-        let k = self.starts.partition_point(|&start| t >= start);
+        let k = self.index(t);
         let pair = if t < self.centres[k] && k > 0 && self.close[k - 1] {
             k - 1
         } else if t > self.centres[k] && k + 1 < self.entries.len() && self.close[k] {
@@ -486,8 +524,18 @@ fn slot(linear: Vec3) -> Option<(usize, f32)> {
         return None;
     }
     let scale = CHROMA_STEPS as f32 / t;
-    let (r, g) = ((c.x * scale).round() as usize, (c.y * scale).round() as usize);
+    let (r, g) = (round_non_negative(c.x * scale), round_non_negative(c.y * scale));
     Some((r.min(CHROMA_STEPS) * (CHROMA_STEPS + 1) + g.min(CHROMA_STEPS), t))
+}
+
+/// `x.round() as usize` (halves away from zero; NaN and negatives 0) for `x` below 2^32, without
+/// `f32::round`, a library call on baseline x86-64 (no SSE4.1): truncate, then one more where the
+/// fraction left is a half or more (`x` less its whole part is exact: the part is 0, or at least half
+/// of `x`). Not `(x + 0.5) as usize`, which rounds 0.49999997 up.
+#[inline]
+fn round_non_negative(x: f32) -> usize {
+    let whole = x as u32; // saturating: NaN and negatives give 0, whose fraction is below a half
+    whole as usize + usize::from(x - whole as f32 >= 0.5)
 }
 
 /// The ramp of a chromaticity slot, built on first use: a frame pays only for the chromaticities it
@@ -541,6 +589,53 @@ pub(crate) fn picture_color(linear: Vec3, depth: ColorDepth) -> Color {
     match Palette::of(depth) {
         Some(palette) => Color::Indexed(ramp_entry(linear, palette)),
         None => quantize(linear, depth),
+    }
+}
+
+/// The lookup as it was before the bucket tables (issue #42), kept as the oracle: the slot by
+/// `f32::round`, the entry by a binary search of the ramp's starts.
+#[cfg(test)]
+pub(crate) mod search {
+    use super::*;
+
+    fn slot(linear: Vec3) -> Option<(usize, f32)> {
+        let c = linear.max(Vec3::ZERO).min(Vec3::ONE);
+        let t = c.x + c.y + c.z;
+        if t < BLACK {
+            return None;
+        }
+        let scale = CHROMA_STEPS as f32 / t;
+        let (r, g) = ((c.x * scale).round() as usize, (c.y * scale).round() as usize);
+        Some((r.min(CHROMA_STEPS) * (CHROMA_STEPS + 1) + g.min(CHROMA_STEPS), t))
+    }
+
+    pub fn entry(ramp: &LightRamp, t: f32) -> u8 {
+        ramp.entries[ramp.starts.partition_point(|&start| t >= start)]
+    }
+
+    pub fn entry_dithered(ramp: &LightRamp, t: f32, threshold: f32) -> u8 {
+        let k = ramp.starts.partition_point(|&start| t >= start);
+        let pair = if t < ramp.centres[k] && k > 0 && ramp.close[k - 1] {
+            k - 1
+        } else if t > ramp.centres[k] && k + 1 < ramp.entries.len() && ramp.close[k] {
+            k
+        } else {
+            return ramp.entries[k];
+        };
+        let (low, high) = (ramp.centres[pair], ramp.centres[pair + 1]);
+        let share = if high > low { (t - low) / (high - low) } else { 0.0 };
+        ramp.entries[if share > threshold { pair + 1 } else { pair }]
+    }
+
+    /// [`ramp_entry`](super::ramp_entry), and [`ramp_entry_dithered`] with a threshold, by the oracle.
+    pub fn ramp_entry(linear: Vec3, palette: Palette, threshold: Option<f32>) -> u8 {
+        match slot(linear) {
+            Some((slot, t)) => {
+                let ramp = slot_ramp(slot, palette);
+                threshold.map_or_else(|| entry(ramp, t), |threshold| entry_dithered(ramp, t, threshold))
+            }
+            None => ramp_entries(palette)[0].index,
+        }
     }
 }
 
@@ -741,6 +836,57 @@ mod tests {
             }
         }
         assert!(mixed > 0, "the greys' close steps are mixed somewhere");
+    }
+
+    #[test]
+    fn rounding_without_the_library_call_is_f32_round() {
+        let mut values =
+            vec![0.0, -0.0, f32::NAN, -0.5, -0.49, -3.7, f32::MIN_POSITIVE, 1e-30, 4_294_967_000.0];
+        // Every half from 0 to 200 and the floats either side of it (where adding a half and
+        // truncating goes wrong: 0.49999997 + 0.5 rounds to 1 in f32).
+        for k in 0..=400 {
+            let half = k as f32 * 0.5;
+            values.extend([half, half.next_down(), half.next_up(), half.next_down().next_down()]);
+        }
+        // And a spread of magnitudes up to 2^31.
+        let mut x = 1e-7f32;
+        while x < 2_147_483_648.0 {
+            values.extend([x, x * 1.37, x * 2.5, x * 0.7531]);
+            x *= 1.9;
+        }
+        for v in values {
+            assert_eq!(round_non_negative(v), v.round() as usize, "{v:e}");
+        }
+    }
+
+    /// Each ramp's bucket table gives what the search gave, at every start, the floats either side
+    /// of it, and intensities spread over the ramp and past its end.
+    #[test]
+    fn a_ramp_by_buckets_shows_what_the_search_showed() {
+        use proptest::prelude::*;
+        proptest!(mazewalk_testkit::config_cases(128), |(chroma in arb_chroma())| {
+            for palette in [Palette::Xterm256, Palette::Ansi16] {
+                let ramp = LightRamp::new(chroma, palette);
+                let top = 1.0 / (chroma / (chroma.x + chroma.y + chroma.z)).max_element();
+                let mut ts: Vec<f32> = vec![0.0, BLACK, f32::NAN, 3.0, top, top.next_up()];
+                for &start in &ramp.starts {
+                    ts.extend([start, start.next_down(), start.next_up()]);
+                }
+                ts.extend((0..=2000).map(|k| top * 1.05 * k as f32 / 2000.0));
+                ts.extend((1..=200).map(|k| top * (k as f32 / 200.0).powi(3)));
+                for t in ts {
+                    prop_assert_eq!(ramp.entry(t), search::entry(&ramp, t), "t = {:e}", t);
+                    for q in 0..4 {
+                        let threshold = (q as f32 + 0.5) / 4.0;
+                        prop_assert_eq!(
+                            ramp.entry_dithered(t, threshold),
+                            search::entry_dithered(&ramp, t, threshold),
+                            "t = {:e}, threshold {}", t, threshold
+                        );
+                    }
+                }
+            }
+        });
     }
 
     #[test]
