@@ -120,15 +120,16 @@ fn block_cells<const SX: usize, const SY: usize>(
     frame: &mut Frame,
     region: Region,
 ) {
+    let palette = Palette::of(depth);
+    if let (Some(palette), false) = (palette, dither) {
+        return palette_cells::<SX, SY>(samples, charset, palette, frame, region);
+    }
     let (width, color) = (samples.width(), samples.color());
     let cols = region.cols;
     let tables = Srgb8Tables::get();
     let ids = samples.id();
     let block_ramps = SurfaceRamps::new(&BLOCK_RAMP, &FLOOR_BLOCKS, &CEILING_BLOCKS);
-    let palette = Palette::of(depth);
     let mut indices = [0u8; 6];
-    // Each sub-cell position's last colour and its entry: along a row neighbours often share theirs.
-    let mut last = [(Vec3::NAN, 0u8); 6];
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
         let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {
@@ -155,19 +156,11 @@ fn block_cells<const SX: usize, const SY: usize>(
                 let (sum, n) = sums[surface as usize];
                 Cell::plain(block_ramps.glyph(surface, sum / n.max(1) as f32))
             } else if let Some(palette) = palette {
-                // Each sample its ramp's entry, then the cell shows those entries.
+                // Each sample its ramp's entry at its threshold, then the cell shows those entries.
                 for (dy, line) in rows.iter().enumerate() {
                     for dx in 0..SX {
-                        let (k, sample) = (dy * SX + dx, line[col * SX + dx]);
-                        indices[k] = if dither {
-                            let (x, y) = (col * SX + dx, row * SY + dy);
-                            ramp_entry_dithered(sample, palette, threshold(x, y))
-                        } else {
-                            if last[k].0 != sample {
-                                last[k] = (sample, ramp_entry(sample, palette));
-                            }
-                            last[k].1
-                        };
+                        let (x, y) = (col * SX + dx, row * SY + dy);
+                        indices[dy * SX + dx] = ramp_entry_dithered(line[x], palette, threshold(x, y));
                     }
                 }
                 indexed_cell(&indices[..SX * SY], charset)
@@ -181,6 +174,52 @@ fn block_cells<const SX: usize, const SY: usize>(
                 let linear = &cell_samples[..SX * SY];
                 fitted_cell(tables, linear, code_range(tables, linear), charset, depth)
             };
+        }
+    }
+}
+
+/// [`block_cells`] in 256 or 16 colours, undithered: each sample its light ramp's entry
+/// ([`ramp_entry`]), then the cell shows those entries ([`indexed_cell`]).
+///
+/// Neighbouring samples often share a colour: along a row, the floor's and the ceiling's squares; down
+/// a column, a wall in a level view (its light changes only with depth). A sample equal to the one at
+/// its place in the cell to the left, or to the one above it, takes that one's entry without a lookup
+/// (equal colours have equal entries).
+fn palette_cells<const SX: usize, const SY: usize>(
+    samples: &SampleBuffer,
+    charset: Charset,
+    palette: Palette,
+    frame: &mut Frame,
+    region: Region,
+) {
+    let (width, color) = (samples.width(), samples.color());
+    let cols = region.cols;
+    let mut indices = [0u8; 6];
+    // Each sub-cell position's colour and entry in the cell to the left; each sample column's last.
+    let mut left = [(Vec3::NAN, 0u8); 6];
+    let mut above = vec![(Vec3::NAN, 0u8); cols * SX];
+    for (row, cells) in frame.region_rows_mut(region).enumerate() {
+        // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
+        let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {
+            let start = (row * SY + dy) * width;
+            &color[start..start + cols * SX]
+        });
+        for (col, cell) in cells.iter_mut().enumerate() {
+            for (dy, line) in rows.iter().enumerate() {
+                for dx in 0..SX {
+                    let (k, x) = (dy * SX + dx, col * SX + dx);
+                    let sample = line[x];
+                    let entry = if left[k].0 == sample {
+                        left[k].1
+                    } else if above[x].0 == sample {
+                        above[x].1
+                    } else {
+                        ramp_entry(sample, palette)
+                    };
+                    (left[k], above[x], indices[k]) = ((sample, entry), (sample, entry), entry);
+                }
+            }
+            *cell = indexed_cell(&indices[..SX * SY], charset);
         }
     }
 }
@@ -581,6 +620,72 @@ fn indexed_cell(indices: &[u8], charset: Charset) -> Cell {
 mod tests {
     use super::*;
     use crate::shade::linear_to_srgb;
+
+    /// Frames in 256 and 16 colours are what they were before the lookups got faster (issue #42): on
+    /// held-out views of generated mazes (issue #39's kinds: in cells, nose to a wall, down
+    /// corridors; level and pitched), in every charset, plain and dithered, each frame of
+    /// [`to_frame`] against the frame its samples make through the old lookup
+    /// ([`palette::search`]: the slot by `f32::round`, the entry by a binary search, no memo), cell
+    /// for cell.
+    #[test]
+    fn palette_frames_are_those_of_the_searched_lookup() {
+        use crate::{Culling, Renderer, Target, quality};
+        use mazewalk_maze::generate::{GenOptions, generate};
+        let mut cells = 0usize;
+        for (seed, (width, height)) in [(5u64, (12, 9)), (6, (20, 15)), (7, (8, 22))] {
+            let opts = GenOptions { width, height, seed, loops: 0.2, exit: true, ..GenOptions::default() };
+            let maze = generate(&opts).expect("generated maze");
+            let mut renderer = Renderer::new();
+            for (k, (_, mut camera)) in quality::held_out_views(&maze, seed, 12).into_iter().enumerate() {
+                camera.pitch_deg = [0.0, 12.0, -20.0][k % 3];
+                let charset = [Charset::Half, Charset::Quad, Charset::Sextant, Charset::Ascii][k % 4];
+                let (cols, rows) = (60, 20);
+                let options = RenderOptions { charset, culling: Culling::Portal, ..RenderOptions::default() };
+                renderer.render(&maze, &camera, &[], &options, Target::Samples { cols, rows }).expect("view");
+                let samples = renderer.samples();
+                let region = Region { col: 0, row: 0, cols, rows };
+                for (depth, dither) in [(ColorDepth::Ansi256, false), (ColorDepth::Ansi16, false)]
+                    .into_iter()
+                    .chain([(ColorDepth::Ansi256, true), (ColorDepth::Ansi16, true)])
+                {
+                    let palette = Palette::of(depth).expect("a palette");
+                    let mut frame = Frame::new(cols, rows);
+                    to_frame(
+                        samples,
+                        &RenderOptions { color_depth: depth, dither, ..options },
+                        &mut frame,
+                        region,
+                    );
+                    let mut expected = Frame::new(cols, rows);
+                    let (sx, sy) = charset.samples_per_cell();
+                    if charset == Charset::Ascii {
+                        let ink = |c: Vec3| Color::Indexed(palette::search::ramp_entry(c, palette, None));
+                        ascii_cells(samples, options.ramp, (&mut expected, region), ink);
+                    } else {
+                        for (row, line) in expected.region_rows_mut(region).enumerate() {
+                            for (col, cell) in line.iter_mut().enumerate() {
+                                let indices: Vec<u8> = (0..sx * sy)
+                                    .map(|k| {
+                                        let (x, y) = (col * sx + k % sx, row * sy + k / sx);
+                                        let sample = samples.color()[y * samples.width() + x];
+                                        let threshold = dither.then(|| threshold(x, y));
+                                        palette::search::ramp_entry(sample, palette, threshold)
+                                    })
+                                    .collect();
+                                *cell = indexed_cell(&indices, charset);
+                            }
+                        }
+                    }
+                    assert!(
+                        frame == expected,
+                        "seed {seed}, view {k} ({charset:?}, {depth:?}, dither {dither}) differs"
+                    );
+                    cells += cols * rows;
+                }
+            }
+        }
+        assert_eq!(cells, 3 * 12 * 4 * 60 * 20);
+    }
 
     #[test]
     fn a_ramp_step_is_the_rounded_stretched_lightness() {
