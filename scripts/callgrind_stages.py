@@ -21,7 +21,9 @@ STAGES = [
     ("render (`Renderer::render`)", ["mazewalk_render::pipeline::Renderer::render"]),
     ("portal pass", ["mazewalk_render::portal::PortalPass::run"]),
     ("raster (polygon fills)", ["mazewalk_render::raster::fill_polygon_x8", "mazewalk_render::raster::fill_polygon"]),
-    ("samples: portal, raster, shading", ["mazewalk_render::pipeline::Renderer::samples_with"]),
+    # (`samples_with` is named either way, as rustc's symbol for it has varied between builds.)
+    ("samples: portal, raster, shading", ["mazewalk_render::pipeline::Renderer::samples_with",
+                                          "mazewalk_render::<impl mazewalk_render::pipeline::Renderer>::samples_with"]),
     ("figures (sprites)", ["mazewalk_render::sprite::SpritePass::draw"]),
     ("glyphs (`glyph::to_frame`)", ["mazewalk_render::glyph::to_frame"]),
     ("screen: render + HUD + map + colours", ["mazewalk_walk::screen::draw"]),
