@@ -36,6 +36,7 @@ pub mod records;
 pub mod shared;
 pub mod slots;
 pub mod spawn;
+pub mod spectator;
 pub mod ssh;
 pub mod stream;
 pub mod world;
