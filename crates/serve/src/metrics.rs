@@ -75,7 +75,7 @@ impl Metrics {
                 self.spectator_refusals.inc();
                 return;
             }
-            Refusal::Full(_) => REASONS[0],
+            Refusal::Full(_) | Refusal::AllFull(..) => REASONS[0],
             Refusal::FromThisAddress(_) => REASONS[1],
             Refusal::Busy => REASONS[2],
             Refusal::TooFast => REASONS[3],

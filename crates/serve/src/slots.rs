@@ -52,6 +52,9 @@ pub(crate) enum Refusal {
     Full(usize),
     /// `--max-spectators`, reached.
     Spectators(usize),
+    /// Both reached (`--max-players`, `--max-spectators`): refused before the handshake, whichever
+    /// the newcomer would have been.
+    AllFull(usize, usize),
     /// `--max-per-address`, reached by the client's address group.
     FromThisAddress(usize),
     /// No handshake slots at all (`max_handshakes` is 0): nobody can log in.
@@ -65,7 +68,7 @@ impl Refusal {
     #[must_use]
     pub fn reason(self) -> &'static str {
         match self {
-            Refusal::Full(_) => "server full",
+            Refusal::Full(_) | Refusal::AllFull(..) => "server full",
             Refusal::Spectators(_) => "spectators full",
             Refusal::FromThisAddress(_) => "too many connections from this address",
             Refusal::Busy => "too many connections logging in",
@@ -79,6 +82,9 @@ impl Refusal {
         match self {
             Refusal::Full(1) => "mazewalk: the server is full (one player at a time); try again later".into(),
             Refusal::Full(n) => format!("mazewalk: the server is full ({n} players); try again later"),
+            Refusal::AllFull(players, spectators) => format!(
+                "mazewalk: the server is full ({players} players, {spectators} watching); try again later"
+            ),
             Refusal::Spectators(0) => "mazewalk: this server takes no spectators".into(),
             Refusal::Spectators(n) => {
                 format!("mazewalk: every spectator's place is taken ({n} watching); try again later")
@@ -179,7 +185,11 @@ impl Slots {
             return Err(Refusal::TooFast);
         }
         if self.players.len() >= limits.max_players && self.spectators.len() >= limits.max_spectators {
-            return Err(Refusal::Full(limits.max_players)); // whichever it is, no room for it
+            return Err(if limits.max_spectators == 0 {
+                Refusal::Full(limits.max_players)
+            } else {
+                Refusal::AllFull(limits.max_players, limits.max_spectators) // whichever it is, no room
+            });
         }
         let counts = self.groups.get(&group).copied().unwrap_or_default();
         if counts.handshakes + counts.players >= limits.max_per_address {
@@ -420,7 +430,11 @@ mod tests {
         assert_eq!((slots.players(), slots.spectators()), (1, 1));
         assert_eq!(slots.promote(bob, Role::Spectator), Err(Refusal::Spectators(1)));
         slots.release(bob);
-        assert_eq!(slots.admit(ip("10.0.0.4"), 0.0), Err(Refusal::Full(1)), "both full: refused at once");
+        assert_eq!(
+            slots.admit(ip("10.0.0.4"), 0.0),
+            Err(Refusal::AllFull(1, 1)),
+            "both full: refused at once"
+        );
         slots.release(alice);
         let carol = slots.admit(ip("10.0.0.4"), 0.0).unwrap().id;
         slots.promote(carol, Role::Player).expect("the player's slot, not taken by the spectator");

@@ -545,6 +545,11 @@ mod tests {
         s.world_changed(1.1);
         s.look(world.look(), 1.1);
         assert_eq!(s.session().app().camera.yaw_deg, 200.0);
+        let version = world.version();
+        world.pitched(other, -20.0); // it looks down: a change the spectator hears of, and shows
+        assert!(world.version() > version);
+        s.look(world.look(), 1.15);
+        assert_eq!(s.session().app().camera.pitch_deg, -20.0);
         // p opens the player list (Tab is the next player here), without the spectator in it.
         s.feed(b"p", 1.2);
         s.feed(b"\x1b[?62;22c\x1b[?62;22c", 1.25);
