@@ -1,8 +1,9 @@
 //! What `serve --http` shows at `/metrics`, in Prometheus' text format (0.0.4), encoded by the
 //! official client crate (`prometheus-client`). Two kinds of numbers:
 //!
-//! - **Counted as it happens** ([`Metrics`]): joins, refusals by reason, frames and bytes sent, the
-//!   time from a key to the frame that follows it. Atomics, cheap enough to keep whether or not
+//! - **Counted as it happens** ([`Metrics`]): joins, refusals by reason, frames and bytes sent to
+//!   players, the time from a key to the frame that follows it; spectators now, their joins and
+//!   refusals. Atomics, cheap enough to keep whether or not
 //!   anyone scrapes.
 //! - **Read at each scrape** ([`Snapshot`], through [`Live`]): players and handshakes now, the
 //!   records' writes and failures, the shared world's messages (`--world`). They are kept elsewhere

@@ -1283,12 +1283,12 @@ async fn watching(
             spectator.session_mut().frame_cost(started.elapsed().as_secs_f64());
         }
         if !out.is_empty() {
-            let bytes = std::mem::take(&mut out);
-            let len = bytes.len();
-            let write = tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(bytes));
+            // (Not in the players' frames and bytes sent: /metrics counts those.)
+            let write =
+                tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(std::mem::take(&mut out)));
             tokio::select! {
                 written = write => match written {
-                    Ok(Ok(())) => shared.metrics.sent(len, false, None),
+                    Ok(Ok(())) => {}
                     Ok(Err(_)) => return End::Gone,
                     Err(_) => return End::Stalled,
                 },
