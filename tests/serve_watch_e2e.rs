@@ -8,12 +8,14 @@
 //! player; the spectator is no one in the players' maze (not counted, not listed, no figure or
 //! label); the spectator never took a player's slot (two players in with `--max-players 2`), and
 //! `--max-spectators 1` refuses a second spectator with a message of its own, even with a player's
-//! slot free; `q` stops watching.
+//! slot free; `q` stops watching. With `--world`, a spectator on one server follows a player on
+//! another: the same view, turning when she turns.
 #![cfg(unix)]
 
 mod common;
 
 use common::{Player, Scratch, Server, hud_row, playing};
+use mazewalk_testkit::redis_server::{Persistence, RedisServer};
 
 /// A corridor east from the start, and at its end a passage south (no exit: the first to join leads).
 const CORRIDOR_AND_BEND: &str =
@@ -77,11 +79,14 @@ fn a_spectator_watches_two_players_and_is_no_one_in_their_maze() {
     watcher.wait_for("the spectator's view turned too", |s, _| {
         heading(s) == alice.read(heading) && view_rows(s) == alice.read(view_rows)
     });
-    // The spectator's walking keys move nothing: not its view, not alice.
+    // The spectator's walking keys move nothing: not its view, not alice (once her turn is over:
+    // a snap turn takes 0.15 s, and the two may have matched on its way).
+    std::thread::sleep(std::time::Duration::from_millis(400));
+    watcher.wait_for("the turn over on both screens", |s, _| view_rows(s) == alice.read(view_rows));
     let (alice_hud, watched) = (alice.read(hud_row), watcher.read(view_rows));
     watcher.send(b"wwwasd\x1b[A\x1b[B,.");
     std::thread::sleep(std::time::Duration::from_millis(600));
-    assert_eq!(watcher.read(view_rows), watched, "the spectator's keys moved its view");
+    assert!(watcher.read(view_rows) == watched, "the spectator's keys moved its view");
     assert_eq!(alice.read(hud_row), alice_hud, "the spectator's keys moved alice");
 
     // Tab: bob's view.
@@ -96,7 +101,9 @@ fn a_spectator_watches_two_players_and_is_no_one_in_their_maze() {
     alice.send(b"\t");
     for player in [&alice, &bob] {
         player.wait_for("the list closed", |s, _| playing(s, &[]) && !s.contents().contains("Players:"));
-        assert!(!player.shows(|s| s.contents().contains('W')), "a figure or label for the spectator");
+        // (above the HUD, whose compass may say W)
+        let above_hud = |s: &vt100::Screen| s.contents_between(0, 0, s.size().0.get() - 2, u16::MAX);
+        assert!(!player.shows(|s| above_hud(s).contains('W')), "a figure or label for the spectator");
     }
 
     // The spectators' cap. Both full: a newcomer, spectator or player, is told so before logging in.
@@ -121,4 +128,38 @@ fn a_spectator_watches_two_players_and_is_no_one_in_their_maze() {
         .wait_for("goodbye", |s, _| !s.alternate_screen() && s.contents().contains("Thanks for watching."));
     alice.send(b"q");
     assert!(alice.wait_exit().success());
+}
+
+// issue #43: with --world, a spectator follows players on other servers, drawn from the world's word.
+#[test]
+fn a_spectator_follows_a_player_on_another_server() {
+    let scratch = Scratch::new("watchworld");
+    let redis = RedisServer::start(Persistence::None);
+    let maze = scratch.0.join("maze.grid");
+    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let maze = maze.to_str().expect("a UTF-8 path");
+    let url = redis.url(0);
+    let serve = |name: &str| {
+        Server::start_on(
+            &scratch,
+            "127.0.0.1:0",
+            &format!("host_key_{name}"),
+            &["--open", "--world", &url, maze],
+        )
+    };
+    let (server_a, server_b) = (serve("a"), serve("b"));
+    let mut alice = Player::connect(server_a.port, None, "alice", 100, 30);
+    alice.wait_for("alice's game on server A", playing);
+    let watcher = Player::connect(server_b.port, None, "watch", 100, 30);
+    watcher.wait_for("alice (server A) followed on server B", |s, _| {
+        let hud = hud_row(s);
+        hud.contains("watching alice") && hud.contains("1 in")
+    });
+    watcher.wait_for("alice's view on server B", |s, _| view_rows(s) == alice.read(view_rows));
+    let before = watcher.read(heading);
+    alice.send(b".");
+    alice.wait_for("alice turned", |s, _| heading(s) != before);
+    watcher.wait_for("the view on server B turned with her", |s, _| {
+        heading(s) == alice.read(heading) && view_rows(s) == alice.read(view_rows)
+    });
 }
