@@ -5,12 +5,13 @@
 //! A view is a pure function of what [`ViewKey`] holds — the maze, the camera, the figures, the
 //! render options and the size (the renderer's buffers are caches, [`Renderer::render`] reads
 //! nothing else) — so two screens whose keys are equal draw equal cells, whoever drew them. The
-//! cache keeps the last [`SharedViews::capacity`] views; a view is rendered under its lock, so
-//! spectators woken together by one move wait for the first one's render instead of each making
-//! their own.
+//! cache keeps the last [`SharedViews::capacity`] views, each in a [`OnceLock`] taken under the
+//! cache's lock and filled after it: spectators woken together by one move wait for the first one's
+//! render of their view instead of each making their own, and views with different keys render at
+//! once on different threads.
 
 use std::collections::VecDeque;
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
 use mazewalk_maze::Maze;
 use mazewalk_render::{Camera, CameraError, RenderOptions, RenderStats, Renderer, Sprite, Target};
@@ -57,10 +58,13 @@ pub struct View {
     pub stats: RenderStats,
 }
 
+/// A view being drawn or drawn: what the first screen to ask for it rendered.
+type Drawn = Arc<OnceLock<Result<Arc<View>, CameraError>>>;
+
 /// The views drawn lately, shared by the screens that may show them (see the module's doc).
 #[derive(Debug)]
 pub struct SharedViews {
-    views: Mutex<VecDeque<(ViewKey, Arc<View>)>>,
+    views: Mutex<VecDeque<(ViewKey, Drawn)>>,
     capacity: usize,
     counts: Mutex<(u64, u64)>,
 }
@@ -85,34 +89,37 @@ impl SharedViews {
     /// The view for `key`: the one kept, or one rendered now with `renderer` and kept.
     ///
     /// # Errors
-    /// The camera cannot be drawn from ([`Renderer::render`]); nothing is kept.
+    /// The camera cannot be drawn from ([`Renderer::render`]).
     pub fn view(
         &self,
         maze: &Maze,
         key: &ViewKey,
         renderer: &mut Renderer,
     ) -> Result<Arc<View>, CameraError> {
-        let mut views = self.views.lock().unwrap_or_else(PoisonError::into_inner);
-        if let Some((_, view)) = views.iter().find(|(k, _)| k == key) {
-            self.count(false);
-            return Ok(Arc::clone(view));
-        }
-        let mut frame = Frame::new(key.size.0, key.size.1);
-        let region = frame.region();
-        let stats = renderer.render(
-            maze,
-            &key.camera,
-            &key.sprites,
-            &key.options,
-            Target::Frame(&mut frame, region),
-        )?;
-        let view = Arc::new(View { frame, stats });
-        if views.len() == self.capacity {
-            views.pop_front(); // the oldest
-        }
-        views.push_back((key.clone(), Arc::clone(&view)));
-        self.count(true);
-        Ok(view)
+        let (drawn, first) = {
+            let mut views = self.views.lock().unwrap_or_else(PoisonError::into_inner);
+            match views.iter().find(|(k, _)| k == key) {
+                Some((_, drawn)) => (Arc::clone(drawn), false),
+                None => {
+                    if views.len() == self.capacity {
+                        views.pop_front(); // the oldest
+                    }
+                    let drawn = Drawn::default();
+                    views.push_back((key.clone(), Arc::clone(&drawn)));
+                    (drawn, true)
+                }
+            }
+        };
+        self.count(first);
+        // (Another screen asking meanwhile waits here for this render, not for the cache's lock.)
+        let view = drawn.get_or_init(|| {
+            let mut frame = Frame::new(key.size.0, key.size.1);
+            let region = frame.region();
+            let target = Target::Frame(&mut frame, region);
+            let stats = renderer.render(maze, &key.camera, &key.sprites, &key.options, target)?;
+            Ok(Arc::new(View { frame, stats }))
+        });
+        view.clone()
     }
 
     fn count(&self, rendered: bool) {
@@ -192,5 +199,30 @@ mod tests {
         views.view(&maze, &key(30), &mut renderer).unwrap();
         assert_eq!(views.counts(), (4, 1));
         assert_eq!(views.views.lock().unwrap().len(), 2);
+    }
+
+    /// Screens asking for one view at once (a server's spectators woken by one move, each on its own
+    /// thread) get one render between them, all the same cells.
+    #[test]
+    fn screens_asking_at_once_share_one_render() {
+        let views = Arc::new(SharedViews::new(4));
+        let maze = Arc::new(mazewalk_maze::builtin().unwrap());
+        let barrier = Arc::new(std::sync::Barrier::new(4));
+        let drawn: Vec<Arc<View>> = (0..4)
+            .map(|_| {
+                let (views, maze, barrier) = (Arc::clone(&views), Arc::clone(&maze), Arc::clone(&barrier));
+                std::thread::spawn(move || {
+                    let camera = crate::state::viewer_camera(maze.viewer());
+                    let key = ViewKey::new(&maze, &camera, &[], &RenderOptions::default(), (120, 40));
+                    barrier.wait();
+                    views.view(&maze, &key, &mut Renderer::default()).unwrap()
+                })
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .map(|thread| thread.join().unwrap())
+            .collect();
+        assert_eq!(views.counts(), (1, 3));
+        assert!(drawn.iter().all(|view| Arc::ptr_eq(view, &drawn[0])), "one view, shared");
     }
 }
