@@ -590,4 +590,38 @@ mod tests {
         s.feed(&vec![b'x'; 200_000], 20.0);
         assert!(s.dropped() > 0 && !s.is_over());
     }
+
+    /// Every size and colour depth a walk is drawn at: the spectator's own terminal's, clamped as a
+    /// player's, the view its player's from there.
+    #[test]
+    fn a_spectator_draws_at_its_own_size_and_depth() {
+        use mazewalk_term::frame::ColorDepth;
+        let maze = Arc::new(mazewalk_maze::builtin().unwrap());
+        let audience = Audience::new(&maze, 4);
+        let limits = Limits::default();
+        let mut world = World::new();
+        let start = maze.viewer().pos;
+        world.join("ada", start, 0.0, maze.cell_at(start).unwrap(), 0.0);
+        let terminals = [
+            ("xterm-256color", None, ColorDepth::Ansi256),
+            ("xterm-256color", Some("truecolor"), ColorDepth::TrueColor),
+            ("xterm", None, ColorDepth::Ansi16),
+            ("", None, ColorDepth::Ansi16),
+        ];
+        for (term, colorterm, depth) in terminals {
+            for size in [(0, 0), (1, 1), (20, 6), (80, 24), (150, 50), (65535, 65535)] {
+                let mut s = Spectator::new(Arc::clone(&maze), term, colorterm, size, &limits, &audience, 0.0)
+                    .unwrap();
+                s.look(world.look(), 0.0);
+                assert!(s.frame(0.0, &mut Vec::new()), "{term} {size:?}");
+                let screen = s.session().screen();
+                let want = clamp_size(size.0, size.1, &limits);
+                assert_eq!((screen.width() as u16, screen.height() as u16), want, "{term} {size:?}");
+                assert_eq!(s.session().color_depth(), depth, "{term} {colorterm:?}");
+                if want.0 >= 80 {
+                    assert!(text(&s).contains("watching ada"), "{term} {size:?}:\n{}", text(&s));
+                }
+            }
+        }
+    }
 }
