@@ -188,6 +188,10 @@ pub struct ServeArgs {
     /// Players at once, in all (1..=100000).
     #[arg(long, value_name = "N", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub max_players: u32,
+    /// Spectators at once (`ssh -p PORT watch@HOST`), in all; they have their own slots and never
+    /// take a player's (0..=100000; 0: none).
+    #[arg(long, value_name = "N", default_value_t = 16, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    pub max_spectators: u32,
     /// Connections still logging in (key exchange and authentication) at once, in all; they never
     /// take a player's slot. When all are taken, a newcomer takes the slot of the one longest
     /// without progress (1..=100000).

@@ -13,7 +13,8 @@
 //!   game over ─▶ the connection closed (one game per connection)
 //! ```
 //!
-//! The pure parts — [`player`] (one player without the connection), [`world`] (who is where, who
+//! The pure parts — [`player`] (one player without the connection), [`spectator`] (one spectator,
+//! `ssh watch@HOST`), [`world`] (who is where, who
 //! won), [`spawn`] (where newcomers start), [`limits`], [`slots`] (who may hold a connection), [`logs`] (what is logged) and
 //! [`algorithms`] (what is offered) — are tested without sockets; [`ssh`] is the I/O around them,
 //! [`host_key`] the key files, [`authorized_keys`] who may play, [`records`] the best times
@@ -36,6 +37,7 @@ pub mod records;
 pub mod shared;
 pub mod slots;
 pub mod spawn;
+pub mod spectator;
 pub mod ssh;
 pub mod stream;
 pub mod world;

@@ -8,11 +8,14 @@ use std::time::Duration;
 pub struct Limits {
     /// Players at once (`--max-players`): connections that logged in. More are told why and closed.
     pub max_players: usize,
+    /// Spectators at once (`--max-spectators`): connections that logged in as `watch`. They have
+    /// their own slots, never a player's.
+    pub max_spectators: usize,
     /// Connections still in the handshake (key exchange and authentication) at once, in all
     /// (`--max-handshakes`): they never take a player's slot. When these are all taken, a newcomer
     /// takes the slot of the one that has gone longest without progress ([`Slots`](crate::slots)).
     pub max_handshakes: usize,
-    /// Connections at once from one address (`--max-per-address`), players and handshakes: an IPv4
+    /// Connections at once from one address (`--max-per-address`), players, spectators and handshakes: an IPv4
     /// address, or an IPv6 /64 ([`address_group`](crate::slots::address_group)).
     pub max_per_address: usize,
     /// New connections a second from one address, once it has opened `2 × max_per_address` at once;
@@ -53,6 +56,7 @@ impl Default for Limits {
     fn default() -> Self {
         Limits {
             max_players: 256,
+            max_spectators: 16,
             max_handshakes: 128,
             max_per_address: 16,
             connect_rate: 8.0,

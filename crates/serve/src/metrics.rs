@@ -1,8 +1,9 @@
 //! What `serve --http` shows at `/metrics`, in Prometheus' text format (0.0.4), encoded by the
 //! official client crate (`prometheus-client`). Two kinds of numbers:
 //!
-//! - **Counted as it happens** ([`Metrics`]): joins, refusals by reason, frames and bytes sent, the
-//!   time from a key to the frame that follows it. Atomics, cheap enough to keep whether or not
+//! - **Counted as it happens** ([`Metrics`]): joins, refusals by reason, frames and bytes sent to
+//!   players, the time from a key to the frame that follows it; spectators now, their joins and
+//!   refusals. Atomics, cheap enough to keep whether or not
 //!   anyone scrapes.
 //! - **Read at each scrape** ([`Snapshot`], through [`Live`]): players and handshakes now, the
 //!   records' writes and failures, the shared world's messages (`--world`). They are kept elsewhere
@@ -15,7 +16,7 @@ use prometheus_client::collector::Collector;
 use prometheus_client::encoding::{DescriptorEncoder, EncodeMetric as _};
 use prometheus_client::metrics::counter::{ConstCounter, Counter};
 use prometheus_client::metrics::family::Family;
-use prometheus_client::metrics::gauge::ConstGauge;
+use prometheus_client::metrics::gauge::{ConstGauge, Gauge};
 use prometheus_client::metrics::histogram::{Histogram, exponential_buckets};
 use prometheus_client::metrics::info::Info;
 use prometheus_client::registry::{Registry, Unit};
@@ -33,6 +34,10 @@ pub struct Metrics {
     frames: Counter,
     bytes: Counter,
     key_to_frame: Histogram,
+    /// Spectators watching now, and those let in and refused so far (issue #43).
+    spectators: Gauge,
+    spectator_joins: Counter,
+    spectator_refusals: Counter,
 }
 
 /// Every refusal's reason, as its label says it.
@@ -51,6 +56,9 @@ impl Default for Metrics {
             bytes: Counter::default(),
             // 0.5 ms to 1 s, doubling: a frame on a LAN is a few ms, a slow link's hundreds.
             key_to_frame: Histogram::new(exponential_buckets(0.0005, 2.0, 12)),
+            spectators: Gauge::default(),
+            spectator_joins: Counter::default(),
+            spectator_refusals: Counter::default(),
         }
     }
 }
@@ -64,7 +72,11 @@ impl Metrics {
     /// A connection was refused for `refusal`.
     pub(crate) fn refused(&self, refusal: &Refusal) {
         let reason = match refusal {
-            Refusal::Full(_) => REASONS[0],
+            Refusal::Spectators(_) => {
+                self.spectator_refusals.inc();
+                return;
+            }
+            Refusal::Full(_) | Refusal::AllFull(..) => REASONS[0],
             Refusal::FromThisAddress(_) => REASONS[1],
             Refusal::Busy => REASONS[2],
             Refusal::TooFast => REASONS[3],
@@ -82,6 +94,17 @@ impl Metrics {
         if let Some(seconds) = key {
             self.key_to_frame.observe(seconds);
         }
+    }
+
+    /// A spectator began watching.
+    pub(crate) fn spectator_joined(&self) {
+        self.spectator_joins.inc();
+        self.spectators.inc();
+    }
+
+    /// A spectator stopped watching.
+    pub(crate) fn spectator_left(&self) {
+        self.spectators.dec();
     }
 
     /// Joins so far.
@@ -237,6 +260,13 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
         Unit::Seconds,
         metrics.key_to_frame.clone(),
     );
+    registry.register("spectators", "Spectators watching on this server now", metrics.spectators.clone());
+    registry.register("spectator_joins", "Spectators who began watching", metrics.spectator_joins.clone());
+    registry.register(
+        "spectator_refusals",
+        "Spectators refused because every spectator's slot was taken",
+        metrics.spectator_refusals.clone(),
+    );
     registry.register("build", "The mazewalk build", Info::new(vec![("version", env!("CARGO_PKG_VERSION"))]));
     registry.register_collector(Box::new(live));
     registry
@@ -269,6 +299,10 @@ mod tests {
         metrics.refused(&Refusal::FromThisAddress(2));
         metrics.sent(1000, true, Some(0.003));
         metrics.sent(24, false, None);
+        metrics.spectator_joined();
+        metrics.spectator_joined();
+        metrics.spectator_left();
+        metrics.refused(&Refusal::Spectators(1));
         let live =
             Live(Box::new(|| Snapshot { players: 3, handshakes: 1, records: Some((5, 1, 0)), world: None }));
         let text = encode(&registry(&metrics, live));
@@ -286,6 +320,10 @@ mod tests {
             "mazewalk_handshakes 1",
             "mazewalk_records_written_total 5",
             "mazewalk_records_failed_total 1",
+            "mazewalk_spectators 1",
+            "mazewalk_spectator_joins_total 2",
+            "mazewalk_spectator_refusals_total 1",
+            "mazewalk_refusals_total{reason=\"rate\"} 0",
         ] {
             assert!(text.lines().any(|l| l == line), "no line {line:?} in:\n{text}");
         }

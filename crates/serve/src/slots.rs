@@ -15,6 +15,11 @@
 //!   exchange takes milliseconds, moves on before its turn comes. Attackers opening `R` connections
 //!   a second into `N` slots leave each handshake `N / R` seconds between steps (256 ms at 500 a
 //!   second into the default 128), whatever number of addresses they use.
+//! - **Spectators apart too.** A connection that logs in as `watch` becomes a *spectator*
+//!   ([`Role::Spectator`]), one of at most [`Limits::max_spectators`]: spectators never take a
+//!   player's slot, nor players a spectator's. A newcomer is refused before its handshake only when
+//!   both are full (it may be either); otherwise a player finding the players full, or a spectator
+//!   the spectators, is refused when it logs in.
 //! - **Address groups.** [`address_group`]: an IPv4 address, or an IPv6 address's /64. Each group
 //!   has at most [`Limits::max_per_address`] connections of both kinds, and opens new ones at most
 //!   [`Limits::connect_rate`] a second after a burst of twice that many.
@@ -45,6 +50,11 @@ pub(crate) type ConnId = u64;
 pub(crate) enum Refusal {
     /// `--max-players`, reached.
     Full(usize),
+    /// `--max-spectators`, reached.
+    Spectators(usize),
+    /// Both reached (`--max-players`, `--max-spectators`): refused before the handshake, whichever
+    /// the newcomer would have been.
+    AllFull(usize, usize),
     /// `--max-per-address`, reached by the client's address group.
     FromThisAddress(usize),
     /// No handshake slots at all (`max_handshakes` is 0): nobody can log in.
@@ -58,7 +68,8 @@ impl Refusal {
     #[must_use]
     pub fn reason(self) -> &'static str {
         match self {
-            Refusal::Full(_) => "server full",
+            Refusal::Full(_) | Refusal::AllFull(..) => "server full",
+            Refusal::Spectators(_) => "spectators full",
             Refusal::FromThisAddress(_) => "too many connections from this address",
             Refusal::Busy => "too many connections logging in",
             Refusal::TooFast => "connecting too fast",
@@ -71,6 +82,13 @@ impl Refusal {
         match self {
             Refusal::Full(1) => "mazewalk: the server is full (one player at a time); try again later".into(),
             Refusal::Full(n) => format!("mazewalk: the server is full ({n} players); try again later"),
+            Refusal::AllFull(players, spectators) => format!(
+                "mazewalk: the server is full ({players} players, {spectators} watching); try again later"
+            ),
+            Refusal::Spectators(0) => "mazewalk: this server takes no spectators".into(),
+            Refusal::Spectators(n) => {
+                format!("mazewalk: every spectator's place is taken ({n} watching); try again later")
+            }
             Refusal::FromThisAddress(n) => {
                 let n = if n == 1 { "a connection".to_owned() } else { format!("{n} connections") };
                 format!("mazewalk: {n} from your address already; close one, or try again later")
@@ -102,10 +120,20 @@ struct Handshake {
     progress: f64,
 }
 
+/// What a connection that logged in does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Role {
+    /// Walks the maze.
+    Player,
+    /// Watches the players (`ssh watch@…`).
+    Spectator,
+}
+
 /// Connections of one address group.
 #[derive(Clone, Copy, Debug, Default)]
 struct Counts {
     handshakes: usize,
+    /// Players and spectators.
     players: usize,
 }
 
@@ -118,6 +146,8 @@ pub(crate) struct Slots {
     handshakes: BTreeMap<ConnId, Handshake>,
     /// Players by id, with their group.
     players: HashMap<ConnId, IpAddr>,
+    /// Spectators by id, with their group.
+    spectators: HashMap<ConnId, IpAddr>,
     groups: HashMap<IpAddr, Counts>,
     /// New connections' budgets, by group (forgotten once full again).
     rates: HashMap<IpAddr, RateLimit>,
@@ -132,6 +162,7 @@ impl Slots {
             next_id: 0,
             handshakes: BTreeMap::new(),
             players: HashMap::new(),
+            spectators: HashMap::new(),
             groups: HashMap::new(),
             rates: HashMap::new(),
         }
@@ -153,8 +184,12 @@ impl Slots {
         if rate.take(1, now) == 0 {
             return Err(Refusal::TooFast);
         }
-        if self.players.len() >= limits.max_players {
-            return Err(Refusal::Full(limits.max_players));
+        if self.players.len() >= limits.max_players && self.spectators.len() >= limits.max_spectators {
+            return Err(if limits.max_spectators == 0 {
+                Refusal::Full(limits.max_players)
+            } else {
+                Refusal::AllFull(limits.max_players, limits.max_spectators) // whichever it is, no room
+            });
         }
         let counts = self.groups.get(&group).copied().unwrap_or_default();
         if counts.handshakes + counts.players >= limits.max_per_address {
@@ -189,19 +224,26 @@ impl Slots {
         }
     }
 
-    /// The handshake `id` logged in: it becomes a player.
+    /// The handshake `id` logged in: it becomes a player or a spectator, as `role` says.
     ///
     /// # Errors
-    /// [`Refusal::Full`] when every player's slot is taken (it stays a handshake).
-    pub(crate) fn promote(&mut self, id: ConnId) -> Result<(), Refusal> {
+    /// [`Refusal::Full`] when every player's slot is taken, [`Refusal::Spectators`] every
+    /// spectator's (it stays a handshake).
+    pub(crate) fn promote(&mut self, id: ConnId, role: Role) -> Result<(), Refusal> {
         let Some(group) = self.handshakes.get(&id).map(|h| h.group) else {
-            return Ok(()); // a player already, or gone
+            return Ok(()); // logged in already, or gone
         };
-        if self.players.len() >= self.limits.max_players {
-            return Err(Refusal::Full(self.limits.max_players));
+        let (taken, max, full) = match role {
+            Role::Player => {
+                (&mut self.players, self.limits.max_players, Refusal::Full as fn(usize) -> Refusal)
+            }
+            Role::Spectator => (&mut self.spectators, self.limits.max_spectators, Refusal::Spectators as _),
+        };
+        if taken.len() >= max {
+            return Err(full(max));
         }
+        taken.insert(id, group);
         self.handshakes.remove(&id);
-        self.players.insert(id, group);
         let counts = self.groups.entry(group).or_default();
         counts.handshakes -= 1;
         counts.players += 1;
@@ -210,10 +252,12 @@ impl Slots {
 
     /// The connection `id` closed (or was pushed out): its slot is free.
     pub fn release(&mut self, id: ConnId) {
-        let (group, was_player) = match (self.handshakes.remove(&id), self.players.remove(&id)) {
-            (Some(handshake), _) => (handshake.group, false),
-            (None, Some(group)) => (group, true),
-            (None, None) => return,
+        let (group, was_player) = match self.handshakes.remove(&id) {
+            Some(handshake) => (handshake.group, false),
+            None => match self.players.remove(&id).or_else(|| self.spectators.remove(&id)) {
+                Some(group) => (group, true),
+                None => return,
+            },
         };
         if let Some(counts) = self.groups.get_mut(&group) {
             if was_player {
@@ -233,6 +277,12 @@ impl Slots {
         self.players.len()
     }
 
+    /// Spectators now.
+    #[must_use]
+    pub fn spectators(&self) -> usize {
+        self.spectators.len()
+    }
+
     /// Handshakes now.
     #[must_use]
     pub fn handshakes(&self) -> usize {
@@ -243,7 +293,9 @@ impl Slots {
     #[must_use]
     #[cfg(test)]
     pub fn holds(&self, id: ConnId) -> bool {
-        self.handshakes.contains_key(&id) || self.players.contains_key(&id)
+        self.handshakes.contains_key(&id)
+            || self.players.contains_key(&id)
+            || self.spectators.contains_key(&id)
     }
 }
 
@@ -256,7 +308,16 @@ mod tests {
     }
 
     fn limits(max_players: usize, max_handshakes: usize, max_per_address: usize) -> Limits {
-        Limits { max_players, max_handshakes, max_per_address, connect_rate: 1000.0, ..Limits::default() }
+        // (no spectators: a newcomer finding the players full is refused at once)
+        let max_spectators = 0;
+        Limits {
+            max_players,
+            max_spectators,
+            max_handshakes,
+            max_per_address,
+            connect_rate: 1000.0,
+            ..Limits::default()
+        }
     }
 
     /// Issue #34: one /64 is one address; an IPv4-mapped address is its IPv4 address.
@@ -284,13 +345,13 @@ mod tests {
     fn handshakes_never_take_a_players_slot() {
         let mut slots = Slots::new(&limits(2, 4, 100));
         let a = slots.admit(ip("10.0.0.1"), 0.0).unwrap().id;
-        slots.promote(a).unwrap();
+        slots.promote(a, Role::Player).unwrap();
         for i in 0..3 {
             slots.admit(ip(&format!("10.0.1.{i}")), 0.0).unwrap();
         }
         assert_eq!((slots.players(), slots.handshakes()), (1, 3));
         let b = slots.admit(ip("10.0.2.1"), 0.0).unwrap().id;
-        slots.promote(b).unwrap();
+        slots.promote(b, Role::Player).unwrap();
         assert_eq!(slots.players(), 2);
         assert_eq!(slots.admit(ip("10.0.3.1"), 0.0), Err(Refusal::Full(2)), "players full: refused at once");
         slots.release(a);
@@ -350,8 +411,40 @@ mod tests {
             }
         }
         assert!(slots.holds(player));
-        slots.promote(player).expect("logged in");
+        slots.promote(player, Role::Player).expect("logged in");
         assert_eq!((slots.players(), slots.handshakes()), (1, 31), "its handshake slot is free again");
+    }
+
+    /// Issue #43: spectators have their own slots. A full game still lets spectators in (and tells
+    /// the player who finds it full when it logs in); full spectators leave players their slots;
+    /// both full, a newcomer is refused at once; spectators count against their address.
+    #[test]
+    fn spectators_never_take_a_players_slot_nor_players_theirs() {
+        let mut slots = Slots::new(&Limits { max_spectators: 1, ..limits(1, 8, 3) });
+        let alice = slots.admit(ip("10.0.0.1"), 0.0).unwrap().id;
+        slots.promote(alice, Role::Player).unwrap();
+        let watcher = slots.admit(ip("10.0.0.2"), 0.0).expect("the game is full, the spectators are not").id;
+        let bob = slots.admit(ip("10.0.0.3"), 0.0).unwrap().id;
+        assert_eq!(slots.promote(bob, Role::Player), Err(Refusal::Full(1)), "told when it logs in");
+        slots.promote(watcher, Role::Spectator).unwrap();
+        assert_eq!((slots.players(), slots.spectators()), (1, 1));
+        assert_eq!(slots.promote(bob, Role::Spectator), Err(Refusal::Spectators(1)));
+        slots.release(bob);
+        assert_eq!(
+            slots.admit(ip("10.0.0.4"), 0.0),
+            Err(Refusal::AllFull(1, 1)),
+            "both full: refused at once"
+        );
+        slots.release(alice);
+        let carol = slots.admit(ip("10.0.0.4"), 0.0).unwrap().id;
+        slots.promote(carol, Role::Player).expect("the player's slot, not taken by the spectator");
+        slots.release(watcher);
+        slots.release(carol);
+        assert_eq!((slots.players(), slots.spectators()), (0, 0));
+        let group: Vec<ConnId> = (0..3).map(|_| slots.admit(ip("10.0.0.9"), 0.0).unwrap().id).collect();
+        slots.promote(group[0], Role::Spectator).unwrap();
+        assert_eq!(slots.admit(ip("10.0.0.9"), 0.0), Err(Refusal::FromThisAddress(3)), "a spectator counts");
+        assert!(Refusal::Spectators(1).message().contains("try again later"));
     }
 
     #[test]

@@ -33,8 +33,9 @@ use super::records::{Keeper, Standing, standing_lines};
 use super::shared::codec::{Finish, PlayerRecord, WinnerRecord};
 use super::shared::view::Others;
 use super::shared::{Host, LocalFinish, ServerId, SharedWorld, WorldConfig};
-use super::slots::{ConnId, Refusal, Slots, address_group};
+use super::slots::{ConnId, Refusal, Role, Slots, address_group};
 use super::spawn::Spawns;
+use super::spectator::{Audience, Spectator, WATCH_USER};
 use super::stream::{Cut, CutStream};
 use super::world::{Look, PlayerId, World};
 use mazewalk_maze::Maze;
@@ -78,6 +79,8 @@ pub const NO_EXEC_MESSAGE: &str =
     "mazewalk: no commands or subsystems here, only the game: connect with `ssh -t` and no command";
 /// What a client still connected after its game is told as the server closes the connection.
 pub(crate) const GAME_OVER_MESSAGE: &str = "mazewalk: the game is over; one game per connection";
+/// Views the spectators share, kept at most: a few followed players at a few sizes.
+const SHARED_VIEWS: usize = 16;
 /// How long a shutting-down server waits for its players' goodbyes before cutting them off.
 const GOODBYE_GRACE: Duration = Duration::from_secs(2);
 /// Failed authentication attempts per connection, as sshd's default `MaxAuthTries`. The `none`
@@ -106,6 +109,8 @@ struct Shared {
     log_limit: Mutex<LogLimit>,
     /// What `/metrics` counts (`--http`).
     metrics: Metrics,
+    /// What the spectators share: the way to the exit (for the leader) and the views they draw.
+    audience: Audience,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -300,6 +305,8 @@ struct Conn {
     /// Logged in.
     authenticated: AtomicBool,
     playing: AtomicBool,
+    /// It logged in as a spectator ([`WATCH_USER`]).
+    spectator: AtomicBool,
     /// Why it ended, when the server ended it (else the client did).
     ended: Mutex<Option<&'static str>>,
     /// The session's handle once the SSH session runs (to send a disconnect).
@@ -323,6 +330,7 @@ impl Conn {
             keys: AtomicBool::new(false),
             authenticated: AtomicBool::new(false),
             playing: AtomicBool::new(false),
+            spectator: AtomicBool::new(false),
             ended: Mutex::new(None),
             handle: Mutex::new(None),
             logged: AtomicBool::new(false),
@@ -474,6 +482,7 @@ impl Server {
                 Some(joined)
             }
         };
+        let audience = Audience::new(&options.maze, SHARED_VIEWS);
         let shared = Arc::new(Shared {
             maze: Arc::new(options.maze),
             access: options.access,
@@ -488,6 +497,7 @@ impl Server {
             conns: Mutex::new(HashMap::new()),
             log_limit: Mutex::new(LogLimit::new(0.0)),
             metrics: Metrics::default(),
+            audience,
         });
         let accept = tokio::spawn(accept_loop(listeners, Arc::clone(&shared)));
         Ok(Server { local_addrs, shutdown, shared, accept, world: joined })
@@ -511,11 +521,24 @@ impl Server {
         self.shared.world().len()
     }
 
-    /// Open connections now (players and those still connecting).
+    /// Open connections now (players, spectators and those still connecting).
     #[must_use]
     pub fn connections(&self) -> usize {
         let slots = lock(&self.shared.slots);
-        slots.players() + slots.handshakes()
+        slots.players() + slots.spectators() + slots.handshakes()
+    }
+
+    /// Spectators watching now.
+    #[must_use]
+    pub fn spectators(&self) -> usize {
+        lock(&self.shared.slots).spectators()
+    }
+
+    /// Views the spectators rendered, and those they took from another's render, so far
+    /// ([`SharedViews::counts`](mazewalk_walk::views::SharedViews::counts)).
+    #[must_use]
+    pub fn shared_views(&self) -> (u64, u64) {
+        self.shared.audience.views.counts()
     }
 
     /// Connections still in the handshake now (key exchange and authentication).
@@ -905,9 +928,14 @@ impl Handler for Handlers {
     }
 
     async fn auth_succeeded(&mut self, session: &mut Session) -> Result<(), Self::Error> {
-        let promoted = lock(&self.shared.slots).promote(self.conn.id);
+        let spectator = Conn::get(&self.conn.user).as_deref() == Some(WATCH_USER);
+        let role = if spectator { Role::Spectator } else { Role::Player };
+        self.conn.spectator.store(spectator, Ordering::SeqCst);
+        let promoted = lock(&self.shared.slots).promote(self.conn.id, role);
         if let Err(refusal) = promoted {
-            // Every player's slot was taken while this one logged in.
+            // Every player's (or spectator's) slot was taken while this one logged in.
+            self.shared.metrics.refused(&refusal);
+            self.log(format_args!("refused: {}", refusal.reason()));
             self.conn.ending(refusal.reason());
             session.disconnect(Disconnect::TooManyConnections, &refusal.message(), "")?;
         }
@@ -1092,6 +1120,10 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         close(&tx, 1).await;
         return;
     }
+    if conn.spectator.load(Ordering::SeqCst) {
+        watch(shared, conn, tx, rx, &pty, colorterm.as_deref()).await;
+        return;
+    }
     let user = Conn::get(&conn.user).unwrap_or_else(|| "player".into());
     let now = shared.now();
     let mut player = match Player::new(
@@ -1128,6 +1160,24 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         world.leave(id);
         shared.world_changed(&world);
     }
+    let quit = match player.session().outcome().finished {
+        Some(seconds) => format!("You found the exit in {seconds:.1} s."),
+        None => "Thanks for walking.".to_string(),
+    };
+    goodbye(shared, conn, &tx, &mut rx, &mut player, end, quit).await;
+}
+
+/// The end of a game or a watch: the terminal restored and a line saying why (quit: `quit`), or the
+/// connection cut (stalled, gone).
+async fn goodbye(
+    shared: &Shared,
+    conn: &Conn,
+    tx: &ChannelWriteHalf<Msg>,
+    rx: &mut russh::ChannelReadHalf,
+    player: &mut impl Remote,
+    end: End,
+    quit: String,
+) {
     if end == End::Stalled {
         conn.end("stopped reading");
         return;
@@ -1143,10 +1193,7 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         }
         _ => {
             conn.ending("quit");
-            match player.session().outcome().finished {
-                Some(seconds) => format!("You found the exit in {seconds:.1} s."),
-                None => "Thanks for walking.".to_string(),
-            }
+            quit
         }
     };
     let mut out = Vec::new();
@@ -1168,17 +1215,124 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         return;
     }
     tokio::select! {
-        () = drain_answers(&mut rx, &mut player, shared) => close(&tx, if end == End::Quit { 0 } else { 1 }).await,
+        () = drain_answers(rx, player, shared) => close(tx, if end == End::Quit { 0 } else { 1 }).await,
         () = conn.cut.cut_off() => {}
+    }
+}
+
+/// One spectator: its screen follows the players until it stops watching, idles… never: a big screen
+/// presses no keys (a dead link goes by keepalives and the write timeout), goes, or the server stops.
+async fn watch(
+    shared: &Arc<Shared>,
+    conn: &Arc<Conn>,
+    tx: ChannelWriteHalf<Msg>,
+    mut rx: russh::ChannelReadHalf,
+    pty: &Pty,
+    colorterm: Option<&str>,
+) {
+    let now = shared.now();
+    let mut spectator = match Spectator::new(
+        Arc::clone(&shared.maze),
+        &pty.term,
+        colorterm,
+        pty.size,
+        &shared.limits,
+        &shared.audience,
+        now,
+    ) {
+        Ok(spectator) => spectator,
+        Err(err) => {
+            let _ = tx.data_bytes(format!("mazewalk: {err}\r\n").into_bytes()).await;
+            close(&tx, 1).await;
+            return;
+        }
+    };
+    shared.metrics.spectator_joined();
+    conn.playing.store(true, Ordering::SeqCst);
+    let end = watching(shared, conn, &tx, &mut rx, &mut spectator).await;
+    shared.metrics.spectator_left();
+    goodbye(shared, conn, &tx, &mut rx, &mut spectator, end, "Thanks for watching.".into()).await;
+}
+
+/// The watch itself: as [`walk`], with a spectator's screen and nothing told to the world.
+async fn watching(
+    shared: &Shared,
+    conn: &Conn,
+    tx: &ChannelWriteHalf<Msg>,
+    rx: &mut russh::ChannelReadHalf,
+    spectator: &mut Spectator,
+) -> End {
+    let mut out = Vec::with_capacity(16 * 1024);
+    spectator.enter(&mut out);
+    let mut versions = shared.world.version.subscribe();
+    let mut shutdown = shared.shutdown.clone();
+    loop {
+        if *shutdown.borrow_and_update() {
+            return End::Shutdown;
+        }
+        if spectator.is_over() {
+            return End::Quit;
+        }
+        let now = shared.now();
+        if spectator.look_due(now) {
+            let look = shared.world.look(&mut versions);
+            spectator.look(look, now);
+        }
+        let started = Instant::now();
+        if spectator.frame(now, &mut out) {
+            spectator.session_mut().frame_cost(started.elapsed().as_secs_f64());
+        }
+        if !out.is_empty() {
+            // (Not in the players' frames and bytes sent: /metrics counts those.)
+            let write =
+                tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(std::mem::take(&mut out)));
+            tokio::select! {
+                written = write => match written {
+                    Ok(Ok(())) => {}
+                    Ok(Err(_)) => return End::Gone,
+                    Err(_) => return End::Stalled,
+                },
+                () = conn.cut.cut_off() => return End::Gone,
+                () = until_shutdown(&mut shutdown) => return End::Shutdown,
+            }
+        }
+        let now = shared.now();
+        let wake = spectator.next_wake(now);
+        let sleep = wake.map(|at| tokio::time::sleep(Duration::from_secs_f64((at - now).clamp(0.0, 3600.0))));
+        tokio::select! {
+            message = rx.wait() => match message {
+                Some(ChannelMsg::Data { data }) => {
+                    spectator.feed(&data, shared.now());
+                }
+                Some(ChannelMsg::WindowChange { col_width, row_height, .. }) => {
+                    spectator.resize(col_width, row_height, shared.now());
+                }
+                Some(ChannelMsg::Eof | ChannelMsg::Close) | None => return End::Gone,
+                Some(_) => {}
+            },
+            () = async { if let Some(sleep) = sleep { sleep.await } else { std::future::pending().await } } => {}
+            changed = versions.changed(), if !spectator.look_scheduled() => {
+                if changed.is_err() {
+                    return End::Shutdown;
+                }
+                versions.borrow_and_update();
+                spectator.world_changed(shared.now());
+            }
+            _ = shutdown.changed() => {}
+            () = conn.cut.cut_off() => return End::Gone,
+        }
+        if conn.cut.is_cut() {
+            return End::Gone;
+        }
     }
 }
 
 /// Waits for the terminal's answers to the last frames' queries, reading and dropping whatever else
 /// comes, for at most two round trips (0.25–1 s). A channel closed before they arrive leaves them to
 /// the player's shell, typed at its prompt (`1;2c`). Gives up at once on a terminal that does not answer.
-async fn drain_answers(rx: &mut russh::ChannelReadHalf, player: &mut Player, shared: &Shared) {
+async fn drain_answers(rx: &mut russh::ChannelReadHalf, player: &mut impl Remote, shared: &Shared) {
     let waiting =
-        |player: &Player| player.session().flow().in_flight() > 0 && !player.session().flow().silent();
+        |player: &dyn Remote| player.session().flow().in_flight() > 0 && !player.session().flow().silent();
     let round_trip = player.session().flow().round_trip().unwrap_or(0.5);
     let deadline = tokio::time::Instant::now() + Duration::from_secs_f64((2.0 * round_trip).clamp(0.25, 1.0));
     while waiting(player) {
@@ -1189,6 +1343,40 @@ async fn drain_answers(rx: &mut russh::ChannelReadHalf, player: &mut Player, sha
             Ok(Some(ChannelMsg::Eof | ChannelMsg::Close) | None) | Err(_) => break,
             Ok(Some(_)) => {}
         }
+    }
+}
+
+/// What the goodbye needs of a player's or a spectator's screen.
+trait Remote {
+    /// Bytes from its terminal ([`Player::feed`]).
+    fn feed(&mut self, bytes: &[u8], now: f64) -> bool;
+    /// Its session.
+    fn session(&self) -> &mazewalk_walk::Session;
+    /// The bytes that give its terminal back, and a line ([`Player::leave`]).
+    fn leave(&self, message: Option<&str>, out: &mut Vec<u8>);
+}
+
+impl Remote for Player {
+    fn feed(&mut self, bytes: &[u8], now: f64) -> bool {
+        Player::feed(self, bytes, now)
+    }
+    fn session(&self) -> &mazewalk_walk::Session {
+        Player::session(self)
+    }
+    fn leave(&self, message: Option<&str>, out: &mut Vec<u8>) {
+        Player::leave(self, message, out);
+    }
+}
+
+impl Remote for Spectator {
+    fn feed(&mut self, bytes: &[u8], now: f64) -> bool {
+        Spectator::feed(self, bytes, now)
+    }
+    fn session(&self) -> &mazewalk_walk::Session {
+        Spectator::session(self)
+    }
+    fn leave(&self, message: Option<&str>, out: &mut Vec<u8>) {
+        Spectator::leave(self, message, out);
     }
 }
 

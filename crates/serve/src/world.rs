@@ -239,11 +239,14 @@ impl World {
         true
     }
 
-    /// The player now looks `pitch_deg` up (+) or down (−). Only the world task of a shared world
-    /// reads it (once a tick, under the lock): the version is not bumped, no one else looks again.
+    /// The player now looks `pitch_deg` up (+) or down (−). The figures do not show it, but a
+    /// spectator following the player does (issue #43): a change bumps the version.
     pub fn pitched(&mut self, id: PlayerId, pitch_deg: f32) {
-        if let Some(seen) = self.players.get_mut(&id) {
+        if let Some(seen) = self.players.get_mut(&id)
+            && seen.pitch_deg != pitch_deg
+        {
             seen.pitch_deg = pitch_deg;
+            self.version += 1;
         }
     }
 
@@ -660,11 +663,13 @@ mod tests {
         assert_eq!(finished, [LocalFinish { id: 0, name: "alice".into(), seconds: 30.0 }]);
         world.locals(&mut players, &mut finished);
         assert_eq!(finished.len(), 1, "taken once");
-        // the pitch goes to the others, without a look here
+        // the pitch goes to the others, and to the spectators here (issue #43: a new version)
         let v = world.version();
         world.pitched(a, 12.0);
         world.locals(&mut players, &mut finished);
-        assert_eq!((players[0].at.pitch_deg, world.version()), (12.0, v));
+        assert_eq!((players[0].at.pitch_deg, world.version()), (12.0, v + 1));
+        world.pitched(a, 12.0);
+        assert_eq!(world.version(), v + 1, "the same pitch: nothing new");
         // bob on server 2 won first, as Redis says
         let others = others_with(&[(2, 5, "bob", 'B', Vec2::ZERO)]);
         world.set_others(&others, true, 1.0);

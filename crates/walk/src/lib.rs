@@ -1,7 +1,7 @@
 //! One player's walk through a maze, pure: the walk's state and its key handlers ([`state`],
 //! [`controls`]), the overlays drawn over the 3D view ([`overlay`], and a served maze's player list,
 //! [`roster`]), the composed screen ([`screen`]),
-//! end-to-end flow control ([`flow`]) and the [`Session`] that ties them to a terminal's bytes. No
+//! end-to-end flow control ([`flow`]), views shared by several screens ([`views`]) and the [`Session`] that ties them to a terminal's bytes. No
 //! I/O, no clock (time comes in as seconds): the `mazewalk` binary runs a session on its own
 //! terminal, `mazewalk serve` one per SSH channel.
 
@@ -15,6 +15,7 @@ pub mod roster;
 pub mod screen;
 pub mod session;
 pub mod state;
+pub mod views;
 
 pub use controls::Action;
 pub use session::{Outcome, Session, SessionOptions};

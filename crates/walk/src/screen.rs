@@ -7,12 +7,15 @@
 //! App + Screen (peers, notice) + Hud ─draw─▶ Frame: view rows (Renderer) · map · box · HUD row
 //! ```
 
+use std::sync::Arc;
+
 use glam::Vec3;
 
 use crate::clock::{clock_text, running_clock_text};
 use crate::overlay::{self, MapArea, MapCells, Peer, Style};
 use crate::roster;
 use crate::state::{App, MapMode};
+use crate::views::{SharedViews, ViewKey};
 use mazewalk_render::palette::xterm_rgb;
 use mazewalk_render::{Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
 use mazewalk_term::frame::{Cell, Color, Frame, Region};
@@ -65,6 +68,12 @@ pub struct Screen {
     pub standings: Vec<String>,
     /// Where the last frame's map was drawn.
     pub map: Option<MapArea>,
+    /// A host's own key help, shown by `?` instead of the walk's (a spectator's keys); empty: the
+    /// walk's.
+    pub help: Vec<String>,
+    /// Views shared with other screens ([`SharedViews`]: a server's spectators of one player); `None`:
+    /// this screen renders its own.
+    pub shared_views: Option<Arc<SharedViews>>,
     /// What the last frame's render did (the HUD's developer figures).
     stats: RenderStats,
     /// The peers as the renderer's figures (reused from frame to frame).
@@ -131,13 +140,24 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     // The other players, as figures standing in the maze.
     screen.sprites.clear();
     screen.sprites.extend(screen.peers.iter().filter_map(|peer| figure(app.maze(), peer)));
-    let stats = match screen.renderer.render(
-        app.maze(),
-        &app.camera,
-        &screen.sprites,
-        &options,
-        Target::Frame(frame, view),
-    ) {
+    let drawn = match &screen.shared_views {
+        // drawn once for every screen with the same key, copied into this one's view rows
+        Some(views) => {
+            let key = ViewKey::new(app.maze(), &app.camera, &screen.sprites, &options, (cols, view.rows));
+            views.view(app.maze(), &key, &mut screen.renderer).map(|shared| {
+                frame.cells_mut()[..cols * view.rows].copy_from_slice(shared.frame.cells());
+                shared.stats
+            })
+        }
+        None => screen.renderer.render(
+            app.maze(),
+            &app.camera,
+            &screen.sprites,
+            &options,
+            Target::Frame(frame, view),
+        ),
+    };
+    let stats = match drawn {
         Ok(stats) => stats,
         Err(err) => {
             frame.fill(Cell::BLANK);
@@ -184,8 +204,12 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         let lines = ["q    quit".to_string(), "any  walk on".to_string()];
         overlay::draw_box(frame, "Quit?", &lines, style);
     } else if app.help {
-        let mut lines = overlay::help_lines(style, app.maze().exit().is_some());
-        if !screen.roster.is_empty() {
+        let mut lines = if screen.help.is_empty() {
+            overlay::help_lines(style, app.maze().exit().is_some())
+        } else {
+            screen.help.clone()
+        };
+        if !screen.roster.is_empty() && screen.help.is_empty() {
             lines.push(roster::HELP_LINE.to_string()); // a served maze's player list
         }
         overlay::draw_box(frame, "Keys (? or Esc to close)", &lines, style);

@@ -36,6 +36,7 @@ use crate::overlay::{MapArea, Peer};
 use crate::roster;
 use crate::screen::{self, FrameCost, Hud, Screen};
 use crate::state::App;
+use crate::views::SharedViews;
 use mazewalk_render::Culling;
 use mazewalk_term::caps::TRUECOLOR_QUERY;
 use mazewalk_term::encoder::{self, Encoder};
@@ -278,6 +279,38 @@ impl Session {
             self.screen.status = status.map(str::to_owned);
             self.dirty = true;
         }
+    }
+
+    /// A host's own key help, shown by `?` instead of the walk's (a spectator's keys; empty: the
+    /// walk's).
+    pub fn set_help(&mut self, lines: Vec<String>) {
+        if self.screen.help != lines {
+            self.screen.help = lines;
+            self.dirty |= self.app.help;
+        }
+    }
+
+    /// Opens or closes the player list (a host's key for it: `Tab` is a spectator's next player);
+    /// without a list, nothing happens.
+    pub fn toggle_roster(&mut self) {
+        if !self.screen.roster.is_empty() {
+            self.screen.show_roster = !self.screen.show_roster;
+            self.dirty = true;
+        }
+    }
+
+    /// Whether the player list is open.
+    #[must_use]
+    pub fn roster_open(&self) -> bool {
+        self.screen.show_roster
+    }
+
+    /// Draws the 3D view through `views`, shared with every other screen drawing the same view
+    /// ([`SharedViews`]), instead of rendering its own. A view from the cache was not rendered by this
+    /// screen's renderer, so the map learns no cells from it and [`sees_cell`](Self::sees_cell) is
+    /// not to be asked: a screen sharing views shows the whole map ([`App::reveal_map`]).
+    pub fn share_views(&mut self, views: std::sync::Arc<SharedViews>) {
+        self.screen.shared_views = Some(views);
     }
 
     /// More lines for the exit box: a served maze's best times.

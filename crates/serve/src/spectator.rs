@@ -1,0 +1,627 @@
+//! One spectator (`ssh -p PORT watch@HOST`), without the connection: the first-person view of a
+//! player it follows, the map of everyone (the whole maze shown), the player list and the news, on
+//! its own terminal at its own size and colour depth. It is in no one's world: no figure in the
+//! maze, not in the player list or the count, no records; its keys change only its own screen.
+//!
+//! Whom it follows: the **leader** by default — the player nearest the exit by path (portal steps
+//! from its cell to the exit's cell), of equals the first to join; in a maze without an exit, the
+//! first to join ([`leader`]). `Tab` or `→` follows the next player in the list's order, `Shift-Tab`
+//! or `←` the one before ([`cycle`]), `l` the leader again; a followed player who leaves gives the
+//! view back to the leader. With `--world` the others' servers' players are in the list too: their
+//! view is drawn here, from where the world says they stand and look.
+//!
+//! Pure, as [`Player`](crate::player::Player) is: bytes, sizes and looks at the world in, bytes out,
+//! time as seconds. Spectators of one player at one size, depth and charset share one render per
+//! frame ([`SharedViews`]).
+
+use std::sync::Arc;
+
+use super::limits::{Limits, RateLimit};
+use super::player::{NOTICE_SECONDS, REMOTE, WORLD_LOOKS_PER_SECOND, clamp_size, color_plan, only_replies};
+use super::world::{Look, PlayerId, Seen};
+use mazewalk_maze::Maze;
+use mazewalk_render::{Charset, RenderOptions};
+use mazewalk_term::caps;
+use mazewalk_term::input::{Input, InputDecoder, Key, KeyPhase, Modifiers};
+use mazewalk_term::modes::{enter_sequence, restore_sequence};
+use mazewalk_walk::overlay::Peer;
+use mazewalk_walk::roster;
+use mazewalk_walk::state::StartOutsideMaze;
+use mazewalk_walk::views::SharedViews;
+use mazewalk_walk::{App, MapMode, Session, SessionOptions};
+
+/// The SSH user name that watches instead of playing.
+pub const WATCH_USER: &str = "watch";
+
+/// What the screen says while nobody plays.
+pub const WAITING: &str = "Waiting for a player…";
+
+/// A spectator's keys (its `?` box).
+pub const HELP: [&str; 7] = [
+    "Tab  →       next player",
+    "Shift-Tab ←  previous player",
+    "l            follow the leader (nearest the exit)",
+    "p            who is in the maze, their times",
+    "m            map: corner, full, off",
+    "?            these keys",
+    "q  Esc       stop watching",
+];
+
+/// What a server's spectators share: the maze's portal steps from the exit's cell to each cell (for
+/// the leader; `None`: no exit) and the views they draw ([`SharedViews`]).
+#[derive(Clone, Debug)]
+pub struct Audience {
+    /// [`Maze::portal_distances`] from the exit's cell.
+    pub distances: Option<Arc<[u32]>>,
+    /// The views shared.
+    pub views: Arc<SharedViews>,
+}
+
+impl Audience {
+    /// The audience of `maze`, sharing up to `views` views.
+    #[must_use]
+    pub fn new(maze: &Maze, views: usize) -> Audience {
+        let distances = maze.exit().map(|exit| maze.portal_distances(exit.cell).into());
+        Audience { distances, views: Arc::new(SharedViews::new(views)) }
+    }
+}
+
+/// Whom a spectator follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Follow {
+    /// The leader ([`leader`]), whoever it is at each look.
+    Leader,
+    /// This player, while it is in the maze.
+    Player(PlayerId),
+}
+
+/// The leader among `players` (in order of arrival): the one nearest the exit by path — the fewest
+/// portal steps from its cell in `distances` (steps from the exit's cell to each cell; a cell out
+/// of range or unreachable counts as farthest) — of equals the first; with no `distances` (no
+/// exit), the first. `None` when nobody plays.
+#[must_use]
+pub fn leader(players: &[(PlayerId, Seen)], distances: Option<&[u32]>) -> Option<PlayerId> {
+    let steps = |seen: &Seen| distances.map_or(0, |d| d.get(seen.cell as usize).copied().unwrap_or(u32::MAX));
+    // (min_by_key keeps the first of equals)
+    players.iter().min_by_key(|(_, seen)| steps(seen)).map(|(id, _)| *id)
+}
+
+/// The player after `current` among `players` (in order of arrival, wrapping round), or before it
+/// when not `forward`; from no one (or one who left), the first (or the last).
+#[must_use]
+pub fn cycle(players: &[(PlayerId, Seen)], current: Option<PlayerId>, forward: bool) -> Option<PlayerId> {
+    let n = players.len();
+    if n == 0 {
+        return None;
+    }
+    let at = current.and_then(|c| players.iter().position(|(id, _)| *id == c));
+    let next = match (at, forward) {
+        (Some(i), true) => (i + 1) % n,
+        (Some(i), false) => (i + n - 1) % n,
+        (None, true) => 0,
+        (None, false) => n - 1,
+    };
+    Some(players[next].0)
+}
+
+/// One spectator's screen on a remote terminal.
+#[derive(Debug)]
+pub struct Spectator {
+    session: Session,
+    /// Its own decoder: its keys are its own, never the walk's (no key moves the camera).
+    decoder: InputDecoder,
+    inputs: Vec<Input>,
+    input: RateLimit,
+    limits: Limits,
+    dropped: u64,
+    over: bool,
+    follow: Follow,
+    /// The player shown now.
+    shown: Option<PlayerId>,
+    /// Portal steps from the exit's cell to each cell (`None`: no exit).
+    distances: Option<Arc<[u32]>>,
+    look_at: Option<f64>,
+    last_look: f64,
+    /// The last look at the world (cycling shows another player without waiting for the world).
+    look: Option<Look>,
+    peers: Vec<Peer>,
+    roster: Vec<roster::Entry>,
+    /// The winner's announcement and until when it shows.
+    news: Option<(String, f64)>,
+    seen_winner: bool,
+    ask_truecolor: bool,
+}
+
+impl Spectator {
+    /// A spectator of `maze` on a `cols × rows` terminal of type `term`, at time `now`, one of
+    /// `audience`.
+    ///
+    /// # Errors
+    /// The maze's start is in no cell.
+    pub fn new(
+        maze: impl Into<Arc<Maze>>,
+        term: &str,
+        colorterm: Option<&str>,
+        (cols, rows): (u32, u32),
+        limits: &Limits,
+        audience: &Audience,
+        now: f64,
+    ) -> Result<Spectator, StartOutsideMaze> {
+        let plan = color_plan(term, colorterm);
+        let options =
+            RenderOptions { charset: Charset::Half, color_depth: plan.depth, ..RenderOptions::default() };
+        let mut app = App::new(maze, options, now)?;
+        app.reveal_map = true; // everyone on the whole map
+        let env = |k: &str| (k == "TERM").then(|| term.to_string());
+        let session_options = SessionOptions { bce: caps::detect_bce(env), ..SessionOptions::default() };
+        let (cols, rows) = clamp_size(cols, rows, limits);
+        let mut session = Session::new(app, cols, rows, session_options);
+        session.set_help(HELP.iter().map(|line| (*line).to_string()).collect());
+        session.share_views(Arc::clone(&audience.views));
+        session.set_notice(Some(WAITING.into()));
+        session.set_players_in(Some(0));
+        Ok(Spectator {
+            session,
+            decoder: InputDecoder::new(),
+            inputs: Vec::new(),
+            input: RateLimit::new(limits.input_rate, limits.input_burst, now),
+            limits: *limits,
+            dropped: 0,
+            over: false,
+            follow: Follow::Leader,
+            shown: None,
+            distances: audience.distances.clone(),
+            look_at: Some(now),
+            last_look: f64::NEG_INFINITY,
+            look: None,
+            peers: Vec::new(),
+            roster: Vec::new(),
+            news: None,
+            seen_winner: false,
+            ask_truecolor: plan.ask,
+        })
+    }
+
+    /// The bytes that put the remote terminal into game mode (as a player's).
+    pub fn enter(&mut self, out: &mut Vec<u8>) {
+        out.extend_from_slice(enter_sequence(REMOTE).as_bytes());
+        if self.ask_truecolor {
+            self.session.ask_truecolor(out);
+        }
+        self.session.ask_keyboard_flags(out);
+    }
+
+    /// The bytes that give the terminal back, then `message` on a line of its own.
+    pub fn leave(&self, message: Option<&str>, out: &mut Vec<u8>) {
+        out.extend_from_slice(restore_sequence(REMOTE).as_bytes());
+        if let Some(message) = message {
+            out.extend_from_slice(message.as_bytes());
+            out.extend_from_slice(b"\r\n");
+        }
+    }
+
+    /// Bytes from the spectator's terminal at `now` (beyond the input rate, dropped). Returns whether
+    /// they held anything but the terminal's own answers.
+    pub fn feed(&mut self, bytes: &[u8], now: f64) -> bool {
+        let allowed = self.input.take(bytes.len(), now);
+        let mut inputs = std::mem::take(&mut self.inputs);
+        self.decoder.feed(&bytes[..allowed], now, &mut inputs);
+        if allowed < bytes.len() {
+            // The cut may fall inside an escape sequence: its ESC must not become the Esc key.
+            self.dropped += (bytes.len() - allowed) as u64;
+            self.decoder.gap();
+            self.session.input_gap();
+        }
+        for input in inputs.drain(..) {
+            self.input(input, now);
+        }
+        self.inputs = inputs;
+        !only_replies(bytes)
+    }
+
+    /// One input: the spectator's keys; the terminal's answers, size and focus go to the session;
+    /// nothing else (a drag would turn the view).
+    fn input(&mut self, input: Input, now: f64) {
+        let Input::Key { key, phase, modifiers } = input else {
+            if matches!(input, Input::Resize { .. } | Input::Reply(_) | Input::FocusLost | Input::FocusGained)
+            {
+                self.session.input(input, now);
+            }
+            return;
+        };
+        if phase == KeyPhase::Release {
+            return;
+        }
+        let Modifiers { shift, ctrl, alt } = modifiers;
+        let help = self.session.app().help;
+        match key {
+            Key::Char('c') if ctrl => self.over = true,
+            Key::Char(_) if ctrl || alt => {}
+            Key::Tab | Key::Right | Key::Left => {
+                let forward = key == Key::Right || (key == Key::Tab && !shift);
+                let players = self.look.as_ref().map_or(&[][..], |look| &look.players[..]);
+                if let Some(next) = cycle(players, self.shown, forward) {
+                    self.follow = Follow::Player(next);
+                    self.show(now);
+                }
+            }
+            Key::Char('l') => {
+                self.follow = Follow::Leader;
+                self.show(now);
+            }
+            Key::Char('p') => self.session.toggle_roster(),
+            Key::Char('m') => {
+                let app = self.session.app_mut();
+                app.map = match app.map {
+                    MapMode::Corner => MapMode::Full,
+                    MapMode::Full => MapMode::Off,
+                    MapMode::Off => MapMode::Corner,
+                };
+            }
+            Key::Char('?') => self.session.app_mut().help = !help,
+            Key::Esc if help => self.session.app_mut().help = false,
+            Key::Esc if self.session.roster_open() => self.session.toggle_roster(),
+            Key::Esc | Key::Char('q') if phase == KeyPhase::Press => self.over = true,
+            _ => {}
+        }
+    }
+
+    /// The client's window changed.
+    pub fn resize(&mut self, cols: u32, rows: u32, now: f64) {
+        let (cols, rows) = clamp_size(cols, rows, &self.limits);
+        let screen = self.session.screen();
+        if (cols, rows) != (screen.width() as u16, screen.height() as u16) {
+            self.session.input(Input::Resize { cols, rows }, now);
+        }
+    }
+
+    /// The world changed at `now`: look again, no sooner than [`WORLD_LOOKS_PER_SECOND`] allows.
+    pub fn world_changed(&mut self, now: f64) {
+        if self.look_at.is_none() {
+            self.look_at = Some((self.last_look + 1.0 / WORLD_LOOKS_PER_SECOND).max(now));
+        }
+    }
+
+    /// Whether a look at the world is scheduled.
+    #[must_use]
+    pub fn look_scheduled(&self) -> bool {
+        self.look_at.is_some()
+    }
+
+    /// Whether a look at the world is due at `now`.
+    #[must_use]
+    pub fn look_due(&self, now: f64) -> bool {
+        self.look_at.is_some_and(|at| now >= at)
+    }
+
+    /// What the world looks like at `now`: the followed player's view, everyone else as figures and
+    /// on the map, the list, the count, the winner's news once.
+    pub fn look(&mut self, look: Look, now: f64) {
+        (self.look_at, self.last_look) = (None, now);
+        if let (Some(winner), false) = (&look.winner, self.seen_winner) {
+            self.seen_winner = true;
+            self.news = Some((winner.announcement(), now + NOTICE_SECONDS));
+        }
+        self.look = Some(look);
+        self.show(now);
+    }
+
+    /// Puts the last look on the screen.
+    fn show(&mut self, now: f64) {
+        let Some(look) = &self.look else { return };
+        let players = &look.players[..];
+        let present = |id: PlayerId| players.iter().any(|(p, _)| *p == id);
+        if let Follow::Player(id) = self.follow
+            && !present(id)
+        {
+            self.follow = Follow::Leader; // it left: back to the leader
+        }
+        self.shown = match self.follow {
+            Follow::Player(id) => Some(id),
+            Follow::Leader => leader(players, self.distances.as_deref()),
+        };
+        let shown = self.shown.and_then(|id| players.iter().find(|(p, _)| *p == id));
+        let mut peers = std::mem::take(&mut self.peers);
+        look.peers_of(self.shown.unwrap_or(PlayerId(u64::MAX)), |_, _| true, &mut peers);
+        self.session.set_peers(&peers);
+        self.peers = peers;
+        let status = match shown {
+            Some((_, seen)) => {
+                let (camera, cell) = (self.session.app().camera, self.session.app().cell);
+                let at = mazewalk_render::Camera {
+                    position: seen.position,
+                    yaw_deg: seen.heading_deg,
+                    pitch_deg: seen.pitch_deg,
+                    ..camera
+                };
+                if at != camera || cell != seen.cell {
+                    let app = self.session.app_mut();
+                    (app.camera, app.cell, app.started) = (at, seen.cell, seen.joined_at);
+                }
+                format!("watching {}  ← →", seen.name)
+            }
+            None => "watching".to_string(),
+        };
+        self.session.set_status(Some(&status));
+        self.roster.clear();
+        self.roster.extend(players.iter().map(|(_, seen)| roster::Entry {
+            name: seen.name.clone(),
+            label: seen.label,
+            color: seen.color,
+            joined_at: seen.joined_at,
+            best: seen.best,
+            me: false,
+        }));
+        self.session.set_roster(&self.roster);
+        self.session.set_players_in(Some(players.len()));
+        let news = self.news.as_ref().filter(|(_, until)| now < *until).map(|(text, _)| text.clone());
+        let waiting = shown.is_none().then(|| WAITING.to_string());
+        self.session.set_notice(waiting.or(news));
+    }
+
+    /// Draws a frame if one is due, appending its bytes to `out`; news whose time is up goes first.
+    pub fn frame(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
+        let mut inputs = std::mem::take(&mut self.inputs);
+        self.decoder.expire(now, &mut inputs); // a lone Esc
+        for input in inputs.drain(..) {
+            self.input(input, now);
+        }
+        self.inputs = inputs;
+        if self.news.as_ref().is_some_and(|(_, until)| now >= *until) {
+            self.news = None;
+            self.show(now);
+        }
+        let _ = self.session.take_suspend();
+        self.session.frame(now, out)
+    }
+
+    /// When [`frame`](Self::frame) or a look is due next if nothing arrives.
+    #[must_use]
+    pub fn next_wake(&self, now: f64) -> Option<f64> {
+        let news = self.news.as_ref().map(|(_, until)| *until);
+        [self.session.next_wake(now), self.look_at, news, self.decoder.deadline()]
+            .into_iter()
+            .flatten()
+            .reduce(f64::min)
+            .map(|at| at.max(now))
+    }
+
+    /// Whom it follows.
+    #[must_use]
+    pub fn follow(&self) -> Follow {
+        self.follow
+    }
+
+    /// The player shown now.
+    #[must_use]
+    pub fn shown(&self) -> Option<PlayerId> {
+        self.shown
+    }
+
+    /// Whether the spectator stopped watching (q, Esc, Ctrl-C).
+    #[must_use]
+    pub fn is_over(&self) -> bool {
+        self.over
+    }
+
+    /// Input bytes dropped by the rate limit so far.
+    #[must_use]
+    pub fn dropped(&self) -> u64 {
+        self.dropped
+    }
+
+    /// The session, to read.
+    #[must_use]
+    pub fn session(&self) -> &Session {
+        &self.session
+    }
+
+    /// The session, to change (what a frame cost).
+    pub(crate) fn session_mut(&mut self) -> &mut Session {
+        &mut self.session
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::World;
+    use glam::Vec2;
+
+    fn seen(name: &str, cell: u32) -> Seen {
+        Seen {
+            name: name.into(),
+            position: Vec2::ZERO,
+            heading_deg: 0.0,
+            pitch_deg: 0.0,
+            cell,
+            color: mazewalk_term::frame::Color::Indexed(196),
+            label: name.chars().next().unwrap().to_ascii_uppercase(),
+            joined_at: 0.0,
+            best: None,
+        }
+    }
+
+    #[test]
+    fn the_leader_is_nearest_the_exit_by_path_of_equals_the_first() {
+        let players = [
+            (PlayerId(0), seen("ada", 0)),
+            (PlayerId(1), seen("bob", 2)),
+            (PlayerId(2), seen("cy", 1)),
+            (PlayerId(3), seen("di", 2)),
+        ];
+        let distances = [5, 3, 1];
+        assert_eq!(leader(&players, Some(&distances)), Some(PlayerId(1)), "bob and di: bob came first");
+        assert_eq!(leader(&players[2..], Some(&distances)), Some(PlayerId(3)));
+        assert_eq!(leader(&players, None), Some(PlayerId(0)), "no exit: the first to join");
+        let lost = [(PlayerId(7), seen("ed", 99)), (PlayerId(8), seen("fy", 0))];
+        assert_eq!(leader(&lost, Some(&distances)), Some(PlayerId(8)), "a cell out of range is farthest");
+        let cut_off = [(PlayerId(7), seen("ed", 0)), (PlayerId(8), seen("fy", 1))];
+        assert_eq!(leader(&cut_off, Some(&[u32::MAX, 9])), Some(PlayerId(8)), "unreachable is farthest");
+        assert_eq!(leader(&[], Some(&distances)), None);
+    }
+
+    #[test]
+    fn cycling_goes_round_the_list_both_ways() {
+        let players =
+            [(PlayerId(0), seen("ada", 0)), (PlayerId(4), seen("bob", 0)), (PlayerId(9), seen("cy", 0))];
+        let next = |from, forward| cycle(&players, from, forward);
+        assert_eq!(next(Some(PlayerId(0)), true), Some(PlayerId(4)));
+        assert_eq!(next(Some(PlayerId(9)), true), Some(PlayerId(0)), "wraps round");
+        assert_eq!(next(Some(PlayerId(0)), false), Some(PlayerId(9)), "back, wrapping round");
+        assert_eq!(next(None, true), Some(PlayerId(0)));
+        assert_eq!(next(None, false), Some(PlayerId(9)));
+        assert_eq!(next(Some(PlayerId(5)), true), Some(PlayerId(0)), "from one who left: the first");
+        assert_eq!(cycle(&[], Some(PlayerId(0)), true), None);
+    }
+
+    fn spectator(maze: &Arc<Maze>) -> Spectator {
+        let audience = Audience::new(maze, 4);
+        Spectator::new(
+            Arc::clone(maze),
+            "xterm-256color",
+            None,
+            (100, 30),
+            &Limits::default(),
+            &audience,
+            0.0,
+        )
+        .unwrap()
+    }
+
+    fn text(s: &Spectator) -> String {
+        s.session().screen().lines().join("\n")
+    }
+
+    /// Nobody plays: a calm screen that says so. Two join: the view is the leader's, from where it
+    /// stands and looks; the spectator's keys cycle and never move the view; the followed player's
+    /// turn does; one who leaves gives the view back to the leader.
+    #[test]
+    fn a_spectator_follows_players_and_its_keys_never_move_the_view() {
+        let maze = Arc::new(mazewalk_maze::builtin().unwrap());
+        let mut s = spectator(&maze);
+        let mut world = World::new();
+        let mut out = Vec::new();
+        s.look(world.look(), 0.0);
+        assert!(s.frame(0.0, &mut out));
+        assert!(text(&s).contains(WAITING) && text(&s).contains("0 in"), "{}", text(&s));
+        assert_eq!(s.shown(), None);
+
+        let start = maze.viewer().pos;
+        let ada = world.join("ada", start, 0.0, maze.cell_at(start).unwrap(), 0.0);
+        let ahead = start + Vec2::new(2.0, 0.0);
+        let bob = world.join("bob", ahead, 90.0, maze.cell_at(ahead).unwrap(), 0.0);
+        s.world_changed(0.1);
+        assert!(s.look_due(0.1));
+        s.look(world.look(), 0.1);
+        let leader = leader(&world.look().players, s.distances.as_deref()).unwrap();
+        assert_eq!(s.shown(), Some(leader));
+        assert_eq!(s.follow(), Follow::Leader);
+        s.feed(b"\x1b[?62;22c", 0.15);
+        assert!(s.frame(0.2, &mut out));
+        let shown = world.get(leader).unwrap().clone();
+        assert_eq!(s.session().app().camera.position, shown.position);
+        assert_eq!(s.session().app().camera.yaw_deg, shown.heading_deg);
+        assert!(text(&s).contains(&format!("watching {}", shown.name)) && text(&s).contains("2 in"));
+        assert!(!text(&s).contains(WAITING));
+
+        // Tab: the other one; ← back; l: the leader again.
+        s.feed(b"\t", 0.3);
+        let other = if leader == ada { bob } else { ada };
+        assert_eq!((s.shown(), s.follow()), (Some(other), Follow::Player(other)));
+        assert_eq!(s.session().app().camera.position, world.get(other).unwrap().position);
+        s.feed(b"\x1b[D", 0.35);
+        assert_eq!(s.shown(), Some(leader));
+        s.feed(b"\x1b[C", 0.36);
+        assert_eq!(s.shown(), Some(other));
+        // A walker's keys do nothing to the view.
+        let camera = s.session().app().camera;
+        s.feed(b"wwaasd\x1b[A\x1b[B  ", 0.4);
+        s.frame(0.5, &mut out);
+        s.frame(1.0, &mut out);
+        assert_eq!(s.session().app().camera, camera);
+        // The followed player turns: the view turns.
+        world.moved(other, world.get(other).unwrap().position, 200.0, world.get(other).unwrap().cell);
+        s.world_changed(1.1);
+        s.look(world.look(), 1.1);
+        assert_eq!(s.session().app().camera.yaw_deg, 200.0);
+        let version = world.version();
+        world.pitched(other, -20.0); // it looks down: a change the spectator hears of, and shows
+        assert!(world.version() > version);
+        s.look(world.look(), 1.15);
+        assert_eq!(s.session().app().camera.pitch_deg, -20.0);
+        // p opens the player list (Tab is the next player here), without the spectator in it.
+        s.feed(b"p", 1.2);
+        s.feed(b"\x1b[?62;22c\x1b[?62;22c", 1.25);
+        assert!(s.frame(1.3, &mut out));
+        assert!(text(&s).contains("Players: 2"), "{}", text(&s));
+        s.feed(b"\x1b", 1.4);
+        s.frame(2.0, &mut out); // a lone Esc, expired: closes the list, not the watch
+        assert!(!s.is_over() && !s.session().roster_open());
+        // ? shows the spectator's keys.
+        s.feed(b"?", 2.1);
+        s.feed(b"\x1b[?62;22c\x1b[?62;22c", 2.15);
+        s.frame(2.2, &mut out);
+        assert!(text(&s).contains("next player") && text(&s).contains("stop watching"), "{}", text(&s));
+        // The followed player leaves: back to the leader.
+        world.leave(other);
+        s.world_changed(2.5);
+        s.look(world.look(), 2.5);
+        assert_eq!((s.shown(), s.follow()), (Some(leader), Follow::Leader));
+        s.feed(b"q", 2.6);
+        assert!(s.is_over());
+    }
+
+    #[test]
+    fn a_winner_is_news_for_a_while_and_a_flood_of_keys_is_cut() {
+        let maze = Arc::new(mazewalk_maze::builtin().unwrap());
+        let mut s = spectator(&maze);
+        let mut world = World::new();
+        let start = maze.viewer().pos;
+        let ada = world.join("ada", start, 0.0, maze.cell_at(start).unwrap(), 0.0);
+        world.finished(ada, 83.0);
+        s.look(world.look(), 1.0);
+        s.frame(1.0, &mut Vec::new());
+        assert!(text(&s).contains("ada reached the exit first, in 1:23.0!"), "{}", text(&s));
+        assert!(s.next_wake(1.0).is_some_and(|t| t <= 1.0 + NOTICE_SECONDS));
+        s.feed(b"\x1b[?62;22c", 1.1);
+        s.frame(1.0 + NOTICE_SECONDS, &mut Vec::new());
+        assert!(!text(&s).contains("reached the exit first"));
+        s.feed(&vec![b'x'; 200_000], 20.0);
+        assert!(s.dropped() > 0 && !s.is_over());
+    }
+
+    /// Every size and colour depth a walk is drawn at: the spectator's own terminal's, clamped as a
+    /// player's, the view its player's from there.
+    #[test]
+    fn a_spectator_draws_at_its_own_size_and_depth() {
+        use mazewalk_term::frame::ColorDepth;
+        let maze = Arc::new(mazewalk_maze::builtin().unwrap());
+        let audience = Audience::new(&maze, 4);
+        let limits = Limits::default();
+        let mut world = World::new();
+        let start = maze.viewer().pos;
+        world.join("ada", start, 0.0, maze.cell_at(start).unwrap(), 0.0);
+        let terminals = [
+            ("xterm-256color", None, ColorDepth::Ansi256),
+            ("xterm-256color", Some("truecolor"), ColorDepth::TrueColor),
+            ("xterm", None, ColorDepth::Ansi16),
+            ("", None, ColorDepth::Ansi16),
+        ];
+        for (term, colorterm, depth) in terminals {
+            for size in [(0, 0), (1, 1), (20, 6), (80, 24), (150, 50), (65535, 65535)] {
+                let mut s = Spectator::new(Arc::clone(&maze), term, colorterm, size, &limits, &audience, 0.0)
+                    .unwrap();
+                s.look(world.look(), 0.0);
+                assert!(s.frame(0.0, &mut Vec::new()), "{term} {size:?}");
+                let screen = s.session().screen();
+                let want = clamp_size(size.0, size.1, &limits);
+                assert_eq!((screen.width() as u16, screen.height() as u16), want, "{term} {size:?}");
+                assert_eq!(s.session().color_depth(), depth, "{term} {colorterm:?}");
+                if want.0 >= 80 {
+                    assert!(text(&s).contains("watching ada"), "{term} {size:?}:\n{}", text(&s));
+                }
+            }
+        }
+    }
+}
