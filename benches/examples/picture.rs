@@ -61,7 +61,7 @@ fn render(renderer: &mut Renderer, maze: &Maze, camera: &Camera, options: &Rende
 /// The camera of `maze`'s viewer as `mazewalk render` makes it, turned by `turn_deg`.
 fn turned(maze: &Maze, turn_deg: f32) -> Camera {
     let viewer = maze.viewer();
-    let from_file = viewer_camera(viewer);
+    let from_file = viewer_camera(maze);
     let stands = stand(maze, viewer.pos).expect("the viewer stands in the maze");
     Camera { position: stands.pos, yaw_deg: from_file.yaw_deg + turn_deg, ..from_file }
 }

@@ -6,7 +6,6 @@ use anyhow::Context as _;
 
 use super::stdout_open;
 use crate::cli::CheckArgs;
-use mazewalk_maze::geometry::WALL_MARGIN;
 use mazewalk_maze::{self as maze, Format, Maze};
 use mazewalk_walk::state::stand;
 
@@ -31,8 +30,10 @@ fn summary(name: &str, format: Format, maze: &Maze) -> String {
     // Where the walk starts instead, when the file's viewer stands closer to a wall than it may.
     let moved = match stand(maze, v.pos) {
         Some(at) if at.pos != v.pos => format!(
-            "\n            (closer than {WALL_MARGIN} to a wall: the walk starts at ({}, {}))",
-            at.pos.x, at.pos.y
+            "\n            (closer than {} to a wall: the walk starts at ({}, {}))",
+            maze.clearance(),
+            at.pos.x,
+            at.pos.y
         ),
         _ => String::new(),
     };

@@ -10,7 +10,6 @@ use anyhow::Context as _;
 use super::{STDOUT, Usage, load_maze, stdout_open};
 use crate::cli::{MAX_FRAME_CELLS, RenderArgs};
 use mazewalk_maze::Maze;
-use mazewalk_maze::geometry::WALL_MARGIN;
 use mazewalk_maze::movement::{Position, is_clear};
 use mazewalk_render::{Camera, Charset, RenderStats, Renderer, Target};
 use mazewalk_term::encoder;
@@ -129,15 +128,17 @@ fn camera(args: &RenderArgs, maze: &Maze) -> anyhow::Result<(Camera, Position)> 
         ))
         .into());
     };
-    if !is_clear(maze, stands, WALL_MARGIN) {
+    if !is_clear(maze, stands, maze.clearance()) {
         return Err(Usage(format!(
-            "--at {},{} has no room to stand: the walk keeps {WALL_MARGIN} from every wall, and no place near \
-             it is that far from them",
-            position.x, position.y
+            "--at {},{} has no room to stand: the walk keeps {} from every wall, and no place near it is \
+             that far from them",
+            position.x,
+            position.y,
+            maze.clearance()
         ))
         .into());
     }
-    let from_file = viewer_camera(viewer);
+    let from_file = viewer_camera(maze);
     let camera = Camera {
         position: stands.pos,
         eye_z: args.height.unwrap_or(from_file.eye_z),
@@ -145,6 +146,8 @@ fn camera(args: &RenderArgs, maze: &Maze) -> anyhow::Result<(Camera, Position)> 
         projection: args.projection,
         yaw_deg: args.heading.unwrap_or(from_file.yaw_deg),
         hfov_deg: args.fov.unwrap_or(from_file.hfov_deg),
+        // `--fov` is the horizontal field as given: no widening to keep a generated maze's vertical one
+        min_vfov_deg: if args.fov.is_some() { 0.0 } else { from_file.min_vfov_deg },
         ..from_file
     };
     camera.validate().map_err(|e| Usage(e.to_string()))?;

@@ -22,6 +22,7 @@ use std::collections::VecDeque;
 
 use glam::{Vec3, vec2};
 
+use super::geometry::floor_showing_half_tan;
 use super::grid::TileMap;
 use super::{CellId, Cells, Edge, Edges, Exit, Maze, Viewer};
 
@@ -399,7 +400,9 @@ fn pick_color(rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Vec3 {
 ///
 /// Vertex `(i, j)` is `j * (width + 1) + i` at `(4i, 4j)`; edges list the horizontal ones row by row,
 /// then the vertical ones; each cell lists its edges +x, +y, -x, -y. The viewer stands in the centre of
-/// cell 0 at eye height 0 with a 90° field of view, facing its first open side.
+/// cell 0 at eye height 0 with a 90° field of view, facing its first open side; its clearance is 1 (a
+/// quarter of a cell) and the walk keeps a vertical field of view of 96° or more
+/// ([`Maze::min_vfov_deg`]), so that from the closest stand the floor and ceiling show.
 pub fn generate(opts: &GenOptions) -> Result<Maze, GenError> {
     let l = layout(opts)?;
     // colours come from their own stream, so the layout does not depend on the palette
@@ -458,8 +461,10 @@ fn thin_maze(l: &Layout, rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Maze
     };
     let exit = l.exit.map(|cell| Exit { cell, point: None });
     // correct by construction; validating costs little next to generating
-    Maze::new(vertices, edges, cells, viewer, exit)
-        .unwrap_or_else(|e| unreachable!("generated maze invalid: {e}"))
+    let maze = Maze::new(vertices, edges, cells, viewer, exit)
+        .unwrap_or_else(|e| unreachable!("generated maze invalid: {e}"));
+    let half_tan = floor_showing_half_tan(maze.clearance(), viewer.z);
+    maze.with_min_vfov_deg(2.0 * half_tan.atan().to_degrees())
 }
 
 /// The same random layout as [`generate`], as a tile map for the grid format: a

@@ -19,8 +19,52 @@ use glam::Vec2;
 pub const FLOOR_Z: f32 = -1.0;
 /// The ceiling plane: walls end at z = +1.
 pub const CEILING_Z: f32 = 1.0;
-/// How close (maze units) the viewer's disc may come to a wall; the near plane's corners stay inside it.
+/// The least clearance (maze units) between the viewer's eye and a wall, in any maze: the near plane's
+/// corners stay inside it. A maze's own clearance ([`crate::Maze::clearance`], [`clearance_for`]) is
+/// this or more.
 pub const WALL_MARGIN: f32 = 0.25;
+/// The most clearance a maze gets: a quarter of a generated maze's 4-unit corridor, as Doom keeps its
+/// player a quarter of a corridor from a wall.
+pub const MAX_CLEARANCE: f32 = 1.0;
+/// Where the foot (and the top) of a wall faced square on from the closest stand lies, as a fraction
+/// of the way from the view's centre to its bottom (top) edge, with the least vertical field of view
+/// [`floor_showing_half_tan`] asks for: 0.9 leaves a tenth of the half-height, two sample rows of 24
+/// at 80×24 half blocks, for the floor below the wall and the ceiling above it.
+pub const FOOT_AT: f32 = 0.9;
+
+/// The clearance of a maze whose narrowest passage is `narrowest` units across (the narrowest cell, or
+/// the shortest opening between cells): a quarter of it, between [`WALL_MARGIN`] and
+/// [`MAX_CLEARANCE`] — so the viewer's disc (half the passage across) passes every opening with half
+/// of it to spare, a cell too narrow for that keeps today's [`WALL_MARGIN`], and a generated maze
+/// (cells and openings 4 wide) gets 1. NaN gives [`WALL_MARGIN`].
+///
+/// ```
+/// # use mazewalk_maze::geometry::{clearance_for, WALL_MARGIN, MAX_CLEARANCE};
+/// assert_eq!(clearance_for(4.0), 1.0);
+/// assert_eq!(clearance_for(0.6), WALL_MARGIN);
+/// assert_eq!(clearance_for(100.0), MAX_CLEARANCE);
+/// ```
+#[must_use]
+pub fn clearance_for(narrowest: f32) -> f32 {
+    if narrowest.is_nan() { WALL_MARGIN } else { (0.25 * narrowest).clamp(WALL_MARGIN, MAX_CLEARANCE) }
+}
+
+/// The least tan(θ), θ the vertical half field of view, with which an eye at height `eye_z` standing
+/// `clearance` from a wall, facing it square on, sees the floor below it and the ceiling above it.
+///
+/// The geometry, stated once: level and facing the wall square on, every column meets the wall at view
+/// depth `d` = `clearance`; its foot, `h` = `eye_z − FLOOR_Z` below the eye, shows at `h / (d·tan θ)`
+/// of the way from the view's centre to its bottom edge, so the floor shows below the wall when
+/// `d·tan θ > h` (and the ceiling above it when `d·tan θ > CEILING_Z − eye_z`). This asks for the foot at
+/// [`FOOT_AT`] of the way. A generated maze (eye mid-way, `h` = 1, `d` = 1) needs tan θ ≥ 1.11, a
+/// vertical field of 96°; at 120×40 half blocks (1.5 wide to 1 high) that is a horizontal field of
+/// 118°, at 80×24 123°. Turned by φ from square on, the column nearest the wall meets it at depth
+/// `d / (cos φ + tan(hfov/2)·sin φ)`, closer: no field of view shows the floor in every column at
+/// every heading a quarter corridor from a wall (it would take `d` ≥ the view's aspect × `h`).
+#[must_use]
+pub fn floor_showing_half_tan(clearance: f32, eye_z: f32) -> f32 {
+    (eye_z - FLOOR_Z).max(CEILING_Z - eye_z) / (clearance * FOOT_AT)
+}
 /// How close (maze units) the eye may come to the floor and the ceiling.
 pub const EYE_MARGIN: f32 = 0.15;
 

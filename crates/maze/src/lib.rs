@@ -505,9 +505,14 @@ pub struct Maze {
     extents: Aabb,
     /// Cells by bucket, for [`Maze::cell_at`].
     cell_index: SpatialGrid,
+    /// How close the viewer's eye comes to a wall ([`Maze::clearance`]), derived from the cells.
+    clearance: f32,
+    /// The least vertical field of view the walk's camera keeps ([`Maze::min_vfov_deg`]); 0 = none.
+    min_vfov_deg: f32,
 }
 
-/// Two mazes are equal when their vertices, edges, cells, viewer and exit are (the index is derived).
+/// Two mazes are equal when their vertices, edges, cells, viewer and exit are (the index and the
+/// clearance are derived; the least vertical field of view is a hint of the generator no file keeps).
 impl PartialEq for Maze {
     fn eq(&self, other: &Maze) -> bool {
         self.vertices == other.vertices
@@ -632,7 +637,9 @@ impl Maze {
         };
         let (extents, cell_index) = index?;
         crossings?;
-        let maze = Maze { vertices, edges, cells, viewer, exit, extents, cell_index };
+        let clearance = geometry::clearance_for(validate::narrowest_passage(&vertices, &edges, &cells));
+        let maze =
+            Maze { vertices, edges, cells, viewer, exit, extents, cell_index, clearance, min_vfov_deg: 0.0 };
         validate::nesting(&maze)?;
         validate::viewer_and_exit(&maze)?;
         Ok(maze)
@@ -656,9 +663,36 @@ impl Maze {
             validate::crossings_of_parts(&vertices, &edges).expect("valid by construction");
         }
         let (extents, cell_index) = cell_index(&vertices, &edges, &cells, Threads::Two);
-        let maze = Maze { vertices, edges, cells, viewer, exit, extents, cell_index };
+        let clearance = geometry::clearance_for(validate::narrowest_passage(&vertices, &edges, &cells));
+        let maze =
+            Maze { vertices, edges, cells, viewer, exit, extents, cell_index, clearance, min_vfov_deg: 0.0 };
         validate::viewer_and_exit(&maze)?;
         Ok(maze)
+    }
+
+    /// How close (maze units) the viewer's eye comes to a wall in this maze: a quarter of its narrowest
+    /// passage, between [`geometry::WALL_MARGIN`] and [`geometry::MAX_CLEARANCE`]
+    /// ([`geometry::clearance_for`]); 1 in a generated maze. The walk, `mazewalk render --at` and the
+    /// viewer's start keep this far from every wall.
+    #[must_use]
+    pub fn clearance(&self) -> f32 {
+        self.clearance
+    }
+
+    /// The least vertical field of view (degrees) the walk's camera keeps in this maze, widening its
+    /// horizontal field where the screen is too wide for it; 0 (files: they keep their own field of
+    /// view) or, for a generated maze, the field with which the floor and ceiling show from the
+    /// closest stand ([`geometry::floor_showing_half_tan`]).
+    #[must_use]
+    pub fn min_vfov_deg(&self) -> f32 {
+        self.min_vfov_deg
+    }
+
+    /// This maze with [`Maze::min_vfov_deg`] set to `deg` (clamped to 0..=150; NaN is 0).
+    #[must_use]
+    pub fn with_min_vfov_deg(mut self, deg: f32) -> Maze {
+        self.min_vfov_deg = if deg.is_nan() { 0.0 } else { deg.clamp(0.0, 150.0) };
+        self
     }
 
     /// All vertices; a [`VertexId`] indexes this.

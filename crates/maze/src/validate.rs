@@ -372,12 +372,12 @@ pub(super) fn viewer_and_exit(maze: &Maze) -> Result<(), MazeError> {
             return Err(MazeError::ViewerOnWall { x: v.pos.x, y: v.pos.y, edge });
         }
     }
-    // The walk keeps the viewer a disc of WALL_MARGIN round clear of every wall (the renderer's near
+    // The walk keeps the viewer a disc of the maze's clearance (WALL_MARGIN or more) round clear of every wall (the renderer's near
     // plane lies inside it) and moves a viewer closer out when it starts; a cell narrower than the
     // disc has no such place, and from its middle the near plane would cut every wall away.
-    let stands = movement::settle(maze, movement::Position { cell, pos: v.pos }, WALL_MARGIN);
-    if !movement::is_clear(maze, stands, WALL_MARGIN) {
-        let (x, y, margin) = (v.pos.x, v.pos.y, WALL_MARGIN);
+    let stands = movement::settle(maze, movement::Position { cell, pos: v.pos }, maze.clearance());
+    if !movement::is_clear(maze, stands, maze.clearance()) {
+        let (x, y, margin) = (v.pos.x, v.pos.y, maze.clearance());
         return Err(MazeError::ViewerNoRoom { x, y, cell, margin });
     }
     if let Some(exit) = maze.exit() {
@@ -398,6 +398,41 @@ fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     let ab = b - a;
     let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
     (a + ab * t).distance(p)
+}
+
+/// Cells with more edges than this count as [`WALL_MARGIN`] · 4 across in [`narrowest_passage`] (its
+/// cost grows with the square of a cell's edges; no maker draws such cells).
+const MAX_WIDTH_EDGES: usize = 64;
+
+/// The narrowest passage of a maze: the least width of its cells (a convex cell's width is the least,
+/// over its edges, of its farthest vertex from the edge's line) and the shortest opening between two
+/// cells. `∞` for no cells. The parts must have passed [`structure`].
+pub(crate) fn narrowest_passage(vertices: &[Vec2], edges: &Edges, cells: &Cells) -> f32 {
+    let point = |v: VertexId| vertices.get(v as usize).copied().unwrap_or(Vec2::NAN);
+    let mut narrowest = f32::INFINITY;
+    for c in 0..cells.len() {
+        let ids = cells.get(c);
+        if ids.len() > MAX_WIDTH_EDGES {
+            narrowest = narrowest.min(4.0 * WALL_MARGIN);
+            continue;
+        }
+        for &e in ids {
+            let edge = edges.get(e as usize);
+            let (a, b) = (point(edge.start), point(edge.end));
+            let along = (b - a).normalize_or_zero();
+            let far = ids
+                .iter()
+                .map(|&o| edges.get(o as usize))
+                .flat_map(|o| [point(o.start), point(o.end)])
+                .map(|p| along.perp_dot(p - a).abs())
+                .fold(0.0f32, f32::max);
+            narrowest = narrowest.min(far);
+        }
+    }
+    for edge in edges.iter().filter(|e| !e.opaque && e.left.is_some() && e.right.is_some()) {
+        narrowest = narrowest.min(point(edge.start).distance(point(edge.end)));
+    }
+    narrowest
 }
 
 #[cfg(test)]
@@ -424,7 +459,18 @@ mod tests {
         }
         cells.push(&(first_edge..first_edge + k).collect::<Vec<_>>());
         let (extents, cell_index) = super::super::cell_index(&vertices, &edges, &cells, Threads::One);
-        Maze { vertices, edges, cells, viewer: *maze.viewer(), exit: None, extents, cell_index }
+        let viewer = *maze.viewer();
+        Maze {
+            vertices,
+            edges,
+            cells,
+            viewer,
+            exit: None,
+            extents,
+            cell_index,
+            clearance: WALL_MARGIN,
+            min_vfov_deg: 0.0,
+        }
     }
 
     /// Cell `c`'s corners, counter-clockwise.
@@ -501,7 +547,9 @@ mod tests {
         }
         let (extents, cell_index) = super::super::cell_index(&vertices, &edges, &cells, Threads::One);
         let viewer = crate::Viewer { pos: (rim(0) + rim(1)) / 3.0, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 };
-        let fan = Maze { vertices, edges, cells, viewer, exit: None, extents, cell_index };
+        let (clearance, min_vfov_deg) = (WALL_MARGIN, 0.0);
+        let fan =
+            Maze { vertices, edges, cells, viewer, exit: None, extents, cell_index, clearance, min_vfov_deg };
         let crowded = || {
             let centre = corners(&fan, 700).iter().sum::<Vec2>() / 3.0;
             fan.cell_index.query(centre).len()
@@ -512,5 +560,45 @@ mod tests {
         let shrunk: Vec<Vec2> = corners(&fan, 700).iter().map(|&p| centre + (p - centre) * 0.5).collect();
         let inner = with_cell(&fan, &shrunk);
         assert_eq!(nesting(&inner), Err(MazeError::CellsOverlap { cell: n, other: 700 }));
+    }
+
+    #[test]
+    fn the_clearance_is_a_quarter_of_the_narrowest_passage() {
+        let parse = |text: &str| crate::parse("t.grid", text.as_bytes()).unwrap();
+        let grid = |tile: f32| parse(&format!("mazewalk-grid 1\ntile {tile}\n#####\n#@..#\n#.#.#\n#####\n"));
+        assert_eq!(grid(4.0).clearance(), 1.0, "a quarter of a 4-unit corridor");
+        assert_eq!(grid(2.0).clearance(), 0.5);
+        assert_eq!(grid(0.8).clearance(), WALL_MARGIN, "never less than the near plane needs");
+        assert_eq!(grid(40.0).clearance(), 1.0, "never more than a quarter of a generated corridor");
+        for seed in 0..4 {
+            let m = generate(&GenOptions { width: 7, height: 5, seed, loops: 0.3, ..GenOptions::default() })
+                .unwrap();
+            assert_eq!(m.clearance(), 1.0);
+        }
+        // Two 4 × 4 rooms whose shared side is a 1.5-wide opening between two walls: the opening counts.
+        let v = [(0., 0.), (4., 0.), (4., 1.), (4., 2.5), (4., 4.), (0., 4.), (8., 0.), (8., 4.)];
+        let vertices: Vec<Vec2> = v.iter().map(|&(x, y)| vec2(x, y)).collect();
+        let wall = |start, end, left| Edge {
+            start,
+            end,
+            left: Some(left),
+            right: None,
+            opaque: true,
+            color: Vec3::ONE,
+        };
+        let mut edges: Edges =
+            [wall(0, 1, 0), wall(4, 5, 0), wall(5, 0, 0), wall(1, 6, 1), wall(6, 7, 1), wall(7, 4, 1)]
+                .into_iter()
+                .collect();
+        let e = edges.len() as u32;
+        edges.push(Edge { start: 1, end: 2, left: Some(0), right: Some(1), opaque: true, color: Vec3::ONE });
+        edges.push(Edge { start: 2, end: 3, left: Some(0), right: Some(1), opaque: false, color: Vec3::ONE });
+        edges.push(Edge { start: 3, end: 4, left: Some(0), right: Some(1), opaque: true, color: Vec3::ONE });
+        let mut cells = Cells::new();
+        cells.push(&[0, e, e + 1, e + 2, 1, 2]);
+        cells.push(&[3, 4, 5, e + 2, e + 1, e]);
+        let viewer = crate::Viewer { pos: vec2(2.0, 2.0), z: 0.0, dir_deg: 0.0, fov_deg: 90.0 };
+        let m = Maze::new(vertices, edges, cells, viewer, None).unwrap();
+        assert_eq!(m.clearance(), 1.5 / 4.0);
     }
 }

@@ -89,6 +89,10 @@ pub struct Camera {
     pub pitch_deg: f32,
     /// Horizontal field of view across the whole grid width, in degrees (the files' `fov`).
     pub hfov_deg: f32,
+    /// The least vertical field of view, degrees (0 = none): where `hfov_deg` across the grid's
+    /// aspect gives less, the horizontal field widens to keep it (Hor+, up to [`FOV_RANGE_DEG`]'s top).
+    /// A generated maze asks for one ([`Maze::min_vfov_deg`](mazewalk_maze::Maze::min_vfov_deg)).
+    pub min_vfov_deg: f32,
     /// Perspective or orthographic.
     pub projection: Projection,
     /// Which handedness/depth convention the matrices use (the frame is the same for all three).
@@ -107,6 +111,7 @@ impl Camera {
             yaw_deg,
             pitch_deg: 0.0,
             hfov_deg,
+            min_vfov_deg: 0.0,
             projection: Projection::Perspective,
             convention: Convention::RhGl,
             view_distance: DEFAULT_VIEW_DISTANCE,
@@ -125,6 +130,7 @@ impl Camera {
             ("heading", self.yaw_deg),
             ("pitch", self.pitch_deg),
             ("fov", self.hfov_deg),
+            ("vertical fov", self.min_vfov_deg),
             ("view distance", self.view_distance),
         ];
         if let Some(&(what, value)) = finite.iter().find(|(_, v)| !v.is_finite()) {
@@ -133,6 +139,9 @@ impl Camera {
         if !(FOV_RANGE_DEG.0..=FOV_RANGE_DEG.1).contains(&self.hfov_deg) {
             return Err(CameraError::FovOutOfRange(self.hfov_deg));
         }
+        if !(0.0..FOV_RANGE_DEG.1).contains(&self.min_vfov_deg) {
+            return Err(CameraError::FovOutOfRange(self.min_vfov_deg));
+        }
         if !(self.eye_z > FLOOR_Z && self.eye_z < CEILING_Z) {
             return Err(CameraError::EyeHeightOutOfRange(self.eye_z));
         }
@@ -140,6 +149,18 @@ impl Camera {
             return Err(CameraError::NotFinite { what: "view distance", value: self.view_distance });
         }
         Ok(())
+    }
+
+    /// The horizontal field of view (degrees) across a view `aspect` wide to 1 high: `hfov_deg`, or
+    /// wider where that gives less than `min_vfov_deg` vertically (at most [`FOV_RANGE_DEG`]'s top).
+    #[must_use]
+    pub fn hfov_for(&self, aspect: f32) -> f32 {
+        let keeps_vfov = 2.0 * ((0.5 * self.min_vfov_deg).to_radians().tan() * aspect).atan().to_degrees();
+        if keeps_vfov.is_finite() {
+            self.hfov_deg.max(keeps_vfov).min(FOV_RANGE_DEG.1)
+        } else {
+            self.hfov_deg
+        }
     }
 
     /// The eye in world space.
@@ -172,8 +193,8 @@ impl Camera {
 
         // Horizontal fov across the whole grid; the physical aspect counts the samples' shape.
         let conv = self.convention;
-        let hfov = self.hfov_deg.to_radians();
         let aspect = math::physical_aspect(width, height, sample_aspect)?;
+        let hfov = self.hfov_for(aspect).to_radians();
         let far = self.view_distance;
         let (view_to_clip, near, half_w) = match self.projection {
             Projection::Perspective => {

@@ -15,6 +15,7 @@ use std::sync::OnceLock;
 
 use glam::Vec3;
 
+use super::pipeline::{CEILING_SRGB, FLOOR_SRGB};
 use super::shade::{Srgb8Tables, srgb_to_linear};
 use mazewalk_term::frame::{Color, ColorDepth};
 
@@ -244,11 +245,11 @@ impl Palette {
     /// 256 colours. In 16 colours, whose greys are black, L 0.6, 0.92 and white, the lightness of a
     /// maze scene (walls up to about 0.65 near, the ceiling about 0.25) is stretched over the
     /// palette's, so the floor, the ceiling and the walls, near and far, fall on different entries.
-    fn target(self, lab: Vec3) -> Vec3 {
+    fn target(self, lab: Vec3, stretch: (f32, f32)) -> Vec3 {
         match self {
             Palette::Xterm256 => lab,
             Palette::Ansi16 => {
-                let (low, high) = STRETCH_16;
+                let (low, high) = stretch;
                 let l = ((lab.x - low) / (high - low)).clamp(0.0, 1.0);
                 let scale = if lab.x > 0.0 { l / lab.x } else { 0.0 };
                 Vec3::new(l, lab.y * scale, lab.z * scale)
@@ -259,16 +260,20 @@ impl Palette {
 
 impl Palette {
     /// The scene lightness whose [`Palette::target`] has lightness `l`.
-    fn untarget_lightness(self, l: f32) -> f32 {
+    fn untarget_lightness(self, l: f32, stretch: (f32, f32)) -> f32 {
         match self {
             Palette::Xterm256 => l,
-            Palette::Ansi16 => STRETCH_16.0 + l * (STRETCH_16.1 - STRETCH_16.0),
+            Palette::Ansi16 => stretch.0 + l * (stretch.1 - stretch.0),
         }
     }
 }
 
 /// The scene lightness (OKLab L) stretched to 0 and to 1 in 16 colours (see [`Palette::target`]).
 const STRETCH_16: (f32, f32) = (0.25, 0.65);
+/// [`STRETCH_16`] for grey walls (issue #39): their greys are the light grey and white only (the dark
+/// grey is the floor's, black for what is near black), so their lightness is stretched further down:
+/// white up close, light grey further off.
+const STRETCH_16_GREY_WALL: (f32, f32) = (0.1, 0.55);
 
 /// One palette entry as the ramps see it.
 #[derive(Clone, Copy, Debug)]
@@ -343,10 +348,73 @@ pub(crate) struct LightRamp {
 /// hold several; each is one comparison more).
 const BUCKETS: usize = 256;
 
+/// What a chromaticity is in the scene, for the 16 colours' ramps (issue #39: a black ceiling, far grey
+/// walls merging into the grey floor): the floor and the ceiling each have a chromaticity of their own
+/// ([`FLOOR_SRGB`], [`CEILING_SRGB`]); anything else is a wall (or a figure, the exit's glow).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Surface {
+    /// The floor: [`FLOOR_16`], black where it is near black.
+    Floor,
+    /// The ceiling: [`CEILING_16`], black where it is near black.
+    Ceiling,
+    /// A wall: never the floor's or the ceiling's entry, black only where it is near black.
+    Wall,
+}
+
+/// The floor's entry in 16 colours: the dark grey (xterm's 127).
+pub(crate) const FLOOR_16: u8 = 8;
+/// The ceiling's entry in 16 colours: the dark blue, a night sky over the grey floor, never black (the
+/// other greys are the floor's or lighter than any ceiling; black is for what is black).
+pub(crate) const CEILING_16: u8 = 4;
+/// In 16 colours, a sample of the scene darker than this (OKLab L) may be black; a lighter one never is.
+pub(crate) const NEAR_BLACK: f32 = 0.2;
+
+/// The surface whose chromaticity slot is `slot` ([`Surface`]).
+fn surface_of(slot: usize) -> Surface {
+    static SLOTS: OnceLock<(Option<usize>, Option<usize>)> = OnceLock::new();
+    let (floor, ceiling) = *SLOTS.get_or_init(|| {
+        let of = |srgb: Vec3| self::slot(srgb.map(srgb_to_linear)).map(|(slot, _)| slot);
+        (of(FLOOR_SRGB), of(CEILING_SRGB))
+    });
+    if Some(slot) == floor {
+        Surface::Floor
+    } else if Some(slot) == ceiling {
+        Surface::Ceiling
+    } else {
+        Surface::Wall
+    }
+}
+
+/// `linear` moved off the floor's and the ceiling's chromaticity slots, for a wall (or a mark on one):
+/// in 16 colours those slots show only the floor's and the ceiling's entries ([`Surface`]), so a wall
+/// of the floor's very tint would show as the floor. A warmer (floor) or cooler (ceiling) tint by 8 %
+/// of one channel moves it about two slots on; any other colour comes back as it is.
+#[must_use]
+pub(crate) fn off_floor_and_ceiling(linear: Vec3) -> Vec3 {
+    let mut colour = linear;
+    for _ in 0..4 {
+        match slot(colour).map(|(slot, _)| surface_of(slot)) {
+            Some(Surface::Floor) => colour.x = (colour.x * 1.08).max(colour.x + 1e-4),
+            Some(Surface::Ceiling) => colour.z = (colour.z * 1.08).max(colour.z + 1e-4),
+            _ => break,
+        }
+    }
+    colour
+}
+
 impl LightRamp {
-    /// The ramp of the chromaticity `chroma` (linear RGB, any scale) in `palette`.
+    /// The ramp of the chromaticity `chroma` (linear RGB, any scale) in `palette`, for a wall.
     #[must_use]
+    #[cfg(test)]
     pub fn new(chroma: Vec3, palette: Palette) -> LightRamp {
+        LightRamp::of_surface(chroma, palette, Surface::Wall)
+    }
+
+    /// The ramp of the chromaticity `chroma` (linear RGB, any scale) in `palette` for `surface`: in 16
+    /// colours the floor shows [`FLOOR_16`], the ceiling [`CEILING_16`], a wall neither, and nothing is
+    /// black where the scene is lighter than [`NEAR_BLACK`]; in 256 colours the surface does not matter.
+    #[must_use]
+    pub(crate) fn of_surface(chroma: Vec3, palette: Palette, surface: Surface) -> LightRamp {
         let chroma = chroma.max(Vec3::ZERO);
         let sum = chroma.x + chroma.y + chroma.z;
         let chroma = if sum > 0.0 && sum.is_finite() { chroma / sum } else { Vec3::splat(1.0 / 3.0) };
@@ -358,10 +426,16 @@ impl LightRamp {
         // Greys, and the entries of the chromaticity's own hue: a ramp never passes through another.
         let hue = direction.z.atan2(direction.y);
         let coloured = direction.y.hypot(direction.z) * s_max >= COLOURED;
+        let sixteen = palette == Palette::Ansi16;
+        let grey_wall = surface == Surface::Wall && !coloured;
+        let stretch = if grey_wall { STRETCH_16_GREY_WALL } else { STRETCH_16 };
         let candidates: Vec<RampEntry> = ramp_entries(palette)
             .iter()
-            .filter(|e| {
-                e.chroma < GREY_ENTRY || (coloured && hue_difference(e.hue, hue) <= palette.hue_span())
+            .filter(|e| match (sixteen, surface) {
+                (true, Surface::Floor) => e.index == 0 || e.index == FLOOR_16,
+                (true, Surface::Ceiling) => e.index == 0 || e.index == CEILING_16,
+                (true, Surface::Wall) if e.index == FLOOR_16 || e.index == CEILING_16 => false,
+                _ => e.chroma < GREY_ENTRY || (coloured && hue_difference(e.hue, hue) <= palette.hue_span()),
             })
             .copied()
             .collect();
@@ -380,7 +454,7 @@ impl LightRamp {
         let mut from = vec![0u8; LEVELS * n];
         for level in 0..LEVELS {
             let s = s_max * (level as f32 + 0.5) / LEVELS as f32;
-            let target = palette.target(direction * s);
+            let target = palette.target(direction * s, stretch);
             let target_chroma = target.y.hypot(target.z);
             // The best path so far ending on a grey no lighter than j: a step from it costs nothing.
             let mut from_grey = (f32::INFINITY, 0usize);
@@ -403,7 +477,10 @@ impl LightRamp {
                     }
                 }
                 from[level * n + j] = at as u8;
-                next[j] = before + cost(target, target_chroma, &candidates[j], &weights);
+                // (16 colours: black only where the scene is near black)
+                let unblack = sixteen && candidates[j].index == 0 && direction.x * s >= NEAR_BLACK;
+                let cost = if unblack { 1e6 } else { cost(target, target_chroma, &candidates[j], &weights) };
+                next[j] = before + cost;
             }
             std::mem::swap(&mut best, &mut next);
         }
@@ -425,7 +502,7 @@ impl LightRamp {
         let centres = entries
             .iter()
             .map(|&e| {
-                let l = palette.untarget_lightness(oklab_of[usize::from(e)].x);
+                let l = palette.untarget_lightness(oklab_of[usize::from(e)].x, stretch);
                 let s = if direction.x > 0.0 { (l / direction.x).min(s_max) } else { 0.0 };
                 s * s * s
             })
@@ -548,7 +625,7 @@ fn slot_ramp(slot: usize, palette: Palette) -> &'static LightRamp {
         let (r, g) = (slot / (CHROMA_STEPS + 1), slot % (CHROMA_STEPS + 1));
         let step = 1.0 / CHROMA_STEPS as f32;
         let chroma = Vec3::new(r as f32 * step, g as f32 * step, (1.0 - (r + g) as f32 * step).max(0.0));
-        Box::new(LightRamp::new(chroma, palette))
+        Box::new(LightRamp::of_surface(chroma, palette, surface_of(slot)))
     })
 }
 

@@ -43,8 +43,8 @@ const CEILING_AMBIENT: f32 = 0.45;
 /// Where nothing is hit: the fog's colour (linear RGB).
 const FOG_COLOR: Vec3 = Vec3::ZERO;
 /// Floor and ceiling base colours (sRGB, like the maze files' wall colours).
-const FLOOR_SRGB: Vec3 = Vec3::new(0.49, 0.46, 0.41);
-const CEILING_SRGB: Vec3 = Vec3::new(0.23, 0.24, 0.27);
+pub(crate) const FLOOR_SRGB: Vec3 = Vec3::new(0.49, 0.46, 0.41);
+pub(crate) const CEILING_SRGB: Vec3 = Vec3::new(0.23, 0.24, 0.27);
 /// The floor/ceiling checker: one square per generated maze cell, a gentle contrast to show motion.
 const CHECKER_PERIOD: f32 = 4.0;
 const CHECKER_CONTRAST: f32 = 0.18;
@@ -315,7 +315,8 @@ impl Renderer {
             if normal_view.dot(self.polygon_grid[0].attrs) > 0.0 { -normal_view } else { normal_view };
         let albedo = wall_albedo(edge.color.map(srgb_to_linear)) * sun_factor(facing, light.sun_view);
         // The headlight along the view axis: one light for the whole wall.
-        let lit_albedo = lit(albedo, headlight(normal_view), AMBIENT);
+        // (off the floor's and ceiling's tints: in 16 colours those show as floor and ceiling)
+        let lit_albedo = palette::off_floor_and_ceiling(lit(albedo, headlight(normal_view), AMBIENT));
         let triangles = self.polygon_grid.len() - 2;
         let fog = &light.fog;
         if shading == Shading::Color && !textures && !self.reference_shading {
@@ -663,7 +664,8 @@ impl Renderer {
                 }
             }
         }
-        self.paint_marked(jamb_color);
+        // (a jamb is paler than its wall: off the floor's and ceiling's tints, as the wall is)
+        self.paint_marked(|color| palette::off_floor_and_ceiling(jamb_color(color)));
     }
 
     /// The samples listed in `edge_list` drawn in `paint` of their colour, and unmarked.

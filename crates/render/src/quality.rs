@@ -31,6 +31,7 @@ use super::palette::{hue_difference, oklab, xterm_rgb};
 use super::picture::glyph_mask;
 use super::shade::srgb_to_linear;
 use mazewalk_maze::Maze;
+use mazewalk_maze::movement::{Position, settle};
 use mazewalk_term::frame::{Color, Frame};
 
 /// What [`held_out_views`] makes of a view.
@@ -38,8 +39,8 @@ use mazewalk_term::frame::{Color, Frame};
 pub enum ViewKind {
     /// Anywhere in a cell (at least a fifth of the way from its walls), any heading.
     InCell,
-    /// A quarter unit from one of a cell's walls (the closest the walk lets a player stand), facing
-    /// it within ±60°.
+    /// The maze's clearance from one of a cell's walls (the closest the walk lets a player stand:
+    /// [`Maze::clearance`]), facing it within ±60°.
     NoseToWall,
     /// From a cell's centroid through one of its openings: down a corridor.
     Corridor,
@@ -62,8 +63,10 @@ pub fn held_out_views(maze: &Maze, seed: u64, n: usize) -> Vec<(ViewKind, Camera
     let viewer = maze.viewer();
     let camera = |position: Vec2, yaw: f32| Camera {
         eye_z: viewer.z,
+        min_vfov_deg: maze.min_vfov_deg(),
         ..Camera::new(position, yaw.to_degrees().rem_euclid(360.0), viewer.fov_deg)
     };
+    let clearance = maze.clearance();
     let cells = maze.cell_count();
     let mut out = Vec::with_capacity(n);
     let kinds = [ViewKind::InCell, ViewKind::NoseToWall, ViewKind::Corridor];
@@ -86,11 +89,14 @@ pub fn held_out_views(maze: &Maze, seed: u64, n: usize) -> Vec<(ViewKind, Camera
                 let on_edge = a.lerp(b, unit());
                 Some(camera(centroid.lerp(on_edge, 0.8 * unit()), unit() * std::f32::consts::TAU))
             }
-            ViewKind::NoseToWall if maze.edge(e).opaque && a.distance(b) > 0.6 => {
+            ViewKind::NoseToWall if maze.edge(e).opaque && a.distance(b) > 2.4 * clearance => {
                 let inward = (b - a).perp().normalize_or_zero(); // the cell is left of its ccw edges
-                let at = a.lerp(b, 0.2 + 0.6 * unit()) + 0.25 * inward;
+                let at = a.lerp(b, 0.2 + 0.6 * unit()) + clearance * inward;
                 let facing = (-inward).y.atan2((-inward).x) + (unit() - 0.5) * 120f32.to_radians();
-                maze.cell_contains(cell, at).then(|| camera(at, facing))
+                // where the walk would have the player stand there (out of a corner), as close as it lets
+                let stands =
+                    maze.cell_contains(cell, at).then(|| settle(maze, Position { cell, pos: at }, clearance));
+                stands.filter(|s| s.cell == cell).map(|s| camera(s.pos, facing))
             }
             ViewKind::Corridor if !maze.edge(e).opaque => {
                 let through = a.lerp(b, 0.5) - centroid;

@@ -17,7 +17,7 @@ use crate::roster;
 use crate::state::{App, MapMode};
 use crate::views::{SharedViews, ViewKey};
 use mazewalk_render::palette::xterm_rgb;
-use mazewalk_render::{Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
+use mazewalk_render::{Camera, Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
 use mazewalk_term::frame::{Cell, Color, Frame, Region};
 
 /// What the last frame cost, for the HUD.
@@ -180,7 +180,9 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         _ => area,
     });
     if let Some(area) = &screen.map {
-        overlay::draw_map(frame, area, app.maze(), &app.camera, &seen, tint, style, &mut screen.map_cells);
+        // the view's wedge as wide as the view drawn (a generated maze's widens on a wide screen)
+        let shown = Camera { hfov_deg: app.shown_hfov_deg(cols, rows - 1), ..app.camera };
+        overlay::draw_map(frame, area, app.maze(), &shown, &seen, tint, style, &mut screen.map_cells);
         overlay::draw_peers(frame, area, &screen.peers, app.camera.position, style);
     }
     let exit_box = app.finished.filter(|_| app.exit_box);
@@ -234,7 +236,8 @@ pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud)
     }
     let style = Style::new(app.options.charset, app.options.color_depth);
     let served = (screen.players_in, screen.status.as_deref());
-    let line = hud_text_with(app, &screen.stats, hud, served, style, cols);
+    let fov = app.shown_hfov_deg(cols, rows - 1);
+    let line = hud_text_with(app, &screen.stats, hud, served, fov, style, cols);
     overlay::draw_hud(frame, &line, style);
     let row = Region { col: 0, row: rows - 1, cols, rows: 1 };
     overlay::limit_colors_in(frame, row, style.depth);
@@ -263,7 +266,7 @@ fn hud_text(
     style: Style,
     width: usize,
 ) -> String {
-    hud_text_with(app, stats, hud, (players_in, None), style, width)
+    hud_text_with(app, stats, hud, (players_in, None), app.camera.hfov_deg, style, width)
 }
 
 /// The HUD line, `width` columns at most: what a player needs first — a host's status when it has
@@ -275,6 +278,7 @@ fn hud_text_with(
     stats: &RenderStats,
     hud: &Hud,
     (players_in, status): (Option<usize>, Option<&str>),
+    fov_deg: f32,
     style: Style,
     width: usize,
 ) -> String {
@@ -300,7 +304,7 @@ fn hud_text_with(
         (3, format!("({:.1}, {:.1})", c.position.x, c.position.y)),
         (5, format!("z{:+.1}", c.eye_z)),
         (6, format!("pitch {:+.0}°", c.pitch_deg)),
-        (7, format!("fov {:.0}° {projection} {}", c.hfov_deg, app.options.charset)),
+        (7, format!("fov {fov_deg:.0}° {projection} {}", app.options.charset)),
         (4, dev(format!("{} fps {} B", hud.fps, hud.cost.bytes))),
         (8, dev(format!("cell {} seen {}", app.cell, stats.portal.distinct_cells))),
         (9, dev(format!("{:.1} ms", hud.cost.seconds * 1e3))),
@@ -355,10 +359,11 @@ mod tests {
     fn a_hosts_status_comes_first_in_the_hud() {
         let app = App::new(mazewalk_maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
         let (stats, hud) = (RenderStats::default(), Hud { elapsed: 83.4, ..Hud::default() });
-        let line = hud_text_with(&app, &stats, &hud, (Some(3), Some("world offline")), Style::default(), 60);
+        let line =
+            hud_text_with(&app, &stats, &hud, (Some(3), Some("world offline")), 90.0, Style::default(), 60);
         assert!(line.starts_with(" world offline  heading 0° E  time 1:23  3 in"), "{line:?}");
         let narrow =
-            hud_text_with(&app, &stats, &hud, (Some(3), Some("world offline")), Style::default(), 30);
+            hud_text_with(&app, &stats, &hud, (Some(3), Some("world offline")), 90.0, Style::default(), 30);
         assert!(narrow.starts_with(" world offline "), "kept before the rest: {narrow:?}");
     }
 

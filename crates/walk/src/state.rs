@@ -6,9 +6,9 @@ use std::sync::Arc;
 use glam::Vec2;
 
 use super::controls::{Action, Held, action_for};
-use mazewalk_maze::geometry::{WALL_MARGIN, clamp_eye_height, heading_dir, heading_right};
+use mazewalk_maze::Maze;
+use mazewalk_maze::geometry::{clamp_eye_height, heading_dir, heading_right};
 use mazewalk_maze::movement::{Position, settle, step};
-use mazewalk_maze::{Maze, Viewer};
 use mazewalk_render::camera::{Camera, FOV_RANGE_DEG, PITCH_LIMIT_DEG, Projection};
 use mazewalk_render::{Charset, Culling, RenderOptions};
 use mazewalk_term::input::{Key, KeyPhase};
@@ -191,22 +191,29 @@ pub struct StartOutsideMaze {
 
 /// The camera a maze's viewer asks for, made usable: its field of view clamped to [`FOV_RANGE_DEG`] and
 /// its eye between floor and ceiling ([`clamp_eye_height`]), as a file may ask for anything in range of
-/// a number. The walk starts from it and `mazewalk render` renders from it, so a file that loads is a
-/// file both show.
+/// a number; with the maze's least vertical field of view ([`Maze::min_vfov_deg`]: a generated maze's
+/// widens the view on a wide screen). The walk starts from it and `mazewalk render` renders from it,
+/// so a file that loads is a file both show.
 #[must_use]
-pub fn viewer_camera(viewer: &Viewer) -> Camera {
+pub fn viewer_camera(maze: &Maze) -> Camera {
+    let viewer = maze.viewer();
     let fov = viewer.fov_deg.clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1);
-    Camera { eye_z: clamp_eye_height(viewer.z), ..Camera::new(viewer.pos, viewer.dir_deg, fov) }
+    Camera {
+        eye_z: clamp_eye_height(viewer.z),
+        min_vfov_deg: maze.min_vfov_deg(),
+        ..Camera::new(viewer.pos, viewer.dir_deg, fov)
+    }
 }
 
-/// Where a viewer put at `pos` stands, and the cell holding it: at least [`WALL_MARGIN`] from every
-/// wall, as the walk keeps it ([`settle`]: the renderer's near plane lies inside the margin, so an eye
-/// closer would see through the wall). `None` when `pos` is in no cell. The walk starts there, and
-/// `mazewalk render` renders from there.
+/// Where a viewer put at `pos` stands, and the cell holding it: at least the maze's clearance
+/// ([`Maze::clearance`], never less than [`WALL_MARGIN`](mazewalk_maze::geometry::WALL_MARGIN)) from
+/// every wall, as the walk keeps it ([`settle`]: the renderer's near plane lies inside the margin, so
+/// an eye closer would see through the wall). `None` when `pos` is in no cell. The walk starts there,
+/// and `mazewalk render` renders from there.
 #[must_use]
 pub fn stand(maze: &Maze, pos: Vec2) -> Option<Position> {
     let cell = maze.cell_at(pos)?;
-    Some(settle(maze, Position { cell, pos }, WALL_MARGIN))
+    Some(settle(maze, Position { cell, pos }, maze.clearance()))
 }
 
 impl App {
@@ -223,7 +230,7 @@ impl App {
         let viewer = maze.viewer();
         let Position { cell, pos } =
             stand(&maze, viewer.pos).ok_or(StartOutsideMaze { x: viewer.pos.x, y: viewer.pos.y })?;
-        let camera = Camera { position: pos, ..viewer_camera(viewer) };
+        let camera = Camera { position: pos, ..viewer_camera(&maze) };
         let cells = maze.cell_count();
         Ok(App {
             maze,
@@ -464,16 +471,32 @@ impl App {
         self.camera.eye_z = clamp_eye_height(self.camera.eye_z + dz);
     }
 
+    /// The horizontal field of view (degrees) of the view drawn `cols × rows` cells: the camera's, or
+    /// wider where it keeps the maze's least vertical field ([`Camera::hfov_for`]).
+    #[must_use]
+    pub fn shown_hfov_deg(&self, cols: usize, rows: usize) -> f32 {
+        let aspect = cols as f32 * self.options.cell_aspect / rows.max(1) as f32;
+        if aspect.is_finite() && aspect > 0.0 { self.camera.hfov_for(aspect) } else { self.camera.hfov_deg }
+    }
+
     fn zoom(&mut self, deg: f32) {
         self.camera.hfov_deg = (self.camera.hfov_deg + deg).clamp(FOV_RANGE_DEG.0, FOV_RANGE_DEG.1);
+        if self.camera.min_vfov_deg > 0.0 {
+            // a generated maze's least vertical field zooms too, or a wide screen would not show it
+            self.camera.min_vfov_deg = (self.camera.min_vfov_deg + deg).clamp(FOV_RANGE_DEG.0, 150.0);
+        }
     }
 
     /// Walks by `by` maze units (x forward, y right; level whatever the pitch) as far as the walls let.
     fn walk(&mut self, by: Vec2, now: f64) {
         let heading = self.camera.yaw_deg.to_radians();
         let delta = heading_dir(heading) * by.x + heading_right(heading) * by.y;
-        let to =
-            step(&self.maze, Position { cell: self.cell, pos: self.camera.position }, delta, WALL_MARGIN);
+        let to = step(
+            &self.maze,
+            Position { cell: self.cell, pos: self.camera.position },
+            delta,
+            self.maze.clearance(),
+        );
         self.camera.position = to.pos;
         self.cell = to.cell;
         if self.finished.is_none() && self.maze.exit().is_some_and(|exit| exit.cell == self.cell) {

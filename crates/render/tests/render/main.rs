@@ -3,6 +3,7 @@
 //! brute force, figures.
 
 mod glyph_frames;
+mod nose_to_wall;
 mod picture_quality;
 mod raster_fill;
 mod raster_lines;

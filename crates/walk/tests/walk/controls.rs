@@ -3,7 +3,6 @@
 //! tick at every frame as the event loop does.
 
 use mazewalk_maze as maze;
-use mazewalk_maze::geometry::WALL_MARGIN;
 use mazewalk_render::RenderOptions;
 use mazewalk_term::input::{Key, KeyPhase};
 use mazewalk_walk::App;
@@ -373,15 +372,23 @@ fn a_walking_tap_moves_one_step_and_never_through_a_wall() {
     let moved = app.camera.position - start;
     assert!((moved.x - WALK_STEP).abs() < 1e-5 && moved.y.abs() < 1e-5, "{moved}");
     assert!(!app.is_animating(2.0));
-    // Back toward the wall behind the start (2 units: half a tile): taps stop at the wall's margin.
+    // Back toward the wall behind the start (2 units: half a tile): taps stop at the maze's clearance.
     let wall_x = start.x - 2.0;
     for i in 0..6 {
         let t = 3.0 + 0.2 * f64::from(i);
         app.key(Key::Char('s'), KeyPhase::Press, t);
-        assert!(app.camera.position.x >= wall_x + WALL_MARGIN - 1e-4, "{} at tap {i}", app.camera.position);
+        assert!(
+            app.camera.position.x >= wall_x + app.maze().clearance() - 1e-4,
+            "{} at tap {i}",
+            app.camera.position
+        );
         assert_eq!(app.maze().cell_at(app.camera.position), Some(app.cell));
     }
-    assert!((app.camera.position.x - (wall_x + WALL_MARGIN)).abs() < 1e-3, "{}", app.camera.position);
+    assert!(
+        (app.camera.position.x - (wall_x + app.maze().clearance())).abs() < 1e-3,
+        "{}",
+        app.camera.position
+    );
 }
 
 #[test]

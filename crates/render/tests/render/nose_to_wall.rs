@@ -1,0 +1,94 @@
+//! Issue #39: "At the closest a player can stand, the view still shows where the wall's edges and the
+//! floor are." A generated maze keeps the eye a quarter of a cell from its walls and its view a
+//! vertical field of view with which, facing a wall square on from there, the floor shows below it
+//! and the ceiling above it (`mazewalk_maze::geometry::floor_showing_half_tan` states the geometry).
+
+use glam::Vec2;
+use mazewalk_maze::Maze;
+use mazewalk_maze::generate::{CELL_SIZE, GenOptions, generate};
+use mazewalk_maze::geometry::{MAX_CLEARANCE, WALL_MARGIN};
+use mazewalk_maze::movement::{Position, is_clear, settle};
+use mazewalk_render::samples::{CEILING, FLOOR};
+use mazewalk_render::{Camera, RenderOptions, Renderer, Target};
+use mazewalk_term::frame::Frame;
+use proptest::prelude::*;
+
+/// The sample ids of `camera`'s view of `maze` at `cols × rows` (half blocks: two samples a cell).
+fn ids(maze: &Maze, camera: &Camera, cols: usize, rows: usize) -> (Vec<u32>, usize) {
+    let mut frame = Frame::new(cols, rows);
+    let region = frame.region();
+    let mut renderer = Renderer::new();
+    renderer
+        .render(maze, camera, &[], &RenderOptions::default(), Target::Frame(&mut frame, region))
+        .expect("camera");
+    (renderer.samples().id().to_vec(), renderer.samples().width())
+}
+
+/// The closest stand facing the middle part of wall `e` of `cell` square on (`along` 0.3–0.7 of its
+/// length), and the heading (degrees) that faces it; `None` for a portal.
+fn facing_wall(maze: &Maze, cell: u32, e: u32, along: f32) -> Option<(u32, Vec2, f32)> {
+    if !maze.edge(e).opaque {
+        return None;
+    }
+    let (a, b) = maze.edge_points_ccw(e, cell);
+    let inward = (b - a).perp().normalize(); // the cell is left of its ccw edges
+    let at = a.lerp(b, along) + maze.clearance() * inward;
+    let stands = settle(maze, Position { cell, pos: at }, maze.clearance());
+    assert!(is_clear(maze, stands, maze.clearance()), "{at}: a spot the walk lets a player stand on");
+    assert!(stands.pos.distance(at) < 1e-3, "{at} is as close as the walk lets a player come: {stands:?}");
+    Some((e, at, (-inward).y.atan2((-inward).x).to_degrees()))
+}
+
+#[test]
+fn a_generated_maze_keeps_a_quarter_cell_and_course_files_keep_theirs() {
+    let maze =
+        generate(&GenOptions { width: 6, height: 5, seed: 11, ..GenOptions::default() }).expect("maze");
+    assert_eq!(maze.clearance(), CELL_SIZE / 4.0);
+    assert_eq!(maze.clearance(), MAX_CLEARANCE);
+    assert!(maze.min_vfov_deg() > 90.0, "{}", maze.min_vfov_deg());
+    let tiny = mazewalk_maze::load(mazewalk_testkit::maze_path("tiny.grid")).expect("tiny").maze;
+    assert_eq!(tiny.min_vfov_deg(), 0.0, "a file keeps its own field of view");
+    assert!(tiny.clearance() >= WALL_MARGIN);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    // Facing a wall square on from the closest stand (any of the four headings a wall of a generated
+    // maze is faced at, any cell, the middle part of the wall), at 120×40 and 80×24: every column that
+    // shows the wall shows floor below it and ceiling above it, and the wall spans most of the view.
+    // (Turned from square on, or beside a wall's end, the nearest columns meet a wall closer than a
+    // quarter cell, where no field of view a screen can show keeps the floor in: the geometry's doc.)
+    #[test]
+    fn facing_a_wall_from_the_closest_stand_floor_and_ceiling_show(
+        (width, height, seed) in (3u32..=20, 3u32..=15, any::<u64>()),
+        pick in 0.0f32..1.0,
+        side in 0usize..4,
+        along in 0.3f32..=0.7,
+    ) {
+        let maze = generate(&GenOptions { width, height, seed, loops: 0.1, ..GenOptions::default() }).expect("maze");
+        let cell = ((pick * maze.cell_count() as f32) as u32).min(maze.cell_count() as u32 - 1);
+        // the first wall from `side` round the cell
+        let edges = maze.cell_edges(cell).to_vec();
+        let found = (0..edges.len()).find_map(|k| facing_wall(&maze, cell, edges[(side + k) % edges.len()], along));
+        prop_assume!(found.is_some(), "a cell open on all four sides (the maze has loops)");
+        let (faced, at, heading) = found.unwrap();
+        let v = maze.viewer();
+        let camera = Camera { eye_z: v.z, min_vfov_deg: maze.min_vfov_deg(), ..Camera::new(at, heading, v.fov_deg) };
+        for (cols, rows) in [(120, 40), (80, 24)] {
+            let (ids, w) = ids(&maze, &camera, cols, rows);
+            let mut wall_columns = 0;
+            for x in 0..w {
+                let column: Vec<u32> = ids.iter().skip(x).step_by(w).copied().collect();
+                if column.contains(&faced) {
+                    wall_columns += 1;
+                    let top = column.iter().position(|&id| id == faced).unwrap();
+                    let bottom = column.iter().rposition(|&id| id == faced).unwrap();
+                    prop_assert!(column[..top].contains(&CEILING), "{cols}×{rows} column {x}: no ceiling above the wall at {at} facing {heading}°");
+                    prop_assert!(column[bottom..].contains(&FLOOR), "{cols}×{rows} column {x}: no floor below the wall at {at} facing {heading}°");
+                }
+            }
+            prop_assert!(wall_columns * 2 > w, "{cols}×{rows}: the faced wall in {wall_columns} of {w} columns");
+        }
+    }
+}
