@@ -57,15 +57,20 @@ impl PackedColor {
         }
     }
 
-    /// Whether it is a truecolor colour, the only kind a tolerance applies to.
+    /// Whether a tolerance applies to it: a truecolor colour, or an entry of xterm's 256-colour
+    /// palette past the 16 ANSI colours (the cube and the greys, whose RGB every terminal shares). The
+    /// 16 ANSI colours are the user's theme, whose distances nobody here knows, and the default
+    /// colours likewise: those are exact.
     #[inline]
     #[must_use]
-    pub(crate) fn is_rgb(self) -> bool {
-        self.0.get() >> 24 == RGB
+    pub(crate) fn is_tolerant(self) -> bool {
+        let word = self.0.get();
+        word >> 24 == RGB || (word >> 24 == INDEXED && word & 0xff >= 16)
     }
 
-    /// Whether two colours are within `tolerance` [`TOLERANCE_STEP`]s of each other in OKLab
-    /// (truecolor colours that close), or equal (any colours).
+    /// Whether two colours are within `tolerance` [`TOLERANCE_STEP`]s of each other in OKLab (two
+    /// truecolor colours that close, or two palette entries 16–255 whose xterm RGB are), or equal (any
+    /// colours).
     #[inline]
     #[must_use]
     pub(crate) fn within(self, other: PackedColor, tolerance: u8) -> bool {
@@ -73,12 +78,18 @@ impl PackedColor {
         if a == b {
             return true;
         }
-        // Both truecolor: the kinds are 1, 2 and 3, and only 1 | 1 is 1.
-        if tolerance == 0 || (a | b) >> 24 != RGB {
+        if tolerance == 0 {
             return false;
         }
         let limit = f32::from(tolerance) * TOLERANCE_STEP;
-        let [p, q] = oklab([a, b]);
+        let [p, q] = match (a >> 24, b >> 24) {
+            (RGB, RGB) => oklab([a, b]),
+            (INDEXED, INDEXED) if a & 0xff >= 16 && b & 0xff >= 16 => {
+                let entries = &*PALETTE_OKLAB;
+                [entries[(a & 0xff) as usize], entries[(b & 0xff) as usize]]
+            }
+            _ => return false,
+        };
         let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
         d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= limit * limit
     }
@@ -96,6 +107,15 @@ static LINEAR: std::sync::LazyLock<[f32; 256]> = std::sync::LazyLock::new(|| {
     std::array::from_fn(|code| {
         let v = code as f64 / 255.0;
         (if v <= 0.040_45 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }) as f32
+    })
+});
+
+/// The OKLab of xterm's 256 palette entries ([`super::xterm_rgb`]), by the same conversion as a
+/// truecolor colour's: an entry and its RGB as a truecolor colour are the same distance from anything.
+static PALETTE_OKLAB: std::sync::LazyLock<[[f32; 3]; 256]> = std::sync::LazyLock::new(|| {
+    std::array::from_fn(|index| {
+        let [r, g, b] = super::xterm_rgb(index as u8);
+        convert(u32::from_be_bytes([RGB as u8, r, g, b]))
     })
 });
 
@@ -191,11 +211,11 @@ impl PackedCell {
             || (self.ch != FULL_BLOCK && self.bg == PackedColor::DEFAULT)
     }
 
-    /// Whether it has a truecolor colour, the only kind a tolerance applies to.
+    /// Whether it has a colour a tolerance applies to ([`PackedColor::is_tolerant`]).
     #[inline]
     #[must_use]
-    pub(crate) fn has_rgb(&self) -> bool {
-        self.fg.is_rgb() || self.bg.is_rgb()
+    pub(crate) fn has_tolerant(&self) -> bool {
+        self.fg.is_tolerant() || self.bg.is_tolerant()
     }
 
     /// [`Cell::looks_within`].
@@ -307,14 +327,23 @@ mod tests {
         let mut near_limit = 0;
         for &a in &colors {
             assert_eq!(PackedColor::pack(a).unpack(), a);
-            assert_eq!(PackedColor::pack(a).is_rgb(), matches!(a, Color::Rgb(..)));
+            assert_eq!(
+                PackedColor::pack(a).is_tolerant(),
+                matches!(a, Color::Rgb(..) | Color::Indexed(16..))
+            );
             for &b in &colors {
                 assert_eq!(PackedColor::pack(a) == PackedColor::pack(b), a == b, "{a:?} {b:?}");
                 for tolerance in [0, 1, 2, 5, 16, 200] {
-                    let within = match (a, b) {
+                    // Truecolor colours, and palette entries past the 16 ANSI colours by their xterm RGB.
+                    let rgb = |c: Color| match c {
+                        Color::Rgb(r, g, b) => Some((0, [r, g, b])),
+                        Color::Indexed(n @ 16..) => Some((1, crate::frame::xterm_rgb(n))),
+                        _ => None,
+                    };
+                    let within = match (rgb(a), rgb(b)) {
                         _ if a == b => Some(true),
-                        (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) if tolerance > 0 => {
-                            let (p, q) = (oklab_reference([r, g, b]), oklab_reference([r2, g2, b2]));
+                        (Some((kind, p)), Some((kind2, q))) if tolerance > 0 && kind == kind2 => {
+                            let (p, q) = (oklab_reference(p), oklab_reference(q));
                             let d = (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
                             let limit = f64::from(tolerance) * f64::from(TOLERANCE_STEP);
                             ((d - limit).abs() > 1e-5).then_some(d <= limit)
@@ -333,6 +362,13 @@ mod tests {
             }
         }
         assert!(near_limit < 50, "{near_limit} pairs too near the limit to tell");
+        // The palette's closest pairs are a cube grey and a ramp grey (95 and 98): within a step and a
+        // half. Its neighbouring greys are 0.03–0.05 apart.
+        let entry = |n: u8| PackedColor::pack(Color::Indexed(n));
+        assert!(entry(59).within(entry(241), 2) && !entry(59).within(entry(241), 1));
+        assert!(!entry(254).within(entry(255), 2) && entry(254).within(entry(255), 4));
+        // The 16 ANSI colours are the theme's: exact, even where xterm's defaults coincide with an entry.
+        assert!(!entry(0).within(entry(16), 16) && !entry(15).within(entry(231), 16));
         // One 8-bit step is a bigger change in a dark colour than in a light one.
         let step = |v: u8| oklab_reference([v + 1; 3])[0] - oklab_reference([v; 3])[0];
         assert!(step(2) > 0.012 && step(250) < 0.003, "{} {}", step(2), step(250));
