@@ -287,11 +287,12 @@ fn mark_changes(old: &[PackedCell], new: &mut [PackedCell], tolerance: u8, diffe
         if shown == cell {
             return false; // the common case, inline
         }
-        // Only truecolor colours and palette entries past the ANSI 16 can be close without being
-        // equal; a cell not within the tolerance does not look the same either (one comparison).
+        // Only truecolor colours and palette entries past the ANSI 16 with a neighbour that close
+        // can be close without being equal; a cell not within the tolerance does not look the same
+        // either (one comparison).
         // Against what the screen shows, never the frame before: a slow fade is resent once it has
         // moved the tolerance from what was sent, however small each frame's step.
-        if tolerance > 0 && cell.has_tolerant() {
+        if tolerance > 0 && cell.may_be_near(tolerance) {
             let within = shown.looks_within(cell, tolerance);
             if within {
                 *cell = *shown;
@@ -498,7 +499,8 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
     let cell = cell.canonical();
     let priced = |cell: PackedCell| (cell, Sgr::to_cell(pen, &cell));
     // (A cell that needs no colour change is never beaten: the searches below start only past it.)
-    if tolerance == 0 || !cell.has_tolerant() {
+    // (Colours with no other colour within the tolerance: the tolerant search would find this too.)
+    if tolerance == 0 || !cell.may_be_near(tolerance) {
         let plain = priced(cell);
         if plain.1.len() > 0
             && let Some(inverse) = cell.inverse().map(priced)

@@ -68,6 +68,24 @@ impl PackedColor {
         word >> 24 == RGB || (word >> 24 == INDEXED && word & 0xff >= 16)
     }
 
+    /// Whether some other colour may be within `tolerance` [`TOLERANCE_STEP`]s of it: any truecolor
+    /// colour (above 0), a palette entry 16–255 whose nearest other entry is that close (at the default
+    /// of 2, 8 of the 240), nothing else. Where it is false, [`PackedColor::within`] of it and anything
+    /// is equality: the encoder takes its exact path, as fast as at tolerance 0.
+    #[inline]
+    #[must_use]
+    pub(crate) fn may_be_near(self, tolerance: u8) -> bool {
+        let word = self.0.get();
+        match word >> 24 {
+            RGB => tolerance > 0,
+            INDEXED if word & 0xff >= 16 => {
+                let limit = f32::from(tolerance) * TOLERANCE_STEP;
+                PALETTE.nearest[(word & 0xff) as usize] <= limit * limit
+            }
+            _ => false,
+        }
+    }
+
     /// Whether two colours are within `tolerance` [`TOLERANCE_STEP`]s of each other in OKLab (two
     /// truecolor colours that close, or two palette entries 16–255 whose xterm RGB are), or equal (any
     /// colours).
@@ -85,13 +103,12 @@ impl PackedColor {
         let [p, q] = match (a >> 24, b >> 24) {
             (RGB, RGB) => oklab([a, b]),
             (INDEXED, INDEXED) if a & 0xff >= 16 && b & 0xff >= 16 => {
-                let entries = &*PALETTE_OKLAB;
+                let entries = &PALETTE.oklab;
                 [entries[(a & 0xff) as usize], entries[(b & 0xff) as usize]]
             }
             _ => return false,
         };
-        let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
-        d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= limit * limit
+        distance2(p, q) <= limit * limit
     }
 }
 
@@ -110,13 +127,36 @@ static LINEAR: std::sync::LazyLock<[f32; 256]> = std::sync::LazyLock::new(|| {
     })
 });
 
-/// The OKLab of xterm's 256 palette entries ([`super::xterm_rgb`]), by the same conversion as a
-/// truecolor colour's: an entry and its RGB as a truecolor colour are the same distance from anything.
-static PALETTE_OKLAB: std::sync::LazyLock<[[f32; 3]; 256]> = std::sync::LazyLock::new(|| {
-    std::array::from_fn(|index| {
+/// The squared OKLab distance of two colours.
+#[inline]
+fn distance2(p: [f32; 3], q: [f32; 3]) -> f32 {
+    let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+}
+
+/// xterm's 256 palette entries as the tolerance sees them.
+struct Palette {
+    /// The OKLab of each entry's RGB ([`super::xterm_rgb`]), by the same conversion as a truecolor
+    /// colour's: an entry and its RGB as a truecolor colour are the same distance from anything.
+    oklab: [[f32; 3]; 256],
+    /// For entries 16–255, the squared distance ([`distance2`], as [`PackedColor::within`] computes it)
+    /// to the nearest other entry 16–255; infinite for the 16 ANSI colours.
+    nearest: [f32; 256],
+}
+
+/// [`Palette`], built on first use (256 conversions and 240² distances: some µs).
+static PALETTE: std::sync::LazyLock<Palette> = std::sync::LazyLock::new(|| {
+    let oklab: [[f32; 3]; 256] = std::array::from_fn(|index| {
         let [r, g, b] = super::xterm_rgb(index as u8);
         convert(u32::from_be_bytes([RGB as u8, r, g, b]))
-    })
+    });
+    let nearest = std::array::from_fn(|i| {
+        (16..256)
+            .filter(|&j| i >= 16 && j != i)
+            .map(|j| distance2(oklab[i], oklab[j]))
+            .fold(f32::INFINITY, f32::min)
+    });
+    Palette { oklab, nearest }
 });
 
 /// Slots of [`MEMO`]: a power of two.
@@ -211,11 +251,13 @@ impl PackedCell {
             || (self.ch != FULL_BLOCK && self.bg == PackedColor::DEFAULT)
     }
 
-    /// Whether it has a colour a tolerance applies to ([`PackedColor::is_tolerant`]).
+    /// Whether another colour may be within `tolerance` of one of its colours
+    /// ([`PackedColor::may_be_near`]); where not, it looks within the tolerance only of cells that
+    /// look the same.
     #[inline]
     #[must_use]
-    pub(crate) fn has_tolerant(&self) -> bool {
-        self.fg.is_tolerant() || self.bg.is_tolerant()
+    pub(crate) fn may_be_near(&self, tolerance: u8) -> bool {
+        self.fg.may_be_near(tolerance) || self.bg.may_be_near(tolerance)
     }
 
     /// [`Cell::looks_within`].
@@ -367,6 +409,22 @@ mod tests {
         let entry = |n: u8| PackedColor::pack(Color::Indexed(n));
         assert!(entry(59).within(entry(241), 2) && !entry(59).within(entry(241), 1));
         assert!(!entry(254).within(entry(255), 2) && entry(254).within(entry(255), 4));
+        // Whether an entry may be near another is exactly whether one is within the tolerance of it
+        // (the encoder's exact path is taken for cells of entries that are not).
+        for tolerance in 0..=16 {
+            let mut near = 0;
+            for a in 0..=255 {
+                let partner = (16..=255).any(|b| a != b && entry(a).within(entry(b), tolerance));
+                assert_eq!(entry(a).may_be_near(tolerance), partner, "{a} at {tolerance}");
+                near += usize::from(partner);
+            }
+            if tolerance == 2 {
+                assert_eq!(near, 8, "the four close pairs");
+            }
+        }
+        assert!(
+            PackedColor::pack(Color::Rgb(1, 2, 3)).may_be_near(1) && !PackedColor::DEFAULT.may_be_near(16)
+        );
         // The 16 ANSI colours are the theme's: exact, even where xterm's defaults coincide with an entry.
         assert!(!entry(0).within(entry(16), 16) && !entry(15).within(entry(231), 16));
         // One 8-bit step is a bigger change in a dark colour than in a light one.
