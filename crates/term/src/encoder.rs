@@ -499,7 +499,9 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
     let cell = cell.canonical();
     let priced = |cell: PackedCell| (cell, Sgr::to_cell(pen, &cell));
     // (A cell that needs no colour change is never beaten: the searches below start only past it.)
-    // (Colours with no other colour within the tolerance: the tolerant search would find this too.)
+    // Palette cells whose entries have no other entry within the tolerance (232 of 240 at the
+    // default) take this path, as all palette cells did before they had a tolerance: with every
+    // palette cell in the search below, the encoder's instructions turning in 256 colours were 1.38×.
     if tolerance == 0 || !cell.may_be_near(tolerance) {
         let plain = priced(cell);
         if plain.1.len() > 0
