@@ -1,7 +1,7 @@
 //! Where a 256-colour frame's bytes go while turning and walking at 120×40 (issue #42): the bytes by
 //! kind (colours, cursor moves, glyphs, markers), and the cells that changed by how far their
 //! colours moved in OKLab (each cell's largest sample distance between the frame before and this one),
-//! at the session's colour tolerance (the default), exact (0) and the slow link's raised ones (4, 6),
+//! exact (0), at the default tolerance (2) and at two raised ones (4, 6; a slow link raises it to 5 and 8),
 //! and how often a changed cell has the colours of the changed cell before it, row by row or column
 //! by column.
 //!
