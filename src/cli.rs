@@ -49,9 +49,10 @@ pub struct WalkArgs {
     pub maze: MazeArgs,
     #[command(flatten)]
     pub look: LookArgs,
-    /// Truecolor cells whose colours moved by at most this many steps of 0.01 in OKLab (2: about what an
-    /// eye can just tell apart) since they were sent stay as they are (fewer bytes while walking and
-    /// turning; 0: every change is sent exactly).
+    /// Cells whose colours moved by at most this many steps of 0.01 in OKLab (2: about what an eye can
+    /// just tell apart) since they were sent stay as they are (fewer bytes while walking and turning;
+    /// 0: every change is sent exactly): truecolor colours and the 256-colour cube and greys; the 16
+    /// ANSI colours always go exactly.
     #[arg(long, value_name = "STEPS", default_value_t = encoder::DEFAULT_TOLERANCE, value_parser = clap::value_parser!(u8).range(0..=i64::from(encoder::MAX_TOLERANCE)))]
     pub color_tolerance: u8,
     /// Start the full-screen walk even where TERM says the terminal cannot take it (dumb, unset, empty).

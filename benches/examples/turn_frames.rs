@@ -3,7 +3,7 @@
 //!
 //! ```sh
 //! cargo build --release -p mazewalk-bench --example turn_frames
-//! valgrind --tool=callgrind ./target/release/examples/turn_frames truecolor   # COLS ROWS optional
+//! valgrind --tool=callgrind ./target/release/examples/turn_frames truecolor   # COLS ROWS TOLERANCE optional
 //! callgrind_annotate --inclusive=yes callgrind.out.* | grep 'Encoder::encode \['
 //! ```
 
@@ -18,10 +18,16 @@ fn main() {
     let depth: ColorDepth = arg(0, "truecolor").parse().expect("colour depth");
     let (cols, rows): (u16, u16) =
         (arg(1, "120").parse().expect("cols"), arg(2, "40").parse().expect("rows"));
+    let tolerance: u8 =
+        arg(3, &mazewalk_term::encoder::DEFAULT_TOLERANCE.to_string()).parse().expect("tolerance");
     let options = RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
     let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("a start cell");
-    let mut session =
-        Session::new(app, cols, rows, SessionOptions { flow_control: false, ..SessionOptions::default() });
+    let mut session = Session::new(
+        app,
+        cols,
+        rows,
+        SessionOptions { flow_control: false, color_tolerance: tolerance, ..SessionOptions::default() },
+    );
     let (mut out, mut bytes) = (Vec::new(), 0);
     session.frame(0.0, &mut out);
     for i in 1..40 {
@@ -31,5 +37,5 @@ fn main() {
         session.frame(now, &mut out);
         bytes += out.len();
     }
-    println!("{depth} {cols}x{rows}: {bytes} bytes in 39 frames of turning");
+    println!("{depth} {cols}x{rows}, tolerance {tolerance}: {bytes} bytes in 39 frames of turning");
 }

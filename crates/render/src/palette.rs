@@ -19,48 +19,14 @@ use super::pipeline::{CEILING_SRGB, FLOOR_SRGB};
 use super::shade::{Srgb8Tables, srgb_to_linear};
 use mazewalk_term::frame::{Color, ColorDepth};
 
-/// xterm's default RGB for the 16 ANSI colours (black, red, green, yellow, blue, magenta, cyan, white,
-/// then the bright eight).
-pub(crate) const ANSI16: [[u8; 3]; 16] = [
-    [0, 0, 0],
-    [205, 0, 0],
-    [0, 205, 0],
-    [205, 205, 0],
-    [0, 0, 238],
-    [205, 0, 205],
-    [0, 205, 205],
-    [229, 229, 229],
-    [127, 127, 127],
-    [255, 0, 0],
-    [0, 255, 0],
-    [255, 255, 0],
-    [92, 92, 255],
-    [255, 0, 255],
-    [0, 255, 255],
-    [255, 255, 255],
-];
-
-/// The levels of each axis of xterm's 6×6×6 colour cube (indices 16–231).
-pub(crate) const CUBE_LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
+pub use mazewalk_term::frame::xterm_rgb;
+pub(crate) use mazewalk_term::frame::{ANSI16, CUBE_LEVELS};
 
 /// A linear colour as sRGB bytes (clamped to 0..1 first; NaN → 0).
 #[must_use]
 #[inline]
 pub(crate) fn to_srgb8(linear: Vec3) -> [u8; 3] {
     Srgb8Tables::get().encode3(linear)
-}
-
-/// The RGB xterm shows for palette `index` (ANSI 16, cube, grey ramp).
-#[must_use]
-pub fn xterm_rgb(index: u8) -> [u8; 3] {
-    match index {
-        0..=15 => ANSI16[usize::from(index)],
-        16..=231 => {
-            let i = usize::from(index - 16);
-            [CUBE_LEVELS[i / 36], CUBE_LEVELS[i / 6 % 6], CUBE_LEVELS[i % 6]]
-        }
-        _ => [8 + 10 * (index - 232); 3],
-    }
 }
 
 fn distance2(a: [u8; 3], b: [u8; 3]) -> u32 {

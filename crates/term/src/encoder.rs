@@ -93,7 +93,8 @@ pub struct Encoder {
     valid: bool,
     pen: Pen,
     bce: bool,
-    /// Truecolor cells within this many [`TOLERANCE_STEP`]s (OKLab) of what is on screen are left as they are.
+    /// Cells within this many [`TOLERANCE_STEP`]s (OKLab; truecolor colours and palette entries 16–255)
+    /// of what is on screen are left as they are.
     tolerance: u8,
     /// Scratch for the frame as sent: `frame` up to `tolerance` (the screen where close, the pen's
     /// colours where close); swapped into `screen` after each encode.
@@ -138,10 +139,12 @@ impl Encoder {
         self.invalidate();
     }
 
-    /// Leave a truecolor cell as the screen shows it while each of its colours is within `steps`
+    /// Leave a cell as the screen shows it while each of its colours is within `steps`
     /// [`TOLERANCE_STEP`]s of the new frame's: an OKLab distance of `steps` × 0.01 (default 0: exact).
-    /// The screen then differs from the frame by at most that much, never more: each frame is compared
-    /// with what the screen shows.
+    /// It applies to truecolor colours and to the 256-colour palette's cube and greys (indices 16–255,
+    /// by xterm's RGB for them); the 16 ANSI colours and the defaults are the terminal's theme, whose
+    /// distances are unknown, and stay exact. The screen then differs from the frame by at most that
+    /// much, never more: each frame is compared with what the screen shows.
     pub fn set_tolerance(&mut self, steps: u8) {
         self.tolerance = steps;
     }
@@ -251,7 +254,7 @@ fn most_common_blank_bg(frame: &[PackedCell]) -> Option<PackedColor> {
 }
 
 /// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
-/// truecolor cell of `new` within `tolerance` of `old` is left as `old` shows it, and a changed one may
+/// cell of `new` within `tolerance` of `old` is left as `old` shows it, and a changed one may
 /// take the pen's colour where that is within `tolerance` of its own (one SGR less); `new` is updated
 /// to what was sent. `differs` is scratch ([`mark_changes`]).
 #[allow(clippy::too_many_arguments)]
@@ -277,16 +280,19 @@ fn diff(
 }
 
 /// Which cells of row `new` look different from row `old` (one look comparison a cell: the diff's
-/// searches read the flags). A truecolor cell within `tolerance` of `old` is first set to `old`.
+/// searches read the flags). A cell within `tolerance` of `old` is first set to `old`.
 fn mark_changes(old: &[PackedCell], new: &mut [PackedCell], tolerance: u8, differs: &mut Vec<bool>) {
     differs.clear();
     differs.extend(old.iter().zip(new).map(|(shown, cell)| {
         if shown == cell {
             return false; // the common case, inline
         }
-        // Only truecolor colours can be close without being equal; a cell not within the tolerance
-        // does not look the same either (one comparison).
-        if tolerance > 0 && cell.has_rgb() {
+        // Only truecolor colours and palette entries past the ANSI 16 with a neighbour that close
+        // can be close without being equal; a cell not within the tolerance does not look the same
+        // either (one comparison).
+        // Against what the screen shows, never the frame before: a slow fade is resent once it has
+        // moved the tolerance from what was sent, however small each frame's step.
+        if tolerance > 0 && cell.may_be_near(tolerance) {
             let within = shown.looks_within(cell, tolerance);
             if within {
                 *cell = *shown;
@@ -481,7 +487,7 @@ fn price_route(
 
 /// The form `cell` goes in from `pen` and its colour change: of the cell and its [`PackedCell::inverse`]
 /// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
-/// are within `tolerance` of the cell's; and, in truecolor, a blank or a full block in one colour
+/// are within `tolerance` of the cell's; and, where a tolerance applies, a blank or a full block in one colour
 /// within `tolerance` of both halves of a half-block cell where that is fewer bytes.
 fn cell_form(pen: &Pen, cell: &PackedCell, tolerance: u8) -> (PackedCell, Sgr) {
     find_form(pen, cell, tolerance, true)
@@ -493,7 +499,10 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
     let cell = cell.canonical();
     let priced = |cell: PackedCell| (cell, Sgr::to_cell(pen, &cell));
     // (A cell that needs no colour change is never beaten: the searches below start only past it.)
-    if tolerance == 0 || !cell.has_rgb() {
+    // Palette cells whose entries have no other entry within the tolerance (232 of 240 at the
+    // default) take this path, as all palette cells did before they had a tolerance: with every
+    // palette cell in the search below, the encoder's instructions turning in 256 colours were 1.38×.
+    if tolerance == 0 || !cell.may_be_near(tolerance) {
         let plain = priced(cell);
         if plain.1.len() > 0
             && let Some(inverse) = cell.inverse().map(priced)
@@ -512,12 +521,13 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
     };
     let plain = near_pen(cell);
     let mut best = priced(plain);
-    // Two truecolor colours, neither near the pen's other one: the inverse changes both colours, at
-    // the lengths the plain form's worst case has, so it cannot be shorter; and the plain form's two
-    // colours differ (the pen could only merge them by being near both), so it has no blank form.
+    // Two truecolor colours or two palette entries past the ANSI 16 (whose codes are as long as
+    // foreground as background), neither near the pen's other one: the inverse changes both colours,
+    // at the lengths the plain form's worst case has, so it cannot be shorter; and the plain form's
+    // two colours differ (the pen could only merge them by being near both), so it has no blank form.
     let both_far = |pen: &Pen| {
-        cell.fg.is_rgb()
-            && cell.bg.is_rgb()
+        cell.fg.is_tolerant()
+            && cell.bg.is_tolerant()
             && !pen.fg.is_some_and(|p| p.within(cell.bg, tolerance))
             && !pen.bg.is_some_and(|p| p.within(cell.fg, tolerance))
     };
@@ -703,6 +713,8 @@ mod tests {
             Color::Indexed(3),
             Color::Indexed(12),
             Color::Indexed(200),
+            Color::Indexed(59),
+            Color::Indexed(241), // 59's near neighbour: within 2 steps
             Color::Rgb(10, 20, 30),
             Color::Rgb(11, 21, 29),
             Color::Rgb(200, 100, 0),
@@ -726,21 +738,30 @@ mod tests {
                 }
             }
         }
-        assert_eq!(checked, 8 * 49 * 64 * 3);
+        assert_eq!(checked, 8 * 81 * 100 * 3);
     }
 
-    /// The shortcut past the inverse forms finds what the whole search finds: truecolor cells of
-    /// every glyph kind, colours near and far from every pen, tolerances 1 and 3.
+    /// The shortcut past the inverse forms finds what the whole search finds: truecolor cells and
+    /// palette cells of every glyph kind, colours near and far from every pen, tolerances 1 and 3.
     #[test]
     fn the_form_search_shortcut_finds_what_the_whole_search_finds() {
         let (a, b) = (Color::Rgb(100, 50, 200), Color::Rgb(30, 220, 9));
-        let colors = [a, Color::Rgb(101, 51, 199), b, Color::Rgb(32, 219, 9), Color::Rgb(0, 0, 0)];
+        let truecolor = [a, Color::Rgb(101, 51, 199), b, Color::Rgb(32, 219, 9), Color::Rgb(0, 0, 0)];
+        // 59 and 241 are 0.011 apart, 102 and 245 0.010, 254 and 255 0.030; 16 is black, 9 an ANSI colour.
+        let (i, n) = (Color::Indexed, Color::Indexed(9));
+        let palette = [i(59), i(241), i(102), i(245), i(254), i(255), i(16), n];
+        for colors in [&truecolor[..], &palette[..]] {
+            form_search_cases(colors);
+        }
+    }
+
+    fn form_search_cases(colors: &[Color]) {
         let pens: Vec<Option<Color>> = [None, Some(Color::Default), Some(Color::Indexed(9))]
             .into_iter()
-            .chain(colors.map(Some))
+            .chain(colors.iter().copied().map(Some))
             .collect();
         for ch in [' ', '█', '▀', '▞', '\u{1FB05}', 'x'] {
-            for (fg, bg) in colors.iter().flat_map(|&f| colors.map(|b| (f, b))) {
+            for (fg, bg) in colors.iter().flat_map(|&f| colors.iter().map(move |&b| (f, b))) {
                 for (&pen_fg, &pen_bg) in pens.iter().flat_map(|f| pens.iter().map(move |b| (f, b))) {
                     for tolerance in [1, 3] {
                         let pen = pen(Some((0, 0)), pen_fg, pen_bg);

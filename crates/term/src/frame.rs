@@ -31,6 +31,44 @@ pub fn oklab([r, g, b]: [f32; 3], cbrt: impl Fn(f32) -> f32) -> [f32; 3] {
 }
 pub(crate) use packed::{PackedCell, PackedColor};
 
+/// xterm's default RGB for the 16 ANSI colours (black, red, green, yellow, blue, magenta, cyan, white,
+/// then the bright eight). Terminals' themes change them.
+pub const ANSI16: [[u8; 3]; 16] = [
+    [0, 0, 0],
+    [205, 0, 0],
+    [0, 205, 0],
+    [205, 205, 0],
+    [0, 0, 238],
+    [205, 0, 205],
+    [0, 205, 205],
+    [229, 229, 229],
+    [127, 127, 127],
+    [255, 0, 0],
+    [0, 255, 0],
+    [255, 255, 0],
+    [92, 92, 255],
+    [255, 0, 255],
+    [0, 255, 255],
+    [255, 255, 255],
+];
+
+/// The levels of each axis of xterm's 6×6×6 colour cube (indices 16–231).
+pub const CUBE_LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
+
+/// The RGB xterm shows for palette `index` (ANSI 16, cube, grey ramp): the renderer's palette and the
+/// encoder's tolerance for palette colours ([`Color::within`]) both read it.
+#[must_use]
+pub fn xterm_rgb(index: u8) -> [u8; 3] {
+    match index {
+        0..=15 => ANSI16[usize::from(index)],
+        16..=231 => {
+            let i = usize::from(index - 16);
+            [CUBE_LEVELS[i / 36], CUBE_LEVELS[i / 6 % 6], CUBE_LEVELS[i % 6]]
+        }
+        _ => [8 + 10 * (index - 232); 3],
+    }
+}
+
 /// A colour as the terminal is asked to show it; the renderer quantizes to the depth in use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Color {
@@ -45,7 +83,9 @@ pub enum Color {
 
 impl Color {
     /// Whether two colours are within `tolerance` [`TOLERANCE_STEP`]s (an OKLab distance of
-    /// `tolerance` × 0.01): truecolor colours that close, or any colours that are equal.
+    /// `tolerance` × 0.01): truecolor colours that close, palette entries 16–255 whose xterm RGB
+    /// ([`xterm_rgb`]) are, or any colours that are equal. The 16 ANSI colours are the terminal theme's
+    /// (unknown distances): exact.
     #[must_use]
     #[inline]
     pub fn within(self, other: Color, tolerance: u8) -> bool {
@@ -137,8 +177,8 @@ impl Cell {
         self.looks_within(other, 0)
     }
 
-    /// [`Cell::same_look`] up to `tolerance` [`TOLERANCE_STEP`]s (OKLab) between truecolor colours
-    /// (other colours must be equal): what the encoder's [`set_tolerance`](crate::encoder::Encoder::set_tolerance) leaves alone.
+    /// [`Cell::same_look`] up to `tolerance` [`TOLERANCE_STEP`]s (OKLab) between truecolor colours or
+    /// between palette entries 16–255 ([`Color::within`]; other colours must be equal): what the encoder's [`set_tolerance`](crate::encoder::Encoder::set_tolerance) leaves alone.
     ///
     /// Block glyphs (space, full block, halves, quadrants, sextants) are compared by what each part of
     /// the cell shows: on a 2×6 grid of sub-cells (fine enough for all of them), every sub-cell's colour

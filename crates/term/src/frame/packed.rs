@@ -57,15 +57,38 @@ impl PackedColor {
         }
     }
 
-    /// Whether it is a truecolor colour, the only kind a tolerance applies to.
+    /// Whether a tolerance applies to it: a truecolor colour, or an entry of xterm's 256-colour
+    /// palette past the 16 ANSI colours (the cube and the greys, whose RGB every terminal shares). The
+    /// 16 ANSI colours are the user's theme, whose distances nobody here knows, and the default
+    /// colours likewise: those are exact.
     #[inline]
     #[must_use]
-    pub(crate) fn is_rgb(self) -> bool {
-        self.0.get() >> 24 == RGB
+    pub(crate) fn is_tolerant(self) -> bool {
+        let word = self.0.get();
+        word >> 24 == RGB || (word >> 24 == INDEXED && word & 0xff >= 16)
     }
 
-    /// Whether two colours are within `tolerance` [`TOLERANCE_STEP`]s of each other in OKLab
-    /// (truecolor colours that close), or equal (any colours).
+    /// Whether some other colour may be within `tolerance` [`TOLERANCE_STEP`]s of it: any truecolor
+    /// colour (above 0), a palette entry 16–255 whose nearest other entry is that close (at the default
+    /// of 2, 8 of the 240), nothing else. Where it is false, [`PackedColor::within`] of it and anything
+    /// is equality: the encoder takes its exact path, as fast as at tolerance 0.
+    #[inline]
+    #[must_use]
+    pub(crate) fn may_be_near(self, tolerance: u8) -> bool {
+        let word = self.0.get();
+        match word >> 24 {
+            RGB => tolerance > 0,
+            INDEXED if word & 0xff >= 16 => {
+                let limit = f32::from(tolerance) * TOLERANCE_STEP;
+                PALETTE.nearest[(word & 0xff) as usize] <= limit * limit
+            }
+            _ => false,
+        }
+    }
+
+    /// Whether two colours are within `tolerance` [`TOLERANCE_STEP`]s of each other in OKLab (two
+    /// truecolor colours that close, or two palette entries 16–255 whose xterm RGB are), or equal (any
+    /// colours).
     #[inline]
     #[must_use]
     pub(crate) fn within(self, other: PackedColor, tolerance: u8) -> bool {
@@ -73,14 +96,19 @@ impl PackedColor {
         if a == b {
             return true;
         }
-        // Both truecolor: the kinds are 1, 2 and 3, and only 1 | 1 is 1.
-        if tolerance == 0 || (a | b) >> 24 != RGB {
+        if tolerance == 0 {
             return false;
         }
         let limit = f32::from(tolerance) * TOLERANCE_STEP;
-        let [p, q] = oklab([a, b]);
-        let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
-        d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= limit * limit
+        let [p, q] = match (a >> 24, b >> 24) {
+            (RGB, RGB) => oklab([a, b]),
+            (INDEXED, INDEXED) if a & 0xff >= 16 && b & 0xff >= 16 => {
+                let entries = &PALETTE.oklab;
+                [entries[(a & 0xff) as usize], entries[(b & 0xff) as usize]]
+            }
+            _ => return false,
+        };
+        distance2(p, q) <= limit * limit
     }
 }
 
@@ -97,6 +125,38 @@ static LINEAR: std::sync::LazyLock<[f32; 256]> = std::sync::LazyLock::new(|| {
         let v = code as f64 / 255.0;
         (if v <= 0.040_45 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }) as f32
     })
+});
+
+/// The squared OKLab distance of two colours.
+#[inline]
+fn distance2(p: [f32; 3], q: [f32; 3]) -> f32 {
+    let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+}
+
+/// xterm's 256 palette entries as the tolerance sees them.
+struct Palette {
+    /// The OKLab of each entry's RGB ([`super::xterm_rgb`]), by the same conversion as a truecolor
+    /// colour's: an entry and its RGB as a truecolor colour are the same distance from anything.
+    oklab: [[f32; 3]; 256],
+    /// For entries 16–255, the squared distance ([`distance2`], as [`PackedColor::within`] computes it)
+    /// to the nearest other entry 16–255; infinite for the 16 ANSI colours.
+    nearest: [f32; 256],
+}
+
+/// [`Palette`], built on first use (256 conversions and 240² distances: some µs).
+static PALETTE: std::sync::LazyLock<Palette> = std::sync::LazyLock::new(|| {
+    let oklab: [[f32; 3]; 256] = std::array::from_fn(|index| {
+        let [r, g, b] = super::xterm_rgb(index as u8);
+        convert(u32::from_be_bytes([RGB as u8, r, g, b]))
+    });
+    let nearest = std::array::from_fn(|i| {
+        (16..256)
+            .filter(|&j| i >= 16 && j != i)
+            .map(|j| distance2(oklab[i], oklab[j]))
+            .fold(f32::INFINITY, f32::min)
+    });
+    Palette { oklab, nearest }
 });
 
 /// Slots of [`MEMO`]: a power of two.
@@ -191,11 +251,13 @@ impl PackedCell {
             || (self.ch != FULL_BLOCK && self.bg == PackedColor::DEFAULT)
     }
 
-    /// Whether it has a truecolor colour, the only kind a tolerance applies to.
+    /// Whether another colour may be within `tolerance` of one of its colours
+    /// ([`PackedColor::may_be_near`]); where not, it looks within the tolerance only of cells that
+    /// look the same.
     #[inline]
     #[must_use]
-    pub(crate) fn has_rgb(&self) -> bool {
-        self.fg.is_rgb() || self.bg.is_rgb()
+    pub(crate) fn may_be_near(&self, tolerance: u8) -> bool {
+        self.fg.may_be_near(tolerance) || self.bg.may_be_near(tolerance)
     }
 
     /// [`Cell::looks_within`].
@@ -307,14 +369,23 @@ mod tests {
         let mut near_limit = 0;
         for &a in &colors {
             assert_eq!(PackedColor::pack(a).unpack(), a);
-            assert_eq!(PackedColor::pack(a).is_rgb(), matches!(a, Color::Rgb(..)));
+            assert_eq!(
+                PackedColor::pack(a).is_tolerant(),
+                matches!(a, Color::Rgb(..) | Color::Indexed(16..))
+            );
             for &b in &colors {
                 assert_eq!(PackedColor::pack(a) == PackedColor::pack(b), a == b, "{a:?} {b:?}");
                 for tolerance in [0, 1, 2, 5, 16, 200] {
-                    let within = match (a, b) {
+                    // Truecolor colours, and palette entries past the 16 ANSI colours by their xterm RGB.
+                    let rgb = |c: Color| match c {
+                        Color::Rgb(r, g, b) => Some((0, [r, g, b])),
+                        Color::Indexed(n @ 16..) => Some((1, crate::frame::xterm_rgb(n))),
+                        _ => None,
+                    };
+                    let within = match (rgb(a), rgb(b)) {
                         _ if a == b => Some(true),
-                        (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) if tolerance > 0 => {
-                            let (p, q) = (oklab_reference([r, g, b]), oklab_reference([r2, g2, b2]));
+                        (Some((kind, p)), Some((kind2, q))) if tolerance > 0 && kind == kind2 => {
+                            let (p, q) = (oklab_reference(p), oklab_reference(q));
                             let d = (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
                             let limit = f64::from(tolerance) * f64::from(TOLERANCE_STEP);
                             ((d - limit).abs() > 1e-5).then_some(d <= limit)
@@ -333,6 +404,29 @@ mod tests {
             }
         }
         assert!(near_limit < 50, "{near_limit} pairs too near the limit to tell");
+        // The palette's closest pairs are a cube grey and a ramp grey (95 and 98): within a step and a
+        // half. Its neighbouring greys are 0.03–0.05 apart.
+        let entry = |n: u8| PackedColor::pack(Color::Indexed(n));
+        assert!(entry(59).within(entry(241), 2) && !entry(59).within(entry(241), 1));
+        assert!(!entry(254).within(entry(255), 2) && entry(254).within(entry(255), 4));
+        // Whether an entry may be near another is exactly whether one is within the tolerance of it
+        // (the encoder's exact path is taken for cells of entries that are not).
+        for tolerance in 0..=16 {
+            let mut near = 0;
+            for a in 0..=255 {
+                let partner = (16..=255).any(|b| a != b && entry(a).within(entry(b), tolerance));
+                assert_eq!(entry(a).may_be_near(tolerance), partner, "{a} at {tolerance}");
+                near += usize::from(partner);
+            }
+            if tolerance == 2 {
+                assert_eq!(near, 8, "the four close pairs");
+            }
+        }
+        assert!(
+            PackedColor::pack(Color::Rgb(1, 2, 3)).may_be_near(1) && !PackedColor::DEFAULT.may_be_near(16)
+        );
+        // The 16 ANSI colours are the theme's: exact, even where xterm's defaults coincide with an entry.
+        assert!(!entry(0).within(entry(16), 16) && !entry(15).within(entry(231), 16));
         // One 8-bit step is a bigger change in a dark colour than in a light one.
         let step = |v: u8| oklab_reference([v + 1; 3])[0] - oklab_reference([v; 3])[0];
         assert!(step(2) > 0.012 && step(250) < 0.003, "{} {}", step(2), step(250));
