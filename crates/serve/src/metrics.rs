@@ -2,7 +2,7 @@
 //! official client crate (`prometheus-client`). Two kinds of numbers:
 //!
 //! - **Counted as it happens** ([`Metrics`]): joins, refusals by reason, frames and bytes sent, the
-//!   time from a key to the frame that follows it. Atomics, cheap enough to keep whether or not
+//!   time from a key to the frame that follows it, the CPU time of each connection's key exchange. Atomics, cheap enough to keep whether or not
 //!   anyone scrapes.
 //! - **Read at each scrape** ([`Snapshot`], through [`Live`]): players and handshakes now, the
 //!   records' writes and failures, the shared world's messages (`--world`). They are kept elsewhere
@@ -33,6 +33,7 @@ pub struct Metrics {
     frames: Counter,
     bytes: Counter,
     key_to_frame: Histogram,
+    handshake_cpu: Histogram,
 }
 
 /// Every refusal's reason, as its label says it.
@@ -51,6 +52,8 @@ impl Default for Metrics {
             bytes: Counter::default(),
             // 0.5 ms to 1 s, doubling: a frame on a LAN is a few ms, a slow link's hundreds.
             key_to_frame: Histogram::new(exponential_buckets(0.0005, 2.0, 12)),
+            // 50 µs to 0.4 s, doubling: an Ed25519 host key's exchange is a few hundred µs of CPU.
+            handshake_cpu: Histogram::new(exponential_buckets(0.000_05, 2.0, 14)),
         }
     }
 }
@@ -82,6 +85,12 @@ impl Metrics {
         if let Some(seconds) = key {
             self.key_to_frame.observe(seconds);
         }
+    }
+
+    /// A connection's key exchange ended (done, or the connection closed before it was): `cpu`, the
+    /// CPU time the SSH library spent on the connection until then.
+    pub(crate) fn key_exchange(&self, cpu: std::time::Duration) {
+        self.handshake_cpu.observe(cpu.as_secs_f64());
     }
 
     /// Joins so far.
@@ -237,6 +246,12 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
         Unit::Seconds,
         metrics.key_to_frame.clone(),
     );
+    registry.register_with_unit(
+        "handshake_cpu",
+        "CPU time the SSH library spent on a connection's key exchange (thread CPU time between its reads and writes, until the keys were exchanged or the connection closed); one observation a connection",
+        Unit::Seconds,
+        metrics.handshake_cpu.clone(),
+    );
     registry.register("build", "The mazewalk build", Info::new(vec![("version", env!("CARGO_PKG_VERSION"))]));
     registry.register_collector(Box::new(live));
     registry
@@ -269,6 +284,7 @@ mod tests {
         metrics.refused(&Refusal::FromThisAddress(2));
         metrics.sent(1000, true, Some(0.003));
         metrics.sent(24, false, None);
+        metrics.key_exchange(std::time::Duration::from_micros(300));
         let live =
             Live(Box::new(|| Snapshot { players: 3, handshakes: 1, records: Some((5, 1, 0)), world: None }));
         let text = encode(&registry(&metrics, live));
@@ -282,6 +298,10 @@ mod tests {
             "mazewalk_key_to_frame_seconds_count 1",
             "mazewalk_key_to_frame_seconds_bucket{le=\"0.004\"} 1",
             "mazewalk_key_to_frame_seconds_bucket{le=\"0.002\"} 0",
+            "mazewalk_handshake_cpu_seconds_count 1",
+            "mazewalk_handshake_cpu_seconds_sum 0.0003",
+            "mazewalk_handshake_cpu_seconds_bucket{le=\"0.0004\"} 1",
+            "mazewalk_handshake_cpu_seconds_bucket{le=\"0.0002\"} 0",
             "mazewalk_players 3",
             "mazewalk_handshakes 1",
             "mazewalk_records_written_total 5",
