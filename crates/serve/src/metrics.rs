@@ -248,7 +248,7 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
     );
     registry.register_with_unit(
         "handshake_cpu",
-        "CPU time the SSH library spent on a connection's key exchange (thread CPU time between its reads and writes, until the keys were exchanged or the connection closed); one observation a connection",
+        "CPU time the SSH library spent on a connection's key exchange (thread CPU time between its reads and writes, until the keys were exchanged or the connection closed); one observation for each connection let in (refused ones have none)",
         Unit::Seconds,
         metrics.handshake_cpu.clone(),
     );
