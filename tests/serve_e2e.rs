@@ -132,17 +132,27 @@ fn a_player_walking_away_is_a_figure_in_the_view_until_a_wall_hides_it() {
         }
         std::thread::sleep(Duration::from_millis(300)); // the glide stops within one repeat interval
     };
+    // The same, until bob's own screen shows him where `ok` says (not for a time long enough).
+    let hold_until = |bob: &mut Player, key: &[u8], what: &str, ok: &dyn Fn((f32, f32)) -> bool| {
+        let deadline = Instant::now() + TIMEOUT;
+        while !bob.shows(|s| hud_position(s).is_some_and(ok)) {
+            assert!(Instant::now() < deadline, "bob never got {what}");
+            bob.send(key);
+            std::thread::sleep(Duration::from_millis(40));
+        }
+        std::thread::sleep(Duration::from_millis(300)); // the glide stops within one repeat interval
+    };
     let snap = |bob: &mut Player, key: &[u8]| {
         bob.send(key);
         std::thread::sleep(Duration::from_millis(400)); // a snap turn takes 0.15 s
     };
     hold(&mut bob, b"w", 0.5);
     alice.wait_for("bob's figure in alice's view", |s, _| in_view(s, 'B'));
-    // To the corridor's end (about 17 units at 5 units/s; the wall stops him), a right turn (south)
-    // and down the passage: behind the corridor's south wall as alice sees it.
-    hold(&mut bob, b"w", 4.0);
+    // To the corridor's last tile (x 20 to 24: the wall stops him), a right turn (south) and down
+    // the passage: behind the corridor's south wall as alice sees it.
+    hold_until(&mut bob, b"w", "to the corridor's last tile", &|(x, _)| x > 20.0);
     snap(&mut bob, b".");
-    hold(&mut bob, b"w", 2.0);
+    hold_until(&mut bob, b"w", "down the passage", &|(x, y)| x > 16.0 && y < 12.0);
     bob.wait_for("bob down the passage", |s, _| hud_position(s).is_some_and(|(x, y)| x > 16.0 && y < 12.0));
     alice.wait_for("bob hidden by the wall", |s, _| playing(s, &[]) && !in_view(s, 'B'));
     for _ in 0..25 {

@@ -66,7 +66,7 @@ fn player(port: u16, user: &str) -> Player {
 /// Three tiles east from the start, the last one the exit.
 const SHORT_RUN: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#####\n#@.E#\n#####\n";
 
-/// Four tiles east from the start, the last one the exit: a newcomer spawns a cell from another
+/// Four tiles in a row, the start first and the exit last: a newcomer spawns a cell from another
 /// player (the next tile, when the start is taken) and three steps from there are still short of it.
 const LONG_RUN: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n######\n#@..E#\n######\n";
 
@@ -101,7 +101,10 @@ fn two_servers_walk_one_world_on_redis() {
     // Bob holds `w` east into the exit tile; alice, on the other server, is told.
     let announced = |s: &vt100::Screen, _: &[u8]| s.contents().contains("bob reached the exit first");
     assert!(!alice.shows(|s| announced(s, &[])), "nobody has reached the exit yet");
-    for _ in 0..100 {
+    // (Until his own screen says he is there, not for a time long enough.)
+    let deadline = Instant::now() + common::TIMEOUT;
+    while !bob.shows(|s| s.contents().contains("You found the exit in")) {
+        assert!(Instant::now() < deadline, "bob never reached the exit");
         bob.send(b"w");
         std::thread::sleep(Duration::from_millis(40));
     }

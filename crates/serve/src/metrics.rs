@@ -2,9 +2,9 @@
 //! official client crate (`prometheus-client`). Two kinds of numbers:
 //!
 //! - **Counted as it happens** ([`Metrics`]): joins, refusals by reason, frames and bytes sent to
-//!   players, the time from a key to the frame that follows it; spectators now, their joins and
-//!   refusals. Atomics, cheap enough to keep whether or not
-//!   anyone scrapes.
+//!   players, the time from a key to the frame that follows it, the CPU time of each connection's
+//!   key exchange; spectators now, their joins and refusals. Atomics, cheap enough to keep whether
+//!   or not anyone scrapes.
 //! - **Read at each scrape** ([`Snapshot`], through [`Live`]): players and handshakes now, the
 //!   records' writes and failures, the shared world's messages (`--world`). They are kept elsewhere
 //!   already; the scrape asks for them.
@@ -38,6 +38,7 @@ pub struct Metrics {
     spectators: Gauge,
     spectator_joins: Counter,
     spectator_refusals: Counter,
+    handshake_cpu: Histogram,
 }
 
 /// Every refusal's reason, as its label says it.
@@ -59,6 +60,8 @@ impl Default for Metrics {
             spectators: Gauge::default(),
             spectator_joins: Counter::default(),
             spectator_refusals: Counter::default(),
+            // 50 µs to 0.4 s, doubling: a stock OpenSSH client's exchange is about 1 ms of CPU.
+            handshake_cpu: Histogram::new(exponential_buckets(0.000_05, 2.0, 14)),
         }
     }
 }
@@ -105,6 +108,12 @@ impl Metrics {
     /// A spectator stopped watching.
     pub(crate) fn spectator_left(&self) {
         self.spectators.dec();
+    }
+
+    /// A connection's key exchange ended (done, or the connection closed before it was): `cpu`, the
+    /// CPU time the SSH library spent on the connection until then.
+    pub(crate) fn key_exchange(&self, cpu: std::time::Duration) {
+        self.handshake_cpu.observe(cpu.as_secs_f64());
     }
 
     /// Joins so far.
@@ -266,6 +275,11 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
         "spectator_refusals",
         "Spectators refused because every spectator's slot was taken",
         metrics.spectator_refusals.clone(),
+    registry.register_with_unit(
+        "handshake_cpu",
+        "CPU time the SSH library spent on a connection's key exchange (thread CPU time between its reads and writes, until the keys were exchanged or the connection closed); one observation for each connection let in (refused ones have none)",
+        Unit::Seconds,
+        metrics.handshake_cpu.clone(),
     );
     registry.register("build", "The mazewalk build", Info::new(vec![("version", env!("CARGO_PKG_VERSION"))]));
     registry.register_collector(Box::new(live));
@@ -303,6 +317,7 @@ mod tests {
         metrics.spectator_joined();
         metrics.spectator_left();
         metrics.refused(&Refusal::Spectators(1));
+        metrics.key_exchange(std::time::Duration::from_micros(300));
         let live =
             Live(Box::new(|| Snapshot { players: 3, handshakes: 1, records: Some((5, 1, 0)), world: None }));
         let text = encode(&registry(&metrics, live));
@@ -316,6 +331,10 @@ mod tests {
             "mazewalk_key_to_frame_seconds_count 1",
             "mazewalk_key_to_frame_seconds_bucket{le=\"0.004\"} 1",
             "mazewalk_key_to_frame_seconds_bucket{le=\"0.002\"} 0",
+            "mazewalk_handshake_cpu_seconds_count 1",
+            "mazewalk_handshake_cpu_seconds_sum 0.0003",
+            "mazewalk_handshake_cpu_seconds_bucket{le=\"0.0004\"} 1",
+            "mazewalk_handshake_cpu_seconds_bucket{le=\"0.0002\"} 0",
             "mazewalk_players 3",
             "mazewalk_handshakes 1",
             "mazewalk_records_written_total 5",

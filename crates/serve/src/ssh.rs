@@ -766,6 +766,9 @@ async fn connection(shared: Arc<Shared>, stream: CutStream<TcpStream>, conn: Arc
         }
     };
     Conn::set(&conn.handle, None);
+    if let Some(cpu) = conn.cut.kex_finished() {
+        shared.metrics.key_exchange(cpu); // closed before its keys were exchanged
+    }
     let error = result.err().map(|e| logs::error_reason(&e));
     let logged_in = conn.authenticated.load(Ordering::SeqCst);
     let methods = Conn::get(&conn.methods_refused);
@@ -878,6 +881,9 @@ impl Handler for Handlers {
     /// The keys are exchanged: the client's first encrypted request (for authentication) is here.
     async fn authentication_banner(&mut self) -> Result<Option<String>, Self::Error> {
         self.conn.keys.store(true, Ordering::SeqCst);
+        if let Some(cpu) = self.conn.cut.kex_finished() {
+            self.shared.metrics.key_exchange(cpu);
+        }
         self.progress();
         Ok(None)
     }

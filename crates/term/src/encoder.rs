@@ -703,6 +703,24 @@ mod tests {
         }
     }
 
+    /// A cell the pen can draw as it is goes exactly as it is, with no colour code, even where a form
+    /// within the tolerance would be a shorter glyph: `▀` in two near truecolor colours that are the
+    /// pen's own is sent as `▀`, not as a blank in one of them (the tolerance approximates only to
+    /// save colour codes).
+    #[test]
+    fn a_cell_the_pen_draws_as_it_is_goes_exactly() {
+        let (a, b) = (Color::Rgb(100, 100, 100), Color::Rgb(101, 101, 101));
+        assert!(PackedColor::pack(a).within(PackedColor::pack(b), 1), "near enough for a blank");
+        for tolerance in [0, 1, 2, MAX_TOLERANCE] {
+            let mut pen = pen(Some((0, 0)), Some(a), Some(b));
+            let mut out = Vec::new();
+            let cell = PackedCell::pack(&Cell { ch: '▀', fg: a, bg: b });
+            let sent = write_cell(&mut out, &mut pen, &cell, 10, tolerance);
+            assert_eq!(String::from_utf8(out).unwrap(), "▀", "tolerance {tolerance}");
+            assert_eq!(sent, cell, "tolerance {tolerance}");
+        }
+    }
+
     /// Routes are chosen by price, so a price must be exactly what writing sends and leave the pen as
     /// writing does: every glyph kind, colour kind and pen (unknown, default, equal, near, far), at
     /// tolerance 0 and 2, the cell in the middle and in the last column.

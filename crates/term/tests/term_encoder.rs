@@ -9,6 +9,7 @@ use mazewalk_term::frame::{Cell, Color, Frame};
 use proptest::prelude::*;
 
 use mazewalk_testkit::baseline::{full_repaint, lower_bound};
+use mazewalk_testkit::oklab_distance;
 
 /// Glyphs the encoder meets: blanks (often, so tails and gaps happen), ASCII, shades, box drawing, block
 /// glyphs with complements (halves, quadrants, sextants). All one column wide, as the `Frame` guarantees.
@@ -68,35 +69,12 @@ fn look(cell: &Cell) -> Look {
     }
 }
 
-/// OKLab of 8-bit sRGB, in f64 (Björn Ottosson's matrices): the oracle for the encoder's tolerance.
-fn oklab([r, g, b]: [u8; 3]) -> [f64; 3] {
-    let linear = |c: u8| {
-        let v = f64::from(c) / 255.0;
-        if v <= 0.040_45 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
-    };
-    let (r, g, b) = (linear(r), linear(g), linear(b));
-    let l = (0.412_221_470_8 * r + 0.536_332_536_3 * g + 0.051_445_992_9 * b).cbrt();
-    let m = (0.211_903_498_2 * r + 0.680_699_545_1 * g + 0.107_396_956_6 * b).cbrt();
-    let s = (0.088_302_461_9 * r + 0.281_718_837_6 * g + 0.629_978_700_5 * b).cbrt();
-    [
-        0.210_454_255_3 * l + 0.793_617_785 * m - 0.004_072_046_8 * s,
-        1.977_998_495_1 * l - 2.428_592_205 * m + 0.450_593_709_9 * s,
-        0.025_904_037_1 * l + 0.782_771_766_2 * m - 0.808_675_766 * s,
-    ]
-}
-
-/// The OKLab distance (ΔE_OK) between two 8-bit sRGB colours.
-fn distance(a: [u8; 3], b: [u8; 3]) -> f64 {
-    let (p, q) = (oklab(a), oklab(b));
-    (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
-}
-
 /// Whether two looks are the same up to `tolerance` steps of 0.01 in OKLab between truecolor colours
 /// (others equal). A hair of slack (1e-5) for the encoder's f32 arithmetic.
 fn looks_close(a: &Look, b: &Look, tolerance: u8) -> bool {
     let close = |a: &Color, b: &Color| match (a, b) {
         (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) if tolerance > 0 => {
-            distance([*r, *g, *b], [*r2, *g2, *b2]) <= f64::from(tolerance) * 0.01 + 1e-5
+            oklab_distance([*r, *g, *b], [*r2, *g2, *b2]) <= f64::from(tolerance) * 0.01 + 1e-5
         }
         _ => a == b,
     };
@@ -517,14 +495,14 @@ fn a_tolerance_lets_small_changes_wait_but_never_drift() {
         (0..width).all(|x| {
             let ((f0, b0), (f, b)) = (colors(0, x), colors(t, x));
             let limit = f64::from(tolerance) * 0.01;
-            distance(f0, f) <= limit - 1e-5 && distance(b0, b) <= limit - 1e-5
+            oklab_distance(f0, f) <= limit - 1e-5 && oklab_distance(b0, b) <= limit - 1e-5
         })
     };
     let none_within = |t: u8, tolerance: u8| {
         (0..width).all(|x| {
             let ((f0, b0), (f, b)) = (colors(0, x), colors(t, x));
             let limit = f64::from(tolerance) * 0.01;
-            distance(f0, f) > limit + 1e-5 && distance(b0, b) > limit + 1e-5
+            oklab_distance(f0, f) > limit + 1e-5 && oklab_distance(b0, b) > limit + 1e-5
         })
     };
     for tolerance in [0u8, 1, 2] {

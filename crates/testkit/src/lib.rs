@@ -1,7 +1,7 @@
 //! What the tests and benches of every mazewalk crate share, in one copy: the proptest configuration
-//! of every property, a tolerant comparison, the check that a system program a test runs is
-//! installed ([`require_tool`]) and the `redis-server` they start ([`redis_server`]). A
-//! dev-dependency only.
+//! of every property, a tolerant comparison, the f64 OKLab oracle ([`oklab`]), the check that a
+//! system program a test runs is installed ([`require_tool`]) and the `redis-server` they start
+//! ([`redis_server`]). A dev-dependency only.
 //!
 //! The harnesses that drive a mazewalk crate are behind a feature named after it (`term`, `walk`,
 //! `pty`, `serve`, `redis`), so that the math crate's tests, say, build none of them. Only a crate's
@@ -62,6 +62,34 @@ pub fn config_cases(cases: u32) -> ProptestConfig {
 #[must_use]
 pub fn close(a: f32, b: f32, rel: f32, scale: f32) -> bool {
     (a - b).abs() <= rel * scale.max(a.abs()).max(b.abs())
+}
+
+/// OKLab (L, a, b) of an 8-bit sRGB colour, in f64 with the library cube root (Björn Ottosson's
+/// matrices, <https://bottosson.github.io/posts/oklab/>, at their published precision): the oracle
+/// the tests hold the term crate's f32 transform (`mazewalk_term::frame::oklab`, with its fast cube
+/// root) to.
+#[must_use]
+pub fn oklab([r, g, b]: [u8; 3]) -> [f64; 3] {
+    let linear = |c: u8| {
+        let v = f64::from(c) / 255.0;
+        if v <= 0.040_45 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
+    };
+    let (r, g, b) = (linear(r), linear(g), linear(b));
+    let l = (0.412_221_470_8 * r + 0.536_332_536_3 * g + 0.051_445_992_9 * b).cbrt();
+    let m = (0.211_903_498_2 * r + 0.680_699_545_1 * g + 0.107_396_956_6 * b).cbrt();
+    let s = (0.088_302_461_9 * r + 0.281_718_837_6 * g + 0.629_978_700_5 * b).cbrt();
+    [
+        0.210_454_255_3 * l + 0.793_617_785 * m - 0.004_072_046_8 * s,
+        1.977_998_495_1 * l - 2.428_592_205 * m + 0.450_593_709_9 * s,
+        0.025_904_037_1 * l + 0.782_771_766_2 * m - 0.808_675_766 * s,
+    ]
+}
+
+/// The OKLab distance (ΔE_OK) between two 8-bit sRGB colours, by [`oklab`].
+#[must_use]
+pub fn oklab_distance(a: [u8; 3], b: [u8; 3]) -> f64 {
+    let (p, q) = (oklab(a), oklab(b));
+    (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
 }
 
 /// The repository's `mazes/` folder, which every crate's tests read: the example mazes, and in

@@ -212,5 +212,13 @@ mod tests {
         assert_eq!(moved(Some((5, 3)), 2, 4), "\x1b[5;3H"); // ties with "\r\n\x1b[2C": absolute wins
         assert_eq!(moved(Some((5, 9)), 5, 2), "\x1b[7A");
         assert_eq!(moved(Some((70, 3)), 40, 30), "\x1b[31;41H");
+        // Up to three backspaces (a byte each) beat `CUB`; past three, `CUB` (ties go to it).
+        assert_eq!(moved(Some((5, 3)), 2, 3), "\x08\x08\x08");
+        assert_eq!(moved(Some((5, 3)), 1, 3), "\x1b[4D");
+        // Far back along a row, an absolute column (`CHA`) has fewer digits than the distance.
+        assert_eq!(moved(Some((50, 3)), 5, 3), "\x1b[6G");
+        // Far up in the same column, an absolute row (`VPA`).
+        assert_eq!(moved(Some((5, 40)), 5, 2), "\x1b[3d");
+        assert_eq!(moved(Some((0, 3)), 0, 4), "\n");
     }
 }

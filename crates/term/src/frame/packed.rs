@@ -338,23 +338,7 @@ impl PackedCell {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// OKLab of 8-bit sRGB in f64 with the library cube root: the oracle for the encoder's f32 one.
-    fn oklab_reference([r, g, b]: [u8; 3]) -> [f64; 3] {
-        let linear = |c: u8| {
-            let v = f64::from(c) / 255.0;
-            if v <= 0.040_45 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
-        };
-        let (r, g, b) = (linear(r), linear(g), linear(b));
-        let l = (0.412_221_470_8 * r + 0.536_332_536_3 * g + 0.051_445_992_9 * b).cbrt();
-        let m = (0.211_903_498_2 * r + 0.680_699_545_1 * g + 0.107_396_956_6 * b).cbrt();
-        let s = (0.088_302_461_9 * r + 0.281_718_837_6 * g + 0.629_978_700_5 * b).cbrt();
-        [
-            0.210_454_255_3 * l + 0.793_617_785 * m - 0.004_072_046_8 * s,
-            1.977_998_495_1 * l - 2.428_592_205 * m + 0.450_593_709_9 * s,
-            0.025_904_037_1 * l + 0.782_771_766_2 * m - 0.808_675_766 * s,
-        ]
-    }
+    use mazewalk_testkit::{oklab as oklab_f64, oklab_distance};
 
     /// Every colour has one spelling: packing is one-to-one and unpacking gives the colour back; the
     /// tolerance applies to truecolor colours alone, as an OKLab distance (against an f64 oracle; pairs
@@ -385,8 +369,7 @@ mod tests {
                     let within = match (rgb(a), rgb(b)) {
                         _ if a == b => Some(true),
                         (Some((kind, p)), Some((kind2, q))) if tolerance > 0 && kind == kind2 => {
-                            let (p, q) = (oklab_reference(p), oklab_reference(q));
-                            let d = (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
+                            let d = oklab_distance(p, q);
                             let limit = f64::from(tolerance) * f64::from(TOLERANCE_STEP);
                             ((d - limit).abs() > 1e-5).then_some(d <= limit)
                         }
@@ -428,7 +411,7 @@ mod tests {
         // The 16 ANSI colours are the theme's: exact, even where xterm's defaults coincide with an entry.
         assert!(!entry(0).within(entry(16), 16) && !entry(15).within(entry(231), 16));
         // One 8-bit step is a bigger change in a dark colour than in a light one.
-        let step = |v: u8| oklab_reference([v + 1; 3])[0] - oklab_reference([v; 3])[0];
+        let step = |v: u8| oklab_f64([v + 1; 3])[0] - oklab_f64([v; 3])[0];
         assert!(step(2) > 0.012 && step(250) < 0.003, "{} {}", step(2), step(250));
         let (dark, light) = ((2, 3), (250, 251));
         let grey = |v: u8| PackedColor::pack(Color::Rgb(v, v, v));
