@@ -275,6 +275,7 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
         "spectator_refusals",
         "Spectators refused because every spectator's slot was taken",
         metrics.spectator_refusals.clone(),
+    );
     registry.register_with_unit(
         "handshake_cpu",
         "CPU time the SSH library spent on a connection's key exchange (thread CPU time between its reads and writes, until the keys were exchanged or the connection closed); one observation for each connection let in (refused ones have none)",
