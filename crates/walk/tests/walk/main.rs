@@ -7,6 +7,7 @@ mod controls;
 mod map_fog;
 mod overlays;
 mod render_frames;
+mod run_codec;
 mod sessions;
 mod slow_link;
 mod tolerance_picture;
