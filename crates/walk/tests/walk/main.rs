@@ -4,6 +4,7 @@
 
 mod common;
 mod controls;
+mod ghost;
 mod map_fog;
 mod overlays;
 mod render_frames;
