@@ -33,5 +33,5 @@ fuzz_target!(|bytes: &[u8]| {
         assert!(pose.position.is_finite() && pose.pitch_deg.abs() <= 90.0, "{pose:?} at {t}");
     }
     let (maze, hash) = maze();
-    let _ = run.check_maze(maze, *hash);
+    let _ = run.check_maze(*hash, maze.extents());
 });

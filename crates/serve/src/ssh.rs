@@ -1226,6 +1226,10 @@ async fn walk(
             return End::Quit;
         }
         let now = shared.now();
+        if let Some(keeper) = &shared.records {
+            // the maze's best run, for the ghost (`g`): the records thread's latest, checked
+            player.session_mut().set_ghost_run(keeper.records.best_run());
+        }
         if player.look_due(now) {
             // Under the lock: the snapshot's two `Arc`s cloned, after rebuilding it if the world
             // changed since the last look (World::look); every version it shows counts as seen.
@@ -1267,7 +1271,9 @@ async fn walk(
             // Kept, without waiting: the standing comes back while the player plays on.
             if let Some(keeper) = &shared.records {
                 player.session_mut().set_standings(Vec::new());
-                standing = keeper.finish(&user, seconds);
+                let holder = crate::identity::player_name(&user);
+                let run = player.session().app().run(keeper.maze, &holder).and_then(|run| run.encode().ok());
+                standing = keeper.finish(&user, seconds, run);
             }
         }
         // Sleep until input, the session's next deadline, a change in the world, the idle timeout or

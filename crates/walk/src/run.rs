@@ -30,7 +30,9 @@
 //! construction (a sample per tenth of a second). Every fault is a [`RunError`], never a panic.
 
 use glam::Vec2;
-use mazewalk_maze::{ContentHash, Maze};
+#[cfg(doc)]
+use mazewalk_maze::Maze;
+use mazewalk_maze::{Aabb, ContentHash};
 
 /// Samples per second.
 pub const RATE: u32 = 10;
@@ -374,17 +376,17 @@ impl Run {
         Ok(Run { maze, holder: holder.to_string(), millis, samples })
     }
 
-    /// Whether the run belongs to `maze` (of hash `hash`, its [`Maze::content_hash`], which the
-    /// caller computes once) and every sample stands within its extents.
+    /// Whether the run belongs to the maze of hash `hash` (its [`Maze::content_hash`], which the
+    /// caller computes once) and every sample stands within its `extents` ([`Maze::extents`]).
     ///
     /// # Errors
     /// [`RunError::OtherMaze`], or [`RunError::OutsideMaze`] with the first sample outside.
-    pub fn check_maze(&self, maze: &Maze, hash: ContentHash) -> Result<(), RunError> {
+    pub fn check_maze(&self, hash: ContentHash, extents: Aabb) -> Result<(), RunError> {
         if self.maze != hash {
             return Err(RunError::OtherMaze { run: self.maze, maze: hash });
         }
         // (a position is rounded to 1/256: within one step of the extents is inside)
-        let extents = maze.extents().expand(1.0 / POSITION_STEPS);
+        let extents = extents.expand(1.0 / POSITION_STEPS);
         let inside = |p: Vec2| extents.min.cmple(p).all() && p.cmple(extents.max).all();
         match self.samples.iter().position(|s| !inside(s.position)) {
             Some(k) => Err(RunError::OutsideMaze(k)),
@@ -570,13 +572,13 @@ mod tests {
         let maze = mazewalk_maze::builtin().unwrap();
         let hash = maze.content_hash();
         let mut run = walk_east(1.0);
-        assert!(matches!(run.check_maze(&maze, hash), Err(RunError::OtherMaze { .. })));
+        assert!(matches!(run.check_maze(hash, maze.extents()), Err(RunError::OtherMaze { .. })));
         run.maze = hash;
         for s in &mut run.samples {
             s.position = maze.viewer().pos;
         }
-        assert_eq!(run.check_maze(&maze, hash), Ok(()));
+        assert_eq!(run.check_maze(hash, maze.extents()), Ok(()));
         run.samples[3].position.x = -1e6;
-        assert_eq!(run.check_maze(&maze, hash), Err(RunError::OutsideMaze(3)));
+        assert_eq!(run.check_maze(hash, maze.extents()), Err(RunError::OutsideMaze(3)));
     }
 }
