@@ -172,6 +172,21 @@ pub enum Command {
     Serve(ServeArgs),
     /// Print the best times kept by `serve`: of one maze, or of every maze served.
     Records(RecordsArgs),
+    /// Play a stored run back in the terminal, first person, as the walk draws it (q quits, r
+    /// starts again; the map, glyph and help keys work): RUN is a file from `--save-run` or
+    /// `records --export-run`, the maze the one it was walked in. `--record FILE.cast` writes the
+    /// playback as an asciicast.
+    Replay(ReplayArgs),
+}
+
+#[derive(Args)]
+pub struct ReplayArgs {
+    /// The run to play back.
+    #[arg(value_name = "RUN")]
+    pub run: PathBuf,
+    /// The maze it was walked in, and how to draw it (as for the walk).
+    #[command(flatten)]
+    pub walk: WalkArgs,
 }
 
 #[derive(Args)]

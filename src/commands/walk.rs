@@ -8,7 +8,7 @@ use anyhow::{Context as _, bail};
 
 use super::{load_maze, maze_name};
 use crate::cast::{Header, Recorder};
-use crate::cli::WalkArgs;
+use crate::cli::{ReplayArgs, WalkArgs};
 use crate::guard;
 use crate::run::run as run_session;
 use mazewalk_render::{Culling, RenderOptions};
@@ -19,7 +19,31 @@ use mazewalk_walk::{App, Session, SessionOptions};
 /// Walks the maze the flags name in this process's terminal until the player quits or a signal
 /// ends it (exit 128 + n).
 pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
+    walk(args, None)
+}
+
+/// `mazewalk replay RUN [MAZE]`: the walk's screen driven by a stored run instead of the keys.
+pub fn replay(args: &ReplayArgs) -> anyhow::Result<ExitCode> {
+    if args.walk.save_run.is_some() {
+        bail!("replay: --save-run keeps a walk's own run; a replay has none");
+    }
+    walk(&args.walk, Some(&args.run))
+}
+
+/// The walk, or with `replay` the playback of the run in that file.
+fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<ExitCode> {
     let maze = load_maze(&args.maze)?;
+    // the maze's hash, for a run to race or to keep (a 1000 × 1000 maze takes tenths of a second)
+    let hash =
+        (args.ghost.is_some() || args.save_run.is_some() || replay.is_some()).then(|| maze.content_hash());
+    let ghost = match (&args.ghost, hash) {
+        (Some(path), Some(hash)) => Some(read_run(path, hash, maze.extents())?),
+        _ => None,
+    };
+    let replay = match (replay, hash) {
+        (Some(path), Some(hash)) => Some(read_run(path, hash, maze.extents())?),
+        _ => None,
+    };
     let unfit = match std::env::var("TERM") {
         Err(std::env::VarError::NotPresent) => Some("TERM is unset"),
         Err(std::env::VarError::NotUnicode(_)) => Some("TERM is not UTF-8"),
@@ -44,16 +68,17 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
         Some(depth) => ColorPlan { depth, ask: false },
         None => caps::plan_color_depth(env, color_facts(env)),
     };
-    // the maze's hash, for a run to race or to keep (a 1000 × 1000 maze takes tenths of a second)
-    let hash = (args.ghost.is_some() || args.save_run.is_some()).then(|| maze.content_hash());
-    let ghost = match (&args.ghost, hash) {
-        (Some(path), Some(hash)) => Some(read_run(path, hash, maze.extents())?),
-        _ => None,
-    };
     let clock = Instant::now(); // the walk's time 0
     let options = RenderOptions { color_depth: plan.depth, ..args.look.options(Culling::Portal) };
     let mut app = App::new(maze, options, 0.0)?;
     app.ghost = ghost.is_some();
+    let status = replay.as_ref().map(|run| {
+        let who = if run.holder.is_empty() { String::new() } else { format!("{} ", run.holder) };
+        format!("replay {who}{}", mazewalk_walk::clock::clock_text(run.seconds()))
+    });
+    if let Some(run) = replay {
+        app.set_replay(std::sync::Arc::new(run));
+    }
     app.reveal_map = args.reveal_map;
     app.figures = args.dev_figures;
     let m = &args.motion;
@@ -70,6 +95,7 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     };
     let mut session = Session::new(app, 80, 24, options); // resized to the terminal by `run`
     session.set_ghost_run(ghost.map(std::sync::Arc::new));
+    session.set_status(status.as_deref());
     let recorder = match &args.record {
         Some(path) => Some(start_recording(path, args, plan, clock)?),
         None => None,
@@ -92,7 +118,8 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     if let Some(signal) = ended.context("terminal")?.signal() {
         return Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)));
     }
-    if let Some(seconds) = session.outcome().finished {
+    let replayed = status.is_some();
+    if let Some(seconds) = session.outcome().finished.filter(|_| !replayed) {
         let _ = writeln!(std::io::stdout(), "You found the exit in {seconds:.1} s."); // the walk is over either way
     }
     if let (Some(path), Some(hash)) = (&args.save_run, hash) {

@@ -187,6 +187,8 @@ pub struct App {
     recorder: Recorder,
     /// The pose at the finish, once reached.
     finish_pose: Option<Pose>,
+    /// A stored run that moves the viewer instead of the keys (`mazewalk replay`).
+    replay: Option<Arc<Run>>,
 }
 
 /// The viewer's start is not inside any cell.
@@ -262,7 +264,33 @@ impl App {
             last_tick: now,
             recorder: Recorder::default(),
             finish_pose: None,
+            replay: None,
         })
+    }
+
+    /// Plays `run` back: from now on the viewer goes where the run went, at its times from the walk's
+    /// start (`r` starts it again); the keys that walk, turn and look do nothing, the others (map,
+    /// glyphs, help, quit) work as in a walk. At the run's end the viewer stands at its finish and
+    /// the HUD shows its time. The caller checks the run is of this maze ([`Run::check_maze`]).
+    pub fn set_replay(&mut self, run: Arc<Run>) {
+        self.replay = Some(run);
+    }
+
+    /// Brings a replay's viewer to its pose at `now`.
+    fn follow_replay(&mut self, now: f64) {
+        let Some(run) = &self.replay else { return };
+        let t = now - self.started;
+        let Some(pose) = run.pose_at(t) else { return };
+        let done = t >= run.seconds();
+        self.camera.position = pose.position;
+        self.camera.yaw_deg = pose.yaw_deg;
+        self.camera.pitch_deg = pose.pitch_deg;
+        if let Some(cell) = self.maze.cell_at(pose.position) {
+            self.cell = cell;
+        }
+        if done && self.finished.is_none() {
+            self.finished = Some(run.seconds());
+        }
     }
 
     /// The viewer's pose now.
@@ -375,6 +403,11 @@ impl App {
             return true;
         }
         let Some(action) = action else { return false };
+        let moves = matches!(action, Action::SnapLeft | Action::SnapRight)
+            || action.is_continuous() && !matches!(action, Action::FovWider | Action::FovNarrower);
+        if self.replay.is_some() && moves {
+            return false; // the run moves the viewer
+        }
         if action.is_continuous() {
             match phase {
                 KeyPhase::Release => {
@@ -459,7 +492,7 @@ impl App {
 
     /// A mouse drag by (`dx`, `dy`) terminal cells: look around.
     pub fn drag(&mut self, dx: i32, dy: i32) -> bool {
-        if dx == 0 && dy == 0 {
+        if dx == 0 && dy == 0 || self.replay.is_some() {
             return false;
         }
         self.turn(-(dx as f32) * DRAG_DEGREES_PER_CELL, -(dy as f32) * DRAG_DEGREES_PER_CELL);
@@ -544,7 +577,7 @@ impl App {
     /// True while something moves by itself (held keys, a snap turn), so the loop keeps drawing frames.
     #[must_use]
     pub fn is_animating(&self, now: f64) -> bool {
-        self.held.any(now) || self.snap.is_some()
+        self.held.any(now) || self.snap.is_some() || self.replay.is_some() && self.finished.is_none()
     }
 
     /// Advances held-key motion and any snap turn to time `now` at speeds independent of the frame rate.
@@ -584,6 +617,7 @@ impl App {
                 self.snap = None;
             }
         }
+        self.follow_replay(now);
         self.track(now);
         (self.camera, self.cell) != before
     }

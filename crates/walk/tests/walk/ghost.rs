@@ -144,3 +144,28 @@ fn a_walk_to_the_exit_keeps_its_run() {
     app.key(Key::Char('r'), KeyPhase::Press, t + 6.0);
     assert_eq!(app.run(hash, "ada"), None);
 }
+
+// `mazewalk replay`: a run drives the viewer instead of the keys.
+#[test]
+fn a_replay_moves_the_viewer_along_the_run_and_the_walking_keys_do_nothing() {
+    let maze = corridor();
+    let run = Arc::new(run_east(&maze));
+    let mut app = App::new(maze, options(), 0.0).unwrap();
+    app.set_replay(Arc::clone(&run));
+    assert!(app.is_animating(0.0));
+    app.tick(2.0);
+    assert!((app.camera.position.x - 16.0).abs() < 0.01, "{}", app.camera.position);
+    assert!(!app.key(Key::Char('w'), KeyPhase::Press, 2.0), "w walks nothing");
+    assert!(!app.key(Key::Left, KeyPhase::Press, 2.0));
+    app.tick(2.5);
+    assert!((app.camera.position.x - 18.5).abs() < 0.01, "{}", app.camera.position);
+    assert_eq!(app.camera.yaw_deg, 0.0);
+    app.tick(20.0);
+    assert_eq!(app.finished, Some(12.0), "the run's time at its end");
+    assert!(!app.exit_box && !app.is_animating(20.0));
+    assert!(app.key(Key::Char('m'), KeyPhase::Press, 20.0), "the map key works");
+    // `r` plays it again from the start
+    app.key(Key::Char('r'), KeyPhase::Press, 30.0);
+    app.tick(31.0);
+    assert!((app.camera.position.x - 11.0).abs() < 0.01 && app.finished.is_none());
+}
