@@ -1562,11 +1562,28 @@ fn replay_plays_a_stored_run_back_and_records_it() {
         assert!(data.as_bytes() == raw, "the cast is what the terminal received");
     }
 
-    // the run against another maze (the built-in one): refused, plainly, the terminal untouched
-    let out =
-        Command::new(env!("CARGO_BIN_EXE_mazewalk")).args(["replay", run_arg]).output().expect("replay");
-    assert_eq!(out.status.code(), Some(1), "{out:?}");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("of another maze"), "{err}");
-    assert!(out.stdout.is_empty());
+    // the same run raced as a ghost in a walk: on from the start, named in the HUD
+    let mut tui = Tui::spawn(&[maze_arg, "--ghost", run_arg], 100, 30, Answers::Plain);
+    tui.wait_for("the ghost raced", |s| s.contents().contains("ghost ada 0:03.0"));
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+
+    // the run against another maze (the built-in one), or a file that is no run or far too long:
+    // refused, plainly, the terminal untouched
+    let junk = dir.join("e2e-replay-junk.run");
+    std::fs::write(&junk, vec![b'M'; 70_000]).expect("junk");
+    for (args, says) in [
+        (vec!["replay", run_arg], "of another maze"),
+        (vec!["--ghost", run_arg], "of another maze"),
+        (vec!["replay", junk.to_str().unwrap(), maze_arg], "longer than the 65536 allowed"),
+        (vec!["--ghost", maze_arg, maze_arg], "not a mazewalk run"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_mazewalk")).args(&args).output().expect("mazewalk");
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {out:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(out.stdout.is_empty());
+    }
 }
