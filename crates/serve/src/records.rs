@@ -30,6 +30,13 @@
 //! - **One file, many servers.** A rollback journal with a busy timeout: servers on one file (two
 //!   mazes, say) each write their finishes; a write waits for another's, a few milliseconds.
 //!
+//! - **Runs for ghosts** (issue #43). A finish carries its run ([`Finish::run`], the format of
+//!   [`mazewalk_walk::run`]); the store keeps it for the best finish of each of the maze's best
+//!   [`TOP`] players and drops the others ([`Store::run`] reads one back). With a [`Race`], the
+//!   records thread reads the maze's best run at start, after each finish with a run and every
+//!   [`REREAD_BEST_RUN`], decodes and checks it as untrusted (a fault said once) and offers it as
+//!   [`Records::best_run`]. A finish kept in memory while the store fails keeps no run.
+//!
 //! [`Store`] is the seam for another backend: with `--world` the best times live in the shared
 //! world's Redis ([`RedisStore`](crate::shared::records::RedisStore), a sorted set per maze). The
 //! server only calls [`Store::record`]; `mazewalk records` calls [`Store::mazes`].
@@ -890,9 +897,23 @@ fn keep(
     tally: &Tally,
     race: Option<(Race, &Mutex<Option<Arc<Run>>>)>,
 ) {
-    let read_best = |store: &mut dyn StoreRuns| {
+    // the best run's fault last said (each said once, until a read goes well)
+    let mut run_fault: Option<String> = None;
+    let mut read_best = |store: &mut dyn StoreRuns| {
         if let Some((race, best)) = race {
-            let run = best_run(store, race, report);
+            let run = match best_run(store, race) {
+                Ok(run) => {
+                    run_fault = None;
+                    run
+                }
+                Err(line) => {
+                    if run_fault.as_ref() != Some(&line) {
+                        report(&line);
+                        run_fault = Some(line);
+                    }
+                    None
+                }
+            };
             *best.lock().unwrap_or_else(PoisonError::into_inner) = run.map(Arc::new);
         }
     };
@@ -900,7 +921,16 @@ fn keep(
     let mut memory = Memory::default();
     let mut failing = false;
     let mut said: Option<std::time::Instant> = None;
-    while let Ok((finish, answer)) = queue.recv() {
+    loop {
+        // (read again now and then: another server on the file, or in the world, may have beaten it)
+        let (finish, answer) = match queue.recv_timeout(REREAD_BEST_RUN) {
+            Ok(job) => job,
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                read_best(&mut store);
+                continue;
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => break,
+        };
         if let Some(line) = store.check() {
             report(&line);
         }
@@ -942,27 +972,29 @@ impl<S: Store> StoreRuns for S {
     }
 }
 
+/// How often the records thread reads the best run again with no finish of its own (another server
+/// on the same file, or in the same world, may have made a better one).
+const REREAD_BEST_RUN: Duration = Duration::from_secs(30);
+
 /// `race`'s maze's best run from `store`, decoded and checked, labelled with its player's name as
-/// [`player_name`] cleans it; a run that fails is said through `report` and is no ghost.
-fn best_run(store: &mut dyn StoreRuns, race: Race, report: &(dyn Fn(&str) + Send + Sync)) -> Option<Run> {
+/// [`player_name`] cleans it (`None`: none kept); a run that fails, or a store that does, is the line
+/// to say, and no ghost.
+fn best_run(store: &mut dyn StoreRuns, race: Race) -> Result<Option<Run>, String> {
     let stored = match store.best(&race.maze) {
-        Ok(stored) => stored?,
-        Err(err) => {
-            report(&format!("records: cannot read the best run: {err}"));
-            return None;
-        }
+        Ok(Some(stored)) => stored,
+        Ok(None) => return Ok(None),
+        Err(err) => return Err(format!("records: cannot read the best run: {err}")),
     };
     let checked =
         Run::decode(&stored.bytes).and_then(|run| run.check_maze(race.maze, race.extents).map(|()| run));
     match checked {
         Ok(mut run) => {
             run.holder = player_name(&stored.player); // (ASCII, at most 16 characters)
-            Some(run)
+            Ok(Some(run))
         }
         Err(err) => {
             let who = player_name(&stored.player);
-            report(&format!("records: the best run ({who}'s) is not usable, no ghost: {err}"));
-            None
+            Err(format!("records: the best run ({who}'s) is not usable, no ghost: {err}"))
         }
     }
 }
