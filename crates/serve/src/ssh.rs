@@ -555,11 +555,15 @@ impl Server {
         }));
         let registry = crate::metrics::registry(&self.shared.metrics, live);
         let shared = Arc::clone(&self.shared);
+        let records = self.shared.records.as_ref().map(|keeper| keeper.records.clone());
         let site = crate::http::Site {
             registry,
             maze: crate::http::maze_json(&self.shared.maze, maze_name, &self.joining()),
             versions: self.shared.world.version.subscribe(),
             players: Box::new(move || crate::http::players_json(&shared.world().look())),
+            best_run: Box::new(move || {
+                crate::http::best_run_json(records.as_ref().and_then(|r| r.best_run()).as_deref())
+            }),
             streams: AtomicUsize::new(0),
             shutdown: self.shared.shutdown.clone(),
         };
