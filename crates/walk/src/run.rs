@@ -12,7 +12,8 @@
 //! 32 bytes                            the maze's content hash (Maze::content_hash)
 //! u8 rate                             samples per second: RATE (10)
 //! varint millis                       the finish time, ms: 1..=MAX_SECONDS × 1000
-//! u8 length, UTF-8                    the holder's name: ≤ MAX_NAME bytes, no control characters
+//! u8 length, ASCII                   the holder's name: ≤ MAX_NAME printable ASCII characters, no
+//!                                     space (it is drawn on screens: no escape, no wide or bidi text)
 //! varint count                        samples: millis / 100 + 1 (one at every tenth of a second,
 //!                                     from 0 to the finish); so at most MAX_SAMPLES
 //! x, y, yaw, pitch                    the first sample: zigzag x, y in 1/256 maze units; yaw in
@@ -124,8 +125,8 @@ pub enum RunError {
     /// A field's value is out of its range.
     #[error("the run's {0} is out of range")]
     OutOfRange(&'static str),
-    /// The holder's name is not short UTF-8 text.
-    #[error("the run's holder name is not text of at most {MAX_NAME} bytes")]
+    /// The holder's name is not short printable ASCII.
+    #[error("the run's holder name is not at most {MAX_NAME} printable ASCII characters")]
     BadName,
     /// Bytes after the last sample.
     #[error("{0} bytes after the run's end")]
@@ -216,7 +217,7 @@ fn sample_count(millis: u32) -> usize {
 
 /// Whether a holder's name is one the format keeps.
 fn good_name(name: &str) -> bool {
-    name.len() <= MAX_NAME && !name.chars().any(char::is_control)
+    name.len() <= MAX_NAME && name.bytes().all(|b| b.is_ascii_graphic())
 }
 
 /// The largest fixed-point position: ±2^24 maze units (a 1000 × 1000 maze spans 4000).
@@ -562,6 +563,12 @@ mod tests {
         assert_eq!(Run::decode(&one(0, 0, 91 * 16)), Err(RunError::OutOfRange("pitch")));
         assert_eq!(Run::decode(&one(0, 5760, 0)), Err(RunError::OutOfRange("heading")));
         assert_eq!(Run::decode(&one(1 << 40, 0, 0)), Err(RunError::OutOfRange("position")));
+        // a name that would turn a screen's text around (U+202E), or hold a space: refused
+        let mut bidi = good.clone();
+        bidi[header + 3..header + 6].copy_from_slice("\u{202e}".as_bytes());
+        assert_eq!(Run::decode(&bidi), Err(RunError::BadName));
+        bidi[header + 3..header + 6].copy_from_slice(b"a d");
+        assert_eq!(Run::decode(&bidi), Err(RunError::BadName));
         let mut huge = good[..header].to_vec();
         huge.extend_from_slice(&[0xff; 11]);
         assert_eq!(Run::decode(&huge), Err(RunError::OutOfRange("finish time")));
