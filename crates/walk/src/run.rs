@@ -22,7 +22,8 @@
 //!                                     way round, within ±180°)
 //! ```
 //!
-//! **Limits.** A run is at most [`MAX_SECONDS`] long (ten minutes: a longer walk keeps no run) and
+//! **Limits.** A run is at most [`MAX_SECONDS`] long (ten minutes: a longer walk keeps no run), its
+//! positions within ±65,536 maze units ([`POSITION_LIMIT`]), and
 //! its encoding at most [`MAX_BYTES`] (64 KiB; at a walk's top speeds a sample takes at most 8 bytes,
 //! so a ten-minute run fits in about 48 KB). A run read from a file, a database or Redis is
 //! untrusted: [`Run::decode`] checks the length before anything, the count against the finish time
@@ -220,8 +221,10 @@ fn good_name(name: &str) -> bool {
     name.len() <= MAX_NAME && name.bytes().all(|b| b.is_ascii_graphic())
 }
 
-/// The largest fixed-point position: ±2^24 maze units (a 1000 × 1000 maze spans 4000).
-const POSITION_LIMIT: i64 = 1 << 32;
+/// The largest fixed-point position, in 1/256 steps: ±2^24 of them, ±65,536 maze units (a generated
+/// 1000 × 1000 maze spans 4000), where an `f32` still holds every step exactly, so that a decoded run
+/// encodes back to its bytes. A walk outside keeps no run.
+pub const POSITION_LIMIT: i64 = 1 << 24;
 
 impl Run {
     /// The finish time, seconds.
@@ -354,8 +357,8 @@ impl Run {
                 at.2 = yaw as i64;
                 at.3 = r.signed("pitch", PITCH_MAX)?;
             } else {
-                let dx = r.signed("position", POSITION_LIMIT)?;
-                let dy = r.signed("position", POSITION_LIMIT)?;
+                let dx = r.signed("position", 2 * POSITION_LIMIT)?;
+                let dy = r.signed("position", 2 * POSITION_LIMIT)?;
                 let turn = r.signed("heading", FULL_TURN / 2)?;
                 let dpitch = r.signed("pitch", 2 * PITCH_MAX)?;
                 at.0 += dx;
@@ -563,6 +566,11 @@ mod tests {
         assert_eq!(Run::decode(&one(0, 0, 91 * 16)), Err(RunError::OutOfRange("pitch")));
         assert_eq!(Run::decode(&one(0, 5760, 0)), Err(RunError::OutOfRange("heading")));
         assert_eq!(Run::decode(&one(1 << 40, 0, 0)), Err(RunError::OutOfRange("position")));
+        // (found by the fuzzer: far out, an f32 cannot hold every 1/256 step, and the run would not
+        // encode back to its bytes)
+        let edge = one(POSITION_LIMIT, 0, 0);
+        assert_eq!(Run::decode(&edge).unwrap().encode().unwrap(), edge);
+        assert_eq!(Run::decode(&one(POSITION_LIMIT + 1, 0, 0)), Err(RunError::OutOfRange("position")));
         // a name that would turn a screen's text around (U+202E), or hold a space: refused
         let mut bidi = good.clone();
         bidi[header + 3..header + 6].copy_from_slice("\u{202e}".as_bytes());
