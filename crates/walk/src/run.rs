@@ -19,7 +19,7 @@
 //! x, y, yaw, pitch                    the first sample: zigzag x, y in 1/256 maze units; yaw in
 //!                                     1/16° (0..5760); zigzag pitch in 1/16° (±90°)
 //! dx, dy, dyaw, dpitch  × (count − 1)  each next sample from the one before, zigzag (dyaw the short
-//!                                     way round, within ±180°)
+//!                                     way round, in −180°..180°: a half turn is −180°)
 //! ```
 //!
 //! **Limits.** A run is at most [`MAX_SECONDS`] long (ten minutes: a longer walk keeps no run), its
@@ -59,7 +59,7 @@ const MIN_SAMPLE_BYTES: usize = 4;
 const STEP_MS: u32 = 1000 / RATE;
 
 /// Where the viewer stood and looked at one time.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Pose {
     /// Where (maze plane).
     pub position: Vec2,
@@ -360,6 +360,9 @@ impl Run {
                 let dx = r.signed("position", 2 * POSITION_LIMIT)?;
                 let dy = r.signed("position", 2 * POSITION_LIMIT)?;
                 let turn = r.signed("heading", FULL_TURN / 2)?;
+                if turn == FULL_TURN / 2 {
+                    return Err(RunError::OutOfRange("heading")); // a half turn is written −180° (one form)
+                }
                 let dpitch = r.signed("pitch", 2 * PITCH_MAX)?;
                 at.0 += dx;
                 at.1 += dy;
@@ -571,6 +574,19 @@ mod tests {
         let edge = one(POSITION_LIMIT, 0, 0);
         assert_eq!(Run::decode(&edge).unwrap().encode().unwrap(), edge);
         assert_eq!(Run::decode(&one(POSITION_LIMIT + 1, 0, 0)), Err(RunError::OutOfRange("position")));
+        // (found by the fuzzer too: a half turn has one form, −180°)
+        let half_turn = Run {
+            samples: vec![Pose::default(), Pose { yaw_deg: 180.0, ..Pose::default() }],
+            millis: 100,
+            ..walk_east(1.0)
+        };
+        let bytes = half_turn.encode().unwrap();
+        assert_eq!(Run::decode(&bytes).unwrap().encode().unwrap(), bytes);
+        let mut plus = bytes.clone();
+        let at = bytes.len() - 2; // the second sample's dyaw: zigzag(−2880) = 5759, two bytes
+        assert_eq!(&bytes[at - 1..at + 1], &[0xff, 0x2c]);
+        plus[at - 1..at + 1].copy_from_slice(&[0x80, 0x2d]); // zigzag(+2880)
+        assert_eq!(Run::decode(&plus), Err(RunError::OutOfRange("heading")));
         // a name that would turn a screen's text around (U+202E), or hold a space: refused
         let mut bidi = good.clone();
         bidi[header + 3..header + 6].copy_from_slice("\u{202e}".as_bytes());
