@@ -204,7 +204,7 @@ impl<'a> Reader<'a> {
     /// A zigzag varint within ±`limit`.
     fn signed(&mut self, what: &'static str, limit: i64) -> Result<i64, RunError> {
         let v = unzigzag(self.varint(what)?);
-        if v.abs() > limit {
+        if v.unsigned_abs() > limit.unsigned_abs() {
             return Err(RunError::OutOfRange(what));
         }
         Ok(v)
@@ -593,6 +593,13 @@ mod tests {
         assert_eq!(Run::decode(&bidi), Err(RunError::BadName));
         bidi[header + 3..header + 6].copy_from_slice(b"a d");
         assert_eq!(Run::decode(&bidi), Err(RunError::BadName));
+        // (found by the fuzzer: the most negative zigzag value, whose absolute value overflows)
+        let mut b = good[..header].to_vec();
+        b.extend_from_slice(&[50, 0, 1]);
+        b.extend_from_slice(&[0xff; 9]);
+        b.push(0x01); // zigzag u64::MAX: i64::MIN
+        b.extend_from_slice(&[0, 0, 0]);
+        assert_eq!(Run::decode(&b), Err(RunError::OutOfRange("position")));
         let mut huge = good[..header].to_vec();
         huge.extend_from_slice(&[0xff; 11]);
         assert_eq!(Run::decode(&huge), Err(RunError::OutOfRange("finish time")));
