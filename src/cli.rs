@@ -74,6 +74,14 @@ pub struct WalkArgs {
     /// sent to the terminal, timed, with the terminal's size and colour depth.
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
+    /// Race the run in FILE as a ghost from your start (`g` hides and shows it): one written by
+    /// --save-run or `mazewalk records MAZE --export-run`, of this maze.
+    #[arg(long, value_name = "FILE")]
+    pub ghost: Option<PathBuf>,
+    /// When you reach the exit, write your run to FILE (at most ten minutes of it): race it later
+    /// with --ghost FILE, play it with `mazewalk replay FILE`.
+    #[arg(long, value_name = "FILE")]
+    pub save_run: Option<PathBuf>,
     #[command(flatten)]
     pub motion: MotionArgs,
 }
@@ -165,6 +173,21 @@ pub enum Command {
     Serve(ServeArgs),
     /// Print the best times kept by `serve`: of one maze, or of every maze served.
     Records(RecordsArgs),
+    /// Play a stored run back in the terminal, first person, as the walk draws it (q quits, r
+    /// starts again; the map, glyph and help keys work): RUN is a file from `--save-run` or
+    /// `records --export-run`, the maze the one it was walked in. `--record FILE.cast` writes the
+    /// playback as an asciicast.
+    Replay(ReplayArgs),
+}
+
+#[derive(Args)]
+pub struct ReplayArgs {
+    /// The run to play back.
+    #[arg(value_name = "RUN")]
+    pub run: PathBuf,
+    /// The maze it was walked in, and how to draw it (as for the walk).
+    #[command(flatten)]
+    pub walk: WalkArgs,
 }
 
 #[derive(Args)]
@@ -273,6 +296,11 @@ pub struct RecordsArgs {
     /// The CA's certificate (PEM) of a rediss:// world's Redis, as for `serve --world-ca`.
     #[arg(long, value_name = "FILE", requires = "world")]
     pub world_ca: Option<PathBuf>,
+    /// Write a finish's run to FILE (for `--ghost FILE` or `replay FILE`): the run of the player at
+    /// RANK in the best times (1 if omitted) or of the player NAME; the maze must be named. Runs are
+    /// kept for the best finish of each of a maze's best ten players.
+    #[arg(long, num_args = 1..=2, value_names = ["RANK|NAME", "FILE"])]
+    pub export_run: Option<Vec<String>>,
     #[command(flatten)]
     pub read: ReadArgs,
 }

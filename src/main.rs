@@ -54,6 +54,7 @@ fn main() -> ExitCode {
         Some(Command::Check(args)) => commands::check::run(&args).map(|()| ExitCode::SUCCESS),
         Some(Command::Serve(args)) => commands::serve::run(&args),
         Some(Command::Records(args)) => commands::records::run(&args).map(|()| ExitCode::SUCCESS),
+        Some(Command::Replay(args)) => commands::walk::replay(&args),
     };
     match result {
         Ok(code) => code,

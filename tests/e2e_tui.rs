@@ -1502,3 +1502,88 @@ fn a_recording_that_cannot_be_written_stops_and_the_walk_goes_on() {
     assert!(!during.contains("recording"), "said during the walk: {}", visible(during.as_bytes()));
     assert_eq!(after.matches(message).count(), 1, "after the restore: {after:?}");
 }
+
+/// A corridor east from the start (6, 6), the exit at its far end.
+const REPLAY_CORRIDOR: &str =
+    "mazewalk-grid 1\ntile 4\nfacing east\n\n############\n#@........E#\n############\n";
+
+/// Issue #43: `mazewalk replay RUN MAZE` plays a stored run back on the walk's screen at any size,
+/// depth and charset: the viewer goes where the run went at its times (the HUD's position moves on
+/// by itself, the walking keys do nothing), the HUD names the run, its end shows its time; `q` quits
+/// and restores the terminal; `--record` writes the playback as an asciicast of exactly what the
+/// terminal received. A run of another maze is refused before the terminal is touched.
+#[test]
+fn replay_plays_a_stored_run_back_and_records_it() {
+    use mazewalk_walk::run::{Pose, Run};
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let maze_path = dir.join("e2e-replay.grid");
+    std::fs::write(&maze_path, REPLAY_CORRIDOR).expect("the maze");
+    let maze = mazewalk_maze::grid::parse_str("m", REPLAY_CORRIDOR).expect("a maze");
+    // 3 s east along the corridor from the start, 4 units a second
+    let samples = (0..=30)
+        .map(|k| Pose { position: glam::Vec2::new(6.0 + 0.4 * k as f32, 6.0), yaw_deg: 0.0, pitch_deg: 0.0 })
+        .collect();
+    let run = Run { maze: maze.content_hash(), holder: "ada".into(), millis: 3000, samples };
+    let run_path = dir.join("e2e-replay.run");
+    std::fs::write(&run_path, run.encode().expect("encode")).expect("the run");
+    let (run_arg, maze_arg) = (run_path.to_str().unwrap(), maze_path.to_str().unwrap());
+
+    for (cols, rows, look) in [
+        (80, 24, ["--color", "16", "--charset", "ascii"]),
+        (120, 36, ["--color", "truecolor", "--charset", "sextant"]),
+    ] {
+        let cast = dir.join(format!("e2e-replay-{cols}.cast"));
+        let _ = std::fs::remove_file(&cast);
+        let mut args = vec!["replay", run_arg, maze_arg, "--record", cast.to_str().unwrap()];
+        args.extend(look);
+        let mut tui = Tui::spawn(&args, cols, rows, Answers::Plain);
+        tui.wait_for("the replay's HUD", |s| s.contents().contains("replay ada 0:03.0"));
+        let start = position(&tui.hud());
+        tui.send(b"ssss"); // the walking keys do nothing: the run moves the viewer
+        tui.wait_for("the viewer moved on by itself", |s| {
+            let (rows, cols) = size(s);
+            position(&s.contents_between(rows - 1, 0, rows - 1, cols)).0 > start.0 + 2.0
+        });
+        tui.wait_for("the run's end and its time", |s| s.contents().contains("exit in 0:03.0"));
+        let (x, y) = position(&tui.hud());
+        assert!((x - 18.0).abs() < 0.2 && (y - 6.0).abs() < 0.2, "at the run's end: ({x}, {y})");
+        tui.settle();
+        tui.send(b"q");
+        let (status, raw) = tui.finish();
+        assert_eq!(status.code(), Some(0), "{status:?}");
+        assert_restored(&tui, &raw, PLAIN);
+        let text = std::fs::read_to_string(&cast).expect("the cast");
+        let (header, events) = parse_cast(&text);
+        assert_eq!(
+            (header["width"].as_u64(), header["height"].as_u64()),
+            (Some(cols.into()), Some(rows.into()))
+        );
+        let data: String = events.iter().filter(|e| e.1 == "o").map(|e| e.2.as_str()).collect();
+        assert!(data.as_bytes() == raw, "the cast is what the terminal received");
+    }
+
+    // the same run raced as a ghost in a walk: on from the start, named in the HUD
+    let mut tui = Tui::spawn(&[maze_arg, "--ghost", run_arg], 100, 30, Answers::Plain);
+    tui.wait_for("the ghost raced", |s| s.contents().contains("ghost ada 0:03.0"));
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+
+    // the run against another maze (the built-in one), or a file that is no run or far too long:
+    // refused, plainly, the terminal untouched
+    let junk = dir.join("e2e-replay-junk.run");
+    std::fs::write(&junk, vec![b'M'; 70_000]).expect("junk");
+    for (args, says) in [
+        (vec!["replay", run_arg], "of another maze"),
+        (vec!["--ghost", run_arg], "of another maze"),
+        (vec!["replay", junk.to_str().unwrap(), maze_arg], "longer than the 65536 allowed"),
+        (vec!["--ghost", maze_arg, maze_arg], "not a mazewalk run"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_mazewalk")).args(&args).output().expect("mazewalk");
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {out:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(out.stdout.is_empty());
+    }
+}

@@ -24,6 +24,7 @@ fn records_prints_hostile_names_cleaned() {
                 player: (*player).into(),
                 seconds: 10.0 + i as f64,
                 at: 1_800_000_000,
+                run: None,
             };
             db.record(&finish).expect("keep a finish");
         }

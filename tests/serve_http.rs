@@ -305,6 +305,9 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
     assert_eq!(maze["ssh_port"], serve.ssh_port, "{maze}");
     assert_eq!(maze["host_key"], serve.host_key.as_str(), "{maze}");
     assert!(serve.host_key.starts_with("SHA256:"), "{}", serve.host_key);
+    // issue #43: no finish yet, no best run's path
+    let (status, best) = serve.http(b"GET /best-run.json HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    assert_eq!((status, best.as_str()), (200, r#"{"path":[]}"#));
     let mut events = Events::open(serve.http);
     assert_eq!(events.status(), "HTTP/1.1 200 OK");
     let walker = |e: &serde_json::Value| {

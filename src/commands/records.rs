@@ -56,6 +56,12 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
             (Box::new(store), place)
         }
     };
+    if let Some(export) = &args.export_run {
+        let Some((hash, name)) = &maze else {
+            anyhow::bail!("records --export-run: name the maze (MAZE, --gen WxH --seed N or --builtin)");
+        };
+        return export_run(&mut *store, *hash, name, export);
+    }
     stdout_open()?;
     let mazes = store.mazes(maze.as_ref().map(|(hash, _)| hash)).context("records")?;
     let mut out = std::io::stdout().lock();
@@ -94,6 +100,52 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
         }
     }
     out.flush()?;
+    Ok(())
+}
+
+/// `--export-run [RANK|NAME] FILE`: the run of the player at RANK (1 if omitted) or of NAME on the
+/// maze of hash `hash`, checked as any stored run is (it came from a file or a Redis), written to FILE.
+#[cfg(all(unix, feature = "serve"))]
+fn export_run(
+    store: &mut dyn mazewalk_serve::records::Store,
+    hash: mazewalk_maze::ContentHash,
+    name: &str,
+    export: &[String],
+) -> anyhow::Result<()> {
+    use anyhow::Context as _;
+    use mazewalk_walk::run::Run;
+    let (who, file) = match export {
+        [file] => ("1", file),
+        [who, file] => (who.as_str(), file),
+        _ => anyhow::bail!("records --export-run: give [RANK|NAME] FILE"),
+    };
+    let player = match who.parse::<usize>() {
+        Ok(rank) => {
+            let mazes = store.mazes(Some(&hash)).context("records")?;
+            let top = mazes.first().map(|m| m.top.as_slice()).unwrap_or_default();
+            let Some(best) = rank.checked_sub(1).and_then(|i| top.get(i)) else {
+                anyhow::bail!(
+                    "records --export-run: {name} has no rank {rank} (it has {} best times)",
+                    top.len()
+                );
+            };
+            best.player.clone()
+        }
+        Err(_) => who.to_string(),
+    };
+    let shown = mazewalk_serve::identity::player_name(&player);
+    let stored = store
+        .run(&hash, Some(&player))
+        .context("records")?
+        .with_context(|| format!("records --export-run: no run of {shown} kept for {name}"))?;
+    let run = Run::decode(&stored.bytes)
+        .with_context(|| format!("records --export-run: {shown}'s run of {name} is damaged"))?;
+    std::fs::write(file, &stored.bytes).with_context(|| format!("--export-run {file}"))?;
+    eprintln!(
+        "{shown}'s run of {name} ({}, {} samples) written to {file}",
+        mazewalk_walk::clock::clock_text(run.seconds()),
+        run.samples.len()
+    );
     Ok(())
 }
 

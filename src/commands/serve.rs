@@ -149,7 +149,7 @@ fn keep_records(
     maze: &mazewalk_maze::Maze,
     name: String,
 ) -> Option<mazewalk_serve::records::Keeper> {
-    use mazewalk_serve::records::{Keeper, Records, Report, Sqlite, SqliteOptions};
+    use mazewalk_serve::records::{Keeper, Race, Records, Report, Sqlite, SqliteOptions};
     let (db, aside) = match Sqlite::open(path, SqliteOptions::default()) {
         Ok(opened) => opened,
         Err(err) => {
@@ -165,8 +165,11 @@ fn keep_records(
         );
     }
     let report: Report = std::sync::Arc::new(|line: &str| tracing::warn!("{line}"));
-    match Records::start(db, report) {
-        Ok(records) => Some(Keeper { records, maze: maze.content_hash(), maze_name: name }),
+    let hash = maze.content_hash();
+    // the maze's best run, offered to its players as a ghost (`g`)
+    let race = Race { maze: hash, extents: maze.extents() };
+    match Records::start_racing(db, report, Some(race)) {
+        Ok(records) => Some(Keeper { records, maze: hash, maze_name: name }),
         Err(err) => {
             tracing::warn!("records: cannot start their thread: {err}; serving without records");
             None
@@ -182,7 +185,7 @@ fn keep_world_records(
     maze: &mazewalk_maze::Maze,
     name: String,
 ) -> Option<mazewalk_serve::records::Keeper> {
-    use mazewalk_serve::records::{Keeper, Records, Report};
+    use mazewalk_serve::records::{Keeper, Race, Records, Report};
     use mazewalk_serve::shared::records::RedisStore;
     let hash = maze.content_hash();
     let store = match RedisStore::new(&world.url, world.ca.as_deref(), hash) {
@@ -193,7 +196,8 @@ fn keep_world_records(
         }
     };
     let report: Report = std::sync::Arc::new(|line: &str| tracing::warn!("{line}"));
-    match Records::start(store, report) {
+    let race = Race { maze: hash, extents: maze.extents() };
+    match Records::start_racing(store, report, Some(race)) {
         Ok(records) => Some(Keeper { records, maze: hash, maze_name: name }),
         Err(err) => {
             tracing::warn!("records: cannot start their thread: {err}; serving without records");

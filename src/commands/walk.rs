@@ -8,7 +8,7 @@ use anyhow::{Context as _, bail};
 
 use super::{load_maze, maze_name};
 use crate::cast::{Header, Recorder};
-use crate::cli::WalkArgs;
+use crate::cli::{ReplayArgs, WalkArgs};
 use crate::guard;
 use crate::run::run as run_session;
 use mazewalk_render::{Culling, RenderOptions};
@@ -19,7 +19,31 @@ use mazewalk_walk::{App, Session, SessionOptions};
 /// Walks the maze the flags name in this process's terminal until the player quits or a signal
 /// ends it (exit 128 + n).
 pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
+    walk(args, None)
+}
+
+/// `mazewalk replay RUN [MAZE]`: the walk's screen driven by a stored run instead of the keys.
+pub fn replay(args: &ReplayArgs) -> anyhow::Result<ExitCode> {
+    if args.walk.save_run.is_some() {
+        bail!("replay: --save-run keeps a walk's own run; a replay has none");
+    }
+    walk(&args.walk, Some(&args.run))
+}
+
+/// The walk, or with `replay` the playback of the run in that file.
+fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<ExitCode> {
     let maze = load_maze(&args.maze)?;
+    // the maze's hash, for a run to race or to keep (a 1000 × 1000 maze takes tenths of a second)
+    let hash =
+        (args.ghost.is_some() || args.save_run.is_some() || replay.is_some()).then(|| maze.content_hash());
+    let ghost = match (&args.ghost, hash) {
+        (Some(path), Some(hash)) => Some(read_run(path, hash, maze.extents())?),
+        _ => None,
+    };
+    let replay = match (replay, hash) {
+        (Some(path), Some(hash)) => Some(read_run(path, hash, maze.extents())?),
+        _ => None,
+    };
     let unfit = match std::env::var("TERM") {
         Err(std::env::VarError::NotPresent) => Some("TERM is unset"),
         Err(std::env::VarError::NotUnicode(_)) => Some("TERM is not UTF-8"),
@@ -47,6 +71,14 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     let clock = Instant::now(); // the walk's time 0
     let options = RenderOptions { color_depth: plan.depth, ..args.look.options(Culling::Portal) };
     let mut app = App::new(maze, options, 0.0)?;
+    app.ghost = ghost.is_some();
+    let status = replay.as_ref().map(|run| {
+        let who = if run.holder.is_empty() { String::new() } else { format!("{} ", run.holder) };
+        format!("replay {who}{}", mazewalk_walk::clock::clock_text(run.seconds()))
+    });
+    if let Some(run) = replay {
+        app.set_replay(std::sync::Arc::new(run));
+    }
     app.reveal_map = args.reveal_map;
     app.figures = args.dev_figures;
     let m = &args.motion;
@@ -62,6 +94,8 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
         flow_control: !args.no_flow_control,
     };
     let mut session = Session::new(app, 80, 24, options); // resized to the terminal by `run`
+    session.set_ghost_run(ghost.map(std::sync::Arc::new));
+    session.set_status(status.as_deref());
     let recorder = match &args.record {
         Some(path) => Some(start_recording(path, args, plan, clock)?),
         None => None,
@@ -84,10 +118,63 @@ pub fn run(args: &WalkArgs) -> anyhow::Result<ExitCode> {
     if let Some(signal) = ended.context("terminal")?.signal() {
         return Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)));
     }
-    if let Some(seconds) = session.outcome().finished {
+    let replayed = status.is_some();
+    if let Some(seconds) = session.outcome().finished.filter(|_| !replayed) {
         let _ = writeln!(std::io::stdout(), "You found the exit in {seconds:.1} s."); // the walk is over either way
     }
+    if let (Some(path), Some(hash)) = (&args.save_run, hash) {
+        save_run(&session, hash, path)?;
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Reads the run in the file at `path` to race as a ghost: at most [`MAX_BYTES`] read, decoded and
+/// checked against the maze of hash `hash` and `extents`, as any untrusted file.
+///
+/// [`MAX_BYTES`]: mazewalk_walk::run::MAX_BYTES
+pub(crate) fn read_run(
+    path: &std::path::Path,
+    hash: mazewalk_maze::ContentHash,
+    extents: mazewalk_maze::Aabb,
+) -> anyhow::Result<mazewalk_walk::run::Run> {
+    use mazewalk_walk::run::{MAX_BYTES, Run};
+    let shown = mazewalk_maze::quote_path(&path.display().to_string());
+    let file = std::fs::File::open(path).with_context(|| format!("cannot read the run {shown}"))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_BYTES as u64 + 1)
+        .read_to_end(&mut bytes)
+        .with_context(|| format!("cannot read the run {shown}"))?;
+    let run = Run::decode(&bytes)
+        .and_then(|run| run.check_maze(hash, extents).map(|()| run))
+        .with_context(|| format!("the run {shown}"))?;
+    Ok(run)
+}
+
+/// `--save-run`: the run of the walk's finish, written to `path` (nothing when the walk did not
+/// reach the exit, or took longer than a run holds); labelled with `$USER` as a player name.
+fn save_run(
+    session: &Session,
+    hash: mazewalk_maze::ContentHash,
+    path: &std::path::Path,
+) -> anyhow::Result<()> {
+    let shown = mazewalk_maze::quote_path(&path.display().to_string());
+    let user = std::env::var("USER").unwrap_or_default();
+    let holder: String =
+        user.chars().filter(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.')).take(16).collect();
+    let Some(run) = session.app().run(hash, &holder) else {
+        if session.outcome().finished.is_some() {
+            let _ =
+                writeln!(std::io::stderr(), "mazewalk: no run written to {shown}: the walk took too long");
+        }
+        return Ok(());
+    };
+    let bytes = run.encode().with_context(|| format!("the run for {shown}"))?;
+    std::fs::write(path, bytes).with_context(|| format!("cannot write the run {shown}"))?;
+    let _ = writeln!(
+        std::io::stdout(),
+        "Your run is in {shown}: race it with --ghost, play it with `mazewalk replay`."
+    );
+    Ok(())
 }
 
 /// Creates the `--record` file at `path` and writes its header: the terminal's size now, the colour

@@ -123,6 +123,9 @@ pub struct Renderer {
     pub(crate) reference_shading: bool,
     /// Ids below this are walls (the last frame's maze's edge count).
     wall_ids: u32,
+    /// The last frame's figures whose head shows: (index in the sprites passed, column, row of the
+    /// frame).
+    heads: Vec<(usize, usize, usize)>,
 }
 
 /// Where [`Renderer::render`] puts the picture.
@@ -241,9 +244,10 @@ impl Renderer {
     }
 
     /// Each drawn figure's label on the cell of its head's centre, if the figure is what shows there.
-    fn label_sprites(&self, charset: Charset, depth: ColorDepth, frame: &mut Frame, region: Region) {
+    fn label_sprites(&mut self, charset: Charset, depth: ColorDepth, frame: &mut Frame, region: Region) {
         let (sx, sy) = charset.samples_per_cell();
         let width = self.samples.width();
+        self.heads.clear();
         for label in &self.sprites.labels {
             if self.samples.id()[label.sample] != label.id {
                 continue; // hidden there (a wall, a nearer figure)
@@ -256,7 +260,16 @@ impl Renderer {
             let ch = if label.label.is_ascii_graphic() { label.label } else { '?' };
             let cell = if depth == ColorDepth::None { Cell::plain(ch) } else { Cell { ch, fg, bg } };
             frame.set(region.col + x, region.row + y, cell);
+            self.heads.push((label.sprite, region.col + x, region.row + y));
         }
+    }
+
+    /// Where the last frame drawn into a [`Target::Frame`] shows each figure's head (those hidden or
+    /// off the view are left out): the figure's index in the sprites passed, and the frame's column
+    /// and row of its label. A caller labels a figure further there (a ghost's name and time).
+    #[must_use]
+    pub fn heads(&self) -> &[(usize, usize, usize)] {
+        &self.heads
     }
 
     /// A new frame's samples: sized to the grid, none covered.

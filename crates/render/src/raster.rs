@@ -267,6 +267,19 @@ pub fn fill_triangle<A: Varying>(
     buffer: &mut SampleBuffer,
     tri: [&GridVertex<A>; 3],
     id: u32,
+    shade: impl FnMut(A) -> Vec3,
+) -> usize {
+    cover_triangle(buffer, tri, id, None, shade)
+}
+
+/// [`fill_triangle`], or with `alpha` a translucent triangle: each covered sample nearer than the
+/// buffer's depth takes `alpha` of `shade`'s colour over what is there, and `id`, but keeps its
+/// depth (what is behind still hides what is further).
+fn cover_triangle<A: Varying>(
+    buffer: &mut SampleBuffer,
+    tri: [&GridVertex<A>; 3],
+    id: u32,
+    alpha: Option<f32>,
     mut shade: impl FnMut(A) -> Vec3,
 ) -> usize {
     if !tri.iter().all(|v| v.depth.is_finite() && v.inv_w.is_finite()) {
@@ -288,7 +301,14 @@ pub fn fill_triangle<A: Varying>(
         let pw = [b[0] * inv_w[0], b[1] * inv_w[1], b[2] * inv_w[2]];
         let sum = pw[0] + pw[1] + pw[2];
         let w = if sum.is_normal() { pw.map(|p| p / sum) } else { b }; // 1/w ≈ 0: fall back to affine
-        buffer.write(i, shade(A::weighted(attrs, w)), z, id);
+        let color = shade(A::weighted(attrs, w));
+        match alpha {
+            None => buffer.write(i, color, z, id),
+            Some(a) => {
+                let (old, depth) = (buffer.color()[i], buffer.depth()[i]);
+                buffer.write(i, old.lerp(color, a), depth, id);
+            }
+        }
         written += 1;
     });
     written
@@ -306,6 +326,23 @@ pub fn fill_polygon<A: Varying>(
     let mut written = 0;
     for k in 1..polygon.len().saturating_sub(1) {
         written += fill_triangle(buffer, [&polygon[0], &polygon[k], &polygon[k + 1]], id, &mut shade);
+    }
+    written
+}
+
+/// [`fill_polygon`] translucent: `alpha` of each sample's colour over what is there, the depths kept
+/// ([`cover_triangle`]); a ghost's figure.
+pub fn blend_polygon<A: Varying>(
+    buffer: &mut SampleBuffer,
+    polygon: &[GridVertex<A>],
+    id: u32,
+    alpha: f32,
+    mut shade: impl FnMut(A) -> Vec3,
+) -> usize {
+    let mut written = 0;
+    for k in 1..polygon.len().saturating_sub(1) {
+        let tri = [&polygon[0], &polygon[k], &polygon[k + 1]];
+        written += cover_triangle(buffer, tri, id, Some(alpha), &mut shade);
     }
     written
 }

@@ -16,7 +16,7 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::camera::Eye;
-use super::raster::{GridVertex, fill_polygon};
+use super::raster::{GridVertex, blend_polygon, fill_polygon};
 use super::samples::SampleBuffer;
 use super::shade::{Fog, srgb_to_linear};
 use mazewalk_math::{ClipPlanes, ClipVertex, clip_polygon, model, rotation_z};
@@ -63,7 +63,13 @@ pub struct Sprite {
     pub color: Vec3,
     /// The letter shown on its head (the player's initial).
     pub label: char,
+    /// A ghost (a stored run replayed): drawn translucent, [`GHOST_ALPHA`] of it over what is behind,
+    /// hiding nothing, after the solid figures.
+    pub ghost: bool,
 }
+
+/// How much of a ghost's colour covers what is behind it.
+pub const GHOST_ALPHA: f32 = 0.5;
 
 /// The body: a tunic widening to the shoulders, in model space (x across, z up, unit box).
 const BODY: [Vec2; 6] = [
@@ -131,6 +137,8 @@ pub(crate) struct Label {
     pub label: char,
     /// The figure's colour, linear RGB.
     pub color: Vec3,
+    /// Which of the sprites passed it is.
+    pub sprite: usize,
 }
 
 /// The figures' own buffers, reused from frame to frame.
@@ -165,7 +173,14 @@ impl SpritePass {
                 self.order.push((depth, k));
             }
         }
-        self.order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // the solid figures nearest first (the depth test hides the rest), then the ghosts farthest
+        // first (each blends over what is drawn behind it)
+        let key =
+            |&(depth, k): &(f32, usize)| (sprites[k].ghost, if sprites[k].ghost { -depth } else { depth });
+        self.order.sort_by(|a, b| {
+            let (ka, kb) = (key(a), key(b));
+            ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
+        });
         self.order.truncate(MAX_SPRITES);
         let mut written = 0;
         for slot in 0..self.order.len() {
@@ -179,8 +194,9 @@ impl SpritePass {
             let body = |attrs: Vec3| fog.apply(albedo * (0.55 + 0.45 * attrs.y), attrs.x);
             let face = albedo.lerp(Vec3::ONE, 0.45);
             let head_shade = |attrs: Vec3| fog.apply(face, attrs.x);
-            written += self.fill(samples, eye, model, &BODY, id, body);
-            written += self.fill(samples, eye, model, &head(), id, head_shade);
+            let alpha = sprite.ghost.then_some(GHOST_ALPHA);
+            written += self.fill(samples, eye, model, &BODY, id, alpha, body);
+            written += self.fill(samples, eye, model, &head(), id, alpha, head_shade);
 
             let centre = model.transform_point3(Vec3::new(HEAD_CENTRE.x, 0.0, HEAD_CENTRE.y));
             let clip = eye.world_to_clip * centre.extend(1.0);
@@ -189,7 +205,7 @@ impl SpritePass {
                 let (x, y) = (grid.x.floor(), grid.y.floor());
                 if (0.0..eye.width as f32).contains(&x) && (0.0..eye.height as f32).contains(&y) {
                     let sample = y as usize * eye.width + x as usize;
-                    self.labels.push(Label { sample, id, label: sprite.label, color: face });
+                    self.labels.push(Label { sample, id, label: sprite.label, color: face, sprite: k });
                 }
             }
         }
@@ -216,11 +232,13 @@ impl SpritePass {
             let colour = if white { BEACON_WHITE } else { EXIT_GLOW };
             fog.apply(colour * (1.0 - 1.2 * attrs.z.abs()), 0.5 * attrs.x)
         };
-        self.fill(samples, eye, model, &column, EXIT_ID, glow)
+        self.fill(samples, eye, model, &column, EXIT_ID, None, glow)
     }
 
     /// One convex model-space polygon of a figure: model → world → clip, clipped against the view volume,
-    /// ÷w and viewport, rasterized with `id`, each sample shaded by `shade(attrs)`.
+    /// ÷w and viewport, rasterized with `id`, each sample shaded by `shade(attrs)` (with `alpha`, that
+    /// much of it blended over what is there: [`blend_polygon`]).
+    #[allow(clippy::too_many_arguments)] // (the pipeline's stages, each one value)
     fn fill(
         &mut self,
         samples: &mut SampleBuffer,
@@ -228,6 +246,7 @@ impl SpritePass {
         model: Mat4,
         polygon: &[Vec2],
         id: u32,
+        alpha: Option<f32>,
         shade: impl FnMut(Vec3) -> Vec3,
     ) -> usize {
         self.input.clear();
@@ -243,7 +262,10 @@ impl SpritePass {
         }
         self.grid.clear();
         self.grid.extend(self.output.iter().map(|v| eye.grid_vertex(v.clip, v.attrs))); // ÷w → NDC → viewport
-        fill_polygon(samples, &self.grid, id, shade)
+        match alpha {
+            None => fill_polygon(samples, &self.grid, id, shade),
+            Some(alpha) => blend_polygon(samples, &self.grid, id, alpha, shade),
+        }
     }
 }
 

@@ -1,7 +1,8 @@
 //! `serve --http ADDR`: a small HTTP/1.1 listener beside the SSH one, on the same tokio runtime
 //! (hyper 1). It serves `/metrics` ([`metrics`](crate::metrics)), the status page at `/` (plain
 //! HTML, CSS and JS from the binary: no CDN, no third-party request), the maze's walls at
-//! `/maze.json` and the players' whereabouts as Server-Sent Events at `/events`; every other path is
+//! `/maze.json`, the best run's path at `/best-run.json` and the players' whereabouts as Server-Sent
+//! Events at `/events`; every other path is
 //! 404, every method but GET and HEAD 405.
 //!
 //! Bounded like the SSH side, whoever connects:
@@ -58,6 +59,8 @@ pub(crate) struct Site {
     pub versions: watch::Receiver<u64>,
     /// The players now, as an event's JSON.
     pub players: Box<dyn Fn() -> String + Send + Sync>,
+    /// `/best-run.json`: the maze's best run's path ([`best_run_json`]).
+    pub best_run: Box<dyn Fn() -> String + Send + Sync>,
     /// Event streams open now.
     pub streams: AtomicUsize,
     /// The server's shutdown.
@@ -162,6 +165,7 @@ fn answer(site: &Arc<Site>, request: &Request<Incoming>) -> Response<Body> {
         }
         "/" => respond(StatusCode::OK, "text/html; charset=utf-8", PAGE.into()),
         "/maze.json" => respond(StatusCode::OK, "application/json", site.maze.clone()),
+        "/best-run.json" => respond(StatusCode::OK, "application/json", (site.best_run)()),
         "/events" if head => respond(StatusCode::OK, "text/event-stream", String::new()),
         "/events" => match events(site) {
             Some(body) => {
@@ -243,6 +247,23 @@ impl Drop for Stream {
     }
 }
 
+/// Points of the best run's path on the page's map, at most (a longer run is thinned evenly).
+pub(crate) const MAX_RUN_POINTS: usize = 600;
+
+/// `/best-run.json`: the holder, the time and the path (`[[x, y], …]`, at most [`MAX_RUN_POINTS`])
+/// of `run`, the maze's best (checked by the records thread); `{"path": []}` without one.
+pub(crate) fn best_run_json(run: Option<&mazewalk_walk::run::Run>) -> String {
+    let Some(run) = run else { return serde_json::json!({ "path": [] }).to_string() };
+    let step = run.samples.len().div_ceil(MAX_RUN_POINTS).max(1);
+    let last = run.samples.last().map(|s| [s.position.x, s.position.y]);
+    let mut path: Vec<[f32; 2]> =
+        run.samples.iter().step_by(step).map(|s| [s.position.x, s.position.y]).collect();
+    if path.last() != last.as_ref() {
+        path.extend(last); // (the finish itself, whatever the step)
+    }
+    serde_json::json!({ "holder": run.holder, "seconds": run.seconds(), "path": path }).to_string()
+}
+
 /// Walls drawn on the page's map, at most (a larger maze's page shows the players only).
 pub const MAX_MAP_WALLS: usize = 50_000;
 
@@ -309,6 +330,24 @@ pub(crate) fn players_json(look: &crate::world::Look) -> String {
 mod tests {
     use super::*;
 
+    // issue #43: the status page's best run, thinned to at most MAX_RUN_POINTS, ending at the finish.
+    #[test]
+    fn the_best_runs_path_is_thinned_and_ends_at_the_finish() {
+        use mazewalk_walk::run::{Pose, Run};
+        assert_eq!(best_run_json(None), r#"{"path":[]}"#);
+        let samples: Vec<Pose> = (0..=6000)
+            .map(|k| Pose { position: glam::Vec2::new(k as f32 / 100.0, 1.0), yaw_deg: 0.0, pitch_deg: 0.0 })
+            .collect();
+        let run =
+            Run { maze: mazewalk_maze::ContentHash([0; 32]), holder: "ada".into(), millis: 600_000, samples };
+        let json: serde_json::Value = serde_json::from_str(&best_run_json(Some(&run))).unwrap();
+        let path = json["path"].as_array().unwrap();
+        assert!(path.len() <= MAX_RUN_POINTS + 1 && path.len() > MAX_RUN_POINTS / 2, "{}", path.len());
+        assert_eq!(path[0], serde_json::json!([0.0, 1.0]));
+        assert_eq!(path[path.len() - 1], serde_json::json!([60.0, 1.0]), "the finish");
+        assert_eq!((json["holder"].as_str(), json["seconds"].as_f64()), (Some("ada"), Some(600.0)));
+    }
+
     /// A reader that never reads: its stream holds [`EVENT_BUFFER`] events, then ends (the count of
     /// streams goes back down) however often the world changes; nothing more is buffered for it.
     #[tokio::test]
@@ -320,6 +359,7 @@ mod tests {
             maze: String::new(),
             versions,
             players: Box::new(|| "{}".into()),
+            best_run: Box::new(|| best_run_json(None)),
             streams: AtomicUsize::new(0),
             shutdown,
         });

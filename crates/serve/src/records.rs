@@ -30,6 +30,13 @@
 //! - **One file, many servers.** A rollback journal with a busy timeout: servers on one file (two
 //!   mazes, say) each write their finishes; a write waits for another's, a few milliseconds.
 //!
+//! - **Runs for ghosts** (issue #43). A finish carries its run ([`Finish::run`], the format of
+//!   [`mazewalk_walk::run`]); the store keeps it for the best finish of each of the maze's best
+//!   [`TOP`] players and drops the others ([`Store::run`] reads one back). With a [`Race`], the
+//!   records thread reads the maze's best run at start, after each finish with a run and every
+//!   [`REREAD_BEST_RUN`], decodes and checks it as untrusted (a fault said once) and offers it as
+//!   [`Records::best_run`]. A finish kept in memory while the store fails keeps no run.
+//!
 //! [`Store`] is the seam for another backend: with `--world` the best times live in the shared
 //! world's Redis ([`RedisStore`](crate::shared::records::RedisStore), a sorted set per maze). The
 //! server only calls [`Store::record`]; `mazewalk records` calls [`Store::mazes`].
@@ -46,6 +53,8 @@ use rusqlite::{Connection, ErrorCode, OpenFlags, OptionalExtension as _, params}
 use tokio::sync::oneshot;
 
 use crate::identity::player_name;
+use mazewalk_maze::Aabb;
+use mazewalk_walk::run::{MAX_BYTES, Run};
 
 /// How many best times a [`Standing`] lists.
 pub(crate) const TOP: usize = 10;
@@ -66,6 +75,20 @@ pub struct Finish {
     pub seconds: f64,
     /// When, seconds since the Unix epoch.
     pub at: i64,
+    /// The run, encoded ([`Run::encode`]): what a ghost replays. `None`: none kept (a walk past
+    /// [`MAX_SECONDS`](mazewalk_walk::run::MAX_SECONDS)).
+    pub run: Option<Vec<u8>>,
+}
+
+/// A stored run as the store gives it back: untrusted bytes, decoded and checked by the caller.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StoredRun {
+    /// Whose finish it is.
+    pub player: String,
+    /// Its time, seconds.
+    pub seconds: f64,
+    /// The run, encoded (at most [`MAX_BYTES`] long: longer ones are not given back).
+    pub bytes: Vec<u8>,
 }
 
 /// A player's best time on a maze.
@@ -194,6 +217,16 @@ pub trait Store: Send + 'static {
     /// The store failed.
     fn mazes(&mut self, maze: Option<&ContentHash>) -> Result<Vec<MazeRecords>, RecordsError>;
 
+    /// The run of `player`'s best finish on `maze`, or with `None` the maze's best run, if kept. Runs
+    /// are kept for the best finish of each of the maze's best [`TOP`] players, no others.
+    ///
+    /// # Errors
+    /// The store failed.
+    fn run(&mut self, maze: &ContentHash, player: Option<&str>) -> Result<Option<StoredRun>, RecordsError> {
+        let _ = (maze, player);
+        Ok(None)
+    }
+
     /// Called before each [`record`](Self::record): whether the store is still the one it opened. A
     /// file deleted or replaced meanwhile is opened again; the line says what happened (for the log,
     /// once per change). `None`: nothing changed (or the store has no file).
@@ -246,7 +279,7 @@ fn file_id(path: &Path) -> Option<(u64, u64)> {
     std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
 }
 
-/// The schema, version 1 (`PRAGMA user_version`).
+/// The schema, version 2 (`PRAGMA user_version`).
 const SCHEMA: &str = "
     CREATE TABLE mazes (
         hash TEXT PRIMARY KEY,     -- Maze::content_hash, hex
@@ -257,10 +290,17 @@ const SCHEMA: &str = "
         maze TEXT NOT NULL REFERENCES mazes(hash),
         player TEXT NOT NULL,
         seconds REAL NOT NULL,
-        at INTEGER NOT NULL        -- Unix seconds
+        at INTEGER NOT NULL,       -- Unix seconds
+        run BLOB                   -- the run (mazewalk_walk::run), kept for the best TOP players' bests
     );
     CREATE INDEX finishes_by_maze ON finishes (maze, player, seconds);
-    PRAGMA user_version = 1;
+    PRAGMA user_version = 2;
+";
+
+/// Version 1 → 2: the finishes' runs (issue #43); older finishes have none.
+const MIGRATE_1_TO_2: &str = "
+    ALTER TABLE finishes ADD COLUMN run BLOB;
+    PRAGMA user_version = 2;
 ";
 
 impl Sqlite {
@@ -358,7 +398,11 @@ impl Sqlite {
         let mut db = Sqlite { conn, path: path.to_path_buf(), options, file: None, lost: false };
         match db.version()? {
             0 => db.conn.execute_batch(&format!("BEGIN IMMEDIATE; {SCHEMA} COMMIT;")).map_err(sqlite)?,
-            1 => {}
+            1 => db
+                .conn
+                .execute_batch(&format!("BEGIN IMMEDIATE; {MIGRATE_1_TO_2} COMMIT;"))
+                .map_err(sqlite)?,
+            2 => {}
             newer => return Err(RecordsError::new(path, Fault::Newer, format!("schema version {newer}"))),
         }
         db.file = file_id(path);
@@ -381,7 +425,7 @@ impl Sqlite {
         let options = SqliteOptions::default();
         let db = Sqlite { conn, path: path.to_path_buf(), options, file: file_id(path), lost: false };
         match db.version()? {
-            1 => Ok(db),
+            1 | 2 => Ok(db),
             0 => Err(RecordsError::new(path, Fault::Damaged, "no records tables")),
             newer => Err(RecordsError::new(path, Fault::Newer, format!("schema version {newer}"))),
         }
@@ -391,6 +435,26 @@ impl Sqlite {
         self.conn
             .query_row("PRAGMA user_version", [], |r| r.get(0))
             .map_err(|e| RecordsError::sqlite(&self.path, &e))
+    }
+
+    /// Keeps the runs of the best finish of each of `maze`'s best [`TOP`] players with runs, and
+    /// forgets the others (so a maze holds at most `TOP` runs, each at most [`MAX_BYTES`]).
+    fn keep_top_runs(conn: &Connection, maze: &str) -> rusqlite::Result<()> {
+        let rows: Vec<(i64, String)> = conn
+            .prepare(
+                "SELECT rowid, player FROM finishes WHERE maze = ?1 AND run IS NOT NULL ORDER BY seconds, at",
+            )?
+            .query_map(params![maze], |r| Ok((r.get(0)?, r.get(1)?)))?
+            .collect::<rusqlite::Result<_>>()?;
+        let mut players: Vec<&str> = Vec::new();
+        for (rowid, player) in &rows {
+            if players.len() < TOP && !players.contains(&player.as_str()) {
+                players.push(player);
+            } else {
+                conn.execute("UPDATE finishes SET run = NULL WHERE rowid = ?1", params![rowid])?;
+            }
+        }
+        Ok(())
     }
 
     /// The best [`TOP`] of `maze`, best first.
@@ -450,11 +514,15 @@ impl Sqlite {
             params![maze, finish.maze_name, finish.at],
         )
         .map_err(sqlite)?;
+        let run = finish.run.as_deref().filter(|r| r.len() <= MAX_BYTES);
         tx.execute(
-            "INSERT INTO finishes (maze, player, seconds, at) VALUES (?1, ?2, ?3, ?4)",
-            params![maze, finish.player, finish.seconds, finish.at],
+            "INSERT INTO finishes (maze, player, seconds, at, run) VALUES (?1, ?2, ?3, ?4, ?5)",
+            params![maze, finish.player, finish.seconds, finish.at, run],
         )
         .map_err(sqlite)?;
+        if run.is_some() {
+            Sqlite::keep_top_runs(&tx, &maze).map_err(sqlite)?;
+        }
         let best: f64 = tx
             .query_row(
                 "SELECT MIN(seconds) FROM finishes WHERE maze = ?1 AND player = ?2",
@@ -498,6 +566,22 @@ impl Store for Sqlite {
                 done => return done,
             }
         }
+    }
+
+    fn run(&mut self, maze: &ContentHash, player: Option<&str>) -> Result<Option<StoredRun>, RecordsError> {
+        if self.version()? < 2 {
+            return Ok(None); // (a file of an older mazewalk, read only: no runs)
+        }
+        let path = self.path.clone();
+        self.conn
+            .query_row(
+                "SELECT player, seconds, run FROM finishes WHERE maze = ?1 AND run IS NOT NULL
+                 AND length(run) <= ?3 AND (?2 IS NULL OR player = ?2) ORDER BY seconds, at LIMIT 1",
+                params![maze.to_string(), player, MAX_BYTES as i64],
+                |r| Ok(StoredRun { player: r.get(0)?, seconds: r.get(1)?, bytes: r.get(2)? }),
+            )
+            .optional()
+            .map_err(|e| RecordsError::sqlite(&path, &e))
     }
 
     fn check(&mut self) -> Option<String> {
@@ -585,6 +669,21 @@ pub struct Records {
     report: Report,
     /// Hangs up when the thread ends (every clone holds the receiving end's partner).
     done: Arc<Mutex<mpsc::Receiver<()>>>,
+    /// The served maze's best run, decoded and checked, for its ghost ([`Race`]).
+    best_run: BestRun,
+}
+
+/// The best run as the records thread last read it (`None`: none, or none valid).
+type BestRun = Arc<Mutex<Option<Arc<Run>>>>;
+
+/// The maze whose best run the records thread reads (at start and after each finish with a run),
+/// checks and offers to its players as a ghost ([`Records::best_run`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Race {
+    /// The maze's content hash.
+    pub maze: ContentHash,
+    /// The maze's extents: a run outside them is refused.
+    pub extents: Aabb,
 }
 
 impl std::fmt::Debug for Records {
@@ -601,17 +700,36 @@ impl Records {
     /// # Errors
     /// The thread cannot be started.
     pub fn start(store: impl Store, report: Report) -> std::io::Result<Records> {
+        Records::start_racing(store, report, None)
+    }
+
+    /// [`start`](Self::start), and with `race` the maze's best run read, checked and offered as
+    /// [`best_run`](Self::best_run).
+    ///
+    /// # Errors
+    /// The thread cannot be started.
+    pub fn start_racing(store: impl Store, report: Report, race: Option<Race>) -> std::io::Result<Records> {
+        let best_run: BestRun = Arc::default();
+        let thread_best = Arc::clone(&best_run);
         let (jobs, queue) = mpsc::sync_channel::<Job>(QUEUE);
         let (ended, done) = mpsc::channel::<()>();
         let thread_report = Arc::clone(&report);
         let tally = Arc::new(Tally::default());
         let thread_tally = Arc::clone(&tally);
         std::thread::Builder::new().name("records".into()).spawn(move || {
-            keep(store, &queue, &*thread_report, &thread_tally);
+            keep(store, &queue, &*thread_report, &thread_tally, race.map(|race| (race, &*thread_best)));
             drop(ended);
         })?;
         let done = Arc::new(Mutex::new(done));
-        Ok(Records { jobs, dropped: Arc::new(AtomicU64::new(0)), tally, report, done })
+        Ok(Records { jobs, dropped: Arc::new(AtomicU64::new(0)), tally, report, done, best_run })
+    }
+
+    /// The served maze's best run, for its ghost: read by the records thread at start and after each
+    /// finish that kept a run, decoded and checked against the maze ([`Race`]). `None` without a
+    /// race, before any finish with a run, or while the one stored is damaged.
+    #[must_use]
+    pub fn best_run(&self) -> Option<Arc<Run>> {
+        self.best_run.lock().unwrap_or_else(PoisonError::into_inner).clone()
     }
 
     /// Lets the thread finish what it was handed (once every other clone is gone too) and waits for it,
@@ -737,7 +855,8 @@ impl Memory {
 
     /// The store could not keep `finish`: remembered, and the player's standing among what is known.
     fn remember(&mut self, finish: &Finish) -> Standing {
-        self.unsaved.push_back(finish.clone());
+        // (without its run: 256 unsaved runs could take 16 MiB; a finish the store missed keeps none)
+        self.unsaved.push_back(Finish { run: None, ..finish.clone() });
         if self.unsaved.len() > UNSAVED {
             self.unsaved.pop_front();
         }
@@ -776,11 +895,42 @@ fn keep(
     queue: &mpsc::Receiver<Job>,
     report: &(dyn Fn(&str) + Send + Sync),
     tally: &Tally,
+    race: Option<(Race, &Mutex<Option<Arc<Run>>>)>,
 ) {
+    // the best run's fault last said (each said once, until a read goes well)
+    let mut run_fault: Option<String> = None;
+    let mut read_best = |store: &mut dyn StoreRuns| {
+        if let Some((race, best)) = race {
+            let run = match best_run(store, race) {
+                Ok(run) => {
+                    run_fault = None;
+                    run
+                }
+                Err(line) => {
+                    if run_fault.as_ref() != Some(&line) {
+                        report(&line);
+                        run_fault = Some(line);
+                    }
+                    None
+                }
+            };
+            *best.lock().unwrap_or_else(PoisonError::into_inner) = run.map(Arc::new);
+        }
+    };
+    read_best(&mut store);
     let mut memory = Memory::default();
     let mut failing = false;
     let mut said: Option<std::time::Instant> = None;
-    while let Ok((finish, answer)) = queue.recv() {
+    loop {
+        // (read again now and then: another server on the file, or in the world, may have beaten it)
+        let (finish, answer) = match queue.recv_timeout(REREAD_BEST_RUN) {
+            Ok(job) => job,
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                read_best(&mut store);
+                continue;
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => break,
+        };
         if let Some(line) = store.check() {
             report(&line);
         }
@@ -793,6 +943,9 @@ fn keep(
             Some(Ok(standing)) => {
                 failing = false;
                 memory.stored(&finish, &standing);
+                if finish.run.is_some() {
+                    read_best(&mut store);
+                }
                 standing
             }
             Some(Err(err)) => {
@@ -808,6 +961,44 @@ fn keep(
     }
 }
 
+/// [`Store::run`] as an object (the records thread reads the best run through it).
+trait StoreRuns {
+    fn best(&mut self, maze: &ContentHash) -> Result<Option<StoredRun>, RecordsError>;
+}
+
+impl<S: Store> StoreRuns for S {
+    fn best(&mut self, maze: &ContentHash) -> Result<Option<StoredRun>, RecordsError> {
+        self.run(maze, None)
+    }
+}
+
+/// How often the records thread reads the best run again with no finish of its own (another server
+/// on the same file, or in the same world, may have made a better one).
+const REREAD_BEST_RUN: Duration = Duration::from_secs(30);
+
+/// `race`'s maze's best run from `store`, decoded and checked, labelled with its player's name as
+/// [`player_name`] cleans it (`None`: none kept); a run that fails, or a store that does, is the line
+/// to say, and no ghost.
+fn best_run(store: &mut dyn StoreRuns, race: Race) -> Result<Option<Run>, String> {
+    let stored = match store.best(&race.maze) {
+        Ok(Some(stored)) => stored,
+        Ok(None) => return Ok(None),
+        Err(err) => return Err(format!("records: cannot read the best run: {err}")),
+    };
+    let checked =
+        Run::decode(&stored.bytes).and_then(|run| run.check_maze(race.maze, race.extents).map(|()| run));
+    match checked {
+        Ok(mut run) => {
+            run.holder = player_name(&stored.player); // (ASCII, at most 16 characters)
+            Ok(Some(run))
+        }
+        Err(err) => {
+            let who = player_name(&stored.player);
+            Err(format!("records: the best run ({who}'s) is not usable, no ghost: {err}"))
+        }
+    }
+}
+
 /// A server's records: where finishes go, and the maze they are kept under.
 #[derive(Clone, Debug)]
 pub struct Keeper {
@@ -820,9 +1011,15 @@ pub struct Keeper {
 }
 
 impl Keeper {
-    /// Hands over `player`'s finish in `seconds`, now ([`Records::finish`]).
+    /// Hands over `player`'s finish in `seconds`, now, with its `run` if it kept one (encoded:
+    /// [`Run::encode`]; [`Records::finish`]).
     #[must_use]
-    pub fn finish(&self, player: &str, seconds: f64) -> Option<oneshot::Receiver<Option<Standing>>> {
+    pub fn finish(
+        &self,
+        player: &str,
+        seconds: f64,
+        run: Option<Vec<u8>>,
+    ) -> Option<oneshot::Receiver<Option<Standing>>> {
         let at =
             std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
         self.records.finish(Finish {
@@ -831,6 +1028,7 @@ impl Keeper {
             player: player.to_string(),
             seconds,
             at: i64::try_from(at).unwrap_or(i64::MAX),
+            run,
         })
     }
 }

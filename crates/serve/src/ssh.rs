@@ -578,11 +578,15 @@ impl Server {
         }));
         let registry = crate::metrics::registry(&self.shared.metrics, live);
         let shared = Arc::clone(&self.shared);
+        let records = self.shared.records.as_ref().map(|keeper| keeper.records.clone());
         let site = crate::http::Site {
             registry,
             maze: crate::http::maze_json(&self.shared.maze, maze_name, &self.joining()),
             versions: self.shared.world.version.subscribe(),
             players: Box::new(move || crate::http::players_json(&shared.world().look())),
+            best_run: Box::new(move || {
+                crate::http::best_run_json(records.as_ref().and_then(|r| r.best_run()).as_deref())
+            }),
             streams: AtomicUsize::new(0),
             shutdown: self.shared.shutdown.clone(),
         };
@@ -1420,6 +1424,10 @@ async fn walk(
             return End::Quit;
         }
         let now = shared.now();
+        if let Some(keeper) = &shared.records {
+            // the maze's best run, for the ghost (`g`): the records thread's latest, checked
+            player.session_mut().set_ghost_run(keeper.records.best_run());
+        }
         if player.look_due(now) {
             // Under the lock: the snapshot's two `Arc`s cloned, after rebuilding it if the world
             // changed since the last look (World::look); every version it shows counts as seen.
@@ -1461,7 +1469,9 @@ async fn walk(
             // Kept, without waiting: the standing comes back while the player plays on.
             if let Some(keeper) = &shared.records {
                 player.session_mut().set_standings(Vec::new());
-                standing = keeper.finish(&user, seconds);
+                let holder = crate::identity::player_name(&user);
+                let run = player.session().app().run(keeper.maze, &holder).and_then(|run| run.encode().ok());
+                standing = keeper.finish(&user, seconds, run);
             }
         }
         // Sleep until input, the session's next deadline, a change in the world, the idle timeout or

@@ -12,7 +12,7 @@ use mazewalk_serve::shared::records::RedisStore;
 use redis_server::{Persistence, RedisServer};
 
 fn finish(maze: ContentHash, player: &str, seconds: f64, at: i64) -> Finish {
-    Finish { maze, maze_name: "maze.grid".into(), player: player.into(), seconds, at }
+    Finish { maze, maze_name: "maze.grid".into(), player: player.into(), seconds, at, run: None }
 }
 
 #[test]
@@ -71,4 +71,64 @@ fn two_servers_keep_one_table_of_best_times_in_redis() {
     runtime.block_on(redis.restart());
     let carol = a.record(&finish(maze, "carol", 30.0, 1_005)).expect("Redis is back");
     assert_eq!((carol.rank, carol.players), (1, 1), "an empty Redis after the restart");
+}
+
+/// A run of `seconds` walking east from (2, 2) in the maze of hash `maze`, encoded.
+fn run_bytes(maze: ContentHash, holder: &str, seconds: f64) -> Vec<u8> {
+    use mazewalk_walk::run::{Pose, Run};
+    let millis = (seconds * 1000.0) as u32;
+    let samples = (0..=millis / 100)
+        .map(|k| Pose { position: glam::Vec2::new(2.0 + 0.1 * k as f32, 2.0), yaw_deg: 0.0, pitch_deg: 0.0 })
+        .collect();
+    Run { maze, holder: holder.into(), millis, samples }.encode().unwrap()
+}
+
+// Issue #43: a world keeps the runs of its best players' bests in Redis, one per player, and gives
+// back the best run — never more than a run's cap, whatever Redis holds.
+#[test]
+fn a_world_keeps_its_best_runs_in_redis_bounded() {
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    let redis = runtime.block_on(RedisServer::start(Persistence::None));
+    let maze = ContentHash([7; 32]);
+    let mut a = RedisStore::new(&redis.url(0), None, maze).expect("store A");
+    let mut b = RedisStore::new(&redis.url(0), None, maze).expect("store B");
+    assert_eq!(a.run(&maze, None).expect("no run yet"), None);
+    let with_run = |player: &str, seconds: f64| Finish {
+        run: Some(run_bytes(maze, player, seconds)),
+        ..finish(maze, player, seconds, 1_000)
+    };
+    a.record(&with_run("alice", 30.0)).expect("alice");
+    b.record(&with_run("bob", 20.0)).expect("bob");
+    a.record(&with_run("alice", 40.0)).expect("alice, slower: her run stays the 30 s one");
+    let best = a.run(&maze, None).expect("the best run").expect("kept");
+    assert_eq!((best.player.as_str(), best.seconds), ("bob", 20.0));
+    assert_eq!(best.bytes, run_bytes(maze, "bob", 20.0), "read by the other server's store");
+    let alice = b.run(&maze, Some("alice")).expect("alice's").expect("kept");
+    assert_eq!(alice.bytes, run_bytes(maze, "alice", 30.0));
+    assert_eq!(a.run(&ContentHash([8; 32]), None).expect("another maze"), None);
+    // Redis holds anything: bob's run swapped for more than a run may be, it is not read back (the
+    // next one with a run is); a hash stuffed with others' fields is cleared at the next write
+    runtime.block_on(async {
+        let mut con = redis.connection(0).await;
+        let runs = "mazewalk:{0707070707070707}:runs";
+        let huge = vec![b'x'; mazewalk_walk::run::MAX_BYTES + 1];
+        let _: i64 = redis::cmd("HSET").arg(runs).arg("bob").arg(huge).query_async(&mut con).await.unwrap();
+        for k in 0..100 {
+            let _: i64 = redis::cmd("HSET")
+                .arg(runs)
+                .arg(format!("junk{k}"))
+                .arg("x")
+                .query_async(&mut con)
+                .await
+                .unwrap();
+        }
+    });
+    let next = a.run(&maze, None).expect("the best run").expect("alice's, bob's being too long");
+    assert_eq!(next.player, "alice");
+    b.record(&with_run("carol", 25.0)).expect("carol");
+    let fields: usize = runtime.block_on(async {
+        let mut con = redis.connection(0).await;
+        redis::cmd("HLEN").arg("mazewalk:{0707070707070707}:runs").query_async(&mut con).await.unwrap()
+    });
+    assert_eq!(fields, 1, "the junk cleared; carol's run kept");
 }

@@ -40,7 +40,14 @@ const MAZE: ContentHash = ContentHash([7; 32]);
 const OTHER: ContentHash = ContentHash([9; 32]);
 
 fn finish(maze: ContentHash, player: &str, seconds: f64) -> Finish {
-    Finish { maze, maze_name: "test.maze".into(), player: player.into(), seconds, at: 1_800_000_000 }
+    Finish {
+        maze,
+        maze_name: "test.maze".into(),
+        player: player.into(),
+        seconds,
+        at: 1_800_000_000,
+        run: None,
+    }
 }
 
 fn open(path: &Path) -> Sqlite {

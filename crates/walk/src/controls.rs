@@ -54,6 +54,9 @@ pub enum Action {
     ToggleTextures,
     /// The developer figures in the HUD on / off (i): frames per second, bytes, cell, cells seen, ms.
     ToggleFigures,
+    /// Race a stored run's ghost, on / off (g): a served maze's best run, or the local walk's
+    /// `--ghost FILE`.
+    ToggleGhost,
     /// Leave (q, or Esc with no box shown: there it closes the box). After a minute of walking it asks
     /// first.
     Quit,
@@ -113,6 +116,7 @@ pub(crate) fn action_for(key: Key) -> Option<Action> {
             'v' => Action::ToggleCullingTint,
             't' => Action::ToggleTextures,
             'i' => Action::ToggleFigures,
+            'g' => Action::ToggleGhost,
             '?' | 'h' => Action::Help,
             'q' => Action::Quit,
             _ => return None,
@@ -146,6 +150,7 @@ pub(crate) const HELP: &[(&str, &str)] = &[
     ("c", "glyphs: ascii, half ▀, quad ▚, sextant (2×3)"),
     ("t", "textures: brick walls, floor tiles"),
     ("i", "developer figures: fps, bytes, cell, ms"),
+    ("g", "ghost: race the best run (served) or --ghost"),
     ("r", "back to the start"),
     ("Ctrl-Z", "suspend (fg to come back)"),
 ];
@@ -385,6 +390,7 @@ mod tests {
             ("vV", Action::ToggleCullingTint),
             ("tT", Action::ToggleTextures),
             ("iI", Action::ToggleFigures),
+            ("gG", Action::ToggleGhost),
             ("?hH", Action::Help),
             ("qQ", Action::Quit),
         ];

@@ -12,6 +12,7 @@ pub mod controls;
 pub mod flow;
 pub mod overlay;
 pub mod roster;
+pub mod run;
 pub mod screen;
 pub mod session;
 pub mod state;

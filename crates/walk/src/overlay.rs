@@ -668,6 +668,21 @@ pub(crate) fn draw_peers(frame: &mut Frame, area: &MapArea, peers: &[Peer], view
     }
 }
 
+/// A ghost's colour on the map and on its caption: a pale blue, no player's.
+pub(crate) const GHOST_FG: Color = Color::Rgb(190, 230, 255);
+
+/// Draws a stored run's ghost on the map in `area` at `position`: `◌` (`@` in ASCII), under the
+/// viewer's own arrow where they meet.
+pub(crate) fn draw_ghost(frame: &mut Frame, area: &MapArea, position: Vec2, viewer: Vec2, style: Style) {
+    let Some((x, y)) = area.frame_cell(position) else { return };
+    if area.frame_cell(viewer) == Some((x, y)) {
+        return;
+    }
+    let bg = frame.get(x, y).map_or(Color::Default, |c| c.bg);
+    let fg = if style.depth == ColorDepth::None { Color::Default } else { GHOST_FG };
+    frame.set(x, y, Cell { ch: if style.ascii { '@' } else { '◌' }, fg, bg });
+}
+
 /// [`heading_arrow`] in ASCII: `>`, `^`, `<`, `v` by quadrant.
 #[must_use]
 pub(crate) fn ascii_arrow(yaw_deg: f32) -> char {

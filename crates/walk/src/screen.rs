@@ -14,6 +14,7 @@ use glam::Vec3;
 use crate::clock::{clock_text, running_clock_text};
 use crate::overlay::{self, MapArea, MapCells, Peer, Style};
 use crate::roster;
+use crate::run::Pose;
 use crate::state::{App, MapMode};
 use crate::views::{SharedViews, ViewKey};
 use mazewalk_render::palette::xterm_rgb;
@@ -74,6 +75,8 @@ pub struct Screen {
     /// Views shared with other screens ([`SharedViews`]: a server's spectators of one player); `None`:
     /// this screen renders its own.
     pub shared_views: Option<Arc<SharedViews>>,
+    /// A stored run's ghost where it is now (`None`: none shown), and its label ("ghost ada 1:40.4").
+    pub ghost: Option<(Pose, String)>,
     /// What the last frame's render did (the HUD's developer figures).
     stats: RenderStats,
     /// The peers as the renderer's figures (reused from frame to frame).
@@ -121,7 +124,7 @@ fn figure(maze: &mazewalk_maze::Maze, peer: &Peer) -> Option<Sprite> {
         Color::Default => [200, 200, 200],
     };
     let color = Vec3::from_array(rgb.map(|c| f32::from(c) / 255.0));
-    Some(Sprite { position: peer.position, cell, color, label: peer.initial })
+    Some(Sprite { position: peer.position, cell, color, label: peer.initial, ghost: false })
 }
 
 /// Draws the whole screen for the current state into `frame` (its size is the terminal's): the 3D
@@ -140,6 +143,14 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     // The other players, as figures standing in the maze.
     screen.sprites.clear();
     screen.sprites.extend(screen.peers.iter().filter_map(|peer| figure(app.maze(), peer)));
+    let ghost_sprite = screen.sprites.len();
+    if let Some((pose, caption)) = &screen.ghost
+        && let Some(cell) = app.maze().cell_at(pose.position)
+    {
+        let label = caption.strip_prefix("ghost ").and_then(|c| c.chars().next()).unwrap_or('?');
+        let color = Vec3::new(0.78, 0.92, 1.0); // a pale blue: no player's colour
+        screen.sprites.push(Sprite { position: pose.position, cell, color, label, ghost: true });
+    }
     let drawn = match &screen.shared_views {
         // drawn once for every screen with the same key, copied into this one's view rows
         Some(views) => {
@@ -165,6 +176,11 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
             RenderStats::default()
         }
     };
+    if let Some((_, caption)) = &screen.ghost
+        && let Some(&(_, col, row)) = screen.renderer.heads().iter().find(|h| h.0 == ghost_sprite)
+    {
+        draw_caption(frame, view, col, row, &style.text(caption));
+    }
     frame.region_rows_mut(Region { row: rows - 1, rows: 1, ..view }).for_each(|hud| hud.fill(Cell::BLANK));
     // Cells visible in this frame: the portal pass's (with brute force it did not run: none new).
     let portal = screen.renderer.portal();
@@ -184,6 +200,9 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         let shown = Camera { hfov_deg: app.shown_hfov_deg(cols, rows - 1), ..app.camera };
         overlay::draw_map(frame, area, app.maze(), &shown, &seen, tint, style, &mut screen.map_cells);
         overlay::draw_peers(frame, area, &screen.peers, app.camera.position, style);
+        if let Some((pose, _)) = &screen.ghost {
+            overlay::draw_ghost(frame, area, pose.position, app.camera.position, style);
+        }
     }
     let exit_box = app.finished.filter(|_| app.exit_box);
     screen.exit_news.update(exit_box.is_some(), screen.notice.as_ref(), &screen.standings);
@@ -227,6 +246,20 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     stats
 }
 
+/// A ghost's caption over its head at (`col`, `row`) of the frame: on the row above, centred, kept
+/// inside the view (on the head's row when the head is on the view's top row).
+fn draw_caption(frame: &mut Frame, view: Region, col: usize, row: usize, caption: &str) {
+    let width = caption.chars().count().min(view.cols);
+    let row = if row > view.row { row - 1 } else { row + 1 };
+    if row >= view.row + view.rows || width == 0 {
+        return;
+    }
+    let left = col.saturating_sub(width / 2).clamp(view.col, view.col + view.cols - width);
+    for (k, ch) in caption.chars().take(width).enumerate() {
+        frame.set(left + k, row, Cell { ch, fg: overlay::GHOST_FG, bg: Color::Indexed(0) });
+    }
+}
+
 /// Draws the HUD's row of `frame` only, over what [`draw`] drew last: when nothing but the HUD's
 /// numbers changed (the exit clock ticked), the view need not be rendered again.
 pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud) {
@@ -235,9 +268,21 @@ pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud)
         return; // the too-small note has no HUD
     }
     let style = Style::new(app.options.charset, app.options.color_depth);
-    let served = (screen.players_in, screen.status.as_deref());
+    // the ghost raced, or that there is none to race yet
+    let ghost = match &screen.ghost {
+        Some((_, caption)) => Some(caption.as_str()),
+        None => app.ghost.then_some("no ghost yet"),
+    };
     let fov = app.shown_hfov_deg(cols, rows - 1);
-    let line = hud_text_with(app, &screen.stats, hud, served, fov, style, cols);
+    let line = hud_text_with(
+        app,
+        &screen.stats,
+        hud,
+        (screen.players_in, screen.status.as_deref(), ghost),
+        fov,
+        style,
+        cols,
+    );
     overlay::draw_hud(frame, &line, style);
     let row = Region { col: 0, row: rows - 1, cols, rows: 1 };
     overlay::limit_colors_in(frame, row, style.depth);
@@ -266,7 +311,7 @@ fn hud_text(
     style: Style,
     width: usize,
 ) -> String {
-    hud_text_with(app, stats, hud, (players_in, None), app.camera.hfov_deg, style, width)
+    hud_text_with(app, stats, hud, (players_in, None, None), app.camera.hfov_deg, style, width)
 }
 
 /// The HUD line, `width` columns at most: what a player needs first — a host's status when it has
@@ -277,7 +322,7 @@ fn hud_text_with(
     app: &App,
     stats: &RenderStats,
     hud: &Hud,
-    (players_in, status): (Option<usize>, Option<&str>),
+    (players_in, status, ghost): (Option<usize>, Option<&str>, Option<&str>),
     fov_deg: f32,
     style: Style,
     width: usize,
@@ -300,6 +345,7 @@ fn hud_text_with(
         (0, format!("heading {:.0}° {}", c.yaw_deg, compass_point(c.yaw_deg))),
         (1, clock.unwrap_or_default()),
         (2, players_in.map(|n| format!("{n} in")).unwrap_or_default()),
+        (2, ghost.unwrap_or_default().to_string()),
         // (position, height and pitch apart: each fits where they together would not)
         (3, format!("({:.1}, {:.1})", c.position.x, c.position.y)),
         (5, format!("z{:+.1}", c.eye_z)),
@@ -359,11 +405,25 @@ mod tests {
     fn a_hosts_status_comes_first_in_the_hud() {
         let app = App::new(mazewalk_maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
         let (stats, hud) = (RenderStats::default(), Hud { elapsed: 83.4, ..Hud::default() });
-        let line =
-            hud_text_with(&app, &stats, &hud, (Some(3), Some("world offline")), 90.0, Style::default(), 60);
+        let line = hud_text_with(
+            &app,
+            &stats,
+            &hud,
+            (Some(3), Some("world offline"), None),
+            90.0,
+            Style::default(),
+            60,
+        );
         assert!(line.starts_with(" world offline  heading 0° E  time 1:23  3 in"), "{line:?}");
-        let narrow =
-            hud_text_with(&app, &stats, &hud, (Some(3), Some("world offline")), 90.0, Style::default(), 30);
+        let narrow = hud_text_with(
+            &app,
+            &stats,
+            &hud,
+            (Some(3), Some("world offline"), None),
+            90.0,
+            Style::default(),
+            30,
+        );
         assert!(narrow.starts_with(" world offline "), "kept before the rest: {narrow:?}");
     }
 

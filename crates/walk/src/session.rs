@@ -30,10 +30,13 @@
 //! ```
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 
+use crate::clock::clock_text;
 use crate::flow::{ACK_TIMEOUT, FlowControl, QUERY};
 use crate::overlay::{MapArea, Peer};
 use crate::roster;
+use crate::run::{Pose, Run};
 use crate::screen::{self, FrameCost, Hud, Screen};
 use crate::state::App;
 use crate::views::SharedViews;
@@ -149,6 +152,8 @@ pub struct Session {
     truecolor_query: TruecolorQuery,
     /// The whole seconds the HUD's exit clock showed last.
     clock_shown: Option<u64>,
+    /// The stored run a ghost replays when the player wants it ([`App::ghost`]), and its caption.
+    ghost_run: Option<(Arc<Run>, String)>,
 }
 
 /// Where the truecolor questions stand: only answers to questions asked, before the terminal has
@@ -192,7 +197,35 @@ impl Session {
             keyboard_query: false,
             truecolor_query: TruecolorQuery::Closed,
             clock_shown: None,
+            ghost_run: None,
         }
+    }
+
+    /// The stored run to race as a ghost (`None`: none): a served maze's best run, the local walk's
+    /// `--ghost FILE`. The host checks it belongs to the maze ([`Run::check_maze`]). It shows while
+    /// the player wants it ([`App::ghost`], `g`), from the walk's start or the toggle, whichever is
+    /// later, labelled with its holder's name and time.
+    pub fn set_ghost_run(&mut self, run: Option<Arc<Run>>) {
+        let same = match (&self.ghost_run, &run) {
+            (Some((a, _)), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        };
+        if !same {
+            self.ghost_run = run.map(|run| {
+                let name = if run.holder.is_empty() { String::new() } else { format!("{} ", run.holder) };
+                let caption = format!("ghost {name}{}", clock_text(run.seconds()));
+                (run, caption)
+            });
+            self.dirty = true;
+        }
+    }
+
+    /// The ghost's pose at `now`, if it shows, and whether it is still on its way.
+    fn ghost_at(&self, now: f64) -> Option<(Pose, bool)> {
+        let (run, _) = self.ghost_run.as_ref()?;
+        let t = self.app.ghost_time(now)?;
+        Some((run.pose_at(t)?, t < run.seconds()))
     }
 
     /// The whole seconds the exit clock shows at `now` while it runs (a maze with an exit not found
@@ -506,7 +539,8 @@ impl Session {
     #[must_use]
     pub fn next_wake(&self, now: f64) -> Option<f64> {
         let frame_due = self.last_frame + 1.0 / MAX_FPS;
-        let animating = self.app.is_animating(now);
+        let ghost_moving = self.ghost_at(now).is_some_and(|(_, moving)| moving);
+        let animating = self.app.is_animating(now) || ghost_moving;
         let drawing = match self.flow.deadline() {
             // Nothing to draw: no frame is held back, whatever is in flight (a deadline kept after it
             // passed would wake the host at once, again and again, on a stalled link).
@@ -543,6 +577,12 @@ impl Session {
         }
         self.decode(now, |decoder, out| decoder.expire(now, out)); // a lone Esc, a stalled sequence
         self.dirty |= self.app.tick(now);
+        let ghost =
+            self.ghost_at(now).zip(self.ghost_run.as_ref()).map(|((pose, _), (_, caption))| (pose, caption));
+        if ghost.map(|(p, c)| (p, c.as_str())) != self.screen.ghost.as_ref().map(|(p, c)| (*p, c.as_str())) {
+            self.screen.ghost = ghost.map(|(p, c)| (p, c.clone()));
+            self.dirty = true;
+        }
         self.dirty |= self.screen.show_roster && now.floor() > self.last_frame.floor(); // its times tick
         let clock = self.running_clock(now);
         let ticked = clock != self.clock_shown; // only the HUD's clock, if nothing else changed

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use glam::Vec2;
 
 use super::controls::{Action, Held, action_for};
+use super::run::{Pose, Recorder, Run};
 use mazewalk_maze::Maze;
 use mazewalk_maze::geometry::{clamp_eye_height, heading_dir, heading_right};
 use mazewalk_maze::movement::{Position, settle, step};
@@ -174,9 +175,20 @@ pub struct App {
     pub reveal_map: bool,
     /// The map tints the cells the portal pass visited this frame (`v`), a lesson in culling.
     pub culling_tint: bool,
+    /// The ghost is wanted (`g`, `--ghost`): a stored run, replayed from the walk's start or from
+    /// [`ghost_since`](Self::ghost_since), whichever is later, where the host has one.
+    pub ghost: bool,
+    /// When the ghost was last turned on (seconds).
+    pub ghost_since: f64,
     /// Cells seen so far, one bit each (the map's fog of war).
     seen: Vec<u64>,
     last_tick: f64,
+    /// The walk's poses since its start, until the finish (the run a ghost replays).
+    recorder: Recorder,
+    /// The pose at the finish, once reached.
+    finish_pose: Option<Pose>,
+    /// A stored run that moves the viewer instead of the keys (`mazewalk replay`).
+    replay: Option<Arc<Run>>,
 }
 
 /// The viewer's start is not inside any cell.
@@ -253,9 +265,69 @@ impl App {
             figures: false,
             reveal_map: false,
             culling_tint: false,
+            ghost: false,
+            ghost_since: now,
             seen: vec![0; cells.div_ceil(64)],
             last_tick: now,
+            recorder: Recorder::default(),
+            finish_pose: None,
+            replay: None,
         })
+    }
+
+    /// Plays `run` back: from now on the viewer goes where the run went, at its times from the walk's
+    /// start (`r` starts it again); the keys that walk, turn and look do nothing, the others (map,
+    /// glyphs, help, quit) work as in a walk. At the run's end the viewer stands at its finish and
+    /// the HUD shows its time. The caller checks the run is of this maze ([`Run::check_maze`]).
+    pub fn set_replay(&mut self, run: Arc<Run>) {
+        self.replay = Some(run);
+    }
+
+    /// Brings a replay's viewer to its pose at `now`.
+    fn follow_replay(&mut self, now: f64) {
+        let Some(run) = &self.replay else { return };
+        let t = now - self.started;
+        let Some(pose) = run.pose_at(t) else { return };
+        let done = t >= run.seconds();
+        self.camera.position = pose.position;
+        self.camera.yaw_deg = pose.yaw_deg;
+        self.camera.pitch_deg = pose.pitch_deg;
+        if let Some(cell) = self.maze.cell_at(pose.position) {
+            self.cell = cell;
+        }
+        if done && self.finished.is_none() {
+            self.finished = Some(run.seconds());
+        }
+    }
+
+    /// The viewer's pose now.
+    #[must_use]
+    pub fn pose(&self) -> Pose {
+        let c = &self.camera;
+        Pose { position: c.position, yaw_deg: c.yaw_deg, pitch_deg: c.pitch_deg }
+    }
+
+    /// Seconds into the ghost's run at `now`: from the walk's start, or from when the ghost was
+    /// turned on if later (`None`: not wanted).
+    #[must_use]
+    pub fn ghost_time(&self, now: f64) -> Option<f64> {
+        self.ghost.then(|| now - self.started.max(self.ghost_since))
+    }
+
+    /// Notes the viewer's pose at `now` in the walk's run (until the finish).
+    fn track(&mut self, now: f64) {
+        if self.finished.is_none() {
+            let pose = self.pose();
+            self.recorder.note(now - self.started, pose);
+        }
+    }
+
+    /// The run of this walk's finish, as walked by `holder` through the maze of hash `maze` (its
+    /// [`Maze::content_hash`](mazewalk_maze::Maze::content_hash), which the host knows): `None`
+    /// before the finish, or for a walk past [`MAX_SECONDS`](crate::run::MAX_SECONDS).
+    #[must_use]
+    pub fn run(&self, maze: mazewalk_maze::ContentHash, holder: &str) -> Option<Run> {
+        self.recorder.finish(maze, holder, self.finished?, self.finish_pose?)
     }
 
     /// Makes where a viewer put at `position` stands ([`stand`]) the walk's start — the viewer goes
@@ -307,6 +379,12 @@ impl App {
     /// again and `q` quits, as it says; Esc only closes it), the question whether to quit quits with
     /// `q` and closes with any other key.
     pub fn key(&mut self, key: Key, phase: KeyPhase, now: f64) -> bool {
+        let changed = self.key_at(key, phase, now);
+        self.track(now);
+        changed
+    }
+
+    fn key_at(&mut self, key: Key, phase: KeyPhase, now: f64) -> bool {
         let action = action_for(key);
         if phase == KeyPhase::Press && self.exit_box {
             // a key held or pressed to walk into the exit is not an answer (its auto-repeat comes as
@@ -332,6 +410,11 @@ impl App {
             return true;
         }
         let Some(action) = action else { return false };
+        let moves = matches!(action, Action::SnapLeft | Action::SnapRight)
+            || action.is_continuous() && !matches!(action, Action::FovWider | Action::FovNarrower);
+        if self.replay.is_some() && moves {
+            return false; // the run moves the viewer
+        }
         if action.is_continuous() {
             match phase {
                 KeyPhase::Release => {
@@ -389,6 +472,7 @@ impl App {
             Action::ToggleCullingTint => self.culling_tint = !self.culling_tint,
             Action::ToggleTextures => self.options.textures = !self.options.textures,
             Action::ToggleFigures => self.figures = !self.figures,
+            Action::ToggleGhost => (self.ghost, self.ghost_since) = (!self.ghost, now),
             Action::Quit if key == Key::Esc && self.help => self.help = false, // Esc closes the box first
             // a stray q late in a walk asks first (a finished walk's box says q quits: it does)
             Action::Quit if now - self.started > CONFIRM_QUIT_AFTER && self.finished.is_none() => {
@@ -408,11 +492,14 @@ impl App {
         self.snap = None;
         (self.started, self.finished) = (now, None);
         (self.exit_box, self.confirm_quit) = (false, false);
+        self.recorder.restart();
+        self.finish_pose = None;
+        self.track(now);
     }
 
     /// A mouse drag by (`dx`, `dy`) terminal cells: look around.
     pub fn drag(&mut self, dx: i32, dy: i32) -> bool {
-        if dx == 0 && dy == 0 {
+        if dx == 0 && dy == 0 || self.replay.is_some() {
             return false;
         }
         self.turn(-(dx as f32) * DRAG_DEGREES_PER_CELL, -(dy as f32) * DRAG_DEGREES_PER_CELL);
@@ -500,6 +587,7 @@ impl App {
         self.camera.position = to.pos;
         self.cell = to.cell;
         if self.finished.is_none() && self.maze.exit().is_some_and(|exit| exit.cell == self.cell) {
+            self.finish_pose = Some(self.pose());
             self.finished = Some(now - self.started);
             // the exit box takes the help's place (after `r` the walk starts with none); the keys
             // that walked here let go, so that the box is seen
@@ -512,7 +600,7 @@ impl App {
     /// True while something moves by itself (held keys, a snap turn), so the loop keeps drawing frames.
     #[must_use]
     pub fn is_animating(&self, now: f64) -> bool {
-        self.held.any(now) || self.snap.is_some()
+        self.held.any(now) || self.snap.is_some() || self.replay.is_some() && self.finished.is_none()
     }
 
     /// Advances held-key motion and any snap turn to time `now` at speeds independent of the frame rate.
@@ -552,6 +640,8 @@ impl App {
                 self.snap = None;
             }
         }
+        self.follow_replay(now);
+        self.track(now);
         (self.camera, self.cell) != before
     }
 }

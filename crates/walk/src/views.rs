@@ -190,7 +190,7 @@ mod tests {
         let views = SharedViews::new(2);
         let maze = mazewalk_maze::builtin().unwrap();
         let mut renderer = Renderer::default();
-        let camera = crate::state::viewer_camera(maze.viewer());
+        let camera = crate::state::viewer_camera(&maze);
         let key = |cols| ViewKey::new(&maze, &camera, &[], &RenderOptions::default(), (cols, 10));
         for cols in [10, 20, 30, 10] {
             views.view(&maze, &key(cols), &mut renderer).unwrap();
@@ -212,7 +212,7 @@ mod tests {
             .map(|_| {
                 let (views, maze, barrier) = (Arc::clone(&views), Arc::clone(&maze), Arc::clone(&barrier));
                 std::thread::spawn(move || {
-                    let camera = crate::state::viewer_camera(maze.viewer());
+                    let camera = crate::state::viewer_camera(&maze);
                     let key = ViewKey::new(&maze, &camera, &[], &RenderOptions::default(), (120, 40));
                     barrier.wait();
                     views.view(&maze, &key, &mut Renderer::default()).unwrap()

@@ -31,7 +31,13 @@ fn maze(text: &str) -> Maze {
 }
 
 fn figure(maze: &Maze, position: Vec2, label: char) -> Sprite {
-    Sprite { position, cell: maze.cell_at(position).unwrap(), color: Vec3::new(0.9, 0.2, 0.2), label }
+    Sprite {
+        position,
+        cell: maze.cell_at(position).unwrap(),
+        color: Vec3::new(0.9, 0.2, 0.2),
+        label,
+        ghost: false,
+    }
 }
 
 fn options(culling: Culling, depth: ColorDepth) -> RenderOptions {
@@ -127,6 +133,7 @@ fn figures_behind_the_viewer_or_anywhere_odd_draw_nothing_and_never_panic() {
         cell,
         color: Vec3::new(f32::NAN, 2.0, -1.0),
         label: '\u{1b}',
+        ghost: position.x.is_nan(),
     });
     for depth in [ColorDepth::None, ColorDepth::Ansi16, ColorDepth::TrueColor] {
         let (frame, _) = render(&maze, &camera, &odd, options(Culling::Portal, depth));
@@ -145,4 +152,55 @@ fn many_figures_are_all_drawn_nearest_in_front() {
     let (frame, columns) = render(&maze, &camera, &sprites, options(Culling::Portal, ColorDepth::TrueColor));
     assert!(!columns.is_empty());
     assert!(frame.lines().iter().any(|l| l.contains('N')), "{}", frame.lines().join("\n"));
+}
+
+// issue #43: a ghost (a stored run replayed) is drawn translucent, through the same pipeline: its
+// samples blend its colour over what is behind, it hides nothing, and its head is reported.
+#[test]
+fn a_ghost_is_translucent_and_hides_no_figure_behind_it() {
+    let maze = maze(OPEN);
+    let camera = Camera::new(START, 0.0, 90.0);
+    let solid = figure(&maze, Vec2::new(18.0, 14.0), 'K');
+    let ghost = Sprite {
+        color: Vec3::new(0.2, 0.9, 0.2),
+        ghost: true,
+        label: 'g',
+        ..figure(&maze, Vec2::new(12.0, 14.0), 'g')
+    };
+    let opts = options(Culling::Portal, ColorDepth::TrueColor);
+    let samples_of = |sprites: &[Sprite]| {
+        let mut renderer = Renderer::new();
+        let mut frame = Frame::new(80, 24);
+        let region = frame.region();
+        renderer.render(&maze, &camera, sprites, &opts, Target::Frame(&mut frame, region)).unwrap();
+        (renderer.samples().clone(), renderer.heads().to_vec())
+    };
+    let (bare, _) = samples_of(&[]);
+    let (alone, heads) = samples_of(&[ghost]);
+    let (both, _) = samples_of(&[solid, ghost]);
+    assert_eq!(heads.len(), 1, "the ghost's head shows: {heads:?}");
+    assert_eq!(heads[0].0, 0);
+    let mut blended = 0;
+    for i in 0..bare.color().len() {
+        if alone.id()[i] != bare.id()[i] {
+            blended += 1;
+            // half of the ghost's colour over the wall's: between the two, never the ghost's alone
+            assert_eq!(alone.depth()[i], bare.depth()[i], "a ghost writes no depth");
+            assert!(alone.color()[i].distance(bare.color()[i]) > 0.01, "drawn at {i}");
+        }
+    }
+    assert!(blended > 10, "the ghost covers samples: {blended}");
+    // the solid figure behind the ghost still covers its samples (a ghost hides nothing)
+    let solid_ids =
+        |s: &mazewalk_render::SampleBuffer| (0..s.id().len()).filter(|&i| s.id()[i] == SPRITE_ID).count();
+    let (only_solid, _) = samples_of(&[solid]);
+    assert!(solid_ids(&only_solid) > 0);
+    let under_ghost = (0..both.id().len())
+        .filter(|&i| only_solid.id()[i] == SPRITE_ID && both.color()[i] != only_solid.color()[i])
+        .count();
+    assert!(under_ghost > 0, "the ghost blends over the figure behind it");
+    assert!(
+        (0..both.depth().len()).all(|i| both.depth()[i] == only_solid.depth()[i]),
+        "the depths are the solid figure's and the walls'"
+    );
 }

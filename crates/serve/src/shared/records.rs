@@ -8,6 +8,8 @@
 //!                                 from the records: read as 0)
 //! mazewalk:{H}:finishes           finishes in all (a counter)
 //! mazewalk:{H}:name               what the first server to keep a finish called the maze
+//! mazewalk:{H}:runs               the run of each of the best TOP players' bests, by player name
+//!                                 (hash; each at most MAX_BYTES, mazewalk_walk::run's format)
 //! ```
 //!
 //! The store runs on the records thread ([`Records`](crate::records::Records)), never on the async
@@ -24,7 +26,8 @@ use redis::aio::MultiplexedConnection;
 
 use super::redis::{Keys, Link, WorldError};
 use crate::identity::player_name;
-use crate::records::{Best, Fault, Finish, MazeRecords, RecordsError, Standing, Store, TOP};
+use crate::records::{Best, Fault, Finish, MazeRecords, RecordsError, Standing, Store, StoredRun, TOP};
+use mazewalk_walk::run::MAX_BYTES;
 
 /// The best times of one world in its Redis.
 pub struct RedisStore {
@@ -46,6 +49,7 @@ struct RecordKeys {
     at: String,
     finishes: String,
     name: String,
+    runs: String,
 }
 
 impl RecordKeys {
@@ -56,6 +60,7 @@ impl RecordKeys {
             at: format!("{}:at", keys.best),
             finishes: format!("{tag}:finishes"),
             name: format!("{tag}:name"),
+            runs: format!("{tag}:runs"),
         }
     }
 }
@@ -179,7 +184,60 @@ impl Store for RedisStore {
             let top = top(con, keys).await?;
             let players = usize::try_from(players).unwrap_or(0).max(1);
             let rank = usize::try_from(ahead).unwrap_or(0).saturating_add(1).min(players);
+            // The run of a best among the best TOP is kept; the runs of those no longer there go.
+            if let Some(run) = finish.run.as_ref().filter(|r| r.len() <= MAX_BYTES)
+                && best == finish.seconds
+                && rank <= TOP
+            {
+                let held: usize = redis::cmd("HLEN").arg(&keys.runs).query_async(con).await?;
+                if held > 2 * TOP {
+                    // (more than this server ever leaves: whatever else wrote there goes, unread)
+                    redis::cmd("DEL").arg(&keys.runs).query_async::<i64>(con).await?;
+                } else if held > 0 {
+                    let names: Vec<String> = redis::cmd("HKEYS").arg(&keys.runs).query_async(con).await?;
+                    let gone: Vec<&String> =
+                        names.iter().filter(|p| !top.iter().any(|b| &b.player == *p)).collect();
+                    if !gone.is_empty() {
+                        redis::cmd("HDEL").arg(&keys.runs).arg(gone).query_async::<i64>(con).await?;
+                    }
+                }
+                redis::cmd("HSET")
+                    .arg(&keys.runs)
+                    .arg(&finish.player)
+                    .arg(run)
+                    .query_async::<i64>(con)
+                    .await?;
+            }
             Ok(Standing { top, best, rank, players })
+        })
+    }
+
+    fn run(&mut self, maze: &ContentHash, player: Option<&str>) -> Result<Option<StoredRun>, RecordsError> {
+        if *maze != self.maze {
+            return Ok(None); // one world, one maze
+        }
+        let player = player.map(str::to_owned);
+        self.with(async move |con, keys| {
+            // whose: the named player's, or the best player's with a run
+            let top = top(con, keys).await?;
+            let wanted: Vec<&Best> =
+                top.iter().filter(|b| player.as_ref().is_none_or(|p| *p == b.player)).collect();
+            if wanted.is_empty() {
+                return Ok(None);
+            }
+            // each one's run's length first (Redis may hold anything, of any size): the first kept
+            let mut lengths = redis::pipe();
+            for b in &wanted {
+                lengths.cmd("HSTRLEN").arg(&keys.runs).arg(&b.player);
+            }
+            let lengths: Vec<usize> = lengths.query_async(con).await?;
+            let Some((best, _)) = wanted.iter().zip(lengths).find(|(_, n)| (1..=MAX_BYTES).contains(n))
+            else {
+                return Ok(None);
+            };
+            let bytes: Option<Vec<u8>> =
+                redis::cmd("HGET").arg(&keys.runs).arg(&best.player).query_async(con).await?;
+            Ok(bytes.map(|bytes| StoredRun { player: best.player.clone(), seconds: best.seconds, bytes }))
         })
     }
 

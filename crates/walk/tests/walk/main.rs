@@ -4,9 +4,11 @@
 
 mod common;
 mod controls;
+mod ghost;
 mod map_fog;
 mod overlays;
 mod render_frames;
+mod run_codec;
 mod sessions;
 mod slow_link;
 mod tolerance_picture;
