@@ -57,6 +57,33 @@ pub fn color_depth(term: &str, colorterm: Option<&str>) -> ColorDepth {
     color_plan(term, colorterm).depth
 }
 
+/// The walk of a served screen (a player's or a spectator's) on `maze` for a terminal of type `term`:
+/// half blocks in the colour depth `term` and `colorterm` give ([`color_plan`]), at time `now`;
+/// with the plan, whose question about truecolor the caller asks.
+///
+/// # Errors
+/// The maze's start is in no cell.
+pub(crate) fn served_app(
+    maze: impl Into<Arc<Maze>>,
+    term: &str,
+    colorterm: Option<&str>,
+    now: f64,
+) -> Result<(App, caps::ColorPlan), StartOutsideMaze> {
+    let plan = color_plan(term, colorterm);
+    let options =
+        RenderOptions { charset: Charset::Half, color_depth: plan.depth, ..RenderOptions::default() };
+    Ok((App::new(maze, options, now)?, plan))
+}
+
+/// The screen of `app` on a `cols × rows` terminal (as the pty request gave them, clamped to
+/// `limits`) of type `term`.
+pub(crate) fn served_session(app: App, term: &str, (cols, rows): (u32, u32), limits: &Limits) -> Session {
+    let env = |k: &str| (k == "TERM").then(|| term.to_string());
+    let session_options = SessionOptions { bce: caps::detect_bce(env), ..SessionOptions::default() };
+    let (cols, rows) = clamp_size(cols, rows, limits);
+    Session::new(app, cols, rows, session_options)
+}
+
 /// The colour depth a remote terminal starts with and whether to ask it for truecolor
 /// ([`caps::plan_color_depth`] with what the client sent: the server knows nothing of the
 /// player's terminfo or tmux).
@@ -147,15 +174,9 @@ impl Player {
         limits: &Limits,
         now: f64,
     ) -> Result<Player, StartOutsideMaze> {
-        let plan = color_plan(term, colorterm);
-        let options =
-            RenderOptions { charset: Charset::Half, color_depth: plan.depth, ..RenderOptions::default() };
-        let app = App::new(maze, options, now)?;
-        let env = |k: &str| (k == "TERM").then(|| term.to_string());
-        let session_options = SessionOptions { bce: caps::detect_bce(env), ..SessionOptions::default() };
-        let (cols, rows) = clamp_size(cols, rows, limits);
+        let (app, plan) = served_app(maze, term, colorterm, now)?;
         Ok(Player {
-            session: Session::new(app, cols, rows, session_options),
+            session: served_session(app, term, (cols, rows), limits),
             input: RateLimit::new(limits.input_rate, limits.input_burst, now),
             limits: *limits,
             dropped: 0,

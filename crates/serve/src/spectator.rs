@@ -17,18 +17,18 @@
 use std::sync::Arc;
 
 use super::limits::{Limits, RateLimit};
-use super::player::{NOTICE_SECONDS, REMOTE, WORLD_LOOKS_PER_SECOND, clamp_size, color_plan, only_replies};
+use super::player::{
+    NOTICE_SECONDS, REMOTE, WORLD_LOOKS_PER_SECOND, clamp_size, only_replies, served_app, served_session,
+};
 use super::world::{Look, PlayerId, Seen};
 use mazewalk_maze::Maze;
-use mazewalk_render::{Charset, RenderOptions};
-use mazewalk_term::caps;
 use mazewalk_term::input::{Input, InputDecoder, Key, KeyPhase, Modifiers};
 use mazewalk_term::modes::{enter_sequence, restore_sequence};
 use mazewalk_walk::overlay::Peer;
 use mazewalk_walk::roster;
 use mazewalk_walk::state::StartOutsideMaze;
 use mazewalk_walk::views::SharedViews;
-use mazewalk_walk::{App, MapMode, Session, SessionOptions};
+use mazewalk_walk::{MapMode, Session};
 
 /// The SSH user name that watches instead of playing.
 pub const WATCH_USER: &str = "watch";
@@ -147,15 +147,9 @@ impl Spectator {
         audience: &Audience,
         now: f64,
     ) -> Result<Spectator, StartOutsideMaze> {
-        let plan = color_plan(term, colorterm);
-        let options =
-            RenderOptions { charset: Charset::Half, color_depth: plan.depth, ..RenderOptions::default() };
-        let mut app = App::new(maze, options, now)?;
+        let (mut app, plan) = served_app(maze, term, colorterm, now)?;
         app.reveal_map = true; // everyone on the whole map
-        let env = |k: &str| (k == "TERM").then(|| term.to_string());
-        let session_options = SessionOptions { bce: caps::detect_bce(env), ..SessionOptions::default() };
-        let (cols, rows) = clamp_size(cols, rows, limits);
-        let mut session = Session::new(app, cols, rows, session_options);
+        let mut session = served_session(app, term, (cols, rows), limits);
         session.set_help(HELP.iter().map(|line| (*line).to_string()).collect());
         session.share_views(Arc::clone(&audience.views));
         session.set_notice(Some(WAITING.into()));
