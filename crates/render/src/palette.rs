@@ -180,7 +180,7 @@ impl Palette {
         }
     }
 
-    /// How its ramps weigh hue, chroma, greys and steps ([`cost`], [`LightRamp::new`]), chosen on
+    /// How its ramps weigh hue, chroma, greys and steps ([`cost`], [`LightRamp::of_surface`]), chosen on
     /// the measures of issues #33 and #39 over held-out views (`benches/examples/picture.rs`). In 256
     /// colours the cube is coarse for muted colours (a tan wall's nearest entry is a grey 0.05 away
     /// in OKLab, its nearest of its hue twice as saturated): hue weighs eight times as much as
