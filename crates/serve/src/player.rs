@@ -84,6 +84,27 @@ pub(crate) fn served_session(app: App, term: &str, (cols, rows): (u32, u32), lim
     Session::new(app, cols, rows, session_options)
 }
 
+/// The bytes that put a served terminal (a player's or a spectator's, showing `session`) into game
+/// mode before the first frame, with the questions for its truecolor (if `ask_truecolor`; the
+/// answer, if any, lives in the session) and its keyboard flags.
+pub(crate) fn enter_game(session: &mut Session, ask_truecolor: bool, out: &mut Vec<u8>) {
+    out.extend_from_slice(enter_sequence(REMOTE).as_bytes());
+    if ask_truecolor {
+        session.ask_truecolor(out);
+    }
+    session.ask_keyboard_flags(out);
+}
+
+/// The bytes that give a served terminal back (main screen, cursor shown, keyboard flags popped,
+/// mouse and focus reports off), then `message` on a line of its own, if any.
+pub(crate) fn leave_game(message: Option<&str>, out: &mut Vec<u8>) {
+    out.extend_from_slice(restore_sequence(REMOTE).as_bytes());
+    if let Some(message) = message {
+        out.extend_from_slice(message.as_bytes());
+        out.extend_from_slice(b"\r\n");
+    }
+}
+
 /// The colour depth a remote terminal starts with and whether to ask it for truecolor
 /// ([`caps::plan_color_depth`] with what the client sent: the server knows nothing of the
 /// player's terminfo or tmux).
@@ -194,21 +215,13 @@ impl Player {
 
     /// The bytes that put the remote terminal into game mode (before the first frame).
     pub fn enter(&mut self, out: &mut Vec<u8>) {
-        out.extend_from_slice(enter_sequence(REMOTE).as_bytes());
-        if self.ask_truecolor {
-            self.session.ask_truecolor(out); // the answer, if any, lives in the session
-        }
-        self.session.ask_keyboard_flags(out);
+        enter_game(&mut self.session, self.ask_truecolor, out);
     }
 
     /// The bytes that give the terminal back — main screen, cursor shown, keyboard flags popped, mouse
     /// and focus reports off — then `message` on a line of its own, if any.
     pub fn leave(&self, message: Option<&str>, out: &mut Vec<u8>) {
-        out.extend_from_slice(restore_sequence(REMOTE).as_bytes());
-        if let Some(message) = message {
-            out.extend_from_slice(message.as_bytes());
-            out.extend_from_slice(b"\r\n");
-        }
+        leave_game(message, out);
     }
 
     /// Bytes from the player's terminal, arriving at `now`; beyond the input rate they are dropped.

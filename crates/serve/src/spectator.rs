@@ -18,12 +18,12 @@ use std::sync::Arc;
 
 use super::limits::{Limits, RateLimit};
 use super::player::{
-    NOTICE_SECONDS, REMOTE, WORLD_LOOKS_PER_SECOND, clamp_size, only_replies, served_app, served_session,
+    NOTICE_SECONDS, WORLD_LOOKS_PER_SECOND, clamp_size, enter_game, leave_game, only_replies, served_app,
+    served_session,
 };
 use super::world::{Look, PlayerId, Seen};
 use mazewalk_maze::Maze;
 use mazewalk_term::input::{Input, InputDecoder, Key, KeyPhase, Modifiers};
-use mazewalk_term::modes::{enter_sequence, restore_sequence};
 use mazewalk_walk::overlay::Peer;
 use mazewalk_walk::roster;
 use mazewalk_walk::state::StartOutsideMaze;
@@ -178,20 +178,12 @@ impl Spectator {
 
     /// The bytes that put the remote terminal into game mode (as a player's).
     pub fn enter(&mut self, out: &mut Vec<u8>) {
-        out.extend_from_slice(enter_sequence(REMOTE).as_bytes());
-        if self.ask_truecolor {
-            self.session.ask_truecolor(out);
-        }
-        self.session.ask_keyboard_flags(out);
+        enter_game(&mut self.session, self.ask_truecolor, out);
     }
 
     /// The bytes that give the terminal back, then `message` on a line of its own.
     pub fn leave(&self, message: Option<&str>, out: &mut Vec<u8>) {
-        out.extend_from_slice(restore_sequence(REMOTE).as_bytes());
-        if let Some(message) = message {
-            out.extend_from_slice(message.as_bytes());
-            out.extend_from_slice(b"\r\n");
-        }
+        leave_game(message, out);
     }
 
     /// Bytes from the spectator's terminal at `now` (beyond the input rate, dropped). Returns whether
