@@ -7,19 +7,14 @@
 //! cargo run --release -p mazewalk-bench --example cast_cost
 //! ```
 
-// The binary's asciicast writer, included as the bandwidth example includes the walk tests' link.
-#[allow(dead_code)]
-#[path = "../../src/cast.rs"]
-mod cast;
-
 use std::io::BufWriter;
 use std::time::Instant;
 
-use cast::{CastWriter, Header};
 use mazewalk_maze as maze;
 use mazewalk_render::{Charset, RenderOptions};
 use mazewalk_term::frame::ColorDepth;
 use mazewalk_term::input::Input;
+use mazewalk_walk::cast::{CastWriter, Header};
 use mazewalk_walk::{App, Session, SessionOptions};
 
 fn median(mut v: Vec<f64>) -> f64 {

@@ -1,5 +1,5 @@
 //! One player's walk through a maze, pure: the walk's state and its key handlers ([`state`],
-//! [`controls`]), the overlays drawn over the 3D view ([`overlay`], and a served maze's player list,
+//! [`controls`]), asciicasts of a walk ([`cast`]), the overlays drawn over the 3D view ([`overlay`], and a served maze's player list,
 //! [`roster`]), the composed screen ([`screen`]),
 //! end-to-end flow control ([`flow`]), views shared by several screens ([`views`]) and the [`Session`] that ties them to a terminal's bytes. No
 //! I/O, no clock (time comes in as seconds): the `mazewalk` binary runs a session on its own
@@ -7,6 +7,7 @@
 
 #![forbid(unsafe_code)]
 
+pub mod cast;
 pub mod clock;
 pub mod controls;
 pub mod flow;
