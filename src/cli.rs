@@ -250,6 +250,20 @@ pub struct ServeArgs {
     /// counted (1..=65536).
     #[arg(long, value_name = "N", default_value_t = 1024, requires = "world", value_parser = clap::value_parser!(u32).range(1..=65_536))]
     pub max_remote_players: u32,
+    /// Record each player's session as an asciicast v2 file in DIR (made if missing): one file a
+    /// session, exactly what its terminal was sent; the player's HUD says `recorded`. Spectators
+    /// are not recorded.
+    #[arg(long, value_name = "DIR")]
+    pub record_dir: Option<PathBuf>,
+    /// With --record-dir: the most bytes of one cast (e.g. 64M, at least 1K); it stops there,
+    /// still whole lines.
+    #[arg(long, value_name = "BYTES", default_value = "64M", requires = "record_dir", value_parser = parse_bytes)]
+    pub record_max_bytes: u64,
+    /// With --record-dir: the most bytes of all the casts in DIR, each in progress counted at
+    /// --record-max-bytes; the oldest are deleted to make room, and a player with no room left is
+    /// not recorded.
+    #[arg(long, value_name = "BYTES", default_value = "1G", requires = "record_dir", value_parser = parse_bytes)]
+    pub record_max_total: u64,
     /// How log lines (on stderr) are written: text, or json (one object a line: time, level, event,
     /// address, player, message, and the line's other fields) for journald and log shippers.
     #[arg(long, value_name = "FORMAT", default_value = "text")]

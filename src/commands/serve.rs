@@ -13,6 +13,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
 
     use anyhow::{Context as _, bail};
     use mazewalk_render::RenderOptions;
+    use mazewalk_serve::recording::RecordOptions;
     use mazewalk_serve::shared::{Bounds, Caps, WorldConfig};
     use mazewalk_serve::{Access, Limits, ServeOptions, host_key};
     use mazewalk_walk::App;
@@ -110,7 +111,31 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
             keep_records(&path, &maze, super::maze_name(&args.maze))
         }
     };
-    let options = ServeOptions { maze, listen, host_key, access, limits, records: records.clone() };
+    let record = match &args.record_dir {
+        None => None,
+        Some(dir) => {
+            if args.record_max_bytes < 1024 {
+                bail!(
+                    "--record-max-bytes {}: at least 1K (a cast's header alone takes hundreds)",
+                    args.record_max_bytes
+                );
+            }
+            if args.record_max_total < args.record_max_bytes {
+                bail!(
+                    "--record-max-total {} is less than --record-max-bytes {}: not even one cast would fit",
+                    args.record_max_total,
+                    args.record_max_bytes
+                );
+            }
+            std::fs::create_dir_all(dir).with_context(|| format!("--record-dir {}", dir.display()))?;
+            Some(RecordOptions {
+                dir: dir.clone(),
+                max_bytes: args.record_max_bytes,
+                max_total: args.record_max_total,
+            })
+        }
+    };
+    let options = ServeOptions { maze, listen, host_key, access, limits, records: records.clone(), record };
     let signal = mazewalk_serve::run_with(options, world, http, |addrs, http| {
         let made = if made { ", made now" } else { "" };
         let list: Vec<String> = addrs.iter().map(ToString::to_string).collect();
@@ -130,6 +155,12 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
             })
             .and_then(|()| match http {
                 Some(http) => writeln!(out, "metrics at http://{http}/metrics"),
+                None => Ok(()),
+            })
+            .and_then(|()| match &args.record_dir {
+                Some(dir) => {
+                    writeln!(out, "recording each player's session in {} (their HUD says so)", dir.display())
+                }
                 None => Ok(()),
             })
             .and_then(|()| out.flush());

@@ -33,6 +33,7 @@ pub mod limits;
 pub mod logs;
 pub mod metrics;
 pub mod player;
+pub mod recording;
 pub mod records;
 pub mod shared;
 pub mod slots;

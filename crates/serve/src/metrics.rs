@@ -39,6 +39,14 @@ pub struct Metrics {
     spectator_joins: Counter,
     spectator_refusals: Counter,
     handshake_cpu: Histogram,
+    /// Players' sessions recorded (`--record-dir`): started, not started for want of room, and
+    /// stopped early — a file not made or a write failed, a cap reached, a write dropped because
+    /// the recording's queue was full.
+    recordings: Counter,
+    recording_refusals: Counter,
+    recording_errors: Counter,
+    recordings_capped: Counter,
+    recording_drops: Counter,
 }
 
 /// Every refusal's reason, as its label says it.
@@ -62,6 +70,11 @@ impl Default for Metrics {
             spectator_refusals: Counter::default(),
             // 50 µs to 0.4 s, doubling: a stock OpenSSH client's exchange is about 1 ms of CPU.
             handshake_cpu: Histogram::new(exponential_buckets(0.000_05, 2.0, 14)),
+            recordings: Counter::default(),
+            recording_refusals: Counter::default(),
+            recording_errors: Counter::default(),
+            recordings_capped: Counter::default(),
+            recording_drops: Counter::default(),
         }
     }
 }
@@ -114,6 +127,43 @@ impl Metrics {
     /// CPU time the SSH library spent on the connection until then.
     pub(crate) fn key_exchange(&self, cpu: std::time::Duration) {
         self.handshake_cpu.observe(cpu.as_secs_f64());
+    }
+
+    /// A player's session began to be recorded.
+    pub(crate) fn recording_started(&self) {
+        self.recordings.inc();
+    }
+
+    /// A player's session was not recorded: no room in the directory.
+    pub(crate) fn recording_refused(&self) {
+        self.recording_refusals.inc();
+    }
+
+    /// A cast could not be made or written (the recording stopped there).
+    pub(crate) fn recording_failed(&self) {
+        self.recording_errors.inc();
+    }
+
+    /// A cast reached its byte cap (the recording stopped there).
+    pub(crate) fn recording_capped(&self) {
+        self.recordings_capped.inc();
+    }
+
+    /// A write to a cast was dropped: its queue was full (the recording stopped there).
+    pub(crate) fn recording_dropped(&self) {
+        self.recording_drops.inc();
+    }
+
+    /// Recordings started, and (refused, failed, capped, dropped) so far.
+    #[must_use]
+    pub fn recordings(&self) -> (u64, [u64; 4]) {
+        let stopped = [
+            &self.recording_refusals,
+            &self.recording_errors,
+            &self.recordings_capped,
+            &self.recording_drops,
+        ];
+        (self.recordings.get(), stopped.map(Counter::get))
     }
 
     /// Joins so far.
@@ -282,6 +332,27 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
         Unit::Seconds,
         metrics.handshake_cpu.clone(),
     );
+    registry.register("recordings", "Players' sessions recorded (--record-dir)", metrics.recordings.clone());
+    registry.register(
+        "recording_refusals",
+        "Players' sessions not recorded: the recordings in progress left no room under --record-max-total",
+        metrics.recording_refusals.clone(),
+    );
+    registry.register(
+        "recording_errors",
+        "Casts that could not be made or written (each stopped there; the game went on)",
+        metrics.recording_errors.clone(),
+    );
+    registry.register(
+        "recordings_capped",
+        "Casts that reached --record-max-bytes (each stopped there, whole lines)",
+        metrics.recordings_capped.clone(),
+    );
+    registry.register(
+        "recording_drops",
+        "Casts stopped because their write queue was full (the disk slower than the game)",
+        metrics.recording_drops.clone(),
+    );
     registry.register("build", "The mazewalk build", Info::new(vec![("version", env!("CARGO_PKG_VERSION"))]));
     registry.register_collector(Box::new(live));
     registry
@@ -309,6 +380,9 @@ mod tests {
         let metrics = Metrics::default();
         metrics.joined();
         metrics.joined();
+        metrics.recording_started();
+        metrics.recording_started();
+        metrics.recording_dropped();
         metrics.refused(&Refusal::Full(4));
         metrics.refused(&Refusal::FromThisAddress(2));
         metrics.refused(&Refusal::FromThisAddress(2));
@@ -344,6 +418,11 @@ mod tests {
             "mazewalk_spectator_joins_total 2",
             "mazewalk_spectator_refusals_total 1",
             "mazewalk_refusals_total{reason=\"rate\"} 0",
+            "mazewalk_recordings_total 2",
+            "mazewalk_recording_drops_total 1",
+            "mazewalk_recording_errors_total 0",
+            "mazewalk_recordings_capped_total 0",
+            "mazewalk_recording_refusals_total 0",
         ] {
             assert!(text.lines().any(|l| l == line), "no line {line:?} in:\n{text}");
         }

@@ -43,6 +43,9 @@ pub(crate) const WORLD_LOOKS_PER_SECOND: f64 = 30.0;
 /// What the HUD says while a shared world's Redis is away (`--world`).
 pub(crate) const WORLD_OFFLINE: &str = "world offline";
 
+/// What the HUD says while the host records the player's session (`serve --record-dir`).
+pub const RECORDED: &str = "recorded";
+
 /// A terminal size from a pty request or window change: zero means "not given" (RFC 4254 §6.2), the
 /// rest is clamped to the limits (the picture is drawn at most that large, in the top-left corner).
 #[must_use]
@@ -164,6 +167,10 @@ pub struct Player {
     reported_finish: bool,
     /// Its terminal is to be asked for truecolor ([`color_plan`]).
     ask_truecolor: bool,
+    /// The host records its session (its HUD says so).
+    recorded: bool,
+    /// The shared world's Redis is away, as of its last look.
+    offline: bool,
 }
 
 /// What the world learns from a player after a frame ([`Player::news`]).
@@ -210,7 +217,50 @@ impl Player {
             seen_winner: false,
             reported_finish: false,
             ask_truecolor: plan.ask,
+            recorded: false,
+            offline: false,
         })
+    }
+
+    /// The host records this player's session (`serve --record-dir`): its HUD says so, always first.
+    pub fn set_recorded(&mut self, recorded: bool) {
+        self.recorded = recorded;
+        self.show_status();
+    }
+
+    /// The HUD's word from the host: recorded, the world offline, both or nothing.
+    fn show_status(&mut self) {
+        let status = match (self.recorded, self.offline) {
+            (true, true) => Some(format!("{RECORDED} · {WORLD_OFFLINE}")),
+            (true, false) => Some(RECORDED.to_string()),
+            (false, true) => Some(WORLD_OFFLINE.to_string()),
+            (false, false) => None,
+        };
+        self.session.set_status(status.as_deref());
+    }
+
+    /// The header of an asciicast of this player's screen (`serve --record-dir`): its size as
+    /// drawn, `term` and `colorterm` as the client sent them, its colour depth and glyphs now;
+    /// `timestamp`, seconds since the Unix epoch.
+    #[must_use]
+    pub fn cast_header(
+        &self,
+        (term, colorterm): (&str, Option<&str>),
+        title: String,
+        timestamp: Option<u64>,
+    ) -> mazewalk_walk::cast::Header {
+        let screen = self.session.screen();
+        mazewalk_walk::cast::Header {
+            width: u16::try_from(screen.width()).unwrap_or(u16::MAX),
+            height: u16::try_from(screen.height()).unwrap_or(u16::MAX),
+            timestamp,
+            title,
+            term: Some(term.to_string()),
+            colorterm: colorterm.map(str::to_string),
+            color_depth: self.session.color_depth(),
+            charset: self.session.app().options.charset,
+            asked_truecolor: self.ask_truecolor,
+        }
     }
 
     /// The bytes that put the remote terminal into game mode (before the first frame).
@@ -331,7 +381,8 @@ impl Player {
         self.session.set_roster(&self.roster);
         self.session.set_players_in(Some(look.players.len()));
         // A shared world whose Redis is away: the others stand frozen where last heard.
-        self.session.set_status(look.online.filter(|online| !online).map(|_| WORLD_OFFLINE));
+        self.offline = look.online == Some(false);
+        self.show_status();
         if let (Some(winner), false) = (&look.winner, self.seen_winner) {
             self.seen_winner = true;
             self.session.set_notice(Some(winner.announcement_for(me)));

@@ -29,6 +29,7 @@ use super::limits::Limits;
 use super::logs::{self, LogLimit};
 use super::metrics::Metrics;
 use super::player::{News, Player};
+use super::recording::{RecordOptions, Recordings, Tap};
 use super::records::{Keeper, Standing, standing_lines};
 use super::shared::codec::{Finish, PlayerRecord, WinnerRecord};
 use super::shared::view::Others;
@@ -65,6 +66,8 @@ pub struct ServeOptions {
     pub limits: Limits,
     /// Where the best times go (`None`: not kept).
     pub records: Option<Keeper>,
+    /// Where each player's session is recorded as an asciicast (`None`: not recorded).
+    pub record: Option<RecordOptions>,
 }
 
 /// What a player is told when the server shuts down.
@@ -111,6 +114,8 @@ struct Shared {
     metrics: Metrics,
     /// What the spectators share: the way to the exit (for the leader) and the views they draw.
     audience: Audience,
+    /// The players' recordings (`--record-dir`).
+    recordings: Option<Recordings>,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -483,6 +488,8 @@ impl Server {
             }
         };
         let audience = Audience::new(&options.maze, SHARED_VIEWS);
+        let metrics = Metrics::default();
+        let recordings = options.record.map(|record| Recordings::new(record, metrics.clone()));
         let shared = Arc::new(Shared {
             maze: Arc::new(options.maze),
             access: options.access,
@@ -496,8 +503,9 @@ impl Server {
             slots: Mutex::new(Slots::new(&limits)),
             conns: Mutex::new(HashMap::new()),
             log_limit: Mutex::new(LogLimit::new(0.0)),
-            metrics: Metrics::default(),
+            metrics,
             audience,
+            recordings,
         });
         let accept = tokio::spawn(accept_loop(listeners, Arc::clone(&shared)));
         Ok(Server { local_addrs, shutdown, shared, accept, world: joined })
@@ -1164,7 +1172,19 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
     player.joined(id);
     shared.metrics.joined();
     conn.playing.store(true, Ordering::SeqCst);
-    let end = walk(shared, conn, &tx, &mut rx, &mut player, id).await;
+    // `--record-dir`: everything sent from here on, game mode on to the goodbye (its HUD says so).
+    let mut tap = match &shared.recordings {
+        Some(recordings) => {
+            let timestamp =
+                std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).ok().map(|d| d.as_secs());
+            let title = format!("mazewalk serve: {}", player_name(&user));
+            let header = player.cast_header((&pty.term, colorterm.as_deref()), title, timestamp);
+            recordings.start(&user, header, shared.now()).await
+        }
+        None => None,
+    };
+    player.set_recorded(tap.is_some());
+    let end = walk(shared, conn, &tx, &mut rx, &mut player, id, &mut tap).await;
     {
         let mut world = shared.world();
         world.leave(id);
@@ -1174,11 +1194,12 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         Some(seconds) => format!("You found the exit in {seconds:.1} s."),
         None => "Thanks for walking.".to_string(),
     };
-    goodbye(shared, conn, &tx, &mut rx, &mut player, end, quit).await;
+    goodbye(shared, conn, &tx, &mut rx, &mut player, end, quit, tap.as_mut()).await;
 }
 
 /// The end of a game or a watch: the terminal restored and a line saying why (quit: `quit`), or the
-/// connection cut (stalled, gone).
+/// connection cut (stalled, gone). A player's recording (`tap`) gets the goodbye too.
+#[allow(clippy::too_many_arguments)] // (the eighth, the recording, is a player's only)
 async fn goodbye(
     shared: &Shared,
     conn: &Conn,
@@ -1187,6 +1208,7 @@ async fn goodbye(
     player: &mut impl Remote,
     end: End,
     quit: String,
+    tap: Option<&mut Tap>,
 ) {
     if end == End::Stalled {
         conn.end("stopped reading");
@@ -1208,6 +1230,9 @@ async fn goodbye(
     };
     let mut out = Vec::new();
     player.leave(Some(&message), &mut out);
+    if let Some(tap) = tap {
+        tap.output(shared.now(), &out);
+    }
     // A shutting-down server waits for the goodbye no longer than its grace; either way a cut ends
     // the wait (a client that types but never reads fills the channel's queue, and russh's task,
     // waiting to hand it over, would not see the cut until this write gave up).
@@ -1261,7 +1286,8 @@ async fn watch(
     conn.playing.store(true, Ordering::SeqCst);
     let end = watching(shared, conn, &tx, &mut rx, &mut spectator).await;
     shared.metrics.spectator_left();
-    goodbye(shared, conn, &tx, &mut rx, &mut spectator, end, "Thanks for watching.".into()).await;
+    // (not recorded: a spectator sees what a player sees, and that player's cast has it)
+    goodbye(shared, conn, &tx, &mut rx, &mut spectator, end, "Thanks for watching.".into(), None).await;
 }
 
 /// The watch itself: as [`walk`], with a spectator's screen and nothing told to the world.
@@ -1405,6 +1431,7 @@ async fn walk(
     rx: &mut russh::ChannelReadHalf,
     player: &mut Player,
     id: PlayerId,
+    tap: &mut Option<Tap>,
 ) -> End {
     let mut out = Vec::with_capacity(16 * 1024);
     player.enter(&mut out);
@@ -1442,6 +1469,10 @@ async fn walk(
         if !out.is_empty() {
             let bytes = std::mem::take(&mut out);
             let len = bytes.len();
+            if let Some(tap) = tap.as_mut() {
+                tap.depth(now, player.session().color_depth()); // the terminal said truecolor: marked
+                tap.output(now, &bytes);
+            }
             let write = tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(bytes));
             tokio::select! {
                 written = write => match written {
@@ -1490,6 +1521,11 @@ async fn walk(
                 }
                 Some(ChannelMsg::WindowChange { col_width, row_height, .. }) => {
                     player.resize(col_width, row_height, shared.now());
+                    if let Some(tap) = tap.as_mut() {
+                        let screen = player.session().screen(); // the size drawn: within the limits
+                        let size = |n: usize| u16::try_from(n).unwrap_or(u16::MAX);
+                        tap.resize(shared.now(), size(screen.width()), size(screen.height()));
+                    }
                 }
                 Some(ChannelMsg::Eof | ChannelMsg::Close) | None => return End::Gone,
                 Some(_) => {}

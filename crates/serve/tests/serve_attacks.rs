@@ -30,6 +30,7 @@ async fn server(access: Access, limits: Limits) -> Server {
         access,
         limits,
         records: None,
+        record: None,
     };
     Server::start(options).await.expect("start the server")
 }

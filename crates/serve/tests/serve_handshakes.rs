@@ -31,6 +31,7 @@ async fn server(limits: Limits) -> Server {
         access: Access::Open,
         limits,
         records: None,
+        record: None,
     };
     Server::start(options).await.expect("start the server")
 }

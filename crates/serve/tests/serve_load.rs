@@ -163,6 +163,7 @@ async fn server_with(limits: Limits) -> Server {
         access: Access::Open,
         limits,
         records: None,
+        record: None,
     };
     Server::start(options).await.expect("start the server")
 }

@@ -51,6 +51,7 @@ async fn start(limits: Limits) -> Server {
         access: Access::Open,
         limits,
         records: None,
+        record: None,
     };
     Server::start(options).await.expect("start the server")
 }

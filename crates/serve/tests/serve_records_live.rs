@@ -85,6 +85,7 @@ async fn a_records_file_broken_while_serving_neither_stops_the_game_nor_its_rank
             access: Access::Open,
             limits: Limits::default(),
             records: Some(keeper),
+            record: None,
         };
         let server = Server::start(options).await.expect("start the server");
         let addr = server.local_addr();

@@ -1,0 +1,408 @@
+//! `mazewalk serve --record-dir DIR`: each player's session written as an asciicast v2 file
+//! ([`mazewalk_walk::cast`]) — exactly the bytes its terminal was sent over the SSH channel (game
+//! mode on, the questions, every frame, the goodbye), resizes as `"r"` events, a raised colour depth
+//! as a `"m"` marker, the size and colour depth in the header. Opt-in by the host, and the player is
+//! told: its HUD says `recorded` for as long as it is.
+//!
+//! Off the players' tasks: a player's task hands each write to a bounded channel ([`Tap`]) and a
+//! blocking thread of tokio's pool writes the file. A channel that is full (more than
+//! [`QUEUED_EVENTS`] writes or [`QUEUED_BYTES`] bytes waiting: the disk is slower than the game) is
+//! never waited on: the write is dropped, counted, and the recording stops there, so that a cast
+//! never has a gap in it (a gap would replay as a wrong screen).
+//!
+//! Bounded, whatever the players do:
+//! - a file ends at `max_bytes` (`--record-max-bytes`): the first event that would pass it is not
+//!   written, nor any after it, so the file is whole lines of valid asciicast;
+//! - the directory holds at most `max_total` bytes (`--record-max-total`) and [`MAX_FILES`] files of
+//!   ours: before a recording starts, the finished files are counted and the oldest deleted until
+//!   they and every recording in progress (each counted at its cap) fit; when the recordings in
+//!   progress alone do not leave room, the newcomer is not recorded, and that is counted.
+//!
+//! File names cannot be steered by a client: `mazewalk-UNIXTIME-PID-N-NAME.cast`, NAME being the SSH
+//! user name cleaned as everywhere ([`player_name`]: letters, digits, `-`, `_`, `.`, at most 16),
+//! created new (never over a file or through a link), readable by the host's user only. Only files
+//! named so are ever counted or deleted. Spectators are not recorded: they see only what a
+//! player sees, and that player's own cast has it.
+//!
+//! Every failure (a file that cannot be made, a write, a full channel, a refusal, a cap reached) is
+//! counted in `/metrics` and said in the log at most once a recording; none ends a player's game.
+
+use std::collections::HashSet;
+use std::fs::{File, OpenOptions};
+use std::io::{self, BufWriter};
+use std::os::unix::fs::OpenOptionsExt;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
+
+use tokio::sync::mpsc;
+use tracing::warn;
+
+use crate::identity::player_name;
+use crate::metrics::Metrics;
+use mazewalk_term::frame::ColorDepth;
+use mazewalk_walk::cast::{CastWriter, Header};
+
+/// Writes waiting for a recording's thread, at most.
+pub const QUEUED_EVENTS: usize = 256;
+/// Bytes waiting for a recording's thread, at most.
+pub const QUEUED_BYTES: usize = 4 << 20;
+/// Our files kept in the directory, at most (the oldest go first).
+pub const MAX_FILES: usize = 10_000;
+/// What a file of ours is called: this, then the time, the process, a counter and the name.
+const PREFIX: &str = "mazewalk-";
+/// … and this at the end.
+const SUFFIX: &str = ".cast";
+
+/// What the host asked for (`--record-dir`, `--record-max-bytes`, `--record-max-total`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RecordOptions {
+    /// Where the casts go (made if missing).
+    pub dir: PathBuf,
+    /// The most bytes of one cast.
+    pub max_bytes: u64,
+    /// The most bytes of all our casts in `dir`, those in progress counted at `max_bytes`.
+    pub max_total: u64,
+}
+
+impl RecordOptions {
+    /// The defaults: 64 MiB a cast, 1 GiB in all.
+    #[must_use]
+    pub fn new(dir: PathBuf) -> RecordOptions {
+        RecordOptions { dir, max_bytes: 64 << 20, max_total: 1 << 30 }
+    }
+}
+
+/// The server's recordings: the options, the files in progress, the counts.
+#[derive(Debug)]
+pub(crate) struct Recordings {
+    options: RecordOptions,
+    metrics: Metrics,
+    /// A counter for file names.
+    next: AtomicU64,
+    /// The file names of the recordings in progress (never deleted, each counted at its cap); the
+    /// lock also makes one recording's count-and-prune at a time.
+    active: Arc<Mutex<HashSet<String>>>,
+}
+
+/// What a recording's thread is handed.
+#[derive(Debug)]
+enum Event {
+    Output(f64, Vec<u8>),
+    Resize(f64, u16, u16),
+    Marker(f64, String),
+}
+
+/// One player's recording, as its task sees it: hands writes to the recording's thread without
+/// waiting. Dropping it ends the recording (the thread writes what is queued and closes the file).
+#[derive(Debug)]
+pub(crate) struct Tap {
+    /// `None` once the recording stopped (the channel was full, or the thread gone).
+    tx: Option<mpsc::Sender<Event>>,
+    /// Bytes handed over and not yet written.
+    queued: Arc<AtomicUsize>,
+    /// The server time of the recording's time 0.
+    start: f64,
+    /// The colour depth last recorded.
+    depth: ColorDepth,
+    metrics: Metrics,
+}
+
+impl Tap {
+    /// The bytes sent to the player's terminal at server time `now`.
+    pub(crate) fn output(&mut self, now: f64, bytes: &[u8]) {
+        if !bytes.is_empty() {
+            self.send(Event::Output(now - self.start, bytes.to_vec()), bytes.len());
+        }
+    }
+
+    /// The player's terminal is now `cols × rows` (as drawn: clamped to the limits).
+    pub(crate) fn resize(&mut self, now: f64, cols: u16, rows: u16) {
+        self.send(Event::Resize(now - self.start, cols, rows), 0);
+    }
+
+    /// The session's colour depth now: a change (the terminal said it shows truecolor) is marked.
+    pub(crate) fn depth(&mut self, now: f64, depth: ColorDepth) {
+        if depth != self.depth {
+            self.depth = depth;
+            self.send(Event::Marker(now - self.start, format!("color_depth {depth}")), 0);
+        }
+    }
+
+    fn send(&mut self, event: Event, bytes: usize) {
+        let Some(tx) = &self.tx else { return };
+        let queued = self.queued.load(Ordering::Relaxed);
+        if queued.saturating_add(bytes) > QUEUED_BYTES {
+            self.metrics.recording_dropped();
+            self.tx = None;
+            return;
+        }
+        self.queued.fetch_add(bytes, Ordering::Relaxed);
+        match tx.try_send(event) {
+            Ok(()) => {}
+            Err(mpsc::error::TrySendError::Full(_)) => {
+                self.metrics.recording_dropped();
+                self.tx = None;
+            }
+            Err(mpsc::error::TrySendError::Closed(_)) => self.tx = None, // stopped: counted there
+        }
+    }
+}
+
+impl Recordings {
+    /// The recordings under `options`, counted in `metrics`.
+    pub(crate) fn new(options: RecordOptions, metrics: Metrics) -> Recordings {
+        Recordings { options, metrics, next: AtomicU64::new(0), active: Arc::default() }
+    }
+
+    /// Starts recording the session of `user` (its SSH user name: cleaned here) whose cast starts
+    /// with `header`, at server time `now`: makes room and the file on a blocking thread, then
+    /// writes there. `None`: not recorded (no room, or the file could not be made: said and counted).
+    pub(crate) async fn start(&self, user: &str, header: Header, now: f64) -> Option<Tap> {
+        let number = self.next.fetch_add(1, Ordering::Relaxed);
+        let options = self.options.clone();
+        let active = Arc::clone(&self.active);
+        let depth = header.color_depth;
+        let name = player_name(user);
+        let opened =
+            tokio::task::spawn_blocking(move || open(&options, &active, &name, number, &header)).await;
+        let (file_name, cast) = match opened {
+            Ok(Ok(opened)) => opened,
+            Ok(Err(Refused::NoRoom)) => {
+                self.metrics.recording_refused();
+                warn!(dir = %self.options.dir.display(), "recording: no room for another cast (--record-max-total); this player is not recorded");
+                return None;
+            }
+            Ok(Err(Refused::Io(err))) => {
+                self.metrics.recording_failed();
+                warn!(dir = %self.options.dir.display(), "recording: cannot make a cast: {err}; this player is not recorded");
+                return None;
+            }
+            Err(_) => return None, // the runtime is shutting down
+        };
+        self.metrics.recording_started();
+        let (tx, rx) = mpsc::channel(QUEUED_EVENTS);
+        let queued = Arc::new(AtomicUsize::new(0));
+        let writer = Writer {
+            cast,
+            rx,
+            queued: Arc::clone(&queued),
+            metrics: self.metrics.clone(),
+            active: Arc::clone(&self.active),
+            file_name,
+            dir: self.options.dir.clone(),
+        };
+        // (a runtime shutting down refuses it: the recording ends with its header)
+        drop(tokio::task::spawn_blocking(move || writer.run()));
+        Some(Tap { tx: Some(tx), queued, start: now, depth, metrics: self.metrics.clone() })
+    }
+}
+
+/// Why a recording did not start.
+#[derive(Debug)]
+enum Refused {
+    /// The recordings in progress leave no room under `max_total`.
+    NoRoom,
+    /// The directory or the file could not be made, or the header written.
+    Io(io::Error),
+}
+
+impl From<io::Error> for Refused {
+    fn from(err: io::Error) -> Refused {
+        Refused::Io(err)
+    }
+}
+
+/// Whether `name` is one of our casts' names.
+fn ours(name: &str) -> bool {
+    name.starts_with(PREFIX) && name.ends_with(SUFFIX)
+}
+
+/// Makes room for one more cast in the directory and makes it (see the module's doc), its header
+/// written; the file's name is added to `active`.
+fn open(
+    options: &RecordOptions,
+    active: &Mutex<HashSet<String>>,
+    name: &str,
+    number: u64,
+    header: &Header,
+) -> Result<(String, CastWriter<BufWriter<File>>), Refused> {
+    let mut active = active.lock().unwrap_or_else(PoisonError::into_inner);
+    std::fs::create_dir_all(&options.dir)?;
+    // Our finished casts, oldest first (the name starts with the time, zero-padded).
+    let mut finished: Vec<(String, u64)> = Vec::new();
+    for entry in std::fs::read_dir(&options.dir)? {
+        let Ok(entry) = entry else { continue };
+        let Ok(file_name) = entry.file_name().into_string() else { continue };
+        if !ours(&file_name) || active.contains(&file_name) {
+            continue;
+        }
+        match entry.metadata() {
+            Ok(meta) if meta.is_file() => finished.push((file_name, meta.len())),
+            _ => {}
+        }
+    }
+    finished.sort_unstable();
+    let reserved = (active.len() as u64 + 1).saturating_mul(options.max_bytes);
+    if reserved > options.max_total || active.len() + 1 > MAX_FILES {
+        return Err(Refused::NoRoom);
+    }
+    let mut total: u64 = finished.iter().map(|(_, len)| len).sum();
+    let mut kept = finished.len();
+    for (file_name, len) in &finished {
+        if total.saturating_add(reserved) <= options.max_total && kept + active.len() < MAX_FILES {
+            break;
+        }
+        // (gone already, say another server pruned it: as good)
+        match std::fs::remove_file(options.dir.join(file_name)) {
+            Ok(()) => {}
+            Err(err) if err.kind() == io::ErrorKind::NotFound => {}
+            Err(err) => return Err(Refused::Io(err)),
+        }
+        total -= len;
+        kept -= 1;
+    }
+    let seconds =
+        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
+    let pid = std::process::id();
+    let name = if name.is_empty() { "player" } else { name };
+    let mut attempt = number;
+    loop {
+        let file_name = format!("{PREFIX}{seconds:011}-{pid}-{attempt:06}-{name}{SUFFIX}");
+        let path = options.dir.join(&file_name);
+        match OpenOptions::new().write(true).create_new(true).mode(0o600).open(&path) {
+            Ok(file) => {
+                let cast = CastWriter::with_limit(BufWriter::new(file), header, options.max_bytes)
+                    .inspect_err(|_| {
+                        let _ = std::fs::remove_file(&path);
+                    })?;
+                active.insert(file_name.clone());
+                return Ok((file_name, cast));
+            }
+            // (a name taken, by another server in the same directory: the next number)
+            Err(err) if err.kind() == io::ErrorKind::AlreadyExists && attempt < number + 16 => attempt += 1,
+            Err(err) => return Err(Refused::Io(err)),
+        }
+    }
+}
+
+/// A recording's thread.
+struct Writer {
+    cast: CastWriter<BufWriter<File>>,
+    rx: mpsc::Receiver<Event>,
+    queued: Arc<AtomicUsize>,
+    metrics: Metrics,
+    active: Arc<Mutex<HashSet<String>>>,
+    file_name: String,
+    dir: PathBuf,
+}
+
+impl Writer {
+    /// Writes the events until the player's task drops its [`Tap`] (or the recording stops), then
+    /// flushes and closes the file.
+    fn run(mut self) {
+        while let Some(event) = self.rx.blocking_recv() {
+            match event {
+                Event::Output(time, bytes) => {
+                    self.cast.output(time, &bytes);
+                    self.queued.fetch_sub(bytes.len(), Ordering::Relaxed);
+                }
+                Event::Resize(time, cols, rows) => self.cast.resize(time, cols, rows),
+                Event::Marker(time, label) => self.cast.marker(time, &label),
+            }
+            if self.cast.failed() || self.cast.capped() {
+                break;
+            }
+        }
+        self.rx.close(); // the tap's next write learns it stopped
+        let path = self.dir.join(&self.file_name);
+        if self.cast.capped() {
+            self.metrics.recording_capped();
+            warn!(file = %path.display(), bytes = self.cast.written(), "recording: the cast reached its cap (--record-max-bytes); it stops here");
+        }
+        if let Err(err) = self.cast.finish() {
+            self.metrics.recording_failed();
+            warn!(file = %path.display(), "recording: cannot write the cast: {err}; it stops here");
+        }
+        self.active.lock().unwrap_or_else(PoisonError::into_inner).remove(&self.file_name);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mazewalk_render::Charset;
+    use std::path::Path;
+
+    fn header() -> Header {
+        Header {
+            width: 80,
+            height: 24,
+            timestamp: None,
+            title: "t".into(),
+            term: None,
+            colorterm: None,
+            color_depth: ColorDepth::Ansi256,
+            charset: Charset::Half,
+            asked_truecolor: false,
+        }
+    }
+
+    struct Dir(PathBuf);
+    impl Drop for Dir {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+    fn scratch(name: &str) -> Dir {
+        let dir = std::env::temp_dir().join(format!("mazewalk-recording-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        Dir(dir)
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> =
+            std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn a_hostile_name_is_cleaned_and_never_a_path() {
+        let dir = scratch("names");
+        let options = RecordOptions::new(dir.0.clone());
+        let active = Mutex::default();
+        for user in ["../../etc/passwd", "a/b\u{1b}[31m", "", ".."] {
+            open(&options, &active, &player_name(user), 7, &header()).map_err(|_| "open").unwrap();
+        }
+        for name in names(&dir.0) {
+            assert!(ours(&name) && !name.contains('/') && !name.contains('\u{1b}'), "{name}");
+        }
+        assert_eq!(names(&dir.0).len(), 4, "each its own file: {:?}", names(&dir.0));
+    }
+
+    #[test]
+    fn the_oldest_finished_casts_make_room_and_in_progress_ones_are_kept() {
+        let dir = scratch("prune");
+        std::fs::create_dir_all(&dir.0).unwrap();
+        // 3 finished casts of 400 bytes, and a file not ours
+        for t in 1..=3 {
+            std::fs::write(dir.0.join(format!("mazewalk-{t:011}-1-000000-old.cast")), [b'x'; 400]).unwrap();
+        }
+        std::fs::write(dir.0.join("notes.txt"), [b'x'; 5000]).unwrap();
+        let options = RecordOptions { dir: dir.0.clone(), max_bytes: 1000, max_total: 2500 };
+        let active = Mutex::default();
+        // one in progress (counted at 1000) + 3 × 400 ≤ 2500: nothing deleted
+        open(&options, &active, "a", 0, &header()).map_err(|_| "open").unwrap();
+        assert_eq!(names(&dir.0).len(), 5);
+        // two in progress (2000) leave room for one finished cast (400): the two oldest go
+        open(&options, &active, "b", 1, &header()).map_err(|_| "open").unwrap();
+        let left = names(&dir.0);
+        assert!(!left.iter().any(|n| n.contains("00000000001-") || n.contains("00000000002-")), "{left:?}");
+        assert!(left.iter().any(|n| n.contains("00000000003-")), "{left:?}");
+        assert!(left.contains(&"notes.txt".to_string()), "a file not ours was touched");
+        // a third in progress (3000 > 2500): refused, the ones in progress untouched
+        assert!(matches!(open(&options, &active, "c", 2, &header()), Err(Refused::NoRoom)));
+        assert_eq!(active.lock().unwrap().len(), 2);
+    }
+}
