@@ -3,7 +3,9 @@
 //! ghost: bob walks a corridor to the exit, his run is kept in the records (real SQLite); carol, who
 //! joins after, presses `g` and bob's ghost runs ahead of her down the corridor, captioned with his
 //! name and time, on her map too, and `g` again takes it away. `mazewalk records --export-run` then
-//! writes his run to a file that decodes. Loopback only; every wait has a deadline.
+//! writes his run to a file that decodes. With `--world`, a finish on one server reaches the ghost of
+//! a player on another within seconds (a real `redis-server`). Loopback only; every wait has a
+//! deadline.
 #![cfg(unix)]
 
 mod common;
@@ -12,6 +14,7 @@ use std::process::Command;
 use std::time::Duration;
 
 use common::{Player, Scratch, Server, hud_row, on_map, playing};
+use mazewalk_testkit::redis_server::{Persistence, RedisServer};
 
 /// A corridor east from the start: the exit eight tiles (32 units) on.
 const CORRIDOR: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n###########\n#@.......E#\n###########\n";
@@ -86,4 +89,51 @@ fn a_finished_run_comes_back_as_a_ghost_on_the_next_players_screen_and_map() {
     assert_eq!(decoded.holder, "bob");
     assert!((4.0..20.0).contains(&decoded.seconds()), "{}", decoded.seconds());
     drop(server);
+}
+
+/// Holds `w` (auto-repeat every 40 ms) until the exit box shows: the corridor's 30 units take 6 s.
+fn walk_to_the_exit(player: &mut Player) {
+    for _ in 0..400 {
+        player.send(b"w");
+        std::thread::sleep(Duration::from_millis(40));
+        if player.shows(|s| s.contents().contains("You found the exit in")) {
+            return;
+        }
+    }
+    player.wait_for("the exit box", |s, _| s.contents().contains("You found the exit in"));
+}
+
+// Issue #43: with --world, a new best run made on server A reaches `g` on server B within seconds
+// (the remote finish asks B's records to read the best run again), not at B's 30 s reread: B's
+// player, racing with no ghost yet, sees alice's ghost well within 10 s of her finish.
+#[test]
+fn a_finish_on_another_server_reaches_the_ghost_within_seconds() {
+    let scratch = Scratch::new("worldghost");
+    let redis = RedisServer::start(Persistence::None);
+    let maze = scratch.0.join("maze.grid");
+    std::fs::write(&maze, CORRIDOR).expect("write the maze");
+    let maze = maze.to_str().expect("a UTF-8 path");
+    let url = redis.url(0);
+    let serve = |name: &str| {
+        Server::start_on(
+            &scratch,
+            "127.0.0.1:0",
+            &format!("host_key_{name}"),
+            &["--open", "--world", &url, maze],
+        )
+    };
+    let (server_a, server_b) = (serve("a"), serve("b"));
+    let mut bob = Player::connect(server_b.port, None, "bob", 100, 30);
+    bob.wait_for("bob's game on server B", playing);
+    bob.send(b"g");
+    bob.wait_for("no ghost yet", |s, _| hud_row(s).contains("no ghost yet"));
+
+    let mut alice = Player::connect(server_a.port, None, "alice", 100, 30);
+    alice.wait_for("alice's game on server A", playing);
+    walk_to_the_exit(&mut alice);
+    let finished = std::time::Instant::now();
+    bob.wait_for("alice's ghost on server B", |s, _| hud_row(s).contains("ghost alice 0:"));
+    let took = finished.elapsed();
+    assert!(took < Duration::from_secs(10), "alice's run reached server B after {took:?}");
+    drop((alice, bob, server_a, server_b));
 }

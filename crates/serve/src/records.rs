@@ -33,7 +33,9 @@
 //! - **Runs for ghosts** (issue #43). A finish carries its run ([`Finish::run`], the format of
 //!   [`mazewalk_walk::run`]); the store keeps it for the best finish of each of the maze's best
 //!   [`TOP`] players and drops the others ([`Store::run`] reads one back). With a [`Race`], the
-//!   records thread reads the maze's best run at start, after each finish with a run and every
+//!   records thread reads the maze's best run at start, after each finish with a run, when asked
+//!   ([`Records::reread_best_run`]: another server in the world finished; read again
+//!   [`REREAD_AGAIN`] later, in case its run was stored after its word came) and every
 //!   [`REREAD_BEST_RUN`], decodes and checks it as untrusted (a fault said once) and offers it as
 //!   [`Records::best_run`]. A finish kept in memory while the store fails keeps no run.
 //!
@@ -44,9 +46,9 @@
 use std::collections::HashMap;
 use std::os::unix::fs::MetadataExt as _;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, PoisonError, mpsc};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use mazewalk_maze::ContentHash;
 use rusqlite::{Connection, ErrorCode, OpenFlags, OptionalExtension as _, params};
@@ -657,7 +659,12 @@ impl Sqlite {
 pub type Report = Arc<dyn Fn(&str) + Send + Sync>;
 
 /// A finish on its way to the records thread, with where to send the answer.
-type Job = (Finish, oneshot::Sender<Option<Standing>>);
+enum Job {
+    /// A finish to keep, and where its standing goes.
+    Finish(Finish, oneshot::Sender<Option<Standing>>),
+    /// Read the best run again ([`Records::reread_best_run`]).
+    Reread,
+}
 
 /// The records thread's handle: hands it finishes without waiting (see the module's doc). Clones share
 /// the thread, which ends when the last clone is dropped.
@@ -671,6 +678,8 @@ pub struct Records {
     done: Arc<Mutex<mpsc::Receiver<()>>>,
     /// The served maze's best run, decoded and checked, for its ghost ([`Race`]).
     best_run: BestRun,
+    /// A [`Job::Reread`] waits in the queue (at most one does).
+    reread_queued: Arc<AtomicBool>,
 }
 
 /// The best run as the records thread last read it (`None`: none, or none valid).
@@ -712,16 +721,27 @@ impl Records {
         let best_run: BestRun = Arc::default();
         let thread_best = Arc::clone(&best_run);
         let (jobs, queue) = mpsc::sync_channel::<Job>(QUEUE);
+        let reread_queued = Arc::new(AtomicBool::new(false));
+        let thread_reread = Arc::clone(&reread_queued);
         let (ended, done) = mpsc::channel::<()>();
         let thread_report = Arc::clone(&report);
         let tally = Arc::new(Tally::default());
         let thread_tally = Arc::clone(&tally);
         std::thread::Builder::new().name("records".into()).spawn(move || {
-            keep(store, &queue, &*thread_report, &thread_tally, race.map(|race| (race, &*thread_best)));
+            let race = race.map(|race| (race, &*thread_best));
+            keep(store, (&queue, &thread_reread), &*thread_report, &thread_tally, race);
             drop(ended);
         })?;
         let done = Arc::new(Mutex::new(done));
-        Ok(Records { jobs, dropped: Arc::new(AtomicU64::new(0)), tally, report, done, best_run })
+        Ok(Records {
+            jobs,
+            dropped: Arc::new(AtomicU64::new(0)),
+            tally,
+            report,
+            done,
+            best_run,
+            reread_queued,
+        })
     }
 
     /// The served maze's best run, for its ghost: read by the records thread at start and after each
@@ -730,6 +750,16 @@ impl Records {
     #[must_use]
     pub fn best_run(&self) -> Option<Arc<Run>> {
         self.best_run.lock().unwrap_or_else(PoisonError::into_inner).clone()
+    }
+
+    /// Asks the records thread to read the best run again now (and once more [`REREAD_AGAIN`] later):
+    /// another server in the world reached the exit, and its run may be the best. Never waits; while
+    /// one such request waits in the queue, more are the same one (a full queue drops it: the
+    /// thread reads again every [`REREAD_BEST_RUN`] anyway).
+    pub fn reread_best_run(&self) {
+        if !self.reread_queued.swap(true, Ordering::AcqRel) && self.jobs.try_send(Job::Reread).is_err() {
+            self.reread_queued.store(false, Ordering::Release);
+        }
     }
 
     /// Lets the thread finish what it was handed (once every other clone is gone too) and waits for it,
@@ -748,7 +778,7 @@ impl Records {
     #[must_use]
     pub fn finish(&self, finish: Finish) -> Option<oneshot::Receiver<Option<Standing>>> {
         let (answer, standing) = oneshot::channel();
-        match self.jobs.try_send((finish, answer)) {
+        match self.jobs.try_send(Job::Finish(finish, answer)) {
             Ok(()) => Some(standing),
             Err(mpsc::TrySendError::Full(_)) => {
                 if self.dropped.fetch_add(1, Ordering::Relaxed) == 0 {
@@ -892,7 +922,7 @@ impl Memory {
 /// answers every finish with its standing; says each change of the store's file and each fault.
 fn keep(
     mut store: impl Store,
-    queue: &mpsc::Receiver<Job>,
+    (queue, reread_queued): (&mpsc::Receiver<Job>, &AtomicBool),
     report: &(dyn Fn(&str) + Send + Sync),
     tally: &Tally,
     race: Option<(Race, &Mutex<Option<Arc<Run>>>)>,
@@ -921,12 +951,27 @@ fn keep(
     let mut memory = Memory::default();
     let mut failing = false;
     let mut said: Option<std::time::Instant> = None;
+    // (read again now and then: another server on the file, or in the world, may have beaten it;
+    // and once more a little after a remote finish, whose run may have been stored after its word)
+    let mut read_at = Instant::now() + REREAD_BEST_RUN;
+    let mut again_at: Option<Instant> = None;
     loop {
-        // (read again now and then: another server on the file, or in the world, may have beaten it)
-        let (finish, answer) = match queue.recv_timeout(REREAD_BEST_RUN) {
-            Ok(job) => job,
+        let next = again_at.map_or(read_at, |again| again.min(read_at));
+        let (finish, answer) = match queue.recv_timeout(next.saturating_duration_since(Instant::now())) {
+            Ok(Job::Finish(finish, answer)) => (finish, answer),
+            Ok(Job::Reread) => {
+                reread_queued.store(false, Ordering::Release);
+                read_best(&mut store);
+                again_at = Some(Instant::now() + REREAD_AGAIN);
+                continue;
+            }
             Err(mpsc::RecvTimeoutError::Timeout) => {
                 read_best(&mut store);
+                let now = Instant::now();
+                again_at = again_at.filter(|&again| again > now);
+                if read_at <= now {
+                    read_at = now + REREAD_BEST_RUN;
+                }
                 continue;
             }
             Err(mpsc::RecvTimeoutError::Disconnected) => break,
@@ -975,6 +1020,10 @@ impl<S: Store> StoreRuns for S {
 /// How often the records thread reads the best run again with no finish of its own (another server
 /// on the same file, or in the same world, may have made a better one).
 const REREAD_BEST_RUN: Duration = Duration::from_secs(30);
+
+/// After a read asked for ([`Records::reread_best_run`]), the next, in case the remote server's
+/// run reached the store after its word reached this server.
+const REREAD_AGAIN: Duration = Duration::from_secs(3);
 
 /// `race`'s maze's best run from `store`, decoded and checked, labelled with its player's name as
 /// [`player_name`] cleans it (`None`: none kept); a run that fails, or a store that does, is the line

@@ -128,6 +128,8 @@ struct WorldCell {
     version: watch::Sender<u64>,
     /// The server's clock (as [`Shared::clock`]).
     clock: Instant,
+    /// The records, whose best run is read again when another server's player finishes.
+    records: Option<crate::records::Records>,
 }
 
 impl WorldCell {
@@ -193,6 +195,10 @@ impl Host for WorldCell {
 
     fn finished(&self, server: ServerId, finishes: &[Finish]) {
         self.change(|world| world.remote_finished(server, finishes));
+        // Its run may be the maze's best: the ghost (`g`) here too, within seconds (issue #43).
+        if let (Some(records), false) = (&self.records, finishes.is_empty()) {
+            records.reread_best_run();
+        }
     }
 
     fn relabel(&self, ids: &[u32]) {
@@ -474,7 +480,13 @@ impl Server {
                 World::shared(crate::shared::task::unix_ms().saturating_sub(since))
             }
         };
-        let cell = Arc::new(WorldCell { world: Mutex::new(in_world), version: watch::Sender::new(0), clock });
+        let records = options.records.as_ref().map(|keeper| keeper.records.clone());
+        let cell = Arc::new(WorldCell {
+            world: Mutex::new(in_world),
+            version: watch::Sender::new(0),
+            clock,
+            records,
+        });
         let joined = match world {
             None => None,
             Some(config) => {
@@ -1568,6 +1580,7 @@ mod tests {
             world: Mutex::new(World::new()),
             version: watch::Sender::new(0),
             clock: Instant::now(),
+            records: None,
         };
         let (a, b) = cell.change(|world| {
             (

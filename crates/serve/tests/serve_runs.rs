@@ -173,3 +173,40 @@ fn the_records_thread_offers_the_best_run_checked_and_refuses_a_damaged_one() {
     assert!(records.best_run().is_none());
     assert!(records.close(Duration::from_secs(10)));
 }
+
+// Issue #43: another server's better run (here written to the same file by another store, as
+// another server in the world writes to its Redis) is offered within a few seconds once asked
+// (`Records::reread_best_run`, which a remote finish calls), not at the 30 s reread; asking again
+// and again while a request waits queues no more than one, and never drops a finish.
+#[test]
+fn an_asked_reread_offers_another_servers_better_run_within_seconds() {
+    let scratch = Scratch::new("reread");
+    {
+        let (mut db, _) = Sqlite::open(&scratch.db(), SqliteOptions::default()).unwrap();
+        db.record(&finish("bob", 50.0)).unwrap();
+    }
+    let race = Race { maze: MAZE, extents: EXTENTS };
+    let (db, _) = Sqlite::open(&scratch.db(), SqliteOptions::default()).unwrap();
+    let (report, said) = collector();
+    let records = Records::start_racing(db, report, Some(race)).unwrap();
+    eventually("bob's run at start", || records.best_run().is_some_and(|r| r.holder == "bob"));
+    // "another server": ada's better finish, straight into the store
+    {
+        let (mut other, _) = Sqlite::open(&scratch.db(), SqliteOptions::default()).unwrap();
+        other.record(&finish("ada", 20.0)).unwrap();
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(records.best_run().unwrap().holder, "bob", "read again unasked");
+    let asked = Instant::now();
+    for _ in 0..1000 {
+        records.reread_best_run(); // one request queued, the rest the same one
+    }
+    eventually("ada's run offered", || records.best_run().is_some_and(|r| r.holder == "ada"));
+    assert!(asked.elapsed() < Duration::from_secs(5), "{:?}", asked.elapsed());
+    // the queue was not filled by the requests: a finish still gets its standing
+    let standing = records.finish(finish("cy", 30.0)).expect("queued, not dropped");
+    assert!(standing.blocking_recv().unwrap().is_some());
+    assert_eq!(records.dropped(), 0);
+    assert!(said.lock().unwrap().is_empty());
+    assert!(records.close(Duration::from_secs(10)));
+}
