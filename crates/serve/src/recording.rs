@@ -5,7 +5,8 @@
 //! told: its HUD says `recorded` for as long as it is.
 //!
 //! Off the players' tasks: a player's task hands each write to a bounded channel ([`Tap`]) and a
-//! blocking thread of tokio's pool writes the file. A channel that is full (more than
+//! thread of the recording's own writes the file (flushed whenever it has caught up, so a cast is
+//! whole up to the last write even if the server is killed). A channel that is full (more than
 //! [`QUEUED_EVENTS`] writes or [`QUEUED_BYTES`] bytes waiting: the disk is slower than the game) is
 //! never waited on: the write is dropped, counted, and the recording stops there, so that a cast
 //! never has a gap in it (a gap would replay as a wrong screen).
@@ -16,7 +17,8 @@
 //! - the directory holds at most `max_total` bytes (`--record-max-total`) and [`MAX_FILES`] files of
 //!   ours: before a recording starts, the finished files are counted and the oldest deleted until
 //!   they and every recording in progress (each counted at its cap) fit; when the recordings in
-//!   progress alone do not leave room, the newcomer is not recorded, and that is counted.
+//!   progress alone do not leave room, or [`MAX_RECORDING`] are in progress (a thread each), the
+//!   newcomer is not recorded, and that is counted.
 //!
 //! File names cannot be steered by a client: `mazewalk-UNIXTIME-PID-N-NAME.cast`, NAME being the SSH
 //! user name cleaned as everywhere ([`player_name`]: letters, digits, `-`, `_`, `.`, at most 16),
@@ -47,6 +49,8 @@ use mazewalk_walk::cast::{CastWriter, Header};
 pub const QUEUED_EVENTS: usize = 256;
 /// Bytes waiting for a recording's thread, at most.
 pub const QUEUED_BYTES: usize = 4 << 20;
+/// Recordings in progress at once, at most (each has a thread).
+pub const MAX_RECORDING: usize = 256;
 /// Our files kept in the directory, at most (the oldest go first).
 pub const MAX_FILES: usize = 10_000;
 /// What a file of ours is called: this, then the time, the process, a counter and the name.
@@ -192,8 +196,13 @@ impl Recordings {
             file_name,
             dir: self.options.dir.clone(),
         };
-        // (a runtime shutting down refuses it: the recording ends with its header)
-        drop(tokio::task::spawn_blocking(move || writer.run()));
+        let spawned = std::thread::Builder::new().name("recording".into()).spawn(move || writer.run());
+        if let Err(err) = spawned {
+            // (the writer, dropped with the closure, gave its file's name back)
+            self.metrics.recording_failed();
+            warn!("recording: cannot start its thread: {err}; this player is not recorded");
+            return None;
+        }
         Some(Tap { tx: Some(tx), queued, start: now, depth, metrics: self.metrics.clone() })
     }
 }
@@ -244,7 +253,7 @@ fn open(
     }
     finished.sort_unstable();
     let reserved = (active.len() as u64 + 1).saturating_mul(options.max_bytes);
-    if reserved > options.max_total || active.len() + 1 > MAX_FILES {
+    if reserved > options.max_total || active.len() >= MAX_RECORDING.min(MAX_FILES) {
         return Err(Refused::NoRoom);
     }
     let mut total: u64 = finished.iter().map(|(_, len)| len).sum();
@@ -313,6 +322,9 @@ impl Writer {
             if self.cast.failed() || self.cast.capped() {
                 break;
             }
+            if self.rx.is_empty() {
+                self.cast.flush(); // caught up: the file is whole up to here
+            }
         }
         self.rx.close(); // the tap's next write learns it stopped
         let path = self.dir.join(&self.file_name);
@@ -324,6 +336,12 @@ impl Writer {
             self.metrics.recording_failed();
             warn!(file = %path.display(), "recording: cannot write the cast: {err}; it stops here");
         }
+    }
+}
+
+impl Drop for Writer {
+    /// The file is no longer in progress (also when its thread could not start).
+    fn drop(&mut self) {
         self.active.lock().unwrap_or_else(PoisonError::into_inner).remove(&self.file_name);
     }
 }

@@ -247,6 +247,16 @@ impl<W: Write> CastWriter<W> {
         self.out.flush().inspect_err(|e| self.error = Some(io::Error::new(e.kind(), e.to_string())))
     }
 
+    /// Flushes what was written so far (a UTF-8 sequence cut short stays pending); an error stops
+    /// the recording as a write's does.
+    pub fn flush(&mut self) {
+        if self.error.is_none()
+            && let Err(e) = self.out.flush()
+        {
+            self.error = Some(e);
+        }
+    }
+
     /// The underlying writer.
     pub fn get_ref(&self) -> &W {
         &self.out
