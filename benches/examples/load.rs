@@ -18,6 +18,9 @@
 //! cargo run --release -p mazewalk-bench --example load -- --idle 0 --walkers 90 --servers 3 --world redis://127.0.0.1:6379/0
 //! ```
 //!
+//! With `--record-dir DIR` (issue #43) the server records every player's session there
+//! (`serve --record-dir`): the same figures, to compare with a run without it.
+//!
 //! With `--callgrind FILE` (issue #42) the server runs under `valgrind --tool=callgrind` and is
 //! stopped with SIGINT, so that it writes FILE: `scripts/callgrind_stages.py FILE` gives a served
 //! frame's cost by stage. Under valgrind a server draws a few frames a second: keep the key rate
@@ -46,6 +49,7 @@ struct Args {
     servers: usize,
     world: Option<String>,
     callgrind: Option<String>,
+    record_dir: Option<String>,
 }
 
 fn args() -> Args {
@@ -59,6 +63,7 @@ fn args() -> Args {
         servers: 1,
         world: None,
         callgrind: None,
+        record_dir: None,
     };
     let argv: Vec<String> = std::env::args().skip(1).collect();
     for pair in argv.chunks(2) {
@@ -71,6 +76,7 @@ fn args() -> Args {
             "--servers" => a.servers = value.parse().expect("--servers N"),
             "--world" => a.world = Some(value.to_string()),
             "--callgrind" => a.callgrind = Some(value.to_string()),
+            "--record-dir" => a.record_dir = Some(value.to_string()),
             "--size" => {
                 let (c, r) = value.split_once('x').expect("--size COLSxROWS");
                 (a.cols, a.rows) = (c.parse().expect("cols"), r.parse().expect("rows"));
@@ -92,7 +98,12 @@ struct ServerProcess {
 }
 
 impl ServerProcess {
-    fn start(n: usize, world: Option<&str>, callgrind: Option<&str>) -> ServerProcess {
+    fn start(
+        n: usize,
+        world: Option<&str>,
+        callgrind: Option<&str>,
+        record_dir: Option<&str>,
+    ) -> ServerProcess {
         let exe = std::env::current_exe().expect("current exe");
         let bin = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
         assert!(bin.exists(), "{} is missing: run `cargo build --release` first", bin.display());
@@ -120,6 +131,7 @@ impl ServerProcess {
             .arg("--host-key")
             .arg(scratch.join("host_key"))
             .args(world.map(|url| ["--world", url]).into_iter().flatten())
+            .args(record_dir.map(|dir| ["--record-dir", dir]).into_iter().flatten())
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
@@ -158,8 +170,9 @@ fn mib(bytes: u64) -> f64 {
 #[tokio::main]
 async fn main() {
     let a = args();
-    let servers: Vec<ServerProcess> =
-        (0..a.servers).map(|n| ServerProcess::start(n, a.world.as_deref(), a.callgrind.as_deref())).collect();
+    let servers: Vec<ServerProcess> = (0..a.servers)
+        .map(|n| ServerProcess::start(n, a.world.as_deref(), a.callgrind.as_deref(), a.record_dir.as_deref()))
+        .collect();
     let server = &servers[0];
     let (addr, pid) = (server.addr, server.pid());
     let addrs: Vec<SocketAddr> = servers.iter().map(|s| s.addr).collect();
