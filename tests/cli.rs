@@ -643,3 +643,29 @@ fn render_png_is_truecolor_unless_color_says_otherwise() {
     }
     assert!(picture(Some("256"), &[("TERM", "xterm")]) == palette, "--color chooses");
 }
+
+/// `serve --record-dir` (issue #43): caps that could not hold one cast, or a cap without the
+/// directory, are refused before listening, and say why.
+#[test]
+fn serve_refuses_recording_caps_that_cannot_hold_a_cast() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-record-{}", std::process::id()));
+    let key = dir.join("key");
+    let casts = dir.join("casts");
+    let (key, casts) = (key.to_str().unwrap(), casts.to_str().unwrap());
+    let serve = ["serve", "--open", "--listen", "127.0.0.1:0", "--host-key", key, "--no-records"];
+    let cases: [(&[&str], i32, &str); 3] = [
+        (&["--record-dir", casts, "--record-max-bytes", "512"], 1, "at least 1K"),
+        (
+            &["--record-dir", casts, "--record-max-bytes", "2M", "--record-max-total", "1M"],
+            1,
+            "not even one cast",
+        ),
+        (&["--record-max-bytes", "2M"], 2, "--record-dir"),
+    ];
+    for (args, code, says) in cases {
+        let out = mazewalk(&[&serve[..], args].concat());
+        assert_eq!(out.status.code(), Some(code), "{args:?}: {}", stderr(&out));
+        assert!(stderr(&out).contains(says), "{args:?}: {}", stderr(&out));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
