@@ -385,6 +385,58 @@ mod tests {
         names
     }
 
+    /// A tap on a channel of `capacity`, and its other end.
+    fn a_tap(capacity: usize) -> (Tap, mpsc::Receiver<Event>, Metrics) {
+        let (tx, rx) = mpsc::channel(capacity);
+        let metrics = Metrics::default();
+        let queued = Arc::new(AtomicUsize::new(0));
+        let tap =
+            Tap { tx: Some(tx), queued, start: 10.0, depth: ColorDepth::Ansi256, metrics: metrics.clone() };
+        (tap, rx, metrics)
+    }
+
+    #[test]
+    fn a_tap_times_from_its_start_and_marks_a_raised_depth_once() {
+        let (mut tap, mut rx, _) = a_tap(8);
+        tap.output(10.5, b"frame");
+        tap.depth(10.75, ColorDepth::Ansi256); // unchanged: nothing
+        tap.depth(11.0, ColorDepth::TrueColor);
+        tap.depth(11.25, ColorDepth::TrueColor);
+        tap.resize(12.0, 90, 28);
+        tap.output(12.5, b""); // nothing to record
+        let mut events = Vec::new();
+        while let Ok(event) = rx.try_recv() {
+            events.push(format!("{event:?}"));
+        }
+        assert_eq!(
+            events,
+            [
+                format!("{:?}", Event::Output(0.5, b"frame".to_vec())),
+                format!("{:?}", Event::Marker(1.0, "color_depth truecolor".into())),
+                format!("{:?}", Event::Resize(2.0, 90, 28)),
+            ]
+        );
+    }
+
+    // A writer slower than the game: the tap never waits; the first write that does not fit (in
+    // writes or in bytes) is dropped, counted, and the recording stops there (no gap in a cast).
+    #[test]
+    fn a_full_queue_stops_the_recording_and_is_counted() {
+        let (mut tap, _rx, metrics) = a_tap(2);
+        for _ in 0..5 {
+            tap.output(11.0, b"frame");
+        }
+        assert!(tap.tx.is_none(), "still recording after a drop");
+        assert_eq!(metrics.recordings().1, [0, 0, 0, 1], "one drop counted, once");
+        let (mut tap, _rx, metrics) = a_tap(QUEUED_EVENTS);
+        let big = vec![b'x'; QUEUED_BYTES / 2 + 1];
+        tap.output(11.0, &big);
+        assert!(tap.tx.is_some());
+        tap.output(11.5, &big); // over the bytes waiting
+        assert!(tap.tx.is_none());
+        assert_eq!(metrics.recordings().1[3], 1);
+    }
+
     #[test]
     fn a_hostile_name_is_cleaned_and_never_a_path() {
         let dir = scratch("names");
