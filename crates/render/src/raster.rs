@@ -122,7 +122,7 @@ pub(crate) struct Span {
     bias: [i64; 3],
     order: [usize; 3],
     inv_area: f64,
-    /// Whether the area is below 2^53 (see [`Span::bary_x8`]).
+    /// Whether the area is below 2^53 (see [`Span::edges_x8`]).
     exact_in_f64: bool,
 }
 
@@ -139,34 +139,78 @@ impl Span {
         bary
     }
 
-    /// [`Span::bary`] of samples `start..start + LANES`, lane by lane (lanes past the span's end get
-    /// weights off the triangle, for the caller to mask).
+    /// The edge functions of the span's samples eight at a time, from its first: [`EdgesX8::bary`]
+    /// gives the weights of the current eight (lanes past the span's end get weights off the
+    /// triangle, for the caller to mask), [`EdgesX8::advance`] moves to the next eight.
     ///
     /// The same bits as [`Span::bary`], eight at a time: an edge function on a covered sample lies in
     /// `0..=area`, so while the area is below 2^53 it and its steps are integers an `f64` holds
     /// exactly, and stepping it in `f64` (which vectorizes; `i64` → `f64` does not on x86-64) gives the
     /// value `bary` converts. Larger triangles (beyond the pipeline's clipped walls) take `bary` itself.
     #[inline]
-    pub(crate) fn bary_x8(&self, start: usize) -> [[f32; LANES]; 3] {
-        if !self.exact_in_f64 {
-            return self.bary_one_by_one(start);
-        }
-        let mut bary = [[0.0; LANES]; 3];
-        for k in 0..3 {
-            let first = (self.edge[k] + self.step[k] * start as i64 - self.bias[k]) as f64;
+    pub(crate) fn edges_x8(&self) -> EdgesX8<'_> {
+        let lane = |k: usize| -> [f64; LANES] {
+            let first = (self.edge[k] - self.bias[k]) as f64;
             let step = self.step[k] as f64;
-            for (lane, out) in bary[self.order[k]].iter_mut().enumerate() {
-                *out = ((first + step * lane as f64) * self.inv_area) as f32;
-            }
+            std::array::from_fn(|l| first + step * l as f64)
+        };
+        // in the caller's vertex order
+        let mut e = [[0.0; LANES]; 3];
+        let mut step8 = [0.0; 3];
+        for k in 0..3 {
+            e[self.order[k]] = lane(k);
+            step8[self.order[k]] = (self.step[k] * LANES as i64) as f64;
         }
-        bary
+        EdgesX8 { e, step8, inv_area: self.inv_area, span: self, start: 0 }
     }
 
-    /// [`Span::bary_x8`] by [`Span::bary`], for the rare triangle of area 2^53 or more.
+    /// [`EdgesX8::bary`] by [`Span::bary`], for the rare triangle of area 2^53 or more.
     #[cold]
     fn bary_one_by_one(&self, start: usize) -> [[f32; LANES]; 3] {
         let singles: [[f32; 3]; LANES] = std::array::from_fn(|lane| self.bary(start + lane));
         std::array::from_fn(|k| singles.map(|single| single[k]))
+    }
+}
+
+/// A span's edge functions at eight consecutive samples, in `f64` (the caller's vertex order): see
+/// [`Span::edges_x8`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct EdgesX8<'s> {
+    e: [[f64; LANES]; 3],
+    step8: [f64; 3],
+    inv_area: f64,
+    span: &'s Span,
+    start: usize,
+}
+
+impl EdgesX8<'_> {
+    /// The barycentric weights of the current eight samples: the bits of [`Span::bary`] for each.
+    ///
+    /// (Exact while the area is below 2^53: see [`Span::edges_x8`].)
+    #[inline]
+    pub(crate) fn bary(&self) -> [f32x8; 3] {
+        if !self.span.exact_in_f64 {
+            return self.span.bary_one_by_one(self.start).map(f32x8::from);
+        }
+        let weights = |k: usize| {
+            let mut out = [0.0; LANES];
+            for (out, &e) in out.iter_mut().zip(&self.e[k]) {
+                *out = (e * self.inv_area) as f32;
+            }
+            f32x8::from(out)
+        };
+        [weights(0), weights(1), weights(2)]
+    }
+
+    /// On to the next eight samples.
+    #[inline]
+    pub(crate) fn advance(&mut self) {
+        for (lanes, step) in self.e.iter_mut().zip(self.step8) {
+            for e in lanes {
+                *e += step;
+            }
+        }
+        self.start += LANES;
     }
 }
 
@@ -396,15 +440,23 @@ fn fill_triangle_x8(
     let mut written = 0;
     for_each_span(width, height, tri.map(|v| v.pos), |span| {
         let row = span.y * width + span.x;
+        let mut edges = span.edges_x8();
         for start in (0..span.len).step_by(LANES) {
             let n = (span.len - start).min(LANES);
             let at = row + start..row + start + n;
-            let b = span.bary_x8(start).map(f32x8::from);
+            let b = edges.bary();
+            edges.advance();
             // Depth: affine in grid space, relative to vertex 0; LESS (NaN fails; padding lanes see -∞).
             let z = depth0 + b[1] * depth_1 + b[2] * depth_2;
-            let mut old = [f32::NEG_INFINITY; LANES];
-            old[..n].copy_from_slice(&depths[at.clone()]);
-            let visible = z.simd_lt(f32x8::from(old)).to_bitmask();
+            let old = match depths.get(row + start..row + start + LANES) {
+                Some(eight) if n == LANES => f32x8::from(<[f32; LANES]>::try_from(eight).expect("eight")),
+                _ => {
+                    let mut old = [f32::NEG_INFINITY; LANES];
+                    old[..n].copy_from_slice(&depths[at.clone()]);
+                    f32x8::from(old)
+                }
+            };
+            let visible = z.simd_lt(old).to_bitmask();
             if visible == 0 {
                 continue;
             }
@@ -412,21 +464,32 @@ fn fill_triangle_x8(
             let p = [b[0] * inv_w[0], b[1] * inv_w[1], b[2] * inv_w[2]];
             let sum = p[0] + p[1] + p[2];
             let normal = sum.is_finite() & sum.abs().simd_ge(s(f32::MIN_POSITIVE));
-            let w = [0, 1, 2].map(|k| normal.select(p[k] / sum, b[k]));
+            let w = [
+                normal.select(p[0] / sum, b[0]),
+                normal.select(p[1] / sum, b[1]),
+                normal.select(p[2] / sum, b[2]),
+            ];
             let weighted = |a: [f32x8; 3]| w[0] * a[0] + w[1] * a[1] + w[2] * a[2];
             let color = shade(&Lanes3 { x: weighted(ax), y: weighted(ay), z: weighted(az) });
             let [z, r, g, bl] = [z, color.x, color.y, color.z].map(cast::<f32x8, [f32; LANES]>);
             if visible == (1 << LANES) - 1 {
                 // Eight visible samples (the common case inside a wall): stored without a branch each.
-                for (lane, color) in colors[at.clone()].iter_mut().enumerate() {
+                let eight = row + start..row + start + LANES;
+                let colors: &mut [Vec3; LANES] = (&mut colors[eight.clone()]).try_into().expect("eight");
+                for (lane, color) in colors.iter_mut().enumerate() {
                     *color = Vec3::new(r[lane], g[lane], bl[lane]);
                 }
-                depths[at.clone()].copy_from_slice(&z);
-                ids[at].fill(id);
+                let depths: &mut [f32; LANES] = (&mut depths[eight.clone()]).try_into().expect("eight");
+                *depths = z;
+                let ids: &mut [u32; LANES] = (&mut ids[eight]).try_into().expect("eight");
+                *ids = [id; LANES];
                 written += LANES;
                 continue;
             }
-            for lane in (0..n).filter(|lane| visible >> lane & 1 == 1) {
+            let mut left = visible & ((1 << n) - 1);
+            while left != 0 {
+                let lane = left.trailing_zeros() as usize;
+                left &= left - 1;
                 let i = row + start + lane;
                 (colors[i], depths[i], ids[i]) = (Vec3::new(r[lane], g[lane], bl[lane]), z[lane], id);
                 written += 1;
@@ -549,8 +612,10 @@ mod tests {
             for_each_span(37, 23, tri, |span| {
                 spans[t] += 1;
                 assert_eq!(span.exact_in_f64, t < 2, "triangle {t} steps in f64");
+                let mut edges = span.edges_x8();
                 for start in (0..span.len).step_by(LANES) {
-                    let lanes = span.bary_x8(start);
+                    let lanes = edges.bary().map(cast::<f32x8, [f32; LANES]>);
+                    edges.advance();
                     for lane in 0..(span.len - start).min(LANES) {
                         let single = span.bary(start + lane).map(f32::to_bits);
                         let eight = lanes.map(|weights| weights[lane].to_bits());
