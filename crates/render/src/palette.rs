@@ -787,13 +787,31 @@ mod tests {
                     prop_assert!(off <= palette.hue_span() + 1e-4, "{}: {}° off", e, off.to_degrees());
                 }
                 prop_assert!(entries.iter().all(|&e| palette.indices().contains(&e)));
-                // Brighter and brighter colours of the chromaticity: never a darker entry.
+                // Brighter and brighter colours of the chromaticity: never a darker entry, from the
+                // ramp itself and through the lookup. The lookup's slot is the chromaticity rounded
+                // to a grid; where it lies within float noise of a half step, scaling the colour can
+                // land it in the neighbouring slot (another ramp), so the lookup is held to it within
+                // one slot only, and a slot may change only there.
                 let scale = chroma / chroma.max_element();
-                let mut last = 0.0f32;
+                let (mut last, mut last_lookup, mut last_slot) = (0.0f32, 0.0f32, None);
                 for k in 0..=200 {
-                    let shown = lab_of(ramp_entry(scale * (k as f32 / 200.0), palette)).x;
+                    let colour = scale * (k as f32 / 200.0);
+                    let shown = lab_of(ramp.entry(colour.element_sum())).x;
                     prop_assert!(shown >= last - 1e-6, "{:?} at {}: {} after {}", chroma, k, shown, last);
                     last = shown;
+                    let Some((slot, _)) = slot(colour) else { continue };
+                    let looked_up = lab_of(ramp_entry(colour, palette)).x;
+                    if last_slot.is_some_and(|s| s != slot) {
+                        let grid = colour * (CHROMA_STEPS as f32 / colour.element_sum());
+                        let near_half = |x: f32| (x.fract() - 0.5).abs() < 1e-4;
+                        prop_assert!(near_half(grid.x) || near_half(grid.y), "{:?}: slot moved at {}", chroma, k);
+                    } else {
+                        prop_assert!(
+                            looked_up >= last_lookup - 1e-6,
+                            "{:?} at {}: {} after {}", chroma, k, looked_up, last_lookup
+                        );
+                    }
+                    (last_lookup, last_slot) = (looked_up, Some(slot));
                 }
             }
         });
