@@ -645,8 +645,9 @@ impl Renderer {
         self.paint_marked(seam_color);
     }
 
-    /// Door jambs: where a wall ends at an opening of its own line (a side opening, a turn), a light
-    /// line one sample wide from floor to ceiling on the wall's last samples ([`jamb_color`]). An
+    /// Door jambs: where a wall ends at an opening of its own line (a side opening, a turn) on the
+    /// eye's side of the wall, a light line one sample wide from floor to ceiling on the wall's last
+    /// samples ([`jamb_color`]). An
     /// opening six cells down a corridor is narrower than a column, but its jambs stay a sample wide,
     /// so a player sees where the side openings are as far as the view reaches (issue #39).
     pub(crate) fn draw_jambs(&mut self, maze: &Maze, eye: &Eye) {
@@ -666,7 +667,13 @@ impl Renderer {
                 };
                 let continues =
                     |cell: u32| maze.cell_edges(cell).iter().any(|&f| at_v(f) && collinear(maze, e, f));
-                let opens = [edge.left, edge.right].into_iter().flatten().any(|cell| {
+                // Only an opening on the eye's side of the wall: one beyond it (round the corner of a
+                // dead end, behind the wall the eye faces) cannot be seen from here, and a jamb for
+                // it reads as a way on where there is none (issue #39).
+                let (a, b) = maze.edge_points(e);
+                let eye_left = (b - a).perp_dot(eye.camera.position - a) > 0.0;
+                let near = if eye_left { edge.left } else { edge.right };
+                let opens = near.into_iter().any(|cell| {
                     continues(cell)
                         || maze
                             .cell_edges(cell)
