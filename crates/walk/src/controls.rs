@@ -373,7 +373,7 @@ mod tests {
         assert_eq!(action_for(Key::Char('<')), Some(Action::SnapLeft));
         assert_eq!(action_for(Key::Char('.')), Some(Action::SnapRight));
         assert_eq!(action_for(Key::Char('z')), None);
-        assert_eq!(action_for(Key::Char('x')), None);
+        assert_eq!(action_for(Key::Char('y')), None);
         // Every binding of README's keys table, capitals too (a terminal with Shift or Caps Lock).
         let bindings = [
             ("wW", Action::Forward),
