@@ -327,14 +327,19 @@ impl App {
         self.ghost.then(|| now - self.started.max(self.ghost_since))
     }
 
-    /// Notes the viewer's pose at `now` in the walk's run (until the finish).
-    fn track(&mut self, now: f64) {
+    /// Adds the viewer's cell to the cells walked (the chalk marks), once.
+    fn mark_walked(&mut self) {
         if let Some(word) = self.walked_bits.get_mut(self.cell as usize / 64)
             && *word >> (self.cell % 64) & 1 == 0
         {
             *word |= 1 << (self.cell % 64);
             self.walked.push(self.cell);
         }
+    }
+
+    /// Notes the viewer's pose at `now` in the walk's run (until the finish).
+    fn track(&mut self, now: f64) {
+        self.mark_walked();
         if self.finished.is_none() {
             let pose = self.pose();
             self.recorder.note(now - self.started, pose);
@@ -360,7 +365,7 @@ impl App {
         // walked from here: the viewer was never where it stood before
         self.walked.clear();
         self.walked_bits.fill(0);
-        self.track(self.started);
+        self.mark_walked();
         true
     }
 
