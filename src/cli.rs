@@ -360,6 +360,10 @@ pub struct RenderArgs {
     /// Heading in degrees counter-clockwise from +x (default: the file's).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_heading)]
     pub heading: Option<f32>,
+    /// A chalk cross on the floor of the cell that holds X,Y, as the walk marks the cells walked
+    /// (`x`); repeat it for more cells.
+    #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+    pub chalk: Vec<Vec2>,
     /// Pitch in degrees, positive looks up (-90..=90).
     #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_pitch)]
     pub pitch: f32,

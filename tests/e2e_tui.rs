@@ -738,7 +738,7 @@ fn walk_look_at_help_and_map_then_quit_restores_the_terminal() {
     if let (Some(before), Some(after)) = (cpu, tui.cpu_ticks()) {
         assert!(after - before <= 10, "{} ticks of CPU in 0.8 s of idling", after - before);
     }
-    tui.send(b"x");
+    tui.send(b"y");
     tui.assert_idle_for(Duration::from_millis(300), "after an unbound key");
     // Nor for focus changes or the mouse moving with no button held (SGR mouse reports).
     tui.send(b"\x1b[O\x1b[I\x1b[<35;20;10M\x1b[<35;30;12M");

@@ -36,6 +36,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let (cols, rows) = args.size;
     let mut renderer = Renderer::new();
+    renderer.set_chalk(&chalk_cells(args, &maze)?);
     let mut frame = Frame::new(cols, rows);
     let region = Region { col: 0, row: 0, cols, rows };
     let mut times_us = Vec::with_capacity(args.repeat as usize);
@@ -114,6 +115,14 @@ fn check_outputs(args: &RenderArgs) -> anyhow::Result<()> {
 /// The camera the flags ask for: the file's view as the walk starts from it (made usable:
 /// `viewer_camera`), then the flags, which must be usable as given; and where it stands (`--at`, or
 /// the walk's margin off a wall).
+/// The cells `--chalk` marks: each point's.
+fn chalk_cells(args: &RenderArgs, maze: &Maze) -> anyhow::Result<Vec<u32>> {
+    let cell = |p: &glam::Vec2| {
+        maze.cell_at(*p).ok_or_else(|| Usage(format!("--chalk {},{} is in no cell of the maze", p.x, p.y)))
+    };
+    Ok(args.chalk.iter().map(cell).collect::<Result<_, _>>()?)
+}
+
 fn camera(args: &RenderArgs, maze: &Maze) -> anyhow::Result<(Camera, Position)> {
     let viewer = maze.viewer();
     let position = args.at.unwrap_or(viewer.pos);

@@ -9,7 +9,9 @@
 //! 4. the viewer `x y z dir_deg fov_deg`.
 //!
 //! Anything after the viewer is ignored, as the original does, except mazewalk's optional
-//! extension, a line `exit CELL` or `exit X Y` (at most one; the original ignores it harmlessly).
+//! extensions, a line `exit CELL` or `exit X Y` and a line `vfov DEG` (the least vertical field of
+//! view the walk keeps, 0..=150: [`Maze::min_vfov_deg`], which `mazewalk gen` writes for its mazes);
+//! at most one of each, and the original ignores them harmlessly.
 //!
 //! The writer pads cells to 4 slots with `-1` and prints every `f32` in Rust's shortest
 //! round-trip form, so reading what it wrote gives back the same maze.
@@ -40,7 +42,7 @@ fn parse_with(file: &str, text: &str, split_bytes: usize) -> Result<Maze, ParseE
         Some(parts) => parts,
         None => read_in_order(file, text)?,
     };
-    let Parts { vertices, edges, cells, viewer, exit_at, nv, ne, nc } = parts;
+    let Parts { vertices, edges, cells, viewer, exit_at, vfov, nv, ne, nc } = parts;
     let layout = Layout { nv, ne, nc, exit_at: exit_at.as_ref().map(|e| e.1) };
     let exit = exit_at.map(|e| e.0);
 
@@ -51,7 +53,8 @@ fn parse_with(file: &str, text: &str, split_bytes: usize) -> Result<Maze, ParseE
     };
     // an `exit X Y` point picks its cell once the maze stands
     let maze = Maze::new(vertices, edges, cells, viewer, exit.filter(|_| !exit_point_cell))
-        .map_err(|e| layout.locate(file, text, e))?;
+        .map_err(|e| layout.locate(file, text, e))?
+        .with_min_vfov_deg(vfov.unwrap_or(0.0));
     match exit {
         Some(Exit { point: Some(p), .. }) if exit_point_cell => {
             let Some(cell) = maze.cell_at(p) else {
@@ -70,6 +73,7 @@ struct Parts {
     cells: Cells,
     viewer: Viewer,
     exit_at: Option<(ExitSpec, usize)>,
+    vfov: Option<f32>,
     nv: usize,
     ne: usize,
     nc: usize,
@@ -84,8 +88,8 @@ fn read_in_order(file: &str, text: &str) -> Result<Parts, ParseError> {
     let (ne, cap) = r.count(&|| "edge count".into(), "edges", 8)?;
     let mut edges = Edges::with_capacity(cap);
     read_edges(&mut r, 0..ne, |_, e| edges.push(e))?;
-    let (nc, cells, viewer, exit_at) = read_cells_to_end(&mut r)?;
-    Ok(Parts { vertices, edges, cells, viewer, exit_at, nv, ne, nc })
+    let (nc, cells, viewer, exit_at, vfov) = read_cells_to_end(&mut r)?;
+    Ok(Parts { vertices, edges, cells, viewer, exit_at, vfov, nv, ne, nc })
 }
 
 /// `e`, or a hint in its place when the file starts with a grid header in the wrong letter case
@@ -153,9 +157,9 @@ fn read_split(file: &str, text: &str) -> Option<Parts> {
         let ((vertices, end), (start, tail)) = (first?, second?);
         (end == start).then_some((vertices, tail))
     });
-    let (vertices, (nc, cells, viewer, exit_at)) = parts?;
+    let (vertices, (nc, cells, viewer, exit_at, vfov)) = parts?;
     let edges = Edges::from_records(packed, |i, _| opaque[i]);
-    Some(Parts { vertices, edges, cells, viewer, exit_at, nv, ne, nc })
+    Some(Parts { vertices, edges, cells, viewer, exit_at, vfov, nv, ne, nc })
 }
 
 /// The offset of the first byte of the token `k` tokens on from `pos` (`k` = 0: the next one), or
@@ -233,8 +237,8 @@ fn read_edges(
     Ok(())
 }
 
-/// The cell count, the cells, the viewer and the optional exit line.
-type Tail = (usize, Cells, Viewer, Option<(ExitSpec, usize)>);
+/// The cell count, the cells, the viewer, the optional exit line and the optional `vfov` line.
+type Tail = (usize, Cells, Viewer, Option<(ExitSpec, usize)>, Option<f32>);
 
 fn read_cells_to_end(r: &mut Reader) -> Result<Tail, ParseError> {
     let (nc, cap) = r.count(&|| "cell count".into(), "cells", CELL_SLOTS)?;
@@ -278,7 +282,10 @@ fn read_cells_to_end(r: &mut Reader) -> Result<Tail, ParseError> {
         v[k] = r.float(&|| format!("viewer {name}"), range)?;
     }
     let viewer = Viewer { pos: vec2(v[0], v[1]), z: v[2], dir_deg: v[3], fov_deg: v[4] };
-    Ok((nc, cells, viewer, r.exit_extension()?))
+    let after_viewer = r.pos;
+    let vfov = r.vfov_extension()?;
+    r.pos = after_viewer;
+    Ok((nc, cells, viewer, r.exit_extension()?, vfov))
 }
 
 /// Where the records are, as token numbers: enough to find any record again when the model
@@ -497,6 +504,9 @@ pub fn write_to(maze: &Maze, out: &mut impl std::io::Write) -> Result<(), WriteT
     }
     let v = maze.viewer();
     writeln!(out, "{} {} {} {} {}", v.pos.x, v.pos.y, v.z, v.dir_deg, v.fov_deg)?;
+    if maze.min_vfov_deg() > 0.0 {
+        writeln!(out, "vfov {}", maze.min_vfov_deg())?;
+    }
     if let Some(exit) = maze.exit() {
         match exit.point {
             Some(p) => writeln!(out, "exit {} {}", p.x, p.y)?,
@@ -726,6 +736,41 @@ impl<'a> Reader<'a> {
             return Err(self.error(at, ParseErrorKind::NotFinite { what: what(), value: quote(tok) }));
         }
         Ok(value)
+    }
+
+    /// After the viewer: the number of the line starting with the word `vfov`, if any (0..=150); a
+    /// second such line is refused, all else is ignored.
+    fn vfov_extension(&mut self) -> Result<Option<f32>, ParseError> {
+        let Some(nl) = self.text[self.pos..].find('\n') else { return Ok(None) };
+        let first_word = |l: &str| l.split(is_space).find(|w| !w.is_empty()) == Some("vfov");
+        let mut lines = self.text[self.pos + nl + 1..].split('\n');
+        let Some(line) = lines.find(|l| first_word(l)) else { return Ok(None) };
+        let start = line.as_ptr() as usize - self.text.as_ptr() as usize;
+        let word = start + line.find("vfov").unwrap_or(0);
+        if line.split(is_space).filter(|w| !w.is_empty()).count() != 2 {
+            return Err(self.expected(word, "`vfov DEG`", line.trim()));
+        }
+        if let Some(second) = lines.find(|l| first_word(l)) {
+            let at =
+                second.as_ptr() as usize - self.text.as_ptr() as usize + second.find("vfov").unwrap_or(0);
+            let first_line = Loc::of(self.text, word).line;
+            let what = "`vfov` line".to_string();
+            return Err(self.error(at, ParseErrorKind::Duplicate { what, first_line }));
+        }
+        self.pos = word + "vfov".len();
+        self.skip_space();
+        let at = self.pos;
+        let range = "within 0..=150";
+        let value = self.float(&|| "least vertical field of view".into(), range)?;
+        if !(0.0..=150.0).contains(&value) {
+            let kind = ParseErrorKind::OutOfRange {
+                what: "least vertical field of view".into(),
+                value: value.to_string(),
+                range: range.into(),
+            };
+            return Err(self.error(at, kind));
+        }
+        Ok(Some(value))
     }
 
     /// After the viewer: the first line starting with the word `exit`, if any, and where it starts;

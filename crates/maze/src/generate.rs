@@ -22,7 +22,7 @@ use std::collections::VecDeque;
 
 use glam::{Vec3, vec2};
 
-use super::geometry::floor_showing_half_tan;
+use super::geometry::{clearance_for, floor_showing_half_tan};
 use super::grid::TileMap;
 use super::{CellId, Cells, Edge, Edges, Exit, Maze, Viewer};
 
@@ -463,8 +463,18 @@ fn thin_maze(l: &Layout, rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Maze
     // correct by construction; validating costs little next to generating
     let maze = Maze::new(vertices, edges, cells, viewer, exit)
         .unwrap_or_else(|e| unreachable!("generated maze invalid: {e}"));
-    let half_tan = floor_showing_half_tan(maze.clearance(), viewer.z);
-    maze.with_min_vfov_deg(2.0 * half_tan.atan().to_degrees())
+    let vfov = generated_min_vfov_deg(maze.clearance(), viewer.z);
+    maze.with_min_vfov_deg(vfov)
+}
+
+/// The least vertical field of view (degrees) of a generated maze whose eye at height `eye_z` keeps
+/// `clearance` from its walls: the one with which the floor and the ceiling show from the closest
+/// stand ([`floor_showing_half_tan`]). Both of [`generate`]'s and [`generate_grid`]'s mazes have it,
+/// and `mazewalk gen` writes it (CS559: a `vfov DEG` line; grid: a `vfov DEG` setting), so a maze
+/// written and loaded again looks as `--gen` shows it.
+#[must_use]
+pub fn generated_min_vfov_deg(clearance: f32, eye_z: f32) -> f32 {
+    2.0 * floor_showing_half_tan(clearance, eye_z).atan().to_degrees()
 }
 
 /// The same random layout as [`generate`], as a tile map for the grid format: a
@@ -508,7 +518,19 @@ pub fn generate_grid(opts: &GenOptions) -> Result<TileMap, GenError> {
             set(2 * i + 1, 2 * j + 2, b'.');
         }
     }
-    Ok(TileMap { tile: CELL_SIZE, eye: 0.0, fov_deg: 90.0, facing_deg, legend, cols, rows, tiles })
+    // cells and openings a tile (CELL_SIZE) across: the clearance of a generated maze
+    let min_vfov_deg = generated_min_vfov_deg(clearance_for(CELL_SIZE), 0.0);
+    Ok(TileMap {
+        tile: CELL_SIZE,
+        eye: 0.0,
+        fov_deg: 90.0,
+        min_vfov_deg,
+        facing_deg,
+        legend,
+        cols,
+        rows,
+        tiles,
+    })
 }
 
 #[cfg(test)]

@@ -18,7 +18,9 @@
 //!   [`MIN_TILE`] = 0.5 and at most 1000, default 4),
 //!   `facing east|north|west|south` (the `@` start's heading, default east), `eye Z` (eye height,
 //!   default 0, strictly between the floor -1 and the ceiling +1), `fov DEG` (horizontal field of
-//!   view, default 90), and colour legend lines `L = #rrggbb` giving wall letter `L` (`A`–`Z` but `E`)
+//!   view, default 90), `vfov DEG` (the least vertical field of view the walk keeps, widening the
+//!   horizontal one on a wide screen, 0..=150, default 0 = none: [`Maze::min_vfov_deg`]; `mazewalk
+//!   gen` writes its generated mazes' own), and colour legend lines `L = #rrggbb` giving wall letter `L` (`A`–`Z` but `E`)
 //!   a colour; `# = #rrggbb` recolours `#` (default `#808080`). Empty lines are skipped.
 //! * The map starts at the first other line (a line of spaces is a map row: space is floor) and runs
 //!   to the end of the file, without trailing empty lines. Every character is a
@@ -71,6 +73,8 @@ pub struct TileMap {
     pub eye: f32,
     /// Horizontal field of view, degrees.
     pub fov_deg: f32,
+    /// The least vertical field of view, degrees (0 = none): [`Maze::min_vfov_deg`].
+    pub min_vfov_deg: f32,
     /// The `facing` setting, degrees counter-clockwise from +x (`None` = east).
     pub facing_deg: Option<f32>,
     /// Wall letters and their colours.
@@ -119,6 +123,9 @@ impl TileMap {
         if self.fov_deg != 90.0 {
             let _ = writeln!(out, "fov {}", self.fov_deg);
         }
+        if self.min_vfov_deg > 0.0 {
+            let _ = writeln!(out, "vfov {}", self.min_vfov_deg);
+        }
         for &(ch, c) in &self.legend {
             let [r, g, b] = (c * 255.0).round().to_array().map(|v| v as u8);
             let _ = writeln!(out, "{} = #{r:02x}{g:02x}{b:02x}", ch as char);
@@ -141,9 +148,14 @@ impl TileMap {
         self.build(false)
     }
 
+    /// [`TileMap::build_in_bands`], with the map's least vertical field of view.
+    fn build(&self, checked_map: bool) -> Result<Maze, super::MazeError> {
+        Ok(self.build_tiles(checked_map)?.with_min_vfov_deg(self.min_vfov_deg))
+    }
+
     /// [`TileMap::to_maze`]; `checked_map` when [`parse_map`] made this map, so that the tiles, the
     /// start and the coordinate bound are known good and the maze is valid by construction.
-    fn build(&self, checked_map: bool) -> Result<Maze, super::MazeError> {
+    fn build_tiles(&self, checked_map: bool) -> Result<Maze, super::MazeError> {
         let bands = if self.tiles.len() >= PARALLEL_TILES { 2 } else { 1 };
         self.build_in_bands(checked_map, bands)
     }
@@ -554,6 +566,7 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
         tile: 4.0,
         eye: 0.0,
         fov_deg: 90.0,
+        min_vfov_deg: 0.0,
         facing_deg: None,
         legend: Vec::new(),
         cols: 0,
@@ -581,7 +594,7 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
             }
         };
         let setting = match words.as_slice() {
-            [name @ ("tile" | "eye" | "fov" | "facing"), ..] => Some(*name),
+            [name @ ("tile" | "eye" | "fov" | "vfov" | "facing"), ..] => Some(*name),
             [letter, "=", _] if letter.chars().count() == 1 => Some(*letter),
             _ => None,
         };
@@ -624,6 +637,13 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
                     return Err(err(n, col_of(v), msg));
                 }
             }
+            ["vfov", v] => {
+                map.min_vfov_deg = number(v, "least vertical field of view")?;
+                if !(0.0..=150.0).contains(&map.min_vfov_deg) {
+                    let msg = format!("least vertical field of view {} is not within 0..=150", quote(v));
+                    return Err(err(n, col_of(v), msg));
+                }
+            }
             ["facing", v] => {
                 let dir = ["east", "north", "west", "south"].iter().position(|d| d == v);
                 let Some(d) = dir else {
@@ -648,10 +668,11 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
                 let channel = |k: usize| u8::from_str_radix(&hex[k..k + 2], 16).unwrap_or(0) as f32 / 255.0;
                 map.legend.push((ch, Vec3::new(channel(0), channel(2), channel(4))));
             }
-            [name @ ("tile" | "eye" | "fov"), ..] => {
+            [name @ ("tile" | "eye" | "fov" | "vfov"), ..] => {
                 let what = match *name {
                     "tile" => "the tile side, e.g. `tile 4`",
                     "eye" => "the eye height, e.g. `eye 0.2`",
+                    "vfov" => "the least vertical field of view in degrees, e.g. `vfov 96`",
                     _ => "the field of view in degrees, e.g. `fov 90`",
                 };
                 let msg = format!("`{name}` takes one number: {what}");
@@ -825,6 +846,7 @@ fn tiles_of(
         tile: t,
         eye: maze.viewer().z,
         fov_deg: maze.viewer().fov_deg,
+        min_vfov_deg: maze.min_vfov_deg(),
         facing_deg: None,
         legend: Vec::new(),
         cols,

@@ -11,7 +11,7 @@
 //!              normal matrix, fog by depth                                      wall.rs, raster.rs, shade.rs
 //!   floor, ceiling: each sample's ray meets z = ∓1 where no wall is nearer                 pipeline.rs
 //!   figures, the exit's beacon: billboards through the same chain                          sprite.rs
-//!   edges, seams, cell lines, door jambs; ascii outlines (Bresenham)                        pipeline.rs
+//!   edges, seams, cell lines, door jambs, chalk marks; ascii outlines (Bresenham)           pipeline.rs
 //!   ─glyphs──────▶ half blocks, quadrants, sextants or ascii, colours to the depth ─▶ Frame glyph.rs, palette.rs
 //! ```
 //!
@@ -118,6 +118,7 @@ impl Renderer {
             self.draw_edges(maze); // where surfaces meet: edges; where cells meet along a wall: seams
             self.draw_cell_bounds(maze, &eye, culling); // cell boundaries on floor and ceiling: fainter lines
             self.draw_jambs(maze, &eye); // where a wall ends at an opening: a light line, seen from afar
+            self.draw_chalk(maze, &eye, culling); // the walked cells' chalk crosses on the floor
         }
         if charset == Charset::Ascii {
             self.outline_visible_walls(maze, &eye, charset.sample_aspect(cell_aspect)); // Bresenham edges

@@ -22,8 +22,8 @@ use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, LANES, Lanes3, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
-    FOG_FADE, Fog, SUN_WORLD, bricks, checker, checker_filtered, edge_color, headlight, jamb_color, lit,
-    seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
+    FOG_FADE, Fog, SUN_WORLD, bricks, chalk_color, checker, checker_filtered, edge_color, headlight,
+    jamb_color, lit, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -126,6 +126,8 @@ pub struct Renderer {
     /// The last frame's figures whose head shows: (index in the sprites passed, column, row of the
     /// frame).
     heads: Vec<(usize, usize, usize)>,
+    /// The cells whose floors carry a chalk mark ([`Renderer::set_chalk`]), sorted, each once.
+    chalk: Vec<u32>,
 }
 
 /// Where [`Renderer::render`] puts the picture.
@@ -157,6 +159,18 @@ impl Renderer {
     #[must_use]
     pub fn new() -> Renderer {
         Renderer::default()
+    }
+
+    /// Chalk marks from now on: a pale cross on the floor at the centre of each cell of `cells` (the
+    /// cells a player has walked: Trémaux's marks, the classic aid to finding the way without a map).
+    /// Drawn through the same chain as the floor's cell lines, in every charset and colour depth; with
+    /// none (the default) the picture is as without marks. What a view is drawn from, with the maze,
+    /// the camera, the figures and the options.
+    pub fn set_chalk(&mut self, cells: &[u32]) {
+        self.chalk.clear();
+        self.chalk.extend_from_slice(cells);
+        self.chalk.sort_unstable();
+        self.chalk.dedup();
     }
 
     /// The samples of the last frame (colour, depth, id per sample).
@@ -632,8 +646,9 @@ impl Renderer {
         self.paint_marked(seam_color);
     }
 
-    /// Door jambs: where a wall ends at an opening of its own line (a side opening, a turn), a light
-    /// line one sample wide from floor to ceiling on the wall's last samples ([`jamb_color`]). An
+    /// Door jambs: where a wall ends at an opening of its own line (a side opening, a turn) on the
+    /// eye's side of the wall, a light line one sample wide from floor to ceiling on the wall's last
+    /// samples ([`jamb_color`]). An
     /// opening six cells down a corridor is narrower than a column, but its jambs stay a sample wide,
     /// so a player sees where the side openings are as far as the view reaches (issue #39).
     pub(crate) fn draw_jambs(&mut self, maze: &Maze, eye: &Eye) {
@@ -653,7 +668,13 @@ impl Renderer {
                 };
                 let continues =
                     |cell: u32| maze.cell_edges(cell).iter().any(|&f| at_v(f) && collinear(maze, e, f));
-                let opens = [edge.left, edge.right].into_iter().flatten().any(|cell| {
+                // Only an opening on the eye's side of the wall: one beyond it (round the corner of a
+                // dead end, behind the wall the eye faces) cannot be seen from here, and a jamb for
+                // it reads as a way on where there is none (issue #39).
+                let (a, b) = maze.edge_points(e);
+                let eye_left = (b - a).perp_dot(eye.camera.position - a) > 0.0;
+                let near = if eye_left { edge.left } else { edge.right };
+                let opens = near.into_iter().any(|cell| {
                     continues(cell)
                         || maze
                             .cell_edges(cell)
@@ -680,6 +701,39 @@ impl Renderer {
         }
         // (a jamb is paler than its wall: off the floor's and ceiling's tints, as the wall is)
         self.paint_marked(|color| palette::off_floor_and_ceiling(jamb_color(color)));
+    }
+
+    /// Chalk marks ([`Renderer::set_chalk`]): on the floor of each marked cell the view shows, a cross
+    /// through the cell's centroid, its arms a fifth of the cell's smaller side from the centre, one
+    /// sample wide, in [`chalk_color`] of the floor under it (so a far mark fades as the floor does),
+    /// moved off the floor's tint ([`palette::off_floor_and_ceiling`]).
+    /// Exact as the cell lines are: a ray meets the floor once.
+    pub(crate) fn draw_chalk(&mut self, maze: &Maze, eye: &Eye, culling: Culling) {
+        let w = eye.width;
+        self.edge_list.clear();
+        for &cell in &self.chalk {
+            if cell as usize >= maze.cell_count()
+                || culling == Culling::Portal && !self.portal.was_visited(cell)
+            {
+                continue;
+            }
+            let centre = maze.cell_centroid(cell);
+            let size = maze.cell_aabb(cell);
+            let arm = 0.2 * (size.max - size.min).min_element();
+            for d in [Vec2::new(arm, arm), Vec2::new(arm, -arm)] {
+                let (a, b) = ((centre - d).extend(FLOOR_Z), (centre + d).extend(FLOOR_Z));
+                for (x, y) in segment_samples(eye, a, b) {
+                    let i = y * w + x;
+                    if self.samples.id()[i] == FLOOR && self.edge_marks[i] == Mark::None {
+                        self.edge_marks[i] = Mark::Seam;
+                        self.edge_list.push(i as u32);
+                    }
+                }
+            }
+        }
+        // (off the floor's tint, as a jamb is off its wall's: in 16 colours the floor's tint shows only
+        // the floor's entry, and a mark must show)
+        self.paint_marked(|color| palette::off_floor_and_ceiling(chalk_color(color)));
     }
 
     /// The samples listed in `edge_list` drawn in `paint` of their colour, and unmarked.

@@ -95,6 +95,16 @@ pub(crate) fn jamb_color(color: Vec3) -> Vec3 {
     color.lerp(Vec3::splat(0.6), 0.35).max(color)
 }
 
+/// A chalk mark's colour on a floor sample of `color` ([`Renderer::set_chalk`]): the floor lit about
+/// twice as bright, toward a pale grey, so a mark reads as chalk on the floor (lighter, where the
+/// floor's cell lines are darker) and fades with the floor into the distance.
+///
+/// [`Renderer::set_chalk`]: crate::Renderer::set_chalk
+#[must_use]
+pub(crate) fn chalk_color(color: Vec3) -> Vec3 {
+    (color * 2.2).min(Vec3::splat(0.6)).max(color)
+}
+
 /// Brick courses: each course [`BRICK_HEIGHT`] tall, bricks [`BRICK_LENGTH`] long, every other course
 /// offset by half a brick, joined by mortar [`MORTAR`] wide (maze units).
 pub(crate) const BRICK_LENGTH: f32 = 1.0;

@@ -149,6 +149,8 @@ impl Spectator {
     ) -> Result<Spectator, StartOutsideMaze> {
         let (mut app, plan) = served_app(maze, term, colorterm, now)?;
         app.reveal_map = true; // everyone on the whole map
+        // no chalk marks: the followed player's are not shared, and the spectator walks nowhere
+        app.chalk = false;
         let mut session = served_session(app, term, (cols, rows), limits);
         session.set_help(HELP.iter().map(|line| (*line).to_string()).collect());
         session.share_views(Arc::clone(&audience.views));

@@ -52,6 +52,8 @@ pub enum Action {
     ToggleCullingTint,
     /// Brick walls and filtered floor tiles on / off (t).
     ToggleTextures,
+    /// The chalk marks on the floor of the cells walked on / off (x).
+    ToggleChalk,
     /// The developer figures in the HUD on / off (i): frames per second, bytes, cell, cells seen, ms.
     ToggleFigures,
     /// Race a stored run's ghost, on / off (g): a served maze's best run, or the local walk's
@@ -115,6 +117,7 @@ pub(crate) fn action_for(key: Key) -> Option<Action> {
             'b' => Action::ToggleCulling,
             'v' => Action::ToggleCullingTint,
             't' => Action::ToggleTextures,
+            'x' => Action::ToggleChalk,
             'i' => Action::ToggleFigures,
             'g' => Action::ToggleGhost,
             '?' | 'h' => Action::Help,
@@ -149,6 +152,7 @@ pub(crate) const HELP: &[(&str, &str)] = &[
     ("b", "portal culling / brute force (every wall)"),
     ("c", "glyphs: ascii, half ▀, quad ▚, sextant (2×3)"),
     ("t", "textures: brick walls, floor tiles"),
+    ("x", "chalk crosses on the floor where you walked"),
     ("i", "developer figures: fps, bytes, cell, ms"),
     ("g", "ghost: race the best run (served) or --ghost"),
     ("r", "back to the start"),
@@ -369,7 +373,7 @@ mod tests {
         assert_eq!(action_for(Key::Char('<')), Some(Action::SnapLeft));
         assert_eq!(action_for(Key::Char('.')), Some(Action::SnapRight));
         assert_eq!(action_for(Key::Char('z')), None);
-        assert_eq!(action_for(Key::Char('x')), None);
+        assert_eq!(action_for(Key::Char('y')), None);
         // Every binding of README's keys table, capitals too (a terminal with Shift or Caps Lock).
         let bindings = [
             ("wW", Action::Forward),
@@ -389,6 +393,7 @@ mod tests {
             ("bB", Action::ToggleCulling),
             ("vV", Action::ToggleCullingTint),
             ("tT", Action::ToggleTextures),
+            ("xX", Action::ToggleChalk),
             ("iI", Action::ToggleFigures),
             ("gG", Action::ToggleGhost),
             ("?hH", Action::Help),

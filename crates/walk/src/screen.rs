@@ -154,19 +154,23 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     let drawn = match &screen.shared_views {
         // drawn once for every screen with the same key, copied into this one's view rows
         Some(views) => {
-            let key = ViewKey::new(app.maze(), &app.camera, &screen.sprites, &options, (cols, view.rows));
+            let key = ViewKey::new(app.maze(), &app.camera, &screen.sprites, &options, (cols, view.rows))
+                .with_chalk(app.chalked());
             views.view(app.maze(), &key, &mut screen.renderer).map(|shared| {
                 frame.cells_mut()[..cols * view.rows].copy_from_slice(shared.frame.cells());
                 shared.stats
             })
         }
-        None => screen.renderer.render(
-            app.maze(),
-            &app.camera,
-            &screen.sprites,
-            &options,
-            Target::Frame(frame, view),
-        ),
+        None => {
+            screen.renderer.set_chalk(app.chalked());
+            screen.renderer.render(
+                app.maze(),
+                &app.camera,
+                &screen.sprites,
+                &options,
+                Target::Frame(frame, view),
+            )
+        }
     };
     let stats = match drawn {
         Ok(stats) => stats,

@@ -182,6 +182,12 @@ pub struct App {
     pub ghost_since: f64,
     /// Cells seen so far, one bit each (the map's fog of war).
     seen: Vec<u64>,
+    /// The view shows a chalk cross on the floor of each cell walked (`x`; on by default).
+    pub chalk: bool,
+    /// The cells walked since the start (or the last `r`), in the order first entered, each once.
+    walked: Vec<u32>,
+    /// The same cells, one bit each.
+    walked_bits: Vec<u64>,
     last_tick: f64,
     /// The walk's poses since its start, until the finish (the run a ghost replays).
     recorder: Recorder,
@@ -268,6 +274,13 @@ impl App {
             ghost: false,
             ghost_since: now,
             seen: vec![0; cells.div_ceil(64)],
+            chalk: true,
+            walked: vec![cell],
+            walked_bits: {
+                let mut bits = vec![0; cells.div_ceil(64)];
+                bits[cell as usize / 64] |= 1 << (cell % 64);
+                bits
+            },
             last_tick: now,
             recorder: Recorder::default(),
             finish_pose: None,
@@ -314,8 +327,19 @@ impl App {
         self.ghost.then(|| now - self.started.max(self.ghost_since))
     }
 
+    /// Adds the viewer's cell to the cells walked (the chalk marks), once.
+    fn mark_walked(&mut self) {
+        if let Some(word) = self.walked_bits.get_mut(self.cell as usize / 64)
+            && *word >> (self.cell % 64) & 1 == 0
+        {
+            *word |= 1 << (self.cell % 64);
+            self.walked.push(self.cell);
+        }
+    }
+
     /// Notes the viewer's pose at `now` in the walk's run (until the finish).
     fn track(&mut self, now: f64) {
+        self.mark_walked();
         if self.finished.is_none() {
             let pose = self.pose();
             self.recorder.note(now - self.started, pose);
@@ -338,6 +362,10 @@ impl App {
         let Some(Position { cell, pos }) = stand(&self.maze, position) else { return false };
         self.start = (Camera { position: pos, ..self.start.0 }, cell);
         (self.camera, self.cell) = self.start;
+        // walked from here: the viewer was never where it stood before
+        self.walked.clear();
+        self.walked_bits.fill(0);
+        self.mark_walked();
         true
     }
 
@@ -356,6 +384,13 @@ impl App {
     #[must_use]
     pub fn has_seen(&self, c: u32) -> bool {
         self.reveal_map || self.seen.get(c as usize / 64).is_some_and(|w| w >> (c % 64) & 1 == 1)
+    }
+
+    /// The cells whose floors the view marks in chalk: those walked since the start (or the last
+    /// `r`), in the order first entered; none with the marks off (`x`).
+    #[must_use]
+    pub fn chalked(&self) -> &[u32] {
+        if self.chalk { &self.walked } else { &[] }
     }
 
     /// Records cells as seen (the renderer's visible cells of a frame); ids outside the maze are ignored.
@@ -471,6 +506,7 @@ impl App {
             }
             Action::ToggleCullingTint => self.culling_tint = !self.culling_tint,
             Action::ToggleTextures => self.options.textures = !self.options.textures,
+            Action::ToggleChalk => self.chalk = !self.chalk,
             Action::ToggleFigures => self.figures = !self.figures,
             Action::ToggleGhost => (self.ghost, self.ghost_since) = (!self.ghost, now),
             Action::Quit if key == Key::Esc && self.help => self.help = false, // Esc closes the box first
@@ -494,6 +530,9 @@ impl App {
         (self.exit_box, self.confirm_quit) = (false, false);
         self.recorder.restart();
         self.finish_pose = None;
+        // a new walk: the floor wiped clean
+        self.walked.clear();
+        self.walked_bits.fill(0);
         self.track(now);
     }
 

@@ -3,8 +3,8 @@
 //! and the others copy its cells.
 //!
 //! A view is a pure function of what [`ViewKey`] holds — the maze, the camera, the figures, the
-//! render options and the size (the renderer's buffers are caches, [`Renderer::render`] reads
-//! nothing else) — so two screens whose keys are equal draw equal cells, whoever drew them. The
+//! render options, the size and the chalk marks (the renderer's buffers are caches, and
+//! [`Renderer::render`] reads nothing else but the marks, set from the key before each render) — so two screens whose keys are equal draw equal cells, whoever drew them. The
 //! cache keeps the last [`SharedViews::capacity`] views, each in a [`OnceLock`] taken under the
 //! cache's lock and filled after it: spectators woken together by one move wait for the first one's
 //! render of their view instead of each making their own, and views with different keys render at
@@ -26,6 +26,8 @@ pub struct ViewKey {
     sprites: Vec<Sprite>,
     options: RenderOptions,
     size: (usize, usize),
+    /// The cells marked in chalk ([`Renderer::set_chalk`]).
+    chalk: Vec<u32>,
 }
 
 impl ViewKey {
@@ -45,7 +47,15 @@ impl ViewKey {
             sprites: sprites.to_vec(),
             options: *options,
             size,
+            chalk: Vec::new(),
         }
+    }
+
+    /// The same view with chalk marks on the floors of `cells` ([`Renderer::set_chalk`]).
+    #[must_use]
+    pub fn with_chalk(mut self, cells: &[u32]) -> ViewKey {
+        self.chalk = cells.to_vec();
+        self
     }
 }
 
@@ -116,6 +126,7 @@ impl SharedViews {
             let mut frame = Frame::new(key.size.0, key.size.1);
             let region = frame.region();
             let target = Target::Frame(&mut frame, region);
+            renderer.set_chalk(&key.chalk);
             let stats = renderer.render(maze, &key.camera, &key.sprites, &key.options, target)?;
             Ok(Arc::new(View { frame, stats }))
         });

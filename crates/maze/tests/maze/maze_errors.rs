@@ -90,6 +90,12 @@ fn malformed_files_give_file_line_col_and_what_is_wrong() {
         (format!("{ROOM}exit 1 2 3\n").into_bytes(), "f.maze:14:1: expected `exit CELL` or `exit X Y`, found `exit 1 2 3`"),
         // bbA #5: a second exit line was ignored; a grid header in capitals read as a vertex count
         (format!("{ROOM}exit 0\n\n  exit 0\n").into_bytes(), "f.maze:16:3: a second `exit` line (the first is on line 14)"),
+        // the least vertical field of view's extension
+        (format!("{ROOM}vfov 151\n").into_bytes(), "f.maze:14:6: least vertical field of view is 151, out of range (within 0..=150)"),
+        (format!("{ROOM}vfov -1\n").into_bytes(), "f.maze:14:6: least vertical field of view is -1, out of range"),
+        (format!("{ROOM}vfov wide\n").into_bytes(), "f.maze:14:6: expected a number (least vertical field of view), found `wide`"),
+        (format!("{ROOM}vfov 96 97\n").into_bytes(), "f.maze:14:1: expected `vfov DEG`, found `vfov 96 97`"),
+        (format!("{ROOM}vfov 96\nexit 0\nvfov 96\n").into_bytes(), "f.maze:16:1: a second `vfov` line (the first is on line 14)"),
         (b"Mazewalk-Grid 1\n#@#\n".to_vec(), "f.maze:1:1: `Mazewalk-Grid` looks like a grid file's header, which is `mazewalk-grid 1` in lower case"),
     ];
     for (input, expected) in table {

@@ -126,7 +126,8 @@ fn one_small_maze_per_algorithm_is_pinned() {
     assert_eq!(hashes, PINNED_HASHES);
 }
 
-const PINNED_HASHES: [u64; 3] = [7542345526414185877, 4721629497109246415, 844959765796670735];
+// (the `vfov` line since issue #39)
+const PINNED_HASHES: [u64; 3] = [12797498167043200616, 14822395573572778276, 14170142179558910712];
 
 #[test]
 fn the_prng_is_pinned() {
@@ -159,4 +160,53 @@ fn a_palette_colours_every_edge_from_it() {
 fn default_colours_are_in_the_originals_range() {
     let m = generate(&GenOptions::default()).unwrap();
     assert!(m.edges().iter().all(|e| e.color.min_element() >= 0.25 && e.color.max_element() <= 0.75));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    // Issue #39: a generated maze written by `mazewalk gen` (CS559, or grid tiles) and loaded again
+    // keeps the least vertical field of view `--gen` shows it with, so it looks the same.
+    #[test]
+    fn a_written_generated_maze_loads_with_its_least_vertical_field(
+        (width, height, seed) in (1u32..=20, 1u32..=15, any::<u64>()),
+        loops in 0.0f32..0.3,
+    ) {
+        use mazewalk_maze::generate::{generate_grid, generated_min_vfov_deg};
+        use mazewalk_maze::geometry::MAX_CLEARANCE;
+        let opts = GenOptions { width, height, seed, loops, exit: true, ..GenOptions::default() };
+        let generated = generate(&opts).unwrap();
+        let want = generated_min_vfov_deg(MAX_CLEARANCE, 0.0);
+        prop_assert!(want > 90.0, "{}", want);
+        prop_assert_eq!(generated.min_vfov_deg(), want);
+        let text = maze::write(&generated, Format::Cs559).unwrap();
+        let loaded = maze::parse("g.maze", text.as_bytes()).unwrap();
+        prop_assert_eq!(loaded.min_vfov_deg(), want);
+        let tiles = generate_grid(&opts).unwrap().to_text();
+        prop_assert!(tiles.contains("\nvfov "), "{}", tiles);
+        let loaded = maze::parse("g.grid", tiles.as_bytes()).unwrap();
+        prop_assert_eq!(loaded.min_vfov_deg(), want);
+        prop_assert_eq!(loaded.clearance(), MAX_CLEARANCE);
+        // and written back, the grid keeps it too
+        let again = maze::parse("h.grid", maze::write(&loaded, Format::Grid).unwrap().as_bytes()).unwrap();
+        prop_assert_eq!(again.min_vfov_deg(), want);
+    }
+}
+
+#[test]
+fn a_maze_file_without_the_line_keeps_its_own_field() {
+    for name in ["classic-10x10.maze", "tiny.grid"] {
+        let loaded = maze::load(common::maze_path(name)).unwrap().maze;
+        assert_eq!(loaded.min_vfov_deg(), 0.0, "{name}");
+        let format = if name.ends_with(".grid") { Format::Grid } else { Format::Cs559 };
+        let text = maze::write(&loaded, format).unwrap();
+        assert!(!text.contains("vfov"), "{name}: nothing written for it");
+    }
+    let grid = "mazewalk-grid 1\nvfov 100\n\n###\n#>#\n###\n";
+    assert_eq!(maze::parse("v.grid", grid.as_bytes()).unwrap().min_vfov_deg(), 100.0);
+    let bad = maze::parse("v.grid", b"mazewalk-grid 1\nvfov 160\n\n###\n#>#\n###\n").unwrap_err();
+    assert!(
+        bad.to_string().starts_with("v.grid:2:6: least vertical field of view 160 is not within 0..=150"),
+        "{bad}"
+    );
 }

@@ -126,9 +126,10 @@ fn a_generated_tile_map_is_pinned() {
     assert_eq!(text.lines().collect::<Vec<_>>(), PINNED_4X3);
 }
 
-const PINNED_4X3: [&str; 10] = [
+const PINNED_4X3: [&str; 11] = [
     "mazewalk-grid 1",
     "tile 4",
+    "vfov 96.02557",
     "",
     "#########",
     "#.#.#E..#",

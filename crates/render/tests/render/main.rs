@@ -2,6 +2,7 @@
 //! rasterizer and lines, golden frames, the picture and its quality measures, the portal pass against
 //! brute force, figures.
 
+mod chalk;
 mod glyph_frames;
 mod nose_to_wall;
 mod picture_quality;

@@ -271,3 +271,52 @@ fn side_openings_show_as_light_jambs_as_far_as_six_cells() {
         }
     }
 }
+
+// issue #39: in a dead end, a jamb was drawn where the end wall meets a side wall, for an opening
+// round the corner behind the end wall (on its far side, out of sight), and was read as a way on.
+// `mazewalk --gen 20x15 --seed 58` at (62, 46) facing east: the cell ahead is a dead end whose end
+// wall (x = 68, y 44..48) has an opening of its own line only beyond it.
+#[test]
+fn a_dead_end_shows_no_jamb_for_an_opening_behind_its_end_wall() {
+    use mazewalk_maze::generate::{GenOptions, generate};
+    let opts =
+        GenOptions { width: 20, height: 15, seed: 58, loops: 0.1, exit: true, ..GenOptions::default() };
+    let maze = generate(&opts).unwrap();
+    let end = (0..maze.edges().len() as u32)
+        .find(|&e| {
+            let (a, b) = maze.edge_points(e);
+            a.x == 68.0 && b.x == 68.0 && a.y.min(b.y) == 44.0 && a.y.max(b.y) == 48.0
+        })
+        .expect("the end wall");
+    assert!(maze.edge(end).opaque);
+    let v = maze.viewer();
+    let camera = Camera {
+        eye_z: v.z,
+        min_vfov_deg: maze.min_vfov_deg(),
+        ..Camera::new(Vec2::new(62.0, 46.0), 0.0, v.fov_deg)
+    };
+    let (cols, rows) = (120, 40);
+    for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
+        let options =
+            RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
+        let mut renderer = Renderer::new();
+        let mut frame = Frame::new(cols, rows);
+        let region = frame.region();
+        renderer.render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
+        let samples = renderer.samples();
+        let (width, ids, colors) = (samples.width(), samples.id(), samples.color());
+        let eye = camera.eye(cols, rows * 2, Charset::Half.sample_aspect(0.5)).unwrap();
+        let row = eye.grid(eye.clip(Vec3::new(68.0, 46.0, 0.5))).y.floor() as usize;
+        let on_wall: Vec<f32> = (0..width)
+            .map(|x| row * width + x)
+            .filter(|&i| ids[i] == end)
+            .map(|i| luminance(colors[i]))
+            .collect();
+        assert!(on_wall.len() > 20, "{depth:?}: the end wall shows");
+        let plain = on_wall[on_wall.len() / 2];
+        assert!(
+            on_wall.iter().all(|&l| (l - plain).abs() < 0.01),
+            "{depth:?}: a light jamb on the dead end's wall: {on_wall:?}"
+        );
+    }
+}

@@ -2,6 +2,7 @@
 //! holds), the map's fog, overlays, frames at every size, sessions through a vt100 screen, flow control
 //! on a slow link, the colour-depth questions.
 
+mod chalk;
 mod common;
 mod controls;
 mod ghost;
