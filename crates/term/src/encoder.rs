@@ -33,7 +33,7 @@ use std::collections::HashMap;
 
 use crate::blocks::FULL_BLOCK;
 use crate::frame::{Frame, PackedCell, PackedColor};
-use cursor::{move_len, write_move};
+use cursor::{digits, move_len, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
 
 /// Begin synchronized update (DEC mode 2026): the terminal holds the screen until the end marker.
@@ -101,6 +101,8 @@ pub struct Encoder {
     effective: Vec<PackedCell>,
     /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
     differs: Vec<bool>,
+    /// Whether runs of one look may go as `REP` ([`Encoder::set_rep`]).
+    rep: bool,
 }
 
 impl Default for Encoder {
@@ -123,6 +125,7 @@ impl Encoder {
             tolerance: 0,
             effective: Vec::new(),
             differs: Vec::new(),
+            rep: false,
         }
     }
 
@@ -149,6 +152,15 @@ impl Encoder {
         self.tolerance = steps;
     }
 
+    /// Whether the terminal repeats the last glyph on `CSI n b` (REP, ECMA-48; xterm, VTE, kitty,
+    /// foot, WezTerm, Alacritty, tmux and Windows Terminal do; GNU screen and the Linux console do not):
+    /// then a run of changed cells that go in one look (the same glyph, no colour change) after the
+    /// first is sent as `REP` where that is shorter than the glyphs (off by default: a terminal
+    /// without it would show the run as missing).
+    pub fn set_rep(&mut self, rep: bool) {
+        self.rep = rep;
+    }
+
     /// Appends to `out` the bytes that turn the previous frame into `frame`: nothing if they are equal,
     /// a full paint if there is no (valid, same-sized) previous frame.
     pub fn encode(&mut self, frame: &Frame, out: &mut Vec<u8>) -> EncodeStats {
@@ -162,10 +174,11 @@ impl Encoder {
         sent.clear();
         sent.extend(frame.cells().iter().map(PackedCell::pack));
         let cells_changed = if full_paint {
-            self.pen = paint_full(sent, width, self.bce, out);
+            self.pen = paint_full(sent, width, self.bce, self.rep, out);
             sent.len()
         } else {
-            diff(&self.screen, sent, width, self.bce, self.tolerance, &mut self.pen, out, &mut self.differs)
+            let how = How { bce: self.bce, tolerance: self.tolerance, rep: self.rep };
+            diff(&self.screen, sent, width, how, &mut self.pen, out, &mut self.differs)
         };
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
@@ -212,13 +225,13 @@ impl Pen {
 }
 
 /// Clears the screen and paints `frame`, choosing the clear colour that gives the fewest bytes.
-fn paint_full(frame: &[PackedCell], width: usize, bce: bool, out: &mut Vec<u8>) -> Pen {
+fn paint_full(frame: &[PackedCell], width: usize, bce: bool, rep: bool, out: &mut Vec<u8>) -> Pen {
     let start = out.len();
-    let pen = clear_and_paint(frame, width, PackedColor::DEFAULT, bce, out);
+    let pen = clear_and_paint(frame, width, PackedColor::DEFAULT, bce, rep, out);
     // Clearing to the most common blank background saves writing those blanks (needs BCE).
     let Some(bg) = bce.then(|| most_common_blank_bg(frame)).flatten() else { return pen };
     let mut alt = Vec::with_capacity(out.len() - start);
-    let alt_pen = clear_and_paint(frame, width, bg, bce, &mut alt);
+    let alt_pen = clear_and_paint(frame, width, bg, bce, rep, &mut alt);
     if alt.len() < out.len() - start {
         out.truncate(start);
         out.extend_from_slice(&alt);
@@ -227,15 +240,24 @@ fn paint_full(frame: &[PackedCell], width: usize, bce: bool, out: &mut Vec<u8>) 
     pen
 }
 
-/// Resets SGR, sets the background `bg`, clears the screen, then sends `frame` as a diff.
-fn clear_and_paint(frame: &[PackedCell], width: usize, bg: PackedColor, bce: bool, out: &mut Vec<u8>) -> Pen {
+/// Resets SGR, sets the background `bg`, clears the screen, then sends `frame` as a diff (with REP
+/// where `rep`).
+fn clear_and_paint(
+    frame: &[PackedCell],
+    width: usize,
+    bg: PackedColor,
+    bce: bool,
+    rep: bool,
+    out: &mut Vec<u8>,
+) -> Pen {
     let mut pen = Pen::UNKNOWN;
     // The reset form also clears attributes we don't track (bold…) that someone else may have left.
     write_sgr_reset(out, &mut pen, None, Some(bg));
     out.extend_from_slice(b"\x1b[2J");
     let blank = vec![PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg }; frame.len()];
     // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
-    diff(&blank, &mut frame.to_vec(), width, bce, 0, &mut pen, out, &mut Vec::new());
+    let how = How { bce, tolerance: 0, rep };
+    diff(&blank, &mut frame.to_vec(), width, how, &mut pen, out, &mut Vec::new());
     pen
 }
 
@@ -253,17 +275,24 @@ fn most_common_blank_bg(frame: &[PackedCell]) -> Option<PackedColor> {
     (bg != PackedColor::DEFAULT).then_some(bg)
 }
 
+/// How a diff may write: BCE ([`Encoder::set_bce`]), the tolerance ([`Encoder::set_tolerance`]),
+/// REP ([`Encoder::set_rep`]).
+#[derive(Clone, Copy, Debug)]
+struct How {
+    bce: bool,
+    tolerance: u8,
+    rep: bool,
+}
+
 /// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
-/// cell of `new` within `tolerance` of `old` is left as `old` shows it, and a changed one may
-/// take the pen's colour where that is within `tolerance` of its own (one SGR less); `new` is updated
+/// cell of `new` within `how.tolerance` of `old` is left as `old` shows it, and a changed one may
+/// take the pen's colour where that is within the tolerance of its own (one SGR less); `new` is updated
 /// to what was sent. `differs` is scratch ([`mark_changes`]).
-#[allow(clippy::too_many_arguments)]
 fn diff(
     old: &[PackedCell],
     new: &mut [PackedCell],
     width: usize,
-    bce: bool,
-    tolerance: u8,
+    how: How,
     pen: &mut Pen,
     out: &mut Vec<u8>,
     differs: &mut Vec<bool>,
@@ -272,9 +301,9 @@ fn diff(
     let width = width.max(1);
     let mut changed = 0;
     for (y, (old_row, new_row)) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)).enumerate() {
-        mark_changes(old_row, new_row, tolerance, differs);
-        let tail = erasable_tail(new_row, bce);
-        changed += diff_row(pen, out, y, 0, new_row, &differs[..], tail, tolerance);
+        mark_changes(old_row, new_row, how.tolerance, differs);
+        let tail = erasable_tail(new_row, how.bce);
+        changed += diff_row(pen, out, y, 0, new_row, &differs[..], tail, how);
     }
     changed
 }
@@ -314,7 +343,9 @@ fn erasable_tail(row: &[PackedCell], bce: bool) -> Option<(usize, PackedColor)> 
 }
 
 /// Encodes the changes of row `y` from column `from` on (`differs`: which cells differ from the screen);
-/// returns the number of cells changed. Changed cells are written within `tolerance` of `new` ([`write_cell`]) and `new` records what was sent.
+/// returns the number of cells changed. Changed cells are written within `how.tolerance` of `new`
+/// ([`write_cell`]), runs of one look as `REP` where `how.rep` allows ([`repeat`]), and `new`
+/// records what was sent.
 #[allow(clippy::too_many_arguments)]
 fn diff_row(
     pen: &mut Pen,
@@ -324,8 +355,9 @@ fn diff_row(
     new: &mut [PackedCell],
     differs: &[bool],
     tail: Option<(usize, PackedColor)>,
-    tolerance: u8,
+    how: How,
 ) -> usize {
+    let tolerance = how.tolerance;
     let width = new.len();
     let mut changed = 0;
     let mut from = from;
@@ -343,7 +375,7 @@ fn diff_row(
             out.truncate(mark);
             let mut write = *pen;
             // Exact (tolerance 0): a trial, so it must leave `new` as it is.
-            diff_row(&mut write, out, y, x, new, differs, None, 0);
+            diff_row(&mut write, out, y, x, new, differs, None, How { tolerance: 0, ..how });
             if erase_len < out.len() - mark {
                 out.truncate(mark);
                 reach(pen, out, y, x, new, Then::Erase(bg));
@@ -357,8 +389,51 @@ fn diff_row(
         }
         changed += 1;
         from = x + 1;
+        if how.rep {
+            // (before the erasable tail, which the branch above prices as a whole)
+            let end = tail.map_or(width, |(start, _)| start);
+            let repeated = repeat(pen, out, new, end, differs, x, tolerance);
+            changed += repeated;
+            from += repeated;
+        }
     }
     changed
+}
+
+/// After the glyph just written for column `x` (the last thing in `out`), the changed cells right
+/// after it, up to column `end`, that go in the same look from the pen (the same glyph, no colour
+/// change) as one `CSI n b` (REP: repeat the last glyph n times), where that is fewer bytes than the
+/// glyphs; returns how many cells it covered (0: none, nothing written).
+fn repeat(
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    new: &mut [PackedCell],
+    end: usize,
+    differs: &[bool],
+    x: usize,
+    tolerance: u8,
+) -> usize {
+    let Some(&last) = new.get(x) else { return 0 };
+    let same = |pen: &Pen, cell: &PackedCell| {
+        let (form, sgr) = cell_form(pen, cell, tolerance);
+        (sgr.len() == 0 && form.ch == last.ch).then_some(form)
+    };
+    let end = end.min(new.len());
+    let run = (x + 1..end).take_while(|&j| differs[j] && same(pen, &new[j]).is_some()).count();
+    if run == 0 || run * last.ch.len_utf8() <= 3 + digits(run) {
+        return 0;
+    }
+    out.extend_from_slice(b"\x1b[");
+    push_num(out, run);
+    out.push(b'b');
+    let width = new.len();
+    for cell in &mut new[x + 1..=x + run] {
+        if let Some(form) = same(pen, cell) {
+            *cell = form;
+        }
+        advance(pen, width);
+    }
+    run
 }
 
 /// What [`reach`] does once the cursor is there.
@@ -1004,7 +1079,7 @@ mod tests {
         let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
         let trial = |frame: &Frame, bg: Color| {
             let mut out = Vec::new();
-            clear_and_paint(&packed(frame), frame.width(), PackedColor::pack(bg), true, &mut out);
+            clear_and_paint(&packed(frame), frame.width(), PackedColor::pack(bg), true, false, &mut out);
             out
         };
         let mut ties = 0;
@@ -1037,7 +1112,7 @@ mod tests {
             ties += usize::from(blue_is_commonest && coloured.len() == default.len());
             let best = if blue_is_commonest && coloured.len() < default.len() { coloured } else { default };
             let mut out = vec![b'.'; 100];
-            paint_full(&packed(&frame), frame.width(), true, &mut out);
+            paint_full(&packed(&frame), frame.width(), true, false, &mut out);
             assert_eq!(&out[100..], &best[..], "{rows:?}");
         }
         assert_eq!(ties, 2, "the premise: two of the cases are ties");

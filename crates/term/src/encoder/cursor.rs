@@ -131,7 +131,7 @@ fn cup_len(x: usize, y: usize) -> usize {
 }
 
 /// The decimal digits of `n`.
-fn digits(n: usize) -> usize {
+pub(super) fn digits(n: usize) -> usize {
     n.checked_ilog10().map_or(1, |log| log as usize + 1)
 }
 
