@@ -94,5 +94,7 @@ fn with_flow_control_the_picture_keeps_up_with_the_keys_on_a_slow_link() {
     assert!(with.tail <= 0.6, "the picture stops soon after the key: {with:?}");
     // Without it the link queues frames: the picture lags more and more, and goes on turning.
     assert!(without.percentile(1.0) > 2.0 * with.percentile(1.0), "{without:?}");
-    assert!(without.tail > 1.0, "{without:?}");
+    // (beyond the bound flow control meets, and three times its tail: since REP, fewer bytes queue,
+    // 0.93 s where it was 1.02 s)
+    assert!(without.tail > 0.6 && without.tail > 3.0 * with.tail, "{without:?}");
 }
