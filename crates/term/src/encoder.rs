@@ -10,6 +10,11 @@
 //! - **colours** (`encoder/sgr.rs`): one `SGR` per change, fg and bg combined, in the shortest form
 //!   (`30–37`, `90–97`, `38;5;n`, `38;2;r;g;b`, or a reset `\x1b[0;…m` when that is shorter);
 //! - **blank tails**: erase-to-end-of-line `\x1b[K` when it is cheaper than writing the blanks;
+//! - **columns**: a column of changed cells of one look (a seam or a wall's end sliding, its colours
+//!   not its row neighbours') written down the column, one colour change for all of it, where that
+//!   is fewer bytes than a colour change in each row ([`columns`]), before the rows;
+//! - **runs** of one look along a row as `REP` (`CSI n b`) where the terminal has it
+//!   ([`Encoder::set_rep`]);
 //! - **full paints** (first frame, resize, [`Encoder::invalidate`]): clear the screen to the background
 //!   that saves the most, then send the frame as a diff against that blank screen.
 //!
@@ -299,19 +304,103 @@ fn diff(
 ) -> usize {
     debug_assert_eq!(old.len(), new.len());
     let width = width.max(1);
-    let mut changed = 0;
-    for (y, (old_row, new_row)) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)).enumerate() {
+    differs.clear();
+    for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
         mark_changes(old_row, new_row, how.tolerance, differs);
+    }
+    // Columns first, where a column of one look goes cheaper down than across; then the rows.
+    let mut changed = columns(new, width, how.tolerance, pen, out, differs);
+    for (y, (new_row, row_differs)) in
+        new.chunks_exact_mut(width).zip(differs.chunks_exact(width)).enumerate()
+    {
         let tail = erasable_tail(new_row, how.bce);
-        changed += diff_row(pen, out, y, 0, new_row, &differs[..], tail, how);
+        changed += diff_row(pen, out, y, 0, new_row, row_differs, tail, how);
     }
     changed
 }
 
+/// The shortest column of changed cells [`columns`] writes downwards.
+const MIN_COLUMN: usize = 3;
+
+/// The cursor move from a glyph to the cell under it, as [`columns`] prices it (`CSI B` and a
+/// backspace; the move it writes is the cheapest there is, which may be shorter).
+const DOWN_ONE: usize = 4;
+
+/// Writes the columns of changed cells of one look (a seam sliding along a wall, a wall's end: the
+/// same colours down a column, others beside it) down the column, one colour change for the column
+/// and a short move a cell, where that is fewer bytes than writing them row by row (a colour change
+/// for each where its row's changed cell before it has other colours); marks them unchanged for
+/// the rows that follow. Cells in a run of one look along their row are left to the rows (REP, the
+/// pen's colours). Returns the cells written.
+fn columns(
+    new: &mut [PackedCell],
+    width: usize,
+    tolerance: u8,
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    differs: &mut [bool],
+) -> usize {
+    let height = new.len() / width;
+    if height < MIN_COLUMN {
+        return 0;
+    }
+    let mut changed = 0;
+    for x in 0..width {
+        // Changed, and not in a run of its look along the row.
+        let alone = |new: &[PackedCell], differs: &[bool], k: usize| {
+            differs[k]
+                && !(x > 0 && differs[k - 1] && new[k - 1] == new[k])
+                && !(x + 1 < width && differs[k + 1] && new[k + 1] == new[k])
+        };
+        let mut y = 0;
+        while y < height {
+            let k = y * width + x;
+            if !alone(new, differs, k) {
+                y += 1;
+                continue;
+            }
+            let cell = new[k];
+            let run = (y..height)
+                .take_while(|&r| new[r * width + x] == cell && alone(new, differs, r * width + x))
+                .count();
+            if run >= MIN_COLUMN && column_pays(new, differs, width, x, y, run) {
+                for r in y..y + run {
+                    write_move(out, pen, x, r);
+                    new[r * width + x] = write_cell(out, pen, &cell, width, tolerance);
+                    differs[r * width + x] = false;
+                }
+                changed += run;
+            }
+            y += run;
+        }
+    }
+    changed
+}
+
+/// Whether the `run` cells of one look from row `y` down column `x` cost fewer bytes down the
+/// column than in the rows: down, one colour change (from nothing known) and a [`DOWN_ONE`] a
+/// cell; across, each cell's colour change from its row's changed cell before it (the pen the rows
+/// would leave), or from nothing known and a move where that cell did not change.
+fn column_pays(new: &[PackedCell], differs: &[bool], width: usize, x: usize, y: usize, run: usize) -> bool {
+    let cell = new[y * width + x];
+    let glyph = cell.ch.len_utf8();
+    let down = Sgr::to_cell(&Pen::UNKNOWN, &cell).len() + run * glyph + (run - 1) * DOWN_ONE;
+    let across: usize = (y..y + run)
+        .map(|r| {
+            let k = r * width + x;
+            let before = (x > 0 && differs[k - 1]).then(|| new[k - 1]);
+            let pen = before.map_or(Pen::UNKNOWN, |b| Pen { cursor: None, fg: Some(b.fg), bg: Some(b.bg) });
+            let colours = Sgr::to_cell(&pen, &cell).len();
+            colours + glyph + if before.is_some() { 0 } else { DOWN_ONE }
+        })
+        .sum();
+    down < across
+}
+
 /// Which cells of row `new` look different from row `old` (one look comparison a cell: the diff's
-/// searches read the flags). A cell within `tolerance` of `old` is first set to `old`.
+/// searches read the flags), appended to `differs`. A cell within `tolerance` of `old` is first set
+/// to `old`.
 fn mark_changes(old: &[PackedCell], new: &mut [PackedCell], tolerance: u8, differs: &mut Vec<bool>) {
-    differs.clear();
     differs.extend(old.iter().zip(new).map(|(shown, cell)| {
         if shown == cell {
             return false; // the common case, inline
