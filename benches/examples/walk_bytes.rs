@@ -31,7 +31,9 @@ const ROWS: u16 = 40;
 /// What a changed cell shows, and why it changed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 enum Why {
-    EdgeMoved,
+    EdgeWallWall,
+    EdgeWallPlane,
+    EdgeNear,
     WallJump,
     WallDrift,
     FloorLine,
@@ -46,8 +48,10 @@ enum Why {
     Hud,
 }
 
-const ALL: [Why; 13] = [
-    Why::EdgeMoved,
+const ALL: [Why; 15] = [
+    Why::EdgeWallWall,
+    Why::EdgeWallPlane,
+    Why::EdgeNear,
     Why::WallJump,
     Why::WallDrift,
     Why::FloorLine,
@@ -207,6 +211,7 @@ struct Found {
     kinds: Kinds,
     cells: [usize; ALL.len()],
     bytes: [f64; ALL.len()],
+    vertical: usize,
 }
 
 /// `bandwidth`'s walk, step by step as its link does with no limit (1 ms steps, the terminal answers
@@ -228,6 +233,7 @@ fn walk(depth: ColorDepth, key: &[u8], rep: bool) -> Found {
         kinds: Kinds::default(),
         cells: [0; ALL.len()],
         bytes: [0.0; ALL.len()],
+        vertical: 0,
     };
     let (mut before, mut before_samples) = (snapshot(&terminal), samples(&mut renderer, &session));
     let mut viewer = (session.app().camera.position, session.app().camera.yaw_deg);
@@ -304,8 +310,16 @@ fn walk(depth: ColorDepth, key: &[u8], rep: bool) -> Found {
                     })
                 });
                 let mut near = near;
-                if near.any(|i| before_samples[i].id != after_samples[i].id) {
-                    Why::EdgeMoved
+                let is_wall = |id: u32| id != FLOOR && id != CEILING && id != NONE;
+                let own = pair.iter().find(|&&i| before_samples[i].id != after_samples[i].id);
+                if let Some(&i) = own {
+                    if is_wall(before_samples[i].id) && is_wall(after_samples[i].id) {
+                        Why::EdgeWallWall
+                    } else {
+                        Why::EdgeWallPlane
+                    }
+                } else if near.any(|i| before_samples[i].id != after_samples[i].id) {
+                    Why::EdgeNear
                 } else {
                     let step = pair
                         .iter()
@@ -336,6 +350,30 @@ fn walk(depth: ColorDepth, key: &[u8], rep: bool) -> Found {
             };
             why.push(reason);
         }
+        // Changed cells in vertical runs of one look (4 or more, one column), not continuing a
+        // horizontal run of that look (the cell to the left changed to the same).
+        let height = usize::from(ROWS);
+        for x in 0..width {
+            let mut y = 0;
+            while y < height {
+                let k = y * width + x;
+                let lone = |k: usize| {
+                    before[k] != after[k]
+                        && !(x > 0 && before[k - 1] != after[k - 1] && after[k - 1] == after[k])
+                };
+                if !lone(k) {
+                    y += 1;
+                    continue;
+                }
+                let run = (y..height)
+                    .take_while(|&yy| lone(yy * width + x) && after[yy * width + x] == after[k])
+                    .count();
+                if run >= 4 {
+                    found.vertical += run;
+                }
+                y += run;
+            }
+        }
         found.frames += 1;
         found.total += out.len();
         for &reason in &why {
@@ -354,10 +392,13 @@ fn main() {
     let depth = if args.iter().any(|a| a == "--256") { ColorDepth::Ansi256 } else { ColorDepth::TrueColor };
     let rep = !args.iter().any(|a| a == "--no-rep");
     let found = walk(depth, if turn { b"\x1b[D" } else { b"w" }, rep);
-    let Found { frames, seconds, total, kinds, cells, bytes } = found;
+    let Found { frames, seconds, total, kinds, cells, bytes, vertical } = found;
+    println!("vertical runs: {:.1} cells a frame", vertical as f64 / frames.max(1) as f64);
     let seconds = seconds.max(1e-3);
     println!(
-        "Walking (W held, auto-repeat), 120×40 half blocks, truecolor, built-in maze: {frames} frames, {:.1} KB/s\n",
+        "{} (key held, auto-repeat), 120×40 half blocks, {depth}, built-in maze, REP {}: {frames} frames, {:.1} KB/s\n",
+        if turn { "Turning" } else { "Walking" },
+        if rep { "on" } else { "off" },
         total as f64 / seconds / 1e3
     );
     let pct = |n: usize| 100.0 * n as f64 / total.max(1) as f64;
