@@ -5,8 +5,8 @@
 //! the cheapest of the equivalent escape sequences:
 //!
 //! - **cursor moves** (`encoder/cursor.rs`): absolute `CUP`, relative `CUF`/`CUB`/`CUD`/`CUU`,
-//!   `CHA`/`VPA`, `\r`, `\r\n`, backspace; or (here) simply rewriting a short unchanged gap when that is
-//!   fewer bytes;
+//!   `CHA`/`VPA`, `\r`, `\r\n`, vertical tabs (line feed/new line mode reset by every full
+//!   paint), backspace; or (here) simply rewriting a short unchanged gap when that is fewer bytes;
 //! - **colours** (`encoder/sgr.rs`): one `SGR` per change, fg and bg combined, in the shortest form
 //!   (`30–37`, `90–97`, `38;5;n`, `38;2;r;g;b`, or a reset `\x1b[0;…m` when that is shorter);
 //! - **blank tails**: erase-to-end-of-line `\x1b[K` when it is cheaper than writing the blanks;
@@ -38,7 +38,7 @@ use std::collections::HashMap;
 
 use crate::blocks::FULL_BLOCK;
 use crate::frame::{Frame, PackedCell, PackedColor};
-use cursor::{digits, move_len, write_move};
+use cursor::{RESET_LNM, digits, move_len, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
 
 /// Begin synchronized update (DEC mode 2026): the terminal holds the screen until the end marker.
@@ -258,6 +258,7 @@ fn clear_and_paint(
     let mut pen = Pen::UNKNOWN;
     // The reset form also clears attributes we don't track (bold…) that someone else may have left.
     write_sgr_reset(out, &mut pen, None, Some(bg));
+    out.extend_from_slice(RESET_LNM); // (cursor moves down by vertical tab)
     out.extend_from_slice(b"\x1b[2J");
     let blank = vec![PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg }; frame.len()];
     // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
@@ -322,9 +323,9 @@ fn diff(
 /// The shortest column of changed cells [`columns`] writes downwards.
 const MIN_COLUMN: usize = 3;
 
-/// The cursor move from a glyph to the cell under it, as [`columns`] prices it (`CSI B` and a
-/// backspace; the move it writes is the cheapest there is, which may be shorter).
-const DOWN_ONE: usize = 4;
+/// The cursor move from a glyph to the cell under it, as [`columns`] prices it (a vertical tab and
+/// a backspace).
+const DOWN_ONE: usize = 2;
 
 /// Writes the columns of changed cells of one look (a seam sliding along a wall, a wall's end: the
 /// same colours down a column, others beside it) down the column, one colour change for the column
@@ -1288,7 +1289,7 @@ mod tests {
         let mut out = Vec::new();
         let stats = Encoder::new().encode(&frame, &mut out);
         assert!(stats.full_paint);
-        assert_eq!(out, b"\x1b[?2026h\x1b[0;44m\x1b[2J\x1b[3;4H\x1b[mx\x1b[?2026l");
+        assert_eq!(out, b"\x1b[?2026h\x1b[0;44m\x1b[20l\x1b[2J\x1b[3;4H\x1b[mx\x1b[?2026l");
         let mut encoder = Encoder::new();
         encoder.set_bce(false);
         out.clear();
