@@ -518,9 +518,7 @@ fn repeat(
     out.push(b'b');
     let width = new.len();
     for cell in &mut new[x + 1..=x + run] {
-        if let Some(form) = same(pen, cell) {
-            *cell = form;
-        }
+        *cell = last; // the look on screen: the glyph and colours just written
         advance(pen, width);
     }
     run
