@@ -393,7 +393,10 @@ fn main() {
     let rep = !args.iter().any(|a| a == "--no-rep");
     let found = walk(depth, if turn { b"\x1b[D" } else { b"w" }, rep);
     let Found { frames, seconds, total, kinds, cells, bytes, vertical } = found;
-    println!("vertical runs: {:.1} cells a frame", vertical as f64 / frames.max(1) as f64);
+    println!(
+        "changed cells in columns of one look (4 or more, not in a run along their row): {:.1} a frame",
+        vertical as f64 / frames.max(1) as f64
+    );
     let seconds = seconds.max(1e-3);
     println!(
         "{} (key held, auto-repeat), 120×40 half blocks, {depth}, built-in maze, REP {}: {frames} frames, {:.1} KB/s\n",

@@ -157,9 +157,8 @@ impl Encoder {
         self.tolerance = steps;
     }
 
-    /// Whether the terminal repeats the last glyph on `CSI n b` (REP, ECMA-48; xterm, VTE, kitty,
-    /// foot, WezTerm, Alacritty, tmux and Windows Terminal do; GNU screen and the Linux console do not):
-    /// then a run of changed cells that go in one look (the same glyph, no colour change) after the
+    /// Whether the terminal repeats the last glyph on `CSI n b` (REP, ECMA-48: xterm and tmux do, GNU
+    /// screen does not; the walk asks the terminal, [`REP_PROBE`](crate::caps::REP_PROBE)): then a run of changed cells that go in one look (the same glyph, no colour change) after the
     /// first is sent as `REP` where that is shorter than the glyphs (off by default: a terminal
     /// without it would show the run as missing).
     pub fn set_rep(&mut self, rep: bool) {
