@@ -108,6 +108,8 @@ pub struct Encoder {
     differs: Vec<bool>,
     /// Whether runs of one look may go as `REP` ([`Encoder::set_rep`]).
     rep: bool,
+    /// Whether a blank may go as a full block ([`Encoder::set_blocks`]).
+    blocks: bool,
 }
 
 impl Default for Encoder {
@@ -131,6 +133,7 @@ impl Encoder {
             effective: Vec::new(),
             differs: Vec::new(),
             rep: false,
+            blocks: true,
         }
     }
 
@@ -165,6 +168,13 @@ impl Encoder {
         self.rep = rep;
     }
 
+    /// Whether the frames are drawn in block glyphs (the default): then a blank may go as a full
+    /// block in the pen's ink where that is fewer bytes. Off for frames of ASCII only (the ascii
+    /// charset, for terminals or fonts without the blocks): every glyph sent is then the frame's own.
+    pub fn set_blocks(&mut self, blocks: bool) {
+        self.blocks = blocks;
+    }
+
     /// Appends to `out` the bytes that turn the previous frame into `frame`: nothing if they are equal,
     /// a full paint if there is no (valid, same-sized) previous frame.
     pub fn encode(&mut self, frame: &Frame, out: &mut Vec<u8>) -> EncodeStats {
@@ -178,9 +188,10 @@ impl Encoder {
         sent.clear();
         sent.extend(frame.cells().iter().map(PackedCell::pack));
         let cells_changed = if full_paint {
-            self.pen = paint_full(sent, width, self.bce, self.rep, out);
+            self.pen = paint_full(sent, width, self.bce, self.rep, self.blocks, out);
             sent.len()
         } else {
+            self.pen.blocks = self.blocks;
             let how = How { bce: self.bce, tolerance: self.tolerance, rep: self.rep };
             diff(&self.screen, sent, width, how, &mut self.pen, out, &mut self.differs)
         };
@@ -202,7 +213,12 @@ impl Encoder {
 /// default colours gives plain text.
 pub fn ansi_lines(frame: &Frame, out: &mut Vec<u8>) {
     for y in 0..frame.height() {
-        let mut pen = Pen { cursor: None, fg: Some(PackedColor::DEFAULT), bg: Some(PackedColor::DEFAULT) };
+        let mut pen = Pen {
+            cursor: None,
+            fg: Some(PackedColor::DEFAULT),
+            bg: Some(PackedColor::DEFAULT),
+            blocks: true,
+        };
         for cell in frame.row(y).unwrap_or(&[]).iter().map(PackedCell::pack) {
             let fg = (cell.ch != ' ').then_some(cell.fg);
             write_sgr(out, &mut pen, fg, Some(cell.bg));
@@ -222,20 +238,30 @@ struct Pen {
     cursor: Option<(usize, usize)>,
     fg: Option<PackedColor>,
     bg: Option<PackedColor>,
+    /// Whether the terminal is drawing block glyphs ([`Encoder::set_blocks`]): then a blank may go
+    /// as a full block in its colour (and back).
+    blocks: bool,
 }
 
 impl Pen {
-    const UNKNOWN: Pen = Pen { cursor: None, fg: None, bg: None };
+    const UNKNOWN: Pen = Pen { cursor: None, fg: None, bg: None, blocks: true };
 }
 
 /// Clears the screen and paints `frame`, choosing the clear colour that gives the fewest bytes.
-fn paint_full(frame: &[PackedCell], width: usize, bce: bool, rep: bool, out: &mut Vec<u8>) -> Pen {
+fn paint_full(
+    frame: &[PackedCell],
+    width: usize,
+    bce: bool,
+    rep: bool,
+    blocks: bool,
+    out: &mut Vec<u8>,
+) -> Pen {
     let start = out.len();
-    let pen = clear_and_paint(frame, width, PackedColor::DEFAULT, bce, rep, out);
+    let pen = clear_and_paint(frame, width, PackedColor::DEFAULT, bce, rep, blocks, out);
     // Clearing to the most common blank background saves writing those blanks (needs BCE).
     let Some(bg) = bce.then(|| most_common_blank_bg(frame)).flatten() else { return pen };
     let mut alt = Vec::with_capacity(out.len() - start);
-    let alt_pen = clear_and_paint(frame, width, bg, bce, rep, &mut alt);
+    let alt_pen = clear_and_paint(frame, width, bg, bce, rep, blocks, &mut alt);
     if alt.len() < out.len() - start {
         out.truncate(start);
         out.extend_from_slice(&alt);
@@ -252,9 +278,10 @@ fn clear_and_paint(
     bg: PackedColor,
     bce: bool,
     rep: bool,
+    blocks: bool,
     out: &mut Vec<u8>,
 ) -> Pen {
-    let mut pen = Pen::UNKNOWN;
+    let mut pen = Pen { blocks, ..Pen::UNKNOWN };
     // The reset form also clears attributes we don't track (bold…) that someone else may have left.
     write_sgr_reset(out, &mut pen, None, Some(bg));
     out.extend_from_slice(RESET_LNM); // (cursor moves down by vertical tab)
@@ -389,7 +416,7 @@ fn column_pays(new: &[PackedCell], differs: &[bool], width: usize, x: usize, y: 
         .map(|r| {
             let k = r * width + x;
             let before = (x > 0 && differs[k - 1]).then(|| new[k - 1]);
-            let pen = before.map_or(Pen::UNKNOWN, |b| Pen { cursor: None, fg: Some(b.fg), bg: Some(b.bg) });
+            let pen = before.map_or(Pen::UNKNOWN, |b| Pen { fg: Some(b.fg), bg: Some(b.bg), ..Pen::UNKNOWN });
             let colours = Sgr::to_cell(&pen, &cell).len();
             colours + glyph + if before.is_some() { 0 } else { DOWN_ONE }
         })
@@ -647,6 +674,12 @@ fn price_route(
     (len <= limit).then_some(len)
 }
 
+/// `cell`'s [`PackedCell::inverse`] (the same look), unless it would send a block glyph the frames
+/// do not use (a blank as a full block, where the pen says no blocks).
+fn inverse_of(pen: &Pen, cell: &PackedCell) -> Option<PackedCell> {
+    cell.inverse().filter(|inverse| pen.blocks || inverse.ch != FULL_BLOCK || cell.ch == FULL_BLOCK)
+}
+
 /// The form `cell` goes in from `pen` and its colour change: of the cell and its [`PackedCell::inverse`]
 /// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
 /// are within `tolerance` of the cell's; and, where a tolerance applies, a blank or a full block in one colour
@@ -667,7 +700,7 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
     if tolerance == 0 || !cell.may_be_near(tolerance) {
         let plain = priced(cell);
         if plain.1.len() > 0
-            && let Some(inverse) = cell.inverse().map(priced)
+            && let Some(inverse) = inverse_of(pen, &cell).map(priced)
             && inverse.1.len() < plain.1.len()
         {
             return inverse;
@@ -701,7 +734,7 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
         return best;
     }
     if best.1.len() > 0 {
-        let inverse = cell.inverse().map(near_pen);
+        let inverse = inverse_of(pen, &cell).map(near_pen);
         // The first of the cheapest, in this order (a canonical form only where it differs).
         for candidate in
             [Some(plain.canonical()), inverse, inverse.map(|c| c.canonical())].into_iter().flatten()
@@ -729,6 +762,9 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
                 continue;
             };
             let candidate = if k == 1 {
+                if !pen.blocks {
+                    continue; // no block glyphs in these frames
+                }
                 PackedCell { ch: FULL_BLOCK, fg: colour, bg: cell.bg } // the pen's ink: no background shown
             } else {
                 PackedCell { ch: ' ', fg: colour, bg: colour }
@@ -829,7 +865,7 @@ mod tests {
 
     /// A pen at `cursor` with these colours.
     fn pen(cursor: Option<(usize, usize)>, fg: Option<Color>, bg: Option<Color>) -> Pen {
-        Pen { cursor, fg: fg.map(PackedColor::pack), bg: bg.map(PackedColor::pack) }
+        Pen { cursor, fg: fg.map(PackedColor::pack), bg: bg.map(PackedColor::pack), blocks: true }
     }
 
     /// Escape codes carry their numbers in plain decimal: every number the fast paths cover and
@@ -1166,7 +1202,15 @@ mod tests {
         let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
         let trial = |frame: &Frame, bg: Color| {
             let mut out = Vec::new();
-            clear_and_paint(&packed(frame), frame.width(), PackedColor::pack(bg), true, false, &mut out);
+            clear_and_paint(
+                &packed(frame),
+                frame.width(),
+                PackedColor::pack(bg),
+                true,
+                false,
+                true,
+                &mut out,
+            );
             out
         };
         let mut ties = 0;
@@ -1199,7 +1243,7 @@ mod tests {
             ties += usize::from(blue_is_commonest && coloured.len() == default.len());
             let best = if blue_is_commonest && coloured.len() < default.len() { coloured } else { default };
             let mut out = vec![b'.'; 100];
-            paint_full(&packed(&frame), frame.width(), true, false, &mut out);
+            paint_full(&packed(&frame), frame.width(), true, false, true, &mut out);
             assert_eq!(&out[100..], &best[..], "{rows:?}");
         }
         assert_eq!(ties, 2, "the premise: two of the cases are ties");

@@ -318,11 +318,13 @@ proptest! {
         bce in any::<bool>(),
         tolerance in prop_oneof![3 => Just(0u8), 1 => 1u8..4],
         rep in any::<bool>(),
+        blocks in any::<bool>(),
     ) {
         let mut encoder = Encoder::new();
         encoder.set_bce(bce);
         encoder.set_tolerance(tolerance);
         encoder.set_rep(rep);
+        encoder.set_blocks(blocks);
         let mut parser = terminal(first.width(), first.height());
         // The terminal starts with junk on it and odd colours set.
         parser.process(b"\x1b[1;1Hjunk\x1b[31;42mmore junk\x1b[7;3H");
@@ -626,6 +628,38 @@ fn a_tolerance_reuses_the_current_colour_along_gradients() {
     let cells = width * height;
     assert!(sgrs[0] >= cells, "exact: a colour code per cell ({sgrs:?})");
     assert!(sgrs[1] <= cells / 2 + height, "±1: about one per two cells ({sgrs:?})");
+}
+
+/// Frames of ASCII only (`set_blocks(false)`): a blank is never sent as a full block in the pen's
+/// ink, however many bytes that would save (with blocks, the same frames do send one), and the
+/// screen shows the frames.
+#[test]
+fn without_blocks_a_blank_never_goes_as_a_full_block() {
+    let (ink, paper) = (Color::Rgb(200, 180, 90), Color::Rgb(20, 30, 40));
+    let (w, h) = (12, 6);
+    // The pen's ink ends as `ink`; then columns of blanks in `ink` go where it is cheapest.
+    let mut first = Frame::filled(w, h, Cell { ch: '#', fg: ink, bg: paper });
+    first.set(0, 0, Cell { ch: 'x', fg: paper, bg: ink });
+    let mut second = first.clone();
+    for y in 0..h {
+        second.set(5, y, Cell { ch: ' ', fg: Color::Default, bg: ink });
+        second.set(9, y, Cell { ch: ' ', fg: Color::Default, bg: ink });
+    }
+    let mut sent_blocks = Vec::new();
+    for blocks in [true, false] {
+        let mut encoder = Encoder::new();
+        encoder.set_blocks(blocks);
+        let mut parser = terminal(w, h);
+        let mut out = Vec::new();
+        encoder.encode(&first, &mut out);
+        parser.process(&out);
+        out.clear();
+        encoder.encode(&second, &mut out);
+        parser.process(&out);
+        assert_screen_shows(&parser, &second, || format!("blocks {blocks}"));
+        sent_blocks.push(String::from_utf8_lossy(&out).contains('█'));
+    }
+    assert_eq!(sent_blocks, [true, false], "full blocks sent with blocks on / off");
 }
 
 /// The REP question: on a terminal with REP (vt100, as xterm) the cursor ends two cells into row 2,

@@ -40,7 +40,7 @@ use crate::run::{Pose, Run};
 use crate::screen::{self, FrameCost, Hud, Screen};
 use crate::state::App;
 use crate::views::SharedViews;
-use mazewalk_render::Culling;
+use mazewalk_render::{Charset, Culling};
 use mazewalk_term::caps::{REP_PROBE, TRUECOLOR_QUERY, rep_answer};
 use mazewalk_term::encoder::{self, Encoder};
 use mazewalk_term::frame::{ColorDepth, Frame};
@@ -630,6 +630,8 @@ impl Session {
             screen::draw_hud(&self.app, &self.screen, &mut self.frame, &hud); // the view is as it was
         }
         self.encoder.set_tolerance(adaptive_tolerance(self.options.color_tolerance, round_trip));
+        // (the ascii charset is for terminals or fonts without block glyphs: none of its own)
+        self.encoder.set_blocks(self.app.options.charset != Charset::Ascii);
         let before = out.len();
         if self.rep_probe == RepProbe::NotAsked {
             // Before the first frame, whose full paint clears the screen over the probe's two cells.
