@@ -3,9 +3,12 @@
 //!
 //! ```sh
 //! cargo build --release -p mazewalk-bench --example turn_frames
-//! valgrind --tool=callgrind ./target/release/examples/turn_frames truecolor   # COLS ROWS TOLERANCE optional
+//! valgrind --tool=callgrind ./target/release/examples/turn_frames truecolor   # COLS ROWS TOLERANCE REP KEY optional
 //! callgrind_annotate --inclusive=yes callgrind.out.* | grep 'Encoder::encode \['
 //! ```
+//!
+//! REP: `rep` answers the session's question as a terminal with REP does (runs go as `CSI n b`),
+//! `norep` (the default) as one without. KEY: `turn` (the default, `←`) or `walk` (`W`).
 
 use mazewalk_maze as maze;
 use mazewalk_render::{Charset, RenderOptions};
@@ -20,6 +23,8 @@ fn main() {
         (arg(1, "120").parse().expect("cols"), arg(2, "40").parse().expect("rows"));
     let tolerance: u8 =
         arg(3, &mazewalk_term::encoder::DEFAULT_TOLERANCE.to_string()).parse().expect("tolerance");
+    let rep = arg(4, "norep") == "rep";
+    let key: &[u8] = if arg(5, "turn") == "walk" { b"w" } else { b"\x1b[D" };
     let options = RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
     let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("a start cell");
     let mut session = Session::new(
@@ -30,12 +35,16 @@ fn main() {
     );
     let (mut out, mut bytes) = (Vec::new(), 0);
     session.frame(0.0, &mut out);
+    // The answer to the REP probe before the first frame: two cells written (REP), or one.
+    session.feed(if rep { b"\x1b[2;3R" } else { b"\x1b[2;2R" }, 0.0);
     for i in 1..40 {
         let now = f64::from(i) / 30.0;
-        session.feed(b"\x1b[D", now);
+        session.feed(key, now);
         out.clear();
         session.frame(now, &mut out);
         bytes += out.len();
     }
-    println!("{depth} {cols}x{rows}, tolerance {tolerance}: {bytes} bytes in 39 frames of turning");
+    let what = if key == b"w" { "walking" } else { "turning" };
+    let rep = if rep { "REP" } else { "no REP" };
+    println!("{depth} {cols}x{rows}, tolerance {tolerance}, {rep}: {bytes} bytes in 39 frames of {what}");
 }

@@ -69,6 +69,25 @@ pub fn detect_color_depth(get: impl Fn(&str) -> Option<String>) -> ColorDepth {
 pub const TRUECOLOR_QUERY: &[u8] =
     b"\x1b[0m\x1b[48;2;1;2;3m\x1bP$qm\x1b\\\x1b[0m\x1bP+q524742\x1b\\\x1bP+q5463\x1b\\";
 
+/// Whether the terminal repeats a glyph on `CSI n b` (REP, ECMA-48), asked before the first frame
+/// (which clears the screen over it): the cursor to row 2, column 1, a space, `CSI 1 b`, then a
+/// cursor position report (`CSI 6 n`). A terminal with REP answers `CSI 2 ; 3 R` (two cells
+/// written), one without `CSI 2 ; 2 R`; one that answers nothing keeps REP off
+/// ([`rep_answer`]). Row 2, not 1: `CSI 1 ; 3 R` is also how xterm sends Alt-F3.
+pub const REP_PROBE: &[u8] = b"\x1b[2H \x1b[b\x1b[6n";
+
+/// What a cursor position report (1-based `row`, `col`) says in answer to [`REP_PROBE`]: `Some(true)`
+/// the terminal has REP, `Some(false)` it does not, `None` not an answer to it (another row: a key,
+/// a screen of one row, a report someone else asked for).
+#[must_use]
+pub fn rep_answer(row: u16, col: u16) -> Option<bool> {
+    match (row, col) {
+        (2, 3) => Some(true),
+        (2, 2) => Some(false),
+        _ => None,
+    }
+}
+
 /// What the system's own tools say about the terminal's 24-bit colour, learnt by the caller (the
 /// binary runs `infocmp -x` and `tmux display`; a server knows neither about its players).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -5,11 +5,16 @@
 //! the cheapest of the equivalent escape sequences:
 //!
 //! - **cursor moves** (`encoder/cursor.rs`): absolute `CUP`, relative `CUF`/`CUB`/`CUD`/`CUU`,
-//!   `CHA`/`VPA`, `\r`, `\r\n`, backspace; or (here) simply rewriting a short unchanged gap when that is
-//!   fewer bytes;
+//!   `CHA`/`VPA`, `\r`, `\r\n`, vertical tabs (line feed/new line mode reset by every full
+//!   paint), backspace; or (here) simply rewriting a short unchanged gap when that is fewer bytes;
 //! - **colours** (`encoder/sgr.rs`): one `SGR` per change, fg and bg combined, in the shortest form
 //!   (`30–37`, `90–97`, `38;5;n`, `38;2;r;g;b`, or a reset `\x1b[0;…m` when that is shorter);
 //! - **blank tails**: erase-to-end-of-line `\x1b[K` when it is cheaper than writing the blanks;
+//! - **columns**: a column of changed cells of one look (a seam or a wall's end sliding, its colours
+//!   not its row neighbours') written down the column, one colour change for all of it, where that
+//!   is fewer bytes than a colour change in each row ([`columns`]), before the rows;
+//! - **runs** of one look along a row as `REP` (`CSI n b`) where the terminal has it
+//!   ([`Encoder::set_rep`]);
 //! - **full paints** (first frame, resize, [`Encoder::invalidate`]): clear the screen to the background
 //!   that saves the most, then send the frame as a diff against that blank screen.
 //!
@@ -33,7 +38,7 @@ use std::collections::HashMap;
 
 use crate::blocks::FULL_BLOCK;
 use crate::frame::{Frame, PackedCell, PackedColor};
-use cursor::{move_len, write_move};
+use cursor::{RESET_LNM, digits, move_len, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
 
 /// Begin synchronized update (DEC mode 2026): the terminal holds the screen until the end marker.
@@ -101,6 +106,10 @@ pub struct Encoder {
     effective: Vec<PackedCell>,
     /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
     differs: Vec<bool>,
+    /// Whether runs of one look may go as `REP` ([`Encoder::set_rep`]).
+    rep: bool,
+    /// Whether a blank may go as a full block ([`Encoder::set_blocks`]).
+    blocks: bool,
 }
 
 impl Default for Encoder {
@@ -123,6 +132,8 @@ impl Encoder {
             tolerance: 0,
             effective: Vec::new(),
             differs: Vec::new(),
+            rep: false,
+            blocks: true,
         }
     }
 
@@ -149,6 +160,21 @@ impl Encoder {
         self.tolerance = steps;
     }
 
+    /// Whether the terminal repeats the last glyph on `CSI n b` (REP, ECMA-48: xterm and tmux do, GNU
+    /// screen does not; the walk asks the terminal, [`REP_PROBE`](crate::caps::REP_PROBE)): then a run of changed cells that go in one look (the same glyph, no colour change) after the
+    /// first is sent as `REP` where that is shorter than the glyphs (off by default: a terminal
+    /// without it would show the run as missing).
+    pub fn set_rep(&mut self, rep: bool) {
+        self.rep = rep;
+    }
+
+    /// Whether the frames are drawn in block glyphs (the default): then a blank may go as a full
+    /// block in the pen's ink where that is fewer bytes. Off for frames of ASCII only (the ascii
+    /// charset, for terminals or fonts without the blocks): every glyph sent is then the frame's own.
+    pub fn set_blocks(&mut self, blocks: bool) {
+        self.blocks = blocks;
+    }
+
     /// Appends to `out` the bytes that turn the previous frame into `frame`: nothing if they are equal,
     /// a full paint if there is no (valid, same-sized) previous frame.
     pub fn encode(&mut self, frame: &Frame, out: &mut Vec<u8>) -> EncodeStats {
@@ -162,10 +188,12 @@ impl Encoder {
         sent.clear();
         sent.extend(frame.cells().iter().map(PackedCell::pack));
         let cells_changed = if full_paint {
-            self.pen = paint_full(sent, width, self.bce, out);
+            self.pen = paint_full(sent, width, self.bce, self.rep, self.blocks, out);
             sent.len()
         } else {
-            diff(&self.screen, sent, width, self.bce, self.tolerance, &mut self.pen, out, &mut self.differs)
+            self.pen.blocks = self.blocks;
+            let how = How { bce: self.bce, tolerance: self.tolerance, rep: self.rep };
+            diff(&self.screen, sent, width, how, &mut self.pen, out, &mut self.differs)
         };
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
@@ -185,7 +213,12 @@ impl Encoder {
 /// default colours gives plain text.
 pub fn ansi_lines(frame: &Frame, out: &mut Vec<u8>) {
     for y in 0..frame.height() {
-        let mut pen = Pen { cursor: None, fg: Some(PackedColor::DEFAULT), bg: Some(PackedColor::DEFAULT) };
+        let mut pen = Pen {
+            cursor: None,
+            fg: Some(PackedColor::DEFAULT),
+            bg: Some(PackedColor::DEFAULT),
+            blocks: true,
+        };
         for cell in frame.row(y).unwrap_or(&[]).iter().map(PackedCell::pack) {
             let fg = (cell.ch != ' ').then_some(cell.fg);
             write_sgr(out, &mut pen, fg, Some(cell.bg));
@@ -205,20 +238,30 @@ struct Pen {
     cursor: Option<(usize, usize)>,
     fg: Option<PackedColor>,
     bg: Option<PackedColor>,
+    /// Whether the terminal is drawing block glyphs ([`Encoder::set_blocks`]): then a blank may go
+    /// as a full block in its colour (and back).
+    blocks: bool,
 }
 
 impl Pen {
-    const UNKNOWN: Pen = Pen { cursor: None, fg: None, bg: None };
+    const UNKNOWN: Pen = Pen { cursor: None, fg: None, bg: None, blocks: true };
 }
 
 /// Clears the screen and paints `frame`, choosing the clear colour that gives the fewest bytes.
-fn paint_full(frame: &[PackedCell], width: usize, bce: bool, out: &mut Vec<u8>) -> Pen {
+fn paint_full(
+    frame: &[PackedCell],
+    width: usize,
+    bce: bool,
+    rep: bool,
+    blocks: bool,
+    out: &mut Vec<u8>,
+) -> Pen {
     let start = out.len();
-    let pen = clear_and_paint(frame, width, PackedColor::DEFAULT, bce, out);
+    let pen = clear_and_paint(frame, width, PackedColor::DEFAULT, bce, rep, blocks, out);
     // Clearing to the most common blank background saves writing those blanks (needs BCE).
     let Some(bg) = bce.then(|| most_common_blank_bg(frame)).flatten() else { return pen };
     let mut alt = Vec::with_capacity(out.len() - start);
-    let alt_pen = clear_and_paint(frame, width, bg, bce, &mut alt);
+    let alt_pen = clear_and_paint(frame, width, bg, bce, rep, blocks, &mut alt);
     if alt.len() < out.len() - start {
         out.truncate(start);
         out.extend_from_slice(&alt);
@@ -227,15 +270,26 @@ fn paint_full(frame: &[PackedCell], width: usize, bce: bool, out: &mut Vec<u8>) 
     pen
 }
 
-/// Resets SGR, sets the background `bg`, clears the screen, then sends `frame` as a diff.
-fn clear_and_paint(frame: &[PackedCell], width: usize, bg: PackedColor, bce: bool, out: &mut Vec<u8>) -> Pen {
-    let mut pen = Pen::UNKNOWN;
+/// Resets SGR, sets the background `bg`, clears the screen, then sends `frame` as a diff (with REP
+/// where `rep`).
+fn clear_and_paint(
+    frame: &[PackedCell],
+    width: usize,
+    bg: PackedColor,
+    bce: bool,
+    rep: bool,
+    blocks: bool,
+    out: &mut Vec<u8>,
+) -> Pen {
+    let mut pen = Pen { blocks, ..Pen::UNKNOWN };
     // The reset form also clears attributes we don't track (bold…) that someone else may have left.
     write_sgr_reset(out, &mut pen, None, Some(bg));
+    out.extend_from_slice(RESET_LNM); // (cursor moves down by vertical tab)
     out.extend_from_slice(b"\x1b[2J");
     let blank = vec![PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg }; frame.len()];
     // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
-    diff(&blank, &mut frame.to_vec(), width, bce, 0, &mut pen, out, &mut Vec::new());
+    let how = How { bce, tolerance: 0, rep };
+    diff(&blank, &mut frame.to_vec(), width, how, &mut pen, out, &mut Vec::new());
     pen
 }
 
@@ -253,36 +307,127 @@ fn most_common_blank_bg(frame: &[PackedCell]) -> Option<PackedColor> {
     (bg != PackedColor::DEFAULT).then_some(bg)
 }
 
+/// How a diff may write: BCE ([`Encoder::set_bce`]), the tolerance ([`Encoder::set_tolerance`]),
+/// REP ([`Encoder::set_rep`]).
+#[derive(Clone, Copy, Debug)]
+struct How {
+    bce: bool,
+    tolerance: u8,
+    rep: bool,
+}
+
 /// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
-/// cell of `new` within `tolerance` of `old` is left as `old` shows it, and a changed one may
-/// take the pen's colour where that is within `tolerance` of its own (one SGR less); `new` is updated
+/// cell of `new` within `how.tolerance` of `old` is left as `old` shows it, and a changed one may
+/// take the pen's colour where that is within the tolerance of its own (one SGR less); `new` is updated
 /// to what was sent. `differs` is scratch ([`mark_changes`]).
-#[allow(clippy::too_many_arguments)]
 fn diff(
     old: &[PackedCell],
     new: &mut [PackedCell],
     width: usize,
-    bce: bool,
-    tolerance: u8,
+    how: How,
     pen: &mut Pen,
     out: &mut Vec<u8>,
     differs: &mut Vec<bool>,
 ) -> usize {
     debug_assert_eq!(old.len(), new.len());
     let width = width.max(1);
-    let mut changed = 0;
-    for (y, (old_row, new_row)) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)).enumerate() {
-        mark_changes(old_row, new_row, tolerance, differs);
-        let tail = erasable_tail(new_row, bce);
-        changed += diff_row(pen, out, y, 0, new_row, &differs[..], tail, tolerance);
+    differs.clear();
+    for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
+        mark_changes(old_row, new_row, how.tolerance, differs);
+    }
+    // Columns first, where a column of one look goes cheaper down than across; then the rows.
+    let mut changed = columns(new, width, how.tolerance, pen, out, differs);
+    for (y, (new_row, row_differs)) in
+        new.chunks_exact_mut(width).zip(differs.chunks_exact(width)).enumerate()
+    {
+        let tail = erasable_tail(new_row, how.bce);
+        changed += diff_row(pen, out, y, 0, new_row, row_differs, tail, how);
     }
     changed
 }
 
+/// The shortest column of changed cells [`columns`] writes downwards.
+const MIN_COLUMN: usize = 3;
+
+/// The cursor move from a glyph to the cell under it, as [`columns`] prices it (a vertical tab and
+/// a backspace).
+const DOWN_ONE: usize = 2;
+
+/// Writes the columns of changed cells of one look (a seam sliding along a wall, a wall's end: the
+/// same colours down a column, others beside it) down the column, one colour change for the column
+/// and a short move a cell, where that is fewer bytes than writing them row by row (a colour change
+/// for each where its row's changed cell before it has other colours); marks them unchanged for
+/// the rows that follow. Cells in a run of one look along their row are left to the rows (REP, the
+/// pen's colours). Returns the cells written.
+fn columns(
+    new: &mut [PackedCell],
+    width: usize,
+    tolerance: u8,
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    differs: &mut [bool],
+) -> usize {
+    let height = new.len() / width;
+    if height < MIN_COLUMN {
+        return 0;
+    }
+    let mut changed = 0;
+    for x in 0..width {
+        // Changed, and not in a run of its look along the row.
+        let alone = |new: &[PackedCell], differs: &[bool], k: usize| {
+            differs[k]
+                && !(x > 0 && differs[k - 1] && new[k - 1] == new[k])
+                && !(x + 1 < width && differs[k + 1] && new[k + 1] == new[k])
+        };
+        let mut y = 0;
+        while y < height {
+            let k = y * width + x;
+            if !alone(new, differs, k) {
+                y += 1;
+                continue;
+            }
+            let cell = new[k];
+            let run = (y..height)
+                .take_while(|&r| new[r * width + x] == cell && alone(new, differs, r * width + x))
+                .count();
+            if run >= MIN_COLUMN && column_pays(new, differs, width, x, y, run) {
+                for r in y..y + run {
+                    write_move(out, pen, x, r);
+                    new[r * width + x] = write_cell(out, pen, &cell, width, tolerance);
+                    differs[r * width + x] = false;
+                }
+                changed += run;
+            }
+            y += run;
+        }
+    }
+    changed
+}
+
+/// Whether the `run` cells of one look from row `y` down column `x` cost fewer bytes down the
+/// column than in the rows: down, one colour change (from nothing known) and a [`DOWN_ONE`] a
+/// cell; across, each cell's colour change from its row's changed cell before it (the pen the rows
+/// would leave), or from nothing known and a move where that cell did not change.
+fn column_pays(new: &[PackedCell], differs: &[bool], width: usize, x: usize, y: usize, run: usize) -> bool {
+    let cell = new[y * width + x];
+    let glyph = cell.ch.len_utf8();
+    let down = Sgr::to_cell(&Pen::UNKNOWN, &cell).len() + run * glyph + (run - 1) * DOWN_ONE;
+    let across: usize = (y..y + run)
+        .map(|r| {
+            let k = r * width + x;
+            let before = (x > 0 && differs[k - 1]).then(|| new[k - 1]);
+            let pen = before.map_or(Pen::UNKNOWN, |b| Pen { fg: Some(b.fg), bg: Some(b.bg), ..Pen::UNKNOWN });
+            let colours = Sgr::to_cell(&pen, &cell).len();
+            colours + glyph + if before.is_some() { 0 } else { DOWN_ONE }
+        })
+        .sum();
+    down < across
+}
+
 /// Which cells of row `new` look different from row `old` (one look comparison a cell: the diff's
-/// searches read the flags). A cell within `tolerance` of `old` is first set to `old`.
+/// searches read the flags), appended to `differs`. A cell within `tolerance` of `old` is first set
+/// to `old`.
 fn mark_changes(old: &[PackedCell], new: &mut [PackedCell], tolerance: u8, differs: &mut Vec<bool>) {
-    differs.clear();
     differs.extend(old.iter().zip(new).map(|(shown, cell)| {
         if shown == cell {
             return false; // the common case, inline
@@ -314,7 +459,9 @@ fn erasable_tail(row: &[PackedCell], bce: bool) -> Option<(usize, PackedColor)> 
 }
 
 /// Encodes the changes of row `y` from column `from` on (`differs`: which cells differ from the screen);
-/// returns the number of cells changed. Changed cells are written within `tolerance` of `new` ([`write_cell`]) and `new` records what was sent.
+/// returns the number of cells changed. Changed cells are written within `how.tolerance` of `new`
+/// ([`write_cell`]), runs of one look as `REP` where `how.rep` allows ([`repeat`]), and `new`
+/// records what was sent.
 #[allow(clippy::too_many_arguments)]
 fn diff_row(
     pen: &mut Pen,
@@ -324,8 +471,9 @@ fn diff_row(
     new: &mut [PackedCell],
     differs: &[bool],
     tail: Option<(usize, PackedColor)>,
-    tolerance: u8,
+    how: How,
 ) -> usize {
+    let tolerance = how.tolerance;
     let width = new.len();
     let mut changed = 0;
     let mut from = from;
@@ -343,7 +491,7 @@ fn diff_row(
             out.truncate(mark);
             let mut write = *pen;
             // Exact (tolerance 0): a trial, so it must leave `new` as it is.
-            diff_row(&mut write, out, y, x, new, differs, None, 0);
+            diff_row(&mut write, out, y, x, new, differs, None, How { tolerance: 0, ..how });
             if erase_len < out.len() - mark {
                 out.truncate(mark);
                 reach(pen, out, y, x, new, Then::Erase(bg));
@@ -357,8 +505,49 @@ fn diff_row(
         }
         changed += 1;
         from = x + 1;
+        if how.rep {
+            // (before the erasable tail, which the branch above prices as a whole)
+            let end = tail.map_or(width, |(start, _)| start);
+            let repeated = repeat(pen, out, new, end, differs, x, tolerance);
+            changed += repeated;
+            from += repeated;
+        }
     }
     changed
+}
+
+/// After the glyph just written for column `x` (the last thing in `out`), the changed cells right
+/// after it, up to column `end`, that go in the same look from the pen (the same glyph, no colour
+/// change) as one `CSI n b` (REP: repeat the last glyph n times), where that is fewer bytes than the
+/// glyphs; returns how many cells it covered (0: none, nothing written).
+fn repeat(
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    new: &mut [PackedCell],
+    end: usize,
+    differs: &[bool],
+    x: usize,
+    tolerance: u8,
+) -> usize {
+    let Some(&last) = new.get(x) else { return 0 };
+    let same = |pen: &Pen, cell: &PackedCell| {
+        let (form, sgr) = cell_form(pen, cell, tolerance);
+        (sgr.len() == 0 && form.ch == last.ch).then_some(form)
+    };
+    let end = end.min(new.len());
+    let run = (x + 1..end).take_while(|&j| differs[j] && same(pen, &new[j]).is_some()).count();
+    if run == 0 || run * last.ch.len_utf8() <= 3 + digits(run) {
+        return 0;
+    }
+    out.extend_from_slice(b"\x1b[");
+    push_num(out, run);
+    out.push(b'b');
+    let width = new.len();
+    for cell in &mut new[x + 1..=x + run] {
+        *cell = last; // the look on screen: the glyph and colours just written
+        advance(pen, width);
+    }
+    run
 }
 
 /// What [`reach`] does once the cursor is there.
@@ -485,6 +674,12 @@ fn price_route(
     (len <= limit).then_some(len)
 }
 
+/// `cell`'s [`PackedCell::inverse`] (the same look), unless it would send a block glyph the frames
+/// do not use (a blank as a full block, where the pen says no blocks).
+fn inverse_of(pen: &Pen, cell: &PackedCell) -> Option<PackedCell> {
+    cell.inverse().filter(|inverse| pen.blocks || inverse.ch != FULL_BLOCK || cell.ch == FULL_BLOCK)
+}
+
 /// The form `cell` goes in from `pen` and its colour change: of the cell and its [`PackedCell::inverse`]
 /// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
 /// are within `tolerance` of the cell's; and, where a tolerance applies, a blank or a full block in one colour
@@ -505,7 +700,7 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
     if tolerance == 0 || !cell.may_be_near(tolerance) {
         let plain = priced(cell);
         if plain.1.len() > 0
-            && let Some(inverse) = cell.inverse().map(priced)
+            && let Some(inverse) = inverse_of(pen, &cell).map(priced)
             && inverse.1.len() < plain.1.len()
         {
             return inverse;
@@ -539,7 +734,7 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
         return best;
     }
     if best.1.len() > 0 {
-        let inverse = cell.inverse().map(near_pen);
+        let inverse = inverse_of(pen, &cell).map(near_pen);
         // The first of the cheapest, in this order (a canonical form only where it differs).
         for candidate in
             [Some(plain.canonical()), inverse, inverse.map(|c| c.canonical())].into_iter().flatten()
@@ -567,6 +762,9 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
                 continue;
             };
             let candidate = if k == 1 {
+                if !pen.blocks {
+                    continue; // no block glyphs in these frames
+                }
                 PackedCell { ch: FULL_BLOCK, fg: colour, bg: cell.bg } // the pen's ink: no background shown
             } else {
                 PackedCell { ch: ' ', fg: colour, bg: colour }
@@ -667,7 +865,7 @@ mod tests {
 
     /// A pen at `cursor` with these colours.
     fn pen(cursor: Option<(usize, usize)>, fg: Option<Color>, bg: Option<Color>) -> Pen {
-        Pen { cursor, fg: fg.map(PackedColor::pack), bg: bg.map(PackedColor::pack) }
+        Pen { cursor, fg: fg.map(PackedColor::pack), bg: bg.map(PackedColor::pack), blocks: true }
     }
 
     /// Escape codes carry their numbers in plain decimal: every number the fast paths cover and
@@ -1004,7 +1202,15 @@ mod tests {
         let blue = Cell { ch: ' ', fg: Color::Default, bg: Color::Indexed(4) };
         let trial = |frame: &Frame, bg: Color| {
             let mut out = Vec::new();
-            clear_and_paint(&packed(frame), frame.width(), PackedColor::pack(bg), true, &mut out);
+            clear_and_paint(
+                &packed(frame),
+                frame.width(),
+                PackedColor::pack(bg),
+                true,
+                false,
+                true,
+                &mut out,
+            );
             out
         };
         let mut ties = 0;
@@ -1037,7 +1243,7 @@ mod tests {
             ties += usize::from(blue_is_commonest && coloured.len() == default.len());
             let best = if blue_is_commonest && coloured.len() < default.len() { coloured } else { default };
             let mut out = vec![b'.'; 100];
-            paint_full(&packed(&frame), frame.width(), true, &mut out);
+            paint_full(&packed(&frame), frame.width(), true, false, true, &mut out);
             assert_eq!(&out[100..], &best[..], "{rows:?}");
         }
         assert_eq!(ties, 2, "the premise: two of the cases are ties");
@@ -1124,7 +1330,7 @@ mod tests {
         let mut out = Vec::new();
         let stats = Encoder::new().encode(&frame, &mut out);
         assert!(stats.full_paint);
-        assert_eq!(out, b"\x1b[?2026h\x1b[0;44m\x1b[2J\x1b[3;4H\x1b[mx\x1b[?2026l");
+        assert_eq!(out, b"\x1b[?2026h\x1b[0;44m\x1b[20l\x1b[2J\x1b[3;4H\x1b[mx\x1b[?2026l");
         let mut encoder = Encoder::new();
         encoder.set_bce(false);
         out.clear();

@@ -317,10 +317,14 @@ proptest! {
         (first, steps) in arb_frame_sequence(),
         bce in any::<bool>(),
         tolerance in prop_oneof![3 => Just(0u8), 1 => 1u8..4],
+        rep in any::<bool>(),
+        blocks in any::<bool>(),
     ) {
         let mut encoder = Encoder::new();
         encoder.set_bce(bce);
         encoder.set_tolerance(tolerance);
+        encoder.set_rep(rep);
+        encoder.set_blocks(blocks);
         let mut parser = terminal(first.width(), first.height());
         // The terminal starts with junk on it and odd colours set.
         parser.process(b"\x1b[1;1Hjunk\x1b[31;42mmore junk\x1b[7;3H");
@@ -343,7 +347,8 @@ proptest! {
             let stats = encoder.encode(&frame, &mut out);
             prop_assert_eq!(stats.full_paint, full_paint);
             prop_assert_eq!(stats.bytes, out.len());
-            prop_assert!(bound <= out.len(), "lower bound {} > {} bytes", bound, out.len());
+            // (REP sends a run of glyphs in fewer bytes than the glyphs: the bound is of glyphs)
+            prop_assert!(rep || bound <= out.len(), "lower bound {} > {} bytes", bound, out.len());
             prop_assert!(std::str::from_utf8(&out).is_ok());
             let unchanged = !invalidate && prev.as_ref().is_some_and(|p| same_look(p, &frame));
             if unchanged {
@@ -625,6 +630,115 @@ fn a_tolerance_reuses_the_current_colour_along_gradients() {
     assert!(sgrs[1] <= cells / 2 + height, "±1: about one per two cells ({sgrs:?})");
 }
 
+/// Frames of ASCII only (`set_blocks(false)`): a blank is never sent as a full block in the pen's
+/// ink, however many bytes that would save (with blocks, the same frames do send one), and the
+/// screen shows the frames.
+#[test]
+fn without_blocks_a_blank_never_goes_as_a_full_block() {
+    let (ink, paper) = (Color::Rgb(200, 180, 90), Color::Rgb(20, 30, 40));
+    let (w, h) = (12, 6);
+    // The pen's ink ends as `ink`; then columns of blanks in `ink` go where it is cheapest.
+    let mut first = Frame::filled(w, h, Cell { ch: '#', fg: ink, bg: paper });
+    first.set(0, 0, Cell { ch: 'x', fg: paper, bg: ink });
+    let mut second = first.clone();
+    for y in 0..h {
+        second.set(5, y, Cell { ch: ' ', fg: Color::Default, bg: ink });
+        second.set(9, y, Cell { ch: ' ', fg: Color::Default, bg: ink });
+    }
+    let mut sent_blocks = Vec::new();
+    for blocks in [true, false] {
+        let mut encoder = Encoder::new();
+        encoder.set_blocks(blocks);
+        let mut parser = terminal(w, h);
+        let mut out = Vec::new();
+        encoder.encode(&first, &mut out);
+        parser.process(&out);
+        out.clear();
+        encoder.encode(&second, &mut out);
+        parser.process(&out);
+        assert_screen_shows(&parser, &second, || format!("blocks {blocks}"));
+        sent_blocks.push(String::from_utf8_lossy(&out).contains('█'));
+    }
+    assert_eq!(sent_blocks, [true, false], "full blocks sent with blocks on / off");
+}
+
+/// The REP question: on a terminal with REP (vt100, as xterm) the cursor ends two cells into row 2,
+/// which [`rep_answer`] reads as yes; one cell in (REP ignored) is no; row 1 is not an answer.
+#[test]
+fn the_rep_probe_moves_the_cursor_two_cells_on_a_terminal_with_rep() {
+    use mazewalk_term::caps::{REP_PROBE, rep_answer};
+    let mut parser = terminal(20, 5);
+    parser.process(b"\x1b[31mjunk\x1b[4;7H");
+    parser.process(REP_PROBE);
+    let (row, col) = parser.screen().cursor_position();
+    assert_eq!((row, col), (1, 2));
+    assert_eq!(rep_answer(row + 1, col + 1), Some(true));
+    assert_eq!(rep_answer(row + 1, col), Some(false));
+    assert_eq!(rep_answer(1, 3), None, "Alt-F3 in xterm's encoding");
+    assert_eq!(rep_answer(2, 40), None);
+}
+
+/// With REP on, a run of changed cells of one look goes as its first glyph and `CSI n b`, the screen
+/// shows the same, and the fixed walk costs fewer bytes; a run too short to gain, and cells whose
+/// colours differ, go as before.
+#[test]
+fn rep_sends_runs_of_one_look_in_fewer_bytes() {
+    let (w, h) = (40, 3);
+    let (ink, paper) = (Color::Rgb(200, 180, 90), Color::Rgb(20, 30, 40));
+    let first = Frame::filled(w, h, Cell { ch: ' ', fg: Color::Default, bg: paper });
+    let mut second = first.clone();
+    for x in 5..25 {
+        second.set(x, 1, Cell { ch: '▀', fg: ink, bg: paper });
+    }
+    second.set(30, 1, Cell { ch: '▀', fg: ink, bg: paper });
+    second.set(31, 1, Cell { ch: '▀', fg: ink, bg: paper }); // two: one byte of REP is not shorter
+    second.set(33, 2, Cell { ch: '▀', fg: paper, bg: ink }); // the same look written the other way
+    let mut sent = Vec::new();
+    for rep in [false, true] {
+        let mut encoder = Encoder::new();
+        encoder.set_rep(rep);
+        let mut parser = terminal(w, h);
+        let mut out = Vec::new();
+        encoder.encode(&first, &mut out);
+        parser.process(&out);
+        out.clear();
+        encoder.encode(&second, &mut out);
+        parser.process(&out);
+        assert_screen_shows(&parser, &second, || format!("rep {rep}: {:?}", String::from_utf8_lossy(&out)));
+        sent.push(out);
+    }
+    let text = String::from_utf8_lossy(&sent[1]);
+    assert!(text.contains("▀\x1b[19b"), "the run of 20 as one glyph and REP: {text:?}");
+    assert!(text.contains("▀▀"), "a run of two goes as glyphs: {text:?}");
+    assert!(!String::from_utf8_lossy(&sent[0]).contains('b'), "no REP when off");
+    assert_eq!(
+        sent[0].len() - sent[1].len(),
+        19 * 3 - 5,
+        "REP saves the 19 glyphs it repeats less its 5 bytes"
+    );
+    // The fixed walk of `a_fixed_walk_encodes_to_the_same_bytes`, with REP: fewer bytes, the same screens.
+    let (w, h) = (160, 48);
+    let mut totals = [0; 2];
+    for (k, rep) in [false, true].into_iter().enumerate() {
+        let mut encoder = Encoder::new();
+        encoder.set_tolerance(mazewalk_term::encoder::DEFAULT_TOLERANCE);
+        encoder.set_rep(rep);
+        let mut parser = terminal(w, h);
+        let mut out = Vec::new();
+        for shift in 0..24 {
+            let frame = scene(w, h, shift);
+            let start = out.len();
+            encoder.encode(&frame, &mut out);
+            parser.process(&out[start..]);
+            assert_screen_shows_within(&parser, &frame, mazewalk_term::encoder::DEFAULT_TOLERANCE, || {
+                format!("rep {rep}, shift {shift}")
+            });
+        }
+        totals[k] = out.len();
+    }
+    assert!(totals[1] < totals[0], "REP {} bytes, without {}", totals[1], totals[0]);
+}
+
 /// The encoder's bytes for a fixed walk through [`scene`] (full paint, then turning one column a frame
 /// with the background flickering by a step or two and the HUD changing, then standing still), exact
 /// and at the walkthrough's tolerance (an OKLab distance of 0.02 since issue #42), pinned: a
@@ -654,5 +768,5 @@ fn a_fixed_walk_encodes_to_the_same_bytes() {
         }
         totals.push(out.len());
     }
-    assert_eq!(totals, [1_308_056, 1_078_602, 1_358_276]);
+    assert_eq!(totals, [432_895, 332_810, 483_058]);
 }

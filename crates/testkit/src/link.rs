@@ -1,8 +1,9 @@
 //! A slow link between a [`Session`] and a terminal, in virtual time: what the session writes goes
 //! into an unbounded queue drained at `bytes_per_s` (the link's bottleneck), then arrives after
 //! `one_way` seconds at a vt100 emulator, which answers every device-attributes query back through
-//! the same delay, as a real terminal at the end of an SSH connection would. Keys typed at the
-//! terminal reach the session after `one_way` too. Deterministic: no clock, no threads.
+//! the same delay, and every cursor position query with where its cursor is, as a real terminal at
+//! the end of an SSH connection would. Keys typed at the terminal reach the session after `one_way`
+//! too. Deterministic: no clock, no threads.
 #![allow(missing_docs)] // moved from the tests that share it, whose items were not documented one by one
 
 use std::collections::VecDeque;
@@ -49,6 +50,9 @@ pub struct Sim {
     pub bytes_sent: u64,
 }
 
+/// The cursor position query (`CSI 6 n`), answered with where the terminal's cursor is.
+const CPR_QUERY: &[u8] = b"\x1b[6n";
+
 /// The simulation's time step, seconds.
 pub const STEP: f64 = 0.001;
 
@@ -93,7 +97,16 @@ impl Sim {
             }
             while self.down.front().is_some_and(|f| f.arrives <= now) {
                 let frame = self.down.pop_front().expect("checked");
-                self.terminal.process(&frame.bytes);
+                // Up to each cursor position query, then its answer (where the cursor is then).
+                let mut rest = &frame.bytes[..];
+                while let Some(at) = rest.windows(4).position(|w| w == CPR_QUERY) {
+                    self.terminal.process(&rest[..at + CPR_QUERY.len()]);
+                    let (row, col) = self.terminal.screen().cursor_position();
+                    let answer = format!("\x1b[{};{}R", row + 1, col + 1).into_bytes();
+                    self.up.push_back((now + self.link.one_way, answer));
+                    rest = &rest[at + CPR_QUERY.len()..];
+                }
+                self.terminal.process(rest);
                 let queries = frame.bytes.windows(3).filter(|w| *w == b"\x1b[c").count();
                 for _ in 0..queries {
                     self.up.push_back((now + self.link.one_way, b"\x1b[?62;22c".to_vec()));

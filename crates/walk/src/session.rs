@@ -40,8 +40,8 @@ use crate::run::{Pose, Run};
 use crate::screen::{self, FrameCost, Hud, Screen};
 use crate::state::App;
 use crate::views::SharedViews;
-use mazewalk_render::Culling;
-use mazewalk_term::caps::TRUECOLOR_QUERY;
+use mazewalk_render::{Charset, Culling};
+use mazewalk_term::caps::{REP_PROBE, TRUECOLOR_QUERY, rep_answer};
 use mazewalk_term::encoder::{self, Encoder};
 use mazewalk_term::frame::{ColorDepth, Frame};
 use mazewalk_term::input::{Input, InputDecoder, Key, KeyPhase, Reply};
@@ -154,6 +154,21 @@ pub struct Session {
     clock_shown: Option<u64>,
     /// The stored run a ghost replays when the player wants it ([`App::ghost`]), and its caption.
     ghost_run: Option<(Arc<Run>, String)>,
+    /// The question whether the terminal has REP ([`REP_PROBE`], sent before the first frame) is out
+    /// and not yet answered: only its answer may turn REP on.
+    rep_probe: RepProbe,
+}
+
+/// Where the REP question stands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RepProbe {
+    /// Not asked yet: asked before the first frame.
+    NotAsked,
+    /// Asked; the answer may come (whenever: a report of row 2 is never a key, and the terminal
+    /// answers the device-attributes queries sent before the probe first).
+    Asked,
+    /// Answered: no more answers count.
+    Done,
 }
 
 /// Where the truecolor questions stand: only answers to questions asked, before the terminal has
@@ -198,6 +213,7 @@ impl Session {
             truecolor_query: TruecolorQuery::Closed,
             clock_shown: None,
             ghost_run: None,
+            rep_probe: RepProbe::NotAsked,
         }
     }
 
@@ -439,11 +455,17 @@ impl Session {
                 self.dirty = true;
             }
             Input::FocusLost => self.app.focus_lost(),
-            Input::MouseDown { .. }
-            | Input::MouseUp { .. }
-            | Input::Scroll(_)
-            | Input::FocusGained
-            | Input::Reply(Reply::CursorPosition { .. }) => {}
+            Input::MouseDown { .. } | Input::MouseUp { .. } | Input::Scroll(_) | Input::FocusGained => {}
+            // The answer to the REP question ([`REP_PROBE`]): a terminal that wrote two cells for
+            // one space and `CSI b` repeats glyphs, and frames may send runs as REP from now on.
+            Input::Reply(Reply::CursorPosition { row, col }) => {
+                if self.rep_probe == RepProbe::Asked
+                    && let Some(rep) = rep_answer(row, col)
+                {
+                    self.encoder.set_rep(rep);
+                    self.rep_probe = RepProbe::Done;
+                }
+            }
             // The answer to the kitty keyboard query ([`ask_keyboard_flags`](Self::ask_keyboard_flags)):
             // flag 2 (report event types) means key releases will come. Unasked, it is ignored.
             Input::Reply(Reply::KeyboardFlags(flags)) => {
@@ -456,6 +478,7 @@ impl Session {
                 if matches!(self.truecolor_query, TruecolorQuery::Open(_)) {
                     self.truecolor_query = TruecolorQuery::Closed;
                 }
+
                 self.flow.answered(now);
             }
             // An answer to the truecolor questions ([`ask_truecolor`](Self::ask_truecolor)): a yes
@@ -607,7 +630,14 @@ impl Session {
             screen::draw_hud(&self.app, &self.screen, &mut self.frame, &hud); // the view is as it was
         }
         self.encoder.set_tolerance(adaptive_tolerance(self.options.color_tolerance, round_trip));
+        // (the ascii charset is for terminals or fonts without block glyphs: none of its own)
+        self.encoder.set_blocks(self.app.options.charset != Charset::Ascii);
         let before = out.len();
+        if self.rep_probe == RepProbe::NotAsked {
+            // Before the first frame, whose full paint clears the screen over the probe's two cells.
+            out.extend_from_slice(REP_PROBE);
+            self.rep_probe = RepProbe::Asked;
+        }
         let stats = self.encoder.encode(&self.frame, out);
         if self.options.flow_control {
             out.extend_from_slice(QUERY);

@@ -1,6 +1,7 @@
 //! Cursor moves: the shortest sequence from where the cursor is to where the next glyph goes, among
-//! absolute `CUP`, relative `CUF`/`CUB`/`CUD`/`CUU`, `CHA`/`VPA`, `\r`, `\r\n` and backspace. (Rewriting
-//! unchanged cells instead of moving is the diff's choice: see `reach` in the encoder.)
+//! absolute `CUP`, relative `CUF`/`CUB`/`CUD`/`CUU`, `CHA`/`VPA`, `\r`, `\r\n`, vertical tabs and
+//! backspace. (Rewriting unchanged cells instead of moving is the diff's choice: see `reach` in the
+//! encoder.)
 
 use super::{Pen, push_num};
 
@@ -11,6 +12,11 @@ enum Vertical {
     /// `\r` (unless already in column 0) then `\n` × k: lands in column 0 whether or not `\n` implies
     /// `\r`. Only downwards, and never from the last row (the move's target is on screen).
     CrLf(usize),
+    /// Vertical tabs (`\x0b`) × k: down k rows, same column, one byte each. The tty's output
+    /// processing maps only `\n`, and the terminal treats VT as a line feed without a carriage
+    /// return while line feed/new line mode (LNM) is reset, which a full paint does
+    /// ([`RESET_LNM`]). Only downwards, never from the last row, as `CrLf`.
+    Vt(usize),
     Down(usize),
     Up(usize),
     /// `VPA`: absolute row, same column.
@@ -29,6 +35,10 @@ enum Horizontal {
     /// `CHA`: absolute column.
     Column(usize),
 }
+
+/// Reset line feed/new line mode (LNM, `CSI 20 l`): then a vertical tab moves down without a
+/// carriage return ([`Vertical::Vt`]); sent with every full paint.
+pub(super) const RESET_LNM: &[u8] = b"\x1b[20l";
 
 /// Moves the cursor to column `x`, row `y` by the shortest sequence (nothing if it is there).
 pub(super) fn write_move(out: &mut Vec<u8>, pen: &mut Pen, x: usize, y: usize) {
@@ -71,6 +81,7 @@ fn shortest_move(
     let verticals = [
         Some(Vertical::Stay).filter(|_| cy == y),
         Some(Vertical::CrLf(y.wrapping_sub(cy))).filter(|_| y > cy),
+        Some(Vertical::Vt(y.wrapping_sub(cy))).filter(|_| y > cy && y - cy <= 3),
         Some(Vertical::Down(y.wrapping_sub(cy))).filter(|_| y > cy),
         Some(Vertical::Up(cy.wrapping_sub(y))).filter(|_| y < cy),
         Some(Vertical::Row(y)).filter(|_| y != cy),
@@ -101,6 +112,7 @@ fn relative_len(from_x: usize, vertical: Vertical, horizontal: Horizontal) -> us
     let vertical = match vertical {
         Vertical::Stay => 0,
         Vertical::CrLf(k) => usize::from(from_x != 0) + k,
+        Vertical::Vt(k) => k,
         Vertical::Down(k) | Vertical::Up(k) => csi_len(k, 1),
         Vertical::Row(y) => csi_len(y + 1, 1),
     };
@@ -131,7 +143,7 @@ fn cup_len(x: usize, y: usize) -> usize {
 }
 
 /// The decimal digits of `n`.
-fn digits(n: usize) -> usize {
+pub(super) fn digits(n: usize) -> usize {
     n.checked_ilog10().map_or(1, |log| log as usize + 1)
 }
 
@@ -144,6 +156,7 @@ fn write_relative(out: &mut Vec<u8>, from_x: usize, vertical: Vertical, horizont
             }
             out.extend(std::iter::repeat_n(b'\n', k));
         }
+        Vertical::Vt(k) => out.extend(std::iter::repeat_n(b'\x0b', k)),
         Vertical::Down(k) => write_csi(out, k, 1, b'B'),
         Vertical::Up(k) => write_csi(out, k, 1, b'A'),
         Vertical::Row(y) => write_csi(out, y + 1, 1, b'd'),
@@ -207,9 +220,13 @@ mod tests {
         assert_eq!(moved(Some((50, 3)), 30, 3), "\x1b[20D");
         assert_eq!(moved(Some((5, 3)), 0, 4), "\r\n");
         assert_eq!(moved(Some((0, 3)), 0, 5), "\n\n");
-        assert_eq!(moved(Some((5, 3)), 5, 4), "\x1b[B");
+        // Down in the same column: vertical tabs, a byte each (up to three, then `CUD`).
+        assert_eq!(moved(Some((5, 3)), 5, 4), "\x0b");
+        assert_eq!(moved(Some((5, 3)), 5, 6), "\x0b\x0b\x0b");
+        assert_eq!(moved(Some((5, 3)), 5, 8), "\x1b[5B");
+        assert_eq!(moved(Some((5, 3)), 4, 4), "\x0b\x08"); // the cell under the last glyph
         assert_eq!(moved(Some((5, 3)), 1, 4), "\r\n\x1b[C");
-        assert_eq!(moved(Some((5, 3)), 2, 4), "\x1b[5;3H"); // ties with "\r\n\x1b[2C": absolute wins
+        assert_eq!(moved(Some((5, 3)), 2, 4), "\x0b\x08\x08\x08"); // `\x1b[5;3H` and "\r\n\x1b[2C" are 6
         assert_eq!(moved(Some((5, 9)), 5, 2), "\x1b[7A");
         assert_eq!(moved(Some((70, 3)), 40, 30), "\x1b[31;41H");
         // Up to three backspaces (a byte each) beat `CUB`; past three, `CUB` (ties go to it).

@@ -252,8 +252,12 @@ mod tests {
 
     fn sgr(from: (Option<Color>, Option<Color>), fg: Option<Color>, bg: Color) -> (String, Pen) {
         let mut out = Vec::new();
-        let mut pen =
-            Pen { cursor: None, fg: from.0.map(PackedColor::pack), bg: from.1.map(PackedColor::pack) };
+        let mut pen = Pen {
+            cursor: None,
+            fg: from.0.map(PackedColor::pack),
+            bg: from.1.map(PackedColor::pack),
+            blocks: true,
+        };
         write_sgr(&mut out, &mut pen, fg.map(PackedColor::pack), Some(PackedColor::pack(bg)));
         (String::from_utf8(out).unwrap(), pen)
     }

@@ -9,6 +9,7 @@ mod ghost;
 mod map_fog;
 mod overlays;
 mod render_frames;
+mod rep;
 mod run_codec;
 mod sessions;
 mod slow_link;

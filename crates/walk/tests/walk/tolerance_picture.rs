@@ -2,7 +2,8 @@
 //! stays close to the exact frames. Walks and turns through generated mazes not used to choose the
 //! tolerance (the built-in maze was), at 120×40 in truecolor and in 256 colours; after every frame the
 //! vt100 screen, read back as a frame, is compared sample by sample in OKLab with the frame the
-//! session drew ([`Session::screen`]), which in 256 colours is the exact 256-colour frame.
+//! session drew ([`Session::screen`]), which in 256 colours is the exact 256-colour frame. The
+//! terminal answers the session's question whether it has REP, as xterm does: runs go as REP.
 
 use mazewalk_maze::generate::{Algorithm, GenOptions, generate};
 use mazewalk_maze::{self as maze};
@@ -68,7 +69,16 @@ fn walk_through(maze: maze::Maze, depth: ColorDepth, tolerance: u8) -> (f64, f32
             session.feed(key, now);
             out.clear();
             if session.frame(now, &mut out) {
-                parser.process(&out);
+                // As a terminal does: the cursor position query (whether it has REP) answered, so
+                // the frames are the ones a terminal with REP (xterm, as vt100) gets.
+                let mut rest = &out[..];
+                while let Some(at) = rest.windows(4).position(|w| w == b"\x1b[6n") {
+                    parser.process(&rest[..at + 4]);
+                    let (row, col) = parser.screen().cursor_position();
+                    session.feed(format!("\x1b[{};{}R", row + 1, col + 1).as_bytes(), now);
+                    rest = &rest[at + 4..];
+                }
+                parser.process(rest);
                 let (s, n, l) = distances(&parser, session.screen());
                 (sum, count, largest, frames) = (sum + s, count + n, largest.max(l), frames + 1);
             }
