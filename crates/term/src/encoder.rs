@@ -68,6 +68,10 @@ pub struct EncodeStats {
     pub cells_changed: usize,
     /// Whether this was a full paint (first frame, resize or after [`Encoder::invalidate`]).
     pub full_paint: bool,
+    /// Whether the screen now differs from the frame: cells left, or drawn, within the
+    /// [tolerance](Encoder::set_tolerance) of their colours instead of in them. The same frame
+    /// encoded again at tolerance 0 makes the screen exact.
+    pub approximate: bool,
 }
 
 /// Encodes frames as terminal output, diffing each against the previous one.
@@ -204,7 +208,13 @@ impl Encoder {
         std::mem::swap(&mut self.screen, &mut self.effective); // the screen is now what was sent
         (self.width, self.height) = (width, height);
         self.valid = true;
-        EncodeStats { bytes: out.len() - start, cells_changed, full_paint }
+        let approximate = !full_paint
+            && self.tolerance > 0
+            && self.screen.iter().zip(frame.cells()).any(|(shown, cell)| {
+                let cell = PackedCell::pack(cell);
+                *shown != cell && !shown.looks_within(&cell, 0)
+            });
+        EncodeStats { bytes: out.len() - start, cells_changed, full_paint, approximate }
     }
 }
 

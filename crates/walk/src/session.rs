@@ -157,7 +157,17 @@ pub struct Session {
     /// The question whether the terminal has REP ([`REP_PROBE`], sent before the first frame) is out
     /// and not yet answered: only its answer may turn REP on.
     rep_probe: RepProbe,
+    /// The screen shows the last frame only within the colour tolerance ([`EncodeStats::approximate`](mazewalk_term::encoder::EncodeStats::approximate)):
+    /// once the picture has held still for [`SETTLE_AFTER`], it is sent once more, exactly.
+    approximate: bool,
 }
+
+/// How long the picture holds still before a frame left within the colour tolerance is sent once
+/// more, exactly ([`Session::frame`]). While the view moves, the tolerance saves the bytes of colours
+/// that drift by less than a just-noticeable step; at rest, its seams (a patch left a step off its
+/// neighbours draws an edge the eye picks out) would stay: settling costs one frame's worth of
+/// those cells per stop, none while walking or turning.
+pub(crate) const SETTLE_AFTER: f64 = 0.25;
 
 /// Where the REP question stands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -214,6 +224,7 @@ impl Session {
             clock_shown: None,
             ghost_run: None,
             rep_probe: RepProbe::NotAsked,
+            approximate: false,
         }
     }
 
@@ -580,8 +591,13 @@ impl Session {
         // host), and the open player list's times, which tick each second too.
         let tick = self.running_clock(now).map(|s| self.app.started + (s + 1) as f64);
         let roster = self.screen.show_roster.then(|| now.floor() + 1.0);
+        // The exact frame after a still moment; held back by flow control, the reply or its deadline.
+        let settle = self.approximate.then(|| match self.flow.deadline() {
+            Some(timeout) if self.options.flow_control => timeout.max(self.last_frame + SETTLE_AFTER),
+            _ => self.last_frame + SETTLE_AFTER,
+        });
         // Never before `now` (a frame due long ago, a session that has ended): a host sleeps until then.
-        let wake = [drawing, tick, roster, self.app.held.next_expiry(), self.decoder.deadline()];
+        let wake = [drawing, tick, roster, settle, self.app.held.next_expiry(), self.decoder.deadline()];
         wake.into_iter().flatten().reduce(f64::min).map(|t| if t.is_nan() { now } else { t.max(now) })
     }
 
@@ -609,7 +625,13 @@ impl Session {
         self.dirty |= self.screen.show_roster && now.floor() > self.last_frame.floor(); // its times tick
         let clock = self.running_clock(now);
         let ticked = clock != self.clock_shown; // only the HUD's clock, if nothing else changed
-        if !(self.dirty || ticked) || now < self.last_frame + 1.0 / MAX_FPS || self.app.quit {
+        if self.app.quit {
+            return false;
+        }
+        if !(self.dirty || ticked) {
+            return self.settle(now, out);
+        }
+        if now < self.last_frame + 1.0 / MAX_FPS {
             return false;
         }
         if self.options.flow_control && !self.flow.may_send(now) {
@@ -647,6 +669,29 @@ impl Session {
         self.outcome.frames += 1;
         self.outcome.bytes += (out.len() - before) as u64;
         (self.dirty, self.last_frame, self.clock_shown) = (false, now, clock);
+        self.approximate = stats.approximate;
+        true
+    }
+
+    /// The last frame again at tolerance 0, once the picture has held still for [`SETTLE_AFTER`], if
+    /// the screen shows it only within the tolerance: only the cells left off are sent. Returns
+    /// whether it was sent.
+    fn settle(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
+        if !self.approximate || now < self.last_frame + SETTLE_AFTER {
+            return false;
+        }
+        if self.options.flow_control && !self.flow.may_send(now) {
+            return false; // a reply (input) or the flow's deadline wakes the host again
+        }
+        self.encoder.set_tolerance(0);
+        let before = out.len();
+        let stats = self.encoder.encode(&self.frame, out);
+        if self.options.flow_control && stats.bytes > 0 {
+            out.extend_from_slice(QUERY);
+            self.flow.sent(now);
+        }
+        self.outcome.bytes += (out.len() - before) as u64;
+        self.approximate = false;
         true
     }
 }
@@ -656,6 +701,49 @@ mod tests {
     use super::*;
     use mazewalk_render::RenderOptions;
     use mazewalk_term::frame::Cell;
+
+    /// Frames left within the colour tolerance while walking are sent once more, exactly, once the
+    /// picture holds still: the screen then shows the frame itself, and nothing more is sent.
+    #[test]
+    fn a_still_picture_settles_to_the_exact_frame_once() {
+        let mut s = no_exit_session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        let mut out = Vec::new();
+        s.frame(0.0, &mut out);
+        s.feed(b"w", 0.05); // a tap: one step forward, drawn over a few frames
+        let mut t = 0.05;
+        while t < 0.6 && (t < 0.1 || s.dirty || s.app.is_animating(t)) {
+            t += 1.0 / MAX_FPS;
+            s.frame(t, &mut out);
+        }
+        assert!(s.approximate, "the step's last frame is within the tolerance somewhere");
+        let last = s.last_frame;
+        // Before the settle: the screen is off the frame somewhere (an exact encode would send bytes).
+        let mut probe = s.encoder.clone();
+        probe.set_tolerance(0);
+        assert!(probe.encode(&s.frame, &mut Vec::new()).bytes > 0);
+        assert!(!s.frame(last + SETTLE_AFTER / 2.0, &mut out), "not before the picture holds still");
+        // The host sleeps from wake to wake (a tap's hold running out, …) until the settle is due.
+        let (mut at, mut woken) = (last + SETTLE_AFTER / 2.0, false);
+        for _ in 0..10 {
+            let wake = s.next_wake(at).expect("the host is woken to settle");
+            if wake >= last + SETTLE_AFTER - 1e-9 {
+                assert!((wake - (last + SETTLE_AFTER)).abs() < 1e-9, "{wake}");
+                woken = true;
+                break;
+            }
+            assert!(!s.frame(wake, &mut out), "nothing to send before the settle, at {wake}");
+            at = wake;
+        }
+        assert!(woken);
+        let before = out.len();
+        assert!(s.frame(last + SETTLE_AFTER, &mut out), "settled");
+        assert!(out.len() > before);
+        let mut exact = s.encoder.clone();
+        exact.set_tolerance(0);
+        assert_eq!(exact.encode(&s.frame, &mut Vec::new()).bytes, 0, "the screen is the frame");
+        assert!(!s.frame(last + 2.0, &mut out), "settled once, then quiet");
+        assert_eq!(s.next_wake(last + 2.0), None);
+    }
 
     /// A session in a maze without an exit: no clock ticks.
     fn no_exit_session(options: SessionOptions) -> Session {
