@@ -52,10 +52,7 @@ struct KexClock {
 fn thread_cpu() -> Option<Duration> {
     #[cfg(unix)]
     {
-        let now = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
-        let secs = u64::try_from(now.tv_sec).ok()?;
-        let nanos = u32::try_from(now.tv_nsec).ok()?;
-        Some(Duration::new(secs, nanos))
+        cpu_time::ThreadTime::try_now().ok().map(|now| now.as_duration())
     }
     #[cfg(not(unix))]
     None
