@@ -26,26 +26,9 @@ use common::{Player, Scratch, Server, hud_row, nz, playing};
 const CORRIDOR_AND_BEND: &str =
     "mazewalk-grid 1\ntile 4\nfacing east\n\n#######\n#@....#\n####..#\n####..#\n####..#\n#######\n";
 
-/// Each cell's glyph and colours.
-type Cells = Vec<Vec<(String, vt100::Color, vt100::Color)>>;
-
-/// Every cell of the screen, as it looks: a half block is its two halves' colours (the encoder may
-/// send `▀` with equal colours or a space for one colour), any other character itself in its
-/// colours.
-fn cells(screen: &vt100::Screen) -> Cells {
-    let (rows, cols) = (screen.size().0.get(), screen.size().1.get());
-    let look = |row, col| {
-        let cell = screen.cell(row, col).expect("in the screen");
-        let (fg, bg) = (cell.fgcolor(), cell.bgcolor());
-        match cell.contents() {
-            "" | " " => (String::new(), bg, bg),
-            "▀" => (String::new(), fg, bg),
-            "▄" => (String::new(), bg, fg),
-            "█" => (String::new(), fg, fg),
-            other => (other.to_string(), fg, bg),
-        }
-    };
-    (0..rows).map(|row| (0..cols).map(|col| look(row, col)).collect()).collect()
+/// Every cell of the screen, as it looks ([`common::looks`]).
+fn whole(screen: &vt100::Screen) -> common::Cells {
+    common::looks(screen, 0..screen.size().0.get())
 }
 
 /// The casts in `dir`, by name.
@@ -160,7 +143,7 @@ fn a_players_session_is_recorded_and_replays_to_the_screen_it_showed() {
     alice.send(b"w");
     // Still for a while: the last frame has arrived (no clock on the HUD: nothing else changes).
     std::thread::sleep(Duration::from_millis(800));
-    let last = alice.read(cells);
+    let last = alice.read(whole);
     alice.send(b"q");
     assert!(alice.wait_exit().success(), "q ends the game with 0");
 
@@ -212,7 +195,7 @@ fn a_players_session_is_recorded_and_replays_to_the_screen_it_showed() {
             }
             "o" => {
                 if data.contains("\x1b[?1049l") && before_goodbye.is_none() {
-                    before_goodbye = Some(cells(replay.screen()));
+                    before_goodbye = Some(whole(replay.screen()));
                 }
                 replay.process(data.as_bytes());
             }

@@ -22,32 +22,16 @@ const CORRIDOR_AND_BEND: &str =
     "mazewalk-grid 1\ntile 4\nfacing east\n\n#######\n#@....#\n####..#\n####..#\n####..#\n#######\n";
 
 /// The 3D view's rows below the corner map (a third of the screen down) and above the HUD, as they
-/// look: what a player and a spectator following it both show. A half block is its two halves'
-/// colours (the encoder may send `▀` with equal colours or a space for one colour: they look alike),
-/// any other character itself in its colours.
-fn view_rows(screen: &vt100::Screen) -> Vec<Vec<(String, vt100::Color, vt100::Color)>> {
-    let (rows, cols) = (screen.size().0.get(), screen.size().1.get());
-    let look = |row, col| {
-        let cell = screen.cell(row, col).expect("in the screen");
-        let (fg, bg) = (cell.fgcolor(), cell.bgcolor());
-        match cell.contents() {
-            "" | " " => (String::new(), bg, bg),
-            "▀" => (String::new(), fg, bg),
-            "▄" => (String::new(), bg, fg),
-            "█" => (String::new(), fg, fg),
-            other => (other.to_string(), fg, bg),
-        }
-    };
-    (rows / 3..rows - 1).map(|row| (0..cols).map(|col| look(row, col)).collect()).collect()
+/// look ([`common::looks`]): what a player and a spectator following it both show.
+fn view_rows(screen: &vt100::Screen) -> common::Cells {
+    let rows = screen.size().0.get();
+    common::looks(screen, rows / 3..rows - 1)
 }
 
 /// Whether two screens' views (`view_rows`) look alike: the same glyphs, each colour the same or, for
 /// palette entries, within the encoder's default tolerance of it (a screen may keep a cell whose entry
 /// changed to a near one, and two screens' histories differ).
-fn same_view(
-    a: &[Vec<(String, vt100::Color, vt100::Color)>],
-    b: &[Vec<(String, vt100::Color, vt100::Color)>],
-) -> bool {
+fn same_view(a: &common::Cells, b: &common::Cells) -> bool {
     use mazewalk_term::Color;
     use mazewalk_term::encoder::DEFAULT_TOLERANCE;
     let alike = |x: vt100::Color, y: vt100::Color| match (x, y) {

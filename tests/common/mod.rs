@@ -357,3 +357,25 @@ pub fn on_map(screen: &vt100::Screen, ch: char) -> bool {
     let width = (cols / 3).min(40);
     (0..rows / 3).any(|row| screen.contents_between(row, cols - width, row, cols).contains(ch))
 }
+
+/// Each cell's glyph and colours, as it looks ([`looks`]).
+pub type Cells = Vec<Vec<(String, vt100::Color, vt100::Color)>>;
+
+/// The cells of `rows` of the screen, as they look: a half block is its two halves' colours (the
+/// encoder may send `▀` with equal colours, `▄` with them swapped, or a space or `█` for one colour:
+/// they look alike), any other character itself in its colours.
+pub fn looks(screen: &vt100::Screen, rows: std::ops::Range<u16>) -> Cells {
+    let cols = screen.size().1.get();
+    let look = |row, col| {
+        let cell = screen.cell(row, col).expect("in the screen");
+        let (fg, bg) = (cell.fgcolor(), cell.bgcolor());
+        match cell.contents() {
+            "" | " " => (String::new(), bg, bg),
+            "▀" => (String::new(), fg, bg),
+            "▄" => (String::new(), bg, fg),
+            "█" => (String::new(), fg, fg),
+            other => (other.to_string(), fg, bg),
+        }
+    };
+    rows.map(|row| (0..cols).map(|col| look(row, col)).collect()).collect()
+}
