@@ -12,3 +12,4 @@ mod render_golden;
 mod render_picture;
 mod render_portal;
 mod render_sprites;
+mod wall_floor;
