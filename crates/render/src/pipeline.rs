@@ -23,13 +23,15 @@ use super::raster::{GridVertex, LANES, Lanes3, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
     FOG_FADE, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker, checker_filtered, edge_color,
-    headlight, jamb_color, lit, luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
+    exit_tinted, headlight, jamb_color, lit, luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor,
+    wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
 use mazewalk_math::rigid_inverse;
 use mazewalk_maze::Maze;
 use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
+use mazewalk_maze::light::ExitLight;
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// Light that reaches a wall whatever its angle to the headlight: the share of its colour a wall seen
@@ -82,11 +84,14 @@ pub(crate) struct Light {
     view_to_world: glam::Mat4,
     /// Maze units one sample covers per unit of view depth (perspective), or in all (orthographic).
     pub(crate) per_sample: f32,
+    /// The exit's light through the maze's cells ([`ExitLight`]): what tints a wall toward the exit.
+    exit_light: ExitLight,
 }
 
 impl Light {
-    pub(crate) fn of(eye: &Eye) -> Light {
+    pub(crate) fn of(eye: &Eye, maze: &Maze) -> Light {
         Light {
+            exit_light: ExitLight::of(maze),
             fog: fog_of(eye),
             sun_view: (eye.normal_to_view * SUN_WORLD).normalize_or_zero(),
             ortho: eye.camera.projection == Projection::Orthographic,
@@ -347,7 +352,16 @@ impl Renderer {
             * sun_factor(facing, light.sun_view);
         // The headlight along the view axis: one light for the whole wall.
         // (off the floor's and ceiling's tints: in 16 colours those show as floor and ceiling)
-        let lit_albedo = palette::off_floor_and_ceiling(lit(albedo, headlight(normal_view), AMBIENT));
+        // The exit's light in the cell on the eye's side of the wall (the side the eye sees): walls
+        // stop it, so the far side of a wall keeps its own cell's level.
+        let eye_left = (eye.camera.position - a).perp_dot(b - a) < 0.0;
+        let side = if eye_left { edge.left } else { edge.right };
+        let level = side.map_or(0, |cell| light.exit_light.level(cell));
+        let lit_albedo = palette::off_floor_and_ceiling(exit_tinted(
+            lit(albedo, headlight(normal_view), AMBIENT),
+            EXIT_GLOW,
+            level,
+        ));
         let triangles = self.polygon_grid.len() - 2;
         let fog = &light.fog;
         if shading == Shading::Color && !textures && !self.reference_shading {

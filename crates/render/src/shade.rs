@@ -69,6 +69,26 @@ pub(crate) fn apart_from_floor(color: Vec3, floor_luminance: f32, ambient: f32) 
     if short < target { raised.lerp(Vec3::ONE, (target - short) / (1.0 - short).max(1e-6)) } else { raised }
 }
 
+/// How far the exit's light turns a surface toward the exit's colour in the exit's own cell (a share,
+/// 0..1); each cell of path further, one [`EXIT_LIGHT`](mazewalk_maze::light::EXIT_LIGHT)th less.
+pub(crate) const EXIT_TINT: f32 = 0.4;
+
+/// A surface of `color` lit by the exit's light at `level` (0..=`EXIT_LIGHT`, the cell's level:
+/// [`mazewalk_maze::light::ExitLight`]): turned toward `glow`'s hue by [`EXIT_TINT`] × level ⁄
+/// `EXIT_LIGHT`, its luminance kept. So the tint grows cell by cell toward the exit (a trail to
+/// follow), never makes a wall brighter (the walls-apart rule holds, and nothing matches the beacon,
+/// which is far lighter and saturated), and in ASCII, which draws luminance only, changes nothing.
+#[must_use]
+pub(crate) fn exit_tinted(color: Vec3, glow: Vec3, level: u8) -> Vec3 {
+    if level == 0 {
+        return color;
+    }
+    let share = EXIT_TINT * f32::from(level.min(mazewalk_maze::light::EXIT_LIGHT))
+        / f32::from(mazewalk_maze::light::EXIT_LIGHT);
+    let glow_luminance = luminance(glow).max(1e-6);
+    color.lerp(glow * (luminance(color) / glow_luminance), share)
+}
+
 /// The sun: a fixed directional light (world space, unit length, pointing toward the light: east by
 /// north-east, level), so walls facing different ways differ even without fog, and two walls meeting
 /// at a corner are told apart by their shade as well as by the edge between them. Its angle, atan(1/3)

@@ -3,6 +3,7 @@
 //! brute force, figures.
 
 mod chalk;
+mod exit_light;
 mod glyph_frames;
 mod nose_to_wall;
 mod picture_quality;
