@@ -89,9 +89,9 @@ pub(crate) struct Light {
 }
 
 impl Light {
-    pub(crate) fn of(eye: &Eye, maze: &Maze) -> Light {
+    pub(crate) fn of(eye: &Eye, maze: &Maze, exit_tint: bool) -> Light {
         Light {
-            exit_light: ExitLight::of(maze),
+            exit_light: if exit_tint { ExitLight::of(maze) } else { ExitLight::default() },
             fog: fog_of(eye),
             sun_view: (eye.normal_to_view * SUN_WORLD).normalize_or_zero(),
             ortho: eye.camera.projection == Projection::Orthographic,
@@ -133,6 +133,9 @@ pub struct Renderer {
     heads: Vec<(usize, usize, usize)>,
     /// The cells whose floors carry a chalk mark ([`Renderer::set_chalk`]), sorted, each once.
     chalk: Vec<u32>,
+    /// This frame draws no tint of the exit's light: in 16 colours, where the nearest palette entry
+    /// of a tinted green wall is the beacon's own bright green (a wall must never read as the beacon).
+    pub(crate) no_exit_tint: bool,
 }
 
 /// Where [`Renderer::render`] puts the picture.
@@ -225,6 +228,7 @@ impl Renderer {
         target: Target<'_>,
     ) -> Result<RenderStats, CameraError> {
         let RenderOptions { charset, color_depth, culling, cell_aspect, textures, .. } = *options;
+        self.no_exit_tint = color_depth == ColorDepth::Ansi16;
         match target {
             Target::Frame(frame, region) => {
                 let (cols, rows) = (region.cols, region.rows);

@@ -91,3 +91,45 @@ fn walls_near_the_exit_lean_green_and_walls_out_of_its_reach_do_not() {
     assert!(near_walls >= 8, "walls faced within the light's reach: {near_walls}");
     assert!(far_walls >= 100, "walls faced beyond it: {far_walls}");
 }
+
+// In 16 colours a tinted green wall's nearest entry is the beacon's bright green: no tint there.
+#[test]
+fn sixteen_colours_draw_no_tint() {
+    let maze = generate(&GenOptions {
+        width: 20,
+        height: 15,
+        seed: 71,
+        loops: 0.1,
+        exit: true,
+        ..GenOptions::default()
+    })
+    .expect("maze");
+    let dark = without_exit(&maze);
+    let light = ExitLight::of(&maze);
+    let v = maze.viewer();
+    let walls = maze.edges().len() as u32;
+    let render = |maze: &Maze, camera: &Camera| {
+        let mut frame = Frame::new(120, 40);
+        let region = frame.region();
+        let mut renderer = Renderer::new();
+        let options = RenderOptions { color_depth: ColorDepth::Ansi16, ..RenderOptions::default() };
+        renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
+        (renderer.samples().color().to_vec(), renderer.samples().id().to_vec())
+    };
+    let mut compared = 0;
+    for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0) {
+        for heading in [0.0, 90.0, 180.0, 270.0] {
+            let camera = Camera {
+                eye_z: v.z,
+                min_vfov_deg: maze.min_vfov_deg(),
+                ..Camera::new(maze.cell_centroid(cell), heading, v.fov_deg)
+            };
+            let ((lit, ids), (unlit, _)) = (render(&maze, &camera), render(&dark, &camera));
+            for k in (0..ids.len()).filter(|&k| ids[k] < walls) {
+                assert_eq!(lit[k], unlit[k], "cell {cell} heading {heading} sample {k}");
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared > 1000, "{compared}");
+}
