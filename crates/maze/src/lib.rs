@@ -32,6 +32,7 @@ pub mod geometry;
 pub mod grid;
 mod hash;
 mod index;
+pub mod light;
 mod load;
 pub mod movement;
 mod sweep;

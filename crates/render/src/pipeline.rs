@@ -22,14 +22,16 @@ use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, LANES, Lanes3, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
-    FOG_FADE, Fog, SUN_WORLD, bricks, chalk_color, checker, checker_filtered, edge_color, headlight,
-    jamb_color, lit, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
+    FOG_FADE, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker, checker_filtered, edge_color,
+    exit_tinted, headlight, jamb_color, lit, luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor,
+    wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
 use mazewalk_math::rigid_inverse;
 use mazewalk_maze::Maze;
 use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
+use mazewalk_maze::light::ExitLight;
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// Light that reaches a wall whatever its angle to the headlight: the share of its colour a wall seen
@@ -82,11 +84,14 @@ pub(crate) struct Light {
     view_to_world: glam::Mat4,
     /// Maze units one sample covers per unit of view depth (perspective), or in all (orthographic).
     pub(crate) per_sample: f32,
+    /// The exit's light through the maze's cells ([`ExitLight`]): what tints a wall toward the exit.
+    exit_light: ExitLight,
 }
 
 impl Light {
-    pub(crate) fn of(eye: &Eye) -> Light {
+    pub(crate) fn of(eye: &Eye, maze: &Maze, exit_tint: bool) -> Light {
         Light {
+            exit_light: if exit_tint { ExitLight::of(maze) } else { ExitLight::default() },
             fog: fog_of(eye),
             sun_view: (eye.normal_to_view * SUN_WORLD).normalize_or_zero(),
             ortho: eye.camera.projection == Projection::Orthographic,
@@ -128,6 +133,9 @@ pub struct Renderer {
     heads: Vec<(usize, usize, usize)>,
     /// The cells whose floors carry a chalk mark ([`Renderer::set_chalk`]), sorted, each once.
     chalk: Vec<u32>,
+    /// This frame draws no tint of the exit's light: in 16 colours, where the nearest palette entry
+    /// of a tinted green wall is the beacon's own bright green (a wall must never read as the beacon).
+    pub(crate) no_exit_tint: bool,
 }
 
 /// Where [`Renderer::render`] puts the picture.
@@ -220,6 +228,7 @@ impl Renderer {
         target: Target<'_>,
     ) -> Result<RenderStats, CameraError> {
         let RenderOptions { charset, color_depth, culling, cell_aspect, textures, .. } = *options;
+        self.no_exit_tint = color_depth == ColorDepth::Ansi16;
         match target {
             Target::Frame(frame, region) => {
                 let (cols, rows) = (region.cols, region.rows);
@@ -340,10 +349,23 @@ impl Renderer {
         let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
         let facing =
             if normal_view.dot(self.polygon_grid[0].attrs) > 0.0 { -normal_view } else { normal_view };
-        let albedo = wall_albedo(edge.color.map(srgb_to_linear)) * sun_factor(facing, light.sun_view);
+        // Never near the floor's lightness ([`apart_from_floor`]: the rule that keeps walls apart),
+        // applied to the wall's colour before the sun and the headlight, so both keep their ratios.
+        let floor_luminance = luminance(FLOOR_SRGB.map(srgb_to_linear)) * plane_lights(eye).0;
+        let albedo = apart_from_floor(wall_albedo(edge.color.map(srgb_to_linear)), floor_luminance, AMBIENT)
+            * sun_factor(facing, light.sun_view);
         // The headlight along the view axis: one light for the whole wall.
         // (off the floor's and ceiling's tints: in 16 colours those show as floor and ceiling)
-        let lit_albedo = palette::off_floor_and_ceiling(lit(albedo, headlight(normal_view), AMBIENT));
+        // The exit's light in the cell on the eye's side of the wall (the side the eye sees): walls
+        // stop it, so the far side of a wall keeps its own cell's level.
+        let eye_left = (eye.camera.position - a).perp_dot(b - a) < 0.0;
+        let side = if eye_left { edge.left } else { edge.right };
+        let level = side.map_or(0, |cell| light.exit_light.level(cell));
+        let lit_albedo = palette::off_floor_and_ceiling(exit_tinted(
+            lit(albedo, headlight(normal_view), AMBIENT),
+            EXIT_GLOW,
+            level,
+        ));
         let triangles = self.polygon_grid.len() - 2;
         let fog = &light.fog;
         if shading == Shading::Color && !textures && !self.reference_shading {
@@ -397,11 +419,7 @@ impl Renderer {
         let ceiling = (CEILING_Z, CEILING, CEILING_SRGB.map(srgb_to_linear));
         let perspective = eye.camera.projection == Projection::Perspective;
         let start_depth = if perspective { eye.near } else { 0.0 };
-        // The headlight on floor and ceiling: one light for each plane (both face the same way); the
-        // floor, under the lamp the viewer carries, keeps more of its colour than the ceiling.
-        let facing_planes = headlight((eye.normal_to_view * Vec3::Z).normalize_or_zero());
-        let floor_light = FLOOR_AMBIENT + (1.0 - FLOOR_AMBIENT) * facing_planes;
-        let ceiling_light = CEILING_AMBIENT + (1.0 - CEILING_AMBIENT) * facing_planes;
+        let (floor_light, ceiling_light) = plane_lights(eye);
         let plane_light = |plane: u32| if plane == FLOOR { floor_light } else { ceiling_light };
         let depth_at = eye.depth_by_distance();
         // Where a ray of height `start_z` and slope `dir_z` ends: which plane, how far along it (`t`;
@@ -784,6 +802,17 @@ enum Mark {
     Seam,
     /// Where two surfaces meet: a corner, a wall's end, the floor, a figure.
     Edge,
+}
+
+/// The headlight on floor and ceiling (factors on their colours): one light for each plane (both face
+/// the same way); the floor, under the lamp the viewer carries, keeps more of its colour than the
+/// ceiling.
+fn plane_lights(eye: &Eye) -> (f32, f32) {
+    let facing_planes = headlight((eye.normal_to_view * Vec3::Z).normalize_or_zero());
+    (
+        FLOOR_AMBIENT + (1.0 - FLOOR_AMBIENT) * facing_planes,
+        CEILING_AMBIENT + (1.0 - CEILING_AMBIENT) * facing_planes,
+    )
 }
 
 /// Where a ray meets the floor or the ceiling (see `Renderer::fill_floor_and_ceiling`).

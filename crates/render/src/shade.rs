@@ -40,6 +40,55 @@ pub fn lit(albedo: Vec3, diffuse: f32, ambient: f32) -> Vec3 {
     albedo * (ambient + (1.0 - ambient) * diffuse.clamp(0.0, 1.0))
 }
 
+/// How much more light a wall sends to the eye than the floor at its foot does, at least (the ratio
+/// of luminances, both before fog: the fog keeps the same share of both at one distance, so the ratio
+/// holds at every distance): [`apart_from_floor`].
+pub(crate) const WALL_OVER_FLOOR: f32 = 2.0;
+
+/// The rule that keeps walls apart from floor and ceiling (issue #39, map off: a side wall lit at a
+/// grazing angle came out at the floor's lightness and read as open floor): **a wall is lit at least
+/// [`WALL_OVER_FLOOR`] times as bright as the floor's lighter square under the same light**,
+/// whatever its angle to the eye. It is applied to the wall's colour (`albedo`), before the sun and
+/// the headlight: a colour too dark to meet it when the headlight misses the wall (only `ambient`
+/// of it left) and the sun is turned away ([`SUN_LOW`]) is raised until it does, its hue kept (scaled;
+/// toward white only where scaling would clip a channel). Sun and headlight then multiply it as
+/// before, so a corner's two walls and a wall faced squarely still differ as they did. The ceiling is
+/// darker than the floor, so a wall is apart from both. Twice the luminance is 1.26× the OKLab
+/// lightness: near the eye about 0.12 in L over the floor, still 0.065 where the fog has left the
+/// floor at L 0.25, which the 256-colour greys (a step of 0.03–0.04 in L) keep apart.
+#[must_use]
+pub(crate) fn apart_from_floor(color: Vec3, floor_luminance: f32, ambient: f32) -> Vec3 {
+    let least_light = (ambient * SUN_LOW).max(1e-3);
+    let target = (WALL_OVER_FLOOR * floor_luminance / least_light).clamp(0.0, 1.0);
+    let y = luminance(color);
+    if y >= target || y.is_nan() {
+        return color; // bright enough (or NaN: left for the caller's clamps)
+    }
+    let raised = if y > 1e-6 { (color * (target / y)).min(Vec3::ONE) } else { Vec3::splat(target) };
+    let short = luminance(raised);
+    if short < target { raised.lerp(Vec3::ONE, (target - short) / (1.0 - short).max(1e-6)) } else { raised }
+}
+
+/// How far the exit's light turns a surface toward the exit's colour in the exit's own cell (a share,
+/// 0..1); each cell of path further, one [`EXIT_LIGHT`](mazewalk_maze::light::EXIT_LIGHT)th less.
+pub(crate) const EXIT_TINT: f32 = 0.4;
+
+/// A surface of `color` lit by the exit's light at `level` (0..=`EXIT_LIGHT`, the cell's level:
+/// [`mazewalk_maze::light::ExitLight`]): turned toward `glow`'s hue by [`EXIT_TINT`] × level ⁄
+/// `EXIT_LIGHT`, its luminance kept. So the tint grows cell by cell toward the exit (a trail to
+/// follow), never makes a wall brighter (the walls-apart rule holds, and nothing matches the beacon,
+/// which is far lighter and saturated), and in ASCII, which draws luminance only, changes nothing.
+#[must_use]
+pub(crate) fn exit_tinted(color: Vec3, glow: Vec3, level: u8) -> Vec3 {
+    if level == 0 {
+        return color;
+    }
+    let share = EXIT_TINT * f32::from(level.min(mazewalk_maze::light::EXIT_LIGHT))
+        / f32::from(mazewalk_maze::light::EXIT_LIGHT);
+    let glow_luminance = luminance(glow).max(1e-6);
+    color.lerp(glow * (luminance(color) / glow_luminance), share)
+}
+
 /// The sun: a fixed directional light (world space, unit length, pointing toward the light: east by
 /// north-east, level), so walls facing different ways differ even without fog, and two walls meeting
 /// at a corner are told apart by their shade as well as by the edge between them. Its angle, atan(1/3)

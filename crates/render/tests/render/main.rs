@@ -3,6 +3,7 @@
 //! brute force, figures.
 
 mod chalk;
+mod exit_light;
 mod glyph_frames;
 mod nose_to_wall;
 mod picture_quality;
@@ -12,3 +13,4 @@ mod render_golden;
 mod render_picture;
 mod render_portal;
 mod render_sprites;
+mod wall_floor;

@@ -1,0 +1,168 @@
+//! The exit's light through the maze, as block light in a voxel game (Minecraft's torches): the exit
+//! cell has [`EXIT_LIGHT`], and each cell one step of path further, through an opening (a portal),
+//! one level less, so the light follows corridors round corners and never passes through a wall.
+//! Issue #39: with the map off nothing in the view said which way the exit was; a faint glow that
+//! grows toward it is a trail a player can follow.
+//!
+//! Pure and bounded: one breadth-first search over the cell graph from the exit, which stops where the
+//! light runs out, so its cost is that of the cells it lights (O(cells) at worst).
+
+use crate::{CellId, Maze};
+use std::collections::{HashMap, VecDeque};
+
+/// The exit cell's light level. A cell `d` openings from the exit has `EXIT_LIGHT − d`, at least 0: the
+/// light reaches `EXIT_LIGHT − 1` cells of path from the exit (seven at 8).
+pub const EXIT_LIGHT: u8 = 8;
+
+/// The exit's light levels of the cells it reaches: [`EXIT_LIGHT`] at the exit cell, one less per
+/// opening crossed on the shortest path from it, none (level 0) beyond. Only the lit cells are kept,
+/// so the search and the table are bounded by the light's reach, not by the maze: a 1000 × 1000 grid
+/// pays for the hundred-odd cells round its exit.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ExitLight {
+    /// (cell, level), sorted by cell, every level > 0.
+    lit: Vec<(CellId, u8)>,
+}
+
+impl ExitLight {
+    /// The exit's light in `maze` (none in a maze without an exit).
+    #[must_use]
+    pub fn of(maze: &Maze) -> ExitLight {
+        let cells = maze.cell_count();
+        let Some(exit) = maze.exit().filter(|exit| (exit.cell as usize) < cells) else {
+            return ExitLight::default();
+        };
+        let mut level: HashMap<CellId, u8> = HashMap::from([(exit.cell, EXIT_LIGHT)]);
+        let mut queue = VecDeque::from([exit.cell]);
+        while let Some(cell) = queue.pop_front() {
+            let next = level[&cell].saturating_sub(1);
+            if next == 0 {
+                continue; // the light goes no further from here
+            }
+            for &e in maze.cell_edges(cell) {
+                let edge = maze.edge(e);
+                if edge.opaque {
+                    continue; // walls block it
+                }
+                let Some(other) = edge.other_side(cell) else { continue };
+                if (other as usize) < cells && !level.contains_key(&other) {
+                    level.insert(other, next); // breadth first: the first visit is the shortest path
+                    queue.push_back(other);
+                }
+            }
+        }
+        let mut lit: Vec<(CellId, u8)> = level.into_iter().collect();
+        lit.sort_unstable();
+        ExitLight { lit }
+    }
+
+    /// The level of `cell`: 0..=[`EXIT_LIGHT`].
+    #[must_use]
+    pub fn level(&self, cell: CellId) -> u8 {
+        self.lit.binary_search_by_key(&cell, |&(c, _)| c).map_or(0, |k| self.lit[k].1)
+    }
+
+    /// How many cells the light reaches.
+    #[must_use]
+    pub fn lit_cells(&self) -> usize {
+        self.lit.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generate::{GenOptions, generate};
+    use proptest::prelude::*;
+
+    /// Path distance (openings crossed) from the exit to every cell, by a plain BFS with no cut-off.
+    fn distances(maze: &Maze) -> Vec<Option<u32>> {
+        let mut dist = vec![None; maze.cell_count()];
+        let exit = maze.exit().expect("exit").cell;
+        dist[exit as usize] = Some(0);
+        let mut queue = VecDeque::from([exit]);
+        while let Some(c) = queue.pop_front() {
+            for &e in maze.cell_edges(c) {
+                let edge = maze.edge(e);
+                if let (false, Some(o)) = (edge.opaque, edge.other_side(c))
+                    && dist[o as usize].is_none()
+                {
+                    dist[o as usize] = Some(dist[c as usize].unwrap() + 1);
+                    queue.push_back(o);
+                }
+            }
+        }
+        dist
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+        // The level is EXIT_LIGHT minus the path distance through openings, zero beyond the reach;
+        // two cells side by side with a wall between differ by more than one step only when the wall
+        // blocks the light (their path distance differs by more than one).
+        #[test]
+        fn the_level_falls_by_one_per_opening_and_walls_block_it(
+            (width, height, seed) in (2u32..=20, 2u32..=15, any::<u64>()),
+        ) {
+            let maze = generate(&GenOptions { width, height, seed, loops: 0.1, exit: true, ..GenOptions::default() }).expect("maze");
+            let light = ExitLight::of(&maze);
+            let level: Vec<u8> = (0..maze.cell_count() as u32).map(|c| light.level(c)).collect();
+            let dist = distances(&maze);
+            for (c, (&l, d)) in level.iter().zip(&dist).enumerate() {
+                let want = d.map_or(0, |d| u32::from(EXIT_LIGHT).saturating_sub(d)) as u8;
+                prop_assert_eq!(l, want, "cell {}: distance {:?}", c, d);
+            }
+            // monotone: a neighbour through an opening differs by at most one step
+            for e in 0..maze.edges().len() as u32 {
+                let edge = maze.edge(e);
+                if let (false, Some(a), Some(b)) = (edge.opaque, edge.left, edge.right) {
+                    prop_assert!(level[a as usize].abs_diff(level[b as usize]) <= 1);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_wall_stops_the_light_where_an_opening_would_pass_it() {
+        // A 2×1 maze: two cells side by side. Generated mazes connect them; walling the opening off
+        // leaves the second cell dark.
+        let maze =
+            generate(&GenOptions { width: 2, height: 1, seed: 1, exit: true, ..GenOptions::default() })
+                .expect("maze");
+        let level = [ExitLight::of(&maze).level(0), ExitLight::of(&maze).level(1)];
+        let exit = maze.exit().expect("exit").cell as usize;
+        assert_eq!(level[exit], EXIT_LIGHT);
+        assert_eq!(level[1 - exit], EXIT_LIGHT - 1, "one opening away");
+        let mut edges = crate::Edges::new();
+        let mut walled_off = 0;
+        for e in 0..maze.edges().len() {
+            let mut edge = maze.edge(e as u32);
+            if !edge.opaque {
+                edge.opaque = true;
+                walled_off += 1;
+            }
+            edges.push(edge);
+        }
+        assert_eq!(walled_off, 1, "two cells, one opening");
+        let walled = Maze::new(
+            maze.vertices().to_vec(),
+            edges,
+            maze.cells().clone(),
+            *maze.viewer(),
+            maze.exit().copied(),
+        )
+        .expect("the same maze, walled");
+        let level = [ExitLight::of(&walled).level(0), ExitLight::of(&walled).level(1)];
+        assert_eq!(level[exit], EXIT_LIGHT);
+        assert_eq!(level[1 - exit], 0, "through a wall: no light");
+    }
+
+    #[test]
+    fn no_exit_no_light() {
+        let maze =
+            generate(&GenOptions { width: 4, height: 3, seed: 2, exit: false, ..GenOptions::default() })
+                .expect("maze");
+        assert_eq!(ExitLight::of(&maze).lit_cells(), 0);
+    }
+}

@@ -1,0 +1,94 @@
+//! Issue #39, map off: "side walls as dark as the floor". A wall lit at a grazing angle must still
+//! read apart from the floor it stands on, in truecolor and in 256 colours, whatever its angle to the
+//! eye. Measured on the wall's foot line: along each column, the wall sample just above the seam with
+//! the floor against the floor sample just below it (OKLab lightness, what the terminal shows).
+
+use mazewalk_maze::generate::{GenOptions, generate};
+use mazewalk_render::quality::{self, held_out_views};
+use mazewalk_render::samples::{CEILING, FLOOR, NONE};
+use mazewalk_render::{Charset, RenderOptions, Renderer, Target};
+use mazewalk_term::frame::{ColorDepth, Frame};
+
+const COLS: usize = 120;
+const ROWS: usize = 40;
+
+/// The least OKLab lightness difference between a wall and the floor at its foot. OKLab's just
+/// noticeable difference is about 0.02; 0.05 is two and a half of them, and more than half a step of
+/// the 256-colour grey ramp (0.03–0.04 in L), so it survives the palette's rounding on both sides.
+const MIN_DELTA_L: f32 = 0.05;
+/// Floor samples darker than this (far off, in the fog: the fog has left less than a third of the
+/// floor's light) are not judged: there everything fades to black together, which is the depth cue,
+/// and one sample row of the floor spans so much depth that the floor sample under a far wall's foot
+/// is much nearer than the wall.
+const JUDGED_FLOOR_L: f32 = 0.3;
+
+/// Foot-line pairs (wall L, floor L, x, y) of one frame: the floor sample just below a wall's foot
+/// and the wall sample just above the foot (the foot sample itself is the seam with the floor, drawn
+/// as an edge: darker on purpose). Only inside a wall, one sample or more from its ends: where two walls
+/// meet or a wall ends, the line between is an edge, darker than the wall on purpose.
+fn foot_pairs(shown: &[glam::Vec3], ids: &[u32], width: usize) -> Vec<(f32, f32, usize, usize)> {
+    let height = ids.len() / width;
+    let is_wall = |id: u32| id != FLOOR && id != CEILING && id != NONE;
+    let mut out = Vec::new();
+    for x in 1..width.saturating_sub(1) {
+        for y in 1..height.saturating_sub(1) {
+            let at = |y: usize| y * width + x;
+            let (above, foot, below) = (ids[at(y - 1)], ids[at(y)], ids[at(y + 1)]);
+            let inside = ids[at(y - 1) - 1] == foot && ids[at(y - 1) + 1] == foot;
+            if is_wall(foot) && above == foot && below == FLOOR && inside {
+                out.push((shown[at(y - 1)].x, shown[at(y + 1)].x, x, y));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn walls_read_apart_from_the_floor_at_their_foot_in_every_view() {
+    let mut judged = 0;
+    let mut failures = Vec::new();
+    for seed in [58u64, 71, 3, 12] {
+        let maze = generate(&GenOptions {
+            width: 20,
+            height: 15,
+            seed,
+            loops: 0.1,
+            exit: true,
+            ..GenOptions::default()
+        })
+        .expect("maze");
+        for (k, (kind, camera)) in held_out_views(&maze, seed, 18).into_iter().enumerate() {
+            for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
+                let options =
+                    RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
+                let mut frame = Frame::new(COLS, ROWS);
+                let region = frame.region();
+                let mut renderer = Renderer::new();
+                renderer
+                    .render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region))
+                    .expect("camera");
+                let shown = quality::shown(&frame, Charset::Half);
+                let ids = renderer.samples().id();
+                for (wall, floor, x, y) in foot_pairs(&shown, ids, renderer.samples().width()) {
+                    if floor < JUDGED_FLOOR_L {
+                        continue;
+                    }
+                    judged += 1;
+                    if (wall - floor).abs() < MIN_DELTA_L {
+                        failures.push(format!(
+                            "seed {seed} view {k} {kind:?} {depth:?} at {:?} heading {:.0} sample ({x}, {y}): wall L {wall:.3} floor L {floor:.3}",
+                            camera.position, camera.yaw_deg
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    assert!(judged > 1000, "too few foot-line samples judged: {judged}");
+    assert!(
+        failures.is_empty(),
+        "{} of {judged} foot-line samples within {MIN_DELTA_L} of the floor's lightness; first: {:#?}",
+        failures.len(),
+        &failures[..failures.len().min(12)]
+    );
+}
