@@ -136,6 +136,10 @@ pub struct Renderer {
     /// This frame draws no tint of the exit's light: in 16 colours, where the nearest palette entry
     /// of a tinted green wall is the beacon's own bright green (a wall must never read as the beacon).
     pub(crate) no_exit_tint: bool,
+    /// This frame keeps walls lit apart from the floor ([`apart_from_floor`]): in colour. Without
+    /// colour the ascii charset tells floor and ceiling by their own glyphs, and its wall glyphs by
+    /// lightness alone; raised walls would all take the ramp's top glyphs and lose their distance.
+    pub(crate) walls_apart: bool,
 }
 
 /// Where [`Renderer::render`] puts the picture.
@@ -229,6 +233,7 @@ impl Renderer {
     ) -> Result<RenderStats, CameraError> {
         let RenderOptions { charset, color_depth, culling, cell_aspect, textures, .. } = *options;
         self.no_exit_tint = color_depth == ColorDepth::Ansi16;
+        self.walls_apart = color_depth != ColorDepth::None;
         match target {
             Target::Frame(frame, region) => {
                 let (cols, rows) = (region.cols, region.rows);
@@ -352,8 +357,10 @@ impl Renderer {
         // Never near the floor's lightness ([`apart_from_floor`]: the rule that keeps walls apart),
         // applied to the wall's colour before the sun and the headlight, so both keep their ratios.
         let floor_luminance = luminance(FLOOR_SRGB.map(srgb_to_linear)) * plane_lights(eye).0;
-        let albedo = apart_from_floor(wall_albedo(edge.color.map(srgb_to_linear)), floor_luminance, AMBIENT)
-            * sun_factor(facing, light.sun_view);
+        let albedo = wall_albedo(edge.color.map(srgb_to_linear));
+        let albedo =
+            if self.walls_apart { apart_from_floor(albedo, floor_luminance, AMBIENT) } else { albedo };
+        let albedo = albedo * sun_factor(facing, light.sun_view);
         // The headlight along the view axis: one light for the whole wall.
         // (off the floor's and ceiling's tints: in 16 colours those show as floor and ceiling)
         // The exit's light in the cell on the eye's side of the wall (the side the eye sees): walls

@@ -55,7 +55,8 @@ pub(crate) const WALL_OVER_FLOOR: f32 = 2.0;
 /// before, so a corner's two walls and a wall faced squarely still differ as they did. The ceiling is
 /// darker than the floor, so a wall is apart from both. Twice the luminance is 1.26× the OKLab
 /// lightness: near the eye about 0.12 in L over the floor, still 0.065 where the fog has left the
-/// floor at L 0.25, which the 256-colour greys (a step of 0.03–0.04 in L) keep apart.
+/// floor at L 0.25, which the 256-colour greys (a step of 0.03–0.04 in L) keep apart. In colour only:
+/// without colour the ascii charset tells the floor by its glyphs ([`Renderer`](crate::Renderer)'s `walls_apart`).
 #[must_use]
 pub(crate) fn apart_from_floor(color: Vec3, floor_luminance: f32, ambient: f32) -> Vec3 {
     let least_light = (ambient * SUN_LOW).max(1e-3);
