@@ -38,7 +38,7 @@ use std::collections::HashMap;
 
 use crate::blocks::FULL_BLOCK;
 use crate::frame::{Frame, PackedCell, PackedColor};
-use cursor::{RESET_LNM, digits, move_len, write_move};
+use cursor::{RESET_LNM, digits, find_move, move_len, write_found, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
 
 /// Begin synchronized update (DEC mode 2026): the terminal holds the screen until the end marker.
@@ -664,9 +664,13 @@ fn reach(
         Then::Erase(_) => None,
     };
     let mut from = x;
+    // The plain move, searched for once: priced here, written below if it wins.
+    let mut plain_move = None;
     if starts.iter().any(Option::is_some) {
-        let mut moved = *pen;
-        let mut best = move_len(&mut moved, x, y)
+        let found = find_move(pen, x, y);
+        plain_move = Some(found);
+        let mut moved = Pen { cursor: Some((x, y)), ..*pen };
+        let mut best = found.len
             + match plain_form {
                 Some((cell, sgr)) => sgr.len() + cell.ch.len_utf8(),
                 None => then.price(&mut moved, width),
@@ -677,7 +681,10 @@ fn reach(
             }
         }
     }
-    write_move(out, pen, from, y);
+    match plain_move {
+        Some(found) if from == x => write_found(out, pen, found),
+        _ => write_move(out, pen, from, y),
+    }
     for cell in &row[from..x] {
         write_cell(out, pen, cell, width, 0); // on screen already: exactly as it is
     }
