@@ -920,6 +920,43 @@ mod tests {
         Pen { cursor, fg: fg.map(PackedColor::pack), bg: bg.map(PackedColor::pack), blocks: true }
     }
 
+    /// The column pass starts each column at the first row of [`MIN_COLUMN`] changed cells of one
+    /// look down it, found eight columns a word: against a plain search of every column, on grids
+    /// of two looks and sparse and dense changes, widths on and off a multiple of eight.
+    #[test]
+    fn a_column_starts_at_its_first_rows_of_changed_cells_of_one_look() {
+        let looks = [Cell::plain('a'), Cell::plain('b')].map(|cell| PackedCell::pack(&cell));
+        let mut seed = 0x2545_f491_u32;
+        let mut next = move |n: u32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed % n
+        };
+        let mut found = 0;
+        for (width, height) in [(1_usize, 1_usize), (7, 2), (8, 3), (13, 9), (24, 5), (120, 40)] {
+            for percent_changed in [5, 60, 95] {
+                let cells = width * height;
+                let new: Vec<PackedCell> = (0..cells).map(|_| looks[next(2) as usize]).collect();
+                let differs: Vec<bool> = (0..cells).map(|_| next(100) < percent_changed).collect();
+                let plain: Vec<usize> = (0..width)
+                    .map(|x| {
+                        (0..height.saturating_sub(MIN_COLUMN - 1))
+                            .find(|&y| {
+                                let k = y * width + x;
+                                (0..MIN_COLUMN)
+                                    .all(|i| differs[k + i * width] && new[k + i * width] == new[k])
+                            })
+                            .unwrap_or(height)
+                    })
+                    .collect();
+                assert_eq!(first_columns(&new, &differs, width, height), plain, "{width}x{height}");
+                found += plain.iter().filter(|&&y| y < height).count();
+            }
+        }
+        assert!(found > 100, "columns with a start: {found}");
+    }
+
     /// Escape codes carry their numbers in plain decimal: every number the fast paths cover and
     /// their edges, then the loop's (moves across wide screens, and the largest `usize`).
     #[test]
