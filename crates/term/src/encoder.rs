@@ -110,6 +110,8 @@ pub struct Encoder {
     effective: Vec<PackedCell>,
     /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
     differs: Vec<bool>,
+    /// The last diff's frame and which of its cells it left as the screen showed them ([`Memo`]).
+    memo: Memo,
     /// Whether runs of one look may go as `REP` ([`Encoder::set_rep`]).
     rep: bool,
     /// Whether a blank may go as a full block ([`Encoder::set_blocks`]).
@@ -136,6 +138,7 @@ impl Encoder {
             tolerance: 0,
             effective: Vec::new(),
             differs: Vec::new(),
+            memo: Memo::default(),
             rep: false,
             blocks: true,
         }
@@ -193,11 +196,14 @@ impl Encoder {
         sent.extend(frame.cells().iter().map(PackedCell::pack));
         let cells_changed = if full_paint {
             self.pen = paint_full(sent, width, self.bce, self.rep, self.blocks, out);
+            self.memo.before.clear(); // (what it remembers was about the screen before)
             sent.len()
         } else {
             self.pen.blocks = self.blocks;
             let how = How { bce: self.bce, tolerance: self.tolerance, rep: self.rep };
-            diff(&self.screen, sent, width, how, &mut self.pen, out, &mut self.differs)
+            self.memo.prepare(sent.len(), self.tolerance);
+            let memo = Some(&mut self.memo);
+            diff(&self.screen, sent, width, how, &mut self.pen, out, &mut self.differs, memo)
         };
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
@@ -299,7 +305,7 @@ fn clear_and_paint(
     let blank = vec![PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg }; frame.len()];
     // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
     let how = How { bce, tolerance: 0, rep };
-    diff(&blank, &mut frame.to_vec(), width, how, &mut pen, out, &mut Vec::new());
+    diff(&blank, &mut frame.to_vec(), width, how, &mut pen, out, &mut Vec::new(), None);
     pen
 }
 
@@ -329,7 +335,8 @@ struct How {
 /// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
 /// cell of `new` within `how.tolerance` of `old` is left as `old` shows it, and a changed one may
 /// take the pen's colour where that is within the tolerance of its own (one SGR less); `new` is updated
-/// to what was sent. `differs` is scratch ([`mark_changes`]).
+/// to what was sent. `differs` is scratch ([`mark_changes`]); `memo`, the encoder's between frames.
+#[allow(clippy::too_many_arguments)]
 fn diff(
     old: &[PackedCell],
     new: &mut [PackedCell],
@@ -338,12 +345,18 @@ fn diff(
     pen: &mut Pen,
     out: &mut Vec<u8>,
     differs: &mut Vec<bool>,
+    memo: Option<&mut Memo>,
 ) -> usize {
     debug_assert_eq!(old.len(), new.len());
     let width = width.max(1);
     differs.clear();
-    for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
-        mark_changes(old_row, new_row, how.tolerance, differs);
+    match memo {
+        Some(memo) => memo.mark_changes(old, new, how.tolerance, differs),
+        None => {
+            for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
+                mark_changes(old_row, new_row, how.tolerance, differs);
+            }
+        }
     }
     // Columns first, where a column of one look goes cheaper down than across; then the rows.
     let mut changed = columns(new, width, how.tolerance, pen, out, differs);
@@ -469,28 +482,94 @@ fn column_pays(new: &[PackedCell], differs: &[bool], width: usize, x: usize, y: 
     down < across
 }
 
+/// The last diff's frame (as given, before the tolerance) and which of its cells [`mark_changes`]
+/// left as the screen showed them. A cell left so stays as it was on screen (only changed cells are
+/// written), so where the next frame has it again the answer is the same: left, with no colour
+/// measured (walking, a wall's cells within the tolerance of the blanks on screen are asked about
+/// again every frame). Forgotten on a full paint, a resize and a new tolerance.
+#[derive(Clone, Debug, Default)]
+struct Memo {
+    before: Vec<PackedCell>,
+    left: Vec<bool>,
+    tolerance: u8,
+}
+
+impl Memo {
+    /// Ready for a diff of `cells` cells at `tolerance`: what it holds, if about such a diff, else
+    /// nothing left.
+    fn prepare(&mut self, cells: usize, tolerance: u8) {
+        if self.before.len() != cells || self.tolerance != tolerance {
+            let blank = PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg: PackedColor::DEFAULT };
+            self.before.clear();
+            self.before.resize(cells, blank);
+            self.left.clear();
+            self.left.resize(cells, false);
+            self.tolerance = tolerance;
+        }
+    }
+
+    /// [`mark_changes`] of the whole frame, answering from the memo where the frame's cell is one
+    /// it measured and left, and remembering those it measures and leaves. A cell equal to the
+    /// screen's is not written, nor is one answered from the memo: the screen's cell stays what it
+    /// was when remembered. Every other cell is forgotten (it may be written, or the screen take
+    /// the frame's spelling of the same look).
+    fn mark_changes(
+        &mut self,
+        old: &[PackedCell],
+        new: &mut [PackedCell],
+        tolerance: u8,
+        differs: &mut Vec<bool>,
+    ) {
+        debug_assert_eq!((self.before.len(), self.left.len()), (new.len(), new.len()));
+        let (before, left) = (&mut self.before[..], &mut self.left[..]);
+        differs.extend(old.iter().zip(new).enumerate().map(|(k, (shown, cell))| {
+            if shown == cell {
+                return false; // the common case, inline
+            }
+            if tolerance > 0 && cell.may_be_near(tolerance) {
+                // As `mark`, the memo first.
+                if left[k] && before[k] == *cell {
+                    *cell = *shown;
+                    return false;
+                }
+                let within = shown.looks_within(cell, tolerance);
+                if within {
+                    before[k] = *cell;
+                    *cell = *shown;
+                }
+                left[k] = within;
+                return !within;
+            }
+            left[k] = false;
+            !shown.looks_within(cell, 0)
+        }));
+    }
+}
+
 /// Which cells of row `new` look different from row `old` (one look comparison a cell: the diff's
 /// searches read the flags), appended to `differs`. A cell within `tolerance` of `old` is first set
 /// to `old`.
 fn mark_changes(old: &[PackedCell], new: &mut [PackedCell], tolerance: u8, differs: &mut Vec<bool>) {
-    differs.extend(old.iter().zip(new).map(|(shown, cell)| {
-        if shown == cell {
-            return false; // the common case, inline
+    differs.extend(old.iter().zip(new).map(|(shown, cell)| shown != cell && mark(shown, cell, tolerance)));
+}
+
+/// Whether `cell` looks different from `shown` (which it is not equal to); set to `shown` where
+/// within `tolerance` of it. ([`Memo::mark_changes`] is this with a memo.)
+#[inline(always)]
+fn mark(shown: &PackedCell, cell: &mut PackedCell, tolerance: u8) -> bool {
+    // Only truecolor colours and palette entries past the ANSI 16 with a neighbour that close
+    // can be close without being equal; a cell not within the tolerance does not look the same
+    // either (one comparison).
+    // Against what the screen shows, never the frame before: a slow fade is resent once it has
+    // moved the tolerance from what was sent, however small each frame's step.
+    if tolerance > 0 && cell.may_be_near(tolerance) {
+        let within = shown.looks_within(cell, tolerance);
+        if within {
+            *cell = *shown;
         }
-        // Only truecolor colours and palette entries past the ANSI 16 with a neighbour that close
-        // can be close without being equal; a cell not within the tolerance does not look the same
-        // either (one comparison).
-        // Against what the screen shows, never the frame before: a slow fade is resent once it has
-        // moved the tolerance from what was sent, however small each frame's step.
-        if tolerance > 0 && cell.may_be_near(tolerance) {
-            let within = shown.looks_within(cell, tolerance);
-            if within {
-                *cell = *shown;
-            }
-            return !within;
-        }
-        !shown.looks_within(cell, 0)
-    }));
+        return !within;
+    }
+    !shown.looks_within(cell, 0)
 }
 
 /// Where a row's tail of same-background spaces starts, and that background, if `\x1b[K` may erase it.
@@ -955,6 +1034,52 @@ mod tests {
             }
         }
         assert!(found > 100, "columns with a start: {found}");
+    }
+
+    /// The memo of cells left within the tolerance changes no byte: frames of half blocks drifting
+    /// by a shade or two (truecolor, near palette entries, the defaults and ANSI colours that switch
+    /// spelling), some cells going back to what they were, encoded by one encoder and by one that
+    /// forgets its memo before every frame, at tolerances 0, 2 and 5, with REP and without.
+    #[test]
+    fn the_memo_of_cells_left_changes_no_byte() {
+        let mut seed = 0x9e37_79b9_u32;
+        let mut next = move |n: u32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed % n
+        };
+        let (width, height) = (23, 7);
+        let grey = |v: u8| Color::Rgb(v, v, v.saturating_add(1));
+        let colours = [grey(100), grey(101), grey(102), grey(140), Color::Indexed(59), Color::Indexed(241)];
+        let colours = [&colours[..], &[Color::Default, Color::Indexed(4)]].concat();
+        let mut left_alone = 0;
+        for tolerance in [0, 2, 5] {
+            for rep in [false, true] {
+                let (mut with_memo, mut without) = (Encoder::new(), Encoder::new());
+                for encoder in [&mut with_memo, &mut without] {
+                    encoder.set_tolerance(tolerance);
+                    encoder.set_rep(rep);
+                }
+                let mut frame = Frame::filled(width, height, Cell { ch: '▀', fg: grey(100), bg: grey(101) });
+                for _ in 0..60 {
+                    for _ in 0..next(40) {
+                        let (x, y) = (next(width as u32) as usize, next(height as u32) as usize);
+                        let ch = ['▀', '▄', ' ', '█', 'x'][next(5) as usize];
+                        let pick = |k: u32| colours[k as usize % colours.len()];
+                        frame.set(x, y, Cell { ch, fg: pick(next(8)), bg: pick(next(8)) });
+                    }
+                    let (mut a, mut b) = (Vec::new(), Vec::new());
+                    without.memo.before.clear();
+                    let stats = with_memo.encode(&frame, &mut a);
+                    assert_eq!(stats, without.encode(&frame, &mut b));
+                    assert_eq!(a, b);
+                    assert_eq!(with_memo.screen, without.screen);
+                    left_alone += with_memo.memo.left.iter().filter(|&&l| l).count();
+                }
+            }
+        }
+        assert!(left_alone > 100, "cells answered or remembered: {left_alone}");
     }
 
     /// Escape codes carry their numbers in plain decimal: every number the fast paths cover and
