@@ -8,7 +8,9 @@
 //! ```
 //!
 //! REP: `rep` answers the session's question as a terminal with REP does (runs go as `CSI n b`),
-//! `norep` (the default) as one without. KEY: `turn` (the default, `←`) or `walk` (`W`).
+//! `norep` (the default) as one without. KEY: `turn` (the default, `←`) or `walk` (`W`). It prints
+//! the bytes of the 39 frames and a hash of all the output, first paint included: two builds that
+//! print the same line sent the same bytes.
 
 use mazewalk_maze as maze;
 use mazewalk_render::{Charset, RenderOptions};
@@ -35,6 +37,14 @@ fn main() {
     );
     let (mut out, mut bytes) = (Vec::new(), 0);
     session.frame(0.0, &mut out);
+    // FNV-1a over every byte sent (the first paint included): an A/B of two encoders compares it.
+    let mut hash = 0xcbf2_9ce4_8422_2325_u64;
+    let mut fold = |bytes: &[u8]| {
+        for &b in bytes {
+            hash = (hash ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    fold(&out);
     // The answer to the REP probe before the first frame: two cells written (REP), or one.
     session.feed(if rep { b"\x1b[2;3R" } else { b"\x1b[2;2R" }, 0.0);
     for i in 1..40 {
@@ -43,8 +53,11 @@ fn main() {
         out.clear();
         session.frame(now, &mut out);
         bytes += out.len();
+        fold(&out);
     }
     let what = if key == b"w" { "walking" } else { "turning" };
     let rep = if rep { "REP" } else { "no REP" };
-    println!("{depth} {cols}x{rows}, tolerance {tolerance}, {rep}: {bytes} bytes in 39 frames of {what}");
+    println!(
+        "{depth} {cols}x{rows}, tolerance {tolerance}, {rep}: {bytes} bytes in 39 frames of {what}, FNV-1a {hash:016x}"
+    );
 }

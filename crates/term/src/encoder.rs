@@ -38,7 +38,7 @@ use std::collections::HashMap;
 
 use crate::blocks::FULL_BLOCK;
 use crate::frame::{Frame, PackedCell, PackedColor};
-use cursor::{RESET_LNM, digits, move_len, write_move};
+use cursor::{RESET_LNM, digits, find_move, move_len, write_found, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
 
 /// Begin synchronized update (DEC mode 2026): the terminal holds the screen until the end marker.
@@ -110,6 +110,8 @@ pub struct Encoder {
     effective: Vec<PackedCell>,
     /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
     differs: Vec<bool>,
+    /// The last diff's frame and which of its cells it left as the screen showed them ([`Memo`]).
+    memo: Memo,
     /// Whether runs of one look may go as `REP` ([`Encoder::set_rep`]).
     rep: bool,
     /// Whether a blank may go as a full block ([`Encoder::set_blocks`]).
@@ -136,6 +138,7 @@ impl Encoder {
             tolerance: 0,
             effective: Vec::new(),
             differs: Vec::new(),
+            memo: Memo::default(),
             rep: false,
             blocks: true,
         }
@@ -193,11 +196,14 @@ impl Encoder {
         sent.extend(frame.cells().iter().map(PackedCell::pack));
         let cells_changed = if full_paint {
             self.pen = paint_full(sent, width, self.bce, self.rep, self.blocks, out);
+            self.memo.before.clear(); // (what it remembers was about the screen before)
             sent.len()
         } else {
             self.pen.blocks = self.blocks;
             let how = How { bce: self.bce, tolerance: self.tolerance, rep: self.rep };
-            diff(&self.screen, sent, width, how, &mut self.pen, out, &mut self.differs)
+            self.memo.prepare(sent.len(), self.tolerance);
+            let memo = Some(&mut self.memo);
+            diff(&self.screen, sent, width, how, &mut self.pen, out, &mut self.differs, memo)
         };
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
@@ -299,7 +305,7 @@ fn clear_and_paint(
     let blank = vec![PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg }; frame.len()];
     // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
     let how = How { bce, tolerance: 0, rep };
-    diff(&blank, &mut frame.to_vec(), width, how, &mut pen, out, &mut Vec::new());
+    diff(&blank, &mut frame.to_vec(), width, how, &mut pen, out, &mut Vec::new(), None);
     pen
 }
 
@@ -329,7 +335,8 @@ struct How {
 /// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
 /// cell of `new` within `how.tolerance` of `old` is left as `old` shows it, and a changed one may
 /// take the pen's colour where that is within the tolerance of its own (one SGR less); `new` is updated
-/// to what was sent. `differs` is scratch ([`mark_changes`]).
+/// to what was sent. `differs` is scratch ([`mark_changes`]); `memo`, the encoder's between frames.
+#[allow(clippy::too_many_arguments)]
 fn diff(
     old: &[PackedCell],
     new: &mut [PackedCell],
@@ -338,12 +345,18 @@ fn diff(
     pen: &mut Pen,
     out: &mut Vec<u8>,
     differs: &mut Vec<bool>,
+    memo: Option<&mut Memo>,
 ) -> usize {
     debug_assert_eq!(old.len(), new.len());
     let width = width.max(1);
     differs.clear();
-    for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
-        mark_changes(old_row, new_row, how.tolerance, differs);
+    match memo {
+        Some(memo) => memo.mark_changes(old, new, how.tolerance, differs),
+        None => {
+            for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
+                mark_changes(old_row, new_row, how.tolerance, differs);
+            }
+        }
     }
     // Columns first, where a column of one look goes cheaper down than across; then the rows.
     let mut changed = columns(new, width, how.tolerance, pen, out, differs);
@@ -381,15 +394,16 @@ fn columns(
     if height < MIN_COLUMN {
         return 0;
     }
+    let first = first_columns(new, differs, width, height);
     let mut changed = 0;
-    for x in 0..width {
+    for (x, &first) in first.iter().enumerate() {
         // Changed, and not in a run of its look along the row.
         let alone = |new: &[PackedCell], differs: &[bool], k: usize| {
             differs[k]
                 && !(x > 0 && differs[k - 1] && new[k - 1] == new[k])
                 && !(x + 1 < width && differs[k + 1] && new[k + 1] == new[k])
         };
-        let mut y = 0;
+        let mut y = first;
         while y < height {
             let k = y * width + x;
             if !alone(new, differs, k) {
@@ -414,6 +428,40 @@ fn columns(
     changed
 }
 
+/// For each column, the first row from which [`MIN_COLUMN`] cells down it are all changed and of
+/// one look (`height` where none is): [`columns`] starts there. Exact: a run [`columns`] could write
+/// starts at such a row (its cells are changed and of one look, and more besides); a shorter run
+/// before the first such row ends at it at the latest (a run over it would have one of at least
+/// [`MIN_COLUMN`] cells in it from a row further up), and nothing is written for it. These are
+/// the column's own cells, which writing the columns before it does not change. Row by row, eight
+/// flags a word: a column with nothing changed costs next to nothing.
+fn first_columns(new: &[PackedCell], differs: &[bool], width: usize, height: usize) -> Vec<usize> {
+    let mut first = vec![height; width];
+    for y in 0..height.saturating_sub(MIN_COLUMN - 1) {
+        let rows: [&[bool]; MIN_COLUMN] = std::array::from_fn(|i| &differs[(y + i) * width..][..width]);
+        let mut x = 0;
+        while x < width {
+            // Eight columns at a time where none has a changed cell in all the rows.
+            if x + 8 <= width {
+                let word = |row: &[bool]| row[x..x + 8].iter().fold(0u64, |w, &d| w << 8 | u64::from(d));
+                if rows.iter().fold(u64::MAX, |w, row| w & word(row)) == 0 {
+                    x += 8;
+                    continue;
+                }
+            }
+            let k = y * width + x;
+            if first[x] == height
+                && rows.iter().all(|row| row[x])
+                && (1..MIN_COLUMN).all(|i| new[k + i * width] == new[k])
+            {
+                first[x] = y;
+            }
+            x += 1;
+        }
+    }
+    first
+}
+
 /// Whether the `run` cells of one look from row `y` down column `x` cost fewer bytes down the
 /// column than in the rows: down, one colour change (from nothing known) and a [`DOWN_ONE`] a
 /// cell; across, each cell's colour change from its row's changed cell before it (the pen the rows
@@ -434,28 +482,94 @@ fn column_pays(new: &[PackedCell], differs: &[bool], width: usize, x: usize, y: 
     down < across
 }
 
+/// The last diff's frame (as given, before the tolerance) and which of its cells [`mark_changes`]
+/// left as the screen showed them. A cell left so stays as it was on screen (only changed cells are
+/// written), so where the next frame has it again the answer is the same: left, with no colour
+/// measured (walking, a wall's cells within the tolerance of the blanks on screen are asked about
+/// again every frame). Forgotten on a full paint, a resize and a new tolerance.
+#[derive(Clone, Debug, Default)]
+struct Memo {
+    before: Vec<PackedCell>,
+    left: Vec<bool>,
+    tolerance: u8,
+}
+
+impl Memo {
+    /// Ready for a diff of `cells` cells at `tolerance`: what it holds, if about such a diff, else
+    /// nothing left.
+    fn prepare(&mut self, cells: usize, tolerance: u8) {
+        if self.before.len() != cells || self.tolerance != tolerance {
+            let blank = PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg: PackedColor::DEFAULT };
+            self.before.clear();
+            self.before.resize(cells, blank);
+            self.left.clear();
+            self.left.resize(cells, false);
+            self.tolerance = tolerance;
+        }
+    }
+
+    /// [`mark_changes`] of the whole frame, answering from the memo where the frame's cell is one
+    /// it measured and left, and remembering those it measures and leaves. A cell equal to the
+    /// screen's is not written, nor is one answered from the memo: the screen's cell stays what it
+    /// was when remembered. Every other cell is forgotten (it may be written, or the screen take
+    /// the frame's spelling of the same look).
+    fn mark_changes(
+        &mut self,
+        old: &[PackedCell],
+        new: &mut [PackedCell],
+        tolerance: u8,
+        differs: &mut Vec<bool>,
+    ) {
+        debug_assert_eq!((self.before.len(), self.left.len()), (new.len(), new.len()));
+        let (before, left) = (&mut self.before[..], &mut self.left[..]);
+        differs.extend(old.iter().zip(new).enumerate().map(|(k, (shown, cell))| {
+            if shown == cell {
+                return false; // the common case, inline
+            }
+            if tolerance > 0 && cell.may_be_near(tolerance) {
+                // As `mark`, the memo first.
+                if left[k] && before[k] == *cell {
+                    *cell = *shown;
+                    return false;
+                }
+                let within = shown.looks_within(cell, tolerance);
+                if within {
+                    before[k] = *cell;
+                    *cell = *shown;
+                }
+                left[k] = within;
+                return !within;
+            }
+            left[k] = false;
+            !shown.looks_within(cell, 0)
+        }));
+    }
+}
+
 /// Which cells of row `new` look different from row `old` (one look comparison a cell: the diff's
 /// searches read the flags), appended to `differs`. A cell within `tolerance` of `old` is first set
 /// to `old`.
 fn mark_changes(old: &[PackedCell], new: &mut [PackedCell], tolerance: u8, differs: &mut Vec<bool>) {
-    differs.extend(old.iter().zip(new).map(|(shown, cell)| {
-        if shown == cell {
-            return false; // the common case, inline
+    differs.extend(old.iter().zip(new).map(|(shown, cell)| shown != cell && mark(shown, cell, tolerance)));
+}
+
+/// Whether `cell` looks different from `shown` (which it is not equal to); set to `shown` where
+/// within `tolerance` of it. ([`Memo::mark_changes`] is this with a memo.)
+#[inline(always)]
+fn mark(shown: &PackedCell, cell: &mut PackedCell, tolerance: u8) -> bool {
+    // Only truecolor colours and palette entries past the ANSI 16 with a neighbour that close
+    // can be close without being equal; a cell not within the tolerance does not look the same
+    // either (one comparison).
+    // Against what the screen shows, never the frame before: a slow fade is resent once it has
+    // moved the tolerance from what was sent, however small each frame's step.
+    if tolerance > 0 && cell.may_be_near(tolerance) {
+        let within = shown.looks_within(cell, tolerance);
+        if within {
+            *cell = *shown;
         }
-        // Only truecolor colours and palette entries past the ANSI 16 with a neighbour that close
-        // can be close without being equal; a cell not within the tolerance does not look the same
-        // either (one comparison).
-        // Against what the screen shows, never the frame before: a slow fade is resent once it has
-        // moved the tolerance from what was sent, however small each frame's step.
-        if tolerance > 0 && cell.may_be_near(tolerance) {
-            let within = shown.looks_within(cell, tolerance);
-            if within {
-                *cell = *shown;
-            }
-            return !within;
-        }
-        !shown.looks_within(cell, 0)
-    }));
+        return !within;
+    }
+    !shown.looks_within(cell, 0)
 }
 
 /// Where a row's tail of same-background spaces starts, and that background, if `\x1b[K` may erase it.
@@ -629,9 +743,13 @@ fn reach(
         Then::Erase(_) => None,
     };
     let mut from = x;
+    // The plain move, searched for once: priced here, written below if it wins.
+    let mut plain_move = None;
     if starts.iter().any(Option::is_some) {
-        let mut moved = *pen;
-        let mut best = move_len(&mut moved, x, y)
+        let found = find_move(pen, x, y);
+        plain_move = Some(found);
+        let mut moved = Pen { cursor: Some((x, y)), ..*pen };
+        let mut best = found.len
             + match plain_form {
                 Some((cell, sgr)) => sgr.len() + cell.ch.len_utf8(),
                 None => then.price(&mut moved, width),
@@ -642,7 +760,10 @@ fn reach(
             }
         }
     }
-    write_move(out, pen, from, y);
+    match plain_move {
+        Some(found) if from == x => write_found(out, pen, found),
+        _ => write_move(out, pen, from, y),
+    }
     for cell in &row[from..x] {
         write_cell(out, pen, cell, width, 0); // on screen already: exactly as it is
     }
@@ -876,6 +997,89 @@ mod tests {
     /// A pen at `cursor` with these colours.
     fn pen(cursor: Option<(usize, usize)>, fg: Option<Color>, bg: Option<Color>) -> Pen {
         Pen { cursor, fg: fg.map(PackedColor::pack), bg: bg.map(PackedColor::pack), blocks: true }
+    }
+
+    /// The column pass starts each column at the first row of [`MIN_COLUMN`] changed cells of one
+    /// look down it, found eight columns a word: against a plain search of every column, on grids
+    /// of two looks and sparse and dense changes, widths on and off a multiple of eight.
+    #[test]
+    fn a_column_starts_at_its_first_rows_of_changed_cells_of_one_look() {
+        let looks = [Cell::plain('a'), Cell::plain('b')].map(|cell| PackedCell::pack(&cell));
+        let mut seed = 0x2545_f491_u32;
+        let mut next = move |n: u32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed % n
+        };
+        let mut found = 0;
+        for (width, height) in [(1_usize, 1_usize), (7, 2), (8, 3), (13, 9), (24, 5), (120, 40)] {
+            for percent_changed in [5, 60, 95] {
+                let cells = width * height;
+                let new: Vec<PackedCell> = (0..cells).map(|_| looks[next(2) as usize]).collect();
+                let differs: Vec<bool> = (0..cells).map(|_| next(100) < percent_changed).collect();
+                let plain: Vec<usize> = (0..width)
+                    .map(|x| {
+                        (0..height.saturating_sub(MIN_COLUMN - 1))
+                            .find(|&y| {
+                                let k = y * width + x;
+                                (0..MIN_COLUMN)
+                                    .all(|i| differs[k + i * width] && new[k + i * width] == new[k])
+                            })
+                            .unwrap_or(height)
+                    })
+                    .collect();
+                assert_eq!(first_columns(&new, &differs, width, height), plain, "{width}x{height}");
+                found += plain.iter().filter(|&&y| y < height).count();
+            }
+        }
+        assert!(found > 100, "columns with a start: {found}");
+    }
+
+    /// The memo of cells left within the tolerance changes no byte: frames of half blocks drifting
+    /// by a shade or two (truecolor, near palette entries, the defaults and ANSI colours that switch
+    /// spelling), some cells going back to what they were, encoded by one encoder and by one that
+    /// forgets its memo before every frame, at tolerances 0, 2 and 5, with REP and without.
+    #[test]
+    fn the_memo_of_cells_left_changes_no_byte() {
+        let mut seed = 0x9e37_79b9_u32;
+        let mut next = move |n: u32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed % n
+        };
+        let (width, height) = (23, 7);
+        let grey = |v: u8| Color::Rgb(v, v, v.saturating_add(1));
+        let colours = [grey(100), grey(101), grey(102), grey(140), Color::Indexed(59), Color::Indexed(241)];
+        let colours = [&colours[..], &[Color::Default, Color::Indexed(4)]].concat();
+        let mut left_alone = 0;
+        for tolerance in [0, 2, 5] {
+            for rep in [false, true] {
+                let (mut with_memo, mut without) = (Encoder::new(), Encoder::new());
+                for encoder in [&mut with_memo, &mut without] {
+                    encoder.set_tolerance(tolerance);
+                    encoder.set_rep(rep);
+                }
+                let mut frame = Frame::filled(width, height, Cell { ch: '▀', fg: grey(100), bg: grey(101) });
+                for _ in 0..60 {
+                    for _ in 0..next(40) {
+                        let (x, y) = (next(width as u32) as usize, next(height as u32) as usize);
+                        let ch = ['▀', '▄', ' ', '█', 'x'][next(5) as usize];
+                        let pick = |k: u32| colours[k as usize % colours.len()];
+                        frame.set(x, y, Cell { ch, fg: pick(next(8)), bg: pick(next(8)) });
+                    }
+                    let (mut a, mut b) = (Vec::new(), Vec::new());
+                    without.memo.before.clear();
+                    let stats = with_memo.encode(&frame, &mut a);
+                    assert_eq!(stats, without.encode(&frame, &mut b));
+                    assert_eq!(a, b);
+                    assert_eq!(with_memo.screen, without.screen);
+                    left_alone += with_memo.memo.left.iter().filter(|&&l| l).count();
+                }
+            }
+        }
+        assert!(left_alone > 100, "cells answered or remembered: {left_alone}");
     }
 
     /// Escape codes carry their numbers in plain decimal: every number the fast paths cover and

@@ -45,9 +45,32 @@ pub(super) fn write_move(out: &mut Vec<u8>, pen: &mut Pen, x: usize, y: usize) {
     if pen.cursor == Some((x, y)) {
         return; // the diff's usual case: the next changed cell is the one after the last
     }
+    write_found(out, pen, find_move(pen, x, y));
+}
+
+/// A move [`find_move`] found from a pen: priced, and written by [`write_found`] from that pen
+/// without searching again.
+#[derive(Clone, Copy)]
+pub(super) struct Move {
+    x: usize,
+    y: usize,
+    /// Its bytes.
+    pub(super) len: usize,
+    route: Option<(Vertical, Horizontal)>,
+}
+
+/// The move [`write_move`] would send from `pen` to column `x`, row `y`.
+pub(super) fn find_move(pen: &Pen, x: usize, y: usize) -> Move {
     let (len, route) = shortest_move(pen.cursor, x, y);
+    Move { x, y, len, route }
+}
+
+/// Writes `found` ([`find_move`] from this pen) and updates the pen.
+pub(super) fn write_found(out: &mut Vec<u8>, pen: &mut Pen, found: Move) {
+    let Move { x, y, len, route } = found;
     let start = out.len();
     match (pen.cursor, route) {
+        _ if pen.cursor == Some((x, y)) => {}
         (Some((cx, _)), Some((vertical, horizontal))) => write_relative(out, cx, vertical, horizontal),
         _ => write_cup(out, x, y),
     }

@@ -112,6 +112,20 @@ impl PackedColor {
     }
 }
 
+/// Whether `a[0]` is within `tolerance` of `b[0]` and `a[1]` of `b[1]` ([`PackedColor::within`]),
+/// with one visit to the memo where both pairs are two different truecolor colours (the diff's
+/// usual question of a cell whose shade moved: ink against ink, paper against paper).
+#[inline]
+fn both_within(a: [PackedColor; 2], b: [PackedColor; 2], tolerance: u8) -> bool {
+    let rgb = |c: &PackedColor| c.0.get() >> 24 == RGB;
+    if tolerance > 0 && a[0] != b[0] && a[1] != b[1] && a.iter().chain(&b).all(rgb) {
+        let limit = f32::from(tolerance) * TOLERANCE_STEP;
+        let [p0, p1, q0, q1] = oklab([a[0], a[1], b[0], b[1]].map(|c| c.0.get()));
+        return distance2(p0, q0) <= limit * limit && distance2(p1, q1) <= limit * limit;
+    }
+    a[0].within(b[0], tolerance) && a[1].within(b[1], tolerance)
+}
+
 /// One step of the truecolor tolerance: an OKLab distance (ΔE_OK) of 0.01, about half of what an eye
 /// can tell apart side by side (a just-noticeable difference is about 0.02). Perceptual rather than
 /// per channel: an 8-bit step is a bigger change in a dark colour than in a light one, so a wall's
@@ -171,9 +185,9 @@ thread_local! {
         const { std::cell::RefCell::new([(0, [0.0; 3]); MEMO_SLOTS]) };
 }
 
-/// [`convert`] of both words, remembered ([`MEMO`]; one visit to the thread's memo for the pair).
+/// [`convert`] of the words, remembered ([`MEMO`]; one visit to the thread's memo for them all).
 #[inline]
-fn oklab(words: [u32; 2]) -> [[f32; 3]; 2] {
+fn oklab<const N: usize>(words: [u32; N]) -> [[f32; 3]; N] {
     MEMO.with_borrow_mut(|memo| {
         words.map(|word| {
             let entry =
@@ -271,8 +285,11 @@ impl PackedCell {
         if self.ch == other.ch {
             // The same glyph: ink against ink, paper against paper (what the regions come to when the
             // masks are equal; a space has no ink, a full block no paper).
-            return (self.ch == ' ' || self.fg.within(other.fg, tolerance))
-                && (self.ch == FULL_BLOCK || self.bg.within(other.bg, tolerance));
+            return match self.ch {
+                ' ' => self.bg.within(other.bg, tolerance),
+                FULL_BLOCK => self.fg.within(other.fg, tolerance),
+                _ => both_within([self.fg, self.bg], [other.fg, other.bg], tolerance),
+            };
         }
         self.looks_within_other_glyph(other, tolerance)
     }
@@ -283,7 +300,7 @@ impl PackedCell {
     fn looks_within_other_glyph(&self, other: &PackedCell, tolerance: u8) -> bool {
         // Half blocks (the default charset) and blanks: a top and a bottom half to compare.
         if let (Some(a), Some(b)) = (self.halves(), other.halves()) {
-            return a[0].within(b[0], tolerance) && a[1].within(b[1], tolerance);
+            return both_within(a, b, tolerance);
         }
         self.looks_within_by_regions(other, tolerance)
     }
