@@ -30,7 +30,7 @@ use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
 use mazewalk_math::rigid_inverse;
 use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
-use mazewalk_maze::light::ExitLight;
+use mazewalk_maze::light::{EXIT_LIGHT, ExitLight};
 use mazewalk_maze::{Aabb, Maze};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
@@ -479,7 +479,8 @@ impl Renderer {
             })
         };
         // The colour of a plane at `hit`, seen along `dir`: the reference, sample by sample.
-        let color_at = |hit: &PlaneHit, point: Vec3, dir: Vec3| -> Vec3 {
+        let mut cursor = glow.map(CellCursor::new);
+        let color_at = |hit: &PlaneHit, point: Vec3, dir: Vec3, cursor: &mut Option<CellCursor>| -> Vec3 {
             if shading == Shading::ViewDepth {
                 return Vec3::ZERO;
             }
@@ -494,8 +495,8 @@ impl Renderer {
                 }
                 None => checker(hit.plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST),
             };
-            if let Some(glow) = glow {
-                base = in_exit_light(glow, on_plane, hit.plane.1, base);
+            if let Some(cursor) = cursor {
+                base = cursor.tint(on_plane, hit.plane.1, base);
             }
             if let Some(exit) = exit.filter(|_| hit.plane.1 == FLOOR) {
                 // The exit's light on the floor round it, fading out over EXIT_GLOW_RADIUS.
@@ -536,7 +537,7 @@ impl Renderer {
                 });
                 // The exit's light, when the row's box meets the lit cells' (some samples may be lit).
                 let lit_row =
-                    glow.filter(|(_, light)| Aabb::new(a.min(b), a.max(b)).intersects(&light.bounds()));
+                    glow.is_some_and(|(_, light)| Aabb::new(a.min(b), a.max(b)).intersects(&light.bounds()));
                 if shading == Shading::Color && !glows && !self.reference_shading {
                     self.plane_row.fill_row(
                         &hit,
@@ -552,16 +553,30 @@ impl Renderer {
                     // where the ray starts inside the plane's solid side).
                     let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
                     let samples = colors.iter_mut().zip(depths.iter_mut()).zip(ids.iter_mut()).zip(paint);
-                    for (x, (((color, depth), id), &paint)) in samples.enumerate() {
+                    if let Some(cursor) = cursor.as_mut().filter(|_| lit_row) {
+                        // The tint is linear in the colour: the plane's colour tinted by the sample's
+                        // level (one of nine, for the row), times its checker, light and fog, is the
+                        // tinted sample.
+                        let strength = if hit.plane.1 == FLOOR { 1.0 } else { CEILING_EXIT_TINT };
+                        let tinted: [Vec3; EXIT_LIGHT as usize + 1] =
+                            std::array::from_fn(|level| exit_tinted(base, EXIT_GLOW, level as u8, strength));
+                        let levels = &mut self.plane_row.levels;
+                        let (start, dir) = at(0);
+                        let step = (start_step + dir_step * t).truncate();
+                        cursor.row_levels((start + dir * t).truncate(), step, width, levels);
+                        for ((((color, depth), id), &paint), &level) in samples.zip(levels.iter()) {
+                            if *id != NONE && *depth <= stays_at {
+                                continue;
+                            }
+                            let base = tinted[usize::from(level)];
+                            (*color, *depth, *id) = (base * paint + fog_term, f32::INFINITY, hit.plane.1);
+                        }
+                        continue;
+                    }
+                    for (((color, depth), id), &paint) in samples {
                         if *id != NONE && *depth <= stays_at {
                             continue;
                         }
-                        // The tint is linear in the colour: the plane's colour tinted, times the
-                        // sample's checker, light and fog, is the tinted sample.
-                        let base = lit_row.map_or(base, |glow| {
-                            let (start, dir) = at(x);
-                            in_exit_light(glow, (start + dir * t).truncate(), hit.plane.1, base)
-                        });
                         (*color, *depth, *id) = (base * paint + fog_term, f32::INFINITY, hit.plane.1);
                     }
                     continue;
@@ -585,7 +600,7 @@ impl Renderer {
                         start + dir * t
                     }
                 };
-                colors[x] = color_at(&hit, point, dir);
+                colors[x] = color_at(&hit, point, dir, &mut cursor);
                 depths[x] = f32::INFINITY;
                 ids[x] = hit.plane.1;
             }
@@ -852,16 +867,83 @@ fn plane_lights(eye: &Eye) -> (f32, f32) {
     )
 }
 
-/// `color` of floor or ceiling (`plane`) at `point` in the exit's light: tinted by the level of the
-/// cell `point` lies in ([`exit_tinted`]; the ceiling by [`CEILING_EXIT_TINT`]); as it is outside the
-/// lit cells' box, where no lookup is made.
-fn in_exit_light((maze, light): (&Maze, &ExitLight), point: Vec2, plane: u32, color: Vec3) -> Vec3 {
-    let bounds = light.bounds();
-    if !(point.cmpge(bounds.min).all() && point.cmple(bounds.max).all()) {
-        return color;
+/// Which cell floor and ceiling samples lie in, for the exit's light: the last cell found, kept
+/// while the samples stay in it (a row's samples cross a few cells), so most samples cost a test
+/// against the cell's edges instead of a search of the maze's cell index.
+struct CellCursor<'m> {
+    maze: &'m Maze,
+    light: &'m ExitLight,
+    /// The last cell found and its level.
+    cell: Option<(u32, u8)>,
+    /// That cell's edges, counter-clockwise: (start, start → end); inside is on their left.
+    edges: Vec<(Vec2, Vec2)>,
+}
+
+impl<'m> CellCursor<'m> {
+    fn new((maze, light): (&'m Maze, &'m ExitLight)) -> CellCursor<'m> {
+        CellCursor { maze, light, cell: None, edges: Vec::new() }
     }
-    let level = maze.cell_at(point).map_or(0, |cell| light.level(cell));
-    exit_tinted(color, EXIT_GLOW, level, if plane == FLOOR { 1.0 } else { CEILING_EXIT_TINT })
+
+    /// The exit's light level at `point` (0 outside the lit cells' box or the maze).
+    fn level(&mut self, point: Vec2) -> u8 {
+        let bounds = self.light.bounds();
+        if !(point.cmpge(bounds.min).all() && point.cmple(bounds.max).all()) {
+            self.cell = None;
+            return 0;
+        }
+        if let Some((_, level)) = self.cell
+            && self.edges.iter().all(|&(a, along)| along.perp_dot(point - a) >= 0.0)
+        {
+            return level; // still in the last cell
+        }
+        let Some(cell) = self.maze.cell_at(point) else {
+            self.cell = None;
+            return 0;
+        };
+        let level = self.light.level(cell);
+        self.cell = Some((cell, level));
+        self.edges.clear();
+        let maze = self.maze;
+        self.edges.extend(maze.cell_edges(cell).iter().map(|&e| {
+            let (a, b) = maze.edge_points_ccw(e, cell);
+            (a, b - a)
+        }));
+        level
+    }
+
+    /// The levels of a row's points `start + step × x`, x in 0..`width`, into `levels`: each cell
+    /// the row crosses is found once, and the run of samples inside it follows from its edges (each
+    /// edge bounds x by a linear inequality), so a row costs a search per cell crossed, not per sample.
+    fn row_levels(&mut self, start: Vec2, step: Vec2, width: usize, levels: &mut Vec<u8>) {
+        levels.clear();
+        while levels.len() < width {
+            let x = levels.len();
+            let point = start + step * x as f32;
+            let level = self.level(point);
+            if self.cell.is_none() {
+                levels.push(0); // outside the lit cells' box or the maze: one sample at a time
+                continue;
+            }
+            // The last x still inside the cell: each edge's side `c0 + c1·x ≥ 0` ends at −c0 ⁄ c1
+            // where c1 < 0.
+            let mut last = (width - 1) as f32;
+            for &(a, along) in &self.edges {
+                let (c0, c1) = (along.perp_dot(start - a), along.perp_dot(step));
+                if c1 < 0.0 {
+                    last = last.min(c0 / -c1);
+                }
+            }
+            let end = if last.is_finite() && last >= x as f32 { (last as usize).min(width - 1) } else { x };
+            levels.resize(end + 1, level.min(EXIT_LIGHT));
+        }
+    }
+
+    /// `color` of floor or ceiling (`plane`) at `point` in the exit's light: tinted by the level of
+    /// the cell `point` lies in ([`exit_tinted`]; the ceiling by [`CEILING_EXIT_TINT`]).
+    fn tint(&mut self, point: Vec2, plane: u32, color: Vec3) -> Vec3 {
+        let level = self.level(point);
+        exit_tinted(color, EXIT_GLOW, level, if plane == FLOOR { 1.0 } else { CEILING_EXIT_TINT })
+    }
 }
 
 /// Where a ray meets the floor or the ceiling (see `Renderer::fill_floor_and_ceiling`).
@@ -883,6 +965,8 @@ struct PlaneHit {
 #[derive(Debug, Default)]
 struct PlaneRow {
     shade: Vec<f32>,
+    /// The exit's light level of each sample of a row that comes near a lit cell.
+    levels: Vec<u8>,
 }
 
 impl PlaneRow {
