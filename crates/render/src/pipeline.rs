@@ -921,7 +921,9 @@ impl<'m> CellCursor<'m> {
             let point = start + step * x as f32;
             let level = self.level(point);
             if self.cell.is_none() {
-                levels.push(0); // outside the lit cells' box or the maze: one sample at a time
+                // Outside the lit cells' box (or the maze): dark up to where the row enters the box.
+                let next = self.enters_box(start, step, x).clamp(x + 1, width);
+                levels.resize(next, 0);
                 continue;
             }
             // The last x still inside the cell: each edge's side `c0 + c1·x ≥ 0` ends at −c0 ⁄ c1
@@ -936,6 +938,30 @@ impl<'m> CellCursor<'m> {
             let end = if last.is_finite() && last >= x as f32 { (last as usize).min(width - 1) } else { x };
             levels.resize(end + 1, level.min(EXIT_LIGHT));
         }
+    }
+
+    /// The first x after `x` at which the row `start + step × x` may be inside the lit cells' box
+    /// (`usize::MAX` if never).
+    fn enters_box(&self, start: Vec2, step: Vec2, x: usize) -> usize {
+        let bounds = self.light.bounds();
+        let (mut enter, mut leave) = (f32::NEG_INFINITY, f32::INFINITY);
+        for (p, d, lo, hi) in
+            [(start.x, step.x, bounds.min.x, bounds.max.x), (start.y, step.y, bounds.min.y, bounds.max.y)]
+        {
+            if d == 0.0 {
+                if !(lo..=hi).contains(&p) {
+                    return usize::MAX;
+                }
+                continue;
+            }
+            let (a, b) = ((lo - p) / d, (hi - p) / d);
+            (enter, leave) = (enter.max(a.min(b)), leave.min(a.max(b)));
+        }
+        if enter > leave || enter.is_nan() || leave.is_nan() || leave < x as f32 {
+            return usize::MAX; // never, or only behind x
+        }
+        // a sample before `enter` lies outside (one sample early, against rounding)
+        if enter > x as f32 { (enter.floor() as usize).max(x + 1) } else { x + 1 }
     }
 
     /// `color` of floor or ceiling (`plane`) at `point` in the exit's light: tinted by the level of
