@@ -561,9 +561,12 @@ impl Renderer {
                         let tinted: [Vec3; EXIT_LIGHT as usize + 1] =
                             std::array::from_fn(|level| exit_tinted(base, EXIT_GLOW, level as u8, strength));
                         let levels = &mut self.plane_row.levels;
-                        let (start, dir) = at(0);
+                        let point_at = |x: usize| {
+                            let (start, dir) = at(x);
+                            (start + dir * t).truncate() // as the per-sample path finds it
+                        };
                         let step = (start_step + dir_step * t).truncate();
-                        cursor.row_levels((start + dir * t).truncate(), step, width, levels);
+                        cursor.row_levels(point_at, (point_at(0), step), width, levels);
                         for ((((color, depth), id), &paint), &level) in samples.zip(levels.iter()) {
                             if *id != NONE && *depth <= stays_at {
                                 continue;
@@ -867,6 +870,10 @@ fn plane_lights(eye: &Eye) -> (f32, f32) {
     )
 }
 
+/// How far inside a cell (maze units) a point must be for [`CellCursor`] to take the last cell's
+/// level without asking the maze: well beyond the maze's on-edge tolerance (1e-4) and f32 rounding.
+const INSIDE_MARGIN: f32 = 1e-3;
+
 /// Which cell floor and ceiling samples lie in, for the exit's light: the last cell found, kept
 /// while the samples stay in it (a row's samples cross a few cells), so most samples cost a test
 /// against the cell's edges instead of a search of the maze's cell index.
@@ -884,7 +891,9 @@ impl<'m> CellCursor<'m> {
         CellCursor { maze, light, cell: None, edges: Vec::new() }
     }
 
-    /// The exit's light level at `point` (0 outside the lit cells' box or the maze).
+    /// The exit's light level at `point` (0 outside the lit cells' box or the maze). The same for a
+    /// point whatever the cursor's state: the last cell answers only for a point well inside it (by
+    /// [`INSIDE_MARGIN`], where no other cell holds it), a point near a boundary asks the maze.
     fn level(&mut self, point: Vec2) -> u8 {
         let bounds = self.light.bounds();
         if !(point.cmpge(bounds.min).all() && point.cmple(bounds.max).all()) {
@@ -892,7 +901,7 @@ impl<'m> CellCursor<'m> {
             return 0;
         }
         if let Some((_, level)) = self.cell
-            && self.edges.iter().all(|&(a, along)| along.perp_dot(point - a) >= 0.0)
+            && self.well_inside(point)
         {
             return level; // still in the last cell
         }
@@ -911,32 +920,56 @@ impl<'m> CellCursor<'m> {
         level
     }
 
-    /// The levels of a row's points `start + step × x`, x in 0..`width`, into `levels`: each cell
-    /// the row crosses is found once, and the run of samples inside it follows from its edges (each
-    /// edge bounds x by a linear inequality), so a row costs a search per cell crossed, not per sample.
-    fn row_levels(&mut self, start: Vec2, step: Vec2, width: usize, levels: &mut Vec<u8>) {
+    /// `point` is inside the last cell by at least [`INSIDE_MARGIN`] from every edge.
+    fn well_inside(&self, point: Vec2) -> bool {
+        self.edges.iter().all(|&(a, along)| along.perp_dot(point - a) >= INSIDE_MARGIN * along.length())
+    }
+
+    /// The levels of a row's points `point_at(x)` (`start + step × x`, up to rounding), x in
+    /// 0..`width`, into `levels`: the same as [`CellCursor::level`] of each point, but each cell the
+    /// row crosses is found once and the run of samples well inside it follows from its edges (each
+    /// bounds x by a linear inequality, its ends checked point by point), so a row costs a search per
+    /// cell crossed, not per sample.
+    fn row_levels(
+        &mut self,
+        point_at: impl Fn(usize) -> Vec2,
+        (start, step): (Vec2, Vec2),
+        width: usize,
+        levels: &mut Vec<u8>,
+    ) {
         levels.clear();
         while levels.len() < width {
             let x = levels.len();
-            let point = start + step * x as f32;
-            let level = self.level(point);
+            let point = point_at(x);
+            let level = self.level(point).min(EXIT_LIGHT);
             if self.cell.is_none() {
                 // Outside the lit cells' box (or the maze): dark up to where the row enters the box.
                 let next = self.enters_box(start, step, x).clamp(x + 1, width);
                 levels.resize(next, 0);
                 continue;
             }
-            // The last x still inside the cell: each edge's side `c0 + c1·x ≥ 0` ends at −c0 ⁄ c1
-            // where c1 < 0.
+            if !self.well_inside(point) {
+                levels.push(level); // near a boundary: this sample alone
+                continue;
+            }
+            // The last x still inside the cell: each edge's side `c0 + c1·x ≥ margin` ends at
+            // (margin − c0) ⁄ c1 where c1 < 0; then checked against the points themselves.
             let mut last = (width - 1) as f32;
             for &(a, along) in &self.edges {
                 let (c0, c1) = (along.perp_dot(start - a), along.perp_dot(step));
                 if c1 < 0.0 {
-                    last = last.min(c0 / -c1);
+                    last = last.min((INSIDE_MARGIN * along.length() - c0) / c1);
                 }
             }
-            let end = if last.is_finite() && last >= x as f32 { (last as usize).min(width - 1) } else { x };
-            levels.resize(end + 1, level.min(EXIT_LIGHT));
+            let mut end =
+                if last.is_finite() && last >= x as f32 { (last as usize).min(width - 1) } else { x };
+            while end > x && !self.well_inside(point_at(end)) {
+                end -= 1;
+            }
+            while end + 1 < width && self.well_inside(point_at(end + 1)) {
+                end += 1;
+            }
+            levels.resize(end + 1, level);
         }
     }
 
@@ -961,7 +994,8 @@ impl<'m> CellCursor<'m> {
             return usize::MAX; // never, or only behind x
         }
         // a sample before `enter` lies outside (one sample early, against rounding)
-        if enter > x as f32 { (enter.floor() as usize).max(x + 1) } else { x + 1 }
+        // two samples early, against rounding: every sample before lies outside
+        if enter > x as f32 + 2.0 { (enter.floor() as usize - 1).max(x + 1) } else { x + 1 }
     }
 
     /// `color` of floor or ceiling (`plane`) at `point` in the exit's light: tinted by the level of
@@ -1434,6 +1468,9 @@ mod tests {
                 }
             }
         }
+        eprintln!(
+            "tinted floor, ceiling {changed:?}, unchanged {unchanged}, 256-colour frames changed {frames_changed}"
+        );
         assert!(changed[0] > 5_000 && changed[1] > 2_000, "tinted floor, ceiling samples: {changed:?}");
         assert!(unchanged > 500_000, "samples beyond the light: {unchanged}");
         assert!(frames_changed >= 5, "256-colour frames the tint shows in: {frames_changed}");
