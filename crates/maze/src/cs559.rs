@@ -60,7 +60,7 @@ fn parse_with(file: &str, text: &str, split_bytes: usize) -> Result<Maze, ParseE
             let Some(cell) = maze.cell_at(p) else {
                 return Err(layout.locate(file, text, MazeError::ExitOutside { x: p.x, y: p.y }));
             };
-            Ok(Maze { exit: Some(Exit { cell, point: Some(p) }), ..maze })
+            Ok(maze.with_exit(Exit { cell, point: Some(p) }))
         }
         _ => Ok(maze),
     }

@@ -510,6 +510,9 @@ pub struct Maze {
     clearance: f32,
     /// The least vertical field of view the walk's camera keeps ([`Maze::min_vfov_deg`]); 0 = none.
     min_vfov_deg: f32,
+    /// The exit's light ([`Maze::exit_light`]), searched on first use and kept: a maze's walls and
+    /// exit never change once built.
+    exit_light: std::sync::OnceLock<light::ExitLight>,
 }
 
 /// Two mazes are equal when their vertices, edges, cells, viewer and exit are (the index and the
@@ -639,8 +642,18 @@ impl Maze {
         let (extents, cell_index) = index?;
         crossings?;
         let clearance = geometry::clearance_for(validate::narrowest_passage(&vertices, &edges, &cells));
-        let maze =
-            Maze { vertices, edges, cells, viewer, exit, extents, cell_index, clearance, min_vfov_deg: 0.0 };
+        let maze = Maze {
+            vertices,
+            edges,
+            cells,
+            viewer,
+            exit,
+            extents,
+            cell_index,
+            clearance,
+            min_vfov_deg: 0.0,
+            exit_light: std::sync::OnceLock::new(),
+        };
         validate::nesting(&maze)?;
         validate::viewer_and_exit(&maze)?;
         Ok(maze)
@@ -665,8 +678,18 @@ impl Maze {
         }
         let (extents, cell_index) = cell_index(&vertices, &edges, &cells, Threads::Two);
         let clearance = geometry::clearance_for(validate::narrowest_passage(&vertices, &edges, &cells));
-        let maze =
-            Maze { vertices, edges, cells, viewer, exit, extents, cell_index, clearance, min_vfov_deg: 0.0 };
+        let maze = Maze {
+            vertices,
+            edges,
+            cells,
+            viewer,
+            exit,
+            extents,
+            cell_index,
+            clearance,
+            min_vfov_deg: 0.0,
+            exit_light: std::sync::OnceLock::new(),
+        };
         validate::viewer_and_exit(&maze)?;
         Ok(maze)
     }
@@ -687,6 +710,18 @@ impl Maze {
     #[must_use]
     pub fn min_vfov_deg(&self) -> f32 {
         self.min_vfov_deg
+    }
+
+    /// The exit's light through this maze's cells ([`light::ExitLight::of`]), searched once, on first
+    /// use, and kept with the maze (the renderer asks for it every frame).
+    #[must_use]
+    pub fn exit_light(&self) -> &light::ExitLight {
+        self.exit_light.get_or_init(|| light::ExitLight::of(self))
+    }
+
+    /// This maze with its exit at `exit` (a cell the caller has checked), its exit's light searched anew.
+    pub(crate) fn with_exit(self, exit: Exit) -> Maze {
+        Maze { exit: Some(exit), exit_light: std::sync::OnceLock::new(), ..self }
     }
 
     /// This maze with [`Maze::min_vfov_deg`] set to `deg` (clamped to 0..=150; NaN is 0).

@@ -7,7 +7,7 @@
 //! Pure and bounded: one breadth-first search over the cell graph from the exit, which stops where the
 //! light runs out, so its cost is that of the cells it lights (O(cells) at worst).
 
-use crate::{CellId, Maze};
+use crate::{Aabb, CellId, Maze};
 use std::collections::{HashMap, VecDeque};
 
 /// The exit cell's light level. A cell `d` openings from the exit has `EXIT_LIGHT − d`, at least 0: the
@@ -18,10 +18,18 @@ pub const EXIT_LIGHT: u8 = 8;
 /// opening crossed on the shortest path from it, none (level 0) beyond. Only the lit cells are kept,
 /// so the search and the table are bounded by the light's reach, not by the maze: a 1000 × 1000 grid
 /// pays for the hundred-odd cells round its exit.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ExitLight {
     /// (cell, level), sorted by cell, every level > 0.
     lit: Vec<(CellId, u8)>,
+    /// The box round the lit cells (empty when none is lit): a point outside it is dark.
+    bounds: Aabb,
+}
+
+impl Default for ExitLight {
+    fn default() -> ExitLight {
+        ExitLight { lit: Vec::new(), bounds: Aabb::EMPTY }
+    }
 }
 
 impl ExitLight {
@@ -53,13 +61,23 @@ impl ExitLight {
         }
         let mut lit: Vec<(CellId, u8)> = level.into_iter().collect();
         lit.sort_unstable();
-        ExitLight { lit }
+        let bounds = lit.iter().fold(Aabb::EMPTY, |b, &(c, _)| {
+            let cell = maze.cell_aabb(c);
+            b.union_point(cell.min).union_point(cell.max)
+        });
+        ExitLight { lit, bounds }
     }
 
     /// The level of `cell`: 0..=[`EXIT_LIGHT`].
     #[must_use]
     pub fn level(&self, cell: CellId) -> u8 {
         self.lit.binary_search_by_key(&cell, |&(c, _)| c).map_or(0, |k| self.lit[k].1)
+    }
+
+    /// The box round the lit cells ([`Aabb::EMPTY`] when none is): every point of a lit cell is in it.
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
     }
 
     /// How many cells the light reaches.
@@ -156,6 +174,40 @@ mod tests {
         let level = [ExitLight::of(&walled).level(0), ExitLight::of(&walled).level(1)];
         assert_eq!(level[exit], EXIT_LIGHT);
         assert_eq!(level[1 - exit], 0, "through a wall: no light");
+    }
+
+    #[test]
+    fn the_maze_keeps_its_light_and_the_box_holds_every_lit_cell() {
+        let maze = generate(&GenOptions {
+            width: 20,
+            height: 15,
+            seed: 71,
+            loops: 0.1,
+            exit: true,
+            ..GenOptions::default()
+        })
+        .expect("maze");
+        let kept: *const ExitLight = maze.exit_light();
+        assert!(std::ptr::eq(kept, maze.exit_light()), "searched once, then kept");
+        let light = ExitLight::of(&maze);
+        assert_eq!(*maze.exit_light(), light);
+        assert!(light.lit_cells() > 8, "{}", light.lit_cells());
+        let bounds = light.bounds();
+        let mut dark_outside = 0;
+        for c in 0..maze.cell_count() as u32 {
+            let cell = maze.cell_aabb(c);
+            let inside = bounds.contains(&cell);
+            if light.level(c) > 0 {
+                assert!(inside, "lit cell {c} {cell:?} outside {bounds:?}");
+            } else if !bounds.intersects(&cell) {
+                dark_outside += 1;
+            }
+        }
+        assert!(
+            dark_outside > maze.cell_count() / 2,
+            "the box is the light's, not the maze's: {dark_outside}"
+        );
+        assert!(ExitLight::default().bounds().is_empty());
     }
 
     #[test]

@@ -147,7 +147,8 @@ impl Renderer {
                 (stats.triangles + triangles, stats.samples_written + written);
         }
         let filter = textures.then_some(light.per_sample); // floor and ceiling: each ray meets z = ∓1
-        self.fill_floor_and_ceiling(eye, &light.fog, shading, maze.exit_point(), filter);
+        let glow = light.exit_light.filter(|_| !self.no_plane_tint).map(|exit_light| (maze, exit_light));
+        self.fill_floor_and_ceiling(eye, &light.fog, shading, maze.exit_point(), filter, glow); // tinted by the exit's light
         stats
     }
 }

@@ -22,16 +22,16 @@ use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, LANES, Lanes3, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
-    FOG_FADE, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker, checker_filtered, edge_color,
-    exit_tinted, headlight, jamb_color, lit, luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor,
-    wall_albedo,
+    CEILING_EXIT_TINT, FOG_FADE, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker,
+    checker_filtered, edge_color, exit_tinted, headlight, jamb_color, lit, luminance, seam_color,
+    slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
 use mazewalk_math::rigid_inverse;
-use mazewalk_maze::Maze;
 use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
-use mazewalk_maze::light::ExitLight;
+use mazewalk_maze::light::{EXIT_LIGHT, ExitLight};
+use mazewalk_maze::{Aabb, Maze};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// Light that reaches a wall whatever its angle to the headlight: the share of its colour a wall seen
@@ -74,7 +74,7 @@ pub(crate) enum Shading {
 }
 
 /// What lights a view, the same for all its walls.
-pub(crate) struct Light {
+pub(crate) struct Light<'m> {
     pub(crate) fog: Fog,
     /// The sun's direction in view space (a direction: it turns as normals do).
     sun_view: Vec3,
@@ -84,14 +84,15 @@ pub(crate) struct Light {
     view_to_world: glam::Mat4,
     /// Maze units one sample covers per unit of view depth (perspective), or in all (orthographic).
     pub(crate) per_sample: f32,
-    /// The exit's light through the maze's cells ([`ExitLight`]): what tints a wall toward the exit.
-    exit_light: ExitLight,
+    /// The exit's light through the maze's cells ([`ExitLight`], kept by the maze: searched once):
+    /// what tints walls, floor and ceiling toward the exit; `None` when this frame draws no tint.
+    pub(crate) exit_light: Option<&'m ExitLight>,
 }
 
-impl Light {
-    pub(crate) fn of(eye: &Eye, maze: &Maze, exit_tint: bool) -> Light {
+impl<'m> Light<'m> {
+    pub(crate) fn of(eye: &Eye, maze: &'m Maze, exit_tint: bool) -> Light<'m> {
         Light {
-            exit_light: if exit_tint { ExitLight::of(maze) } else { ExitLight::default() },
+            exit_light: exit_tint.then(|| maze.exit_light()),
             fog: fog_of(eye),
             sun_view: (eye.normal_to_view * SUN_WORLD).normalize_or_zero(),
             ortho: eye.camera.projection == Projection::Orthographic,
@@ -136,6 +137,12 @@ pub struct Renderer {
     /// This frame draws no tint of the exit's light: in 16 colours, where the nearest palette entry
     /// of a tinted green wall is the beacon's own bright green (a wall must never read as the beacon).
     pub(crate) no_exit_tint: bool,
+    /// This frame tints no floor or ceiling by the exit's light: in 16 colours (as walls) and without
+    /// colour (ascii shows lightness only: the frame stays exactly as without the tint).
+    pub(crate) no_plane_tint: bool,
+    /// Tests: draw floor and ceiling as if the maze had no exit's light (walls as ever).
+    #[cfg(test)]
+    pub(crate) plane_tint_off: bool,
     /// This frame keeps walls lit apart from the floor ([`apart_from_floor`]): in colour. Without
     /// colour the ascii charset tells floor and ceiling by their own glyphs, and its wall glyphs by
     /// lightness alone; raised walls would all take the ramp's top glyphs and lose their distance.
@@ -233,6 +240,11 @@ impl Renderer {
     ) -> Result<RenderStats, CameraError> {
         let RenderOptions { charset, color_depth, culling, cell_aspect, textures, .. } = *options;
         self.no_exit_tint = color_depth == ColorDepth::Ansi16;
+        self.no_plane_tint = matches!(color_depth, ColorDepth::Ansi16 | ColorDepth::None);
+        #[cfg(test)]
+        {
+            self.no_plane_tint |= self.plane_tint_off;
+        }
         self.walls_apart = color_depth != ColorDepth::None;
         match target {
             Target::Frame(frame, region) => {
@@ -367,11 +379,12 @@ impl Renderer {
         // stop it, so the far side of a wall keeps its own cell's level.
         let eye_left = (eye.camera.position - a).perp_dot(b - a) < 0.0;
         let side = if eye_left { edge.left } else { edge.right };
-        let level = side.map_or(0, |cell| light.exit_light.level(cell));
+        let level = side.zip(light.exit_light).map_or(0, |(cell, exit_light)| exit_light.level(cell));
         let lit_albedo = palette::off_floor_and_ceiling(exit_tinted(
             lit(albedo, headlight(normal_view), AMBIENT),
             EXIT_GLOW,
             level,
+            1.0,
         ));
         let triangles = self.polygon_grid.len() - 2;
         let fog = &light.fog;
@@ -414,6 +427,9 @@ impl Renderer {
     /// floor-to-ceiling slab) exact against brute force.
     /// With `filter` (maze units a sample covers per unit of distance), the tiles fade to their mean as
     /// they shrink below a sample ([`checker_filtered`]).
+    /// With `glow` (the maze and its exit's light), a sample in a lit cell turns toward the exit's
+    /// colour by its cell's level as a wall does ([`exit_tinted`], the ceiling by
+    /// [`CEILING_EXIT_TINT`]), its luminance kept: rows that come near no lit cell take the fast path.
     pub(crate) fn fill_floor_and_ceiling(
         &mut self,
         eye: &Eye,
@@ -421,7 +437,9 @@ impl Renderer {
         shading: Shading,
         exit: Option<Vec2>,
         filter: Option<f32>,
+        glow: Option<(&Maze, &ExitLight)>,
     ) {
+        let glow = glow.filter(|(_, light)| light.lit_cells() > 0);
         let floor = (FLOOR_Z, FLOOR, FLOOR_SRGB.map(srgb_to_linear));
         let ceiling = (CEILING_Z, CEILING, CEILING_SRGB.map(srgb_to_linear));
         let perspective = eye.camera.projection == Projection::Perspective;
@@ -461,7 +479,8 @@ impl Renderer {
             })
         };
         // The colour of a plane at `hit`, seen along `dir`: the reference, sample by sample.
-        let color_at = |hit: &PlaneHit, point: Vec3, dir: Vec3| -> Vec3 {
+        let mut cursor = glow.map(CellCursor::new);
+        let color_at = |hit: &PlaneHit, point: Vec3, dir: Vec3, cursor: &mut Option<CellCursor>| -> Vec3 {
             if shading == Shading::ViewDepth {
                 return Vec3::ZERO;
             }
@@ -476,6 +495,9 @@ impl Renderer {
                 }
                 None => checker(hit.plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST),
             };
+            if let Some(cursor) = cursor {
+                base = cursor.tint(on_plane, hit.plane.1, base);
+            }
             if let Some(exit) = exit.filter(|_| hit.plane.1 == FLOOR) {
                 // The exit's light on the floor round it, fading out over EXIT_GLOW_RADIUS.
                 let d2 = on_plane.distance_squared(exit);
@@ -513,6 +535,9 @@ impl Renderer {
                 let glows = exit.is_some_and(|exit| {
                     hit.plane.1 == FLOOR && segment_distance(exit, a, b) <= EXIT_GLOW_RADIUS * 1.001
                 });
+                // The exit's light, when the row's box meets the lit cells' (some samples may be lit).
+                let lit_row =
+                    glow.is_some_and(|(_, light)| Aabb::new(a.min(b), a.max(b)).intersects(&light.bounds()));
                 if shading == Shading::Color && !glows && !self.reference_shading {
                     self.plane_row.fill_row(
                         &hit,
@@ -528,6 +553,29 @@ impl Renderer {
                     // where the ray starts inside the plane's solid side).
                     let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
                     let samples = colors.iter_mut().zip(depths.iter_mut()).zip(ids.iter_mut()).zip(paint);
+                    if let Some(cursor) = cursor.as_mut().filter(|_| lit_row) {
+                        // The tint is linear in the colour: the plane's colour tinted by the sample's
+                        // level (one of nine, for the row), times its checker, light and fog, is the
+                        // tinted sample.
+                        let strength = if hit.plane.1 == FLOOR { 1.0 } else { CEILING_EXIT_TINT };
+                        let tinted: [Vec3; EXIT_LIGHT as usize + 1] =
+                            std::array::from_fn(|level| exit_tinted(base, EXIT_GLOW, level as u8, strength));
+                        let levels = &mut self.plane_row.levels;
+                        let point_at = |x: usize| {
+                            let (start, dir) = at(x);
+                            (start + dir * t).truncate() // as the per-sample path finds it
+                        };
+                        let step = (start_step + dir_step * t).truncate();
+                        cursor.row_levels(point_at, (point_at(0), step), width, levels);
+                        for ((((color, depth), id), &paint), &level) in samples.zip(levels.iter()) {
+                            if *id != NONE && *depth <= stays_at {
+                                continue;
+                            }
+                            let base = tinted[usize::from(level)];
+                            (*color, *depth, *id) = (base * paint + fog_term, f32::INFINITY, hit.plane.1);
+                        }
+                        continue;
+                    }
                     for (((color, depth), id), &paint) in samples {
                         if *id != NONE && *depth <= stays_at {
                             continue;
@@ -555,7 +603,7 @@ impl Renderer {
                         start + dir * t
                     }
                 };
-                colors[x] = color_at(&hit, point, dir);
+                colors[x] = color_at(&hit, point, dir, &mut cursor);
                 depths[x] = f32::INFINITY;
                 ids[x] = hit.plane.1;
             }
@@ -822,6 +870,142 @@ fn plane_lights(eye: &Eye) -> (f32, f32) {
     )
 }
 
+/// How far inside a cell (maze units) a point must be for [`CellCursor`] to take the last cell's
+/// level without asking the maze: well beyond the maze's on-edge tolerance (1e-4) and f32 rounding.
+const INSIDE_MARGIN: f32 = 1e-3;
+
+/// Which cell floor and ceiling samples lie in, for the exit's light: the last cell found, kept
+/// while the samples stay in it (a row's samples cross a few cells), so most samples cost a test
+/// against the cell's edges instead of a search of the maze's cell index.
+struct CellCursor<'m> {
+    maze: &'m Maze,
+    light: &'m ExitLight,
+    /// The last cell found and its level.
+    cell: Option<(u32, u8)>,
+    /// That cell's edges, counter-clockwise: (start, start → end); inside is on their left.
+    edges: Vec<(Vec2, Vec2)>,
+}
+
+impl<'m> CellCursor<'m> {
+    fn new((maze, light): (&'m Maze, &'m ExitLight)) -> CellCursor<'m> {
+        CellCursor { maze, light, cell: None, edges: Vec::new() }
+    }
+
+    /// The exit's light level at `point` (0 outside the lit cells' box or the maze). The same for a
+    /// point whatever the cursor's state: the last cell answers only for a point well inside it (by
+    /// [`INSIDE_MARGIN`], where no other cell holds it), a point near a boundary asks the maze.
+    fn level(&mut self, point: Vec2) -> u8 {
+        let bounds = self.light.bounds();
+        if !(point.cmpge(bounds.min).all() && point.cmple(bounds.max).all()) {
+            self.cell = None;
+            return 0;
+        }
+        if let Some((_, level)) = self.cell
+            && self.well_inside(point)
+        {
+            return level; // still in the last cell
+        }
+        let Some(cell) = self.maze.cell_at(point) else {
+            self.cell = None;
+            return 0;
+        };
+        let level = self.light.level(cell);
+        self.cell = Some((cell, level));
+        self.edges.clear();
+        let maze = self.maze;
+        self.edges.extend(maze.cell_edges(cell).iter().map(|&e| {
+            let (a, b) = maze.edge_points_ccw(e, cell);
+            (a, b - a)
+        }));
+        level
+    }
+
+    /// `point` is inside the last cell by at least [`INSIDE_MARGIN`] from every edge.
+    fn well_inside(&self, point: Vec2) -> bool {
+        self.edges.iter().all(|&(a, along)| along.perp_dot(point - a) >= INSIDE_MARGIN * along.length())
+    }
+
+    /// The levels of a row's points `point_at(x)` (`start + step × x`, up to rounding), x in
+    /// 0..`width`, into `levels`: the same as [`CellCursor::level`] of each point, but each cell the
+    /// row crosses is found once and the run of samples well inside it follows from its edges (each
+    /// bounds x by a linear inequality, its ends checked point by point), so a row costs a search per
+    /// cell crossed, not per sample.
+    fn row_levels(
+        &mut self,
+        point_at: impl Fn(usize) -> Vec2,
+        (start, step): (Vec2, Vec2),
+        width: usize,
+        levels: &mut Vec<u8>,
+    ) {
+        levels.clear();
+        while levels.len() < width {
+            let x = levels.len();
+            let point = point_at(x);
+            let level = self.level(point).min(EXIT_LIGHT);
+            if self.cell.is_none() {
+                // Outside the lit cells' box (or the maze): dark up to where the row enters the box.
+                let next = self.enters_box(start, step, x).clamp(x + 1, width);
+                levels.resize(next, 0);
+                continue;
+            }
+            if !self.well_inside(point) {
+                levels.push(level); // near a boundary: this sample alone
+                continue;
+            }
+            // The last x still inside the cell: each edge's side `c0 + c1·x ≥ margin` ends at
+            // (margin − c0) ⁄ c1 where c1 < 0; then checked against the points themselves.
+            let mut last = (width - 1) as f32;
+            for &(a, along) in &self.edges {
+                let (c0, c1) = (along.perp_dot(start - a), along.perp_dot(step));
+                if c1 < 0.0 {
+                    last = last.min((INSIDE_MARGIN * along.length() - c0) / c1);
+                }
+            }
+            let mut end =
+                if last.is_finite() && last >= x as f32 { (last as usize).min(width - 1) } else { x };
+            while end > x && !self.well_inside(point_at(end)) {
+                end -= 1;
+            }
+            while end + 1 < width && self.well_inside(point_at(end + 1)) {
+                end += 1;
+            }
+            levels.resize(end + 1, level);
+        }
+    }
+
+    /// The first x after `x` at which the row `start + step × x` may be inside the lit cells' box
+    /// (`usize::MAX` if never).
+    fn enters_box(&self, start: Vec2, step: Vec2, x: usize) -> usize {
+        let bounds = self.light.bounds();
+        let (mut enter, mut leave) = (f32::NEG_INFINITY, f32::INFINITY);
+        for (p, d, lo, hi) in
+            [(start.x, step.x, bounds.min.x, bounds.max.x), (start.y, step.y, bounds.min.y, bounds.max.y)]
+        {
+            if d == 0.0 {
+                if !(lo..=hi).contains(&p) {
+                    return usize::MAX;
+                }
+                continue;
+            }
+            let (a, b) = ((lo - p) / d, (hi - p) / d);
+            (enter, leave) = (enter.max(a.min(b)), leave.min(a.max(b)));
+        }
+        if enter > leave || enter.is_nan() || leave.is_nan() || leave < x as f32 {
+            return usize::MAX; // never, or only behind x
+        }
+        // a sample before `enter` lies outside (one sample early, against rounding)
+        // two samples early, against rounding: every sample before lies outside
+        if enter > x as f32 + 2.0 { (enter.floor() as usize - 1).max(x + 1) } else { x + 1 }
+    }
+
+    /// `color` of floor or ceiling (`plane`) at `point` in the exit's light: tinted by the level of
+    /// the cell `point` lies in ([`exit_tinted`]; the ceiling by [`CEILING_EXIT_TINT`]).
+    fn tint(&mut self, point: Vec2, plane: u32, color: Vec3) -> Vec3 {
+        let level = self.level(point);
+        exit_tinted(color, EXIT_GLOW, level, if plane == FLOOR { 1.0 } else { CEILING_EXIT_TINT })
+    }
+}
+
 /// Where a ray meets the floor or the ceiling (see `Renderer::fill_floor_and_ceiling`).
 #[derive(Clone, Copy, Debug)]
 struct PlaneHit {
@@ -841,6 +1025,8 @@ struct PlaneHit {
 #[derive(Debug, Default)]
 struct PlaneRow {
     shade: Vec<f32>,
+    /// The exit's light level of each sample of a row that comes near a lit cell.
+    levels: Vec<u8>,
 }
 
 impl PlaneRow {
@@ -1183,5 +1369,160 @@ mod tests {
             }
         }
         assert!(wall_samples > 1_000_000, "the views show few walls: {wall_samples} samples");
+    }
+
+    /// Seed 71's 20 × 15 maze (as the exit-light tests and the pictures use it).
+    fn seed_71() -> Maze {
+        generate(&GenOptions {
+            width: 20,
+            height: 15,
+            seed: 71,
+            loops: 0.1,
+            exit: true,
+            ..GenOptions::default()
+        })
+        .expect("maze")
+    }
+
+    /// `camera`'s view at 120 × 40 in `color_depth`, floor and ceiling in the exit's light or not:
+    /// the samples' colours and ids, the frame, and the cells the portal pass visited.
+    fn view(
+        maze: &Maze,
+        camera: &Camera,
+        color_depth: ColorDepth,
+        plane_tint_off: bool,
+    ) -> (Vec<Vec3>, Vec<u32>, Frame, Vec<u32>) {
+        let mut frame = Frame::new(120, 40);
+        let region = frame.region();
+        let mut renderer = Renderer { plane_tint_off, ..Renderer::new() };
+        let options = RenderOptions { color_depth, ..RenderOptions::default() };
+        renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
+        let samples = renderer.samples();
+        (samples.color().to_vec(), samples.id().to_vec(), frame, renderer.portal.visited.clone())
+    }
+
+    /// The camera at cell `cell`'s centre facing `heading`, as the walk stands there.
+    fn standing(maze: &Maze, cell: u32, heading: f32) -> Camera {
+        let v = maze.viewer();
+        Camera {
+            eye_z: v.z,
+            min_vfov_deg: maze.min_vfov_deg(),
+            ..Camera::new(maze.cell_centroid(cell), heading, v.fov_deg)
+        }
+    }
+
+    /// How far a colour's chromaticity is from the exit's light's.
+    fn off_exit_hue(c: Vec3) -> f32 {
+        let chromaticity = |c: Vec3| c / (c.x + c.y + c.z).max(1e-6);
+        chromaticity(c).distance(chromaticity(EXIT_GLOW))
+    }
+
+    /// Issue #39: a floor or ceiling sample lying in a lit cell turns toward the exit's hue, its
+    /// luminance kept; one in a dark cell is drawn exactly as without the exit's light. In 256
+    /// colours the tint shows in the frame.
+    #[test]
+    fn floor_and_ceiling_in_lit_cells_lean_toward_the_exit_and_dark_ones_do_not() {
+        let maze = seed_71();
+        let light = maze.exit_light();
+        let (mut changed, mut unchanged, mut frames_changed) = ([0usize; 2], 0usize, 0usize);
+        let level_at = |p: Vec2| maze.cell_at(p).map_or(0, |c| light.level(c));
+        for cell in 0..maze.cell_count() as u32 {
+            for heading in [0.0, 90.0, 180.0, 270.0] {
+                let camera = standing(&maze, cell, heading);
+                let eye = camera.eye(120, 80, Charset::Half.sample_aspect(0.5)).expect("camera");
+                let (lit, ids, ..) = view(&maze, &camera, ColorDepth::TrueColor, false);
+                let (unlit, unlit_ids, ..) = view(&maze, &camera, ColorDepth::TrueColor, true);
+                assert_eq!(ids, unlit_ids);
+                for (k, (&a, &b)) in lit.iter().zip(&unlit).enumerate() {
+                    let (plane, z) = match ids[k] {
+                        FLOOR => (0, FLOOR_Z),
+                        CEILING => (1, CEILING_Z),
+                        _ => {
+                            assert_eq!(a, b, "cell {cell} heading {heading}: wall sample {k}");
+                            continue;
+                        }
+                    };
+                    // Where the sample's ray meets its plane, and the levels there and just round it
+                    // (a sample on a boundary between cells of two levels is left out).
+                    let (start, dir) = eye.ray((k % 120) as f32 + 0.5, (k / 120) as f32 + 0.5);
+                    let p = (start + dir * ((z - start.z) / dir.z)).truncate();
+                    let near =
+                        [Vec2::ZERO, Vec2::X, -Vec2::X, Vec2::Y, -Vec2::Y].map(|d| level_at(p + d * 0.01));
+                    let what = format!("cell {cell} heading {heading} sample {k} at {p}: {a} lit, {b} unlit");
+                    if near.iter().all(|&l| l == 0) {
+                        assert_eq!(a, b, "{what}: dark, yet tinted");
+                        unchanged += 1;
+                    } else if near.iter().all(|&l| l > 0) {
+                        assert!(off_exit_hue(a) < off_exit_hue(b), "{what}: lit, not nearer the exit's hue");
+                        assert!(
+                            (luminance(a) - luminance(b)).abs() <= 1e-3 * luminance(b) + 1e-6,
+                            "{what}: luminance not kept"
+                        );
+                        changed[plane] += 1;
+                    }
+                }
+                if light.level(cell) > 0 && heading == 0.0 {
+                    let (_, _, with, _) = view(&maze, &camera, ColorDepth::Ansi256, false);
+                    let (_, _, without, _) = view(&maze, &camera, ColorDepth::Ansi256, true);
+                    frames_changed += usize::from(with != without);
+                }
+            }
+        }
+        eprintln!(
+            "tinted floor, ceiling {changed:?}, unchanged {unchanged}, 256-colour frames changed {frames_changed}"
+        );
+        assert!(changed[0] > 5_000 && changed[1] > 2_000, "tinted floor, ceiling samples: {changed:?}");
+        assert!(unchanged > 500_000, "samples beyond the light: {unchanged}");
+        assert!(frames_changed >= 5, "256-colour frames the tint shows in: {frames_changed}");
+    }
+
+    /// Issue #39: where the exit's light is brighter its tint on the floor is stronger: at the centre
+    /// of each lit cell, the floor at the viewer's feet (looking straight down) is further toward the
+    /// exit's hue the higher the cell's level, and the exit cell's floor the furthest.
+    #[test]
+    fn the_floor_glow_grows_toward_the_exit() {
+        let maze = seed_71();
+        let light = maze.exit_light();
+        let exit = maze.exit().expect("exit").cell;
+        let mut by_level: Vec<(u8, f32)> = Vec::new();
+        for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0 && c != exit) {
+            let camera = Camera { pitch_deg: -89.0, ..standing(&maze, cell, 0.0) };
+            let (lit, ids, ..) = view(&maze, &camera, ColorDepth::TrueColor, false);
+            let (unlit, ..) = view(&maze, &camera, ColorDepth::TrueColor, true);
+            let middle = 20 * 2 / 2 * 120 + 60; // the middle sample of the 120 × 80 half-block grid
+            assert_eq!(ids[middle], FLOOR, "cell {cell}: looking down");
+            by_level.push((light.level(cell), off_exit_hue(unlit[middle]) - off_exit_hue(lit[middle])));
+        }
+        by_level.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        assert!(by_level.len() >= 8, "{by_level:?}");
+        for pair in by_level.windows(2) {
+            let ((la, da), (lb, db)) = (pair[0], pair[1]);
+            assert!(da > 0.0, "level {la}: no tint at the feet");
+            if la < lb {
+                assert!(db > da, "level {lb} ({db}) not further toward the exit than level {la} ({da})");
+            }
+        }
+    }
+
+    /// Issue #39: in 16 colours (a tinted floor's nearest entry could be the beacon's green) and
+    /// without colour (ascii shows lightness only) the exit's light draws nothing on floor or ceiling:
+    /// every lit cell's four views give the same frame and samples as with it off.
+    #[test]
+    fn sixteen_colours_and_no_colour_draw_no_tint_on_floor_or_ceiling() {
+        let maze = seed_71();
+        let light = maze.exit_light();
+        let mut views = 0;
+        for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0) {
+            for heading in [0.0, 90.0, 180.0, 270.0] {
+                let camera = standing(&maze, cell, heading);
+                for depth in [ColorDepth::Ansi16, ColorDepth::None] {
+                    let (a, _, frame_a, _) = view(&maze, &camera, depth, false);
+                    let (b, _, frame_b, _) = view(&maze, &camera, depth, true);
+                    assert!(a == b && frame_a == frame_b, "cell {cell} heading {heading} {depth:?}");
+                    views += 1;
+                }
+            }
+        }
+        assert!(views >= 64, "{views}");
     }
 }

@@ -74,17 +74,22 @@ pub(crate) fn apart_from_floor(color: Vec3, floor_luminance: f32, ambient: f32) 
 /// 0..1); each cell of path further, one [`EXIT_LIGHT`](mazewalk_maze::light::EXIT_LIGHT)th less.
 pub(crate) const EXIT_TINT: f32 = 0.4;
 
+/// The ceiling's share of the exit's tint, against the floor's and the walls' 1: the light is on the
+/// ground (the beacon stands on it), the ceiling only catches a fainter glow of it.
+pub(crate) const CEILING_EXIT_TINT: f32 = 0.5;
+
 /// A surface of `color` lit by the exit's light at `level` (0..=`EXIT_LIGHT`, the cell's level:
 /// [`mazewalk_maze::light::ExitLight`]): turned toward `glow`'s hue by [`EXIT_TINT`] × level ⁄
-/// `EXIT_LIGHT`, its luminance kept. So the tint grows cell by cell toward the exit (a trail to
+/// `EXIT_LIGHT` × `strength` (1 for walls and floor, [`CEILING_EXIT_TINT`] for the ceiling), its
+/// luminance kept. So the tint grows cell by cell toward the exit (a trail to
 /// follow), never makes a wall brighter (the walls-apart rule holds, and nothing matches the beacon,
 /// which is far lighter and saturated), and in ASCII, which draws luminance only, changes nothing.
 #[must_use]
-pub(crate) fn exit_tinted(color: Vec3, glow: Vec3, level: u8) -> Vec3 {
+pub(crate) fn exit_tinted(color: Vec3, glow: Vec3, level: u8, strength: f32) -> Vec3 {
     if level == 0 {
         return color;
     }
-    let share = EXIT_TINT * f32::from(level.min(mazewalk_maze::light::EXIT_LIGHT))
+    let share = EXIT_TINT * strength * f32::from(level.min(mazewalk_maze::light::EXIT_LIGHT))
         / f32::from(mazewalk_maze::light::EXIT_LIGHT);
     let glow_luminance = luminance(glow).max(1e-6);
     color.lerp(glow * (luminance(color) / glow_luminance), share)
