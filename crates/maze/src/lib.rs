@@ -641,19 +641,7 @@ impl Maze {
         };
         let (extents, cell_index) = index?;
         crossings?;
-        let clearance = geometry::clearance_for(validate::narrowest_passage(&vertices, &edges, &cells));
-        let maze = Maze {
-            vertices,
-            edges,
-            cells,
-            viewer,
-            exit,
-            extents,
-            cell_index,
-            clearance,
-            min_vfov_deg: 0.0,
-            exit_light: std::sync::OnceLock::new(),
-        };
+        let maze = Maze::assemble(vertices, edges, cells, viewer, exit, extents, cell_index);
         validate::nesting(&maze)?;
         validate::viewer_and_exit(&maze)?;
         Ok(maze)
@@ -677,8 +665,24 @@ impl Maze {
             validate::crossings_of_parts(&vertices, &edges).expect("valid by construction");
         }
         let (extents, cell_index) = cell_index(&vertices, &edges, &cells, Threads::Two);
+        let maze = Maze::assemble(vertices, edges, cells, viewer, exit, extents, cell_index);
+        validate::viewer_and_exit(&maze)?;
+        Ok(maze)
+    }
+
+    /// The maze of checked parts and their index: its clearance measured, no field of view of its
+    /// own yet, the exit's light not yet searched.
+    fn assemble(
+        vertices: Vec<Vec2>,
+        edges: Edges,
+        cells: Cells,
+        viewer: Viewer,
+        exit: Option<Exit>,
+        extents: Aabb,
+        cell_index: SpatialGrid,
+    ) -> Maze {
         let clearance = geometry::clearance_for(validate::narrowest_passage(&vertices, &edges, &cells));
-        let maze = Maze {
+        Maze {
             vertices,
             edges,
             cells,
@@ -689,9 +693,7 @@ impl Maze {
             clearance,
             min_vfov_deg: 0.0,
             exit_light: std::sync::OnceLock::new(),
-        };
-        validate::viewer_and_exit(&maze)?;
-        Ok(maze)
+        }
     }
 
     /// How close (maze units) the viewer's eye comes to a wall in this maze: a quarter of its narrowest
