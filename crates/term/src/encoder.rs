@@ -168,9 +168,12 @@ impl Encoder {
     }
 
     /// Whether the terminal repeats the last glyph on `CSI n b` (REP, ECMA-48: xterm and tmux do, GNU
-    /// screen does not; the walk asks the terminal, [`REP_PROBE`](crate::caps::REP_PROBE)): then a run of changed cells that go in one look (the same glyph, no colour change) after the
-    /// first is sent as `REP` where that is shorter than the glyphs (off by default: a terminal
-    /// without it would show the run as missing).
+    /// screen does not; the walk asks the terminal, [`REP_PROBE`](crate::caps::REP_PROBE)): then a
+    /// run of changed cells that go in one look (the same glyph, no colour change) after the first is
+    /// sent as `REP` where that is shorter than the glyphs (off by default: a terminal without it
+    /// would show the run as missing). Runs of an ASCII glyph only (blanks, the ascii charset): tmux
+    /// (3.3 and since) keeps the last character for REP only when it is ASCII, and ignores REP
+    /// after a block glyph, leaving the cursor, and every cell written after it, out of place.
     pub fn set_rep(&mut self, rep: bool) {
         self.rep = rep;
     }
@@ -654,6 +657,9 @@ fn repeat(
     tolerance: u8,
 ) -> usize {
     let Some(&last) = new.get(x) else { return 0 };
+    if !last.ch.is_ascii() {
+        return 0; // tmux repeats only an ASCII glyph: after `▀` it ignores REP (see `set_rep`)
+    }
     let same = |pen: &Pen, cell: &PackedCell| {
         let (form, sgr) = cell_form(pen, cell, tolerance);
         (sgr.len() == 0 && form.ch == last.ch).then_some(form)
