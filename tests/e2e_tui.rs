@@ -1392,62 +1392,10 @@ fn record_writes_an_asciicast_of_exactly_what_the_terminal_received() {
     asciinema_cat_prints(&path, data.as_bytes());
 }
 
-/// Runs `asciinema cat FILE` (it needs a controlling terminal: a pty of its own) and checks that it
-/// exits 0 having printed `expected`. Skipped, loudly, where asciinema is not installed.
+/// Checks that `asciinema cat FILE` prints `expected` (skipped, loudly, where asciinema is not
+/// installed).
 fn asciinema_cat_prints(path: &std::path::Path, expected: &[u8]) {
-    let pty = rustix_openpty::openpty(None, Some(&winsize(100, 30))).expect("openpty");
-    let mut command = Command::new("asciinema");
-    command
-        .arg("cat")
-        .arg(path)
-        .stdin(Stdio::from(pty.user.try_clone().expect("dup the pty")))
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    // SAFETY: runs in the forked child before exec and only makes two system calls (setsid, ioctl),
-    // which are async-signal-safe; it allocates nothing and takes no locks.
-    unsafe {
-        command.pre_exec(|| {
-            rustix::process::setsid()?;
-            rustix::process::ioctl_tiocsctty(rustix::stdio::stdin())?;
-            Ok(())
-        });
-    }
-    let mut child = match command.spawn() {
-        Ok(child) => child,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            eprintln!("SKIPPED: `asciinema cat` (asciinema is not installed; Debian package `asciinema`)");
-            return;
-        }
-        Err(e) => panic!("cannot start asciinema: {e}"),
-    };
-    drop(command);
-    let mut stdout = child.stdout.take().unwrap();
-    let mut stderr = child.stderr.take().unwrap();
-    let out = std::thread::spawn(move || {
-        let mut bytes = Vec::new();
-        stdout.read_to_end(&mut bytes).map(|_| bytes)
-    });
-    let err = std::thread::spawn(move || {
-        let mut bytes = Vec::new();
-        let _ = stderr.read_to_end(&mut bytes);
-        bytes
-    });
-    let deadline = Instant::now() + TIMEOUT;
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("try_wait") {
-            break status;
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("asciinema cat did not exit within {TIMEOUT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    drop(pty);
-    let printed = out.join().unwrap().expect("read asciinema's output");
-    let err = err.join().unwrap();
-    assert!(status.success(), "asciinema cat: {status:?}: {}", String::from_utf8_lossy(&err));
+    let Some(printed) = mazewalk_testkit::asciinema::cat(path) else { return };
     assert!(
         printed == expected,
         "asciinema cat printed {} bytes, the cast holds {}: first difference at byte {:?}",

@@ -112,17 +112,8 @@ fn a_finish_on_another_server_reaches_the_ghost_within_seconds() {
     let redis = RedisServer::start(Persistence::None);
     let maze = scratch.0.join("maze.grid");
     std::fs::write(&maze, CORRIDOR).expect("write the maze");
-    let maze = maze.to_str().expect("a UTF-8 path");
-    let url = redis.url(0);
-    let serve = |name: &str| {
-        Server::start_on(
-            &scratch,
-            "127.0.0.1:0",
-            &format!("host_key_{name}"),
-            &["--open", "--world", &url, maze],
-        )
-    };
-    let (server_a, server_b) = (serve("a"), serve("b"));
+    let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
+    let server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);
     let mut bob = Player::connect(server_b.port, None, "bob", 100, 30);
     bob.wait_for("bob's game on server B", playing);
     bob.send(b"g");

@@ -14,9 +14,7 @@
 
 mod common;
 
-use std::io::Read as _;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use common::{Player, Scratch, Server, hud_row, nz, playing};
@@ -74,55 +72,6 @@ fn parse(text: &str) -> (serde_json::Value, Vec<(f64, String, String)>) {
     (header, events)
 }
 
-/// What the real `asciinema cat FILE` prints, run with a pty of its own as its controlling terminal
-/// (it opens /dev/tty); `None` where asciinema is not installed (said loudly).
-fn asciinema_cat(path: &Path) -> Option<Vec<u8>> {
-    if which_asciinema().is_none() {
-        eprintln!("SKIPPED: `asciinema cat` (asciinema is not installed; Debian package `asciinema`)");
-        return None;
-    }
-    let pty = rustix_openpty::openpty(None, Some(&common::winsize(100, 30))).expect("openpty");
-    let spawned = Command::new("setsid")
-        .args(["-c", "asciinema", "cat"])
-        .arg(path)
-        .stdin(Stdio::from(pty.user.try_clone().expect("dup the pty")))
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn();
-    drop(pty.user);
-    let mut child = spawned.expect("setsid");
-    let mut stdout = child.stdout.take().expect("stdout");
-    let reader = std::thread::spawn(move || {
-        let mut bytes = Vec::new();
-        stdout.read_to_end(&mut bytes).map(|_| bytes)
-    });
-    let deadline = Instant::now() + common::TIMEOUT;
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("try_wait") {
-            break status;
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("asciinema cat did not exit");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    drop(pty.controller);
-    let printed = reader.join().expect("the reader").expect("asciinema's output");
-    assert!(status.success(), "asciinema cat: {status:?}");
-    Some(printed)
-}
-
-/// Where `asciinema` is on the PATH.
-fn which_asciinema() -> Option<PathBuf> {
-    std::env::var_os("PATH")?
-        .to_str()?
-        .split(':')
-        .map(|d| Path::new(d).join("asciinema"))
-        .find(|p| p.exists())
-}
-
 #[test]
 fn a_players_session_is_recorded_and_replays_to_the_screen_it_showed() {
     let scratch = Scratch::new("record");
@@ -173,7 +122,7 @@ fn a_players_session_is_recorded_and_replays_to_the_screen_it_showed() {
         .expect("the cast's first bytes in what the client got");
     assert!(raw[start..].starts_with(&recorded), "the cast differs from what the client got");
     // The real asciinema reads it and prints those very bytes.
-    if let Some(printed) = asciinema_cat(&path) {
+    if let Some(printed) = mazewalk_testkit::asciinema::cat(&path) {
         assert!(
             printed == recorded,
             "asciinema cat printed {} bytes, not the {} recorded",

@@ -148,17 +148,8 @@ fn a_spectator_follows_a_player_on_another_server() {
     let redis = RedisServer::start(Persistence::None);
     let maze = scratch.0.join("maze.grid");
     std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
-    let maze = maze.to_str().expect("a UTF-8 path");
-    let url = redis.url(0);
-    let serve = |name: &str| {
-        Server::start_on(
-            &scratch,
-            "127.0.0.1:0",
-            &format!("host_key_{name}"),
-            &["--open", "--world", &url, maze],
-        )
-    };
-    let (server_a, server_b) = (serve("a"), serve("b"));
+    let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
+    let server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);
     let mut alice = Player::connect(server_a.port, None, "alice", 100, 30);
     alice.wait_for("alice's game on server A", playing);
     let watcher = Player::connect(server_b.port, None, "watch", 100, 30);

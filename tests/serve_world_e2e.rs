@@ -50,14 +50,6 @@ fn refused(scratch: &Scratch, args: &[&str]) -> (Option<i32>, String) {
     (status.code(), said)
 }
 
-/// A server of its own host key `name` on `maze`, open to anyone, in the world at `world`, with
-/// `more` arguments.
-fn serve(scratch: &Scratch, name: &str, maze: &std::path::Path, world: &str, more: &[&str]) -> Server {
-    let maze = maze.to_str().expect("a UTF-8 path");
-    let args = [&["--open", "--world", world, maze][..], more].concat();
-    Server::start_on(scratch, "127.0.0.1:0", &format!("host_key_{name}"), &args)
-}
-
 /// A player at the server on `port`, without a key, in a 100 × 30 terminal.
 fn player(port: u16, user: &str) -> Player {
     Player::connect(port, None, user, 100, 30)
@@ -77,8 +69,8 @@ fn two_servers_walk_one_world_on_redis() {
     let mut redis = RedisServer::start(Persistence::None);
     let maze = scratch.0.join("maze.grid");
     std::fs::write(&maze, LONG_RUN).expect("write the maze");
-    let server_a = serve(&scratch, "a", &maze, &redis.url(0), &[]);
-    let mut server_b = serve(&scratch, "b", &maze, &redis.url(0), &[]);
+    let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
+    let mut server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);
 
     let alice = player(server_a.port, "alice");
     alice.wait_for("alice's game on server A", playing);
@@ -154,7 +146,7 @@ fn two_servers_walk_one_world_on_redis() {
 
     // Server C stopped by SIGTERM tells its player goodbye, then leaves the world: carol leaves
     // alice's view at once, well before the 3 s of silence a killed server takes.
-    let mut server_c = serve(&scratch, "c", &maze, &redis.url(0), &[]);
+    let mut server_c = Server::in_world(&scratch, "c", &maze, &redis.url(0), &[]);
     let carol = player(server_c.port, "carol");
     carol.wait_for("carol's game on server C", playing);
     // (Carol starts next to alice, maybe on her map character: the player list shows her.)
@@ -210,7 +202,7 @@ fn a_server_that_cannot_join_the_world_says_why_and_exits_1() {
     let redis = RedisServer::start(Persistence::None);
     let maze = scratch.0.join("maze.grid");
     std::fs::write(&maze, SHORT_RUN).expect("write the maze");
-    let server = serve(&scratch, "a", &maze, &redis.url(0), &[]);
+    let server = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     let (code, said) = refused(&scratch, &["--gen", "4x4", "--world", &redis.url(0)]);
     assert_eq!(code, Some(1), "{said}");
     // (both hashes, 64 hex digits each, and different)
@@ -239,8 +231,8 @@ fn two_servers_share_a_world_over_tls_with_their_own_ca() {
     std::fs::write(&maze, SHORT_RUN).expect("write the maze");
     let ca = redis.ca_path().expect("its CA's certificate");
     let ca = ca.to_str().expect("a UTF-8 path");
-    let server_a = serve(&scratch, "a", &maze, &redis.url(0), &["--world-ca", ca]);
-    let server_b = serve(&scratch, "b", &maze, &redis.url(0), &["--world-ca", ca]);
+    let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &["--world-ca", ca]);
+    let server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &["--world-ca", ca]);
     let mut alice = player(server_a.port, "alice");
     alice.wait_for("alice's game on server A", playing);
     let bob = player(server_b.port, "bob");

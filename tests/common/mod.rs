@@ -105,6 +105,14 @@ impl Server {
         Server::start_on(scratch, "127.0.0.1:0", "host_key", args)
     }
 
+    /// A server of its own host key `name` on the maze file `maze`, open to anyone, in the world at
+    /// `world` (a `redis://` URL), with `more` arguments: one of several servers sharing a world.
+    pub fn in_world(scratch: &Scratch, name: &str, maze: &Path, world: &str, more: &[&str]) -> Server {
+        let maze = maze.to_str().expect("a UTF-8 path");
+        let args = [&["--open", "--world", world, maze][..], more].concat();
+        Server::start_on(scratch, "127.0.0.1:0", &format!("host_key_{name}"), &args)
+    }
+
     /// `mazewalk serve --listen LISTEN ARGS`, its host key `host_key` in `scratch` (which is also its
     /// `HOME`, so the records file goes there); waits for its first line, which names the port.
     pub fn start_on(scratch: &Scratch, listen: &str, host_key: &str, args: &[&str]) -> Server {

@@ -10,6 +10,8 @@
 
 use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
 
+#[cfg(all(unix, feature = "pty"))]
+pub mod asciinema;
 #[cfg(feature = "term")]
 pub mod baseline;
 #[cfg(feature = "walk")]

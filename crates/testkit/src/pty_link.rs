@@ -213,15 +213,7 @@ impl Walk {
             .stdin(stdio())
             .stdout(stdio())
             .stderr(stdio());
-        // SAFETY: runs in the forked child before exec and only makes two system calls (setsid,
-        // ioctl), which are async-signal-safe; it allocates nothing and takes no locks.
-        unsafe {
-            command.pre_exec(|| {
-                rustix::process::setsid()?;
-                rustix::process::ioctl_tiocsctty(rustix::stdio::stdin())?;
-                Ok(())
-            });
-        }
+        own_session_on_stdin(&mut command);
         let child = command.spawn().expect("spawn the walk");
         drop(command);
         drop(pty.user);
@@ -450,4 +442,18 @@ pub fn measure(
     let seen = walk.seen();
     walk.quit(3.0);
     Outcome { press, release, seen }
+}
+
+/// Makes `command`'s child the leader of a session of its own whose controlling terminal is its
+/// standard input (a pty's user side): what a program that opens `/dev/tty` needs.
+pub fn own_session_on_stdin(command: &mut Command) {
+    // SAFETY: runs in the forked child before exec and only makes two system calls (setsid, ioctl),
+    // which are async-signal-safe; it allocates nothing and takes no locks.
+    unsafe {
+        command.pre_exec(|| {
+            rustix::process::setsid()?;
+            rustix::process::ioctl_tiocsctty(rustix::stdio::stdin())?;
+            Ok(())
+        });
+    }
 }
