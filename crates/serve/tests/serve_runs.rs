@@ -139,9 +139,9 @@ fn eventually(what: &str, f: impl Fn() -> bool) {
     }
 }
 
-#[test]
-fn the_records_thread_offers_the_best_run_checked_and_refuses_a_damaged_one() {
-    let scratch = Scratch::new("offer");
+/// The records thread of a race on [`MAZE`] over a store that already holds bob's 50 s run, and
+/// what it reports.
+fn racing_after_bobs_run(scratch: &Scratch) -> (Records, Arc<Mutex<Vec<String>>>) {
     {
         let (mut db, _) = Sqlite::open(&scratch.db(), SqliteOptions::default()).unwrap();
         db.record(&finish("bob", 50.0)).unwrap();
@@ -149,7 +149,13 @@ fn the_records_thread_offers_the_best_run_checked_and_refuses_a_damaged_one() {
     let race = Race { maze: MAZE, extents: EXTENTS };
     let (db, _) = Sqlite::open(&scratch.db(), SqliteOptions::default()).unwrap();
     let (report, said) = collector();
-    let records = Records::start_racing(db, report, Some(race)).unwrap();
+    (Records::start_racing(db, report, Some(race)).unwrap(), said)
+}
+
+#[test]
+fn the_records_thread_offers_the_best_run_checked_and_refuses_a_damaged_one() {
+    let scratch = Scratch::new("offer");
+    let (records, said) = racing_after_bobs_run(&scratch);
     eventually("the stored best run at start", || records.best_run().is_some());
     assert_eq!(records.best_run().unwrap().holder, "bob");
     // a better finish: its run is offered next
@@ -181,14 +187,7 @@ fn the_records_thread_offers_the_best_run_checked_and_refuses_a_damaged_one() {
 #[test]
 fn an_asked_reread_offers_another_servers_better_run_within_seconds() {
     let scratch = Scratch::new("reread");
-    {
-        let (mut db, _) = Sqlite::open(&scratch.db(), SqliteOptions::default()).unwrap();
-        db.record(&finish("bob", 50.0)).unwrap();
-    }
-    let race = Race { maze: MAZE, extents: EXTENTS };
-    let (db, _) = Sqlite::open(&scratch.db(), SqliteOptions::default()).unwrap();
-    let (report, said) = collector();
-    let records = Records::start_racing(db, report, Some(race)).unwrap();
+    let (records, said) = racing_after_bobs_run(&scratch);
     eventually("bob's run at start", || records.best_run().is_some_and(|r| r.holder == "bob"));
     // "another server": ada's better finish, straight into the store
     {
