@@ -171,6 +171,7 @@ impl Tmux {
             .arg("-S")
             .arg(self.dir.join("socket"))
             .args(args)
+            .env_remove("TMUX") // (its own server, whether or not the test runs inside a tmux)
             .stdin(std::process::Stdio::null())
             .output()
             .expect("tmux runs")
