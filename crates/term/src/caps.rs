@@ -81,8 +81,8 @@ pub enum RepLevel {
     /// codepoints below 256.
     Ascii,
     /// REP after any glyph the encoder writes, block glyphs too (xterm today, VTE, kitty, foot,
-    /// WezTerm, Alacritty, Ghostty, the `vt100` crate: each keeps the last printed character
-    /// whatever it is).
+    /// Alacritty, the `vt100` crate: each keeps the last printed character whatever it is; WezTerm
+    /// copies the cell before the cursor).
     Any,
 }
 
