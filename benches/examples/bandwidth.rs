@@ -3,8 +3,11 @@
 //! to the HUD's frame-time field). Prints the markdown tables of BENCHMARKS.md.
 //!
 //! ```sh
-//! cargo run --release -p mazewalk-bench --example bandwidth
+//! cargo run --release -p mazewalk-bench --example bandwidth [--ascii-rep]
 //! ```
+//!
+//! The terminal (vt100) repeats any glyph on REP and says so, as xterm does; `--ascii-rep` has it
+//! answer the session's REP probe as tmux does (REP after ASCII glyphs only).
 
 use mazewalk_testkit::link;
 
@@ -68,13 +71,22 @@ fn hold(mut sim: Sim, key: &[u8]) -> (f64, Vec<f64>, f64) {
 }
 
 fn main() {
-    println!("Bytes per second while a key is held (half blocks, built-in maze, 60 frames/s at most):\n");
+    let repeats_blocks = !std::env::args().any(|a| a == "--ascii-rep");
+    let sim = |session: Session, rows: u16, cols: u16, link: LinkConfig| {
+        let mut sim = Sim::new(session, rows, cols, link);
+        sim.repeats_blocks = repeats_blocks;
+        sim
+    };
+    println!(
+        "Bytes per second while a key is held (half blocks, built-in maze, 60 frames/s at most; REP after {}):\n",
+        if repeats_blocks { "any glyph, as xterm" } else { "ASCII only, as tmux" }
+    );
     println!("| size | colours | walking (W) | turning (←) |");
     println!("|---|---|---:|---:|");
     for (cols, rows) in [(80, 24), (120, 40), (200, 60)] {
         for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256, ColorDepth::Ansi16, ColorDepth::None] {
-            let walk = hold(Sim::new(session(cols, rows, depth, false), rows, cols, UNLIMITED), b"w").0;
-            let turn = hold(Sim::new(session(cols, rows, depth, false), rows, cols, UNLIMITED), b"\x1b[D").0;
+            let walk = hold(sim(session(cols, rows, depth, false), rows, cols, UNLIMITED), b"w").0;
+            let turn = hold(sim(session(cols, rows, depth, false), rows, cols, UNLIMITED), b"\x1b[D").0;
             println!("| {cols}×{rows} | {depth} | {:.0} KB/s | {:.0} KB/s |", walk / 1e3, turn / 1e3);
         }
     }
@@ -85,8 +97,7 @@ fn main() {
     println!("|---|---|---:|---:|---:|---:|---:|");
     for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
         for flow in [true, false] {
-            let (bps, lat, tail) =
-                hold(Sim::new(session(120, 40, depth, flow), 40, 120, ONE_MBIT), b"\x1b[D");
+            let (bps, lat, tail) = hold(sim(session(120, 40, depth, flow), 40, 120, ONE_MBIT), b"\x1b[D");
             let p = |q: f64| lat[((lat.len() - 1) as f64 * q).round() as usize];
             println!(
                 "| {depth} | {} | {:.0} KB/s | {:.0} ms | {:.0} ms | {:.0} ms | {:.2} s |",

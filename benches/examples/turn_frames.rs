@@ -7,8 +7,9 @@
 //! callgrind_annotate --inclusive=yes callgrind.out.* | grep 'Encoder::encode \['
 //! ```
 //!
-//! REP: `rep` answers the session's question as a terminal with REP does (runs go as `CSI n b`),
-//! `norep` (the default) as one without. KEY: `turn` (the default, `←`) or `walk` (`W`). It prints
+//! REP: `rep` answers the session's questions as a terminal that repeats only ASCII glyphs does
+//! (tmux: runs of blanks go as `CSI n b`), `anyrep` as one that repeats any glyph (xterm: runs of
+//! blocks too), `norep` (the default) as one without. KEY: `turn` (the default, `←`) or `walk` (`W`). It prints
 //! the bytes of the 39 frames and a hash of all the output, first paint included: two builds that
 //! print the same line sent the same bytes.
 
@@ -25,7 +26,7 @@ fn main() {
         (arg(1, "120").parse().expect("cols"), arg(2, "40").parse().expect("rows"));
     let tolerance: u8 =
         arg(3, &mazewalk_term::encoder::DEFAULT_TOLERANCE.to_string()).parse().expect("tolerance");
-    let rep = arg(4, "norep") == "rep";
+    let rep = arg(4, "norep");
     let key: &[u8] = if arg(5, "turn") == "walk" { b"w" } else { b"\x1b[D" };
     let options = RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
     let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("a start cell");
@@ -45,8 +46,16 @@ fn main() {
         }
     };
     fold(&out);
-    // The answer to the REP probe before the first frame: two cells written (REP), or one.
-    session.feed(if rep { b"\x1b[2;3R" } else { b"\x1b[2;2R" }, 0.0);
+    // The answers to the REP probe before the first frame: after a space two cells written (REP)
+    // or one; after `▀` and two repeats three cells (REP after any glyph) or one.
+    session.feed(
+        match rep.as_str() {
+            "anyrep" => b"\x1b[2;3R\x1b[3;4R",
+            "rep" => b"\x1b[2;3R\x1b[3;2R",
+            _ => b"\x1b[2;2R\x1b[3;2R",
+        },
+        0.0,
+    );
     for i in 1..40 {
         let now = f64::from(i) / 30.0;
         session.feed(key, now);
@@ -56,7 +65,11 @@ fn main() {
         fold(&out);
     }
     let what = if key == b"w" { "walking" } else { "turning" };
-    let rep = if rep { "REP" } else { "no REP" };
+    let rep = match rep.as_str() {
+        "anyrep" => "REP after any glyph",
+        "rep" => "REP after ASCII",
+        _ => "no REP",
+    };
     println!(
         "{depth} {cols}x{rows}, tolerance {tolerance}, {rep}: {bytes} bytes in 39 frames of {what}, FNV-1a {hash:016x}"
     );

@@ -14,13 +14,18 @@
 //! frame's bytes is the same), so the KB/s columns add up to the walk's.
 //!
 //! ```sh
-//! cargo run --release -p mazewalk-bench --example walk_bytes
+//! cargo run --release -p mazewalk-bench --example walk_bytes [--turn] [--256] [--ascii-rep | --no-rep]
 //! ```
+//!
+//! The terminal (vt100) repeats any glyph on REP and says so to the session's probe, as xterm does;
+//! `--ascii-rep` answers as tmux (a space repeated, a block glyph not: REP after ASCII only),
+//! `--no-rep` as a terminal without REP.
 
 use glam::Vec3;
 use mazewalk_maze as maze;
 use mazewalk_render::samples::{CEILING, FLOOR, NONE};
 use mazewalk_render::{Charset, RenderOptions, Renderer, Target};
+use mazewalk_term::caps::RepLevel;
 use mazewalk_term::encoder::{DEFAULT_TOLERANCE, TOLERANCE_STEP};
 use mazewalk_term::frame::{ColorDepth, oklab};
 use mazewalk_walk::{App, Session, SessionOptions};
@@ -216,7 +221,7 @@ struct Found {
 
 /// `bandwidth`'s walk, step by step as its link does with no limit (1 ms steps, the terminal answers
 /// at once), diagnosing each frame drawn while the viewer moves.
-fn walk(depth: ColorDepth, key: &[u8], rep: bool) -> Found {
+fn walk(depth: ColorDepth, key: &[u8], rep: RepLevel) -> Found {
     let options = RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
     let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("viewer in a cell");
     let mut session =
@@ -258,12 +263,18 @@ fn walk(depth: ColorDepth, key: &[u8], rep: bool) -> Found {
             continue;
         }
         // As a terminal does: each cursor position query answered with where the cursor is then
-        // (the session asks whether the terminal has REP so; `--no-rep`: a terminal without).
+        // (the session asks whether the terminal has REP so: after a space on row 2, after a block
+        // on row 3); `--ascii-rep`: as tmux, the block not repeated; `--no-rep`: a terminal without.
         let mut rest = &out[..];
         while let Some(at) = rest.windows(4).position(|w| w == b"\x1b[6n") {
             terminal.process(&rest[..at + 4]);
             let (row, col) = terminal.screen().cursor_position();
-            let col = if rep { col } else { 1 };
+            let repeated = match rep {
+                RepLevel::Any => true,
+                RepLevel::Ascii => row + 1 == 2,
+                RepLevel::None => false,
+            };
+            let col = if repeated { col } else { 1 };
             session.feed(format!("\x1b[{};{}R", row + 1, col + 1).as_bytes(), now);
             rest = &rest[at + 4..];
         }
@@ -390,7 +401,13 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let turn = args.iter().any(|a| a == "--turn");
     let depth = if args.iter().any(|a| a == "--256") { ColorDepth::Ansi256 } else { ColorDepth::TrueColor };
-    let rep = !args.iter().any(|a| a == "--no-rep");
+    let rep = if args.iter().any(|a| a == "--no-rep") {
+        RepLevel::None
+    } else if args.iter().any(|a| a == "--ascii-rep") {
+        RepLevel::Ascii
+    } else {
+        RepLevel::Any
+    };
     let found = walk(depth, if turn { b"\x1b[D" } else { b"w" }, rep);
     let Found { frames, seconds, total, kinds, cells, bytes, vertical } = found;
     println!(
@@ -401,7 +418,11 @@ fn main() {
     println!(
         "{} (key held, auto-repeat), 120×40 half blocks, {depth}, built-in maze, REP {}: {frames} frames, {:.1} KB/s\n",
         if turn { "Turning" } else { "Walking" },
-        if rep { "on" } else { "off" },
+        match rep {
+            RepLevel::Any => "after any glyph",
+            RepLevel::Ascii => "after ASCII only",
+            RepLevel::None => "off",
+        },
         total as f64 / seconds / 1e3
     );
     let pct = |n: usize| 100.0 * n as f64 / total.max(1) as f64;

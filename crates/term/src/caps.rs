@@ -69,21 +69,57 @@ pub fn detect_color_depth(get: impl Fn(&str) -> Option<String>) -> ColorDepth {
 pub const TRUECOLOR_QUERY: &[u8] =
     b"\x1b[0m\x1b[48;2;1;2;3m\x1bP$qm\x1b\\\x1b[0m\x1bP+q524742\x1b\\\x1bP+q5463\x1b\\";
 
-/// Whether the terminal repeats a glyph on `CSI n b` (REP, ECMA-48), asked before the first frame
-/// (which clears the screen over it): the cursor to row 2, column 1, a space, `CSI 1 b`, then a
-/// cursor position report (`CSI 6 n`). A terminal with REP answers `CSI 2 ; 3 R` (two cells
-/// written), one without `CSI 2 ; 2 R`; one that answers nothing keeps REP off
-/// ([`rep_answer`]). Row 2, not 1: `CSI 1 ; 3 R` is also how xterm sends Alt-F3.
-pub const REP_PROBE: &[u8] = b"\x1b[2H \x1b[b\x1b[6n";
+/// How far the terminal repeats glyphs on `CSI n b` (REP, ECMA-48), as [`REP_PROBE`] finds out.
+/// Ordered: each level repeats what the one below it does.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum RepLevel {
+    /// No REP (GNU screen, a terminal that did not answer): every glyph is written out.
+    #[default]
+    None,
+    /// REP after an ASCII glyph only: tmux (its parser forgets the last character on any UTF-8
+    /// one, `input_top_bit_set` in its `input.c`), and xterm before it repeated more than
+    /// codepoints below 256.
+    Ascii,
+    /// REP after any glyph the encoder writes, block glyphs too (xterm today, VTE, kitty, foot,
+    /// Alacritty, the `vt100` crate: each keeps the last printed character whatever it is; WezTerm
+    /// copies the cell before the cursor).
+    Any,
+}
 
-/// What a cursor position report (1-based `row`, `col`) says in answer to [`REP_PROBE`]: `Some(true)`
-/// the terminal has REP, `Some(false)` it does not, `None` not an answer to it (another row: a key,
-/// a screen of one row, a report someone else asked for).
+/// Whether, and after which glyphs, the terminal repeats a glyph on `CSI n b` (REP, ECMA-48), asked
+/// before the first frame (which clears the screen over it), in two questions each answered by a
+/// cursor position report (`CSI 6 n`):
+///
+/// 1. row 2, column 1: a space and `CSI b`: a terminal with REP answers `CSI 2 ; 3 R` (two cells
+///    written), one without `CSI 2 ; 2 R`;
+/// 2. row 3, column 1: `▀` and `CSI 2 b`: a terminal that repeats a block glyph answers `CSI 3 ; 4 R`
+///    (three cells), one that repeats only ASCII (tmux) `CSI 3 ; 2 R`. Two repeats, not one, so that
+///    a terminal drawing `▀` two cells wide (East Asian ambiguous width set wide) cannot answer
+///    column 4 (it would say 3 without REP, 7 with).
+///
+/// [`rep_answer`] reads the reports. Rows 2 and 3, not 1: `CSI 1 ; 3 R` is also how xterm sends
+/// Alt-F3, and no key is sent as a report of another row.
+pub const REP_PROBE: &[u8] = "\x1b[2H \x1b[b\x1b[6n\x1b[3H▀\x1b[2b\x1b[6n".as_bytes();
+
+/// What a cursor position report says in answer to one of [`REP_PROBE`]'s two questions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RepReport {
+    /// The space question (row 2): whether a space was repeated.
+    Space(bool),
+    /// The block question (row 3): whether `▀` was repeated (twice, as asked).
+    Block(bool),
+}
+
+/// What a cursor position report (1-based `row`, `col`) says in answer to [`REP_PROBE`]: `None` if it
+/// is not an answer to it (another row: a key, a screen of one row, a report someone else asked
+/// for). Row 2: column 3 yes, 2 no. Row 3: column 4 yes; any other column no (a terminal that
+/// does not take `▀` as one glyph one cell wide should not be sent runs of it as REP either).
 #[must_use]
-pub fn rep_answer(row: u16, col: u16) -> Option<bool> {
+pub fn rep_answer(row: u16, col: u16) -> Option<RepReport> {
     match (row, col) {
-        (2, 3) => Some(true),
-        (2, 2) => Some(false),
+        (2, 3) => Some(RepReport::Space(true)),
+        (2, 2) => Some(RepReport::Space(false)),
+        (3, col) => Some(RepReport::Block(col == 4)),
         _ => None,
     }
 }
@@ -341,6 +377,33 @@ mod tests {
         assert!(!terminfo_has_truecolor("infocmp: couldn't open terminfo file"));
         // a value that merely mentions a name
         assert!(!terminfo_has_truecolor("x|x,\n\tuser1=RGB\\,Tc,\n"));
+    }
+
+    // issue #42: the three outcomes of the REP probe, read from its two reports.
+    #[test]
+    fn rep_reports_tell_no_rep_ascii_only_and_any_glyph() {
+        use RepReport::{Block, Space};
+        // (space report, block report) as each kind of terminal answers → what each says
+        let table = [
+            ((2, 2), (3, 2), "no REP (GNU screen)", Space(false), Block(false)),
+            ((2, 3), (3, 2), "REP after ASCII only (tmux)", Space(true), Block(false)),
+            ((2, 3), (3, 4), "REP after any glyph (xterm, VTE, kitty…)", Space(true), Block(true)),
+            ((2, 2), (3, 3), "no REP, `▀` two cells wide", Space(false), Block(false)),
+            ((2, 3), (3, 7), "REP, `▀` two cells wide", Space(true), Block(false)),
+        ];
+        for ((sr, sc), (br, bc), what, space, block) in table {
+            assert_eq!(rep_answer(sr, sc), Some(space), "{what}");
+            assert_eq!(rep_answer(br, bc), Some(block), "{what}");
+        }
+        // Not answers: row 1 (xterm's Alt-F3 is `CSI 1 ; 3 R`), other rows, other columns of row 2.
+        for (row, col) in [(1, 3), (1, 4), (1, 2), (2, 1), (2, 4), (4, 4), (0, 0), (u16::MAX, 4)] {
+            assert_eq!(rep_answer(row, col), None, "({row}, {col})");
+        }
+        assert!(RepLevel::None < RepLevel::Ascii && RepLevel::Ascii < RepLevel::Any);
+        assert_eq!(RepLevel::default(), RepLevel::None);
+        // Two reports asked, rows 2 and 3, nothing on row 1.
+        assert_eq!(REP_PROBE.windows(4).filter(|w| *w == b"\x1b[6n").count(), 2);
+        assert!(REP_PROBE.starts_with(b"\x1b[2H") && REP_PROBE.windows(4).any(|w| w == b"\x1b[3H"));
     }
 
     #[test]

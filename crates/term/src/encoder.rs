@@ -37,6 +37,7 @@ mod sgr;
 use std::collections::HashMap;
 
 use crate::blocks::FULL_BLOCK;
+use crate::caps::RepLevel;
 use crate::frame::{Frame, PackedCell, PackedColor};
 use cursor::{RESET_LNM, digits, find_move, move_len, write_found, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
@@ -112,8 +113,8 @@ pub struct Encoder {
     differs: Vec<bool>,
     /// The last diff's frame and which of its cells it left as the screen showed them ([`Memo`]).
     memo: Memo,
-    /// Whether runs of one look may go as `REP` ([`Encoder::set_rep`]).
-    rep: bool,
+    /// After which glyphs runs of one look may go as `REP` ([`Encoder::set_rep`]).
+    rep: RepLevel,
     /// Whether a blank may go as a full block ([`Encoder::set_blocks`]).
     blocks: bool,
 }
@@ -139,7 +140,7 @@ impl Encoder {
             effective: Vec::new(),
             differs: Vec::new(),
             memo: Memo::default(),
-            rep: false,
+            rep: RepLevel::None,
             blocks: true,
         }
     }
@@ -167,15 +168,22 @@ impl Encoder {
         self.tolerance = steps;
     }
 
-    /// Whether the terminal repeats the last glyph on `CSI n b` (REP, ECMA-48: xterm and tmux do, GNU
-    /// screen does not; the walk asks the terminal, [`REP_PROBE`](crate::caps::REP_PROBE)): then a
-    /// run of changed cells that go in one look (the same glyph, no colour change) after the first is
-    /// sent as `REP` where that is shorter than the glyphs (off by default: a terminal without it
-    /// would show the run as missing). Runs of an ASCII glyph only (blanks, the ascii charset): tmux
-    /// (3.3 and since) keeps the last character for REP only when it is ASCII, and ignores REP
-    /// after a block glyph, leaving the cursor, and every cell written after it, out of place.
-    pub fn set_rep(&mut self, rep: bool) {
+    /// After which glyphs the terminal repeats the last one on `CSI n b` (REP, ECMA-48: xterm and tmux
+    /// do, GNU screen does not; the walk asks the terminal, [`REP_PROBE`](crate::caps::REP_PROBE)):
+    /// then a run of changed cells that go in one look (the same glyph, no colour change) after the
+    /// first is sent as `REP` where that is shorter than the glyphs (off by default: a terminal without
+    /// it would show the run as missing). At [`RepLevel::Ascii`] only runs of an ASCII glyph (blanks,
+    /// the ascii charset): tmux keeps the last character for REP only when it is ASCII, and ignores
+    /// REP after a block glyph, leaving the cursor, and every cell written after it, out of place. At
+    /// [`RepLevel::Any`] runs of block glyphs too.
+    pub fn set_rep(&mut self, rep: RepLevel) {
         self.rep = rep;
+    }
+
+    /// After which glyphs runs go as `REP` ([`Encoder::set_rep`]).
+    #[must_use]
+    pub fn rep(&self) -> RepLevel {
+        self.rep
     }
 
     /// Whether the frames are drawn in block glyphs (the default): then a blank may go as a full
@@ -271,7 +279,7 @@ fn paint_full(
     frame: &[PackedCell],
     width: usize,
     bce: bool,
-    rep: bool,
+    rep: RepLevel,
     blocks: bool,
     out: &mut Vec<u8>,
 ) -> Pen {
@@ -290,13 +298,13 @@ fn paint_full(
 }
 
 /// Resets SGR, sets the background `bg`, clears the screen, then sends `frame` as a diff (with REP
-/// where `rep`).
+/// as far as `rep` allows).
 fn clear_and_paint(
     frame: &[PackedCell],
     width: usize,
     bg: PackedColor,
     bce: bool,
-    rep: bool,
+    rep: RepLevel,
     blocks: bool,
     out: &mut Vec<u8>,
 ) -> Pen {
@@ -332,7 +340,7 @@ fn most_common_blank_bg(frame: &[PackedCell]) -> Option<PackedColor> {
 struct How {
     bce: bool,
     tolerance: u8,
-    rep: bool,
+    rep: RepLevel,
 }
 
 /// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
@@ -632,10 +640,10 @@ fn diff_row(
         }
         changed += 1;
         from = x + 1;
-        if how.rep {
+        if how.rep != RepLevel::None {
             // (before the erasable tail, which the branch above prices as a whole)
             let end = tail.map_or(width, |(start, _)| start);
-            let repeated = repeat(pen, out, new, end, differs, x, tolerance);
+            let repeated = repeat(pen, out, new, end, differs, x, tolerance, how.rep);
             changed += repeated;
             from += repeated;
         }
@@ -646,7 +654,9 @@ fn diff_row(
 /// After the glyph just written for column `x` (the last thing in `out`), the changed cells right
 /// after it, up to column `end`, that go in the same look from the pen (the same glyph, no colour
 /// change) as one `CSI n b` (REP: repeat the last glyph n times), where that is fewer bytes than the
-/// glyphs; returns how many cells it covered (0: none, nothing written).
+/// glyphs, and the terminal repeats that glyph (`level`); returns how many cells it covered (0:
+/// none, nothing written).
+#[allow(clippy::too_many_arguments)]
 fn repeat(
     pen: &mut Pen,
     out: &mut Vec<u8>,
@@ -655,9 +665,10 @@ fn repeat(
     differs: &[bool],
     x: usize,
     tolerance: u8,
+    level: RepLevel,
 ) -> usize {
     let Some(&last) = new.get(x) else { return 0 };
-    if !last.ch.is_ascii() {
+    if level < RepLevel::Any && !last.ch.is_ascii() {
         return 0; // tmux repeats only an ASCII glyph: after `▀` it ignores REP (see `set_rep`)
     }
     let same = |pen: &Pen, cell: &PackedCell| {
@@ -1061,7 +1072,7 @@ mod tests {
         let colours = [&colours[..], &[Color::Default, Color::Indexed(4)]].concat();
         let mut left_alone = 0;
         for tolerance in [0, 2, 5] {
-            for rep in [false, true] {
+            for rep in [RepLevel::None, RepLevel::Ascii, RepLevel::Any] {
                 let (mut with_memo, mut without) = (Encoder::new(), Encoder::new());
                 for encoder in [&mut with_memo, &mut without] {
                     encoder.set_tolerance(tolerance);
@@ -1427,7 +1438,7 @@ mod tests {
                 frame.width(),
                 PackedColor::pack(bg),
                 true,
-                false,
+                RepLevel::None,
                 true,
                 &mut out,
             );
@@ -1463,7 +1474,7 @@ mod tests {
             ties += usize::from(blue_is_commonest && coloured.len() == default.len());
             let best = if blue_is_commonest && coloured.len() < default.len() { coloured } else { default };
             let mut out = vec![b'.'; 100];
-            paint_full(&packed(&frame), frame.width(), true, false, true, &mut out);
+            paint_full(&packed(&frame), frame.width(), true, RepLevel::None, true, &mut out);
             assert_eq!(&out[100..], &best[..], "{rows:?}");
         }
         assert_eq!(ties, 2, "the premise: two of the cases are ties");

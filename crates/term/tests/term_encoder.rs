@@ -4,6 +4,7 @@
 use mazewalk_testkit as common;
 
 use mazewalk_term::blocks::{HALF, QUAD, sextant_glyph};
+use mazewalk_term::caps::RepLevel;
 use mazewalk_term::encoder::Encoder;
 use mazewalk_term::frame::{Cell, Color, Frame};
 use proptest::prelude::*;
@@ -317,7 +318,7 @@ proptest! {
         (first, steps) in arb_frame_sequence(),
         bce in any::<bool>(),
         tolerance in prop_oneof![3 => Just(0u8), 1 => 1u8..4],
-        rep in any::<bool>(),
+        rep in prop_oneof![Just(RepLevel::None), Just(RepLevel::Ascii), Just(RepLevel::Any)],
         blocks in any::<bool>(),
     ) {
         let mut encoder = Encoder::new();
@@ -348,7 +349,7 @@ proptest! {
             prop_assert_eq!(stats.full_paint, full_paint);
             prop_assert_eq!(stats.bytes, out.len());
             // (REP sends a run of glyphs in fewer bytes than the glyphs: the bound is of glyphs)
-            prop_assert!(rep || bound <= out.len(), "lower bound {} > {} bytes", bound, out.len());
+            prop_assert!(rep != RepLevel::None || bound <= out.len(), "lower bound {} > {} bytes", bound, out.len());
             prop_assert!(std::str::from_utf8(&out).is_ok());
             let unchanged = !invalidate && prev.as_ref().is_some_and(|p| same_look(p, &frame));
             if unchanged {
@@ -662,20 +663,38 @@ fn without_blocks_a_blank_never_goes_as_a_full_block() {
     assert_eq!(sent_blocks, [true, false], "full blocks sent with blocks on / off");
 }
 
-/// The REP question: on a terminal with REP (vt100, as xterm) the cursor ends two cells into row 2,
-/// which [`rep_answer`] reads as yes; one cell in (REP ignored) is no; row 1 is not an answer.
+/// The REP questions: on a terminal that repeats any glyph (vt100, as xterm) the cursor ends two
+/// cells into row 2 (a space repeated) and three into row 3 (`▀` repeated twice), which
+/// [`rep_answer`] reads as yes to both; one cell in is no (REP ignored: everywhere without REP,
+/// after `▀` in tmux); a `▀` drawn two cells wide leaves column 3 without REP, also no; row 1 is not
+/// an answer. The probe's cells are in rows 2 and 3 only, in the terminal's current colours.
 #[test]
-fn the_rep_probe_moves_the_cursor_two_cells_on_a_terminal_with_rep() {
-    use mazewalk_term::caps::{REP_PROBE, rep_answer};
+fn the_rep_probe_asks_after_a_space_then_after_a_block() {
+    use mazewalk_term::caps::{REP_PROBE, RepReport, rep_answer};
     let mut parser = terminal(20, 5);
     parser.process(b"\x1b[31mjunk\x1b[4;7H");
-    parser.process(REP_PROBE);
+    let second = REP_PROBE.windows(4).position(|w| w == b"\x1b[6n").expect("a first report") + 4;
+    parser.process(&REP_PROBE[..second]);
     let (row, col) = parser.screen().cursor_position();
     assert_eq!((row, col), (1, 2));
-    assert_eq!(rep_answer(row + 1, col + 1), Some(true));
-    assert_eq!(rep_answer(row + 1, col), Some(false));
+    assert_eq!(rep_answer(row + 1, col + 1), Some(RepReport::Space(true)));
+    assert_eq!(rep_answer(row + 1, col), Some(RepReport::Space(false)));
+    parser.process(&REP_PROBE[second..]);
+    assert!(REP_PROBE.ends_with(b"\x1b[6n"), "two reports, the last at the end");
+    let (row, col) = parser.screen().cursor_position();
+    assert_eq!((row, col), (2, 3));
+    assert_eq!(rep_answer(row + 1, col + 1), Some(RepReport::Block(true)));
+    assert_eq!(rep_answer(3, 2), Some(RepReport::Block(false)), "tmux: `▀` written, REP ignored");
+    assert_eq!(rep_answer(3, 3), Some(RepReport::Block(false)), "`▀` two cells wide, REP ignored");
+    assert_eq!(rep_answer(3, 7), Some(RepReport::Block(false)), "`▀` two cells wide, repeated");
     assert_eq!(rep_answer(1, 3), None, "Alt-F3 in xterm's encoding");
+    assert_eq!(rep_answer(1, 4), None);
     assert_eq!(rep_answer(2, 40), None);
+    assert_eq!(rep_answer(4, 4), None);
+    let text = parser.screen().contents();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.get(1).map(|l| l.trim_end()), Some(""), "row 2: a space and its repeat");
+    assert_eq!(lines.get(2).map(|l| l.trim_end()), Some("▀▀▀"), "row 3: `▀` and two repeats");
 }
 
 /// With REP on, a run of changed cells of one look goes as its first glyph and `CSI n b`, the screen
@@ -696,8 +715,9 @@ fn rep_sends_runs_of_one_look_in_fewer_bytes() {
     for x in 0..w {
         second.set(x, 0, Cell { ch: '▀', fg: ink, bg: paper }); // a block glyph: never repeated
     }
+    let levels = [RepLevel::None, RepLevel::Ascii, RepLevel::Any];
     let mut sent = Vec::new();
-    for rep in [false, true] {
+    for rep in levels {
         let mut encoder = Encoder::new();
         encoder.set_rep(rep);
         let mut parser = terminal(w, h);
@@ -707,7 +727,7 @@ fn rep_sends_runs_of_one_look_in_fewer_bytes() {
         out.clear();
         encoder.encode(&second, &mut out);
         parser.process(&out);
-        assert_screen_shows(&parser, &second, || format!("rep {rep}: {:?}", String::from_utf8_lossy(&out)));
+        assert_screen_shows(&parser, &second, || format!("rep {rep:?}: {:?}", String::from_utf8_lossy(&out)));
         sent.push(out);
     }
     let text = String::from_utf8_lossy(&sent[1]);
@@ -717,10 +737,20 @@ fn rep_sends_runs_of_one_look_in_fewer_bytes() {
     assert_eq!(text.matches("b").count(), 1, "one REP: {text:?}");
     assert!(!String::from_utf8_lossy(&sent[0]).contains('b'), "no REP when off");
     assert_eq!(sent[0].len() - sent[1].len(), 19 - 5, "REP saves the 19 glyphs it repeats less its 5 bytes");
+    // Where the terminal repeats any glyph: the row of 40 `▀` as one and REP too.
+    let any = String::from_utf8_lossy(&sent[2]);
+    assert!(any.contains("▀\x1b[39b"), "the row of blocks as one glyph and REP: {any:?}");
+    assert!(!any.contains("▀▀"), "no block written twice: {any:?}");
+    assert!(any.contains("#\x1b[19b") && any.contains("##"), "ASCII runs as before: {any:?}");
+    assert_eq!(
+        sent[1].len() - sent[2].len(),
+        39 * 3 - 5,
+        "REP saves the 39 blocks it repeats less its 5 bytes"
+    );
     // The fixed walk of `a_fixed_walk_encodes_to_the_same_bytes`, with REP: fewer bytes, the same screens.
     let (w, h) = (160, 48);
-    let mut totals = [0; 2];
-    for (k, rep) in [false, true].into_iter().enumerate() {
+    let mut totals = [0; 3];
+    for (k, rep) in levels.into_iter().enumerate() {
         let mut encoder = Encoder::new();
         encoder.set_tolerance(mazewalk_term::encoder::DEFAULT_TOLERANCE);
         encoder.set_rep(rep);
@@ -732,12 +762,15 @@ fn rep_sends_runs_of_one_look_in_fewer_bytes() {
             encoder.encode(&frame, &mut out);
             parser.process(&out[start..]);
             assert_screen_shows_within(&parser, &frame, mazewalk_term::encoder::DEFAULT_TOLERANCE, || {
-                format!("rep {rep}, shift {shift}")
+                format!("rep {rep:?}, shift {shift}")
             });
         }
         totals[k] = out.len();
     }
-    assert!(totals[1] < totals[0], "REP {} bytes, without {}", totals[1], totals[0]);
+    assert!(
+        totals[2] <= totals[1] && totals[1] < totals[0],
+        "REP after any glyph / ASCII / none: {totals:?} bytes"
+    );
 }
 
 /// The encoder's bytes for a fixed walk through [`scene`] (full paint, then turning one column a frame

@@ -48,6 +48,10 @@ pub struct Sim {
     link_free_at: f64,
     pub shown: Vec<Shown>,
     pub bytes_sent: u64,
+    /// Whether the terminal says it repeats a block glyph on REP, as vt100 and xterm do (true, the
+    /// default), or answers the session's second REP question (row 3) as tmux does, one cell in:
+    /// REP after ASCII glyphs only.
+    pub repeats_blocks: bool,
 }
 
 /// The cursor position query (`CSI 6 n`), answered with where the terminal's cursor is.
@@ -69,6 +73,7 @@ impl Sim {
             link_free_at: 0.0,
             shown: Vec::new(),
             bytes_sent: 0,
+            repeats_blocks: true,
         }
     }
 
@@ -102,6 +107,7 @@ impl Sim {
                 while let Some(at) = rest.windows(4).position(|w| w == CPR_QUERY) {
                     self.terminal.process(&rest[..at + CPR_QUERY.len()]);
                     let (row, col) = self.terminal.screen().cursor_position();
+                    let col = if row + 1 == 3 && !self.repeats_blocks { 1 } else { col };
                     let answer = format!("\x1b[{};{}R", row + 1, col + 1).into_bytes();
                     self.up.push_back((now + self.link.one_way, answer));
                     rest = &rest[at + CPR_QUERY.len()..];

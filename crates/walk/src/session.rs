@@ -41,7 +41,7 @@ use crate::screen::{self, FrameCost, Hud, Screen};
 use crate::state::App;
 use crate::views::SharedViews;
 use mazewalk_render::{Charset, Culling};
-use mazewalk_term::caps::{REP_PROBE, TRUECOLOR_QUERY, rep_answer};
+use mazewalk_term::caps::{REP_PROBE, RepLevel, RepReport, TRUECOLOR_QUERY, rep_answer};
 use mazewalk_term::encoder::{self, Encoder};
 use mazewalk_term::frame::{ColorDepth, Frame};
 use mazewalk_term::input::{Input, InputDecoder, Key, KeyPhase, Reply};
@@ -154,8 +154,8 @@ pub struct Session {
     clock_shown: Option<u64>,
     /// The stored run a ghost replays when the player wants it ([`App::ghost`]), and its caption.
     ghost_run: Option<(Arc<Run>, String)>,
-    /// The question whether the terminal has REP ([`REP_PROBE`], sent before the first frame) is out
-    /// and not yet answered: only its answer may turn REP on.
+    /// Where the questions whether, and after which glyphs, the terminal has REP ([`REP_PROBE`], sent
+    /// before the first frame) stand: only their answers, in order, may turn REP on.
     rep_probe: RepProbe,
     /// The screen shows the last frame only within the colour tolerance ([`EncodeStats::approximate`](mazewalk_term::encoder::EncodeStats::approximate)):
     /// once the picture has held still for [`SETTLE_AFTER`], it is sent once more, exactly.
@@ -169,14 +169,19 @@ pub struct Session {
 /// those cells per stop, none while walking or turning.
 pub(crate) const SETTLE_AFTER: f64 = 0.25;
 
-/// Where the REP question stands.
+/// Where the REP questions stand ([`REP_PROBE`]: after a space, then after a block glyph).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum RepProbe {
     /// Not asked yet: asked before the first frame.
     NotAsked,
-    /// Asked; the answer may come (whenever: a report of row 2 is never a key, and the terminal
-    /// answers the device-attributes queries sent before the probe first).
+    /// Asked; the answer to the space question may come (whenever: a report of row 2 or 3 is never a
+    /// key, and a key between the reports changes nothing here). An answer to the block question
+    /// before it is not taken (a terminal answers in order; one whose first report was lost or
+    /// garbled keeps REP off).
     Asked,
+    /// The space was repeated (REP after ASCII glyphs is on); the answer to the block question may
+    /// come, and turn REP after any glyph on.
+    SpaceRepeated,
     /// Answered: no more answers count.
     Done,
 }
@@ -467,14 +472,25 @@ impl Session {
             }
             Input::FocusLost => self.app.focus_lost(),
             Input::MouseDown { .. } | Input::MouseUp { .. } | Input::Scroll(_) | Input::FocusGained => {}
-            // The answer to the REP question ([`REP_PROBE`]): a terminal that wrote two cells for
-            // one space and `CSI b` repeats glyphs, and frames may send runs as REP from now on.
+            // The answers to the REP questions ([`REP_PROBE`]), in order: a terminal that wrote two
+            // cells for one space and `CSI b` repeats ASCII glyphs, and frames may send runs of them
+            // as REP from now on; one that then wrote three cells for `▀` and `CSI 2 b` repeats
+            // block glyphs too (xterm; not tmux), and runs of blocks go as REP as well.
             Input::Reply(Reply::CursorPosition { row, col }) => {
-                if self.rep_probe == RepProbe::Asked
-                    && let Some(rep) = rep_answer(row, col)
-                {
-                    self.encoder.set_rep(rep);
-                    self.rep_probe = RepProbe::Done;
+                match (self.rep_probe, rep_answer(row, col)) {
+                    (RepProbe::Asked, Some(RepReport::Space(true))) => {
+                        self.encoder.set_rep(RepLevel::Ascii);
+                        self.rep_probe = RepProbe::SpaceRepeated;
+                    }
+                    (RepProbe::Asked, Some(RepReport::Space(false)))
+                    | (RepProbe::SpaceRepeated, Some(RepReport::Block(false))) => {
+                        self.rep_probe = RepProbe::Done;
+                    }
+                    (RepProbe::SpaceRepeated, Some(RepReport::Block(true))) => {
+                        self.encoder.set_rep(RepLevel::Any);
+                        self.rep_probe = RepProbe::Done;
+                    }
+                    _ => {} // not an answer to a question still open
                 }
             }
             // The answer to the kitty keyboard query ([`ask_keyboard_flags`](Self::ask_keyboard_flags)):
@@ -743,6 +759,60 @@ mod tests {
         assert_eq!(exact.encode(&s.frame, &mut Vec::new()).bytes, 0, "the screen is the frame");
         assert!(!s.frame(last + 2.0, &mut out), "settled once, then quiet");
         assert_eq!(s.next_wake(last + 2.0), None);
+    }
+
+    /// Issue #42: the REP probe's two reports, in order, set how far frames use REP: none (no REP),
+    /// after ASCII only (tmux: the space repeated, the block not), after any glyph (xterm). Silence,
+    /// one report only, reports out of order or of other rows, keys between them, a report arriving
+    /// late or answered twice: never more than the terminal said, and a report is never a key.
+    #[test]
+    fn the_rep_reports_set_the_level_in_order() {
+        let report = |row: u16, col: u16| format!("\x1b[{row};{col}R").into_bytes();
+        let run = |inputs: &[Vec<u8>]| {
+            let mut s = session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+            let mut out = Vec::new();
+            assert!(s.frame(0.0, &mut out));
+            assert!(out.starts_with(REP_PROBE), "asked before the first frame");
+            assert_eq!(s.encoder.rep(), RepLevel::None, "off until the terminal answers");
+            let (x, y) = (s.app.camera.position, s.app.camera.yaw_deg);
+            for (i, bytes) in inputs.iter().enumerate() {
+                s.feed(bytes, 0.1 + i as f64 * 0.5);
+            }
+            let turned = (s.app.camera.position, s.app.camera.yaw_deg) != (x, y);
+            assert!(!s.app.quit);
+            let mut again = Vec::new();
+            s.frame(30.0, &mut again);
+            assert!(!again.windows(REP_PROBE.len()).any(|w| w == REP_PROBE), "asked once");
+            (s.encoder.rep(), turned)
+        };
+        let table: &[(&str, Vec<Vec<u8>>, RepLevel)] = &[
+            ("silence", vec![], RepLevel::None),
+            ("no REP", vec![report(2, 2), report(3, 2)], RepLevel::None),
+            ("tmux: ASCII only", vec![report(2, 3), report(3, 2)], RepLevel::Ascii),
+            ("xterm: any glyph", vec![report(2, 3), report(3, 4)], RepLevel::Any),
+            ("both in one read", vec![[report(2, 3), report(3, 4)].concat()], RepLevel::Any),
+            ("only the first answered", vec![report(2, 3)], RepLevel::Ascii),
+            ("only the second answered", vec![report(3, 4)], RepLevel::None),
+            ("out of order", vec![report(3, 4), report(2, 3)], RepLevel::Ascii),
+            ("no REP, then a yes to blocks", vec![report(2, 2), report(3, 4)], RepLevel::None),
+            ("a key between the reports", vec![report(2, 3), b"x".to_vec(), report(3, 4)], RepLevel::Any),
+            ("an arrow key between", vec![report(2, 3), b"\x1b[1;3C".to_vec(), report(3, 4)], RepLevel::Any),
+            ("Alt-F3 (row 1) first", vec![report(1, 3), report(2, 3), report(3, 4)], RepLevel::Any),
+            ("Alt-F3 as the block answer", vec![report(2, 3), report(1, 4)], RepLevel::Ascii),
+            ("answered twice", vec![report(2, 3), report(3, 2), report(3, 4)], RepLevel::Ascii),
+            ("a second probe answer later", vec![report(2, 2), report(2, 3), report(3, 4)], RepLevel::None),
+            ("`▀` two cells wide", vec![report(2, 3), report(3, 3)], RepLevel::Ascii),
+            (
+                "a report split across reads",
+                vec![b"\x1b[2;".to_vec(), b"3R\x1b[3".to_vec(), b";4R".to_vec()],
+                RepLevel::Any,
+            ),
+        ];
+        for (what, inputs, want) in table {
+            // Only the arrow key (Alt-→, `CSI 1 ; 3 C`: a turn) moves the viewer; no report does.
+            let arrow = inputs.iter().any(|i| i.ends_with(b"C"));
+            assert_eq!(run(inputs), (*want, arrow), "{what}");
+        }
     }
 
     /// A session in a maze without an exit: no clock ticks.
