@@ -387,13 +387,37 @@ fn add_loops(l: &mut Layout, loops: f32, rng: &mut SplitMix64) {
     }
 }
 
-/// The colour source for edges or tiles.
+/// The colour source for edges or tiles: the given palette's, or a random one that is not green.
 fn pick_color(rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Vec3 {
     match palette {
         Some(p) => p[rng.below(p.len() as u32) as usize],
         // 0.25..=0.75 in steps of 0.01: `k / 100` is correctly rounded everywhere, and prints short
-        None => Vec3::from_array([(); 3].map(|()| (25 + rng.below(51)) as f32 / 100.0)),
+        None => not_green(Vec3::from_array([(); 3].map(|()| (25 + rng.below(51)) as f32 / 100.0))),
     }
+}
+
+/// `color`, or where it is green (the exit's hue: its beacon and the light it casts tint toward
+/// green, so a green wall reads as the exit's glow from afar) the same colour with green and blue
+/// swapped: as saturated, a blue hue (195°–275°) instead. (Red and green swapped gave muted browns,
+/// which 256 colours render too orange.) Green is a hue of 85°–165° (HSV) with a
+/// saturation (max − min) / max over 0.12; greys and near-greys stay.
+///
+/// ```
+/// # use glam::Vec3;
+/// # use mazewalk_maze::generate::not_green;
+/// assert_eq!(not_green(Vec3::new(0.3, 0.7, 0.4)), Vec3::new(0.3, 0.4, 0.7));
+/// assert_eq!(not_green(Vec3::new(0.7, 0.3, 0.4)), Vec3::new(0.7, 0.3, 0.4));
+/// assert_eq!(not_green(Vec3::splat(0.5)), Vec3::splat(0.5));
+/// ```
+#[must_use]
+pub fn not_green(color: Vec3) -> Vec3 {
+    let (max, min) = (color.max_element(), color.min_element());
+    if max <= 0.0 || (max - min) / max <= 0.12 || color.y < max {
+        return color; // grey, or green is not the strongest channel
+    }
+    // green strongest: the hue is 60° (yellow, red = max) to 180° (cyan, blue = max), 120° at pure green
+    let hue = 120.0 + 60.0 * (color.z - color.x) / (max - min);
+    if (85.0..=165.0).contains(&hue) { Vec3::new(color.x, color.z, color.y) } else { color }
 }
 
 /// A random thin-wall maze: `opts.width × opts.height` square cells of side [`CELL_SIZE`].
