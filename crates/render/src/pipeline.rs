@@ -147,6 +147,9 @@ pub struct Renderer {
     /// colour the ascii charset tells floor and ceiling by their own glyphs, and its wall glyphs by
     /// lightness alone; raised walls would all take the ramp's top glyphs and lose their distance.
     pub(crate) walls_apart: bool,
+    /// This frame draws the floor's cell lines off the floor's tint ([`FLOOR_BOUND_16`]): in 16
+    /// colours, where the floor shows one entry and a darker grey of its own is that entry again.
+    pub(crate) floor_bounds_apart: bool,
 }
 
 /// Where [`Renderer::render`] puts the picture.
@@ -246,6 +249,7 @@ impl Renderer {
             self.no_plane_tint |= self.plane_tint_off;
         }
         self.walls_apart = color_depth != ColorDepth::None;
+        self.floor_bounds_apart = color_depth == ColorDepth::Ansi16;
         match target {
             Target::Frame(frame, region) => {
                 let (cols, rows) = (region.cols, region.rows);
@@ -704,9 +708,11 @@ impl Renderer {
         self.seen.retain(|&e| !maze.edge(e).opaque);
         self.seen.sort_unstable();
         self.seen.dedup();
-        for &e in &self.seen {
-            let (a, b) = maze.edge_points(e);
-            for (z, plane) in [(FLOOR_Z, FLOOR), (CEILING_Z, CEILING)] {
+        let floor_bound = if self.floor_bounds_apart { FLOOR_BOUND_16 } else { seam_color };
+        for (z, plane, paint) in [(FLOOR_Z, FLOOR, floor_bound), (CEILING_Z, CEILING, seam_color)] {
+            self.edge_list.clear();
+            for &e in &self.seen {
+                let (a, b) = maze.edge_points(e);
                 for (x, y) in segment_samples(eye, a.extend(z), b.extend(z)) {
                     let i = y * w + x;
                     if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None {
@@ -715,8 +721,8 @@ impl Renderer {
                     }
                 }
             }
+            self.paint_marked(paint);
         }
-        self.paint_marked(seam_color);
     }
 
     /// Door jambs: where a wall ends at an opening of its own line (a side opening, a turn) on the
@@ -846,6 +852,13 @@ impl Renderer {
         }
     }
 }
+
+/// The floor's cell lines in 16 colours: a seam moved off the floor's chromaticity
+/// ([`palette::off_floor_and_ceiling`]), as a jamb is off its wall's: there the floor shows one entry
+/// (`palette::FLOOR_16`), and a darker grey of the floor's own tint is that entry again (no line at
+/// all). Off it, the line takes the nearest other entry, lighter than the floor's dark grey, as the
+/// ceiling's lines are lighter than its blue; black stays for what is black.
+const FLOOR_BOUND_16: fn(Vec3) -> Vec3 = |c| palette::off_floor_and_ceiling(seam_color(c));
 
 /// What a sample on a boundary between surfaces is drawn as (the stronger wins).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]

@@ -93,11 +93,12 @@ fn in_256_colours_every_view_is_calm_true_to_hue_and_keeps_its_surfaces_apart() 
 
 // issue #33: 16 colours, dithered, were half grain (48–52 %) with floor, ceiling and walls 0.0–0.6 apart.
 // Issue #39's cell lines, seams and jambs are drawn one sample wide, and 16 colours step each one a
-// whole palette entry from its surface: up to 6 % (5.1 % on the built-in view), not 5.
+// whole palette entry from its surface (the floor's lines too, since they show there: dark grey to
+// light): up to 9 % (7.6 % on the generated view), not 5.
 #[test]
 fn in_16_colours_every_view_is_calm_and_keeps_its_surfaces_apart() {
     for (name, m, truth) in measured(ColorDepth::Ansi16) {
-        assert!(m.grain <= 0.06, "{name}: grain {:.1} %", 100.0 * m.grain);
+        assert!(m.grain <= 0.09, "{name}: grain {:.1} %", 100.0 * m.grain);
         assert!(
             m.surfaces_apart >= 0.6 * truth.surfaces_apart,
             "{name}: surfaces {:.1} apart, truecolor {:.1}",
@@ -124,6 +125,34 @@ fn corridor(color: &str) -> Maze {
         "mazewalk-grid 1\ntile 4\nfacing east\nW = {color}\n\n###########\n#@........W\n###########\n"
     );
     maze::parse("corridor", text.as_bytes()).expect("corridor maze")
+}
+
+// Issue #39: "cell boundaries marked on floor and walls … in every colour depth". In 16 colours the
+// floor shows one entry, and its cell lines (a darker grey of its own tint) were that entry again: a
+// trial found the floor "one flat grey with no lines at all". Down a corridor nine tiles long, the
+// centre column's floor samples cross the eight boundaries ahead; at 120×40 the nearest two or three
+// are samples apart (the rest crowd the horizon): each depth shows at least two as lines.
+#[test]
+fn the_floors_cell_lines_show_down_a_corridor_in_every_colour_depth() {
+    let maze = corridor("#808080");
+    let camera = turned(&maze, 0.0);
+    for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256, ColorDepth::Ansi16] {
+        let (frame, ids) = render(&maze, &camera, &options(Charset::Half, depth));
+        let shown = quality::shown(&frame, Charset::Half);
+        let column: Vec<(glam::Vec3, u32)> =
+            (0..2 * ROWS).map(|y| y * COLS + COLS / 2).map(|i| (shown[i], ids[i])).collect();
+        // a line: a floor sample lighter or darker (OKLab L) than both its neighbours (the floor's
+        // shading changes gradually toward the horizon; a line is one sample wide)
+        let lines = column
+            .windows(3)
+            .filter(|w| w.iter().all(|(_, id)| *id == FLOOR))
+            .filter(|w| {
+                let (above, below) = (w[1].0.x - w[0].0.x, w[1].0.x - w[2].0.x);
+                above * below > 0.0 && above.abs().min(below.abs()) > 0.015
+            })
+            .count();
+        assert!(lines >= 2, "{depth:?}: {lines} cell lines on the floor down the corridor");
+    }
 }
 
 /// The mean OKLab lightness the frame shows on the samples of the middle fifth of the picture that
@@ -272,7 +301,9 @@ proptest::proptest! {
             proptest::prop_assert!(m.mean_error <= 0.12, "{at}: mean error {:.3}", m.mean_error);
             proptest::prop_assert!(m.p95_error <= 0.18, "{at}: p95 error {:.3}", m.p95_error);
             proptest::prop_assert!(m.chroma_ratio <= 3.0, "{at}: chroma × {:.2}", m.chroma_ratio);
-            proptest::prop_assert!(m.grain <= 0.03, "{at}: grain {:.1} %", 100.0 * m.grain);
+            // (3.5 %: beside the exit, the edge of its light on the floor is a ring one entry wide, an
+            // olive between the floor's grey and the glow's green: 3.0 % on one view, in the seeds kept)
+            proptest::prop_assert!(m.grain <= 0.035, "{at}: grain {:.1} %", 100.0 * m.grain);
             all.push(m);
         }
         let mean = median(all.iter().map(|m| m.mean_error).collect());
