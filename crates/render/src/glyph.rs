@@ -231,7 +231,7 @@ fn sample_entries(samples: &SampleBuffer, palette: Palette, used: usize, rows: u
         let above = y.checked_sub(1).map(|a| (&color[a * width..][..used], &done[a * used..][..used]));
         let entry = |x: usize| match above {
             Some((colors, entries)) if same_bits(&colors[x], &line[x]) => entries[x],
-            _ => ramp_entry(line[x], palette),
+            _ => lookup(line[x], palette),
         };
         let Some(first) = line.first() else { continue };
         let (mut last, mut last_entry) = (first, entry(0));
@@ -245,6 +245,12 @@ fn sample_entries(samples: &SampleBuffer, palette: Palette, used: usize, rows: u
         }
     }
     entries
+}
+
+/// [`ramp_entry`], out of line: the loops above keep their registers for the common case.
+#[inline(never)]
+fn lookup(linear: Vec3, palette: Palette) -> u8 {
+    ramp_entry(linear, palette)
 }
 
 /// Whether two samples are the same bits (so their entries are the same).
