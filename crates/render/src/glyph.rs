@@ -3,7 +3,7 @@
 //! Each terminal cell covers `sx × sy` samples ([`Charset::samples_per_cell`]). In truecolor the block
 //! charsets pick, per cell, the 2-colour partition of its samples that fits best (least squared error in
 //! sRGB) and the block glyph drawing it; in 256 and 16 colours each sample takes the entry of its light
-//! ramp ([`palette::ramp_entry`]) first and the cell shows those entries. Without colour, and in ascii
+//! ramp ([`ramp_entry`]) first and the cell shows those entries. Without colour, and in ascii
 //! at every depth, the floor, the ceiling and the walls each shade with glyphs of their own, by lightness.
 //! Ascii overlays the outline layer. Sample bits within a cell are numbered row-major from the top-left:
 //! bit `x + sx·y`.
@@ -13,7 +13,7 @@ use wide::bytemuck::cast;
 use wide::{f32x8, i32x8};
 
 use super::options::{ASCII_CEILING, ASCII_FLOOR, ASCII_RAMP_LONG, Charset, Ramp, RenderOptions};
-use super::palette::{self, Palette, quantize_srgb8, ramp_entry, ramp_entry_dithered, threshold, xterm_rgb};
+use super::palette::{Palette, quantize_srgb8, ramp_entry, ramp_entry_dithered, threshold, xterm_rgb};
 use super::samples::{CEILING, FLOOR, SampleBuffer};
 use super::shade::{Srgb8Tables, luminance, srgb_to_linear};
 use super::sprite::EXIT_ID;
@@ -51,7 +51,7 @@ pub fn block_glyph(charset: Charset, mask: u8) -> char {
 /// [`FLOOR_BLOCKS`], [`CEILING_BLOCKS`]. Each ramp is indexed by lightness stretched over the range its
 /// surface spans in a maze scene ([`RAMP_BOTTOM`]–[`RAMP_TOP`], [`FLOOR_RANGE`], [`CEILING_RANGE`]).
 /// With [`ColorDepth::Ansi16`] and [`ColorDepth::Ansi256`] each sample takes its light ramp's entry
-/// ([`palette::ramp_entry`]; with `options.dither`, [`palette::ramp_entry_dithered`] by the samples'
+/// ([`ramp_entry`]; with `options.dither`, [`ramp_entry_dithered`] by the samples'
 /// screen-anchored [`threshold`]s, block charsets only), then the cell shows its samples' entries: a
 /// half-block cell is exactly its two samples, a quadrant or sextant cell with more than two entries
 /// is the best split of them, each side in its most frequent entry.
@@ -75,13 +75,16 @@ pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Fra
             let srgb = |color: Vec3| tables.encode3(color);
             let to = (frame, region);
             match depth {
-                ColorDepth::None => ascii_cells(samples, ramp, to, |_| Color::Default),
-                ColorDepth::TrueColor => ascii_cells(samples, ramp, to, |color| {
+                ColorDepth::None => ascii_cells(samples, ramp, to, |_, _| Color::Default),
+                ColorDepth::TrueColor => ascii_cells(samples, ramp, to, |_, color| {
                     let [r, g, b] = srgb(color);
                     Color::Rgb(r, g, b)
                 }),
                 ColorDepth::Ansi16 | ColorDepth::Ansi256 => {
-                    ascii_cells(samples, ramp, to, |color| palette::picture_color(color, depth));
+                    // Each sample's entry, as `palette::picture_color` gives it.
+                    let palette = Palette::of(depth).expect("a palette at 16 and 256 colours");
+                    let entries = sample_entries(samples, palette, region.cols, region.rows);
+                    ascii_cells(samples, ramp, to, |at, _| Color::Indexed(entries[at]));
                 }
             }
         }
@@ -93,19 +96,42 @@ pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Fra
 }
 
 /// [`to_frame`] for half blocks in truecolor, the default: each cell is its two samples exactly (the top
-/// one the ink of `▀`, the bottom one the background; one colour is a space), what [`block_cells`] gives,
-/// in a loop with no branch per cell (whether a cell holds one colour or two is a coin toss on a
-/// textured floor: a branch there is mispredicted often).
+/// one the ink of `▀`, the bottom one the background; one colour is a space), what [`block_cells`] gives.
+/// A sample with the same bits as the one before it in its sample row, or as the one above it, takes
+/// that one's codes without encoding (the same bits, the same codes); the cell's glyph follows from
+/// its codes without a branch (whether a cell holds one colour or two is a coin toss on a textured
+/// floor: a branch there is mispredicted often).
 fn half_truecolor(samples: &SampleBuffer, frame: &mut Frame, region: Region) {
-    let (width, color) = (samples.width(), samples.color());
+    let (width, color, cols) = (samples.width(), samples.color(), region.cols);
     let tables = Srgb8Tables::get();
-    let encode = |c: &Vec3| Color::Rgb(tables.encode(c.x), tables.encode(c.y), tables.encode(c.z));
+    // The codes of the sample row above the cells' top row (the last cell row's bottom samples).
+    let mut above_codes = vec![[0u8; 3]; cols];
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
-        let top = &color[2 * row * width..][..cells.len()];
-        let bottom = &color[(2 * row + 1) * width..][..cells.len()];
-        for ((cell, t), b) in cells.iter_mut().zip(top).zip(bottom) {
-            let (fg, bg) = (encode(t), encode(b));
-            *cell = Cell { ch: HALF[usize::from(fg != bg)], fg, bg };
+        let top = &color[2 * row * width..][..cols];
+        let bottom = &color[(2 * row + 1) * width..][..cols];
+        // The sample row above the top one: none above the first.
+        let above = row.checked_sub(1).map(|_| &color[(2 * row - 1) * width..][..cols]);
+        let (Some(first_top), Some(first_bottom)) = (top.first(), bottom.first()) else { continue };
+        // The last top and bottom samples and their codes (to start: the first cell's own).
+        let mut last_top = (first_top, tables.encode3(*first_top));
+        let mut last_bottom = (first_bottom, tables.encode3(*first_bottom));
+        for x in 0..cols {
+            let (t, b) = (&top[x], &bottom[x]);
+            if !same_bits(t, last_top.0) {
+                let codes = match above {
+                    Some(above) if same_bits(&above[x], t) => above_codes[x],
+                    _ => tables.encode3(*t),
+                };
+                last_top = (t, codes);
+            }
+            if !same_bits(b, last_bottom.0) {
+                let codes = if same_bits(b, t) { last_top.1 } else { tables.encode3(*b) };
+                last_bottom = (b, codes);
+            }
+            let ([r, g, bl], [r2, g2, b2]) = (last_top.1, last_bottom.1);
+            above_codes[x] = last_bottom.1;
+            let ch = HALF[usize::from(last_top.1 != last_bottom.1)];
+            cells[x] = Cell { ch, fg: Color::Rgb(r, g, bl), bg: Color::Rgb(r2, g2, b2) };
         }
     }
 }
@@ -179,12 +205,8 @@ fn block_cells<const SX: usize, const SY: usize>(
 }
 
 /// [`block_cells`] in 256 or 16 colours, undithered: each sample its light ramp's entry
-/// ([`ramp_entry`]), then the cell shows those entries ([`indexed_cell`]).
-///
-/// Neighbouring samples often share a colour: along a row, the floor's and the ceiling's squares; down
-/// a column, a wall in a level view (its light changes only with depth). A sample equal to the one at
-/// its place in the cell to the left, or to the one above it, takes that one's entry without a lookup
-/// (equal colours have equal entries).
+/// ([`ramp_entry`], [`sample_entries`]), then the cell shows those entries ([`indexed_cell`]; a half
+/// block, always its top entry on its bottom one, without a branch).
 fn palette_cells<const SX: usize, const SY: usize>(
     samples: &SampleBuffer,
     charset: Charset,
@@ -192,36 +214,73 @@ fn palette_cells<const SX: usize, const SY: usize>(
     frame: &mut Frame,
     region: Region,
 ) {
-    let (width, color) = (samples.width(), samples.color());
-    let cols = region.cols;
+    let (used, rows) = (region.cols * SX, region.rows * SY);
+    let entries = sample_entries(samples, palette, used, rows);
     let mut indices = [0u8; 6];
-    // Each sub-cell position's colour and entry in the cell to the left; each sample column's last.
-    let mut left = [(Vec3::NAN, 0u8); 6];
-    let mut above = vec![(Vec3::NAN, 0u8); cols * SX];
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
-        let rows: [&[Vec3]; SY] = std::array::from_fn(|dy| {
-            let start = (row * SY + dy) * width;
-            &color[start..start + cols * SX]
-        });
+        let lines: [&[u8]; SY] = std::array::from_fn(|dy| &entries[(row * SY + dy) * used..][..used]);
+        if SX * SY == 2 {
+            for ((cell, &ink), &paper) in cells.iter_mut().zip(lines[0]).zip(lines[SY - 1]) {
+                let ch = HALF[usize::from(ink != paper)]; // one entry: a blank in it (`solid`)
+                *cell = Cell { ch, fg: Color::Indexed(ink), bg: Color::Indexed(paper) };
+            }
+            continue;
+        }
         for (col, cell) in cells.iter_mut().enumerate() {
-            for (dy, line) in rows.iter().enumerate() {
-                for dx in 0..SX {
-                    let (k, x) = (dy * SX + dx, col * SX + dx);
-                    let sample = line[x];
-                    let entry = if left[k].0 == sample {
-                        left[k].1
-                    } else if above[x].0 == sample {
-                        above[x].1
-                    } else {
-                        ramp_entry(sample, palette)
-                    };
-                    (left[k], above[x], indices[k]) = ((sample, entry), (sample, entry), entry);
-                }
+            for (dy, line) in lines.iter().enumerate() {
+                indices[dy * SX..][..SX].copy_from_slice(&line[col * SX..][..SX]);
             }
             *cell = indexed_cell(&indices[..SX * SY], charset);
         }
     }
+}
+
+/// The [`ramp_entry`] of each sample of the first `used` columns of the first `rows` rows of
+/// `samples`, row-major (`used` a row).
+///
+/// Neighbouring samples often share a colour: along a row, the floor's and the ceiling's squares; down
+/// a column, a wall in a level view (its light changes only with depth). A sample whose bits are those
+/// of the sample before it in its row, or of the one above it, takes that one's entry without a
+/// lookup (the same bits, the same entry); equal runs along a row cost a comparison a sample.
+fn sample_entries(samples: &SampleBuffer, palette: Palette, used: usize, rows: usize) -> Vec<u8> {
+    let (width, color) = (samples.width(), samples.color());
+    let mut entries = vec![0u8; used * rows];
+    for y in 0..rows {
+        let line = &color[y * width..][..used];
+        let (done, here) = entries.split_at_mut(y * used);
+        let here = &mut here[..used];
+        // The row above: its samples and their entries (none above the first row).
+        let above = y.checked_sub(1).map(|a| (&color[a * width..][..used], &done[a * used..][..used]));
+        let entry = |x: usize| match above {
+            Some((colors, entries)) if same_bits(&colors[x], &line[x]) => entries[x],
+            _ => lookup(line[x], palette),
+        };
+        let Some(first) = line.first() else { continue };
+        let (mut last, mut last_entry) = (first, entry(0));
+        here[0] = last_entry;
+        for x in 1..used {
+            let sample = &line[x];
+            if !same_bits(sample, last) {
+                (last, last_entry) = (sample, entry(x));
+            }
+            here[x] = last_entry;
+        }
+    }
+    entries
+}
+
+/// [`ramp_entry`], out of line: the loops above keep their registers for the common case.
+#[inline(never)]
+fn lookup(linear: Vec3, palette: Palette) -> u8 {
+    ramp_entry(linear, palette)
+}
+
+/// Whether two samples are the same bits (so their entries are the same).
+#[inline(always)]
+fn same_bits(a: &Vec3, b: &Vec3) -> bool {
+    let differ = |a: f32, b: f32| a.to_bits() ^ b.to_bits();
+    differ(a.x, b.x) | differ(a.y, b.y) | differ(a.z, b.z) == 0
 }
 
 /// The lightness (sRGB-encoded luminance) a wall ramp starts at: darker is its first glyph (fog, the
@@ -326,13 +385,13 @@ impl RampSteps {
 pub(crate) const BEACON_GLYPHS: [char; 2] = ['$', '!'];
 
 /// [`to_frame`] for the ascii charset, one sample per cell: its outline glyph or its surface's ramp
-/// glyph (walls: `ramp` without the floor's and the ceiling's glyphs), inked in `ink(colour)` of its
-/// linear colour (a blank has no ink to colour).
+/// glyph (walls: `ramp` without the floor's and the ceiling's glyphs), inked in `ink(at, colour)` of
+/// its place in the samples (row-major) and its linear colour (a blank has no ink to colour).
 fn ascii_cells(
     samples: &SampleBuffer,
     ramp: Ramp,
     (frame, region): (&mut Frame, Region),
-    ink: impl Fn(Vec3) -> Color,
+    ink: impl Fn(usize, Vec3) -> Color,
 ) {
     let (color, outline, ids) = (samples.color(), samples.outline(), samples.id());
     let mut wall = [' '; ASCII_RAMP_LONG.len()];
@@ -346,8 +405,9 @@ fn ascii_cells(
     let ramps = SurfaceRamps::new(&wall[..len], &ASCII_FLOOR, &ASCII_CEILING);
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         let at = row * region.cols..(row + 1) * region.cols;
-        for ((cell, (&color, &id)), outline) in
-            cells.iter_mut().zip(color[at.clone()].iter().zip(&ids[at.clone()])).zip(&outline[at])
+        let places = at.clone();
+        for (((cell, (&color, &id)), outline), at) in
+            cells.iter_mut().zip(color[at.clone()].iter().zip(&ids[at.clone()])).zip(&outline[at]).zip(places)
         {
             let ch = outline.unwrap_or_else(|| match id {
                 // The beacon's bands: green `$`, white `!`, glyphs no wall is drawn with.
@@ -355,8 +415,11 @@ fn ascii_cells(
                 EXIT_ID => BEACON_GLYPHS[1],
                 _ => ramps.glyph(Surface::of(id), color),
             });
-            *cell =
-                if ch == ' ' { Cell::plain(' ') } else { Cell { ch, fg: ink(color), bg: Color::Default } };
+            *cell = if ch == ' ' {
+                Cell::plain(' ')
+            } else {
+                Cell { ch, fg: ink(at, color), bg: Color::Default }
+            };
         }
     }
 }
@@ -619,7 +682,52 @@ fn indexed_cell(indices: &[u8], charset: Charset) -> Cell {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::palette;
     use crate::shade::linear_to_srgb;
+
+    /// Half blocks in truecolor are each cell's two samples exactly, whatever the memo of equal
+    /// samples finds: on held-out views of generated mazes (level and pitched, exit light in some),
+    /// with textures and without, every cell against its definition (top sample's codes the ink of
+    /// `▀` on the bottom one's; one colour: a blank).
+    #[test]
+    fn truecolor_half_blocks_are_their_two_samples_on_held_out_views() {
+        use crate::{Culling, Renderer, Target, quality};
+        use mazewalk_maze::generate::{GenOptions, generate};
+        let tables = Srgb8Tables::get();
+        let (mut cells, mut two) = (0usize, 0usize);
+        for (seed, (width, height)) in [(31u64, (12, 9)), (32, (20, 15))] {
+            let opts = GenOptions { width, height, seed, loops: 0.2, exit: true, ..GenOptions::default() };
+            let maze = generate(&opts).expect("generated maze");
+            let mut renderer = Renderer::new();
+            for (k, (_, mut camera)) in quality::held_out_views(&maze, seed, 10).into_iter().enumerate() {
+                camera.pitch_deg = [0.0, 12.0, -20.0][k % 3];
+                let (cols, rows) = ([60, 33][k % 2], 20);
+                let options = RenderOptions {
+                    charset: Charset::Half,
+                    color_depth: ColorDepth::TrueColor,
+                    culling: Culling::Portal,
+                    textures: k % 2 == 1,
+                    ..RenderOptions::default()
+                };
+                renderer.render(&maze, &camera, &[], &options, Target::Samples { cols, rows }).expect("view");
+                let samples = renderer.samples();
+                let region = Region { col: 0, row: 0, cols, rows };
+                let mut frame = Frame::new(cols, rows);
+                to_frame(samples, &options, &mut frame, region);
+                for (row, line) in frame.region_rows_mut(region).enumerate() {
+                    for (col, cell) in line.iter().enumerate() {
+                        let at = |y: usize| tables.encode3(samples.color()[y * samples.width() + col]);
+                        let ([r, g, b], [r2, g2, b2]) = (at(2 * row), at(2 * row + 1));
+                        let (fg, bg) = (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2));
+                        let expected = Cell { ch: HALF[usize::from(fg != bg)], fg, bg };
+                        assert_eq!(*cell, expected, "seed {seed}, view {k}, cell ({col}, {row})");
+                        (cells, two) = (cells + 1, two + usize::from(fg != bg));
+                    }
+                }
+            }
+        }
+        assert!(two > cells / 20, "{two} of {cells} cells in two colours");
+    }
 
     /// Frames in 256 and 16 colours are what they were before the lookups got faster (issue #42): on
     /// held-out views of generated mazes (issue #39's kinds: in cells, nose to a wall, down
@@ -659,7 +767,7 @@ mod tests {
                     let mut expected = Frame::new(cols, rows);
                     let (sx, sy) = charset.samples_per_cell();
                     if charset == Charset::Ascii {
-                        let ink = |c: Vec3| Color::Indexed(palette::search::ramp_entry(c, palette, None));
+                        let ink = |_, c: Vec3| Color::Indexed(palette::search::ramp_entry(c, palette, None));
                         ascii_cells(samples, options.ramp, (&mut expected, region), ink);
                     } else {
                         for (row, line) in expected.region_rows_mut(region).enumerate() {

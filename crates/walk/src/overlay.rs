@@ -113,23 +113,34 @@ pub fn limit_colors(frame: &mut Frame, depth: ColorDepth) {
 
 /// [`limit_colors`] in `region` of `frame` only.
 pub(crate) fn limit_colors_in(frame: &mut Frame, region: Region, depth: ColorDepth) {
-    // a colour already within the depth is left as it is (written back only when it changes: this
-    // runs over every cell of every frame)
-    let limit = |color: &mut Color| match (*color, depth) {
-        (Color::Default, _) | (_, ColorDepth::TrueColor) => {}
-        (_, ColorDepth::None) => *color = Color::Default,
-        (Color::Rgb(r, g, b), _) => *color = quantize_srgb8([r, g, b], depth),
-        (Color::Indexed(i), ColorDepth::Ansi16) if i >= 16 => *color = Color::Indexed(ansi16(xterm_rgb(i))),
-        (Color::Indexed(_), _) => {}
-    };
-    if depth == ColorDepth::TrueColor {
-        return;
-    }
-    for row in frame.region_rows_mut(region) {
-        for cell in row {
-            limit(&mut cell.fg);
-            limit(&mut cell.bg);
+    // A colour already within the depth is left as it is (written back only when it changes). This
+    // runs over every cell of every frame: one loop per depth, each with only its own test a colour
+    // (in 256 colours, whether it is truecolor: the renderer's colours already are indices).
+    fn each_color(frame: &mut Frame, region: Region, limit: impl Fn(Color) -> Option<Color>) {
+        for row in frame.region_rows_mut(region) {
+            for cell in row {
+                for color in [&mut cell.fg, &mut cell.bg] {
+                    if let Some(limited) = limit(*color) {
+                        *color = limited;
+                    }
+                }
+            }
         }
+    }
+    match depth {
+        ColorDepth::TrueColor => {}
+        ColorDepth::None => {
+            each_color(frame, region, |color| (color != Color::Default).then_some(Color::Default));
+        }
+        ColorDepth::Ansi256 => each_color(frame, region, |color| match color {
+            Color::Rgb(r, g, b) => Some(quantize_srgb8([r, g, b], depth)),
+            Color::Default | Color::Indexed(_) => None,
+        }),
+        ColorDepth::Ansi16 => each_color(frame, region, |color| match color {
+            Color::Rgb(r, g, b) => Some(quantize_srgb8([r, g, b], depth)),
+            Color::Indexed(i) if i >= 16 => Some(Color::Indexed(ansi16(xterm_rgb(i)))),
+            Color::Default | Color::Indexed(_) => None,
+        }),
     }
 }
 
