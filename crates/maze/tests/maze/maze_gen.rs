@@ -176,7 +176,7 @@ proptest! {
         use mazewalk_maze::geometry::MAX_CLEARANCE;
         let opts = GenOptions { width, height, seed, loops, exit: true, ..GenOptions::default() };
         let generated = generate(&opts).unwrap();
-        let want = generated_min_vfov_deg(MAX_CLEARANCE, 0.0);
+        let want = generated_min_vfov_deg(mazewalk_maze::generate::CELL_SIZE, 0.0);
         prop_assert!(want > 90.0, "{}", want);
         prop_assert_eq!(generated.min_vfov_deg(), want);
         let text = maze::write(&generated, Format::Cs559).unwrap();
