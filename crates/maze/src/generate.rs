@@ -400,8 +400,8 @@ fn pick_color(rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Vec3 {
 ///
 /// Vertex `(i, j)` is `j * (width + 1) + i` at `(4i, 4j)`; edges list the horizontal ones row by row,
 /// then the vertical ones; each cell lists its edges +x, +y, -x, -y. The viewer stands in the centre of
-/// cell 0 at eye height 0 with a 90° field of view, facing its first open side; its clearance is 1.5
-/// (3/8 of a cell) and the walk keeps a vertical field of view of 96° or more
+/// cell 0 at eye height 0 with a 90° field of view, facing its first open side; its clearance is 1.6
+/// (2/5 of a cell) and the walk keeps a vertical field of view of 96° or more
 /// ([`Maze::min_vfov_deg`]), so that from the closest stand the floor, the ceiling and the wall's ends
 /// show.
 pub fn generate(opts: &GenOptions) -> Result<Maze, GenError> {
@@ -474,7 +474,7 @@ fn thin_maze(l: &Layout, rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Maze
 /// ([`floor_showing_half_tan`]) and, in the narrowest view the walk is played in ([`NARROW_ASPECT`]:
 /// 120×40 half blocks), both ends of the wall do ([`ends_showing_half_tan`]). For cells 4 wide, eye
 /// mid-way: the ends ask for tan 1.67/1.5 = 1.11 vertically, 96° (horizontally 118° at 120×40, 123°
-/// at 80×24), the floor for 73°. Both of [`generate`]'s and [`generate_grid`]'s mazes have it, and
+/// at 80×24), the floor for 69°. Both of [`generate`]'s and [`generate_grid`]'s mazes have it, and
 /// `mazewalk gen` writes it (CS559: a `vfov DEG` line; grid: a `vfov DEG` setting), so a maze written
 /// and loaded again looks as `--gen` shows it.
 #[must_use]

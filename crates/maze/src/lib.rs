@@ -696,9 +696,9 @@ impl Maze {
         }
     }
 
-    /// How close (maze units) the viewer's eye comes to a wall in this maze: 3/8 of its narrowest
+    /// How close (maze units) the viewer's eye comes to a wall in this maze: 2/5 of its narrowest
     /// passage, between [`geometry::WALL_MARGIN`] and [`geometry::MAX_CLEARANCE`]
-    /// ([`geometry::clearance_for`]); 1.5 in a generated maze. The walk, `mazewalk render --at` and the
+    /// ([`geometry::clearance_for`]); 1.6 in a generated maze. The walk, `mazewalk render --at` and the
     /// viewer's start keep this far from every wall.
     #[must_use]
     pub fn clearance(&self) -> f32 {

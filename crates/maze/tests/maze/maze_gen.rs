@@ -126,8 +126,8 @@ fn one_small_maze_per_algorithm_is_pinned() {
     assert_eq!(hashes, PINNED_HASHES);
 }
 
-// (the `vfov` line since issue #39)
-const PINNED_HASHES: [u64; 3] = [12797498167043200616, 14822395573572778276, 14170142179558910712];
+// (the `vfov` line since issue #39; its last digit since the clearance became 2/5 of a passage)
+const PINNED_HASHES: [u64; 3] = [670580516589853297, 17318846194304531939, 15048711590862339343];
 
 #[test]
 fn the_prng_is_pinned() {
