@@ -142,6 +142,7 @@ fn held_out(renderer: &mut Renderer) {
     const PER_MAZE: usize = 30;
     let mut rows: BTreeMap<&str, Vec<Measures>> = BTreeMap::new();
     let mut worst_view: BTreeMap<&str, (f64, String)> = BTreeMap::new();
+    let mut worst_p95: BTreeMap<&str, (f64, String)> = BTreeMap::new();
     for (name, maze) in held_out_mazes() {
         for (k, (kind, camera)) in quality::held_out_views(&maze, 39, PER_MAZE).into_iter().enumerate() {
             let truth_frame =
@@ -158,7 +159,11 @@ fn held_out(renderer: &mut Renderer) {
                 );
                 let worst = worst_view.entry(mode).or_insert((0.0, String::new()));
                 if m.mean_error > worst.0 {
-                    *worst = (m.mean_error, label);
+                    *worst = (m.mean_error, label.clone());
+                }
+                let worst = worst_p95.entry(mode).or_insert((0.0, String::new()));
+                if m.p95_error > worst.0 {
+                    *worst = (m.p95_error, label);
                 }
                 rows.entry(mode).or_default().push(m);
             }
@@ -187,6 +192,9 @@ fn held_out(renderer: &mut Renderer) {
     }
     for (mode, (e, label)) in worst_view {
         println!("- worst view in {mode}: {label} (mean error {e:.3})");
+    }
+    for (mode, (p, label)) in worst_p95 {
+        println!("- worst p95 in {mode}: {label} (p95 error {p:.3})");
     }
 }
 
