@@ -26,8 +26,8 @@ fn maze(name: &str) -> String {
 }
 
 /// An eye put closer to a wall than the walk would ever stand (on it, a hair off it, in a viewer
-/// line of the file) sees the wall, from where the walk would stand: the maze's clearance from it (1,
-/// a quarter of tiny.maze's 4-wide cell). It saw through the wall (the near plane lies inside it).
+/// line of the file) sees the wall, from where the walk would stand: the maze's clearance from it (1.6,
+/// 2/5 of tiny.maze's 4-wide cell). It saw through the wall (the near plane lies inside it).
 #[test]
 fn an_eye_against_a_wall_sees_the_wall_from_where_the_walk_stands() {
     let dir = std::env::temp_dir().join(format!("mazewalk-cli-against-{}", std::process::id()));
@@ -48,8 +48,8 @@ fn an_eye_against_a_wall_sees_the_wall_from_where_the_walk_stands() {
         stdout(&out)
     };
     let tiny = maze("tiny.maze");
-    let standing = frame(&tiny, Some("1,2"));
-    for at in ["0,2", "0.0000001,2", "0.001,2", "0.1,2", "0.25,2", "0.9,2"] {
+    let standing = frame(&tiny, Some("1.6,2"));
+    for at in ["0,2", "0.0000001,2", "0.001,2", "0.1,2", "0.25,2", "0.9,2", "1,2", "1.5,2"] {
         assert_eq!(frame(&tiny, Some(at)), standing, "--at {at}");
     }
     assert_eq!(frame(against.to_str().unwrap(), None), standing, "the file's viewer at 0.001");
@@ -57,13 +57,13 @@ fn an_eye_against_a_wall_sees_the_wall_from_where_the_walk_stands() {
     let stats = mazewalk(&["render", &tiny, "--at", "0.001,2", "--stats", "--size", "8x4"]);
     let json: serde_json::Value = serde_json::from_slice(&stats.stderr).expect("--stats is JSON");
     let viewer = [&json["viewer"][0], &json["viewer"][1]].map(|v| v.as_f64().expect("two numbers"));
-    assert!((1.0..1.0005).contains(&viewer[0]) && viewer[1] == 2.0, "{json}");
+    assert!((1.6..1.6005).contains(&viewer[0]) && viewer[1] == 2.0, "{json}");
     // `check` tells the maze's author where the walk starts instead.
     let report = stdout(&mazewalk(&["check", against.to_str().unwrap()]));
-    assert!(report.contains("closer than 1 to a wall: the walk starts at (1"), "{report}");
+    assert!(report.contains("closer than 1.6 to a wall: the walk starts at (1.6"), "{report}");
     assert!(!stdout(&mazewalk(&["check", &tiny])).contains("the walk starts"), "tiny's viewer is clear");
     // …and what it sees is the wall, as from further back, where no near plane reaches it.
-    assert_eq!(standing, frame(&tiny, Some("1.2,2")));
+    assert_eq!(standing, frame(&tiny, Some("1.65,2")));
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -193,8 +193,8 @@ fn held_out(renderer: &mut Renderer) {
     for (mode, (e, label)) in worst_view {
         println!("- worst view in {mode}: {label} (mean error {e:.3})");
     }
-    for (mode, (e, label)) in worst_p95 {
-        println!("- worst p95 in {mode}: {label} (p95 error {e:.3})");
+    for (mode, (p, label)) in worst_p95 {
+        println!("- worst p95 in {mode}: {label} (p95 error {p:.3})");
     }
 }
 

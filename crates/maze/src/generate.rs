@@ -22,7 +22,7 @@ use std::collections::VecDeque;
 
 use glam::{Vec3, vec2};
 
-use super::geometry::{clearance_for, floor_showing_half_tan};
+use super::geometry::{NARROW_ASPECT, clearance_for, ends_showing_half_tan, floor_showing_half_tan};
 use super::grid::TileMap;
 use super::{CellId, Cells, Edge, Edges, Exit, Maze, Viewer};
 
@@ -424,9 +424,10 @@ pub fn not_green(color: Vec3) -> Vec3 {
 ///
 /// Vertex `(i, j)` is `j * (width + 1) + i` at `(4i, 4j)`; edges list the horizontal ones row by row,
 /// then the vertical ones; each cell lists its edges +x, +y, -x, -y. The viewer stands in the centre of
-/// cell 0 at eye height 0 with a 90° field of view, facing its first open side; its clearance is 1 (a
-/// quarter of a cell) and the walk keeps a vertical field of view of 96° or more
-/// ([`Maze::min_vfov_deg`]), so that from the closest stand the floor and ceiling show.
+/// cell 0 at eye height 0 with a 90° field of view, facing its first open side; its clearance is 1.6
+/// (2/5 of a cell) and the walk keeps a vertical field of view of 96° or more
+/// ([`Maze::min_vfov_deg`]), so that from the closest stand the floor, the ceiling and the wall's ends
+/// show.
 pub fn generate(opts: &GenOptions) -> Result<Maze, GenError> {
     let l = layout(opts)?;
     // colours come from their own stream, so the layout does not depend on the palette
@@ -487,18 +488,26 @@ fn thin_maze(l: &Layout, rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Maze
     // correct by construction; validating costs little next to generating
     let maze = Maze::new(vertices, edges, cells, viewer, exit)
         .unwrap_or_else(|e| unreachable!("generated maze invalid: {e}"));
-    let vfov = generated_min_vfov_deg(maze.clearance(), viewer.z);
+    let vfov = generated_min_vfov_deg(CELL_SIZE, viewer.z);
     maze.with_min_vfov_deg(vfov)
 }
 
-/// The least vertical field of view (degrees) of a generated maze whose eye at height `eye_z` keeps
-/// `clearance` from its walls: the one with which the floor and the ceiling show from the closest
-/// stand ([`floor_showing_half_tan`]). Both of [`generate`]'s and [`generate_grid`]'s mazes have it,
-/// and `mazewalk gen` writes it (CS559: a `vfov DEG` line; grid: a `vfov DEG` setting), so a maze
-/// written and loaded again looks as `--gen` shows it.
+/// The least vertical field of view (degrees) of a generated maze whose narrowest passage is `passage`
+/// across (its clearance [`clearance_for`] of it) and whose eye is at height `eye_z`: the one with
+/// which, from the closest stand facing a wall square on, the floor and the ceiling show
+/// ([`floor_showing_half_tan`]) and, in the narrowest view the walk is played in ([`NARROW_ASPECT`]:
+/// 120×40 half blocks), both ends of the wall do ([`ends_showing_half_tan`]). For cells 4 wide, eye
+/// mid-way: the ends ask for tan 1.67/1.5 = 1.11 vertically, 96° (horizontally 118° at 120×40, 123°
+/// at 80×24), the floor for 69°. Both of [`generate`]'s and [`generate_grid`]'s mazes have it, and
+/// `mazewalk gen` writes it (CS559: a `vfov DEG` line; grid: a `vfov DEG` setting), so a maze written
+/// and loaded again looks as `--gen` shows it.
 #[must_use]
-pub fn generated_min_vfov_deg(clearance: f32, eye_z: f32) -> f32 {
-    2.0 * floor_showing_half_tan(clearance, eye_z).atan().to_degrees()
+pub fn generated_min_vfov_deg(passage: f32, eye_z: f32) -> f32 {
+    let clearance = clearance_for(passage);
+    let floor = floor_showing_half_tan(clearance, eye_z);
+    let ends = ends_showing_half_tan(passage, clearance) / NARROW_ASPECT;
+    // in f64, rounded once: the same f32 whether the compiler folds the arctangent or the library does
+    (2.0 * f64::from(floor.max(ends)).atan().to_degrees()) as f32
 }
 
 /// The same random layout as [`generate`], as a tile map for the grid format: a
@@ -543,7 +552,7 @@ pub fn generate_grid(opts: &GenOptions) -> Result<TileMap, GenError> {
         }
     }
     // cells and openings a tile (CELL_SIZE) across: the clearance of a generated maze
-    let min_vfov_deg = generated_min_vfov_deg(clearance_for(CELL_SIZE), 0.0);
+    let min_vfov_deg = generated_min_vfov_deg(CELL_SIZE, 0.0);
     Ok(TileMap {
         tile: CELL_SIZE,
         eye: 0.0,

@@ -23,30 +23,52 @@ pub const CEILING_Z: f32 = 1.0;
 /// corners stay inside it. A maze's own clearance ([`crate::Maze::clearance`], [`clearance_for`]) is
 /// this or more.
 pub const WALL_MARGIN: f32 = 0.25;
-/// The most clearance a maze gets: a quarter of a generated maze's 4-unit corridor, as Doom keeps its
-/// player a quarter of a corridor from a wall.
-pub const MAX_CLEARANCE: f32 = 1.0;
+/// The most clearance a maze gets: 2/5 of a generated maze's 4-unit corridor ([`clearance_for`]).
+pub const MAX_CLEARANCE: f32 = 1.6;
+/// A maze's clearance as a share of its narrowest passage ([`clearance_for`]).
+pub const CLEARANCE_SHARE: f32 = 0.4;
 /// Where the foot (and the top) of a wall faced square on from the closest stand lies, as a fraction
 /// of the way from the view's centre to its bottom (top) edge, with the least vertical field of view
 /// [`floor_showing_half_tan`] asks for: 0.9 leaves a tenth of the half-height, two sample rows of 24
-/// at 80×24 half blocks, for the floor below the wall and the ceiling above it.
+/// at 80×24 half blocks, for the floor below the wall and the ceiling above it. The same share of the
+/// half width is where [`ends_showing_half_tan`] puts a wall's far end.
 pub const FOOT_AT: f32 = 0.9;
+/// The narrowest view the walk is played in, width to height: 120×40 cells of half blocks (120 × 80
+/// square samples). A wider view (80×24 half blocks: 1.67) keeps the vertical field and widens the
+/// horizontal one, so what this view shows at its sides a wider one shows too.
+pub const NARROW_ASPECT: f32 = 1.5;
 
 /// The clearance of a maze whose narrowest passage is `narrowest` units across (the narrowest cell, or
-/// the shortest opening between cells): a quarter of it, between [`WALL_MARGIN`] and
-/// [`MAX_CLEARANCE`] — so the viewer's disc (half the passage across) passes every opening with half
-/// of it to spare, a cell too narrow for that keeps today's [`WALL_MARGIN`], and a generated maze
-/// (cells and openings 4 wide) gets 1. NaN gives [`WALL_MARGIN`].
+/// the shortest opening between cells): 2/5 of it ([`CLEARANCE_SHARE`]), between [`WALL_MARGIN`] and
+/// [`MAX_CLEARANCE`] — so the viewer's disc (4/5 of the passage across) passes every opening with a
+/// fifth of it to spare, a cell too narrow for that keeps [`WALL_MARGIN`], and a generated maze (cells
+/// and openings 4 wide) gets 1.6. NaN gives [`WALL_MARGIN`].
+///
+/// Why 2/5, stated once (the geometry of [`floor_showing_half_tan`] and [`ends_showing_half_tan`]):
+/// standing `c` from a wall `w` long (a passage across), facing it square on, a centred eye sees its
+/// ends at tan `(w/2)/c` either side, and an eye as far off-centre as the clearance lets it
+/// (`w/2 − c`, against a closed side) sees the far end at tan `(w − c)/c`. A generated maze's 96°
+/// vertical field gives a horizontal tan of 1.67 at 120×40 half blocks (118°), 1.85 at 80×24 (123°).
+/// With a quarter (`c` = 1) a centred eye needs 2 just to reach the ends: one flat colour fills the
+/// view and no side, open or closed, shows. With 3/8 (1.5) the far end from the corner needs
+/// 2.5/1.5 = 1.67, the very edge of the 120×40 view. With 2/5 (1.6) a centred eye sees the ends at
+/// ±1.25/1.67 = 0.75 of the half width (columns 15 and 105 of 120) with what is beside them, the
+/// far end from the corner at 2.4/1.6 = 1.5, [`FOOT_AT`] of the half width (column 114), and the
+/// floor below the wall with a tan of 1/(1.6·0.9) = 0.69 (a quarter needs 1.11).
 ///
 /// ```
 /// # use mazewalk_maze::geometry::{clearance_for, WALL_MARGIN, MAX_CLEARANCE};
-/// assert_eq!(clearance_for(4.0), 1.0);
+/// assert_eq!(clearance_for(4.0), 1.6);
 /// assert_eq!(clearance_for(0.6), WALL_MARGIN);
 /// assert_eq!(clearance_for(100.0), MAX_CLEARANCE);
 /// ```
 #[must_use]
 pub fn clearance_for(narrowest: f32) -> f32 {
-    if narrowest.is_nan() { WALL_MARGIN } else { (0.25 * narrowest).clamp(WALL_MARGIN, MAX_CLEARANCE) }
+    if narrowest.is_nan() {
+        WALL_MARGIN
+    } else {
+        (CLEARANCE_SHARE * narrowest).clamp(WALL_MARGIN, MAX_CLEARANCE)
+    }
 }
 
 /// The least tan(θ), θ the vertical half field of view, with which an eye at height `eye_z` standing
@@ -56,14 +78,30 @@ pub fn clearance_for(narrowest: f32) -> f32 {
 /// depth `d` = `clearance`; its foot, `h` = `eye_z − FLOOR_Z` below the eye, shows at `h / (d·tan θ)`
 /// of the way from the view's centre to its bottom edge, so the floor shows below the wall when
 /// `d·tan θ > h` (and the ceiling above it when `d·tan θ > CEILING_Z − eye_z`). This asks for the foot at
-/// [`FOOT_AT`] of the way. A generated maze (eye mid-way, `h` = 1, `d` = 1) needs tan θ ≥ 1.11, a
-/// vertical field of 96°; at 120×40 half blocks (1.5 wide to 1 high) that is a horizontal field of
-/// 118°, at 80×24 123°. Turned by φ from square on, the column nearest the wall meets it at depth
+/// [`FOOT_AT`] of the way. A generated maze (eye mid-way, `h` = 1, `d` = 1.6) needs tan θ ≥ 0.69, a
+/// vertical field of 69°; its field is wider, for the wall's ends ([`ends_showing_half_tan`]).
+/// Turned by φ from square on, the column nearest the wall meets it at depth
 /// `d / (cos φ + tan(hfov/2)·sin φ)`, closer: no field of view shows the floor in every column at
-/// every heading a quarter corridor from a wall (it would take `d` ≥ the view's aspect × `h`).
+/// every heading from the clearance (it would take `d` ≥ the view's aspect × `h`).
 #[must_use]
 pub fn floor_showing_half_tan(clearance: f32, eye_z: f32) -> f32 {
     (eye_z - FLOOR_Z).max(CEILING_Z - eye_z) / (clearance * FOOT_AT)
+}
+
+/// The least tan(φ), φ the horizontal half field of view, with which an eye standing `clearance` from
+/// a wall `passage` long, facing it square on, sees both of its ends and what is beyond them from
+/// anywhere the clearance lets it stand before the wall between closed sides: from the corner of that
+/// band, `passage/2 − clearance` off-centre, the far end is `passage − clearance` to the side, and
+/// shows at [`FOOT_AT`] of the way from the view's centre to its edge (nearer the middle from anywhere
+/// else in the band). A generated maze (4 units, 1.6) needs 1.5/0.9 = 1.67.
+///
+/// ```
+/// # use mazewalk_maze::geometry::ends_showing_half_tan;
+/// assert!((ends_showing_half_tan(4.0, 1.6) - 2.4 / 1.6 / 0.9).abs() < 1e-5);
+/// ```
+#[must_use]
+pub fn ends_showing_half_tan(passage: f32, clearance: f32) -> f32 {
+    (passage - clearance).max(0.0) / (clearance * FOOT_AT)
 }
 /// How close (maze units) the eye may come to the floor and the ceiling.
 pub const EYE_MARGIN: f32 = 0.15;

@@ -696,9 +696,9 @@ impl Maze {
         }
     }
 
-    /// How close (maze units) the viewer's eye comes to a wall in this maze: a quarter of its narrowest
+    /// How close (maze units) the viewer's eye comes to a wall in this maze: 2/5 of its narrowest
     /// passage, between [`geometry::WALL_MARGIN`] and [`geometry::MAX_CLEARANCE`]
-    /// ([`geometry::clearance_for`]); 1 in a generated maze. The walk, `mazewalk render --at` and the
+    /// ([`geometry::clearance_for`]); 1.6 in a generated maze. The walk, `mazewalk render --at` and the
     /// viewer's start keep this far from every wall.
     #[must_use]
     pub fn clearance(&self) -> f32 {
@@ -707,8 +707,8 @@ impl Maze {
 
     /// The least vertical field of view (degrees) the walk's camera keeps in this maze, widening its
     /// horizontal field where the screen is too wide for it; 0 (files: they keep their own field of
-    /// view) or, for a generated maze, the field with which the floor and ceiling show from the
-    /// closest stand ([`geometry::floor_showing_half_tan`]).
+    /// view) or, for a generated maze, the field with which the floor, the ceiling and a faced wall's
+    /// ends show from the closest stand ([`generate::generated_min_vfov_deg`]).
     #[must_use]
     pub fn min_vfov_deg(&self) -> f32 {
         self.min_vfov_deg

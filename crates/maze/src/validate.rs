@@ -2,7 +2,7 @@
 
 use glam::{DVec2, Vec2};
 
-use super::geometry::WALL_MARGIN;
+use super::geometry::{CLEARANCE_SHARE, WALL_MARGIN};
 use super::index::{SpatialGrid, Threads};
 use super::movement;
 use super::sweep::{self, Conflict, conflict};
@@ -400,8 +400,8 @@ fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     (a + ab * t).distance(p)
 }
 
-/// Cells with more edges than this count as [`WALL_MARGIN`] · 4 across in [`narrowest_passage`] (its
-/// cost grows with the square of a cell's edges; no maker draws such cells).
+/// Cells with more edges than this count in [`narrowest_passage`] as narrow as gives [`WALL_MARGIN`]
+/// (its cost grows with the square of a cell's edges; no maker draws such cells).
 const MAX_WIDTH_EDGES: usize = 64;
 
 /// The narrowest passage of a maze: the least width of its cells (a convex cell's width is the least,
@@ -413,7 +413,7 @@ pub(crate) fn narrowest_passage(vertices: &[Vec2], edges: &Edges, cells: &Cells)
     for c in 0..cells.len() {
         let ids = cells.get(c);
         if ids.len() > MAX_WIDTH_EDGES {
-            narrowest = narrowest.min(4.0 * WALL_MARGIN);
+            narrowest = narrowest.min(WALL_MARGIN / CLEARANCE_SHARE);
             continue;
         }
         for &e in ids {
@@ -574,17 +574,17 @@ mod tests {
     }
 
     #[test]
-    fn the_clearance_is_a_quarter_of_the_narrowest_passage() {
+    fn the_clearance_is_two_fifths_of_the_narrowest_passage() {
         let parse = |text: &str| crate::parse("t.grid", text.as_bytes()).unwrap();
         let grid = |tile: f32| parse(&format!("mazewalk-grid 1\ntile {tile}\n#####\n#@..#\n#.#.#\n#####\n"));
-        assert_eq!(grid(4.0).clearance(), 1.0, "a quarter of a 4-unit corridor");
-        assert_eq!(grid(2.0).clearance(), 0.5);
-        assert_eq!(grid(0.8).clearance(), WALL_MARGIN, "never less than the near plane needs");
-        assert_eq!(grid(40.0).clearance(), 1.0, "never more than a quarter of a generated corridor");
+        assert_eq!(grid(4.0).clearance(), 1.6, "2/5 of a 4-unit corridor");
+        assert_eq!(grid(2.0).clearance(), 0.8);
+        assert_eq!(grid(0.6).clearance(), WALL_MARGIN, "never less than the near plane needs");
+        assert_eq!(grid(40.0).clearance(), 1.6, "never more than 2/5 of a generated corridor");
         for seed in 0..4 {
             let m = generate(&GenOptions { width: 7, height: 5, seed, loops: 0.3, ..GenOptions::default() })
                 .unwrap();
-            assert_eq!(m.clearance(), 1.0);
+            assert_eq!(m.clearance(), 1.6);
         }
         // Two 4 × 4 rooms whose shared side is a 1.5-wide opening between two walls: the opening counts.
         let v = [(0., 0.), (4., 0.), (4., 1.), (4., 2.5), (4., 4.), (0., 4.), (8., 0.), (8., 4.)];
@@ -610,6 +610,6 @@ mod tests {
         cells.push(&[3, 4, 5, e + 2, e + 1, e]);
         let viewer = crate::Viewer { pos: vec2(2.0, 2.0), z: 0.0, dir_deg: 0.0, fov_deg: 90.0 };
         let m = Maze::new(vertices, edges, cells, viewer, None).unwrap();
-        assert_eq!(m.clearance(), 1.5 / 4.0);
+        assert_eq!(m.clearance(), 1.5 * 0.4);
     }
 }

@@ -221,7 +221,9 @@ mod tests {
 
     /// Issue #34: every player spawned on the same point. Issue #39: three spawned a metre apart in
     /// one cell, the second seeing the first's back. Now the first gets the start, each next a cell
-    /// apart from everyone while the maze has room (here, one a cell), then at least SPACING.
+    /// apart from everyone while the maze has room (here, one a cell), then at least SPACING while it
+    /// has room for that (here 9: the walk's clearance, 1.6, leaves the corridor one line of spots,
+    /// y = 6, x = 6…14), then the spot farthest from everyone (a lattice step).
     #[test]
     fn newcomers_spread_out_from_the_start_a_cell_apart() {
         let maze = maze(CORRIDOR);
@@ -233,7 +235,13 @@ mod tests {
                 assert_eq!(spot.pos, start.pos, "the first stands on the start");
             }
             let nearest = here.iter().map(|o| o.distance(spot.pos)).fold(f32::INFINITY, f32::min);
-            let wanted = if n < 3 { 4.0 } else { SPACING };
+            let wanted = if n < 3 {
+                4.0
+            } else if n < 9 {
+                SPACING
+            } else {
+                LATTICE
+            };
             assert!(nearest >= wanted, "{n}: {:?} only {nearest} from another", spot.pos);
             assert_eq!(maze.cell_at(spot.pos), Some(spot.cell));
             assert_eq!(stand(&maze, spot.pos).unwrap().pos, spot.pos, "clear of the walls");

@@ -129,7 +129,7 @@ fn a_generated_tile_map_is_pinned() {
 const PINNED_4X3: [&str; 11] = [
     "mazewalk-grid 1",
     "tile 4",
-    "vfov 96.02557",
+    "vfov 96.02558",
     "",
     "#########",
     "#.#.#E..#",

@@ -1,7 +1,8 @@
 //! Issue #39: "At the closest a player can stand, the view still shows where the wall's edges and the
-//! floor are." A generated maze keeps the eye a quarter of a cell from its walls and its view a
-//! vertical field of view with which, facing a wall square on from there, the floor shows below it
-//! and the ceiling above it (`mazewalk_maze::geometry::floor_showing_half_tan` states the geometry).
+//! floor are." A generated maze keeps the eye 2/5 of a cell from its walls and its view a vertical
+//! field of view with which, facing a wall square on from there, the floor shows below it, the
+//! ceiling above it and, at 120×40 and wider, what lies beyond both of its ends
+//! (`mazewalk_maze::geometry::clearance_for` states the geometry).
 
 use glam::Vec2;
 use mazewalk_maze::Maze;
@@ -24,8 +25,9 @@ fn ids(maze: &Maze, camera: &Camera, cols: usize, rows: usize) -> (Vec<u32>, usi
     (renderer.samples().id().to_vec(), renderer.samples().width())
 }
 
-/// The closest stand facing the middle part of wall `e` of `cell` square on (`along` 0.3–0.7 of its
-/// length), and the heading (degrees) that faces it; `None` for a portal.
+/// The closest stand facing wall `e` of `cell` square on at `along` of its length (a spot the walk
+/// lets a player stand on: 0.4–0.6 of a generated cell's wall), and the heading (degrees) that faces
+/// it; `None` for a portal.
 fn facing_wall(maze: &Maze, cell: u32, e: u32, along: f32) -> Option<(u32, Vec2, f32)> {
     if !maze.edge(e).opaque {
         return None;
@@ -40,10 +42,10 @@ fn facing_wall(maze: &Maze, cell: u32, e: u32, along: f32) -> Option<(u32, Vec2,
 }
 
 #[test]
-fn a_generated_maze_keeps_a_quarter_cell_and_course_files_keep_theirs() {
+fn a_generated_maze_keeps_two_fifths_of_a_cell_and_course_files_keep_theirs() {
     let maze =
         generate(&GenOptions { width: 6, height: 5, seed: 11, ..GenOptions::default() }).expect("maze");
-    assert_eq!(maze.clearance(), CELL_SIZE / 4.0);
+    assert_eq!(maze.clearance(), CELL_SIZE * 2.0 / 5.0);
     assert_eq!(maze.clearance(), MAX_CLEARANCE);
     assert!(maze.min_vfov_deg() > 90.0, "{}", maze.min_vfov_deg());
     let tiny = mazewalk_maze::load(mazewalk_testkit::maze_path("tiny.grid")).expect("tiny").maze;
@@ -55,16 +57,17 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
 
     // Facing a wall square on from the closest stand (any of the four headings a wall of a generated
-    // maze is faced at, any cell, the middle part of the wall), at 120×40 and 80×24: every column that
+    // maze is faced at, any cell, anywhere the clearance lets the eye stand before the wall), at 120×40
+    // and 80×24: every column that
     // shows the wall shows floor below it and ceiling above it, and the wall spans most of the view.
-    // (Turned from square on, or beside a wall's end, the nearest columns meet a wall closer than a
-    // quarter cell, where no field of view a screen can show keeps the floor in: the geometry's doc.)
+    // (Turned from square on, or beside a wall's end, the nearest columns meet a wall closer than the
+    // clearance, where no field of view a screen can show keeps the floor in: the geometry's doc.)
     #[test]
     fn facing_a_wall_from_the_closest_stand_floor_and_ceiling_show(
         (width, height, seed) in (3u32..=20, 3u32..=15, any::<u64>()),
         pick in 0.0f32..1.0,
         side in 0usize..4,
-        along in 0.3f32..=0.7,
+        along in 0.41f32..=0.59,
     ) {
         let maze = generate(&GenOptions { width, height, seed, loops: 0.1, ..GenOptions::default() }).expect("maze");
         let cell = ((pick * maze.cell_count() as f32) as u32).min(maze.cell_count() as u32 - 1);
@@ -89,6 +92,41 @@ proptest! {
                 }
             }
             prop_assert!(wall_columns * 2 > w, "{cols}×{rows}: the faced wall in {wall_columns} of {w} columns");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    // Facing a wall square on from the closest stand, anywhere in the band the clearance lets the eye
+    // stand in before it (0.4 units either side of the middle in a generated maze; right up to its
+    // corners), at 120×40 and 80×24: neither the first nor the last column of the view shows the faced
+    // wall, so both of its ends show with what is beyond them (a side wall, the floor of a side
+    // opening, the next cell's wall). With a quarter-cell clearance one wall filled every column.
+    #[test]
+    fn facing_a_wall_from_the_closest_stand_both_its_ends_show(
+        (width, height, seed) in (3u32..=20, 3u32..=15, any::<u64>()),
+        pick in 0.0f32..1.0,
+        side in 0usize..4,
+        off in -0.98f32..=0.98,
+    ) {
+        let maze = generate(&GenOptions { width, height, seed, loops: 0.1, ..GenOptions::default() }).expect("maze");
+        let cell = ((pick * maze.cell_count() as f32) as u32).min(maze.cell_count() as u32 - 1);
+        let band = 0.5 * CELL_SIZE - maze.clearance(); // how far off-centre the eye may stand
+        let along = 0.5 + off * band / CELL_SIZE;
+        let edges = maze.cell_edges(cell).to_vec();
+        let found = (0..edges.len()).find_map(|k| facing_wall(&maze, cell, edges[(side + k) % edges.len()], along));
+        prop_assume!(found.is_some(), "a cell open on all four sides (the maze has loops)");
+        let (faced, at, heading) = found.unwrap();
+        let v = maze.viewer();
+        let camera = Camera { eye_z: v.z, min_vfov_deg: maze.min_vfov_deg(), ..Camera::new(at, heading, v.fov_deg) };
+        for (cols, rows) in [(120, 40), (80, 24)] {
+            let (ids, w) = ids(&maze, &camera, cols, rows);
+            for x in [0, w - 1] {
+                let column: Vec<u32> = ids.iter().skip(x).step_by(w).copied().collect();
+                prop_assert!(!column.contains(&faced), "{cols}×{rows} column {x}: the faced wall {faced} at the view's edge, at {at} facing {heading}°");
+            }
         }
     }
 }

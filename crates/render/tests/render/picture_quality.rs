@@ -248,8 +248,8 @@ proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
 
     // issue #39: near walls in 256 colours were bullseyes (mean OKLab error 0.104), mid-distance
-    // walls 3.3× too vivid: now a wall's colour is one down each column (bands along the geometry). Over held-out views of a generated maze (in cells, nose to a wall a
-    // quarter cell away (the closest stand) at any angle, down corridors): across the views the median view within the
+    // walls 3.3× too vivid: now a wall's colour is one down each column (bands along the geometry). Over held-out views of a generated maze (in cells, nose to a wall at the
+    // maze's clearance (the closest stand) at any angle, down corridors): across the views the median view within the
     // issue's targets, and no view far from them (the cube has no entry within 0.05 of some muted
     // colours, so a nose-to-wall view of such a wall cannot be closer).
     #[test]
