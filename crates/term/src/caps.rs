@@ -101,6 +101,10 @@ pub enum RepLevel {
 /// Alt-F3, and no key is sent as a report of another row.
 pub const REP_PROBE: &[u8] = "\x1b[2H \x1b[b\x1b[6n\x1b[3H▀\x1b[2b\x1b[6n".as_bytes();
 
+/// The first of [`REP_PROBE`]'s questions alone (a space repeated), for a screen drawn in ASCII only
+/// (the ascii charset: a terminal or font without block glyphs is sent none, not even to ask).
+pub const REP_PROBE_ASCII: &[u8] = b"\x1b[2H \x1b[b\x1b[6n";
+
 /// What a cursor position report says in answer to one of [`REP_PROBE`]'s two questions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RepReport {

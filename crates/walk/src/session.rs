@@ -41,7 +41,7 @@ use crate::screen::{self, FrameCost, Hud, Screen};
 use crate::state::App;
 use crate::views::SharedViews;
 use mazewalk_render::{Charset, Culling};
-use mazewalk_term::caps::{REP_PROBE, RepLevel, RepReport, TRUECOLOR_QUERY, rep_answer};
+use mazewalk_term::caps::{REP_PROBE, REP_PROBE_ASCII, RepLevel, RepReport, TRUECOLOR_QUERY, rep_answer};
 use mazewalk_term::encoder::{self, Encoder};
 use mazewalk_term::frame::{ColorDepth, Frame};
 use mazewalk_term::input::{Input, InputDecoder, Key, KeyPhase, Reply};
@@ -177,8 +177,8 @@ enum RepProbe {
     /// Asked; the answer to the space question may come (whenever: a report of row 2 or 3 is never a
     /// key, and a key between the reports changes nothing here). An answer to the block question
     /// before it is not taken (a terminal answers in order; one whose first report was lost or
-    /// garbled keeps REP off).
-    Asked,
+    /// garbled keeps REP off). `block`: the block question was asked too (not in the ascii charset).
+    Asked { block: bool },
     /// The space was repeated (REP after ASCII glyphs is on); the answer to the block question may
     /// come, and turn REP after any glyph on.
     SpaceRepeated,
@@ -478,11 +478,11 @@ impl Session {
             // block glyphs too (xterm; not tmux), and runs of blocks go as REP as well.
             Input::Reply(Reply::CursorPosition { row, col }) => {
                 match (self.rep_probe, rep_answer(row, col)) {
-                    (RepProbe::Asked, Some(RepReport::Space(true))) => {
+                    (RepProbe::Asked { block }, Some(RepReport::Space(true))) => {
                         self.encoder.set_rep(RepLevel::Ascii);
-                        self.rep_probe = RepProbe::SpaceRepeated;
+                        self.rep_probe = if block { RepProbe::SpaceRepeated } else { RepProbe::Done };
                     }
-                    (RepProbe::Asked, Some(RepReport::Space(false)))
+                    (RepProbe::Asked { .. }, Some(RepReport::Space(false)))
                     | (RepProbe::SpaceRepeated, Some(RepReport::Block(false))) => {
                         self.rep_probe = RepProbe::Done;
                     }
@@ -672,9 +672,11 @@ impl Session {
         self.encoder.set_blocks(self.app.options.charset != Charset::Ascii);
         let before = out.len();
         if self.rep_probe == RepProbe::NotAsked {
-            // Before the first frame, whose full paint clears the screen over the probe's two cells.
-            out.extend_from_slice(REP_PROBE);
-            self.rep_probe = RepProbe::Asked;
+            // Before the first frame, whose full paint clears the screen over the probe's cells; in
+            // the ascii charset only its ASCII question (no block glyph is ever sent, so none is asked).
+            let ascii = self.app.options.charset == Charset::Ascii;
+            out.extend_from_slice(if ascii { REP_PROBE_ASCII } else { REP_PROBE });
+            self.rep_probe = RepProbe::Asked { block: !ascii };
         }
         let stats = self.encoder.encode(&self.frame, out);
         if self.options.flow_control {
@@ -759,6 +761,27 @@ mod tests {
         assert_eq!(exact.encode(&s.frame, &mut Vec::new()).bytes, 0, "the screen is the frame");
         assert!(!s.frame(last + 2.0, &mut out), "settled once, then quiet");
         assert_eq!(s.next_wake(last + 2.0), None);
+    }
+
+    /// The ascii charset is for a terminal or font without block glyphs: its first bytes ask only the
+    /// REP probe's ASCII question (a space repeated), so not one byte before the frames is outside
+    /// ASCII; the answer still turns REP on after ASCII glyphs, and nothing raises it further.
+    #[test]
+    fn the_ascii_charset_asks_rep_with_a_space_only() {
+        let options = mazewalk_render::RenderOptions {
+            charset: mazewalk_render::Charset::Ascii,
+            ..mazewalk_render::RenderOptions::default()
+        };
+        let app = App::new(mazewalk_maze::builtin().unwrap(), options, 0.0).unwrap();
+        let mut s =
+            Session::new(app, 100, 30, SessionOptions { flow_control: false, ..SessionOptions::default() });
+        let mut out = Vec::new();
+        assert!(s.frame(0.0, &mut out));
+        assert!(out.starts_with(REP_PROBE_ASCII) && !out.starts_with(REP_PROBE), "the space question only");
+        assert!(out.is_ascii(), "nothing but ASCII");
+        s.feed(b"\x1b[2;3R", 0.1);
+        s.feed(b"\x1b[3;4R", 0.2);
+        assert_eq!(s.encoder.rep(), RepLevel::Ascii, "the space answered; no block was asked");
     }
 
     /// Issue #42: the REP probe's two reports, in order, set how far frames use REP: none (no REP),
