@@ -41,6 +41,29 @@ fn facing_wall(maze: &Maze, cell: u32, e: u32, along: f32) -> Option<(u32, Vec2,
     Some((e, at, (-inward).y.atan2((-inward).x).to_degrees()))
 }
 
+/// A generated maze of `width × height` (`seed`, loops 0.1), and the camera standing at the closest
+/// stand facing the first wall round the cell `pick` (0..1 of the cells) from `side`, `along` of its
+/// length: the maze, the faced wall, the stand, the heading and the camera; `None` where the cell is
+/// open on every side.
+fn facing_a_wall_of(
+    (width, height, seed): (u32, u32, u64),
+    pick: f32,
+    side: usize,
+    along: impl Fn(&Maze) -> f32,
+) -> Option<(Maze, u32, Vec2, f32, Camera)> {
+    let maze =
+        generate(&GenOptions { width, height, seed, loops: 0.1, ..GenOptions::default() }).expect("maze");
+    let cell = ((pick * maze.cell_count() as f32) as u32).min(maze.cell_count() as u32 - 1);
+    let edges = maze.cell_edges(cell).to_vec();
+    let along = along(&maze);
+    let (faced, at, heading) =
+        (0..edges.len()).find_map(|k| facing_wall(&maze, cell, edges[(side + k) % edges.len()], along))?;
+    let v = maze.viewer();
+    let camera =
+        Camera { eye_z: v.z, min_vfov_deg: maze.min_vfov_deg(), ..Camera::new(at, heading, v.fov_deg) };
+    Some((maze, faced, at, heading, camera))
+}
+
 #[test]
 fn a_generated_maze_keeps_two_fifths_of_a_cell_and_course_files_keep_theirs() {
     let maze =
@@ -69,15 +92,9 @@ proptest! {
         side in 0usize..4,
         along in 0.41f32..=0.59,
     ) {
-        let maze = generate(&GenOptions { width, height, seed, loops: 0.1, ..GenOptions::default() }).expect("maze");
-        let cell = ((pick * maze.cell_count() as f32) as u32).min(maze.cell_count() as u32 - 1);
-        // the first wall from `side` round the cell
-        let edges = maze.cell_edges(cell).to_vec();
-        let found = (0..edges.len()).find_map(|k| facing_wall(&maze, cell, edges[(side + k) % edges.len()], along));
+        let found = facing_a_wall_of((width, height, seed), pick, side, |_| along);
         prop_assume!(found.is_some(), "a cell open on all four sides (the maze has loops)");
-        let (faced, at, heading) = found.unwrap();
-        let v = maze.viewer();
-        let camera = Camera { eye_z: v.z, min_vfov_deg: maze.min_vfov_deg(), ..Camera::new(at, heading, v.fov_deg) };
+        let (maze, faced, at, heading, camera) = found.unwrap();
         for (cols, rows) in [(120, 40), (80, 24)] {
             let (ids, w) = ids(&maze, &camera, cols, rows);
             let mut wall_columns = 0;
@@ -111,16 +128,11 @@ proptest! {
         side in 0usize..4,
         off in -0.98f32..=0.98,
     ) {
-        let maze = generate(&GenOptions { width, height, seed, loops: 0.1, ..GenOptions::default() }).expect("maze");
-        let cell = ((pick * maze.cell_count() as f32) as u32).min(maze.cell_count() as u32 - 1);
-        let band = 0.5 * CELL_SIZE - maze.clearance(); // how far off-centre the eye may stand
-        let along = 0.5 + off * band / CELL_SIZE;
-        let edges = maze.cell_edges(cell).to_vec();
-        let found = (0..edges.len()).find_map(|k| facing_wall(&maze, cell, edges[(side + k) % edges.len()], along));
+        // how far off-centre the eye may stand: `off` of the band either side of the middle
+        let along = |maze: &Maze| 0.5 + off * (0.5 * CELL_SIZE - maze.clearance()) / CELL_SIZE;
+        let found = facing_a_wall_of((width, height, seed), pick, side, along);
         prop_assume!(found.is_some(), "a cell open on all four sides (the maze has loops)");
-        let (faced, at, heading) = found.unwrap();
-        let v = maze.viewer();
-        let camera = Camera { eye_z: v.z, min_vfov_deg: maze.min_vfov_deg(), ..Camera::new(at, heading, v.fov_deg) };
+        let (maze, faced, at, heading, camera) = found.unwrap();
         for (cols, rows) in [(120, 40), (80, 24)] {
             let (ids, w) = ids(&maze, &camera, cols, rows);
             for x in [0, w - 1] {

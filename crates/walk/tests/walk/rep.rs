@@ -69,14 +69,18 @@ struct Sent {
     block_reps: usize,
 }
 
+/// A session of the built-in maze in half blocks of `depth`, `COLS × ROWS`, that sends every frame
+/// exactly (no flow control, tolerance 0); `bce`: whether the terminal erases in the pen's colour.
+fn exact_session(depth: ColorDepth, bce: bool) -> Session {
+    let options = RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
+    let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("a start cell");
+    Session::new(app, COLS, ROWS, SessionOptions { flow_control: false, color_tolerance: 0, bce })
+}
+
 /// Walks forward for two seconds in `depth`, exactly (tolerance 0), the terminal answering the
 /// probe as `answer`; checks the screen after every frame; returns what was sent.
 fn walk(depth: ColorDepth, answer: Answer) -> Sent {
-    let options = RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
-    let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("a start cell");
-    let session_options =
-        SessionOptions { flow_control: false, color_tolerance: 0, ..SessionOptions::default() };
-    let mut session = Session::new(app, COLS, ROWS, session_options);
+    let mut session = exact_session(depth, SessionOptions::default().bce);
     let nz = |n: u16| std::num::NonZeroU16::new(n).expect("not zero");
     let mut parser = vt100::Parser::new(nz(ROWS), nz(COLS), 0);
     let mut sent = Sent::default();
@@ -274,11 +278,7 @@ fn tmux_gets_rep_after_ascii_only_and_shows_every_frame() {
     };
 
     for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
-        let options =
-            RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
-        let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("a start cell");
-        let session_options = SessionOptions { flow_control: false, color_tolerance: 0, bce: false };
-        let mut session = Session::new(app, COLS, ROWS, session_options);
+        let mut session = exact_session(depth, false);
         let (mut reps, mut block_reps) = (0, 0);
         let mut out = Vec::new();
         for i in 0..60 {
