@@ -85,6 +85,46 @@ pub struct Screen {
     map_cells: MapCells,
     /// What the open exit box shows besides the time, held until it closes.
     exit_news: ExitNews,
+    /// The last view this screen's own renderer drew, kept to be shown again while nothing it is
+    /// drawn from changed.
+    last_view: Option<LastView>,
+    /// Views this screen's own renderer drew (a view shown again from `last_view` is not one).
+    renders: u64,
+}
+
+/// A view as this screen's renderer drew it, before anything was drawn over it: a pure function of
+/// its key (see [`crate::views`]), so while the key stays the same, bit for bit, its cells are the
+/// render's (the map, a box or the HUD changing alone renders nothing). The renderer's own state (its
+/// portal pass, samples and figures' heads, read by the map and the ghost's caption) is still this
+/// render's: nothing else renders with it meanwhile.
+///
+/// Of the figures, only those in a cell the render's portal pass reached (all, without culling) are
+/// drawn ([`Renderer::render`]), and with the camera the same so is the pass: the key holds no
+/// figures, `figures` those (with their places in the list, which the heads name) and `sprites` how
+/// many there were. Another player walking where the view does not reach moves on the map only.
+#[derive(Debug)]
+struct LastView {
+    key: ViewKey,
+    figures: Vec<(usize, Sprite)>,
+    sprites: usize,
+    cells: Vec<Cell>,
+    stats: RenderStats,
+}
+
+impl LastView {
+    /// Whether `sprites` draw in this view what its own did: as many, and the same ones, bit for bit,
+    /// where `visible` (the render's portal pass) says a figure shows.
+    fn same_figures(&self, sprites: &[Sprite], visible: impl Fn(u32) -> bool) -> bool {
+        let bits =
+            |s: &Sprite| [s.position.x, s.position.y, s.color.x, s.color.y, s.color.z].map(f32::to_bits);
+        let mut shown = sprites.iter().enumerate().filter(|(_, s)| visible(s.cell));
+        self.sprites == sprites.len()
+            && self
+                .figures
+                .iter()
+                .all(|(k, a)| shown.next().is_some_and(|(j, b)| *k == j && a == b && bits(a) == bits(b)))
+            && shown.next().is_none()
+    }
 }
 
 /// The host's lines in the exit box, held from when the box opens until it closes (issue #39: the box
@@ -162,14 +202,54 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
             })
         }
         None => {
-            screen.renderer.set_chalk(app.chalked());
-            screen.renderer.render(
-                app.maze(),
-                &app.camera,
-                &screen.sprites,
-                &options,
-                Target::Frame(frame, view),
-            )
+            let size = (cols, view.rows);
+            let cells = cols * view.rows;
+            let portal = screen.renderer.portal();
+            let visible = |cell: u32| options.culling == Culling::None || portal.was_visited(cell);
+            match &screen.last_view {
+                Some(last)
+                    if last.key.is(app.maze(), &app.camera, &[], &options, size, app.chalked())
+                        && last.same_figures(&screen.sprites, visible) =>
+                {
+                    frame.cells_mut()[..cells].copy_from_slice(&last.cells);
+                    Ok(last.stats)
+                }
+                _ => {
+                    screen.renders += 1;
+                    screen.renderer.set_chalk(app.chalked());
+                    let drawn = screen.renderer.render(
+                        app.maze(),
+                        &app.camera,
+                        &screen.sprites,
+                        &options,
+                        Target::Frame(frame, view),
+                    );
+                    screen.last_view = drawn.as_ref().ok().map(|&stats| {
+                        let mut last = screen.last_view.take().unwrap_or(LastView {
+                            key: ViewKey::new(app.maze(), &app.camera, &[], &options, size),
+                            figures: Vec::new(),
+                            sprites: 0,
+                            cells: Vec::new(),
+                            stats,
+                        });
+                        let portal = screen.renderer.portal();
+                        let visible =
+                            |cell: u32| options.culling == Culling::None || portal.was_visited(cell);
+                        last.key = ViewKey::new(app.maze(), &app.camera, &[], &options, size)
+                            .with_chalk(app.chalked());
+                        last.figures.clear();
+                        last.figures.extend(
+                            screen.sprites.iter().copied().enumerate().filter(|(_, s)| visible(s.cell)),
+                        );
+                        last.sprites = screen.sprites.len();
+                        last.cells.clear();
+                        last.cells.extend_from_slice(&frame.cells()[..cells]);
+                        last.stats = stats;
+                        last
+                    });
+                    drawn
+                }
+            }
         }
     };
     let stats = match drawn {
@@ -248,6 +328,15 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     draw_hud(app, screen, frame, hud); // last: boxes never hide it
     overlay::limit_colors(frame, style.depth); // not one code deeper than the terminal's depth
     stats
+}
+
+impl Screen {
+    /// Views this screen's own renderer drew so far: frames whose view was shown again unchanged
+    /// (only the map, a box or the HUD changed) and views shared with other screens are not counted.
+    #[must_use]
+    pub fn renders(&self) -> u64 {
+        self.renders
+    }
 }
 
 /// A ghost's caption over its head at (`col`, `row`) of the frame: on the row above, centred, kept

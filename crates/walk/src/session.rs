@@ -306,15 +306,25 @@ impl Session {
     }
 
     /// The other players to draw (a host's view of a shared maze); the next frame is drawn only if
-    /// they differ from the ones drawn. Returns whether they did.
+    /// they differ from the ones drawn in what is drawn of them: where they stand, their cells,
+    /// initials and colours, in order (a figure and a map label show no heading: another player
+    /// turning on the spot changes no picture). Returns whether they did.
     pub fn set_peers(&mut self, peers: &[Peer]) -> bool {
-        if self.screen.peers == peers {
-            return false;
-        }
+        let drawn = |p: &Peer| (p.position.x.to_bits(), p.position.y.to_bits(), p.cell, p.initial, p.color);
+        let changed = self.screen.peers.len() != peers.len()
+            || self.screen.peers.iter().zip(peers).any(|(a, b)| drawn(a) != drawn(b));
         self.screen.peers.clear();
         self.screen.peers.extend_from_slice(peers);
-        self.dirty = true;
-        true
+        self.dirty |= changed;
+        changed
+    }
+
+    /// Views this session's renderer drew so far ([`Screen::renders`](crate::screen::Screen::renders)):
+    /// a frame whose view is unchanged (only the map, a box or the HUD changed) shows the last one
+    /// again without rendering it.
+    #[must_use]
+    pub fn renders(&self) -> u64 {
+        self.screen.renders()
     }
 
     /// Everyone in a served maze, for the player list (`Tab` opens and closes it; empty: no list, and
@@ -718,7 +728,7 @@ impl Session {
 mod tests {
     use super::*;
     use mazewalk_render::RenderOptions;
-    use mazewalk_term::frame::Cell;
+    use mazewalk_term::frame::{Cell, Color};
 
     /// Frames left within the colour tolerance while walking are sent once more, exactly, once the
     /// picture holds still: the screen then shows the frame itself, and nothing more is sent.
@@ -1027,6 +1037,68 @@ mod tests {
     }
 
     /// The 3D view's cells (all rows but the HUD) as drawn by a fresh session at 256 colours.
+    /// Issue #42: a served player's view is rendered only when what it is drawn from changed.
+    /// Another player turning on the spot (a figure and a map label show no heading) draws no frame;
+    /// the HUD's count of players changing alone draws a frame without a render, and that frame is,
+    /// cell for cell, the one a session drawing it all afresh shows; the other stepping renders.
+    #[test]
+    fn a_frame_renders_the_view_only_when_the_view_changed() {
+        let options = SessionOptions { flow_control: false, ..SessionOptions::default() };
+        let mut s = no_exit_session(options);
+        let camera = s.app().camera;
+        let ahead = camera.position + 0.8 * glam::Vec2::from_angle(camera.yaw_deg.to_radians());
+        let peer =
+            Peer { position: ahead, heading_deg: 0.0, initial: 'B', color: Color::Indexed(196), cell: None };
+        let mut out = Vec::new();
+        assert!(s.set_peers(&[peer]));
+        assert!(s.frame(0.0, &mut out));
+        assert_eq!(s.renders(), 1);
+        let mut alone = no_exit_session(options);
+        alone.frame(0.0, &mut Vec::new());
+        assert_ne!(view_cells(&s), view_cells(&alone), "the other player shows in the view");
+
+        let turned = Peer { heading_deg: 90.0, ..peer };
+        assert!(!s.set_peers(&[turned]), "turning on the spot changes no picture");
+        assert!(!s.frame(0.1, &mut out), "so no frame is drawn");
+        s.set_players_in(Some(2));
+        assert!(s.frame(0.2, &mut out), "the HUD's count changed");
+        assert_eq!(s.renders(), 1, "the view did not: shown again, not rendered");
+        let mut fresh = no_exit_session(options);
+        fresh.set_peers(&[turned]);
+        fresh.set_players_in(Some(2));
+        fresh.frame(0.0, &mut Vec::new());
+        assert_eq!(fresh.renders(), 1);
+        assert_eq!(s.screen().cells(), fresh.screen().cells(), "what a full render draws");
+
+        let stepped = Peer { position: ahead + glam::Vec2::new(0.05, 0.05), ..turned };
+        assert!(s.set_peers(&[stepped]));
+        assert!(s.frame(0.3, &mut out));
+        assert_eq!(s.renders(), 2, "the view changed: rendered");
+        fresh.set_peers(&[stepped]);
+        fresh.frame(0.3, &mut Vec::new());
+        assert_eq!(s.screen().cells(), fresh.screen().cells());
+
+        // A third player walking where the view does not reach: on the map, not in the view.
+        let maze = s.app().maze();
+        let away: Vec<(glam::Vec2, u32)> = (0..maze.cell_count() as u32)
+            .filter(|&c| !s.sees_cell(c))
+            .map(|c| (maze.cell_centroid(c), c))
+            .take(2)
+            .collect();
+        assert_eq!(away.len(), 2, "cells the view does not reach");
+        let far =
+            |(position, cell): (glam::Vec2, u32)| Peer { position, cell: Some(cell), initial: 'C', ..peer };
+        assert!(s.set_peers(&[stepped, far(away[0])]));
+        assert!(s.frame(0.4, &mut out));
+        let renders = s.renders();
+        assert!(s.set_peers(&[stepped, far(away[1])]), "it moved");
+        assert!(s.frame(0.5, &mut out));
+        assert_eq!(s.renders(), renders, "where the view does not reach: not rendered");
+        fresh.set_peers(&[stepped, far(away[1])]);
+        fresh.frame(0.5, &mut Vec::new());
+        assert_eq!(s.screen().cells(), fresh.screen().cells());
+    }
+
     fn view_cells(s: &Session) -> Vec<Cell> {
         let frame = s.screen();
         frame.cells()[..frame.width() * (frame.height() - 1)].to_vec()

@@ -57,6 +57,46 @@ impl ViewKey {
         self.chalk = cells.to_vec();
         self
     }
+
+    /// Whether this is the key [`new`](Self::new) and [`with_chalk`](Self::with_chalk) would make of
+    /// these, bit for bit: its numbers' bits, not only their values, so that a `-0.0` where `0.0`
+    /// was (equal as numbers, not always in what a render makes of them) is another view. Allocates
+    /// nothing (a screen asks it before each frame).
+    #[must_use]
+    pub fn is(
+        &self,
+        maze: &Maze,
+        camera: &Camera,
+        sprites: &[Sprite],
+        options: &RenderOptions,
+        size: (usize, usize),
+        chalk: &[u32],
+    ) -> bool {
+        let camera_bits = |c: &Camera| {
+            [
+                c.position.x,
+                c.position.y,
+                c.eye_z,
+                c.yaw_deg,
+                c.pitch_deg,
+                c.hfov_deg,
+                c.min_vfov_deg,
+                c.view_distance,
+            ]
+            .map(f32::to_bits)
+        };
+        let sprite_bits =
+            |s: &Sprite| [s.position.x, s.position.y, s.color.x, s.color.y, s.color.z].map(f32::to_bits);
+        self.maze == std::ptr::from_ref(maze) as usize
+            && self.size == size
+            && self.camera == *camera
+            && camera_bits(&self.camera) == camera_bits(camera)
+            && self.options == *options
+            && self.options.cell_aspect.to_bits() == options.cell_aspect.to_bits()
+            && self.sprites.len() == sprites.len()
+            && self.sprites.iter().zip(sprites).all(|(a, b)| a == b && sprite_bits(a) == sprite_bits(b))
+            && self.chalk == chalk
+    }
 }
 
 /// A view as drawn: its cells and what drawing it did.
