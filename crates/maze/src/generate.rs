@@ -398,9 +398,9 @@ fn pick_color(rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Vec3 {
 
 /// `color`, or where it is green (the exit's hue: its beacon and the light it casts tint toward
 /// green, so a green wall reads as the exit's glow from afar) the same colour with green and blue
-/// swapped: as saturated, a blue hue (195°–275°) instead. (Red and green swapped gave muted browns,
-/// which 256 colours render too orange.) Green is a hue of 85°–165° (HSV) with a
-/// saturation (max − min) / max over 0.12; greys and near-greys stay.
+/// swapped: as saturated, a blue hue (190°–290°) instead. (Red and green swapped gave muted browns,
+/// which 256 colours render too orange.) Green is a hue of 70°–170° (HSV; yellow-greens too, which
+/// 256 colours draw green) with a saturation (max − min) / max over 0.12; greys and near-greys stay.
 ///
 /// ```
 /// # use glam::Vec3;
@@ -417,7 +417,7 @@ pub fn not_green(color: Vec3) -> Vec3 {
     }
     // green strongest: the hue is 60° (yellow, red = max) to 180° (cyan, blue = max), 120° at pure green
     let hue = 120.0 + 60.0 * (color.z - color.x) / (max - min);
-    if (85.0..=165.0).contains(&hue) { Vec3::new(color.x, color.z, color.y) } else { color }
+    if (70.0..=170.0).contains(&hue) { Vec3::new(color.x, color.z, color.y) } else { color }
 }
 
 /// A random thin-wall maze: `opts.width × opts.height` square cells of side [`CELL_SIZE`].

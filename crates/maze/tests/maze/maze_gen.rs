@@ -128,7 +128,7 @@ fn one_small_maze_per_algorithm_is_pinned() {
 
 // (the `vfov` line since issue #39, its last digit since the clearance became 2/5 of a passage; no
 // green walls since then too)
-const PINNED_HASHES: [u64; 3] = [15667814017671028795, 3813576291748963929, 13528936366361515877];
+const PINNED_HASHES: [u64; 3] = [6560347944697344719, 16555756228852756613, 4302448901977579669];
 
 #[test]
 fn the_prng_is_pinned() {
@@ -173,14 +173,14 @@ fn hue_and_saturation(c: glam::Vec3) -> (f32, f32) {
 proptest! {
     // Issue #39: no wall of a generated maze is green, the exit's hue (its beacon and the light it
     // casts): a green wall far off was taken for the exit's glow and chased. (The hexcone's atan2
-    // hue is within ~5° of HSV's; the test keeps 10° clear of the 85°–165° the generator moves.)
+    // hue is within a few degrees of HSV's; the test keeps 10° clear of the 70°–170° the generator moves.)
     #[test]
     fn no_generated_wall_is_green(o in arb_opts(), loops in 0.0f32..=0.5) {
         let m = generate(&GenOptions { loops, ..o }).unwrap();
         for e in m.edges().iter().filter(|e| e.opaque) {
             let (hue, saturation) = hue_and_saturation(e.color);
             prop_assert!(
-                saturation <= 0.12 || !(95.0..=155.0).contains(&hue),
+                saturation <= 0.12 || !(80.0..=160.0).contains(&hue),
                 "a green wall: {} (hue {hue:.0}°, saturation {saturation:.2})", e.color
             );
         }
