@@ -109,18 +109,26 @@ fn walk(depth: ColorDepth, answer: Answer) -> Sent {
             "{depth} {answer:?}: frame {i} not shown exactly"
         );
         sent.bytes += out.len();
-        // REP: ESC [ digits b (nothing else the encoder sends ends in `b`), past the probe's own.
-        let frame = if i == 0 { &out[REP_PROBE.len()..] } else { &out[..] };
-        let is_rep =
-            |s: &[u8]| s.first() == Some(&b'[') && s[1..].iter().find(|b| !b.is_ascii_digit()) == Some(&b'b');
-        for (at, _) in frame.iter().enumerate().filter(|&(at, &b)| b == 0x1b && is_rep(&frame[at + 1..])) {
-            sent.reps += 1;
-            // The glyph REP repeats is what comes just before it: a UTF-8 sequence ends in a byte ≥ 0x80.
-            assert!(at > 0, "REP first in a frame");
-            sent.block_reps += usize::from(frame[at - 1] >= 0x80);
-        }
+        let (reps, block_reps) = reps_in(if i == 0 { &out[REP_PROBE.len()..] } else { &out[..] });
+        sent.reps += reps;
+        sent.block_reps += block_reps;
     }
     sent
+}
+
+/// The REPs in a frame's bytes (past the probe's own), and how many of them repeat a block glyph:
+/// REP is ESC [ digits b (nothing else the encoder sends ends in `b`), and the glyph it repeats is
+/// what comes just before it (a UTF-8 sequence ends in a byte ≥ 0x80).
+fn reps_in(frame: &[u8]) -> (usize, usize) {
+    let is_rep =
+        |s: &[u8]| s.first() == Some(&b'[') && s[1..].iter().find(|b| !b.is_ascii_digit()) == Some(&b'b');
+    let (mut reps, mut block_reps) = (0, 0);
+    for (at, _) in frame.iter().enumerate().filter(|&(at, &b)| b == 0x1b && is_rep(&frame[at + 1..])) {
+        assert!(at > 0, "REP first in a frame");
+        reps += 1;
+        block_reps += usize::from(frame[at - 1] >= 0x80);
+    }
+    (reps, block_reps)
 }
 
 #[test]
@@ -295,15 +303,8 @@ fn tmux_gets_rep_after_ascii_only_and_shows_every_frame() {
                 assert_eq!(reports(&got), [(2, 3), (3, 2)], "{depth}: tmux repeats a space, not `▀`");
                 session.feed(&got, now);
             }
-            let is_rep = |s: &[u8]| {
-                s.first() == Some(&b'[') && s[1..].iter().find(|b| !b.is_ascii_digit()) == Some(&b'b')
-            };
-            let frame = if i == 0 { &out[REP_PROBE.len()..] } else { &out[..] };
-            for (at, _) in frame.iter().enumerate().filter(|&(at, &b)| b == 0x1b && is_rep(&frame[at + 1..]))
-            {
-                reps += 1;
-                block_reps += usize::from(frame[at - 1] >= 0x80);
-            }
+            let (r, b) = reps_in(if i == 0 { &out[REP_PROBE.len()..] } else { &out[..] });
+            (reps, block_reps) = (reps + r, block_reps + b);
             if i % 10 == 9 {
                 // A report of our own: when it comes, tmux has drawn everything before it.
                 writer.write_all(b"\x1b[6n").expect("to the pane");
