@@ -72,8 +72,7 @@ pub fn maze_name(args: &MazeArgs) -> String {
 /// Loads, generates or unpacks the maze the flags name.
 pub fn load_maze(args: &MazeArgs) -> anyhow::Result<Maze> {
     if let Some((width, height)) = args.generate {
-        let opts =
-            GenOptions { width, height, seed: args.seed, loops: 0.1, exit: true, ..GenOptions::default() };
+        let opts = GenOptions::walk(width, height, args.seed);
         return Ok(generate(&opts)?);
     }
     match &args.maze {

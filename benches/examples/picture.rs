@@ -75,15 +75,7 @@ fn views() -> Vec<(String, Maze, Camera)> {
         (
             "gen 20x15 seed 3",
             // As `mazewalk --gen 20x15 --seed 3` makes it.
-            generate(&GenOptions {
-                width: 20,
-                height: 15,
-                seed: 3,
-                loops: 0.1,
-                exit: true,
-                ..GenOptions::default()
-            })
-            .expect("generated maze"),
+            generate(&GenOptions::walk(20, 15, 3)).expect("generated maze"),
         ),
     ];
     let mut out = Vec::new();
@@ -126,7 +118,7 @@ fn held_out_mazes() -> Vec<(String, Maze)> {
     let mut mazes: Vec<(String, Maze)> = [(12, 8, 101), (20, 15, 202), (30, 20, 303)]
         .into_iter()
         .map(|(width, height, seed)| {
-            let opts = GenOptions { width, height, seed, loops: 0.1, exit: true, ..GenOptions::default() };
+            let opts = GenOptions::walk(width, height, seed);
             (format!("gen {width}x{height} seed {seed}"), generate(&opts).expect("generated maze"))
         })
         .collect();

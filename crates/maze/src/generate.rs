@@ -123,6 +123,16 @@ impl Default for GenOptions {
     }
 }
 
+impl GenOptions {
+    /// The maze `mazewalk --gen WxH --seed N` walks: `width × height` cells from `seed`, a tenth of
+    /// the walls left closed removed (loops), and an exit at the cell farthest from the start: the
+    /// one `mazewalk gen --size WxH --seed N --loops 0.1 --exit` writes.
+    #[must_use]
+    pub fn walk(width: u32, height: u32, seed: u64) -> GenOptions {
+        GenOptions { width, height, seed, loops: 0.1, exit: true, ..GenOptions::default() }
+    }
+}
+
 /// Options the generator refuses.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum GenError {

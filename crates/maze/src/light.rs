@@ -123,7 +123,7 @@ mod tests {
         fn the_level_falls_by_one_per_opening_and_walls_block_it(
             (width, height, seed) in (2u32..=20, 2u32..=15, any::<u64>()),
         ) {
-            let maze = generate(&GenOptions { width, height, seed, loops: 0.1, exit: true, ..GenOptions::default() }).expect("maze");
+            let maze = generate(&GenOptions::walk(width, height, seed)).expect("maze");
             let light = ExitLight::of(&maze);
             let level: Vec<u8> = (0..maze.cell_count() as u32).map(|c| light.level(c)).collect();
             let dist = distances(&maze);
@@ -178,15 +178,7 @@ mod tests {
 
     #[test]
     fn the_maze_keeps_its_light_and_the_box_holds_every_lit_cell() {
-        let maze = generate(&GenOptions {
-            width: 20,
-            height: 15,
-            seed: 71,
-            loops: 0.1,
-            exit: true,
-            ..GenOptions::default()
-        })
-        .expect("maze");
+        let maze = generate(&GenOptions::walk(20, 15, 71)).expect("maze");
         let kept: *const ExitLight = maze.exit_light();
         assert!(std::ptr::eq(kept, maze.exit_light()), "searched once, then kept");
         let light = ExitLight::of(&maze);

@@ -1509,15 +1509,7 @@ mod tests {
 
     /// Seed 71's 20 × 15 maze (as the exit-light tests and the pictures use it).
     fn seed_71() -> Maze {
-        generate(&GenOptions {
-            width: 20,
-            height: 15,
-            seed: 71,
-            loops: 0.1,
-            exit: true,
-            ..GenOptions::default()
-        })
-        .expect("maze")
+        generate(&GenOptions::walk(20, 15, 71)).expect("maze")
     }
 
     /// `camera`'s view at 120 × 40 in `color_depth`, floor and ceiling in the exit's light or not:

@@ -39,15 +39,7 @@ fn off_exit_hue(c: Vec3) -> f32 {
 
 #[test]
 fn walls_near_the_exit_lean_green_and_walls_out_of_its_reach_do_not() {
-    let maze = generate(&GenOptions {
-        width: 20,
-        height: 15,
-        seed: 71,
-        loops: 0.1,
-        exit: true,
-        ..GenOptions::default()
-    })
-    .expect("maze");
+    let maze = generate(&GenOptions::walk(20, 15, 71)).expect("maze");
     let dark = without_exit(&maze);
     let light = ExitLight::of(&maze);
     let v = maze.viewer();
@@ -95,15 +87,7 @@ fn walls_near_the_exit_lean_green_and_walls_out_of_its_reach_do_not() {
 // In 16 colours a tinted green wall's nearest entry is the beacon's bright green: no tint there.
 #[test]
 fn sixteen_colours_draw_no_tint() {
-    let maze = generate(&GenOptions {
-        width: 20,
-        height: 15,
-        seed: 71,
-        loops: 0.1,
-        exit: true,
-        ..GenOptions::default()
-    })
-    .expect("maze");
+    let maze = generate(&GenOptions::walk(20, 15, 71)).expect("maze");
     let dark = without_exit(&maze);
     let light = ExitLight::of(&maze);
     let v = maze.viewer();

@@ -38,15 +38,7 @@ fn turned(maze: &Maze, turn_deg: f32) -> Camera {
 /// `mazewalk --gen 20x15 --seed 3` makes it), each from its viewer and turned about.
 fn views() -> Vec<(String, Maze, Camera)> {
     let course = maze::load(mazewalk_testkit::maze_path("cs559/maze-10x10-100.maze")).expect("course").maze;
-    let generated = generate(&GenOptions {
-        width: 20,
-        height: 15,
-        seed: 3,
-        loops: 0.1,
-        exit: true,
-        ..GenOptions::default()
-    })
-    .expect("generated maze");
+    let generated = generate(&GenOptions::walk(20, 15, 3)).expect("generated maze");
     let mut out = Vec::new();
     for (name, maze) in
         [("built-in", maze::builtin().expect("built-in")), ("cs559", course), ("gen", generated)]
@@ -258,7 +250,7 @@ proptest::proptest! {
         width in 6u32..24,
         height in 6u32..18,
     ) {
-        let opts = GenOptions { width, height, seed, loops: 0.1, exit: true, ..GenOptions::default() };
+        let opts = GenOptions::walk(width, height, seed);
         let maze = generate(&opts).expect("generated maze");
         let views = quality::held_out_views(&maze, seed, 15);
         proptest::prop_assert_eq!(views.len(), 15);
@@ -366,7 +358,7 @@ proptest::proptest! {
         width in 6u32..24,
         height in 6u32..18,
     ) {
-        let opts = GenOptions { width, height, seed, loops: 0.1, exit: true, ..GenOptions::default() };
+        let opts = GenOptions::walk(width, height, seed);
         let maze = generate(&opts).expect("generated maze");
         let walls = maze.edges().len() as u32;
         for (kind, camera) in quality::held_out_views(&maze, seed, 12) {

@@ -279,8 +279,7 @@ fn side_openings_show_as_light_jambs_as_far_as_six_cells() {
 #[test]
 fn a_dead_end_shows_no_jamb_for_an_opening_behind_its_end_wall() {
     use mazewalk_maze::generate::{GenOptions, generate};
-    let opts =
-        GenOptions { width: 20, height: 15, seed: 58, loops: 0.1, exit: true, ..GenOptions::default() };
+    let opts = GenOptions::walk(20, 15, 58);
     let maze = generate(&opts).unwrap();
     let end = (0..maze.edges().len() as u32)
         .find(|&e| {

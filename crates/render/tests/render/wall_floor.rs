@@ -48,15 +48,7 @@ fn walls_read_apart_from_the_floor_at_their_foot_in_every_view() {
     let mut judged = 0;
     let mut failures = Vec::new();
     for seed in [58u64, 71, 3, 12] {
-        let maze = generate(&GenOptions {
-            width: 20,
-            height: 15,
-            seed,
-            loops: 0.1,
-            exit: true,
-            ..GenOptions::default()
-        })
-        .expect("maze");
+        let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
         for (k, (kind, camera)) in held_out_views(&maze, seed, 18).into_iter().enumerate() {
             for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
                 let options =
