@@ -22,9 +22,9 @@ use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, LANES, Lanes3, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
-    CEILING_EXIT_TINT, FOG_FADE, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker,
-    checker_filtered, edge_color, exit_tinted, headlight, jamb_color, lit, luminance, seam_color,
-    slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
+    CEILING_EXIT_TINT, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker, checker_filtered,
+    edge_color, exit_tinted, headlight, jamb_color, lit, luminance, seam_color, slant_cosine, srgb_to_linear,
+    sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -345,7 +345,8 @@ impl Renderer {
     /// walls stand where the maze puts them), to view and clip space, clipped against the view volume,
     /// divided by w to NDC and mapped to the grid by the viewport, then rasterized (top-left rule,
     /// depth LESS), each sample shaded: Lambert from the headlight and the sun through the normal
-    /// matrix, then fog. Returns the triangles rasterized and the samples written.
+    /// matrix, then fog, one fog for the whole wall ([`flat_fog_depth`]): a wall is one flat colour
+    /// (bricks aside). Returns the triangles rasterized and the samples written.
     pub(crate) fn draw_wall(
         &mut self,
         maze: &Maze,
@@ -392,10 +393,13 @@ impl Renderer {
         ));
         let triangles = self.polygon_grid.len() - 2;
         let fog = &light.fog;
+        // One fog for the whole wall, at its point nearest the eye: each wall (in a generated maze,
+        // one cell's side) is one flat colour, so a colour step on a wall is a cell seam (issue #39).
+        let fog_depth = flat_fog_depth(eye, e, maze);
         if shading == Shading::Color && !textures && !self.reference_shading {
-            // The same shading as below, eight samples at a time (same operations, same order).
-            let wall = WallLanes::new(lit_albedo, fog);
-            let shade = |view: &Lanes3| wall.shade(view);
+            // The same colour as below (the same call), eight samples at a time.
+            let flat = fog.apply(lit_albedo, fog_depth).to_array().map(f32x8::splat);
+            let shade = |_: &Lanes3| Lanes3 { x: flat[0], y: flat[1], z: flat[2] };
             return (triangles, fill_polygon_x8(&mut self.samples, &self.polygon_grid, e, &shade));
         }
         let (ortho, per_sample, view_to_world) = (light.ortho, light.per_sample, light.view_to_world);
@@ -415,7 +419,7 @@ impl Renderer {
                         let reach = if ortho { per_sample } else { per_sample * depth };
                         color *= bricks(u, world.z, reach / slant_cosine(normal_view, ray).max(0.25));
                     }
-                    fog.apply(color, depth)
+                    fog.apply(color, fog_depth)
                 }
             }
         });
@@ -1137,46 +1141,6 @@ impl PlaneRow {
     }
 }
 
-/// A wall's colour at eight view positions: its lit colour through [`Fog::apply`] lane by lane, with
-/// the same operations in the same order as the scalar shading in `Renderer::draw`. The wall's
-/// constants are splatted once, before its samples.
-#[derive(Clone, Copy, Debug)]
-struct WallLanes {
-    fog_end: f32x8,
-    fade_span: f32x8,
-    fog_half: f32x8,
-    albedo: [f32x8; 3],
-    fog_color: [f32x8; 3],
-}
-
-impl WallLanes {
-    fn new(lit_albedo: Vec3, fog: &Fog) -> WallLanes {
-        let s = f32x8::splat;
-        WallLanes {
-            fog_end: s(fog.end),
-            fade_span: s((FOG_FADE * fog.end).max(f32::MIN_POSITIVE)),
-            fog_half: s(fog.half.max(f32::MIN_POSITIVE)),
-            albedo: lit_albedo.to_array().map(s),
-            fog_color: fog.color.to_array().map(s),
-        }
-    }
-
-    #[inline]
-    fn shade(&self, view: &Lanes3) -> Lanes3 {
-        let s = f32x8::splat;
-        let depth = view.z.abs();
-        // Fog::keep, then Fog::amount, in its order. (`fast_max` / `fast_min` against a constant that
-        // is not NaN: on x86 the lanes of `max` / `min` without their check of the constant for NaN;
-        // elsewhere they may differ only where the depth is NaN.)
-        let fade = ((self.fog_end - depth) / self.fade_span).fast_max(s(0.0)).fast_min(s(1.0));
-        let r = depth.fast_max(s(0.0)) / self.fog_half;
-        let amount = s(1.0) - fade / (s(1.0) + r * r);
-        let keep = s(1.0) - amount;
-        let channel = |k: usize| self.albedo[k] * keep + self.fog_color[k] * amount;
-        Lanes3 { x: channel(0), y: channel(1), z: channel(2) }
-    }
-}
-
 /// `floor(v)` as integers, lane by lane: truncate, then one less where that rounded up (negative
 /// non-integers). Exact for |v| < 2^31 (a checker square 2^33 units from the origin is beyond any
 /// maze); NaN and larger values give `i32::MIN`.
@@ -1223,6 +1187,20 @@ fn segment_samples(eye: &Eye, p: Vec3, q: Vec3) -> impl Iterator<Item = (usize, 
         let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
         line_points(x0, y0, x1, y1, eye.width, eye.height)
     })
+}
+
+/// The depth a wall's fog is taken at: the least view depth (along the view direction) of its quad,
+/// not below 0 (a wall reaching past the eye's side is at the eye), so every sample of the wall takes
+/// one colour. Its point nearest the eye, for two reasons: the cue stays monotone (of two walls of one
+/// colour facing one way, the one whose nearest point is farther is never the lighter: fog only
+/// darkens with depth), and it moves continuously with the eye (a wall beside the eye is at depth 0
+/// until its near end passes the eye's plane, then recedes; no jump as the eye passes its middle,
+/// which a visible part's middle would give). Of the whole quad, not only its part in the view, so
+/// turning does not move it as a wall slides past the view's edge. A generated maze's walls are one
+/// cell's side each, as the course files' (4 to 10 units): every colour step on a wall is a seam.
+fn flat_fog_depth(eye: &Eye, e: u32, maze: &Maze) -> f32 {
+    let depth = |corner: Vec3| (corner - eye.position).dot(eye.forward);
+    wall_quad_world(maze, e).into_iter().map(depth).fold(f32::INFINITY, f32::min).max(0.0)
 }
 
 /// The distance from `p` to the segment `a`–`b`.

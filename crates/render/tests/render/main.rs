@@ -4,6 +4,7 @@
 
 mod chalk;
 mod exit_light;
+mod flat_walls;
 mod glyph_frames;
 mod nose_to_wall;
 mod picture_quality;

@@ -181,6 +181,8 @@ fn without_colour_walls_floor_and_ceiling_take_different_glyphs() {
             "{charset}: wall {wall:?}, floor {floor:?}, ceiling {ceiling:?}"
         );
     }
+    // Over the viewer's view turned about (each wall is one flat shade, so one view shows a few of
+    // the walls' shades; the floor's and ceiling's run on with depth).
     let distinct = |ramp| {
         let options = RenderOptions {
             charset: Charset::Ascii,
@@ -188,10 +190,14 @@ fn without_colour_walls_floor_and_ceiling_take_different_glyphs() {
             ramp,
             ..RenderOptions::default()
         };
-        let mut frame = Frame::new(100, 30);
-        let region = frame.region();
-        Renderer::new().render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
-        let mut chars: Vec<char> = frame.cells().iter().map(|c| c.ch).collect();
+        let mut chars: Vec<char> = Vec::new();
+        for turn in [0.0, 90.0, 180.0, 270.0] {
+            let camera = Camera::new(viewer.pos, viewer.dir_deg + turn, 90.0);
+            let mut frame = Frame::new(100, 30);
+            let region = frame.region();
+            Renderer::new().render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
+            chars.extend(frame.cells().iter().map(|c| c.ch));
+        }
         chars.sort_unstable();
         chars.dedup();
         chars.len()
