@@ -87,7 +87,7 @@ fn main() {
         for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256, ColorDepth::Ansi16, ColorDepth::None] {
             let walk = hold(sim(session(cols, rows, depth, false), rows, cols, UNLIMITED), b"w").0;
             let turn = hold(sim(session(cols, rows, depth, false), rows, cols, UNLIMITED), b"\x1b[D").0;
-            println!("| {cols}×{rows} | {depth} | {:.0} KB/s | {:.0} KB/s |", walk / 1e3, turn / 1e3);
+            println!("| {cols}×{rows} | {depth} | {:.1} KB/s | {:.1} KB/s |", walk / 1e3, turn / 1e3);
         }
     }
     println!(
