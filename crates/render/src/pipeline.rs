@@ -1190,14 +1190,14 @@ fn segment_samples(eye: &Eye, p: Vec3, q: Vec3) -> impl Iterator<Item = (usize, 
 }
 
 /// The depth a wall's fog is taken at: the least view depth (along the view direction) of its quad,
-/// not below 0 (a wall reaching past the eye's side is at the eye), so every sample of the wall takes
+/// not below 0 (a wall reaching past the eye's plane is at the eye), so every sample of the wall takes
 /// one colour. Its point nearest the eye, for two reasons: the cue stays monotone (of two walls of one
 /// colour facing one way, the one whose nearest point is farther is never the lighter: fog only
-/// darkens with depth), and it moves continuously with the eye (a wall beside the eye is at depth 0
-/// until its near end passes the eye's plane, then recedes; no jump as the eye passes its middle,
-/// which a visible part's middle would give). Of the whole quad, not only its part in the view, so
-/// turning does not move it as a wall slides past the view's edge. A generated maze's walls are one
-/// cell's side each, as the course files' (4 to 10 units): every colour step on a wall is a seam.
+/// darkens with depth), and no wall flashes as it is passed (walking straight on, every wall's nearest
+/// point comes nearer, or stays at 0 once level with the eye, so no wall ever darkens; the distance to
+/// a wall's middle would grow again once the eye passed it). Of the whole quad, not only its part in
+/// the view: the view's edges play no part. A generated maze's walls are one cell's side each, as the
+/// course files' (4 to 10 units): every colour step along a wall is a seam.
 fn flat_fog_depth(eye: &Eye, e: u32, maze: &Maze) -> f32 {
     let depth = |corner: Vec3| (corner - eye.position).dot(eye.forward);
     wall_quad_world(maze, e).into_iter().map(depth).fold(f32::INFINITY, f32::min).max(0.0)
