@@ -644,14 +644,22 @@ impl Renderer {
             _ => Mark::Edge,
         };
         let (ids, depth) = (self.samples.id(), self.samples.depth());
+        let edges_on_planes = self.walls_apart;
         let (marks, list) = (&mut self.edge_marks, &mut self.edge_list);
         let mut mark = |i: usize, j: usize, what: Mark| {
             if what == Mark::None {
                 return;
             }
-            // An edge on the nearer sample; a seam on the sample left of (or above) the boundary, so
-            // a seam seen square-on is one sample wide whichever wall is nearer.
+            // An edge on the nearer sample, except where a wall meets floor or ceiling: there on the
+            // plane, so the wall keeps its whole height in its own colour (a far wall two rows tall
+            // with its top and bottom darkened read as one row, twice as far: issue #39) and the
+            // floor shows a line at its foot. In colour only: without it the floor's and ceiling's
+            // glyphs would break where the edge darkens them. A seam on the sample left of (or
+            // above) the boundary, so a seam seen square-on is one sample wide whichever wall is nearer.
+            let plane = |k: usize| edges_on_planes && (ids[k] == FLOOR || ids[k] == CEILING);
             let at = match what {
+                Mark::Edge if plane(i) && ids[j] < walls => i,
+                Mark::Edge if plane(j) && ids[i] < walls => j,
                 Mark::Edge => {
                     if depth[j] < depth[i] {
                         j

@@ -109,7 +109,15 @@ fn sixteen_colours_draw_no_tint() {
                 ..Camera::new(maze.cell_centroid(cell), heading, v.fov_deg)
             };
             let ((lit, ids), (unlit, _)) = (render(&maze, &camera), render(&dark, &camera));
-            for k in (0..ids.len()).filter(|&k| ids[k] < walls) {
+            // Inside walls: an edge sample depends on its neighbours, and the beacon, drawn only in
+            // the lit maze, puts edges on the walls beside it.
+            let width = 120;
+            let inside = |k: usize| {
+                [k.wrapping_sub(1), k + 1, k.wrapping_sub(width), k + width]
+                    .iter()
+                    .all(|&n| ids.get(n).is_none_or(|&id| id == ids[k]))
+            };
+            for k in (0..ids.len()).filter(|&k| ids[k] < walls && inside(k)) {
                 assert_eq!(lit[k], unlit[k], "cell {cell} heading {heading} sample {k}");
                 compared += 1;
             }
