@@ -161,7 +161,9 @@ fn cost(target: Vec3, target_chroma: f32, target_hue: f32, entry: &RampEntry, w:
         let above = (target_chroma - w.muted).max(0.0);
         (w.grey * above * above, 0.0, 0.0)
     } else {
-        let beyond = (hue_difference(entry.hue, target_hue) - w.turn_free).max(0.0);
+        // Both angles are atan2's, in −π..=π: their difference needs no remainder (a library call).
+        let turned = (entry.hue - target_hue).abs();
+        let beyond = (turned.min(std::f32::consts::TAU - turned) - w.turn_free).max(0.0);
         let vivid = if target_chroma < w.vivid_below {
             (entry.chroma - w.vivid_from * target_chroma).max(0.0)
         } else {
