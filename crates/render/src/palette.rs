@@ -115,25 +115,64 @@ struct Weights {
     /// The factor on [`Weights::chroma`] where the entry is more saturated than the target: a wall
     /// shown more vivid than it is hides the fade into the dark (issue #39), a greyer one does not.
     over: f32,
-    /// A grey entry shown for a coloured target, per unit of the target's chroma squared.
+    /// A grey entry shown for a coloured target, per unit squared of the target's chroma above
+    /// [`Weights::muted`].
     grey: f32,
+    /// A target with no more chroma than this may be shown grey at no cost beyond its distance: a
+    /// muted colour the palette has no entry near shows as its grey, not as a more vivid or another
+    /// hue (issue #39: the exit's glow rimmed in olive, a tan wall's dark edge orange).
+    muted: f32,
+    /// A hue turned by more than [`Weights::turn_free`] (radians), per radian squared beyond it
+    /// times the target's chroma squared: on top of ΔH, which shrinks with the chroma, so a pale
+    /// grey-green may not take a yellow entry ([`cost`]).
+    turn: f32,
+    /// See [`Weights::turn`].
+    turn_free: f32,
+    /// For a target of chroma below [`Weights::vivid_below`], an entry more than
+    /// [`Weights::vivid_from`] times as saturated, per unit of chroma beyond, squared, on top of
+    /// [`Weights::over`]: the cube's nearest entries of a dark muted colour's own hue are vivid ones
+    /// (a tan wall's dark edge: the cube's orange, 2.75× its chroma), and its grey is nearer. (A
+    /// dark saturated wall keeps its dark vivid entry: a dark green's other choice is a lighter
+    /// one, and a wall far off would not darken.)
+    vivid: f32,
+    /// See [`Weights::vivid`].
+    vivid_from: f32,
+    /// See [`Weights::vivid`].
+    vivid_below: f32,
     /// A step between two coloured entries of a ramp, per unit of their chroma difference squared.
     step: f32,
 }
 
-/// The cost of showing OKLab colour `target` (of chroma `target_chroma`) as `entry`: lightness and
-/// hue as a viewer weighs them. A hue shift costs [`Weights::hue`] times a lightness step as large,
-/// and a grey entry loses the hue altogether, which costs [`Weights::grey`] times the target's
-/// chroma squared on top: a blue wall may come out a little more or less blue, lighter or darker,
-/// but not grey or violet.
-fn cost(target: Vec3, target_chroma: f32, entry: &RampEntry, w: &Weights) -> f32 {
+/// The cost of showing OKLab colour `target` (of chroma `target_chroma` and hue angle
+/// `target_hue`) as `entry`: lightness and hue as a viewer weighs them. A hue shift costs
+/// [`Weights::hue`] times a lightness step as large, and a turn of the hue angle beyond
+/// [`Weights::turn_free`] costs [`Weights::turn`] more (ΔH alone lets a pale colour take an entry
+/// of another hue: its chord is short where the chroma is small, but the eye still reads olive
+/// against grey-green). A grey entry loses the hue altogether, which costs [`Weights::grey`] times
+/// the target's chroma above [`Weights::muted`] squared on top: a blue wall may come out a little
+/// more or less blue, lighter or darker, but not grey or violet; a muted one may come out grey, and
+/// does rather than as a far more saturated entry ([`Weights::vivid`]).
+fn cost(target: Vec3, target_chroma: f32, target_hue: f32, entry: &RampEntry, w: &Weights) -> f32 {
     let dl = entry.lab.x - target.x;
     let (da, db) = (entry.lab.y - target.y, entry.lab.z - target.z);
     let dc = entry.chroma - target_chroma;
     let dh2 = (da * da + db * db - dc * dc).max(0.0);
-    let grey = if entry.chroma < GREY_ENTRY { w.grey * target_chroma * target_chroma } else { 0.0 };
+    let (grey, turn, vivid) = if entry.chroma < GREY_ENTRY {
+        let above = (target_chroma - w.muted).max(0.0);
+        (w.grey * above * above, 0.0, 0.0)
+    } else {
+        // Both angles are atan2's, in −π..=π: their difference needs no remainder (a library call).
+        let turned = (entry.hue - target_hue).abs();
+        let beyond = (turned.min(std::f32::consts::TAU - turned) - w.turn_free).max(0.0);
+        let vivid = if target_chroma < w.vivid_below {
+            (entry.chroma - w.vivid_from * target_chroma).max(0.0)
+        } else {
+            0.0
+        };
+        (0.0, w.turn * beyond * beyond * target_chroma * target_chroma, w.vivid * vivid * vivid)
+    };
     let chroma = if dc > 0.0 { w.chroma * w.over } else { w.chroma };
-    dl * dl + chroma * dc * dc + w.hue * dh2 + grey
+    dl * dl + chroma * dc * dc + w.hue * dh2 + grey + turn + vivid
 }
 
 /// An entry with less chroma than this is grey (the cube's and the ramp's greys have none).
@@ -184,15 +223,45 @@ impl Palette {
     /// the measures of issues #33 and #39 over held-out views (`benches/examples/picture.rs`). In 256
     /// colours the cube is coarse for muted colours (a tan wall's nearest entry is a grey 0.05 away
     /// in OKLab, its nearest of its hue twice as saturated): hue weighs eight times as much as
-    /// lightness (ΔH²: 8) and a grey for a coloured sample dearly (20), so a wall keeps its hue, but
-    /// an entry more saturated than the wall costs three times a greyer one, so muted walls are not
-    /// painted vivid (issue #39: the median chromatic sample was 3.3× truecolor's), and its bands
-    /// keep their saturation (steps: 2). In 16 colours there are six hues: hue weighs 4, greys 8, or every wall
-    /// between two hues would be grey.
+    /// lightness (ΔH²: 8), and an entry more saturated than the wall costs three times a greyer one,
+    /// so muted walls are not painted vivid (issue #39: the median chromatic sample was 3.3×
+    /// truecolor's), and its bands keep their saturation (steps: 2). A grey costs only its distance
+    /// for a target of chroma up to 0.03 (the measures count hue from 0.04) and dearly above (100 per
+    /// unit of chroma beyond, squared), so a wall keeps its hue but the darkest, palest shades of a
+    /// muted colour take the grey they are nearest; a hue turned more than 25° costs 1000 per radian
+    /// beyond, squared, times the chroma squared, and for a target of chroma below 0.06 an entry
+    /// more than 1.7× as saturated 20 per unit beyond, squared, so those shades take neither a
+    /// neighbouring hue nor a vivid entry of their own (issue #39: the exit's glow on the grey floor stepped grey → olive → grey-green, a
+    /// tan wall's dark edge was orange). In 16 colours there are six hues: hue weighs 4, greys 8
+    /// from any chroma, no turn, or every wall between two hues would be grey.
     fn weights(self) -> Weights {
         match self {
-            Palette::Xterm256 => Weights { hue: 8.0, chroma: 1.0, over: 3.0, grey: 20.0, step: 2.0 },
-            Palette::Ansi16 => Weights { hue: 4.0, chroma: 1.0, over: 1.0, grey: 8.0, step: 4.0 },
+            Palette::Xterm256 => Weights {
+                hue: 8.0,
+                chroma: 1.0,
+                over: 3.0,
+                grey: 100.0,
+                muted: 0.03,
+                turn: 1000.0,
+                turn_free: 25f32.to_radians(),
+                vivid: 20.0,
+                vivid_from: 1.7,
+                vivid_below: 0.06,
+                step: 2.0,
+            },
+            Palette::Ansi16 => Weights {
+                hue: 4.0,
+                chroma: 1.0,
+                over: 1.0,
+                grey: 8.0,
+                muted: 0.0,
+                turn: 0.0,
+                turn_free: 0.0,
+                vivid: 0.0,
+                vivid_from: 1.0,
+                vivid_below: 0.0,
+                step: 4.0,
+            },
         }
     }
 
@@ -421,7 +490,7 @@ impl LightRamp {
         for level in 0..LEVELS {
             let s = s_max * (level as f32 + 0.5) / LEVELS as f32;
             let target = palette.target(direction * s, stretch);
-            let target_chroma = target.y.hypot(target.z);
+            let (target_chroma, target_hue) = (target.y.hypot(target.z), target.z.atan2(target.y));
             // The best path so far ending on a grey no lighter than j: a step from it costs nothing.
             let mut from_grey = (f32::INFINITY, 0usize);
             for j in 0..n {
@@ -445,7 +514,11 @@ impl LightRamp {
                 from[level * n + j] = at as u8;
                 // (16 colours: black only where the scene is near black)
                 let unblack = sixteen && candidates[j].index == 0 && direction.x * s >= NEAR_BLACK;
-                let cost = if unblack { 1e6 } else { cost(target, target_chroma, &candidates[j], &weights) };
+                let cost = if unblack {
+                    1e6
+                } else {
+                    cost(target, target_chroma, target_hue, &candidates[j], &weights)
+                };
                 next[j] = before + cost;
             }
             std::mem::swap(&mut best, &mut next);
@@ -863,6 +936,75 @@ mod tests {
                 assert!(vivid <= 1.7, "{rgb:?} × {k}/20: {vivid:.2}× the chroma");
             }
         }
+    }
+
+    /// Issue #39: the exit's glow on the floor, the floor's colour turned toward the exit's green as
+    /// the renderer draws it, at every share of green and every light, steps grey → grey-green →
+    /// green in 256 colours: a green (within 15° of the glow's hue) is shown as a grey or as an
+    /// entry within 25° of the glow's hue, never olive (110°: on a rim of the glow, 16 % green at
+    /// 24 % light, it was; the cube's greens are 142°–164°).
+    #[test]
+    fn in_256_colours_the_exits_glow_steps_from_grey_to_green_never_through_olive() {
+        let floor = FLOOR_SRGB.map(srgb_to_linear);
+        let glow = crate::sprite::EXIT_GLOW;
+        let green = oklab(glow);
+        let green_hue = green.z.atan2(green.y);
+        let (mut greys, mut greens) = (0, 0);
+        for share in 0..=80 {
+            let colour = floor.lerp(glow, share as f32 / 100.0);
+            for k in 1..=100 {
+                let colour = colour * (k as f32 / 100.0);
+                let entry = ramp_entry(colour, Palette::Xterm256);
+                let (lab, target) = (lab_of(entry), oklab(colour));
+                let hue = lab.z.atan2(lab.y);
+                let green = hue_difference(target.z.atan2(target.y), green_hue).to_degrees() <= 15.0;
+                let olive = hue_difference(hue, green_hue).to_degrees() > 25.0;
+                assert!(
+                    is_grey(entry) || !(green && olive),
+                    "{share}% green at {k}%: a green shown as entry {entry} {:?}, off the glow's hue",
+                    xterm_rgb(entry)
+                );
+                greys += usize::from(is_grey(entry));
+                greens += usize::from(!is_grey(entry) && green);
+            }
+        }
+        assert!(greys > 0 && greens > 0, "{greys} greys, {greens} greens");
+    }
+
+    /// Issue #39: a muted warm wall (tan, khaki, beige: OKLab chroma 0.03–0.07, hue 50°–110°) at
+    /// every light from a third up, its dark edge lines (half its light) included, is shown as a
+    /// grey or as an entry at most 2.4× as saturated as it is: a tan wall's edge was the cube's
+    /// orange (135, 95, 0), 2.75× its chroma ((100, 80, 60) at 17/20), where its grey is nearer.
+    #[test]
+    fn in_256_colours_a_muted_warm_walls_dark_shades_are_never_vivid() {
+        let mut walls = 0;
+        for r in (100..=250u8).step_by(6) {
+            for g in (80..=r).step_by(6) {
+                for b in (60..=g).step_by(6) {
+                    let wall = linear([r, g, b]);
+                    let lab = oklab(wall);
+                    let (chroma, hue) = (lab.y.hypot(lab.z), lab.z.atan2(lab.y).to_degrees());
+                    if !(0.03..=0.07).contains(&chroma) || !(50.0..=110.0).contains(&hue) {
+                        continue;
+                    }
+                    walls += 1;
+                    for k in 7..=20 {
+                        let colour = wall * (k as f32 / 20.0);
+                        let target = oklab(colour);
+                        let entry = ramp_entry(colour, Palette::Xterm256);
+                        let shown = lab_of(entry);
+                        let vivid = shown.y.hypot(shown.z) / target.y.hypot(target.z);
+                        assert!(
+                            is_grey(entry) || vivid <= 2.4,
+                            "{:?} × {k}/20: entry {entry} {:?}, {vivid:.2}× the chroma",
+                            [r, g, b],
+                            xterm_rgb(entry)
+                        );
+                    }
+                }
+            }
+        }
+        assert!(walls > 100, "{walls} walls");
     }
 
     /// Dithering mixes only two neighbouring entries of a ramp that are close, in proportion: the
