@@ -515,7 +515,7 @@ fn fill_triangle_x8(
         for start in (0..span.len).step_by(LANES) {
             let n = (span.len - start).min(LANES);
             let at = row + start..row + start + n;
-            // Depth: affine in grid space, relative to vertex 0; LESS (NaN fails; padding lanes see -∞).
+            // Depth: affine in grid space, relative to vertex 0; LESS (NaN fails; lanes past the span masked).
             let z = match edges.as_mut() {
                 Some(edges) => {
                     let b = edges.bary();
@@ -528,15 +528,17 @@ fn fill_triangle_x8(
                     f32x8::from(<[f32; LANES]>::try_from(&columns[from..from + LANES]).expect("eight"))
                 }
             };
+            // Eight depths from the buffer even past the span's end (lanes it masks out), but for the
+            // buffer's last few samples.
             let old = match depths.get(row + start..row + start + LANES) {
-                Some(eight) if n == LANES => f32x8::from(<[f32; LANES]>::try_from(eight).expect("eight")),
-                _ => {
+                Some(eight) => f32x8::from(<[f32; LANES]>::try_from(eight).expect("eight")),
+                None => {
                     let mut old = [f32::NEG_INFINITY; LANES];
                     old[..n].copy_from_slice(&depths[at.clone()]);
                     f32x8::from(old)
                 }
             };
-            let visible = z.simd_lt(old).to_bitmask();
+            let visible = z.simd_lt(old).to_bitmask() & ((1 << n) - 1);
             if visible == 0 {
                 continue;
             }
@@ -550,7 +552,7 @@ fn fill_triangle_x8(
                 written += LANES;
                 continue;
             }
-            let mut left = visible & ((1 << n) - 1);
+            let mut left = visible;
             while left != 0 {
                 let lane = left.trailing_zeros() as usize;
                 left &= left - 1;
