@@ -401,9 +401,9 @@ pub(crate) const LANES: usize = 8;
 /// with; the scalar [`fill_polygon`] stays the reference (and takes any shading).
 ///
 /// Where a fan triangle's depth is a function of the column alone ([`column_depths`]: in a level view,
-/// the triangle whose apex and one other corner are a wall's end seen edge-on, top and bottom, one
-/// above the other), its samples' depths are computed once a column into `columns` (scratch, reused)
-/// and loaded by the row's groups of eight, instead of weighing three edge functions a sample.
+/// the triangle whose apex and one other corner are one end of a wall, its top and bottom, one above
+/// the other), its samples' depths are computed once a column into `columns` (scratch, reused) and
+/// loaded by the row's groups of eight, instead of weighing each sample's edge functions.
 pub(crate) fn fill_polygon_x8(
     buffer: &mut SampleBuffer,
     polygon: &[GridVertex<Vec3>],
