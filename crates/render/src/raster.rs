@@ -395,36 +395,103 @@ pub fn blend_polygon<A: Varying>(
 /// x86-64, one with AVX).
 pub(crate) const LANES: usize = 8;
 
-/// Three attributes (a view-space position, a linear colour) of [`LANES`] samples, lane by lane.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Lanes3 {
-    pub x: f32x8,
-    pub y: f32x8,
-    pub z: f32x8,
-}
-
-/// [`fill_polygon`] for `Vec3` attributes, eight samples of a row at a time: the same samples, depths and
-/// perspective-correct attributes, computed by the same operations in the same order lane by lane (so
-/// the same bits), with `shade` taking eight attributes and giving eight linear colours. What the
-/// pipeline draws walls with; the scalar [`fill_polygon`] stays the reference (and takes any closure).
+/// [`fill_polygon`] for a wall of one flat colour, eight samples of a row at a time: the same samples,
+/// depths and ids as the scalar fill with `|_| color` (the same operations in the same order lane by
+/// lane, so the same bits), each written sample `color`. What the pipeline draws its untextured walls
+/// with; the scalar [`fill_polygon`] stays the reference (and takes any shading).
+///
+/// Where a fan triangle's depth is a function of the column alone ([`column_depths`]: in a level view,
+/// the triangle whose apex and one other corner are one end of a wall, its top and bottom, one above
+/// the other), its samples' depths are computed once a column into `columns` (scratch, reused) and
+/// loaded by the row's groups of eight, instead of weighing each sample's edge functions.
 pub(crate) fn fill_polygon_x8(
     buffer: &mut SampleBuffer,
     polygon: &[GridVertex<Vec3>],
     id: u32,
-    shade: &impl Fn(&Lanes3) -> Lanes3,
+    color: Vec3,
+    columns: &mut Vec<f32>,
 ) -> usize {
     let mut written = 0;
     for k in 1..polygon.len().saturating_sub(1) {
-        written += fill_triangle_x8(buffer, [&polygon[0], &polygon[k], &polygon[k + 1]], id, shade);
+        let tri = [&polygon[0], &polygon[k], &polygon[k + 1]];
+        written += fill_triangle_x8(buffer, tri, id, color, columns);
     }
     written
+}
+
+/// Whether every sample `tri` covers has a depth that depends on its column alone, the bits
+/// [`fill_triangle`] gives it; if so, `columns[x - x_lo]` holds them for the columns `x_lo..` of the
+/// triangle's bounding box (clamped to `width`), padded by [`LANES`], and `Some(x_lo)` is returned.
+///
+/// A sample's depth is `(d₀ + b₁·(d₁ − d₀)) + b₂·(d₂ − d₀)` in `f32`, each weight `bₖ` its edge function
+/// (an exact integer) times `1 / area` in `f64`, rounded to `f32`. When `d₂ − d₀` is zero (±0), the
+/// last term is a zero of its sign for every covered sample (`b₂ ≥ +0` there: its edge function is
+/// `≥ 0`), so it adds nothing but that sign; and when the edge opposite vertex 1 (from vertex 2 to 0)
+/// is vertical on the fixed-point grid, `b₁`'s edge function does not change down a column, so
+/// neither does the depth. The same with the roles of 1 and 2 swapped. Both differences zero (a wall
+/// faced square on): one depth for all. Otherwise `None`, and the caller weighs each sample.
+fn column_depths(width: usize, tri: [&GridVertex<Vec3>; 3], columns: &mut Vec<f32>) -> Option<i64> {
+    let [Some(p0), Some(p1), Some(p2)] = tri.map(|v| snap(v.pos)) else { return None };
+    let depth0 = tri[0].depth;
+    let (depth_1, depth_2) = (tri[1].depth - tri[0].depth, tri[2].depth - tri[0].depth);
+    let signed = edge(p0, p1, p2);
+    if signed == 0 || width == 0 {
+        return None;
+    }
+    // Which weight varies along the row, as (its vertex's edge: from, to), or none.
+    let varying = match (depth_1 == 0.0, depth_2 == 0.0) {
+        (true, true) => None,
+        (false, true) if p2[0] == p0[0] => Some((depth_1, (p2, p0))),
+        (true, false) if p0[0] == p1[0] => Some((depth_2, (p0, p1))),
+        _ => return None,
+    };
+    let inv_area = 1.0 / signed.unsigned_abs() as f64;
+    let sign = signed.signum();
+    let (min_x, max_x) = (p0[0].min(p1[0]).min(p2[0]), p0[0].max(p1[0]).max(p2[0]));
+    let x_lo = (min_x - HALF + ONE - 1).div_euclid(ONE).max(0);
+    let x_hi = (max_x - HALF).div_euclid(ONE).min(i64::try_from(width).unwrap_or(i64::MAX) - 1);
+    if x_lo > x_hi {
+        return None;
+    }
+    columns.clear();
+    // A zero term of the sign it has at every covered sample: `b · ±0` with `b ≥ +0`.
+    let zero = |difference: f32| 0.0 * difference;
+    match varying {
+        None => {
+            let depth = depth0 + zero(depth_1) + zero(depth_2);
+            columns.resize((x_hi - x_lo + 1) as usize + LANES, depth);
+        }
+        Some((difference, (a, b))) => {
+            for x in x_lo..=x_hi {
+                // The edge function at the column's sample centres (on a vertical edge, any row's),
+                // in the normalised winding: as [`Span::bary`] weighs it.
+                let e = sign * edge(a, b, [x * ONE + HALF, a[1]]);
+                let weight = (e as f64 * inv_area) as f32;
+                columns.push(if depth_2 == 0.0 {
+                    depth0 + weight * difference + zero(depth_2)
+                } else {
+                    depth0 + zero(depth_1) + weight * difference
+                });
+            }
+            columns.resize(columns.len() + LANES, 0.0);
+        }
+    }
+    Some(x_lo)
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Triangles [`fill_polygon_x8`] filled with depths a column, on this thread: for tests that
+    /// the views they hold to the reference take that path.
+    pub(crate) static FILLED_BY_COLUMN: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
 }
 
 fn fill_triangle_x8(
     buffer: &mut SampleBuffer,
     tri: [&GridVertex<Vec3>; 3],
     id: u32,
-    shade: &impl Fn(&Lanes3) -> Lanes3,
+    color: Vec3,
+    columns: &mut Vec<f32>,
 ) -> usize {
     if !tri.iter().all(|v| v.depth.is_finite() && v.inv_w.is_finite()) {
         return 0;
@@ -433,65 +500,64 @@ fn fill_triangle_x8(
     let (width, height) = (buffer.width(), buffer.height());
     let depth0 = s(tri[0].depth);
     let (depth_1, depth_2) = (s(tri[1].depth - tri[0].depth), s(tri[2].depth - tri[0].depth));
-    let inv_w = tri.map(|v| s(v.inv_w));
-    let attr = |c: fn(Vec3) -> f32| tri.map(|v| s(c(v.attrs)));
-    let (ax, ay, az) = (attr(|a| a.x), attr(|a| a.y), attr(|a| a.z));
+    let by_column = column_depths(width, tri, columns);
+    #[cfg(test)]
+    FILLED_BY_COLUMN.with(|n| n.set(n.get() + [0, 1][usize::from(by_column.is_some())]));
+    let x_lo = by_column.map_or(0, |x| x as usize);
+    let columns = &columns[..];
+    let eight_colors = [color; LANES];
     let (colors, depths, ids) = buffer.parts_mut();
     let mut written = 0;
     for_each_span(width, height, tri.map(|v| v.pos), |span| {
         let row = span.y * width + span.x;
-        let mut edges = span.edges_x8();
+        // The edge functions only where the depths are not the columns'.
+        let mut edges = by_column.is_none().then(|| span.edges_x8());
         for start in (0..span.len).step_by(LANES) {
             let n = (span.len - start).min(LANES);
             let at = row + start..row + start + n;
-            let b = edges.bary();
-            edges.advance();
-            // Depth: affine in grid space, relative to vertex 0; LESS (NaN fails; padding lanes see -∞).
-            let z = depth0 + b[1] * depth_1 + b[2] * depth_2;
+            // Depth: affine in grid space, relative to vertex 0; LESS (NaN fails; lanes past the span masked).
+            let z = match edges.as_mut() {
+                Some(edges) => {
+                    let b = edges.bary();
+                    edges.advance();
+                    depth0 + b[1] * depth_1 + b[2] * depth_2
+                }
+                None => {
+                    // x_lo ≤ span.x (the same bounding box), and the table is padded by eight
+                    let from = span.x + start - x_lo;
+                    f32x8::from(<[f32; LANES]>::try_from(&columns[from..from + LANES]).expect("eight"))
+                }
+            };
+            // Eight depths from the buffer even past the span's end (lanes it masks out), but for the
+            // buffer's last few samples.
             let old = match depths.get(row + start..row + start + LANES) {
-                Some(eight) if n == LANES => f32x8::from(<[f32; LANES]>::try_from(eight).expect("eight")),
-                _ => {
+                Some(eight) => f32x8::from(<[f32; LANES]>::try_from(eight).expect("eight")),
+                None => {
                     let mut old = [f32::NEG_INFINITY; LANES];
                     old[..n].copy_from_slice(&depths[at.clone()]);
                     f32x8::from(old)
                 }
             };
-            let visible = z.simd_lt(old).to_bitmask();
+            let visible = z.simd_lt(old).to_bitmask() & ((1 << n) - 1);
             if visible == 0 {
                 continue;
             }
-            // Perspective-correct weights; where 1/w sums to ≈ 0, the affine ones.
-            let p = [b[0] * inv_w[0], b[1] * inv_w[1], b[2] * inv_w[2]];
-            let sum = p[0] + p[1] + p[2];
-            let normal = sum.is_finite() & sum.abs().simd_ge(s(f32::MIN_POSITIVE));
-            let w = [
-                normal.select(p[0] / sum, b[0]),
-                normal.select(p[1] / sum, b[1]),
-                normal.select(p[2] / sum, b[2]),
-            ];
-            let weighted = |a: [f32x8; 3]| w[0] * a[0] + w[1] * a[1] + w[2] * a[2];
-            let color = shade(&Lanes3 { x: weighted(ax), y: weighted(ay), z: weighted(az) });
-            let [z, r, g, bl] = [z, color.x, color.y, color.z].map(cast::<f32x8, [f32; LANES]>);
+            let z = cast::<f32x8, [f32; LANES]>(z);
             if visible == (1 << LANES) - 1 {
                 // Eight visible samples (the common case inside a wall): stored without a branch each.
                 let eight = row + start..row + start + LANES;
-                let colors: &mut [Vec3; LANES] = (&mut colors[eight.clone()]).try_into().expect("eight");
-                for (lane, color) in colors.iter_mut().enumerate() {
-                    *color = Vec3::new(r[lane], g[lane], bl[lane]);
-                }
-                let depths: &mut [f32; LANES] = (&mut depths[eight.clone()]).try_into().expect("eight");
-                *depths = z;
-                let ids: &mut [u32; LANES] = (&mut ids[eight]).try_into().expect("eight");
-                *ids = [id; LANES];
+                colors[eight.clone()].copy_from_slice(&eight_colors);
+                depths[eight.clone()].copy_from_slice(&z);
+                ids[eight].copy_from_slice(&[id; LANES]);
                 written += LANES;
                 continue;
             }
-            let mut left = visible & ((1 << n) - 1);
+            let mut left = visible;
             while left != 0 {
                 let lane = left.trailing_zeros() as usize;
                 left &= left - 1;
                 let i = row + start + lane;
-                (colors[i], depths[i], ids[i]) = (Vec3::new(r[lane], g[lane], bl[lane]), z[lane], id);
+                (colors[i], depths[i], ids[i]) = (color, z[lane], id);
                 written += 1;
             }
         }
@@ -534,9 +600,9 @@ mod tests {
         assert_eq!(covered(4, 4, on_edge), []);
     }
 
-    /// The eight-lane fill writes what the scalar fill writes — the same samples, depths and
-    /// attributes — and both return how many samples they wrote: polygons of 3–5 corners, partly off
-    /// the grid, one behind another (its hidden samples are not written, so not counted).
+    /// The eight-lane fill writes what the scalar fill writes with one colour — the same samples,
+    /// depths and ids — and both return how many samples they wrote: polygons of 3–5 corners, partly
+    /// off the grid, one behind another (its hidden samples are not written, so not counted).
     #[test]
     fn the_eight_lane_fill_writes_and_counts_what_the_scalar_fill_does() {
         let vertex = |x: f32, y: f32, depth: f32, w: f32| GridVertex {
@@ -575,11 +641,13 @@ mod tests {
         let (mut scalar, mut lanes) = (SampleBuffer::new(33, 19), SampleBuffer::new(33, 19));
         scalar.clear(Vec3::ZERO);
         lanes.clear(Vec3::ZERO);
+        let mut columns = Vec::new();
         let mut total = 0;
         for (id, polygon) in (0..).zip(&polygons) {
             let before: Vec<u32> = scalar.id().to_vec();
-            let a = fill_polygon(&mut scalar, polygon, id, |attrs| attrs);
-            let b = fill_polygon_x8(&mut lanes, polygon, id, &|l: &Lanes3| *l);
+            let color = Vec3::new(0.1 * id as f32, 0.5, 1.0 / (1.0 + id as f32));
+            let a = fill_polygon(&mut scalar, polygon, id, |_| color);
+            let b = fill_polygon_x8(&mut lanes, polygon, id, color, &mut columns);
             assert_eq!(a, b, "polygon {id}: samples written");
             let changed = scalar.id().iter().zip(&before).filter(|(now, was)| now != was).count();
             assert!(a >= changed && a > 0, "polygon {id}: {a} written, {changed} changed hands");
@@ -591,11 +659,112 @@ mod tests {
             let bad =
                 [vertex(1.0, 1.0, 0.05, 1.0), vertex(30.0, 2.0, 0.05, 1.0), vertex(9.0, 18.0, depth, w)];
             assert_eq!(fill_polygon(&mut scalar, &bad, 9, |attrs| attrs), 0, "depth {depth}, w {w}");
-            assert_eq!(fill_polygon_x8(&mut lanes, &bad, 9, &|l: &Lanes3| *l), 0, "depth {depth}, w {w}");
+            assert_eq!(
+                fill_polygon_x8(&mut lanes, &bad, 9, Vec3::ONE, &mut columns),
+                0,
+                "depth {depth}, w {w}"
+            );
         }
         assert_eq!(scalar.id(), lanes.id());
         assert_eq!(scalar.depth(), lanes.depth());
         assert_eq!(scalar.color(), lanes.color());
+    }
+
+    /// Wall quads as a level view draws them (each end's top and bottom one above the other, at one
+    /// depth), the fan started at each corner, either winding, partly off the grid, faced square on
+    /// (a −0 among the depth differences too), ends less than a sample apart, and skewed ones whose
+    /// ends are not quite vertical: the eight-lane fill, whose fan triangles take their depths a
+    /// column where [`column_depths`] finds them a function of the column, writes the scalar fill's
+    /// samples, depths and ids bit for bit, one quad over another; and the column path is taken.
+    #[test]
+    fn depths_by_column_are_the_weighed_depths() {
+        let mut state = 0x2545_f491_u64;
+        let mut unit = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let (width, height) = (61, 37);
+        let (mut scalar, mut lanes) = (SampleBuffer::new(width, height), SampleBuffer::new(width, height));
+        scalar.clear(Vec3::ZERO);
+        lanes.clear(Vec3::ZERO);
+        let mut columns = Vec::new();
+        let (mut by_column, mut weighed, mut written) = (0, 0, 0);
+        for id in 0..400u32 {
+            let xa = unit() * 90.0 - 15.0;
+            // sometimes on sample centres: a column whose weight is exactly 0
+            let xa = if (id / 4) % 3 == 1 { xa.floor() + 0.5 } else { xa };
+            let xb = match id % 5 {
+                0 => xa + unit() * 0.9, // ends less than a sample apart
+                _ => unit() * 90.0 - 15.0,
+            };
+            let (za, zb) = match id % 7 {
+                0 => (0.5, 0.5),
+                1 => (0.0, -0.0),
+                2 => (-0.0, 0.0),
+                // a −0 corner over a nearer end: where a zero's sign shows in the sum
+                3 => (-0.0, -0.5 * unit()),
+                _ => (unit(), unit()),
+            };
+            let skew = if id % 3 == 2 { 0.3 * unit() } else { 0.0 };
+            let (ha, hb) = (unit() * 30.0 + 1.0, unit() * 30.0 + 1.0);
+            let (ca, cb) = (unit() * 40.0 - 2.0, unit() * 40.0 - 2.0);
+            let corner = |x: f32, y: f32, depth: f32| GridVertex {
+                pos: Vec2::new(x, y),
+                depth,
+                inv_w: 1.0,
+                attrs: Vec3::ZERO,
+            };
+            let mut quad = vec![
+                corner(xa, ca + ha, za),
+                corner(xb, cb + hb, zb),
+                corner(xb + skew, cb - hb, zb),
+                corner(xa, ca - ha, za),
+            ];
+            quad.rotate_left(id as usize % 4);
+            if id % 2 == 1 {
+                quad.reverse();
+            }
+            for k in 1..3 {
+                let tri = [&quad[0], &quad[k], &quad[k + 1]];
+                match column_depths(width, tri, &mut columns) {
+                    Some(_) => by_column += 1,
+                    None => weighed += 1,
+                }
+            }
+            let color = Vec3::new(unit(), unit(), unit());
+            let a = fill_polygon(&mut scalar, &quad, id, |_| color);
+            let b = fill_polygon_x8(&mut lanes, &quad, id, color, &mut columns);
+            assert_eq!(a, b, "quad {id}: samples written");
+            written += a;
+            let bits = |buffer: &SampleBuffer| buffer.depth().iter().map(|d| d.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&scalar), bits(&lanes), "quad {id}: {quad:?}");
+            assert_eq!(scalar.id(), lanes.id(), "quad {id}");
+            assert_eq!(scalar.color(), lanes.color(), "quad {id}");
+        }
+        // A −0 apex above a −0 corner, a nearer end beyond: on the column through the vertical edge
+        // (its weight exactly 0) the sum's zeros decide the sign, +0 (either vertex order).
+        let corner = |x: f32, y: f32, depth: f32| GridVertex {
+            pos: Vec2::new(x, y),
+            depth,
+            inv_w: 1.0,
+            attrs: Vec3::ZERO,
+        };
+        let (top, bottom, far) =
+            (corner(10.5, 5.0, -0.0), corner(10.5, 20.0, -0.0), corner(30.0, 18.0, -0.25));
+        for tri in [[top, bottom, far], [top, far, bottom]] {
+            assert!(column_depths(width, [&tri[0], &tri[1], &tri[2]], &mut columns).is_some());
+            let (mut scalar, mut lanes) =
+                (SampleBuffer::new(width, height), SampleBuffer::new(width, height));
+            scalar.clear(Vec3::ZERO);
+            lanes.clear(Vec3::ZERO);
+            fill_triangle(&mut scalar, [&tri[0], &tri[1], &tri[2]], 1, |_| Vec3::ONE);
+            fill_polygon_x8(&mut lanes, &tri, 1, Vec3::ONE, &mut columns);
+            let bits = |buffer: &SampleBuffer| buffer.depth().iter().map(|d| d.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&scalar), bits(&lanes));
+            assert_eq!(lanes.depth()[10 * width + 10].to_bits(), 0, "+0 on the edge's column");
+        }
+        assert!(by_column > 300 && weighed > 200, "{by_column} triangles by column, {weighed} weighed");
+        assert!(written > 2 * width * height, "the quads are seen over much of the grid: {written}");
     }
 
     /// Eight lanes of weights are the bits of eight single ones, stepped in `f64` (the pipeline's
