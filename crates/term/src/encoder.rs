@@ -106,8 +106,9 @@ pub struct Encoder {
     /// Cells within this many [`TOLERANCE_STEP`]s (OKLab; truecolor colours and palette entries 16–255)
     /// of what is on screen are left as they are.
     tolerance: u8,
-    /// Scratch for the frame as sent: `frame` up to `tolerance` (the screen where close, the pen's
-    /// colours where close); swapped into `screen` after each encode.
+    /// Scratch for a full paint's frame as sent, swapped into `screen` after it (a diff turns
+    /// `screen` itself into the frame as sent: `frame` up to `tolerance`, the screen where close,
+    /// the pen's colours where close).
     effective: Vec<PackedCell>,
     /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
     differs: Vec<bool>,
@@ -208,21 +209,24 @@ impl Encoder {
         out.extend_from_slice(SYNC_BEGIN);
         // `sent`: the frame as it will be on screen, which the tolerance may leave a little off `frame`;
         // packed, as every comparison and price below reads it.
-        let sent = &mut self.effective;
         let cells_changed = if full_paint {
+            let sent = &mut self.effective;
             sent.clear();
             sent.extend(frame.cells().iter().map(PackedCell::pack));
             self.pen = paint_full(sent, width, self.bce, self.rep, self.blocks, out);
             self.memo.before.clear(); // (what it remembers was about the screen before)
-            sent.len()
+            std::mem::swap(&mut self.screen, &mut self.effective); // the screen is now what was sent
+            self.screen.len()
         } else {
             self.pen.blocks = self.blocks;
             let how = How { bce: self.bce, tolerance: self.tolerance, rep: self.rep };
             self.memo.prepare(frame.cells().len(), self.tolerance);
-            // Packing and comparing with the screen in one pass; the cells not equal to the screen's
-            // listed (`unequal`): only those can the diff change.
-            self.memo.scan(frame.cells(), &self.screen, sent, &mut self.differs, &mut self.unequal);
-            diff_marked(sent, width, how, &mut self.pen, out, &mut self.differs, &mut self.first)
+            // In place: the screen's cells become the frame's where they differ (or where within the
+            // tolerance stay), packed and compared in one pass, the cells not equal to the screen's
+            // listed (`unequal`: only those can the diff change); the diff leaves it what was sent.
+            let screen = &mut self.screen;
+            self.memo.scan(frame.cells(), screen, &mut self.differs, &mut self.unequal);
+            diff_marked(screen, width, how, &mut self.pen, out, &mut self.differs, &mut self.first)
         };
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
@@ -230,7 +234,6 @@ impl Encoder {
         } else {
             out.extend_from_slice(SYNC_END);
         }
-        std::mem::swap(&mut self.screen, &mut self.effective); // the screen is now what was sent
         (self.width, self.height) = (width, height);
         self.valid = true;
         // Whether a cell on screen now differs in look from the frame's: only a cell the diff changed
@@ -547,36 +550,33 @@ impl Memo {
         }
     }
 
-    /// `cells` packed into `sent` and marked in `differs` against the screen `old` as
-    /// [`Memo::mark_changes`] marks them, in one pass; the indices of the cells not equal to the
+    /// `cells` packed and marked in `differs` against the screen as [`Memo::mark_changes`] marks
+    /// them, in one pass, the screen's cells becoming what [`Memo::mark_changes`] leaves its `new`
+    /// (the diff reads nothing else of the screen); the indices of the cells not equal to the
     /// screen's (the only ones a diff can change) in `unequal`. Keeps the buffers' storage.
     fn scan(
         &mut self,
         cells: &[Cell],
-        old: &[PackedCell],
-        sent: &mut Vec<PackedCell>,
+        screen: &mut [PackedCell],
         differs: &mut Vec<bool>,
         unequal: &mut Vec<u32>,
     ) {
         let n = cells.len();
-        debug_assert_eq!((old.len(), self.before.len(), self.left.len()), (n, n, n));
-        let blank = PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg: PackedColor::DEFAULT };
-        // (Same lengths frame after frame: no storage and no writes here but the first time.)
-        sent.resize(n, blank);
+        debug_assert_eq!((screen.len(), self.before.len(), self.left.len()), (n, n, n));
+        // (Same length frame after frame: no storage and no writes here but the first time.)
         differs.resize(n, false);
         unequal.clear();
-        let (sent, differs) = (&mut sent[..n], &mut differs[..n]);
-        let old = &old[..n];
+        let (screen, differs) = (&mut screen[..n], &mut differs[..n]);
         for k in 0..n {
-            let mut cell = PackedCell::pack(&cells[k]);
-            let shown = &old[k];
-            // The common case (a cell as the screen shows it) first.
-            let differ = *shown != cell && {
+            let cell = PackedCell::pack(&cells[k]);
+            // The common case, a cell as the screen shows it: nothing to write but its flag.
+            differs[k] = screen[k] != cell && {
                 unequal.push(k as u32);
-                self.mark(k, shown, &mut cell)
+                let (shown, mut cell) = (screen[k], cell);
+                let differ = self.mark(k, &shown, &mut cell);
+                screen[k] = cell;
+                differ
             };
-            sent[k] = cell;
-            differs[k] = differ;
         }
     }
 
