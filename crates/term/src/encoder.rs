@@ -1323,7 +1323,7 @@ mod tests {
                         2 => k + 1 == len,
                         3 => k % 16 == 15 || k % 16 == 0,
                         4 => k == 33,
-                        _ => seed % (pattern * 3) == 0,
+                        _ => seed.is_multiple_of(pattern * 3),
                     };
                 }
                 for from in 0..=len + 1 {
