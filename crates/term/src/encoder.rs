@@ -331,7 +331,7 @@ fn clear_and_paint(
     let blank = vec![PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg }; frame.len()];
     // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
     let how = How { bce, tolerance: 0, rep };
-    diff(&blank, &mut frame.to_vec(), width, how, &mut pen, out, &mut Vec::new(), None);
+    diff(&blank, &mut frame.to_vec(), width, how, &mut pen, out, &mut Vec::new());
     pen
 }
 
@@ -361,8 +361,8 @@ struct How {
 /// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
 /// cell of `new` within `how.tolerance` of `old` is left as `old` shows it, and a changed one may
 /// take the pen's colour where that is within the tolerance of its own (one SGR less); `new` is updated
-/// to what was sent. `differs` is scratch ([`mark_changes`]); `memo`, the encoder's between frames.
-#[allow(clippy::too_many_arguments)]
+/// to what was sent. `differs` is scratch ([`mark_changes`]). (A full paint's diff, against a blank
+/// screen; an encoder's diff of a frame against its screen marks with [`Memo::scan`].)
 fn diff(
     old: &[PackedCell],
     new: &mut [PackedCell],
@@ -371,18 +371,12 @@ fn diff(
     pen: &mut Pen,
     out: &mut Vec<u8>,
     differs: &mut Vec<bool>,
-    memo: Option<&mut Memo>,
 ) -> usize {
     debug_assert_eq!(old.len(), new.len());
     let width = width.max(1);
     differs.clear();
-    match memo {
-        Some(memo) => memo.mark_changes(old, new, how.tolerance, differs),
-        None => {
-            for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
-                mark_changes(old_row, new_row, how.tolerance, differs);
-            }
-        }
+    for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
+        mark_changes(old_row, new_row, how.tolerance, differs);
     }
     diff_marked(new, width, how, pen, out, differs, &mut Vec::new())
 }
@@ -524,7 +518,7 @@ fn column_pays(new: &[PackedCell], differs: &[bool], width: usize, x: usize, y: 
     down < across
 }
 
-/// The last diff's frame (as given, before the tolerance) and which of its cells [`mark_changes`]
+/// The last diff's frame (as given, before the tolerance) and which of its cells [`Memo::scan`]
 /// left as the screen showed them. A cell left so stays as it was on screen (only changed cells are
 /// written), so where the next frame has it again the answer is the same: left, with no colour
 /// measured (walking, a wall's cells within the tolerance of the blanks on screen are asked about
@@ -550,9 +544,10 @@ impl Memo {
         }
     }
 
-    /// `cells` packed and marked in `differs` against the screen as [`Memo::mark_changes`] marks
-    /// them, in one pass, the screen's cells becoming what [`Memo::mark_changes`] leaves its `new`
-    /// (the diff reads nothing else of the screen); the indices of the cells not equal to the
+    /// `cells` packed and marked in `differs` against the screen ([`Memo::mark`]: the memo first,
+    /// then the tolerance), in one pass, each of the screen's cells becoming the frame's as it is to
+    /// be sent (the frame's, or the screen's own where within the tolerance: the diff reads nothing
+    /// else of the screen); the indices of the cells not equal to the
     /// screen's (the only ones a diff can change) in `unequal`. Keeps the buffers' storage.
     fn scan(
         &mut self,
@@ -580,8 +575,11 @@ impl Memo {
         }
     }
 
-    /// [`mark`] of cell `k` (not equal to `shown`), answering from the memo where it can and
-    /// remembering what it measures, as [`Memo::mark_changes`] does.
+    /// [`mark`] of cell `k` (not equal to `shown`), answering from the memo where the frame's cell is
+    /// one it measured and left, and remembering those it measures and leaves. A cell equal to the
+    /// screen's is not written, nor is one answered from the memo: the screen's cell stays what it
+    /// was when remembered. Every other cell is forgotten (it may be written, or the screen take the
+    /// frame's spelling of the same look).
     #[inline(always)]
     fn mark(&mut self, k: usize, shown: &PackedCell, cell: &mut PackedCell) -> bool {
         let tolerance = self.tolerance;
@@ -601,43 +599,6 @@ impl Memo {
         self.left[k] = false;
         !shown.looks_within(cell, 0)
     }
-
-    /// [`mark_changes`] of the whole frame, answering from the memo where the frame's cell is one
-    /// it measured and left, and remembering those it measures and leaves. A cell equal to the
-    /// screen's is not written, nor is one answered from the memo: the screen's cell stays what it
-    /// was when remembered. Every other cell is forgotten (it may be written, or the screen take
-    /// the frame's spelling of the same look).
-    fn mark_changes(
-        &mut self,
-        old: &[PackedCell],
-        new: &mut [PackedCell],
-        tolerance: u8,
-        differs: &mut Vec<bool>,
-    ) {
-        debug_assert_eq!((self.before.len(), self.left.len()), (new.len(), new.len()));
-        let (before, left) = (&mut self.before[..], &mut self.left[..]);
-        differs.extend(old.iter().zip(new).enumerate().map(|(k, (shown, cell))| {
-            if shown == cell {
-                return false; // the common case, inline
-            }
-            if tolerance > 0 && cell.may_be_near(tolerance) {
-                // As `mark`, the memo first.
-                if left[k] && before[k] == *cell {
-                    *cell = *shown;
-                    return false;
-                }
-                let within = shown.looks_within(cell, tolerance);
-                if within {
-                    before[k] = *cell;
-                    *cell = *shown;
-                }
-                left[k] = within;
-                return !within;
-            }
-            left[k] = false;
-            !shown.looks_within(cell, 0)
-        }));
-    }
 }
 
 /// Which cells of row `new` look different from row `old` (one look comparison a cell: the diff's
@@ -648,7 +609,7 @@ fn mark_changes(old: &[PackedCell], new: &mut [PackedCell], tolerance: u8, diffe
 }
 
 /// Whether `cell` looks different from `shown` (which it is not equal to); set to `shown` where
-/// within `tolerance` of it. ([`Memo::mark_changes`] is this with a memo.)
+/// within `tolerance` of it. ([`Memo::mark`] is this with a memo.)
 #[inline(always)]
 fn mark(shown: &PackedCell, cell: &mut PackedCell, tolerance: u8) -> bool {
     // Only truecolor colours and palette entries past the ANSI 16 with a neighbour that close
@@ -1198,6 +1159,46 @@ mod tests {
         assert!(left_alone > 100, "cells answered or remembered: {left_alone}");
     }
 
+    impl Memo {
+        /// The encoder's marking before the one-pass scan ([`Memo::scan`]), kept as its oracle:
+        /// [`mark_changes`] of the whole frame, answering from the memo where the frame's cell is one
+        /// it measured and left, and remembering those it measures and leaves. A cell equal to the
+        /// screen's is not written, nor is one answered from the memo: the screen's cell stays what it
+        /// was when remembered. Every other cell is forgotten (it may be written, or the screen take
+        /// the frame's spelling of the same look).
+        fn mark_changes(
+            &mut self,
+            old: &[PackedCell],
+            new: &mut [PackedCell],
+            tolerance: u8,
+            differs: &mut Vec<bool>,
+        ) {
+            debug_assert_eq!((self.before.len(), self.left.len()), (new.len(), new.len()));
+            let (before, left) = (&mut self.before[..], &mut self.left[..]);
+            differs.extend(old.iter().zip(new).enumerate().map(|(k, (shown, cell))| {
+                if shown == cell {
+                    return false; // the common case, inline
+                }
+                if tolerance > 0 && cell.may_be_near(tolerance) {
+                    // As `mark`, the memo first.
+                    if left[k] && before[k] == *cell {
+                        *cell = *shown;
+                        return false;
+                    }
+                    let within = shown.looks_within(cell, tolerance);
+                    if within {
+                        before[k] = *cell;
+                        *cell = *shown;
+                    }
+                    left[k] = within;
+                    return !within;
+                }
+                left[k] = false;
+                !shown.looks_within(cell, 0)
+            }));
+        }
+    }
+
     /// [`Encoder::encode`] as it was before the one-pass scan ([`Memo::scan`]): the frame packed,
     /// then marked against the screen by [`Memo::mark_changes`], then every cell of the screen
     /// compared with the frame for [`EncodeStats::approximate`]. The oracle of the scan.
@@ -1215,8 +1216,9 @@ mod tests {
             encoder.pen.blocks = encoder.blocks;
             let how = How { bce: encoder.bce, tolerance: encoder.tolerance, rep: encoder.rep };
             encoder.memo.prepare(sent.len(), encoder.tolerance);
-            let memo = Some(&mut encoder.memo);
-            diff(&encoder.screen, &mut sent, width, how, &mut encoder.pen, out, &mut Vec::new(), memo)
+            let mut differs = Vec::new();
+            encoder.memo.mark_changes(&encoder.screen, &mut sent, how.tolerance, &mut differs);
+            diff_marked(&mut sent, width, how, &mut encoder.pen, out, &mut differs, &mut Vec::new())
         };
         if out.len() - start == SYNC_BEGIN.len() {
             out.truncate(start);
