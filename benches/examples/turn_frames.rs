@@ -3,7 +3,7 @@
 //!
 //! ```sh
 //! cargo build --release -p mazewalk-bench --example turn_frames
-//! valgrind --tool=callgrind ./target/release/examples/turn_frames truecolor   # COLS ROWS TOLERANCE REP KEY optional
+//! valgrind --tool=callgrind ./target/release/examples/turn_frames truecolor   # COLS ROWS TOLERANCE REP KEY CHARSET optional
 //! callgrind_annotate --inclusive=yes callgrind.out.* | grep 'Encoder::encode \['
 //! ```
 //!
@@ -11,7 +11,8 @@
 //! (tmux: runs of blanks go as `CSI n b`), `anyrep` as one that repeats any glyph (xterm: runs of
 //! blocks too), `norep` (the default) as one without. KEY: `turn` (the default, `←`) or `walk` (`W`). It prints
 //! the bytes of the 39 frames and a hash of all the output, first paint included: two builds that
-//! print the same line sent the same bytes.
+//! print the same line sent the same bytes. CHARSET: `half` (the default), `quad`, `sextant` or `ascii`
+//! (which the walk sends without block glyphs).
 
 use mazewalk_maze as maze;
 use mazewalk_render::{Charset, RenderOptions};
@@ -28,7 +29,8 @@ fn main() {
         arg(3, &mazewalk_term::encoder::DEFAULT_TOLERANCE.to_string()).parse().expect("tolerance");
     let rep = arg(4, "norep");
     let key: &[u8] = if arg(5, "turn") == "walk" { b"w" } else { b"\x1b[D" };
-    let options = RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
+    let charset: Charset = arg(6, "half").parse().expect("charset");
+    let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
     let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("a start cell");
     let mut session = Session::new(
         app,
@@ -71,6 +73,6 @@ fn main() {
         _ => "no REP",
     };
     println!(
-        "{depth} {cols}x{rows}, tolerance {tolerance}, {rep}: {bytes} bytes in 39 frames of {what}, FNV-1a {hash:016x}"
+        "{depth} {cols}x{rows} {charset}, tolerance {tolerance}, {rep}: {bytes} bytes in 39 frames of {what}, FNV-1a {hash:016x}"
     );
 }

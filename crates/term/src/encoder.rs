@@ -38,7 +38,7 @@ use std::collections::HashMap;
 
 use crate::blocks::FULL_BLOCK;
 use crate::caps::RepLevel;
-use crate::frame::{Frame, PackedCell, PackedColor};
+use crate::frame::{Cell, Frame, PackedCell, PackedColor};
 use cursor::{RESET_LNM, digits, find_move, move_len, write_found, write_move};
 use sgr::{SGR_RESET, Sgr, write_sgr, write_sgr_reset};
 
@@ -106,13 +106,18 @@ pub struct Encoder {
     /// Cells within this many [`TOLERANCE_STEP`]s (OKLab; truecolor colours and palette entries 16–255)
     /// of what is on screen are left as they are.
     tolerance: u8,
-    /// Scratch for the frame as sent: `frame` up to `tolerance` (the screen where close, the pen's
-    /// colours where close); swapped into `screen` after each encode.
+    /// Scratch for a full paint's frame as sent, swapped into `screen` after it (a diff turns
+    /// `screen` itself into the frame as sent: `frame` up to `tolerance`, the screen where close,
+    /// the pen's colours where close).
     effective: Vec<PackedCell>,
     /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
     differs: Vec<bool>,
     /// The last diff's frame and which of its cells it left as the screen showed them ([`Memo`]).
     memo: Memo,
+    /// Scratch: the indices of the cells of the frame not equal to the screen's ([`Memo::scan`]).
+    unequal: Vec<u32>,
+    /// Scratch: each column's first row of a column of changed cells ([`first_columns`]).
+    first: Vec<usize>,
     /// After which glyphs runs of one look may go as `REP` ([`Encoder::set_rep`]).
     rep: RepLevel,
     /// Whether a blank may go as a full block ([`Encoder::set_blocks`]).
@@ -140,6 +145,8 @@ impl Encoder {
             effective: Vec::new(),
             differs: Vec::new(),
             memo: Memo::default(),
+            unequal: Vec::new(),
+            first: Vec::new(),
             rep: RepLevel::None,
             blocks: true,
         }
@@ -202,19 +209,24 @@ impl Encoder {
         out.extend_from_slice(SYNC_BEGIN);
         // `sent`: the frame as it will be on screen, which the tolerance may leave a little off `frame`;
         // packed, as every comparison and price below reads it.
-        let sent = &mut self.effective;
-        sent.clear();
-        sent.extend(frame.cells().iter().map(PackedCell::pack));
         let cells_changed = if full_paint {
+            let sent = &mut self.effective;
+            sent.clear();
+            sent.extend(frame.cells().iter().map(PackedCell::pack));
             self.pen = paint_full(sent, width, self.bce, self.rep, self.blocks, out);
             self.memo.before.clear(); // (what it remembers was about the screen before)
-            sent.len()
+            std::mem::swap(&mut self.screen, &mut self.effective); // the screen is now what was sent
+            self.screen.len()
         } else {
             self.pen.blocks = self.blocks;
             let how = How { bce: self.bce, tolerance: self.tolerance, rep: self.rep };
-            self.memo.prepare(sent.len(), self.tolerance);
-            let memo = Some(&mut self.memo);
-            diff(&self.screen, sent, width, how, &mut self.pen, out, &mut self.differs, memo)
+            self.memo.prepare(frame.cells().len(), self.tolerance);
+            // In place: the screen's cells become the frame's where they differ (or where within the
+            // tolerance stay), packed and compared in one pass, the cells not equal to the screen's
+            // listed (`unequal`: only those can the diff change); the diff leaves it what was sent.
+            let screen = &mut self.screen;
+            self.memo.scan(frame.cells(), screen, &mut self.differs, &mut self.unequal);
+            diff_marked(screen, width, how, &mut self.pen, out, &mut self.differs, &mut self.first)
         };
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
@@ -222,13 +234,16 @@ impl Encoder {
         } else {
             out.extend_from_slice(SYNC_END);
         }
-        std::mem::swap(&mut self.screen, &mut self.effective); // the screen is now what was sent
         (self.width, self.height) = (width, height);
         self.valid = true;
+        // Whether a cell on screen now differs in look from the frame's: only a cell the diff changed
+        // can (the others were packed from the frame and left so), and it changes only cells that were
+        // not equal to the screen's.
+        let cells = frame.cells();
         let approximate = !full_paint
             && self.tolerance > 0
-            && self.screen.iter().zip(frame.cells()).any(|(shown, cell)| {
-                let cell = PackedCell::pack(cell);
+            && self.unequal.iter().any(|&k| {
+                let (shown, cell) = (&self.screen[k as usize], PackedCell::pack(&cells[k as usize]));
                 *shown != cell && !shown.looks_within(&cell, 0)
             });
         EncodeStats { bytes: out.len() - start, cells_changed, full_paint, approximate }
@@ -316,7 +331,7 @@ fn clear_and_paint(
     let blank = vec![PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg }; frame.len()];
     // A copy: the diff records the forms it sent, and each trial of `paint_full` starts from the frame.
     let how = How { bce, tolerance: 0, rep };
-    diff(&blank, &mut frame.to_vec(), width, how, &mut pen, out, &mut Vec::new(), None);
+    diff(&blank, &mut frame.to_vec(), width, how, &mut pen, out, &mut Vec::new());
     pen
 }
 
@@ -346,8 +361,8 @@ struct How {
 /// Writes what turns `old` (on screen) into `new` (same size); returns the number of cells changed. A
 /// cell of `new` within `how.tolerance` of `old` is left as `old` shows it, and a changed one may
 /// take the pen's colour where that is within the tolerance of its own (one SGR less); `new` is updated
-/// to what was sent. `differs` is scratch ([`mark_changes`]); `memo`, the encoder's between frames.
-#[allow(clippy::too_many_arguments)]
+/// to what was sent. `differs` is scratch ([`mark_changes`]). (A full paint's diff, against a blank
+/// screen; an encoder's diff of a frame against its screen marks with [`Memo::scan`].)
 fn diff(
     old: &[PackedCell],
     new: &mut [PackedCell],
@@ -356,21 +371,30 @@ fn diff(
     pen: &mut Pen,
     out: &mut Vec<u8>,
     differs: &mut Vec<bool>,
-    memo: Option<&mut Memo>,
 ) -> usize {
     debug_assert_eq!(old.len(), new.len());
     let width = width.max(1);
     differs.clear();
-    match memo {
-        Some(memo) => memo.mark_changes(old, new, how.tolerance, differs),
-        None => {
-            for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
-                mark_changes(old_row, new_row, how.tolerance, differs);
-            }
-        }
+    for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
+        mark_changes(old_row, new_row, how.tolerance, differs);
     }
+    diff_marked(new, width, how, pen, out, differs, &mut Vec::new())
+}
+
+/// [`diff`] once `differs` marks which cells of `new` differ from the screen (and `new` is within the
+/// tolerance where they do not): the columns, then the rows. `first` is scratch.
+fn diff_marked(
+    new: &mut [PackedCell],
+    width: usize,
+    how: How,
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    differs: &mut [bool],
+    first: &mut Vec<usize>,
+) -> usize {
+    let width = width.max(1);
     // Columns first, where a column of one look goes cheaper down than across; then the rows.
-    let mut changed = columns(new, width, how.tolerance, pen, out, differs);
+    let mut changed = columns(new, width, how.tolerance, pen, out, differs, first);
     for (y, (new_row, row_differs)) in
         new.chunks_exact_mut(width).zip(differs.chunks_exact(width)).enumerate()
     {
@@ -400,12 +424,13 @@ fn columns(
     pen: &mut Pen,
     out: &mut Vec<u8>,
     differs: &mut [bool],
+    first: &mut Vec<usize>,
 ) -> usize {
     let height = new.len() / width;
     if height < MIN_COLUMN {
         return 0;
     }
-    let first = first_columns(new, differs, width, height);
+    first_columns(new, differs, width, height, first);
     let mut changed = 0;
     for (x, &first) in first.iter().enumerate() {
         // Changed, and not in a run of its look along the row.
@@ -446,8 +471,9 @@ fn columns(
 /// [`MIN_COLUMN`] cells in it from a row further up), and nothing is written for it. These are
 /// the column's own cells, which writing the columns before it does not change. Row by row, eight
 /// flags a word: a column with nothing changed costs next to nothing.
-fn first_columns(new: &[PackedCell], differs: &[bool], width: usize, height: usize) -> Vec<usize> {
-    let mut first = vec![height; width];
+fn first_columns(new: &[PackedCell], differs: &[bool], width: usize, height: usize, first: &mut Vec<usize>) {
+    first.clear();
+    first.resize(width, height);
     for y in 0..height.saturating_sub(MIN_COLUMN - 1) {
         let rows: [&[bool]; MIN_COLUMN] = std::array::from_fn(|i| &differs[(y + i) * width..][..width]);
         let mut x = 0;
@@ -470,7 +496,6 @@ fn first_columns(new: &[PackedCell], differs: &[bool], width: usize, height: usi
             x += 1;
         }
     }
-    first
 }
 
 /// Whether the `run` cells of one look from row `y` down column `x` cost fewer bytes down the
@@ -493,7 +518,7 @@ fn column_pays(new: &[PackedCell], differs: &[bool], width: usize, x: usize, y: 
     down < across
 }
 
-/// The last diff's frame (as given, before the tolerance) and which of its cells [`mark_changes`]
+/// The last diff's frame (as given, before the tolerance) and which of its cells [`Memo::scan`]
 /// left as the screen showed them. A cell left so stays as it was on screen (only changed cells are
 /// written), so where the next frame has it again the answer is the same: left, with no colour
 /// measured (walking, a wall's cells within the tolerance of the blanks on screen are asked about
@@ -519,41 +544,60 @@ impl Memo {
         }
     }
 
-    /// [`mark_changes`] of the whole frame, answering from the memo where the frame's cell is one
-    /// it measured and left, and remembering those it measures and leaves. A cell equal to the
-    /// screen's is not written, nor is one answered from the memo: the screen's cell stays what it
-    /// was when remembered. Every other cell is forgotten (it may be written, or the screen take
-    /// the frame's spelling of the same look).
-    fn mark_changes(
+    /// `cells` packed and marked in `differs` against the screen ([`Memo::mark`]: the memo first,
+    /// then the tolerance), in one pass, each of the screen's cells becoming the frame's as it is to
+    /// be sent (the frame's, or the screen's own where within the tolerance: the diff reads nothing
+    /// else of the screen); the indices of the cells not equal to the
+    /// screen's (the only ones a diff can change) in `unequal`. Keeps the buffers' storage.
+    fn scan(
         &mut self,
-        old: &[PackedCell],
-        new: &mut [PackedCell],
-        tolerance: u8,
+        cells: &[Cell],
+        screen: &mut [PackedCell],
         differs: &mut Vec<bool>,
+        unequal: &mut Vec<u32>,
     ) {
-        debug_assert_eq!((self.before.len(), self.left.len()), (new.len(), new.len()));
-        let (before, left) = (&mut self.before[..], &mut self.left[..]);
-        differs.extend(old.iter().zip(new).enumerate().map(|(k, (shown, cell))| {
-            if shown == cell {
-                return false; // the common case, inline
+        let n = cells.len();
+        debug_assert_eq!((screen.len(), self.before.len(), self.left.len()), (n, n, n));
+        // (Same length frame after frame: no storage and no writes here but the first time.)
+        differs.resize(n, false);
+        unequal.clear();
+        let (screen, differs) = (&mut screen[..n], &mut differs[..n]);
+        for k in 0..n {
+            let cell = PackedCell::pack(&cells[k]);
+            // The common case, a cell as the screen shows it: nothing to write but its flag.
+            differs[k] = screen[k] != cell && {
+                unequal.push(k as u32);
+                let (shown, mut cell) = (screen[k], cell);
+                let differ = self.mark(k, &shown, &mut cell);
+                screen[k] = cell;
+                differ
+            };
+        }
+    }
+
+    /// [`mark`] of cell `k` (not equal to `shown`), answering from the memo where the frame's cell is
+    /// one it measured and left, and remembering those it measures and leaves. A cell equal to the
+    /// screen's is not written, nor is one answered from the memo: the screen's cell stays what it
+    /// was when remembered. Every other cell is forgotten (it may be written, or the screen take the
+    /// frame's spelling of the same look).
+    #[inline(always)]
+    fn mark(&mut self, k: usize, shown: &PackedCell, cell: &mut PackedCell) -> bool {
+        let tolerance = self.tolerance;
+        if tolerance > 0 && cell.may_be_near(tolerance) {
+            if self.left[k] && self.before[k] == *cell {
+                *cell = *shown;
+                return false;
             }
-            if tolerance > 0 && cell.may_be_near(tolerance) {
-                // As `mark`, the memo first.
-                if left[k] && before[k] == *cell {
-                    *cell = *shown;
-                    return false;
-                }
-                let within = shown.looks_within(cell, tolerance);
-                if within {
-                    before[k] = *cell;
-                    *cell = *shown;
-                }
-                left[k] = within;
-                return !within;
+            let within = shown.looks_within(cell, tolerance);
+            if within {
+                self.before[k] = *cell;
+                *cell = *shown;
             }
-            left[k] = false;
-            !shown.looks_within(cell, 0)
-        }));
+            self.left[k] = within;
+            return !within;
+        }
+        self.left[k] = false;
+        !shown.looks_within(cell, 0)
     }
 }
 
@@ -565,7 +609,7 @@ fn mark_changes(old: &[PackedCell], new: &mut [PackedCell], tolerance: u8, diffe
 }
 
 /// Whether `cell` looks different from `shown` (which it is not equal to); set to `shown` where
-/// within `tolerance` of it. ([`Memo::mark_changes`] is this with a memo.)
+/// within `tolerance` of it. ([`Memo::mark`] is this with a memo.)
 #[inline(always)]
 fn mark(shown: &PackedCell, cell: &mut PackedCell, tolerance: u8) -> bool {
     // Only truecolor colours and palette entries past the ANSI 16 with a neighbour that close
@@ -581,6 +625,20 @@ fn mark(shown: &PackedCell, cell: &mut PackedCell, tolerance: u8) -> bool {
         return !within;
     }
     !shown.looks_within(cell, 0)
+}
+
+/// The first of `flags` set from index `from` on: sixteen at a time (one test: a frame's rows are
+/// mostly unchanged), then the one.
+#[inline]
+fn next_set(flags: &[bool], from: usize) -> Option<usize> {
+    let mut i = from;
+    while let Some(chunk) = flags.get(i..i + 16) {
+        if chunk.iter().fold(false, |any, &set| any | set) {
+            break;
+        }
+        i += 16;
+    }
+    (i..flags.len()).find(|&k| flags[k])
 }
 
 /// Where a row's tail of same-background spaces starts, and that background, if `\x1b[K` may erase it.
@@ -612,7 +670,7 @@ fn diff_row(
     let width = new.len();
     let mut changed = 0;
     let mut from = from;
-    while let Some(x) = (from..width).find(|&i| differs[i]) {
+    while let Some(x) = next_set(differs, from) {
         if let Some((start, bg)) = tail
             && x >= start
         {
@@ -1046,7 +1104,9 @@ mod tests {
                             .unwrap_or(height)
                     })
                     .collect();
-                assert_eq!(first_columns(&new, &differs, width, height), plain, "{width}x{height}");
+                let mut first = vec![7; 3]; // (scratch left by another frame)
+                first_columns(&new, &differs, width, height, &mut first);
+                assert_eq!(first, plain, "{width}x{height}");
                 found += plain.iter().filter(|&&y| y < height).count();
             }
         }
@@ -1097,6 +1157,183 @@ mod tests {
             }
         }
         assert!(left_alone > 100, "cells answered or remembered: {left_alone}");
+    }
+
+    impl Memo {
+        /// The encoder's marking before the one-pass scan ([`Memo::scan`]), kept as its oracle:
+        /// [`mark_changes`] of the whole frame, answering from the memo where the frame's cell is one
+        /// it measured and left, and remembering those it measures and leaves. A cell equal to the
+        /// screen's is not written, nor is one answered from the memo: the screen's cell stays what it
+        /// was when remembered. Every other cell is forgotten (it may be written, or the screen take
+        /// the frame's spelling of the same look).
+        fn mark_changes(
+            &mut self,
+            old: &[PackedCell],
+            new: &mut [PackedCell],
+            tolerance: u8,
+            differs: &mut Vec<bool>,
+        ) {
+            debug_assert_eq!((self.before.len(), self.left.len()), (new.len(), new.len()));
+            let (before, left) = (&mut self.before[..], &mut self.left[..]);
+            differs.extend(old.iter().zip(new).enumerate().map(|(k, (shown, cell))| {
+                if shown == cell {
+                    return false; // the common case, inline
+                }
+                if tolerance > 0 && cell.may_be_near(tolerance) {
+                    // As `mark`, the memo first.
+                    if left[k] && before[k] == *cell {
+                        *cell = *shown;
+                        return false;
+                    }
+                    let within = shown.looks_within(cell, tolerance);
+                    if within {
+                        before[k] = *cell;
+                        *cell = *shown;
+                    }
+                    left[k] = within;
+                    return !within;
+                }
+                left[k] = false;
+                !shown.looks_within(cell, 0)
+            }));
+        }
+    }
+
+    /// [`Encoder::encode`] as it was before the one-pass scan ([`Memo::scan`]): the frame packed,
+    /// then marked against the screen by [`Memo::mark_changes`], then every cell of the screen
+    /// compared with the frame for [`EncodeStats::approximate`]. The oracle of the scan.
+    fn encode_unscanned(encoder: &mut Encoder, frame: &Frame, out: &mut Vec<u8>) -> EncodeStats {
+        let start = out.len();
+        let (width, height) = (frame.width(), frame.height());
+        let full_paint = !encoder.valid || (encoder.width, encoder.height) != (width, height);
+        out.extend_from_slice(SYNC_BEGIN);
+        let mut sent: Vec<PackedCell> = packed(frame);
+        let cells_changed = if full_paint {
+            encoder.pen = paint_full(&sent, width, encoder.bce, encoder.rep, encoder.blocks, out);
+            encoder.memo.before.clear();
+            sent.len()
+        } else {
+            encoder.pen.blocks = encoder.blocks;
+            let how = How { bce: encoder.bce, tolerance: encoder.tolerance, rep: encoder.rep };
+            encoder.memo.prepare(sent.len(), encoder.tolerance);
+            let mut differs = Vec::new();
+            encoder.memo.mark_changes(&encoder.screen, &mut sent, how.tolerance, &mut differs);
+            diff_marked(&mut sent, width, how, &mut encoder.pen, out, &mut differs, &mut Vec::new())
+        };
+        if out.len() - start == SYNC_BEGIN.len() {
+            out.truncate(start);
+        } else {
+            out.extend_from_slice(SYNC_END);
+        }
+        encoder.screen = sent;
+        (encoder.width, encoder.height) = (width, height);
+        encoder.valid = true;
+        let approximate = !full_paint
+            && encoder.tolerance > 0
+            && encoder
+                .screen
+                .iter()
+                .zip(packed(frame))
+                .any(|(shown, cell)| *shown != cell && !shown.looks_within(&cell, 0));
+        EncodeStats { bytes: out.len() - start, cells_changed, full_paint, approximate }
+    }
+
+    /// The one-pass scan of the frame against the screen, and the check of whether the screen is
+    /// exact over the cells the diff could change, change no byte and no statistic: frames of half
+    /// blocks, blanks, blocks and letters in truecolor, near and far palette entries, ANSI and default
+    /// colours, some cells going back to what they were, rows scrolled (a turn), a resize and an
+    /// invalidation, encoded by [`Encoder::encode`] and by [`encode_unscanned`], at tolerances 0, 2
+    /// and 5, every REP level, with and without BCE and blocks.
+    #[test]
+    fn the_one_pass_scan_changes_no_byte() {
+        let mut seed = 0x2545_f491_u32;
+        let mut next = move |n: u32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed % n
+        };
+        let grey = |v: u8| Color::Rgb(v, v, v.saturating_add(1));
+        let colours = [grey(100), grey(101), grey(103), grey(140), Color::Rgb(200, 40, 9)];
+        let palette = [Color::Indexed(59), Color::Indexed(241), Color::Indexed(17), Color::Indexed(231)];
+        let colours = [&colours[..], &palette, &[Color::Default, Color::Indexed(4)]].concat();
+        let (mut approximate, mut frames) = (0, 0);
+        for tolerance in [0, 2, 5] {
+            for rep in [RepLevel::None, RepLevel::Ascii, RepLevel::Any] {
+                for (bce, blocks) in [(true, true), (false, true), (true, false)] {
+                    let (mut scanned, mut oracle) = (Encoder::new(), Encoder::new());
+                    for encoder in [&mut scanned, &mut oracle] {
+                        encoder.set_tolerance(tolerance);
+                        encoder.set_rep(rep);
+                        encoder.set_bce(bce);
+                        encoder.set_blocks(blocks);
+                    }
+                    let (mut width, mut height) = (31, 9);
+                    let mut frame =
+                        Frame::filled(width, height, Cell { ch: '▀', fg: grey(100), bg: grey(101) });
+                    for step in 0..40 {
+                        if step == 25 {
+                            (width, height) = (17, 12);
+                            frame.resize(width, height);
+                        }
+                        if step == 33 {
+                            scanned.invalidate();
+                            oracle.invalidate();
+                        }
+                        if next(4) == 0 {
+                            // A turn: every row moves a column.
+                            for row in frame.cells_mut().chunks_exact_mut(width) {
+                                row.rotate_left(1);
+                            }
+                        }
+                        for _ in 0..next(60) {
+                            let (x, y) = (next(width as u32) as usize, next(height as u32) as usize);
+                            let ch = ['▀', '▄', ' ', '█', 'x', '▘'][next(6) as usize];
+                            let pick = |k: u32| colours[k as usize % colours.len()];
+                            frame.set(x, y, Cell { ch, fg: pick(next(16)), bg: pick(next(16)) });
+                        }
+                        let (mut a, mut b) = (b"x".to_vec(), b"x".to_vec());
+                        let stats = scanned.encode(&frame, &mut a);
+                        assert_eq!(stats, encode_unscanned(&mut oracle, &frame, &mut b), "step {step}");
+                        assert_eq!(a, b, "step {step}");
+                        assert_eq!(scanned.screen, oracle.screen);
+                        approximate += usize::from(stats.approximate);
+                        frames += 1;
+                    }
+                }
+            }
+        }
+        assert!(approximate > 50, "frames left approximate: {approximate} of {frames}");
+    }
+
+    /// The first flag set from an index on, sixteen at a time, is the first the plain search finds:
+    /// rows of every length up to 70 with flags set nowhere, at their start, end, chunks' edges and
+    /// at random, from every index.
+    #[test]
+    fn the_next_set_flag_is_the_first_from_there() {
+        let mut seed = 0x1234_5678_u32;
+        for len in 0..70 {
+            for pattern in 0..8 {
+                let mut flags = vec![false; len];
+                for (k, flag) in flags.iter_mut().enumerate() {
+                    seed ^= seed << 13;
+                    seed ^= seed >> 17;
+                    seed ^= seed << 5;
+                    *flag = match pattern {
+                        0 => false,
+                        1 => k == 0,
+                        2 => k + 1 == len,
+                        3 => k % 16 == 15 || k % 16 == 0,
+                        4 => k == 33,
+                        _ => seed.is_multiple_of(pattern * 3),
+                    };
+                }
+                for from in 0..=len + 1 {
+                    let plain = (from..len).find(|&k| flags[k]);
+                    assert_eq!(next_set(&flags, from), plain, "{flags:?} from {from}");
+                }
+            }
+        }
     }
 
     /// Escape codes carry their numbers in plain decimal: every number the fast paths cover and

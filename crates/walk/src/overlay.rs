@@ -492,6 +492,10 @@ pub struct MapCells {
     key: Option<(MapArea, usize, usize)>,
     /// Per character, row by row: per probe, its cell ([`NO_CELL`] if none) and that cell's wall.
     probes: Vec<[(u32, bool); 5]>,
+    /// Scratch: the probes of the lattice before, while a moved one takes what it shares with it.
+    before: Vec<[(u32, bool); 5]>,
+    /// Characters whose probes were worked out, all told (the others were kept).
+    worked_out: usize,
 }
 
 /// "No cell under this probe" in [`MapCells`].
@@ -505,16 +509,49 @@ impl MapCells {
             MapArea { x: 0, y: 0, width: area.lattice.0, height: area.lattice.1, from: (0, 0), ..*area };
         let key = (lattice, maze.cell_count(), maze.edges().len());
         if self.key != Some(key) {
+            // A lattice of the same maze, size and scale moved by whole characters (the corner map
+            // following a walker) shares most of its characters with the one before: a character
+            // whose box is bit for bit a box of the lattice before takes that one's probes (a
+            // function of the box and the maze), the others are worked out.
+            let shifted = self.key.filter(|(kept, cells, edges)| {
+                (kept.lattice, kept.units_per_col, *cells, *edges)
+                    == (lattice.lattice, lattice.units_per_col, key.1, key.2)
+            });
+            std::mem::swap(&mut self.probes, &mut self.before);
             self.probes.clear();
-            for row in 0..area.lattice.1 {
-                for col in 0..area.lattice.0 {
-                    self.probes.push(probes(area.world_box(col, row), maze));
+            let (columns, rows) = area.lattice;
+            let offset = shifted.map(|(kept, ..)| {
+                // (dx, dy): the characters the lattice moved by, east and south
+                let d =
+                    (lattice.centre - kept.centre) / Vec2::new(kept.units_per_col, -2.0 * kept.units_per_col);
+                ((d.x.round() as i64, d.y.round() as i64), kept)
+            });
+            for row in 0..rows {
+                for col in 0..columns {
+                    let world_box = area.world_box(col, row);
+                    let kept = offset.and_then(|((dx, dy), kept)| {
+                        let (c, r) = (col as i64 + dx, row as i64 + dy);
+                        let on = (0..columns as i64).contains(&c) && (0..rows as i64).contains(&r);
+                        let (c, r) = (c as usize, r as usize);
+                        (on && same_box(kept.world_box(c, r), world_box))
+                            .then(|| self.before[r * columns + c])
+                    });
+                    self.probes.push(kept.unwrap_or_else(|| {
+                        self.worked_out += 1;
+                        probes(world_box, maze)
+                    }));
                 }
             }
             self.key = Some(key);
         }
         &self.probes
     }
+}
+
+/// Whether two boxes are the same bit for bit (the probes of one are the other's).
+fn same_box(a: Aabb, b: Aabb) -> bool {
+    let bits = |b: Aabb| [b.min.x, b.min.y, b.max.x, b.max.y].map(f32::to_bits);
+    bits(a) == bits(b)
 }
 
 /// The cells under a map character covering `world_box`, and whether each has a wall through it.
@@ -753,6 +790,44 @@ mod tests {
                 assert!(from_kept.cells().iter().any(|c| c.fg == WALL_FG), "step {step}, full {full}: walls");
             }
         }
+    }
+
+    /// The corner map following a walker works out only the characters it did not show before
+    /// (issue #42: every character of it was worked out again each time it moved by one), and
+    /// draws what it draws afresh.
+    #[test]
+    fn a_corner_map_moved_by_whole_characters_keeps_what_it_showed() {
+        let maze = mazewalk_maze::builtin().unwrap();
+        let start = maze.viewer().pos;
+        let mut kept = MapCells::default();
+        let frame = Frame::new(120, 40);
+        let seen = |_| true;
+        let mut shifts = 0;
+        for step in 0..30 {
+            // east, then north (a row is two maze units), by a character or two a step
+            let position = start
+                + if step < 15 {
+                    Vec2::new(step as f32, 0.0)
+                } else {
+                    Vec2::new(14.0, 1.5 * (step - 14) as f32)
+                };
+            let camera = Camera::new(position, 0.0, 90.0);
+            let area = MapArea::corner(&frame, position);
+            let before = kept.worked_out;
+            let draw = |cells: &mut MapCells| {
+                let mut frame = frame.clone();
+                draw_map(&mut frame, &area, &maze, &camera, &seen, None, Style::default(), cells);
+                frame
+            };
+            assert_eq!(draw(&mut kept), draw(&mut MapCells::default()), "step {step}");
+            let worked = kept.worked_out - before;
+            if step > 0 && worked > 0 {
+                // A move of a column works out one column, of a row one row (or two).
+                assert!(worked <= 2 * area.lattice.0.max(area.lattice.1), "step {step}: {worked}");
+                shifts += 1;
+            }
+        }
+        assert!(shifts > 20, "moves: {shifts}");
     }
 
     /// The lighter floor is the view wedge: floor within a dozen columns whose direction from the

@@ -6,7 +6,7 @@
 use super::{Pen, push_num};
 
 /// Vertical part of a relative move.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Vertical {
     Stay,
     /// `\r` (unless already in column 0) then `\n` × k: lands in column 0 whether or not `\n` implies
@@ -24,7 +24,7 @@ enum Vertical {
 }
 
 /// Horizontal part of a relative move.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Horizontal {
     Stay,
     Cr,
@@ -109,44 +109,73 @@ fn shortest_move(
         Some(Vertical::Up(cy.wrapping_sub(y))).filter(|_| y < cy),
         Some(Vertical::Row(y)).filter(|_| y != cy),
     ];
+    // Every vertical step, each followed by every horizontal one, in this order; the first of the
+    // shortest pairs wins (`CUP` before them all). A pair's bytes are its vertical's plus its
+    // horizontal's, and the horizontals after a vertical depend only on the column it leaves the
+    // cursor in (0 after `\r\n`, else the cursor's): so a vertical's first shortest pair is it
+    // with the first shortest horizontal from that column, found once per column
+    // (`tests::the_shortest_move_is_the_first_of_the_shortest_of_all_pairs` holds it to the
+    // search of all pairs).
+    let from_cursor = shortest_horizontal(cx, x);
     let mut best: (usize, Option<(Vertical, Horizontal)>) = (cup_len(x, y), None);
     for vertical in verticals.into_iter().flatten() {
-        let col = if matches!(vertical, Vertical::CrLf(_)) { 0 } else { cx };
-        let horizontals = [
-            Some(Horizontal::Stay).filter(|_| col == x),
-            Some(Horizontal::Cr).filter(|_| x == 0 && col != 0),
-            Some(Horizontal::Right(x.wrapping_sub(col))).filter(|_| x > col),
-            Some(Horizontal::Left(col.wrapping_sub(x))).filter(|_| x < col),
-            Some(Horizontal::Back(col.wrapping_sub(x))).filter(|_| x < col && col - x <= 3),
-            Some(Horizontal::Column(x)).filter(|_| x != col),
-        ];
-        for horizontal in horizontals.into_iter().flatten() {
-            let len = relative_len(cx, vertical, horizontal);
-            if len < best.0 {
-                best = (len, Some((vertical, horizontal)));
-            }
+        let (across, horizontal) =
+            if matches!(vertical, Vertical::CrLf(_)) { shortest_horizontal(0, x) } else { from_cursor };
+        let len = vertical_len(cx, vertical) + across;
+        if len < best.0 {
+            best = (len, Some((vertical, horizontal)));
+        }
+    }
+    best
+}
+
+/// The first of the shortest horizontal steps from column `col` to column `x`, in the order
+/// [`shortest_move`] searches them, and its bytes.
+fn shortest_horizontal(col: usize, x: usize) -> (usize, Horizontal) {
+    let horizontals = [
+        Some(Horizontal::Stay).filter(|_| col == x),
+        Some(Horizontal::Cr).filter(|_| x == 0 && col != 0),
+        Some(Horizontal::Right(x.wrapping_sub(col))).filter(|_| x > col),
+        Some(Horizontal::Left(col.wrapping_sub(x))).filter(|_| x < col),
+        Some(Horizontal::Back(col.wrapping_sub(x))).filter(|_| x < col && col - x <= 3),
+        Some(Horizontal::Column(x)).filter(|_| x != col),
+    ];
+    let mut best = (usize::MAX, Horizontal::Stay); // (one is always there: `Stay` or `Column`)
+    for horizontal in horizontals.into_iter().flatten() {
+        let len = horizontal_len(horizontal);
+        if len < best.0 {
+            best = (len, horizontal);
         }
     }
     best
 }
 
 /// The bytes of [`write_relative`].
+#[cfg(test)]
 fn relative_len(from_x: usize, vertical: Vertical, horizontal: Horizontal) -> usize {
-    let vertical = match vertical {
+    vertical_len(from_x, vertical) + horizontal_len(horizontal)
+}
+
+/// The bytes of a vertical step from column `from_x` ([`relative_len`]'s first part).
+fn vertical_len(from_x: usize, vertical: Vertical) -> usize {
+    match vertical {
         Vertical::Stay => 0,
         Vertical::CrLf(k) => usize::from(from_x != 0) + k,
         Vertical::Vt(k) => k,
         Vertical::Down(k) | Vertical::Up(k) => csi_len(k, 1),
         Vertical::Row(y) => csi_len(y + 1, 1),
-    };
-    vertical
-        + match horizontal {
-            Horizontal::Stay => 0,
-            Horizontal::Cr => 1,
-            Horizontal::Right(n) | Horizontal::Left(n) => csi_len(n, 1),
-            Horizontal::Back(n) => n,
-            Horizontal::Column(x) => csi_len(x + 1, 1),
-        }
+    }
+}
+
+/// The bytes of a horizontal step ([`relative_len`]'s second part).
+fn horizontal_len(horizontal: Horizontal) -> usize {
+    match horizontal {
+        Horizontal::Stay => 0,
+        Horizontal::Cr => 1,
+        Horizontal::Right(n) | Horizontal::Left(n) => csi_len(n, 1),
+        Horizontal::Back(n) => n,
+        Horizontal::Column(x) => csi_len(x + 1, 1),
+    }
 }
 
 /// The bytes of [`write_csi`].
@@ -227,6 +256,79 @@ mod tests {
         write_move(&mut out, &mut pen, x, y);
         assert_eq!(pen.cursor, Some((x, y)));
         String::from_utf8(out).unwrap()
+    }
+
+    /// [`shortest_move`] as it searched before: every vertical step with every horizontal one after
+    /// it, the first of the shortest (`CUP` first).
+    fn searched_move(
+        from: Option<(usize, usize)>,
+        x: usize,
+        y: usize,
+    ) -> (usize, Option<(Vertical, Horizontal)>) {
+        let Some((cx, cy)) = from else { return (cup_len(x, y), None) };
+        if (cx, cy) == (x, y) {
+            return (0, None);
+        }
+        if cy == y && x > cx {
+            // The diff's usual move, on along the row: `CUF` is shorter than `CHA` (fewer digits) and `CUP`.
+            return (csi_len(x - cx, 1), Some((Vertical::Stay, Horizontal::Right(x - cx))));
+        }
+        let verticals = [
+            Some(Vertical::Stay).filter(|_| cy == y),
+            Some(Vertical::CrLf(y.wrapping_sub(cy))).filter(|_| y > cy),
+            Some(Vertical::Vt(y.wrapping_sub(cy))).filter(|_| y > cy && y - cy <= 3),
+            Some(Vertical::Down(y.wrapping_sub(cy))).filter(|_| y > cy),
+            Some(Vertical::Up(cy.wrapping_sub(y))).filter(|_| y < cy),
+            Some(Vertical::Row(y)).filter(|_| y != cy),
+        ];
+        let mut best: (usize, Option<(Vertical, Horizontal)>) = (cup_len(x, y), None);
+        for vertical in verticals.into_iter().flatten() {
+            let col = if matches!(vertical, Vertical::CrLf(_)) { 0 } else { cx };
+            let horizontals = [
+                Some(Horizontal::Stay).filter(|_| col == x),
+                Some(Horizontal::Cr).filter(|_| x == 0 && col != 0),
+                Some(Horizontal::Right(x.wrapping_sub(col))).filter(|_| x > col),
+                Some(Horizontal::Left(col.wrapping_sub(x))).filter(|_| x < col),
+                Some(Horizontal::Back(col.wrapping_sub(x))).filter(|_| x < col && col - x <= 3),
+                Some(Horizontal::Column(x)).filter(|_| x != col),
+            ];
+            for horizontal in horizontals.into_iter().flatten() {
+                let len = relative_len(cx, vertical, horizontal);
+                if len < best.0 {
+                    best = (len, Some((vertical, horizontal)));
+                }
+            }
+        }
+        best
+    }
+
+    /// The move found with each vertical's shortest horizontal once is the move of the search of all
+    /// pairs, route and bytes: from every cursor to every cell of a 130×45 screen near the corners,
+    /// edges and middle (the columns and rows where the forms' lengths change), and from nowhere.
+    #[test]
+    fn the_shortest_move_is_the_first_of_the_shortest_of_all_pairs() {
+        let columns: Vec<usize> = (0..14).chain(95..106).chain(125..130).collect();
+        let rows: Vec<usize> = (0..14).chain(38..45).collect();
+        let mut moves = 0;
+        for &cy in &rows {
+            for &cx in &columns {
+                for &y in &rows {
+                    for &x in &columns {
+                        let from = Some((cx, cy));
+                        assert_eq!(
+                            shortest_move(from, x, y),
+                            searched_move(from, x, y),
+                            "{from:?} to {x},{y}"
+                        );
+                        moves += 1;
+                    }
+                }
+            }
+        }
+        for (x, y) in [(0, 0), (5, 0), (0, 7), (120, 44)] {
+            assert_eq!(shortest_move(None, x, y), searched_move(None, x, y));
+        }
+        assert!(moves > 300_000);
     }
 
     #[test]
