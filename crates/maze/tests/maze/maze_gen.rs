@@ -178,12 +178,12 @@ fn the_wall_colours_are_one_lightness_and_chroma_with_every_hue_but_green() {
         assert_eq!(not_green(c), c, "{rgb:?} is green");
         hues.push(hue);
     }
-    // in hue order from red; gaps of 3° (1.5°–3.9° after rounding) but one, the green band's (115°–182°)
+    // in hue order from red; gaps of 3° (1°–4.5° after rounding) but one, the green band's (117°–180°)
     let gaps: Vec<f64> = hues.windows(2).map(|w| w[1] - w[0]).collect();
     assert!(gaps.iter().all(|&g| g > 1.0), "{gaps:?}");
-    let wide: Vec<(f64, f64)> = hues.windows(2).filter(|w| w[1] - w[0] > 4.0).map(|w| (w[0], w[1])).collect();
+    let wide: Vec<(f64, f64)> = hues.windows(2).filter(|w| w[1] - w[0] > 6.0).map(|w| (w[0], w[1])).collect();
     assert_eq!(wide.len(), 1, "{wide:?}");
-    assert!(wide[0].0 > 110.0 && wide[0].1 < 186.0, "{wide:?}");
+    assert!(wide[0].0 > 110.0 && wide[0].1 < 190.0, "{wide:?}");
     assert!(hues[0] < 2.0 && *hues.last().unwrap() > 355.0, "{hues:?}");
 }
 
@@ -200,7 +200,8 @@ proptest! {
         for e in m.edges().iter() {
             let (l, chroma, hue) = oklch(e.color);
             prop_assert!((l - want).abs() < 0.002, "{}: L {:.4}", e.color, l);
-            prop_assert!((0.085..0.095).contains(&chroma), "{}: chroma {:.4}", e.color, chroma);
+            let c = f64::from(mazewalk_maze::generate::WALL_CHROMA);
+            prop_assert!((chroma - c).abs() < 0.002, "{}: chroma {:.4}", e.color, chroma);
             hues.insert((hue / 30.0) as u32);
         }
         // and hue still tells walls apart: a maze of 20 edges or more shows 4 of the 12 30° sectors
