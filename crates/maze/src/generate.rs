@@ -105,7 +105,7 @@ pub struct GenOptions {
     pub loops: f32,
     /// Mark the cell farthest from the start (by portal steps) as the exit (in a 1×1 maze, the start).
     pub exit: bool,
-    /// Wall colours to pick from; `None` = random, 0.25..=0.75 per channel in steps of 0.01 (as the original).
+    /// Wall colours to pick from; `None` = one of [`WALL_COLOURS`] (one OKLab lightness, any hue but green).
     pub palette: Option<Vec<Vec3>>,
 }
 
