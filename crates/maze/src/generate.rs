@@ -3,8 +3,8 @@
 //! A `width × height` grid of square cells of side [`CELL_SIZE`] with its lower-left corner at the
 //! origin is carved by one of three [`Algorithm`]s into a perfect maze (one path between any two
 //! cells), then `loops` removes a fraction of the remaining interior walls. Every decision comes from
-//! [`SplitMix64`] (integer arithmetic only; colours are integers scaled by powers of two), so a seed
-//! gives the same maze everywhere.
+//! [`SplitMix64`] (integer arithmetic only; colours are picked from a fixed table of 8-bit ones,
+//! [`WALL_COLOURS`]), so a seed gives the same maze everywhere.
 //!
 //! [`generate`] builds the thin-wall maze (walls are edges between cells, like the course files);
 //! [`generate_grid`] lays the same layout out as tiles for the [`grid`](super::grid) format, where
@@ -105,7 +105,7 @@ pub struct GenOptions {
     pub loops: f32,
     /// Mark the cell farthest from the start (by portal steps) as the exit (in a 1×1 maze, the start).
     pub exit: bool,
-    /// Wall colours to pick from; `None` = random, 0.25..=0.75 per channel in steps of 0.01 (as the original).
+    /// Wall colours to pick from; `None` = one of [`WALL_COLOURS`] (one OKLab lightness, any hue but green).
     pub palette: Option<Vec<Vec3>>,
 }
 
@@ -397,14 +397,135 @@ fn add_loops(l: &mut Layout, loops: f32, rng: &mut SplitMix64) {
     }
 }
 
-/// The colour source for edges or tiles: the given palette's, or a random one that is not green.
+/// The colour source for edges or tiles: the given palette's (kept as given), or one of
+/// [`WALL_COLOURS`].
 fn pick_color(rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Vec3 {
     match palette {
         Some(p) => p[rng.below(p.len() as u32) as usize],
-        // 0.25..=0.75 in steps of 0.01: `k / 100` is correctly rounded everywhere, and prints short
-        None => not_green(Vec3::from_array([(); 3].map(|()| (25 + rng.below(51)) as f32 / 100.0))),
+        None => {
+            let [r, g, b] = WALL_COLOURS[rng.below(WALL_COLOURS.len() as u32) as usize];
+            Vec3::new(f32::from(r), f32::from(g), f32::from(b)) / 255.0
+        }
     }
 }
+
+/// OKLab lightness of every generated wall colour ([`WALL_COLOURS`]).
+pub const WALL_LIGHTNESS: f32 = 0.75;
+/// OKLab chroma of every generated wall colour ([`WALL_COLOURS`]).
+pub const WALL_CHROMA: f32 = 0.09;
+
+/// A generated maze's wall colours (8-bit sRGB): **one lightness, hue alone tells them apart**
+/// (issue #39). Lightness is left to the geometry (the headlight lights a wall faced square on more
+/// than one along the view, the fog darkens the far one), so a light side wall can no longer pass for
+/// a dark wall faced square on through an opening; hue carries identity (which wall, where a seam
+/// is). OKLab L [`WALL_LIGHTNESS`] (about what the renderer's walls-apart rule already raised most
+/// of the old random colours to), chroma [`WALL_CHROMA`] (moderate: the 256-colour cube has an entry
+/// within about 0.05 of each; of 0.06 and 0.09 tried, 0.09 kept the 256-colour picture's hue error
+/// and grain nearer the old colours'), hue every 3° round the circle except where the colour is green by
+/// [`not_green`]'s rule, the one statement of it (at this lightness and chroma, OKLab hues 117°–180°).
+/// Each is its OKLch colour rounded to 8 bits (L within 0.002, chroma within 0.002: the maze tests
+/// check every entry against an OKLab oracle), a table so that no float function of the platform's
+/// can change a seed's maze.
+pub const WALL_COLOURS: [[u8; 3]; 98] = [
+    [222, 150, 171],
+    [223, 150, 168],
+    [223, 150, 165],
+    [224, 150, 162],
+    [225, 150, 159],
+    [225, 151, 156],
+    [225, 151, 152],
+    [225, 151, 149],
+    [225, 152, 146],
+    [225, 152, 143],
+    [225, 153, 140],
+    [225, 153, 137],
+    [224, 154, 134],
+    [224, 154, 132],
+    [223, 155, 129],
+    [222, 156, 126],
+    [221, 157, 124],
+    [220, 158, 121],
+    [219, 159, 119],
+    [218, 160, 117],
+    [216, 161, 115],
+    [215, 162, 113],
+    [213, 163, 112],
+    [211, 164, 110],
+    [210, 165, 109],
+    [208, 166, 108],
+    [205, 167, 107],
+    [203, 168, 106],
+    [201, 169, 106],
+    [199, 171, 106],
+    [196, 172, 106],
+    [193, 173, 106],
+    [191, 174, 106],
+    [188, 175, 107],
+    [185, 176, 108],
+    [182, 177, 109],
+    [179, 179, 110],
+    [176, 180, 112],
+    [173, 181, 113],
+    [102, 193, 179],
+    [100, 193, 182],
+    [99, 192, 185],
+    [98, 192, 188],
+    [97, 192, 191],
+    [97, 192, 194],
+    [96, 191, 197],
+    [97, 191, 200],
+    [97, 190, 203],
+    [98, 190, 205],
+    [99, 189, 208],
+    [101, 188, 210],
+    [102, 188, 213],
+    [104, 187, 215],
+    [106, 186, 217],
+    [109, 185, 219],
+    [111, 185, 221],
+    [114, 184, 222],
+    [117, 183, 224],
+    [119, 182, 225],
+    [122, 181, 227],
+    [126, 180, 228],
+    [129, 179, 229],
+    [132, 178, 230],
+    [135, 177, 230],
+    [138, 176, 231],
+    [142, 175, 231],
+    [145, 174, 232],
+    [148, 173, 232],
+    [152, 172, 232],
+    [155, 170, 232],
+    [158, 169, 231],
+    [161, 168, 231],
+    [164, 167, 230],
+    [168, 166, 229],
+    [171, 165, 228],
+    [174, 164, 227],
+    [177, 163, 226],
+    [180, 162, 224],
+    [182, 161, 223],
+    [185, 160, 221],
+    [188, 159, 220],
+    [191, 159, 218],
+    [193, 158, 216],
+    [196, 157, 213],
+    [198, 156, 211],
+    [200, 155, 209],
+    [203, 155, 206],
+    [205, 154, 204],
+    [207, 153, 201],
+    [209, 153, 199],
+    [211, 152, 196],
+    [212, 152, 193],
+    [214, 151, 190],
+    [216, 151, 187],
+    [217, 151, 184],
+    [218, 150, 181],
+    [220, 150, 178],
+    [221, 150, 175],
+];
 
 /// `color`, or where it is green (the exit's hue: its beacon and the light it casts tint toward
 /// green, so a green wall reads as the exit's glow from afar) the same colour with green and blue

@@ -130,7 +130,10 @@ mod tests {
         let start_moved = text.replace(&moved, &nudged);
         assert_ne!(parse("moved.maze", start_moved.as_bytes()).unwrap().content_hash(), hash);
         // recoloured: the same race
-        let colours = text.replace(" 1 0.5 ", " 1 0.25 ");
+        let edge = text.lines().find(|l| l.split_whitespace().count() == 8).unwrap();
+        let fields: Vec<&str> = edge.split_whitespace().collect();
+        let recoloured = format!("{} 0.25 0.25 0.25", fields[..5].join(" "));
+        let colours = text.replacen(edge, &recoloured, 1);
         assert_ne!(colours, text, "the premise: some wall's colour changed");
         assert_eq!(parse("recoloured.maze", colours.as_bytes()).unwrap().content_hash(), hash);
     }

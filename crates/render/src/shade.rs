@@ -7,9 +7,17 @@
 
 use glam::{Vec2, Vec3};
 
+/// The power of `|n · axis|` the headlight takes ([`headlight`]): 3, not Lambert's 1, so that a wall
+/// turned a little from square on still gets nearly all of it and a wall seen along the view nearly
+/// none (at `|n · axis|` 0.4, 0.06 of it against Lambert's 0.4). Issue #39: with generated walls all
+/// of one lightness, the headlight is what tells a wall faced square on from a side wall beside it,
+/// and at 2–3 cells, where a side wall is a few columns wide and its slant under a row, only that.
+pub(crate) const HEADLIGHT_POWER: i32 = 3;
+
 /// The headlight: a lamp the viewer carries, shining along the view axis like a torch's beam (not a
-/// bare bulb at the eye): Lambert, two-sided (walls are seen from both sides), `|n · axis|` for a unit
-/// view-space normal, in [0, 1] — `|n.z|`, the axis being ±z in every convention. Every point of a
+/// bare bulb at the eye): two-sided (walls are seen from both sides), `|n · axis|` to the
+/// [`HEADLIGHT_POWER`] for a unit view-space normal, in [0, 1] — `|n.z|³`, the axis being ±z in every
+/// convention. Every point of a
 /// flat surface gets the same light, so where a palette must step the light, the steps follow the
 /// geometry (lines along walls and floor, as depth does), never circles round the centre of the view
 /// (issue #39: a light at the eye drew bullseyes on near walls in 256 colours). A wall faced squarely
@@ -17,7 +25,7 @@ use glam::{Vec2, Vec3};
 /// walls along it.
 #[must_use]
 pub fn headlight(unit_normal_view: Vec3) -> f32 {
-    if unit_normal_view.is_finite() { unit_normal_view.z.abs().min(1.0) } else { 1.0 }
+    if unit_normal_view.is_finite() { unit_normal_view.z.abs().min(1.0).powi(HEADLIGHT_POWER) } else { 1.0 }
 }
 
 /// The cosine of the angle between a surface's unit normal and the ray `view` from the eye to the
@@ -96,15 +104,18 @@ pub(crate) fn exit_tinted(color: Vec3, glow: Vec3, level: u8, strength: f32) -> 
 }
 
 /// The sun: a fixed directional light (world space, unit length, pointing toward the light: east by
-/// north-east, level), so walls facing different ways differ even without fog, and two walls meeting
-/// at a corner are told apart by their shade as well as by the edge between them. Its angle, atan(1/3)
+/// north-east, level), so walls facing different ways differ a little even without fog (a faint
+/// shade: [`SUN_LOW`]). Its angle, atan(1/3)
 /// from east, spreads the four faces of a grid maze evenly: `n·s` is ±0.95 and ±0.32.
 pub(crate) const SUN_WORLD: Vec3 = Vec3::new(0.948_683_3, 0.316_227_76, 0.0);
 /// How much the sun changes a wall: from `SUN_LOW` × its headlit colour (turned away) to `SUN_HIGH` ×
-/// (facing it). Around 1 on average, so the picture keeps its brightness.
-pub(crate) const SUN_LOW: f32 = 0.7;
+/// (facing it). Just under 1, so the picture keeps its brightness; a span of 1.05×, small beside the
+/// headlight's (issue #39: at 0.7–1.2 the sun's 1.7× outweighed the headlight's 1.54×, and a side wall
+/// facing the sun came out lighter than a wall faced square on turned from it, so lightness told the
+/// compass, not the geometry; the walls' hues now tell a corner's two walls apart).
+pub(crate) const SUN_LOW: f32 = 0.95;
 /// See [`SUN_LOW`].
-pub(crate) const SUN_HIGH: f32 = 1.2;
+pub(crate) const SUN_HIGH: f32 = 1.0;
 
 /// The sun's factor for a surface whose unit normal, turned toward the eye, is `facing`, with `sun`
 /// the unit direction to the sun, both in one space (view space in the pipeline: the normal through the
@@ -399,7 +410,7 @@ mod tests {
         assert!((headlight(Vec3::Z) - 1.0).abs() < 1e-6);
         assert!((headlight(-Vec3::Z) - 1.0).abs() < 1e-6); // the back face
         assert!(headlight(Vec3::X).abs() < 1e-6); // a side wall, seen edge-on
-        assert!((headlight(Vec3::new(0.6, 0.0, 0.8)) - 0.8).abs() < 1e-6);
+        assert!((headlight(Vec3::new(0.6, 0.0, 0.8)) - 0.512).abs() < 1e-6); // 0.8 cubed
         assert_eq!(lit(Vec3::ONE, 0.0, 0.25), Vec3::splat(0.25));
         // A ray meeting a wall squarely, and grazing it.
         let wall = Vec3::new(0.0, 0.0, -3.0);

@@ -127,8 +127,8 @@ fn one_small_maze_per_algorithm_is_pinned() {
 }
 
 // (the `vfov` line since issue #39, its last digit since the clearance became 2/5 of a passage; no
-// green walls since then too)
-const PINNED_HASHES: [u64; 3] = [6560347944697344719, 16555756228852756613, 4302448901977579669];
+// green walls since then too; issue #39 again: wall colours from the one-lightness table, layout unchanged)
+const PINNED_HASHES: [u64; 3] = [10363476386458636202, 10580222898761207364, 6472001535416124736];
 
 #[test]
 fn the_prng_is_pinned() {
@@ -157,10 +157,56 @@ fn a_palette_colours_every_edge_from_it() {
     assert!(m.edges().iter().all(|e| palette.contains(&e.color)));
 }
 
+/// OKLab (L, chroma, hue in degrees) of a generated wall colour, by the f64 oracle.
+fn oklch(c: glam::Vec3) -> (f64, f64, f64) {
+    let [l, a, b] = common::oklab(c.to_array().map(|v| (v * 255.0).round() as u8));
+    (l, a.hypot(b), b.atan2(a).to_degrees().rem_euclid(360.0))
+}
+
+/// Issue #39: the table the generator draws from is what its documentation says: every entry of one
+/// OKLab lightness and chroma (within 8-bit rounding), none green by `not_green`'s rule, its hues
+/// 3° apart round the circle but for the green band.
 #[test]
-fn default_colours_are_in_the_originals_range() {
-    let m = generate(&GenOptions::default()).unwrap();
-    assert!(m.edges().iter().all(|e| e.color.min_element() >= 0.25 && e.color.max_element() <= 0.75));
+fn the_wall_colours_are_one_lightness_and_chroma_with_every_hue_but_green() {
+    use mazewalk_maze::generate::{WALL_CHROMA, WALL_COLOURS, WALL_LIGHTNESS, not_green};
+    let mut hues = Vec::new();
+    for rgb in WALL_COLOURS {
+        let c = glam::Vec3::from_array(rgb.map(|v| f32::from(v) / 255.0));
+        let (l, chroma, hue) = oklch(c);
+        assert!((l - f64::from(WALL_LIGHTNESS)).abs() < 0.002, "{rgb:?}: L {l:.4}");
+        assert!((chroma - f64::from(WALL_CHROMA)).abs() < 0.002, "{rgb:?}: chroma {chroma:.4}");
+        assert_eq!(not_green(c), c, "{rgb:?} is green");
+        hues.push(hue);
+    }
+    // in hue order from red; gaps of 3° (1°–4.5° after rounding) but one, the green band's (117°–180°)
+    let gaps: Vec<f64> = hues.windows(2).map(|w| w[1] - w[0]).collect();
+    assert!(gaps.iter().all(|&g| g > 1.0), "{gaps:?}");
+    let wide: Vec<(f64, f64)> = hues.windows(2).filter(|w| w[1] - w[0] > 6.0).map(|w| (w[0], w[1])).collect();
+    assert_eq!(wide.len(), 1, "{wide:?}");
+    assert!(wide[0].0 > 110.0 && wide[0].1 < 190.0, "{wide:?}");
+    assert!(hues[0] < 2.0 && *hues.last().unwrap() > 355.0, "{hues:?}");
+}
+
+proptest! {
+    // Issue #39: lightness tells the geometry, hue the wall. Every wall of a generated maze (no
+    // palette given) has one OKLab lightness within 8-bit rounding, so no wall is lighter than another
+    // but by its light and its distance; the old random sRGB colours (channels 0.25–0.75) spread
+    // over L 0.37–0.81.
+    #[test]
+    fn every_generated_wall_is_one_lightness(o in arb_opts(), loops in 0.0f32..=0.5) {
+        let m = generate(&GenOptions { loops, ..o }).unwrap();
+        let want = f64::from(mazewalk_maze::generate::WALL_LIGHTNESS);
+        let mut hues = std::collections::BTreeSet::new();
+        for e in m.edges().iter() {
+            let (l, chroma, hue) = oklch(e.color);
+            prop_assert!((l - want).abs() < 0.002, "{}: L {:.4}", e.color, l);
+            let c = f64::from(mazewalk_maze::generate::WALL_CHROMA);
+            prop_assert!((chroma - c).abs() < 0.002, "{}: chroma {:.4}", e.color, chroma);
+            hues.insert((hue / 30.0) as u32);
+        }
+        // and hue still tells walls apart: a maze of 20 edges or more shows 4 of the 12 30° sectors
+        prop_assert!(m.edges().len() < 20 || hues.len() >= 4, "{:?}", hues);
+    }
 }
 
 /// The HSV hue of `c` in degrees (0..360) by the atan2 form of the hexcone, and its saturation.

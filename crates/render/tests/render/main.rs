@@ -14,4 +14,5 @@ mod render_golden;
 mod render_picture;
 mod render_portal;
 mod render_sprites;
+mod tone;
 mod wall_floor;

@@ -58,9 +58,11 @@ fn two_walls_of_one_colour_meeting_at_a_corner_stay_distinct() {
     let x = corner.expect("two walls meet in the view");
     let (left, right) = (row[x - 4].1, row[x + 3].1); // inside each wall, off the edge
     let edge = [row[x - 1].1, row[x].1];
-    // The walls face different ways: the sun lights them differently.
+    // The walls face different ways: the sun lights them differently, faintly since issue #39 (its
+    // span 0.95–1.0, so that lightness tells the headlight's geometry, not the compass; at 0.7–1.2
+    // these two differed by over 10 %). The edge below is what marks the corner.
     let (l, r) = (luminance(left), luminance(right));
-    assert!((l - r).abs() > 0.1 * l.max(r), "{left} vs {right}");
+    assert!((l - r).abs() > 0.01 * l.max(r), "{left} vs {right}");
     // The corner itself is drawn as an edge: darker than both walls beside it.
     let darkest = luminance(edge[0]).min(luminance(edge[1]));
     assert!(darkest < 0.8 * luminance(left).min(luminance(right)), "edge {edge:?}, walls {left} {right}");
