@@ -115,7 +115,7 @@ impl Renderer {
             stats.samples_written += self.sprites.draw_beacon(&mut self.samples, &eye, &fog, point); // the exit
         }
         if !self.no_edges {
-            self.draw_edges(maze); // where surfaces meet: edges; where cells meet along a wall: seams
+            self.draw_edges(maze, &eye); // where surfaces meet: edges; where cells meet along a wall: seams
             self.draw_cell_bounds(maze, &eye, culling); // cell boundaries on floor and ceiling: fainter lines
             self.draw_jambs(maze, &eye); // where a wall ends at an opening: a light line, seen from afar
             self.draw_chalk(maze, &eye, culling); // the walked cells' chalk crosses on the floor

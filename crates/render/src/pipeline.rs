@@ -102,6 +102,10 @@ impl<'m> Light<'m> {
     }
 }
 
+/// A wall shorter than this many samples on the picture draws its top and bottom edges on the ceiling
+/// and floor beside it, not on itself ([`Renderer::draw_edges`]): six rows of half blocks.
+const FAR_WALL_SAMPLES: f32 = 12.0;
+
 /// The fog of a view: half the light left at a fifth of the far distance (19 maze units, about five
 /// generated cells, at the default view distance), all fog at the far plane.
 pub(crate) fn fog_of(eye: &Eye) -> Fog {
@@ -124,6 +128,10 @@ pub struct Renderer {
     edge_marks: Vec<Mark>,
     /// The samples marked this frame, each once.
     edge_list: Vec<u32>,
+    /// Floor and ceiling samples that take the edge of the wall beside them: (sample, wall sample).
+    plane_edges: Vec<(u32, u32)>,
+    /// Their colours, worked out before any edge is drawn.
+    plane_edge_colors: Vec<Vec3>,
     plane_row: PlaneRow,
     /// Skip the edge pass (the portal oracle compares visibility, not the picture's edges).
     pub(crate) no_edges: bool,
@@ -625,7 +633,7 @@ impl Renderer {
     /// the outlines of figures. One sample wide, so it survives at any size. Two walls on one line
     /// (a long wall made of several edges, one a cell) meet at a cell boundary: a seam, fainter than an
     /// edge ([`seam_color`]), so a player counts the cells a wall runs along (issue #39).
-    pub(crate) fn draw_edges(&mut self, maze: &Maze) {
+    pub(crate) fn draw_edges(&mut self, maze: &Maze, eye: &Eye) {
         let (width, height) = (self.samples.width(), self.samples.height());
         if self.edge_marks.len() != width * height {
             self.edge_marks.clear();
@@ -647,21 +655,46 @@ impl Renderer {
         };
         let (ids, depth) = (self.samples.id(), self.samples.depth());
         let edges_on_planes = self.walls_apart;
-        let (marks, list) = (&mut self.edge_marks, &mut self.edge_list);
+        // Where a wall stands shorter on the picture than FAR_WALL_SAMPLES: from this view depth on
+        // (a wall spans `height · (CEILING_Z − FLOOR_Z) / (2 · half_h · depth)` samples in perspective,
+        // the same at every depth in orthographic).
+        let span_at_unit_depth = eye.height as f32 * (CEILING_Z - FLOOR_Z) / (2.0 * eye.half_h);
+        let short_from = match eye.camera.projection {
+            // as the depth buffer holds it (grid depth, growing with the distance: depth LESS)
+            Projection::Perspective => {
+                eye.depth_by_distance().grid_depth(span_at_unit_depth / FAR_WALL_SAMPLES)
+            }
+            Projection::Orthographic if span_at_unit_depth < FAR_WALL_SAMPLES => f32::NEG_INFINITY,
+            Projection::Orthographic => f32::INFINITY,
+        };
+        self.plane_edges.clear();
+        let (marks, list, plane_edges) = (&mut self.edge_marks, &mut self.edge_list, &mut self.plane_edges);
         let mut mark = |i: usize, j: usize, what: Mark| {
             if what == Mark::None {
                 return;
             }
-            // An edge on the nearer sample, except where a wall meets floor or ceiling: there on the
-            // plane, so the wall keeps its whole height in its own colour (a far wall two rows tall
-            // with its top and bottom darkened read as one row, twice as far: issue #39) and the
-            // floor shows a line at its foot. In colour only: without it the floor's and ceiling's
-            // glyphs would break where the edge darkens them. A seam on the sample left of (or
+            // An edge on the nearer sample, except where a short (far) wall meets floor or ceiling:
+            // there the wall's edge colour goes on the plane's sample, so the wall keeps its whole
+            // height in its own colour (a far wall two rows tall with its top and bottom darkened
+            // read as one row, twice as far: issue #39). Near walls keep their edges: moved, they
+            // cost a walk about a fifth more bytes. In colour only: without it the floor's and
+            // ceiling's glyphs would break where the line falls. A seam on the sample left of (or
             // above) the boundary, so a seam seen square-on is one sample wide whichever wall is nearer.
             let plane = |k: usize| edges_on_planes && (ids[k] == FLOOR || ids[k] == CEILING);
+            let short = |k: usize| ids[k] < walls && depth[k] >= short_from;
+            let beside = match what {
+                Mark::Edge if plane(i) && short(j) => Some((i, j)),
+                Mark::Edge if plane(j) && short(i) => Some((j, i)),
+                _ => None,
+            };
+            if let Some((at, wall)) = beside {
+                if marks[at] == Mark::None {
+                    marks[at] = Mark::Edge; // taken: the first wall beside it gives its line
+                    plane_edges.push((at as u32, wall as u32));
+                }
+                return;
+            }
             let at = match what {
-                Mark::Edge if plane(i) && ids[j] < walls => i,
-                Mark::Edge if plane(j) && ids[i] < walls => j,
                 Mark::Edge => {
                     if depth[j] < depth[i] {
                         j
@@ -691,6 +724,9 @@ impl Renderer {
             }
         }
         let colors = self.samples.color_mut();
+        self.plane_edge_colors.clear();
+        self.plane_edge_colors
+            .extend(self.plane_edges.iter().map(|&(_, wall)| edge_color(colors[wall as usize])));
         for &i in &self.edge_list {
             let i = i as usize;
             colors[i] = match self.edge_marks[i] {
@@ -698,6 +734,10 @@ impl Renderer {
                 _ => seam_color(colors[i]),
             };
             self.edge_marks[i] = Mark::None;
+        }
+        for (&(at, _), &color) in self.plane_edges.iter().zip(&self.plane_edge_colors) {
+            colors[at as usize] = color;
+            self.edge_marks[at as usize] = Mark::None;
         }
     }
 
@@ -1581,6 +1621,13 @@ mod tests {
                             continue;
                         }
                     };
+                    // A floor or ceiling sample beside a wall may carry that wall's edge.
+                    if [k.wrapping_sub(120), k + 120, k.wrapping_sub(1), k + 1]
+                        .iter()
+                        .any(|&n| ids.get(n).is_some_and(|&id| id < CEILING))
+                    {
+                        continue;
+                    }
                     // Where the sample's ray meets its plane, and the levels there and just round it
                     // (a sample on a boundary between cells of two levels is left out).
                     let (start, dir) = eye.ray((k % 120) as f32 + 0.5, (k / 120) as f32 + 0.5);

@@ -22,21 +22,22 @@ const MIN_DELTA_L: f32 = 0.05;
 /// is much nearer than the wall.
 const JUDGED_FLOOR_L: f32 = 0.3;
 
-/// Foot-line pairs (wall L, floor L, x, y) of one frame: the floor sample just below a wall's foot
-/// and the wall sample just above the foot (the foot sample itself is the seam with the floor, drawn
-/// as an edge: darker on purpose). Only inside a wall, one sample or more from its ends: where two walls
+/// Foot-line pairs (wall L, floor L, x, y) of one frame: the floor sample two below a wall's foot
+/// and the wall sample just above the foot (where a wall meets the floor one of the two samples at
+/// the boundary is an edge, darker on purpose: the wall's foot sample on a near wall, the floor's
+/// first sample under a far one). Only inside a wall, one sample or more from its ends: where two walls
 /// meet or a wall ends, the line between is an edge, darker than the wall on purpose.
 fn foot_pairs(shown: &[glam::Vec3], ids: &[u32], width: usize) -> Vec<(f32, f32, usize, usize)> {
     let height = ids.len() / width;
     let is_wall = |id: u32| id != FLOOR && id != CEILING && id != NONE;
     let mut out = Vec::new();
     for x in 1..width.saturating_sub(1) {
-        for y in 1..height.saturating_sub(1) {
+        for y in 1..height.saturating_sub(2) {
             let at = |y: usize| y * width + x;
             let (above, foot, below) = (ids[at(y - 1)], ids[at(y)], ids[at(y + 1)]);
             let inside = ids[at(y - 1) - 1] == foot && ids[at(y - 1) + 1] == foot;
-            if is_wall(foot) && above == foot && below == FLOOR && inside {
-                out.push((shown[at(y - 1)].x, shown[at(y + 1)].x, x, y));
+            if is_wall(foot) && above == foot && below == FLOOR && ids[at(y + 2)] == FLOOR && inside {
+                out.push((shown[at(y - 1)].x, shown[at(y + 2)].x, x, y));
             }
         }
     }
