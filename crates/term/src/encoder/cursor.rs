@@ -85,6 +85,19 @@ pub(super) fn move_len(pen: &mut Pen, x: usize, y: usize) -> usize {
     len
 }
 
+/// The vertical steps from row `cy` to row `y` a move may begin with, in the order a tie is broken
+/// by (the first of the shortest wins); `None` where a step does not apply.
+fn vertical_steps(cy: usize, y: usize) -> [Option<Vertical>; 6] {
+    [
+        Some(Vertical::Stay).filter(|_| cy == y),
+        Some(Vertical::CrLf(y.wrapping_sub(cy))).filter(|_| y > cy),
+        Some(Vertical::Vt(y.wrapping_sub(cy))).filter(|_| y > cy && y - cy <= 3),
+        Some(Vertical::Down(y.wrapping_sub(cy))).filter(|_| y > cy),
+        Some(Vertical::Up(cy.wrapping_sub(y))).filter(|_| y < cy),
+        Some(Vertical::Row(y)).filter(|_| y != cy),
+    ]
+}
+
 /// The shortest move from `from` to (`x`, `y`) and its bytes: a relative move, or `None` for `CUP`
 /// (or for nothing, when the cursor is there). Priced by arithmetic; the first of the shortest in
 /// this order, `CUP` first.
@@ -101,14 +114,7 @@ fn shortest_move(
         // The diff's usual move, on along the row: `CUF` is shorter than `CHA` (fewer digits) and `CUP`.
         return (csi_len(x - cx, 1), Some((Vertical::Stay, Horizontal::Right(x - cx))));
     }
-    let verticals = [
-        Some(Vertical::Stay).filter(|_| cy == y),
-        Some(Vertical::CrLf(y.wrapping_sub(cy))).filter(|_| y > cy),
-        Some(Vertical::Vt(y.wrapping_sub(cy))).filter(|_| y > cy && y - cy <= 3),
-        Some(Vertical::Down(y.wrapping_sub(cy))).filter(|_| y > cy),
-        Some(Vertical::Up(cy.wrapping_sub(y))).filter(|_| y < cy),
-        Some(Vertical::Row(y)).filter(|_| y != cy),
-    ];
+    let verticals = vertical_steps(cy, y);
     // Every vertical step, each followed by every horizontal one, in this order; the first of the
     // shortest pairs wins (`CUP` before them all). A pair's bytes are its vertical's plus its
     // horizontal's, and the horizontals after a vertical depend only on the column it leaves the
@@ -273,14 +279,7 @@ mod tests {
             // The diff's usual move, on along the row: `CUF` is shorter than `CHA` (fewer digits) and `CUP`.
             return (csi_len(x - cx, 1), Some((Vertical::Stay, Horizontal::Right(x - cx))));
         }
-        let verticals = [
-            Some(Vertical::Stay).filter(|_| cy == y),
-            Some(Vertical::CrLf(y.wrapping_sub(cy))).filter(|_| y > cy),
-            Some(Vertical::Vt(y.wrapping_sub(cy))).filter(|_| y > cy && y - cy <= 3),
-            Some(Vertical::Down(y.wrapping_sub(cy))).filter(|_| y > cy),
-            Some(Vertical::Up(cy.wrapping_sub(y))).filter(|_| y < cy),
-            Some(Vertical::Row(y)).filter(|_| y != cy),
-        ];
+        let verticals = vertical_steps(cy, y);
         let mut best: (usize, Option<(Vertical, Horizontal)>) = (cup_len(x, y), None);
         for vertical in verticals.into_iter().flatten() {
             let col = if matches!(vertical, Vertical::CrLf(_)) { 0 } else { cx };
