@@ -881,8 +881,12 @@ fn price_route(
 }
 
 /// `cell`'s [`PackedCell::inverse`] (the same look), unless it would send a block glyph the frames
-/// do not use (a blank as a full block, where the pen says no blocks).
+/// do not use (a blank as a full block, where the pen says no blocks) or a space in text as a full
+/// block ([`PackedCell::is_text_space`]).
 fn inverse_of(pen: &Pen, cell: &PackedCell) -> Option<PackedCell> {
+    if cell.is_text_space() {
+        return None;
+    }
     cell.inverse().filter(|inverse| pen.blocks || inverse.ch != FULL_BLOCK || cell.ch == FULL_BLOCK)
 }
 
@@ -968,8 +972,8 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
                 continue;
             };
             let candidate = if k == 1 {
-                if !pen.blocks {
-                    continue; // no block glyphs in these frames
+                if !pen.blocks || cell.is_text_space() {
+                    continue; // no block glyphs in these frames; a space in text stays a space
                 }
                 PackedCell { ch: FULL_BLOCK, fg: colour, bg: cell.bg } // the pen's ink: no background shown
             } else {

@@ -138,6 +138,10 @@ pub struct Region {
 }
 
 /// One character cell of a frame.
+///
+/// A space shows no ink, but its ink tells what it is: a space in text (ink not its paper, as
+/// [`Frame::put_str`] writes them) goes to the terminal as a space; a blank of the picture (ink and
+/// paper equal) may go as a full block in the same colour where that is fewer bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Cell {
     /// The glyph; always a single-column character.

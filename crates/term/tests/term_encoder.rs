@@ -643,8 +643,9 @@ fn without_blocks_a_blank_never_goes_as_a_full_block() {
     first.set(0, 0, Cell { ch: 'x', fg: paper, bg: ink });
     let mut second = first.clone();
     for y in 0..h {
-        second.set(5, y, Cell { ch: ' ', fg: Color::Default, bg: ink });
-        second.set(9, y, Cell { ch: ' ', fg: Color::Default, bg: ink });
+        // Blanks of the picture (ink = paper): a space in text always goes as a space.
+        second.set(5, y, Cell { ch: ' ', fg: ink, bg: ink });
+        second.set(9, y, Cell { ch: ' ', fg: ink, bg: ink });
     }
     let mut sent_blocks = Vec::new();
     for blocks in [true, false] {
@@ -803,4 +804,54 @@ fn a_fixed_walk_encodes_to_the_same_bytes() {
         totals.push(out.len());
     }
     assert_eq!(totals, [432_895, 332_810, 483_058]);
+}
+
+/// A space between words (a blank whose ink is not its paper, as `Frame::put_str` writes text) goes as
+/// a space, whatever the pen: text reads back as written (copy and paste, screen readers, a test
+/// reading the screen), not as a full block in the pen's ink that looks the same. The walk's HUD once
+/// began `█heading` where the view's last cell left the pen's ink in the HUD's paper (`cee9c4f`).
+/// A blank in one colour (ink = paper, as the renderer draws them) may still go as a full block.
+#[test]
+fn a_space_in_text_goes_as_a_space_whatever_the_pen() {
+    let (w, h) = (24, 3);
+    let (view, hud, text) = (Color::Indexed(239), Color::Indexed(236), Color::Indexed(252));
+    for blocks in [true, false] {
+        for bce in [true, false] {
+            let first = Frame::filled(w, h, Cell { ch: ' ', fg: view, bg: view });
+            let mut second = first.clone();
+            // The view's last row ends in the HUD's paper as ink: the pen's ink when the HUD starts.
+            for x in 0..w {
+                second.set(x, 1, Cell { ch: '▀', fg: hud, bg: view });
+            }
+            second.set(0, 2, Cell { ch: ' ', fg: text, bg: hud }); // as overlay.rs pads the HUD
+            second.put_str(1, 2, "heading 0° E", text, hud);
+            second.set(13, 2, Cell { ch: ' ', fg: text, bg: hud });
+            second.put_str(14, 2, "? help", text, hud);
+            // One-colour blanks right after the pen's ink is theirs: these may go as full blocks.
+            let mut third = second.clone();
+            for x in 0..3 {
+                third.set(x, 0, Cell { ch: 'x', fg: hud, bg: view });
+                third.set(x + 3, 0, Cell { ch: ' ', fg: hud, bg: hud });
+            }
+            let mut encoder = Encoder::new();
+            encoder.set_blocks(blocks);
+            encoder.set_bce(bce);
+            let mut parser = terminal(w, h);
+            let mut sent = Vec::new();
+            for (k, frame) in [&first, &second, &third].into_iter().enumerate() {
+                let mut out = Vec::new();
+                encoder.encode(frame, &mut out);
+                parser.process(&out);
+                let context = || format!("blocks {blocks}, bce {bce}: {:?}", String::from_utf8_lossy(&out));
+                assert_screen_shows(&parser, frame, context);
+                let row = parser.screen().contents_between(2, 0, 2, w as u16);
+                if k > 0 {
+                    assert_eq!(row.trim_end(), " heading 0° E ? help", "{}", context());
+                }
+                sent.push(out);
+            }
+            let blocks_sent = String::from_utf8_lossy(&sent[2]).contains('█');
+            assert_eq!(blocks_sent, blocks, "a one-colour blank as a full block, blocks {blocks}");
+        }
+    }
 }

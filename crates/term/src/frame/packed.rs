@@ -257,6 +257,16 @@ impl PackedCell {
         complement_glyph(self.ch).map(|ch| PackedCell { ch, fg: self.bg, bg: self.fg })
     }
 
+    /// Whether the cell is a space in text: a blank whose ink is not its paper, as
+    /// [`Frame::put_str`](crate::frame::Frame::put_str) and the overlays write them (a blank of the
+    /// picture has ink and paper equal: [`PackedCell::canonical`]). The encoder sends it as a space,
+    /// never as a full block in its paper that looks the same: text reads back as written.
+    #[inline]
+    #[must_use]
+    pub(crate) fn is_text_space(&self) -> bool {
+        self.ch == ' ' && self.fg != self.bg
+    }
+
     /// Whether the cell shows the terminal's default foreground or background (a space shows no
     /// foreground, a full block no background).
     #[inline]
