@@ -162,7 +162,7 @@ fn relative_len(from_x: usize, vertical: Vertical, horizontal: Horizontal) -> us
     vertical_len(from_x, vertical) + horizontal_len(horizontal)
 }
 
-/// The bytes of a vertical step from column `from_x` ([`relative_len`]'s first part).
+/// The bytes of a vertical step from column `from_x` (the first part of a relative move's bytes).
 fn vertical_len(from_x: usize, vertical: Vertical) -> usize {
     match vertical {
         Vertical::Stay => 0,
@@ -173,7 +173,7 @@ fn vertical_len(from_x: usize, vertical: Vertical) -> usize {
     }
 }
 
-/// The bytes of a horizontal step ([`relative_len`]'s second part).
+/// The bytes of a horizontal step (the second part of a relative move's bytes).
 fn horizontal_len(horizontal: Horizontal) -> usize {
     match horizontal {
         Horizontal::Stay => 0,
