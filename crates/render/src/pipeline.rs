@@ -102,8 +102,8 @@ impl<'m> Light<'m> {
     }
 }
 
-/// A wall shorter than this many samples on the picture draws its top and bottom edges on the ceiling
-/// and floor beside it, not on itself ([`Renderer::draw_edges`]): six rows of half blocks.
+/// A wall shorter than this many samples on the picture draws no edge against the ceiling and floor,
+/// so it shows its whole height and no more ([`Renderer::draw_edges`]): six rows of half blocks.
 const FAR_WALL_SAMPLES: f32 = 12.0;
 
 /// The fog of a view: half the light left at a fifth of the far distance (19 maze units, about five
@@ -128,10 +128,6 @@ pub struct Renderer {
     edge_marks: Vec<Mark>,
     /// The samples marked this frame, each once.
     edge_list: Vec<u32>,
-    /// Floor and ceiling samples that take the edge of the wall beside them: (sample, wall sample).
-    plane_edges: Vec<(u32, u32)>,
-    /// Their colours, worked out before any edge is drawn.
-    plane_edge_colors: Vec<Vec3>,
     plane_row: PlaneRow,
     /// Skip the edge pass (the portal oracle compares visibility, not the picture's edges).
     pub(crate) no_edges: bool,
@@ -654,7 +650,7 @@ impl Renderer {
             _ => Mark::Edge,
         };
         let (ids, depth) = (self.samples.id(), self.samples.depth());
-        let edges_on_planes = self.walls_apart;
+        let planes_apart = self.walls_apart;
         // Where a wall stands shorter on the picture than FAR_WALL_SAMPLES: from this view depth on
         // (a wall spans `height · (CEILING_Z − FLOOR_Z) / (2 · half_h · depth)` samples in perspective,
         // the same at every depth in orthographic).
@@ -667,31 +663,22 @@ impl Renderer {
             Projection::Orthographic if span_at_unit_depth < FAR_WALL_SAMPLES => f32::NEG_INFINITY,
             Projection::Orthographic => f32::INFINITY,
         };
-        self.plane_edges.clear();
-        let (marks, list, plane_edges) = (&mut self.edge_marks, &mut self.edge_list, &mut self.plane_edges);
+        let (marks, list) = (&mut self.edge_marks, &mut self.edge_list);
         let mut mark = |i: usize, j: usize, what: Mark| {
             if what == Mark::None {
                 return;
             }
             // An edge on the nearer sample, except where a short (far) wall meets floor or ceiling:
-            // there the wall's edge colour goes on the plane's sample, so the wall keeps its whole
-            // height in its own colour (a far wall two rows tall with its top and bottom darkened
-            // read as one row, twice as far: issue #39). Near walls keep their edges: moved, they
-            // cost a walk about a fifth more bytes. In colour only: without it the floor's and
-            // ceiling's glyphs would break where the line falls. A seam on the sample left of (or
-            // above) the boundary, so a seam seen square-on is one sample wide whichever wall is nearer.
-            let plane = |k: usize| edges_on_planes && (ids[k] == FLOOR || ids[k] == CEILING);
+            // there no edge at all, so the wall shows its whole height in its own colour and no more.
+            // Its top and bottom darkened, a far wall two rows tall read as one, twice as far; its
+            // edges drawn on the floor and ceiling beside it, it read 1.5–2× nearer (issue #39, two
+            // new players). Its colour stands apart from the planes' (`apart_from_floor`). Near walls
+            // keep their edges. In colour only: without colour the glyphs are the only line there
+            // is. A seam on the sample left of (or above) the boundary, so a seam seen square-on is
+            // one sample wide whichever wall is nearer.
+            let plane = |k: usize| planes_apart && (ids[k] == FLOOR || ids[k] == CEILING);
             let short = |k: usize| ids[k] < walls && depth[k] >= short_from;
-            let beside = match what {
-                Mark::Edge if plane(i) && short(j) => Some((i, j)),
-                Mark::Edge if plane(j) && short(i) => Some((j, i)),
-                _ => None,
-            };
-            if let Some((at, wall)) = beside {
-                if marks[at] == Mark::None {
-                    marks[at] = Mark::Edge; // taken: the first wall beside it gives its line
-                    plane_edges.push((at as u32, wall as u32));
-                }
+            if what == Mark::Edge && ((plane(i) && short(j)) || (plane(j) && short(i))) {
                 return;
             }
             let at = match what {
@@ -724,9 +711,6 @@ impl Renderer {
             }
         }
         let colors = self.samples.color_mut();
-        self.plane_edge_colors.clear();
-        self.plane_edge_colors
-            .extend(self.plane_edges.iter().map(|&(_, wall)| edge_color(colors[wall as usize])));
         for &i in &self.edge_list {
             let i = i as usize;
             colors[i] = match self.edge_marks[i] {
@@ -734,10 +718,6 @@ impl Renderer {
                 _ => seam_color(colors[i]),
             };
             self.edge_marks[i] = Mark::None;
-        }
-        for (&(at, _), &color) in self.plane_edges.iter().zip(&self.plane_edge_colors) {
-            colors[at as usize] = color;
-            self.edge_marks[at as usize] = Mark::None;
         }
     }
 

@@ -4,6 +4,7 @@
 
 mod chalk;
 mod exit_light;
+mod far_wall_height;
 mod flat_walls;
 mod glyph_frames;
 mod nose_to_wall;
