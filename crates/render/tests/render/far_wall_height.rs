@@ -59,8 +59,7 @@ fn a_far_wall_looks_as_tall_as_it_is_in_truecolor_and_256_colours() {
                         let whole_inside =
                             (top..bottom).all(|r| ids[at(r) - 1] == id && ids[at(r) + 1] == id);
                         if id >= walls
-                            || run > SHORT
-                            || run < 2
+                            || !(2..=SHORT).contains(&run)
                             || top < 4
                             || bottom + 4 > height
                             || !whole_inside
