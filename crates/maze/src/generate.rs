@@ -402,11 +402,43 @@ fn add_loops(l: &mut Layout, loops: f32, rng: &mut SplitMix64) {
 fn pick_color(rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Vec3 {
     match palette {
         Some(p) => p[rng.below(p.len() as u32) as usize],
-        None => {
-            let [r, g, b] = WALL_COLOURS[rng.below(WALL_COLOURS.len() as u32) as usize];
-            Vec3::new(f32::from(r), f32::from(g), f32::from(b)) / 255.0
-        }
+        None => wall_colour(rng.below(WALL_COLOURS.len() as u32) as usize),
     }
+}
+
+/// [`WALL_COLOURS`]' entry `k`, sRGB in 0..1.
+fn wall_colour(k: usize) -> Vec3 {
+    let [r, g, b] = WALL_COLOURS[k];
+    Vec3::new(f32::from(r), f32::from(g), f32::from(b)) / 255.0
+}
+
+/// The OKLab hue (degrees) of [`WALL_COLOURS`]' entry `k`: the table runs round the circle every 3°
+/// from 0°, leaving out the green hues 117°–180°.
+#[must_use]
+pub const fn wall_colour_hue(k: usize) -> u32 {
+    let k = k as u32;
+    if k < 39 { 3 * k } else { 3 * (k + 22) }
+}
+
+/// How far apart in hue (degrees) two generated walls in one line meeting at a seam are at least
+/// (issue #39): picked independently, one seam in ten joined two walls within 15° of each other, which
+/// 256 colours show as one entry, and a player lost count of the cells along a corridor. 60° apart at
+/// the table's chroma is an OKLab distance of 0.09, several 256-colour steps.
+pub const SEAM_HUE_APART: u32 = 60;
+
+/// A generated wall's colour index when the wall before it in its line (`before`, its index) is
+/// also a wall: uniform over the entries at least [`SEAM_HUE_APART`] from it in hue; otherwise any.
+fn seam_colour_index(rng: &mut SplitMix64, before: Option<usize>) -> usize {
+    let Some(before) = before else {
+        return rng.below(WALL_COLOURS.len() as u32) as usize;
+    };
+    let apart = |k: usize| {
+        let d = wall_colour_hue(k).abs_diff(wall_colour_hue(before));
+        d.min(360 - d) >= SEAM_HUE_APART
+    };
+    let allowed = (0..WALL_COLOURS.len()).filter(|&k| apart(k)).count();
+    let pick = rng.below(allowed as u32) as usize;
+    (0..WALL_COLOURS.len()).filter(|&k| apart(k)).nth(pick).unwrap_or(0)
 }
 
 /// OKLab lightness of every generated wall colour ([`WALL_COLOURS`]).
@@ -578,13 +610,30 @@ fn thin_maze(l: &Layout, rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Maze
     }
     let horizontal = w * (h + 1);
     let mut edges = Edges::with_capacity((horizontal + (w + 1) * h) as usize);
+    // Each wall's colour: from the given palette, or from WALL_COLOURS apart in hue from the wall
+    // before it in its line where both are walls (`seam_colour_index`).
+    let mut colour = |opaque: bool, before: Option<(bool, usize)>| -> (Vec3, usize) {
+        if let Some(p) = palette {
+            return (pick_color(rng, Some(p)), 0);
+        }
+        let before = before.filter(|&(wall, _)| wall && opaque).map(|(_, k)| k);
+        let k = seam_colour_index(rng, before);
+        (wall_colour(k), k)
+    };
+    // the colour index of each edge, for the next one in its line
+    let mut index: Vec<usize> = Vec::with_capacity((horizontal + (w + 1) * h) as usize);
     // horizontal edge (i, j) runs east along y = 4j: the cell above is on its left
     for j in 0..=h {
         for i in 0..w {
             let left = (j < h).then(|| cell(i, j));
             let right = (j > 0).then(|| cell(i, j - 1));
             let opaque = right.is_none_or(|below| !l.north_open[below as usize]) || left.is_none();
-            let color = pick_color(rng, palette);
+            let before = (i > 0).then(|| {
+                let e = edges.len() - 1;
+                (edges.is_opaque(e), index[e])
+            });
+            let (color, k) = colour(opaque, before);
+            index.push(k);
             edges.push(Edge { start: vid(i, j), end: vid(i + 1, j), left, right, opaque, color });
         }
     }
@@ -594,7 +643,12 @@ fn thin_maze(l: &Layout, rng: &mut SplitMix64, palette: Option<&[Vec3]>) -> Maze
             let left = (i > 0).then(|| cell(i - 1, j));
             let right = (i < w).then(|| cell(i, j));
             let opaque = left.is_none_or(|west| !l.east_open[west as usize]) || right.is_none();
-            let color = pick_color(rng, palette);
+            let before = (j > 0).then(|| {
+                let e = edges.len() - (w as usize + 1);
+                (edges.is_opaque(e), index[e])
+            });
+            let (color, k) = colour(opaque, before);
+            index.push(k);
             edges.push(Edge { start: vid(i, j), end: vid(i, j + 1), left, right, opaque, color });
         }
     }

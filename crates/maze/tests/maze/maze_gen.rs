@@ -127,8 +127,9 @@ fn one_small_maze_per_algorithm_is_pinned() {
 }
 
 // (the `vfov` line since issue #39, its last digit since the clearance became 2/5 of a passage; no
-// green walls since then too; issue #39 again: wall colours from the one-lightness table, layout unchanged)
-const PINNED_HASHES: [u64; 3] = [10363476386458636202, 10580222898761207364, 6472001535416124736];
+// green walls since then too; issue #39 again: wall colours from the one-lightness table, and walls
+// meeting in a line apart in hue; layout unchanged)
+const PINNED_HASHES: [u64; 3] = [10151323456718084922, 827403942108894005, 3440067210562473353];
 
 #[test]
 fn the_prng_is_pinned() {
@@ -185,6 +186,50 @@ fn the_wall_colours_are_one_lightness_and_chroma_with_every_hue_but_green() {
     assert_eq!(wide.len(), 1, "{wide:?}");
     assert!(wide[0].0 > 110.0 && wide[0].1 < 190.0, "{wide:?}");
     assert!(hues[0] < 2.0 && *hues.last().unwrap() > 355.0, "{hues:?}");
+}
+
+/// `wall_colour_hue`, which the generator keeps seams apart by, is each entry's OKLab hue by the
+/// oracle (within the table's 8-bit rounding).
+#[test]
+fn the_wall_colour_hues_the_generator_uses_are_the_entries_hues() {
+    use mazewalk_maze::generate::{WALL_COLOURS, wall_colour_hue};
+    for (k, rgb) in WALL_COLOURS.iter().enumerate() {
+        let (_, _, hue) = oklch(glam::Vec3::from_array(rgb.map(|v| f32::from(v) / 255.0)));
+        let d = (hue - f64::from(wall_colour_hue(k))).abs();
+        assert!(d.min(360.0 - d) < 2.0, "entry {k} {rgb:?}: hue {hue:.1}°, said {}°", wall_colour_hue(k));
+    }
+}
+
+proptest! {
+    // Issue #39: two walls in one line that meet at a seam are apart in hue, so a player counts the
+    // cells along a corridor by their colours in every colour depth (picked independently, one seam in
+    // ten joined two walls 256 colours showed as one).
+    #[test]
+    fn walls_meeting_in_a_line_are_apart_in_hue(o in arb_opts(), loops in 0.0f32..=0.5) {
+        let m = generate(&GenOptions { loops, ..o }).unwrap();
+        let apart = f64::from(mazewalk_maze::generate::SEAM_HUE_APART) - 2.0; // the table's rounding
+        let edges: Vec<_> = m.edges().iter().collect();
+        let mut from: std::collections::HashMap<u32, Vec<usize>> = std::collections::HashMap::new();
+        for (i, e) in edges.iter().enumerate() {
+            from.entry(e.start).or_default().push(i);
+        }
+        let mut seams = 0;
+        for a in &edges {
+            for &j in from.get(&a.end).map_or(&[][..], Vec::as_slice) {
+                let b = &edges[j];
+                let (da, db) = (m.vertex(a.end) - m.vertex(a.start), m.vertex(b.end) - m.vertex(b.start));
+                if !(a.opaque && b.opaque && da.perp_dot(db).abs() < 1e-6) {
+                    continue;
+                }
+                seams += 1;
+                let (_, _, ha) = oklch(a.color);
+                let (_, _, hb) = oklch(b.color);
+                let d = (ha - hb).abs();
+                prop_assert!(d.min(360.0 - d) >= apart, "walls {:?} and {:?}: hues {ha:.0}° and {hb:.0}°", a, b);
+            }
+        }
+        prop_assert!(m.edges().len() < 40 || seams > 0);
+    }
 }
 
 proptest! {
