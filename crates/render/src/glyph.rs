@@ -265,9 +265,15 @@ fn half_palette(samples: &SampleBuffer, palette: Palette, frame: &mut Frame, reg
             if same_bits(first_bottom, first_top) { first_top_entry } else { lookup(*first_bottom, palette) };
         let mut last_top = (first_top, first_top_entry);
         let mut last_bottom = (first_bottom, first_bottom_entry);
-        let mut x = 0;
+        // Cells before this one go one by one: a run was looked for and not found (cells that
+        // change often, a checker's far squares: the run is looked for again a group later).
+        let (mut x, mut singles_to) = (0, 1);
         while x < cols {
-            if x > 0 && x + LANES <= cols && same_as_before(top_words, x) && same_as_before(bottom_words, x) {
+            if x >= singles_to
+                && x + LANES <= cols
+                && same_as_before(top_words, x)
+                && same_as_before(bottom_words, x)
+            {
                 // Cells x..x + 8: each sample the bits of the one before it, so each cell the one
                 // before it (and the last samples' bits and entries stay those of x − 1).
                 #[cfg(test)]
@@ -277,6 +283,9 @@ fn half_palette(samples: &SampleBuffer, palette: Palette, frame: &mut Frame, reg
                 above_entries[x..x + LANES].fill(last_bottom.1);
                 x += LANES;
                 continue;
+            }
+            if x >= singles_to {
+                singles_to = x + LANES;
             }
             let (t, b) = (&top[x], &bottom[x]);
             if !same_bits(t, last_top.0) {
