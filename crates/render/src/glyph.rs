@@ -207,8 +207,8 @@ fn block_cells<const SX: usize, const SY: usize>(
 }
 
 /// [`block_cells`] in 256 or 16 colours, undithered: each sample its light ramp's entry
-/// ([`ramp_entry`], [`sample_entries`]), then the cell shows those entries ([`indexed_cell`]; a half
-/// block, always its top entry on its bottom one, without a branch).
+/// ([`ramp_entry`], [`sample_entries`]), then the cell shows those entries ([`indexed_cell`]). Half
+/// blocks by [`half_palette`], straight from the samples: always the top entry on the bottom one.
 fn palette_cells<const SX: usize, const SY: usize>(
     samples: &SampleBuffer,
     charset: Charset,
