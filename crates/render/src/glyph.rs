@@ -9,8 +9,10 @@
 //! bit `x + sx·y`.
 
 use glam::{Vec3, Vec3A};
-use wide::bytemuck::cast;
-use wide::{f32x8, i32x8};
+use wide::bytemuck::{cast, cast_slice};
+use wide::{f32x8, i32x8, u32x8};
+
+use super::raster::LANES;
 
 use super::options::{ASCII_CEILING, ASCII_FLOOR, ASCII_RAMP_LONG, Charset, Ramp, RenderOptions};
 use super::palette::{Palette, quantize_srgb8, ramp_entry, ramp_entry_dithered, threshold, xterm_rgb};
@@ -205,8 +207,8 @@ fn block_cells<const SX: usize, const SY: usize>(
 }
 
 /// [`block_cells`] in 256 or 16 colours, undithered: each sample its light ramp's entry
-/// ([`ramp_entry`], [`sample_entries`]), then the cell shows those entries ([`indexed_cell`]; a half
-/// block, always its top entry on its bottom one, without a branch).
+/// ([`ramp_entry`], [`sample_entries`]), then the cell shows those entries ([`indexed_cell`]). Half
+/// blocks by [`half_palette`], straight from the samples: always the top entry on the bottom one.
 fn palette_cells<const SX: usize, const SY: usize>(
     samples: &SampleBuffer,
     charset: Charset,
@@ -214,19 +216,15 @@ fn palette_cells<const SX: usize, const SY: usize>(
     frame: &mut Frame,
     region: Region,
 ) {
+    if SX * SY == 2 {
+        return half_palette(samples, palette, frame, region);
+    }
     let (used, rows) = (region.cols * SX, region.rows * SY);
     let entries = sample_entries(samples, palette, used, rows);
     let mut indices = [0u8; 6];
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         // The cell's samples in bit order: row-major from its top-left (sample k at (k % SX, k / SX)).
         let lines: [&[u8]; SY] = std::array::from_fn(|dy| &entries[(row * SY + dy) * used..][..used]);
-        if SX * SY == 2 {
-            for ((cell, &ink), &paper) in cells.iter_mut().zip(lines[0]).zip(lines[SY - 1]) {
-                let ch = HALF[usize::from(ink != paper)]; // one entry: a blank in it (`solid`)
-                *cell = Cell { ch, fg: Color::Indexed(ink), bg: Color::Indexed(paper) };
-            }
-            continue;
-        }
         for (col, cell) in cells.iter_mut().enumerate() {
             for (dy, line) in lines.iter().enumerate() {
                 indices[dy * SX..][..SX].copy_from_slice(&line[col * SX..][..SX]);
@@ -234,6 +232,99 @@ fn palette_cells<const SX: usize, const SY: usize>(
             *cell = indexed_cell(&indices[..SX * SY], charset);
         }
     }
+}
+
+/// [`palette_cells`] for half blocks: each cell its top sample's [`ramp_entry`] on its bottom one's
+/// (one entry: a blank in it), what [`indexed_cell`] gives two entries, without a row of entries
+/// in between.
+///
+/// A sample with the same bits as the one before it in its sample row, or as the one above it, takes
+/// that one's entry without a lookup (the same bits, the same entry), as [`sample_entries`] does; and
+/// a run of cells each of whose two samples has the bits of the cell's before it (a wall of one flat
+/// colour, a floor's square, the fog) is the cell before it again, [`LANES`] cells at a time: their
+/// 48 sample words compared at once with the run shifted by a cell.
+fn half_palette(samples: &SampleBuffer, palette: Palette, frame: &mut Frame, region: Region) {
+    let (width, color, cols) = (samples.width(), samples.color(), region.cols);
+    let words: &[u32] = cast_slice(color);
+    // The entries of the sample row above the cells' top row (the last cell row's bottom samples).
+    let mut above_entries = vec![0u8; cols];
+    for (row, cells) in frame.region_rows_mut(region).enumerate() {
+        let (top_at, bottom_at) = (2 * row * width, (2 * row + 1) * width);
+        let (top, bottom) = (&color[top_at..][..cols], &color[bottom_at..][..cols]);
+        let (top_words, bottom_words) =
+            (&words[3 * top_at..][..3 * cols], &words[3 * bottom_at..][..3 * cols]);
+        // The sample row above the top one: none above the first.
+        let above = row.checked_sub(1).map(|_| &color[(2 * row - 1) * width..][..cols]);
+        let (Some(first_top), Some(first_bottom)) = (top.first(), bottom.first()) else { continue };
+        // The last top and bottom samples and their entries (to start: the first cell's own).
+        let first_top_entry = match above {
+            Some(above) if same_bits(&above[0], first_top) => above_entries[0],
+            _ => lookup(*first_top, palette),
+        };
+        let first_bottom_entry =
+            if same_bits(first_bottom, first_top) { first_top_entry } else { lookup(*first_bottom, palette) };
+        let mut last_top = (first_top, first_top_entry);
+        let mut last_bottom = (first_bottom, first_bottom_entry);
+        // Cells before this one go one by one: a run was looked for and not found (cells that
+        // change often, a checker's far squares: the run is looked for again a group later).
+        let (mut x, mut singles_to) = (0, 1);
+        while x < cols {
+            if x >= singles_to
+                && x + LANES <= cols
+                && same_as_before(top_words, x)
+                && same_as_before(bottom_words, x)
+            {
+                // Cells x..x + 8: each sample the bits of the one before it, so each cell the one
+                // before it (and the last samples' bits and entries stay those of x − 1).
+                #[cfg(test)]
+                HALF_CELLS_BY_RUNS.with(|n| n.set(n.get() + LANES));
+                let before = cells[x - 1];
+                cells[x..x + LANES].fill(before);
+                above_entries[x..x + LANES].fill(last_bottom.1);
+                x += LANES;
+                continue;
+            }
+            if x >= singles_to {
+                singles_to = x + LANES;
+            }
+            let (t, b) = (&top[x], &bottom[x]);
+            if !same_bits(t, last_top.0) {
+                let entry = match above {
+                    Some(above) if same_bits(&above[x], t) => above_entries[x],
+                    _ => lookup(*t, palette),
+                };
+                last_top = (t, entry);
+            }
+            if !same_bits(b, last_bottom.0) {
+                let entry = if same_bits(b, t) { last_top.1 } else { lookup(*b, palette) };
+                last_bottom = (b, entry);
+            }
+            let (ink, paper) = (last_top.1, last_bottom.1);
+            above_entries[x] = paper;
+            let ch = HALF[usize::from(ink != paper)]; // one entry: a blank in it (`solid`)
+            cells[x] = Cell { ch, fg: Color::Indexed(ink), bg: Color::Indexed(paper) };
+            x += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Cells [`half_palette`] copied from the cell before them eight at a time, on this thread: for
+    /// the test that holds the runs to the cells' definition.
+    static HALF_CELLS_BY_RUNS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// Whether samples `x..x + LANES` of a row (`words`: its samples' colours as bits, three a sample)
+/// each have the bits of the sample before it; `x ≥ 1` and `x + LANES` within the row.
+#[inline(always)]
+fn same_as_before(words: &[u32], x: usize) -> bool {
+    let lanes = |at: usize| u32x8::from(<[u32; LANES]>::try_from(&words[at..at + LANES]).expect("eight"));
+    let (here, before) = (3 * x, 3 * x - 3);
+    let equal = lanes(here).simd_eq(lanes(before))
+        & lanes(here + LANES).simd_eq(lanes(before + LANES))
+        & lanes(here + 2 * LANES).simd_eq(lanes(before + 2 * LANES));
+    equal.all()
 }
 
 /// The [`ramp_entry`] of each sample of the first `used` columns of the first `rows` rows of
@@ -793,6 +884,71 @@ mod tests {
             }
         }
         assert_eq!(cells, 3 * 12 * 4 * 60 * 20);
+    }
+
+    /// Half blocks in 256 and 16 colours ([`half_palette`]: runs of cells copied eight at a time,
+    /// the entries memoized) are each cell's two samples' entries by the lookup without any memo,
+    /// on random views of generated mazes: level and pitched, with and without textures, chalk marks
+    /// and figures, widths that leave runs of fewer than eight cells at a row's end, exit light in
+    /// some. It fails if a run is taken where any of its samples differs from the one before it (a
+    /// word left out of the comparison, a run shifted by a sample), or if the runs are never taken.
+    #[test]
+    fn palette_half_blocks_are_their_two_samples_entries_on_random_views() {
+        use crate::{Culling, Renderer, Sprite, Target, quality};
+        use glam::Vec2;
+        use mazewalk_maze::generate::{GenOptions, generate};
+        let (mut cells, before) = (0usize, HALF_CELLS_BY_RUNS.with(std::cell::Cell::get));
+        for (seed, (width, height)) in [(41u64, (12, 9)), (42, (20, 15)), (43, (7, 19))] {
+            let opts = GenOptions { width, height, seed, loops: 0.3, exit: true, ..GenOptions::default() };
+            let maze = generate(&opts).expect("generated maze");
+            let mut renderer = Renderer::new();
+            let chalk: Vec<u32> = (0..maze.cell_count() as u32).step_by(3).collect();
+            for (k, (_, mut camera)) in quality::held_out_views(&maze, seed, 16).into_iter().enumerate() {
+                camera.pitch_deg = [0.0, 0.0, 12.0, -20.0, 0.001][k % 5];
+                let (cols, rows) = [(60, 20), (33, 17), (120, 39), (9, 5)][k % 4];
+                let figure = Sprite {
+                    position: camera.position + Vec2::from_angle(camera.yaw_deg.to_radians()) * 3.0,
+                    cell: maze.cell_at(camera.position).unwrap_or(0),
+                    color: Vec3::new(0.9, 0.3, 0.2),
+                    label: 'a',
+                    ghost: false,
+                };
+                renderer.set_chalk(if k % 2 == 0 { &chalk } else { &[] });
+                for depth in [ColorDepth::Ansi256, ColorDepth::Ansi16] {
+                    let options = RenderOptions {
+                        charset: Charset::Half,
+                        color_depth: depth,
+                        culling: Culling::Portal,
+                        textures: k % 3 == 1,
+                        ..RenderOptions::default()
+                    };
+                    let sprites = if k % 4 == 2 { std::slice::from_ref(&figure) } else { &[] };
+                    let target = Target::Samples { cols, rows };
+                    renderer.render(&maze, &camera, sprites, &options, target).expect("view");
+                    let samples = renderer.samples();
+                    let region = Region { col: 0, row: 0, cols, rows };
+                    let mut frame = Frame::new(cols, rows);
+                    to_frame(samples, &options, &mut frame, region);
+                    let palette = Palette::of(depth).expect("a palette");
+                    for (row, line) in frame.region_rows_mut(region).enumerate() {
+                        for (col, cell) in line.iter().enumerate() {
+                            let at = |y: usize| {
+                                let sample = samples.color()[y * samples.width() + col];
+                                palette::search::ramp_entry(sample, palette, None)
+                            };
+                            let expected = indexed_cell(&[at(2 * row), at(2 * row + 1)], Charset::Half);
+                            assert_eq!(
+                                *cell, expected,
+                                "seed {seed}, view {k}, {depth:?}, cell ({col}, {row})"
+                            );
+                            cells += 1;
+                        }
+                    }
+                }
+            }
+        }
+        let by_runs = HALF_CELLS_BY_RUNS.with(std::cell::Cell::get) - before;
+        assert!(by_runs > cells / 4 && by_runs < cells, "{by_runs} of {cells} cells copied by runs");
     }
 
     #[test]

@@ -553,20 +553,21 @@ impl Renderer {
                 let lit_row =
                     glow.is_some_and(|(_, light)| Aabb::new(a.min(b), a.max(b)).intersects(&light.bounds()));
                 if shading == Shading::Color && !glows && !self.reference_shading {
-                    self.plane_row.fill_row(
+                    let shade = RowShade::new(
                         &hit,
                         (start0, start_step),
                         (dir0, dir_step),
                         filter,
-                        width,
                         plane_light(hit.plane.1),
                     );
-                    let (paint, base) = (&self.plane_row.shade, hit.plane.2);
+                    let base = hit.plane.2;
                     let fog_term = fog.color * hit.fog;
                     // A wall stays where it is at least as near as the plane along this ray (none can
                     // where the ray starts inside the plane's solid side).
                     let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
                     if let Some(cursor) = cursor.as_mut().filter(|_| lit_row) {
+                        self.plane_row.fill_row(&shade, width);
+                        let paint = &self.plane_row.shade;
                         let samples = colors.iter_mut().zip(depths.iter_mut()).zip(ids.iter_mut()).zip(paint);
                         // The tint is linear in the colour: the plane's colour tinted by the sample's
                         // level (one of nine, for the row), times its checker, light and fog, is the
@@ -592,9 +593,10 @@ impl Renderer {
                     }
                     plane_run(
                         (&mut colors[..width], &mut depths[..width], &mut ids[..width]),
-                        &paint[..width],
+                        |g| shade.group(g),
                         (base, fog_term, hit.plane.1),
                         stays_at,
+                        shade.squares(),
                     );
                     continue;
                 }
@@ -908,24 +910,31 @@ enum Mark {
 
 /// A row of floor or ceiling samples where no cell is lit: each sample that no wall at least as
 /// near as the plane holds (`id` NONE, or its depth past `stays_at`) becomes the plane, its colour
-/// `base × paint + fog_term`. Eight samples at a time: a group all wall is skipped with one test, a
+/// `base × paint + fog_term`, `shade(g)` the paints of group `g` (samples `8g..8g + 8`), asked only of
+/// groups the plane shows in. Eight samples at a time: a group all wall is skipped with one test, a
 /// group all plane is written in lanes (the same products and sums as the scalar path, lane by
-/// lane: the same bits), a mixed group sample by sample.
+/// lane: the same bits), a mixed group sample by sample. A group all plane whose eight paints are
+/// one of `common`'s, bit for bit (a checker square's: the two a row without the textures' filter
+/// takes), is that paint's colour eight times, worked out once a row by the same operations.
+/// Returns how many groups took a common paint's colour.
 fn plane_run(
     (colors, depths, ids): (&mut [Vec3], &mut [f32], &mut [u32]),
-    paint: &[f32],
+    shade: impl Fn(usize) -> f32x8,
     (base, fog_term, plane): (Vec3, Vec3, u32),
     stays_at: f32,
-) {
-    let scalar = |x: usize, colors: &mut [Vec3], depths: &mut [f32], ids: &mut [u32]| {
+    common: [f32; 2],
+) -> usize {
+    let scalar = |x: usize, paint: f32, colors: &mut [Vec3], depths: &mut [f32], ids: &mut [u32]| {
         if ids[x] != NONE && depths[x] <= stays_at {
             return;
         }
-        (colors[x], depths[x], ids[x]) = (base * paint[x] + fog_term, f32::INFINITY, plane);
+        (colors[x], depths[x], ids[x]) = (base * paint + fog_term, f32::INFINITY, plane);
     };
     let s = f32x8::splat;
     let (none, stays) = (u32x8::splat(NONE), s(stays_at));
     let (rgb, fog) = (base.to_array().map(s), fog_term.to_array().map(s));
+    let common = common.map(|paint| (u32x8::splat(paint.to_bits()), base * paint + fog_term));
+    let mut by_common = 0;
     let groups = colors.len() / LANES;
     for g in 0..groups {
         let at = g * LANES..(g + 1) * LANES;
@@ -935,25 +944,35 @@ fn plane_run(
         let empty = cast::<u32x8, f32x8>(id.simd_eq(none)).to_bitmask();
         let kept = !empty & depth.simd_le(stays).to_bitmask() & 0xff;
         if kept == 0xff {
-            continue;
+            continue; // (its paints are not worked out)
         }
+        let paint = shade(g);
         if kept != 0 {
-            for x in at {
-                scalar(x, colors, depths, ids);
+            for (x, paint) in at.zip(paint.to_array()) {
+                scalar(x, paint, colors, depths, ids);
             }
             continue;
         }
-        let paint = f32x8::from(<[f32; LANES]>::try_from(&paint[at.clone()]).expect("eight"));
-        let [r, gr, b] = [0, 1, 2].map(|c| (rgb[c] * paint + fog[c]).to_array());
-        for (k, color) in colors[at.clone()].iter_mut().enumerate() {
-            *color = Vec3::new(r[k], gr[k], b[k]);
+        let bits = cast::<f32x8, u32x8>(paint);
+        if let Some(&(_, color)) = common.iter().find(|(one, _)| bits.simd_eq(*one).all()) {
+            colors[at.clone()].fill(color);
+            by_common += 1;
+        } else {
+            let [r, gr, b] = [0, 1, 2].map(|c| (rgb[c] * paint + fog[c]).to_array());
+            for (k, color) in colors[at.clone()].iter_mut().enumerate() {
+                *color = Vec3::new(r[k], gr[k], b[k]);
+            }
         }
         depths[at.clone()].fill(f32::INFINITY);
         ids[at].fill(plane);
     }
-    for x in groups * LANES..colors.len() {
-        scalar(x, colors, depths, ids);
+    if groups * LANES < colors.len() {
+        let paint = shade(groups).to_array();
+        for (x, paint) in (groups * LANES..colors.len()).zip(paint) {
+            scalar(x, paint, colors, depths, ids);
+        }
     }
+    by_common
 }
 
 /// The headlight on floor and ceiling (factors on their colours): one light for each plane (both face
@@ -1127,47 +1146,83 @@ struct PlaneRow {
 }
 
 impl PlaneRow {
-    /// Fills `shade` for the `width` samples of a row whose rays start at `start0 + start_step · x` and
-    /// go along `dir0 + dir_step · x` (both level steps), all ending on `hit`'s plane: the plane's colour
-    /// times `shade[x]`, plus the fog's colour times `hit.fog`, is the reference colour without glow.
-    #[allow(clippy::too_many_arguments)]
-    fn fill_row(
-        &mut self,
+    /// Fills `shade` with `row`'s paints for `width` samples.
+    fn fill_row(&mut self, row: &RowShade, width: usize) {
+        self.shade.resize(width.div_ceil(LANES) * LANES, 0.0);
+        for (k, out) in self.shade.chunks_exact_mut(LANES).enumerate() {
+            out.copy_from_slice(&cast::<f32x8, [f32; LANES]>(row.group(k)));
+        }
+    }
+}
+
+/// What a level row's samples multiply their plane's colour by (checker, headlight, fog), eight at a
+/// time: for the samples whose rays start at `start0 + start_step · x` and go along
+/// `dir0 + dir_step · x` (both level steps), all ending on `hit`'s plane, the plane's colour times
+/// the paint, plus the fog's colour times `hit.fog`, is the reference colour without glow.
+#[derive(Clone, Copy, Debug)]
+struct RowShade {
+    t: f32x8,
+    dz: f32,
+    dz2: f32x8,
+    lit_kept: f32x8,
+    reach_per_slant: f32x8,
+    filtered: bool,
+    start: (Vec3, Vec3),
+    dir: (Vec3, Vec3),
+}
+
+impl RowShade {
+    fn new(
         hit: &PlaneHit,
         (start0, start_step): (Vec3, Vec3),
         (dir0, dir_step): (Vec3, Vec3),
         filter: Option<f32>,
-        width: usize,
         light: f32,
-    ) {
-        self.shade.resize(width.div_ceil(LANES) * LANES, 0.0);
+    ) -> RowShade {
         let s = f32x8::splat;
-        let t = s(hit.t.unwrap_or(0.0));
-        let dz = dir0.z.abs(); // the same for the whole row
-        let dz2 = s(dir0.z * dir0.z);
-        // The plane's light, then what the fog leaves of it.
-        let lit_kept = s(light * (1.0 - hit.fog));
+        RowShade {
+            t: s(hit.t.unwrap_or(0.0)),
+            dz: dir0.z.abs(), // the same for the whole row
+            dz2: s(dir0.z * dir0.z),
+            // The plane's light, then what the fog leaves of it.
+            lit_kept: s(light * (1.0 - hit.fog)),
+            reach_per_slant: s(filter.unwrap_or(0.0) * hit.t.unwrap_or(0.0)),
+            filtered: filter.is_some(),
+            start: (start0, start_step),
+            dir: (dir0, dir_step),
+        }
+    }
+
+    /// The two paints of the row's checker squares (light, dark) before any filter: what most
+    /// groups of a row without the textures' filter are.
+    fn squares(&self) -> [f32; 2] {
+        let dark = f32x8::splat(1.0 - CHECKER_CONTRAST);
+        [f32x8::splat(1.0) * self.lit_kept, dark * self.lit_kept].map(|paint| paint.to_array()[0])
+    }
+
+    /// The paints of samples `8k..8k + 8`.
+    #[inline(always)]
+    fn group(&self, k: usize) -> f32x8 {
+        let s = f32x8::splat;
+        let ((start0, start_step), (dir0, dir_step), t) = (self.start, self.dir, self.t);
         let (dark, mean) = (s(1.0 - CHECKER_CONTRAST), s(1.0 - 0.5 * CHECKER_CONTRAST));
         let per_square = s(1.0 / CHECKER_PERIOD);
-        let reach_per_slant = s(filter.unwrap_or(0.0) * hit.t.unwrap_or(0.0));
         let lane = f32x8::from([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
-        for (k, out) in self.shade.chunks_exact_mut(LANES).enumerate() {
-            // The same operations, in the same order, as the reference on each sample.
-            let x = s((k * LANES) as f32) + lane;
-            let (dx, dy) = (s(dir0.x) + s(dir_step.x) * x, s(dir0.y) + s(dir_step.y) * x);
-            let px = s(start0.x) + s(start_step.x) * x + dx * t;
-            let py = s(start0.y) + s(start_step.y) * x + dy * t;
-            let odd = (floor_int(px * per_square) ^ floor_int(py * per_square)) & i32x8::splat(1);
-            let mut square = cast::<i32x8, f32x8>(odd.simd_eq(i32x8::splat(1))).select(dark, s(1.0));
-            if filter.is_some() {
-                // checker_filtered(): the squares fade to their mean as the footprint grows.
-                let length = (dx * dx + dy * dy + dz2).sqrt();
-                let reach = reach_per_slant * (length / s(dz.max(1e-3))).min(s(8.0));
-                let fade = ((reach * per_square - s(0.1)) / s(0.4)).clamp(s(0.0), s(1.0));
-                square += (mean - square) * fade;
-            }
-            out.copy_from_slice(&cast::<f32x8, [f32; LANES]>(square * lit_kept));
+        // The same operations, in the same order, as the reference on each sample.
+        let x = s((k * LANES) as f32) + lane;
+        let (dx, dy) = (s(dir0.x) + s(dir_step.x) * x, s(dir0.y) + s(dir_step.y) * x);
+        let px = s(start0.x) + s(start_step.x) * x + dx * t;
+        let py = s(start0.y) + s(start_step.y) * x + dy * t;
+        let odd = (floor_int(px * per_square) ^ floor_int(py * per_square)) & i32x8::splat(1);
+        let mut square = cast::<i32x8, f32x8>(odd.simd_eq(i32x8::splat(1))).select(dark, s(1.0));
+        if self.filtered {
+            // checker_filtered(): the squares fade to their mean as the footprint grows.
+            let length = (dx * dx + dy * dy + self.dz2).sqrt();
+            let reach = self.reach_per_slant * (length / s(self.dz.max(1e-3))).min(s(8.0));
+            let fade = ((reach * per_square - s(0.1)) / s(0.4)).clamp(s(0.0), s(1.0));
+            square += (mean - square) * fade;
         }
+        square * self.lit_kept
     }
 }
 
@@ -1412,7 +1467,7 @@ mod tests {
                 (*color, *depth, *id) = (base * paint + fog_term, f32::INFINITY, plane);
             }
         };
-        let (mut rows, mut mixed) = (0, 0);
+        let (mut rows, mut mixed, mut commons) = (0, 0, 0);
         for seed in [21, 22] {
             let opts =
                 GenOptions { width: 9, height: 7, seed, loops: 0.3, exit: true, ..GenOptions::default() };
@@ -1438,7 +1493,14 @@ mod tests {
                         depths[width / 2] = f32::NAN;
                     }
                     let colors = samples.color()[row].to_vec();
-                    let paint: Vec<f32> = (0..width).map(|x| 0.3 + (x % 7) as f32 * 0.071).collect();
+                    // Paints all different, or a checker's two in runs of 3 to 19 (groups of one
+                    // of them, of both, and of another value beside them).
+                    let common = [0.43, 0.43 * (1.0 - CHECKER_CONTRAST)];
+                    let paint: Vec<f32> = match y % 3 {
+                        0 => (0..width).map(|x| 0.3 + (x % 7) as f32 * 0.071).collect(),
+                        1 => (0..width).map(|x| common[x / (3 + y % 17) % 2]).collect(),
+                        _ => (0..width).map(|x| if x % 29 == 5 { 0.5 } else { common[x / 11 % 2] }).collect(),
+                    };
                     let base = Vec3::new(0.21, 0.17 + y as f32 * 0.01, 0.093);
                     let fog_term = Vec3::new(0.0131, 0.0117, 0.029);
                     let finite = depths.iter().copied().filter(|d| d.is_finite());
@@ -1446,7 +1508,14 @@ mod tests {
                     for stays_at in [middle, depths[0], f32::NEG_INFINITY] {
                         let mut a = (colors.clone(), depths.clone(), ids.clone());
                         let mut b = a.clone();
-                        plane_run((&mut a.0, &mut a.1, &mut a.2), &paint, (base, fog_term, FLOOR), stays_at);
+                        let run = (&mut a.0[..], &mut a.1[..], &mut a.2[..]);
+                        let paints = (base, fog_term, FLOOR);
+                        let mut padded = paint.clone();
+                        padded.resize(width.div_ceil(LANES) * LANES, f32::NAN);
+                        let shade = |g: usize| {
+                            f32x8::from(<[f32; LANES]>::try_from(&padded[g * LANES..][..LANES]).expect("8"))
+                        };
+                        commons += plane_run(run, shade, paints, stays_at, common);
                         scalar((&mut b.0, &mut b.1, &mut b.2), &paint, (base, fog_term, FLOOR), stays_at);
                         let bits =
                             |c: &[Vec3]| c.iter().map(|v| v.to_array().map(f32::to_bits)).collect::<Vec<_>>();
@@ -1464,6 +1533,7 @@ mod tests {
             }
         }
         assert!(rows > 500 && mixed > 50, "{rows} rows, {mixed} of them part wall");
+        assert!(commons > 1000, "{commons} groups of one common paint");
     }
 
     /// The eight-lane wall fill gives the scalar reference's wall samples bit for bit (ids, depths,

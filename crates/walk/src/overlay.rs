@@ -113,9 +113,10 @@ pub fn limit_colors(frame: &mut Frame, depth: ColorDepth) {
 
 /// [`limit_colors`] in `region` of `frame` only.
 pub(crate) fn limit_colors_in(frame: &mut Frame, region: Region, depth: ColorDepth) {
-    // A colour already within the depth is left as it is (written back only when it changes). This
-    // runs over every cell of every frame: one loop per depth, each with only its own test a colour
-    // (in 256 colours, whether it is truecolor: the renderer's colours already are indices).
+    // A colour already within the depth is left as it is (written back only when it changes). A
+    // screen runs this over the map and the HUD's row every frame, and over the whole frame when a
+    // box is up: one loop per depth, each with only its own test a colour (in 256 colours, whether
+    // it is truecolor: the renderer's colours already are indices).
     fn each_color(frame: &mut Frame, region: Region, limit: impl Fn(Color) -> Option<Color>) {
         for row in frame.region_rows_mut(region) {
             for cell in row {

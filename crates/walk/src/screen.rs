@@ -252,11 +252,16 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
             }
         }
     };
+    // Whether anything but the map and the HUD was drawn over the view (a box, a caption, the
+    // player list): the view as rendered is within the terminal's depth already (the renderer
+    // draws to it), so only what is drawn over it needs its colours limited.
+    let mut over_view = false;
     let stats = match drawn {
         Ok(stats) => stats,
         Err(err) => {
             frame.fill(Cell::BLANK);
             overlay::draw_box(frame, "Cannot draw", &[err.to_string()], style);
+            over_view = true;
             RenderStats::default()
         }
     };
@@ -264,6 +269,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         && let Some(&(_, col, row)) = screen.renderer.heads().iter().find(|h| h.0 == ghost_sprite)
     {
         draw_caption(frame, view, col, row, &style.text(caption));
+        over_view = true;
     }
     frame.region_rows_mut(Region { row: rows - 1, rows: 1, ..view }).for_each(|hud| hud.fill(Cell::BLANK));
     // Cells visible in this frame: the portal pass's (with brute force it did not run: none new).
@@ -290,6 +296,8 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     }
     let exit_box = app.finished.filter(|_| app.exit_box);
     screen.exit_news.update(exit_box.is_some(), screen.notice.as_ref(), &screen.standings);
+    over_view |= exit_box.is_some() || app.confirm_quit || app.help || screen.notice.is_some();
+    over_view |= screen.show_roster && !screen.roster.is_empty();
     if let Some(seconds) = exit_box {
         // in a served maze, the news (who was first) shows in the box too, not hidden behind it
         let news = &screen.exit_news;
@@ -325,8 +333,15 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         roster::draw(frame, &screen.roster, hud.now, style); // asked for: over the other boxes
     }
     screen.stats = stats;
-    draw_hud(app, screen, frame, hud); // last: boxes never hide it
-    overlay::limit_colors(frame, style.depth); // not one code deeper than the terminal's depth
+    draw_hud(app, screen, frame, hud); // last: boxes never hide it (its row's colours limited there)
+    // Not one code deeper than the terminal's depth: of what was drawn over the view, or of the map
+    // alone (its walls, wedge and arrow change as the player turns; the view's cells need no look).
+    if over_view {
+        overlay::limit_colors(frame, style.depth);
+    } else if let Some(area) = &screen.map {
+        let map = Region { col: area.x, row: area.y, cols: area.width, rows: area.height };
+        overlay::limit_colors_in(frame, map, style.depth);
+    }
     stats
 }
 
@@ -532,6 +547,73 @@ mod tests {
         app.figures = true;
         let dev = hud_text(&app, &stats, &hud, None, Style::default(), 200);
         assert!(dev.contains("57 fps 0 B") && dev.contains("cell ") && dev.contains(" ms"), "{dev:?}");
+    }
+
+    /// A screen limits the colours of what is drawn over the view (the map, boxes, a caption, the
+    /// player list; the HUD's row by itself), not the view's own: it must come out as if the whole
+    /// frame had been limited. On turning views of the built-in maze and a generated one, in every
+    /// charset and depth, with a player in truecolour in view and on the corner map, with and
+    /// without the help box, a notice, a ghost and its caption: each frame is its own limit. It
+    /// fails if the renderer draws a colour beyond the depth, or if an overlay's colours are left
+    /// as drawn (the map's peer, a box, the caption).
+    #[test]
+    fn a_screen_is_within_its_depth_though_only_the_overlays_are_limited() {
+        use glam::Vec2;
+        use mazewalk_render::Charset;
+        use mazewalk_term::frame::ColorDepth;
+        let generated = mazewalk_maze::generate::generate(&mazewalk_maze::generate::GenOptions {
+            width: 9,
+            height: 7,
+            seed: 4,
+            loops: 0.3,
+            exit: true,
+            ..mazewalk_maze::generate::GenOptions::default()
+        })
+        .expect("maze");
+        let (mut frames, mut peers_shown) = (0, 0);
+        for maze in [mazewalk_maze::builtin().unwrap(), generated] {
+            for charset in [Charset::Half, Charset::Quad, Charset::Sextant, Charset::Ascii] {
+                for depth in
+                    [ColorDepth::TrueColor, ColorDepth::Ansi256, ColorDepth::Ansi16, ColorDepth::None]
+                {
+                    let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
+                    let mut app = App::new(maze.clone(), options, 0.0).unwrap();
+                    app.map = MapMode::Corner;
+                    let mut screen = Screen::default();
+                    for k in 0..8 {
+                        app.camera.yaw_deg = (app.camera.yaw_deg + 47.0).rem_euclid(360.0);
+                        app.help = k == 5;
+                        screen.notice = (k == 6).then(|| "news".to_string());
+                        let ahead = Vec2::from_angle(app.camera.yaw_deg.to_radians()) * 1.5;
+                        screen.peers = vec![Peer {
+                            position: app.camera.position + ahead,
+                            heading_deg: 0.0,
+                            initial: 'b',
+                            color: Color::Rgb(250, 120, 10),
+                            cell: None,
+                        }];
+                        screen.ghost = (k == 7).then(|| {
+                            let position = app.camera.position + ahead * 0.8;
+                            let pose = Pose { position, yaw_deg: 0.0, pitch_deg: 0.0 };
+                            (pose, "ghost ada 1:40.4".to_string())
+                        });
+                        let mut frame = Frame::new(100, 30);
+                        draw(&app, &mut screen, &mut frame, &Hud::default());
+                        let mut limited = frame.clone();
+                        overlay::limit_colors(&mut limited, depth);
+                        assert!(
+                            frame == limited,
+                            "{charset:?}, {depth:?}, frame {k}: a colour beyond the depth"
+                        );
+                        let on_map = frame.cells().iter().any(|c| c.ch == 'b' && c.fg != Color::Default);
+                        peers_shown += usize::from(on_map && depth != ColorDepth::TrueColor);
+                        frames += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(frames, 2 * 4 * 4 * 8);
+        assert!(peers_shown > 20, "the peer showed in colour in {peers_shown} limited frames");
     }
 
     #[test]
