@@ -401,6 +401,11 @@ pub(crate) const FLOOR_16: u8 = 8;
 /// The ceiling's entry in 16 colours: the dark blue, a night sky over the grey floor, never black (the
 /// other greys are the floor's or lighter than any ceiling; black is for what is black).
 pub(crate) const CEILING_16: u8 = 4;
+/// The light grey and the white of the 16 colours: in 16 colours a coloured wall never shows them
+/// (issue #39: every wall beyond about 2.5 cells came out light grey, one pale block with the floor's
+/// and the ceiling's light-grey lines, and an opening's light jambs vanished into it). They are left
+/// to grey walls, to door jambs (light ticks at an opening) and to the lines on floor and ceiling.
+pub(crate) const LIGHT_GREYS_16: [u8; 2] = [7, 15];
 /// In 16 colours, a sample of the scene darker than this (OKLab L) may be black; a lighter one never is.
 pub(crate) const NEAR_BLACK: f32 = 0.2;
 
@@ -470,6 +475,9 @@ impl LightRamp {
                 (true, Surface::Floor) => e.index == 0 || e.index == FLOOR_16,
                 (true, Surface::Ceiling) => e.index == 0 || e.index == CEILING_16,
                 (true, Surface::Wall) if e.index == FLOOR_16 || e.index == CEILING_16 => false,
+                // (16 colours: a coloured wall keeps its hue, dim far off and bright near, never the
+                // light grey or white: those are a grey wall's, a jamb's and the floor's lines')
+                (true, Surface::Wall) if coloured && LIGHT_GREYS_16.contains(&e.index) => false,
                 _ => e.chroma < GREY_ENTRY || (coloured && hue_difference(e.hue, hue) <= palette.hue_span()),
             })
             .copied()
