@@ -7,6 +7,7 @@ mod exit_light;
 mod flat_walls;
 mod glyph_frames;
 mod nose_to_wall;
+mod openings;
 mod picture_quality;
 mod raster_fill;
 mod raster_lines;
