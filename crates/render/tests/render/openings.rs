@@ -288,7 +288,7 @@ proptest::proptest! {
 
 /// The trial's mazes (`--gen 20x15`, seeds 5392 and 68226) and their views it missed openings in:
 /// ascii `--at 30,42 --heading 0`, `--at 22,6 --heading 180`, `--at 18,18 --heading 0`; 16 colours `--at
-/// 62,50 --heading 180`, `--at 42,50 --heading 0`; judged with every corridor view of the maze.
+/// 62,50 --heading 180`, `--at 42,50 --heading 0`; judged with forty other corridor views of the maze.
 #[test]
 fn the_trials_views_read_their_openings() {
     type Views<'a> = &'a [([f32; 2], f32)];
@@ -304,13 +304,20 @@ fn the_trials_views_read_their_openings() {
     for (seed, views, charset, depth) in mazes {
         let maze = generate(&GenOptions::walk(20, 15, seed)).expect("generated maze");
         let corridors = corridors(&maze);
-        for &([x, y], heading) in views {
-            let found = corridors
-                .iter()
-                .any(|c| c.at.distance(Vec2::new(x, y)) < 0.01 && (c.camera.yaw_deg - heading).abs() < 0.01);
-            assert!(found, "seed {seed}: no corridor view at ({x}, {y}) heading {heading}");
-        }
-        let seen: Vec<Seen> = corridors.iter().map(|c| observe(&maze, c, charset, depth)).collect();
+        let trial = |c: &Corridor| {
+            views.iter().any(|&([x, y], heading)| {
+                c.at.distance(Vec2::new(x, y)) < 0.01 && (c.camera.yaw_deg - heading).abs() < 0.01
+            })
+        };
+        assert_eq!(
+            corridors.iter().filter(|c| trial(c)).count(),
+            views.len(),
+            "seed {seed}: the trial's views"
+        );
+        // the trial's views, and forty others of the maze for what its side walls and seams show
+        let step = (corridors.len() / 40).max(1);
+        let chosen = corridors.iter().enumerate().filter(|(i, c)| trial(c) || i % step == 0);
+        let seen: Vec<Seen> = chosen.map(|(_, c)| observe(&maze, c, charset, depth)).collect();
         if let Err(why) = judge(&seen, charset, depth) {
             panic!("seed {seed}: {why}");
         }
