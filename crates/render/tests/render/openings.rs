@@ -7,9 +7,10 @@
 //! the ceiling's crowded light-grey lines.
 //!
 //! The property, over views straight down corridors of generated mazes with side openings 1–6 cells
-//! ahead, in ascii without colour and in 16 colours: the columns where an opening is show something
-//! (a glyph; a colour at least [`APART`] from) that no side wall's columns show, away from seams, and
-//! that no seam between two walls of one line shows either.
+//! ahead, in ascii without colour and in 16 colours: the columns where a run of openings is show
+//! something (a glyph; a colour at least [`APART`] from) that no side wall's plain columns show in
+//! any of the maze's views, and that no seam between two walls of one line shows either: a mark a
+//! player learns once and trusts.
 
 use glam::{Vec2, Vec3};
 use mazewalk_maze::Maze;
@@ -105,7 +106,7 @@ fn marks(frame: &Frame, charset: Charset, column: usize, rows: std::ops::Range<u
     out
 }
 
-/// The marks of `columns` (each once, within `same` of each other).
+/// The marks of `columns` (each once).
 fn marks_of(
     frame: &Frame,
     charset: Charset,
