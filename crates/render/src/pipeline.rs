@@ -768,9 +768,9 @@ impl Renderer {
         self.seen.sort_unstable();
         self.seen.dedup();
         let floor_bound = if self.floor_bounds_apart { FLOOR_BOUND_16 } else { seam_color };
-        // In 16 colours the lines are light grey, as a door jamb is: where the lines of cells one after
-        // another would lie under LINE_GAP_16 samples apart (a corridor's far cells), they make one
-        // pale band with the far walls' jambs (issue #39), and are left out.
+        // In 16 colours the lines are light grey, as a door jamb is: where a cell's line would lie
+        // under LINE_GAP_16 samples from the line a cell nearer (a corridor's far cells), the lines
+        // make one pale band with the far walls' jambs (issue #39), and are left out.
         let per_unit = eye.height as f32 / (2.0 * eye.half_h); // samples a unit spans at depth 1
         let thinned = self.floor_bounds_apart && eye.camera.projection == Projection::Perspective;
         for (z, plane, paint) in [(FLOOR_Z, FLOOR, floor_bound), (CEILING_Z, CEILING, seam_color)] {
@@ -779,11 +779,12 @@ impl Renderer {
             for &e in &self.seen {
                 let (a, b) = maze.edge_points(e);
                 if thinned {
-                    // a line and the next one a cell (its length) further are `per_unit · below · c
-                    // / (d (d + c))` samples apart at depth d: from the depth where that is LINE_GAP_16
+                    // a line at depth d and the one a cell (its length) nearer are `per_unit · below
+                    // · c / (d (d − c))` samples apart: up to the depth where that is LINE_GAP_16, so
+                    // the last line drawn still stands apart from the one before it
                     let c = a.distance(b);
                     let room = per_unit * below * c / LINE_GAP_16;
-                    let from = 0.5 * ((c * c + 4.0 * room).sqrt() - c);
+                    let from = 0.5 * ((c * c + 4.0 * room).sqrt() + c);
                     let depth = |p: Vec2| (p.extend(z) - eye.position).dot(eye.forward);
                     if depth(a).min(depth(b)) > from {
                         continue;
@@ -1022,8 +1023,8 @@ fn wall_goes_on(maze: &Maze, e: u32, v: u32, eye: Vec2) -> bool {
 /// ceiling's lines are lighter than its blue; black stays for what is black.
 const FLOOR_BOUND_16: fn(Vec3) -> Vec3 = |c| palette::off_floor_and_ceiling(seam_color(c));
 
-/// In 16 colours, the least gap (samples) between a floor's (ceiling's) cell line and the next one a
-/// cell further for the lines to be drawn ([`Renderer::draw_cell_bounds`]).
+/// In 16 colours, the least gap (samples) between a floor's (ceiling's) cell line and the one a cell
+/// nearer for the line to be drawn ([`Renderer::draw_cell_bounds`]).
 const LINE_GAP_16: f32 = 3.0;
 
 /// What a sample on a boundary between surfaces is drawn as (the stronger wins).
