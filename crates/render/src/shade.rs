@@ -162,9 +162,8 @@ pub(crate) fn jamb_color(color: Vec3) -> Vec3 {
 }
 
 /// A door jamb's colour in 16 colours: the grey of [`jamb_color`]'s luminance. There a coloured wall
-/// shows only entries of its hue and never the light grey or white (`palette::LIGHT_GREYS_16`), so a
-/// grey jamb is a light tick no wall is drawn in, near or far (issue #39: far walls and jambs were one
-/// light grey, and openings 3+ cells away could not be read).
+/// never shows the light grey or the white (`palette::LIGHT_GREYS_16`), so a grey jamb is a light tick
+/// no coloured wall is drawn in, near or far (issue #39: openings 3+ cells away could not be read).
 #[must_use]
 pub(crate) fn jamb_grey(color: Vec3) -> Vec3 {
     Vec3::splat(luminance(jamb_color(color)))
