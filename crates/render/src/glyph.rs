@@ -429,16 +429,15 @@ fn ascii_cells(
         }
     }
     let ramps = SurfaceRamps::new(&wall[..len], &ASCII_FLOOR, &ASCII_CEILING);
-    let families = (ramp == Ramp::Short).then(|| {
-        (
-            SurfaceRamps::new(&ASCII_FACED, &ASCII_FLOOR, &ASCII_CEILING),
-            SurfaceRamps::new(&ASCII_SIDE, &[' '], &[' ']),
-        )
-    });
-    let wall_glyph = |id: u32, color: Vec3| match (families.as_ref(), faced.get(id as usize)) {
-        (Some((faced_ramp, _)), Some(true)) => faced_ramp.glyph(Surface::Wall, color),
-        (Some((_, side_ramp)), Some(false)) => side_ramp.glyph(Surface::Wall, color),
-        _ => ramps.glyph(Surface::of(id), color),
+    // (the two families: with the short ramp only; `faced` empty otherwise)
+    let faced = if ramp == Ramp::Short { faced } else { &[] };
+    let range = (RAMP_BOTTOM, RAMP_TOP);
+    let (faced_steps, side_steps) =
+        (RampSteps::new(ASCII_FACED.len(), range), RampSteps::new(ASCII_SIDE.len(), range));
+    let wall_glyph = |id: u32, color: Vec3| match faced.get(id as usize) {
+        Some(true) => ASCII_FACED[faced_steps.index(color)],
+        Some(false) => ASCII_SIDE[side_steps.index(color)],
+        None => ramps.glyph(Surface::of(id), color),
     };
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         let at = row * region.cols..(row + 1) * region.cols;
