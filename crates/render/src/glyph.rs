@@ -62,6 +62,21 @@ pub fn block_glyph(charset: Charset, mask: u8) -> char {
 /// # Panics
 /// If `region` is not inside `frame` or not the samples' size in cells.
 pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Frame, region: Region) {
+    to_frame_faced(samples, options, frame, region, &[]);
+}
+
+/// [`to_frame`] knowing, by wall id, which walls are seen square on (`faced`, from the pipeline: see
+/// [`Renderer`](crate::Renderer)): in ascii with the short ramp, a wall seen square on takes its
+/// glyph from [`ASCII_FACED`] and one along the view from [`ASCII_SIDE`], each by lightness, so a
+/// wall faced through a side opening reads apart from the side walls beside it at any distance
+/// (issue #39). Ids past `faced` (figures, or an empty `faced`) take the ramp, as in [`to_frame`].
+pub(crate) fn to_frame_faced(
+    samples: &SampleBuffer,
+    options: &RenderOptions,
+    frame: &mut Frame,
+    region: Region,
+    faced: &[bool],
+) {
     let RenderOptions { charset, color_depth: depth, dither, ramp, .. } = *options;
     let (sx, sy) = charset.samples_per_cell();
     assert_eq!(
@@ -77,8 +92,8 @@ pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Fra
             let srgb = |color: Vec3| tables.encode3(color);
             let to = (frame, region);
             match depth {
-                ColorDepth::None => ascii_cells(samples, ramp, to, |_, _| Color::Default),
-                ColorDepth::TrueColor => ascii_cells(samples, ramp, to, |_, color| {
+                ColorDepth::None => ascii_cells(samples, ramp, faced, to, |_, _| Color::Default),
+                ColorDepth::TrueColor => ascii_cells(samples, ramp, faced, to, |_, color| {
                     let [r, g, b] = srgb(color);
                     Color::Rgb(r, g, b)
                 }),
@@ -86,7 +101,7 @@ pub fn to_frame(samples: &SampleBuffer, options: &RenderOptions, frame: &mut Fra
                     // Each sample's entry, as `palette::picture_color` gives it.
                     let palette = Palette::of(depth).expect("a palette at 16 and 256 colours");
                     let entries = sample_entries(samples, palette, region.cols, region.rows);
-                    ascii_cells(samples, ramp, to, |at, _| Color::Indexed(entries[at]));
+                    ascii_cells(samples, ramp, faced, to, |at, _| Color::Indexed(entries[at]));
                 }
             }
         }
@@ -475,12 +490,23 @@ impl RampSteps {
 /// so nothing but the beacon looks like it (issue #39).
 pub(crate) const BEACON_GLYPHS: [char; 2] = ['$', '!'];
 
+/// The ascii glyphs of a wall seen square on (a wall across the way: the end of a corridor, the far
+/// side of a side opening), darkest first: full, level strokes. With the short ramp only; see
+/// [`to_frame_faced`].
+pub(crate) const ASCII_FACED: [char; 5] = [' ', '=', '#', '%', '@'];
+/// The ascii glyphs of a wall seen along the view (a corridor's side walls), darkest first: lighter,
+/// broken strokes, none of them a glyph of [`ASCII_FACED`], of the outlines (`|` `-` `/` `\`, the
+/// seam's `:`), of the floor, the ceiling or the beacon.
+pub(crate) const ASCII_SIDE: [char; 5] = [' ', '.', ';', '+', '*'];
+
 /// [`to_frame`] for the ascii charset, one sample per cell: its outline glyph or its surface's ramp
-/// glyph (walls: `ramp` without the floor's and the ceiling's glyphs), inked in `ink(at, colour)` of
-/// its place in the samples (row-major) and its linear colour (a blank has no ink to colour).
+/// glyph (walls: `ramp` without the floor's and the ceiling's glyphs; with the short ramp, a wall
+/// whose id `faced` knows, [`ASCII_FACED`] or [`ASCII_SIDE`]), inked in `ink(at, colour)` of its
+/// place in the samples (row-major) and its linear colour (a blank has no ink to colour).
 fn ascii_cells(
     samples: &SampleBuffer,
     ramp: Ramp,
+    faced: &[bool],
     (frame, region): (&mut Frame, Region),
     ink: impl Fn(usize, Vec3) -> Color,
 ) {
@@ -494,6 +520,16 @@ fn ascii_cells(
         }
     }
     let ramps = SurfaceRamps::new(&wall[..len], &ASCII_FLOOR, &ASCII_CEILING);
+    // (the two families: with the short ramp only; `faced` empty otherwise)
+    let faced = if ramp == Ramp::Short { faced } else { &[] };
+    let range = (RAMP_BOTTOM, RAMP_TOP);
+    let (faced_steps, side_steps) =
+        (RampSteps::new(ASCII_FACED.len(), range), RampSteps::new(ASCII_SIDE.len(), range));
+    let wall_glyph = |id: u32, color: Vec3| match faced.get(id as usize) {
+        Some(true) => ASCII_FACED[faced_steps.index(color)],
+        Some(false) => ASCII_SIDE[side_steps.index(color)],
+        None => ramps.glyph(Surface::of(id), color),
+    };
     for (row, cells) in frame.region_rows_mut(region).enumerate() {
         let at = row * region.cols..(row + 1) * region.cols;
         let places = at.clone();
@@ -504,7 +540,7 @@ fn ascii_cells(
                 // The beacon's bands: green `$`, white `!`, glyphs no wall is drawn with.
                 EXIT_ID if color.y > 2.0 * color.x => BEACON_GLYPHS[0],
                 EXIT_ID => BEACON_GLYPHS[1],
-                _ => ramps.glyph(Surface::of(id), color),
+                _ => wall_glyph(id, color),
             });
             *cell = if ch == ' ' {
                 Cell::plain(' ')
@@ -859,7 +895,7 @@ mod tests {
                     let (sx, sy) = charset.samples_per_cell();
                     if charset == Charset::Ascii {
                         let ink = |_, c: Vec3| Color::Indexed(palette::search::ramp_entry(c, palette, None));
-                        ascii_cells(samples, options.ramp, (&mut expected, region), ink);
+                        ascii_cells(samples, options.ramp, &[], (&mut expected, region), ink);
                     } else {
                         for (row, line) in expected.region_rows_mut(region).enumerate() {
                             for (col, cell) in line.iter_mut().enumerate() {

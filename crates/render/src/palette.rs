@@ -401,6 +401,11 @@ pub(crate) const FLOOR_16: u8 = 8;
 /// The ceiling's entry in 16 colours: the dark blue, a night sky over the grey floor, never black (the
 /// other greys are the floor's or lighter than any ceiling; black is for what is black).
 pub(crate) const CEILING_16: u8 = 4;
+/// The light grey and the white of the 16 colours: no coloured wall's ramp holds them (its greys are
+/// its dark end, and these are lighter than its hue's entries), so they are grey walls', door jambs'
+/// (`shade::jamb_grey`: light ticks at an opening, issue #39) and the floor's and ceiling's lines'.
+#[cfg(test)]
+pub(crate) const LIGHT_GREYS_16: [u8; 2] = [7, 15];
 /// In 16 colours, a sample of the scene darker than this (OKLab L) may be black; a lighter one never is.
 pub(crate) const NEAR_BLACK: f32 = 0.2;
 
@@ -909,6 +914,44 @@ mod tests {
             exact += usize::from(shown == index);
         }
         assert!(exact >= 230, "{exact} of 240 entries shown as themselves");
+    }
+
+    /// Issue #39: in 16 colours a coloured wall never shows the light grey or the white at any light,
+    /// from the fog's dark to full, so a door jamb's grey tick (`shade::jamb_grey`) stands apart from
+    /// every wall: over the sRGB cube in steps of 17 (the colours whose ramps are coloured: chroma of
+    /// at least `COLOURED` at their brightest) and the generator's table. It held before the jambs
+    /// were grey (the light-grey far walls a trial reported were the crowded floor and ceiling lines
+    /// and the jambs); the grey jambs rely on it.
+    #[test]
+    fn in_16_colours_a_coloured_wall_never_takes_the_light_grey_or_white() {
+        let mut cube = Vec::new();
+        for r in (0..=255u8).step_by(17) {
+            for g in (0..=255u8).step_by(17) {
+                for b in (0..=255u8).step_by(17) {
+                    cube.push([r, g, b]);
+                }
+            }
+        }
+        let mut coloured = 0;
+        for rgb in cube.into_iter().chain(mazewalk_maze::generate::WALL_COLOURS) {
+            let chroma = linear(rgb);
+            let sum = chroma.x + chroma.y + chroma.z;
+            if sum <= 0.0 {
+                continue;
+            }
+            let brightest = oklab(chroma / sum * (1.0 / (chroma / sum).max_element()));
+            if brightest.y.hypot(brightest.z) < COLOURED {
+                continue;
+            }
+            coloured += 1;
+            let ramp = LightRamp::new(chroma, Palette::Ansi16);
+            assert!(
+                !ramp.entries().iter().any(|e| LIGHT_GREYS_16.contains(e)),
+                "wall {rgb:?}: entries {:?}",
+                ramp.entries()
+            );
+        }
+        assert!(coloured > 3000, "{coloured} coloured walls");
     }
 
     /// 256 colours keep a wall's hue (issue #33: blue turned violet) without painting it more vivid

@@ -14,7 +14,7 @@ use wide::bytemuck::cast;
 use wide::{f32x8, i32x8, u32x8};
 
 use super::camera::{Camera, CameraError, Eye, Projection};
-use super::glyph::to_frame;
+use super::glyph;
 use super::line::{line_glyph, line_points};
 use super::options::{Charset, Culling, RenderOptions};
 use super::palette;
@@ -23,8 +23,8 @@ use super::raster::{GridVertex, LANES, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
     CEILING_EXIT_TINT, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker, checker_filtered,
-    edge_color, exit_tinted, headlight, jamb_color, lit, luminance, seam_color, slant_cosine, srgb_to_linear,
-    sun_factor, wall_albedo,
+    edge_color, exit_tinted, headlight, jamb_color, jamb_grey, lit, luminance, seam_color, slant_cosine,
+    srgb_to_linear, sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -153,6 +153,10 @@ pub struct Renderer {
     /// colour the ascii charset tells floor and ceiling by their own glyphs, and its wall glyphs by
     /// lightness alone; raised walls would all take the ramp's top glyphs and lose their distance.
     pub(crate) walls_apart: bool,
+    /// Ascii, by wall id: whether the last frame saw the wall square on (`|n · axis|` at least ½√2)
+    /// rather than along the view; the glyph pass draws the two with glyphs of their own (issue #39).
+    /// Set for the walls [`Renderer::outline_visible_walls`] outlines.
+    pub(crate) faced: Vec<bool>,
     /// This frame draws the floor's cell lines off the floor's tint ([`FLOOR_BOUND_16`]): in 16
     /// colours, where the floor shows one entry and a darker grey of its own is that entry again.
     pub(crate) floor_bounds_apart: bool,
@@ -270,7 +274,8 @@ impl Renderer {
                     sprites,
                     textures,
                 )?;
-                to_frame(&self.samples, options, frame, region);
+                let faced: &[bool] = if charset == Charset::Ascii { &self.faced } else { &[] };
+                glyph::to_frame_faced(&self.samples, options, frame, region, faced);
                 self.label_sprites(charset, color_depth, frame, region);
                 Ok(stats)
             }
@@ -745,10 +750,28 @@ impl Renderer {
         self.seen.sort_unstable();
         self.seen.dedup();
         let floor_bound = if self.floor_bounds_apart { FLOOR_BOUND_16 } else { seam_color };
+        // In 16 colours the lines are light grey, as a door jamb is: where a cell's line would lie
+        // under LINE_GAP_16 samples from the line a cell nearer (a corridor's far cells), the lines
+        // make one pale band with the far walls' jambs (issue #39), and are left out.
+        let per_unit = eye.height as f32 / (2.0 * eye.half_h); // samples a unit spans at depth 1
+        let thinned = self.floor_bounds_apart && eye.camera.projection == Projection::Perspective;
         for (z, plane, paint) in [(FLOOR_Z, FLOOR, floor_bound), (CEILING_Z, CEILING, seam_color)] {
             self.edge_list.clear();
+            let below = (eye.position.z - z).abs(); // the plane's distance from the eye's height
             for &e in &self.seen {
                 let (a, b) = maze.edge_points(e);
+                if thinned {
+                    // a line at depth d and the one a cell (its length) nearer are `per_unit · below
+                    // · c / (d (d − c))` samples apart: up to the depth where that is LINE_GAP_16, so
+                    // the last line drawn still stands apart from the one before it
+                    let c = a.distance(b);
+                    let room = per_unit * below * c / LINE_GAP_16;
+                    let from = 0.5 * ((c * c + 4.0 * room).sqrt() + c);
+                    let depth = |p: Vec2| (p.extend(z) - eye.position).dot(eye.forward);
+                    if depth(a).min(depth(b)) > from {
+                        continue;
+                    }
+                }
                 for (x, y) in segment_samples(eye, a.extend(z), b.extend(z)) {
                     let i = y * w + x;
                     if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None {
@@ -815,7 +838,13 @@ impl Renderer {
             }
         }
         // (a jamb is paler than its wall: off the floor's and ceiling's tints, as the wall is)
-        self.paint_marked(|color| palette::off_floor_and_ceiling(jamb_color(color)));
+        // (in 16 colours a grey: a coloured wall never shows the light grey or white there, so the
+        // jamb stands out from every wall, far walls too)
+        if self.floor_bounds_apart {
+            self.paint_marked(jamb_grey);
+        } else {
+            self.paint_marked(|color| palette::off_floor_and_ceiling(jamb_color(color)));
+        }
     }
 
     /// Chalk marks ([`Renderer::set_chalk`]): on the floor of each marked cell the view shows, a cross
@@ -861,6 +890,13 @@ impl Renderer {
     }
 
     /// Ascii: the edges of every wall that won at least one sample, as line glyphs on that wall's samples.
+    /// A wall's end is `|` where the wall stops (a door jamb, a corner, a free end) and
+    /// [`SEAM_GLYPH`] where the next wall of its line goes on (a cell boundary along a straight
+    /// wall): issue #39, an opening 4–6 cells away is a column or less wide, and what marks it is the
+    /// two ends beside it; drawn alike, every seam read as one. Ends win over the top and bottom lines
+    /// (a far wall two rows tall is all ends and lines), and the top and bottom lines are left out
+    /// where the wall stands under [`SHORT_ASCII_WALL`] samples tall, so a far wall shows its glyphs:
+    /// which way it faces ([`Renderer::faced`]), not a row of `-`.
     pub(crate) fn outline_visible_walls(&mut self, maze: &Maze, eye: &Eye, sample_aspect: f32) {
         let edges = maze.edges().len() as u32;
         self.seen.clear();
@@ -869,24 +905,97 @@ impl Renderer {
         self.seen.extend(runs.filter(|&id| id < edges));
         self.seen.sort_unstable();
         self.seen.dedup();
+        self.faced.clear();
+        self.faced.resize(edges as usize, false);
         let (w, h) = (eye.width, eye.height);
         for &e in &self.seen {
+            let (a, b) = maze.edge_points(e);
+            let normal_view =
+                (eye.normal_to_view * (b - a).perp().normalize_or_zero().extend(0.0)).normalize_or_zero();
+            self.faced[e as usize] = normal_view.z.abs() >= std::f32::consts::FRAC_1_SQRT_2;
+            let edge = maze.edge(e);
             let quad = wall_quad_world(maze, e);
-            for k in 0..4 {
+            // The quad's sides: 0 the foot, 1 the end at `edge.end`, 2 the top, 3 the end at `edge.start`;
+            // lines first, then seams, then the ends that stop, each over what came before.
+            let seam = |v: u32| wall_goes_on(maze, e, v, eye.camera.position);
+            let ends = [(1, seam(edge.end)), (3, seam(edge.start))];
+            let order = [(0, false), (2, false)].into_iter();
+            let order = order
+                .chain(ends.into_iter().filter(|end| end.1))
+                .chain(ends.into_iter().filter(|end| !end.1));
+            for (k, seam) in order {
                 let Some((p, q)) = clip_segment(eye, quad[k], quad[(k + 1) % 4]) else { continue };
                 let (gp, gq) = (eye.grid(p), eye.grid(q));
-                let glyph = line_glyph(gq.x - gp.x, gq.y - gp.y, sample_aspect);
+                let glyph = match line_glyph(gq.x - gp.x, gq.y - gp.y, sample_aspect) {
+                    '|' if seam => SEAM_GLYPH,
+                    glyph => glyph,
+                };
                 let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
                 let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
                 for (x, y) in line_points(x0, y0, x1, y1, w, h) {
-                    // Only on this wall's own samples: exact, and the same in every culling mode.
-                    if self.samples.id()[y * w + x] == e {
-                        self.samples.put_outline(x, y, Some(glyph));
+                    // Only on this wall's own samples: exact, and the same in every culling mode. An
+                    // end runs along the wall's last samples, which round to either side of it: a
+                    // sample beside the line where the line's own shows no other wall of that vertex
+                    // (that one draws the line: one line where two walls meet).
+                    let ids = self.samples.id();
+                    let v = if k == 1 { edge.end } else { edge.start };
+                    let meets = |f: u32| f < edges && (maze.edge(f).start == v || maze.edge(f).end == v);
+                    let beside = if k % 2 == 1 && !meets(ids[y * w + x]) {
+                        [x, x.wrapping_sub(1), x + 1]
+                    } else {
+                        [x; 3]
+                    };
+                    let Some(x) = beside.into_iter().find(|&x| x < w && ids[y * w + x] == e) else {
+                        continue;
+                    };
+                    if k % 2 == 0 {
+                        // a top or bottom line where the wall stands tall enough in this column
+                        let tall = (1..SHORT_ASCII_WALL).all(|d| {
+                            let row = if k == 0 { y.checked_sub(d) } else { Some(y + d).filter(|&r| r < h) };
+                            row.is_some_and(|r| ids[r * w + x] == e)
+                        });
+                        if !tall {
+                            continue;
+                        }
                     }
+                    self.samples.put_outline(x, y, Some(glyph));
                 }
             }
         }
     }
+}
+
+/// The ascii glyph of a seam: where a wall's line goes on into the next wall (a cell boundary along a
+/// straight wall), dotted, where a wall that stops (a jamb, a corner) ends in `|`.
+pub(crate) const SEAM_GLYPH: char = ':';
+
+/// In ascii, a wall shorter than this many samples in a column draws no top or bottom line there:
+/// the lines would be all of it.
+pub(crate) const SHORT_ASCII_WALL: usize = 3;
+
+/// Whether wall `e`'s line goes on at its vertex `v` as another wall, seen from `eye`: no other wall
+/// meets `e` there on the eye's side (a corner), and across the opening at `v` on that side the
+/// wall of the same line is a wall, not an opening (a jamb). A seam: two walls of one line.
+fn wall_goes_on(maze: &Maze, e: u32, v: u32, eye: Vec2) -> bool {
+    let edge = maze.edge(e);
+    let (a, b) = maze.edge_points(e);
+    let eye_left = (b - a).perp_dot(eye - a) > 0.0;
+    let Some(near) = (if eye_left { edge.left } else { edge.right }) else { return false };
+    let at_v = |f: u32| f != e && (maze.edge(f).start == v || maze.edge(f).end == v);
+    let mut across = None;
+    for &g in maze.cell_edges(near) {
+        if !at_v(g) {
+            continue;
+        }
+        match (maze.edge(g).opaque, collinear(maze, e, g)) {
+            (true, true) => return true,   // the next wall of the line, in the same cell
+            (true, false) => return false, // a corner on the eye's side
+            (false, true) => return false, // the line goes on as an opening: a jamb
+            (false, false) => across = maze.edge(g).other_side(near),
+        }
+    }
+    let Some(next) = across else { return false };
+    maze.cell_edges(next).iter().any(|&f| at_v(f) && collinear(maze, e, f) && maze.edge(f).opaque)
 }
 
 /// The floor's cell lines in 16 colours: a seam moved off the floor's chromaticity
@@ -895,6 +1004,10 @@ impl Renderer {
 /// all). Off it, the line takes the nearest other entry, lighter than the floor's dark grey, as the
 /// ceiling's lines are lighter than its blue; black stays for what is black.
 const FLOOR_BOUND_16: fn(Vec3) -> Vec3 = |c| palette::off_floor_and_ceiling(seam_color(c));
+
+/// In 16 colours, the least gap (samples) between a floor's (ceiling's) cell line and the one a cell
+/// nearer for the line to be drawn ([`Renderer::draw_cell_bounds`]).
+const LINE_GAP_16: f32 = 3.0;
 
 /// What a sample on a boundary between surfaces is drawn as (the stronger wins).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]

@@ -161,6 +161,14 @@ pub(crate) fn jamb_color(color: Vec3) -> Vec3 {
     color.lerp(Vec3::splat(0.6), 0.35).max(color)
 }
 
+/// A door jamb's colour in 16 colours: the grey of [`jamb_color`]'s luminance. There a coloured wall
+/// never shows the light grey or the white (`palette::LIGHT_GREYS_16`), so a grey jamb is a light tick
+/// no coloured wall is drawn in, near or far (issue #39: openings 3+ cells away could not be read).
+#[must_use]
+pub(crate) fn jamb_grey(color: Vec3) -> Vec3 {
+    Vec3::splat(luminance(jamb_color(color)))
+}
+
 /// A chalk mark's colour on a floor sample of `color` ([`Renderer::set_chalk`]): the floor lit about
 /// twice as bright, toward a pale grey, so a mark reads as chalk on the floor (lighter, where the
 /// floor's cell lines are darker) and fades with the floor into the distance.

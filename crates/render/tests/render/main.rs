@@ -8,6 +8,7 @@ mod far_wall_height;
 mod flat_walls;
 mod glyph_frames;
 mod nose_to_wall;
+mod openings;
 mod picture_quality;
 mod raster_fill;
 mod raster_lines;
