@@ -831,13 +831,16 @@ fn detour(
         return None; // the pen draws it as it is: on along the row
     }
     let at = pen.cursor.map_or(0, |(x, y)| y * width + x);
-    // (The same cell may come up under two keys, where the pen's colours are one.)
-    let mut found = [bg, fg].map(|c| follow.first(pair_key(c, c), at, differs));
-    let pair = (fg != bg).then(|| follow.first(pair_key(fg, bg), at, differs)).flatten();
-    if found[1] == found[0] {
-        found[1] = None;
-    }
-    if found.iter().chain([&pair]).all(|k| k.is_none_or(|k| k == next)) {
+    // The candidates and the glyph each goes in with no colour change: a blank in the pen's paper as
+    // a space, one in its ink as a full block (where the frames have blocks), a half block of the two
+    // as itself or its inverse. (The same cell may come up under two keys, where the pen's colours
+    // are one.)
+    let blank = follow.first(pair_key(bg, bg), at, differs).map(|k| (k, 1));
+    let block = (pen.blocks && fg != bg).then(|| follow.first(pair_key(fg, fg), at, differs)).flatten();
+    let block = block.filter(|&k| !frame[k].is_text_space()).map(|k| (k, FULL_BLOCK.len_utf8()));
+    let half = (fg != bg).then(|| follow.first(pair_key(fg, bg), at, differs)).flatten().map(|k| (k, 3));
+    let found = [blank, block, half];
+    if found.iter().flatten().all(|&(k, _)| k == next) {
         return None;
     }
     if cell_form(pen, &frame[next], how.tolerance).1.len() == 0 {
@@ -845,19 +848,15 @@ fn detour(
     }
     let (nx, ny) = (next % width, next / width);
     let direct = move_bound(pen.cursor, nx, ny);
-    // Of each candidate, the moves there and on to `next` against the move to `next` and what the
-    // cell would cost in its row: its glyph and its colour change from the changed cell before it
-    // there (colours unknown where that cell is unchanged). The largest saving wins. Moves priced
-    // by `move_bound` (most of these are not taken).
+    // Of each candidate, the moves there and on to `next` and its glyph against the move to `next`
+    // and what the cell would cost in its row: its glyph and its colour change from the changed cell
+    // before it there (colours unknown where that cell is unchanged). The largest saving wins. Moves
+    // priced by `move_bound` (most of these are not taken).
     let mut best: Option<(usize, usize)> = None;
-    for k in found.into_iter().chain([pair]).flatten().filter(|&k| k != next) {
-        let (form, sgr) = cell_form(pen, &frame[k], how.tolerance);
-        if sgr.len() != 0 {
-            continue;
-        }
+    for (k, glyph) in found.into_iter().flatten().filter(|&(k, _)| k != next) {
         let (x, y) = (k % width, k / width);
         let after = if x + 1 < width { Some((x + 1, y)) } else { None };
-        let moves = move_bound(pen.cursor, x, y) + move_bound(after, nx, ny) + form.ch.len_utf8();
+        let moves = move_bound(pen.cursor, x, y) + move_bound(after, nx, ny) + glyph;
         let before = (x > 0 && differs[k - 1]).then(|| frame[k - 1]);
         let row_pen =
             Pen { cursor: None, fg: before.map(|b| b.fg), bg: before.map(|b| b.bg), blocks: pen.blocks };
