@@ -217,6 +217,9 @@ struct Found {
     cells: [usize; ALL.len()],
     bytes: [f64; ALL.len()],
     vertical: usize,
+    /// Over the frames, the different sets of colours the changed cells show (a blank its paper, a
+    /// full block its ink, a half block its two colours either way round, other glyphs both).
+    pairs: usize,
 }
 
 /// `bandwidth`'s walk, step by step as its link does with no limit (1 ms steps, the terminal answers
@@ -239,6 +242,7 @@ fn walk(depth: ColorDepth, key: &[u8], rep: RepLevel) -> Found {
         cells: [0; ALL.len()],
         bytes: [0.0; ALL.len()],
         vertical: 0,
+        pairs: 0,
     };
     let (mut before, mut before_samples) = (snapshot(&terminal), samples(&mut renderer, &session));
     let mut viewer = (session.app().camera.position, session.app().camera.yaw_deg);
@@ -385,6 +389,22 @@ fn walk(depth: ColorDepth, key: &[u8], rep: RepLevel) -> Found {
                 y += run;
             }
         }
+        let mut pairs = std::collections::HashSet::new();
+        for ((ch, fg, bg), before) in after.iter().zip(&before) {
+            if (ch, fg, bg) != (&before.0, &before.1, &before.2) {
+                pairs.insert(match ch.as_str() {
+                    " " => vec![format!("{bg:?}")],
+                    "█" => vec![format!("{fg:?}")],
+                    "▀" | "▄" => {
+                        let mut two = vec![format!("{fg:?}"), format!("{bg:?}")];
+                        two.sort();
+                        two
+                    }
+                    _ => vec![format!("{fg:?}"), format!("{bg:?}"), ch.clone()],
+                });
+            }
+        }
+        found.pairs += pairs.len();
         found.frames += 1;
         found.total += out.len();
         for &reason in &why {
@@ -409,7 +429,7 @@ fn main() {
         RepLevel::Any
     };
     let found = walk(depth, if turn { b"\x1b[D" } else { b"w" }, rep);
-    let Found { frames, seconds, total, kinds, cells, bytes, vertical } = found;
+    let Found { frames, seconds, total, kinds, cells, bytes, vertical, pairs } = found;
     println!(
         "changed cells in columns of one look (4 or more, not in a run along their row): {:.1} a frame",
         vertical as f64 / frames.max(1) as f64
@@ -426,6 +446,10 @@ fn main() {
         total as f64 / seconds / 1e3
     );
     let pct = |n: usize| 100.0 * n as f64 / total.max(1) as f64;
+    println!(
+        "Changed cells: {:.1} different sets of colours a frame (written set by set, the pen would change about as often)",
+        pairs as f64 / frames.max(1) as f64
+    );
     println!(
         "Bytes: SGR {:.0} % ({:.0} a frame), cursor moves {:.0} %, glyphs {:.0} %, markers {:.0} %; REP would save {:.0} %\n",
         pct(kinds.sgr),

@@ -85,6 +85,32 @@ pub(super) fn move_len(pen: &mut Pen, x: usize, y: usize) -> usize {
     len
 }
 
+/// A bound on the bytes of the move [`write_move`] would send from `from` to (`x`, `y`), by
+/// arithmetic alone: the shortest of `CUP` and a vertical step (vertical tabs, `CUD`, `CUU`) followed
+/// by a horizontal one (`CUF`, `CUB`, backspaces, `\r`). [`shortest_move`] prices these routes among
+/// others, so the move it finds is never longer. For moves priced and mostly not taken (`detour` in
+/// the encoder).
+#[inline]
+pub(super) fn move_bound(from: Option<(usize, usize)>, x: usize, y: usize) -> usize {
+    use std::cmp::Ordering::{Equal, Greater, Less};
+    let cup = cup_len(x, y);
+    let Some((cx, cy)) = from else { return cup };
+    let vertical = match y.cmp(&cy) {
+        Equal => 0,
+        Greater if y - cy <= 3 => y - cy,
+        Greater => csi_len(y - cy, 1),
+        Less => csi_len(cy - y, 1),
+    };
+    let horizontal = match x.cmp(&cx) {
+        Equal => 0,
+        Greater => csi_len(x - cx, 1),
+        Less if x == 0 => 1,
+        Less if cx - x <= 3 => cx - x,
+        Less => csi_len(cx - x, 1),
+    };
+    cup.min(vertical + horizontal)
+}
+
 /// The vertical steps from row `cy` to row `y` a move may begin with, in the order a tie is broken
 /// by (the first of the shortest wins); `None` where a step does not apply.
 fn vertical_steps(cy: usize, y: usize) -> [Option<Vertical>; 6] {
@@ -201,8 +227,15 @@ fn cup_len(x: usize, y: usize) -> usize {
 }
 
 /// The decimal digits of `n`.
+#[inline]
 pub(super) fn digits(n: usize) -> usize {
-    n.checked_ilog10().map_or(1, |log| log as usize + 1)
+    // A screen's rows and columns, the usual numbers, by comparison.
+    match n {
+        0..=9 => 1,
+        10..=99 => 2,
+        100..=999 => 3,
+        _ => n.ilog10() as usize + 1,
+    }
 }
 
 fn write_relative(out: &mut Vec<u8>, from_x: usize, vertical: Vertical, horizontal: Horizontal) {
@@ -328,6 +361,25 @@ mod tests {
             assert_eq!(shortest_move(None, x, y), searched_move(None, x, y));
         }
         assert!(moves > 300_000);
+    }
+
+    /// `move_bound` is never below the move written, and is that move where the move is one of its
+    /// routes (below, 381,089 of 397,530 moves; the test asks nine in ten).
+    #[test]
+    fn a_move_bound_is_never_below_the_move_and_mostly_is_it() {
+        let columns: Vec<usize> = (0..14).chain(95..106).chain(125..130).collect();
+        let rows: Vec<usize> = (0..14).chain(38..45).collect();
+        let (mut moves, mut equal) = (0, 0);
+        for from in rows.iter().flat_map(|&cy| columns.iter().map(move |&cx| Some((cx, cy)))).chain([None]) {
+            for &y in &rows {
+                for &x in &columns {
+                    let (bound, (len, _)) = (move_bound(from, x, y), shortest_move(from, x, y));
+                    assert!(bound >= len, "{from:?} to {x},{y}: bound {bound} < {len}");
+                    (moves, equal) = (moves + 1, equal + usize::from(bound == len));
+                }
+            }
+        }
+        assert!(equal * 10 >= moves * 9, "{equal} of {moves} moves bound exactly");
     }
 
     #[test]

@@ -57,6 +57,13 @@ impl PackedColor {
         }
     }
 
+    /// Its word (kind and value): equal words, equal colours.
+    #[inline]
+    #[must_use]
+    pub(crate) fn word(self) -> u32 {
+        self.0.get()
+    }
+
     /// Whether a tolerance applies to it: a truecolor colour, or an entry of xterm's 256-colour
     /// palette past the 16 ANSI colours (the cube and the greys, whose RGB every terminal shares). The
     /// 16 ANSI colours are the user's theme, whose distances nobody here knows, and the default
