@@ -403,6 +403,28 @@ pub(crate) const FLOOR_16: u8 = 8;
 pub(crate) const CEILING_16: u8 = 4;
 /// In 16 colours, a sample of the scene darker than this (OKLab L) may be black; a lighter one never is.
 pub(crate) const NEAR_BLACK: f32 = 0.2;
+/// The exit's glow on a wall in 16 colours (the dark green, xterm's 2): see [`glow_wall_16`].
+pub(crate) const GLOW_16: u8 = 2;
+
+/// Whether a chromaticity `direction` (OKLab, any scale) is the exit's green: coloured and within 25°
+/// of the beacon's hue (generated walls are never green: only the exit's light, the beacon and a
+/// course file's green wall are). In 16 colours the dark green ([`GLOW_16`]) is for these alone: a
+/// dark yellow or cyan wall's ramp may not take it, so no unlit generated wall shows the glow's look.
+fn exit_green(direction: Vec3) -> bool {
+    let glow = oklab(crate::sprite::EXIT_GLOW);
+    let (chroma, hue) = (direction.y.hypot(direction.z), direction.z.atan2(direction.y));
+    direction.x > 0.0
+        && chroma > GREY_ENTRY * direction.x
+        && hue_difference(hue, glow.z.atan2(glow.y)) <= 25f32.to_radians()
+}
+
+/// Whether a wall of chromaticity `direction` shows the exit's glow in 16 colours (issue #39):
+/// [`exit_green`] and paler than the beacon (chroma ⁄ lightness below 0.155 against its 0.18). Such a
+/// wall shows [`GLOW_16`] (black where near black) and nothing else: its 16-colour ramp would
+/// otherwise climb to bright cyan or the bright green, a wall's hue or the beacon's (xterm's 10).
+fn glow_wall_16(direction: Vec3) -> bool {
+    exit_green(direction) && direction.y.hypot(direction.z) < 0.155 * direction.x
+}
 
 /// The surface whose chromaticity slot is `slot` ([`Surface`]).
 fn surface_of(slot: usize) -> Surface {
@@ -464,11 +486,14 @@ impl LightRamp {
         let sixteen = palette == Palette::Ansi16;
         let grey_wall = surface == Surface::Wall && !coloured;
         let stretch = if grey_wall { STRETCH_16_GREY_WALL } else { STRETCH_16 };
+        let glow_16 = sixteen && surface == Surface::Wall && glow_wall_16(direction);
         let candidates: Vec<RampEntry> = ramp_entries(palette)
             .iter()
             .filter(|e| match (sixteen, surface) {
                 (true, Surface::Floor) => e.index == 0 || e.index == FLOOR_16,
                 (true, Surface::Ceiling) => e.index == 0 || e.index == CEILING_16,
+                (true, Surface::Wall) if glow_16 => e.index == 0 || e.index == GLOW_16,
+                (true, Surface::Wall) if e.index == GLOW_16 && !exit_green(direction) => false,
                 (true, Surface::Wall) if e.index == FLOOR_16 || e.index == CEILING_16 => false,
                 _ => e.chroma < GREY_ENTRY || (coloured && hue_difference(e.hue, hue) <= palette.hue_span()),
             })
