@@ -395,7 +395,6 @@ impl Renderer {
         let level = side.zip(light.exit_light).map_or(0, |(cell, exit_light)| exit_light.level(cell));
         let lit_albedo = palette::off_floor_and_ceiling(exit_tinted(
             lit(albedo, headlight(normal_view), AMBIENT),
-            EXIT_GLOW,
             level,
             1.0,
         ));
@@ -576,7 +575,7 @@ impl Renderer {
                         // fog, is the tinted sample.
                         let strength = if hit.plane.1 == FLOOR { FLOOR_EXIT_TINT } else { CEILING_EXIT_TINT };
                         let tinted: [Vec3; EXIT_LIGHT as usize + 1] =
-                            std::array::from_fn(|level| exit_tinted(base, EXIT_GLOW, level as u8, strength));
+                            std::array::from_fn(|level| exit_tinted(base, level as u8, strength));
                         let levels = &mut self.plane_row.levels;
                         let point_at = |x: usize| {
                             let (start, dir) = at(x);
@@ -1119,7 +1118,7 @@ impl<'m> CellCursor<'m> {
     /// [`CEILING_EXIT_TINT`]).
     fn tint(&mut self, point: Vec2, plane: u32, color: Vec3) -> Vec3 {
         let level = self.level(point);
-        exit_tinted(color, EXIT_GLOW, level, if plane == FLOOR { FLOOR_EXIT_TINT } else { CEILING_EXIT_TINT })
+        exit_tinted(color, level, if plane == FLOOR { FLOOR_EXIT_TINT } else { CEILING_EXIT_TINT })
     }
 }
 

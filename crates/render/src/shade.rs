@@ -111,17 +111,21 @@ pub(crate) const FLOOR_EXIT_TINT: f32 = 0.7;
 /// on the ground (the beacon stands on it), the ceiling only catches a fainter glow.
 pub(crate) const CEILING_EXIT_TINT: f32 = 0.5;
 
-/// The exit's light at `level` as a colour of luminance 1 (linear): the hue of `glow` (the beacon's
-/// green) turned by [`EXIT_GLOW_TURN`], the chroma of [`EXIT_GLOW_CHROMA`] at `level` times `strength`
-/// relative to its lightness.
+/// The exit's light at `level` as a colour of luminance 1 (linear): the hue of the beacon's green
+/// ([`EXIT_GLOW`](crate::sprite::EXIT_GLOW)) turned by [`EXIT_GLOW_TURN`], the chroma of
+/// [`EXIT_GLOW_CHROMA`] at `level` times `strength` relative to its lightness.
 #[must_use]
-fn exit_glow_colour(glow: Vec3, level: u8, strength: f32) -> Vec3 {
+fn exit_glow_colour(level: u8, strength: f32) -> Vec3 {
     let top = f32::from(EXIT_LIGHT.max(2) - 1);
     let along = f32::from(level.clamp(1, EXIT_LIGHT) - 1) / top;
     let relative = strength * (EXIT_GLOW_CHROMA.0 + (EXIT_GLOW_CHROMA.1 - EXIT_GLOW_CHROMA.0) * along);
-    let hue = crate::palette::oklab(glow);
-    let direction = Vec2::new(hue.y, hue.z).normalize_or_zero();
-    let direction = Vec2::from_angle(-EXIT_GLOW_TURN).rotate(direction);
+    // The hue's direction in OKLab's (a, b), worked out once (three cube roots: the floor's rows ask
+    // for every level's colour, a frame in the exit's light over a thousand times).
+    static DIRECTION: std::sync::OnceLock<Vec2> = std::sync::OnceLock::new();
+    let direction = *DIRECTION.get_or_init(|| {
+        let hue = crate::palette::oklab(crate::sprite::EXIT_GLOW);
+        Vec2::from_angle(-EXIT_GLOW_TURN).rotate(Vec2::new(hue.y, hue.z).normalize_or_zero())
+    });
     // (any lightness: OKLab's chroma and lightness scale together as the colour is scaled, so the
     // colour at L 0.75 scaled to luminance 1 keeps C ⁄ L)
     let lightness = 0.75;
@@ -156,11 +160,11 @@ fn linear_from_oklab(lab: Vec3) -> Vec3 {
 /// alone: every wall of one cell seen at one angle and depth has one colour, and a cell nearer the
 /// exit a greener one. Linear in `color` (the floor's rows tint one colour per level and scale it).
 #[must_use]
-pub(crate) fn exit_tinted(color: Vec3, glow: Vec3, level: u8, strength: f32) -> Vec3 {
+pub(crate) fn exit_tinted(color: Vec3, level: u8, strength: f32) -> Vec3 {
     if level == 0 {
         return color;
     }
-    exit_glow_colour(glow, level, strength) * luminance(color)
+    exit_glow_colour(level, strength) * luminance(color)
 }
 
 /// The sun: a fixed directional light (world space, unit length, pointing toward the light: east by
@@ -619,7 +623,7 @@ mod tests {
                     let colour = wall_lit(srgb, sun, diffuse);
                     let mut chroma_before = 0.0;
                     for level in 1..=EXIT_LIGHT {
-                        let lit = exit_tinted(colour, glow, level, 1.0);
+                        let lit = exit_tinted(colour, level, 1.0);
                         let lab = oklab(lit);
                         let chroma = lab.y.hypot(lab.z);
                         assert!(
@@ -676,7 +680,7 @@ mod tests {
             for &srgb in &WALL_COLOURS {
                 for (sun, diffuse) in [(0.0, 0.0), (1.0, 1.0), (0.5, 0.5)] {
                     for level in 1..=EXIT_LIGHT {
-                        let lit = exit_tinted(wall_lit(srgb, sun, diffuse), glow, level, 1.0) * keep;
+                        let lit = exit_tinted(wall_lit(srgb, sun, diffuse), level, 1.0) * keep;
                         let shown = ramp_entry(lit, Palette::Xterm256);
                         assert!(
                             entry_lab(beacon).x > entry_lab(shown).x + 0.05,
