@@ -418,12 +418,15 @@ fn exit_green(direction: Vec3) -> bool {
         && hue_difference(hue, glow.z.atan2(glow.y)) <= 25f32.to_radians()
 }
 
-/// Whether a wall of chromaticity `direction` shows the exit's glow in 16 colours (issue #39):
-/// [`exit_green`] and paler than the beacon (chroma ⁄ lightness below 0.155 against its 0.18). Such a
-/// wall shows [`GLOW_16`] (black where near black) and nothing else: its 16-colour ramp would
-/// otherwise climb to bright cyan or the bright green, a wall's hue or the beacon's (xterm's 10).
-fn glow_wall_16(direction: Vec3) -> bool {
-    exit_green(direction) && direction.y.hypot(direction.z) < 0.155 * direction.x
+/// How a wall of chromaticity `direction` is drawn in 16 colours when it is [`exit_green`] and paler
+/// than the beacon (chroma ⁄ lightness below 0.155 against its 0.18; issue #39): `Some(true)`, the
+/// exit's glow (at least 0.075: the faintest glow has 0.09), which shows [`GLOW_16`] (black where
+/// near black) and nothing else, as its ramp would otherwise climb to bright cyan or the bright
+/// green, a wall's hue or the beacon's (xterm's 10); `Some(false)`, paler still (a door jamb of a lit
+/// wall, drawn toward grey), which shows greys only, never yellow or cyan; `None`, any other.
+fn glow_16(direction: Vec3) -> Option<bool> {
+    let chroma = direction.y.hypot(direction.z);
+    (exit_green(direction) && chroma < 0.155 * direction.x).then_some(chroma >= 0.075 * direction.x)
 }
 
 /// The surface whose chromaticity slot is `slot` ([`Surface`]).
@@ -486,13 +489,16 @@ impl LightRamp {
         let sixteen = palette == Palette::Ansi16;
         let grey_wall = surface == Surface::Wall && !coloured;
         let stretch = if grey_wall { STRETCH_16_GREY_WALL } else { STRETCH_16 };
-        let glow_16 = sixteen && surface == Surface::Wall && glow_wall_16(direction);
+        let glow = if sixteen && surface == Surface::Wall { glow_16(direction) } else { None };
         let candidates: Vec<RampEntry> = ramp_entries(palette)
             .iter()
             .filter(|e| match (sixteen, surface) {
                 (true, Surface::Floor) => e.index == 0 || e.index == FLOOR_16,
                 (true, Surface::Ceiling) => e.index == 0 || e.index == CEILING_16,
-                (true, Surface::Wall) if glow_16 => e.index == 0 || e.index == GLOW_16,
+                (true, Surface::Wall) if glow == Some(true) => e.index == 0 || e.index == GLOW_16,
+                (true, Surface::Wall) if glow == Some(false) => {
+                    e.chroma < GREY_ENTRY && e.index != FLOOR_16 && e.index != CEILING_16
+                }
                 (true, Surface::Wall) if e.index == GLOW_16 && !exit_green(direction) => false,
                 (true, Surface::Wall) if e.index == FLOOR_16 || e.index == CEILING_16 => false,
                 _ => e.chroma < GREY_ENTRY || (coloured && hue_difference(e.hue, hue) <= palette.hue_span()),
