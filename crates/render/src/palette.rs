@@ -420,13 +420,14 @@ fn exit_green(direction: Vec3) -> bool {
 
 /// How a wall of chromaticity `direction` is drawn in 16 colours when it is [`exit_green`] and paler
 /// than the beacon (chroma ⁄ lightness below 0.155 against its 0.18; issue #39): `Some(true)`, the
-/// exit's glow (at least 0.075: the faintest glow has 0.09), which shows [`GLOW_16`] (black where
+/// exit's glow (at least 0.085: the faintest glow has 0.09), which shows [`GLOW_16`] (black where
 /// near black) and nothing else, as its ramp would otherwise climb to bright cyan or the bright
-/// green, a wall's hue or the beacon's (xterm's 10); `Some(false)`, paler still (a door jamb of a lit
-/// wall, drawn toward grey), which shows greys only, never yellow or cyan; `None`, any other.
+/// green, a wall's hue or the beacon's (xterm's 10); `Some(false)`, paler still (a lit wall's door
+/// jamb, drawn toward grey: about 0.08 at most), which shows greys only, never yellow or cyan;
+/// `None`, any other.
 fn glow_16(direction: Vec3) -> Option<bool> {
     let chroma = direction.y.hypot(direction.z);
-    (exit_green(direction) && chroma < 0.155 * direction.x).then_some(chroma >= 0.075 * direction.x)
+    (exit_green(direction) && chroma < 0.155 * direction.x).then_some(chroma >= 0.085 * direction.x)
 }
 
 /// The surface whose chromaticity slot is `slot` ([`Surface`]).

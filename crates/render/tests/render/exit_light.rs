@@ -71,8 +71,7 @@ fn walls_near_the_exit_turn_green_greener_nearer_and_walls_out_of_its_reach_do_n
                 assert_eq!(a, b, "cell {cell} (no light) heading {heading}: wall {e} changed");
                 far_walls += 1;
             } else {
-                // The exit's green (within 12° of the beacon's hue: turned 9° toward the 256-colour
-                // cube's greens), its chroma a fixed share of its lightness that grows by level from
+                // The exit's green (the beacon's hue), its chroma a fixed share of its lightness that grows by level from
                 // 0.09 at the edge of the light's reach to 0.13 in the exit's cell (fog and light
                 // scale a colour, which keeps that share).
                 let lab = oklab(a);
@@ -171,7 +170,8 @@ fn sixteen_colours_show_the_glow_as_the_dark_green_on_lit_walls_only() {
 /// Issue #39, in 256 colours over three generated mazes: from inside every lit cell at each heading,
 /// every sample inside one of the cell's own walls shows an entry a palette step (0.03 in OKLab) off
 /// the same wall without the exit's light, coloured, and closer in hue to the glow than to any
-/// generated wall colour (side walls and walls faced square on alike, near and across the cell).
+/// generated wall colour (side walls and walls faced square on alike, near and across the cell);
+/// and walls faced square on near the exit show a greener entry than far from it.
 #[test]
 fn in_256_colours_every_lit_wall_shows_the_glows_hue_a_step_off_its_own() {
     use mazewalk_maze::generate::WALL_COLOURS;
@@ -190,6 +190,7 @@ fn in_256_colours_every_lit_wall_shows_the_glows_hue_a_step_off_its_own() {
     let wall_hues: Vec<f32> = WALL_COLOURS.iter().map(|&c| hue(oklab_of(c))).collect();
     let mut judged = 0;
     let mut levels_seen = std::collections::BTreeSet::new();
+    let mut faced = Vec::new();
     for seed in [71u64, 3, 74174] {
         let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
         let dark = without_exit(&maze);
@@ -230,9 +231,23 @@ fn in_256_colours_every_lit_wall_shows_the_glows_hue_a_step_off_its_own() {
                     judged += 1;
                     levels_seen.insert(light.level(cell));
                 }
+                // The wall straight ahead, faced square on: its chroma, to compare near and far.
+                let middle = (ids.len() / 120 / 2) * 120 + 60;
+                if own.contains(&ids[middle]) && inside(middle) {
+                    faced.push((light.level(cell), lit[middle].y.hypot(lit[middle].z)));
+                }
             }
         }
     }
     assert!(judged > 10_000, "{judged}");
     assert!(levels_seen.contains(&1) && levels_seen.contains(&16), "{levels_seen:?}");
+    // Greener nearer, in 256 colours too: walls faced square on within three cells of the exit show
+    // a more saturated entry than those eight cells or more away.
+    let mean = |keep: &dyn Fn(u8) -> bool| {
+        let chosen: Vec<f32> = faced.iter().filter(|(l, _)| keep(*l)).map(|&(_, c)| c).collect();
+        assert!(chosen.len() >= 4, "{faced:?}");
+        chosen.iter().sum::<f32>() / chosen.len() as f32
+    };
+    let (near, far) = (mean(&|l| l >= 13), mean(&|l| l <= 8));
+    assert!(near > far + 0.015, "chroma of walls faced near the exit {near}, far from it {far}");
 }
