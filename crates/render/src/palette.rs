@@ -418,16 +418,20 @@ fn exit_green(direction: Vec3) -> bool {
         && hue_difference(hue, glow.z.atan2(glow.y)) <= 25f32.to_radians()
 }
 
-/// How a wall of chromaticity `direction` is drawn in 16 colours when it is [`exit_green`] and paler
-/// than the beacon (chroma ⁄ lightness below 0.155 against its 0.18; issue #39): `Some(true)`, the
-/// exit's glow (at least 0.085: the faintest glow has 0.09), which shows [`GLOW_16`] (black where
-/// near black) and nothing else, as its ramp would otherwise climb to bright cyan or the bright
-/// green, a wall's hue or the beacon's (xterm's 10); `Some(false)`, paler still (a lit wall's door
-/// jamb, drawn toward grey: about 0.08 at most), which shows greys only, never yellow or cyan;
-/// `None`, any other.
+/// How a wall of chromaticity `direction` is drawn in 16 colours when it has the glow's very hue
+/// (within 8° of the beacon's: the exit's light gives every surface it lights that hue, and a course
+/// file's sage or teal walls, 14° and more off, keep their own ramps) and is paler than the beacon
+/// (chroma ⁄ lightness below 0.155 against its 0.18; issue #39): `Some(true)`, the exit's glow (at
+/// least 0.085: the faintest glow has 0.09), which shows [`GLOW_16`] (black where near black) and
+/// nothing else, as its ramp would otherwise climb to bright cyan or the bright green, a wall's hue
+/// or the beacon's (xterm's 10); `Some(false)`, paler (0.04 to 0.085: a lit wall's door jamb, drawn
+/// toward grey), which shows greys only, never yellow or cyan; `None`, any other.
 fn glow_16(direction: Vec3) -> Option<bool> {
-    let chroma = direction.y.hypot(direction.z);
-    (exit_green(direction) && chroma < 0.155 * direction.x).then_some(chroma >= 0.085 * direction.x)
+    let glow = oklab(crate::sprite::EXIT_GLOW);
+    let (chroma, hue) = (direction.y.hypot(direction.z), direction.z.atan2(direction.y));
+    let glow_hue = hue_difference(hue, glow.z.atan2(glow.y)) <= 8f32.to_radians();
+    let relative = chroma / direction.x.max(1e-6);
+    (glow_hue && (0.04..0.155).contains(&relative)).then_some(relative >= 0.085)
 }
 
 /// The surface whose chromaticity slot is `slot` ([`Surface`]).
@@ -968,6 +972,22 @@ mod tests {
                 assert!(vivid <= 1.7, "{rgb:?} × {k}/20: {vivid:.2}× the chroma");
             }
         }
+    }
+
+    /// Issue #39: in 16 colours only the glow's own hue takes the glow's look: a course file's sage
+    /// and teal walls (the CS559 10×10 maze's, 14°–16° off the beacon's hue) keep their ramps, and
+    /// the surfaces the exit's light tints (every level, walls) take it.
+    #[test]
+    fn in_16_colours_the_glows_look_is_for_the_glows_hue_alone() {
+        let lin = |rgb: [u8; 3]| Vec3::from_array(rgb.map(|v| srgb_to_linear(f32::from(v) / 255.0)));
+        for course in [[97, 134, 119], [95, 171, 145]] {
+            assert_eq!(glow_16(oklab(lin(course))), None, "{course:?}");
+        }
+        for level in 1..=mazewalk_maze::light::EXIT_LIGHT {
+            let lit = crate::shade::exit_tinted(Vec3::splat(0.3), level, 1.0);
+            assert_eq!(glow_16(oklab(lit)), Some(true), "level {level}");
+        }
+        assert_eq!(glow_16(oklab(crate::sprite::EXIT_GLOW)), None, "the beacon keeps its bright green");
     }
 
     /// Issue #39: the exit's glow on the floor, the floor's colour turned toward the exit's green as
