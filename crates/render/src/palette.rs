@@ -420,12 +420,14 @@ fn exit_green(direction: Vec3) -> bool {
 
 /// How a wall of chromaticity `direction` is drawn in 16 colours when it has the glow's very hue
 /// (within 8° of the beacon's: the exit's light gives every surface it lights that hue, and a course
-/// file's sage or teal walls, 14° and more off, keep their own ramps) and is paler than the beacon
+/// file's teal walls, 14° and more off, keep their own ramps) and is paler than the beacon
 /// (chroma ⁄ lightness below 0.155 against its 0.18; issue #39): `Some(true)`, the exit's glow (at
 /// least 0.085: the faintest glow has 0.09), which shows [`GLOW_16`] (black where near black) and
 /// nothing else, as its ramp would otherwise climb to bright cyan or the bright green, a wall's hue
 /// or the beacon's (xterm's 10); `Some(false)`, paler (0.04 to 0.085: a lit wall's door jamb, drawn
-/// toward grey), which shows greys only, never yellow or cyan; `None`, any other.
+/// toward grey), which shows greys only, never yellow or cyan; `None`, any other. A jamb can have
+/// any share in that span, so a course file's wall of the glow's very hue as pale (the CS559 10×10
+/// maze's sage, 155° at 0.076) shows grey in 16 colours too, where it showed cyan.
 fn glow_16(direction: Vec3) -> Option<bool> {
     let glow = oklab(crate::sprite::EXIT_GLOW);
     let (chroma, hue) = (direction.y.hypot(direction.z), direction.z.atan2(direction.y));
@@ -975,7 +977,7 @@ mod tests {
     }
 
     /// Issue #39: in 16 colours only the glow's own hue takes the glow's look: a course file's sage
-    /// and teal walls (the CS559 10×10 maze's, 14°–16° off the beacon's hue) keep their ramps, and
+    /// and teal walls off the glow's hue (the CS559 10×10 maze's, 14°–16° off) keep their ramps, and
     /// the surfaces the exit's light tints (every level, walls) take it.
     #[test]
     fn in_16_colours_the_glows_look_is_for_the_glows_hue_alone() {
