@@ -418,22 +418,17 @@ fn exit_green(direction: Vec3) -> bool {
         && hue_difference(hue, glow.z.atan2(glow.y)) <= 25f32.to_radians()
 }
 
-/// How a wall of chromaticity `direction` is drawn in 16 colours when it has the glow's very hue
-/// (within 8° of the beacon's: the exit's light gives every surface it lights that hue, and a course
-/// file's teal walls, 14° and more off, keep their own ramps) and is paler than the beacon
-/// (chroma ⁄ lightness below 0.155 against its 0.18; issue #39): `Some(true)`, the exit's glow (at
-/// least 0.085: the faintest glow has 0.09), which shows [`GLOW_16`] (black where near black) and
-/// nothing else, as its ramp would otherwise climb to bright cyan or the bright green, a wall's hue
-/// or the beacon's (xterm's 10); `Some(false)`, paler (0.04 to 0.085: a lit wall's door jamb, drawn
-/// toward grey), which shows greys only, never yellow or cyan; `None`, any other. A jamb can have
-/// any share in that span, so a course file's wall of the glow's very hue as pale (the CS559 10×10
-/// maze's sage, 155° at 0.076) shows grey in 16 colours too, where it showed cyan.
-fn glow_16(direction: Vec3) -> Option<bool> {
+/// Whether a wall of chromaticity `direction` shows the exit's glow in 16 colours (issue #39): the
+/// glow's very hue (within 8° of the beacon's: the exit's light gives every surface it lights that
+/// hue, and a course file's sage or teal walls, further off or paler, keep their own ramps) and a
+/// chroma share of the glow's (chroma ⁄ lightness 0.085–0.155: the faintest glow has 0.09, the
+/// beacon 0.18). Such a wall shows [`GLOW_16`] (black where near black) and nothing else: its ramp
+/// would otherwise climb to bright cyan or the bright green, a wall's hue or the beacon's (xterm's 10).
+fn glow_16(direction: Vec3) -> bool {
     let glow = oklab(crate::sprite::EXIT_GLOW);
     let (chroma, hue) = (direction.y.hypot(direction.z), direction.z.atan2(direction.y));
     let glow_hue = hue_difference(hue, glow.z.atan2(glow.y)) <= 8f32.to_radians();
-    let relative = chroma / direction.x.max(1e-6);
-    (glow_hue && (0.04..0.155).contains(&relative)).then_some(relative >= 0.085)
+    glow_hue && (0.085..0.155).contains(&(chroma / direction.x.max(1e-6)))
 }
 
 /// The surface whose chromaticity slot is `slot` ([`Surface`]).
@@ -496,16 +491,13 @@ impl LightRamp {
         let sixteen = palette == Palette::Ansi16;
         let grey_wall = surface == Surface::Wall && !coloured;
         let stretch = if grey_wall { STRETCH_16_GREY_WALL } else { STRETCH_16 };
-        let glow = if sixteen && surface == Surface::Wall { glow_16(direction) } else { None };
+        let glow = sixteen && surface == Surface::Wall && glow_16(direction);
         let candidates: Vec<RampEntry> = ramp_entries(palette)
             .iter()
             .filter(|e| match (sixteen, surface) {
                 (true, Surface::Floor) => e.index == 0 || e.index == FLOOR_16,
                 (true, Surface::Ceiling) => e.index == 0 || e.index == CEILING_16,
-                (true, Surface::Wall) if glow == Some(true) => e.index == 0 || e.index == GLOW_16,
-                (true, Surface::Wall) if glow == Some(false) => {
-                    e.chroma < GREY_ENTRY && e.index != FLOOR_16 && e.index != CEILING_16
-                }
+                (true, Surface::Wall) if glow => e.index == 0 || e.index == GLOW_16,
                 (true, Surface::Wall) if e.index == GLOW_16 && !exit_green(direction) => false,
                 (true, Surface::Wall) if e.index == FLOOR_16 || e.index == CEILING_16 => false,
                 _ => e.chroma < GREY_ENTRY || (coloured && hue_difference(e.hue, hue) <= palette.hue_span()),
@@ -977,19 +969,20 @@ mod tests {
     }
 
     /// Issue #39: in 16 colours only the glow's own hue takes the glow's look: a course file's sage
-    /// and teal walls off the glow's hue (the CS559 10×10 maze's, 14°–16° off) keep their ramps, and
+    /// and teal walls (the CS559 10×10 maze's: 14°–16° off the beacon's hue, or on it but paler) keep
+    /// their ramps, and
     /// the surfaces the exit's light tints (every level, walls) take it.
     #[test]
     fn in_16_colours_the_glows_look_is_for_the_glows_hue_alone() {
         let lin = |rgb: [u8; 3]| Vec3::from_array(rgb.map(|v| srgb_to_linear(f32::from(v) / 255.0)));
-        for course in [[97, 134, 119], [95, 171, 145]] {
-            assert_eq!(glow_16(oklab(lin(course))), None, "{course:?}");
+        for course in [[97, 134, 119], [95, 171, 145], [99, 127, 108]] {
+            assert!(!glow_16(oklab(lin(course))), "{course:?}");
         }
         for level in 1..=mazewalk_maze::light::EXIT_LIGHT {
             let lit = crate::shade::exit_tinted(Vec3::splat(0.3), level, 1.0);
-            assert_eq!(glow_16(oklab(lit)), Some(true), "level {level}");
+            assert!(glow_16(oklab(lit)), "level {level}");
         }
-        assert_eq!(glow_16(oklab(crate::sprite::EXIT_GLOW)), None, "the beacon keeps its bright green");
+        assert!(!glow_16(oklab(crate::sprite::EXIT_GLOW)), "the beacon keeps its bright green");
     }
 
     /// Issue #39: the exit's glow on the floor, the floor's colour turned toward the exit's green as
