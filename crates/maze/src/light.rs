@@ -11,13 +11,17 @@ use crate::{Aabb, CellId, Maze};
 use std::collections::{HashMap, VecDeque};
 
 /// The exit cell's light level. A cell `d` openings from the exit has `EXIT_LIGHT − d`, at least 0: the
-/// light reaches `EXIT_LIGHT − 1` cells of path from the exit (seven at 8).
-pub const EXIT_LIGHT: u8 = 8;
+/// light reaches `EXIT_LIGHT − 1` cells of path from the exit (fifteen at 16). Issue #39: at 8 (seven
+/// cells) the glow first showed about five cells by path from the exit, and a player whose way never
+/// came that near never met it (one trial's exit was 42 cells from the start); fifteen cells light
+/// 35–68 of a 20 × 15 maze's 300 cells round its exit (ten seeds; 9–27 at 8), and the search stays
+/// bounded by the reach on any maze (at most 2 · 15² + 2 · 15 + 1 = 481 cells on a grid, whatever its size).
+pub const EXIT_LIGHT: u8 = 16;
 
 /// The exit's light levels of the cells it reaches: [`EXIT_LIGHT`] at the exit cell, one less per
 /// opening crossed on the shortest path from it, none (level 0) beyond. Only the lit cells are kept,
 /// so the search and the table are bounded by the light's reach, not by the maze: a 1000 × 1000 grid
-/// pays for the hundred-odd cells round its exit.
+/// pays for the few hundred cells round its exit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExitLight {
     /// (cell, level), sorted by cell, every level > 0.
@@ -121,7 +125,7 @@ mod tests {
         // blocks the light (their path distance differs by more than one).
         #[test]
         fn the_level_falls_by_one_per_opening_and_walls_block_it(
-            (width, height, seed) in (2u32..=20, 2u32..=15, any::<u64>()),
+            (width, height, seed) in (2u32..=40, 2u32..=30, any::<u64>()),
         ) {
             let maze = generate(&GenOptions::walk(width, height, seed)).expect("maze");
             let light = ExitLight::of(&maze);
@@ -200,6 +204,30 @@ mod tests {
             "the box is the light's, not the maze's: {dark_outside}"
         );
         assert!(ExitLight::default().bounds().is_empty());
+    }
+
+    /// Issue #39: the light reaches fifteen cells of path (the exit's own and fifteen more levels), on
+    /// a maze of any size, and the search and the box stay the light's: on a 300 × 300 grid the lit
+    /// cells are at most the 481 within fifteen steps of the exit by any route, the farthest fifteen
+    /// openings away, and the box at most 31 cells a side.
+    #[test]
+    fn the_light_reaches_fifteen_cells_of_path_and_no_more_on_a_large_maze() {
+        assert_eq!(EXIT_LIGHT, 16);
+        let maze = generate(&GenOptions::walk(300, 300, 7)).expect("maze");
+        let light = ExitLight::of(&maze);
+        let dist = distances(&maze);
+        let within: Vec<u32> =
+            (0..maze.cell_count() as u32).filter(|&c| dist[c as usize].is_some_and(|d| d < 16)).collect();
+        assert_eq!(light.lit_cells(), within.len());
+        assert!(light.lit_cells() <= 481, "{}", light.lit_cells());
+        assert!(
+            within.iter().any(|&c| dist[c as usize] == Some(15)),
+            "a corridor fifteen cells long from the exit"
+        );
+        assert!(within.iter().all(|&c| light.level(c) == 16 - dist[c as usize].unwrap() as u8));
+        let size = light.bounds().max - light.bounds().min;
+        let cell = crate::generate::CELL_SIZE;
+        assert!(size.x <= 31.0 * cell + 1e-3 && size.y <= 31.0 * cell + 1e-3, "{size:?}");
     }
 
     #[test]

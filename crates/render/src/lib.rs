@@ -139,7 +139,7 @@ impl Renderer {
     ) -> RenderStats {
         self.begin(maze, eye); // every sample uncovered, the buffer sized to the grid
         let mut stats = self.choose_walls(maze, eye, culling); // portal pass: cell to cell through openings
-        let light = Light::of(eye, maze, !self.no_exit_tint); // the fog, the sun and the headlight of this view
+        let light = Light::of(eye, maze, true); // the fog, the sun and the headlight of this view
         for k in 0..self.walls.len() {
             let e = self.walls[k]; // model → world → view → clip → clip → ÷w → NDC → viewport → raster
             let (triangles, written) = self.draw_wall(maze, eye, &light, e, shading, textures);

@@ -408,6 +408,33 @@ pub(crate) const CEILING_16: u8 = 4;
 pub(crate) const LIGHT_GREYS_16: [u8; 2] = [7, 15];
 /// In 16 colours, a sample of the scene darker than this (OKLab L) may be black; a lighter one never is.
 pub(crate) const NEAR_BLACK: f32 = 0.2;
+/// The exit's glow on a wall in 16 colours (the dark green, xterm's 2): see [`glow_wall_16`].
+pub(crate) const GLOW_16: u8 = 2;
+
+/// Whether a chromaticity `direction` (OKLab, any scale) is the exit's green: coloured and within 25°
+/// of the beacon's hue (generated walls are never green: only the exit's light, the beacon and a
+/// course file's green wall are). In 16 colours the dark green ([`GLOW_16`]) is for these alone: a
+/// dark yellow or cyan wall's ramp may not take it, so no unlit generated wall shows the glow's look.
+fn exit_green(direction: Vec3) -> bool {
+    let glow = oklab(crate::sprite::EXIT_GLOW);
+    let (chroma, hue) = (direction.y.hypot(direction.z), direction.z.atan2(direction.y));
+    direction.x > 0.0
+        && chroma > GREY_ENTRY * direction.x
+        && hue_difference(hue, glow.z.atan2(glow.y)) <= 25f32.to_radians()
+}
+
+/// Whether a wall of chromaticity `direction` shows the exit's glow in 16 colours (issue #39): the
+/// glow's very hue (within 8° of the beacon's: the exit's light gives every surface it lights that
+/// hue, and a course file's sage or teal walls, further off or paler, keep their own ramps) and a
+/// chroma share of the glow's (chroma ⁄ lightness 0.085–0.155: the faintest glow has 0.09, the
+/// beacon 0.18). Such a wall shows [`GLOW_16`] (black where near black) and nothing else: its ramp
+/// would otherwise climb to bright cyan or the bright green, a wall's hue or the beacon's (xterm's 10).
+fn glow_16(direction: Vec3) -> bool {
+    let glow = oklab(crate::sprite::EXIT_GLOW);
+    let (chroma, hue) = (direction.y.hypot(direction.z), direction.z.atan2(direction.y));
+    let glow_hue = hue_difference(hue, glow.z.atan2(glow.y)) <= 8f32.to_radians();
+    glow_hue && (0.085..0.155).contains(&(chroma / direction.x.max(1e-6)))
+}
 
 /// The surface whose chromaticity slot is `slot` ([`Surface`]).
 fn surface_of(slot: usize) -> Surface {
@@ -469,11 +496,14 @@ impl LightRamp {
         let sixteen = palette == Palette::Ansi16;
         let grey_wall = surface == Surface::Wall && !coloured;
         let stretch = if grey_wall { STRETCH_16_GREY_WALL } else { STRETCH_16 };
+        let glow = sixteen && surface == Surface::Wall && glow_16(direction);
         let candidates: Vec<RampEntry> = ramp_entries(palette)
             .iter()
             .filter(|e| match (sixteen, surface) {
                 (true, Surface::Floor) => e.index == 0 || e.index == FLOOR_16,
                 (true, Surface::Ceiling) => e.index == 0 || e.index == CEILING_16,
+                (true, Surface::Wall) if glow => e.index == 0 || e.index == GLOW_16,
+                (true, Surface::Wall) if e.index == GLOW_16 && !exit_green(direction) => false,
                 (true, Surface::Wall) if e.index == FLOOR_16 || e.index == CEILING_16 => false,
                 _ => e.chroma < GREY_ENTRY || (coloured && hue_difference(e.hue, hue) <= palette.hue_span()),
             })
@@ -979,6 +1009,23 @@ mod tests {
                 assert!(vivid <= 1.7, "{rgb:?} × {k}/20: {vivid:.2}× the chroma");
             }
         }
+    }
+
+    /// Issue #39: in 16 colours only the glow's own hue takes the glow's look: a course file's sage
+    /// and teal walls (the CS559 10×10 maze's: 14°–16° off the beacon's hue, or on it but paler) keep
+    /// their ramps, and
+    /// the surfaces the exit's light tints (every level, walls) take it.
+    #[test]
+    fn in_16_colours_the_glows_look_is_for_the_glows_hue_alone() {
+        let lin = |rgb: [u8; 3]| Vec3::from_array(rgb.map(|v| srgb_to_linear(f32::from(v) / 255.0)));
+        for course in [[97, 134, 119], [95, 171, 145], [99, 127, 108]] {
+            assert!(!glow_16(oklab(lin(course))), "{course:?}");
+        }
+        for level in 1..=mazewalk_maze::light::EXIT_LIGHT {
+            let lit = crate::shade::exit_tinted(Vec3::splat(0.3), level, 1.0);
+            assert!(glow_16(oklab(lit)), "level {level}");
+        }
+        assert!(!glow_16(oklab(crate::sprite::EXIT_GLOW)), "the beacon keeps its bright green");
     }
 
     /// Issue #39: the exit's glow on the floor, the floor's colour turned toward the exit's green as

@@ -22,9 +22,9 @@ use super::portal::{PortalPass, PortalStats};
 use super::raster::{GridVertex, LANES, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
-    CEILING_EXIT_TINT, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker, checker_filtered,
-    edge_color, exit_tinted, headlight, jamb_color, jamb_grey, lit, luminance, seam_color, slant_cosine,
-    srgb_to_linear, sun_factor, wall_albedo,
+    CEILING_EXIT_TINT, FLOOR_EXIT_TINT, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker,
+    checker_filtered, edge_color, exit_tinted, headlight, jamb_color, jamb_grey, lit, luminance, seam_color,
+    slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -140,11 +140,10 @@ pub struct Renderer {
     heads: Vec<(usize, usize, usize)>,
     /// The cells whose floors carry a chalk mark ([`Renderer::set_chalk`]), sorted, each once.
     chalk: Vec<u32>,
-    /// This frame draws no tint of the exit's light: in 16 colours, where the nearest palette entry
-    /// of a tinted green wall is the beacon's own bright green (a wall must never read as the beacon).
-    pub(crate) no_exit_tint: bool,
-    /// This frame tints no floor or ceiling by the exit's light: in 16 colours (as walls) and without
-    /// colour (ascii shows lightness only: the frame stays exactly as without the tint).
+    /// This frame tints no floor or ceiling by the exit's light: in 16 colours (the floor and the
+    /// ceiling show one entry each there, and a green one would be a wall's; walls show the glow's
+    /// dark green, `palette::GLOW_16`) and without colour (ascii shows lightness only: the frame stays
+    /// exactly as without the tint).
     pub(crate) no_plane_tint: bool,
     /// Tests: draw floor and ceiling as if the maze had no exit's light (walls as ever).
     #[cfg(test)]
@@ -252,7 +251,6 @@ impl Renderer {
         target: Target<'_>,
     ) -> Result<RenderStats, CameraError> {
         let RenderOptions { charset, color_depth, culling, cell_aspect, textures, .. } = *options;
-        self.no_exit_tint = color_depth == ColorDepth::Ansi16;
         self.no_plane_tint = matches!(color_depth, ColorDepth::Ansi16 | ColorDepth::None);
         #[cfg(test)]
         {
@@ -398,7 +396,6 @@ impl Renderer {
         let level = side.zip(light.exit_light).map_or(0, |(cell, exit_light)| exit_light.level(cell));
         let lit_albedo = palette::off_floor_and_ceiling(exit_tinted(
             lit(albedo, headlight(normal_view), AMBIENT),
-            EXIT_GLOW,
             level,
             1.0,
         ));
@@ -447,8 +444,9 @@ impl Renderer {
     /// With `filter` (maze units a sample covers per unit of distance), the tiles fade to their mean as
     /// they shrink below a sample ([`checker_filtered`]).
     /// With `glow` (the maze and its exit's light), a sample in a lit cell turns toward the exit's
-    /// colour by its cell's level as a wall does ([`exit_tinted`], the ceiling by
-    /// [`CEILING_EXIT_TINT`]), its luminance kept: rows that come near no lit cell take the fast path.
+    /// colour by its cell's level as a wall does ([`exit_tinted`], the floor by [`FLOOR_EXIT_TINT`],
+    /// the ceiling by [`CEILING_EXIT_TINT`]), its luminance kept: rows that come near no lit cell take
+    /// the fast path.
     pub(crate) fn fill_floor_and_ceiling(
         &mut self,
         eye: &Eye,
@@ -575,11 +573,11 @@ impl Renderer {
                         let paint = &self.plane_row.shade;
                         let samples = colors.iter_mut().zip(depths.iter_mut()).zip(ids.iter_mut()).zip(paint);
                         // The tint is linear in the colour: the plane's colour tinted by the sample's
-                        // level (one of nine, for the row), times its checker, light and fog, is the
-                        // tinted sample.
-                        let strength = if hit.plane.1 == FLOOR { 1.0 } else { CEILING_EXIT_TINT };
+                        // level (one of `EXIT_LIGHT` + 1, for the row), times its checker, light and
+                        // fog, is the tinted sample.
+                        let strength = if hit.plane.1 == FLOOR { FLOOR_EXIT_TINT } else { CEILING_EXIT_TINT };
                         let tinted: [Vec3; EXIT_LIGHT as usize + 1] =
-                            std::array::from_fn(|level| exit_tinted(base, EXIT_GLOW, level as u8, strength));
+                            std::array::from_fn(|level| exit_tinted(base, level as u8, strength));
                         let levels = &mut self.plane_row.levels;
                         let point_at = |x: usize| {
                             let (start, dir) = at(x);
@@ -1228,10 +1226,11 @@ impl<'m> CellCursor<'m> {
     }
 
     /// `color` of floor or ceiling (`plane`) at `point` in the exit's light: tinted by the level of
-    /// the cell `point` lies in ([`exit_tinted`]; the ceiling by [`CEILING_EXIT_TINT`]).
+    /// the cell `point` lies in ([`exit_tinted`]; the floor by [`FLOOR_EXIT_TINT`], the ceiling by
+    /// [`CEILING_EXIT_TINT`]).
     fn tint(&mut self, point: Vec2, plane: u32, color: Vec3) -> Vec3 {
         let level = self.level(point);
-        exit_tinted(color, EXIT_GLOW, level, if plane == FLOOR { 1.0 } else { CEILING_EXIT_TINT })
+        exit_tinted(color, level, if plane == FLOOR { FLOOR_EXIT_TINT } else { CEILING_EXIT_TINT })
     }
 }
 

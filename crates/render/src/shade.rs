@@ -6,6 +6,7 @@
 //! matrix and need not be unit length.
 
 use glam::{Vec2, Vec3};
+use mazewalk_maze::light::EXIT_LIGHT;
 
 /// The power of `|n · axis|` the headlight takes ([`headlight`]): 3, not Lambert's 1, so that a wall
 /// turned a little from square on still gets nearly all of it and a wall seen along the view nearly
@@ -78,29 +79,88 @@ pub(crate) fn apart_from_floor(color: Vec3, floor_luminance: f32, ambient: f32) 
     if short < target { raised.lerp(Vec3::ONE, (target - short) / (1.0 - short).max(1e-6)) } else { raised }
 }
 
-/// How far the exit's light turns a surface toward the exit's colour in the exit's own cell (a share,
-/// 0..1); each cell of path further, one [`EXIT_LIGHT`](mazewalk_maze::light::EXIT_LIGHT)th less.
-pub(crate) const EXIT_TINT: f32 = 0.4;
+/// The exit's glow's chroma relative to the surface's lightness (OKLab C ⁄ L) in the faintest lit
+/// cell (level 1, [`EXIT_LIGHT`] − 1 cells of path from the exit) and in the exit's own cell; the
+/// levels between step evenly in OKLab chroma, which is close to even in what the eye sees (issue
+/// #39: a share of the exit's green mixed in linear RGB, 5 % a level, was lost in 256 colours below
+/// about a fifth, and on tan and yellow walls passed through olive). At 0.09 the faintest glow on a
+/// generated wall (L 0.75) has chroma 0.068, the cube's pale green (135, 175, 135) (0.072): a palette
+/// step off every unlit wall in 256 colours, at every angle and as far as the fog leaves it a green,
+/// a side wall the darker (95, 135, 95); from about 0.12 (the last four cells) a wall faced square on
+/// shows the cube's greener (95, 175, 135). The top is 0.13 because the cube has so few muted greens:
+/// at 0.14 side walls take the faced walls' entry, at 0.16 the floor's cell lines vanish into a green
+/// floor, and from 0.18 walls take the vivid (0, 135, 95) and (0, 95, 0), the far beacon's look. Always
+/// darker and paler than the beacon's green and white bands at the same distance, which keep a look
+/// of their own.
+pub(crate) const EXIT_GLOW_CHROMA: (f32, f32) = (0.09, 0.13);
 
-/// The ceiling's share of the exit's tint, against the floor's and the walls' 1: the light is on the
-/// ground (the beacon stands on it), the ceiling only catches a fainter glow of it.
+/// The floor's share of the exit's glow ([`EXIT_GLOW_CHROMA`]), against the walls' 1: in 256 colours
+/// the only muted green near the floor's lightness is the cube's (95, 135, 95), which a lit side wall
+/// shows, so a floor as green as the walls took the side walls' entry and the two merged (the first
+/// misreading issue #39 fixed: a side wall read as open floor). At 0.7 the floor keeps its greys
+/// there (and its cell lines) and leans green in truecolor.
+pub(crate) const FLOOR_EXIT_TINT: f32 = 0.7;
+
+/// The ceiling's share of the exit's glow ([`EXIT_GLOW_CHROMA`]), against the walls' 1: the light is
+/// on the ground (the beacon stands on it), the ceiling only catches a fainter glow.
 pub(crate) const CEILING_EXIT_TINT: f32 = 0.5;
 
-/// A surface of `color` lit by the exit's light at `level` (0..=`EXIT_LIGHT`, the cell's level:
-/// [`mazewalk_maze::light::ExitLight`]): turned toward `glow`'s hue by [`EXIT_TINT`] × level ⁄
-/// `EXIT_LIGHT` × `strength` (1 for walls and floor, [`CEILING_EXIT_TINT`] for the ceiling), its
-/// luminance kept. So the tint grows cell by cell toward the exit (a trail to
-/// follow), never makes a wall brighter (the walls-apart rule holds, and nothing matches the beacon,
-/// which is far lighter and saturated), and in ASCII, which draws luminance only, changes nothing.
+/// The exit's light at `level` as a colour of luminance 1 (linear): the hue of the beacon's green
+/// ([`EXIT_GLOW`](crate::sprite::EXIT_GLOW)), the chroma of [`EXIT_GLOW_CHROMA`] at `level` times
+/// `strength` relative to its lightness. (Turned 9° toward the 256-colour cube's greens, 145°, the
+/// held-out views' median hue error in 256 colours fell from 8.6° to 5.1°, but every lit wall faced
+/// square on took the same pale green there, near the exit and at the edge of the light alike.)
 #[must_use]
-pub(crate) fn exit_tinted(color: Vec3, glow: Vec3, level: u8, strength: f32) -> Vec3 {
+fn exit_glow_colour(level: u8, strength: f32) -> Vec3 {
+    let top = f32::from(EXIT_LIGHT.max(2) - 1);
+    let along = f32::from(level.clamp(1, EXIT_LIGHT) - 1) / top;
+    let relative = strength * (EXIT_GLOW_CHROMA.0 + (EXIT_GLOW_CHROMA.1 - EXIT_GLOW_CHROMA.0) * along);
+    // The hue's direction in OKLab's (a, b), worked out once (three cube roots: the floor's rows ask
+    // for every level's colour, a frame in the exit's light over a thousand times).
+    static DIRECTION: std::sync::OnceLock<Vec2> = std::sync::OnceLock::new();
+    let direction = *DIRECTION.get_or_init(|| {
+        let hue = crate::palette::oklab(crate::sprite::EXIT_GLOW);
+        Vec2::new(hue.y, hue.z).normalize_or_zero()
+    });
+    // (any lightness: OKLab's chroma and lightness scale together as the colour is scaled, so the
+    // colour at L 0.75 scaled to luminance 1 keeps C ⁄ L)
+    let lightness = 0.75;
+    let chroma = lightness * relative;
+    let colour =
+        linear_from_oklab(Vec3::new(lightness, chroma * direction.x, chroma * direction.y)).max(Vec3::ZERO);
+    colour / luminance(colour).max(1e-6)
+}
+
+/// A linear sRGB colour from OKLab (Björn Ottosson's inverse of [`oklab`](crate::palette::oklab)).
+#[must_use]
+fn linear_from_oklab(lab: Vec3) -> Vec3 {
+    let l = lab.x + 0.396_337_78 * lab.y + 0.215_803_76 * lab.z;
+    let m = lab.x - 0.105_561_346 * lab.y - 0.063_854_17 * lab.z;
+    let s = lab.x - 0.089_484_18 * lab.y - 1.291_485_5 * lab.z;
+    let (l, m, s) = (l * l * l, m * m * m, s * s * s);
+    Vec3::new(
+        4.076_741_7 * l - 3.307_711_6 * m + 0.230_969_94 * s,
+        -1.268_438 * l + 2.609_757_4 * m - 0.341_319_38 * s,
+        -0.004_196_086_3 * l - 0.703_418_6 * m + 1.707_614_7 * s,
+    )
+}
+
+/// A surface of `color` lit by the exit's light at `level` (0..=`EXIT_LIGHT`, the cell's level:
+/// [`mazewalk_maze::light::ExitLight`]): **the exit's green, of the surface's luminance**, its chroma
+/// growing from the faintest lit cell to the exit ([`EXIT_GLOW_CHROMA`], times `strength`: 1 for
+/// walls, [`FLOOR_EXIT_TINT`] for the floor, [`CEILING_EXIT_TINT`] for the ceiling). The surface's own
+/// hue gives way to the glow's, so a lit wall never shows another hue or the olive between a warm wall
+/// and green (generated walls are never green, issue #39); its luminance is kept, so the headlight,
+/// the sun, the walls-apart rule and the fog still tell the geometry, and in ASCII, which draws
+/// luminance only, it changes nothing. A lit wall's colour then depends on its level and its light
+/// alone: every wall of one cell seen at one angle and depth has one colour, and a cell nearer the
+/// exit a greener one. Linear in `color` (the floor's rows tint one colour per level and scale it).
+#[must_use]
+pub(crate) fn exit_tinted(color: Vec3, level: u8, strength: f32) -> Vec3 {
     if level == 0 {
         return color;
     }
-    let share = EXIT_TINT * strength * f32::from(level.min(mazewalk_maze::light::EXIT_LIGHT))
-        / f32::from(mazewalk_maze::light::EXIT_LIGHT);
-    let glow_luminance = luminance(glow).max(1e-6);
-    color.lerp(glow * (luminance(color) / glow_luminance), share)
+    exit_glow_colour(level, strength) * luminance(color)
 }
 
 /// The sun: a fixed directional light (world space, unit length, pointing toward the light: east by
@@ -522,5 +582,121 @@ mod tests {
         let far = |p| checker_filtered(base, p, 1.0, 0.2, 0.6);
         assert_eq!(far(a), far(b));
         assert!((far(a) - base * 0.9).abs().max_element() < 1e-6);
+    }
+
+    /// The OKLab colour an xterm-256 entry shows.
+    fn entry_lab(entry: u8) -> Vec3 {
+        crate::palette::oklab(Vec3::from_array(
+            mazewalk_term::frame::xterm_rgb(entry).map(|v| srgb_to_linear(f32::from(v) / 255.0)),
+        ))
+    }
+
+    fn hue(lab: Vec3) -> f32 {
+        lab.z.atan2(lab.y)
+    }
+
+    /// A generated wall's colour as the pipeline lights it (before the exit's light and the fog):
+    /// lifted off black, the sun at `sun` (0 turned away … 1 facing it), the headlight at `diffuse`.
+    fn wall_lit(srgb: [u8; 3], sun: f32, diffuse: f32) -> Vec3 {
+        let albedo = wall_albedo(Vec3::from_array(srgb.map(|v| srgb_to_linear(f32::from(v) / 255.0))));
+        lit(albedo * (SUN_LOW + (SUN_HIGH - SUN_LOW) * sun), diffuse, 0.65)
+    }
+
+    /// Issue #39: the exit's glow on a generated wall, at every level, every angle to the headlight
+    /// (a side wall gets none of it, a wall faced square on all) and either side to the sun, near and
+    /// as far as the fog leaves 45 % of the light (about 4 cells): in 256 colours the lit wall takes an
+    /// entry at least a palette step (0.03 in OKLab) off the same wall unlit, coloured, and closer in
+    /// hue to the glow than to any generated wall colour; in truecolor its hue is the glow's, and its
+    /// chroma grows with the level at every light, so two looks tell which way the exit is.
+    #[test]
+    fn a_lit_wall_is_the_glows_green_a_palette_step_off_the_wall_unlit_in_256_colours() {
+        use crate::palette::{Palette, oklab, ramp_entry};
+        use mazewalk_maze::generate::WALL_COLOURS;
+        let glow = crate::sprite::EXIT_GLOW;
+        let glow_hue = hue(oklab(glow));
+        let wall_hues: Vec<f32> = WALL_COLOURS
+            .iter()
+            .map(|&c| hue(oklab(Vec3::from_array(c.map(|v| srgb_to_linear(f32::from(v) / 255.0))))))
+            .collect();
+        let off = |a: f32, b: f32| crate::palette::hue_difference(a, b);
+        let mut judged = 0;
+        for &srgb in &WALL_COLOURS {
+            for sun in [0.0, 1.0] {
+                for diffuse in [0.0, 0.1, 0.3, 0.6, 1.0] {
+                    let colour = wall_lit(srgb, sun, diffuse);
+                    let mut chroma_before = 0.0;
+                    for level in 1..=EXIT_LIGHT {
+                        let lit = exit_tinted(colour, level, 1.0);
+                        let lab = oklab(lit);
+                        let chroma = lab.y.hypot(lab.z);
+                        assert!(off(hue(lab), glow_hue) < 1f32.to_radians(), "{srgb:?} level {level}: {lab}");
+                        assert!(
+                            chroma / lab.x > chroma_before + 0.001,
+                            "{srgb:?} level {level}: chroma {chroma} not above the level before's"
+                        );
+                        chroma_before = chroma / lab.x;
+                        assert!(
+                            (luminance(lit) - luminance(colour)).abs() < 1e-3 * luminance(colour).max(1e-3)
+                        );
+                        for keep in [1.0, 0.8, 0.6, 0.45] {
+                            let (shown, unlit) = (
+                                ramp_entry(lit * keep, Palette::Xterm256),
+                                ramp_entry(colour * keep, Palette::Xterm256),
+                            );
+                            let (shown_lab, unlit_lab) = (entry_lab(shown), entry_lab(unlit));
+                            let why = format!(
+                                "{srgb:?} sun {sun} headlight {diffuse} level {level} fog keeps {keep}: entry {shown} {:?}, unlit {unlit} {:?}",
+                                mazewalk_term::frame::xterm_rgb(shown),
+                                mazewalk_term::frame::xterm_rgb(unlit)
+                            );
+                            assert!(shown_lab.distance(unlit_lab) >= 0.03, "{why}");
+                            assert!(shown_lab.y.hypot(shown_lab.z) > 0.04, "grey: {why}");
+                            let to_glow = off(hue(shown_lab), glow_hue);
+                            assert!(wall_hues.iter().all(|&h| to_glow < off(hue(shown_lab), h)), "{why}");
+                            judged += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(judged, WALL_COLOURS.len() * 2 * 5 * usize::from(EXIT_LIGHT) * 4);
+    }
+
+    /// Issue #39: no lit wall is taken for the beacon. The beacon's green (its brightest, middle
+    /// column) shows a lighter entry than any lit wall at the same distance (the beacon is fogged as
+    /// at half its distance), and in 16 colours lit walls show the dark green (or black)
+    /// and never the beacon's bright green, which the beacon keeps.
+    #[test]
+    fn a_lit_wall_never_takes_the_beacons_look() {
+        use crate::palette::{GLOW_16, Palette, ramp_entry};
+        use mazewalk_maze::generate::WALL_COLOURS;
+        let glow = crate::sprite::EXIT_GLOW;
+        let bright_green = 10;
+        for keep in [1.0f32, 0.8, 0.6, 0.45, 0.3, 0.2] {
+            // The beacon at the same distance: half as fogged ([`Fog::keep`] at half the distance).
+            let beacon_keep = 1.0 / (1.0 + (1.0 / keep - 1.0) / 4.0);
+            let beacon = ramp_entry(glow * beacon_keep, Palette::Xterm256);
+            assert_eq!(ramp_entry(glow * keep.max(0.5), Palette::Ansi16), bright_green, "the beacon's own");
+            for &srgb in &WALL_COLOURS {
+                for (sun, diffuse) in [(0.0, 0.0), (1.0, 1.0), (0.5, 0.5)] {
+                    for level in 1..=EXIT_LIGHT {
+                        let lit = exit_tinted(wall_lit(srgb, sun, diffuse), level, 1.0) * keep;
+                        let shown = ramp_entry(lit, Palette::Xterm256);
+                        assert!(
+                            entry_lab(beacon).x > entry_lab(shown).x + 0.05,
+                            "{srgb:?} level {level} keep {keep}: wall {shown}, beacon {beacon}"
+                        );
+                        let sixteen = ramp_entry(lit, Palette::Ansi16);
+                        assert!(
+                            sixteen == GLOW_16 || sixteen == 0,
+                            "{srgb:?} level {level} keep {keep}: {sixteen}"
+                        );
+                    }
+                    // and no unlit generated wall shows the glow's green in 16 colours
+                    let unlit = ramp_entry(wall_lit(srgb, sun, diffuse) * keep, Palette::Ansi16);
+                    assert!(unlit != GLOW_16 && unlit != bright_green, "{srgb:?} keep {keep}: {unlit}");
+                }
+            }
+        }
     }
 }

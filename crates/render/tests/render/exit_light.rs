@@ -1,6 +1,7 @@
 //! Issue #39: the exit's light spills down the corridors (block light, `mazewalk_maze::light`): walls
-//! within a few cells' path of the exit take a faint tint of the exit's green, stronger closer; walls
-//! beyond its reach, or behind a wall from it, are drawn as in a maze without an exit.
+//! within fifteen cells' path of the exit turn the exit's green, pale at the edge of its reach and
+//! greener closer, in truecolor, 256 and 16 colours; walls beyond its reach, or behind a wall from
+//! it, are drawn as in a maze without an exit.
 
 use glam::Vec3;
 use mazewalk_maze::Maze;
@@ -31,20 +32,26 @@ fn samples(maze: &Maze, camera: &Camera) -> (Vec<Vec3>, Vec<u32>) {
 /// The exit's light (linear RGB, as the beacon's glow).
 const EXIT_GLOW: Vec3 = Vec3::new(0.20, 1.0, 0.42);
 
-/// How far a colour's chromaticity (its shares of red, green and blue) is from the exit's light's.
-fn off_exit_hue(c: Vec3) -> f32 {
-    let chromaticity = |c: Vec3| c / (c.x + c.y + c.z).max(1e-6);
-    chromaticity(c).distance(chromaticity(EXIT_GLOW))
+/// OKLab of a linear colour.
+fn oklab(c: Vec3) -> Vec3 {
+    Vec3::from_array(mazewalk_term::frame::oklab(c.to_array(), f32::cbrt))
+}
+
+/// The difference of two OKLab hue angles (radians), 0..=π.
+fn hue_off(a: Vec3, b: Vec3) -> f32 {
+    let d = (a.z.atan2(a.y) - b.z.atan2(b.y)).abs() % std::f32::consts::TAU;
+    d.min(std::f32::consts::TAU - d)
 }
 
 #[test]
-fn walls_near_the_exit_lean_green_and_walls_out_of_its_reach_do_not() {
+fn walls_near_the_exit_turn_green_greener_nearer_and_walls_out_of_its_reach_do_not() {
     let maze = generate(&GenOptions::walk(20, 15, 71)).expect("maze");
     let dark = without_exit(&maze);
     let light = ExitLight::of(&maze);
     let v = maze.viewer();
     let mut near_walls = 0;
     let mut far_walls = 0;
+    let mut shares = Vec::new();
     for cell in 0..maze.cell_count() as u32 {
         let level = light.level(cell);
         for heading in [0.0, 90.0, 180.0, 270.0] {
@@ -64,13 +71,21 @@ fn walls_near_the_exit_lean_green_and_walls_out_of_its_reach_do_not() {
                 assert_eq!(a, b, "cell {cell} (no light) heading {heading}: wall {e} changed");
                 far_walls += 1;
             } else {
-                let (da, db) = (off_exit_hue(a), off_exit_hue(b));
-                // nearer the exit's hue, by more the nearer the exit (the tint is 5 % of the way per
-                // level in colour, less in chromaticity, which moves less than the colour: 2 % asked)
+                // The exit's green (the beacon's hue), its chroma a fixed share of its lightness that grows by level from
+                // 0.09 at the edge of the light's reach to 0.13 in the exit's cell (fog and light
+                // scale a colour, which keeps that share).
+                let lab = oklab(a);
                 assert!(
-                    da < db * (1.0 - 0.02 * f32::from(level)),
-                    "cell {cell} level {level} heading {heading}: {da} off the exit's hue lit, {db} unlit"
+                    hue_off(lab, oklab(EXIT_GLOW)) < 12f32.to_radians(),
+                    "cell {cell} level {level}: {lab}"
                 );
+                let share = lab.y.hypot(lab.z) / lab.x;
+                let want = 0.09 + 0.04 * f32::from(level - 1) / 15.0;
+                assert!(
+                    (share - want).abs() < 0.004,
+                    "cell {cell} level {level}: chroma {share} of L, not {want}"
+                );
+                shares.push((level, share));
                 let luminance = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
                 assert!(
                     (luminance(a) - luminance(b)).abs() < 0.02 * luminance(b) + 1e-3,
@@ -81,27 +96,45 @@ fn walls_near_the_exit_lean_green_and_walls_out_of_its_reach_do_not() {
         }
     }
     assert!(near_walls >= 8, "walls faced within the light's reach: {near_walls}");
+    assert!(
+        shares.iter().any(|&(l, _)| l <= 3) && shares.iter().any(|&(l, _)| l >= 14),
+        "walls faced at both ends of the light: {shares:?}"
+    );
     assert!(far_walls >= 100, "walls faced beyond it: {far_walls}");
 }
 
-// In 16 colours a tinted green wall's nearest entry is the beacon's bright green: no tint there.
+/// Issue #39: in 16 colours the walls of a lit cell, seen from inside it at each heading, show the
+/// glow's dark green (xterm's 2, or black) and nothing else, never the beacon's bright green; the
+/// walls of a cell out of the light's reach are as in the maze without an exit (shown colours,
+/// inside walls: an edge sample depends on its neighbours).
 #[test]
-fn sixteen_colours_draw_no_tint() {
+fn sixteen_colours_show_the_glow_as_the_dark_green_on_lit_walls_only() {
+    use mazewalk_render::Charset;
+    use mazewalk_render::quality;
     let maze = generate(&GenOptions::walk(20, 15, 71)).expect("maze");
     let dark = without_exit(&maze);
     let light = ExitLight::of(&maze);
     let v = maze.viewer();
-    let walls = maze.edges().len() as u32;
     let render = |maze: &Maze, camera: &Camera| {
         let mut frame = Frame::new(120, 40);
         let region = frame.region();
         let mut renderer = Renderer::new();
         let options = RenderOptions { color_depth: ColorDepth::Ansi16, ..RenderOptions::default() };
         renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
-        (renderer.samples().color().to_vec(), renderer.samples().id().to_vec())
+        (quality::shown(&frame, Charset::Half), renderer.samples().id().to_vec())
     };
-    let mut compared = 0;
-    for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0) {
+    let oklab_of = |rgb: [u8; 3]| {
+        let lin = rgb.map(|v| mazewalk_render::shade::srgb_to_linear(f32::from(v) / 255.0));
+        Vec3::from_array(mazewalk_term::frame::oklab(lin, f32::cbrt))
+    };
+    let xterm = |i: u8| oklab_of(mazewalk_render::palette::xterm_rgb(i));
+    let (glow_green, black) = (xterm(2), xterm(0));
+    let (mut lit_samples, mut dark_samples) = (0, 0);
+    for cell in (0..maze.cell_count() as u32)
+        .step_by(3)
+        .chain((0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0))
+    {
+        let level = light.level(cell);
         for heading in [0.0, 90.0, 180.0, 270.0] {
             let camera = Camera {
                 eye_z: v.z,
@@ -109,19 +142,112 @@ fn sixteen_colours_draw_no_tint() {
                 ..Camera::new(maze.cell_centroid(cell), heading, v.fov_deg)
             };
             let ((lit, ids), (unlit, _)) = (render(&maze, &camera), render(&dark, &camera));
-            // Inside walls: an edge sample depends on its neighbours, and the beacon, drawn only in
-            // the lit maze, puts edges on the walls beside it.
             let width = 120;
             let inside = |k: usize| {
                 [k.wrapping_sub(1), k + 1, k.wrapping_sub(width), k + width]
                     .iter()
                     .all(|&n| ids.get(n).is_none_or(|&id| id == ids[k]))
             };
-            for k in (0..ids.len()).filter(|&k| ids[k] < walls && inside(k)) {
-                assert_eq!(lit[k], unlit[k], "cell {cell} heading {heading} sample {k}");
-                compared += 1;
+            let own = maze.cell_edges(cell);
+            for k in (0..ids.len()).filter(|&k| own.contains(&ids[k]) && inside(k)) {
+                if level > 0 {
+                    assert!(
+                        lit[k].distance(glow_green) < 1e-3 || lit[k].distance(black) < 1e-3,
+                        "cell {cell} level {level} heading {heading} sample {k}: {}",
+                        lit[k]
+                    );
+                    lit_samples += 1;
+                } else {
+                    assert_eq!(lit[k], unlit[k], "cell {cell} heading {heading} sample {k}");
+                    dark_samples += 1;
+                }
             }
         }
     }
-    assert!(compared > 1000, "{compared}");
+    assert!(lit_samples > 1000 && dark_samples > 1000, "{lit_samples} lit, {dark_samples} dark");
+}
+
+/// Issue #39, in 256 colours over three generated mazes: from inside every lit cell at each heading,
+/// every sample inside one of the cell's own walls shows an entry a palette step (0.03 in OKLab) off
+/// the same wall without the exit's light, coloured, and closer in hue to the glow than to any
+/// generated wall colour (side walls and walls faced square on alike, near and across the cell);
+/// and walls faced square on near the exit show a greener entry than far from it.
+#[test]
+fn in_256_colours_every_lit_wall_shows_the_glows_hue_a_step_off_its_own() {
+    use mazewalk_maze::generate::WALL_COLOURS;
+    use mazewalk_render::Charset;
+    use mazewalk_render::quality;
+    let hue = |lab: Vec3| lab.z.atan2(lab.y);
+    let off = |a: f32, b: f32| {
+        let d = (a - b).abs() % std::f32::consts::TAU;
+        d.min(std::f32::consts::TAU - d)
+    };
+    let oklab_of = |rgb: [u8; 3]| {
+        let lin = rgb.map(|v| mazewalk_render::shade::srgb_to_linear(f32::from(v) / 255.0));
+        Vec3::from_array(mazewalk_term::frame::oklab(lin, f32::cbrt))
+    };
+    let glow_hue = hue(Vec3::from_array(mazewalk_term::frame::oklab(EXIT_GLOW.to_array(), f32::cbrt)));
+    let wall_hues: Vec<f32> = WALL_COLOURS.iter().map(|&c| hue(oklab_of(c))).collect();
+    let mut judged = 0;
+    let mut levels_seen = std::collections::BTreeSet::new();
+    let mut faced = Vec::new();
+    for seed in [71u64, 3, 74174] {
+        let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
+        let dark = without_exit(&maze);
+        let light = ExitLight::of(&maze);
+        let v = maze.viewer();
+        let render = |maze: &Maze, camera: &Camera| {
+            let mut frame = Frame::new(120, 40);
+            let region = frame.region();
+            let mut renderer = Renderer::new();
+            let options = RenderOptions { color_depth: ColorDepth::Ansi256, ..RenderOptions::default() };
+            renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
+            (quality::shown(&frame, Charset::Half), renderer.samples().id().to_vec())
+        };
+        for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0) {
+            for heading in [0.0, 90.0, 180.0, 270.0] {
+                let camera = Camera {
+                    eye_z: v.z,
+                    min_vfov_deg: maze.min_vfov_deg(),
+                    ..Camera::new(maze.cell_centroid(cell), heading, v.fov_deg)
+                };
+                let ((lit, ids), (unlit, _)) = (render(&maze, &camera), render(&dark, &camera));
+                let width = 120;
+                let inside = |k: usize| {
+                    [k.wrapping_sub(1), k + 1, k.wrapping_sub(width), k + width]
+                        .iter()
+                        .all(|&n| ids.get(n).is_none_or(|&id| id == ids[k]))
+                };
+                let own = maze.cell_edges(cell);
+                for k in (0..ids.len()).filter(|&k| own.contains(&ids[k]) && inside(k)) {
+                    let (a, b) = (lit[k], unlit[k]);
+                    let why = format!(
+                        "seed {seed} cell {cell} level {} heading {heading} sample {k}: {a} against {b}",
+                        light.level(cell)
+                    );
+                    assert!(a.distance(b) >= 0.03, "{why}");
+                    assert!(a.y.hypot(a.z) > 0.04, "grey: {why}");
+                    assert!(wall_hues.iter().all(|&h| off(hue(a), glow_hue) < off(hue(a), h)), "{why}");
+                    judged += 1;
+                    levels_seen.insert(light.level(cell));
+                }
+                // The wall straight ahead, faced square on: its chroma, to compare near and far.
+                let middle = (ids.len() / 120 / 2) * 120 + 60;
+                if own.contains(&ids[middle]) && inside(middle) {
+                    faced.push((light.level(cell), lit[middle].y.hypot(lit[middle].z)));
+                }
+            }
+        }
+    }
+    assert!(judged > 10_000, "{judged}");
+    assert!(levels_seen.contains(&1) && levels_seen.contains(&16), "{levels_seen:?}");
+    // Greener nearer, in 256 colours too: walls faced square on within three cells of the exit show
+    // a more saturated entry than those eight cells or more away.
+    let mean = |keep: &dyn Fn(u8) -> bool| {
+        let chosen: Vec<f32> = faced.iter().filter(|(l, _)| keep(*l)).map(|&(_, c)| c).collect();
+        assert!(chosen.len() >= 4, "{faced:?}");
+        chosen.iter().sum::<f32>() / chosen.len() as f32
+    };
+    let (near, far) = (mean(&|l| l >= 13), mean(&|l| l <= 8));
+    assert!(near > far + 0.015, "chroma of walls faced near the exit {near}, far from it {far}");
 }
