@@ -408,7 +408,7 @@ pub(crate) const CEILING_16: u8 = 4;
 pub(crate) const LIGHT_GREYS_16: [u8; 2] = [7, 15];
 /// In 16 colours, a sample of the scene darker than this (OKLab L) may be black; a lighter one never is.
 pub(crate) const NEAR_BLACK: f32 = 0.2;
-/// The exit's glow on a wall in 16 colours (the dark green, xterm's 2): see [`glow_wall_16`].
+/// The exit's glow on a wall in 16 colours (the dark green, xterm's 2): see [`glow_16`].
 pub(crate) const GLOW_16: u8 = 2;
 
 /// Whether a chromaticity `direction` (OKLab, any scale) is the exit's green: coloured and within 25°
