@@ -32,6 +32,24 @@ fn samples(maze: &Maze, camera: &Camera) -> (Vec<Vec3>, Vec<u32>) {
 /// The exit's light (linear RGB, as the beacon's glow).
 const EXIT_GLOW: Vec3 = Vec3::new(0.20, 1.0, 0.42);
 
+/// The maze viewer's camera at `cell`'s centroid, facing `heading` (degrees).
+fn cell_camera(maze: &Maze, cell: u32, heading: f32) -> Camera {
+    let v = maze.viewer();
+    Camera {
+        eye_z: v.z,
+        min_vfov_deg: maze.min_vfov_deg(),
+        ..Camera::new(maze.cell_centroid(cell), heading, v.fov_deg)
+    }
+}
+
+/// Whether sample `k` of a 120-sample-wide view lies inside its surface (its four neighbours show it too).
+fn inside(ids: &[u32], k: usize) -> bool {
+    let width = 120;
+    [k.wrapping_sub(1), k + 1, k.wrapping_sub(width), k + width]
+        .iter()
+        .all(|&n| ids.get(n).is_none_or(|&id| id == ids[k]))
+}
+
 /// OKLab of a linear colour.
 fn oklab(c: Vec3) -> Vec3 {
     Vec3::from_array(mazewalk_term::frame::oklab(c.to_array(), f32::cbrt))
@@ -48,18 +66,13 @@ fn walls_near_the_exit_turn_green_greener_nearer_and_walls_out_of_its_reach_do_n
     let maze = generate(&GenOptions::walk(20, 15, 71)).expect("maze");
     let dark = without_exit(&maze);
     let light = ExitLight::of(&maze);
-    let v = maze.viewer();
     let mut near_walls = 0;
     let mut far_walls = 0;
     let mut shares = Vec::new();
     for cell in 0..maze.cell_count() as u32 {
         let level = light.level(cell);
         for heading in [0.0, 90.0, 180.0, 270.0] {
-            let camera = Camera {
-                eye_z: v.z,
-                min_vfov_deg: maze.min_vfov_deg(),
-                ..Camera::new(maze.cell_centroid(cell), heading, v.fov_deg)
-            };
+            let camera = cell_camera(&maze, cell, heading);
             let ((lit, ids), (unlit, _)) = (samples(&maze, &camera), samples(&dark, &camera));
             // The wall straight ahead, in the middle of the view, if it belongs to this cell.
             let middle = (ids.len() / 120 / 2) * 120 + 60;
@@ -114,7 +127,6 @@ fn sixteen_colours_show_the_glow_as_the_dark_green_on_lit_walls_only() {
     let maze = generate(&GenOptions::walk(20, 15, 71)).expect("maze");
     let dark = without_exit(&maze);
     let light = ExitLight::of(&maze);
-    let v = maze.viewer();
     let render = |maze: &Maze, camera: &Camera| {
         let mut frame = Frame::new(120, 40);
         let region = frame.region();
@@ -136,20 +148,10 @@ fn sixteen_colours_show_the_glow_as_the_dark_green_on_lit_walls_only() {
     {
         let level = light.level(cell);
         for heading in [0.0, 90.0, 180.0, 270.0] {
-            let camera = Camera {
-                eye_z: v.z,
-                min_vfov_deg: maze.min_vfov_deg(),
-                ..Camera::new(maze.cell_centroid(cell), heading, v.fov_deg)
-            };
+            let camera = cell_camera(&maze, cell, heading);
             let ((lit, ids), (unlit, _)) = (render(&maze, &camera), render(&dark, &camera));
-            let width = 120;
-            let inside = |k: usize| {
-                [k.wrapping_sub(1), k + 1, k.wrapping_sub(width), k + width]
-                    .iter()
-                    .all(|&n| ids.get(n).is_none_or(|&id| id == ids[k]))
-            };
             let own = maze.cell_edges(cell);
-            for k in (0..ids.len()).filter(|&k| own.contains(&ids[k]) && inside(k)) {
+            for k in (0..ids.len()).filter(|&k| own.contains(&ids[k]) && inside(&ids, k)) {
                 if level > 0 {
                     assert!(
                         lit[k].distance(glow_green) < 1e-3 || lit[k].distance(black) < 1e-3,
@@ -195,7 +197,6 @@ fn in_256_colours_every_lit_wall_shows_the_glows_hue_a_step_off_its_own() {
         let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
         let dark = without_exit(&maze);
         let light = ExitLight::of(&maze);
-        let v = maze.viewer();
         let render = |maze: &Maze, camera: &Camera| {
             let mut frame = Frame::new(120, 40);
             let region = frame.region();
@@ -206,20 +207,10 @@ fn in_256_colours_every_lit_wall_shows_the_glows_hue_a_step_off_its_own() {
         };
         for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0) {
             for heading in [0.0, 90.0, 180.0, 270.0] {
-                let camera = Camera {
-                    eye_z: v.z,
-                    min_vfov_deg: maze.min_vfov_deg(),
-                    ..Camera::new(maze.cell_centroid(cell), heading, v.fov_deg)
-                };
+                let camera = cell_camera(&maze, cell, heading);
                 let ((lit, ids), (unlit, _)) = (render(&maze, &camera), render(&dark, &camera));
-                let width = 120;
-                let inside = |k: usize| {
-                    [k.wrapping_sub(1), k + 1, k.wrapping_sub(width), k + width]
-                        .iter()
-                        .all(|&n| ids.get(n).is_none_or(|&id| id == ids[k]))
-                };
                 let own = maze.cell_edges(cell);
-                for k in (0..ids.len()).filter(|&k| own.contains(&ids[k]) && inside(k)) {
+                for k in (0..ids.len()).filter(|&k| own.contains(&ids[k]) && inside(&ids, k)) {
                     let (a, b) = (lit[k], unlit[k]);
                     let why = format!(
                         "seed {seed} cell {cell} level {} heading {heading} sample {k}: {a} against {b}",
@@ -233,7 +224,7 @@ fn in_256_colours_every_lit_wall_shows_the_glows_hue_a_step_off_its_own() {
                 }
                 // The wall straight ahead, faced square on: its chroma, to compare near and far.
                 let middle = (ids.len() / 120 / 2) * 120 + 60;
-                if own.contains(&ids[middle]) && inside(middle) {
+                if own.contains(&ids[middle]) && inside(&ids, middle) {
                     faced.push((light.level(cell), lit[middle].y.hypot(lit[middle].z)));
                 }
             }
