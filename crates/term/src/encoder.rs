@@ -761,6 +761,10 @@ struct Follow {
 struct Look {
     head: u32,
     end: u32,
+    /// The last candidate of this look [`detours`] priced: the cell, whether the cell before it
+    /// was still changed then, and what it would cost in its row (the same until one of the two
+    /// is written: a candidate not taken mostly comes up again before the next cell).
+    priced: Option<(u32, bool, usize)>,
 }
 
 impl Follow {
@@ -784,7 +788,7 @@ impl Follow {
                             let fresh = self.looks.len() as u32;
                             let id = *self.ids.entry(key).or_insert(fresh);
                             if id == fresh {
-                                self.looks.push(Look { head: 0, end: 0 });
+                                self.looks.push(Look { head: 0, end: 0, priced: None });
                             }
                             last = Some((key, id));
                             id
@@ -814,6 +818,32 @@ impl Follow {
     /// The look of the cells of colours `key`, if any are indexed.
     fn look(&self, key: u64) -> Option<u32> {
         self.ids.get(&key).copied()
+    }
+
+    /// What changed cell `k` of look `look` would cost in its row: its glyph and its colour change
+    /// from the changed cell before it there (colours unknown where that cell is unchanged).
+    fn later(
+        &mut self,
+        look: u32,
+        k: usize,
+        frame: &[PackedCell],
+        differs: &[bool],
+        width: usize,
+        blocks: bool,
+    ) -> usize {
+        let before = k % width > 0 && differs[k - 1];
+        let look = &mut self.looks[look as usize];
+        if let Some((cell, was, later)) = look.priced
+            && (cell as usize, was) == (k, before)
+        {
+            return later;
+        }
+        let before = before.then(|| frame[k - 1]);
+        let row_pen = Pen { cursor: None, fg: before.map(|b| b.fg), bg: before.map(|b| b.bg), blocks };
+        let cell = frame[k].canonical();
+        let later = Sgr::to_cell(&row_pen, &cell).len() + cell.ch.len_utf8();
+        look.priced = Some((k as u32, before.is_some(), later));
+        later
     }
 
     /// The first cell of look `look` still changed (`differs`) at or after cell `at` (row-major), or
@@ -894,12 +924,13 @@ fn detours(
     let mut written = 0;
     loop {
         let at = pen.cursor.map_or(0, |(x, y)| y * width + x);
-        let blank = blank.and_then(|look| follow.first(look, at, differs)).map(|k| (k, 1));
-        let block = block.and_then(|look| follow.first(look, at, differs));
-        let block = block.filter(|&k| !frame[k].is_text_space()).map(|k| (k, FULL_BLOCK.len_utf8()));
-        let half = half.and_then(|look| follow.first(look, at, differs)).map(|k| (k, 3));
+        let blank = blank.and_then(|look| Some((look, follow.first(look, at, differs)?, 1)));
+        let block =
+            block.and_then(|look| Some((look, follow.first(look, at, differs)?, FULL_BLOCK.len_utf8())));
+        let block = block.filter(|&(_, k, _)| !frame[k].is_text_space());
+        let half = half.and_then(|look| Some((look, follow.first(look, at, differs)?, 3)));
         let found = [blank, block, half];
-        if found.iter().flatten().all(|&(k, _)| k == next) {
+        if found.iter().flatten().all(|&(_, k, _)| k == next) {
             return written;
         }
         if !next_checked {
@@ -910,19 +941,14 @@ fn detours(
         }
         let direct = move_bound(pen.cursor, nx, ny);
         // Of each candidate, the moves there and on to `next` and its glyph against the move to
-        // `next` and what the cell would cost in its row: its glyph and its colour change from the
-        // changed cell before it there (colours unknown where that cell is unchanged). The largest
-        // saving above `MARGIN` wins. Moves priced by `move_bound` (most of these are not taken).
+        // `next` and what the cell would cost in its row ([`Follow::later`]). The largest saving
+        // above `MARGIN` wins. Moves priced by `move_bound` (most of these are not taken).
         let mut best: Option<(usize, usize)> = None;
-        for (k, glyph) in found.into_iter().flatten().filter(|&(k, _)| k != next) {
+        for (look, k, glyph) in found.into_iter().flatten().filter(|&(_, k, _)| k != next) {
             let (x, y) = (k % width, k / width);
             let after = if x + 1 < width { Some((x + 1, y)) } else { None };
             let moves = move_bound(pen.cursor, x, y) + move_bound(after, nx, ny) + glyph;
-            let before = (x > 0 && differs[k - 1]).then(|| frame[k - 1]);
-            let row_pen =
-                Pen { cursor: None, fg: before.map(|b| b.fg), bg: before.map(|b| b.bg), blocks: pen.blocks };
-            let cell = frame[k].canonical();
-            let later = Sgr::to_cell(&row_pen, &cell).len() + cell.ch.len_utf8();
+            let later = follow.later(look, k, frame, differs, width, pen.blocks);
             let Some(saving) = (later + direct).checked_sub(moves).filter(|&s| s > MARGIN) else { continue };
             if best.is_none_or(|(most, _)| saving > most) {
                 best = Some((saving, k));
