@@ -831,7 +831,7 @@ impl Follow {
         width: usize,
         blocks: bool,
     ) -> usize {
-        let before = k % width > 0 && differs[k - 1];
+        let before = !k.is_multiple_of(width) && differs[k - 1];
         let look = &mut self.looks[look as usize];
         if let Some((cell, was, later)) = look.priced
             && (cell as usize, was) == (k, before)
