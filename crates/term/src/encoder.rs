@@ -855,6 +855,9 @@ impl Follow {
         look.head += written as u32;
         let cells = &cells[written..];
         let &first = cells.first()?;
+        if first as usize >= at {
+            return Some(first as usize); // (mostly: the rows write the cells before the cursor)
+        }
         let split = cells.partition_point(|&k| (k as usize) < at);
         let later = cells[split..].iter().map(|&k| k as usize).find(|&k| differs[k]);
         Some(later.unwrap_or(first as usize))
