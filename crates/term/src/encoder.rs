@@ -18,7 +18,7 @@
 //! - **detours**: in the rows, before a colour change, the changed cells further on that the pen's
 //!   colours draw as they are (a blank in its background, a full block in its ink, a half block of
 //!   the two) where their moves cost fewer bytes than the colour change each would need in its own
-//!   row ([`detour`]): a wall's edge slanting across the rows goes edge by edge, not row by row;
+//!   row ([`detours`]): a wall's edge slanting across the rows goes edge by edge, not row by row;
 //! - **full paints** (first frame, resize, [`Encoder::invalidate`]): clear the screen to the background
 //!   that saves the most, then send the frame as a diff against that blank screen.
 //!
@@ -39,6 +39,8 @@ mod cursor;
 mod sgr;
 
 use std::collections::HashMap;
+
+use rustc_hash::FxHashMap;
 
 use crate::blocks::FULL_BLOCK;
 use crate::caps::RepLevel;
@@ -391,7 +393,7 @@ fn diff(
 
 /// [`diff`] once `differs` marks which cells of `new` differ from the screen (and `new` is within the
 /// tolerance where they do not): the columns, then the rows, with detours to cells of the pen's
-/// colours ([`detour`]) where given `follow`. `first` and `follow` are scratch. (A full paint takes
+/// colours ([`detours`]) where given `follow`. `first` and `follow` are scratch. (A full paint takes
 /// no detours: it is one frame, and the detours' search over every cell of it cost 4× its
 /// instructions.)
 fn diff_marked(
@@ -667,7 +669,7 @@ fn erasable_tail(row: &[PackedCell], bce: bool) -> Option<(usize, PackedColor)> 
 /// which cells differ from the screen); returns the number of cells changed. Changed cells are
 /// written within `how.tolerance` of `frame` ([`write_cell`]), runs of one look as `REP` where
 /// `how.rep` allows ([`repeat`]), and `frame` records what was sent. With `follow`, before a cell that
-/// needs a colour change, the changed cells anywhere below that need none may go first ([`detour`]).
+/// needs a colour change, the changed cells anywhere below that need none may go first ([`detours`]).
 #[allow(clippy::too_many_arguments)]
 fn diff_row(
     pen: &mut Pen,
@@ -710,8 +712,14 @@ fn diff_row(
             return changed;
         }
         if let Some(follow) = follow.as_deref_mut() {
-            while let Some(written) = detour(pen, out, frame, width, differs, row.start + x, how, follow) {
+            // Again only where the pen's colours changed under the detours ([`detours`]).
+            loop {
+                let colours = (pen.fg, pen.bg);
+                let written = detours(pen, out, frame, width, differs, row.start + x, how, follow);
                 changed += written;
+                if written == 0 || (pen.fg, pen.bg) == colours {
+                    break;
+                }
             }
         }
         let new = &mut frame[row.clone()];
@@ -734,61 +742,124 @@ fn diff_row(
 }
 
 /// The changed cells of a frame (after the columns, before the rows; none in a row's erasable
-/// tail) by the colours they show ([`colour_key`]), for [`detour`]: `(key, cell)` sorted, and the
-/// range of each key.
+/// tail) by the colours they show ([`colour_key`]), for [`detours`]: grouped by look, each look's
+/// cells in row-major order (a counting sort by the look each key maps to, not a sort by key).
 #[derive(Clone, Debug, Default)]
 struct Follow {
-    cells: Vec<(u64, u32)>,
+    /// The cells of every look, look after look.
+    cells: Vec<u32>,
     looks: Vec<Look>,
+    /// Each key's look (index into `looks`).
+    ids: FxHashMap<u64, u32>,
+    /// Scratch: `(look, cell)` in row-major order, before the cells are grouped.
+    marks: Vec<(u32, u32)>,
 }
 
-/// The cells of one key in [`Follow::cells`]: up to `end`, from `head` on (those before are written:
-/// within a frame a cell is only ever written, never marked changed again).
+/// The cells of one look in [`Follow::cells`]: up to `end`, from `head` on (those before are
+/// written: within a frame a cell is only ever written, never marked changed again).
 #[derive(Clone, Copy, Debug)]
 struct Look {
-    key: u64,
     head: u32,
     end: u32,
+    /// The last candidate of this look [`detours`] priced: the cell, whether the cell before it
+    /// was still changed then, and what it would cost in its row (the same until one of the two
+    /// is written: a candidate not taken mostly comes up again before the next cell).
+    priced: Option<(u32, bool, usize)>,
 }
 
 impl Follow {
     /// Indexes the cells `differs` marks in `frame`, but those a row's erasable tail holds (the rows
     /// price that tail as a whole).
     fn index(&mut self, frame: &[PackedCell], differs: &[bool], width: usize, bce: bool) {
-        self.cells.clear();
+        self.marks.clear();
+        self.looks.clear();
+        self.ids.clear();
+        // Neighbours along a row mostly show one look: the last key's look is tried before the map.
+        let mut last: Option<(u64, u32)> = None;
         for (y, (row, row_differs)) in frame.chunks_exact(width).zip(differs.chunks_exact(width)).enumerate()
         {
             let end = erasable_tail(row, bce).map_or(width, |(start, _)| start);
             let mut x = 0;
             while let Some(found) = next_set(&row_differs[..end], x) {
                 if let Some(key) = colour_key(&row[found]) {
-                    self.cells.push((key, (y * width + found) as u32));
+                    let id = match last {
+                        Some((last_key, id)) if last_key == key => id,
+                        _ => {
+                            let fresh = self.looks.len() as u32;
+                            let id = *self.ids.entry(key).or_insert(fresh);
+                            if id == fresh {
+                                self.looks.push(Look { head: 0, end: 0, priced: None });
+                            }
+                            last = Some((key, id));
+                            id
+                        }
+                    };
+                    self.looks[id as usize].end += 1; // a count, until the offsets below
+                    self.marks.push((id, (y * width + found) as u32));
                 }
                 x = found + 1;
             }
         }
-        self.cells.sort_unstable();
-        self.looks.clear();
-        for (i, &(key, _)) in self.cells.iter().enumerate() {
-            match self.looks.last_mut() {
-                Some(look) if look.key == key => look.end += 1,
-                _ => self.looks.push(Look { key, head: i as u32, end: i as u32 + 1 }),
-            }
+        let mut start = 0;
+        for look in &mut self.looks {
+            let count = look.end;
+            (look.head, look.end) = (start, start);
+            start += count;
+        }
+        self.cells.clear();
+        self.cells.resize(start as usize, 0);
+        for &(id, cell) in &self.marks {
+            let look = &mut self.looks[id as usize];
+            self.cells[look.end as usize] = cell;
+            look.end += 1;
         }
     }
 
-    /// The first cell of colours `key` still changed (`differs`) at or after cell `at` (row-major), or
+    /// The look of the cells of colours `key`, if any are indexed.
+    fn look(&self, key: u64) -> Option<u32> {
+        self.ids.get(&key).copied()
+    }
+
+    /// What changed cell `k` of look `look` would cost in its row: its glyph and its colour change
+    /// from the changed cell before it there (colours unknown where that cell is unchanged).
+    fn later(
+        &mut self,
+        look: u32,
+        k: usize,
+        frame: &[PackedCell],
+        differs: &[bool],
+        width: usize,
+        blocks: bool,
+    ) -> usize {
+        let before = !k.is_multiple_of(width) && differs[k - 1];
+        let look = &mut self.looks[look as usize];
+        if let Some((cell, was, later)) = look.priced
+            && (cell as usize, was) == (k, before)
+        {
+            return later;
+        }
+        let before = before.then(|| frame[k - 1]);
+        let row_pen = Pen { cursor: None, fg: before.map(|b| b.fg), bg: before.map(|b| b.bg), blocks };
+        let cell = frame[k].canonical();
+        let later = Sgr::to_cell(&row_pen, &cell).len() + cell.ch.len_utf8();
+        look.priced = Some((k as u32, before.is_some(), later));
+        later
+    }
+
+    /// The first cell of look `look` still changed (`differs`) at or after cell `at` (row-major), or
     /// else the first before it.
-    fn first(&mut self, key: u64, at: usize, differs: &[bool]) -> Option<usize> {
-        let look = self.looks.binary_search_by_key(&key, |look| look.key).ok()?;
-        let look = &mut self.looks[look];
+    fn first(&mut self, look: u32, at: usize, differs: &[bool]) -> Option<usize> {
+        let look = &mut self.looks[look as usize];
         let cells = &self.cells[look.head as usize..look.end as usize];
-        let written = cells.iter().take_while(|&&(_, k)| !differs[k as usize]).count();
+        let written = cells.iter().take_while(|&&k| !differs[k as usize]).count();
         look.head += written as u32;
         let cells = &cells[written..];
-        let &(_, first) = cells.first()?;
-        let split = cells.partition_point(|&(_, k)| (k as usize) < at);
-        let later = cells[split..].iter().map(|&(_, k)| k as usize).find(|&k| differs[k]);
+        let &first = cells.first()?;
+        if first as usize >= at {
+            return Some(first as usize); // (mostly: the rows write the cells before the cursor)
+        }
+        let split = cells.partition_point(|&k| (k as usize) < at);
+        let later = cells[split..].iter().map(|&k| k as usize).find(|&k| differs[k]);
         Some(later.unwrap_or(first as usize))
     }
 }
@@ -806,24 +877,28 @@ fn pair_key(a: PackedColor, b: PackedColor) -> u64 {
     u64::from(a) << 32 | u64::from(b)
 }
 
-/// The bytes a [`detour`] must save, by its own reckoning, before it is taken: its prices are
+/// The bytes a [`detours`] must save, by its own reckoning, before it is taken: its prices are
 /// estimates (a move's bound, the colour change a cell would need in its row), and detours taken
 /// for a byte or none cost as many as they saved (`walk_bytes` in 256 colours: walking 25.7 KB/s
 /// with no margin, 25.5 with this one, as without detours; turning 73.3 and 73.1).
 const MARGIN: usize = 1;
 
 /// Issue #42: before changed cell `next` (the first still to write, row-major), where it needs a
-/// colour change, writes a changed cell further on that needs none: of the first on or after the
-/// cursor (row-major, else the first before it) of each look the pen's colours draw (a blank in its
-/// background, a full block in its ink, a half block of the two), the one that saves the most, if
-/// any saves more than [`MARGIN`]: the move there and the move on to `next` against the move to
-/// `next` it replaces and what that cell would cost in its row (its glyph and its colour change
-/// from the changed cell before it there, or from colours unknown). Then the run of its look after
-/// it ([`repeat`]).
-/// Returns the cells written, or `None`. Turning, a wall's edge slants across the rows: row by row
+/// colour change, writes changed cells further on that need none, one at a time while any pays:
+/// of the first on or after the cursor (row-major, else the first before it) of each look the
+/// pen's colours draw (a blank in its background, a full block in its ink, a half block of the
+/// two), the one that saves the most, if any saves more than [`MARGIN`]: the move there and the
+/// move on to `next` against the move to `next` it replaces and what that cell would cost in its
+/// row (its glyph and its colour change from the changed cell before it there, or from colours
+/// unknown). Then the run of its look after it ([`repeat`]).
+/// Returns the cells written (0: none). Turning, a wall's edge slants across the rows: row by row
 /// the pen changes at each of its cells, where the cells of one look are a short move apart.
+///
+/// The pen's colours stay while it writes cells of its looks, so what depends only on them (the
+/// three looks, whether `next` needs a colour change) is found once for all the detours before
+/// `next`; should a cell's writing change them after all, it returns, and the caller asks again.
 #[allow(clippy::too_many_arguments)]
-fn detour(
+fn detours(
     pen: &mut Pen,
     out: &mut Vec<u8>,
     frame: &mut [PackedCell],
@@ -832,62 +907,74 @@ fn detour(
     next: usize,
     how: How,
     follow: &mut Follow,
-) -> Option<usize> {
-    let (fg, bg) = (pen.fg?, pen.bg?);
+) -> usize {
+    let (Some(fg), Some(bg)) = (pen.fg, pen.bg) else { return 0 };
     if Sgr::to_cell(pen, &frame[next]).len() == 0 {
-        return None; // the pen draws it as it is: on along the row
+        return 0; // the pen draws it as it is: on along the row
     }
-    let at = pen.cursor.map_or(0, |(x, y)| y * width + x);
-    // The candidates and the glyph each goes in with no colour change: a blank in the pen's paper as
-    // a space, one in its ink as a full block (where the frames have blocks), a half block of the two
+    // The looks and the glyph each goes in with no colour change: a blank in the pen's paper as a
+    // space, one in its ink as a full block (where the frames have blocks), a half block of the two
     // as itself or its inverse. (The same cell may come up under two keys, where the pen's colours
     // are one.)
-    let blank = follow.first(pair_key(bg, bg), at, differs).map(|k| (k, 1));
-    let block = (pen.blocks && fg != bg).then(|| follow.first(pair_key(fg, fg), at, differs)).flatten();
-    let block = block.filter(|&k| !frame[k].is_text_space()).map(|k| (k, FULL_BLOCK.len_utf8()));
-    let half = (fg != bg).then(|| follow.first(pair_key(fg, bg), at, differs)).flatten().map(|k| (k, 3));
-    let found = [blank, block, half];
-    if found.iter().flatten().all(|&(k, _)| k == next) {
-        return None;
-    }
-    if cell_form(pen, &frame[next], how.tolerance).1.len() == 0 {
-        return None; // the pen draws it: on along the row
+    let blank = follow.look(pair_key(bg, bg));
+    let block = (pen.blocks && fg != bg).then(|| follow.look(pair_key(fg, fg))).flatten();
+    let half = (fg != bg).then(|| follow.look(pair_key(fg, bg))).flatten();
+    if blank.is_none() && block.is_none() && half.is_none() {
+        return 0;
     }
     let (nx, ny) = (next % width, next / width);
-    let direct = move_bound(pen.cursor, nx, ny);
-    // Of each candidate, the moves there and on to `next` and its glyph against the move to `next`
-    // and what the cell would cost in its row: its glyph and its colour change from the changed cell
-    // before it there (colours unknown where that cell is unchanged). The largest saving above
-    // `MARGIN` wins. Moves priced by `move_bound` (most of these are not taken).
-    let mut best: Option<(usize, usize)> = None;
-    for (k, glyph) in found.into_iter().flatten().filter(|&(k, _)| k != next) {
+    let mut next_checked = false;
+    let mut written = 0;
+    loop {
+        let at = pen.cursor.map_or(0, |(x, y)| y * width + x);
+        let blank = blank.and_then(|look| Some((look, follow.first(look, at, differs)?, 1)));
+        let block =
+            block.and_then(|look| Some((look, follow.first(look, at, differs)?, FULL_BLOCK.len_utf8())));
+        let block = block.filter(|&(_, k, _)| !frame[k].is_text_space());
+        let half = half.and_then(|look| Some((look, follow.first(look, at, differs)?, 3)));
+        let found = [blank, block, half];
+        if found.iter().flatten().all(|&(_, k, _)| k == next) {
+            return written;
+        }
+        if !next_checked {
+            if cell_form(pen, &frame[next], how.tolerance).1.len() == 0 {
+                return written; // the pen draws it: on along the row
+            }
+            next_checked = true;
+        }
+        let direct = move_bound(pen.cursor, nx, ny);
+        // Of each candidate, the moves there and on to `next` and its glyph against the move to
+        // `next` and what the cell would cost in its row ([`Follow::later`]). The largest saving
+        // above `MARGIN` wins. Moves priced by `move_bound` (most of these are not taken).
+        let mut best: Option<(usize, usize)> = None;
+        for (look, k, glyph) in found.into_iter().flatten().filter(|&(_, k, _)| k != next) {
+            let (x, y) = (k % width, k / width);
+            let after = if x + 1 < width { Some((x + 1, y)) } else { None };
+            let moves = move_bound(pen.cursor, x, y) + move_bound(after, nx, ny) + glyph;
+            let later = follow.later(look, k, frame, differs, width, pen.blocks);
+            let Some(saving) = (later + direct).checked_sub(moves).filter(|&s| s > MARGIN) else { continue };
+            if best.is_none_or(|(most, _)| saving > most) {
+                best = Some((saving, k));
+            }
+        }
+        let Some((_, k)) = best else { return written };
         let (x, y) = (k % width, k / width);
-        let after = if x + 1 < width { Some((x + 1, y)) } else { None };
-        let moves = move_bound(pen.cursor, x, y) + move_bound(after, nx, ny) + glyph;
-        let before = (x > 0 && differs[k - 1]).then(|| frame[k - 1]);
-        let row_pen =
-            Pen { cursor: None, fg: before.map(|b| b.fg), bg: before.map(|b| b.bg), blocks: pen.blocks };
-        let cell = frame[k].canonical();
-        let later = Sgr::to_cell(&row_pen, &cell).len() + cell.ch.len_utf8();
-        let Some(saving) = (later + direct).checked_sub(moves).filter(|&s| s > MARGIN) else { continue };
-        if best.is_none_or(|(most, _)| saving > most) {
-            best = Some((saving, k));
+        write_move(out, pen, x, y);
+        frame[k] = write_cell(out, pen, &frame[k], width, how.tolerance);
+        differs[k] = false;
+        written += 1;
+        if how.rep != RepLevel::None {
+            let row = &mut frame[y * width..][..width];
+            let end = erasable_tail(row, how.bce).map_or(width, |(start, _)| start);
+            let repeated =
+                repeat(pen, out, row, end, &differs[y * width..][..width], x, how.tolerance, how.rep);
+            differs[k + 1..=k + repeated].fill(false);
+            written += repeated;
+        }
+        if (pen.fg, pen.bg) != (Some(fg), Some(bg)) {
+            return written;
         }
     }
-    let (_, k) = best?;
-    let (x, y) = (k % width, k / width);
-    write_move(out, pen, x, y);
-    frame[k] = write_cell(out, pen, &frame[k], width, how.tolerance);
-    differs[k] = false;
-    let mut written = 1;
-    if how.rep != RepLevel::None {
-        let row = &mut frame[y * width..][..width];
-        let end = erasable_tail(row, how.bce).map_or(width, |(start, _)| start);
-        let repeated = repeat(pen, out, row, end, &differs[y * width..][..width], x, how.tolerance, how.rep);
-        differs[k + 1..=k + repeated].fill(false);
-        written += repeated;
-    }
-    Some(written)
 }
 
 /// After the glyph just written for column `x` (the last thing in `out`), the changed cells right

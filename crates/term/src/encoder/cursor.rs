@@ -88,7 +88,7 @@ pub(super) fn move_len(pen: &mut Pen, x: usize, y: usize) -> usize {
 /// A bound on the bytes of the move [`write_move`] would send from `from` to (`x`, `y`), by
 /// arithmetic alone: the shortest of `CUP` and a vertical step (vertical tabs, `CUD`, `CUU`) followed
 /// by a horizontal one (`CUF`, `CUB`, backspaces, `\r`). [`shortest_move`] prices these routes among
-/// others, so the move it finds is never longer. For moves priced and mostly not taken (`detour` in
+/// others, so the move it finds is never longer. For moves priced and mostly not taken (`detours` in
 /// the encoder).
 #[inline]
 pub(super) fn move_bound(from: Option<(usize, usize)>, x: usize, y: usize) -> usize {
