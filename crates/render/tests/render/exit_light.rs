@@ -7,7 +7,7 @@ use glam::Vec3;
 use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_maze::light::ExitLight;
-use mazewalk_render::{Camera, RenderOptions, Renderer, Target};
+use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, Target, quality};
 use mazewalk_term::frame::{ColorDepth, Frame};
 
 /// The maze without its exit: the same walls, no light.
@@ -27,6 +27,17 @@ fn samples(maze: &Maze, camera: &Camera) -> (Vec<Vec3>, Vec<u32>) {
     let options = RenderOptions { color_depth: ColorDepth::TrueColor, ..RenderOptions::default() };
     renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
     (renderer.samples().color().to_vec(), renderer.samples().id().to_vec())
+}
+
+/// What the terminal shows on each sample of `camera`'s view in `depth` (OKLab, half blocks,
+/// 120×40), and the samples' ids.
+fn shown(maze: &Maze, camera: &Camera, depth: ColorDepth) -> (Vec<Vec3>, Vec<u32>) {
+    let mut frame = Frame::new(120, 40);
+    let region = frame.region();
+    let mut renderer = Renderer::new();
+    let options = RenderOptions { color_depth: depth, ..RenderOptions::default() };
+    renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
+    (quality::shown(&frame, Charset::Half), renderer.samples().id().to_vec())
 }
 
 /// The exit's light (linear RGB, as the beacon's glow).
@@ -122,19 +133,10 @@ fn walls_near_the_exit_turn_green_greener_nearer_and_walls_out_of_its_reach_do_n
 /// inside walls: an edge sample depends on its neighbours).
 #[test]
 fn sixteen_colours_show_the_glow_as_the_dark_green_on_lit_walls_only() {
-    use mazewalk_render::Charset;
-    use mazewalk_render::quality;
     let maze = generate(&GenOptions::walk(20, 15, 71)).expect("maze");
     let dark = without_exit(&maze);
     let light = ExitLight::of(&maze);
-    let render = |maze: &Maze, camera: &Camera| {
-        let mut frame = Frame::new(120, 40);
-        let region = frame.region();
-        let mut renderer = Renderer::new();
-        let options = RenderOptions { color_depth: ColorDepth::Ansi16, ..RenderOptions::default() };
-        renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
-        (quality::shown(&frame, Charset::Half), renderer.samples().id().to_vec())
-    };
+    let render = |maze: &Maze, camera: &Camera| shown(maze, camera, ColorDepth::Ansi16);
     let oklab_of = |rgb: [u8; 3]| {
         let lin = rgb.map(|v| mazewalk_render::shade::srgb_to_linear(f32::from(v) / 255.0));
         Vec3::from_array(mazewalk_term::frame::oklab(lin, f32::cbrt))
@@ -177,8 +179,6 @@ fn sixteen_colours_show_the_glow_as_the_dark_green_on_lit_walls_only() {
 #[test]
 fn in_256_colours_every_lit_wall_shows_the_glows_hue_a_step_off_its_own() {
     use mazewalk_maze::generate::WALL_COLOURS;
-    use mazewalk_render::Charset;
-    use mazewalk_render::quality;
     let hue = |lab: Vec3| lab.z.atan2(lab.y);
     let off = |a: f32, b: f32| {
         let d = (a - b).abs() % std::f32::consts::TAU;
@@ -197,14 +197,7 @@ fn in_256_colours_every_lit_wall_shows_the_glows_hue_a_step_off_its_own() {
         let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
         let dark = without_exit(&maze);
         let light = ExitLight::of(&maze);
-        let render = |maze: &Maze, camera: &Camera| {
-            let mut frame = Frame::new(120, 40);
-            let region = frame.region();
-            let mut renderer = Renderer::new();
-            let options = RenderOptions { color_depth: ColorDepth::Ansi256, ..RenderOptions::default() };
-            renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
-            (quality::shown(&frame, Charset::Half), renderer.samples().id().to_vec())
-        };
+        let render = |maze: &Maze, camera: &Camera| shown(maze, camera, ColorDepth::Ansi256);
         for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0) {
             for heading in [0.0, 90.0, 180.0, 270.0] {
                 let camera = cell_camera(&maze, cell, heading);
