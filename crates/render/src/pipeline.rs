@@ -753,6 +753,7 @@ impl Renderer {
         // make one pale band with the far walls' jambs (issue #39), and are left out.
         let per_unit = eye.height as f32 / (2.0 * eye.half_h); // samples a unit spans at depth 1
         let thinned = self.floor_bounds_apart && eye.camera.projection == Projection::Perspective;
+        let walls = maze.edges().len() as u32;
         for (z, plane, paint) in [(FLOOR_Z, FLOOR, floor_bound), (CEILING_Z, CEILING, seam_color)] {
             self.edge_list.clear();
             let below = (eye.position.z - z).abs(); // the plane's distance from the eye's height
@@ -772,7 +773,13 @@ impl Renderer {
                 }
                 for (x, y) in segment_samples(eye, a.extend(z), b.extend(z)) {
                     let i = y * w + x;
-                    if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None {
+                    // In 16 colours not on the plane's sample just beside a wall (the floor's below
+                    // it, the ceiling's above): a light-grey line there reads as a pale far wall's
+                    // own foot or top, a row taller than it is (issue #39, `far_wall_height`).
+                    let toward_wall = if plane == FLOOR { i.checked_sub(w) } else { Some(i + w) };
+                    let beside_wall = self.floor_bounds_apart
+                        && toward_wall.and_then(|j| self.samples.id().get(j)).is_some_and(|&id| id < walls);
+                    if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None && !beside_wall {
                         self.edge_marks[i] = Mark::Seam;
                         self.edge_list.push(i as u32);
                     }
