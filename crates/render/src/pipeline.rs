@@ -753,6 +753,7 @@ impl Renderer {
         // make one pale band with the far walls' jambs (issue #39), and are left out.
         let per_unit = eye.height as f32 / (2.0 * eye.half_h); // samples a unit spans at depth 1
         let thinned = self.floor_bounds_apart && eye.camera.projection == Projection::Perspective;
+        let walls = maze.edges().len() as u32;
         for (z, plane, paint) in [(FLOOR_Z, FLOOR, floor_bound), (CEILING_Z, CEILING, seam_color)] {
             self.edge_list.clear();
             let below = (eye.position.z - z).abs(); // the plane's distance from the eye's height
@@ -772,7 +773,13 @@ impl Renderer {
                 }
                 for (x, y) in segment_samples(eye, a.extend(z), b.extend(z)) {
                     let i = y * w + x;
-                    if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None {
+                    // In 16 colours not on the plane's sample just beside a wall (the floor's below
+                    // it, the ceiling's above): a light-grey line there reads as a pale far wall's
+                    // own foot or top, a row taller than it is (issue #39, `far_wall_height`).
+                    let toward_wall = if plane == FLOOR { i.checked_sub(w) } else { Some(i + w) };
+                    let beside_wall = self.floor_bounds_apart
+                        && toward_wall.and_then(|j| self.samples.id().get(j)).is_some_and(|&id| id < walls);
+                    if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None && !beside_wall {
                         self.edge_marks[i] = Mark::Seam;
                         self.edge_list.push(i as u32);
                     }
@@ -789,6 +796,7 @@ impl Renderer {
     /// so a player sees where the side openings are as far as the view reaches (issue #39).
     pub(crate) fn draw_jambs(&mut self, maze: &Maze, eye: &Eye) {
         let w = eye.width;
+        let (eye_at, forward) = (eye.camera.position, ground_forward(eye));
         self.edge_list.clear();
         for &e in &self.walls {
             let edge = maze.edge(e);
@@ -796,28 +804,10 @@ impl Renderer {
                 continue;
             }
             for v in [edge.start, edge.end] {
-                // A portal on the wall's line from the same vertex, in one of the wall's cells or
-                // in a cell next to one of them across a portal at that vertex (a grid's next tile).
-                let at_v = |f: u32| {
-                    let other = maze.edge(f);
-                    f != e && !other.opaque && (other.start == v || other.end == v)
-                };
-                let continues =
-                    |cell: u32| maze.cell_edges(cell).iter().any(|&f| at_v(f) && collinear(maze, e, f));
                 // Only an opening on the eye's side of the wall: one beyond it (round the corner of a
                 // dead end, behind the wall the eye faces) cannot be seen from here, and a jamb for
                 // it reads as a way on where there is none (issue #39).
-                let (a, b) = maze.edge_points(e);
-                let eye_left = (b - a).perp_dot(eye.camera.position - a) > 0.0;
-                let near = if eye_left { edge.left } else { edge.right };
-                let opens = near.into_iter().any(|cell| {
-                    continues(cell)
-                        || maze
-                            .cell_edges(cell)
-                            .iter()
-                            .any(|&g| at_v(g) && maze.edge(g).other_side(cell).is_some_and(&continues))
-                });
-                if !opens {
+                if wall_end(maze, e, v, eye_at, forward) != WallEnd::Jamb {
                     continue;
                 }
                 let at = maze.vertex(v);
@@ -906,6 +896,7 @@ impl Renderer {
         self.faced.clear();
         self.faced.resize(edges as usize, false);
         let (w, h) = (eye.width, eye.height);
+        let forward = ground_forward(eye);
         for &e in &self.seen {
             let (a, b) = maze.edge_points(e);
             let normal_view =
@@ -915,7 +906,7 @@ impl Renderer {
             let quad = wall_quad_world(maze, e);
             // The quad's sides: 0 the foot, 1 the end at `edge.end`, 2 the top, 3 the end at `edge.start`;
             // lines first, then seams, then the ends that stop, each over what came before.
-            let seam = |v: u32| wall_goes_on(maze, e, v, eye.camera.position);
+            let seam = |v: u32| wall_end(maze, e, v, eye.camera.position, forward) == WallEnd::Seam;
             let ends = [(1, seam(edge.end)), (3, seam(edge.start))];
             let order = [(0, false), (2, false)].into_iter();
             let order = order
@@ -971,29 +962,96 @@ pub(crate) const SEAM_GLYPH: char = ':';
 /// the lines would be all of it.
 pub(crate) const SHORT_ASCII_WALL: usize = 3;
 
-/// Whether wall `e`'s line goes on at its vertex `v` as another wall, seen from `eye`: no other wall
-/// meets `e` there on the eye's side (a corner), and across the opening at `v` on that side the
-/// wall of the same line is a wall, not an opening (a jamb). A seam: two walls of one line.
-fn wall_goes_on(maze: &Maze, e: u32, v: u32, eye: Vec2) -> bool {
+/// What happens at a wall's end, seen from the eye's side of the wall ([`wall_end`]): the one
+/// reading of a vertex's neighbourhood that the door jambs ([`Renderer::draw_jambs`]) and the ascii
+/// ends ([`Renderer::outline_visible_walls`]) both draw from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum WallEnd {
+    /// The wall stops at an opening: its line goes on as an opening (a side opening's jamb, a turn),
+    /// or, on a wall seen square on, the line goes on as another wall across an opening that runs
+    /// from this end toward the eye (a post: the wall seen through a side opening beside the end
+    /// wall, issue #39). A vertical edge with depth or an opening behind it.
+    Jamb,
+    /// Two walls of one line meet with no opening between them and the eye: a cell boundary.
+    Seam,
+    /// Another wall meets at an angle on the eye's side, or nothing goes on: the wall stops.
+    Corner,
+}
+
+/// What wall `e`'s end at its vertex `v` is, seen from `eye` (`forward`, the view's direction on the
+/// ground): in the wall's cell on the eye's side, another wall of its line at `v` is a seam and an
+/// opening of its line a jamb; another wall at an angle a corner; an opening at an angle leads to
+/// the cell across it, whose edge of the line at `v` says the same (an opening: a jamb; a wall: a
+/// seam, or a post ([`WallEnd::Jamb`]) where the wall is seen square on and the opening lies on the
+/// eye's side of the wall's cell).
+pub(crate) fn wall_end(maze: &Maze, e: u32, v: u32, eye: Vec2, forward: Vec2) -> WallEnd {
     let edge = maze.edge(e);
     let (a, b) = maze.edge_points(e);
     let eye_left = (b - a).perp_dot(eye - a) > 0.0;
-    let Some(near) = (if eye_left { edge.left } else { edge.right }) else { return false };
+    let Some(near) = (if eye_left { edge.left } else { edge.right }) else { return WallEnd::Corner };
     let at_v = |f: u32| f != e && (maze.edge(f).start == v || maze.edge(f).end == v);
+    let along = |f: u32| at_v(f) && collinear(maze, e, f);
     let mut across = None;
-    for &g in maze.cell_edges(near) {
-        if !at_v(g) {
-            continue;
-        }
+    for &g in maze.cell_edges(near).iter().filter(|&&g| at_v(g)) {
         match (maze.edge(g).opaque, collinear(maze, e, g)) {
-            (true, true) => return true,   // the next wall of the line, in the same cell
-            (true, false) => return false, // a corner on the eye's side
-            (false, true) => return false, // the line goes on as an opening: a jamb
-            (false, false) => across = maze.edge(g).other_side(near),
+            (true, true) => return WallEnd::Seam, // the next wall of the line, in the same cell
+            (false, true) => return WallEnd::Jamb, // the line goes on as an opening
+            (true, false) => return WallEnd::Corner, // a wall at an angle on the eye's side
+            (false, false) => across = Some(g),   // an opening at an angle: see across it
         }
     }
-    let Some(next) = across else { return false };
-    maze.cell_edges(next).iter().any(|&f| at_v(f) && collinear(maze, e, f) && maze.edge(f).opaque)
+    let Some((g, next)) = across.and_then(|g| Some((g, maze.edge(g).other_side(near)?))) else {
+        return WallEnd::Corner;
+    };
+    let Some(f) = maze.cell_edges(next).iter().copied().find(|&f| along(f)) else { return WallEnd::Corner };
+    if !maze.edge(f).opaque {
+        return WallEnd::Jamb;
+    }
+    // The line goes on as a wall across the opening `g`. Seen square on, with the eye on the wall's
+    // own cell's side of the opening, and the opening a doorway (a wall of its line stops at its
+    // other end), the wall beyond is seen through a side opening beside this one, coplanar and as
+    // tall: one wall of two colours to a player (issue #39, the last cell's side openings beside the
+    // end wall), so its end is a post. Along the view, or across open floor, it is a seam.
+    let (p, q) = maze.edge_points(g);
+    let side = |point: Vec2| (q - p).perp_dot(point - p) > 0.0;
+    let faced = (b - a).perp().normalize_or_zero().dot(forward).abs() >= std::f32::consts::FRAC_1_SQRT_2;
+    if faced && side(eye) == side(maze.cell_centroid(near)) && doorway(maze, g, v, near, eye) {
+        WallEnd::Jamb
+    } else {
+        WallEnd::Seam
+    }
+}
+
+/// Whether opening `g` (at vertex `v` of a wall, in `cell`, a cell on the eye's side) is a doorway
+/// seen from `eye`: along `g`'s line from `v` toward the eye, past `g` and any openings in line after
+/// it (cell by cell, in the cell or across its opening at each vertex), a wall of the line stops it
+/// before the eye's own place along the line. Not a doorway: open floor beside the eye all the way.
+fn doorway(maze: &Maze, g: u32, v: u32, cell: u32, eye: Vec2) -> bool {
+    let (mut g, mut from, mut cell) = (g, v, cell);
+    let origin = maze.vertex(v);
+    let toward = |u: u32| maze.vertex(u) - origin;
+    // (a few cells at most: a doorway's wall is within the view's reach of the wall's end)
+    for _ in 0..8 {
+        let u = if maze.edge(g).start == from { maze.edge(g).end } else { maze.edge(g).start };
+        let dir = toward(u);
+        if dir.dot(toward(u)) >= dir.dot(eye - origin) {
+            return false; // the line passes the eye open
+        }
+        let at_u = |f: u32| f != g && (maze.edge(f).start == u || maze.edge(f).end == u);
+        let next_in = |c: u32| maze.cell_edges(c).iter().copied().find(|&f| at_u(f) && collinear(maze, g, f));
+        let found = next_in(cell).map(|f| (f, cell)).or_else(|| {
+            maze.cell_edges(cell).iter().find_map(|&f| {
+                let across = maze.edge(f).other_side(cell).filter(|_| at_u(f) && !maze.edge(f).opaque)?;
+                next_in(across).map(|f| (f, across))
+            })
+        });
+        match found {
+            Some((f, _)) if maze.edge(f).opaque => return true,
+            Some((f, c)) => (g, from, cell) = (f, u, c),
+            None => return false,
+        }
+    }
+    false
 }
 
 /// The floor's cell lines in 16 colours: a seam moved off the floor's chromaticity
@@ -1006,6 +1064,11 @@ const FLOOR_BOUND_16: fn(Vec3) -> Vec3 = |c| palette::off_floor_and_ceiling(seam
 /// In 16 colours, the least gap (samples) between a floor's (ceiling's) cell line and the one a cell
 /// nearer for the line to be drawn ([`Renderer::draw_cell_bounds`]).
 const LINE_GAP_16: f32 = 3.0;
+
+/// The view's direction on the ground (unit; the x axis where the eye looks straight up or down).
+fn ground_forward(eye: &Eye) -> Vec2 {
+    eye.forward.truncate().try_normalize().unwrap_or(Vec2::X)
+}
 
 /// What a sample on a boundary between surfaces is drawn as (the stronger wins).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]

@@ -214,12 +214,27 @@ pub(crate) fn seam_color(color: Vec3) -> Vec3 {
     color.lerp(edge_color(color), 0.6)
 }
 
-/// A door jamb's colour (where a wall ends at an opening): lighter than the wall, toward a pale grey
-/// (not white, not the beacon's green), so openings show as light ticks down a corridor.
+/// A door jamb's colour (where a wall ends at an opening): a pale grey at least [`JAMB_STEP`] lighter
+/// in OKLab L than the wall, and never darker than [`JAMB_LEAST_L`] (not white, not the beacon's
+/// green), so an opening shows as a light tick apart from both walls beside it, however far: walls
+/// are all about L 0.75 near and darker with distance, so the wall beside a far jamb (the face seen
+/// through the opening) is darker still. At `lerp(0.6, 0.35)` a jamb on a pale wall was 0.05 in L
+/// off it, one 256-colour step, and a player missed the last cell's side openings (issue #39).
 #[must_use]
 pub(crate) fn jamb_color(color: Vec3) -> Vec3 {
-    color.lerp(Vec3::splat(0.6), 0.35).max(color)
+    // a grey's OKLab L is the cube root of its luminance
+    let lightness = luminance(color).max(0.0).cbrt();
+    let jamb = (lightness + JAMB_STEP).clamp(JAMB_LEAST_L, JAMB_MOST_L);
+    Vec3::splat(jamb * jamb * jamb)
 }
+
+/// How much lighter than its wall a jamb is, at least (OKLab L; up to [`JAMB_MOST_L`]): four or five
+/// steps of the 256-colour grey ramp.
+pub(crate) const JAMB_STEP: f32 = 0.18;
+/// The darkest a jamb is drawn (OKLab L), so a far wall's jamb stands out of the fog.
+pub(crate) const JAMB_LEAST_L: f32 = 0.86;
+/// The lightest a jamb is drawn (OKLab L): below white, which is the beacon's band.
+pub(crate) const JAMB_MOST_L: f32 = 0.96;
 
 /// A door jamb's colour in 16 colours: the grey of [`jamb_color`]'s luminance. There a coloured wall
 /// never shows the light grey or the white (`palette::LIGHT_GREYS_16`), so a grey jamb is a light tick

@@ -24,7 +24,7 @@ const SHORT: usize = 10;
 const LIKE: f32 = 0.7;
 
 #[test]
-fn a_far_wall_looks_as_tall_as_it_is_in_truecolor_and_256_colours() {
+fn a_far_wall_looks_as_tall_as_it_is_in_truecolor_256_and_16_colours() {
     let (mut judged, mut failures) = (0, Vec::new());
     for seed in [58u64, 71, 3, 12, 5392] {
         let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
@@ -32,7 +32,7 @@ fn a_far_wall_looks_as_tall_as_it_is_in_truecolor_and_256_colours() {
         let views = held_out_views(&maze, seed, 30);
         for (k, (_, camera)) in views.iter().enumerate().filter(|(_, (kind, _))| *kind == ViewKind::Corridor)
         {
-            for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
+            for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256, ColorDepth::Ansi16] {
                 let options =
                     RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
                 let mut frame = Frame::new(COLS, ROWS);

@@ -260,15 +260,19 @@ fn judge(seen: &[Seen], charset: Charset, depth: ColorDepth) -> Result<(), Strin
     Ok(())
 }
 
-/// The two looks the issue's trial could not read far openings in.
-const MODES: [(Charset, ColorDepth); 2] =
-    [(Charset::Ascii, ColorDepth::None), (Charset::Half, ColorDepth::Ansi16)];
+/// The looks the issue's trials could not read far openings in: ascii and 16 colours, and 256 colours
+/// (the fifth player: 3 of 10 views down corridors of 3+ cells right).
+const MODES: [(Charset, ColorDepth); 3] = [
+    (Charset::Ascii, ColorDepth::None),
+    (Charset::Half, ColorDepth::Ansi16),
+    (Charset::Half, ColorDepth::Ansi256),
+];
 
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 8, ..Default::default() })]
 
     #[test]
-    fn openings_down_a_corridor_read_apart_from_side_walls_and_seams_in_ascii_and_16_colours(
+    fn openings_down_a_corridor_read_apart_from_side_walls_and_seams_in_ascii_16_and_256_colours(
         seed in proptest::prelude::any::<u64>(),
         width in 10u32..24,
         height in 8u32..18,
@@ -366,5 +370,165 @@ proptest::proptest! {
         proptest::prop_assert!(!faced.is_empty() && !along.is_empty(), "faced {faced:?}, along {along:?}");
         let shared: Vec<char> = faced.intersection(&along).copied().collect();
         proptest::prop_assert!(shared.is_empty(), "faced {faced:?}, along {along:?}: both {shared:?}");
+    }
+}
+
+/// How far (OKLab) a post at the end wall's corner is from both walls beside it, at least: a visible
+/// step, three or four of the 256-colour cube's or grey ramp's (the old seam there, the wall's colour
+/// darkened, was about 0.08 off the end wall and nothing off the wall beyond).
+const POST_STEP: f32 = 0.12;
+
+/// What the corner of a corridor's end wall on an open side shows, in one view: `None` where the view
+/// has no such corner to judge (no side opening in the last cell, the corner out of view or hidden, no
+/// wall seen in line beyond), else whether a post stands there apart from both walls, with a name.
+fn end_wall_corners(
+    maze: &Maze,
+    corridor: &Corridor,
+    charset: Charset,
+    depth: ColorDepth,
+) -> Vec<(String, bool)> {
+    let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
+    let mut frame = Frame::new(COLS, ROWS);
+    let region = frame.region();
+    let mut renderer = Renderer::new();
+    renderer
+        .render(maze, &corridor.camera, &[], &options, Target::Frame(&mut frame, region))
+        .expect("camera");
+    let (sx, sy) = charset.samples_per_cell();
+    let eye =
+        corridor.camera.eye(COLS * sx, ROWS * sy, charset.sample_aspect(options.cell_aspect)).expect("eye");
+    let ids = renderer.samples().id();
+    let width = COLS * sx;
+    // A sample's look: its glyph in ascii (a sample a cell), its colour otherwise.
+    let shown = quality::shown(&frame, charset);
+    let look = |i: usize| {
+        if charset == Charset::Ascii {
+            Vec3::new(f32::from(u8::try_from(frame.cells()[i].ch).unwrap_or(0)), 0.0, 0.0)
+        } else {
+            shown[i]
+        }
+    };
+    let step = if charset == Charset::Ascii { 0.5 } else { POST_STEP };
+    let z = corridor.camera.eye_z;
+    let horizon = eye.grid(eye.clip((corridor.at + corridor.dir * 1000.0).extend(z))).y.floor() as usize;
+    let k = corridor.ahead;
+    let end = ids[horizon * width + width / 2];
+    if k > AHEAD || end as usize >= maze.edges().len() {
+        return Vec::new();
+    }
+    let (a, b) = maze.edge_points(end);
+    let in_line = |f: u32| {
+        (f as usize) < maze.edges().len() && f != end && {
+            let (p, q) = maze.edge_points(f);
+            (b - a).perp_dot(p - a).abs() < 1e-3 && (b - a).perp_dot(q - a).abs() < 1e-3
+        }
+    };
+    let mut out = Vec::new();
+    // A side opening of the last cell that is a doorway: a wall of that side stands between it and
+    // the eye (where the side is open all the way back, the eye stands in a hall two cells wide and
+    // the two walls ahead are one long wall of it, with a seam).
+    let doorway = |s: usize| corridor.sides[k][s] && (0..k).any(|j| !corridor.sides[j][s]);
+    for s in (0..2).filter(|&s| doorway(s)) {
+        let side = if s == 0 { corridor.dir.perp() } else { -corridor.dir.perp() };
+        let corner =
+            corridor.at + corridor.dir * (k as f32 + 0.5) * corridor.tile + side * 0.5 * corridor.tile;
+        let c = eye.grid(eye.clip(corner.extend(z))).x.floor();
+        if c < 2.0 || c > (width - 3) as f32 {
+            continue;
+        }
+        let c = c as usize;
+        let rows = horizon.saturating_sub(sy)..horizon + sy;
+        // The end wall's own look (its middle) and the wall beyond the opening in its line (its inner
+        // sample farthest from the corner on the horizon's row, within six columns).
+        // (its inner samples only: a wall's end sample may be its own jamb; a wall too thin to have
+        // inner samples shows nothing of its own colour to tell apart)
+        let row = &ids[horizon * width..(horizon + 1) * width];
+        let beyond: Vec<usize> = (1..width - 1)
+            .filter(|&x| {
+                in_line(row[x]) && row[x - 1] == row[x] && row[x + 1] == row[x] && x.abs_diff(c) <= 6
+            })
+            .collect();
+        let Some(&far) = beyond.iter().max_by_key(|&&x| x.abs_diff(c)) else { continue };
+        let corner_columns = c - 1..=c + 1;
+        if !corner_columns.clone().any(|x| ids[horizon * width + x] == end) {
+            continue; // the corner is hidden by a nearer wall
+        }
+        let (end_look, beyond_look) = (look(horizon * width + width / 2), look(horizon * width + far));
+        let post = rows.clone().flat_map(|y| corner_columns.clone().map(move |x| y * width + x)).any(|i| {
+            let l = look(i);
+            l.distance(end_look) >= step
+                && l.distance(beyond_look) >= step
+                && (charset != Charset::Ascii || frame.cells()[i].ch != ':')
+        });
+        let name = format!(
+            "{charset:?} {depth:?} at {:?} heading {:.0}°, {k} cells ahead, side {s} (column {c}; the end \
+             wall {end_look}, the wall beyond {beyond_look} at column {far}, the corner's columns {:?})",
+            corridor.camera.position,
+            corridor.camera.yaw_deg,
+            corner_columns.clone().map(|x| look(horizon * width + x)).collect::<Vec<_>>()
+        );
+        out.push((name, post));
+    }
+    out
+}
+
+/// Over every corridor view of `maze` in 256 and 16 colours and ascii: how many end-wall corners were
+/// judged, and the first that shows no post.
+fn end_wall_posts(maze: &Maze) -> (usize, Option<String>) {
+    let corridors = corridors(maze);
+    let mut judged = 0;
+    let modes = [
+        (Charset::Half, ColorDepth::Ansi256),
+        (Charset::Half, ColorDepth::Ansi16),
+        (Charset::Ascii, ColorDepth::None),
+    ];
+    for (charset, depth) in modes {
+        for corridor in &corridors {
+            for (name, post) in end_wall_corners(maze, corridor, charset, depth) {
+                judged += 1;
+                if !post {
+                    return (
+                        judged,
+                        Some(format!("{name}: no post apart from the end wall and the wall beyond")),
+                    );
+                }
+            }
+        }
+    }
+    (judged, None)
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 8, ..Default::default() })]
+
+    /// Issue #39, a new player a fifth time: the last cell's side openings beside a corridor's end
+    /// wall read as one two-coloured wall (the wall seen through the opening stands in line with the
+    /// end wall, as tall). Down generated corridors 3–6 cells long, wherever the last cell's side is
+    /// a doorway (a wall of that side between it and the eye) and a wall in line with the end wall
+    /// shows beyond it: at the end wall's corner a post stands apart from both walls by
+    /// [`POST_STEP`] in 256 and 16 colours, and in ascii a glyph neither wall shows and not the
+    /// seam's `:`.
+    #[test]
+    fn beside_an_end_wall_a_side_opening_shows_a_post_apart_from_both_walls(
+        seed in proptest::prelude::any::<u64>(),
+        width in 10u32..24,
+        height in 8u32..18,
+    ) {
+        let maze = generate(&GenOptions::walk(width, height, seed)).expect("generated maze");
+        if let (_, Some(why)) = end_wall_posts(&maze) {
+            proptest::prop_assert!(false, "{why}");
+        }
+    }
+}
+
+/// The same over the fifth trial's two reading-test mazes (`--gen 20x15`, seeds 18238 and 44732,
+/// where the last cells' side openings were missed), with enough corners judged to mean something.
+#[test]
+fn the_fifth_trials_end_walls_show_posts() {
+    for seed in [18238, 44732] {
+        let maze = generate(&GenOptions::walk(20, 15, seed)).expect("generated maze");
+        let (judged, failure) = end_wall_posts(&maze);
+        assert!(failure.is_none(), "seed {seed}: {}", failure.unwrap_or_default());
+        assert!(judged >= 6, "seed {seed}: only {judged} end-wall corners judged");
     }
 }
