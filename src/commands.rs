@@ -22,6 +22,30 @@ pub mod walk;
 #[error("{0}")]
 pub struct Usage(pub String);
 
+/// A file named on the command line, other than a maze, that cannot be read (a run): exit 66, as a
+/// maze file's.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot read {what}")]
+pub struct NoInput {
+    /// What the file is, and its path, quoted.
+    pub what: String,
+    /// Why.
+    #[source]
+    pub source: std::io::Error,
+}
+
+/// A file named on the command line, other than a maze, whose contents are not what it should be (a
+/// run that does not decode, or is of another maze): exit 65, as a malformed maze's.
+#[derive(Debug, thiserror::Error)]
+#[error("{what}")]
+pub struct BadData {
+    /// What the file is, and its path, quoted.
+    pub what: String,
+    /// What is wrong.
+    #[source]
+    pub source: Box<dyn std::error::Error + Send + Sync>,
+}
+
 /// The path that names standard output in `render --png`, `--depth-out` and `gen -o`.
 pub const STDOUT: &str = "-";
 

@@ -13,7 +13,7 @@ use std::process::ExitCode;
 
 use clap::Parser as _;
 use mazewalk::cli::{Cli, Command};
-use mazewalk::commands::{self, Usage, is_broken_pipe};
+use mazewalk::commands::{self, BadData, NoInput, Usage, is_broken_pipe};
 use mazewalk_maze::LoadError;
 
 /// Exit status for bad flags or values (as clap's).
@@ -72,6 +72,8 @@ fn main() -> ExitCode {
                 Some(LoadError::Parse(_) | LoadError::TooLarge { .. }) => EXIT_DATA,
                 Some(LoadError::Io { .. } | LoadError::NotAFile { .. }) => EXIT_NO_INPUT,
                 None if err.downcast_ref::<Usage>().is_some() => EXIT_USAGE,
+                None if err.downcast_ref::<NoInput>().is_some() => EXIT_NO_INPUT,
+                None if err.downcast_ref::<BadData>().is_some() => EXIT_DATA,
                 None => 1,
             })
         }

@@ -645,7 +645,8 @@ fn render_png_is_truecolor_unless_color_says_otherwise() {
 }
 
 /// `serve --record-dir` (issue #43): caps that could not hold one cast, or a cap without the
-/// directory, are refused before listening, and say why.
+/// directory, are refused before listening as bad values (exit 2), and say why; so is a `--world`
+/// that is not a Redis URL.
 #[test]
 fn serve_refuses_recording_caps_that_cannot_hold_a_cast() {
     let dir = std::env::temp_dir().join(format!("mazewalk-cli-record-{}", std::process::id()));
@@ -653,14 +654,26 @@ fn serve_refuses_recording_caps_that_cannot_hold_a_cast() {
     let casts = dir.join("casts");
     let (key, casts) = (key.to_str().unwrap(), casts.to_str().unwrap());
     let serve = ["serve", "--open", "--listen", "127.0.0.1:0", "--host-key", key, "--no-records"];
-    let cases: [(&[&str], i32, &str); 3] = [
-        (&["--record-dir", casts, "--record-max-bytes", "512"], 1, "at least 1K"),
+    let cases: [(&[&str], i32, &str); 5] = [
+        (&["--record-dir", casts, "--record-max-bytes", "512"], 2, "at least 1K"),
         (
             &["--record-dir", casts, "--record-max-bytes", "2M", "--record-max-total", "1M"],
-            1,
+            2,
             "not even one cast",
         ),
         (&["--record-max-bytes", "2M"], 2, "--record-dir"),
+        // a shared world's URL that is not Redis's, or a CA for one without TLS: bad values too
+        (&["--world", "http://localhost:6379"], 2, "--world http://localhost:6379"),
+        (
+            &[
+                "--world",
+                "redis://127.0.0.1:9",
+                "--world-ca",
+                concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml"),
+            ],
+            2,
+            "TLS",
+        ),
     ];
     for (args, code, says) in cases {
         let out = mazewalk(&[&serve[..], args].concat());

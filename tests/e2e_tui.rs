@@ -1521,17 +1521,21 @@ fn replay_plays_a_stored_run_back_and_records_it() {
     assert_restored(&tui, &raw, PLAIN);
 
     // the run against another maze (the built-in one), or a file that is no run or far too long:
-    // refused, plainly, the terminal untouched
+    // refused as bad data (65), plainly, the terminal untouched; a run file that is not there, as a
+    // file that cannot be read (66), as for a maze
     let junk = dir.join("e2e-replay-junk.run");
     std::fs::write(&junk, vec![b'M'; 70_000]).expect("junk");
-    for (args, says) in [
-        (vec!["replay", run_arg], "of another maze"),
-        (vec!["--ghost", run_arg], "of another maze"),
-        (vec!["replay", junk.to_str().unwrap(), maze_arg], "longer than the 65536 allowed"),
-        (vec!["--ghost", maze_arg, maze_arg], "not a mazewalk run"),
+    let missing = dir.join("e2e-replay-missing.run");
+    for (args, code, says) in [
+        (vec!["replay", run_arg], 65, "of another maze"),
+        (vec!["--ghost", run_arg], 65, "of another maze"),
+        (vec!["replay", junk.to_str().unwrap(), maze_arg], 65, "longer than the 65536 allowed"),
+        (vec!["--ghost", maze_arg, maze_arg], 65, "not a mazewalk run"),
+        (vec!["--ghost", missing.to_str().unwrap(), maze_arg], 66, "cannot read the run"),
+        (vec!["replay", missing.to_str().unwrap(), maze_arg], 66, "cannot read the run"),
     ] {
         let out = Command::new(env!("CARGO_BIN_EXE_mazewalk")).args(&args).output().expect("mazewalk");
-        assert_eq!(out.status.code(), Some(1), "{args:?}: {out:?}");
+        assert_eq!(out.status.code(), Some(code), "{args:?}: {out:?}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(says), "{args:?}: {err}");
         assert!(out.stdout.is_empty());

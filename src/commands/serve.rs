@@ -18,7 +18,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     use mazewalk_serve::{Access, Limits, ServeOptions, host_key};
     use mazewalk_walk::App;
 
-    use super::load_maze;
+    use super::{Usage, load_maze};
     use crate::guard;
     let maze = load_maze(&args.maze)?;
     App::new(maze.clone(), RenderOptions::default(), 0.0)?; // a start in no cell fails here, not per player
@@ -94,6 +94,10 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
                 }
                 None => None,
             };
+            // A URL that is not Redis's, or a CA for one without TLS, is a bad flag value (exit 2),
+            // told before listening; the link connects to nothing here.
+            mazewalk_serve::shared::redis::Link::new(url, "", ca.as_deref())
+                .map_err(|e| Usage(e.to_string()))?;
             let caps =
                 Caps { servers: args.max_remote_servers as usize, players: args.max_remote_players as usize };
             Some(WorldConfig {
@@ -115,17 +119,18 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         None => None,
         Some(dir) => {
             if args.record_max_bytes < 1024 {
-                bail!(
+                return Err(Usage(format!(
                     "--record-max-bytes {}: at least 1K (a cast's header alone takes hundreds)",
                     args.record_max_bytes
-                );
+                ))
+                .into());
             }
             if args.record_max_total < args.record_max_bytes {
-                bail!(
+                return Err(Usage(format!(
                     "--record-max-total {} is less than --record-max-bytes {}: not even one cast would fit",
-                    args.record_max_total,
-                    args.record_max_bytes
-                );
+                    args.record_max_total, args.record_max_bytes
+                ))
+                .into());
             }
             std::fs::create_dir_all(dir).with_context(|| format!("--record-dir {}", dir.display()))?;
             Some(RecordOptions {

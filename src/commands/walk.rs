@@ -139,14 +139,14 @@ pub(crate) fn read_run(
 ) -> anyhow::Result<mazewalk_walk::run::Run> {
     use mazewalk_walk::run::{MAX_BYTES, Run};
     let shown = mazewalk_maze::quote_path(&path.display().to_string());
-    let file = std::fs::File::open(path).with_context(|| format!("cannot read the run {shown}"))?;
+    let no_input = |source| super::NoInput { what: format!("the run {shown}"), source };
     let mut bytes = Vec::new();
-    file.take(MAX_BYTES as u64 + 1)
-        .read_to_end(&mut bytes)
-        .with_context(|| format!("cannot read the run {shown}"))?;
+    std::fs::File::open(path)
+        .and_then(|file| file.take(MAX_BYTES as u64 + 1).read_to_end(&mut bytes))
+        .map_err(no_input)?;
     let run = Run::decode(&bytes)
         .and_then(|run| run.check_maze(hash, extents).map(|()| run))
-        .with_context(|| format!("the run {shown}"))?;
+        .map_err(|e| super::BadData { what: format!("the run {shown}"), source: e.into() })?;
     Ok(run)
 }
 
