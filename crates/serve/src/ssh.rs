@@ -894,7 +894,11 @@ impl Handlers {
     /// Logs `line` about this connection, within the log limit.
     fn log(&self, line: std::fmt::Arguments<'_>) {
         if self.shared.log_ok(self.conn.group) {
-            info!(peer = %self.conn.peer, "{line}");
+            // the name asked for, once a request came (`player` in JSON lines), so a host can tell whose
+            match Conn::get(&self.conn.user) {
+                Some(user) => info!(peer = %self.conn.peer, user = %user, "{line}"),
+                None => info!(peer = %self.conn.peer, "{line}"),
+            }
         }
     }
 }

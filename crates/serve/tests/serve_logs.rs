@@ -146,6 +146,9 @@ async fn floods_of_junk_key_exchanges_refusals_and_forwarding_requests_leave_the
         eprintln!("forwarding requests: {asked}, the log grew {grown} bytes");
         assert!(asked >= 100, "the premise: a flood ({asked} requests)");
         assert!(grown < 8 * 1024, "the log grew {grown} bytes in 0.5 s");
+        // the refusal names whose connection asked, for the host
+        let named = |l: &&str| l.contains("refused port forwarding") && l.contains("user=forwarder");
+        assert!(log.text().lines().any(|l| named(&l)), "refusals without the player:\n{}", log.text());
         server.shutdown().await;
 
         // 4. Issue #34: a failed password login was logged as `closed` with `user=-`.
