@@ -23,8 +23,8 @@ use super::raster::{GridVertex, LANES, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
     CEILING_EXIT_TINT, FLOOR_EXIT_TINT, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker,
-    checker_filtered, edge_color, exit_tinted, headlight, jamb_color, jamb_grey, lit, luminance, seam_color,
-    slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
+    checker_filtered, edge_color, exit_lit_wall, exit_tinted, headlight, jamb_color, jamb_grey, lit,
+    luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -393,11 +393,14 @@ impl Renderer {
         // stop it, so the far side of a wall keeps its own cell's level.
         let eye_left = (eye.camera.position - a).perp_dot(b - a) < 0.0;
         let side = if eye_left { edge.left } else { edge.right };
-        let level = side.zip(light.exit_light).map_or(0, |(cell, exit_light)| exit_light.level(cell));
-        let lit_albedo = palette::off_floor_and_ceiling(exit_tinted(
+        // (in colour only: the glow lifts a wall's luminance, which ascii would draw as nearness)
+        let level = side
+            .zip(light.exit_light)
+            .filter(|_| self.walls_apart)
+            .map_or(0, |(cell, exit_light)| exit_light.level(cell));
+        let lit_albedo = palette::off_floor_and_ceiling(exit_lit_wall(
             lit(albedo, headlight(normal_view), AMBIENT),
             level,
-            1.0,
         ));
         let triangles = self.polygon_grid.len() - 2;
         let fog = &light.fog;

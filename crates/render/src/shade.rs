@@ -79,7 +79,8 @@ pub(crate) fn apart_from_floor(color: Vec3, floor_luminance: f32, ambient: f32) 
     if short < target { raised.lerp(Vec3::ONE, (target - short) / (1.0 - short).max(1e-6)) } else { raised }
 }
 
-/// The exit's glow's chroma relative to the surface's lightness (OKLab C ⁄ L) in the faintest lit
+/// The exit's glow's chroma on the floor and the ceiling (walls: [`GLOW_STEPS`]) relative to the
+/// surface's lightness (OKLab C ⁄ L), times their shares, in the faintest lit
 /// cell (level 1, [`EXIT_LIGHT`] − 1 cells of path from the exit) and in the exit's own cell; the
 /// levels between step evenly in OKLab chroma, which is close to even in what the eye sees (issue
 /// #39: a share of the exit's green mixed in linear RGB, 5 % a level, was lost in 256 colours below
@@ -114,7 +115,13 @@ pub(crate) const CEILING_EXIT_TINT: f32 = 0.5;
 fn exit_glow_colour(level: u8, strength: f32) -> Vec3 {
     let top = f32::from(EXIT_LIGHT.max(2) - 1);
     let along = f32::from(level.clamp(1, EXIT_LIGHT) - 1) / top;
-    let relative = strength * (EXIT_GLOW_CHROMA.0 + (EXIT_GLOW_CHROMA.1 - EXIT_GLOW_CHROMA.0) * along);
+    glow_colour(strength * (EXIT_GLOW_CHROMA.0 + (EXIT_GLOW_CHROMA.1 - EXIT_GLOW_CHROMA.0) * along))
+}
+
+/// The glow's green (the beacon's hue) with chroma `relative` × its lightness (OKLab), as a colour of
+/// luminance 1 (linear).
+#[must_use]
+fn glow_colour(relative: f32) -> Vec3 {
     // The hue's direction in OKLab's (a, b), worked out once (three cube roots: the floor's rows ask
     // for every level's colour, a frame in the exit's light over a thousand times).
     static DIRECTION: std::sync::OnceLock<Vec2> = std::sync::OnceLock::new();
@@ -147,20 +154,83 @@ fn linear_from_oklab(lab: Vec3) -> Vec3 {
 
 /// A surface of `color` lit by the exit's light at `level` (0..=`EXIT_LIGHT`, the cell's level:
 /// [`mazewalk_maze::light::ExitLight`]): **the exit's green, of the surface's luminance**, its chroma
-/// growing from the faintest lit cell to the exit ([`EXIT_GLOW_CHROMA`], times `strength`: 1 for
-/// walls, [`FLOOR_EXIT_TINT`] for the floor, [`CEILING_EXIT_TINT`] for the ceiling). The surface's own
-/// hue gives way to the glow's, so a lit wall never shows another hue or the olive between a warm wall
-/// and green (generated walls are never green, issue #39); its luminance is kept, so the headlight,
-/// the sun, the walls-apart rule and the fog still tell the geometry, and in ASCII, which draws
-/// luminance only, it changes nothing. A lit wall's colour then depends on its level and its light
-/// alone: every wall of one cell seen at one angle and depth has one colour, and a cell nearer the
-/// exit a greener one. Linear in `color` (the floor's rows tint one colour per level and scale it).
+/// growing from the faintest lit cell to the exit ([`EXIT_GLOW_CHROMA`], times `strength`:
+/// [`FLOOR_EXIT_TINT`] for the floor, [`CEILING_EXIT_TINT`] for the ceiling; walls take
+/// [`exit_lit_wall`]). The surface's own hue gives way to the glow's, so a lit surface never shows
+/// another hue or the olive between a warm colour and green (generated walls are never green, issue
+/// #39); its luminance is kept, so the fog and the floor's lines tell the geometry as before. Linear
+/// in `color` (the floor's rows tint one colour per level and scale it).
 #[must_use]
 pub(crate) fn exit_tinted(color: Vec3, level: u8, strength: f32) -> Vec3 {
     if level == 0 {
         return color;
     }
     exit_glow_colour(level, strength) * luminance(color)
+}
+
+/// How many steps the exit's light shows on walls over its reach ([`glow_step`], [`GLOW_STEPS`]).
+pub(crate) const GLOW_STEP_COUNT: usize = 3;
+
+/// The exit's light on a wall at each of its steps ([`glow_step`], from the edge of its reach to the
+/// exit): the glow's chroma relative to lightness (OKLab C ⁄ L), the factor on the wall's luminance
+/// and the luminance the light adds (linear, before the fog: it lifts a side wall as much as one
+/// faced square on). Issue #39: with the chroma alone growing by level (0.09 → 0.13) and the
+/// luminance kept, every lit wall showed one of two entries in 256 colours, pale (135, 175, 135)
+/// faced and (95, 135, 95) along the view, from fifteen cells out to the exit: the glow said "near"
+/// and not "which way". The cube's muted greens of the glow's hue lie on one line by lightness, an
+/// entry to about 1.5× in luminance ((95, 135, 95) L 0.58 → (135, 175, 135) 0.71, or the greener
+/// (95, 175, 135) 0.69 → (135, 215, 175) 0.82 → (175, 255, 215) 0.94, the beacon's own lightness),
+/// and the headlight puts only 1.4× between a faced wall and a side wall, so the steps are few and
+/// each crosses an entry: more chroma, then more light. Seen from a cell's centre, a wall faced
+/// square on shows (135, 175, 135) at the edge of the reach, (95, 175, 135) from nine cells out and
+/// (135, 215, 175) from four; one along the view (95, 135, 95), then (95, 175, 135) from four cells.
+/// Never past (135, 215, 175): the beacon's green shows (135, 255, 175), lighter by 0.1 in L. Four
+/// steps were tried: the cube has no fourth rung below the beacon's, and walls two steps apart took
+/// one entry.
+pub(crate) const GLOW_STEPS: [GlowStep; GLOW_STEP_COUNT] = [
+    GlowStep { chroma: 0.10, gain: 0.9, lift: 0.0 },
+    GlowStep { chroma: 0.125, gain: 0.9, lift: 0.0 },
+    GlowStep { chroma: 0.125, gain: 1.25, lift: 0.03 },
+];
+
+/// One step of the exit's light on walls: see [`GLOW_STEPS`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct GlowStep {
+    /// OKLab chroma ⁄ lightness of the glow's green.
+    pub(crate) chroma: f32,
+    /// The factor on the wall's own luminance.
+    pub(crate) gain: f32,
+    /// Luminance the exit's light adds (linear).
+    pub(crate) lift: f32,
+}
+
+/// The step (0..[`GLOW_STEP_COUNT`]) of a lit cell's `level` (1..=[`EXIT_LIGHT`]): levels 1–6 (10–15
+/// cells of path from the exit) step 0, 7–11 (5–9 cells) step 1, 12–16 (the exit and the four cells
+/// before it) step 2.
+#[must_use]
+pub(crate) fn glow_step(level: u8) -> usize {
+    let level = usize::from(level.clamp(1, EXIT_LIGHT) - 1);
+    (level * GLOW_STEP_COUNT / usize::from(EXIT_LIGHT)).min(GLOW_STEP_COUNT - 1)
+}
+
+/// A wall of `color` (its own light: the sun's and the headlight's) lit by the exit's light at
+/// `level` (0: none, the wall as it is): the glow's green at its step's chroma, its luminance that of
+/// the wall's lightness times the step's gain plus its lift ([`GLOW_STEPS`]). Every lit wall seen at
+/// one angle and depth has one colour per step, the next step nearer the exit a greener or lighter
+/// one. The pipeline draws it in colour only: it changes a wall's luminance, which ascii would draw
+/// as nearness.
+#[must_use]
+pub(crate) fn exit_lit_wall(color: Vec3, level: u8) -> Vec3 {
+    if level == 0 {
+        return color;
+    }
+    let step = GLOW_STEPS[glow_step(level)];
+    // The luminance of a grey of the wall's OKLab lightness, not the wall's own: generated walls share
+    // one lightness and differ by hue alone, and their luminances by up to 10 % with it, which in 256
+    // colours put two like walls of one step either side of an entry's edge (a side wall (95, 135, 95)
+    // beside one (95, 175, 135)), the step's look blurred by the hue the glow replaces.
+    let lightness = crate::palette::oklab(color).x.max(0.0);
+    glow_colour(step.chroma) * (lightness * lightness * lightness * step.gain + step.lift)
 }
 
 /// The sun: a fixed directional light (world space, unit length, pointing toward the light: east by
@@ -617,12 +687,21 @@ mod tests {
         lit(albedo * (SUN_LOW + (SUN_HIGH - SUN_LOW) * sun), diffuse, 0.65)
     }
 
+    /// OKLab `b` is greener or lighter than `a` by a visible step: lighter by 0.03 (a shade) and at
+    /// most a little less saturated, or more saturated by 0.02 and at most a little darker (the
+    /// 256-colour cube's green line: (135, 175, 135) → (95, 175, 135) is +0.028 chroma, −0.02 L).
+    pub(crate) fn greener_or_lighter(a: Vec3, b: Vec3) -> bool {
+        let (ca, cb) = (a.y.hypot(a.z), b.y.hypot(b.z));
+        (b.x >= a.x + 0.03 && cb >= ca - 0.035) || (cb >= ca + 0.02 && b.x >= a.x - 0.03)
+    }
+
     /// Issue #39: the exit's glow on a generated wall, at every level, every angle to the headlight
     /// (a side wall gets none of it, a wall faced square on all) and either side to the sun, near and
     /// as far as the fog leaves 45 % of the light (about 4 cells): in 256 colours the lit wall takes an
     /// entry at least a palette step (0.03 in OKLab) off the same wall unlit, coloured, and closer in
-    /// hue to the glow than to any generated wall colour; in truecolor its hue is the glow's, and its
-    /// chroma grows with the level at every light, so two looks tell which way the exit is.
+    /// hue to the glow than to any generated wall colour; in truecolor its hue is the glow's, each
+    /// level of one step ([`glow_step`]) the same colour, and each step greener or lighter than the one
+    /// before by a visible amount, so two looks tell which way the exit is.
     #[test]
     fn a_lit_wall_is_the_glows_green_a_palette_step_off_the_wall_unlit_in_256_colours() {
         use crate::palette::{Palette, oklab, ramp_entry};
@@ -639,20 +718,30 @@ mod tests {
             for sun in [0.0, 1.0] {
                 for diffuse in [0.0, 0.1, 0.3, 0.6, 1.0] {
                     let colour = wall_lit(srgb, sun, diffuse);
-                    let mut chroma_before = 0.0;
+                    let mut before: Option<(usize, Vec3)> = None;
                     for level in 1..=EXIT_LIGHT {
-                        let lit = exit_tinted(colour, level, 1.0);
+                        let lit = exit_lit_wall(colour, level);
                         let lab = oklab(lit);
-                        let chroma = lab.y.hypot(lab.z);
                         assert!(off(hue(lab), glow_hue) < 1f32.to_radians(), "{srgb:?} level {level}: {lab}");
-                        assert!(
-                            chroma / lab.x > chroma_before + 0.001,
-                            "{srgb:?} level {level}: chroma {chroma} not above the level before's"
-                        );
-                        chroma_before = chroma / lab.x;
-                        assert!(
-                            (luminance(lit) - luminance(colour)).abs() < 1e-3 * luminance(colour).max(1e-3)
-                        );
+                        let step = glow_step(level);
+                        if let Some((step_before, lab_before)) = before {
+                            if step == step_before {
+                                assert!(
+                                    lab.distance(lab_before) < 1e-5,
+                                    "{srgb:?} level {level}: one step, one colour"
+                                );
+                            } else {
+                                // (truecolor: no darker, no paler, and a visible change)
+                                let chroma = |c: Vec3| c.y.hypot(c.z);
+                                assert!(
+                                    lab.x >= lab_before.x - 0.005
+                                        && chroma(lab) >= chroma(lab_before) - 1e-4
+                                        && lab.distance(lab_before) >= 0.01,
+                                    "{srgb:?} sun {sun} headlight {diffuse} level {level}: {lab} after {lab_before}"
+                                );
+                            }
+                        }
+                        before = Some((step, lab));
                         for keep in [1.0, 0.8, 0.6, 0.45] {
                             let (shown, unlit) = (
                                 ramp_entry(lit * keep, Palette::Xterm256),
@@ -677,6 +766,57 @@ mod tests {
         assert_eq!(judged, WALL_COLOURS.len() * 2 * 5 * usize::from(EXIT_LIGHT) * 4);
     }
 
+    /// Issue #39: the glow's steps in 256 colours, on a generated wall lit square on (the headlight
+    /// full) and along the view (a fifth of it), near (the fog keeping 0.9 of the light: about a
+    /// cell off) and further (0.7, 0.5): each step shows the entry before it or a greener or lighter
+    /// one, never the reverse; near, over the three steps a wall faced square on shows three entries
+    /// and one along the view two, and the two differ at the first and last steps and, for at least
+    /// nine wall colours and suns in ten, at the middle one too (a corner between two lit walls shows
+    /// as a change of colour as well as by its edge line; 185 of 196 at `GLOW_STEPS` as written,
+    /// the others one entry, (95, 175, 135), at the middle step: the headlight's 1.4× between them
+    /// is less than that entry's span).
+    #[test]
+    fn in_256_colours_the_glows_steps_are_greener_or_lighter_and_keep_corners() {
+        use crate::palette::{Palette, ramp_entry};
+        use mazewalk_maze::generate::WALL_COLOURS;
+        let mut corners = (0, 0); // (apart at every step, judged)
+        for &srgb in &WALL_COLOURS {
+            for sun in [0.0, 1.0] {
+                for keep in [0.9, 0.7, 0.5] {
+                    let shown = |diffuse: f32, level: u8| {
+                        ramp_entry(
+                            exit_lit_wall(wall_lit(srgb, sun, diffuse), level) * keep,
+                            Palette::Xterm256,
+                        )
+                    };
+                    let levels = [1, 8, 16]; // one of each step
+                    let faced: Vec<u8> = levels.iter().map(|&l| shown(1.0, l)).collect();
+                    let side: Vec<u8> = levels.iter().map(|&l| shown(0.2, l)).collect();
+                    let why = format!("{srgb:?} sun {sun} fog keeps {keep}: faced {faced:?}, side {side:?}");
+                    for entries in [&faced, &side] {
+                        for pair in entries.windows(2) {
+                            assert!(
+                                pair[0] == pair[1]
+                                    || greener_or_lighter(entry_lab(pair[0]), entry_lab(pair[1])),
+                                "{why}"
+                            );
+                        }
+                    }
+                    if keep == 0.9 {
+                        let looks = |e: &[u8]| e.iter().collect::<std::collections::BTreeSet<_>>().len();
+                        assert!(looks(&faced) == 3 && looks(&side) >= 2, "{why}");
+                        assert!(faced[0] != side[0] && faced[2] != side[2], "{why}");
+                        let apart = faced.iter().zip(&side).filter(|(f, s)| f != s).count();
+                        assert!(apart >= 2, "{why}");
+                        corners.0 += usize::from(apart == 3);
+                        corners.1 += 1;
+                    }
+                }
+            }
+        }
+        assert!(corners.0 * 10 >= corners.1 * 9, "corners apart at every step: {corners:?}");
+    }
+
     /// Issue #39: no lit wall is taken for the beacon. The beacon's green (its brightest, middle
     /// column) shows a lighter entry than any lit wall at the same distance (the beacon is fogged as
     /// at half its distance), and in 16 colours lit walls show the dark green (or black)
@@ -695,11 +835,13 @@ mod tests {
             for &srgb in &WALL_COLOURS {
                 for (sun, diffuse) in [(0.0, 0.0), (1.0, 1.0), (0.5, 0.5)] {
                     for level in 1..=EXIT_LIGHT {
-                        let lit = exit_tinted(wall_lit(srgb, sun, diffuse), level, 1.0) * keep;
+                        let lit = exit_lit_wall(wall_lit(srgb, sun, diffuse), level) * keep;
                         let shown = ramp_entry(lit, Palette::Xterm256);
                         assert!(
                             entry_lab(beacon).x > entry_lab(shown).x + 0.05,
-                            "{srgb:?} level {level} keep {keep}: wall {shown}, beacon {beacon}"
+                            "{srgb:?} level {level} keep {keep}: wall {shown} {:?}, beacon {beacon} {:?}",
+                            mazewalk_term::frame::xterm_rgb(shown),
+                            mazewalk_term::frame::xterm_rgb(beacon)
                         );
                         let sixteen = ramp_entry(lit, Palette::Ansi16);
                         assert!(

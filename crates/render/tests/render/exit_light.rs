@@ -95,26 +95,26 @@ fn walls_near_the_exit_turn_green_greener_nearer_and_walls_out_of_its_reach_do_n
                 assert_eq!(a, b, "cell {cell} (no light) heading {heading}: wall {e} changed");
                 far_walls += 1;
             } else {
-                // The exit's green (the beacon's hue), its chroma a fixed share of its lightness that grows by level from
-                // 0.09 at the edge of the light's reach to 0.13 in the exit's cell (fog and light
-                // scale a colour, which keeps that share).
+                // The exit's green (the beacon's hue), its chroma a share of its lightness (OKLab
+                // C ⁄ L) between the faintest glow's 0.10 and the exit's 0.125, well below the
+                // beacon's 0.18, and lighter toward the exit (truecolor, the steps of
+                // `shade::GLOW_STEPS`, of the wall's lightness, so within the 10 % by which generated
+                // walls' luminances differ with their hue): no darker than 0.8 of the wall unlit at
+                // the edge of the reach, at least 1.1 times it within the five cells round the exit.
                 let lab = oklab(a);
                 assert!(
                     hue_off(lab, oklab(EXIT_GLOW)) < 12f32.to_radians(),
                     "cell {cell} level {level}: {lab}"
                 );
                 let share = lab.y.hypot(lab.z) / lab.x;
-                let want = 0.09 + 0.04 * f32::from(level - 1) / 15.0;
-                assert!(
-                    (share - want).abs() < 0.004,
-                    "cell {cell} level {level}: chroma {share} of L, not {want}"
-                );
+                assert!((0.095..0.13).contains(&share), "cell {cell} level {level}: chroma {share} of L");
                 shares.push((level, share));
                 let luminance = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
-                assert!(
-                    (luminance(a) - luminance(b)).abs() < 0.02 * luminance(b) + 1e-3,
-                    "the tint keeps a wall's luminance: {a} against {b}"
-                );
+                let ratio = luminance(a) / luminance(b);
+                assert!(ratio > 0.8, "cell {cell} level {level}: {a} against {b}");
+                if level >= 12 {
+                    assert!(ratio >= 1.1, "cell {cell} level {level}: {a} against {b}");
+                }
                 near_walls += 1;
             }
         }
@@ -225,13 +225,149 @@ fn in_256_colours_every_lit_wall_shows_the_glows_hue_a_step_off_its_own() {
     }
     assert!(judged > 10_000, "{judged}");
     assert!(levels_seen.contains(&1) && levels_seen.contains(&16), "{levels_seen:?}");
-    // Greener nearer, in 256 colours too: walls faced square on within three cells of the exit show
-    // a more saturated entry than those eight cells or more away.
-    let mean = |keep: &dyn Fn(u8) -> bool| {
-        let chosen: Vec<f32> = faced.iter().filter(|(l, _)| keep(*l)).map(|&(_, c)| c).collect();
-        assert!(chosen.len() >= 4, "{faced:?}");
-        chosen.iter().sum::<f32>() / chosen.len() as f32
-    };
-    let (near, far) = (mean(&|l| l >= 13), mean(&|l| l <= 8));
-    assert!(near > far + 0.015, "chroma of walls faced near the exit {near}, far from it {far}");
+    // Greener or lighter nearer: `in_256_colours_like_walls_get_greener_or_lighter_toward_the_exit`.
+    assert!(faced.len() >= 40, "{faced:?}");
+}
+
+/// The entries (OKLab) that walls of one kind show in 256 colours from the centre of every lit cell
+/// of `seeds`' mazes, by the wall's orientation (so one side to the sun) and the cell's level:
+/// `faced` the cell's own wall straight ahead (2 units off, square on), `side` its own wall at the
+/// view's edge (along the view, as far off at every cell).
+fn like_walls(seeds: &[u64]) -> [std::collections::BTreeMap<(u8, u8), Vec<Vec3>>; 2] {
+    let mut kinds: [std::collections::BTreeMap<(u8, u8), Vec<Vec3>>; 2] = Default::default();
+    for &seed in seeds {
+        let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
+        let light = ExitLight::of(&maze);
+        for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0) {
+            let level = light.level(cell);
+            for (h, heading) in [0.0, 90.0, 180.0, 270.0].into_iter().enumerate() {
+                let camera = cell_camera(&maze, cell, heading);
+                let (shown, ids) = shown(&maze, &camera, ColorDepth::Ansi256);
+                let h = h as u8;
+                let own = maze.cell_edges(cell);
+                let row = ids.len() / 120 / 2;
+                let middle = row * 120 + 60;
+                if own.contains(&ids[middle]) && inside(&ids, middle) {
+                    kinds[0].entry((h, level)).or_default().push(shown[middle]);
+                }
+                for (k, right) in [(row * 120 + 2, 0), (row * 120 + 117, 1)] {
+                    if ids[k] != ids[middle] && own.contains(&ids[k]) && inside(&ids, k) {
+                        kinds[1].entry((h * 2 + right, level)).or_default().push(shown[k]);
+                    }
+                }
+            }
+        }
+    }
+    kinds
+}
+
+/// OKLab `b` is greener or lighter than `a` by a visible step in 256 colours: lighter by 0.03 and
+/// at most a little less saturated, or more saturated by 0.02 and at most a little darker.
+fn greener_or_lighter(a: Vec3, b: Vec3) -> bool {
+    let (ca, cb) = (a.y.hypot(a.z), b.y.hypot(b.z));
+    (b.x >= a.x + 0.03 && cb >= ca - 0.035) || (cb >= ca + 0.02 && b.x >= a.x - 0.03)
+}
+
+/// Issue #39, "which way": in 256 colours, over five generated mazes, walls of one kind seen from
+/// the centres of lit cells (the cell's own wall straight ahead, square on; its own wall at the
+/// view's edge, along it) get greener or lighter by a visible step toward the exit and never the
+/// reverse: every wall faced square on from a cell at least six levels (cells of path) nearer the
+/// exit shows a greener or lighter entry than every one from the further cell, and along the view
+/// at least eleven levels nearer; over the reach each kind shows at least two looks (faced three);
+/// and at the first and last steps the two kinds show different entries (a corner between two lit
+/// walls changes colour).
+#[test]
+fn in_256_colours_like_walls_get_greener_or_lighter_toward_the_exit() {
+    let [faced, side] = like_walls(&[71, 3, 74174, 12255, 98794]);
+    let mut judged = 0;
+    for (name, kind, apart) in [("faced", &faced, 6u8), ("side", &side, 11)] {
+        let levels: std::collections::BTreeSet<u8> = kind.keys().map(|&(_, l)| l).collect();
+        assert!(levels.len() == 16, "{name}: levels seen {levels:?}");
+        let mut looks = Vec::new();
+        for (&(o, a), at_a) in kind {
+            for (&(_, b), at_b) in kind.range((o, a + 1)..(o + 1, 0)) {
+                for (x, y) in at_a.iter().flat_map(|x| at_b.iter().map(move |y| (x, y))) {
+                    let why = format!("{name} {o}: level {a} {x} against level {b} {y}");
+                    if b >= a + apart {
+                        assert!(greener_or_lighter(*x, *y), "not a step toward the exit: {why}");
+                    } else {
+                        assert!(!greener_or_lighter(*y, *x), "backwards: {why}");
+                    }
+                    judged += 1;
+                }
+            }
+            for c in at_a {
+                if !looks.iter().any(|l: &Vec3| l.distance(*c) < 1e-4) {
+                    looks.push(*c);
+                }
+            }
+        }
+        assert!(looks.len() >= if name == "faced" { 3 } else { 2 }, "{name}: {looks:?}");
+    }
+    assert!(judged > 10_000, "{judged}");
+    // corners: a cell's faced wall against its side walls, seen at one heading
+    for ((o, level), at) in &faced {
+        if [1, 2, 15, 16].contains(level) {
+            for s in [2 * o, 2 * o + 1].iter().filter_map(|&so| side.get(&(so, *level))).flatten() {
+                assert!(
+                    at.iter().all(|f| f.distance(*s) > 0.03),
+                    "level {level} heading {o}: corner {at:?} {s}"
+                );
+            }
+        }
+    }
+}
+
+/// Issue #39: two lit walls meeting in a line (one cell's side wall and the next's) are two walls,
+/// not one: the seam the edge pass draws between them shows. Over five generated mazes, from the
+/// centre of every lit cell at four headings, every boundary on three rows between two such walls
+/// (both lit, both seen two samples either side of it): in truecolor the seam's samples differ from
+/// the walls' (0.02 in OKLab) at every one; in 256 colours at least two in five (286 of 586 at
+/// `GLOW_STEPS`; 176 with the glow's chroma growing by level and the luminance kept, the seam, 0.7 of
+/// the wall's light, inside the wide entry (95, 135, 95) of side walls). In 16 colours a lit wall
+/// shows one dark green and its seams do not show (1 of 586).
+#[test]
+fn seams_between_lit_walls_in_a_line_show() {
+    let mut counts = [(0usize, 0usize); 2];
+    for seed in [71u64, 3, 74174, 12255, 98794] {
+        let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
+        let light = ExitLight::of(&maze);
+        let walls = maze.edges().len() as u32;
+        let collinear = |a: u32, b: u32| {
+            let ((p, q), (r, s)) = (maze.edge_points(a), maze.edge_points(b));
+            let d = q - p;
+            let off = |x: glam::Vec2| d.perp_dot(x - p).abs() / d.length();
+            off(r) < 1e-3 && off(s) < 1e-3
+        };
+        let lit_wall = |e: u32| {
+            let edge = maze.edge(e);
+            [edge.left, edge.right].iter().flatten().any(|&c| light.level(c) > 0)
+        };
+        for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0) {
+            for heading in [0.0, 90.0, 180.0, 270.0] {
+                let camera = cell_camera(&maze, cell, heading);
+                for (d, depth) in [ColorDepth::TrueColor, ColorDepth::Ansi256].into_iter().enumerate() {
+                    let (shown, ids) = shown(&maze, &camera, depth);
+                    for row in [16usize, 20, 24] {
+                        for x in 3..116 {
+                            let (k, a, b) = (row * 120 + x, ids[row * 120 + x], ids[row * 120 + x + 1]);
+                            if a == b || a >= walls || b >= walls || !lit_wall(a) || !lit_wall(b) {
+                                continue;
+                            }
+                            if ids[k - 2] != a || ids[k + 3] != b || !collinear(a, b) {
+                                continue;
+                            }
+                            let shows = shown[k].distance(shown[k - 2]) > 0.02
+                                || shown[k + 1].distance(shown[k + 3]) > 0.02;
+                            counts[d].0 += usize::from(shows);
+                            counts[d].1 += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let [(true_shown, true_all), (shown_256, all_256)] = counts;
+    assert!(true_all > 300 && true_shown == true_all, "truecolor: {true_shown} of {true_all}");
+    assert!(shown_256 * 5 >= all_256 * 2, "256 colours: {shown_256} of {all_256}");
 }
