@@ -108,6 +108,7 @@ impl Renderer {
         let (sx, sy) = charset.samples_per_cell();
         let eye = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // look-at, projection, viewport
         let mut stats = self.draw(maze, &eye, culling, Shading::Color, textures); // portal pass, walls, floor, ceiling
+        self.ascii_lines = charset == Charset::Ascii;
         let visible = |cell: u32| culling == Culling::None || self.portal.was_visited(cell);
         let fog = fog_of(&eye);
         stats.samples_written += self.sprites.draw(&mut self.samples, &eye, &fog, sprites, visible); // figures

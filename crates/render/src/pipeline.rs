@@ -159,6 +159,10 @@ pub struct Renderer {
     /// This frame draws the floor's cell lines off the floor's tint ([`FLOOR_BOUND_16`]): in 16
     /// colours, where the floor shows one entry and a darker grey of its own is that entry again.
     pub(crate) floor_bounds_apart: bool,
+    /// This frame is ascii: the floor's and the ceiling's cell lines are also drawn as
+    /// [`CELL_LINE_GLYPH`] (shading glyphs are by distance, not by cell: without a glyph of their own
+    /// the cells down a corridor cannot be counted, issue #39), thinned by [`LINE_GAP_ASCII`].
+    pub(crate) ascii_lines: bool,
 }
 
 /// Where [`Renderer::render`] puts the picture.
@@ -755,7 +759,11 @@ impl Renderer {
         // under LINE_GAP_16 samples from the line a cell nearer (a corridor's far cells), the lines
         // make one pale band with the far walls' jambs (issue #39), and are left out.
         let per_unit = eye.height as f32 / (2.0 * eye.half_h); // samples a unit spans at depth 1
-        let thinned = self.floor_bounds_apart && eye.camera.projection == Projection::Perspective;
+        // In ascii (a sample a cell) the lines are glyphs: where they lie under LINE_GAP_ASCII rows
+        // apart they make a block of `~`, and the farther ones are left out the same way.
+        let gap = if self.ascii_lines { LINE_GAP_ASCII } else { LINE_GAP_16 };
+        let thinned =
+            (self.floor_bounds_apart || self.ascii_lines) && eye.camera.projection == Projection::Perspective;
         let walls = maze.edges().len() as u32;
         for (z, plane, paint) in [(FLOOR_Z, FLOOR, floor_bound), (CEILING_Z, CEILING, seam_color)] {
             self.edge_list.clear();
@@ -767,7 +775,7 @@ impl Renderer {
                     // · c / (d (d − c))` samples apart: up to the depth where that is LINE_GAP_16, so
                     // the last line drawn still stands apart from the one before it
                     let c = a.distance(b);
-                    let room = per_unit * below * c / LINE_GAP_16;
+                    let room = per_unit * below * c / gap;
                     let from = 0.5 * ((c * c + 4.0 * room).sqrt() + c);
                     let depth = |p: Vec2| (p.extend(z) - eye.position).dot(eye.forward);
                     if depth(a).min(depth(b)) > from {
@@ -786,6 +794,12 @@ impl Renderer {
                         self.edge_marks[i] = Mark::Seam;
                         self.edge_list.push(i as u32);
                     }
+                }
+            }
+            if self.ascii_lines {
+                for &i in &self.edge_list {
+                    let i = i as usize;
+                    self.samples.put_outline(i % w, i / w, Some(CELL_LINE_GLYPH));
                 }
             }
             self.paint_marked(paint);
@@ -866,6 +880,14 @@ impl Renderer {
                 }
             }
         }
+        // (in ascii a glyph of its own: by lightness alone a mark on the floor's lightest glyph, or
+        // under a cell line's `~`, would not show)
+        if self.ascii_lines {
+            for &i in &self.edge_list {
+                let i = i as usize;
+                self.samples.put_outline(i % w, i / w, Some(CHALK_GLYPH));
+            }
+        }
         // (off the floor's tint, as a jamb is off its wall's: in 16 colours the floor's tint shows only
         // the floor's entry, and a mark must show)
         self.paint_marked(|color| palette::off_floor_and_ceiling(chalk_color(color)));
@@ -909,18 +931,24 @@ impl Renderer {
             let quad = wall_quad_world(maze, e);
             // The quad's sides: 0 the foot, 1 the end at `edge.end`, 2 the top, 3 the end at `edge.start`;
             // lines first, then seams, then the ends that stop, each over what came before.
-            let seam = |v: u32| wall_end(maze, e, v, eye.camera.position, forward) == WallEnd::Seam;
-            let ends = [(1, seam(edge.end)), (3, seam(edge.start))];
-            let order = [(0, false), (2, false)].into_iter();
+            let end = |v: u32| wall_end(maze, e, v, eye.camera.position, forward);
+            let ends = [(1, end(edge.end)), (3, end(edge.start))];
+            let order = [(0, WallEnd::Corner), (2, WallEnd::Corner)].into_iter();
             let order = order
-                .chain(ends.into_iter().filter(|end| end.1))
-                .chain(ends.into_iter().filter(|end| !end.1));
-            for (k, seam) in order {
+                .chain(ends.into_iter().filter(|end| end.1 == WallEnd::Seam))
+                .chain(ends.into_iter().filter(|end| end.1 != WallEnd::Seam));
+            for (k, what) in order {
                 let Some((p, q)) = clip_segment(eye, quad[k], quad[(k + 1) % 4]) else { continue };
                 let (gp, gq) = (eye.grid(p), eye.grid(q));
-                let glyph = match line_glyph(gq.x - gp.x, gq.y - gp.y, sample_aspect) {
-                    '|' if seam => SEAM_GLYPH,
-                    glyph => glyph,
+                let glyph = match (line_glyph(gq.x - gp.x, gq.y - gp.y, sample_aspect), what) {
+                    ('|', WallEnd::Seam) if k % 2 == 1 => SEAM_GLYPH,
+                    ('|', WallEnd::Jamb) if k % 2 == 1 => {
+                        // which hand the wall lies on, seen from the eye: the bracket's back to the
+                        // opening (`]` a wall on the left stops, `[` one on the right starts)
+                        let (here, there) = if k == 1 { (b, a) } else { (a, b) };
+                        jamb_glyph((here - eye.camera.position).perp_dot(there - here) > 0.0)
+                    }
+                    (glyph, _) => glyph,
                 };
                 let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
                 let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
@@ -960,6 +988,14 @@ impl Renderer {
 /// The ascii glyph of a seam: where a wall's line goes on into the next wall (a cell boundary along a
 /// straight wall), dotted, where a wall that stops (a jamb, a corner) ends in `|`.
 pub(crate) const SEAM_GLYPH: char = ':';
+
+/// The ascii glyph of a door jamb or a post ([`WallEnd::Jamb`]: a wall stops at an opening), apart
+/// from a corner's `|`: `]` where the wall lies to the left of its end on the picture (`wall_left`),
+/// `[` where it lies to the right, so the bracket's back faces the opening (issue #39: a jamb where
+/// a side wall starts read as one where it ends, and the opening was given to the wrong cell).
+pub(crate) const fn jamb_glyph(wall_left: bool) -> char {
+    if wall_left { ']' } else { '[' }
+}
 
 /// In ascii, a wall shorter than this many samples in a column draws no top or bottom line there:
 /// the lines would be all of it.
@@ -1063,6 +1099,19 @@ fn doorway(maze: &Maze, g: u32, v: u32, cell: u32, eye: Vec2) -> bool {
 /// all). Off it, the line takes the nearest other entry, lighter than the floor's dark grey, as the
 /// ceiling's lines are lighter than its blue; black stays for what is black.
 const FLOOR_BOUND_16: fn(Vec3) -> Vec3 = |c| palette::off_floor_and_ceiling(seam_color(c));
+
+/// In ascii, the least gap (rows: a sample a cell) between a floor's (ceiling's) cell line and the one
+/// a cell nearer for the line to be drawn: lines a row apart make a block ([`Renderer::draw_cell_bounds`]).
+const LINE_GAP_ASCII: f32 = 2.0;
+
+/// The ascii glyph of the floor's and the ceiling's cell lines: a cell boundary on open floor, none of
+/// the walls' glyphs (faced, along the view, outlines, seams), nor the floor's, the ceiling's or the
+/// beacon's (issue #39: cells a player can count).
+pub(crate) const CELL_LINE_GLYPH: char = '~';
+
+/// The ascii glyph of a chalk mark's cross ([`Renderer::set_chalk`]): none of the walls', the floor's,
+/// the ceiling's, the cell lines' or the beacon's.
+pub(crate) const CHALK_GLYPH: char = 'x';
 
 /// In 16 colours, the least gap (samples) between a floor's (ceiling's) cell line and the one a cell
 /// nearer for the line to be drawn ([`Renderer::draw_cell_bounds`]).

@@ -2,6 +2,7 @@
 //! rasterizer and lines, golden frames, the picture and its quality measures, the portal pass against
 //! brute force, figures.
 
+mod cell_lines;
 mod chalk;
 mod exit_light;
 mod far_wall_height;

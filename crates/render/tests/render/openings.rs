@@ -30,16 +30,18 @@ const AHEAD: usize = 6;
 
 /// A view straight down a corridor: the camera at a cell's centre facing along a grid axis, and for
 /// each cell ahead (1 = the next), whether its side on either hand is open.
-struct Corridor {
-    camera: Camera,
+pub(crate) struct Corridor {
+    pub(crate) camera: Camera,
     /// The cells the corridor runs beyond the eye's.
-    ahead: usize,
+    pub(crate) ahead: usize,
     /// `sides[k][s]`: cell k's side `s` (0: `dir.perp()`, 1: the other) is an opening.
-    sides: Vec<[bool; 2]>,
+    pub(crate) sides: Vec<[bool; 2]>,
     /// The eye's cell's centre, the direction, the cell's size.
-    at: Vec2,
-    dir: Vec2,
-    tile: f32,
+    pub(crate) at: Vec2,
+    pub(crate) dir: Vec2,
+    pub(crate) tile: f32,
+    /// A wall ends the corridor `ahead` cells on (not cut short at `AHEAD + 2` cells).
+    pub(crate) closed: bool,
 }
 
 /// The edge of `cell` whose midpoint lies half a tile from its centre in `toward`, if any.
@@ -53,6 +55,13 @@ fn edge_toward(maze: &Maze, cell: u32, toward: Vec2, tile: f32) -> Option<u32> {
 
 /// The corridors of `maze` with at least three cells ahead and a side opening 1–6 cells ahead.
 fn corridors(maze: &Maze) -> Vec<Corridor> {
+    let opening = |c: &Corridor| (1..=c.ahead.min(AHEAD)).any(|k| c.sides[k][0] || c.sides[k][1]);
+    every_corridor(maze).into_iter().filter(|c| c.ahead >= 3 && opening(c)).collect()
+}
+
+/// Every view of `maze` straight down a corridor from a cell's centre along a grid axis, at least one
+/// cell ahead (up to `AHEAD + 2` cells are followed).
+pub(crate) fn every_corridor(maze: &Maze) -> Vec<Corridor> {
     let viewer = maze.viewer();
     let mut out = Vec::new();
     for cell in 0..maze.cell_count() as u32 {
@@ -72,15 +81,15 @@ fn corridors(maze: &Maze) -> Vec<Corridor> {
                 }
             }
             let ahead = sides.len() - 1;
-            let opening = (1..=ahead.min(AHEAD)).any(|k| sides[k][0] || sides[k][1]);
-            if ahead >= 3 && opening {
+            let closed = sides.len() <= AHEAD + 2;
+            if ahead >= 1 {
                 let at = maze.cell_centroid(cell);
                 let camera = Camera {
                     eye_z: viewer.z,
                     min_vfov_deg: maze.min_vfov_deg(),
                     ..Camera::new(at, dir.y.atan2(dir.x).to_degrees().rem_euclid(360.0), viewer.fov_deg)
                 };
-                out.push(Corridor { camera, ahead, sides, at, dir, tile });
+                out.push(Corridor { camera, ahead, sides, at, dir, tile, closed });
             }
         }
     }

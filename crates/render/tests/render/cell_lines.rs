@@ -1,0 +1,222 @@
+//! Issue #39, a new player in ascii (`--color none --charset ascii`, 120×40): down a corridor of twelve
+//! cells the player read two. The floor's glyphs (`,` `_`) and the ceiling's (`` ` `` `"`) shade by
+//! distance, not by cell, so nothing marked where one cell ends and the next begins; colour draws a
+//! line across the floor and the ceiling at each cell boundary, ascii drew none.
+//!
+//! The properties, over views straight down the corridors of generated mazes (end walls 2–6 cells
+//! ahead), in ascii without colour:
+//! - **cells a reader counts on the floor**: in the corridor's centre column below the horizon, a
+//!   reader counts the rows showing the cell-line glyph `~`. Each such row is a cell boundary's row
+//!   (within one), no two are under two rows apart (no block of `~`), and every boundary whose row
+//!   stands at least two rows from the one a cell nearer and from the end wall is drawn: the reader
+//!   counts each near cell on the floor. Without the lines the count is 0 and the test fails.
+//! - **the lines are no wall's glyph**: `~` is none of the walls' (faced `=#%@`, along the view
+//!   `.;+*`, outlines `|-/\`, seams `:`, jambs `[]`), the floor's, the ceiling's or the beacon's.
+//! - **seams counted far off**: on a side wall closed over two cells k and k + 1 (k + 1 ≤ 6), the
+//!   boundary between them shows the seam's `:` within a column of where it stands, at the horizon
+//!   row, wherever both cells are at least a column wide there: with the end wall, what a reader
+//!   counts the far cells by (the floor's lines stop about two cells out at 40 rows).
+
+use mazewalk_maze::generate::{GenOptions, generate};
+use mazewalk_render::{Charset, RenderOptions, Renderer, Target};
+use mazewalk_term::frame::{ColorDepth, Frame};
+
+use crate::openings::{Corridor, every_corridor};
+
+const COLS: usize = 120;
+const ROWS: usize = 40;
+/// The cell lines' glyph.
+const LINE: char = '~';
+/// Every glyph a wall is drawn with in ascii (the short ramp's two families, the outlines, the seam,
+/// the jambs), the floor's, the ceiling's and the beacon's.
+const OTHERS: &str = "=#%@.;+*|-/\\:[],_`\"$!";
+/// The least gap (rows) between two lines drawn.
+const GAP: f32 = 2.0;
+
+/// One corridor view in ascii without colour, with the grid position of a point of the corridor
+/// `along` tiles ahead of the eye's cell centre, `across` tiles to the side (+: `dir.perp()`), at
+/// height `z`.
+fn view(maze: &mazewalk_maze::Maze, c: &Corridor) -> (Frame, impl Fn(f32, f32, f32) -> (f32, f32)) {
+    let options =
+        RenderOptions { charset: Charset::Ascii, color_depth: ColorDepth::None, ..RenderOptions::default() };
+    let mut frame = Frame::new(COLS, ROWS);
+    let region = frame.region();
+    Renderer::new()
+        .render(maze, &c.camera, &[], &options, Target::Frame(&mut frame, region))
+        .expect("camera");
+    let eye = c.camera.eye(COLS, ROWS, Charset::Ascii.sample_aspect(options.cell_aspect)).expect("eye");
+    let (at, dir, tile) = (c.at, c.dir, c.tile);
+    let grid = move |along: f32, across: f32, z: f32| {
+        let p = at + dir * along * tile + dir.perp() * across * tile;
+        let g = eye.grid(eye.clip(p.extend(z)));
+        (g.x, g.y)
+    };
+    (frame, grid)
+}
+
+fn mazes() -> Vec<mazewalk_maze::Maze> {
+    [(20, 15, 12083), (20, 15, 3), (16, 12, 5392), (12, 8, 77), (23, 17, 4541), (18, 10, 91)]
+        .into_iter()
+        .map(|(w, h, seed)| generate(&GenOptions::walk(w, h, seed)).expect("generated maze"))
+        .collect()
+}
+
+#[test]
+fn the_cell_lines_glyph_is_no_other_surfaces() {
+    assert!(!OTHERS.contains(LINE));
+}
+
+#[test]
+fn in_ascii_a_reader_counts_the_near_cells_on_the_floor_and_the_lines_never_crowd() {
+    let mut views = 0;
+    for maze in mazes() {
+        let z = maze.viewer().z;
+        for c in every_corridor(&maze).iter().filter(|c| c.closed && (2..=6).contains(&c.ahead)) {
+            views += 1;
+            let (frame, grid) = view(&maze, c);
+            let name = format!("at {:?} heading {:.0}, {} cells ahead", c.at, c.camera.yaw_deg, c.ahead);
+            let column = grid(1000.0, 0.0, z).0.floor() as usize;
+            let horizon = grid(1000.0, 0.0, z).1;
+            // the floor's boundary rows (k = 0: the eye's own cell's far side), and the end wall's foot
+            let row = |along: f32| grid(along, 0.0, -1.0).1;
+            let bounds: Vec<f32> = (0..c.ahead).map(|k| row(k as f32 + 0.5)).collect();
+            let end_foot = row(c.ahead as f32 + 0.5);
+            let lines: Vec<usize> = (horizon.ceil() as usize..ROWS)
+                .filter(|&r| frame.cells()[r * COLS + column].ch == LINE)
+                .collect();
+            for &r in &lines {
+                let centre = r as f32 + 0.5;
+                assert!(
+                    bounds.iter().any(|&b| (b - centre).abs() <= 1.0),
+                    "{name}: a line at row {r}, no boundary there ({bounds:?})"
+                );
+            }
+            for pair in lines.windows(2) {
+                assert!(pair[1] - pair[0] >= GAP as usize, "{name}: lines at rows {pair:?} crowd");
+            }
+            // every boundary standing clear of the one a cell nearer and of the end wall is drawn
+            for (k, &b) in bounds.iter().enumerate() {
+                let nearer = if k == 0 { f32::INFINITY } else { bounds[k - 1] };
+                let clear = nearer - b >= GAP + 0.5 && b - end_foot >= GAP && b < ROWS as f32 - 1.0;
+                if clear && b > horizon + 1.0 {
+                    let r = b.floor() as usize;
+                    let near = r.saturating_sub(1)..=(r + 1).min(ROWS - 1);
+                    assert!(
+                        near.clone().any(|r| lines.contains(&r)),
+                        "{name}: the boundary {k} cells on (row {b:.1}) shows no line; lines {lines:?}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(views >= 40, "only {views} views");
+}
+
+#[test]
+fn in_ascii_seams_between_side_walls_show_up_to_six_cells_ahead() {
+    let mut seams = 0;
+    for maze in mazes() {
+        let z = maze.viewer().z;
+        for c in every_corridor(&maze).iter() {
+            let (frame, grid) = view(&maze, c);
+            let horizon = grid(1000.0, 0.0, z).1.floor() as usize;
+            let name = format!("at {:?} heading {:.0}, {} cells ahead", c.at, c.camera.yaw_deg, c.ahead);
+            for (s, across) in [(0, 0.5), (1, -0.5)] {
+                for k in 1..c.ahead.min(6) {
+                    if c.sides[k][s] || c.sides[k + 1][s] {
+                        continue;
+                    }
+                    let x = |along: f32| grid(along, across, z).0;
+                    let (a, seam, b) = (x(k as f32 - 0.5), x(k as f32 + 0.5), x(k as f32 + 1.5));
+                    if (a - seam).abs() < 1.0
+                        || (b - seam).abs() < 1.0
+                        || !(1.0..COLS as f32 - 1.0).contains(&seam)
+                    {
+                        continue;
+                    }
+                    seams += 1;
+                    let col = seam.floor() as usize;
+                    let shown: String =
+                        (col - 1..=col + 1).map(|x| frame.cells()[horizon * COLS + x].ch).collect();
+                    assert!(
+                        shown.contains(':'),
+                        "{name}: the seam {k}–{} cells on, side {s}, shows {shown:?}",
+                        k + 1
+                    );
+                }
+            }
+        }
+    }
+    assert!(seams >= 40, "only {seams} seams");
+}
+
+/// Jambs apart from corners: at the horizon row, a side wall that ends at a side opening 1–2 cells
+/// ahead ends in a bracket whose back faces the opening (`]` where the wall lies to its left on the
+/// picture, `[` to its right), and where a side wall starts again after the opening a bracket shows;
+/// where a closed side wall meets the end wall 1–4 cells ahead, a corner, `|` and no bracket.
+#[test]
+fn in_ascii_jambs_face_their_opening_and_corners_stay_bars() {
+    let (mut jambs, mut corners) = (0, 0);
+    for maze in mazes() {
+        let z = maze.viewer().z;
+        for c in every_corridor(&maze).iter() {
+            let (frame, grid) = view(&maze, c);
+            let horizon = grid(1000.0, 0.0, z).1.floor() as usize;
+            let name = format!("at {:?} heading {:.0}, {} cells ahead", c.at, c.camera.yaw_deg, c.ahead);
+            let shown = |x: f32| -> String {
+                let col = x.floor() as usize;
+                (col.saturating_sub(1)..=(col + 1).min(COLS - 1))
+                    .map(|x| frame.cells()[horizon * COLS + x].ch)
+                    .collect()
+            };
+            // side 0 is `dir.perp()`: the left hand
+            for (s, across, left) in [(0, 0.5, true), (1, -0.5, false)] {
+                let x = |along: f32| grid(along, across, z).0;
+                for k in 1..=c.ahead.min(2) {
+                    if !c.sides[k][s] {
+                        continue;
+                    }
+                    let (near, far) = (x(k as f32 - 0.5), x(k as f32 + 0.5));
+                    if (near - far).abs() < 2.0 {
+                        continue;
+                    }
+                    // the wall before the opening ends at `near`: it lies outward on the picture
+                    if !c.sides[k - 1][s] && k >= 2 && (x(k as f32 - 1.5) - near).abs() >= 1.0 {
+                        jambs += 1;
+                        let want = if left { ']' } else { '[' };
+                        assert!(
+                            shown(near).contains(want),
+                            "{name}: the wall before opening {k} (side {s}) ends in {:?}",
+                            shown(near)
+                        );
+                    }
+                    // the wall after it starts at `far`, where the side cell's far wall, seen square on
+                    // through the opening, ends too (a corner jutting toward the eye: a jamb to both
+                    // walls, one glyph where they meet): a bracket either way
+                    if k < c.ahead && !c.sides[k + 1][s] && (x(k as f32 + 1.5) - far).abs() >= 1.0 {
+                        jambs += 1;
+                        let seen = shown(far);
+                        assert!(
+                            seen.contains(['[', ']']),
+                            "{name}: the wall after opening {k} (side {s}) starts in {seen:?}"
+                        );
+                    }
+                }
+                let n = c.ahead;
+                if c.closed
+                    && n <= 4
+                    && !c.sides[n][s]
+                    && (x(n as f32 - 0.5) - x(n as f32 + 0.5)).abs() >= 3.0
+                {
+                    corners += 1;
+                    let seen = shown(x(n as f32 + 0.5));
+                    assert!(
+                        seen.contains('|') && !seen.contains(['[', ']']),
+                        "{name}: the corner at the end (side {s}) shows {seen:?}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(jambs >= 40 && corners >= 40, "only {jambs} jambs, {corners} corners");
+}
