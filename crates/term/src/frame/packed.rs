@@ -94,8 +94,9 @@ impl PackedColor {
     }
 
     /// Whether two colours are within `tolerance` [`TOLERANCE_STEP`]s of each other in OKLab (two
-    /// truecolor colours that close, or two palette entries 16–255 whose xterm RGB are), or equal (any
-    /// colours).
+    /// truecolor colours that close, two palette entries 16–255 whose xterm RGB are, or a truecolor
+    /// colour and an entry 16–255 whose xterm RGB is: the encoder may send an entry for a truecolor
+    /// colour, [`PackedColor::cheapest`]), or equal (any colours).
     #[inline]
     #[must_use]
     pub(crate) fn within(self, other: PackedColor, tolerance: u8) -> bool {
@@ -107,16 +108,126 @@ impl PackedColor {
             return false;
         }
         let limit = f32::from(tolerance) * TOLERANCE_STEP;
+        let entry = |word: u32| PALETTE.oklab[(word & 0xff) as usize];
         let [p, q] = match (a >> 24, b >> 24) {
             (RGB, RGB) => oklab([a, b]),
-            (INDEXED, INDEXED) if a & 0xff >= 16 && b & 0xff >= 16 => {
-                let entries = &PALETTE.oklab;
-                [entries[(a & 0xff) as usize], entries[(b & 0xff) as usize]]
-            }
+            (INDEXED, INDEXED) if a & 0xff >= 16 && b & 0xff >= 16 => [entry(a), entry(b)],
+            (RGB, INDEXED) if b & 0xff >= 16 => [oklab([a])[0], entry(b)],
+            (INDEXED, RGB) if a & 0xff >= 16 => [entry(a), oklab([b])[0]],
             _ => return false,
         };
         distance2(p, q) <= limit * limit
     }
+
+    /// Issue #42: of the colours within `tolerance` of this one, the one whose SGR code is the
+    /// shortest ([`code_len`]): a palette entry 16–255 (`38;5;n`, 7–8 bytes: the cube and the greys,
+    /// the same on every xterm-like terminal; never 0–15, the theme's), else a truecolor colour with
+    /// fewer digits (a channel of 100–104 as 99, of 10–12 as 9), else itself. Of equal lengths the
+    /// nearest, then the lowest word: one answer for a colour, whatever asks. Only a truecolor
+    /// colour has others so chosen; any other colour, or a tolerance of 0, is itself. Remembered
+    /// per thread ([`CHEAPEST`]): the encoder asks it of each colour it prices.
+    #[inline]
+    #[must_use]
+    pub(crate) fn cheapest(self, tolerance: u8) -> PackedColor {
+        let word = self.0.get();
+        if word >> 24 != RGB || tolerance == 0 {
+            return self;
+        }
+        // (An RGB word with the tolerance in its kind byte: never zero, the empty slot.)
+        let key = word & 0x00ff_ffff | u32::from(tolerance) << 24;
+        let slot = (key.wrapping_mul(0x9E37_79B1) >> (32 - CHEAPEST_SLOTS.trailing_zeros())) as usize;
+        let found = CHEAPEST.with_borrow_mut(|memo| {
+            let entry = &mut memo[slot];
+            if entry.0 != key {
+                *entry = (key, search_cheapest(word, tolerance));
+            }
+            entry.1
+        });
+        PackedColor(NonZeroU32::new(found).unwrap_or(self.0))
+    }
+}
+
+/// The bytes of the SGR parameters of a truecolor colour (`38;2;r;g;b`) or a palette entry 16–255
+/// (`38;5;n`), as the encoder writes them and prices them (its SGR writer reads it); 2 for any
+/// other colour (`3x`, `9x`: [`PackedColor::cheapest`] never chooses one).
+#[inline]
+#[must_use]
+pub(crate) fn code_len(color: PackedColor) -> usize {
+    let digits = |n: u8| 1 + usize::from(n >= 10) + usize::from(n >= 100);
+    let [kind, r, g, b] = color.0.get().to_be_bytes();
+    match u32::from(kind) {
+        RGB => 7 + digits(r) + digits(g) + digits(b),
+        INDEXED if b >= 16 => 5 + digits(b),
+        _ => 2,
+    }
+}
+
+/// [`PackedColor::cheapest`] of truecolor `word`, searched among a few candidates (not every colour
+/// within the tolerance: those nearest the colour, where the short codes are; up to a tolerance of
+/// 3, every palette entry within it is among them, a test finds): the eight cube
+/// entries of each channel's levels either side of it, the three greys of the ramp nearest the
+/// channels' mean; then, where no entry is within the tolerance, the colour with each channel of
+/// 100 or more taken to 99, of 10–99 to 9, in every combination.
+fn search_cheapest(word: u32, tolerance: u8) -> u32 {
+    let limit = f32::from(tolerance) * TOLERANCE_STEP;
+    let limit2 = limit * limit;
+    let here = convert(word);
+    let [_, r, g, b] = word.to_be_bytes();
+    // (length, squared distance, word): the smallest wins.
+    let mut best = (code_len(PackedColor(NonZeroU32::new(word).unwrap_or(NonZeroU32::MIN))), 0.0f32, word);
+    let consider = |best: &mut (usize, f32, u32), candidate: u32, there: [f32; 3]| {
+        let len = code_len(PackedColor(NonZeroU32::new(candidate).unwrap_or(NonZeroU32::MIN)));
+        if len > best.0 {
+            return;
+        }
+        let d = distance2(here, there);
+        if d <= limit2 && (len, d, candidate) < *best {
+            *best = (len, d, candidate);
+        }
+    };
+    // Each channel's cube levels at or below it and at or above it (one where it is a level).
+    let levels = |v: u8| {
+        let above = super::CUBE_LEVELS.iter().position(|&l| l >= v).unwrap_or(5);
+        [above.saturating_sub(usize::from(super::CUBE_LEVELS[above] > v)), above]
+    };
+    let ([r0, r1], [g0, g1], [b0, b1]) = (levels(r), levels(g), levels(b));
+    for (i, j, k) in [r0, r1]
+        .into_iter()
+        .flat_map(|i| [g0, g1].into_iter().flat_map(move |j| [b0, b1].into_iter().map(move |k| (i, j, k))))
+    {
+        let n = 16 + 36 * i + 6 * j + k;
+        consider(&mut best, INDEXED << 24 | n as u32, PALETTE.oklab[n]);
+    }
+    let mean = (u32::from(r) + u32::from(g) + u32::from(b)) / 3;
+    let grey = (mean.saturating_sub(3) / 10).min(23) as usize; // the ramp's 8 + 10k nearest the mean
+    for n in [232 + grey.saturating_sub(1), 232 + grey, 232 + (grey + 1).min(23)] {
+        consider(&mut best, INDEXED << 24 | n as u32, PALETTE.oklab[n]);
+    }
+    if best.0 <= 8 {
+        return best.2; // an entry: no truecolor code is as short
+    }
+    let fewer = |v: u8| match v {
+        100.. => Some(99),
+        10..=99 => Some(9),
+        _ => None,
+    };
+    for mask in 1..8u8 {
+        let channel = |i: u8, v: u8| if mask >> i & 1 == 1 { fewer(v) } else { Some(v) };
+        let (Some(r), Some(g), Some(b)) = (channel(0, r), channel(1, g), channel(2, b)) else { continue };
+        let candidate = u32::from_be_bytes([RGB as u8, r, g, b]);
+        consider(&mut best, candidate, convert(candidate));
+    }
+    best.2
+}
+
+/// Slots of [`CHEAPEST`]: a power of two.
+const CHEAPEST_SLOTS: usize = 1 << 12;
+
+thread_local! {
+    /// [`PackedColor::cheapest`]'s answers lately on this thread, by a hash of the colour and the
+    /// tolerance (0: empty). A pure function of them: it changes no answer.
+    static CHEAPEST: std::cell::RefCell<[(u32, u32); CHEAPEST_SLOTS]> =
+        const { std::cell::RefCell::new([(0, 0); CHEAPEST_SLOTS]) };
 }
 
 /// Whether `a[0]` is within `tolerance` of `b[0]` and `a[1]` of `b[1]` ([`PackedColor::within`]),
@@ -374,9 +485,77 @@ mod tests {
     use super::*;
     use mazewalk_testkit::{oklab as oklab_f64, oklab_distance};
 
+    /// Issue #42: the colour of the shortest code within the tolerance is within it (by an f64
+    /// oracle, a hair of slack), its code no longer than the colour's own, never an ANSI colour
+    /// (0–15, the theme's); where any palette entry 16–255 is within the tolerance, it is one of the
+    /// shortest such (against a search of all 240, at tolerances up to 3: the search looks near the
+    /// colour only); itself at tolerance 0 and for colours other
+    /// than truecolor; the same answer asked again, and asked first at another tolerance.
+    #[test]
+    fn the_cheapest_colour_within_the_tolerance_is_within_it_and_no_longer() {
+        let mut seed = 0x1234_5678_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed
+        };
+        let mut colours: Vec<[u8; 3]> =
+            (0..4000).map(|_| next().to_be_bytes()).map(|[_, r, g, b]| [r, g, b]).collect();
+        // Near the short codes: the cube's levels and the greys, channels about 100 and 10.
+        for v in [0u8, 8, 9, 10, 11, 12, 18, 93, 95, 97, 99, 100, 101, 103, 104, 118, 135, 136, 178, 255] {
+            colours.extend([[v, v, v], [v, 95, 135], [100, v, 12], [v, v.wrapping_add(1), v]]);
+        }
+        let entry_len = |n: u8| 5 + if n >= 100 { 3 } else { 2 };
+        let (mut entries, mut fewer_digits) = (0, 0);
+        for tolerance in [0u8, 1, 2, 3, 5] {
+            let limit = f64::from(tolerance) * f64::from(TOLERANCE_STEP) + 1e-5;
+            for &[r, g, b] in &colours {
+                let colour = PackedColor::pack(Color::Rgb(r, g, b));
+                let cheap = colour.cheapest(tolerance);
+                assert_eq!(cheap, colour.cheapest(tolerance));
+                assert!(code_len(cheap) <= code_len(colour), "{colour:?} {cheap:?}");
+                assert!(cheap.within(colour, tolerance) && colour.within(cheap, tolerance));
+                let shown = match cheap.unpack() {
+                    Color::Rgb(r, g, b) => [r, g, b],
+                    Color::Indexed(n) => {
+                        assert!(n >= 16, "{colour:?} as ANSI colour {n}");
+                        entries += 1;
+                        crate::frame::xterm_rgb(n)
+                    }
+                    Color::Default => panic!("{colour:?} as the default"),
+                };
+                assert!(oklab_distance([r, g, b], shown) <= limit, "{colour:?} {cheap:?} at {tolerance}");
+                if tolerance == 0 {
+                    assert_eq!(cheap, colour);
+                }
+                if matches!(cheap.unpack(), Color::Rgb(..)) && cheap != colour {
+                    fewer_digits += 1;
+                }
+                // Every entry within the tolerance, by the same arithmetic as `within`.
+                let shortest_entry = (16..=255u8)
+                    .filter(|&n| PackedColor::pack(Color::Indexed(n)).within(colour, tolerance))
+                    .map(entry_len)
+                    .min();
+                if let Some(len) = shortest_entry.filter(|_| tolerance <= 3) {
+                    assert_eq!(code_len(cheap), len, "{colour:?} {cheap:?} at {tolerance}");
+                }
+            }
+        }
+        for other in [Color::Default, Color::Indexed(3), Color::Indexed(100), Color::Indexed(244)] {
+            assert_eq!(PackedColor::pack(other).cheapest(2), PackedColor::pack(other));
+        }
+        assert!(entries > 200 && fewer_digits > 20, "entries {entries}, fewer digits {fewer_digits}");
+        let grey = PackedColor::pack(Color::Rgb(100, 100, 100));
+        // The cube's 95 grey (`38;5;59`, 7 bytes) before the ramp's nearer 98 (`38;5;241`, 8).
+        assert_eq!(grey.cheapest(2).unpack(), Color::Indexed(59));
+        assert_eq!(grey.cheapest(0), grey);
+    }
+
     /// Every colour has one spelling: packing is one-to-one and unpacking gives the colour back; the
-    /// tolerance applies to truecolor colours alone, as an OKLab distance (against an f64 oracle; pairs
-    /// within 1e-5 of the limit, where f32 rounding may go either way, are not held to it).
+    /// tolerance applies to truecolor colours and palette entries 16–255 (by xterm's RGB, either
+    /// against either), as an OKLab distance (against an f64 oracle; pairs within 1e-5 of the limit,
+    /// where f32 rounding may go either way, are not held to it).
     #[test]
     fn a_packed_colour_is_the_colour_and_equal_words_are_equal_colours() {
         let mut colors = vec![Color::Default];
@@ -394,15 +573,16 @@ mod tests {
             for &b in &colors {
                 assert_eq!(PackedColor::pack(a) == PackedColor::pack(b), a == b, "{a:?} {b:?}");
                 for tolerance in [0, 1, 2, 5, 16, 200] {
-                    // Truecolor colours, and palette entries past the 16 ANSI colours by their xterm RGB.
+                    // Truecolor colours, and palette entries past the 16 ANSI colours by their xterm RGB
+                    // (either against either).
                     let rgb = |c: Color| match c {
-                        Color::Rgb(r, g, b) => Some((0, [r, g, b])),
-                        Color::Indexed(n @ 16..) => Some((1, crate::frame::xterm_rgb(n))),
+                        Color::Rgb(r, g, b) => Some([r, g, b]),
+                        Color::Indexed(n @ 16..) => Some(crate::frame::xterm_rgb(n)),
                         _ => None,
                     };
                     let within = match (rgb(a), rgb(b)) {
                         _ if a == b => Some(true),
-                        (Some((kind, p)), Some((kind2, q))) if tolerance > 0 && kind == kind2 => {
+                        (Some(p), Some(q)) if tolerance > 0 => {
                             let d = oklab_distance(p, q);
                             let limit = f64::from(tolerance) * f64::from(TOLERANCE_STEP);
                             ((d - limit).abs() > 1e-5).then_some(d <= limit)
