@@ -815,7 +815,7 @@ fn a_fixed_walk_encodes_to_the_same_bytes() {
         }
         totals.push(out.len());
     }
-    assert_eq!(totals, [432_895, 328_284, 483_058]);
+    assert_eq!(totals, [432_895, 328_922, 483_058]);
 }
 
 /// A space between words (a blank whose ink is not its paper, as `Frame::put_str` writes text) goes as
@@ -1032,7 +1032,7 @@ proptest! {
 }
 
 /// Issue #42: where a truecolor frame's colours have a shorter code within the tolerance (a grey
-/// of 100 near the cube's 95 grey, `38;5;59`; a colour whose channel of 101 may go as 99), the
+/// of 100 near the ramp's 98 grey, `38;5;241`; a colour whose channel of 101 may go as 99), the
 /// encoder sends that code, in fewer bytes than the colours' own, and the screen shows the frame
 /// within the tolerance; at tolerance 0 the colours' own. (Without the shorter codes the two
 /// tolerances send the same bytes here.)
@@ -1061,7 +1061,7 @@ fn a_colour_with_a_shorter_code_within_the_tolerance_goes_in_it() {
     }
     let [(exact, exact_colours), (near, near_colours)] = &sent[..] else { unreachable!() };
     assert!(exact_colours.contains(&grey) && exact_colours.contains(&ochre), "{exact:?}");
-    assert!(near_colours.contains(&Color::Indexed(59)) && !near_colours.contains(&grey), "{near:?}");
+    assert!(near_colours.contains(&Color::Indexed(241)) && !near_colours.contains(&grey), "{near:?}");
     assert!(
         near_colours.iter().any(|c| matches!(c, Color::Rgb(_, 99, _))) && !near_colours.contains(&ochre),
         "{near:?}"

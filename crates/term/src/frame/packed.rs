@@ -119,8 +119,8 @@ impl PackedColor {
         distance2(p, q) <= limit * limit
     }
 
-    /// Issue #42: of the colours within `tolerance` of this one, the one whose SGR code is the
-    /// shortest ([`code_len`]): a palette entry 16–255 (`38;5;n`, 7–8 bytes: the cube and the greys,
+    /// Issue #42: of the colours near this one (within [`SHORT_CODE_REACH`] of `tolerance`: within
+    /// the tolerance, with some to spare), the one whose SGR code is the shortest ([`code_len`]): a palette entry 16–255 (`38;5;n`, 7–8 bytes: the cube and the greys,
     /// the same on every xterm-like terminal; never 0–15, the theme's), else a truecolor colour with
     /// fewer digits (a channel of 100–104 as 99, of 10–12 as 9), else itself. Of equal lengths the
     /// nearest, then the lowest word: one answer for a colour, whatever asks. Only a truecolor
@@ -163,13 +163,13 @@ pub(crate) fn code_len(color: PackedColor) -> usize {
 }
 
 /// [`PackedColor::cheapest`] of truecolor `word`, searched among a few candidates (not every colour
-/// within the tolerance: those nearest the colour, where the short codes are; up to a tolerance of
-/// 3, every palette entry within it is among them, a test finds): the eight cube
+/// within the reach: those nearest the colour, where the short codes are; up to a tolerance of 3,
+/// every palette entry within the reach is among them, a test finds): the eight cube
 /// entries of each channel's levels either side of it, the three greys of the ramp nearest the
-/// channels' mean; then, where no entry is within the tolerance, the colour with each channel of
+/// channels' mean; then, where no entry is within the reach, the colour with each channel of
 /// 100 or more taken to 99, of 10–99 to 9, in every combination.
 fn search_cheapest(word: u32, tolerance: u8) -> u32 {
-    let limit = f32::from(tolerance) * TOLERANCE_STEP;
+    let limit = f32::from(tolerance) * TOLERANCE_STEP * SHORT_CODE_REACH;
     let limit2 = limit * limit;
     let here = convert(word);
     let [_, r, g, b] = word.to_be_bytes();
@@ -219,6 +219,15 @@ fn search_cheapest(word: u32, tolerance: u8) -> u32 {
     }
     best.2
 }
+
+/// How far off its colour [`PackedColor::cheapest`] may choose a colour, as a share of the
+/// tolerance (1.4 steps, an OKLab distance of 0.014, at the default of 2). Not all of it: a colour
+/// sent that far off leaves the cell less of the tolerance to drift in before it is sent again
+/// (walking, the floor's and ceiling's slow shades), and the picture strays further. `bandwidth`
+/// at 120×40 against the whole tolerance (1.0) and none (0): walking 29.4 KB/s (29.8, 31.1), in
+/// tmux 48.0 (49.5, 49.7), turning 121.6 (106.6, 131.8), the picture's mean distance 0.0049
+/// (0.0075, 0.0044) while walking.
+pub(crate) const SHORT_CODE_REACH: f32 = 0.7;
 
 /// Slots of [`CHEAPEST`]: a power of two.
 const CHEAPEST_SLOTS: usize = 1 << 12;
@@ -532,12 +541,14 @@ mod tests {
                 if matches!(cheap.unpack(), Color::Rgb(..)) && cheap != colour {
                     fewer_digits += 1;
                 }
-                // Every entry within the tolerance, by the same arithmetic as `within`.
+                // Every entry within its reach, by the same arithmetic as `within`.
+                let reach = f32::from(tolerance) * TOLERANCE_STEP * SHORT_CODE_REACH;
+                let here = convert(colour.word());
                 let shortest_entry = (16..=255u8)
-                    .filter(|&n| PackedColor::pack(Color::Indexed(n)).within(colour, tolerance))
+                    .filter(|&n| distance2(here, PALETTE.oklab[usize::from(n)]) <= reach * reach)
                     .map(entry_len)
                     .min();
-                if let Some(len) = shortest_entry.filter(|_| tolerance <= 3) {
+                if let Some(len) = shortest_entry.filter(|_| (1..=3).contains(&tolerance)) {
                     assert_eq!(code_len(cheap), len, "{colour:?} {cheap:?} at {tolerance}");
                 }
             }
@@ -547,8 +558,9 @@ mod tests {
         }
         assert!(entries > 200 && fewer_digits > 20, "entries {entries}, fewer digits {fewer_digits}");
         let grey = PackedColor::pack(Color::Rgb(100, 100, 100));
-        // The cube's 95 grey (`38;5;59`, 7 bytes) before the ramp's nearer 98 (`38;5;241`, 8).
-        assert_eq!(grey.cheapest(2).unpack(), Color::Indexed(59));
+        // The ramp's 98 grey (`38;5;241`, 0.007 off); the cube's 95 (`38;5;59`, a byte shorter) is
+        // 0.018 off, beyond the reach (0.014).
+        assert_eq!(grey.cheapest(2).unpack(), Color::Indexed(241));
         assert_eq!(grey.cheapest(0), grey);
     }
 
