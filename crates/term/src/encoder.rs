@@ -409,7 +409,7 @@ fn diff_marked(
     // Columns first, where a column of one look goes cheaper down than across; then the rows.
     let mut changed = columns(new, width, how.tolerance, pen, out, differs, first);
     if let Some(follow) = follow.as_deref_mut() {
-        follow.index(new, differs, width, how.bce);
+        follow.index(new, differs, width, how);
     }
     for y in 0..new.len() / width {
         let tail = erasable_tail(&new[y * width..][..width], how.bce);
@@ -464,7 +464,7 @@ fn columns(
             let run = (y..height)
                 .take_while(|&r| new[r * width + x] == cell && alone(new, differs, r * width + x))
                 .count();
-            if run >= MIN_COLUMN && column_pays(new, differs, width, x, y, run) {
+            if run >= MIN_COLUMN && column_pays(new, differs, width, (x, y, run), tolerance) {
                 for r in y..y + run {
                     write_move(out, pen, x, r);
                     new[r * width + x] = write_cell(out, pen, &cell, width, tolerance);
@@ -515,15 +515,22 @@ fn first_columns(new: &[PackedCell], differs: &[bool], width: usize, height: usi
 /// Whether the `run` cells of one look from row `y` down column `x` cost fewer bytes down the
 /// column than in the rows: down, one colour change (from nothing known) and a [`DOWN_ONE`] a
 /// cell; across, each cell's colour change from its row's changed cell before it (the pen the rows
-/// would leave), or from nothing known and a move where that cell did not change.
-fn column_pays(new: &[PackedCell], differs: &[bool], width: usize, x: usize, y: usize, run: usize) -> bool {
-    let cell = new[y * width + x];
+/// would leave), or from nothing known and a move where that cell did not change. Colours as they
+/// would be sent ([`shortest`]).
+fn column_pays(
+    new: &[PackedCell],
+    differs: &[bool],
+    width: usize,
+    (x, y, run): (usize, usize, usize),
+    tolerance: u8,
+) -> bool {
+    let cell = shortest(&new[y * width + x], tolerance);
     let glyph = cell.ch.len_utf8();
     let down = Sgr::to_cell(&Pen::UNKNOWN, &cell).len() + run * glyph + (run - 1) * DOWN_ONE;
     let across: usize = (y..y + run)
         .map(|r| {
             let k = r * width + x;
-            let before = (x > 0 && differs[k - 1]).then(|| new[k - 1]);
+            let before = (x > 0 && differs[k - 1]).then(|| shortest(&new[k - 1], tolerance));
             let pen = before.map_or(Pen::UNKNOWN, |b| Pen { fg: Some(b.fg), bg: Some(b.bg), ..Pen::UNKNOWN });
             let colours = Sgr::to_cell(&pen, &cell).len();
             colours + glyph + if before.is_some() { 0 } else { DOWN_ONE }
@@ -769,8 +776,10 @@ struct Look {
 
 impl Follow {
     /// Indexes the cells `differs` marks in `frame`, but those a row's erasable tail holds (the rows
-    /// price that tail as a whole).
-    fn index(&mut self, frame: &[PackedCell], differs: &[bool], width: usize, bce: bool) {
+    /// price that tail as a whole), by the colours they would be sent in ([`shortest`]: those the
+    /// pen has after a cell of them).
+    fn index(&mut self, frame: &[PackedCell], differs: &[bool], width: usize, how: How) {
+        let (bce, tolerance) = (how.bce, how.tolerance);
         self.marks.clear();
         self.looks.clear();
         self.ids.clear();
@@ -781,7 +790,7 @@ impl Follow {
             let end = erasable_tail(row, bce).map_or(width, |(start, _)| start);
             let mut x = 0;
             while let Some(found) = next_set(&row_differs[..end], x) {
-                if let Some(key) = colour_key(&row[found]) {
+                if let Some(key) = colour_key(&shortest(&row[found], tolerance)) {
                     let id = match last {
                         Some((last_key, id)) if last_key == key => id,
                         _ => {
@@ -821,7 +830,8 @@ impl Follow {
     }
 
     /// What changed cell `k` of look `look` would cost in its row: its glyph and its colour change
-    /// from the changed cell before it there (colours unknown where that cell is unchanged).
+    /// from the changed cell before it there (colours unknown where that cell is unchanged), both in
+    /// the colours they would be sent in ([`shortest`]).
     fn later(
         &mut self,
         look: u32,
@@ -829,7 +839,7 @@ impl Follow {
         frame: &[PackedCell],
         differs: &[bool],
         width: usize,
-        blocks: bool,
+        (blocks, tolerance): (bool, u8),
     ) -> usize {
         let before = !k.is_multiple_of(width) && differs[k - 1];
         let look = &mut self.looks[look as usize];
@@ -838,9 +848,9 @@ impl Follow {
         {
             return later;
         }
-        let before = before.then(|| frame[k - 1]);
+        let before = before.then(|| shortest(&frame[k - 1], tolerance));
         let row_pen = Pen { cursor: None, fg: before.map(|b| b.fg), bg: before.map(|b| b.bg), blocks };
-        let cell = frame[k].canonical();
+        let cell = shortest(&frame[k], tolerance).canonical();
         let later = Sgr::to_cell(&row_pen, &cell).len() + cell.ch.len_utf8();
         look.priced = Some((k as u32, before.is_some(), later));
         later
@@ -862,6 +872,14 @@ impl Follow {
         let later = cells[split..].iter().map(|&k| k as usize).find(|&k| differs[k]);
         Some(later.unwrap_or(first as usize))
     }
+}
+
+/// `cell` in the colours of their shortest codes within `tolerance` ([`PackedColor::cheapest`]):
+/// what [`cell_form`] sends for it from a pen near neither colour, as the detours' index and prices
+/// reckon it.
+#[inline]
+fn shortest(cell: &PackedCell, tolerance: u8) -> PackedCell {
+    PackedCell { ch: cell.ch, fg: cell.fg.cheapest(tolerance), bg: cell.bg.cheapest(tolerance) }
 }
 
 /// The colours a blank, a half block or a full block shows, as one word whatever its form (`▀` or
@@ -951,7 +969,7 @@ fn detours(
             let (x, y) = (k % width, k / width);
             let after = if x + 1 < width { Some((x + 1, y)) } else { None };
             let moves = move_bound(pen.cursor, x, y) + move_bound(after, nx, ny) + glyph;
-            let later = follow.later(look, k, frame, differs, width, pen.blocks);
+            let later = follow.later(look, k, frame, differs, width, (pen.blocks, how.tolerance));
             let Some(saving) = (later + direct).checked_sub(moves).filter(|&s| s > MARGIN) else { continue };
             if best.is_none_or(|(most, _)| saving > most) {
                 best = Some((saving, k));
@@ -1185,11 +1203,16 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
         }
         return plain;
     }
-    // The pen's colours where close enough; a glyph they leave in one colour may go as a blank.
+    // The pen's colours where close enough, else the colour of the shortest code within the
+    // tolerance ([`PackedColor::cheapest`], issue #42); a glyph they leave in one colour may go as
+    // a blank.
     let near_pen = |mut cell: PackedCell| {
-        let keep = |want: PackedColor, pen: Option<PackedColor>| pen.filter(|p| p.within(want, tolerance));
-        cell.fg = keep(cell.fg, pen.fg).unwrap_or(cell.fg);
-        cell.bg = keep(cell.bg, pen.bg).unwrap_or(cell.bg);
+        let near = |want: PackedColor, pen: Option<PackedColor>| match pen {
+            Some(p) if p.within(want, tolerance) => p,
+            _ => want.cheapest(tolerance),
+        };
+        cell.fg = near(cell.fg, pen.fg);
+        cell.bg = near(cell.bg, pen.bg);
         cell
     };
     let plain = near_pen(cell);
@@ -1205,10 +1228,12 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
             && !pen.bg.is_some_and(|p| p.within(cell.fg, tolerance))
     };
     // A cell of halves within the tolerance of one colour (a blank, a full block, a half block of
-    // two near colours) may go as a blank in it (below): the shortcut holds only where they are not.
+    // two near colours, or of two colours a colour between them is near: no further apart than
+    // twice the tolerance) may go as a blank in it (below): the shortcut holds only where they are not.
     let halves = cell.halves();
-    let one_colour = halves.is_some_and(|[top, bottom]| top.within(bottom, tolerance));
-    if shortcut && best.1.len() > 0 && both_far(pen) && !one_colour {
+    let one_colour = halves.is_some_and(|[top, bottom]| top.within(bottom, tolerance.saturating_mul(2)));
+    // (Nor where the two colours it would send are one: it goes as a blank of it, below.)
+    if shortcut && best.1.len() > 0 && both_far(pen) && !one_colour && plain.fg != plain.bg {
         return best;
     }
     if best.1.len() > 0 {
@@ -1233,10 +1258,12 @@ fn find_form(pen: &Pen, cell: &PackedCell, tolerance: u8, shortcut: bool) -> (Pa
         && best.1.len() > 0
     {
         let bytes = |(cell, sgr): &(PackedCell, Sgr)| sgr.len() + cell.ch.len_utf8();
-        let colours = [pen.bg, pen.fg, Some(top), Some(bottom)];
+        // (A half's own colour as the colour of its shortest code where that is near both.)
+        let both = |c: &PackedColor| c.within(top, tolerance) && c.within(bottom, tolerance);
+        let short = |c: PackedColor| Some(c.cheapest(tolerance)).filter(both).unwrap_or(c);
+        let colours = [pen.bg, pen.fg, Some(short(top)), Some(short(bottom))];
         for (k, colour) in colours.into_iter().enumerate() {
-            let Some(colour) = colour.filter(|c| c.within(top, tolerance) && c.within(bottom, tolerance))
-            else {
+            let Some(colour) = colour.filter(both) else {
                 continue;
             };
             let candidate = if k == 1 {
@@ -1707,7 +1734,18 @@ mod tests {
         // 59 and 241 are 0.011 apart, 102 and 245 0.010, 254 and 255 0.030; 16 is black, 9 an ANSI colour.
         let (i, n) = (Color::Indexed, Color::Indexed(9));
         let palette = [i(59), i(241), i(102), i(245), i(254), i(255), i(16), n];
-        for colors in [&truecolor[..], &palette[..]] {
+        // Colours with shorter codes within the tolerance (issue #42): greys near the cube's 95 and
+        // the ramp, channels just over 100 and 10, and two near one entry from either side.
+        let rgb = Color::Rgb;
+        let short = [
+            rgb(100, 100, 100),
+            rgb(91, 91, 91),
+            rgb(101, 50, 11),
+            rgb(96, 134, 176),
+            rgb(94, 136, 174),
+            i(59),
+        ];
+        for colors in [&truecolor[..], &palette[..], &short[..]] {
             form_search_cases(colors);
         }
     }

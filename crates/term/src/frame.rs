@@ -29,7 +29,7 @@ pub fn oklab([r, g, b]: [f32; 3], cbrt: impl Fn(f32) -> f32) -> [f32; 3] {
         0.025_904_037 * l + 0.782_771_77 * m - 0.808_675_77 * s,
     ]
 }
-pub(crate) use packed::{PackedCell, PackedColor};
+pub(crate) use packed::{PackedCell, PackedColor, code_len};
 
 /// xterm's default RGB for the 16 ANSI colours (black, red, green, yellow, blue, magenta, cyan, white,
 /// then the bright eight). Terminals' themes change them.

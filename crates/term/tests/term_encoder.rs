@@ -6,7 +6,7 @@ use mazewalk_testkit as common;
 use mazewalk_term::blocks::{HALF, QUAD, sextant_glyph};
 use mazewalk_term::caps::RepLevel;
 use mazewalk_term::encoder::Encoder;
-use mazewalk_term::frame::{Cell, Color, Frame};
+use mazewalk_term::frame::{Cell, Color, Frame, xterm_rgb};
 use proptest::prelude::*;
 
 use mazewalk_testkit::baseline::{full_repaint, lower_bound};
@@ -70,13 +70,13 @@ fn look(cell: &Cell) -> Look {
     }
 }
 
-/// Whether two looks are the same up to `tolerance` steps of 0.01 in OKLab between truecolor colours
-/// (others equal). A hair of slack (1e-5) for the encoder's f32 arithmetic.
+/// Whether two looks are the same up to `tolerance` steps of 0.01 in OKLab between colours of known
+/// RGB: truecolor colours and the palette's entries 16–255 by xterm's RGB for them (the encoder may
+/// send an entry for a truecolor colour); others equal. A hair of slack (1e-5) for the encoder's f32
+/// arithmetic.
 fn looks_close(a: &Look, b: &Look, tolerance: u8) -> bool {
-    let close = |a: &Color, b: &Color| match (a, b) {
-        (Color::Rgb(r, g, b), Color::Rgb(r2, g2, b2)) if tolerance > 0 => {
-            oklab_distance([*r, *g, *b], [*r2, *g2, *b2]) <= f64::from(tolerance) * 0.01 + 1e-5
-        }
+    let close = |a: &Color, b: &Color| match (known_rgb(*a), known_rgb(*b)) {
+        (Some(p), Some(q)) if tolerance > 0 => oklab_distance(p, q) <= f64::from(tolerance) * 0.01 + 1e-5,
         _ => a == b,
     };
     match (a, b) {
@@ -91,6 +91,16 @@ fn looks_close(a: &Look, b: &Look, tolerance: u8) -> bool {
                 && fg.is_some() == fg2.is_some()
         }
         _ => false,
+    }
+}
+
+/// The RGB a colour shows on every xterm-like terminal: a truecolor colour's own, a palette entry
+/// 16–255's xterm RGB; `None` for the defaults and the 16 ANSI colours (the theme's).
+fn known_rgb(color: Color) -> Option<[u8; 3]> {
+    match color {
+        Color::Rgb(r, g, b) => Some([r, g, b]),
+        Color::Indexed(n @ 16..) => Some(xterm_rgb(n)),
+        _ => None,
     }
 }
 
@@ -805,7 +815,7 @@ fn a_fixed_walk_encodes_to_the_same_bytes() {
         }
         totals.push(out.len());
     }
-    assert_eq!(totals, [432_895, 332_810, 483_058]);
+    assert_eq!(totals, [432_895, 328_922, 483_058]);
 }
 
 /// A space between words (a blank whose ink is not its paper, as `Frame::put_str` writes text) goes as
@@ -919,4 +929,142 @@ fn cells_of_the_pens_colours_elsewhere_go_before_the_pen_changes() {
             assert!(sgrs <= 3, "{sgrs} colour codes for two looks: {:?}", String::from_utf8_lossy(&out));
         }
     }
+}
+
+/// The colours the SGR sequences in `bytes` set, as ink and paper alike: `38;2;r;g;b`,
+/// `38;5;n`, `3x`/`9x` (ANSI 0–15), the defaults, in the order sent.
+fn colours_set(bytes: &[u8]) -> Vec<Color> {
+    let text = String::from_utf8_lossy(bytes);
+    let mut colours = Vec::new();
+    for sequence in text.split("\x1b[").skip(1) {
+        let Some(end) = sequence.find(|c: char| ('@'..='~').contains(&c)) else { continue };
+        if !sequence[end..].starts_with('m') {
+            continue;
+        }
+        let params: Vec<u8> =
+            sequence[..end].split(';').map(|p| if p.is_empty() { 0 } else { p.parse().unwrap() }).collect();
+        let mut i = 0;
+        while i < params.len() {
+            let p = params[i];
+            match p {
+                38 | 48 if params[i + 1] == 5 => {
+                    colours.push(Color::Indexed(params[i + 2]));
+                    i += 2;
+                }
+                38 | 48 => {
+                    colours.push(Color::Rgb(params[i + 2], params[i + 3], params[i + 4]));
+                    i += 4;
+                }
+                39 | 49 => colours.push(Color::Default),
+                30..=37 | 40..=47 => colours.push(Color::Indexed(p % 10)),
+                90..=97 | 100..=107 => colours.push(Color::Indexed(p % 10 + 8)),
+                _ => {} // 0: the reset
+            }
+            i += 1;
+        }
+    }
+    colours
+}
+
+/// A truecolor palette near the short codes (issue #42): greys about the cube's 95 and the ramp,
+/// channels just over 100 and 10, the cube's levels, and any colour.
+fn arb_truecolor_palette() -> impl Strategy<Value = Vec<Color>> {
+    let near = |v: u8| (v.saturating_sub(4)..=v.saturating_add(4)).boxed();
+    let channel = prop_oneof![near(95), near(100), near(10), near(135), near(215), any::<u8>().boxed()];
+    let colour = prop_oneof![
+        1 => Just(Color::Default),
+        6 => (channel.clone(), channel.clone(), channel).prop_map(|(r, g, b)| Color::Rgb(r, g, b)),
+        2 => (0u8..255).prop_map(|v| Color::Rgb(v, v, v.saturating_add(1))),
+    ];
+    prop::collection::vec(colour, 1..5)
+}
+
+proptest! {
+    #![proptest_config(common::config())]
+
+    /// Issue #42: of a truecolor frame, every colour the encoder sets is within the tolerance of a
+    /// colour the frame shows or one the screen showed before it (a cell rewritten as it is on the
+    /// way to another), never one of the 16 ANSI colours (the theme's: unknown RGB); and the screen
+    /// shows the frame within the tolerance, over random frames and steps, every BCE, REP level
+    /// and blocks setting.
+    #[test]
+    fn every_colour_sent_is_within_the_tolerance_and_never_a_theme_colour(
+        (first, steps) in arb_truecolor_palette().prop_flat_map(|palette| {
+            (arb_frame(palette.clone()), prop::collection::vec(arb_step(palette), 1..12))
+        }),
+        bce in any::<bool>(),
+        tolerance in 0u8..5,
+        rep in prop_oneof![Just(RepLevel::None), Just(RepLevel::Ascii), Just(RepLevel::Any)],
+        blocks in any::<bool>(),
+    ) {
+        let mut encoder = Encoder::new();
+        encoder.set_bce(bce);
+        encoder.set_tolerance(tolerance);
+        encoder.set_rep(rep);
+        encoder.set_blocks(blocks);
+        let mut parser = terminal(first.width(), first.height());
+        let mut frame = first.clone();
+        let mut out = Vec::new();
+        let close = |a: Color, b: Color| match (known_rgb(a), known_rgb(b)) {
+            (Some(p), Some(q)) => oklab_distance(p, q) <= f64::from(tolerance) * 0.01 + 1e-5,
+            _ => a == b,
+        };
+        for (i, step) in std::iter::once(&Step::Same).chain(&steps).enumerate() {
+            if apply(&mut frame, step) {
+                encoder.invalidate();
+            }
+            resize(&mut parser, frame.width(), frame.height());
+            let before = screen_frame(&parser);
+            out.clear();
+            encoder.encode(&frame, &mut out);
+            parser.process(&out);
+            let shown: Vec<Color> = frame.cells().iter().chain(before.cells()).flat_map(|c| [c.fg, c.bg]).collect();
+            for colour in colours_set(&out) {
+                prop_assert!(!matches!(colour, Color::Indexed(0..=15)), "a theme colour {:?} sent", colour);
+                prop_assert!(
+                    shown.iter().any(|&s| close(colour, s)),
+                    "{:?} sent, near no colour of the frame or the screen (step {})", colour, i
+                );
+            }
+            assert_screen_shows_within(&parser, &frame, tolerance, || format!("after step {i} {step:?}"));
+        }
+    }
+}
+
+/// Issue #42: where a truecolor frame's colours have a shorter code within the tolerance (a grey
+/// of 100 near the ramp's 98 grey, `38;5;241`; a colour whose channel of 101 may go as 99), the
+/// encoder sends that code, in fewer bytes than the colours' own, and the screen shows the frame
+/// within the tolerance; at tolerance 0 the colours' own. (Without the shorter codes the two
+/// tolerances send the same bytes here.)
+#[test]
+fn a_colour_with_a_shorter_code_within_the_tolerance_goes_in_it() {
+    let (width, height) = (40, 4);
+    let (grey, ochre) = (Color::Rgb(100, 100, 100), Color::Rgb(160, 101, 20));
+    let mut sent = Vec::new();
+    for tolerance in [0, 2] {
+        let mut encoder = Encoder::new();
+        encoder.set_tolerance(tolerance);
+        let mut parser = terminal(width, height);
+        let mut frame = Frame::new(width, height);
+        let mut out = Vec::new();
+        encoder.encode(&frame, &mut out);
+        parser.process(&out);
+        for y in 0..height {
+            frame.set(3 + 7 * y, y, Cell { ch: '▀', fg: grey, bg: Color::Default });
+            frame.set(30 - 5 * y, y, Cell { ch: 'x', fg: ochre, bg: grey });
+        }
+        out.clear();
+        encoder.encode(&frame, &mut out);
+        parser.process(&out);
+        assert_screen_shows_within(&parser, &frame, tolerance, || format!("tolerance {tolerance}"));
+        sent.push((String::from_utf8_lossy(&out).into_owned(), colours_set(&out)));
+    }
+    let [(exact, exact_colours), (near, near_colours)] = &sent[..] else { unreachable!() };
+    assert!(exact_colours.contains(&grey) && exact_colours.contains(&ochre), "{exact:?}");
+    assert!(near_colours.contains(&Color::Indexed(241)) && !near_colours.contains(&grey), "{near:?}");
+    assert!(
+        near_colours.iter().any(|c| matches!(c, Color::Rgb(_, 99, _))) && !near_colours.contains(&ochre),
+        "{near:?}"
+    );
+    assert!(near.len() < exact.len(), "{} bytes within the tolerance, {} exact", near.len(), exact.len());
 }

@@ -4,7 +4,7 @@
 //! sequence, or a reset (`\x1b[0;…m`) when that is shorter.
 
 use super::Pen;
-use crate::frame::{Color, PackedCell, PackedColor};
+use crate::frame::{Color, PackedCell, PackedColor, code_len};
 
 /// Reset all SGR attributes (colours back to the terminal's defaults).
 pub(super) const SGR_RESET: &[u8] = b"\x1b[0m";
@@ -237,12 +237,11 @@ const DECIMAL: [[u8; 4]; 256] = {
 /// The length of [`Seq::color`]'s parameters for `color`.
 #[inline]
 fn color_len(color: PackedColor, layer: Layer) -> usize {
-    let digits = |n: u8| usize::from(DECIMAL[usize::from(n)][3]);
     match color.unpack() {
         Color::Default | Color::Indexed(0..=7) => 2,
         Color::Indexed(8..=15) => 2 + usize::from(layer == Layer::Bg), // 90–97, 100–107
-        Color::Indexed(n) => 5 + digits(n),                            // 38;5;n
-        Color::Rgb(r, g, b) => 7 + digits(r) + digits(g) + digits(b),  // 38;2;r;g;b
+        // 38;5;n and 38;2;r;g;b: as the search for the shortest code within the tolerance counts
+        _ => code_len(color),
     }
 }
 
@@ -260,6 +259,24 @@ mod tests {
         };
         write_sgr(&mut out, &mut pen, fg.map(PackedColor::pack), Some(PackedColor::pack(bg)));
         (String::from_utf8(out).unwrap(), pen)
+    }
+
+    /// The price of a colour change is the length of what is written, for every palette entry and
+    /// truecolor colours of every count of digits, as ink and as paper (the search for the shortest
+    /// code within the tolerance counts by the same lengths).
+    #[test]
+    fn a_colour_is_priced_at_the_bytes_it_is_written_in() {
+        let values = [0u8, 9, 10, 99, 100, 255];
+        let rgb = values
+            .iter()
+            .flat_map(|&r| values.iter().flat_map(move |&g| values.map(|b| Color::Rgb(r, g, b))));
+        for color in (0..=255).map(Color::Indexed).chain(rgb).chain([Color::Default]) {
+            for layer in [Layer::Fg, Layer::Bg] {
+                let mut seq = Seq::start();
+                seq.color(PackedColor::pack(color), layer);
+                assert_eq!(seq.len - 2, color_len(PackedColor::pack(color), layer), "{color:?}");
+            }
+        }
     }
 
     #[test]

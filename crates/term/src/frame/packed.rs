@@ -94,9 +94,10 @@ impl PackedColor {
     }
 
     /// Whether two colours are within `tolerance` [`TOLERANCE_STEP`]s of each other in OKLab (two
-    /// truecolor colours that close, or two palette entries 16–255 whose xterm RGB are), or equal (any
-    /// colours).
-    #[inline]
+    /// truecolor colours that close, two palette entries 16–255 whose xterm RGB are, or a truecolor
+    /// colour and an entry 16–255 whose xterm RGB is: the encoder may send an entry for a truecolor
+    /// colour, [`PackedColor::cheapest`]), or equal (any colours).
+    #[inline(always)] // (in the encoder's loops, as it was before it had a third case out of line)
     #[must_use]
     pub(crate) fn within(self, other: PackedColor, tolerance: u8) -> bool {
         let (a, b) = (self.0.get(), other.0.get());
@@ -113,10 +114,148 @@ impl PackedColor {
                 let entries = &PALETTE.oklab;
                 [entries[(a & 0xff) as usize], entries[(b & 0xff) as usize]]
             }
+            (RGB, INDEXED) | (INDEXED, RGB) => return rgb_within_entry(a, b, limit),
             _ => return false,
         };
         distance2(p, q) <= limit * limit
     }
+
+    /// Issue #42: of the colours near this one (within [`SHORT_CODE_REACH`] of `tolerance`: within
+    /// the tolerance, with some to spare), the one whose SGR code is the shortest ([`code_len`]): a palette entry 16–255 (`38;5;n`, 7–8 bytes: the cube and the greys,
+    /// the same on every xterm-like terminal; never 0–15, the theme's), else a truecolor colour with
+    /// fewer digits (a channel of 100–104 as 99, of 10–12 as 9), else itself. Of equal lengths the
+    /// nearest, then the lowest word: one answer for a colour, whatever asks. Only a truecolor
+    /// colour has others so chosen; any other colour, or a tolerance of 0, is itself. Remembered
+    /// per thread ([`CHEAPEST`]): the encoder asks it of each colour it prices.
+    #[inline(always)] // (the encoder asks it of palette colours too: those return at once)
+    #[must_use]
+    pub(crate) fn cheapest(self, tolerance: u8) -> PackedColor {
+        if self.0.get() >> 24 != RGB || tolerance == 0 {
+            return self;
+        }
+        self.cheapest_truecolor(tolerance)
+    }
+
+    /// [`PackedColor::cheapest`] of a truecolor colour, from the thread's memo or searched. Out of
+    /// line: the encoder's 256-colour frames then pay only the check above (`turn_frames 256 120 40
+    /// 2 rep turn`: 1.005× `74feba5`'s encoder instructions; truecolor turning 1.02× of it inlined).
+    #[inline(never)]
+    fn cheapest_truecolor(self, tolerance: u8) -> PackedColor {
+        let word = self.0.get();
+        // (An RGB word with the tolerance in its kind byte: never zero, the empty slot.)
+        let key = word & 0x00ff_ffff | u32::from(tolerance) << 24;
+        let slot = (key.wrapping_mul(0x9E37_79B1) >> (32 - CHEAPEST_SLOTS.trailing_zeros())) as usize;
+        let found = CHEAPEST.with_borrow_mut(|memo| {
+            let entry = &mut memo[slot];
+            if entry.0 != key {
+                *entry = (key, search_cheapest(word, tolerance));
+            }
+            entry.1
+        });
+        PackedColor(NonZeroU32::new(found).unwrap_or(self.0))
+    }
+}
+
+/// [`PackedColor::within`] of a truecolor colour and a palette entry (either way round): the entry
+/// by xterm's RGB for it, if it is past the 16 ANSI colours. Out of line, the rare case: `within`
+/// stays small enough to inline in the encoder's loops (called, a served frame's encoder took 1.05×
+/// `74feba5`'s instructions, inlined 1.03×: `load --callgrind`).
+#[inline(never)]
+fn rgb_within_entry(a: u32, b: u32, limit: f32) -> bool {
+    let (rgb, entry) = if a >> 24 == RGB { (a, b) } else { (b, a) };
+    entry & 0xff >= 16 && distance2(oklab([rgb])[0], PALETTE.oklab[(entry & 0xff) as usize]) <= limit * limit
+}
+
+/// The bytes of the SGR parameters of a truecolor colour (`38;2;r;g;b`) or a palette entry 16–255
+/// (`38;5;n`), as the encoder writes them and prices them (its SGR writer reads it); 2 for any
+/// other colour (`3x`, `9x`: [`PackedColor::cheapest`] never chooses one).
+#[inline]
+#[must_use]
+pub(crate) fn code_len(color: PackedColor) -> usize {
+    let digits = |n: u8| 1 + usize::from(n >= 10) + usize::from(n >= 100);
+    let [kind, r, g, b] = color.0.get().to_be_bytes();
+    match u32::from(kind) {
+        RGB => 7 + digits(r) + digits(g) + digits(b),
+        INDEXED if b >= 16 => 5 + digits(b),
+        _ => 2,
+    }
+}
+
+/// [`PackedColor::cheapest`] of truecolor `word`, searched among a few candidates (not every colour
+/// within the reach: those nearest the colour, where the short codes are; up to a tolerance of 3,
+/// every palette entry within the reach is among them, a test finds): the eight cube
+/// entries of each channel's levels either side of it, the three greys of the ramp nearest the
+/// channels' mean; then, where no entry is within the reach, the colour with each channel of
+/// 100 or more taken to 99, of 10–99 to 9, in every combination.
+fn search_cheapest(word: u32, tolerance: u8) -> u32 {
+    let limit = f32::from(tolerance) * TOLERANCE_STEP * SHORT_CODE_REACH;
+    let limit2 = limit * limit;
+    let here = convert(word);
+    let [_, r, g, b] = word.to_be_bytes();
+    // (length, squared distance, word): the smallest wins.
+    let mut best = (code_len(PackedColor(NonZeroU32::new(word).unwrap_or(NonZeroU32::MIN))), 0.0f32, word);
+    let consider = |best: &mut (usize, f32, u32), candidate: u32, there: [f32; 3]| {
+        let len = code_len(PackedColor(NonZeroU32::new(candidate).unwrap_or(NonZeroU32::MIN)));
+        if len > best.0 {
+            return;
+        }
+        let d = distance2(here, there);
+        if d <= limit2 && (len, d, candidate) < *best {
+            *best = (len, d, candidate);
+        }
+    };
+    // Each channel's cube levels at or below it and at or above it (one where it is a level).
+    let levels = |v: u8| {
+        let above = super::CUBE_LEVELS.iter().position(|&l| l >= v).unwrap_or(5);
+        [above.saturating_sub(usize::from(super::CUBE_LEVELS[above] > v)), above]
+    };
+    let ([r0, r1], [g0, g1], [b0, b1]) = (levels(r), levels(g), levels(b));
+    for (i, j, k) in [r0, r1]
+        .into_iter()
+        .flat_map(|i| [g0, g1].into_iter().flat_map(move |j| [b0, b1].into_iter().map(move |k| (i, j, k))))
+    {
+        let n = 16 + 36 * i + 6 * j + k;
+        consider(&mut best, INDEXED << 24 | n as u32, PALETTE.oklab[n]);
+    }
+    let mean = (u32::from(r) + u32::from(g) + u32::from(b)) / 3;
+    let grey = (mean.saturating_sub(3) / 10).min(23) as usize; // the ramp's 8 + 10k nearest the mean
+    for n in [232 + grey.saturating_sub(1), 232 + grey, 232 + (grey + 1).min(23)] {
+        consider(&mut best, INDEXED << 24 | n as u32, PALETTE.oklab[n]);
+    }
+    if best.0 <= 8 {
+        return best.2; // an entry: no truecolor code is as short
+    }
+    let fewer = |v: u8| match v {
+        100.. => Some(99),
+        10..=99 => Some(9),
+        _ => None,
+    };
+    for mask in 1..8u8 {
+        let channel = |i: u8, v: u8| if mask >> i & 1 == 1 { fewer(v) } else { Some(v) };
+        let (Some(r), Some(g), Some(b)) = (channel(0, r), channel(1, g), channel(2, b)) else { continue };
+        let candidate = u32::from_be_bytes([RGB as u8, r, g, b]);
+        consider(&mut best, candidate, convert(candidate));
+    }
+    best.2
+}
+
+/// How far off its colour [`PackedColor::cheapest`] may choose a colour, as a share of the
+/// tolerance (1.4 steps, an OKLab distance of 0.014, at the default of 2). Not all of it: a colour
+/// sent that far off leaves the cell less of the tolerance to drift in before it is sent again
+/// (walking, the floor's and ceiling's slow shades), and the picture strays further. `bandwidth`
+/// at 120×40 against the whole tolerance (1.0) and none (0): walking 29.4 KB/s (29.8, 31.1), in
+/// tmux 48.0 (49.5, 49.7), turning 121.6 (106.6, 131.8), the picture's mean distance 0.0049
+/// (0.0075, 0.0044) while walking.
+pub(crate) const SHORT_CODE_REACH: f32 = 0.7;
+
+/// Slots of [`CHEAPEST`]: a power of two.
+const CHEAPEST_SLOTS: usize = 1 << 12;
+
+thread_local! {
+    /// [`PackedColor::cheapest`]'s answers lately on this thread, by a hash of the colour and the
+    /// tolerance (0: empty). A pure function of them: it changes no answer.
+    static CHEAPEST: std::cell::RefCell<[(u32, u32); CHEAPEST_SLOTS]> =
+        const { std::cell::RefCell::new([(0, 0); CHEAPEST_SLOTS]) };
 }
 
 /// Whether `a[0]` is within `tolerance` of `b[0]` and `a[1]` of `b[1]` ([`PackedColor::within`]),
@@ -374,9 +513,80 @@ mod tests {
     use super::*;
     use mazewalk_testkit::{oklab as oklab_f64, oklab_distance};
 
+    /// Issue #42: the colour of the shortest code within the tolerance is within it (by an f64
+    /// oracle, a hair of slack), its code no longer than the colour's own, never an ANSI colour
+    /// (0–15, the theme's); where any palette entry 16–255 is within the tolerance, it is one of the
+    /// shortest such (against a search of all 240, at tolerances up to 3: the search looks near the
+    /// colour only); itself at tolerance 0 and for colours other
+    /// than truecolor; the same answer asked again, and asked first at another tolerance.
+    #[test]
+    fn the_cheapest_colour_within_the_tolerance_is_within_it_and_no_longer() {
+        let mut seed = 0x1234_5678_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed
+        };
+        let mut colours: Vec<[u8; 3]> =
+            (0..4000).map(|_| next().to_be_bytes()).map(|[_, r, g, b]| [r, g, b]).collect();
+        // Near the short codes: the cube's levels and the greys, channels about 100 and 10.
+        for v in [0u8, 8, 9, 10, 11, 12, 18, 93, 95, 97, 99, 100, 101, 103, 104, 118, 135, 136, 178, 255] {
+            colours.extend([[v, v, v], [v, 95, 135], [100, v, 12], [v, v.wrapping_add(1), v]]);
+        }
+        let entry_len = |n: u8| 5 + if n >= 100 { 3 } else { 2 };
+        let (mut entries, mut fewer_digits) = (0, 0);
+        for tolerance in [0u8, 1, 2, 3, 5] {
+            let limit = f64::from(tolerance) * f64::from(TOLERANCE_STEP) + 1e-5;
+            for &[r, g, b] in &colours {
+                let colour = PackedColor::pack(Color::Rgb(r, g, b));
+                let cheap = colour.cheapest(tolerance);
+                assert_eq!(cheap, colour.cheapest(tolerance));
+                assert!(code_len(cheap) <= code_len(colour), "{colour:?} {cheap:?}");
+                assert!(cheap.within(colour, tolerance) && colour.within(cheap, tolerance));
+                let shown = match cheap.unpack() {
+                    Color::Rgb(r, g, b) => [r, g, b],
+                    Color::Indexed(n) => {
+                        assert!(n >= 16, "{colour:?} as ANSI colour {n}");
+                        entries += 1;
+                        crate::frame::xterm_rgb(n)
+                    }
+                    Color::Default => panic!("{colour:?} as the default"),
+                };
+                assert!(oklab_distance([r, g, b], shown) <= limit, "{colour:?} {cheap:?} at {tolerance}");
+                if tolerance == 0 {
+                    assert_eq!(cheap, colour);
+                }
+                if matches!(cheap.unpack(), Color::Rgb(..)) && cheap != colour {
+                    fewer_digits += 1;
+                }
+                // Every entry within its reach, by the same arithmetic as `within`.
+                let reach = f32::from(tolerance) * TOLERANCE_STEP * SHORT_CODE_REACH;
+                let here = convert(colour.word());
+                let shortest_entry = (16..=255u8)
+                    .filter(|&n| distance2(here, PALETTE.oklab[usize::from(n)]) <= reach * reach)
+                    .map(entry_len)
+                    .min();
+                if let Some(len) = shortest_entry.filter(|_| (1..=3).contains(&tolerance)) {
+                    assert_eq!(code_len(cheap), len, "{colour:?} {cheap:?} at {tolerance}");
+                }
+            }
+        }
+        for other in [Color::Default, Color::Indexed(3), Color::Indexed(100), Color::Indexed(244)] {
+            assert_eq!(PackedColor::pack(other).cheapest(2), PackedColor::pack(other));
+        }
+        assert!(entries > 200 && fewer_digits > 20, "entries {entries}, fewer digits {fewer_digits}");
+        let grey = PackedColor::pack(Color::Rgb(100, 100, 100));
+        // The ramp's 98 grey (`38;5;241`, 0.007 off); the cube's 95 (`38;5;59`, a byte shorter) is
+        // 0.018 off, beyond the reach (0.014).
+        assert_eq!(grey.cheapest(2).unpack(), Color::Indexed(241));
+        assert_eq!(grey.cheapest(0), grey);
+    }
+
     /// Every colour has one spelling: packing is one-to-one and unpacking gives the colour back; the
-    /// tolerance applies to truecolor colours alone, as an OKLab distance (against an f64 oracle; pairs
-    /// within 1e-5 of the limit, where f32 rounding may go either way, are not held to it).
+    /// tolerance applies to truecolor colours and palette entries 16–255 (by xterm's RGB, either
+    /// against either), as an OKLab distance (against an f64 oracle; pairs within 1e-5 of the limit,
+    /// where f32 rounding may go either way, are not held to it).
     #[test]
     fn a_packed_colour_is_the_colour_and_equal_words_are_equal_colours() {
         let mut colors = vec![Color::Default];
@@ -394,15 +604,16 @@ mod tests {
             for &b in &colors {
                 assert_eq!(PackedColor::pack(a) == PackedColor::pack(b), a == b, "{a:?} {b:?}");
                 for tolerance in [0, 1, 2, 5, 16, 200] {
-                    // Truecolor colours, and palette entries past the 16 ANSI colours by their xterm RGB.
+                    // Truecolor colours, and palette entries past the 16 ANSI colours by their xterm RGB
+                    // (either against either).
                     let rgb = |c: Color| match c {
-                        Color::Rgb(r, g, b) => Some((0, [r, g, b])),
-                        Color::Indexed(n @ 16..) => Some((1, crate::frame::xterm_rgb(n))),
+                        Color::Rgb(r, g, b) => Some([r, g, b]),
+                        Color::Indexed(n @ 16..) => Some(crate::frame::xterm_rgb(n)),
                         _ => None,
                     };
                     let within = match (rgb(a), rgb(b)) {
                         _ if a == b => Some(true),
-                        (Some((kind, p)), Some((kind2, q))) if tolerance > 0 && kind == kind2 => {
+                        (Some(p), Some(q)) if tolerance > 0 => {
                             let d = oklab_distance(p, q);
                             let limit = f64::from(tolerance) * f64::from(TOLERANCE_STEP);
                             ((d - limit).abs() > 1e-5).then_some(d <= limit)
