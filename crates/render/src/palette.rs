@@ -436,6 +436,25 @@ fn glow_16(direction: Vec3) -> bool {
     glow_hue && (0.085..0.155).contains(&(chroma / direction.x.max(1e-6)))
 }
 
+/// Whether a wall sample of linear colour `linear` shows the exit's glow in 16 colours ([`glow_16`]):
+/// there every lit wall is the one dark green, so the edge pass draws its seams and corners apart
+/// ([`glow_line_16`]).
+#[must_use]
+pub(crate) fn glow_lit_16(linear: Vec3) -> bool {
+    let chroma = linear.max(Vec3::ZERO);
+    chroma.max_element() > 0.0 && glow_16(oklab(chroma))
+}
+
+/// A seam or corner on a wall lit by the exit's glow, in 16 colours: the dark cyan (xterm's 6). The
+/// glow's ramp there holds only black and the dark green ([`GLOW_16`]), and a seam at 0.7 or an edge
+/// at 0.5 of the wall's light stays the dark green, so between two lit walls no seam and no corner
+/// showed (issue #39: 1 of 586 seams). Not black (black is for what is near black), not the dark grey
+/// (the floor's), not the bright green (the beacon's), not the light grey (a jamb's: an opening).
+#[must_use]
+pub(crate) fn glow_line_16() -> Vec3 {
+    Vec3::new(0.0, 0.3, 0.3)
+}
+
 /// The surface whose chromaticity slot is `slot` ([`Surface`]).
 fn surface_of(slot: usize) -> Surface {
     static SLOTS: OnceLock<(Option<usize>, Option<usize>)> = OnceLock::new();

@@ -722,10 +722,21 @@ impl Renderer {
                 });
             }
         }
-        let colors = self.samples.color_mut();
+        // In 16 colours a lit wall's seams and corners (where it meets another wall beside it: its
+        // lines along floor and ceiling keep their look) are dark cyan lines: its own darker shades
+        // are the same dark green (`palette::glow_line_16`).
+        let glow_lines = self.floor_bounds_apart;
+        let (ids, colors) = self.samples.id_and_color_mut();
+        let wall_beside = |i: usize| {
+            let other = |j: usize| ids[j] < walls && ids[j] != ids[i];
+            let x = i % width;
+            (x > 0 && other(i - 1)) || (x + 1 < width && other(i + 1))
+        };
         for &i in &self.edge_list {
             let i = i as usize;
+            let glow_line = glow_lines && ids[i] < walls && wall_beside(i) && palette::glow_lit_16(colors[i]);
             colors[i] = match self.edge_marks[i] {
+                _ if glow_line => palette::glow_line_16(),
                 Mark::Edge => edge_color(colors[i]),
                 _ => seam_color(colors[i]),
             };

@@ -116,6 +116,11 @@ impl SampleBuffer {
         &mut self.color
     }
 
+    /// Coverage ids and colours, the colours mutable (for a pass that paints by surface).
+    pub(crate) fn id_and_color_mut(&mut self) -> (&[u32], &mut [Vec3]) {
+        (&self.id, &mut self.color)
+    }
+
     /// Writes one sample unconditionally (no depth test); writes outside the buffer are ignored.
     pub fn put(&mut self, x: usize, y: usize, color: Vec3, depth: f32, id: u32) {
         if let Some(i) = self.index(x, y) {

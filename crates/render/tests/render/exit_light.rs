@@ -326,9 +326,12 @@ fn in_256_colours_like_walls_get_greener_or_lighter_toward_the_exit() {
 /// `GLOW_STEPS`; 176 with the glow's chroma growing by level and the luminance kept, the seam, 0.7 of
 /// the wall's light, inside the wide entry (95, 135, 95) of side walls). In 16 colours a lit wall
 /// shows one dark green and its seams do not show (1 of 586).
-#[test]
-fn seams_between_lit_walls_in_a_line_show() {
-    let mut counts = [(0usize, 0usize); 2];
+/// How many of the boundaries between two lit walls (in a line: `seams`; at an angle: corners) on
+/// rows 16, 20 and 24 of 120×40 views from every lit cell at four headings, in five 20×15 mazes,
+/// show a colour step on either side in `depths` (the OKLab distance 0.02 and more), and how many
+/// there are: one (shown, all) per depth.
+fn lit_boundaries_shown(depths: &[ColorDepth], seams: bool) -> Vec<(usize, usize)> {
+    let mut counts = vec![(0usize, 0usize); depths.len()];
     for seed in [71u64, 3, 74174, 12255, 98794] {
         let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
         let light = ExitLight::of(&maze);
@@ -346,7 +349,7 @@ fn seams_between_lit_walls_in_a_line_show() {
         for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0) {
             for heading in [0.0, 90.0, 180.0, 270.0] {
                 let camera = cell_camera(&maze, cell, heading);
-                for (d, depth) in [ColorDepth::TrueColor, ColorDepth::Ansi256].into_iter().enumerate() {
+                for (d, &depth) in depths.iter().enumerate() {
                     let (shown, ids) = shown(&maze, &camera, depth);
                     for row in [16usize, 20, 24] {
                         for x in 3..116 {
@@ -354,7 +357,7 @@ fn seams_between_lit_walls_in_a_line_show() {
                             if a == b || a >= walls || b >= walls || !lit_wall(a) || !lit_wall(b) {
                                 continue;
                             }
-                            if ids[k - 2] != a || ids[k + 3] != b || !collinear(a, b) {
+                            if ids[k - 2] != a || ids[k + 3] != b || collinear(a, b) != seams {
                                 continue;
                             }
                             let shows = shown[k].distance(shown[k - 2]) > 0.02
@@ -367,7 +370,33 @@ fn seams_between_lit_walls_in_a_line_show() {
             }
         }
     }
-    let [(true_shown, true_all), (shown_256, all_256)] = counts;
+    counts
+}
+
+#[test]
+fn seams_between_lit_walls_in_a_line_show() {
+    let depths = [ColorDepth::TrueColor, ColorDepth::Ansi256, ColorDepth::Ansi16];
+    let counts = lit_boundaries_shown(&depths, true);
+    let [(true_shown, true_all), (shown_256, all_256), (shown_16, all_16)] = counts[..] else {
+        unreachable!()
+    };
     assert!(true_all > 300 && true_shown == true_all, "truecolor: {true_shown} of {true_all}");
     assert!(shown_256 * 5 >= all_256 * 2, "256 colours: {shown_256} of {all_256}");
+    // In 16 colours every lit wall is one dark green: the seams are drawn black (583 of 586; before,
+    // drawn as darker shades of the wall, which are the same dark green: 1 of 586).
+    assert!(all_16 > 300 && shown_16 * 100 >= all_16 * 97, "16 colours: {shown_16} of {all_16}");
+}
+
+/// Issue #39: in 16 colours a corner between two lit walls shows, as it does in truecolor (lit
+/// walls there are one dark green, their corners' darker shades too).
+#[test]
+fn corners_between_lit_walls_show_in_16_colours() {
+    let counts = lit_boundaries_shown(&[ColorDepth::TrueColor, ColorDepth::Ansi16], false);
+    let [(true_shown, true_all), (shown_16, all_16)] = counts[..] else { unreachable!() };
+    // 478 of 478 (before, as darker shades of the dark green: 128 of 478)
+    assert!(true_all > 300 && true_shown == true_all, "truecolor: {true_shown} of {true_all}");
+    assert!(
+        shown_16 * 100 >= all_16 * 97,
+        "16 colours: {shown_16} of {all_16} (truecolor {true_shown} of {true_all})"
+    );
 }
