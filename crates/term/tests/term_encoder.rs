@@ -320,6 +320,17 @@ fn same_look(a: &Frame, b: &Frame) -> bool {
         && a.cells().iter().zip(b.cells()).all(|(a, b)| a.same_look(b))
 }
 
+/// An encoder set up as a property draws it: erasures with or without BCE, a colour tolerance, a REP
+/// level and block glyphs or not.
+fn configured(bce: bool, tolerance: u8, rep: RepLevel, blocks: bool) -> Encoder {
+    let mut encoder = Encoder::new();
+    encoder.set_bce(bce);
+    encoder.set_tolerance(tolerance);
+    encoder.set_rep(rep);
+    encoder.set_blocks(blocks);
+    encoder
+}
+
 proptest! {
     #![proptest_config(common::config())]
 
@@ -331,11 +342,7 @@ proptest! {
         rep in prop_oneof![Just(RepLevel::None), Just(RepLevel::Ascii), Just(RepLevel::Any)],
         blocks in any::<bool>(),
     ) {
-        let mut encoder = Encoder::new();
-        encoder.set_bce(bce);
-        encoder.set_tolerance(tolerance);
-        encoder.set_rep(rep);
-        encoder.set_blocks(blocks);
+        let mut encoder = configured(bce, tolerance, rep, blocks);
         let mut parser = terminal(first.width(), first.height());
         // The terminal starts with junk on it and odd colours set.
         parser.process(b"\x1b[1;1Hjunk\x1b[31;42mmore junk\x1b[7;3H");
@@ -997,11 +1004,7 @@ proptest! {
         rep in prop_oneof![Just(RepLevel::None), Just(RepLevel::Ascii), Just(RepLevel::Any)],
         blocks in any::<bool>(),
     ) {
-        let mut encoder = Encoder::new();
-        encoder.set_bce(bce);
-        encoder.set_tolerance(tolerance);
-        encoder.set_rep(rep);
-        encoder.set_blocks(blocks);
+        let mut encoder = configured(bce, tolerance, rep, blocks);
         let mut parser = terminal(first.width(), first.height());
         let mut frame = first.clone();
         let mut out = Vec::new();

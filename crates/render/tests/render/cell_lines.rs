@@ -112,41 +112,51 @@ fn in_ascii_a_reader_counts_the_near_cells_on_the_floor_and_the_lines_never_crow
     assert!(views >= 40, "only {views} views");
 }
 
-#[test]
-fn in_ascii_seams_between_side_walls_show_up_to_six_cells_ahead() {
-    let mut seams = 0;
+/// Every corridor view of the mazes: the corridor, its frame, its grid (as [`view`]'s), the eye's
+/// height, the horizon's row and the view's name for messages.
+fn at_the_horizon(
+    mut check: impl FnMut(&Corridor, &Frame, &dyn Fn(f32, f32, f32) -> (f32, f32), f32, usize, &str),
+) {
     for maze in mazes() {
         let z = maze.viewer().z;
         for c in every_corridor(&maze).iter() {
             let (frame, grid) = view(&maze, c);
             let horizon = grid(1000.0, 0.0, z).1.floor() as usize;
             let name = format!("at {:?} heading {:.0}, {} cells ahead", c.at, c.camera.yaw_deg, c.ahead);
-            for (s, across) in [(0, 0.5), (1, -0.5)] {
-                for k in 1..c.ahead.min(6) {
-                    if c.sides[k][s] || c.sides[k + 1][s] {
-                        continue;
-                    }
-                    let x = |along: f32| grid(along, across, z).0;
-                    let (a, seam, b) = (x(k as f32 - 0.5), x(k as f32 + 0.5), x(k as f32 + 1.5));
-                    if (a - seam).abs() < 1.0
-                        || (b - seam).abs() < 1.0
-                        || !(1.0..COLS as f32 - 1.0).contains(&seam)
-                    {
-                        continue;
-                    }
-                    seams += 1;
-                    let col = seam.floor() as usize;
-                    let shown: String =
-                        (col - 1..=col + 1).map(|x| frame.cells()[horizon * COLS + x].ch).collect();
-                    assert!(
-                        shown.contains(':'),
-                        "{name}: the seam {k}–{} cells on, side {s}, shows {shown:?}",
-                        k + 1
-                    );
-                }
-            }
+            check(c, &frame, &grid, z, horizon, &name);
         }
     }
+}
+
+#[test]
+fn in_ascii_seams_between_side_walls_show_up_to_six_cells_ahead() {
+    let mut seams = 0;
+    at_the_horizon(|c, frame, grid, z, horizon, name| {
+        for (s, across) in [(0, 0.5), (1, -0.5)] {
+            for k in 1..c.ahead.min(6) {
+                if c.sides[k][s] || c.sides[k + 1][s] {
+                    continue;
+                }
+                let x = |along: f32| grid(along, across, z).0;
+                let (a, seam, b) = (x(k as f32 - 0.5), x(k as f32 + 0.5), x(k as f32 + 1.5));
+                if (a - seam).abs() < 1.0
+                    || (b - seam).abs() < 1.0
+                    || !(1.0..COLS as f32 - 1.0).contains(&seam)
+                {
+                    continue;
+                }
+                seams += 1;
+                let col = seam.floor() as usize;
+                let shown: String =
+                    (col - 1..=col + 1).map(|x| frame.cells()[horizon * COLS + x].ch).collect();
+                assert!(
+                    shown.contains(':'),
+                    "{name}: the seam {k}–{} cells on, side {s}, shows {shown:?}",
+                    k + 1
+                );
+            }
+        }
+    });
     assert!(seams >= 40, "only {seams} seams");
 }
 
@@ -157,66 +167,56 @@ fn in_ascii_seams_between_side_walls_show_up_to_six_cells_ahead() {
 #[test]
 fn in_ascii_jambs_face_their_opening_and_corners_stay_bars() {
     let (mut jambs, mut corners) = (0, 0);
-    for maze in mazes() {
-        let z = maze.viewer().z;
-        for c in every_corridor(&maze).iter() {
-            let (frame, grid) = view(&maze, c);
-            let horizon = grid(1000.0, 0.0, z).1.floor() as usize;
-            let name = format!("at {:?} heading {:.0}, {} cells ahead", c.at, c.camera.yaw_deg, c.ahead);
-            let shown = |x: f32| -> String {
-                let col = x.floor() as usize;
-                (col.saturating_sub(1)..=(col + 1).min(COLS - 1))
-                    .map(|x| frame.cells()[horizon * COLS + x].ch)
-                    .collect()
-            };
-            // side 0 is `dir.perp()`: the left hand
-            for (s, across, left) in [(0, 0.5, true), (1, -0.5, false)] {
-                let x = |along: f32| grid(along, across, z).0;
-                for k in 1..=c.ahead.min(2) {
-                    if !c.sides[k][s] {
-                        continue;
-                    }
-                    let (near, far) = (x(k as f32 - 0.5), x(k as f32 + 0.5));
-                    if (near - far).abs() < 2.0 {
-                        continue;
-                    }
-                    // the wall before the opening ends at `near`: it lies outward on the picture
-                    if !c.sides[k - 1][s] && k >= 2 && (x(k as f32 - 1.5) - near).abs() >= 1.0 {
-                        jambs += 1;
-                        let want = if left { ']' } else { '[' };
-                        assert!(
-                            shown(near).contains(want),
-                            "{name}: the wall before opening {k} (side {s}) ends in {:?}",
-                            shown(near)
-                        );
-                    }
-                    // the wall after it starts at `far`, where the side cell's far wall, seen square on
-                    // through the opening, ends too (a corner jutting toward the eye: a jamb to both
-                    // walls, one glyph where they meet): a bracket either way
-                    if k < c.ahead && !c.sides[k + 1][s] && (x(k as f32 + 1.5) - far).abs() >= 1.0 {
-                        jambs += 1;
-                        let seen = shown(far);
-                        assert!(
-                            seen.contains(['[', ']']),
-                            "{name}: the wall after opening {k} (side {s}) starts in {seen:?}"
-                        );
-                    }
+    at_the_horizon(|c, frame, grid, z, horizon, name| {
+        let shown = |x: f32| -> String {
+            let col = x.floor() as usize;
+            (col.saturating_sub(1)..=(col + 1).min(COLS - 1))
+                .map(|x| frame.cells()[horizon * COLS + x].ch)
+                .collect()
+        };
+        // side 0 is `dir.perp()`: the left hand
+        for (s, across, left) in [(0, 0.5, true), (1, -0.5, false)] {
+            let x = |along: f32| grid(along, across, z).0;
+            for k in 1..=c.ahead.min(2) {
+                if !c.sides[k][s] {
+                    continue;
                 }
-                let n = c.ahead;
-                if c.closed
-                    && n <= 4
-                    && !c.sides[n][s]
-                    && (x(n as f32 - 0.5) - x(n as f32 + 0.5)).abs() >= 3.0
-                {
-                    corners += 1;
-                    let seen = shown(x(n as f32 + 0.5));
+                let (near, far) = (x(k as f32 - 0.5), x(k as f32 + 0.5));
+                if (near - far).abs() < 2.0 {
+                    continue;
+                }
+                // the wall before the opening ends at `near`: it lies outward on the picture
+                if !c.sides[k - 1][s] && k >= 2 && (x(k as f32 - 1.5) - near).abs() >= 1.0 {
+                    jambs += 1;
+                    let want = if left { ']' } else { '[' };
                     assert!(
-                        seen.contains('|') && !seen.contains(['[', ']']),
-                        "{name}: the corner at the end (side {s}) shows {seen:?}"
+                        shown(near).contains(want),
+                        "{name}: the wall before opening {k} (side {s}) ends in {:?}",
+                        shown(near)
+                    );
+                }
+                // the wall after it starts at `far`, where the side cell's far wall, seen square on
+                // through the opening, ends too (a corner jutting toward the eye: a jamb to both
+                // walls, one glyph where they meet): a bracket either way
+                if k < c.ahead && !c.sides[k + 1][s] && (x(k as f32 + 1.5) - far).abs() >= 1.0 {
+                    jambs += 1;
+                    let seen = shown(far);
+                    assert!(
+                        seen.contains(['[', ']']),
+                        "{name}: the wall after opening {k} (side {s}) starts in {seen:?}"
                     );
                 }
             }
+            let n = c.ahead;
+            if c.closed && n <= 4 && !c.sides[n][s] && (x(n as f32 - 0.5) - x(n as f32 + 0.5)).abs() >= 3.0 {
+                corners += 1;
+                let seen = shown(x(n as f32 + 0.5));
+                assert!(
+                    seen.contains('|') && !seen.contains(['[', ']']),
+                    "{name}: the corner at the end (side {s}) shows {seen:?}"
+                );
+            }
         }
-    }
+    });
     assert!(jambs >= 40 && corners >= 40, "only {jambs} jambs, {corners} corners");
 }
