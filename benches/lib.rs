@@ -1,5 +1,6 @@
 //! What the benchmarks (`benches/*.rs`) and the measuring tools (`benches/examples/*.rs`) share: the
-//! benchmark mazes and viewpoints ([`common`]). The tests' harnesses they also use are in
+//! benchmark mazes and viewpoints ([`common`]), a stream's bytes by kind ([`stream`]). The tests' harnesses they also use are in
 //! mazewalk-testkit.
 
 pub mod common;
+pub mod stream;

@@ -9,6 +9,7 @@
 //! cargo run --release -p mazewalk-bench --example palette_bytes
 //! ```
 
+use mazewalk_bench::stream::Kinds;
 use mazewalk_maze as maze;
 use mazewalk_render::quality::shown;
 use mazewalk_render::{Charset, RenderOptions};
@@ -18,46 +19,6 @@ use mazewalk_walk::{App, Session, SessionOptions};
 
 const COLS: u16 = 120;
 const ROWS: u16 = 40;
-
-/// Bytes of a stream by kind: SGR, cursor moves, sync markers, glyphs.
-#[derive(Clone, Copy, Default, Debug)]
-struct Kinds {
-    sgr: usize,
-    moves: usize,
-    markers: usize,
-    glyphs: usize,
-    sgr_count: usize,
-}
-
-impl Kinds {
-    fn add(&mut self, bytes: &[u8]) {
-        let mut i = 0;
-        while i < bytes.len() {
-            if bytes[i] == 0x1b && bytes.get(i + 1) == Some(&b'[') {
-                let end = (i + 2..bytes.len())
-                    .find(|&j| (0x40..0x7f).contains(&bytes[j]))
-                    .unwrap_or(bytes.len() - 1);
-                let len = end + 1 - i;
-                match (bytes[end], bytes.get(i + 2)) {
-                    (b'm', _) => (self.sgr, self.sgr_count) = (self.sgr + len, self.sgr_count + 1),
-                    (_, Some(b'?')) => self.markers += len,
-                    _ => self.moves += len,
-                }
-                i = end + 1;
-            } else if matches!(bytes[i], b'\r' | b'\n' | 0x08) {
-                self.moves += 1;
-                i += 1;
-            } else {
-                self.glyphs += 1;
-                i += 1;
-            }
-        }
-    }
-
-    fn total(&self) -> usize {
-        self.sgr + self.moves + self.markers + self.glyphs
-    }
-}
 
 /// Holds `key` for 3 s (30 presses a second, a frame each 1/60 s); returns the bytes by kind, the
 /// changed cells' histogram by largest sample distance (≤ 0.02, 0.03, 0.04, 0.06, more), and the

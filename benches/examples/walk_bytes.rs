@@ -22,6 +22,7 @@
 //! `--no-rep` as a terminal without REP.
 
 use glam::Vec3;
+use mazewalk_bench::stream;
 use mazewalk_maze as maze;
 use mazewalk_render::samples::{CEILING, FLOOR, NONE};
 use mazewalk_render::{Charset, RenderOptions, Renderer, Target};
@@ -130,14 +131,10 @@ fn samples(renderer: &mut Renderer, session: &Session) -> Vec<Sample> {
     out
 }
 
-/// Bytes of a stream by kind: SGR, cursor moves, sync markers, glyphs (as `palette_bytes`).
+/// Bytes of a stream by kind ([`stream::Kinds`]), and what REP would save.
 #[derive(Clone, Copy, Default, Debug)]
 struct Kinds {
-    sgr: usize,
-    sgr_count: usize,
-    moves: usize,
-    markers: usize,
-    glyphs: usize,
+    stream: stream::Kinds,
     rep: usize,
 }
 
@@ -184,27 +181,7 @@ impl Kinds {
 
     fn add(&mut self, bytes: &[u8]) {
         self.rep += Self::rep_saving(bytes);
-        let mut i = 0;
-        while i < bytes.len() {
-            if bytes[i] == 0x1b && bytes.get(i + 1) == Some(&b'[') {
-                let end = (i + 2..bytes.len())
-                    .find(|&j| (0x40..0x7f).contains(&bytes[j]))
-                    .unwrap_or(bytes.len() - 1);
-                let len = end + 1 - i;
-                match (bytes[end], bytes.get(i + 2)) {
-                    (b'm', _) => (self.sgr, self.sgr_count) = (self.sgr + len, self.sgr_count + 1),
-                    (_, Some(b'?')) => self.markers += len,
-                    _ => self.moves += len,
-                }
-                i = end + 1;
-            } else if matches!(bytes[i], b'\r' | b'\n' | 0x08) {
-                self.moves += 1;
-                i += 1;
-            } else {
-                self.glyphs += 1;
-                i += 1;
-            }
-        }
+        self.stream.add(bytes);
     }
 }
 
@@ -452,11 +429,11 @@ fn main() {
     );
     println!(
         "Bytes: SGR {:.0} % ({:.0} a frame), cursor moves {:.0} %, glyphs {:.0} %, markers {:.0} %; REP would save {:.0} %\n",
-        pct(kinds.sgr),
-        kinds.sgr_count as f64 / frames.max(1) as f64,
-        pct(kinds.moves),
-        pct(kinds.glyphs),
-        pct(kinds.markers),
+        pct(kinds.stream.sgr),
+        kinds.stream.sgr_count as f64 / frames.max(1) as f64,
+        pct(kinds.stream.moves),
+        pct(kinds.stream.glyphs),
+        pct(kinds.stream.markers),
         pct(kinds.rep)
     );
     println!("| changed cells | cells a frame | KB/s (the frame's bytes split over its cells) |");
