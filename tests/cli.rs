@@ -682,3 +682,19 @@ fn serve_refuses_recording_caps_that_cannot_hold_a_cast() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `records --world` with a URL that is not Redis's, or a CA for a world without TLS: a bad flag
+/// value (exit 2), said before anything is read, as `serve` says it.
+#[test]
+fn records_refuses_a_world_url_that_is_not_redis() {
+    let ca = concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml");
+    let cases: [&[&str]; 2] = [
+        &["records", "--builtin", "--world", "http://localhost:6379"],
+        &["records", "--builtin", "--world", "redis://127.0.0.1:9", "--world-ca", ca],
+    ];
+    for args in cases {
+        let out = mazewalk(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        assert!(stderr(&out).contains("--world"), "{args:?}: {}", stderr(&out));
+    }
+}

@@ -188,7 +188,7 @@ fn two_servers_walk_one_world_on_redis() {
 }
 
 // issue #35: a server that cannot join the world says why at once and exits 1: Redis away, another
-// maze in the world (both hashes named), a CA for a world without TLS.
+// maze in the world (both hashes named); a CA for a world without TLS is a bad flag value: exit 2.
 #[test]
 fn a_server_that_cannot_join_the_world_says_why_and_exits_1() {
     let scratch = Scratch::new("refused");
@@ -216,7 +216,7 @@ fn a_server_that_cannot_join_the_world_says_why_and_exits_1() {
     std::fs::write(&ca, "not a certificate").expect("a file");
     let (code, said) =
         refused(&scratch, &["--gen", "4x4", "--world", &redis.url(0), "--world-ca", ca.to_str().unwrap()]);
-    assert_eq!(code, Some(1), "{said}");
+    assert_eq!(code, Some(2), "{said}");
     assert!(said.contains("--world-ca is for a world over TLS"), "{said}");
 }
 

@@ -13,6 +13,7 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
     use mazewalk_serve::host_key;
     use mazewalk_serve::identity::player_name;
     use mazewalk_serve::records::{Sqlite, Store};
+    use mazewalk_serve::shared::WorldError;
 
     use super::{load_maze, maze_name, stdout_open};
     use crate::cli::{MazeArgs, ReadArgs};
@@ -49,9 +50,16 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
                 }
                 None => None,
             };
-            let store = mazewalk_serve::shared::records::RedisStore::new(url, ca.as_deref(), *hash)
-                .map_err(anyhow::Error::new)
-                .context("records")?;
+            let store =
+                mazewalk_serve::shared::records::RedisStore::new(url, ca.as_deref(), *hash).map_err(|e| {
+                    match e {
+                        // not a Redis URL, or a CA without TLS: a bad flag value (exit 2)
+                        WorldError::Url { .. } | WorldError::CaWithoutTls { .. } => {
+                            anyhow::Error::new(super::Usage(format!("records: {e}")))
+                        }
+                        e => anyhow::Error::new(e).context("records"),
+                    }
+                })?;
             let place = format!("the world at {}", mazewalk_serve::shared::redis::redacted(url));
             (Box::new(store), place)
         }
