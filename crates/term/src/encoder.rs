@@ -1020,6 +1020,13 @@ fn repeat(
         (sgr.len() == 0 && form.ch == last.ch).then_some(form)
     };
     let end = end.min(new.len());
+    // The shortest run that pays (`run * glyph > 3 + digits(run)`: five ASCII glyphs, two block
+    // glyphs): where fewer cells right after `x` are changed, none pays and no cell's form is asked.
+    let glyph = last.ch.len_utf8();
+    let least = (1..5).find(|&n| n * glyph > 3 + digits(n)).unwrap_or(5);
+    if x + least >= end || !differs[x + 1..=x + least].iter().all(|&d| d) {
+        return 0;
+    }
     let run = (x + 1..end).take_while(|&j| differs[j] && same(pen, &new[j]).is_some()).count();
     if run == 0 || run * last.ch.len_utf8() <= 3 + digits(run) {
         return 0;
