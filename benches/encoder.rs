@@ -18,6 +18,7 @@
 //! ```
 
 use mazewalk_bench::common;
+use mazewalk_bench::stream::Kinds;
 
 use std::cell::Cell as StdCell;
 use std::fmt::Write as _;
@@ -131,58 +132,6 @@ impl Ratatui {
             })
             .expect("counting writer");
         self.count.get() - before
-    }
-}
-
-/// Where a byte stream's bytes go: colours (SGR), cursor moves, erasures, synchronized-output and
-/// cursor-visibility markers, and glyphs (everything else, UTF-8).
-#[derive(Clone, Copy, Default)]
-struct Kinds {
-    sgr: usize,
-    moves: usize,
-    erase: usize,
-    markers: usize,
-    glyphs: usize,
-}
-
-impl Kinds {
-    fn of(bytes: &[u8]) -> Kinds {
-        let mut k = Kinds::default();
-        let mut i = 0;
-        while i < bytes.len() {
-            if bytes[i] == 0x1b && bytes.get(i + 1) == Some(&b'[') {
-                let end = (i + 2..bytes.len())
-                    .find(|&j| (0x40..0x7f).contains(&bytes[j]))
-                    .unwrap_or(bytes.len() - 1);
-                let len = end + 1 - i;
-                match (bytes[end], bytes.get(i + 2)) {
-                    (b'm', _) => k.sgr += len,
-                    (b'K' | b'J', _) => k.erase += len,
-                    (_, Some(b'?')) => k.markers += len,
-                    _ => k.moves += len,
-                }
-                i = end + 1;
-            } else if matches!(bytes[i], b'\r' | b'\n' | 0x08) {
-                k.moves += 1;
-                i += 1;
-            } else {
-                k.glyphs += 1;
-                i += 1;
-            }
-        }
-        k
-    }
-
-    fn add(&mut self, o: Kinds) {
-        self.sgr += o.sgr;
-        self.moves += o.moves;
-        self.erase += o.erase;
-        self.markers += o.markers;
-        self.glyphs += o.glyphs;
-    }
-
-    fn total(&self) -> usize {
-        self.sgr + self.moves + self.erase + self.markers + self.glyphs
     }
 }
 
@@ -359,7 +308,7 @@ fn report(depth: ColorDepth, steps: &[Step], bytes: &[Bytes]) -> (String, String
         [("mazewalk", (|b: &Bytes| b.ours_kinds) as fn(&Bytes) -> Kinds), ("ratatui", |b| b.ratatui_kinds)]
     {
         let mut k = Kinds::default();
-        steps.iter().zip(bytes).skip(1).filter(|(s, _)| s.moved).for_each(|(_, b)| k.add(pick(b)));
+        steps.iter().zip(bytes).skip(1).filter(|(s, _)| s.moved).for_each(|(_, b)| k.merge(pick(b)));
         let pct = |n: usize| format!("{:.0} %", 100.0 * n as f64 / k.total().max(1) as f64);
         let _ = writeln!(
             md,

@@ -93,7 +93,7 @@ fn run(key: &[u8], tolerance: u8) -> (Kinds, [usize; 5], f64, (usize, usize, usi
 fn main() {
     println!("256 colours, 120×40 half blocks, built-in maze, 60 frames/s, 3 s of a held key:\n");
     println!(
-        "| key | tolerance | KB/s | SGR | SGRs/frame | moves | glyphs | markers | cells changed by ≤0.02 / ≤0.03 / ≤0.04 / ≤0.06 / more | colours as the last changed cell / as the changed cell above |"
+        "| key | tolerance | KB/s | SGR | SGRs/frame | moves and erasures | glyphs | markers | cells changed by ≤0.02 / ≤0.03 / ≤0.04 / ≤0.06 / more | colours as the last changed cell / as the changed cell above |"
     );
     println!("|---|---|--:|--:|--:|--:|--:|--:|---|---|");
     for (name, key) in [("turning ←", b"\x1b[D".as_slice()), ("walking W", b"w".as_slice())] {
@@ -106,7 +106,7 @@ fn main() {
                 k.total() as f64 / moved.max(1e-3) / 1e3,
                 pct(k.sgr),
                 k.sgr_count as f64 / frames,
-                pct(k.moves),
+                pct(k.moves + k.erase),
                 pct(k.glyphs),
                 pct(k.markers),
                 hist,

@@ -428,10 +428,10 @@ fn main() {
         pairs as f64 / frames.max(1) as f64
     );
     println!(
-        "Bytes: SGR {:.0} % ({:.0} a frame), cursor moves {:.0} %, glyphs {:.0} %, markers {:.0} %; REP would save {:.0} %\n",
+        "Bytes: SGR {:.0} % ({:.0} a frame), cursor moves and erasures {:.0} %, glyphs {:.0} %, markers {:.0} %; REP would save {:.0} %\n",
         pct(kinds.stream.sgr),
         kinds.stream.sgr_count as f64 / frames.max(1) as f64,
-        pct(kinds.stream.moves),
+        pct(kinds.stream.moves + kinds.stream.erase),
         pct(kinds.stream.glyphs),
         pct(kinds.stream.markers),
         pct(kinds.rep)
