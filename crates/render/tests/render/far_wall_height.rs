@@ -99,11 +99,5 @@ fn a_far_wall_looks_as_tall_as_it_is_in_truecolor_256_and_16_colours() {
             }
         }
     }
-    assert!(judged > 500, "too few far-wall columns judged: {judged}");
-    assert!(
-        failures.is_empty(),
-        "{} of {judged} far-wall columns look taller or shorter than the wall; first: {:#?}",
-        failures.len(),
-        &failures[..failures.len().min(8)]
-    );
+    crate::none_failed(judged, 500, &failures, "far-wall columns look taller or shorter than the wall");
 }

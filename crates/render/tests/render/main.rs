@@ -19,3 +19,15 @@ mod render_portal;
 mod render_sprites;
 mod tone;
 mod wall_floor;
+
+/// A property over many samples: more than `least` were judged, and none failed; else the count and
+/// the first few failures, `what` saying what failing means.
+pub fn none_failed(judged: usize, least: usize, failures: &[String], what: &str) {
+    assert!(judged > least, "too few judged: {judged}");
+    assert!(
+        failures.is_empty(),
+        "{} of {judged} {what}; first: {:#?}",
+        failures.len(),
+        &failures[..failures.len().min(10)]
+    );
+}
