@@ -36,6 +36,8 @@ pub enum Action {
     FovWider,
     /// Narrow the field of view (-).
     FovNarrower,
+    /// The look-ahead lens on / off (z): a narrow field for far openings.
+    ToggleLookAhead,
     /// Perspective ↔ orthographic (p).
     ToggleProjection,
     /// Map: off → corner → full screen (m).
@@ -110,6 +112,7 @@ pub(crate) fn action_for(key: Key) -> Option<Action> {
             '-' | '_' => Action::FovNarrower,
             ',' | '<' => Action::SnapLeft,
             '.' | '>' => Action::SnapRight,
+            'z' => Action::ToggleLookAhead,
             'p' => Action::ToggleProjection,
             'm' => Action::CycleMap,
             'c' => Action::CycleCharset,
@@ -145,6 +148,7 @@ pub(crate) const HELP: &[(&str, &str)] = &[
     ("↑ / ↓", "look up / down"),
     ("[ / ]", "move down / up"),
     ("+ / -", "wider / narrower field of view"),
+    ("z", "look ahead: a 40° lens for far openings"),
     ("drag", "look around with the mouse"),
     ("p", "perspective / orthographic"),
     ("m", "map: corner / full / off (shows what you have seen)"),
@@ -372,7 +376,7 @@ mod tests {
         assert_eq!(action_for(Key::Esc), Some(Action::Quit));
         assert_eq!(action_for(Key::Char('<')), Some(Action::SnapLeft));
         assert_eq!(action_for(Key::Char('.')), Some(Action::SnapRight));
-        assert_eq!(action_for(Key::Char('z')), None);
+        assert_eq!(action_for(Key::Char('u')), None);
         assert_eq!(action_for(Key::Char('y')), None);
         // Every binding of README's keys table, capitals too (a terminal with Shift or Caps Lock).
         let bindings = [
@@ -396,6 +400,7 @@ mod tests {
             ("xX", Action::ToggleChalk),
             ("iI", Action::ToggleFigures),
             ("gG", Action::ToggleGhost),
+            ("zZ", Action::ToggleLookAhead),
             ("?hH", Action::Help),
             ("qQ", Action::Quit),
         ];

@@ -447,6 +447,13 @@ fn hud_text_with(
         (Some(_), None) => Some(format!("time {}", running_clock_text(hud.elapsed))),
     };
     let dev = |text: String| if app.figures { text } else { String::new() };
+    let charset = app.options.charset;
+    // the look-ahead lens (`z`) is said early: a player who forgets it is on sees a far narrower view
+    let (lens, view) = if app.look_ahead() {
+        (format!("fov {fov_deg:.0}° look ahead"), format!("{projection} {charset}"))
+    } else {
+        (String::new(), format!("fov {fov_deg:.0}° {projection} {charset}"))
+    };
     // (priority, text): lower numbers are kept first when the line is short of room
     let fields = [
         (0, status.unwrap_or_default().to_string()),
@@ -458,7 +465,8 @@ fn hud_text_with(
         (3, format!("({:.1}, {:.1})", c.position.x, c.position.y)),
         (5, format!("z{:+.1}", c.eye_z)),
         (6, format!("pitch {:+.0}°", c.pitch_deg)),
-        (7, format!("fov {fov_deg:.0}° {projection} {}", app.options.charset)),
+        (2, lens),
+        (7, view),
         (4, dev(format!("{} fps {} B", hud.fps, hud.cost.bytes))),
         (8, dev(format!("cell {} seen {}", app.cell, stats.portal.distinct_cells))),
         (9, dev(format!("{:.1} ms", hud.cost.seconds * 1e3))),
@@ -547,6 +555,30 @@ mod tests {
         app.figures = true;
         let dev = hud_text(&app, &stats, &hud, None, Style::default(), 200);
         assert!(dev.contains("57 fps 0 B") && dev.contains("cell ") && dev.contains(" ms"), "{dev:?}");
+    }
+
+    // issue #39: the look-ahead lens (`z`) says so in the HUD, kept before the position and the view
+    // settings: a player who forgot it is on would take the narrow view for the maze.
+    #[test]
+    fn the_hud_says_when_the_look_ahead_lens_is_on() {
+        let mut app = App::new(mazewalk_maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
+        let (stats, hud) = (RenderStats::default(), Hud { elapsed: 83.4, ..Hud::default() });
+        let line = |app: &App, width| {
+            let fov = app.shown_hfov_deg(120, 39);
+            hud_text_with(app, &stats, &hud, (Some(3), None, None), fov, Style::default(), width)
+        };
+        for width in [60, 80, 120, 200] {
+            assert!(!line(&app, width).contains("look ahead"), "{:?}", line(&app, width));
+        }
+        app.set_look_ahead(true);
+        for width in [60, 80, 120, 200] {
+            let text = line(&app, width);
+            assert!(text.contains("  fov 40° look ahead  ") && text.ends_with("? help "), "{text:?}");
+        }
+        assert!(line(&app, 200).contains("fov 40° look ahead  persp half"), "{:?}", line(&app, 200));
+        assert!(!line(&app, 60).contains("(6.0, 50.0)"), "the lens before the position");
+        app.set_look_ahead(false);
+        assert!(line(&app, 200).contains("fov 90° persp half"), "{:?}", line(&app, 200));
     }
 
     /// A screen limits the colours of what is drawn over the view (the map, boxes, a caption, the

@@ -38,6 +38,10 @@ pub(crate) const LOOK_STEP_DEG: f32 = 10.0;
 pub(crate) const RISE_SPEED: f32 = 1.0;
 /// How far one tap of `[`/`]` rises or sinks, maze units.
 pub(crate) const RISE_STEP: f32 = 0.1;
+/// The look-ahead lens's horizontal field (`z`), degrees, with no vertical widening: narrow enough that
+/// a side opening 6 cells down a generated corridor spans two columns at 120×40 (it spans half a
+/// column in the walk's own field there, ~118°).
+pub const LOOK_AHEAD_FOV_DEG: f32 = 40.0;
 /// Field of view change, degrees per second.
 pub(crate) const FOV_SPEED: f32 = 45.0;
 /// How much one tap of `+`/`-` changes the field of view, degrees.
@@ -147,6 +151,9 @@ pub struct App {
     pub options: RenderOptions,
     /// The map overlay.
     pub map: MapMode,
+    /// The look-ahead lens (`z`) is on: the fields of view (horizontal, least vertical) it replaced,
+    /// which turning it off brings back.
+    look_ahead: Option<(f32, f32)>,
     /// The key help overlay (never under the exit box: `?` does nothing there).
     pub help: bool,
     /// Held keys.
@@ -257,6 +264,7 @@ impl App {
             start: (camera, cell),
             options,
             map: MapMode::Corner,
+            look_ahead: None,
             help: false,
             held: Held::default(),
             releases: false,
@@ -362,6 +370,7 @@ impl App {
         let Some(Position { cell, pos }) = stand(&self.maze, position) else { return false };
         self.start = (Camera { position: pos, ..self.start.0 }, cell);
         (self.camera, self.cell) = self.start;
+        self.look_ahead = None;
         // walked from here: the viewer was never where it stood before
         self.walked.clear();
         self.walked_bits.fill(0);
@@ -376,6 +385,7 @@ impl App {
         if yaw_deg.is_finite() {
             self.start.0.yaw_deg = yaw_deg.rem_euclid(360.0);
             (self.camera, self.cell) = self.start;
+            self.look_ahead = None;
         }
     }
 
@@ -495,6 +505,7 @@ impl App {
                 self.snap_turn(if action == Action::SnapLeft { 90.0 } else { -90.0 }, now);
             }
             Action::Reset => self.reset(now),
+            Action::ToggleLookAhead => self.set_look_ahead(self.look_ahead.is_none()),
             // the exit box shows instead of the help: a toggle there would pop up unseen after it
             Action::Help if self.exit_box => return false,
             Action::Help => self.help = !self.help,
@@ -521,9 +532,34 @@ impl App {
         true
     }
 
-    /// Back to the start, the clock from zero.
+    /// Whether the look-ahead lens (`z`) is on.
+    #[must_use]
+    pub fn look_ahead(&self) -> bool {
+        self.look_ahead.is_some()
+    }
+
+    /// Turns the look-ahead lens (`z`) on or off. On: the view's horizontal field is
+    /// [`LOOK_AHEAD_FOV_DEG`] whatever the screen's shape (no least vertical field), as `mazewalk
+    /// render --fov 40` draws it; `+`/`-` then widen or narrow the lens. Off: the fields the viewer had
+    /// before it, exactly. Nothing else changes.
+    pub fn set_look_ahead(&mut self, on: bool) {
+        match (on, self.look_ahead) {
+            (true, None) => {
+                self.look_ahead = Some((self.camera.hfov_deg, self.camera.min_vfov_deg));
+                (self.camera.hfov_deg, self.camera.min_vfov_deg) = (LOOK_AHEAD_FOV_DEG, 0.0);
+            }
+            (false, Some((hfov_deg, min_vfov_deg))) => {
+                self.look_ahead = None;
+                (self.camera.hfov_deg, self.camera.min_vfov_deg) = (hfov_deg, min_vfov_deg);
+            }
+            _ => {}
+        }
+    }
+
+    /// Back to the start, the clock from zero (the start's field of view: the lens off).
     fn reset(&mut self, now: f64) {
         (self.camera, self.cell) = self.start;
+        self.look_ahead = None;
         self.held.clear();
         self.snap = None;
         (self.started, self.finished) = (now, None);

@@ -6,6 +6,7 @@ mod chalk;
 mod common;
 mod controls;
 mod ghost;
+mod look_ahead;
 mod map_fog;
 mod overlays;
 mod render_frames;
