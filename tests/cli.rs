@@ -698,3 +698,67 @@ fn records_refuses_a_world_url_that_is_not_redis() {
         assert!(stderr(&out).contains("--world"), "{args:?}: {}", stderr(&out));
     }
 }
+
+/// Issue #39: the walk's look-ahead lens (`z`) is `render --fov 40`'s camera. With the lens on, the
+/// walk's view (the screen less its HUD row, map off, chalk off) at a pose down a long corridor is,
+/// byte for byte, the frame `render --fov 40` prints there; with the lens off it is not.
+#[test]
+fn the_walks_look_ahead_view_is_render_fov_40s_frame() {
+    use mazewalk_maze::generate::{GenOptions, generate};
+    use mazewalk_render::{Charset, RenderOptions};
+    use mazewalk_term::encoder::ansi_lines;
+    use mazewalk_term::frame::{ColorDepth, Frame};
+    use mazewalk_term::input::{Key, KeyPhase};
+    use mazewalk_walk::screen::{Hud, Screen, draw};
+    use mazewalk_walk::state::stand;
+    use mazewalk_walk::{App, MapMode};
+
+    let (cols, rows) = (120, 40);
+    let (at, heading) = (glam::Vec2::new(34.0, 6.0), 0.0);
+    let out = mazewalk(&[
+        "render",
+        "--gen",
+        "20x15",
+        "--seed",
+        "5",
+        "--at",
+        "34,6",
+        "--heading",
+        "0",
+        "--size",
+        "120x39",
+        "--fov",
+        "40",
+        "--color",
+        "256",
+        "--charset",
+        "half",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+
+    let maze = generate(&GenOptions::walk(20, 15, 5)).unwrap();
+    let options =
+        RenderOptions { charset: Charset::Half, color_depth: ColorDepth::Ansi256, ..Default::default() };
+    let mut app = App::new(maze, options, 0.0).unwrap();
+    let stands = stand(app.maze(), at).unwrap();
+    (app.camera.position, app.cell, app.camera.yaw_deg) = (stands.pos, stands.cell, heading);
+    (app.map, app.chalk) = (MapMode::Off, false);
+    let view = |app: &App| {
+        let mut frame = Frame::new(cols, rows);
+        draw(app, &mut Screen::default(), &mut frame, &Hud::default());
+        let mut view = Frame::new(cols, rows - 1);
+        for y in 0..rows - 1 {
+            for x in 0..cols {
+                view.set(x, y, *frame.get(x, y).unwrap());
+            }
+        }
+        let mut bytes = Vec::new();
+        ansi_lines(&view, &mut bytes);
+        bytes
+    };
+    app.key(Key::Char('z'), KeyPhase::Press, 1.0);
+    assert!(app.look_ahead());
+    assert!(view(&app) == out.stdout, "the walk's look-ahead view differs from render --fov 40's frame");
+    app.key(Key::Char('z'), KeyPhase::Press, 2.0);
+    assert!(view(&app) != out.stdout, "without the lens the walk's view is the wide one");
+}
