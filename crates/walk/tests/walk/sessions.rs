@@ -149,3 +149,25 @@ fn a_player_ahead_appears_in_the_others_view_with_its_initial() {
     });
     assert!(labelled, "its initial near the middle of the view:\n{}", after.join("\n"));
 }
+
+/// Issue #39: a session's player (local or served: `serve` runs one a player) gets the look-ahead
+/// lens from the bytes of `z`, and the HUD says so; Ctrl-Z still suspends and leaves the lens alone.
+#[test]
+fn z_through_a_session_puts_the_look_ahead_lens_on_and_ctrl_z_still_suspends() {
+    let mut player = Player::new();
+    // every frame drawn (vt100 answers no flow-control query)
+    let app = App::new(maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
+    player.session =
+        Session::new(app, COLS, ROWS, SessionOptions { flow_control: false, ..Default::default() });
+    player.step(b"", 0.0);
+    assert!(!player.hud().contains("look ahead"), "{}", player.hud());
+    player.step(b"z", 0.5);
+    assert!(player.session.app().look_ahead());
+    assert!(player.hud().contains("fov 40° look ahead"), "{}", player.hud());
+    player.step(b"\x1a", 1.0);
+    assert!(player.session.take_suspend(), "Ctrl-Z suspends");
+    assert!(player.session.app().look_ahead(), "Ctrl-Z is not z");
+    player.step(b"Z", 1.5);
+    assert!(!player.session.app().look_ahead(), "Z (Shift or Caps Lock) turns it off");
+    assert!(!player.hud().contains("look ahead"), "{}", player.hud());
+}
