@@ -36,6 +36,11 @@ pub struct Limits {
     pub max_cols: u16,
     /// The largest terminal drawn, rows.
     pub max_rows: u16,
+    /// Window changes a screen follows a second, at most: one that comes sooner waits, and of those
+    /// waiting only the latest size is drawn when its turn comes. (Each size drawn reallocates a
+    /// screen of up to `max_cols × max_rows` cells: a flood of window changes alternating two sizes,
+    /// 15,000 a second, cost the server half a core.)
+    pub resize_rate: f64,
     /// Input bytes per second a player may send, sustained; beyond it input is dropped.
     pub input_rate: u32,
     /// Input bytes a player may send at once (the rate limiter's bucket).
@@ -66,6 +71,7 @@ impl Default for Limits {
             idle_timeout: Duration::from_secs(30 * 60),
             max_cols: 400,
             max_rows: 150,
+            resize_rate: 10.0,
             input_rate: 16 * 1024,
             input_burst: 64 * 1024,
             keepalive_interval: Duration::from_secs(15),

@@ -1459,6 +1459,8 @@ async fn walk(
     // The records' answer to the last finish (the maze's best times for the exit box), on its way.
     let mut standing: Option<tokio::sync::oneshot::Receiver<Option<Standing>>> = None;
     let user = Conn::get(&conn.user).unwrap_or_default();
+    // The size its recording was told (the cast's header has the first).
+    let mut recorded_size = (player.session().screen().width(), player.session().screen().height());
     loop {
         if *shutdown.borrow_and_update() {
             return End::Shutdown;
@@ -1481,6 +1483,14 @@ async fn walk(
         let drew = player.frame(now, &mut out);
         if drew {
             player.session_mut().frame_cost(started.elapsed().as_secs_f64());
+        }
+        let screen = player.session().screen(); // the size drawn: within the limits
+        if (screen.width(), screen.height()) != recorded_size {
+            recorded_size = (screen.width(), screen.height());
+            if let Some(tap) = tap.as_mut() {
+                let size = |n: usize| u16::try_from(n).unwrap_or(u16::MAX);
+                tap.resize(now, size(recorded_size.0), size(recorded_size.1));
+            }
         }
         if !out.is_empty() {
             let bytes = std::mem::take(&mut out);
@@ -1536,12 +1546,7 @@ async fn walk(
                     }
                 }
                 Some(ChannelMsg::WindowChange { col_width, row_height, .. }) => {
-                    player.resize(col_width, row_height, shared.now());
-                    if let Some(tap) = tap.as_mut() {
-                        let screen = player.session().screen(); // the size drawn: within the limits
-                        let size = |n: usize| u16::try_from(n).unwrap_or(u16::MAX);
-                        tap.resize(shared.now(), size(screen.width()), size(screen.height()));
-                    }
+                    player.resize(col_width, row_height, shared.now()); // now, or when its turn comes
                 }
                 Some(ChannelMsg::Eof | ChannelMsg::Close) | None => return End::Gone,
                 Some(_) => {}

@@ -1,7 +1,8 @@
 //! Issue #34's attacks, each as a quick bounded test against an in-process server on loopback (the
 //! full reproductions, with a witness player's latency before and after, are
 //! `benches/examples/attacks.rs`): a key exchange that costs the server a second of CPU, an `ssh-rsa`
-//! (SHA-1) signature, a connection kept after its game, and a flood of handshakes. (A player that
+//! (SHA-1) signature, a connection kept after its game, and a flood of handshakes; and the red-team
+//! pass's flood of window changes. (A player that
 //! types but never reads at shutdown is `tests/serve_e2e.rs`'s: it takes a client that stops
 //! adjusting its window, as OpenSSH does when its terminal is not read; russh's client never stops.)
 #![cfg(target_os = "linux")]
@@ -223,6 +224,86 @@ async fn a_flood_of_handshakes_neither_slows_players_nor_keeps_newcomers_out() {
         assert!(latencies.len() >= 20, "the witness's keys were answered: {}", latencies.len());
         assert!(p99 < 0.5, "p99 key-to-frame {p99:.3} s during the flood");
         drop(flood);
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
+
+/// Red-team pass: a flood of window changes alternating two sizes (400×150 and 399×150, 15,000 a
+/// second from one paramiko client) made the server reallocate a 60,000-cell screen for each, half a
+/// core for one connection (`Frame::resize` 60 % of the profile). Now a screen follows at most
+/// `resize_rate` window changes a second: one that comes sooner waits its turn, and of a flood only
+/// the size asked for last is drawn.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_flood_of_window_changes_is_followed_a_few_times_a_second() {
+    use russh::ChannelMsg;
+    use std::sync::Mutex;
+    const QUERY: &[u8] = b"\x1b[c";
+    let count = |bytes: &[u8], what: &[u8]| bytes.windows(what.len()).filter(|w| *w == what).count();
+    tokio::time::timeout(DEADLINE, async {
+        // One window change every 2 s at most.
+        let limits = Limits { resize_rate: 0.5, ..Limits::default() };
+        let server = server(Access::Open, limits).await;
+        let Connected { handle: _handle, channel } =
+            connect(server.local_addr(), "resizer", (400, 150)).await.expect("connect");
+        let (mut rx, tx) = channel.split();
+        let tx = Arc::new(tx);
+        // Everything received, every frame's query answered at once (so that frames keep coming).
+        let received = Arc::new(Mutex::new(Vec::<u8>::new()));
+        let reader = {
+            let (received, tx) = (Arc::clone(&received), Arc::clone(&tx));
+            tokio::spawn(async move {
+                while let Some(message) = rx.wait().await {
+                    if let ChannelMsg::Data { data } = message {
+                        // (a query may straddle two messages: counted where it ends)
+                        let (before, queries) = {
+                            let mut all = received.lock().expect("the bytes");
+                            let before = count(&all[all.len().saturating_sub(2)..], QUERY);
+                            all.extend_from_slice(&data);
+                            (before, count(&all[all.len().saturating_sub(data.len() + 2)..], QUERY))
+                        };
+                        for _ in before..queries {
+                            let _ = tx.data(&b"\x1b[?62;22c"[..]).await;
+                        }
+                    }
+                }
+            })
+        };
+        // The screen as a 400×150 terminal shows it: whether it is drawn at `cols × rows` (its HUD
+        // on the last row, nothing beyond).
+        let drawn_at = |cols: u16, rows: u16| {
+            let size = |n: u16| std::num::NonZeroU16::new(n).expect("non-zero");
+            let mut parser = vt100::Parser::new(size(150), size(400), 0);
+            parser.process(&received.lock().expect("the bytes"));
+            let screen = parser.screen();
+            let beyond_rows = screen.contents_between(rows, 0, 149, 399);
+            let beyond_cols = screen.rows(cols, 400 - cols).take(rows.into()).collect::<String>();
+            let hud = screen.contents_between(rows - 1, 0, rows - 1, cols - 1);
+            beyond_rows.trim().is_empty() && beyond_cols.trim().is_empty() && hud.contains("heading")
+        };
+        eventually(Duration::from_secs(10), "the first frame", || drawn_at(400, 150)).await;
+        // The first window change is followed at once …
+        tx.window_change(120, 40, 0, 0).await.expect("a window change");
+        eventually(Duration::from_secs(10), "drawn at 120×40", || drawn_at(120, 40)).await;
+        // … the next waits its turn (2 s after the first) …
+        tx.window_change(100, 30, 0, 0).await.expect("a window change");
+        tokio::time::sleep(Duration::from_millis(300)).await;
+        assert!(drawn_at(120, 40), "a second window change within 2 s was drawn at once");
+        eventually(Duration::from_secs(10), "drawn at 100×30 in its turn", || drawn_at(100, 30)).await;
+        // … and of a flood, the last size is drawn.
+        let flooding = Instant::now();
+        let mut sent = 0u32;
+        while flooding.elapsed() < Duration::from_secs(1) {
+            let cols = if sent.is_multiple_of(2) { 399 } else { 400 };
+            tx.window_change(cols, 150, 0, 0).await.expect("a window change");
+            sent += 1;
+        }
+        tx.window_change(90, 25, 0, 0).await.expect("the last window change");
+        eprintln!("{sent} window changes in 1 s");
+        assert!(sent >= 1000, "the premise: a flood ({sent} window changes)");
+        eventually(Duration::from_secs(10), "drawn at the last size, 90×25", || drawn_at(90, 25)).await;
+        reader.abort();
         server.shutdown().await;
     })
     .await
