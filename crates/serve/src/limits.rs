@@ -11,6 +11,9 @@ pub struct Limits {
     /// Spectators at once (`--max-spectators`): connections that logged in as `watch`. They have
     /// their own slots, never a player's.
     pub max_spectators: usize,
+    /// Spectators at once from one address group (an IPv4 address, an IPv6 /64): with no idle
+    /// timeout, one address holding every spectator's place would hold it for good.
+    pub max_spectators_per_address: usize,
     /// Connections still in the handshake (key exchange and authentication) at once, in all
     /// (`--max-handshakes`): they never take a player's slot. When these are all taken, a newcomer
     /// takes the slot of the one that has gone longest without progress ([`Slots`](crate::slots)).
@@ -62,6 +65,7 @@ impl Default for Limits {
         Limits {
             max_players: 256,
             max_spectators: 16,
+            max_spectators_per_address: 4,
             max_handshakes: 128,
             max_per_address: 16,
             connect_rate: 8.0,

@@ -309,3 +309,46 @@ async fn a_flood_of_window_changes_is_followed_a_few_times_a_second() {
     .await
     .expect("ran over its deadline");
 }
+
+/// Red-team pass: one address logged in 16 `watch` connections (its `--max-per-address`) and held
+/// every spectator's place for good (a spectator has no idle timeout); a spectator from anywhere else
+/// was refused. Now one address holds at most `max_spectators_per_address` of them: its next one is
+/// refused, while a spectator from another address, and a player from the same one, get in.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_address_cannot_hold_every_spectators_place() {
+    async fn from(n: u8, user: &str, addr: SocketAddr) -> Result<Connected, russh::Error> {
+        let stream = tokio::net::TcpSocket::new_v4().expect("socket");
+        stream.bind(SocketAddr::new(address(n), 0)).expect("bind");
+        let stream = stream.connect(addr).await.expect("connect");
+        load::connect_over(stream, user, (80, 24)).await
+    }
+    tokio::time::timeout(DEADLINE, async {
+        let limits = Limits::default();
+        let server = server(Access::Open, limits).await;
+        let addr = server.local_addr();
+        let share = limits.max_spectators_per_address;
+        assert!(share < limits.max_spectators && limits.max_spectators <= limits.max_per_address);
+        let mut held = Vec::new();
+        for _ in 0..share {
+            held.push(from(20, "watch", addr).await.expect("a spectator within the address's share"));
+        }
+        eventually(Duration::from_secs(10), "its share watching", || server.spectators() == share).await;
+        let over = from(20, "watch", addr).await;
+        if let Ok(over) = &over {
+            let closed = || over.handle.is_closed();
+            eventually(Duration::from_secs(10), "the one over its share closed", closed).await;
+        }
+        assert_eq!(server.spectators(), share, "one more from the same address");
+        let elsewhere = from(21, "watch", addr).await.expect("a spectator from another address");
+        eventually(Duration::from_secs(10), "the other address's spectator", || {
+            server.spectators() == share + 1
+        })
+        .await;
+        let player = from(20, "ada", addr).await.expect("a player from the first address");
+        eventually(Duration::from_secs(10), "its player", || server.players() == 1).await;
+        drop((held, elsewhere, player));
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
