@@ -2,7 +2,7 @@
 //! full reproductions, with a witness player's latency before and after, are
 //! `benches/examples/attacks.rs`): a key exchange that costs the server a second of CPU, an `ssh-rsa`
 //! (SHA-1) signature, a connection kept after its game, and a flood of handshakes; and the red-team
-//! pass's flood of window changes. (A player that
+//! pass's: a flood of window changes, one address's spectators, a command asked for mid-game. (A player that
 //! types but never reads at shutdown is `tests/serve_e2e.rs`'s: it takes a client that stops
 //! adjusting its window, as OpenSSH does when its terminal is not read; russh's client never stops.)
 #![cfg(target_os = "linux")]
@@ -347,6 +347,46 @@ async fn one_address_cannot_hold_every_spectators_place() {
         let player = from(20, "ada", addr).await.expect("a player from the first address");
         eventually(Duration::from_secs(10), "its player", || server.players() == 1).await;
         drop((held, elsewhere, player));
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
+
+/// Red-team pass: a command (or subsystem) asked for on the channel whose game runs made the server
+/// close that channel under the game: the player stayed in the maze, drawn for no one and counted,
+/// until its view changed. Now the request fails and the game goes on.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_command_asked_for_during_the_game_fails_and_the_game_goes_on() {
+    use russh::ChannelMsg;
+    tokio::time::timeout(DEADLINE, async {
+        let server = server(Access::Open, Limits::default()).await;
+        let Connected { handle: _handle, mut channel } =
+            connect(server.local_addr(), "exec", (80, 24)).await.expect("connect");
+        eventually(Duration::from_secs(10), "playing", || server.players() == 1).await;
+        // Reads until `done` says so; panics on the channel's end.
+        async fn until(channel: &mut russh::Channel<russh::client::Msg>, done: impl Fn(&ChannelMsg) -> bool) {
+            loop {
+                let message = channel.wait().await;
+                match &message {
+                    Some(ChannelMsg::Eof | ChannelMsg::Close | ChannelMsg::ExitStatus { .. }) | None => {
+                        panic!("the game's channel ended: {message:?}")
+                    }
+                    Some(message) if done(message) => return,
+                    Some(_) => {}
+                }
+            }
+        }
+        channel.exec(true, "id").await.expect("ask for a command");
+        until(&mut channel, |m| matches!(m, ChannelMsg::Failure)).await;
+        channel.request_subsystem(true, "sftp").await.expect("ask for a subsystem");
+        until(&mut channel, |m| matches!(m, ChannelMsg::Failure)).await;
+        // The game goes on: a key turns the view, and a frame comes.
+        channel.data(&b"\x1b[D"[..]).await.expect("a key");
+        until(&mut channel, |m| matches!(m, ChannelMsg::Data { data } if data.len() > 100)).await;
+        assert_eq!(server.players(), 1);
+        channel.data(&b"q"[..]).await.expect("q");
+        eventually(Duration::from_secs(10), "the player quit", || server.players() == 0).await;
         server.shutdown().await;
     })
     .await
