@@ -42,7 +42,7 @@ pub struct Limits {
     /// Window changes a screen follows a second, at most: one that comes sooner waits, and of those
     /// waiting only the latest size is drawn when its turn comes. (Each size drawn reallocates a
     /// screen of up to `max_cols × max_rows` cells: a flood of window changes alternating two sizes,
-    /// 15,000 a second, cost the server half a core.)
+    /// 15,000 a second, cost the server half a core.) 0 follows every one.
     pub resize_rate: f64,
     /// Input bytes per second a player may send, sustained; beyond it input is dropped.
     pub input_rate: u32,
