@@ -11,6 +11,9 @@ pub struct Limits {
     /// Spectators at once (`--max-spectators`): connections that logged in as `watch`. They have
     /// their own slots, never a player's.
     pub max_spectators: usize,
+    /// Spectators at once from one address group (an IPv4 address, an IPv6 /64): with no idle
+    /// timeout, one address holding every spectator's place would hold it for good.
+    pub max_spectators_per_address: usize,
     /// Connections still in the handshake (key exchange and authentication) at once, in all
     /// (`--max-handshakes`): they never take a player's slot. When these are all taken, a newcomer
     /// takes the slot of the one that has gone longest without progress ([`Slots`](crate::slots)).
@@ -36,6 +39,11 @@ pub struct Limits {
     pub max_cols: u16,
     /// The largest terminal drawn, rows.
     pub max_rows: u16,
+    /// Window changes a screen follows a second, at most: one that comes sooner waits, and of those
+    /// waiting only the latest size is drawn when its turn comes. (Each size drawn reallocates a
+    /// screen of up to `max_cols × max_rows` cells: a flood of window changes alternating two sizes,
+    /// 15,000 a second, cost the server half a core.) 0 follows every one.
+    pub resize_rate: f64,
     /// Input bytes per second a player may send, sustained; beyond it input is dropped.
     pub input_rate: u32,
     /// Input bytes a player may send at once (the rate limiter's bucket).
@@ -57,6 +65,7 @@ impl Default for Limits {
         Limits {
             max_players: 256,
             max_spectators: 16,
+            max_spectators_per_address: 4,
             max_handshakes: 128,
             max_per_address: 16,
             connect_rate: 8.0,
@@ -66,6 +75,7 @@ impl Default for Limits {
             idle_timeout: Duration::from_secs(30 * 60),
             max_cols: 400,
             max_rows: 150,
+            resize_rate: 10.0,
             input_rate: 16 * 1024,
             input_burst: 64 * 1024,
             keepalive_interval: Duration::from_secs(15),

@@ -88,7 +88,7 @@ impl Metrics {
     /// A connection was refused for `refusal`.
     pub(crate) fn refused(&self, refusal: &Refusal) {
         let reason = match refusal {
-            Refusal::Spectators(_) => {
+            Refusal::Spectators(_) | Refusal::SpectatorsFromThisAddress(_) => {
                 self.spectator_refusals.inc();
                 return;
             }
@@ -323,7 +323,7 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
     registry.register("spectator_joins", "Spectators who began watching", metrics.spectator_joins.clone());
     registry.register(
         "spectator_refusals",
-        "Spectators refused because every spectator's slot was taken",
+        "Spectators refused because every spectator's slot, or every one its address may take, was taken",
         metrics.spectator_refusals.clone(),
     );
     registry.register_with_unit(

@@ -53,6 +53,58 @@ pub(crate) fn clamp_size(cols: u32, rows: u32, limits: &Limits) -> (u16, u16) {
     fit_size(cols, rows, (limits.max_cols, limits.max_rows))
 }
 
+/// The window changes a served screen follows: at most [`Limits::resize_rate`] a second, the latest
+/// size winning among those that came sooner (a window dragged to a new size ends at that size; a
+/// flood of window changes costs one screen's reallocation per turn, not one per change).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Resizes {
+    /// The size asked for last and not yet drawn.
+    pending: Option<(u16, u16)>,
+    /// When a size was last taken to be drawn.
+    last: f64,
+    /// Seconds between two sizes drawn.
+    interval: f64,
+}
+
+impl Resizes {
+    pub(crate) fn new(limits: &Limits) -> Resizes {
+        let rate = if limits.resize_rate > 0.0 { limits.resize_rate } else { f64::INFINITY };
+        Resizes { pending: None, last: f64::NEG_INFINITY, interval: 1.0 / rate }
+    }
+
+    /// The client asked for a `cols × rows` window (as its request gave them) at `now`: clamped to
+    /// `limits`, it waits its turn.
+    pub(crate) fn ask(&mut self, cols: u32, rows: u32, limits: &Limits) {
+        self.pending = Some(clamp_size(cols, rows, limits));
+    }
+
+    /// The size to draw from `now`, if one waits and its turn has come (it is taken).
+    pub(crate) fn take(&mut self, now: f64) -> Option<(u16, u16)> {
+        let due = self.due()?;
+        if now < due {
+            return None;
+        }
+        self.last = now;
+        self.pending.take()
+    }
+
+    /// When the size waiting is to be drawn (`None`: none waits).
+    #[must_use]
+    pub(crate) fn due(&self) -> Option<f64> {
+        self.pending.map(|_| self.last + self.interval)
+    }
+}
+
+/// Applies the size `resizes` lets through at `now` to `session` (nothing if it is the size drawn).
+pub(crate) fn apply_resize(resizes: &mut Resizes, session: &mut Session, now: f64) {
+    if let Some((cols, rows)) = resizes.take(now) {
+        let screen = session.screen();
+        if (cols, rows) != (screen.width() as u16, screen.height() as u16) {
+            session.input(Input::Resize { cols, rows }, now);
+        }
+    }
+}
+
 /// The colour depth for a remote terminal: as locally, from its `TERM` and (when the client sent it)
 /// `COLORTERM`.
 #[must_use]
@@ -148,6 +200,8 @@ pub struct Player {
     session: Session,
     input: RateLimit,
     limits: Limits,
+    /// The window changes it follows.
+    resizes: Resizes,
     dropped: u64,
     /// Its id in the world, once it has joined.
     id: Option<PlayerId>,
@@ -207,6 +261,7 @@ impl Player {
             session: served_session(app, term, (cols, rows), limits),
             input: RateLimit::new(limits.input_rate, limits.input_burst, now),
             limits: *limits,
+            resizes: Resizes::new(limits),
             dropped: 0,
             id: None,
             look_at: Some(now), // look at the world at once
@@ -290,17 +345,17 @@ impl Player {
         !only_replies(bytes)
     }
 
-    /// The client's window changed.
+    /// The client's window changed: the screen follows at once, or when its turn comes
+    /// ([`Limits::resize_rate`]; [`next_wake`](Self::next_wake) says when).
     pub fn resize(&mut self, cols: u32, rows: u32, now: f64) {
-        let (cols, rows) = clamp_size(cols, rows, &self.limits);
-        if (cols, rows) != (self.session.screen().width() as u16, self.session.screen().height() as u16) {
-            self.session.input(Input::Resize { cols, rows }, now);
-        }
+        self.resizes.ask(cols, rows, &self.limits);
+        apply_resize(&mut self.resizes, &mut self.session, now);
     }
 
     /// Draws a frame if one is due ([`Session::frame`]), appending its bytes to `out`; a notice whose
     /// time is up goes first.
     pub fn frame(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
+        apply_resize(&mut self.resizes, &mut self.session, now); // a window change that waited
         let _ = self.session.take_suspend(); // Ctrl-Z cannot stop a server: ignored
         if self.notice_until.is_some_and(|until| now >= until) {
             self.notice_until = None;
@@ -310,10 +365,11 @@ impl Player {
     }
 
     /// When [`frame`](Self::frame) or a look at the world is due next if nothing arrives: the
-    /// session's next wake ([`Session::next_wake`]), a look, or the notice's end.
+    /// session's next wake ([`Session::next_wake`]), a look, the notice's end, or a window change's
+    /// turn.
     #[must_use]
     pub fn next_wake(&self, now: f64) -> Option<f64> {
-        [self.session.next_wake(now), self.look_at, self.notice_until]
+        [self.session.next_wake(now), self.look_at, self.notice_until, self.resizes.due()]
             .into_iter()
             .flatten()
             .reduce(f64::min)
@@ -455,6 +511,32 @@ mod tests {
             0.0,
         )
         .unwrap()
+    }
+
+    /// A window change within the interval waits its turn, the latest of those waiting wins, and
+    /// the wake says when.
+    #[test]
+    fn window_changes_are_followed_at_most_at_the_rate_the_latest_winning() {
+        let limits = Limits { resize_rate: 10.0, ..Limits::default() };
+        let mut p = player(80, 24);
+        let size = |p: &Player| (p.session().screen().width(), p.session().screen().height());
+        p.resize(100, 30, 1.0);
+        assert_eq!(size(&p), (100, 30), "the first at once");
+        for i in 0..1000 {
+            p.resize(120 + i % 2, 40, 1.01);
+        }
+        p.resize(90, 25, 1.02);
+        assert_eq!(size(&p), (100, 30), "the rest wait");
+        let turn = 1.0 + 1.0 / limits.resize_rate;
+        assert!(p.resizes.due().is_some_and(|t| (t - turn).abs() < 1e-9), "{:?}", p.resizes.due());
+        assert!(p.next_wake(1.02).is_some_and(|t| t <= turn), "the host wakes for it");
+        p.frame(1.05, &mut Vec::new());
+        assert_eq!(size(&p), (100, 30), "not before its turn");
+        p.frame(1.1, &mut Vec::new());
+        assert_eq!(size(&p), (90, 25), "the last asked for, in its turn");
+        p.resize(65535, 65535, 1.15);
+        p.frame(1.25, &mut Vec::new());
+        assert_eq!(size(&p), (usize::from(limits.max_cols), usize::from(limits.max_rows)), "clamped");
     }
 
     #[test]

@@ -19,7 +19,8 @@
 //!   ([`Role::Spectator`]), one of at most [`Limits::max_spectators`]: spectators never take a
 //!   player's slot, nor players a spectator's. A newcomer is refused before its handshake only when
 //!   both are full (it may be either); otherwise a player finding the players full, or a spectator
-//!   the spectators, is refused when it logs in.
+//!   the spectators, is refused when it logs in. A spectator has no idle timeout, so one address
+//!   group holds at most [`Limits::max_spectators_per_address`] of their places.
 //! - **Address groups.** [`address_group`]: an IPv4 address, or an IPv6 address's /64. Each group
 //!   has at most [`Limits::max_per_address`] connections of both kinds, and opens new ones at most
 //!   [`Limits::connect_rate`] a second after a burst of twice that many.
@@ -57,6 +58,8 @@ pub(crate) enum Refusal {
     AllFull(usize, usize),
     /// `--max-per-address`, reached by the client's address group.
     FromThisAddress(usize),
+    /// [`Limits::max_spectators_per_address`], reached by the client's address group.
+    SpectatorsFromThisAddress(usize),
     /// No handshake slots at all (`max_handshakes` is 0): nobody can log in.
     Busy,
     /// The address opened new connections faster than [`Limits::connect_rate`].
@@ -71,6 +74,7 @@ impl Refusal {
             Refusal::Full(_) | Refusal::AllFull(..) => "server full",
             Refusal::Spectators(_) => "spectators full",
             Refusal::FromThisAddress(_) => "too many connections from this address",
+            Refusal::SpectatorsFromThisAddress(_) => "too many spectators from this address",
             Refusal::Busy => "too many connections logging in",
             Refusal::TooFast => "connecting too fast",
         }
@@ -91,6 +95,10 @@ impl Refusal {
             }
             Refusal::FromThisAddress(n) => {
                 let n = if n == 1 { "a connection".to_owned() } else { format!("{n} connections") };
+                format!("mazewalk: {n} from your address already; close one, or try again later")
+            }
+            Refusal::SpectatorsFromThisAddress(n) => {
+                let n = if n == 1 { "a spectator".to_owned() } else { format!("{n} spectators") };
                 format!("mazewalk: {n} from your address already; close one, or try again later")
             }
             Refusal::Busy => {
@@ -135,6 +143,8 @@ struct Counts {
     handshakes: usize,
     /// Players and spectators.
     players: usize,
+    /// Spectators (of `players`).
+    spectators: usize,
 }
 
 /// Every open connection's slot (see the module's doc).
@@ -228,7 +238,8 @@ impl Slots {
     ///
     /// # Errors
     /// [`Refusal::Full`] when every player's slot is taken, [`Refusal::Spectators`] every
-    /// spectator's (it stays a handshake).
+    /// spectator's, [`Refusal::SpectatorsFromThisAddress`] the spectators' of its address group (it
+    /// stays a handshake).
     pub(crate) fn promote(&mut self, id: ConnId, role: Role) -> Result<(), Refusal> {
         let Some(group) = self.handshakes.get(&id).map(|h| h.group) else {
             return Ok(()); // logged in already, or gone
@@ -242,26 +253,33 @@ impl Slots {
         if taken.len() >= max {
             return Err(full(max));
         }
-        taken.insert(id, group);
-        self.handshakes.remove(&id);
         let counts = self.groups.entry(group).or_default();
+        let per_address = self.limits.max_spectators_per_address;
+        if role == Role::Spectator && counts.spectators >= per_address {
+            return Err(Refusal::SpectatorsFromThisAddress(per_address));
+        }
         counts.handshakes -= 1;
         counts.players += 1;
+        counts.spectators += usize::from(role == Role::Spectator);
+        taken.insert(id, group);
+        self.handshakes.remove(&id);
         Ok(())
     }
 
     /// The connection `id` closed (or was pushed out): its slot is free.
     pub fn release(&mut self, id: ConnId) {
-        let (group, was_player) = match self.handshakes.remove(&id) {
-            Some(handshake) => (handshake.group, false),
-            None => match self.players.remove(&id).or_else(|| self.spectators.remove(&id)) {
-                Some(group) => (group, true),
-                None => return,
+        let (group, was_player, was_spectator) = match self.handshakes.remove(&id) {
+            Some(handshake) => (handshake.group, false, false),
+            None => match (self.players.remove(&id), self.spectators.remove(&id)) {
+                (Some(group), _) => (group, true, false),
+                (None, Some(group)) => (group, true, true),
+                (None, None) => return,
             },
         };
         if let Some(counts) = self.groups.get_mut(&group) {
             if was_player {
                 counts.players -= 1;
+                counts.spectators -= usize::from(was_spectator);
             } else {
                 counts.handshakes -= 1;
             }
@@ -445,6 +463,30 @@ mod tests {
         slots.promote(group[0], Role::Spectator).unwrap();
         assert_eq!(slots.admit(ip("10.0.0.9"), 0.0), Err(Refusal::FromThisAddress(3)), "a spectator counts");
         assert!(Refusal::Spectators(1).message().contains("try again later"));
+    }
+
+    /// Red-team pass: one address logged in 16 spectators (its `--max-per-address`) and held every
+    /// spectator's place for good. Now an address group holds at most its share; its players, and
+    /// the other addresses' spectators, are let in; a spectator leaving gives its place back.
+    #[test]
+    fn one_address_holds_no_more_than_its_share_of_the_spectators() {
+        let mut slots =
+            Slots::new(&Limits { max_spectators: 16, max_spectators_per_address: 4, ..limits(16, 64, 16) });
+        let admit = |slots: &mut Slots, from: &str, role| {
+            let id = slots.admit(ip(from), 0.0).unwrap().id;
+            (id, slots.promote(id, role))
+        };
+        let watchers: Vec<ConnId> =
+            (0..4).map(|_| admit(&mut slots, "10.0.0.1", Role::Spectator).0).collect();
+        let (fifth, refused) = admit(&mut slots, "10.0.0.1", Role::Spectator);
+        assert_eq!(refused, Err(Refusal::SpectatorsFromThisAddress(4)));
+        assert!(refused.unwrap_err().message().contains("4 spectators from your address"));
+        slots.release(fifth);
+        assert_eq!(admit(&mut slots, "10.0.0.1", Role::Player).1, Ok(()), "a player from there");
+        assert_eq!(admit(&mut slots, "10.0.0.2", Role::Spectator).1, Ok(()), "a spectator from elsewhere");
+        slots.release(watchers[0]);
+        assert_eq!(admit(&mut slots, "10.0.0.1", Role::Spectator).1, Ok(()), "a place given back");
+        assert_eq!(slots.spectators(), 5);
     }
 
     #[test]

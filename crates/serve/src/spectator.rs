@@ -18,8 +18,8 @@ use std::sync::Arc;
 
 use super::limits::{Limits, RateLimit};
 use super::player::{
-    NOTICE_SECONDS, WORLD_LOOKS_PER_SECOND, clamp_size, enter_game, leave_game, only_replies, served_app,
-    served_session,
+    NOTICE_SECONDS, Resizes, WORLD_LOOKS_PER_SECOND, apply_resize, enter_game, leave_game, only_replies,
+    served_app, served_session,
 };
 use super::world::{Look, PlayerId, Seen};
 use mazewalk_maze::Maze;
@@ -113,6 +113,8 @@ pub struct Spectator {
     inputs: Vec<Input>,
     input: RateLimit,
     limits: Limits,
+    /// The window changes it follows.
+    resizes: Resizes,
     dropped: u64,
     over: bool,
     follow: Follow,
@@ -162,6 +164,7 @@ impl Spectator {
             inputs: Vec::new(),
             input: RateLimit::new(limits.input_rate, limits.input_burst, now),
             limits: *limits,
+            resizes: Resizes::new(limits),
             dropped: 0,
             over: false,
             follow: Follow::Leader,
@@ -256,11 +259,8 @@ impl Spectator {
 
     /// The client's window changed.
     pub fn resize(&mut self, cols: u32, rows: u32, now: f64) {
-        let (cols, rows) = clamp_size(cols, rows, &self.limits);
-        let screen = self.session.screen();
-        if (cols, rows) != (screen.width() as u16, screen.height() as u16) {
-            self.session.input(Input::Resize { cols, rows }, now);
-        }
+        self.resizes.ask(cols, rows, &self.limits);
+        apply_resize(&mut self.resizes, &mut self.session, now);
     }
 
     /// The world changed at `now`: look again, no sooner than [`WORLD_LOOKS_PER_SECOND`] allows.
@@ -349,6 +349,7 @@ impl Spectator {
 
     /// Draws a frame if one is due, appending its bytes to `out`; news whose time is up goes first.
     pub fn frame(&mut self, now: f64, out: &mut Vec<u8>) -> bool {
+        apply_resize(&mut self.resizes, &mut self.session, now); // a window change that waited
         let mut inputs = std::mem::take(&mut self.inputs);
         self.decoder.expire(now, &mut inputs); // a lone Esc
         for input in inputs.drain(..) {
@@ -367,7 +368,7 @@ impl Spectator {
     #[must_use]
     pub fn next_wake(&self, now: f64) -> Option<f64> {
         let news = self.news.as_ref().map(|(_, until)| *until);
-        [self.session.next_wake(now), self.look_at, news, self.decoder.deadline()]
+        [self.session.next_wake(now), self.look_at, news, self.decoder.deadline(), self.resizes.due()]
             .into_iter()
             .flatten()
             .reduce(f64::min)
@@ -413,6 +414,7 @@ impl Spectator {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::player::clamp_size;
     use crate::world::World;
     use glam::Vec2;
 

@@ -738,7 +738,8 @@ async fn until_shutdown(shutdown: &mut watch::Receiver<bool>) {
 /// the shutdown, and the disconnect log line.
 async fn connection(shared: Arc<Shared>, stream: CutStream<TcpStream>, conn: Arc<Conn>, _slot: Slot) {
     let started = Instant::now();
-    let handler = Handlers { shared: Arc::clone(&shared), conn: Arc::clone(&conn), session_open: false };
+    let handler =
+        Handlers { shared: Arc::clone(&shared), conn: Arc::clone(&conn), session_open: false, shell: false };
     let handshake = tokio::time::sleep(shared.limits.handshake_timeout);
     tokio::pin!(handshake);
     let kex = tokio::time::sleep(shared.limits.kex_timeout);
@@ -823,6 +824,9 @@ struct Handlers {
     shared: Arc<Shared>,
     conn: Arc<Conn>,
     session_open: bool,
+    /// The session channel's shell was asked for: the game runs on it, and a command or subsystem
+    /// asked for afterwards is refused without closing it.
+    shell: bool,
 }
 
 impl Handlers {
@@ -882,8 +886,13 @@ impl Handlers {
 
     /// Refuses a command or subsystem on `channel`: the message on its stderr, exit status 1, closed.
     /// (The request itself succeeds: OpenSSH's client would exit on a failure before it prints the
-    /// message.)
-    fn refuse_command(channel: ChannelId, session: &mut Session) -> Result<(), russh::Error> {
+    /// message.) On a channel whose game runs already (its shell was asked for), the request fails
+    /// and the game goes on: closing the channel under it left the player in the maze, drawn for no
+    /// one, until its view changed.
+    fn refuse_command(&self, channel: ChannelId, session: &mut Session) -> Result<(), russh::Error> {
+        if self.shell {
+            return session.channel_failure(channel);
+        }
         session.channel_success(channel)?;
         session.extended_data(channel, 1, format!("{NO_EXEC_MESSAGE}\r\n").into_bytes())?;
         session.exit_status_request(channel, 1)?;
@@ -1031,6 +1040,7 @@ impl Handler for Handlers {
     }
 
     async fn shell_request(&mut self, channel: ChannelId, session: &mut Session) -> Result<(), Self::Error> {
+        self.shell = true;
         session.channel_success(channel)
     }
 
@@ -1041,7 +1051,7 @@ impl Handler for Handlers {
         session: &mut Session,
     ) -> Result<(), Self::Error> {
         self.log(format_args!("refused a command"));
-        Handlers::refuse_command(channel, session)
+        self.refuse_command(channel, session)
     }
 
     async fn subsystem_request(
@@ -1051,7 +1061,7 @@ impl Handler for Handlers {
         session: &mut Session,
     ) -> Result<(), Self::Error> {
         self.log(format_args!("refused subsystem: {}", player_name(name)));
-        Handlers::refuse_command(channel, session)
+        self.refuse_command(channel, session)
     }
 
     async fn x11_request(
@@ -1459,6 +1469,8 @@ async fn walk(
     // The records' answer to the last finish (the maze's best times for the exit box), on its way.
     let mut standing: Option<tokio::sync::oneshot::Receiver<Option<Standing>>> = None;
     let user = Conn::get(&conn.user).unwrap_or_default();
+    // The size its recording was told (the cast's header has the first).
+    let mut recorded_size = (player.session().screen().width(), player.session().screen().height());
     loop {
         if *shutdown.borrow_and_update() {
             return End::Shutdown;
@@ -1481,6 +1493,14 @@ async fn walk(
         let drew = player.frame(now, &mut out);
         if drew {
             player.session_mut().frame_cost(started.elapsed().as_secs_f64());
+        }
+        let screen = player.session().screen(); // the size drawn: within the limits
+        if (screen.width(), screen.height()) != recorded_size {
+            recorded_size = (screen.width(), screen.height());
+            if let Some(tap) = tap.as_mut() {
+                let size = |n: usize| u16::try_from(n).unwrap_or(u16::MAX);
+                tap.resize(now, size(recorded_size.0), size(recorded_size.1));
+            }
         }
         if !out.is_empty() {
             let bytes = std::mem::take(&mut out);
@@ -1536,12 +1556,7 @@ async fn walk(
                     }
                 }
                 Some(ChannelMsg::WindowChange { col_width, row_height, .. }) => {
-                    player.resize(col_width, row_height, shared.now());
-                    if let Some(tap) = tap.as_mut() {
-                        let screen = player.session().screen(); // the size drawn: within the limits
-                        let size = |n: usize| u16::try_from(n).unwrap_or(u16::MAX);
-                        tap.resize(shared.now(), size(screen.width()), size(screen.height()));
-                    }
+                    player.resize(col_width, row_height, shared.now()); // now, or when its turn comes
                 }
                 Some(ChannelMsg::Eof | ChannelMsg::Close) | None => return End::Gone,
                 Some(_) => {}

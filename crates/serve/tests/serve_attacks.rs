@@ -1,7 +1,8 @@
 //! Issue #34's attacks, each as a quick bounded test against an in-process server on loopback (the
 //! full reproductions, with a witness player's latency before and after, are
 //! `benches/examples/attacks.rs`): a key exchange that costs the server a second of CPU, an `ssh-rsa`
-//! (SHA-1) signature, a connection kept after its game, and a flood of handshakes. (A player that
+//! (SHA-1) signature, a connection kept after its game, and a flood of handshakes; and the red-team
+//! pass's: a flood of window changes, one address's spectators, a command asked for mid-game. (A player that
 //! types but never reads at shutdown is `tests/serve_e2e.rs`'s: it takes a client that stops
 //! adjusting its window, as OpenSSH does when its terminal is not read; russh's client never stops.)
 #![cfg(target_os = "linux")]
@@ -223,6 +224,169 @@ async fn a_flood_of_handshakes_neither_slows_players_nor_keeps_newcomers_out() {
         assert!(latencies.len() >= 20, "the witness's keys were answered: {}", latencies.len());
         assert!(p99 < 0.5, "p99 key-to-frame {p99:.3} s during the flood");
         drop(flood);
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
+
+/// Red-team pass: a flood of window changes alternating two sizes (400×150 and 399×150, 15,000 a
+/// second from one paramiko client) made the server reallocate a 60,000-cell screen for each, half a
+/// core for one connection (`Frame::resize` 60 % of the profile). Now a screen follows at most
+/// `resize_rate` window changes a second: one that comes sooner waits its turn, and of a flood only
+/// the size asked for last is drawn.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_flood_of_window_changes_is_followed_a_few_times_a_second() {
+    use russh::ChannelMsg;
+    use std::sync::Mutex;
+    const QUERY: &[u8] = b"\x1b[c";
+    let count = |bytes: &[u8], what: &[u8]| bytes.windows(what.len()).filter(|w| *w == what).count();
+    tokio::time::timeout(DEADLINE, async {
+        // One window change every 2 s at most.
+        let limits = Limits { resize_rate: 0.5, ..Limits::default() };
+        let server = server(Access::Open, limits).await;
+        let Connected { handle: _handle, channel } =
+            connect(server.local_addr(), "resizer", (400, 150)).await.expect("connect");
+        let (mut rx, tx) = channel.split();
+        let tx = Arc::new(tx);
+        // Everything received, every frame's query answered at once (so that frames keep coming).
+        let received = Arc::new(Mutex::new(Vec::<u8>::new()));
+        let reader = {
+            let (received, tx) = (Arc::clone(&received), Arc::clone(&tx));
+            tokio::spawn(async move {
+                while let Some(message) = rx.wait().await {
+                    if let ChannelMsg::Data { data } = message {
+                        // (a query may straddle two messages: counted where it ends)
+                        let (before, queries) = {
+                            let mut all = received.lock().expect("the bytes");
+                            let before = count(&all[all.len().saturating_sub(2)..], QUERY);
+                            all.extend_from_slice(&data);
+                            (before, count(&all[all.len().saturating_sub(data.len() + 2)..], QUERY))
+                        };
+                        for _ in before..queries {
+                            let _ = tx.data(&b"\x1b[?62;22c"[..]).await;
+                        }
+                    }
+                }
+            })
+        };
+        // The screen as a 400×150 terminal shows it: whether it is drawn at `cols × rows` (its HUD
+        // on the last row, nothing beyond).
+        let drawn_at = |cols: u16, rows: u16| {
+            let size = |n: u16| std::num::NonZeroU16::new(n).expect("non-zero");
+            let mut parser = vt100::Parser::new(size(150), size(400), 0);
+            parser.process(&received.lock().expect("the bytes"));
+            let screen = parser.screen();
+            let beyond_rows = screen.contents_between(rows, 0, 149, 399);
+            let beyond_cols = screen.rows(cols, 400 - cols).take(rows.into()).collect::<String>();
+            let hud = screen.contents_between(rows - 1, 0, rows - 1, cols - 1);
+            beyond_rows.trim().is_empty() && beyond_cols.trim().is_empty() && hud.contains("heading")
+        };
+        eventually(Duration::from_secs(10), "the first frame", || drawn_at(400, 150)).await;
+        // The first window change is followed at once …
+        tx.window_change(120, 40, 0, 0).await.expect("a window change");
+        eventually(Duration::from_secs(10), "drawn at 120×40", || drawn_at(120, 40)).await;
+        // … the next waits its turn (2 s after the first) …
+        tx.window_change(100, 30, 0, 0).await.expect("a window change");
+        tokio::time::sleep(Duration::from_millis(300)).await;
+        assert!(drawn_at(120, 40), "a second window change within 2 s was drawn at once");
+        eventually(Duration::from_secs(10), "drawn at 100×30 in its turn", || drawn_at(100, 30)).await;
+        // … and of a flood, the last size is drawn.
+        let flooding = Instant::now();
+        let mut sent = 0u32;
+        while flooding.elapsed() < Duration::from_secs(1) {
+            let cols = if sent.is_multiple_of(2) { 399 } else { 400 };
+            tx.window_change(cols, 150, 0, 0).await.expect("a window change");
+            sent += 1;
+        }
+        tx.window_change(90, 25, 0, 0).await.expect("the last window change");
+        eprintln!("{sent} window changes in 1 s");
+        assert!(sent >= 1000, "the premise: a flood ({sent} window changes)");
+        eventually(Duration::from_secs(10), "drawn at the last size, 90×25", || drawn_at(90, 25)).await;
+        reader.abort();
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
+
+/// Red-team pass: one address logged in 16 `watch` connections (its `--max-per-address`) and held
+/// every spectator's place for good (a spectator has no idle timeout); a spectator from anywhere else
+/// was refused. Now one address holds at most `max_spectators_per_address` of them: its next one is
+/// refused, while a spectator from another address, and a player from the same one, get in.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_address_cannot_hold_every_spectators_place() {
+    async fn from(n: u8, user: &str, addr: SocketAddr) -> Result<Connected, russh::Error> {
+        let stream = tokio::net::TcpSocket::new_v4().expect("socket");
+        stream.bind(SocketAddr::new(address(n), 0)).expect("bind");
+        let stream = stream.connect(addr).await.expect("connect");
+        load::connect_over(stream, user, (80, 24)).await
+    }
+    tokio::time::timeout(DEADLINE, async {
+        let limits = Limits::default();
+        let server = server(Access::Open, limits).await;
+        let addr = server.local_addr();
+        let share = limits.max_spectators_per_address;
+        assert!(share < limits.max_spectators && limits.max_spectators <= limits.max_per_address);
+        let mut held = Vec::new();
+        for _ in 0..share {
+            held.push(from(20, "watch", addr).await.expect("a spectator within the address's share"));
+        }
+        eventually(Duration::from_secs(10), "its share watching", || server.spectators() == share).await;
+        let over = from(20, "watch", addr).await;
+        if let Ok(over) = &over {
+            let closed = || over.handle.is_closed();
+            eventually(Duration::from_secs(10), "the one over its share closed", closed).await;
+        }
+        assert_eq!(server.spectators(), share, "one more from the same address");
+        let elsewhere = from(21, "watch", addr).await.expect("a spectator from another address");
+        eventually(Duration::from_secs(10), "the other address's spectator", || {
+            server.spectators() == share + 1
+        })
+        .await;
+        let player = from(20, "ada", addr).await.expect("a player from the first address");
+        eventually(Duration::from_secs(10), "its player", || server.players() == 1).await;
+        drop((held, elsewhere, player));
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
+
+/// Red-team pass: a command (or subsystem) asked for on the channel whose game runs made the server
+/// close that channel under the game: the player stayed in the maze, drawn for no one and counted,
+/// until its view changed. Now the request fails and the game goes on.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_command_asked_for_during_the_game_fails_and_the_game_goes_on() {
+    use russh::ChannelMsg;
+    tokio::time::timeout(DEADLINE, async {
+        let server = server(Access::Open, Limits::default()).await;
+        let Connected { handle: _handle, mut channel } =
+            connect(server.local_addr(), "exec", (80, 24)).await.expect("connect");
+        eventually(Duration::from_secs(10), "playing", || server.players() == 1).await;
+        // Reads until `done` says so; panics on the channel's end.
+        async fn until(channel: &mut russh::Channel<russh::client::Msg>, done: impl Fn(&ChannelMsg) -> bool) {
+            loop {
+                let message = channel.wait().await;
+                match &message {
+                    Some(ChannelMsg::Eof | ChannelMsg::Close | ChannelMsg::ExitStatus { .. }) | None => {
+                        panic!("the game's channel ended: {message:?}")
+                    }
+                    Some(message) if done(message) => return,
+                    Some(_) => {}
+                }
+            }
+        }
+        channel.exec(true, "id").await.expect("ask for a command");
+        until(&mut channel, |m| matches!(m, ChannelMsg::Failure)).await;
+        channel.request_subsystem(true, "sftp").await.expect("ask for a subsystem");
+        until(&mut channel, |m| matches!(m, ChannelMsg::Failure)).await;
+        // The game goes on: a key turns the view, and a frame comes.
+        channel.data(&b"\x1b[D"[..]).await.expect("a key");
+        until(&mut channel, |m| matches!(m, ChannelMsg::Data { data } if data.len() > 100)).await;
+        assert_eq!(server.players(), 1);
+        channel.data(&b"q"[..]).await.expect("q");
+        eventually(Duration::from_secs(10), "the player quit", || server.players() == 0).await;
         server.shutdown().await;
     })
     .await
