@@ -6,7 +6,11 @@
 //! 404, every method but GET and HEAD 405.
 //!
 //! Bounded like the SSH side, whoever connects:
-//! - at most [`MAX_CONNECTIONS`] connections at once; past it a newcomer is closed at once;
+//! - at most [`MAX_CONNECTIONS`] connections at once; past it a newcomer pushes out the oldest
+//!   connection of the address holding the most, where that address holds at least two more than the
+//!   newcomer's ([`push_out`]), or else is closed at once: one address (or a few) holding every
+//!   connection cannot keep the page and `/metrics` from anyone else, and a reverse proxy's single
+//!   address is capped as before;
 //! - at most [`MAX_EVENT_CLIENTS`] event streams (503 past it); each holds at most
 //!   [`EVENT_BUFFER`] events not yet written: a reader too slow for that is dropped (its browser
 //!   reconnects), never buffered for; at most [`EVENT_RATE`] events a second each;
@@ -16,9 +20,9 @@
 //! - request bodies are never read.
 
 use std::convert::Infallible;
-use std::net::SocketAddr;
-use std::sync::Arc;
+use std::net::{IpAddr, SocketAddr};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
 use http_body_util::Full;
@@ -27,7 +31,7 @@ use hyper::{Method, Request, Response, StatusCode};
 use hyper_util::rt::{TokioIo, TokioTimer};
 use prometheus_client::registry::Registry;
 use tokio::net::TcpListener;
-use tokio::sync::watch;
+use tokio::sync::{oneshot, watch};
 
 /// Connections at once, at most.
 pub const MAX_CONNECTIONS: usize = 64;
@@ -85,23 +89,22 @@ pub(crate) async fn start(
 }
 
 async fn accept_loop(listener: TcpListener, site: Arc<Site>, mut shutdown: watch::Receiver<bool>) {
-    let open = Arc::new(AtomicUsize::new(0));
+    let open = Arc::new(Mutex::new(Open::default()));
     loop {
         let accepted = tokio::select! {
             _ = shutdown.wait_for(|&s| s) => return,
             accepted = listener.accept() => accepted,
         };
-        let Ok((stream, _)) = accepted else {
+        let Ok((stream, peer)) = accepted else {
             // Out of descriptors, say: wait a little rather than spin.
             tokio::time::sleep(Duration::from_millis(100)).await;
             continue;
         };
-        if open.load(Ordering::SeqCst) >= MAX_CONNECTIONS {
+        let Some((id, pushed_out)) = Open::admit(&open, peer.ip()) else {
             drop(stream); // closed unanswered: the cap holds whatever the clients do
             continue;
-        }
-        open.fetch_add(1, Ordering::SeqCst);
-        let guard = Open(Arc::clone(&open));
+        };
+        let guard = Held { open: Arc::clone(&open), id };
         let site = Arc::clone(&site);
         let mut shutdown = shutdown.clone();
         tokio::spawn(async move {
@@ -118,17 +121,68 @@ async fn accept_loop(listener: TcpListener, site: Arc<Site>, mut shutdown: watch
             tokio::select! {
                 _ = tokio::time::timeout(CONNECTION_LIFETIME, connection) => {}
                 _ = shutdown.wait_for(|&s| s) => {}
+                _ = pushed_out => {} // a newcomer from an address holding fewer took its place
             }
         });
     }
 }
 
-/// Counts an open connection while it lives.
-struct Open(Arc<AtomicUsize>);
+/// The connections open now, oldest first: each one's address, and the way to close it.
+#[derive(Default)]
+struct Open {
+    next: u64,
+    held: Vec<(u64, IpAddr, oneshot::Sender<()>)>,
+}
 
-impl Drop for Open {
+impl Open {
+    /// Lets a newcomer from `ip` in, pushing out another connection if the listener is full and
+    /// [`push_out`] names one: its id, and what ends it when it is pushed out in turn. `None`: full,
+    /// the newcomer is refused.
+    fn admit(open: &Mutex<Open>, ip: IpAddr) -> Option<(u64, oneshot::Receiver<()>)> {
+        let mut open = open.lock().unwrap_or_else(PoisonError::into_inner);
+        if open.held.len() >= MAX_CONNECTIONS {
+            let addresses: Vec<IpAddr> = open.held.iter().map(|&(_, a, _)| a).collect();
+            let k = push_out(&addresses, ip)?;
+            let (_, _, close) = open.held.remove(k);
+            let _ = close.send(()); // (the connection may be ending by itself)
+        }
+        let id = open.next;
+        open.next += 1;
+        let (close, closed) = oneshot::channel();
+        open.held.push((id, ip, close));
+        Some((id, closed))
+    }
+}
+
+/// Which of the connections open now (their addresses, oldest first) a newcomer from `newcomer`
+/// pushes out of a full listener: the oldest of the address holding the most, if that address holds
+/// at least two more than the newcomer's (after the swap the newcomer's holds no more than it does);
+/// `None` where no address holds that many, so the newcomer is refused. Fair shares: addresses
+/// holding every connection between them give way, one at a time, to addresses holding fewer, and
+/// never to one of themselves.
+#[must_use]
+pub fn push_out(open: &[IpAddr], newcomer: IpAddr) -> Option<usize> {
+    let count = |ip: IpAddr| open.iter().filter(|&&a| a == ip).count();
+    let mine = count(newcomer);
+    // the address holding the most (the first to have opened, among those holding as many)
+    let (most, top) = open
+        .iter()
+        .map(|&a| (count(a), a))
+        .fold((0, None), |best, (n, a)| if n > best.0 { (n, Some(a)) } else { best });
+    let top = top?;
+    (most >= mine + 2).then(|| open.iter().position(|&a| a == top)).flatten()
+}
+
+/// One open connection's place in [`Open`], given up when the connection ends.
+struct Held {
+    open: Arc<Mutex<Open>>,
+    id: u64,
+}
+
+impl Drop for Held {
     fn drop(&mut self) {
-        self.0.fetch_sub(1, Ordering::SeqCst);
+        let mut open = self.open.lock().unwrap_or_else(PoisonError::into_inner);
+        open.held.retain(|&(id, _, _)| id != self.id);
     }
 }
 
@@ -346,6 +400,87 @@ mod tests {
         assert_eq!(path[0], serde_json::json!([0.0, 1.0]));
         assert_eq!(path[path.len() - 1], serde_json::json!([60.0, 1.0]), "the finish");
         assert_eq!((json["holder"].as_str(), json["seconds"].as_f64()), (Some("ada"), Some(600.0)));
+    }
+
+    fn ip(last: u8) -> IpAddr {
+        IpAddr::from([127, 0, 0, last])
+    }
+
+    // A full listener: who gives way to a newcomer, by the addresses holding the connections.
+    #[test]
+    fn a_newcomer_pushes_out_the_oldest_of_the_address_holding_the_most() {
+        let one = vec![ip(1); MAX_CONNECTIONS];
+        assert_eq!(push_out(&one, ip(2)), Some(0), "one address holding all gives way, its oldest first");
+        assert_eq!(push_out(&one, ip(1)), None, "but never to itself");
+        let mut halves: Vec<IpAddr> = (0..MAX_CONNECTIONS).map(|k| ip(1 + (k % 2) as u8)).collect();
+        assert_eq!(push_out(&halves, ip(1)), None, "an even split holds against its own");
+        assert_eq!(push_out(&halves, ip(2)), None);
+        assert_eq!(push_out(&halves, ip(3)), Some(0), "a third address gets in, the oldest going");
+        halves[0] = ip(3);
+        assert_eq!(push_out(&halves, ip(3)), Some(1), "from the address now holding the most: ip 2's oldest");
+        // one newcomer after another from fresh addresses: the heaviest always gives way, and the
+        // shares even out until each holds one
+        let mut open = one.clone();
+        for k in 0..MAX_CONNECTIONS - 1 {
+            let newcomer = IpAddr::from([10, 0, (k / 256) as u8, (k % 256) as u8]);
+            let at = push_out(&open, newcomer).expect("a fresh address gets in");
+            open.remove(at);
+            open.push(newcomer);
+        }
+        assert_eq!(open.iter().filter(|&&a| a == ip(1)).count(), 1, "the flooder keeps one, as each");
+        assert_eq!(push_out(&open, ip(9)), None, "every address holds one: a newcomer is refused");
+        assert_eq!(push_out(&[], ip(1)), None);
+    }
+
+    /// Over real sockets: one address holding every connection with heads that never end cannot keep
+    /// another address from `/metrics`, nor get a further connection of its own in.
+    #[tokio::test]
+    async fn one_address_holding_every_connection_gives_way_to_another() {
+        use tokio::io::{AsyncReadExt as _, AsyncWriteExt as _};
+        let (_version, versions) = watch::channel(0u64);
+        let (stop, shutdown) = watch::channel(false);
+        let site = Site {
+            registry: Registry::default(),
+            maze: String::new(),
+            versions,
+            players: Box::new(|| "{}".into()),
+            best_run: Box::new(|| best_run_json(None)),
+            streams: AtomicUsize::new(0),
+            shutdown,
+        };
+        let (addr, task) = start("127.0.0.1:0".parse().unwrap(), site).await.expect("listen");
+        let connect = |from: u8| async move {
+            let socket = tokio::net::TcpSocket::new_v4().expect("socket");
+            socket.bind(SocketAddr::new(ip(from), 0)).expect("bind a loopback address");
+            socket.connect(addr).await.expect("connect")
+        };
+        let mut holders = Vec::new();
+        for _ in 0..MAX_CONNECTIONS {
+            let mut s = connect(1).await;
+            s.write_all(b"GET /metrics HTTP/1.1\r\nHost: x\r\n").await.expect("half a head");
+            holders.push(s);
+        }
+        tokio::time::sleep(Duration::from_millis(300)).await; // (all accepted)
+        let ask = |mut s: tokio::net::TcpStream| async move {
+            s.write_all(b"GET /metrics HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n").await.ok();
+            let mut answer = Vec::new();
+            let read = tokio::time::timeout(HEADER_TIMEOUT / 2, s.read_to_end(&mut answer)).await;
+            (read.is_ok(), String::from_utf8_lossy(&answer).into_owned())
+        };
+        let (ended, answer) = ask(connect(1).await).await;
+        assert!(ended && answer.is_empty(), "the flooder's own newcomer is closed unanswered: {answer:?}");
+        let (ended, answer) = ask(connect(2).await).await;
+        assert!(
+            ended && answer.starts_with("HTTP/1.1 200"),
+            "another address is answered at once: {answer:?}"
+        );
+        // the flooder's oldest connection was the one closed
+        let mut first = holders.remove(0);
+        let mut sink = Vec::new();
+        let closed = tokio::time::timeout(Duration::from_secs(1), first.read_to_end(&mut sink)).await;
+        assert!(closed.is_ok_and(|r| r.is_ok_and(|n| n == 0)), "its oldest connection was closed");
+        stop.send(true).expect("stop");
+        task.await.expect("the listener ends");
     }
 
     /// A reader that never reads: its stream holds [`EVENT_BUFFER`] events, then ends (the count of
