@@ -75,6 +75,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     let limits = Limits {
         max_players: args.max_players as usize,
         max_spectators: args.max_spectators as usize,
+        max_spectators_per_address: args.max_spectators_per_address as usize,
         max_handshakes: args.max_handshakes as usize,
         max_per_address: args.max_per_address as usize,
         idle_timeout: args.idle_timeout,

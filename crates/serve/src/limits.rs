@@ -11,8 +11,9 @@ pub struct Limits {
     /// Spectators at once (`--max-spectators`): connections that logged in as `watch`. They have
     /// their own slots, never a player's.
     pub max_spectators: usize,
-    /// Spectators at once from one address group (an IPv4 address, an IPv6 /64): with no idle
-    /// timeout, one address holding every spectator's place would hold it for good.
+    /// Spectators at once from one address group (an IPv4 address, an IPv6 /64;
+    /// `--max-spectators-per-address`): with no idle timeout, one address holding every spectator's
+    /// place would hold it for good.
     pub max_spectators_per_address: usize,
     /// Connections still in the handshake (key exchange and authentication) at once, in all
     /// (`--max-handshakes`): they never take a player's slot. When these are all taken, a newcomer
