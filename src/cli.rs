@@ -216,10 +216,10 @@ pub struct ServeArgs {
     /// take a player's (0..=100000; 0: none).
     #[arg(long, value_name = "N", default_value_t = 16, value_parser = clap::value_parser!(u32).range(0..=100_000))]
     pub max_spectators: u32,
-    /// Spectators at once from one IP address, or one IPv6 /64 (0..=100000; 0: none from anywhere):
-    /// a spectator has no idle timeout, so one address could otherwise hold every place for good.
-    /// Raise it for a venue whose screens share one address.
-    #[arg(long, value_name = "N", default_value_t = 4, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    /// Spectators at once from one IP address, or one IPv6 /64 (1..=100000; `--max-spectators 0`
+    /// takes none): a spectator has no idle timeout, so one address could otherwise hold every place
+    /// for good. Raise it for a venue whose screens share one address.
+    #[arg(long, value_name = "N", default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub max_spectators_per_address: u32,
     /// Connections still logging in (key exchange and authentication) at once, in all; they never
     /// take a player's slot. When all are taken, a newcomer takes the slot of the one longest

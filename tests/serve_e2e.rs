@@ -299,6 +299,26 @@ fn a_client_over_the_limits_is_told_why_by_its_own_ssh() {
     }
 }
 
+/// `--max-spectators-per-address` sets how many spectators one address may hold (loopback: every
+/// client has one address): the one past it is told why by its own `ssh`, and the one in watches on.
+#[test]
+fn spectators_past_their_address_share_are_told_why() {
+    let scratch = Scratch::new("watchers");
+    let server = Server::start(&scratch, &["--open", "--max-spectators-per-address", "1"]);
+    let mut alice = Player::connect(server.port, None, "alice", 80, 24);
+    alice.wait_for("alice's game", playing);
+    let mut first = Player::connect(server.port, None, "watch", 80, 24);
+    first.wait_for("the first spectator watching alice", |screen, _| screen.contents().contains("alice"));
+    let (status, _, stderr) = server.ssh_batch(None, "watch", &["-tt"]);
+    assert_eq!(status.code(), Some(255), "{stderr}");
+    assert!(stderr.contains("a spectator from your address already"), "{stderr}");
+    server.wait_log("refused: too many spectators from this address", 1);
+    alice.send(b"q");
+    assert!(alice.wait_exit().success());
+    first.send(b"q");
+    assert!(first.wait_exit().success());
+}
+
 #[test]
 fn authorized_keys_let_in_only_their_keys() {
     let scratch = Scratch::new("keys");
