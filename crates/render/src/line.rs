@@ -16,10 +16,7 @@ const LIMIT: i64 = 1 << 40;
 /// The visible points of a Bresenham line, from `p0` towards `p1`; see [`line_points`].
 #[derive(Clone, Debug)]
 pub struct LinePoints {
-    /// The lexicographically smaller endpoint, where the closed form starts.
-    start: [i64; 2],
-    /// 0 if x is the major axis, 1 if y is.
-    major: usize,
+    /// The signs of x and y from the lexicographically smaller endpoint, where the closed form starts.
     sign: [i64; 2],
     n: i64,
     m: i64,
@@ -29,6 +26,15 @@ pub struct LinePoints {
     /// +1 when drawing from the canonical start, -1 when drawing back from the other end.
     step: i64,
     done: bool,
+    /// The point at `k`, carried from point to point with the closed form's remainder (Bresenham's
+    /// error term): `2·k·m + n = 2·n·offset(k) + rest`, `0 ≤ rest < 2·n` (both 0 when `n` is 0).
+    point: [i64; 2],
+    rest: i64,
+    /// What a step of `k` (in the drawing's direction) adds to the point and to `rest`, and what the
+    /// offset's step (one more in that direction) adds to the point.
+    forward: [i64; 2],
+    rest_step: i64,
+    across: [i64; 2],
 }
 
 /// The points of the line from `(x0, y0)` to `(x1, y1)` inside a `width × height` grid, in order from the
@@ -43,8 +49,6 @@ pub fn line_points(x0: i64, y0: i64, x1: i64, y1: i64, width: usize, height: usi
     let major = usize::from(d[1].abs() > d[0].abs());
     let minor = 1 - major;
     let mut line = LinePoints {
-        start: a,
-        major,
         sign: d.map(|c| if c < 0 { -1 } else { 1 }),
         n: d[major].abs(),
         m: d[minor].abs(),
@@ -52,6 +56,11 @@ pub fn line_points(x0: i64, y0: i64, x1: i64, y1: i64, width: usize, height: usi
         k_end: 0,
         step: 1,
         done: false,
+        point: a,
+        rest: 0,
+        forward: [0; 2],
+        rest_step: 0,
+        across: [0; 2],
     };
 
     // Visible range of k: the major coordinate is linear in k, the minor one monotone (binary search).
@@ -71,11 +80,30 @@ pub fn line_points(x0: i64, y0: i64, x1: i64, y1: i64, width: usize, height: usi
     let k_hi = k_hi.min(line.first_k_with_offset_at_least(o_hi + 1) - 1);
     line.done = k_lo > k_hi || o_lo > o_hi;
     (line.k, line.k_end, line.step) = if reversed { (k_hi, k_lo, -1) } else { (k_lo, k_hi, 1) };
+    if !line.done && line.n > 0 {
+        // The first point's offset and remainder in 128 bits (k·m may pass 2⁶³ at the clamp); the
+        // remainder stays below 2·n ≤ 2⁴² from there on.
+        let offset;
+        (offset, line.rest) = if line.n < 1 << 30 {
+            // every line on a screen: 2·k·m + n < 2⁶³, and 64-bit divisions are far cheaper
+            let (k, m, n) = (line.k, line.m, line.n);
+            ((2 * k * m + n) / (2 * n), (2 * k * m + n) % (2 * n))
+        } else {
+            let (k, m, n) = (i128::from(line.k), i128::from(line.m), i128::from(line.n));
+            (((2 * k * m + n) / (2 * n)) as i64, ((2 * k * m + n) % (2 * n)) as i64) // ≤ m, < 2·n: they fit
+        };
+        line.point[major] += line.sign[major] * line.k;
+        line.point[minor] += line.sign[minor] * offset;
+        line.forward[major] = line.sign[major] * line.step;
+        line.across[minor] = line.sign[minor] * line.step;
+        line.rest_step = 2 * line.m * line.step;
+    }
     line
 }
 
 impl LinePoints {
     /// Minor-axis steps taken after `k` major steps: `round(k·m / n)`, halves up.
+    #[cfg(test)]
     fn offset(&self, k: i64) -> i64 {
         if self.n == 0 {
             return 0;
@@ -88,38 +116,71 @@ impl LinePoints {
         ((2 * k * m + n) / (2 * n)) as i64 // ≤ m, so it fits
     }
 
-    /// The smallest k in [0, n + 1] whose offset is at least `target` (n + 1 if none).
+    /// The smallest k in [0, n + 1] whose offset is at least `target` (n + 1 if none): the offset
+    /// `⌊(2·k·m + n) / 2·n⌋` is at least `target` exactly where `2·k·m ≥ 2·n·target − n`, so for a
+    /// positive `target` the least such k is that quotient rounded up (in 128 bits: `n·target` may
+    /// pass 2⁶³ at the clamp).
     fn first_k_with_offset_at_least(&self, target: i64) -> i64 {
-        let (mut lo, mut hi) = (0, self.n + 1);
-        while lo < hi {
-            let mid = lo + (hi - lo) / 2;
-            if self.offset(mid) >= target { hi = mid } else { lo = mid + 1 }
+        if target <= 0 {
+            return 0; // offset(0) = ⌊n / 2n⌋ = 0
         }
-        lo
+        if self.m == 0 {
+            return self.n + 1; // every offset is 0
+        }
+        let (m, n) = (self.m, self.n);
+        if n < 1 << 30 && target <= n + 1 {
+            // every line on a screen (a target is at most m + 1 ≤ n + 1 there): 2·n·target < 2⁶³
+            return ((2 * n * target - n + 2 * m - 1) / (2 * m)).min(n + 1); // rounded up: the numerator is ≥ n > 0
+        }
+        let (m, n, target) = (i128::from(m), i128::from(n), i128::from(target));
+        let k = (2 * n * target - n + 2 * m - 1) / (2 * m);
+        k.min(n + 1) as i64
+    }
+
+    /// The next point and its k (in the canonical direction). The closed form's remainder is carried
+    /// along: a step of k adds `2·m ≤ 2·n` to it (or takes it, drawing back), so the offset moves by
+    /// at most one, where the remainder leaves [0, 2·n).
+    #[inline]
+    fn next_point(&mut self) -> Option<((usize, usize), i64)> {
+        if self.done {
+            return None;
+        }
+        let (p, k) = (self.point, self.k);
+        self.done = k == self.k_end;
+        if !self.done {
+            self.k += self.step;
+            self.point = [p[0] + self.forward[0], p[1] + self.forward[1]];
+            self.rest += self.rest_step;
+            let wrapped = if self.rest >= 2 * self.n {
+                self.rest - 2 * self.n
+            } else if self.rest < 0 {
+                self.rest + 2 * self.n
+            } else {
+                self.rest
+            };
+            if wrapped != self.rest {
+                self.rest = wrapped;
+                self.point = [self.point[0] + self.across[0], self.point[1] + self.across[1]];
+            }
+        }
+        Some(((p[0] as usize, p[1] as usize), k)) // inside the grid by the clipping in `line_points`
     }
 
     /// The next point with its parameter `t` in [0, 1] from the first endpoint to the second.
     fn next_with_t(&mut self) -> Option<((usize, usize), f32)> {
-        if self.done {
-            return None;
-        }
-        let k = self.k;
-        self.done = k == self.k_end;
-        self.k += self.step;
-        let mut p = self.start;
-        p[self.major] += self.sign[self.major] * k;
-        p[1 - self.major] += self.sign[1 - self.major] * self.offset(k);
+        let (p, k) = self.next_point()?;
         let t = if self.n == 0 { 0.0 } else { k as f32 / self.n as f32 };
         let t = if self.step < 0 { 1.0 - t } else { t };
-        Some(((p[0] as usize, p[1] as usize), t)) // inside the grid by the clipping in `line_points`
+        Some((p, t))
     }
 }
 
 impl Iterator for LinePoints {
     type Item = (usize, usize);
 
+    #[inline]
     fn next(&mut self) -> Option<(usize, usize)> {
-        self.next_with_t().map(|(p, _)| p)
+        self.next_point().map(|(p, _)| p)
     }
 }
 
@@ -188,6 +249,107 @@ mod tests {
                 assert_eq!(line.offset(k), wide(k, n - 1, n), "k {k} n {n}");
             }
         }
+    }
+
+    /// The points as the closed form gave them before the offset was carried from point to point:
+    /// the visible range of k by binary search over `offset`, then `offset(k)` for each k.
+    fn closed_form_points(
+        x0: i64,
+        y0: i64,
+        x1: i64,
+        y1: i64,
+        w: usize,
+        h: usize,
+    ) -> Vec<((usize, usize), f32)> {
+        let line = line_points(x0, y0, x1, y1, w, h); // its signs, n and m
+        let (p0, p1) = ([x0, y0].map(|c| c.clamp(-LIMIT, LIMIT)), [x1, y1].map(|c| c.clamp(-LIMIT, LIMIT)));
+        let (a, b) = if p1 < p0 { (p1, p0) } else { (p0, p1) };
+        let major = usize::from((b[1] - a[1]).abs() > (b[0] - a[0]).abs());
+        let search = |target: i64| {
+            let (mut lo, mut hi) = (0, line.n + 1);
+            while lo < hi {
+                let mid = lo + (hi - lo) / 2;
+                if line.offset(mid) >= target { hi = mid } else { lo = mid + 1 }
+            }
+            lo
+        };
+        let limit = |axis: usize| i64::try_from(if axis == 0 { w } else { h }).unwrap_or(LIMIT) - 1;
+        let range_along = |axis: usize, max_steps: i64| {
+            let (first, last) = if line.sign[axis] > 0 {
+                (-a[axis], limit(axis) - a[axis])
+            } else {
+                (a[axis] - limit(axis), a[axis])
+            };
+            (first.max(0), last.min(max_steps))
+        };
+        let minor = 1 - major;
+        let (k_lo, k_hi) = range_along(major, line.n);
+        let (o_lo, o_hi) = range_along(minor, line.m);
+        let (k_lo, k_hi) = (k_lo.max(search(o_lo)), k_hi.min(search(o_hi + 1) - 1));
+        if k_lo > k_hi || o_lo > o_hi {
+            return Vec::new();
+        }
+        let reversed = p1 < p0;
+        let ks: Vec<i64> = if reversed { (k_lo..=k_hi).rev().collect() } else { (k_lo..=k_hi).collect() };
+        ks.into_iter()
+            .map(|k| {
+                let mut p = a;
+                p[major] += line.sign[major] * k;
+                p[minor] += line.sign[minor] * line.offset(k);
+                let t = if line.n == 0 { 0.0 } else { k as f32 / line.n as f32 };
+                ((p[0] as usize, p[1] as usize), if reversed { 1.0 - t } else { t })
+            })
+            .collect()
+    }
+
+    /// The offset carried from point to point, and the clipped range in closed form, give the
+    /// points (and parameters) of the closed form at every k: lines of every octant and length, on
+    /// and off grids of many sizes, huge and clamped ones, from either end.
+    #[test]
+    fn carried_offsets_are_the_closed_form() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let scales = [3, 40, 300, 5_000, 1 << 29, 1 << 31, 1 << 41, i64::MAX];
+        let (mut points, mut stepped_back) = (0, 0);
+        for case in 0..20_000 {
+            let scale = scales[case % scales.len()];
+            let mut coord = || {
+                let c = (next() % (2 * scale.min(1 << 62) as u64 + 1)) as i64 - scale.min(1 << 62);
+                if scale == i64::MAX && next() % 4 == 0 {
+                    [i64::MIN, i64::MAX][(next() % 2) as usize]
+                } else {
+                    c
+                }
+            };
+            let (x0, y0, x1, y1) = (coord(), coord(), coord(), coord());
+            let (w, h) = ((next() % 130) as usize, (next() % 50) as usize);
+            // lines near the grid too: shifted to start inside it
+            let (x0, y0) = if case % 3 == 0 {
+                (x0.rem_euclid(w.max(1) as i64), y0.rem_euclid(h.max(1) as i64))
+            } else {
+                (x0, y0)
+            };
+            let want = closed_form_points(x0, y0, x1, y1, w, h);
+            let mut line = line_points(x0, y0, x1, y1, w, h);
+            let got: Vec<_> = std::iter::from_fn(|| line.next_with_t()).collect();
+            assert_eq!(got.len(), want.len(), "({x0}, {y0}) → ({x1}, {y1}) in {w}×{h}");
+            for (g, e) in got.iter().zip(&want) {
+                assert!(
+                    g.0 == e.0 && g.1.to_bits() == e.1.to_bits(),
+                    "({x0}, {y0}) → ({x1}, {y1}) in {w}×{h}: {g:?} {e:?}"
+                );
+            }
+            let plain: Vec<_> = line_points(x0, y0, x1, y1, w, h).collect();
+            assert_eq!(plain, want.iter().map(|&(p, _)| p).collect::<Vec<_>>());
+            points += got.len();
+            stepped_back += usize::from(got.len() > 1 && [x1, y1] < [x0, y0]);
+        }
+        assert!(points > 100_000 && stepped_back > 1_000, "{points} points, {stepped_back} lines drawn back");
     }
 
     #[test]
