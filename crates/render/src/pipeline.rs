@@ -133,6 +133,10 @@ pub struct Renderer {
     pub(crate) no_edges: bool,
     /// Shade every sample by the scalar reference paths (the oracle of the SIMD ones).
     pub(crate) reference_shading: bool,
+    /// Tests: the exit's light levels of a lit row worked out for every sample, walls' too (as
+    /// before they were left out), to hold the rows that skip them to the same samples.
+    #[cfg(test)]
+    pub(crate) levels_everywhere: bool,
     /// Ids below this are walls (the last frame's maze's edge count).
     wall_ids: u32,
     /// The last frame's figures whose head shows: (index in the sprites passed, column, row of the
@@ -578,7 +582,6 @@ impl Renderer {
                     if let Some(cursor) = cursor.as_mut().filter(|_| lit_row) {
                         self.plane_row.fill_row(&shade, width);
                         let paint = &self.plane_row.shade;
-                        let samples = colors.iter_mut().zip(depths.iter_mut()).zip(ids.iter_mut()).zip(paint);
                         // The tint is linear in the colour: the plane's colour tinted by the sample's
                         // level (one of `EXIT_LIGHT` + 1, for the row), times its checker, light and
                         // fog, is the tinted sample.
@@ -591,7 +594,14 @@ impl Renderer {
                             (start + dir * t).truncate() // as the per-sample path finds it
                         };
                         let step = (start_step + dir_step * t).truncate();
-                        cursor.row_levels(point_at, (point_at(0), step), width, levels);
+                        // Only the samples the plane shows need a level: a wall's stay (below) needs none.
+                        #[cfg(not(test))]
+                        let everywhere = false;
+                        #[cfg(test)]
+                        let everywhere = self.levels_everywhere;
+                        let hidden = |x: usize| !everywhere && ids[x] != NONE && depths[x] <= stays_at;
+                        cursor.row_levels(point_at, (point_at(0), step), width, hidden, levels);
+                        let samples = colors.iter_mut().zip(depths.iter_mut()).zip(ids.iter_mut()).zip(paint);
                         for ((((color, depth), id), &paint), &level) in samples.zip(levels.iter()) {
                             if *id != NONE && *depth <= stays_at {
                                 continue;
@@ -1279,20 +1289,27 @@ impl<'m> CellCursor<'m> {
     }
 
     /// The levels of a row's points `point_at(x)` (`start + step × x`, up to rounding), x in
-    /// 0..`width`, into `levels`: the same as [`CellCursor::level`] of each point, but each cell the
-    /// row crosses is found once and the run of samples well inside it follows from its edges (each
-    /// bounds x by a linear inequality, its ends checked point by point), so a row costs a search per
-    /// cell crossed, not per sample.
+    /// 0..`width`, into `levels`: the same as [`CellCursor::level`] of each point not `hidden`, but
+    /// each cell the row crosses is found once and the run of samples well inside it follows from its
+    /// edges (each bounds x by a linear inequality, its ends checked point by point), so a row costs a
+    /// search per cell crossed, not per sample. A `hidden` sample (a wall in front of the plane) is
+    /// not looked at: its level is left 0 unless a run across it gave it one. A point's level does not
+    /// depend on the cursor's state, so those that are looked at are the same either way.
     fn row_levels(
         &mut self,
         point_at: impl Fn(usize) -> Vec2,
         (start, step): (Vec2, Vec2),
         width: usize,
+        hidden: impl Fn(usize) -> bool,
         levels: &mut Vec<u8>,
     ) {
         levels.clear();
         while levels.len() < width {
             let x = levels.len();
+            if hidden(x) {
+                levels.push(0);
+                continue;
+            }
             let point = point_at(x);
             let level = self.level(point).min(EXIT_LIGHT);
             if self.cell.is_none() {
@@ -1847,6 +1864,93 @@ mod tests {
         }
         assert!(wall_samples > 1_000_000, "the views show few walls: {wall_samples} samples");
         assert!(level.0 * 2 > level.1, "level views: {} of {} triangles by column", level.0, level.1);
+    }
+
+    /// A lit row works out the exit's light levels only for the samples the plane shows (not those a
+    /// wall in front keeps): the samples are bit for bit those of rows that work out every sample's
+    /// level, over views from lit cells of three mazes at four headings, level and pitched, and
+    /// held-out views; the tint shows in many of them, beside walls.
+    #[test]
+    fn lit_rows_level_only_the_samples_they_show() {
+        let mazes = [
+            seed_71(),
+            generate(&GenOptions {
+                width: 9,
+                height: 7,
+                seed: 5,
+                loops: 0.3,
+                exit: true,
+                ..GenOptions::default()
+            })
+            .expect("maze"),
+            generate(&GenOptions {
+                width: 12,
+                height: 6,
+                seed: 8,
+                loops: 0.1,
+                exit: true,
+                ..GenOptions::default()
+            })
+            .expect("maze"),
+        ];
+        let (mut views, mut tinted, mut tinted_beside_walls) = (0, 0, 0);
+        for (m, maze) in mazes.iter().enumerate() {
+            let light = maze.exit_light();
+            let lit: Vec<u32> = (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0).collect();
+            let mut cameras: Vec<Camera> = lit
+                .iter()
+                .step_by(lit.len().div_ceil(12).max(1))
+                .flat_map(|&cell| [20.0, 110.0, 200.0, 290.0].map(|heading| standing(maze, cell, heading)))
+                .collect();
+            cameras
+                .extend(crate::quality::held_out_views(maze, 40 + m as u64, 6).into_iter().map(|(_, c)| c));
+            for camera in cameras {
+                for pitch_deg in [0.0, -20.0] {
+                    let camera = Camera { pitch_deg, ..camera };
+                    let mut renders = [true, false, false]
+                        .map(|everywhere| Renderer { levels_everywhere: everywhere, ..Renderer::new() });
+                    renders[2].no_plane_tint = true; // no exit's light on floor and ceiling
+                    for r in &mut renders {
+                        r.samples_with(
+                            maze,
+                            &camera,
+                            Charset::Half,
+                            0.5,
+                            Culling::Portal,
+                            120,
+                            40,
+                            &[],
+                            false,
+                        )
+                        .expect("camera");
+                    }
+                    let [every, shown, untinted] = renders.each_ref().map(Renderer::samples);
+                    let what = format!("maze {m}, {camera:?}");
+                    assert_eq!(every.id(), shown.id(), "{what}");
+                    assert_eq!(depth_bits(every), depth_bits(shown), "{what}");
+                    let bits = |s: &SampleBuffer| -> Vec<[u32; 3]> {
+                        s.color().iter().map(|c| c.to_array().map(f32::to_bits)).collect()
+                    };
+                    assert!(bits(every) == bits(shown), "{what}: a shown sample's colour differs");
+                    let walls = maze.edges().len() as u32;
+                    for (i, (a, b)) in shown.color().iter().zip(untinted.color()).enumerate() {
+                        if a != b && [FLOOR, CEILING].contains(&shown.id()[i]) {
+                            tinted += 1;
+                            let beside = [i.wrapping_sub(1), i + 1]
+                                .iter()
+                                .any(|&j| shown.id().get(j).is_some_and(|&id| id < walls));
+                            tinted_beside_walls += usize::from(beside);
+                        }
+                    }
+                    views += 1;
+                }
+            }
+        }
+        assert!(views >= 100, "{views} views");
+        assert!(
+            tinted > 20_000 && tinted_beside_walls > 200,
+            "tinted samples {tinted}, beside walls {tinted_beside_walls}"
+        );
     }
 
     /// Seed 71's 20 × 15 maze (as the exit-light tests and the pictures use it).
