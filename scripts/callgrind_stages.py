@@ -25,7 +25,7 @@ STAGES = [
     ("samples: portal, raster, shading", ["mazewalk_render::pipeline::Renderer::samples_with",
                                           "mazewalk_render::<impl mazewalk_render::pipeline::Renderer>::samples_with"]),
     ("figures (sprites)", ["mazewalk_render::sprite::SpritePass::draw"]),
-    ("glyphs (`glyph::to_frame`)", ["mazewalk_render::glyph::to_frame"]),
+    ("glyphs (`glyph::to_frame_faced`)", ["mazewalk_render::glyph::to_frame_faced"]),
     ("screen: render + HUD + map + colours", ["mazewalk_walk::screen::draw"]),
     ("encoder (`Encoder::encode`)", ["mazewalk_term::encoder::Encoder::encode"]),
     (
