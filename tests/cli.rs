@@ -699,9 +699,9 @@ fn records_refuses_a_world_url_that_is_not_redis() {
     }
 }
 
-/// Issue #39: the walk's look-ahead lens (`z`) is `render --fov 40`'s camera. With the lens on, the
+/// Issue #39: the walk's look-ahead lens (`z`) is `render --fov 30`'s camera. With the lens on, the
 /// walk's view (the screen less its HUD row, map off, chalk off) at a pose down a long corridor is,
-/// byte for byte, the frame `render --fov 40` prints there; with the lens off it is not.
+/// byte for byte, the frame `render --fov 30` prints there; with the lens off it is not.
 #[test]
 fn the_walks_look_ahead_view_is_render_fov_40s_frame() {
     use mazewalk_maze::generate::{GenOptions, generate};
@@ -728,7 +728,7 @@ fn the_walks_look_ahead_view_is_render_fov_40s_frame() {
         "--size",
         "120x39",
         "--fov",
-        "40",
+        "30",
         "--color",
         "256",
         "--charset",
@@ -758,7 +758,7 @@ fn the_walks_look_ahead_view_is_render_fov_40s_frame() {
     };
     app.key(Key::Char('z'), KeyPhase::Press, 1.0);
     assert!(app.look_ahead());
-    assert!(view(&app) == out.stdout, "the walk's look-ahead view differs from render --fov 40's frame");
+    assert!(view(&app) == out.stdout, "the walk's look-ahead view differs from render --fov 30's frame");
     app.key(Key::Char('z'), KeyPhase::Press, 2.0);
     assert!(view(&app) != out.stdout, "without the lens the walk's view is the wide one");
 }

@@ -148,7 +148,7 @@ pub(crate) const HELP: &[(&str, &str)] = &[
     ("↑ / ↓", "look up / down"),
     ("[ / ]", "move down / up"),
     ("+ / -", "wider / narrower field of view"),
-    ("z", "look ahead: a 40° lens for far openings"),
+    ("z", "look ahead: a 30° lens for far openings"),
     ("drag", "look around with the mouse"),
     ("p", "perspective / orthographic"),
     ("m", "map: corner / full / off (shows what you have seen)"),

@@ -573,9 +573,9 @@ mod tests {
         app.set_look_ahead(true);
         for width in [60, 80, 120, 200] {
             let text = line(&app, width);
-            assert!(text.contains("  fov 40° look ahead  ") && text.ends_with("? help "), "{text:?}");
+            assert!(text.contains("  fov 30° look ahead  ") && text.ends_with("? help "), "{text:?}");
         }
-        assert!(line(&app, 200).contains("fov 40° look ahead  persp half"), "{:?}", line(&app, 200));
+        assert!(line(&app, 200).contains("fov 30° look ahead  persp half"), "{:?}", line(&app, 200));
         assert!(!line(&app, 60).contains("(6.0, 50.0)"), "the lens before the position");
         app.set_look_ahead(false);
         assert!(line(&app, 200).contains("fov 90° persp half"), "{:?}", line(&app, 200));

@@ -39,9 +39,10 @@ pub(crate) const RISE_SPEED: f32 = 1.0;
 /// How far one tap of `[`/`]` rises or sinks, maze units.
 pub(crate) const RISE_STEP: f32 = 0.1;
 /// The look-ahead lens's horizontal field (`z`), degrees, with no vertical widening: narrow enough that
-/// a side opening 6 cells down a generated corridor spans two columns at 120×40 (it spans half a
-/// column in the walk's own field there, ~118°).
-pub const LOOK_AHEAD_FOV_DEG: f32 = 40.0;
+/// a side opening 6 cells down a generated corridor spans three columns at 120×40 (it spans half a
+/// column in the walk's own field there, ~118°; a new player through a 40° lens, 2.3 columns, read
+/// openings at 3–5 cells right but took 6-cell ones for side walls).
+pub const LOOK_AHEAD_FOV_DEG: f32 = 30.0;
 /// Field of view change, degrees per second.
 pub(crate) const FOV_SPEED: f32 = 45.0;
 /// How much one tap of `+`/`-` changes the field of view, degrees.
@@ -540,7 +541,7 @@ impl App {
 
     /// Turns the look-ahead lens (`z`) on or off. On: the view's horizontal field is
     /// [`LOOK_AHEAD_FOV_DEG`] whatever the screen's shape (no least vertical field), as `mazewalk
-    /// render --fov 40` draws it; `+`/`-` then widen or narrow the lens. Off: the fields the viewer had
+    /// render --fov 30` draws it; `+`/`-` then widen or narrow the lens. Off: the fields the viewer had
     /// before it, exactly. Nothing else changes.
     pub fn set_look_ahead(&mut self, on: bool) {
         match (on, self.look_ahead) {

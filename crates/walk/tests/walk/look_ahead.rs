@@ -2,8 +2,8 @@
 //! of 96° (a player 1.6 from a wall still sees its ends and the floor), which at 120×40 half blocks is
 //! a horizontal field of ~118°, ~36 columns a unit of tan: a side opening k cells down a corridor
 //! spans 8f/(16k²−4) columns, 0.7 at k = 5 and 0.5 at k = 6, narrower than anything a column shows.
-//! The lens is a horizontal field of 40° with no widening (f ≈ 165: 2.3 columns at k = 6), the
-//! camera `mazewalk render --fov 40` draws; `z` again brings back the field the player had.
+//! The lens is a horizontal field of 30° with no widening (f ≈ 224: 3.1 columns at k = 6), the
+//! camera `mazewalk render --fov 30` draws; `z` again brings back the field the player had.
 
 use glam::Vec2;
 use mazewalk_maze::generate::{GenOptions, generate};
@@ -28,7 +28,7 @@ fn pose(c: &Camera) -> Camera {
 }
 
 #[test]
-fn z_turns_a_40_degree_lens_on_and_off_brings_back_the_exact_field() {
+fn z_turns_a_30_degree_lens_on_and_off_brings_back_the_exact_field() {
     let maze = generate(&GenOptions::walk(20, 15, 5)).expect("maze");
     let mut app = App::new(maze, RenderOptions::default(), 0.0).unwrap();
     assert!(app.camera.min_vfov_deg > 90.0, "a generated maze widens its view on a wide screen");
@@ -41,10 +41,10 @@ fn z_turns_a_40_degree_lens_on_and_off_brings_back_the_exact_field() {
     press(&mut app, 'z', 2.0);
     assert!(app.look_ahead());
     assert_eq!((app.camera.hfov_deg, app.camera.min_vfov_deg), (LOOK_AHEAD_FOV_DEG, 0.0));
-    assert_eq!(LOOK_AHEAD_FOV_DEG, 40.0);
+    assert_eq!(LOOK_AHEAD_FOV_DEG, 30.0);
     // no widening, whatever the screen's shape
     for (cols, rows) in [(COLS, ROWS - 1), (80, 23), (200, 59), (40, 40)] {
-        assert_eq!(app.shown_hfov_deg(cols, rows), 40.0, "{cols}×{rows}");
+        assert_eq!(app.shown_hfov_deg(cols, rows), 30.0, "{cols}×{rows}");
     }
     assert_eq!(pose(&app.camera), pose(&wide), "the lens changes the field only");
     // a release of `z` (kitty protocol) does nothing
@@ -65,7 +65,7 @@ fn z_turns_a_40_degree_lens_on_and_off_brings_back_the_exact_field() {
     assert_ne!(app.camera.position, wide.position, "walked");
     assert_eq!(app.camera.yaw_deg, (wide.yaw_deg + 15.0).rem_euclid(360.0), "turned a tap");
     assert_eq!(app.camera.pitch_deg, 10.0, "looked up a tap");
-    assert_eq!(app.camera.hfov_deg, 40.0);
+    assert_eq!(app.camera.hfov_deg, 30.0);
     let moved = pose(&app.camera);
     press(&mut app, 'z', 8.0);
     assert_eq!(app.camera, Camera { hfov_deg: wide.hfov_deg, min_vfov_deg: wide.min_vfov_deg, ..moved });
@@ -75,11 +75,11 @@ fn z_turns_a_40_degree_lens_on_and_off_brings_back_the_exact_field() {
     press(&mut app, 'z', 9.0);
     press(&mut app, '-', 10.0);
     assert!(app.look_ahead());
-    assert_eq!((app.camera.hfov_deg, app.camera.min_vfov_deg), (35.0, 0.0));
-    assert_eq!(app.shown_hfov_deg(COLS, ROWS - 1), 35.0);
+    assert_eq!((app.camera.hfov_deg, app.camera.min_vfov_deg), (25.0, 0.0));
+    assert_eq!(app.shown_hfov_deg(COLS, ROWS - 1), 25.0);
     press(&mut app, '+', 11.0);
     press(&mut app, '+', 12.0);
-    assert_eq!((app.camera.hfov_deg, app.camera.min_vfov_deg), (45.0, 0.0));
+    assert_eq!((app.camera.hfov_deg, app.camera.min_vfov_deg), (35.0, 0.0));
     press(&mut app, 'z', 13.0);
     assert_eq!((app.camera.hfov_deg, app.camera.min_vfov_deg), (wide.hfov_deg, wide.min_vfov_deg));
 
@@ -87,7 +87,7 @@ fn z_turns_a_40_degree_lens_on_and_off_brings_back_the_exact_field() {
     press(&mut app, 'z', 14.0);
     press(&mut app, 'r', 15.0);
     assert!(!app.look_ahead());
-    assert!(app.camera.min_vfov_deg > 90.0 && app.camera.hfov_deg != 40.0, "{:?}", app.camera);
+    assert!(app.camera.min_vfov_deg > 90.0 && app.camera.hfov_deg != 30.0, "{:?}", app.camera);
 }
 
 /// A straight corridor of tiles 4 units wide (the generated mazes' cells) running east from the start
@@ -144,7 +144,7 @@ fn opening_columns(maze: &mazewalk_maze::Maze, camera: &Camera) -> Vec<(usize, f
 }
 
 #[test]
-fn through_the_lens_openings_three_to_six_cells_ahead_span_two_columns_or_more() {
+fn through_the_lens_openings_three_to_six_cells_ahead_span_three_columns_or_more() {
     let maze = grid::parse_str("corridor.grid", CORRIDOR).expect("the corridor");
     let mut app = App::new(maze, RenderOptions::default(), 0.0).unwrap();
     assert_eq!(app.camera.yaw_deg, 0.0);
@@ -159,11 +159,11 @@ fn through_the_lens_openings_three_to_six_cells_ahead_span_two_columns_or_more()
     assert!(wide[2].1 < 2.5 && wide[3].1 < 1.5, "wide field, 3 and 4 cells: {wide:?}");
 
     press(&mut app, 'z', 1.0);
-    assert_eq!(app.shown_hfov_deg(COLS, ROWS), 40.0);
+    assert_eq!(app.shown_hfov_deg(COLS, ROWS), 30.0);
     let lens = opening_columns(app.maze(), &app.camera);
     for k in 3..=6 {
         let (shown, span) = lens[k - 1];
-        assert!(shown >= 2 && span >= 2.0, "look ahead, {k} cells: {shown} columns, span {span:.2}");
+        assert!(shown >= 3 && span >= 3.0, "look ahead, {k} cells: {shown} columns, span {span:.2}");
         assert!(shown > wide[k - 1].0, "look ahead, {k} cells: {shown} against {wide:?}");
     }
     eprintln!("columns (shown, span) for k = 1..6: wide {wide:?}, look ahead {lens:?}");

@@ -163,7 +163,7 @@ fn z_through_a_session_puts_the_look_ahead_lens_on_and_ctrl_z_still_suspends() {
     assert!(!player.hud().contains("look ahead"), "{}", player.hud());
     player.step(b"z", 0.5);
     assert!(player.session.app().look_ahead());
-    assert!(player.hud().contains("fov 40° look ahead"), "{}", player.hud());
+    assert!(player.hud().contains("fov 30° look ahead"), "{}", player.hud());
     player.step(b"\x1a", 1.0);
     assert!(player.session.take_suspend(), "Ctrl-Z suspends");
     assert!(player.session.app().look_ahead(), "Ctrl-Z is not z");
