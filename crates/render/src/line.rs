@@ -64,18 +64,8 @@ pub fn line_points(x0: i64, y0: i64, x1: i64, y1: i64, width: usize, height: usi
     };
 
     // Visible range of k: the major coordinate is linear in k, the minor one monotone (binary search).
-    let limit = |axis: usize| i64::try_from(if axis == 0 { width } else { height }).unwrap_or(LIMIT) - 1;
-    let range_along = |axis: usize, max_steps: i64| {
-        // Steps s in [0, max_steps] with start[axis] + sign[axis]·s in [0, limit(axis)].
-        let (first, last) = if line.sign[axis] > 0 {
-            (-a[axis], limit(axis) - a[axis])
-        } else {
-            (a[axis] - limit(axis), a[axis])
-        };
-        (first.max(0), last.min(max_steps))
-    };
-    let (k_lo, k_hi) = range_along(major, line.n);
-    let (o_lo, o_hi) = range_along(minor, line.m);
+    let (k_lo, k_hi) = line.steps_inside(a, major, line.n, (width, height));
+    let (o_lo, o_hi) = line.steps_inside(a, minor, line.m, (width, height));
     let k_lo = k_lo.max(line.first_k_with_offset_at_least(o_lo));
     let k_hi = k_hi.min(line.first_k_with_offset_at_least(o_hi + 1) - 1);
     line.done = k_lo > k_hi || o_lo > o_hi;
@@ -102,6 +92,24 @@ pub fn line_points(x0: i64, y0: i64, x1: i64, y1: i64, width: usize, height: usi
 }
 
 impl LinePoints {
+    /// The steps `s` in `[0, max_steps]` that keep coordinate `axis` of `start + sign·s` inside a
+    /// `width × height` grid (first and last; empty when first > last).
+    fn steps_inside(
+        &self,
+        start: [i64; 2],
+        axis: usize,
+        max_steps: i64,
+        (width, height): (usize, usize),
+    ) -> (i64, i64) {
+        let limit = i64::try_from(if axis == 0 { width } else { height }).unwrap_or(LIMIT) - 1;
+        let (first, last) = if self.sign[axis] > 0 {
+            (-start[axis], limit - start[axis])
+        } else {
+            (start[axis] - limit, start[axis])
+        };
+        (first.max(0), last.min(max_steps))
+    }
+
     /// Minor-axis steps taken after `k` major steps: `round(k·m / n)`, halves up.
     #[cfg(test)]
     fn offset(&self, k: i64) -> i64 {
@@ -273,18 +281,9 @@ mod tests {
             }
             lo
         };
-        let limit = |axis: usize| i64::try_from(if axis == 0 { w } else { h }).unwrap_or(LIMIT) - 1;
-        let range_along = |axis: usize, max_steps: i64| {
-            let (first, last) = if line.sign[axis] > 0 {
-                (-a[axis], limit(axis) - a[axis])
-            } else {
-                (a[axis] - limit(axis), a[axis])
-            };
-            (first.max(0), last.min(max_steps))
-        };
         let minor = 1 - major;
-        let (k_lo, k_hi) = range_along(major, line.n);
-        let (o_lo, o_hi) = range_along(minor, line.m);
+        let (k_lo, k_hi) = line.steps_inside(a, major, line.n, (w, h));
+        let (o_lo, o_hi) = line.steps_inside(a, minor, line.m, (w, h));
         let (k_lo, k_hi) = (k_lo.max(search(o_lo)), k_hi.min(search(o_hi + 1) - 1));
         if k_lo > k_hi || o_lo > o_hi {
             return Vec::new();

@@ -1568,6 +1568,20 @@ mod tests {
     use super::*;
     use mazewalk_maze::generate::{GenOptions, generate};
 
+    /// `r`'s samples of `camera`'s view in `charset` at `cols × rows` cells (cell aspect 0.5, the
+    /// portal pass, no figures): the tests' one way to render without a frame.
+    fn render_samples(
+        r: &mut Renderer,
+        maze: &Maze,
+        camera: &Camera,
+        charset: Charset,
+        (cols, rows): (usize, usize),
+        textures: bool,
+    ) -> RenderStats {
+        r.samples_with(maze, camera, charset, 0.5, Culling::Portal, cols, rows, &[], textures)
+            .expect("camera")
+    }
+
     /// A renderer reused from frame to frame (colours not cleared: each pass writes its own) gives a
     /// fresh renderer's samples, including where nothing is seen (the fog beyond the view distance).
     #[test]
@@ -1667,18 +1681,7 @@ mod tests {
                 reference.reference_shading = true;
                 let before = crate::raster::FILLED_BY_COLUMN.with(std::cell::Cell::get);
                 for r in [&mut fast, &mut reference] {
-                    r.samples_with(
-                        &maze,
-                        &camera,
-                        Charset::Half,
-                        0.5,
-                        Culling::Portal,
-                        53,
-                        17,
-                        &[],
-                        textures,
-                    )
-                    .expect("camera");
+                    render_samples(r, &maze, &camera, Charset::Half, (53, 17), textures);
                 }
                 if camera.projection == Projection::Orthographic && camera.pitch_deg == 0.0 && !textures {
                     // the level orthographic view's walls take their depths a column too
@@ -1733,9 +1736,7 @@ mod tests {
             for (k, (_, camera)) in crate::quality::held_out_views(&maze, seed, 8).into_iter().enumerate() {
                 let mut renderer = Renderer::new();
                 let width = [120, 61, 37, 5][k % 4];
-                renderer
-                    .samples_with(&maze, &camera, Charset::Half, 0.5, Culling::Portal, width, 20, &[], false)
-                    .expect("camera");
+                render_samples(&mut renderer, &maze, &camera, Charset::Half, (width, 20), false);
                 let samples = renderer.samples();
                 for y in 0..samples.height() {
                     let row = y * width..(y + 1) * width;
@@ -1823,19 +1824,7 @@ mod tests {
                         reference.reference_shading = true;
                         for (k, r) in [&mut fast, &mut reference].into_iter().enumerate() {
                             let before = crate::raster::FILLED_BY_COLUMN.with(std::cell::Cell::get);
-                            let stats = r
-                                .samples_with(
-                                    &maze,
-                                    &camera,
-                                    charset,
-                                    0.5,
-                                    Culling::Portal,
-                                    120,
-                                    40,
-                                    &[],
-                                    false,
-                                )
-                                .expect("camera");
+                            let stats = render_samples(r, &maze, &camera, charset, (120, 40), false);
                             if k == 0 {
                                 let now = crate::raster::FILLED_BY_COLUMN.with(std::cell::Cell::get);
                                 let count = if pitch_deg == 0.0 { &mut level } else { &mut other };
@@ -1911,18 +1900,7 @@ mod tests {
                         .map(|everywhere| Renderer { levels_everywhere: everywhere, ..Renderer::new() });
                     renders[2].no_plane_tint = true; // no exit's light on floor and ceiling
                     for r in &mut renders {
-                        r.samples_with(
-                            maze,
-                            &camera,
-                            Charset::Half,
-                            0.5,
-                            Culling::Portal,
-                            120,
-                            40,
-                            &[],
-                            false,
-                        )
-                        .expect("camera");
+                        render_samples(r, maze, &camera, Charset::Half, (120, 40), false);
                     }
                     let [every, shown, untinted] = renders.each_ref().map(Renderer::samples);
                     let what = format!("maze {m}, {camera:?}");

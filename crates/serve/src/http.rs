@@ -402,6 +402,19 @@ mod tests {
         assert_eq!((json["holder"].as_str(), json["seconds"].as_f64()), (Some("ada"), Some(600.0)));
     }
 
+    /// A site with no metrics, no maze, no players and no best run.
+    fn bare_site(versions: watch::Receiver<u64>, shutdown: watch::Receiver<bool>) -> Site {
+        Site {
+            registry: Registry::default(),
+            maze: String::new(),
+            versions,
+            players: Box::new(|| "{}".into()),
+            best_run: Box::new(|| best_run_json(None)),
+            streams: AtomicUsize::new(0),
+            shutdown,
+        }
+    }
+
     fn ip(last: u8) -> IpAddr {
         IpAddr::from([127, 0, 0, last])
     }
@@ -439,15 +452,7 @@ mod tests {
         use tokio::io::{AsyncReadExt as _, AsyncWriteExt as _};
         let (_version, versions) = watch::channel(0u64);
         let (stop, shutdown) = watch::channel(false);
-        let site = Site {
-            registry: Registry::default(),
-            maze: String::new(),
-            versions,
-            players: Box::new(|| "{}".into()),
-            best_run: Box::new(|| best_run_json(None)),
-            streams: AtomicUsize::new(0),
-            shutdown,
-        };
+        let site = bare_site(versions, shutdown);
         let (addr, task) = start("127.0.0.1:0".parse().unwrap(), site).await.expect("listen");
         let connect = |from: u8| async move {
             let socket = tokio::net::TcpSocket::new_v4().expect("socket");
@@ -489,15 +494,7 @@ mod tests {
     async fn a_reader_too_slow_is_dropped_not_buffered_for() {
         let (version, versions) = watch::channel(0u64);
         let (_stop, shutdown) = watch::channel(false);
-        let site = Arc::new(Site {
-            registry: Registry::default(),
-            maze: String::new(),
-            versions,
-            players: Box::new(|| "{}".into()),
-            best_run: Box::new(|| best_run_json(None)),
-            streams: AtomicUsize::new(0),
-            shutdown,
-        });
+        let site = Arc::new(bare_site(versions, shutdown));
         let body = events(&site).expect("a stream");
         assert_eq!(site.streams.load(Ordering::SeqCst), 1);
         let deadline = tokio::time::Instant::now() + Duration::from_secs(20);
