@@ -390,7 +390,9 @@ const BUCKETS: usize = 256;
 pub(crate) enum Surface {
     /// The floor: [`FLOOR_16`], black where it is near black.
     Floor,
-    /// The ceiling: [`CEILING_16`], black where it is near black.
+    /// The ceiling: [`CEILING_16`] alone, near and far (issue #39: its far band, fogged below
+    /// [`NEAR_BLACK`] where 16 colours leave out the cell lines that crowd toward the horizon, was a
+    /// black strip above a corridor's end wall).
     Ceiling,
     /// A wall: never the floor's or the ceiling's entry, black only where it is near black.
     Wall,
@@ -407,7 +409,7 @@ pub(crate) const CEILING_16: u8 = 4;
 #[cfg(test)]
 pub(crate) const LIGHT_GREYS_16: [u8; 2] = [7, 15];
 /// In 16 colours, a sample of the scene darker than this (OKLab L) may be black; a lighter one never is.
-pub(crate) const NEAR_BLACK: f32 = 0.2;
+pub const NEAR_BLACK: f32 = 0.2;
 /// The exit's glow on a wall in 16 colours (the dark green, xterm's 2): see [`glow_16`].
 pub(crate) const GLOW_16: u8 = 2;
 
@@ -497,8 +499,9 @@ impl LightRamp {
     }
 
     /// The ramp of the chromaticity `chroma` (linear RGB, any scale) in `palette` for `surface`: in 16
-    /// colours the floor shows [`FLOOR_16`], the ceiling [`CEILING_16`], a wall neither, and nothing is
-    /// black where the scene is lighter than [`NEAR_BLACK`]; in 256 colours the surface does not matter.
+    /// colours the floor shows [`FLOOR_16`], the ceiling [`CEILING_16`] (never black), a wall neither,
+    /// and nothing is black where the scene is lighter than [`NEAR_BLACK`]; in 256 colours the surface
+    /// does not matter.
     #[must_use]
     pub(crate) fn of_surface(chroma: Vec3, palette: Palette, surface: Surface) -> LightRamp {
         let chroma = chroma.max(Vec3::ZERO);
@@ -520,7 +523,7 @@ impl LightRamp {
             .iter()
             .filter(|e| match (sixteen, surface) {
                 (true, Surface::Floor) => e.index == 0 || e.index == FLOOR_16,
-                (true, Surface::Ceiling) => e.index == 0 || e.index == CEILING_16,
+                (true, Surface::Ceiling) => e.index == CEILING_16,
                 (true, Surface::Wall) if glow => e.index == 0 || e.index == GLOW_16,
                 (true, Surface::Wall) if e.index == GLOW_16 && !exit_green(direction) => false,
                 (true, Surface::Wall) if e.index == FLOOR_16 || e.index == CEILING_16 => false,
@@ -566,8 +569,11 @@ impl LightRamp {
                     }
                 }
                 from[level * n + j] = at as u8;
-                // (16 colours: black only where the scene is near black)
-                let unblack = sixteen && candidates[j].index == 0 && direction.x * s >= NEAR_BLACK;
+                // (16 colours: black only where the scene is near black, over the whole level: a
+                // level spans lightness up to its top, and one whose centre is below NEAR_BLACK but
+                // its top above it drew samples of L 0.2 black, issue #39)
+                let top = direction.x * s_max * (level + 1) as f32 / LEVELS as f32;
+                let unblack = sixteen && candidates[j].index == 0 && top >= NEAR_BLACK;
                 let cost = if unblack {
                     1e6
                 } else {
@@ -1209,5 +1215,40 @@ mod tests {
             quarters.sort_unstable();
             assert_eq!(quarters, [0, 1, 2, 3], "block at ({x0}, {y0})");
         }
+    }
+
+    /// Issue #39: in 16 colours no ramp draws a colour black that is not near black, up to the
+    /// lightness where a ramp's level ends (a level's centre below [`NEAR_BLACK`] and its top above
+    /// it drew the ceiling at L 0.201 black in ascii); and the ceiling's ramp is its dark blue alone,
+    /// near and far (its far band above an end wall was a black strip).
+    #[test]
+    fn in_16_colours_nothing_lighter_than_near_black_is_black() {
+        let step = 1.0 / CHROMA_STEPS as f32;
+        let (mut judged, mut ceiling) = (0, 0);
+        for r in (0..=CHROMA_STEPS).step_by(3) {
+            for g in (0..=CHROMA_STEPS - r).step_by(3) {
+                let chroma =
+                    Vec3::new(r as f32 * step, g as f32 * step, (1.0 - (r + g) as f32 * step).max(0.0));
+                let Some((slot, _)) = slot(chroma) else { continue };
+                let surface = surface_of(slot);
+                let ramp = LightRamp::of_surface(chroma, Palette::Ansi16, surface);
+                let top = 1.0 / chroma.max_element();
+                for k in 1..=400 {
+                    let t = top * k as f32 / 400.0;
+                    let colour = chroma * t;
+                    if oklab(colour).x >= NEAR_BLACK {
+                        judged += 1;
+                        assert_ne!(ramp.entry(t), 0, "{chroma} × {t} ({surface:?}), L {}", oklab(colour).x);
+                    }
+                }
+            }
+        }
+        let ceiling_chroma = CEILING_SRGB.map(srgb_to_linear);
+        for k in 1..=400 {
+            let colour = ceiling_chroma * (k as f32 / 400.0);
+            assert_eq!(ramp_entry(colour, Palette::Ansi16), CEILING_16, "the ceiling × {k}/400");
+            ceiling += 1;
+        }
+        assert!(judged > 50_000 && ceiling == 400, "{judged} samples judged");
     }
 }

@@ -125,7 +125,7 @@ const DEFAULT_BG: [u8; 3] = [0, 0, 0];
 
 /// OKLab of an sRGB colour.
 #[must_use]
-pub(crate) fn oklab_srgb8(rgb: [u8; 3]) -> Vec3 {
+pub fn oklab_srgb8(rgb: [u8; 3]) -> Vec3 {
     oklab(Vec3::from_array(rgb.map(|v| srgb_to_linear(f32::from(v) / 255.0))))
 }
 

@@ -8,6 +8,7 @@ mod exit_light;
 mod far_wall_height;
 mod flat_walls;
 mod glyph_frames;
+mod near_black;
 mod nose_to_wall;
 mod openings;
 mod picture_quality;

@@ -6,11 +6,11 @@
 use glam::Vec2;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_maze::{self as maze, Maze};
-use mazewalk_render::palette::{Palette, ramp_entry};
+use mazewalk_render::palette::{NEAR_BLACK, Palette, ramp_entry};
 use mazewalk_render::quality::{self, Measures};
 use mazewalk_render::samples::{CEILING, FLOOR};
 use mazewalk_render::{Camera, Charset, Culling, RenderOptions, Renderer, Target};
-use mazewalk_term::frame::{Color, ColorDepth, Frame};
+use mazewalk_term::frame::{ColorDepth, Frame};
 use std::collections::{BTreeMap, BTreeSet};
 
 const COLS: usize = 120;
@@ -322,27 +322,21 @@ proptest::proptest! {
 
 /// What a sample's OKLab lightness is taken as black below (the 16 colours' black is L 0).
 const SHOWN_BLACK: f32 = 0.01;
-/// The scene's OKLab lightness below which a sample may be drawn black in 16 colours: the renderer's
-/// `NEAR_BLACK` (0.2) and a ramp level (1/64 of a grey's lightness) of rounding.
-const MAY_BE_BLACK: f32 = 0.22;
 /// The first sample of `ids` (with `walls` walls) that the 16-colour frame shows black (`shown`)
 /// though it is lit, and its truecolor lightness: a wall, floor or ceiling sample whose truecolor
-/// (`truth`) is not near black, except a floor or ceiling sample where the 16-colour frame's own
-/// scene (`scene`: its samples before the palette, in OKLab) is near black. There 16 colours leave
-/// out a far cell line that truecolor draws (`LINE_GAP_16`: lines that would crowd toward the
-/// horizon), and the sample shows the plane's own light; on a near-black plane truecolor's line is
-/// lighter than the plane (`seam_color` lifts it toward grey).
+/// (`truth`) is not near black (`NEAR_BLACK`). (Until the ceiling's ramp held no black, a far
+/// ceiling sample was let off where 16 colours leave out a cell line truecolor draws: the
+/// player's "black strip above the last wall", issue #39.)
 fn lit_but_black(
     ids: &[u32],
     walls: u32,
     shown: &[glam::Vec3],
     truth: &[glam::Vec3],
-    scene: &[glam::Vec3],
 ) -> Option<(usize, f32)> {
     ids.iter().enumerate().find_map(|(i, &id)| {
         let plane = id == FLOOR || id == CEILING;
-        let lit = truth[i].x >= MAY_BE_BLACK && !(plane && scene[i].x < MAY_BE_BLACK);
-        ((id < walls || plane) && lit && shown[i].x < SHOWN_BLACK).then_some((i, truth[i].x))
+        ((id < walls || plane) && truth[i].x >= NEAR_BLACK && shown[i].x < SHOWN_BLACK)
+            .then_some((i, truth[i].x))
     })
 }
 
@@ -395,7 +389,7 @@ proptest::proptest! {
     // Over held-out views of generated mazes: no wall sample takes the floor's or the ceiling's colour
     // (the colour most of its samples show) where the wall's truecolor lightness is not the floor's
     // (the ceiling's), and no floor, ceiling or wall sample is black where its truecolor is not near
-    // black (but for a far cell line 16 colours leave out: `lit_but_black`).
+    // black.
     #[test]
     fn in_16_colours_walls_keep_off_floor_and_ceiling_and_nothing_lit_is_black(
         seed in proptest::prelude::any::<u64>(),
@@ -408,7 +402,7 @@ proptest::proptest! {
         for (kind, camera) in quality::held_out_views(&maze, seed, 12) {
             let at = format!("{kind:?} at {:?} heading {:.0}°", camera.position, camera.yaw_deg);
             let (truth, ids) = render(&maze, &camera, &options(Charset::Half, ColorDepth::TrueColor));
-            let (frame, scene) = render_16_and_scene(&maze, &camera);
+            let (frame, _) = render_16_and_scene(&maze, &camera);
             let (shown, truth) = (quality::shown(&frame, Charset::Half), quality::shown(&truth, Charset::Half));
             let key = |c: glam::Vec3| (c * 1000.0).round().as_ivec3().to_array();
             for (name, id) in [("floor", FLOOR), ("ceiling", CEILING)] {
@@ -422,8 +416,7 @@ proptest::proptest! {
                     );
                 }
             }
-            let scene = quality::shown(&scene, Charset::Half);
-            if let Some((i, light)) = lit_but_black(&ids, walls, &shown, &truth, &scene) {
+            if let Some((i, light)) = lit_but_black(&ids, walls, &shown, &truth) {
                 proptest::prop_assert!(false, "{at}: sample {i} of {} is black, its truecolor L {light:.2}", ids[i]);
             }
         }
@@ -435,11 +428,11 @@ proptest::proptest! {
 // walls, two rows above the horizon) showed black in 16 colours, its truecolor L 0.30. Truecolor's
 // light there is the ceiling's cell line (`seam_color` lifts a near-black plane toward grey); 16
 // colours leave that line out, as every line that would crowd the one a cell nearer (`LINE_GAP_16`,
-// since f3f01e4), and the sample shows the ceiling's own light, L 0.19: near black, so black
-// (`palette::NEAR_BLACK`, 0.2). (With the line drawn, 16 colours show it light grey, as truecolor
-// shows a line.)
+// since f3f01e4), and the sample shows the ceiling's own light, L 0.19, which the ceiling's ramp
+// drew black (`palette::NEAR_BLACK`, 0.2): a player's "black strip above the last wall" (issue #39).
+// The ceiling's ramp in 16 colours is now its dark blue alone, near and far.
 #[test]
-fn in_16_colours_a_far_ceiling_line_left_out_shows_the_ceilings_own_light() {
+fn in_16_colours_a_far_ceiling_line_left_out_shows_the_ceilings_blue() {
     let seed = 8260499500246045;
     let maze = generate(&GenOptions::walk(10, 14, seed)).expect("generated maze");
     let (_, camera) = quality::held_out_views(&maze, seed, 12)
@@ -456,16 +449,23 @@ fn in_16_colours_a_far_ceiling_line_left_out_shows_the_ceilings_own_light() {
     let scene = quality::shown(&scene, Charset::Half);
     let i = 38 * COLS + 77;
     assert_eq!(ids[i], CEILING);
-    // truecolor: the line, lit; 16 colours: no line, the ceiling's own near-black light, shown black
-    assert!(truth[i].x >= MAY_BE_BLACK, "truecolor L {:.2}", truth[i].x);
-    assert!(scene[i].x < 0.2 && scene[i].x < truth[i].x - 0.05, "16 colours' scene L {:.2}", scene[i].x);
-    assert!(shown[i].x < SHOWN_BLACK, "shown L {:.2}", shown[i].x);
-    // the ceiling a row nearer, above near black in the 16 colours' scene, is not black
+    // truecolor: the line, lit; 16 colours: no line, the ceiling's own near-black light
+    assert!(truth[i].x >= NEAR_BLACK, "truecolor L {:.2}", truth[i].x);
+    assert!(
+        scene[i].x < NEAR_BLACK && scene[i].x < truth[i].x - 0.05,
+        "16 colours' scene L {:.2}",
+        scene[i].x
+    );
+    // shown the ceiling's dark blue (`CEILING_16`), as the ceiling a row nearer is, not black
     let above = i - COLS;
-    assert!(ids[above] == CEILING && scene[above].x >= 0.2, "the ceiling above: L {:.2}", scene[above].x);
-    assert!(shown[above].x >= SHOWN_BLACK, "the ceiling above is black");
-    // the half blocks' fast path shows what the general lookup gives those two samples: black, and
-    // the ceiling's dark blue (`CEILING_16`) a row nearer
+    assert!(
+        ids[above] == CEILING && scene[above].x >= NEAR_BLACK,
+        "the ceiling above: L {:.2}",
+        scene[above].x
+    );
+    let blue = quality::oklab_srgb8(mazewalk_render::palette::xterm_rgb(4));
+    assert_eq!((shown[above], shown[i]), (blue, blue));
+    // the half blocks' fast path shows what the general lookup gives those two samples
     let mut renderer = Renderer::new();
     let mut again = Frame::new(COLS, ROWS);
     let region = again.region();
@@ -473,10 +473,10 @@ fn in_16_colours_a_far_ceiling_line_left_out_shows_the_ceilings_own_light() {
     renderer.render(&maze, &camera, &[], &sixteen, Target::Frame(&mut again, region)).expect("camera");
     let linear = renderer.samples().color();
     let entry = |k: usize| ramp_entry(linear[k], Palette::Ansi16);
-    assert_eq!((entry(above), entry(i)), (4, 0));
+    assert_eq!((entry(above), entry(i)), (4, 4));
     let cell = frame.cells()[i / COLS / 2 * COLS + 77];
-    assert_eq!((cell.fg, again.cells()[i / COLS / 2 * COLS + 77]), (Color::Indexed(0), cell));
+    assert_eq!(again.cells()[i / COLS / 2 * COLS + 77], cell);
     // and the property holds on this view
     let walls = maze.edges().len() as u32;
-    assert_eq!(lit_but_black(&ids, walls, &shown, &truth, &scene), None);
+    assert_eq!(lit_but_black(&ids, walls, &shown, &truth), None);
 }
