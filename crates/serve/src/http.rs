@@ -11,7 +11,8 @@
 //!   newcomer's ([`push_out`]), or else is closed at once: one address (or a few) holding every
 //!   connection cannot keep the page and `/metrics` from anyone else, and a reverse proxy's single
 //!   address is capped as before;
-//! - at most [`MAX_EVENT_CLIENTS`] event streams (503 past it); each holds at most
+//! - at most [`MAX_EVENT_CLIENTS`] event streams, shared out by address as connections are (503 to a
+//!   newcomer that pushes none out); each holds at most
 //!   [`EVENT_BUFFER`] events not yet written: a reader too slow for that is dropped (its browser
 //!   reconnects), never buffered for; at most [`EVENT_RATE`] events a second each;
 //! - the request's head within [`HEADER_TIMEOUT`] (a slowloris client is cut), at most
@@ -21,7 +22,6 @@
 
 use std::convert::Infallible;
 use std::net::{IpAddr, SocketAddr};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
@@ -65,8 +65,8 @@ pub(crate) struct Site {
     pub players: Box<dyn Fn() -> String + Send + Sync>,
     /// `/best-run.json`: the maze's best run's path ([`best_run_json`]).
     pub best_run: Box<dyn Fn() -> String + Send + Sync>,
-    /// Event streams open now.
-    pub streams: AtomicUsize,
+    /// Event streams open now: who holds each ([`Places`]).
+    pub streams: Arc<Mutex<Places>>,
     /// The server's shutdown.
     pub shutdown: watch::Receiver<bool>,
 }
@@ -89,7 +89,7 @@ pub(crate) async fn start(
 }
 
 async fn accept_loop(listener: TcpListener, site: Arc<Site>, mut shutdown: watch::Receiver<bool>) {
-    let open = Arc::new(Mutex::new(Open::default()));
+    let open = Arc::new(Mutex::new(Places::default()));
     loop {
         let accepted = tokio::select! {
             _ = shutdown.wait_for(|&s| s) => return,
@@ -100,18 +100,18 @@ async fn accept_loop(listener: TcpListener, site: Arc<Site>, mut shutdown: watch
             tokio::time::sleep(Duration::from_millis(100)).await;
             continue;
         };
-        let Some((id, pushed_out)) = Open::admit(&open, peer.ip()) else {
+        let Some((id, pushed_out)) = Places::admit(&open, peer.ip(), MAX_CONNECTIONS) else {
             drop(stream); // closed unanswered: the cap holds whatever the clients do
             continue;
         };
-        let guard = Held { open: Arc::clone(&open), id };
+        let guard = Held { places: Arc::clone(&open), id };
         let site = Arc::clone(&site);
         let mut shutdown = shutdown.clone();
         tokio::spawn(async move {
             let _guard = guard;
             let service = hyper::service::service_fn(move |request| {
                 let site = Arc::clone(&site);
-                async move { Ok::<_, Infallible>(answer(&site, &request)) }
+                async move { Ok::<_, Infallible>(answer(&site, &request, peer.ip())) }
             });
             let connection = hyper::server::conn::http1::Builder::new()
                 .timer(TokioTimer::new())
@@ -127,20 +127,21 @@ async fn accept_loop(listener: TcpListener, site: Arc<Site>, mut shutdown: watch
     }
 }
 
-/// The connections open now, oldest first: each one's address, and the way to close it.
+/// Places held now (connections, or event streams), oldest first: each one's address, and the way to
+/// end it.
 #[derive(Default)]
-struct Open {
+pub(crate) struct Places {
     next: u64,
     held: Vec<(u64, IpAddr, oneshot::Sender<()>)>,
 }
 
-impl Open {
-    /// Lets a newcomer from `ip` in, pushing out another connection if the listener is full and
+impl Places {
+    /// Lets a newcomer from `ip` take a place, pushing out another holder if all `cap` are taken and
     /// [`push_out`] names one: its id, and what ends it when it is pushed out in turn. `None`: full,
     /// the newcomer is refused.
-    fn admit(open: &Mutex<Open>, ip: IpAddr) -> Option<(u64, oneshot::Receiver<()>)> {
-        let mut open = open.lock().unwrap_or_else(PoisonError::into_inner);
-        if open.held.len() >= MAX_CONNECTIONS {
+    fn admit(places: &Mutex<Places>, ip: IpAddr, cap: usize) -> Option<(u64, oneshot::Receiver<()>)> {
+        let mut open = places.lock().unwrap_or_else(PoisonError::into_inner);
+        if open.held.len() >= cap {
             let addresses: Vec<IpAddr> = open.held.iter().map(|&(_, a, _)| a).collect();
             let k = push_out(&addresses, ip)?;
             let (_, _, close) = open.held.remove(k);
@@ -152,14 +153,20 @@ impl Open {
         open.held.push((id, ip, close));
         Some((id, closed))
     }
+
+    /// How many places are held.
+    #[cfg(test)]
+    fn len(places: &Mutex<Places>) -> usize {
+        places.lock().unwrap_or_else(PoisonError::into_inner).held.len()
+    }
 }
 
-/// Which of the connections open now (their addresses, oldest first) a newcomer from `newcomer`
-/// pushes out of a full listener: the oldest of the address holding the most, if that address holds
-/// at least two more than the newcomer's (after the swap the newcomer's holds no more than it does);
-/// `None` where no address holds that many, so the newcomer is refused. Fair shares: addresses
-/// holding every connection between them give way, one at a time, to addresses holding fewer, and
-/// never to one of themselves.
+/// Which of the places held now (their holders' addresses, oldest first: connections, or event
+/// streams) a newcomer from `newcomer` pushes out when all are taken: the oldest of the address
+/// holding the most, if that address holds at least two more than the newcomer's (after the swap the
+/// newcomer's holds no more than it does); `None` where no address holds that many, so the newcomer
+/// is refused. Fair shares: addresses holding every place between them give way, one at a time, to
+/// addresses holding fewer, and never to one of themselves.
 #[must_use]
 pub fn push_out(open: &[IpAddr], newcomer: IpAddr) -> Option<usize> {
     let count = |ip: IpAddr| open.iter().filter(|&&a| a == ip).count();
@@ -173,22 +180,22 @@ pub fn push_out(open: &[IpAddr], newcomer: IpAddr) -> Option<usize> {
     (most >= mine + 2).then(|| open.iter().position(|&a| a == top)).flatten()
 }
 
-/// One open connection's place in [`Open`], given up when the connection ends.
+/// One place in [`Places`], given up when its holder ends.
 struct Held {
-    open: Arc<Mutex<Open>>,
+    places: Arc<Mutex<Places>>,
     id: u64,
 }
 
 impl Drop for Held {
     fn drop(&mut self) {
-        let mut open = self.open.lock().unwrap_or_else(PoisonError::into_inner);
-        open.held.retain(|&(id, _, _)| id != self.id);
+        let mut places = self.places.lock().unwrap_or_else(PoisonError::into_inner);
+        places.held.retain(|&(id, _, _)| id != self.id);
     }
 }
 
 type Body = http_body_util::combinators::BoxBody<Bytes, Infallible>;
 
-fn answer(site: &Arc<Site>, request: &Request<Incoming>) -> Response<Body> {
+fn answer(site: &Arc<Site>, request: &Request<Incoming>, peer: IpAddr) -> Response<Body> {
     use http_body_util::BodyExt as _;
     let head = request.method() == Method::HEAD;
     let respond = |status: StatusCode, content_type: &'static str, body: String| {
@@ -221,7 +228,7 @@ fn answer(site: &Arc<Site>, request: &Request<Incoming>) -> Response<Body> {
         "/maze.json" => respond(StatusCode::OK, "application/json", site.maze.clone()),
         "/best-run.json" => respond(StatusCode::OK, "application/json", (site.best_run)()),
         "/events" if head => respond(StatusCode::OK, "text/event-stream", String::new()),
-        "/events" => match events(site) {
+        "/events" => match events(site, peer) {
             Some(body) => {
                 let mut response = Response::new(body);
                 let headers = response.headers_mut();
@@ -245,19 +252,17 @@ fn answer(site: &Arc<Site>, request: &Request<Incoming>) -> Response<Body> {
     }
 }
 
-/// An event stream: the players now, then again at each change of the world (at most
-/// [`EVENT_RATE`] a second), a comment every [`EVENT_KEEPALIVE`] otherwise. `None` past
-/// [`MAX_EVENT_CLIENTS`].
-fn events(site: &Arc<Site>) -> Option<Body> {
+/// An event stream for a reader at `peer`: the players now, then again at each change of the world
+/// (at most [`EVENT_RATE`] a second), a comment every [`EVENT_KEEPALIVE`] otherwise. `None` past
+/// [`MAX_EVENT_CLIENTS`] where the newcomer pushes no other stream out ([`push_out`]).
+fn events(site: &Arc<Site>, peer: IpAddr) -> Option<Body> {
     use http_body_util::BodyExt as _;
-    if site.streams.fetch_add(1, Ordering::SeqCst) >= MAX_EVENT_CLIENTS {
-        site.streams.fetch_sub(1, Ordering::SeqCst);
-        return None;
-    }
+    let (id, mut pushed_out) = Places::admit(&site.streams, peer, MAX_EVENT_CLIENTS)?;
+    let held = Held { places: Arc::clone(&site.streams), id };
     let (tx, rx) = tokio::sync::mpsc::channel::<Bytes>(EVENT_BUFFER);
     let site = Arc::clone(site);
     tokio::spawn(async move {
-        let _stream = Stream(Arc::clone(&site));
+        let _stream = held;
         let mut versions = site.versions.clone();
         let mut shutdown = site.shutdown.clone();
         // (The browser reconnects this soon after the connection's lifetime ends it.)
@@ -273,6 +278,7 @@ fn events(site: &Arc<Site>) -> Option<Body> {
             tokio::select! {
                 () = tokio::time::sleep(Duration::from_secs(1) / EVENT_RATE) => {}
                 () = tx.closed() => return,
+                _ = &mut pushed_out => return, // a reader from an address holding fewer took its place
             }
             tokio::select! {
                 changed = versions.changed() => if changed.is_err() { return },
@@ -283,6 +289,7 @@ fn events(site: &Arc<Site>) -> Option<Body> {
                 }
                 _ = shutdown.wait_for(|&s| s) => return,
                 () = tx.closed() => return,
+                _ = &mut pushed_out => return,
             }
         }
     });
@@ -290,15 +297,6 @@ fn events(site: &Arc<Site>) -> Option<Body> {
         rx.recv().await.map(|bytes| (Ok(hyper::body::Frame::data(bytes)), rx))
     });
     Some(http_body_util::StreamBody::new(frames).boxed())
-}
-
-/// Counts an event stream while it lives.
-struct Stream(Arc<Site>);
-
-impl Drop for Stream {
-    fn drop(&mut self) {
-        self.0.streams.fetch_sub(1, Ordering::SeqCst);
-    }
 }
 
 /// Points of the best run's path on the page's map, at most (a longer run is thinned evenly).
@@ -410,7 +408,7 @@ mod tests {
             versions,
             players: Box::new(|| "{}".into()),
             best_run: Box::new(|| best_run_json(None)),
-            streams: AtomicUsize::new(0),
+            streams: Arc::default(),
             shutdown,
         }
     }
@@ -488,6 +486,34 @@ mod tests {
         task.await.expect("the listener ends");
     }
 
+    /// Event streams are shared out as connections are: one address holding every stream gives one
+    /// up to a reader from another address (that stream ends), never to itself.
+    #[tokio::test]
+    async fn one_address_holding_every_event_stream_gives_way_to_another() {
+        use http_body_util::BodyExt as _;
+        let (_version, versions) = watch::channel(0u64);
+        let (_stop, shutdown) = watch::channel(false);
+        let site = Arc::new(bare_site(versions, shutdown));
+        let mut held: Vec<Body> =
+            (0..MAX_EVENT_CLIENTS).map(|_| events(&site, ip(1)).expect("a stream within the cap")).collect();
+        assert_eq!(Places::len(&site.streams), MAX_EVENT_CLIENTS);
+        assert!(events(&site, ip(1)).is_none(), "the same address: refused (503)");
+        let mut newcomer = events(&site, ip(2)).expect("another address's reader gets a stream");
+        assert_eq!(Places::len(&site.streams), MAX_EVENT_CLIENTS, "one of ip 1's gave way");
+        // the newcomer's stream runs; the oldest of the flood's ends after what it was sent
+        let first = tokio::time::timeout(Duration::from_secs(5), newcomer.frame()).await;
+        assert!(first.is_ok_and(|f| f.is_some()), "the newcomer's first event");
+        let mut oldest = held.remove(0);
+        let ended = tokio::time::timeout(Duration::from_secs(5), async {
+            while let Some(frame) = oldest.frame().await {
+                assert!(frame.is_ok());
+            }
+        })
+        .await;
+        assert!(ended.is_ok(), "the flood's oldest stream ended");
+        drop((held, newcomer));
+    }
+
     /// A reader that never reads: its stream holds [`EVENT_BUFFER`] events, then ends (the count of
     /// streams goes back down) however often the world changes; nothing more is buffered for it.
     #[tokio::test]
@@ -495,11 +521,11 @@ mod tests {
         let (version, versions) = watch::channel(0u64);
         let (_stop, shutdown) = watch::channel(false);
         let site = Arc::new(bare_site(versions, shutdown));
-        let body = events(&site).expect("a stream");
-        assert_eq!(site.streams.load(Ordering::SeqCst), 1);
+        let body = events(&site, ip(1)).expect("a stream");
+        assert_eq!(Places::len(&site.streams), 1);
         let deadline = tokio::time::Instant::now() + Duration::from_secs(20);
         let mut changes = 0;
-        while site.streams.load(Ordering::SeqCst) > 0 {
+        while Places::len(&site.streams) > 0 {
             assert!(tokio::time::Instant::now() < deadline, "still streaming after {changes} changes");
             version.send_modify(|v| *v += 1);
             changes += 1;

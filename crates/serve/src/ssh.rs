@@ -607,7 +607,7 @@ impl Server {
             best_run: Box::new(move || {
                 crate::http::best_run_json(records.as_ref().and_then(|r| r.best_run()).as_deref())
             }),
-            streams: AtomicUsize::new(0),
+            streams: Arc::default(),
             shutdown: self.shared.shutdown.clone(),
         };
         let (local, _task) = crate::http::start(addr, site).await?;
