@@ -157,10 +157,16 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
                     std::net::IpAddr::V6(ip) => format!("{ip}"),
                     ip => ip.to_string(),
                 };
-                writeln!(out, "players connect with: ssh -p {} {host}", addr.port())
+                writeln!(out, "players connect with: ssh -p {} {host}", addr.port())?;
+                if args.max_spectators > 0 {
+                    writeln!(out, "spectators watch with: ssh -p {} watch@{host}", addr.port())?;
+                }
+                Ok(())
             })
             .and_then(|()| match http {
-                Some(http) => writeln!(out, "metrics at http://{http}/metrics"),
+                Some(http) => {
+                    writeln!(out, "status page at http://{http}/\nmetrics at http://{http}/metrics")
+                }
                 None => Ok(()),
             })
             .and_then(|()| match &args.record_dir {
