@@ -7,8 +7,9 @@
 //! [`MAX_CELLS`] cells. A spot is free when a viewer can stand there (at least the walk's wall margin
 //! from every wall) and every other player is at least a cell away (the spot's cell's narrower side;
 //! issue #39: three players spawned a metre apart in one cell, the second seeing only the first's
-//! back). The first free spot of the nearest ring of cells is taken, the one nearest the start (of
-//! equally near ones, the one most behind the start's heading); with none a cell apart, the first at
+//! back). The first free spot of the nearest ring of cells is taken: a cell's centre (not a spot on a
+//! cell's edge, where the floor's and ceiling's cell lines cut the view), then the one nearest the
+//! start (of equally near ones, the one most behind the start's heading); with none a cell apart, the first at
 //! least [`SPACING`] from everyone; with none of those (a crowd of hundreds in a small maze), the spot
 //! farthest from everyone. A newcomer away from the start faces its cell's longest straight way on
 //! (the opening through which the most cells follow in a line), not a wall or another's back.
@@ -73,16 +74,18 @@ impl Spawns {
                         spots_in(maze, cell, start.pos).into_iter().map(move |at| Spot { at, apart, heading })
                     })
                     .collect();
-                // nearest the start first; of equally near, the one most behind it (out of the view
-                // of whoever stands on the start, with them in view)
+                // cells' centres first (not a spot on a cell's edge, the view cut by the floor's and
+                // ceiling's cell lines); then nearest the start; of equally near, the one most behind
+                // it (out of the view of whoever stands on the start, with them in view)
                 let ahead = heading_dir(maze.viewer().dir_deg);
                 let key = |p: &Spot| {
                     let d = p.at.pos - start.pos;
-                    ((d.length() / LATTICE * 4.0).round() as i64, d.dot(ahead))
+                    let off_centre = p.at.pos.distance(maze.cell_centroid(p.at.cell)) > 1e-3;
+                    (off_centre, (d.length() / LATTICE * 4.0).round() as i64, d.dot(ahead))
                 };
                 spots.sort_by(|a, b| {
                     let (ka, kb) = (key(a), key(b));
-                    ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
+                    ka.0.cmp(&kb.0).then(ka.1.cmp(&kb.1)).then(ka.2.total_cmp(&kb.2))
                 });
                 spots
             })
@@ -180,8 +183,8 @@ fn rings(maze: &Maze, start: u32) -> Vec<Vec<u32>> {
     rings
 }
 
-/// The lattice spots of `cell` where a viewer stands (anchored at `anchor`, nearest it first when the
-/// cell is too large to try every spot).
+/// The spots of `cell` where a viewer stands: its centre, then the lattice's (anchored at `anchor`,
+/// nearest it first when the cell is too large to try every spot).
 fn spots_in(maze: &Maze, cell: u32, anchor: Vec2) -> Vec<Position> {
     let bounds = maze.cell_aabb(cell);
     let steps = |lo: f32, hi: f32, at: f32| {
@@ -200,8 +203,10 @@ fn spots_in(maze: &Maze, cell: u32, anchor: Vec2) -> Vec<Position> {
         }
     }
     points.sort_by(|a, b| a.distance_squared(anchor).total_cmp(&b.distance_squared(anchor)));
-    points
-        .into_iter()
+    let centre = maze.cell_centroid(cell);
+    points.retain(|p| p.distance(centre) > 1e-3);
+    std::iter::once(centre)
+        .chain(points)
         .filter(|&p| maze.cell_contains(cell, p))
         .take(MAX_SPOTS_PER_CELL)
         .filter_map(|p| stand(maze, p).filter(|s| s.pos.distance(p) < 1e-3)) // no wall within the margin
@@ -269,6 +274,27 @@ mod tests {
         };
         let best = [Vec2::X, Vec2::Y, -Vec2::X, -Vec2::Y].into_iter().map(straight_on).max().unwrap();
         assert_eq!(straight_on(way.round()), best, "heading {heading}° from {:?}", second.at.pos);
+    }
+
+    /// A tester's fourth newcomer in a generated maze stood on a cell's edge, (10, 4), the view cut by
+    /// the floor's and ceiling's cell lines: while cells a cell apart are free, newcomers get their
+    /// centres.
+    #[test]
+    fn newcomers_stand_at_cells_centres_while_there_are_free_ones() {
+        use mazewalk_maze::generate::{GenOptions, generate};
+        let maze = generate(&GenOptions::walk(30, 20, 7)).unwrap();
+        let spawns = Spawns::new(&maze).unwrap();
+        let mut here: Vec<Vec2> = Vec::new();
+        for n in 0..24 {
+            let spot = spawns.pick(&here);
+            let centre = maze.cell_centroid(spot.at.cell);
+            assert!(
+                spot.at.pos.distance(centre) < 1e-3,
+                "newcomer {n} at {:?}, its cell's centre {centre:?}",
+                spot.at.pos
+            );
+            here.push(spot.at.pos);
+        }
     }
 
     #[test]
