@@ -162,24 +162,24 @@ fn shortest_move(
 }
 
 /// The first of the shortest horizontal steps from column `col` to column `x`, in the order
-/// [`shortest_move`] searches them, and its bytes.
+/// [`shortest_move`] searches them (`Stay`, `\r`, `CUF`, `CUB`, backspaces, `CHA`), and its bytes;
+/// by cases rather than by pricing each (the tests hold [`shortest_move`] to the search of all
+/// steps). Right: `CUF` never has more digits than `CHA` (the distance is below the column). Left to
+/// column 0: `\r`, one byte. Left by one to three: as many backspaces, shorter than `CUB` (3–4
+/// bytes) and `CHA` (at least 4 past column 0). Further left: `CUB`, unless `CHA` has fewer digits.
+#[inline]
 fn shortest_horizontal(col: usize, x: usize) -> (usize, Horizontal) {
-    let horizontals = [
-        Some(Horizontal::Stay).filter(|_| col == x),
-        Some(Horizontal::Cr).filter(|_| x == 0 && col != 0),
-        Some(Horizontal::Right(x.wrapping_sub(col))).filter(|_| x > col),
-        Some(Horizontal::Left(col.wrapping_sub(x))).filter(|_| x < col),
-        Some(Horizontal::Back(col.wrapping_sub(x))).filter(|_| x < col && col - x <= 3),
-        Some(Horizontal::Column(x)).filter(|_| x != col),
-    ];
-    let mut best = (usize::MAX, Horizontal::Stay); // (one is always there: `Stay` or `Column`)
-    for horizontal in horizontals.into_iter().flatten() {
-        let len = horizontal_len(horizontal);
-        if len < best.0 {
-            best = (len, horizontal);
+    use std::cmp::Ordering::{Equal, Greater, Less};
+    match x.cmp(&col) {
+        Equal => (0, Horizontal::Stay),
+        Greater => (csi_len(x - col, 1), Horizontal::Right(x - col)),
+        Less if x == 0 => (1, Horizontal::Cr),
+        Less if col - x <= 3 => (col - x, Horizontal::Back(col - x)),
+        Less => {
+            let (left, column) = (csi_len(col - x, 1), csi_len(x + 1, 1));
+            if column < left { (column, Horizontal::Column(x)) } else { (left, Horizontal::Left(col - x)) }
         }
     }
-    best
 }
 
 /// The bytes of [`write_relative`].
@@ -200,6 +200,7 @@ fn vertical_len(from_x: usize, vertical: Vertical) -> usize {
 }
 
 /// The bytes of a horizontal step (the second part of a relative move's bytes).
+#[cfg(test)]
 fn horizontal_len(horizontal: Horizontal) -> usize {
     match horizontal {
         Horizontal::Stay => 0,
