@@ -113,6 +113,7 @@ pub(super) fn move_bound(from: Option<(usize, usize)>, x: usize, y: usize) -> us
 
 /// The vertical steps from row `cy` to row `y` a move may begin with, in the order a tie is broken
 /// by (the first of the shortest wins); `None` where a step does not apply.
+#[cfg(test)]
 fn vertical_steps(cy: usize, y: usize) -> [Option<Vertical>; 6] {
     [
         Some(Vertical::Stay).filter(|_| cy == y),
@@ -140,22 +141,34 @@ fn shortest_move(
         // The diff's usual move, on along the row: `CUF` is shorter than `CHA` (fewer digits) and `CUP`.
         return (csi_len(x - cx, 1), Some((Vertical::Stay, Horizontal::Right(x - cx))));
     }
-    let verticals = vertical_steps(cy, y);
     // Every vertical step, each followed by every horizontal one, in this order; the first of the
     // shortest pairs wins (`CUP` before them all). A pair's bytes are its vertical's plus its
     // horizontal's, and the horizontals after a vertical depend only on the column it leaves the
     // cursor in (0 after `\r\n`, else the cursor's): so a vertical's first shortest pair is it
-    // with the first shortest horizontal from that column, found once per column
-    // (`tests::the_shortest_move_is_the_first_of_the_shortest_of_all_pairs` holds it to the
-    // search of all pairs).
+    // with the first shortest horizontal from that column. Of the verticals that leave the column
+    // as it is, one is never beaten by those after it: down by one to three, vertical tabs (a byte
+    // each: `CUD` is 3–4 bytes, `VPA` at least 4 below the top row); further down, `CUD`, whose
+    // distance has no more digits than `VPA`'s row. Up, `CUU` and `VPA` both.
+    // (`tests::the_shortest_move_is_the_first_of_the_shortest_of_all_pairs` holds it to the search
+    // of all pairs.)
     let from_cursor = shortest_horizontal(cx, x);
     let mut best: (usize, Option<(Vertical, Horizontal)>) = (cup_len(x, y), None);
-    for vertical in verticals.into_iter().flatten() {
-        let (across, horizontal) =
-            if matches!(vertical, Vertical::CrLf(_)) { shortest_horizontal(0, x) } else { from_cursor };
+    let mut consider = |vertical: Vertical, (across, horizontal): (usize, Horizontal)| {
         let len = vertical_len(cx, vertical) + across;
         if len < best.0 {
             best = (len, Some((vertical, horizontal)));
+        }
+    };
+    match y.cmp(&cy) {
+        std::cmp::Ordering::Equal => consider(Vertical::Stay, from_cursor),
+        std::cmp::Ordering::Greater => {
+            let down = y - cy;
+            consider(Vertical::CrLf(down), shortest_horizontal(0, x));
+            consider(if down <= 3 { Vertical::Vt(down) } else { Vertical::Down(down) }, from_cursor);
+        }
+        std::cmp::Ordering::Less => {
+            consider(Vertical::Up(cy - y), from_cursor);
+            consider(Vertical::Row(y), from_cursor);
         }
     }
     best
