@@ -136,10 +136,11 @@ impl PackedColor {
         self.cheapest_truecolor(tolerance)
     }
 
-    /// [`PackedColor::cheapest`] of a truecolor colour, from the thread's memo or searched. Out of
-    /// line: the encoder's 256-colour frames then pay only the check above (`turn_frames 256 120 40
-    /// 2 rep turn`: 1.005× `74feba5`'s encoder instructions; truecolor turning 1.02× of it inlined).
-    #[inline(never)]
+    /// [`PackedColor::cheapest`] of a truecolor colour, from the thread's memo or searched. Inlined,
+    /// the search out of line ([`search_into`]): with the memo in [`Cell`](std::cell::Cell)s a hit
+    /// is a few instructions (`turn_frames truecolor 120 40 2 rep turn`: 0.96× the encoder's
+    /// instructions out of line; 256 colours 1.00×).
+    #[inline]
     fn cheapest_truecolor(self, tolerance: u8) -> PackedColor {
         let word = self.0.get();
         // (An RGB word with the tolerance in its kind byte: never zero, the empty slot.)
