@@ -138,8 +138,8 @@ impl PackedColor {
 
     /// [`PackedColor::cheapest`] of a truecolor colour, from the thread's memo or searched. Inlined,
     /// the search out of line ([`search_into`]): with the memo in [`Cell`](std::cell::Cell)s a hit
-    /// is a few instructions (`turn_frames truecolor 120 40 2 rep turn`: 0.96× the encoder's
-    /// instructions out of line; 256 colours 1.00×).
+    /// is a few instructions (`turn_frames truecolor 120 40 2 rep turn`: the encoder's instructions
+    /// 0.96× those with it out of line; 256 colours 1.00×).
     #[inline]
     fn cheapest_truecolor(self, tolerance: u8) -> PackedColor {
         let word = self.0.get();
