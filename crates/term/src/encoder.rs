@@ -1186,9 +1186,38 @@ fn inverse_of(pen: &Pen, cell: &PackedCell) -> Option<PackedCell> {
 /// The form `cell` goes in from `pen` and its colour change: of the cell and its [`PackedCell::inverse`]
 /// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
 /// are within `tolerance` of the cell's; and, where a tolerance applies, a blank or a full block in one colour
-/// within `tolerance` of both halves of a half-block cell where that is fewer bytes.
+/// within `tolerance` of both halves of a half-block cell where that is fewer bytes. The last one
+/// found is remembered ([`LAST_FORM`]).
 fn cell_form(pen: &Pen, cell: &PackedCell, tolerance: u8) -> (PackedCell, Sgr) {
-    find_form(pen, cell, tolerance, true)
+    let key = FormKey { fg: pen.fg, bg: pen.bg, blocks: pen.blocks, cell: *cell, tolerance };
+    LAST_FORM.with(|last| match last.get() {
+        Some((held, form)) if held == key => form,
+        _ => {
+            let form = find_form(pen, cell, tolerance, true);
+            last.set(Some((key, form)));
+            form
+        }
+    })
+}
+
+/// All that [`find_form`] reads: the pen's colours and whether it draws blocks (not its cursor),
+/// the cell and the tolerance.
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct FormKey {
+    fg: Option<PackedColor>,
+    bg: Option<PackedColor>,
+    blocks: bool,
+    cell: PackedCell,
+    tolerance: u8,
+}
+
+thread_local! {
+    /// The last form [`cell_form`] found on this thread, by all it read ([`FormKey`]): a pure
+    /// function of them, it changes no answer. The diff often asks one cell's form twice or three
+    /// times in a row from the same pen: the run after a cell ([`repeat`]) stops at the next changed
+    /// cell, whose form the detours ask next ([`detours`]) and then the move to it ([`reach`]).
+    static LAST_FORM: std::cell::Cell<Option<(FormKey, (PackedCell, Sgr))>> =
+        const { std::cell::Cell::new(None) };
 }
 
 /// [`cell_form`]; `shortcut`: skip the inverse forms where they cannot win (false: the whole
@@ -1755,6 +1784,47 @@ mod tests {
         for colors in [&truecolor[..], &palette[..], &short[..]] {
             form_search_cases(colors);
         }
+    }
+
+    /// The form remembered ([`LAST_FORM`]) is the form found: calls one after another whose inputs
+    /// differ in one thing each (the pen's ink, its paper, whether it draws blocks, the cell's glyph
+    /// or a colour, the tolerance) or in nothing [`find_form`] reads (the cursor) answer as
+    /// [`find_form`] does, and each call leaves its own inputs remembered.
+    #[test]
+    fn a_remembered_cell_form_is_the_form_found() {
+        let (near, far) = (Color::Rgb(100, 50, 200), Color::Rgb(101, 51, 199));
+        let colors =
+            [near, far, Color::Rgb(30, 220, 9), Color::Indexed(59), Color::Indexed(241), Color::Default];
+        let mut calls = 0;
+        for ch in [' ', '█', '▀', 'x'] {
+            for (&fg, &bg) in colors.iter().flat_map(|f| colors.iter().map(move |b| (f, b))) {
+                let cell = PackedCell::pack(&Cell { ch, fg, bg });
+                let base = pen(Some((3, 1)), Some(near), Some(far));
+                let variants = [
+                    (base, cell, 2),
+                    (Pen { cursor: Some((4, 1)), ..base }, cell, 2),
+                    (Pen { blocks: false, ..base }, cell, 2),
+                    (base, cell, 0),
+                    (base, cell, 3),
+                    (Pen { fg: Some(PackedColor::pack(bg)), ..base }, cell, 2),
+                    (Pen { bg: Some(PackedColor::pack(fg)), ..base }, cell, 2),
+                    (Pen { fg: None, ..base }, cell, 2),
+                    (base, PackedCell { ch: '▄', ..cell }, 2),
+                    (base, PackedCell { fg: cell.bg, ..cell }, 2),
+                    (base, PackedCell { bg: cell.fg, ..cell }, 2),
+                ];
+                // Each variant after the base and the base after it: one input changed each time.
+                for (pen, cell, tolerance) in variants.into_iter().flat_map(|v| [variants[0], v]) {
+                    let (remembered, found) =
+                        (cell_form(&pen, &cell, tolerance), find_form(&pen, &cell, tolerance, true));
+                    assert_eq!(format!("{remembered:?}"), format!("{found:?}"), "{cell:?} from {pen:?}");
+                    let key = FormKey { fg: pen.fg, bg: pen.bg, blocks: pen.blocks, cell, tolerance };
+                    assert!(LAST_FORM.get().is_some_and(|(held, _)| held == key));
+                    calls += 1;
+                }
+            }
+        }
+        assert_eq!(calls, 4 * 36 * 22);
     }
 
     fn form_search_cases(colors: &[Color]) {

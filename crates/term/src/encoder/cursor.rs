@@ -113,6 +113,7 @@ pub(super) fn move_bound(from: Option<(usize, usize)>, x: usize, y: usize) -> us
 
 /// The vertical steps from row `cy` to row `y` a move may begin with, in the order a tie is broken
 /// by (the first of the shortest wins); `None` where a step does not apply.
+#[cfg(test)]
 fn vertical_steps(cy: usize, y: usize) -> [Option<Vertical>; 6] {
     [
         Some(Vertical::Stay).filter(|_| cy == y),
@@ -140,46 +141,58 @@ fn shortest_move(
         // The diff's usual move, on along the row: `CUF` is shorter than `CHA` (fewer digits) and `CUP`.
         return (csi_len(x - cx, 1), Some((Vertical::Stay, Horizontal::Right(x - cx))));
     }
-    let verticals = vertical_steps(cy, y);
     // Every vertical step, each followed by every horizontal one, in this order; the first of the
     // shortest pairs wins (`CUP` before them all). A pair's bytes are its vertical's plus its
     // horizontal's, and the horizontals after a vertical depend only on the column it leaves the
     // cursor in (0 after `\r\n`, else the cursor's): so a vertical's first shortest pair is it
-    // with the first shortest horizontal from that column, found once per column
-    // (`tests::the_shortest_move_is_the_first_of_the_shortest_of_all_pairs` holds it to the
-    // search of all pairs).
+    // with the first shortest horizontal from that column. Of the verticals that leave the column
+    // as it is, one is never beaten by those after it: down by one to three, vertical tabs (a byte
+    // each: `CUD` is 3–4 bytes, `VPA` at least 4 below the top row); further down, `CUD`, whose
+    // distance has no more digits than `VPA`'s row. Up, `CUU` and `VPA` both.
+    // (`tests::the_shortest_move_is_the_first_of_the_shortest_of_all_pairs` holds it to the search
+    // of all pairs.)
     let from_cursor = shortest_horizontal(cx, x);
     let mut best: (usize, Option<(Vertical, Horizontal)>) = (cup_len(x, y), None);
-    for vertical in verticals.into_iter().flatten() {
-        let (across, horizontal) =
-            if matches!(vertical, Vertical::CrLf(_)) { shortest_horizontal(0, x) } else { from_cursor };
+    let mut consider = |vertical: Vertical, (across, horizontal): (usize, Horizontal)| {
         let len = vertical_len(cx, vertical) + across;
         if len < best.0 {
             best = (len, Some((vertical, horizontal)));
+        }
+    };
+    match y.cmp(&cy) {
+        std::cmp::Ordering::Equal => consider(Vertical::Stay, from_cursor),
+        std::cmp::Ordering::Greater => {
+            let down = y - cy;
+            consider(Vertical::CrLf(down), shortest_horizontal(0, x));
+            consider(if down <= 3 { Vertical::Vt(down) } else { Vertical::Down(down) }, from_cursor);
+        }
+        std::cmp::Ordering::Less => {
+            consider(Vertical::Up(cy - y), from_cursor);
+            consider(Vertical::Row(y), from_cursor);
         }
     }
     best
 }
 
 /// The first of the shortest horizontal steps from column `col` to column `x`, in the order
-/// [`shortest_move`] searches them, and its bytes.
+/// [`shortest_move`] searches them (`Stay`, `\r`, `CUF`, `CUB`, backspaces, `CHA`), and its bytes;
+/// by cases rather than by pricing each (the tests hold [`shortest_move`] to the search of all
+/// steps). Right: `CUF` never has more digits than `CHA` (the distance is below the column). Left to
+/// column 0: `\r`, one byte. Left by one to three: as many backspaces, shorter than `CUB` (3–4
+/// bytes) and `CHA` (at least 4 past column 0). Further left: `CUB`, unless `CHA` has fewer digits.
+#[inline]
 fn shortest_horizontal(col: usize, x: usize) -> (usize, Horizontal) {
-    let horizontals = [
-        Some(Horizontal::Stay).filter(|_| col == x),
-        Some(Horizontal::Cr).filter(|_| x == 0 && col != 0),
-        Some(Horizontal::Right(x.wrapping_sub(col))).filter(|_| x > col),
-        Some(Horizontal::Left(col.wrapping_sub(x))).filter(|_| x < col),
-        Some(Horizontal::Back(col.wrapping_sub(x))).filter(|_| x < col && col - x <= 3),
-        Some(Horizontal::Column(x)).filter(|_| x != col),
-    ];
-    let mut best = (usize::MAX, Horizontal::Stay); // (one is always there: `Stay` or `Column`)
-    for horizontal in horizontals.into_iter().flatten() {
-        let len = horizontal_len(horizontal);
-        if len < best.0 {
-            best = (len, horizontal);
+    use std::cmp::Ordering::{Equal, Greater, Less};
+    match x.cmp(&col) {
+        Equal => (0, Horizontal::Stay),
+        Greater => (csi_len(x - col, 1), Horizontal::Right(x - col)),
+        Less if x == 0 => (1, Horizontal::Cr),
+        Less if col - x <= 3 => (col - x, Horizontal::Back(col - x)),
+        Less => {
+            let (left, column) = (csi_len(col - x, 1), csi_len(x + 1, 1));
+            if column < left { (column, Horizontal::Column(x)) } else { (left, Horizontal::Left(col - x)) }
         }
     }
-    best
 }
 
 /// The bytes of [`write_relative`].
@@ -200,6 +213,7 @@ fn vertical_len(from_x: usize, vertical: Vertical) -> usize {
 }
 
 /// The bytes of a horizontal step (the second part of a relative move's bytes).
+#[cfg(test)]
 fn horizontal_len(horizontal: Horizontal) -> usize {
     match horizontal {
         Horizontal::Stay => 0,

@@ -136,21 +136,19 @@ impl PackedColor {
         self.cheapest_truecolor(tolerance)
     }
 
-    /// [`PackedColor::cheapest`] of a truecolor colour, from the thread's memo or searched. Out of
-    /// line: the encoder's 256-colour frames then pay only the check above (`turn_frames 256 120 40
-    /// 2 rep turn`: 1.005× `74feba5`'s encoder instructions; truecolor turning 1.02× of it inlined).
-    #[inline(never)]
+    /// [`PackedColor::cheapest`] of a truecolor colour, from the thread's memo or searched. Inlined,
+    /// the search out of line ([`search_into`]): with the memo in [`Cell`](std::cell::Cell)s a hit
+    /// is a few instructions (`turn_frames truecolor 120 40 2 rep turn`: the encoder's instructions
+    /// 0.96× those with it out of line; 256 colours 1.00×).
+    #[inline]
     fn cheapest_truecolor(self, tolerance: u8) -> PackedColor {
         let word = self.0.get();
         // (An RGB word with the tolerance in its kind byte: never zero, the empty slot.)
         let key = word & 0x00ff_ffff | u32::from(tolerance) << 24;
         let slot = (key.wrapping_mul(0x9E37_79B1) >> (32 - CHEAPEST_SLOTS.trailing_zeros())) as usize;
-        let found = CHEAPEST.with_borrow_mut(|memo| {
-            let entry = &mut memo[slot];
-            if entry.0 != key {
-                *entry = (key, search_cheapest(word, tolerance));
-            }
-            entry.1
+        let found = CHEAPEST.with(|memo| {
+            let (held, found) = memo[slot].get();
+            if held == key { found } else { search_into(&memo[slot], key, word, tolerance) }
         });
         PackedColor(NonZeroU32::new(found).unwrap_or(self.0))
     }
@@ -254,8 +252,18 @@ const CHEAPEST_SLOTS: usize = 1 << 12;
 thread_local! {
     /// [`PackedColor::cheapest`]'s answers lately on this thread, by a hash of the colour and the
     /// tolerance (0: empty). A pure function of them: it changes no answer.
-    static CHEAPEST: std::cell::RefCell<[(u32, u32); CHEAPEST_SLOTS]> =
-        const { std::cell::RefCell::new([(0, 0); CHEAPEST_SLOTS]) };
+    static CHEAPEST: [std::cell::Cell<(u32, u32)>; CHEAPEST_SLOTS] =
+        const { [const { std::cell::Cell::new((0, 0)) }; CHEAPEST_SLOTS] };
+}
+
+/// [`search_cheapest`] of `word`, put in [`CHEAPEST`]'s `entry` under `key` (the memo's miss: out
+/// of line, so that its hit stays small).
+#[cold]
+#[inline(never)]
+fn search_into(entry: &std::cell::Cell<(u32, u32)>, key: u32, word: u32, tolerance: u8) -> u32 {
+    let found = search_cheapest(word, tolerance);
+    entry.set((key, found));
+    found
 }
 
 /// Whether `a[0]` is within `tolerance` of `b[0]` and `a[1]` of `b[1]` ([`PackedColor::within`]),
@@ -326,24 +334,34 @@ thread_local! {
     /// The OKLab of the colours met lately on this thread, by a hash of the word (0: empty; no
     /// truecolor word is 0). A frame has a few thousand colours and the encoder asks about each
     /// several times (against the screen, the pen, its other half), at a fifth of a conversion's cost.
-    /// What it holds is a pure function of the word: it changes no answer.
-    static MEMO: std::cell::RefCell<[(u32, [f32; 3]); MEMO_SLOTS]> =
-        const { std::cell::RefCell::new([(0, [0.0; 3]); MEMO_SLOTS]) };
+    /// What it holds is a pure function of the word: it changes no answer. Cells rather than a
+    /// `RefCell`: a lookup checks and sets no borrow flag, and with the conversion out of line
+    /// ([`convert_into`]) the visit is small enough to inline at most of the encoder's calls.
+    static MEMO: [std::cell::Cell<(u32, [f32; 3])>; MEMO_SLOTS] =
+        const { [const { std::cell::Cell::new((0, [0.0; 3])) }; MEMO_SLOTS] };
 }
 
 /// [`convert`] of the words, remembered ([`MEMO`]; one visit to the thread's memo for them all).
 #[inline]
 fn oklab<const N: usize>(words: [u32; N]) -> [[f32; 3]; N] {
-    MEMO.with_borrow_mut(|memo| {
+    MEMO.with(|memo| {
         words.map(|word| {
             let entry =
-                &mut memo[(word.wrapping_mul(0x9E37_79B1) >> (32 - MEMO_SLOTS.trailing_zeros())) as usize];
-            if entry.0 != word {
-                *entry = (word, convert(word));
-            }
-            entry.1
+                &memo[(word.wrapping_mul(0x9E37_79B1) >> (32 - MEMO_SLOTS.trailing_zeros())) as usize];
+            let (held, lab) = entry.get();
+            if held == word { lab } else { convert_into(entry, word) }
         })
     })
+}
+
+/// [`convert`] of `word`, put in the memo's `entry` (the memo's miss: out of line, so that its hit
+/// stays small).
+#[cold]
+#[inline(never)]
+fn convert_into(entry: &std::cell::Cell<(u32, [f32; 3])>, word: u32) -> [f32; 3] {
+    let lab = convert(word);
+    entry.set((word, lab));
+    lab
 }
 
 /// The OKLab coordinates (L, a, b) of a truecolor word `0x01RRGGBB` (Björn Ottosson's matrices,
