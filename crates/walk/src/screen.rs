@@ -74,7 +74,7 @@ pub struct Screen {
     pub help: Vec<String>,
     /// The page of the walk's own help shown ([`overlay::help_pages`]: where it does not fit whole).
     pub help_page: usize,
-    /// How many pages the walk's help had when last drawn (1 when it fit whole, or was not shown).
+    /// How many pages the walk's help had in the last frame (1 when it fit whole, or did not show).
     pub help_pages: usize,
     /// What the player list's header says closes it; empty: [`roster::CLOSE_HINT`] (a player's `Tab`).
     pub roster_hint: String,
@@ -179,7 +179,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     let (cols, rows) = (frame.width(), frame.height());
     let style = Style::new(app.options.charset, app.options.color_depth);
     if overlay::too_small(cols, rows) {
-        (screen.map, screen.stats) = (None, RenderStats::default());
+        (screen.map, screen.stats, screen.help_pages) = (None, RenderStats::default(), 1);
         overlay::draw_too_small(frame, style);
         return RenderStats::default();
     }
@@ -305,6 +305,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     over_view |= exit_box.is_some() || app.confirm_quit || app.help || screen.notice.is_some();
     let roster_open = screen.show_roster && !screen.roster.is_empty() && !app.confirm_quit;
     over_view |= roster_open;
+    let mut help_pages = 1;
     if let Some(seconds) = exit_box {
         // in a served maze, the news (who was first) shows in the box too, not hidden behind it
         let news = &screen.exit_news;
@@ -335,7 +336,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
             let served = !screen.roster.is_empty();
             let lines = overlay::help_lines_for(style, app.maze().exit().is_some(), served);
             let pages = overlay::help_pages(&lines, (cols, rows));
-            screen.help_pages = pages.len();
+            help_pages = pages.len();
             screen.help_page = screen.help_page.min(pages.len() - 1);
             overlay::draw_box(frame, title, &pages[screen.help_page], style);
         } else {
@@ -344,8 +345,10 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     } else if let Some(notice) = &screen.notice {
         overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
     }
+    // Space and PgDn turn its pages only while it shows (under another box, they are that box's)
+    screen.help_pages = help_pages;
     if !app.help {
-        (screen.help_page, screen.help_pages) = (0, 1); // opened again, it starts at its first page
+        screen.help_page = 0; // opened again, it starts at its first page
     }
     screen.stats = stats;
     draw_hud(app, screen, frame, hud); // last: boxes never hide it (its row's colours limited there)

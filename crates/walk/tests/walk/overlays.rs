@@ -565,6 +565,13 @@ fn a_help_too_tall_says_how_to_see_the_rest_and_its_pages_turn() {
     s.feed(b"?", 5.6);
     s.frame(5.6, &mut Vec::new());
     assert!(shown(&s).contains(&page(1)), "{}", shown(&s));
+    // under the player list its pages do not turn: Space there is not the help's
+    s.feed(b"\t", 5.8);
+    s.frame(5.8, &mut Vec::new());
+    assert!(shown(&s).contains("Players: 2") && !shown(&s).contains("next page"), "{}", shown(&s));
+    s.feed(b" \t", 6.0);
+    s.frame(6.0, &mut Vec::new());
+    assert!(shown(&s).contains(&page(1)), "{}", shown(&s));
 }
 
 // Bug: the player list opened over the News box left the news's first and last characters (an `a`,
