@@ -47,6 +47,9 @@ pub const HELP: [&str; 7] = [
     "q  Esc       stop watching",
 ];
 
+/// What the player list's header says closes it: a spectator's `Tab` is the next player.
+pub const ROSTER_HINT: &str = "p or Esc closes";
+
 /// What a server's spectators share: the maze's portal steps from the exit's cell to each cell (for
 /// the leader; `None`: no exit) and the views they draw ([`SharedViews`]).
 #[derive(Clone, Debug)]
@@ -155,6 +158,7 @@ impl Spectator {
         app.chalk = false;
         let mut session = served_session(app, term, (cols, rows), limits);
         session.set_help(HELP.iter().map(|line| (*line).to_string()).collect());
+        session.set_roster_hint(ROSTER_HINT);
         session.share_views(Arc::clone(&audience.views));
         session.set_notice(Some(WAITING.into()));
         session.set_players_in(Some(0));
@@ -560,6 +564,46 @@ mod tests {
         assert_eq!((s.shown(), s.follow()), (Some(leader), Follow::Leader));
         s.feed(b"q", 2.6);
         assert!(s.is_over());
+    }
+
+    // Bug: the spectator's player list said "Tab closes", but a spectator's Tab follows the next
+    // player and leaves the list open; `p` (and Esc) close it. The header says so, and does it.
+    #[test]
+    fn a_spectators_player_list_says_the_keys_that_close_it() {
+        let maze = Arc::new(mazewalk_maze::builtin().unwrap());
+        let mut s = spectator(&maze);
+        let mut world = World::new();
+        let start = maze.viewer().pos;
+        let ada = world.join("ada", start, 0.0, maze.cell_at(start).unwrap(), 0.0);
+        let ahead = start + Vec2::new(2.0, 0.0);
+        let bob = world.join("bob", ahead, 90.0, maze.cell_at(ahead).unwrap(), 0.0);
+        s.look(world.look(), 0.0);
+        let mut out = Vec::new();
+        let mut frame_at = |s: &mut Spectator, now: f64| {
+            s.feed(b"\x1b[?62;22c\x1b[?62;22c", now); // the terminal answered: frames may go
+            assert!(s.frame(now + 0.05, &mut out));
+            text(s)
+        };
+        s.feed(b"p", 0.1);
+        let open = frame_at(&mut s, 0.1);
+        assert!(open.contains("Players: 2") && open.contains(ROSTER_HINT), "{open}");
+        assert!(!open.contains("Tab closes"), "{open}");
+        // Tab: the next player, the list still open (as its header promises)
+        let before = s.shown();
+        s.feed(b"\t", 0.3);
+        assert_ne!(s.shown(), before);
+        assert!(s.shown() == Some(ada) || s.shown() == Some(bob));
+        let after_tab = frame_at(&mut s, 0.3);
+        assert!(s.session().roster_open() && after_tab.contains("Players: 2"), "{after_tab}");
+        // p closes it, as the header says; p again opens it, and Esc closes it too
+        s.feed(b"p", 0.5);
+        assert!(!s.session().roster_open());
+        assert!(!frame_at(&mut s, 0.5).contains("Players: 2"));
+        s.feed(b"p", 0.7);
+        assert!(s.session().roster_open());
+        s.feed(b"\x1b", 0.8);
+        s.frame(1.5, &mut Vec::new()); // a lone Esc, expired
+        assert!(!s.session().roster_open() && !s.is_over());
     }
 
     #[test]

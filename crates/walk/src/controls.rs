@@ -163,6 +163,13 @@ pub(crate) const HELP: &[(&str, &str)] = &[
     ("Ctrl-Z", "suspend (fg to come back)"),
 ];
 
+/// The key that only the local walk has ([`HELP`]'s last row): a served player's `Ctrl-Z` cannot stop
+/// a server, so its help leaves it out.
+pub(crate) const LOCAL_ONLY: &str = "Ctrl-Z";
+
+/// A served maze's own key, in its players' help instead of [`LOCAL_ONLY`]: the player list.
+pub(crate) const SERVED: (&str, &str) = ("Tab", "who is in the maze, their times");
+
 /// Without releases, a press closer than this (seconds) to the key's previous press is the terminal's
 /// auto-repeat: repeats come every 30–50 ms on common settings, and a person taps no faster than every
 /// 60 ms. Between the two, with room for a repeat arriving a few ms late and for a tap's gap computed in

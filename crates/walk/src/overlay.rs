@@ -8,7 +8,7 @@
 
 use glam::Vec2;
 
-use super::controls::HELP;
+use super::controls::{HELP, LOCAL_ONLY, SERVED};
 use mazewalk_maze::{Aabb, Maze};
 use mazewalk_render::Charset;
 use mazewalk_render::camera::Camera;
@@ -302,10 +302,53 @@ pub(crate) const GOAL: (&str, &str) = ("goal", "find the exit: E on the map, a g
 /// then the goal in a maze with an exit, then the keys.
 #[must_use]
 pub fn help_lines(style: Style, has_exit: bool) -> Vec<String> {
-    let rows: Vec<(&str, &str)> =
-        HELP[..2].iter().copied().chain(has_exit.then_some(GOAL)).chain(HELP[2..].iter().copied()).collect();
+    help_lines_for(style, has_exit, false)
+}
+
+/// [`help_lines`] for a walk that is `served` or not: a served player's help has the player list's
+/// `Tab` instead of `Ctrl-Z` (which cannot stop a server).
+#[must_use]
+pub fn help_lines_for(style: Style, has_exit: bool, served: bool) -> Vec<String> {
+    let keys = HELP[2..].iter().copied().filter(|(keys, _)| !served || *keys != LOCAL_ONLY);
+    let rows: Vec<(&str, &str)> = HELP[..2]
+        .iter()
+        .copied()
+        .chain(has_exit.then_some(GOAL))
+        .chain(keys)
+        .chain(served.then_some(SERVED))
+        .collect();
     let width = rows.iter().map(|(keys, _)| style.text(keys).chars().count()).max().unwrap_or(0);
     rows.iter().map(|(keys, what)| format!("{:<width$} {}", style.text(keys), style.text(what))).collect()
+}
+
+/// The keys that turn the help's pages (the last row of a paged help says them).
+pub const PAGE_KEYS: &str = "Space / PgDn";
+
+/// The help's `lines` as pages for a box over a frame `height` rows tall (the HUD's row included):
+/// one page when they all fit (with a row above and below the title and lines), else pages of about
+/// equal length, each ending in a row that says which page it is and how to see the next (as wide as
+/// the widest line where the frame's `width` has room: every page's box the same).
+#[must_use]
+pub fn help_pages(lines: &[String], (width, height): (usize, usize)) -> Vec<Vec<String>> {
+    let h = height.saturating_sub(1);
+    if lines.len() + 3 <= h || lines.is_empty() {
+        return vec![lines.to_vec()];
+    }
+    let per = h.saturating_sub(4).max(1); // the title, a row above and below, the page's own row
+    let pages = lines.len().div_ceil(per);
+    let per = lines.len().div_ceil(pages);
+    let count = lines.len().div_ceil(per);
+    lines
+        .chunks(per)
+        .enumerate()
+        .map(|(i, page)| {
+            let mut page = page.to_vec();
+            let row = format!("{PAGE_KEYS}: next page ({} of {count})", i + 1);
+            let widest = lines.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+            page.push(if widest + 4 <= width { format!("{row:<widest$}") } else { row });
+            page
+        })
+        .collect()
 }
 
 /// Where the map goes and how much of the maze one map character shows.

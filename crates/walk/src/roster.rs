@@ -32,8 +32,9 @@ pub struct Entry {
     pub me: bool,
 }
 
-/// The key help's line for the list (added in a served maze).
-pub(crate) const HELP_LINE: &str = "Tab        who is in the maze, their times";
+/// What the list's header says closes it, for a player (`Tab` opens and closes it; a spectator's
+/// `Tab` is the next player, and its `p` opens and closes the list).
+pub const CLOSE_HINT: &str = "Tab closes";
 
 /// The box's colours (those of the walk's other boxes).
 const FG: Color = Color::Indexed(255);
@@ -63,11 +64,10 @@ pub fn lines(entries: &[Entry], now: f64) -> Vec<String> {
 
 /// Draws the list over `frame` (above its HUD row), at time `now`; rows that do not fit end in a row
 /// saying how many more there are. Each label is drawn in its player's colour (where the terminal has
-/// colour).
-pub fn draw(frame: &mut Frame, entries: &[Entry], now: f64, style: Style) {
+/// colour). Its header says `hint`: what closes it ([`CLOSE_HINT`] for a player).
+pub fn draw(frame: &mut Frame, entries: &[Entry], now: f64, hint: &str, style: Style) {
     let (w, h) = (frame.width(), frame.height().saturating_sub(1));
     let title = format!("Players: {}", entries.len());
-    let hint = "Tab closes";
     let header = format!("{title}    {hint}");
     let mut rows = lines(entries, now);
     let inner = rows.iter().map(|l| l.chars().count()).chain([header.chars().count()]).max().unwrap_or(0);
@@ -137,7 +137,7 @@ mod tests {
             .map(|i| entry(&format!("p{i}"), char::from(b'A' + i as u8 % 26), 0.0, None, i == 0))
             .collect();
         let mut frame = Frame::new(60, 14);
-        draw(&mut frame, &entries, 65.0, style);
+        draw(&mut frame, &entries, 65.0, CLOSE_HINT, style);
         let text = frame.lines().join("\n");
         assert!(text.contains("Players: 30") && text.contains("Tab closes"), "{text}");
         assert!(text.contains("A  p0 (you)") && text.contains("1:05"), "{text}");

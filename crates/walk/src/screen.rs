@@ -72,6 +72,12 @@ pub struct Screen {
     /// A host's own key help, shown by `?` instead of the walk's (a spectator's keys); empty: the
     /// walk's.
     pub help: Vec<String>,
+    /// The page of the walk's own help shown ([`overlay::help_pages`]: where it does not fit whole).
+    pub help_page: usize,
+    /// How many pages the walk's help had in the last frame (1 when it fit whole, or did not show).
+    pub help_pages: usize,
+    /// What the player list's header says closes it; empty: [`roster::CLOSE_HINT`] (a player's `Tab`).
+    pub roster_hint: String,
     /// Views shared with other screens ([`SharedViews`]: a server's spectators of one player); `None`:
     /// this screen renders its own.
     pub shared_views: Option<Arc<SharedViews>>,
@@ -173,7 +179,7 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     let (cols, rows) = (frame.width(), frame.height());
     let style = Style::new(app.options.charset, app.options.color_depth);
     if overlay::too_small(cols, rows) {
-        (screen.map, screen.stats) = (None, RenderStats::default());
+        (screen.map, screen.stats, screen.help_pages) = (None, RenderStats::default(), 1);
         overlay::draw_too_small(frame, style);
         return RenderStats::default();
     }
@@ -297,7 +303,9 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     let exit_box = app.finished.filter(|_| app.exit_box);
     screen.exit_news.update(exit_box.is_some(), screen.notice.as_ref(), &screen.standings);
     over_view |= exit_box.is_some() || app.confirm_quit || app.help || screen.notice.is_some();
-    over_view |= screen.show_roster && !screen.roster.is_empty();
+    let roster_open = screen.show_roster && !screen.roster.is_empty() && !app.confirm_quit;
+    over_view |= roster_open;
+    let mut help_pages = 1;
     if let Some(seconds) = exit_box {
         // in a served maze, the news (who was first) shows in the box too, not hidden behind it
         let news = &screen.exit_news;
@@ -316,21 +324,31 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     } else if app.confirm_quit {
         let lines = ["q    quit".to_string(), "any  walk on".to_string()];
         overlay::draw_box(frame, "Quit?", &lines, style);
+    } else if roster_open {
+        // asked for: instead of the other boxes (drawn over one, the wider box's edges showed on
+        // either side of it as stray characters), which come back when it closes
+        let hint = if screen.roster_hint.is_empty() { roster::CLOSE_HINT } else { &screen.roster_hint };
+        roster::draw(frame, &screen.roster, hud.now, hint, style);
     } else if app.help {
-        let mut lines = if screen.help.is_empty() {
-            overlay::help_lines(style, app.maze().exit().is_some())
+        let title = "Keys (? or Esc to close)";
+        if screen.help.is_empty() {
+            // a served maze's player (with a player list) has the list's key, and no Ctrl-Z
+            let served = !screen.roster.is_empty();
+            let lines = overlay::help_lines_for(style, app.maze().exit().is_some(), served);
+            let pages = overlay::help_pages(&lines, (cols, rows));
+            help_pages = pages.len();
+            screen.help_page = screen.help_page.min(pages.len() - 1);
+            overlay::draw_box(frame, title, &pages[screen.help_page], style);
         } else {
-            screen.help.clone()
-        };
-        if !screen.roster.is_empty() && screen.help.is_empty() {
-            lines.push(roster::HELP_LINE.to_string()); // a served maze's player list
+            overlay::draw_box(frame, title, &screen.help, style);
         }
-        overlay::draw_box(frame, "Keys (? or Esc to close)", &lines, style);
     } else if let Some(notice) = &screen.notice {
         overlay::draw_box(frame, "News", std::slice::from_ref(notice), style);
     }
-    if screen.show_roster && !screen.roster.is_empty() {
-        roster::draw(frame, &screen.roster, hud.now, style); // asked for: over the other boxes
+    // Space and PgDn turn its pages only while it shows (under another box, they are that box's)
+    screen.help_pages = help_pages;
+    if !app.help {
+        screen.help_page = 0; // opened again, it starts at its first page
     }
     screen.stats = stats;
     draw_hud(app, screen, frame, hud); // last: boxes never hide it (its row's colours limited there)

@@ -365,6 +365,15 @@ impl Session {
         }
     }
 
+    /// What the player list's header says closes it (a host whose key for it is not `Tab`: a
+    /// spectator's `p`).
+    pub fn set_roster_hint(&mut self, hint: &str) {
+        if self.screen.roster_hint != hint {
+            self.screen.roster_hint = hint.to_string();
+            self.dirty |= self.screen.show_roster;
+        }
+    }
+
     /// Opens or closes the player list (a host's key for it: `Tab` is a spectator's next player);
     /// without a list, nothing happens.
     pub fn toggle_roster(&mut self) {
@@ -472,6 +481,18 @@ impl Session {
             Input::Key { key: Key::Esc, .. } if self.screen.show_roster => {
                 self.screen.show_roster = false;
                 self.dirty = true;
+            }
+            // The walk's help where it does not fit whole: Space or PgDn shows its next page (after
+            // the last, the first again), PgUp the one before.
+            Input::Key { key: key @ (Key::Char(' ') | Key::PageDown | Key::PageUp), phase, .. }
+                if self.app.help && self.screen.help_pages > 1 =>
+            {
+                if phase == KeyPhase::Press {
+                    let (page, pages) = (self.screen.help_page, self.screen.help_pages);
+                    self.screen.help_page =
+                        if key == Key::PageUp { (page + pages - 1) % pages } else { (page + 1) % pages };
+                    self.dirty = true;
+                }
             }
             Input::Key { key, phase, .. } => self.dirty |= self.app.key(key, phase, now),
             Input::MouseDrag { dx, dy, .. } => self.dirty |= self.app.drag(dx, dy),

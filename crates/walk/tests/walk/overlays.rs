@@ -465,3 +465,141 @@ fn the_fitted_corner_map_shows_the_other_players_in_its_area() {
         map_text(s.screen(), &drawn)
     );
 }
+
+/// Two players in a served maze's list, the second the viewer.
+fn two_players() -> Vec<mazewalk_walk::roster::Entry> {
+    let entry = |name: &str, label, best, me| mazewalk_walk::roster::Entry {
+        name: name.into(),
+        label,
+        color: Color::Indexed(196),
+        joined_at: 0.0,
+        best,
+        me,
+    };
+    vec![entry("ada", 'A', Some(231.7), false), entry("bob", 'B', None, true)]
+}
+
+/// Opens the help of `s` at `now` and reads it page by page (Space turns them): each page's screen
+/// as text. Stops when a page comes round again.
+fn help_screens(s: &mut Session, now: f64) -> Vec<String> {
+    s.feed(b"?", now);
+    let mut screens: Vec<String> = Vec::new();
+    for page in 0..10 {
+        let t = now + 0.2 * f64::from(page);
+        s.frame(t, &mut Vec::new());
+        let text = s.screen().lines().join("\n");
+        if screens.contains(&text) {
+            break;
+        }
+        screens.push(text);
+        s.feed(b" ", t + 0.1);
+    }
+    screens
+}
+
+// Bug: at 80×24 the help was cut off with "…" after the `g` line (`r`, `Ctrl-Z` and a served game's
+// `Tab` never shown) and could not be scrolled; a served player's help listed Ctrl-Z, which does
+// nothing over SSH. At 120×40 it is whole on one screen; at 80×24 on two pages, each saying how to
+// see the next; every key line on some page, whole.
+#[test]
+fn every_line_of_the_help_is_shown_at_80x24_and_120x40() {
+    let style = Style::default();
+    for served in [false, true] {
+        let want = overlay::help_lines_for(style, true, served);
+        assert_eq!(want.iter().any(|l| l.starts_with("Ctrl-Z ")), !served, "{want:?}");
+        assert_eq!(want.iter().any(|l| l.starts_with("Tab ")), served, "{want:?}");
+        for (cols, rows, pages) in [(120, 40, 1), (80, 24, 2)] {
+            let mut s = Session::new(
+                facing_the_exit(),
+                cols,
+                rows,
+                SessionOptions { flow_control: false, ..SessionOptions::default() },
+            );
+            if served {
+                s.set_roster(&two_players());
+            }
+            let screens = help_screens(&mut s, 0.0);
+            assert_eq!(screens.len(), pages, "{cols}×{rows}, served {served}:\n{}", screens.join("\n\n"));
+            for line in &want {
+                assert!(
+                    screens.iter().any(|screen| screen.lines().any(|row| row.contains(line.as_str()))),
+                    "{cols}×{rows}, served {served}: {line:?} not shown:\n{}",
+                    screens.join("\n\n")
+                );
+            }
+            for (i, screen) in screens.iter().enumerate() {
+                let says = format!("{}: next page ({} of {pages})", overlay::PAGE_KEYS, i + 1);
+                assert_eq!(screen.contains(&says), pages > 1, "{cols}×{rows}:\n{screen}");
+                assert!(!screen.contains('…'), "nothing cut at {cols}×{rows}:\n{screen}");
+            }
+        }
+    }
+}
+
+// At 60×20 the help does not fit whole either: it says how to see the rest, and PgDn / PgUp turn
+// its pages too; closed and opened again, it starts at its first page.
+#[test]
+fn a_help_too_tall_says_how_to_see_the_rest_and_its_pages_turn() {
+    let mut s = Session::new(
+        facing_the_exit(),
+        60,
+        20,
+        SessionOptions { flow_control: false, ..SessionOptions::default() },
+    );
+    s.set_roster(&two_players());
+    let screens = help_screens(&mut s, 0.0);
+    assert!(screens.len() >= 2, "{screens:?}");
+    let page = |n: usize| format!("{}: next page ({n} of {})", overlay::PAGE_KEYS, screens.len());
+    assert!(screens[0].contains(&page(1)), "{}", screens[0]);
+    let shown = |s: &Session| s.screen().lines().join("\n");
+    // (Space went round to the first page) PgDn the second, PgUp the first again
+    s.feed(b"\x1b[6~", 5.0);
+    s.frame(5.0, &mut Vec::new());
+    assert!(shown(&s).contains(&page(2)), "{}", shown(&s));
+    s.feed(b"\x1b[5~", 5.2);
+    s.frame(5.2, &mut Vec::new());
+    assert!(shown(&s).contains(&page(1)), "{}", shown(&s));
+    s.feed(b" ?", 5.4); // the second page, then closed
+    s.frame(5.4, &mut Vec::new());
+    assert!(!shown(&s).contains("next page"), "{}", shown(&s));
+    s.feed(b"?", 5.6);
+    s.frame(5.6, &mut Vec::new());
+    assert!(shown(&s).contains(&page(1)), "{}", shown(&s));
+    // under the player list its pages do not turn: Space there is not the help's
+    s.feed(b"\t", 5.8);
+    s.frame(5.8, &mut Vec::new());
+    assert!(shown(&s).contains("Players: 2") && !shown(&s).contains("next page"), "{}", shown(&s));
+    s.feed(b" \t", 6.0);
+    s.frame(6.0, &mut Vec::new());
+    assert!(shown(&s).contains(&page(1)), "{}", shown(&s));
+}
+
+// Bug: the player list opened over the News box left the news's first and last characters (an `a`,
+// a `!`) on either side of its rows: the wider News box still showed round the narrower list. The
+// list now shows instead of the other boxes: the screen with the list open is the same with news
+// as without, and the News box comes back whole when the list closes.
+#[test]
+fn the_player_list_over_the_news_leaves_nothing_of_it() {
+    let news = "ada reached the exit first, in 3:51.7!";
+    let screens: Vec<(Vec<String>, Vec<String>)> = [Some(news), None]
+        .into_iter()
+        .map(|notice| {
+            let mut s = session(maze::builtin().unwrap(), 80, 24);
+            s.set_roster(&two_players());
+            s.set_notice(notice.map(String::from));
+            s.frame(0.0, &mut Vec::new());
+            let before = s.screen().lines();
+            s.feed(b"\t", 0.1);
+            s.frame(0.2, &mut Vec::new());
+            let open = s.screen().lines();
+            s.feed(b"\t", 0.3);
+            s.frame(0.4, &mut Vec::new());
+            assert_eq!(s.screen().lines(), before, "closed, the screen is as before");
+            (before, open)
+        })
+        .collect();
+    let ((news_before, news_open), (_, plain_open)) = (&screens[0], &screens[1]);
+    assert!(news_before.iter().any(|l| l.contains(news)), "{}", news_before.join("\n"));
+    assert!(news_open.iter().any(|l| l.contains("Players: 2")), "{}", news_open.join("\n"));
+    assert_eq!(news_open, plain_open, "nothing of the news shows round the list");
+}
