@@ -15,7 +15,7 @@ use std::sync::Arc;
 use glam::Vec2;
 
 use super::limits::{Limits, RateLimit};
-use super::world::{Look, PlayerId};
+use super::world::{Look, PlayerId, WalkClock};
 use mazewalk_maze::Maze;
 use mazewalk_render::{Charset, RenderOptions};
 use mazewalk_term::caps;
@@ -241,6 +241,8 @@ pub struct News {
     pub pitch_deg: f32,
     /// It reached the exit after this many seconds: told once.
     pub finished: Option<f64>,
+    /// Its exit clock as it sees it (for the spectators).
+    pub clock: WalkClock,
 }
 
 impl Player {
@@ -469,8 +471,9 @@ impl Player {
         if walk.is_some() {
             self.reported_finish = walk;
         }
-        let pitch_deg = self.session.app().camera.pitch_deg;
-        News { position, heading_deg, cell, pitch_deg, finished }
+        let pitch_deg = app.camera.pitch_deg;
+        let clock = WalkClock { started: app.started, took: app.finished };
+        News { position, heading_deg, cell, pitch_deg, finished, clock }
     }
 
     /// Whether the player quit (q, Esc, Ctrl-C).
