@@ -9,7 +9,7 @@
 //! mouse off) and exits 0; commands, subsystems, port forwarding and a session without a pty are
 //! refused with a message; `--authorized-keys` lets in only its keys; SIGTERM tells every player the
 //! server is shutting down, restores their terminals and exits 143; one log line per connect and
-//! disconnect.
+//! disconnect; every finish of a session (`r` walks it again) is logged, kept and ranked.
 #![cfg(unix)]
 
 mod common;
@@ -221,6 +221,85 @@ fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_a
         assert!(text.contains("maze.grid") && text.contains("1 player, 1 finish"), "{text}");
         assert!(text.contains("   1. bob"), "{text}");
     }
+}
+
+/// Holds `w` (every 40 ms) until `player`'s own screen says it found the exit; its time as shown.
+fn walk_to_the_exit(player: &mut Player) -> String {
+    let found = "You found the exit in ";
+    let deadline = Instant::now() + TIMEOUT;
+    while !player.shows(|s| s.contents().contains(found)) {
+        assert!(Instant::now() < deadline, "never reached the exit");
+        player.send(b"w");
+        std::thread::sleep(Duration::from_millis(40));
+    }
+    player.read(|s| {
+        let text = s.contents();
+        let at = text.find(found).expect("shown") + found.len();
+        text[at..].split('.').take(2).collect::<Vec<_>>().join(".")
+    })
+}
+
+/// The QA report: after `r` in the exit box a second finish in the same session was not logged,
+/// not recorded and not ranked. Every walk's finish counts: logged, kept, and the best ranked.
+#[test]
+fn every_finish_of_a_session_is_logged_kept_and_ranked() {
+    let scratch = Scratch::new("again");
+    let maze = scratch.0.join("maze.grid");
+    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
+    let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
+    let mut bob = Player::connect(server.port, None, "bob", 100, 30);
+    bob.wait_for("bob's game", playing);
+    // The first walk dawdles a while: the second, at once, is the better.
+    std::thread::sleep(Duration::from_millis(1500));
+    let first = walk_to_the_exit(&mut bob);
+    server.wait_log("reached the exit first", 1);
+    bob.wait_for("the best times in bob's first exit box", |s, _| {
+        s.contents().contains(&format!("1. bob  {first}  you"))
+    });
+    // (the exit box takes no answer in its first moments: the key that walked in may still repeat)
+    std::thread::sleep(Duration::from_secs_f64(mazewalk_walk::state::EXIT_BOX_GRACE + 0.3));
+    bob.send(b"r");
+    bob.wait_for("a new walk", |s, _| {
+        !s.contents().contains("You found the exit in") && hud_row(s).contains("time 0:")
+    });
+    let second = walk_to_the_exit(&mut bob);
+    assert_ne!(first, second, "two walks, two times");
+    server.wait_log("reached the exit", 2);
+    let logged =
+        server.log().lines().filter(|l| l.contains("reached the exit") && l.contains("user=bob ")).count();
+    assert_eq!(logged, 2, "{}", server.log());
+    // The exit box ranks the better of the two, bob's best.
+    bob.wait_for("bob's best in the second exit box", |s, _| {
+        s.contents().contains(&format!("1. bob  {second}  you"))
+    });
+    let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .arg("records")
+        .arg("--records")
+        .arg(scratch.0.join("records.sqlite"))
+        .output()
+        .expect("mazewalk records");
+    let text = String::from_utf8_lossy(&listed.stdout);
+    assert!(listed.status.success(), "{listed:?}");
+    assert!(text.contains("1 player, 2 finishes"), "{text}");
+    assert!(text.lines().any(|l| l.contains("1. bob") && l.contains(&second)), "{text}");
+    // The run kept (the ghost's, `g`) is the best walk's, the second.
+    let run = scratch.0.join("best.run");
+    let exported = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .arg("records")
+        .arg(&maze)
+        .arg("--records")
+        .arg(scratch.0.join("records.sqlite"))
+        .arg("--export-run")
+        .arg(&run)
+        .output()
+        .expect("mazewalk records --export-run");
+    let said = String::from_utf8_lossy(&exported.stderr);
+    assert!(
+        exported.status.success()
+            && said.contains("bob's run of")
+            && said.contains(&format!("maze.grid ({second},")),
+        "{said}"
+    );
 }
 
 #[test]

@@ -4,7 +4,7 @@
 //! and the game's rules for one player in a shared world: how often it looks at the others
 //! ([`Player::look_due`], at most [`WORLD_LOOKS_PER_SECOND`]), which of them it draws, the winner's
 //! notice (shown once, for [`NOTICE_SECONDS`]), and what the world learns from it ([`Player::news`]:
-//! where it is, and its finish, once).
+//! where it is, and each walk's finish, once: `r` walks it again, and that finish counts too).
 //!
 //! Pure: bytes, sizes and looks at the world in, bytes and news out, time as seconds; the SSH side
 //! ([`super::ssh`]) moves bytes and holds the world's lock for the data only, and the `serve` fuzz
@@ -15,7 +15,7 @@ use std::sync::Arc;
 use glam::Vec2;
 
 use super::limits::{Limits, RateLimit};
-use super::world::{Look, PlayerId};
+use super::world::{Look, PlayerId, WalkClock};
 use mazewalk_maze::Maze;
 use mazewalk_render::{Charset, RenderOptions};
 use mazewalk_term::caps;
@@ -217,8 +217,9 @@ pub struct Player {
     notice_until: Option<f64>,
     /// The winner has been announced to it.
     seen_winner: bool,
-    /// Its finish has been told to the world.
-    reported_finish: bool,
+    /// The last finish told to the world: the walk's start and its time (after `r` a new walk
+    /// starts, and its finish is told too).
+    reported_finish: Option<(f64, f64)>,
     /// Its terminal is to be asked for truecolor ([`color_plan`]).
     ask_truecolor: bool,
     /// The host records its session (its HUD says so).
@@ -240,6 +241,8 @@ pub struct News {
     pub pitch_deg: f32,
     /// It reached the exit after this many seconds: told once.
     pub finished: Option<f64>,
+    /// Its exit clock as it sees it (for the spectators).
+    pub clock: WalkClock,
 }
 
 impl Player {
@@ -270,7 +273,7 @@ impl Player {
             roster: Vec::new(),
             notice_until: None,
             seen_winner: false,
-            reported_finish: false,
+            reported_finish: None,
             ask_truecolor: plan.ask,
             recorded: false,
             offline: false,
@@ -361,6 +364,16 @@ impl Player {
             self.notice_until = None;
             self.session.set_notice(None);
         }
+        // The best times in the exit box are those the records answered to the finish last told:
+        // gone once `r` starts a new walk, and not shown in the box of a finish not told yet.
+        let app = self.session.app();
+        if app
+            .finished
+            .map(|seconds| (app.started, seconds))
+            .is_none_or(|walk| Some(walk) != self.reported_finish)
+        {
+            self.session.set_standings(Vec::new());
+        }
         self.session.frame(now, out)
     }
 
@@ -449,13 +462,18 @@ impl Player {
     }
 
     /// What the world should learn after a frame: where the player is, and its finish the first time
-    /// it is asked after the player reached the exit.
+    /// it is asked after the player reached the exit — each walk's finish (`r` walks it again).
     pub fn news(&mut self) -> News {
         let (position, heading_deg, cell) = self.whereabouts();
-        let finished = self.session.app().finished.filter(|_| !self.reported_finish);
-        self.reported_finish |= finished.is_some();
-        let pitch_deg = self.session.app().camera.pitch_deg;
-        News { position, heading_deg, cell, pitch_deg, finished }
+        let app = self.session.app();
+        let walk = app.finished.map(|seconds| (app.started, seconds));
+        let finished = walk.filter(|walk| self.reported_finish != Some(*walk)).map(|(_, seconds)| seconds);
+        if walk.is_some() {
+            self.reported_finish = walk;
+        }
+        let pitch_deg = app.camera.pitch_deg;
+        let clock = WalkClock { started: app.started, took: app.finished };
+        News { position, heading_deg, cell, pitch_deg, finished, clock }
     }
 
     /// Whether the player quit (q, Esc, Ctrl-C).
@@ -698,7 +716,7 @@ mod tests {
 
     /// Issue #18's game rules, now in the pure player: looks at the world come at most
     /// WORLD_LOOKS_PER_SECOND a second however often it changes, the winner is announced once and for
-    /// NOTICE_SECONDS, and the world hears of a finish once.
+    /// NOTICE_SECONDS, and the world hears of each walk's finish once.
     #[test]
     fn looks_are_paced_the_winner_is_told_once_and_a_finish_reported_once() {
         let mut p = player(80, 24);
@@ -729,6 +747,14 @@ mod tests {
         assert_eq!(p.news().finished, None, "not at the exit");
         p.session_mut().app_mut().finished = Some(90.0);
         assert_eq!(p.news().finished, Some(90.0));
+        assert_eq!(p.news().finished, None, "told once");
+        // `r` walks it again: that walk's finish is told too (the QA report: only the first was)
+        p.feed(b"r", 100.0);
+        p.frame(100.0, &mut out);
+        assert_eq!(p.session().app().finished, None, "r started a new walk");
+        assert_eq!(p.news().finished, None, "not at the exit");
+        p.session_mut().app_mut().finished = Some(40.0);
+        assert_eq!(p.news().finished, Some(40.0), "the second walk's finish");
         assert_eq!(p.news().finished, None, "told once");
     }
 

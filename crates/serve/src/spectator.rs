@@ -328,7 +328,18 @@ impl Spectator {
                 };
                 if at != camera || cell != seen.cell {
                     let app = self.session.app_mut();
-                    (app.camera, app.cell, app.started) = (at, seen.cell, seen.joined_at);
+                    (app.camera, app.cell) = (at, seen.cell);
+                }
+                // the followed player's exit clock as it sees it (another server's is not known:
+                // none shown, rather than a time that is not the player's)
+                let clock = seen.clock.map(|c| (c.started, c.took));
+                let app = self.session.app();
+                if clock.is_none() != app.clock_unknown
+                    || clock.is_some_and(|c| c != (app.started, app.finished))
+                {
+                    let app = self.session.app_mut();
+                    app.clock_unknown = clock.is_none();
+                    (app.started, app.finished) = clock.unwrap_or((seen.joined_at, None));
                 }
                 format!("watching {}  ← →", seen.name)
             }
@@ -419,7 +430,7 @@ impl Spectator {
 mod tests {
     use super::*;
     use crate::player::clamp_size;
-    use crate::world::World;
+    use crate::world::{WalkClock, World};
     use glam::Vec2;
 
     fn seen(name: &str, cell: u32) -> Seen {
@@ -433,6 +444,7 @@ mod tests {
             label: name.chars().next().unwrap().to_ascii_uppercase(),
             joined_at: 0.0,
             best: None,
+            clock: None,
         }
     }
 
@@ -485,6 +497,35 @@ mod tests {
 
     fn text(s: &Spectator) -> String {
         s.session().screen().lines().join("\n")
+    }
+
+    /// The QA report: the spectator's HUD read `time 7:10`, the followed player's time since it
+    /// joined, while the player's own read `exit in 3:51.7`. Now it shows the player's exit clock: its
+    /// walk's time (from its last `r`), and its finish once it reached the exit.
+    #[test]
+    fn a_spectator_shows_the_followed_players_exit_clock() {
+        let maze = Arc::new(mazewalk_maze::builtin().unwrap());
+        assert!(maze.exit().is_some(), "a maze with an exit: a clock");
+        let mut s = spectator(&maze);
+        let mut world = World::new();
+        let mut out = Vec::new();
+        let start = maze.viewer().pos;
+        let ada = world.join("ada", start, 0.0, maze.cell_at(start).unwrap(), 0.0);
+        let hud = |s: &Spectator| s.session().screen().lines().last().cloned().unwrap_or_default();
+        // ada walks again (`r`) at 200 s; at 430 s her clock reads 3:50, not her 7:10 in the maze
+        world.clocked(ada, WalkClock { started: 200.0, took: None });
+        s.look(world.look(), 430.0);
+        s.feed(b"\x1b[?62;22c", 430.0);
+        assert!(s.frame(430.0, &mut out));
+        assert!(hud(&s).contains("time 3:50") && !hud(&s).contains("7:10"), "{}", hud(&s));
+        // she reaches the exit in 3:51.7: so it reads, and stays
+        world.clocked(ada, WalkClock { started: 200.0, took: Some(231.7) });
+        s.world_changed(431.8);
+        s.look(world.look(), 432.0);
+        s.frame(432.0, &mut out);
+        assert!(hud(&s).contains("exit in 3:51.7"), "{}", hud(&s));
+        s.frame(500.0, &mut out);
+        assert!(hud(&s).contains("exit in 3:51.7"), "{}", hud(&s));
     }
 
     /// Nobody plays: a calm screen that says so. Two join: the view is the leader's, from where it

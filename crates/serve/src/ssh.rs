@@ -163,6 +163,7 @@ impl WorldCell {
         let before = world.version();
         world.moved(id, news.position, news.heading_deg, news.cell);
         world.pitched(id, news.pitch_deg);
+        world.clocked(id, news.clock);
         let first = news.finished.and_then(|seconds| world.finished(id, seconds)).is_some();
         if world.version() != before {
             self.version.send_replace(world.version());
@@ -1615,6 +1616,7 @@ mod tests {
             cell: 0,
             pitch_deg: 0.0,
             finished: None,
+            clock: crate::world::WalkClock { started: 0.0, took: None },
         };
         cell.tell(a, &at(0.5), &mut seen_a);
         assert!(!woken(&seen_a), "alice's own move");

@@ -64,6 +64,19 @@ pub struct Seen {
     pub joined_at: f64,
     /// Its best time to the exit (seconds) since it joined, if it has reached it.
     pub best: Option<f64>,
+    /// Its exit clock as it sees it (a spectator following it shows the same); `None` for another
+    /// server's player (the world's messages do not carry it).
+    pub clock: Option<WalkClock>,
+}
+
+/// A player's exit clock: when its walk started (the server's clock, seconds; `r` starts another)
+/// and, once that walk reached the exit, how long it took.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WalkClock {
+    /// When the walk started.
+    pub started: f64,
+    /// The walk's time to the exit, once reached.
+    pub took: Option<f64>,
 }
 
 impl Seen {
@@ -214,6 +227,7 @@ impl World {
             label,
             joined_at: now,
             best: None,
+            clock: Some(WalkClock { started: now, took: None }),
         };
         self.players.insert(id, seen);
         self.version += 1;
@@ -246,6 +260,17 @@ impl World {
             && seen.pitch_deg != pitch_deg
         {
             seen.pitch_deg = pitch_deg;
+            self.version += 1;
+        }
+    }
+
+    /// The player's exit clock is now `clock` (a new walk, or a finish): a change bumps the version,
+    /// for the spectators following it.
+    pub fn clocked(&mut self, id: PlayerId, clock: WalkClock) {
+        if let Some(seen) = self.players.get_mut(&id)
+            && seen.clock != Some(clock)
+        {
+            seen.clock = Some(clock);
             self.version += 1;
         }
     }
@@ -395,6 +420,7 @@ impl World {
                     label: p.label,
                     joined_at: now - now_ms.saturating_sub(p.joined_ms) as f64 / 1e3,
                     best: shared.remote_best.get(&id).copied(),
+                    clock: None,
                 };
                 (id, seen)
             })

@@ -461,6 +461,7 @@ fn hud_text_with(
     };
     let clock = match (app.maze().exit(), app.finished) {
         (None, _) => None,
+        _ if app.clock_unknown => None,
         (Some(_), Some(took)) => Some(format!("exit in {}", clock_text(took))),
         (Some(_), None) => Some(format!("time {}", running_clock_text(hud.elapsed))),
     };

@@ -264,7 +264,7 @@ impl Session {
     /// yet): it ticks once a second, standing still too (a few bytes).
     fn running_clock(&self, now: f64) -> Option<u64> {
         let app = &self.app;
-        (app.maze().exit().is_some() && app.finished.is_none())
+        (app.maze().exit().is_some() && app.finished.is_none() && !app.clock_unknown)
             .then(|| (now - app.started).max(0.0).floor() as u64)
     }
 

@@ -168,6 +168,8 @@ pub struct App {
     pub started: f64,
     /// Seconds it took to reach the exit, once reached.
     pub finished: Option<f64>,
+    /// The HUD shows no exit clock: a host's spectator follows a player whose clock it does not know.
+    pub clock_unknown: bool,
     /// Set by q, or by Esc with no box shown (after [`CONFIRM_QUIT_AFTER`], by a second q).
     pub quit: bool,
     /// The box that asks whether to quit, after a q late in a walk.
@@ -273,6 +275,7 @@ impl App {
             snap: None,
             started: now,
             finished: None,
+            clock_unknown: false,
             quit: false,
             confirm_quit: false,
             exit_box: false,
