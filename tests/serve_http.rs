@@ -369,6 +369,11 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
     assert_eq!(connected["player"], "walker");
     assert!(connected["address"].as_str().is_some_and(|a| a.starts_with("127.0.0.1:")), "{connected}");
     assert!(lines.iter().all(|l| l["time"].is_string() && l["level"].is_string()), "{log}");
+    let disconnected = lines.iter().find(|l| l["event"] == "disconnected").expect("a disconnected line");
+    assert!(
+        disconnected["seconds"].is_f64() && disconnected["bytes_out"].is_u64(),
+        "numbers: {disconnected}"
+    );
 
     // Hostile HTTP: 4xx, and the server goes on.
     let (status, _) = serve.http(b"GET /../../etc/passwd HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");

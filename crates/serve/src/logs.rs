@@ -314,6 +314,13 @@ fn escape_controls(json: &str) -> String {
     out
 }
 
+/// Seconds to a tenth, for a log line's `seconds` field: a number (`seconds=3.4` as text, `3.4` in
+/// JSON), not a string.
+#[must_use]
+pub(crate) fn tenths(seconds: f64) -> f64 {
+    (seconds * 10.0).round() / 10.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

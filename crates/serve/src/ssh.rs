@@ -26,7 +26,7 @@ use super::algorithms;
 use super::host_key::fingerprint;
 use super::identity::player_name;
 use super::limits::Limits;
-use super::logs::{self, LogLimit};
+use super::logs::{self, LogLimit, tenths};
 use super::metrics::Metrics;
 use super::player::{News, Player};
 use super::recording::{RecordOptions, Recordings, Tap};
@@ -190,7 +190,7 @@ impl Host for WorldCell {
 
     fn winner(&self, winner: &WinnerRecord) {
         if self.change(|world| world.set_winner(winner)) {
-            info!(player = %winner.name, seconds = format_args!("{:.1}", winner.seconds), "the world's winner");
+            info!(player = %winner.name, seconds = tenths(winner.seconds), "the world's winner");
         }
     }
 
@@ -810,7 +810,7 @@ async fn connection(shared: Arc<Shared>, stream: CutStream<TcpStream>, conn: Arc
             peer = %conn.peer,
             user = %Conn::get(&conn.user).as_deref().unwrap_or("-"),
             key = Conn::get(&conn.key).or(refused).as_deref().unwrap_or("-"),
-            seconds = format_args!("{:.1}", started.elapsed().as_secs_f64()),
+            seconds = tenths(started.elapsed().as_secs_f64()),
             bytes_in = conn.cut.bytes_in.load(Ordering::Relaxed),
             bytes_out = conn.cut.bytes_out.load(Ordering::Relaxed),
             reason = %reason,
@@ -1532,7 +1532,7 @@ async fn walk(
             // The winner always; every other finish within the log limit.
             if first || shared.log_ok(conn.group) {
                 let what = if first { "reached the exit first" } else { "reached the exit" };
-                info!(peer = %conn.peer, user = %user, seconds = format_args!("{seconds:.1}"), "{what}");
+                info!(peer = %conn.peer, user = %user, seconds = tenths(seconds), "{what}");
             }
             // Kept, without waiting: the standing comes back while the player plays on.
             if let Some(keeper) = &shared.records {
