@@ -71,6 +71,14 @@ fn two_servers_keep_one_table_of_best_times_in_redis() {
     runtime.block_on(redis.restart());
     let carol = a.record(&finish(maze, "carol", 30.0, 1_005)).expect("Redis is back");
     assert_eq!((carol.rank, carol.players), (1, 1), "an empty Redis after the restart");
+
+    // A connection left idle across a restart failed its next read ("broken pipe", logged by the
+    // records thread as "cannot read the best run"): a read is asked again on a new connection.
+    assert!(b.run(&maze, None).expect("a read on B's connection").is_none(), "carol kept no run");
+    runtime.block_on(redis.restart());
+    assert!(b.run(&maze, None).expect("a read after Redis came back").is_none());
+    let records = b.mazes(Some(&maze)).expect("and the records, on the same connection");
+    assert!(records.is_empty() || records[0].top.is_empty(), "{records:?}");
 }
 
 /// A run of `seconds` walking east from (2, 2) in the maze of hash `maze`, encoded.

@@ -108,6 +108,20 @@ impl RedisStore {
             self.error(&err)
         })
     }
+
+    /// [`with`](Self::with) for a read, asked once more on a new connection where the one it had
+    /// failed as unreachable: a connection left idle across a Redis restart fails its first command
+    /// ("broken pipe"), which said nothing about the Redis now there.
+    fn read<T>(
+        &mut self,
+        f: impl AsyncFn(&mut MultiplexedConnection, &RecordKeys) -> RedisResult<T>,
+    ) -> Result<T, RecordsError> {
+        let had = self.con.is_some();
+        match self.with(&f) {
+            Err(err) if had && err.fault == Fault::Unreachable => self.with(&f),
+            result => result,
+        }
+    }
 }
 
 /// The best `TOP` of the sorted set at `keys`, best first, with when each was made; entries Redis
@@ -217,7 +231,7 @@ impl Store for RedisStore {
             return Ok(None); // one world, one maze
         }
         let player = player.map(str::to_owned);
-        self.with(async move |con, keys| {
+        self.read(async |con, keys| {
             // whose: the named player's, or the best player's with a run
             let top = top(con, keys).await?;
             let wanted: Vec<&Best> =
@@ -246,7 +260,7 @@ impl Store for RedisStore {
             return Ok(Vec::new()); // one world, one maze
         }
         let hash = self.maze.to_string();
-        self.with(async move |con, keys| {
+        self.read(async |con, keys| {
             let (players, finishes, name): (i64, Option<i64>, Option<String>) = redis::pipe()
                 .cmd("ZCARD")
                 .arg(&keys.best)
@@ -263,7 +277,7 @@ impl Store for RedisStore {
             let name: String =
                 name.unwrap_or_default().chars().filter(|c| !c.is_control()).take(256).collect();
             Ok(vec![MazeRecords {
-                maze: hash,
+                maze: hash.clone(),
                 name,
                 players: usize::try_from(players).unwrap_or(0),
                 finishes: usize::try_from(finishes.unwrap_or(0)).unwrap_or(0),
