@@ -31,6 +31,7 @@ use mazewalk_render::{Charset, Renderer, Target};
 use mazewalk_term::encoder::{DEFAULT_TOLERANCE, Encoder};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 use mazewalk_testkit::baseline::{full_repaint, lower_bound};
+use mazewalk_testkit::screen;
 use mazewalk_walk::App;
 use ratatui::backend::CrosstermBackend;
 use ratatui::layout::Rect;
@@ -150,14 +151,6 @@ struct Bytes {
     ratatui_kinds: Kinds,
 }
 
-fn from_vt(color: vt100::Color) -> Color {
-    match color {
-        vt100::Color::Default => Color::Default,
-        vt100::Color::Idx(n) => Color::Indexed(n),
-        vt100::Color::Rgb(r, g, b) => Color::Rgb(r, g, b),
-    }
-}
-
 /// Panics unless the emulated screen shows `frame`: every cell looks the same up to `tolerance` 8-bit
 /// steps per truecolor channel ([`Cell::looks_within`]: glyph and colours, or the inverse block glyph in
 /// swapped colours; tested against the glyphs' coverage in `tests/term_encoder.rs`).
@@ -168,7 +161,7 @@ fn check_screen(who: &str, parser: &vt100::Parser, frame: &Frame, k: usize, tole
             let want = frame.get(x, y).expect("in the frame");
             let got = screen.cell(y as u16, x as u16).expect("in the screen");
             let ch = got.contents().chars().next().unwrap_or(' ');
-            let got = Cell { ch, fg: from_vt(got.fgcolor()), bg: from_vt(got.bgcolor()) };
+            let got = Cell { ch, fg: screen::color(got.fgcolor()), bg: screen::color(got.bgcolor()) };
             assert!(
                 want.looks_within(&got, tolerance),
                 "{who}: frame {k}, cell ({x}, {y}): want {want:?}, got {got:?}"

@@ -19,7 +19,8 @@ use link::{LinkConfig, Sim};
 use mazewalk_maze as maze;
 use mazewalk_render::quality::shown;
 use mazewalk_render::{Charset, RenderOptions};
-use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame};
+use mazewalk_term::frame::{ColorDepth, Frame};
+use mazewalk_testkit::screen::screen_frame;
 use mazewalk_walk::{App, Session, SessionOptions};
 
 /// A link fast enough never to hold a frame back: the session's own output rate.
@@ -30,26 +31,6 @@ fn session(cols: u16, rows: u16, depth: ColorDepth, flow_control: bool) -> Sessi
     let options = RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
     let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("viewer in a cell");
     Session::new(app, cols, rows, SessionOptions { flow_control, ..SessionOptions::default() })
-}
-
-/// The terminal's screen as a frame (its glyphs and colours).
-fn screen_frame(terminal: &vt100::Parser) -> Frame {
-    let color = |c: vt100::Color| match c {
-        vt100::Color::Default => Color::Default,
-        vt100::Color::Idx(i) => Color::Indexed(i),
-        vt100::Color::Rgb(r, g, b) => Color::Rgb(r, g, b),
-    };
-    let screen = terminal.screen();
-    let (rows, cols) = screen.size();
-    let mut frame = Frame::new(cols.get().into(), rows.get().into());
-    for y in 0..rows.get() {
-        for x in 0..cols.get() {
-            let Some(cell) = screen.cell(y, x) else { continue };
-            let ch = cell.contents().chars().next().unwrap_or(' ');
-            frame.set(x.into(), y.into(), Cell { ch, fg: color(cell.fgcolor()), bg: color(cell.bgcolor()) });
-        }
-    }
-    frame
 }
 
 /// The sum of the OKLab distances, sample by sample (half blocks), between what the terminal

@@ -25,6 +25,8 @@ pub mod raw_ssh;
 #[cfg(feature = "redis")]
 pub mod redis_async;
 pub mod redis_server;
+#[cfg(feature = "walk")]
+pub mod screen;
 #[cfg(feature = "serve")]
 pub mod world_host;
 

@@ -10,30 +10,12 @@ use mazewalk_maze::{self as maze};
 use mazewalk_render::quality::shown;
 use mazewalk_render::{Charset, RenderOptions};
 use mazewalk_term::encoder::{DEFAULT_TOLERANCE, TOLERANCE_STEP};
-use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame};
+use mazewalk_term::frame::{ColorDepth, Frame};
+use mazewalk_testkit::screen::screen_frame;
 use mazewalk_walk::{App, Session, SessionOptions};
 
 const COLS: u16 = 120;
 const ROWS: u16 = 40;
-
-/// The vt100 screen as a frame (its glyphs and colours).
-fn screen_frame(parser: &vt100::Parser) -> Frame {
-    let color = |c: vt100::Color| match c {
-        vt100::Color::Default => Color::Default,
-        vt100::Color::Idx(i) => Color::Indexed(i),
-        vt100::Color::Rgb(r, g, b) => Color::Rgb(r, g, b),
-    };
-    let screen = parser.screen();
-    let mut frame = Frame::new(COLS.into(), ROWS.into());
-    for y in 0..ROWS {
-        for x in 0..COLS {
-            let cell = screen.cell(y, x).expect("on screen");
-            let ch = cell.contents().chars().next().unwrap_or(' ');
-            frame.set(x.into(), y.into(), Cell { ch, fg: color(cell.fgcolor()), bg: color(cell.bgcolor()) });
-        }
-    }
-    frame
-}
 
 /// Every sample's OKLab distance between what the terminal shows and the exact frame: (sum, count,
 /// largest).
