@@ -100,7 +100,7 @@ fn hud_position(screen: &vt100::Screen) -> Option<(f32, f32)> {
 
 /// A server on the grid maze `text` (open to anyone), with alice and then bob in their games.
 fn alice_and_bob_in(scratch: &Scratch, text: &str) -> (Server, Player, Player) {
-    let maze = scratch.0.join("maze.grid");
+    let maze = scratch.join("maze.grid");
     std::fs::write(&maze, text).expect("write the maze");
     let server = Server::start(scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
     let alice = Player::connect(server.port, None, "alice", 100, 30);
@@ -168,10 +168,10 @@ fn no_records_makes_no_file() {
     let server = Server::start(&scratch, &["--open", "--no-records"]);
     let (status, _, _) = server.ssh_batch(None, "ida", &["-T"]);
     assert_eq!(status.code(), Some(1));
-    assert!(!scratch.0.join("records.sqlite").exists());
+    assert!(!scratch.join("records.sqlite").exists());
     let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
         .args(["records", "--records"])
-        .arg(scratch.0.join("records.sqlite"))
+        .arg(scratch.join("records.sqlite"))
         .output()
         .expect("mazewalk records");
     assert_eq!(listed.status.code(), Some(1));
@@ -206,8 +206,8 @@ fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_a
         let text = s.contents();
         text.contains("Best times here (1 player)") && text.contains("1. bob") && text.contains("you")
     });
-    let records = scratch.0.join("records.sqlite");
-    let maze = scratch.0.join("maze.grid");
+    let records = scratch.join("records.sqlite");
+    let maze = scratch.join("maze.grid");
     for args in [vec![], vec![maze.to_str().expect("utf-8")]] {
         let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
             .arg("records")
@@ -244,7 +244,7 @@ fn walk_to_the_exit(player: &mut Player) -> String {
 #[test]
 fn every_finish_of_a_session_is_logged_kept_and_ranked() {
     let scratch = Scratch::new("again");
-    let maze = scratch.0.join("maze.grid");
+    let maze = scratch.join("maze.grid");
     std::fs::write(&maze, SHORT_RUN).expect("write the maze");
     let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
     let mut bob = Player::connect(server.port, None, "bob", 100, 30);
@@ -275,7 +275,7 @@ fn every_finish_of_a_session_is_logged_kept_and_ranked() {
     let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
         .arg("records")
         .arg("--records")
-        .arg(scratch.0.join("records.sqlite"))
+        .arg(scratch.join("records.sqlite"))
         .output()
         .expect("mazewalk records");
     let text = String::from_utf8_lossy(&listed.stdout);
@@ -283,12 +283,12 @@ fn every_finish_of_a_session_is_logged_kept_and_ranked() {
     assert!(text.contains("1 player, 2 finishes"), "{text}");
     assert!(text.lines().any(|l| l.contains("1. bob") && l.contains(&second)), "{text}");
     // The run kept (the ghost's, `g`) is the best walk's, the second.
-    let run = scratch.0.join("best.run");
+    let run = scratch.join("best.run");
     let exported = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
         .arg("records")
         .arg(&maze)
         .arg("--records")
-        .arg(scratch.0.join("records.sqlite"))
+        .arg(scratch.join("records.sqlite"))
         .arg("--export-run")
         .arg(&run)
         .output()
@@ -402,7 +402,7 @@ fn spectators_past_their_address_share_are_told_why() {
 fn authorized_keys_let_in_only_their_keys() {
     let scratch = Scratch::new("keys");
     let (known, unknown) = (scratch.key("known"), scratch.key("unknown"));
-    let list = scratch.0.join("players");
+    let list = scratch.join("players");
     // Issue #34: a borg line (a quoted option with spaces) failed the whole file and the server
     // did not start; now it is left out, said with its line, and the rest is read.
     let public = |key: &Path| std::fs::read_to_string(key.with_extension("pub")).expect("a public key");
@@ -460,8 +460,8 @@ fn a_port_in_use_is_said_plainly_and_a_host_name_is_looked_up() {
     let taken = format!("127.0.0.1:{}", server.port);
     let second = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
         .args(["serve", "--open", "--listen", &taken, "--host-key"])
-        .arg(scratch.0.join("host_key"))
-        .env("HOME", &scratch.0)
+        .arg(scratch.join("host_key"))
+        .env("HOME", scratch.path())
         .stdin(Stdio::null())
         .output()
         .expect("run a second server");

@@ -28,7 +28,7 @@ fn in_view(screen: &vt100::Screen, text: &str) -> bool {
 #[test]
 fn a_finished_run_comes_back_as_a_ghost_on_the_next_players_screen_and_map() {
     let scratch = Scratch::new("ghost");
-    let maze = scratch.0.join("maze.grid");
+    let maze = scratch.join("maze.grid");
     std::fs::write(&maze, CORRIDOR).expect("write the maze");
     let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
     let mut bob = Player::connect(server.port, None, "bob", 100, 30);
@@ -74,10 +74,10 @@ fn a_finished_run_comes_back_as_a_ghost_on_the_next_players_screen_and_map() {
     });
 
     // The run as a file: exported from the records, it decodes and is bob's.
-    let run = scratch.0.join("bob.run");
+    let run = scratch.join("bob.run");
     let exported = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
         .args(["records", maze.to_str().expect("utf-8"), "--records"])
-        .arg(scratch.0.join("records.sqlite"))
+        .arg(scratch.join("records.sqlite"))
         .arg("--export-run")
         .arg("bob")
         .arg(&run)
@@ -110,7 +110,7 @@ fn walk_to_the_exit(player: &mut Player) {
 fn a_finish_on_another_server_reaches_the_ghost_within_seconds() {
     let scratch = Scratch::new("worldghost");
     let redis = RedisServer::start(Persistence::None);
-    let maze = scratch.0.join("maze.grid");
+    let maze = scratch.join("maze.grid");
     std::fs::write(&maze, CORRIDOR).expect("write the maze");
     let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     let server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);

@@ -75,9 +75,9 @@ fn parse(text: &str) -> (serde_json::Value, Vec<(f64, String, String)>) {
 #[test]
 fn a_players_session_is_recorded_and_replays_to_the_screen_it_showed() {
     let scratch = Scratch::new("record");
-    let maze = scratch.0.join("maze.grid");
+    let maze = scratch.join("maze.grid");
     std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
-    let dir = scratch.0.join("casts");
+    let dir = scratch.join("casts");
     let args = ["--open", "--record-dir", dir.to_str().expect("UTF-8"), maze.to_str().expect("UTF-8")];
     let server = Server::start(&scratch, &args);
 
@@ -161,9 +161,9 @@ fn a_players_session_is_recorded_and_replays_to_the_screen_it_showed() {
 #[test]
 fn a_tiny_record_max_bytes_stops_the_cast_at_the_cap() {
     let scratch = Scratch::new("recordcap");
-    let maze = scratch.0.join("maze.grid");
+    let maze = scratch.join("maze.grid");
     std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
-    let dir = scratch.0.join("casts");
+    let dir = scratch.join("casts");
     let dir_arg = dir.to_str().expect("UTF-8");
     let args = ["--open", "--record-dir", dir_arg, "--record-max-bytes", "8K", maze.to_str().expect("UTF-8")];
     let server = Server::start(&scratch, &args);

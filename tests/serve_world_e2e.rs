@@ -26,9 +26,9 @@ fn refused(scratch: &Scratch, args: &[&str]) -> (Option<i32>, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
         .arg("serve")
         .args(["--listen", "127.0.0.1:0", "--open", "--host-key"])
-        .arg(scratch.0.join("host_key_refused"))
+        .arg(scratch.join("host_key_refused"))
         .args(args)
-        .env("HOME", &scratch.0)
+        .env("HOME", scratch.path())
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -67,7 +67,7 @@ const LONG_RUN: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n######\n#@..E#\n
 fn two_servers_walk_one_world_on_redis() {
     let scratch = Scratch::new("two");
     let mut redis = RedisServer::start(Persistence::None);
-    let maze = scratch.0.join("maze.grid");
+    let maze = scratch.join("maze.grid");
     std::fs::write(&maze, LONG_RUN).expect("write the maze");
     let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     let mut server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);
@@ -200,7 +200,7 @@ fn a_server_that_cannot_join_the_world_says_why_and_exits_1() {
     assert!(started.elapsed() < Duration::from_secs(5), "bounded: {:?}", started.elapsed());
 
     let redis = RedisServer::start(Persistence::None);
-    let maze = scratch.0.join("maze.grid");
+    let maze = scratch.join("maze.grid");
     std::fs::write(&maze, SHORT_RUN).expect("write the maze");
     let server = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     let (code, said) = refused(&scratch, &["--gen", "4x4", "--world", &redis.url(0)]);
@@ -212,7 +212,7 @@ fn a_server_that_cannot_join_the_world_says_why_and_exits_1() {
     assert!(said.contains("walks the maze") && said.contains("/1"), "{said}");
     drop(server);
 
-    let ca = scratch.0.join("any.pem");
+    let ca = scratch.join("any.pem");
     std::fs::write(&ca, "not a certificate").expect("a file");
     let (code, said) =
         refused(&scratch, &["--gen", "4x4", "--world", &redis.url(0), "--world-ca", ca.to_str().unwrap()]);
@@ -227,7 +227,7 @@ fn two_servers_share_a_world_over_tls_with_their_own_ca() {
     let scratch = Scratch::new("tls");
     let redis = RedisServer::start_tls();
     assert!(redis.url(0).starts_with("rediss://"));
-    let maze = scratch.0.join("maze.grid");
+    let maze = scratch.join("maze.grid");
     std::fs::write(&maze, SHORT_RUN).expect("write the maze");
     let ca = redis.ca_path().expect("its CA's certificate");
     let ca = ca.to_str().expect("a UTF-8 path");

@@ -9,12 +9,13 @@
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::num::NonZeroU16;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
 use mazewalk_testkit::require_tool;
+pub use mazewalk_testkit::scratch::Scratch;
 use rustix::termios::{self, Winsize};
 
 /// Longest wait for anything. Generous for a loaded CI machine; each step takes well under a second.
@@ -60,38 +61,6 @@ impl<T> Watched<T> {
     }
 }
 
-/// A scratch folder of the test's own, removed on drop.
-pub struct Scratch(pub PathBuf);
-
-impl Scratch {
-    pub fn new(name: &str) -> Scratch {
-        let dir = std::env::temp_dir().join(format!("mazewalk-e2e-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("scratch folder");
-        Scratch(dir)
-    }
-
-    /// A fresh ed25519 key pair made by ssh-keygen; returns the private key's path.
-    pub fn key(&self, name: &str) -> PathBuf {
-        require_tool("ssh-keygen", "openssh-client");
-        let path = self.0.join(name);
-        let status = Command::new("ssh-keygen")
-            .args(["-q", "-t", "ed25519", "-N", "", "-C", name, "-f"])
-            .arg(&path)
-            .stdin(Stdio::null())
-            .status()
-            .expect("ssh-keygen");
-        assert!(status.success());
-        path
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 /// The server binary (`mazewalk serve`), with its log.
 pub struct Server {
     pub child: Child,
@@ -119,9 +88,9 @@ impl Server {
         let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
             .arg("serve")
             .args(["--listen", listen, "--host-key"])
-            .arg(scratch.0.join(host_key))
+            .arg(scratch.join(host_key))
             .args(args)
-            .env("HOME", &scratch.0)
+            .env("HOME", scratch.path())
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())

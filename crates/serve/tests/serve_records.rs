@@ -13,28 +13,7 @@ use mazewalk_maze::ContentHash;
 use mazewalk_serve::records::{
     Fault, Finish, QUEUE, Records, Report, Sqlite, SqliteOptions, Standing, Store, standing_lines,
 };
-
-/// A scratch folder, removed on drop.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Scratch {
-        let dir = std::env::temp_dir().join(format!("mazewalk-records-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("scratch folder");
-        Scratch(dir)
-    }
-
-    fn db(&self) -> PathBuf {
-        self.0.join("records.sqlite")
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+use mazewalk_testkit::scratch::Scratch;
 
 const MAZE: ContentHash = ContentHash([7; 32]);
 const OTHER: ContentHash = ContentHash([9; 32]);
@@ -385,7 +364,7 @@ fn a_records_file_deleted_or_replaced_while_serving_is_made_again() {
     let kept = Sqlite::open_to_read(&path).unwrap().mazes(Some(&MAZE)).unwrap();
     assert_eq!((kept[0].finishes, kept[0].top[0].player.as_str()), (2, "bob"), "in the new file");
     // Another records file moved into its place: used from the next finish on.
-    let other = scratch.0.join("other.sqlite");
+    let other = scratch.join("other.sqlite");
     open(&other).record(&finish(MAZE, "dee", 5.0)).unwrap();
     std::fs::rename(&other, &path).unwrap();
     let standing = answer(&records, finish(MAZE, "eve", 6.0)).unwrap();
@@ -406,7 +385,7 @@ fn a_records_file_that_cannot_be_written_keeps_the_ranking_in_memory() {
     let records = Records::start(open(&path), report).unwrap();
     answer(&records, finish(MAZE, "ann", 50.0)).unwrap();
     answer(&records, finish(MAZE, "bob", 40.0)).unwrap();
-    std::fs::rename(&path, scratch.0.join("moved.sqlite")).unwrap();
+    std::fs::rename(&path, scratch.join("moved.sqlite")).unwrap();
     std::fs::create_dir(&path).unwrap();
     let cid = answer(&records, finish(MAZE, "cid", 45.0)).expect("ranked from memory");
     let names: Vec<&str> = cid.top.iter().map(|b| b.player.as_str()).collect();

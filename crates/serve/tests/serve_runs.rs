@@ -4,35 +4,14 @@
 //! inside the maze (a damaged one is said, and is no ghost).
 #![cfg(unix)]
 
-use std::path::PathBuf;
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
 use glam::Vec2;
 use mazewalk_maze::{Aabb, ContentHash};
 use mazewalk_serve::records::{Finish, Race, Records, Report, Sqlite, SqliteOptions, Store};
+use mazewalk_testkit::scratch::Scratch;
 use mazewalk_walk::run::{Pose, Run};
-
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Scratch {
-        let dir = std::env::temp_dir().join(format!("mazewalk-runs-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("scratch folder");
-        Scratch(dir)
-    }
-
-    fn db(&self) -> PathBuf {
-        self.0.join("records.sqlite")
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 const MAZE: ContentHash = ContentHash([7; 32]);
 const EXTENTS: Aabb = Aabb { min: Vec2::ZERO, max: Vec2::new(100.0, 100.0) };

@@ -25,6 +25,7 @@ pub mod raw_ssh;
 #[cfg(feature = "redis")]
 pub mod redis_async;
 pub mod redis_server;
+pub mod scratch;
 #[cfg(feature = "walk")]
 pub mod screen;
 #[cfg(feature = "serve")]
