@@ -15,25 +15,14 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use load::{Connected, connect, quantile};
-use mazewalk_serve::{Access, Limits, ServeOptions, Server};
+use mazewalk_serve::{Access, Limits, Server};
 use russh::keys::{HashAlg, PrivateKeyWithHashAlg};
 
 /// Each test's deadline.
 const DEADLINE: Duration = Duration::from_secs(60);
 
 async fn server(access: Access, limits: Limits) -> Server {
-    let maze = mazewalk_maze::builtin().expect("built-in maze");
-    let listen: SocketAddr = "127.0.0.1:0".parse().expect("address");
-    let options = ServeOptions {
-        maze,
-        listen: vec![listen],
-        host_key: load::host_key(),
-        access,
-        limits,
-        records: None,
-        record: None,
-    };
-    Server::start(options).await.expect("start the server")
+    load::loopback_server(access, limits).await
 }
 
 /// Waits until `ok` holds, or panics after `within`.

@@ -18,22 +18,13 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use mazewalk_serve::ssh::NO_PTY_MESSAGE;
-use mazewalk_serve::{Access, Limits, ServeOptions, Server};
+use mazewalk_serve::{Access, Limits, Server};
 
 /// Each test's deadline.
 const DEADLINE: Duration = Duration::from_secs(90);
 
 async fn server(limits: Limits) -> Server {
-    let options = ServeOptions {
-        maze: mazewalk_maze::builtin().expect("built-in maze"),
-        listen: vec!["127.0.0.1:0".parse().expect("address")],
-        host_key: load::host_key(),
-        access: Access::Open,
-        limits,
-        records: None,
-        record: None,
-    };
-    Server::start(options).await.expect("start the server")
+    load::loopback_server(Access::Open, limits).await
 }
 
 /// Waits until `ok` holds, or panics after `within`.

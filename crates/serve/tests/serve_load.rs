@@ -9,13 +9,12 @@
 
 use mazewalk_testkit::load;
 
-use std::net::SocketAddr;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use load::{Connected, connect, quantile};
-use mazewalk_serve::{Access, Limits, ServeOptions, Server};
+use mazewalk_serve::{Access, Limits, Server};
 use tokio::sync::watch;
 
 /// The whole test's deadline.
@@ -154,18 +153,7 @@ async fn scenario() {
 
 /// A server on loopback with `limits`, open to all.
 async fn server_with(limits: Limits) -> Server {
-    let maze = mazewalk_maze::builtin().expect("built-in maze");
-    let listen: SocketAddr = "127.0.0.1:0".parse().expect("address");
-    let options = ServeOptions {
-        maze,
-        listen: vec![listen],
-        host_key: load::host_key(),
-        access: Access::Open,
-        limits,
-        records: None,
-        record: None,
-    };
-    Server::start(options).await.expect("start the server")
+    load::loopback_server(Access::Open, limits).await
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -10,11 +10,10 @@ use mazewalk_testkit::load;
 use mazewalk_testkit::raw_ssh as raw;
 
 use std::io::Write as _;
-use std::net::SocketAddr;
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
-use mazewalk_serve::{Access, Limits, ServeOptions, Server};
+use mazewalk_serve::{Access, Limits, Server};
 
 /// The log, as the server writes it.
 #[derive(Clone, Default)]
@@ -42,18 +41,7 @@ impl std::io::Write for Log {
 }
 
 async fn start(limits: Limits) -> Server {
-    let maze = mazewalk_maze::builtin().expect("built-in maze");
-    let listen: SocketAddr = "127.0.0.1:0".parse().expect("address");
-    let options = ServeOptions {
-        maze,
-        listen: vec![listen],
-        host_key: load::host_key(),
-        access: Access::Open,
-        limits,
-        records: None,
-        record: None,
-    };
-    Server::start(options).await.expect("start the server")
+    load::loopback_server(Access::Open, limits).await
 }
 
 /// Runs `attack` on `threads` threads for `seconds`; returns how many times it ran.

@@ -79,13 +79,8 @@ async fn a_records_file_broken_while_serving_neither_stops_the_game_nor_its_rank
             maze_name: "short.grid".into(),
         };
         let options = ServeOptions {
-            maze,
-            listen: vec!["127.0.0.1:0".parse().expect("address")],
-            host_key: load::host_key(),
-            access: Access::Open,
-            limits: Limits::default(),
             records: Some(keeper),
-            record: None,
+            ..load::loopback_options(maze, Access::Open, Limits::default())
         };
         let server = Server::start(options).await.expect("start the server");
         let addr = server.local_addr();

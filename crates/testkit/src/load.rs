@@ -11,6 +11,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
+use mazewalk_serve::{Access, Limits, ServeOptions, Server};
 use russh::client::{self, Handle, Msg};
 use russh::keys::PublicKeyOrCertificate;
 use russh::keys::ssh_key::private::Ed25519Keypair;
@@ -25,6 +26,28 @@ const ANSWER: &[u8] = b"\x1b[?62;22c";
 #[must_use]
 pub fn host_key() -> russh::keys::PrivateKey {
     russh::keys::PrivateKey::from(Ed25519Keypair::from_seed(&[7; 32]))
+}
+
+/// The options of an in-process server of `maze` on a free loopback port ([`host_key`], no records,
+/// no recordings).
+#[must_use]
+pub fn loopback_options(maze: mazewalk_maze::Maze, access: Access, limits: Limits) -> ServeOptions {
+    let listen: SocketAddr = "127.0.0.1:0".parse().expect("the loopback address");
+    ServeOptions {
+        maze,
+        listen: vec![listen],
+        host_key: host_key(),
+        access,
+        limits,
+        records: None,
+        record: None,
+    }
+}
+
+/// An in-process server of the built-in maze on a free loopback port ([`loopback_options`]).
+pub async fn loopback_server(access: Access, limits: Limits) -> Server {
+    let maze = mazewalk_maze::builtin().expect("built-in maze");
+    Server::start(loopback_options(maze, access, limits)).await.expect("start the server")
 }
 
 /// The client side: trusts any host key (loopback tests only).
