@@ -180,21 +180,12 @@ pub(crate) const GLOW_STEP_COUNT: usize = 3;
 
 /// The exit's light on a wall in 16 colours ([`exit_lit_wall_16`]) at each of its steps
 /// ([`glow_step_16`], from the edge of its reach to the exit; in 256 colours and truecolor walls keep
-/// their own hues: [`exit_lit_wall`]): the glow's chroma relative to lightness (OKLab C ⁄ L), the factor on the wall's luminance
-/// and the luminance the light adds (linear, before the fog: it lifts a side wall as much as one
-/// faced square on). Issue #39: with the chroma alone growing by level (0.09 → 0.13) and the
-/// luminance kept, every lit wall showed one of two entries in 256 colours, pale (135, 175, 135)
-/// faced and (95, 135, 95) along the view, from fifteen cells out to the exit: the glow said "near"
-/// and not "which way". The cube's muted greens of the glow's hue lie on one line by lightness, an
-/// entry to about 1.5× in luminance ((95, 135, 95) L 0.58 → (135, 175, 135) 0.71, or the greener
-/// (95, 175, 135) 0.69 → (135, 215, 175) 0.82 → (175, 255, 215) 0.94, the beacon's own lightness),
-/// and the headlight puts only 1.4× between a faced wall and a side wall, so the steps are few and
-/// each crosses an entry: more chroma, then more light. Seen from a cell's centre, a wall faced
-/// square on shows (135, 175, 135) at the edge of the reach, (95, 175, 135) from nine cells out and
-/// (135, 215, 175) from four; one along the view (95, 135, 95), then (95, 175, 135) from four cells.
-/// Never past (135, 215, 175): the beacon's green shows (135, 255, 175), lighter by 0.1 in L. Four
-/// steps were tried: the cube has no fourth rung below the beacon's, and walls two steps apart took
-/// one entry.
+/// their own hues: [`exit_lit_wall`]): the glow's chroma relative to lightness (OKLab C ⁄ L), the
+/// factor on the wall's luminance and the luminance the light adds (linear, before the fog). Every
+/// step is the glow's very hue with a chroma share inside `palette::glow_16`'s 0.085–0.155, so 16
+/// colours show each as the dark green (xterm's 2; black where near black), the beacon's bright
+/// green left to the beacon. (Until issue #39's walls kept their cells these were the 256-colour
+/// and truecolor look too: one green for every lit wall, which hid the seams between cells.)
 pub(crate) const GLOW_STEPS: [GlowStep; GLOW_STEP_COUNT] = [
     GlowStep { chroma: 0.10, gain: 0.9, lift: 0.0 },
     GlowStep { chroma: 0.125, gain: 0.9, lift: 0.0 },
@@ -221,12 +212,10 @@ pub(crate) fn glow_step_16(level: u8) -> usize {
 }
 
 /// A wall of `color` (its own light: the sun's and the headlight's) lit by the exit's light at
-/// `level` (0: none, the wall as it is), as 16 colours show it (which draw it one dark green, its
-/// seams and corners in a line colour of their own: `palette::glow_line_16`): the glow's green at its step's chroma, its luminance that of
-/// the wall's lightness times the step's gain plus its lift ([`GLOW_STEPS`]). Every lit wall seen at
-/// one angle and depth has one colour per step, the next step nearer the exit a greener or lighter
-/// one. The pipeline draws it in colour only: it changes a wall's luminance, which ascii would draw
-/// as nearness.
+/// `level` (0: none, the wall as it is), as 16 colours show it (one dark green, its seams and
+/// corners in a line colour of their own: `palette::glow_line_16`): the glow's green at its step's
+/// chroma, its luminance that of the wall's lightness times the step's gain plus its lift
+/// ([`GLOW_STEPS`]).
 #[must_use]
 pub(crate) fn exit_lit_wall_16(color: Vec3, level: u8) -> Vec3 {
     if level == 0 {
@@ -874,7 +863,7 @@ mod tests {
             for (look, pair) in looks.windows(2).enumerate() {
                 let (forward, back) = (step(&pair[0], &pair[1]), step(&pair[1], &pair[0]));
                 let why = format!("keep {keep} look {look}: {forward} of {n} forward, {back} back");
-                // (near: 455, 406, 402 of 784 forward, 0, 19, 54 back; fog 0.6: 315–343, 12–58)
+                // (near: 455, 406, 395 of 784 forward, 0, 19, 57 back; fog 0.6: 315–343, 12–53)
                 eprintln!("{why}");
                 assert!(
                     forward * if keep == 1.0 { 5 } else { 3 } >= n * if keep == 1.0 { 2 } else { 1 },
@@ -884,7 +873,7 @@ mod tests {
             }
             let whole = step(&looks[0], &looks[looks.len() - 1]);
             eprintln!("keep {keep}: whole {whole} of {n}");
-            // (756 of 784 near, 646 further)
+            // (754 of 784 near, 649 further)
             assert!(
                 whole * if keep == 1.0 { 10 } else { 4 } >= n * if keep == 1.0 { 9 } else { 3 },
                 "keep {keep}: {whole} of {n}"
