@@ -11,12 +11,14 @@ use crate::{Aabb, CellId, Maze};
 use std::collections::{HashMap, VecDeque};
 
 /// The exit cell's light level. A cell `d` openings from the exit has `EXIT_LIGHT − d`, at least 0: the
-/// light reaches `EXIT_LIGHT − 1` cells of path from the exit (fifteen at 16). Issue #39: at 8 (seven
-/// cells) the glow first showed about five cells by path from the exit, and a player whose way never
-/// came that near never met it (one trial's exit was 42 cells from the start); fifteen cells light
-/// 35–68 of a 20 × 15 maze's 300 cells round its exit (ten seeds; 9–27 at 8), and the search stays
-/// bounded by the reach on any maze (at most 2 · 15² + 2 · 15 + 1 = 481 cells on a grid, whatever its size).
-pub const EXIT_LIGHT: u8 = 16;
+/// light reaches `EXIT_LIGHT − 1` cells of path from the exit (twenty-seven at 28). Issue #39: at 8
+/// (seven cells) the glow first showed about five cells by path from the exit; at 16 (fifteen cells,
+/// 35–68 of a 20 × 15 maze's 300 cells round its exit over ten seeds) a new player whose exit was
+/// 38–39 openings from the start still spent most of a trial without any cue. Twenty-seven cells
+/// light 125–231 of those 300 cells (the same ten seeds; their exits 33–42 openings from the start:
+/// the last 27 of the way are lit); the search stays bounded by the
+/// reach on any maze (at most 2 · 27² + 2 · 27 + 1 = 1,513 cells on a grid, whatever its size).
+pub const EXIT_LIGHT: u8 = 28;
 
 /// The exit's light levels of the cells it reaches: [`EXIT_LIGHT`] at the exit cell, one less per
 /// opening crossed on the shortest path from it, none (level 0) beyond. Only the lit cells are kept,
@@ -182,7 +184,8 @@ mod tests {
 
     #[test]
     fn the_maze_keeps_its_light_and_the_box_holds_every_lit_cell() {
-        let maze = generate(&GenOptions::walk(20, 15, 71)).expect("maze");
+        // (large enough that the box, at most 55 cells a side, leaves most of the maze out)
+        let maze = generate(&GenOptions::walk(100, 80, 71)).expect("maze");
         let kept: *const ExitLight = maze.exit_light();
         assert!(std::ptr::eq(kept, maze.exit_light()), "searched once, then kept");
         let light = ExitLight::of(&maze);
@@ -206,28 +209,32 @@ mod tests {
         assert!(ExitLight::default().bounds().is_empty());
     }
 
-    /// Issue #39: the light reaches fifteen cells of path (the exit's own and fifteen more levels), on
-    /// a maze of any size, and the search and the box stay the light's: on a 300 × 300 grid the lit
-    /// cells are at most the 481 within fifteen steps of the exit by any route, the farthest fifteen
-    /// openings away, and the box at most 31 cells a side.
+    /// Issue #39: the light reaches twenty-seven cells of path (the exit's own and twenty-seven more
+    /// levels), on a maze of any size, and the search and the box stay the light's: on a 300 × 300
+    /// grid the lit cells are at most the 1,513 within twenty-seven steps of the exit by any route,
+    /// the farthest twenty-seven openings away, and the box at most 55 cells a side.
     #[test]
-    fn the_light_reaches_fifteen_cells_of_path_and_no_more_on_a_large_maze() {
-        assert_eq!(EXIT_LIGHT, 16);
+    fn the_light_reaches_twenty_seven_cells_of_path_and_no_more_on_a_large_maze() {
+        assert_eq!(EXIT_LIGHT, 28);
+        let reach = u32::from(EXIT_LIGHT) - 1;
         let maze = generate(&GenOptions::walk(300, 300, 7)).expect("maze");
         let light = ExitLight::of(&maze);
         let dist = distances(&maze);
         let within: Vec<u32> =
-            (0..maze.cell_count() as u32).filter(|&c| dist[c as usize].is_some_and(|d| d < 16)).collect();
+            (0..maze.cell_count() as u32).filter(|&c| dist[c as usize].is_some_and(|d| d <= reach)).collect();
         assert_eq!(light.lit_cells(), within.len());
-        assert!(light.lit_cells() <= 481, "{}", light.lit_cells());
+        let most = 2 * reach * reach + 2 * reach + 1;
+        assert_eq!(most, 1513);
+        assert!(light.lit_cells() <= most as usize, "{}", light.lit_cells());
         assert!(
-            within.iter().any(|&c| dist[c as usize] == Some(15)),
-            "a corridor fifteen cells long from the exit"
+            within.iter().any(|&c| dist[c as usize] == Some(reach)),
+            "a corridor twenty-seven cells long from the exit"
         );
-        assert!(within.iter().all(|&c| light.level(c) == 16 - dist[c as usize].unwrap() as u8));
+        assert!(within.iter().all(|&c| u32::from(light.level(c)) == 28 - dist[c as usize].unwrap()));
         let size = light.bounds().max - light.bounds().min;
         let cell = crate::generate::CELL_SIZE;
-        assert!(size.x <= 31.0 * cell + 1e-3 && size.y <= 31.0 * cell + 1e-3, "{size:?}");
+        let side = (2 * reach + 1) as f32 * cell + 1e-3;
+        assert!(size.x <= side && size.y <= side, "{size:?}");
     }
 
     #[test]

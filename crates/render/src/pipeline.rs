@@ -23,8 +23,8 @@ use super::raster::{GridVertex, LANES, fill_polygon, fill_polygon_x8};
 use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
     CEILING_EXIT_TINT, FLOOR_EXIT_TINT, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker,
-    checker_filtered, edge_color, exit_lit_wall, exit_tinted, headlight, jamb_color, jamb_grey, lit,
-    luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
+    checker_filtered, edge_color, exit_lit_wall, exit_lit_wall_16, exit_tinted, headlight, jamb_color,
+    jamb_grey, lit, luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -406,10 +406,10 @@ impl Renderer {
             .zip(light.exit_light)
             .filter(|_| self.walls_apart)
             .map_or(0, |(cell, exit_light)| exit_light.level(cell));
-        let lit_albedo = palette::off_floor_and_ceiling(exit_lit_wall(
-            lit(albedo, headlight(normal_view), AMBIENT),
-            level,
-        ));
+        // (16 colours: one dark green with its own seam lines; else the wall's own colour tinted)
+        let lit_wall = if self.floor_bounds_apart { exit_lit_wall_16 } else { exit_lit_wall };
+        let lit_albedo =
+            palette::off_floor_and_ceiling(lit_wall(lit(albedo, headlight(normal_view), AMBIENT), level));
         let triangles = self.polygon_grid.len() - 2;
         let fog = &light.fog;
         // One fog for the whole wall, at its point nearest the eye: each wall (in a generated maze,
