@@ -1188,27 +1188,55 @@ fn inverse_of(pen: &Pen, cell: &PackedCell) -> Option<PackedCell> {
 /// are within `tolerance` of the cell's; and, where a tolerance applies, a blank or a full block in one colour
 /// within `tolerance` of both halves of a half-block cell where that is fewer bytes. The last one
 /// found is remembered ([`LAST_FORM`]).
+#[inline]
 fn cell_form(pen: &Pen, cell: &PackedCell, tolerance: u8) -> (PackedCell, Sgr) {
-    let key = FormKey { fg: pen.fg, bg: pen.bg, blocks: pen.blocks, cell: *cell, tolerance };
-    LAST_FORM.with(|last| match last.get() {
-        Some((held, form)) if held == key => form,
-        _ => {
-            let form = find_form(pen, cell, tolerance, true);
-            last.set(Some((key, form)));
-            form
-        }
+    let key = FormKey::of(pen, cell, tolerance);
+    LAST_FORM.with(|last| {
+        if last.key.get() == key { last.form.get() } else { form_missed(last, key, pen, cell, tolerance) }
     })
 }
 
-/// All that [`find_form`] reads: the pen's colours and whether it draws blocks (not its cursor),
-/// the cell and the tolerance.
-#[derive(Clone, Copy, PartialEq, Eq)]
-struct FormKey {
-    fg: Option<PackedColor>,
-    bg: Option<PackedColor>,
-    blocks: bool,
-    cell: PackedCell,
+/// [`cell_form`] not remembered: found, and remembered. (Out of line: the memo's hit, the usual
+/// answer, inlines where it is asked.)
+#[cold]
+#[inline(never)]
+fn form_missed(
+    last: &FormMemo,
+    key: FormKey,
+    pen: &Pen,
+    cell: &PackedCell,
     tolerance: u8,
+) -> (PackedCell, Sgr) {
+    let form = find_form(pen, cell, tolerance, true);
+    last.key.set(key);
+    last.form.set(form);
+    form
+}
+
+/// All that [`find_form`] reads, in two words: the pen's colours, the cell's colours (each
+/// [`PackedColor::word`], 0 for `None`, which no colour is), the cell's glyph, whether the pen draws
+/// blocks and the tolerance (not the cursor). Equal keys, equal inputs: one comparison of each word.
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct FormKey(u128, u64);
+
+impl FormKey {
+    /// No inputs have it (a glyph's bits are at most 21: its word's top bits are zero).
+    const NONE: FormKey = FormKey(0, u64::MAX);
+
+    #[inline(always)]
+    fn of(pen: &Pen, cell: &PackedCell, tolerance: u8) -> FormKey {
+        let word = |c: Option<PackedColor>| u128::from(c.map_or(0, PackedColor::word));
+        let colours =
+            word(pen.fg) | word(pen.bg) << 32 | word(Some(cell.fg)) << 64 | word(Some(cell.bg)) << 96;
+        let rest = u64::from(u32::from(cell.ch)) << 16 | u64::from(pen.blocks) << 8 | u64::from(tolerance);
+        FormKey(colours, rest)
+    }
+}
+
+/// The last form [`cell_form`] found: its inputs ([`FormKey`]) and the form.
+struct FormMemo {
+    key: std::cell::Cell<FormKey>,
+    form: std::cell::Cell<(PackedCell, Sgr)>,
 }
 
 thread_local! {
@@ -1216,8 +1244,15 @@ thread_local! {
     /// function of them, it changes no answer. The diff often asks one cell's form twice or three
     /// times in a row from the same pen: the run after a cell ([`repeat`]) stops at the next changed
     /// cell, whose form the detours ask next ([`detours`]) and then the move to it ([`reach`]).
-    static LAST_FORM: std::cell::Cell<Option<(FormKey, (PackedCell, Sgr))>> =
-        const { std::cell::Cell::new(None) };
+    static LAST_FORM: FormMemo = const {
+        FormMemo {
+            key: std::cell::Cell::new(FormKey::NONE),
+            form: std::cell::Cell::new((
+                PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg: PackedColor::DEFAULT },
+                Sgr::KEEP,
+            )),
+        }
+    };
 }
 
 /// [`cell_form`]; `shortcut`: skip the inverse forms where they cannot win (false: the whole
@@ -1818,8 +1853,8 @@ mod tests {
                     let (remembered, found) =
                         (cell_form(&pen, &cell, tolerance), find_form(&pen, &cell, tolerance, true));
                     assert_eq!(format!("{remembered:?}"), format!("{found:?}"), "{cell:?} from {pen:?}");
-                    let key = FormKey { fg: pen.fg, bg: pen.bg, blocks: pen.blocks, cell, tolerance };
-                    assert!(LAST_FORM.get().is_some_and(|(held, _)| held == key));
+                    let key = FormKey::of(&pen, &cell, tolerance);
+                    assert!(LAST_FORM.with(|last| last.key.get() == key));
                     calls += 1;
                 }
             }

@@ -225,11 +225,13 @@ fn horizontal_len(horizontal: Horizontal) -> usize {
 }
 
 /// The bytes of [`write_csi`].
+#[inline(always)]
 fn csi_len(n: usize, default: usize) -> usize {
     3 + if n != default { digits(n) } else { 0 }
 }
 
 /// The bytes of [`write_cup`].
+#[inline(always)]
 fn cup_len(x: usize, y: usize) -> usize {
     3 + if x != 0 {
         digits(y + 1) + 1 + digits(x + 1)
