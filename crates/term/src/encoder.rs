@@ -783,14 +783,25 @@ impl Follow {
         self.marks.clear();
         self.looks.clear();
         self.ids.clear();
-        // Neighbours along a row mostly show one look: the last key's look is tried before the map.
+        // Neighbours along a row mostly show one look: the last key's look is tried before the map;
+        // and mostly are one cell, whose key is the last cell's (a key is the cell's alone).
         let mut last: Option<(u64, u32)> = None;
+        let mut last_cell: Option<(PackedCell, Option<u64>)> = None;
         for (y, (row, row_differs)) in frame.chunks_exact(width).zip(differs.chunks_exact(width)).enumerate()
         {
             let end = erasable_tail(row, bce).map_or(width, |(start, _)| start);
             let mut x = 0;
             while let Some(found) = next_set(&row_differs[..end], x) {
-                if let Some(key) = colour_key(&shortest(&row[found], tolerance)) {
+                let cell = row[found];
+                let key = match last_cell {
+                    Some((held, key)) if held == cell => key,
+                    _ => {
+                        let key = colour_key(&shortest(&cell, tolerance));
+                        last_cell = Some((cell, key));
+                        key
+                    }
+                };
+                if let Some(key) = key {
                     let id = match last {
                         Some((last_key, id)) if last_key == key => id,
                         _ => {
@@ -930,6 +941,11 @@ fn detours(
     if Sgr::to_cell(pen, &frame[next]).len() == 0 {
         return 0; // the pen draws it as it is: on along the row
     }
+    // (Asked before the looks and their cells: half the time the pen draws it in another form, or
+    // within the tolerance. The move to it asks it again, from the memo.)
+    if cell_form(pen, &frame[next], how.tolerance).1.len() == 0 {
+        return 0; // the pen draws it: on along the row
+    }
     // The looks and the glyph each goes in with no colour change: a blank in the pen's paper as a
     // space, one in its ink as a full block (where the frames have blocks), a half block of the two
     // as itself or its inverse. (The same cell may come up under two keys, where the pen's colours
@@ -941,7 +957,6 @@ fn detours(
         return 0;
     }
     let (nx, ny) = (next % width, next / width);
-    let mut next_checked = false;
     let mut written = 0;
     loop {
         let at = pen.cursor.map_or(0, |(x, y)| y * width + x);
@@ -953,12 +968,6 @@ fn detours(
         let found = [blank, block, half];
         if found.iter().flatten().all(|&(_, k, _)| k == next) {
             return written;
-        }
-        if !next_checked {
-            if cell_form(pen, &frame[next], how.tolerance).1.len() == 0 {
-                return written; // the pen draws it: on along the row
-            }
-            next_checked = true;
         }
         let direct = move_bound(pen.cursor, nx, ny);
         // Of each candidate, the moves there and on to `next` and its glyph against the move to
@@ -981,8 +990,11 @@ fn detours(
         frame[k] = write_cell(out, pen, &frame[k], width, how.tolerance);
         differs[k] = false;
         written += 1;
-        if how.rep != RepLevel::None {
+        if how.rep != RepLevel::None
+            && may_repeat(&frame[y * width..][..width], &differs[y * width..][..width], x, how.rep)
+        {
             let row = &mut frame[y * width..][..width];
+            // (The row's erasable tail only where a run may follow: a scan of the row's end.)
             let end = erasable_tail(row, how.bce).map_or(width, |(start, _)| start);
             let repeated =
                 repeat(pen, out, row, end, &differs[y * width..][..width], x, how.tolerance, how.rep);
@@ -1011,20 +1023,16 @@ fn repeat(
     tolerance: u8,
     level: RepLevel,
 ) -> usize {
-    let Some(&last) = new.get(x) else { return 0 };
-    if level < RepLevel::Any && !last.ch.is_ascii() {
-        return 0; // tmux repeats only an ASCII glyph: after `▀` it ignores REP (see `set_rep`)
+    if !may_repeat(new, differs, x, level) {
+        return 0;
     }
+    let last = new[x];
     let same = |pen: &Pen, cell: &PackedCell| {
         let (form, sgr) = cell_form(pen, cell, tolerance);
         (sgr.len() == 0 && form.ch == last.ch).then_some(form)
     };
     let end = end.min(new.len());
-    // The shortest run that pays (`run * glyph > 3 + digits(run)`: five ASCII glyphs, two block
-    // glyphs): where fewer cells right after `x` are changed, none pays and no cell's form is asked.
-    let glyph = last.ch.len_utf8();
-    let least = (1..5).find(|&n| n * glyph > 3 + digits(n)).unwrap_or(5);
-    if x + least >= end || !differs[x + 1..=x + least].iter().all(|&d| d) {
+    if x + least_run(last.ch) >= end {
         return 0;
     }
     let run = (x + 1..end).take_while(|&j| differs[j] && same(pen, &new[j]).is_some()).count();
@@ -1040,6 +1048,27 @@ fn repeat(
         advance(pen, width);
     }
     run
+}
+
+/// The shortest run of `glyph` that pays as `REP` (`run * glyph > 3 + digits(run)`: five ASCII
+/// glyphs, two block glyphs).
+#[inline]
+fn least_run(glyph: char) -> usize {
+    let glyph = glyph.len_utf8();
+    (1..5).find(|&n| n * glyph > 3 + digits(n)).unwrap_or(5)
+}
+
+/// Whether [`repeat`] after column `x` of row `new` may send a run, by what it checks first: the
+/// terminal repeats the glyph there (`level`), and the [`least_run`] cells after it are changed
+/// and in the row. Where not, no cell's form is asked (nor the row's erasable tail, by the detours).
+#[inline]
+fn may_repeat(new: &[PackedCell], differs: &[bool], x: usize, level: RepLevel) -> bool {
+    let Some(&last) = new.get(x) else { return false };
+    if level < RepLevel::Any && !last.ch.is_ascii() {
+        return false; // tmux repeats only an ASCII glyph: after `▀` it ignores REP (see `set_rep`)
+    }
+    let least = least_run(last.ch);
+    x + least < new.len() && differs[x + 1..=x + least].iter().all(|&d| d)
 }
 
 /// What [`reach`] does once the cursor is there.

@@ -90,7 +90,7 @@ pub(super) fn move_len(pen: &mut Pen, x: usize, y: usize) -> usize {
 /// by a horizontal one (`CUF`, `CUB`, backspaces, `\r`). [`shortest_move`] prices these routes among
 /// others, so the move it finds is never longer. For moves priced and mostly not taken (`detours` in
 /// the encoder).
-#[inline]
+#[inline(always)]
 pub(super) fn move_bound(from: Option<(usize, usize)>, x: usize, y: usize) -> usize {
     use std::cmp::Ordering::{Equal, Greater, Less};
     let cup = cup_len(x, y);
