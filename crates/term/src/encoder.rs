@@ -768,10 +768,11 @@ struct Follow {
 struct Look {
     head: u32,
     end: u32,
-    /// The last candidate of this look [`detours`] priced: the cell, whether the cell before it
-    /// was still changed then, and what it would cost in its row (the same until one of the two
-    /// is written: a candidate not taken mostly comes up again before the next cell).
-    priced: Option<(u32, bool, usize)>,
+    /// The last candidate of this look [`detours`] priced: the cell, the cell before it where
+    /// that was still changed, and what it would cost in its row (a function of those two: the
+    /// same for the next candidate of the same cells, and for a candidate not taken, which mostly
+    /// comes up again before the next cell).
+    priced: Option<(PackedCell, Option<PackedCell>, usize)>,
 }
 
 impl Follow {
@@ -852,18 +853,18 @@ impl Follow {
         width: usize,
         (blocks, tolerance): (bool, u8),
     ) -> usize {
-        let before = !k.is_multiple_of(width) && differs[k - 1];
+        let (cell, before) = (frame[k], (!k.is_multiple_of(width) && differs[k - 1]).then(|| frame[k - 1]));
         let look = &mut self.looks[look as usize];
-        if let Some((cell, was, later)) = look.priced
-            && (cell as usize, was) == (k, before)
+        if let Some((held, held_before, later)) = look.priced
+            && (held, held_before) == (cell, before)
         {
             return later;
         }
-        let before = before.then(|| shortest(&frame[k - 1], tolerance));
-        let row_pen = Pen { cursor: None, fg: before.map(|b| b.fg), bg: before.map(|b| b.bg), blocks };
-        let cell = shortest(&frame[k], tolerance).canonical();
-        let later = Sgr::to_cell(&row_pen, &cell).len() + cell.ch.len_utf8();
-        look.priced = Some((k as u32, before.is_some(), later));
+        let shown = before.map(|b| shortest(&b, tolerance));
+        let row_pen = Pen { cursor: None, fg: shown.map(|b| b.fg), bg: shown.map(|b| b.bg), blocks };
+        let sent = shortest(&cell, tolerance).canonical();
+        let later = Sgr::to_cell(&row_pen, &sent).len() + sent.ch.len_utf8();
+        look.priced = Some((cell, before, later));
         later
     }
 
@@ -871,10 +872,12 @@ impl Follow {
     /// else the first before it.
     fn first(&mut self, look: u32, at: usize, differs: &[bool]) -> Option<usize> {
         let look = &mut self.looks[look as usize];
-        let cells = &self.cells[look.head as usize..look.end as usize];
-        let written = cells.iter().take_while(|&&k| !differs[k as usize]).count();
-        look.head += written as u32;
-        let cells = &cells[written..];
+        let (mut head, end) = (look.head as usize, look.end as usize);
+        while head < end && !differs[self.cells[head] as usize] {
+            head += 1;
+        }
+        look.head = head as u32;
+        let cells = &self.cells[head..end];
         let &first = cells.first()?;
         if first as usize >= at {
             return Some(first as usize); // (mostly: the rows write the cells before the cursor)
