@@ -742,8 +742,11 @@ fn diff_row(
             changed += repeated;
             from += repeated;
         }
-        // Written: no detour comes back to them.
-        differs[row.start + x..row.start + from].fill(false);
+        // Written: no detour comes back to them. (Mostly the one cell: a store, not a `memset`.)
+        differs[row.start + x] = false;
+        if from > x + 1 {
+            differs[row.start + x + 1..row.start + from].fill(false);
+        }
     }
     changed
 }
