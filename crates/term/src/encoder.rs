@@ -652,6 +652,10 @@ fn mark(shown: &PackedCell, cell: &mut PackedCell, tolerance: u8) -> bool {
 /// mostly unchanged), then the one.
 #[inline]
 fn next_set(flags: &[bool], from: usize) -> Option<usize> {
+    // (Turning, the cell after one written is mostly changed too.)
+    if flags.get(from) == Some(&true) {
+        return Some(from);
+    }
     let mut i = from;
     while let Some(chunk) = flags.get(i..i + 16) {
         if chunk.iter().fold(false, |any, &set| any | set) {
@@ -980,7 +984,11 @@ fn detours(
         // `next` and what the cell would cost in its row ([`Follow::later`]). The largest saving
         // above `MARGIN` wins. Moves priced by `move_bound` (most of these are not taken).
         let mut best: Option<(usize, usize)> = None;
-        for (look, k, glyph) in found.into_iter().flatten().filter(|&(_, k, _)| k != next) {
+        for candidate in found {
+            let Some((look, k, glyph)) = candidate else { continue };
+            if k == next {
+                continue;
+            }
             let (x, y) = (k % width, k / width);
             let after = if x + 1 < width { Some((x + 1, y)) } else { None };
             let moves = move_bound(pen.cursor, x, y) + move_bound(after, nx, ny) + glyph;
