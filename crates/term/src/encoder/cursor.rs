@@ -93,8 +93,7 @@ pub(super) fn move_len(pen: &mut Pen, x: usize, y: usize) -> usize {
 #[inline(always)]
 pub(super) fn move_bound(from: Option<(usize, usize)>, x: usize, y: usize) -> usize {
     use std::cmp::Ordering::{Equal, Greater, Less};
-    let cup = cup_len(x, y);
-    let Some((cx, cy)) = from else { return cup };
+    let Some((cx, cy)) = from else { return cup_len(x, y) };
     let vertical = match y.cmp(&cy) {
         Equal => 0,
         Greater if y - cy <= 3 => y - cy,
@@ -108,7 +107,9 @@ pub(super) fn move_bound(from: Option<(usize, usize)>, x: usize, y: usize) -> us
         Less if cx - x <= 3 => cx - x,
         Less => csi_len(cx - x, 1),
     };
-    cup.min(vertical + horizontal)
+    let relative = vertical + horizontal;
+    // (`CUP` is at least 3 bytes: a step that short is the bound without pricing it.)
+    if relative <= 3 { relative } else { cup_len(x, y).min(relative) }
 }
 
 /// The vertical steps from row `cy` to row `y` a move may begin with, in the order a tie is broken
