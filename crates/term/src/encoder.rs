@@ -734,7 +734,10 @@ fn diff_row(
             }
         }
         let new = &mut frame[row.clone()];
-        if let Some(sent) = reach(pen, out, y, x, new, Then::Cell(new[x], tolerance)) {
+        if pen.cursor == Some((x, y)) {
+            // The cursor is there (the cell after the last one written): no route to price.
+            new[x] = write_cell(out, pen, &new[x], width, tolerance);
+        } else if let Some(sent) = reach(pen, out, y, x, new, Then::Cell(new[x], tolerance)) {
             new[x] = sent;
         }
         changed += 1;
