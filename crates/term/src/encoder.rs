@@ -652,6 +652,10 @@ fn mark(shown: &PackedCell, cell: &mut PackedCell, tolerance: u8) -> bool {
 /// mostly unchanged), then the one.
 #[inline]
 fn next_set(flags: &[bool], from: usize) -> Option<usize> {
+    // (Turning, the cell after one written is mostly changed too.)
+    if flags.get(from) == Some(&true) {
+        return Some(from);
+    }
     let mut i = from;
     while let Some(chunk) = flags.get(i..i + 16) {
         if chunk.iter().fold(false, |any, &set| any | set) {
@@ -730,7 +734,10 @@ fn diff_row(
             }
         }
         let new = &mut frame[row.clone()];
-        if let Some(sent) = reach(pen, out, y, x, new, Then::Cell(new[x], tolerance)) {
+        if pen.cursor == Some((x, y)) {
+            // The cursor is there (the cell after the last one written): no route to price.
+            new[x] = write_cell(out, pen, &new[x], width, tolerance);
+        } else if let Some(sent) = reach(pen, out, y, x, new, Then::Cell(new[x], tolerance)) {
             new[x] = sent;
         }
         changed += 1;
@@ -742,8 +749,11 @@ fn diff_row(
             changed += repeated;
             from += repeated;
         }
-        // Written: no detour comes back to them.
-        differs[row.start + x..row.start + from].fill(false);
+        // Written: no detour comes back to them. (Mostly the one cell: a store, not a `memset`.)
+        differs[row.start + x] = false;
+        if from > x + 1 {
+            differs[row.start + x + 1..row.start + from].fill(false);
+        }
     }
     changed
 }
@@ -768,10 +778,11 @@ struct Follow {
 struct Look {
     head: u32,
     end: u32,
-    /// The last candidate of this look [`detours`] priced: the cell, whether the cell before it
-    /// was still changed then, and what it would cost in its row (the same until one of the two
-    /// is written: a candidate not taken mostly comes up again before the next cell).
-    priced: Option<(u32, bool, usize)>,
+    /// The last candidate of this look [`detours`] priced: the cell, the cell before it where
+    /// that was still changed, and what it would cost in its row (a function of those two: the
+    /// same for the next candidate of the same cells, and for a candidate not taken, which mostly
+    /// comes up again before the next cell).
+    priced: Option<(PackedCell, Option<PackedCell>, usize)>,
 }
 
 impl Follow {
@@ -783,14 +794,25 @@ impl Follow {
         self.marks.clear();
         self.looks.clear();
         self.ids.clear();
-        // Neighbours along a row mostly show one look: the last key's look is tried before the map.
+        // Neighbours along a row mostly show one look: the last key's look is tried before the map;
+        // and mostly are one cell, whose key is the last cell's (a key is the cell's alone).
         let mut last: Option<(u64, u32)> = None;
+        let mut last_cell: Option<(PackedCell, Option<u64>)> = None;
         for (y, (row, row_differs)) in frame.chunks_exact(width).zip(differs.chunks_exact(width)).enumerate()
         {
             let end = erasable_tail(row, bce).map_or(width, |(start, _)| start);
             let mut x = 0;
             while let Some(found) = next_set(&row_differs[..end], x) {
-                if let Some(key) = colour_key(&shortest(&row[found], tolerance)) {
+                let cell = row[found];
+                let key = match last_cell {
+                    Some((held, key)) if held == cell => key,
+                    _ => {
+                        let key = colour_key(&shortest(&cell, tolerance));
+                        last_cell = Some((cell, key));
+                        key
+                    }
+                };
+                if let Some(key) = key {
                     let id = match last {
                         Some((last_key, id)) if last_key == key => id,
                         _ => {
@@ -841,18 +863,18 @@ impl Follow {
         width: usize,
         (blocks, tolerance): (bool, u8),
     ) -> usize {
-        let before = !k.is_multiple_of(width) && differs[k - 1];
+        let (cell, before) = (frame[k], (!k.is_multiple_of(width) && differs[k - 1]).then(|| frame[k - 1]));
         let look = &mut self.looks[look as usize];
-        if let Some((cell, was, later)) = look.priced
-            && (cell as usize, was) == (k, before)
+        if let Some((held, held_before, later)) = look.priced
+            && (held, held_before) == (cell, before)
         {
             return later;
         }
-        let before = before.then(|| shortest(&frame[k - 1], tolerance));
-        let row_pen = Pen { cursor: None, fg: before.map(|b| b.fg), bg: before.map(|b| b.bg), blocks };
-        let cell = shortest(&frame[k], tolerance).canonical();
-        let later = Sgr::to_cell(&row_pen, &cell).len() + cell.ch.len_utf8();
-        look.priced = Some((k as u32, before.is_some(), later));
+        let shown = before.map(|b| shortest(&b, tolerance));
+        let row_pen = Pen { cursor: None, fg: shown.map(|b| b.fg), bg: shown.map(|b| b.bg), blocks };
+        let sent = shortest(&cell, tolerance).canonical();
+        let later = Sgr::to_cell(&row_pen, &sent).len() + sent.ch.len_utf8();
+        look.priced = Some((cell, before, later));
         later
     }
 
@@ -860,10 +882,12 @@ impl Follow {
     /// else the first before it.
     fn first(&mut self, look: u32, at: usize, differs: &[bool]) -> Option<usize> {
         let look = &mut self.looks[look as usize];
-        let cells = &self.cells[look.head as usize..look.end as usize];
-        let written = cells.iter().take_while(|&&k| !differs[k as usize]).count();
-        look.head += written as u32;
-        let cells = &cells[written..];
+        let (mut head, end) = (look.head as usize, look.end as usize);
+        while head < end && !differs[self.cells[head] as usize] {
+            head += 1;
+        }
+        look.head = head as u32;
+        let cells = &self.cells[head..end];
         let &first = cells.first()?;
         if first as usize >= at {
             return Some(first as usize); // (mostly: the rows write the cells before the cursor)
@@ -930,6 +954,11 @@ fn detours(
     if Sgr::to_cell(pen, &frame[next]).len() == 0 {
         return 0; // the pen draws it as it is: on along the row
     }
+    // (Asked before the looks and their cells: half the time the pen draws it in another form, or
+    // within the tolerance. The move to it asks it again, from the memo.)
+    if cell_form(pen, &frame[next], how.tolerance).1.len() == 0 {
+        return 0; // the pen draws it: on along the row
+    }
     // The looks and the glyph each goes in with no colour change: a blank in the pen's paper as a
     // space, one in its ink as a full block (where the frames have blocks), a half block of the two
     // as itself or its inverse. (The same cell may come up under two keys, where the pen's colours
@@ -941,7 +970,6 @@ fn detours(
         return 0;
     }
     let (nx, ny) = (next % width, next / width);
-    let mut next_checked = false;
     let mut written = 0;
     loop {
         let at = pen.cursor.map_or(0, |(x, y)| y * width + x);
@@ -954,18 +982,16 @@ fn detours(
         if found.iter().flatten().all(|&(_, k, _)| k == next) {
             return written;
         }
-        if !next_checked {
-            if cell_form(pen, &frame[next], how.tolerance).1.len() == 0 {
-                return written; // the pen draws it: on along the row
-            }
-            next_checked = true;
-        }
         let direct = move_bound(pen.cursor, nx, ny);
         // Of each candidate, the moves there and on to `next` and its glyph against the move to
         // `next` and what the cell would cost in its row ([`Follow::later`]). The largest saving
         // above `MARGIN` wins. Moves priced by `move_bound` (most of these are not taken).
         let mut best: Option<(usize, usize)> = None;
-        for (look, k, glyph) in found.into_iter().flatten().filter(|&(_, k, _)| k != next) {
+        for candidate in found {
+            let Some((look, k, glyph)) = candidate else { continue };
+            if k == next {
+                continue;
+            }
             let (x, y) = (k % width, k / width);
             let after = if x + 1 < width { Some((x + 1, y)) } else { None };
             let moves = move_bound(pen.cursor, x, y) + move_bound(after, nx, ny) + glyph;
@@ -981,8 +1007,11 @@ fn detours(
         frame[k] = write_cell(out, pen, &frame[k], width, how.tolerance);
         differs[k] = false;
         written += 1;
-        if how.rep != RepLevel::None {
+        if how.rep != RepLevel::None
+            && may_repeat(&frame[y * width..][..width], &differs[y * width..][..width], x, how.rep)
+        {
             let row = &mut frame[y * width..][..width];
+            // (The row's erasable tail only where a run may follow: a scan of the row's end.)
             let end = erasable_tail(row, how.bce).map_or(width, |(start, _)| start);
             let repeated =
                 repeat(pen, out, row, end, &differs[y * width..][..width], x, how.tolerance, how.rep);
@@ -1011,20 +1040,16 @@ fn repeat(
     tolerance: u8,
     level: RepLevel,
 ) -> usize {
-    let Some(&last) = new.get(x) else { return 0 };
-    if level < RepLevel::Any && !last.ch.is_ascii() {
-        return 0; // tmux repeats only an ASCII glyph: after `▀` it ignores REP (see `set_rep`)
+    if !may_repeat(new, differs, x, level) {
+        return 0;
     }
+    let last = new[x];
     let same = |pen: &Pen, cell: &PackedCell| {
         let (form, sgr) = cell_form(pen, cell, tolerance);
         (sgr.len() == 0 && form.ch == last.ch).then_some(form)
     };
     let end = end.min(new.len());
-    // The shortest run that pays (`run * glyph > 3 + digits(run)`: five ASCII glyphs, two block
-    // glyphs): where fewer cells right after `x` are changed, none pays and no cell's form is asked.
-    let glyph = last.ch.len_utf8();
-    let least = (1..5).find(|&n| n * glyph > 3 + digits(n)).unwrap_or(5);
-    if x + least >= end || !differs[x + 1..=x + least].iter().all(|&d| d) {
+    if x + least_run(last.ch) >= end {
         return 0;
     }
     let run = (x + 1..end).take_while(|&j| differs[j] && same(pen, &new[j]).is_some()).count();
@@ -1040,6 +1065,27 @@ fn repeat(
         advance(pen, width);
     }
     run
+}
+
+/// The shortest run of `glyph` that pays as `REP` (`run * glyph > 3 + digits(run)`: five ASCII
+/// glyphs, two block glyphs).
+#[inline]
+fn least_run(glyph: char) -> usize {
+    let glyph = glyph.len_utf8();
+    (1..5).find(|&n| n * glyph > 3 + digits(n)).unwrap_or(5)
+}
+
+/// Whether [`repeat`] after column `x` of row `new` may send a run, by what it checks first: the
+/// terminal repeats the glyph there (`level`), and the [`least_run`] cells after it are changed
+/// and in the row. Where not, no cell's form is asked (nor the row's erasable tail, by the detours).
+#[inline]
+fn may_repeat(new: &[PackedCell], differs: &[bool], x: usize, level: RepLevel) -> bool {
+    let Some(&last) = new.get(x) else { return false };
+    if level < RepLevel::Any && !last.ch.is_ascii() {
+        return false; // tmux repeats only an ASCII glyph: after `▀` it ignores REP (see `set_rep`)
+    }
+    let least = least_run(last.ch);
+    x + least < new.len() && differs[x + 1..=x + least].iter().all(|&d| d)
 }
 
 /// What [`reach`] does once the cursor is there.
@@ -1188,27 +1234,55 @@ fn inverse_of(pen: &Pen, cell: &PackedCell) -> Option<PackedCell> {
 /// are within `tolerance` of the cell's; and, where a tolerance applies, a blank or a full block in one colour
 /// within `tolerance` of both halves of a half-block cell where that is fewer bytes. The last one
 /// found is remembered ([`LAST_FORM`]).
+#[inline]
 fn cell_form(pen: &Pen, cell: &PackedCell, tolerance: u8) -> (PackedCell, Sgr) {
-    let key = FormKey { fg: pen.fg, bg: pen.bg, blocks: pen.blocks, cell: *cell, tolerance };
-    LAST_FORM.with(|last| match last.get() {
-        Some((held, form)) if held == key => form,
-        _ => {
-            let form = find_form(pen, cell, tolerance, true);
-            last.set(Some((key, form)));
-            form
-        }
+    let key = FormKey::of(pen, cell, tolerance);
+    LAST_FORM.with(|last| {
+        if last.key.get() == key { last.form.get() } else { form_missed(last, key, pen, cell, tolerance) }
     })
 }
 
-/// All that [`find_form`] reads: the pen's colours and whether it draws blocks (not its cursor),
-/// the cell and the tolerance.
-#[derive(Clone, Copy, PartialEq, Eq)]
-struct FormKey {
-    fg: Option<PackedColor>,
-    bg: Option<PackedColor>,
-    blocks: bool,
-    cell: PackedCell,
+/// [`cell_form`] not remembered: found, and remembered. (Out of line: the memo's hit, the usual
+/// answer, inlines where it is asked.)
+#[cold]
+#[inline(never)]
+fn form_missed(
+    last: &FormMemo,
+    key: FormKey,
+    pen: &Pen,
+    cell: &PackedCell,
     tolerance: u8,
+) -> (PackedCell, Sgr) {
+    let form = find_form(pen, cell, tolerance, true);
+    last.key.set(key);
+    last.form.set(form);
+    form
+}
+
+/// All that [`find_form`] reads, in two words: the pen's colours, the cell's colours (each
+/// [`PackedColor::word`], 0 for `None`, which no colour is), the cell's glyph, whether the pen draws
+/// blocks and the tolerance (not the cursor). Equal keys, equal inputs: one comparison of each word.
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct FormKey(u128, u64);
+
+impl FormKey {
+    /// No inputs have it (a glyph's bits are at most 21: its word's top bits are zero).
+    const NONE: FormKey = FormKey(0, u64::MAX);
+
+    #[inline(always)]
+    fn of(pen: &Pen, cell: &PackedCell, tolerance: u8) -> FormKey {
+        let word = |c: Option<PackedColor>| u128::from(c.map_or(0, PackedColor::word));
+        let colours =
+            word(pen.fg) | word(pen.bg) << 32 | word(Some(cell.fg)) << 64 | word(Some(cell.bg)) << 96;
+        let rest = u64::from(u32::from(cell.ch)) << 16 | u64::from(pen.blocks) << 8 | u64::from(tolerance);
+        FormKey(colours, rest)
+    }
+}
+
+/// The last form [`cell_form`] found: its inputs ([`FormKey`]) and the form.
+struct FormMemo {
+    key: std::cell::Cell<FormKey>,
+    form: std::cell::Cell<(PackedCell, Sgr)>,
 }
 
 thread_local! {
@@ -1216,8 +1290,15 @@ thread_local! {
     /// function of them, it changes no answer. The diff often asks one cell's form twice or three
     /// times in a row from the same pen: the run after a cell ([`repeat`]) stops at the next changed
     /// cell, whose form the detours ask next ([`detours`]) and then the move to it ([`reach`]).
-    static LAST_FORM: std::cell::Cell<Option<(FormKey, (PackedCell, Sgr))>> =
-        const { std::cell::Cell::new(None) };
+    static LAST_FORM: FormMemo = const {
+        FormMemo {
+            key: std::cell::Cell::new(FormKey::NONE),
+            form: std::cell::Cell::new((
+                PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg: PackedColor::DEFAULT },
+                Sgr::KEEP,
+            )),
+        }
+    };
 }
 
 /// [`cell_form`]; `shortcut`: skip the inverse forms where they cannot win (false: the whole
@@ -1818,8 +1899,8 @@ mod tests {
                     let (remembered, found) =
                         (cell_form(&pen, &cell, tolerance), find_form(&pen, &cell, tolerance, true));
                     assert_eq!(format!("{remembered:?}"), format!("{found:?}"), "{cell:?} from {pen:?}");
-                    let key = FormKey { fg: pen.fg, bg: pen.bg, blocks: pen.blocks, cell, tolerance };
-                    assert!(LAST_FORM.get().is_some_and(|(held, _)| held == key));
+                    let key = FormKey::of(&pen, &cell, tolerance);
+                    assert!(LAST_FORM.with(|last| last.key.get() == key));
                     calls += 1;
                 }
             }

@@ -90,11 +90,10 @@ pub(super) fn move_len(pen: &mut Pen, x: usize, y: usize) -> usize {
 /// by a horizontal one (`CUF`, `CUB`, backspaces, `\r`). [`shortest_move`] prices these routes among
 /// others, so the move it finds is never longer. For moves priced and mostly not taken (`detours` in
 /// the encoder).
-#[inline]
+#[inline(always)]
 pub(super) fn move_bound(from: Option<(usize, usize)>, x: usize, y: usize) -> usize {
     use std::cmp::Ordering::{Equal, Greater, Less};
-    let cup = cup_len(x, y);
-    let Some((cx, cy)) = from else { return cup };
+    let Some((cx, cy)) = from else { return cup_len(x, y) };
     let vertical = match y.cmp(&cy) {
         Equal => 0,
         Greater if y - cy <= 3 => y - cy,
@@ -108,7 +107,9 @@ pub(super) fn move_bound(from: Option<(usize, usize)>, x: usize, y: usize) -> us
         Less if cx - x <= 3 => cx - x,
         Less => csi_len(cx - x, 1),
     };
-    cup.min(vertical + horizontal)
+    let relative = vertical + horizontal;
+    // (`CUP` is at least 3 bytes: a step that short is the bound without pricing it.)
+    if relative <= 3 { relative } else { cup_len(x, y).min(relative) }
 }
 
 /// The vertical steps from row `cy` to row `y` a move may begin with, in the order a tie is broken
@@ -225,11 +226,13 @@ fn horizontal_len(horizontal: Horizontal) -> usize {
 }
 
 /// The bytes of [`write_csi`].
+#[inline(always)]
 fn csi_len(n: usize, default: usize) -> usize {
     3 + if n != default { digits(n) } else { 0 }
 }
 
 /// The bytes of [`write_cup`].
+#[inline(always)]
 fn cup_len(x: usize, y: usize) -> usize {
     3 + if x != 0 {
         digits(y + 1) + 1 + digits(x + 1)

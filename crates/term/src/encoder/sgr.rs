@@ -42,6 +42,9 @@ enum Form {
 }
 
 impl Sgr {
+    /// No change.
+    pub(super) const KEEP: Sgr = Sgr { fg: None, bg: None, form: Form::Keep };
+
     /// The change from `pen` to `fg` and `bg`.
     #[inline(always)]
     pub(super) fn new(pen: &Pen, fg: Option<PackedColor>, bg: Option<PackedColor>) -> Sgr {
