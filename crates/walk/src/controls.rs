@@ -187,6 +187,11 @@ pub const REPEAT_HOLD_INTERVALS: f64 = 1.5;
 /// The shortest and longest a repeat keeps its key held (seconds), whatever interval was observed (the
 /// interval is at most [`HOLD_GAP`], so the glide stops within 87 ms of the last repeat).
 pub const REPEAT_HOLD_RANGE: (f64, f64) = (0.05, REPEAT_HOLD_INTERVALS * HOLD_GAP);
+/// The most taps of one key that may take their steps at once (then one more every [`HOLD_GAP`]): a
+/// link stalled for [`STALL`] lets go at most this many taps of a person tapping every 60 ms
+/// (0.5 ⁄ 0.058 ≈ 8.6, rounded up). Taps past it — a paste, a script's burst — step nothing, so no
+/// burst of presses moves a player faster than tapping does (a race won by pasting the way).
+pub const TAP_BURST: f64 = 9.0;
 /// A press this soon after the key's previous one (seconds) is not an answer to the exit box: the key
 /// walked the viewer into the exit and is still held (or tapped faster than anyone reads).
 pub(crate) const ANSWER_GAP: f64 = 0.125;
@@ -204,6 +209,26 @@ struct KeyState {
     rest_until: f64,
     /// When a press of it was last taken for its auto-repeat.
     repeated_at: f64,
+    /// The taps it may still step at once ([`TAP_BURST`] at most), as of `taps_at`.
+    taps: f64,
+    /// When `taps` was last brought up to date.
+    taps_at: f64,
+}
+
+impl KeyState {
+    /// Whether a tap at `now` may take its step: one of the taps in hand, which come back one every
+    /// [`HOLD_GAP`] up to [`TAP_BURST`].
+    fn take_tap(&mut self, now: f64) -> bool {
+        let earned = (now - self.taps_at).max(0.0) / HOLD_GAP;
+        self.taps = (self.taps + earned).min(TAP_BURST);
+        self.taps_at = now;
+        if self.taps >= 1.0 {
+            self.taps -= 1.0;
+            true
+        } else {
+            false
+        }
+    }
 }
 
 impl Default for KeyState {
@@ -214,6 +239,8 @@ impl Default for KeyState {
             glide: None,
             rest_until: f64::NEG_INFINITY,
             repeated_at: f64::NEG_INFINITY,
+            taps: TAP_BURST,
+            taps_at: f64::NEG_INFINITY,
         }
     }
 }
@@ -242,6 +269,8 @@ impl Default for KeyState {
 ///   read as taps, a step per repeat; a repeat that a link delays past [`HOLD_GAP`] takes a step (which
 ///   stands for its share of the glide); taps that a link lets go together within `STALL` of a hold
 ///   are taken for its repeats.
+/// - Either way, at most [`TAP_BURST`] taps of a key step at once, then one every [`HOLD_GAP`] (a
+///   person's fastest tapping): the presses of a paste or a script past that step nothing.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Held {
     keys: [KeyState; Action::CONTINUOUS.len()],
@@ -267,6 +296,10 @@ impl Held {
             if repeat {
                 return false; // already gliding until the release
             }
+            if !key.take_tap(now) {
+                key.glide = None; // a burst past the taps in hand: nothing moves
+                return false;
+            }
             key.glide = Some((now + step_seconds, f64::INFINITY));
             return true;
         }
@@ -276,8 +309,11 @@ impl Held {
         // then a stalled link let its repeats go at once (the first of them took a step, as a tap)
         let bunched = gap < TOGETHER && (gliding.is_some() || now - key.repeated_at < STALL);
         if !(repeat || repeat_rate || bunched) {
-            // A tap: one step, standing for its time at full speed.
+            // A tap: one step, standing for its time at full speed (if a tap is in hand).
             key.glide = None;
+            if !key.take_tap(now) {
+                return false;
+            }
             key.rest_until = now + step_seconds;
             return true;
         }

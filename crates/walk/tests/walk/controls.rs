@@ -6,7 +6,7 @@ use mazewalk_maze as maze;
 use mazewalk_render::RenderOptions;
 use mazewalk_term::input::{Key, KeyPhase};
 use mazewalk_walk::App;
-use mazewalk_walk::controls::{REPEAT_HOLD_INTERVALS, REPEAT_HOLD_RANGE};
+use mazewalk_walk::controls::{REPEAT_HOLD_INTERVALS, REPEAT_HOLD_RANGE, TAP_BURST};
 use mazewalk_walk::state::{Motion, SNAP_ALIGN_DEG, SNAP_SECONDS, TURN_SPEED, TURN_STEP_DEG, WALK_STEP};
 
 /// Frames per second of the scripted event loop.
@@ -180,6 +180,47 @@ fn without_releases_irregular_quick_taps_are_each_a_step() {
         play(&mut app, &taps, 1.0, t + 1.0);
         let expected = taps.len() as f32 * TURN_STEP_DEG;
         assert!((turned(&app) - expected).abs() < DEG_TOL, "{gaps:?}: {} for {expected}", turned(&app));
+    }
+}
+
+// A paste (or a script) of many presses at once walks no further than a stalled link's worth of
+// taps: a race was won in half a second by pasting the way to the exit (738 bytes), and 12 `w` pasted
+// walked 12 units at once. At most `TAP_BURST` step at once, then one every `HOLD_GAP`, so taps 60 ms
+// apart right after a burst still count, a step each; with releases the same.
+#[test]
+fn a_burst_of_presses_steps_no_more_than_a_person_can_tap() {
+    for releases in [false, true] {
+        let mut app = app(releases);
+        let start = app.camera.position;
+        let mut events: Vec<_> =
+            (0..200).map(|i| (1.0 + 1e-5 * f64::from(i), Event::Press(Key::Char('w')))).collect();
+        if releases {
+            events = (0..200)
+                .flat_map(|i| {
+                    let t = 1.0 + 1e-5 * f64::from(2 * i);
+                    [(t, Event::Press(Key::Char('w'))), (t + 1e-5, Event::Release(Key::Char('w')))]
+                })
+                .collect();
+        }
+        play(&mut app, &events, 1.0, 1.5);
+        let burst = app.camera.position.distance(start);
+        assert!(
+            (burst - TAP_BURST as f32 * WALK_STEP).abs() < 1e-3,
+            "releases {releases}: 200 presses at once walked {burst}, not {TAP_BURST} steps"
+        );
+        // then a person's fastest taps, one every 60 ms: a step each
+        let mut app_turn = self::app(releases);
+        let mut taps: Vec<_> =
+            (0..50).map(|i| (1.0 + 1e-5 * f64::from(i), Event::Press(Key::Left))).collect();
+        taps.extend((1..=6).map(|i| (1.0 + 0.06 * f64::from(i), Event::Press(Key::Left))));
+        if releases {
+            taps =
+                taps.into_iter().flat_map(|(t, e)| [(t, e), (t + 1e-6, Event::Release(Key::Left))]).collect();
+        }
+        play(&mut app_turn, &taps, 1.0, 2.0);
+        let (expected, yaw) =
+            ((TAP_BURST as f32 + 6.0) * TURN_STEP_DEG, app_turn.camera.yaw_deg.rem_euclid(360.0));
+        assert!((yaw - expected).abs() < DEG_TOL, "releases {releases}: {yaw} for {expected}");
     }
 }
 
