@@ -321,8 +321,11 @@ pub fn help_lines_for(style: Style, has_exit: bool, served: bool) -> Vec<String>
     rows.iter().map(|(keys, what)| format!("{:<width$} {}", style.text(keys), style.text(what))).collect()
 }
 
-/// The keys that turn the help's pages (the last row of a paged help says them).
-pub const PAGE_KEYS: &str = "Space / PgDn";
+/// The last row of page `page` (from 1) of a help in `count` pages: the keys that turn its pages.
+#[must_use]
+pub fn page_row(page: usize, count: usize) -> String {
+    format!("Space / PgDn: next page, PgUp: back ({page} of {count})")
+}
 
 /// The help's `lines` as pages for a box over a frame `height` rows tall (the HUD's row included):
 /// one page when they all fit (with a row above and below the title and lines), else pages of about
@@ -343,7 +346,7 @@ pub fn help_pages(lines: &[String], (width, height): (usize, usize)) -> Vec<Vec<
         .enumerate()
         .map(|(i, page)| {
             let mut page = page.to_vec();
-            let row = format!("{PAGE_KEYS}: next page ({} of {count})", i + 1);
+            let row = page_row(i + 1, count);
             let widest = lines.iter().map(|l| l.chars().count()).max().unwrap_or(0);
             page.push(if widest + 4 <= width { format!("{row:<widest$}") } else { row });
             page

@@ -528,7 +528,7 @@ fn every_line_of_the_help_is_shown_at_80x24_and_120x40() {
                 );
             }
             for (i, screen) in screens.iter().enumerate() {
-                let says = format!("{}: next page ({} of {pages})", overlay::PAGE_KEYS, i + 1);
+                let says = overlay::page_row(i + 1, pages);
                 assert_eq!(screen.contains(&says), pages > 1, "{cols}×{rows}:\n{screen}");
                 assert!(!screen.contains('…'), "nothing cut at {cols}×{rows}:\n{screen}");
             }
@@ -549,7 +549,7 @@ fn a_help_too_tall_says_how_to_see_the_rest_and_its_pages_turn() {
     s.set_roster(&two_players());
     let screens = help_screens(&mut s, 0.0);
     assert!(screens.len() >= 2, "{screens:?}");
-    let page = |n: usize| format!("{}: next page ({n} of {})", overlay::PAGE_KEYS, screens.len());
+    let page = |n: usize| overlay::page_row(n, screens.len());
     assert!(screens[0].contains(&page(1)), "{}", screens[0]);
     let shown = |s: &Session| s.screen().lines().join("\n");
     // (Space went round to the first page) PgDn the second, PgUp the first again
