@@ -100,14 +100,19 @@ impl Serve {
         }
     }
 
-    /// One HTTP request (`request` is its whole head and body); the status and the body.
-    fn http(&self, request: &[u8]) -> (u16, String) {
+    /// One HTTP request (`request` is its whole head and body); the whole answer.
+    fn answer(&self, request: &[u8]) -> String {
         let mut stream = TcpStream::connect(self.http).expect("connect to --http");
         stream.set_read_timeout(Some(TIMEOUT)).expect("timeout");
         stream.write_all(request).expect("send the request");
         let mut answer = Vec::new();
         let _ = stream.read_to_end(&mut answer);
-        let answer = String::from_utf8_lossy(&answer).into_owned();
+        String::from_utf8_lossy(&answer).into_owned()
+    }
+
+    /// One HTTP request (`request` is its whole head and body); the status and the body.
+    fn http(&self, request: &[u8]) -> (u16, String) {
+        let answer = self.answer(request);
         let status = answer.split(' ').nth(1).and_then(|s| s.parse().ok()).unwrap_or(0);
         let body = answer.split_once("\r\n\r\n").map(|(_, b)| b.to_string()).unwrap_or_default();
         (status, body)
@@ -389,6 +394,19 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
     assert_eq!(status, 431, "a head too large");
     let (status, _) = serve.http(b"\x16\x03\x01\x02\x00garbage\r\n\r\n");
     assert_eq!(status, 400, "not HTTP");
+    // HEAD: the GET's head, the length of its body included, and no body.
+    for path in ["/", "/maze.json", "/nowhere"] {
+        let (_, body) =
+            serve.http(format!("GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n").as_bytes());
+        let answer =
+            serve.answer(format!("HEAD {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n").as_bytes());
+        let (head, rest) = answer.split_once("\r\n\r\n").expect("a head");
+        let length = head
+            .lines()
+            .find_map(|l| l.to_ascii_lowercase().strip_prefix("content-length: ").map(str::to_owned));
+        assert_eq!(length, Some(body.len().to_string()), "HEAD {path}: {head}");
+        assert!(rest.is_empty(), "HEAD {path} sent a body");
+    }
 
     // Slow clients: every connection slot held by a head that never ends; the next is closed at
     // once, and the holders are cut after the header timeout, leaving room again.

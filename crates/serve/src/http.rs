@@ -199,10 +199,16 @@ fn answer(site: &Arc<Site>, request: &Request<Incoming>, peer: IpAddr) -> Respon
     use http_body_util::BodyExt as _;
     let head = request.method() == Method::HEAD;
     let respond = |status: StatusCode, content_type: &'static str, body: String| {
+        // A HEAD answer says how long the GET's body is (RFC 9110 §9.3.2), an event stream has none.
+        let length = (head && content_type != "text/event-stream")
+            .then(|| hyper::header::HeaderValue::from(body.len()));
         let body = if head { Bytes::new() } else { Bytes::from(body) };
         let mut response = Response::new(Full::new(body).boxed());
         *response.status_mut() = status;
         let headers = response.headers_mut();
+        if let Some(length) = length {
+            headers.insert(hyper::header::CONTENT_LENGTH, length);
+        }
         headers.insert(hyper::header::CONTENT_TYPE, hyper::header::HeaderValue::from_static(content_type));
         headers.insert(hyper::header::CACHE_CONTROL, hyper::header::HeaderValue::from_static("no-store"));
         headers.insert(
