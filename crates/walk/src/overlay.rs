@@ -448,7 +448,7 @@ impl MapArea {
     pub(crate) fn fit_to_seen(
         &self,
         maze: &Maze,
-        seen: &dyn Fn(u32) -> bool,
+        seen: &(impl Fn(u32) -> bool + ?Sized),
         also: impl IntoIterator<Item = Vec2>,
         cells: &mut MapCells,
     ) -> MapArea {
@@ -660,7 +660,7 @@ pub fn draw_map(
     area: &MapArea,
     maze: &Maze,
     camera: &Camera,
-    seen: &dyn Fn(u32) -> bool,
+    seen: &(impl Fn(u32) -> bool + ?Sized),
     tint: Option<&dyn Fn(u32) -> bool>,
     style: Style,
     cells: &mut MapCells,
