@@ -66,6 +66,13 @@ impl Style {
         if self.ascii { ascii } else { unicode }
     }
 
+    /// [`text`](Self::text) of a string of one's own: the same string where no spelling is needed
+    /// (no copy: the HUD's fields, every frame).
+    #[must_use]
+    pub(crate) fn own_text(self, text: String) -> String {
+        if self.ascii { self.text(&text) } else { text }
+    }
+
     /// `text` with the non-ASCII characters the overlays use spelled in ASCII, when needed: degrees
     /// as ` deg`, arrows as words, a block glyph shown as an example (`half ▀`) left out.
     #[must_use]
@@ -173,7 +180,8 @@ pub(crate) fn draw_hud(frame: &mut Frame, text: &str, style: Style) {
     for x in 0..w {
         frame.set(x, y, Cell { ch: ' ', fg: HUD_FG, bg: HUD_BG });
     }
-    frame.put_str(0, y, &style.text(text), HUD_FG, HUD_BG);
+    let spelled = style.ascii.then(|| style.text(text)); // (a copy only where spelled in ASCII)
+    frame.put_str(0, y, spelled.as_deref().unwrap_or(text), HUD_FG, HUD_BG);
 }
 
 /// The HUD line, exactly `width` columns: `fields` as (priority, text), lower numbers more important,

@@ -571,7 +571,7 @@ fn hud_text_with(
         (9, dev(&|| format!("{:.1} ms", hud.cost.seconds * 1e3))),
     ];
     // fitted as shown (in ASCII a degree sign takes four columns)
-    overlay::hud_line(&fields.map(|(priority, text)| (priority, style.text(&text))), HELP, width)
+    overlay::hud_line(&fields.map(|(priority, text)| (priority, style.own_text(text))), HELP, width)
 }
 
 /// The compass point of a heading (degrees counter-clockwise from east, +x; north, +y, is up on the
