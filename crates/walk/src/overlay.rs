@@ -452,6 +452,9 @@ impl MapArea {
     /// viewer, the other players), kept in the top-right corner of where it was: at the start of a
     /// walk a corner map is the corridor in view, not a box of black; it grows as the walk sees more,
     /// up to the whole area.
+    ///
+    /// `seen_key`, where given, names `seen` (of the same maze): the characters' box found for it
+    /// and this area is kept in `cells`, and taken again while both stay the same.
     #[must_use]
     pub(crate) fn fit_to_seen(
         &self,
@@ -459,21 +462,34 @@ impl MapArea {
         seen: &(impl Fn(u32) -> bool + ?Sized),
         also: impl IntoIterator<Item = Vec2>,
         cells: &mut MapCells,
+        seen_key: Option<(u64, bool)>,
     ) -> MapArea {
-        let probes = cells.for_area(self, maze);
-        let (mut lo, mut hi) = ((usize::MAX, usize::MAX), (0, 0));
+        let (mut lo, mut hi) = match (seen_key, cells.fitted) {
+            (Some(key), Some((area, kept, found))) if kept == key && area == *self => {
+                #[cfg(test)]
+                FITS_KEPT.with(|n| n.set(n.get() + 1));
+                found
+            }
+            _ => {
+                let probes = cells.for_area(self, maze);
+                let (mut lo, mut hi) = ((usize::MAX, usize::MAX), (0, 0));
+                for row in self.from.1..self.from.1 + self.height {
+                    for col in self.from.0..self.from.0 + self.width {
+                        let p = &probes[row * self.lattice.0 + col];
+                        if p.iter().any(|&(c, _)| c != NO_CELL && seen(c)) {
+                            lo = (lo.0.min(col), lo.1.min(row));
+                            hi = (hi.0.max(col), hi.1.max(row));
+                        }
+                    }
+                }
+                cells.fitted = seen_key.map(|key| (*self, key, (lo, hi)));
+                (lo, hi)
+            }
+        };
         let mut include = |col: usize, row: usize| {
             lo = (lo.0.min(col), lo.1.min(row));
             hi = (hi.0.max(col), hi.1.max(row));
         };
-        for row in self.from.1..self.from.1 + self.height {
-            for col in self.from.0..self.from.0 + self.width {
-                let p = &probes[row * self.lattice.0 + col];
-                if p.iter().any(|&(c, _)| c != NO_CELL && seen(c)) {
-                    include(col, row);
-                }
-            }
-        }
         for (col, row) in also.into_iter().filter_map(|p| self.lattice_char(p)) {
             include(col, row);
         }
@@ -548,6 +564,19 @@ pub struct MapCells {
     before: Vec<[(u32, bool); 5]>,
     /// Characters whose probes were worked out, all told (the others were kept).
     worked_out: usize,
+    /// The last fit ([`MapArea::fit_to_seen`]): the area, the seen cells' key, and the box of the
+    /// characters showing a seen cell (lower and upper corners; empty when the lower is past it).
+    fitted: Option<(MapArea, (u64, bool), CharBox)>,
+}
+
+/// A box of a map's lattice characters: its lower and upper corners (column, row).
+type CharBox = ((usize, usize), (usize, usize));
+
+#[cfg(test)]
+thread_local! {
+    /// Fits [`MapArea::fit_to_seen`] took again from the one before, on this thread (for the test
+    /// that holds them to fits worked out).
+    pub(crate) static FITS_KEPT: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
 }
 
 /// "No cell under this probe" in [`MapCells`].

@@ -338,7 +338,9 @@ fn draw_into(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud, keep:
         // the corner map: what has been seen, not a box of black over the view
         MapMode::Corner => {
             let also = std::iter::once(app.camera.position).chain(screen.peers.iter().map(|p| p.position));
-            area.fit_to_seen(app.maze(), &seen, also, &mut screen.map_cells)
+            // (kept while the seen cells and the area stay: none in view but seen already)
+            let key = (!fresh_in_view(app, portal)).then(|| (app.seen_id(), app.reveal_map));
+            area.fit_to_seen(app.maze(), &seen, also, &mut screen.map_cells, key)
         }
         _ => area,
     });
@@ -489,8 +491,13 @@ pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud)
 /// or far; the pass's cells are looked up only when one of them was not seen before (after a frame
 /// the session marks them seen: a walker turning where it has looked already has none).
 fn seen_now<'a>(app: &'a App, portal: &'a PortalPass) -> impl Fn(u32) -> bool + 'a {
-    let fresh = app.options.culling == Culling::Portal && portal.visited.iter().any(|&c| !app.has_seen(c));
+    let fresh = fresh_in_view(app, portal);
     move |c: u32| app.has_seen(c) || (fresh && portal.was_visited(c))
+}
+
+/// Whether a cell `portal` visited (in view now) was not seen before.
+fn fresh_in_view(app: &App, portal: &PortalPass) -> bool {
+    app.options.culling == Culling::Portal && portal.visited.iter().any(|&c| !app.has_seen(c))
 }
 
 /// Where the map goes on `frame` for the walk's map mode (`None`: no map): the whole area, before the
@@ -784,8 +791,11 @@ mod tests {
     /// The map's `seen` with the pass's cells looked up only when one is new is the cell seen before
     /// or visible now, for every cell of two mazes over turning and walking frames, portal culling
     /// and brute force, with the cells in view marked seen after some frames and not others (as a
-    /// session does after each). It fails if a cell in view now but not seen before is left out, or
-    /// if one not in view counts (tried: `fresh` always false).
+    /// session does after each); and the corner map fitted to it, kept from frame to frame while the
+    /// seen cells and the area stay, is the map fitted afresh. It fails if a cell in view now but not
+    /// seen before is left out, or if one not in view counts (tried: `fresh` always false), if a fit
+    /// is kept across a newly seen cell (tried: the key without the seen cells' id), or if none is
+    /// kept.
     #[test]
     fn seen_now_is_seen_before_or_visible_now() {
         let generated = mazewalk_maze::generate::generate(&mazewalk_maze::generate::GenOptions {
@@ -817,6 +827,11 @@ mod tests {
                     let new_in_view = {
                         let portal = screen.renderer.portal();
                         let seen = seen_now(&app, portal);
+                        // the corner map as fitted now, without the fit kept from frame to frame
+                        let also = [app.camera.position];
+                        let fitted = map_area(&app, &frame)
+                            .map(|area| area.fit_to_seen(&maze, &seen, also, &mut MapCells::default(), None));
+                        assert_eq!(screen.map, fitted, "frame {k}, {culling:?}");
                         let mut new_in_view = false;
                         for c in 0..maze.cell_count() as u32 {
                             let visible = culling == Culling::Portal && portal.was_visited(c);
@@ -836,6 +851,11 @@ mod tests {
                         let visited = screen.renderer.portal().visited.clone();
                         app.mark_seen(visited);
                     }
+                    if k % 4 == 1 {
+                        // cells seen otherwise (brute force's: by the samples' walls), not in view now
+                        let cells = maze.cell_count() as u32;
+                        app.mark_seen([(7 * k as u32) % cells, (7 * k as u32 + 3) % cells]);
+                    }
                 }
             }
         }
@@ -843,6 +863,7 @@ mod tests {
             fresh_frames > 5 && known_frames > 5,
             "{fresh_frames} frames with new cells, {known_frames} without"
         );
+        assert!(overlay::FITS_KEPT.with(std::cell::Cell::get) > 20, "the map's fit never kept");
     }
 
     /// A screen limits the colours of what is drawn over the view (the map, boxes, a caption, the
