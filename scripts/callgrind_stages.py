@@ -26,7 +26,8 @@ STAGES = [
                                           "mazewalk_render::<impl mazewalk_render::pipeline::Renderer>::samples_with"]),
     ("figures (sprites)", ["mazewalk_render::sprite::SpritePass::draw"]),
     ("glyphs (`glyph::to_frame_faced`)", ["mazewalk_render::glyph::to_frame_faced"]),
-    ("screen: render + HUD + map + colours", ["mazewalk_walk::screen::draw"]),
+    # (`draw_into` since the kept frame of `draw_kept`; `draw` before)
+    ("screen: render + HUD + map + colours", ["mazewalk_walk::screen::draw", "mazewalk_walk::screen::draw_into"]),
     ("encoder (`Encoder::encode`)", ["mazewalk_term::encoder::Encoder::encode"]),
     (
         "SSH cipher (ring ChaCha20-Poly1305)",

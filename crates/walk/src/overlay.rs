@@ -66,6 +66,13 @@ impl Style {
         if self.ascii { ascii } else { unicode }
     }
 
+    /// [`text`](Self::text) of a string of one's own: the same string where no spelling is needed
+    /// (no copy: the HUD's fields, every frame).
+    #[must_use]
+    pub(crate) fn own_text(self, text: String) -> String {
+        if self.ascii { self.text(&text) } else { text }
+    }
+
     /// `text` with the non-ASCII characters the overlays use spelled in ASCII, when needed: degrees
     /// as ` deg`, arrows as words, a block glyph shown as an example (`half ▀`) left out.
     #[must_use]
@@ -173,7 +180,8 @@ pub(crate) fn draw_hud(frame: &mut Frame, text: &str, style: Style) {
     for x in 0..w {
         frame.set(x, y, Cell { ch: ' ', fg: HUD_FG, bg: HUD_BG });
     }
-    frame.put_str(0, y, &style.text(text), HUD_FG, HUD_BG);
+    let spelled = style.ascii.then(|| style.text(text)); // (a copy only where spelled in ASCII)
+    frame.put_str(0, y, spelled.as_deref().unwrap_or(text), HUD_FG, HUD_BG);
 }
 
 /// The HUD line, exactly `width` columns: `fields` as (priority, text), lower numbers more important,
@@ -447,28 +455,44 @@ impl MapArea {
     /// viewer, the other players), kept in the top-right corner of where it was: at the start of a
     /// walk a corner map is the corridor in view, not a box of black; it grows as the walk sees more,
     /// up to the whole area.
+    ///
+    /// `seen_key`, where given, names `seen` (of the same maze): the characters' box found for it
+    /// and this area is kept in `cells`, and taken again while both stay the same.
     #[must_use]
     pub(crate) fn fit_to_seen(
         &self,
         maze: &Maze,
-        seen: &dyn Fn(u32) -> bool,
+        seen: &(impl Fn(u32) -> bool + ?Sized),
         also: impl IntoIterator<Item = Vec2>,
         cells: &mut MapCells,
+        seen_key: Option<(u64, bool)>,
     ) -> MapArea {
-        let probes = cells.for_area(self, maze);
-        let (mut lo, mut hi) = ((usize::MAX, usize::MAX), (0, 0));
+        let (mut lo, mut hi) = match (seen_key, cells.fitted) {
+            (Some(key), Some((area, kept, found))) if kept == key && area == *self => {
+                #[cfg(test)]
+                FITS_KEPT.with(|n| n.set(n.get() + 1));
+                found
+            }
+            _ => {
+                let probes = cells.for_area(self, maze);
+                let (mut lo, mut hi) = ((usize::MAX, usize::MAX), (0, 0));
+                for row in self.from.1..self.from.1 + self.height {
+                    for col in self.from.0..self.from.0 + self.width {
+                        let p = &probes[row * self.lattice.0 + col];
+                        if p.iter().any(|&(c, _)| c != NO_CELL && seen(c)) {
+                            lo = (lo.0.min(col), lo.1.min(row));
+                            hi = (hi.0.max(col), hi.1.max(row));
+                        }
+                    }
+                }
+                cells.fitted = seen_key.map(|key| (*self, key, (lo, hi)));
+                (lo, hi)
+            }
+        };
         let mut include = |col: usize, row: usize| {
             lo = (lo.0.min(col), lo.1.min(row));
             hi = (hi.0.max(col), hi.1.max(row));
         };
-        for row in self.from.1..self.from.1 + self.height {
-            for col in self.from.0..self.from.0 + self.width {
-                let p = &probes[row * self.lattice.0 + col];
-                if p.iter().any(|&(c, _)| c != NO_CELL && seen(c)) {
-                    include(col, row);
-                }
-            }
-        }
         for (col, row) in also.into_iter().filter_map(|p| self.lattice_char(p)) {
             include(col, row);
         }
@@ -543,6 +567,19 @@ pub struct MapCells {
     before: Vec<[(u32, bool); 5]>,
     /// Characters whose probes were worked out, all told (the others were kept).
     worked_out: usize,
+    /// The last fit ([`MapArea::fit_to_seen`]): the area, the seen cells' key, and the box of the
+    /// characters showing a seen cell (lower and upper corners; empty when the lower is past it).
+    fitted: Option<(MapArea, (u64, bool), CharBox)>,
+}
+
+/// A box of a map's lattice characters: its lower and upper corners (column, row).
+type CharBox = ((usize, usize), (usize, usize));
+
+#[cfg(test)]
+thread_local! {
+    /// Fits [`MapArea::fit_to_seen`] took again from the one before, on this thread (for the test
+    /// that holds them to fits worked out).
+    pub(crate) static FITS_KEPT: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
 }
 
 /// "No cell under this probe" in [`MapCells`].
@@ -663,7 +700,7 @@ pub fn draw_map(
     area: &MapArea,
     maze: &Maze,
     camera: &Camera,
-    seen: &dyn Fn(u32) -> bool,
+    seen: &(impl Fn(u32) -> bool + ?Sized),
     tint: Option<&dyn Fn(u32) -> bool>,
     style: Style,
     cells: &mut MapCells,

@@ -18,6 +18,7 @@ use crate::run::Pose;
 use crate::state::{App, MapMode};
 use crate::views::{SharedViews, ViewKey};
 use mazewalk_render::palette::xterm_rgb;
+use mazewalk_render::portal::PortalPass;
 use mazewalk_render::{Camera, Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
 use mazewalk_term::frame::{Cell, Color, Frame, Region};
 
@@ -96,6 +97,8 @@ pub struct Screen {
     last_view: Option<LastView>,
     /// Views this screen's own renderer drew (a view shown again from `last_view` is not one).
     renders: u64,
+    /// The frame last drawn into by [`draw_kept`] still holds `last_view` but under its patch.
+    kept: bool,
 }
 
 /// A view as this screen's renderer drew it, before anything was drawn over it: a pure function of
@@ -108,12 +111,20 @@ pub struct Screen {
 /// drawn ([`Renderer::render`]), and with the camera the same so is the pass: the key holds no
 /// figures, `figures` those (with their places in the list, which the heads name) and `sprites` how
 /// many there were. Another player walking where the view does not reach moves on the map only.
+///
+/// Its cells are kept whole (`whole`), or, drawn with [`draw_kept`] (a frame kept between frames: a
+/// session's), only those under what was drawn over the view (`patch`, the map's box): the frame's
+/// other view cells are still the render's.
 #[derive(Debug)]
 struct LastView {
     key: ViewKey,
     figures: Vec<(usize, Sprite)>,
     sprites: usize,
     cells: Vec<Cell>,
+    /// `cells` is the whole view; else the cells of `patch`, row by row (none without a patch).
+    whole: bool,
+    /// The part of the view drawn over (the map), whose cells `cells` holds when not `whole`.
+    patch: Option<Region>,
     stats: RenderStats,
 }
 
@@ -176,6 +187,22 @@ fn figure(maze: &mazewalk_maze::Maze, peer: &Peer) -> Option<Sprite> {
 /// Draws the whole screen for the current state into `frame` (its size is the terminal's): the 3D
 /// view, then the map, the HUD and any box. Pure: no I/O, so screens are tested as text.
 pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> RenderStats {
+    draw_into(app, screen, frame, hud, false)
+}
+
+/// [`draw`] into the frame drawn into last time, which its owner kept as it was left but for its HUD
+/// row (a session's own frame; after anything else, [`Screen::forget_frame`]): a view shown again
+/// restores only what was drawn over it, and a view rendered keeps only the cells the map covers,
+/// not a copy of the whole view (56 KB at 120×40).
+pub(crate) fn draw_kept(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> RenderStats {
+    draw_into(app, screen, frame, hud, true)
+}
+
+fn draw_into(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud, keep: bool) -> RenderStats {
+    // the frame holds the last view but under its patch (cleared now: set again at the end)
+    let kept = keep && std::mem::take(&mut screen.kept);
+    // the view drawn by this screen's own renderer (not a shared one): `last_view` is the frame's
+    let own = screen.shared_views.is_none();
     let (cols, rows) = (frame.width(), frame.height());
     let style = Style::new(app.options.charset, app.options.color_depth);
     if overlay::too_small(cols, rows) {
@@ -215,9 +242,18 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
             match &screen.last_view {
                 Some(last)
                     if last.key.is(app.maze(), &app.camera, &[], &options, size, app.chalked())
-                        && last.same_figures(&screen.sprites, visible) =>
+                        && last.same_figures(&screen.sprites, visible)
+                        && (last.whole || kept) =>
                 {
-                    frame.cells_mut()[..cells].copy_from_slice(&last.cells);
+                    if last.whole {
+                        frame.cells_mut()[..cells].copy_from_slice(&last.cells);
+                    } else if let Some(patch) = last.patch {
+                        let under = last.cells.chunks_exact(patch.cols);
+                        frame
+                            .region_rows_mut(patch)
+                            .zip(under)
+                            .for_each(|(row, kept)| row.copy_from_slice(kept));
+                    }
                     Ok(last.stats)
                 }
                 _ => {
@@ -236,6 +272,8 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
                             figures: Vec::new(),
                             sprites: 0,
                             cells: Vec::new(),
+                            whole: false,
+                            patch: None,
                             stats,
                         });
                         let portal = screen.renderer.portal();
@@ -249,7 +287,10 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
                         );
                         last.sprites = screen.sprites.len();
                         last.cells.clear();
-                        last.cells.extend_from_slice(&frame.cells()[..cells]);
+                        if !keep {
+                            last.cells.extend_from_slice(&frame.cells()[..cells]);
+                        }
+                        (last.whole, last.patch) = (!keep, None);
                         last.stats = stats;
                         last
                     });
@@ -271,6 +312,16 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
             RenderStats::default()
         }
     };
+    let exit_box = app.finished.filter(|_| app.exit_box);
+    let roster_open = screen.show_roster && !screen.roster.is_empty() && !app.confirm_quit;
+    let caption = screen.ghost.is_some() && screen.renderer.heads().iter().any(|h| h.0 == ghost_sprite);
+    let boxed = exit_box.is_some() || app.confirm_quit || app.help || screen.notice.is_some() || roster_open;
+    if let Some(last) = screen.last_view.as_mut().filter(|last| own && !last.whole && (caption || boxed)) {
+        // drawn over more than the map: the whole view is kept (the frame holds it, as rendered)
+        last.cells.clear();
+        last.cells.extend_from_slice(&frame.cells()[..cols * view.rows]);
+        (last.whole, last.patch) = (true, None);
+    }
     if let Some((_, caption)) = &screen.ghost
         && let Some(&(_, col, row)) = screen.renderer.heads().iter().find(|h| h.0 == ghost_sprite)
     {
@@ -281,16 +332,33 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
     // Cells visible in this frame: the portal pass's (with brute force it did not run: none new).
     let portal = screen.renderer.portal();
     let visible_now = |c: u32| app.options.culling == Culling::Portal && portal.was_visited(c);
-    let seen = |c: u32| app.has_seen(c) || visible_now(c);
+    let seen = seen_now(app, portal);
     let tint: Option<&dyn Fn(u32) -> bool> = app.culling_tint.then_some(&visible_now);
     screen.map = map_area(app, frame).map(|area| match app.map {
         // the corner map: what has been seen, not a box of black over the view
         MapMode::Corner => {
             let also = std::iter::once(app.camera.position).chain(screen.peers.iter().map(|p| p.position));
-            area.fit_to_seen(app.maze(), &seen, also, &mut screen.map_cells)
+            // (kept while the seen cells and the area stay: none in view but seen already)
+            let key = (!fresh_in_view(app, portal)).then(|| (app.seen_id(), app.reveal_map));
+            area.fit_to_seen(app.maze(), &seen, also, &mut screen.map_cells, key)
         }
         _ => area,
     });
+    if let Some(last) = screen.last_view.as_mut().filter(|last| own && !last.whole) {
+        // only the map over the view: the cells under it are kept (the frame holds the others)
+        let patch = screen.map.map(|area| Region {
+            col: area.x,
+            row: area.y,
+            cols: area.width.min(cols.saturating_sub(area.x)),
+            rows: area.height.min(view.rows.saturating_sub(area.y)),
+        });
+        let patch = patch.filter(|p| p.cols > 0 && p.rows > 0);
+        last.cells.clear();
+        if let Some(patch) = patch {
+            frame.region_rows_mut(patch).for_each(|row| last.cells.extend_from_slice(row));
+        }
+        last.patch = patch;
+    }
     if let Some(area) = &screen.map {
         // the view's wedge as wide as the view drawn (a generated maze's widens on a wide screen)
         let shown = Camera { hfov_deg: app.shown_hfov_deg(cols, rows - 1), ..app.camera };
@@ -300,11 +368,8 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
             overlay::draw_ghost(frame, area, pose.position, app.camera.position, style);
         }
     }
-    let exit_box = app.finished.filter(|_| app.exit_box);
     screen.exit_news.update(exit_box.is_some(), screen.notice.as_ref(), &screen.standings);
-    over_view |= exit_box.is_some() || app.confirm_quit || app.help || screen.notice.is_some();
-    let roster_open = screen.show_roster && !screen.roster.is_empty() && !app.confirm_quit;
-    over_view |= roster_open;
+    over_view |= boxed;
     let mut help_pages = 1;
     if let Some(seconds) = exit_box {
         // in a served maze, the news (who was first) shows in the box too, not hidden behind it
@@ -360,10 +425,17 @@ pub fn draw(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Ren
         let map = Region { col: area.x, row: area.y, cols: area.width, rows: area.height };
         overlay::limit_colors_in(frame, map, style.depth);
     }
+    screen.kept = keep && own;
     stats
 }
 
 impl Screen {
+    /// The frame [`draw_kept`] drew into last was changed otherwise (resized, cleared): the next
+    /// draw takes nothing from it.
+    pub(crate) fn forget_frame(&mut self) {
+        self.kept = false;
+    }
+
     /// Views this screen's own renderer drew so far: frames whose view was shown again unchanged
     /// (only the map, a box or the HUD changed) and views shared with other screens are not counted.
     #[must_use]
@@ -412,6 +484,20 @@ pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud)
     overlay::draw_hud(frame, &line, style);
     let row = Region { col: 0, row: rows - 1, cols, rows: 1 };
     overlay::limit_colors_in(frame, row, style.depth);
+}
+
+/// Whether a cell has been seen, the cells `portal` (the last render's pass) visited counted: a
+/// cell seen before or in view now. The map's probes ask this of ~3,000 cells a frame, mostly seen
+/// or far; the pass's cells are looked up only when one of them was not seen before (after a frame
+/// the session marks them seen: a walker turning where it has looked already has none).
+fn seen_now<'a>(app: &'a App, portal: &'a PortalPass) -> impl Fn(u32) -> bool + 'a {
+    let fresh = fresh_in_view(app, portal);
+    move |c: u32| app.has_seen(c) || (fresh && portal.was_visited(c))
+}
+
+/// Whether a cell `portal` visited (in view now) was not seen before.
+fn fresh_in_view(app: &App, portal: &PortalPass) -> bool {
+    app.options.culling == Culling::Portal && portal.visited.iter().any(|&c| !app.has_seen(c))
 }
 
 /// Where the map goes on `frame` for the walk's map mode (`None`: no map): the whole area, before the
@@ -465,7 +551,8 @@ fn hud_text_with(
         (Some(_), Some(took)) => Some(format!("exit in {}", clock_text(took))),
         (Some(_), None) => Some(format!("time {}", running_clock_text(hud.elapsed))),
     };
-    let dev = |text: String| if app.figures { text } else { String::new() };
+    // (formatted only when shown: most frames do not show them)
+    let dev = |text: &dyn Fn() -> String| if app.figures { text() } else { String::new() };
     let charset = app.options.charset;
     // the look-ahead lens (`z`) is said early: a player who forgets it is on sees a far narrower view
     let (lens, view) = if app.look_ahead() {
@@ -486,12 +573,12 @@ fn hud_text_with(
         (6, format!("pitch {:+.0}°", c.pitch_deg)),
         (2, lens),
         (7, view),
-        (4, dev(format!("{} fps {} B", hud.fps, hud.cost.bytes))),
-        (8, dev(format!("cell {} seen {}", app.cell, stats.portal.distinct_cells))),
-        (9, dev(format!("{:.1} ms", hud.cost.seconds * 1e3))),
+        (4, dev(&|| format!("{} fps {} B", hud.fps, hud.cost.bytes))),
+        (8, dev(&|| format!("cell {} seen {}", app.cell, stats.portal.distinct_cells))),
+        (9, dev(&|| format!("{:.1} ms", hud.cost.seconds * 1e3))),
     ];
     // fitted as shown (in ASCII a degree sign takes four columns)
-    overlay::hud_line(&fields.map(|(priority, text)| (priority, style.text(&text))), HELP, width)
+    overlay::hud_line(&fields.map(|(priority, text)| (priority, style.own_text(text))), HELP, width)
 }
 
 /// The compass point of a heading (degrees counter-clockwise from east, +x; north, +y, is up on the
@@ -598,6 +685,185 @@ mod tests {
         assert!(!line(&app, 60).contains("(6.0, 50.0)"), "the lens before the position");
         app.set_look_ahead(false);
         assert!(line(&app, 200).contains("fov 90° persp half"), "{:?}", line(&app, 200));
+    }
+
+    /// A screen drawn into a kept frame ([`draw_kept`]: only the cells under the map kept of a
+    /// rendered view, only those restored when it is shown again) draws each frame bit for bit as
+    /// [`draw`] does into a fresh frame: over two mazes and every charset, through turns, steps and
+    /// frames where only the map, a box or the HUD changes (a peer walking behind the viewer, the
+    /// help, a notice, the player list, a ghost and its caption, the exit box, the map's modes) and
+    /// a resize to the same size (the frame cleared, the screen told). It fails if the patch is not
+    /// restored, if what a box or caption covers is taken for the view, or if the screen is not told
+    /// of the resize (each tried), and if views are never shown again or never by their patch.
+    #[test]
+    fn a_kept_frame_draws_what_a_fresh_one_does() {
+        use glam::Vec2;
+        use mazewalk_render::Charset;
+        let generated = mazewalk_maze::generate::generate(&mazewalk_maze::generate::GenOptions {
+            width: 9,
+            height: 7,
+            seed: 6,
+            loops: 0.3,
+            exit: true,
+            ..mazewalk_maze::generate::GenOptions::default()
+        })
+        .expect("maze");
+        let (mut frames, mut shown_again, mut patched) = (0, 0, 0);
+        for maze in [mazewalk_maze::builtin().unwrap(), generated] {
+            for charset in [Charset::Half, Charset::Quad, Charset::Sextant, Charset::Ascii] {
+                let options = RenderOptions { charset, ..RenderOptions::default() };
+                let mut app = App::new(maze.clone(), options, 0.0).unwrap();
+                let (mut kept, mut fresh) = (Screen::default(), Screen::default());
+                let mut frame = Frame::new(100, 30);
+                for k in 0..60 {
+                    // every third frame the view changes (a turn, or a step); else something else
+                    match k % 3 {
+                        0 if k % 12 == 9 => {
+                            let ahead = Vec2::from_angle(app.camera.yaw_deg.to_radians()) * 0.4;
+                            if maze.cell_at(app.camera.position + ahead).is_some() {
+                                app.camera.position += ahead;
+                            }
+                        }
+                        0 => app.camera.yaw_deg = (app.camera.yaw_deg + 31.0).rem_euclid(360.0),
+                        _ => {}
+                    }
+                    // (the map changes while the view stays: the full map's cells must go when it is off)
+                    app.map = match k {
+                        0..=16 => MapMode::Corner,
+                        17..=31 => MapMode::Full,
+                        32..=46 => MapMode::Off,
+                        _ => MapMode::Corner,
+                    };
+                    app.help = k % 17 == 4;
+                    app.finished = (k % 23 == 7).then_some(12.5);
+                    app.exit_box = app.finished.is_some();
+                    let behind = Vec2::from_angle(app.camera.yaw_deg.to_radians()) * -(0.2 + 0.05 * k as f32);
+                    let ahead = Vec2::from_angle(app.camera.yaw_deg.to_radians()) * 1.2;
+                    for screen in [&mut kept, &mut fresh] {
+                        screen.notice = (k % 19 == 11).then(|| "news".to_string());
+                        screen.roster = vec![roster::Entry {
+                            name: "ada".to_string(),
+                            label: 'a',
+                            color: Color::Indexed(9),
+                            joined_at: 0.0,
+                            best: None,
+                            me: false,
+                        }];
+                        screen.show_roster = k % 13 == 6;
+                        screen.peers = vec![Peer {
+                            position: app.camera.position + behind,
+                            heading_deg: 0.0,
+                            initial: 'b',
+                            color: Color::Rgb(250, 120, 10),
+                            cell: None,
+                        }];
+                        screen.ghost = (k % 11 == 8).then(|| {
+                            let pose =
+                                Pose { position: app.camera.position + ahead, yaw_deg: 0.0, pitch_deg: 0.0 };
+                            (pose, "ghost ada 1:40.4".to_string())
+                        });
+                    }
+                    if k == 40 {
+                        frame.resize(100, 30); // cleared
+                        kept.forget_frame();
+                    }
+                    let renders = kept.renders();
+                    let patch = kept.last_view.as_ref().and_then(|l| (!l.whole).then_some(l.patch).flatten());
+                    draw_kept(&app, &mut kept, &mut frame, &Hud::default());
+                    let mut expected = Frame::new(100, 30);
+                    draw(&app, &mut fresh, &mut expected, &Hud::default());
+                    assert!(frame == expected, "{charset:?}, frame {k}: not the fresh screen's");
+                    if kept.renders() == renders {
+                        shown_again += 1;
+                        patched += usize::from(patch.is_some());
+                    }
+                    frames += 1;
+                }
+            }
+        }
+        assert_eq!(frames, 2 * 4 * 60);
+        assert!(
+            shown_again > 50 && patched > 16,
+            "{shown_again} views shown again, {patched} by their patch"
+        );
+    }
+
+    /// The map's `seen` with the pass's cells looked up only when one is new is the cell seen before
+    /// or visible now, for every cell of two mazes over turning and walking frames, portal culling
+    /// and brute force, with the cells in view marked seen after some frames and not others (as a
+    /// session does after each); and the corner map fitted to it, kept from frame to frame while the
+    /// seen cells and the area stay, is the map fitted afresh. It fails if a cell in view now but not
+    /// seen before is left out, or if one not in view counts (tried: `fresh` always false), if a fit
+    /// is kept across a newly seen cell (tried: the key without the seen cells' id), or if none is
+    /// kept.
+    #[test]
+    fn seen_now_is_seen_before_or_visible_now() {
+        let generated = mazewalk_maze::generate::generate(&mazewalk_maze::generate::GenOptions {
+            width: 9,
+            height: 7,
+            seed: 5,
+            loops: 0.3,
+            exit: true,
+            ..mazewalk_maze::generate::GenOptions::default()
+        })
+        .expect("maze");
+        let (mut fresh_frames, mut known_frames) = (0, 0);
+        for maze in [mazewalk_maze::builtin().unwrap(), generated] {
+            for culling in [Culling::Portal, Culling::None] {
+                let options = RenderOptions { culling, ..RenderOptions::default() };
+                let mut app = App::new(maze.clone(), options, 0.0).unwrap();
+                app.map = MapMode::Corner;
+                let mut screen = Screen::default();
+                let mut frame = Frame::new(100, 30);
+                for k in 0..24 {
+                    app.camera.yaw_deg = (app.camera.yaw_deg + 23.0).rem_euclid(360.0);
+                    if k % 6 == 5 {
+                        let ahead = glam::Vec2::from_angle(app.camera.yaw_deg.to_radians()) * 0.4;
+                        if maze.cell_at(app.camera.position + ahead).is_some() {
+                            app.camera.position += ahead;
+                        }
+                    }
+                    draw(&app, &mut screen, &mut frame, &Hud::default());
+                    let new_in_view = {
+                        let portal = screen.renderer.portal();
+                        let seen = seen_now(&app, portal);
+                        // the corner map as fitted now, without the fit kept from frame to frame
+                        let also = [app.camera.position];
+                        let fitted = map_area(&app, &frame)
+                            .map(|area| area.fit_to_seen(&maze, &seen, also, &mut MapCells::default(), None));
+                        assert_eq!(screen.map, fitted, "frame {k}, {culling:?}");
+                        let mut new_in_view = false;
+                        for c in 0..maze.cell_count() as u32 {
+                            let visible = culling == Culling::Portal && portal.was_visited(c);
+                            new_in_view |= visible && !app.has_seen(c);
+                            assert_eq!(
+                                seen(c),
+                                app.has_seen(c) || visible,
+                                "cell {c}, frame {k}, {culling:?}"
+                            );
+                        }
+                        new_in_view
+                    };
+                    if culling == Culling::Portal {
+                        *(if new_in_view { &mut fresh_frames } else { &mut known_frames }) += 1;
+                    }
+                    if k % 4 == 3 {
+                        let visited = screen.renderer.portal().visited.clone();
+                        app.mark_seen(visited);
+                    }
+                    if k % 4 == 1 {
+                        // cells seen otherwise (brute force's: by the samples' walls), not in view now
+                        let cells = maze.cell_count() as u32;
+                        app.mark_seen([(7 * k as u32) % cells, (7 * k as u32 + 3) % cells]);
+                    }
+                }
+            }
+        }
+        assert!(
+            fresh_frames > 5 && known_frames > 5,
+            "{fresh_frames} frames with new cells, {known_frames} without"
+        );
+        assert!(overlay::FITS_KEPT.with(std::cell::Cell::get) > 20, "the map's fit never kept");
     }
 
     /// A screen limits the colours of what is drawn over the view (the map, boxes, a caption, the

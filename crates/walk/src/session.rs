@@ -499,6 +499,7 @@ impl Session {
             Input::Resize { cols, rows } => {
                 let (cols, rows) = fit_size(cols.into(), rows.into(), MAX_SIZE);
                 self.frame.resize(cols.into(), rows.into());
+                self.screen.forget_frame(); // cleared: a view shown again is copied whole
                 self.dirty = true;
             }
             Input::FocusLost => self.app.focus_lost(),
@@ -693,7 +694,9 @@ impl Session {
         let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
         if self.dirty {
             self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
-            screen::draw(&self.app, &mut self.screen, &mut self.frame, &hud);
+            // (the session's frame is kept from frame to frame, changed only here, in the HUD's row
+            // and by a resize, which tells the screen)
+            screen::draw_kept(&self.app, &mut self.screen, &mut self.frame, &hud);
             self.note_seen();
         } else {
             screen::draw_hud(&self.app, &self.screen, &mut self.frame, &hud); // the view is as it was

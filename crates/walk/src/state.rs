@@ -138,6 +138,12 @@ pub enum MapMode {
     Full,
 }
 
+/// The next of the numbers that name sets of seen cells ([`App::seen_id`]), unique in the process.
+fn next_seen_id() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+}
+
 /// The walkthrough.
 #[derive(Clone, Debug)]
 pub struct App {
@@ -192,6 +198,8 @@ pub struct App {
     pub ghost_since: f64,
     /// Cells seen so far, one bit each (the map's fog of war).
     seen: Vec<u64>,
+    /// A number no other set of seen cells of any walk had ([`App::seen_id`]).
+    seen_id: u64,
     /// The view shows a chalk cross on the floor of each cell walked (`x`; on by default).
     pub chalk: bool,
     /// The cells walked since the start (or the last `r`), in the order first entered, each once.
@@ -286,6 +294,7 @@ impl App {
             ghost: false,
             ghost_since: now,
             seen: vec![0; cells.div_ceil(64)],
+            seen_id: next_seen_id(),
             chalk: true,
             walked: vec![cell],
             walked_bits: {
@@ -409,11 +418,24 @@ impl App {
 
     /// Records cells as seen (the renderer's visible cells of a frame); ids outside the maze are ignored.
     pub(crate) fn mark_seen(&mut self, cells: impl IntoIterator<Item = u32>) {
+        let mut changed = false;
         for c in cells {
             if let Some(word) = self.seen.get_mut(c as usize / 64) {
+                changed |= *word >> (c % 64) & 1 == 0;
                 *word |= 1 << (c % 64);
             }
         }
+        if changed {
+            self.seen_id = next_seen_id();
+        }
+    }
+
+    /// Names the cells seen so far ([`has_seen`](Self::has_seen), but for [`reveal_map`](Self::reveal_map)):
+    /// a number no other walk's seen cells, nor these before a cell was first seen, had. A map fitted
+    /// to them is kept while it stays.
+    #[must_use]
+    pub(crate) fn seen_id(&self) -> u64 {
+        self.seen_id
     }
 
     /// The maze being walked.
