@@ -5,6 +5,10 @@
 //! nice cargo run --release -p mazewalk-bench --example picture
 //! ```
 //!
+//! `-- --held-out` gives the held-out views' measures alone; `-- --breakdown [VIEW]` which samples
+//! carry the 256-colour error on them (by kind of surface, by colour, and per surface on the worst
+//! views or those whose label holds VIEW, beside each sample's nearest entry).
+//!
 //! **Measures** ([`mazewalk_render::quality`]: grain, hue error, surfaces apart; OKLab, per sample, no
 //! blur) of nine views of three mazes (the built-in maze, the course file
 //! `mazes/cs559/maze-10x10-100.maze`, and `--gen 20x15 --seed 3`, each from its viewer and turned 90°
@@ -259,6 +263,11 @@ fn held_out(renderer: &mut Renderer) {
 
 fn main() {
     let mut renderer = Renderer::new();
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(at) = args.iter().position(|a| a == "--breakdown") {
+        breakdown(&mut renderer, args.get(at + 1).map(String::as_str));
+        return;
+    }
     held_out(&mut renderer);
     if std::env::args().any(|a| a == "--held-out") {
         return;
@@ -398,5 +407,166 @@ fn main() {
         walking.sort_unstable();
         let mean = walking.iter().sum::<usize>() as f64 / walking.len().max(1) as f64;
         println!("| {mode} | {mean:.0} | {} |", walking.get(walking.len() / 2).copied().unwrap_or(0));
+    }
+}
+
+/// The sRGB of every colour a frame's cells use, by its OKLab (as [`quality::shown`] gives it).
+fn rgb_of(frame: &Frame) -> std::collections::HashMap<[u32; 3], [u8; 3]> {
+    use mazewalk_term::frame::Color;
+    let mut out = std::collections::HashMap::new();
+    for cell in frame.cells() {
+        for color in [cell.fg, cell.bg] {
+            let rgb = match color {
+                Color::Rgb(r, g, b) => [r, g, b],
+                Color::Indexed(i) => mazewalk_render::palette::xterm_rgb(i),
+                Color::Default => continue,
+            };
+            out.insert(quality::oklab_srgb8(rgb).to_array().map(f32::to_bits), rgb);
+        }
+    }
+    out
+}
+
+/// A colour of the truecolor frame (sRGB), the entry shown for it and the kind of surface.
+type Costly = ([u8; 3], u8, &'static str);
+/// Over one surface's samples that show one entry: how many, their truecolor sRGB summed, their
+/// error summed, the nearest entry's error summed, and how often each entry is the nearest.
+type Group = (usize, [f64; 3], f64, f64, BTreeMap<u8, usize>);
+
+/// `--breakdown [VIEW]`: the held-out views with the largest mean error in 256 colours; over all of
+/// them, the error by kind of surface (walls in the exit's light, other walls, floor, ceiling) against
+/// the nearest entry's, and the colours whose entries cost most beyond the nearest; and for the worst
+/// few views (or those whose label holds VIEW), which samples carry it: per surface and entry shown,
+/// the truecolor colour (mean sRGB), the entry, the nearest entry (the commonest over the group) and
+/// the error.
+fn breakdown(renderer: &mut Renderer, only: Option<&str>) {
+    use mazewalk_maze::light::ExitLight;
+    let entries: Vec<(u8, Vec3)> =
+        (16..=255u8).map(|i| (i, quality::oklab_srgb8(mazewalk_render::palette::xterm_rgb(i)))).collect();
+    let nearest = |lab: Vec3| {
+        entries.iter().min_by(|a, b| a.1.distance(lab).total_cmp(&b.1.distance(lab))).map_or(0, |e| e.0)
+    };
+    let mut index_of: std::collections::HashMap<[u8; 3], u8> = std::collections::HashMap::new();
+    for (i, rgb) in (16..=255u8).map(|i| (i, mazewalk_render::palette::xterm_rgb(i))).rev() {
+        index_of.insert(rgb, i);
+    }
+    let key = |lab: &Vec3| lab.to_array().map(f32::to_bits);
+    // Per kind: samples, error shown, error of the nearest entry.
+    let mut kinds: BTreeMap<&str, (usize, f64, f64)> = BTreeMap::new();
+    // Per (truecolor sRGB, entry shown, kind): samples, excess error over the nearest entry, nearest.
+    let mut costly: std::collections::HashMap<Costly, (usize, f64, u8)> = std::collections::HashMap::new();
+    let mut views = Vec::new();
+    for (name, maze) in held_out_mazes() {
+        let light = ExitLight::of(&maze);
+        let walls = maze.edges().len() as u32;
+        let lit = |e: u32| {
+            let edge = maze.edge(e);
+            [edge.left, edge.right].iter().flatten().any(|&c| light.level(c) > 0)
+        };
+        for (k, (kind, camera)) in quality::held_out_views(&maze, 39, 30).into_iter().enumerate() {
+            let truth_frame =
+                render(renderer, &maze, &camera, &options(Charset::Half, ColorDepth::TrueColor, false));
+            let truth = quality::shown(&truth_frame, Charset::Half);
+            let ids = renderer.samples().id().to_vec();
+            let width = renderer.samples().width();
+            let frame = render(renderer, &maze, &camera, &options(Charset::Half, ColorDepth::Ansi256, false));
+            let shown = quality::shown(&frame, Charset::Half);
+            let m = quality::measure(&shown, &truth, &ids, width);
+            let label = format!(
+                "{name} #{k} {kind:?} at ({:.2}, {:.2}) heading {:.0}°",
+                camera.position.x, camera.position.y, camera.yaw_deg
+            );
+            let (truth_rgb, shown_rgb) = (rgb_of(&truth_frame), rgb_of(&frame));
+            // Per (surface, kind, entry shown): samples, summed truecolor sRGB, summed error, nearest's.
+            let mut groups: BTreeMap<(u32, &str, u8), Group> = BTreeMap::new();
+            for ((t, s), &id) in truth.iter().zip(&shown).zip(&ids) {
+                let entry = shown_rgb.get(&key(s)).and_then(|rgb| index_of.get(rgb)).copied().unwrap_or(0);
+                let rgb = truth_rgb.get(&key(t)).copied().unwrap_or([0; 3]);
+                let surface = match id {
+                    FLOOR => "floor",
+                    CEILING => "ceiling",
+                    id if id < walls && lit(id) => "lit wall",
+                    id if id < walls => "wall",
+                    _ => "other",
+                };
+                let near = nearest(*t);
+                let (err, near_err) =
+                    (f64::from(t.distance(*s)), f64::from(t.distance(entries[usize::from(near - 16)].1)));
+                let kind = kinds.entry(surface).or_default();
+                kind.0 += 1;
+                kind.1 += err;
+                kind.2 += near_err;
+                let c = costly.entry((rgb, entry, surface)).or_insert((0, 0.0, near));
+                c.0 += 1;
+                c.1 += err - near_err;
+                let g = groups.entry((id, surface, entry)).or_default();
+                g.0 += 1;
+                for (sum, v) in g.1.iter_mut().zip(rgb) {
+                    *sum += f64::from(v);
+                }
+                g.2 += err;
+                g.3 += near_err;
+                *g.4.entry(near).or_default() += 1;
+            }
+            views.push((m.mean_error, m.p95_error, label, groups));
+        }
+    }
+    views.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    println!(
+        "\n256 colours, median view: mean error {:.4}, p95 {:.4}",
+        median(&mut views.iter().map(|v| v.0).collect()),
+        median(&mut views.iter().map(|v| v.1).collect())
+    );
+    println!("\nThe held-out views of largest mean error in 256 colours (mean / p95):\n");
+    for v in views.iter().take(12) {
+        println!("- {:.3} / {:.3} {}", v.0, v.1, v.2);
+    }
+    println!(
+        "\nOver every held-out view, per kind of surface: samples, mean error shown / of the nearest entry:\n"
+    );
+    for (kind, (n, err, near)) in &kinds {
+        println!("- {kind}: {n}, {:.4} / {:.4}", err / *n as f64, near / *n as f64);
+    }
+    println!("\nThe colours costing most beyond their nearest entry (summed over every view):\n");
+    let mut costly: Vec<_> = costly.into_iter().collect();
+    costly.sort_by(|a, b| b.1.1.total_cmp(&a.1.1));
+    for ((rgb, entry, kind), (n, excess, near)) in costly.into_iter().take(25) {
+        println!(
+            "- {kind} {rgb:?} as {entry} {:?} (nearest {near} {:?}): {n} samples, excess {:.1}",
+            mazewalk_render::palette::xterm_rgb(entry),
+            mazewalk_render::palette::xterm_rgb(near),
+            excess
+        );
+    }
+    let chosen: Vec<_> = match only {
+        Some(only) => views.iter().filter(|v| v.2.contains(only)).collect(),
+        None => views.iter().take(3).collect(),
+    };
+    for (mean, p95, label, groups) in chosen {
+        let total: f64 = groups.values().map(|g| g.2).sum();
+        println!("\n{label}: mean {mean:.3}, p95 {p95:.3}; per surface and entry, by share of the error:\n");
+        println!(
+            "| surface | samples | truecolor (mean sRGB) | entry shown | its error | nearest entry (commonest) | nearest's error | share of the view's error |"
+        );
+        println!("|---|--:|---|---|--:|---|--:|--:|");
+        let mut rows: Vec<_> = groups.iter().collect();
+        rows.sort_by(|a, b| b.1.2.total_cmp(&a.1.2));
+        for ((id, kind, entry), (n, sum, err, near_err, nears)) in rows.into_iter().take(10) {
+            let surface = if *id < FLOOR - 1 { format!("{kind} #{id}") } else { kind.to_string() };
+            let mean_rgb = sum.map(|v| (v / *n as f64).round() as u8);
+            let near = nears.iter().max_by_key(|&(_, c)| c).map_or(0, |(&e, _)| e);
+            println!(
+                "| {surface} | {n} | {mean_rgb:?} | {entry} {:?} | {:.3} | {near} {:?} | {:.3} | {:.0} % |",
+                mazewalk_render::palette::xterm_rgb(*entry),
+                err / *n as f64,
+                mazewalk_render::palette::xterm_rgb(near),
+                near_err / *n as f64,
+                100.0 * err / total
+            );
+        }
     }
 }

@@ -122,6 +122,15 @@ struct Weights {
     /// muted colour the palette has no entry near shows as its grey, not as a more vivid or another
     /// hue (issue #39: the exit's glow rimmed in olive, a tan wall's dark edge orange).
     muted: f32,
+    /// For a chromaticity of the exit's green ([`exit_green`]) with no more chroma than the first of
+    /// these times its lightness (OKLab C ⁄ L), [`Weights::muted`] is the second: a grey wall in the
+    /// exit's light, tinted toward its green (`shade::exit_lit_wall`), has 0.06 at the first look
+    /// (chroma 0.037–0.039 at L 0.62–0.65), and the cube's nearest greens there, (95, 135, 95) and
+    /// (135, 175, 135), are 0.06–0.07 darker or lighter and twice as saturated: 0.07–0.08 off, where
+    /// its grey is 0.04 off (issue #39: the built-in maze nose to such a wall, mean error 0.070).
+    /// A grey costs only its distance a little higher up (to 0.035, not 0.03); beyond, where the
+    /// hue error counts a sample (0.04), such a wall keeps its greens.
+    muted_glow: (f32, f32),
     /// A hue turned by more than [`Weights::turn_free`] (radians), per radian squared beyond it
     /// times the target's chroma squared: on top of ΔH, which shrinks with the chroma, so a pale
     /// grey-green may not take a yellow entry ([`cost`]).
@@ -175,6 +184,10 @@ fn cost(target: Vec3, target_chroma: f32, target_hue: f32, entry: &RampEntry, w:
     dl * dl + chroma * dc * dc + w.hue * dh2 + grey + turn + vivid
 }
 
+/// [`Weights::muted_glow`] in 256 colours. The faintest glow on a grey wall (C ⁄ L 0.06; its ramps'
+/// chromaticities, on a grid, up to about 0.065) is below 0.07; the next look (0.09) above, as are a
+/// course file's sage walls of that hue (the CS559 10×10 maze's (99, 127, 108): 0.076).
+const MUTED_GLOW: (f32, f32) = (0.07, 0.035);
 /// An entry with less chroma than this is grey (the cube's and the ramp's greys have none).
 const GREY_ENTRY: f32 = 0.015;
 /// A chromaticity whose brightest colour has less chroma than this is grey: its ramp holds greys only.
@@ -242,6 +255,7 @@ impl Palette {
                 over: 3.0,
                 grey: 100.0,
                 muted: 0.03,
+                muted_glow: MUTED_GLOW,
                 turn: 1000.0,
                 turn_free: 25f32.to_radians(),
                 vivid: 20.0,
@@ -255,6 +269,7 @@ impl Palette {
                 over: 1.0,
                 grey: 8.0,
                 muted: 0.0,
+                muted_glow: (0.0, 0.0),
                 turn: 0.0,
                 turn_free: 0.0,
                 vivid: 0.0,
@@ -538,7 +553,14 @@ impl LightRamp {
         // coloured it stays so, and a wall is never a grey blob amid its colour); between two
         // coloured entries, [`Weights::step`] times their chroma difference squared (a wall's bands
         // keep its saturation instead of passing through a vivid entry between two pale ones).
-        let weights = palette.weights();
+        // (the exit's green, muted at every lightness: greys a little further up, [`Weights::muted_glow`])
+        let relative = direction.y.hypot(direction.z) / direction.x.max(1e-6);
+        let weights = match palette.weights() {
+            w if exit_green(direction) && relative <= w.muted_glow.0 => {
+                Weights { muted: w.muted_glow.1, ..w }
+            }
+            w => w,
+        };
         let grey: Vec<bool> = candidates.iter().map(|e| e.chroma < GREY_ENTRY).collect();
         let coloured: Vec<usize> = (0..n).filter(|&i| !grey[i]).collect();
         let mut best = vec![0.0f32; n];

@@ -923,4 +923,60 @@ mod tests {
             }
         }
     }
+
+    /// Issue #39, 256 colours: a grey wall in the exit's light (the built-in maze's and the course
+    /// files' walls may be grey; generated walls never are), lit as the pipeline lights it at both
+    /// sun sides, four angles to the headlight and fog keeping 1, 0.8 or 0.6 of the light, greys
+    /// from (100, 100, 100) to (220, 220, 220). At the first look it is a grey-green of chroma 0.06
+    /// of its lightness, which the cube has no entry near: where that chroma is at most 0.039 it
+    /// shows an entry within 0.05 in OKLab of its colour (its nearest is a grey 0.04 off; before,
+    /// the cube's greens, up to 0.066 off); above 0.04 (where the hue error counts a sample) a green,
+    /// its hue within 25° of the glow's. (Between the two the ramps' grid of chromaticities, whose
+    /// steps move a near-grey's chroma by about 0.003, decides.) At the last look (0.15 of its lightness)
+    /// every one shows a green, greener than its unlit entry by 0.02: the glow near the exit still
+    /// shows on grey walls.
+    #[test]
+    fn in_256_colours_a_grey_wall_at_the_glows_edge_is_shown_near_its_colour() {
+        use crate::palette::{Palette, hue_difference, ramp_entry};
+        let g = glow_direction();
+        let green = |lab: Vec3| Vec2::new(lab.y, lab.z).dot(g);
+        let levels = look_levels();
+        let (first, last) = (levels[0], levels[levels.len() - 1]);
+        let (mut muted, mut chromatic, mut worst) = (0, 0, 0.0f32);
+        for grey in (100..=220u8).step_by(10) {
+            for sun in [0.0, 1.0] {
+                for diffuse in [0.0, 0.2, 0.6, 1.0] {
+                    for keep in [1.0, 0.8, 0.6] {
+                        let wall = wall_lit([grey; 3], sun, diffuse);
+                        let lit = exit_lit_wall(wall, first) * keep;
+                        let lab = crate::palette::oklab(lit);
+                        let shown = entry_lab(ramp_entry(lit, Palette::Xterm256));
+                        let why = format!("grey {grey} sun {sun} headlight {diffuse} keep {keep}: {lab}");
+                        let chroma = |c: Vec3| c.y.hypot(c.z);
+                        if chroma(lab) <= 0.039 {
+                            let off = shown.distance(lab);
+                            worst = worst.max(off);
+                            assert!(off <= 0.05, "{why}: shown {shown}, {off:.3} off");
+                            muted += 1;
+                        } else if chroma(lab) > 0.04 {
+                            let turned = hue_difference(shown.z.atan2(shown.y), lab.z.atan2(lab.y));
+                            assert!(chroma(shown) > 0.015 && turned <= 25f32.to_radians(), "{why}: {shown}");
+                            chromatic += 1;
+                        }
+                        let near = exit_lit_wall(wall, last) * keep;
+                        let (near, unlit) = (
+                            entry_lab(ramp_entry(near, Palette::Xterm256)),
+                            entry_lab(ramp_entry(wall * keep, Palette::Xterm256)),
+                        );
+                        assert!(
+                            chroma(near) > 0.015 && green(near) >= green(unlit) + 0.02,
+                            "{why}: near the exit {near}, unlit {unlit}"
+                        );
+                    }
+                }
+            }
+        }
+        eprintln!("muted {muted} (the furthest {worst:.3} off), chromatic {chromatic}");
+        assert!(muted > 50 && chromatic > 50, "muted {muted}, chromatic {chromatic}");
+    }
 }
