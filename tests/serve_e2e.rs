@@ -469,6 +469,36 @@ fn a_port_in_use_is_said_plainly_and_a_host_name_is_looked_up() {
     assert_eq!(second.status.code(), Some(1), "{err}");
     assert!(!out.contains("serving on") && !err.contains("serving on"), "{out}{err}");
     assert!(err.contains(&format!("cannot listen on {taken}")) && err.contains("in use"), "{err}");
+
+    // A first start that fails leaves no key it made: the start that serves makes one and says so.
+    let fresh = scratch.join("fresh_key");
+    let failed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["serve", "--open", "--listen", &taken, "--host-key"])
+        .arg(&fresh)
+        .env("HOME", scratch.path())
+        .stdin(Stdio::null())
+        .output()
+        .expect("run a server on a port in use");
+    assert_eq!(failed.status.code(), Some(1));
+    assert!(!fresh.exists(), "a failed start kept the key it made");
+    let mut third = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["serve", "--open", "--listen", "127.0.0.1:0", "--host-key"])
+        .arg(&fresh)
+        .env("HOME", scratch.path())
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start a server with a new key");
+    let mut banner = BufReader::new(third.stdout.take().expect("stdout"));
+    let (mut first, mut second_line) = (String::new(), String::new());
+    banner.read_line(&mut first).and_then(|_| banner.read_line(&mut second_line)).expect("the banner");
+    let _ = third.kill();
+    let _ = third.wait();
+    assert!(
+        second_line.starts_with("host key ") && second_line.contains(", made now"),
+        "{first}{second_line}"
+    );
 }
 
 #[test]

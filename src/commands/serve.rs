@@ -142,7 +142,9 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let options = ServeOptions { maze, listen, host_key, access, limits, records: records.clone(), record };
-    let signal = mazewalk_serve::run_with(options, world, http, |addrs, http| {
+    let announced = std::cell::Cell::new(false);
+    let served = mazewalk_serve::run_with(options, world, http, |addrs, http| {
+        announced.set(true);
         let made = if made { ", made now" } else { "" };
         let list: Vec<String> = addrs.iter().map(ToString::to_string).collect();
         let addr = addrs[0];
@@ -176,7 +178,15 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
                 None => Ok(()),
             })
             .and_then(|()| out.flush());
-    })?; // (its errors say what failed: "cannot listen on 127.0.0.1:2222: Address already in use")
+    });
+    // (its errors say what failed: "cannot listen on 127.0.0.1:2222: Address already in use")
+    let signal = served.inspect_err(|_| {
+        if made && !announced.get() {
+            // A start that failed before it served leaves no key it made: the next start makes
+            // one and says so ("made now"), rather than serving a key its host was never told of.
+            let _ = std::fs::remove_file(&key_path);
+        }
+    })?;
     if let Some(keeper) = records {
         // The finishes handed over before the end are written (a few at most; bounded anyway).
         let _ = keeper.records.close(std::time::Duration::from_secs(3));
