@@ -21,7 +21,9 @@ use std::time::{Duration, Instant};
 
 use common::{Player, Scratch, Server, TIMEOUT, hud_row, on_map, playing, ssh_args};
 use mazewalk_serve::player::REMOTE;
-use mazewalk_serve::ssh::{DUMB_TERMINAL_MESSAGE, NO_EXEC_MESSAGE, NO_PTY_MESSAGE, SHUTDOWN_MESSAGE};
+use mazewalk_serve::ssh::{
+    DUMB_TERMINAL_MESSAGE, INPUT_ENDED_MESSAGE, NO_EXEC_MESSAGE, NO_PTY_MESSAGE, SHUTDOWN_MESSAGE,
+};
 use mazewalk_term::modes::restore_sequence;
 use mazewalk_testkit::{require_python_module, require_tool};
 
@@ -446,6 +448,24 @@ fn authorized_keys_let_in_only_their_keys() {
     server.wait_log("user=frank", 1);
     player.send(b"q");
     assert!(player.wait_exit().success());
+}
+
+/// A player or a spectator whose input ends (`ssh -tt … < /dev/null`, a closed pipe) is told so and
+/// let go at once, logged as `closed`: it was told "the game is over" after the after-game wait, a
+/// spectator too, which never played.
+#[test]
+fn a_client_whose_input_ends_is_let_go_at_once_as_closed() {
+    let scratch = Scratch::new("eof");
+    let server = Server::start(&scratch, &["--open"]);
+    for user in ["ivy", "watch"] {
+        let started = Instant::now();
+        let (status, _, stderr) = server.ssh_batch(None, user, &["-tt"]);
+        assert_eq!(status.code(), Some(255), "{user}: {stderr}");
+        assert!(stderr.contains(INPUT_ENDED_MESSAGE) && !stderr.contains("game is over"), "{user}: {stderr}");
+        assert!(started.elapsed() < Duration::from_secs(10), "{user}: {:?}", started.elapsed());
+    }
+    server.wait_log("reason=closed", 2);
+    assert!(!server.log().contains("reason=game over"), "{}", server.log());
 }
 
 /// Issue #34, low: a port in use read like success ("serving on 127.0.0.1:2222: Address already in

@@ -82,6 +82,8 @@ pub const NO_EXEC_MESSAGE: &str =
     "mazewalk: no commands or subsystems here, only the game: connect with `ssh -t` and no command";
 /// What a client still connected after its game is told as the server closes the connection.
 pub(crate) const GAME_OVER_MESSAGE: &str = "mazewalk: the game is over; one game per connection";
+/// What a client whose input ended is told as the server closes its connection.
+pub const INPUT_ENDED_MESSAGE: &str = "mazewalk: your input ended; goodbye";
 /// Views the spectators share, kept at most: a few followed players at a few sizes.
 const SHARED_VIEWS: usize = 16;
 /// How long a shutting-down server waits for its players' goodbyes before cutting them off.
@@ -1120,6 +1122,11 @@ fn bounded(s: &str) -> String {
 /// [`Limits::after_game`], so that it gives its slot back.
 async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
     game(&shared, &conn, channel).await;
+    if Conn::get(&conn.ended) == Some("closed") {
+        // The client's input ended (`ssh < /dev/null`, a closed pipe): nothing more will come.
+        conn.close("closed", INPUT_ENDED_MESSAGE, Duration::from_secs(1)).await;
+        return;
+    }
     let after = tokio::time::timeout(shared.limits.after_game, conn.cut.cut_off());
     if after.await.is_err() {
         conn.close("game over", GAME_OVER_MESSAGE, Duration::from_secs(1)).await;
@@ -1242,6 +1249,7 @@ async fn goodbye(
         return;
     }
     if end == End::Gone {
+        conn.ending("closed"); // the client closed its input or the connection went
         return;
     }
     let message = match end {
