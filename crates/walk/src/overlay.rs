@@ -191,9 +191,10 @@ pub(crate) fn draw_hud(frame: &mut Frame, text: &str, style: Style) {
 pub(crate) fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> String {
     let len = |s: &str| s.chars().count();
     let help = if len(help) < width { help } else { "" };
-    // A leading space, the fields two apart, at least one space before the help: each field costs
-    // its length and two spaces (the last's pair being the leading space and the one before help).
-    let mut room = width.saturating_sub(len(help));
+    // A leading space, the fields two apart, and two before the help: each field costs its length
+    // and two spaces (the last's pair being the leading space and one before the help), and the
+    // help one more.
+    let mut room = width.saturating_sub(len(help) + usize::from(!help.is_empty()));
     let mut keep = vec![false; fields.len()];
     let mut by_priority: Vec<usize> = (0..fields.len()).collect();
     by_priority.sort_by_key(|&i| fields[i].0); // stable: of equal priority, the earlier first
@@ -1042,6 +1043,10 @@ mod tests {
                     "width {width}: a cut field {text:?} in {line:?}"
                 );
             }
+            // (QA: `look ahead ? help` at 82 columns) the help stands two spaces off the fields
+            if width > 7 && !shown.is_empty() {
+                assert!(line.trim_end_matches("? help ").ends_with("  "), "width {width}: {line:?}");
+            }
             // fields come in their order; one is left out only if it does not fit beside the more
             // important ones shown
             let order: Vec<usize> =
@@ -1050,7 +1055,7 @@ mod tests {
             let len = |i: usize| fields[i].1.chars().count() + 2;
             for left_out in (0..fields.len()).filter(|i| !order.contains(i)) {
                 let before: usize = order.iter().filter(|&&i| i < left_out).map(|&i| len(i)).sum();
-                assert!(1 + before + len(left_out) + 7 > width, "width {width}: {left_out} fits in {line:?}");
+                assert!(1 + before + len(left_out) + 8 > width, "width {width}: {left_out} fits in {line:?}");
             }
         }
         assert_eq!(hud_line(&fields, "? help ", 32), " (-116.3, -50.8) z-0.8   ? help ");
