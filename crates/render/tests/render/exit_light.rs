@@ -292,6 +292,20 @@ fn in_256_colours_like_walls_get_greener_or_lighter_toward_the_exit() {
     }
 }
 
+/// Whether walls `a` and `b` of `maze` lie on one line (a side wall and the next cell's).
+fn walls_in_a_line(maze: &Maze, a: u32, b: u32) -> bool {
+    let ((p, q), (r, s)) = (maze.edge_points(a), maze.edge_points(b));
+    let d = q - p;
+    let off = |x: glam::Vec2| d.perp_dot(x - p).abs() / d.length();
+    off(r) < 1e-3 && off(s) < 1e-3
+}
+
+/// Whether wall `e` borders a cell the exit's light reaches.
+fn lit_by_the_exit(maze: &Maze, light: &ExitLight, e: u32) -> bool {
+    let edge = maze.edge(e);
+    [edge.left, edge.right].iter().flatten().any(|&c| light.level(c) > 0)
+}
+
 /// Issue #39: two lit walls meeting in a line (one cell's side wall and the next's) are two walls,
 /// not one: the seam the edge pass draws between them shows. Over five generated mazes, from the
 /// centre of every lit cell at four headings, every boundary on three rows between two such walls
@@ -310,16 +324,8 @@ fn lit_boundaries_shown(depths: &[ColorDepth], seams: bool) -> Vec<(usize, usize
         let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
         let light = ExitLight::of(&maze);
         let walls = maze.edges().len() as u32;
-        let collinear = |a: u32, b: u32| {
-            let ((p, q), (r, s)) = (maze.edge_points(a), maze.edge_points(b));
-            let d = q - p;
-            let off = |x: glam::Vec2| d.perp_dot(x - p).abs() / d.length();
-            off(r) < 1e-3 && off(s) < 1e-3
-        };
-        let lit_wall = |e: u32| {
-            let edge = maze.edge(e);
-            [edge.left, edge.right].iter().flatten().any(|&c| light.level(c) > 0)
-        };
+        let collinear = |a: u32, b: u32| walls_in_a_line(&maze, a, b);
+        let lit_wall = |e: u32| lit_by_the_exit(&maze, &light, e);
         for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0) {
             for heading in [0.0, 90.0, 180.0, 270.0] {
                 let camera = cell_camera(&maze, cell, heading);
@@ -386,16 +392,8 @@ fn seam_sides_apart(depth: ColorDepth) -> [(usize, usize); 2] {
         let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
         let light = ExitLight::of(&maze);
         let walls = maze.edges().len() as u32;
-        let collinear = |a: u32, b: u32| {
-            let ((p, q), (r, s)) = (maze.edge_points(a), maze.edge_points(b));
-            let d = q - p;
-            let off = |x: glam::Vec2| d.perp_dot(x - p).abs() / d.length();
-            off(r) < 1e-3 && off(s) < 1e-3
-        };
-        let lit_wall = |e: u32| {
-            let edge = maze.edge(e);
-            [edge.left, edge.right].iter().flatten().any(|&c| light.level(c) > 0)
-        };
+        let collinear = |a: u32, b: u32| walls_in_a_line(&maze, a, b);
+        let lit_wall = |e: u32| lit_by_the_exit(&maze, &light, e);
         for cell in 0..maze.cell_count() as u32 {
             let lit_cell = light.level(cell) > 0;
             for heading in [0.0, 90.0, 180.0, 270.0] {
