@@ -116,6 +116,19 @@ impl Spawns {
     }
 }
 
+impl Spawns {
+    /// A spot with more room than `at` for a newcomer who stands there among `others` (found on
+    /// its spot by another server's earlier player: `World::came_first_near`), if the maze has one:
+    /// [`pick`](Self::pick)'s choice, when it is farther from everyone than `at` is. Never a move to
+    /// a spot no better, so a crowd that leaves no room moves nobody.
+    #[must_use]
+    pub fn repick(&self, at: Vec2, others: &[Vec2]) -> Option<Spot> {
+        let clearance = |p: Vec2| others.iter().map(|o| o.distance(p)).fold(f32::INFINITY, f32::min);
+        let spot = self.pick(others);
+        (clearance(spot.at.pos) > clearance(at) + LATTICE * 0.5).then_some(spot)
+    }
+}
+
 /// A free spot for a newcomer in `maze` whose other players stand at `others` ([`Spawns`]); `None`
 /// only when the maze's start is in no cell.
 #[must_use]
@@ -295,6 +308,24 @@ mod tests {
             );
             here.push(spot.at.pos);
         }
+    }
+
+    /// Two newcomers on two servers took the start at once: the later one moves a cell away, the
+    /// way a newcomer who had known of the other would have been placed; where the maze has no
+    /// better spot, nobody moves.
+    #[test]
+    fn a_newcomer_found_on_anothers_spot_moves_to_a_free_one() {
+        let maze = maze(CORRIDOR);
+        let spawns = Spawns::new(&maze).unwrap();
+        let start = spawns.pick(&[]).at.pos;
+        let moved = spawns.repick(start, &[start]).expect("the corridor has room");
+        assert_eq!(moved, spawns.pick(&[start]), "as if it had known");
+        assert!(moved.at.pos.distance(start) >= 4.0, "a cell away: {:?}", moved.at.pos);
+        assert_eq!(spawns.repick(moved.at.pos, &[start]), None, "already a cell apart");
+        let tiny = self::maze("mazewalk-grid 1\ntile 1\n\n###\n#@#\n###\n");
+        let tiny = Spawns::new(&tiny).unwrap();
+        let only = tiny.pick(&[]).at.pos;
+        assert_eq!(tiny.repick(only, &[only]), None, "no room: it stays");
     }
 
     #[test]
