@@ -1450,15 +1450,16 @@ async fn close(tx: &ChannelWriteHalf<Msg>, status: u32) {
     let _ = tx.close().await;
 }
 
-/// The walk itself (see [`play`]).
 /// How long a newcomer who has not stepped off its spawn spot may still be moved off it, seconds
 /// ([`settle`]): long enough for a server that started, or came back online, to hear everyone (a
 /// full message a second), with room for a Redis that stalled for a few seconds meanwhile.
 const SETTLE_SECONDS: f64 = 10.0;
 
-/// How many times at most a newcomer is moved ([`settle`]): three newcomers racing on three servers
-/// take two moves; a Redis that lies about players on every spot gets no more than this.
-const MAX_SETTLE_MOVES: u32 = 3;
+/// How many times at most a newcomer looks for a better spot ([`settle`]), whether it finds one or
+/// not: three newcomers racing on three servers take two moves; a Redis that lies about players on
+/// every spot, or a crowd that leaves no better one, costs no more than this many picks under the
+/// world's lock.
+const MAX_SETTLE_TRIES: u32 = 3;
 
 /// A newcomer on its spawn spot, which it may still be moved off ([`settle`]).
 struct Arrival {
@@ -1466,20 +1467,20 @@ struct Arrival {
     at: glam::Vec2,
     /// Until when (the server's clock).
     until: f64,
-    /// Moves so far.
-    moves: u32,
+    /// Looks for a better spot so far.
+    tries: u32,
 }
 
 /// A shared world's newcomer standing where another server's earlier player stands (the two joined
 /// within a message's way of each other, or this server had not heard of the other yet: a spot is
 /// picked from what this server knows) moves to a free spot, as if it had known: exactly one of the
 /// two moves (the later comer, by the order every server computes alike). Only while it has not
-/// stepped off its spot, for [`SETTLE_SECONDS`], [`MAX_SETTLE_MOVES`] times, and only to a spot
-/// with more room than its own (`Spawns::repick`). Checked at each look, under the world's lock
-/// only when it is due.
+/// stepped off its spot, for [`SETTLE_SECONDS`], [`MAX_SETTLE_TRIES`] times, and only to a spot
+/// with more room than its own (`Spawns::repick`). Checked at each look under the world's lock
+/// (O(other servers' players)) until then.
 fn settle(shared: &Shared, player: &mut Player, id: PlayerId, arriving: &mut Option<Arrival>, now: f64) {
     let Some(arrival) = arriving.as_mut() else { return };
-    if now > arrival.until || arrival.moves >= MAX_SETTLE_MOVES || player.whereabouts().0 != arrival.at {
+    if now > arrival.until || arrival.tries >= MAX_SETTLE_TRIES || player.whereabouts().0 != arrival.at {
         *arriving = None; // settled
         return;
     }
@@ -1487,14 +1488,16 @@ fn settle(shared: &Shared, player: &mut Player, id: PlayerId, arriving: &mut Opt
     if !world.came_first_near(id, SPACING) {
         return;
     }
+    arrival.tries += 1;
     let Some(spot) = shared.spawns.repick(arrival.at, &world.positions_but(id)) else { return };
     player.place(spot.at.pos, spot.heading);
     let (position, heading, cell) = player.whereabouts();
     world.moved(id, position, heading, cell);
     shared.world_changed(&world);
-    (arrival.at, arrival.moves) = (position, arrival.moves + 1);
+    arrival.at = position;
 }
 
+/// The walk itself (see [`play`]).
 async fn walk(
     shared: &Shared,
     conn: &Conn,
@@ -1517,7 +1520,7 @@ async fn walk(
     // The size its recording was told (the cast's header has the first).
     let mut recorded_size = (player.session().screen().width(), player.session().screen().height());
     let mut arriving =
-        Some(Arrival { at: player.whereabouts().0, until: shared.now() + SETTLE_SECONDS, moves: 0 });
+        Some(Arrival { at: player.whereabouts().0, until: shared.now() + SETTLE_SECONDS, tries: 0 });
     loop {
         if *shutdown.borrow_and_update() {
             return End::Shutdown;
