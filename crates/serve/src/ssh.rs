@@ -35,7 +35,7 @@ use super::shared::codec::{Finish, PlayerRecord, WinnerRecord};
 use super::shared::view::Others;
 use super::shared::{Host, LocalFinish, ServerId, SharedWorld, WorldConfig};
 use super::slots::{ConnId, Refusal, Role, Slots, address_group};
-use super::spawn::{SPACING, Spawns};
+use super::spawn::{Arrival, SPACING, Spawns};
 use super::spectator::{Audience, Spectator, WATCH_USER};
 use super::stream::{Cut, CutStream};
 use super::world::{Look, PlayerId, World};
@@ -1450,51 +1450,28 @@ async fn close(tx: &ChannelWriteHalf<Msg>, status: u32) {
     let _ = tx.close().await;
 }
 
-/// How long a newcomer who has not stepped off its spawn spot may still be moved off it, seconds
-/// ([`settle`]): long enough for a server that started, or came back online, to hear everyone (a
-/// full message a second), with room for a Redis that stalled for a few seconds meanwhile.
-const SETTLE_SECONDS: f64 = 10.0;
-
-/// How many times at most a newcomer looks for a better spot ([`settle`]), whether it finds one or
-/// not: three newcomers racing on three servers take two moves; a Redis that lies about players on
-/// every spot, or a crowd that leaves no better one, costs no more than this many picks under the
-/// world's lock.
-const MAX_SETTLE_TRIES: u32 = 3;
-
-/// A newcomer on its spawn spot, which it may still be moved off ([`settle`]).
-struct Arrival {
-    /// Where it stands.
-    at: glam::Vec2,
-    /// Until when (the server's clock).
-    until: f64,
-    /// Looks for a better spot so far.
-    tries: u32,
-}
-
 /// A shared world's newcomer standing where another server's earlier player stands (the two joined
 /// within a message's way of each other, or this server had not heard of the other yet: a spot is
 /// picked from what this server knows) moves to a free spot, as if it had known: exactly one of the
-/// two moves (the later comer, by the order every server computes alike). Only while it has not
-/// stepped off its spot, for [`SETTLE_SECONDS`], [`MAX_SETTLE_TRIES`] times, and only to a spot
-/// with more room than its own (`Spawns::repick`). Checked at each look under the world's lock
-/// (O(other servers' players)) until then.
+/// two moves (the later comer, by the order every server computes alike), and only while its
+/// [`Arrival`] says so. Checked at each look under the world's lock (O(other servers' players))
+/// until then.
 fn settle(shared: &Shared, player: &mut Player, id: PlayerId, arriving: &mut Option<Arrival>, now: f64) {
     let Some(arrival) = arriving.as_mut() else { return };
-    if now > arrival.until || arrival.tries >= MAX_SETTLE_TRIES || player.whereabouts().0 != arrival.at {
-        *arriving = None; // settled
+    if !arrival.settling(player.whereabouts().0, now) {
+        *arriving = None; // for good
         return;
     }
     let mut world = shared.world();
     if !world.came_first_near(id, SPACING) {
         return;
     }
-    arrival.tries += 1;
-    let Some(spot) = shared.spawns.repick(arrival.at, &world.positions_but(id)) else { return };
+    let Some(spot) = arrival.crowded(&shared.spawns, &world.positions_but(id)) else { return };
     player.place(spot.at.pos, spot.heading);
     let (position, heading, cell) = player.whereabouts();
     world.moved(id, position, heading, cell);
     shared.world_changed(&world);
-    arrival.at = position;
+    arrival.placed(position);
 }
 
 /// The walk itself (see [`play`]).
@@ -1519,8 +1496,7 @@ async fn walk(
     let user = Conn::get(&conn.user).unwrap_or_default();
     // The size its recording was told (the cast's header has the first).
     let mut recorded_size = (player.session().screen().width(), player.session().screen().height());
-    let mut arriving =
-        Some(Arrival { at: player.whereabouts().0, until: shared.now() + SETTLE_SECONDS, tries: 0 });
+    let mut arriving = Some(Arrival::new(player.whereabouts().0, shared.now()));
     loop {
         if *shutdown.borrow_and_update() {
             return End::Shutdown;
