@@ -1496,7 +1496,9 @@ async fn walk(
     let user = Conn::get(&conn.user).unwrap_or_default();
     // The size its recording was told (the cast's header has the first).
     let mut recorded_size = (player.session().screen().width(), player.session().screen().height());
-    let mut arriving = Some(Arrival::new(player.whereabouts().0, shared.now()));
+    // (In a world of this server's alone, spots are picked under one lock: nothing to settle.)
+    let in_world = shared.world().is_shared();
+    let mut arriving = in_world.then(|| Arrival::new(player.whereabouts().0, shared.now()));
     loop {
         if *shutdown.borrow_and_update() {
             return End::Shutdown;

@@ -318,6 +318,12 @@ impl World {
         self.everyone().map(|p| p.position).collect()
     }
 
+    /// Whether the world is shared with other servers (`--world`).
+    #[must_use]
+    pub fn is_shared(&self) -> bool {
+        self.shared.is_some()
+    }
+
     /// Where every player but `id` stands (the other servers' too).
     #[must_use]
     pub fn positions_but(&self, id: PlayerId) -> Vec<Vec2> {
@@ -733,6 +739,7 @@ mod tests {
         let a = alone.join("ada", spot, 0.0, 0, 0.0);
         alone.join("bob", spot, 0.0, 0, 0.0);
         assert!(!alone.came_first_near(a, 1.0));
+        assert!(world.is_shared() && !alone.is_shared());
     }
 
     // issue #35: in a shared world the first finish here is not the winner until Redis says so.
