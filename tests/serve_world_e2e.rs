@@ -195,7 +195,7 @@ fn redis_cli(url: &str, args: &[&str]) {
 }
 
 // Two newcomers join two servers at once, neither server yet told of the other's (Redis holds every
-// write for 5 s meanwhile, as a slow link would hold the two messages, or as a server that has just
+// write for 6 s meanwhile, as a slow link would hold the two messages, or as a server that has just
 // started has not heard a full message yet): both are put on the start. Once the servers hear each
 // other, the later comer moves a cell away without a key pressed, and each sees the other on its
 // map (on one spot, a map shows only its own viewer).
@@ -210,14 +210,14 @@ fn newcomers_racing_on_two_servers_end_up_apart() {
     server_a.wait_log("the world is online", 1);
     server_b.wait_log("the world is online", 1);
 
-    redis_cli(&redis.url(0), &["CLIENT", "PAUSE", "5000", "WRITE"]);
+    redis_cli(&redis.url(0), &["CLIENT", "PAUSE", "6000", "WRITE"]);
     let paused = Instant::now();
     let ada = player(server_a.port, "ada");
     let bob = player(server_b.port, "bob");
     ada.wait_for("ada's game on server A", playing);
     bob.wait_for("bob's game on server B", playing);
     // (Else the race was not run: the second to join may have known of the first.)
-    assert!(paused.elapsed() < Duration::from_secs(5), "both joined in the pause: {:?}", paused.elapsed());
+    assert!(paused.elapsed() < Duration::from_secs(6), "both joined in the pause: {:?}", paused.elapsed());
     assert!(!ada.shows(|s| on_map(s, 'B')) && !bob.shows(|s| on_map(s, 'A')), "neither knows the other yet");
 
     ada.wait_for("bob (server B) on ada's map, a spot apart", |s, _| {
