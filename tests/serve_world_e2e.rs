@@ -8,8 +8,9 @@
 //! goodbye), bob leaves alice's view within 5 s; server C stopped (SIGTERM) tells carol, then
 //! leaves the world, and carol leaves alice's view at once; Redis killed, alice turns and her HUD
 //! says the world is offline, Redis back, online again. A server that cannot join says why and
-//! exits 1; a world over TLS with `--world-ca`. Loopback only; every wait has a deadline; every
-//! child is killed on drop.
+//! exits 1; a world over TLS with `--world-ca`. Two newcomers joining two servers at once (Redis
+//! holding every write meanwhile) are put apart once the servers hear each other. Loopback only;
+//! every wait has a deadline; every child is killed on drop.
 #![cfg(unix)]
 
 mod common;
@@ -185,6 +186,46 @@ fn two_servers_walk_one_world_on_redis() {
     });
     let log = server_a.log();
     assert!(log.contains("joined the shared world"), "{log}");
+}
+
+/// `redis-cli -u URL ARGS`, which must succeed.
+fn redis_cli(url: &str, args: &[&str]) {
+    let done = Command::new("redis-cli").args(["-u", url]).args(args).output().expect("run redis-cli");
+    assert!(done.status.success() && !String::from_utf8_lossy(&done.stdout).contains("ERR"), "{done:?}");
+}
+
+// Two newcomers join two servers at once, neither server yet told of the other's (Redis holds every
+// write for 6 s meanwhile, as a slow link would hold the two messages, or as a server that has just
+// started has not heard a full message yet): both are put on the start. Once the servers hear each
+// other, the later comer moves a cell away without a key pressed, and each sees the other on its
+// map (on one spot, a map shows only its own viewer).
+#[test]
+fn newcomers_racing_on_two_servers_end_up_apart() {
+    let scratch = Scratch::new("race");
+    let redis = RedisServer::start(Persistence::None);
+    let maze = scratch.join("maze.grid");
+    std::fs::write(&maze, LONG_RUN).expect("write the maze");
+    let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
+    let server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);
+    server_a.wait_log("the world is online", 1);
+    server_b.wait_log("the world is online", 1);
+
+    redis_cli(&redis.url(0), &["CLIENT", "PAUSE", "6000", "WRITE"]);
+    let paused = Instant::now();
+    let ada = player(server_a.port, "ada");
+    let bob = player(server_b.port, "bob");
+    ada.wait_for("ada's game on server A", playing);
+    bob.wait_for("bob's game on server B", playing);
+    // (Else the race was not run: the second to join may have known of the first.)
+    assert!(paused.elapsed() < Duration::from_secs(6), "both joined in the pause: {:?}", paused.elapsed());
+    assert!(!ada.shows(|s| on_map(s, 'B')) && !bob.shows(|s| on_map(s, 'A')), "neither knows the other yet");
+
+    ada.wait_for("bob (server B) on ada's map, a spot apart", |s, _| {
+        on_map(s, 'B') && hud_row(s).contains("2 in")
+    });
+    bob.wait_for("ada (server A) on bob's map, a spot apart", |s, _| {
+        on_map(s, 'A') && hud_row(s).contains("2 in")
+    });
 }
 
 // issue #35: a server that cannot join the world says why at once and exits 1: Redis away, another

@@ -13,6 +13,9 @@
 //! least [`SPACING`] from everyone; with none of those (a crowd of hundreds in a small maze), the spot
 //! farthest from everyone. A newcomer away from the start faces its cell's longest straight way on
 //! (the opening through which the most cells follow in a line), not a wall or another's back.
+//!
+//! In a shared world a server picks from the players it knows of: two newcomers on two servers at
+//! once may get one spot. The later comer then moves to a free one ([`Arrival`], [`Spawns::repick`]).
 
 use std::collections::{HashSet, VecDeque};
 
@@ -113,6 +116,71 @@ impl Spawns {
         }
         let start = Spot { at: self.start, apart: SPACING, heading: None };
         best_crowded.map_or(start, |(_, spot)| spot)
+    }
+}
+
+impl Spawns {
+    /// A spot with more room than `at` for a newcomer who stands there among `others` (found on
+    /// its spot by another server's earlier player: `World::came_first_near`), if the maze has one:
+    /// [`pick`](Self::pick)'s choice, when it is farther from everyone than `at` is. Never a move to
+    /// a spot no better, so a crowd that leaves no room moves nobody.
+    #[must_use]
+    pub fn repick(&self, at: Vec2, others: &[Vec2]) -> Option<Spot> {
+        let clearance = |p: Vec2| others.iter().map(|o| o.distance(p)).fold(f32::INFINITY, f32::min);
+        let spot = self.pick(others);
+        (clearance(spot.at.pos) > clearance(at) + LATTICE * 0.5).then_some(spot)
+    }
+}
+
+/// How long a newcomer who has not stepped off its spawn spot may still be moved off it, seconds
+/// ([`Arrival`]): long enough for a server that started, or came back online, to hear everyone (a
+/// full message a second), with room for a Redis that stalled for a few seconds meanwhile.
+pub(crate) const SETTLE_SECONDS: f64 = 10.0;
+
+/// How many times at most a newcomer looks for a better spot ([`Arrival::crowded`]), whether it
+/// finds one or not: three newcomers racing on three servers take two moves; a Redis that lies
+/// about players on every spot, or a crowd that leaves no better one, costs no more than this many
+/// picks under the world's lock.
+pub(crate) const MAX_SETTLE_TRIES: u32 = 3;
+
+/// A newcomer of a shared world on the spot it was given, which it may still be moved off when
+/// another server's earlier player turns out to stand there (`World::came_first_near`): while it
+/// has not stepped off it, for [`SETTLE_SECONDS`], [`MAX_SETTLE_TRIES`] times, and only to a spot
+/// with more room than its own ([`Spawns::repick`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Arrival {
+    /// Where it stands.
+    at: Vec2,
+    /// Until when (the server's clock, seconds).
+    until: f64,
+    /// Looks for a better spot so far.
+    tries: u32,
+}
+
+impl Arrival {
+    /// A newcomer put at `at` at `now`.
+    #[must_use]
+    pub fn new(at: Vec2, now: f64) -> Arrival {
+        Arrival { at, until: now + SETTLE_SECONDS, tries: 0 }
+    }
+
+    /// Whether the newcomer, now at `at` at `now`, may still be moved (once not, never again).
+    #[must_use]
+    pub fn settling(&self, at: Vec2, now: f64) -> bool {
+        now <= self.until && self.tries < MAX_SETTLE_TRIES && at == self.at
+    }
+
+    /// Another server's earlier player stands on the newcomer's spot, among `others` (everyone but
+    /// it): the spot to move it to, if the maze has a better one (a try, counted either way). Tell
+    /// it where it was put ([`placed`](Self::placed)).
+    pub fn crowded(&mut self, spawns: &Spawns, others: &[Vec2]) -> Option<Spot> {
+        self.tries += 1;
+        spawns.repick(self.at, others)
+    }
+
+    /// The newcomer now stands at `at`.
+    pub fn placed(&mut self, at: Vec2) {
+        self.at = at;
     }
 }
 
@@ -295,6 +363,51 @@ mod tests {
             );
             here.push(spot.at.pos);
         }
+    }
+
+    /// Two newcomers on two servers took the start at once: the later one moves a cell away, the
+    /// way a newcomer who had known of the other would have been placed; where the maze has no
+    /// better spot, nobody moves.
+    #[test]
+    fn a_newcomer_found_on_anothers_spot_moves_to_a_free_one() {
+        let maze = maze(CORRIDOR);
+        let spawns = Spawns::new(&maze).unwrap();
+        let start = spawns.pick(&[]).at.pos;
+        let moved = spawns.repick(start, &[start]).expect("the corridor has room");
+        assert_eq!(moved, spawns.pick(&[start]), "as if it had known");
+        assert!(moved.at.pos.distance(start) >= 4.0, "a cell away: {:?}", moved.at.pos);
+        assert_eq!(spawns.repick(moved.at.pos, &[start]), None, "already a cell apart");
+        let tiny = self::maze("mazewalk-grid 1\ntile 1\n\n###\n#@#\n###\n");
+        let tiny = Spawns::new(&tiny).unwrap();
+        let only = tiny.pick(&[]).at.pos;
+        assert_eq!(tiny.repick(only, &[only]), None, "no room: it stays");
+    }
+
+    /// A writer on Redis who puts an earlier player wherever the newcomer stands moves it three
+    /// times, no more; a newcomer that stepped off its spot, or after SETTLE_SECONDS, is never moved.
+    #[test]
+    fn a_newcomer_is_moved_a_bounded_number_of_times() {
+        let maze = maze(CORRIDOR);
+        let spawns = Spawns::new(&maze).unwrap();
+        let mut at = spawns.pick(&[]).at.pos;
+        let mut arrival = Arrival::new(at, 100.0);
+        let mut moves = 0;
+        for step in 0..20 {
+            if !arrival.settling(at, 100.0 + f64::from(step) * 0.1) {
+                break;
+            }
+            if let Some(spot) = arrival.crowded(&spawns, &[at]) {
+                at = spot.at.pos;
+                arrival.placed(at);
+                moves += 1;
+            }
+        }
+        assert_eq!(moves, MAX_SETTLE_TRIES, "chased, then left where it is");
+        let start = spawns.pick(&[]).at.pos;
+        let arrival = Arrival::new(start, 0.0);
+        assert!(arrival.settling(start, SETTLE_SECONDS));
+        assert!(!arrival.settling(start, SETTLE_SECONDS + 0.1), "too late");
+        assert!(!arrival.settling(start + Vec2::new(0.1, 0.0), 1.0), "it stepped off");
     }
 
     #[test]

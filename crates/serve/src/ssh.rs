@@ -35,7 +35,7 @@ use super::shared::codec::{Finish, PlayerRecord, WinnerRecord};
 use super::shared::view::Others;
 use super::shared::{Host, LocalFinish, ServerId, SharedWorld, WorldConfig};
 use super::slots::{ConnId, Refusal, Role, Slots, address_group};
-use super::spawn::Spawns;
+use super::spawn::{Arrival, SPACING, Spawns};
 use super::spectator::{Audience, Spectator, WATCH_USER};
 use super::stream::{Cut, CutStream};
 use super::world::{Look, PlayerId, World};
@@ -1458,6 +1458,30 @@ async fn close(tx: &ChannelWriteHalf<Msg>, status: u32) {
     let _ = tx.close().await;
 }
 
+/// A shared world's newcomer standing where another server's earlier player stands (the two joined
+/// within a message's way of each other, or this server had not heard of the other yet: a spot is
+/// picked from what this server knows) moves to a free spot, as if it had known: exactly one of the
+/// two moves (the later comer, by the order every server computes alike), and only while its
+/// [`Arrival`] says so. Checked at each look under the world's lock (O(other servers' players))
+/// until then.
+fn settle(shared: &Shared, player: &mut Player, id: PlayerId, arriving: &mut Option<Arrival>, now: f64) {
+    let Some(arrival) = arriving.as_mut() else { return };
+    if !arrival.settling(player.whereabouts().0, now) {
+        *arriving = None; // for good
+        return;
+    }
+    let mut world = shared.world();
+    if !world.came_first_near(id, SPACING) {
+        return;
+    }
+    let Some(spot) = arrival.crowded(&shared.spawns, &world.positions_but(id)) else { return };
+    player.place(spot.at.pos, spot.heading);
+    let (position, heading, cell) = player.whereabouts();
+    world.moved(id, position, heading, cell);
+    shared.world_changed(&world);
+    arrival.placed(position);
+}
+
 /// The walk itself (see [`play`]).
 async fn walk(
     shared: &Shared,
@@ -1480,6 +1504,9 @@ async fn walk(
     let user = Conn::get(&conn.user).unwrap_or_default();
     // The size its recording was told (the cast's header has the first).
     let mut recorded_size = (player.session().screen().width(), player.session().screen().height());
+    // (In a world of this server's alone, spots are picked under one lock: nothing to settle.)
+    let in_world = shared.world().is_shared();
+    let mut arriving = in_world.then(|| Arrival::new(player.whereabouts().0, shared.now()));
     loop {
         if *shutdown.borrow_and_update() {
             return End::Shutdown;
@@ -1497,6 +1524,7 @@ async fn walk(
             // changed since the last look (World::look); every version it shows counts as seen.
             let look = shared.world.look(&mut versions);
             player.look(&look, now);
+            settle(shared, player, id, &mut arriving, now);
         }
         let started = Instant::now();
         let drew = player.frame(now, &mut out);

@@ -17,7 +17,7 @@ use std::sync::Arc;
 use glam::Vec2;
 
 use crate::shared::codec::{Finish, PlayerRecord, WinnerRecord};
-use crate::shared::view::Others;
+use crate::shared::view::{Others, arrival};
 use crate::shared::{LocalFinish, ServerId};
 use mazewalk_term::frame::Color;
 use mazewalk_walk::clock::clock_text;
@@ -168,6 +168,8 @@ struct SharedPart {
     epoch_ms: u64,
     /// The other servers' players, as last heard (frozen while offline).
     remote: Vec<(PlayerId, Seen)>,
+    /// When each of them came, as every server orders arrivals ([`arrival`]), in `remote`'s order.
+    arrivals: Vec<(u64, ServerId, u32)>,
     /// Where each of them is in `remote` (a finish or a gone player is found in O(1), never by a
     /// scan: `remote` holds up to `--max-remote-players`).
     index: HashMap<PlayerId, usize>,
@@ -316,6 +318,38 @@ impl World {
         self.everyone().map(|p| p.position).collect()
     }
 
+    /// Whether the world is shared with other servers (`--world`).
+    #[must_use]
+    pub fn is_shared(&self) -> bool {
+        self.shared.is_some()
+    }
+
+    /// Where every player but `id` stands (the other servers' too).
+    #[must_use]
+    pub fn positions_but(&self, id: PlayerId) -> Vec<Vec2> {
+        let own = self.players.iter().filter(|&(&other, _)| other != id).map(|(_, p)| p);
+        let remote = self.shared.iter().flat_map(|s| s.remote.iter().map(|(_, seen)| seen));
+        own.chain(remote).map(|p| p.position).collect()
+    }
+
+    /// Whether a player of another server who came into the world before this server's player `id`
+    /// (by the order every server computes alike, [`arrival`]) stands within `within` of it: two
+    /// newcomers who joined two servers within a message's way of each other took one spot, or this
+    /// server had not heard of the other's player yet (it started or came back online less than a
+    /// full message ago). The later one moves; the earlier one's server answers `false`, so exactly
+    /// one of the two does. O(other servers' players). `false` in a world of this server's alone.
+    #[must_use]
+    pub fn came_first_near(&self, id: PlayerId, within: f32) -> bool {
+        let (Some(shared), Some(seen)) = (&self.shared, self.players.get(&id)) else { return false };
+        let Some(me) = shared.me else { return false };
+        let mine = arrival(me, joined_ms(shared.epoch_ms, seen.joined_at), local_u32(id));
+        shared
+            .remote
+            .iter()
+            .zip(&shared.arrivals)
+            .any(|((_, other), &theirs)| theirs < mine && other.position.distance(seen.position) < within)
+    }
+
     /// This server's players, then the other servers'.
     fn everyone(&self) -> impl Iterator<Item = &Seen> {
         let remote = self.shared.iter().flat_map(|s| s.remote.iter().map(|(_, seen)| seen));
@@ -350,6 +384,13 @@ fn local_u32(id: PlayerId) -> u32 {
     u32::try_from(id.0).unwrap_or(u32::MAX)
 }
 
+/// When a player who joined at `joined_at` (the server's clock, seconds) joined, in Unix
+/// milliseconds, for a server whose clock's zero was at `epoch_ms`: what the others are told, and what
+/// this server orders arrivals by ([`World::came_first_near`]), alike.
+fn joined_ms(epoch_ms: u64, joined_at: f64) -> u64 {
+    epoch_ms.saturating_add((joined_at.max(0.0) * 1e3) as u64)
+}
+
 /// The shared world's colour index of `color` (0 for a colour not in the palette).
 fn color_index(color: Color) -> u8 {
     PLAYER_COLORS.iter().position(|&c| c == color).map_or(0, |i| i as u8)
@@ -364,6 +405,7 @@ impl World {
             me: None,
             epoch_ms,
             remote: Vec::new(),
+            arrivals: Vec::new(),
             index: HashMap::new(),
             remote_best: HashMap::new(),
             online: false,
@@ -388,7 +430,7 @@ impl World {
         let epoch_ms = shared.epoch_ms;
         players.extend(self.players.iter().map(|(&id, seen)| PlayerRecord {
             id: local_u32(id),
-            joined_ms: epoch_ms.saturating_add((seen.joined_at.max(0.0) * 1e3) as u64),
+            joined_ms: joined_ms(epoch_ms, seen.joined_at),
             color: color_index(seen.color),
             label: seen.label,
             name: seen.name.clone(),
@@ -406,6 +448,8 @@ impl World {
     pub(crate) fn set_others(&mut self, others: &Others, online: bool, now: f64) -> bool {
         let Some(shared) = &mut self.shared else { return false };
         let now_ms = shared.epoch_ms.saturating_add((now.max(0.0) * 1e3) as u64);
+        shared.arrivals.clear();
+        shared.arrivals.extend(others.players().map(|(server, p)| arrival(server, p.joined_ms, p.id)));
         let remote: Vec<(PlayerId, Seen)> = others
             .players()
             .map(|(server, p)| {
@@ -673,6 +717,29 @@ mod tests {
         assert_eq!((world.look().online, world.look().players.len()), (Some(false), 3));
         // in-process worlds say nothing of it
         assert_eq!(World::new().look().online, None);
+    }
+
+    // Two newcomers on two servers on one spot: the later comer is told so, the earlier one not;
+    // a far player, or an in-process world, says nothing.
+    #[test]
+    fn the_later_of_two_newcomers_on_one_spot_is_told_to_move() {
+        let mut world = World::shared(0);
+        world.set_server(ServerId(1));
+        let spot = Vec2::new(2.0, 2.0);
+        let early = world.join("ada", spot, 0.0, 0, 0.5); // joined at 500 ms, bob at 1,000
+        let late = world.join("cy", spot, 0.0, 0, 2.0); // at 2,000
+        assert!(!world.came_first_near(late, 1.0), "nobody else's player yet");
+        world.set_others(&others_with(&[(2, 0, "bob", 'B', spot)]), true, 2.5);
+        assert!(world.came_first_near(late, 1.0), "bob came before cy, on cy's spot");
+        assert!(!world.came_first_near(early, 1.0), "ada came before bob: bob moves, on his server");
+        world.set_others(&others_with(&[(2, 0, "bob", 'B', spot + Vec2::new(4.0, 0.0))]), true, 3.0);
+        assert!(!world.came_first_near(late, 1.0), "a cell away");
+        assert_eq!(world.positions_but(late), [spot, spot + Vec2::new(4.0, 0.0)]);
+        let mut alone = World::new();
+        let a = alone.join("ada", spot, 0.0, 0, 0.0);
+        alone.join("bob", spot, 0.0, 0, 0.0);
+        assert!(!alone.came_first_near(a, 1.0));
+        assert!(world.is_shared() && !alone.is_shared());
     }
 
     // issue #35: in a shared world the first finish here is not the winner until Redis says so.

@@ -400,8 +400,17 @@ impl Others {
 /// order every server computes alike, so exactly one of the two yields.
 #[must_use]
 pub(crate) fn yields_label(mine: (ServerId, &PlayerRecord), theirs: (ServerId, &PlayerRecord)) -> bool {
-    let key = |(server, p): (ServerId, &PlayerRecord)| (p.joined_ms, server, p.id);
+    let key = |(server, p): (ServerId, &PlayerRecord)| arrival(server, p.joined_ms, p.id);
     key(mine) > key(theirs)
+}
+
+/// Who came first in the world, as every server computes it alike: by the join times (the Unix
+/// milliseconds its server stamped), then the servers' ids, then the players' ids. A label both
+/// show stays with the earlier ([`yields_label`]), and so does a spawn spot two newcomers took on two
+/// servers at once (the later one moves: `World::came_first_near`).
+#[must_use]
+pub(crate) fn arrival(server: ServerId, joined_ms: u64, id: u32) -> (u64, ServerId, u32) {
+    (joined_ms, server, id)
 }
 
 #[cfg(test)]
