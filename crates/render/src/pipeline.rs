@@ -137,6 +137,9 @@ pub struct Renderer {
     /// before they were left out), to hold the rows that skip them to the same samples.
     #[cfg(test)]
     pub(crate) levels_everywhere: bool,
+    /// Tests: level rows' checker paints by groups only, never by runs ([`RowShade::paints_by_runs`]).
+    #[cfg(test)]
+    pub(crate) plane_runs_off: bool,
     /// Ids below this are walls (the last frame's maze's edge count).
     wall_ids: u32,
     /// The last frame's figures whose head shows: (index in the sprites passed, column, row of the
@@ -580,7 +583,13 @@ impl Renderer {
                     // where the ray starts inside the plane's solid side).
                     let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
                     if let Some(cursor) = cursor.as_mut().filter(|_| lit_row) {
-                        self.plane_row.fill_row(&shade, width);
+                        #[cfg(not(test))]
+                        let by_runs = true;
+                        #[cfg(test)]
+                        let by_runs = !self.plane_runs_off;
+                        if !(by_runs && shade.paints_by_runs(&mut self.plane_row.shade, width)) {
+                            self.plane_row.fill_row(&shade, width);
+                        }
                         let paint = &self.plane_row.shade;
                         // The tint is linear in the colour: the plane's colour tinted by the sample's
                         // level (one of `EXIT_LIGHT` + 1, for the row), times its checker, light and
@@ -609,6 +618,25 @@ impl Renderer {
                             let base = tinted[usize::from(level)];
                             (*color, *depth, *id) = (base * paint + fog_term, f32::INFINITY, hit.plane.1);
                         }
+                        continue;
+                    }
+                    #[cfg(not(test))]
+                    let by_runs = true;
+                    #[cfg(test)]
+                    let by_runs = !self.plane_runs_off;
+                    if by_runs && shade.paints_by_runs(&mut self.plane_row.shade, width) {
+                        let paints = &self.plane_row.shade;
+                        plane_run(
+                            (&mut colors[..width], &mut depths[..width], &mut ids[..width]),
+                            |g| {
+                                f32x8::from(
+                                    <[f32; LANES]>::try_from(&paints[g * LANES..][..LANES]).expect("eight"),
+                                )
+                            },
+                            (base, fog_term, hit.plane.1),
+                            stays_at,
+                            shade.squares(),
+                        );
                         continue;
                     }
                     plane_run(
@@ -1455,6 +1483,126 @@ impl RowShade {
         [f32x8::splat(1.0) * self.lit_kept, dark * self.lit_kept].map(|paint| paint.to_array()[0])
     }
 
+    /// Sample `x`'s point in checker squares (before [`RowShade::group`]'s `floor`s), by the scalar
+    /// twins of its lane operations, in the same order: the same bits (`f32` arithmetic is IEEE in a
+    /// lane or alone, and nothing is fused).
+    fn squares_at(&self, x: usize) -> (f32, f32) {
+        let ((start0, start_step), (dir0, dir_step)) = (self.start, self.dir);
+        let (t, x) = (self.t.to_array()[0], x as f32);
+        let (dx, dy) = (dir0.x + dir_step.x * x, dir0.y + dir_step.y * x);
+        let px = start0.x + start_step.x * x + dx * t;
+        let py = start0.y + start_step.y * x + dy * t;
+        let per_square = 1.0 / CHECKER_PERIOD;
+        (px * per_square, py * per_square)
+    }
+
+    /// Sample `x`'s checker square: the two floors of [`RowShade::squares_at`], as [`floor_int`]
+    /// takes them (for |v| < 2^31).
+    fn square_at(&self, x: usize) -> (i32, i32) {
+        let floor = |v: f32| {
+            let t = v as i32;
+            t - i32::from(t as f32 > v)
+        };
+        let (u, v) = self.squares_at(x);
+        (floor(u), floor(v))
+    }
+
+    /// Fills `out` with the paints of samples `0..width` (and the last group's lanes past it), as
+    /// [`RowShade::group`] gives them, by runs of one checker square: `false` (and `out` untouched)
+    /// where that is not sure to be the same or not cheaper. Without the textures' filter a sample's
+    /// paint is its square's; each of the ray's operations is monotonic in `x` (a product with a
+    /// fixed factor, a sum with a fixed term, rounded to nearest), so where a row's start and
+    /// direction step the same way along each axis (or one of them does not move) and the ray's
+    /// length `t` is not negative, each of the two `floor`s is monotonic along the row, and a square's
+    /// samples are one run: found from its first sample, an estimate of where it ends, and the exact
+    /// floors checked there. Rows crossing squares every few samples keep the groups.
+    fn paints_by_runs(&self, out: &mut Vec<f32>, width: usize) -> bool {
+        let n = width.div_ceil(LANES) * LANES;
+        let t = self.t.to_array()[0];
+        let ((_, start_step), (_, dir_step)) = (self.start, self.dir);
+        let opposite = |a: f32, b: f32| (a > 0.0 && b < 0.0) || (a < 0.0 && b > 0.0);
+        if self.filtered
+            || n == 0
+            || t.is_nan()
+            || t < 0.0
+            || opposite(start_step.x, dir_step.x)
+            || opposite(start_step.y, dir_step.y)
+        {
+            return false;
+        }
+        let (start, end) = (self.squares_at(0), self.squares_at(n - 1));
+        // floor_int's floors are these where they are well inside i32 (and every sample's lies
+        // between the ends')
+        let sane = |v: f32| v.abs() < 16_777_216.0; // false for NaN
+        if ![start.0, start.1, end.0, end.1].into_iter().all(sane) {
+            return false;
+        }
+        let (first, last) = (self.square_at(0), self.square_at(n - 1));
+        let crossings = first.0.abs_diff(last.0) + first.1.abs_diff(last.1);
+        if crossings as usize * RUN_AT_LEAST > n {
+            return false; // short runs on average: the groups are cheaper
+        }
+        let [light, dark] = self.squares();
+        // where the row crosses each axis's next square, estimated as a straight line in x
+        let span = (n - 1).max(1) as f64;
+        // (u at 0, samples a unit of u)
+        let along = |a: f32, b: f32| (f64::from(a), span / f64::from(b - a));
+        let (ux, vx) = (along(start.0, end.0), along(start.1, end.1));
+        // about the last sample before the line of `u` reaches the next square (checked below)
+        let ends_at = |(u0, per): (f64, f64), here: i32| {
+            if !per.is_finite() {
+                return f64::INFINITY;
+            }
+            let next = if per > 0.0 { f64::from(here) + 1.0 } else { f64::from(here) };
+            (next - u0) * per
+        };
+        out.resize(n, 0.0);
+        let mut x = 0;
+        let mut here = first;
+        while x < n {
+            let guess = ends_at(ux, here.0).min(ends_at(vx, here.1));
+            // (`as` saturates: below x, or NaN, gives x; at or past the row's end, its last sample)
+            let mut end = (guess as usize).clamp(x, n - 1);
+            if end > x && self.square_at(end) != here {
+                end = self.run_back(x, end, here);
+            }
+            let (end, next) = match (end + 1 < n).then(|| self.square_at(end + 1)) {
+                Some(square) if square == here => self.run_on(end + 1, n, here),
+                next => (end, next),
+            };
+            let odd = (here.0 ^ here.1) & 1 == 1;
+            out[x..=end].fill(if odd { dark } else { light });
+            x = end + 1;
+            here = next.unwrap_or(here);
+        }
+        true
+    }
+
+    /// The last sample before `end` (down to `x`) in square `here`: the estimate went past the run.
+    /// (Not inlined: the estimate is nearly always right, and a loop inlined is vectorized at a
+    /// cost every run pays.)
+    #[inline(never)]
+    fn run_back(&self, x: usize, mut end: usize, here: (i32, i32)) -> usize {
+        while end > x && self.square_at(end) != here {
+            end -= 1;
+        }
+        end
+    }
+
+    /// From `end`, in square `here`, the run's last sample before `n` and the next square: the
+    /// estimate stopped short of the run's end.
+    #[inline(never)]
+    fn run_on(&self, mut end: usize, n: usize, here: (i32, i32)) -> (usize, Option<(i32, i32)>) {
+        while end + 1 < n {
+            let square = self.square_at(end + 1);
+            if square != here {
+                return (end, Some(square));
+            }
+            end += 1;
+        }
+        (end, None)
+    }
+
     /// The paints of samples `8k..8k + 8`.
     #[inline(always)]
     fn group(&self, k: usize) -> f32x8 {
@@ -1480,6 +1628,10 @@ impl RowShade {
         square * self.lit_kept
     }
 }
+
+/// A level row's checker squares are filled by runs ([`RowShade::paints_by_runs`]) where they
+/// average at least this many samples (a run costs about three groups' paints).
+const RUN_AT_LEAST: usize = 24;
 
 /// `floor(v)` as integers, lane by lane: truncate, then one less where that rounded up (negative
 /// non-integers). Exact for |v| < 2^31 (a checker square 2^33 units from the origin is beyond any
@@ -1929,6 +2081,189 @@ mod tests {
             tinted > 20_000 && tinted_beside_walls > 200,
             "tinted samples {tinted}, beside walls {tinted_beside_walls}"
         );
+    }
+
+    /// A level row's checker paints by runs are its groups' paints, lane for lane, bit for bit: rows
+    /// of level views (perspective and orthographic) of two mazes at several widths, floor and
+    /// ceiling, and made-up rows: steps either way, a row far from the origin, one on square
+    /// boundaries at −0, widths 0 to 333. A row whose start and direction step apart is not taken
+    /// (its floors are not sure to be monotonic), nor one with the textures' filter. Fails if the
+    /// steps' test is dropped, or if the floors are off at an integer (both tried).
+    #[test]
+    fn plane_paints_by_runs_are_the_groups_paints() {
+        let (mut rows, mut by_runs) = (0, 0);
+        let check = |shade: &RowShade, width: usize| -> bool {
+            let mut out = vec![f32::NAN; 3];
+            if !shade.paints_by_runs(&mut out, width) {
+                assert_eq!(out.len(), 3, "left untouched");
+                return false;
+            }
+            let n = width.div_ceil(LANES) * LANES;
+            let groups: Vec<u32> =
+                (0..n / LANES).flat_map(|g| shade.group(g).to_array()).map(f32::to_bits).collect();
+            let runs: Vec<u32> = out.iter().map(|p| p.to_bits()).collect();
+            assert_eq!(runs, groups, "{shade:?}, width {width}");
+            true
+        };
+        let hit = |t: f32| PlaneHit {
+            plane: (FLOOR_Z, FLOOR, Vec3::ONE),
+            t: Some(t),
+            wall_stays_at: 0.0,
+            fog: 0.3,
+        };
+        let mazes = [
+            seed_71(),
+            generate(&GenOptions { width: 9, height: 7, seed: 5, ..GenOptions::default() }).expect("maze"),
+        ];
+        for (m, maze) in mazes.iter().enumerate() {
+            for (k, (_, camera)) in
+                crate::quality::held_out_views(maze, 60 + m as u64, 8).into_iter().enumerate()
+            {
+                for projection in [Projection::Perspective, Projection::Orthographic] {
+                    let camera = Camera { pitch_deg: 0.0, projection, ..camera };
+                    let width = [120, 61, 37, 5, 200, 1][k % 6];
+                    let eye = camera.eye(width, 40, Charset::Half.sample_aspect(0.5)).expect("eye");
+                    for y in 0..40 {
+                        let gy = y as f32 + 0.5;
+                        let (start0, dir0) = eye.ray(0.5, gy);
+                        let (start1, dir1) = eye.ray(1.5, gy);
+                        let (start_step, dir_step) = (start1 - start0, dir1 - dir0);
+                        let z = if dir0.z < 0.0 { FLOOR_Z } else { CEILING_Z };
+                        let t = if dir0.z == 0.0 { 0.0 } else { (z - start0.z) / dir0.z };
+                        if t.is_nan() || t < 0.0 {
+                            continue;
+                        }
+                        let shade = RowShade::new(&hit(t), (start0, start_step), (dir0, dir_step), None, 0.7);
+                        rows += 1;
+                        by_runs += usize::from(check(&shade, width));
+                    }
+                }
+            }
+        }
+        // made-up rows: steps either way, against each other, tiny, far out
+        let mut runs_before = by_runs;
+        for (i, (s0, ss, d0, ds, t)) in [
+            (
+                Vec3::new(3.0, 7.0, 0.0),
+                Vec3::new(0.01, -0.02, 0.0),
+                Vec3::new(1.0, 0.5, -0.5),
+                Vec3::new(0.02, -0.03, 0.0),
+                4.0,
+            ),
+            (
+                Vec3::new(-3.0, 1.0, 0.0),
+                Vec3::new(-0.1, 0.0, 0.0),
+                Vec3::new(-1.0, 0.2, -0.5),
+                Vec3::new(-0.01, 0.0, 0.0),
+                0.0,
+            ),
+            (
+                Vec3::new(1e6, -2e6, 0.0),
+                Vec3::new(0.001, 0.001, 0.0),
+                Vec3::new(0.3, 1.0, -0.5),
+                Vec3::new(0.001, 0.0, 0.0),
+                9.0,
+            ),
+            (
+                Vec3::new(0.5, 0.5, 0.0),
+                Vec3::new(0.01, 0.0, 0.0),
+                Vec3::new(0.3, 1.0, -0.5),
+                Vec3::new(-0.001, 0.0005, 0.0),
+                9.0,
+            ),
+            (Vec3::new(-0.0, 0.0, 0.0), Vec3::ZERO, Vec3::new(0.0, -0.0, -0.5), Vec3::ZERO, 2.0),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            for width in [0, 1, 8, 9, 120, 333] {
+                let shade = RowShade::new(&hit(t), (s0, ss), (d0, ds), None, 0.9);
+                let taken = check(&shade, width);
+                (rows, by_runs) = (rows + 1, by_runs + usize::from(taken));
+                if i == 3 && width > 8 {
+                    // x steps +0.01 by the start and −0.001·9 by the direction: not sure to be monotonic
+                    assert_eq!(by_runs, runs_before, "row {i}, width {width}: runs across steps apart");
+                }
+                runs_before = by_runs;
+            }
+        }
+        // the textures' filter: never by runs
+        let filtered = RowShade::new(
+            &hit(2.0),
+            (Vec3::ZERO, Vec3::X * 0.01),
+            (Vec3::NEG_Z, Vec3::X * 0.01),
+            Some(0.01),
+            0.9,
+        );
+        assert!(!filtered.paints_by_runs(&mut Vec::new(), 120));
+        assert!(rows > 1000 && by_runs > rows / 4, "{by_runs} of {rows} rows by runs");
+    }
+
+    /// Whole renders with level rows' paints by runs are those by groups, bit for bit (ids, depths,
+    /// colours), and so are their frames in every colour depth: held-out views of three mazes (two
+    /// generated, the built-in one), level, a hair off level and pitched, every charset, the
+    /// textures' filter on and off.
+    #[test]
+    fn renders_with_plane_runs_are_those_by_groups() {
+        let mazes = [
+            seed_71(),
+            generate(&GenOptions {
+                width: 9,
+                height: 7,
+                seed: 5,
+                loops: 0.3,
+                exit: true,
+                ..GenOptions::default()
+            })
+            .expect("maze"),
+            mazewalk_maze::builtin().expect("built-in maze"),
+        ];
+        let (mut views, mut frames_compared) = (0, 0);
+        for (m, maze) in mazes.iter().enumerate() {
+            for (k, (_, camera)) in
+                crate::quality::held_out_views(maze, 80 + m as u64, 6).into_iter().enumerate()
+            {
+                for pitch_deg in [0.0, 0.001, -15.0] {
+                    let camera = Camera { pitch_deg, ..camera };
+                    let charset = Charset::ALL[k % 4];
+                    let textures = k % 3 == 2;
+                    let mut renders =
+                        [false, true].map(|off| Renderer { plane_runs_off: off, ..Renderer::new() });
+                    for r in &mut renders {
+                        render_samples(r, maze, &camera, charset, (120, 40), textures);
+                    }
+                    let [runs, groups] = renders.each_ref().map(Renderer::samples);
+                    let what = format!("maze {m}, view {k}, {camera:?}");
+                    assert_eq!(runs.id(), groups.id(), "{what}");
+                    assert_eq!(depth_bits(runs), depth_bits(groups), "{what}");
+                    let bits = |s: &SampleBuffer| -> Vec<[u32; 3]> {
+                        s.color().iter().map(|c| c.to_array().map(f32::to_bits)).collect()
+                    };
+                    assert!(bits(runs) == bits(groups), "{what}: colours differ");
+                    // and the frames, in every colour depth (which sets the exit's light on the planes)
+                    for color_depth in
+                        [ColorDepth::TrueColor, ColorDepth::Ansi256, ColorDepth::Ansi16, ColorDepth::None]
+                    {
+                        let options =
+                            RenderOptions { charset, color_depth, textures, ..RenderOptions::default() };
+                        let frames = renders.each_mut().map(|r| {
+                            let mut frame = Frame::new(120, 40);
+                            let region = frame.region();
+                            r.render(maze, &camera, &[], &options, Target::Frame(&mut frame, region))
+                                .expect("render");
+                            frame
+                        });
+                        assert!(
+                            frames[0].cells() == frames[1].cells(),
+                            "{what}, {color_depth:?}: frames differ"
+                        );
+                        frames_compared += 1;
+                    }
+                    views += 1;
+                }
+            }
+        }
+        assert!(views >= 50 && frames_compared >= 200, "{views} views, {frames_compared} frames");
     }
 
     /// Seed 71's 20 × 15 maze (as the exit-light tests and the pictures use it).
