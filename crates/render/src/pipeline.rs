@@ -511,6 +511,9 @@ impl Renderer {
         };
         // The colour of a plane at `hit`, seen along `dir`: the reference, sample by sample.
         let mut cursor = glow.map(CellCursor::new);
+        // Each plane's colour tinted at every level of the exit's light, worked out once a frame (the
+        // rows of a plane share its colour and strength: a row asked all levels, 29 OKLab inversions).
+        let mut tint_tables: Vec<((Vec3, f32), [Vec3; EXIT_LIGHT as usize + 1])> = Vec::new();
         let color_at = |hit: &PlaneHit, point: Vec3, dir: Vec3, cursor: &mut Option<CellCursor>| -> Vec3 {
             if shading == Shading::ViewDepth {
                 return Vec3::ZERO;
@@ -595,8 +598,15 @@ impl Renderer {
                         // level (one of `EXIT_LIGHT` + 1, for the row), times its checker, light and
                         // fog, is the tinted sample.
                         let strength = if hit.plane.1 == FLOOR { FLOOR_EXIT_TINT } else { CEILING_EXIT_TINT };
-                        let tinted: [Vec3; EXIT_LIGHT as usize + 1] =
-                            std::array::from_fn(|level| exit_tinted(base, level as u8, strength));
+                        let tinted = match tint_tables.iter().find(|(key, _)| *key == (base, strength)) {
+                            Some((_, table)) => *table,
+                            None => {
+                                let table: [Vec3; EXIT_LIGHT as usize + 1] =
+                                    std::array::from_fn(|level| exit_tinted(base, level as u8, strength));
+                                tint_tables.push(((base, strength), table));
+                                table
+                            }
+                        };
                         let levels = &mut self.plane_row.levels;
                         let point_at = |x: usize| {
                             let (start, dir) = at(x);
