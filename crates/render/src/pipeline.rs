@@ -2025,15 +2025,7 @@ mod tests {
     fn lit_rows_level_only_the_samples_they_show() {
         let mazes = [
             seed_71(),
-            generate(&GenOptions {
-                width: 9,
-                height: 7,
-                seed: 5,
-                loops: 0.3,
-                exit: true,
-                ..GenOptions::default()
-            })
-            .expect("maze"),
+            small_loops(),
             generate(&GenOptions {
                 width: 12,
                 height: 6,
@@ -2215,19 +2207,7 @@ mod tests {
     /// textures' filter on and off.
     #[test]
     fn renders_with_plane_runs_are_those_by_groups() {
-        let mazes = [
-            seed_71(),
-            generate(&GenOptions {
-                width: 9,
-                height: 7,
-                seed: 5,
-                loops: 0.3,
-                exit: true,
-                ..GenOptions::default()
-            })
-            .expect("maze"),
-            mazewalk_maze::builtin().expect("built-in maze"),
-        ];
+        let mazes = [seed_71(), small_loops(), mazewalk_maze::builtin().expect("built-in maze")];
         let (mut views, mut frames_compared) = (0, 0);
         for (m, maze) in mazes.iter().enumerate() {
             for (k, (_, camera)) in
@@ -2279,6 +2259,19 @@ mod tests {
     /// Seed 71's 20 × 15 maze (as the exit-light tests and the pictures use it).
     fn seed_71() -> Maze {
         generate(&GenOptions::walk(20, 15, 71)).expect("maze")
+    }
+
+    /// A small generated maze with loops and an exit (9 × 7, seed 5, loops 0.3).
+    fn small_loops() -> Maze {
+        generate(&GenOptions {
+            width: 9,
+            height: 7,
+            seed: 5,
+            loops: 0.3,
+            exit: true,
+            ..GenOptions::default()
+        })
+        .expect("maze")
     }
 
     /// `camera`'s view at 120 × 40 in `color_depth`, floor and ceiling in the exit's light or not:
