@@ -1413,7 +1413,9 @@ fn write_cell(
     write_form(out, pen, cell_form(pen, cell, tolerance), width)
 }
 
-/// Writes a cell in the form [`cell_form`] found from `pen`; returns the cell as sent.
+/// Writes a cell in the form [`cell_form`] found from `pen`; returns the cell as sent. (Inlined:
+/// a call passed the form through memory, for every cell written.)
+#[inline]
 fn write_form(out: &mut Vec<u8>, pen: &mut Pen, (cell, sgr): (PackedCell, Sgr), width: usize) -> PackedCell {
     sgr.write(out, pen);
     push_char(out, cell.ch);
@@ -1437,7 +1439,11 @@ fn advance(pen: &mut Pen, width: usize) {
     };
 }
 
+#[inline]
 fn push_char(out: &mut Vec<u8>, ch: char) {
+    if ch.is_ascii() {
+        return out.push(ch as u8); // (blanks and the ascii charset, without the encoding's cases)
+    }
     let mut buf = [0; 4];
     // Copies of a fixed length, without a call to `memcpy`: block glyphs are three bytes.
     match ch.encode_utf8(&mut buf).len() {

@@ -109,8 +109,18 @@ impl Sgr {
         }
     }
 
-    /// Writes it (the pen must be the one it was priced from) and updates the pen.
+    /// Writes it (the pen must be the one it was priced from) and updates the pen. No change, the
+    /// usual case (most cells a diff writes keep the pen's colours), inlined; a sequence out of line.
+    #[inline]
     pub(super) fn write(&self, out: &mut Vec<u8>, pen: &mut Pen) {
+        if self.form != Form::Keep {
+            self.write_change(out, pen);
+        }
+    }
+
+    /// [`Sgr::write`] of a change.
+    #[inline(never)]
+    fn write_change(&self, out: &mut Vec<u8>, pen: &mut Pen) {
         match self.form {
             Form::Keep => {}
             Form::Reset(_) => write_sgr_reset(out, pen, self.fg, self.bg),
