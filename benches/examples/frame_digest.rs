@@ -9,17 +9,26 @@
 //! built-in maze and of generated mazes (in and out of the glow), level and pitched, at 120 × 40 and
 //! 77 × 23, every charset and colour depth, the textures' filter on and off. Each line: the view, and
 //! hashes of the samples (colour bits, depths, ids) and of the frame's cells.
+//!
+//! With `ramps`: instead, the 256- and 16-colour entries (`palette::ramp_entry`) of every
+//! chromaticity slot's light ramp at 48 intensities, a line per palette and red step.
 
 use std::collections::hash_map::DefaultHasher;
 use std::hash::{Hash, Hasher};
 
+use glam::Vec3;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_maze::{Maze, builtin};
+use mazewalk_render::palette::{Palette, ramp_entry};
 use mazewalk_render::quality::held_out_views;
 use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, Target};
 use mazewalk_term::frame::{ColorDepth, Frame};
 
 fn main() {
+    if std::env::args().nth(1).as_deref() == Some("ramps") {
+        ramps();
+        return;
+    }
     let mazes: Vec<(&str, Maze)> = vec![
         ("builtin", builtin().expect("built-in maze")),
         ("walk-20x15-71", generate(&GenOptions::walk(20, 15, 71)).expect("maze")),
@@ -92,4 +101,22 @@ fn main() {
         }
     }
     eprintln!("{frames} frames");
+}
+
+/// Every chromaticity slot's ramp (`CHROMA_STEPS` = 96 steps of red and green), read at 48 intensities.
+fn ramps() {
+    const STEPS: usize = 96;
+    for palette in [Palette::Xterm256, Palette::Ansi16] {
+        for r in 0..=STEPS {
+            let mut h = DefaultHasher::new();
+            for g in 0..=STEPS - r {
+                let chroma = Vec3::new(r as f32, g as f32, (STEPS - r - g) as f32) / STEPS as f32;
+                let brightest = 1.0 / chroma.max_element();
+                for k in 1..=48 {
+                    ramp_entry(chroma * (brightest * k as f32 / 48.0), palette).hash(&mut h);
+                }
+            }
+            println!("{palette:?} red {r}: {:016x}", h.finish());
+        }
+    }
 }
