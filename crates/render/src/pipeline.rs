@@ -1301,6 +1301,7 @@ fn fill_run(
         (colors[x], depths[x], ids[x]) = (color, f32::INFINITY, plane);
     };
     let (none, stays) = (u32x8::splat(NONE), f32x8::splat(stays_at));
+    let eight = [color; LANES];
     let mut x = 0;
     while x + LANES <= n {
         let at = x..x + LANES;
@@ -1310,7 +1311,7 @@ fn fill_run(
         let empty = cast::<u32x8, f32x8>(id.simd_eq(none)).to_bitmask();
         let kept = !empty & depth.simd_le(stays).to_bitmask() & 0xff;
         if kept == 0 {
-            colors[at.clone()].fill(color);
+            colors[at.clone()].copy_from_slice(&eight); // (a copy of 96 bytes: no loop)
             depths[at.clone()].fill(f32::INFINITY);
             ids[at].fill(plane);
         } else if kept != 0xff {
@@ -1372,11 +1373,13 @@ struct CellCursor<'m> {
     cell: Option<(u32, u8)>,
     /// That cell's edges, counter-clockwise: (start, start → end); inside is on their left.
     edges: Vec<(Vec2, Vec2)>,
+    /// The edges of a cell beside it, as `edges` (scratch).
+    beside: Vec<(Vec2, Vec2)>,
 }
 
 impl<'m> CellCursor<'m> {
     fn new((maze, light): (&'m Maze, &'m ExitLight)) -> CellCursor<'m> {
-        CellCursor { maze, light, cell: None, edges: Vec::new() }
+        CellCursor { maze, light, cell: None, edges: Vec::new(), beside: Vec::new() }
     }
 
     /// The exit's light level at `point` (0 outside the lit cells' box or the maze). The same for a
@@ -1392,6 +1395,30 @@ impl<'m> CellCursor<'m> {
             && self.well_inside(point)
         {
             return level; // still in the last cell
+        }
+        if let Some((last, _)) = self.cell {
+            // Most often the point has crossed into a cell beside the last one: a cell across an edge
+            // it lies beyond that holds it well inside is the one the maze would find.
+            let maze = self.maze;
+            for (&e, &(a, along)) in maze.cell_edges(last).iter().zip(&self.edges) {
+                if along.perp_dot(point - a) >= INSIDE_MARGIN * along.length() {
+                    continue; // not beyond this edge
+                }
+                let Some(next) = maze.edge(e).other_side(last) else { continue };
+                self.beside.clear();
+                self.beside.extend(maze.cell_edges(next).iter().map(|&e| {
+                    let (a, b) = maze.edge_points_ccw(e, next);
+                    (a, b - a)
+                }));
+                let inside =
+                    |&(a, along): &(Vec2, Vec2)| along.perp_dot(point - a) >= INSIDE_MARGIN * along.length();
+                if self.beside.iter().all(inside) {
+                    std::mem::swap(&mut self.edges, &mut self.beside);
+                    let level = self.light.level(next);
+                    self.cell = Some((next, level));
+                    return level;
+                }
+            }
         }
         let Some(cell) = self.maze.cell_at(point) else {
             self.cell = None;
