@@ -585,15 +585,11 @@ impl Renderer {
                     // A wall stays where it is at least as near as the plane along this ray (none can
                     // where the ray starts inside the plane's solid side).
                     let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
+                    #[cfg(not(test))]
+                    let by_runs = true;
+                    #[cfg(test)]
+                    let by_runs = !self.plane_runs_off;
                     if let Some(cursor) = cursor.as_mut().filter(|_| lit_row) {
-                        #[cfg(not(test))]
-                        let by_runs = true;
-                        #[cfg(test)]
-                        let by_runs = !self.plane_runs_off;
-                        if !(by_runs && shade.paints_by_runs(&mut self.plane_row.shade, width)) {
-                            self.plane_row.fill_row(&shade, width);
-                        }
-                        let paint = &self.plane_row.shade;
                         // The tint is linear in the colour: the plane's colour tinted by the sample's
                         // level (one of `EXIT_LIGHT` + 1, for the row), times its checker, light and
                         // fog, is the tinted sample.
@@ -607,7 +603,6 @@ impl Renderer {
                                 table
                             }
                         };
-                        let levels = &mut self.plane_row.levels;
                         let point_at = |x: usize| {
                             let (start, dir) = at(x);
                             (start + dir * t).truncate() // as the per-sample path finds it
@@ -618,35 +613,64 @@ impl Renderer {
                         let everywhere = false;
                         #[cfg(test)]
                         let everywhere = self.levels_everywhere;
-                        let hidden = |x: usize| !everywhere && ids[x] != NONE && depths[x] <= stays_at;
-                        cursor.row_levels(point_at, (point_at(0), step), width, hidden, levels);
-                        let samples = colors.iter_mut().zip(depths.iter_mut()).zip(ids.iter_mut()).zip(paint);
-                        for ((((color, depth), id), &paint), &level) in samples.zip(levels.iter()) {
-                            if *id != NONE && *depth <= stays_at {
-                                continue;
+                        let shown_from =
+                            |x: usize| if everywhere { x } else { first_shown((ids, depths), stays_at, x) };
+                        let level_runs = &mut self.plane_row.level_runs;
+                        cursor.row_levels(point_at, (point_at(0), step), width, shown_from, level_runs);
+                        let square_runs = &mut self.plane_row.square_runs;
+                        if by_runs && shade.square_runs(square_runs, width) {
+                            // Runs of one level and one checker square: one colour each, worked out
+                            // once (the same operations as on each sample: the same bits).
+                            let (mut x, mut squares, mut levels) =
+                                (0, square_runs.iter().peekable(), level_runs.iter().peekable());
+                            while let (Some(&&(square_end, paint)), Some(&&(level_end, level))) =
+                                (squares.peek(), levels.peek())
+                            {
+                                let end = square_end.min(level_end);
+                                let color = tinted[usize::from(level)] * paint + fog_term;
+                                let run = x..end;
+                                fill_run(
+                                    (&mut colors[run.clone()], &mut depths[run.clone()], &mut ids[run]),
+                                    (color, hit.plane.1),
+                                    stays_at,
+                                );
+                                x = end;
+                                if square_end == end {
+                                    squares.next();
+                                }
+                                if level_end == end {
+                                    levels.next();
+                                }
                             }
+                            continue;
+                        }
+                        let paint = &mut self.plane_row.shade;
+                        shade.fill_paints(paint, width);
+                        let mut x = 0;
+                        for &(end, level) in level_runs.iter() {
                             let base = tinted[usize::from(level)];
-                            (*color, *depth, *id) = (base * paint + fog_term, f32::INFINITY, hit.plane.1);
+                            for x in x..end {
+                                if ids[x] != NONE && depths[x] <= stays_at {
+                                    continue;
+                                }
+                                (colors[x], depths[x], ids[x]) =
+                                    (base * paint[x] + fog_term, f32::INFINITY, hit.plane.1);
+                            }
+                            x = end;
                         }
                         continue;
                     }
-                    #[cfg(not(test))]
-                    let by_runs = true;
-                    #[cfg(test)]
-                    let by_runs = !self.plane_runs_off;
-                    if by_runs && shade.paints_by_runs(&mut self.plane_row.shade, width) {
-                        let paints = &self.plane_row.shade;
-                        plane_run(
-                            (&mut colors[..width], &mut depths[..width], &mut ids[..width]),
-                            |g| {
-                                f32x8::from(
-                                    <[f32; LANES]>::try_from(&paints[g * LANES..][..LANES]).expect("eight"),
-                                )
-                            },
-                            (base, fog_term, hit.plane.1),
-                            stays_at,
-                            shade.squares(),
-                        );
+                    if by_runs && shade.square_runs(&mut self.plane_row.square_runs, width) {
+                        let mut x = 0;
+                        for &(end, paint) in &self.plane_row.square_runs {
+                            let run = x..end;
+                            fill_run(
+                                (&mut colors[run.clone()], &mut depths[run.clone()], &mut ids[run]),
+                                (base * paint + fog_term, hit.plane.1),
+                                stays_at,
+                            );
+                            x = end;
+                        }
                         continue;
                     }
                     plane_run(
@@ -1260,6 +1284,70 @@ fn plane_run(
     by_common
 }
 
+/// A run of floor or ceiling samples of one colour: each sample that no wall at least as near as the
+/// plane holds (`id` NONE, or its depth past `stays_at`) becomes the plane (`color`, depth infinite,
+/// id `plane`). Eight samples at a time: eight all wall are skipped with one test, eight all plane
+/// filled, a mix sample by sample (as [`plane_run`] tests them).
+fn fill_run(
+    (colors, depths, ids): (&mut [Vec3], &mut [f32], &mut [u32]),
+    (color, plane): (Vec3, u32),
+    stays_at: f32,
+) {
+    let n = colors.len().min(depths.len()).min(ids.len());
+    let one = |x: usize, colors: &mut [Vec3], depths: &mut [f32], ids: &mut [u32]| {
+        if ids[x] != NONE && depths[x] <= stays_at {
+            return;
+        }
+        (colors[x], depths[x], ids[x]) = (color, f32::INFINITY, plane);
+    };
+    let (none, stays) = (u32x8::splat(NONE), f32x8::splat(stays_at));
+    let eight = [color; LANES];
+    let mut x = 0;
+    while x + LANES <= n {
+        let at = x..x + LANES;
+        let id = u32x8::from(<[u32; LANES]>::try_from(&ids[at.clone()]).expect("eight"));
+        let depth = f32x8::from(<[f32; LANES]>::try_from(&depths[at.clone()]).expect("eight"));
+        // Lanes a wall keeps: not NONE, and at least as near as the plane (NaN depths: not kept).
+        let empty = cast::<u32x8, f32x8>(id.simd_eq(none)).to_bitmask();
+        let kept = !empty & depth.simd_le(stays).to_bitmask() & 0xff;
+        if kept == 0 {
+            colors[at.clone()].copy_from_slice(&eight); // (a copy of 96 bytes: no loop)
+            depths[at.clone()].fill(f32::INFINITY);
+            ids[at].fill(plane);
+        } else if kept != 0xff {
+            for x in at {
+                one(x, colors, depths, ids);
+            }
+        }
+        x += LANES;
+    }
+    for x in x..n {
+        one(x, colors, depths, ids);
+    }
+}
+
+/// From `x`, the first sample of a row that no wall at least as near as the plane holds (`id` NONE,
+/// or its depth past `stays_at`, as [`fill_run`] tells them), or the row's length. Eight at a time.
+fn first_shown((ids, depths): (&[u32], &[f32]), stays_at: f32, mut x: usize) -> usize {
+    let n = ids.len().min(depths.len());
+    let (none, stays) = (u32x8::splat(NONE), f32x8::splat(stays_at));
+    while x + LANES <= n {
+        let at = x..x + LANES;
+        let id = u32x8::from(<[u32; LANES]>::try_from(&ids[at.clone()]).expect("eight"));
+        let depth = f32x8::from(<[f32; LANES]>::try_from(&depths[at]).expect("eight"));
+        let empty = cast::<u32x8, f32x8>(id.simd_eq(none)).to_bitmask();
+        let kept = !empty & depth.simd_le(stays).to_bitmask() & 0xff;
+        if kept != 0xff {
+            return x + kept.trailing_ones() as usize;
+        }
+        x += LANES;
+    }
+    while x < n && ids[x] != NONE && depths[x] <= stays_at {
+        x += 1;
+    }
+    x
+}
+
 /// The headlight on floor and ceiling (factors on their colours): one light for each plane (both face
 /// the same way); the floor, under the lamp the viewer carries, keeps more of its colour than the
 /// ceiling.
@@ -1285,11 +1373,13 @@ struct CellCursor<'m> {
     cell: Option<(u32, u8)>,
     /// That cell's edges, counter-clockwise: (start, start → end); inside is on their left.
     edges: Vec<(Vec2, Vec2)>,
+    /// The edges of a cell beside it, as `edges` (scratch).
+    beside: Vec<(Vec2, Vec2)>,
 }
 
 impl<'m> CellCursor<'m> {
     fn new((maze, light): (&'m Maze, &'m ExitLight)) -> CellCursor<'m> {
-        CellCursor { maze, light, cell: None, edges: Vec::new() }
+        CellCursor { maze, light, cell: None, edges: Vec::new(), beside: Vec::new() }
     }
 
     /// The exit's light level at `point` (0 outside the lit cells' box or the maze). The same for a
@@ -1305,6 +1395,30 @@ impl<'m> CellCursor<'m> {
             && self.well_inside(point)
         {
             return level; // still in the last cell
+        }
+        if let Some((last, _)) = self.cell {
+            // Most often the point has crossed into a cell beside the last one: a cell across an edge
+            // it lies beyond that holds it well inside is the one the maze would find.
+            let maze = self.maze;
+            for (&e, &(a, along)) in maze.cell_edges(last).iter().zip(&self.edges) {
+                if along.perp_dot(point - a) >= INSIDE_MARGIN * along.length() {
+                    continue; // not beyond this edge
+                }
+                let Some(next) = maze.edge(e).other_side(last) else { continue };
+                self.beside.clear();
+                self.beside.extend(maze.cell_edges(next).iter().map(|&e| {
+                    let (a, b) = maze.edge_points_ccw(e, next);
+                    (a, b - a)
+                }));
+                let inside =
+                    |&(a, along): &(Vec2, Vec2)| along.perp_dot(point - a) >= INSIDE_MARGIN * along.length();
+                if self.beside.iter().all(inside) {
+                    std::mem::swap(&mut self.edges, &mut self.beside);
+                    let level = self.light.level(next);
+                    self.cell = Some((next, level));
+                    return level;
+                }
+            }
         }
         let Some(cell) = self.maze.cell_at(point) else {
             self.cell = None;
@@ -1327,37 +1441,57 @@ impl<'m> CellCursor<'m> {
     }
 
     /// The levels of a row's points `point_at(x)` (`start + step × x`, up to rounding), x in
-    /// 0..`width`, into `levels`: the same as [`CellCursor::level`] of each point not `hidden`, but
-    /// each cell the row crosses is found once and the run of samples well inside it follows from its
-    /// edges (each bounds x by a linear inequality, its ends checked point by point), so a row costs a
-    /// search per cell crossed, not per sample. A `hidden` sample (a wall in front of the plane) is
-    /// not looked at: its level is left 0 unless a run across it gave it one. A point's level does not
-    /// depend on the cursor's state, so those that are looked at are the same either way.
+    /// 0..`width`, by runs into `runs` ((end, level), in order from 0, the last ending at `width`):
+    /// each sample not `hidden` lies in a run of [`CellCursor::level`] of its point, but each cell
+    /// the row crosses is found once and the run of samples well inside it follows from its edges
+    /// (each bounds x by a linear inequality, its ends checked point by point), so a row costs a
+    /// search per cell crossed, not per sample. Hidden samples (a wall in front of the plane; from x,
+    /// the next sample not hidden is `shown_from(x)`, at most `width`) are not looked at: they join
+    /// the run before them (the first run, if they begin the row). A
+    /// point's level does not depend on the cursor's state, so those that are looked at are the same
+    /// either way.
     fn row_levels(
         &mut self,
         point_at: impl Fn(usize) -> Vec2,
         (start, step): (Vec2, Vec2),
         width: usize,
-        hidden: impl Fn(usize) -> bool,
-        levels: &mut Vec<u8>,
+        shown_from: impl Fn(usize) -> usize,
+        runs: &mut Vec<(usize, u8)>,
     ) {
-        levels.clear();
-        while levels.len() < width {
-            let x = levels.len();
-            if hidden(x) {
-                levels.push(0);
+        runs.clear();
+        // samples up to `end` at `level`: the last run grows where it has that level
+        let push = |runs: &mut Vec<(usize, u8)>, end: usize, level: u8| match runs.last_mut() {
+            Some(last) if last.1 == level => last.0 = end,
+            _ => runs.push((end, level)),
+        };
+        let (mut x, mut hidden_lead) = (0, true);
+        while x < width {
+            let end = shown_from(x).min(width);
+            if end > x {
+                match runs.last_mut() {
+                    Some(last) => last.0 = end,
+                    None => runs.push((end, 0)), // (its level is the next run's, if one follows)
+                }
+                x = end;
                 continue;
             }
             let point = point_at(x);
             let level = self.level(point).min(EXIT_LIGHT);
+            if std::mem::take(&mut hidden_lead)
+                && let Some(lead) = runs.first_mut()
+            {
+                lead.1 = level; // the row began with hidden samples: they take the first shown's level
+            }
             if self.cell.is_none() {
                 // Outside the lit cells' box (or the maze): dark up to where the row enters the box.
                 let next = self.enters_box(start, step, x).clamp(x + 1, width);
-                levels.resize(next, 0);
+                push(runs, next, 0);
+                x = next;
                 continue;
             }
             if !self.well_inside(point) {
-                levels.push(level); // near a boundary: this sample alone
+                push(runs, x + 1, level); // near a boundary: this sample alone
+                x += 1;
                 continue;
             }
             // The last x still inside the cell: each edge's side `c0 + c1·x ≥ margin` ends at
@@ -1377,7 +1511,8 @@ impl<'m> CellCursor<'m> {
             while end + 1 < width && self.well_inside(point_at(end + 1)) {
                 end += 1;
             }
-            levels.resize(end + 1, level);
+            push(runs, end + 1, level);
+            x = end + 1;
         }
     }
 
@@ -1434,18 +1569,12 @@ struct PlaneHit {
 #[derive(Debug, Default)]
 struct PlaneRow {
     shade: Vec<f32>,
-    /// The exit's light level of each sample of a row that comes near a lit cell.
-    levels: Vec<u8>,
-}
-
-impl PlaneRow {
-    /// Fills `shade` with `row`'s paints for `width` samples.
-    fn fill_row(&mut self, row: &RowShade, width: usize) {
-        self.shade.resize(width.div_ceil(LANES) * LANES, 0.0);
-        for (k, out) in self.shade.chunks_exact_mut(LANES).enumerate() {
-            out.copy_from_slice(&cast::<f32x8, [f32; LANES]>(row.group(k)));
-        }
-    }
+    /// The exit's light levels of a row that comes near a lit cell, by runs: (end, level), the
+    /// runs in order from sample 0 ([`CellCursor::row_levels`]).
+    level_runs: Vec<(usize, u8)>,
+    /// A row's checker paints by runs: (end, paint), in order from sample 0
+    /// ([`RowShade::square_runs`]).
+    square_runs: Vec<(usize, f32)>,
 }
 
 /// What a level row's samples multiply their plane's colour by (checker, headlight, fog), eight at a
@@ -1518,16 +1647,35 @@ impl RowShade {
     }
 
     /// Fills `out` with the paints of samples `0..width` (and the last group's lanes past it), as
-    /// [`RowShade::group`] gives them, by runs of one checker square: `false` (and `out` untouched)
-    /// where that is not sure to be the same or not cheaper. Without the textures' filter a sample's
+    /// [`RowShade::group`] gives them, from [`RowShade::square_runs`]: `false` (and `out` untouched)
+    /// where that gives none.
+    #[cfg(test)]
+    fn paints_by_runs(&self, out: &mut Vec<f32>, width: usize) -> bool {
+        let n = width.div_ceil(LANES) * LANES;
+        let mut runs = Vec::new();
+        if !self.square_runs(&mut runs, n) {
+            return false;
+        }
+        out.resize(n, 0.0);
+        let mut x = 0;
+        for (end, paint) in runs {
+            out[x..end].fill(paint);
+            x = end;
+        }
+        assert_eq!(x, n, "the runs cover the row");
+        true
+    }
+
+    /// The paints of samples `0..n`, as [`RowShade::group`] gives them, by runs of one checker
+    /// square into `runs` ((end, paint), in order from 0, the last ending at `n`): `false` where
+    /// that is not sure to be the same or not cheaper. Without the textures' filter a sample's
     /// paint is its square's; each of the ray's operations is monotonic in `x` (a product with a
     /// fixed factor, a sum with a fixed term, rounded to nearest), so where a row's start and
     /// direction step the same way along each axis (or one of them does not move) and the ray's
     /// length `t` is not negative, each of the two `floor`s is monotonic along the row, and a square's
     /// samples are one run: found from its first sample, an estimate of where it ends, and the exact
     /// floors checked there. Rows crossing squares every few samples keep the groups.
-    fn paints_by_runs(&self, out: &mut Vec<f32>, width: usize) -> bool {
-        let n = width.div_ceil(LANES) * LANES;
+    fn square_runs(&self, runs: &mut Vec<(usize, f32)>, n: usize) -> bool {
         let t = self.t.to_array()[0];
         let ((_, start_step), (_, dir_step)) = (self.start, self.dir);
         let opposite = |a: f32, b: f32| (a > 0.0 && b < 0.0) || (a < 0.0 && b > 0.0);
@@ -1566,7 +1714,7 @@ impl RowShade {
             let next = if per > 0.0 { f64::from(here) + 1.0 } else { f64::from(here) };
             (next - u0) * per
         };
-        out.resize(n, 0.0);
+        runs.clear();
         let mut x = 0;
         let mut here = first;
         while x < n {
@@ -1581,7 +1729,7 @@ impl RowShade {
                 next => (end, next),
             };
             let odd = (here.0 ^ here.1) & 1 == 1;
-            out[x..=end].fill(if odd { dark } else { light });
+            runs.push((end + 1, if odd { dark } else { light }));
             x = end + 1;
             here = next.unwrap_or(here);
         }
@@ -1611,6 +1759,15 @@ impl RowShade {
             end += 1;
         }
         (end, None)
+    }
+
+    /// Fills `out` with the paints of samples `0..width` (and the last group's lanes past it), group
+    /// by group.
+    fn fill_paints(&self, out: &mut Vec<f32>, width: usize) {
+        out.resize(width.div_ceil(LANES) * LANES, 0.0);
+        for (k, out) in out.chunks_exact_mut(LANES).enumerate() {
+            out.copy_from_slice(&cast::<f32x8, [f32; LANES]>(self.group(k)));
+        }
     }
 
     /// The paints of samples `8k..8k + 8`.
