@@ -91,6 +91,27 @@ impl ExitLight {
     pub fn lit_cells(&self) -> usize {
         self.lit.len()
     }
+
+    /// The lit cell the light comes into through edge `e` of `maze`, if `e` is an opening between
+    /// two lit cells one level apart: the dimmer of the two, whose way one step nearer the exit is
+    /// through `e` (the light of a cell arrives through the opening to its brighter neighbour). `None`
+    /// for a wall, an opening to the outside or to a dark cell, and an opening between cells of one
+    /// level (a loop's far side).
+    #[must_use]
+    pub fn lit_through(&self, maze: &Maze, e: u32) -> Option<CellId> {
+        if e as usize >= maze.edges().len() {
+            return None;
+        }
+        let edge = maze.edge(e);
+        let (Some(a), Some(b), false) = (edge.left, edge.right, edge.opaque) else { return None };
+        let (la, lb) = (self.level(a), self.level(b));
+        match la.min(lb) {
+            0 => None,
+            _ if la + 1 == lb => Some(a),
+            _ if lb + 1 == la => Some(b),
+            _ => None,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -235,6 +256,47 @@ mod tests {
         let cell = crate::generate::CELL_SIZE;
         let side = (2 * reach + 1) as f32 * cell + 1e-3;
         assert!(size.x <= side && size.y <= side, "{size:?}");
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+
+        // An opening the light comes through leads its dimmer cell one step nearer the exit by path,
+        // and from every lit cell but the exit's, the light comes in through at least one opening (a
+        // way on); an opening it does not come through joins cells not one step apart, or a dark one.
+        #[test]
+        fn the_light_comes_into_a_cell_through_its_way_toward_the_exit(
+            (width, height, seed) in (2u32..=30, 2u32..=20, any::<u64>()),
+        ) {
+            let maze = generate(&GenOptions::walk(width, height, seed)).expect("maze");
+            let light = ExitLight::of(&maze);
+            let dist = distances(&maze);
+            let exit = maze.exit().expect("exit").cell;
+            for e in 0..maze.edges().len() as u32 {
+                let edge = maze.edge(e);
+                match light.lit_through(&maze, e) {
+                    Some(dim) => {
+                        prop_assert!(!edge.opaque);
+                        let other = edge.other_side(dim).expect("an opening between two cells");
+                        prop_assert!(light.level(dim) >= 1);
+                        prop_assert_eq!(dist[other as usize].map(|d| d + 1), dist[dim as usize]);
+                    }
+                    None => {
+                        if let (false, Some(a), Some(b)) = (edge.opaque, edge.left, edge.right) {
+                            let (la, lb) = (light.level(a), light.level(b));
+                            prop_assert!(la.min(lb) == 0 || la == lb, "edge {}: {} {}", e, la, lb);
+                        }
+                    }
+                }
+            }
+            for cell in (0..maze.cell_count() as u32).filter(|&c| light.level(c) > 0 && c != exit) {
+                prop_assert!(
+                    maze.cell_edges(cell).iter().any(|&e| light.lit_through(&maze, e) == Some(cell)),
+                    "lit cell {} has no way in for the light", cell
+                );
+            }
+            prop_assert_eq!(light.lit_through(&maze, u32::MAX), None);
+        }
     }
 
     #[test]

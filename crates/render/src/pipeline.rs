@@ -24,7 +24,8 @@ use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
     CEILING_EXIT_TINT, FLOOR_EXIT_TINT, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker,
     checker_filtered, edge_color, exit_lit_wall, exit_lit_wall_16, exit_tinted, headlight, jamb_color,
-    jamb_grey, lit, luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
+    jamb_grey, lit, luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo, way_light,
+    way_light_16,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -147,6 +148,8 @@ pub struct Renderer {
     heads: Vec<(usize, usize, usize)>,
     /// The cells whose floors carry a chalk mark ([`Renderer::set_chalk`]), sorted, each once.
     chalk: Vec<u32>,
+    /// The last frame's openings whose lines are drawn in the way's light ([`way_light`]).
+    way: Vec<u32>,
     /// This frame tints no floor or ceiling by the exit's light: in 16 colours (the floor and the
     /// ceiling show one entry each there, and a green one would be a wall's; walls show the glow's
     /// dark green, `palette::GLOW_16`) and without colour (ascii shows lightness only: the frame stays
@@ -822,6 +825,11 @@ impl Renderer {
     /// count, and a side opening as a break in the wall with its own boundary line (issue #39). Exact:
     /// a ray meets the floor once, so where a sample shows the floor and the boundary projects onto
     /// it, the boundary is what the sample shows.
+    ///
+    /// Inside the exit's light, the line across each opening the light comes through toward the eye
+    /// (a lit cell's way one step nearer the exit, `ExitLight::lit_through`, seen from that cell's
+    /// side) is drawn in the way's light instead ([`way_light`], `way_light_16` in 16 colours,
+    /// [`WAY_GLYPH`] in ascii): at a junction the glowing line is the way on (issue #39).
     pub(crate) fn draw_cell_bounds(&mut self, maze: &Maze, eye: &Eye, culling: Culling) {
         let w = eye.width;
         self.edge_list.clear();
@@ -841,6 +849,9 @@ impl Renderer {
         // In 16 colours the lines are light grey, as a door jamb is: where a cell's line would lie
         // under LINE_GAP_16 samples from the line a cell nearer (a corridor's far cells), the lines
         // make one pale band with the far walls' jambs (issue #39), and are left out.
+        // The way's lines likewise in truecolor and 256 colours, at least WAY_LINE_GAP apart: drawn on
+        // every sample down a long corridor they made one bright band past which a far wall looked
+        // taller (`far_wall_height`), and the cells could not be counted.
         let per_unit = eye.height as f32 / (2.0 * eye.half_h); // samples a unit spans at depth 1
         // In ascii (a sample a cell) the lines are glyphs: where they lie under LINE_GAP_ASCII rows
         // apart they make a block of `~`, and the farther ones are left out the same way.
@@ -848,45 +859,77 @@ impl Renderer {
         let thinned =
             (self.floor_bounds_apart || self.ascii_lines) && eye.camera.projection == Projection::Perspective;
         let walls = maze.edges().len() as u32;
-        for (z, plane, paint) in [(FLOOR_Z, FLOOR, floor_bound), (CEILING_Z, CEILING, seam_color)] {
-            self.edge_list.clear();
-            let below = (eye.position.z - z).abs(); // the plane's distance from the eye's height
-            for &e in &self.seen {
+        // The openings the exit's light comes through toward the eye: each lit cell's way one step
+        // nearer the exit, seen from the cell's side (`ExitLight::lit_through`); their lines are
+        // drawn in the way's light ([`way_light`], [`WAY_GLYPH`]) after the others (issue #39).
+        let light = maze.exit_light();
+        let at = eye.position.truncate();
+        let toward = |e: u32| {
+            light.lit_through(maze, e).is_some_and(|dim| {
                 let (a, b) = maze.edge_points(e);
-                if thinned {
-                    // a line at depth d and the one a cell (its length) nearer are `per_unit · below
-                    // · c / (d (d − c))` samples apart: up to the depth where that is LINE_GAP_16, so
-                    // the last line drawn still stands apart from the one before it
-                    let c = a.distance(b);
-                    let room = per_unit * below * c / gap;
-                    let from = 0.5 * ((c * c + 4.0 * room).sqrt() + c);
-                    let depth = |p: Vec2| (p.extend(z) - eye.position).dot(eye.forward);
-                    if depth(a).min(depth(b)) > from {
-                        continue;
+                let side = |p: Vec2| (b - a).perp_dot(p - a);
+                side(at) * side(maze.cell_centroid(dim)) > 0.0
+            })
+        };
+        let seen = std::mem::take(&mut self.seen);
+        let mut way = std::mem::take(&mut self.way);
+        way.clear();
+        way.extend(seen.iter().copied().filter(|&e| toward(e)));
+        let way_paint = if self.floor_bounds_apart { way_light_16 } else { way_light };
+        for (z, plane, paint) in [(FLOOR_Z, FLOOR, floor_bound), (CEILING_Z, CEILING, seam_color)] {
+            for (edges, paint, glyph, is_way) in
+                [(&seen, paint, CELL_LINE_GLYPH, false), (&way, way_paint, WAY_GLYPH, true)]
+            {
+                self.edge_list.clear();
+                let below = (eye.position.z - z).abs(); // the plane's distance from the eye's height
+                for &e in edges {
+                    let (a, b) = maze.edge_points(e);
+                    let gap = if is_way && !thinned { WAY_LINE_GAP } else { gap };
+                    if thinned || is_way && eye.camera.projection == Projection::Perspective {
+                        // a line at depth d and the one a cell (its length) nearer are `per_unit · below
+                        // · c / (d (d − c))` samples apart: up to the depth where that is LINE_GAP_16, so
+                        // the last line drawn still stands apart from the one before it
+                        let c = a.distance(b);
+                        let room = per_unit * below * c / gap;
+                        let from = 0.5 * ((c * c + 4.0 * room).sqrt() + c);
+                        let depth = |p: Vec2| (p.extend(z) - eye.position).dot(eye.forward);
+                        if depth(a).min(depth(b)) > from {
+                            continue;
+                        }
+                    }
+                    for (x, y) in segment_samples(eye, a.extend(z), b.extend(z)) {
+                        let i = y * w + x;
+                        // In 16 colours not on the plane's sample just beside a wall (the floor's below
+                        // it, the ceiling's above): a light-grey line there reads as a pale far wall's
+                        // own foot or top, a row taller than it is (issue #39, `far_wall_height`).
+                        let toward_wall = if plane == FLOOR { i.checked_sub(w) } else { Some(i + w) };
+                        // (the way's light, paler than the floor and the ceiling in every depth, likewise: a
+                        // far wall it touched looked a row taller, so nearer, `far_wall_height`)
+                        let wall_at = |j: Option<usize>| {
+                            j.and_then(|j| self.samples.id().get(j)).is_some_and(|&id| id < walls)
+                        };
+                        let two_off = if plane == FLOOR { i.checked_sub(2 * w) } else { Some(i + 2 * w) };
+                        // (in truecolor and 256 colours, whose way's light is near a wall's lightness,
+                        // not two samples off a wall either: there a wall's foot is told from the floor
+                        // a little way off it, `wall_floor`)
+                        let beside_wall = (self.floor_bounds_apart || is_way) && wall_at(toward_wall)
+                            || is_way && !thinned && wall_at(two_off);
+                        if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None && !beside_wall {
+                            self.edge_marks[i] = Mark::Seam;
+                            self.edge_list.push(i as u32);
+                        }
                     }
                 }
-                for (x, y) in segment_samples(eye, a.extend(z), b.extend(z)) {
-                    let i = y * w + x;
-                    // In 16 colours not on the plane's sample just beside a wall (the floor's below
-                    // it, the ceiling's above): a light-grey line there reads as a pale far wall's
-                    // own foot or top, a row taller than it is (issue #39, `far_wall_height`).
-                    let toward_wall = if plane == FLOOR { i.checked_sub(w) } else { Some(i + w) };
-                    let beside_wall = self.floor_bounds_apart
-                        && toward_wall.and_then(|j| self.samples.id().get(j)).is_some_and(|&id| id < walls);
-                    if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None && !beside_wall {
-                        self.edge_marks[i] = Mark::Seam;
-                        self.edge_list.push(i as u32);
+                if self.ascii_lines {
+                    for &i in &self.edge_list {
+                        let i = i as usize;
+                        self.samples.put_outline(i % w, i / w, Some(glyph));
                     }
                 }
+                self.paint_marked(paint);
             }
-            if self.ascii_lines {
-                for &i in &self.edge_list {
-                    let i = i as usize;
-                    self.samples.put_outline(i % w, i / w, Some(CELL_LINE_GLYPH));
-                }
-            }
-            self.paint_marked(paint);
         }
+        (self.seen, self.way) = (seen, way);
     }
 
     /// Door jambs: where a wall ends at an opening of its own line (a side opening, a turn) on the
@@ -1191,6 +1234,16 @@ const LINE_GAP_ASCII: f32 = 2.0;
 /// the walls' glyphs (faced, along the view, outlines, seams), nor the floor's, the ceiling's or the
 /// beacon's (issue #39: cells a player can count).
 pub(crate) const CELL_LINE_GLYPH: char = '~';
+
+/// The ascii glyph of the line across an opening the exit's light comes through toward the eye (a lit
+/// cell's way one step nearer the exit, issue #39): none of the walls', the floor's, the ceiling's,
+/// the other cell lines' (`~`), a chalk mark's or the beacon's; a row of them points the way on.
+pub(crate) const WAY_GLYPH: char = '^';
+
+/// In truecolor and 256 colours, the least gap (samples) between a line across an opening the exit's
+/// light comes through and the one a cell nearer for it to be drawn ([`Renderer::draw_cell_bounds`]):
+/// every other row at most, so far down a corridor toward the exit the lines stay lines.
+const WAY_LINE_GAP: f32 = 2.0;
 
 /// The ascii glyph of a chalk mark's cross ([`Renderer::set_chalk`]): none of the walls', the floor's,
 /// the ceiling's, the cell lines' or the beacon's.
@@ -2494,6 +2547,11 @@ mod tests {
                         .iter()
                         .any(|&n| ids.get(n).is_some_and(|&id| id < CEILING))
                     {
+                        continue;
+                    }
+                    // A line across an opening the light comes through is the light itself, not
+                    // the plane tinted ([`way_light`]: `glow_way` tests it).
+                    if a == way_light(a) {
                         continue;
                     }
                     // Where the sample's ray meets its plane, and the levels there and just round it

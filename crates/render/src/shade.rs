@@ -375,6 +375,30 @@ pub(crate) fn jamb_grey(color: Vec3) -> Vec3 {
     Vec3::splat(luminance(jamb_color(color)))
 }
 
+/// The line across an opening the exit's light comes through toward the eye (a lit cell's way one
+/// step nearer the exit, `ExitLight::lit_through`), in truecolor and 256 colours: the light itself,
+/// a saturated yellow-green (sRGB (95, 135, 0), the 256-colour cube's own entry 64, so both depths
+/// show one colour), the same at any distance, whatever the floor under it. More saturated than any
+/// lit wall (chroma ≤ 0.17 of L, toward the beacon's spring green) and of another hue than the
+/// beacon's green and white bands; no generated wall is yellow-green (issue #39). Its lightness
+/// (OKLab L 0.57) is under a wall's: a lighter line at a wall's foot made the wall look taller, or
+/// its foot part of the floor (`far_wall_height`, `wall_floor`).
+#[must_use]
+pub(crate) fn way_light(_color: Vec3) -> Vec3 {
+    Vec3::new(srgb_to_linear(95.0 / 255.0), srgb_to_linear(135.0 / 255.0), 0.0)
+}
+
+/// [`way_light`] in 16 colours: the dark yellow (xterm's 3, (205, 205, 0)), which the floor, the
+/// ceiling, the glow's dark green, its lines' dark cyan, the beacon's bright green and white and the
+/// other cell lines' light grey are not, and the rarest wall entry but two (a wall beyond the glow,
+/// brown or olive, may show it: the 16 colours have no entry left that no wall shows).
+#[must_use]
+pub(crate) fn way_light_16(_color: Vec3) -> Vec3 {
+    // (the yellow ramp's dark end: from 0.25 of full light up it takes the bright yellow, xterm's 11,
+    // a far commoner wall entry)
+    Vec3::new(0.12, 0.12, 0.0)
+}
+
 /// A chalk mark's colour on a floor sample of `color` ([`Renderer::set_chalk`]): the floor lit about
 /// twice as bright, toward a pale grey, so a mark reads as chalk on the floor (lighter, where the
 /// floor's cell lines are darker) and fades with the floor into the distance.

@@ -27,6 +27,9 @@ const COLS: usize = 120;
 const ROWS: usize = 40;
 /// The cell lines' glyph.
 const LINE: char = '~';
+/// The ascii glyph of a line across an opening the exit's light comes through toward the eye (the way
+/// one step nearer the exit, issue #39): a cell line too, with the same spacing.
+const WAY: char = '^';
 /// Every glyph a wall is drawn with in ascii (the short ramp's two families, the outlines, the seam,
 /// the jambs), the floor's, the ceiling's and the beacon's.
 const OTHERS: &str = "=#%@.;+*|-/\\:[],_`\"$!";
@@ -64,6 +67,7 @@ fn mazes() -> Vec<mazewalk_maze::Maze> {
 #[test]
 fn the_cell_lines_glyph_is_no_other_surfaces() {
     assert!(!OTHERS.contains(LINE));
+    assert!(!OTHERS.contains(WAY) && WAY != LINE && !"x".contains(WAY));
 }
 
 #[test]
@@ -82,7 +86,7 @@ fn in_ascii_a_reader_counts_the_near_cells_on_the_floor_and_the_lines_never_crow
             let bounds: Vec<f32> = (0..c.ahead).map(|k| row(k as f32 + 0.5)).collect();
             let end_foot = row(c.ahead as f32 + 0.5);
             let lines: Vec<usize> = (horizon.ceil() as usize..ROWS)
-                .filter(|&r| frame.cells()[r * COLS + column].ch == LINE)
+                .filter(|&r| matches!(frame.cells()[r * COLS + column].ch, LINE | WAY))
                 .collect();
             for &r in &lines {
                 let centre = r as f32 + 0.5;
