@@ -132,7 +132,7 @@ fn main() {
             let turn = hold(sim(session(cols, rows, depth, false), rows, cols, UNLIMITED), b"\x1b[D");
             let picture = |held: &Held| held.picture.map_or("–".into(), |d| format!("{d:.4}"));
             println!(
-                "| {cols}×{rows} | {depth} | {:.1} KB/s | {:.1} KB/s | {} / {} |",
+                "| {cols}×{rows} | {depth} | {:.2} KB/s | {:.2} KB/s | {} / {} |",
                 walk.bytes_per_s / 1e3,
                 turn.bytes_per_s / 1e3,
                 picture(&walk),
