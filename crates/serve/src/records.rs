@@ -14,7 +14,9 @@
 //! - **Faults are reported once and the game goes on.** A finish the store cannot keep (a database
 //!   locked by another program past its busy timeout, read-only, full, damaged, a Redis away) is
 //!   kept in memory for the players' ranking — among the store's last best ten and this run's —
-//!   and written when the store takes finishes again (the latest [`UNSAVED`] of them). The fault is
+//!   and written when the store takes finishes again (the latest [`UNSAVED`] of them): tried with
+//!   the next finish, every [`RETRY`] meanwhile, and once more when the thread stops (those still
+//!   unsaved then are counted in one log line). The fault is
 //!   said once, and again only after the store has worked in between, at most once a minute. A
 //!   damaged file found at start is kept aside (`FILE.damaged-UNIXTIME`), never written over, and a
 //!   new one made ([`Sqlite::open`]).
@@ -818,6 +820,8 @@ pub const UNSAVED: usize = 256;
 const MEMORY: usize = 10_000;
 /// A fault is said again at most this often (after the store worked in between).
 const SAY_AGAIN: Duration = Duration::from_secs(60);
+/// While the store fails, the finishes it missed are tried again this often, finish or no finish.
+pub(crate) const RETRY: Duration = Duration::from_secs(2);
 
 /// A maze's ranking while its store fails: the store's last answer, and this run's bests.
 #[derive(Debug, Default)]
@@ -955,8 +959,12 @@ fn keep(
     // and once more a little after a remote finish, whose run may have been stored after its word)
     let mut read_at = Instant::now() + REREAD_BEST_RUN;
     let mut again_at: Option<Instant> = None;
+    let mut retry_at = Instant::now() + RETRY;
     loop {
-        let next = again_at.map_or(read_at, |again| again.min(read_at));
+        let mut next = again_at.map_or(read_at, |again| again.min(read_at));
+        if failing {
+            next = next.min(retry_at);
+        }
         let (finish, answer) = match queue.recv_timeout(next.saturating_duration_since(Instant::now())) {
             Ok(Job::Finish(finish, answer)) => (finish, answer),
             Ok(Job::Reread) => {
@@ -966,11 +974,21 @@ fn keep(
                 continue;
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {
-                read_best(&mut store);
                 let now = Instant::now();
-                again_at = again_at.filter(|&again| again > now);
-                if read_at <= now {
-                    read_at = now + REREAD_BEST_RUN;
+                if failing && retry_at <= now {
+                    // (the finishes it missed, tried again even if no finish comes to carry them)
+                    retry_at = now + RETRY;
+                    if let Some(line) = store.check() {
+                        report(&line);
+                    }
+                    failing = !memory.flush(&mut store);
+                }
+                if read_at <= now || again_at.is_some_and(|again| again <= now) {
+                    read_best(&mut store);
+                    again_at = again_at.filter(|&again| again > now);
+                    if read_at <= now {
+                        read_at = now + REREAD_BEST_RUN;
+                    }
                 }
                 continue;
             }
@@ -994,6 +1012,7 @@ fn keep(
                 standing
             }
             Some(Err(err)) => {
+                retry_at = Instant::now() + RETRY;
                 if !std::mem::replace(&mut failing, true) && said.is_none_or(|at| at.elapsed() >= SAY_AGAIN) {
                     said = Some(std::time::Instant::now());
                     report(&format!("records: {err}; finishes are kept in memory for the ranking meanwhile"));
@@ -1003,6 +1022,20 @@ fn keep(
             None => memory.remember(&finish), // (said already)
         };
         let _ = answer.send(Some(standing));
+    }
+    // Stopping: one last try for the finishes it missed (at most one busy timeout: the first that
+    // fails stops it), and those that could not be kept said.
+    if !memory.unsaved.is_empty() {
+        if let Some(line) = store.check() {
+            report(&line);
+        }
+        memory.flush(&mut store);
+        if !memory.unsaved.is_empty() {
+            report(&format!(
+                "records: {} finishes could not be kept (the store failed to the end); they are lost",
+                memory.unsaved.len()
+            ));
+        }
     }
 }
 

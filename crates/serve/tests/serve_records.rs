@@ -155,6 +155,68 @@ fn a_locked_database_skips_finishes_until_the_lock_goes() {
     );
 }
 
+/// The finishes counted in the file, read by another connection.
+fn finishes_in(path: &Path) -> usize {
+    Sqlite::open_to_read(path).unwrap().mazes(Some(&MAZE)).unwrap().first().map_or(0, |m| m.finishes)
+}
+
+/// The red team's MEDIUM finding: a finish kept in memory while the file was locked waited for a
+/// later finish to be written, and was lost at shutdown if none came. Now it is tried again every
+/// few seconds while the store fails, with no finish to carry it.
+#[test]
+fn a_finish_kept_while_locked_is_written_once_the_lock_goes_with_no_other_finish() {
+    let scratch = Scratch::new("lockretry");
+    let path = scratch.db();
+    let options = SqliteOptions { busy_timeout: Duration::from_millis(100), ..SqliteOptions::default() };
+    let (db, _) = Sqlite::open(&path, options).unwrap();
+    let (report, _lines) = collector();
+    let records = Records::start(db, report).unwrap();
+    assert!(answer(&records, finish(MAZE, "ann", 10.0)).is_some());
+    let other = rusqlite::Connection::open(&path).unwrap();
+    other.execute_batch("BEGIN EXCLUSIVE").unwrap();
+    answer(&records, finish(MAZE, "bob", 9.0)).expect("ranked from memory");
+    other.execute_batch("COMMIT").unwrap();
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while finishes_in(&path) < 2 {
+        assert!(Instant::now() < deadline, "bob's finish was never written, though the file is free");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    assert!(records.close(Duration::from_secs(10)));
+    assert_eq!(finishes_in(&path), 2);
+}
+
+/// … and when the records thread stops (the server's shutdown), the finishes still in memory are
+/// tried once more; those that cannot be kept are said, with their number.
+#[test]
+fn finishes_kept_in_memory_are_tried_at_the_end_and_the_lost_ones_said() {
+    let scratch = Scratch::new("lockexit");
+    let path = scratch.db();
+    let options = SqliteOptions { busy_timeout: Duration::from_millis(100), ..SqliteOptions::default() };
+    // The lock goes just before the end: the last try writes the finish.
+    let (db, _) = Sqlite::open(&path, options).unwrap();
+    let (report, lines) = collector();
+    let records = Records::start(db, report).unwrap();
+    let other = rusqlite::Connection::open(&path).unwrap();
+    other.execute_batch("BEGIN EXCLUSIVE").unwrap();
+    answer(&records, finish(MAZE, "bob", 9.0)).expect("ranked from memory");
+    other.execute_batch("COMMIT").unwrap();
+    assert!(records.close(Duration::from_secs(10)), "the thread stopped");
+    assert_eq!(finishes_in(&path), 1, "the finish kept in memory, written at the end");
+    assert!(!said(&lines).iter().any(|l| l.contains("could not be kept")), "{:?}", said(&lines));
+    // The lock stays to the end: the finishes lost are said, with their number.
+    let (db, _) = Sqlite::open(&path, options).unwrap();
+    let (report, lines) = collector();
+    let records = Records::start(db, report).unwrap();
+    other.execute_batch("BEGIN EXCLUSIVE").unwrap();
+    answer(&records, finish(MAZE, "cy", 8.0)).expect("ranked from memory");
+    answer(&records, finish(MAZE, "dee", 7.0)).expect("ranked from memory");
+    assert!(records.close(Duration::from_secs(10)), "the thread stopped");
+    other.execute_batch("COMMIT").unwrap();
+    let reported = said(&lines);
+    assert!(reported.iter().any(|l| l.contains("2 finishes could not be kept")), "{reported:?}");
+    assert_eq!(finishes_in(&path), 1);
+}
+
 /// Makes `path` impossible to write for this process: `chattr +i` for root (whom permissions do not
 /// stop), mode 0444 otherwise. Undone on drop.
 struct ReadOnly(PathBuf);
