@@ -237,3 +237,35 @@ fn idle_players_from_one_address_delete_no_finished_cast() {
         assert!(player.wait_exit().success());
     }
 }
+
+/// The red team's LOW finding: a full disk left each cast in progress ending in a torn JSON line.
+/// Here the server may write files of 32 KiB at most (`ulimit -f 64`, SIGXFSZ ignored, so a write
+/// past it fails as a full disk's would, after writing what fits): the failure is said, and the
+/// cast is cut back to whole lines, each valid asciicast, the header first.
+#[test]
+fn a_write_error_leaves_the_cast_whole_lines() {
+    let scratch = Scratch::new("recordfull");
+    let maze = scratch.join("maze.grid");
+    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let dir = scratch.join("casts");
+    let dir_arg = dir.to_str().expect("UTF-8");
+    let args = ["--open", "--no-records", "--record-dir", dir_arg, maze.to_str().expect("UTF-8")];
+    let server = Server::start_after(&scratch, "trap '' XFSZ\nulimit -f 64", &args);
+
+    let mut bob = Player::connect(server.port, None, "bob", 160, 50);
+    bob.wait_for("bob's game", |s, _| playing(s, &[]) && hud_row(s).contains("recorded"));
+    let deadline = Instant::now() + common::TIMEOUT;
+    while !server.log().contains("cannot write the cast") {
+        assert!(Instant::now() < deadline, "no write error; log:\n{}", server.log());
+        bob.send(b"."); // a snap turn: new frames each time
+        std::thread::sleep(Duration::from_millis(60));
+    }
+    bob.send(b"q");
+    assert!(bob.wait_exit().success(), "q ends the game with 0: the game went on");
+    let (_, text) = wait_cast(&dir, |_| true);
+    assert!(text.len() <= 32 * 1024, "{} bytes: not stopped by the limit", text.len());
+    assert!(text.ends_with('\n'), "a torn last line: {:?}", &text[text.len().saturating_sub(80)..]);
+    let (header, events) = parse(&text); // every line whole and valid
+    assert_eq!(header["width"], 160);
+    assert!(!events.is_empty());
+}

@@ -258,9 +258,7 @@ impl Recordings {
             rx,
             queued: Arc::clone(&queued),
             metrics: self.metrics.clone(),
-            active: Arc::clone(&self.active),
-            file_name,
-            options: self.options.clone(),
+            entry: Entry { active: Arc::clone(&self.active), file_name, options: self.options.clone() },
         };
         let spawned = std::thread::Builder::new().name("recording".into()).spawn(move || writer.run());
         if let Err(err) = spawned {
@@ -341,7 +339,12 @@ fn open(
         let path = options.dir.join(&file_name);
         match OpenOptions::new().write(true).create_new(true).mode(0o600).open(&path) {
             Ok(file) => {
+                // (the header flushed at once: a cast cut back after a write error keeps it)
                 let cast = CastWriter::with_limit(BufWriter::new(file), header, options.max_bytes)
+                    .and_then(|mut cast| {
+                        cast.flush();
+                        if cast.failed() { cast.finish().map(|()| cast) } else { Ok(cast) }
+                    })
                     .inspect_err(|_| {
                         let _ = std::fs::remove_file(&path);
                     })?;
@@ -361,6 +364,11 @@ struct Writer {
     rx: mpsc::Receiver<Event>,
     queued: Arc<AtomicUsize>,
     metrics: Metrics,
+    entry: Entry,
+}
+
+/// A recording's place among those in progress, given up when dropped.
+struct Entry {
     active: Arc<Mutex<Dir>>,
     file_name: String,
     options: RecordOptions,
@@ -387,14 +395,22 @@ impl Writer {
             }
         }
         self.rx.close(); // the tap's next write learns it stopped
-        let path = self.options.dir.join(&self.file_name);
+        let path = self.entry.options.dir.join(&self.entry.file_name);
         if self.cast.capped() {
             self.metrics.recording_capped();
             warn!(file = %path.display(), bytes = self.cast.written(), "recording: the cast reached its cap (--record-max-bytes); it stops here");
         }
         if let Err(err) = self.cast.finish() {
             self.metrics.recording_failed();
-            warn!(file = %path.display(), "recording: cannot write the cast: {err}; it stops here");
+            // Part of a line may have reached the file (a full disk): cut back to the last flush
+            // that went well, so that the cast is whole lines; what is still buffered is dropped.
+            let flushed = self.cast.flushed();
+            let (file, _) = self.cast.into_inner().into_parts();
+            let cut = match file.set_len(flushed) {
+                Ok(()) => String::new(),
+                Err(cut) => format!(" (and it could not be cut back to whole lines: {cut})"),
+            };
+            warn!(file = %path.display(), bytes = flushed, "recording: cannot write the cast: {err}; it stops here{cut}");
         }
     }
 }
@@ -405,25 +421,26 @@ impl Writer {
     /// cast that cannot be deleted): the recording stops, said and counted.
     fn claim(&mut self) -> bool {
         let written = self.cast.written();
-        let mut dir = self.active.lock().unwrap_or_else(PoisonError::into_inner);
-        let Some((_, claim)) = dir.active.get_mut(&self.file_name) else { return true };
+        let entry = &self.entry;
+        let mut dir = entry.active.lock().unwrap_or_else(PoisonError::into_inner);
+        let Some((_, claim)) = dir.active.get_mut(&entry.file_name) else { return true };
         if written <= *claim {
             return true;
         }
-        *claim = written.saturating_add(STEP).min(self.options.max_bytes.max(written));
-        match dir.make_room(&self.options, 0, 0) {
+        *claim = written.saturating_add(STEP).min(entry.options.max_bytes.max(written));
+        match dir.make_room(&entry.options, 0, 0) {
             Ok(()) => true,
             Err(err) => {
                 drop(dir);
                 self.metrics.recording_failed();
-                warn!(dir = %self.options.dir.display(), "recording: cannot delete an old cast to make room: {err}; this cast stops here");
+                warn!(dir = %self.entry.options.dir.display(), "recording: cannot delete an old cast to make room: {err}; this cast stops here");
                 false
             }
         }
     }
 }
 
-impl Drop for Writer {
+impl Drop for Entry {
     /// The file is no longer in progress (also when its thread could not start): it is now a
     /// finished cast of its size.
     fn drop(&mut self) {
@@ -615,9 +632,7 @@ mod tests {
             rx,
             queued: Arc::default(),
             metrics: Metrics::default(),
-            active: Arc::clone(&active),
-            file_name,
-            options: options.clone(),
+            entry: Entry { active: Arc::clone(&active), file_name, options: options.clone() },
         };
         let thread = std::thread::spawn(move || writer.run());
         // about 200 KB written (claims of up to 257 KiB): the two oldest go, the others stay
