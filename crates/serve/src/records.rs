@@ -20,6 +20,10 @@
 //!   said once, and again only after the store has worked in between, at most once a minute. A
 //!   damaged file found at start is kept aside (`FILE.damaged-UNIXTIME`), never written over, and a
 //!   new one made ([`Sqlite::open`]).
+//! - **Bounded.** A file keeps each player's best [`FINISHES_PER_PLAYER`] finishes of a maze; a
+//!   file full (at [`SqliteOptions::max_bytes`]) deletes the worst quarter (at most [`PRUNE`]) of
+//!   the fullest maze's finishes and tries once more, so a flood of finishes cannot lock everyone
+//!   out (only a full disk, or a file too small to prune, still fails as [`Fault::Full`]).
 //! - **A file deleted or replaced while serving** is noticed before the next finish (the path's
 //!   device and inode against the open file's, [`Store::check`]), said, and opened again: made
 //!   anew if gone, kept aside if damaged.
@@ -62,6 +66,14 @@ use mazewalk_walk::run::{MAX_BYTES, Run};
 
 /// How many best times a [`Standing`] lists.
 pub(crate) const TOP: usize = 10;
+
+/// Finishes of one player on one maze kept in a records file, at most: its best (a player finishing
+/// again and again adds no rows past these).
+pub const FINISHES_PER_PLAYER: usize = 10;
+
+/// Finishes deleted at once when a records file is full, at most: the worst quarter of the maze
+/// with the most, up to this many.
+const PRUNE: i64 = 4096;
 
 /// Finishes waiting for the records thread, at most; more are dropped (and counted).
 pub const QUEUE: usize = 64;
@@ -524,6 +536,13 @@ impl Sqlite {
             params![maze, finish.player, finish.seconds, finish.at, run],
         )
         .map_err(sqlite)?;
+        // (the player's best FINISHES_PER_PLAYER kept: finishing again and again cannot fill it)
+        tx.execute(
+            "DELETE FROM finishes WHERE maze = ?1 AND player = ?2 AND rowid NOT IN
+             (SELECT rowid FROM finishes WHERE maze = ?1 AND player = ?2 ORDER BY seconds, at LIMIT ?3)",
+            params![maze, finish.player, FINISHES_PER_PLAYER as i64],
+        )
+        .map_err(sqlite)?;
         if run.is_some() {
             Sqlite::keep_top_runs(&tx, &maze).map_err(sqlite)?;
         }
@@ -553,14 +572,11 @@ impl Sqlite {
     }
 }
 
-impl Store for Sqlite {
-    fn record(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
-        if self.lost {
-            return Err(RecordsError::new(&self.path, Fault::CannotOpen, "gone while serving"));
-        }
-        // Two writers on one file with a rollback journal can each wait for the other; SQLite then
-        // answers one of them "busy" at once rather than wait (sqlite.org/c3ref/busy_handler.html):
-        // that one tries its transaction again, within the busy timeout.
+impl Sqlite {
+    /// [`record_once`](Self::record_once), again while "busy" within the busy timeout. Two writers
+    /// on one file with a rollback journal can each wait for the other; SQLite then answers one of
+    /// them "busy" at once rather than wait (sqlite.org/c3ref/busy_handler.html).
+    fn record_busy(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
         let started = std::time::Instant::now();
         loop {
             match self.record_once(finish) {
@@ -569,6 +585,47 @@ impl Store for Sqlite {
                 }
                 done => return done,
             }
+        }
+    }
+
+    /// Deletes the worst quarter (at most [`PRUNE`]) of the finishes of the maze with the most, if
+    /// more than `TOP × FINISHES_PER_PLAYER` stay (so every best-[`TOP`] player's best stays: at
+    /// most that many finishes are better than the last of them); whether any went.
+    fn prune_worst(&mut self) -> rusqlite::Result<bool> {
+        let tx = self.conn.transaction_with_behavior(rusqlite::TransactionBehavior::Immediate)?;
+        let fullest: Option<(String, i64)> = tx
+            .query_row(
+                "SELECT maze, COUNT(*) AS n FROM finishes GROUP BY maze ORDER BY n DESC LIMIT 1",
+                [],
+                |r| Ok((r.get(0)?, r.get(1)?)),
+            )
+            .optional()?;
+        let Some((maze, n)) = fullest else { return Ok(false) };
+        let prune = (n / 4).min(PRUNE);
+        if prune == 0 || n - prune <= (TOP * FINISHES_PER_PLAYER) as i64 {
+            return Ok(false);
+        }
+        let gone = tx.execute(
+            "DELETE FROM finishes WHERE rowid IN
+             (SELECT rowid FROM finishes WHERE maze = ?1 ORDER BY seconds DESC, at DESC LIMIT ?2)",
+            params![maze, prune],
+        )?;
+        tx.commit()?;
+        Ok(gone > 0)
+    }
+}
+
+impl Store for Sqlite {
+    fn record(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
+        if self.lost {
+            return Err(RecordsError::new(&self.path, Fault::CannotOpen, "gone while serving"));
+        }
+        match self.record_busy(finish) {
+            // Full (at its size limit, or the disk): the worst finishes make room, once.
+            Err(err) if err.fault == Fault::Full && self.prune_worst().unwrap_or(false) => {
+                self.record_busy(finish)
+            }
+            done => done,
         }
     }
 
