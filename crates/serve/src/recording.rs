@@ -258,6 +258,7 @@ impl Recordings {
             rx,
             queued: Arc::clone(&queued),
             metrics: self.metrics.clone(),
+            claimed: STEP.min(self.options.max_bytes),
             entry: Entry { active: Arc::clone(&self.active), file_name, options: self.options.clone() },
         };
         let spawned = std::thread::Builder::new().name("recording".into()).spawn(move || writer.run());
@@ -364,6 +365,9 @@ struct Writer {
     rx: mpsc::Receiver<Event>,
     queued: Arc<AtomicUsize>,
     metrics: Metrics,
+    /// The bytes this recording claims in the directory (as in `entry`'s place, read without the
+    /// lock).
+    claimed: u64,
     entry: Entry,
 }
 
@@ -421,13 +425,14 @@ impl Writer {
     /// cast that cannot be deleted): the recording stops, said and counted.
     fn claim(&mut self) -> bool {
         let written = self.cast.written();
+        if written <= self.claimed {
+            return true; // (the usual case: no lock taken)
+        }
         let entry = &self.entry;
         let mut dir = entry.active.lock().unwrap_or_else(PoisonError::into_inner);
         let Some((_, claim)) = dir.active.get_mut(&entry.file_name) else { return true };
-        if written <= *claim {
-            return true;
-        }
         *claim = written.saturating_add(STEP).min(entry.options.max_bytes.max(written));
+        self.claimed = *claim;
         match dir.make_room(&entry.options, 0, 0) {
             Ok(()) => true,
             Err(err) => {
@@ -632,6 +637,7 @@ mod tests {
             rx,
             queued: Arc::default(),
             metrics: Metrics::default(),
+            claimed: STEP.min(options.max_bytes),
             entry: Entry { active: Arc::clone(&active), file_name, options: options.clone() },
         };
         let thread = std::thread::spawn(move || writer.run());
