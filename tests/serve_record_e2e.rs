@@ -227,10 +227,10 @@ fn idle_players_from_one_address_delete_no_finished_cast() {
         player.wait_for("a game", |s, _| playing(s, &[]));
         players.push(player);
     }
-    let recorded: Vec<bool> = players.iter().map(|p| p.read(|s| hud_row(s).contains("recorded"))).collect();
-    assert_eq!(recorded, [true, true, false, false, false, false], "two recorded from one address");
     let old = casts(&dir).iter().filter(|p| p.to_string_lossy().ends_with("-old.cast")).count();
     assert_eq!(old, 12, "finished casts deleted for bytes never written: {:?}", casts(&dir));
+    let recorded: Vec<bool> = players.iter().map(|p| p.read(|s| hud_row(s).contains("recorded"))).collect();
+    assert_eq!(recorded, [true, true, false, false, false, false], "two recorded from one address");
     assert_eq!(casts(&dir).len(), 14, "{:?}", casts(&dir));
     for mut player in players {
         player.send(b"q");
