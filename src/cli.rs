@@ -264,11 +264,15 @@ pub struct ServeArgs {
     /// still whole lines.
     #[arg(long, value_name = "BYTES", default_value = "64M", requires = "record_dir", value_parser = parse_bytes)]
     pub record_max_bytes: u64,
-    /// With --record-dir: the most bytes of all the casts in DIR, each in progress counted at
-    /// --record-max-bytes; the oldest are deleted to make room, and a player with no room left is
-    /// not recorded.
+    /// With --record-dir: the most bytes of all the casts in DIR. A player is recorded only if the
+    /// casts in progress, each counted at --record-max-bytes, fit; the oldest finished casts are
+    /// deleted to make room for bytes written.
     #[arg(long, value_name = "BYTES", default_value = "1G", requires = "record_dir", value_parser = parse_bytes)]
     pub record_max_total: u64,
+    /// With --record-dir: players recorded at once from one IP address, or one IPv6 /64; more play
+    /// unrecorded (1..=100000).
+    #[arg(long, value_name = "N", default_value_t = 2, requires = "record_dir", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub record_max_per_address: u32,
     /// How log lines (on stderr) are written: text, or json (one object a line: time, level, event,
     /// address, player, message, and the line's other fields) for journald and log shippers.
     #[arg(long, value_name = "FORMAT", default_value = "text")]

@@ -192,3 +192,80 @@ fn a_tiny_record_max_bytes_stops_the_cast_at_the_cap() {
     assert!(!events.is_empty());
     assert!(!text.contains("Thanks for walking."), "written past the cap");
 }
+
+/// The red team's HIGH finding: idle players from one address once made the server delete every
+/// earlier finished cast (each newcomer's whole `--record-max-bytes` was paid for by deleting them).
+/// Now finished casts go only for bytes written, and one address has at most
+/// `--record-max-per-address` (default 2) recordings at once: the others play unrecorded.
+#[test]
+fn idle_players_from_one_address_delete_no_finished_cast() {
+    let scratch = Scratch::new("recordwipe");
+    let maze = scratch.join("maze.grid");
+    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let dir = scratch.join("casts");
+    std::fs::create_dir_all(&dir).expect("the casts' folder");
+    for t in 1..=12 {
+        std::fs::write(dir.join(format!("mazewalk-{t:011}-1-000000-old.cast")), vec![b'x'; 1 << 20])
+            .expect("an old cast");
+    }
+    let dir_arg = dir.to_str().expect("UTF-8");
+    let args = [
+        "--open",
+        "--record-dir",
+        dir_arg,
+        "--record-max-bytes",
+        "1M",
+        "--record-max-total",
+        "16M",
+        maze.to_str().expect("UTF-8"),
+    ];
+    let server = Server::start(&scratch, &args);
+    // six players, one after another (the order the recordings start in), from 127.0.0.1
+    let mut players = Vec::new();
+    for n in 0..6 {
+        let player = Player::connect(server.port, None, &format!("idle{n}"), 80, 24);
+        player.wait_for("a game", |s, _| playing(s, &[]));
+        players.push(player);
+    }
+    let old = casts(&dir).iter().filter(|p| p.to_string_lossy().ends_with("-old.cast")).count();
+    assert_eq!(old, 12, "finished casts deleted for bytes never written: {:?}", casts(&dir));
+    let recorded: Vec<bool> = players.iter().map(|p| p.read(|s| hud_row(s).contains("recorded"))).collect();
+    assert_eq!(recorded, [true, true, false, false, false, false], "two recorded from one address");
+    assert_eq!(casts(&dir).len(), 14, "{:?}", casts(&dir));
+    for mut player in players {
+        player.send(b"q");
+        assert!(player.wait_exit().success());
+    }
+}
+
+/// The red team's LOW finding: a full disk left each cast in progress ending in a torn JSON line.
+/// Here the server may write files of 32 KiB at most (`ulimit -f 64`, SIGXFSZ ignored, so a write
+/// past it fails as a full disk's would, after writing what fits): the failure is said, and the
+/// cast is cut back to whole lines, each valid asciicast, the header first.
+#[test]
+fn a_write_error_leaves_the_cast_whole_lines() {
+    let scratch = Scratch::new("recordfull");
+    let maze = scratch.join("maze.grid");
+    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let dir = scratch.join("casts");
+    let dir_arg = dir.to_str().expect("UTF-8");
+    let args = ["--open", "--no-records", "--record-dir", dir_arg, maze.to_str().expect("UTF-8")];
+    let server = Server::start_after(&scratch, "trap '' XFSZ\nulimit -f 64", &args);
+
+    let mut bob = Player::connect(server.port, None, "bob", 160, 50);
+    bob.wait_for("bob's game", |s, _| playing(s, &[]) && hud_row(s).contains("recorded"));
+    let deadline = Instant::now() + common::TIMEOUT;
+    while !server.log().contains("cannot write the cast") {
+        assert!(Instant::now() < deadline, "no write error; log:\n{}", server.log());
+        bob.send(b"."); // a snap turn: new frames each time
+        std::thread::sleep(Duration::from_millis(60));
+    }
+    bob.send(b"q");
+    assert!(bob.wait_exit().success(), "q ends the game with 0: the game went on");
+    let (_, text) = wait_cast(&dir, |_| true);
+    assert!(text.len() <= 32 * 1024, "{} bytes: not stopped by the limit", text.len());
+    assert!(text.ends_with('\n'), "a torn last line: {:?}", &text[text.len().saturating_sub(80)..]);
+    let (header, events) = parse(&text); // every line whole and valid
+    assert_eq!(header["width"], 160);
+    assert!(!events.is_empty());
+}

@@ -138,6 +138,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
                 dir: dir.clone(),
                 max_bytes: args.record_max_bytes,
                 max_total: args.record_max_total,
+                max_per_address: args.record_max_per_address as usize,
             })
         }
     };

@@ -85,7 +85,19 @@ impl Server {
     /// `mazewalk serve --listen LISTEN ARGS`, its host key `host_key` in `scratch` (which is also its
     /// `HOME`, so the records file goes there); waits for its first line, which names the port.
     pub fn start_on(scratch: &Scratch, listen: &str, host_key: &str, args: &[&str]) -> Server {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        Server::spawn(Command::new(env!("CARGO_BIN_EXE_mazewalk")), scratch, listen, host_key, args)
+    }
+
+    /// [`start`](Self::start), from a `sh` that runs `setup` first (`ulimit`, `trap`: what the
+    /// server inherits) and then `exec`s it.
+    pub fn start_after(scratch: &Scratch, setup: &str, args: &[&str]) -> Server {
+        let mut shell = Command::new("sh");
+        shell.arg("-c").arg(format!("{setup}\nexec \"$0\" \"$@\"")).arg(env!("CARGO_BIN_EXE_mazewalk"));
+        Server::spawn(shell, scratch, "127.0.0.1:0", "host_key", args)
+    }
+
+    fn spawn(mut command: Command, scratch: &Scratch, listen: &str, host_key: &str, args: &[&str]) -> Server {
+        let mut child = command
             .arg("serve")
             .args(["--listen", listen, "--host-key"])
             .arg(scratch.join(host_key))

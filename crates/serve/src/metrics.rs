@@ -335,7 +335,7 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
     registry.register("recordings", "Players' sessions recorded (--record-dir)", metrics.recordings.clone());
     registry.register(
         "recording_refusals",
-        "Players' sessions not recorded: the recordings in progress left no room under --record-max-total",
+        "Players' sessions not recorded: the recordings in progress left no room under --record-max-total, or their address had --record-max-per-address recordings in progress",
         metrics.recording_refusals.clone(),
     );
     registry.register(

@@ -14,10 +14,16 @@
 //! - **Faults are reported once and the game goes on.** A finish the store cannot keep (a database
 //!   locked by another program past its busy timeout, read-only, full, damaged, a Redis away) is
 //!   kept in memory for the players' ranking — among the store's last best ten and this run's —
-//!   and written when the store takes finishes again (the latest [`UNSAVED`] of them). The fault is
+//!   and written when the store takes finishes again (the latest [`UNSAVED`] of them): tried with
+//!   the next finish, every [`RETRY`] meanwhile, and once more when the thread stops (those still
+//!   unsaved then are counted in one log line). The fault is
 //!   said once, and again only after the store has worked in between, at most once a minute. A
 //!   damaged file found at start is kept aside (`FILE.damaged-UNIXTIME`), never written over, and a
 //!   new one made ([`Sqlite::open`]).
+//! - **Bounded.** A file keeps each player's best [`FINISHES_PER_PLAYER`] finishes of a maze; a
+//!   file full (at [`SqliteOptions::max_bytes`]) deletes the worst quarter (at most [`PRUNE`]) of
+//!   the fullest maze's finishes and tries once more, so a flood of finishes cannot lock everyone
+//!   out (only a full disk, or a file too small to prune, still fails as [`Fault::Full`]).
 //! - **A file deleted or replaced while serving** is noticed before the next finish (the path's
 //!   device and inode against the open file's, [`Store::check`]), said, and opened again: made
 //!   anew if gone, kept aside if damaged.
@@ -60,6 +66,14 @@ use mazewalk_walk::run::{MAX_BYTES, Run};
 
 /// How many best times a [`Standing`] lists.
 pub(crate) const TOP: usize = 10;
+
+/// Finishes of one player on one maze kept in a records file, at most: its best (a player finishing
+/// again and again adds no rows past these).
+pub const FINISHES_PER_PLAYER: usize = 10;
+
+/// Finishes deleted at once when a records file is full, at most: the worst quarter of the maze
+/// with the most, up to this many.
+const PRUNE: i64 = 4096;
 
 /// Finishes waiting for the records thread, at most; more are dropped (and counted).
 pub const QUEUE: usize = 64;
@@ -522,6 +536,13 @@ impl Sqlite {
             params![maze, finish.player, finish.seconds, finish.at, run],
         )
         .map_err(sqlite)?;
+        // (the player's best FINISHES_PER_PLAYER kept: finishing again and again cannot fill it)
+        tx.execute(
+            "DELETE FROM finishes WHERE maze = ?1 AND player = ?2 AND rowid NOT IN
+             (SELECT rowid FROM finishes WHERE maze = ?1 AND player = ?2 ORDER BY seconds, at LIMIT ?3)",
+            params![maze, finish.player, FINISHES_PER_PLAYER as i64],
+        )
+        .map_err(sqlite)?;
         if run.is_some() {
             Sqlite::keep_top_runs(&tx, &maze).map_err(sqlite)?;
         }
@@ -551,14 +572,11 @@ impl Sqlite {
     }
 }
 
-impl Store for Sqlite {
-    fn record(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
-        if self.lost {
-            return Err(RecordsError::new(&self.path, Fault::CannotOpen, "gone while serving"));
-        }
-        // Two writers on one file with a rollback journal can each wait for the other; SQLite then
-        // answers one of them "busy" at once rather than wait (sqlite.org/c3ref/busy_handler.html):
-        // that one tries its transaction again, within the busy timeout.
+impl Sqlite {
+    /// [`record_once`](Self::record_once), again while "busy" within the busy timeout. Two writers
+    /// on one file with a rollback journal can each wait for the other; SQLite then answers one of
+    /// them "busy" at once rather than wait (sqlite.org/c3ref/busy_handler.html).
+    fn record_busy(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
         let started = std::time::Instant::now();
         loop {
             match self.record_once(finish) {
@@ -567,6 +585,47 @@ impl Store for Sqlite {
                 }
                 done => return done,
             }
+        }
+    }
+
+    /// Deletes the worst quarter (at most [`PRUNE`]) of the finishes of the maze with the most, if
+    /// more than `TOP × FINISHES_PER_PLAYER` stay (so every best-[`TOP`] player's best stays: at
+    /// most that many finishes are better than the last of them); whether any went.
+    fn prune_worst(&mut self) -> rusqlite::Result<bool> {
+        let tx = self.conn.transaction_with_behavior(rusqlite::TransactionBehavior::Immediate)?;
+        let fullest: Option<(String, i64)> = tx
+            .query_row(
+                "SELECT maze, COUNT(*) AS n FROM finishes GROUP BY maze ORDER BY n DESC LIMIT 1",
+                [],
+                |r| Ok((r.get(0)?, r.get(1)?)),
+            )
+            .optional()?;
+        let Some((maze, n)) = fullest else { return Ok(false) };
+        let prune = (n / 4).min(PRUNE);
+        if prune == 0 || n - prune <= (TOP * FINISHES_PER_PLAYER) as i64 {
+            return Ok(false);
+        }
+        let gone = tx.execute(
+            "DELETE FROM finishes WHERE rowid IN
+             (SELECT rowid FROM finishes WHERE maze = ?1 ORDER BY seconds DESC, at DESC LIMIT ?2)",
+            params![maze, prune],
+        )?;
+        tx.commit()?;
+        Ok(gone > 0)
+    }
+}
+
+impl Store for Sqlite {
+    fn record(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
+        if self.lost {
+            return Err(RecordsError::new(&self.path, Fault::CannotOpen, "gone while serving"));
+        }
+        match self.record_busy(finish) {
+            // Full (at its size limit, or the disk): the worst finishes make room, once.
+            Err(err) if err.fault == Fault::Full && self.prune_worst().unwrap_or(false) => {
+                self.record_busy(finish)
+            }
+            done => done,
         }
     }
 
@@ -818,6 +877,8 @@ pub const UNSAVED: usize = 256;
 const MEMORY: usize = 10_000;
 /// A fault is said again at most this often (after the store worked in between).
 const SAY_AGAIN: Duration = Duration::from_secs(60);
+/// While the store fails, the finishes it missed are tried again this often, finish or no finish.
+pub(crate) const RETRY: Duration = Duration::from_secs(2);
 
 /// A maze's ranking while its store fails: the store's last answer, and this run's bests.
 #[derive(Debug, Default)]
@@ -955,8 +1016,12 @@ fn keep(
     // and once more a little after a remote finish, whose run may have been stored after its word)
     let mut read_at = Instant::now() + REREAD_BEST_RUN;
     let mut again_at: Option<Instant> = None;
+    let mut retry_at = Instant::now() + RETRY;
     loop {
-        let next = again_at.map_or(read_at, |again| again.min(read_at));
+        let mut next = again_at.map_or(read_at, |again| again.min(read_at));
+        if failing {
+            next = next.min(retry_at);
+        }
         let (finish, answer) = match queue.recv_timeout(next.saturating_duration_since(Instant::now())) {
             Ok(Job::Finish(finish, answer)) => (finish, answer),
             Ok(Job::Reread) => {
@@ -966,11 +1031,21 @@ fn keep(
                 continue;
             }
             Err(mpsc::RecvTimeoutError::Timeout) => {
-                read_best(&mut store);
                 let now = Instant::now();
-                again_at = again_at.filter(|&again| again > now);
-                if read_at <= now {
-                    read_at = now + REREAD_BEST_RUN;
+                if failing && retry_at <= now {
+                    // (the finishes it missed, tried again even if no finish comes to carry them)
+                    retry_at = now + RETRY;
+                    if let Some(line) = store.check() {
+                        report(&line);
+                    }
+                    failing = !memory.flush(&mut store);
+                }
+                if read_at <= now || again_at.is_some_and(|again| again <= now) {
+                    read_best(&mut store);
+                    again_at = again_at.filter(|&again| again > now);
+                    if read_at <= now {
+                        read_at = now + REREAD_BEST_RUN;
+                    }
                 }
                 continue;
             }
@@ -994,6 +1069,7 @@ fn keep(
                 standing
             }
             Some(Err(err)) => {
+                retry_at = Instant::now() + RETRY;
                 if !std::mem::replace(&mut failing, true) && said.is_none_or(|at| at.elapsed() >= SAY_AGAIN) {
                     said = Some(std::time::Instant::now());
                     report(&format!("records: {err}; finishes are kept in memory for the ranking meanwhile"));
@@ -1003,6 +1079,20 @@ fn keep(
             None => memory.remember(&finish), // (said already)
         };
         let _ = answer.send(Some(standing));
+    }
+    // Stopping: one last try for the finishes it missed (at most one busy timeout: the first that
+    // fails stops it), and those that could not be kept said.
+    if !memory.unsaved.is_empty() {
+        if let Some(line) = store.check() {
+            report(&line);
+        }
+        memory.flush(&mut store);
+        if !memory.unsaved.is_empty() {
+            report(&format!(
+                "records: {} finishes could not be kept (the store failed to the end); they are lost",
+                memory.unsaved.len()
+            ));
+        }
     }
 }
 

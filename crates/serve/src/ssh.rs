@@ -1213,7 +1213,7 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
                 std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).ok().map(|d| d.as_secs());
             let title = format!("mazewalk serve: {}", player_name(&user));
             let header = player.cast_header((&pty.term, colorterm.as_deref()), title, timestamp);
-            recordings.start(&user, header, shared.now()).await
+            recordings.start(&user, conn.group, header, shared.now()).await
         }
         None => None,
     };

@@ -14,7 +14,9 @@
 //! local walk's `--record` puts a file and its clock round it in the binary, `mazewalk serve
 //! --record-dir` one file per player on a writer thread). It can be capped in bytes: an event that
 //! would pass the cap is not written, nor any after it, so a capped cast is still whole lines of
-//! valid asciicast. A write error stops the recording (kept for the caller to tell).
+//! valid asciicast. A write error stops the recording (kept for the caller to tell); the writer may
+//! then hold part of a line, and [`CastWriter::flushed`] says where the whole lines end (a file cut
+//! back there is whole lines again).
 //!
 //! [asciicast v2]: https://docs.asciinema.org/manual/asciicast/v2/
 
@@ -95,6 +97,8 @@ pub struct CastWriter<W: Write> {
     error: Option<io::Error>,
     /// Bytes written so far, the header's line too.
     written: u64,
+    /// `written` at the last flush that went well: the writer below holds whole lines up to there.
+    flushed: u64,
     /// The most bytes written in all.
     limit: u64,
     /// An event did not fit under the limit; nothing is written after it.
@@ -134,6 +138,7 @@ impl<W: Write> CastWriter<W> {
             replaced: 0,
             error: None,
             written: line.len() as u64,
+            flushed: 0,
             limit,
             capped: false,
             line: Vec::new(),
@@ -223,6 +228,20 @@ impl<W: Write> CastWriter<W> {
         self.written
     }
 
+    /// Bytes written up to the last flush that went well: whole lines. After a write or a flush
+    /// fails, the writer below may hold part of a line past these (a full disk): a file cut back to
+    /// this length is whole lines again.
+    #[must_use]
+    pub fn flushed(&self) -> u64 {
+        self.flushed
+    }
+
+    /// The writer below, not flushed (with a buffered writer, what is still buffered can then be
+    /// dropped: [`std::io::BufWriter::into_parts`]).
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+
     /// Whether nothing more is written: a write failed or the cap was reached.
     fn stopped(&self) -> bool {
         self.error.is_some() || self.capped
@@ -244,16 +263,19 @@ impl<W: Write> CastWriter<W> {
             self.error = Some(io::Error::new(error.kind(), error.to_string()));
             return Err(error);
         }
-        self.out.flush().inspect_err(|e| self.error = Some(io::Error::new(e.kind(), e.to_string())))
+        self.out.flush().inspect_err(|e| self.error = Some(io::Error::new(e.kind(), e.to_string())))?;
+        self.flushed = self.written;
+        Ok(())
     }
 
     /// Flushes what was written so far (a UTF-8 sequence cut short stays pending); an error stops
     /// the recording as a write's does.
     pub fn flush(&mut self) {
-        if self.error.is_none()
-            && let Err(e) = self.out.flush()
-        {
-            self.error = Some(e);
+        if self.error.is_none() {
+            match self.out.flush() {
+                Ok(()) => self.flushed = self.written,
+                Err(e) => self.error = Some(e),
+            }
         }
     }
 
@@ -413,5 +435,50 @@ mod tests {
         let err = cast.finish().unwrap_err();
         assert_eq!(err.kind(), io::ErrorKind::StorageFull);
         assert!(cast.finish().is_err(), "the error is forgotten");
+    }
+
+    /// What went through before a full disk: the bytes a buffered file got, torn line and all.
+    struct Disk {
+        got: Vec<u8>,
+        left: usize,
+    }
+
+    impl Write for Disk {
+        fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+            if self.left == 0 {
+                return Err(io::Error::new(io::ErrorKind::StorageFull, "disk full"));
+            }
+            let n = buf.len().min(self.left);
+            self.left -= n;
+            self.got.extend_from_slice(&buf[..n]);
+            Ok(n)
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    // The red team's LOW finding: a full disk left a torn last line. `flushed` says where the whole
+    // lines end, whatever the buffer below did: what a file cut back there holds parses, line by line.
+    #[test]
+    fn after_a_write_error_the_flushed_bytes_are_whole_lines() {
+        for room in [700, 1000, 1234, 2000, 4321] {
+            let disk = io::BufWriter::with_capacity(256, Disk { got: Vec::new(), left: room });
+            let mut cast = CastWriter::new(disk, &header()).unwrap();
+            for i in 0..200u32 {
+                cast.output(f64::from(i), "frame \u{2588} ".repeat(i as usize % 7 + 1).as_bytes());
+                cast.flush();
+            }
+            assert!(cast.failed(), "room {room}");
+            let flushed = usize::try_from(cast.flushed()).unwrap();
+            let (disk, _) = cast.into_inner().into_parts();
+            assert!(disk.got.len() > flushed, "room {room}: no torn line to cut ({})", disk.got.len());
+            assert!(!disk.got.ends_with(b"\n"), "room {room}: the disk's bytes end in a torn line");
+            let kept = &disk.got[..flushed];
+            assert!(kept.ends_with(b"\n") && flushed > 0, "room {room}");
+            for line in std::str::from_utf8(kept).unwrap().lines() {
+                serde_json::from_str::<serde_json::Value>(line).unwrap_or_else(|e| panic!("{e}: {line}"));
+            }
+        }
     }
 }
