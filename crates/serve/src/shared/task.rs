@@ -137,6 +137,11 @@ const DROP_LOG_EVERY: f64 = 10.0;
 const MAX_SERVERS: usize = 1024;
 /// Seconds between two reads of the winner from Redis at least, however many messages claim one.
 const WINNER_READ_EVERY: f64 = 1.0;
+/// Seconds between two reads of the presence keys at least, however often the subscription comes
+/// back (a read SCANs the whole keyspace: with a million keys of another application, a subscription
+/// killed every 100 ms cost Redis 7 s of CPU in 10 s). A presence lives 5 s and each server's full
+/// message comes every second: a read more often would add little that listening does not.
+const PRESENCE_READ_EVERY: f64 = 5.0;
 
 /// Milliseconds since the Unix epoch.
 #[must_use]
@@ -192,6 +197,9 @@ impl SharedWorld {
             others: Others::new(server, tag, config.bounds).with_caps(config.caps),
             caps: config.caps,
             inbox,
+            reading_presences: false,
+            presences_due: false,
+            presences_read_at: f64::NEG_INFINITY,
             reading_winner: false,
             winner_read_due: false,
             winner_read_at: f64::NEG_INFINITY,
@@ -298,6 +306,12 @@ struct Task {
     /// The world's winner as Redis holds it (read, or this server's claim stored): never a
     /// message's word.
     winner: Option<WinnerRecord>,
+    /// A read of the presence keys is in flight (one at most).
+    reading_presences: bool,
+    /// The subscription came back: read the presence keys when allowed ([`PRESENCE_READ_EVERY`]).
+    presences_due: bool,
+    /// When the presence keys were last read.
+    presences_read_at: f64,
     /// A read of the winner is in flight.
     reading_winner: bool,
     /// A message claimed a winner other than the known one: read it from Redis when allowed.
@@ -402,6 +416,7 @@ impl Task {
             }
         }
         self.read_winner(now);
+        self.read_presences(now);
         self.log_drops(now);
         self.share_stats();
     }
@@ -417,7 +432,8 @@ impl Task {
             Heard::Up => {
                 self.subscribed = true;
                 self.others.reconnected(now);
-                self.spawn_presences();
+                self.presences_due = true;
+                self.read_presences(now);
                 self.update_online();
             }
             Heard::Down => {
@@ -602,16 +618,22 @@ impl Task {
                     }
                 }
             }
-            Done::Presences(result) => match result {
-                Ok(snapshots) => {
-                    let now = self.now();
-                    for bytes in snapshots {
-                        self.hear(&bytes, now);
+            Done::Presences(result) => {
+                self.reading_presences = false;
+                match result {
+                    Ok(snapshots) => {
+                        let now = self.now();
+                        for bytes in snapshots {
+                            self.hear(&bytes, now);
+                        }
+                        self.counted.heard = self.others.counts();
                     }
-                    self.counted.heard = self.others.counts();
+                    Err(err) => {
+                        self.presences_due = true;
+                        self.lost(&err);
+                    }
                 }
-                Err(err) => self.lost(&err),
-            },
+            }
         }
     }
 
@@ -705,8 +727,15 @@ impl Task {
         });
     }
 
-    fn spawn_presences(&mut self) {
-        let Some(mut con) = self.con.clone() else { return };
+    /// Reads the presence keys if the subscription came back since the last read and that read was
+    /// [`PRESENCE_READ_EVERY`] ago (one in flight at most).
+    fn read_presences(&mut self, now: f64) {
+        if !self.presences_due || self.reading_presences || now - self.presences_read_at < PRESENCE_READ_EVERY
+        {
+            return;
+        }
+        let Some(mut con) = self.con.clone() else { return }; // when Redis is back
+        (self.presences_due, self.reading_presences, self.presences_read_at) = (false, true, now);
         // No more than the view keeps (each up to a message's size: bounded memory).
         let max = self.caps.servers.min(MAX_SERVERS);
         self.counted.commands += 2;
