@@ -548,8 +548,14 @@ impl Task {
                 match result {
                     Ok(Some(world)) if world != self.maze_hash => {
                         if self.warnings.allow(self.now()) {
+                            // (a writer's garbage says what it is: `(a list, not a maze hash)`, a string)
+                            let maze_hash = world.len() == 64 && world.bytes().all(|b| b.is_ascii_hexdigit());
                             let world = clip(&world, ERROR_CHARS);
-                            warn!(world = %world, ours = %self.maze_hash, "the world's maze changed while Redis was away");
+                            if maze_hash {
+                                warn!(world = %world, ours = %self.maze_hash, "the world's key names another maze: another maze's server claimed it");
+                            } else {
+                                warn!(ours = %self.maze_hash, "the world's key holds {world}, not a maze hash: something else wrote it");
+                            }
                         }
                     }
                     Ok(_) => {}
