@@ -81,7 +81,7 @@ pub struct SessionOptions {
     /// [`MAX_UNACKED`](super::flow::MAX_UNACKED) frames unanswered.
     pub flow_control: bool,
     /// The most samples drawn a second (`None`: no bound but [`MAX_FPS`]): a frame's samples are its
-    /// cells × its charset's samples per cell, so a larger screen or a finer charset is drawn at a
+    /// cells × its charset's samples per cell (at least 2), so a larger screen or a finer charset is drawn at a
     /// lower frame rate ([`frame_interval`](Session::frame_interval)). A server's bound on what one
     /// session's drawing can cost.
     pub sample_rate: Option<u32>,
@@ -665,8 +665,9 @@ impl Session {
     /// 360,000 samples a frame).
     #[must_use]
     pub fn frame_interval(&self) -> f64 {
+        // (an ASCII cell, one sample, costs about a half-block cell's two: its glyph and colours)
         let (sx, sy) = self.app.options.charset.samples_per_cell();
-        let samples = (self.frame.width() * self.frame.height() * sx * sy) as f64;
+        let samples = (self.frame.width() * self.frame.height() * (sx * sy).max(2)) as f64;
         let bound = self.options.sample_rate.map_or(0.0, |rate| samples / f64::from(rate.max(1)));
         bound.max(1.0 / MAX_FPS)
     }
@@ -913,7 +914,7 @@ mod tests {
     /// charset's samples per cell (never above [`MAX_FPS`]); frames drawn while turning, in a second.
     #[test]
     fn a_sample_rate_draws_a_large_fine_screen_at_a_lower_frame_rate() {
-        let rate = 400 * 150 * 2 * 20;
+        let rate = 200 * 60 * 2 * 60;
         let frames_in_a_second = |cols: u16, rows: u16, charset: Charset, sample_rate: Option<u32>| {
             let opts = mazewalk_maze::generate::GenOptions {
                 width: 4,
@@ -939,8 +940,10 @@ mod tests {
         assert!(unbounded >= 55, "{unbounded} frames without a bound");
         for (cols, rows, charset, want) in [
             (120, 40, Charset::Half, 60.0),
-            (400, 150, Charset::Half, 20.0),
-            (400, 150, Charset::Sextant, 20.0 / 3.0),
+            (200, 60, Charset::Half, 60.0),
+            (400, 150, Charset::Half, 12.0),
+            (400, 150, Charset::Ascii, 12.0), // (counted as 2 samples a cell)
+            (400, 150, Charset::Sextant, 4.0),
         ] {
             let frames = frames_in_a_second(cols, rows, charset, Some(rate)) as f64;
             assert!(
