@@ -137,11 +137,14 @@ const DROP_LOG_EVERY: f64 = 10.0;
 const MAX_SERVERS: usize = 1024;
 /// Seconds between two reads of the winner from Redis at least, however many messages claim one.
 const WINNER_READ_EVERY: f64 = 1.0;
-/// Seconds between two reads of the presence keys at least, however often the subscription comes
+/// Seconds between two reads of the presence keys, sustained, however often the subscription comes
 /// back (a read SCANs the whole keyspace: with a million keys of another application, a subscription
-/// killed every 100 ms cost Redis 7 s of CPU in 10 s). A presence lives 5 s and each server's full
-/// message comes every second: a read more often would add little that listening does not.
+/// killed every 100 ms cost Redis 7 s of CPU in 10 s), after a burst of [`PRESENCE_READ_BURST`] (the
+/// join's read and a first comeback's, at once). A presence lives 5 s and each server's full message
+/// comes every second: reads more often would add little that listening does not.
 const PRESENCE_READ_EVERY: f64 = 5.0;
+/// Reads of the presence keys at once, before [`PRESENCE_READ_EVERY`] paces them.
+const PRESENCE_READ_BURST: u32 = 2;
 
 /// Milliseconds since the Unix epoch.
 #[must_use]
@@ -199,7 +202,7 @@ impl SharedWorld {
             inbox,
             reading_presences: false,
             presences_due: false,
-            presences_read_at: f64::NEG_INFINITY,
+            presence_reads: RateLimit::new_per_interval(PRESENCE_READ_EVERY, PRESENCE_READ_BURST, 0.0),
             reading_winner: false,
             winner_read_due: false,
             winner_read_at: f64::NEG_INFINITY,
@@ -308,10 +311,11 @@ struct Task {
     winner: Option<WinnerRecord>,
     /// A read of the presence keys is in flight (one at most).
     reading_presences: bool,
-    /// The subscription came back: read the presence keys when allowed ([`PRESENCE_READ_EVERY`]).
+    /// The subscription came back: read the presence keys when [`presence_reads`](Self::presence_reads)
+    /// allows.
     presences_due: bool,
-    /// When the presence keys were last read.
-    presences_read_at: f64,
+    /// The pace of the presence reads ([`PRESENCE_READ_EVERY`], [`PRESENCE_READ_BURST`]).
+    presence_reads: RateLimit,
     /// A read of the winner is in flight.
     reading_winner: bool,
     /// A message claimed a winner other than the known one: read it from Redis when allowed.
@@ -733,15 +737,17 @@ impl Task {
         });
     }
 
-    /// Reads the presence keys if the subscription came back since the last read and that read was
-    /// [`PRESENCE_READ_EVERY`] ago (one in flight at most).
+    /// Reads the presence keys if the subscription came back since the last read and the pace allows
+    /// ([`PRESENCE_READ_EVERY`] after a burst of [`PRESENCE_READ_BURST`]; one in flight at most).
     fn read_presences(&mut self, now: f64) {
-        if !self.presences_due || self.reading_presences || now - self.presences_read_at < PRESENCE_READ_EVERY
-        {
+        if !self.presences_due || self.reading_presences {
             return;
         }
         let Some(mut con) = self.con.clone() else { return }; // when Redis is back
-        (self.presences_due, self.reading_presences, self.presences_read_at) = (false, true, now);
+        if self.presence_reads.take(1, now) == 0 {
+            return; // (still due: a later tick reads them)
+        }
+        (self.presences_due, self.reading_presences) = (false, true);
         // No more than the view keeps (each up to a message's size: bounded memory).
         let max = self.caps.servers.min(MAX_SERVERS);
         self.counted.commands += 2;
