@@ -605,3 +605,41 @@ fn a_player_who_types_but_never_reads_holds_shutdown_no_longer_than_the_grace() 
     assert!(bytes_out > 2_000_000, "the premise: the window filled ({bytes_out} bytes out): {log}");
     assert!(took < Duration::from_millis(3500), "shutdown took {took:?} (a grace of 2 s)");
 }
+
+/// Red-team pass 3: one address's 16 connections at 400×150 in sextants with culling off (`b`) took
+/// a core of the server and pushed another player's key-to-frame p99 from 10 ms to 771 ms. A served
+/// player has no developer keys (its help lists none; `b`, `v`, `i` do nothing), and a screen is
+/// drawn at a frame rate that falls with its samples: 400×150 in sextants at 4 frames a second
+/// ([`Limits::render_rate`](mazewalk_serve::limits::Limits::render_rate)), not 60. Frames are
+/// counted by the flow-control query that follows each.
+#[test]
+fn a_large_fine_screen_is_drawn_at_a_lower_rate_and_has_no_developer_keys() {
+    let scratch = Scratch::new("render-rate");
+    let server = Server::start(&scratch, &["--open"]);
+    let mut player = Player::connect(server.port, None, "ada", 400, 150);
+    player.wait_for("the game", playing);
+    player.send(b"?");
+    player.wait_for("the help", |s, _| s.contents().contains("Keys (? or Esc"));
+    let help = player.read(|s| s.contents());
+    assert!(help.contains("textures: brick walls"), "{help}");
+    for developer in ["portal culling", "tint the cells", "developer figures"] {
+        assert!(!help.contains(developer), "{developer:?} in a served player's help:\n{help}");
+    }
+    player.send(b"?ccib"); // sextants; `i` would put the figures (fps) in the HUD
+    player.wait_for("sextants", |s, _| {
+        !s.contents().contains("Keys (? or Esc") && hud_row(s).contains("sextant")
+    });
+    let queries = |raw: &[u8]| raw.windows(3).filter(|w| *w == b"\x1b[c").count();
+    let before = queries(&player.raw());
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_secs(2) {
+        player.send(b"\x1b[C"); // turning right: every frame changes
+        std::thread::sleep(Duration::from_millis(25));
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let frames = queries(&player.raw()) - before;
+    let most = seconds * 4.0 + 3.0;
+    assert!((3.0..=most).contains(&(frames as f64)), "{frames} frames in {seconds:.2} s, at most {most:.0}");
+    let hud = player.read(hud_row);
+    assert!(!hud.contains("fps"), "`i` showed the developer figures: {hud}");
+}

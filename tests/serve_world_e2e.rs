@@ -228,6 +228,24 @@ fn newcomers_racing_on_two_servers_end_up_apart() {
     });
 }
 
+// Red-team pass 3: a writer that replaces the world's key with garbage under a running server was
+// logged as "the world's maze changed while Redis was away", though Redis was never away: the
+// warning says what the key holds.
+#[test]
+fn garbage_in_the_worlds_key_is_said_for_what_it_is() {
+    let scratch = Scratch::new("world-garbage");
+    let redis = RedisServer::start(Persistence::None);
+    let maze = scratch.join("maze.grid");
+    std::fs::write(&maze, LONG_RUN).expect("write the maze");
+    let server = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
+    server.wait_log("the world is online", 1);
+    redis_cli(&redis.url(0), &["DEL", "mazewalk:world"]);
+    redis_cli(&redis.url(0), &["RPUSH", "mazewalk:world", "junk"]);
+    server.wait_log("the world's key holds (a list, not a maze hash)", 1);
+    let log = server.log();
+    assert!(!log.contains("while Redis was away"), "{log}");
+}
+
 // issue #35: a server that cannot join the world says why at once and exits 1: Redis away, another
 // maze in the world (both hashes named); a CA for a world without TLS is a bad flag value: exit 2.
 #[test]

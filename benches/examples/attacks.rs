@@ -22,6 +22,9 @@
 //!    three attackers at once, again and again: a slowloris (half a request head, held), an
 //!    event-stream client (`GET /events`, held), a 32 KiB header; up to 2,000 of their connections
 //!    held open at once.
+//! 7. **render** (red-team pass 3): 16 connections from one address (127.0.0.9, the default
+//!    `--max-per-address`) with 400×150 ptys turn 60 times a second in sextants (`cc`), with
+//!    textures (`t`) and culling off (`b`, where the binary lets a served player have it).
 //!
 //! ```sh
 //! cargo build --release                           # the "after" binary: target/release/mazewalk
@@ -350,6 +353,37 @@ async fn handshakes(bin: &Path, seconds: f64) -> Outcome {
     outcome
 }
 
+async fn render(bin: &Path, seconds: f64) -> Outcome {
+    let server = ServerProcess::start(bin, 256, 16);
+    let addr = server.addr;
+    let (mut outcome, (heavy, frames)) = witnessed(&server, seconds, async move {
+        let tasks: Vec<_> = (0..16)
+            .map(|i| {
+                tokio::spawn(async move {
+                    let socket = tokio::net::TcpSocket::new_v4().ok()?;
+                    socket.bind(SocketAddr::new(IpAddr::from([127, 0, 0, 9]), 0)).ok()?;
+                    let stream = socket.connect(addr).await.ok()?;
+                    let connected =
+                        load::connect_over(stream, &format!("heavy{i}"), (400, 150)).await.ok()?;
+                    connected.channel.data(&b"bcct"[..]).await.ok()?;
+                    Some(load::walk(connected, 60.0, seconds, b"\x1b[D").await.frames)
+                })
+            })
+            .collect();
+        let (mut heavy, mut frames) = (0, 0);
+        for task in tasks {
+            if let Some(n) = task.await.ok().flatten() {
+                (heavy, frames) = (heavy + 1, frames + n);
+            }
+        }
+        (heavy, frames)
+    })
+    .await;
+    outcome.note =
+        format!("{heavy} connections from one address at 400×150, sextants: {frames} frames drawn for them");
+    outcome
+}
+
 /// Attacker address `n` (0..65,536): 127.1.x.y.
 fn attacker(n: u32) -> IpAddr {
     IpAddr::from([127, 1, (n >> 8) as u8, n as u8])
@@ -552,10 +586,11 @@ async fn main() {
         "| attack | binary | witness p50 / p99 / worst (ms) | keys answered | server CPU (s) | what else |"
     );
     println!("|---|---|---|---|---|---|");
-    let mut attacks: Vec<(String, Option<f64>)> = ["group18", "junk kex", "held slots", "handshakes", "http"]
-        .iter()
-        .map(|a| ((*a).to_string(), None))
-        .collect();
+    let mut attacks: Vec<(String, Option<f64>)> =
+        ["group18", "junk kex", "held slots", "handshakes", "http", "render"]
+            .iter()
+            .map(|a| ((*a).to_string(), None))
+            .collect();
     attacks.extend(a.rates.iter().map(|&rate| (format!("idle handshakes {rate:.0}/s"), Some(rate))));
     for (attack, rate) in &attacks {
         if a.only.as_ref().is_some_and(|only| !attack.starts_with(only.as_str())) {
@@ -571,6 +606,7 @@ async fn main() {
                 ("junk kex", _) => junk_kex(bin, a.seconds).await,
                 ("held slots", _) => held_slots(bin, a.seconds).await,
                 ("http", _) => http(bin, a.seconds).await,
+                ("render", _) => render(bin, a.seconds).await,
                 _ => handshakes(bin, a.seconds).await,
             };
             println!(

@@ -92,6 +92,7 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
         bce: caps::detect_bce(env),
         color_tolerance: args.color_tolerance,
         flow_control: !args.no_flow_control,
+        sample_rate: None, // the local walk draws at the terminal's pace
     };
     let mut session = Session::new(app, 80, 24, options); // resized to the terminal by `run`
     session.set_ghost_run(ghost.map(std::sync::Arc::new));

@@ -113,7 +113,8 @@ pub fn color_depth(term: &str, colorterm: Option<&str>) -> ColorDepth {
 }
 
 /// The walk of a served screen (a player's or a spectator's) on `maze` for a terminal of type `term`:
-/// half blocks in the colour depth `term` and `colorterm` give ([`color_plan`]), at time `now`;
+/// half blocks in the colour depth `term` and `colorterm` give ([`color_plan`]), without the developer
+/// keys ([`App::developer_keys`]), at time `now`;
 /// with the plan, whose question about truecolor the caller asks.
 ///
 /// # Errors
@@ -127,14 +128,20 @@ pub(crate) fn served_app(
     let plan = color_plan(term, colorterm);
     let options =
         RenderOptions { charset: Charset::Half, color_depth: plan.depth, ..RenderOptions::default() };
-    Ok((App::new(maze, options, now)?, plan))
+    let mut app = App::new(maze, options, now)?;
+    app.developer_keys = false; // culling off (`b`) would draw every wall of the maze, for each of them
+    Ok((app, plan))
 }
 
 /// The screen of `app` on a `cols × rows` terminal (as the pty request gave them, clamped to
 /// `limits`) of type `term`.
 pub(crate) fn served_session(app: App, term: &str, (cols, rows): (u32, u32), limits: &Limits) -> Session {
     let env = |k: &str| (k == "TERM").then(|| term.to_string());
-    let session_options = SessionOptions { bce: caps::detect_bce(env), ..SessionOptions::default() };
+    let session_options = SessionOptions {
+        bce: caps::detect_bce(env),
+        sample_rate: Some(limits.render_rate),
+        ..SessionOptions::default()
+    };
     let (cols, rows) = clamp_size(cols, rows, limits);
     Session::new(app, cols, rows, session_options)
 }

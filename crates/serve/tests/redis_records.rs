@@ -140,3 +140,73 @@ fn a_world_keeps_its_best_runs_in_redis_bounded() {
     });
     assert_eq!(fields, 1, "the junk cleared; carol's run kept");
 }
+
+/// Red-team pass 3: one best-times member that is not UTF-8 (`ZADD …:best 0.5 "\xff\xfe"`) failed
+/// every later finish of the world ("Incompatible type - Cannot convert from UTF-8"), and so did a
+/// `:at` that is not a number. What Redis holds is read as bytes: such entries are left out and
+/// counted, a `:at` or a count that is not a number reads as 0, a maze name that is not UTF-8 is
+/// read lossily; the finish is kept and ranked.
+#[test]
+fn bytes_that_are_not_utf_8_in_redis_are_left_out_not_fatal() {
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    let redis = runtime.block_on(RedisServer::start(Persistence::None));
+    let maze = ContentHash([7; 32]);
+    let mut store = RedisStore::new(&redis.url(0), None, maze).expect("store");
+    store.record(&finish(maze, "alice", 61.5, 1_000)).expect("alice's finish");
+    store
+        .record(&Finish { run: Some(run_bytes(maze, "alice", 61.5)), ..finish(maze, "alice", 61.0, 1_001) })
+        .expect("alice's run");
+    let link =
+        mazewalk_serve::shared::redis::Link::new(&redis.url(0), &maze.to_string(), None).expect("link");
+    runtime.block_on(async {
+        let mut con = redis.connection(0).await;
+        let tag = "mazewalk:{0707070707070707}";
+        let best = format!("{tag}:best");
+        for member in [&b"\xff\xfe"[..], b"ok\xc3", b"\xe2\x82"] {
+            let _: i64 =
+                redis::cmd("ZADD").arg(&best).arg(0.5).arg(member).query_async(&mut con).await.unwrap();
+        }
+        let _: i64 = redis::cmd("HSET")
+            .arg(format!("{best}:at"))
+            .arg("alice")
+            .arg(&b"\xffsoon"[..])
+            .query_async(&mut con)
+            .await
+            .unwrap();
+        let _: i64 = redis::cmd("HSET")
+            .arg(format!("{tag}:runs"))
+            .arg(&b"\xff"[..])
+            .arg("x")
+            .query_async(&mut con)
+            .await
+            .unwrap();
+        let _: () = redis::cmd("SET")
+            .arg(format!("{tag}:name"))
+            .arg(&b"maze\xff"[..])
+            .query_async(&mut con)
+            .await
+            .unwrap();
+        // (the world task's own reading of the best times: the same answer)
+        let shown =
+            mazewalk_serve::shared::redis::best(&mut con, &link.keys, 10).await.expect("the best times");
+        assert_eq!(shown, [("alice".to_string(), 61.0)]);
+    });
+    let bob = store
+        .record(&Finish { run: Some(run_bytes(maze, "bob", 12.0)), ..finish(maze, "bob", 12.0, 1_002) })
+        .expect("bob's finish, with garbage in Redis");
+    let shown: Vec<(&str, f64, i64)> = bob.top.iter().map(|t| (t.player.as_str(), t.seconds, t.at)).collect();
+    assert_eq!(shown, [("bob", 12.0, 1_002), ("alice", 61.0, 0)], "a :at that is no number reads as 0");
+    assert_eq!((bob.rank, bob.players), (4, 5), "ranked in Redis's own count, behind the three left out");
+    assert!(store.left_out() >= 3, "left out and counted: {}", store.left_out());
+    let records = store.mazes(Some(&maze)).expect("the world's records");
+    assert_eq!(records[0].name, "maze\u{fffd}");
+    assert_eq!(records[0].top.len(), 2);
+    let run = store.run(&maze, None).expect("the best run").expect("bob's");
+    assert_eq!(run.player, "bob");
+    runtime.block_on(async {
+        let mut con = redis.connection(0).await;
+        let fields: Vec<Vec<u8>> =
+            redis::cmd("HKEYS").arg("mazewalk:{0707070707070707}:runs").query_async(&mut con).await.unwrap();
+        assert!(!fields.contains(&b"\xff".to_vec()), "a field that is no player's went with the others");
+    });
+}

@@ -468,3 +468,60 @@ async fn a_world_over_tls() {
     world_a.leave().await;
     world_b.leave().await;
 }
+
+/// SCAN calls Redis has answered since its statistics were last reset (`INFO commandstats`).
+async fn scan_calls(con: &mut redis::aio::MultiplexedConnection) -> u64 {
+    let info: String = redis::cmd("INFO").arg("commandstats").query_async(con).await.unwrap();
+    info.lines()
+        .find_map(|l| l.strip_prefix("cmdstat_scan:calls="))
+        .and_then(|rest| rest.split(',').next())
+        .map_or(0, |n| n.parse().unwrap())
+}
+
+/// Red-team pass 3: each time the subscription came back the server SCANned the whole keyspace for
+/// presence keys, with nothing to stop the scans piling up: with a million keys of another
+/// application and a subscription killed every 100 ms, Redis spent 7 s of CPU in 10 s. The presence
+/// keys are read one read in flight at most, two at once (the join's and a first comeback's), then
+/// one every 5 s: 3 s of a subscription killed every 50 ms cost at most one more walk of the
+/// keyspace than joining did.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_flapping_subscription_walks_the_keyspace_at_most_once_in_5_s() {
+    let redis = RedisServer::start(Persistence::None).await;
+    let mut con = redis.connection(0).await;
+    for batch in 0..50 {
+        let mut mset = redis::cmd("MSET");
+        for i in 0..1000 {
+            mset.arg(format!("another:app:{batch}:{i}")).arg("x");
+        }
+        let () = mset.query_async(&mut con).await.unwrap();
+    }
+    let a = Arc::new(TestHost::default());
+    let _alice = a.join("alice", at(1.0, 1.0));
+    let () = redis::cmd("CONFIG").arg("RESETSTAT").query_async(&mut con).await.unwrap();
+    let _world = join(&redis, &a).await;
+    eventually(Duration::from_secs(3), "online", || a.lock().online).await;
+    // (the join's read of the presence keys: done when its count stops growing)
+    let (start, mut walk) = (Instant::now(), 0);
+    loop {
+        tokio::time::sleep(Duration::from_millis(200)).await;
+        let calls = scan_calls(&mut con).await;
+        if calls > 0 && calls == walk {
+            break;
+        }
+        walk = calls;
+        assert!(start.elapsed() < Duration::from_secs(3), "the join's read: {walk} SCAN calls so far");
+    }
+    assert!(walk >= 100, "one walk of 50,000 keys, 100 a call: {walk} calls");
+    let () = redis::cmd("CONFIG").arg("RESETSTAT").query_async(&mut con).await.unwrap();
+    let (start, mut kills, mut back) = (Instant::now(), 0, 0);
+    while start.elapsed() < Duration::from_secs(3) {
+        let killed: i64 =
+            redis::cmd("CLIENT").arg("KILL").arg("TYPE").arg("pubsub").query_async(&mut con).await.unwrap();
+        kills += killed;
+        tokio::time::sleep(Duration::from_millis(50)).await;
+        back += i64::from(killed > 0);
+    }
+    let calls = scan_calls(&mut con).await;
+    assert!(back >= 5, "the subscription came back {back} times ({kills} killed)");
+    assert!(calls <= walk + walk / 2, "{calls} SCAN calls in 3 s of flapping; one walk is {walk}");
+}

@@ -167,6 +167,16 @@ pub(crate) const HELP: &[(&str, &str)] = &[
 /// a server, so its help leaves it out.
 pub(crate) const LOCAL_ONLY: &str = "Ctrl-Z";
 
+/// The developer toggles, which a served player does not have ([`App::developer_keys`](crate::state::App::developer_keys)):
+/// brute force (`b`: every wall of the maze drawn, which made one address's 16 connections cost a
+/// server a core), the culling tint (`v`) and the developer figures (`i`: a HUD that changes every
+/// frame).
+pub const DEVELOPER_ACTIONS: [Action; 3] =
+    [Action::ToggleCulling, Action::ToggleCullingTint, Action::ToggleFigures];
+
+/// Their keys in [`HELP`]: a served player's help leaves them out.
+pub(crate) const DEVELOPER_KEYS: [&str; 3] = ["b", "v", "i"];
+
 /// A served maze's own key, in its players' help instead of [`LOCAL_ONLY`]: the player list.
 pub(crate) const SERVED: (&str, &str) = ("Tab", "who is in the maze, their times");
 

@@ -8,7 +8,7 @@
 
 use glam::Vec2;
 
-use super::controls::{HELP, LOCAL_ONLY, SERVED};
+use super::controls::{DEVELOPER_KEYS, HELP, LOCAL_ONLY, SERVED};
 use mazewalk_maze::{Aabb, Maze};
 use mazewalk_render::Charset;
 use mazewalk_render::camera::Camera;
@@ -315,10 +315,12 @@ pub fn help_lines(style: Style, has_exit: bool) -> Vec<String> {
 }
 
 /// [`help_lines`] for a walk that is `served` or not: a served player's help has the player list's
-/// `Tab` instead of `Ctrl-Z` (which cannot stop a server).
+/// `Tab` instead of `Ctrl-Z` (which cannot stop a server), and no developer keys
+/// ([`DEVELOPER_KEYS`]: they do nothing there).
 #[must_use]
 pub fn help_lines_for(style: Style, has_exit: bool, served: bool) -> Vec<String> {
-    let keys = HELP[2..].iter().copied().filter(|(keys, _)| !served || *keys != LOCAL_ONLY);
+    let local_only = |keys: &str| keys == LOCAL_ONLY || DEVELOPER_KEYS.contains(&keys);
+    let keys = HELP[2..].iter().copied().filter(|(keys, _)| !served || !local_only(keys));
     let rows: Vec<(&str, &str)> = HELP[..2]
         .iter()
         .copied()

@@ -397,8 +397,8 @@ fn draw_into(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud, keep:
     } else if app.help {
         let title = "Keys (? or Esc to close)";
         if screen.help.is_empty() {
-            // a served maze's player (with a player list) has the list's key, and no Ctrl-Z
-            let served = !screen.roster.is_empty();
+            // a served player (with a player list) has the list's key, and no Ctrl-Z nor developer keys
+            let served = !screen.roster.is_empty() || !app.developer_keys;
             let lines = overlay::help_lines_for(style, app.maze().exit().is_some(), served);
             let pages = overlay::help_pages(&lines, (cols, rows));
             help_pages = pages.len();

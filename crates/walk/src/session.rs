@@ -80,11 +80,21 @@ pub struct SessionOptions {
     /// End-to-end flow control ([`super::flow`]): a query after each frame, at most
     /// [`MAX_UNACKED`](super::flow::MAX_UNACKED) frames unanswered.
     pub flow_control: bool,
+    /// The most samples drawn a second (`None`: no bound but [`MAX_FPS`]): a frame's samples are its
+    /// cells × its charset's samples per cell (at least 2), so a larger screen or a finer charset is drawn at a
+    /// lower frame rate ([`frame_interval`](Session::frame_interval)). A server's bound on what one
+    /// session's drawing can cost.
+    pub sample_rate: Option<u32>,
 }
 
 impl Default for SessionOptions {
     fn default() -> Self {
-        SessionOptions { bce: false, color_tolerance: encoder::DEFAULT_TOLERANCE, flow_control: true }
+        SessionOptions {
+            bce: false,
+            color_tolerance: encoder::DEFAULT_TOLERANCE,
+            flow_control: true,
+            sample_rate: None,
+        }
     }
 }
 
@@ -620,7 +630,8 @@ impl Session {
     /// will change until input arrives.
     #[must_use]
     pub fn next_wake(&self, now: f64) -> Option<f64> {
-        let frame_due = self.last_frame + 1.0 / MAX_FPS;
+        let interval = self.frame_interval();
+        let frame_due = self.last_frame + interval;
         let ghost_moving = self.ghost_at(now).is_some_and(|(_, moving)| moving);
         let animating = self.app.is_animating(now) || ghost_moving;
         let drawing = match self.flow.deadline() {
@@ -630,7 +641,7 @@ impl Session {
             // Held back by flow control: wait for a reply (input) or the timeout, ticking the motion
             // on meanwhile so that the next frame shows where the viewer has got to.
             Some(timeout) if self.options.flow_control => {
-                let ticking = animating.then_some(now + 1.0 / MAX_FPS);
+                let ticking = animating.then_some(now + interval);
                 Some(ticking.map_or(timeout, |t| t.min(timeout)))
             }
             _ => Some(frame_due),
@@ -647,6 +658,18 @@ impl Session {
         // Never before `now` (a frame due long ago, a session that has ended): a host sleeps until then.
         let wake = [drawing, tick, roster, settle, self.app.held.next_expiry(), self.decoder.deadline()];
         wake.into_iter().flatten().reduce(f64::min).map(|t| if t.is_nan() { now } else { t.max(now) })
+    }
+
+    /// The shortest time between two frames (seconds): [`MAX_FPS`]'s, or longer where the
+    /// [`sample_rate`](SessionOptions::sample_rate) bound asks for it (a 400×150 screen in sextants is
+    /// 360,000 samples a frame).
+    #[must_use]
+    pub fn frame_interval(&self) -> f64 {
+        // (an ASCII cell, one sample, costs about a half-block cell's two: its glyph and colours)
+        let (sx, sy) = self.app.options.charset.samples_per_cell();
+        let samples = (self.frame.width() * self.frame.height() * (sx * sy).max(2)) as f64;
+        let bound = self.options.sample_rate.map_or(0.0, |rate| samples / f64::from(rate.max(1)));
+        bound.max(1.0 / MAX_FPS)
     }
 
     /// The end-to-end flow control's state (frames in flight, the terminal's reply time).
@@ -679,7 +702,7 @@ impl Session {
         if !(self.dirty || ticked) {
             return self.settle(now, out);
         }
-        if now < self.last_frame + 1.0 / MAX_FPS {
+        if now < self.last_frame + self.frame_interval() {
             return false;
         }
         if self.options.flow_control && !self.flow.may_send(now) {
@@ -869,6 +892,64 @@ mod tests {
             // Only the arrow key (Alt-→, `CSI 1 ; 3 C`: a turn) moves the viewer; no report does.
             let arrow = inputs.iter().any(|i| i.ends_with(b"C"));
             assert_eq!(run(inputs), (*want, arrow), "{what}");
+        }
+    }
+
+    /// Red-team pass 3: a served walk (no developer keys) ignores `b` (culling off: every wall of
+    /// the maze drawn), `v` and `i`, which the local walk's keys turn on.
+    #[test]
+    fn a_walk_without_developer_keys_ignores_b_v_and_i() {
+        for developer_keys in [true, false] {
+            let mut s = no_exit_session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+            s.app_mut().developer_keys = developer_keys;
+            s.feed(b"bvi", 0.1);
+            let app = s.app();
+            assert_eq!(app.options.culling == Culling::None, developer_keys);
+            assert_eq!(app.culling_tint, developer_keys);
+            assert_eq!(app.figures, developer_keys);
+        }
+    }
+
+    /// Red-team pass 3: with a sample rate, a screen's frame rate falls with its cells × its
+    /// charset's samples per cell (never above [`MAX_FPS`]); frames drawn while turning, in a second.
+    #[test]
+    fn a_sample_rate_draws_a_large_fine_screen_at_a_lower_frame_rate() {
+        let rate = 200 * 60 * 2 * 60;
+        let frames_in_a_second = |cols: u16, rows: u16, charset: Charset, sample_rate: Option<u32>| {
+            let opts = mazewalk_maze::generate::GenOptions {
+                width: 4,
+                height: 3,
+                exit: false,
+                ..Default::default()
+            };
+            let maze = mazewalk_maze::generate::generate(&opts).unwrap();
+            let options = RenderOptions { charset, ..RenderOptions::default() };
+            let app = App::new(maze, options, 0.0).unwrap();
+            let options = SessionOptions { flow_control: false, sample_rate, ..SessionOptions::default() };
+            let mut s = Session::new(app, cols, rows, options);
+            let mut out = Vec::new();
+            let mut frames = 0;
+            for i in 0..1200 {
+                let t = f64::from(i) / 1200.0;
+                s.input(Input::press(Key::Right), t);
+                frames += usize::from(s.frame(t, &mut out));
+            }
+            frames
+        };
+        let unbounded = frames_in_a_second(400, 150, Charset::Sextant, None);
+        assert!(unbounded >= 55, "{unbounded} frames without a bound");
+        for (cols, rows, charset, want) in [
+            (120, 40, Charset::Half, 60.0),
+            (200, 60, Charset::Half, 60.0),
+            (400, 150, Charset::Half, 12.0),
+            (400, 150, Charset::Ascii, 12.0), // (counted as 2 samples a cell)
+            (400, 150, Charset::Sextant, 4.0),
+        ] {
+            let frames = frames_in_a_second(cols, rows, charset, Some(rate)) as f64;
+            assert!(
+                (frames - want).abs() <= 1.0 + want / 20.0,
+                "{cols}×{rows} {charset:?}: {frames} frames, not {want}"
+            );
         }
     }
 

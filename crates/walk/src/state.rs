@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use glam::Vec2;
 
-use super::controls::{Action, Held, action_for};
+use super::controls::{Action, DEVELOPER_ACTIONS, Held, action_for};
 use super::run::{Pose, Recorder, Run};
 use mazewalk_maze::Maze;
 use mazewalk_maze::geometry::{clamp_eye_height, heading_dir, heading_right};
@@ -191,6 +191,9 @@ pub struct App {
     pub reveal_map: bool,
     /// The map tints the cells the portal pass visited this frame (`v`), a lesson in culling.
     pub culling_tint: bool,
+    /// The developer keys work ([`DEVELOPER_ACTIONS`]: `b`, `v`, `i`): in the local walk, not for a
+    /// served player, whose culling off would make the server draw every wall of the maze.
+    pub developer_keys: bool,
     /// The ghost is wanted (`g`, `--ghost`): a stored run, replayed from the walk's start or from
     /// [`ghost_since`](Self::ghost_since), whichever is later, where the host has one.
     pub ghost: bool,
@@ -291,6 +294,7 @@ impl App {
             figures: false,
             reveal_map: false,
             culling_tint: false,
+            developer_keys: true,
             ghost: false,
             ghost_since: now,
             seen: vec![0; cells.div_ceil(64)],
@@ -481,6 +485,9 @@ impl App {
             return true;
         }
         let Some(action) = action else { return false };
+        if !self.developer_keys && DEVELOPER_ACTIONS.contains(&action) {
+            return false;
+        }
         let moves = matches!(action, Action::SnapLeft | Action::SnapRight)
             || action.is_continuous() && !matches!(action, Action::FovWider | Action::FovNarrower);
         if self.replay.is_some() && moves {

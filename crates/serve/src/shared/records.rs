@@ -15,8 +15,9 @@
 //! The store runs on the records thread ([`Records`](crate::records::Records)), never on the async
 //! workers: it has a runtime of its own, one thread, that only its calls drive. A Redis that does not
 //! answer fails the finish at hand ([`Fault::Unreachable`], transient: the next one tries again),
-//! within the link's timeouts. What Redis says is untrusted: a name that is not a player name or a
-//! time that is not a time is left out of the table.
+//! within the link's timeouts. What Redis says is untrusted and read as bytes: a name that is not a
+//! player name (not UTF-8 either) or a time that is not a time is left out of the table and counted
+//! ([`RedisStore::left_out`], said once in the log); a `:at` that is not a number reads as 0.
 
 use std::path::PathBuf;
 
@@ -24,8 +25,10 @@ use mazewalk_maze::ContentHash;
 use redis::RedisResult;
 use redis::aio::MultiplexedConnection;
 
-use super::redis::{Keys, Link, WorldError};
-use crate::identity::player_name;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::redis::{Keys, Link, WorldError, names_and_times};
 use crate::records::{Best, Fault, Finish, MazeRecords, RecordsError, Standing, Store, StoredRun, TOP};
 use mazewalk_walk::run::MAX_BYTES;
 
@@ -35,6 +38,10 @@ pub struct RedisStore {
     runtime: tokio::runtime::Runtime,
     con: Option<MultiplexedConnection>,
     maze: ContentHash,
+    /// Entries of the best times left out so far: not a player's name and a time.
+    left_out: Arc<AtomicU64>,
+    /// Whether the log has said so.
+    said_left_out: bool,
 }
 
 impl std::fmt::Debug for RedisStore {
@@ -50,10 +57,12 @@ struct RecordKeys {
     finishes: String,
     name: String,
     runs: String,
+    /// Where [`top`] counts the entries it leaves out.
+    left_out: Arc<AtomicU64>,
 }
 
 impl RecordKeys {
-    fn of(keys: &Keys) -> RecordKeys {
+    fn of(keys: &Keys, left_out: &Arc<AtomicU64>) -> RecordKeys {
         let tag = keys.best.strip_suffix(":best").unwrap_or(&keys.best);
         RecordKeys {
             best: keys.best.clone(),
@@ -61,6 +70,7 @@ impl RecordKeys {
             finishes: format!("{tag}:finishes"),
             name: format!("{tag}:name"),
             runs: format!("{tag}:runs"),
+            left_out: Arc::clone(left_out),
         }
     }
 }
@@ -76,7 +86,14 @@ impl RedisStore {
         let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().map_err(|e| {
             WorldError::Unreachable { url: link.url.clone(), source: redis::RedisError::from(e) }
         })?;
-        Ok(RedisStore { link, runtime, con: None, maze })
+        Ok(RedisStore { link, runtime, con: None, maze, left_out: Arc::default(), said_left_out: false })
+    }
+
+    /// Entries of the world's best times left out so far (each time they were read): a member that
+    /// is not a player's name (or not UTF-8), a score that is not a time.
+    #[must_use]
+    pub fn left_out(&self) -> u64 {
+        self.left_out.load(Ordering::Relaxed)
     }
 
     fn error(&self, err: &redis::RedisError) -> RecordsError {
@@ -94,7 +111,7 @@ impl RedisStore {
         &mut self,
         f: impl AsyncFnOnce(&mut MultiplexedConnection, &RecordKeys) -> RedisResult<T>,
     ) -> Result<T, RecordsError> {
-        let keys = RecordKeys::of(&self.link.keys);
+        let keys = RecordKeys::of(&self.link.keys, &self.left_out);
         let (link, con) = (&self.link, &mut self.con);
         let result = self.runtime.block_on(async {
             if con.is_none() {
@@ -103,6 +120,14 @@ impl RedisStore {
             let Some(c) = con.as_mut() else { unreachable!("made above") };
             f(c, &keys).await
         });
+        if !self.said_left_out && self.left_out() > 0 {
+            self.said_left_out = true;
+            tracing::warn!(
+                "records: {}: the world's best times hold entries that are not a player's name and a time; \
+                 they are left out (said once)",
+                self.link.url
+            );
+        }
         result.map_err(|err| {
             self.con = None;
             self.error(&err)
@@ -127,12 +152,11 @@ impl RedisStore {
 /// The best `TOP` of the sorted set at `keys`, best first, with when each was made; entries Redis
 /// holds that are not a player's name and a time are left out.
 async fn top(con: &mut MultiplexedConnection, keys: &RecordKeys) -> RedisResult<Vec<Best>> {
-    let rows: Vec<(String, f64)> =
+    // (as bytes: one member that is not UTF-8 must not fail every finish)
+    let rows: Vec<(Vec<u8>, f64)> =
         redis::cmd("ZRANGE").arg(&keys.best).arg(0).arg(TOP - 1).arg("WITHSCORES").query_async(con).await?;
-    let rows: Vec<(String, f64)> = rows
-        .into_iter()
-        .filter(|(name, seconds)| player_name(name) == *name && seconds.is_finite() && *seconds >= 0.0)
-        .collect();
+    let (rows, left_out) = names_and_times(rows);
+    keys.left_out.fetch_add(left_out as u64, Ordering::Relaxed);
     if rows.is_empty() {
         return Ok(Vec::new());
     }
@@ -141,12 +165,18 @@ async fn top(con: &mut MultiplexedConnection, keys: &RecordKeys) -> RedisResult<
     for (name, _) in &rows {
         hmget.arg(name);
     }
-    let ats: Vec<Option<i64>> = hmget.query_async(con).await?;
+    let ats: Vec<Option<Vec<u8>>> = hmget.query_async(con).await?;
     Ok(rows
         .into_iter()
         .zip(ats.into_iter().chain(std::iter::repeat(None)))
-        .map(|((player, seconds), at)| Best { player, seconds, at: at.unwrap_or(0) })
+        .map(|((player, seconds), at)| Best { player, seconds, at: at.as_deref().map_or(0, unix_seconds) })
         .collect())
+}
+
+/// A `:at` value as Redis holds it: Unix seconds, or 0 for anything else (an entry written by
+/// another program, garbage).
+fn unix_seconds(bytes: &[u8]) -> i64 {
+    std::str::from_utf8(bytes).ok().and_then(|s| s.trim().parse().ok()).unwrap_or(0)
 }
 
 impl Store for RedisStore {
@@ -208,9 +238,12 @@ impl Store for RedisStore {
                     // (more than this server ever leaves: whatever else wrote there goes, unread)
                     redis::cmd("DEL").arg(&keys.runs).query_async::<i64>(con).await?;
                 } else if held > 0 {
-                    let names: Vec<String> = redis::cmd("HKEYS").arg(&keys.runs).query_async(con).await?;
-                    let gone: Vec<&String> =
-                        names.iter().filter(|p| !top.iter().any(|b| &b.player == *p)).collect();
+                    // (as bytes: a field that is not UTF-8 is not a player's, and goes too)
+                    let names: Vec<Vec<u8>> = redis::cmd("HKEYS").arg(&keys.runs).query_async(con).await?;
+                    let gone: Vec<&Vec<u8>> = names
+                        .iter()
+                        .filter(|p| !top.iter().any(|b| b.player.as_bytes() == p.as_slice()))
+                        .collect();
                     if !gone.is_empty() {
                         redis::cmd("HDEL").arg(&keys.runs).arg(gone).query_async::<i64>(con).await?;
                     }
@@ -261,7 +294,7 @@ impl Store for RedisStore {
         }
         let hash = self.maze.to_string();
         self.read(async |con, keys| {
-            let (players, finishes, name): (i64, Option<i64>, Option<String>) = redis::pipe()
+            let (players, finishes, name): (i64, Option<Vec<u8>>, Option<Vec<u8>>) = redis::pipe()
                 .cmd("ZCARD")
                 .arg(&keys.best)
                 .cmd("GET")
@@ -274,13 +307,17 @@ impl Store for RedisStore {
                 return Ok(Vec::new());
             }
             let top = top(con, keys).await?;
-            let name: String =
-                name.unwrap_or_default().chars().filter(|c| !c.is_control()).take(256).collect();
+            let name: String = String::from_utf8_lossy(&name.unwrap_or_default())
+                .chars()
+                .filter(|c| !c.is_control())
+                .take(256)
+                .collect();
+            let finishes = finishes.as_deref().map_or(0, unix_seconds); // (a count, read as leniently)
             Ok(vec![MazeRecords {
                 maze: hash.clone(),
                 name,
                 players: usize::try_from(players).unwrap_or(0),
-                finishes: usize::try_from(finishes.unwrap_or(0)).unwrap_or(0),
+                finishes: usize::try_from(finishes).unwrap_or(0),
                 top,
             }])
         })

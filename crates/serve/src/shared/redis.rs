@@ -490,13 +490,25 @@ pub async fn best(con: &mut MultiplexedConnection, keys: &Keys, n: usize) -> Red
     if n == 0 {
         return Ok(Vec::new());
     }
-    let rows: Vec<(String, f64)> =
+    // (read as bytes: one member that is not UTF-8 must not fail the whole answer)
+    let rows: Vec<(Vec<u8>, f64)> =
         redis::cmd("ZRANGE").arg(&keys.best).arg(0).arg(n - 1).arg("WITHSCORES").query_async(con).await?;
-    // Redis's word: a name that is not a player's name or a time that is not a time is left out.
-    Ok(rows
+    Ok(names_and_times(rows).0)
+}
+
+/// Redis's word on the best times, (member, score) as it holds them: a member that is not a player's
+/// name (not UTF-8, or not as [`player_name`] makes it) or a score that is not a time is left out;
+/// with how many were.
+#[must_use]
+pub fn names_and_times(rows: Vec<(Vec<u8>, f64)>) -> (Vec<(String, f64)>, usize) {
+    let all = rows.len();
+    let kept: Vec<(String, f64)> = rows
         .into_iter()
+        .filter_map(|(name, seconds)| Some((String::from_utf8(name).ok()?, seconds)))
         .filter(|(name, seconds)| player_name(name) == *name && seconds.is_finite() && *seconds >= 0.0)
-        .collect())
+        .collect();
+    let left_out = all - kept.len();
+    (kept, left_out)
 }
 
 /// The servers present: their last full messages (at most `max` of them, each checked by the caller).

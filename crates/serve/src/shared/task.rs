@@ -137,6 +137,14 @@ const DROP_LOG_EVERY: f64 = 10.0;
 const MAX_SERVERS: usize = 1024;
 /// Seconds between two reads of the winner from Redis at least, however many messages claim one.
 const WINNER_READ_EVERY: f64 = 1.0;
+/// Seconds between two reads of the presence keys, sustained, however often the subscription comes
+/// back (a read SCANs the whole keyspace: with a million keys of another application, a subscription
+/// killed every 100 ms cost Redis 7 s of CPU in 10 s), after a burst of [`PRESENCE_READ_BURST`] (the
+/// join's read and a first comeback's, at once). A presence lives 5 s and each server's full message
+/// comes every second: reads more often would add little that listening does not.
+const PRESENCE_READ_EVERY: f64 = 5.0;
+/// Reads of the presence keys at once, before [`PRESENCE_READ_EVERY`] paces them.
+const PRESENCE_READ_BURST: u32 = 2;
 
 /// Milliseconds since the Unix epoch.
 #[must_use]
@@ -192,6 +200,9 @@ impl SharedWorld {
             others: Others::new(server, tag, config.bounds).with_caps(config.caps),
             caps: config.caps,
             inbox,
+            reading_presences: false,
+            presences_due: false,
+            presence_reads: RateLimit::new_per_interval(PRESENCE_READ_EVERY, PRESENCE_READ_BURST, 0.0),
             reading_winner: false,
             winner_read_due: false,
             winner_read_at: f64::NEG_INFINITY,
@@ -298,6 +309,13 @@ struct Task {
     /// The world's winner as Redis holds it (read, or this server's claim stored): never a
     /// message's word.
     winner: Option<WinnerRecord>,
+    /// A read of the presence keys is in flight (one at most).
+    reading_presences: bool,
+    /// The subscription came back: read the presence keys when [`presence_reads`](Self::presence_reads)
+    /// allows.
+    presences_due: bool,
+    /// The pace of the presence reads ([`PRESENCE_READ_EVERY`], [`PRESENCE_READ_BURST`]).
+    presence_reads: RateLimit,
     /// A read of the winner is in flight.
     reading_winner: bool,
     /// A message claimed a winner other than the known one: read it from Redis when allowed.
@@ -402,6 +420,7 @@ impl Task {
             }
         }
         self.read_winner(now);
+        self.read_presences(now);
         self.log_drops(now);
         self.share_stats();
     }
@@ -417,7 +436,8 @@ impl Task {
             Heard::Up => {
                 self.subscribed = true;
                 self.others.reconnected(now);
-                self.spawn_presences();
+                self.presences_due = true;
+                self.read_presences(now);
                 self.update_online();
             }
             Heard::Down => {
@@ -532,8 +552,14 @@ impl Task {
                 match result {
                     Ok(Some(world)) if world != self.maze_hash => {
                         if self.warnings.allow(self.now()) {
+                            // (a writer's garbage says what it is: `(a list, not a maze hash)`, a string)
+                            let maze_hash = world.len() == 64 && world.bytes().all(|b| b.is_ascii_hexdigit());
                             let world = clip(&world, ERROR_CHARS);
-                            warn!(world = %world, ours = %self.maze_hash, "the world's maze changed while Redis was away");
+                            if maze_hash {
+                                warn!(world = %world, ours = %self.maze_hash, "the world's key names another maze: another maze's server claimed it");
+                            } else {
+                                warn!(ours = %self.maze_hash, "the world's key holds {world}, not a maze hash: something else wrote it");
+                            }
                         }
                     }
                     Ok(_) => {}
@@ -602,16 +628,22 @@ impl Task {
                     }
                 }
             }
-            Done::Presences(result) => match result {
-                Ok(snapshots) => {
-                    let now = self.now();
-                    for bytes in snapshots {
-                        self.hear(&bytes, now);
+            Done::Presences(result) => {
+                self.reading_presences = false;
+                match result {
+                    Ok(snapshots) => {
+                        let now = self.now();
+                        for bytes in snapshots {
+                            self.hear(&bytes, now);
+                        }
+                        self.counted.heard = self.others.counts();
                     }
-                    self.counted.heard = self.others.counts();
+                    Err(err) => {
+                        self.presences_due = true;
+                        self.lost(&err);
+                    }
                 }
-                Err(err) => self.lost(&err),
-            },
+            }
         }
     }
 
@@ -705,8 +737,17 @@ impl Task {
         });
     }
 
-    fn spawn_presences(&mut self) {
-        let Some(mut con) = self.con.clone() else { return };
+    /// Reads the presence keys if the subscription came back since the last read and the pace allows
+    /// ([`PRESENCE_READ_EVERY`] after a burst of [`PRESENCE_READ_BURST`]; one in flight at most).
+    fn read_presences(&mut self, now: f64) {
+        if !self.presences_due || self.reading_presences {
+            return;
+        }
+        let Some(mut con) = self.con.clone() else { return }; // when Redis is back
+        if self.presence_reads.take(1, now) == 0 {
+            return; // (still due: a later tick reads them)
+        }
+        (self.presences_due, self.reading_presences) = (false, true);
         // No more than the view keeps (each up to a message's size: bounded memory).
         let max = self.caps.servers.min(MAX_SERVERS);
         self.counted.commands += 2;

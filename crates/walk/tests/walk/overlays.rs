@@ -508,7 +508,12 @@ fn every_line_of_the_help_is_shown_at_80x24_and_120x40() {
         let want = overlay::help_lines_for(style, true, served);
         assert_eq!(want.iter().any(|l| l.starts_with("Ctrl-Z ")), !served, "{want:?}");
         assert_eq!(want.iter().any(|l| l.starts_with("Tab ")), served, "{want:?}");
-        for (cols, rows, pages) in [(120, 40, 1), (80, 24, 2)] {
+        // red-team pass 3: nor the developer keys, which do nothing there (`b`: every wall drawn)
+        for key in ["b ", "v ", "i "] {
+            assert_eq!(want.iter().any(|l| l.starts_with(key)), !served, "{key:?} in {want:?}");
+        }
+        // (a served player's, without the developer keys, fits one page at 80×24)
+        for (cols, rows, pages) in [(120, 40, 1), (80, 24, if served { 1 } else { 2 })] {
             let mut s = Session::new(
                 facing_the_exit(),
                 cols,

@@ -56,7 +56,12 @@ struct Sent {
 fn exact_session(depth: ColorDepth, bce: bool) -> Session {
     let options = RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
     let app = App::new(maze::builtin().expect("built-in maze"), options, 0.0).expect("a start cell");
-    Session::new(app, COLS, ROWS, SessionOptions { flow_control: false, color_tolerance: 0, bce })
+    Session::new(
+        app,
+        COLS,
+        ROWS,
+        SessionOptions { flow_control: false, color_tolerance: 0, bce, sample_rate: None },
+    )
 }
 
 /// Walks forward for two seconds in `depth`, exactly (tolerance 0), the terminal answering the
