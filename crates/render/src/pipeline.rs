@@ -1849,7 +1849,7 @@ impl RowShade {
     }
 }
 
-/// A level row's checker squares are filled by runs ([`RowShade::paints_by_runs`]) where they
+/// A level row's checker squares are filled by runs ([`RowShade::square_runs`]) where they
 /// average at least this many samples (a run costs about three groups' paints).
 const RUN_AT_LEAST: usize = 24;
 
