@@ -643,3 +643,54 @@ fn a_large_fine_screen_is_drawn_at_a_lower_rate_and_has_no_developer_keys() {
     let hud = player.read(hud_row);
     assert!(!hud.contains("fps"), "`i` showed the developer figures: {hud}");
 }
+
+/// Red-team pass 3, continued: the drawing budget ([`Limits::render_rate`]) is one address group's,
+/// not one screen's: 16 screens at 400×150 from one address had drawn 16 budgets (1.16 cores). Four
+/// screens from 127.0.0.1 at 400×150 in sextants (360,000 samples a frame), turning, share one
+/// budget: about 4 frames a second between them (today's budget per screen gave 16), while a
+/// player from 127.0.0.2 at 200×60 in half blocks keeps its own budget's 60 frames a second (it
+/// would get 12 in theirs). Frames are counted by the flow-control query that follows each.
+///
+/// [`Limits::render_rate`]: mazewalk_serve::limits::Limits::render_rate
+#[test]
+fn the_screens_of_one_address_share_one_drawing_budget() {
+    let scratch = Scratch::new("render-budget");
+    let server = Server::start(&scratch, &["--open"]);
+    let mut heavy: Vec<Player> = (0..4)
+        .map(|i| Player::connect_from(Some("127.0.0.1"), server.port, None, &format!("heavy{i}"), 400, 150))
+        .collect();
+    for player in &mut heavy {
+        player.wait_for("the game", playing);
+        player.send(b"cc"); // sextants
+    }
+    for player in &heavy {
+        player.wait_for("sextants", |s, _| hud_row(s).contains("sextant"));
+    }
+    let mut witness = Player::connect_from(Some("127.0.0.2"), server.port, None, "witness", 200, 60);
+    witness.wait_for("the game", playing);
+    let queries = |raw: &[u8]| raw.windows(3).filter(|w| *w == b"\x1b[c").count();
+    let before: Vec<usize> = heavy.iter().map(|p| queries(&p.raw())).collect();
+    let witness_before = queries(&witness.raw());
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_secs(3) {
+        for player in &mut heavy {
+            player.send(b"\x1b[C"); // turning right: every frame changes
+        }
+        witness.send(b"\x1b[D");
+        std::thread::sleep(Duration::from_millis(15));
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let frames: Vec<usize> = heavy.iter().zip(&before).map(|(p, b)| queries(&p.raw()) - b).collect();
+    let total: usize = frames.iter().sum();
+    // One budget: 1,440,000 samples a second over 360,000 a frame; each screen may owe a frame begun
+    // before the count started.
+    let most = seconds * 4.0 + 4.0 + 2.0;
+    assert!(total as f64 <= most, "{frames:?}: {total} frames in {seconds:.2} s, at most {most:.0}");
+    assert!(frames.iter().all(|&n| n >= 1), "{frames:?}: each screen gets its share");
+    let witness_frames = queries(&witness.raw()) - witness_before;
+    let least = seconds * 24.0; // twice what it would get in the heavy screens' budget
+    assert!(
+        witness_frames as f64 >= least,
+        "the player from another address: {witness_frames} frames in {seconds:.2} s, at least {least:.0}"
+    );
+}

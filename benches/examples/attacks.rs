@@ -24,7 +24,9 @@
 //!    held open at once.
 //! 7. **render** (red-team pass 3): 16 connections from one address (127.0.0.9, the default
 //!    `--max-per-address`) with 400×150 ptys turn 60 times a second in sextants (`cc`), with
-//!    textures (`t`) and culling off (`b`, where the binary lets a served player have it).
+//!    textures (`t`) and culling off (`b`, where the binary lets a served player have it). Its note
+//!    counts the frames drawn for them: with one drawing budget per address group
+//!    (`Limits::render_rate`), about 4 a second between the 16.
 //!
 //! ```sh
 //! cargo build --release                           # the "after" binary: target/release/mazewalk

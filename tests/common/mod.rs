@@ -226,6 +226,19 @@ pub fn nz(n: u16) -> NonZeroU16 {
 impl Player {
     /// `user` at the server on `port` with `key` (none: no key), in a `cols × rows` terminal.
     pub fn connect(port: u16, key: Option<&Path>, user: &str, cols: u16, rows: u16) -> Player {
+        Player::connect_from(None, port, key, user, cols, rows)
+    }
+
+    /// As [`connect`](Self::connect), from the loopback address `bind` (`ssh -b`, e.g. `127.0.0.2`:
+    /// another address group) when given.
+    pub fn connect_from(
+        bind: Option<&str>,
+        port: u16,
+        key: Option<&Path>,
+        user: &str,
+        cols: u16,
+        rows: u16,
+    ) -> Player {
         require_tool("ssh", "openssh-client");
         require_tool("setsid", "util-linux");
         let pty = rustix_openpty::openpty(None, Some(&winsize(cols, rows))).expect("openpty");
@@ -234,6 +247,7 @@ impl Player {
         let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
         let child = Command::new("setsid")
             .args(["-c", "ssh", "-tt"])
+            .args(bind.map(|bind| ["-b", bind]).into_iter().flatten())
             .args(ssh_args(port, key, user))
             .env("TERM", "xterm-256color")
             .stdin(stdio())

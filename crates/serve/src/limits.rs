@@ -40,14 +40,18 @@ pub struct Limits {
     pub max_cols: u16,
     /// The largest terminal drawn, rows.
     pub max_rows: u16,
-    /// Samples a served screen (a player's or a spectator's) draws a second, at most: a frame's
-    /// samples are its cells × its glyphs' samples per cell (2 for half blocks and ASCII, 4
-    /// quadrants, 6 sextants), so a larger screen or a finer charset is drawn at a lower frame rate,
-    /// never above 60 ([`SessionOptions::sample_rate`](mazewalk_walk::SessionOptions::sample_rate)).
-    /// At the default ([`RENDER_RATE`]) a 200×60 screen in half blocks keeps 60 frames a second, a
-    /// 400×150 one gets 12, and 400×150 in sextants 4: 16 connections from one address at 400×150
-    /// with textures and culling off took a core of the server and pushed another player's
-    /// key-to-frame p99 from 10 ms to 771 ms.
+    /// Samples one address group's served screens (players' and spectators') draw a second
+    /// together, at most: each screen gets an equal share (this over the group's logged-in
+    /// connections, [`address_group`](crate::slots::address_group), as `max_per_address` counts
+    /// them). A frame's samples are its cells × its glyphs' samples per cell (2 for half blocks and
+    /// ASCII, 4 quadrants, 6 sextants), so a larger screen, a finer charset or more screens from one
+    /// address draw at a lower frame rate, never above 60
+    /// ([`SessionOptions::sample_rate`](mazewalk_walk::SessionOptions::sample_rate)). At the default
+    /// ([`RENDER_RATE`]) a lone 200×60 screen in half blocks keeps 60 frames a second, a lone 400×150
+    /// one gets 12, and 400×150 in sextants 4; 16 of those from one address get 4 between them.
+    /// (Red-team pass 3: 16 connections from one address at 400×150 with textures and culling off
+    /// took a core of the server and pushed another player's key-to-frame p99 from 10 ms to 771 ms;
+    /// with a budget per screen they still took 1.16 cores.)
     pub render_rate: u32,
     /// Window changes a screen follows a second, at most: one that comes sooner waits, and of those
     /// waiting only the latest size is drawn when its turn comes. (Each size drawn reallocates a
@@ -98,7 +102,7 @@ impl Default for Limits {
 }
 
 /// [`Limits::render_rate`]'s default: a 200 × 60 screen in half blocks (2 samples a cell) at 60
-/// frames a second.
+/// frames a second, an address group's.
 pub const RENDER_RATE: u32 = 200 * 60 * 2 * 60;
 
 /// A token bucket over bytes: `rate` a second, at most `burst` at once.

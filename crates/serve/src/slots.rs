@@ -301,6 +301,13 @@ impl Slots {
         self.spectators.len()
     }
 
+    /// The connections of `ip`'s address group that logged in (players and spectators): the
+    /// screens that share its drawing budget ([`Limits::render_rate`]), at least 1.
+    #[must_use]
+    pub fn screens_from(&self, ip: IpAddr) -> usize {
+        self.groups.get(&address_group(ip)).map_or(0, |counts| counts.players).max(1)
+    }
+
     /// Handshakes now.
     #[must_use]
     pub fn handshakes(&self) -> usize {
@@ -355,6 +362,23 @@ mod tests {
             "the same /64"
         );
         assert!(slots.admit(ip("2001:db8:0:1::1"), 0.0).is_ok(), "the next /64");
+    }
+
+    /// Red-team pass 3: the screens sharing a drawing budget are the group's logged-in connections
+    /// (players and spectators, not handshakes), at least 1; another group's are its own.
+    #[test]
+    fn the_screens_of_a_group_are_its_logged_in_connections() {
+        let mut slots = Slots::new(&Limits { max_spectators: 4, ..limits(100, 100, 16) });
+        assert_eq!(slots.screens_from(ip("10.0.0.1")), 1, "none yet: a lone screen's whole budget");
+        let ids: Vec<ConnId> = (0..4).map(|_| slots.admit(ip("2001:db8::1"), 0.0).unwrap().id).collect();
+        assert_eq!(slots.screens_from(ip("2001:db8::9")), 1, "handshakes draw nothing");
+        slots.promote(ids[0], Role::Player).unwrap();
+        slots.promote(ids[1], Role::Player).unwrap();
+        slots.promote(ids[2], Role::Spectator).unwrap();
+        assert_eq!(slots.screens_from(ip("2001:db8::2")), 3, "the same /64");
+        assert_eq!(slots.screens_from(ip("2001:db8:0:1::1")), 1, "another /64");
+        slots.release(ids[0]);
+        assert_eq!(slots.screens_from(ip("2001:db8::1")), 2);
     }
 
     /// Issue #34: connections in the handshake filled --max-players and locked players out. Now

@@ -223,6 +223,14 @@ impl Shared {
         self.clock.elapsed().as_secs_f64()
     }
 
+    /// The samples a second `conn`'s screen may draw: its share of its address group's budget
+    /// ([`Limits::render_rate`] over the group's screens now), so that the screens of one address
+    /// together draw no more than one budget, and a lone one draws at the whole.
+    fn render_share(&self, conn: &Conn) -> u32 {
+        let screens = lock(&self.slots).screens_from(conn.peer.ip());
+        self.limits.render_rate / u32::try_from(screens).unwrap_or(u32::MAX)
+    }
+
     /// Whether a line about a connection from `group` may be logged now ([`LogLimit`]).
     fn log_ok(&self, group: IpAddr) -> bool {
         lock(&self.log_limit).allow(group, self.now())
@@ -1349,6 +1357,7 @@ async fn watching(
             let look = shared.world.look(&mut versions);
             spectator.look(look, now);
         }
+        spectator.session_mut().set_sample_rate(Some(shared.render_share(conn)));
         let started = Instant::now();
         if spectator.frame(now, &mut out) {
             spectator.session_mut().frame_cost(started.elapsed().as_secs_f64());
@@ -1526,6 +1535,7 @@ async fn walk(
             player.look(&look, now);
             settle(shared, player, id, &mut arriving, now);
         }
+        player.session_mut().set_sample_rate(Some(shared.render_share(conn)));
         let started = Instant::now();
         let drew = player.frame(now, &mut out);
         if drew {

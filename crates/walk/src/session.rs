@@ -450,6 +450,12 @@ impl Session {
         self.cost.seconds = seconds;
     }
 
+    /// Changes [`SessionOptions::sample_rate`] (a server's share of a budget, which changes as
+    /// other screens come and go); the next frame is due by the new rate.
+    pub fn set_sample_rate(&mut self, rate: Option<u32>) {
+        self.options.sample_rate = rate;
+    }
+
     /// Bytes from the terminal, arriving at time `now`.
     pub fn feed(&mut self, bytes: &[u8], now: f64) {
         self.decode(now, |decoder, out| decoder.feed(bytes, now, out));
