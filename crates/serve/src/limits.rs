@@ -43,12 +43,13 @@ pub struct Limits {
     /// Samples one address group's served screens (players' and spectators') draw a second
     /// together, at most: each screen gets an equal share (this over the group's logged-in
     /// connections, [`address_group`](crate::slots::address_group), as `max_per_address` counts
-    /// them). A frame's samples are its cells × its glyphs' samples per cell (2 for half blocks and
+    /// them), never less than [`SCREEN_RATE_FLOOR`] ([`screen_share`]). A frame's samples are its cells × its glyphs' samples per cell (2 for half blocks and
     /// ASCII, 4 quadrants, 6 sextants), so a larger screen, a finer charset or more screens from one
     /// address draw at a lower frame rate, never above 60
     /// ([`SessionOptions::sample_rate`](mazewalk_walk::SessionOptions::sample_rate)). At the default
     /// ([`RENDER_RATE`]) a lone 200×60 screen in half blocks keeps 60 frames a second, a lone 400×150
-    /// one gets 12, and 400×150 in sextants 4; 16 of those from one address get 4 between them.
+    /// one gets 12, and 400×150 in sextants 4; 4 of those from one address get 4 between them, 16 of
+    /// them 0.8 each (the floor), and 16 players at 120 × 40 behind one address 30 each.
     /// (Red-team pass 3: 16 connections from one address at 400×150 with textures and culling off
     /// took a core of the server and pushed another player's key-to-frame p99 from 10 ms to 771 ms;
     /// with a budget per screen they still took 1.16 cores.)
@@ -104,6 +105,21 @@ impl Default for Limits {
 /// [`Limits::render_rate`]'s default: a 200 × 60 screen in half blocks (2 samples a cell) at 60
 /// frames a second, an address group's.
 pub const RENDER_RATE: u32 = 200 * 60 * 2 * 60;
+
+/// The least share of [`Limits::render_rate`] a screen gets however many share its address group: a
+/// 120 × 40 screen in half blocks at 30 frames a second. Many players behind one address (a
+/// classroom's NAT) each keep a playable rate; an attacker's many large screens cost at most this
+/// each (16 screens of 400 × 150 sextants: 0.8 frames a second each).
+pub const SCREEN_RATE_FLOOR: u32 = 120 * 40 * 2 * 30;
+
+/// The samples a second each of `screens` screens of one address group may draw under a group budget
+/// of `render_rate`: an equal share, but never less than [`SCREEN_RATE_FLOOR`] (nor more than the
+/// budget itself).
+#[must_use]
+pub fn screen_share(render_rate: u32, screens: usize) -> u32 {
+    let equal = render_rate / u32::try_from(screens.max(1)).unwrap_or(u32::MAX);
+    equal.max(SCREEN_RATE_FLOOR.min(render_rate))
+}
 
 /// A token bucket over bytes: `rate` a second, at most `burst` at once.
 #[derive(Clone, Copy, Debug)]
@@ -165,5 +181,34 @@ mod tests {
         assert_eq!(bucket.take(600, 1.0), 100, "refilled at the rate");
         assert_eq!(bucket.take(5000, 100.0), 1000, "never more than the burst");
         assert_eq!(bucket.take(10, 50.0), 0, "a clock going back refills nothing");
+    }
+
+    /// Frames a second of a `cols × rows` screen of `samples` samples a cell on a share.
+    fn fps(share: u32, cols: u32, rows: u32, samples: u32) -> f64 {
+        f64::from(share) / f64::from(cols * rows * samples)
+    }
+
+    #[test]
+    fn a_groups_screens_share_the_budget_down_to_a_playable_floor() {
+        let all = screen_share(RENDER_RATE, 1);
+        assert_eq!(all, RENDER_RATE, "a lone screen draws at the whole budget");
+        assert_eq!(screen_share(RENDER_RATE, 0), RENDER_RATE, "no screen counted yet: as one");
+        // four 400 × 150 sextant screens from one address: one budget between them, 1 frame a second each
+        assert_eq!(screen_share(RENDER_RATE, 4), RENDER_RATE / 4);
+        assert!((fps(screen_share(RENDER_RATE, 4), 400, 150, 6) - 1.0).abs() < 1e-9);
+        // sixteen players at 120 × 40 behind one NAT keep 30 frames a second each, not 9
+        for screens in [16, 100, 10_000, usize::MAX] {
+            let share = screen_share(RENDER_RATE, screens);
+            assert_eq!(share, SCREEN_RATE_FLOOR, "{screens} screens");
+            assert!((fps(share, 120, 40, 2) - 30.0).abs() < 1e-9);
+            assert!(fps(share, 400, 150, 6) < 1.0, "a large fine screen stays under a frame a second");
+        }
+        // a host's budget below the floor is never exceeded by one screen
+        assert_eq!(screen_share(100_000, 1), 100_000);
+        assert_eq!(screen_share(100_000, 50), 100_000);
+        // the share falls with the screens until the floor, never below it
+        let shares: Vec<u32> = (1..40).map(|n| screen_share(RENDER_RATE, n)).collect();
+        assert!(shares.windows(2).all(|w| w[1] <= w[0]));
+        assert!(shares.iter().all(|&s| s >= SCREEN_RATE_FLOOR));
     }
 }

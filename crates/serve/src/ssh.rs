@@ -25,7 +25,7 @@ use tracing::{info, warn};
 use super::algorithms;
 use super::host_key::fingerprint;
 use super::identity::player_name;
-use super::limits::Limits;
+use super::limits::{Limits, screen_share};
 use super::logs::{self, LogLimit, tenths};
 use super::metrics::Metrics;
 use super::player::{News, Player};
@@ -224,11 +224,11 @@ impl Shared {
     }
 
     /// The samples a second `conn`'s screen may draw: its share of its address group's budget
-    /// ([`Limits::render_rate`] over the group's screens now), so that the screens of one address
-    /// together draw no more than one budget, and a lone one draws at the whole.
+    /// ([`Limits::render_rate`] over the group's screens now, [`screen_share`]), so that the screens
+    /// of one address together draw about one budget, and a lone one draws at the whole.
     fn render_share(&self, conn: &Conn) -> u32 {
         let screens = lock(&self.slots).screens_from(conn.peer.ip());
-        self.limits.render_rate / u32::try_from(screens).unwrap_or(u32::MAX)
+        screen_share(self.limits.render_rate, screens)
     }
 
     /// Whether a line about a connection from `group` may be logged now ([`LogLimit`]).
