@@ -49,7 +49,8 @@ pub struct Limits {
     /// ([`SessionOptions::sample_rate`](mazewalk_walk::SessionOptions::sample_rate)). At the default
     /// ([`RENDER_RATE`]) a lone 200×60 screen in half blocks keeps 60 frames a second, a lone 400×150
     /// one gets 12, and 400×150 in sextants 4; 4 of those from one address get 4 between them, 16 of
-    /// them 0.8 each (the floor), and 16 players at 120 × 40 behind one address 30 each.
+    /// them about half a frame a second each (the floor), and 16 players at 120 × 40 behind one
+    /// address 20 each.
     /// (Red-team pass 3: 16 connections from one address at 400×150 with textures and culling off
     /// took a core of the server and pushed another player's key-to-frame p99 from 10 ms to 771 ms;
     /// with a budget per screen they still took 1.16 cores.)
@@ -107,10 +108,10 @@ impl Default for Limits {
 pub const RENDER_RATE: u32 = 200 * 60 * 2 * 60;
 
 /// The least share of [`Limits::render_rate`] a screen gets however many share its address group: a
-/// 120 × 40 screen in half blocks at 30 frames a second. Many players behind one address (a
+/// 120 × 40 screen in half blocks at 20 frames a second. Many players behind one address (a
 /// classroom's NAT) each keep a playable rate; an attacker's many large screens cost at most this
-/// each (16 screens of 400 × 150 sextants: 0.8 frames a second each).
-pub const SCREEN_RATE_FLOOR: u32 = 120 * 40 * 2 * 30;
+/// each (16 screens of 400 × 150 sextants: about half a frame a second each).
+pub const SCREEN_RATE_FLOOR: u32 = 120 * 40 * 2 * 20;
 
 /// The samples a second each of `screens` screens of one address group may draw under a group budget
 /// of `render_rate`: an equal share, but never less than [`SCREEN_RATE_FLOOR`] (nor more than the
@@ -196,11 +197,11 @@ mod tests {
         // four 400 × 150 sextant screens from one address: one budget between them, 1 frame a second each
         assert_eq!(screen_share(RENDER_RATE, 4), RENDER_RATE / 4);
         assert!((fps(screen_share(RENDER_RATE, 4), 400, 150, 6) - 1.0).abs() < 1e-9);
-        // sixteen players at 120 × 40 behind one NAT keep 30 frames a second each, not 9
+        // sixteen players at 120 × 40 behind one NAT keep 20 frames a second each, not 9
         for screens in [16, 100, 10_000, usize::MAX] {
             let share = screen_share(RENDER_RATE, screens);
             assert_eq!(share, SCREEN_RATE_FLOOR, "{screens} screens");
-            assert!((fps(share, 120, 40, 2) - 30.0).abs() < 1e-9);
+            assert!((fps(share, 120, 40, 2) - 20.0).abs() < 1e-9);
             assert!(fps(share, 400, 150, 6) < 1.0, "a large fine screen stays under a frame a second");
         }
         // a host's budget below the floor is never exceeded by one screen
