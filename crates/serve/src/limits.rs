@@ -43,8 +43,8 @@ pub struct Limits {
     /// Samples one address group's served screens (players' and spectators') draw a second
     /// together, at most: each screen gets an equal share (this over the group's logged-in
     /// connections, [`address_group`](crate::slots::address_group), as `max_per_address` counts
-    /// them), never less than [`SCREEN_RATE_FLOOR`] ([`screen_share`]). A frame's samples are its cells × its glyphs' samples per cell (2 for half blocks and
-    /// ASCII, 4 quadrants, 6 sextants), so a larger screen, a finer charset or more screens from one
+    /// them), never less than [`SCREEN_RATE_FLOOR`] ([`screen_share`]). A frame's samples are its
+    /// cells × its glyphs' samples per cell (2 for half blocks and ASCII, 4 quadrants, 6 sextants), so a larger screen, a finer charset or more screens from one
     /// address draw at a lower frame rate, never above 60
     /// ([`SessionOptions::sample_rate`](mazewalk_walk::SessionOptions::sample_rate)). At the default
     /// ([`RENDER_RATE`]) a lone 200×60 screen in half blocks keeps 60 frames a second, a lone 400×150
