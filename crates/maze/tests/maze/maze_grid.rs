@@ -189,6 +189,8 @@ const MALFORMED: &[(&str, u32, u32, &str)] = &[
         1,
         "expected `mazewalk-grid 1` on the first line (the very first",
     ),
+    // QA: the viewer's errors were put at 1:1, the header; no room to stand is the tile side's fault
+    ("mazewalk-grid 1\ntile 0.50001\n\n#####\n#@.E#\n#####\n", 2, 6, "the viewer at (0.75"),
 ];
 
 #[test]
