@@ -816,3 +816,40 @@ fn a_run_that_is_not_a_regular_file_is_refused_at_once() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `check` says when the exit cannot be reached from where the walk starts (QA: it said `exit: cell
+/// 1`, and only `perfect: no` hinted), in both formats; a reachable exit gets no such note. The
+/// summary is still a success: `check` promises a summary or the error.
+#[test]
+fn check_says_when_the_exit_cannot_be_reached() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-unreachable-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let tiny = std::fs::read_to_string(maze("tiny.maze")).unwrap();
+    let (open, shut) = ("1 4 0 1 0 0.5 0.5 0.5", "1 4 0 1 1 0.5 0.5 0.5");
+    assert!(tiny.lines().any(|l| l == open), "the premise: tiny.maze's inner portal");
+    assert!(tiny.lines().any(|l| l == "exit 1"), "the premise: tiny.maze's exit, beyond the portal");
+    let cases = [
+        ("sealed.maze", tiny.replace(open, shut), Some("cell 1 (not reachable")),
+        ("open.maze", tiny.clone(), None),
+        (
+            "sealed.grid",
+            "mazewalk-grid 1\n\n#######\n#@.##E#\n#######\n".into(),
+            Some("cell 2 (not reachable"),
+        ),
+        ("walled.grid", "mazewalk-grid 1\n#####\n#@#E#\n#####\n".into(), Some("(not reachable")),
+        ("open.grid", "mazewalk-grid 1\n#####\n#@.E#\n#####\n".into(), None),
+    ];
+    for (name, text, note) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let out = mazewalk(&["check", path.to_str().unwrap()]);
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        let report = stdout(&out);
+        let exit = report.lines().find(|l| l.trim_start().starts_with("exit:")).expect("an exit line");
+        match note {
+            Some(note) => assert!(exit.contains(note), "{name}: {report}"),
+            None => assert!(!exit.contains("not reachable"), "{name}: {report}"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
