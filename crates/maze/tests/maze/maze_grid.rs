@@ -375,3 +375,17 @@ fn a_generated_exit_survives_both_formats_even_on_the_start() {
     .unwrap();
     assert_eq!(one.exit().map(|e| e.cell), one.cell_at(one.viewer().pos), "the start is the exit");
 }
+
+/// `connected` follows portals only: two rooms joined by floor are connected both ways, a room
+/// walled off is not, and a cell that does not exist is connected to nothing.
+#[test]
+fn cells_are_connected_through_portals_only() {
+    // cells from the bottom row up, west to east: 0 1 (left room), 2 (the `E` beyond the wall)
+    let maze = parse("mazewalk-grid 1\n######\n#@.#E#\n######\n").unwrap();
+    assert_eq!(maze.cell_count(), 3);
+    assert!(maze.connected(0, 1) && maze.connected(1, 0) && maze.connected(2, 2));
+    assert!(!maze.connected(0, 2) && !maze.connected(2, 1));
+    assert!(!maze.connected(0, 3) && !maze.connected(3, 3));
+    let open = parse("mazewalk-grid 1\n######\n#@..E#\n######\n").unwrap();
+    assert!(open.connected(0, 3) && open.connected(3, 0));
+}
