@@ -764,3 +764,92 @@ fn the_walks_look_ahead_view_is_render_fov_40s_frame() {
     app.key(Key::Char('z'), KeyPhase::Press, 2.0);
     assert!(view(&app) != out.stdout, "without the lens the walk's view is the wide one");
 }
+
+/// A ghost or a replay run named by a FIFO, a device or a directory is refused as a maze would be
+/// (exit 66, "not a regular file"), at once: a FIFO with no writer hung forever, and /dev/zero was
+/// read up to the size limit and called too long.
+#[cfg(unix)]
+#[test]
+fn a_run_that_is_not_a_regular_file_is_refused_at_once() {
+    use std::time::{Duration, Instant};
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-runfifo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("run.fifo");
+    let made = Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo");
+    assert!(made.success(), "mkfifo {}", fifo.display());
+    let tiny = maze("tiny.maze");
+    let fifo = fifo.to_str().unwrap();
+    let dir_s = dir.to_str().unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (&["--ghost", fifo, &tiny], "a FIFO"),
+        (&["replay", fifo, &tiny], "a FIFO"),
+        (&["--ghost", "/dev/zero", &tiny], "a device"),
+        (&["replay", "/dev/zero", &tiny], "a device"),
+        (&["--ghost", dir_s, &tiny], "a directory"),
+    ];
+    for (args, what) in cases {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .args(args)
+            .env("TERM", "xterm-256color")
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("run mazewalk");
+        let start = Instant::now();
+        let status = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break Some(status);
+            }
+            if start.elapsed() > Duration::from_secs(30) {
+                let _ = child.kill();
+                let _ = child.wait();
+                break None;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let Some(status) = status else { panic!("{args:?}: still waiting after 30 s") };
+        let mut err = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+        assert_eq!(status.code(), Some(66), "{args:?}: {err}");
+        assert!(err.contains(&format!("not a regular file ({what})")), "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `check` says when the exit cannot be reached from where the walk starts (QA: it said `exit: cell
+/// 1`, and only `perfect: no` hinted), in both formats; a reachable exit gets no such note. The
+/// summary is still a success: `check` promises a summary or the error.
+#[test]
+fn check_says_when_the_exit_cannot_be_reached() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-unreachable-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let tiny = std::fs::read_to_string(maze("tiny.maze")).unwrap();
+    let (open, shut) = ("1 4 0 1 0 0.5 0.5 0.5", "1 4 0 1 1 0.5 0.5 0.5");
+    assert!(tiny.lines().any(|l| l == open), "the premise: tiny.maze's inner portal");
+    assert!(tiny.lines().any(|l| l == "exit 1"), "the premise: tiny.maze's exit, beyond the portal");
+    let cases = [
+        ("sealed.maze", tiny.replace(open, shut), Some("cell 1 (not reachable")),
+        ("open.maze", tiny.clone(), None),
+        (
+            "sealed.grid",
+            "mazewalk-grid 1\n\n#######\n#@.##E#\n#######\n".into(),
+            Some("cell 2 (not reachable"),
+        ),
+        ("walled.grid", "mazewalk-grid 1\n#####\n#@#E#\n#####\n".into(), Some("(not reachable")),
+        ("open.grid", "mazewalk-grid 1\n#####\n#@.E#\n#####\n".into(), None),
+    ];
+    for (name, text, note) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let out = mazewalk(&["check", path.to_str().unwrap()]);
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        let report = stdout(&out);
+        let exit = report.lines().find(|l| l.trim_start().starts_with("exit:")).expect("an exit line");
+        match note {
+            Some(note) => assert!(exit.contains(note), "{name}: {report}"),
+            None => assert!(!exit.contains("not reachable"), "{name}: {report}"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

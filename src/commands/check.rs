@@ -23,12 +23,23 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
 fn summary(name: &str, format: Format, maze: &Maze) -> String {
     let e = maze.extents();
     let v = maze.viewer();
-    let exit = maze.exit().map_or("none".to_string(), |x| match x.point {
-        Some(p) => format!("cell {} at ({}, {})", x.cell, p.x, p.y),
-        None => format!("cell {}", x.cell),
+    let start = stand(maze, v.pos);
+    // the cell the walk starts in
+    let start_cell = start.as_ref().map(|at| at.cell);
+    let exit = maze.exit().map_or("none".to_string(), |x| {
+        let place = match x.point {
+            Some(p) => format!("cell {} at ({}, {})", x.cell, p.x, p.y),
+            None => format!("cell {}", x.cell),
+        };
+        match start_cell {
+            Some(c) if !maze.connected(c, x.cell) => {
+                format!("{place} (not reachable from the start: no opening leads from cell {c} to it)")
+            }
+            _ => place,
+        }
     });
     // Where the walk starts instead, when the file's viewer stands closer to a wall than it may.
-    let moved = match stand(maze, v.pos) {
+    let moved = match start {
         Some(at) if at.pos != v.pos => format!(
             "\n            (closer than {} to a wall: the walk starts at ({}, {}))",
             maze.clearance(),

@@ -130,7 +130,8 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
 }
 
 /// Reads the run in the file at `path` to race as a ghost: at most [`MAX_BYTES`] read, decoded and
-/// checked against the maze of hash `hash` and `extents`, as any untrusted file.
+/// checked against the maze of hash `hash` and `extents`, as any untrusted file. Only a regular
+/// file is read (a FIFO, a device or a directory: exit 66, at once).
 ///
 /// [`MAX_BYTES`]: mazewalk_walk::run::MAX_BYTES
 pub(crate) fn read_run(
@@ -141,10 +142,17 @@ pub(crate) fn read_run(
     use mazewalk_walk::run::{MAX_BYTES, Run};
     let shown = mazewalk_maze::quote_path(&path.display().to_string());
     let no_input = |source| super::NoInput { what: format!("the run {shown}"), source };
+    // only a regular file, opened without blocking, as a maze is: a FIFO would wait forever and a
+    // device has no length to check
+    let file = mazewalk_maze::files::open_regular(path).map_err(|e| match e {
+        mazewalk_maze::files::OpenError::Io(source) => no_input(source),
+        mazewalk_maze::files::OpenError::NotAFile(what) => no_input(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("not a regular file ({what})"),
+        )),
+    })?;
     let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|file| file.take(MAX_BYTES as u64 + 1).read_to_end(&mut bytes))
-        .map_err(no_input)?;
+    file.take(MAX_BYTES as u64 + 1).read_to_end(&mut bytes).map_err(no_input)?;
     let run = Run::decode(&bytes)
         .and_then(|run| run.check_maze(hash, extents).map(|()| run))
         .map_err(|e| super::BadData { what: format!("the run {shown}"), source: e.into() })?;

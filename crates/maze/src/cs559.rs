@@ -283,6 +283,8 @@ fn read_cells_to_end(r: &mut Reader) -> Result<Tail, ParseError> {
     }
     let viewer = Viewer { pos: vec2(v[0], v[1]), z: v[2], dir_deg: v[3], fov_deg: v[4] };
     let after_viewer = r.pos;
+    r.misplaced_keywords()?;
+    r.pos = after_viewer;
     let vfov = r.vfov_extension()?;
     r.pos = after_viewer;
     Ok((nc, cells, viewer, r.exit_extension()?, vfov))
@@ -738,6 +740,31 @@ impl<'a> Reader<'a> {
         Ok(value)
     }
 
+    /// After the viewer: refuses an `exit` or `vfov` that would otherwise be dropped without a word
+    /// (the lines are found by their exact lower-case first word; all else after the viewer is
+    /// ignored): one on the viewer's own line, or one in another case (`EXIT 1`, `Vfov 60`).
+    fn misplaced_keywords(&self) -> Result<(), ParseError> {
+        const KEYWORDS: [&str; 2] = ["exit", "vfov"];
+        let keyword = |w: &str| KEYWORDS.into_iter().find(|k| w.eq_ignore_ascii_case(k));
+        let rest = &self.text[self.pos..];
+        let (viewer_line, after) = rest.split_once('\n').unwrap_or((rest, ""));
+        let offset = |w: &str| w.as_ptr() as usize - self.text.as_ptr() as usize;
+        if let Some(w) = viewer_line.split(is_space).find(|w| keyword(w).is_some()) {
+            let k = keyword(w).unwrap_or("exit");
+            let expected = format!("`{k}` on a line of its own, after the viewer's line");
+            return Err(self.expected(offset(w), &expected, w));
+        }
+        for line in after.split('\n') {
+            let Some(w) = line.split(is_space).find(|w| !w.is_empty()) else { continue };
+            if let Some(k) = keyword(w)
+                && w != k
+            {
+                return Err(self.expected(offset(w), &format!("`{k}` in lower case"), w));
+            }
+        }
+        Ok(())
+    }
+
     /// After the viewer: the number of the line starting with the word `vfov`, if any (0..=150); a
     /// second such line is refused, all else is ignored.
     fn vfov_extension(&mut self) -> Result<Option<f32>, ParseError> {
@@ -861,8 +888,12 @@ mod tests {
         assert!(super::read_split("f", &text).is_some(), "a valid text is read on two threads");
         // records across lines, and errors in either part or in the counts: the same first error
         let lines: Vec<&str> = text.lines().collect();
-        let joined = lines.join("  \n ");
-        let (split, in_order) = both(&joined.replace("\n", " "));
+        // (the `exit` and `vfov` lines stay lines of their own: on the viewer's line they are refused)
+        let (extensions, records): (Vec<&str>, Vec<&str>) =
+            lines.iter().partition(|l| l.starts_with("exit") || l.starts_with("vfov"));
+        assert_eq!(extensions.len(), 2, "the premise: gen writes an exit and a vfov line");
+        let joined = format!("{}\n{}\n", records.join("  \n ").replace("\n", " "), extensions.join("\n"));
+        let (split, in_order) = both(&joined);
         assert_eq!(split.unwrap(), in_order.unwrap());
         // a claimed count beyond the text: the same end-of-file error, and no room reserved for it
         let claims = format!("3 0 0 1 0 0 1 4294967294 {}", "0 1 0 -1 1 .5 .5 .5 ".repeat(50));

@@ -522,12 +522,36 @@ fn facing_name(deg: f32) -> Option<&'static str> {
 
 /// Parses grid text (already decoded); `file` names it in errors.
 pub fn parse_str(file: &str, text: &str) -> Result<Maze, ParseError> {
-    let map = parse_map(file, text)?;
-    map.build(true).map_err(|e| Loc { line: 1, col: 1 }.error(file, ParseErrorKind::Invalid(e)))
+    let (map, places) = parse_placed(file, text)?;
+    map.build(true).map_err(|e| {
+        use super::MazeError::*;
+        // the error's place: the start tile for the viewer's, the `tile` line when the viewer has no
+        // room (tiles too small), else the header (the map as a whole)
+        let (line, col) = match e {
+            ViewerNoRoom { .. } => places.tile.unwrap_or(places.start),
+            ViewerNotFinite | ViewerOutside { .. } | ViewerOnWall { .. } => places.start,
+            _ => (0, 0),
+        };
+        let sat = |n: usize| u32::try_from(n + 1).unwrap_or(u32::MAX);
+        Loc { line: sat(line), col: sat(col) }.error(file, ParseErrorKind::Invalid(e))
+    })
 }
 
 /// Parses grid text into its tile map, checking every setting and tile.
 pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
+    parse_placed(file, text).map(|(map, _)| map)
+}
+
+/// Where [`parse_placed`] found the things a built maze's errors are about: line and column from 0.
+struct Places {
+    /// The start tile (the `E` when the walk starts on the exit).
+    start: (usize, usize),
+    /// The `tile` setting's value, if the file sets it.
+    tile: Option<(usize, usize)>,
+}
+
+/// [`parse_map`], and where the start tile and the `tile` setting are.
+fn parse_placed(file: &str, text: &str) -> Result<(TileMap, Places), ParseError> {
     let sat = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
     // line and column from 0, as `lines` and `chars` count them
     let loc = |line: usize, col: usize| Loc { line: sat(line + 1), col: sat(col + 1) };
@@ -578,6 +602,7 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
     let mut last = 0;
     // each setting's name (a legend's letter) and the line that gave it: a second is refused
     let mut seen: Vec<(&str, usize)> = Vec::new();
+    let mut tile_at = None;
     while let Some(&(n, line)) = lines.peek() {
         last = n;
         // four words tell a setting; a longer line is a map row or an error
@@ -614,6 +639,7 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
             [] if line.is_empty() || !line.contains(' ') => {}
             ["tile", v] => {
                 map.tile = number(v, "tile side")?;
+                tile_at = Some((n, col_of(v)));
                 if !(map.tile > MIN_TILE && map.tile <= 1000.0) {
                     let why = "the viewer, a disc 0.5 across, must fit between walls a tile apart";
                     let msg = format!(
@@ -745,12 +771,12 @@ pub fn parse_map(file: &str, text: &str) -> Result<TileMap, ParseError> {
             map.tiles[r * cols + c] = b;
         }
     }
-    if start.is_none() && exit.is_none() {
+    let Some((r, c)) = start.or(exit) else {
         return Err(err(n, 0, "the map has no start tile (@ or an arrow > ^ < v)".into()));
-    }
+    };
     map.cols = cols;
     map.rows = rows.len();
-    Ok(map)
+    Ok((map, Places { start: (n + r, c), tile: tile_at }))
 }
 
 /// Writes `maze` in grid format, if it is made of the format's square tiles in its numbering.

@@ -896,6 +896,32 @@ impl Maze {
         self.portal_count() + 1 == self.cell_count() && !self.portals_close_a_loop()
     }
 
+    /// Whether a walker can pass from cell `a` to cell `b` through portals (transparent edges), as
+    /// far as the cells' links go (the width of each opening is not weighed); `false` for a cell
+    /// that does not exist. Union-find over the portals, as [`Maze::is_perfect`]'s.
+    #[must_use]
+    pub fn connected(&self, a: CellId, b: CellId) -> bool {
+        let n = self.cell_count();
+        if a as usize >= n || b as usize >= n {
+            return false;
+        }
+        let mut parent: Vec<CellId> = (0..n as CellId).collect();
+        let root = |parent: &mut [CellId], mut c: CellId| {
+            while parent[c as usize] != c {
+                let grand = parent[parent[c as usize] as usize];
+                parent[c as usize] = grand;
+                c = grand;
+            }
+            c
+        };
+        for edge in self.edges.iter().filter(Edge::is_portal) {
+            let (Some(l), Some(r)) = (edge.left, edge.right) else { continue };
+            let (x, y) = (root(&mut parent, l), root(&mut parent, r));
+            parent[x.max(y) as usize] = x.min(y);
+        }
+        root(&mut parent, a) == root(&mut parent, b)
+    }
+
     /// `true` when some portals form a cycle: union-find over the portals in id order, with path
     /// halving (neighbouring ids are neighbouring cells in the usual maze, so this runs in cache
     /// where a breadth-first search hops across the maze: `check` of the 1000 × 1000 grid file,

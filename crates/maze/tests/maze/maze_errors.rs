@@ -90,6 +90,18 @@ fn malformed_files_give_file_line_col_and_what_is_wrong() {
         (format!("{ROOM}exit 1 2 3\n").into_bytes(), "f.maze:14:1: expected `exit CELL` or `exit X Y`, found `exit 1 2 3`"),
         // bbA #5: a second exit line was ignored; a grid header in capitals read as a vertex count
         (format!("{ROOM}exit 0\n\n  exit 0\n").into_bytes(), "f.maze:16:3: a second `exit` line (the first is on line 14)"),
+        // QA: an `exit` in capitals or on the viewer's line was dropped without a word (no exit)
+        (format!("{ROOM}EXIT 0\n").into_bytes(), "f.maze:14:1: expected `exit` in lower case, found `EXIT`"),
+        (format!("{ROOM}  Exit 0\n").into_bytes(), "f.maze:14:3: expected `exit` in lower case, found `Exit`"),
+        (format!("{ROOM}VFOV 60\n").into_bytes(), "f.maze:14:1: expected `vfov` in lower case, found `VFOV`"),
+        (
+            room_with(13, "2 2 0 90 90 exit 0").into_bytes(),
+            "f.maze:13:13: expected `exit` on a line of its own, after the viewer's line, found `exit`",
+        ),
+        (
+            room_with(13, "2 2 0 90 90 vfov 60").into_bytes(),
+            "f.maze:13:13: expected `vfov` on a line of its own",
+        ),
         // the least vertical field of view's extension
         (format!("{ROOM}vfov 151\n").into_bytes(), "f.maze:14:6: least vertical field of view is 151, out of range (within 0..=150)"),
         (format!("{ROOM}vfov -1\n").into_bytes(), "f.maze:14:6: least vertical field of view is -1, out of range"),

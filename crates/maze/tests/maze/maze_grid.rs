@@ -189,6 +189,8 @@ const MALFORMED: &[(&str, u32, u32, &str)] = &[
         1,
         "expected `mazewalk-grid 1` on the first line (the very first",
     ),
+    // QA: the viewer's errors were put at 1:1, the header; no room to stand is the tile side's fault
+    ("mazewalk-grid 1\ntile 0.50001\n\n#####\n#@.E#\n#####\n", 2, 6, "the viewer at (0.75"),
 ];
 
 #[test]
@@ -372,4 +374,18 @@ fn a_generated_exit_survives_both_formats_even_on_the_start() {
     )
     .unwrap();
     assert_eq!(one.exit().map(|e| e.cell), one.cell_at(one.viewer().pos), "the start is the exit");
+}
+
+/// `connected` follows portals only: two rooms joined by floor are connected both ways, a room
+/// walled off is not, and a cell that does not exist is connected to nothing.
+#[test]
+fn cells_are_connected_through_portals_only() {
+    // cells from the bottom row up, west to east: 0 1 (left room), 2 (the `E` beyond the wall)
+    let maze = parse("mazewalk-grid 1\n######\n#@.#E#\n######\n").unwrap();
+    assert_eq!(maze.cell_count(), 3);
+    assert!(maze.connected(0, 1) && maze.connected(1, 0) && maze.connected(2, 2));
+    assert!(!maze.connected(0, 2) && !maze.connected(2, 1));
+    assert!(!maze.connected(0, 3) && !maze.connected(3, 3));
+    let open = parse("mazewalk-grid 1\n######\n#@..E#\n######\n").unwrap();
+    assert!(open.connected(0, 3) && open.connected(3, 0));
 }
