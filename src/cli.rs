@@ -232,7 +232,8 @@ pub struct ServeArgs {
     /// Disconnect a player who sends nothing for this long (e.g. 90s, 30m, 2h; 1s..=7d).
     #[arg(long, value_name = "DUR", default_value = "30m", value_parser = parse_duration)]
     pub idle_timeout: std::time::Duration,
-    /// Keep the best times in this SQLite file (default: records.sqlite beside the host key).
+    /// Keep the best times in this SQLite file, mode 0600, in a folder that is there (default:
+    /// records.sqlite beside the host key).
     #[arg(long, value_name = "FILE", conflicts_with = "no_records")]
     pub records: Option<PathBuf>,
     /// Keep no best times.
@@ -255,7 +256,8 @@ pub struct ServeArgs {
     /// counted (1..=65536).
     #[arg(long, value_name = "N", default_value_t = 1024, requires = "world", value_parser = clap::value_parser!(u32).range(1..=65_536))]
     pub max_remote_players: u32,
-    /// Record each player's session as an asciicast v2 file in DIR (made if missing): one file a
+    /// Record each player's session as an asciicast v2 file in DIR (made if missing, but not its
+    /// folder): one file a
     /// session, exactly what its terminal was sent; the player's HUD says `recorded`. Spectators
     /// are not recorded.
     #[arg(long, value_name = "DIR")]

@@ -650,6 +650,7 @@ fn render_png_is_truecolor_unless_color_says_otherwise() {
 #[test]
 fn serve_refuses_recording_caps_that_cannot_hold_a_cast() {
     let dir = std::env::temp_dir().join(format!("mazewalk-cli-record-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap(); // (DIR's folder: a missing one is refused first)
     let key = dir.join("key");
     let casts = dir.join("casts");
     let (key, casts) = (key.to_str().unwrap(), casts.to_str().unwrap());
@@ -682,6 +683,44 @@ fn serve_refuses_recording_caps_that_cannot_hold_a_cast() {
         assert_eq!(out.status.code(), Some(code), "{args:?}: {}", stderr(&out));
         assert!(stderr(&out).contains(says), "{args:?}: {}", stderr(&out));
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// QA: a typo in `--records` or `--record-dir` must not make a tree of folders: a records file whose
+/// folder is missing, or a DIR whose folder is missing, is refused before listening (exit 2), naming
+/// the folder, and nothing is made; DIR itself (its folder there) is made, mode 0700.
+#[test]
+fn serve_makes_no_missing_folders_for_records_or_casts() {
+    use std::os::unix::fs::PermissionsExt as _;
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-folders-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let key = dir.join("key");
+    let missing = dir.join("typo");
+    let records = missing.join("deeper").join("r.sqlite");
+    let casts = missing.join("casts");
+    let (key, records, casts) = (key.to_str().unwrap(), records.to_str().unwrap(), casts.to_str().unwrap());
+    // a taken port: a run that got past the checks ends at once (exit 1) rather than serving
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let listen = taken.local_addr().unwrap().to_string();
+    let serve = ["serve", "--open", "--listen", &listen, "--host-key", key];
+    let cases: [(&[&str], String); 2] = [
+        (&["--records", records], missing.join("deeper").display().to_string()),
+        (&["--no-records", "--record-dir", casts], missing.display().to_string()),
+    ];
+    for (args, names) in cases {
+        let out = mazewalk(&[&serve[..], args].concat());
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        let says = format!("no folder {names} ");
+        assert!(stderr(&out).contains(&says), "{args:?} names {names}: {}", stderr(&out));
+        assert!(!missing.exists(), "{args:?}: nothing made");
+    }
+    // DIR itself is made when its folder is there (the taken port ends the run after that)
+    let casts = dir.join("casts");
+    let args = ["serve", "--open", "--listen", &listen, "--host-key", key, "--no-records", "--record-dir"];
+    let out = mazewalk(&[&args[..], &[casts.to_str().unwrap()]].concat());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(casts.is_dir(), "DIR made");
+    assert_eq!(std::fs::metadata(&casts).unwrap().permissions().mode() & 0o777, 0o700);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

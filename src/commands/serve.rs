@@ -21,6 +21,28 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     use super::{Usage, load_maze};
     use crate::guard;
     let maze = load_maze(&args.maze)?;
+    // Paths the host named: their folders must be there (a typo must not make a tree), said
+    // before anything is made.
+    if let (Some(path), false, None) = (&args.records, args.no_records, &args.world)
+        && let Some(dir) = missing_folder(path)
+    {
+        return Err(Usage(format!(
+            "--records {}: no folder {} (it is not made: make it first)",
+            path.display(),
+            dir.display()
+        ))
+        .into());
+    }
+    if let Some(dir) = args.record_dir.as_deref().filter(|d| !d.is_dir())
+        && let Some(parent) = missing_folder(dir)
+    {
+        return Err(Usage(format!(
+            "--record-dir {}: no folder {} (only DIR itself is made)",
+            dir.display(),
+            parent.display()
+        ))
+        .into());
+    }
     App::new(maze.clone(), RenderOptions::default(), 0.0)?; // a start in no cell fails here, not per player
     let env = |k: &str| std::env::var(k).ok();
     let key_path = match &args.host_key {
@@ -116,6 +138,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
             keep_records(&path, &maze, super::maze_name(&args.maze))
         }
     };
+    let mut record_dir_made = false;
     let record = match &args.record_dir {
         None => None,
         Some(dir) => {
@@ -133,7 +156,15 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
                 ))
                 .into());
             }
-            std::fs::create_dir_all(dir).with_context(|| format!("--record-dir {}", dir.display()))?;
+            if !dir.is_dir() {
+                // the last component only (its folder was checked above), private as the casts
+                use std::os::unix::fs::DirBuilderExt as _;
+                std::fs::DirBuilder::new()
+                    .mode(0o700)
+                    .create(dir)
+                    .with_context(|| format!("--record-dir {}", dir.display()))?;
+                record_dir_made = true;
+            }
             Some(RecordOptions {
                 dir: dir.clone(),
                 max_bytes: args.record_max_bytes,
@@ -174,7 +205,12 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
             })
             .and_then(|()| match &args.record_dir {
                 Some(dir) => {
-                    writeln!(out, "recording each player's session in {} (their HUD says so)", dir.display())
+                    let made = if record_dir_made { ", made now" } else { "" };
+                    writeln!(
+                        out,
+                        "recording each player's session in {}{made} (their HUD says so)",
+                        dir.display()
+                    )
                 }
                 None => Ok(()),
             })
@@ -193,6 +229,13 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         let _ = keeper.records.close(std::time::Duration::from_secs(3));
     }
     Ok(ExitCode::from(u8::try_from(guard::exit_code_for_signal(signal)).unwrap_or(1)))
+}
+
+/// The folder `path` would be in, when there is none (`a/b` for `a/b/c`; a bare name is in the
+/// working folder, which is there).
+#[cfg(all(unix, feature = "serve"))]
+fn missing_folder(path: &std::path::Path) -> Option<&std::path::Path> {
+    path.parent().filter(|d| !d.as_os_str().is_empty() && !d.is_dir())
 }
 
 /// The records of `maze` in the SQLite file at `path`, on their thread; what fails is said and the

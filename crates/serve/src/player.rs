@@ -113,7 +113,7 @@ pub fn color_depth(term: &str, colorterm: Option<&str>) -> ColorDepth {
 }
 
 /// The walk of a served screen (a player's or a spectator's) on `maze` for a terminal of type `term`:
-/// half blocks in the colour depth `term` and `colorterm` give ([`color_plan`]), without the developer
+/// half blocks (ASCII on a DEC terminal) in the colour depth `term` and `colorterm` give ([`color_plan`]), without the developer
 /// keys ([`App::developer_keys`]), at time `now`;
 /// with the plan, whose question about truecolor the caller asks.
 ///
@@ -126,8 +126,10 @@ pub(crate) fn served_app(
     now: f64,
 ) -> Result<(App, caps::ColorPlan), StartOutsideMaze> {
     let plan = color_plan(term, colorterm);
-    let options =
-        RenderOptions { charset: Charset::Half, color_depth: plan.depth, ..RenderOptions::default() };
+    // half blocks, or ASCII for a terminal without them (DEC's: [`caps::detect_block_glyphs`])
+    let blocks = caps::detect_block_glyphs(|k: &str| (k == "TERM").then(|| term.to_string()));
+    let charset = if blocks { Charset::Half } else { Charset::Ascii };
+    let options = RenderOptions { charset, color_depth: plan.depth, ..RenderOptions::default() };
     let mut app = App::new(maze, options, now)?;
     app.developer_keys = false; // culling off (`b`) would draw every wall of the maze, for each of them
     Ok((app, plan))
@@ -580,6 +582,31 @@ mod tests {
         assert_eq!(color_depth("xterm-256color", Some("truecolor")), ColorDepth::TrueColor);
         assert_eq!(color_depth("dumb", None), ColorDepth::None);
         assert_eq!(color_depth("", None), ColorDepth::Ansi16);
+    }
+
+    // QA: a DEC terminal (no colour in its terminfo, no Unicode blocks in its font) is drawn in
+    // ASCII without colour; `linux`, `screen` and xterms keep half blocks.
+    #[test]
+    fn a_dec_terminal_gets_ascii_without_colour() {
+        let limits = Limits::default();
+        let maze = || mazewalk_maze::builtin().unwrap();
+        for (term, charset, depth) in [
+            ("vt100", Charset::Ascii, ColorDepth::None),
+            ("vt220", Charset::Ascii, ColorDepth::None),
+            ("linux", Charset::Half, ColorDepth::Ansi16),
+            ("screen", Charset::Half, ColorDepth::Ansi16),
+            ("xterm-mono", Charset::Half, ColorDepth::None),
+            ("xterm-256color", Charset::Half, ColorDepth::Ansi256),
+        ] {
+            let mut p = Player::new(maze(), term, None, (80, 24), &limits, 0.0).unwrap();
+            assert_eq!(p.session().app().options.charset, charset, "{term}");
+            assert_eq!(p.session().color_depth(), depth, "{term}");
+            let mut out = Vec::new();
+            p.enter(&mut out);
+            p.frame(0.0, &mut out);
+            let blocks = String::from_utf8_lossy(&out).contains('\u{2580}');
+            assert_eq!(blocks, charset == Charset::Half, "{term}: a half block sent");
+        }
     }
 
     // issue #33: every player's terminal is asked for truecolor (through its session), unless what the

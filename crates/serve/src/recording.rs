@@ -312,7 +312,14 @@ fn open(
     if dir.active.values().filter(|(g, _)| *g == group).count() >= options.max_per_address {
         return Err(Refused::PerAddress);
     }
-    std::fs::create_dir_all(&options.dir)?;
+    if !options.dir.is_dir() {
+        // DIR again if it went while serving, never its folders (a typo must not make a tree)
+        use std::os::unix::fs::DirBuilderExt as _;
+        match std::fs::DirBuilder::new().mode(0o700).create(&options.dir) {
+            Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => return Err(e.into()),
+            _ => {}
+        }
+    }
     // Our finished casts, oldest first (the name starts with the time, zero-padded).
     let mut finished: Vec<(String, u64)> = Vec::new();
     for entry in std::fs::read_dir(&options.dir)? {

@@ -319,26 +319,35 @@ const MIGRATE_1_TO_2: &str = "
     PRAGMA user_version = 2;
 ";
 
+/// Makes the records file at `path`, mode 0600, if there is none, before SQLite opens it (so its
+/// journal, made with the file's mode, is private too). A file already there is left as it is.
+fn make_private(path: &Path) -> Result<(), RecordsError> {
+    use std::os::unix::fs::OpenOptionsExt as _;
+    match std::fs::OpenOptions::new().write(true).create_new(true).mode(0o600).open(path) {
+        Ok(_) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        Err(e) => Err(RecordsError::new(path, Fault::CannotOpen, e.to_string())),
+    }
+}
+
 impl Sqlite {
-    /// Opens the records at `path` for a server, making the file (and its folder, mode 0700) if there
-    /// is none. A file that is not a records database, or a damaged one, is kept aside as
+    /// Opens the records at `path` for a server, making the file (mode 0600, as the casts: it holds
+    /// names and whole runs) if there is none; its folder must be there. A file that is not a records database, or a damaged one, is kept aside as
     /// `FILE.damaged-UNIXTIME` (never written over) and a new one made: the second value says where
     /// it went.
     ///
     /// # Errors
     /// The file cannot be opened, made or written, or a newer mazewalk made it.
     pub fn open(path: &Path, options: SqliteOptions) -> Result<(Sqlite, Option<PathBuf>), RecordsError> {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
-            use std::os::unix::fs::DirBuilderExt as _;
-            std::fs::DirBuilder::new()
-                .recursive(true)
-                .mode(0o700)
-                .create(dir)
-                .map_err(|e| RecordsError::new(path, Fault::CannotOpen, e.to_string()))?;
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty() && !d.is_dir()) {
+            let why = format!("no folder {} (it is not made)", dir.display());
+            return Err(RecordsError::new(path, Fault::CannotOpen, why));
         }
+        make_private(path)?;
         match Sqlite::open_writable_within(path, options) {
             Err(err) if err.fault == Fault::Damaged => {
                 let aside = keep_aside(path)?;
+                make_private(path)?;
                 Ok((Sqlite::open_writable(path, options)?, Some(aside)))
             }
             opened => opened.map(|db| (db, None)),

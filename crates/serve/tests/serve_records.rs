@@ -489,3 +489,29 @@ fn a_records_file_that_cannot_be_written_keeps_the_ranking_in_memory() {
     let names: Vec<&str> = kept[0].top.iter().map(|b| b.player.as_str()).collect();
     assert_eq!(names, ["dan", "cid", "eve"], "the finishes made meanwhile, kept");
 }
+
+/// QA: the records hold names, dates and whole runs, so a records file made by mazewalk is mode
+/// 0600 as the casts are (a new one made after keeping a damaged one aside too), whatever the
+/// umask; and a path whose folder is missing is refused, naming it, with nothing made.
+#[test]
+fn a_new_records_file_is_private_and_no_folder_is_made() {
+    use std::os::unix::fs::PermissionsExt as _;
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    let scratch = Scratch::new("private");
+    let path = scratch.db();
+    let mut db = open(&path);
+    db.record(&finish(MAZE, "ann", 10.0)).unwrap();
+    drop(db);
+    assert_eq!(mode(&path), 0o600, "a fresh records file");
+    std::fs::write(&path, "not the records\n".repeat(100)).unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o644)).unwrap();
+    let (_, aside) = Sqlite::open(&path, SqliteOptions::default()).unwrap();
+    assert_eq!(mode(&path), 0o600, "the new one made beside {:?}", aside.expect("kept aside"));
+
+    let folder = path.with_file_name("missing");
+    let nested = folder.join("dir").join("records.sqlite");
+    let err = Sqlite::open(&nested, SqliteOptions::default()).map(|_| ()).expect_err("no folder");
+    assert_eq!(err.fault, Fault::CannotOpen);
+    assert!(err.to_string().contains(&folder.join("dir").display().to_string()), "{err}");
+    assert!(!folder.exists(), "nothing made");
+}

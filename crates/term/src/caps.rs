@@ -16,10 +16,10 @@ use crate::frame::ColorDepth;
 /// |---|---|
 /// | `NO_COLOR` set and non-empty ([no-color.org](https://no-color.org)) | `None` |
 /// | `COLORTERM=truecolor` or `24bit`, except inside GNU screen (below) | `TrueColor` |
-/// | `TERM=dumb`, or a monochrome entry by terminfo's naming (`*-mono`, `*-m`: `xterm-mono`, `linux-m`) | `None` |
+/// | `TERM=dumb`, a monochrome entry by terminfo's naming (`*-mono`, `*-m`: `xterm-mono`, `linux-m`), or a DEC terminal (`vt` and a digit: `vt52`, `vt100`, `vt102`, `vt220`, `vt320`, `vt420`, `vt525`; terminfo gives none of them `colors`) | `None` |
 /// | `TERM` naming a truecolor terminal (`*-direct`, `xterm-kitty`, `alacritty`, `wezterm`, `foot*`, `xterm-ghostty`), or `WT_SESSION` set (Windows Terminal) | `TrueColor` |
 /// | `TERM` containing `256color` | `Ansi256` |
-/// | `TERM=linux`, `vt*`, anything else, or unset | `Ansi16` |
+/// | `TERM=linux`, `screen`, `ansi` (8 `colors` in terminfo, and bright ones by bold), anything else, or unset | `Ansi16` |
 ///
 /// GNU screen 4 keeps the outer terminal's `COLORTERM` in its windows but cannot show 24-bit colour
 /// (it garbles it), so there `COLORTERM` is not believed ([`in_gnu_screen`]). The `TERM` names matter
@@ -38,7 +38,7 @@ pub fn detect_color_depth(get: impl Fn(&str) -> Option<String>) -> ColorDepth {
     }
     let term = get("TERM").unwrap_or_default().to_ascii_lowercase();
     const TRUECOLOR_TERMS: [&str; 5] = ["xterm-kitty", "alacritty", "wezterm", "xterm-ghostty", "contour"];
-    if term == "dumb" || term.ends_with("-mono") || term.ends_with("-m") {
+    if term == "dumb" || term.ends_with("-mono") || term.ends_with("-m") || dec_terminal(&term) {
         ColorDepth::None
     } else if term.ends_with("-direct")
         || term.starts_with("foot")
@@ -51,6 +51,24 @@ pub fn detect_color_depth(get: impl Fn(&str) -> Option<String>) -> ColorDepth {
     } else {
         ColorDepth::Ansi16
     }
+}
+
+/// Whether the terminal can show Unicode's block glyphs (`▀` and the rest), by `TERM` alone:
+///
+/// | `TERM` | block glyphs |
+/// |---|---|
+/// | a DEC terminal (`vt` and a digit: `vt100`, `vt102`, `vt220`, …; their fonts are DEC's, with no Unicode) | no: ASCII |
+/// | anything else (`linux`, `screen`, `xterm*`, `dumb`, unset) | yes |
+///
+/// (`xterm-mono` is an xterm without colour: its font has the blocks.)
+#[must_use]
+pub fn detect_block_glyphs(get: impl Fn(&str) -> Option<String>) -> bool {
+    !dec_terminal(&get("TERM").unwrap_or_default().to_ascii_lowercase())
+}
+
+/// A DEC video terminal by terminfo's naming: `vt` and a digit (`vt100`, `vt220-8bit`), not `vte`.
+fn dec_terminal(term: &str) -> bool {
+    term.strip_prefix("vt").is_some_and(|rest| rest.starts_with(|c: char| c.is_ascii_digit()))
 }
 
 /// The questions about 24-bit colour, sent once at the start (on the alternate screen, before the first
@@ -266,6 +284,26 @@ mod tests {
     }
 
     #[test]
+    fn block_glyphs_table() {
+        let table: &[(&[(&str, &str)], bool)] = &[
+            (&[], true),
+            (&[("TERM", "xterm-256color")], true),
+            (&[("TERM", "xterm-mono")], true),
+            (&[("TERM", "linux")], true),
+            (&[("TERM", "screen")], true),
+            (&[("TERM", "vte-256color")], true),
+            (&[("TERM", "vt100")], false),
+            (&[("TERM", "vt102")], false),
+            (&[("TERM", "vt220")], false),
+            (&[("TERM", "vt220-8bit")], false),
+            (&[("TERM", "VT320")], false),
+        ];
+        for (vars, blocks) in table {
+            assert_eq!(detect_block_glyphs(env(vars)), *blocks, "{vars:?}");
+        }
+    }
+
+    #[test]
     fn color_depth_table() {
         use ColorDepth::*;
         let table: &[(&[(&str, &str)], ColorDepth)] = &[
@@ -289,7 +327,16 @@ mod tests {
             (&[("TERM", "xterm-mono")], None),
             (&[("TERM", "linux-m")], None),
             (&[("TERM", "xterm-mono"), ("COLORTERM", "truecolor")], TrueColor), // COLORTERM is explicit
-            (&[("TERM", "vt100")], Ansi16),
+            // DEC terminals: terminfo (`infocmp -1 vt100 | grep colors`) gives them no colours
+            (&[("TERM", "vt100")], None),
+            (&[("TERM", "vt102")], None),
+            (&[("TERM", "vt220")], None),
+            (&[("TERM", "VT52")], None),
+            (&[("TERM", "vt100"), ("COLORTERM", "truecolor")], TrueColor), // COLORTERM is explicit
+            (&[("TERM", "vte")], Ansi16),                                  // GNOME's VTE, not a DEC terminal
+            (&[("TERM", "vte-256color")], Ansi256),
+            (&[("TERM", "ansi")], Ansi16),
+            (&[("TERM", "screen")], Ansi16),
             (&[("TERM", "xterm")], Ansi16),
             // GNU screen keeps COLORTERM but garbles 24-bit colour; tmux shows it.
             (&[("COLORTERM", "truecolor"), ("TERM", "screen.xterm-256color")], Ansi256),
@@ -353,7 +400,7 @@ mod tests {
             (&[("TERM", "xterm-256color"), ("STY", "1.pts-0.host")], terminfo, known(Ansi256)),
             // consoles that may print the question
             (&[("TERM", "linux")], none, known(Ansi16)),
-            (&[("TERM", "vt220")], none, known(Ansi16)),
+            (&[("TERM", "vt220")], none, known(None)), // (no colours at all: a DEC terminal)
             (&[("TERM", "xterm-256color"), ("TERM_PROGRAM", "Apple_Terminal")], none, known(Ansi256)),
         ];
         for (vars, facts, want) in table {
