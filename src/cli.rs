@@ -134,9 +134,10 @@ pub struct ReadArgs {
 /// How frames look.
 #[derive(Args)]
 pub struct LookArgs {
-    /// Glyphs: ascii (one sample per cell), half (▀, 1×2), quad (2×2) or sextant (2×3).
-    #[arg(long, default_value = "half")]
-    pub charset: Charset,
+    /// Glyphs: ascii (one sample per cell), half (▀, 1×2), quad (2×2) or sextant (2×3) (default:
+    /// half; the walk draws ascii on a terminal without block glyphs, a DEC one: TERM=vt100, vt220…).
+    #[arg(long)]
+    pub charset: Option<Charset>,
     /// Colour depth: none, 16, 256 or truecolor (default: from NO_COLOR, COLORTERM and TERM; the walk
     /// also reads terminfo, asks tmux, and asks the terminal itself for truecolor).
     #[arg(long)]
@@ -419,11 +420,29 @@ pub struct CheckArgs {
 }
 
 impl LookArgs {
-    pub fn options(&self, culling: Culling) -> RenderOptions {
+    /// The charset `--charset` names, else half blocks (`render`'s default whatever `TERM` says).
+    pub fn charset(&self) -> Charset {
+        self.charset.unwrap_or(Charset::Half)
+    }
+
+    /// The walk's charset: `--charset`, else half blocks, or ascii on a terminal that has no block
+    /// glyphs ([`caps::detect_block_glyphs`]: a DEC terminal by `TERM`).
+    pub fn walk_charset(&self) -> Charset {
+        self.charset.unwrap_or_else(|| {
+            if caps::detect_block_glyphs(|k: &str| std::env::var(k).ok()) {
+                Charset::Half
+            } else {
+                Charset::Ascii
+            }
+        })
+    }
+
+    /// The render options, drawn with `charset` ([`Self::charset`] or [`Self::walk_charset`]).
+    pub fn options(&self, culling: Culling, charset: Charset) -> RenderOptions {
         let env = |k: &str| std::env::var(k).ok();
         let color_depth = self.color.unwrap_or_else(|| caps::detect_color_depth(env));
         RenderOptions {
-            charset: self.charset,
+            charset,
             color_depth,
             culling,
             cell_aspect: self.cell_aspect,

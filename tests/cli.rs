@@ -111,6 +111,29 @@ fn render_in_colour_writes_ansi_that_resets_each_line() {
     assert_eq!(text.lines().count(), 8);
 }
 
+/// `render` draws half blocks by default whatever `TERM` says (the walk draws ascii on a DEC
+/// terminal, `render` writes what the terminal it was asked for shows).
+#[test]
+fn render_keeps_half_blocks_on_a_dec_term() {
+    let run = |term: &str, args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .args(["render", "--size", "30x8", "--color", "truecolor"])
+            .args(args)
+            .env_remove("NO_COLOR")
+            .env("TERM", term)
+            .output()
+            .expect("run mazewalk");
+        assert!(out.status.success(), "{}", stderr(&out));
+        stdout(&out)
+    };
+    let vt100 = run("vt100", &[]);
+    assert!(vt100.contains('▀') || vt100.contains('▄'), "{vt100:?}");
+    assert_eq!(vt100, run("vt100", &["--charset", "half"]));
+    assert_eq!(vt100, run("xterm-256color", &[]));
+    let help = run("vt100", &["--help"]);
+    assert!(help.contains("the walk draws ascii on a terminal without block glyphs"), "{help}");
+}
+
 #[test]
 fn depth_out_matches_the_geometry_of_a_known_room() {
     // tiny.maze: two 4×4 cells side by side, x from 0 to 8; the viewer at (2, 2) faces +x with a 90°

@@ -170,6 +170,18 @@ impl Tui {
 
     /// [`Tui::spawn`], attached to the pty as `session` says.
     fn spawn_as(session: Session, args: &[&str], cols: u16, rows: u16, answers: Answers) -> Tui {
+        Tui::spawn_term(session, "xterm-256color", args, cols, rows, answers)
+    }
+
+    /// [`Tui::spawn_as`] with `TERM=term`.
+    fn spawn_term(
+        session: Session,
+        term: &str,
+        args: &[&str],
+        cols: u16,
+        rows: u16,
+        answers: Answers,
+    ) -> Tui {
         let pty = rustix_openpty::openpty(None, Some(&winsize(cols, rows))).expect("openpty");
         let master = File::from(pty.controller);
         let slave = pty.user;
@@ -185,7 +197,7 @@ impl Tui {
         command
             .args(args)
             .env_clear()
-            .env("TERM", "xterm-256color")
+            .env("TERM", term)
             .env("RUST_BACKTRACE", "1")
             .stdin(stdio())
             .stdout(stdio())
@@ -668,6 +680,35 @@ fn the_colour_depth_and_the_ascii_charset_hold_on_the_whole_screen() {
             let odd: String =
                 String::from_utf8_lossy(&text).chars().filter(|c| !c.is_ascii()).take(20).collect();
             assert!(odd.is_empty(), "--charset ascii printed {odd:?}");
+        }
+    }
+}
+
+/// A DEC terminal (`TERM=vt100`, `vt220`) has no Unicode blocks: the walk draws ascii there unless
+/// `--charset` says otherwise, and its HUD says so; `--charset half` still gets half blocks.
+#[test]
+fn the_walk_draws_ascii_on_a_dec_terminal_unless_told() {
+    for (term, args, charset) in [
+        ("vt100", &[][..], "ascii"),
+        ("vt220", &[][..], "ascii"),
+        ("vt100", &["--charset", "half"][..], "half"),
+        ("xterm-256color", &[][..], "half"),
+    ] {
+        let mut tui = Tui::spawn_term(Session::Leader, term, args, 100, 30, Answers::Plain);
+        tui.wait_for("the first frame", |s| s.contents().contains("help"));
+        let hud = tui.hud();
+        tui.send(b"q");
+        let (status, raw) = tui.finish();
+        assert_eq!(status.code(), Some(0), "TERM={term} {args:?}: {status:?}");
+        assert!(hud.contains(&format!(" {charset} ")), "TERM={term} {args:?}: the HUD {hud:?}");
+        let text = printed_text(&raw);
+        let text = String::from_utf8_lossy(&text);
+        let blocks = text.chars().filter(|c| ('\u{2580}'..='\u{259f}').contains(c)).count();
+        if charset == "ascii" {
+            let odd: String = text.chars().filter(|c| !c.is_ascii()).take(20).collect();
+            assert!(odd.is_empty(), "TERM={term} {args:?} printed {odd:?}");
+        } else {
+            assert!(blocks > 100, "TERM={term} {args:?}: {blocks} block glyphs");
         }
     }
 }

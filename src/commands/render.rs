@@ -29,7 +29,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
         _ => None,
     };
-    let mut options = args.look.options(args.culling);
+    let mut options = args.look.options(args.culling, args.look.charset());
     if args.png.is_some() && args.look.color.is_none() {
         // a picture is no terminal: its colours are the frame's own unless --color asks for fewer
         options.color_depth = ColorDepth::TrueColor;
@@ -79,7 +79,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 /// the depths may have at most one of them on standard output and no two in one file (the second
 /// would overwrite the first); stdout must be open if anything goes there; the frame has a size limit.
 fn check_outputs(args: &RenderArgs) -> anyhow::Result<()> {
-    if args.png.is_some() && args.look.charset == Charset::Ascii {
+    if args.png.is_some() && args.look.charset() == Charset::Ascii {
         return Err(
             Usage("--png draws the block charsets (half, quad, sextant); ascii is text".into()).into()
         );

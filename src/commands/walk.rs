@@ -69,7 +69,10 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
         None => caps::plan_color_depth(env, color_facts(env)),
     };
     let clock = Instant::now(); // the walk's time 0
-    let options = RenderOptions { color_depth: plan.depth, ..args.look.options(Culling::Portal) };
+    let options = RenderOptions {
+        color_depth: plan.depth,
+        ..args.look.options(Culling::Portal, args.look.walk_charset())
+    };
     let mut app = App::new(maze, options, 0.0)?;
     app.ghost = ghost.is_some();
     let status = replay.as_ref().map(|run| {
@@ -206,7 +209,7 @@ fn start_recording(
         term: std::env::var("TERM").ok(),
         colorterm: std::env::var("COLORTERM").ok(),
         color_depth: plan.depth,
-        charset: args.look.charset,
+        charset: args.look.walk_charset(),
         asked_truecolor: plan.ask,
     };
     let shown = mazewalk_maze::quote_path(&path.display().to_string());

@@ -14,8 +14,8 @@
 //! ```
 //!
 //! * Line 1 is `mazewalk-grid 1` (the format and its version).
-//! * Settings follow, one per line, each optional: `tile SIDE` (tile side in maze units, more than
-//!   [`MIN_TILE`] = 0.5 and at most 1000, default 4),
+//! * Settings follow, one per line, each optional: `tile SIDE` (tile side in maze units,
+//!   at least [`MIN_TILE`] = 0.5002 and at most 1000, default 4),
 //!   `facing east|north|west|south` (the `@` start's heading, default east), `eye Z` (eye height,
 //!   default 0, strictly between the floor -1 and the ceiling +1), `fov DEG` (horizontal field of
 //!   view, default 90), `vfov DEG` (the least vertical field of view the walk keeps, widening the
@@ -45,6 +45,7 @@ use std::fmt::Write as _;
 use glam::{Vec2, Vec3, vec2};
 
 use super::geometry::WALL_MARGIN;
+use super::movement;
 use super::text::{Loc, is_space, quote};
 use super::{
     CellId, Cells, EdgeId, Edges, Exit, Format, Maze, PackedEdge, ParseError, ParseErrorKind, Viewer,
@@ -57,9 +58,12 @@ pub(crate) const MAGIC: &str = "mazewalk-grid";
 pub(crate) const VERSION: u32 = 1;
 /// The colour of `#` walls and of the outside unless the legend says otherwise (`#808080`).
 pub const DEFAULT_WALL: Vec3 = Vec3::splat(128.0 / 255.0);
-/// A tile's side must be more than this: the viewer's disc ([`WALL_MARGIN`] round it) across, so
-/// that it fits between walls one tile apart (with a narrower tile the walk could not move).
-pub const MIN_TILE: f32 = 2.0 * WALL_MARGIN;
+/// A tile's side must be at least this: the viewer's disc ([`WALL_MARGIN`] round it) across and the
+/// walk's slack of 0.0001 ([`movement::SKIN`]) on each side. Placed in a corridor one tile wide,
+/// [`movement::settle`] may leave the viewer `WALL_MARGIN + 2·SKIN` from one wall; with this much the
+/// other is still `WALL_MARGIN` away, so it stands clear and walks down the corridor past the tiles'
+/// corners. A tile of 0.50009 left it no room to stand, and 0.5001 room to stand but not to walk.
+pub const MIN_TILE: f32 = (2.0 * (WALL_MARGIN as f64 + movement::SKIN)) as f32;
 
 /// Most tiles in a map (2048 × 2048), so a 1000 × 1000 generated maze fits.
 pub(crate) const MAX_TILES: usize = 2048 * 2048;
@@ -640,10 +644,10 @@ fn parse_placed(file: &str, text: &str) -> Result<(TileMap, Places), ParseError>
             ["tile", v] => {
                 map.tile = number(v, "tile side")?;
                 tile_at = Some((n, col_of(v)));
-                if !(map.tile > MIN_TILE && map.tile <= 1000.0) {
+                if !(map.tile >= MIN_TILE && map.tile <= 1000.0) {
                     let why = "the viewer, a disc 0.5 across, must fit between walls a tile apart";
                     let msg = format!(
-                        "tile side {} is out of range: more than {MIN_TILE} ({why}), at most 1000",
+                        "tile side {} is out of range: at least {MIN_TILE} ({why}), at most 1000",
                         quote(v)
                     );
                     return Err(err(n, col_of(v), msg));
@@ -782,10 +786,10 @@ fn parse_placed(file: &str, text: &str) -> Result<(TileMap, Places), ParseError>
 /// Writes `maze` in grid format, if it is made of the format's square tiles in its numbering.
 pub fn write(maze: &Maze) -> Result<String, WriteError> {
     let map = to_map(maze)?;
-    if map.tile <= MIN_TILE {
+    if map.tile < MIN_TILE {
         let why = "so that the viewer fits between walls";
         return Err(no(format!(
-            "its tiles are {} across; a grid file's are more than {MIN_TILE}, {why}",
+            "its tiles are {} across; a grid file's are at least {MIN_TILE}, {why}",
             map.tile
         )));
     }

@@ -42,7 +42,7 @@ impl Position {
 }
 
 /// Distance kept beyond `radius` after a contact, so rounding never lands inside the margin.
-const SKIN: f64 = 1e-4;
+pub const SKIN: f64 = 1e-4;
 /// Contacts handled per step: enough to slide along one wall into a corner and stop.
 const MAX_SLIDES: usize = 4;
 

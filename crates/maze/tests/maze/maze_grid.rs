@@ -145,11 +145,11 @@ const MALFORMED: &[(&str, u32, u32, &str)] = &[
     ("mazewalk-grid 2\n#@#\n", 1, 15, "unsupported grid version `2`"),
     ("mazewalk-grid\n#@#\n", 1, 14, "expected the version after `mazewalk-grid`"),
     ("mazewalk-grid 1\ntile 0\n#@#\n", 2, 6, "tile side 0 is out of range"),
-    ("mazewalk-grid 1\ntile 0.5\n#@#\n", 2, 6, "tile side 0.5 is out of range: more than 0.5 (the viewer"),
+    ("mazewalk-grid 1\ntile 0.5\n#@#\n", 2, 6, "tile side 0.5 is out of range: at least 0.5002 (the viewer"),
     ("mazewalk-grid 1\ntile 1001\n#@#\n", 2, 6, "tile side 1001 is out of range"),
     ("mazewalk-grid 1\ntile four\n#@#\n", 2, 6, "expected a number (tile side), found `four`"),
     // bbA #4: a number too large for an f32 is out of the setting's range, not "not a number"
-    ("mazewalk-grid 1\ntile 1e308\n#@#\n", 2, 6, "tile side 1e308 is out of range: more than 0.5"),
+    ("mazewalk-grid 1\ntile 1e308\n#@#\n", 2, 6, "tile side 1e308 is out of range: at least 0.5002"),
     ("mazewalk-grid 1\neye -1e99\n#@#\n", 2, 5, "eye height -1e99 is not strictly between -1 and 1"),
     // bbA #5: a setting with too many or too few words, or given twice, says so
     ("mazewalk-grid 1\ntile 4 4\n#@#\n", 2, 1, "`tile` takes one number: the tile side, e.g. `tile 4`"),
@@ -189,8 +189,8 @@ const MALFORMED: &[(&str, u32, u32, &str)] = &[
         1,
         "expected `mazewalk-grid 1` on the first line (the very first",
     ),
-    // QA: the viewer's errors were put at 1:1, the header; no room to stand is the tile side's fault
-    ("mazewalk-grid 1\ntile 0.50001\n\n#####\n#@.E#\n#####\n", 2, 6, "the viewer at (0.75"),
+    // QA: a tile "more than 0.5" was refused as no room to stand; the range says the true bound
+    ("mazewalk-grid 1\ntile 0.50001\n\n#####\n#@.E#\n#####\n", 2, 6, "tile side 0.50001 is out of range"),
 ];
 
 #[test]
@@ -258,6 +258,41 @@ fn the_viewer_walks_a_corridor_of_the_narrowest_tile() {
     assert!(at.pos.x > start.x + 2.0 * tile, "from {start} to {}", at.pos);
 }
 
+/// At the bound: a tile of [`grid::MIN_TILE`] (0.5002) loads, its viewer standing where it starts,
+/// clear of both walls, and walks down the corridor; the next narrower side a file can give is
+/// refused as out of range (not as a viewer with no room to stand, or one that cannot walk: 0.5001 stood but was stuck at the first tile's corner).
+#[test]
+fn the_narrowest_tile_is_exactly_the_one_the_viewer_stands_in() {
+    use mazewalk_maze::movement::{Position, is_clear, settle, step};
+    assert_eq!(grid::MIN_TILE.to_string(), "0.5002");
+    // a corridor near the origin running east, and one 2000 tiles out running south (where the
+    // walls' coordinates carry f32 rounding of about 6e-5)
+    let far = "#".repeat(2000);
+    let cases = [
+        ("#######\n#@...E#\n#######\n".to_string(), vec2(0.1, 0.0)),
+        (format!("{far}###\n{far}#v#\n{far}#.#\n{far}#.#\n{far}#E#\n{far}###\n"), vec2(0.0, -0.1)),
+    ];
+    for (map, way) in cases {
+        let m = parse(&format!("mazewalk-grid 1\ntile {}\n\n{map}", grid::MIN_TILE))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let stands = settle(&m, Position::of_viewer(&m), m.clearance());
+        assert!(is_clear(&m, stands, m.clearance()), "{stands:?}");
+        let mut walked = stands;
+        for _ in 0..20 {
+            walked = step(&m, walked, way, m.clearance());
+        }
+        assert!(walked.pos.distance(stands.pos) > 1.0, "from {} to {}", stands.pos, walked.pos);
+    }
+    // every f32 just below the bound, as a file writes it
+    let mut below = grid::MIN_TILE;
+    for _ in 0..50 {
+        below = f32::from_bits(below.to_bits() - 1);
+        let text = format!("mazewalk-grid 1\ntile {below}\n\n#####\n#@.E#\n#####\n");
+        let e = parse(&text).expect_err(&text).to_string();
+        assert!(e.contains(&format!("tile side {below} is out of range: at least 0.5002")), "{e}");
+    }
+}
+
 /// A maze of tiles narrower than a grid file's may be is not written as one (it would not read back),
 /// and the writer says why.
 #[test]
@@ -276,7 +311,7 @@ fn tiles_too_narrow_for_a_grid_file_are_not_written() {
     map.tile = 0.3; // (a room of 3 × 3 tiles, 0.9 across: room for the viewer)
     let m = map.to_maze().unwrap();
     let e = maze::write(&m, Format::Grid).unwrap_err().to_string();
-    assert!(e.contains("its tiles are 0.3 across; a grid file's are more than 0.5"), "{e}");
+    assert!(e.contains("its tiles are 0.3 across; a grid file's are at least 0.5002"), "{e}");
     map.tile = 0.6;
     assert!(maze::write(&map.to_maze().unwrap(), Format::Grid).is_ok());
 }
