@@ -905,21 +905,12 @@ impl Maze {
         if a as usize >= n || b as usize >= n {
             return false;
         }
-        let mut parent: Vec<CellId> = (0..n as CellId).collect();
-        let root = |parent: &mut [CellId], mut c: CellId| {
-            while parent[c as usize] != c {
-                let grand = parent[parent[c as usize] as usize];
-                parent[c as usize] = grand;
-                c = grand;
-            }
-            c
-        };
+        let mut sets = CellSets::new(n);
         for edge in self.edges.iter().filter(Edge::is_portal) {
             let (Some(l), Some(r)) = (edge.left, edge.right) else { continue };
-            let (x, y) = (root(&mut parent, l), root(&mut parent, r));
-            parent[x.max(y) as usize] = x.min(y);
+            sets.join(l, r);
         }
-        root(&mut parent, a) == root(&mut parent, b)
+        sets.root(a) == sets.root(b)
     }
 
     /// `true` when some portals form a cycle: union-find over the portals in id order, with path
@@ -927,24 +918,45 @@ impl Maze {
     /// where a breadth-first search hops across the maze: `check` of the 1000 × 1000 grid file,
     /// 2 M cells, took 1.1–1.3 s of CPU with the search and 0.7–0.8 s with this).
     fn portals_close_a_loop(&self) -> bool {
-        let mut parent: Vec<CellId> = (0..self.cell_count() as CellId).collect();
-        let root = |parent: &mut [CellId], mut c: CellId| {
-            while parent[c as usize] != c {
-                let grand = parent[parent[c as usize] as usize];
-                parent[c as usize] = grand;
-                c = grand;
-            }
-            c
-        };
+        let mut sets = CellSets::new(self.cell_count());
         for edge in self.edges.iter().filter(Edge::is_portal) {
             let (Some(l), Some(r)) = (edge.left, edge.right) else { continue };
-            let (a, b) = (root(&mut parent, l), root(&mut parent, r));
-            if a == b {
+            if !sets.join(l, r) {
                 return true;
             }
-            parent[a.max(b) as usize] = a.min(b);
         }
         false
+    }
+}
+
+/// Union-find over a maze's cells, with path halving; a set's root is its least cell id.
+struct CellSets(Vec<CellId>);
+
+impl CellSets {
+    /// `n` cells, each a set of its own.
+    fn new(n: usize) -> CellSets {
+        CellSets((0..n as CellId).collect())
+    }
+
+    /// The root of `c`'s set.
+    fn root(&mut self, mut c: CellId) -> CellId {
+        let parent = &mut self.0;
+        while parent[c as usize] != c {
+            let grand = parent[parent[c as usize] as usize];
+            parent[c as usize] = grand;
+            c = grand;
+        }
+        c
+    }
+
+    /// Joins the sets of `a` and `b`: `false` when they were one set already.
+    fn join(&mut self, a: CellId, b: CellId) -> bool {
+        let (a, b) = (self.root(a), self.root(b));
+        if a == b {
+            return false;
+        }
+        self.0[a.max(b) as usize] = a.min(b);
+        true
     }
 }
 
