@@ -36,7 +36,7 @@ fuzz_target!(|bytes: &[u8]| {
             let (cols, rows) = render.size;
             // Keep each run cheap: the size limit is the CLI's own check, tested elsewhere.
             if camera.validate().is_ok() && cols * rows <= 4_000 {
-                let options = render.look.options(render.culling);
+                let options = render.look.options(render.culling, render.look.charset());
                 let mut frame = mazewalk_term::frame::Frame::new(cols, rows);
                 let region = frame.region();
                 let _ =
