@@ -7,7 +7,8 @@
 //! the ceiling's crowded light-grey lines.
 //!
 //! The property, over views straight down corridors of generated mazes with side openings 1–6 cells
-//! ahead, in ascii without colour and in 16 colours: the columns where a run of openings is show
+//! ahead (behind a wall of their side: where a side is open all the way back to the eye, the eye
+//! stands in a hall), in ascii without colour and in 16 colours: the columns where a run of openings is show
 //! something (a glyph; a colour at least [`APART`] from) that no side wall's plain columns show in
 //! any of the maze's views, and that no seam between two walls of one line shows either: a mark a
 //! player learns once and trusts.
@@ -221,7 +222,8 @@ fn observe(maze: &Maze, corridor: &Corridor, charset: Charset, depth: ColorDepth
     let mut openings = Vec::new();
     for s in 0..2 {
         // Each run of side openings one after another (cells k0..=k1): one opening to a player where
-        // no wall stands between the side cells (a room beside the corridor), so it is read as a whole.
+        // no wall stands between the side cells (a room beside the corridor), so it is read as a whole;
+        // a run is an opening where a wall of its side stands between it and the eye.
         let mut k = 1;
         while k <= corridor.ahead.min(AHEAD) {
             if !corridor.sides[k][s] {
@@ -234,6 +236,12 @@ fn observe(maze: &Maze, corridor: &Corridor, charset: Charset, depth: ColorDepth
             }
             let k1 = k;
             k += 1;
+            // Where the side is open all the way back to the eye's own cell, the eye stands in a hall
+            // two cells wide: no wall of that side stops between it and the run, and what a player
+            // sees there is the hall's far wall (its seams are seams), not an opening.
+            if (0..k0).all(|j| corridor.sides[j][s]) {
+                continue;
+            }
             let (a, b) = (span(k0, s), span(k1, s));
             let (a, b) = (a.0.min(b.0), a.1.max(b.1));
             if !in_view(a) || !in_view(b) {
