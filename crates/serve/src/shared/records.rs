@@ -17,7 +17,8 @@
 //! answer fails the finish at hand ([`Fault::Unreachable`], transient: the next one tries again),
 //! within the link's timeouts. What Redis says is untrusted and read as bytes: a name that is not a
 //! player name (not UTF-8 either) or a time that is not a time is left out of the table and counted
-//! ([`RedisStore::left_out`], said once in the log); a `:at` that is not a number reads as 0.
+//! ([`RedisStore::left_out`], said once in the log); a `:at` that is not a number reads as 0, and a
+//! `:finishes` that is no count is left as it is (counted too) and read as 0.
 
 use std::path::PathBuf;
 
@@ -183,7 +184,7 @@ impl Store for RedisStore {
     fn record(&mut self, finish: &Finish) -> Result<Standing, RecordsError> {
         let finish = finish.clone();
         self.with(async move |con, keys| {
-            let (improved, ..): (i64, i64, Option<String>) = redis::pipe()
+            let (improved, _): (i64, Option<String>) = redis::pipe()
                 .atomic()
                 .cmd("ZADD")
                 .arg(&keys.best)
@@ -191,14 +192,20 @@ impl Store for RedisStore {
                 .arg("CH")
                 .arg(finish.seconds)
                 .arg(&finish.player)
-                .cmd("INCR")
-                .arg(&keys.finishes)
                 .cmd("SET")
                 .arg(&keys.name)
                 .arg(&finish.maze_name)
                 .arg("NX")
                 .query_async(con)
                 .await?;
+            // The count of finishes is only shown: a value there that is no count (another
+            // program's, garbage) is left as it is and counted, not a failed finish.
+            if let Err(err) = redis::cmd("INCR").arg(&keys.finishes).query_async::<i64>(con).await {
+                if err.is_io_error() || err.is_timeout() || err.is_connection_dropped() {
+                    return Err(err);
+                }
+                keys.left_out.fetch_add(1, Ordering::Relaxed);
+            }
             let (best, players): (Option<f64>, i64) = redis::pipe()
                 .cmd("ZSCORE")
                 .arg(&keys.best)
