@@ -435,9 +435,6 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
     assert_eq!(serve.value("mazewalk_players"), 0.0, "and /metrics answers again");
 }
 
-/// The yellow of the players' dots, heading lines and labels on the status page's map.
-const PLAYER_YELLOW: [u8; 3] = [0xff, 0xcc, 0x33];
-
 /// The browser's window, as the README's picture shows the page.
 const WINDOW: &str = "960,540";
 
@@ -448,9 +445,9 @@ fn chromium() -> Option<&'static str> {
         .find(|c| Command::new(c).arg("--version").output().is_ok_and(|o| o.status.success()))
 }
 
-/// A headless Chromium's screenshot of `url` (a page load of its own): the pixels of the players'
-/// yellow (x, y), and what Chromium logged (the page's console among it).
-fn screenshot(chromium: &str, url: &str, png: &std::path::Path) -> (Vec<(u32, u32)>, String) {
+/// A headless Chromium's screenshot of `url` (a page load of its own): its pixels' RGB, and what
+/// Chromium logged (the page's console among it).
+fn screenshot(chromium: &str, url: &str, png: &std::path::Path) -> (Vec<[u8; 3]>, String) {
     let out = Command::new(chromium)
         .args([
             "--headless=new",
@@ -473,16 +470,27 @@ fn screenshot(chromium: &str, url: &str, png: &std::path::Path) -> (Vec<(u32, u3
     let info = reader.next_frame(&mut buf).expect("its pixels");
     let channels = info.color_type.samples();
     assert!(channels >= 3, "{:?}", info.color_type);
-    let mut yellow = Vec::new();
+    let mut pixels = Vec::new();
     for y in 0..info.height {
         let row = &buf[y as usize * info.line_size..][..info.line_size];
-        for x in 0..info.width {
-            if row[x as usize * channels..][..3] == PLAYER_YELLOW {
-                yellow.push((x, y));
-            }
-        }
+        pixels.extend(
+            (0..info.width as usize)
+                .map(|x| [row[x * channels], row[x * channels + 1], row[x * channels + 2]]),
+        );
     }
-    (yellow, log)
+    (pixels, log)
+}
+
+/// How many of `pixels` are exactly `rgb`.
+fn count(pixels: &[[u8; 3]], rgb: [u8; 3]) -> usize {
+    pixels.iter().filter(|&&p| p == rgb).count()
+}
+
+/// A CSS colour as `getComputedStyle` gives it, `rgb(R, G, B)`.
+fn css_rgb(css: &str) -> [u8; 3] {
+    let inner = css.trim().strip_prefix("rgb(").and_then(|s| s.strip_suffix(')')).expect("rgb(…)");
+    let parts: Vec<u8> = inner.split(',').map(|p| p.trim().parse().expect("a channel")).collect();
+    parts.try_into().expect("three channels")
 }
 
 /// A headless Chromium with one page open, driven over the DevTools protocol on a pipe
@@ -630,8 +638,10 @@ impl Drop for Browser {
 /// open: two stock-ssh players appear on it, and each of their steps shows in the page's own list
 /// within 1 s (the median of eight, from the key written to ssh's terminal to the DOM's new
 /// position) — which only the live event stream can do, as the page is never reloaded. Nothing is
-/// logged to its console. A screenshot of a fresh load shows the two players drawn in yellow; with
-/// `MAZEWALK_STATUS_PNG=PATH` it is kept there (README's picture: `docs/images/status-page.png`).
+/// logged to its console. Each player is listed and drawn in a colour of their own, and the whole
+/// map fits the 960×540 window. A screenshot of a fresh load shows the two players drawn each in
+/// their colour; with `MAZEWALK_STATUS_PNG=PATH` it is kept there (README's picture:
+/// `docs/images/status-page.png`).
 #[test]
 fn a_headless_chromium_shows_two_players_walking_live_on_the_status_page() {
     let Some(chromium) = chromium() else {
@@ -642,7 +652,6 @@ fn a_headless_chromium_shows_two_players_walking_live_on_the_status_page() {
     let url = format!("http://{}/", serve.http);
     let png = serve.dir.join("page.png");
     let (empty, log) = screenshot(chromium, &url, &png);
-    assert!(empty.is_empty(), "nobody plays yet, yet {} yellow pixels", empty.len());
     let console: Vec<&str> = log.lines().filter(|l| l.contains(":CONSOLE")).collect();
     assert!(console.is_empty(), "the page logged: {console:?}");
 
@@ -652,6 +661,44 @@ fn a_headless_chromium_shows_two_players_walking_live_on_the_status_page() {
         ["ada", "bob"].into_iter().map(|name| (name, Player::connect(serve.ssh_port, name))).collect();
     serve.wait_value("mazewalk_players", |v| v == 2.0);
     browser.wait_players("both players", |p| p.contains_key("ada") && p.contains_key("bob"));
+    // Each in a colour of their own (the list's label as the map's dot), none on the empty page.
+    let listed = browser.eval(
+        "Object.fromEntries(Array.from(document.querySelectorAll('#players tr'), \
+         r => [r.cells[1].textContent, getComputedStyle(r.cells[0]).color]))",
+    );
+    let colour = |name: &str| css_rgb(listed[name].as_str().expect("a colour"));
+    let colours = [colour("ada"), colour("bob")];
+    assert_ne!(colours[0], colours[1], "ada and bob in one colour: {listed}");
+    for rgb in colours {
+        assert_eq!(count(&empty, rgb), 0, "nobody played yet, yet {rgb:?} on the page");
+    }
+    // The whole map within the window (the maze's start and exit without scrolling).
+    let fits = browser.eval(
+        "(() => { const r = document.getElementById('map').getBoundingClientRect(); \
+         return [r.bottom, r.right, window.innerHeight, window.innerWidth]; })()",
+    );
+    let f = |i: usize| fits[i].as_f64().expect("a number");
+    assert!(f(0) <= f(2) && f(1) <= f(3), "the map (bottom, right; window height, width): {fits}");
+    // … and still when the window is made lower than the map was (a laptop's browser beside a
+    // terminal), once the page has had its resize.
+    browser.call_page(
+        "Emulation.setDeviceMetricsOverride",
+        serde_json::json!({ "width": 960, "height": 360, "deviceScaleFactor": 1, "mobile": false }),
+    );
+    let deadline = Instant::now() + TIMEOUT;
+    loop {
+        let fits = browser.eval(
+            "(() => { const r = document.getElementById('map').getBoundingClientRect(); \
+             return [r.bottom, window.innerHeight]; })()",
+        );
+        let (bottom, height) = (fits[0].as_f64().expect("a number"), fits[1].as_f64().expect("a number"));
+        if height == 360.0 && bottom <= height {
+            break;
+        }
+        assert!(Instant::now() < deadline, "in a window 360 high the map ends at {bottom} ({height})");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    browser.call_page("Emulation.clearDeviceMetricsOverride", serde_json::json!({}));
 
     // Each player in turn steps forward, then back (a spawn faces an opening, and a step back
     // returns where it came from: every step moves). A step is timed from the key to the page's
@@ -687,17 +734,17 @@ fn a_headless_chromium_shows_two_players_walking_live_on_the_status_page() {
 
     // A fresh load draws both players (Chromium may take its picture before the first event
     // arrives: again, a few times).
-    let mut yellow = Vec::new();
+    let mut drawn = [0, 0];
     for _ in 0..10 {
         let (shot, log) = screenshot(chromium, &url, &png);
         let console: Vec<&str> = log.lines().filter(|l| l.contains(":CONSOLE")).collect();
         assert!(console.is_empty(), "the page logged: {console:?}");
-        yellow = shot;
-        if yellow.len() > 40 {
+        drawn = colours.map(|rgb| count(&shot, rgb));
+        if drawn.iter().all(|&n| n > 20) {
             break;
         }
     }
-    assert!(yellow.len() > 40, "two players drawn, yet {} yellow pixels", yellow.len());
+    assert!(drawn.iter().all(|&n| n > 20), "ada and bob drawn in {colours:?}: {drawn:?} pixels");
     if let Some(keep) = std::env::var_os("MAZEWALK_STATUS_PNG") {
         std::fs::copy(&png, &keep).expect("keep the screenshot");
     }

@@ -363,7 +363,20 @@ pub(crate) fn maze_json(maze: &mazewalk_maze::Maze, name: &str, joining: &Joinin
     .to_string()
 }
 
-/// An event: every player in the world (names as the game shows them), where and facing where.
+/// The CSS colour (`#rrggbb`) of a player drawn in `color`, as xterm shows it: the colour the game
+/// draws them in on the map and as a figure (the status page's yellow for a colour without RGB).
+fn css_color(color: mazewalk_term::frame::Color) -> String {
+    use mazewalk_term::frame::{Color, xterm_rgb};
+    let [r, g, b] = match color {
+        Color::Indexed(i) => xterm_rgb(i),
+        Color::Rgb(r, g, b) => [r, g, b],
+        Color::Default => [0xff, 0xcc, 0x33],
+    };
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+/// An event: every player in the world (names as the game shows them), where and facing where, in
+/// the colour the game draws them in.
 #[must_use]
 pub(crate) fn players_json(look: &crate::world::Look) -> String {
     let players: Vec<serde_json::Value> = look
@@ -377,6 +390,7 @@ pub(crate) fn players_json(look: &crate::world::Look) -> String {
                 "y": seen.position.y,
                 "heading": seen.heading_deg,
                 "best": seen.best,
+                "color": css_color(seen.color),
             })
         })
         .collect();
