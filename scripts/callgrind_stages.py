@@ -5,7 +5,9 @@
     scripts/callgrind_stages.py cg.out [more.out ...]
 
 Prints, per frame drawn (calls of `Encoder::encode`), the inclusive instruction counts of each stage,
-and the frames and looks counted. Several files: one column each (an A/B in one table).
+and the frames and looks counted. The work a process does once (the players' start places, each
+surface's colour ramps) is counted apart, and the whole process without it: a short run spreads it
+over its few hundred frames. Several files: one column each (an A/B in one table).
 """
 
 import os
@@ -13,10 +15,15 @@ import re
 import subprocess
 import sys
 
+# Functions that run once a process (or once a colour ramp), whatever the frames: a short run's
+# per-frame figures carry them, spread over its frames.
+ONCE = ["mazewalk_serve::spawn::Spawns::new", "mazewalk_render::palette::LightRamp::of_surface"]
+
 # (stage, function names whose inclusive counts are summed): the functions of the project and of russh
 # and ring that each stage runs under, as callgrind names them.
 STAGES = [
     ("whole process", None),
+    ("whole process but the work done once", "steady"),
     ("player task: `Session::frame`", ["mazewalk_walk::session::Session::frame"]),
     ("render (`Renderer::render`)", ["mazewalk_render::pipeline::Renderer::render"]),
     ("portal pass", ["mazewalk_render::portal::PortalPass::run"]),
@@ -40,6 +47,10 @@ STAGES = [
     ("key exchanges (logins)", ["<russh::kex::KexAlgorithm as russh::kex::KexAlgorithmImplementor>::server_dh"]),
     ("world: looks", ["mazewalk_serve::world::World::look"]),
     ("world: moves", ["mazewalk_serve::world::World::moved", "mazewalk_serve::world::World::pitched"]),
+    # Once a process, spread over the frames of a short run: the players' start places, and each
+    # surface's colour ramps, built on first use.
+    ("once: start places (`Spawns::new`)", ONCE[:1]),
+    ("once: ramps built (`LightRamp::of_surface`)", ONCE[1:]),
 ]
 COUNTED = ["mazewalk_term::encoder::Encoder::encode", "mazewalk_serve::world::World::look",
            "mazewalk_walk::session::Session::frame"]
@@ -95,7 +106,12 @@ def main():
     for stage, names in STAGES:
         cells = []
         for costs, _, frames in columns:
-            total = costs.get(None, 0) if names is None else sum(costs.get(n, 0) for n in names)
+            if names is None:
+                total = costs.get(None, 0)
+            elif names == "steady":
+                total = costs.get(None, 0) - sum(costs.get(n, 0) for n in ONCE)
+            else:
+                total = sum(costs.get(n, 0) for n in names)
             cells.append(f"{total / frames / 1e3:,.0f}")
         print(f"| {stage} | " + " | ".join(cells) + " |")
     for name in COUNTED:
