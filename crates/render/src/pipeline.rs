@@ -24,8 +24,8 @@ use super::samples::{CEILING, FLOOR, NONE, SampleBuffer};
 use super::shade::{
     CEILING_EXIT_TINT, FLOOR_EXIT_TINT, Fog, SUN_WORLD, apart_from_floor, bricks, chalk_color, checker,
     checker_filtered, edge_color, exit_lit_wall, exit_lit_wall_16, exit_tinted, headlight, jamb_color,
-    jamb_grey, lit, luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo, way_light,
-    way_light_16,
+    jamb_grey, line_color, lit, luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
+    way_light, way_light_16,
 };
 use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
@@ -820,8 +820,9 @@ impl Renderer {
     }
 
     /// Cell boundaries on floor and ceiling: each opening of a cell the pass visited (of every cell,
-    /// brute force), as a line one sample wide where it lies on the floor (and on the ceiling) in view, in
-    /// [`seam_color`]. With the seams on the walls, a corridor reads as a row of cells a player can
+    /// brute force), as a line one sample wide where it lies on the floor (and on the ceiling) in view,
+    /// lighter than the plane ([`line_color`]; in 16 colours the light grey, `FLOOR_BOUND_16`), and
+    /// left out on the plane beside a wall (in truecolor and 256 colours also two samples off it). With the seams on the walls, a corridor reads as a row of cells a player can
     /// count, and a side opening as a break in the wall with its own boundary line (issue #39). Exact:
     /// a ray meets the floor once, so where a sample shows the floor and the boundary projects onto
     /// it, the boundary is what the sample shows.
@@ -845,19 +846,25 @@ impl Renderer {
         self.seen.retain(|&e| !maze.edge(e).opaque);
         self.seen.sort_unstable();
         self.seen.dedup();
-        let floor_bound = if self.floor_bounds_apart { FLOOR_BOUND_16 } else { seam_color };
+        // The lines' colour on the floor and on the ceiling: in truecolor and 256 colours the plane a
+        // step lighter (line_color); in 16 colours, where the floor shows one entry, FLOOR_BOUND_16,
+        // and on the ceiling the seam's colour, which its ramp shows light grey.
+        let paint: [fn(Vec3) -> Vec3; 2] =
+            if self.floor_bounds_apart { [FLOOR_BOUND_16, seam_color] } else { [line_color, line_color] };
         // In 16 colours the lines are light grey, as a door jamb is: where a cell's line would lie
         // under LINE_GAP_16 samples from the line a cell nearer (a corridor's far cells), the lines
         // make one pale band with the far walls' jambs (issue #39), and are left out.
         // The way's lines likewise in truecolor and 256 colours, at least WAY_LINE_GAP apart: drawn on
         // every sample down a long corridor they made one bright band past which a far wall looked
-        // taller (`far_wall_height`), and the cells could not be counted.
+        // taller (`far_wall_height`), and the cells could not be counted. (The ordinary lines there,
+        // lighter than their plane but less than the way's light is, are drawn at every distance:
+        // thinned, a line 1–2 cells off on the ceiling, nearer the eye's height, was left out.)
         let per_unit = eye.height as f32 / (2.0 * eye.half_h); // samples a unit spans at depth 1
         // In ascii (a sample a cell) the lines are glyphs: where they lie under LINE_GAP_ASCII rows
         // apart they make a block of `~`, and the farther ones are left out the same way.
         let gap = if self.ascii_lines { LINE_GAP_ASCII } else { LINE_GAP_16 };
-        let thinned =
-            (self.floor_bounds_apart || self.ascii_lines) && eye.camera.projection == Projection::Perspective;
+        let colour_lines = !(self.floor_bounds_apart || self.ascii_lines);
+        let perspective = eye.camera.projection == Projection::Perspective;
         let walls = maze.edges().len() as u32;
         // The openings the exit's light comes through toward the eye: each lit cell's way one step
         // nearer the exit, seen from the cell's side (`ExitLight::lit_through`); their lines are
@@ -876,7 +883,7 @@ impl Renderer {
         way.clear();
         way.extend(seen.iter().copied().filter(|&e| toward(e)));
         let way_paint = if self.floor_bounds_apart { way_light_16 } else { way_light };
-        for (z, plane, paint) in [(FLOOR_Z, FLOOR, floor_bound), (CEILING_Z, CEILING, seam_color)] {
+        for (z, plane, paint) in [(FLOOR_Z, FLOOR, paint[0]), (CEILING_Z, CEILING, paint[1])] {
             for (edges, paint, glyph, is_way) in
                 [(&seen, paint, CELL_LINE_GLYPH, false), (&way, way_paint, WAY_GLYPH, true)]
             {
@@ -884,8 +891,8 @@ impl Renderer {
                 let below = (eye.position.z - z).abs(); // the plane's distance from the eye's height
                 for &e in edges {
                     let (a, b) = maze.edge_points(e);
-                    let gap = if is_way && !thinned { WAY_LINE_GAP } else { gap };
-                    if thinned || is_way && eye.camera.projection == Projection::Perspective {
+                    let gap = if is_way && colour_lines { WAY_LINE_GAP } else { gap };
+                    if perspective && (is_way || !colour_lines) {
                         // a line at depth d and the one a cell (its length) nearer are `per_unit · below
                         // · c / (d (d − c))` samples apart: up to the depth where that is LINE_GAP_16, so
                         // the last line drawn still stands apart from the one before it
@@ -899,21 +906,34 @@ impl Renderer {
                     }
                     for (x, y) in segment_samples(eye, a.extend(z), b.extend(z)) {
                         let i = y * w + x;
-                        // In 16 colours not on the plane's sample just beside a wall (the floor's below
-                        // it, the ceiling's above): a light-grey line there reads as a pale far wall's
-                        // own foot or top, a row taller than it is (issue #39, `far_wall_height`).
-                        let toward_wall = if plane == FLOOR { i.checked_sub(w) } else { Some(i + w) };
-                        // (the way's light, paler than the floor and the ceiling in every depth, likewise: a
-                        // far wall it touched looked a row taller, so nearer, `far_wall_height`)
+                        // Not on the plane's sample just beside a wall (the floor's below it, the
+                        // ceiling's above): a light line there reads as a pale far wall's own foot or
+                        // top, a row taller than it is (issue #39, `far_wall_height`). Every line but
+                        // ascii's glyphs is lighter than its plane (16 colours' light grey, line_color,
+                        // the way's light): each is left out there.
+                        let off =
+                            |k: usize| if plane == FLOOR { i.checked_sub(k * w) } else { Some(i + k * w) };
                         let wall_at = |j: Option<usize>| {
                             j.and_then(|j| self.samples.id().get(j)).is_some_and(|&id| id < walls)
                         };
-                        let two_off = if plane == FLOOR { i.checked_sub(2 * w) } else { Some(i + 2 * w) };
-                        // (in truecolor and 256 colours, whose way's light is near a wall's lightness,
-                        // not two samples off a wall either: there a wall's foot is told from the floor
-                        // a little way off it, `wall_floor`)
-                        let beside_wall = (self.floor_bounds_apart || is_way) && wall_at(toward_wall)
-                            || is_way && !thinned && wall_at(two_off);
+                        let light = colour_lines || self.floor_bounds_apart || is_way;
+                        // (in truecolor and 256 colours, whose lines are near a wall's lightness, not
+                        // two samples off a wall either: there a wall's foot is told from the floor a
+                        // little way off it, `wall_floor`; nor, but the way's, three off a far wall, one
+                        // under FAR_WALL_SAMPLES tall, which fades to a line's grey: a grey line there
+                        // read as the wall again, a row taller, `far_wall_height`)
+                        let far_wall_at = |k: usize| {
+                            off(k).and_then(|j| self.samples.id().get(j)).is_some_and(|&id| {
+                                id < walls
+                                    && off(k + FAR_WALL_SAMPLES as usize)
+                                        .and_then(|j| self.samples.id().get(j))
+                                        .is_none_or(|&top| top != id)
+                            })
+                        };
+                        let beside_wall = light
+                            && (wall_at(off(1))
+                                || colour_lines && wall_at(off(2))
+                                || colour_lines && !is_way && far_wall_at(3));
                         if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None && !beside_wall {
                             self.edge_marks[i] = Mark::Seam;
                             self.edge_list.push(i as u32);

@@ -345,6 +345,30 @@ pub(crate) fn seam_color(color: Vec3) -> Vec3 {
     color.lerp(edge_color(color), 0.6)
 }
 
+/// A cell line's colour in truecolor and 256 colours (the line across an opening, on the floor or the
+/// ceiling sample `color`): the plane with a grey added, [`LINE_STEP`] lighter in OKLab L, so
+/// the line reads as a light line on the plane at every distance, as 16 colours' light grey does, and
+/// fades with the plane. Darker (a seam's colour, as until issue #39's last round) it was a dark line
+/// on the dark grey floor in 256 colours, one a player did not see.
+#[must_use]
+pub(crate) fn line_color(color: Vec3) -> Vec3 {
+    let color = if color.is_finite() { color.max(Vec3::ZERO) } else { Vec3::ZERO };
+    // (a grey's OKLab L is the cube root of its luminance, and the planes are near grey; by luminance,
+    // a plane tinted by the exit's light and the same untinted get one grey, so the tint keeps the
+    // line's luminance as it keeps the plane's)
+    let lightness = luminance(color).cbrt();
+    // a grey added, not the colour scaled: the plane's tint kept, its chroma not raised with its light
+    // (scaled, a floor tinted by the exit's light gave lines twice as green, which 16 colours show grey)
+    let lit = color + Vec3::splat((lightness + LINE_STEP).powi(3) - lightness.powi(3));
+    lit.min(Vec3::ONE)
+}
+
+/// How much lighter than its plane a cell line is ([`line_color`], OKLab L): about three and a half
+/// steps of the 256-colour grey ramp (0.035 each in L at the floor's lightness), so the palette's
+/// rounding on both sides leaves at least two; as far above the floor as the way's yellow-green line,
+/// which its chroma keeps apart.
+pub(crate) const LINE_STEP: f32 = 0.12;
+
 /// A door jamb's colour (where a wall ends at an opening): a pale grey at least [`JAMB_STEP`] lighter
 /// in OKLab L than the wall, and never darker than [`JAMB_LEAST_L`] (not white, not the beacon's
 /// green), so an opening shows as a light tick apart from both walls beside it, however far: walls
@@ -400,8 +424,9 @@ pub(crate) fn way_light_16(_color: Vec3) -> Vec3 {
 }
 
 /// A chalk mark's colour on a floor sample of `color` ([`Renderer::set_chalk`]): the floor lit about
-/// twice as bright, toward a pale grey, so a mark reads as chalk on the floor (lighter, where the
-/// floor's cell lines are darker) and fades with the floor into the distance.
+/// twice as bright, toward a pale grey, so a mark reads as chalk on the floor (a cross in the middle
+/// of a cell, where the cell lines, [`line_color`], about as light near, run along its sides) and
+/// fades with the floor into the distance.
 ///
 /// [`Renderer::set_chalk`]: crate::Renderer::set_chalk
 #[must_use]

@@ -224,3 +224,127 @@ fn in_ascii_jambs_face_their_opening_and_corners_stay_bars() {
     });
     assert!(jambs >= 40 && corners >= 40, "only {jambs} jambs, {corners} corners");
 }
+
+/// The least OKLab lightness by which a cell line's sample, as the terminal shows it, is lighter than
+/// the plane beside it (two to four samples off, no other line there): twice the 256-colour grey
+/// ramp's step at the floor's lightness (0.035), so a line is two entries or more above its plane,
+/// more than the floor's own bands (one entry between neighbouring rows far off), and more than
+/// `wall_floor`'s 0.05 (two and a half just-noticeable differences).
+const VISIBLE_STEP: f32 = 0.07;
+
+/// Issue #39, a new player in 256 colours: the lines across openings, on the floor and the ceiling,
+/// were darker than the grey floor, and hard to see; in 16 colours they are light grey and obvious.
+/// Over held-out views of generated mazes (in a cell, nose to a wall, down a corridor), 120×40 half
+/// blocks in 256 colours: every sample of an ordinary opening's line 0–2 cells off (the way's lines
+/// have a look of their own, `glow_way`) where it is drawn (not by a wall), with the plane round it
+/// to compare, is lighter than that plane by [`VISIBLE_STEP`]. With the lines darker than their
+/// plane, as at `0f10179`, 27,310 of 27,340 fail. Lines 3–5 cells off cannot be judged so at 120×40: down a
+/// corridor they lie under two samples apart, with no plane between, and across a side opening
+/// beside the wall seen through it, where lines are left out (not one sample over these views).
+#[test]
+fn in_256_colours_every_near_cell_line_is_a_step_lighter_than_its_plane() {
+    use crate::glow_way::{near_line, on_line, way_look};
+    use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
+    use mazewalk_render::quality::{self, held_out_views};
+    use mazewalk_render::samples::{CEILING, FLOOR};
+
+    let options = RenderOptions {
+        charset: Charset::Half,
+        color_depth: ColorDepth::Ansi256,
+        ..RenderOptions::default()
+    };
+    let way = way_look(ColorDepth::Ansi256);
+    let (mut judged, mut failures) = (0, Vec::new());
+    let mut renderer = Renderer::new();
+    for seed in [58u64, 71, 3, 12, 5392, 91] {
+        let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
+        let openings: Vec<u32> = (0..maze.edges().len() as u32).filter(|&e| !maze.edge(e).opaque).collect();
+        for (k, (kind, camera)) in held_out_views(&maze, seed, 60).into_iter().enumerate() {
+            let mut frame = Frame::new(COLS, ROWS);
+            let region = frame.region();
+            renderer
+                .render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region))
+                .expect("camera");
+            let shown = quality::shown(&frame, Charset::Half);
+            let ids = renderer.samples().id();
+            let (w, h) = (renderer.samples().width(), ids.len() / renderer.samples().width());
+            let eye = camera.eye(w, h, Charset::Half.sample_aspect(options.cell_aspect)).expect("eye");
+            // every opening's line, within a sample: not the plane beside a line
+            let mut lines = Vec::new();
+            for &e in &openings {
+                let (a, b) = maze.edge_points(e);
+                for z in [FLOOR_Z, CEILING_Z] {
+                    near_line(&eye, a.extend(z), b.extend(z), &mut lines);
+                }
+            }
+            let mut on_a_line = vec![false; ids.len()];
+            for i in lines {
+                on_a_line[i] = true;
+            }
+            // the samples within `r` of sample `i` (Chebyshev), as (distance, index)
+            let around = |i: usize, r: i64| {
+                let (x, y) = ((i % w) as i64, (i / w) as i64);
+                (-r..=r).flat_map(move |dy| (-r..=r).map(move |dx| (dx, dy))).filter_map(move |(dx, dy)| {
+                    let (x, y) = (x + dx, y + dy);
+                    ((0..w as i64).contains(&x) && (0..h as i64).contains(&y))
+                        .then(|| (dx.abs().max(dy.abs()), (y * w as i64 + x) as usize))
+                })
+            };
+            for &e in &openings {
+                let (a, b) = maze.edge_points(e);
+                let nearest = a
+                    + (b - a) * ((camera.position - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                let cells = camera.position.distance(nearest) / mazewalk_maze::generate::CELL_SIZE;
+                if cells >= 3.0 {
+                    continue;
+                }
+                for (z, plane) in [(FLOOR_Z, FLOOR), (CEILING_Z, CEILING)] {
+                    for i in on_line(&eye, a.extend(z), b.extend(z)) {
+                        // drawn: a sample or more from anything but the plane (a wall's edge) and, toward
+                        // the horizon, four or more from a wall (the lines are left out up to three
+                        // off a far wall, and the line drawn may lie a row from its projection)
+                        let off =
+                            |k: usize| if plane == FLOOR { i.checked_sub(k * w) } else { Some(i + k * w) };
+                        // (and not on the frame's border, where the line may fall just outside)
+                        if around(i, 1).filter(|&(_, j)| ids[j] == plane).count() < 9
+                            || (2..=4).any(|k| off(k).is_none_or(|j| ids.get(j) != Some(&plane)))
+                        {
+                            continue;
+                        }
+                        // the way's line (its own look) at or beside it
+                        if around(i, 1).any(|(_, j)| shown[j].distance(way) < 1e-3) {
+                            continue;
+                        }
+                        let beside: Vec<f32> = around(i, 4)
+                            .filter(|&(d, j)| d >= 2 && ids[j] == plane && !on_a_line[j])
+                            .map(|(_, j)| shown[j].x)
+                            .collect();
+                        if beside.len() < 2 {
+                            continue;
+                        }
+                        let plane_l = beside.iter().sum::<f32>() / beside.len() as f32;
+                        // the line is one sample wide and may round to the row or column beside
+                        let line_l = around(i, 1).map(|(_, j)| shown[j].x).fold(f32::MIN, f32::max);
+                        judged += 1;
+                        if line_l - plane_l < VISIBLE_STEP {
+                            failures.push(format!(
+                                "seed {seed} view {k} {kind:?} at {} heading {:.0}: opening {e} ({cells:.1} cells), \
+                                 plane {plane}, sample ({}, {}): line L {line_l:.3}, plane beside {plane_l:.3}",
+                                camera.position,
+                                camera.yaw_deg,
+                                i % w,
+                                i / w
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    crate::none_failed(
+        judged,
+        1000,
+        &failures,
+        &format!("cell-line samples under {VISIBLE_STEP} lighter than their plane"),
+    );
+}

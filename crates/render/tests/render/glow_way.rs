@@ -73,7 +73,7 @@ fn poses(maze: &Maze) -> Vec<(Vec2, f32)> {
 
 /// The samples (index in a `width × height` grid) within one sample of the projection of the world
 /// segment `p`–`q` where it lies in front of the eye.
-fn near_line(eye: &mazewalk_render::Eye, p: Vec3, q: Vec3, out: &mut Vec<usize>) {
+pub(crate) fn near_line(eye: &mazewalk_render::Eye, p: Vec3, q: Vec3, out: &mut Vec<usize>) {
     let (w, h) = (eye.width as i64, eye.height as i64);
     for k in 0..=256 {
         let point = p.lerp(q, k as f32 / 256.0);
@@ -92,6 +92,24 @@ fn near_line(eye: &mazewalk_render::Eye, p: Vec3, q: Vec3, out: &mut Vec<usize>)
     }
 }
 
+/// The samples (index in a `width × height` grid, each once) the projection of the world segment
+/// `p`–`q` passes through where it lies in front of the eye: the line's own samples.
+pub(crate) fn on_line(eye: &mazewalk_render::Eye, p: Vec3, q: Vec3) -> Vec<usize> {
+    let mut own = Vec::new();
+    for k in 0..=64 {
+        let clip = eye.clip(p.lerp(q, k as f32 / 64.0));
+        if clip.w > eye.near {
+            let g = eye.grid(clip);
+            if g.x >= 0.0 && g.y >= 0.0 && (g.x as usize) < eye.width && (g.y as usize) < eye.height {
+                own.push(g.y as usize * eye.width + g.x as usize);
+            }
+        }
+    }
+    own.sort_unstable();
+    own.dedup();
+    own
+}
+
 /// One mode of the measure: a colour depth with half blocks, or ascii without colour.
 #[derive(Clone, Copy, Debug)]
 enum Mode {
@@ -100,13 +118,13 @@ enum Mode {
 }
 
 /// OKLab of an sRGB colour.
-fn lab(rgb: [u8; 3]) -> Vec3 {
+pub(crate) fn lab(rgb: [u8; 3]) -> Vec3 {
     let linear = rgb.map(|c| mazewalk_render::shade::srgb_to_linear(f32::from(c) / 255.0));
     Vec3::from_array(mazewalk_term::frame::oklab(linear, f32::cbrt))
 }
 
 /// How the way's line shows in `depth` (OKLab).
-fn way_look(depth: ColorDepth) -> Vec3 {
+pub(crate) fn way_look(depth: ColorDepth) -> Vec3 {
     match depth {
         ColorDepth::Ansi16 => lab(xterm_rgb(3)),
         _ => lab(xterm_rgb(64)), // (95, 135, 0), truecolor's own
@@ -183,22 +201,8 @@ fn measure(mode: Mode, seeds: &[u64], every: usize) -> Tally {
                 line.dedup();
                 toward_samples.extend_from_slice(&line);
                 // in view: the line's own samples (not the band round it) showing floor or ceiling
-                let mut own = Vec::new();
-                for z in [FLOOR_Z, CEILING_Z] {
-                    for k in 0..=64 {
-                        let clip = eye.clip(a.lerp(b, k as f32 / 64.0).extend(z));
-                        if clip.w > eye.near {
-                            let g = eye.grid(clip);
-                            if g.x >= 0.0
-                                && g.y >= 0.0
-                                && (g.x as usize) < eye.width
-                                && (g.y as usize) < eye.height
-                            {
-                                own.push(g.y as usize * eye.width + g.x as usize);
-                            }
-                        }
-                    }
-                }
+                let mut own = on_line(&eye, a.extend(FLOOR_Z), b.extend(FLOOR_Z));
+                own.extend(on_line(&eye, a.extend(CEILING_Z), b.extend(CEILING_Z)));
                 own.sort_unstable();
                 own.dedup();
                 let open = own.iter().filter(|&&i| ids[i] == FLOOR || ids[i] == CEILING).count();

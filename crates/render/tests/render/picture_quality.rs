@@ -430,7 +430,9 @@ proptest::proptest! {
 // colours leave that line out, as every line that would crowd the one a cell nearer (`LINE_GAP_16`,
 // since f3f01e4), and the sample shows the ceiling's own light, L 0.19, which the ceiling's ramp
 // drew black (`palette::NEAR_BLACK`, 0.2): a player's "black strip above the last wall" (issue #39).
-// The ceiling's ramp in 16 colours is now its dark blue alone, near and far.
+// The ceiling's ramp in 16 colours is now its dark blue alone, near and far. (Since the lines in
+// truecolor are lighter than their plane, `line_color`, truecolor leaves that line out too, two samples
+// off the wall below it, and shows the ceiling's L 0.19 there: only 16 colours' frame is checked.)
 #[test]
 fn in_16_colours_a_far_ceiling_line_left_out_shows_the_ceilings_blue() {
     let seed = 8260499500246045;
@@ -449,13 +451,8 @@ fn in_16_colours_a_far_ceiling_line_left_out_shows_the_ceilings_blue() {
     let scene = quality::shown(&scene, Charset::Half);
     let i = 38 * COLS + 77;
     assert_eq!(ids[i], CEILING);
-    // truecolor: the line, lit; 16 colours: no line, the ceiling's own near-black light
-    assert!(truth[i].x >= NEAR_BLACK, "truecolor L {:.2}", truth[i].x);
-    assert!(
-        scene[i].x < NEAR_BLACK && scene[i].x < truth[i].x - 0.05,
-        "16 colours' scene L {:.2}",
-        scene[i].x
-    );
+    // 16 colours: no line, the ceiling's own near-black light
+    assert!(scene[i].x < NEAR_BLACK, "16 colours' scene L {:.2}", scene[i].x);
     // shown the ceiling's dark blue (`CEILING_16`), as the ceiling a row nearer is, not black
     let above = i - COLS;
     assert!(
