@@ -380,6 +380,42 @@ fn a_client_over_the_limits_is_told_why_by_its_own_ssh() {
     }
 }
 
+/// Red-team pass 4, F1: a few addresses held every player's place for good, and a newcomer from
+/// anywhere was told the server was full. Now a newcomer from another address is let in, and the
+/// player of the address holding the most that pressed no key for the longest is told why by its own
+/// `ssh` and let go; that address's own newcomer, and one when every address holds one, are refused.
+#[test]
+fn a_full_server_lets_a_newcomer_in_at_the_heaviest_addresss_expense() {
+    let scratch = Scratch::new("fair");
+    let server = Server::start(&scratch, &["--open", "--max-players", "3", "--max-spectators", "0"]);
+    let join = |from: &str, user: &str| {
+        let player = Player::connect_from(Some(from), server.port, None, user, 80, 24);
+        player.wait_for(&format!("{user}'s game"), playing);
+        player
+    };
+    let mut alice = join("127.0.0.1", "alice"); // the idlest of the heaviest: in first, no key since
+    let mut bob = join("127.0.0.1", "bob");
+    let mut carol = join("127.0.0.3", "carol");
+    let (status, _, stderr) = server.ssh_batch(None, "eve", &["-tt"]); // from 127.0.0.1
+    assert_eq!(status.code(), Some(255), "{stderr}");
+    assert!(stderr.contains("the server is full"), "the heaviest address's own newcomer: {stderr}");
+    let mut dave = join("127.0.0.4", "dave");
+    alice.wait_for("alice's goodbye", |_, raw| {
+        String::from_utf8_lossy(raw).contains("the server was full and your address held the most places")
+    });
+    assert!(!alice.wait_exit().success(), "alice's ssh says the game did not end by her hand");
+    server.wait_log("reason=pushed out: server full, its address held the most places", 1);
+    // every address holds one now: nobody gives way
+    let mut frank = Player::connect_from(Some("127.0.0.5"), server.port, None, "frank", 80, 24);
+    assert!(!frank.wait_exit().success());
+    assert!(String::from_utf8_lossy(&frank.raw()).contains("the server is full"));
+    for player in [&mut bob, &mut carol, &mut dave] {
+        assert!(player.shows(|screen| playing(screen, &[])), "the others play on");
+        player.send(b"q");
+        assert!(player.wait_exit().success());
+    }
+}
+
 /// `--max-spectators-per-address` sets how many spectators one address may hold (loopback: every
 /// client has one address): the one past it is told why by its own `ssh`, and the one in watches on.
 #[test]
