@@ -1245,7 +1245,7 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         // A spot of its own, chosen and taken under one lock (two newcomers never get the same).
         let mut world = shared.world();
         let spot = shared.spawns.pick(&world.positions());
-        player.place(spot.at.pos, spot.heading);
+        player.place(&spot);
         let (position, heading, cell) = player.whereabouts();
         let id = world.join(&user, position, heading, cell, now);
         shared.world_changed(&world);
@@ -1273,6 +1273,11 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         shared.world_changed(&world);
     }
     let quit = match player.session().outcome().finished {
+        Some(seconds) if shared.records.is_some() && player.head_start() > 0 => format!(
+            "You found the exit in {seconds:.1} s, from {} cells nearer it than the start (a crowd took the \
+             cells behind it): not kept in the records.",
+            player.head_start()
+        ),
         Some(seconds) => format!("You found the exit in {seconds:.1} s."),
         None => "Thanks for walking.".to_string(),
     };
@@ -1531,7 +1536,7 @@ fn settle(shared: &Shared, player: &mut Player, id: PlayerId, arriving: &mut Opt
         return;
     }
     let Some(spot) = arrival.crowded(&shared.spawns, &world.positions_but(id)) else { return };
-    player.place(spot.at.pos, spot.heading);
+    player.place(&spot);
     let (position, heading, cell) = player.whereabouts();
     world.moved(id, position, heading, cell);
     shared.world_changed(&world);
@@ -1630,8 +1635,10 @@ async fn walk(
                 let what = if first { "reached the exit first" } else { "reached the exit" };
                 info!(peer = %conn.peer, user = %user, seconds = tenths(seconds), "{what}");
             }
-            // Kept, without waiting: the standing comes back while the player plays on.
-            if let Some(keeper) = &shared.records {
+            // Kept, without waiting: the standing comes back while the player plays on. Not a walk
+            // from a spot nearer the exit than the start (a crowd took those behind it): no head
+            // start on a record.
+            if let Some(keeper) = shared.records.as_ref().filter(|_| player.head_start() == 0) {
                 player.session_mut().set_standings(Vec::new());
                 let holder = crate::identity::player_name(&user);
                 let run = player.session().app().run(keeper.maze, &holder).and_then(|run| run.encode().ok());
