@@ -994,7 +994,9 @@ impl Handler for Handlers {
     ) -> Result<Auth, Self::Error> {
         self.request(user);
         let key = offer.public_key;
-        Ok(if !algorithms::refused_signature(offer.algorithm) && self.may_play(Some(key)) {
+        // (russh asks this before it checks a signature whose key was not offered first)
+        let refused = algorithms::refused_signature(offer.algorithm) || algorithms::refused_key(key);
+        Ok(if !refused && self.may_play(Some(key)) {
             Auth::Accept // a probe: the client signs next
         } else {
             self.refused("publickey", Some(key))
