@@ -241,6 +241,43 @@ fn walk_to_the_exit(player: &mut Player) -> String {
     })
 }
 
+/// Red-team pass 4, F3: a crowd on the start put a newcomer nearer the exit, and its time went into
+/// the records beside whole walks. In this corridor the start is the cell farthest from the exit:
+/// bob, the second in, starts a cell nearer, a cell apart from alice, and his finish is logged but
+/// not kept (his goodbye says why); alice's, from the start, is.
+#[test]
+fn a_walk_from_a_spot_nearer_the_exit_is_not_kept_in_the_records() {
+    let scratch = Scratch::new("ahead");
+    let maze = scratch.join("maze.grid");
+    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
+    let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
+    let mut alice = Player::connect(server.port, None, "alice", 100, 30);
+    alice.wait_for("alice's game", playing);
+    let mut bob = Player::connect(server.port, None, "bob", 100, 30);
+    bob.wait_for("bob's game", playing);
+    walk_to_the_exit(&mut bob);
+    server.wait_log("reached the exit first", 1);
+    walk_to_the_exit(&mut alice);
+    server.wait_log("reached the exit", 2);
+    alice.wait_for("alice's time ranked alone", |s, _| {
+        let text = s.contents();
+        text.contains("Best times here (1 player)") && text.contains("1. alice")
+    });
+    std::thread::sleep(Duration::from_secs_f64(mazewalk_walk::state::EXIT_BOX_GRACE + 0.3));
+    bob.send(b"q");
+    bob.wait_for("bob's goodbye", |_, raw| String::from_utf8_lossy(raw).contains("not kept in the records"));
+    let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .arg("records")
+        .arg("--records")
+        .arg(scratch.join("records.sqlite"))
+        .output()
+        .expect("mazewalk records");
+    let text = String::from_utf8_lossy(&listed.stdout);
+    assert!(listed.status.success(), "{listed:?}");
+    assert!(text.contains("1 player, 1 finish") && text.contains("1. alice"), "{text}");
+    assert!(!text.contains("bob"), "{text}");
+}
+
 /// The QA report: after `r` in the exit box a second finish in the same session was not logged,
 /// not recorded and not ranked. Every walk's finish counts: logged, kept, and the best ranked.
 #[test]
