@@ -18,9 +18,10 @@
 //! - **Spectators apart too.** A connection that logs in as `watch` becomes a *spectator*
 //!   ([`Role::Spectator`]), one of at most [`Limits::max_spectators`]: spectators never take a
 //!   player's slot, nor players a spectator's. A newcomer is refused before its handshake only when
-//!   both are full (it may be either); otherwise a player finding the players full, or a spectator
-//!   the spectators, is refused when it logs in. One address group holds at most
-//!   [`Limits::max_spectators_per_address`] of the spectators' places.
+//!   both are full (it may be either) and it would push out neither (below); otherwise a player
+//!   finding the players full, or a spectator the spectators, is refused when it logs in unless it
+//!   pushes one out. One address group holds at most [`Limits::max_spectators_per_address`] of the
+//!   spectators' places.
 //! - **A full server shares its places fairly** (red-team pass 4: 16 addresses held every player's
 //!   place, and 4 every spectator's, for good). A newcomer finding every player's (or spectator's)
 //!   place taken pushes out the player (spectator) of the address holding the most places that
@@ -103,8 +104,9 @@ pub(crate) enum Refusal {
     Full(usize),
     /// `--max-spectators`, reached.
     Spectators(usize),
-    /// Both reached (`--max-players`, `--max-spectators`): refused before the handshake, whichever
-    /// the newcomer would have been.
+    /// Both reached (`--max-players`, `--max-spectators`), and the newcomer's address group would
+    /// push out neither ([`fair_push_out`]): refused before the handshake, whichever it would have
+    /// been.
     AllFull(usize, usize),
     /// `--max-per-address`, reached by the client's address group.
     FromThisAddress(usize),
