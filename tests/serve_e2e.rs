@@ -182,18 +182,18 @@ fn no_records_makes_no_file() {
 
 /// Three tiles east from the start, the last one the exit.
 const SHORT_RUN: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#####\n#@.E#\n#####\n";
+/// [`SHORT_RUN`] with a cell behind the start.
+const SHORT_RUN_AND_ONE_BEHIND: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n######\n#.@.E#\n######\n";
 
 #[test]
 fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_after() {
     let scratch = Scratch::new("exit");
-    let (server, alice, mut bob) = alice_and_bob_in(&scratch, SHORT_RUN);
+    // (a cell behind the start for bob, the second in: a walk from nearer the exit is not kept)
+    let (server, alice, mut bob) = alice_and_bob_in(&scratch, SHORT_RUN_AND_ONE_BEHIND);
     let announced = |s: &vt100::Screen, _: &[u8]| s.contents().contains("bob reached the exit first");
     assert!(!alice.shows(|s| announced(s, &[])), "nobody has reached the exit yet");
-    // Bob holds `w` (auto-repeat every 40 ms) east into the exit tile, 6 units away.
-    for _ in 0..50 {
-        bob.send(b"w");
-        std::thread::sleep(Duration::from_millis(40));
-    }
+    // Bob holds `w` (auto-repeat every 40 ms) east past alice into the exit tile.
+    walk_to_the_exit(&mut bob);
     alice.wait_for("the announcement on alice's screen", announced);
     bob.wait_for("bob's own exit box", |s, _| s.contents().contains("You found the exit in"));
     // Issue #34: the winner was not logged. Now it is (and every finish).
@@ -239,6 +239,43 @@ fn walk_to_the_exit(player: &mut Player) -> String {
         let at = text.find(found).expect("shown") + found.len();
         text[at..].split('.').take(2).collect::<Vec<_>>().join(".")
     })
+}
+
+/// Red-team pass 4, F3: a crowd on the start put a newcomer nearer the exit, and its time went into
+/// the records beside whole walks. In this corridor the start is the cell farthest from the exit:
+/// bob, the second in, starts a cell nearer, a cell apart from alice, and his finish is logged but
+/// not kept (his goodbye says why); alice's, from the start, is.
+#[test]
+fn a_walk_from_a_spot_nearer_the_exit_is_not_kept_in_the_records() {
+    let scratch = Scratch::new("ahead");
+    let maze = scratch.join("maze.grid");
+    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
+    let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
+    let mut alice = Player::connect(server.port, None, "alice", 100, 30);
+    alice.wait_for("alice's game", playing);
+    let mut bob = Player::connect(server.port, None, "bob", 100, 30);
+    bob.wait_for("bob's game", playing);
+    walk_to_the_exit(&mut bob);
+    server.wait_log("reached the exit first", 1);
+    walk_to_the_exit(&mut alice);
+    server.wait_log("reached the exit", 2);
+    alice.wait_for("alice's time ranked alone", |s, _| {
+        let text = s.contents();
+        text.contains("Best times here (1 player)") && text.contains("1. alice")
+    });
+    std::thread::sleep(Duration::from_secs_f64(mazewalk_walk::state::EXIT_BOX_GRACE + 0.3));
+    bob.send(b"q");
+    bob.wait_for("bob's goodbye", |_, raw| String::from_utf8_lossy(raw).contains("not kept in the records"));
+    let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .arg("records")
+        .arg("--records")
+        .arg(scratch.join("records.sqlite"))
+        .output()
+        .expect("mazewalk records");
+    let text = String::from_utf8_lossy(&listed.stdout);
+    assert!(listed.status.success(), "{listed:?}");
+    assert!(text.contains("1 player, 1 finish") && text.contains("1. alice"), "{text}");
+    assert!(!text.contains("bob"), "{text}");
 }
 
 /// The QA report: after `r` in the exit box a second finish in the same session was not logged,
@@ -377,6 +414,42 @@ fn a_client_over_the_limits_is_told_why_by_its_own_ssh() {
         // The game goes on for the one inside.
         alice.send(b"q");
         assert!(alice.wait_exit().success());
+    }
+}
+
+/// Red-team pass 4, F1: a few addresses held every player's place for good, and a newcomer from
+/// anywhere was told the server was full. Now a newcomer from another address is let in, and the
+/// player of the address holding the most that pressed no key for the longest is told why by its own
+/// `ssh` and let go; that address's own newcomer, and one when every address holds one, are refused.
+#[test]
+fn a_full_server_lets_a_newcomer_in_at_the_heaviest_addresss_expense() {
+    let scratch = Scratch::new("fair");
+    let server = Server::start(&scratch, &["--open", "--max-players", "3", "--max-spectators", "0"]);
+    let join = |from: &str, user: &str| {
+        let player = Player::connect_from(Some(from), server.port, None, user, 80, 24);
+        player.wait_for(&format!("{user}'s game"), playing);
+        player
+    };
+    let mut alice = join("127.0.0.1", "alice"); // the idlest of the heaviest: in first, no key since
+    let mut bob = join("127.0.0.1", "bob");
+    let mut carol = join("127.0.0.3", "carol");
+    let (status, _, stderr) = server.ssh_batch(None, "eve", &["-tt"]); // from 127.0.0.1
+    assert_eq!(status.code(), Some(255), "{stderr}");
+    assert!(stderr.contains("the server is full"), "the heaviest address's own newcomer: {stderr}");
+    let mut dave = join("127.0.0.4", "dave");
+    alice.wait_for("alice's goodbye", |_, raw| {
+        String::from_utf8_lossy(raw).contains("the server was full and your address held the most places")
+    });
+    assert!(!alice.wait_exit().success(), "alice's ssh says the game did not end by her hand");
+    server.wait_log("reason=pushed out: server full, its address held the most places", 1);
+    // every address holds one now: nobody gives way
+    let mut frank = Player::connect_from(Some("127.0.0.5"), server.port, None, "frank", 80, 24);
+    assert!(!frank.wait_exit().success());
+    assert!(String::from_utf8_lossy(&frank.raw()).contains("the server is full"));
+    for player in [&mut bob, &mut carol, &mut dave] {
+        assert!(player.shows(|screen| playing(screen, &[])), "the others play on");
+        player.send(b"q");
+        assert!(player.wait_exit().success());
     }
 }
 

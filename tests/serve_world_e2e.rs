@@ -63,13 +63,17 @@ const SHORT_RUN: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#####\n#@.E#\n#
 /// player (the next tile, when the start is taken) and three steps from there are still short of it.
 const LONG_RUN: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n######\n#@..E#\n######\n";
 
+/// [`LONG_RUN`] with a tile behind the start, where a second newcomer spawns (a walk from a spot
+/// nearer the exit than the start is not kept in the records).
+const LONG_RUN_AND_ONE_BEHIND: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#######\n#.@..E#\n#######\n";
+
 // issue #35: two servers, one world on Redis, stock ssh clients.
 #[test]
 fn two_servers_walk_one_world_on_redis() {
     let scratch = Scratch::new("two");
     let mut redis = RedisServer::start(Persistence::None);
     let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, LONG_RUN).expect("write the maze");
+    std::fs::write(&maze, LONG_RUN_AND_ONE_BEHIND).expect("write the maze");
     let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     let mut server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);
 
@@ -77,13 +81,13 @@ fn two_servers_walk_one_world_on_redis() {
     alice.wait_for("alice's game on server A", playing);
     let mut bob = player(server_b.port, "bob");
     bob.wait_for("bob's game on server B", playing);
-    // The HUD counts the world's players. Bob may start at the start or a tile east of it (as server
-    // B last heard of alice); he walks 3 steps east (3 units: a map character or more from wherever
-    // he started, short of the exit 6 units or more away) and each sees the other, across servers,
-    // on the map (on one spot, the map shows only the one in front: the viewer).
+    // The HUD counts the world's players. Bob may start at the start (x 10) or a tile west of it (x 6,
+    // as server B last heard of alice); he walks 7 steps east (7 units: 3 or more from alice, short
+    // of the exit at x 20) and each sees the other, across servers, on the map (on one spot, the map
+    // shows only the one in front: the viewer).
     alice.wait_for("2 in on alice's HUD", |s, _| hud_row(s).contains("2 in"));
     bob.wait_for("2 in on bob's HUD", |s, _| hud_row(s).contains("2 in"));
-    for _ in 0..3 {
+    for _ in 0..7 {
         bob.send(b"w");
         std::thread::sleep(Duration::from_millis(60));
     }

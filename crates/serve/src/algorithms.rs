@@ -15,10 +15,19 @@
 //! (issue #34). The elliptic-curve and lattice exchanges cost well under a millisecond. `ssh-rsa`
 //! signatures (RSA with SHA-1) are refused as OpenSSH 8.8 and later refuse them; RSA keys still log
 //! in with `rsa-sha2-256` or `-512`, which every OpenSSH since 7.2 uses.
+//!
+//! A player's RSA key with a modulus over [`MAX_RSA_BITS`] or an exponent over
+//! [`MAX_RSA_EXPONENT`] is refused before its signature is checked ([`refused_key`]; red-team pass
+//! 4: with `--open`, a client sending an 8192-bit key with e = 2³³−1 and random bytes for a signature
+//! cost the server 1.6 ms of CPU a request, on the workers players share). A certificate
+//! (`*-cert-v01@openssh.com`) cannot be refused before that: russh checks its CA's signature before
+//! asking the server, whatever the algorithms offered (the server takes no certificates, so none logs
+//! in; at most 7 tries a connection, one per half second, bound that cost).
 
 use std::borrow::Cow;
 
-use russh::keys::{Algorithm, EcdsaCurve, HashAlg};
+use russh::keys::ssh_key::public::KeyData;
+use russh::keys::{Algorithm, EcdsaCurve, HashAlg, PublicKey};
 use russh::{Preferred, cipher, compression, kex, mac};
 
 /// The key exchanges offered, then the markers russh keeps in the same list: a server sends only the
@@ -76,6 +85,29 @@ pub(crate) fn refused_signature(algorithm: &Algorithm) -> bool {
     matches!(algorithm, Algorithm::Rsa { hash: None })
 }
 
+/// The largest RSA modulus of a player's key, bits: `ssh-keygen`'s default is 3072; larger keys are
+/// rare, and checking a signature costs the server more the larger the key.
+pub const MAX_RSA_BITS: u32 = 4096;
+
+/// The largest RSA public exponent of a player's key: 65537, which every key generator uses. (The
+/// `rsa` crate allows up to 2³³−1, which costs more to check.)
+pub const MAX_RSA_EXPONENT: u64 = 65537;
+
+/// Whether a player's `key` is refused before its signature is checked: an RSA key past
+/// [`MAX_RSA_BITS`] or [`MAX_RSA_EXPONENT`].
+#[must_use]
+pub(crate) fn refused_key(key: &PublicKey) -> bool {
+    match key.key_data() {
+        KeyData::Rsa(rsa) => {
+            let e = rsa.e().as_positive_bytes().unwrap_or(&[]);
+            let e = e.iter().skip_while(|&&b| b == 0).collect::<Vec<_>>();
+            let exponent = (e.len() <= 8).then(|| e.iter().fold(0u64, |v, &&b| v << 8 | u64::from(b)));
+            rsa.key_size() > MAX_RSA_BITS || exponent.is_none_or(|e| e > MAX_RSA_EXPONENT)
+        }
+        _ => false,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -94,5 +126,32 @@ mod tests {
         assert!(refused_signature(&Algorithm::Rsa { hash: None }));
         assert!(!refused_signature(&Algorithm::Rsa { hash: Some(HashAlg::Sha256) }));
         assert!(!refused_signature(&Algorithm::Ed25519));
+    }
+
+    /// Red-team pass 4, F4: an RSA key of 8192 bits, or with e = 2³³−1, is refused before any
+    /// signature check; 2048- to 4096-bit keys with e = 65537 (or 3) are not.
+    #[test]
+    fn absurd_rsa_keys_are_refused() {
+        use russh::keys::ssh_key::Mpint;
+        use russh::keys::ssh_key::public::RsaPublicKey;
+        let rsa = |bits: usize, e: &[u8]| {
+            let mut n = vec![0xc5; bits / 8];
+            n[bits / 8 - 1] |= 1;
+            let key =
+                RsaPublicKey::new(Mpint::from_positive_bytes(e), Mpint::from_positive_bytes(&n)).unwrap();
+            PublicKey::new(KeyData::Rsa(key), "")
+        };
+        let f4 = [0x01, 0x00, 0x01];
+        for bits in [2048, 3072, 4096] {
+            assert!(!refused_key(&rsa(bits, &f4)), "{bits} bits");
+        }
+        assert!(!refused_key(&rsa(2048, &[3])));
+        assert!(refused_key(&rsa(4104, &f4)), "past 4096 bits");
+        assert!(refused_key(&rsa(8192, &f4)));
+        assert!(refused_key(&rsa(2048, &[0x01, 0x00, 0x03])), "65539");
+        assert!(refused_key(&rsa(2048, &[0x01, 0xff, 0xff, 0xff, 0xff])), "2^33 - 1");
+        assert!(refused_key(&rsa(2048, &[0x7f; 12])), "wider than 64 bits");
+        let ed = russh::keys::ssh_key::public::Ed25519PublicKey([7; 32]);
+        assert!(!refused_key(&PublicKey::new(KeyData::Ed25519(ed), "")), "an ed25519 key");
     }
 }

@@ -7,10 +7,10 @@
 //!
 //! Bounded like the SSH side, whoever connects:
 //! - at most [`MAX_CONNECTIONS`] connections at once; past it a newcomer pushes out the oldest
-//!   connection of the address holding the most, where that address holds at least two more than the
-//!   newcomer's ([`push_out`]), or else is closed at once: one address (or a few) holding every
-//!   connection cannot keep the page and `/metrics` from anyone else, and a reverse proxy's single
-//!   address is capped as before;
+//!   connection of the address group holding the most, where that group holds at least two more than
+//!   the newcomer's ([`push_out`]; the SSH side's groups: an IPv4 address, IPv6 by /48, /56 and /64),
+//!   or else is closed at once: one address group (or a few) holding every connection cannot keep the
+//!   page and `/metrics` from anyone else, and a reverse proxy's single address is capped as before;
 //! - at most [`MAX_EVENT_CLIENTS`] event streams, shared out by address as connections are (503 to a
 //!   newcomer that pushes none out); each holds at most
 //!   [`EVENT_BUFFER`] events not yet written: a reader too slow for that is dropped (its browser
@@ -163,21 +163,16 @@ impl Places {
 
 /// Which of the places held now (their holders' addresses, oldest first: connections, or event
 /// streams) a newcomer from `newcomer` pushes out when all are taken: the oldest of the address
-/// holding the most, if that address holds at least two more than the newcomer's (after the swap the
-/// newcomer's holds no more than it does); `None` where no address holds that many, so the newcomer
-/// is refused. Fair shares: addresses holding every place between them give way, one at a time, to
-/// addresses holding fewer, and never to one of themselves.
+/// group holding the most, if that group holds at least two more than the newcomer's (after the swap
+/// the newcomer's holds no more than it does); `None` where no group holds that many, so the newcomer
+/// is refused. Fair shares: groups holding every place between them give way, one at a time, to
+/// groups holding fewer, and never to one of themselves. The groups are the SSH side's
+/// ([`fair_push_out`](crate::slots::fair_push_out)): an IPv4 address; IPv6 places counted by /48,
+/// then /56, then /64 (red-team pass 4: raw addresses let one host's /64 hold every place).
 #[must_use]
 pub fn push_out(open: &[IpAddr], newcomer: IpAddr) -> Option<usize> {
-    let count = |ip: IpAddr| open.iter().filter(|&&a| a == ip).count();
-    let mine = count(newcomer);
-    // the address holding the most (the first to have opened, among those holding as many)
-    let (most, top) = open
-        .iter()
-        .map(|&a| (count(a), a))
-        .fold((0, None), |best, (n, a)| if n > best.0 { (n, Some(a)) } else { best });
-    let top = top?;
-    (most >= mine + 2).then(|| open.iter().position(|&a| a == top)).flatten()
+    let held: Vec<(IpAddr, f64)> = open.iter().enumerate().map(|(k, &ip)| (ip, k as f64)).collect();
+    crate::slots::fair_push_out(&held, newcomer)
 }
 
 /// One place in [`Places`], given up when its holder ends.
@@ -532,6 +527,27 @@ mod tests {
         .await;
         assert!(ended.is_ok(), "the flood's oldest stream ended");
         drop((held, newcomer));
+    }
+
+    /// Red-team pass 4, F2: the listener counted raw addresses, so one IPv6 host's /64 (or one
+    /// customer's /56) supplied a fresh address for every event stream and held them all. Now they
+    /// count as the SSH side's groups do: the 32 streams of 32 addresses of one /56 give way to a
+    /// reader from another customer, and not to a 33rd address of their own /64.
+    #[tokio::test]
+    async fn one_customers_many_ipv6_addresses_hold_the_event_streams_as_one() {
+        let (_version, versions) = watch::channel(0u64);
+        let (_stop, shutdown) = watch::channel(false);
+        let site = Arc::new(bare_site(versions, shutdown));
+        let v6 = |s: String| s.parse::<IpAddr>().expect("an IPv6 address");
+        let held: Vec<Body> = (0..MAX_EVENT_CLIENTS)
+            .map(|k| events(&site, v6(format!("2001:db8:0:ab{:02x}::{k:x}", k % 4))).expect("a stream"))
+            .collect();
+        assert_eq!(Places::len(&site.streams), MAX_EVENT_CLIENTS);
+        assert!(events(&site, v6("2001:db8:0:ab00::ffff".into())).is_none(), "their own /64: refused (503)");
+        assert!(events(&site, v6("2001:db8:1::1".into())).is_some(), "another customer's reader: let in");
+        assert!(events(&site, ip(9)).is_some(), "an IPv4 reader: let in");
+        assert_eq!(Places::len(&site.streams), MAX_EVENT_CLIENTS);
+        drop(held);
     }
 
     /// A reader that never reads: its stream holds [`EVENT_BUFFER`] events, then ends (the count of

@@ -21,7 +21,7 @@ use prometheus_client::metrics::histogram::{Histogram, exponential_buckets};
 use prometheus_client::metrics::info::Info;
 use prometheus_client::registry::{Registry, Unit};
 
-use crate::slots::Refusal;
+use crate::slots::{Refusal, Role};
 
 /// A refusal's reason as a label.
 type Reason = Vec<(&'static str, &'static str)>;
@@ -38,6 +38,8 @@ pub struct Metrics {
     spectators: Gauge,
     spectator_joins: Counter,
     spectator_refusals: Counter,
+    /// Players and spectators pushed out of their places by newcomers, by role.
+    pushed_out: Family<Reason, Counter>,
     handshake_cpu: Histogram,
     /// Players' sessions recorded (`--record-dir`): started, not started for want of room, and
     /// stopped early — a file not made or a write failed, a cap reached, a write dropped because
@@ -68,6 +70,7 @@ impl Default for Metrics {
             spectators: Gauge::default(),
             spectator_joins: Counter::default(),
             spectator_refusals: Counter::default(),
+            pushed_out: Family::default(),
             // 50 µs to 0.4 s, doubling: a stock OpenSSH client's exchange is about 1 ms of CPU.
             handshake_cpu: Histogram::new(exponential_buckets(0.000_05, 2.0, 14)),
             recordings: Counter::default(),
@@ -110,6 +113,15 @@ impl Metrics {
         if let Some(seconds) = key {
             self.key_to_frame.observe(seconds);
         }
+    }
+
+    /// A newcomer pushed out a `role` of the address holding the most (the server was full).
+    pub(crate) fn pushed_out(&self, role: Role) {
+        let role = match role {
+            Role::Player => "player",
+            Role::Spectator => "spectator",
+        };
+        self.pushed_out.get_or_create(&vec![("role", role)]).inc();
     }
 
     /// A spectator began watching.
@@ -305,6 +317,11 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
         "refusals",
         "Connections refused, by reason: slots (every player's slot taken), per_address, handshakes (every handshake slot taken), rate",
         metrics.refusals.clone(),
+    );
+    registry.register(
+        "pushed_out",
+        "Players (role=player) and spectators (role=spectator) pushed out of their places by newcomers: the server was full and their address held the most places",
+        metrics.pushed_out.clone(),
     );
     registry.register("frames_sent", "Frames handed to players' SSH channels", metrics.frames.clone());
     registry.register_with_unit(

@@ -15,6 +15,7 @@ use std::sync::Arc;
 use glam::Vec2;
 
 use super::limits::{Limits, RateLimit};
+use super::spawn::Spot;
 use super::world::{Look, PlayerId, WalkClock};
 use mazewalk_maze::Maze;
 use mazewalk_render::{Charset, RenderOptions};
@@ -235,6 +236,8 @@ pub struct Player {
     recorded: bool,
     /// The shared world's Redis is away, as of its last look.
     offline: bool,
+    /// How many cells' steps nearer the exit than the maze's start its spot is ([`Spot::ahead`]).
+    ahead: u32,
 }
 
 /// What the world learns from a player after a frame ([`Player::news`]).
@@ -286,6 +289,7 @@ impl Player {
             ask_truecolor: plan.ask,
             recorded: false,
             offline: false,
+            ahead: 0,
         })
     }
 
@@ -398,15 +402,24 @@ impl Player {
             .map(|at| at.max(now))
     }
 
-    /// The player starts at `position` (where a viewer stands there) instead of the maze's start,
-    /// facing `heading_deg` (the maze's heading when `None`), and `r` brings it back there: its own
+    /// The player starts on `spot` (where a viewer stands there) instead of the maze's start,
+    /// facing its heading (the maze's heading when `None`), and `r` brings it back there: its own
     /// spot in a shared maze ([`crate::spawn`]).
-    pub fn place(&mut self, position: Vec2, heading_deg: Option<f32>) {
+    pub(crate) fn place(&mut self, spot: &Spot) {
         let app = self.session.app_mut();
-        app.set_start(position);
-        if let Some(heading) = heading_deg {
+        app.set_start(spot.at.pos);
+        if let Some(heading) = spot.heading {
             app.set_start_heading(heading);
         }
+        self.ahead = spot.ahead;
+    }
+
+    /// How many cells' steps nearer the exit than the maze's start this player's walks start
+    /// ([`Spot::ahead`]): 0, or its finishes are not the maze's whole way and are not kept in the
+    /// records (a crowd must not give a newcomer a head start on a record: red-team pass 4).
+    #[must_use]
+    pub fn head_start(&self) -> u32 {
+        self.ahead
     }
 
     /// The player joined the world as `id`.

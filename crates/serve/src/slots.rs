@@ -18,12 +18,24 @@
 //! - **Spectators apart too.** A connection that logs in as `watch` becomes a *spectator*
 //!   ([`Role::Spectator`]), one of at most [`Limits::max_spectators`]: spectators never take a
 //!   player's slot, nor players a spectator's. A newcomer is refused before its handshake only when
-//!   both are full (it may be either); otherwise a player finding the players full, or a spectator
-//!   the spectators, is refused when it logs in. A spectator has no idle timeout, so one address
-//!   group holds at most [`Limits::max_spectators_per_address`] of their places.
+//!   both are full (it may be either) and it would push out neither (below); otherwise a player
+//!   finding the players full, or a spectator the spectators, is refused when it logs in unless it
+//!   pushes one out. One address group holds at most [`Limits::max_spectators_per_address`] of the
+//!   spectators' places.
+//! - **A full server shares its places fairly** (red-team pass 4: 16 addresses held every player's
+//!   place, and 4 every spectator's, for good). A newcomer finding every player's (or spectator's)
+//!   place taken pushes out the player (spectator) of the address holding the most places that
+//!   pressed no key for the longest, where that address holds at least two more than the newcomer's
+//!   ([`fair_push_out`]); otherwise it is refused as before. So a few addresses holding everything
+//!   give way, one place at a time, to anyone from elsewhere, and addresses holding one each (an
+//!   even share) keep theirs. Spectators have no idle timeout: a screen on a wall presses no key by
+//!   design, and a timeout would cut it when nobody else wants the place; being pushed out frees a
+//!   place exactly when someone does.
 //! - **Address groups.** [`address_group`]: an IPv4 address, or an IPv6 address's /64. Each group
 //!   has at most [`Limits::max_per_address`] connections of both kinds, and opens new ones at most
-//!   [`Limits::connect_rate`] a second after a burst of twice that many.
+//!   [`Limits::connect_rate`] a second after a burst of twice that many. A full server's fair share
+//!   counts IPv6 places by /48 first, then by /56, then by /64 ([`address_prefixes`]): a home gets a
+//!   /56 or a /48 (RIPE-690), so one customer's thousands of /64s count as one holder.
 
 use std::collections::{BTreeMap, HashMap};
 use std::net::{IpAddr, Ipv6Addr};
@@ -43,6 +55,45 @@ pub(crate) fn address_group(ip: IpAddr) -> IpAddr {
     }
 }
 
+/// The prefixes an address is counted in when a full server shares its places ([`fair_push_out`]),
+/// widest first: an IPv6 address's /48 (a site), /56 (a home) and /64 ([`address_group`]); an IPv4
+/// address (also IPv4-mapped) is itself at every level.
+#[must_use]
+pub fn address_prefixes(ip: IpAddr) -> [IpAddr; 3] {
+    match address_group(ip) {
+        IpAddr::V6(v6) => {
+            let bits = u128::from(v6);
+            [48, 56, 64].map(|len| IpAddr::V6(Ipv6Addr::from(bits & (u128::MAX << (128 - len)))))
+        }
+        v4 => [v4; 3],
+    }
+}
+
+/// Which of the places `held` (each holder's address, and its turn: of a group's places, the one
+/// with the lowest goes first) a newcomer from `newcomer` pushes out when all are taken, if any.
+///
+/// The holders are compared by the places their /48 holds, then their /56, then their /64
+/// ([`address_prefixes`]; an IPv4 address at each level): the heaviest gives way, where it holds
+/// at least two more than the newcomer's at the first level the two differ (after the swap the
+/// newcomer's holds no more than it does, so two groups never take a place back and forth). Never
+/// one of the newcomer's own /64. `None`: the newcomer is refused. O(places).
+#[must_use]
+pub fn fair_push_out(held: &[(IpAddr, f64)], newcomer: IpAddr) -> Option<usize> {
+    let prefixes: Vec<[IpAddr; 3]> = held.iter().map(|&(ip, _)| address_prefixes(ip)).collect();
+    let mut counts: HashMap<(usize, IpAddr), usize> = HashMap::new();
+    for (level, prefix) in prefixes.iter().flat_map(|p| p.iter().copied().enumerate()) {
+        *counts.entry((level, prefix)).or_default() += 1; // (a /48 and a /56 may read alike: the level keys them)
+    }
+    let count = |level: usize, prefix: IpAddr| counts.get(&(level, prefix)).copied().unwrap_or(0);
+    let weight = |p: &[IpAddr; 3]| [count(0, p[0]), count(1, p[1]), count(2, p[2])];
+    let victim = (0..held.len()).max_by(|&a, &b| {
+        weight(&prefixes[a]).cmp(&weight(&prefixes[b])).then(held[b].1.total_cmp(&held[a].1))
+    })?;
+    let (theirs, mine) = (prefixes[victim], address_prefixes(newcomer));
+    let level = (0..3).find(|&level| theirs[level] != mine[level])?;
+    (count(level, theirs[level]) >= count(level, mine[level]) + 2).then_some(victim)
+}
+
 /// A connection's id, in the order they came (so the smallest is the oldest).
 pub(crate) type ConnId = u64;
 
@@ -53,8 +104,9 @@ pub(crate) enum Refusal {
     Full(usize),
     /// `--max-spectators`, reached.
     Spectators(usize),
-    /// Both reached (`--max-players`, `--max-spectators`): refused before the handshake, whichever
-    /// the newcomer would have been.
+    /// Both reached (`--max-players`, `--max-spectators`), and the newcomer's address group would
+    /// push out neither ([`fair_push_out`]): refused before the handshake, whichever it would have
+    /// been.
     AllFull(usize, usize),
     /// `--max-per-address`, reached by the client's address group.
     FromThisAddress(usize),
@@ -123,6 +175,8 @@ pub(crate) struct Admitted {
 /// A connection still in the handshake.
 #[derive(Clone, Copy, Debug)]
 struct Handshake {
+    /// Its address.
+    ip: IpAddr,
     group: IpAddr,
     /// When it last moved on (connected, exchanged keys, asked to log in), seconds.
     progress: f64,
@@ -135,6 +189,17 @@ pub(crate) enum Role {
     Player,
     /// Watches the players (`ssh watch@…`).
     Spectator,
+}
+
+/// A connection that logged in.
+#[derive(Clone, Copy, Debug)]
+struct Place {
+    /// Its address.
+    ip: IpAddr,
+    /// Its address group ([`address_group`]).
+    group: IpAddr,
+    /// When it logged in or last pressed a key ([`Slots::active`]), seconds.
+    active: f64,
 }
 
 /// Connections of one address group.
@@ -154,10 +219,10 @@ pub(crate) struct Slots {
     next_id: ConnId,
     /// Handshakes by id (oldest first).
     handshakes: BTreeMap<ConnId, Handshake>,
-    /// Players by id, with their group.
-    players: HashMap<ConnId, IpAddr>,
-    /// Spectators by id, with their group.
-    spectators: HashMap<ConnId, IpAddr>,
+    /// Players by id.
+    players: HashMap<ConnId, Place>,
+    /// Spectators by id.
+    spectators: HashMap<ConnId, Place>,
     groups: HashMap<IpAddr, Counts>,
     /// New connections' budgets, by group (forgotten once full again).
     rates: HashMap<IpAddr, RateLimit>,
@@ -194,7 +259,11 @@ impl Slots {
         if rate.take(1, now) == 0 {
             return Err(Refusal::TooFast);
         }
-        if self.players.len() >= limits.max_players && self.spectators.len() >= limits.max_spectators {
+        if self.players.len() >= limits.max_players
+            && self.spectators.len() >= limits.max_spectators
+            && self.push_out(Role::Player, ip).is_none()
+            && self.push_out(Role::Spectator, ip).is_none()
+        {
             return Err(if limits.max_spectators == 0 {
                 Refusal::Full(limits.max_players)
             } else {
@@ -215,7 +284,7 @@ impl Slots {
         }
         let id = self.next_id;
         self.next_id += 1;
-        self.handshakes.insert(id, Handshake { group, progress: now });
+        self.handshakes.insert(id, Handshake { ip, group, progress: now });
         self.groups.entry(group).or_default().handshakes += 1;
         Ok(Admitted { id, evicted })
     }
@@ -234,36 +303,70 @@ impl Slots {
         }
     }
 
-    /// The handshake `id` logged in: it becomes a player or a spectator, as `role` says.
+    /// The handshake `id` logged in at `now`: it becomes a player or a spectator, as `role` says.
+    /// Where every place of its role is taken, it takes one of the address holding the most
+    /// ([`fair_push_out`]): the id of the connection pushed out (its slot is free already; it is to
+    /// be told and closed).
     ///
     /// # Errors
-    /// [`Refusal::Full`] when every player's slot is taken, [`Refusal::Spectators`] every
-    /// spectator's, [`Refusal::SpectatorsFromThisAddress`] the spectators' of its address group (it
-    /// stays a handshake).
-    pub(crate) fn promote(&mut self, id: ConnId, role: Role) -> Result<(), Refusal> {
-        let Some(group) = self.handshakes.get(&id).map(|h| h.group) else {
-            return Ok(()); // logged in already, or gone
+    /// [`Refusal::Full`] when every player's slot is taken and nobody gives way,
+    /// [`Refusal::Spectators`] every spectator's, [`Refusal::SpectatorsFromThisAddress`] the
+    /// spectators' of its address group (it stays a handshake).
+    pub(crate) fn promote(&mut self, id: ConnId, role: Role, now: f64) -> Result<Option<ConnId>, Refusal> {
+        let Some(Handshake { ip, group, .. }) = self.handshakes.get(&id).copied() else {
+            return Ok(None); // logged in already, or gone
         };
-        let (taken, max, full) = match role {
-            Role::Player => {
-                (&mut self.players, self.limits.max_players, Refusal::Full as fn(usize) -> Refusal)
-            }
-            Role::Spectator => (&mut self.spectators, self.limits.max_spectators, Refusal::Spectators as _),
-        };
-        if taken.len() >= max {
-            return Err(full(max));
-        }
-        let counts = self.groups.entry(group).or_default();
         let per_address = self.limits.max_spectators_per_address;
+        let counts = self.groups.get(&group).copied().unwrap_or_default();
         if role == Role::Spectator && counts.spectators >= per_address {
             return Err(Refusal::SpectatorsFromThisAddress(per_address));
         }
+        let (taken, max, full) = match role {
+            Role::Player => {
+                (self.players.len(), self.limits.max_players, Refusal::Full as fn(usize) -> Refusal)
+            }
+            Role::Spectator => (self.spectators.len(), self.limits.max_spectators, Refusal::Spectators as _),
+        };
+        let pushed_out = if taken >= max {
+            let victim = self.push_out(role, ip).ok_or(full(max))?;
+            self.release(victim);
+            Some(victim)
+        } else {
+            None
+        };
+        let counts = self.groups.entry(group).or_default();
         counts.handshakes -= 1;
         counts.players += 1;
         counts.spectators += usize::from(role == Role::Spectator);
-        taken.insert(id, group);
+        let place = Place { ip, group, active: now };
+        match role {
+            Role::Player => self.players.insert(id, place),
+            Role::Spectator => self.spectators.insert(id, place),
+        };
         self.handshakes.remove(&id);
-        Ok(())
+        Ok(pushed_out)
+    }
+
+    /// Which of the `role`'s places a newcomer from `ip` would push out ([`fair_push_out`]; of an
+    /// address's places, the one that pressed no key for the longest). O(places).
+    fn push_out(&self, role: Role, ip: IpAddr) -> Option<ConnId> {
+        let taken = match role {
+            Role::Player => &self.players,
+            Role::Spectator => &self.spectators,
+        };
+        // (by id: the same choice whatever the map's order, the oldest first among equally idle)
+        let mut places: Vec<(ConnId, &Place)> = taken.iter().map(|(&id, place)| (id, place)).collect();
+        places.sort_unstable_by_key(|&(id, _)| id);
+        let held: Vec<(IpAddr, f64)> = places.iter().map(|(_, place)| (place.ip, place.active)).collect();
+        fair_push_out(&held, ip).map(|k| places[k].0)
+    }
+
+    /// The player or spectator `id` pressed a key at `now`: it is pushed out after those that have
+    /// not since.
+    pub(crate) fn active(&mut self, id: ConnId, now: f64) {
+        if let Some(place) = self.players.get_mut(&id).or(self.spectators.get_mut(&id)) {
+            place.active = place.active.max(now);
+        }
     }
 
     /// The connection `id` closed (or was pushed out): its slot is free.
@@ -271,8 +374,8 @@ impl Slots {
         let (group, was_player, was_spectator) = match self.handshakes.remove(&id) {
             Some(handshake) => (handshake.group, false, false),
             None => match (self.players.remove(&id), self.spectators.remove(&id)) {
-                (Some(group), _) => (group, true, false),
-                (None, Some(group)) => (group, true, true),
+                (Some(place), _) => (place.group, true, false),
+                (None, Some(place)) => (place.group, true, true),
                 (None, None) => return,
             },
         };
@@ -372,9 +475,9 @@ mod tests {
         assert_eq!(slots.screens_from(ip("10.0.0.1")), 1, "none yet: a lone screen's whole budget");
         let ids: Vec<ConnId> = (0..4).map(|_| slots.admit(ip("2001:db8::1"), 0.0).unwrap().id).collect();
         assert_eq!(slots.screens_from(ip("2001:db8::9")), 1, "handshakes draw nothing");
-        slots.promote(ids[0], Role::Player).unwrap();
-        slots.promote(ids[1], Role::Player).unwrap();
-        slots.promote(ids[2], Role::Spectator).unwrap();
+        slots.promote(ids[0], Role::Player, 0.0).unwrap();
+        slots.promote(ids[1], Role::Player, 0.0).unwrap();
+        slots.promote(ids[2], Role::Spectator, 0.0).unwrap();
         assert_eq!(slots.screens_from(ip("2001:db8::2")), 3, "the same /64");
         assert_eq!(slots.screens_from(ip("2001:db8:0:1::1")), 1, "another /64");
         slots.release(ids[0]);
@@ -387,13 +490,13 @@ mod tests {
     fn handshakes_never_take_a_players_slot() {
         let mut slots = Slots::new(&limits(2, 4, 100));
         let a = slots.admit(ip("10.0.0.1"), 0.0).unwrap().id;
-        slots.promote(a, Role::Player).unwrap();
+        slots.promote(a, Role::Player, 0.0).unwrap();
         for i in 0..3 {
             slots.admit(ip(&format!("10.0.1.{i}")), 0.0).unwrap();
         }
         assert_eq!((slots.players(), slots.handshakes()), (1, 3));
         let b = slots.admit(ip("10.0.2.1"), 0.0).unwrap().id;
-        slots.promote(b, Role::Player).unwrap();
+        slots.promote(b, Role::Player, 0.0).unwrap();
         assert_eq!(slots.players(), 2);
         assert_eq!(slots.admit(ip("10.0.3.1"), 0.0), Err(Refusal::Full(2)), "players full: refused at once");
         slots.release(a);
@@ -453,7 +556,7 @@ mod tests {
             }
         }
         assert!(slots.holds(player));
-        slots.promote(player, Role::Player).expect("logged in");
+        slots.promote(player, Role::Player, 0.0).expect("logged in");
         assert_eq!((slots.players(), slots.handshakes()), (1, 31), "its handshake slot is free again");
     }
 
@@ -464,13 +567,13 @@ mod tests {
     fn spectators_never_take_a_players_slot_nor_players_theirs() {
         let mut slots = Slots::new(&Limits { max_spectators: 1, ..limits(1, 8, 3) });
         let alice = slots.admit(ip("10.0.0.1"), 0.0).unwrap().id;
-        slots.promote(alice, Role::Player).unwrap();
+        slots.promote(alice, Role::Player, 0.0).unwrap();
         let watcher = slots.admit(ip("10.0.0.2"), 0.0).expect("the game is full, the spectators are not").id;
         let bob = slots.admit(ip("10.0.0.3"), 0.0).unwrap().id;
-        assert_eq!(slots.promote(bob, Role::Player), Err(Refusal::Full(1)), "told when it logs in");
-        slots.promote(watcher, Role::Spectator).unwrap();
+        assert_eq!(slots.promote(bob, Role::Player, 0.0), Err(Refusal::Full(1)), "told when it logs in");
+        slots.promote(watcher, Role::Spectator, 0.0).unwrap();
         assert_eq!((slots.players(), slots.spectators()), (1, 1));
-        assert_eq!(slots.promote(bob, Role::Spectator), Err(Refusal::Spectators(1)));
+        assert_eq!(slots.promote(bob, Role::Spectator, 0.0), Err(Refusal::Spectators(1)));
         slots.release(bob);
         assert_eq!(
             slots.admit(ip("10.0.0.4"), 0.0),
@@ -479,12 +582,12 @@ mod tests {
         );
         slots.release(alice);
         let carol = slots.admit(ip("10.0.0.4"), 0.0).unwrap().id;
-        slots.promote(carol, Role::Player).expect("the player's slot, not taken by the spectator");
+        slots.promote(carol, Role::Player, 0.0).expect("the player's slot, not taken by the spectator");
         slots.release(watcher);
         slots.release(carol);
         assert_eq!((slots.players(), slots.spectators()), (0, 0));
         let group: Vec<ConnId> = (0..3).map(|_| slots.admit(ip("10.0.0.9"), 0.0).unwrap().id).collect();
-        slots.promote(group[0], Role::Spectator).unwrap();
+        slots.promote(group[0], Role::Spectator, 0.0).unwrap();
         assert_eq!(slots.admit(ip("10.0.0.9"), 0.0), Err(Refusal::FromThisAddress(3)), "a spectator counts");
         assert!(Refusal::Spectators(1).message().contains("try again later"));
     }
@@ -498,7 +601,7 @@ mod tests {
             Slots::new(&Limits { max_spectators: 16, max_spectators_per_address: 4, ..limits(16, 64, 16) });
         let admit = |slots: &mut Slots, from: &str, role| {
             let id = slots.admit(ip(from), 0.0).unwrap().id;
-            (id, slots.promote(id, role))
+            (id, slots.promote(id, role, 0.0))
         };
         let watchers: Vec<ConnId> =
             (0..4).map(|_| admit(&mut slots, "10.0.0.1", Role::Spectator).0).collect();
@@ -506,11 +609,141 @@ mod tests {
         assert_eq!(refused, Err(Refusal::SpectatorsFromThisAddress(4)));
         assert!(refused.unwrap_err().message().contains("4 spectators from your address"));
         slots.release(fifth);
-        assert_eq!(admit(&mut slots, "10.0.0.1", Role::Player).1, Ok(()), "a player from there");
-        assert_eq!(admit(&mut slots, "10.0.0.2", Role::Spectator).1, Ok(()), "a spectator from elsewhere");
+        assert_eq!(admit(&mut slots, "10.0.0.1", Role::Player).1, Ok(None), "a player from there");
+        assert_eq!(admit(&mut slots, "10.0.0.2", Role::Spectator).1, Ok(None), "a spectator from elsewhere");
         slots.release(watchers[0]);
-        assert_eq!(admit(&mut slots, "10.0.0.1", Role::Spectator).1, Ok(()), "a place given back");
+        assert_eq!(admit(&mut slots, "10.0.0.1", Role::Spectator).1, Ok(None), "a place given back");
         assert_eq!(slots.spectators(), 5);
+    }
+
+    /// Logs a newcomer from `from` in as `role` at `now`: its id, and whom it pushed out (or why not).
+    fn log_in(
+        slots: &mut Slots,
+        from: &str,
+        role: Role,
+        now: f64,
+    ) -> (ConnId, Result<Option<ConnId>, Refusal>) {
+        let id = slots.admit(ip(from), now).expect("a handshake slot").id;
+        (id, slots.promote(id, role, now))
+    }
+
+    /// As [`log_in`], refused before the handshake or when it logs in: whom it pushed out.
+    fn try_in(slots: &mut Slots, from: &str, role: Role, now: f64) -> Result<Option<ConnId>, Refusal> {
+        let id = slots.admit(ip(from), now)?.id;
+        slots.promote(id, role, now)
+    }
+
+    /// Red-team pass 4, F1: 2 addresses × 16 held every player's place of 32, and 4 × 4 every
+    /// spectator's, pressing a key now and then; newcomers were refused for good. Now a newcomer from
+    /// elsewhere pushes out the heaviest address's player that pressed no key for the longest (and
+    /// a spectator likewise), the heavy addresses give way one place at a time until no address
+    /// holds two more than a newcomer's, and a heavy address never gets in at its own expense.
+    #[test]
+    fn a_full_server_gives_a_newcomer_the_heaviest_addresss_idlest_place() {
+        let mut slots =
+            Slots::new(&Limits { max_spectators: 16, max_spectators_per_address: 4, ..limits(32, 64, 16) });
+        let mut held: HashMap<ConnId, &str> = HashMap::new();
+        for (k, from) in ["10.0.0.2", "10.0.0.3"].into_iter().enumerate() {
+            for n in 0..16 {
+                let (id, promoted) = log_in(&mut slots, from, Role::Player, f64::from(n));
+                assert_eq!(promoted, Ok(None), "{from} #{n}: room still");
+                slots.active(id, 100.0 + f64::from(n) + if k == 1 { 0.5 } else { 0.0 });
+                held.insert(id, from);
+            }
+        }
+        for from in ["10.0.1.1", "10.0.1.2", "10.0.1.3", "10.0.1.4"] {
+            for _ in 0..4 {
+                assert_eq!(log_in(&mut slots, from, Role::Spectator, 0.0).1, Ok(None));
+            }
+        }
+        assert_eq!((slots.players(), slots.spectators()), (32, 16));
+        // the heavy addresses' own newcomers: refused
+        assert_eq!(slots.admit(ip("10.0.0.2"), 200.0), Err(Refusal::FromThisAddress(16)));
+        assert_eq!(slots.admit(ip("10.0.1.1"), 200.0).map(|_| ()), Ok(()), "room for its handshake…");
+        // a newcomer from elsewhere gets in, in the place of the idlest of the heaviest (a tie of
+        // 16 and 16: the one whose last key is the oldest, 10.0.0.2's first, at 100 s)
+        let (newcomer, promoted) = log_in(&mut slots, "192.0.2.1", Role::Player, 200.0);
+        let first = promoted.expect("let in").expect("somebody pushed out");
+        assert_eq!((held[&first], slots.holds(first)), ("10.0.0.2", false));
+        assert!(slots.holds(newcomer));
+        assert_eq!(slots.players(), 32, "never more than the places");
+        // 10.0.0.2 holds 15 now: 10.0.0.3's idlest goes next, and so on, the two taking turns
+        let (_, promoted) = log_in(&mut slots, "192.0.2.2", Role::Player, 201.0);
+        assert_eq!(held[&promoted.unwrap().unwrap()], "10.0.0.3");
+        // a key keeps a player in: 10.0.0.3's players and 10.0.0.2's next idlest press one (15 and
+        // 15: the idlest of both addresses goes), the one after it goes
+        let holding = |slots: &Slots, from: &str| {
+            let mut ids: Vec<ConnId> =
+                held.iter().filter(|(id, f)| **f == from && slots.holds(**id)).map(|(id, _)| *id).collect();
+            ids.sort_unstable();
+            ids
+        };
+        for id in holding(&slots, "10.0.0.3") {
+            slots.active(id, 202.0);
+        }
+        let next = holding(&slots, "10.0.0.2");
+        slots.active(next[0], 202.0);
+        let (_, promoted) = log_in(&mut slots, "192.0.2.3", Role::Player, 203.0);
+        assert_eq!(promoted, Ok(Some(next[1])), "the idlest, not the oldest");
+        // newcomers from fresh addresses until the heavy ones hold no more than one more each
+        let mut fresh = 10;
+        let refusal = loop {
+            match try_in(&mut slots, &format!("198.51.100.{fresh}"), Role::Player, 210.0) {
+                Ok(pushed) => assert!(pushed.is_some(), "the server stays full"),
+                Err(refusal) => break refusal,
+            }
+            fresh += 1;
+            assert!(fresh < 100, "it ends");
+        };
+        // (let in to log in, as it might have come to watch: it would have pushed out a spectator)
+        assert_eq!(refusal, Refusal::Full(32), "nobody to push out: refused");
+        let left = |from: &str| held.iter().filter(|(id, f)| **f == from && slots.holds(**id)).count();
+        assert_eq!((left("10.0.0.2"), left("10.0.0.3")), (1, 1), "an even share: one each");
+        assert_eq!(slots.players(), 32);
+        // spectators alike: 4 addresses × 4 give way to a watcher from elsewhere
+        let (watcher, promoted) = log_in(&mut slots, "203.0.113.9", Role::Spectator, 220.0);
+        assert!(matches!(promoted, Ok(Some(_))) && slots.holds(watcher));
+        assert_eq!(slots.spectators(), 16);
+        assert_eq!(
+            try_in(&mut slots, "10.0.1.2", Role::Spectator, 221.0),
+            Err(Refusal::AllFull(32, 16)),
+            "a heavy address's own: refused before its handshake"
+        );
+    }
+
+    /// Red-team pass 4, F1 on IPv6: one customer's /56 (or /48) is 256 (65,536) /64s, each an address
+    /// group of its own for the caps. A full server counts the /48, then the /56, then the /64:
+    /// players from 32 /64s of one /56 give way to another customer's, and to another /56 of the
+    /// same /48, but not to a /64 of their own /56 holding one less.
+    #[test]
+    fn one_customers_many_64s_count_as_one_holder_when_the_server_is_full() {
+        assert_eq!(
+            address_prefixes(ip("2001:db8:1:2ff:1:2:3:4")),
+            [ip("2001:db8:1::"), ip("2001:db8:1:200::"), ip("2001:db8:1:2ff::")]
+        );
+        assert_eq!(address_prefixes(ip("::ffff:192.0.2.7")), [ip("192.0.2.7"); 3]);
+        let mut slots = Slots::new(&limits(32, 64, 16));
+        for n in 0..32 {
+            let from = format!("2001:db8:1:2{n:02x}::1");
+            assert_eq!(log_in(&mut slots, &from, Role::Player, 0.0).1, Ok(None));
+        }
+        // (no spectators here: a newcomer who would push nobody out is refused before its handshake)
+        let refused = |slots: &mut Slots, from: &str| try_in(slots, from, Role::Player, 1.0);
+        assert_eq!(refused(&mut slots, "2001:db8:1:2ff::1"), Err(Refusal::Full(32)), "its own /56");
+        assert!(matches!(refused(&mut slots, "2001:db8:1:300::1"), Ok(Some(_))), "another /56 of the /48");
+        assert!(matches!(refused(&mut slots, "2001:db8:2::1"), Ok(Some(_))), "another /48");
+        assert!(matches!(refused(&mut slots, "192.0.2.1"), Ok(Some(_))), "an IPv4 address");
+        // the pure rule: an IPv4 address holding 2 outweighs a /48 holding 2 over two /64s
+        let held = [
+            (ip("2001:db8::1"), 0.0),
+            (ip("192.0.2.1"), 1.0),
+            (ip("2001:db8:0:1::1"), 2.0),
+            (ip("192.0.2.1"), 3.0),
+        ];
+        assert_eq!(fair_push_out(&held, ip("198.51.100.1")), Some(1));
+        assert_eq!(fair_push_out(&held, ip("192.0.2.1")), None, "never its own");
+        assert_eq!(fair_push_out(&held[..2], ip("198.51.100.1")), None, "one each: nobody gives way");
+        assert_eq!(fair_push_out(&[], ip("198.51.100.1")), None);
     }
 
     #[test]

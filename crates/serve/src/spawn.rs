@@ -14,6 +14,18 @@
 //! farthest from everyone. A newcomer away from the start faces its cell's longest straight way on
 //! (the opening through which the most cells follow in a line), not a wall or another's back.
 //!
+//! A crowd gives no head start on a record (red-team pass 4: with a crowd at the start, the nearest
+//! free ring of a generated maze lay along the way on, and a newcomer's clock, record and ghost
+//! started up to a third of the way nearer the exit). The cells tried first are those at least as
+//! many cells' steps from the exit's cell as the start's cell is ([`hops`]), nearest the start
+//! first (reached through any cell, up to [`MAX_CELLS`]); only when none of them has a spot a cell
+//! apart (at least [`SPACING`], in the next tier) does a newcomer get a spot nearer the exit, the
+//! fewest steps nearer first (of cells' centres, then of other spots), marked so ([`Spot::ahead`]): its finishes are not kept in the records
+//! (the server's `walk`). Often the start is the cell farthest from the exit (a `--gen` maze's exit
+//! is the cell farthest from the start), so nothing else is as far: putting a crowd in one cell,
+//! the players inside one another (issue #34), would be worse than an unrecorded walk. A maze
+//! with no exit, or whose exit the start cannot reach, marks no spot.
+//!
 //! In a shared world a server picks from the players it knows of: two newcomers on two servers at
 //! once may get one spot. The later comer then moves to a free one ([`Arrival`], [`Spawns::repick`]).
 
@@ -45,8 +57,11 @@ const MAX_SPOTS_PER_CELL: usize = 4096;
 pub(crate) struct Spawns {
     /// The maze's start, where a viewer stands.
     start: Position,
-    /// The spots of each ring of cells, nearest the start first.
+    /// The spots of each ring of cells no nearer the exit than the start's, nearest the start first.
     rings: Vec<Vec<Spot>>,
+    /// The spots of the cells nearer the exit, among the [`MAX_CELLS`] nearest the start: cells'
+    /// centres first, then the fewest steps nearer, then as the rings.
+    ahead: Vec<Spot>,
 }
 
 /// Where a newcomer may stand.
@@ -58,6 +73,9 @@ pub(crate) struct Spot {
     apart: f32,
     /// The heading to face there, degrees: `None` in the start's cell (the maze's own heading).
     pub heading: Option<f32>,
+    /// How many cells' steps nearer the exit than the start's cell it is (0: none, or no exit): a
+    /// walk from here is not the maze's whole way, and its finish is not kept in the records.
+    pub ahead: u32,
 }
 
 impl Spawns {
@@ -65,42 +83,63 @@ impl Spawns {
     #[must_use]
     pub fn new(maze: &Maze) -> Option<Spawns> {
         let start = stand(maze, maze.viewer().pos)?;
-        let rings = rings(maze, start.cell)
-            .into_iter()
-            .map(|ring| {
-                let mut spots: Vec<Spot> = ring
-                    .iter()
-                    .flat_map(|&cell| {
-                        let size = maze.cell_aabb(cell).max - maze.cell_aabb(cell).min;
-                        let heading = (cell != start.cell).then(|| longest_way(maze, cell));
-                        let apart = size.x.min(size.y).max(SPACING);
-                        spots_in(maze, cell, start.pos).into_iter().map(move |at| Spot { at, apart, heading })
-                    })
-                    .collect();
-                // cells' centres first (not a spot on a cell's edge, the view cut by the floor's and
-                // ceiling's cell lines); then nearest the start; of equally near, the one most behind
-                // it (out of the view of whoever stands on the start, with them in view)
-                let ahead = heading_dir(maze.viewer().dir_deg);
-                let key = |p: &Spot| {
-                    let d = p.at.pos - start.pos;
-                    let off_centre = p.at.pos.distance(maze.cell_centroid(p.at.cell)) > 1e-3;
-                    (off_centre, (d.length() / LATTICE * 4.0).round() as i64, d.dot(ahead))
-                };
-                spots.sort_by(|a, b| {
-                    let (ka, kb) = (key(a), key(b));
-                    ka.0.cmp(&kb.0).then(ka.1.cmp(&kb.1)).then(ka.2.total_cmp(&kb.2))
-                });
-                spots
-            })
-            .collect();
-        Some(Spawns { start, rings })
+        // how many steps (from cell to cell) nearer the exit than the start's a cell is
+        let to_exit = maze.exit().map(|exit| hops(maze, exit.cell));
+        let ahead = |cell: u32| match &to_exit {
+            Some(to_exit) => match (to_exit[start.cell as usize], to_exit[cell as usize]) {
+                (Some(start), Some(here)) => start.saturating_sub(here),
+                _ => 0, // (the start cannot reach the exit: nothing to gain)
+            },
+            None => 0,
+        };
+        let spots_of = |rings: Vec<Vec<u32>>, fair: bool| -> Vec<Vec<Spot>> {
+            rings
+                .into_iter()
+                .map(|ring| {
+                    let mut spots: Vec<Spot> = ring
+                        .iter()
+                        .flat_map(|&cell| {
+                            let size = maze.cell_aabb(cell).max - maze.cell_aabb(cell).min;
+                            let heading = (cell != start.cell).then(|| longest_way(maze, cell));
+                            let apart = size.x.min(size.y).max(SPACING);
+                            spots_in(maze, cell, start.pos)
+                                .into_iter()
+                                .map(move |at| Spot { at, apart, heading, ahead: ahead(at.cell) })
+                                .filter(move |spot| (spot.ahead == 0) == fair) // (a spot on an opening may stand in the next cell)
+                        })
+                        .collect();
+                    // cells' centres first (not a spot on a cell's edge, the view cut by the floor's and
+                    // ceiling's cell lines); then nearest the start; of equally near, the one most behind
+                    // it (out of the view of whoever stands on the start, with them in view)
+                    let forward = heading_dir(maze.viewer().dir_deg);
+                    let key = |p: &Spot| {
+                        let d = p.at.pos - start.pos;
+                        let off_centre = p.at.pos.distance(maze.cell_centroid(p.at.cell)) > 1e-3;
+                        (off_centre, (d.length() / LATTICE * 4.0).round() as i64, d.dot(forward))
+                    };
+                    spots.sort_by(|a, b| {
+                        let (ka, kb) = (key(a), key(b));
+                        ka.0.cmp(&kb.0).then(ka.1.cmp(&kb.1)).then(ka.2.total_cmp(&kb.2))
+                    });
+                    spots
+                })
+                .collect()
+        };
+        let rings = spots_of(self::rings(maze, start.cell, &|cell| ahead(cell) == 0), true);
+        let mut nearer: Vec<Spot> =
+            spots_of(self::rings(maze, start.cell, &|cell| ahead(cell) > 0), false).concat();
+        // cells' centres first, as in a ring; then the fewest steps nearer (stable: then the rings' order)
+        nearer
+            .sort_by_key(|spot| (spot.at.pos.distance(maze.cell_centroid(spot.at.cell)) > 1e-3, spot.ahead));
+        Some(Spawns { start, rings, ahead: nearer })
     }
 
     /// A free spot for a newcomer whose other players stand at `others` (see the module's doc).
     #[must_use]
     pub fn pick(&self, others: &[Vec2]) -> Spot {
         let clearance = |p: Vec2| others.iter().map(|o| o.distance(p)).fold(f32::INFINITY, f32::min);
-        let spots = || self.rings.iter().flatten();
+        // no nearer the exit than the start first, then the fewest cells nearer
+        let spots = || self.rings.iter().flatten().chain(&self.ahead);
         if let Some(spot) = spots().find(|spot| clearance(spot.at.pos) >= spot.apart) {
             return *spot; // a cell apart
         }
@@ -114,7 +153,7 @@ impl Spawns {
                 best_crowded = Some((room, *spot));
             }
         }
-        let start = Spot { at: self.start, apart: SPACING, heading: None };
+        let start = Spot { at: self.start, apart: SPACING, heading: None, ahead: 0 };
         best_crowded.map_or(start, |(_, spot)| spot)
     }
 }
@@ -222,9 +261,10 @@ fn longest_way(maze: &Maze, cell: u32) -> f32 {
     best.map_or(maze.viewer().dir_deg, |(_, way)| way.y.atan2(way.x).to_degrees().rem_euclid(360.0))
 }
 
-/// The cells around `start` in rings: the start's cell, then the cells across its openings, then
-/// theirs…, [`MAX_CELLS`] in all.
-fn rings(maze: &Maze, start: u32) -> Vec<Vec<u32>> {
+/// The cells around `start` that `fair` lets in, in rings by steps from `start` (through any cell):
+/// the start's cell, then those across its openings, then theirs…, [`MAX_CELLS`] in all. Visits
+/// every cell at most once.
+fn rings(maze: &Maze, start: u32, fair: &impl Fn(u32) -> bool) -> Vec<Vec<u32>> {
     let mut seen = HashSet::from([start]);
     let mut rings = vec![vec![start]];
     let mut queue = VecDeque::from([start]);
@@ -236,19 +276,39 @@ fn rings(maze: &Maze, start: u32) -> Vec<Vec<u32>> {
             for &e in maze.cell_edges(cell) {
                 let edge = maze.edge(e);
                 let next = if edge.opaque { None } else { edge.other_side(cell) };
-                if let Some(next) = next.filter(|&n| counted < MAX_CELLS && seen.insert(n)) {
-                    ring.push(next);
-                    queue.push_back(next);
-                    counted += 1;
+                if let Some(next) = next.filter(|&n| seen.insert(n)) {
+                    queue.push_back(next); // (on through a cell left out, to those beyond it)
+                    if counted < MAX_CELLS && fair(next) {
+                        ring.push(next);
+                        counted += 1;
+                    }
                 }
             }
         }
-        if ring.is_empty() {
-            break;
+        if !ring.is_empty() {
+            rings.push(ring);
         }
-        rings.push(ring);
     }
     rings
+}
+
+/// Each cell's steps (across openings) from `from`; `None` where it cannot be reached.
+fn hops(maze: &Maze, from: u32) -> Vec<Option<u32>> {
+    let mut hops = vec![None; maze.cell_count()];
+    let Some(first) = hops.get_mut(from as usize) else { return hops };
+    *first = Some(0);
+    let mut queue = VecDeque::from([(from, 0u32)]);
+    while let Some((cell, n)) = queue.pop_front() {
+        for &e in maze.cell_edges(cell) {
+            let edge = maze.edge(e);
+            let Some(next) = edge.other_side(cell).filter(|_| !edge.opaque) else { continue };
+            if let Some(slot @ None) = hops.get_mut(next as usize) {
+                *slot = Some(n + 1);
+                queue.push_back((next, n + 1));
+            }
+        }
+    }
+    hops
 }
 
 /// The spots of `cell` where a viewer stands: its centre, then the lattice's (anchored at `anchor`,
@@ -284,6 +344,7 @@ fn spots_in(maze: &Maze, cell: u32, anchor: Vec2) -> Vec<Position> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     /// A corridor 3 cells long, 4 units wide, the start in the west cell.
     const CORRIDOR: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#####\n#@..#\n#####\n";
@@ -408,6 +469,93 @@ mod tests {
         assert!(arrival.settling(start, SETTLE_SECONDS));
         assert!(!arrival.settling(start, SETTLE_SECONDS + 0.1), "too late");
         assert!(!arrival.settling(start + Vec2::new(0.1, 0.0), 1.0), "it stepped off");
+    }
+
+    /// What a newcomer joining `others` gets in `maze`, checked: a spot marked with how many cells
+    /// nearer the exit than the start it is (as `to_exit` counts them from the start's `start`), and
+    /// one nearer only when no spot as far as the start's is a cell apart from everyone.
+    fn checked_pick(spawns: &Spawns, to_exit: &[Option<u32>], start: u32, others: &[Vec2]) -> Spot {
+        let spot = spawns.pick(others);
+        let steps = to_exit[spot.at.cell as usize].expect("a generated maze is connected");
+        assert_eq!(spot.ahead, start.saturating_sub(steps), "{steps} cells from the exit, the start {start}");
+        let clearance = |p: Vec2| others.iter().map(|o| o.distance(p)).fold(f32::INFINITY, f32::min);
+        let behind_free = spawns.rings.iter().flatten().any(|s| clearance(s.at.pos) >= s.apart);
+        assert!(spot.ahead == 0 || !behind_free, "{} cells ahead with a spot behind free", spot.ahead);
+        spot
+    }
+
+    /// Red-team pass 4, F3, on the reproducer's maze (`--gen 20x15 --seed 7`): with 47 players
+    /// standing where newcomers were put, the 48th started 21 cells from the exit, the start 33. Now
+    /// the first 27 newcomers (as many as the cells as far from the exit as the start's, within
+    /// reach) start no nearer, a cell apart; the later ones are marked nearer.
+    #[test]
+    fn a_crowd_at_the_start_moves_no_newcomer_nearer_the_exit_while_it_can() {
+        use mazewalk_maze::generate::{GenOptions, generate};
+        let maze = generate(&GenOptions::walk(20, 15, 7)).unwrap();
+        let to_exit = hops(&maze, maze.exit().unwrap().cell);
+        let spawns = Spawns::new(&maze).unwrap();
+        let start = to_exit[spawns.start.cell as usize].unwrap();
+        assert_eq!(start, 33, "the reproducer's start");
+        let behind: HashSet<u32> = spawns.rings.iter().flatten().map(|spot| spot.at.cell).collect();
+        assert_eq!(behind.len(), 27);
+        let mut here: Vec<Vec2> = Vec::new();
+        for n in 0..48 {
+            let spot = checked_pick(&spawns, &to_exit, start, &here);
+            assert_eq!(spot.ahead == 0, n < 27, "newcomer {n}");
+            here.push(spot.at.pos);
+        }
+    }
+
+    /// A generated maze of any shape (2 to 24 cells a side), seed and share of loops, with an exit.
+    fn arb_maze() -> impl Strategy<Value = Maze> {
+        use mazewalk_maze::generate::{GenOptions, generate};
+        (2u32..=24, 2u32..=24, any::<u64>(), prop_oneof![Just(0.0f32), Just(0.1), Just(0.5)]).prop_map(
+            |(width, height, seed, loops)| {
+                let options = GenOptions { loops, ..GenOptions::walk(width, height, seed) };
+                generate(&options).expect("a size within the generator's range")
+            },
+        )
+    }
+
+    proptest! {
+        // (64 cases: each generates a maze and places up to 40 newcomers, scanning every spot)
+        #![proptest_config(mazewalk_testkit::config_cases(64))]
+
+        /// Red-team pass 4, F3: over generated mazes, a newcomer's spot is nearer the exit than the
+        /// start's only when no spot as far is a cell apart, and marked with how much nearer; and
+        /// newcomers get cells of their own while any are left among those tried.
+        #[test]
+        fn a_spawn_nearer_the_exit_is_a_last_resort_and_marked(maze in arb_maze(), crowd in 1usize..40) {
+            let to_exit = hops(&maze, maze.exit().expect("generated with an exit").cell);
+            let spawns = Spawns::new(&maze).expect("the start is in a cell");
+            let start = to_exit[spawns.start.cell as usize].expect("a generated maze is connected");
+            let cells: HashSet<u32> =
+                spawns.rings.iter().flatten().chain(&spawns.ahead).map(|spot| spot.at.cell).collect();
+            let mut here: Vec<Vec2> = Vec::new();
+            let mut taken: HashSet<u32> = HashSet::new();
+            for n in 0..crowd {
+                let spot = checked_pick(&spawns, &to_exit, start, &here);
+                if n < cells.len() {
+                    prop_assert!(taken.insert(spot.at.cell), "newcomer {} shares a cell, {} free", n, cells.len() - n);
+                }
+                here.push(spot.at.pos);
+            }
+        }
+    }
+
+    /// A maze without an exit marks no spot nearer it.
+    #[test]
+    fn without_an_exit_no_spot_is_ahead() {
+        let maze = maze(CORRIDOR);
+        assert!(maze.exit().is_none());
+        let spawns = Spawns::new(&maze).unwrap();
+        let mut here: Vec<Vec2> = Vec::new();
+        for _ in 0..6 {
+            let spot = spawns.pick(&here);
+            assert_eq!(spot.ahead, 0);
+            here.push(spot.at.pos);
+        }
+        assert!(spawns.ahead.is_empty());
     }
 
     #[test]

@@ -80,6 +80,11 @@ pub const DUMB_TERMINAL_MESSAGE: &str = "mazewalk: this terminal (TERM=dumb) can
 /// What a client asking to run a command or a subsystem is told.
 pub const NO_EXEC_MESSAGE: &str =
     "mazewalk: no commands or subsystems here, only the game: connect with `ssh -t` and no command";
+/// What a player or spectator pushed out of its place by a newcomer is told (a full server's fair
+/// share: [`Slots::promote`]).
+pub const PUSHED_OUT_MESSAGE: &str = "mazewalk: the server was full and your address held the most places; yours went to a newcomer from another address";
+/// Why a connection pushed out of its place ended, for the log.
+const PUSHED_OUT_REASON: &str = "pushed out: server full, its address held the most places";
 /// What a client still connected after its game is told as the server closes the connection.
 pub(crate) const GAME_OVER_MESSAGE: &str = "mazewalk: the game is over; one game per connection";
 /// What a client whose input ended is told as the server closes its connection.
@@ -335,6 +340,10 @@ struct Conn {
     handle: Mutex<Option<Handle>>,
     /// Its "connected" line was logged (so its "disconnected" line is too, whatever the log limit).
     logged: AtomicBool,
+    /// A newcomer took its place ([`Conn::push_out`]).
+    pushed_out: AtomicBool,
+    /// Wakes its game to say goodbye when it is pushed out.
+    push: tokio::sync::Notify,
 }
 
 impl Conn {
@@ -356,6 +365,8 @@ impl Conn {
             ended: Mutex::new(None),
             handle: Mutex::new(None),
             logged: AtomicBool::new(false),
+            pushed_out: AtomicBool::new(false),
+            push: tokio::sync::Notify::new(),
         }
     }
 
@@ -376,6 +387,26 @@ impl Conn {
     fn end(&self, reason: &'static str) {
         self.ending(reason);
         self.cut.cut();
+    }
+
+    /// A newcomer took this player's (or spectator's) place: its game says goodbye
+    /// ([`PUSHED_OUT_MESSAGE`]) and ends; the stream is cut after `grace` whatever the client does.
+    fn push_out(self: &Arc<Self>, grace: Duration) {
+        self.ending(PUSHED_OUT_REASON);
+        self.pushed_out.store(true, Ordering::SeqCst);
+        self.push.notify_one(); // (kept for the game's next wait if it is not waiting now)
+        let conn = Arc::clone(self);
+        tokio::spawn(async move {
+            tokio::select! {
+                () = tokio::time::sleep(grace) => conn.end(PUSHED_OUT_REASON),
+                () = conn.cut.cut_off() => {}
+            }
+        });
+    }
+
+    /// Whether a newcomer took its place.
+    fn is_pushed_out(&self) -> bool {
+        self.pushed_out.load(Ordering::SeqCst)
     }
 
     /// Ends the connection for `reason` as politely as a client lets it: a disconnect message (the
@@ -963,7 +994,9 @@ impl Handler for Handlers {
     ) -> Result<Auth, Self::Error> {
         self.request(user);
         let key = offer.public_key;
-        Ok(if !algorithms::refused_signature(offer.algorithm) && self.may_play(Some(key)) {
+        // (russh asks this before it checks a signature whose key was not offered first)
+        let refused = algorithms::refused_signature(offer.algorithm) || algorithms::refused_key(key);
+        Ok(if !refused && self.may_play(Some(key)) {
             Auth::Accept // a probe: the client signs next
         } else {
             self.refused("publickey", Some(key))
@@ -985,7 +1018,14 @@ impl Handler for Handlers {
         let spectator = Conn::get(&self.conn.user).as_deref() == Some(WATCH_USER);
         let role = if spectator { Role::Spectator } else { Role::Player };
         self.conn.spectator.store(spectator, Ordering::SeqCst);
-        let promoted = lock(&self.shared.slots).promote(self.conn.id, role);
+        let promoted = lock(&self.shared.slots).promote(self.conn.id, role, self.shared.now());
+        if let Ok(Some(victim)) = promoted {
+            // The server was full: a place of the address holding the most is this one's now.
+            self.shared.metrics.pushed_out(role);
+            if let Some(victim) = lock(&self.shared.conns).get(&victim).cloned() {
+                victim.push_out(self.shared.limits.write_timeout + GOODBYE_GRACE);
+            }
+        }
         if let Err(refusal) = promoted {
             // Every player's (or spectator's) slot was taken while this one logged in.
             self.shared.metrics.refused(&refusal);
@@ -1110,6 +1150,8 @@ enum End {
     Gone,
     /// A frame could not be written within the write timeout.
     Stalled,
+    /// A newcomer took its place: the server was full and its address held the most.
+    PushedOut,
 }
 
 /// The terminal a pty request described.
@@ -1205,7 +1247,7 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         // A spot of its own, chosen and taken under one lock (two newcomers never get the same).
         let mut world = shared.world();
         let spot = shared.spawns.pick(&world.positions());
-        player.place(spot.at.pos, spot.heading);
+        player.place(&spot);
         let (position, heading, cell) = player.whereabouts();
         let id = world.join(&user, position, heading, cell, now);
         shared.world_changed(&world);
@@ -1233,6 +1275,11 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         shared.world_changed(&world);
     }
     let quit = match player.session().outcome().finished {
+        Some(seconds) if shared.records.is_some() && player.head_start() > 0 => format!(
+            "You found the exit in {seconds:.1} s, from {} cells nearer it than the start (a crowd took the \
+             cells behind it): not kept in the records.",
+            player.head_start()
+        ),
         Some(seconds) => format!("You found the exit in {seconds:.1} s."),
         None => "Thanks for walking.".to_string(),
     };
@@ -1262,6 +1309,7 @@ async fn goodbye(
     }
     let message = match end {
         End::Shutdown => SHUTDOWN_MESSAGE.to_string(),
+        End::PushedOut => PUSHED_OUT_MESSAGE.to_string(),
         End::Idle => {
             conn.ending("idle timeout");
             format!("mazewalk: disconnected after {} s without a key", shared.limits.idle_timeout.as_secs())
@@ -1352,6 +1400,9 @@ async fn watching(
         if spectator.is_over() {
             return End::Quit;
         }
+        if conn.is_pushed_out() {
+            return End::PushedOut;
+        }
         let now = shared.now();
         if spectator.look_due(now) {
             let look = shared.world.look(&mut versions);
@@ -1382,7 +1433,9 @@ async fn watching(
         tokio::select! {
             message = rx.wait() => match message {
                 Some(ChannelMsg::Data { data }) => {
-                    spectator.feed(&data, shared.now());
+                    if spectator.feed(&data, shared.now()) {
+                        lock(&shared.slots).active(conn.id, shared.now()); // a key: pushed out after the idler
+                    }
                 }
                 Some(ChannelMsg::WindowChange { col_width, row_height, .. }) => {
                     spectator.resize(col_width, row_height, shared.now());
@@ -1400,6 +1453,7 @@ async fn watching(
             }
             _ = shutdown.changed() => {}
             () = conn.cut.cut_off() => return End::Gone,
+            () = conn.push.notified() => return End::PushedOut,
         }
         if conn.cut.is_cut() {
             return End::Gone;
@@ -1484,7 +1538,7 @@ fn settle(shared: &Shared, player: &mut Player, id: PlayerId, arriving: &mut Opt
         return;
     }
     let Some(spot) = arrival.crowded(&shared.spawns, &world.positions_but(id)) else { return };
-    player.place(spot.at.pos, spot.heading);
+    player.place(&spot);
     let (position, heading, cell) = player.whereabouts();
     world.moved(id, position, heading, cell);
     shared.world_changed(&world);
@@ -1522,6 +1576,9 @@ async fn walk(
         }
         if player.is_over() {
             return End::Quit;
+        }
+        if conn.is_pushed_out() {
+            return End::PushedOut;
         }
         let now = shared.now();
         if let Some(keeper) = &shared.records {
@@ -1580,8 +1637,10 @@ async fn walk(
                 let what = if first { "reached the exit first" } else { "reached the exit" };
                 info!(peer = %conn.peer, user = %user, seconds = tenths(seconds), "{what}");
             }
-            // Kept, without waiting: the standing comes back while the player plays on.
-            if let Some(keeper) = &shared.records {
+            // Kept, without waiting: the standing comes back while the player plays on. Not a walk
+            // from a spot nearer the exit than the start (a crowd took those behind it): no head
+            // start on a record.
+            if let Some(keeper) = shared.records.as_ref().filter(|_| player.head_start() == 0) {
                 player.session_mut().set_standings(Vec::new());
                 let holder = crate::identity::player_name(&user);
                 let run = player.session().app().run(keeper.maze, &holder).and_then(|run| run.encode().ok());
@@ -1599,6 +1658,7 @@ async fn walk(
                 Some(ChannelMsg::Data { data }) => {
                     if player.feed(&data, shared.now()) {
                         last_input = Instant::now(); // a key, not just the terminal answering
+                        lock(&shared.slots).active(conn.id, shared.now()); // pushed out after the idler
                         key_at.get_or_insert(last_input);
                     }
                 }
@@ -1625,6 +1685,7 @@ async fn walk(
             () = idle => return End::Idle,
             _ = shutdown.changed() => {}
             () = conn.cut.cut_off() => return End::Gone,
+            () = conn.push.notified() => return End::PushedOut,
         }
         if conn.cut.is_cut() {
             return End::Gone;
