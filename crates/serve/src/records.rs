@@ -1181,6 +1181,21 @@ impl Keeper {
     }
 }
 
+/// The lines of the exit box, where the best times would stand, for a walk that started `ahead`
+/// cells' steps nearer the exit than the maze's start (a crowd took the cells behind it,
+/// [`crate::spawn`]): why it is not kept in the records.
+#[must_use]
+pub fn head_start_lines(ahead: u32) -> Vec<String> {
+    let cells = if ahead == 1 { "1 cell".to_string() } else { format!("{ahead} cells") };
+    vec![
+        String::new(),
+        "Not kept in the records: this walk".to_string(),
+        format!("started {cells} nearer the exit"),
+        "than the maze's start (a crowd".to_string(),
+        "stood on the cells behind it).".to_string(),
+    ]
+}
+
 /// The lines of the exit box for `standing`: the maze's best ten, the player's row marked, and its
 /// rank below them when it is not among them. Every name is shown as [`player_name`] cleans it
 /// (issue #40: the records file, or whoever wrote it, may hold anything).
