@@ -78,6 +78,11 @@ static ENDING: AtomicBool = AtomicBool::new(false);
 #[cfg(unix)]
 static OWN_STOP: AtomicBool = AtomicBool::new(false);
 
+/// Set by the signal handler itself on SIGWINCH, until the app takes it
+/// ([`TerminalGuard::take_winched`]): a resize, or a nudge at the same size (`kill -WINCH`, a
+/// multiplexer's redraw), after which the app paints everything again.
+static WINCHED: AtomicBool = AtomicBool::new(false);
+
 /// [`TerminalGuard::write_frame`] dropped a frame while a SIGCONT was unanswered: the screen lacks it
 /// even if game mode needs no taking back. Set and read under [`ACTIVE`]'s lock.
 static FRAME_HELD: AtomicBool = AtomicBool::new(false);
@@ -297,6 +302,13 @@ impl TerminalGuard {
             CANNOT_CONTINUE => Err(io::Error::other("cannot continue after a stop")),
             signal => Ok(Some(signal)),
         }
+    }
+
+    /// Whether a SIGWINCH arrived since the last call: at the same [`size`] too, the app paints
+    /// everything again (as a resize would: cheap, and the screen may have been written over).
+    #[must_use]
+    pub fn take_winched(&self) -> bool {
+        WINCHED.swap(false, Ordering::SeqCst)
     }
 
     /// Whether a signal that ends the walk has arrived, perhaps before the signal thread has restored
@@ -577,6 +589,7 @@ fn install_signal_handler() -> io::Result<()> {
     let (reader, writer) = std::os::unix::net::UnixStream::pair()?;
     reader.set_nonblocking(true)?;
     writer.set_nonblocking(true)?;
+    signal_hook::flag::register(SIGWINCH, &WINCHED)?; // before the wake-up: set when the loop looks
     signal_hook::low_level::pipe::register(SIGWINCH, writer.try_clone()?)?;
     let _ = WAKE.set((reader, writer));
     // Before the iterator's own handler: actions run in the order registered.

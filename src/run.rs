@@ -106,11 +106,14 @@ pub fn run(
             session.invalidate();
             (cols, rows) = (0, 0);
         }
+        let winched = terminal.take_winched();
         let size = guard::size()?;
         if size != (cols, rows) {
             (cols, rows) = size;
             record_size(cols, rows);
             session.input(Input::Resize { cols, rows }, now());
+        } else if winched {
+            session.repaint(); // a SIGWINCH at the same size: paint everything again, as Ctrl-L
         }
         if session.take_suspend() {
             terminal.suspend()?; // Ctrl-Z; back here after `fg`

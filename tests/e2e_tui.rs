@@ -467,6 +467,14 @@ impl Tui {
         tty.write_all(text.as_bytes()).expect("write to the terminal side");
     }
 
+    /// Another program writes `text` to the terminal side while the walk runs (a background job,
+    /// `wall`), leaving its modes alone.
+    fn foreign_output(&mut self, text: &str) {
+        let slave = self.slave.as_ref().expect("the terminal side is open");
+        let mut tty = File::from(slave.try_clone().expect("dup the pty"));
+        tty.write_all(text.as_bytes()).expect("write to the terminal side");
+    }
+
     /// Waits for the child to exit; panics after [`TIMEOUT`].
     fn wait_exit(&mut self) -> ExitStatus {
         let deadline = Instant::now() + TIMEOUT;
@@ -964,6 +972,34 @@ fn resizes_are_followed_and_a_tiny_terminal_gets_a_message() {
     let (status, raw) = tui.finish();
     assert_eq!(status.code(), Some(0), "{status:?}");
     assert_restored(&tui, &raw, PLAIN);
+}
+
+/// QA finding 1: another program's output (a background job, `wall`) lands on the picture, and the
+/// walk's updates, some placed relative to its cursor, would keep it garbled. Ctrl-L paints it all
+/// again, and so does a SIGWINCH at the same size (`kill -WINCH`).
+#[test]
+fn ctrl_l_and_a_sigwinch_at_the_same_size_paint_over_foreign_output() {
+    let mut tui = Tui::walk(80, 24, Answers::Plain);
+    tui.settle();
+    let above_hud = |s: &vt100::Screen| s.contents_between(0, 0, 22, 80);
+    let clean = tui.screen(above_hud);
+    for (what, repaint) in [("Ctrl-L", true), ("SIGWINCH", false)] {
+        tui.foreign_output("\x1b[12;30H*** BACKGROUND JOB OUTPUT ***");
+        tui.wait_for("the foreign output", |s| s.contents().contains("BACKGROUND"));
+        let before = tui.bytes_so_far();
+        if repaint {
+            tui.send(b"\x0c");
+        } else {
+            tui.signal(Signal::WINCH);
+        }
+        tui.wait_for_output(before, "a full repaint", |b| b.windows(4).any(|w| w == b"\x1b[2J"));
+        tui.wait_for("the picture as it was", |s| above_hud(s) == clean);
+        tui.settle();
+        assert!(tui.running(), "{what} ended the walk");
+    }
+    tui.send(b"q");
+    let (status, _) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
 }
 
 #[test]
