@@ -426,10 +426,13 @@ impl LookArgs {
     }
 
     /// The walk's charset: `--charset`, else half blocks, or ascii on a terminal that has no block
-    /// glyphs ([`caps::detect_block_glyphs`]: a DEC terminal by `TERM`).
+    /// glyphs ([`caps::detect_block_glyphs`]: a DEC terminal by `TERM`, or a locale whose character
+    /// set is not UTF-8). (A value that is not UTF-8 is read lossily: a set locale still decides.)
     pub fn walk_charset(&self) -> Charset {
         self.charset.unwrap_or_else(|| {
-            if caps::detect_block_glyphs(|k: &str| std::env::var(k).ok()) {
+            if caps::detect_block_glyphs(|k: &str| {
+                std::env::var_os(k).map(|v| v.to_string_lossy().into_owned())
+            }) {
                 Charset::Half
             } else {
                 Charset::Ascii

@@ -182,6 +182,18 @@ impl Tui {
         rows: u16,
         answers: Answers,
     ) -> Tui {
+        Tui::spawn_env(session, &[("TERM", term)], args, cols, rows, answers)
+    }
+
+    /// [`Tui::spawn_as`] with only the variables `env` (and `RUST_BACKTRACE`) in the environment.
+    fn spawn_env(
+        session: Session,
+        env: &[(&str, &str)],
+        args: &[&str],
+        cols: u16,
+        rows: u16,
+        answers: Answers,
+    ) -> Tui {
         let pty = rustix_openpty::openpty(None, Some(&winsize(cols, rows))).expect("openpty");
         let master = File::from(pty.controller);
         let slave = pty.user;
@@ -197,7 +209,7 @@ impl Tui {
         command
             .args(args)
             .env_clear()
-            .env("TERM", term)
+            .envs(env.iter().copied())
             .env("RUST_BACKTRACE", "1")
             .stdin(stdio())
             .stdout(stdio())
@@ -692,31 +704,39 @@ fn the_colour_depth_and_the_ascii_charset_hold_on_the_whole_screen() {
     }
 }
 
-/// A DEC terminal (`TERM=vt100`, `vt220`) has no Unicode blocks: the walk draws ascii there unless
-/// `--charset` says otherwise, and its HUD says so; `--charset half` still gets half blocks.
+/// A DEC terminal (`TERM=vt100`, `vt220`) has no Unicode blocks, nor does a terminal in a locale whose
+/// character set is not UTF-8 (QA finding 2: `LANG=C`, `LC_ALL=POSIX`): the walk draws ascii there
+/// unless `--charset` says otherwise, and its HUD says so (`deg`, no `°`); `--charset half` still gets
+/// half blocks.
 #[test]
-fn the_walk_draws_ascii_on_a_dec_terminal_unless_told() {
-    for (term, args, charset) in [
-        ("vt100", &[][..], "ascii"),
-        ("vt220", &[][..], "ascii"),
-        ("vt100", &["--charset", "half"][..], "half"),
-        ("xterm-256color", &[][..], "half"),
+fn the_walk_draws_ascii_on_a_dec_terminal_or_in_a_non_utf8_locale_unless_told() {
+    for (term, locale, args, charset) in [
+        ("vt100", None, &[][..], "ascii"),
+        ("vt220", None, &[][..], "ascii"),
+        ("vt100", None, &["--charset", "half"][..], "half"),
+        ("xterm-256color", None, &[][..], "half"),
+        ("xterm-256color", Some(("LANG", "C")), &[][..], "ascii"),
+        ("xterm", Some(("LC_ALL", "POSIX")), &[][..], "ascii"),
+        ("xterm-256color", Some(("LC_ALL", "C")), &["--charset", "half"][..], "half"),
+        ("xterm-256color", Some(("LANG", "en_US.UTF-8")), &[][..], "half"),
     ] {
-        let mut tui = Tui::spawn_term(Session::Leader, term, args, 100, 30, Answers::Plain);
+        let env: Vec<(&str, &str)> = [("TERM", term)].into_iter().chain(locale).collect();
+        let term = format!("{env:?}");
+        let mut tui = Tui::spawn_env(Session::Leader, &env, args, 100, 30, Answers::Plain);
         tui.wait_for("the first frame", |s| s.contents().contains("help"));
         let hud = tui.hud();
         tui.send(b"q");
         let (status, raw) = tui.finish();
-        assert_eq!(status.code(), Some(0), "TERM={term} {args:?}: {status:?}");
-        assert!(hud.contains(&format!(" {charset} ")), "TERM={term} {args:?}: the HUD {hud:?}");
+        assert_eq!(status.code(), Some(0), "{term} {args:?}: {status:?}");
+        assert!(hud.contains(&format!(" {charset} ")), "{term} {args:?}: the HUD {hud:?}");
         let text = printed_text(&raw);
         let text = String::from_utf8_lossy(&text);
         let blocks = text.chars().filter(|c| ('\u{2580}'..='\u{259f}').contains(c)).count();
         if charset == "ascii" {
             let odd: String = text.chars().filter(|c| !c.is_ascii()).take(20).collect();
-            assert!(odd.is_empty(), "TERM={term} {args:?} printed {odd:?}");
+            assert!(odd.is_empty(), "{term} {args:?} printed {odd:?}");
         } else {
-            assert!(blocks > 100, "TERM={term} {args:?}: {blocks} block glyphs");
+            assert!(blocks > 100, "{term} {args:?}: {blocks} block glyphs");
         }
     }
 }
