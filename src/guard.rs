@@ -31,7 +31,7 @@ use std::sync::{Mutex, MutexGuard, Once, PoisonError, TryLockError};
 
 use crossterm::terminal;
 pub use mazewalk_term::modes::Enabled;
-use mazewalk_term::modes::{enter_sequence, reenter_sequence, restore_sequence};
+use mazewalk_term::modes::{enter_sequence, reenter_sequence, restore_sequence_for};
 
 /// What [`TerminalGuard::enter`] should turn on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,18 +46,37 @@ pub struct GuardOptions {
     /// back on SIGTSTP; take the terminal back on SIGCONT
     /// after a SIGSTOP (Unix; installed once per process).
     pub handle_signals: bool,
+    /// The terminal has an alternate screen (terminfo's `smcup`); without one (the Linux console,
+    /// `vt100`), leaving game mode — at the end, around a stop — clears the screen and homes the
+    /// cursor ([`restore_sequence_for`]).
+    pub alternate_screen: bool,
 }
 
 impl Default for GuardOptions {
     /// Everything on.
     fn default() -> Self {
-        GuardOptions { mouse: true, focus_events: true, keyboard_enhancement: true, handle_signals: true }
+        GuardOptions {
+            mouse: true,
+            focus_events: true,
+            keyboard_enhancement: true,
+            handle_signals: true,
+            alternate_screen: true,
+        }
     }
 }
 
 /// What is enabled on the terminal right now (`None`: the terminal is in its normal state).
 /// Held while writing a frame and while restoring, so the two never interleave.
 static ACTIVE: Mutex<Option<Enabled>> = Mutex::new(None);
+
+/// Whether the terminal has an alternate screen ([`GuardOptions::alternate_screen`]): what every
+/// restore, from any thread, writes ([`restore_sequence_for`]). Set when game mode is entered.
+static ALTERNATE_SCREEN: AtomicBool = AtomicBool::new(true);
+
+/// The bytes that leave game mode with `enabled` on this terminal ([`ALTERNATE_SCREEN`]).
+fn restore_bytes(enabled: Enabled) -> String {
+    restore_sequence_for(enabled, ALTERNATE_SCREEN.load(Ordering::SeqCst))
+}
 
 /// Set when game mode was entered again after a stop, until the app takes it
 /// ([`TerminalGuard::take_resumed`]). Set and read under [`ACTIVE`]'s lock.
@@ -173,7 +192,7 @@ pub fn restore_terminal() -> io::Result<()> {
 fn restore_locked(active: &mut Option<Enabled>) -> io::Result<()> {
     let Some(enabled) = active.take() else { return Ok(()) };
     let mut stdout = io::stdout().lock();
-    let restore = restore_sequence(enabled);
+    let restore = restore_bytes(enabled);
     let written = stdout.write_all(restore.as_bytes());
     if written.is_ok() {
         tee(restore.as_bytes());
@@ -228,6 +247,7 @@ impl TerminalGuard {
         let enabled =
             Enabled { mouse: options.mouse, focus_events: options.focus_events, keyboard_enhancement };
         RESUMED.store(false, Ordering::SeqCst);
+        ALTERNATE_SCREEN.store(options.alternate_screen, Ordering::SeqCst);
         enter_locked(&mut active, enabled, &enter_sequence(enabled))?;
         Ok(TerminalGuard { enabled })
     }
@@ -396,7 +416,7 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
         // both back (a write is allowed from the background; setting modes is not), then wait
         // stopped for `fg` as a real SIGTTOU would make us; game mode comes back below.
         let mut stdout = io::stdout().lock();
-        let restore = restore_sequence(enabled);
+        let restore = restore_bytes(enabled);
         if stdout.write_all(restore.as_bytes()).is_ok() {
             tee(restore.as_bytes());
         }
@@ -637,6 +657,7 @@ fn install_signal_handler() -> io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mazewalk_term::modes::restore_sequence;
 
     /// The modes' hand-written bytes are crossterm's (the commands this guard used to write).
     #[test]

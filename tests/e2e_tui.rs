@@ -33,7 +33,9 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use mazewalk_term::modes::{Enabled, enter_sequence, reenter_sequence, restore_sequence};
+use mazewalk_term::modes::{
+    Enabled, enter_sequence, reenter_sequence, restore_sequence, restore_sequence_for,
+};
 use rustix::event::{PollFd, PollFlags, Timespec};
 use rustix::process::{Pid, Signal};
 use rustix::termios::{self, LocalModes, Winsize};
@@ -737,6 +739,54 @@ fn the_walk_draws_ascii_on_a_dec_terminal_or_in_a_non_utf8_locale_unless_told() 
             assert!(odd.is_empty(), "{term} {args:?} printed {odd:?}");
         } else {
             assert!(blocks > 100, "{term} {args:?}: {blocks} block glyphs");
+        }
+    }
+}
+
+/// QA finding 3: on a terminal without an alternate screen (terminfo has no `smcup`: `vt100`, the
+/// Linux console) the last frame would stay under the shell's prompt: leaving game mode, on Ctrl-Z
+/// and at the end, clears the screen and homes the cursor after the usual restore. A terminal with
+/// one (xterm) gets the usual bytes. (Without `infocmp` the walk cannot tell, and keeps them too.)
+#[test]
+fn without_an_alternate_screen_leaving_clears_the_screen() {
+    let infocmp = |term: &str| {
+        let out = Command::new("infocmp").args(["-x", term]).output().ok()?;
+        out.status.success().then(|| String::from_utf8_lossy(&out.stdout).into_owned())
+    };
+    for term in ["vt100", "linux", "xterm-256color"] {
+        let Some(entry) = infocmp(term) else {
+            eprintln!("skipped TERM={term}: infocmp does not describe it here");
+            continue;
+        };
+        // (the test's own reading of terminfo, independent of the binary's parser)
+        let alternate_screen = entry.contains("smcup=");
+        assert_eq!(alternate_screen, term == "xterm-256color", "TERM={term}'s terminfo: {entry}");
+        let restore = restore_sequence_for(PLAIN, alternate_screen);
+        let mut tui = Tui::spawn_term(Session::Leader, term, &["--charset", "half"], 80, 24, Answers::Plain);
+        tui.wait_for("the first frame", |s| s.contents().contains("help"));
+        tui.settle();
+        let before = tui.bytes_so_far();
+        tui.send(b"\x1a"); // Ctrl-Z: restores, then (no job control here) comes straight back
+        tui.wait_for_output(before, "a frame after Ctrl-Z", |b| {
+            String::from_utf8_lossy(b)
+                .split_once(&restore)
+                .is_some_and(|(_, after)| after.contains("\x1b[?2026h"))
+        });
+        tui.settle();
+        tui.send(b"q");
+        let (status, raw) = tui.finish();
+        assert_eq!(status.code(), Some(0), "TERM={term}: {status:?}");
+        assert!(
+            raw.ends_with(restore.as_bytes()),
+            "TERM={term}: the output ends with {}",
+            visible(&raw[raw.len().saturating_sub(120)..])
+        );
+        let cleared = raw.ends_with(b"\x1b[H\x1b[2J");
+        assert_eq!(cleared, !alternate_screen, "TERM={term}");
+        if cleared {
+            // the emulator (which has an alternate screen, unlike the terminal named) shows the main
+            // screen: what matters is the cursor at the top left
+            tui.screen(|s| assert_eq!(s.cursor_position(), (0, 0), "TERM={term}"));
         }
     }
 }

@@ -64,10 +64,13 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
         bail!("the walkthrough needs a terminal (try `mazewalk render` to print a frame, or --help)");
     }
     let env = |k: &str| std::env::var(k).ok();
+    let terminfo = terminfo(env);
     let plan = match args.look.color {
         Some(depth) => ColorPlan { depth, ask: false },
-        None => caps::plan_color_depth(env, color_facts(env)),
+        None => caps::plan_color_depth(env, color_facts(env, terminfo.as_deref())),
     };
+    // no alternate screen where terminfo says so; unknown (no infocmp, no entry): today's bytes
+    let alternate_screen = terminfo.as_deref().is_none_or(caps::terminfo_has_alternate_screen);
     let clock = Instant::now(); // the walk's time 0
     let options = RenderOptions {
         color_depth: plan.depth,
@@ -104,7 +107,8 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
         Some(path) => Some(start_recording(path, args, plan, clock)?),
         None => None,
     };
-    let ended = run_session(&mut session, clock, plan.ask, recorder.as_ref());
+    let guard = guard::GuardOptions { alternate_screen, ..guard::GuardOptions::default() };
+    let ended = run_session(&mut session, clock, plan.ask, recorder.as_ref(), guard);
     if let (Some(recorder), Some(path)) = (&recorder, &args.record) {
         // once, now that the terminal is restored; the walk went on without it
         let path = mazewalk_maze::quote_path(&path.display().to_string());
@@ -223,19 +227,24 @@ const TOOL_TIMEOUT: Duration = Duration::from_millis(500);
 /// The most of a tool's output read (bytes): a terminfo description is a few KB.
 const TOOL_OUTPUT_LIMIT: u64 = 256 * 1024;
 
-/// What the system says about the terminal's 24-bit colour: the terminfo entry of `TERM`
-/// (`infocmp -x`), and inside tmux (`TMUX` set) whether tmux's client has the `RGB` feature (tmux
-/// answers no query itself). A tool that is missing, fails or is slow says nothing.
-fn color_facts(env: impl Fn(&str) -> Option<String>) -> ColorFacts {
+/// The terminfo entry of `TERM`, as `infocmp -x` describes it; `None` if the tool is missing, fails
+/// (no such entry) or is slow.
+fn terminfo(env: impl Fn(&str) -> Option<String>) -> Option<String> {
+    env("TERM")
+        .filter(|term| !term.is_empty() && !term.starts_with('-'))
+        .and_then(|term| tool_output(Command::new("infocmp").arg("-x").arg(term)))
+}
+
+/// What the system says about the terminal's 24-bit colour: its `terminfo` entry ([`terminfo`]),
+/// and inside tmux (`TMUX` set) whether tmux's client has the `RGB` feature (tmux answers no query
+/// itself). A tool that is missing, fails or is slow says nothing.
+fn color_facts(env: impl Fn(&str) -> Option<String>, terminfo: Option<&str>) -> ColorFacts {
     let decided = env("NO_COLOR").is_some_and(|v| !v.is_empty())
         || env("COLORTERM").is_some_and(|v| matches!(v.as_str(), "truecolor" | "24bit"));
     if decided {
         return ColorFacts::default(); // nothing to look up
     }
-    let terminfo_rgb = env("TERM")
-        .filter(|term| !term.is_empty() && !term.starts_with('-'))
-        .and_then(|term| tool_output(Command::new("infocmp").arg("-x").arg(term)))
-        .map(|text| caps::terminfo_has_truecolor(&text));
+    let terminfo_rgb = terminfo.map(caps::terminfo_has_truecolor);
     let tmux_rgb = env("TMUX")
         .and_then(|_| {
             tool_output(Command::new("tmux").args(["display-message", "-p", "#{client_termfeatures}"]))

@@ -247,6 +247,30 @@ pub fn plan_color_depth(get: impl Fn(&str) -> Option<String>, facts: ColorFacts)
 /// ```
 #[must_use]
 pub fn terminfo_has_truecolor(infocmp: &str) -> bool {
+    let caps = terminfo_caps(infocmp);
+    let boolean = |name: &str| caps.iter().any(|c| c == name);
+    boolean("Tc")
+        || boolean("RGB")
+        || (terminfo_string(&caps, "setrgbf") && terminfo_string(&caps, "setrgbb"))
+}
+
+/// Whether `infocmp -x`'s description of a terminal gives it an alternate screen: the string `smcup`
+/// (enter full-screen mode). The Linux console, `vt100` and `vt220` have none (their terminals show
+/// one screen, and `CSI ? 1049 h` does nothing), xterm, tmux, screen and the rest do. As with
+/// [`terminfo_has_truecolor`], a partial or garbled description is no promise.
+///
+/// ```
+/// use mazewalk_term::caps::terminfo_has_alternate_screen;
+/// assert!(terminfo_has_alternate_screen("xterm|xterm,\n\tam, smcup=\\E[?1049h\\E[22;0;0t, smam=\\E[?7h,\n"));
+/// assert!(!terminfo_has_alternate_screen("linux|Linux console,\n\tam, bce, smam=\\E[?7h, smacs=^N,\n"));
+/// ```
+#[must_use]
+pub fn terminfo_has_alternate_screen(infocmp: &str) -> bool {
+    terminfo_string(&terminfo_caps(infocmp), "smcup")
+}
+
+/// The capabilities of `infocmp`'s description, one each, trimmed: `am`, `colors#0x100`, `smcup=…`.
+fn terminfo_caps(infocmp: &str) -> Vec<String> {
     // Capabilities are separated by commas, one or several a line after the names line; a comma or a
     // backslash inside a string value is escaped (`\,`, `\\`).
     let mut caps: Vec<String> = Vec::new();
@@ -262,11 +286,12 @@ pub fn terminfo_has_truecolor(infocmp: &str) -> bool {
             c => cap.push(c),
         }
     }
-    let caps: Vec<&str> = caps.iter().map(String::as_str).collect();
-    let boolean = |name: &str| caps.contains(&name);
-    let string =
-        |name: &str| caps.iter().any(|c| c.strip_prefix(name).is_some_and(|rest| rest.starts_with('=')));
-    boolean("Tc") || boolean("RGB") || (string("setrgbf") && string("setrgbb"))
+    caps
+}
+
+/// Whether `caps` ([`terminfo_caps`]) has the string capability `name` (`name=…`).
+fn terminfo_string(caps: &[String], name: &str) -> bool {
+    caps.iter().any(|c| c.strip_prefix(name).is_some_and(|rest| rest.starts_with('=')))
 }
 
 /// Whether tmux's `#{client_termfeatures}` (features joined by commas) lists `RGB`.
@@ -331,6 +356,32 @@ mod tests {
         ];
         for (vars, blocks) in table {
             assert_eq!(detect_block_glyphs(env(vars)), *blocks, "{vars:?}");
+        }
+    }
+
+    /// QA finding 3: where terminfo has no `smcup`, the walk clears its last frame on the way out.
+    #[test]
+    fn terminfo_says_whether_there_is_an_alternate_screen() {
+        // (from `infocmp -x vt100`, ncurses 6.4: no smcup)
+        let vt100 = "#\tReconstructed via infocmp from file: /lib/terminfo/v/vt100\n\
+                     vt100|vt100-am|DEC VT100 (w/advanced video),\n\
+                     \tOTbs, am, mc5i, msgr, xenl, xon,\n\
+                     \tcols#80, it#8, lines#24, vt#3,\n\
+                     \tclear=\\E[H\\E[J$<50>, cr=\\r, csr=\\E[%i%p1%d;%p2%dr,\n\
+                     \trmacs=^O, rmam=\\E[?7l, smacs=^N, smam=\\E[?7h, smkx=\\E[?1h\\E=,\n";
+        assert!(!terminfo_has_alternate_screen(vt100));
+        let xterm = vt100.replace("smam=", "rmcup=\\E[?1049l\\E[23;0;0t, smcup=\\E[?1049h, smam=");
+        assert!(terminfo_has_alternate_screen(&xterm));
+        for (text, has) in [
+            ("x|x,\n\trmcup=\\E[?1049l,\n", false), // leaving is not entering
+            ("x|x,\n\tsmcup@,\n", false),           // cancelled
+            ("x|x,\n\txsmcup=\\E[?47h,\n", false),  // another name
+            ("x|x,\n\tsgr0=\\E[m\\, smcup=\\E7,\n", false), // inside a string, after an escaped comma
+            ("x|x,\n\tsgr0=\\E[m, smcup=\\E7,\n", true),
+            ("", false),
+            ("smcup=\\E[?1049h,", false), // no capability lines at all (garbled)
+        ] {
+            assert_eq!(terminfo_has_alternate_screen(text), has, "{text:?}");
         }
     }
 

@@ -116,6 +116,30 @@ pub fn restore_sequence(enabled: Enabled) -> String {
     s
 }
 
+/// Home the cursor, then erase the whole screen (terminfo's `clear` for the Linux console and `vt100`).
+const CLEAR_SCREEN: &str = "\x1b[H\x1b[2J";
+
+/// [`restore_sequence`] on a terminal with an alternate screen (`alternate_screen`: terminfo's
+/// `smcup`, [`crate::caps::terminfo_has_alternate_screen`]) or without one: the Linux console,
+/// `vt100`, `vt220`, which ignore `CSI ? 1049`. There the walk's last frame stays on the only
+/// screen, with the cursor wherever the last update left it (in the HUD): after the rest, in the
+/// default colours, the screen is cleared and the cursor homed, so the shell's prompt lands on a
+/// clean screen.
+///
+/// ```
+/// use mazewalk_term::modes::{Enabled, restore_sequence, restore_sequence_for};
+/// assert_eq!(restore_sequence_for(Enabled::ALL, true), restore_sequence(Enabled::ALL));
+/// assert!(restore_sequence_for(Enabled::ALL, false).ends_with("\x1b[0m\x1b[?1049l\x1b[H\x1b[2J"));
+/// ```
+#[must_use]
+pub fn restore_sequence_for(enabled: Enabled, alternate_screen: bool) -> String {
+    let mut s = restore_sequence(enabled);
+    if !alternate_screen {
+        s += CLEAR_SCREEN;
+    }
+    s
+}
+
 /// The bytes that take the terminal back after a stop that restored nothing (SIGSTOP): the
 /// [`enter_sequence`], with our keyboard flags popped just before they are pushed again. They are
 /// most likely still on the alternate screen's stack; pushed twice, one would outlive the walk there.
@@ -198,6 +222,20 @@ mod tests {
             assert!(restore.contains(&off), "{} not undone in {}", visible(on), visible(&restore));
         }
         assert!(enter.contains("\x1b[?25l") && restore.contains("\x1b[?25h"), "the cursor comes back");
+    }
+
+    /// QA finding 3: without an alternate screen the last frame is cleared, after the colours are
+    /// reset (an erase fills with the current background), and the cursor is left at the top.
+    #[test]
+    fn without_an_alternate_screen_the_restore_clears_and_homes() {
+        for enabled in [Enabled::ALL, Enabled::default()] {
+            let kept = restore_sequence_for(enabled, true);
+            assert_eq!(kept, restore_sequence(enabled), "with one: today's bytes");
+            assert!(!kept.contains("\x1b[2J"), "{}", visible(&kept));
+            let cleared = restore_sequence_for(enabled, false);
+            assert_eq!(cleared.strip_suffix("\x1b[H\x1b[2J"), Some(kept.as_str()), "{}", visible(&cleared));
+            assert_in_order(&cleared, &["\x1b[?25h", "\x1b[0m", "\x1b[H", "\x1b[2J"]);
+        }
     }
 
     #[test]
