@@ -674,7 +674,7 @@ mod tests {
         let enter = ansi(&[
             &|s| terminal::EnterAlternateScreen.write_ansi(s).unwrap(),
             &|s| cursor::Hide.write_ansi(s).unwrap(),
-            &|s| event::DisableBracketedPaste.write_ansi(s).unwrap(),
+            &|s| event::EnableBracketedPaste.write_ansi(s).unwrap(),
             &|s| event::EnableMouseCapture.write_ansi(s).unwrap(),
             &|s| event::EnableFocusChange.write_ansi(s).unwrap(),
             &|s| event::PushKeyboardEnhancementFlags(flags).write_ansi(s).unwrap(),
@@ -685,6 +685,7 @@ mod tests {
             &|s| event::PopKeyboardEnhancementFlags.write_ansi(s).unwrap(),
             &|s| event::DisableMouseCapture.write_ansi(s).unwrap(),
             &|s| event::DisableFocusChange.write_ansi(s).unwrap(),
+            &|s| event::DisableBracketedPaste.write_ansi(s).unwrap(),
             &|s| cursor::Show.write_ansi(s).unwrap(),
             &|s| style::ResetColor.write_ansi(s).unwrap(),
             &|s| terminal::LeaveAlternateScreen.write_ansi(s).unwrap(),

@@ -1140,6 +1140,26 @@ mod tests {
         assert!(!s.frame(2.0, &mut out) && out.is_empty(), "{:?}", String::from_utf8_lossy(&out));
     }
 
+    /// QA finding 6: with bracketed paste on (game mode turns it on), an accidental paste plays
+    /// none of its letters: no `r` reset, no `q` quit, no step; keys after it count again.
+    #[test]
+    fn a_bracketed_paste_plays_no_keys() {
+        let mut s = no_exit_session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        s.frame(0.0, &mut Vec::new());
+        let start = s.app().camera;
+        s.feed(b"\x1b[200~see https://example.org/maze?id=42 wwww", 0.1);
+        s.feed(&[b'q'; 100_000], 0.2); // a long one, in several reads: dropped as it comes
+        s.feed(b"\x1b[C r q\x1b[201~", 0.3);
+        s.frame(0.4, &mut Vec::new());
+        assert!(!s.is_over(), "a pasted q does not quit");
+        assert_eq!(s.app().camera, start, "nothing pasted moved or turned the viewer");
+        s.feed(b"w", 1.0);
+        s.frame(1.1, &mut Vec::new());
+        assert_ne!(s.app().camera.position, start.position, "a key after the paste walks");
+        s.feed(b"q", 1.2);
+        assert!(s.is_over());
+    }
+
     #[test]
     fn a_stalled_link_with_nothing_to_draw_sleeps() {
         // Two frames unanswered (the link stalled, or a terminal that never answers), then the
