@@ -79,7 +79,8 @@ pub struct WalkArgs {
     #[arg(long, value_name = "FILE")]
     pub ghost: Option<PathBuf>,
     /// When you reach the exit, write your run to FILE (at most ten minutes of it): race it later
-    /// with --ghost FILE, play it with `mazewalk replay FILE`.
+    /// with --ghost FILE, play it with `mazewalk replay FILE`. A FILE that cannot be written is
+    /// refused at the start.
     #[arg(long, value_name = "FILE")]
     pub save_run: Option<PathBuf>,
     #[command(flatten)]
