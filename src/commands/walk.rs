@@ -137,7 +137,12 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
     }
     let replayed = status.is_some();
     if let Some(seconds) = session.outcome().finished.filter(|_| !replayed) {
-        let _ = writeln!(std::io::stdout(), "You found the exit in {seconds:.1} s."); // the walk is over either way
+        // as the finish box said it; the walk is over either way
+        let _ = writeln!(
+            std::io::stdout(),
+            "You found the exit in {}.",
+            mazewalk_walk::clock::clock_text(seconds)
+        );
     }
     if let (Some(file), Some(hash)) = (&mut run_file, hash) {
         save_run(&session, hash, file)?;
