@@ -79,7 +79,8 @@ pub struct WalkArgs {
     #[arg(long, value_name = "FILE")]
     pub ghost: Option<PathBuf>,
     /// When you reach the exit, write your run to FILE (at most ten minutes of it): race it later
-    /// with --ghost FILE, play it with `mazewalk replay FILE`.
+    /// with --ghost FILE, play it with `mazewalk replay FILE`. A FILE that cannot be written is
+    /// refused at the start.
     #[arg(long, value_name = "FILE")]
     pub save_run: Option<PathBuf>,
     #[command(flatten)]
@@ -426,10 +427,13 @@ impl LookArgs {
     }
 
     /// The walk's charset: `--charset`, else half blocks, or ascii on a terminal that has no block
-    /// glyphs ([`caps::detect_block_glyphs`]: a DEC terminal by `TERM`).
+    /// glyphs ([`caps::detect_block_glyphs`]: a DEC terminal by `TERM`, or a locale whose character
+    /// set is not UTF-8). (A value that is not UTF-8 is read lossily: a set locale still decides.)
     pub fn walk_charset(&self) -> Charset {
         self.charset.unwrap_or_else(|| {
-            if caps::detect_block_glyphs(|k: &str| std::env::var(k).ok()) {
+            if caps::detect_block_glyphs(|k: &str| {
+                std::env::var_os(k).map(|v| v.to_string_lossy().into_owned())
+            }) {
                 Charset::Half
             } else {
                 Charset::Ascii

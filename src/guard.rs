@@ -31,7 +31,7 @@ use std::sync::{Mutex, MutexGuard, Once, PoisonError, TryLockError};
 
 use crossterm::terminal;
 pub use mazewalk_term::modes::Enabled;
-use mazewalk_term::modes::{enter_sequence, reenter_sequence, restore_sequence};
+use mazewalk_term::modes::{enter_sequence, reenter_sequence, restore_sequence_for};
 
 /// What [`TerminalGuard::enter`] should turn on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,18 +46,37 @@ pub struct GuardOptions {
     /// back on SIGTSTP; take the terminal back on SIGCONT
     /// after a SIGSTOP (Unix; installed once per process).
     pub handle_signals: bool,
+    /// The terminal has an alternate screen (terminfo's `smcup`); without one (the Linux console,
+    /// `vt100`), leaving game mode — at the end, around a stop — clears the screen and homes the
+    /// cursor ([`restore_sequence_for`]).
+    pub alternate_screen: bool,
 }
 
 impl Default for GuardOptions {
     /// Everything on.
     fn default() -> Self {
-        GuardOptions { mouse: true, focus_events: true, keyboard_enhancement: true, handle_signals: true }
+        GuardOptions {
+            mouse: true,
+            focus_events: true,
+            keyboard_enhancement: true,
+            handle_signals: true,
+            alternate_screen: true,
+        }
     }
 }
 
 /// What is enabled on the terminal right now (`None`: the terminal is in its normal state).
 /// Held while writing a frame and while restoring, so the two never interleave.
 static ACTIVE: Mutex<Option<Enabled>> = Mutex::new(None);
+
+/// Whether the terminal has an alternate screen ([`GuardOptions::alternate_screen`]): what every
+/// restore, from any thread, writes ([`restore_sequence_for`]). Set when game mode is entered.
+static ALTERNATE_SCREEN: AtomicBool = AtomicBool::new(true);
+
+/// The bytes that leave game mode with `enabled` on this terminal ([`ALTERNATE_SCREEN`]).
+fn restore_bytes(enabled: Enabled) -> String {
+    restore_sequence_for(enabled, ALTERNATE_SCREEN.load(Ordering::SeqCst))
+}
 
 /// Set when game mode was entered again after a stop, until the app takes it
 /// ([`TerminalGuard::take_resumed`]). Set and read under [`ACTIVE`]'s lock.
@@ -77,6 +96,11 @@ static ENDING: AtomicBool = AtomicBool::new(false);
 /// answered already, game mode is back.
 #[cfg(unix)]
 static OWN_STOP: AtomicBool = AtomicBool::new(false);
+
+/// Set by the signal handler itself on SIGWINCH, until the app takes it
+/// ([`TerminalGuard::take_winched`]): a resize, or a nudge at the same size (`kill -WINCH`, a
+/// multiplexer's redraw), after which the app paints everything again.
+static WINCHED: AtomicBool = AtomicBool::new(false);
 
 /// [`TerminalGuard::write_frame`] dropped a frame while a SIGCONT was unanswered: the screen lacks it
 /// even if game mode needs no taking back. Set and read under [`ACTIVE`]'s lock.
@@ -168,7 +192,7 @@ pub fn restore_terminal() -> io::Result<()> {
 fn restore_locked(active: &mut Option<Enabled>) -> io::Result<()> {
     let Some(enabled) = active.take() else { return Ok(()) };
     let mut stdout = io::stdout().lock();
-    let restore = restore_sequence(enabled);
+    let restore = restore_bytes(enabled);
     let written = stdout.write_all(restore.as_bytes());
     if written.is_ok() {
         tee(restore.as_bytes());
@@ -223,6 +247,7 @@ impl TerminalGuard {
         let enabled =
             Enabled { mouse: options.mouse, focus_events: options.focus_events, keyboard_enhancement };
         RESUMED.store(false, Ordering::SeqCst);
+        ALTERNATE_SCREEN.store(options.alternate_screen, Ordering::SeqCst);
         enter_locked(&mut active, enabled, &enter_sequence(enabled))?;
         Ok(TerminalGuard { enabled })
     }
@@ -297,6 +322,13 @@ impl TerminalGuard {
             CANNOT_CONTINUE => Err(io::Error::other("cannot continue after a stop")),
             signal => Ok(Some(signal)),
         }
+    }
+
+    /// Whether a SIGWINCH arrived since the last call: at the same [`size`] too, the app paints
+    /// everything again (as a resize would: cheap, and the screen may have been written over).
+    #[must_use]
+    pub fn take_winched(&self) -> bool {
+        WINCHED.swap(false, Ordering::SeqCst)
     }
 
     /// Whether a signal that ends the walk has arrived, perhaps before the signal thread has restored
@@ -384,7 +416,7 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
         // both back (a write is allowed from the background; setting modes is not), then wait
         // stopped for `fg` as a real SIGTTOU would make us; game mode comes back below.
         let mut stdout = io::stdout().lock();
-        let restore = restore_sequence(enabled);
+        let restore = restore_bytes(enabled);
         if stdout.write_all(restore.as_bytes()).is_ok() {
             tee(restore.as_bytes());
         }
@@ -577,6 +609,7 @@ fn install_signal_handler() -> io::Result<()> {
     let (reader, writer) = std::os::unix::net::UnixStream::pair()?;
     reader.set_nonblocking(true)?;
     writer.set_nonblocking(true)?;
+    signal_hook::flag::register(SIGWINCH, &WINCHED)?; // before the wake-up: set when the loop looks
     signal_hook::low_level::pipe::register(SIGWINCH, writer.try_clone()?)?;
     let _ = WAKE.set((reader, writer));
     // Before the iterator's own handler: actions run in the order registered.
@@ -624,6 +657,7 @@ fn install_signal_handler() -> io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mazewalk_term::modes::restore_sequence;
 
     /// The modes' hand-written bytes are crossterm's (the commands this guard used to write).
     #[test]
@@ -640,7 +674,7 @@ mod tests {
         let enter = ansi(&[
             &|s| terminal::EnterAlternateScreen.write_ansi(s).unwrap(),
             &|s| cursor::Hide.write_ansi(s).unwrap(),
-            &|s| event::DisableBracketedPaste.write_ansi(s).unwrap(),
+            &|s| event::EnableBracketedPaste.write_ansi(s).unwrap(),
             &|s| event::EnableMouseCapture.write_ansi(s).unwrap(),
             &|s| event::EnableFocusChange.write_ansi(s).unwrap(),
             &|s| event::PushKeyboardEnhancementFlags(flags).write_ansi(s).unwrap(),
@@ -651,6 +685,7 @@ mod tests {
             &|s| event::PopKeyboardEnhancementFlags.write_ansi(s).unwrap(),
             &|s| event::DisableMouseCapture.write_ansi(s).unwrap(),
             &|s| event::DisableFocusChange.write_ansi(s).unwrap(),
+            &|s| event::DisableBracketedPaste.write_ansi(s).unwrap(),
             &|s| cursor::Show.write_ansi(s).unwrap(),
             &|s| style::ResetColor.write_ansi(s).unwrap(),
             &|s| terminal::LeaveAlternateScreen.write_ansi(s).unwrap(),

@@ -57,6 +57,7 @@ const SIGHUP: i32 = 1;
 /// With a `recorder` (`--record`), every byte written to the terminal goes into it as well (the
 /// guard's [`tee_writes`](guard::tee_writes), from game mode on to game mode off), with each resize
 /// seen and a marker when the colour depth changes; the caller flushes it ([`Recorder::finish`]).
+/// `guard` says what game mode turns on, and whether the terminal has an alternate screen.
 ///
 /// # Errors
 /// The terminal could not be set up, read or written.
@@ -66,6 +67,7 @@ pub fn run(
     clock: Instant,
     ask_truecolor: bool,
     recorder: Option<&Recorder>,
+    guard: GuardOptions,
 ) -> io::Result<Ended> {
     use rustix::event::{PollFd, PollFlags, Timespec};
 
@@ -80,7 +82,7 @@ pub fn run(
         }
     };
     let mut depth = session.color_depth();
-    let mut terminal = TerminalGuard::enter(GuardOptions::default())?;
+    let mut terminal = TerminalGuard::enter(guard)?;
     session.app_mut().releases = terminal.enabled().reports_key_releases();
     if ask_truecolor {
         // after the guard's own keyboard query is answered (it reads that answer itself), before the
@@ -106,11 +108,14 @@ pub fn run(
             session.invalidate();
             (cols, rows) = (0, 0);
         }
+        let winched = terminal.take_winched();
         let size = guard::size()?;
         if size != (cols, rows) {
             (cols, rows) = size;
             record_size(cols, rows);
             session.input(Input::Resize { cols, rows }, now());
+        } else if winched {
+            session.repaint(); // a SIGWINCH at the same size: paint everything again, as Ctrl-L
         }
         if session.take_suspend() {
             terminal.suspend()?; // Ctrl-Z; back here after `fg`

@@ -827,6 +827,84 @@ fn the_walks_look_ahead_view_is_render_fov_40s_frame() {
     assert!(view(&app) != out.stdout, "without the lens the walk's view is the wide one");
 }
 
+/// QA finding 8: `--save-run` to a path that cannot be written is refused at the start, as `--record`
+/// is (it used to fail after the whole walk, losing the run); a path that can is left as it was when
+/// the walk leaves no run (here: no terminal to walk in).
+#[cfg(unix)]
+#[test]
+fn save_run_to_a_path_that_cannot_be_written_is_refused_at_the_start() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-saverun-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let tiny = maze("tiny.maze");
+    let walk = |run: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .args([&tiny, "--save-run", run.to_str().unwrap()])
+            .env("TERM", "xterm-256color")
+            .stdin(std::process::Stdio::null())
+            .output()
+            .expect("run mazewalk")
+    };
+    for (run, says) in [
+        (dir.join("no-such-dir").join("mine.run"), "No such file or directory"),
+        (dir.clone(), "not a regular file"),
+    ] {
+        let out = walk(&run);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{}: {err}", run.display());
+        assert!(err.contains("cannot write the run") && err.contains(says), "{}: {err}", run.display());
+        assert!(!err.contains("needs a terminal"), "refused before looking for a terminal: {err}");
+    }
+    // Writable: the walk goes on to its own refusal (no terminal), and leaves no file behind, nor
+    // touches one that was there.
+    let new = dir.join("new.run");
+    let out = walk(&new);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("needs a terminal"), "{out:?}");
+    assert!(!new.exists(), "an empty run file was left behind");
+    let old = dir.join("old.run");
+    std::fs::write(&old, b"an older run").unwrap();
+    let out = walk(&old);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("needs a terminal"), "{out:?}");
+    assert_eq!(std::fs::read(&old).unwrap(), b"an older run");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// QA finding 9: the loader's advice for a pipe (`<(…)`) led to `-`, which the walk refused for
+/// want of a terminal: it now says what works, and so does the walk given `-`.
+#[cfg(unix)]
+#[test]
+fn the_advice_for_a_piped_maze_is_no_dead_end() {
+    use std::io::Write as _;
+    let grid = mazewalk(&["gen", "--size", "6x4", "--seed", "2", "--exit", "--format", "grid"]).stdout;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .arg("-")
+        .env("TERM", "xterm-256color")
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run mazewalk");
+    let _ = child.stdin.take().unwrap().write_all(&grid); // (it may refuse before reading)
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("reads its keys from standard input") && err.contains("save it to a file"), "{err}");
+    // `render -` still reads the pipe
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["render", "-", "--size", "20x6"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run mazewalk");
+    child.stdin.take().unwrap().write_all(&grid).unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // a FIFO: the loader's advice starts with what works everywhere
+    let out = mazewalk(&["check", "/dev/zero"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("not a regular file (a device); save it to a file"), "{err}");
+}
+
 /// A ghost or a replay run named by a FIFO, a device or a directory is refused as a maze would be
 /// (exit 66, "not a regular file"), at once: a FIFO with no writer hung forever, and /dev/zero was
 /// read up to the size limit and called too long.

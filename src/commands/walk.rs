@@ -32,6 +32,13 @@ pub fn replay(args: &ReplayArgs) -> anyhow::Result<ExitCode> {
 
 /// The walk, or with `replay` the playback of the run in that file.
 fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<ExitCode> {
+    if args.maze.maze.as_deref() == Some(std::path::Path::new("-")) && !std::io::stdin().is_terminal() {
+        bail!(
+            "the walk reads its keys from standard input, so the maze cannot come from there: save it \
+             to a file and give its path (`mazewalk gen --size 20x10 --exit --format grid > maze.grid`, \
+             then `mazewalk maze.grid`)"
+        );
+    }
     let maze = load_maze(&args.maze)?;
     // the maze's hash, for a run to race or to keep (a 1000 × 1000 maze takes tenths of a second)
     let hash =
@@ -44,6 +51,8 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
         (Some(path), Some(hash)) => Some(read_run(path, hash, maze.extents())?),
         _ => None,
     };
+    // before the walk, as `--record`'s file: a path that cannot be written is refused now, not after
+    let mut run_file = args.save_run.as_deref().map(RunFile::open).transpose()?;
     let unfit = match std::env::var("TERM") {
         Err(std::env::VarError::NotPresent) => Some("TERM is unset"),
         Err(std::env::VarError::NotUnicode(_)) => Some("TERM is not UTF-8"),
@@ -64,10 +73,13 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
         bail!("the walkthrough needs a terminal (try `mazewalk render` to print a frame, or --help)");
     }
     let env = |k: &str| std::env::var(k).ok();
+    let terminfo = terminfo(env);
     let plan = match args.look.color {
         Some(depth) => ColorPlan { depth, ask: false },
-        None => caps::plan_color_depth(env, color_facts(env)),
+        None => caps::plan_color_depth(env, color_facts(env, terminfo.as_deref())),
     };
+    // no alternate screen where terminfo says so; unknown (no infocmp, no entry): today's bytes
+    let alternate_screen = terminfo.as_deref().is_none_or(caps::terminfo_has_alternate_screen);
     let clock = Instant::now(); // the walk's time 0
     let options = RenderOptions {
         color_depth: plan.depth,
@@ -104,7 +116,8 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
         Some(path) => Some(start_recording(path, args, plan, clock)?),
         None => None,
     };
-    let ended = run_session(&mut session, clock, plan.ask, recorder.as_ref());
+    let guard = guard::GuardOptions { alternate_screen, ..guard::GuardOptions::default() };
+    let ended = run_session(&mut session, clock, plan.ask, recorder.as_ref(), guard);
     if let (Some(recorder), Some(path)) = (&recorder, &args.record) {
         // once, now that the terminal is restored; the walk went on without it
         let path = mazewalk_maze::quote_path(&path.display().to_string());
@@ -124,10 +137,15 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
     }
     let replayed = status.is_some();
     if let Some(seconds) = session.outcome().finished.filter(|_| !replayed) {
-        let _ = writeln!(std::io::stdout(), "You found the exit in {seconds:.1} s."); // the walk is over either way
+        // as the finish box said it; the walk is over either way
+        let _ = writeln!(
+            std::io::stdout(),
+            "You found the exit in {}.",
+            mazewalk_walk::clock::clock_text(seconds)
+        );
     }
-    if let (Some(path), Some(hash)) = (&args.save_run, hash) {
-        save_run(&session, hash, path)?;
+    if let (Some(file), Some(hash)) = (&mut run_file, hash) {
+        save_run(&session, hash, file)?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -162,14 +180,60 @@ pub(crate) fn read_run(
     Ok(run)
 }
 
-/// `--save-run`: the run of the walk's finish, written to `path` (nothing when the walk did not
+/// `--save-run`'s file, opened for writing before the walk, so that a path that cannot be written (no
+/// such directory, no permission, not a regular file) is refused at the start, as `--record`'s is,
+/// and not after a ten-minute walk. A file that did not exist is created, and removed again unless a
+/// run is written to it; one that did is left as it was until a run replaces its contents.
+struct RunFile {
+    file: std::fs::File,
+    path: std::path::PathBuf,
+    /// Created by this walk, and nothing written to it yet: removed on drop.
+    created_empty: bool,
+}
+
+impl RunFile {
+    fn open(path: &std::path::Path) -> anyhow::Result<RunFile> {
+        let shown = mazewalk_maze::quote_path(&path.display().to_string());
+        let cannot = || format!("cannot write the run {shown}");
+        // only a regular file: opening a FIFO for writing would wait for a reader
+        if let Ok(meta) = std::fs::metadata(path)
+            && !meta.is_file()
+        {
+            bail!("{}: not a regular file", cannot());
+        }
+        let mut options = std::fs::OpenOptions::new();
+        options.write(true);
+        let (file, created_empty) = match options.clone().create_new(true).open(path) {
+            Ok(file) => (file, true),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                (options.open(path).with_context(cannot)?, false)
+            }
+            Err(e) => return Err(e).with_context(cannot),
+        };
+        Ok(RunFile { file, path: path.to_path_buf(), created_empty })
+    }
+
+    /// Replaces the file's contents with `bytes`.
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        self.created_empty = false;
+        self.file.set_len(0)?;
+        self.file.write_all(bytes)?;
+        self.file.sync_all()
+    }
+}
+
+impl Drop for RunFile {
+    fn drop(&mut self) {
+        if self.created_empty {
+            let _ = std::fs::remove_file(&self.path); // no run: no empty file left behind
+        }
+    }
+}
+
+/// `--save-run`: the run of the walk's finish, written to `file` (nothing when the walk did not
 /// reach the exit, or took longer than a run holds); labelled with `$USER` as a player name.
-fn save_run(
-    session: &Session,
-    hash: mazewalk_maze::ContentHash,
-    path: &std::path::Path,
-) -> anyhow::Result<()> {
-    let shown = mazewalk_maze::quote_path(&path.display().to_string());
+fn save_run(session: &Session, hash: mazewalk_maze::ContentHash, file: &mut RunFile) -> anyhow::Result<()> {
+    let shown = mazewalk_maze::quote_path(&file.path.display().to_string());
     let user = std::env::var("USER").unwrap_or_default();
     let holder: String =
         user.chars().filter(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.')).take(16).collect();
@@ -181,7 +245,7 @@ fn save_run(
         return Ok(());
     };
     let bytes = run.encode().with_context(|| format!("the run for {shown}"))?;
-    std::fs::write(path, bytes).with_context(|| format!("cannot write the run {shown}"))?;
+    file.write(&bytes).with_context(|| format!("cannot write the run {shown}"))?;
     let _ = writeln!(
         std::io::stdout(),
         "Your run is in {shown}: race it with --ghost, play it with `mazewalk replay`."
@@ -223,19 +287,24 @@ const TOOL_TIMEOUT: Duration = Duration::from_millis(500);
 /// The most of a tool's output read (bytes): a terminfo description is a few KB.
 const TOOL_OUTPUT_LIMIT: u64 = 256 * 1024;
 
-/// What the system says about the terminal's 24-bit colour: the terminfo entry of `TERM`
-/// (`infocmp -x`), and inside tmux (`TMUX` set) whether tmux's client has the `RGB` feature (tmux
-/// answers no query itself). A tool that is missing, fails or is slow says nothing.
-fn color_facts(env: impl Fn(&str) -> Option<String>) -> ColorFacts {
+/// The terminfo entry of `TERM`, as `infocmp -x` describes it; `None` if the tool is missing, fails
+/// (no such entry) or is slow.
+fn terminfo(env: impl Fn(&str) -> Option<String>) -> Option<String> {
+    env("TERM")
+        .filter(|term| !term.is_empty() && !term.starts_with('-'))
+        .and_then(|term| tool_output(Command::new("infocmp").arg("-x").arg(term)))
+}
+
+/// What the system says about the terminal's 24-bit colour: its `terminfo` entry ([`terminfo`]),
+/// and inside tmux (`TMUX` set) whether tmux's client has the `RGB` feature (tmux answers no query
+/// itself). A tool that is missing, fails or is slow says nothing.
+fn color_facts(env: impl Fn(&str) -> Option<String>, terminfo: Option<&str>) -> ColorFacts {
     let decided = env("NO_COLOR").is_some_and(|v| !v.is_empty())
         || env("COLORTERM").is_some_and(|v| matches!(v.as_str(), "truecolor" | "24bit"));
     if decided {
         return ColorFacts::default(); // nothing to look up
     }
-    let terminfo_rgb = env("TERM")
-        .filter(|term| !term.is_empty() && !term.starts_with('-'))
-        .and_then(|term| tool_output(Command::new("infocmp").arg("-x").arg(term)))
-        .map(|text| caps::terminfo_has_truecolor(&text));
+    let terminfo_rgb = terminfo.map(caps::terminfo_has_truecolor);
     let tmux_rgb = env("TMUX")
         .and_then(|_| {
             tool_output(Command::new("tmux").args(["display-message", "-p", "#{client_termfeatures}"]))

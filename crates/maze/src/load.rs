@@ -46,8 +46,11 @@ pub enum LoadError {
         source: std::io::Error,
     },
     /// The path names something other than a regular file (a FIFO, a device, a directory), which
-    /// might never end; `-` reads standard input.
-    #[error("{path}: not a regular file ({what}); to read a pipe, give `-` and redirect it to stdin")]
+    /// might never end; `-` reads standard input (but for the walk, which reads its keys there).
+    #[error(
+        "{path}: not a regular file ({what}); save it to a file and give its path (or, but for the walk, \
+         give `-` and redirect the pipe to stdin)"
+    )]
     NotAFile {
         /// The path as given.
         path: String,

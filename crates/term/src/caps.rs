@@ -53,17 +53,41 @@ pub fn detect_color_depth(get: impl Fn(&str) -> Option<String>) -> ColorDepth {
     }
 }
 
-/// Whether the terminal can show Unicode's block glyphs (`▀` and the rest), by `TERM` alone:
+/// Whether the terminal can show Unicode's block glyphs (`▀` and the rest), by `TERM` and the locale:
 ///
-/// | `TERM` | block glyphs |
+/// | `TERM`, locale ([`locale_is_utf8`]) | block glyphs |
 /// |---|---|
 /// | a DEC terminal (`vt` and a digit: `vt100`, `vt102`, `vt220`, …; their fonts are DEC's, with no Unicode) | no: ASCII |
-/// | anything else (`linux`, `screen`, `xterm*`, `dumb`, unset) | yes |
+/// | a locale that names no UTF-8 codeset (`LANG=C`, `LC_ALL=POSIX`, `en_US.ISO-8859-1`: the terminal shows each UTF-8 glyph as 3 bytes of mojibake) | no: ASCII |
+/// | anything else (`linux`, `screen`, `xterm*`, `dumb`, unset; a UTF-8 locale or none set) | yes |
 ///
 /// (`xterm-mono` is an xterm without colour: its font has the blocks.)
 #[must_use]
 pub fn detect_block_glyphs(get: impl Fn(&str) -> Option<String>) -> bool {
     !dec_terminal(&get("TERM").unwrap_or_default().to_ascii_lowercase())
+        && locale_is_utf8(&get) != Some(false)
+}
+
+/// Whether the locale's character set is UTF-8, by tmux's rule: the first of `LC_ALL`, `LC_CTYPE` and
+/// `LANG` that is set and not empty decides, and it is UTF-8 where it names the codeset `UTF-8` or
+/// `utf8` (in any case: `en_US.UTF-8`, `C.utf8`). `None`: none of the three is set, which says nothing
+/// (the walk keeps its default, block glyphs).
+///
+/// ```
+/// use mazewalk_term::caps::locale_is_utf8;
+/// let env = |vars: &'static [(&str, &str)]| {
+///     move |k: &str| vars.iter().find(|(name, _)| *name == k).map(|(_, v)| v.to_string())
+/// };
+/// assert_eq!(locale_is_utf8(env(&[("LANG", "en_US.UTF-8")])), Some(true));
+/// assert_eq!(locale_is_utf8(env(&[("LC_ALL", "C"), ("LANG", "en_US.UTF-8")])), Some(false));
+/// assert_eq!(locale_is_utf8(env(&[("LC_ALL", ""), ("LC_CTYPE", "C.utf8")])), Some(true));
+/// assert_eq!(locale_is_utf8(env(&[])), None);
+/// ```
+#[must_use]
+pub fn locale_is_utf8(get: impl Fn(&str) -> Option<String>) -> Option<bool> {
+    let locale = ["LC_ALL", "LC_CTYPE", "LANG"].into_iter().find_map(|k| get(k).filter(|v| !v.is_empty()))?;
+    let locale = locale.to_ascii_lowercase();
+    Some(locale.contains("utf-8") || locale.contains("utf8"))
 }
 
 /// A DEC video terminal by terminfo's naming: `vt` and a digit (`vt100`, `vt220-8bit`), not `vte`.
@@ -223,6 +247,30 @@ pub fn plan_color_depth(get: impl Fn(&str) -> Option<String>, facts: ColorFacts)
 /// ```
 #[must_use]
 pub fn terminfo_has_truecolor(infocmp: &str) -> bool {
+    let caps = terminfo_caps(infocmp);
+    let boolean = |name: &str| caps.iter().any(|c| c == name);
+    boolean("Tc")
+        || boolean("RGB")
+        || (terminfo_string(&caps, "setrgbf") && terminfo_string(&caps, "setrgbb"))
+}
+
+/// Whether `infocmp -x`'s description of a terminal gives it an alternate screen: the string `smcup`
+/// (enter full-screen mode). The Linux console, `vt100` and `vt220` have none (their terminals show
+/// one screen, and `CSI ? 1049 h` does nothing), xterm, tmux, screen and the rest do. As with
+/// [`terminfo_has_truecolor`], a partial or garbled description is no promise.
+///
+/// ```
+/// use mazewalk_term::caps::terminfo_has_alternate_screen;
+/// assert!(terminfo_has_alternate_screen("xterm|xterm,\n\tam, smcup=\\E[?1049h\\E[22;0;0t, smam=\\E[?7h,\n"));
+/// assert!(!terminfo_has_alternate_screen("linux|Linux console,\n\tam, bce, smam=\\E[?7h, smacs=^N,\n"));
+/// ```
+#[must_use]
+pub fn terminfo_has_alternate_screen(infocmp: &str) -> bool {
+    terminfo_string(&terminfo_caps(infocmp), "smcup")
+}
+
+/// The capabilities of `infocmp`'s description, one each, trimmed: `am`, `colors#0x100`, `smcup=…`.
+fn terminfo_caps(infocmp: &str) -> Vec<String> {
     // Capabilities are separated by commas, one or several a line after the names line; a comma or a
     // backslash inside a string value is escaped (`\,`, `\\`).
     let mut caps: Vec<String> = Vec::new();
@@ -238,11 +286,12 @@ pub fn terminfo_has_truecolor(infocmp: &str) -> bool {
             c => cap.push(c),
         }
     }
-    let caps: Vec<&str> = caps.iter().map(String::as_str).collect();
-    let boolean = |name: &str| caps.contains(&name);
-    let string =
-        |name: &str| caps.iter().any(|c| c.strip_prefix(name).is_some_and(|rest| rest.starts_with('=')));
-    boolean("Tc") || boolean("RGB") || (string("setrgbf") && string("setrgbb"))
+    caps
+}
+
+/// Whether `caps` ([`terminfo_caps`]) has the string capability `name` (`name=…`).
+fn terminfo_string(caps: &[String], name: &str) -> bool {
+    caps.iter().any(|c| c.strip_prefix(name).is_some_and(|rest| rest.starts_with('=')))
 }
 
 /// Whether tmux's `#{client_termfeatures}` (features joined by commas) lists `RGB`.
@@ -297,9 +346,73 @@ mod tests {
             (&[("TERM", "vt220")], false),
             (&[("TERM", "vt220-8bit")], false),
             (&[("TERM", "VT320")], false),
+            // QA finding 2: a locale that names no UTF-8 codeset gets ASCII; none set, the default
+            (&[("TERM", "xterm-256color"), ("LANG", "C")], false),
+            (&[("TERM", "xterm-256color"), ("LC_ALL", "C"), ("LANG", "C")], false),
+            (&[("TERM", "xterm"), ("LC_ALL", "POSIX")], false),
+            (&[("TERM", "xterm"), ("LANG", "en_US.UTF-8")], true),
+            (&[("TERM", "vt100"), ("LANG", "en_US.UTF-8")], false),
+            (&[("LANG", "")], true),
         ];
         for (vars, blocks) in table {
             assert_eq!(detect_block_glyphs(env(vars)), *blocks, "{vars:?}");
+        }
+    }
+
+    /// QA finding 3: where terminfo has no `smcup`, the walk clears its last frame on the way out.
+    #[test]
+    fn terminfo_says_whether_there_is_an_alternate_screen() {
+        // (from `infocmp -x vt100`, ncurses 6.4: no smcup)
+        let vt100 = "#\tReconstructed via infocmp from file: /lib/terminfo/v/vt100\n\
+                     vt100|vt100-am|DEC VT100 (w/advanced video),\n\
+                     \tOTbs, am, mc5i, msgr, xenl, xon,\n\
+                     \tcols#80, it#8, lines#24, vt#3,\n\
+                     \tclear=\\E[H\\E[J$<50>, cr=\\r, csr=\\E[%i%p1%d;%p2%dr,\n\
+                     \trmacs=^O, rmam=\\E[?7l, smacs=^N, smam=\\E[?7h, smkx=\\E[?1h\\E=,\n";
+        assert!(!terminfo_has_alternate_screen(vt100));
+        let xterm = vt100.replace("smam=", "rmcup=\\E[?1049l\\E[23;0;0t, smcup=\\E[?1049h, smam=");
+        assert!(terminfo_has_alternate_screen(&xterm));
+        for (text, has) in [
+            ("x|x,\n\trmcup=\\E[?1049l,\n", false), // leaving is not entering
+            ("x|x,\n\tsmcup@,\n", false),           // cancelled
+            ("x|x,\n\txsmcup=\\E[?47h,\n", false),  // another name
+            ("x|x,\n\tsgr0=\\E[m\\, smcup=\\E7,\n", false), // inside a string, after an escaped comma
+            ("x|x,\n\tsgr0=\\E[m, smcup=\\E7,\n", true),
+            ("", false),
+            ("smcup=\\E[?1049h,", false), // no capability lines at all (garbled)
+        ] {
+            assert_eq!(terminfo_has_alternate_screen(text), has, "{text:?}");
+        }
+    }
+
+    /// QA finding 2, tmux's rule: the first of LC_ALL, LC_CTYPE, LANG set (not empty) decides.
+    #[test]
+    fn the_locale_decides_utf8_by_its_first_set_variable() {
+        type Vars = &'static [(&'static str, &'static str)];
+        let table: &[(Vars, Option<bool>)] = &[
+            (&[], None),
+            (&[("LC_ALL", ""), ("LC_CTYPE", ""), ("LANG", "")], None),
+            (&[("LANG", "en_US.UTF-8")], Some(true)),
+            (&[("LANG", "C.utf8")], Some(true)),
+            (&[("LANG", "de_DE.Utf-8@euro")], Some(true)),
+            (&[("LANG", "C")], Some(false)),
+            (&[("LANG", "POSIX")], Some(false)),
+            (&[("LANG", "en_US.ISO-8859-1")], Some(false)),
+            (&[("LANG", "en_US")], Some(false)),
+            (&[("LANG", "utf")], Some(false)),
+            // LC_ALL over LC_CTYPE over LANG
+            (&[("LC_ALL", "C"), ("LC_CTYPE", "en_US.UTF-8"), ("LANG", "en_US.UTF-8")], Some(false)),
+            (&[("LC_ALL", "en_US.UTF-8"), ("LC_CTYPE", "C"), ("LANG", "C")], Some(true)),
+            (&[("LC_CTYPE", "C"), ("LANG", "en_US.UTF-8")], Some(false)),
+            (&[("LC_CTYPE", "en_US.UTF-8"), ("LANG", "C")], Some(true)),
+            // an empty one is not set: the next decides
+            (&[("LC_ALL", ""), ("LC_CTYPE", "C"), ("LANG", "en_US.UTF-8")], Some(false)),
+            (&[("LC_ALL", ""), ("LANG", "C.UTF-8")], Some(true)),
+            // other LC_* say nothing of the character set
+            (&[("LC_MESSAGES", "C"), ("LANG", "en_US.UTF-8")], Some(true)),
+        ];
+        for (vars, utf8) in table {
+            assert_eq!(locale_is_utf8(env(vars)), *utf8, "{vars:?}");
         }
     }
 

@@ -8,8 +8,9 @@
 //!   function keys with xterm's modifier parameter (`ESC [ 1 ; 5 D` is Ctrl-←), `ESC x` as Alt-x;
 //! - the kitty keyboard protocol (`CSI code ; mods : event u` and the functional keys with an event
 //!   field), which reports key presses, repeats and **releases**;
-//! - SGR mouse reports (`CSI < b ; x ; y M/m`), turned into presses, releases, drags (as deltas) and
-//!   wheel notches; legacy X10 reports are skipped whole, so their coordinate bytes never become keys;
+//! - SGR mouse reports (`CSI < b ; x ; y M/m`), and urxvt's (`CSI b+32 ; x ; y M`), turned into
+//!   presses, releases, drags (as deltas) and wheel notches; legacy X10 reports are skipped whole, so
+//!   their coordinate bytes never become keys;
 //! - focus in/out (`CSI I`/`CSI O`); bracketed paste (`CSI 200~ … CSI 201~`) is dropped whole, so
 //!   pasted text never walks the viewer;
 //! - the terminal's **replies**: primary device attributes (`CSI ? … c`), a cursor position report
@@ -634,6 +635,24 @@ impl Perform for Performer<'_> {
             ([], 'I') => self.emit(Input::FocusGained),
             ([], 'O') => self.emit(Input::FocusLost),
             ([], 'M') if params.len() <= 1 && first(0).unwrap_or(0) == 0 => self.state.skip = 3, // X10 mouse: 3 raw bytes follow
+            // urxvt's mouse report (mode 1015, for a terminal that has it and not SGR's): `CSI b+32 ;
+            // x ; y M`, a release as button 3, which does not say which button was let go.
+            ([], 'M') if params.len() == 3 => {
+                let Some(b) = first(0).and_then(|b| b.checked_sub(32)) else { return };
+                let (x, y) = (first(1).unwrap_or(1), first(2).unwrap_or(1));
+                if b & (3 | 32 | 64) == 3 {
+                    let code = self.state.drag_button.map(|button| match button {
+                        MouseButton::Left => 0,
+                        MouseButton::Middle => 1,
+                        MouseButton::Right => 2,
+                    });
+                    if let Some(code) = code {
+                        self.mouse(code, x, y, true);
+                    }
+                } else {
+                    self.mouse(b, x, y, false);
+                }
+            }
             ([], 'Z') => self.key(Key::Tab, Modifiers { shift: true, ..mods }, KeyPhase::Press),
             ([], 'u') => self.key(kitty_key(first(0).unwrap_or(0)), mods, phase(event)),
             ([], '~') => match first(0) {
@@ -978,6 +997,31 @@ mod tests {
                 Input::MouseUp { button: MouseButton::Left },
                 Input::Scroll(1),
                 Input::Scroll(-1),
+            ]
+        );
+    }
+
+    /// QA finding 7: urxvt's encoding (mode 1015, which game mode turns on) is decoded as SGR's is.
+    #[test]
+    fn urxvt_mouse_press_drag_release_and_wheel() {
+        assert_eq!(
+            decode(&[b"\x1b[32;50;15M\x1b[64;60;15M\x1b[64;58;14M\x1b[35;70;15M\x1b[96;1;1M\x1b[97;1;1M"]),
+            [
+                Input::MouseDown { button: MouseButton::Left, col: 49, row: 14 },
+                Input::MouseDrag { button: MouseButton::Left, dx: 10, dy: 0 },
+                Input::MouseDrag { button: MouseButton::Left, dx: -2, dy: -1 },
+                Input::MouseUp { button: MouseButton::Left },
+                Input::Scroll(1),
+                Input::Scroll(-1),
+            ]
+        );
+        // the right button; a release with no button down, a code under 32 and motion with no button
+        // down are nothing
+        assert_eq!(
+            decode(&[b"\x1b[35;1;1M\x1b[34;5;5M\x1b[35;6;6M\x1b[2;1;1M\x1b[67;3;3M"]),
+            [
+                Input::MouseDown { button: MouseButton::Right, col: 4, row: 4 },
+                Input::MouseUp { button: MouseButton::Right }
             ]
         );
     }

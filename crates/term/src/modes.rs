@@ -6,7 +6,7 @@
 //! |---|---|---|
 //! | alternate screen | `CSI ? 1049 h` | `CSI ? 1049 l` |
 //! | cursor | hidden `CSI ? 25 l` | shown `CSI ? 25 h` |
-//! | bracketed paste | off `CSI ? 2004 l` (a paste is keys) | — |
+//! | bracketed paste: a paste comes marked, and [`crate::input`] drops it whole (an accidental paste must not play its letters as keys: `r` resets, `q` quits) | `CSI ? 2004 h` | `CSI ? 2004 l` |
 //! | mouse: clicks, drags, motion; urxvt and SGR encodings | `CSI ? 1000;1002;1003;1015;1006 h` (one each) | the same with `l`, in reverse |
 //! | focus events | `CSI ? 1004 h` | `CSI ? 1004 l` |
 //! | kitty keyboard flags 1 (disambiguate) + 2 (report event types) | pushed `CSI > 3 u` | popped `CSI < 1 u` |
@@ -55,6 +55,7 @@ const ALTERNATE_SCREEN_ON: &str = "\x1b[?1049h";
 const ALTERNATE_SCREEN_OFF: &str = "\x1b[?1049l";
 const CURSOR_HIDDEN: &str = "\x1b[?25l";
 const CURSOR_SHOWN: &str = "\x1b[?25h";
+const BRACKETED_PASTE_ON: &str = "\x1b[?2004h";
 const BRACKETED_PASTE_OFF: &str = "\x1b[?2004l";
 /// Button events (1000), drags (1002), any motion (1003), then the urxvt (1015) and SGR (1006)
 /// encodings, so that columns past 223 are reported.
@@ -68,13 +69,13 @@ const KEYBOARD_PUSH: &str = "\x1b[>3u";
 const KEYBOARD_POP: &str = "\x1b[<1u";
 const COLORS_RESET: &str = "\x1b[0m";
 
-/// The bytes that enter game mode: alternate screen, hidden cursor, bracketed paste off, then the
+/// The bytes that enter game mode: alternate screen, hidden cursor, bracketed paste on, then the
 /// optional modes. Keyboard flags are pushed last, on the alternate screen (kitty keeps a stack per
 /// screen, and [`restore_sequence`] pops them before leaving it).
 ///
 /// ```
 /// use mazewalk_term::modes::{Enabled, enter_sequence};
-/// assert_eq!(enter_sequence(Enabled::default()), "\x1b[?1049h\x1b[?25l\x1b[?2004l");
+/// assert_eq!(enter_sequence(Enabled::default()), "\x1b[?1049h\x1b[?25l\x1b[?2004h");
 /// assert!(enter_sequence(Enabled::ALL).ends_with("\x1b[?1004h\x1b[>3u"));
 /// ```
 #[must_use]
@@ -82,7 +83,7 @@ pub fn enter_sequence(enabled: Enabled) -> String {
     let mut s = String::with_capacity(96);
     s += ALTERNATE_SCREEN_ON;
     s += CURSOR_HIDDEN;
-    s += BRACKETED_PASTE_OFF;
+    s += BRACKETED_PASTE_ON;
     if enabled.mouse {
         s += MOUSE_ON;
     }
@@ -96,7 +97,8 @@ pub fn enter_sequence(enabled: Enabled) -> String {
 }
 
 /// The bytes that undo [`enter_sequence`], in reverse: end any half-sent synchronized frame, pop the
-/// keyboard flags, mouse and focus reporting off, cursor shown, colours reset, main screen back.
+/// keyboard flags, mouse and focus reporting off, bracketed paste off, cursor shown, colours reset,
+/// main screen back.
 /// (A local walk turns raw mode off after writing them.)
 #[must_use]
 pub fn restore_sequence(enabled: Enabled) -> String {
@@ -110,9 +112,34 @@ pub fn restore_sequence(enabled: Enabled) -> String {
     if enabled.focus_events {
         s += FOCUS_OFF;
     }
+    s += BRACKETED_PASTE_OFF; // (a shell turns it on again for its prompt, as it likes)
     s += CURSOR_SHOWN;
     s += COLORS_RESET;
     s += ALTERNATE_SCREEN_OFF;
+    s
+}
+
+/// Home the cursor, then erase the whole screen (terminfo's `clear` for the Linux console and `vt100`).
+const CLEAR_SCREEN: &str = "\x1b[H\x1b[2J";
+
+/// [`restore_sequence`] on a terminal with an alternate screen (`alternate_screen`: terminfo's
+/// `smcup`, [`crate::caps::terminfo_has_alternate_screen`]) or without one: the Linux console,
+/// `vt100`, `vt220`, which ignore `CSI ? 1049`. There the walk's last frame stays on the only
+/// screen, with the cursor wherever the last update left it (in the HUD): after the rest, in the
+/// default colours, the screen is cleared and the cursor homed, so the shell's prompt lands on a
+/// clean screen.
+///
+/// ```
+/// use mazewalk_term::modes::{Enabled, restore_sequence, restore_sequence_for};
+/// assert_eq!(restore_sequence_for(Enabled::ALL, true), restore_sequence(Enabled::ALL));
+/// assert!(restore_sequence_for(Enabled::ALL, false).ends_with("\x1b[0m\x1b[?1049l\x1b[H\x1b[2J"));
+/// ```
+#[must_use]
+pub fn restore_sequence_for(enabled: Enabled, alternate_screen: bool) -> String {
+    let mut s = restore_sequence(enabled);
+    if !alternate_screen {
+        s += CLEAR_SCREEN;
+    }
     s
 }
 
@@ -181,7 +208,7 @@ mod tests {
         // REPORT_EVENT_TYPES (2) | DISAMBIGUATE_ESCAPE_CODES (1) = 3.
         assert_in_order(
             &enter,
-            &["\x1b[?1049h", "\x1b[?25l", "\x1b[?2004l", "\x1b[?1000h", "\x1b[?1004h", "\x1b[>3u"],
+            &["\x1b[?1049h", "\x1b[?25l", "\x1b[?2004h", "\x1b[?1000h", "\x1b[?1004h", "\x1b[>3u"],
         );
         let plain = enter_sequence(Enabled::default());
         assert!(!plain.contains("\x1b[>") && !plain.contains("\x1b[?1000h"), "{}", visible(&plain));
@@ -189,8 +216,8 @@ mod tests {
 
     #[test]
     fn every_mode_turned_on_is_turned_off() {
-        // Each `CSI ? n h` of the enter sequence has its `CSI ? n l` in the restore sequence, but
-        // bracketed paste, which game mode turns off (and the host's shell sets as it likes).
+        // Each `CSI ? n h` of the enter sequence has its `CSI ? n l` in the restore sequence:
+        // bracketed paste too (QA finding 6: on in the walk, so that a paste is dropped whole).
         let enter = enter_sequence(Enabled::ALL);
         let restore = restore_sequence(Enabled::ALL);
         for on in enter.split('\x1b').filter(|s| s.starts_with("[?") && s.ends_with('h')) {
@@ -198,6 +225,20 @@ mod tests {
             assert!(restore.contains(&off), "{} not undone in {}", visible(on), visible(&restore));
         }
         assert!(enter.contains("\x1b[?25l") && restore.contains("\x1b[?25h"), "the cursor comes back");
+    }
+
+    /// QA finding 3: without an alternate screen the last frame is cleared, after the colours are
+    /// reset (an erase fills with the current background), and the cursor is left at the top.
+    #[test]
+    fn without_an_alternate_screen_the_restore_clears_and_homes() {
+        for enabled in [Enabled::ALL, Enabled::default()] {
+            let kept = restore_sequence_for(enabled, true);
+            assert_eq!(kept, restore_sequence(enabled), "with one: today's bytes");
+            assert!(!kept.contains("\x1b[2J"), "{}", visible(&kept));
+            let cleared = restore_sequence_for(enabled, false);
+            assert_eq!(cleared.strip_suffix("\x1b[H\x1b[2J"), Some(kept.as_str()), "{}", visible(&cleared));
+            assert_in_order(&cleared, &["\x1b[?25h", "\x1b[0m", "\x1b[H", "\x1b[2J"]);
+        }
     }
 
     #[test]

@@ -466,10 +466,12 @@ pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud)
         return; // the too-small note has no HUD
     }
     let style = Style::new(app.options.charset, app.options.color_depth);
-    // the ghost raced, or that there is none to race yet
+    // the ghost raced, or that there is none to race: yet (served: the first finish makes one), or
+    // without a run to race (the local walk: `--ghost FILE` names one)
+    let none = if screen.players_in.is_some() { "no ghost yet" } else { "no ghost (--ghost FILE)" };
     let ghost = match &screen.ghost {
         Some((_, caption)) => Some(caption.as_str()),
-        None => app.ghost.then_some("no ghost yet"),
+        None => app.ghost.then_some(none),
     };
     let fov = app.shown_hfov_deg(cols, rows - 1);
     let line = hud_text_with(

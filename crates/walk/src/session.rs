@@ -479,12 +479,20 @@ impl Session {
     }
 
     /// One input at time `now`: keys and drags move the viewer, `Ctrl-C` quits, `Ctrl-Z` asks the host
-    /// for a stop ([`take_suspend`](Self::take_suspend)), a resize redraws, losing focus lets go of
+    /// for a stop ([`take_suspend`](Self::take_suspend)), `Ctrl-L` paints everything again
+    /// ([`repaint`](Self::repaint)), a resize redraws, losing focus lets go of
     /// held keys (no release will come).
     pub fn input(&mut self, input: Input, now: f64) {
         match input {
             Input::Key { key: Key::Char('c'), modifiers, .. } if modifiers.ctrl => self.app.quit = true,
             Input::Key { key: Key::Char('z'), modifiers, .. } if modifiers.ctrl => self.suspend = true,
+            // Ctrl-L: another program wrote over the picture (a background job, `wall`): paint it all
+            // again, as every full-screen program does.
+            Input::Key { key: Key::Char('l'), modifiers, phase } if modifiers.ctrl => {
+                if phase == KeyPhase::Press {
+                    self.repaint();
+                }
+            }
             // Ctrl or Alt with a letter is not the letter (Ctrl-Q must not quit, Alt-W not walk).
             Input::Key { key: Key::Char(_), modifiers, .. } if modifiers.ctrl || modifiers.alt => {}
             // The player list of a served maze: Tab opens and closes it, Esc closes it (not the walk).
@@ -611,6 +619,15 @@ impl Session {
     pub fn invalidate(&mut self) {
         self.encoder.invalidate();
         self.app.focus_lost();
+        self.dirty = true;
+    }
+
+    /// The terminal may show something else than the last frame (another program wrote to it; the
+    /// `Ctrl-L` key, a SIGWINCH at the same size): the next frame clears the screen and paints
+    /// everything from an absolute position, trusting nothing of what it showed or where its cursor
+    /// is. Unlike [`invalidate`](Self::invalidate), held keys stay held.
+    pub fn repaint(&mut self) {
+        self.encoder.invalidate();
         self.dirty = true;
     }
 
@@ -1087,6 +1104,60 @@ mod tests {
         s.feed(b"q", 0.2);
         assert!(s.is_over());
         assert!(s.next_wake(0.3).is_none_or(|t| t >= 0.3), "{:?}", s.next_wake(0.3));
+    }
+
+    /// QA finding 1: another program's output garbles the picture; Ctrl-L paints it all again.
+    #[test]
+    fn ctrl_l_paints_the_whole_frame_again_from_an_absolute_position() {
+        let mut s = no_exit_session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        let mut first = Vec::new();
+        assert!(s.frame(0.0, &mut first));
+        let mut out = Vec::new();
+        assert!(!s.frame(1.0, &mut out) && out.is_empty(), "at rest: nothing to send");
+        s.feed(b"\x0c", 1.0); // Ctrl-L, as a terminal sends it
+        assert!(!s.is_over());
+        assert!(s.frame(1.0, &mut out));
+        let text = String::from_utf8_lossy(&out);
+        // The screen cleared, then the first move absolute (`CSI row;col H`): no trust in the cursor.
+        let after = &text[text.find("\x1b[2J").expect("the screen is cleared") + 4..];
+        let cup = after.strip_prefix("\x1b[").map(|rest| rest.split_once('H').map(|(at, _)| at));
+        assert!(
+            cup.flatten().is_some_and(|at| at.chars().all(|c| c.is_ascii_digit() || c == ';')),
+            "{text:?}"
+        );
+        // The same bytes as the full paint after a stop ends ([`Session::invalidate`]).
+        let mut resumed =
+            no_exit_session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        resumed.frame(0.0, &mut Vec::new());
+        resumed.invalidate();
+        let mut full = Vec::new();
+        assert!(resumed.frame(1.0, &mut full));
+        assert_eq!(out, full);
+        assert_eq!(s.app().camera.position, s.app().maze().viewer().pos, "Ctrl-L is no `l`");
+        // Its release (kitty's protocol) paints nothing more.
+        out.clear();
+        s.feed(b"\x1b[108;5:3u", 2.0);
+        assert!(!s.frame(2.0, &mut out) && out.is_empty(), "{:?}", String::from_utf8_lossy(&out));
+    }
+
+    /// QA finding 6: with bracketed paste on (game mode turns it on), an accidental paste plays
+    /// none of its letters: no `r` reset, no `q` quit, no step; keys after it count again.
+    #[test]
+    fn a_bracketed_paste_plays_no_keys() {
+        let mut s = no_exit_session(SessionOptions { flow_control: false, ..SessionOptions::default() });
+        s.frame(0.0, &mut Vec::new());
+        let start = s.app().camera;
+        s.feed(b"\x1b[200~see https://example.org/maze?id=42 wwww", 0.1);
+        s.feed(&[b'q'; 100_000], 0.2); // a long one, in several reads: dropped as it comes
+        s.feed(b"\x1b[C r q\x1b[201~", 0.3);
+        s.frame(0.4, &mut Vec::new());
+        assert!(!s.is_over(), "a pasted q does not quit");
+        assert_eq!(s.app().camera, start, "nothing pasted moved or turned the viewer");
+        s.feed(b"w", 1.0);
+        s.frame(1.1, &mut Vec::new());
+        assert_ne!(s.app().camera.position, start.position, "a key after the paste walks");
+        s.feed(b"q", 1.2);
+        assert!(s.is_over());
     }
 
     #[test]

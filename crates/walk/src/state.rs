@@ -554,6 +554,8 @@ impl App {
             Action::ToggleFigures => self.figures = !self.figures,
             Action::ToggleGhost => (self.ghost, self.ghost_since) = (!self.ghost, now),
             Action::Quit if key == Key::Esc && self.help => self.help = false, // Esc closes the box first
+            // and the full-screen map, which looks like one: back to its corner
+            Action::Quit if key == Key::Esc && self.map == MapMode::Full => self.map = MapMode::Corner,
             // a stray q late in a walk asks first (a finished walk's box says q quits: it does)
             Action::Quit if now - self.started > CONFIRM_QUIT_AFTER && self.finished.is_none() => {
                 self.help = false;

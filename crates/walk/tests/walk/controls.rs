@@ -463,6 +463,24 @@ fn esc_closes_the_help_and_quits_only_with_no_help_shown() {
     assert!(q.quit, "q quits even over the help");
 }
 
+/// QA finding 10: the full-screen map looks like a box that Esc would close, as it closes the help:
+/// it does (back to the corner map), and quits only after.
+#[test]
+fn esc_brings_the_full_map_back_to_its_corner_then_quits() {
+    use mazewalk_walk::MapMode;
+    let mut walk = app(false);
+    press(&mut walk, Key::Char('m'));
+    assert_eq!(walk.map, MapMode::Full);
+    press(&mut walk, Key::Esc);
+    assert_eq!((walk.map, walk.quit), (MapMode::Corner, false), "Esc over the full map closes it");
+    press(&mut walk, Key::Esc);
+    assert!(walk.quit, "Esc with nothing open quits");
+    let mut q = app(false);
+    press(&mut q, Key::Char('m'));
+    press(&mut q, Key::Char('q'));
+    assert!(q.quit, "q quits even over the full map");
+}
+
 #[test]
 fn the_help_never_hides_under_the_exit_box() {
     // two cells, the exit in the one the viewer does not start in

@@ -95,6 +95,24 @@ fn a_ghost_runs_ahead_down_the_corridor_in_real_time_and_goes_when_toggled_off()
     assert!(!off.contains('◌') && !off.contains("ghost"), "{off}");
 }
 
+/// QA finding 10: `g` with no run to race says what to do: served, that none is there yet; in the
+/// local walk, which `--ghost FILE` gives one.
+#[test]
+fn g_without_a_run_says_why_there_is_no_ghost() {
+    for (served, says) in [(false, "no ghost (--ghost FILE)"), (true, "no ghost yet")] {
+        let mut s = session(corridor());
+        if served {
+            s.set_players_in(Some(1));
+        }
+        s.frame(0.0, &mut out());
+        assert!(!text(&s).contains("no ghost"), "{}", text(&s));
+        s.feed(b"g", 0.1);
+        s.frame(0.2, &mut out());
+        let hud = text(&s).lines().last().unwrap().to_string();
+        assert!(hud.contains(says), "served {served}: {hud:?}");
+    }
+}
+
 #[test]
 fn a_ghost_turned_on_mid_walk_starts_from_the_toggle() {
     let maze = corridor();
