@@ -85,6 +85,36 @@ fn two_players_see_each_other_and_q_restores_the_terminal() {
     assert_eq!(log.matches(" connected").count(), 2, "{log}");
 }
 
+/// A stock `ssh` sends the client's locale (`SendEnv LANG LC_*`, Debian's and macOS's default): a
+/// player whose locale is not UTF-8 (`LANG=C`: the terminal would show each block glyph as three
+/// bytes of mojibake) is drawn in ASCII, every byte of it, as the local walk would be; one in a UTF-8
+/// locale gets half blocks; `NO_COLOR`, when sent, takes the colours away as it does locally.
+#[test]
+fn a_players_locale_and_no_color_choose_the_picture_as_they_do_locally() {
+    let scratch = Scratch::new("locale");
+    let server = Server::start(&scratch, &["--open"]);
+    let join = |user: &str, env: &[(&str, &str)]| {
+        let player = Player::connect_sending(None, server.port, None, user, (100, 30), env);
+        player.wait_for(&format!("{user}'s game"), playing);
+        player
+    };
+    let mut c = join("c", &[("LANG", "C"), ("LC_ALL", "")]);
+    c.wait_for("ascii on the HUD", |s, _| hud_row(s).contains("ascii"));
+    let mut utf8 = join("utf", &[("LANG", "C"), ("LC_CTYPE", "C.UTF-8")]);
+    utf8.wait_for("half blocks on the HUD", |s, _| hud_row(s).contains("half"));
+    let mut plain = join("plain", &[("NO_COLOR", "1")]);
+    plain.wait_for("its picture", |s, _| hud_row(s).contains("half"));
+    for player in [&mut c, &mut utf8, &mut plain] {
+        player.send(b"q");
+        assert!(player.wait_exit().success());
+    }
+    assert!(c.raw().is_ascii(), "LANG=C: not one byte of UTF-8");
+    assert!(String::from_utf8_lossy(&utf8.raw()).contains('\u{2580}'), "a UTF-8 locale: half blocks");
+    // 256 colours (xterm-256color) are `38;5;N` and `48;5;N` in an SGR
+    let colours = |raw: &[u8]| raw.windows(5).filter(|w| *w == b"38;5;" || *w == b"48;5;").count();
+    assert_eq!(colours(&plain.raw()), 0, "NO_COLOR: no colour codes");
+}
+
 /// Whether `ch` shows in the 3D view below the corner map (rows from a third of the screen down to the
 /// HUD): where a figure's label, its player's initial, is drawn on its head.
 fn in_view(screen: &vt100::Screen, ch: char) -> bool {

@@ -23,7 +23,7 @@ use std::time::Instant;
 
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_serve::Limits;
-use mazewalk_serve::player::Player;
+use mazewalk_serve::player::{ClientTerminal, Player};
 use mazewalk_serve::spectator::{Audience, Spectator};
 use mazewalk_serve::world::World;
 
@@ -57,8 +57,8 @@ fn main() {
     let limits = Limits::default();
     let audience = Audience::new(&maze, 16);
     let mut world = World::new();
-    let mut player =
-        Player::new(Arc::clone(&maze), term, None, (cols, rows), &limits, 0.0).expect("a player");
+    let mut player = Player::new(Arc::clone(&maze), &ClientTerminal::new(term), (cols, rows), &limits, 0.0)
+        .expect("a player");
     let (position, heading, cell) = player.whereabouts();
     let id = world.join("ada", position, heading, cell, 0.0);
     player.joined(id);
@@ -66,8 +66,15 @@ fn main() {
         .map(|_| {
             let apart = Audience::new(&maze, 16);
             let audience = if own { &apart } else { &audience };
-            Spectator::new(Arc::clone(&maze), term, None, (cols, rows), &limits, audience, 0.0)
-                .expect("a spectator")
+            Spectator::new(
+                Arc::clone(&maze),
+                &ClientTerminal::new(term),
+                (cols, rows),
+                &limits,
+                audience,
+                0.0,
+            )
+            .expect("a spectator")
         })
         .collect();
 

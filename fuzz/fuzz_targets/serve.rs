@@ -7,7 +7,7 @@
 
 use glam::Vec2;
 use libfuzzer_sys::fuzz_target;
-use mazewalk_serve::player::Player;
+use mazewalk_serve::player::{ClientTerminal, Player};
 use mazewalk_serve::world::{PlayerId, World};
 
 #[path = "common/served.rs"]
@@ -18,7 +18,9 @@ fuzz_target!(|bytes: &[u8]| {
     let limits = served::limits();
     let Some(((cols, rows), steps)) = served::steps(bytes) else { return };
     let maze = mazewalk_maze::builtin().expect("built-in maze");
-    let Ok(mut player) = Player::new(maze, "xterm-256color", None, (cols, rows), &limits, 0.0) else {
+    let Ok(mut player) =
+        Player::new(maze, &ClientTerminal::new("xterm-256color"), (cols, rows), &limits, 0.0)
+    else {
         return;
     };
     let mut world = World::new();

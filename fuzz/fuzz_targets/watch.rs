@@ -8,6 +8,7 @@
 
 use glam::Vec2;
 use libfuzzer_sys::fuzz_target;
+use mazewalk_serve::player::ClientTerminal;
 use mazewalk_serve::spectator::{Audience, Spectator};
 use mazewalk_serve::world::{PlayerId, World};
 
@@ -22,7 +23,8 @@ fuzz_target!(|bytes: &[u8]| {
     let audience = Audience::new(&maze, 4);
     let (position, heading) = (maze.viewer().pos, maze.viewer().dir_deg);
     let Some(cell) = maze.cell_at(position) else { return };
-    let Ok(mut player) = Spectator::new(maze, "xterm-256color", None, (cols, rows), &limits, &audience, 0.0)
+    let Ok(mut player) =
+        Spectator::new(maze, &ClientTerminal::new("xterm-256color"), (cols, rows), &limits, &audience, 0.0)
     else {
         return;
     };

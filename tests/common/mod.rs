@@ -239,6 +239,19 @@ impl Player {
         cols: u16,
         rows: u16,
     ) -> Player {
+        Player::connect_sending(bind, port, key, user, (cols, rows), &[])
+    }
+
+    /// As [`connect_from`](Self::connect_from), with `env` set for `ssh` and sent to the server
+    /// (`-o SendEnv=NAME` each, as Debian's `ssh_config` sends `LANG` and `LC_*`).
+    pub fn connect_sending(
+        bind: Option<&str>,
+        port: u16,
+        key: Option<&Path>,
+        user: &str,
+        (cols, rows): (u16, u16),
+        env: &[(&str, &str)],
+    ) -> Player {
         require_tool("ssh", "openssh-client");
         require_tool("setsid", "util-linux");
         let pty = rustix_openpty::openpty(None, Some(&winsize(cols, rows))).expect("openpty");
@@ -248,8 +261,10 @@ impl Player {
         let child = Command::new("setsid")
             .args(["-c", "ssh", "-tt"])
             .args(bind.map(|bind| ["-b", bind]).into_iter().flatten())
+            .args(env.iter().flat_map(|(name, _)| ["-o".to_string(), format!("SendEnv={name}")]))
             .args(ssh_args(port, key, user))
             .env("TERM", "xterm-256color")
+            .envs(env.iter().copied())
             .stdin(stdio())
             .stdout(stdio())
             .stderr(stdio())

@@ -5,7 +5,7 @@
 //! TCP accept ─ slots (handshakes apart from players, per address group, connection rate)
 //!   ─▶ connection task: russh over a CutStream (curve25519 / ML-KEM only)
 //!   handshake + auth (timeout; --open, or the authorized keys) ─▶ session channel ─▶ player task:
-//!     pty-req (TERM, size) · env COLORTERM · shell ─▶ Player (pure: a Session + enter/leave bytes,
+//!     pty-req (TERM, size) · env (colour, locale) · shell ─▶ Player (pure: a Session + enter/leave bytes,
 //!     clamped size, rate-limited input)
 //!     loop: channel data ─▶ Player::feed · window-change ─▶ resize · world version ─▶ peers
 //!           Player::frame ─▶ channel (write timeout) · whereabouts ─▶ World ─▶ version bump

@@ -1,6 +1,7 @@
 //! One connected player, without the connection: a [`Session`] plus what a remote terminal needs that
 //! a local one gets from the guard — entering and leaving game mode in bytes, the pty's size clamped,
-//! colour depth from the pty's `TERM` (and `COLORTERM` if the client sent it), the input rate limited —
+//! colour depth and glyphs from the pty's `TERM` and what the client's environment said
+//! ([`ClientTerminal`]), the input rate limited —
 //! and the game's rules for one player in a shared world: how often it looks at the others
 //! ([`Player::look_due`], at most [`WORLD_LOOKS_PER_SECOND`]), which of them it draws, the winner's
 //! notice (shown once, for [`NOTICE_SECONDS`]), and what the world learns from it ([`Player::news`]:
@@ -106,29 +107,95 @@ pub(crate) fn apply_resize(resizes: &mut Resizes, session: &mut Session, now: f6
     }
 }
 
-/// The colour depth for a remote terminal: as locally, from its `TERM` and (when the client sent it)
-/// `COLORTERM`.
-#[must_use]
-pub fn color_depth(term: &str, colorterm: Option<&str>) -> ColorDepth {
-    color_plan(term, colorterm).depth
+/// A served terminal as its SSH client described it: the pty request's `TERM` and the environment
+/// variables sent with the session (`SendEnv`: Debian's and macOS's `ssh` send `LANG` and `LC_*` by
+/// default) that choose the picture as they do locally: `COLORTERM` and `NO_COLOR` the colour depth
+/// ([`caps::plan_color_depth`]), the locale (`LC_ALL`, `LC_CTYPE`, `LANG`, by tmux's rule:
+/// [`caps::locale_is_utf8`]) whether block glyphs show or ASCII is drawn. Each value is cut at
+/// [`MAX_CLIENT_VALUE`] characters; other variables are refused and not kept.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ClientTerminal {
+    term: String,
+    env: [Option<String>; ClientTerminal::ENV.len()],
 }
 
-/// The walk of a served screen (a player's or a spectator's) on `maze` for a terminal of type `term`:
-/// half blocks (ASCII on a DEC terminal) in the colour depth `term` and `colorterm` give ([`color_plan`]), without the developer
-/// keys ([`App::developer_keys`]), at time `now`;
+/// The longest `TERM` or environment value a [`ClientTerminal`] keeps (they only pick the picture).
+pub const MAX_CLIENT_VALUE: usize = 64;
+
+impl ClientTerminal {
+    /// The environment variables kept: the ones that choose the picture.
+    pub const ENV: [&'static str; 5] = ["COLORTERM", "NO_COLOR", "LC_ALL", "LC_CTYPE", "LANG"];
+
+    /// A terminal of type `term` (the pty request's), with no environment sent.
+    #[must_use]
+    pub fn new(term: &str) -> ClientTerminal {
+        ClientTerminal { term: bounded(term), env: Default::default() }
+    }
+
+    /// The same, with `name` set to `value` (where [`ENV`](Self::ENV) names it).
+    #[must_use]
+    pub fn with(mut self, name: &str, value: &str) -> ClientTerminal {
+        self.set(name, value);
+        self
+    }
+
+    /// Keeps `name`'s `value` if it is one of [`ENV`](Self::ENV) (the last one sent wins); whether
+    /// it was.
+    pub fn set(&mut self, name: &str, value: &str) -> bool {
+        let slot = Self::ENV.iter().position(|&known| known == name);
+        if let Some(k) = slot {
+            self.env[k] = Some(bounded(value));
+        }
+        slot.is_some()
+    }
+
+    /// The pty's `TERM`.
+    #[must_use]
+    pub fn term(&self) -> &str {
+        &self.term
+    }
+
+    /// `TERM`, or a kept variable's value as the client sent it.
+    #[must_use]
+    pub fn get(&self, name: &str) -> Option<&str> {
+        if name == "TERM" {
+            return Some(&self.term);
+        }
+        let k = Self::ENV.iter().position(|&known| known == name)?;
+        self.env[k].as_deref()
+    }
+
+    /// [`get`](Self::get) as the terminal-detection functions of [`caps`] ask.
+    fn lookup(&self) -> impl Fn(&str) -> Option<String> + '_ {
+        |name| self.get(name).map(str::to_string)
+    }
+}
+
+fn bounded(s: &str) -> String {
+    s.chars().take(MAX_CLIENT_VALUE).collect()
+}
+
+/// The colour depth for a remote terminal: as locally, from its `TERM`, `COLORTERM` and `NO_COLOR`.
+#[must_use]
+pub fn color_depth(terminal: &ClientTerminal) -> ColorDepth {
+    color_plan(terminal).depth
+}
+
+/// The walk of a served screen (a player's or a spectator's) on `maze` for `terminal`: half blocks
+/// (ASCII on a DEC terminal or in a locale that is not UTF-8: [`caps::detect_block_glyphs`]) in the
+/// colour depth it gives ([`color_plan`]), without the developer keys ([`App::developer_keys`]), at
+/// time `now`;
 /// with the plan, whose question about truecolor the caller asks.
 ///
 /// # Errors
 /// The maze's start is in no cell.
 pub(crate) fn served_app(
     maze: impl Into<Arc<Maze>>,
-    term: &str,
-    colorterm: Option<&str>,
+    terminal: &ClientTerminal,
     now: f64,
 ) -> Result<(App, caps::ColorPlan), StartOutsideMaze> {
-    let plan = color_plan(term, colorterm);
-    // half blocks, or ASCII for a terminal without them (DEC's: [`caps::detect_block_glyphs`])
-    let blocks = caps::detect_block_glyphs(|k: &str| (k == "TERM").then(|| term.to_string()));
+    let plan = color_plan(terminal);
+    let blocks = caps::detect_block_glyphs(terminal.lookup());
     let charset = if blocks { Charset::Half } else { Charset::Ascii };
     let options = RenderOptions { charset, color_depth: plan.depth, ..RenderOptions::default() };
     let mut app = App::new(maze, options, now)?;
@@ -136,12 +203,16 @@ pub(crate) fn served_app(
     Ok((app, plan))
 }
 
-/// The screen of `app` on a `cols × rows` terminal (as the pty request gave them, clamped to
-/// `limits`) of type `term`.
-pub(crate) fn served_session(app: App, term: &str, (cols, rows): (u32, u32), limits: &Limits) -> Session {
-    let env = |k: &str| (k == "TERM").then(|| term.to_string());
+/// The screen of `app` on a `cols × rows` `terminal` (as the pty request gave them, clamped to
+/// `limits`).
+pub(crate) fn served_session(
+    app: App,
+    terminal: &ClientTerminal,
+    (cols, rows): (u32, u32),
+    limits: &Limits,
+) -> Session {
     let session_options = SessionOptions {
-        bce: caps::detect_bce(env),
+        bce: caps::detect_bce(terminal.lookup()),
         sample_rate: Some(limits.render_rate),
         ..SessionOptions::default()
     };
@@ -174,13 +245,8 @@ pub(crate) fn leave_game(message: Option<&str>, out: &mut Vec<u8>) {
 /// ([`caps::plan_color_depth`] with what the client sent: the server knows nothing of the
 /// player's terminfo or tmux).
 #[must_use]
-pub(crate) fn color_plan(term: &str, colorterm: Option<&str>) -> caps::ColorPlan {
-    let env = |k: &str| match k {
-        "TERM" => Some(term.to_string()),
-        "COLORTERM" => colorterm.map(str::to_string),
-        _ => None,
-    };
-    caps::plan_color_depth(env, caps::ColorFacts::default())
+pub(crate) fn color_plan(terminal: &ClientTerminal) -> caps::ColorPlan {
+    caps::plan_color_depth(terminal.lookup(), caps::ColorFacts::default())
 }
 
 /// Whether `bytes` are nothing but whole answers a terminal sends by itself: `CSI ? … c` (device
@@ -258,22 +324,21 @@ pub struct News {
 }
 
 impl Player {
-    /// A player walking `maze` from its start on a `cols × rows` terminal (as the pty request gave
-    /// them) of type `term`, at time `now`.
+    /// A player walking `maze` from its start on a `cols × rows` `terminal` (as the pty request
+    /// gave them), at time `now`.
     ///
     /// # Errors
     /// The maze's start is in no cell.
     pub fn new(
         maze: impl Into<Arc<Maze>>,
-        term: &str,
-        colorterm: Option<&str>,
+        terminal: &ClientTerminal,
         (cols, rows): (u32, u32),
         limits: &Limits,
         now: f64,
     ) -> Result<Player, StartOutsideMaze> {
-        let (app, plan) = served_app(maze, term, colorterm, now)?;
+        let (app, plan) = served_app(maze, terminal, now)?;
         Ok(Player {
-            session: served_session(app, term, (cols, rows), limits),
+            session: served_session(app, terminal, (cols, rows), limits),
             input: RateLimit::new(limits.input_rate, limits.input_burst, now),
             limits: *limits,
             resizes: Resizes::new(limits),
@@ -311,12 +376,12 @@ impl Player {
     }
 
     /// The header of an asciicast of this player's screen (`serve --record-dir`): its size as
-    /// drawn, `term` and `colorterm` as the client sent them, its colour depth and glyphs now;
-    /// `timestamp`, seconds since the Unix epoch.
+    /// drawn, `TERM` and `COLORTERM` as the client sent them (`terminal`), its colour depth and
+    /// glyphs now; `timestamp`, seconds since the Unix epoch.
     #[must_use]
     pub fn cast_header(
         &self,
-        (term, colorterm): (&str, Option<&str>),
+        terminal: &ClientTerminal,
         title: String,
         timestamp: Option<u64>,
     ) -> mazewalk_walk::cast::Header {
@@ -326,8 +391,8 @@ impl Player {
             height: u16::try_from(screen.height()).unwrap_or(u16::MAX),
             timestamp,
             title,
-            term: Some(term.to_string()),
-            colorterm: colorterm.map(str::to_string),
+            term: Some(terminal.term().to_string()),
+            colorterm: terminal.get("COLORTERM").map(str::to_string),
             color_depth: self.session.color_depth(),
             charset: self.session.app().options.charset,
             asked_truecolor: self.ask_truecolor,
@@ -544,8 +609,7 @@ mod tests {
     fn player(cols: u32, rows: u32) -> Player {
         Player::new(
             mazewalk_maze::builtin().unwrap(),
-            "xterm-256color",
-            None,
+            &ClientTerminal::new("xterm-256color"),
             (cols, rows),
             &Limits::default(),
             0.0,
@@ -591,10 +655,17 @@ mod tests {
 
     #[test]
     fn colour_depth_follows_term_and_colorterm() {
-        assert_eq!(color_depth("xterm-256color", None), ColorDepth::Ansi256);
-        assert_eq!(color_depth("xterm-256color", Some("truecolor")), ColorDepth::TrueColor);
-        assert_eq!(color_depth("dumb", None), ColorDepth::None);
-        assert_eq!(color_depth("", None), ColorDepth::Ansi16);
+        let term = ClientTerminal::new;
+        assert_eq!(color_depth(&term("xterm-256color")), ColorDepth::Ansi256);
+        assert_eq!(
+            color_depth(&term("xterm-256color").with("COLORTERM", "truecolor")),
+            ColorDepth::TrueColor
+        );
+        assert_eq!(color_depth(&term("dumb")), ColorDepth::None);
+        assert_eq!(color_depth(&term("")), ColorDepth::Ansi16);
+        // NO_COLOR (no-color.org), when the client sends it (`SendEnv NO_COLOR`), as locally
+        assert_eq!(color_depth(&term("xterm-256color").with("NO_COLOR", "1")), ColorDepth::None);
+        assert_eq!(color_depth(&term("xterm-256color").with("NO_COLOR", "")), ColorDepth::Ansi256);
     }
 
     // QA: a DEC terminal (no colour in its terminfo, no Unicode blocks in its font) is drawn in
@@ -611,7 +682,7 @@ mod tests {
             ("xterm-mono", Charset::Half, ColorDepth::None),
             ("xterm-256color", Charset::Half, ColorDepth::Ansi256),
         ] {
-            let mut p = Player::new(maze(), term, None, (80, 24), &limits, 0.0).unwrap();
+            let mut p = Player::new(maze(), &ClientTerminal::new(term), (80, 24), &limits, 0.0).unwrap();
             assert_eq!(p.session().app().options.charset, charset, "{term}");
             assert_eq!(p.session().color_depth(), depth, "{term}");
             let mut out = Vec::new();
@@ -620,6 +691,33 @@ mod tests {
             let blocks = String::from_utf8_lossy(&out).contains('\u{2580}');
             assert_eq!(blocks, charset == Charset::Half, "{term}: a half block sent");
         }
+    }
+
+    // QA: a locale that names no UTF-8 codeset, as the client sent it, is drawn in ASCII (its
+    // terminal would show each block glyph as three bytes of mojibake); tmux's rule picks which of
+    // LC_ALL, LC_CTYPE and LANG decides. Only the variables that choose the picture are kept, each
+    // bounded.
+    #[test]
+    fn the_clients_locale_chooses_the_glyphs() {
+        let limits = Limits::default();
+        let xterm = || ClientTerminal::new("xterm-256color");
+        for (terminal, charset) in [
+            (xterm(), Charset::Half),
+            (xterm().with("LANG", "C"), Charset::Ascii),
+            (xterm().with("LANG", "en_GB.ISO-8859-1"), Charset::Ascii),
+            (xterm().with("LANG", "C").with("LC_CTYPE", "C.UTF-8"), Charset::Half),
+            (xterm().with("LANG", "en_US.UTF-8").with("LC_ALL", "POSIX"), Charset::Ascii),
+            (xterm().with("LC_ALL", "").with("LANG", "C.utf8"), Charset::Half),
+        ] {
+            let p =
+                Player::new(mazewalk_maze::builtin().unwrap(), &terminal, (80, 24), &limits, 0.0).unwrap();
+            assert_eq!(p.session().app().options.charset, charset, "{terminal:?}");
+        }
+        let mut terminal = ClientTerminal::new(&"x".repeat(10_000));
+        assert!(!terminal.set("LD_PRELOAD", "/tmp/evil.so") && terminal.get("LD_PRELOAD").is_none());
+        assert!(terminal.set("LANG", &"é".repeat(10_000)));
+        assert_eq!(terminal.get("LANG").map(|v| v.chars().count()), Some(MAX_CLIENT_VALUE));
+        assert_eq!(terminal.term().len(), MAX_CLIENT_VALUE);
     }
 
     // issue #33: every player's terminal is asked for truecolor (through its session), unless what the
@@ -645,10 +743,11 @@ mod tests {
         assert_eq!(other.session().color_depth(), ColorDepth::Ansi256);
         let limits = Limits::default();
         let maze = || mazewalk_maze::builtin().unwrap();
-        let mut told =
-            Player::new(maze(), "xterm-256color", Some("truecolor"), (80, 24), &limits, 0.0).unwrap();
+        let truecolor = ClientTerminal::new("xterm-256color").with("COLORTERM", "truecolor");
+        let mut told = Player::new(maze(), &truecolor, (80, 24), &limits, 0.0).unwrap();
         assert!(!asked(&mut told));
-        let mut tmux = Player::new(maze(), "tmux-256color", None, (80, 24), &limits, 0.0).unwrap();
+        let tmux = ClientTerminal::new("tmux-256color");
+        let mut tmux = Player::new(maze(), &tmux, (80, 24), &limits, 0.0).unwrap();
         assert!(!asked(&mut tmux), "a tmux on the player's side answers nothing (and 3.4 may crash)");
     }
 

@@ -18,8 +18,8 @@ use std::sync::Arc;
 
 use super::limits::{Limits, RateLimit};
 use super::player::{
-    NOTICE_SECONDS, Resizes, WORLD_LOOKS_PER_SECOND, apply_resize, enter_game, leave_game, only_replies,
-    served_app, served_session,
+    ClientTerminal, NOTICE_SECONDS, Resizes, WORLD_LOOKS_PER_SECOND, apply_resize, enter_game, leave_game,
+    only_replies, served_app, served_session,
 };
 use super::world::{Look, PlayerId, Seen};
 use mazewalk_maze::Maze;
@@ -138,25 +138,24 @@ pub struct Spectator {
 }
 
 impl Spectator {
-    /// A spectator of `maze` on a `cols × rows` terminal of type `term`, at time `now`, one of
+    /// A spectator of `maze` on a `cols × rows` `terminal`, at time `now`, one of
     /// `audience`.
     ///
     /// # Errors
     /// The maze's start is in no cell.
     pub fn new(
         maze: impl Into<Arc<Maze>>,
-        term: &str,
-        colorterm: Option<&str>,
+        terminal: &ClientTerminal,
         (cols, rows): (u32, u32),
         limits: &Limits,
         audience: &Audience,
         now: f64,
     ) -> Result<Spectator, StartOutsideMaze> {
-        let (mut app, plan) = served_app(maze, term, colorterm, now)?;
+        let (mut app, plan) = served_app(maze, terminal, now)?;
         app.reveal_map = true; // everyone on the whole map
         // no chalk marks: the followed player's are not shared, and the spectator walks nowhere
         app.chalk = false;
-        let mut session = served_session(app, term, (cols, rows), limits);
+        let mut session = served_session(app, terminal, (cols, rows), limits);
         session.set_help(HELP.iter().map(|line| (*line).to_string()).collect());
         session.set_roster_hint(ROSTER_HINT);
         session.share_views(Arc::clone(&audience.views));
@@ -485,8 +484,7 @@ mod tests {
         let audience = Audience::new(maze, 4);
         Spectator::new(
             Arc::clone(maze),
-            "xterm-256color",
-            None,
+            &ClientTerminal::new("xterm-256color"),
             (100, 30),
             &Limits::default(),
             &audience,
@@ -678,21 +676,22 @@ mod tests {
         let start = maze.viewer().pos;
         world.join("ada", start, 0.0, maze.cell_at(start).unwrap(), 0.0);
         let terminals = [
-            ("xterm-256color", None, ColorDepth::Ansi256),
-            ("xterm-256color", Some("truecolor"), ColorDepth::TrueColor),
-            ("xterm", None, ColorDepth::Ansi16),
-            ("", None, ColorDepth::Ansi16),
+            (ClientTerminal::new("xterm-256color"), ColorDepth::Ansi256),
+            (ClientTerminal::new("xterm-256color").with("COLORTERM", "truecolor"), ColorDepth::TrueColor),
+            (ClientTerminal::new("xterm"), ColorDepth::Ansi16),
+            (ClientTerminal::new(""), ColorDepth::Ansi16),
         ];
-        for (term, colorterm, depth) in terminals {
+        for (terminal, depth) in terminals {
+            let term = terminal.term();
             for size in [(0, 0), (1, 1), (20, 6), (80, 24), (150, 50), (65535, 65535)] {
-                let mut s = Spectator::new(Arc::clone(&maze), term, colorterm, size, &limits, &audience, 0.0)
-                    .unwrap();
+                let mut s =
+                    Spectator::new(Arc::clone(&maze), &terminal, size, &limits, &audience, 0.0).unwrap();
                 s.look(world.look(), 0.0);
                 assert!(s.frame(0.0, &mut Vec::new()), "{term} {size:?}");
                 let screen = s.session().screen();
                 let want = clamp_size(size.0, size.1, &limits);
                 assert_eq!((screen.width() as u16, screen.height() as u16), want, "{term} {size:?}");
-                assert_eq!(s.session().color_depth(), depth, "{term} {colorterm:?}");
+                assert_eq!(s.session().color_depth(), depth, "{terminal:?}");
                 if want.0 >= 80 {
                     assert!(text(&s).contains("watching ada"), "{term} {size:?}:\n{}", text(&s));
                 }

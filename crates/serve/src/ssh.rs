@@ -28,7 +28,7 @@ use super::identity::player_name;
 use super::limits::{Limits, screen_share};
 use super::logs::{self, LogLimit, tenths};
 use super::metrics::Metrics;
-use super::player::{News, Player};
+use super::player::{ClientTerminal, News, Player};
 use super::recording::{RecordOptions, Recordings, Tap};
 use super::records::{Keeper, Standing, standing_lines};
 use super::shared::codec::{Finish, PlayerRecord, WinnerRecord};
@@ -1087,7 +1087,12 @@ impl Handler for Handlers {
         _: &str,
         session: &mut Session,
     ) -> Result<(), Self::Error> {
-        if name == "COLORTERM" { session.channel_success(channel) } else { session.channel_failure(channel) }
+        // the ones that choose the picture (the player's task reads them from the channel)
+        if ClientTerminal::ENV.contains(&name) {
+            session.channel_success(channel)
+        } else {
+            session.channel_failure(channel)
+        }
     }
 
     async fn shell_request(&mut self, channel: ChannelId, session: &mut Session) -> Result<(), Self::Error> {
@@ -1154,17 +1159,10 @@ enum End {
     PushedOut,
 }
 
-/// The terminal a pty request described.
+/// The terminal a pty request described, with the environment the client sent.
 struct Pty {
-    term: String,
+    terminal: ClientTerminal,
     size: (u32, u32),
-}
-
-/// The longest `TERM` / `COLORTERM` value kept (they only pick a colour depth).
-const MAX_TERM: usize = 64;
-
-fn bounded(s: &str) -> String {
-    s.chars().take(MAX_TERM).collect()
 }
 
 /// The connection's one session channel: the game, then — if the client keeps the connection open
@@ -1188,21 +1186,19 @@ async fn play(shared: Arc<Shared>, conn: Arc<Conn>, channel: Channel<Msg>) {
 async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
     let (mut rx, tx) = channel.split();
     let mut pty: Option<Pty> = None;
-    let mut colorterm: Option<String> = None;
+    let mut env = ClientTerminal::default(); // (sent before or after the pty request)
     loop {
         match rx.wait().await {
             Some(ChannelMsg::RequestPty { term, col_width, row_height, .. }) => {
-                pty = Some(Pty { term: bounded(&term), size: (col_width, row_height) });
+                pty = Some(Pty { terminal: ClientTerminal::new(&term), size: (col_width, row_height) });
             }
             Some(ChannelMsg::WindowChange { col_width, row_height, .. }) => {
                 if let Some(pty) = &mut pty {
                     pty.size = (col_width, row_height);
                 }
             }
-            Some(ChannelMsg::SetEnv { variable_name, variable_value, .. })
-                if variable_name == "COLORTERM" =>
-            {
-                colorterm = Some(bounded(&variable_value));
+            Some(ChannelMsg::SetEnv { variable_name, variable_value, .. }) => {
+                env.set(&variable_name, &variable_value);
             }
             Some(ChannelMsg::RequestShell { .. }) => break,
             // Refused by the handler, which closes the channel.
@@ -1211,31 +1207,30 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
             Some(_) => {}
         }
     }
-    let Some(pty) = pty else {
+    let Some(mut pty) = pty else {
         let _ = tx.data_bytes(format!("{NO_PTY_MESSAGE}\r\n").into_bytes()).await;
         close(&tx, 1).await;
         return;
     };
-    if pty.term.eq_ignore_ascii_case("dumb") {
+    for name in ClientTerminal::ENV {
+        if let Some(value) = env.get(name) {
+            pty.terminal.set(name, value);
+        }
+    }
+    if pty.terminal.term().eq_ignore_ascii_case("dumb") {
         // As the local walk refuses one: cursor moves and colours would be garbage on it.
         let _ = tx.data_bytes(format!("{DUMB_TERMINAL_MESSAGE}\r\n").into_bytes()).await;
         close(&tx, 1).await;
         return;
     }
     if conn.spectator.load(Ordering::SeqCst) {
-        watch(shared, conn, tx, rx, &pty, colorterm.as_deref()).await;
+        watch(shared, conn, tx, rx, &pty).await;
         return;
     }
     let user = Conn::get(&conn.user).unwrap_or_else(|| "player".into());
     let now = shared.now();
-    let mut player = match Player::new(
-        Arc::clone(&shared.maze),
-        &pty.term,
-        colorterm.as_deref(),
-        pty.size,
-        &shared.limits,
-        now,
-    ) {
+    let mut player = match Player::new(Arc::clone(&shared.maze), &pty.terminal, pty.size, &shared.limits, now)
+    {
         Ok(player) => player,
         Err(err) => {
             let _ = tx.data_bytes(format!("mazewalk: {err}\r\n").into_bytes()).await;
@@ -1262,7 +1257,7 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
             let timestamp =
                 std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).ok().map(|d| d.as_secs());
             let title = format!("mazewalk serve: {}", player_name(&user));
-            let header = player.cast_header((&pty.term, colorterm.as_deref()), title, timestamp);
+            let header = player.cast_header(&pty.terminal, title, timestamp);
             recordings.start(&user, conn.group, header, shared.now()).await
         }
         None => None,
@@ -1354,13 +1349,11 @@ async fn watch(
     tx: ChannelWriteHalf<Msg>,
     mut rx: russh::ChannelReadHalf,
     pty: &Pty,
-    colorterm: Option<&str>,
 ) {
     let now = shared.now();
     let mut spectator = match Spectator::new(
         Arc::clone(&shared.maze),
-        &pty.term,
-        colorterm,
+        &pty.terminal,
         pty.size,
         &shared.limits,
         &shared.audience,
