@@ -8,7 +8,8 @@
 //! Bounded like the SSH side, whoever connects:
 //! - at most [`MAX_CONNECTIONS`] connections at once; past it a newcomer pushes out the oldest
 //!   connection of the address group holding the most, where that group holds at least two more than
-//!   the newcomer's ([`push_out`]; the SSH side's groups: an IPv4 address, IPv6 by /48, /56 and /64),
+//!   the newcomer's ([`push_out`]; the SSH side's groups: IPv4 by /24 and address, IPv6 by /48, /56
+//!   and /64),
 //!   or else is closed at once: one address group (or a few) holding every connection cannot keep the
 //!   page and `/metrics` from anyone else, and a reverse proxy's single address is capped as before;
 //! - at most [`MAX_EVENT_CLIENTS`] event streams, shared out by address as connections are (503 to a
@@ -167,8 +168,9 @@ impl Places {
 /// the newcomer's holds no more than it does); `None` where no group holds that many, so the newcomer
 /// is refused. Fair shares: groups holding every place between them give way, one at a time, to
 /// groups holding fewer, and never to one of themselves. The groups are the SSH side's
-/// ([`fair_push_out`](crate::slots::fair_push_out)): an IPv4 address; IPv6 places counted by /48,
-/// then /56, then /64 (red-team pass 4: raw addresses let one host's /64 hold every place).
+/// ([`fair_push_out`](crate::slots::fair_push_out)): IPv4 places counted by /24, then by address;
+/// IPv6 places by /48, then /56, then /64 (red-team pass 4: raw addresses let one host's /64, or one
+/// /24's addresses, hold every place).
 #[must_use]
 pub fn push_out(open: &[IpAddr], newcomer: IpAddr) -> Option<usize> {
     let held: Vec<(IpAddr, f64)> = open.iter().enumerate().map(|(k, &ip)| (ip, k as f64)).collect();
@@ -448,7 +450,7 @@ mod tests {
         // shares even out until each holds one
         let mut open = one.clone();
         for k in 0..MAX_CONNECTIONS - 1 {
-            let newcomer = IpAddr::from([10, 0, (k / 256) as u8, (k % 256) as u8]);
+            let newcomer = IpAddr::from([10, (k / 256) as u8, (k % 256) as u8, 1]); // each its own /24
             let at = push_out(&open, newcomer).expect("a fresh address gets in");
             open.remove(at);
             open.push(newcomer);
@@ -547,6 +549,29 @@ mod tests {
         assert!(events(&site, v6("2001:db8:1::1".into())).is_some(), "another customer's reader: let in");
         assert!(events(&site, ip(9)).is_some(), "an IPv4 reader: let in");
         assert_eq!(Places::len(&site.streams), MAX_EVENT_CLIENTS);
+        drop(held);
+    }
+
+    /// Red-team pass 4, left then: 32 IPv4 addresses held the 32 event streams, each counted apart.
+    /// Now an IPv4 address counts by its /24 first (where one host's rented addresses sit): the
+    /// streams of 32 addresses of one /24 give way to a reader from another /24, not to a 33rd
+    /// address of their own.
+    #[tokio::test]
+    async fn many_ipv4_addresses_of_one_24_hold_the_event_streams_as_one() {
+        let (_version, versions) = watch::channel(0u64);
+        let (_stop, shutdown) = watch::channel(false);
+        let site = Arc::new(bare_site(versions, shutdown));
+        let v4 = |a: [u8; 4]| IpAddr::from(a);
+        let held: Vec<Body> = (0..MAX_EVENT_CLIENTS)
+            .map(|k| events(&site, v4([198, 51, 100, k as u8])).expect("a stream"))
+            .collect();
+        assert_eq!(Places::len(&site.streams), MAX_EVENT_CLIENTS);
+        assert!(events(&site, v4([198, 51, 100, 200])).is_none(), "their own /24: refused (503)");
+        assert!(events(&site, v4([198, 51, 101, 1])).is_some(), "a reader from another /24: let in");
+        assert!(events(&site, v4([203, 0, 113, 7])).is_some(), "and another");
+        assert_eq!(Places::len(&site.streams), MAX_EVENT_CLIENTS);
+        // each /24 holding one now but the flood's, which holds 30: a third outsider gets in too
+        assert!(events(&site, v4([192, 0, 2, 1])).is_some());
         drop(held);
     }
 

@@ -35,10 +35,13 @@
 //!   has at most [`Limits::max_per_address`] connections of both kinds, and opens new ones at most
 //!   [`Limits::connect_rate`] a second after a burst of twice that many. A full server's fair share
 //!   counts IPv6 places by /48 first, then by /56, then by /64 ([`address_prefixes`]): a home gets a
-//!   /56 or a /48 (RIPE-690), so one customer's thousands of /64s count as one holder.
+//!   /56 or a /48 (RIPE-690), so one customer's thousands of /64s count as one holder. IPv4 places
+//!   count by /24 first, then by address: the smallest block routed on the internet, where one
+//!   host's rented addresses usually sit, so 32 addresses of one /24 holding every place give way to
+//!   a newcomer from another /24 (the caps stay per address: a campus's many addresses keep theirs).
 
 use std::collections::{BTreeMap, HashMap};
-use std::net::{IpAddr, Ipv6Addr};
+use std::net::{IpAddr, Ipv4Addr, Ipv6Addr};
 
 use super::limits::{Limits, RateLimit};
 
@@ -57,7 +60,7 @@ pub(crate) fn address_group(ip: IpAddr) -> IpAddr {
 
 /// The prefixes an address is counted in when a full server shares its places ([`fair_push_out`]),
 /// widest first: an IPv6 address's /48 (a site), /56 (a home) and /64 ([`address_group`]); an IPv4
-/// address (also IPv4-mapped) is itself at every level.
+/// address's (also IPv4-mapped) /24 twice, then the address itself.
 #[must_use]
 pub fn address_prefixes(ip: IpAddr) -> [IpAddr; 3] {
     match address_group(ip) {
@@ -65,7 +68,10 @@ pub fn address_prefixes(ip: IpAddr) -> [IpAddr; 3] {
             let bits = u128::from(v6);
             [48, 56, 64].map(|len| IpAddr::V6(Ipv6Addr::from(bits & (u128::MAX << (128 - len)))))
         }
-        v4 => [v4; 3],
+        IpAddr::V4(v4) => {
+            let block = IpAddr::V4(Ipv4Addr::from(u32::from(v4) & !0xFF));
+            [block, block, IpAddr::V4(v4)]
+        }
     }
 }
 
@@ -73,10 +79,10 @@ pub fn address_prefixes(ip: IpAddr) -> [IpAddr; 3] {
 /// with the lowest goes first) a newcomer from `newcomer` pushes out when all are taken, if any.
 ///
 /// The holders are compared by the places their /48 holds, then their /56, then their /64
-/// ([`address_prefixes`]; an IPv4 address at each level): the heaviest gives way, where it holds
+/// ([`address_prefixes`]; an IPv4 address's /24, then the address): the heaviest gives way, where it holds
 /// at least two more than the newcomer's at the first level the two differ (after the swap the
 /// newcomer's holds no more than it does, so two groups never take a place back and forth). Never
-/// one of the newcomer's own /64. `None`: the newcomer is refused. O(places).
+/// one of the newcomer's own /64 (IPv4 address). `None`: the newcomer is refused. O(places).
 #[must_use]
 pub fn fair_push_out(held: &[(IpAddr, f64)], newcomer: IpAddr) -> Option<usize> {
     let prefixes: Vec<[IpAddr; 3]> = held.iter().map(|&(ip, _)| address_prefixes(ip)).collect();
@@ -643,7 +649,7 @@ mod tests {
         let mut slots =
             Slots::new(&Limits { max_spectators: 16, max_spectators_per_address: 4, ..limits(32, 64, 16) });
         let mut held: HashMap<ConnId, &str> = HashMap::new();
-        for (k, from) in ["10.0.0.2", "10.0.0.3"].into_iter().enumerate() {
+        for (k, from) in ["10.0.0.2", "10.0.3.3"].into_iter().enumerate() {
             for n in 0..16 {
                 let (id, promoted) = log_in(&mut slots, from, Role::Player, f64::from(n));
                 assert_eq!(promoted, Ok(None), "{from} #{n}: room still");
@@ -667,10 +673,10 @@ mod tests {
         assert_eq!((held[&first], slots.holds(first)), ("10.0.0.2", false));
         assert!(slots.holds(newcomer));
         assert_eq!(slots.players(), 32, "never more than the places");
-        // 10.0.0.2 holds 15 now: 10.0.0.3's idlest goes next, and so on, the two taking turns
+        // 10.0.0.2 holds 15 now: 10.0.3.3's idlest goes next, and so on, the two taking turns
         let (_, promoted) = log_in(&mut slots, "192.0.2.2", Role::Player, 201.0);
-        assert_eq!(held[&promoted.unwrap().unwrap()], "10.0.0.3");
-        // a key keeps a player in: 10.0.0.3's players and 10.0.0.2's next idlest press one (15 and
+        assert_eq!(held[&promoted.unwrap().unwrap()], "10.0.3.3");
+        // a key keeps a player in: 10.0.3.3's players and 10.0.0.2's next idlest press one (15 and
         // 15: the idlest of both addresses goes), the one after it goes
         let holding = |slots: &Slots, from: &str| {
             let mut ids: Vec<ConnId> =
@@ -678,7 +684,7 @@ mod tests {
             ids.sort_unstable();
             ids
         };
-        for id in holding(&slots, "10.0.0.3") {
+        for id in holding(&slots, "10.0.3.3") {
             slots.active(id, 202.0);
         }
         let next = holding(&slots, "10.0.0.2");
@@ -688,7 +694,7 @@ mod tests {
         // newcomers from fresh addresses until the heavy ones hold no more than one more each
         let mut fresh = 10;
         let refusal = loop {
-            match try_in(&mut slots, &format!("198.51.100.{fresh}"), Role::Player, 210.0) {
+            match try_in(&mut slots, &format!("198.51.{fresh}.1"), Role::Player, 210.0) {
                 Ok(pushed) => assert!(pushed.is_some(), "the server stays full"),
                 Err(refusal) => break refusal,
             }
@@ -698,7 +704,7 @@ mod tests {
         // (let in to log in, as it might have come to watch: it would have pushed out a spectator)
         assert_eq!(refusal, Refusal::Full(32), "nobody to push out: refused");
         let left = |from: &str| held.iter().filter(|(id, f)| **f == from && slots.holds(**id)).count();
-        assert_eq!((left("10.0.0.2"), left("10.0.0.3")), (1, 1), "an even share: one each");
+        assert_eq!((left("10.0.0.2"), left("10.0.3.3")), (1, 1), "an even share: one each");
         assert_eq!(slots.players(), 32);
         // spectators alike: 4 addresses × 4 give way to a watcher from elsewhere
         let (watcher, promoted) = log_in(&mut slots, "203.0.113.9", Role::Spectator, 220.0);
@@ -721,7 +727,10 @@ mod tests {
             address_prefixes(ip("2001:db8:1:2ff:1:2:3:4")),
             [ip("2001:db8:1::"), ip("2001:db8:1:200::"), ip("2001:db8:1:2ff::")]
         );
-        assert_eq!(address_prefixes(ip("::ffff:192.0.2.7")), [ip("192.0.2.7"); 3]);
+        assert_eq!(
+            address_prefixes(ip("::ffff:192.0.2.7")),
+            [ip("192.0.2.0"), ip("192.0.2.0"), ip("192.0.2.7")]
+        );
         let mut slots = Slots::new(&limits(32, 64, 16));
         for n in 0..32 {
             let from = format!("2001:db8:1:2{n:02x}::1");
@@ -744,6 +753,27 @@ mod tests {
         assert_eq!(fair_push_out(&held, ip("192.0.2.1")), None, "never its own");
         assert_eq!(fair_push_out(&held[..2], ip("198.51.100.1")), None, "one each: nobody gives way");
         assert_eq!(fair_push_out(&[], ip("198.51.100.1")), None);
+    }
+
+    /// Red-team pass 4, left then: IPv4 addresses counted apart, so 32 addresses of one /24 (one
+    /// host's rented block) held every place against anyone. Now a full server counts an IPv4
+    /// address's /24 first: they give way to a newcomer from another /24, not to their own.
+    #[test]
+    fn many_addresses_of_one_24_count_as_one_holder_when_the_server_is_full() {
+        let mut slots = Slots::new(&limits(32, 64, 16));
+        for n in 0..32 {
+            assert_eq!(log_in(&mut slots, &format!("198.51.100.{n}"), Role::Player, 0.0).1, Ok(None));
+        }
+        let refused = |slots: &mut Slots, from: &str| try_in(slots, from, Role::Player, 1.0);
+        assert_eq!(refused(&mut slots, "198.51.100.77"), Err(Refusal::Full(32)), "its own /24");
+        assert!(matches!(refused(&mut slots, "198.51.101.1"), Ok(Some(_))), "the next /24");
+        assert!(matches!(refused(&mut slots, "2001:db8::1"), Ok(Some(_))), "an IPv6 address");
+        // the pure rule: within a /24 addresses count apart, as before
+        let held = [(ip("192.0.2.1"), 0.0), (ip("192.0.2.1"), 1.0), (ip("192.0.2.2"), 2.0)];
+        assert_eq!(fair_push_out(&held, ip("192.0.2.3")), Some(0), "its heaviest address gives way");
+        assert_eq!(fair_push_out(&held, ip("192.0.2.2")), None, "one less than it: no");
+        assert_eq!(fair_push_out(&held, ip("203.0.113.1")), Some(0), "3 against 0");
+        assert_eq!(fair_push_out(&held[..1], ip("203.0.113.1")), None, "1 against 0: an even share");
     }
 
     #[test]
