@@ -802,3 +802,38 @@ fn the_screens_of_one_address_share_one_drawing_budget() {
         "the player from another address: {witness_frames} frames in {seconds:.2} s, at least {least:.0}"
     );
 }
+
+/// Red-team pass 5: the drawing budget was an address group's, so one screen from each of many
+/// addresses drew a whole budget each and took the machine. The screens drawing share the server's
+/// total too (`--render-total`): two players turning from two addresses at 100×30 in half blocks
+/// (6,000 samples a frame) under a total of 120,000 samples a second get about 10 frames a second
+/// each, where each address's own budget would give them 60.
+#[test]
+fn the_screens_drawing_share_the_servers_total() {
+    let scratch = Scratch::new("render-total");
+    let server = Server::start(&scratch, &["--open", "--render-total", "120000"]);
+    let mut players: Vec<Player> = ["127.0.0.1", "127.0.0.2"]
+        .into_iter()
+        .map(|from| Player::connect_from(Some(from), server.port, None, from, 100, 30))
+        .collect();
+    for player in &players {
+        player.wait_for("the game", playing);
+    }
+    let queries = |raw: &[u8]| raw.windows(3).filter(|w| *w == b"\x1b[c").count();
+    let before: Vec<usize> = players.iter().map(|p| queries(&p.raw())).collect();
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_secs(3) {
+        for player in &mut players {
+            player.send(b"\x1b[C"); // turning right: every frame changes
+        }
+        std::thread::sleep(Duration::from_millis(15));
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let frames: Vec<usize> = players.iter().zip(&before).map(|(p, b)| queries(&p.raw()) - b).collect();
+    // 120,000 samples a second over two screens of 6,000 a frame: 10 frames a second each, with a
+    // frame begun before the count and the second it takes the meter to count both
+    let most = seconds * 20.0 + 2.0 * 10.0;
+    let total: usize = frames.iter().sum();
+    assert!(total as f64 <= most, "{frames:?}: {total} frames in {seconds:.2} s, at most {most:.0}");
+    assert!(frames.iter().all(|&n| n as f64 >= seconds * 5.0), "{frames:?}: each its share");
+}

@@ -100,6 +100,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         max_spectators_per_address: args.max_spectators_per_address as usize,
         max_handshakes: args.max_handshakes as usize,
         max_per_address: args.max_per_address as usize,
+        render_total: args.render_total.unwrap_or_else(mazewalk_serve::limits::render_total_default),
         idle_timeout: args.idle_timeout,
         ..Limits::default()
     };

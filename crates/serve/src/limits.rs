@@ -55,6 +55,16 @@ pub struct Limits {
     /// took a core of the server and pushed another player's key-to-frame p99 from 10 ms to 771 ms;
     /// with a budget per screen they still took 1.16 cores.)
     pub render_rate: u32,
+    /// Samples all served screens draw a second together, at most: each screen that is drawing
+    /// (it drew in this second or the last, [`DrawMeter`]) gets an equal share of it, when that is
+    /// less than its address group's ([`render_rate`](Self::render_rate)). Red-team pass 5: the
+    /// budget per address group left many addresses (one screen each from 128 addresses, or 16 of
+    /// one /24) free to take the whole machine, another player's key-to-frame p99 1.3 s; now they
+    /// share this. The default, [`RENDER_TOTAL_PER_CORE`] for each core the server may use, is about
+    /// a third to two thirds of the machine's drawing (ASCII and half blocks at 120 × 40 cost about
+    /// 25 M samples a second a core, 400 × 150 screens about 50 M), and keeps 100 players at 120 × 40
+    /// turning in half blocks above 45 frames a second on two cores.
+    pub render_total: u32,
     /// Window changes a screen follows a second, at most: one that comes sooner waits, and of those
     /// waiting only the latest size is drawn when its turn comes. (Each size drawn reallocates a
     /// screen of up to `max_cols × max_rows` cells: a flood of window changes alternating two sizes,
@@ -92,6 +102,7 @@ impl Default for Limits {
             max_cols: 400,
             max_rows: 150,
             render_rate: RENDER_RATE,
+            render_total: render_total_default(),
             resize_rate: 10.0,
             input_rate: 16 * 1024,
             input_burst: 64 * 1024,
@@ -112,6 +123,65 @@ pub const RENDER_RATE: u32 = 200 * 60 * 2 * 60;
 /// classroom's NAT) each keep a playable rate; an attacker's many large screens cost at most this
 /// each (16 screens of 400 × 150 sextants: about half a frame a second each).
 pub const SCREEN_RATE_FLOOR: u32 = 120 * 40 * 2 * 20;
+
+/// [`Limits::render_total`]'s default for each core the server may use
+/// (`std::thread::available_parallelism`): 16 lone 200 × 60 half-block screens at 60 frames a second.
+pub const RENDER_TOTAL_PER_CORE: u32 = 16 * RENDER_RATE;
+
+/// [`Limits::render_total`]'s default: [`RENDER_TOTAL_PER_CORE`] times the cores the process may use.
+#[must_use]
+pub fn render_total_default() -> u32 {
+    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+    RENDER_TOTAL_PER_CORE.saturating_mul(u32::try_from(cores).unwrap_or(u32::MAX))
+}
+
+/// How many served screens are drawing now, for their share of [`Limits::render_total`]: the
+/// screens that drew a frame in this second of the server's clock or in the last one, counted once
+/// each (an idle screen, or a thousand, takes no share). Each screen keeps the second it last
+/// counted itself in ([`DrawMeter::drew`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DrawMeter {
+    /// The second counting now.
+    second: u64,
+    /// Screens that drew in it, and in the one before.
+    now: u32,
+    last: u32,
+}
+
+impl DrawMeter {
+    /// A screen that last counted itself in second `mine` (`None`: never) drew a frame at `now`
+    /// (seconds): counted in this second if it was not yet; its second to keep.
+    pub fn drew(&mut self, mine: Option<u64>, now: f64) -> u64 {
+        let second = now.max(0.0) as u64;
+        if second != self.second {
+            self.last = if second == self.second + 1 { self.now } else { 0 };
+            (self.second, self.now) = (second, 0);
+        }
+        if mine != Some(second) {
+            self.now = self.now.saturating_add(1);
+        }
+        second
+    }
+
+    /// The screens drawing at `now`: of this second or the last, the more; at least 1.
+    #[must_use]
+    pub fn drawing(&self, now: f64) -> u32 {
+        let second = now.max(0.0) as u64;
+        let counted = match second.checked_sub(self.second) {
+            Some(0) => self.now.max(self.last),
+            Some(1) => self.now,
+            _ => 0,
+        };
+        counted.max(1)
+    }
+}
+
+/// The samples a second a screen may draw: its address group's share ([`screen_share`]), but no more
+/// than an equal share of `render_total` among the `drawing` screens ([`DrawMeter`]).
+#[must_use]
+pub fn drawing_share(render_rate: u32, group_screens: usize, render_total: u32, drawing: u32) -> u32 {
+    screen_share(render_rate, group_screens).min(render_total / drawing.max(1))
+}
 
 /// The samples a second each of `screens` screens of one address group may draw under a group budget
 /// of `render_rate`: an equal share, but never less than [`SCREEN_RATE_FLOOR`] (nor more than the
@@ -211,5 +281,43 @@ mod tests {
         let shares: Vec<u32> = (1..40).map(|n| screen_share(RENDER_RATE, n)).collect();
         assert!(shares.windows(2).all(|w| w[1] <= w[0]));
         assert!(shares.iter().all(|&s| s >= SCREEN_RATE_FLOOR));
+    }
+
+    /// Red-team pass 5: one screen from each of 128 addresses each drew a whole group's budget and
+    /// took the machine. Screens that draw share the server's total; idle ones take no share, and a
+    /// screen counts once however many frames it draws.
+    #[test]
+    fn drawing_screens_share_the_servers_total_and_idle_ones_take_none() {
+        let total = 16 * RENDER_RATE;
+        let mut meter = DrawMeter::default();
+        assert_eq!(meter.drawing(0.0), 1, "nobody drawing yet: a newcomer's share is the whole");
+        // 128 screens drawing 12 frames a second each, for three seconds
+        let mut seconds = [None; 128];
+        for frame in 0..36 {
+            let now = 10.0 + f64::from(frame) / 12.0;
+            for mine in &mut seconds {
+                *mine = Some(meter.drew(*mine, now));
+            }
+            assert_eq!(meter.drawing(now), 128, "at {now}: each counted once");
+        }
+        let attacked = drawing_share(RENDER_RATE, 1, total, meter.drawing(12.9));
+        assert_eq!(attacked, total / 128, "each a 128th of the total, not a whole group budget");
+        assert!(fps(attacked, 120, 40, 2) >= 15.0, "a player at 120 × 40 among them still plays");
+        // they stop: a second later their count is last second's, two seconds later nothing
+        assert_eq!(meter.drawing(13.5), 128);
+        assert_eq!(meter.drawing(14.2), 1);
+        let mut lone = None;
+        lone = Some(meter.drew(lone, 14.2));
+        assert_eq!(meter.drawing(14.3), 1, "a lone screen again: its group's budget");
+        assert_eq!(drawing_share(RENDER_RATE, 1, total, meter.drawing(14.3)), RENDER_RATE);
+        assert_eq!(meter.drew(lone, 14.9), 14, "the same second: counted once");
+        assert_eq!(meter.drawing(14.9), 1);
+        // a clock that goes back or jumps counts no one twice and panics nowhere
+        assert_eq!(meter.drew(None, -5.0), 0);
+        assert!(meter.drawing(f64::MAX) >= 1 && meter.drawing(f64::NAN) >= 1);
+        // the group's share still binds where it is the smaller
+        assert_eq!(drawing_share(RENDER_RATE, 16, total, 2), SCREEN_RATE_FLOOR);
+        assert_eq!(drawing_share(RENDER_RATE, 1, 0, 5), 0, "a zero total draws nothing");
+        assert!(render_total_default() >= RENDER_TOTAL_PER_CORE);
     }
 }

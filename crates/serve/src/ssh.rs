@@ -25,7 +25,7 @@ use tracing::{info, warn};
 use super::algorithms;
 use super::host_key::fingerprint;
 use super::identity::player_name;
-use super::limits::{Limits, screen_share};
+use super::limits::{DrawMeter, Limits, drawing_share};
 use super::logs::{self, LogLimit, tenths};
 use super::metrics::Metrics;
 use super::player::{ClientTerminal, News, Player};
@@ -113,6 +113,8 @@ struct Shared {
     /// Where the best times go.
     records: Option<Keeper>,
     slots: Mutex<Slots>,
+    /// The screens drawing now, which share [`Limits::render_total`].
+    drawing: Mutex<DrawMeter>,
     /// Every open connection, by its slot's id (to close one pushed out of its slot).
     conns: Mutex<HashMap<ConnId, Arc<Conn>>>,
     /// Which lines about connections are logged.
@@ -228,12 +230,21 @@ impl Shared {
         self.clock.elapsed().as_secs_f64()
     }
 
-    /// The samples a second `conn`'s screen may draw: its share of its address group's budget
-    /// ([`Limits::render_rate`] over the group's screens now, [`screen_share`]), so that the screens
-    /// of one address together draw about one budget, and a lone one draws at the whole.
-    fn render_share(&self, conn: &Conn) -> u32 {
+    /// The samples a second `conn`'s screen may draw at `now`: its share of its address group's
+    /// budget ([`Limits::render_rate`] over the group's screens now, [`screen_share`](crate::limits::screen_share)), so that the
+    /// screens of one address together draw about one budget, and a lone one draws at the whole; no
+    /// more than an equal share of the server's ([`Limits::render_total`]) among the screens drawing
+    /// ([`drawing_share`]).
+    fn render_share(&self, conn: &Conn, now: f64) -> u32 {
         let screens = lock(&self.slots).screens_from(conn.peer.ip());
-        screen_share(self.limits.render_rate, screens)
+        let drawing = lock(&self.drawing).drawing(now);
+        drawing_share(self.limits.render_rate, screens, self.limits.render_total, drawing)
+    }
+
+    /// A screen that last counted itself drawing in second `counted` drew a frame at `now`
+    /// ([`DrawMeter::drew`]).
+    fn drew(&self, counted: &mut Option<u64>, now: f64) {
+        *counted = Some(lock(&self.drawing).drew(*counted, now));
     }
 
     /// Whether a line about a connection from `group` may be logged now ([`LogLimit`]).
@@ -555,6 +566,7 @@ impl Server {
             spawns,
             records: options.records,
             slots: Mutex::new(Slots::new(&limits)),
+            drawing: Mutex::new(DrawMeter::default()),
             conns: Mutex::new(HashMap::new()),
             log_limit: Mutex::new(LogLimit::new(0.0)),
             metrics,
@@ -1385,6 +1397,7 @@ async fn watching(
     let mut out = Vec::with_capacity(16 * 1024);
     spectator.enter(&mut out);
     let mut versions = shared.world.version.subscribe();
+    let mut counted: Option<u64> = None; // the second this screen last counted itself drawing
     let mut shutdown = shared.shutdown.clone();
     loop {
         if *shutdown.borrow_and_update() {
@@ -1401,10 +1414,11 @@ async fn watching(
             let look = shared.world.look(&mut versions);
             spectator.look(look, now);
         }
-        spectator.session_mut().set_sample_rate(Some(shared.render_share(conn)));
+        spectator.session_mut().set_sample_rate(Some(shared.render_share(conn, now)));
         let started = Instant::now();
         if spectator.frame(now, &mut out) {
             spectator.session_mut().frame_cost(started.elapsed().as_secs_f64());
+            shared.drew(&mut counted, now);
         }
         if !out.is_empty() {
             // (Not in the players' frames and bytes sent: /metrics counts those.)
@@ -1551,6 +1565,7 @@ async fn walk(
     let mut out = Vec::with_capacity(16 * 1024);
     player.enter(&mut out);
     let mut versions = shared.world.version.subscribe();
+    let mut counted: Option<u64> = None; // the second this screen last counted itself drawing
     let mut shutdown = shared.shutdown.clone();
     let mut last_input = Instant::now();
     // The first key the next frame answers (for /metrics).
@@ -1585,11 +1600,12 @@ async fn walk(
             player.look(&look, now);
             settle(shared, player, id, &mut arriving, now);
         }
-        player.session_mut().set_sample_rate(Some(shared.render_share(conn)));
+        player.session_mut().set_sample_rate(Some(shared.render_share(conn, now)));
         let started = Instant::now();
         let drew = player.frame(now, &mut out);
         if drew {
             player.session_mut().frame_cost(started.elapsed().as_secs_f64());
+            shared.drew(&mut counted, now);
         }
         let screen = player.session().screen(); // the size drawn: within the limits
         if (screen.width(), screen.height()) != recorded_size {
