@@ -857,9 +857,8 @@ impl Follow {
         self.ids.get(&key).copied()
     }
 
-    /// What changed cell `k` of look `look` would cost in its row: its glyph and its colour change
-    /// from the changed cell before it there (colours unknown where that cell is unchanged), both in
-    /// the colours they would be sent in ([`shortest`]).
+    /// What changed cell `k` of look `look` would cost in its row ([`row_cost`]) after the cell
+    /// before it there where that is changed (colours unknown where it is not).
     fn later(
         &mut self,
         look: u32,
@@ -876,10 +875,7 @@ impl Follow {
         {
             return later;
         }
-        let shown = before.map(|b| shortest(&b, tolerance));
-        let row_pen = Pen { cursor: None, fg: shown.map(|b| b.fg), bg: shown.map(|b| b.bg), blocks };
-        let sent = shortest(&cell, tolerance).canonical();
-        let later = Sgr::to_cell(&row_pen, &sent).len() + sent.ch.len_utf8();
+        let later = row_cost(&cell, before.as_ref(), (blocks, tolerance));
         look.priced = Some((cell, before, later));
         later
     }
@@ -909,6 +905,15 @@ impl Follow {
         let end = self.looks[look as usize].end as usize;
         (place + 1..end).map(|i| (self.cells[i] as usize, i)).find(|&(k, _)| differs[k])
     }
+}
+
+/// What `cell` would cost in its row after changed cell `before` (colours unknown where `None`):
+/// its glyph and its colour change, both in the colours they would be sent in ([`shortest`]).
+fn row_cost(cell: &PackedCell, before: Option<&PackedCell>, (blocks, tolerance): (bool, u8)) -> usize {
+    let shown = before.map(|b| shortest(b, tolerance));
+    let row_pen = Pen { cursor: None, fg: shown.map(|b| b.fg), bg: shown.map(|b| b.bg), blocks };
+    let sent = shortest(cell, tolerance).canonical();
+    Sgr::to_cell(&row_pen, &sent).len() + sent.ch.len_utf8()
 }
 
 /// `cell` in the colours of their shortest codes within `tolerance` ([`PackedColor::cheapest`]):
@@ -995,6 +1000,8 @@ fn detours(
     // The last cell written and its form: the pen's colours stay while it writes (it returns where
     // they change), and a cell's form is a function of them and the cell.
     let mut written_form = None;
+    // The last cell the fast path priced in its row right after written cells, and that price.
+    let mut alone: Option<(PackedCell, usize)> = None;
     loop {
         let cursor = pen.cursor.map(|(x, y)| y * width + x);
         let at = cursor.unwrap_or(0);
@@ -1071,8 +1078,6 @@ fn detours(
         let lead = leads[best].as_mut().expect("a lead of each value");
         // No move to `next` costs more than this (`move_bound` is `CUP`'s bytes at most, or 3).
         let ceiling = move_bound(None, nx, ny).max(3) as isize;
-        // The last cell of the look the fast path priced in its row, and that price.
-        let mut last: Option<(PackedCell, usize)> = None;
         loop {
             written += write_detour(pen, out, frame, width, differs, k, how, &mut written_form);
             if (pen.fg, pen.bg) != (Some(fg), Some(bg)) {
@@ -1083,13 +1088,14 @@ fn detours(
                 break;
             }
             let Some(c) = lead.after(k, to, follow, frame, differs) else { break };
-            // Right after a written cell, what it would cost in its row depends on it alone.
-            let later = match last {
+            // Right after a written cell, what it would cost in its row depends on it alone. (Not
+            // through the look's memo, [`Follow::later`]: a run's cells would push out its last
+            // candidate after a jump, mostly the next jump's too.)
+            let later = match alone {
                 Some((cell, later)) if cell == frame[c] => later,
                 _ => {
-                    let later =
-                        follow.later(lead.look, c, frame, differs, width, (pen.blocks, how.tolerance));
-                    last = Some((frame[c], later));
+                    let later = row_cost(&frame[c], None, (pen.blocks, how.tolerance));
+                    alone = Some((frame[c], later));
                     later
                 }
             };
