@@ -957,6 +957,9 @@ const MARGIN: usize = 1;
 /// The pen's colours stay while it writes cells of its looks, so what depends only on them (the
 /// three looks, whether `next` needs a colour change) is found once for all the detours before
 /// `next`; should a cell's writing change them after all, it returns, and the caller asks again.
+/// Each look's candidate and what it is worth but for the moves from the cursor carry from one
+/// turn to the next ([`Lead`]); along a run of the chosen look, its next cell, at the cursor, is
+/// taken without the moves priced where the whole pricing could choose no other (the fast path).
 #[allow(clippy::too_many_arguments)]
 fn detours(
     pen: &mut Pen,
