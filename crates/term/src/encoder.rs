@@ -770,6 +770,12 @@ struct Follow {
     ids: FxHashMap<u64, u32>,
     /// Scratch: `(look, cell)` in row-major order, before the cells are grouped.
     marks: Vec<(u32, u32)>,
+    /// Tests: take the detours by the whole search every turn, the fast path's oracle.
+    #[cfg(test)]
+    whole_search: bool,
+    /// Tests: the cells the fast path chose.
+    #[cfg(test)]
+    fast: usize,
 }
 
 /// The cells of one look in [`Follow::cells`]: up to `end`, from `head` on (those before are
@@ -851,9 +857,8 @@ impl Follow {
         self.ids.get(&key).copied()
     }
 
-    /// What changed cell `k` of look `look` would cost in its row: its glyph and its colour change
-    /// from the changed cell before it there (colours unknown where that cell is unchanged), both in
-    /// the colours they would be sent in ([`shortest`]).
+    /// What changed cell `k` of look `look` would cost in its row ([`row_cost`]) after the cell
+    /// before it there where that is changed (colours unknown where it is not).
     fn later(
         &mut self,
         look: u32,
@@ -870,17 +875,14 @@ impl Follow {
         {
             return later;
         }
-        let shown = before.map(|b| shortest(&b, tolerance));
-        let row_pen = Pen { cursor: None, fg: shown.map(|b| b.fg), bg: shown.map(|b| b.bg), blocks };
-        let sent = shortest(&cell, tolerance).canonical();
-        let later = Sgr::to_cell(&row_pen, &sent).len() + sent.ch.len_utf8();
+        let later = row_cost(&cell, before.as_ref(), (blocks, tolerance));
         look.priced = Some((cell, before, later));
         later
     }
 
     /// The first cell of look `look` still changed (`differs`) at or after cell `at` (row-major), or
-    /// else the first before it.
-    fn first(&mut self, look: u32, at: usize, differs: &[bool]) -> Option<usize> {
+    /// else the first before it; with its place in [`Follow::cells`].
+    fn first(&mut self, look: u32, at: usize, differs: &[bool]) -> Option<(usize, usize)> {
         let look = &mut self.looks[look as usize];
         let (mut head, end) = (look.head as usize, look.end as usize);
         while head < end && !differs[self.cells[head] as usize] {
@@ -890,12 +892,28 @@ impl Follow {
         let cells = &self.cells[head..end];
         let &first = cells.first()?;
         if first as usize >= at {
-            return Some(first as usize); // (mostly: the rows write the cells before the cursor)
+            return Some((first as usize, head)); // (mostly: the rows write the cells before the cursor)
         }
-        let split = cells.partition_point(|&k| (k as usize) < at);
-        let later = cells[split..].iter().map(|&k| k as usize).find(|&k| differs[k]);
-        Some(later.unwrap_or(first as usize))
+        let split = head + cells.partition_point(|&k| (k as usize) < at);
+        let later = (split..end).find(|&i| differs[self.cells[i] as usize]);
+        Some(later.map_or((first as usize, head), |i| (self.cells[i] as usize, i)))
     }
+
+    /// The first cell of look `look` still changed after its cell at place `place` in
+    /// [`Follow::cells`], with its place.
+    fn next_after(&self, look: u32, place: usize, differs: &[bool]) -> Option<(usize, usize)> {
+        let end = self.looks[look as usize].end as usize;
+        (place + 1..end).map(|i| (self.cells[i] as usize, i)).find(|&(k, _)| differs[k])
+    }
+}
+
+/// What `cell` would cost in its row after changed cell `before` (colours unknown where `None`):
+/// its glyph and its colour change, both in the colours they would be sent in ([`shortest`]).
+fn row_cost(cell: &PackedCell, before: Option<&PackedCell>, (blocks, tolerance): (bool, u8)) -> usize {
+    let shown = before.map(|b| shortest(b, tolerance));
+    let row_pen = Pen { cursor: None, fg: shown.map(|b| b.fg), bg: shown.map(|b| b.bg), blocks };
+    let sent = shortest(cell, tolerance).canonical();
+    Sgr::to_cell(&row_pen, &sent).len() + sent.ch.len_utf8()
 }
 
 /// `cell` in the colours of their shortest codes within `tolerance` ([`PackedColor::cheapest`]):
@@ -939,6 +957,9 @@ const MARGIN: usize = 1;
 /// The pen's colours stay while it writes cells of its looks, so what depends only on them (the
 /// three looks, whether `next` needs a colour change) is found once for all the detours before
 /// `next`; should a cell's writing change them after all, it returns, and the caller asks again.
+/// Each look's candidate and what it is worth but for the moves from the cursor carry from one
+/// turn to the next ([`Lead`]); along a run of the chosen look, its next cell, at the cursor, is
+/// taken without the moves priced where the whole pricing could choose no other (the fast path).
 #[allow(clippy::too_many_arguments)]
 fn detours(
     pen: &mut Pen,
@@ -950,6 +971,10 @@ fn detours(
     how: How,
     follow: &mut Follow,
 ) -> usize {
+    #[cfg(test)]
+    if follow.whole_search {
+        return tests::detours_searched(pen, out, frame, width, differs, next, how, follow);
+    }
     let (Some(fg), Some(bg)) = (pen.fg, pen.bg) else { return 0 };
     if Sgr::to_cell(pen, &frame[next]).len() == 0 {
         return 0; // the pen draws it as it is: on along the row
@@ -963,64 +988,306 @@ fn detours(
     // space, one in its ink as a full block (where the frames have blocks), a half block of the two
     // as itself or its inverse. (The same cell may come up under two keys, where the pen's colours
     // are one.)
-    let blank = follow.look(pair_key(bg, bg));
+    let blank = follow.look(pair_key(bg, bg)).map(|look| Lead::new(look, 1, false));
     let block = (pen.blocks && fg != bg).then(|| follow.look(pair_key(fg, fg))).flatten();
-    let half = (fg != bg).then(|| follow.look(pair_key(fg, bg))).flatten();
+    let block = block.map(|look| Lead::new(look, FULL_BLOCK.len_utf8(), true));
+    let half =
+        (fg != bg).then(|| follow.look(pair_key(fg, bg))).flatten().map(|look| Lead::new(look, 3, false));
     if blank.is_none() && block.is_none() && half.is_none() {
         return 0;
     }
+    let mut leads = [blank, block, half];
     let (nx, ny) = (next % width, next / width);
+    let margin = MARGIN as isize;
     let mut written = 0;
+    // The last cell written and its form: the pen's colours stay while it writes (it returns where
+    // they change), and a cell's form is a function of them and the cell.
+    let mut written_form = None;
+    // The last cell the fast path priced in its row right after written cells, and that price.
+    let mut alone: Option<(PackedCell, usize)> = None;
     loop {
-        let at = pen.cursor.map_or(0, |(x, y)| y * width + x);
-        let blank = blank.and_then(|look| Some((look, follow.first(look, at, differs)?, 1)));
-        let block =
-            block.and_then(|look| Some((look, follow.first(look, at, differs)?, FULL_BLOCK.len_utf8())));
-        let block = block.filter(|&(_, k, _)| !frame[k].is_text_space());
-        let half = half.and_then(|look| Some((look, follow.first(look, at, differs)?, 3)));
-        let found = [blank, block, half];
-        if found.iter().flatten().all(|&(_, k, _)| k == next) {
+        let cursor = pen.cursor.map(|(x, y)| y * width + x);
+        let at = cursor.unwrap_or(0);
+        let mut found = [None; 3];
+        for i in 0..3 {
+            if let Some(lead) = &mut leads[i] {
+                found[i] = lead.candidate(at, follow, frame, differs);
+            }
+        }
+        if found.iter().flatten().all(|&k| k == next) {
             return written;
         }
-        let direct = move_bound(pen.cursor, nx, ny);
-        // Of each candidate, the moves there and on to `next` and its glyph against the move to
-        // `next` and what the cell would cost in its row ([`Follow::later`]). The largest saving
-        // above `MARGIN` wins. Moves priced by `move_bound` (most of these are not taken).
-        let mut best: Option<(usize, usize)> = None;
-        for candidate in found {
-            let Some((look, k, glyph)) = candidate else { continue };
-            if k == next {
-                continue;
-            }
-            let (x, y) = (k % width, k / width);
-            let after = if x + 1 < width { Some((x + 1, y)) } else { None };
-            let moves = move_bound(pen.cursor, x, y) + move_bound(after, nx, ny) + glyph;
-            let later = follow.later(look, k, frame, differs, width, (pen.blocks, how.tolerance));
-            let Some(saving) = (later + direct).checked_sub(moves).filter(|&s| s > MARGIN) else { continue };
-            if best.is_none_or(|(most, _)| saving > most) {
-                best = Some((saving, k));
+        let mut values = [None; 3];
+        for i in 0..3 {
+            if let (Some(lead), Some(k)) = (&mut leads[i], found[i])
+                && k != next
+            {
+                values[i] = Some((
+                    k,
+                    lead.value(k, (nx, ny), (frame, differs, width), pen.blocks, how.tolerance, follow),
+                ));
             }
         }
-        let Some((_, k)) = best else { return written };
+        let direct = |pen: &Pen| move_bound(pen.cursor, nx, ny) as isize;
+        // The largest saving above `MARGIN` wins, the first of equals.
+        //
+        // The invariant the fast path rests on: the move from the cursor costs nothing to the cell
+        // at the cursor and at least a byte to any other, so a candidate at the cursor whose value
+        // is no less than every other's saves strictly more than each, whatever their order: it is
+        // the one the whole pricing below chooses, without the moves from the cursor priced. (And
+        // as it is not `next`, the move to `next` costs at least a byte: a value of `MARGIN` saves
+        // more than it.)
+        let best_value = |values: &[Option<(usize, isize)>; 3], skip: usize| {
+            (0..3).filter(|&i| i != skip).filter_map(|i| values[i]).map(|(_, v)| v).max()
+        };
+        let at_cursor = (0..3).find(|&i| values[i].is_some_and(|(k, _)| Some(k) == cursor));
+        let best = match at_cursor {
+            Some(i) if best_value(&values, i).is_none_or(|v| v <= values[i].unwrap().1) => {
+                let value = values[i].unwrap().1;
+                if value < margin && value + direct(pen) <= margin {
+                    return written;
+                }
+                i
+            }
+            _ => {
+                let direct = direct(pen);
+                let mut best: Option<(isize, usize)> = None;
+                for (i, &(k, value)) in values.iter().enumerate().filter_map(|(i, v)| Some((i, v.as_ref()?)))
+                {
+                    let saving = value + direct - move_bound(pen.cursor, k % width, k / width) as isize;
+                    if saving > margin && best.is_none_or(|(most, _)| saving > most) {
+                        best = Some((saving, i));
+                    }
+                }
+                let Some((_, i)) = best else { return written };
+                i
+            }
+        };
+        let (mut k, _) = values[best].unwrap();
+        write_move(out, pen, k % width, k / width);
+        // The fast path: the cells written from here on are `at`'s row-major successors up to the
+        // cursor (where `at <= k`, and the cells between written or passed), so the other looks'
+        // candidates stand, values and all, until the cursor reaches the first of them at or after
+        // `at` (`guard`): neither passed nor written nor right after a written cell. The chosen
+        // look's next cell, where it is at the cursor and its value no less than theirs, is then
+        // the whole turn's choice by the invariant above.
+        let others = best_value(&values, best);
+        let guard = (0..3)
+            .filter(|&i| i != best)
+            .filter_map(|i| leads[i].and_then(|other| other.answer()))
+            .filter(|&other| other >= at)
+            .min()
+            .unwrap_or(usize::MAX);
+        let lead = leads[best].as_mut().expect("a lead of each value");
+        // No move to `next` costs more than this (`move_bound` is `CUP`'s bytes at most, or 3).
+        let ceiling = move_bound(None, nx, ny).max(3) as isize;
+        loop {
+            written += write_detour(pen, out, frame, width, differs, k, how, &mut written_form);
+            if (pen.fg, pen.bg) != (Some(fg), Some(bg)) {
+                return written;
+            }
+            let Some(to) = pen.cursor.map(|(x, y)| y * width + x) else { break };
+            if at > k || to >= guard {
+                break;
+            }
+            let Some(c) = lead.after(k, to, follow, frame, differs) else { break };
+            // Right after a written cell, what it would cost in its row depends on it alone. (Not
+            // through the look's memo, [`Follow::later`]: a run's cells would push out its last
+            // candidate after a jump, mostly the next jump's too.)
+            let later = match alone {
+                Some((cell, later)) if cell == frame[c] => later,
+                _ => {
+                    let later = row_cost(&frame[c], None, (pen.blocks, how.tolerance));
+                    alone = Some((frame[c], later));
+                    later
+                }
+            };
+            // Its value with the dearest move on to `next`: where that is enough, so is its value.
+            let floor = later as isize - lead.glyph as isize - ceiling;
+            if floor < margin || others.is_some_and(|v| v > floor) {
+                let value =
+                    lead.value(c, (nx, ny), (frame, differs, width), pen.blocks, how.tolerance, follow);
+                if others.is_some_and(|v| v > value) {
+                    break;
+                }
+                if value < margin && value + direct(pen) <= margin {
+                    return written;
+                }
+            }
+            k = c;
+            #[cfg(test)]
+            {
+                follow.fast += 1;
+            }
+        }
+    }
+}
+
+/// Writes detour cell `k` at the cursor, and the run of its look after it ([`repeat`]); marks
+/// them written. Returns the cells written. `last`: the last cell written from the pen's colours
+/// now and its form ([`cell_form`], a function of the two), kept by the caller while they stay.
+#[allow(clippy::too_many_arguments)]
+fn write_detour(
+    pen: &mut Pen,
+    out: &mut Vec<u8>,
+    frame: &mut [PackedCell],
+    width: usize,
+    differs: &mut [bool],
+    k: usize,
+    how: How,
+    last: &mut Option<(PackedCell, (PackedCell, Sgr))>,
+) -> usize {
+    let (x, y) = (k % width, k / width);
+    // (The form of a cell equal to the last one written: the pen's colours are the same.)
+    let form = match *last {
+        Some((cell, form)) if cell == frame[k] => form,
+        _ => {
+            let form = cell_form(pen, &frame[k], how.tolerance);
+            *last = Some((frame[k], form));
+            form
+        }
+    };
+    frame[k] = write_form(out, pen, form, width);
+    differs[k] = false;
+    if how.rep != RepLevel::None
+        && may_repeat(&frame[y * width..][..width], &differs[y * width..][..width], x, how.rep)
+    {
+        let row = &mut frame[y * width..][..width];
+        // (The row's erasable tail only where a run may follow: a scan of the row's end.)
+        let end = erasable_tail(row, how.bce).map_or(width, |(start, _)| start);
+        let repeated = repeat(pen, out, row, end, &differs[y * width..][..width], x, how.tolerance, how.rep);
+        differs[k + 1..=k + repeated].fill(false);
+        return 1 + repeated;
+    }
+    1
+}
+
+/// One of the looks [`detours`] draws from the pen, carried from one cell to the next (within one
+/// call: one `next`): its candidate ([`Follow::first`]) and the candidate's value.
+///
+/// A candidate saves the move to `next` and what the cell would cost in its row
+/// ([`Follow::later`]), less the moves there and on to `next` and its glyph (moves priced by
+/// [`move_bound`]: most are not taken). All but the two moves from the cursor is its *value*,
+/// which the cursor does not change: `saving = value + move_bound(cursor, next) -
+/// move_bound(cursor, candidate)`.
+#[derive(Clone, Copy, Debug)]
+struct Lead {
+    look: u32,
+    /// The bytes of the glyph the look goes in.
+    glyph: usize,
+    /// Whether a text space is no candidate (the full-block look: a text space stays a space).
+    no_text: bool,
+    /// The cursor's cell (row-major) [`Follow::first`] answered from, and its answer.
+    first: Option<(usize, Option<(usize, usize)>)>,
+    /// The last candidate valued: the cell, whether the cell before it was changed (all its
+    /// value depends on while `next` stays: [`Follow::later`]), and the value.
+    valued: Option<(usize, bool, isize)>,
+}
+
+impl Lead {
+    fn new(look: u32, glyph: usize, no_text: bool) -> Lead {
+        Lead { look, glyph, no_text, first: None, valued: None }
+    }
+
+    /// [`Follow::first`] of the look from cell `at`, from its last answer where that tells: cells
+    /// are only ever written, never marked changed again, so while the cursor has not gone back
+    /// and that cell is still changed, it stands (one at or after the cursor then was the first
+    /// changed one there, so it is for any cursor up to it; one before it was the first changed at
+    /// all, with none after). Where it was at or after the cursor then and is written now with
+    /// every cell up to the cursor (the detour's cell, the run after it), the first at or after
+    /// the cursor is the look's next changed cell after it, if any.
+    fn candidate(
+        &mut self,
+        at: usize,
+        follow: &mut Follow,
+        frame: &[PackedCell],
+        differs: &[bool],
+    ) -> Option<usize> {
+        let first = match self.first {
+            Some((from, None)) if from <= at => None,
+            Some((from, Some((k, place)))) if from <= at => {
+                if differs[k] && (k >= at || k < from) {
+                    Some((k, place))
+                } else if from <= k
+                    && k < at
+                    && differs[k..at].iter().all(|&d| !d)
+                    && let Some(next) = follow.next_after(self.look, place, differs)
+                {
+                    self.first = Some((at, Some(next)));
+                    Some(next)
+                } else {
+                    self.first = Some((at, follow.first(self.look, at, differs)));
+                    self.first.and_then(|(_, first)| first)
+                }
+            }
+            _ => {
+                self.first = Some((at, follow.first(self.look, at, differs)));
+                self.first.and_then(|(_, first)| first)
+            }
+        };
+        first.map(|(k, _)| k).filter(|&k| !(self.no_text && frame[k].is_text_space()))
+    }
+
+    /// Its last [`Follow::first`] answer (before a text space is left out), if any.
+    fn answer(&self) -> Option<usize> {
+        self.first.and_then(|(_, first)| first).map(|(k, _)| k)
+    }
+
+    /// Its candidate from the cursor at `to`, where that is `to` itself, once its last candidate
+    /// `k` and every cell up to `to` are written.
+    fn after(
+        &mut self,
+        k: usize,
+        to: usize,
+        follow: &Follow,
+        frame: &[PackedCell],
+        differs: &[bool],
+    ) -> Option<usize> {
+        let Some((_, Some((held, place)))) = self.first else { return None };
+        debug_assert_eq!(held, k);
+        let (c, place) = follow.next_after(self.look, place, differs).filter(|&(c, _)| c == to)?;
+        if self.no_text && frame[c].is_text_space() {
+            return None;
+        }
+        self.first = Some((to, Some((c, place))));
+        Some(c)
+    }
+
+    /// The value of candidate `k` (see [`Lead`]), on to `next`. (Inlined: mostly remembered.)
+    #[inline]
+    fn value(
+        &mut self,
+        k: usize,
+        next: (usize, usize),
+        (frame, differs, width): (&[PackedCell], &[bool], usize),
+        blocks: bool,
+        tolerance: u8,
+        follow: &mut Follow,
+    ) -> isize {
+        let before = !k.is_multiple_of(width) && differs[k - 1];
+        match self.valued {
+            Some((held, held_before, value)) if (held, held_before) == (k, before) => value,
+            _ => self.value_missed(k, before, next, (frame, differs, width), (blocks, tolerance), follow),
+        }
+    }
+
+    /// [`Lead::value`] not remembered: found, and remembered.
+    #[inline(never)]
+    fn value_missed(
+        &mut self,
+        k: usize,
+        before: bool,
+        (nx, ny): (usize, usize),
+        (frame, differs, width): (&[PackedCell], &[bool], usize),
+        (blocks, tolerance): (bool, u8),
+        follow: &mut Follow,
+    ) -> isize {
         let (x, y) = (k % width, k / width);
-        write_move(out, pen, x, y);
-        frame[k] = write_cell(out, pen, &frame[k], width, how.tolerance);
-        differs[k] = false;
-        written += 1;
-        if how.rep != RepLevel::None
-            && may_repeat(&frame[y * width..][..width], &differs[y * width..][..width], x, how.rep)
-        {
-            let row = &mut frame[y * width..][..width];
-            // (The row's erasable tail only where a run may follow: a scan of the row's end.)
-            let end = erasable_tail(row, how.bce).map_or(width, |(start, _)| start);
-            let repeated =
-                repeat(pen, out, row, end, &differs[y * width..][..width], x, how.tolerance, how.rep);
-            differs[k + 1..=k + repeated].fill(false);
-            written += repeated;
-        }
-        if (pen.fg, pen.bg) != (Some(fg), Some(bg)) {
-            return written;
-        }
+        let after = if x + 1 < width { Some((x + 1, y)) } else { None };
+        let later = follow.later(self.look, k, frame, differs, width, (blocks, tolerance));
+        let value = later as isize - self.glyph as isize - move_bound(after, nx, ny) as isize;
+        self.valued = Some((k, before, value));
+        value
     }
 }
 
@@ -1619,6 +1886,145 @@ mod tests {
                 !shown.looks_within(cell, 0)
             }));
         }
+    }
+
+    /// [`detours`] before its fast path, kept as its oracle: every turn finds each look's first
+    /// changed cell from the cursor and prices every candidate's moves and cost in its row.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn detours_searched(
+        pen: &mut Pen,
+        out: &mut Vec<u8>,
+        frame: &mut [PackedCell],
+        width: usize,
+        differs: &mut [bool],
+        next: usize,
+        how: How,
+        follow: &mut Follow,
+    ) -> usize {
+        let (Some(fg), Some(bg)) = (pen.fg, pen.bg) else { return 0 };
+        if Sgr::to_cell(pen, &frame[next]).len() == 0
+            || cell_form(pen, &frame[next], how.tolerance).1.len() == 0
+        {
+            return 0;
+        }
+        let blank = follow.look(pair_key(bg, bg));
+        let block = (pen.blocks && fg != bg).then(|| follow.look(pair_key(fg, fg))).flatten();
+        let half = (fg != bg).then(|| follow.look(pair_key(fg, bg))).flatten();
+        if blank.is_none() && block.is_none() && half.is_none() {
+            return 0;
+        }
+        let (nx, ny) = (next % width, next / width);
+        let mut written = 0;
+        loop {
+            let at = pen.cursor.map_or(0, |(x, y)| y * width + x);
+            let mut first = |look: u32| follow.first(look, at, differs).map(|(k, _)| k);
+            let blank = blank.and_then(|look| Some((look, first(look)?, 1)));
+            let block = block.and_then(|look| Some((look, first(look)?, FULL_BLOCK.len_utf8())));
+            let block = block.filter(|&(_, k, _)| !frame[k].is_text_space());
+            let half = half.and_then(|look| Some((look, first(look)?, 3)));
+            let found = [blank, block, half];
+            if found.iter().flatten().all(|&(_, k, _)| k == next) {
+                return written;
+            }
+            let direct = move_bound(pen.cursor, nx, ny);
+            let mut best: Option<(usize, usize)> = None;
+            for candidate in found {
+                let Some((look, k, glyph)) = candidate else { continue };
+                if k == next {
+                    continue;
+                }
+                let (x, y) = (k % width, k / width);
+                let after = if x + 1 < width { Some((x + 1, y)) } else { None };
+                let moves = move_bound(pen.cursor, x, y) + move_bound(after, nx, ny) + glyph;
+                let later = follow.later(look, k, frame, differs, width, (pen.blocks, how.tolerance));
+                let Some(saving) = (later + direct).checked_sub(moves).filter(|&s| s > MARGIN) else {
+                    continue;
+                };
+                if best.is_none_or(|(most, _)| saving > most) {
+                    best = Some((saving, k));
+                }
+            }
+            let Some((_, k)) = best else { return written };
+            write_move(out, pen, k % width, k / width);
+            written += write_detour(pen, out, frame, width, differs, k, how, &mut None);
+            if (pen.fg, pen.bg) != (Some(fg), Some(bg)) {
+                return written;
+            }
+        }
+    }
+
+    /// Issue #42: the detours' fast path and carried candidates change no byte. Frames of runs of
+    /// blanks, blocks and half blocks of two colours and a few others, slanting across the rows
+    /// and sliding along them a frame (as turning), with scattered letters, encoded by an encoder
+    /// and by one whose detours search every turn ([`detours_searched`]), at tolerances 0 and 2,
+    /// every REP level, with and without blocks; and the fast path chose cells.
+    #[test]
+    fn the_detours_fast_path_changes_no_byte() {
+        let mut seed = 0x6c07_8965_u32;
+        let mut next = move |n: u32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed % n
+        };
+        let others = [Color::Rgb(90, 90, 91), Color::Indexed(241), Color::Indexed(4), Color::Rgb(90, 92, 91)];
+        let (width, height) = (41, 13);
+        let mut fast = 0;
+        // Truecolor, palette and ANSI colours: colour changes dearer and cheaper than moves.
+        let pairs = [
+            (Color::Rgb(200, 40, 9), Color::Rgb(30, 160, 220)),
+            (Color::Indexed(59), Color::Indexed(166)),
+            (Color::Indexed(1), Color::Indexed(12)),
+        ];
+        for ((p, q), tolerance) in pairs.into_iter().flat_map(|pair| [(pair, 0), (pair, 2)]) {
+            for rep in [RepLevel::None, RepLevel::Ascii, RepLevel::Any] {
+                for blocks in [true, false] {
+                    let (mut encoder, mut oracle) = (Encoder::new(), Encoder::new());
+                    oracle.follow.whole_search = true;
+                    for encoder in [&mut encoder, &mut oracle] {
+                        encoder.set_tolerance(tolerance);
+                        encoder.set_rep(rep);
+                        encoder.set_blocks(blocks);
+                    }
+                    let (mut pattern, mut slope, mut shift) = (Vec::new(), 0, 0);
+                    let mut frame = Frame::new(width, height);
+                    for step in 0..80 {
+                        if step % 20 == 0 {
+                            // A row of runs, each of one look: mostly the two colours' blanks,
+                            // blocks and half blocks, some of another colour.
+                            pattern.clear();
+                            while pattern.len() < width {
+                                let other = others[next(4) as usize];
+                                let (a, b) = [(p, q), (q, p), (p, p), (q, q), (other, p), (q, other)]
+                                    [next(6) as usize];
+                                let ch = ['▀', '▄', ' ', '█'][next(4) as usize];
+                                pattern.extend(std::iter::repeat_n(
+                                    Cell { ch, fg: a, bg: b },
+                                    1 + next(7) as usize,
+                                ));
+                            }
+                            slope = 1 + next(3) as usize;
+                        }
+                        shift += 1 + next(6) as usize;
+                        for y in 0..height {
+                            for x in 0..width {
+                                frame.set(x, y, pattern[(x + y * slope + shift) % width]);
+                            }
+                        }
+                        for _ in 0..next(8) {
+                            let (x, y) = (next(width as u32) as usize, next(height as u32) as usize);
+                            frame.set(x, y, Cell { ch: 'x', fg: others[next(4) as usize], bg: q });
+                        }
+                        let (mut a, mut b) = (Vec::new(), Vec::new());
+                        assert_eq!(encoder.encode(&frame, &mut a), oracle.encode(&frame, &mut b));
+                        assert_eq!(a, b, "tolerance {tolerance}, {rep:?}, blocks {blocks}, step {step}");
+                        assert_eq!(encoder.screen, oracle.screen);
+                    }
+                    fast += encoder.follow.fast;
+                }
+            }
+        }
+        assert!(fast > 1000, "cells the fast path chose: {fast}");
     }
 
     /// [`Encoder::encode`] as it was before the one-pass scan ([`Memo::scan`]): the frame packed,

@@ -399,6 +399,24 @@ mod tests {
         assert!(equal * 10 >= moves * 9, "{equal} of {moves} moves bound exactly");
     }
 
+    /// What the detours' fast path rests on (issue #42): a move's bound is 0 to the cursor's own
+    /// cell and at least a byte to any other, and never more than `CUP`'s bytes or 3 (a bound from
+    /// nowhere, `None`, is `CUP`'s).
+    #[test]
+    fn a_move_bound_is_nothing_only_in_place_and_never_above_cup_or_three() {
+        let columns: Vec<usize> = (0..14).chain(95..106).chain(125..130).collect();
+        let rows: Vec<usize> = (0..14).chain(38..45).collect();
+        for from in rows.iter().flat_map(|&cy| columns.iter().map(move |&cx| Some((cx, cy)))).chain([None]) {
+            for &y in &rows {
+                for &x in &columns {
+                    let bound = move_bound(from, x, y);
+                    assert_eq!(bound == 0, from == Some((x, y)), "{from:?} to {x},{y}: {bound}");
+                    assert!(bound <= move_bound(None, x, y).max(3), "{from:?} to {x},{y}: {bound}");
+                }
+            }
+        }
+    }
+
     #[test]
     fn cursor_moves_pick_the_cheapest_form() {
         assert_eq!(moved(None, 0, 0), "\x1b[H");
