@@ -319,6 +319,11 @@ pub struct News {
     pub pitch_deg: f32,
     /// It reached the exit after this many seconds: told once.
     pub finished: Option<f64>,
+    /// Its walks are the maze's whole way: it started no nearer the exit than the start
+    /// ([`Player::head_start`] 0). A walk with a head start is kept from the records, the player
+    /// list's best times and the world's first at the exit (red-team pass 5: a crowd's newcomer,
+    /// put nearer the exit, was crowned the world's winner).
+    pub whole_way: bool,
     /// Its exit clock as it sees it (for the spectators).
     pub clock: WalkClock,
 }
@@ -560,7 +565,7 @@ impl Player {
         }
         let pitch_deg = app.camera.pitch_deg;
         let clock = WalkClock { started: app.started, took: app.finished };
-        News { position, heading_deg, cell, pitch_deg, finished, clock }
+        News { position, heading_deg, cell, pitch_deg, finished, clock, whole_way: self.ahead == 0 }
     }
 
     /// Whether the player quit (q, Esc, Ctrl-C).

@@ -165,7 +165,8 @@ impl WorldCell {
     /// Tells the world a player's news under its lock, and publishes the version if that changed it.
     /// A player is not woken by its own move (issue #42): where its subscription `seen` had seen
     /// every version before, it counts the new one as seen too. A finish still wakes it (its best
-    /// time is in the player list). Returns whether the finish is the world's first.
+    /// time is in the player list). Returns whether the finish is the world's first. A finish
+    /// from a head start ([`News::whole_way`] false) is no best time and no winner's.
     fn tell(&self, id: PlayerId, news: &News, seen: &mut watch::Receiver<u64>) -> bool {
         let mut world = lock(&self.world);
         let up_to_date = seen.has_changed().is_ok_and(|changed| !changed);
@@ -173,7 +174,8 @@ impl WorldCell {
         world.moved(id, news.position, news.heading_deg, news.cell);
         world.pitched(id, news.pitch_deg);
         world.clocked(id, news.clock);
-        let first = news.finished.and_then(|seconds| world.finished(id, seconds)).is_some();
+        let finished = news.finished.filter(|_| news.whole_way);
+        let first = finished.and_then(|seconds| world.finished(id, seconds)).is_some();
         if world.version() != before {
             self.version.send_replace(world.version());
             if up_to_date && news.finished.is_none() {
@@ -1737,6 +1739,7 @@ mod tests {
             pitch_deg: 0.0,
             finished: None,
             clock: crate::world::WalkClock { started: 0.0, took: None },
+            whole_way: true,
         };
         cell.tell(a, &at(0.5), &mut seen_a);
         assert!(!woken(&seen_a), "alice's own move");
@@ -1753,7 +1756,13 @@ mod tests {
         cell.tell(a, &at(0.7), &mut seen_a);
         assert_eq!(*cell.version.borrow(), version, "standing still changes nothing");
         assert!(!woken(&seen_a));
-        cell.tell(a, &News { finished: Some(12.0), ..at(0.9) }, &mut seen_a);
+        // red-team pass 5: a walk from a head start (a crowd put bob nearer the exit) is no best
+        // time and no winner's; alice's whole way, later and slower, is the world's first
+        let head_start = News { finished: Some(5.0), whole_way: false, ..at(4.9) };
+        assert!(!cell.tell(b, &head_start, &mut seen_b), "not crowned");
+        cell.look(&mut seen_b);
+        assert!(cell.look(&mut seen_a).players.iter().all(|(_, p)| p.best.is_none()), "no best time shown");
+        assert!(cell.tell(a, &News { finished: Some(12.0), ..at(0.9) }, &mut seen_a), "the first");
         assert!(woken(&seen_a) && woken(&seen_b), "a finish wakes everyone");
     }
 
