@@ -18,6 +18,10 @@
 //! cargo run --release -p mazewalk-bench --example load -- --idle 0 --walkers 90 --servers 3 --world redis://127.0.0.1:6379/0
 //! ```
 //!
+//! Walkers come each from a loopback address of its own (127.1.x.y), as players on the internet do:
+//! the server's drawing budget is per address; `--one-address true` brings them all from 127.0.0.1
+//! (sharing one budget, 20 frames a second each at 120×40).
+//!
 //! With `--record-dir DIR` (issue #43) the server records every player's session there
 //! (`serve --record-dir`): the same figures, to compare with a run without it.
 //!
@@ -50,6 +54,7 @@ struct Args {
     world: Option<String>,
     callgrind: Option<String>,
     record_dir: Option<String>,
+    one_address: bool,
 }
 
 fn args() -> Args {
@@ -64,6 +69,7 @@ fn args() -> Args {
         world: None,
         callgrind: None,
         record_dir: None,
+        one_address: false,
     };
     let argv: Vec<String> = std::env::args().skip(1).collect();
     for pair in argv.chunks(2) {
@@ -77,6 +83,7 @@ fn args() -> Args {
             "--world" => a.world = Some(value.to_string()),
             "--callgrind" => a.callgrind = Some(value.to_string()),
             "--record-dir" => a.record_dir = Some(value.to_string()),
+            "--one-address" => a.one_address = value.parse().expect("--one-address true|false"),
             "--size" => {
                 let (c, r) = value.split_once('x').expect("--size COLSxROWS");
                 (a.cols, a.rows) = (c.parse().expect("cols"), r.parse().expect("rows"));
@@ -163,6 +170,17 @@ impl Drop for ServerProcess {
     }
 }
 
+/// A TCP connection to the server at `to` from a loopback address of walker `i`'s own (127.1.x.y), as
+/// players on the internet come each from its own: the server's drawing budget is an address
+/// group's (`Limits::render_rate`), and 100 walkers from 127.0.0.1 would share one, at its floor of
+/// 20 frames a second each (`--one-address true` measures that).
+async fn from_own_address(to: SocketAddr, i: usize) -> tokio::net::TcpStream {
+    let from = std::net::Ipv4Addr::new(127, 1, (i / 250) as u8, (i % 250 + 1) as u8);
+    let socket = tokio::net::TcpSocket::new_v4().expect("a socket");
+    socket.bind(SocketAddr::from((from, 0))).expect("bind a loopback address");
+    socket.connect(to).await.expect("connect")
+}
+
 fn mib(bytes: u64) -> f64 {
     bytes as f64 / (1024.0 * 1024.0)
 }
@@ -199,12 +217,16 @@ async fn main() {
             load::idle(connected, idle_bytes, stopped).await
         }));
     }
-    // Wait until everyone has drawn and the joins' redraws have settled.
+    // Wait until everyone has drawn and the joins' redraws have settled: then an idle player gets
+    // only its HUD's exit clock, a tick a second (a few dozen bytes), so two seconds bring at most
+    // IDLE_TICK_BYTES each. (Waiting for no bytes at all never ended in a maze with an exit.)
+    const IDLE_TICK_BYTES: u64 = 2 * 200;
     let mut last = u64::MAX;
     loop {
         tokio::time::sleep(Duration::from_secs(2)).await;
         let now = idle_bytes.load(Ordering::Relaxed);
-        if now == last && started.elapsed() > Duration::from_secs(3) {
+        let settled = now.saturating_sub(last) <= IDLE_TICK_BYTES * a.idle as u64;
+        if last != u64::MAX && settled && started.elapsed() > Duration::from_secs(3) {
             break;
         }
         last = now;
@@ -218,11 +240,12 @@ async fn main() {
     let idle_sent = idle_bytes.load(Ordering::Relaxed) - bytes0;
     println!(
         "{} idle players (all in within {join_seconds:.0} s): server {:.1} MiB resident, {:.1} KiB per player; \
-         over {quiet:.0} s: CPU {:.2} % of one core, {idle_sent} bytes sent",
+         over {quiet:.0} s: CPU {:.2} % of one core, {idle_sent} bytes sent ({:.0} B/s a player: the HUD's clock)",
         a.idle,
         mib(rss_idle),
         (rss_idle.saturating_sub(rss_empty)) as f64 / 1024.0 / a.idle.max(1) as f64,
-        idle_cpu * 100.0
+        idle_cpu * 100.0,
+        idle_sent as f64 / quiet / a.idle.max(1) as f64
     );
     stop.send_replace(true);
     for handle in connecting {
@@ -234,7 +257,12 @@ async fn main() {
     let mut walkers = Vec::new();
     for i in 0..a.walkers {
         let at = addrs[i % addrs.len()];
-        let connected = connect(at, &format!("walker{i}"), size).await.expect("connect a walker");
+        let connected = if a.one_address {
+            connect(at, &format!("walker{i}"), size).await
+        } else {
+            load::connect_over(from_own_address(at, i).await, &format!("walker{i}"), size).await
+        };
+        let connected = connected.expect("connect a walker");
         walkers.push(connected);
     }
     tokio::time::sleep(Duration::from_secs(1)).await;
