@@ -233,7 +233,8 @@ pub struct ServeArgs {
     pub max_per_address: u32,
     /// Samples all screens draw a second together, at most (cells × 2 for half blocks and ASCII, 4
     /// quadrants, 6 sextants): the screens drawing share it equally (default: 23,040,000 for each
-    /// core, about 100 players at 120×40 at 60 frames a second on 2 cores; 1000..=4000000000).
+    /// core: 100 players at 120×40 in half blocks get up to 48 frames a second each on 2 cores;
+    /// 1000..=4000000000).
     #[arg(long, value_name = "SAMPLES", value_parser = clap::value_parser!(u32).range(1000..=4_000_000_000))]
     pub render_total: Option<u32>,
     /// Disconnect a player who sends nothing for this long (e.g. 90s, 30m, 2h; 1s..=7d).

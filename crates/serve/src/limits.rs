@@ -61,9 +61,9 @@ pub struct Limits {
     /// budget per address group left many addresses (one screen each from 128 addresses, or 16 of
     /// one /24) free to take the whole machine, another player's key-to-frame p99 1.3 s; now they
     /// share this. The default, [`RENDER_TOTAL_PER_CORE`] for each core the server may use, is about
-    /// a third to two thirds of the machine's drawing (ASCII and half blocks at 120 × 40 cost about
-    /// 25 M samples a second a core, 400 × 150 screens about 50 M), and keeps 100 players at 120 × 40
-    /// turning in half blocks above 45 frames a second on two cores.
+    /// 0.8 of a core's serving of 120 × 40 half-block screens (about 29 M samples a second a core,
+    /// drawn, encoded and sent) and half a core's of 400 × 150 ones (about 42 M): 100 players at
+    /// 120 × 40 turning in half blocks got 41–44 frames a second on two cores (49–52 without it).
     pub render_total: u32,
     /// Window changes a screen follows a second, at most: one that comes sooner waits, and of those
     /// waiting only the latest size is drawn when its turn comes. (Each size drawn reallocates a
