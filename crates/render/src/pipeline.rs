@@ -107,6 +107,11 @@ impl<'m> Light<'m> {
 /// so it shows its whole height and no more ([`Renderer::draw_edges`]): six rows of half blocks.
 const FAR_WALL_SAMPLES: f32 = 12.0;
 
+/// A cell line on the floor (ceiling) within this angle of a wall runs along the wall's foot (top),
+/// and is left out beside it (`draw_cell_bounds`); one at a larger angle meets the wall, and is drawn
+/// up to it. A grid maze's lines are at 0° or 90° to every wall.
+const FOOT_ANGLE: f32 = std::f32::consts::FRAC_PI_6;
+
 /// The fog of a view: half the light left at a fifth of the far distance (19 maze units, about five
 /// generated cells, at the default view distance), all fog at the far plane.
 pub(crate) fn fog_of(eye: &Eye) -> Fog {
@@ -904,6 +909,14 @@ impl Renderer {
                             continue;
                         }
                     }
+                    // A wall whose foot (top) this line runs along: within FOOT_ANGLE of it (below).
+                    let line = (b - a).normalize_or_zero();
+                    let along_foot = |id: u32| {
+                        id < walls && {
+                            let (c, d) = maze.edge_points(id);
+                            line.perp_dot((d - c).normalize_or_zero()).abs() < FOOT_ANGLE.sin()
+                        }
+                    };
                     for (x, y) in segment_samples(eye, a.extend(z), b.extend(z)) {
                         let i = y * w + x;
                         // Not on the plane's sample just beside a wall (the floor's below it, the
@@ -913,26 +926,31 @@ impl Renderer {
                         // the way's light): each is left out there.
                         let off =
                             |k: usize| if plane == FLOOR { i.checked_sub(k * w) } else { Some(i + k * w) };
-                        let wall_at = |j: Option<usize>| {
-                            j.and_then(|j| self.samples.id().get(j)).is_some_and(|&id| id < walls)
+                        let wall_at = |j: Option<usize>, along: bool| {
+                            j.and_then(|j| self.samples.id().get(j))
+                                .is_some_and(|&id| id < walls && (!along || along_foot(id)))
                         };
                         let light = colour_lines || self.floor_bounds_apart || is_way;
                         // (in truecolor and 256 colours, whose lines are near a wall's lightness, not
                         // two samples off a wall either: there a wall's foot is told from the floor a
                         // little way off it, `wall_floor`; nor, but the way's, three off a far wall, one
                         // under FAR_WALL_SAMPLES tall, which fades to a line's grey: a grey line there
-                        // read as the wall again, a row taller, `far_wall_height`)
+                        // read as the wall again, a row taller, `far_wall_height`; those two only for a
+                        // wall the line runs along: one that meets a wall at an angle, down a side
+                        // opening to the wall faced across it, reaches the sample beside the wall, and
+                        // that it reaches the wall tells the opening from a wall in line with an end
+                        // wall, issue #39)
                         let far_wall_at = |k: usize| {
                             off(k).and_then(|j| self.samples.id().get(j)).is_some_and(|&id| {
-                                id < walls
+                                along_foot(id)
                                     && off(k + FAR_WALL_SAMPLES as usize)
                                         .and_then(|j| self.samples.id().get(j))
                                         .is_none_or(|&top| top != id)
                             })
                         };
                         let beside_wall = light
-                            && (wall_at(off(1))
-                                || colour_lines && wall_at(off(2))
+                            && (wall_at(off(1), false)
+                                || colour_lines && wall_at(off(2), true)
                                 || colour_lines && !is_way && far_wall_at(3));
                         if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None && !beside_wall {
                             self.edge_marks[i] = Mark::Seam;

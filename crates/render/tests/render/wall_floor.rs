@@ -22,8 +22,11 @@ const MIN_DELTA_L: f32 = 0.05;
 /// is much nearer than the wall.
 const JUDGED_FLOOR_L: f32 = 0.3;
 
-/// Foot-line pairs (wall L, floor L, x, y) of one frame: the floor sample two below a wall's foot
-/// and the wall sample just above the foot (where a wall meets the floor one of the two samples at
+/// Foot-line pairs (wall L, floor L, x, y) of one frame: the floor two below a wall's foot (the
+/// darkest floor sample two and three below it, up to two columns to either side: cell lines, lighter
+/// than the floor, that meet the wall at an angle reach the sample beside the wall and cross some of
+/// them, a steep one down the column, a shallow one along the row, two at a cell's corner) and the wall
+/// sample just above the foot (where a wall meets the floor one of the two samples at
 /// the boundary is an edge, darker on purpose: the wall's foot sample on a near wall, the floor's
 /// first sample under a far one). Only inside a wall, one sample or more from its ends: where two walls
 /// meet or a wall ends, the line between is an edge, darker than the wall on purpose.
@@ -37,7 +40,14 @@ fn foot_pairs(shown: &[glam::Vec3], ids: &[u32], width: usize) -> Vec<(f32, f32,
             let (above, foot, below) = (ids[at(y - 1)], ids[at(y)], ids[at(y + 1)]);
             let inside = ids[at(y - 1) - 1] == foot && ids[at(y - 1) + 1] == foot;
             if is_wall(foot) && above == foot && below == FLOOR && ids[at(y + 2)] == FLOOR && inside {
-                out.push((shown[at(y - 1)].x, shown[at(y + 2)].x, x, y));
+                let near =
+                    (2..4).flat_map(|dy| (x.saturating_sub(2)..(x + 3).min(width)).map(move |x| (x, y + dy)));
+                let floor = near
+                    .map(|(x, y)| y * width + x)
+                    .filter(|&i| ids.get(i) == Some(&FLOOR))
+                    .map(|i| shown[i].x)
+                    .fold(f32::INFINITY, f32::min);
+                out.push((shown[at(y - 1)].x, floor, x, y));
             }
         }
     }
