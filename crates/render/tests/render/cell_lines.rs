@@ -348,3 +348,107 @@ fn in_256_colours_every_near_cell_line_is_a_step_lighter_than_its_plane() {
         &format!("cell-line samples under {VISIBLE_STEP} lighter than their plane"),
     );
 }
+
+/// Issue #39, a new player through the lens: a corridor's last cell opened to one side, the wall
+/// faced across that opening in line with the end wall, read as an end wall and a side wall — the
+/// floor's line along the opening stopped short of the wall it meets (lines were left out two samples
+/// beside every wall, which is for a line running along a wall's foot). A line that meets a wall at
+/// an angle now reaches the sample beside it. Over corridors of generated mazes ending one to three
+/// cells ahead with such a last cell, in 256 colours, in the walk's field and through the lens (30°):
+/// the line's samples drawn (a step lighter than the floor around) come within `REACH` samples of the
+/// point where it meets the wall faced across the opening.
+#[test]
+fn in_256_colours_a_side_openings_floor_line_reaches_the_wall_it_meets() {
+    use crate::glow_way::on_line;
+    use mazewalk_maze::geometry::FLOOR_Z;
+    use mazewalk_render::quality;
+    use mazewalk_render::samples::FLOOR;
+
+    /// Samples (Euclidean, on the grid) from the point the line meets the wall to its nearest sample
+    /// drawn: 2.0–4.7 over these views; 4.2–8.2 with the lines left out two beside every wall, as at
+    /// `94956db`, where 276 of the walk's views drew none of the line.
+    const REACH: f32 = 5.0;
+    let options = RenderOptions {
+        charset: Charset::Half,
+        color_depth: ColorDepth::Ansi256,
+        ..RenderOptions::default()
+    };
+    let (mut judged, mut failures) = (0, Vec::new());
+    let mut renderer = Renderer::new();
+    for maze in mazes() {
+        for c in every_corridor(&maze) {
+            if !c.closed || !(1..=3).contains(&c.ahead) {
+                continue;
+            }
+            let k = c.ahead as f32;
+            for (s, sign) in [(0, 1.0), (1, -1.0)] {
+                if !c.sides[c.ahead][s] {
+                    continue;
+                }
+                // the wall faced across the opening: the side cell's, in line with the end wall
+                let point =
+                    |along: f32, across: f32| c.at + c.dir * along * c.tile + c.dir.perp() * across * c.tile;
+                let faced = maze.cell_at(point(k, sign * 1.0)).is_some_and(|cell| {
+                    maze.cell_edges(cell).iter().any(|&e| {
+                        let (a, b) = maze.edge_points(e);
+                        maze.edge(e).opaque && (a + b).distance(2.0 * point(k + 0.5, sign)) < 0.1 * c.tile
+                    })
+                });
+                if !faced {
+                    continue;
+                }
+                let (near, far) = (point(k - 0.5, sign * 0.5), point(k + 0.5, sign * 0.5));
+                for hfov in [c.camera.hfov_deg, 30.0] {
+                    let camera = if hfov == 30.0 {
+                        mazewalk_render::Camera { hfov_deg: 30.0, min_vfov_deg: 0.0, ..c.camera }
+                    } else {
+                        c.camera
+                    };
+                    let mut frame = Frame::new(COLS, ROWS);
+                    let region = frame.region();
+                    renderer
+                        .render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region))
+                        .expect("camera");
+                    let shown = quality::shown(&frame, Charset::Half);
+                    let ids = renderer.samples().id();
+                    let w = renderer.samples().width();
+                    let h = ids.len() / w;
+                    let eye =
+                        camera.eye(w, h, Charset::Half.sample_aspect(options.cell_aspect)).expect("eye");
+                    let end = eye.grid(eye.clip(far.extend(FLOOR_Z)));
+                    // drawn: a floor sample a step lighter than the darkest floor within two samples
+                    let drawn = |i: usize| {
+                        let (x, y) = ((i % w) as i64, (i / w) as i64);
+                        let floor = (-2..=2i64)
+                            .flat_map(|dy| (-2..=2i64).map(move |dx| (x + dx, y + dy)))
+                            .filter(|&(x, y)| (0..w as i64).contains(&x) && (0..h as i64).contains(&y))
+                            .map(|(x, y)| (y * w as i64 + x) as usize)
+                            .filter(|&j| ids[j] == FLOOR)
+                            .map(|j| shown[j].x)
+                            .fold(f32::INFINITY, f32::min);
+                        ids[i] == FLOOR && shown[i].x - floor >= VISIBLE_STEP
+                    };
+                    let nearest = on_line(&eye, near.extend(FLOOR_Z), far.extend(FLOOR_Z))
+                        .into_iter()
+                        .filter(|&i| drawn(i))
+                        .map(|i| {
+                            glam::Vec2::new((i % w) as f32 + 0.5, (i / w) as f32 + 0.5)
+                                .distance(end.truncate())
+                        })
+                        .fold(f32::INFINITY, f32::min);
+                    if !nearest.is_finite() {
+                        continue; // not in view, or no sample of it drawn (too far, too thin)
+                    }
+                    judged += 1;
+                    if nearest > REACH {
+                        failures.push(format!(
+                            "corridor at {:?} heading {:.0}, {} cells, side {s}, field {hfov}°: the line's nearest drawn sample {nearest:.1} samples from the wall",
+                            c.at, c.camera.yaw_deg, c.ahead
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    crate::none_failed(judged, 10, &failures, "side openings' floor lines short of the wall they meet");
+}
