@@ -245,7 +245,7 @@ const VISIBLE_STEP: f32 = 0.07;
 fn in_256_colours_every_near_cell_line_is_a_step_lighter_than_its_plane() {
     use crate::glow_way::{near_line, on_line, way_look};
     use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
-    use mazewalk_render::quality::{self, held_out_views};
+    use mazewalk_render::quality::held_out_views;
     use mazewalk_render::samples::{CEILING, FLOOR};
 
     let options = RenderOptions {
@@ -260,15 +260,9 @@ fn in_256_colours_every_near_cell_line_is_a_step_lighter_than_its_plane() {
         let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
         let openings: Vec<u32> = (0..maze.edges().len() as u32).filter(|&e| !maze.edge(e).opaque).collect();
         for (k, (kind, camera)) in held_out_views(&maze, seed, 60).into_iter().enumerate() {
-            let mut frame = Frame::new(COLS, ROWS);
-            let region = frame.region();
-            renderer
-                .render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region))
-                .expect("camera");
-            let shown = quality::shown(&frame, Charset::Half);
+            let (shown, eye) = half_view(&mut renderer, &maze, &camera, &options);
             let ids = renderer.samples().id();
-            let (w, h) = (renderer.samples().width(), ids.len() / renderer.samples().width());
-            let eye = camera.eye(w, h, Charset::Half.sample_aspect(options.cell_aspect)).expect("eye");
+            let (w, h) = (eye.width, eye.height);
             // every opening's line, within a sample: not the plane beside a line
             let mut lines = Vec::new();
             for &e in &openings {
@@ -361,7 +355,6 @@ fn in_256_colours_every_near_cell_line_is_a_step_lighter_than_its_plane() {
 fn in_256_colours_a_side_openings_floor_line_reaches_the_wall_it_meets() {
     use crate::glow_way::on_line;
     use mazewalk_maze::geometry::FLOOR_Z;
-    use mazewalk_render::quality;
     use mazewalk_render::samples::FLOOR;
 
     /// Samples (Euclidean, on the grid) from the point the line meets the wall to its nearest sample
@@ -404,17 +397,9 @@ fn in_256_colours_a_side_openings_floor_line_reaches_the_wall_it_meets() {
                     } else {
                         c.camera
                     };
-                    let mut frame = Frame::new(COLS, ROWS);
-                    let region = frame.region();
-                    renderer
-                        .render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region))
-                        .expect("camera");
-                    let shown = quality::shown(&frame, Charset::Half);
+                    let (shown, eye) = half_view(&mut renderer, &maze, &camera, &options);
                     let ids = renderer.samples().id();
-                    let w = renderer.samples().width();
-                    let h = ids.len() / w;
-                    let eye =
-                        camera.eye(w, h, Charset::Half.sample_aspect(options.cell_aspect)).expect("eye");
+                    let (w, h) = (eye.width, eye.height);
                     let end = eye.grid(eye.clip(far.extend(FLOOR_Z)));
                     // drawn: a floor sample a step lighter than the darkest floor within two samples
                     let drawn = |i: usize| {
@@ -451,4 +436,20 @@ fn in_256_colours_a_side_openings_floor_line_reaches_the_wall_it_meets() {
         }
     }
     crate::none_failed(judged, 10, &failures, "side openings' floor lines short of the wall they meet");
+}
+
+/// `camera`'s view of `maze` in half blocks at COLS × ROWS: the colours shown (OKLab per sample) and
+/// the eye (the renderer keeps the samples' ids).
+fn half_view(
+    renderer: &mut Renderer,
+    maze: &mazewalk_maze::Maze,
+    camera: &mazewalk_render::Camera,
+    options: &RenderOptions,
+) -> (Vec<glam::Vec3>, mazewalk_render::Eye) {
+    let mut frame = Frame::new(COLS, ROWS);
+    let region = frame.region();
+    renderer.render(maze, camera, &[], options, Target::Frame(&mut frame, region)).expect("camera");
+    let shown = mazewalk_render::quality::shown(&frame, Charset::Half);
+    let (w, h) = (renderer.samples().width(), renderer.samples().height());
+    (shown, camera.eye(w, h, Charset::Half.sample_aspect(options.cell_aspect)).expect("eye"))
 }
