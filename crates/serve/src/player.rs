@@ -303,7 +303,13 @@ pub struct Player {
     /// The shared world's Redis is away, as of its last look.
     offline: bool,
     /// How many cells' steps nearer the exit than the maze's start its spot is ([`Spot::ahead`]).
+    spot_ahead: u32,
+    /// The same for this walk: its spot's, or 0 once it came back as far from the exit as the start
+    /// ([`Player::start_line`]).
     ahead: u32,
+    /// When this walk's clock started (the app's `started`): another value means `r` started a walk
+    /// again from the spot.
+    walk_started: f64,
 }
 
 /// What the world learns from a player after a frame ([`Player::news`]).
@@ -359,7 +365,9 @@ impl Player {
             ask_truecolor: plan.ask,
             recorded: false,
             offline: false,
+            spot_ahead: 0,
             ahead: 0,
+            walk_started: now,
         })
     }
 
@@ -474,22 +482,56 @@ impl Player {
 
     /// The player starts on `spot` (where a viewer stands there) instead of the maze's start,
     /// facing its heading (the maze's heading when `None`), and `r` brings it back there: its own
-    /// spot in a shared maze ([`crate::spawn`]).
-    pub(crate) fn place(&mut self, spot: &Spot) {
+    /// spot in a shared maze ([`crate::spawn`]), at time `now`.
+    pub(crate) fn place(&mut self, spot: &Spot, now: f64) {
         let app = self.session.app_mut();
         app.set_start(spot.at.pos);
         if let Some(heading) = spot.heading {
             app.set_start_heading(heading);
         }
-        self.ahead = spot.ahead;
+        self.walk_started = app.started;
+        (self.spot_ahead, self.ahead) = (spot.ahead, spot.ahead);
+        if spot.ahead > 0 {
+            // (back at the start, or any cell as far from the exit: `start_line`)
+            self.notice("A crowd at the start: walk back there for a walk the records keep.".into(), now);
+        }
     }
 
-    /// How many cells' steps nearer the exit than the maze's start this player's walks start
-    /// ([`Spot::ahead`]): 0, or its finishes are not the maze's whole way and are not kept in the
-    /// records (a crowd must not give a newcomer a head start on a record: red-team pass 4).
+    /// How many cells' steps nearer the exit than the maze's start this player's walk started
+    /// ([`Spot::ahead`]): 0, or its finish is not the maze's whole way and is not kept in the records
+    /// (a crowd must not give a newcomer a head start on a record: red-team pass 4).
     #[must_use]
     pub fn head_start(&self) -> u32 {
         self.ahead
+    }
+
+    /// The start line: a walk from a head start (a crowd stood at the start, [`Player::place`]) that
+    /// comes back to a cell no nearer the exit than the start (`fair`, [`Spawns::fair`]) starts
+    /// again there at `now`, its clock from zero, a walk the records keep; one idle player on the
+    /// start no longer keeps every newcomer's walk from the records (red-team pass 5); after a
+    /// finish too (its exit box says so). `r` walks from the spot again, with its head start.
+    /// Returns whether the walk started again.
+    ///
+    /// [`Spawns::fair`]: crate::spawn::Spawns::fair
+    pub fn start_line(&mut self, fair: impl Fn(u32) -> bool, now: f64) -> bool {
+        let app = self.session.app();
+        if app.started != self.walk_started {
+            (self.walk_started, self.ahead) = (app.started, self.spot_ahead); // `r`: from the spot
+        }
+        if self.ahead == 0 || !fair(app.cell) {
+            return false;
+        }
+        self.session.app_mut().restart_clock(now);
+        (self.walk_started, self.ahead) = (now, 0);
+        let text = "As far from the exit as the start: the clock starts again, for the records.";
+        self.notice(text.to_string(), now);
+        true
+    }
+
+    /// Shows `text` in the notice box from `now` for [`NOTICE_SECONDS`].
+    fn notice(&mut self, text: String, now: f64) {
+        self.session.set_notice(Some(text));
+        self.notice_until = Some(now + NOTICE_SECONDS);
     }
 
     /// The player joined the world as `id`.
@@ -546,8 +588,7 @@ impl Player {
         self.show_status();
         if let (Some(winner), false) = (&look.winner, self.seen_winner) {
             self.seen_winner = true;
-            self.session.set_notice(Some(winner.announcement_for(me)));
-            self.notice_until = Some(now + NOTICE_SECONDS);
+            self.notice(winner.announcement_for(me), now);
             changed = true;
         }
         changed
@@ -620,6 +661,51 @@ mod tests {
             0.0,
         )
         .unwrap()
+    }
+
+    /// Red-team pass 5: one idle player on the start of a maze whose start is the only cell that far
+    /// from the exit put every newcomer nearer the exit, and no newcomer's walk was kept. Now a walk
+    /// from a head start that comes back as far from the exit as the start starts again there (the
+    /// start line): its clock from zero, no head start, the notice saying so; `r` walks from the
+    /// spot again, with its head start.
+    #[test]
+    fn a_head_start_walked_back_to_the_starts_distance_is_a_walk_the_records_keep() {
+        use crate::spawn::Spawns;
+        use mazewalk_maze::generate::{GenOptions, generate};
+        // a generated maze's start is the cell farthest from its exit: with someone there, a
+        // newcomer is put nearer the exit
+        let maze = Arc::new(generate(&GenOptions::walk(8, 6, 3)).unwrap());
+        let spawns = Spawns::new(&maze).unwrap();
+        let start = mazewalk_walk::state::stand(&maze, maze.viewer().pos).unwrap();
+        let spot = spawns.pick(&[start.pos]);
+        assert!(spot.ahead > 0, "the squatter's newcomer starts nearer the exit");
+        assert!(spawns.fair(start.cell) && !spawns.fair(spot.at.cell));
+        let terminal = ClientTerminal::new("xterm-256color");
+        let mut p = Player::new(Arc::clone(&maze), &terminal, (80, 24), &Limits::default(), 0.0).unwrap();
+        p.place(&spot, 0.0);
+        assert_eq!(p.head_start(), spot.ahead);
+        let mut out = Vec::new();
+        p.frame(0.0, &mut out);
+        assert!(String::from_utf8_lossy(&out).contains("walk back"), "the newcomer is told how to race");
+        // on its spot's cell, or any other nearer the exit: nothing changes
+        assert!(!p.start_line(|c| spawns.fair(c), 5.0));
+        assert_eq!((p.head_start(), p.session().app().started), (spot.ahead, 0.0));
+        // back in the start's cell (moved there as a walk would)
+        let app = p.session_mut().app_mut();
+        (app.camera.position, app.cell) = (start.pos, start.cell);
+        assert!(p.start_line(|c| spawns.fair(c), 12.0));
+        assert_eq!((p.head_start(), p.session().app().started), (0, 12.0), "a walk from here, no head start");
+        assert!(p.news().whole_way);
+        out.clear();
+        p.frame(12.5, &mut out);
+        assert!(String::from_utf8_lossy(&out).contains("clock starts again"));
+        assert!(!p.start_line(|c| spawns.fair(c), 13.0), "once");
+        // `r`: a new walk from the spot, with its head start
+        p.feed(b"r", 14.0);
+        assert!(!p.start_line(|c| spawns.fair(c), 14.1));
+        assert_eq!(p.head_start(), spot.ahead);
+        assert_eq!(p.whereabouts().2, spot.at.cell);
+        assert!(!p.news().whole_way);
     }
 
     /// A window change within the interval waits its turn, the latest of those waiting wins, and

@@ -1193,6 +1193,9 @@ pub fn head_start_lines(ahead: u32) -> Vec<String> {
         format!("started {cells} nearer the exit"),
         "than the maze's start (a crowd".to_string(),
         "stood on the cells behind it).".to_string(),
+        "Walk back to the start: there".to_string(),
+        "the clock starts again, for the".to_string(),
+        "records.".to_string(),
     ]
 }
 

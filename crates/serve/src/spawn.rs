@@ -21,7 +21,9 @@
 //! first (reached through any cell, up to [`MAX_CELLS`]); only when none of them has a spot a cell
 //! apart (at least [`SPACING`], in the next tier) does a newcomer get a spot nearer the exit, the
 //! fewest steps nearer first (of cells' centres, then of other spots), marked so ([`Spot::ahead`]): its finishes are not kept in the records
-//! (the server's `walk`). Often the start is the cell farthest from the exit (a `--gen` maze's exit
+//! (the server's `walk`) until it walks back to a cell as far from the exit as the start's
+//! ([`Spawns::fair`]): there its walk starts again, its clock from zero, a walk the records keep
+//! (red-team pass 5: one idle player on the start kept every newcomer's walk from the records). Often the start is the cell farthest from the exit (a `--gen` maze's exit
 //! is the cell farthest from the start), so nothing else is as far: putting a crowd in one cell,
 //! the players inside one another (issue #34), would be worse than an unrecorded walk. A maze
 //! with no exit, or whose exit the start cannot reach, marks no spot.
@@ -62,6 +64,8 @@ pub(crate) struct Spawns {
     /// The spots of the cells nearer the exit, among the [`MAX_CELLS`] nearest the start: cells'
     /// centres first, then the fewest steps nearer, then as the rings.
     ahead: Vec<Spot>,
+    /// Each cell: no nearer the exit than the start's ([`Spawns::fair`]).
+    fair: Vec<bool>,
 }
 
 /// Where a newcomer may stand.
@@ -131,7 +135,16 @@ impl Spawns {
         // cells' centres first, as in a ring; then the fewest steps nearer (stable: then the rings' order)
         nearer
             .sort_by_key(|spot| (spot.at.pos.distance(maze.cell_centroid(spot.at.cell)) > 1e-3, spot.ahead));
-        Some(Spawns { start, rings, ahead: nearer })
+        let fair = (0..maze.cell_count() as u32).map(|cell| ahead(cell) == 0).collect();
+        Some(Spawns { start, rings, ahead: nearer, fair })
+    }
+
+    /// Whether `cell` is as many cells' steps from the exit as the start's cell, or more (every cell
+    /// of a maze without an exit): a walk from a head start that comes back to such a cell starts
+    /// again there, its clock from zero, as a walk the records keep (the start line, `walk`).
+    #[must_use]
+    pub fn fair(&self, cell: u32) -> bool {
+        self.fair.get(cell as usize).copied().unwrap_or(false)
     }
 
     /// A free spot for a newcomer whose other players stand at `others` (see the module's doc).

@@ -1256,7 +1256,7 @@ async fn game(shared: &Arc<Shared>, conn: &Arc<Conn>, channel: Channel<Msg>) {
         // A spot of its own, chosen and taken under one lock (two newcomers never get the same).
         let mut world = shared.world();
         let spot = shared.spawns.pick(&world.positions());
-        player.place(&spot);
+        player.place(&spot, now);
         let (position, heading, cell) = player.whereabouts();
         let id = world.join(&user, position, heading, cell, now);
         shared.world_changed(&world);
@@ -1547,7 +1547,7 @@ fn settle(shared: &Shared, player: &mut Player, id: PlayerId, arriving: &mut Opt
         return;
     }
     let Some(spot) = arrival.crowded(&shared.spawns, &world.positions_but(id)) else { return };
-    player.place(&spot);
+    player.place(&spot, now);
     let (position, heading, cell) = player.whereabouts();
     world.moved(id, position, heading, cell);
     shared.world_changed(&world);
@@ -1639,7 +1639,9 @@ async fn walk(
                 () = until_shutdown(&mut shutdown) => return End::Shutdown,
             }
         }
-        // Tell the others where this player is now, and whether it won.
+        // Tell the others where this player is now, and whether it won (a walk from a head start
+        // back as far from the exit as the start starts again there, for the records).
+        player.start_line(|cell| shared.spawns.fair(cell), shared.now());
         let news = player.news();
         let first = shared.world.tell(id, &news, &mut versions);
         if let Some(seconds) = news.finished {

@@ -591,6 +591,17 @@ impl App {
         }
     }
 
+    /// The clock from zero where the viewer stands: a new walk from here, the floor's chalk kept (a
+    /// served player put nearer the exit than the start by a crowd there, back as far from the exit
+    /// as the start: `serve`'s start line). `r` still brings it back to its start.
+    pub fn restart_clock(&mut self, now: f64) {
+        (self.started, self.finished) = (now, None);
+        self.exit_box = false;
+        self.recorder.restart();
+        self.finish_pose = None;
+        self.track(now);
+    }
+
     /// Back to the start, the clock from zero (the start's field of view: the lens off).
     fn reset(&mut self, now: f64) {
         (self.camera, self.cell) = self.start;
