@@ -654,12 +654,22 @@ impl Server {
         }));
         let registry = crate::metrics::registry(&self.shared.metrics, live);
         let shared = Arc::clone(&self.shared);
+        let players: Mutex<Option<((u64, Option<bool>), String)>> = Mutex::new(None);
         let records = self.shared.records.as_ref().map(|keeper| keeper.records.clone());
         let site = crate::http::Site {
             registry,
             maze: crate::http::maze_json(&self.shared.maze, maze_name, &self.joining()),
             versions: self.shared.world.version.subscribe(),
-            players: Box::new(move || crate::http::players_json(&shared.world().look())),
+            players: Box::new(move || {
+                // Built once a change of the world (every stream asks at each), outside its lock.
+                let look = shared.world().look();
+                let mut cached = lock(&players);
+                let key = (look.version, look.online);
+                if cached.as_ref().is_none_or(|(at, _)| *at != key) {
+                    *cached = Some((key, crate::http::players_json(&look)));
+                }
+                cached.as_ref().map(|(_, json)| json.clone()).unwrap_or_default()
+            }),
             best_run: Box::new(move || {
                 crate::http::best_run_json(records.as_ref().and_then(|r| r.best_run()).as_deref())
             }),
