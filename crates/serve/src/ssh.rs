@@ -654,7 +654,8 @@ impl Server {
         }));
         let registry = crate::metrics::registry(&self.shared.metrics, live);
         let shared = Arc::clone(&self.shared);
-        let players: Mutex<Option<((u64, Option<bool>), String)>> = Mutex::new(None);
+        // the player list's JSON and the world's version and whether it was online, when built
+        let players: Mutex<Option<(WorldState, String)>> = Mutex::new(None);
         let records = self.shared.records.as_ref().map(|keeper| keeper.records.clone());
         let site = crate::http::Site {
             registry,
@@ -1539,6 +1540,10 @@ async fn close(tx: &ChannelWriteHalf<Msg>, status: u32) {
     let _ = tx.eof().await;
     let _ = tx.close().await;
 }
+
+/// A world's version and whether a shared one was online (`Look::version`, `Look::online`): what the
+/// status page's player list was built for.
+type WorldState = (u64, Option<bool>);
 
 /// A shared world's newcomer standing where another server's earlier player stands (the two joined
 /// within a message's way of each other, or this server had not heard of the other yet: a spot is
