@@ -803,6 +803,9 @@ pub(crate) fn draw_peers(frame: &mut Frame, area: &MapArea, peers: &[Peer], view
     }
 }
 
+/// The look-ahead lens's range marks (the screen's `range_marks`): a light grey digit on black.
+pub(crate) const RANGE_FG: Color = Color::Rgb(220, 220, 220);
+
 /// A ghost's colour on the map and on its caption: a pale blue, no player's.
 pub(crate) const GHOST_FG: Color = Color::Rgb(190, 230, 255);
 

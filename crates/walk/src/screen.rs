@@ -20,7 +20,7 @@ use crate::views::{SharedViews, ViewKey};
 use mazewalk_render::palette::xterm_rgb;
 use mazewalk_render::portal::PortalPass;
 use mazewalk_render::{Camera, Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
-use mazewalk_term::frame::{Cell, Color, Frame, Region};
+use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// What the last frame cost, for the HUD.
 #[derive(Clone, Copy, Debug, Default)]
@@ -316,7 +316,11 @@ fn draw_into(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud, keep:
     let roster_open = screen.show_roster && !screen.roster.is_empty() && !app.confirm_quit;
     let caption = screen.ghost.is_some() && screen.renderer.heads().iter().any(|h| h.0 == ghost_sprite);
     let boxed = exit_box.is_some() || app.confirm_quit || app.help || screen.notice.is_some() || roster_open;
-    if let Some(last) = screen.last_view.as_mut().filter(|last| own && !last.whole && (caption || boxed)) {
+    let marks = if app.look_ahead() { range_marks(app, &options, view) } else { Vec::new() };
+    let marked = !marks.is_empty();
+    if let Some(last) =
+        screen.last_view.as_mut().filter(|last| own && !last.whole && (caption || boxed || marked))
+    {
         // drawn over more than the map: the whole view is kept (the frame holds it, as rendered)
         last.cells.clear();
         last.cells.extend_from_slice(&frame.cells()[..cols * view.rows]);
@@ -326,6 +330,16 @@ fn draw_into(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud, keep:
         && let Some(&(_, col, row)) = screen.renderer.heads().iter().find(|h| h.0 == ghost_sprite)
     {
         draw_caption(frame, view, col, row, &style.text(caption));
+        over_view = true;
+    }
+    let (fg, bg) = if style.depth == ColorDepth::None {
+        (Color::Default, Color::Default)
+    } else {
+        (overlay::RANGE_FG, Color::Indexed(0))
+    };
+    for (k, row) in marks {
+        // on the view's left edge, the floor's cell line's row: a rangefinder's scale
+        frame.set(view.col, row, Cell { ch: k, fg, bg });
         over_view = true;
     }
     frame.region_rows_mut(Region { row: rows - 1, rows: 1, ..view }).for_each(|hud| hud.fill(Cell::BLANK));
@@ -456,6 +470,77 @@ fn draw_caption(frame: &mut Frame, view: Region, col: usize, row: usize, caption
     for (k, ch) in caption.chars().take(width).enumerate() {
         frame.set(left + k, row, Cell { ch, fg: overlay::GHOST_FG, bg: Color::Indexed(0) });
     }
+}
+
+/// Cells a range mark counts at most: one digit.
+const RANGE_MARKS: u32 = 9;
+
+/// The look-ahead lens's range marks (issue #39: a new player through the lens counted corridors a
+/// cell short, as the nearest cell line it shows lies on the frame's edge): where the floor straight
+/// ahead crosses into the k-th cell ahead (the cell line drawn there), the digit k and the row of
+/// `view` where that line lies, for lines inside the view up to the first that lies under two rows
+/// from the line a cell nearer (where ascii leaves its lines out, and digits on rows side by side
+/// would read as one number); none past a wall, or past [`RANGE_MARKS`] cells.
+fn range_marks(app: &App, options: &RenderOptions, view: Region) -> Vec<(char, usize)> {
+    use mazewalk_maze::geometry::{FLOOR_Z, heading_dir};
+    let camera = &app.camera;
+    let (per_col, per_row) = options.charset.samples_per_cell();
+    let aspect = options.charset.sample_aspect(options.cell_aspect);
+    let Ok(eye) = camera.eye(view.cols * per_col, view.rows * per_row, aspect) else { return Vec::new() };
+    let mut marks: Vec<(char, usize)> = Vec::new();
+    let crossings =
+        cells_ahead(app.maze(), app.cell, camera.position, heading_dir(camera.yaw_deg.to_radians()));
+    let mut nearer = f32::INFINITY; // the sample row of the line a cell nearer
+    for (k, at) in (1..=RANGE_MARKS).zip(crossings) {
+        let clip = eye.clip(at.extend(FLOOR_Z));
+        if clip.w <= eye.near {
+            continue;
+        }
+        let y = eye.grid(clip).y;
+        if nearer - y < (2 * per_row) as f32 {
+            break; // lines closer than two rows: farther ones closer still
+        }
+        nearer = y;
+        if (0.0..(view.rows * per_row) as f32).contains(&y) {
+            marks.push((char::from_digit(k, 10).unwrap_or('?'), view.row + y as usize / per_row));
+        }
+    }
+    marks
+}
+
+/// Where a ray on the floor from `at` (in `cell`) along `dir` crosses into each next cell through
+/// an opening, nearest first, until it meets a wall or leaves the maze ([`RANGE_MARKS`] at most).
+fn cells_ahead(
+    maze: &mazewalk_maze::Maze,
+    mut cell: u32,
+    at: glam::Vec2,
+    dir: glam::Vec2,
+) -> Vec<glam::Vec2> {
+    let mut out = Vec::new();
+    let mut from = 0.0f32;
+    while out.len() < RANGE_MARKS as usize {
+        // the edge of this cell the ray leaves by: the nearest crossing past the last one
+        let leave = maze
+            .cell_edges(cell)
+            .iter()
+            .filter_map(|&e| {
+                let (a, b) = maze.edge_points(e);
+                let (side, denom) = (b - a, dir.perp_dot(b - a));
+                if denom.abs() < 1e-9 {
+                    return None; // along the edge
+                }
+                let t = (a - at).perp_dot(side) / denom; // along the ray
+                let s = (a - at).perp_dot(dir) / denom; // along the edge
+                (t > from + 1e-4 && (-1e-4..=1.0 + 1e-4).contains(&s)).then_some((t, e))
+            })
+            .min_by(|x, y| x.0.total_cmp(&y.0));
+        let Some((t, e)) = leave else { break };
+        let edge = maze.edge(e);
+        let Some(next) = edge.other_side(cell).filter(|_| !edge.opaque) else { break };
+        out.push(at + dir * t);
+        (cell, from) = (next, t);
+    }
+    out
 }
 
 /// Draws the HUD's row of `frame` only, over what [`draw`] drew last: when nothing but the HUD's
@@ -689,6 +774,60 @@ mod tests {
         assert!(line(&app, 200).contains("fov 90° persp half"), "{:?}", line(&app, 200));
     }
 
+    /// Issue #39: through the lens a new player counted every corridor a cell short, the nearest
+    /// cell line in view lying on the frame's bottom edge. The lens numbers the floor's cell lines
+    /// straight ahead at the view's left edge: the k-th line crossed into the k-th cell ahead. Down
+    /// a corridor of eight cells from the first's centre, in every charset: digits 2, 3, … bottom to
+    /// top (cell 1's line lies below the lens's view), each on the row where the line is drawn in
+    /// the view's middle column (ascii's `~`; in the block charsets ascii's rows, within one), none
+    /// past the end wall; none without the lens.
+    #[test]
+    fn the_lens_numbers_the_cell_lines_ahead() {
+        use mazewalk_render::Charset;
+        let text = "mazewalk-grid 1\ntile 4\nfacing east\n\n##########\n#@.......#\n##########\n";
+        let maze = mazewalk_maze::parse("corridor.grid", text.as_bytes()).unwrap();
+        let mut ascii = Vec::new();
+        for charset in [Charset::Ascii, Charset::Half, Charset::Quad, Charset::Sextant] {
+            let options = RenderOptions { charset, ..RenderOptions::default() };
+            let mut app = App::new(maze.clone(), options, 0.0).unwrap();
+            let mut screen = Screen::default();
+            let mut frame = Frame::new(120, 40);
+            draw(&app, &mut screen, &mut frame, &Hud::default());
+            let edge = |frame: &Frame| (0..39).map(|y| frame.get(0, y).unwrap().ch).collect::<String>();
+            assert!(!edge(&frame).chars().any(|c| c.is_ascii_digit()), "no marks without the lens");
+            app.set_look_ahead(true);
+            draw(&app, &mut screen, &mut frame, &Hud::default());
+            let marks: Vec<(u32, usize)> = (0..39)
+                .rev()
+                .filter_map(|y| frame.get(0, y).unwrap().ch.to_digit(10).map(|k| (k, y)))
+                .collect();
+            let digits: Vec<u32> = marks.iter().map(|m| m.0).collect();
+            // lines at 2, 6, 10, … units ahead of the first cell's centre: the end wall 30 units off,
+            // after cell 7's line; those past the first under two rows from the one before are left out
+            assert!(digits.len() >= 3 && digits[0] == 2, "{charset:?}: {digits:?}");
+            assert!(digits.windows(2).all(|w| w[1] > w[0]) && *digits.last().unwrap() <= 7, "{digits:?}");
+            assert!(marks.windows(2).all(|w| w[1].1 < w[0].1), "bottom to top: {marks:?}");
+            // each on its line's row: in ascii the middle column's cell there is the line's `~`; in
+            // the other charsets (a line is a sample of 2–3 a cell) the rows are ascii's, within one
+            let middle = |y: usize| frame.get(60, y).unwrap().ch;
+            if charset == Charset::Ascii {
+                for &(k, y) in &marks {
+                    let near = [y.saturating_sub(1), y, y + 1].map(middle);
+                    assert!(near.contains(&'~'), "mark {k} at row {y} is not on a line: {near:?}");
+                }
+                ascii = marks;
+            } else {
+                for &(k, y) in &marks {
+                    let row = ascii.iter().find(|m| m.0 == k).map(|m| m.1);
+                    assert!(
+                        row.is_some_and(|r| r.abs_diff(y) <= 1),
+                        "{charset:?}: mark {k} at {y}, {ascii:?}"
+                    );
+                }
+            }
+        }
+    }
+
     /// A screen drawn into a kept frame ([`draw_kept`]: only the cells under the map kept of a
     /// rendered view, only those restored when it is shown again) draws each frame bit for bit as
     /// [`draw`] does into a fresh frame: over two mazes and every charset, through turns, steps and
@@ -737,6 +876,7 @@ mod tests {
                         _ => MapMode::Corner,
                     };
                     app.help = k % 17 == 4;
+                    app.set_look_ahead(k % 10 < 4); // (its range marks drawn over the view)
                     app.finished = (k % 23 == 7).then_some(12.5);
                     app.exit_box = app.finished.is_some();
                     let behind = Vec2::from_angle(app.camera.yaw_deg.to_radians()) * -(0.2 + 0.05 * k as f32);
