@@ -523,7 +523,7 @@ impl Player {
         }
         self.session.app_mut().restart_clock(now);
         (self.walk_started, self.ahead) = (now, 0);
-        let text = "As far from the exit as the start: the clock starts again, for the records.";
+        let text = "As far from the exit as the start: the clock starts again, for records.";
         self.notice(text.to_string(), now);
         true
     }
