@@ -218,15 +218,18 @@ async fn main() {
         }));
     }
     // Wait until everyone has drawn and the joins' redraws have settled: then an idle player gets
-    // only its HUD's exit clock, a tick a second (a few dozen bytes), so two seconds bring at most
-    // IDLE_TICK_BYTES each. (Waiting for no bytes at all never ended in a maze with an exit.)
-    const IDLE_TICK_BYTES: u64 = 2 * 200;
-    let mut last = u64::MAX;
+    // only its HUD's exit clock, a tick a second (~21 bytes with the flow control's query), so two
+    // seconds bring at most IDLE_TICK_BYTES each, twice running. (Waiting for no bytes at all never
+    // ended in a maze with an exit; 200 a second let a run end while first paints, ~8 KB each,
+    // still trickled out of a drawing budget shared by 1,000 players from one address.)
+    const IDLE_TICK_BYTES: u64 = 2 * 40;
+    let (mut last, mut quiet_spells) = (u64::MAX, 0);
     loop {
         tokio::time::sleep(Duration::from_secs(2)).await;
         let now = idle_bytes.load(Ordering::Relaxed);
         let settled = now.saturating_sub(last) <= IDLE_TICK_BYTES * a.idle as u64;
-        if last != u64::MAX && settled && started.elapsed() > Duration::from_secs(3) {
+        quiet_spells = if last != u64::MAX && settled { quiet_spells + 1 } else { 0 };
+        if quiet_spells >= 2 && started.elapsed() > Duration::from_secs(3) {
             break;
         }
         last = now;
