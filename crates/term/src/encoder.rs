@@ -119,6 +119,9 @@ pub struct Encoder {
     effective: Vec<PackedCell>,
     /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
     differs: Vec<bool>,
+    /// The cells of `differs` that may be set: those the last [`Memo::scan`] marked (the others
+    /// it cleared).
+    differs_set: Range<usize>,
     /// The last diff's frame and which of its cells it left as the screen showed them ([`Memo`]).
     memo: Memo,
     /// The tolerance the screen shows the last frame within: the last diff's, 0 after a full paint
@@ -159,6 +162,7 @@ impl Encoder {
             tolerance: 0,
             effective: Vec::new(),
             differs: Vec::new(),
+            differs_set: 0..0,
             memo: Memo::default(),
             sent_within: 0,
             approximate_rows: Vec::new(),
@@ -267,7 +271,9 @@ impl Encoder {
             // listed (`unequal`: only those can the diff change); the diff leaves it what was sent.
             let screen = &mut self.screen;
             let cells = rows.start * width..rows.end * width;
-            self.memo.scan(frame.cells(), cells, screen, &mut self.differs, &mut self.unequal);
+            let differs = (&mut self.differs, self.differs_set.clone());
+            self.memo.scan(frame.cells(), cells.clone(), screen, differs, &mut self.unequal);
+            self.differs_set = cells;
             let scratch = (&mut self.first, Some(&mut self.follow));
             diff_marked(screen, width, rows.clone(), how, &mut self.pen, out, &mut self.differs, scratch)
         };
@@ -665,13 +671,14 @@ impl Memo {
     /// as it is to be sent (the frame's, or the screen's own where within the tolerance: the diff
     /// reads nothing else of the screen); the indices of the cells not equal to the screen's (the
     /// only ones a diff can change) in `unequal`. The cells outside `range` are not read (their
-    /// memo and screen stay as they are) and are marked unchanged. Keeps the buffers' storage.
+    /// memo and screen stay as they are) and are marked unchanged: of `differs`, only the cells
+    /// of `set` may be set (the rest are cleared already). Keeps the buffers' storage.
     fn scan(
         &mut self,
         cells: &[Cell],
         range: Range<usize>,
         screen: &mut [PackedCell],
-        differs: &mut Vec<bool>,
+        (differs, set): (&mut Vec<bool>, Range<usize>),
         unequal: &mut Vec<u32>,
     ) {
         let n = cells.len();
@@ -679,9 +686,10 @@ impl Memo {
         // (Same length frame after frame: no storage and no writes here but the first time.)
         differs.resize(n, false);
         unequal.clear();
-        // (a whole frame's scan writes every flag below; two `memset`s of the rest otherwise)
-        differs[..range.start].fill(false);
-        differs[range.end..].fill(false);
+        // The flags set before and outside `range` cleared (a tick after a tick: none).
+        let set = set.start.min(n)..set.end.min(n);
+        differs[set.start..set.end.min(range.start).max(set.start)].fill(false);
+        differs[set.start.max(range.end).min(set.end)..set.end].fill(false);
         let start = range.start;
         let (cells, screen, differs) =
             (&cells[range.clone()], &mut screen[range.clone()], &mut differs[range]);
