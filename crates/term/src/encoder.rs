@@ -128,8 +128,10 @@ pub struct Encoder {
     /// ([`Encoder::encode_rows`] relies on the rows it leaves only at this tolerance or above).
     sent_within: u8,
     /// For each row, whether the screen is off the last frame there within the tolerance
-    /// ([`EncodeStats::approximate`], kept for the rows [`Encoder::encode_rows`] leaves).
+    /// ([`EncodeStats::approximate`], kept for the rows [`Encoder::encode_rows`] leaves), where
+    /// `approximate_rows_known`: a whole frame's encode finds only whether any is.
     approximate_rows: Vec<bool>,
+    approximate_rows_known: bool,
     /// Scratch: the indices of the cells of the frame not equal to the screen's ([`Memo::scan`]).
     unequal: Vec<u32>,
     /// Scratch: each column's first row of a column of changed cells ([`first_columns`]).
@@ -166,6 +168,7 @@ impl Encoder {
             memo: Memo::default(),
             sent_within: 0,
             approximate_rows: Vec::new(),
+            approximate_rows_known: true,
             unequal: Vec::new(),
             first: Vec::new(),
             follow: Follow::default(),
@@ -286,20 +289,41 @@ impl Encoder {
         (self.width, self.height) = (width, height);
         self.valid = true;
         self.sent_within = if full_paint { 0 } else { self.tolerance };
-        // Whether a cell on screen now differs in look from the frame's, row by row: only a cell the
-        // diff changed can (the others were packed from the frame and left so), and it changes only
-        // cells that were not equal to the screen's; the rows not scanned are as they were.
-        let approximate_rows = &mut self.approximate_rows;
-        if full_paint {
-            approximate_rows.clear();
-            approximate_rows.resize(height, false);
+        // Whether a cell on screen now differs in look from the frame's: only a cell the diff changed
+        // can (the others were packed from the frame and left so), and it changes only cells that
+        // were not equal to the screen's; the rows not scanned are as they were.
+        let cells = frame.cells();
+        let off = |shown: &PackedCell, k: usize| {
+            let cell = PackedCell::pack(&cells[k]);
+            *shown != cell && !shown.looks_within(&cell, 0)
+        };
+        let approximate = if full_paint {
+            self.approximate_rows.clear();
+            self.approximate_rows.resize(height, false);
+            self.approximate_rows_known = true;
+            false
+        } else if rows == (0..height) {
+            // The whole frame: the first cell off is enough; which rows are, only an encode of some
+            // rows asks (mostly none does: the settle's exact frame comes first).
+            let approximate =
+                self.tolerance > 0 && self.unequal.iter().any(|&k| off(&self.screen[k as usize], k as usize));
+            self.approximate_rows.fill(false);
+            self.approximate_rows_known = !approximate;
+            approximate
         } else {
-            approximate_rows[rows].fill(false);
-            if self.tolerance > 0 {
-                mark_approximate_rows(&self.screen, frame.cells(), &self.unequal, width, approximate_rows);
+            if !self.approximate_rows_known {
+                // (the rows not scanned are the frame last encoded, the screen as it left them)
+                for y in (0..height).filter(|y| !rows.contains(y)) {
+                    self.approximate_rows[y] = (y * width..(y + 1) * width).any(|k| off(&self.screen[k], k));
+                }
+                self.approximate_rows_known = true;
             }
-        }
-        let approximate = approximate_rows.contains(&true);
+            self.approximate_rows[rows].fill(false);
+            if self.tolerance > 0 {
+                mark_approximate_rows(&self.screen, cells, &self.unequal, width, &mut self.approximate_rows);
+            }
+            self.approximate_rows.contains(&true)
+        };
         EncodeStats { bytes: out.len() - start, cells_changed, full_paint, approximate }
     }
 
