@@ -29,6 +29,8 @@
 //! stopped with SIGINT, so that it writes FILE: `scripts/callgrind_stages.py FILE` gives a served
 //! frame's cost by stage. Under valgrind a server draws a few frames a second: keep the key rate
 //! low enough that each key gets a frame of its own (`--idle 0 --walkers 4 --rate 4 --seconds 15`).
+//! There the idle players' quiet spell (`--quiet S`, 10 s by default) is dumped on its own, as
+//! `FILE.1`: an idle player's tick is its count over S × the idle players (`--idle 50 --walkers 0`).
 
 use mazewalk_testkit::load;
 
@@ -50,6 +52,8 @@ struct Args {
     rows: u32,
     rate: f64,
     seconds: f64,
+    /// The idle players' quiet spell measured, seconds.
+    quiet: f64,
     servers: usize,
     world: Option<String>,
     callgrind: Option<String>,
@@ -65,6 +69,7 @@ fn args() -> Args {
         rows: 40,
         rate: 30.0,
         seconds: 10.0,
+        quiet: 10.0,
         servers: 1,
         world: None,
         callgrind: None,
@@ -79,6 +84,7 @@ fn args() -> Args {
             "--walkers" => a.walkers = value.parse().expect("--walkers N"),
             "--rate" => a.rate = value.parse().expect("--rate KEYS_PER_S"),
             "--seconds" => a.seconds = value.parse().expect("--seconds S"),
+            "--quiet" => a.quiet = value.parse().expect("--quiet S"),
             "--servers" => a.servers = value.parse().expect("--servers N"),
             "--world" => a.world = Some(value.to_string()),
             "--callgrind" => a.callgrind = Some(value.to_string()),
@@ -218,24 +224,37 @@ async fn main() {
         }));
     }
     // Wait until everyone has drawn and the joins' redraws have settled: then an idle player gets
-    // only its HUD's exit clock, a tick a second (a few dozen bytes), so two seconds bring at most
-    // IDLE_TICK_BYTES each. (Waiting for no bytes at all never ended in a maze with an exit.)
-    const IDLE_TICK_BYTES: u64 = 2 * 200;
-    let mut last = u64::MAX;
+    // only its HUD's exit clock, a tick a second (~21 bytes with the flow control's query), so two
+    // seconds bring at most IDLE_TICK_BYTES each, twice running. (Waiting for no bytes at all never
+    // ended in a maze with an exit; 200 a second let a run end while first paints, ~8 KB each,
+    // still trickled out of a drawing budget shared by 1,000 players from one address.)
+    const IDLE_TICK_BYTES: u64 = 2 * 40;
+    let (mut last, mut quiet_spells) = (u64::MAX, 0);
     loop {
         tokio::time::sleep(Duration::from_secs(2)).await;
         let now = idle_bytes.load(Ordering::Relaxed);
         let settled = now.saturating_sub(last) <= IDLE_TICK_BYTES * a.idle as u64;
-        if last != u64::MAX && settled && started.elapsed() > Duration::from_secs(3) {
+        quiet_spells = if last != u64::MAX && settled { quiet_spells + 1 } else { 0 };
+        if quiet_spells >= 2 && started.elapsed() > Duration::from_secs(3) {
             break;
         }
         last = now;
     }
     let join_seconds = started.elapsed().as_secs_f64();
     let rss_idle = rss_bytes(pid);
+    // Under callgrind, the quiet spell's count alone: zeroed at its start, dumped at its end.
+    let callgrind = |what: &str| {
+        if a.callgrind.is_some() {
+            let pid = pid.expect("the server's pid").to_string();
+            let done = Command::new("callgrind_control").args([what, &pid]).stdout(Stdio::null()).status();
+            assert!(done.is_ok_and(|s| s.success()), "callgrind_control {what} {pid}");
+        }
+    };
+    callgrind("--zero");
     let (cpu0, bytes0, t0) = (cpu_seconds(pid), idle_bytes.load(Ordering::Relaxed), Instant::now());
-    tokio::time::sleep(Duration::from_secs(10)).await;
+    tokio::time::sleep(Duration::from_secs_f64(a.quiet)).await;
     let quiet = t0.elapsed().as_secs_f64();
+    callgrind("--dump");
     let idle_cpu = (cpu_seconds(pid) - cpu0) / quiet;
     let idle_sent = idle_bytes.load(Ordering::Relaxed) - bytes0;
     println!(

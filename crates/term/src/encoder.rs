@@ -39,6 +39,7 @@ mod cursor;
 mod sgr;
 
 use std::collections::HashMap;
+use std::ops::Range;
 
 use rustc_hash::FxHashMap;
 
@@ -118,8 +119,19 @@ pub struct Encoder {
     effective: Vec<PackedCell>,
     /// Scratch: which cells of the frame differ from the screen ([`mark_changes`]).
     differs: Vec<bool>,
+    /// The cells of `differs` that may be set: those the last [`Memo::scan`] marked (the others
+    /// it cleared).
+    differs_set: Range<usize>,
     /// The last diff's frame and which of its cells it left as the screen showed them ([`Memo`]).
     memo: Memo,
+    /// The tolerance the screen shows the last frame within: the last diff's, 0 after a full paint
+    /// ([`Encoder::encode_rows`] relies on the rows it leaves only at this tolerance or above).
+    sent_within: u8,
+    /// For each row, whether the screen is off the last frame there within the tolerance
+    /// ([`EncodeStats::approximate`], kept for the rows [`Encoder::encode_rows`] leaves), where
+    /// `approximate_rows_known`: a whole frame's encode finds only whether any is.
+    approximate_rows: Vec<bool>,
+    approximate_rows_known: bool,
     /// Scratch: the indices of the cells of the frame not equal to the screen's ([`Memo::scan`]).
     unequal: Vec<u32>,
     /// Scratch: each column's first row of a column of changed cells ([`first_columns`]).
@@ -152,7 +164,11 @@ impl Encoder {
             tolerance: 0,
             effective: Vec::new(),
             differs: Vec::new(),
+            differs_set: 0..0,
             memo: Memo::default(),
+            sent_within: 0,
+            approximate_rows: Vec::new(),
+            approximate_rows_known: true,
             unequal: Vec::new(),
             first: Vec::new(),
             follow: Follow::default(),
@@ -212,9 +228,30 @@ impl Encoder {
     /// Appends to `out` the bytes that turn the previous frame into `frame`: nothing if they are equal,
     /// a full paint if there is no (valid, same-sized) previous frame.
     pub fn encode(&mut self, frame: &Frame, out: &mut Vec<u8>) -> EncodeStats {
+        self.encode_rows(frame, 0..frame.height(), out)
+    }
+
+    /// [`Encoder::encode`] of a frame that differs from the one last encoded only in `rows` (the
+    /// HUD's row on a clock tick): the same bytes and statistics, for the work of those rows. Only
+    /// the cells of `rows` are read and compared with the screen; the others keep what the encoder
+    /// knew of them (the memo of cells left, whether the screen is off them within the tolerance).
+    /// Where the encoder cannot rely on the other rows (a full paint is due, or the tolerance is
+    /// below the one the screen was last sent at, so that cells it left may have to go now) it
+    /// encodes the whole frame.
+    ///
+    /// # Panics
+    ///
+    /// In debug builds, if a cell outside `rows` would be sent (the frame changed there): a bug
+    /// of the caller's.
+    pub fn encode_rows(&mut self, frame: &Frame, rows: Range<usize>, out: &mut Vec<u8>) -> EncodeStats {
         let start = out.len();
         let (width, height) = (frame.width(), frame.height());
         let full_paint = !self.valid || (self.width, self.height) != (width, height);
+        let rows = if full_paint || self.tolerance < self.sent_within {
+            0..height
+        } else {
+            rows.start.min(height)..rows.end.min(height)
+        };
         out.extend_from_slice(SYNC_BEGIN);
         // `sent`: the frame as it will be on screen, which the tolerance may leave a little off `frame`;
         // packed, as every comparison and price below reads it.
@@ -230,13 +267,18 @@ impl Encoder {
             self.pen.blocks = self.blocks;
             let how = How { bce: self.bce, tolerance: self.tolerance, rep: self.rep };
             self.memo.prepare(frame.cells().len(), self.tolerance);
+            #[cfg(debug_assertions)]
+            self.assert_unchanged_outside(frame, &rows);
             // In place: the screen's cells become the frame's where they differ (or where within the
             // tolerance stay), packed and compared in one pass, the cells not equal to the screen's
             // listed (`unequal`: only those can the diff change); the diff leaves it what was sent.
             let screen = &mut self.screen;
-            self.memo.scan(frame.cells(), screen, &mut self.differs, &mut self.unequal);
+            let cells = rows.start * width..rows.end * width;
+            let differs = (&mut self.differs, self.differs_set.clone());
+            self.memo.scan(frame.cells(), cells.clone(), screen, differs, &mut self.unequal);
+            self.differs_set = cells;
             let scratch = (&mut self.first, Some(&mut self.follow));
-            diff_marked(screen, width, how, &mut self.pen, out, &mut self.differs, scratch)
+            diff_marked(screen, width, rows.clone(), how, &mut self.pen, out, &mut self.differs, scratch)
         };
         let body = out.len() - start - SYNC_BEGIN.len();
         if body == 0 {
@@ -246,17 +288,91 @@ impl Encoder {
         }
         (self.width, self.height) = (width, height);
         self.valid = true;
-        // Whether a cell on screen now differs in look from the frame's: only a cell the diff changed
-        // can (the others were packed from the frame and left so), and it changes only cells that were
-        // not equal to the screen's.
-        let cells = frame.cells();
-        let approximate = !full_paint
-            && self.tolerance > 0
-            && self.unequal.iter().any(|&k| {
-                let (shown, cell) = (&self.screen[k as usize], PackedCell::pack(&cells[k as usize]));
-                *shown != cell && !shown.looks_within(&cell, 0)
-            });
+        self.sent_within = if full_paint { 0 } else { self.tolerance };
+        let approximate = self.approximate(frame, rows, full_paint);
         EncodeStats { bytes: out.len() - start, cells_changed, full_paint, approximate }
+    }
+
+    /// Whether the screen is off the frame just encoded ([`EncodeStats::approximate`]) after an
+    /// encode of `rows` of it. (Out of line, as [`Memo::scan`] is: the encode's loops as they were.)
+    #[inline(never)]
+    fn approximate(&mut self, frame: &Frame, rows: Range<usize>, full_paint: bool) -> bool {
+        let (width, height) = (frame.width(), frame.height());
+        // Whether a cell on screen now differs in look from the frame's: only a cell the diff changed
+        // can (the others were packed from the frame and left so), and it changes only cells that
+        // were not equal to the screen's; the rows not scanned are as they were.
+        let cells = frame.cells();
+        let off = |shown: &PackedCell, k: usize| {
+            let cell = PackedCell::pack(&cells[k]);
+            *shown != cell && !shown.looks_within(&cell, 0)
+        };
+        if full_paint {
+            self.approximate_rows.clear();
+            self.approximate_rows.resize(height, false);
+            self.approximate_rows_known = true;
+            false
+        } else if rows == (0..height) {
+            // The whole frame: the first cell off is enough; which rows are, only an encode of some
+            // rows asks (mostly none does: the settle's exact frame comes first).
+            let approximate =
+                self.tolerance > 0 && self.unequal.iter().any(|&k| off(&self.screen[k as usize], k as usize));
+            self.approximate_rows.fill(false);
+            self.approximate_rows_known = !approximate;
+            approximate
+        } else {
+            if !self.approximate_rows_known {
+                // (the rows not scanned are the frame last encoded, the screen as it left them)
+                for y in (0..height).filter(|y| !rows.contains(y)) {
+                    self.approximate_rows[y] = (y * width..(y + 1) * width).any(|k| off(&self.screen[k], k));
+                }
+                self.approximate_rows_known = true;
+            }
+            self.approximate_rows[rows].fill(false);
+            if self.tolerance > 0 {
+                mark_approximate_rows(&self.screen, cells, &self.unequal, width, &mut self.approximate_rows);
+            }
+            self.approximate_rows.contains(&true)
+        }
+    }
+
+    /// [`Encoder::encode_rows`]'s precondition: no cell of `frame` outside `rows` would be sent.
+    #[cfg(debug_assertions)]
+    fn assert_unchanged_outside(&self, frame: &Frame, rows: &Range<usize>) {
+        let width = frame.width();
+        let (before, after) = (rows.start * width, rows.end * width);
+        let cells = frame.cells().iter().zip(&self.screen).enumerate();
+        for (k, (cell, shown)) in cells.filter(|&(k, _)| k < before || k >= after) {
+            let mut cell = PackedCell::pack(cell);
+            assert!(
+                *shown == cell || !mark(shown, &mut cell, self.tolerance),
+                "encode_rows({rows:?}): cell {k} (row {}) changed outside the rows",
+                k / width
+            );
+        }
+    }
+}
+
+/// Marks in `rows` (one flag a row) the rows where a cell of the screen the diff may have changed
+/// (`unequal`, in order) differs in look from the frame's (`cells`).
+fn mark_approximate_rows(
+    screen: &[PackedCell],
+    cells: &[Cell],
+    unequal: &[u32],
+    width: usize,
+    rows: &mut [bool],
+) {
+    let mut i = 0;
+    while let Some(&k) = unequal.get(i) {
+        let (shown, cell) = (&screen[k as usize], PackedCell::pack(&cells[k as usize]));
+        if *shown != cell && !shown.looks_within(&cell, 0) {
+            // The row is off: on to the next row's cells.
+            let row = k as usize / width.max(1);
+            rows[row] = true;
+            let next = ((row + 1) * width) as u32;
+            i += unequal[i..].partition_point(|&j| j < next);
+        } else {
+            i += 1;
+        }
     }
 }
 
@@ -388,17 +504,22 @@ fn diff(
     for (old_row, new_row) in old.chunks_exact(width).zip(new.chunks_exact_mut(width)) {
         mark_changes(old_row, new_row, how.tolerance, differs);
     }
-    diff_marked(new, width, how, pen, out, differs, (&mut Vec::new(), None))
+    let rows = 0..new.len() / width;
+    diff_marked(new, width, rows, how, pen, out, differs, (&mut Vec::new(), None))
 }
 
 /// [`diff`] once `differs` marks which cells of `new` differ from the screen (and `new` is within the
 /// tolerance where they do not): the columns, then the rows, with detours to cells of the pen's
 /// colours ([`detours`]) where given `follow`. `first` and `follow` are scratch. (A full paint takes
 /// no detours: it is one frame, and the detours' search over every cell of it cost 4× its
-/// instructions.)
+/// instructions.) Only `rows` are searched for changed cells: none may be marked outside them
+/// (then the bytes are those of a search of every row: a row without one writes nothing, and a
+/// column or a detour is made of changed cells).
+#[allow(clippy::too_many_arguments)]
 fn diff_marked(
     new: &mut [PackedCell],
     width: usize,
+    rows: Range<usize>,
     how: How,
     pen: &mut Pen,
     out: &mut Vec<u8>,
@@ -406,12 +527,15 @@ fn diff_marked(
     (first, mut follow): (&mut Vec<usize>, Option<&mut Follow>),
 ) -> usize {
     let width = width.max(1);
+    debug_assert!(
+        !differs[..rows.start * width].contains(&true) && !differs[rows.end * width..].contains(&true)
+    );
     // Columns first, where a column of one look goes cheaper down than across; then the rows.
-    let mut changed = columns(new, width, how.tolerance, pen, out, differs, first);
+    let mut changed = columns(new, width, rows.clone(), how.tolerance, pen, out, differs, first);
     if let Some(follow) = follow.as_deref_mut() {
-        follow.index(new, differs, width, how);
+        follow.index(new, differs, width, rows.clone(), how);
     }
-    for y in 0..new.len() / width {
+    for y in rows {
         let tail = erasable_tail(&new[y * width..][..width], how.bce);
         changed += diff_row(pen, out, y, 0, new, width, differs, tail, how, follow.as_deref_mut());
     }
@@ -430,21 +554,23 @@ const DOWN_ONE: usize = 2;
 /// and a short move a cell, where that is fewer bytes than writing them row by row (a colour change
 /// for each where its row's changed cell before it has other colours); marks them unchanged for
 /// the rows that follow. Cells in a run of one look along their row are left to the rows (REP, the
-/// pen's colours). Returns the cells written.
+/// pen's colours). Returns the cells written. Only `rows` are searched (none changed outside them).
+#[allow(clippy::too_many_arguments)]
 fn columns(
     new: &mut [PackedCell],
     width: usize,
+    rows: Range<usize>,
     tolerance: u8,
     pen: &mut Pen,
     out: &mut Vec<u8>,
     differs: &mut [bool],
     first: &mut Vec<usize>,
 ) -> usize {
-    let height = new.len() / width;
-    if height < MIN_COLUMN {
+    if rows.len() < MIN_COLUMN {
         return 0;
     }
-    first_columns(new, differs, width, height, first);
+    let height = rows.end; // (a column ends at the last row searched at the latest)
+    first_columns(new, differs, width, rows, first);
     let mut changed = 0;
     for (x, &first) in first.iter().enumerate() {
         // Changed, and not in a run of its look along the row.
@@ -478,17 +604,24 @@ fn columns(
     changed
 }
 
-/// For each column, the first row from which [`MIN_COLUMN`] cells down it are all changed and of
-/// one look (`height` where none is): [`columns`] starts there. Exact: a run [`columns`] could write
+/// For each column, the first row of `rows` from which [`MIN_COLUMN`] cells down it (in `rows`) are
+/// all changed and of one look (`rows.end` where none is): [`columns`] starts there. Exact: a run [`columns`] could write
 /// starts at such a row (its cells are changed and of one look, and more besides); a shorter run
 /// before the first such row ends at it at the latest (a run over it would have one of at least
 /// [`MIN_COLUMN`] cells in it from a row further up), and nothing is written for it. These are
 /// the column's own cells, which writing the columns before it does not change. Row by row, eight
 /// flags a word: a column with nothing changed costs next to nothing.
-fn first_columns(new: &[PackedCell], differs: &[bool], width: usize, height: usize, first: &mut Vec<usize>) {
+fn first_columns(
+    new: &[PackedCell],
+    differs: &[bool],
+    width: usize,
+    rows: Range<usize>,
+    first: &mut Vec<usize>,
+) {
+    let height = rows.end;
     first.clear();
     first.resize(width, height);
-    for y in 0..height.saturating_sub(MIN_COLUMN - 1) {
+    for y in rows.start..height.saturating_sub(MIN_COLUMN - 1) {
         let rows: [&[bool]; MIN_COLUMN] = std::array::from_fn(|i| &differs[(y + i) * width..][..width]);
         let mut x = 0;
         while x < width {
@@ -565,16 +698,22 @@ impl Memo {
         }
     }
 
-    /// `cells` packed and marked in `differs` against the screen ([`Memo::mark`]: the memo first,
-    /// then the tolerance), in one pass, each of the screen's cells becoming the frame's as it is to
-    /// be sent (the frame's, or the screen's own where within the tolerance: the diff reads nothing
-    /// else of the screen); the indices of the cells not equal to the
-    /// screen's (the only ones a diff can change) in `unequal`. Keeps the buffers' storage.
+    /// `cells` in `range` packed and marked in `differs` against the screen ([`Memo::mark`]: the
+    /// memo first, then the tolerance), in one pass, each of the screen's cells becoming the frame's
+    /// as it is to be sent (the frame's, or the screen's own where within the tolerance: the diff
+    /// reads nothing else of the screen); the indices of the cells not equal to the screen's (the
+    /// only ones a diff can change) in `unequal`. The cells outside `range` are not read (their
+    /// memo and screen stay as they are) and are marked unchanged: of `differs`, only the cells
+    /// of `set` may be set (the rest are cleared already). Keeps the buffers' storage. (Out of line:
+    /// inlined into [`Encoder::encode_rows`] it called the colours' OKLab lookups out of line, 83,209
+    /// calls and 1.07× the encoder's instructions over `turn_frames`' 39 frames of turning.)
+    #[inline(never)]
     fn scan(
         &mut self,
         cells: &[Cell],
+        range: Range<usize>,
         screen: &mut [PackedCell],
-        differs: &mut Vec<bool>,
+        (differs, set): (&mut Vec<bool>, Range<usize>),
         unequal: &mut Vec<u32>,
     ) {
         let n = cells.len();
@@ -582,15 +721,22 @@ impl Memo {
         // (Same length frame after frame: no storage and no writes here but the first time.)
         differs.resize(n, false);
         unequal.clear();
-        let (screen, differs) = (&mut screen[..n], &mut differs[..n]);
-        for k in 0..n {
-            let cell = PackedCell::pack(&cells[k]);
+        // The flags set before and outside `range` cleared (a tick after a tick: none).
+        let set = set.start.min(n)..set.end.min(n);
+        differs[set.start..set.end.min(range.start).max(set.start)].fill(false);
+        differs[set.start.max(range.end).min(set.end)..set.end].fill(false);
+        let start = range.start;
+        let (cells, screen, differs) =
+            (&cells[range.clone()], &mut screen[range.clone()], &mut differs[range]);
+        for i in 0..cells.len() {
+            let k = start + i;
+            let cell = PackedCell::pack(&cells[i]);
             // The common case, a cell as the screen shows it: nothing to write but its flag.
-            differs[k] = screen[k] != cell && {
+            differs[i] = screen[i] != cell && {
                 unequal.push(k as u32);
-                let (shown, mut cell) = (screen[k], cell);
+                let (shown, mut cell) = (screen[i], cell);
                 let differ = self.mark(k, &shown, &mut cell);
-                screen[k] = cell;
+                screen[i] = cell;
                 differ
             };
         }
@@ -794,8 +940,8 @@ struct Look {
 impl Follow {
     /// Indexes the cells `differs` marks in `frame`, but those a row's erasable tail holds (the rows
     /// price that tail as a whole), by the colours they would be sent in ([`shortest`]: those the
-    /// pen has after a cell of them).
-    fn index(&mut self, frame: &[PackedCell], differs: &[bool], width: usize, how: How) {
+    /// pen has after a cell of them). Only `rows` are searched (none marked outside them).
+    fn index(&mut self, frame: &[PackedCell], differs: &[bool], width: usize, rows: Range<usize>, how: How) {
         let (bce, tolerance) = (how.bce, how.tolerance);
         self.marks.clear();
         self.looks.clear();
@@ -804,8 +950,9 @@ impl Follow {
         // and mostly are one cell, whose key is the last cell's (a key is the cell's alone).
         let mut last: Option<(u64, u32)> = None;
         let mut last_cell: Option<(PackedCell, Option<u64>)> = None;
-        for (y, (row, row_differs)) in frame.chunks_exact(width).zip(differs.chunks_exact(width)).enumerate()
-        {
+        let cells = rows.start * width..rows.end * width;
+        let searched = frame[cells.clone()].chunks_exact(width).zip(differs[cells].chunks_exact(width));
+        for (y, (row, row_differs)) in (rows.start..).zip(searched) {
             let end = erasable_tail(row, bce).map_or(width, |(start, _)| start);
             let mut x = 0;
             while let Some(found) = next_set(&row_differs[..end], x) {
@@ -1794,7 +1941,7 @@ mod tests {
                     })
                     .collect();
                 let mut first = vec![7; 3]; // (scratch left by another frame)
-                first_columns(&new, &differs, width, height, &mut first);
+                first_columns(&new, &differs, width, 0..height, &mut first);
                 assert_eq!(first, plain, "{width}x{height}");
                 found += plain.iter().filter(|&&y| y < height).count();
             }
@@ -2047,7 +2194,7 @@ mod tests {
             let mut differs = Vec::new();
             encoder.memo.mark_changes(&encoder.screen, &mut sent, how.tolerance, &mut differs);
             let scratch = (&mut Vec::new(), Some(&mut Follow::default()));
-            diff_marked(&mut sent, width, how, &mut encoder.pen, out, &mut differs, scratch)
+            diff_marked(&mut sent, width, 0..height, how, &mut encoder.pen, out, &mut differs, scratch)
         };
         if out.len() - start == SYNC_BEGIN.len() {
             out.truncate(start);

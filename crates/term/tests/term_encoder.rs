@@ -1071,3 +1071,77 @@ fn a_colour_with_a_shorter_code_within_the_tolerance_goes_in_it() {
     );
     assert!(near.len() < exact.len(), "{} bytes within the tolerance, {} exact", near.len(), exact.len());
 }
+
+/// The rows where two frames of one size differ, as one range (empty at `0` where none does).
+fn changed_rows(before: &Frame, after: &Frame) -> std::ops::Range<usize> {
+    let differ = |y: usize| before.row(y) != after.row(y);
+    let height = after.height();
+    match ((0..height).find(|&y| differ(y)), (0..height).rev().find(|&y| differ(y))) {
+        (Some(first), Some(last)) => first..last + 1,
+        _ => 0..0,
+    }
+}
+
+proptest! {
+    #![proptest_config(common::config())]
+
+    /// Issue #42 (a clock tick costs what it changes): [`Encoder::encode_rows`] told the rows that
+    /// changed (and a few around them, or none where none did) sends the bytes, and returns the
+    /// statistics, of [`Encoder::encode`] of the whole frame, frame after frame: random frames and
+    /// steps (resizes and invalidations included, where it paints the whole frame), palettes of
+    /// any colours and of near truecolor ones (cells left and drawn within the tolerance), the
+    /// tolerance changing between frames as the walk's does (a slow link's, the settle's exact
+    /// frame), every BCE, REP level and blocks setting.
+    #[test]
+    fn encoding_only_the_changed_rows_sends_the_bytes_of_the_whole_frame(
+        (first, steps) in prop_oneof![arb_palette(), arb_truecolor_palette()].prop_flat_map(|palette| {
+            let steps = (arb_step(palette.clone()), 0usize..3, 0usize..3, prop_oneof![0u8..4, Just(2u8)]);
+            (arb_frame(palette), prop::collection::vec(steps, 1..16))
+        }),
+        bce in any::<bool>(),
+        rep in prop_oneof![Just(RepLevel::None), Just(RepLevel::Ascii), Just(RepLevel::Any)],
+        blocks in any::<bool>(),
+    ) {
+        let (mut rows_only, mut whole) = (configured(bce, 2, rep, blocks), configured(bce, 2, rep, blocks));
+        let mut frame = first;
+        let (mut out, mut expected) = (Vec::new(), Vec::new());
+        rows_only.encode(&frame, &mut out);
+        whole.encode(&frame, &mut expected);
+        for (i, (step, above, below, tolerance)) in steps.iter().enumerate() {
+            let before = frame.clone();
+            if apply(&mut frame, step) {
+                rows_only.invalidate();
+                whole.invalidate();
+            }
+            let rows = if (before.width(), before.height()) == (frame.width(), frame.height()) {
+                let changed = changed_rows(&before, &frame);
+                if changed.is_empty() { 0..0 } else { changed.start.saturating_sub(*above)..changed.end + below }
+            } else {
+                0..0 // (a resize: a full paint, whatever the rows)
+            };
+            for encoder in [&mut rows_only, &mut whole] {
+                encoder.set_tolerance(*tolerance);
+            }
+            out.clear();
+            expected.clear();
+            let stats = rows_only.encode_rows(&frame, rows.clone(), &mut out);
+            let expected_stats = whole.encode(&frame, &mut expected);
+            prop_assert_eq!(stats, expected_stats, "step {} ({:?}), rows {:?}", i, step, rows);
+            prop_assert_eq!(&out, &expected, "step {} ({:?}), rows {:?}", i, step, rows);
+        }
+    }
+}
+
+/// [`Encoder::encode_rows`]'s contract is checked in debug builds: a frame changed outside the rows
+/// it is told of is a caller's bug, not a frame sent wrong.
+#[cfg(debug_assertions)]
+#[test]
+#[should_panic(expected = "changed outside the rows")]
+fn encoding_rows_of_a_frame_changed_elsewhere_is_caught() {
+    let mut encoder = Encoder::new();
+    let mut frame = Frame::new(10, 4);
+    encoder.encode(&frame, &mut Vec::new());
+    frame.set(2, 1, Cell::plain('x'));
+    frame.set(2, 3, Cell::plain('y'));
+    encoder.encode_rows(&frame, 3..4, &mut Vec::new());
+}

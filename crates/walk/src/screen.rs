@@ -7,6 +7,7 @@
 //! App + Screen (peers, notice) + Hud ─draw─▶ Frame: view rows (Renderer) · map · box · HUD row
 //! ```
 
+use std::ops::Range;
 use std::sync::Arc;
 
 use glam::Vec3;
@@ -430,7 +431,7 @@ fn draw_into(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud, keep:
         screen.help_page = 0; // opened again, it starts at its first page
     }
     screen.stats = stats;
-    draw_hud(app, screen, frame, hud); // last: boxes never hide it (its row's colours limited there)
+    let _ = draw_hud(app, screen, frame, hud); // last: boxes never hide it (its row's colours limited there)
     // Not one code deeper than the terminal's depth: of what was drawn over the view, or of the map
     // alone (its walls, wedge and arrow change as the player turns; the view's cells need no look).
     if over_view {
@@ -544,11 +545,12 @@ fn cells_ahead(
 }
 
 /// Draws the HUD's row of `frame` only, over what [`draw`] drew last: when nothing but the HUD's
-/// numbers changed (the exit clock ticked), the view need not be rendered again.
-pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud) {
+/// numbers changed (the exit clock ticked), the view need not be rendered again. Returns the rows
+/// it drew (none on a screen too small for a HUD): the only ones of `frame` it changes.
+pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud) -> Range<usize> {
     let (cols, rows) = (frame.width(), frame.height());
     if overlay::too_small(cols, rows) {
-        return; // the too-small note has no HUD
+        return 0..0; // the too-small note has no HUD
     }
     let style = Style::new(app.options.charset, app.options.color_depth);
     // the ghost raced, or that there is none to race: yet (served: the first finish makes one), or
@@ -571,6 +573,7 @@ pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud)
     overlay::draw_hud(frame, &line, style);
     let row = Region { col: 0, row: rows - 1, cols, rows: 1 };
     overlay::limit_colors_in(frame, row, style.depth);
+    rows - 1..rows
 }
 
 /// Whether a cell has been seen, the cells `portal` (the last render's pass) visited counted: a

@@ -738,15 +738,17 @@ impl Session {
         let hud =
             Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started, now };
         let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
-        if self.dirty {
+        // The rows of the frame that may have changed since the last one encoded.
+        let changed = if self.dirty {
             self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
             // (the session's frame is kept from frame to frame, changed only here, in the HUD's row
             // and by a resize, which tells the screen)
             screen::draw_kept(&self.app, &mut self.screen, &mut self.frame, &hud);
             self.note_seen();
+            0..self.frame.height()
         } else {
-            screen::draw_hud(&self.app, &self.screen, &mut self.frame, &hud); // the view is as it was
-        }
+            screen::draw_hud(&self.app, &self.screen, &mut self.frame, &hud) // the view is as it was
+        };
         self.encoder.set_tolerance(adaptive_tolerance(self.options.color_tolerance, round_trip));
         // (the ascii charset is for terminals or fonts without block glyphs: none of its own)
         self.encoder.set_blocks(self.app.options.charset != Charset::Ascii);
@@ -758,7 +760,8 @@ impl Session {
             out.extend_from_slice(if ascii { REP_PROBE_ASCII } else { REP_PROBE });
             self.rep_probe = RepProbe::Asked { block: !ascii };
         }
-        let stats = self.encoder.encode(&self.frame, out);
+        // (a tick's frame: the HUD's row encoded, not the whole frame scanned for it)
+        let stats = self.encoder.encode_rows(&self.frame, changed, out);
         if self.options.flow_control {
             out.extend_from_slice(QUERY);
             self.flow.sent(now);
@@ -841,6 +844,45 @@ mod tests {
         assert_eq!(exact.encode(&s.frame, &mut Vec::new()).bytes, 0, "the screen is the frame");
         assert!(!s.frame(last + 2.0, &mut out), "settled once, then quiet");
         assert_eq!(s.next_wake(last + 2.0), None);
+    }
+
+    /// Issue #42: a clock tick encodes only the HUD's row, and sends what an encode of the whole
+    /// frame would: at a tick while the screen is off the view within the tolerance (the settle
+    /// not yet sent), and at one after the settle made it exact.
+    #[test]
+    fn a_clock_tick_sends_the_bytes_of_the_whole_frame_for_its_hud_row() {
+        let app = App::new(mazewalk_maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
+        let mut s =
+            Session::new(app, 120, 40, SessionOptions { flow_control: false, ..SessionOptions::default() });
+        let mut out = Vec::new();
+        s.frame(0.0, &mut out);
+        s.feed(b"w", 0.05); // a tap: one step forward, drawn over a few frames
+        let mut t = 0.05;
+        while t < 0.1 || s.dirty || s.app.is_animating(t) {
+            t += 1.0 / MAX_FPS;
+            s.frame(t, &mut out);
+        }
+        assert!(s.approximate, "the step's last frame is within the tolerance somewhere");
+        let second = t.floor() + 1.0;
+        // The first tick before the settle (a host woken late), the second after it.
+        for (at, approximate) in [(second, true), (second + 1.0, false)] {
+            if !approximate {
+                assert!(s.frame(at - 0.5, &mut out), "settled");
+                assert!(!s.approximate);
+            }
+            let (view, mut whole) = (s.frame.clone(), s.encoder.clone());
+            out.clear();
+            assert!(s.frame(at, &mut out), "a tick at {at}");
+            let rows = s.frame.height();
+            assert_eq!(s.frame.cells()[..(rows - 1) * 120], view.cells()[..(rows - 1) * 120], "only the HUD");
+            assert_ne!(s.frame.row(rows - 1), view.row(rows - 1), "the clock's row changed");
+            whole.set_tolerance(adaptive_tolerance(s.options.color_tolerance, None));
+            let mut expected = Vec::new();
+            let stats = whole.encode(&s.frame, &mut expected);
+            assert_eq!(out, expected, "at {at}");
+            assert!(!out.is_empty() && out.len() < 120, "a tick's bytes: {}", out.len());
+            assert_eq!((s.approximate, stats.approximate), (approximate, approximate), "at {at}");
+        }
     }
 
     /// The ascii charset is for a terminal or font without block glyphs: its first bytes ask only the
