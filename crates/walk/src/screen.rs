@@ -338,9 +338,11 @@ fn draw_into(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud, keep:
     } else {
         (overlay::RANGE_FG, Color::Indexed(0))
     };
-    for (k, row) in marks {
+    for (text, row) in marks {
         // on the view's left edge, the floor's cell line's row: a rangefinder's scale
-        frame.set(view.col, row, Cell { ch: k, fg, bg });
+        for (x, ch) in (view.col..view.col + view.cols).zip(text.chars()) {
+            frame.set(x, row, Cell { ch, fg, bg });
+        }
         over_view = true;
     }
     frame.region_rows_mut(Region { row: rows - 1, rows: 1, ..view }).for_each(|hud| hud.fill(Cell::BLANK));
@@ -473,53 +475,72 @@ fn draw_caption(frame: &mut Frame, view: Region, col: usize, row: usize, caption
     }
 }
 
-/// Cells a range mark counts at most: one digit.
-const RANGE_MARKS: u32 = 9;
+/// Cells a line's range mark counts at most: one digit.
+const RANGE_MARKS: usize = 9;
+
+/// Cells the ray of the range marks crosses at most, looking for the wall that ends it.
+const RANGE_CELLS: usize = 99;
 
 /// The look-ahead lens's range marks (issue #39: a new player through the lens counted corridors a
-/// cell short, as the nearest cell line it shows lies on the frame's edge): where the floor straight
-/// ahead crosses into the k-th cell ahead (the cell line drawn there), the digit k and the row of
-/// `view` where that line lies, for lines inside the view up to the first that lies under two rows
-/// from the line a cell nearer (where ascii leaves its lines out, and digits on rows side by side
-/// would read as one number); none past a wall, or past [`RANGE_MARKS`] cells.
-fn range_marks(app: &App, options: &RenderOptions, view: Region) -> Vec<(char, usize)> {
+/// cell short, as the nearest cell line it shows lies on the frame's edge), as (text, row of
+/// `view`): where the floor straight ahead crosses into the k-th cell ahead (the cell line drawn
+/// there), the digit k on that line's row, up to [`RANGE_MARKS`], for lines in the view, until one
+/// would share the row of the one before (lines crowd toward the horizon); then, where a wall ends
+/// the way straight ahead with its foot in the view, `n|` on that row, n the cells crossed to it:
+/// the corridor's length beyond the viewer's cell (it takes the row of a line's digit it falls on).
+/// Without that end in view, a last digit with more lines beyond it reads `k+`.
+fn range_marks(app: &App, options: &RenderOptions, view: Region) -> Vec<(String, usize)> {
     use mazewalk_maze::geometry::{FLOOR_Z, heading_dir};
     let camera = &app.camera;
     let (per_col, per_row) = options.charset.samples_per_cell();
     let aspect = options.charset.sample_aspect(options.cell_aspect);
     let Ok(eye) = camera.eye(view.cols * per_col, view.rows * per_row, aspect) else { return Vec::new() };
-    let mut marks: Vec<(char, usize)> = Vec::new();
-    let crossings =
-        cells_ahead(app.maze(), app.cell, camera.position, heading_dir(camera.yaw_deg.to_radians()));
-    let mut nearer = f32::INFINITY; // the sample row of the line a cell nearer
-    for (k, at) in (1..=RANGE_MARKS).zip(crossings) {
+    // the view's row of a point on the floor, if it is in the view
+    let row_of = |at: glam::Vec2| {
         let clip = eye.clip(at.extend(FLOOR_Z));
-        if clip.w <= eye.near {
-            continue;
-        }
         let y = eye.grid(clip).y;
-        if nearer - y < (2 * per_row) as f32 {
-            break; // lines closer than two rows: farther ones closer still
+        (clip.w > eye.near && (0.0..(view.rows * per_row) as f32).contains(&y))
+            .then(|| view.row + y as usize / per_row)
+    };
+    let dir = heading_dir(camera.yaw_deg.to_radians());
+    let (crossings, end) = cells_ahead(app.maze(), app.cell, camera.position, dir);
+    let mut marks: Vec<(String, usize)> = Vec::new();
+    let mut more = false;
+    for (k, &at) in crossings.iter().enumerate().map(|(k, at)| (k + 1, at)) {
+        let Some(row) = row_of(at) else { continue }; // below the view (the nearest lines)
+        if k > RANGE_MARKS || marks.last().is_some_and(|&(_, last)| row >= last) {
+            more = true; // crowded toward the horizon: the rest would share rows
+            break;
         }
-        nearer = y;
-        if (0.0..(view.rows * per_row) as f32).contains(&y) {
-            marks.push((char::from_digit(k, 10).unwrap_or('?'), view.row + y as usize / per_row));
+        marks.push((k.to_string(), row));
+    }
+    match end.and_then(row_of) {
+        Some(row) => {
+            marks.retain(|&(_, r)| r > row);
+            marks.push((format!("{}|", crossings.len()), row));
         }
+        None if more => {
+            if let Some((text, _)) = marks.last_mut() {
+                text.push('+');
+            }
+        }
+        None => {}
     }
     marks
 }
 
-/// Where a ray on the floor from `at` (in `cell`) along `dir` crosses into each next cell through
-/// an opening, nearest first, until it meets a wall or leaves the maze ([`RANGE_MARKS`] at most).
+/// Where a ray on the floor from `at` (in `cell`) along `dir` crosses into each next cell through an
+/// opening, nearest first ([`RANGE_CELLS`] at most), and where it meets the wall that ends it (`None`
+/// where it leaves the maze, or past those cells).
 fn cells_ahead(
     maze: &mazewalk_maze::Maze,
     mut cell: u32,
     at: glam::Vec2,
     dir: glam::Vec2,
-) -> Vec<glam::Vec2> {
+) -> (Vec<glam::Vec2>, Option<glam::Vec2>) {
     let mut out = Vec::new();
     let mut from = 0.0f32;
-    while out.len() < RANGE_MARKS as usize {
+    while out.len() < RANGE_CELLS {
         // the edge of this cell the ray leaves by: the nearest crossing past the last one
         let leave = maze
             .cell_edges(cell)
@@ -537,11 +558,14 @@ fn cells_ahead(
             .min_by(|x, y| x.0.total_cmp(&y.0));
         let Some((t, e)) = leave else { break };
         let edge = maze.edge(e);
-        let Some(next) = edge.other_side(cell).filter(|_| !edge.opaque) else { break };
+        if edge.opaque {
+            return (out, Some(at + dir * t));
+        }
+        let Some(next) = edge.other_side(cell) else { break };
         out.push(at + dir * t);
         (cell, from) = (next, t);
     }
-    out
+    (out, None)
 }
 
 /// Draws the HUD's row of `frame` only, over what [`draw`] drew last: when nothing but the HUD's
@@ -779,53 +803,65 @@ mod tests {
 
     /// Issue #39: through the lens a new player counted every corridor a cell short, the nearest
     /// cell line in view lying on the frame's bottom edge. The lens numbers the floor's cell lines
-    /// straight ahead at the view's left edge: the k-th line crossed into the k-th cell ahead. Down
-    /// a corridor of eight cells from the first's centre, in every charset: digits 2, 3, … bottom to
-    /// top (cell 1's line lies below the lens's view), each on the row where the line is drawn in
-    /// the view's middle column (ascii's `~`; in the block charsets ascii's rows, within one), none
-    /// past the end wall; none without the lens.
+    /// straight ahead at the view's left edge, and marks the wall that ends the way with the cells to
+    /// it. Down a corridor of eight cells from the first's centre (and from a little past it), in
+    /// every charset: line digits 2 (3), 3, … bottom to top with none skipped, every cell line ascii
+    /// draws on the floor numbered (on its row, within one), and `7|` at the end wall's foot, above
+    /// them (`12|` down one of thirteen); none of it without the lens.
     #[test]
-    fn the_lens_numbers_the_cell_lines_ahead() {
+    fn the_lens_numbers_the_cell_lines_ahead_and_the_walls_end() {
         use mazewalk_render::Charset;
-        let text = "mazewalk-grid 1\ntile 4\nfacing east\n\n##########\n#@.......#\n##########\n";
-        let maze = mazewalk_maze::parse("corridor.grid", text.as_bytes()).unwrap();
-        let mut ascii = Vec::new();
+        let corridor = |cells: usize| {
+            let wall = "#".repeat(cells + 2);
+            let text = format!(
+                "mazewalk-grid 1\ntile 4\nfacing east\n\n{wall}\n#@{}#\n{wall}\n",
+                ".".repeat(cells - 1)
+            );
+            mazewalk_maze::parse("corridor.grid", text.as_bytes()).unwrap()
+        };
         for charset in [Charset::Ascii, Charset::Half, Charset::Quad, Charset::Sextant] {
-            let options = RenderOptions { charset, ..RenderOptions::default() };
-            let mut app = App::new(maze.clone(), options, 0.0).unwrap();
-            let mut screen = Screen::default();
-            let mut frame = Frame::new(120, 40);
-            draw(&app, &mut screen, &mut frame, &Hud::default());
-            let edge = |frame: &Frame| (0..39).map(|y| frame.get(0, y).unwrap().ch).collect::<String>();
-            assert!(!edge(&frame).chars().any(|c| c.is_ascii_digit()), "no marks without the lens");
-            app.set_look_ahead(true);
-            draw(&app, &mut screen, &mut frame, &Hud::default());
-            let marks: Vec<(u32, usize)> = (0..39)
-                .rev()
-                .filter_map(|y| frame.get(0, y).unwrap().ch.to_digit(10).map(|k| (k, y)))
-                .collect();
-            let digits: Vec<u32> = marks.iter().map(|m| m.0).collect();
-            // lines at 2, 6, 10, … units ahead of the first cell's centre: the end wall 30 units off,
-            // after cell 7's line; those past the first under two rows from the one before are left out
-            assert!(digits.len() >= 3 && digits[0] == 2, "{charset:?}: {digits:?}");
-            assert!(digits.windows(2).all(|w| w[1] > w[0]) && *digits.last().unwrap() <= 7, "{digits:?}");
-            assert!(marks.windows(2).all(|w| w[1].1 < w[0].1), "bottom to top: {marks:?}");
-            // each on its line's row: in ascii the middle column's cell there is the line's `~`; in
-            // the other charsets (a line is a sample of 2–3 a cell) the rows are ascii's, within one
-            let middle = |y: usize| frame.get(60, y).unwrap().ch;
-            if charset == Charset::Ascii {
-                for &(k, y) in &marks {
-                    let near = [y.saturating_sub(1), y, y + 1].map(middle);
-                    assert!(near.contains(&'~'), "mark {k} at row {y} is not on a line: {near:?}");
-                }
-                ascii = marks;
-            } else {
-                for &(k, y) in &marks {
-                    let row = ascii.iter().find(|m| m.0 == k).map(|m| m.1);
-                    assert!(
-                        row.is_some_and(|r| r.abs_diff(y) <= 1),
-                        "{charset:?}: mark {k} at {y}, {ascii:?}"
-                    );
+            for (cells, past) in [(8, 0.0), (8, 0.4), (13, 0.0)] {
+                let maze = corridor(cells);
+                let options = RenderOptions { charset, ..RenderOptions::default() };
+                let mut app = App::new(maze.clone(), options, 0.0).unwrap();
+                app.camera.position.x += past;
+                let mut screen = Screen::default();
+                let mut frame = Frame::new(120, 40);
+                // the marks: (text, row), bottom to top
+                let marks = |frame: &Frame| -> Vec<(String, usize)> {
+                    (0..39)
+                        .rev()
+                        .filter(|&y| frame.get(0, y).unwrap().ch.is_ascii_digit())
+                        .map(|y| {
+                            let text = (0..4)
+                                .map(|x| frame.get(x, y).unwrap())
+                                .take_while(|c| c.fg == overlay::RANGE_FG)
+                                .map(|c| c.ch)
+                                .collect();
+                            (text, y)
+                        })
+                        .collect()
+                };
+                draw(&app, &mut screen, &mut frame, &Hud::default());
+                assert!(marks(&frame).is_empty(), "no marks without the lens");
+                app.set_look_ahead(true);
+                draw(&app, &mut screen, &mut frame, &Hud::default());
+                let marks = marks(&frame);
+                let (end, lines) = marks.split_last().expect("marks");
+                assert_eq!(end.0, format!("{}|", cells - 1), "{charset:?} {past}: the end wall: {marks:?}");
+                let digits: Vec<u32> = lines.iter().map(|(t, _)| t.parse().unwrap()).collect();
+                // (from a little past the centre cell 2's line lies below the view)
+                let first = if past == 0.0 { 2 } else { 3 };
+                assert!(digits.len() >= 3 && digits[0] == first, "{charset:?} {past}: {marks:?}");
+                assert!(digits.windows(2).all(|w| w[1] == w[0] + 1), "none skipped: {marks:?}");
+                assert!(marks.windows(2).all(|w| w[1].1 < w[0].1), "bottom to top: {marks:?}");
+                if charset == Charset::Ascii {
+                    // every floor line drawn (the middle column's `~` below the end wall) is numbered
+                    for y in end.1 + 1..39 {
+                        if frame.get(60, y).unwrap().ch == '~' {
+                            assert!(lines.iter().any(|m| m.1.abs_diff(y) <= 1), "line at {y}: {marks:?}");
+                        }
+                    }
                 }
             }
         }
