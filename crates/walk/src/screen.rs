@@ -487,8 +487,9 @@ const RANGE_CELLS: usize = 99;
 /// there), the digit k on that line's row, up to [`RANGE_MARKS`], for lines in the view, until one
 /// would share the row of the one before (lines crowd toward the horizon); then, where a wall ends
 /// the way straight ahead with its foot in the view, `n|` on that row, n the cells crossed to it:
-/// the corridor's length beyond the viewer's cell (it takes the row of a line's digit it falls on).
-/// Without that end in view, a last digit with more lines beyond it reads `k+`.
+/// the corridor's length beyond the viewer's cell (it takes the row of a line's digit it falls on;
+/// a wall so near its foot is below the view, nose to it, marks the bottom row: `0|` in the viewer's
+/// own cell). Without that end in view, a last digit with more lines beyond it reads `k+`.
 fn range_marks(app: &App, options: &RenderOptions, view: Region) -> Vec<(String, usize)> {
     use mazewalk_maze::geometry::{FLOOR_Z, heading_dir};
     let camera = &app.camera;
@@ -514,7 +515,14 @@ fn range_marks(app: &App, options: &RenderOptions, view: Region) -> Vec<(String,
         }
         marks.push((k.to_string(), row));
     }
-    match end.and_then(row_of) {
+    // (an end wall nearer than the lowest floor the lens shows, its foot below the view or behind
+    // the eye's near plane: its mark on the view's bottom row, where no line's can be)
+    let below = |at: glam::Vec2| {
+        let clip = eye.clip(at.extend(FLOOR_Z));
+        (clip.w <= eye.near || eye.grid(clip).y >= (view.rows * per_row) as f32)
+            .then_some(view.row + view.rows - 1)
+    };
+    match end.and_then(|at| row_of(at).or_else(|| below(at))) {
         Some(row) => {
             marks.retain(|&(_, r)| r > row);
             marks.push((format!("{}|", crossings.len()), row));
@@ -807,7 +815,8 @@ mod tests {
     /// it. Down a corridor of eight cells from the first's centre (and from a little past it), in
     /// every charset: line digits 2 (3), 3, … bottom to top with none skipped, every cell line ascii
     /// draws on the floor numbered (on its row, within one), and `7|` at the end wall's foot, above
-    /// them (`12|` down one of thirteen); none of it without the lens.
+    /// them (`12|` down one of thirteen; `0|` and `1|` on the bottom row in a corridor of one and of
+    /// two cells, whose end walls' feet lie below the lens's view); none of it without the lens.
     #[test]
     fn the_lens_numbers_the_cell_lines_ahead_and_the_walls_end() {
         use mazewalk_render::Charset;
@@ -820,7 +829,7 @@ mod tests {
             mazewalk_maze::parse("corridor.grid", text.as_bytes()).unwrap()
         };
         for charset in [Charset::Ascii, Charset::Half, Charset::Quad, Charset::Sextant] {
-            for (cells, past) in [(8, 0.0), (8, 0.4), (13, 0.0)] {
+            for (cells, past) in [(8, 0.0), (8, 0.4), (13, 0.0), (1, 0.4), (2, 0.0)] {
                 let maze = corridor(cells);
                 let options = RenderOptions { charset, ..RenderOptions::default() };
                 let mut app = App::new(maze.clone(), options, 0.0).unwrap();
@@ -849,6 +858,12 @@ mod tests {
                 let marks = marks(&frame);
                 let (end, lines) = marks.split_last().expect("marks");
                 assert_eq!(end.0, format!("{}|", cells - 1), "{charset:?} {past}: the end wall: {marks:?}");
+                if cells <= 2 {
+                    // nose to the wall, or one cell off: its foot below the lens's view, marked on
+                    // the bottom row, no line in view
+                    assert_eq!((end.1, lines.len()), (38, 0), "{charset:?} {cells}: {marks:?}");
+                    continue;
+                }
                 let digits: Vec<u32> = lines.iter().map(|(t, _)| t.parse().unwrap()).collect();
                 // (from a little past the centre cell 2's line lies below the view)
                 let first = if past == 0.0 { 2 } else { 3 };
@@ -915,7 +930,7 @@ mod tests {
                         _ => MapMode::Corner,
                     };
                     app.help = k % 17 == 4;
-                    app.set_look_ahead(k % 10 < 4); // (its range marks drawn over the view)
+                    app.set_look_ahead(k % 20 < 3); // (its range marks over the view: three frames in twenty)
                     app.finished = (k % 23 == 7).then_some(12.5);
                     app.exit_box = app.finished.is_some();
                     let behind = Vec2::from_angle(app.camera.yaw_deg.to_radians()) * -(0.2 + 0.05 * k as f32);
