@@ -1057,11 +1057,24 @@ impl Renderer {
         self.paint_marked(|color| palette::off_floor_and_ceiling(chalk_color(color)));
     }
 
-    /// The samples listed in `edge_list` drawn in `paint` of their colour, and unmarked.
+    /// The samples listed in `edge_list` drawn in `paint` of their colour, and unmarked. A sample with
+    /// the bits of the one painted before it takes that one's paint (a line across a floor row, a
+    /// seam down a level wall: one colour along it), without `paint`'s cube roots again.
     fn paint_marked(&mut self, paint: fn(Vec3) -> Vec3) {
         let colors = self.samples.color_mut();
+        let mut last: Option<(Vec3, Vec3)> = None;
         for &i in &self.edge_list {
-            colors[i as usize] = paint(colors[i as usize]);
+            let color = colors[i as usize];
+            let painted = match last {
+                Some((before, painted))
+                    if before.to_array().map(f32::to_bits) == color.to_array().map(f32::to_bits) =>
+                {
+                    painted
+                }
+                _ => paint(color),
+            };
+            last = Some((color, painted));
+            colors[i as usize] = painted;
             self.edge_marks[i as usize] = Mark::None;
         }
     }
