@@ -370,7 +370,8 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub look: LookArgs,
     /// Eye position X,Y in the maze plane (default: the file's viewer). Like the walk's, it stands
-    /// at least 0.25 from every wall: a position closer is moved out to that.
+    /// the maze's clearance from every wall (2/5 of its narrowest passage, 0.25 to 1.6: 1.6 in a
+    /// generated maze): a position closer is moved out to it.
     #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
     pub at: Option<Vec2>,
     /// Eye height, strictly between the floor (-1) and the ceiling (+1).
