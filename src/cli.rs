@@ -136,7 +136,8 @@ pub struct ReadArgs {
 #[derive(Args)]
 pub struct LookArgs {
     /// Glyphs: ascii (one sample per cell), half (▀, 1×2), quad (2×2) or sextant (2×3) (default:
-    /// half; the walk draws ascii on a terminal without block glyphs, a DEC one: TERM=vt100, vt220…).
+    /// half; the walk draws ascii where block glyphs cannot show: on a DEC terminal, TERM=vt100,
+    /// vt220…, and in a locale whose character set is not UTF-8, LANG=C).
     #[arg(long)]
     pub charset: Option<Charset>,
     /// Colour depth: none, 16, 256 or truecolor (default: from NO_COLOR, COLORTERM and TERM; the walk
