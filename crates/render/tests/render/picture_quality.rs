@@ -3,6 +3,7 @@
 //! size a terminal has (120×40 half blocks), measured by `mazewalk_render::quality` (grain, hue error,
 //! surfaces apart: OKLab, per sample) against the truecolor frame of the same view.
 
+use crate::draw;
 use glam::Vec2;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_maze::{self as maze, Maze};
@@ -22,10 +23,8 @@ fn options(charset: Charset, color_depth: ColorDepth) -> RenderOptions {
 
 /// The frame of `camera` in `maze`, and the coverage ids of its samples.
 fn render(maze: &Maze, camera: &Camera, options: &RenderOptions) -> (Frame, Vec<u32>) {
-    let mut frame = Frame::new(COLS, ROWS);
-    let region = frame.region();
     let mut renderer = Renderer::new();
-    renderer.render(maze, camera, &[], options, Target::Frame(&mut frame, region)).expect("camera");
+    let frame = draw(&mut renderer, maze, camera, options, COLS, ROWS);
     (frame, renderer.samples().id().to_vec())
 }
 
@@ -343,12 +342,11 @@ fn lit_but_black(
 /// The frame of `camera` in `maze` in 16 colours, and its samples (before the palette) as a
 /// truecolor frame shows them.
 fn render_16_and_scene(maze: &Maze, camera: &Camera) -> (Frame, Frame) {
-    let mut frame = Frame::new(COLS, ROWS);
-    let region = frame.region();
     let mut renderer = Renderer::new();
     let sixteen = options(Charset::Half, ColorDepth::Ansi16);
-    renderer.render(maze, camera, &[], &sixteen, Target::Frame(&mut frame, region)).expect("camera");
+    let frame = draw(&mut renderer, maze, camera, &sixteen, COLS, ROWS);
     let mut scene = Frame::new(COLS, ROWS);
+    let region = scene.region();
     let truecolor = options(Charset::Half, ColorDepth::TrueColor);
     mazewalk_render::to_frame(renderer.samples(), &truecolor, &mut scene, region);
     (frame, scene)
