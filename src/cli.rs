@@ -331,8 +331,9 @@ pub struct RecordsArgs {
     #[arg(long, value_name = "FILE", requires = "world")]
     pub world_ca: Option<PathBuf>,
     /// Write a finish's run to FILE (for `--ghost FILE` or `replay FILE`): the run of the player at
-    /// RANK in the best times (1 if omitted) or of the player NAME; the maze must be named. Runs are
-    /// kept for the best finish of each of a maze's best ten players.
+    /// RANK in the best times or of the player NAME, `--export-run RANK|NAME FILE`; given one value,
+    /// it is FILE and the rank 1; the maze must be named. Runs are kept for the best finish of each
+    /// of a maze's best ten players.
     #[arg(long, num_args = 1..=2, value_names = ["RANK|NAME", "FILE"])]
     pub export_run: Option<Vec<String>>,
     #[command(flatten)]
