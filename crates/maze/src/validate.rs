@@ -477,6 +477,9 @@ mod tests {
     }
 
     proptest! {
+        // Each case generates and validates a maze: 256 cases, proptest's own default.
+        #![proptest_config(mazewalk_testkit::config_cases(256))]
+
         /// The point location (an unbounded budget) and the sweep (none) agree: nothing overlaps in a
         /// generated maze; a cell shrunk inside one of its cells, toward any point inside it, lies
         /// inside that one; and a box round the whole maze holds every cell.

@@ -48,7 +48,7 @@ fn maze(width: u32, height: u32, seed: u64) -> Maze {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(16))]
 
     // Looking from a cell's centre into an open neighbour, a mark on the neighbour's floor changes
     // floor samples only, each to a lighter colour, and shows in every colour depth and charset;

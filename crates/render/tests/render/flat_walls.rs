@@ -76,7 +76,7 @@ fn nearest_depth(maze: &Maze, camera: &Camera, e: u32) -> f32 {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     /// Fails on `9607457`, where the fog was taken per sample: a side wall's colour drifted with depth,
     /// and 256 colours cut the drift into steps in the middle of a wall.

@@ -191,7 +191,7 @@ fn held_out_views_of_generated_mazes_show_nothing_black_that_is_not() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     /// Any generated maze, views anywhere (in a cell, nose to a wall, down a corridor), at both sizes
     /// and charsets, level and pitched.

@@ -73,7 +73,7 @@ fn a_generated_maze_keeps_two_fifths_of_a_cell_and_course_files_keep_theirs() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(24))]
 
     // Facing a wall square on from the closest stand (any of the four headings a wall of a generated
     // maze is faced at, any cell, anywhere the clearance lets the eye stand before the wall), at 120×40
@@ -110,7 +110,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(24))]
 
     // Facing a wall square on from the closest stand, anywhere in the band the clearance lets the eye
     // stand in before it (0.4 units either side of the middle in a generated maze; right up to its

@@ -283,7 +283,7 @@ const MODES: [(Charset, ColorDepth); 3] = [
 ];
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 8, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(8))]
 
     #[test]
     fn openings_down_a_corridor_read_apart_from_side_walls_and_seams_in_ascii_16_and_256_colours(
@@ -344,7 +344,7 @@ fn the_trials_views_read_their_openings() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     /// Ascii without colour: a wall seen square on (the end of a corridor, the wall faced through a
     /// side opening: `|n · axis|` over 0.8) and a wall along the view (under 0.6) never share a glyph
@@ -507,7 +507,7 @@ fn end_wall_posts(maze: &Maze) -> (usize, Option<String>) {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 8, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(8))]
 
     /// Issue #39, a new player a fifth time: the last cell's side openings beside a corridor's end
     /// wall read as one two-coloured wall (the wall seen through the opening stands in line with the

@@ -245,7 +245,7 @@ fn median(mut values: Vec<f64>) -> f64 {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     // issue #39: near walls in 256 colours were bullseyes (mean OKLab error 0.104), mid-distance
     // walls 3.3× too vivid: now a wall's colour is one down each column (bands along the geometry). Over held-out views of a generated maze (in cells, nose to a wall at the
@@ -381,7 +381,7 @@ fn surface_colour(
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     // issue #39: in 16 colours the ceiling was black and far grey walls merged into the grey floor.
     // Over held-out views of generated mazes: no wall sample takes the floor's or the ceiling's colour

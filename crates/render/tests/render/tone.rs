@@ -87,7 +87,7 @@ fn pairs(maze: &Maze, camera: &Camera, color_depth: ColorDepth) -> Vec<(f32, f32
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     /// Fails at `f9e0a44`, where a generated wall took a random sRGB colour (channels 0.25–0.75) and
     /// the sun (0.7–1.2) outweighed the headlight: a light side wall beside a dark wall faced square
