@@ -129,6 +129,23 @@ pub async fn eventually(
     }
 }
 
+/// A callback that takes lines of text (a records thread's report, say).
+pub type Sink = std::sync::Arc<dyn Fn(&str) + Send + Sync>;
+
+/// The lines a [`Sink`] was handed, in order.
+pub type Said = std::sync::Arc<std::sync::Mutex<Vec<String>>>;
+
+/// A [`Sink`] that keeps every line it is handed, and the lines it kept, for a test to read.
+#[must_use]
+pub fn collector() -> (Sink, Said) {
+    let said = Said::default();
+    let sink = std::sync::Arc::clone(&said);
+    let report = std::sync::Arc::new(move |line: &str| {
+        sink.lock().unwrap_or_else(std::sync::PoisonError::into_inner).push(line.to_string());
+    });
+    (report, said)
+}
+
 /// What `scripts/test-all` says about itself, in every missing-tool message: it installs them all.
 const INSTALL_ALL: &str = "scripts/test-all installs every tool the tests need";
 
