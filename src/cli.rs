@@ -136,7 +136,8 @@ pub struct ReadArgs {
 #[derive(Args)]
 pub struct LookArgs {
     /// Glyphs: ascii (one sample per cell), half (▀, 1×2), quad (2×2) or sextant (2×3) (default:
-    /// half; the walk draws ascii on a terminal without block glyphs, a DEC one: TERM=vt100, vt220…).
+    /// half; the walk draws ascii where block glyphs cannot show: on a DEC terminal, TERM=vt100,
+    /// vt220…, and in a locale whose character set is not UTF-8, LANG=C).
     #[arg(long)]
     pub charset: Option<Charset>,
     /// Colour depth: none, 16, 256 or truecolor (default: from NO_COLOR, COLORTERM and TERM; the walk
@@ -330,8 +331,9 @@ pub struct RecordsArgs {
     #[arg(long, value_name = "FILE", requires = "world")]
     pub world_ca: Option<PathBuf>,
     /// Write a finish's run to FILE (for `--ghost FILE` or `replay FILE`): the run of the player at
-    /// RANK in the best times (1 if omitted) or of the player NAME; the maze must be named. Runs are
-    /// kept for the best finish of each of a maze's best ten players.
+    /// RANK in the best times or of the player NAME, `--export-run RANK|NAME FILE`; given one value,
+    /// it is FILE and the rank 1; the maze must be named. Runs are kept for the best finish of each
+    /// of a maze's best ten players.
     #[arg(long, num_args = 1..=2, value_names = ["RANK|NAME", "FILE"])]
     pub export_run: Option<Vec<String>>,
     #[command(flatten)]
@@ -370,7 +372,8 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub look: LookArgs,
     /// Eye position X,Y in the maze plane (default: the file's viewer). Like the walk's, it stands
-    /// at least 0.25 from every wall: a position closer is moved out to that.
+    /// the maze's clearance from every wall (2/5 of its narrowest passage, 0.25 to 1.6: 1.6 in a
+    /// generated maze): a position closer is moved out to it.
     #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
     pub at: Option<Vec2>,
     /// Eye height, strictly between the floor (-1) and the ceiling (+1).

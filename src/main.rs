@@ -3,8 +3,10 @@
 //! into an exit code.
 //!
 //! `mazewalk [MAZE]` walks a maze (the built-in one without MAZE); `render`, `gen` and `check` are the
-//! batch commands. Exit codes: 0 success, 2 usage errors (bad flags or values), 65 malformed or invalid
-//! maze data or a file over the size limit, 66 cannot read the file, 141 stdout's reader went away,
+//! batch commands, `serve` hosts a maze over SSH, `records` prints its best times and `replay` plays a
+//! stored run back. Exit codes: 0 success, 2 usage errors (bad flags or values), 65 malformed or
+//! invalid maze data, a file over the size limit, or a run (`--ghost`, `replay`) that does not decode
+//! or is of another maze, 66 cannot read the file, 141 stdout's reader went away,
 //! 128 + n the walk ended by signal n, 1 anything else (e.g. no terminal). Maze errors go to stderr
 //! as `FILE:LINE:COL: message`.
 

@@ -131,7 +131,7 @@ fn render_keeps_half_blocks_on_a_dec_term() {
     assert_eq!(vt100, run("vt100", &["--charset", "half"]));
     assert_eq!(vt100, run("xterm-256color", &[]));
     let help = run("vt100", &["--help"]);
-    assert!(help.contains("the walk draws ascii on a terminal without block glyphs"), "{help}");
+    assert!(help.contains("the walk draws ascii where block glyphs cannot show"), "{help}");
 }
 
 #[test]

@@ -2,7 +2,8 @@
 //! target (`fuzz/` and `crates/math/fuzz/`) and every bench (`benches/Cargo.toml`) is named where the
 //! README lists them, and nothing else is. The README's test command is the one `.ci/run` runs. The
 //! keys: `mazewalk --help` shows the walk's own `?` help, and the README's keys table names every key
-//! of it. `gen` and `--gen` make the same maze of a size when given the same options.
+//! of it. `gen` and `--gen` make the same maze of a size when given the same options. Every property
+//! takes its configuration from `mazewalk-testkit`, as the README says.
 
 use std::collections::BTreeSet;
 
@@ -181,4 +182,56 @@ fn gen_and_the_walks_gen_make_the_same_maze_by_default() {
     let generated = mazewalk(&[&["render", "--gen", "6x5"][..], &look].concat());
     let _ = std::fs::remove_dir_all(&dir);
     assert_eq!(String::from_utf8_lossy(&from_file), String::from_utf8_lossy(&generated));
+}
+
+/// The Rust files below `dir` (the repository's own: `target/` and `fuzz/` left out), recursively.
+fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap_or_else(|err| panic!("{}: {err}", dir.display())) {
+        let path = entry.expect("a directory entry").path();
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        if path.is_dir() && !["target", "fuzz"].contains(&name) {
+            rust_files(&path, out);
+        } else if name.ends_with(".rs") {
+            out.push(path);
+        }
+    }
+}
+
+// README "Tests, property tests and fuzzing": every property takes its configuration from
+// mazewalk-testkit (its case count, which `PROPTEST_CASES` sets for all of them, and where failing
+// cases are saved). A `proptest!` block whose first line is not testkit's `config()` or
+// `config_cases(N)` runs proptest's own (256 cases, or its `cases: N` whatever `PROPTEST_CASES`
+// says), and under `tests/` saves no failing case.
+#[test]
+fn every_property_takes_its_configuration_from_the_testkit() {
+    let mut files = Vec::new();
+    for dir in ["src", "tests", "crates"] {
+        rust_files(&std::path::Path::new(ROOT).join(dir), &mut files);
+    }
+    let mut blocks = 0;
+    let mut own = Vec::new();
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap_or_else(|err| panic!("{}: {err}", file.display()));
+        let lines: Vec<&str> = text.lines().collect();
+        for (i, _) in lines.iter().enumerate().filter(|(_, l)| l.trim_start().starts_with("proptest! {")) {
+            blocks += 1;
+            // the block's first line that is not a comment or blank
+            let first =
+                lines[i + 1..].iter().map(|l| l.trim()).find(|l| !l.is_empty() && !l.starts_with("//"));
+            let testkit = first.is_some_and(|l| {
+                l.starts_with("#![proptest_config(")
+                    && ["config()", "config_cases("].iter().any(|c| {
+                        let at = "#![proptest_config(".len();
+                        let call =
+                            l[at..].trim_start_matches("mazewalk_testkit::").trim_start_matches("common::");
+                        call.starts_with(c)
+                    })
+            });
+            if !testkit {
+                own.push(format!("{}:{}: {}", file.display(), i + 2, first.unwrap_or("")));
+            }
+        }
+    }
+    assert!(blocks > 30, "the properties were found: {blocks}");
+    assert!(own.is_empty(), "properties with a configuration of their own:\n{}", own.join("\n"));
 }

@@ -141,7 +141,8 @@ mod tests {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+        // Each case generates a maze and searches its light: 32 cases.
+        #![proptest_config(mazewalk_testkit::config_cases(32))]
 
         // The level is EXIT_LIGHT minus the path distance through openings, zero beyond the reach;
         // two cells side by side with a wall between differ by more than one step only when the wall
@@ -259,7 +260,8 @@ mod tests {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+        // Each case generates a maze and searches its light: 16 cases.
+        #![proptest_config(mazewalk_testkit::config_cases(16))]
 
         // An opening the light comes through leads its dimmer cell one step nearer the exit by path,
         // and from every lit cell but the exit's, the light comes in through at least one opening (a

@@ -372,6 +372,8 @@ mod tests {
     }
 
     proptest! {
+        #![proptest_config(mazewalk_testkit::config())]
+
         #[test]
         fn the_sweep_agrees_with_every_pair(segments in arb_segments()) {
             let found = first_conflict(segments.len(), |i| segments[i as usize]);

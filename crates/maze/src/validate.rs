@@ -459,19 +459,7 @@ mod tests {
         }
         cells.push(&(first_edge..first_edge + k).collect::<Vec<_>>());
         let (extents, cell_index) = super::super::cell_index(&vertices, &edges, &cells, Threads::One);
-        let viewer = *maze.viewer();
-        Maze {
-            vertices,
-            edges,
-            cells,
-            viewer,
-            exit: None,
-            extents,
-            cell_index,
-            clearance: WALL_MARGIN,
-            min_vfov_deg: 0.0,
-            exit_light: std::sync::OnceLock::new(),
-        }
+        Maze::assemble(vertices, edges, cells, *maze.viewer(), None, extents, cell_index)
     }
 
     /// Cell `c`'s corners, counter-clockwise.
@@ -489,6 +477,9 @@ mod tests {
     }
 
     proptest! {
+        // Each case generates and validates a maze: 256 cases, proptest's own default.
+        #![proptest_config(mazewalk_testkit::config_cases(256))]
+
         /// The point location (an unbounded budget) and the sweep (none) agree: nothing overlaps in a
         /// generated maze; a cell shrunk inside one of its cells, toward any point inside it, lies
         /// inside that one; and a box round the whole maze holds every cell.
@@ -548,19 +539,7 @@ mod tests {
         }
         let (extents, cell_index) = super::super::cell_index(&vertices, &edges, &cells, Threads::One);
         let viewer = crate::Viewer { pos: (rim(0) + rim(1)) / 3.0, z: 0.0, dir_deg: 0.0, fov_deg: 90.0 };
-        let (clearance, min_vfov_deg) = (WALL_MARGIN, 0.0);
-        let fan = Maze {
-            vertices,
-            edges,
-            cells,
-            viewer,
-            exit: None,
-            extents,
-            cell_index,
-            clearance,
-            min_vfov_deg,
-            exit_light: std::sync::OnceLock::new(),
-        };
+        let fan = Maze::assemble(vertices, edges, cells, viewer, None, extents, cell_index);
         let crowded = || {
             let centre = corners(&fan, 700).iter().sum::<Vec2>() / 3.0;
             fan.cell_index.query(centre).len()

@@ -8,7 +8,8 @@
 //! - **Lines about connections are rate-limited per address group** ([`LogLimit`]): a burst, then a
 //!   trickle, per group (an IPv4 address, an IPv6 /64: [`address_group`](crate::slots::address_group))
 //!   and in all. What is left out is counted and summed up in one line per group every
-//!   [`SUMMARY_SECONDS`] ("N more lines suppressed").
+//!   [`SUMMARY_SECONDS`] ("log lines suppressed (rate limit) addresses=… lines=…"; past
+//!   [`SUMMARY_GROUPS`] groups, one more line for the rest).
 //!
 //! How a line is written is the subscriber's choice: today's text, or [`JsonLines`] (`--log-format
 //! json`), one JSON object a line for journald and log shippers. Either way the same lines, through

@@ -19,6 +19,7 @@ use mazewalk_serve::shared::codec::{
 };
 use mazewalk_serve::shared::redis::Keys;
 use mazewalk_serve::shared::{Caps, SharedWorld, WorldConfig};
+use mazewalk_testkit::eventually;
 use redis::aio::MultiplexedConnection;
 use redis_server::{Persistence, RedisServer};
 
@@ -70,15 +71,6 @@ impl std::io::Write for Log {
 
     fn flush(&mut self) -> std::io::Result<()> {
         Ok(())
-    }
-}
-
-/// Waits until `cond` holds, polling every 10 ms; panics after `within`.
-async fn eventually(within: Duration, what: &str, mut cond: impl FnMut() -> bool) {
-    let start = Instant::now();
-    while !cond() {
-        assert!(start.elapsed() < within, "{what}: not within {within:?}");
-        tokio::time::sleep(Duration::from_millis(10)).await;
     }
 }
 

@@ -21,6 +21,7 @@ use mazewalk_serve::shared::codec::{
     self, Body, Bounds, Message, PlayerRecord, ServerId, WinnerRecord, maze_tag,
 };
 use mazewalk_serve::shared::{SharedWorld, WorldConfig, WorldError};
+use mazewalk_testkit::eventually;
 use redis_server::{Persistence, RedisServer};
 
 const MAZE: &str = "5eed0123456789abcdef5eed0123456789abcdef";
@@ -37,18 +38,6 @@ async fn join(redis: &RedisServer, host: &Arc<TestHost>) -> SharedWorld {
     SharedWorld::join(config(redis), Arc::clone(host) as Arc<dyn mazewalk_serve::shared::Host>)
         .await
         .expect("joins the world")
-}
-
-/// Waits until `cond` holds, polling every 10 ms; returns how long it took, or panics after `within`.
-async fn eventually(within: Duration, what: &str, mut cond: impl FnMut() -> bool) -> Duration {
-    let start = Instant::now();
-    loop {
-        if cond() {
-            return start.elapsed();
-        }
-        assert!(start.elapsed() < within, "{what}: not within {within:?}");
-        tokio::time::sleep(Duration::from_millis(10)).await;
-    }
 }
 
 async fn stored_winner(redis: &RedisServer) -> Option<WinnerRecord> {

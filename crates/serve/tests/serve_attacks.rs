@@ -16,6 +16,7 @@ use std::time::{Duration, Instant};
 
 use load::{Connected, connect, quantile};
 use mazewalk_serve::{Access, Limits, Server};
+use mazewalk_testkit::eventually;
 use russh::keys::{HashAlg, PrivateKeyWithHashAlg};
 
 /// Each test's deadline.
@@ -23,15 +24,6 @@ const DEADLINE: Duration = Duration::from_secs(60);
 
 async fn server(access: Access, limits: Limits) -> Server {
     load::loopback_server(access, limits).await
-}
-
-/// Waits until `ok` holds, or panics after `within`.
-async fn eventually(within: Duration, what: &str, ok: impl Fn() -> bool) {
-    let deadline = Instant::now() + within;
-    while !ok() {
-        assert!(Instant::now() < deadline, "timed out: {what}");
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    }
 }
 
 /// Issue #34, high 1: a client offering only `diffie-hellman-group18-sha512` and sending its half

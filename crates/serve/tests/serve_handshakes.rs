@@ -19,21 +19,13 @@ use std::time::{Duration, Instant};
 
 use mazewalk_serve::ssh::NO_PTY_MESSAGE;
 use mazewalk_serve::{Access, Limits, Server};
+use mazewalk_testkit::eventually;
 
 /// Each test's deadline.
 const DEADLINE: Duration = Duration::from_secs(90);
 
 async fn server(limits: Limits) -> Server {
     load::loopback_server(Access::Open, limits).await
-}
-
-/// Waits until `ok` holds, or panics after `within`.
-async fn eventually(within: Duration, what: &str, ok: impl Fn() -> bool) {
-    let deadline = Instant::now() + within;
-    while !ok() {
-        assert!(Instant::now() < deadline, "timed out: {what}");
-        tokio::time::sleep(Duration::from_millis(20)).await;
-    }
 }
 
 /// Attacker address `n` (0..65,536): 127.1.x.y, one address group each.

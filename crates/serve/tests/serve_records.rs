@@ -11,9 +11,10 @@ use std::time::{Duration, Instant};
 
 use mazewalk_maze::ContentHash;
 use mazewalk_serve::records::{
-    FINISHES_PER_PLAYER, Fault, Finish, QUEUE, Records, Report, Sqlite, SqliteOptions, Standing, Store,
+    FINISHES_PER_PLAYER, Fault, Finish, QUEUE, Records, Sqlite, SqliteOptions, Standing, Store,
     standing_lines,
 };
+use mazewalk_testkit::collector;
 use mazewalk_testkit::scratch::Scratch;
 
 const MAZE: ContentHash = ContentHash([7; 32]);
@@ -34,16 +35,6 @@ fn open(path: &Path) -> Sqlite {
     let (db, aside) = Sqlite::open(path, SqliteOptions::default()).expect("open the records");
     assert_eq!(aside, None);
     db
-}
-
-/// What the records thread reported.
-fn collector() -> (Report, Arc<Mutex<Vec<String>>>) {
-    let said = Arc::new(Mutex::new(Vec::new()));
-    let sink = Arc::clone(&said);
-    let report: Report = Arc::new(move |line: &str| {
-        sink.lock().unwrap_or_else(PoisonError::into_inner).push(line.to_string())
-    });
-    (report, said)
 }
 
 fn said(lines: &Arc<Mutex<Vec<String>>>) -> Vec<String> {

@@ -9,10 +9,10 @@ use mazewalk_testkit::load;
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::PoisonError;
 use std::time::{Duration, Instant};
 
-use mazewalk_serve::records::{Keeper, Records, Report, Sqlite, SqliteOptions, Store as _};
+use mazewalk_serve::records::{Keeper, Records, Sqlite, SqliteOptions, Store as _};
 use mazewalk_serve::{Access, Limits, ServeOptions, Server};
 use russh::ChannelMsg;
 
@@ -66,11 +66,7 @@ async fn a_records_file_broken_while_serving_neither_stops_the_game_nor_its_rank
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("scratch folder");
         let path: PathBuf = dir.join("records.sqlite");
-        let said = Arc::new(Mutex::new(Vec::<String>::new()));
-        let report: Report = {
-            let said = Arc::clone(&said);
-            Arc::new(move |line: &str| said.lock().unwrap_or_else(PoisonError::into_inner).push(line.into()))
-        };
+        let (report, said) = mazewalk_testkit::collector();
         let (db, _) = Sqlite::open(&path, SqliteOptions::default()).expect("open the records");
         let maze = mazewalk_maze::grid::parse_str("short.grid", SHORT_RUN).expect("the maze");
         let keeper = Keeper {

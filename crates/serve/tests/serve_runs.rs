@@ -4,12 +4,13 @@
 //! inside the maze (a damaged one is said, and is no ghost).
 #![cfg(unix)]
 
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use glam::Vec2;
 use mazewalk_maze::{Aabb, ContentHash};
-use mazewalk_serve::records::{Finish, Race, Records, Report, Sqlite, SqliteOptions, Store};
+use mazewalk_serve::records::{Finish, Race, Records, Sqlite, SqliteOptions, Store};
+use mazewalk_testkit::collector;
 use mazewalk_testkit::scratch::Scratch;
 use mazewalk_walk::run::{Pose, Run};
 
@@ -98,15 +99,6 @@ fn a_records_file_of_the_previous_schema_is_migrated_and_keeps_its_finishes() {
     let conn = rusqlite::Connection::open(scratch.db()).unwrap();
     let version: i64 = conn.query_row("PRAGMA user_version", [], |r| r.get(0)).unwrap();
     assert_eq!(version, 2);
-}
-
-fn collector() -> (Report, Arc<Mutex<Vec<String>>>) {
-    let said = Arc::new(Mutex::new(Vec::new()));
-    let sink = Arc::clone(&said);
-    let report: Report = Arc::new(move |line: &str| {
-        sink.lock().unwrap_or_else(PoisonError::into_inner).push(line.to_string())
-    });
-    (report, said)
 }
 
 /// Waits (bounded) until `f` holds.

@@ -1,7 +1,8 @@
 //! What the tests and benches of every mazewalk crate share, in one copy: the proptest configuration
 //! of every property, a tolerant comparison, the f64 OKLab oracle ([`oklab`]), the check that a
-//! system program a test runs is installed ([`require_tool`]) and the `redis-server` they start
-//! ([`redis_server`]). A dev-dependency only.
+//! system program a test runs is installed ([`require_tool`]), the `redis-server` they start
+//! ([`redis_server`]) and, for the async tests of the server and its world, `eventually` (a wait
+//! for a condition, with a deadline). A dev-dependency only.
 //!
 //! The harnesses that drive a mazewalk crate are behind a feature named after it (`term`, `walk`,
 //! `pty`, `serve`, `redis`), so that the math crate's tests, say, build none of them. Only a crate's
@@ -105,6 +106,44 @@ pub const MAZES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../mazes");
 #[must_use]
 pub fn maze_path(name: &str) -> String {
     format!("{MAZES}/{name}")
+}
+
+/// Waits until `cond` holds, polling every 10 ms, and returns how long that took; panics, saying
+/// `what`, when it has not held within `within`. For the async tests of the server and its world.
+///
+/// # Panics
+/// When `cond` does not hold within `within`.
+#[cfg(any(feature = "serve", feature = "redis"))]
+pub async fn eventually(
+    within: std::time::Duration,
+    what: &str,
+    mut cond: impl FnMut() -> bool,
+) -> std::time::Duration {
+    let start = std::time::Instant::now();
+    loop {
+        if cond() {
+            return start.elapsed();
+        }
+        assert!(start.elapsed() < within, "{what}: not within {within:?}");
+        tokio::time::sleep(std::time::Duration::from_millis(10)).await;
+    }
+}
+
+/// A callback that takes lines of text (a records thread's report, say).
+pub type Sink = std::sync::Arc<dyn Fn(&str) + Send + Sync>;
+
+/// The lines a [`Sink`] was handed, in order.
+pub type Said = std::sync::Arc<std::sync::Mutex<Vec<String>>>;
+
+/// A [`Sink`] that keeps every line it is handed, and the lines it kept, for a test to read.
+#[must_use]
+pub fn collector() -> (Sink, Said) {
+    let said = Said::default();
+    let sink = std::sync::Arc::clone(&said);
+    let report = std::sync::Arc::new(move |line: &str| {
+        sink.lock().unwrap_or_else(std::sync::PoisonError::into_inner).push(line.to_string());
+    });
+    (report, said)
 }
 
 /// What `scripts/test-all` says about itself, in every missing-tool message: it installs them all.

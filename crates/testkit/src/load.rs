@@ -15,7 +15,7 @@ use mazewalk_serve::{Access, Limits, ServeOptions, Server};
 use russh::client::{self, Handle, Msg};
 use russh::keys::PublicKeyOrCertificate;
 use russh::keys::ssh_key::private::Ed25519Keypair;
-use russh::{Channel, ChannelMsg};
+use russh::{Channel, ChannelMsg, ChannelWriteHalf};
 use tokio::sync::watch;
 
 /// The device-attributes query the server sends after each frame, and a terminal's answer.
@@ -225,6 +225,16 @@ fn count_queries(carry: &mut Vec<u8>, data: &[u8]) -> usize {
     n
 }
 
+/// Counts the frames in `data` into `stats` (one query each: [`count_queries`]) and answers each
+/// query, as a terminal does.
+async fn answer_frames(tx: &ChannelWriteHalf<Msg>, carry: &mut Vec<u8>, data: &[u8], stats: &mut Stats) {
+    let n = count_queries(carry, data);
+    stats.frames += n as u64;
+    for _ in 0..n {
+        let _ = tx.data_bytes(ANSWER.to_vec()).await;
+    }
+}
+
 /// Walks for `seconds`: a key every `1 / rate` s (turning left, with a step forward now and then, so
 /// that every key changes the view), answering every frame's query; returns what it measured.
 pub async fn walk(connected: Connected, rate: f64, seconds: f64, key: &'static [u8]) -> Stats {
@@ -237,11 +247,7 @@ pub async fn walk(connected: Connected, rate: f64, seconds: f64, key: &'static [
         match rx.wait().await {
             Some(ChannelMsg::Data { data }) => {
                 stats.bytes += data.len() as u64;
-                let n = count_queries(&mut carry, &data);
-                stats.frames += n as u64;
-                for _ in 0..n {
-                    let _ = tx.data_bytes(ANSWER.to_vec()).await;
-                }
+                answer_frames(&tx, &mut carry, &data, &mut stats).await;
             }
             Some(ChannelMsg::Eof | ChannelMsg::Close) | None => {
                 stats.closed = true;
@@ -273,11 +279,7 @@ pub async fn walk(connected: Connected, rate: f64, seconds: f64, key: &'static [
                     stats.latencies.extend(pending.drain(..).map(|sent| (now - sent).as_secs_f64()));
                     stats.bytes += data.len() as u64;
                     stats.bytes_after_first += data.len() as u64;
-                    let n = count_queries(&mut carry, &data);
-                    stats.frames += n as u64;
-                    for _ in 0..n {
-                        let _ = tx.data_bytes(ANSWER.to_vec()).await;
-                    }
+                    answer_frames(&tx, &mut carry, &data, &mut stats).await;
                 }
                 Some(ChannelMsg::Eof | ChannelMsg::Close) | None => {
                     stats.closed = true;
@@ -308,11 +310,7 @@ pub async fn idle(connected: Connected, bytes: Arc<AtomicU64>, mut stop: watch::
                     }
                     stats.bytes += data.len() as u64;
                     bytes.fetch_add(data.len() as u64, Ordering::Relaxed);
-                    let n = count_queries(&mut carry, &data);
-                    stats.frames += n as u64;
-                    for _ in 0..n {
-                        let _ = tx.data_bytes(ANSWER.to_vec()).await;
-                    }
+                    answer_frames(&tx, &mut carry, &data, &mut stats).await;
                 }
                 Some(ChannelMsg::Eof | ChannelMsg::Close) | None => {
                     stats.closed = true;

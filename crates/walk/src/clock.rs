@@ -65,6 +65,8 @@ mod tests {
     }
 
     proptest! {
+        #![proptest_config(mazewalk_testkit::config())]
+
         #[test]
         fn clock_text_parses_back_to_within_a_twentieth(seconds in 0.0f64..100_000.0) {
             let text = clock_text(seconds);

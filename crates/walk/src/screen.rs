@@ -749,26 +749,12 @@ mod tests {
     fn a_hosts_status_comes_first_in_the_hud() {
         let app = App::new(mazewalk_maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
         let (stats, hud) = (RenderStats::default(), Hud { elapsed: 83.4, ..Hud::default() });
-        let line = hud_text_with(
-            &app,
-            &stats,
-            &hud,
-            (Some(3), Some("world offline"), None),
-            90.0,
-            Style::default(),
-            60,
-        );
-        assert!(line.starts_with(" world offline  heading 0° E  time 1:23  3 in"), "{line:?}");
-        let narrow = hud_text_with(
-            &app,
-            &stats,
-            &hud,
-            (Some(3), Some("world offline"), None),
-            90.0,
-            Style::default(),
-            30,
-        );
-        assert!(narrow.starts_with(" world offline "), "kept before the rest: {narrow:?}");
+        let line = |width| {
+            let host = (Some(3), Some("world offline"), None);
+            hud_text_with(&app, &stats, &hud, host, 90.0, Style::default(), width)
+        };
+        assert!(line(60).starts_with(" world offline  heading 0° E  time 1:23  3 in"), "{:?}", line(60));
+        assert!(line(30).starts_with(" world offline "), "kept before the rest: {:?}", line(30));
     }
 
     // issue #33: the developer figures (fps, bytes, cell, seen, ms) are behind `i`.

@@ -201,6 +201,9 @@ fn the_wall_colour_hues_the_generator_uses_are_the_entries_hues() {
 }
 
 proptest! {
+    // Each case generates a maze: 256 cases, proptest's own default.
+    #![proptest_config(mazewalk_testkit::config_cases(256))]
+
     // Issue #39: two walls in one line that meet at a seam are apart in hue, so a player counts the
     // cells along a corridor by their colours in every colour depth (picked independently, one seam in
     // ten joined two walls 256 colours showed as one).
@@ -233,6 +236,9 @@ proptest! {
 }
 
 proptest! {
+    // Each case generates a maze: 256 cases, proptest's own default.
+    #![proptest_config(mazewalk_testkit::config_cases(256))]
+
     // Issue #39: lightness tells the geometry, hue the wall. Every wall of a generated maze (no
     // palette given) has one OKLab lightness within 8-bit rounding, so no wall is lighter than another
     // but by its light and its distance; the old random sRGB colours (channels 0.25–0.75) spread
@@ -262,6 +268,9 @@ fn hue_and_saturation(c: glam::Vec3) -> (f32, f32) {
 }
 
 proptest! {
+    // Each case generates a maze: 256 cases, proptest's own default.
+    #![proptest_config(mazewalk_testkit::config_cases(256))]
+
     // Issue #39: no wall of a generated maze is green, the exit's hue (its beacon and the light it
     // casts): a green wall far off was taken for the exit's glow and chased. (The hexcone's atan2
     // hue is within a few degrees of HSV's; the test keeps 10° clear of the 70°–170° the generator moves.)
@@ -279,7 +288,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(24))]
 
     // Issue #39: a generated maze written by `mazewalk gen` (CS559, or grid tiles) and loaded again
     // keeps the least vertical field of view `--gen` shows it with, so it looks the same.

@@ -18,9 +18,10 @@
 //!   counts the far cells by (the floor's lines stop about two cells out at 40 rows).
 
 use mazewalk_maze::generate::{GenOptions, generate};
-use mazewalk_render::{Charset, RenderOptions, Renderer, Target};
+use mazewalk_render::{Charset, RenderOptions, Renderer};
 use mazewalk_term::frame::{ColorDepth, Frame};
 
+use crate::draw;
 use crate::openings::{Corridor, every_corridor};
 
 const COLS: usize = 120;
@@ -42,11 +43,7 @@ const GAP: f32 = 2.0;
 fn view(maze: &mazewalk_maze::Maze, c: &Corridor) -> (Frame, impl Fn(f32, f32, f32) -> (f32, f32)) {
     let options =
         RenderOptions { charset: Charset::Ascii, color_depth: ColorDepth::None, ..RenderOptions::default() };
-    let mut frame = Frame::new(COLS, ROWS);
-    let region = frame.region();
-    Renderer::new()
-        .render(maze, &c.camera, &[], &options, Target::Frame(&mut frame, region))
-        .expect("camera");
+    let frame = draw(&mut Renderer::new(), maze, &c.camera, &options, COLS, ROWS);
     let eye = c.camera.eye(COLS, ROWS, Charset::Ascii.sample_aspect(options.cell_aspect)).expect("eye");
     let (at, dir, tile) = (c.at, c.dir, c.tile);
     let grid = move |along: f32, across: f32, z: f32| {
@@ -446,9 +443,7 @@ fn half_view(
     camera: &mazewalk_render::Camera,
     options: &RenderOptions,
 ) -> (Vec<glam::Vec3>, mazewalk_render::Eye) {
-    let mut frame = Frame::new(COLS, ROWS);
-    let region = frame.region();
-    renderer.render(maze, camera, &[], options, Target::Frame(&mut frame, region)).expect("camera");
+    let frame = draw(renderer, maze, camera, options, COLS, ROWS);
     let shown = mazewalk_render::quality::shown(&frame, Charset::Half);
     let (w, h) = (renderer.samples().width(), renderer.samples().height());
     (shown, camera.eye(w, h, Charset::Half.sample_aspect(options.cell_aspect)).expect("eye"))

@@ -7,7 +7,7 @@ use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_render::samples::FLOOR;
 use mazewalk_render::shade::luminance;
-use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, Target};
+use mazewalk_render::{Camera, Charset, RenderOptions, Renderer};
 use mazewalk_term::frame::{ColorDepth, Frame};
 use proptest::prelude::*;
 
@@ -38,10 +38,8 @@ fn draw(
     options: &RenderOptions,
     chalk: &[u32],
 ) -> (Frame, Vec<glam::Vec3>, Vec<u32>) {
-    let mut frame = Frame::new(120, 40);
-    let region = frame.region();
     renderer.set_chalk(chalk);
-    renderer.render(maze, camera, &[], options, Target::Frame(&mut frame, region)).expect("camera");
+    let frame = crate::draw(renderer, maze, camera, options, 120, 40);
     (frame, renderer.samples().color().to_vec(), renderer.samples().id().to_vec())
 }
 
@@ -50,7 +48,7 @@ fn maze(width: u32, height: u32, seed: u64) -> Maze {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(16))]
 
     // Looking from a cell's centre into an open neighbour, a mark on the neighbour's floor changes
     // floor samples only, each to a lighter colour, and shows in every colour depth and charset;

@@ -4,12 +4,13 @@
 //! colours (16 colours: the dark green, its seams and corners drawn); walls beyond its reach, or
 //! behind a wall from it, are drawn as in a maze without an exit.
 
+use crate::draw;
 use glam::Vec3;
 use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_maze::light::ExitLight;
-use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, Target, quality};
-use mazewalk_term::frame::{ColorDepth, Frame};
+use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, quality};
+use mazewalk_term::frame::ColorDepth;
 
 /// The maze without its exit: the same walls, no light.
 fn without_exit(maze: &Maze) -> Maze {
@@ -22,22 +23,18 @@ fn without_exit(maze: &Maze) -> Maze {
 
 /// Linear colours and ids of the samples of `camera`'s view (truecolor, half blocks, 120×40).
 fn samples(maze: &Maze, camera: &Camera) -> (Vec<Vec3>, Vec<u32>) {
-    let mut frame = Frame::new(120, 40);
-    let region = frame.region();
     let mut renderer = Renderer::new();
     let options = RenderOptions { color_depth: ColorDepth::TrueColor, ..RenderOptions::default() };
-    renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
+    draw(&mut renderer, maze, camera, &options, 120, 40);
     (renderer.samples().color().to_vec(), renderer.samples().id().to_vec())
 }
 
 /// What the terminal shows on each sample of `camera`'s view in `depth` (OKLab, half blocks,
 /// 120×40), and the samples' ids.
 fn shown(maze: &Maze, camera: &Camera, depth: ColorDepth) -> (Vec<Vec3>, Vec<u32>) {
-    let mut frame = Frame::new(120, 40);
-    let region = frame.region();
     let mut renderer = Renderer::new();
     let options = RenderOptions { color_depth: depth, ..RenderOptions::default() };
-    renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
+    let frame = draw(&mut renderer, maze, camera, &options, 120, 40);
     (quality::shown(&frame, Charset::Half), renderer.samples().id().to_vec())
 }
 

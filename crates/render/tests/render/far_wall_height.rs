@@ -9,11 +9,12 @@
 //! wall covers looks more like the wall than like the plane beside it, and the ceiling's and floor's
 //! first samples look more like their plane than like the wall (OKLab, what the terminal shows).
 
+use crate::draw;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_render::quality::{self, ViewKind, held_out_views};
 use mazewalk_render::samples::{CEILING, FLOOR};
-use mazewalk_render::{Charset, RenderOptions, Renderer, Target};
-use mazewalk_term::frame::{ColorDepth, Frame};
+use mazewalk_render::{Charset, RenderOptions, Renderer};
+use mazewalk_term::frame::ColorDepth;
 
 const COLS: usize = 120;
 const ROWS: usize = 40;
@@ -35,12 +36,8 @@ fn a_far_wall_looks_as_tall_as_it_is_in_truecolor_256_and_16_colours() {
             for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256, ColorDepth::Ansi16] {
                 let options =
                     RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
-                let mut frame = Frame::new(COLS, ROWS);
-                let region = frame.region();
                 let mut renderer = Renderer::new();
-                renderer
-                    .render(&maze, camera, &[], &options, Target::Frame(&mut frame, region))
-                    .expect("camera");
+                let frame = draw(&mut renderer, &maze, camera, &options, COLS, ROWS);
                 let shown = quality::shown(&frame, Charset::Half);
                 let ids = renderer.samples().id();
                 let width = renderer.samples().width();

@@ -5,12 +5,13 @@
 //! outline, seams and jambs aside) show one colour, in truecolor, 256 and 16 colours; and of two walls
 //! of one colour facing one way, the one whose nearest point is farther is never the lighter.
 
+use crate::draw;
 use glam::{Vec2, Vec3};
 use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_render::quality::{self, held_out_views};
-use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, Target};
-use mazewalk_term::frame::{ColorDepth, Frame};
+use mazewalk_render::{Camera, Charset, RenderOptions, Renderer};
+use mazewalk_term::frame::ColorDepth;
 use std::collections::BTreeMap;
 
 const COLS: usize = 120;
@@ -19,10 +20,8 @@ const ROWS: usize = 40;
 /// What the terminal shows of `camera`'s view (OKLab, per sample) and the samples' ids.
 fn shown(maze: &Maze, camera: &Camera, color_depth: ColorDepth) -> (Vec<Vec3>, Vec<u32>) {
     let options = RenderOptions { charset: Charset::Half, color_depth, ..RenderOptions::default() };
-    let mut frame = Frame::new(COLS, ROWS);
-    let region = frame.region();
     let mut renderer = Renderer::new();
-    renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
+    let frame = draw(&mut renderer, maze, camera, &options, COLS, ROWS);
     (quality::shown(&frame, Charset::Half), renderer.samples().id().to_vec())
 }
 
@@ -77,7 +76,7 @@ fn nearest_depth(maze: &Maze, camera: &Camera, e: u32) -> f32 {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     /// Fails on `9607457`, where the fog was taken per sample: a side wall's colour drifted with depth,
     /// and 256 colours cut the drift into steps in the middle of a wall.

@@ -11,13 +11,14 @@
 //! projected line (±1 sample) of each toward-exit opening, by its distance from the eye, and every
 //! sample showing that look anywhere.
 
+use crate::draw;
 use glam::{Vec2, Vec3};
 use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
 use mazewalk_render::samples::{CEILING, FLOOR};
-use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, Target, quality};
-use mazewalk_term::frame::{ColorDepth, Frame, xterm_rgb};
+use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, quality};
+use mazewalk_term::frame::{ColorDepth, xterm_rgb};
 
 /// Held-out mazes: none of the seeds the glow was tuned on.
 const SEEDS: [u64; 4] = [5_501, 7_723, 31_337, 60_013];
@@ -169,11 +170,7 @@ fn measure(mode: Mode, seeds: &[u64], every: usize) -> Tally {
         let light = maze.exit_light();
         for (at, heading) in poses(&maze).into_iter().step_by(every) {
             let camera = camera(&maze, at, heading);
-            let mut frame = Frame::new(120, 40);
-            let region = frame.region();
-            renderer
-                .render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region))
-                .expect("camera");
+            let frame = draw(&mut renderer, &maze, &camera, &options, 120, 40);
             tally.views += 1;
             let (sx, sy) = charset.samples_per_cell();
             let eye = camera.eye(120 * sx, 40 * sy, charset.sample_aspect(options.cell_aspect)).expect("eye");

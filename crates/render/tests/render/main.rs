@@ -22,6 +22,26 @@ mod render_sprites;
 mod tone;
 mod wall_floor;
 
+use mazewalk_maze::Maze;
+use mazewalk_render::{Camera, RenderOptions, Renderer, Target};
+use mazewalk_term::frame::Frame;
+
+/// `camera`'s view of `maze`, drawn by `renderer` with `options` into a new `cols` × `rows` frame:
+/// the frame (the renderer keeps the samples).
+pub fn draw(
+    renderer: &mut Renderer,
+    maze: &Maze,
+    camera: &Camera,
+    options: &RenderOptions,
+    cols: usize,
+    rows: usize,
+) -> Frame {
+    let mut frame = Frame::new(cols, rows);
+    let region = frame.region();
+    renderer.render(maze, camera, &[], options, Target::Frame(&mut frame, region)).expect("camera");
+    frame
+}
+
 /// A property over many samples: more than `least` were judged, and none failed; else the count and
 /// the first few failures, `what` saying what failing means.
 pub fn none_failed(judged: usize, least: usize, failures: &[String], what: &str) {

@@ -13,10 +13,11 @@ use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_render::palette::NEAR_BLACK;
 use mazewalk_render::quality::{self, held_out_views};
 use mazewalk_render::samples::{CEILING, FLOOR, NONE};
-use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, Target};
-use mazewalk_term::frame::{Color, ColorDepth, Frame};
+use mazewalk_render::{Camera, Charset, RenderOptions, Renderer};
+use mazewalk_term::frame::{Color, ColorDepth};
 
 use super::none_failed;
+use crate::draw;
 
 /// What a sample's OKLab lightness is taken as black below (the 16 colours' black is L 0).
 const SHOWN_BLACK: f32 = 0.01;
@@ -40,10 +41,8 @@ fn shown(
     depth: ColorDepth,
 ) -> Shown {
     let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
-    let mut frame = Frame::new(cols, rows);
-    let region = frame.region();
     let mut renderer = Renderer::new();
-    renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
+    let frame = draw(&mut renderer, maze, camera, &options, cols, rows);
     let (lab, ink) = match charset {
         Charset::Ascii => {
             let ink: Vec<Vec3> = frame
@@ -192,7 +191,7 @@ fn held_out_views_of_generated_mazes_show_nothing_black_that_is_not() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     /// Any generated maze, views anywhere (in a cell, nose to a wall, down a corridor), at both sizes
     /// and charsets, level and pitched.

@@ -4,24 +4,20 @@
 //! ceiling above it and, at 120×40 and wider, what lies beyond both of its ends
 //! (`mazewalk_maze::geometry::clearance_for` states the geometry).
 
+use crate::draw;
 use glam::Vec2;
 use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{CELL_SIZE, GenOptions, generate};
 use mazewalk_maze::geometry::{MAX_CLEARANCE, WALL_MARGIN};
 use mazewalk_maze::movement::{Position, is_clear, settle};
 use mazewalk_render::samples::{CEILING, FLOOR};
-use mazewalk_render::{Camera, RenderOptions, Renderer, Target};
-use mazewalk_term::frame::Frame;
+use mazewalk_render::{Camera, RenderOptions, Renderer};
 use proptest::prelude::*;
 
 /// The sample ids of `camera`'s view of `maze` at `cols × rows` (half blocks: two samples a cell).
 fn ids(maze: &Maze, camera: &Camera, cols: usize, rows: usize) -> (Vec<u32>, usize) {
-    let mut frame = Frame::new(cols, rows);
-    let region = frame.region();
     let mut renderer = Renderer::new();
-    renderer
-        .render(maze, camera, &[], &RenderOptions::default(), Target::Frame(&mut frame, region))
-        .expect("camera");
+    draw(&mut renderer, maze, camera, &RenderOptions::default(), cols, rows);
     (renderer.samples().id().to_vec(), renderer.samples().width())
 }
 
@@ -77,7 +73,7 @@ fn a_generated_maze_keeps_two_fifths_of_a_cell_and_course_files_keep_theirs() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(24))]
 
     // Facing a wall square on from the closest stand (any of the four headings a wall of a generated
     // maze is faced at, any cell, anywhere the clearance lets the eye stand before the wall), at 120×40
@@ -114,7 +110,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(24))]
 
     // Facing a wall square on from the closest stand, anywhere in the band the clearance lets the eye
     // stand in before it (0.4 units either side of the middle in a generated maze; right up to its

@@ -13,11 +13,12 @@
 //! any of the maze's views, and that no seam between two walls of one line shows either: a mark a
 //! player learns once and trusts.
 
+use crate::draw;
 use glam::{Vec2, Vec3};
 use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_render::quality;
-use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, Target};
+use mazewalk_render::{Camera, Charset, RenderOptions, Renderer};
 use mazewalk_term::frame::{ColorDepth, Frame};
 
 const COLS: usize = 120;
@@ -145,11 +146,7 @@ struct Seen {
 /// Renders one corridor view and reads what its columns show.
 fn observe(maze: &Maze, corridor: &Corridor, charset: Charset, depth: ColorDepth) -> Seen {
     let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
-    let mut frame = Frame::new(COLS, ROWS);
-    let region = frame.region();
-    Renderer::new()
-        .render(maze, &corridor.camera, &[], &options, Target::Frame(&mut frame, region))
-        .expect("camera");
+    let frame = draw(&mut Renderer::new(), maze, &corridor.camera, &options, COLS, ROWS);
     let (sx, sy) = charset.samples_per_cell();
     let eye =
         corridor.camera.eye(COLS * sx, ROWS * sy, charset.sample_aspect(options.cell_aspect)).expect("eye");
@@ -286,7 +283,7 @@ const MODES: [(Charset, ColorDepth); 3] = [
 ];
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 8, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(8))]
 
     #[test]
     fn openings_down_a_corridor_read_apart_from_side_walls_and_seams_in_ascii_16_and_256_colours(
@@ -347,7 +344,7 @@ fn the_trials_views_read_their_openings() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     /// Ascii without colour: a wall seen square on (the end of a corridor, the wall faced through a
     /// side opening: `|n · axis|` over 0.8) and a wall along the view (under 0.6) never share a glyph
@@ -365,9 +362,7 @@ proptest::proptest! {
         let (mut faced, mut along) = (std::collections::BTreeSet::new(), std::collections::BTreeSet::new());
         let mut renderer = Renderer::new();
         for (_, camera) in quality::held_out_views(&maze, seed, 16) {
-            let mut frame = Frame::new(COLS, ROWS);
-            let region = frame.region();
-            renderer.render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
+            let frame = draw(&mut renderer, &maze, &camera, &options, COLS, ROWS);
             let forward = Vec2::from_angle(camera.yaw_deg.to_radians());
             let samples = renderer.samples();
             for (i, (&id, outline)) in samples.id().iter().zip(samples.outline()).enumerate() {
@@ -405,12 +400,8 @@ fn end_wall_corners(
     depth: ColorDepth,
 ) -> Vec<(String, bool)> {
     let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
-    let mut frame = Frame::new(COLS, ROWS);
-    let region = frame.region();
     let mut renderer = Renderer::new();
-    renderer
-        .render(maze, &corridor.camera, &[], &options, Target::Frame(&mut frame, region))
-        .expect("camera");
+    let frame = draw(&mut renderer, maze, &corridor.camera, &options, COLS, ROWS);
     let (sx, sy) = charset.samples_per_cell();
     let eye =
         corridor.camera.eye(COLS * sx, ROWS * sy, charset.sample_aspect(options.cell_aspect)).expect("eye");
@@ -516,7 +507,7 @@ fn end_wall_posts(maze: &Maze) -> (usize, Option<String>) {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 8, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(8))]
 
     /// Issue #39, a new player a fifth time: the last cell's side openings beside a corridor's end
     /// wall read as one two-coloured wall (the wall seen through the opening stands in line with the

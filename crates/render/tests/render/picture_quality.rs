@@ -3,6 +3,7 @@
 //! size a terminal has (120×40 half blocks), measured by `mazewalk_render::quality` (grain, hue error,
 //! surfaces apart: OKLab, per sample) against the truecolor frame of the same view.
 
+use crate::draw;
 use glam::Vec2;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_maze::{self as maze, Maze};
@@ -22,10 +23,8 @@ fn options(charset: Charset, color_depth: ColorDepth) -> RenderOptions {
 
 /// The frame of `camera` in `maze`, and the coverage ids of its samples.
 fn render(maze: &Maze, camera: &Camera, options: &RenderOptions) -> (Frame, Vec<u32>) {
-    let mut frame = Frame::new(COLS, ROWS);
-    let region = frame.region();
     let mut renderer = Renderer::new();
-    renderer.render(maze, camera, &[], options, Target::Frame(&mut frame, region)).expect("camera");
+    let frame = draw(&mut renderer, maze, camera, options, COLS, ROWS);
     (frame, renderer.samples().id().to_vec())
 }
 
@@ -246,7 +245,7 @@ fn median(mut values: Vec<f64>) -> f64 {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     // issue #39: near walls in 256 colours were bullseyes (mean OKLab error 0.104), mid-distance
     // walls 3.3× too vivid: now a wall's colour is one down each column (bands along the geometry). Over held-out views of a generated maze (in cells, nose to a wall at the
@@ -343,12 +342,11 @@ fn lit_but_black(
 /// The frame of `camera` in `maze` in 16 colours, and its samples (before the palette) as a
 /// truecolor frame shows them.
 fn render_16_and_scene(maze: &Maze, camera: &Camera) -> (Frame, Frame) {
-    let mut frame = Frame::new(COLS, ROWS);
-    let region = frame.region();
     let mut renderer = Renderer::new();
     let sixteen = options(Charset::Half, ColorDepth::Ansi16);
-    renderer.render(maze, camera, &[], &sixteen, Target::Frame(&mut frame, region)).expect("camera");
+    let frame = draw(&mut renderer, maze, camera, &sixteen, COLS, ROWS);
     let mut scene = Frame::new(COLS, ROWS);
+    let region = scene.region();
     let truecolor = options(Charset::Half, ColorDepth::TrueColor);
     mazewalk_render::to_frame(renderer.samples(), &truecolor, &mut scene, region);
     (frame, scene)
@@ -383,7 +381,7 @@ fn surface_colour(
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     // issue #39: in 16 colours the ceiling was black and far grey walls merged into the grey floor.
     // Over held-out views of generated mazes: no wall sample takes the floor's or the ceiling's colour

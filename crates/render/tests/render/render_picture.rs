@@ -1,6 +1,7 @@
 //! The picture (issue #15): edges where surfaces meet, light by orientation, walls never black, the
 //! exit visible from down a corridor.
 
+use crate::draw;
 use glam::{Vec2, Vec3};
 use mazewalk_maze::{Maze, grid};
 use mazewalk_render::shade::luminance;
@@ -116,14 +117,7 @@ fn the_exit_shows_three_cells_down_a_corridor_in_every_charset_and_colour_depth(
     for charset in Charset::ALL {
         for depth in [ColorDepth::None, ColorDepth::Ansi16, ColorDepth::Ansi256, ColorDepth::TrueColor] {
             let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
-            let frame = |maze: &Maze| {
-                let mut frame = Frame::new(80, 24);
-                let region = frame.region();
-                Renderer::new()
-                    .render(maze, &camera, &[], &options, Target::Frame(&mut frame, region))
-                    .unwrap();
-                frame
-            };
+            let frame = |maze: &Maze| draw(&mut Renderer::new(), maze, &camera, &options, 80, 24);
             let (with, without) = (frame(&corridor(true)), frame(&corridor(false)));
             let differing = with.cells().iter().zip(without.cells()).filter(|(a, b)| a != b).count();
             // A beacon across a few columns and the floor's glow: dozens of cells, not a speck.
@@ -154,9 +148,7 @@ fn without_colour_walls_floor_and_ceiling_take_different_glyphs() {
     for charset in [Charset::Half, Charset::Quad, Charset::Sextant] {
         let options = RenderOptions { charset, color_depth: ColorDepth::None, ..RenderOptions::default() };
         let mut renderer = Renderer::new();
-        let mut frame = Frame::new(100, 30);
-        let region = frame.region();
-        renderer.render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
+        let frame = draw(&mut renderer, &maze, &camera, &options, 100, 30);
         let (sx, sy) = charset.samples_per_cell();
         let s = renderer.samples();
         // Each cell by what all its samples show: a wall, the floor or the ceiling.
@@ -195,9 +187,7 @@ fn without_colour_walls_floor_and_ceiling_take_different_glyphs() {
         let mut chars: Vec<char> = Vec::new();
         for turn in [0.0, 90.0, 180.0, 270.0] {
             let camera = Camera::new(viewer.pos, viewer.dir_deg + turn, 90.0);
-            let mut frame = Frame::new(100, 30);
-            let region = frame.region();
-            Renderer::new().render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
+            let frame = draw(&mut Renderer::new(), &maze, &camera, &options, 100, 30);
             chars.extend(frame.cells().iter().map(|c| c.ch));
         }
         chars.sort_unstable();
@@ -217,15 +207,13 @@ fn textured_walls_show_joints_up_close_and_keep_their_brightness() {
     let walls = maze.edges().len() as u32;
     let shades = |textures: bool| {
         let mut renderer = Renderer::new();
-        let mut frame = Frame::new(80, 40);
         let options = RenderOptions {
             charset: Charset::Ascii,
             color_depth: ColorDepth::TrueColor,
             textures,
             ..RenderOptions::default()
         };
-        let region = frame.region();
-        renderer.render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
+        draw(&mut renderer, &maze, &camera, &options, 80, 40);
         let s = renderer.samples();
         (0..s.width() * s.height())
             .filter(|&i| s.id()[i] < walls)
@@ -255,9 +243,7 @@ fn side_openings_show_as_light_jambs_as_far_as_six_cells() {
         let options =
             RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
         let mut renderer = Renderer::new();
-        let mut frame = Frame::new(cols, rows);
-        let region = frame.region();
-        renderer.render(&corridor, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
+        draw(&mut renderer, &corridor, &camera, &options, cols, rows);
         let samples = renderer.samples();
         let (width, ids, colors) = (samples.width(), samples.id(), samples.color());
         let eye = camera.eye(cols, rows * 2, Charset::Half.sample_aspect(0.5)).unwrap();
@@ -307,9 +293,7 @@ fn a_dead_end_shows_no_jamb_for_an_opening_behind_its_end_wall() {
         let options =
             RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
         let mut renderer = Renderer::new();
-        let mut frame = Frame::new(cols, rows);
-        let region = frame.region();
-        renderer.render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
+        draw(&mut renderer, &maze, &camera, &options, cols, rows);
         let samples = renderer.samples();
         let (width, ids, colors) = (samples.width(), samples.id(), samples.color());
         let eye = camera.eye(cols, rows * 2, Charset::Half.sample_aspect(0.5)).unwrap();

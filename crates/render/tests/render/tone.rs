@@ -6,12 +6,13 @@
 //! views, a wall seen square on is lighter (OKLab L) than a wall seen along the view at about the same
 //! depth, in truecolor and in 256 colours, by at least one 256-colour step.
 
+use crate::draw;
 use glam::{Vec2, Vec3};
 use mazewalk_maze::Maze;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_render::quality::{self, held_out_views};
-use mazewalk_render::{Camera, Charset, RenderOptions, Renderer, Target};
-use mazewalk_term::frame::{ColorDepth, Frame};
+use mazewalk_render::{Camera, Charset, RenderOptions, Renderer};
+use mazewalk_term::frame::ColorDepth;
 use std::collections::BTreeMap;
 
 const COLS: usize = 120;
@@ -33,10 +34,8 @@ const ORDER_KEPT: f32 = JUST_NOTICEABLE / 2.0;
 /// samples: away from its outline, seams and jambs), by wall id.
 fn wall_lightness(maze: &Maze, camera: &Camera, color_depth: ColorDepth) -> BTreeMap<u32, f32> {
     let options = RenderOptions { charset: Charset::Half, color_depth, ..RenderOptions::default() };
-    let mut frame = Frame::new(COLS, ROWS);
-    let region = frame.region();
     let mut renderer = Renderer::new();
-    renderer.render(maze, camera, &[], &options, Target::Frame(&mut frame, region)).expect("camera");
+    let frame = draw(&mut renderer, maze, camera, &options, COLS, ROWS);
     let shown: Vec<Vec3> = quality::shown(&frame, Charset::Half);
     let ids = renderer.samples().id();
     let width = COLS * Charset::Half.samples_per_cell().0;
@@ -88,7 +87,7 @@ fn pairs(maze: &Maze, camera: &Camera, color_depth: ColorDepth) -> Vec<(f32, f32
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 6, ..Default::default() })]
+    #![proptest_config(mazewalk_testkit::config_cases(6))]
 
     /// Fails at `f9e0a44`, where a generated wall took a random sRGB colour (channels 0.25–0.75) and
     /// the sun (0.7–1.2) outweighed the headlight: a light side wall beside a dark wall faced square

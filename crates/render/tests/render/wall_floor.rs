@@ -3,11 +3,12 @@
 //! eye. Measured on the wall's foot line: along each column, the wall sample just above the seam with
 //! the floor against the floor sample just below it (OKLab lightness, what the terminal shows).
 
+use crate::draw;
 use mazewalk_maze::generate::{GenOptions, generate};
 use mazewalk_render::quality::{self, held_out_views};
 use mazewalk_render::samples::{CEILING, FLOOR, NONE};
-use mazewalk_render::{Charset, RenderOptions, Renderer, Target};
-use mazewalk_term::frame::{ColorDepth, Frame};
+use mazewalk_render::{Charset, RenderOptions, Renderer};
+use mazewalk_term::frame::ColorDepth;
 
 const COLS: usize = 120;
 const ROWS: usize = 40;
@@ -64,12 +65,8 @@ fn walls_read_apart_from_the_floor_at_their_foot_in_every_view() {
             for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
                 let options =
                     RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
-                let mut frame = Frame::new(COLS, ROWS);
-                let region = frame.region();
                 let mut renderer = Renderer::new();
-                renderer
-                    .render(&maze, &camera, &[], &options, Target::Frame(&mut frame, region))
-                    .expect("camera");
+                let frame = draw(&mut renderer, &maze, &camera, &options, COLS, ROWS);
                 let shown = quality::shown(&frame, Charset::Half);
                 let ids = renderer.samples().id();
                 for (wall, floor, x, y) in foot_pairs(&shown, ids, renderer.samples().width()) {

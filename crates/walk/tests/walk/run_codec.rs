@@ -45,7 +45,8 @@ fn arb_run() -> impl Strategy<Value = Run> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    // Each case encodes and decodes a whole run, up to a minute of poses: 256 cases.
+    #![proptest_config(mazewalk_testkit::config_cases(256))]
 
     #[test]
     fn a_run_comes_back_from_its_bytes(run in arb_run()) {
