@@ -93,6 +93,12 @@ pub const INPUT_ENDED_MESSAGE: &str = "mazewalk: your input ended; goodbye";
 const SHARED_VIEWS: usize = 16;
 /// How long a shutting-down server waits for its players' goodbyes before cutting them off.
 const GOODBYE_GRACE: Duration = Duration::from_secs(2);
+/// The smallest packet (bytes of channel data) a client may ask the game's frames to be cut into, and
+/// the smallest window it may open with: OpenSSH, PuTTY and paramiko offer 16–32 KiB and windows of
+/// megabytes. A client asking for 1-byte packets had every byte of every frame sent as a packet of
+/// its own, sealed on its own: ~40 bytes on the wire and 11× the server's CPU per frame byte
+/// (red-team pass 6). At this floor a packet's header and seal are a few percent of it.
+pub const MIN_CHANNEL_PACKET: usize = 1024;
 /// Failed authentication attempts per connection, as sshd's default `MaxAuthTries`. The `none`
 /// request a client sends first to learn the methods is not one of them (as in sshd).
 pub(crate) const MAX_AUTH_TRIES: usize = 6;
@@ -1065,10 +1071,22 @@ impl Handler for Handlers {
         &mut self,
         channel: Channel<Msg>,
         reply: ChannelOpenHandle,
-        _: &mut Session,
+        session: &mut Session,
     ) -> Result<(), Self::Error> {
         if std::mem::replace(&mut self.session_open, true) {
             reply.reject(ChannelOpenFailure::AdministrativelyProhibited).await; // one walk per connection
+            return Ok(());
+        }
+        let packet = channel.writable_packet_size().await; // the client's packet size, or window if less
+        if packet < MIN_CHANNEL_PACKET {
+            self.log(format_args!(
+                "refused a session: packets of {packet} bytes (fewer than {MIN_CHANNEL_PACKET})"
+            ));
+            self.conn.ending("packets too small");
+            reply.reject(ChannelOpenFailure::AdministrativelyProhibited).await;
+            let message =
+                format!("mazewalk: packets of {packet} bytes are too small (at least {MIN_CHANNEL_PACKET})");
+            session.disconnect(Disconnect::ByApplication, &message, "")?;
             return Ok(());
         }
         reply.accept().await;

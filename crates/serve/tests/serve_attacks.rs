@@ -373,3 +373,41 @@ async fn a_command_asked_for_during_the_game_fails_and_the_game_goes_on() {
     .await
     .expect("ran over its deadline");
 }
+
+/// Red-team pass 6, medium: a client asking for packets of 1 byte of channel data had every byte of
+/// every frame sealed and sent on its own (11× the server's CPU per frame byte). Now a session whose
+/// packets (or opening window) are under `MIN_CHANNEL_PACKET` bytes is refused and its connection
+/// closed; a client at the floor plays.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_asking_for_tiny_packets_gets_no_game() {
+    tokio::time::timeout(DEADLINE, async {
+        let server = server(Access::Open, Limits::default()).await;
+        let addr = server.local_addr();
+        for packet in [1, 512, mazewalk_serve::MIN_CHANNEL_PACKET as u32 - 1] {
+            let refused = load::connect_with_packet(addr, "tiny", (80, 24), packet).await;
+            assert!(refused.is_err(), "a session with {packet}-byte packets was opened");
+        }
+        eventually(Duration::from_secs(10), "the refused connections closed", || server.connections() == 0)
+            .await;
+        assert_eq!(server.players(), 0);
+        let floor = mazewalk_serve::MIN_CHANNEL_PACKET as u32;
+        let Connected { channel, .. } =
+            load::connect_with_packet(addr, "floor", (80, 24), floor).await.expect("a player at the floor");
+        eventually(Duration::from_secs(10), "the player at the floor plays", || server.players() == 1).await;
+        let mut channel = channel;
+        let mut bytes = 0;
+        while bytes < 1000 {
+            match tokio::time::timeout(Duration::from_secs(10), channel.wait()).await {
+                Ok(Some(russh::ChannelMsg::Data { data })) => {
+                    assert!(data.len() <= floor as usize, "a packet of {} bytes", data.len());
+                    bytes += data.len();
+                }
+                Ok(Some(_)) => {}
+                other => panic!("no first frame: {other:?}"),
+            }
+        }
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}

@@ -88,7 +88,31 @@ pub async fn connect_with_window(
 ) -> Result<Connected, russh::Error> {
     let stream = tokio::net::TcpStream::connect(addr).await?;
     stream.set_nodelay(true)?;
-    connect_stream(stream, user, size, window_size, false).await
+    connect_stream(stream, user, size, client::Config { window_size, ..client::Config::default() }, false)
+        .await
+}
+
+/// [`connect`] with the largest packet of channel data the client takes (`maximum_packet_size`; a
+/// stock client offers 32 KiB): each frame the server sends comes cut into packets of at most this.
+///
+/// # Errors
+/// As [`connect`]: a server that refuses such packets refuses the session channel.
+pub async fn connect_with_packet(
+    addr: SocketAddr,
+    user: &str,
+    size: (u32, u32),
+    maximum_packet_size: u32,
+) -> Result<Connected, russh::Error> {
+    let stream = tokio::net::TcpStream::connect(addr).await?;
+    stream.set_nodelay(true)?;
+    connect_stream(
+        stream,
+        user,
+        size,
+        client::Config { maximum_packet_size, ..client::Config::default() },
+        false,
+    )
+    .await
 }
 
 /// [`connect`] over a TCP connection already made (from an address of the caller's choice, say).
@@ -101,7 +125,7 @@ pub async fn connect_over(
     size: (u32, u32),
 ) -> Result<Connected, russh::Error> {
     stream.set_nodelay(true)?;
-    connect_stream(stream, user, size, client::Config::default().window_size, false).await
+    connect_stream(stream, user, size, client::Config::default(), false).await
 }
 
 /// [`connect`] over `stream`.
@@ -109,13 +133,13 @@ async fn connect_stream<S>(
     stream: S,
     user: &str,
     (cols, rows): (u32, u32),
-    window_size: u32,
+    config: client::Config,
     truecolor: bool,
 ) -> Result<Connected, russh::Error>
 where
     S: tokio::io::AsyncRead + tokio::io::AsyncWrite + Unpin + Send + 'static,
 {
-    let config = Arc::new(client::Config { nodelay: true, window_size, ..client::Config::default() });
+    let config = Arc::new(client::Config { nodelay: true, ..config });
     let mut handle = client::connect_stream(config, stream, Client).await?;
     if !handle.authenticate_none(user).await?.success() {
         return Err(russh::Error::NotAuthenticated);
@@ -150,7 +174,7 @@ pub async fn connect_deaf(
         Deaf { inner: stream, deaf: Arc::clone(&deaf) },
         user,
         size,
-        client::Config::default().window_size,
+        client::Config::default(),
         true, // the largest frames: what the server sends piles up soonest
     )
     .await?;
