@@ -4,7 +4,7 @@
 //! reading the walk's clock. A write error stops the recording (kept, and told once by the caller
 //! after the terminal is restored); the walk goes on.
 
-use std::fs::File;
+use std::fs::{File, OpenOptions};
 use std::io::{self, BufWriter};
 use std::path::Path;
 use std::sync::{Arc, Mutex, PoisonError};
@@ -27,12 +27,13 @@ struct Recording {
 
 impl Recorder {
     /// Creates (or truncates) `path` and writes `header`; events are timed from `clock`, the walk's
-    /// time 0.
+    /// time 0. A symbolic link is not followed: in a folder others write to (`/tmp`), a link put where
+    /// the recording is to go would have had a file of the player's, wherever it names, truncated.
     ///
     /// # Errors
-    /// The file could not be created or the header written.
+    /// `path` is a symbolic link, or the file could not be created or the header written.
     pub fn create(path: &Path, header: &Header, clock: Instant) -> io::Result<Recorder> {
-        let file = File::create(path)?;
+        let file = create_unfollowed(path)?;
         let cast = CastWriter::new(BufWriter::new(file), header)?;
         Ok(Recorder { inner: Arc::new(Mutex::new(Recording { cast, clock })) })
     }
@@ -70,5 +71,61 @@ impl Recorder {
     /// The first write error of the recording (after which it stopped), or the flush's.
     pub fn finish(&self) -> io::Result<()> {
         self.with(|cast, _| cast.finish())
+    }
+}
+
+/// `path` created or truncated for writing, unless it is a symbolic link (then an error saying so).
+fn create_unfollowed(path: &Path) -> io::Result<File> {
+    let mut options = OpenOptions::new();
+    options.write(true).create(true).truncate(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt as _;
+        options.custom_flags(libc::O_NOFOLLOW);
+    }
+    options.open(path).map_err(|e| {
+        #[cfg(unix)]
+        if e.raw_os_error() == Some(libc::ELOOP) {
+            return io::Error::new(e.kind(), "a symbolic link, not followed: record to the file it names");
+        }
+        e
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn header() -> Header {
+        Header {
+            width: 80,
+            height: 24,
+            timestamp: None,
+            title: "mazewalk test".into(),
+            term: None,
+            colorterm: None,
+            color_depth: mazewalk_term::frame::ColorDepth::Ansi256,
+            charset: mazewalk_render::Charset::Half,
+            asked_truecolor: false,
+        }
+    }
+
+    /// Red-team pass 6: `--record` through a link put in its place truncated the file the link named.
+    #[cfg(unix)]
+    #[test]
+    fn a_recording_does_not_follow_a_symbolic_link() {
+        let dir = mazewalk_testkit::scratch::Scratch::new("cast-link");
+        let (target, link) = (dir.join("precious"), dir.join("walk.cast"));
+        std::fs::write(&target, "keep me").unwrap();
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        let error = Recorder::create(&link, &header(), Instant::now()).expect_err("a link was followed");
+        assert!(error.to_string().contains("symbolic link"), "{error}");
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep me");
+        // a file of its own at the path is recorded over, as before
+        std::fs::write(dir.join("old.cast"), "an old recording, longer than a header line").unwrap();
+        drop(Recorder::create(&dir.join("old.cast"), &header(), Instant::now()).expect("an existing file"));
+        let cast = std::fs::read_to_string(dir.join("old.cast")).unwrap();
+        assert!(cast.starts_with("{\"version\": 2") || cast.starts_with("{\"version\":2"), "{cast}");
+        assert!(!cast.contains("an old recording"), "{cast}");
     }
 }
