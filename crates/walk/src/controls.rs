@@ -197,10 +197,13 @@ pub const REPEAT_HOLD_INTERVALS: f64 = 1.5;
 /// The shortest and longest a repeat keeps its key held (seconds), whatever interval was observed (the
 /// interval is at most [`HOLD_GAP`], so the glide stops within 87 ms of the last repeat).
 pub const REPEAT_HOLD_RANGE: (f64, f64) = (0.05, REPEAT_HOLD_INTERVALS * HOLD_GAP);
-/// The most taps of one key that may take their steps at once (then one more every [`HOLD_GAP`]): a
-/// link stalled for [`STALL`] lets go at most this many taps of a person tapping every 60 ms
-/// (0.5 ⁄ 0.058 ≈ 8.6, rounded up). Taps past it — a paste, a script's burst — step nothing, so no
-/// burst of presses moves a player faster than tapping does (a race won by pasting the way).
+/// The most taps of one key that may take their steps at once, ahead of the time the key's motion
+/// takes at full speed (then one more each step's time, as a hold glides): a link stalled for
+/// [`STALL`] lets go at most this many taps of a person tapping every 60 ms (0.5 ⁄ 0.058 ≈ 8.6,
+/// rounded up). Taps past it — a paste, a script's burst, a person tapping faster than the key
+/// glides for long — step nothing, so no way of pressing moves a player further than holding the
+/// key does, but for this many steps (a race won by pasting the way; a script tapping every 58 ms
+/// walked 3× as fast as a hold and won a served race, red-team pass 6).
 pub const TAP_BURST: f64 = 9.0;
 /// A press this soon after the key's previous one (seconds) is not an answer to the exit box: the key
 /// walked the viewer into the exit and is still held (or tapped faster than anyone reads).
@@ -219,21 +222,35 @@ struct KeyState {
     rest_until: f64,
     /// When a press of it was last taken for its auto-repeat.
     repeated_at: f64,
-    /// The taps it may still step at once ([`TAP_BURST`] at most), as of `taps_at`.
-    taps: f64,
-    /// When `taps` was last brought up to date.
-    taps_at: f64,
+    /// When the key's motion would end had it all been made at full speed: its steps (each its
+    /// step's time) and its glides laid end to end, from where it was last still. Kept through a
+    /// [`Held::clear`]: a focus report cannot make a burst new.
+    paid_until: f64,
+    /// The glide's motion up to this time is in `paid_until`.
+    glide_paid_to: f64,
 }
 
 impl KeyState {
-    /// Whether a tap at `now` may take its step: one of the taps in hand, which come back one every
-    /// [`HOLD_GAP`] up to [`TAP_BURST`].
-    fn take_tap(&mut self, now: f64) -> bool {
-        let earned = (now - self.taps_at).max(0.0) / HOLD_GAP;
-        self.taps = (self.taps + earned).min(TAP_BURST);
-        self.taps_at = now;
-        if self.taps >= 1.0 {
-            self.taps -= 1.0;
+    /// The glide's motion up to `now` laid into `paid_until`.
+    fn settle(&mut self, now: f64) {
+        if let Some((from, until)) = self.glide {
+            let (start, end) = (from.max(self.glide_paid_to), until.min(now));
+            if end > start {
+                self.paid_until = self.paid_until.max(start) + (end - start);
+                self.glide_paid_to = end;
+            }
+        }
+    }
+
+    /// Whether a tap at `now` may take its step (a step taking `step_seconds` at full speed): while
+    /// the key's motion is at most [`TAP_BURST`] − 1 steps ahead of the time it takes at full speed
+    /// (each step at least [`HOLD_GAP`], a person's fastest tapping). Its step is then laid on.
+    fn take_tap(&mut self, now: f64, step_seconds: f64) -> bool {
+        self.settle(now);
+        let pace = step_seconds.max(HOLD_GAP);
+        // (a float's room: nine steps at once are eight paces ahead after eight additions)
+        if self.paid_until - now <= (TAP_BURST - 1.0) * pace + 1e-9 {
+            self.paid_until = self.paid_until.max(now) + pace;
             true
         } else {
             false
@@ -249,8 +266,8 @@ impl Default for KeyState {
             glide: None,
             rest_until: f64::NEG_INFINITY,
             repeated_at: f64::NEG_INFINITY,
-            taps: TAP_BURST,
-            taps_at: f64::NEG_INFINITY,
+            paid_until: f64::NEG_INFINITY,
+            glide_paid_to: f64::NEG_INFINITY,
         }
     }
 }
@@ -279,8 +296,10 @@ impl Default for KeyState {
 ///   read as taps, a step per repeat; a repeat that a link delays past [`HOLD_GAP`] takes a step (which
 ///   stands for its share of the glide); taps that a link lets go together within `STALL` of a hold
 ///   are taken for its repeats.
-/// - Either way, at most [`TAP_BURST`] taps of a key step at once, then one every [`HOLD_GAP`] (a
-///   person's fastest tapping): the presses of a paste or a script past that step nothing.
+/// - Either way, a key's taps step at most [`TAP_BURST`] steps ahead of the time its motion takes at
+///   full speed, its glides counted: at most that many at once, then one each step's time (never
+///   sooner than [`HOLD_GAP`]). The presses of a paste, or a script's, past that step nothing, and no
+///   way of pressing moves further than a hold (bar the burst).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Held {
     keys: [KeyState; Action::CONTINUOUS.len()],
@@ -300,13 +319,14 @@ impl Held {
     ) -> bool {
         let Some(slot) = action.slot() else { return false };
         let key = &mut self.keys[slot];
+        key.settle(now); // the glide so far, before anything changes it
         let gap = now - key.last_press;
         key.last_press = now;
         if releases {
             if repeat {
                 return false; // already gliding until the release
             }
-            if !key.take_tap(now) {
+            if !key.take_tap(now, step_seconds) {
                 key.glide = None; // a burst past the taps in hand: nothing moves
                 return false;
             }
@@ -321,7 +341,7 @@ impl Held {
         if !(repeat || repeat_rate || bunched) {
             // A tap: one step, standing for its time at full speed (if a tap is in hand).
             key.glide = None;
-            if !key.take_tap(now) {
+            if !key.take_tap(now, step_seconds) {
                 return false;
             }
             key.rest_until = now + step_seconds;
@@ -341,22 +361,30 @@ impl Held {
         false
     }
 
-    /// A key went up.
-    pub fn release(&mut self, action: Action) {
+    /// A key went up at `now`.
+    pub fn release(&mut self, action: Action, now: f64) {
         if let Some(slot) = action.slot() {
-            self.keys[slot].glide = None;
+            let key = &mut self.keys[slot];
+            key.settle(now);
+            key.glide = None;
         }
     }
 
-    /// Lets go of everything (focus lost, suspend, reset).
-    pub fn clear(&mut self) {
-        self.keys = Default::default();
+    /// Lets go of everything at `now` (focus lost, suspend, reset). What the keys' motion has taken
+    /// stays ([`TAP_BURST`]): a terminal's focus report, which a served client may send at will, does
+    /// not give a new burst.
+    pub fn clear(&mut self, now: f64) {
+        for key in &mut self.keys {
+            key.settle(now);
+            *key = KeyState { paid_until: key.paid_until, ..KeyState::default() };
+        }
     }
 
-    /// Stops all motion but remembers when each key was last pressed, so that a key still held comes
-    /// on as auto-repeat ([`recently_pressed`](Self::recently_pressed)), not as a fresh tap.
-    pub(crate) fn clear_motion(&mut self) {
+    /// Stops all motion at `now` but remembers when each key was last pressed, so that a key still
+    /// held comes on as auto-repeat ([`recently_pressed`](Self::recently_pressed)), not as a fresh tap.
+    pub(crate) fn clear_motion(&mut self, now: f64) {
         for key in &mut self.keys {
+            key.settle(now);
             key.glide = None;
         }
     }
@@ -379,6 +407,7 @@ impl Held {
     pub fn expire(&mut self, now: f64) {
         for key in &mut self.keys {
             if key.glide.is_some_and(|(_, until)| until < now) {
+                key.settle(now);
                 key.glide = None;
             }
         }
@@ -476,7 +505,7 @@ mod tests {
         assert_eq!(held.moving_time(Action::Forward, 1.0, 1.2), 0.0, "the step stands for its 0.2 s");
         assert!((held.moving_time(Action::Forward, 1.0, 100.0) - 98.8).abs() < 1e-9);
         assert_eq!(held.next_expiry(), None, "a release will tell");
-        held.release(Action::Forward);
+        held.release(Action::Forward, 50.0);
         assert!(!held.is_held(Action::Forward, 100.0));
         assert!(!held.any(100.0));
     }
@@ -540,13 +569,69 @@ mod tests {
         held.press(Action::TurnLeft, 0.0, true, false, 0.1);
         held.press(Action::Forward, 0.0, true, false, 0.1);
         assert!(held.any(1.0));
-        held.clear_motion();
+        held.clear_motion(1.0);
         assert!(!held.any(1.0) && held.next_expiry().is_none());
         assert!(held.recently_pressed(Action::Forward, 0.05), "the press is remembered");
         held.press(Action::Back, 2.0, true, false, 0.1);
-        held.clear();
+        held.clear(2.0);
         assert!(!held.any(2.5) && held.next_expiry().is_none());
         assert!(!held.recently_pressed(Action::Back, 2.05), "nothing is remembered");
+    }
+
+    /// Steps `action` taps at `times` take (a step taking `step_seconds`), without releases.
+    fn taps_stepped(
+        held: &mut Held,
+        action: Action,
+        times: impl IntoIterator<Item = f64>,
+        step: f64,
+    ) -> usize {
+        times.into_iter().filter(|&t| held.press(action, t, false, false, step)).count()
+    }
+
+    /// Red-team pass 6: a script tapping every 58 ms walked 3× as far as a hold of the key and won a
+    /// served race. Taps now step no further than the key's glide would take it, bar the burst, and a
+    /// hold's glide counts: holding first and bursting after gives no more.
+    #[test]
+    fn no_way_of_tapping_moves_further_than_a_hold_bar_the_burst() {
+        let step = 0.2; // walking: 1 unit at 5 units a second
+        for gap in [0.06, 0.08, 0.125] {
+            let mut held = Held::default();
+            let taps = (0..).map(|k| 1.0 + gap * f64::from(k)).take_while(|&t| t < 11.0);
+            let stepped = taps_stepped(&mut held, Action::Forward, taps, step);
+            // 10 s of gliding is 50 steps; the burst 9 more; at most one more for the taps' phase
+            assert!(stepped <= 50 + TAP_BURST as usize + 1, "taps {gap} s apart: {stepped} steps in 10 s");
+            assert!(stepped >= 50 + TAP_BURST as usize - 2, "taps {gap} s apart: only {stepped} steps");
+        }
+        // A person tapping at 5 a second or slower: every tap a step, however long.
+        let mut held = Held::default();
+        let taps = (0..100).map(|k| 1.0 + 0.2 * f64::from(k));
+        assert_eq!(taps_stepped(&mut held, Action::Forward, taps, step), 100);
+        // A hold of 2 s (repeats every 40 ms after 0.4 s), then a burst of presses at once: the
+        // hold's motion counts, so the burst gives no more than a hold of the whole time would.
+        let mut held = Held::default();
+        assert!(held.press(Action::Forward, 1.0, false, false, step));
+        let repeats = (0..40).map(|k| 1.4 + 0.04 * f64::from(k));
+        let repeat_steps = taps_stepped(&mut held, Action::Forward, repeats, step);
+        let glided = held.moving_time(Action::Forward, 1.0, 3.0) / step;
+        let burst =
+            taps_stepped(&mut held, Action::Forward, (0..50).map(|k| 3.0 + 1e-5 * f64::from(k)), step);
+        let total = 1.0 + repeat_steps as f64 + glided + burst as f64;
+        assert!(total <= 2.0 / step + TAP_BURST + 1.0, "{total} steps in 2 s (a hold: {})", 2.0 / step);
+        assert!(burst < TAP_BURST as usize, "the hold's glide counted: a burst of {burst}");
+    }
+
+    /// A lost focus (a report any served client may send) lets go of the keys but gives no new burst.
+    #[test]
+    fn a_focus_report_gives_no_new_burst() {
+        let mut held = Held::default();
+        let mut stepped = 0;
+        for round in 0..20 {
+            let t = 1.0 + 0.01 * f64::from(round);
+            stepped +=
+                taps_stepped(&mut held, Action::Forward, (0..20).map(|k| t + 1e-5 * f64::from(k)), 0.2);
+            held.clear(t + 0.001);
+        }
+        assert!(stepped <= TAP_BURST as usize + 1, "{stepped} steps in 0.2 s, the keys cleared between");
     }
 
     /// A glide that ran out is dropped by `expire`: the session is not woken for it again.

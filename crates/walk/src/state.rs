@@ -497,7 +497,7 @@ impl App {
             match phase {
                 KeyPhase::Release => {
                     self.tick(now); // the key moved until now
-                    self.held.release(action);
+                    self.held.release(action, now);
                 }
                 KeyPhase::Press | KeyPhase::Repeat => {
                     // Bring the motion up to date before the set of held keys changes.
@@ -606,7 +606,7 @@ impl App {
     fn reset(&mut self, now: f64) {
         (self.camera, self.cell) = self.start;
         self.look_ahead = None;
-        self.held.clear();
+        self.held.clear(now);
         self.snap = None;
         (self.started, self.finished) = (now, None);
         (self.exit_box, self.confirm_quit) = (false, false);
@@ -629,7 +629,7 @@ impl App {
 
     /// The terminal lost focus: releases will not arrive, so let go of every key.
     pub(crate) fn focus_lost(&mut self) {
-        self.held.clear();
+        self.held.clear(self.last_tick); // (the motion made so far: to the last tick)
     }
 
     /// One discrete step of a continuous action (a tap): `amount` degrees or maze units.
@@ -714,7 +714,7 @@ impl App {
             // that walked here let go, so that the box is seen
             (self.help, self.confirm_quit) = (false, false);
             (self.exit_box, self.exit_box_since) = (true, now);
-            self.held.clear_motion();
+            self.held.clear_motion(now);
         }
     }
 

@@ -185,8 +185,9 @@ fn without_releases_irregular_quick_taps_are_each_a_step() {
 
 // A paste (or a script) of many presses at once walks no further than a stalled link's worth of
 // taps: a race was won in half a second by pasting the way to the exit (738 bytes), and 12 `w` pasted
-// walked 12 units at once. At most `TAP_BURST` step at once, then one every `HOLD_GAP`, so taps 60 ms
-// apart right after a burst still count, a step each; with releases the same.
+// walked 12 units at once. At most `TAP_BURST` step at once, then (red-team pass 6) one each step's
+// time, as a hold glides: taps 60 ms apart right after a burst count at that pace; with releases the
+// same.
 #[test]
 fn a_burst_of_presses_steps_no_more_than_a_person_can_tap() {
     for releases in [false, true] {
@@ -208,19 +209,57 @@ fn a_burst_of_presses_steps_no_more_than_a_person_can_tap() {
             (burst - TAP_BURST as f32 * WALK_STEP).abs() < 1e-3,
             "releases {releases}: 200 presses at once walked {burst}, not {TAP_BURST} steps"
         );
-        // then a person's fastest taps, one every 60 ms: a step each
+        // then a person's fastest taps, one every 60 ms for 3 s: a step each step's time
         let mut app_turn = self::app(releases);
         let mut taps: Vec<_> =
             (0..50).map(|i| (1.0 + 1e-5 * f64::from(i), Event::Press(Key::Left))).collect();
-        taps.extend((1..=6).map(|i| (1.0 + 0.06 * f64::from(i), Event::Press(Key::Left))));
+        taps.extend((1..=50).map(|i| (1.0 + 0.06 * f64::from(i), Event::Press(Key::Left))));
         if releases {
             taps =
                 taps.into_iter().flat_map(|(t, e)| [(t, e), (t + 1e-6, Event::Release(Key::Left))]).collect();
         }
-        play(&mut app_turn, &taps, 1.0, 2.0);
-        let (expected, yaw) =
-            ((TAP_BURST as f32 + 6.0) * TURN_STEP_DEG, app_turn.camera.yaw_deg.rem_euclid(360.0));
-        assert!((yaw - expected).abs() < DEG_TOL, "releases {releases}: {yaw} for {expected}");
+        let headings = play(&mut app_turn, &taps, 1.0, 4.5);
+        let steps = unwrapped(0.0, &headings) / TURN_STEP_DEG;
+        let paced = 3.0 / f64::from(TURN_STEP_DEG / TURN_SPEED);
+        let expected = TAP_BURST + paced;
+        assert!(
+            (f64::from(steps) - expected).abs() <= 1.5,
+            "releases {releases}: {steps} steps for {expected} (the burst and a step each step's time)"
+        );
+    }
+}
+
+/// Red-team pass 6: a script tapping `w` every 58 ms (as fast as taps are told from a repeat) walked
+/// 3× as far as holding `w` did and won a served race. Now however often it taps it walks no further
+/// than a hold of the same time, bar the burst.
+#[test]
+fn a_script_tapping_fast_walks_no_further_than_a_hold() {
+    let corridor = || {
+        let opts = maze::generate::GenOptions { width: 25, height: 1, ..Default::default() };
+        let mut app =
+            App::new(maze::generate::generate(&opts).unwrap(), RenderOptions::default(), 0.0).unwrap();
+        app.camera.yaw_deg = 0.0;
+        app
+    };
+    let walked = |events: &[(f64, Event)], releases: bool| {
+        let mut app = corridor();
+        app.releases = releases;
+        let start = app.camera.position;
+        play(&mut app, events, 1.0, 11.5);
+        app.camera.position.x - start.x
+    };
+    let hold: Vec<_> = [(1.0, Event::Press(Key::Char('w'))), (11.0, Event::Release(Key::Char('w')))].into();
+    let held = walked(&hold, true);
+    assert!((held - 50.0).abs() < 0.5, "a hold of 10 s walked {held}");
+    for gap in [0.058, 0.06, 0.08, 0.125] {
+        let taps: Vec<_> = (0..)
+            .map(|k| 1.0 + gap * f64::from(k))
+            .take_while(|&t| t < 11.0)
+            .map(|t| (t, Event::Press(Key::Char('w'))))
+            .collect();
+        let tapped = walked(&taps, false);
+        assert!(tapped <= held + TAP_BURST as f32 * WALK_STEP + 1.0, "taps {gap} s apart walked {tapped}");
+        assert!(tapped >= held - 2.0, "taps {gap} s apart walked only {tapped}");
     }
 }
 
