@@ -86,10 +86,7 @@ pub async fn connect_with_window(
     size: (u32, u32),
     window_size: u32,
 ) -> Result<Connected, russh::Error> {
-    let stream = tokio::net::TcpStream::connect(addr).await?;
-    stream.set_nodelay(true)?;
-    connect_stream(stream, user, size, client::Config { window_size, ..client::Config::default() }, false)
-        .await
+    connect_with(addr, user, size, client::Config { window_size, ..client::Config::default() }).await
 }
 
 /// [`connect`] with the largest packet of channel data the client takes (`maximum_packet_size`; a
@@ -103,16 +100,19 @@ pub async fn connect_with_packet(
     size: (u32, u32),
     maximum_packet_size: u32,
 ) -> Result<Connected, russh::Error> {
+    connect_with(addr, user, size, client::Config { maximum_packet_size, ..client::Config::default() }).await
+}
+
+/// [`connect`] with the client's `config` (a new TCP connection, `nodelay`).
+async fn connect_with(
+    addr: SocketAddr,
+    user: &str,
+    size: (u32, u32),
+    config: client::Config,
+) -> Result<Connected, russh::Error> {
     let stream = tokio::net::TcpStream::connect(addr).await?;
     stream.set_nodelay(true)?;
-    connect_stream(
-        stream,
-        user,
-        size,
-        client::Config { maximum_packet_size, ..client::Config::default() },
-        false,
-    )
-    .await
+    connect_stream(stream, user, size, config, false).await
 }
 
 /// [`connect`] over a TCP connection already made (from an address of the caller's choice, say).
