@@ -420,8 +420,9 @@ async fn idle_flood(addr: SocketAddr, addresses: u32, rate: f64, stop: Arc<Atomi
     opened
 }
 
-/// Stock `ssh -tt` in an 80×24 pty from `from`, as `newcomer`: how long until the game's first frame
-/// (the alternate screen) arrives, or `None` if not within `within`. The client is killed after.
+/// Stock `ssh -tt` (testkit's [`ssh_args`](mazewalk_testkit::ssh_args), to the server on 127.0.0.1)
+/// in an 80×24 pty from `from`, as `newcomer`: how long until the game's first frame (the alternate
+/// screen) arrives, or `None` if not within `within`. The client is killed after.
 fn ssh_newcomer(addr: SocketAddr, from: IpAddr, within: Duration) -> Option<Duration> {
     use std::io::Read as _;
     let size = rustix::termios::Winsize { ws_row: 24, ws_col: 80, ws_xpixel: 0, ws_ypixel: 0 };
@@ -431,27 +432,8 @@ fn ssh_newcomer(addr: SocketAddr, from: IpAddr, within: Duration) -> Option<Dura
     let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
     let started = Instant::now();
     let mut child = Command::new("setsid")
-        .args([
-            "-c",
-            "ssh",
-            "-tt",
-            "-F",
-            "/dev/null",
-            "-b",
-            &from.to_string(),
-            "-p",
-            &addr.port().to_string(),
-        ])
-        .args([
-            "-o",
-            "StrictHostKeyChecking=no",
-            "-o",
-            "UserKnownHostsFile=/dev/null",
-            "-o",
-            "LogLevel=ERROR",
-        ])
-        .args(["-o", "BatchMode=yes", "-o", "IdentitiesOnly=yes", "-i", "/dev/null"])
-        .arg(format!("newcomer@{}", addr.ip()))
+        .args(["-c", "ssh", "-tt", "-b", &from.to_string()])
+        .args(mazewalk_testkit::ssh_args(addr.port(), None, "newcomer"))
         .env("TERM", "xterm-256color")
         .stdin(stdio())
         .stdout(stdio())
