@@ -1,9 +1,9 @@
 //! What the end-to-end tests of `mazewalk serve` share (`tests/serve_e2e.rs`,
-//! `tests/serve_world_e2e.rs`): a scratch folder, the server binary with its log, the stock OpenSSH
-//! client's options (testkit's [`ssh_args`]), and `ssh -tt` in a pseudo-terminal read by a `vt100`
-//! emulator. Loopback only; every wait has a deadline and wakes on the event it waits for (a log
-//! line, a screen update), not on a timer; every child is killed on drop. The `redis-server` they
-//! need is [`mazewalk_testkit::redis_server`].
+//! `tests/serve_world_e2e.rs`, `tests/serve_http.rs`): a scratch folder, the server binary with its
+//! log, the stock OpenSSH client's options (testkit's [`ssh_args`]), and `ssh -tt` in a
+//! pseudo-terminal read by a `vt100` emulator. Loopback only; every wait has a deadline and wakes on
+//! the event it waits for (a log line, a screen update), not on a timer; every child is killed on
+//! drop. The `redis-server` they need is [`mazewalk_testkit::redis_server`].
 #![allow(dead_code)] // each test file uses a part
 
 use std::fs::File;
