@@ -28,8 +28,8 @@
 
 use mazewalk_testkit::load;
 use mazewalk_testkit::redis_async as redis_server;
+use mazewalk_testkit::server_process;
 
-use std::io::{BufRead as _, BufReader};
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -73,13 +73,10 @@ struct Args {
 }
 
 fn args() -> Args {
-    let exe = std::env::current_exe().expect("current exe");
-    let after = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
+    let after = server_process::release_binary();
     let mut a = Args { before: None, after, seconds: 20.0, periods: vec![2.0, 1.0] };
-    let argv: Vec<String> = std::env::args().skip(1).collect();
-    for pair in argv.chunks(2) {
-        let value = pair.get(1).map_or("", String::as_str);
-        match pair[0].as_str() {
+    for (flag, value) in server_process::flags() {
+        match flag.as_str() {
             "--before" => a.before = Some(value.into()),
             "--after" => a.after = value.into(),
             "--seconds" => a.seconds = value.parse().expect("--seconds S"),
@@ -112,17 +109,8 @@ impl ServerProcess {
             .stderr(std::fs::File::create(&log).expect("log file"))
             .spawn()
             .expect("start the server");
-        let mut line = String::new();
-        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        stdout.read_line(&mut line).expect("first line");
-        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
-        let addr = line
-            .trim()
-            .split(", ")
-            .next()
-            .and_then(|l| l.rsplit_once(' '))
-            .and_then(|(_, a)| a.parse().ok())
-            .expect("serving on ADDR");
+        let (addr, stdout) = server_process::announced(&mut child);
+        server_process::drain(stdout);
         ServerProcess { child, addr, log }
     }
 

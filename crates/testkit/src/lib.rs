@@ -1,9 +1,9 @@
 //! What the tests and benches of every mazewalk crate share, in one copy: the proptest configuration
 //! of every property, a tolerant comparison, the f64 OKLab oracle ([`oklab`]), the check that a
 //! system program a test runs is installed ([`require_tool`]), the `redis-server` they start
-//! ([`redis_server`]), the stock `ssh` client's options ([`ssh_args`]) and, for the async tests of
-//! the server and its world, `eventually` (a wait for a condition, with a deadline). A dev-dependency
-//! only.
+//! ([`redis_server`]), the stock `ssh` client's options ([`ssh_args`]), the release server the
+//! measuring examples run ([`server_process`]) and, for the async tests of the server and its world,
+//! `eventually` (a wait for a condition, with a deadline). A dev-dependency only.
 //!
 //! The harnesses that drive a mazewalk crate are behind a feature named after it (`term`, `walk`,
 //! `pty`, `serve`, `redis`), so that the math crate's tests, say, build none of them. Only a crate's
@@ -30,6 +30,7 @@ pub mod redis_server;
 pub mod scratch;
 #[cfg(feature = "walk")]
 pub mod screen;
+pub mod server_process;
 #[cfg(feature = "serve")]
 pub mod world_host;
 
