@@ -10,7 +10,7 @@ use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::num::NonZeroU16;
 use std::path::Path;
-use std::process::{Child, Command, ExitStatus, Stdio};
+use std::process::{Child, Command, ExitStatus, Output, Stdio};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
@@ -170,6 +170,17 @@ impl Drop for Server {
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
+}
+
+/// `mazewalk records --records DB ARGS`, DB the records of a server started in `scratch` (its `HOME`):
+/// its exit status and output.
+pub fn records(scratch: &Scratch, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["records", "--records"])
+        .arg(scratch.db())
+        .args(args)
+        .output()
+        .expect("mazewalk records")
 }
 
 /// What the reader thread shares with the test.
