@@ -198,10 +198,20 @@ struct Flooded {
     peak_rss: [u64; 2],
 }
 
-/// The claims flood (or with `junk`, the junk flood) against `bin`.
-async fn claims(bin: &Path, seconds: f64, junk: bool) -> Flooded {
+/// A world of its own for one run of `bin`, in the folder `scratch`: a `redis-server`, the room,
+/// the world's true winner set in Redis before anyone joins, and two servers on it, left idle 2 s.
+struct World {
+    redis: RedisServer,
+    scratch: PathBuf,
+    maze: Maze,
+    hash: String,
+    keys: Keys,
+    con: redis::aio::MultiplexedConnection,
+    servers: [ServerProcess; 2],
+}
+
+async fn world(bin: &Path, scratch: PathBuf) -> World {
     let redis = RedisServer::start(Persistence::None).await;
-    let scratch = std::env::temp_dir().join(format!("mazewalk-world-claims-{}", std::process::id()));
     std::fs::create_dir_all(&scratch).expect("scratch");
     let text = room();
     let maze_path = scratch.join("room.grid");
@@ -222,6 +232,14 @@ async fn claims(bin: &Path, seconds: f64, junk: bool) -> Flooded {
         ServerProcess::start(bin, &scratch, "b", &maze_path, &redis.url(0)),
     ];
     tokio::time::sleep(Duration::from_secs(2)).await;
+    World { redis, scratch, maze, hash, keys, con, servers }
+}
+
+/// The claims flood (or with `junk`, the junk flood) against `bin`.
+async fn claims(bin: &Path, seconds: f64, junk: bool) -> Flooded {
+    let scratch = std::env::temp_dir().join(format!("mazewalk-world-claims-{}", std::process::id()));
+    // (`_redis` lives to the end: the servers' world)
+    let World { redis: _redis, scratch, hash, keys, mut con, servers, .. } = world(bin, scratch).await;
     let log0 = [servers[0].log_bytes(), servers[1].log_bytes()];
     let idle_rss = [rss_bytes(servers[0].pid()), rss_bytes(servers[1].pid())];
     let sets0 = calls(&mut con, "set").await;
@@ -288,31 +306,9 @@ fn figures(mut latencies: Vec<f64>) -> ((f64, f64), usize) {
 }
 
 async fn run(bin: &Path, period: f64, seconds: f64) -> Outcome {
-    let redis = RedisServer::start(Persistence::None).await;
     let scratch = std::env::temp_dir().join(format!("mazewalk-world-flood-{}-{period}", std::process::id()));
-    std::fs::create_dir_all(&scratch).expect("scratch");
-    let text = room();
-    let maze_path = scratch.join("room.grid");
-    std::fs::write(&maze_path, &text).expect("the maze");
-    let maze: Maze = mazewalk_maze::parse("room.grid", text.as_bytes()).expect("the room");
-    let hash = maze.content_hash().to_string();
+    let World { redis, scratch, maze, hash, keys, servers, .. } = world(bin, scratch).await;
     let bounds = Bounds::of(&maze);
-    let keys = Keys::new(&hash, 0);
-    let mut con = redis.connection(0).await;
-    // The world's true winner, before anyone joins.
-    let truth = WinnerRecord { server: ServerId(1), id: 0, seconds: 42.0, name: "truth".into() };
-    let _: () = redis::cmd("SET")
-        .arg(&keys.winner)
-        .arg(codec::encode_winner(&truth))
-        .query_async(&mut con)
-        .await
-        .unwrap();
-
-    let servers = [
-        ServerProcess::start(bin, &scratch, "a", &maze_path, &redis.url(0)),
-        ServerProcess::start(bin, &scratch, "b", &maze_path, &redis.url(0)),
-    ];
-    tokio::time::sleep(Duration::from_secs(2)).await;
     let idle_rss = [rss_bytes(servers[0].pid()), rss_bytes(servers[1].pid())];
     let cpu0 = [cpu_seconds(servers[0].pid()), cpu_seconds(servers[1].pid())];
     let log0 = [servers[0].log_bytes(), servers[1].log_bytes()];
