@@ -268,13 +268,7 @@ fn walk_to_the_exit(player: &mut Player) -> String {
 #[test]
 fn a_walk_from_a_spot_nearer_the_exit_is_not_kept_in_the_records() {
     let scratch = Scratch::new("ahead");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
-    let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
-    let mut alice = Player::connect(server.port, None, "alice", 100, 30);
-    alice.wait_for("alice's game", playing);
-    let mut bob = Player::connect(server.port, None, "bob", 100, 30);
-    bob.wait_for("bob's game", playing);
+    let (server, mut alice, mut bob) = alice_and_bob_in(&scratch, SHORT_RUN);
     walk_to_the_exit(&mut bob);
     server.wait_log("reached the exit", 1);
     // (his exit box says why at once, where the best times would stand)
