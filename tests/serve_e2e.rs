@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{Player, Scratch, Server, TIMEOUT, hud_row, on_map, playing, ssh_args};
+use common::{Player, Scratch, Server, TIMEOUT, hud_row, on_map, playing, records, ssh_args};
 use mazewalk_serve::player::REMOTE;
 use mazewalk_serve::ssh::{
     DUMB_TERMINAL_MESSAGE, INPUT_ENDED_MESSAGE, NO_EXEC_MESSAGE, NO_PTY_MESSAGE, SHUTDOWN_MESSAGE,
@@ -201,11 +201,7 @@ fn no_records_makes_no_file() {
     let (status, _, _) = server.ssh_batch(None, "ida", &["-T"]);
     assert_eq!(status.code(), Some(1));
     assert!(!scratch.join("records.sqlite").exists());
-    let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
-        .args(["records", "--records"])
-        .arg(scratch.join("records.sqlite"))
-        .output()
-        .expect("mazewalk records");
+    let listed = records(&scratch, &[]);
     assert_eq!(listed.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&listed.stderr).contains("no records yet"), "{listed:?}");
 }
@@ -238,16 +234,9 @@ fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_a
         let text = s.contents();
         text.contains("Best times here (1 player)") && text.contains("1. bob") && text.contains("you")
     });
-    let records = scratch.join("records.sqlite");
     let maze = scratch.join("maze.grid");
     for args in [vec![], vec![maze.to_str().expect("utf-8")]] {
-        let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
-            .arg("records")
-            .args(&args)
-            .arg("--records")
-            .arg(&records)
-            .output()
-            .expect("mazewalk records");
+        let listed = records(&scratch, &args);
         let text = String::from_utf8_lossy(&listed.stdout);
         assert!(listed.status.success(), "{listed:?}");
         assert!(text.contains("maze.grid") && text.contains("1 player, 1 finish"), "{text}");
@@ -279,13 +268,7 @@ fn walk_to_the_exit(player: &mut Player) -> String {
 #[test]
 fn a_walk_from_a_spot_nearer_the_exit_is_not_kept_in_the_records() {
     let scratch = Scratch::new("ahead");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
-    let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
-    let mut alice = Player::connect(server.port, None, "alice", 100, 30);
-    alice.wait_for("alice's game", playing);
-    let mut bob = Player::connect(server.port, None, "bob", 100, 30);
-    bob.wait_for("bob's game", playing);
+    let (server, mut alice, mut bob) = alice_and_bob_in(&scratch, SHORT_RUN);
     walk_to_the_exit(&mut bob);
     server.wait_log("reached the exit", 1);
     // (his exit box says why at once, where the best times would stand)
@@ -304,12 +287,7 @@ fn a_walk_from_a_spot_nearer_the_exit_is_not_kept_in_the_records() {
     std::thread::sleep(Duration::from_secs_f64(mazewalk_walk::state::EXIT_BOX_GRACE + 0.3));
     bob.send(b"q");
     bob.wait_for("bob's goodbye", |_, raw| String::from_utf8_lossy(raw).contains("not kept in the records"));
-    let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
-        .arg("records")
-        .arg("--records")
-        .arg(scratch.join("records.sqlite"))
-        .output()
-        .expect("mazewalk records");
+    let listed = records(&scratch, &[]);
     let text = String::from_utf8_lossy(&listed.stdout);
     assert!(listed.status.success(), "{listed:?}");
     assert!(text.contains("1 player, 1 finish") && text.contains("1. alice"), "{text}");
@@ -349,27 +327,15 @@ fn every_finish_of_a_session_is_logged_kept_and_ranked() {
     bob.wait_for("bob's best in the second exit box", |s, _| {
         s.contents().contains(&format!("1. bob  {second}  you"))
     });
-    let listed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
-        .arg("records")
-        .arg("--records")
-        .arg(scratch.join("records.sqlite"))
-        .output()
-        .expect("mazewalk records");
+    let listed = records(&scratch, &[]);
     let text = String::from_utf8_lossy(&listed.stdout);
     assert!(listed.status.success(), "{listed:?}");
     assert!(text.contains("1 player, 2 finishes"), "{text}");
     assert!(text.lines().any(|l| l.contains("1. bob") && l.contains(&second)), "{text}");
     // The run kept (the ghost's, `g`) is the best walk's, the second.
     let run = scratch.join("best.run");
-    let exported = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
-        .arg("records")
-        .arg(&maze)
-        .arg("--records")
-        .arg(scratch.join("records.sqlite"))
-        .arg("--export-run")
-        .arg(&run)
-        .output()
-        .expect("mazewalk records --export-run");
+    let exported =
+        records(&scratch, &[maze.to_str().expect("utf-8"), "--export-run", run.to_str().expect("utf-8")]);
     let said = String::from_utf8_lossy(&exported.stderr);
     assert!(
         exported.status.success()

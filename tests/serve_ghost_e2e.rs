@@ -10,10 +10,9 @@
 
 mod common;
 
-use std::process::Command;
 use std::time::Duration;
 
-use common::{Player, Scratch, Server, hud_row, on_map, playing};
+use common::{Player, Scratch, Server, hud_row, on_map, playing, records};
 use mazewalk_testkit::redis_server::{Persistence, RedisServer};
 
 /// A corridor east from the start: the exit eight tiles (32 units) on.
@@ -79,14 +78,10 @@ fn a_finished_run_comes_back_as_a_ghost_on_the_next_players_screen_and_map() {
 
     // The run as a file: exported from the records, it decodes and is bob's.
     let run = scratch.join("bob.run");
-    let exported = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
-        .args(["records", maze.to_str().expect("utf-8"), "--records"])
-        .arg(scratch.join("records.sqlite"))
-        .arg("--export-run")
-        .arg("bob")
-        .arg(&run)
-        .output()
-        .expect("mazewalk records --export-run");
+    let exported = records(
+        &scratch,
+        &[maze.to_str().expect("utf-8"), "--export-run", "bob", run.to_str().expect("utf-8")],
+    );
     assert!(exported.status.success(), "{exported:?}");
     let bytes = std::fs::read(&run).expect("the run file");
     let decoded = mazewalk_walk::run::Run::decode(&bytes).expect("a run");

@@ -1,6 +1,6 @@
 //! End to end: `mazewalk serve --http 127.0.0.1:0 --log-format json` (the built binary), scraped over
-//! loopback, while a real `ssh -tt` player (in a pty, answering the device-attributes queries as a
-//! terminal does) joins, walks and quits. Checks: `/metrics` counts the join, the frames, the bytes and
+//! loopback, while a real `ssh -tt` player (`tests/common`'s: in a pty, answering the
+//! device-attributes queries as a terminal does) joins, walks and quits. Checks: `/metrics` counts the join, the frames, the bytes and
 //! the key-to-frame times, and the player leaving; Prometheus' own `promtool check metrics` accepts the
 //! text (when promtool is on PATH: Debian's `prometheus` package); every log line is one JSON object
 //! with the player's address and name; hostile HTTP gets 4xx (unknown path, other methods, a head
@@ -16,17 +16,13 @@ use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
-use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use mazewalk_serve::http::{HEADER_TIMEOUT, MAX_CONNECTIONS, MAX_EVENT_CLIENTS, MAX_HEAD_BYTES};
 
-/// Longest wait for anything (a loaded CI machine).
-const TIMEOUT: Duration = Duration::from_secs(20);
-
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(PoisonError::into_inner)
-}
+mod common;
+use common::{Player, TIMEOUT, lock};
 
 /// The server and a scratch folder, both gone on drop.
 struct Serve {
@@ -195,87 +191,13 @@ impl Drop for Serve {
     }
 }
 
-/// `ssh -tt` in a pty; everything it prints is read and the device-attributes queries answered.
-struct Player {
-    child: Child,
-    master: File,
-    seen: Arc<Mutex<Vec<u8>>>,
-}
-
-impl Player {
-    fn connect(port: u16, user: &str) -> Player {
-        let size = rustix::termios::Winsize { ws_row: 24, ws_col: 80, ws_xpixel: 0, ws_ypixel: 0 };
-        let pty = rustix_openpty::openpty(None, Some(&size)).expect("openpty");
-        let master = File::from(pty.controller);
-        let slave = pty.user;
-        let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
-        let child = Command::new("setsid")
-            .args(["-c", "ssh", "-tt", "-F", "/dev/null", "-p", &port.to_string()])
-            .args([
-                "-o",
-                "StrictHostKeyChecking=no",
-                "-o",
-                "UserKnownHostsFile=/dev/null",
-                "-o",
-                "LogLevel=ERROR",
-            ])
-            .args(["-o", "BatchMode=yes", "-o", "IdentitiesOnly=yes", "-i", "/dev/null"])
-            .arg(format!("{user}@127.0.0.1"))
-            .env("TERM", "xterm-256color")
-            .stdin(stdio())
-            .stdout(stdio())
-            .stderr(stdio())
-            .spawn()
-            .expect("spawn setsid -c ssh");
-        drop(slave);
-        let seen = Arc::new(Mutex::new(Vec::new()));
-        let (mut input, mut answer) = (master.try_clone().expect("dup"), master.try_clone().expect("dup"));
-        let sink = Arc::clone(&seen);
-        std::thread::spawn(move || {
-            let mut buf = vec![0u8; 1 << 16];
-            let mut scanned = 0usize;
-            while let Ok(n @ 1..) = input.read(&mut buf) {
-                let mut seen = lock(&sink);
-                seen.extend_from_slice(&buf[..n]);
-                let from = scanned.saturating_sub(2);
-                let queries = seen[from..].windows(3).filter(|w| *w == b"\x1b[c").count();
-                scanned = seen.len();
-                drop(seen);
-                for _ in 0..queries {
-                    let _ = answer.write_all(b"\x1b[?62;22c");
-                }
-            }
-        });
-        Player { child, master, seen }
-    }
-
-    fn send(&mut self, bytes: &[u8]) {
-        self.master.write_all(bytes).expect("write to the pty");
-    }
-
-    fn wait_exit(&mut self) {
-        let deadline = Instant::now() + TIMEOUT;
-        while self.child.try_wait().expect("wait for ssh").is_none() {
-            assert!(Instant::now() < deadline, "ssh did not exit");
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-}
-
-impl Drop for Player {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
 #[test]
 fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
     let serve = Serve::start("metrics");
     assert_eq!(serve.value("mazewalk_joins_total"), 0.0);
     assert_eq!(serve.value("mazewalk_players"), 0.0);
 
-    let mut player = Player::connect(serve.ssh_port, "walker");
+    let mut player = Player::connect(serve.ssh_port, None, "walker", 80, 24);
     serve.wait_value("mazewalk_players", |v| v == 1.0);
     assert_eq!(serve.value("mazewalk_joins_total"), 1.0);
     let frames = serve.wait_value("mazewalk_frames_sent_total", |v| v > 0.0);
@@ -333,7 +255,7 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
     drop(events);
     assert!(serve.value("mazewalk_frames_sent_total") > frames, "the keys brought frames");
     assert!(serve.value("mazewalk_key_to_frame_seconds_sum") < 3.0 * TIMEOUT.as_secs_f64());
-    assert!(lock(&player.seen).len() > 1000, "the player saw the game");
+    assert!(player.raw().len() > 1000, "the player saw the game");
 
     // Prometheus' own parser and linter, when installed.
     let text = serve.scrape();
@@ -657,8 +579,10 @@ fn a_headless_chromium_shows_two_players_walking_live_on_the_status_page() {
 
     let mut browser = Browser::open(chromium, &serve.dir.join("profile"), &url);
     browser.wait_players("the empty list", |p| p.is_empty());
-    let mut players: Vec<(&str, Player)> =
-        ["ada", "bob"].into_iter().map(|name| (name, Player::connect(serve.ssh_port, name))).collect();
+    let mut players: Vec<(&str, Player)> = ["ada", "bob"]
+        .into_iter()
+        .map(|name| (name, Player::connect(serve.ssh_port, None, name, 80, 24)))
+        .collect();
     serve.wait_value("mazewalk_players", |v| v == 2.0);
     browser.wait_players("both players", |p| p.contains_key("ada") && p.contains_key("bob"));
     // Each in a colour of their own (the list's label as the map's dot), none on the empty page.

@@ -42,8 +42,9 @@
 
 use mazewalk_testkit::load;
 use mazewalk_testkit::raw_ssh as raw;
+use mazewalk_testkit::server_process;
 
-use std::io::{BufRead as _, BufReader, Write as _};
+use std::io::{BufRead as _, Write as _};
 use std::net::{IpAddr, SocketAddr};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -67,25 +68,21 @@ struct Args {
 }
 
 fn args() -> Args {
-    let exe = std::env::current_exe().expect("current exe");
-    let after = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
     let mut a = Args {
         before: None,
-        after,
+        after: server_process::release_binary(),
         seconds: 10.0,
         only: None,
         rates: vec![500.0],
         addresses: 1000,
         max_handshakes: None,
     };
-    let argv: Vec<String> = std::env::args().skip(1).collect();
-    for pair in argv.chunks(2) {
-        let value = pair.get(1).map_or("", String::as_str);
-        match pair[0].as_str() {
+    for (flag, value) in server_process::flags() {
+        match flag.as_str() {
             "--before" => a.before = Some(value.into()),
             "--after" => a.after = value.into(),
             "--seconds" => a.seconds = value.parse().expect("--seconds S"),
-            "--only" => a.only = Some(value.into()),
+            "--only" => a.only = Some(value),
             "--rates" => a.rates = value.split(',').map(|r| r.parse().expect("--rates R,R,…")).collect(),
             "--addresses" => a.addresses = value.parse().expect("--addresses N"),
             "--max-handshakes" => a.max_handshakes = Some(value.parse().expect("--max-handshakes N")),
@@ -136,9 +133,7 @@ impl ServerProcess {
             .stderr(std::fs::File::create(&log).expect("log file"))
             .spawn()
             .expect("start the server");
-        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        let mut line = String::new();
-        stdout.read_line(&mut line).expect("first line");
+        let (addr, mut stdout) = server_process::announced(&mut child);
         let mut http = None;
         if more.iter().any(|m| m == "--http") {
             let mut next = String::new();
@@ -150,14 +145,7 @@ impl ServerProcess {
                 next.clear();
             }
         }
-        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
-        let addr = line
-            .trim()
-            .split(", ")
-            .next()
-            .and_then(|l| l.rsplit_once(' '))
-            .and_then(|(_, a)| a.parse().ok())
-            .expect("serving on ADDR");
+        server_process::drain(stdout);
         ServerProcess { child, addr, http, log, scratch }
     }
 
@@ -420,8 +408,9 @@ async fn idle_flood(addr: SocketAddr, addresses: u32, rate: f64, stop: Arc<Atomi
     opened
 }
 
-/// Stock `ssh -tt` in an 80×24 pty from `from`, as `newcomer`: how long until the game's first frame
-/// (the alternate screen) arrives, or `None` if not within `within`. The client is killed after.
+/// Stock `ssh -tt` (testkit's [`ssh_args`](mazewalk_testkit::ssh_args), to the server on 127.0.0.1)
+/// in an 80×24 pty from `from`, as `newcomer`: how long until the game's first frame (the alternate
+/// screen) arrives, or `None` if not within `within`. The client is killed after.
 fn ssh_newcomer(addr: SocketAddr, from: IpAddr, within: Duration) -> Option<Duration> {
     use std::io::Read as _;
     let size = rustix::termios::Winsize { ws_row: 24, ws_col: 80, ws_xpixel: 0, ws_ypixel: 0 };
@@ -431,27 +420,8 @@ fn ssh_newcomer(addr: SocketAddr, from: IpAddr, within: Duration) -> Option<Dura
     let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
     let started = Instant::now();
     let mut child = Command::new("setsid")
-        .args([
-            "-c",
-            "ssh",
-            "-tt",
-            "-F",
-            "/dev/null",
-            "-b",
-            &from.to_string(),
-            "-p",
-            &addr.port().to_string(),
-        ])
-        .args([
-            "-o",
-            "StrictHostKeyChecking=no",
-            "-o",
-            "UserKnownHostsFile=/dev/null",
-            "-o",
-            "LogLevel=ERROR",
-        ])
-        .args(["-o", "BatchMode=yes", "-o", "IdentitiesOnly=yes", "-i", "/dev/null"])
-        .arg(format!("newcomer@{}", addr.ip()))
+        .args(["-c", "ssh", "-tt", "-b", &from.to_string()])
+        .args(mazewalk_testkit::ssh_args(addr.port(), None, "newcomer"))
         .env("TERM", "xterm-256color")
         .stdin(stdio())
         .stdout(stdio())

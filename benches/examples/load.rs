@@ -33,8 +33,8 @@
 //! `FILE.1`: an idle player's tick is its count over S × the idle players (`--idle 50 --walkers 0`).
 
 use mazewalk_testkit::load;
+use mazewalk_testkit::server_process;
 
-use std::io::{BufRead as _, BufReader};
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
@@ -76,19 +76,17 @@ fn args() -> Args {
         record_dir: None,
         one_address: false,
     };
-    let argv: Vec<String> = std::env::args().skip(1).collect();
-    for pair in argv.chunks(2) {
-        let value = pair.get(1).map_or("", String::as_str);
-        match pair[0].as_str() {
+    for (flag, value) in server_process::flags() {
+        match flag.as_str() {
             "--idle" => a.idle = value.parse().expect("--idle N"),
             "--walkers" => a.walkers = value.parse().expect("--walkers N"),
             "--rate" => a.rate = value.parse().expect("--rate KEYS_PER_S"),
             "--seconds" => a.seconds = value.parse().expect("--seconds S"),
             "--quiet" => a.quiet = value.parse().expect("--quiet S"),
             "--servers" => a.servers = value.parse().expect("--servers N"),
-            "--world" => a.world = Some(value.to_string()),
-            "--callgrind" => a.callgrind = Some(value.to_string()),
-            "--record-dir" => a.record_dir = Some(value.to_string()),
+            "--world" => a.world = Some(value),
+            "--callgrind" => a.callgrind = Some(value),
+            "--record-dir" => a.record_dir = Some(value),
             "--one-address" => a.one_address = value.parse().expect("--one-address true|false"),
             "--size" => {
                 let (c, r) = value.split_once('x').expect("--size COLSxROWS");
@@ -117,8 +115,7 @@ impl ServerProcess {
         callgrind: Option<&str>,
         record_dir: Option<&str>,
     ) -> ServerProcess {
-        let exe = std::env::current_exe().expect("current exe");
-        let bin = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
+        let bin = server_process::release_binary();
         assert!(bin.exists(), "{} is missing: run `cargo build --release` first", bin.display());
         let scratch = std::env::temp_dir().join(format!("mazewalk-load-{}-{n}", std::process::id()));
         std::fs::create_dir_all(&scratch).expect("scratch");
@@ -150,12 +147,8 @@ impl ServerProcess {
             .stderr(Stdio::null())
             .spawn()
             .expect("start the server");
-        let mut line = String::new();
-        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        stdout.read_line(&mut line).expect("first line");
-        // the rest of what it prints, read and dropped: a closed pipe would end the server at its next line
-        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
-        let addr = line.trim().rsplit_once(' ').and_then(|(_, a)| a.parse().ok()).expect("serving on ADDR");
+        let (addr, stdout) = server_process::announced(&mut child);
+        server_process::drain(stdout);
         ServerProcess { child, addr, _scratch: scratch, callgrind: callgrind.is_some() }
     }
 

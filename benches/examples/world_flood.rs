@@ -28,8 +28,8 @@
 
 use mazewalk_testkit::load;
 use mazewalk_testkit::redis_async as redis_server;
+use mazewalk_testkit::server_process;
 
-use std::io::{BufRead as _, BufReader};
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -73,13 +73,10 @@ struct Args {
 }
 
 fn args() -> Args {
-    let exe = std::env::current_exe().expect("current exe");
-    let after = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
+    let after = server_process::release_binary();
     let mut a = Args { before: None, after, seconds: 20.0, periods: vec![2.0, 1.0] };
-    let argv: Vec<String> = std::env::args().skip(1).collect();
-    for pair in argv.chunks(2) {
-        let value = pair.get(1).map_or("", String::as_str);
-        match pair[0].as_str() {
+    for (flag, value) in server_process::flags() {
+        match flag.as_str() {
             "--before" => a.before = Some(value.into()),
             "--after" => a.after = value.into(),
             "--seconds" => a.seconds = value.parse().expect("--seconds S"),
@@ -112,17 +109,8 @@ impl ServerProcess {
             .stderr(std::fs::File::create(&log).expect("log file"))
             .spawn()
             .expect("start the server");
-        let mut line = String::new();
-        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        stdout.read_line(&mut line).expect("first line");
-        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
-        let addr = line
-            .trim()
-            .split(", ")
-            .next()
-            .and_then(|l| l.rsplit_once(' '))
-            .and_then(|(_, a)| a.parse().ok())
-            .expect("serving on ADDR");
+        let (addr, stdout) = server_process::announced(&mut child);
+        server_process::drain(stdout);
         ServerProcess { child, addr, log }
     }
 
@@ -210,10 +198,20 @@ struct Flooded {
     peak_rss: [u64; 2],
 }
 
-/// The claims flood (or with `junk`, the junk flood) against `bin`.
-async fn claims(bin: &Path, seconds: f64, junk: bool) -> Flooded {
+/// A world of its own for one run of `bin`, in the folder `scratch`: a `redis-server`, the room,
+/// the world's true winner set in Redis before anyone joins, and two servers on it, left idle 2 s.
+struct World {
+    redis: RedisServer,
+    scratch: PathBuf,
+    maze: Maze,
+    hash: String,
+    keys: Keys,
+    con: redis::aio::MultiplexedConnection,
+    servers: [ServerProcess; 2],
+}
+
+async fn world(bin: &Path, scratch: PathBuf) -> World {
     let redis = RedisServer::start(Persistence::None).await;
-    let scratch = std::env::temp_dir().join(format!("mazewalk-world-claims-{}", std::process::id()));
     std::fs::create_dir_all(&scratch).expect("scratch");
     let text = room();
     let maze_path = scratch.join("room.grid");
@@ -234,6 +232,14 @@ async fn claims(bin: &Path, seconds: f64, junk: bool) -> Flooded {
         ServerProcess::start(bin, &scratch, "b", &maze_path, &redis.url(0)),
     ];
     tokio::time::sleep(Duration::from_secs(2)).await;
+    World { redis, scratch, maze, hash, keys, con, servers }
+}
+
+/// The claims flood (or with `junk`, the junk flood) against `bin`.
+async fn claims(bin: &Path, seconds: f64, junk: bool) -> Flooded {
+    let scratch = std::env::temp_dir().join(format!("mazewalk-world-claims-{}", std::process::id()));
+    // (`_redis` lives to the end: the servers' world)
+    let World { redis: _redis, scratch, hash, keys, mut con, servers, .. } = world(bin, scratch).await;
     let log0 = [servers[0].log_bytes(), servers[1].log_bytes()];
     let idle_rss = [rss_bytes(servers[0].pid()), rss_bytes(servers[1].pid())];
     let sets0 = calls(&mut con, "set").await;
@@ -300,31 +306,9 @@ fn figures(mut latencies: Vec<f64>) -> ((f64, f64), usize) {
 }
 
 async fn run(bin: &Path, period: f64, seconds: f64) -> Outcome {
-    let redis = RedisServer::start(Persistence::None).await;
     let scratch = std::env::temp_dir().join(format!("mazewalk-world-flood-{}-{period}", std::process::id()));
-    std::fs::create_dir_all(&scratch).expect("scratch");
-    let text = room();
-    let maze_path = scratch.join("room.grid");
-    std::fs::write(&maze_path, &text).expect("the maze");
-    let maze: Maze = mazewalk_maze::parse("room.grid", text.as_bytes()).expect("the room");
-    let hash = maze.content_hash().to_string();
+    let World { redis, scratch, maze, hash, keys, servers, .. } = world(bin, scratch).await;
     let bounds = Bounds::of(&maze);
-    let keys = Keys::new(&hash, 0);
-    let mut con = redis.connection(0).await;
-    // The world's true winner, before anyone joins.
-    let truth = WinnerRecord { server: ServerId(1), id: 0, seconds: 42.0, name: "truth".into() };
-    let _: () = redis::cmd("SET")
-        .arg(&keys.winner)
-        .arg(codec::encode_winner(&truth))
-        .query_async(&mut con)
-        .await
-        .unwrap();
-
-    let servers = [
-        ServerProcess::start(bin, &scratch, "a", &maze_path, &redis.url(0)),
-        ServerProcess::start(bin, &scratch, "b", &maze_path, &redis.url(0)),
-    ];
-    tokio::time::sleep(Duration::from_secs(2)).await;
     let idle_rss = [rss_bytes(servers[0].pid()), rss_bytes(servers[1].pid())];
     let cpu0 = [cpu_seconds(servers[0].pid()), cpu_seconds(servers[1].pid())];
     let log0 = [servers[0].log_bytes(), servers[1].log_bytes()];

@@ -11,8 +11,8 @@
 
 use mazewalk_testkit::load;
 use mazewalk_testkit::redis_async as redis_server;
+use mazewalk_testkit::server_process;
 
-use std::io::{BufRead as _, BufReader};
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -36,8 +36,7 @@ struct ServerProcess {
 
 impl ServerProcess {
     fn start(scratch: &Path, name: &str, maze: &Path, world: &str) -> ServerProcess {
-        let exe = std::env::current_exe().expect("current exe");
-        let bin = exe.parent().and_then(|p| p.parent()).map(|p| p.join("mazewalk")).expect("target dir");
+        let bin = server_process::release_binary();
         assert!(bin.exists(), "{} is missing: run `cargo build --release` first", bin.display());
         let mut child = Command::new(&bin)
             .args(["serve", "--open", "--no-records", "--listen", "127.0.0.1:0", "--world", world])
@@ -49,11 +48,8 @@ impl ServerProcess {
             .stderr(Stdio::null())
             .spawn()
             .expect("start the server");
-        let mut line = String::new();
-        let mut stdout = BufReader::new(child.stdout.take().expect("stdout"));
-        stdout.read_line(&mut line).expect("first line");
-        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
-        let addr = line.trim().rsplit_once(' ').and_then(|(_, a)| a.parse().ok()).expect("serving on ADDR");
+        let (addr, stdout) = server_process::announced(&mut child);
+        server_process::drain(stdout);
         ServerProcess { child, addr }
     }
 }

@@ -1,21 +1,22 @@
 //! What the end-to-end tests of `mazewalk serve` share (`tests/serve_e2e.rs`,
-//! `tests/serve_world_e2e.rs`): a scratch folder, the server binary with its log, the stock OpenSSH
-//! client's options, and `ssh -tt` in a pseudo-terminal read by a `vt100` emulator. Loopback only;
-//! every wait has a deadline and wakes on the event it waits for (a log line, a screen update), not
-//! on a timer; every child is killed on drop. The `redis-server` they need is
-//! [`mazewalk_testkit::redis_server`].
+//! `tests/serve_world_e2e.rs`, `tests/serve_http.rs`): a scratch folder, the server binary with its
+//! log, the stock OpenSSH client's options (testkit's [`ssh_args`]), and `ssh -tt` in a
+//! pseudo-terminal read by a `vt100` emulator. Loopback only; every wait has a deadline and wakes on
+//! the event it waits for (a log line, a screen update), not on a timer; every child is killed on
+//! drop. The `redis-server` they need is [`mazewalk_testkit::redis_server`].
 #![allow(dead_code)] // each test file uses a part
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::num::NonZeroU16;
 use std::path::Path;
-use std::process::{Child, Command, ExitStatus, Stdio};
+use std::process::{Child, Command, ExitStatus, Output, Stdio};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
 use mazewalk_testkit::require_tool;
 pub use mazewalk_testkit::scratch::Scratch;
+pub use mazewalk_testkit::ssh_args;
 use rustix::termios::{self, Winsize};
 
 /// Longest wait for anything. Generous for a loaded CI machine; each step takes well under a second.
@@ -171,33 +172,15 @@ impl Drop for Server {
     }
 }
 
-/// The client options every test uses: no config files, no known hosts, no prompts, only the given
-/// key (none: `/dev/null`).
-pub fn ssh_args(port: u16, key: Option<&Path>, user: &str) -> Vec<String> {
-    let mut args: Vec<String> = [
-        "-F",
-        "/dev/null",
-        "-p",
-        &port.to_string(),
-        "-o",
-        "StrictHostKeyChecking=no",
-        "-o",
-        "UserKnownHostsFile=/dev/null",
-        "-o",
-        "LogLevel=ERROR",
-        "-o",
-        "BatchMode=yes",
-        "-o",
-        "IdentitiesOnly=yes",
-        "-o",
-        "ConnectTimeout=10",
-    ]
-    .map(String::from)
-    .into();
-    let key = key.map_or_else(|| "/dev/null".to_string(), |key| key.display().to_string());
-    args.extend(["-i".to_string(), key]);
-    args.push(format!("{user}@127.0.0.1"));
-    args
+/// `mazewalk records --records DB ARGS`, DB the records of a server started in `scratch` (its `HOME`):
+/// its exit status and output.
+pub fn records(scratch: &Scratch, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["records", "--records"])
+        .arg(scratch.db())
+        .args(args)
+        .output()
+        .expect("mazewalk records")
 }
 
 /// What the reader thread shares with the test.

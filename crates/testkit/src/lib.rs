@@ -1,8 +1,9 @@
 //! What the tests and benches of every mazewalk crate share, in one copy: the proptest configuration
 //! of every property, a tolerant comparison, the f64 OKLab oracle ([`oklab`]), the check that a
 //! system program a test runs is installed ([`require_tool`]), the `redis-server` they start
-//! ([`redis_server`]) and, for the async tests of the server and its world, `eventually` (a wait
-//! for a condition, with a deadline). A dev-dependency only.
+//! ([`redis_server`]), the stock `ssh` client's options ([`ssh_args`]), the release server the
+//! measuring examples run ([`server_process`]) and, for the async tests of the server and its world,
+//! `eventually` (a wait for a condition, with a deadline). A dev-dependency only.
 //!
 //! The harnesses that drive a mazewalk crate are behind a feature named after it (`term`, `walk`,
 //! `pty`, `serve`, `redis`), so that the math crate's tests, say, build none of them. Only a crate's
@@ -29,6 +30,7 @@ pub mod redis_server;
 pub mod scratch;
 #[cfg(feature = "walk")]
 pub mod screen;
+pub mod server_process;
 #[cfg(feature = "serve")]
 pub mod world_host;
 
@@ -144,6 +146,37 @@ pub fn collector() -> (Sink, Said) {
         sink.lock().unwrap_or_else(std::sync::PoisonError::into_inner).push(line.to_string());
     });
     (report, said)
+}
+
+/// The stock OpenSSH client's arguments for `user` at the server on `127.0.0.1:port`, as every test
+/// and example runs it: no config files, no known hosts, no prompts, only the given key (none:
+/// `/dev/null`). Options such as `-tt` or `-b ADDR` go before them; a remote command after.
+#[must_use]
+pub fn ssh_args(port: u16, key: Option<&std::path::Path>, user: &str) -> Vec<String> {
+    let mut args: Vec<String> = [
+        "-F",
+        "/dev/null",
+        "-p",
+        &port.to_string(),
+        "-o",
+        "StrictHostKeyChecking=no",
+        "-o",
+        "UserKnownHostsFile=/dev/null",
+        "-o",
+        "LogLevel=ERROR",
+        "-o",
+        "BatchMode=yes",
+        "-o",
+        "IdentitiesOnly=yes",
+        "-o",
+        "ConnectTimeout=10",
+    ]
+    .map(String::from)
+    .into();
+    let key = key.map_or_else(|| "/dev/null".to_string(), |key| key.display().to_string());
+    args.extend(["-i".to_string(), key]);
+    args.push(format!("{user}@127.0.0.1"));
+    args
 }
 
 /// What `scripts/test-all` says about itself, in every missing-tool message: it installs them all.
