@@ -218,6 +218,8 @@ fn restore_locked(active: &mut Option<Enabled>) -> io::Result<()> {
 #[derive(Debug)]
 pub struct TerminalGuard {
     enabled: Enabled,
+    /// Keys typed while the keyboard query was awaited, as a terminal sends them ([`typed_ahead`]).
+    typed_ahead: Vec<u8>,
 }
 
 impl TerminalGuard {
@@ -244,12 +246,20 @@ impl TerminalGuard {
         }
         let keyboard_enhancement =
             options.keyboard_enhancement && terminal::supports_keyboard_enhancement().unwrap_or(false);
+        let typed_ahead = if options.keyboard_enhancement { typed_ahead() } else { Vec::new() };
         let enabled =
             Enabled { mouse: options.mouse, focus_events: options.focus_events, keyboard_enhancement };
         RESUMED.store(false, Ordering::SeqCst);
         ALTERNATE_SCREEN.store(options.alternate_screen, Ordering::SeqCst);
         enter_locked(&mut active, enabled, &enter_sequence(enabled))?;
-        Ok(TerminalGuard { enabled })
+        Ok(TerminalGuard { enabled, typed_ahead })
+    }
+
+    /// The keys typed while the terminal's answer to the keyboard query was awaited (a player who
+    /// starts walking before the first frame), as the bytes a terminal sends for them: for the
+    /// walk's own decoder, once.
+    pub fn take_typed_ahead(&mut self) -> Vec<u8> {
+        std::mem::take(&mut self.typed_ahead)
     }
 
     /// What is enabled (e.g. whether key releases are reported).
@@ -654,10 +664,92 @@ fn install_signal_handler() -> io::Result<()> {
     Ok(()) // no POSIX signals; crossterm reports Ctrl-C as a key in raw mode
 }
 
+/// The most keys [`typed_ahead`] hands on (a paste's worth of typing ahead is dropped past it).
+const TYPED_AHEAD_KEYS: usize = 256;
+
+/// The keys crossterm's `supports_keyboard_enhancement` read while it waited for the terminal's
+/// answer: it keeps what it read besides the answer in its own event queue, which the walk (reading
+/// its input itself) never reads, so keys typed as the walk started were lost. Each key press as the
+/// bytes a terminal sends for it ([`key_bytes`]); other events dropped.
+fn typed_ahead() -> Vec<u8> {
+    use crossterm::event::{self, Event, KeyEventKind};
+    let mut bytes = Vec::new();
+    for _ in 0..TYPED_AHEAD_KEYS {
+        if !event::poll(std::time::Duration::ZERO).unwrap_or(false) {
+            break;
+        }
+        match event::read() {
+            Ok(Event::Key(key)) if key.kind == KeyEventKind::Press => bytes.extend(key_bytes(key)),
+            Ok(_) => {}
+            Err(_) => break,
+        }
+    }
+    bytes
+}
+
+/// The bytes a terminal without the kitty keyboard protocol sends for `key` (none for a key the walk
+/// has no use for): a character (with Ctrl, its control code; with Alt, after an Esc), Enter, Tab,
+/// Backspace, Esc, the arrows and the page keys.
+fn key_bytes(key: crossterm::event::KeyEvent) -> Vec<u8> {
+    use crossterm::event::{KeyCode, KeyModifiers};
+    let mut bytes = Vec::new();
+    if key.modifiers.contains(KeyModifiers::ALT) {
+        bytes.push(0x1b);
+    }
+    match key.code {
+        KeyCode::Char(c) if key.modifiers.contains(KeyModifiers::CONTROL) && c.is_ascii_alphabetic() => {
+            bytes.push(c.to_ascii_lowercase() as u8 - b'a' + 1);
+        }
+        KeyCode::Char(c) => bytes.extend_from_slice(c.encode_utf8(&mut [0; 4]).as_bytes()),
+        KeyCode::Enter => bytes.push(b'\r'),
+        KeyCode::Tab => bytes.push(b'\t'),
+        KeyCode::Backspace => bytes.push(0x7f),
+        KeyCode::Esc => bytes.push(0x1b),
+        KeyCode::Left => bytes.extend_from_slice(b"\x1b[D"),
+        KeyCode::Right => bytes.extend_from_slice(b"\x1b[C"),
+        KeyCode::Up => bytes.extend_from_slice(b"\x1b[A"),
+        KeyCode::Down => bytes.extend_from_slice(b"\x1b[B"),
+        KeyCode::PageUp => bytes.extend_from_slice(b"\x1b[5~"),
+        KeyCode::PageDown => bytes.extend_from_slice(b"\x1b[6~"),
+        _ => return Vec::new(),
+    }
+    bytes
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use mazewalk_term::modes::restore_sequence;
+
+    /// A key crossterm kept from before the first frame is handed on as the bytes a terminal sends
+    /// for it, which the walk's own decoder reads back as that key.
+    #[test]
+    fn typed_ahead_keys_are_the_bytes_the_decoder_reads_as_them() {
+        use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+        use mazewalk_term::input::{Input, InputDecoder, Key};
+        let key = |code, modifiers| key_bytes(KeyEvent::new(code, modifiers));
+        let cases = [
+            (key(KeyCode::Char('w'), KeyModifiers::NONE), Key::Char('w')),
+            (key(KeyCode::Char('W'), KeyModifiers::SHIFT), Key::Char('w')), // (with Shift)
+            (key(KeyCode::Char('é'), KeyModifiers::NONE), Key::Char('é')),
+            (key(KeyCode::Left, KeyModifiers::NONE), Key::Left),
+            (key(KeyCode::Up, KeyModifiers::NONE), Key::Up),
+            (key(KeyCode::Enter, KeyModifiers::NONE), Key::Enter),
+        ];
+        for (bytes, expected) in cases {
+            let mut decoder = InputDecoder::new();
+            let mut out = Vec::new();
+            decoder.feed(&bytes, 0.0, &mut out);
+            let keys: Vec<_> = out
+                .iter()
+                .filter_map(|i| if let Input::Key { key, .. } = i { Some(*key) } else { None })
+                .collect();
+            assert_eq!(keys, [expected], "{bytes:?}");
+        }
+        assert_eq!(key(KeyCode::Char('c'), KeyModifiers::CONTROL), [3]);
+        assert_eq!(key(KeyCode::Char('x'), KeyModifiers::ALT), b"\x1bx");
+        assert!(key(KeyCode::F(1), KeyModifiers::NONE).is_empty(), "a key the walk has no use for");
+    }
 
     /// The modes' hand-written bytes are crossterm's (the commands this guard used to write).
     #[test]

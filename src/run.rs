@@ -95,6 +95,10 @@ pub fn run(
     record_size(cols, rows);
     let now = || clock.elapsed().as_secs_f64();
     session.input(Input::Resize { cols, rows }, now());
+    let typed_ahead = terminal.take_typed_ahead(); // keys typed as the walk started
+    if !typed_ahead.is_empty() {
+        session.feed(&typed_ahead, now());
+    }
     let stdin = io::stdin();
     let mut buf = [0u8; 4096];
     let mut bytes = Vec::new();

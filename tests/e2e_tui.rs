@@ -1180,6 +1180,20 @@ fn quitting_over_a_slow_link_leaves_no_answer_for_the_shell() {
     assert_eq!(unread, 0, "answers left for the shell");
 }
 
+/// Keys typed as the walk starts, while the terminal's answer to its keyboard query is on its way,
+/// each take their step: crossterm, which waits for that answer, read them with it and kept them in
+/// its own event queue, which the walk never reads, so a player who started walking at once (or
+/// typed `w` right after the command) stood still.
+#[test]
+fn keys_typed_before_the_first_frame_count() {
+    let mut tui = Tui::spawn(&["--gen", "20x15", "--seed", "4242"], 120, 40, Answers::Slow);
+    tui.wait_for_output(0, "the keyboard query", |out| out.windows(4).any(|w| w == b"\x1b[?u"));
+    tui.send(b"www"); // the answer is half a second away
+    tui.wait_for("three steps from the start", |s| s.contents().contains("(5.0, 2.0)"));
+    tui.send(b"q");
+    assert!(tui.wait_exit().success());
+}
+
 #[test]
 fn kill_at_the_shell_ends_a_walk_stopped_by_ctrl_z() {
     let mut tui = Tui::spawn_as(Session::Shell, &[], 80, 24, Answers::Plain);
