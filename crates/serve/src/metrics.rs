@@ -10,7 +10,9 @@
 //!   already; the scrape asks for them.
 //!
 //! Names follow Prometheus' conventions: `mazewalk_` first, base units (`_seconds`, `_bytes`),
-//! counters end in `_total`.
+//! counters end in `_total`. Beside them, the standard process metrics every Prometheus client
+//! library exports (`process_cpu_seconds_total`, `process_resident_memory_bytes`, …: [`Process`]),
+//! unprefixed, so that a dashboard made for any service shows this one's CPU, memory and files.
 
 use prometheus_client::collector::Collector;
 use prometheus_client::encoding::{DescriptorEncoder, EncodeMetric as _};
@@ -308,10 +310,123 @@ impl Collector for Live {
     }
 }
 
-/// The registry `/metrics` encodes: `metrics`, what `live` reads, and the build's version.
+/// The standard process metrics of Prometheus' client libraries, read at each scrape: CPU time
+/// (the process's CPU clock), and from Linux's `/proc/self` the resident and virtual memory, the
+/// threads, the open files and their limit. Where a figure cannot be read (another system, a
+/// `/proc` not mounted) it is left out. The start time is when the registry was made, at the
+/// server's start (`/proc` gives the process's own only in clock ticks since boot).
+#[derive(Debug)]
+pub struct Process {
+    /// Seconds since the Unix epoch when the registry was made.
+    started: f64,
+}
+
+impl Process {
+    fn now() -> Process {
+        let since = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH);
+        Process { started: since.map_or(0.0, |d| d.as_secs_f64()) }
+    }
+}
+
+/// The figures [`Process`] reads, each `None` where it could not be read.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct ProcessFigures {
+    cpu_seconds: Option<f64>,
+    resident_bytes: Option<u64>,
+    virtual_bytes: Option<u64>,
+    threads: Option<u64>,
+    open_fds: Option<u64>,
+    max_fds: Option<u64>,
+}
+
+/// At most this many bytes of a `/proc` file are read (`status` and `limits` are under 2 KiB).
+const PROC_FILE_LIMIT: u64 = 16 * 1024;
+
+fn read_proc(name: &str) -> Option<String> {
+    use std::io::Read as _;
+    let mut text = String::new();
+    let file = std::fs::File::open(format!("/proc/self/{name}")).ok()?;
+    file.take(PROC_FILE_LIMIT).read_to_string(&mut text).ok()?;
+    Some(text)
+}
+
+/// `VmRSS`, `VmSize` (in bytes) and `Threads` of a `/proc/PID/status` text.
+fn status_figures(status: &str) -> (Option<u64>, Option<u64>, Option<u64>) {
+    let field = |name: &str| {
+        let line = status.lines().find_map(|line| line.strip_prefix(name)?.strip_prefix(':'))?;
+        let mut words = line.split_whitespace();
+        let value: u64 = words.next()?.parse().ok()?;
+        match words.next() {
+            Some("kB") => value.checked_mul(1024),
+            None => Some(value),
+            Some(_) => None,
+        }
+    };
+    (field("VmRSS"), field("VmSize"), field("Threads"))
+}
+
+/// The soft limit of open files of a `/proc/PID/limits` text (`None` where it is unlimited).
+fn max_open_files(limits: &str) -> Option<u64> {
+    let line = limits.lines().find_map(|line| line.strip_prefix("Max open files"))?;
+    line.split_whitespace().next()?.parse().ok()
+}
+
+impl ProcessFigures {
+    fn read() -> ProcessFigures {
+        #[cfg(unix)]
+        let cpu_seconds = cpu_time::ProcessTime::try_now().ok().map(|t| t.as_duration().as_secs_f64());
+        #[cfg(not(unix))]
+        let cpu_seconds = None;
+        let (resident_bytes, virtual_bytes, threads) =
+            read_proc("status").map_or((None, None, None), |status| status_figures(&status));
+        let open_fds = std::fs::read_dir("/proc/self/fd").ok().map(|dir| dir.count() as u64);
+        let max_fds = read_proc("limits").and_then(|limits| max_open_files(&limits));
+        ProcessFigures { cpu_seconds, resident_bytes, virtual_bytes, threads, open_fds, max_fds }
+    }
+}
+
+impl Collector for Process {
+    fn encode(&self, mut encoder: DescriptorEncoder) -> std::fmt::Result {
+        encode_process(&mut encoder, self.started, ProcessFigures::read())
+    }
+}
+
+fn encode_process(encoder: &mut DescriptorEncoder, started: f64, now: ProcessFigures) -> std::fmt::Result {
+    let whole = |n: u64| i64::try_from(n).unwrap_or(i64::MAX);
+    if let Some(seconds) = now.cpu_seconds {
+        let counter = ConstCounter::new(seconds);
+        let help = "Total user and system CPU time spent in seconds.";
+        counter.encode(encoder.encode_descriptor(
+            "process_cpu_seconds",
+            help,
+            None,
+            counter.metric_type(),
+        )?)?;
+    }
+    let figures = [
+        ("process_resident_memory_bytes", "Resident memory size in bytes.", now.resident_bytes),
+        ("process_virtual_memory_bytes", "Virtual memory size in bytes.", now.virtual_bytes),
+        ("process_threads", "Number of OS threads in the process.", now.threads),
+        ("process_open_fds", "Number of open file descriptors.", now.open_fds),
+        ("process_max_fds", "Maximum number of open file descriptors.", now.max_fds),
+    ];
+    for (name, help, value) in figures {
+        if let Some(value) = value {
+            gauge(encoder, name, help, whole(value))?;
+        }
+    }
+    let start = ConstGauge::new(started);
+    let help = "Start time of the process since unix epoch in seconds.";
+    start.encode(encoder.encode_descriptor("process_start_time_seconds", help, None, start.metric_type())?)
+}
+
+/// The registry `/metrics` encodes: `metrics`, what `live` reads, the build's version, and the
+/// process's own figures ([`Process`]).
 #[must_use]
 pub fn registry(metrics: &Metrics, live: Live) -> Registry {
-    let mut registry = Registry::with_prefix("mazewalk");
+    let mut root = Registry::default();
+    root.register_collector(Box::new(Process::now()));
+    let registry = root.sub_registry_with_prefix("mazewalk");
     registry.register("joins", "Players who joined the maze", metrics.joins.clone());
     registry.register(
         "refusals",
@@ -372,7 +487,7 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
     );
     registry.register("build", "The mazewalk build", Info::new(vec![("version", env!("CARGO_PKG_VERSION"))]));
     registry.register_collector(Box::new(live));
-    registry
+    root
 }
 
 /// `registry` in Prometheus' text format.
@@ -448,5 +563,56 @@ mod tests {
             "{text}"
         );
         assert!(!text.contains("world_"), "no world without --world:\n{text}");
+    }
+
+    /// The process's own figures, unprefixed under their standard names, read from this test's
+    /// process: its memory and files are there and plausible, the CPU time counts, the start
+    /// time is when the registry was made.
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn the_text_has_the_standard_process_metrics() {
+        let before =
+            std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap().as_secs_f64();
+        let live = Live(Box::new(Snapshot::default));
+        let text = encode(&registry(&Metrics::default(), live));
+        let value = |name: &str| -> f64 {
+            let line = text.lines().find(|l| l.split(' ').next() == Some(name));
+            line.and_then(|l| l.split(' ').nth(1))
+                .and_then(|v| v.parse().ok())
+                .unwrap_or_else(|| panic!("no {name} in:\n{text}"))
+        };
+        assert!(value("process_resident_memory_bytes") >= 1024.0 * 1024.0, "{text}");
+        assert!(value("process_virtual_memory_bytes") >= value("process_resident_memory_bytes"), "{text}");
+        assert!(value("process_threads") >= 1.0, "{text}");
+        // stdin, stdout, stderr at least, and this process's limit above them
+        assert!(
+            value("process_open_fds") >= 3.0 && value("process_max_fds") >= value("process_open_fds"),
+            "{text}"
+        );
+        assert!(value("process_cpu_seconds_total") > 0.0, "{text}");
+        let started = value("process_start_time_seconds");
+        assert!((before - 1.0..before + 60.0).contains(&started), "{started} against {before}");
+        for kind in ["# TYPE process_cpu_seconds_total counter", "# TYPE process_open_fds gauge"] {
+            assert!(text.lines().any(|l| l == kind), "no {kind:?} in:\n{text}");
+        }
+        assert!(!text.contains("mazewalk_process"), "{text}");
+    }
+
+    /// `/proc/self/status` and `limits` as Linux writes them are read; anything else gives nothing.
+    #[test]
+    fn proc_texts_are_read_and_garbage_gives_nothing() {
+        let status = "Name:\tmazewalk\nVmSize:\t  123456 kB\nVmRSS:\t    2048 kB\nThreads:\t7\n";
+        assert_eq!(status_figures(status), (Some(2048 * 1024), Some(123_456 * 1024), Some(7)));
+        assert_eq!(status_figures("VmRSS: lots kB\nVmSize: 1 MB\n"), (None, None, None));
+        assert_eq!(status_figures("VmRSS: 99999999999999999999 kB"), (None, None, None));
+        assert_eq!(status_figures(""), (None, None, None));
+        let limits = "Limit                     Soft Limit           Hard Limit           Units     \n\
+                      Max open files            1024                 524288               files     \n";
+        assert_eq!(max_open_files(limits), Some(1024));
+        assert_eq!(
+            max_open_files("Max open files            unlimited            unlimited            files"),
+            None
+        );
+        assert_eq!(max_open_files("garbage"), None);
     }
 }
