@@ -1080,12 +1080,13 @@ impl Handler for Handlers {
         let packet = channel.writable_packet_size().await; // the client's packet size, or window if less
         if packet < MIN_CHANNEL_PACKET {
             self.log(format_args!(
-                "refused a session: packets of {packet} bytes (fewer than {MIN_CHANNEL_PACKET})"
+                "refused a session: a packet size of {packet} (under {MIN_CHANNEL_PACKET} bytes)"
             ));
             self.conn.ending("packets too small");
             reply.reject(ChannelOpenFailure::AdministrativelyProhibited).await;
-            let message =
-                format!("mazewalk: packets of {packet} bytes are too small (at least {MIN_CHANNEL_PACKET})");
+            let message = format!(
+                "mazewalk: a packet size of {packet} is too small (at least {MIN_CHANNEL_PACKET} bytes)"
+            );
             session.disconnect(Disconnect::ByApplication, &message, "")?;
             return Ok(());
         }
