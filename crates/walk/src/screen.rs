@@ -700,7 +700,18 @@ fn hud_text_with(
         (9, dev(&|| format!("{:.1} ms", hud.cost.seconds * 1e3))),
     ];
     // fitted as shown (in ASCII a degree sign takes four columns)
-    overlay::hud_line(&fields.map(|(priority, text)| (priority, style.own_text(text))), HELP, width)
+    let line =
+        overlay::hud_line(&fields.map(|(priority, text)| (priority, style.own_text(text))), HELP, width);
+    // The lens's key beside the help's, where the line has room to spare after every field: far
+    // openings are read through it (issue #39), and a new player does not find it in the help alone.
+    const LENS_KEY: &str = "z look ahead  ";
+    match line.strip_suffix(HELP) {
+        Some(fields) if !app.look_ahead() && fields.len() - fields.trim_end().len() >= LENS_KEY.len() + 2 => {
+            let cut = fields.len() - LENS_KEY.len(); // (spaces: one byte a column)
+            format!("{}{LENS_KEY}{HELP}", &fields[..cut])
+        }
+        _ => line,
+    }
 }
 
 /// The compass point of a heading (degrees counter-clockwise from east, +x; north, +y, is up on the
@@ -736,6 +747,10 @@ mod tests {
         );
         let wide = hud_text(&app, &stats, &hud, None, Style::default(), 200);
         assert!(wide.contains("fov 90° persp half"), "{wide:?}");
+        // the lens's key offered beside the help where there is room, and only then
+        assert!(wide.ends_with("    z look ahead  ? help ") && wide.chars().count() == 200, "{wide:?}");
+        let at60 = hud_text(&app, &stats, &hud, None, Style::default(), 60);
+        assert!(!at60.contains("look ahead") && at60.contains("z+0.0"), "fields first: {at60:?}");
         // in ASCII, fitted as shown: degrees spelled out, the help still at the right end
         let ascii = Style { ascii: true, ..Style::default() };
         for width in 20..60 {
@@ -782,12 +797,14 @@ mod tests {
             hud_text_with(app, &stats, &hud, (Some(3), None, None), fov, Style::default(), width)
         };
         for width in [60, 80, 120, 200] {
-            assert!(!line(&app, width).contains("look ahead"), "{:?}", line(&app, width));
+            // (off, only the key offered where there is room: `z look ahead`)
+            assert!(!line(&app, width).contains("° look ahead"), "{:?}", line(&app, width));
         }
         app.set_look_ahead(true);
         for width in [60, 80, 120, 200] {
             let text = line(&app, width);
             assert!(text.contains("  fov 30° look ahead  ") && text.ends_with("? help "), "{text:?}");
+            assert!(!text.contains("z look ahead"), "no key offered for what is on: {text:?}");
         }
         assert!(line(&app, 200).contains("fov 30° look ahead  persp half"), "{:?}", line(&app, 200));
         assert!(!line(&app, 60).contains("(6.0, 50.0)"), "the lens before the position");

@@ -160,14 +160,20 @@ fn z_through_a_session_puts_the_look_ahead_lens_on_and_ctrl_z_still_suspends() {
     player.session =
         Session::new(app, COLS, ROWS, SessionOptions { flow_control: false, ..Default::default() });
     player.step(b"", 0.0);
-    assert!(!player.hud().contains("look ahead"), "{}", player.hud());
+    // (off: the HUD offers the key, `z look ahead`, and says no lens is on)
+    assert!(
+        !player.hud().contains("° look ahead") && player.hud().contains("z look ahead"),
+        "{}",
+        player.hud()
+    );
     player.step(b"z", 0.5);
     assert!(player.session.app().look_ahead());
     assert!(player.hud().contains("fov 30° look ahead"), "{}", player.hud());
+    assert!(!player.hud().contains("z look ahead"), "{}", player.hud());
     player.step(b"\x1a", 1.0);
     assert!(player.session.take_suspend(), "Ctrl-Z suspends");
     assert!(player.session.app().look_ahead(), "Ctrl-Z is not z");
     player.step(b"Z", 1.5);
     assert!(!player.session.app().look_ahead(), "Z (Shift or Caps Lock) turns it off");
-    assert!(!player.hud().contains("look ahead"), "{}", player.hud());
+    assert!(!player.hud().contains("° look ahead"), "{}", player.hud());
 }
