@@ -662,14 +662,15 @@ impl Renderer {
                         let mut x = 0;
                         for &(end, level) in level_runs.iter() {
                             let base = tinted[usize::from(level)];
-                            for x in x..end {
-                                if ids[x] != NONE && depths[x] <= stays_at {
-                                    continue;
+                            while x < end {
+                                // the samples a wall keeps skipped eight at a time, then the plane's
+                                x = first_shown((&ids[..end], &depths[..end]), stays_at, x);
+                                while x < end && !(ids[x] != NONE && depths[x] <= stays_at) {
+                                    (colors[x], depths[x], ids[x]) =
+                                        (base * paint[x] + fog_term, f32::INFINITY, hit.plane.1);
+                                    x += 1;
                                 }
-                                (colors[x], depths[x], ids[x]) =
-                                    (base * paint[x] + fog_term, f32::INFINITY, hit.plane.1);
                             }
-                            x = end;
                         }
                         continue;
                     }
