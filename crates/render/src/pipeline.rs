@@ -9,6 +9,8 @@
 //! ascii: outlines of the visible walls (Bresenham), then glyphs ─▶ Frame
 //! ```
 
+use std::ops::Range;
+
 use glam::{Vec2, Vec3};
 use wide::bytemuck::cast;
 use wide::{f32x8, i32x8, u32x8};
@@ -135,6 +137,8 @@ pub struct Renderer {
     /// The samples marked this frame, each once.
     edge_list: Vec<u32>,
     plane_row: PlaneRow,
+    /// The sides of the cells the floor and ceiling rows cross, for the exit's light.
+    cell_sides: CellSides,
     /// Skip the edge pass (the portal oracle compares visibility, not the picture's edges).
     pub(crate) no_edges: bool,
     /// Shade every sample by the scalar reference paths (the oracle of the SIMD ones).
@@ -518,38 +522,39 @@ impl Renderer {
             })
         };
         // The colour of a plane at `hit`, seen along `dir`: the reference, sample by sample.
-        let mut cursor = glow.map(CellCursor::new);
+        let mut cursor = glow.map(|glow| CellCursor::new(glow, &mut self.cell_sides));
         // Each plane's colour tinted at every level of the exit's light, worked out once a frame (the
         // rows of a plane share its colour and strength: a row asked all levels, 29 OKLab inversions).
         let mut tint_tables: Vec<((Vec3, f32), [Vec3; EXIT_LIGHT as usize + 1])> = Vec::new();
-        let color_at = |hit: &PlaneHit, point: Vec3, dir: Vec3, cursor: &mut Option<CellCursor>| -> Vec3 {
-            if shading == Shading::ViewDepth {
-                return Vec3::ZERO;
-            }
-            let on_plane = Vec2::new(point.x, point.y);
-            let mut base = match filter {
-                // The footprint grows with the distance along the ray and the slant it meets the plane
-                // at (1 / |dir.z| per unit of ray).
-                Some(per) => {
-                    let slant = dir.length() / dir.z.abs().max(1e-3);
-                    let reach = per * hit.t.unwrap_or(0.0) * slant.min(8.0);
-                    checker_filtered(hit.plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST, reach)
+        let color_at =
+            |hit: &PlaneHit, point: Vec3, dir: Vec3, cursor: &mut Option<CellCursor<'_, '_>>| -> Vec3 {
+                if shading == Shading::ViewDepth {
+                    return Vec3::ZERO;
                 }
-                None => checker(hit.plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST),
+                let on_plane = Vec2::new(point.x, point.y);
+                let mut base = match filter {
+                    // The footprint grows with the distance along the ray and the slant it meets the plane
+                    // at (1 / |dir.z| per unit of ray).
+                    Some(per) => {
+                        let slant = dir.length() / dir.z.abs().max(1e-3);
+                        let reach = per * hit.t.unwrap_or(0.0) * slant.min(8.0);
+                        checker_filtered(hit.plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST, reach)
+                    }
+                    None => checker(hit.plane.2, on_plane, CHECKER_PERIOD, CHECKER_CONTRAST),
+                };
+                if let Some(cursor) = cursor {
+                    base = cursor.tint(on_plane, hit.plane.1, base);
+                }
+                if let Some(exit) = exit.filter(|_| hit.plane.1 == FLOOR) {
+                    // The exit's light on the floor round it, fading out over EXIT_GLOW_RADIUS.
+                    let d2 = on_plane.distance_squared(exit);
+                    if d2 < EXIT_GLOW_RADIUS * EXIT_GLOW_RADIUS {
+                        let glow = 1.0 - d2.sqrt() / EXIT_GLOW_RADIUS;
+                        base = base.lerp(EXIT_GLOW, 0.8 * glow);
+                    }
+                }
+                (base * plane_light(hit.plane.1)).lerp(fog.color, hit.fog)
             };
-            if let Some(cursor) = cursor {
-                base = cursor.tint(on_plane, hit.plane.1, base);
-            }
-            if let Some(exit) = exit.filter(|_| hit.plane.1 == FLOOR) {
-                // The exit's light on the floor round it, fading out over EXIT_GLOW_RADIUS.
-                let d2 = on_plane.distance_squared(exit);
-                if d2 < EXIT_GLOW_RADIUS * EXIT_GLOW_RADIUS {
-                    let glow = 1.0 - d2.sqrt() / EXIT_GLOW_RADIUS;
-                    base = base.lerp(EXIT_GLOW, 0.8 * glow);
-                }
-            }
-            (base * plane_light(hit.plane.1)).lerp(fog.color, hit.fog)
-        };
         let width = eye.width;
         let (colors, depths, ids) = self.samples.parts_mut();
         for y in 0..eye.height {
@@ -657,14 +662,15 @@ impl Renderer {
                         let mut x = 0;
                         for &(end, level) in level_runs.iter() {
                             let base = tinted[usize::from(level)];
-                            for x in x..end {
-                                if ids[x] != NONE && depths[x] <= stays_at {
-                                    continue;
+                            while x < end {
+                                // the samples a wall keeps skipped eight at a time, then the plane's
+                                x = first_shown((&ids[..end], &depths[..end]), stays_at, x);
+                                while x < end && !(ids[x] != NONE && depths[x] <= stays_at) {
+                                    (colors[x], depths[x], ids[x]) =
+                                        (base * paint[x] + fog_term, f32::INFINITY, hit.plane.1);
+                                    x += 1;
                                 }
-                                (colors[x], depths[x], ids[x]) =
-                                    (base * paint[x] + fog_term, f32::INFINITY, hit.plane.1);
                             }
-                            x = end;
                         }
                         continue;
                     }
@@ -1469,21 +1475,22 @@ const INSIDE_MARGIN: f32 = 1e-3;
 
 /// Which cell floor and ceiling samples lie in, for the exit's light: the last cell found, kept
 /// while the samples stay in it (a row's samples cross a few cells), so most samples cost a test
-/// against the cell's edges instead of a search of the maze's cell index.
-struct CellCursor<'m> {
+/// against the cell's sides instead of a search of the maze's cell index.
+struct CellCursor<'m, 's> {
     maze: &'m Maze,
     light: &'m ExitLight,
+    /// The sides of the cells crossed this frame ([`CellSides`]): each worked out once a frame.
+    sides: &'s mut CellSides,
     /// The last cell found and its level.
     cell: Option<(u32, u8)>,
-    /// That cell's edges, counter-clockwise: (start, start → end); inside is on their left.
-    edges: Vec<(Vec2, Vec2)>,
-    /// The edges of a cell beside it, as `edges` (scratch).
-    beside: Vec<(Vec2, Vec2)>,
+    /// That cell's sides in `sides`.
+    edges: Range<usize>,
 }
 
-impl<'m> CellCursor<'m> {
-    fn new((maze, light): (&'m Maze, &'m ExitLight)) -> CellCursor<'m> {
-        CellCursor { maze, light, cell: None, edges: Vec::new(), beside: Vec::new() }
+impl<'m, 's> CellCursor<'m, 's> {
+    fn new((maze, light): (&'m Maze, &'m ExitLight), sides: &'s mut CellSides) -> CellCursor<'m, 's> {
+        sides.begin(maze.cell_count());
+        CellCursor { maze, light, sides, cell: None, edges: 0..0 }
     }
 
     /// The exit's light level at `point` (0 outside the lit cells' box or the maze). The same for a
@@ -1504,22 +1511,15 @@ impl<'m> CellCursor<'m> {
             // Most often the point has crossed into a cell beside the last one: a cell across an edge
             // it lies beyond that holds it well inside is the one the maze would find.
             let maze = self.maze;
-            for (&e, &(a, along)) in maze.cell_edges(last).iter().zip(&self.edges) {
-                if along.perp_dot(point - a) >= INSIDE_MARGIN * along.length() {
+            for (&e, k) in maze.cell_edges(last).iter().zip(self.edges.clone()) {
+                if self.sides.sides[k].holds(point) {
                     continue; // not beyond this edge
                 }
                 let Some(next) = maze.edge(e).other_side(last) else { continue };
-                self.beside.clear();
-                self.beside.extend(maze.cell_edges(next).iter().map(|&e| {
-                    let (a, b) = maze.edge_points_ccw(e, next);
-                    (a, b - a)
-                }));
-                let inside =
-                    |&(a, along): &(Vec2, Vec2)| along.perp_dot(point - a) >= INSIDE_MARGIN * along.length();
-                if self.beside.iter().all(inside) {
-                    std::mem::swap(&mut self.edges, &mut self.beside);
+                let beside = self.sides.of(maze, next);
+                if self.sides.sides[beside.clone()].iter().all(|side| side.holds(point)) {
                     let level = self.light.level(next);
-                    self.cell = Some((next, level));
+                    (self.cell, self.edges) = (Some((next, level)), beside);
                     return level;
                 }
             }
@@ -1529,19 +1529,13 @@ impl<'m> CellCursor<'m> {
             return 0;
         };
         let level = self.light.level(cell);
-        self.cell = Some((cell, level));
-        self.edges.clear();
-        let maze = self.maze;
-        self.edges.extend(maze.cell_edges(cell).iter().map(|&e| {
-            let (a, b) = maze.edge_points_ccw(e, cell);
-            (a, b - a)
-        }));
+        (self.cell, self.edges) = (Some((cell, level)), self.sides.of(self.maze, cell));
         level
     }
 
     /// `point` is inside the last cell by at least [`INSIDE_MARGIN`] from every edge.
     fn well_inside(&self, point: Vec2) -> bool {
-        self.edges.iter().all(|&(a, along)| along.perp_dot(point - a) >= INSIDE_MARGIN * along.length())
+        self.sides.sides[self.edges.clone()].iter().all(|side| side.holds(point))
     }
 
     /// The levels of a row's points `point_at(x)` (`start + step × x`, up to rounding), x in
@@ -1601,10 +1595,10 @@ impl<'m> CellCursor<'m> {
             // The last x still inside the cell: each edge's side `c0 + c1·x ≥ margin` ends at
             // (margin − c0) ⁄ c1 where c1 < 0; then checked against the points themselves.
             let mut last = (width - 1) as f32;
-            for &(a, along) in &self.edges {
+            for &Side { start: a, along, margin } in &self.sides.sides[self.edges.clone()] {
                 let (c0, c1) = (along.perp_dot(start - a), along.perp_dot(step));
                 if c1 < 0.0 {
-                    last = last.min((INSIDE_MARGIN * along.length() - c0) / c1);
+                    last = last.min((margin - c0) / c1);
                 }
             }
             let mut end =
@@ -1651,6 +1645,63 @@ impl<'m> CellCursor<'m> {
     fn tint(&mut self, point: Vec2, plane: u32, color: Vec3) -> Vec3 {
         let level = self.level(point);
         exit_tinted(color, level, if plane == FLOOR { FLOOR_EXIT_TINT } else { CEILING_EXIT_TINT })
+    }
+}
+
+/// One side of a cell for [`CellCursor`]: an edge counter-clockwise round the cell (its start, and
+/// start → end: inside is on its left), and how far to its left a point well inside lies
+/// ([`INSIDE_MARGIN`] times its length).
+#[derive(Clone, Copy, Debug)]
+struct Side {
+    start: Vec2,
+    along: Vec2,
+    margin: f32,
+}
+
+impl Side {
+    /// Whether `point` is on the inside of this side by at least its margin.
+    fn holds(&self, point: Vec2) -> bool {
+        self.along.perp_dot(point - self.start) >= self.margin
+    }
+}
+
+/// The sides of the cells a frame's floor and ceiling rows cross, each cell's worked out once a frame
+/// (row after row crosses the same few cells) and forgotten at the next frame (the maze may differ).
+#[derive(Debug, Default)]
+pub(crate) struct CellSides {
+    /// Per cell: where its sides start in `sides`, or `usize::MAX` when not worked out this frame.
+    first: Vec<usize>,
+    sides: Vec<Side>,
+    /// The cells worked out this frame.
+    cells: Vec<u32>,
+}
+
+impl CellSides {
+    /// Forgets the frame before's cells, for a maze of `cells` cells.
+    fn begin(&mut self, cells: usize) {
+        for c in self.cells.drain(..) {
+            self.first[c as usize] = usize::MAX;
+        }
+        self.first.resize(cells, usize::MAX);
+        self.sides.clear();
+    }
+
+    /// Where cell `c`'s sides are in `sides` (in the order of `maze.cell_edges(c)`), worked out on
+    /// its first use this frame.
+    fn of(&mut self, maze: &Maze, c: u32) -> Range<usize> {
+        let (first, n) = (self.first[c as usize], maze.cell_edges(c).len());
+        if first != usize::MAX {
+            return first..first + n;
+        }
+        let first = self.sides.len();
+        self.sides.extend(maze.cell_edges(c).iter().map(|&e| {
+            let (a, b) = maze.edge_points_ccw(e, c);
+            let along = b - a;
+            Side { start: a, along, margin: INSIDE_MARGIN * along.length() }
+        }));
+        self.first[c as usize] = first;
+        self.cells.push(c);
+        first..first + n
     }
 }
 
