@@ -44,7 +44,7 @@ pub mod stream;
 pub mod world;
 
 pub use limits::Limits;
-pub use ssh::{Access, MIN_CHANNEL_PACKET, ServeOptions, Server};
+pub use ssh::{Access, MAX_ACCEPTED_PROBES, MIN_CHANNEL_PACKET, ServeOptions, Server};
 
 /// Runs a server on a fresh tokio runtime until SIGINT, SIGTERM or SIGHUP (the terminal it ran in
 /// closed), then tells every player it is

@@ -411,3 +411,168 @@ async fn a_client_asking_for_tiny_packets_gets_no_game() {
     .await
     .expect("ran over its deadline");
 }
+
+/// An ed25519 key pair made by ssh-keygen, read back by russh.
+fn ed25519_key(name: &str) -> (russh::keys::PrivateKey, tempdir::Dir) {
+    let dir = tempdir::Dir::new(name);
+    let path = dir.0.join("id_ed25519");
+    mazewalk_testkit::require_tool("ssh-keygen", "openssh-client");
+    let status = std::process::Command::new("ssh-keygen")
+        .args(["-q", "-t", "ed25519", "-N", "", "-f"])
+        .arg(&path)
+        .stdin(std::process::Stdio::null())
+        .status()
+        .expect("ssh-keygen");
+    assert!(status.success());
+    (russh::keys::load_secret_key(&path, None).expect("read the key"), dir)
+}
+
+/// A signer that never signs: each public-key attempt through it sends a probe (the key offered
+/// without a signature) and, where the server accepts the probe, is asked to sign and declines.
+/// Counts the probes accepted (the times it was asked).
+struct Declines(Arc<std::sync::atomic::AtomicUsize>);
+
+#[derive(Debug)]
+enum Declined {
+    Sign,
+    Send,
+}
+
+impl From<russh::SendError> for Declined {
+    fn from(_: russh::SendError) -> Declined {
+        Declined::Send
+    }
+}
+
+impl russh::Signer for Declines {
+    type Error = Declined;
+
+    fn auth_sign(
+        &mut self,
+        _: &russh::keys::agent::AgentIdentity,
+        _: Option<HashAlg>,
+        _: Vec<u8>,
+    ) -> impl std::future::Future<Output = Result<Vec<u8>, Declined>> + Send {
+        self.0.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        std::future::ready(Err(Declined::Sign))
+    }
+}
+
+/// Offers `key` up to `tries` times on `handle`, `pause` apart, declining to sign; ends early when
+/// the connection closes. Returns the attempts made.
+async fn probe(
+    handle: &mut russh::client::Handle<load::Client>,
+    key: &russh::keys::PrivateKey,
+    (tries, pause): (usize, Duration),
+    signer: &mut Declines,
+) -> usize {
+    for attempt in 0..tries {
+        let answer =
+            handle.authenticate_publickey_with("prober", key.public_key().clone(), None, signer).await;
+        if matches!(answer, Err(Declined::Send)) || handle.is_closed() {
+            return attempt + 1;
+        }
+        tokio::time::sleep(pause).await;
+    }
+    tries
+}
+
+/// Red-team pass 7, high: a probe (a key offered without a signature) was accepted as often as a
+/// client sent one, at once, and russh checks a certificate's CA signature on each before the server
+/// is asked: one connection pipelining probes of a certificate under an 8192-bit RSA CA took 0.74 of
+/// a core. Now a connection has at most `MAX_ACCEPTED_PROBES` probes accepted; later ones are
+/// refused (each waits out the refusal's half second, and russh closes the connection after a few).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_connection_gets_only_a_few_probes_answered() {
+    tokio::time::timeout(DEADLINE, async {
+        let (key, _dir) = ed25519_key("probes");
+        let server = server(Access::Open, Limits::default()).await;
+        let config = Arc::new(russh::client::Config::default());
+        let mut handle = russh::client::connect(config, server.local_addr(), load::Client)
+            .await
+            .expect("the key exchange");
+        let accepted = Arc::new(std::sync::atomic::AtomicUsize::new(0));
+        let mut signer = Declines(Arc::clone(&accepted));
+        let attempts = probe(&mut handle, &key, (30, Duration::ZERO), &mut signer).await;
+        let accepted = accepted.load(std::sync::atomic::Ordering::SeqCst);
+        assert_eq!(accepted, mazewalk_serve::MAX_ACCEPTED_PROBES, "probes accepted of {attempts} made");
+        assert!(attempts < 30 && handle.is_closed(), "the connection closed after the refusals: {attempts}");
+        // The key still logs in on a connection of its own: one probe, then its signature.
+        let config = Arc::new(russh::client::Config::default());
+        let mut handle = russh::client::connect(config, server.local_addr(), load::Client)
+            .await
+            .expect("the key exchange");
+        let auth = handle
+            .authenticate_publickey("prober", PrivateKeyWithHashAlg::new(Arc::new(key), None))
+            .await
+            .expect("an answer");
+        assert!(auth.success(), "the key logs in");
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
+
+/// A client's key exchange with the server at `addr`, from `from`.
+async fn connect_from(from: IpAddr, addr: SocketAddr) -> russh::client::Handle<load::Client> {
+    let socket = tokio::net::TcpSocket::new_v4().expect("socket");
+    socket.bind(SocketAddr::new(from, 0)).expect("bind");
+    let stream = socket.connect(addr).await.expect("connect");
+    let config = Arc::new(russh::client::Config::default());
+    russh::client::connect_stream(config, stream, load::Client).await.expect("the key exchange")
+}
+
+/// Red-team pass 7, high: every authentication request counted as a handshake's progress, so
+/// connections probing every few milliseconds never looked stalled, and a newcomer (all handshake
+/// slots taken) pushed out an honest client waiting a round trip between its steps instead: from a
+/// few addresses of one /24, 0 of 15 logins got in. Now a handshake moves on at its milestones only
+/// (keys exchanged, its first request): a prober that began first is pushed out first, however
+/// busy it keeps.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_prober_does_not_keep_its_slot_by_probing() {
+    tokio::time::timeout(DEADLINE, async {
+        let (key, _dir) = ed25519_key("slots");
+        let limits = Limits { max_handshakes: 2, ..Limits::default() };
+        let server = server(Access::Open, limits).await;
+        let addr = server.local_addr();
+        // The prober: a probe every 50 ms, or as soon as it is answered where the answer is slower
+        // (its first few accepted, then refused, each refusal half a second), from the start.
+        let accepted = Arc::new(std::sync::atomic::AtomicUsize::new(0));
+        let mut prober = connect_from(address(2), addr).await;
+        let prober = {
+            let (key, accepted) = (key.clone(), Arc::clone(&accepted));
+            tokio::spawn(async move {
+                let mut signer = Declines(accepted);
+                probe(&mut prober, &key, (60, Duration::from_millis(50)), &mut signer).await;
+                prober.is_closed()
+            })
+        };
+        eventually(Duration::from_secs(10), "the prober's first answer", || {
+            accepted.load(std::sync::atomic::Ordering::SeqCst) > 0
+        })
+        .await;
+        tokio::time::sleep(Duration::from_millis(200)).await;
+        // The honest client: its key offered once and answered, then waiting (a round trip, a
+        // passphrase): the later of the two handshakes to reach a milestone.
+        let mut honest = connect_from(address(3), addr).await;
+        let asked = Arc::new(std::sync::atomic::AtomicUsize::new(0));
+        probe(&mut honest, &key, (1, Duration::ZERO), &mut Declines(Arc::clone(&asked))).await;
+        assert_eq!(asked.load(std::sync::atomic::Ordering::SeqCst), 1, "the honest probe answered");
+        tokio::time::sleep(Duration::from_millis(600)).await; // the prober's requests go on
+        assert_eq!(server.handshakes(), 2, "both slots taken");
+        // A newcomer: every slot taken, one is pushed out for it.
+        let _newcomer = raw::connect(Some(address(4)), addr).expect("the newcomer");
+        tokio::time::sleep(Duration::from_millis(800)).await;
+        assert!(!honest.is_closed(), "the honest handshake was pushed out for the newcomer");
+        assert!(prober.await.expect("the prober"), "the prober's connection ended");
+        // The honest client logs in.
+        let auth = honest
+            .authenticate_publickey("honest", PrivateKeyWithHashAlg::new(Arc::new(key), None))
+            .await
+            .expect("an answer");
+        assert!(auth.success(), "the honest client logs in");
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
