@@ -241,20 +241,34 @@ impl KeyState {
             }
         }
     }
+}
 
-    /// Whether a tap at `now` may take its step (a step taking `step_seconds` at full speed): while
-    /// the key's motion is at most [`TAP_BURST`] − 1 steps ahead of the time it takes at full speed
-    /// (each step at least [`HOLD_GAP`], a person's fastest tapping). Its step is then laid on.
-    fn take_tap(&mut self, now: f64, step_seconds: f64) -> bool {
-        self.settle(now);
-        let pace = step_seconds.max(HOLD_GAP);
-        // (a float's room: nine steps at once are eight paces ahead after eight additions)
-        if self.paid_until - now <= (TAP_BURST - 1.0) * pace + 1e-9 {
-            self.paid_until = self.paid_until.max(now) + pace;
-            true
-        } else {
-            false
-        }
+/// Whether motion laid on until `paid_until` leaves room at `now` for a tap's step of `pace` seconds:
+/// while it is at most [`TAP_BURST`] − 1 steps ahead of `now`.
+fn tap_room(paid_until: f64, now: f64, pace: f64) -> bool {
+    // (a float's room: nine steps at once are eight paces ahead after eight additions)
+    paid_until - now <= (TAP_BURST - 1.0) * pace + 1e-9
+}
+
+/// The walking keys' slots in [`Action::CONTINUOUS`]: forward, back and the two strafes. Their taps
+/// share a budget as well as each having its own ([`Feet`]).
+const FEET: std::ops::Range<usize> = 0..4;
+
+/// The walking keys' shared budget: when their motion together would end at full speed, their taps'
+/// steps and their glides laid end to end (two glides at once, a diagonal hold, counted once: it
+/// moves no faster than one). Each key's own budget let two keys tapped in turn each step at its
+/// full pace, and a player facing 45° off a corridor tapping `w` and `d` in turn walked down it 1.4×
+/// as fast as a hold (red-team pass 7).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Feet {
+    paid_until: f64,
+    /// The glides' motion up to this time is in `paid_until`.
+    glides_paid_to: f64,
+}
+
+impl Default for Feet {
+    fn default() -> Self {
+        Feet { paid_until: f64::NEG_INFINITY, glides_paid_to: f64::NEG_INFINITY }
     }
 }
 
@@ -303,9 +317,58 @@ impl Default for KeyState {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Held {
     keys: [KeyState; Action::CONTINUOUS.len()],
+    feet: Feet,
 }
 
 impl Held {
+    /// The glides up to `now` laid into each key's budget and the walking keys' shared one ([`Feet`]:
+    /// the union of their glides).
+    fn settle(&mut self, now: f64) {
+        let mut spans = [(0.0, 0.0); FEET.end];
+        let mut count = 0;
+        for key in &self.keys[FEET] {
+            if let Some((from, until)) = key.glide {
+                let (start, end) = (from.max(self.feet.glides_paid_to), until.min(now));
+                if end > start {
+                    spans[count] = (start, end);
+                    count += 1;
+                }
+            }
+        }
+        let spans = &mut spans[..count];
+        spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut laid_to = f64::NEG_INFINITY; // (within the union: each stretch once)
+        for &(start, end) in spans.iter() {
+            let start = start.max(laid_to);
+            if end > start {
+                self.feet.paid_until = self.feet.paid_until.max(start) + (end - start);
+                laid_to = end;
+            }
+        }
+        self.feet.glides_paid_to = self.feet.glides_paid_to.max(now);
+        for key in &mut self.keys {
+            key.settle(now);
+        }
+    }
+
+    /// Whether a tap of the key in `slot` at `now` may take its step (a step taking `step_seconds` at
+    /// full speed): while the key's motion, and for a walking key the walking keys' together
+    /// ([`Feet`]), is at most [`TAP_BURST`] − 1 steps ahead of the time it takes at full speed (each
+    /// step at least [`HOLD_GAP`], a person's fastest tapping). Its step is then laid on. (Settled.)
+    fn take_tap(&mut self, slot: usize, now: f64, step_seconds: f64) -> bool {
+        let pace = step_seconds.max(HOLD_GAP);
+        let walking = FEET.contains(&slot);
+        let key = &mut self.keys[slot];
+        if !tap_room(key.paid_until, now, pace) || walking && !tap_room(self.feet.paid_until, now, pace) {
+            return false;
+        }
+        key.paid_until = key.paid_until.max(now) + pace;
+        if walking {
+            self.feet.paid_until = self.feet.paid_until.max(now) + pace;
+        }
+        true
+    }
+
     /// A key went down at time `now` (seconds); `releases`: the terminal reports releases; `repeat`: the
     /// terminal said this is an auto-repeat; `step_seconds`: how long the action's step takes at full
     /// speed. Returns whether the caller takes one step now.
@@ -318,20 +381,18 @@ impl Held {
         step_seconds: f64,
     ) -> bool {
         let Some(slot) = action.slot() else { return false };
+        self.settle(now); // the glides so far, before anything changes them
         let key = &mut self.keys[slot];
-        key.settle(now); // the glide so far, before anything changes it
         let gap = now - key.last_press;
         key.last_press = now;
         if releases {
             if repeat {
                 return false; // already gliding until the release
             }
-            if !key.take_tap(now, step_seconds) {
-                key.glide = None; // a burst past the taps in hand: nothing moves
-                return false;
-            }
-            key.glide = Some((now + step_seconds, f64::INFINITY));
-            return true;
+            let stepped = self.take_tap(slot, now, step_seconds);
+            // (past the taps in hand, a burst moves nothing)
+            self.keys[slot].glide = stepped.then_some((now + step_seconds, f64::INFINITY));
+            return stepped;
         }
         let gliding = key.glide.filter(|&(_, until)| until >= now);
         let repeat_rate = (TOGETHER..HOLD_GAP).contains(&gap);
@@ -341,12 +402,13 @@ impl Held {
         if !(repeat || repeat_rate || bunched) {
             // A tap: one step, standing for its time at full speed (if a tap is in hand).
             key.glide = None;
-            if !key.take_tap(now, step_seconds) {
+            if !self.take_tap(slot, now, step_seconds) {
                 return false;
             }
-            key.rest_until = now + step_seconds;
+            self.keys[slot].rest_until = now + step_seconds;
             return true;
         }
+        let key = &mut self.keys[slot];
         // Auto-repeat: the key is held.
         key.repeated_at = now;
         if repeat_rate {
@@ -364,9 +426,8 @@ impl Held {
     /// A key went up at `now`.
     pub fn release(&mut self, action: Action, now: f64) {
         if let Some(slot) = action.slot() {
-            let key = &mut self.keys[slot];
-            key.settle(now);
-            key.glide = None;
+            self.settle(now);
+            self.keys[slot].glide = None;
         }
     }
 
@@ -374,8 +435,8 @@ impl Held {
     /// stays ([`TAP_BURST`]): a terminal's focus report, which a served client may send at will, does
     /// not give a new burst.
     pub fn clear(&mut self, now: f64) {
+        self.settle(now);
         for key in &mut self.keys {
-            key.settle(now);
             *key = KeyState { paid_until: key.paid_until, ..KeyState::default() };
         }
     }
@@ -383,8 +444,8 @@ impl Held {
     /// Stops all motion at `now` but remembers when each key was last pressed, so that a key still
     /// held comes on as auto-repeat ([`recently_pressed`](Self::recently_pressed)), not as a fresh tap.
     pub(crate) fn clear_motion(&mut self, now: f64) {
+        self.settle(now);
         for key in &mut self.keys {
-            key.settle(now);
             key.glide = None;
         }
     }
@@ -405,10 +466,12 @@ impl Held {
 
     /// Drops glides that have run out by `now`.
     pub fn expire(&mut self, now: f64) {
-        for key in &mut self.keys {
-            if key.glide.is_some_and(|(_, until)| until < now) {
-                key.settle(now);
-                key.glide = None;
+        if self.keys.iter().any(|key| key.glide.is_some_and(|(_, until)| until < now)) {
+            self.settle(now);
+            for key in &mut self.keys {
+                if key.glide.is_some_and(|(_, until)| until < now) {
+                    key.glide = None;
+                }
             }
         }
     }
@@ -618,6 +681,40 @@ mod tests {
         let total = 1.0 + repeat_steps as f64 + glided + burst as f64;
         assert!(total <= 2.0 / step + TAP_BURST + 1.0, "{total} steps in 2 s (a hold: {})", 2.0 / step);
         assert!(burst < TAP_BURST as usize, "the hold's glide counted: a burst of {burst}");
+    }
+
+    /// Red-team pass 7: each key's taps had a budget of their own, so `w` and `d` tapped in turn
+    /// each stepped at its full pace, and facing 45° off a corridor a player walked down it 1.4× as
+    /// fast as a hold (2× for the first seconds). The walking keys' taps now share a budget too, and
+    /// a glide of one counts against the taps of another; turning keeps a budget of its own.
+    #[test]
+    fn walking_keys_tapped_in_turn_step_no_more_than_one_key() {
+        let step = 0.2;
+        let walking = [Action::Forward, Action::StrafeRight, Action::Back, Action::StrafeLeft];
+        for gap in [0.06, 0.1, 0.2] {
+            let mut held = Held::default();
+            let mut stepped = 0;
+            let times = (0..).map(|k| 1.0 + gap * f64::from(k)).take_while(|&t| t < 5.0);
+            for (k, t) in times.enumerate() {
+                // (two keys in turn, then all four)
+                let action = if gap < 0.2 { walking[k % 2] } else { walking[k % 4] };
+                stepped += usize::from(held.press(action, t, false, false, step));
+            }
+            // 4 s at full pace is 20 steps, the burst 9 more, one more for the taps' phase
+            assert!(stepped <= 20 + TAP_BURST as usize + 1, "taps {gap} s apart: {stepped} steps in 4 s");
+        }
+        // A person alternating two keys at a walking pace: every tap a step.
+        let mut held = Held::default();
+        let taps = (0..40).map(|k| (walking[k % 2], 1.0 + 0.25 * k as f64));
+        assert_eq!(taps.filter(|&(action, t)| held.press(action, t, false, false, step)).count(), 40);
+        // Holding `w` (releases reported) while tapping `d`: the taps step no more than a burst.
+        let mut held = Held::default();
+        assert!(held.press(Action::Forward, 1.0, true, false, step));
+        let taps = (0..20).map(|k| 1.5 + 0.1 * f64::from(k));
+        let stepped = taps.filter(|&t| held.press(Action::StrafeRight, t, true, false, step)).count();
+        assert!(stepped <= TAP_BURST as usize, "{stepped} strafe steps over a held walk");
+        // Turning has its own: a walk's budget spent, turning taps still turn.
+        assert!(held.press(Action::TurnLeft, 3.6, false, false, 0.136));
     }
 
     /// A lost focus (a report any served client may send) lets go of the keys but gives no new burst.
