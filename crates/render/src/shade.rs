@@ -424,15 +424,23 @@ pub(crate) fn way_light_16(_color: Vec3) -> Vec3 {
 }
 
 /// A chalk mark's colour on a floor sample of `color` ([`Renderer::set_chalk`]): the floor lit about
-/// twice as bright, toward a pale grey, so a mark reads as chalk on the floor (a cross in the middle
-/// of a cell, where the cell lines, [`line_color`], about as light near, run along its sides) and
-/// fades with the floor into the distance.
+/// twice as bright and tinted pale blue ([`CHALK_TINT`]), so a mark reads as chalk on the floor (a
+/// cross in the middle of a cell, where the cell lines, [`line_color`], about as light near but
+/// grey, run along its sides) and fades with the floor into the distance. No channel below the
+/// floor's: a mark is never darker than the floor under it.
 ///
 /// [`Renderer::set_chalk`]: crate::Renderer::set_chalk
 #[must_use]
 pub(crate) fn chalk_color(color: Vec3) -> Vec3 {
-    (color * 2.2).min(Vec3::splat(0.6)).max(color)
+    ((color * 2.2).min(Vec3::splat(0.6)).max(color) * CHALK_TINT).min(Vec3::ONE).max(color)
 }
+
+/// Chalk's tint (linear RGB factors): blue, so that a mark is not taken for one of the floor's grey
+/// cell lines, which a cross's arms look like a few cells off, squashed by the angle (through the
+/// lens a new player counted them as lines, issue #39); strong enough that 256 and 16 colours show
+/// a blue entry, not a grey (a tint of 1.4 on blue showed grey in 256 colours). 0.9 of a grey's
+/// luminance.
+const CHALK_TINT: Vec3 = Vec3::new(0.6, 0.85, 2.2);
 
 /// Brick courses: each course [`BRICK_HEIGHT`] tall, bricks [`BRICK_LENGTH`] long, every other course
 /// offset by half a brick, joined by mortar [`MORTAR`] wide (maze units).
