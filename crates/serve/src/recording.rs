@@ -42,7 +42,7 @@
 //! The directory is listed (each of our casts' name and size) at the first recording and then at
 //! most once a [`RESCAN`], not at each join: between listings the count and sizes are kept here
 //! (a recording ended is added), so casts another server wrote or the host removed are seen at
-//! the next listing.
+//! the next listing (at once if DIR itself was removed and is made again).
 //!
 //! File names cannot be steered by a client: `mazewalk-UNIXTIME-PID-N-NAME.cast`, NAME being the SSH
 //! user name cleaned as everywhere ([`player_name`]: letters, digits, `-`, `_`, `.`, at most 16),
@@ -374,7 +374,7 @@ fn open(
 ) -> Result<(String, CastWriter<BufWriter<File>>), Refused> {
     let mut dir = active.lock().unwrap_or_else(PoisonError::into_inner);
     let reserved = (dir.active.len() as u64 + 1).saturating_mul(options.max_bytes);
-    if reserved > options.max_total || dir.active.len() >= MAX_RECORDING.min(options.max_files) {
+    if reserved > options.max_total || dir.active.len() >= MAX_RECORDING {
         return Err(Refused::NoRoom);
     }
     if dir.active.values().filter(|(g, _)| *g == group).count() >= options.max_per_address {
@@ -387,6 +387,7 @@ fn open(
             Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => return Err(e.into()),
             _ => {}
         }
+        dir.listed = None; // (its casts went with it: listed anew)
     }
     if dir.listed.is_none_or(|listed| listed.elapsed() >= RESCAN) {
         dir.finished = list(options, &dir.active)?;
@@ -736,6 +737,10 @@ mod tests {
         let again: Vec<bool> = (21..24).map(|n| quick(&options, &active, HOME, "eve", n).is_ok()).collect();
         assert_eq!(again, [true, true, false]);
         assert!(names(&dir.0).iter().any(|n| n.ends_with("-alice.cast")));
+        // DIR removed whole: made again and listed anew at once
+        std::fs::remove_dir_all(&dir.0).unwrap();
+        quick(&options, &active, HOME, "eve", 30).map_err(|_| "after DIR went").unwrap();
+        assert_eq!(names(&dir.0).len(), 1);
     }
 
     // A recording that grows claims room as it writes: the oldest finished casts go then, as many
