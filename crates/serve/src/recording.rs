@@ -35,9 +35,9 @@
 //!   and not keeping short sessions only raises the price (a stranger holds each session longer);
 //!   refusing newcomers while the count is full is the one rule under which nobody's cheap
 //!   sessions delete anyone's cast. The price is that recording stops until the host removes
-//!   casts, which it is told. A walk of a few seconds already writes more than the 107 KB a cast
-//!   that 1 GiB over 10,000 leaves (656 KB for 6 s at 120×40), so with players who play, the
-//!   bytes make room long before the count is full.
+//!   casts, which it is told. A walk of 6 s at 120×40 already writes 656 KB (README), six times
+//!   the 107 KB a cast that 1 GiB over 10,000 leaves, so with players who play, the bytes make
+//!   room long before the count is full.
 //!
 //! The directory is listed (each of our casts' name and size) at the first recording and then at
 //! most once a [`RESCAN`], not at each join: between listings the count and sizes are kept here
