@@ -29,9 +29,12 @@ impl Recorder {
     /// Creates (or truncates) `path` and writes `header`; events are timed from `clock`, the walk's
     /// time 0. A symbolic link is not followed: in a folder others write to (`/tmp`), a link put where
     /// the recording is to go would have had a file of the player's, wherever it names, truncated.
+    /// Nor is anything but a regular file written to: a FIFO put there would have made the walk
+    /// wait for a reader, then streamed the session to it.
     ///
     /// # Errors
-    /// `path` is a symbolic link, or the file could not be created or the header written.
+    /// `path` is a symbolic link or not a regular file (a FIFO, a socket, a device), or the file
+    /// could not be created or the header written.
     pub fn create(path: &Path, header: &Header, clock: Instant) -> io::Result<Recorder> {
         let file = create_unfollowed(path)?;
         let cast = CastWriter::new(BufWriter::new(file), header)?;
@@ -74,22 +77,50 @@ impl Recorder {
     }
 }
 
-/// `path` created or truncated for writing, unless it is a symbolic link (then an error saying so).
+/// `path` created, or truncated, for writing, unless it is not a regular file: a symbolic link is
+/// not followed, and a FIFO, a socket or a device is not written to (each an error saying so). In a
+/// folder others write to (`/tmp`), a FIFO put at the path would have made the walk wait, before its
+/// first frame, for someone to read it, and then streamed the session to them (red-team pass 7).
+/// So the file is opened with `O_NONBLOCK` (a FIFO nobody reads is `ENXIO` at once, not a wait),
+/// checked with `fstat` and only then truncated. `O_NONBLOCK` is left on: it changes nothing for a
+/// regular file. A character device is refused too, `/dev/null` and `/dev/full` included: a
+/// recording is a file to play back (the full-disk test fills a real file under `ulimit -f`).
 fn create_unfollowed(path: &Path) -> io::Result<File> {
     let mut options = OpenOptions::new();
-    options.write(true).create(true).truncate(true);
+    options.write(true).create(true);
     #[cfg(unix)]
     {
         use std::os::unix::fs::OpenOptionsExt as _;
-        options.custom_flags(libc::O_NOFOLLOW);
+        options.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
     }
-    options.open(path).map_err(|e| {
+    let file = options.open(path).map_err(|e| {
         #[cfg(unix)]
-        if e.raw_os_error() == Some(libc::ELOOP) {
-            return io::Error::new(e.kind(), "a symbolic link, not followed: record to the file it names");
+        match e.raw_os_error() {
+            Some(libc::ELOOP) => {
+                return io::Error::new(
+                    e.kind(),
+                    "a symbolic link, not followed: record to the file it names",
+                );
+            }
+            // (a FIFO nobody reads, or a socket: what O_NONBLOCK says instead of waiting)
+            Some(libc::ENXIO) => return not_a_file(),
+            _ => {}
         }
         e
-    })
+    })?;
+    if !file.metadata()?.is_file() {
+        return Err(not_a_file()); // (a FIFO someone reads, a device)
+    }
+    file.set_len(0)?; // (truncated only now that it is known to be a regular file)
+    Ok(file)
+}
+
+/// The error of a path that is not a regular file.
+fn not_a_file() -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidInput,
+        "not a regular file (a FIFO, a socket or a device): record to a file",
+    )
 }
 
 #[cfg(test)]
@@ -127,5 +158,28 @@ mod tests {
         let cast = std::fs::read_to_string(dir.join("old.cast")).unwrap();
         assert!(cast.starts_with("{\"version\": 2") || cast.starts_with("{\"version\":2"), "{cast}");
         assert!(!cast.contains("an old recording"), "{cast}");
+    }
+
+    /// Red-team pass 7: a FIFO at the path made the walk wait for a reader before its first frame,
+    /// then streamed the session to it. Now only a regular file is recorded to, and the open never
+    /// waits (bounded here: the old one waited for ever).
+    #[cfg(unix)]
+    #[test]
+    fn a_recording_is_made_only_in_a_regular_file() {
+        let dir = mazewalk_testkit::scratch::Scratch::new("cast-fifo");
+        let fifo = dir.join("walk.cast");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+        assert!(made.success(), "mkfifo");
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let _ = tx.send(Recorder::create(&fifo, &header(), Instant::now()).map(drop));
+        });
+        let opened =
+            rx.recv_timeout(std::time::Duration::from_secs(10)).expect("the open waits for a reader");
+        let error = opened.expect_err("a FIFO recorded to");
+        assert!(error.to_string().contains("not a regular file"), "{error}");
+        let error =
+            Recorder::create(Path::new("/dev/null"), &header(), Instant::now()).expect_err("a device");
+        assert!(error.to_string().contains("not a regular file"), "{error}");
     }
 }

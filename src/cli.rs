@@ -284,6 +284,11 @@ pub struct ServeArgs {
     /// unrecorded (1..=100000).
     #[arg(long, value_name = "N", default_value_t = 2, requires = "record_dir", value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub record_max_per_address: u32,
+    /// With --record-dir: the most casts in DIR (1..=10000000). When it holds that many, new
+    /// players are not recorded until the host removes casts: none is deleted for the count, so
+    /// a stranger's short sessions cannot push other players' casts out.
+    #[arg(long, value_name = "N", default_value_t = 10_000, requires = "record_dir", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+    pub record_max_files: u32,
     /// How log lines (on stderr) are written: text, or json (one object a line: time, level, event,
     /// address, player, message, and the line's other fields) for journald and log shippers.
     #[arg(long, value_name = "FORMAT", default_value = "text")]

@@ -678,9 +678,11 @@ fn serve_refuses_recording_caps_that_cannot_hold_a_cast() {
     let casts = dir.join("casts");
     let (key, casts) = (key.to_str().unwrap(), casts.to_str().unwrap());
     let serve = ["serve", "--open", "--listen", "127.0.0.1:0", "--host-key", key, "--no-records"];
-    let cases: [(&[&str], i32, &str); 7] = [
+    let cases: [(&[&str], i32, &str); 9] = [
         (&["--record-dir", casts, "--record-max-bytes", "512"], 2, "at least 1K"),
         (&["--record-dir", casts, "--record-max-per-address", "0"], 2, "--record-max-per-address"),
+        (&["--record-dir", casts, "--record-max-files", "0"], 2, "--record-max-files"),
+        (&["--record-max-files", "3"], 2, "--record-dir"),
         (&["--record-max-per-address", "3"], 2, "--record-dir"),
         (
             &["--record-dir", casts, "--record-max-bytes", "2M", "--record-max-total", "1M"],

@@ -94,6 +94,10 @@ enum Session {
     /// Not the walk but an interactive bash leads the session, as in a terminal window: the walk is
     /// typed at its prompt and runs as one of its jobs, stopped and continued by its job control.
     Shell,
+    /// As [`Session::Leader`], its files limited to this many bytes (`RLIMIT_FSIZE`, as `ulimit -f`)
+    /// with SIGXFSZ ignored: a write past the limit fails (`EFBIG`) after writing what fits, as one
+    /// to a full disk does (`ENOSPC`).
+    LeaderFileLimit(u64),
 }
 
 /// Gives up the controlling terminal `tty` (TIOCNOTTY, which rustix has no wrapper for); for a process
@@ -220,13 +224,23 @@ impl Tui {
             command.env("PS1", "$ ").env("PATH", std::env::var_os("PATH").unwrap_or_default());
         }
         match session {
-            // SAFETY: runs in the forked child before exec and only makes two system calls (setsid,
-            // ioctl), which are async-signal-safe; it allocates nothing and takes no locks.
-            Session::Leader | Session::Shell => unsafe {
-                command.pre_exec(|| {
+            // SAFETY: runs in the forked child before exec and only makes system calls (setsid,
+            // ioctl, and for a file limit setrlimit and signal's sigaction), which are
+            // async-signal-safe; it allocates nothing and takes no locks.
+            Session::Leader | Session::Shell | Session::LeaderFileLimit(_) => unsafe {
+                command.pre_exec(move || {
                     rustix::process::setsid()?;
                     // std has already made the pty the child's stdin (fd 0).
                     rustix::process::ioctl_tiocsctty(rustix::stdio::stdin())?;
+                    if let Session::LeaderFileLimit(bytes) = session {
+                        use rustix::process::{Resource, Rlimit};
+                        let limit = Rlimit { current: Some(bytes), maximum: Some(bytes) };
+                        rustix::process::setrlimit(Resource::Fsize, limit)?;
+                        // (ignored across exec: the write fails rather than the signal killing it)
+                        if libc::signal(libc::SIGXFSZ, libc::SIG_IGN) == libc::SIG_ERR {
+                            return Err(std::io::Error::last_os_error());
+                        }
+                    }
                     Ok(())
                 });
             },
@@ -1592,11 +1606,17 @@ fn a_recording_ended_by_a_signal_is_whole() {
     );
 }
 
-/// A recording that cannot be written (a full disk: /dev/full) stops; the walk goes on, and says so
-/// once, after the terminal is restored.
+/// A recording that cannot be written (a full disk) stops; the walk goes on, and says so once, after
+/// the terminal is restored. The disk is full at 4 KiB: the walk may write files of that much only
+/// ([`Session::LeaderFileLimit`]), so the cast's writes fail once its first frames are in. (Until
+/// red-team pass 7 this recorded to `/dev/full`; `--record` now takes regular files only.)
 #[test]
 fn a_recording_that_cannot_be_written_stops_and_the_walk_goes_on() {
-    let mut tui = Tui::spawn(&["--record", "/dev/full"], 80, 24, Answers::Plain);
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("e2e-full.cast");
+    let _ = std::fs::remove_file(&path);
+    let path = path.to_str().expect("UTF-8");
+    let session = Session::LeaderFileLimit(4096);
+    let mut tui = Tui::spawn_as(session, &["--record", path], 80, 24, Answers::Plain);
     tui.wait_for("the first frame", |s| s.contents().contains("heading"));
     let start = position(&tui.hud());
     tui.send(b"w");
@@ -1611,9 +1631,46 @@ fn a_recording_that_cannot_be_written_stops_and_the_walk_goes_on() {
     let text = String::from_utf8_lossy(&raw);
     let restore = restore_sequence(PLAIN);
     let (during, after) = text.rsplit_once(restore.as_str()).expect("a restore sequence");
-    let message = "mazewalk: the recording /dev/full stopped: No space left on device";
+    let message = format!("mazewalk: the recording {path} stopped: File too large");
     assert!(!during.contains("recording"), "said during the walk: {}", visible(during.as_bytes()));
-    assert_eq!(after.matches(message).count(), 1, "after the restore: {after:?}");
+    assert_eq!(after.matches(&message).count(), 1, "after the restore: {after:?}");
+    let cast = std::fs::read(path).expect("the cast");
+    assert!(cast.len() <= 4096 && cast.starts_with(b"{"), "{} bytes", cast.len());
+}
+
+/// Red-team pass 7: `--record FILE` opened a FIFO put at FILE and waited, before the first frame,
+/// for someone to read it, then streamed the session to them. Now anything but a regular file is
+/// refused at once, the path named, the terminal untouched; with a reader there, nothing reaches it.
+#[test]
+fn record_refuses_a_fifo_at_once() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("e2e-fifo");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a folder");
+    let fifo = dir.join("walk.cast");
+    let made = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo");
+    assert!(made.success(), "mkfifo");
+    let fifo = fifo.to_str().expect("UTF-8");
+    let refused = |what: &str| {
+        let mut tui = Tui::spawn(&["--record", fifo], 80, 24, Answers::Plain);
+        let (status, raw) = tui.finish(); // (within TIMEOUT: the old walk waited here for a reader)
+        let text = String::from_utf8_lossy(&raw);
+        assert_ne!(status.code(), Some(0), "{what}: {text}");
+        assert!(text.contains(&format!("cannot record to {fifo}: not a regular file")), "{what}: {text}");
+        assert!(!text.contains("\x1b[?1049h"), "{what}: the terminal was touched: {}", visible(&raw));
+    };
+    refused("no reader");
+    // someone reading it: still refused, and sent nothing
+    let mut reader = {
+        use std::os::unix::fs::OpenOptionsExt as _;
+        std::fs::OpenOptions::new().read(true).custom_flags(libc::O_NONBLOCK).open(fifo).expect("a reader")
+    };
+    refused("a reader");
+    let mut got = Vec::new();
+    match reader.read_to_end(&mut got) {
+        Ok(_) => {}
+        Err(err) => assert_eq!(err.kind(), std::io::ErrorKind::WouldBlock, "{err}"),
+    }
+    assert!(got.is_empty(), "{} bytes reached the reader", got.len());
 }
 
 /// A corridor east from the start (6, 6), the exit at its far end.

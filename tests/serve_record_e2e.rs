@@ -238,6 +238,52 @@ fn idle_players_from_one_address_delete_no_finished_cast() {
     }
 }
 
+/// Red-team pass 7: quick sessions from one address (log in, `q`: a cast of 2 KB each) filled the
+/// directory's count of casts, and from then on each newcomer deleted the oldest cast, anyone's:
+/// every other player's recordings were gone in 21 minutes. Now a full count deletes nothing: the
+/// newcomer plays unrecorded, said once in the log. Here the count is lowered to 4 (eve from
+/// 127.0.0.1, after alice from 127.0.0.2).
+#[test]
+fn quick_sessions_from_one_address_delete_no_other_players_cast() {
+    let scratch = Scratch::new("recordcount");
+    let maze = scratch.join("maze.grid");
+    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let dir = scratch.join("casts");
+    let dir_arg = dir.to_str().expect("UTF-8");
+    let args = [
+        "--open",
+        "--no-records",
+        "--record-dir",
+        dir_arg,
+        "--record-max-files",
+        "4",
+        maze.to_str().expect("UTF-8"),
+    ];
+    let server = Server::start(&scratch, &args);
+
+    let mut alice = Player::connect_from(Some("127.0.0.2"), server.port, None, "alice", 80, 24);
+    alice.wait_for("alice's game, recorded", |s, _| playing(s, &[]) && hud_row(s).contains("recorded"));
+    alice.send(b"ww");
+    alice.send(b"q");
+    assert!(alice.wait_exit().success());
+    let (alices, _) = wait_cast(&dir, |text| text.contains("Thanks for walking."));
+
+    let mut recorded = Vec::new();
+    for n in 0..6 {
+        let mut eve = Player::connect(server.port, None, &format!("eve{n}"), 80, 24);
+        eve.wait_for("eve's game", |s, _| playing(s, &[]));
+        recorded.push(eve.read(|s| hud_row(s).contains("recorded")));
+        eve.send(b"q");
+        assert!(eve.wait_exit().success());
+    }
+    assert_eq!(recorded, [true, true, true, false, false, false], "the count is 4, alice's cast one");
+    assert!(alices.exists(), "alice's cast deleted: {:?}", casts(&dir));
+    assert_eq!(casts(&dir).len(), 4, "{:?}", casts(&dir));
+    let log = server.log();
+    assert_eq!(log.matches("new players are not recorded").count(), 1, "said once:\n{log}");
+    assert!(!log.contains("deleted to make room"), "{log}");
+}
+
 /// The red team's LOW finding: a full disk left each cast in progress ending in a torn JSON line.
 /// Here the server may write files of 32 KiB at most (`ulimit -f 64`, SIGXFSZ ignored, so a write
 /// past it fails as a full disk's would, after writing what fits): the failure is said, and the

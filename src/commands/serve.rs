@@ -171,6 +171,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
                 max_bytes: args.record_max_bytes,
                 max_total: args.record_max_total,
                 max_per_address: args.record_max_per_address as usize,
+                max_files: args.record_max_files as usize,
             })
         }
     };

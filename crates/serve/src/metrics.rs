@@ -467,7 +467,7 @@ pub fn registry(metrics: &Metrics, live: Live) -> Registry {
     registry.register("recordings", "Players' sessions recorded (--record-dir)", metrics.recordings.clone());
     registry.register(
         "recording_refusals",
-        "Players' sessions not recorded: the recordings in progress left no room under --record-max-total, or their address had --record-max-per-address recordings in progress",
+        "Players' sessions not recorded: the recordings in progress left no room under --record-max-total, their address had --record-max-per-address recordings in progress, or the directory held --record-max-files casts",
         metrics.recording_refusals.clone(),
     );
     registry.register(

@@ -14,17 +14,35 @@
 //! Bounded, whatever the players do:
 //! - a file ends at `max_bytes` (`--record-max-bytes`): the first event that would pass it is not
 //!   written, nor any after it, so the file is whole lines of valid asciicast;
-//! - the directory holds at most `max_total` bytes (`--record-max-total`) and [`MAX_FILES`] files of
-//!   ours. A recording starts only if every recording in progress, each counted at its cap, fits
-//!   under `max_total` (so those in progress can always be given room), fewer than
-//!   [`MAX_RECORDING`] are in progress (a thread each), and fewer than `max_per_address`
-//!   (`--record-max-per-address`) from the player's address group; otherwise the newcomer is not
-//!   recorded, and that is counted. Finished casts are deleted, oldest first, only for bytes
-//!   actually written: each recording claims its bytes written, rounded up to [`STEP`], and the
-//!   oldest finished casts go when the finished ones and the claims no longer fit (checked as each
+//! - the directory holds at most `max_total` bytes (`--record-max-total`) and `max_files`
+//!   (`--record-max-files`, [`MAX_FILES`] unless told) files of ours. A recording starts only if
+//!   every recording in progress, each counted at its cap, fits under `max_total` (so those in
+//!   progress can always be given room), fewer than [`MAX_RECORDING`] are in progress (a thread
+//!   each), fewer than `max_per_address` (`--record-max-per-address`) from the player's address
+//!   group, and the casts finished and in progress number fewer than `max_files`; otherwise the
+//!   newcomer is not recorded, and that is counted (a full count is also said in the log, once
+//!   each time it fills). Finished casts are deleted, oldest first, only for bytes actually
+//!   written: each recording claims its bytes written, rounded up to [`STEP`], and the oldest
+//!   finished casts go when the finished ones and the claims no longer fit (checked as each
 //!   recording passes its claim). Each make-room that deletes says so in one log line.
 //!   (Before, a newcomer's whole cap was paid for at once by deleting finished casts: 16 idle
 //!   connections from one address deleted a whole archive.)
+//! - the count deletes nothing (red-team pass 7): a session that logs in and quits leaves a cast
+//!   of 2 KB, 8 of them a second from one address, so a count that made room by deleting the
+//!   oldest casts let one stranger wipe every other player's recordings in 21 minutes while
+//!   writing 17 MB. Deleting only the casts of the address group holding the most would fail to
+//!   the same stranger spread over many IPv6 /64s (then a regular player's group holds the most),
+//!   and not keeping short sessions only raises the price (a stranger holds each session longer);
+//!   refusing newcomers while the count is full is the one rule under which nobody's cheap
+//!   sessions delete anyone's cast. The price is that recording stops until the host removes
+//!   casts, which it is told. A walk of 6 s at 120×40 already writes 656 KB (README), six times
+//!   the 107 KB a cast that 1 GiB over 10,000 leaves, so with players who play, the bytes make
+//!   room long before the count is full.
+//!
+//! The directory is listed (each of our casts' name and size) at the first recording and then at
+//! most once a [`RESCAN`], not at each join: between listings the count and sizes are kept here
+//! (a recording ended is added), so casts another server wrote or the host removed are seen at
+//! the next listing (at once if DIR itself was removed and is made again).
 //!
 //! File names cannot be steered by a client: `mazewalk-UNIXTIME-PID-N-NAME.cast`, NAME being the SSH
 //! user name cleaned as everywhere ([`player_name`]: letters, digits, `-`, `_`, `.`, at most 16),
@@ -35,7 +53,7 @@
 //! Every failure (a file that cannot be made, a write, a full channel, a refusal, a cap reached) is
 //! counted in `/metrics` and said in the log at most once a recording; none ends a player's game.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 use std::fs::{File, OpenOptions};
 use std::io::{self, BufWriter};
 use std::net::IpAddr;
@@ -43,6 +61,7 @@ use std::os::unix::fs::OpenOptionsExt;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, Instant};
 
 use tokio::sync::mpsc;
 use tracing::{info, warn};
@@ -58,8 +77,11 @@ pub const QUEUED_EVENTS: usize = 256;
 pub const QUEUED_BYTES: usize = 4 << 20;
 /// Recordings in progress at once, at most (each has a thread).
 pub const MAX_RECORDING: usize = 256;
-/// Our files kept in the directory, at most (the oldest go first).
+/// Our files kept in the directory, at most, unless told (`--record-max-files`): when there are
+/// this many, newcomers are not recorded (none is deleted for the count).
 pub const MAX_FILES: usize = 10_000;
+/// The directory is listed again at most this often (and at the first recording).
+pub const RESCAN: Duration = Duration::from_secs(60);
 /// A recording claims room in the directory this many bytes at a time (at most its cap).
 pub const STEP: u64 = 64 << 10;
 /// Recordings in progress at once from one address group, unless told (`--record-max-per-address`).
@@ -81,13 +103,22 @@ pub struct RecordOptions {
     pub max_total: u64,
     /// Recordings in progress at once from one address group (an IPv4 address, an IPv6 /64).
     pub max_per_address: usize,
+    /// The most of our casts in `dir`, finished and in progress: a newcomer past it is not
+    /// recorded.
+    pub max_files: usize,
 }
 
 impl RecordOptions {
-    /// The defaults: 64 MiB a cast, 1 GiB in all.
+    /// The defaults: 64 MiB a cast, 1 GiB and [`MAX_FILES`] casts in all.
     #[must_use]
     pub fn new(dir: PathBuf) -> RecordOptions {
-        RecordOptions { dir, max_bytes: 64 << 20, max_total: 1 << 30, max_per_address: MAX_PER_ADDRESS }
+        RecordOptions {
+            dir,
+            max_bytes: 64 << 20,
+            max_total: 1 << 30,
+            max_per_address: MAX_PER_ADDRESS,
+            max_files: MAX_FILES,
+        }
     }
 }
 
@@ -109,24 +140,29 @@ struct Dir {
     /// The recordings in progress by file name (never deleted): their address group and the bytes
     /// they claim.
     active: HashMap<String, (IpAddr, u64)>,
-    /// Our finished casts and their sizes, oldest first: read at each start (another server may
-    /// share the directory), a recording added when it ends.
-    finished: Vec<(String, u64)>,
+    /// Our finished casts and their sizes, oldest first: listed at most once a [`RESCAN`]
+    /// (another server may share the directory, the host remove casts), a recording added when it
+    /// ends.
+    finished: VecDeque<(String, u64)>,
+    /// When `finished` was last listed from the directory (`None`: never).
+    listed: Option<Instant>,
+    /// Whether the count is full and that has been said (said again only after a recording
+    /// started).
+    full_said: bool,
 }
 
 impl Dir {
     /// Deletes the oldest finished casts until they and the claims of the recordings in progress
-    /// and `bytes_more` fit under `options.max_total`, and `files_more` more files leave at most
-    /// [`MAX_FILES`] of ours; says in one line what it deleted. An error: a file that could not be
-    /// deleted (the rest are kept).
-    fn make_room(&mut self, options: &RecordOptions, bytes_more: u64, files_more: usize) -> io::Result<()> {
+    /// and `bytes_more` fit under `options.max_total` (bytes only: the count deletes nothing); says
+    /// in one line what it deleted. An error: a file that could not be deleted (the rest are kept).
+    fn make_room(&mut self, options: &RecordOptions, bytes_more: u64) -> io::Result<()> {
         let claimed: u64 =
             self.active.values().map(|(_, claim)| claim).sum::<u64>().saturating_add(bytes_more);
         let mut total: u64 = self.finished.iter().map(|(_, len)| len).sum::<u64>().saturating_add(claimed);
         let (mut deleted, mut freed) = (0usize, 0u64);
         let mut result = Ok(());
-        while let Some((file_name, len)) = self.finished.first()
-            && (total > options.max_total || self.finished.len() + self.active.len() + files_more > MAX_FILES)
+        while let Some((file_name, len)) = self.finished.front()
+            && total > options.max_total
         {
             // (gone already, say another server pruned it: as good)
             match std::fs::remove_file(options.dir.join(file_name)) {
@@ -140,7 +176,7 @@ impl Dir {
             total -= len;
             deleted += 1;
             freed += len;
-            self.finished.remove(0);
+            self.finished.pop_front();
         }
         if deleted > 0 {
             info!(dir = %options.dir.display(), deleted, bytes = freed, "recording: the oldest casts deleted to make room (--record-max-total)");
@@ -238,6 +274,13 @@ impl Recordings {
                 warn!(dir = %self.options.dir.display(), "recording: no room for another cast (--record-max-total); this player is not recorded");
                 return None;
             }
+            Ok(Err(Refused::Full { said })) => {
+                self.metrics.recording_refused();
+                if !said {
+                    warn!(dir = %self.options.dir.display(), casts = self.options.max_files, "recording: the directory holds as many casts as it may (--record-max-files); new players are not recorded until casts are removed (none is deleted for the count)");
+                }
+                return None;
+            }
             Ok(Err(Refused::PerAddress)) => {
                 // (counted, not logged: one address's connections could fill the log)
                 self.metrics.recording_refused();
@@ -279,6 +322,9 @@ enum Refused {
     NoRoom,
     /// `max_per_address` recordings from the player's address group are in progress.
     PerAddress,
+    /// The casts finished and in progress number `max_files`; `said`: already said in the log
+    /// since it filled.
+    Full { said: bool },
     /// The directory or the file could not be made, or the header written.
     Io(io::Error),
 }
@@ -294,6 +340,28 @@ fn ours(name: &str) -> bool {
     name.starts_with(PREFIX) && name.ends_with(SUFFIX)
 }
 
+/// Lists our finished casts in `options.dir` (those not in progress) with their sizes, oldest
+/// first (the name starts with the time, zero-padded).
+fn list(
+    options: &RecordOptions,
+    active: &HashMap<String, (IpAddr, u64)>,
+) -> io::Result<VecDeque<(String, u64)>> {
+    let mut finished: Vec<(String, u64)> = Vec::new();
+    for entry in std::fs::read_dir(&options.dir)? {
+        let Ok(entry) = entry else { continue };
+        let Ok(file_name) = entry.file_name().into_string() else { continue };
+        if !ours(&file_name) || active.contains_key(&file_name) {
+            continue;
+        }
+        match entry.metadata() {
+            Ok(meta) if meta.is_file() => finished.push((file_name, meta.len())),
+            _ => {}
+        }
+    }
+    finished.sort_unstable();
+    Ok(finished.into())
+}
+
 /// Makes room for one more cast in the directory and makes it (see the module's doc), its header
 /// written; the file's name is added to `active`.
 fn open(
@@ -306,7 +374,7 @@ fn open(
 ) -> Result<(String, CastWriter<BufWriter<File>>), Refused> {
     let mut dir = active.lock().unwrap_or_else(PoisonError::into_inner);
     let reserved = (dir.active.len() as u64 + 1).saturating_mul(options.max_bytes);
-    if reserved > options.max_total || dir.active.len() >= MAX_RECORDING.min(MAX_FILES) {
+    if reserved > options.max_total || dir.active.len() >= MAX_RECORDING {
         return Err(Refused::NoRoom);
     }
     if dir.active.values().filter(|(g, _)| *g == group).count() >= options.max_per_address {
@@ -319,24 +387,18 @@ fn open(
             Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => return Err(e.into()),
             _ => {}
         }
+        dir.listed = None; // (its casts went with it: listed anew)
     }
-    // Our finished casts, oldest first (the name starts with the time, zero-padded).
-    let mut finished: Vec<(String, u64)> = Vec::new();
-    for entry in std::fs::read_dir(&options.dir)? {
-        let Ok(entry) = entry else { continue };
-        let Ok(file_name) = entry.file_name().into_string() else { continue };
-        if !ours(&file_name) || dir.active.contains_key(&file_name) {
-            continue;
-        }
-        match entry.metadata() {
-            Ok(meta) if meta.is_file() => finished.push((file_name, meta.len())),
-            _ => {}
-        }
+    if dir.listed.is_none_or(|listed| listed.elapsed() >= RESCAN) {
+        dir.finished = list(options, &dir.active)?;
+        dir.listed = Some(Instant::now());
     }
-    finished.sort_unstable();
-    dir.finished = finished;
+    if dir.finished.len() + dir.active.len() >= options.max_files {
+        let said = std::mem::replace(&mut dir.full_said, true);
+        return Err(Refused::Full { said });
+    }
     let claim = STEP.min(options.max_bytes);
-    dir.make_room(options, claim, 1)?; // (the newcomer's first step)
+    dir.make_room(options, claim)?; // (the newcomer's first step)
     let seconds =
         std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
     let pid = std::process::id();
@@ -357,6 +419,7 @@ fn open(
                         let _ = std::fs::remove_file(&path);
                     })?;
                 dir.active.insert(file_name.clone(), (group, claim));
+                dir.full_said = false;
                 return Ok((file_name, cast));
             }
             // (a name taken, by another server in the same directory: the next number)
@@ -440,7 +503,7 @@ impl Writer {
         let Some((_, claim)) = dir.active.get_mut(&entry.file_name) else { return true };
         *claim = written.saturating_add(STEP).min(entry.options.max_bytes.max(written));
         self.claimed = *claim;
-        match dir.make_room(&entry.options, 0, 0) {
+        match dir.make_room(&entry.options, 0) {
             Ok(()) => true,
             Err(err) => {
                 drop(dir);
@@ -459,7 +522,7 @@ impl Drop for Entry {
         let mut dir = self.active.lock().unwrap_or_else(PoisonError::into_inner);
         if dir.active.remove(&self.file_name).is_some() {
             let size = std::fs::metadata(self.options.dir.join(&self.file_name)).map_or(0, |m| m.len());
-            dir.finished.push((std::mem::take(&mut self.file_name), size));
+            dir.finished.push_back((std::mem::take(&mut self.file_name), size));
         }
     }
 }
@@ -595,6 +658,7 @@ mod tests {
             max_bytes: 1 << 20,
             max_total: 16 << 20,
             max_per_address: 64,
+            max_files: MAX_FILES,
         };
         let active = Mutex::default();
         let mut casts = Vec::new();
@@ -622,6 +686,63 @@ mod tests {
         assert_eq!(names(&dir.0).len(), 3);
     }
 
+    /// Records a session of `user` from `group` that ends at once (a header only, as a stranger's
+    /// login-and-quit leaves).
+    fn quick(
+        options: &RecordOptions,
+        active: &Arc<Mutex<super::Dir>>,
+        group: IpAddr,
+        user: &str,
+        number: u64,
+    ) -> Result<(), Refused> {
+        let (file_name, mut cast) = open(options, active, group, user, number, &header())?;
+        cast.finish().expect("the header written");
+        drop(Entry { active: Arc::clone(active), file_name, options: options.clone() });
+        Ok(())
+    }
+
+    // Red-team pass 7: one address's quick sessions (2 KB casts, 8 a second) filled the count of
+    // casts, and from then on each newcomer deleted the oldest cast, anyone's. Now a full count
+    // refuses newcomers (said once each time it fills) and deletes nothing; casts the host removes
+    // are seen at the next listing, and recording goes on.
+    #[test]
+    fn a_full_count_refuses_newcomers_and_deletes_no_cast() {
+        let dir = scratch("count");
+        let options = RecordOptions { max_files: 6, ..RecordOptions::new(dir.0.clone()) };
+        let active = Arc::new(Mutex::default());
+        let alice = IpAddr::V4(std::net::Ipv4Addr::new(192, 0, 2, 7));
+        quick(&options, &active, alice, "alice", 0).map_err(|_| "alice's").unwrap();
+        let mut said = Vec::new();
+        for n in 1..=20 {
+            match quick(&options, &active, HOME, "eve", n) {
+                Ok(()) => said.push("recorded"),
+                Err(Refused::Full { said: false }) => said.push("full, said"),
+                Err(Refused::Full { said: true }) => said.push("full"),
+                Err(other) => panic!("{other:?}"),
+            }
+        }
+        assert_eq!(
+            &said[..7],
+            ["recorded"; 5].iter().chain(&["full, said", "full"]).copied().collect::<Vec<_>>()
+        );
+        assert!(said[7..].iter().all(|s| *s == "full"), "{said:?}");
+        let left = names(&dir.0);
+        assert_eq!(left.len(), 6, "{left:?}");
+        assert!(left.iter().any(|n| n.ends_with("-alice.cast")), "alice's cast deleted: {left:?}");
+        // The host removes two of eve's casts: seen at the next listing, then two more recorded.
+        for name in left.iter().filter(|n| n.ends_with("-eve.cast")).take(2) {
+            std::fs::remove_file(dir.0.join(name)).unwrap();
+        }
+        active.lock().unwrap().listed = None; // (as a [`RESCAN`] later)
+        let again: Vec<bool> = (21..24).map(|n| quick(&options, &active, HOME, "eve", n).is_ok()).collect();
+        assert_eq!(again, [true, true, false]);
+        assert!(names(&dir.0).iter().any(|n| n.ends_with("-alice.cast")));
+        // DIR removed whole: made again and listed anew at once
+        std::fs::remove_dir_all(&dir.0).unwrap();
+        quick(&options, &active, HOME, "eve", 30).map_err(|_| "after DIR went").unwrap();
+        assert_eq!(names(&dir.0).len(), 1);
+    }
+
     // A recording that grows claims room as it writes: the oldest finished casts go then, as many
     // as its bytes written need, and no more; when it ends it is a finished cast like the others.
     #[test]
@@ -634,6 +755,7 @@ mod tests {
             max_bytes: 300 << 10,
             max_total: 500 << 10,
             max_per_address: 2,
+            max_files: MAX_FILES,
         };
         let active = Arc::new(Mutex::default());
         let (file_name, cast) = open(&options, &active, HOME, "a", 0, &header()).map_err(|_| "open").unwrap();
