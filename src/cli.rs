@@ -397,6 +397,11 @@ pub struct RenderArgs {
     /// Horizontal field of view across the whole frame, degrees (10..=170; default: the file's).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_fov)]
     pub fov: Option<f32>,
+    /// The frame the walk's look-ahead lens (`z`) shows: a 30° field (unless --fov gives another),
+    /// the floor's cell lines straight ahead numbered on the left edge and the wall that ends the
+    /// way marked with the cells to it (`7|`).
+    #[arg(long)]
+    pub look_ahead: bool,
     /// Frame size in terminal cells: at most 2000 per side and 1,000,000 cells in all.
     #[arg(long, value_name = "COLSxROWS", default_value = "80x24", value_parser = parse_frame_size)]
     pub size: (usize, usize),

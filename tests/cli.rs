@@ -841,6 +841,27 @@ fn the_walks_look_ahead_view_is_render_fov_40s_frame() {
             "row {y}: the walk's look-ahead view differs from render --fov 30's frame"
         );
     }
+    // `render --look-ahead`: the lens as the walk shows it, its marks too, on every row
+    let lens = mazewalk(&[
+        "render",
+        "--gen",
+        "20x15",
+        "--seed",
+        "5",
+        "--at",
+        "34,6",
+        "--heading",
+        "0",
+        "--size",
+        "120x39",
+        "--look-ahead",
+        "--color",
+        "256",
+        "--charset",
+        "half",
+    ]);
+    assert_eq!(lens.status.code(), Some(0), "{}", stderr(&lens));
+    assert_eq!(lines(&lens.stdout), walked, "render --look-ahead is the walk's lens, marks and all");
     app.key(Key::Char('z'), KeyPhase::Press, 2.0);
     let (wide, marked) = view(&app);
     assert!(wide != out.stdout && marked.is_empty(), "without the lens the walk's view is the wide one");

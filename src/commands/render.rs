@@ -14,7 +14,8 @@ use mazewalk_maze::movement::{Position, is_clear};
 use mazewalk_render::{Camera, Charset, RenderStats, Renderer, Target};
 use mazewalk_term::encoder;
 use mazewalk_term::frame::{ColorDepth, Frame, Region};
-use mazewalk_walk::state::{stand, viewer_camera};
+use mazewalk_walk::screen::draw_range_marks;
+use mazewalk_walk::state::{LOOK_AHEAD_FOV_DEG, stand, viewer_camera};
 
 /// Renders the frame the flags describe and writes it (text or PNG), its statistics and its depths.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
@@ -49,6 +50,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         times_us.push(started.elapsed().as_secs_f64() * 1e6);
     }
     let stats = stats.expect("--repeat is at least 1");
+    if args.look_ahead {
+        draw_range_marks(&mut frame, (&maze, &camera, stands.cell), &options, region);
+    }
     if let Some(path) = &args.png {
         write_png(path, &frame, options.charset)?;
     } else {
@@ -154,9 +158,10 @@ fn camera(args: &RenderArgs, maze: &Maze) -> anyhow::Result<(Camera, Position)> 
         pitch_deg: args.pitch,
         projection: args.projection,
         yaw_deg: args.heading.unwrap_or(from_file.yaw_deg),
-        hfov_deg: args.fov.unwrap_or(from_file.hfov_deg),
-        // `--fov` is the horizontal field as given: no widening to keep a generated maze's vertical one
-        min_vfov_deg: if args.fov.is_some() { 0.0 } else { from_file.min_vfov_deg },
+        hfov_deg: args.fov.unwrap_or(if args.look_ahead { LOOK_AHEAD_FOV_DEG } else { from_file.hfov_deg }),
+        // `--fov` is the horizontal field as given, as the lens's is: no widening to keep a generated
+        // maze's vertical one
+        min_vfov_deg: if args.fov.is_some() || args.look_ahead { 0.0 } else { from_file.min_vfov_deg },
         ..from_file
     };
     camera.validate().map_err(|e| Usage(e.to_string()))?;

@@ -3,9 +3,11 @@
 //!
 //! Exact for the block charsets: every cell is split into its samples (`sx × sy` blocks of pixels) and
 //! each block takes the colour the glyph gives it, ink or background, through xterm's default palette
-//! for indexed colours. The terminal's default colours are taken as light grey on black. Glyphs that
-//! are not block glyphs (the HUD's letters, a figure's initial) show as their cell's background with a
-//! square of ink in the middle, a stand-in for the character.
+//! for indexed colours. The terminal's default colours are taken as light grey on black. Digits and
+//! the look-ahead lens's `|` and `+` are drawn in a small pixel font ([`PIXEL_FONT`]), so that a
+//! picture of the lens reads as the terminal does; other glyphs that are not block glyphs (the HUD's
+//! letters, a figure's initial) show as their cell's background with a square of ink in the middle,
+//! a stand-in for the character.
 
 use super::options::Charset;
 use super::palette::xterm_rgb;
@@ -29,6 +31,40 @@ pub(crate) fn glyph_mask(charset: Charset, ch: char) -> Option<u8> {
         Charset::Half => HALF.iter().position(|&g| g == ch).map(|m| m as u8),
         Charset::Quad => QUAD.iter().position(|&g| g == ch).map(|m| m as u8),
         Charset::Sextant => (0..64u8).find(|&m| sextant_glyph(m) == ch),
+    }
+}
+
+/// Digits, `|` and `+` (the look-ahead lens's range marks, `7|`, `9+`) in 3 × 5 pixels, each row's
+/// three bits from the left; drawn 3× ([`FONT_SCALE`]) in the middle of their cell.
+const PIXEL_FONT: [(char, [u8; 5]); 12] = [
+    ('0', [0b111, 0b101, 0b101, 0b101, 0b111]),
+    ('1', [0b010, 0b110, 0b010, 0b010, 0b111]),
+    ('2', [0b111, 0b001, 0b111, 0b100, 0b111]),
+    ('3', [0b111, 0b001, 0b011, 0b001, 0b111]),
+    ('4', [0b101, 0b101, 0b111, 0b001, 0b001]),
+    ('5', [0b111, 0b100, 0b111, 0b001, 0b111]),
+    ('6', [0b111, 0b100, 0b111, 0b101, 0b111]),
+    ('7', [0b111, 0b001, 0b010, 0b010, 0b010]),
+    ('8', [0b111, 0b101, 0b111, 0b101, 0b111]),
+    ('9', [0b111, 0b101, 0b111, 0b001, 0b111]),
+    ('|', [0b010, 0b010, 0b010, 0b010, 0b010]),
+    ('+', [0b000, 0b010, 0b111, 0b010, 0b000]),
+];
+
+/// How many pixels a [`PIXEL_FONT`] pixel takes each way.
+const FONT_SCALE: usize = 3;
+
+/// Whether pixel (`px`, `py`) of a cell showing `ch` is ink: `ch`'s [`PIXEL_FONT`] glyph where it
+/// has one, else a square in the cell's middle third (none for a space).
+fn text_ink(ch: char, px: usize, py: usize) -> bool {
+    let (cw, chh) = CELL_PIXELS;
+    match PIXEL_FONT.iter().find(|(c, _)| *c == ch) {
+        Some((_, rows)) => {
+            let (left, top) = ((cw - 3 * FONT_SCALE) / 2, (chh - 5 * FONT_SCALE) / 2);
+            let (x, y) = (px.wrapping_sub(left) / FONT_SCALE, py.wrapping_sub(top) / FONT_SCALE);
+            x < 3 && y < 5 && rows[y] >> (2 - x) & 1 == 1
+        }
+        None => ch != ' ' && (cw / 3..2 * cw / 3).contains(&px) && (chh / 3..2 * chh / 3).contains(&py),
     }
 }
 
@@ -81,12 +117,8 @@ pub fn for_each_band<E>(
                 for px in 0..cw {
                     let inked = match mask {
                         Some(mask) => mask >> ((px * sx / cw) + sx * (py * sy / ch)) & 1 == 1,
-                        // A character: a square of ink in the cell's middle third.
-                        None => {
-                            cell.ch != ' '
-                                && (cw / 3..2 * cw / 3).contains(&px)
-                                && (ch / 3..2 * ch / 3).contains(&py)
-                        }
+                        // A character: a digit or a mark of the lens as itself, else a stand-in.
+                        None => text_ink(cell.ch, px, py),
                     };
                     let at = (py * width + col * cw + px) * 3;
                     pixels[at..at + 3].copy_from_slice(&if inked { fg } else { bg });
@@ -139,6 +171,31 @@ mod tests {
         }
         let stop = for_each_band(&frame, Charset::Half, |_| Err("full"));
         assert_eq!(stop, Err("full"), "the first error stops it");
+    }
+
+    /// The lens's marks read in a picture: each digit, `|` and `+` is its own shape, inked within
+    /// its cell's middle; other characters keep the stand-in square, a space shows nothing.
+    #[test]
+    fn digits_and_the_lens_marks_are_drawn_each_as_itself() {
+        let shape = |ch: char| {
+            let mut frame = Frame::new(1, 1);
+            frame.set(0, 0, Cell { ch, fg: Color::Rgb(255, 255, 255), bg: Color::Rgb(0, 0, 0) });
+            let (_, _, pixels) = frame_pixels(&frame, Charset::Half);
+            pixels.chunks(3).map(|p| p[0] == 255).collect::<Vec<bool>>()
+        };
+        let marks: Vec<char> = "0123456789|+".chars().collect();
+        let shapes: Vec<Vec<bool>> = marks.iter().map(|&c| shape(c)).collect();
+        for (i, a) in shapes.iter().enumerate() {
+            assert!(a.iter().any(|&ink| ink), "{:?} shows nothing", marks[i]);
+            for (j, b) in shapes.iter().enumerate().skip(i + 1) {
+                assert_ne!(a, b, "{:?} and {:?} look alike", marks[i], marks[j]);
+            }
+            assert_ne!(a, &shape('A'), "{:?} looks like the stand-in", marks[i]);
+        }
+        // '8' has every pixel '0' has and its bar besides
+        let (zero, eight) = (&shapes[0], &shapes[8]);
+        assert!(zero.iter().zip(eight).all(|(z, e)| !z || *e) && eight != zero);
+        assert!(shape(' ').iter().all(|&ink| !ink));
     }
 
     #[test]

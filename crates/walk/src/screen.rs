@@ -317,7 +317,11 @@ fn draw_into(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud, keep:
     let roster_open = screen.show_roster && !screen.roster.is_empty() && !app.confirm_quit;
     let caption = screen.ghost.is_some() && screen.renderer.heads().iter().any(|h| h.0 == ghost_sprite);
     let boxed = exit_box.is_some() || app.confirm_quit || app.help || screen.notice.is_some() || roster_open;
-    let marks = if app.look_ahead() { range_marks(app, &options, view) } else { Vec::new() };
+    let marks = if app.look_ahead() {
+        range_marks(app.maze(), &app.camera, app.cell, &options, view)
+    } else {
+        Vec::new()
+    };
     let marked = !marks.is_empty();
     if let Some(last) =
         screen.last_view.as_mut().filter(|last| own && !last.whole && (caption || boxed || marked))
@@ -333,18 +337,8 @@ fn draw_into(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud, keep:
         draw_caption(frame, view, col, row, &style.text(caption));
         over_view = true;
     }
-    let (fg, bg) = if style.depth == ColorDepth::None {
-        (Color::Default, Color::Default)
-    } else {
-        (overlay::RANGE_FG, Color::Indexed(0))
-    };
-    for (text, row) in marks {
-        // on the view's left edge, the floor's cell line's row: a rangefinder's scale
-        for (x, ch) in (view.col..view.col + view.cols).zip(text.chars()) {
-            frame.set(x, row, Cell { ch, fg, bg });
-        }
-        over_view = true;
-    }
+    over_view |= marked;
+    put_range_marks(frame, &marks, view, style.depth);
     frame.region_rows_mut(Region { row: rows - 1, rows: 1, ..view }).for_each(|hud| hud.fill(Cell::BLANK));
     // Cells visible in this frame: the portal pass's (with brute force it did not run: none new).
     let portal = screen.renderer.portal();
@@ -475,6 +469,37 @@ fn draw_caption(frame: &mut Frame, view: Region, col: usize, row: usize, caption
     }
 }
 
+/// The look-ahead lens's range marks ([`range_marks`]) of the view `camera` has from `cell` of
+/// `maze`, drawn over `view` of `frame` as the walk draws them with the lens on (`z`): for `mazewalk
+/// render --look-ahead`. Returns whether any was drawn.
+pub fn draw_range_marks(
+    frame: &mut Frame,
+    (maze, camera, cell): (&mazewalk_maze::Maze, &Camera, u32),
+    options: &RenderOptions,
+    view: Region,
+) -> bool {
+    let marks = range_marks(maze, camera, cell, options, view);
+    put_range_marks(frame, &marks, view, options.color_depth);
+    // (their colour within the frame's depth, as the walk limits what it draws over the view)
+    overlay::limit_colors_in(frame, view, options.color_depth);
+    !marks.is_empty()
+}
+
+/// `marks` (text, row) on `view`'s left edge, each on its floor cell line's row: a rangefinder's
+/// scale, light on black (the terminal's own colours without colour).
+fn put_range_marks(frame: &mut Frame, marks: &[(String, usize)], view: Region, depth: ColorDepth) {
+    let (fg, bg) = if depth == ColorDepth::None {
+        (Color::Default, Color::Default)
+    } else {
+        (overlay::RANGE_FG, Color::Indexed(0))
+    };
+    for (text, row) in marks {
+        for (x, ch) in (view.col..view.col + view.cols).zip(text.chars()) {
+            frame.set(x, *row, Cell { ch, fg, bg });
+        }
+    }
+}
+
 /// Cells a line's range mark counts at most: one digit.
 const RANGE_MARKS: usize = 9;
 
@@ -490,9 +515,14 @@ const RANGE_CELLS: usize = 99;
 /// the corridor's length beyond the viewer's cell (it takes the row of a line's digit it falls on;
 /// a wall so near its foot is below the view, nose to it, marks the bottom row: `0|` in the viewer's
 /// own cell). Without that end in view, a last digit with more lines beyond it reads `k+`.
-fn range_marks(app: &App, options: &RenderOptions, view: Region) -> Vec<(String, usize)> {
+fn range_marks(
+    maze: &mazewalk_maze::Maze,
+    camera: &Camera,
+    cell: u32,
+    options: &RenderOptions,
+    view: Region,
+) -> Vec<(String, usize)> {
     use mazewalk_maze::geometry::{FLOOR_Z, heading_dir};
-    let camera = &app.camera;
     let (per_col, per_row) = options.charset.samples_per_cell();
     let aspect = options.charset.sample_aspect(options.cell_aspect);
     let Ok(eye) = camera.eye(view.cols * per_col, view.rows * per_row, aspect) else { return Vec::new() };
@@ -504,7 +534,7 @@ fn range_marks(app: &App, options: &RenderOptions, view: Region) -> Vec<(String,
             .then(|| view.row + y as usize / per_row)
     };
     let dir = heading_dir(camera.yaw_deg.to_radians());
-    let (crossings, end) = cells_ahead(app.maze(), app.cell, camera.position, dir);
+    let (crossings, end) = cells_ahead(maze, cell, camera.position, dir);
     let mut marks: Vec<(String, usize)> = Vec::new();
     let mut more = false;
     for (k, &at) in crossings.iter().enumerate().map(|(k, at)| (k + 1, at)) {
