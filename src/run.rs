@@ -83,10 +83,15 @@ pub fn run(
     };
     let mut depth = session.color_depth();
     let mut terminal = TerminalGuard::enter(guard)?;
+    if terminal.input_ended() {
+        let _ = terminal.restore(); // it hung up while its keyboard query was answered
+        return Ok(Ended::HangUp);
+    }
     session.app_mut().releases = terminal.enabled().reports_key_releases();
     if ask_truecolor {
         // after the guard's own keyboard query is answered (it reads that answer itself), before the
-        // first frame, which paints over whatever a terminal that does not understand it shows
+        // first frame, which paints over whatever a terminal that does not understand it shows (not
+        // written if a signal ended the walk meanwhile: the loop below ends at once)
         let mut question = Vec::new();
         session.ask_truecolor(&mut question);
         terminal.write_frame(&question)?;
