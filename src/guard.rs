@@ -243,8 +243,9 @@ impl TerminalGuard {
     /// it speaks the kitty keyboard protocol ([`KEYBOARD_QUERY`]), and its answer awaited for at most
     /// [`ACK_TIMEOUT`](mazewalk_walk::flow::ACK_TIMEOUT) ([`await_answer`]), without the lock: a signal
     /// that ends the walk meanwhile restores raw mode and ends the wait at once; then game mode is not
-    /// entered (the walk's loop sees [`take_exit`](Self::take_exit) and returns). Nor is it when the
-    /// terminal's input ends meanwhile (it hung up): [`input_ended`](Self::input_ended).
+    /// entered, and [`take_exit`](Self::take_exit) tells the signal at once. Nor is it when the
+    /// terminal's input ends meanwhile (it hung up): [`input_ended`](Self::input_ended). A stop
+    /// meanwhile gives the terminal back, and raw mode comes back with the continue.
     ///
     /// # Errors
     /// Another guard is active (`AlreadyExists`), the signal handler could not be installed, or the
@@ -267,8 +268,10 @@ impl TerminalGuard {
             drop(active);
             let input_ended = await_answer(&mut answer, options.handle_signals);
             active = self::active();
-            if input_ended || ENDING.load(Ordering::SeqCst) {
+            if input_ended || ENDING.load(Ordering::SeqCst) || EXIT.load(Ordering::SeqCst) != 0 {
                 // No game mode; raw mode goes with the signal thread's restore, or the guard's drop.
+                drop(active);
+                signal_answered();
                 return Ok(TerminalGuard {
                     enabled: Enabled::default(),
                     typed_ahead: Vec::new(),
@@ -279,7 +282,7 @@ impl TerminalGuard {
                 return Err(already_in_game_mode()); // another guard, after a stop turned raw mode off
             }
             if !RAW_ONLY.swap(false, Ordering::SeqCst) {
-                terminal::enable_raw_mode()?; // a stop meanwhile (SIGTSTP) turned it off
+                terminal::enable_raw_mode()?; // a stop meanwhile could not take it back
             }
         }
         let (keyboard_enhancement, typed_ahead) = answer.finish();
@@ -420,6 +423,19 @@ fn drain_wake_pipe() {
         use std::io::Read;
         let mut buf = [0u8; 64];
         while matches!((&*reader).read(&mut buf), Ok(n) if n > 0) {}
+    }
+}
+
+/// Once a signal that ends the walk has arrived ([`ENDING`]), waits for the signal thread to answer
+/// it ([`EXIT`] set, the terminal restored), as it does within moments (at most a quarter of a
+/// second is waited): then [`TerminalGuard::take_exit`] tells the signal.
+fn signal_answered() {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_millis(250);
+    while ENDING.load(Ordering::SeqCst)
+        && EXIT.load(Ordering::SeqCst) == 0
+        && std::time::Instant::now() < deadline
+    {
+        std::thread::sleep(std::time::Duration::from_millis(1));
     }
 }
 

@@ -83,15 +83,19 @@ pub fn run(
     };
     let mut depth = session.color_depth();
     let mut terminal = TerminalGuard::enter(guard)?;
+    // Cut short while the guard's keyboard query was answered: by a signal (the terminal restored
+    // already), or a hang-up (nothing to restore but raw mode, and nothing to write to).
+    if let Some(signal) = terminal.take_exit()? {
+        return Ok(Ended::Signal(signal));
+    }
     if terminal.input_ended() {
-        let _ = terminal.restore(); // it hung up while its keyboard query was answered
+        let _ = terminal.restore();
         return Ok(Ended::HangUp);
     }
     session.app_mut().releases = terminal.enabled().reports_key_releases();
     if ask_truecolor {
         // after the guard's own keyboard query is answered (it reads that answer itself), before the
-        // first frame, which paints over whatever a terminal that does not understand it shows (not
-        // written if a signal ended the walk meanwhile: the loop below ends at once)
+        // first frame, which paints over whatever a terminal that does not understand it shows
         let mut question = Vec::new();
         session.ask_truecolor(&mut question);
         terminal.write_frame(&question)?;
