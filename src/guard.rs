@@ -30,6 +30,7 @@ use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::{Mutex, MutexGuard, Once, PoisonError, TryLockError};
 
 use crossterm::terminal;
+use mazewalk_term::input::{Input, InputDecoder, MAX_SEQUENCE, Reply};
 pub use mazewalk_term::modes::Enabled;
 use mazewalk_term::modes::{enter_sequence, reenter_sequence, restore_sequence_for};
 
@@ -68,6 +69,11 @@ impl Default for GuardOptions {
 /// What is enabled on the terminal right now (`None`: the terminal is in its normal state).
 /// Held while writing a frame and while restoring, so the two never interleave.
 static ACTIVE: Mutex<Option<Enabled>> = Mutex::new(None);
+
+/// Raw mode is on and nothing else, while [`ACTIVE`] is `None`: the keyboard query is out and its
+/// answer awaited ([`TerminalGuard::enter`]), without the lock, so that a signal meanwhile restores
+/// (raw mode off: nothing else was entered) and ends the walk at once. Set and cleared under the lock.
+static RAW_ONLY: AtomicBool = AtomicBool::new(false);
 
 /// Whether the terminal has an alternate screen ([`GuardOptions::alternate_screen`]): what every
 /// restore, from any thread, writes ([`restore_sequence_for`]). Set when game mode is entered.
@@ -139,8 +145,10 @@ fn resumed_locked() {
 type Tee = Box<dyn FnMut(&[u8]) + Send>;
 static TEE: Mutex<Option<Tee>> = Mutex::new(None);
 
-/// What crossterm's `terminal::supports_keyboard_enhancement` writes to the terminal (to /dev/tty,
-/// else stdout): the kitty keyboard flags query, then the device attributes query.
+/// What [`TerminalGuard::enter`] asks the terminal before game mode: the kitty keyboard flags query
+/// ([`KEYBOARD_FLAGS_QUERY`](mazewalk_term::modes::KEYBOARD_FLAGS_QUERY)), then device attributes
+/// ([`DEVICE_ATTRIBUTES_QUERY`](mazewalk_term::modes::DEVICE_ATTRIBUTES_QUERY)), which every terminal
+/// answers, and only after the first if it answers that ([`QueryAnswer`]).
 const KEYBOARD_QUERY: &[u8] = b"\x1b[?u\x1b[c";
 
 /// Hands `bytes`, just written to the terminal, to the [`tee_writes`] copy if there is one.
@@ -190,7 +198,10 @@ pub fn restore_terminal() -> io::Result<()> {
 }
 
 fn restore_locked(active: &mut Option<Enabled>) -> io::Result<()> {
-    let Some(enabled) = active.take() else { return Ok(()) };
+    let Some(enabled) = active.take() else {
+        // Raw mode alone, for the keyboard query's answer: the query needs no undoing.
+        return if RAW_ONLY.swap(false, Ordering::SeqCst) { terminal::disable_raw_mode() } else { Ok(()) };
+    };
     let mut stdout = io::stdout().lock();
     let restore = restore_bytes(enabled);
     let written = stdout.write_all(restore.as_bytes());
@@ -218,13 +229,23 @@ fn restore_locked(active: &mut Option<Enabled>) -> io::Result<()> {
 #[derive(Debug)]
 pub struct TerminalGuard {
     enabled: Enabled,
-    /// Keys typed while the keyboard query was awaited, as a terminal sends them ([`typed_ahead`]).
+    /// Keys typed while the keyboard query was awaited, as the terminal sent them ([`QueryAnswer`]).
     typed_ahead: Vec<u8>,
+    /// The terminal's input ended while the keyboard query was awaited ([`input_ended`](Self::input_ended)).
+    input_ended: bool,
 }
 
 impl TerminalGuard {
     /// Enters game mode with `options`; returns the guard, whose [`enabled`](Self::enabled) tells what
     /// the terminal accepted. Installs the panic hook (and the signal thread) on first use.
+    ///
+    /// With [`GuardOptions::keyboard_enhancement`], the terminal is first asked in raw mode whether
+    /// it speaks the kitty keyboard protocol ([`KEYBOARD_QUERY`]), and its answer awaited for at most
+    /// [`ACK_TIMEOUT`](mazewalk_walk::flow::ACK_TIMEOUT) ([`await_answer`]), without the lock: a signal
+    /// that ends the walk meanwhile restores raw mode and ends the wait at once; then game mode is not
+    /// entered, and [`take_exit`](Self::take_exit) tells the signal at once. Nor is it when the
+    /// terminal's input ends meanwhile (it hung up): [`input_ended`](Self::input_ended). A stop
+    /// meanwhile gives the terminal back, and raw mode comes back with the continue.
     ///
     /// # Errors
     /// Another guard is active (`AlreadyExists`), the signal handler could not be installed, or the
@@ -235,31 +256,59 @@ impl TerminalGuard {
             install_signal_handler()?;
         }
         let mut active = active();
-        if active.is_some() {
-            return Err(io::Error::new(io::ErrorKind::AlreadyExists, "the terminal is already in game mode"));
+        if active.is_some() || RAW_ONLY.load(Ordering::SeqCst) {
+            return Err(already_in_game_mode());
         }
         terminal::enable_raw_mode()?;
-        // The query needs raw mode (it reads the terminal's answer); a terminal that doesn't answer the
-        // kitty query still answers the device-attributes query that follows it, so this won't hang.
-        if options.keyboard_enhancement {
-            tee(KEYBOARD_QUERY); // written before the answer is awaited
+        let mut answer = QueryAnswer::default();
+        if options.keyboard_enhancement && cfg!(unix) {
+            // Raw mode: the answer must not wait for a line's end, nor be echoed.
+            RAW_ONLY.store(true, Ordering::SeqCst);
+            write_locked(&mut active, KEYBOARD_QUERY)?;
+            drop(active);
+            let input_ended = await_answer(&mut answer, options.handle_signals);
+            active = self::active();
+            if input_ended || ENDING.load(Ordering::SeqCst) || EXIT.load(Ordering::SeqCst) != 0 {
+                // No game mode; raw mode goes with the signal thread's restore, or the guard's drop.
+                drop(active);
+                signal_answered();
+                return Ok(TerminalGuard {
+                    enabled: Enabled::default(),
+                    typed_ahead: Vec::new(),
+                    input_ended,
+                });
+            }
+            if active.is_some() {
+                return Err(already_in_game_mode()); // another guard, after a stop turned raw mode off
+            }
+            if !RAW_ONLY.swap(false, Ordering::SeqCst) {
+                terminal::enable_raw_mode()?; // a stop meanwhile could not take it back
+            }
         }
-        let keyboard_enhancement =
-            options.keyboard_enhancement && terminal::supports_keyboard_enhancement().unwrap_or(false);
-        let typed_ahead = if options.keyboard_enhancement { typed_ahead() } else { Vec::new() };
-        let enabled =
-            Enabled { mouse: options.mouse, focus_events: options.focus_events, keyboard_enhancement };
+        let (keyboard_enhancement, typed_ahead) = answer.finish();
+        let enabled = Enabled {
+            mouse: options.mouse,
+            focus_events: options.focus_events,
+            keyboard_enhancement: options.keyboard_enhancement && keyboard_enhancement,
+        };
         RESUMED.store(false, Ordering::SeqCst);
         ALTERNATE_SCREEN.store(options.alternate_screen, Ordering::SeqCst);
         enter_locked(&mut active, enabled, &enter_sequence(enabled))?;
-        Ok(TerminalGuard { enabled, typed_ahead })
+        Ok(TerminalGuard { enabled, typed_ahead, input_ended: false })
     }
 
     /// The keys typed while the terminal's answer to the keyboard query was awaited (a player who
-    /// starts walking before the first frame), as the bytes a terminal sends for them: for the
-    /// walk's own decoder, once.
+    /// starts walking before the first frame), as the bytes the terminal sent for them (at most
+    /// [`TYPED_AHEAD_MAX`]): for the walk's own decoder, once.
     pub fn take_typed_ahead(&mut self) -> Vec<u8> {
         std::mem::take(&mut self.typed_ahead)
+    }
+
+    /// Whether the terminal's input ended (it hung up) while the keyboard query was awaited: then
+    /// game mode was not entered, and the walk ends as when its reads end later.
+    #[must_use]
+    pub fn input_ended(&self) -> bool {
+        self.input_ended
     }
 
     /// What is enabled (e.g. whether key releases are reported).
@@ -363,25 +412,49 @@ impl TerminalGuard {
 
     /// Empties the [`wakeups`](Self::wakeups) pipe.
     pub fn drain_wakeups(&self) {
-        #[cfg(unix)]
-        if let Some((reader, _)) = WAKE.get() {
-            use std::io::Read;
-            let mut buf = [0u8; 64];
-            while matches!((&*reader).read(&mut buf), Ok(n) if n > 0) {}
-        }
+        drain_wake_pipe();
     }
+}
+
+/// Empties the wake-up pipe ([`TerminalGuard::wakeups`]).
+fn drain_wake_pipe() {
+    #[cfg(unix)]
+    if let Some((reader, _)) = WAKE.get() {
+        use std::io::Read;
+        let mut buf = [0u8; 64];
+        while matches!((&*reader).read(&mut buf), Ok(n) if n > 0) {}
+    }
+}
+
+/// Once a signal that ends the walk has arrived ([`ENDING`]), waits for the signal thread to answer
+/// it ([`EXIT`] set, the terminal restored), as it does within moments (at most a quarter of a
+/// second is waited): then [`TerminalGuard::take_exit`] tells the signal.
+fn signal_answered() {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_millis(250);
+    while ENDING.load(Ordering::SeqCst)
+        && EXIT.load(Ordering::SeqCst) == 0
+        && std::time::Instant::now() < deadline
+    {
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+}
+
+/// [`TerminalGuard::enter`]'s error while another guard is active.
+fn already_in_game_mode() -> io::Error {
+    io::Error::new(io::ErrorKind::AlreadyExists, "the terminal is already in game mode")
 }
 
 /// A stop, from the Ctrl-Z key or SIGTSTP: restores the terminal if it is in game mode, stops the
 /// process unless nothing would ever continue it ([`stopping_is_safe`]) and, once continued, enters
-/// game mode again and sets [`RESUMED`]. All under the lock: no frame is written half before and half
+/// game mode again and sets [`RESUMED`] (raw mode alone, while the keyboard query's answer is
+/// awaited: [`RAW_ONLY`], set again). All under the lock: no frame is written half before and half
 /// after, nor on the main screen. If the shell continues us in the background (`bg`), re-entering raw
 /// mode stops us again (SIGTTOU, default action) before anything is written, until `fg`. The SIGCONT
 /// that ended the stop is marked answered ([`OWN_STOP`]): the signal thread leaves game mode alone.
 #[cfg(unix)]
 fn stop_and_continue() -> io::Result<()> {
     let mut active = active();
-    let enabled = *active;
+    let (enabled, raw_only) = (*active, RAW_ONLY.load(Ordering::SeqCst));
     restore_locked(&mut active)?;
     if stopping_is_safe() {
         // SIGTSTP's default action, emulated with SIGSTOP (signal-hook handles SIGTSTP now); returns
@@ -396,13 +469,17 @@ fn stop_and_continue() -> io::Result<()> {
         terminal::enable_raw_mode()?;
         enter_locked(&mut active, enabled, &enter_sequence(enabled))?;
         resumed_locked();
+    } else if raw_only {
+        terminal::enable_raw_mode()?; // the keyboard query's answer is still awaited
+        RAW_ONLY.store(true, Ordering::SeqCst);
     }
     Ok(())
 }
 
 /// Answers a SIGCONT ([`CONTINUED`]), on the signal thread. The one that ended our own stop
 /// ([`OWN_STOP`]) needs nothing more (but a repaint, if a frame was held meanwhile); nor does one
-/// while not in game mode. Any other ended a stop that restored nothing, an uncatchable SIGSTOP from
+/// while not in game mode (but raw mode, set again while the keyboard query's answer is awaited:
+/// [`RAW_ONLY`]). Any other ended a stop that restored nothing, an uncatchable SIGSTOP from
 /// outside, or no stop at all: the job-control shell may have reset the terminal's modes and written
 /// over the screen, so raw mode is set again, game mode re-entered ([`reenter_sequence`]) and
 /// [`RESUMED`] set. All under the lock, as a stop: no frame is written half before and half after.
@@ -414,7 +491,14 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
         return Ok(false);
     }
     let own = OWN_STOP.swap(false, Ordering::SeqCst);
-    let Some(enabled) = *active else { return Ok(false) };
+    let Some(enabled) = *active else {
+        if !own && RAW_ONLY.load(Ordering::SeqCst) {
+            // Stopped while the keyboard query's answer was awaited: raw mode again, as below.
+            terminal::disable_raw_mode()?;
+            terminal::enable_raw_mode()?;
+        }
+        return Ok(false);
+    };
     if own {
         let held = FRAME_HELD.swap(false, Ordering::SeqCst);
         RESUMED.fetch_or(held, Ordering::SeqCst);
@@ -526,10 +610,15 @@ impl Drop for TerminalGuard {
 fn enter_locked(active: &mut Option<Enabled>, enabled: Enabled, sequence: &str) -> io::Result<()> {
     // Marked before writing, so a failure half-way is restored in full.
     *active = Some(enabled);
+    write_locked(active, sequence.as_bytes())
+}
+
+/// Writes `bytes` to the terminal, under the lock (`active`), and flushes; on failure, restores.
+fn write_locked(active: &mut Option<Enabled>, bytes: &[u8]) -> io::Result<()> {
     let mut stdout = io::stdout().lock();
-    let written = stdout.write_all(sequence.as_bytes());
+    let written = stdout.write_all(bytes);
     if written.is_ok() {
-        tee(sequence.as_bytes());
+        tee(bytes);
     }
     let written = written.and_then(|()| stdout.flush());
     drop(stdout);
@@ -664,91 +753,296 @@ fn install_signal_handler() -> io::Result<()> {
     Ok(()) // no POSIX signals; crossterm reports Ctrl-C as a key in raw mode
 }
 
-/// The most keys [`typed_ahead`] hands on (a paste's worth of typing ahead is dropped past it).
-const TYPED_AHEAD_KEYS: usize = 256;
+/// The most bytes typed while the keyboard query's answer is awaited that the walk gets
+/// ([`TerminalGuard::take_typed_ahead`]): hundreds of keys. Input past it is simply dropped (not
+/// counted), from the first chunk that would not fit until the answer: a flood (a paste into a
+/// terminal without bracketed paste, a held key) costs no memory, and the keys kept are the first
+/// ones, in order.
+const TYPED_AHEAD_MAX: usize = 4096;
 
-/// The keys crossterm's `supports_keyboard_enhancement` read while it waited for the terminal's
-/// answer: it keeps what it read besides the answer in its own event queue, which the walk (reading
-/// its input itself) never reads, so keys typed as the walk started were lost. Each key press as the
-/// bytes a terminal sends for it ([`key_bytes`]); other events dropped.
-fn typed_ahead() -> Vec<u8> {
-    use crossterm::event::{self, Event, KeyEventKind};
-    let mut bytes = Vec::new();
-    for _ in 0..TYPED_AHEAD_KEYS {
-        if !event::poll(std::time::Duration::ZERO).unwrap_or(false) {
-            break;
-        }
-        match event::read() {
-            Ok(Event::Key(key)) if key.kind == KeyEventKind::Press => bytes.extend(key_bytes(key)),
-            Ok(_) => {}
-            Err(_) => break,
-        }
-    }
-    bytes
+/// The terminal's answer to [`KEYBOARD_QUERY`], read out of its input, and the rest of that input (keys
+/// typed meanwhile) kept as the very bytes the terminal sent, for the walk's own decoder: each key
+/// then means what it means after the first frame (Alt-↑ is `ESC [ 1 ; 3 A`, not Esc then ↑). The
+/// answers are told by that same decoder ([`Reply::KeyboardFlags`], [`Reply::DeviceAttributes`]);
+/// an answer is a CSI sequence, so its bytes are those from the last ESC on. Pure: bytes in.
+#[derive(Debug, Default)]
+struct QueryAnswer {
+    decoder: InputDecoder,
+    inputs: Vec<Input>,
+    /// The kitty flags came: the terminal speaks the protocol.
+    kitty: bool,
+    /// The device attributes came: the answer is whole; the rest is typed ahead.
+    done: bool,
+    /// The bytes from the last ESC on, held until known not to be an answer; dropped once longer
+    /// than the decoder keeps an unfinished sequence ([`MAX_SEQUENCE`]).
+    held: Vec<u8>,
+    /// The typed-ahead bytes kept, at most [`TYPED_AHEAD_MAX`].
+    typed: Vec<u8>,
+    /// [`TYPED_AHEAD_MAX`] was reached: the rest is dropped.
+    full: bool,
 }
 
-/// The bytes a terminal without the kitty keyboard protocol sends for `key` (none for a key the walk
-/// has no use for): a character (with Ctrl, its control code; with Alt, after an Esc), Enter, Tab,
-/// Backspace, Esc, the arrows and the page keys.
-fn key_bytes(key: crossterm::event::KeyEvent) -> Vec<u8> {
-    use crossterm::event::{KeyCode, KeyModifiers};
-    let mut bytes = Vec::new();
-    if key.modifiers.contains(KeyModifiers::ALT) {
-        bytes.push(0x1b);
-    }
-    match key.code {
-        KeyCode::Char(c) if key.modifiers.contains(KeyModifiers::CONTROL) && c.is_ascii_alphabetic() => {
-            bytes.push(c.to_ascii_lowercase() as u8 - b'a' + 1);
+impl QueryAnswer {
+    /// Reads `bytes`, the next the terminal sent.
+    fn feed(&mut self, bytes: &[u8]) {
+        for (i, &byte) in bytes.iter().enumerate() {
+            if self.done {
+                self.keep_held();
+                self.keep(&bytes[i..]);
+                return;
+            }
+            if byte == 0x1B {
+                self.keep_held();
+            }
+            if self.held.is_empty() && byte != 0x1B {
+                self.keep(&[byte]);
+            } else {
+                self.held.push(byte);
+                if self.held.len() > MAX_SEQUENCE {
+                    self.held.clear(); // dropped whole, as the decoder drops it: no answer, no key
+                }
+            }
+            self.inputs.clear();
+            self.decoder.feed(&[byte], 0.0, &mut self.inputs); // (no pause is ever taken)
+            match self.inputs[..] {
+                [Input::Reply(Reply::KeyboardFlags(_))] => self.kitty = true,
+                [Input::Reply(Reply::DeviceAttributes)] => self.done = true,
+                _ => continue,
+            }
+            self.held.clear(); // the answer's bytes
         }
-        KeyCode::Char(c) => bytes.extend_from_slice(c.encode_utf8(&mut [0; 4]).as_bytes()),
-        KeyCode::Enter => bytes.push(b'\r'),
-        KeyCode::Tab => bytes.push(b'\t'),
-        KeyCode::Backspace => bytes.push(0x7f),
-        KeyCode::Esc => bytes.push(0x1b),
-        KeyCode::Left => bytes.extend_from_slice(b"\x1b[D"),
-        KeyCode::Right => bytes.extend_from_slice(b"\x1b[C"),
-        KeyCode::Up => bytes.extend_from_slice(b"\x1b[A"),
-        KeyCode::Down => bytes.extend_from_slice(b"\x1b[B"),
-        KeyCode::PageUp => bytes.extend_from_slice(b"\x1b[5~"),
-        KeyCode::PageDown => bytes.extend_from_slice(b"\x1b[6~"),
-        _ => return Vec::new(),
     }
-    bytes
+
+    /// Whether the whole answer came (the device attributes).
+    fn done(&self) -> bool {
+        self.done
+    }
+
+    /// Whether the terminal speaks the kitty keyboard protocol, and the typed-ahead bytes.
+    fn finish(mut self) -> (bool, Vec<u8>) {
+        self.keep_held();
+        (self.kitty, self.typed)
+    }
+
+    fn keep_held(&mut self) {
+        let held = std::mem::take(&mut self.held);
+        self.keep(&held);
+        self.held = held;
+        self.held.clear();
+    }
+
+    fn keep(&mut self, bytes: &[u8]) {
+        self.full |= self.typed.len() + bytes.len() > TYPED_AHEAD_MAX;
+        if !self.full {
+            self.typed.extend_from_slice(bytes);
+        }
+    }
+}
+
+/// Reads the terminal's input (stdin) into `answer` until the whole answer came, or
+/// [`ACK_TIMEOUT`](mazewalk_walk::flow::ACK_TIMEOUT) passed (a terminal that answers no queries), or
+/// a signal that ends the walk came (`signals`: the signal thread is installed; it has restored the
+/// terminal by the time it wakes this wait). Returns whether the input ended (end of file, a hang-up,
+/// an error): no more waiting then, and nothing more to read. With the walk's own reader: `poll(2)` on
+/// stdin and the wake-up pipe, then a `read` that cannot block.
+#[cfg(unix)]
+fn await_answer(answer: &mut QueryAnswer, signals: bool) -> bool {
+    use rustix::event::{PollFd, PollFlags, Timespec};
+    use rustix::io::Errno;
+    use std::time::{Duration, Instant};
+
+    let deadline = Instant::now() + Duration::from_secs_f64(mazewalk_walk::flow::ACK_TIMEOUT);
+    let stdin = io::stdin();
+    let wake = WAKE.get().filter(|_| signals).map(|(reader, _)| reader);
+    let mut buf = [0u8; 4096];
+    while !answer.done() && !ENDING.load(Ordering::SeqCst) {
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            break;
+        }
+        let timeout = Timespec { tv_sec: left.as_secs() as i64, tv_nsec: left.subsec_nanos().into() };
+        let mut fds = Vec::with_capacity(2);
+        fds.push(PollFd::new(&stdin, PollFlags::IN));
+        if let Some(reader) = wake {
+            fds.push(PollFd::new(reader, PollFlags::IN));
+        }
+        match rustix::event::poll(&mut fds, Some(&timeout)) {
+            Ok(_) | Err(Errno::INTR) => {}
+            Err(_) => return true,
+        }
+        let ready = fds[0].revents();
+        if fds.get(1).is_some_and(|fd| !fd.revents().is_empty()) {
+            drain_wake_pipe(); // a resize (seen later through its flag), or the signal seen above
+        }
+        drop(fds);
+        if ready.intersects(PollFlags::HUP | PollFlags::ERR | PollFlags::NVAL) {
+            return true; // hung up: whatever it sent last is no answer to wait for
+        }
+        if ready.contains(PollFlags::IN) {
+            match rustix::io::read(&stdin, &mut buf) {
+                Ok(0) => return true,
+                Ok(n) => answer.feed(&buf[..n]),
+                Err(Errno::INTR | Errno::AGAIN) => {}
+                Err(_) => return true,
+            }
+        }
+    }
+    false
+}
+
+/// The walk runs on Unix only: no answer is awaited elsewhere.
+#[cfg(not(unix))]
+fn await_answer(_: &mut QueryAnswer, _: bool) -> bool {
+    false
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use mazewalk_term::modes::restore_sequence;
+    use proptest::prelude::*;
 
-    /// A key crossterm kept from before the first frame is handed on as the bytes a terminal sends
-    /// for it, which the walk's own decoder reads back as that key.
+    /// What the walk's decoder makes of `bytes`, fed at once.
+    fn decoded(bytes: &[u8]) -> Vec<Input> {
+        let mut out = Vec::new();
+        InputDecoder::new().feed(bytes, 0.0, &mut out);
+        out
+    }
+
+    /// The answer read from `chunks`: (kitty, done, typed ahead).
+    fn answer(chunks: &[&[u8]]) -> (bool, bool, Vec<u8>) {
+        let mut answer = QueryAnswer::default();
+        chunks.iter().for_each(|chunk| answer.feed(chunk));
+        let done = answer.done();
+        let (kitty, typed) = answer.finish();
+        (kitty, done, typed)
+    }
+
     #[test]
-    fn typed_ahead_keys_are_the_bytes_the_decoder_reads_as_them() {
-        use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
-        use mazewalk_term::input::{Input, InputDecoder, Key};
-        let key = |code, modifiers| key_bytes(KeyEvent::new(code, modifiers));
-        let cases = [
-            (key(KeyCode::Char('w'), KeyModifiers::NONE), Key::Char('w')),
-            (key(KeyCode::Char('W'), KeyModifiers::SHIFT), Key::Char('w')), // (with Shift)
-            (key(KeyCode::Char('é'), KeyModifiers::NONE), Key::Char('é')),
-            (key(KeyCode::Left, KeyModifiers::NONE), Key::Left),
-            (key(KeyCode::Up, KeyModifiers::NONE), Key::Up),
-            (key(KeyCode::Enter, KeyModifiers::NONE), Key::Enter),
+    fn the_query_is_the_flags_then_device_attributes() {
+        use mazewalk_term::modes::{DEVICE_ATTRIBUTES_QUERY, KEYBOARD_FLAGS_QUERY};
+        assert_eq!(KEYBOARD_QUERY, [KEYBOARD_FLAGS_QUERY, DEVICE_ATTRIBUTES_QUERY].concat());
+    }
+
+    /// The answers are taken out; whatever was typed around them stays, byte for byte (red-team
+    /// pass 7, finding 6: Alt-↑ stays `ESC [ 1 ; 3 A`, which the decoder reads as Alt-↑, not Esc).
+    #[test]
+    fn the_answer_is_read_and_the_keys_around_it_kept_as_sent() {
+        // (what the terminal sent, in reads; the kitty flags came; the answer is whole; typed ahead)
+        type Case = (&'static [&'static [u8]], bool, bool, &'static [u8]);
+        let cases: [Case; 6] = [
+            (&[b"\x1b[?1u\x1b[?62;22c"], true, true, b""),
+            (&[b"\x1b[?62;22c"], false, true, b""),
+            (&[b"w\x1b[1;3Ax\x1b[?0u\xc3\xa9\x1b[?62;22cy\x1b[A"], true, true, b"w\x1b[1;3Ax\xc3\xa9y\x1b[A"),
+            // split anywhere, even inside the answers
+            (&[b"w\x1b", b"[1;3", b"A\x1b[?", b"1", b"u\x1b[?62;2", b"2c", b"q"], true, true, b"w\x1b[1;3Aq"),
+            // an unfinished sequence typed before the answer: kept, the answer still read
+            (&[b"\x1b[", b"\x1b[?1u\x1b[?62c"], true, true, b"\x1b["),
+            // no device attributes (yet): not done, and the flags alone tell the protocol
+            (&[b"s\x1b[?1u"], true, false, b"s"),
         ];
-        for (bytes, expected) in cases {
-            let mut decoder = InputDecoder::new();
-            let mut out = Vec::new();
-            decoder.feed(&bytes, 0.0, &mut out);
-            let keys: Vec<_> = out
-                .iter()
-                .filter_map(|i| if let Input::Key { key, .. } = i { Some(*key) } else { None })
-                .collect();
-            assert_eq!(keys, [expected], "{bytes:?}");
+        for (chunks, kitty, done, typed) in cases {
+            assert_eq!(answer(chunks), (kitty, done, typed.to_vec()), "{chunks:?}");
         }
-        assert_eq!(key(KeyCode::Char('c'), KeyModifiers::CONTROL), [3]);
-        assert_eq!(key(KeyCode::Char('x'), KeyModifiers::ALT), b"\x1bx");
-        assert!(key(KeyCode::F(1), KeyModifiers::NONE).is_empty(), "a key the walk has no use for");
+        // What the walk reads from Alt-↑ typed ahead: Alt-↑ (and no Esc, which quits).
+        let (_, _, typed) = answer(&[b"\x1b[1;3A\x1b[?62;22c"]);
+        let alt = mazewalk_term::input::Modifiers { alt: true, ..mazewalk_term::input::Modifiers::NONE };
+        let up = Input::Key {
+            key: mazewalk_term::input::Key::Up,
+            phase: mazewalk_term::input::KeyPhase::Press,
+            modifiers: alt,
+        };
+        assert_eq!(decoded(&typed), [up]);
+    }
+
+    /// Inside a paste everything is the paste's, answers too: the wait ends at its deadline.
+    #[test]
+    fn answers_inside_a_paste_are_not_answers() {
+        let (kitty, done, typed) = answer(&[b"\x1b[200~text\x1b[?1u\x1b[?62;22c"]);
+        assert!(!kitty && !done);
+        assert_eq!(typed, b"\x1b[200~text\x1b[?1u\x1b[?62;22c");
+    }
+
+    /// Red-team pass 7, finding 7: a flood typed while the answer is awaited keeps at most
+    /// [`TYPED_AHEAD_MAX`] bytes, the first ones, whole keys only; the answer after it is still read.
+    #[test]
+    fn typed_ahead_input_is_kept_up_to_a_bound() {
+        let flood = b"u\x1b[A".repeat(10_000);
+        let (kitty, done, typed) = answer(&[&flood, b"\x1b[?1u", b"w", b"\x1b[?62;22c", b"x"]);
+        assert!(kitty && done);
+        // The first whole keys (a cut inside `ESC [ A` would end in ESC or `[`), nothing after the cut.
+        let whole = flood.starts_with(&typed) && matches!(typed.last(), Some(b'u' | b'A'));
+        assert!(whole && typed.len() > TYPED_AHEAD_MAX - 4, "{} bytes kept", typed.len());
+        let (_, _, typed) = answer(&[&[b'u'; 3 * TYPED_AHEAD_MAX], b"\x1b[?62;22c"]);
+        assert_eq!(typed.len(), TYPED_AHEAD_MAX);
+        // An endless sequence is dropped where the decoder drops it; what follows is read afresh.
+        let mut long = b"\x1b[".to_vec();
+        long.extend([b'1'; MAX_SEQUENCE + 100]);
+        let (kitty, done, typed) = answer(&[&long, b"\x1b[?1u\x1b[?62c"]);
+        assert!(kitty && done);
+        assert_eq!(decoded(&typed), decoded(&long)); // the same keys: the `1`s after the cut
+        assert!(typed == long[MAX_SEQUENCE + 1..], "{} bytes kept", typed.len());
+    }
+
+    /// Whole keys of many kinds, for [`typed_ahead_reads_as_the_keys_typed`].
+    fn arb_key() -> impl Strategy<Value = &'static [u8]> {
+        proptest::sample::select(vec![
+            &b"w"[..],
+            "é".as_bytes(),
+            b"\x1b[A",
+            b"\x1b[1;3A",
+            b"\x1b[5;3~",
+            b"\x1bw",
+            b"\x1bOA",
+            b"\x03",
+            b"\r",
+            b"\x1b[<0;10;5M",
+            b"\x1b[I",
+            b"\x1b[119;1:3u",
+        ])
+    }
+
+    proptest! {
+        #![proptest_config(mazewalk_testkit::config())]
+
+        /// Whatever keys come before, between and after the answers, in whatever reads: the walk's
+        /// decoder reads the same keys from the typed-ahead bytes as from everything the terminal
+        /// sent, but the answers; which say whether the protocol is spoken.
+        #[test]
+        fn typed_ahead_reads_as_the_keys_typed(
+            keys in proptest::collection::vec(arb_key(), 0..40),
+            kitty_at in proptest::option::of(0usize..40),
+            da_after in 0usize..40,
+            cuts in proptest::collection::vec(1usize..16, 1..60),
+        ) {
+            let kitty_at = kitty_at.map(|at| at.min(keys.len()));
+            let da_at = (kitty_at.unwrap_or(0) + da_after).min(keys.len());
+            let mut sent = Vec::new();
+            for (i, key) in keys.iter().enumerate().chain([(keys.len(), &&b""[..])]) {
+                if kitty_at == Some(i) {
+                    sent.extend_from_slice(b"\x1b[?1u");
+                }
+                if da_at == i {
+                    sent.extend_from_slice(b"\x1b[?62;22c");
+                }
+                sent.extend_from_slice(key);
+            }
+            let mut chunks = Vec::new();
+            let mut rest = &sent[..];
+            for cut in cuts.iter().cycle() {
+                if rest.is_empty() {
+                    break;
+                }
+                let (chunk, tail) = rest.split_at((*cut).min(rest.len()));
+                chunks.push(chunk);
+                rest = tail;
+            }
+            let (kitty, done, typed) = answer(&chunks);
+            prop_assert!(done);
+            prop_assert_eq!(kitty, kitty_at.is_some());
+            let keys_sent: Vec<_> = decoded(&sent).into_iter().filter(|i| !matches!(i, Input::Reply(_))).collect();
+            prop_assert_eq!(decoded(&typed), keys_sent);
+        }
     }
 
     /// The modes' hand-written bytes are crossterm's (the commands this guard used to write).

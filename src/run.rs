@@ -83,6 +83,15 @@ pub fn run(
     };
     let mut depth = session.color_depth();
     let mut terminal = TerminalGuard::enter(guard)?;
+    // Cut short while the guard's keyboard query was answered: by a signal (the terminal restored
+    // already), or a hang-up (nothing to restore but raw mode, and nothing to write to).
+    if let Some(signal) = terminal.take_exit()? {
+        return Ok(Ended::Signal(signal));
+    }
+    if terminal.input_ended() {
+        let _ = terminal.restore();
+        return Ok(Ended::HangUp);
+    }
     session.app_mut().releases = terminal.enabled().reports_key_releases();
     if ask_truecolor {
         // after the guard's own keyboard query is answered (it reads that answer itself), before the

@@ -10,7 +10,10 @@
 //! (restore, then back), SIGTERM, SIGHUP and SIGINT (also mid-frame); SIGTSTP stops after restoring
 //! and SIGCONT brings game mode back, as it does after a SIGSTOP that restored nothing, while a shell
 //! took the terminal (raw mode and the screen taken back); a hang-up ends the process, with or without
-//! a SIGHUP (the pty as controlling terminal or only as stdio); a malformed maze is reported before
+//! a SIGHUP (the pty as controlling terminal or only as stdio); while the start-up keyboard query is
+//! unanswered, a hang-up ends the process without spinning, a signal restores the terminal at once,
+//! a stop gives it back until continued, keys typed reach the walk as typed (Alt-↑ does not quit),
+//! and a flood of them costs no memory; a malformed maze is reported before
 //! the terminal is touched; `--record` writes an asciicast of exactly the bytes the terminal received,
 //! which replays into the same screens (and `asciinema cat` prints the same bytes), also when a
 //! signal ends the walk, and a recording that cannot be written stops while the walk goes on.
@@ -1195,7 +1198,7 @@ fn quitting_over_a_slow_link_leaves_no_answer_for_the_shell() {
 }
 
 /// Keys typed as the walk starts, while the terminal's answer to its keyboard query is on its way,
-/// each take their step: crossterm, which waits for that answer, read them with it and kept them in
+/// each take their step: crossterm, which waited for that answer, read them with it and kept them in
 /// its own event queue, which the walk never reads, so a player who started walking at once (or
 /// typed `w` right after the command) stood still.
 #[test]
@@ -1206,6 +1209,161 @@ fn keys_typed_before_the_first_frame_count() {
     tui.wait_for("three steps from the start", |s| s.contents().contains("(5.0, 2.0)"));
     tui.send(b"q");
     assert!(tui.wait_exit().success());
+}
+
+/// The start-up keyboard query, as the binary writes it (the flags, then device attributes).
+const KEYBOARD_QUERY: &[u8] = b"\x1b[?u\x1b[c";
+
+impl Tui {
+    /// Waits until the binary has asked its start-up keyboard query (raw mode is on).
+    fn wait_for_the_keyboard_query(&self) {
+        let query = |out: &[u8]| out.windows(KEYBOARD_QUERY.len()).any(|w| w == KEYBOARD_QUERY);
+        self.wait_for_output(0, "the keyboard query", query);
+    }
+
+    /// Whether the child has exited (without reaping it: its /proc entry stays readable).
+    fn exited(&self) -> bool {
+        use rustix::process::{WaitId, WaitIdOptions};
+        let options = WaitIdOptions::EXITED | WaitIdOptions::NOHANG | WaitIdOptions::NOWAIT;
+        let status = rustix::process::waitid(WaitId::Pid(Pid::from_child(&self.child)), options);
+        status.expect("waitid").is_some()
+    }
+
+    /// The child's peak resident set so far in KiB (`VmHWM`), where /proc tells.
+    fn peak_rss_kib(&self) -> Option<u64> {
+        let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).ok()?;
+        let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+        line.split_whitespace().nth(1)?.parse().ok()
+    }
+}
+
+/// Red-team pass 7, finding 3: a terminal that hangs up while the start-up keyboard query is
+/// unanswered (an `ssh -t` that drops, a harness closing its pty) ends the walk at once, with or
+/// without a SIGHUP. crossterm's reader, which waited for that answer, took a read of 0 bytes for
+/// "nothing yet" and spun at 100 % of a core forever, holding the guard's lock against SIGTERM too.
+#[test]
+fn a_hang_up_during_the_keyboard_query_ends_the_walk_without_spinning() {
+    for session in [Session::Leader, Session::Job] {
+        let mut tui = Tui::spawn_as(session, &[], 80, 24, Answers::Silent);
+        tui.wait_for_the_keyboard_query();
+        let before = tui.cpu_ticks().expect("/proc/PID/stat");
+        let hung_up = Instant::now();
+        tui.hang_up();
+        let mut ticks = before;
+        while !tui.exited() {
+            ticks = tui.cpu_ticks().unwrap_or(ticks);
+            assert!(
+                hung_up.elapsed() < Duration::from_secs(5),
+                "still running 5 s after the hang-up, {} s of CPU since",
+                (ticks - before) as f64 / 100.0
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        ticks = tui.cpu_ticks().unwrap_or(ticks); // the zombie's, all of it
+        let status = tui.wait_exit();
+        // A tick is 10 ms on Linux (USER_HZ 100): a quarter of a second, where a spin takes all.
+        assert!(ticks - before < 25, "{} ticks of CPU after the hang-up", ticks - before);
+        assert_eq!(status.code(), Some(128 + Signal::HUP.as_raw()), "{status:?}");
+    }
+}
+
+/// Red-team pass 7, finding 3: input that ends in an unfinished sequence (`ESC [`, a paste's start)
+/// while the keyboard query is unanswered held crossterm's reader in a blocking `read`, with the
+/// guard's lock, so no signal could end the walk, and SIGKILL left the terminal raw. Now a signal
+/// ends the wait at once: the terminal is restored (cooked mode as before), game mode never entered,
+/// and the walk exits with 128 + the signal.
+#[test]
+fn a_signal_during_the_keyboard_query_restores_the_terminal_at_once() {
+    for (typed, signal) in [(&b"\x1b["[..], Signal::TERM), (b"\x1b[200~a paste's start", Signal::INT)] {
+        let mut tui = Tui::spawn(&[], 80, 24, Answers::Silent);
+        tui.wait_for_the_keyboard_query();
+        tui.send(typed);
+        std::thread::sleep(Duration::from_millis(100)); // read, well before the query's 2 s are up
+        let sent = Instant::now();
+        tui.signal(signal);
+        let (status, raw) = tui.finish();
+        assert!(sent.elapsed() < Duration::from_secs(5), "took {:?} to exit", sent.elapsed());
+        assert_eq!(status.code(), Some(128 + signal.as_raw()), "{status:?}");
+        let entered = raw.windows(8).any(|w| w == b"\x1b[?1049h");
+        assert!(!entered, "game mode was entered after the signal: {}", visible(&raw));
+    }
+}
+
+/// A stop (SIGTSTP) while the keyboard query is unanswered gives the terminal back at once, cooked,
+/// as any stop does (the answer waits in the terminal's input); continued, the walk takes raw mode
+/// back, reads the answer and starts.
+#[test]
+fn a_stop_during_the_keyboard_query_gives_the_terminal_back_until_continued() {
+    let mut tui = Tui::spawn_as(Session::Job, &[], 80, 24, Answers::Slow);
+    tui.wait_for_the_keyboard_query();
+    tui.signal(Signal::TSTP);
+    tui.wait_stopped(true);
+    tui.assert_cooked();
+    let raw = lock(&tui.shared).raw.clone();
+    assert!(!raw.windows(8).any(|w| w == b"\x1b[?1049h"), "game mode entered before the stop");
+    tui.signal(Signal::CONT);
+    tui.wait_for("the first frame", |s| s.alternate_screen() && s.contents().contains("? help"));
+    assert!(!tui.termios().local_modes.contains(LocalModes::ICANON), "raw mode was not taken back");
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+}
+
+/// Red-team pass 7, finding 6: keys typed before the first frame reach the walk as the bytes the
+/// terminal sent. Re-encoded from crossterm's events, Alt-↑ became `ESC ESC [ A`, which the walk
+/// reads as Esc: it quit. Typed after the first frame, these keys never quit.
+#[test]
+fn alt_arrows_typed_before_the_first_frame_do_not_quit() {
+    let mut tui = Tui::spawn(&[], 80, 24, Answers::Slow);
+    tui.wait_for_the_keyboard_query();
+    tui.send(b"\x1b[1;3A\x1b[1;3C\x1b[5;3~"); // Alt-↑, Alt-→, Alt-PgUp; the answer is half a second away
+    tui.wait_for("the first frame", |s| s.alternate_screen() && s.contents().contains("? help"));
+    tui.settle();
+    assert!(tui.running(), "the walk ended");
+    tui.send(b"q");
+    let (status, raw) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    assert_restored(&tui, &raw, PLAIN);
+}
+
+/// Red-team pass 7, finding 7: input typed while the keyboard query is unanswered is kept only up
+/// to a bound; crossterm queued every event it read (11.6 MB of keys made the walk's resident set
+/// 112 MB, for the whole walk). Here a few megabytes of a key without an action flood in during the
+/// query's 2 s: the walk's peak resident set stays within a few megabytes of a walk without them.
+#[test]
+fn a_flood_typed_during_the_keyboard_query_is_bounded() {
+    // The peak of the same walk, unflooded, after its first frame.
+    let plain = Tui::walk(80, 24, Answers::Silent);
+    plain.settle();
+    let baseline = plain.peak_rss_kib().expect("/proc/PID/status");
+    drop(plain);
+
+    let mut tui = Tui::spawn(&[], 80, 24, Answers::Silent);
+    tui.wait_for_the_keyboard_query();
+    let flood = tui.master().try_clone().expect("dup the pty");
+    rustix::io::ioctl_fionbio(&flood, true).expect("non-blocking");
+    let chunk = vec![b'u'; 1 << 16];
+    let (mut sent, until) = (0usize, Instant::now() + Duration::from_millis(1500));
+    while Instant::now() < until {
+        match rustix::io::write(&flood, &chunk) {
+            Ok(n) => sent += n,
+            Err(rustix::io::Errno::AGAIN) => std::thread::sleep(Duration::from_millis(1)),
+            Err(err) => panic!("flooding the pty: {err}"),
+        }
+    }
+    rustix::io::ioctl_fionbio(&flood, false).expect("blocking again"); // (shared with `send`)
+    assert!(sent > 1 << 20, "only {sent} bytes went in");
+    tui.wait_for("the first frame", |s| s.alternate_screen() && s.contents().contains("? help"));
+    tui.settle();
+    let peak = tui.peak_rss_kib().expect("/proc/PID/status");
+    assert!(
+        peak < baseline + 4096,
+        "peak resident set {peak} KiB after {sent} bytes typed ahead, {baseline} KiB without"
+    );
+    tui.send(b"q");
+    let (status, _) = tui.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
 }
 
 #[test]
@@ -1337,7 +1495,7 @@ fn with_the_kitty_protocol_a_key_is_held_until_released() {
 
 #[test]
 fn a_terminal_that_answers_no_queries_still_gets_the_walk() {
-    // crossterm gives up on the keyboard protocol query after 2 s; the walk then starts without it.
+    // The keyboard query's answer is awaited for 2 s; the walk then starts without the protocol.
     let started = Instant::now();
     let mut tui = Tui::walk(80, 24, Answers::Silent);
     assert!(started.elapsed() < TIMEOUT);

@@ -52,7 +52,7 @@ pub const PASTE_IDLE: f64 = 0.5;
 
 /// The longest escape sequence kept while waiting for its end (bytes); longer ones are dropped (no
 /// input mazewalk understands comes close; an OSC or DCS string from a confused terminal might).
-pub(crate) const MAX_SEQUENCE: usize = 4096;
+pub const MAX_SEQUENCE: usize = 4096;
 
 /// A key. ASCII letters are always lowercase, with shift in [`Modifiers`]: a press of `W` and the
 /// release of `w` that follows when shift goes up first are the same key.
