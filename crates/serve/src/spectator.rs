@@ -694,6 +694,8 @@ mod tests {
                 assert_eq!(s.session().color_depth(), depth, "{terminal:?}");
                 if want.0 >= 80 {
                     assert!(text(&s).contains("watching ada"), "{term} {size:?}:\n{}", text(&s));
+                    // (no lens to offer: a spectator's `z` does nothing)
+                    assert!(!text(&s).contains("look ahead"), "{term} {size:?}:\n{}", text(&s));
                 }
             }
         }

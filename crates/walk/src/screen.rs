@@ -627,7 +627,7 @@ pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud)
         app,
         &screen.stats,
         hud,
-        (screen.players_in, screen.status.as_deref(), ghost),
+        (screen.players_in, screen.status.as_deref(), ghost, screen.help.is_empty()),
         fov,
         style,
         cols,
@@ -675,7 +675,7 @@ fn hud_text(
     style: Style,
     width: usize,
 ) -> String {
-    hud_text_with(app, stats, hud, (players_in, None, None), app.camera.hfov_deg, style, width)
+    hud_text_with(app, stats, hud, (players_in, None, None, true), app.camera.hfov_deg, style, width)
 }
 
 /// The HUD line, `width` columns at most: what a player needs first — a host's status when it has
@@ -686,7 +686,7 @@ fn hud_text_with(
     app: &App,
     stats: &RenderStats,
     hud: &Hud,
-    (players_in, status, ghost): (Option<usize>, Option<&str>, Option<&str>),
+    (players_in, status, ghost, own_keys): (Option<usize>, Option<&str>, Option<&str>, bool),
     fov_deg: f32,
     style: Style,
     width: usize,
@@ -736,7 +736,12 @@ fn hud_text_with(
     // openings are read through it (issue #39), and a new player does not find it in the help alone.
     const LENS_KEY: &str = "z look ahead  ";
     match line.strip_suffix(HELP) {
-        Some(fields) if !app.look_ahead() && fields.len() - fields.trim_end().len() >= LENS_KEY.len() + 2 => {
+        // (only where the walk's own keys apply: a spectator's `z` does nothing)
+        Some(fields)
+            if own_keys
+                && !app.look_ahead()
+                && fields.len() - fields.trim_end().len() >= LENS_KEY.len() + 2 =>
+        {
             let cut = fields.len() - LENS_KEY.len(); // (spaces: one byte a column)
             format!("{}{LENS_KEY}{HELP}", &fields[..cut])
         }
@@ -779,6 +784,10 @@ mod tests {
         assert!(wide.contains("fov 90° persp half"), "{wide:?}");
         // the lens's key offered beside the help where there is room, and only then
         assert!(wide.ends_with("    z look ahead  ? help ") && wide.chars().count() == 200, "{wide:?}");
+        // not where the keys are another's (a spectator's: `z` does nothing there)
+        let theirs =
+            hud_text_with(&app, &stats, &hud, (None, None, None, false), 90.0, Style::default(), 200);
+        assert!(!theirs.contains("look ahead") && theirs.ends_with("? help "), "{theirs:?}");
         let at60 = hud_text(&app, &stats, &hud, None, Style::default(), 60);
         assert!(!at60.contains("look ahead") && at60.contains("z+0.0"), "fields first: {at60:?}");
         // in ASCII, fitted as shown: degrees spelled out, the help still at the right end
@@ -795,7 +804,7 @@ mod tests {
         let app = App::new(mazewalk_maze::builtin().unwrap(), RenderOptions::default(), 0.0).unwrap();
         let (stats, hud) = (RenderStats::default(), Hud { elapsed: 83.4, ..Hud::default() });
         let line = |width| {
-            let host = (Some(3), Some("world offline"), None);
+            let host = (Some(3), Some("world offline"), None, true);
             hud_text_with(&app, &stats, &hud, host, 90.0, Style::default(), width)
         };
         assert!(line(60).starts_with(" world offline  heading 0° E  time 1:23  3 in"), "{:?}", line(60));
@@ -824,7 +833,7 @@ mod tests {
         let (stats, hud) = (RenderStats::default(), Hud { elapsed: 83.4, ..Hud::default() });
         let line = |app: &App, width| {
             let fov = app.shown_hfov_deg(120, 39);
-            hud_text_with(app, &stats, &hud, (Some(3), None, None), fov, Style::default(), width)
+            hud_text_with(app, &stats, &hud, (Some(3), None, None, true), fov, Style::default(), width)
         };
         for width in [60, 80, 120, 200] {
             // (off, only the key offered where there is room: `z look ahead`)
