@@ -783,25 +783,13 @@ fn the_walks_look_ahead_view_is_render_fov_40s_frame() {
 
     let (cols, rows) = (120, 40);
     let (at, heading) = (glam::Vec2::new(34.0, 6.0), 0.0);
-    let out = mazewalk(&[
-        "render",
-        "--gen",
-        "20x15",
-        "--seed",
-        "5",
-        "--at",
-        "34,6",
-        "--heading",
-        "0",
-        "--size",
-        "120x39",
-        "--fov",
-        "30",
-        "--color",
-        "256",
-        "--charset",
-        "half",
-    ]);
+    // the place as `render` flags, then the field or the lens
+    let render = |lens: &[&str]| {
+        let place = ["render", "--gen", "20x15", "--seed", "5", "--at", "34,6", "--heading", "0"];
+        let look = ["--size", "120x39", "--color", "256", "--charset", "half"];
+        mazewalk(&[&place[..], &look[..], lens].concat())
+    };
+    let out = render(&["--fov", "30"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
 
     let maze = generate(&GenOptions::walk(20, 15, 5)).unwrap();
@@ -842,24 +830,7 @@ fn the_walks_look_ahead_view_is_render_fov_40s_frame() {
         );
     }
     // `render --look-ahead`: the lens as the walk shows it, its marks too, on every row
-    let lens = mazewalk(&[
-        "render",
-        "--gen",
-        "20x15",
-        "--seed",
-        "5",
-        "--at",
-        "34,6",
-        "--heading",
-        "0",
-        "--size",
-        "120x39",
-        "--look-ahead",
-        "--color",
-        "256",
-        "--charset",
-        "half",
-    ]);
+    let lens = render(&["--look-ahead"]);
     assert_eq!(lens.status.code(), Some(0), "{}", stderr(&lens));
     assert_eq!(lines(&lens.stdout), walked, "render --look-ahead is the walk's lens, marks and all");
     app.key(Key::Char('z'), KeyPhase::Press, 2.0);

@@ -502,15 +502,21 @@ async fn a_connection_gets_only_a_few_probes_answered() {
         let mut handle = russh::client::connect(config, server.local_addr(), load::Client)
             .await
             .expect("the key exchange");
-        let auth = handle
-            .authenticate_publickey("prober", PrivateKeyWithHashAlg::new(Arc::new(key), None))
-            .await
-            .expect("an answer");
-        assert!(auth.success(), "the key logs in");
+        assert!(signs_in(&mut handle, "prober", key).await, "the key logs in");
         server.shutdown().await;
     })
     .await
     .expect("ran over its deadline");
+}
+
+/// Whether `key` logs `user` in on `handle` (its signature sent after the probe).
+async fn signs_in(
+    handle: &mut russh::client::Handle<load::Client>,
+    user: &str,
+    key: russh::keys::PrivateKey,
+) -> bool {
+    let key = PrivateKeyWithHashAlg::new(Arc::new(key), None);
+    handle.authenticate_publickey(user, key).await.expect("an answer").success()
 }
 
 /// A client's key exchange with the server at `addr`, from `from`.
@@ -566,11 +572,7 @@ async fn a_prober_does_not_keep_its_slot_by_probing() {
         assert!(!honest.is_closed(), "the honest handshake was pushed out for the newcomer");
         assert!(prober.await.expect("the prober"), "the prober's connection ended");
         // The honest client logs in.
-        let auth = honest
-            .authenticate_publickey("honest", PrivateKeyWithHashAlg::new(Arc::new(key), None))
-            .await
-            .expect("an answer");
-        assert!(auth.success(), "the honest client logs in");
+        assert!(signs_in(&mut honest, "honest", key).await, "the honest client logs in");
         server.shutdown().await;
     })
     .await
