@@ -56,19 +56,27 @@ async fn a_client_offering_only_finite_field_diffie_hellman_is_refused_at_once()
     .expect("ran over its deadline");
 }
 
-/// An RSA key pair made by ssh-keygen (as a player's would be), read back by russh.
-fn rsa_key() -> (russh::keys::PrivateKey, tempdir::Dir) {
-    let dir = tempdir::Dir::new("rsa");
-    let path = dir.0.join("id_rsa");
+/// A key pair made by ssh-keygen (as a player's would be) with `args` (`-t rsa -b 2048`), read back
+/// by russh; in a scratch folder named `name`.
+fn keygen(name: &str, args: &[&str]) -> (russh::keys::PrivateKey, tempdir::Dir) {
+    let dir = tempdir::Dir::new(name);
+    let path = dir.0.join("id");
     mazewalk_testkit::require_tool("ssh-keygen", "openssh-client");
     let status = std::process::Command::new("ssh-keygen")
-        .args(["-q", "-t", "rsa", "-b", "2048", "-N", "", "-f"])
+        .args(["-q", "-N", ""])
+        .args(args)
+        .arg("-f")
         .arg(&path)
         .stdin(std::process::Stdio::null())
         .status()
         .expect("ssh-keygen");
     assert!(status.success());
     (russh::keys::load_secret_key(&path, None).expect("read the key"), dir)
+}
+
+/// An RSA key pair made by ssh-keygen.
+fn rsa_key() -> (russh::keys::PrivateKey, tempdir::Dir) {
+    keygen("rsa", &["-t", "rsa", "-b", "2048"])
 }
 
 mod tempdir {
@@ -412,19 +420,9 @@ async fn a_client_asking_for_tiny_packets_gets_no_game() {
     .expect("ran over its deadline");
 }
 
-/// An ed25519 key pair made by ssh-keygen, read back by russh.
+/// An ed25519 key pair made by ssh-keygen, in a scratch folder named `name`.
 fn ed25519_key(name: &str) -> (russh::keys::PrivateKey, tempdir::Dir) {
-    let dir = tempdir::Dir::new(name);
-    let path = dir.0.join("id_ed25519");
-    mazewalk_testkit::require_tool("ssh-keygen", "openssh-client");
-    let status = std::process::Command::new("ssh-keygen")
-        .args(["-q", "-t", "ed25519", "-N", "", "-f"])
-        .arg(&path)
-        .stdin(std::process::Stdio::null())
-        .status()
-        .expect("ssh-keygen");
-    assert!(status.success());
-    (russh::keys::load_secret_key(&path, None).expect("read the key"), dir)
+    keygen(name, &["-t", "ed25519"])
 }
 
 /// A signer that never signs: each public-key attempt through it sends a probe (the key offered
