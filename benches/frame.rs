@@ -1,6 +1,6 @@
 //! The whole frame as a player gets it: a [`Session`] walking the scripted walk (see `common`) draws
 //! each frame — 3D view, figures, HUD — and encodes it for the terminal (the diff against the frame
-//! before, truecolor, the default ±1 tolerance). One criterion iteration is the whole walk; the time
+//! before, truecolor, at the walk's default tolerance: `encoder::DEFAULT_TOLERANCE`). One criterion iteration is the whole walk; the time
 //! per drawn frame and the frames a second one core keeps up are printed after the run from the
 //! medians in `target/criterion` (see `scripts/bench_table.py`), at 80×24, 120×40 and 200×60 in every
 //! charset.
