@@ -1,9 +1,9 @@
 //! The whole frame as a player gets it: a [`Session`] walking the scripted walk (see `common`) draws
 //! each frame — 3D view, figures, HUD — and encodes it for the terminal (the diff against the frame
-//! before, truecolor, at the walk's default tolerance: `encoder::DEFAULT_TOLERANCE`). One criterion iteration is the whole walk; the time
-//! per drawn frame and the frames a second one core keeps up are printed after the run from the
-//! medians in `target/criterion` (see `scripts/bench_table.py`), at 80×24, 120×40 and 200×60 in every
-//! charset.
+//! before, truecolor, at the walk's default tolerance, `encoder::DEFAULT_TOLERANCE`). One criterion
+//! iteration is the whole walk; the time per drawn frame and the frames a second one core keeps up
+//! are printed after the run from the medians in `target/criterion` (see `scripts/bench_table.py`),
+//! at 80×24, 120×40 and 200×60 in every charset.
 //!
 //! ```sh
 //! nice cargo bench -p mazewalk-bench --bench frame -- --warm-up-time 1 --measurement-time 3 --sample-size 10
