@@ -683,6 +683,32 @@ fn a_player_who_types_but_never_reads_holds_shutdown_no_longer_than_the_grace() 
     assert!(took < Duration::from_millis(3500), "shutdown took {took:?} (a grace of 2 s)");
 }
 
+/// Red-team pass 7: pass 6's packet floor was checked when the channel opened, so a client that
+/// opened with a 32 KiB window, then handed it back a byte at a time, had every byte of every frame
+/// sent and sealed as a packet of its own again. A frame now waits for a packet's worth of window.
+#[test]
+fn a_window_handed_back_a_byte_at_a_time_gets_no_tiny_packets() {
+    let scratch = Scratch::new("trickle");
+    let server = Server::start(&scratch, &["--open"]);
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/clients/trickler.py");
+    let out = Command::new(require_python_module("paramiko", "python3-paramiko"))
+        .arg(&script)
+        .args([&server.port.to_string(), "3"])
+        .stdin(Stdio::null())
+        .output()
+        .expect("run the trickler");
+    let said = String::from_utf8_lossy(&out.stdout);
+    let figure = |name: &str| -> usize {
+        said.split_whitespace().skip_while(|w| *w != name).nth(1).and_then(|v| v.parse().ok()).unwrap_or(0)
+    };
+    let (packets, tiny, frames, bytes) =
+        (figure("packets"), figure("tiny"), figure("frames"), figure("bytes"));
+    // The premise: frames kept coming past the first 32 KiB, through the trickled window.
+    assert!(bytes > 32_768 + 4_096 && frames >= 3, "{said} {}", String::from_utf8_lossy(&out.stderr));
+    // A frame's last packet may be short; none other is (before: 744 of 753 packets under 64 bytes).
+    assert!(tiny <= frames, "{tiny} packets under 64 bytes of {packets}, {frames} frames");
+}
+
 /// Red-team pass 3: one address's 16 connections at 400×150 in sextants with culling off (`b`) took
 /// a core of the server and pushed another player's key-to-frame p99 from 10 ms to 771 ms. A served
 /// player has no developer keys (its help lists none; `b`, `v`, `i` do nothing), and a screen is

@@ -1395,7 +1395,7 @@ async fn goodbye(
         shared.limits.write_timeout
     };
     let written = tokio::select! {
-        written = tokio::time::timeout(patience, tx.data_bytes(out)) => matches!(written, Ok(Ok(()))),
+        written = tokio::time::timeout(patience, send_packets(tx, out)) => matches!(written, Ok(Ok(()))),
         () = conn.cut.cut_off() => false,
     };
     if !written {
@@ -1478,7 +1478,7 @@ async fn watching(
         if !out.is_empty() {
             // (Not in the players' frames and bytes sent: /metrics counts those.)
             let write =
-                tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(std::mem::take(&mut out)));
+                tokio::time::timeout(shared.limits.write_timeout, send_packets(tx, std::mem::take(&mut out)));
             tokio::select! {
                 written = write => match written {
                     Ok(Ok(())) => {}
@@ -1577,6 +1577,38 @@ impl Remote for Spectator {
 }
 
 /// Sends the exit status, end of file and close on the channel.
+/// The least channel data the game's output is cut into a packet of, unless less is left to send:
+/// half [`MIN_CHANNEL_PACKET`]. A client that opened with a window of at least the floor and hands
+/// it back as it reads (OpenSSH, PuTTY and paramiko hand back at half the window consumed) never
+/// waits on it; one that hands back a byte at a time waits here for a packet's worth, instead of
+/// having every byte sent and sealed as a packet of its own (red-team pass 7).
+const LEAST_PACKET: usize = MIN_CHANNEL_PACKET / 2;
+
+/// Sends `bytes` on the channel in packets of at least [`LEAST_PACKET`] (the last may be less):
+/// each packet waits for the client's window to hold that much, looking again at growing intervals
+/// up to 50 ms (russh wakes a writer on any window growth, and would send what the window holds).
+/// The caller bounds the wait (the write timeout).
+async fn send_packets(tx: &ChannelWriteHalf<Msg>, bytes: Vec<u8>) -> Result<(), russh::Error> {
+    let bytes = bytes::Bytes::from(bytes);
+    let mut sent = 0;
+    while sent < bytes.len() {
+        let want = (bytes.len() - sent).min(LEAST_PACKET);
+        let mut pause = Duration::from_millis(1);
+        let writable = loop {
+            let writable = tx.writable_packet_size().await;
+            if writable >= want {
+                break writable;
+            }
+            tokio::time::sleep(pause).await;
+            pause = (pause * 2).min(Duration::from_millis(50));
+        };
+        let end = (sent + writable).min(bytes.len());
+        tx.data_bytes(bytes.slice(sent..end)).await?; // within the window: one packet
+        sent = end;
+    }
+    Ok(())
+}
+
 async fn close(tx: &ChannelWriteHalf<Msg>, status: u32) {
     let _ = tx.exit_status(status).await;
     let _ = tx.eof().await;
@@ -1681,7 +1713,7 @@ async fn walk(
                 tap.depth(now, player.session().color_depth()); // the terminal said truecolor: marked
                 tap.output(now, &bytes);
             }
-            let write = tokio::time::timeout(shared.limits.write_timeout, tx.data_bytes(bytes));
+            let write = tokio::time::timeout(shared.limits.write_timeout, send_packets(tx, bytes));
             tokio::select! {
                 written = write => match written {
                     Ok(Ok(())) => {
