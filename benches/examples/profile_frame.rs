@@ -57,15 +57,7 @@ fn main() {
     for _ in 0..reps {
         match part.as_str() {
             "samples" => {
-                renderer
-                    .render(
-                        &scene.maze,
-                        &scene.camera,
-                        &[],
-                        &RenderOptions { charset, culling: Culling::Portal, ..RenderOptions::default() },
-                        Target::Samples { cols, rows },
-                    )
-                    .expect("render");
+                common::render_samples(&mut renderer, &scene.maze, &scene.camera, charset, (cols, rows));
             }
             "glyphs" => {
                 to_frame(renderer.samples(), &options, &mut frame, Region { col: 0, row: 0, cols, rows })
