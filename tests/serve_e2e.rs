@@ -624,14 +624,7 @@ fn a_signal_says_goodbye(signal: rustix::process::Signal, code: i32) {
         p.wait_for("the goodbye", |s, _| restored(s) && s.contents().contains(SHUTDOWN_MESSAGE));
         assert_eq!(p.wait_exit().code(), Some(1), "the game ended, not by the player");
     }
-    let deadline = Instant::now() + TIMEOUT;
-    let status = loop {
-        if let Some(status) = server.child.try_wait().expect("wait") {
-            break status;
-        }
-        assert!(Instant::now() < deadline, "the server did not exit");
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = server.wait_exit();
     assert_eq!(status.code(), Some(code));
 }
 
@@ -663,14 +656,7 @@ fn a_player_who_types_but_never_reads_holds_shutdown_no_longer_than_the_grace() 
     let started = Instant::now();
     let pid = rustix::process::Pid::from_child(&server.child);
     rustix::process::kill_process(pid, rustix::process::Signal::TERM).expect("kill");
-    let deadline = Instant::now() + TIMEOUT;
-    let status = loop {
-        if let Some(status) = server.child.try_wait().expect("wait") {
-            break status;
-        }
-        assert!(Instant::now() < deadline, "the server did not exit");
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = server.wait_exit();
     let took = started.elapsed();
     let _ = typist.kill();
     let _ = typist.wait();

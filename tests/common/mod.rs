@@ -62,6 +62,18 @@ impl<T> Watched<T> {
     }
 }
 
+/// Waits for `child`'s exit, within [`TIMEOUT`]: `who` did not exit is a failure.
+fn wait_exit(child: &mut Child, who: &str) -> ExitStatus {
+    let deadline = Instant::now() + TIMEOUT;
+    loop {
+        if let Some(status) = child.try_wait().unwrap_or_else(|err| panic!("wait for {who}: {err}")) {
+            return status;
+        }
+        assert!(Instant::now() < deadline, "{who} did not exit");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
 /// The server binary (`mazewalk serve`), with its log.
 pub struct Server {
     pub child: Child,
@@ -138,6 +150,11 @@ impl Server {
         };
         std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink())); // the rest
         Server { child, port, log }
+    }
+
+    /// Waits for the server's exit (within [`TIMEOUT`]).
+    pub fn wait_exit(&mut self) -> ExitStatus {
+        wait_exit(&mut self.child, "the server")
     }
 
     /// The log so far.
@@ -308,14 +325,7 @@ impl Player {
 
     /// Waits for ssh's exit (within [`TIMEOUT`]).
     pub fn wait_exit(&mut self) -> ExitStatus {
-        let deadline = Instant::now() + TIMEOUT;
-        loop {
-            if let Some(status) = self.child.try_wait().expect("wait for ssh") {
-                return status;
-            }
-            assert!(Instant::now() < deadline, "ssh did not exit");
-            std::thread::sleep(Duration::from_millis(20));
-        }
+        wait_exit(&mut self.child, "ssh")
     }
 
     /// Every byte the terminal got.
