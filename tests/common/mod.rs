@@ -1,9 +1,9 @@
 //! What the end-to-end tests of `mazewalk serve` share (`tests/serve_e2e.rs`,
 //! `tests/serve_world_e2e.rs`, `tests/serve_http.rs`): a scratch folder, the server binary with its
 //! log, the stock OpenSSH client's options (testkit's [`ssh_args`]), and `ssh -tt` in a
-//! pseudo-terminal read by a `vt100` emulator. Loopback only; every wait has a deadline and wakes on
-//! the event it waits for (a log line, a screen update), not on a timer; every child is killed on
-//! drop. The `redis-server` they need is [`mazewalk_testkit::redis_server`].
+//! pseudo-terminal (testkit's [`ssh_in_pty`]) read by a `vt100` emulator. Loopback only; every wait
+//! has a deadline and wakes on the event it waits for (a log line, a screen update), not on a timer;
+//! every child is killed on drop. The `redis-server` they need is [`mazewalk_testkit::redis_server`].
 #![allow(dead_code)] // each test file uses a part
 
 use std::fs::File;
@@ -14,9 +14,9 @@ use std::process::{Child, Command, ExitStatus, Output, Stdio};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
-use mazewalk_testkit::require_tool;
 pub use mazewalk_testkit::scratch::Scratch;
 pub use mazewalk_testkit::ssh_args;
+use mazewalk_testkit::{require_tool, ssh_in_pty};
 use rustix::termios::{self, Winsize};
 
 /// Longest wait for anything. Generous for a loaded CI machine; each step takes well under a second.
@@ -252,25 +252,7 @@ impl Player {
         (cols, rows): (u16, u16),
         env: &[(&str, &str)],
     ) -> Player {
-        require_tool("ssh", "openssh-client");
-        require_tool("setsid", "util-linux");
-        let pty = rustix_openpty::openpty(None, Some(&winsize(cols, rows))).expect("openpty");
-        let master = File::from(pty.controller);
-        let slave = pty.user;
-        let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
-        let child = Command::new("setsid")
-            .args(["-c", "ssh", "-tt"])
-            .args(bind.map(|bind| ["-b", bind]).into_iter().flatten())
-            .args(env.iter().flat_map(|(name, _)| ["-o".to_string(), format!("SendEnv={name}")]))
-            .args(ssh_args(port, key, user))
-            .env("TERM", "xterm-256color")
-            .envs(env.iter().copied())
-            .stdin(stdio())
-            .stdout(stdio())
-            .stderr(stdio())
-            .spawn()
-            .expect("spawn setsid -c ssh");
-        drop(slave);
+        let (child, master) = ssh_in_pty(bind, port, key, user, (cols, rows), env);
         let shared =
             Watched::new(Screen { parser: vt100::Parser::new(nz(rows), nz(cols), 0), raw: Vec::new() });
         let mut input = master.try_clone().expect("dup");
