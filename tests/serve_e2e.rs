@@ -132,8 +132,7 @@ fn hud_position(screen: &vt100::Screen) -> Option<(f32, f32)> {
 
 /// A server on the grid maze `text` (open to anyone), with alice and then bob in their games.
 fn alice_and_bob_in(scratch: &Scratch, text: &str) -> (Server, Player, Player) {
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, text).expect("write the maze");
+    let maze = scratch.maze(text);
     let server = Server::start(scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
     let alice = Player::connect(server.port, None, "alice", 100, 30);
     alice.wait_for("alice's game", playing);
@@ -299,8 +298,7 @@ fn a_walk_from_a_spot_nearer_the_exit_is_not_kept_in_the_records() {
 #[test]
 fn every_finish_of_a_session_is_logged_kept_and_ranked() {
     let scratch = Scratch::new("again");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
+    let maze = scratch.maze(SHORT_RUN);
     let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
     let mut bob = Player::connect(server.port, None, "bob", 100, 30);
     bob.wait_for("bob's game", playing);
