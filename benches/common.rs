@@ -169,13 +169,23 @@ fn corridor_camera(l: &Layout) -> Option<Camera> {
 }
 
 fn portal_stats(renderer: &mut Renderer, maze: &Maze, camera: &Camera) -> RenderStats {
-    let (cols, rows) = MATCH_GRID;
+    render_samples(renderer, maze, camera, Charset::Half, MATCH_GRID)
+}
+
+/// Renders the samples alone (no glyphs) of a `cols × rows` view in `charset`, with portal culling.
+pub fn render_samples(
+    renderer: &mut Renderer,
+    maze: &Maze,
+    camera: &Camera,
+    charset: Charset,
+    (cols, rows): (usize, usize),
+) -> RenderStats {
     renderer
         .render(
             maze,
             camera,
             &[],
-            &RenderOptions { charset: Charset::Half, culling: Culling::Portal, ..RenderOptions::default() },
+            &RenderOptions { charset, culling: Culling::Portal, ..RenderOptions::default() },
             Target::Samples { cols, rows },
         )
         .expect("benchmark camera")

@@ -18,7 +18,7 @@ use mazewalk_bench::common;
 use std::fmt::Write as _;
 use std::hint::black_box;
 
-use common::{SIDES, Scene, View};
+use common::{SIDES, Scene, View, render_samples};
 use criterion::{BenchmarkId, Criterion};
 use mazewalk_render::{Charset, Culling, PortalPass, RenderOptions, Renderer, Target, to_frame};
 use mazewalk_term::frame::{ColorDepth, Frame, Region};
@@ -140,29 +140,11 @@ fn bench_breakdown(c: &mut Criterion, scenes: &[Scene]) {
             let (sx, sy) = charset.samples_per_cell();
             let eye = scene.camera.eye(cols * sx, rows * sy, charset.sample_aspect(0.5)).expect("camera");
             group.bench_function("portal_pass", |b| b.iter(|| pass.run(&scene.maze, black_box(&eye))));
-            group.bench_function("render_samples", |b| {
-                b.iter(|| {
-                    renderer
-                        .render(
-                            &scene.maze,
-                            &scene.camera,
-                            &[],
-                            &RenderOptions { charset, culling: Culling::Portal, ..RenderOptions::default() },
-                            Target::Samples { cols, rows },
-                        )
-                        .expect("benchmark camera")
-                });
-            });
+            let mut samples =
+                || render_samples(&mut renderer, &scene.maze, &scene.camera, charset, (cols, rows));
+            group.bench_function("render_samples", |b| b.iter(&mut samples));
             // The samples to_frame reads (also when a filter skips the bench above).
-            renderer
-                .render(
-                    &scene.maze,
-                    &scene.camera,
-                    &[],
-                    &RenderOptions { charset, culling: Culling::Portal, ..RenderOptions::default() },
-                    Target::Samples { cols, rows },
-                )
-                .expect("benchmark camera");
+            samples();
             for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
                 group.bench_function(format!("to_frame_{depth:?}"), |b| {
                     b.iter(|| {

@@ -598,6 +598,18 @@ impl Drop for Tui {
     }
 }
 
+impl Tui {
+    /// Sends `key`, which quits, and checks the walk ended cleanly (status 0) and gave the terminal
+    /// back as entered with `enabled` ([`assert_restored`]): every byte the terminal got.
+    fn quit(&mut self, key: &[u8], enabled: Enabled) -> Vec<u8> {
+        self.send(key);
+        let (status, raw) = self.finish();
+        assert_eq!(status.code(), Some(0), "{status:?}");
+        assert_restored(self, &raw, enabled);
+        raw
+    }
+}
+
 /// Asserts the walk ended by restoring the terminal: the last bytes undo exactly what was enabled,
 /// and the emulated terminal is on its main screen with the cursor shown.
 fn assert_restored(tui: &Tui, raw: &[u8], enabled: Enabled) {
@@ -926,10 +938,7 @@ fn walk_look_at_help_and_map_then_quit_restores_the_terminal() {
     tui.send(b"m");
     tui.wait_for("the corner map again", corner);
 
-    tui.send(b"q");
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, PLAIN);
+    tui.quit(b"q", PLAIN);
 }
 
 /// Kills the walkthrough with `signal` once it is idle; it must restore the terminal and exit at once
@@ -1055,10 +1064,7 @@ fn resizes_are_followed_and_a_tiny_terminal_gets_a_message() {
     tui.settle();
     tui.assert_idle_for(Duration::from_millis(300), "idle after the resizes");
 
-    tui.send(b"q");
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, PLAIN);
+    tui.quit(b"q", PLAIN);
 }
 
 /// QA finding 1: another program's output (a background job, `wall`) lands on the picture, and the
@@ -1107,10 +1113,7 @@ fn ctrl_z_restores_then_comes_back_with_a_full_repaint() {
     let r = text.find(&restore).unwrap_or_else(|| panic!("no restore on Ctrl-Z: {}", visible(&after)));
     let e = text[r..].find(&enter).unwrap_or_else(|| panic!("no re-enter after Ctrl-Z: {}", visible(&after)));
     assert!(text[r + e..].contains("\x1b[?2026h"), "no frame after Ctrl-Z: {}", visible(&after));
-    tui.send(b"q");
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, PLAIN);
+    tui.quit(b"q", PLAIN);
 }
 
 /// Stops the walkthrough with `kill -TSTP` once `ready` (not the Ctrl-Z key: a signal from outside),
@@ -1166,10 +1169,7 @@ fn continued(tui: &mut Tui, before: usize, enter: &str, enabled: Enabled, quit: 
     assert!(!t.local_modes.intersects(LocalModes::ICANON | LocalModes::ECHO), "not in raw mode again");
     tui.assert_idle_for(Duration::from_millis(300), "idle after continuing");
 
-    tui.send(quit);
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(tui, &raw, enabled);
+    tui.quit(quit, enabled);
     after
 }
 
@@ -1304,10 +1304,7 @@ fn a_stop_during_the_keyboard_query_gives_the_terminal_back_until_continued() {
     tui.signal(Signal::CONT);
     tui.wait_for("the first frame", |s| s.alternate_screen() && s.contents().contains("? help"));
     assert!(!tui.termios().local_modes.contains(LocalModes::ICANON), "raw mode was not taken back");
-    tui.send(b"q");
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, PLAIN);
+    tui.quit(b"q", PLAIN);
 }
 
 /// Red-team pass 7, finding 6: keys typed before the first frame reach the walk as the bytes the
@@ -1321,10 +1318,7 @@ fn alt_arrows_typed_before_the_first_frame_do_not_quit() {
     tui.wait_for("the first frame", |s| s.alternate_screen() && s.contents().contains("? help"));
     tui.settle();
     assert!(tui.running(), "the walk ended");
-    tui.send(b"q");
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, PLAIN);
+    tui.quit(b"q", PLAIN);
 }
 
 /// Red-team pass 7, finding 7: input typed while the keyboard query is unanswered is kept only up
@@ -1487,10 +1481,7 @@ fn with_the_kitty_protocol_a_key_is_held_until_released() {
     tui.settle();
     tui.assert_idle_for(Duration::from_millis(500), "after the release");
 
-    tui.send(b"\x1b[113u"); // q
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, KITTY);
+    tui.quit(b"\x1b[113u", KITTY); // q
 }
 
 #[test]
@@ -1499,10 +1490,7 @@ fn a_terminal_that_answers_no_queries_still_gets_the_walk() {
     let started = Instant::now();
     let mut tui = Tui::walk(80, 24, Answers::Silent);
     assert!(started.elapsed() < TIMEOUT);
-    tui.send(b"q");
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, PLAIN);
+    tui.quit(b"q", PLAIN);
 }
 
 #[test]
@@ -1510,10 +1498,7 @@ fn a_terminal_too_small_from_the_start_gets_the_message() {
     let mut tui = Tui::spawn(&[], 5, 2, Answers::Plain);
     tui.wait_for("the note that fits 5×2", |s| s.alternate_screen() && s.contents() == "small\nneed");
     tui.settle();
-    tui.send(b"q");
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, PLAIN);
+    tui.quit(b"q", PLAIN);
 }
 
 #[test]
@@ -1876,10 +1861,7 @@ fn replay_plays_a_stored_run_back_and_records_it() {
         let (x, y) = position(&tui.hud());
         assert!((x - 18.0).abs() < 0.2 && (y - 6.0).abs() < 0.2, "at the run's end: ({x}, {y})");
         tui.settle();
-        tui.send(b"q");
-        let (status, raw) = tui.finish();
-        assert_eq!(status.code(), Some(0), "{status:?}");
-        assert_restored(&tui, &raw, PLAIN);
+        let raw = tui.quit(b"q", PLAIN);
         let text = std::fs::read_to_string(&cast).expect("the cast");
         let (header, events) = parse_cast(&text);
         assert_eq!(
@@ -1893,10 +1875,7 @@ fn replay_plays_a_stored_run_back_and_records_it() {
     // the same run raced as a ghost in a walk: on from the start, named in the HUD
     let mut tui = Tui::spawn(&[maze_arg, "--ghost", run_arg], 100, 30, Answers::Plain);
     tui.wait_for("the ghost raced", |s| s.contents().contains("ghost ada 0:03.0"));
-    tui.send(b"q");
-    let (status, raw) = tui.finish();
-    assert_eq!(status.code(), Some(0), "{status:?}");
-    assert_restored(&tui, &raw, PLAIN);
+    tui.quit(b"q", PLAIN);
 
     // the run against another maze (the built-in one), or a file that is no run or far too long:
     // refused as bad data (65), plainly, the terminal untouched; a run file that is not there, as a

@@ -132,8 +132,7 @@ fn hud_position(screen: &vt100::Screen) -> Option<(f32, f32)> {
 
 /// A server on the grid maze `text` (open to anyone), with alice and then bob in their games.
 fn alice_and_bob_in(scratch: &Scratch, text: &str) -> (Server, Player, Player) {
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, text).expect("write the maze");
+    let maze = scratch.maze(text);
     let server = Server::start(scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
     let alice = Player::connect(server.port, None, "alice", 100, 30);
     alice.wait_for("alice's game", playing);
@@ -299,8 +298,7 @@ fn a_walk_from_a_spot_nearer_the_exit_is_not_kept_in_the_records() {
 #[test]
 fn every_finish_of_a_session_is_logged_kept_and_ranked() {
     let scratch = Scratch::new("again");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
+    let maze = scratch.maze(SHORT_RUN);
     let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
     let mut bob = Player::connect(server.port, None, "bob", 100, 30);
     bob.wait_for("bob's game", playing);
@@ -624,14 +622,7 @@ fn a_signal_says_goodbye(signal: rustix::process::Signal, code: i32) {
         p.wait_for("the goodbye", |s, _| restored(s) && s.contents().contains(SHUTDOWN_MESSAGE));
         assert_eq!(p.wait_exit().code(), Some(1), "the game ended, not by the player");
     }
-    let deadline = Instant::now() + TIMEOUT;
-    let status = loop {
-        if let Some(status) = server.child.try_wait().expect("wait") {
-            break status;
-        }
-        assert!(Instant::now() < deadline, "the server did not exit");
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = server.wait_exit();
     assert_eq!(status.code(), Some(code));
 }
 
@@ -663,14 +654,7 @@ fn a_player_who_types_but_never_reads_holds_shutdown_no_longer_than_the_grace() 
     let started = Instant::now();
     let pid = rustix::process::Pid::from_child(&server.child);
     rustix::process::kill_process(pid, rustix::process::Signal::TERM).expect("kill");
-    let deadline = Instant::now() + TIMEOUT;
-    let status = loop {
-        if let Some(status) = server.child.try_wait().expect("wait") {
-            break status;
-        }
-        assert!(Instant::now() < deadline, "the server did not exit");
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = server.wait_exit();
     let took = started.elapsed();
     let _ = typist.kill();
     let _ = typist.wait();

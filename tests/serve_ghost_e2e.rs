@@ -31,8 +31,7 @@ fn in_view(screen: &vt100::Screen, text: &str) -> bool {
 #[test]
 fn a_finished_run_comes_back_as_a_ghost_on_the_next_players_screen_and_map() {
     let scratch = Scratch::new("ghost");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, CORRIDOR).expect("write the maze");
+    let maze = scratch.maze(CORRIDOR);
     let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
     let mut bob = Player::connect(server.port, None, "bob", 100, 30);
     bob.wait_for("bob's game", playing);
@@ -109,8 +108,7 @@ fn walk_to_the_exit(player: &mut Player) {
 fn a_finish_on_another_server_reaches_the_ghost_within_seconds() {
     let scratch = Scratch::new("worldghost");
     let redis = RedisServer::start(Persistence::None);
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, CORRIDOR_AND_ONE_BEHIND).expect("write the maze"); // (alice is second in)
+    let maze = scratch.maze(CORRIDOR_AND_ONE_BEHIND); // (alice is second in)
     let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     let server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);
     let mut bob = Player::connect(server_b.port, None, "bob", 100, 30);

@@ -75,8 +75,7 @@ fn parse(text: &str) -> (serde_json::Value, Vec<(f64, String, String)>) {
 #[test]
 fn a_players_session_is_recorded_and_replays_to_the_screen_it_showed() {
     let scratch = Scratch::new("record");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let maze = scratch.maze(CORRIDOR_AND_BEND);
     let dir = scratch.join("casts");
     let args = ["--open", "--record-dir", dir.to_str().expect("UTF-8"), maze.to_str().expect("UTF-8")];
     let server = Server::start(&scratch, &args);
@@ -161,8 +160,7 @@ fn a_players_session_is_recorded_and_replays_to_the_screen_it_showed() {
 #[test]
 fn a_tiny_record_max_bytes_stops_the_cast_at_the_cap() {
     let scratch = Scratch::new("recordcap");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let maze = scratch.maze(CORRIDOR_AND_BEND);
     let dir = scratch.join("casts");
     let dir_arg = dir.to_str().expect("UTF-8");
     let args = ["--open", "--record-dir", dir_arg, "--record-max-bytes", "8K", maze.to_str().expect("UTF-8")];
@@ -200,8 +198,7 @@ fn a_tiny_record_max_bytes_stops_the_cast_at_the_cap() {
 #[test]
 fn idle_players_from_one_address_delete_no_finished_cast() {
     let scratch = Scratch::new("recordwipe");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let maze = scratch.maze(CORRIDOR_AND_BEND);
     let dir = scratch.join("casts");
     std::fs::create_dir_all(&dir).expect("the casts' folder");
     for t in 1..=12 {
@@ -246,8 +243,7 @@ fn idle_players_from_one_address_delete_no_finished_cast() {
 #[test]
 fn quick_sessions_from_one_address_delete_no_other_players_cast() {
     let scratch = Scratch::new("recordcount");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let maze = scratch.maze(CORRIDOR_AND_BEND);
     let dir = scratch.join("casts");
     let dir_arg = dir.to_str().expect("UTF-8");
     let args = [
@@ -291,8 +287,7 @@ fn quick_sessions_from_one_address_delete_no_other_players_cast() {
 #[test]
 fn a_write_error_leaves_the_cast_whole_lines() {
     let scratch = Scratch::new("recordfull");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let maze = scratch.maze(CORRIDOR_AND_BEND);
     let dir = scratch.join("casts");
     let dir_arg = dir.to_str().expect("UTF-8");
     let args = ["--open", "--no-records", "--record-dir", dir_arg, maze.to_str().expect("UTF-8")];

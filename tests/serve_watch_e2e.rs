@@ -57,8 +57,7 @@ fn heading(screen: &vt100::Screen) -> Option<String> {
 #[test]
 fn a_spectator_watches_two_players_and_is_no_one_in_their_maze() {
     let scratch = Scratch::new("watch");
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let maze = scratch.maze(CORRIDOR_AND_BEND);
     let maze = maze.to_str().expect("a UTF-8 path");
     let server = Server::start(&scratch, &["--open", "--max-players", "2", "--max-spectators", "1", maze]);
 
@@ -146,8 +145,7 @@ fn a_spectator_watches_two_players_and_is_no_one_in_their_maze() {
 fn a_spectator_follows_a_player_on_another_server() {
     let scratch = Scratch::new("watchworld");
     let redis = RedisServer::start(Persistence::None);
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, CORRIDOR_AND_BEND).expect("write the maze");
+    let maze = scratch.maze(CORRIDOR_AND_BEND);
     let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     let server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);
     let mut alice = Player::connect(server_a.port, None, "alice", 100, 30);

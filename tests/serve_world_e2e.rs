@@ -72,8 +72,7 @@ const LONG_RUN_AND_ONE_BEHIND: &str = "mazewalk-grid 1\ntile 4\nfacing east\n\n#
 fn two_servers_walk_one_world_on_redis() {
     let scratch = Scratch::new("two");
     let mut redis = RedisServer::start(Persistence::None);
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, LONG_RUN_AND_ONE_BEHIND).expect("write the maze");
+    let maze = scratch.maze(LONG_RUN_AND_ONE_BEHIND);
     let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     let mut server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);
 
@@ -207,8 +206,7 @@ fn redis_cli(url: &str, args: &[&str]) {
 fn newcomers_racing_on_two_servers_end_up_apart() {
     let scratch = Scratch::new("race");
     let redis = RedisServer::start(Persistence::None);
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, LONG_RUN).expect("write the maze");
+    let maze = scratch.maze(LONG_RUN);
     let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     let server_b = Server::in_world(&scratch, "b", &maze, &redis.url(0), &[]);
     server_a.wait_log("the world is online", 1);
@@ -239,8 +237,7 @@ fn newcomers_racing_on_two_servers_end_up_apart() {
 fn garbage_in_the_worlds_key_is_said_for_what_it_is() {
     let scratch = Scratch::new("world-garbage");
     let redis = RedisServer::start(Persistence::None);
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, LONG_RUN).expect("write the maze");
+    let maze = scratch.maze(LONG_RUN);
     let server = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     server.wait_log("the world is online", 1);
     redis_cli(&redis.url(0), &["DEL", "mazewalk:world"]);
@@ -263,8 +260,7 @@ fn a_server_that_cannot_join_the_world_says_why_and_exits_1() {
     assert!(started.elapsed() < Duration::from_secs(5), "bounded: {:?}", started.elapsed());
 
     let redis = RedisServer::start(Persistence::None);
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
+    let maze = scratch.maze(SHORT_RUN);
     let server = Server::in_world(&scratch, "a", &maze, &redis.url(0), &[]);
     let (code, said) = refused(&scratch, &["--gen", "4x4", "--world", &redis.url(0)]);
     assert_eq!(code, Some(1), "{said}");
@@ -290,8 +286,7 @@ fn two_servers_share_a_world_over_tls_with_their_own_ca() {
     let scratch = Scratch::new("tls");
     let redis = RedisServer::start_tls();
     assert!(redis.url(0).starts_with("rediss://"));
-    let maze = scratch.join("maze.grid");
-    std::fs::write(&maze, SHORT_RUN).expect("write the maze");
+    let maze = scratch.maze(SHORT_RUN);
     let ca = redis.ca_path().expect("its CA's certificate");
     let ca = ca.to_str().expect("a UTF-8 path");
     let server_a = Server::in_world(&scratch, "a", &maze, &redis.url(0), &["--world-ca", ca]);

@@ -413,22 +413,9 @@ async fn idle_flood(addr: SocketAddr, addresses: u32, rate: f64, stop: Arc<Atomi
 /// screen) arrives, or `None` if not within `within`. The client is killed after.
 fn ssh_newcomer(addr: SocketAddr, from: IpAddr, within: Duration) -> Option<Duration> {
     use std::io::Read as _;
-    let size = rustix::termios::Winsize { ws_row: 24, ws_col: 80, ws_xpixel: 0, ws_ypixel: 0 };
-    let pty = rustix_openpty::openpty(None, Some(&size)).expect("openpty");
-    let master = std::fs::File::from(pty.controller);
-    let slave = pty.user;
-    let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
     let started = Instant::now();
-    let mut child = Command::new("setsid")
-        .args(["-c", "ssh", "-tt", "-b", &from.to_string()])
-        .args(mazewalk_testkit::ssh_args(addr.port(), None, "newcomer"))
-        .env("TERM", "xterm-256color")
-        .stdin(stdio())
-        .stdout(stdio())
-        .stderr(stdio())
-        .spawn()
-        .expect("spawn setsid -c ssh");
-    drop(slave);
+    let (mut child, master) =
+        mazewalk_testkit::ssh_in_pty(Some(&from.to_string()), addr.port(), None, "newcomer", (80, 24), &[]);
     let (seen, first_frame) = std::sync::mpsc::channel();
     let mut screen = master;
     std::thread::spawn(move || {

@@ -44,43 +44,21 @@ fn main() {
     let options =
         RenderOptions { charset, color_depth: depth, culling: Culling::Portal, ..RenderOptions::default() };
     let (mut renderer, mut frame) = (Renderer::new(), Frame::new(cols, rows));
-    renderer
-        .render(
-            &scene.maze,
-            &scene.camera,
-            &[],
-            &options,
-            Target::Frame(&mut frame, Region { col: 0, row: 0, cols, rows }),
-        )
-        .expect("render");
+    let region = Region { col: 0, row: 0, cols, rows };
+    let draw = |renderer: &mut Renderer, frame: &mut Frame| {
+        renderer
+            .render(&scene.maze, &scene.camera, &[], &options, Target::Frame(frame, region))
+            .expect("render");
+    };
+    draw(&mut renderer, &mut frame);
     let start = Instant::now();
     for _ in 0..reps {
         match part.as_str() {
             "samples" => {
-                renderer
-                    .render(
-                        &scene.maze,
-                        &scene.camera,
-                        &[],
-                        &RenderOptions { charset, culling: Culling::Portal, ..RenderOptions::default() },
-                        Target::Samples { cols, rows },
-                    )
-                    .expect("render");
+                common::render_samples(&mut renderer, &scene.maze, &scene.camera, charset, (cols, rows));
             }
-            "glyphs" => {
-                to_frame(renderer.samples(), &options, &mut frame, Region { col: 0, row: 0, cols, rows })
-            }
-            _ => {
-                renderer
-                    .render(
-                        &scene.maze,
-                        &scene.camera,
-                        &[],
-                        &options,
-                        Target::Frame(&mut frame, Region { col: 0, row: 0, cols, rows }),
-                    )
-                    .expect("render");
-            }
+            "glyphs" => to_frame(renderer.samples(), &options, &mut frame, region),
+            _ => draw(&mut renderer, &mut frame),
         }
         std::hint::black_box(&frame);
     }

@@ -178,17 +178,6 @@ fn flood_message(tag: u64, bounds: &Bounds, k: u64, round: u64) -> Vec<u8> {
     out
 }
 
-/// Redis's own count of calls of `command` so far.
-async fn calls(con: &mut redis::aio::MultiplexedConnection, command: &str) -> u64 {
-    let info: String = redis::cmd("INFO").arg("commandstats").query_async(con).await.unwrap_or_default();
-    let prefix = format!("cmdstat_{command}:calls=");
-    info.lines()
-        .find_map(|l| l.strip_prefix(&prefix))
-        .and_then(|rest| rest.split(',').next())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or(0)
-}
-
 /// What a claims or junk flood did to one binary.
 struct Flooded {
     messages: u64,
@@ -242,7 +231,7 @@ async fn claims(bin: &Path, seconds: f64, junk: bool) -> Flooded {
     let World { redis: _redis, scratch, hash, keys, mut con, servers, .. } = world(bin, scratch).await;
     let log0 = [servers[0].log_bytes(), servers[1].log_bytes()];
     let idle_rss = [rss_bytes(servers[0].pid()), rss_bytes(servers[1].pid())];
-    let sets0 = calls(&mut con, "set").await;
+    let sets0 = redis_server::command_calls(&mut con, "set").await.unwrap_or(0);
     let garbage: Vec<u8> = (0..200_000u32).map(|i| (i.wrapping_mul(2_654_435_761) >> 24) as u8).collect();
     let start = std::time::Instant::now();
     let mut n = 0u64;
@@ -272,7 +261,7 @@ async fn claims(bin: &Path, seconds: f64, junk: bool) -> Flooded {
     }
     let elapsed = start.elapsed().as_secs_f64();
     tokio::time::sleep(Duration::from_secs(2)).await; // what the servers still had to read
-    let sets = calls(&mut con, "set").await - sets0;
+    let sets = redis_server::command_calls(&mut con, "set").await.unwrap_or(0) - sets0;
     let logs = [servers[0].log_bytes() - log0[0], servers[1].log_bytes() - log0[1]];
     let peak_rss = [servers[0].peak_rss(), servers[1].peak_rss()];
     drop(servers);

@@ -1,9 +1,9 @@
 //! What the end-to-end tests of `mazewalk serve` share (`tests/serve_e2e.rs`,
 //! `tests/serve_world_e2e.rs`, `tests/serve_http.rs`): a scratch folder, the server binary with its
 //! log, the stock OpenSSH client's options (testkit's [`ssh_args`]), and `ssh -tt` in a
-//! pseudo-terminal read by a `vt100` emulator. Loopback only; every wait has a deadline and wakes on
-//! the event it waits for (a log line, a screen update), not on a timer; every child is killed on
-//! drop. The `redis-server` they need is [`mazewalk_testkit::redis_server`].
+//! pseudo-terminal (testkit's [`ssh_in_pty`]) read by a `vt100` emulator. Loopback only; every wait
+//! has a deadline and wakes on the event it waits for (a log line, a screen update), not on a timer;
+//! every child is killed on drop. The `redis-server` they need is [`mazewalk_testkit::redis_server`].
 #![allow(dead_code)] // each test file uses a part
 
 use std::fs::File;
@@ -14,9 +14,9 @@ use std::process::{Child, Command, ExitStatus, Output, Stdio};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
-use mazewalk_testkit::require_tool;
 pub use mazewalk_testkit::scratch::Scratch;
 pub use mazewalk_testkit::ssh_args;
+use mazewalk_testkit::{require_tool, ssh_in_pty};
 use rustix::termios::{self, Winsize};
 
 /// Longest wait for anything. Generous for a loaded CI machine; each step takes well under a second.
@@ -59,6 +59,18 @@ impl<T> Watched<T> {
             let wait = (deadline - now).min(Duration::from_millis(100));
             value = self.changed.wait_timeout(value, wait).unwrap_or_else(PoisonError::into_inner).0;
         }
+    }
+}
+
+/// Waits for `child`'s exit, within [`TIMEOUT`]: `who` did not exit is a failure.
+fn wait_exit(child: &mut Child, who: &str) -> ExitStatus {
+    let deadline = Instant::now() + TIMEOUT;
+    loop {
+        if let Some(status) = child.try_wait().unwrap_or_else(|err| panic!("wait for {who}: {err}")) {
+            return status;
+        }
+        assert!(Instant::now() < deadline, "{who} did not exit");
+        std::thread::sleep(Duration::from_millis(20));
     }
 }
 
@@ -138,6 +150,11 @@ impl Server {
         };
         std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink())); // the rest
         Server { child, port, log }
+    }
+
+    /// Waits for the server's exit (within [`TIMEOUT`]).
+    pub fn wait_exit(&mut self) -> ExitStatus {
+        wait_exit(&mut self.child, "the server")
     }
 
     /// The log so far.
@@ -235,25 +252,7 @@ impl Player {
         (cols, rows): (u16, u16),
         env: &[(&str, &str)],
     ) -> Player {
-        require_tool("ssh", "openssh-client");
-        require_tool("setsid", "util-linux");
-        let pty = rustix_openpty::openpty(None, Some(&winsize(cols, rows))).expect("openpty");
-        let master = File::from(pty.controller);
-        let slave = pty.user;
-        let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
-        let child = Command::new("setsid")
-            .args(["-c", "ssh", "-tt"])
-            .args(bind.map(|bind| ["-b", bind]).into_iter().flatten())
-            .args(env.iter().flat_map(|(name, _)| ["-o".to_string(), format!("SendEnv={name}")]))
-            .args(ssh_args(port, key, user))
-            .env("TERM", "xterm-256color")
-            .envs(env.iter().copied())
-            .stdin(stdio())
-            .stdout(stdio())
-            .stderr(stdio())
-            .spawn()
-            .expect("spawn setsid -c ssh");
-        drop(slave);
+        let (child, master) = ssh_in_pty(bind, port, key, user, (cols, rows), env);
         let shared =
             Watched::new(Screen { parser: vt100::Parser::new(nz(rows), nz(cols), 0), raw: Vec::new() });
         let mut input = master.try_clone().expect("dup");
@@ -308,14 +307,7 @@ impl Player {
 
     /// Waits for ssh's exit (within [`TIMEOUT`]).
     pub fn wait_exit(&mut self) -> ExitStatus {
-        let deadline = Instant::now() + TIMEOUT;
-        loop {
-            if let Some(status) = self.child.try_wait().expect("wait for ssh") {
-                return status;
-            }
-            assert!(Instant::now() < deadline, "ssh did not exit");
-            std::thread::sleep(Duration::from_millis(20));
-        }
+        wait_exit(&mut self.child, "ssh")
     }
 
     /// Every byte the terminal got.

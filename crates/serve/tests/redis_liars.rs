@@ -114,17 +114,6 @@ async fn stored_winner(con: &mut MultiplexedConnection) -> Option<Vec<u8>> {
     redis::cmd("GET").arg(Keys::new(MAZE, 0).winner).query_async(con).await.unwrap()
 }
 
-/// Redis's own count of calls of `command` so far.
-async fn calls(con: &mut MultiplexedConnection, command: &str) -> u64 {
-    let info: String = redis::cmd("INFO").arg("commandstats").query_async(con).await.unwrap();
-    let prefix = format!("cmdstat_{command}:calls=");
-    info.lines()
-        .find_map(|l| l.strip_prefix(&prefix))
-        .and_then(|rest| rest.split(',').next())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or(0)
-}
-
 /// 10 invented servers of 40 players each against caps of 3 servers and 50 players: the view holds
 /// 50 players of 3 servers, the rest counted; a real server is kept out while the crowd lasts, and
 /// comes into view once the crowd falls silent.
@@ -225,7 +214,8 @@ async fn a_flood_of_winner_claims_makes_a_bounded_log_and_a_read_a_second() {
     a.finish(alice, 61.5);
     eventually(Duration::from_secs(2), "alice won", || !a.lock().winners.is_empty()).await;
     let mut con = redis.connection(0).await;
-    let (sets, lines) = (calls(&mut con, "set").await, log.lines_of(redis.port).len());
+    let (sets, lines) =
+        (redis_server::command_calls(&mut con, "set").await.unwrap(), log.lines_of(redis.port).len());
     let start = Instant::now();
     let mut sent = 0u64;
     for batch in 0..40u64 {
@@ -249,7 +239,7 @@ async fn a_flood_of_winner_claims_makes_a_bounded_log_and_a_read_a_second() {
     .await;
     let reads = world_a.stats().winner_reads;
     let new_lines = log.lines_of(redis.port).len() - lines;
-    let new_sets = calls(&mut con, "set").await - sets;
+    let new_sets = redis_server::command_calls(&mut con, "set").await.unwrap() - sets;
     eprintln!(
         "{sent} claims in {seconds:.2} s: {reads} reads of the winner, {new_sets} SETs, {new_lines} log lines"
     );

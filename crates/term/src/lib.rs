@@ -5,8 +5,9 @@
 //!   draws into and the encoder sends;
 //! - [`encoder`]: a [`Frame`] in, the fewest bytes out (a diff with what the terminal shows);
 //! - [`input`]: the terminal's bytes in, keys, mouse, focus and the terminal's replies out;
-//! - [`caps`]: colour depth and BCE from the environment's variables (a function of the variables
-//!   it is given);
+//! - [`blocks`]: the block glyphs (halves, quadrants, sextants) as masks, their ink and complements;
+//! - [`caps`]: colour depth, block glyphs and BCE from the environment's variables (a function of the
+//!   variables it is given), and the questions that ask the terminal itself (truecolor, `REP`);
 //! - [`modes`]: the bytes that enter game mode (alternate screen, mouse, focus, kitty keyboard
 //!   flags) and put the terminal back.
 //!

@@ -1,9 +1,10 @@
 //! What the tests and benches of every mazewalk crate share, in one copy: the proptest configuration
 //! of every property, a tolerant comparison, the f64 OKLab oracle ([`oklab`]), the check that a
 //! system program a test runs is installed ([`require_tool`]), the `redis-server` they start
-//! ([`redis_server`]), the stock `ssh` client's options ([`ssh_args`]), the release server the
-//! measuring examples run ([`server_process`]) and, for the async tests of the server and its world,
-//! `eventually` (a wait for a condition, with a deadline). A dev-dependency only.
+//! ([`redis_server`]), the stock `ssh` client's options ([`ssh_args`]; in a pty of its own,
+//! `ssh_in_pty`), the release server the measuring examples run ([`server_process`]) and, for the
+//! async tests of the server and its world, `eventually` (a wait for a condition, with a deadline).
+//! A dev-dependency only.
 //!
 //! The harnesses that drive a mazewalk crate are behind a feature named after it (`term`, `walk`,
 //! `pty`, `serve`, `redis`), so that the math crate's tests, say, build none of them. Only a crate's
@@ -177,6 +178,45 @@ pub fn ssh_args(port: u16, key: Option<&std::path::Path>, user: &str) -> Vec<Str
     args.extend(["-i".to_string(), key]);
     args.push(format!("{user}@127.0.0.1"));
     args
+}
+
+/// Stock `ssh -tt` ([`ssh_args`]; `-b BIND` when given) as `user` in a `cols × rows`
+/// pseudo-terminal of its own, the leader of its session (`setsid -c`), with `TERM=xterm-256color`
+/// and `env` set and sent to the server (`-o SendEnv=NAME` each): the client, and the terminal's
+/// side of the pty to read its screen from and type into.
+///
+/// # Panics
+/// `ssh` or `setsid` is not installed (the message names the package), or the pty cannot be made.
+#[cfg(all(unix, feature = "pty"))]
+#[must_use]
+pub fn ssh_in_pty(
+    bind: Option<&str>,
+    port: u16,
+    key: Option<&std::path::Path>,
+    user: &str,
+    (cols, rows): (u16, u16),
+    env: &[(&str, &str)],
+) -> (std::process::Child, std::fs::File) {
+    use std::process::{Command, Stdio};
+    require_tool("ssh", "openssh-client");
+    require_tool("setsid", "util-linux");
+    let size = rustix::termios::Winsize { ws_row: rows, ws_col: cols, ws_xpixel: 0, ws_ypixel: 0 };
+    let pty = rustix_openpty::openpty(None, Some(&size)).expect("openpty");
+    let slave = pty.user;
+    let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
+    let child = Command::new("setsid")
+        .args(["-c", "ssh", "-tt"])
+        .args(bind.map(|bind| ["-b", bind]).into_iter().flatten())
+        .args(env.iter().flat_map(|(name, _)| ["-o".to_string(), format!("SendEnv={name}")]))
+        .args(ssh_args(port, key, user))
+        .env("TERM", "xterm-256color")
+        .envs(env.iter().copied())
+        .stdin(stdio())
+        .stdout(stdio())
+        .stderr(stdio())
+        .spawn()
+        .expect("spawn setsid -c ssh");
+    (child, std::fs::File::from(pty.controller))
 }
 
 /// What `scripts/test-all` says about itself, in every missing-tool message: it installs them all.

@@ -86,3 +86,22 @@ impl RedisServer {
         client.get_multiplexed_async_connection().await.expect("Redis answers")
     }
 }
+
+/// Redis's own count of calls of `command` (lower case, e.g. `set`) so far (`INFO commandstats`):
+/// 0 for a command not yet called.
+///
+/// # Errors
+/// Redis does not answer `INFO`.
+pub async fn command_calls(
+    con: &mut redis::aio::MultiplexedConnection,
+    command: &str,
+) -> redis::RedisResult<u64> {
+    let info: String = redis::cmd("INFO").arg("commandstats").query_async(con).await?;
+    let prefix = format!("cmdstat_{command}:calls=");
+    Ok(info
+        .lines()
+        .find_map(|l| l.strip_prefix(&prefix))
+        .and_then(|rest| rest.split(',').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0))
+}

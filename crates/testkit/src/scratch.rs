@@ -27,6 +27,13 @@ impl Scratch {
         self.0.path().join(name)
     }
 
+    /// A maze file `maze.grid` in the folder holding `text`; returns its path.
+    pub fn maze(&self, text: &str) -> PathBuf {
+        let path = self.join("maze.grid");
+        std::fs::write(&path, text).expect("write the maze");
+        path
+    }
+
     /// The records database's usual place in the folder.
     pub fn db(&self) -> PathBuf {
         self.join("records.sqlite")

@@ -398,8 +398,8 @@ impl MapArea {
     }
 
     /// A small map in the top-right corner at [`MAP_UNITS_PER_COL`], centred on the viewer (to the
-    /// nearest character), a third of the frame's width and height at most, so a ninth of it
-    /// ([`fit_to_seen`](Self::fit_to_seen) draws what has been seen of it).
+    /// nearest character), a third of the frame's width and height at most, so a ninth of it, and
+    /// 40 × 14 characters at most ([`fit_to_seen`](Self::fit_to_seen) draws what has been seen of it).
     #[must_use]
     pub fn corner(frame: &Frame, viewer: Vec2) -> MapArea {
         let width = (frame.width() / 3).clamp(1, 40);
