@@ -523,10 +523,11 @@ pub fn parse_height(s: &str) -> Result<f32, String> {
 /// `f32` is outside the range too, not "not a finite number".
 fn parse_within(s: &str, (lo, hi): (f32, f32), outside: impl Fn(&str) -> String) -> Result<f32, String> {
     let t = s.trim();
-    match t.parse::<f64>() {
-        // parsed again as f32: a cast of the f64 could round twice
-        Ok(x) if (f64::from(lo)..=f64::from(hi)).contains(&x) => t.parse::<f32>().map_err(|e| e.to_string()),
-        Ok(x) if x.is_finite() => Err(outside(t)),
+    // The range is checked on the f32 the flag will hold (so a bound written as the range's own
+    // text, `0.05` for 0.05f32, is in it); a finite number too large for an f32 is outside.
+    match (t.parse::<f64>(), t.parse::<f32>()) {
+        (Ok(x), Ok(y)) if x.is_finite() && (lo..=hi).contains(&y) => Ok(y),
+        (Ok(x), _) if x.is_finite() => Err(outside(t)),
         _ => Err(format!("expected a finite number, found `{s}`")),
     }
 }

@@ -247,6 +247,27 @@ fn bad_render_arguments_are_usage_errors() {
     }
 }
 
+/// Red-team pass 8: a range's bounds, written as its own message writes them, are in it (`0.1` was
+/// "outside 0.1..=4": the text's f64 was compared with the bound's f32, 0.100000001…); just past a
+/// bound is still out.
+#[test]
+fn a_flags_range_takes_its_own_bounds_as_written() {
+    for aspect in ["0.1", "4", "0.100000001"] {
+        let out = mazewalk(&["render", "--cell-aspect", aspect, "--size", "20x8"]);
+        assert_eq!(out.status.code(), Some(0), "--cell-aspect {aspect}: {}", stderr(&out));
+    }
+    for aspect in ["0.0999", "4.001"] {
+        let out = mazewalk(&["render", "--cell-aspect", aspect, "--size", "20x8"]);
+        assert_eq!(out.status.code(), Some(2), "--cell-aspect {aspect} taken");
+    }
+    // the walk's steps, parsed before it asks for a terminal (a usage error is exit 2, the missing
+    // terminal something else)
+    for (flag, bound) in [("--walk-step", "0.05"), ("--turn-step", "1"), ("--walk-step", "4")] {
+        let out = mazewalk(&[flag, bound]);
+        assert_ne!(out.status.code(), Some(2), "{flag} {bound}: {}", stderr(&out));
+    }
+}
+
 #[test]
 fn maze_errors_are_located_and_have_their_own_exit_codes() {
     let bad = std::env::temp_dir().join(format!("mazewalk-bad-{}.maze", std::process::id()));
