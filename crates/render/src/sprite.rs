@@ -32,6 +32,12 @@ pub(crate) const SPRITE_WIDTH: f32 = 0.7;
 pub(crate) const SPRITE_HEIGHT: f32 = 1.45;
 /// At most this many figures are drawn in one frame (the rest are left out, farthest first).
 pub(crate) const MAX_SPRITES: usize = 1024;
+/// The samples the figures of one frame may cover, as screens' worth: nearest first, a figure is
+/// drawn while those drawn before it have covered less (their bounding boxes on the screen). Figures
+/// that cover the screen this many times over hide what is behind them; the rest are left out, not
+/// rasterized to fail the depth test (red-team pass 8: 1,024 figures a Redis writer put within 0.6
+/// units of a player each covered most of its view, 15–20 ms a frame where it had taken 1).
+pub(crate) const FIGURE_SCREENS: usize = 4;
 /// Coverage id of the exit's beacon in the sample buffer (below the floor's and ceiling's ids).
 pub(crate) const EXIT_ID: u32 = u32::MAX - 3;
 /// Coverage id of figure `k` in the sample buffer: `SPRITE_ID - k` (below the exit's, far above any
@@ -149,14 +155,19 @@ pub(crate) struct SpritePass {
     temp: Vec<SpriteVertex>,
     grid: Vec<GridVertex<Vec3>>,
     order: Vec<(f32, usize)>,
+    /// The samples the frame's figures have covered so far (their bounding boxes), and the figures
+    /// rasterized (on the screen after clipping).
+    covered: usize,
+    drawn: usize,
     /// The labels of the last frame's figures (those whose head centre is on screen).
     pub labels: Vec<Label>,
 }
 
 impl SpritePass {
     /// Rasterizes the `sprites` for which `visible(cell)` holds into `samples` (depth-tested against
-    /// what is there: draw the walls first), nearest first, at most [`MAX_SPRITES`]; returns the
-    /// samples written. Records each drawn figure's [`Label`] position.
+    /// what is there: draw the walls first), nearest first, at most [`MAX_SPRITES`] and while those
+    /// drawn have covered less than [`FIGURE_SCREENS`] screens; returns the samples written. Records
+    /// each drawn figure's [`Label`] position.
     pub fn draw(
         &mut self,
         samples: &mut SampleBuffer,
@@ -183,7 +194,11 @@ impl SpritePass {
         });
         self.order.truncate(MAX_SPRITES);
         let mut written = 0;
+        (self.covered, self.drawn) = (0, 0);
         for slot in 0..self.order.len() {
+            if self.covered >= FIGURE_SCREENS * eye.width * eye.height {
+                break; // (what is left stands behind screens of figures)
+            }
             let (_, k) = self.order[slot];
             let sprite = &sprites[k];
             let size = Vec2::new(SPRITE_WIDTH, SPRITE_HEIGHT);
@@ -195,8 +210,10 @@ impl SpritePass {
             let face = albedo.lerp(Vec3::ONE, 0.45);
             let head_shade = |attrs: Vec3| fog.apply(face, attrs.x);
             let alpha = sprite.ghost.then_some(GHOST_ALPHA);
+            let before = self.covered;
             written += self.fill(samples, eye, model, &BODY, id, alpha, body);
             written += self.fill(samples, eye, model, &head(), id, alpha, head_shade);
+            self.drawn += usize::from(self.covered > before);
 
             let centre = model.transform_point3(Vec3::new(HEAD_CENTRE.x, 0.0, HEAD_CENTRE.y));
             let clip = eye.world_to_clip * centre.extend(1.0);
@@ -262,6 +279,12 @@ impl SpritePass {
         }
         self.grid.clear();
         self.grid.extend(self.output.iter().map(|v| eye.grid_vertex(v.clip, v.attrs))); // ÷w → NDC → viewport
+        let (lo, hi) = self
+            .grid
+            .iter()
+            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(v.pos), hi.max(v.pos)));
+        let size = |lo: f32, hi: f32, n: usize| (hi.min(n as f32) - lo.max(0.0)).max(0.0).ceil() as usize;
+        self.covered += size(lo.x, hi.x, eye.width) * size(lo.y, hi.y, eye.height);
         match alpha {
             None => fill_polygon(samples, &self.grid, id, shade),
             Some(alpha) => blend_polygon(samples, &self.grid, id, alpha, shade),
@@ -313,5 +336,33 @@ mod tests {
             "chin {chin} at the shoulders {shoulders}"
         );
         assert!(head().iter().all(|p| p.y <= 1.0 && p.x.abs() <= 0.5), "inside the unit box");
+    }
+    /// Red-team pass 8: a crowd pressed round the eye is drawn only until it has covered a few
+    /// screens (the rest stand behind it), while a crowd spread out down the view is drawn whole.
+    #[test]
+    fn figures_are_drawn_until_they_have_covered_a_few_screens() {
+        let camera = crate::Camera::new(Vec2::ZERO, 0.0, 90.0);
+        let eye = camera.eye(120, 80, 1.0).unwrap();
+        let fog = Fog { color: Vec3::ZERO, half: 8.0, end: 40.0 };
+        let figure =
+            |position: Vec2| Sprite { position, cell: 0, color: Vec3::ONE, label: 'a', ghost: false };
+        let mut pass = SpritePass::default();
+        let mut samples = SampleBuffer::new(eye.width, eye.height);
+        // 1,024 figures in a ring 0.3–0.6 units round the eye
+        let pressed: Vec<Sprite> = (0..1024)
+            .map(|k| {
+                let angle = k as f32 * 0.37;
+                figure((0.3 + 0.3 * (k % 7) as f32 / 6.0) * Vec2::new(angle.cos(), angle.sin()))
+            })
+            .collect();
+        assert!(pass.draw(&mut samples, &eye, &fog, &pressed, |_| true) > 0);
+        assert!(pass.drawn < 64, "{} of the pressed crowd drawn", pass.drawn);
+        let screen = eye.width * eye.height;
+        assert!(pass.covered >= FIGURE_SCREENS * screen, "stopped before the screens were covered");
+        // 40 figures in a line across the view, 10 units off: each a few samples, all drawn
+        let mut samples = SampleBuffer::new(eye.width, eye.height);
+        let spread: Vec<Sprite> = (0..40).map(|k| figure(Vec2::new(10.0, k as f32 * 0.4 - 8.0))).collect();
+        pass.draw(&mut samples, &eye, &fog, &spread, |_| true);
+        assert_eq!(pass.drawn, 40);
     }
 }
