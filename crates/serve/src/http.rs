@@ -48,6 +48,11 @@ pub const MAX_EVENT_CLIENTS: usize = 32;
 pub const EVENT_BUFFER: usize = 8;
 /// Events a second to one stream, at most.
 pub const EVENT_RATE: u32 = 10;
+/// Bytes a second to one stream, at most: after an event of n bytes the next waits n / this many
+/// seconds, if that is longer than [`EVENT_RATE`]'s interval. A page of a few dozen players keeps
+/// its ten events a second; a world of a thousand (~120 KB an event) gets one about every two
+/// seconds (red-team pass 8: 32 streams of such a world took 39 MB/s from one address).
+pub const EVENT_BYTES_PER_SECOND: usize = 64 * 1024;
 /// An event (or a comment) at least this often, so that proxies keep the stream open.
 const EVENT_KEEPALIVE: Duration = Duration::from_secs(15);
 
@@ -256,7 +261,7 @@ fn answer(site: &Arc<Site>, request: &Request<Incoming>, peer: IpAddr) -> Respon
 }
 
 /// An event stream for a reader at `peer`: the players now, then again at each change of the world
-/// (at most [`EVENT_RATE`] a second), a comment every [`EVENT_KEEPALIVE`] otherwise. `None` past
+/// (at most [`EVENT_RATE`] a second and [`EVENT_BYTES_PER_SECOND`]), a comment every [`EVENT_KEEPALIVE`] otherwise. `None` past
 /// [`MAX_EVENT_CLIENTS`] where the newcomer pushes no other stream out ([`push_out`]).
 fn events(site: &Arc<Site>, peer: IpAddr) -> Option<Body> {
     use http_body_util::BodyExt as _;
@@ -274,12 +279,14 @@ fn events(site: &Arc<Site>, peer: IpAddr) -> Option<Body> {
             versions.borrow_and_update();
             let event = format!("{}data: {}\n\n", String::from_utf8_lossy(&next), (site.players)());
             next = Bytes::new();
+            let pause = (Duration::from_secs(1) / EVENT_RATE)
+                .max(Duration::from_secs_f64(event.len() as f64 / EVENT_BYTES_PER_SECOND as f64));
             // A reader whose buffer is full is too slow: its stream ends (dropped, not waited for).
             if tx.try_send(Bytes::from(event)).is_err() {
                 return;
             }
             tokio::select! {
-                () = tokio::time::sleep(Duration::from_secs(1) / EVENT_RATE) => {}
+                () = tokio::time::sleep(pause) => {}
                 () = tx.closed() => return,
                 _ = &mut pushed_out => return, // a reader from an address holding fewer took its place
             }
@@ -594,5 +601,36 @@ mod tests {
         }
         assert!(changes > EVENT_BUFFER, "dropped after {changes} changes");
         drop(body);
+    }
+    /// Red-team pass 8: a world of a thousand players makes each event ~120 KB; a stream of it
+    /// ten times a second gave one reader 1.2 MB/s (32 streams from one address, 39 MB/s). A
+    /// stream keeps within its bytes a second whatever the events' size, and small events still
+    /// come at the full rate.
+    #[tokio::test]
+    async fn a_stream_keeps_within_its_bytes_a_second() {
+        use http_body_util::BodyExt as _;
+        const SECONDS: u64 = 3;
+        let rate = EVENT_RATE as usize * SECONDS as usize;
+        for (players, least, most) in [(120_000, 2, 3), (200, rate * 7 / 10, rate + 1)] {
+            let (version, versions) = watch::channel(0u64);
+            let (_stop, shutdown) = watch::channel(false);
+            let mut site = bare_site(versions, shutdown);
+            site.players = Box::new(move || format!("\"{}\"", "x".repeat(players)));
+            let site = Arc::new(site);
+            let mut body = events(&site, ip(1)).expect("a stream");
+            let (start, mut events, mut bytes) = (tokio::time::Instant::now(), 0, 0);
+            while start.elapsed() < Duration::from_secs(SECONDS) {
+                version.send_modify(|v| *v += 1); // the world changes all the time
+                tokio::time::sleep(Duration::from_millis(20)).await;
+                while let Some(Some(Ok(frame))) = futures_util::FutureExt::now_or_never(body.frame()) {
+                    let data = frame.into_data().unwrap_or_default();
+                    events += usize::from(data.windows(6).any(|w| w == b"data: "));
+                    bytes += data.len();
+                }
+            }
+            let budget = SECONDS as usize * EVENT_BYTES_PER_SECOND + players + 64;
+            assert!(bytes <= budget, "{bytes} bytes in {SECONDS} s of {players}-byte events");
+            assert!((least..=most).contains(&events), "{events} events of {players} bytes in {SECONDS} s");
+        }
     }
 }
