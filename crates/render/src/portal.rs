@@ -128,7 +128,7 @@ impl PortalPass {
                 continue;
             }
             stats.cells_visited += 1;
-            if past_the_cap(stats.cells_visited, maze.cell_count()) {
+            if past_the_cap(stats.cells_visited, self.visited.len()) {
                 stats.fell_back = true;
                 self.walls.clear();
                 self.walls.extend(0..maze.edges().len() as u32);
@@ -289,12 +289,15 @@ impl PortalPass {
     }
 }
 
-/// `true` once the walk has made more visits than any real maze needs (16 per cell, plus 4096):
-/// the walk is acyclic, so this only guards against pathological inputs. Past it the pass draws
-/// every wall, which is exactly the brute-force frame: the cap's value changes the time a frame
-/// takes, never the picture (so its mutants are excluded from mutation testing, MUTANTS.md).
-fn past_the_cap(visits: usize, cells: usize) -> bool {
-    visits > 16 * (cells + 1) + 4096
+/// `true` once the walk has made more visits than any real view needs: 16 for each distinct cell it
+/// has reached so far, plus 4096. The walk is acyclic, so this only guards against pathological
+/// inputs: an open floor of tiny cells reaches each cell with hundreds of regions (red-team pass 8:
+/// a 400 × 400 floor of half-unit tiles made 2.6 million visits, 0.6 s a frame, when the cap counted
+/// the whole maze's cells; drawing every wall took 29 ms). Past it the pass draws every wall, which
+/// is exactly the brute-force frame: the cap's value changes the time a frame takes, never the
+/// picture (so its mutants are excluded from mutation testing, MUTANTS.md).
+fn past_the_cap(visits: usize, distinct_cells: usize) -> bool {
+    visits > 16 * (distinct_cells + 1) + 4096
 }
 
 /// The maze-plane (world x, y) bounding box of a planar convex polygon (world space) cut to the slab
@@ -348,6 +351,29 @@ mod tests {
         assert!(pass.enter(3, beside), "not covered");
         assert_eq!(pass.visited, [3], "listed once, however often explored");
         assert!(pass.enter(OUTSIDE, wide) && !pass.enter(OUTSIDE, inside), "outside the maze alike");
+    }
+
+    /// Red-team pass 8: an open floor of half-unit tiles reaches each cell in view through dozens
+    /// of regions (~40 visits a cell at 100 × 100). The pass gives up at 16 visits a distinct cell
+    /// reached (plus 4096) and draws every wall, not at 16 for every cell of the whole maze.
+    #[test]
+    fn an_open_floor_of_tiny_tiles_falls_back_within_the_cells_it_reached() {
+        let n = 100;
+        let rows: Vec<String> = (0..n)
+            .map(|r| format!("#{}{}#", if r == n / 2 { '@' } else { '.' }, ".".repeat(n - 1)))
+            .collect();
+        let wall = "#".repeat(n + 2);
+        let floor = maze(&format!(
+            "mazewalk-grid 1\ntile 0.5002\nfacing east\n\n{wall}\n{}\n{wall}\n",
+            rows.join("\n")
+        ));
+        let centre = Vec2::splat(n as f32 * 0.5002 / 2.0);
+        let eye = Camera::new(centre, 30.0, 90.0).eye(120, 78, 1.0).unwrap();
+        let mut pass = PortalPass::new();
+        let stats = pass.run(&floor, &eye);
+        assert!(stats.fell_back, "{stats:?}");
+        assert!(stats.cells_visited <= 16 * (pass.visited.len() + 1) + 4097, "{stats:?}");
+        assert_eq!(pass.walls.len(), floor.edges().len(), "every wall");
     }
 
     /// Five tiles in a row, looking down them from the first: one seed, each cell entered once, each of
