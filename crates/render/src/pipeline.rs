@@ -847,6 +847,7 @@ impl Renderer {
         self.edge_list.clear();
         self.seen.clear();
         match culling {
+            Culling::Portal if self.portal.fell_back() => self.seen.extend(0..maze.edges().len() as u32),
             Culling::None => self.seen.extend(0..maze.edges().len() as u32),
             Culling::Portal => {
                 for &cell in &self.portal.visited {
@@ -1032,7 +1033,7 @@ impl Renderer {
         self.edge_list.clear();
         for &cell in &self.chalk {
             if cell as usize >= maze.cell_count()
-                || culling == Culling::Portal && !self.portal.was_visited(cell)
+                || culling == Culling::Portal && !self.portal.fell_back() && !self.portal.was_visited(cell)
             {
                 continue;
             }

@@ -88,6 +88,9 @@ pub struct PortalPass {
     pub walls: Vec<u32>,
     /// Distinct cells visited this frame (for the map).
     pub visited: Vec<u32>,
+    /// The last run hit the safety cap: every wall was chosen, and [`visited`](Self::visited) holds
+    /// only the cells reached before it.
+    fell_back: bool,
 }
 
 impl PortalPass {
@@ -95,6 +98,13 @@ impl PortalPass {
     #[must_use]
     pub fn new() -> PortalPass {
         PortalPass::default()
+    }
+
+    /// True if the last [`PortalPass::run`] hit its safety cap and chose every wall: what depends on
+    /// the cells seen is then drawn for every cell, as without culling.
+    #[must_use]
+    pub fn fell_back(&self) -> bool {
+        self.fell_back
     }
 
     /// True if `cell` was visited by the last [`PortalPass::run`].
@@ -111,6 +121,7 @@ impl PortalPass {
         self.visited.clear();
         self.stack.clear();
         self.outside_region = None;
+        self.fell_back = false;
     }
 
     /// Finds the walls `eye` can see in `maze`; they end up in [`PortalPass::walls`].
@@ -129,7 +140,7 @@ impl PortalPass {
             }
             stats.cells_visited += 1;
             if past_the_cap(stats.cells_visited, self.visited.len()) {
-                stats.fell_back = true;
+                (stats.fell_back, self.fell_back) = (true, true);
                 self.walls.clear();
                 self.walls.extend(0..maze.edges().len() as u32);
                 return stats;

@@ -262,3 +262,32 @@ fn the_portal_pass_visits_few_cells_of_a_large_maze() {
     };
     portal_equals_brute(&maze, &shot).unwrap();
 }
+
+/// Red-team pass 8: an open floor of half-unit tiles makes the portal pass give up (its safety cap)
+/// and draw every wall. The frame is then brute force's, cell for cell, the floor's cell lines
+/// included: they were drawn only for the cells reached before the cap.
+#[test]
+fn past_the_portal_pass_cap_the_frame_is_brute_forces() {
+    let n = 100;
+    let rows: Vec<String> =
+        (0..n).map(|r| format!("#{}{}#", if r == n / 2 { '@' } else { '.' }, ".".repeat(n - 1))).collect();
+    let wall = "#".repeat(n + 2);
+    let text = format!("mazewalk-grid 1\ntile 0.5002\nfacing east\n\n{wall}\n{}\n{wall}\n", rows.join("\n"));
+    let floor = maze::grid::parse_str("floor.grid", &text).unwrap();
+    let camera = Camera::new(Vec2::splat(n as f32 * 0.5002 / 2.0), 30.0, 90.0);
+    let draw = |culling| {
+        let mut renderer = Renderer::new();
+        let mut frame = mazewalk_term::frame::Frame::new(120, 39);
+        let region = frame.region();
+        let options = RenderOptions { charset: Charset::Half, culling, ..RenderOptions::default() };
+        let stats =
+            renderer.render(&floor, &camera, &[], &options, Target::Frame(&mut frame, region)).unwrap();
+        (frame, stats.portal.fell_back)
+    };
+    let ((portal, fell_back), (brute, _)) = (draw(Culling::Portal), draw(Culling::None));
+    assert!(fell_back, "the premise: the cap was hit");
+    let differ = (0..39)
+        .flat_map(|y| (0..120).map(move |x| (x, y)))
+        .filter(|&(x, y)| portal.get(x, y) != brute.get(x, y));
+    assert_eq!(differ.count(), 0, "cells unlike brute force's");
+}
