@@ -124,11 +124,21 @@ impl RedisStore {
         let keys = RecordKeys::of(&self.link.keys, &self.left_out);
         let (link, con) = (&self.link, &mut self.con);
         let result = self.runtime.block_on(async {
-            if con.is_none() {
-                *con = Some(link.connect().await?);
+            let result = async {
+                if con.is_none() {
+                    *con = Some(link.connect().await?);
+                }
+                let Some(c) = con.as_mut() else { unreachable!("made above") };
+                f(c, &keys).await
             }
-            let Some(c) = con.as_mut() else { unreachable!("made above") };
-            f(c, &keys).await
+            .await;
+            if result.is_err() {
+                // The connection's task (and whatever it had read of a failed reply) ends when this
+                // runtime next runs it: now, not at the next finish, which may be an hour away.
+                *con = None;
+                tokio::task::yield_now().await;
+            }
+            result
         });
         if !self.said_left_out && self.left_out() > 0 {
             self.said_left_out = true;
