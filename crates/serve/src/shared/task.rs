@@ -108,9 +108,9 @@ pub struct Stats {
     pub overflow: u64,
     /// Times the winner was read from Redis because a message claimed another.
     pub winner_reads: u64,
-    /// Keys under the presence prefix left out when the presence keys were read: a name that is not
-    /// a server's (Redis never sends a longer one), a value that is not a string of at most a
-    /// message's size (never sent either). Said once in the log.
+    /// Keys named as a server's presence left out when the presence keys were read: a value that is
+    /// not a string of at most a message's size (never sent by Redis). Said once in the log. (Names
+    /// under the prefix that are not a server's are not sent by Redis, nor counted.)
     pub presences_left_out: u64,
     /// Whether the world is online now.
     pub online: bool,
@@ -640,8 +640,8 @@ impl Task {
                         if read.left_out > 0 && self.counted.presences_left_out == 0 {
                             warn!(
                                 world = %self.link.url,
-                                "keys under the presence prefix that are not a server's presence (a name \
-                                 or a value of another form or size) are left out, unread (said once)"
+                                "presence keys that hold no message (a value of another type or size) \
+                                 are left out, unread (said once)"
                             );
                         }
                         self.counted.presences_left_out += read.left_out;
