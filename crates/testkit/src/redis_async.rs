@@ -105,3 +105,18 @@ pub async fn command_calls(
         .and_then(|n| n.parse().ok())
         .unwrap_or(0))
 }
+
+/// The bytes Redis has sent its clients so far (`INFO stats`, `total_net_output_bytes`): what a
+/// server under test read from it, between two calls (and the first call's own answer, about
+/// 2 KB).
+///
+/// # Errors
+/// Redis does not answer `INFO`.
+pub async fn net_output_bytes(con: &mut redis::aio::MultiplexedConnection) -> redis::RedisResult<u64> {
+    let info: String = redis::cmd("INFO").arg("stats").query_async(con).await?;
+    Ok(info
+        .lines()
+        .find_map(|l| l.strip_prefix("total_net_output_bytes:"))
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or(0))
+}

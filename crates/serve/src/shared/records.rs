@@ -19,6 +19,12 @@
 //! player name (not UTF-8 either) or a time that is not a time is left out of the table and counted
 //! ([`RedisStore::left_out`], said once in the log); a `:at` that is not a number reads as 0, and a
 //! `:finishes` that is no count is left as it is (counted too) and read as 0.
+//!
+//! Every answer is bounded by the request, whatever a writer stored (values of up to 512 MB): the
+//! reads are Lua scripts that send no member or `:runs` field longer than a player's name, no `:at`
+//! or `:finishes` longer than a number, no run longer than [`MAX_BYTES`], and the first
+//! [`MAX_MAZE_NAME_BYTES`] of the name; what they leave out is counted as above (red-team pass 8:
+//! 10 members of 40 MB made a server read 400 MB at each read of the best times).
 
 use std::path::PathBuf;
 
@@ -29,7 +35,7 @@ use redis::aio::MultiplexedConnection;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::redis::{Keys, Link, WorldError, names_and_times};
+use super::redis::{GET_BOUNDED, GET_PREFIX, Keys, Link, MAX_MEMBER_BYTES, WorldError, best_times};
 use crate::records::{Best, Fault, Finish, MazeRecords, RecordsError, Standing, Store, StoredRun, TOP};
 use mazewalk_walk::run::MAX_BYTES;
 
@@ -53,12 +59,14 @@ impl std::fmt::Debug for RedisStore {
 
 /// The keys of the records beside the world's own.
 struct RecordKeys {
+    /// The world's own.
+    world: Keys,
     best: String,
     at: String,
     finishes: String,
     name: String,
     runs: String,
-    /// Where [`top`] counts the entries it leaves out.
+    /// Where [`top`] and the others count the entries they leave out.
     left_out: Arc<AtomicU64>,
 }
 
@@ -66,8 +74,9 @@ impl RecordKeys {
     fn of(keys: &Keys, left_out: &Arc<AtomicU64>) -> RecordKeys {
         let tag = keys.best.strip_suffix(":best").unwrap_or(&keys.best);
         RecordKeys {
+            world: keys.clone(),
             best: keys.best.clone(),
-            at: format!("{}:at", keys.best),
+            at: keys.best_at(),
             finishes: format!("{tag}:finishes"),
             name: format!("{tag}:name"),
             runs: format!("{tag}:runs"),
@@ -115,11 +124,21 @@ impl RedisStore {
         let keys = RecordKeys::of(&self.link.keys, &self.left_out);
         let (link, con) = (&self.link, &mut self.con);
         let result = self.runtime.block_on(async {
-            if con.is_none() {
-                *con = Some(link.connect().await?);
+            let result = async {
+                if con.is_none() {
+                    *con = Some(link.connect().await?);
+                }
+                let Some(c) = con.as_mut() else { unreachable!("made above") };
+                f(c, &keys).await
             }
-            let Some(c) = con.as_mut() else { unreachable!("made above") };
-            f(c, &keys).await
+            .await;
+            if result.is_err() {
+                // The connection's task (and whatever it had read of a failed reply) ends when this
+                // runtime next runs it: now, not at the next finish, which may be an hour away.
+                *con = None;
+                tokio::task::yield_now().await;
+            }
+            result
         });
         if !self.said_left_out && self.left_out() > 0 {
             self.said_left_out = true;
@@ -151,28 +170,51 @@ impl RedisStore {
 }
 
 /// The best `TOP` of the sorted set at `keys`, best first, with when each was made; entries Redis
-/// holds that are not a player's name and a time are left out.
+/// holds that are not a player's name and a time are left out and counted ([`best_times`]: Redis
+/// never sends a member longer than a name, nor a `:at` longer than a date).
 async fn top(con: &mut MultiplexedConnection, keys: &RecordKeys) -> RedisResult<Vec<Best>> {
-    // (as bytes: one member that is not UTF-8 must not fail every finish)
-    let rows: Vec<(Vec<u8>, f64)> =
-        redis::cmd("ZRANGE").arg(&keys.best).arg(0).arg(TOP - 1).arg("WITHSCORES").query_async(con).await?;
-    let (rows, left_out) = names_and_times(rows);
+    let (rows, left_out) = best_times(con, &keys.world, TOP).await?;
     keys.left_out.fetch_add(left_out as u64, Ordering::Relaxed);
-    if rows.is_empty() {
-        return Ok(Vec::new());
-    }
-    let mut hmget = redis::cmd("HMGET");
-    hmget.arg(&keys.at);
-    for (name, _) in &rows {
-        hmget.arg(name);
-    }
-    let ats: Vec<Option<Vec<u8>>> = hmget.query_async(con).await?;
     Ok(rows
         .into_iter()
-        .zip(ats.into_iter().chain(std::iter::repeat(None)))
-        .map(|((player, seconds), at)| Best { player, seconds, at: at.as_deref().map_or(0, unix_seconds) })
+        .map(|row| Best { player: row.name, seconds: row.seconds, at: unix_seconds(&row.at) })
         .collect())
 }
+
+/// Deletes the fields of the hash `KEYS[1]` that are not among `ARGV[2..]`, and answers how many
+/// of them were longer than `ARGV[1]` bytes (no player's name: a writer's, counted). Nothing of
+/// what the hash holds is sent.
+const KEEP_RUNS: &str = "local keep = {} \
+    for i = 2, #ARGV do keep[ARGV[i]] = true end \
+    local junk = 0 \
+    for _, f in ipairs(redis.call('HKEYS', KEYS[1])) do \
+        if not keep[f] then \
+            redis.call('HDEL', KEYS[1], f) \
+            if #f > tonumber(ARGV[1]) then junk = junk + 1 end \
+        end \
+    end \
+    return junk";
+
+/// The first of the fields `ARGV[2..]` of the hash `KEYS[1]` whose value is 1 to `ARGV[1]` bytes
+/// long, as `{its place among them (from 0), the value, how many before it were longer}`, or
+/// `{-1, '', how many were longer}` if none is: a longer value is never sent. One script, so the
+/// length checked is the length read.
+const RUN_BOUNDED: &str = "local max, longer = tonumber(ARGV[1]), 0 \
+    for i = 2, #ARGV do \
+        local n = redis.call('HSTRLEN', KEYS[1], ARGV[i]) \
+        if n >= 1 and n <= max then return {i - 2, redis.call('HGET', KEYS[1], ARGV[i]), longer} end \
+        if n > max then longer = longer + 1 end \
+    end \
+    return {-1, '', longer}";
+
+/// The longest count of finishes read (a count in decimal is 20 bytes at most).
+const MAX_COUNT_BYTES: usize = 32;
+
+/// The characters of the maze's name shown.
+const MAX_MAZE_NAME_CHARS: usize = 256;
+
+/// The bytes of the maze's name read: enough for [`MAX_MAZE_NAME_CHARS`] characters of UTF-8.
+const MAX_MAZE_NAME_BYTES: usize = 4 * MAX_MAZE_NAME_CHARS;
 
 /// A `:at` value as Redis holds it: Unix seconds, or 0 for anything else (an entry written by
 /// another program, garbage).
@@ -245,15 +287,14 @@ impl Store for RedisStore {
                     // (more than this server ever leaves: whatever else wrote there goes, unread)
                     redis::cmd("DEL").arg(&keys.runs).query_async::<i64>(con).await?;
                 } else if held > 0 {
-                    // (as bytes: a field that is not UTF-8 is not a player's, and goes too)
-                    let names: Vec<Vec<u8>> = redis::cmd("HKEYS").arg(&keys.runs).query_async(con).await?;
-                    let gone: Vec<&Vec<u8>> = names
-                        .iter()
-                        .filter(|p| !top.iter().any(|b| b.player.as_bytes() == p.as_slice()))
-                        .collect();
-                    if !gone.is_empty() {
-                        redis::cmd("HDEL").arg(&keys.runs).arg(gone).query_async::<i64>(con).await?;
+                    // (in Redis: a field that is not a player's goes too, unread whatever its size)
+                    let mut keep = redis::cmd("EVAL");
+                    keep.arg(KEEP_RUNS).arg(1).arg(&keys.runs).arg(MAX_MEMBER_BYTES);
+                    for b in &top {
+                        keep.arg(&b.player);
                     }
+                    let junk: u64 = keep.query_async(con).await?;
+                    keys.left_out.fetch_add(junk, Ordering::Relaxed);
                 }
                 redis::cmd("HSET")
                     .arg(&keys.runs)
@@ -279,19 +320,18 @@ impl Store for RedisStore {
             if wanted.is_empty() {
                 return Ok(None);
             }
-            // each one's run's length first (Redis may hold anything, of any size): the first kept
-            let mut lengths = redis::pipe();
+            // the first kept whose run is of a run's size (Redis may hold anything, of any size)
+            let mut first = redis::cmd("EVAL");
+            first.arg(RUN_BOUNDED).arg(1).arg(&keys.runs).arg(MAX_BYTES);
             for b in &wanted {
-                lengths.cmd("HSTRLEN").arg(&keys.runs).arg(&b.player);
+                first.arg(&b.player);
             }
-            let lengths: Vec<usize> = lengths.query_async(con).await?;
-            let Some((best, _)) = wanted.iter().zip(lengths).find(|(_, n)| (1..=MAX_BYTES).contains(n))
-            else {
+            let (place, bytes, longer): (i64, Vec<u8>, u64) = first.query_async(con).await?;
+            keys.left_out.fetch_add(longer, Ordering::Relaxed);
+            let Some(best) = usize::try_from(place).ok().and_then(|i| wanted.get(i)) else {
                 return Ok(None);
             };
-            let bytes: Option<Vec<u8>> =
-                redis::cmd("HGET").arg(&keys.runs).arg(&best.player).query_async(con).await?;
-            Ok(bytes.map(|bytes| StoredRun { player: best.player.clone(), seconds: best.seconds, bytes }))
+            Ok(Some(StoredRun { player: best.player.clone(), seconds: best.seconds, bytes }))
         })
     }
 
@@ -301,23 +341,33 @@ impl Store for RedisStore {
         }
         let hash = self.maze.to_string();
         self.read(async |con, keys| {
+            // (both bounded in Redis: a count longer than a count reads as none, a name is cut)
             let (players, finishes, name): (i64, Option<Vec<u8>>, Option<Vec<u8>>) = redis::pipe()
                 .cmd("ZCARD")
                 .arg(&keys.best)
-                .cmd("GET")
+                .cmd("EVAL")
+                .arg(GET_BOUNDED)
+                .arg(1)
                 .arg(&keys.finishes)
-                .cmd("GET")
+                .arg(MAX_COUNT_BYTES)
+                .cmd("EVAL")
+                .arg(GET_PREFIX)
+                .arg(1)
                 .arg(&keys.name)
+                .arg(MAX_MAZE_NAME_BYTES)
                 .query_async(con)
                 .await?;
             if players == 0 {
                 return Ok(Vec::new());
             }
+            if finishes.as_ref().is_some_and(Vec::is_empty) {
+                keys.left_out.fetch_add(1, Ordering::Relaxed); // (not a string, or longer than a count)
+            }
             let top = top(con, keys).await?;
             let name: String = String::from_utf8_lossy(&name.unwrap_or_default())
                 .chars()
                 .filter(|c| !c.is_control())
-                .take(256)
+                .take(MAX_MAZE_NAME_CHARS)
                 .collect();
             let finishes = finishes.as_deref().map_or(0, unix_seconds); // (a count, read as leniently)
             Ok(vec![MazeRecords {

@@ -2,6 +2,11 @@
 //! (one for commands, one subscribed; each reconnects by itself), and the few commands the world
 //! task sends. Nothing here decides anything: [`super::task`] does.
 //!
+//! Whatever a writer stored in the world's keys, each answer Redis sends to a read is bounded by the
+//! request: keys are read through Lua scripts that check a value's type and size before they send
+//! it ([`GET_BOUNDED`], [`best_times`], [`presences`]), and what they leave out is counted; the
+//! presence keys' names are matched by Redis against a server's ([`server_pattern`]).
+//!
 //! Keys, all of one maze under the hash tag `{H}` (the maze hash's first 16 hex digits) so that in
 //! Redis Cluster a world's keys share one slot:
 //!
@@ -26,7 +31,7 @@ use thiserror::Error;
 use tokio::sync::mpsc;
 
 use super::codec::{MAX_MESSAGE_BYTES, ServerId};
-use crate::identity::player_name;
+use crate::identity::{MAX_NAME, player_name};
 use crate::logs::{ERROR_CHARS, clip};
 
 /// How long a connection attempt may take.
@@ -136,6 +141,12 @@ impl Keys {
             servers: format!("mazewalk:{{{tag}}}:server:"),
             channel: format!("mazewalk:{{{tag}}}:{db}:news"),
         }
+    }
+
+    /// When each best time was made (a hash, by player name).
+    #[must_use]
+    pub fn best_at(&self) -> String {
+        format!("{}:at", self.best)
     }
 
     /// Server `server`'s presence key.
@@ -367,10 +378,17 @@ const MAX_HASH_BYTES: usize = 128;
 /// The value at `KEYS[1]` if it is a string of at most `ARGV[1]` bytes, `""` if it is anything
 /// else (a writer's: the caller's decoder refuses it), nil if there is none. Redis answers no more
 /// than the limit, whatever the key holds, and never a type error.
-const GET_BOUNDED: &str = "local t = redis.call('TYPE', KEYS[1]).ok \
+pub(crate) const GET_BOUNDED: &str = "local t = redis.call('TYPE', KEYS[1]).ok \
     if t == 'none' then return false end \
     if t ~= 'string' or redis.call('STRLEN', KEYS[1]) > tonumber(ARGV[1]) then return '' end \
     return redis.call('GET', KEYS[1])";
+
+/// The first `ARGV[1]` (at least 1) bytes of the value at `KEYS[1]` if it is a string, `""` if it
+/// is anything else, nil if there is none: a value read cut, never whole.
+pub(crate) const GET_PREFIX: &str = "local t = redis.call('TYPE', KEYS[1]).ok \
+    if t == 'none' then return false end \
+    if t ~= 'string' then return '' end \
+    return redis.call('GETRANGE', KEYS[1], 0, tonumber(ARGV[1]) - 1)";
 
 /// SET NX GET, bounded as [`GET_BOUNDED`]: stores `ARGV[1]` at `KEYS[1]` if there is nothing
 /// there (answering nil), else answers what is there.
@@ -482,45 +500,123 @@ pub async fn record(
         .map(drop)
 }
 
-/// The `n` best times, best first: (name, seconds).
+/// The `n` best times, best first: (name, seconds); what Redis holds there that is not a player's
+/// name and a time is left out ([`best_times`]).
 ///
 /// # Errors
 /// Redis failed.
 pub async fn best(con: &mut MultiplexedConnection, keys: &Keys, n: usize) -> RedisResult<Vec<(String, f64)>> {
+    let (rows, _) = best_times(con, keys, n).await?;
+    Ok(rows.into_iter().map(|row| (row.name, row.seconds)).collect())
+}
+
+/// One of the world's best times, as [`best_times`] reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BestTime {
+    /// The player's name (as [`player_name`] makes it).
+    pub name: String,
+    /// The time, seconds (finite, not negative).
+    pub seconds: f64,
+    /// When it was made, as `:at` holds it: at most [`MAX_AT_BYTES`] bytes, empty if there is
+    /// none or it is longer.
+    pub at: Vec<u8>,
+}
+
+/// The longest member of the best times read: a player's name is at most [`MAX_NAME`] ASCII
+/// characters (bytes), so a longer member is none, and Redis does not send it.
+pub const MAX_MEMBER_BYTES: usize = MAX_NAME;
+
+/// The longest `:at` value read (Unix seconds: 20 bytes at most).
+pub const MAX_AT_BYTES: usize = 32;
+
+/// The first `ARGV[1]` entries of the sorted set `KEYS[1]`, best first, each with its value in
+/// the hash `KEYS[2]`, as `{left out, {{member, score, at}, …}}`. Whatever a writer stored (members
+/// and values of up to 512 MB), the answer is short: a member longer than `ARGV[2]` bytes is left
+/// out and counted, an `at` longer than `ARGV[3]` bytes is `""` and counted (as is one in a
+/// `KEYS[2]` that is no hash). Members are read one rank at a time, so the script holds one long
+/// member at most.
+const BEST_BOUNDED: &str = "local n, name_max, at_max = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3]) \
+    local hash = redis.call('TYPE', KEYS[2]).ok \
+    local rows, left_out = {}, 0 \
+    for i = 0, n - 1 do \
+        local r = redis.call('ZRANGE', KEYS[1], i, i, 'WITHSCORES') \
+        if #r == 0 then break end \
+        if #r[1] > name_max then left_out = left_out + 1 else \
+            local at = '' \
+            if hash == 'hash' then \
+                if redis.call('HSTRLEN', KEYS[2], r[1]) > at_max then left_out = left_out + 1 \
+                else at = redis.call('HGET', KEYS[2], r[1]) or '' end \
+            elseif hash ~= 'none' then left_out = left_out + 1 end \
+            rows[#rows + 1] = {r[1], r[2], at} \
+        end \
+    end \
+    return {left_out, rows}";
+
+/// The `n` best times, best first, with how many entries of the first `n` were left out: a member
+/// that is not a player's name (longer than [`MAX_MEMBER_BYTES`]: never sent by Redis; not UTF-8,
+/// or not as [`player_name`] makes it), a score that is not a time, an `at` longer than
+/// [`MAX_AT_BYTES`] (read as none). Redis's answer is at most `n` × ([`MAX_MEMBER_BYTES`] + a
+/// score + [`MAX_AT_BYTES`]), whatever it holds.
+///
+/// # Errors
+/// Redis failed (or the best times are not a sorted set).
+pub async fn best_times(
+    con: &mut MultiplexedConnection,
+    keys: &Keys,
+    n: usize,
+) -> RedisResult<(Vec<BestTime>, usize)> {
     if n == 0 {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), 0));
     }
-    // (read as bytes: one member that is not UTF-8 must not fail the whole answer)
-    let rows: Vec<(Vec<u8>, f64)> =
-        redis::cmd("ZRANGE").arg(&keys.best).arg(0).arg(n - 1).arg("WITHSCORES").query_async(con).await?;
-    Ok(names_and_times(rows).0)
-}
-
-/// Redis's word on the best times, (member, score) as it holds them: a member that is not a player's
-/// name (not UTF-8, or not as [`player_name`] makes it) or a score that is not a time is left out;
-/// with how many were.
-#[must_use]
-pub fn names_and_times(rows: Vec<(Vec<u8>, f64)>) -> (Vec<(String, f64)>, usize) {
+    // (member, score, at), as bytes: one member that is not UTF-8 must not fail the whole answer
+    type Row = (Vec<u8>, Vec<u8>, Vec<u8>);
+    let (left_out, rows): (usize, Vec<Row>) = redis::cmd("EVAL")
+        .arg(BEST_BOUNDED)
+        .arg(2)
+        .arg(&keys.best)
+        .arg(keys.best_at())
+        .arg(n)
+        .arg(MAX_MEMBER_BYTES)
+        .arg(MAX_AT_BYTES)
+        .query_async(con)
+        .await?;
     let all = rows.len();
-    let kept: Vec<(String, f64)> = rows
+    let kept: Vec<BestTime> = rows
         .into_iter()
-        .filter_map(|(name, seconds)| Some((String::from_utf8(name).ok()?, seconds)))
-        .filter(|(name, seconds)| player_name(name) == *name && seconds.is_finite() && *seconds >= 0.0)
+        .filter_map(|(name, score, at)| {
+            let name = String::from_utf8(name).ok()?;
+            let seconds: f64 = std::str::from_utf8(&score).ok()?.parse().ok()?;
+            (player_name(&name) == name && seconds.is_finite() && seconds >= 0.0).then_some(BestTime {
+                name,
+                seconds,
+                at,
+            })
+        })
         .collect();
-    let left_out = all - kept.len();
-    (kept, left_out)
+    let left_out = left_out + (all - kept.len());
+    Ok((kept, left_out))
 }
 
-/// The servers present: their last full messages (at most `max` of them, each checked by the caller).
+/// The servers present, as [`presences`] reads them.
+#[derive(Debug, Default)]
+pub struct Presences {
+    /// Their last full messages (at most the `max` asked for, each checked by the caller).
+    pub messages: Vec<Vec<u8>>,
+    /// Keys named as a server's presence left out: a value that is not a string of at most
+    /// [`MAX_MESSAGE_BYTES`] (never sent by Redis).
+    pub left_out: u64,
+}
+
+/// The servers present: their last full messages (at most `max` of them, each checked by the
+/// caller), and how many keys named as a presence were left out. Each of Redis's answers is
+/// bounded whatever it holds: a SCAN page of about [`SCAN_COUNT`] names, each a server's
+/// ([`server_pattern`]: Redis sends no other name under the prefix, whatever its length), then
+/// `max` values of at most [`MAX_MESSAGE_BYTES`].
 ///
 /// # Errors
 /// Redis failed.
-pub async fn presences(
-    con: &mut MultiplexedConnection,
-    keys: &Keys,
-    max: usize,
-) -> RedisResult<Vec<Vec<u8>>> {
-    let pattern = format!("{}*", keys.servers); // braces are not special in a SCAN pattern
+pub async fn presences(con: &mut MultiplexedConnection, keys: &Keys, max: usize) -> RedisResult<Presences> {
+    let pattern = server_pattern(&keys.servers);
     let mut names: Vec<Vec<u8>> = Vec::new();
     let mut cursor: u64 = 0;
     for _ in 0..MAX_SCANS {
@@ -529,7 +625,7 @@ pub async fn presences(
             .arg("MATCH")
             .arg(&pattern)
             .arg("COUNT")
-            .arg(100)
+            .arg(SCAN_COUNT)
             .query_async(con)
             .await?;
         names.extend(batch);
@@ -540,25 +636,43 @@ pub async fn presences(
     }
     names.truncate(max);
     if names.is_empty() {
-        return Ok(Vec::new());
+        return Ok(Presences::default());
     }
     let mut get = redis::cmd("EVAL");
     get.arg(GET_PRESENCES).arg(names.len()).arg(&names).arg(MAX_MESSAGE_BYTES);
-    get.query_async(con).await
+    let (left_out, messages): (u64, Vec<Vec<u8>>) = get.query_async(con).await?;
+    Ok(Presences { messages, left_out })
 }
 
-/// SCAN calls at most when reading the presence keys (100 keys each: a million keys).
+/// SCAN calls at most when reading the presence keys ([`SCAN_COUNT`] keys each: a million keys).
 const MAX_SCANS: usize = 10_000;
 
-/// The values of `KEYS` that are strings of at most `ARGV[1]` bytes (presence keys a writer set to
-/// anything else are left out, and Redis never answers more than the keys × the limit).
-const GET_PRESENCES: &str = "local out = {} \
+/// The keys one SCAN call looks at, about.
+const SCAN_COUNT: usize = 100;
+
+/// The SCAN pattern of the presence keys under `prefix`: the prefix and 16 lowercase hex digits
+/// ([`Keys::server`]), so that Redis matches each name inside and sends none of another length
+/// (a writer's keys of 20 MB names under the prefix had made a read of 320 MB). Braces are not
+/// special in a SCAN pattern; the prefix holds no other glob character. (Not a script that looks
+/// at every name under the prefix to count the others: copying them into Lua took Redis 4.1 s
+/// for 16 names of 20 MB, against 0.58 s to match them.)
+fn server_pattern(prefix: &str) -> String {
+    format!("{prefix}{}", "[0-9a-f]".repeat(16))
+}
+
+/// The values of `KEYS` that are strings of at most `ARGV[1]` bytes, as `{left out, {values}}`
+/// (presence keys a writer set to anything else are counted, and Redis never answers more than the
+/// keys × the limit).
+const GET_PRESENCES: &str = "local out, left_out = {}, 0 \
     for _, k in ipairs(KEYS) do \
-        if redis.call('TYPE', k).ok == 'string' and redis.call('STRLEN', k) <= tonumber(ARGV[1]) then \
+        local t = redis.call('TYPE', k).ok \
+        if t == 'string' and redis.call('STRLEN', k) <= tonumber(ARGV[1]) then \
             out[#out + 1] = redis.call('GET', k) \
+        elseif t ~= 'none' then \
+            left_out = left_out + 1 \
         end \
     end \
-    return out";
+    return {left_out, out}";
 
 #[cfg(test)]
 mod tests {

@@ -108,6 +108,10 @@ pub struct Stats {
     pub overflow: u64,
     /// Times the winner was read from Redis because a message claimed another.
     pub winner_reads: u64,
+    /// Keys named as a server's presence left out when the presence keys were read: a value that is
+    /// not a string of at most a message's size (never sent by Redis). Said once in the log. (Names
+    /// under the prefix that are not a server's are not sent by Redis, nor counted.)
+    pub presences_left_out: u64,
     /// Whether the world is online now.
     pub online: bool,
     /// Times the world went offline.
@@ -285,7 +289,7 @@ enum Done {
     Published(RedisResult<Option<String>>),
     Claimed(Option<LocalFinish>, RedisResult<Option<Vec<u8>>>, WinnerRecord),
     Recorded((String, f64), RedisResult<()>),
-    Presences(RedisResult<Vec<Vec<u8>>>),
+    Presences(RedisResult<link::Presences>),
     Read(RedisResult<Option<Vec<u8>>>),
 }
 
@@ -631,9 +635,17 @@ impl Task {
             Done::Presences(result) => {
                 self.reading_presences = false;
                 match result {
-                    Ok(snapshots) => {
+                    Ok(read) => {
                         let now = self.now();
-                        for bytes in snapshots {
+                        if read.left_out > 0 && self.counted.presences_left_out == 0 {
+                            warn!(
+                                world = %self.link.url,
+                                "presence keys that hold no message (a value of another type or size) \
+                                 are left out, unread (said once)"
+                            );
+                        }
+                        self.counted.presences_left_out += read.left_out;
+                        for bytes in read.messages {
                             self.hear(&bytes, now);
                         }
                         self.counted.heard = self.others.counts();
