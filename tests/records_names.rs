@@ -1,6 +1,7 @@
 //! Issue #40, low: `mazewalk records` printed the player names in the records file as they were, so a
 //! file holding OSC 52 (the clipboard), OSC 0 (the window title), `ESC[2J` or U+202E acted on the
-//! terminal of whoever listed it. Each name is now shown as SSH user names are cleaned.
+//! terminal of whoever listed it. Each name is now shown as SSH user names are cleaned. Red-team
+//! pass 8 (local side), finding 3: paths with escapes are quoted too.
 #![cfg(all(unix, feature = "serve"))]
 
 use std::process::Command;
@@ -44,4 +45,21 @@ fn records_prints_hostile_names_cleaned() {
     for name in ["52cZXZpbAmallory", "0pwnedeve", "2Jwipe", "evil"] {
         assert!(stdout.contains(name), "{name} in {stdout:?}");
     }
+}
+
+/// Finding 3: `records --records PATH` printed PATH raw in its errors: a file named with
+/// `ESC ] 2 ; pwn BEL` in it set the terminal's title.
+#[test]
+fn records_quotes_a_path_holding_escapes() {
+    let dir = mazewalk_testkit::scratch::Scratch::new("records-path");
+    let path = dir.join("e\x1b]2;pwn\x07.sqlite");
+    let out = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["records", "--records"])
+        .arg(&path)
+        .output()
+        .expect("mazewalk records");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains('\x1b') && !stderr.contains('\x07'), "{stderr:?}");
+    assert!(stderr.contains("e\\u{1b}]2;pwn\\u{7}.sqlite: the database cannot be opened"), "{stderr:?}");
 }
