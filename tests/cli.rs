@@ -879,6 +879,32 @@ fn save_run_to_a_path_that_cannot_be_written_is_refused_at_the_start() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Red-team pass 8 (local side), finding 7: `--save-run` checked the path's `metadata` (which
+/// follows links) and then opened it through a symbolic link put there, so the run replaced the file
+/// the link named. It is now refused at the start, as `--record` refuses one.
+#[cfg(unix)]
+#[test]
+fn save_run_refuses_a_symbolic_link() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-saverun-link-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let victim = dir.join("victim.txt");
+    std::fs::write(&victim, "important contents\n").unwrap();
+    let link = dir.join("mine.run");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(&victim, &link).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args([&maze("tiny.maze"), "--save-run", link.to_str().unwrap()])
+        .env("TERM", "xterm-256color")
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("run mazewalk");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("cannot write the run") && err.contains("a symbolic link, not followed"), "{err}");
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "important contents\n");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// QA finding 9: the loader's advice for a pipe (`<(…)`) led to `-`, which the walk refused for
 /// want of a terminal: it now says what works, and so does the walk given `-`.
 #[cfg(unix)]

@@ -153,13 +153,28 @@ fn export_run(
         .with_context(|| format!("records --export-run: no run of {shown} kept for {name}"))?;
     let run = Run::decode(&stored.bytes)
         .with_context(|| format!("records --export-run: {shown}'s run of {name} is damaged"))?;
-    std::fs::write(file, &stored.bytes).with_context(|| format!("--export-run {file}"))?;
+    write_run(std::path::Path::new(file), &stored.bytes)?;
+    let file = mazewalk_maze::quote_path(file);
     eprintln!(
         "{shown}'s run of {name} ({}, {} samples) written to {file}",
         mazewalk_walk::clock::clock_text(run.seconds()),
         run.samples.len()
     );
     Ok(())
+}
+
+/// Writes `bytes` to the file at `path` (made, or its contents replaced), opened as `--save-run`'s
+/// and `--record`'s are: never through a symbolic link, never a FIFO or a device (red-team pass 8,
+/// the local side, finding 7: `std::fs::write` followed a link over the file it named).
+#[cfg(all(unix, feature = "serve"))]
+fn write_run(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<()> {
+    use std::io::Write as _;
+
+    use anyhow::Context as _;
+    use mazewalk_maze::files::open_to_write;
+    let cannot = || format!("--export-run {}", mazewalk_maze::quote_path(&path.display().to_string()));
+    let (mut file, _) = open_to_write(path).map_err(|e| anyhow::Error::new(e).context(cannot()))?;
+    file.set_len(0).and_then(|()| file.write_all(bytes)).with_context(cannot)
 }
 
 /// `YYYY-MM-DD` (UTC) of Unix time `at` (days from the civil calendar: Howard Hinnant's algorithm).
