@@ -485,27 +485,35 @@ fn check_schema(conn: &Connection, path: &Path, version: i64) -> Result<(), Reco
         return Ok(());
     }
     let quoted = |name: &str| mazewalk_maze::quote(name);
-    let mut wrong: Vec<String> = found
+    // (most telling first: what no records file has, then what is not ours, then what is missing)
+    let mut wrong: Vec<(u8, String)> = found
         .iter()
         .filter(|row| !made.contains(row))
-        .map(|(kind, name, _, _)| {
+        .map(|(kind, name, _, sql)| {
             let ours = made.iter().any(|(k, n, _, _)| k == kind && n == name);
-            match kind.as_str() {
-                _ if ours => format!("its {} `{}` is not as mazewalk makes it", quoted(kind), quoted(name)),
-                "table" | "index" => format!("a {} `{}` of its own", quoted(kind), quoted(name)),
-                _ => format!("a {} `{}`", quoted(kind), quoted(name)),
+            let virtual_table = sql.as_deref().is_some_and(|sql| sql.starts_with("CREATE VIRTUAL TABLE"));
+            let (kind, name) = (quoted(kind), quoted(name));
+            if virtual_table {
+                (0, format!("a virtual table `{name}`"))
+            } else if ours {
+                (2, format!("its {kind} `{name}` is not as mazewalk makes it"))
+            } else if matches!(kind.as_str(), "table" | "index") {
+                (1, format!("a {kind} `{name}` of its own"))
+            } else {
+                (0, format!("a {kind} `{name}`"))
             }
         })
         .collect();
     wrong.extend(
         made.iter()
             .filter(|(kind, name, _, _)| !found.iter().any(|(k, n, _, _)| k == kind && n == name))
-            .map(|(kind, name, _, _)| format!("no {kind} `{name}`")),
+            .map(|(kind, name, _, _)| (3, format!("no {kind} `{name}`"))),
     );
+    wrong.sort();
     let more = wrong.len().saturating_sub(3);
-    wrong.truncate(3);
     let more = if more > 0 { format!(" and {more} more") } else { String::new() };
-    let detail = format!("not mazewalk's schema (version {version}): {}{more}", wrong.join("; "));
+    let wrong: Vec<String> = wrong.into_iter().take(3).map(|(_, w)| w).collect();
+    let detail = format!("its schema is not mazewalk's version {version}: {}{more}", wrong.join("; "));
     Err(RecordsError::new(path, Fault::Damaged, detail))
 }
 

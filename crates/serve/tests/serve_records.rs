@@ -551,7 +551,7 @@ fn a_records_file_whose_schema_is_not_ours_is_refused_at_once() {
         ("an endless view", endless, "a view `mazes`"),
         ("a view of a 400 MB value", huge, "a view `mazes`"),
         ("a trigger", &trigger, "a trigger `t`"),
-        ("a virtual table", &virtual_table, "a table `notes` of its own"),
+        ("a virtual table", &virtual_table, "a virtual table `notes`"),
         ("another table", &extra_table, "a table `extra` of its own"),
         ("a partial index", &partial, "its index `finishes_by_maze` is not as mazewalk makes it"),
         ("a CHECK constraint", &checked, "its table `mazes` is not as mazewalk makes it"),
