@@ -74,7 +74,8 @@ fn export_run_refuses_a_symbolic_link() {
     let dir = mazewalk_testkit::scratch::Scratch::new("export-link");
     let db = dir.join("records.sqlite");
     let maze = mazewalk_maze::builtin().expect("the built-in maze").content_hash();
-    let samples = (0..=20) // (2 s at 10 a second, both ends)
+    // (2 s at 10 samples a second, both ends)
+    let samples = (0..=20)
         .map(|k| Pose { position: glam::Vec2::new(1.0 + 0.1 * k as f32, 1.0), yaw_deg: 0.0, pitch_deg: 0.0 })
         .collect();
     let run = Run { maze, holder: "ada".into(), millis: 2000, samples };
