@@ -4,7 +4,7 @@
 //! reading the walk's clock. A write error stops the recording (kept, and told once by the caller
 //! after the terminal is restored); the walk goes on.
 
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::io::{self, BufWriter};
 use std::path::Path;
 use std::sync::{Arc, Mutex, PoisonError};
@@ -77,50 +77,24 @@ impl Recorder {
     }
 }
 
-/// `path` created, or truncated, for writing, unless it is not a regular file: a symbolic link is
-/// not followed, and a FIFO, a socket or a device is not written to (each an error saying so). In a
-/// folder others write to (`/tmp`), a FIFO put at the path would have made the walk wait, before its
-/// first frame, for someone to read it, and then streamed the session to them (red-team pass 7).
-/// So the file is opened with `O_NONBLOCK` (a FIFO nobody reads is `ENXIO` at once, not a wait),
-/// checked with `fstat` and only then truncated. `O_NONBLOCK` is left on: it changes nothing for a
-/// regular file. A character device is refused too, `/dev/null` and `/dev/full` included: a
-/// recording is a file to play back (the full-disk test fills a real file under `ulimit -f`).
+/// `path` created, or truncated, for writing, unless it is not a regular file: opened as every
+/// file a walk writes is ([`open_to_write`](mazewalk_maze::files::open_to_write): a symbolic link
+/// not followed, a FIFO, a socket or a device refused without waiting; red-team passes 6 and 7),
+/// and truncated only once it is known to be a regular file. A character device is refused too,
+/// `/dev/null` and `/dev/full` included: a recording is a file to play back (the full-disk test
+/// fills a real file under `ulimit -f`).
 fn create_unfollowed(path: &Path) -> io::Result<File> {
-    let mut options = OpenOptions::new();
-    options.write(true).create(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt as _;
-        options.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
-    }
-    let file = options.open(path).map_err(|e| {
-        #[cfg(unix)]
-        match e.raw_os_error() {
-            Some(libc::ELOOP) => {
-                return io::Error::new(
-                    e.kind(),
-                    "a symbolic link, not followed: record to the file it names",
-                );
-            }
-            // (a FIFO nobody reads, or a socket: what O_NONBLOCK says instead of waiting)
-            Some(libc::ENXIO) => return not_a_file(),
-            _ => {}
+    use mazewalk_maze::files::{OpenError, open_to_write};
+    let (file, _) = open_to_write(path).map_err(|e| match e {
+        OpenError::Io(e) => e,
+        // (what to do instead, too)
+        OpenError::NotAFile("a symbolic link") => {
+            io::Error::new(io::ErrorKind::InvalidInput, format!("{e}: record to the file it names"))
         }
-        e
+        e => io::Error::new(io::ErrorKind::InvalidInput, format!("{e}: record to a file")),
     })?;
-    if !file.metadata()?.is_file() {
-        return Err(not_a_file()); // (a FIFO someone reads, a device)
-    }
-    file.set_len(0)?; // (truncated only now that it is known to be a regular file)
+    file.set_len(0)?;
     Ok(file)
-}
-
-/// The error of a path that is not a regular file.
-fn not_a_file() -> io::Error {
-    io::Error::new(
-        io::ErrorKind::InvalidInput,
-        "not a regular file (a FIFO, a socket or a device): record to a file",
-    )
 }
 
 #[cfg(test)]

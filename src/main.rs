@@ -43,6 +43,21 @@ fn clap_exit(e: &clap::Error) -> ExitCode {
     }
 }
 
+/// [`commands::note_stdout_at_start`], run by the loader before Rust's start-up, which replaces a
+/// closed stdout with /dev/null: only then can a closed one be told from /dev/null. The one
+/// `unsafe` of the binary is the attribute that puts the function in the ELF `.init_array` (as the
+/// `ctor` crate does); the function itself is safe code.
+#[cfg(target_os = "linux")]
+#[allow(unsafe_code)]
+#[used]
+#[unsafe(link_section = ".init_array")]
+static LOOK_AT_STDOUT: extern "C" fn() = {
+    extern "C" fn look_at_stdout() {
+        commands::note_stdout_at_start();
+    }
+    look_at_stdout
+};
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,

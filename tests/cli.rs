@@ -421,6 +421,36 @@ fn a_closed_stdout_is_an_error() {
     assert!(out.status.success(), "{}", stderr(&out));
 }
 
+// Red-team pass 8 (local side), finding 8: a stdout on /dev/null opened read-write (`1<>/dev/null`,
+// Python's `subprocess.DEVNULL`, systemd's `StandardOutput=null`) was taken for a closed one, so
+// `check` exited 1 for a good maze and a bad one alike, and `render` failed.
+#[cfg(target_os = "linux")]
+#[test]
+fn dev_null_opened_read_write_is_an_open_stdout() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-devnull-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.grid");
+    std::fs::write(&bad, "mazewalk-grid 1\n\n###\n#@n\n###\n").unwrap();
+    let bad = bad.to_str().unwrap();
+    for (args, code) in [
+        (&["check", "mazes/hand-drawn.grid"][..], 0),
+        (&["check", bad], 65),
+        (&["render", "mazes/hand-drawn.grid"], 0),
+        (&["gen", "--size", "3x3"], 0),
+    ] {
+        let null = std::fs::OpenOptions::new().read(true).write(true).open("/dev/null").unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdout(null)
+            .output()
+            .expect("run mazewalk");
+        assert_eq!(out.status.code(), Some(code), "{args:?}: {}", stderr(&out));
+        assert!(!stderr(&out).contains("stdout is closed"), "{args:?}: {}", stderr(&out));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 // issue #13: frame sizes past the documented maximum are refused before any memory is spent.
 #[test]
 fn render_refuses_frames_past_the_maximum() {
@@ -897,6 +927,32 @@ fn save_run_to_a_path_that_cannot_be_written_is_refused_at_the_start() {
     let out = walk(&old);
     assert!(String::from_utf8_lossy(&out.stderr).contains("needs a terminal"), "{out:?}");
     assert_eq!(std::fs::read(&old).unwrap(), b"an older run");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Red-team pass 8 (local side), finding 7: `--save-run` checked the path's `metadata` (which
+/// follows links) and then opened it through a symbolic link put there, so the run replaced the file
+/// the link named. It is now refused at the start, as `--record` refuses one.
+#[cfg(unix)]
+#[test]
+fn save_run_refuses_a_symbolic_link() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-saverun-link-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let victim = dir.join("victim.txt");
+    std::fs::write(&victim, "important contents\n").unwrap();
+    let link = dir.join("mine.run");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(&victim, &link).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args([&maze("tiny.maze"), "--save-run", link.to_str().unwrap()])
+        .env("TERM", "xterm-256color")
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("run mazewalk");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("cannot write the run") && err.contains("a symbolic link, not followed"), "{err}");
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "important contents\n");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

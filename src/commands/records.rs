@@ -36,7 +36,7 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
     let (mut store, place): (Box<dyn Store>, String) = match &args.world {
         None => {
             let db = Sqlite::open_to_read(&path).map_err(anyhow::Error::new).context("records")?;
-            (Box::new(db), path.display().to_string())
+            (Box::new(db), mazewalk_maze::quote_path(&path.display().to_string()))
         }
         Some(url) => {
             let Some((hash, _)) = &maze else {
@@ -46,7 +46,8 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
             };
             let ca = match &args.world_ca {
                 Some(path) => {
-                    Some(std::fs::read(path).with_context(|| format!("--world-ca {}", path.display()))?)
+                    let shown = mazewalk_maze::quote_path(&path.display().to_string());
+                    Some(std::fs::read(path).with_context(|| format!("--world-ca {shown}"))?)
                 }
                 None => None,
             };
@@ -86,17 +87,7 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
         if i > 0 {
             writeln!(out)?;
         }
-        let players =
-            if kept.players == 1 { "1 player".to_string() } else { format!("{} players", kept.players) };
-        let finishes =
-            if kept.finishes == 1 { "1 finish".to_string() } else { format!("{} finishes", kept.finishes) };
-        // (the name is what a host gave: quoted as any text from outside)
-        writeln!(
-            out,
-            "{} (maze {}…): {players}, {finishes}",
-            mazewalk_maze::quote(&kept.name),
-            &kept.maze[..12]
-        )?;
+        writeln!(out, "{}", heading(kept))?;
         // (names as every screen shows them: the file may hold anything, escapes too; issue #40)
         let names: Vec<String> = kept.top.iter().map(|b| player_name(&b.player)).collect();
         let width = names.iter().map(|n| n.chars().count()).max().unwrap_or(0);
@@ -109,6 +100,20 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
     }
     out.flush()?;
     Ok(())
+}
+
+/// The line above a maze's best times: its name, the start of its hash, how many players and
+/// finishes. Each string is the file's, which may hold anything (a hash too short, not hex, with
+/// escapes: red-team pass 8, the local side, finding 3): each is quoted as any text from outside.
+#[cfg(all(unix, feature = "serve"))]
+fn heading(kept: &mazewalk_serve::records::MazeRecords) -> String {
+    let players =
+        if kept.players == 1 { "1 player".to_string() } else { format!("{} players", kept.players) };
+    let finishes =
+        if kept.finishes == 1 { "1 finish".to_string() } else { format!("{} finishes", kept.finishes) };
+    // (12 characters of the hash, escapes counted, then `…`; a shorter one whole)
+    let hash = mazewalk_maze::quote_within(&kept.maze, 12);
+    format!("{} (maze {hash}): {players}, {finishes}", mazewalk_maze::quote(&kept.name))
 }
 
 /// `--export-run [RANK|NAME] FILE`: the run of the player at RANK (1 if omitted) or of NAME on the
@@ -148,13 +153,28 @@ fn export_run(
         .with_context(|| format!("records --export-run: no run of {shown} kept for {name}"))?;
     let run = Run::decode(&stored.bytes)
         .with_context(|| format!("records --export-run: {shown}'s run of {name} is damaged"))?;
-    std::fs::write(file, &stored.bytes).with_context(|| format!("--export-run {file}"))?;
+    write_run(std::path::Path::new(file), &stored.bytes)?;
+    let file = mazewalk_maze::quote_path(file);
     eprintln!(
         "{shown}'s run of {name} ({}, {} samples) written to {file}",
         mazewalk_walk::clock::clock_text(run.seconds()),
         run.samples.len()
     );
     Ok(())
+}
+
+/// Writes `bytes` to the file at `path` (made, or its contents replaced), opened as `--save-run`'s
+/// and `--record`'s are: never through a symbolic link, never a FIFO or a device (red-team pass 8,
+/// the local side, finding 7: `std::fs::write` followed a link over the file it named).
+#[cfg(all(unix, feature = "serve"))]
+fn write_run(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<()> {
+    use std::io::Write as _;
+
+    use anyhow::Context as _;
+    use mazewalk_maze::files::open_to_write;
+    let cannot = || format!("--export-run {}", mazewalk_maze::quote_path(&path.display().to_string()));
+    let (mut file, _) = open_to_write(path).map_err(|e| anyhow::Error::new(e).context(cannot()))?;
+    file.set_len(0).and_then(|()| file.write_all(bytes)).with_context(cannot)
 }
 
 /// `YYYY-MM-DD` (UTC) of Unix time `at` (days from the civil calendar: Howard Hinnant's algorithm).
@@ -188,5 +208,35 @@ mod tests {
         assert_eq!(super::date(0), "1970-01-01");
         assert_eq!(super::date(951_782_400), "2000-02-29");
         assert_eq!(super::date(1_800_000_000), "2027-01-15");
+    }
+
+    fn kept(name: &str, hash: &str) -> mazewalk_serve::records::MazeRecords {
+        mazewalk_serve::records::MazeRecords {
+            maze: hash.to_string(),
+            name: name.to_string(),
+            players: 1,
+            finishes: 2,
+            top: Vec::new(),
+        }
+    }
+
+    /// Red-team pass 8 (local side), finding 3: the hash was sliced to its first 12 bytes, so a
+    /// records file holding a short one (`abc`) or one with a multibyte character before byte 12
+    /// made `records` panic (exit 101), and one holding escapes sent them to the terminal raw.
+    #[test]
+    fn a_maze_heading_shows_any_hash_the_file_holds_quoted() {
+        let hex = "0123456789abcdef".repeat(4);
+        assert_eq!(
+            super::heading(&kept("a.maze", &hex)),
+            "a.maze (maze 0123456789ab…): 1 player, 2 finishes"
+        );
+        assert_eq!(super::heading(&kept("a.maze", "abc")), "a.maze (maze abc): 1 player, 2 finishes");
+        assert_eq!(
+            super::heading(&kept("a.maze", "0123456789aébcdef")),
+            "a.maze (maze 0123456789aé…): 1 player, 2 finishes"
+        );
+        let hostile = super::heading(&kept("\x1b]2;name\x07", &format!("\x1b]2;pwn\x07\x1b[8m{hex}")));
+        assert!(!hostile.contains('\x1b') && !hostile.contains('\x07'), "{hostile:?}");
+        assert!(hostile.starts_with("\\u{1b}]2;name\\u{7} (maze \\u{1b}]2;pwn…)"), "{hostile:?}");
     }
 }

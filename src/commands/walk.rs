@@ -195,21 +195,10 @@ impl RunFile {
     fn open(path: &std::path::Path) -> anyhow::Result<RunFile> {
         let shown = mazewalk_maze::quote_path(&path.display().to_string());
         let cannot = || format!("cannot write the run {shown}");
-        // only a regular file: opening a FIFO for writing would wait for a reader
-        if let Ok(meta) = std::fs::metadata(path)
-            && !meta.is_file()
-        {
-            bail!("{}: not a regular file", cannot());
-        }
-        let mut options = std::fs::OpenOptions::new();
-        options.write(true);
-        let (file, created_empty) = match options.clone().create_new(true).open(path) {
-            Ok(file) => (file, true),
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                (options.open(path).with_context(cannot)?, false)
-            }
-            Err(e) => return Err(e).with_context(cannot),
-        };
+        // only a regular file, never through a symbolic link (red-team pass 8, finding 7), as
+        // --record's
+        let (file, created_empty) =
+            mazewalk_maze::files::open_to_write(path).map_err(|e| anyhow::Error::new(e).context(cannot()))?;
         Ok(RunFile { file, path: path.to_path_buf(), created_empty })
     }
 

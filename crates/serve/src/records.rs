@@ -33,6 +33,12 @@
 //!   (whose index lives in the mapped `-shm`); a file left in WAL mode by an older mazewalk is taken
 //!   out of it under `locking_mode=EXCLUSIVE`, in which SQLite keeps the WAL index in heap memory
 //!   and never maps `-shm` (sqlite.org/wal.html, "Use of WAL Without Shared-Memory").
+//! - **A file someone else made costs what one of ours does** (red-team pass 8). A records file
+//!   is read (`mazewalk records`) or served only if its schema is exactly what this code makes
+//!   ([`SCHEMA`], or the previous version's): no view, trigger or virtual table (a file served
+//!   is otherwise kept aside as a damaged one). And whatever it holds, every call is bounded
+//!   ([`harden`]): [`SqliteOptions::max_steps`] VM steps, values of at most [`MAX_VALUE`] bytes,
+//!   sorts and temporary tables in memory under a heap cap, views and triggers off.
 //! - **One file, many servers.** A rollback journal with a busy timeout: servers on one file (two
 //!   mazes, say) each write their finishes; a write waits for another's, a few milliseconds.
 //!
@@ -162,6 +168,9 @@ pub enum Fault {
     Full,
     /// A newer mazewalk made it (its schema is unknown here).
     Newer,
+    /// A query went past the bound on what one may cost ([`SqliteOptions::max_steps`], or SQLite's
+    /// memory cap): a file this mazewalk did not write, or far larger than any it writes.
+    TooCostly,
     /// The records' Redis (a shared world's, `--world`) does not answer (this finish is not kept;
     /// the next may be).
     Unreachable,
@@ -171,7 +180,7 @@ pub enum Fault {
 
 /// A fault, with the file and what SQLite said.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{}: {}{}", path.display(), fault_text(*fault), if detail.is_empty() { String::new() } else { format!(" ({detail})") })]
+#[error("{}: {}{}", mazewalk_maze::quote_path(&path.display().to_string()), fault_text(*fault), if detail.is_empty() { String::new() } else { format!(" ({detail})") })]
 pub struct RecordsError {
     /// The database file.
     pub path: PathBuf,
@@ -189,6 +198,7 @@ fn fault_text(fault: Fault) -> &'static str {
         Fault::Damaged => "not a records database, or a damaged one",
         Fault::Full => "the database is full",
         Fault::Newer => "made by a newer mazewalk",
+        Fault::TooCostly => "a query went past what reading a records file may cost",
         Fault::Unreachable => "Redis does not answer",
         Fault::Other => "the database failed",
     }
@@ -204,8 +214,14 @@ impl RecordsError {
             Some(ErrorCode::DatabaseBusy | ErrorCode::DatabaseLocked) => Fault::Busy,
             Some(ErrorCode::ReadOnly) => Fault::ReadOnly,
             Some(ErrorCode::CannotOpen | ErrorCode::PermissionDenied) => Fault::CannotOpen,
-            Some(ErrorCode::NotADatabase | ErrorCode::DatabaseCorrupt) => Fault::Damaged,
+            // (a value longer than the length limit: none of ours is)
+            Some(ErrorCode::NotADatabase | ErrorCode::DatabaseCorrupt | ErrorCode::TooBig) => Fault::Damaged,
+            // (the progress handler's step bound, or the heap limit)
+            Some(ErrorCode::OperationInterrupted | ErrorCode::OutOfMemory) => Fault::TooCostly,
             Some(ErrorCode::DiskFull) => Fault::Full,
+            // (past MAX_SCHEMA_OBJECTS, said by whichever statement first reads the schema: a
+            // plain SQLITE_ERROR, told apart by SQLite's words)
+            _ if err.to_string().contains("too many schema objects") => Fault::Damaged,
             _ => Fault::Other,
         };
         RecordsError::new(path, fault, crate::logs::clip(&err.to_string(), crate::logs::ERROR_CHARS))
@@ -258,12 +274,16 @@ pub struct SqliteOptions {
     pub busy_timeout: Duration,
     /// The database's size limit, bytes: past it, writes fail as a full disk would ([`Fault::Full`]).
     pub max_bytes: u64,
+    /// The most SQLite virtual-machine steps one call may take (an open, a finish kept, a listing,
+    /// a run read): past it the call fails as [`Fault::TooCostly`]. A bound on what a file someone
+    /// else made can cost, whatever its contents; a full file of ours needs a small part of it.
+    pub max_steps: u64,
 }
 
 impl Default for SqliteOptions {
     fn default() -> Self {
         // 64 MiB: about a million finishes.
-        SqliteOptions { busy_timeout: Duration::from_secs(2), max_bytes: 64 << 20 }
+        SqliteOptions { busy_timeout: Duration::from_secs(2), max_bytes: 64 << 20, max_steps: MAX_STEPS }
     }
 }
 
@@ -277,6 +297,8 @@ pub struct Sqlite {
     file: Option<(u64, u64)>,
     /// The file went and none could be opened in its place: nothing is written.
     lost: bool,
+    /// What the current call may still spend, in [`STEP_CHUNK`]s of VM steps (see [`harden`]).
+    steps: Arc<AtomicU64>,
 }
 
 /// Whether a WAL index or log is beside `path` (a server of an older mazewalk runs on it, or was
@@ -319,6 +341,182 @@ const MIGRATE_1_TO_2: &str = "
     PRAGMA user_version = 2;
 ";
 
+/// The schema, version 1, as the mazewalk before runs made it (a25dcd1): the files it left are read,
+/// and migrated by a server. Only its table `finishes` differs from [`SCHEMA`]'s (no `run`).
+const SCHEMA_1: &str = "
+    CREATE TABLE mazes (
+        hash TEXT PRIMARY KEY,     -- Maze::content_hash, hex
+        name TEXT NOT NULL,        -- what the host called it when first served
+        first_seen INTEGER NOT NULL
+    );
+    CREATE TABLE finishes (
+        maze TEXT NOT NULL REFERENCES mazes(hash),
+        player TEXT NOT NULL,
+        seconds REAL NOT NULL,
+        at INTEGER NOT NULL        -- Unix seconds
+    );
+    CREATE INDEX finishes_by_maze ON finishes (maze, player, seconds);
+    PRAGMA user_version = 1;
+";
+
+/// The default [`SqliteOptions::max_steps`]: 10⁸ VM steps. Listing an 84 MB file of our schema
+/// (400,000 finishes of as many players, more than a server keeps in its 64 MiB) takes 18 million,
+/// keeping a finish in it 27 million (BENCHMARKS.md, "Red-team pass 8, the local side"); an endless
+/// query with a sort is stopped after a few seconds.
+pub const MAX_STEPS: u64 = 100_000_000;
+
+/// VM steps between two calls of the progress handler that counts them.
+const STEP_CHUNK: u32 = 1000;
+
+/// The longest string or blob a query may make or read, bytes: runs are at most [`MAX_BYTES`] and
+/// names are short, so a value past this is no records file's (SQLite's own limit is 10⁹).
+const MAX_VALUE: i32 = 1 << 20;
+
+/// SQLite's heap, at most, bytes (process-wide: only SQLite's allocations count, and only the
+/// records use SQLite here). With temporary tables and sorts kept in memory, a query that would
+/// have filled the disk with a sort's spill fails here instead.
+const MAX_HEAP: u64 = 256 << 20;
+
+/// Schema objects (tables, indexes, triggers, views) a records file may define, at most: ours has
+/// four; a file listing millions is refused while its schema is read, before anything is built.
+const MAX_SCHEMA_OBJECTS: i32 = 16;
+
+/// Bounds what any statement on `conn` can cost, whatever the file it opened holds (red-team pass 8,
+/// the local side, finding 1: an 8 KB file whose `mazes` was a view over an endless recursive query
+/// made `mazewalk records` spin while its sort filled the disk): views and triggers off, the
+/// schema not trusted to call functions with side effects, the defensive flag on, values and the
+/// schema's size limited, temporary storage in memory under a heap cap, and every call stopped
+/// after `max_steps` VM steps (counted by a progress handler against the returned budget, which
+/// each call fills again).
+fn harden(conn: &mut Connection, max_steps: u64) -> rusqlite::Result<Arc<AtomicU64>> {
+    use rusqlite::config::DbConfig;
+    use rusqlite::limits::Limit;
+    conn.set_db_config(DbConfig::SQLITE_DBCONFIG_DEFENSIVE, true)?;
+    conn.set_db_config(DbConfig::SQLITE_DBCONFIG_TRUSTED_SCHEMA, false)?;
+    conn.set_db_config(DbConfig::SQLITE_DBCONFIG_ENABLE_VIEW, false)?;
+    conn.set_db_config(DbConfig::SQLITE_DBCONFIG_ENABLE_TRIGGER, false)?;
+    conn.set_limit(Limit::SQLITE_LIMIT_LENGTH, MAX_VALUE)?;
+    conn.set_limit(Limit::SQLITE_LIMIT_SCHEMA, MAX_SCHEMA_OBJECTS)?;
+    conn.set_limit(Limit::SQLITE_LIMIT_ATTACHED, 0)?;
+    conn.pragma_update(None, "temp_store", "MEMORY")?;
+    // (it can only be lowered: a second connection sets the same)
+    let _: i64 = conn.query_row(&format!("PRAGMA hard_heap_limit = {MAX_HEAP}"), [], |r| r.get(0))?;
+    let steps = Arc::new(AtomicU64::new(max_steps / u64::from(STEP_CHUNK)));
+    let left = Arc::clone(&steps);
+    conn.progress_handler(
+        STEP_CHUNK as i32,
+        Some(move || left.fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| n.checked_sub(1)).is_err()),
+    )?;
+    Ok(steps)
+}
+
+/// One object of a schema as `sqlite_schema` lists it: its type, name, table and SQL text
+/// ([`canonical`]; `None` for an index SQLite made itself).
+type SchemaRow = (String, String, String, Option<String>);
+
+/// `sql` with its `--` comments dropped and its white space reduced to what separates two words, so
+/// that the text a table was made with and the one `ALTER TABLE … ADD COLUMN` leaves compare equal
+/// when they define the same thing. (Naive about quotes, safely: what this code makes holds none, so
+/// a text with a quote in it, or a `--` inside one, never compares equal to one of ours.)
+fn canonical(sql: &str) -> String {
+    let mut out = String::with_capacity(sql.len());
+    let mut space = false;
+    for line in sql.split('\n') {
+        let code = line.split_once("--").map_or(line, |(code, _)| code);
+        for c in code.chars().chain(['\n']) {
+            // (SQLite's white space is ASCII's)
+            if c.is_ascii_whitespace() {
+                space = true;
+                continue;
+            }
+            let tight = matches!(c, '(' | ')' | ',') || out.ends_with(['(', ')', ',']);
+            if space && !tight && !out.is_empty() {
+                out.push(' ');
+            }
+            space = false;
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// The schema objects of `conn`'s main database, sorted.
+fn schema_rows(conn: &Connection) -> rusqlite::Result<Vec<SchemaRow>> {
+    let mut rows: Vec<SchemaRow> = conn
+        .prepare("SELECT type, name, tbl_name, sql FROM sqlite_schema")?
+        .query_map([], |r| {
+            let sql: Option<String> = r.get(3)?;
+            Ok((r.get(0)?, r.get(1)?, r.get(2)?, sql.as_deref().map(canonical)))
+        })?
+        .collect::<rusqlite::Result<_>>()?;
+    rows.sort();
+    Ok(rows)
+}
+
+/// The schema objects this code makes for records of `version` (0: none), as [`schema_rows`] lists
+/// them: made in a database in memory from [`SCHEMA_1`] or [`SCHEMA`], so they are what SQLite
+/// itself writes for them. A version 1 file migrated ([`MIGRATE_1_TO_2`]) lists the same as a new
+/// version 2 one.
+fn made_schema(version: i64) -> rusqlite::Result<Vec<SchemaRow>> {
+    let conn = Connection::open_in_memory()?;
+    match version {
+        1 => conn.execute_batch(SCHEMA_1)?,
+        2 => conn.execute_batch(SCHEMA)?,
+        _ => {}
+    }
+    schema_rows(&conn)
+}
+
+/// Refuses a records file at `path` whose schema is not exactly the one this code makes for
+/// `version` (1 or 2; 0: an empty file, no objects): no view, trigger, virtual table or other
+/// table or index, and each of ours as made. Every query here then runs on tables and an index of
+/// ours, and costs what their rows make it cost.
+///
+/// # Errors
+/// [`Fault::Damaged`], saying what is not as this code makes it (or SQLite's reason the schema
+/// cannot be read); a busy database as [`Fault::Busy`].
+fn check_schema(conn: &Connection, path: &Path, version: i64) -> Result<(), RecordsError> {
+    let found = schema_rows(conn).map_err(|e| match RecordsError::sqlite(path, &e) {
+        err if err.fault == Fault::Busy => err,
+        err => RecordsError::new(path, Fault::Damaged, format!("its schema cannot be read: {}", err.detail)),
+    })?;
+    let made = made_schema(version).map_err(|e| RecordsError::sqlite(path, &e))?;
+    if found == made {
+        return Ok(());
+    }
+    let quoted = |name: &str| mazewalk_maze::quote(name);
+    // (most telling first: what no records file has, then what is not ours, then what is missing)
+    let mut wrong: Vec<(u8, String)> = found
+        .iter()
+        .filter(|row| !made.contains(row))
+        .map(|(kind, name, _, sql)| {
+            let ours = made.iter().any(|(k, n, _, _)| k == kind && n == name);
+            let virtual_table = sql.as_deref().is_some_and(|sql| sql.starts_with("CREATE VIRTUAL TABLE"));
+            let (kind, name) = (quoted(kind), quoted(name));
+            if virtual_table {
+                (0, format!("a virtual table `{name}`"))
+            } else if ours {
+                (2, format!("its {kind} `{name}` is not as mazewalk makes it"))
+            } else if matches!(kind.as_str(), "table" | "index") {
+                (1, format!("a {kind} `{name}` of its own"))
+            } else {
+                (0, format!("a {kind} `{name}`"))
+            }
+        })
+        .collect();
+    wrong.extend(
+        made.iter()
+            .filter(|(kind, name, _, _)| !found.iter().any(|(k, n, _, _)| k == kind && n == name))
+            .map(|(kind, name, _, _)| (3, format!("no {kind} `{name}`"))),
+    );
+    wrong.sort();
+    let more = wrong.len().saturating_sub(3);
+    let more = if more > 0 { format!(" and {more} more") } else { String::new() };
+    let wrong: Vec<String> = wrong.into_iter().take(3).map(|(_, w)| w).collect();
+    let detail = format!("its schema is not mazewalk's version {version}: {}{more}", wrong.join("; "));
+    Err(RecordsError::new(path, Fault::Damaged, detail))
+}
+
 /// Makes the records file at `path`, mode 0600, if there is none, before SQLite opens it (so its
 /// journal, made with the file's mode, is private too). A file already there is left as it is.
 fn make_private(path: &Path) -> Result<(), RecordsError> {
@@ -340,7 +538,10 @@ impl Sqlite {
     /// The file cannot be opened, made or written, or a newer mazewalk made it.
     pub fn open(path: &Path, options: SqliteOptions) -> Result<(Sqlite, Option<PathBuf>), RecordsError> {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty() && !d.is_dir()) {
-            let why = format!("no folder {} (it is not made)", dir.display());
+            let why = format!(
+                "no folder {} (it is not made)",
+                mazewalk_maze::quote_path(&dir.display().to_string())
+            );
             return Err(RecordsError::new(path, Fault::CannotOpen, why));
         }
         make_private(path)?;
@@ -373,7 +574,8 @@ impl Sqlite {
         let flags = OpenFlags::SQLITE_OPEN_READ_WRITE
             | OpenFlags::SQLITE_OPEN_CREATE
             | OpenFlags::SQLITE_OPEN_NO_MUTEX;
-        let conn = Connection::open_with_flags(path, flags).map_err(sqlite)?;
+        let mut conn = Connection::open_with_flags(path, flags).map_err(sqlite)?;
+        let steps = harden(&mut conn, options.max_steps).map_err(sqlite)?;
         // (SQLite opens a file it may not write read-only, silently: asked, it says so)
         if conn.is_readonly(rusqlite::MAIN_DB).map_err(sqlite)? {
             return Err(RecordsError::new(
@@ -412,6 +614,12 @@ impl Sqlite {
             let _: String =
                 conn.pragma_update_and_check(None, "locking_mode", "NORMAL", |r| r.get(0)).map_err(sqlite)?;
         }
+        // (only a schema of ours is read further, or written to: a file made for this one is kept aside)
+        let version: i64 = conn.query_row("PRAGMA user_version", [], |r| r.get(0)).map_err(sqlite)?;
+        if version > 2 {
+            return Err(RecordsError::new(path, Fault::Newer, format!("schema version {version}")));
+        }
+        check_schema(&conn, path, version)?;
         let page: i64 = conn.query_row("PRAGMA page_size", [], |r| r.get(0)).map_err(sqlite)?;
         let pages = (options.max_bytes / page.max(512) as u64).max(8);
         let _: i64 =
@@ -420,40 +628,48 @@ impl Sqlite {
         if check != "ok" {
             return Err(RecordsError::new(path, Fault::Damaged, check));
         }
-        let mut db = Sqlite { conn, path: path.to_path_buf(), options, file: None, lost: false };
-        match db.version()? {
+        let mut db = Sqlite { conn, path: path.to_path_buf(), options, file: None, lost: false, steps };
+        match version {
             0 => db.conn.execute_batch(&format!("BEGIN IMMEDIATE; {SCHEMA} COMMIT;")).map_err(sqlite)?,
             1 => db
                 .conn
                 .execute_batch(&format!("BEGIN IMMEDIATE; {MIGRATE_1_TO_2} COMMIT;"))
                 .map_err(sqlite)?,
-            2 => {}
-            newer => return Err(RecordsError::new(path, Fault::Newer, format!("schema version {newer}"))),
+            _ => {}
         }
         db.file = file_id(path);
         Ok(db)
     }
 
-    /// Opens the records at `path` to read them (`mazewalk records`); changes nothing.
+    /// Opens the records at `path` to read them (`mazewalk records`); changes nothing. The file may
+    /// be anyone's: only one whose schema is exactly one this code makes is read, and every query
+    /// on it is bounded as a server's are (see [`Sqlite::open`]).
     ///
     /// # Errors
-    /// The file does not exist, cannot be read, is not a records database, or is a newer one.
+    /// The file does not exist, cannot be read, is not a records database (its schema not ours), or
+    /// is a newer one.
     pub fn open_to_read(path: &Path) -> Result<Sqlite, RecordsError> {
         let sqlite = |e: rusqlite::Error| RecordsError::sqlite(path, &e);
         if !path.is_file() {
             return Err(RecordsError::new(path, Fault::CannotOpen, "no such file: no records yet"));
         }
         let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
-        let conn = Connection::open_with_flags(path, flags).map_err(sqlite)?;
+        let mut conn = Connection::open_with_flags(path, flags).map_err(sqlite)?;
+        let options = SqliteOptions::default();
+        let steps = harden(&mut conn, options.max_steps).map_err(sqlite)?;
         conn.busy_timeout(Duration::from_secs(2)).map_err(sqlite)?;
         let _: i64 = conn.pragma_update_and_check(None, "mmap_size", 0, |r| r.get(0)).map_err(sqlite)?;
-        let options = SqliteOptions::default();
-        let db = Sqlite { conn, path: path.to_path_buf(), options, file: file_id(path), lost: false };
+        let db = Sqlite { conn, path: path.to_path_buf(), options, file: file_id(path), lost: false, steps };
         match db.version()? {
-            1 | 2 => Ok(db),
+            version @ (1 | 2) => check_schema(&db.conn, path, version).map(|()| db),
             0 => Err(RecordsError::new(path, Fault::Damaged, "no records tables")),
             newer => Err(RecordsError::new(path, Fault::Newer, format!("schema version {newer}"))),
         }
+    }
+
+    /// Fills the step budget again for a call ([`SqliteOptions::max_steps`]).
+    fn budget(&self) {
+        self.steps.store(self.options.max_steps / u64::from(STEP_CHUNK), Ordering::Relaxed);
     }
 
     fn version(&self) -> Result<i64, RecordsError> {
@@ -629,9 +845,11 @@ impl Store for Sqlite {
         if self.lost {
             return Err(RecordsError::new(&self.path, Fault::CannotOpen, "gone while serving"));
         }
+        self.budget();
         match self.record_busy(finish) {
             // Full (at its size limit, or the disk): the worst finishes make room, once.
             Err(err) if err.fault == Fault::Full && self.prune_worst().unwrap_or(false) => {
+                self.budget();
                 self.record_busy(finish)
             }
             done => done,
@@ -639,6 +857,7 @@ impl Store for Sqlite {
     }
 
     fn run(&mut self, maze: &ContentHash, player: Option<&str>) -> Result<Option<StoredRun>, RecordsError> {
+        self.budget();
         if self.version()? < 2 {
             return Ok(None); // (a file of an older mazewalk, read only: no runs)
         }
@@ -661,11 +880,16 @@ impl Store for Sqlite {
         }
         self.file = now; // (said once per change)
         let what = if now.is_none() { "was deleted" } else { "was replaced" };
-        let path = self.path.display();
+        let path = mazewalk_maze::quote_path(&self.path.display().to_string());
         Some(match Sqlite::open(&self.path, self.options) {
             Ok((db, aside)) => {
                 let made = if now.is_none() { "a new one is made" } else { "the new one is used" };
-                let aside = aside.map(|a| format!(" (the file found there kept as {})", a.display()));
+                let aside = aside.map(|a| {
+                    format!(
+                        " (the file found there kept as {})",
+                        mazewalk_maze::quote_path(&a.display().to_string())
+                    )
+                });
                 let line =
                     format!("records: {path} {what} while serving; {made}{}", aside.unwrap_or_default());
                 *self = db;
@@ -679,6 +903,7 @@ impl Store for Sqlite {
     }
 
     fn mazes(&mut self, maze: Option<&ContentHash>) -> Result<Vec<MazeRecords>, RecordsError> {
+        self.budget();
         let path = self.path.clone();
         let sqlite = |e: rusqlite::Error| RecordsError::sqlite(&path, &e);
         let only = maze.map(ToString::to_string);
@@ -715,6 +940,7 @@ impl Sqlite {
     /// # Errors
     /// The database failed.
     pub fn knows(&self, maze: &ContentHash) -> Result<bool, RecordsError> {
+        self.budget();
         self.conn
             .query_row("SELECT 1 FROM mazes WHERE hash = ?1", params![maze.to_string()], |_| Ok(()))
             .optional()

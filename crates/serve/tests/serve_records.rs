@@ -506,3 +506,131 @@ fn a_new_records_file_is_private_and_no_folder_is_made() {
     assert!(err.to_string().contains(&folder.join("dir").display().to_string()), "{err}");
     assert!(!folder.exists(), "nothing made");
 }
+
+/// The tables and index of a records file, version 2, as the red team wrote them by hand (the
+/// comments and white space of ours are not needed: only what they define).
+const OUR_TABLES: &str = "
+    CREATE TABLE mazes (hash TEXT PRIMARY KEY, name TEXT NOT NULL, first_seen INTEGER NOT NULL);
+    CREATE TABLE finishes (maze TEXT NOT NULL REFERENCES mazes(hash), player TEXT NOT NULL,
+                           seconds REAL NOT NULL, at INTEGER NOT NULL, run BLOB);
+    CREATE INDEX finishes_by_maze ON finishes (maze, player, seconds);";
+
+/// A file at `path` made by plain SQLite from `sql`, at schema version 2.
+fn made_by_hand(path: &Path, sql: &str) {
+    let _ = std::fs::remove_file(path);
+    let conn = rusqlite::Connection::open(path).unwrap();
+    conn.execute_batch(&format!("{sql}\nPRAGMA user_version = 2;")).unwrap();
+}
+
+/// Red-team pass 8 (local side), finding 1: `mazewalk records` ran its queries on whatever schema
+/// the file defined. An 8 KB file whose `mazes` was a view over an endless recursive query made it
+/// spin for ever while its sort filled the disk (1.4 GB in 10 s); another view made a 400 MB value.
+/// Now a file whose schema is not exactly ours is refused at once, naming what is wrong, whether it
+/// is read (`records`) or served (kept aside, as a damaged one, and a new one made).
+#[test]
+fn a_records_file_whose_schema_is_not_ours_is_refused_at_once() {
+    let scratch = Scratch::new("schema");
+    let path = scratch.db();
+    let endless = "CREATE VIEW mazes AS WITH RECURSIVE n(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM n)
+          SELECT printf('%064d', i) AS hash, 'endless' AS name, i AS first_seen FROM n;
+        CREATE TABLE finishes (maze TEXT, player TEXT, seconds REAL, at INTEGER, run BLOB);";
+    let huge = "CREATE VIEW mazes AS SELECT printf('%064d', 1) AS hash,
+          printf('%.*c', 400000000, 'x') AS name, 0 AS first_seen;
+        CREATE TABLE finishes (maze TEXT, player TEXT, seconds REAL, at INTEGER, run BLOB);";
+    let trigger =
+        format!("{OUR_TABLES} CREATE TRIGGER t AFTER INSERT ON finishes BEGIN DELETE FROM mazes; END;");
+    let virtual_table = format!("{OUR_TABLES} CREATE VIRTUAL TABLE notes USING fts5(text);");
+    let extra_table = format!("{OUR_TABLES} CREATE TABLE extra (x);");
+    let partial =
+        OUR_TABLES.replace("(maze, player, seconds);", "(maze, player, seconds) WHERE seconds > 0;");
+    let checked =
+        OUR_TABLES.replace("first_seen INTEGER NOT NULL)", "first_seen INTEGER NOT NULL CHECK (1))");
+    let many: String = (0..40).map(|i| format!("CREATE TABLE t{i} (x);")).collect();
+    let many = format!("{OUR_TABLES} {many}");
+    let cases: [(&str, &str, &str); 8] = [
+        ("an endless view", endless, "a view `mazes`"),
+        ("a view of a 400 MB value", huge, "a view `mazes`"),
+        ("a trigger", &trigger, "a trigger `t`"),
+        ("a virtual table", &virtual_table, "a virtual table `notes`"),
+        ("another table", &extra_table, "a table `extra` of its own"),
+        ("a partial index", &partial, "its index `finishes_by_maze` is not as mazewalk makes it"),
+        ("a CHECK constraint", &checked, "its table `mazes` is not as mazewalk makes it"),
+        ("forty more tables", &many, "too many schema objects"),
+    ];
+    for (what, sql, why) in cases {
+        made_by_hand(&path, sql);
+        let started = Instant::now();
+        let err = Sqlite::open_to_read(&path).map(|_| ()).expect_err(what);
+        assert!(started.elapsed() < Duration::from_secs(10), "{what}: refused at once");
+        assert_eq!(err.fault, Fault::Damaged, "{what}: {err}");
+        let said = err.to_string();
+        assert!(said.starts_with(&path.display().to_string()), "{what}: names the file: {said}");
+        assert!(said.contains(why), "{what}: says what is wrong: {said}");
+        // Served: kept aside as it was, and a new one made.
+        let (mut db, aside) = Sqlite::open(&path, SqliteOptions::default()).expect(what);
+        let aside = aside.unwrap_or_else(|| panic!("{what}: kept aside"));
+        assert_eq!(db.record(&finish(MAZE, "ann", 10.0)).unwrap().rank, 1, "{what}: a new one works");
+        let kept = rusqlite::Connection::open(&aside).unwrap();
+        let objects: i64 = kept.query_row("SELECT COUNT(*) FROM sqlite_schema", [], |r| r.get(0)).unwrap();
+        assert!(objects >= 2, "{what}: the file kept aside is as it was");
+    }
+}
+
+/// What the schema check accepts: the files this mazewalk makes, and those the one before it made
+/// (version 1, migrated by a server to version 2), however their SQL text was spaced.
+#[test]
+fn records_files_of_ours_and_of_the_previous_schema_pass_the_check() {
+    let scratch = Scratch::new("ours");
+    let path = scratch.db();
+    open(&path).record(&finish(MAZE, "ann", 10.0)).unwrap();
+    assert_eq!(Sqlite::open_to_read(&path).unwrap().mazes(None).unwrap()[0].finishes, 1);
+    made_by_hand(&path, &format!("{OUR_TABLES} INSERT INTO mazes VALUES ('{MAZE}', 'm', 1);"));
+    assert_eq!(Sqlite::open_to_read(&path).unwrap().mazes(None).unwrap().len(), 1, "spaced otherwise");
+    // version 1, then migrated
+    made_by_hand(&path, &OUR_TABLES.replace(", run BLOB", ""));
+    rusqlite::Connection::open(&path).unwrap().execute_batch("PRAGMA user_version = 1").unwrap();
+    assert_eq!(Sqlite::open_to_read(&path).unwrap().mazes(None).unwrap(), Vec::new(), "version 1");
+    let (mut db, aside) = Sqlite::open(&path, SqliteOptions::default()).unwrap();
+    assert_eq!(aside, None, "migrated, not kept aside");
+    db.record(&finish(MAZE, "ann", 10.0)).unwrap();
+    drop(db);
+    assert_eq!(Sqlite::open_to_read(&path).unwrap().mazes(None).unwrap()[0].finishes, 1, "migrated");
+    let (_, aside) = Sqlite::open(&path, SqliteOptions::default()).unwrap();
+    assert_eq!(aside, None, "a migrated file opens again");
+}
+
+/// Finding 1's bounds, beyond the schema: a value no records file of ours holds (a maze name of
+/// 2 MB) is refused as it is read rather than allocated, and a call that takes more VM steps than
+/// its budget stops with a fault that says so.
+#[test]
+fn a_query_on_a_records_file_is_bounded_whatever_it_holds() {
+    let scratch = Scratch::new("bounded");
+    let path = scratch.db();
+    made_by_hand(
+        &path,
+        &format!("{OUR_TABLES} INSERT INTO mazes VALUES ('{MAZE}', printf('%.*c', 2000000, 'x'), 1);"),
+    );
+    let err = Sqlite::open_to_read(&path).unwrap().mazes(None).expect_err("a 2 MB name read");
+    assert_eq!(err.fault, Fault::Damaged, "{err}");
+    assert!(err.to_string().contains("too big"), "{err}");
+
+    // (opened empty, within its budget; then filled by another program)
+    std::fs::remove_file(&path).unwrap();
+    let small = SqliteOptions { max_steps: 100_000, ..SqliteOptions::default() };
+    let (mut db, aside) = Sqlite::open(&path, small).unwrap();
+    assert_eq!(aside, None);
+    rusqlite::Connection::open(&path)
+        .unwrap()
+        .execute_batch(&format!(
+            "INSERT INTO mazes VALUES ('{MAZE}', 'm', 1);
+             WITH RECURSIVE n(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM n LIMIT 20000)
+             INSERT INTO finishes SELECT '{MAZE}', 'p' || (i % 5000), i, i, NULL FROM n;"
+        ))
+        .unwrap();
+    let err = db.mazes(None).expect_err("20,000 finishes listed in 100,000 steps");
+    assert_eq!(err.fault, Fault::TooCostly, "{err}");
+    // the budget is each call's: a call within it still works
+    assert!(db.knows(&MAZE).unwrap());
+    let listed = Sqlite::open_to_read(&path).unwrap().mazes(None).unwrap();
+    assert_eq!((listed[0].finishes, listed[0].players), (20_000, 5000), "within the default budget");
+}
