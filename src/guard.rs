@@ -103,6 +103,10 @@ static ENDING: AtomicBool = AtomicBool::new(false);
 #[cfg(unix)]
 static OWN_STOP: AtomicBool = AtomicBool::new(false);
 
+/// Set by the signal handler itself on SIGXFSZ (a write passed the file-size limit), which is caught
+/// only so that it does not end the process: the write fails with `EFBIG` and says so. Nothing reads it.
+static FILE_TOO_LARGE: AtomicBool = AtomicBool::new(false);
+
 /// Set by the signal handler itself on SIGWINCH, until the app takes it
 /// ([`TerminalGuard::take_winched`]): a resize, or a nudge at the same size (`kill -WINCH`, a
 /// multiplexer's redraw), after which the app paints everything again.
@@ -664,16 +668,18 @@ pub fn exit_code_for_signal(signal: i32) -> i32 {
 
 /// The signals that end the walk (restore, then exit with 128 + the signal's number): every signal
 /// whose default action ends the process and that can be caught — SIGHUP, SIGINT, SIGQUIT, SIGABRT,
-/// SIGUSR1, SIGUSR2, SIGALRM, SIGTERM, SIGSTKFLT, SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO, SIGPWR
-/// (those that exist here) and the real-time signals SIGRTMIN..=SIGRTMAX — but the faults a program
-/// raises on itself (SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGTRAP, SIGSYS: a handler that returns would
-/// fault again) and SIGPIPE, which Rust programs ignore (a write to a closed pipe fails instead).
+/// SIGUSR1, SIGUSR2, SIGALRM, SIGTERM, SIGSTKFLT, SIGXCPU, SIGVTALRM, SIGPROF, SIGIO, SIGPWR (those
+/// that exist here) and the real-time signals SIGRTMIN..=SIGRTMAX — but the faults a program raises
+/// on itself (SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGTRAP, SIGSYS: a handler that returns would fault
+/// again), SIGPIPE, which Rust programs ignore (a write to a closed pipe fails instead), and SIGXFSZ,
+/// which the walk catches for the same reason ([`install_signal_handler`]): a write past the
+/// file-size limit (`ulimit -f`) fails with `EFBIG`, and `--record` stops while the walk goes on.
 #[cfg(unix)]
 #[must_use]
 pub fn ending_signals() -> Vec<i32> {
     use signal_hook::consts::*;
     let mut signals = vec![SIGHUP, SIGINT, SIGQUIT, SIGABRT, SIGUSR1, SIGUSR2, SIGALRM, SIGTERM];
-    signals.extend([SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO]);
+    signals.extend([SIGXCPU, SIGVTALRM, SIGPROF, SIGIO]);
     #[cfg(any(target_os = "linux", target_os = "android"))]
     signals.extend([libc::SIGSTKFLT, libc::SIGPWR]);
     #[cfg(any(target_os = "linux", target_os = "android"))]
@@ -693,6 +699,10 @@ pub fn ending_signals() -> Vec<i32> {
 /// between a SIGCONT and the flag; where a kernel picks another thread, one frame might, and the full
 /// repaint that follows covers it.
 ///
+/// SIGXFSZ is caught and does nothing ([`FILE_TOO_LARGE`]): a write past the file-size limit then
+/// fails with `EFBIG` instead of the signal ending the process (red-team pass 8: `--record` under
+/// `ulimit -f` ended the walk with exit 153, its cast cut mid-line).
+///
 /// SIGTTIN and SIGTTOU keep their default action (stop): the kernel sends them when a background job
 /// touches the terminal, and we only run in the background after a stop (`bg`), when re-entering game
 /// mode, before anything is written. Catching them would turn that into a spin: the kernel re-sends
@@ -711,6 +721,7 @@ fn install_signal_handler() -> io::Result<()> {
     signal_hook::flag::register(SIGWINCH, &WINCHED)?; // before the wake-up: set when the loop looks
     signal_hook::low_level::pipe::register(SIGWINCH, writer.try_clone()?)?;
     let _ = WAKE.set((reader, writer));
+    signal_hook::flag::register(signal_hook::consts::SIGXFSZ, &FILE_TOO_LARGE)?;
     // Before the iterator's own handler: actions run in the order registered.
     signal_hook::flag::register(SIGCONT, &CONTINUED)?;
     for signal in ending_signals() {
