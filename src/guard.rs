@@ -19,6 +19,14 @@
 //! half and then leave the rest of it on the restored main screen. A stop holds that lock from the
 //! restore until game mode is back, so no frame lands on the main screen meanwhile.
 //!
+//! No write to the terminal ever blocks in `write(2)` ([`write_tty`]): a terminal that stops reading
+//! (a stalled SSH link, output paused by the emulator or multiplexer) leaves a write waiting in
+//! `poll(2)`, which gives up when a signal comes that needs the lock (the rest of that frame is
+//! dropped, and the screen repainted in full if the walk goes on), and a restore waits at most
+//! [`RESTORE_WAIT`] for the terminal to take its bytes; the modes (`tcsetattr`, `TCSANOW`) come back
+//! either way. A terminal left non-blocking (`O_NONBLOCK`, by another program) is waited for the same
+//! way where it would say `EAGAIN`.
+//!
 //! The escape sequences are the pure [`mazewalk_term::modes`]' (a server sends the same ones to its
 //! players); this module only writes them, and owns raw mode, the signals and the locks.
 //!
@@ -26,8 +34,9 @@
 //! ([`tee_writes`]: `--record`), from whichever thread writes it.
 
 use std::io::{self, Write};
-use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, Once, PoisonError, TryLockError};
+use std::time::{Duration, Instant};
 
 use crossterm::terminal;
 use mazewalk_term::input::{Input, InputDecoder, MAX_SEQUENCE, Reply};
@@ -92,6 +101,15 @@ static RESUMED: AtomicBool = AtomicBool::new(false);
 /// signal handler itself (see [`install_signal_handler`]), answered under [`ACTIVE`]'s lock. While
 /// set, the screen may not be ours any more: [`TerminalGuard::write_frame`] writes nothing.
 static CONTINUED: AtomicBool = AtomicBool::new(false);
+
+/// How many threads (the signal thread) wait for [`ACTIVE`]'s lock ([`locked_for_signal`]): a write
+/// under the lock that has to wait for the terminal gives up while any do ([`write_tty`]).
+static LOCK_WANTED: AtomicUsize = AtomicUsize::new(0);
+
+/// The most a restore waits for a terminal that does not take its bytes (it stopped reading):
+/// then the restore's bytes are dropped, and only the modes (raw mode off) come back. A terminal
+/// that reads takes the few dozen bytes at once.
+pub const RESTORE_WAIT: Duration = Duration::from_millis(250);
 
 /// Set by the signal handler itself when a signal that ends the walk arrives ([`ending_signals`]),
 /// before the signal thread answers it: a stop that ends sees it without waiting for the thread,
@@ -206,15 +224,135 @@ fn restore_locked(active: &mut Option<Enabled>) -> io::Result<()> {
         // Raw mode alone, for the keyboard query's answer: the query needs no undoing.
         return if RAW_ONLY.swap(false, Ordering::SeqCst) { terminal::disable_raw_mode() } else { Ok(()) };
     };
-    let mut stdout = io::stdout().lock();
-    let restore = restore_bytes(enabled);
-    let written = stdout.write_all(restore.as_bytes());
-    if written.is_ok() {
-        tee(restore.as_bytes());
-    }
-    let written = written.and_then(|()| stdout.flush());
-    let raw_off = terminal::disable_raw_mode();
+    let written = write_restore(enabled);
+    let raw_off = terminal::disable_raw_mode(); // (`TCSANOW`: not waiting for the output to drain)
     written.and(raw_off)
+}
+
+/// Writes the bytes that leave game mode with `enabled`, waiting at most [`RESTORE_WAIT`] for the
+/// terminal to take them.
+///
+/// # Errors
+/// The write failed, or the terminal took not all of them in time (`TimedOut`).
+fn write_restore(enabled: Enabled) -> io::Result<()> {
+    let restore = restore_bytes(enabled);
+    match write_tty(restore.as_bytes(), Wait::Until(Instant::now() + RESTORE_WAIT))? {
+        true => Ok(()),
+        false => Err(io::Error::new(
+            io::ErrorKind::TimedOut,
+            "the terminal took no output: its screen may still be the walk's",
+        )),
+    }
+}
+
+/// How long [`write_tty`] waits for a terminal that does not take the bytes.
+#[derive(Clone, Copy, Debug)]
+enum Wait {
+    /// Until a signal that needs [`ACTIVE`]'s lock comes ([`ENDING`], [`LOCK_WANTED`]): for frames
+    /// and game mode's sequences, whose writer holds the lock.
+    ForSignal,
+    /// Until then, whatever comes: for the restore, which a signal's own path writes.
+    Until(Instant),
+}
+
+/// Writes `bytes` to the terminal (stdout), each write handed on to the [`tee_writes`] copy as it is
+/// made, without ever blocking in `write(2)`: a write the terminal cannot take now (`EAGAIN`) waits
+/// in `poll(2)` for room, as `wait` says. Returns whether all were written (`false`: it gave up, part
+/// of `bytes` may be out).
+///
+/// Each `write(2)` is made with `O_NONBLOCK` set on the terminal's open file description for just
+/// that call, then put back as it was: the description is the shell's too (and its other jobs'), so
+/// it stays as they left it but for those moments.
+///
+/// # Errors
+/// A write or `poll` failed (`EIO`: the terminal is gone).
+#[cfg(unix)]
+fn write_tty(mut bytes: &[u8], wait: Wait) -> io::Result<bool> {
+    use rustix::event::{PollFd, PollFlags, Timespec};
+    use rustix::io::Errno;
+    use std::os::fd::AsFd as _;
+
+    let stdout = io::stdout();
+    let fd = stdout.as_fd();
+    while !bytes.is_empty() {
+        if matches!(wait, Wait::ForSignal) && signal_waits() {
+            return Ok(false);
+        }
+        match write_nonblocking(fd, bytes) {
+            Ok(n) => {
+                tee(&bytes[..n]);
+                bytes = &bytes[n..];
+                continue;
+            }
+            Err(Errno::INTR) => continue,
+            Err(Errno::AGAIN) => {}
+            Err(err) => return Err(err.into()),
+        }
+        let timeout = match wait {
+            Wait::ForSignal => None,
+            Wait::Until(deadline) => {
+                let left = deadline.saturating_duration_since(Instant::now());
+                if left.is_zero() {
+                    return Ok(false);
+                }
+                Some(Timespec { tv_sec: left.as_secs() as i64, tv_nsec: left.subsec_nanos().into() })
+            }
+        };
+        let mut fds = Vec::with_capacity(2);
+        fds.push(PollFd::new(&fd, PollFlags::OUT));
+        if let (Wait::ForSignal, Some((reader, _))) = (wait, WAKE.get()) {
+            fds.push(PollFd::new(reader, PollFlags::IN)); // the signal thread wakes it (`wake`)
+        }
+        match rustix::event::poll(&mut fds, timeout.as_ref()) {
+            Ok(_) | Err(Errno::INTR) => {}
+            Err(err) => return Err(err.into()),
+        }
+        if fds.get(1).is_some_and(|fd| !fd.revents().is_empty()) {
+            // (the event loop looks at every flag when this returns: the wake-up is not lost)
+            drain_wake_pipe();
+        }
+    }
+    Ok(true)
+}
+
+/// The walk runs on Unix only: elsewhere, a plain write.
+#[cfg(not(unix))]
+fn write_tty(bytes: &[u8], _: Wait) -> io::Result<bool> {
+    let mut stdout = io::stdout().lock();
+    stdout.write_all(bytes)?;
+    tee(bytes);
+    stdout.flush().map(|()| true)
+}
+
+/// One `write(2)` of `bytes` to `fd` that does not block: `O_NONBLOCK` set for the call unless it
+/// is set already, then put back.
+#[cfg(unix)]
+fn write_nonblocking(fd: std::os::fd::BorrowedFd<'_>, bytes: &[u8]) -> rustix::io::Result<usize> {
+    use rustix::fs::{OFlags, fcntl_getfl, fcntl_setfl};
+    let flags = fcntl_getfl(fd)?;
+    if flags.contains(OFlags::NONBLOCK) {
+        return rustix::io::write(fd, bytes);
+    }
+    fcntl_setfl(fd, flags | OFlags::NONBLOCK)?;
+    let written = rustix::io::write(fd, bytes);
+    fcntl_setfl(fd, flags)?;
+    written
+}
+
+/// Whether a write under [`ACTIVE`]'s lock should give up waiting for the terminal: a signal that
+/// ends the walk came ([`ENDING`]), or the signal thread waits for the lock ([`LOCK_WANTED`]).
+fn signal_waits() -> bool {
+    ENDING.load(Ordering::SeqCst) || LOCK_WANTED.load(Ordering::SeqCst) > 0
+}
+
+/// [`ACTIVE`]'s lock, for the signal thread: it says it waits ([`LOCK_WANTED`]) and wakes the
+/// writer, so that a write waiting for a terminal that stopped reading gives up the lock at once.
+fn locked_for_signal() -> MutexGuard<'static, Option<Enabled>> {
+    LOCK_WANTED.fetch_add(1, Ordering::SeqCst);
+    wake();
+    let active = active();
+    LOCK_WANTED.fetch_sub(1, Ordering::SeqCst);
+    active
 }
 
 /// Raw mode, alternate screen and friends for as long as it lives; see the [module docs](self).
@@ -338,10 +476,11 @@ impl TerminalGuard {
             FRAME_HELD.store(true, Ordering::SeqCst);
             return Ok(());
         }
-        let mut stdout = io::stdout().lock();
-        stdout.write_all(bytes)?;
-        tee(bytes);
-        stdout.flush()
+        if !write_tty(bytes, Wait::ForSignal)? {
+            // A signal needs the lock: it ends the walk, or its stop or continue repaints in full.
+            FRAME_HELD.store(true, Ordering::SeqCst);
+        }
+        Ok(())
     }
 
     /// Restores the terminal now (as `Drop` would); idempotent.
@@ -360,7 +499,7 @@ impl TerminalGuard {
     /// # Errors
     /// Restoring, stopping or re-entering failed.
     pub fn suspend(&mut self) -> io::Result<()> {
-        stop_and_continue()
+        stop_and_continue(active())
     }
 
     /// Whether game mode was entered again after a stop (the Ctrl-Z key, SIGTSTP, or SIGSTOP then
@@ -456,8 +595,7 @@ fn already_in_game_mode() -> io::Error {
 /// mode stops us again (SIGTTOU, default action) before anything is written, until `fg`. The SIGCONT
 /// that ended the stop is marked answered ([`OWN_STOP`]): the signal thread leaves game mode alone.
 #[cfg(unix)]
-fn stop_and_continue() -> io::Result<()> {
-    let mut active = active();
+fn stop_and_continue(mut active: MutexGuard<'static, Option<Enabled>>) -> io::Result<()> {
     let (enabled, raw_only) = (*active, RAW_ONLY.load(Ordering::SeqCst));
     restore_locked(&mut active)?;
     if stopping_is_safe() {
@@ -513,13 +651,7 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
         // shell has the terminal, its prompt on our alternate screen with mouse reporting on. Give
         // both back (a write is allowed from the background; setting modes is not), then wait
         // stopped for `fg` as a real SIGTTOU would make us; game mode comes back below.
-        let mut stdout = io::stdout().lock();
-        let restore = restore_bytes(enabled);
-        if stdout.write_all(restore.as_bytes()).is_ok() {
-            tee(restore.as_bytes());
-        }
-        let _ = stdout.flush();
-        drop(stdout);
+        let _ = write_restore(enabled);
         if stopped_for_fg()? {
             *active = None; // restored above; the signal thread ends the walk
             return Ok(false);
@@ -575,8 +707,7 @@ fn in_background() -> bool {
 }
 
 #[cfg(not(unix))]
-fn stop_and_continue() -> io::Result<()> {
-    let _active = active();
+fn stop_and_continue(_active: MutexGuard<'static, Option<Enabled>>) -> io::Result<()> {
     resumed_locked(); // nothing to stop: just a full repaint
     Ok(())
 }
@@ -618,15 +749,10 @@ fn enter_locked(active: &mut Option<Enabled>, enabled: Enabled, sequence: &str) 
 }
 
 /// Writes `bytes` to the terminal, under the lock (`active`), and flushes; on failure, restores.
+/// A signal that needs the lock meanwhile cuts the write short ([`write_tty`]): its restore, stop or
+/// continue follows, which writes the whole of game mode's sequences again where needed.
 fn write_locked(active: &mut Option<Enabled>, bytes: &[u8]) -> io::Result<()> {
-    let mut stdout = io::stdout().lock();
-    let written = stdout.write_all(bytes);
-    if written.is_ok() {
-        tee(bytes);
-    }
-    let written = written.and_then(|()| stdout.flush());
-    drop(stdout);
-    if let Err(e) = written {
+    if let Err(e) = write_tty(bytes, Wait::ForSignal) {
         let _ = restore_locked(active);
         return Err(e);
     }
@@ -733,16 +859,17 @@ fn install_signal_handler() -> io::Result<()> {
         for signal in signals.forever() {
             if signal == SIGTSTP || signal == SIGCONT {
                 let repaint = if signal == SIGTSTP {
-                    stop_and_continue().map(|()| true)
+                    stop_and_continue(locked_for_signal()).map(|()| true)
                 } else {
-                    continue_locked(&mut active()) // the lock is released at the end of this statement
+                    // (the lock is released at the end of this statement)
+                    continue_locked(&mut locked_for_signal())
                 };
                 match repaint {
                     Ok(true) => wake(),
                     Ok(false) => {}
                     Err(_) => {
                         // Game mode could not come back (the terminal is gone?): restore and end.
-                        let _ = restore_terminal();
+                        let _ = restore_locked(&mut locked_for_signal());
                         EXIT.store(CANNOT_CONTINUE, Ordering::SeqCst);
                         wake();
                     }
@@ -750,7 +877,7 @@ fn install_signal_handler() -> io::Result<()> {
                 continue;
             }
             // Restored first; no frame is written after it (`write_frame` sees the terminal restored).
-            let _ = restore_terminal();
+            let _ = restore_locked(&mut locked_for_signal());
             EXIT.store(signal, Ordering::SeqCst);
             wake();
         }
@@ -860,7 +987,6 @@ impl QueryAnswer {
 fn await_answer(answer: &mut QueryAnswer, signals: bool) -> bool {
     use rustix::event::{PollFd, PollFlags, Timespec};
     use rustix::io::Errno;
-    use std::time::{Duration, Instant};
 
     let deadline = Instant::now() + Duration::from_secs_f64(mazewalk_walk::flow::ACK_TIMEOUT);
     let stdin = io::stdin();

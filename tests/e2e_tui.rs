@@ -64,6 +64,9 @@ struct Shared {
     eof: bool,
     /// Set by the test: the reader closes its copies of the controlling side and stops.
     hang_up: bool,
+    /// Set by the test: the reader reads nothing until it is cleared (a terminal that stopped
+    /// reading: a stalled link, output paused by the emulator), and answers nothing meanwhile.
+    paused: bool,
 }
 
 /// How the emulated terminal answers the queries the binary sends at start-up.
@@ -102,6 +105,10 @@ enum Session {
     /// it, so that a write past the limit fails with `EFBIG` after writing what fits, as one to a full
     /// disk does with `ENOSPC`).
     LeaderFileLimit(u64),
+    /// As [`Session::Leader`], on a terminal whose open file description was left non-blocking
+    /// (`O_NONBLOCK`, by a previous program: node, a crashed TUI): a write it cannot take at once
+    /// fails with `EAGAIN`.
+    LeaderNonBlocking,
 }
 
 /// Gives up the controlling terminal `tty` (TIOCNOTTY, which rustix has no wrapper for); for a process
@@ -208,6 +215,11 @@ impl Tui {
         let master = File::from(pty.controller);
         let slave = pty.user;
         let cooked = termios::tcgetattr(&slave).expect("tcgetattr");
+        if session == Session::LeaderNonBlocking {
+            // (on the open file description: the child's stdin, stdout and stderr share it)
+            let flags = rustix::fs::fcntl_getfl(&slave).expect("F_GETFL");
+            rustix::fs::fcntl_setfl(&slave, flags | rustix::fs::OFlags::NONBLOCK).expect("F_SETFL");
+        }
         let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
         let mut command = match session {
             Session::Shell => Command::new("bash"),
@@ -231,7 +243,7 @@ impl Tui {
             // SAFETY: runs in the forked child before exec and only makes system calls (setsid,
             // ioctl, and for a file limit setrlimit), which are async-signal-safe; it allocates
             // nothing and takes no locks.
-            Session::Leader | Session::Shell | Session::LeaderFileLimit(_) => unsafe {
+            Session::Leader | Session::Shell | Session::LeaderFileLimit(_) | Session::LeaderNonBlocking => unsafe {
                 command.pre_exec(move || {
                     rustix::process::setsid()?;
                     // std has already made the pty the child's stdin (fd 0).
@@ -266,6 +278,7 @@ impl Tui {
             last_byte: Instant::now(),
             eof: false,
             hang_up: false,
+            paused: false,
         }));
         let mut input = master.try_clone().expect("dup the pty");
         let mut answer = master.try_clone().expect("dup the pty");
@@ -286,6 +299,13 @@ impl Tui {
                             continue;
                         }
                         _ => {}
+                    }
+                    if lock(&shared).paused {
+                        if lock(&shared).hang_up {
+                            return;
+                        }
+                        std::thread::sleep(Duration::from_millis(10));
+                        continue;
                     }
                     let n = match input.read(&mut buf) {
                         Ok(0) | Err(_) => break, // EIO on Linux once the terminal side is closed
@@ -341,6 +361,11 @@ impl Tui {
             reader.join().expect("reader thread");
         }
         drop(self.master.take());
+    }
+
+    /// Stops reading the child's output (`true`), or reads it again (`false`): [`Shared::paused`].
+    fn pause_reading(&self, paused: bool) {
+        lock(&self.shared).paused = paused;
     }
 
     /// Polls the emulated screen until `ok` holds; panics (showing the screen) after [`TIMEOUT`].
@@ -986,6 +1011,62 @@ fn every_catchable_ending_signal_restores_the_terminal() {
         assert_eq!(status.code(), Some(128 + signal), "signal {signal}: {status:?}");
         assert_restored(&tui, &raw, KITTY);
     }
+}
+
+/// Starts the walk at 200×60 in truecolor on a pty attached as `session`, waits for its first frame,
+/// stops reading its output and turns for two seconds: more than the pty holds is sent.
+fn walk_into_a_stalled_terminal(session: Session) -> Tui {
+    let env = [("TERM", "xterm-256color"), ("COLORTERM", "truecolor")];
+    let tui = Tui::spawn_env(session, &env, &[], 200, 60, Answers::Plain);
+    tui.wait_for("the first frame", |s| s.contents().contains("heading"));
+    tui.pause_reading(true);
+    let mut tui = tui;
+    for i in 0..200 {
+        tui.send(if i % 2 == 0 { b"\x1b[D" } else { b"\x1b[C" });
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    tui
+}
+
+/// Red-team pass 8, finding 4: a terminal that stops reading (a stalled link, output paused by the
+/// emulator or multiplexer) left the walk blocked in `write(2)` with the lock its signal handling
+/// needs: SIGTERM, SIGHUP and SIGINT did nothing until the terminal read again, and SIGKILL left it
+/// raw. Now each ends the walk while the terminal still reads nothing, with raw mode off and the
+/// terminal's file flags as they were (blocking).
+#[test]
+fn a_signal_ends_the_walk_while_the_terminal_reads_nothing() {
+    for signal in [Signal::TERM, Signal::HUP, Signal::INT] {
+        let mut tui = walk_into_a_stalled_terminal(Session::Leader);
+        assert!(tui.running(), "{signal:?}: the walk ended before the signal");
+        tui.signal(signal);
+        let status = tui.wait_exit(); // (still not reading)
+        assert_eq!(status.code(), Some(128 + signal.as_raw()), "{signal:?}: {status:?}");
+        tui.assert_cooked();
+        let slave = tui.slave.as_ref().expect("the terminal side is open");
+        let flags = rustix::fs::fcntl_getfl(slave).expect("F_GETFL");
+        assert!(!flags.contains(rustix::fs::OFlags::NONBLOCK), "{signal:?}: left non-blocking");
+        tui.pause_reading(false);
+        tui.finish();
+    }
+}
+
+/// Red-team pass 8, finding 5: on a terminal left non-blocking (`O_NONBLOCK`, by node or a crashed
+/// TUI), the first write the terminal could not take at once (`EAGAIN`) ended the walk with exit 1
+/// and "Resource temporarily unavailable", the message lost on the alternate screen. Now the walk
+/// waits for the terminal as on any other, goes on, and leaves the flag as it found it.
+#[test]
+fn a_terminal_left_non_blocking_gets_the_whole_walk() {
+    let mut tui = walk_into_a_stalled_terminal(Session::LeaderNonBlocking);
+    tui.pause_reading(false);
+    tui.settle();
+    assert!(tui.running(), "the walk ended");
+    let slave = tui.slave.as_ref().expect("the terminal side is open");
+    let flags = rustix::fs::fcntl_getfl(slave).expect("F_GETFL");
+    assert!(flags.contains(rustix::fs::OFlags::NONBLOCK), "the flag was not left as it was");
+    let before = tui.bytes_so_far();
+    tui.send(b"m");
+    tui.wait_for_output(before, "a frame after the stall", ends_with_a_frame);
+    tui.quit(b"q", PLAIN);
 }
 
 #[test]
