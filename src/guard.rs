@@ -255,6 +255,11 @@ enum Wait {
     Until(Instant),
 }
 
+/// How often, at least, a write waiting for the terminal ([`Wait::ForSignal`]) looks whether a
+/// signal came (in nanoseconds): 0.1 s. The signal thread wakes it at once ([`locked_for_signal`]),
+/// but not while that thread writes itself (game mode again after a SIGCONT).
+const SIGNAL_SLICE_NANOS: u32 = 100_000_000;
+
 /// Writes `bytes` to the terminal (stdout), each write handed on to the [`tee_writes`] copy as it is
 /// made, without ever blocking in `write(2)`: a write the terminal cannot take now (`EAGAIN`) waits
 /// in `poll(2)` for room, as `wait` says. Returns whether all were written (`false`: it gave up, part
@@ -289,7 +294,8 @@ fn write_tty(mut bytes: &[u8], wait: Wait) -> io::Result<bool> {
             Err(err) => return Err(err.into()),
         }
         let timeout = match wait {
-            Wait::ForSignal => None,
+            // (in slices: a signal that comes while the signal thread itself writes wakes nobody)
+            Wait::ForSignal => Some(Timespec { tv_sec: 0, tv_nsec: SIGNAL_SLICE_NANOS.into() }),
             Wait::Until(deadline) => {
                 let left = deadline.saturating_duration_since(Instant::now());
                 if left.is_zero() {
