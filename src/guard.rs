@@ -765,6 +765,68 @@ fn write_locked(active: &mut Option<Enabled>, bytes: &[u8]) -> io::Result<()> {
     Ok(())
 }
 
+/// How long a [`Patient`] writer waits, in all, for an output that cannot take its bytes now.
+const PATIENCE: Duration = Duration::from_secs(2);
+
+/// A writer for the lines said after the walk (an error, a recording that stopped) that waits for
+/// an output left non-blocking (`O_NONBLOCK`: the terminal's open file description is the shell's,
+/// and another program may have left it so) where it says `EAGAIN`, `poll(2)` telling when it has
+/// room, for [`PATIENCE`] in all: the line reaches the screen rather than being lost. On an output
+/// that blocks, it writes as the writer inside would.
+#[derive(Debug)]
+pub struct Patient<W> {
+    inner: W,
+    deadline: Option<Instant>,
+}
+
+impl<W> Patient<W> {
+    /// `inner`, patient.
+    #[must_use]
+    pub fn new(inner: W) -> Patient<W> {
+        Patient { inner, deadline: None }
+    }
+}
+
+#[cfg(unix)]
+impl<W: Write + std::os::fd::AsFd> Write for Patient<W> {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        use rustix::event::{PollFd, PollFlags, Timespec};
+        loop {
+            match self.inner.write(bytes) {
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {}
+                written => return written,
+            }
+            let deadline = *self.deadline.get_or_insert_with(|| Instant::now() + PATIENCE);
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(io::ErrorKind::WouldBlock.into());
+            }
+            let timeout = Timespec { tv_sec: left.as_secs() as i64, tv_nsec: left.subsec_nanos().into() };
+            let mut fds = [PollFd::new(&self.inner, PollFlags::OUT)];
+            match rustix::event::poll(&mut fds, Some(&timeout)) {
+                Ok(_) | Err(rustix::io::Errno::INTR) => {}
+                Err(err) => return Err(err.into()),
+            }
+        }
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner.flush()
+    }
+}
+
+/// Elsewhere than Unix, as the writer inside.
+#[cfg(not(unix))]
+impl<W: Write> Write for Patient<W> {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        self.inner.write(bytes)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner.flush()
+    }
+}
+
 /// The terminal size in (columns, rows).
 ///
 /// # Errors
@@ -1228,6 +1290,38 @@ mod tests {
         assert!(active().is_none());
         restore_terminal().unwrap();
         restore_terminal().unwrap();
+    }
+
+    /// Red-team pass 8, finding 5: on an output left non-blocking and full, a line said after the
+    /// walk was lost (`EAGAIN`); a patient writer waits until the reader makes room.
+    #[cfg(unix)]
+    #[test]
+    fn a_patient_writer_waits_for_a_full_non_blocking_output() {
+        use std::io::Read as _;
+        let (writer, mut reader) = std::os::unix::net::UnixStream::pair().unwrap();
+        writer.set_nonblocking(true).unwrap();
+        let mut filled = 0usize;
+        loop {
+            match (&writer).write(&[b'x'; 4096]) {
+                Ok(n) => filled += n,
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
+                Err(e) => panic!("{e}"),
+            }
+        }
+        let line = b"mazewalk: the line after the walk\n";
+        let plain = (&writer).write(line);
+        assert_eq!(plain.map_err(|e| e.kind()).err(), Some(io::ErrorKind::WouldBlock), "not full");
+        let drain = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(50)); // (the line is written only after this)
+            let mut all = Vec::new();
+            reader.read_to_end(&mut all).unwrap();
+            all
+        });
+        Patient::new(&writer).write_all(line).expect("the patient writer waits for room");
+        drop(writer);
+        let all = drain.join().unwrap();
+        assert_eq!(all.len(), filled + line.len());
+        assert!(all.ends_with(line));
     }
 
     #[test]

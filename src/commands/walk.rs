@@ -122,12 +122,15 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
         // once, now that the terminal is restored; the walk went on without it
         let path = mazewalk_maze::quote_path(&path.display().to_string());
         if let Err(err) = recorder.finish() {
-            let _ = writeln!(std::io::stderr(), "mazewalk: the recording {path} stopped: {err}");
+            let _ = writeln!(
+                guard::Patient::new(std::io::stderr()),
+                "mazewalk: the recording {path} stopped: {err}"
+            );
         }
         let replaced = recorder.replaced();
         if replaced > 0 {
             let _ = writeln!(
-                std::io::stderr(),
+                guard::Patient::new(std::io::stderr()),
                 "mazewalk: the recording {path} has U+FFFD in place of {replaced} bytes that were not UTF-8"
             );
         }
@@ -139,7 +142,7 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
     if let Some(seconds) = session.outcome().finished.filter(|_| !replayed) {
         // as the finish box said it; the walk is over either way
         let _ = writeln!(
-            std::io::stdout(),
+            guard::Patient::new(std::io::stdout()),
             "You found the exit in {}.",
             mazewalk_walk::clock::clock_text(seconds)
         );
@@ -239,15 +242,17 @@ fn save_run(session: &Session, hash: mazewalk_maze::ContentHash, file: &mut RunF
         user.chars().filter(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.')).take(16).collect();
     let Some(run) = session.app().run(hash, &holder) else {
         if session.outcome().finished.is_some() {
-            let _ =
-                writeln!(std::io::stderr(), "mazewalk: no run written to {shown}: the walk took too long");
+            let _ = writeln!(
+                guard::Patient::new(std::io::stderr()),
+                "mazewalk: no run written to {shown}: the walk took too long"
+            );
         }
         return Ok(());
     };
     let bytes = run.encode().with_context(|| format!("the run for {shown}"))?;
     file.write(&bytes).with_context(|| format!("cannot write the run {shown}"))?;
     let _ = writeln!(
-        std::io::stdout(),
+        guard::Patient::new(std::io::stdout()),
         "Your run is in {shown}: race it with --ghost, play it with `mazewalk replay`."
     );
     Ok(())
