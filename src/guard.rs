@@ -212,9 +212,12 @@ fn active() -> MutexGuard<'static, Option<Enabled>> {
 /// Restores the terminal if a guard has it in game mode; does nothing otherwise. Idempotent, callable
 /// from any thread (the signal thread, the panic hook, `Drop`).
 ///
+/// The restore sequence is waited for at most [`RESTORE_WAIT`]; raw mode goes off regardless.
+///
 /// # Errors
-/// Writing the restore sequence or leaving raw mode failed (e.g. the terminal is gone after SIGHUP).
-/// The state is marked restored anyway: there is nothing more to try.
+/// Writing the restore sequence or leaving raw mode failed (e.g. the terminal is gone after SIGHUP),
+/// or the terminal did not take the sequence in time (`TimedOut`). The state is marked restored
+/// anyway: there is nothing more to try.
 pub fn restore_terminal() -> io::Result<()> {
     restore_locked(&mut active())
 }
@@ -469,7 +472,10 @@ impl TerminalGuard {
     /// (a signal arrived), or game mode came back after a stop that the app has not taken yet
     /// ([`take_resumed`](Self::take_resumed)): that frame was encoded for the screen before the stop;
     /// or a SIGCONT has not been answered yet: the terminal may be someone else's until then (it is
-    /// taken back, or the frame made up for, with a full repaint). Then nothing is written.
+    /// taken back, or the frame made up for, with a full repaint). Then nothing is written. A terminal
+    /// that does not take the frame now is waited for ([`write_tty`]) until a signal needs the lock:
+    /// then the rest of the frame is dropped, and the signal ends the walk or its stop or continue
+    /// repaints everything.
     ///
     /// # Errors
     /// The write failed (the terminal is gone).
