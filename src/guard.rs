@@ -283,9 +283,6 @@ fn write_tty(mut bytes: &[u8], wait: Wait) -> io::Result<bool> {
     let stdout = io::stdout();
     let fd = stdout.as_fd();
     while !bytes.is_empty() {
-        if matches!(wait, Wait::ForSignal) && signal_waits() {
-            return Ok(false);
-        }
         match write_nonblocking(fd, bytes) {
             Ok(n) => {
                 tee(&bytes[..n]);
@@ -295,6 +292,10 @@ fn write_tty(mut bytes: &[u8], wait: Wait) -> io::Result<bool> {
             Err(Errno::INTR) => continue,
             Err(Errno::AGAIN) => {}
             Err(err) => return Err(err.into()),
+        }
+        // Only a write that has to wait gives up: one the terminal takes is made whole.
+        if matches!(wait, Wait::ForSignal) && signal_waits() {
+            return Ok(false);
         }
         let timeout = match wait {
             // (in slices: a signal that comes while the signal thread itself writes wakes nobody)
@@ -761,12 +762,21 @@ fn enter_locked(active: &mut Option<Enabled>, enabled: Enabled, sequence: &str) 
 }
 
 /// Writes `bytes` to the terminal, under the lock (`active`), and flushes; on failure, restores.
-/// A signal that needs the lock meanwhile cuts the write short ([`write_tty`]): its restore, stop or
-/// continue follows, which writes the whole of game mode's sequences again where needed.
+/// A signal that needs the lock while the terminal takes nothing cuts the write short
+/// ([`write_tty`]): its restore, or its stop, writes the whole of game mode's sequences again where
+/// needed; so does its continue, even the one that ends our own stop (no longer counted as ours:
+/// [`OWN_STOP`], cleared), which would otherwise leave game mode half entered.
 fn write_locked(active: &mut Option<Enabled>, bytes: &[u8]) -> io::Result<()> {
-    if let Err(e) = write_tty(bytes, Wait::ForSignal) {
-        let _ = restore_locked(active);
-        return Err(e);
+    match write_tty(bytes, Wait::ForSignal) {
+        Ok(true) => {}
+        #[cfg(unix)]
+        Ok(false) => OWN_STOP.store(false, Ordering::SeqCst),
+        #[cfg(not(unix))]
+        Ok(false) => {}
+        Err(e) => {
+            let _ = restore_locked(active);
+            return Err(e);
+        }
     }
     Ok(())
 }
