@@ -610,7 +610,11 @@ fn already_in_game_mode() -> io::Error {
 #[cfg(unix)]
 fn stop_and_continue(mut active: MutexGuard<'static, Option<Enabled>>) -> io::Result<()> {
     let (enabled, raw_only) = (*active, RAW_ONLY.load(Ordering::SeqCst));
-    restore_locked(&mut active)?;
+    match restore_locked(&mut active) {
+        // A terminal that reads nothing did not take the restore: raw mode is off all the same.
+        Err(e) if e.kind() != io::ErrorKind::TimedOut => return Err(e),
+        _ => {}
+    }
     if stopping_is_safe() {
         // SIGTSTP's default action, emulated with SIGSTOP (signal-hook handles SIGTSTP now); returns
         // after SIGCONT.

@@ -1050,6 +1050,28 @@ fn a_signal_ends_the_walk_while_the_terminal_reads_nothing() {
     }
 }
 
+/// Red-team pass 8, finding 4, a stop: SIGTSTP while the terminal reads nothing stops the walk (raw
+/// mode off, though the restore's bytes could not be written), and once continued and read again it
+/// has game mode back, then quits cleanly. (A restore that the terminal did not take in time once
+/// ended the walk here instead of stopping it.)
+#[test]
+fn a_stop_while_the_terminal_reads_nothing_stops_and_comes_back() {
+    let mut tui = walk_into_a_stalled_terminal(Session::Job);
+    tui.signal(Signal::TSTP);
+    tui.wait_stopped(true);
+    tui.assert_cooked();
+    let before = tui.bytes_so_far();
+    tui.signal(Signal::CONT);
+    tui.wait_stopped(false);
+    tui.pause_reading(false);
+    let enter = enter_sequence(PLAIN);
+    tui.wait_for_output(before, "game mode entered again", |b| {
+        b.windows(enter.len()).any(|w| w == enter.as_bytes())
+    });
+    tui.settle();
+    tui.quit(b"q", PLAIN);
+}
+
 /// Red-team pass 8, finding 5: on a terminal left non-blocking (`O_NONBLOCK`, by node or a crashed
 /// TUI), the first write the terminal could not take at once (`EAGAIN`) ended the walk with exit 1
 /// and "Resource temporarily unavailable", the message lost on the alternate screen. Now the walk
