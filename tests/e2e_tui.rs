@@ -13,10 +13,12 @@
 //! a SIGHUP (the pty as controlling terminal or only as stdio); while the start-up keyboard query is
 //! unanswered, a hang-up ends the process without spinning, a signal restores the terminal at once,
 //! a stop gives it back until continued, keys typed reach the walk as typed (Alt-↑ does not quit),
-//! and a flood of them costs no memory; a malformed maze is reported before
-//! the terminal is touched; `--record` writes an asciicast of exactly the bytes the terminal received,
-//! which replays into the same screens (and `asciinema cat` prints the same bytes), also when a
-//! signal ends the walk, and a recording that cannot be written stops while the walk goes on.
+//! and a flood of them costs no memory; while the terminal reads nothing, a signal ends the walk and
+//! a stop stops it, raw mode off; a terminal left non-blocking gets the whole walk; a malformed maze
+//! is reported before the terminal is touched; `--record` writes an asciicast of exactly the bytes
+//! the terminal received, which replays into the same screens (and `asciinema cat` prints the same
+//! bytes), also when a signal ends the walk, and a recording that cannot be written (`ulimit -f`)
+//! stops, cut back to whole lines, while the walk goes on.
 //!
 //! Every wait polls with a deadline; a failing test kills its child (in `Drop`) and prints the screen.
 //! Unix only (ptys, signals).
