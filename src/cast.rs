@@ -1,8 +1,11 @@
 //! `mazewalk --record FILE`: the local walk written as an asciicast v2 file as it goes, in the
 //! format of [`mazewalk_walk::cast`]. [`Recorder`] is the file behind a `BufWriter`, shared between
 //! the walk's loop (resizes) and the terminal guard (every write, from whichever thread makes it),
-//! reading the walk's clock. A write error stops the recording (kept, and told once by the caller
-//! after the terminal is restored); the walk goes on.
+//! reading the walk's clock. Each write to the terminal is flushed to the file as it is recorded, so
+//! the file is whole lines of asciicast between frames. A write error (a full disk, a file-size limit:
+//! the walk catches SIGXFSZ, so such a write fails with `EFBIG`) stops the recording, and the file is
+//! cut back to its last whole line at once; the error is kept, and told once by the caller after the
+//! terminal is restored; the walk goes on.
 
 use std::fs::File;
 use std::io::{self, BufWriter};
@@ -21,8 +24,32 @@ pub struct Recorder {
 
 #[derive(Debug)]
 struct Recording {
-    cast: CastWriter<BufWriter<File>>,
+    /// The cast, until a write fails ([`Recording::stop`]).
+    cast: Option<CastWriter<BufWriter<File>>>,
+    /// Why the recording stopped, once it did.
+    stopped: Option<io::Error>,
+    /// [`CastWriter::replaced`] when it stopped.
+    replaced: u64,
     clock: Instant,
+}
+
+impl Recording {
+    /// After a write failed: the file cut back to its last whole line (a write that failed part-way
+    /// may have left part of one), the bytes still buffered dropped, the error kept.
+    fn stop(&mut self) {
+        let Some(mut cast) = self.cast.take() else { return };
+        let error = cast.finish().err().unwrap_or_else(|| io::Error::other("the recording stopped"));
+        self.replaced = cast.replaced();
+        let flushed = cast.flushed();
+        let (file, _buffered) = cast.into_inner().into_parts(); // (dropped unwritten)
+        self.stopped = Some(match file.set_len(flushed) {
+            Ok(()) => error,
+            Err(cut) => io::Error::new(
+                error.kind(),
+                format!("{error} (and it could not be cut back to whole lines: {cut})"),
+            ),
+        });
+    }
 }
 
 impl Recorder {
@@ -37,19 +64,29 @@ impl Recorder {
     /// could not be created or the header written.
     pub fn create(path: &Path, header: &Header, clock: Instant) -> io::Result<Recorder> {
         let file = create_unfollowed(path)?;
-        let cast = CastWriter::new(BufWriter::new(file), header)?;
-        Ok(Recorder { inner: Arc::new(Mutex::new(Recording { cast, clock })) })
+        let mut cast = CastWriter::new(BufWriter::new(file), header)?;
+        cast.finish()?; // the header's line in the file: whole lines from here on
+        let recording = Recording { cast: Some(cast), stopped: None, replaced: 0, clock };
+        Ok(Recorder { inner: Arc::new(Mutex::new(recording)) })
     }
 
-    fn with<T>(&self, f: impl FnOnce(&mut CastWriter<BufWriter<File>>, f64) -> T) -> T {
+    /// Runs `f` on the cast, now, unless the recording stopped; stops it if a write failed.
+    fn with(&self, f: impl FnOnce(&mut CastWriter<BufWriter<File>>, f64)) {
         let mut recording = self.inner.lock().unwrap_or_else(PoisonError::into_inner);
         let now = recording.clock.elapsed().as_secs_f64(); // under the lock: times never go back
-        f(&mut recording.cast, now)
+        let Some(cast) = recording.cast.as_mut() else { return };
+        f(cast, now);
+        if cast.failed() {
+            recording.stop();
+        }
     }
 
-    /// Records bytes written to the terminal, now.
+    /// Records bytes written to the terminal, now, and flushes them to the file.
     pub fn output(&self, data: &[u8]) {
-        self.with(|cast, now| cast.output(now, data));
+        self.with(|cast, now| {
+            cast.output(now, data);
+            cast.flush();
+        });
     }
 
     /// Records the terminal's size, now, if it changed.
@@ -65,15 +102,26 @@ impl Recorder {
     /// How many bytes sent were not UTF-8 and were recorded as U+FFFD (none from the walk's frames).
     #[must_use]
     pub fn replaced(&self) -> u64 {
-        self.with(|cast, _| cast.replaced())
+        let recording = self.inner.lock().unwrap_or_else(PoisonError::into_inner);
+        recording.cast.as_ref().map_or(recording.replaced, CastWriter::replaced)
     }
 
     /// Flushes the file.
     ///
     /// # Errors
-    /// The first write error of the recording (after which it stopped), or the flush's.
+    /// The first write error of the recording (after which it stopped, the file cut back to its
+    /// last whole line), or the flush's.
     pub fn finish(&self) -> io::Result<()> {
-        self.with(|cast, _| cast.finish())
+        let mut recording = self.inner.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(cast) = recording.cast.as_mut()
+            && cast.finish().is_err()
+        {
+            recording.stop();
+        }
+        match &recording.stopped {
+            Some(error) => Err(io::Error::new(error.kind(), error.to_string())),
+            None => Ok(()),
+        }
     }
 }
 

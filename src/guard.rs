@@ -19,6 +19,14 @@
 //! half and then leave the rest of it on the restored main screen. A stop holds that lock from the
 //! restore until game mode is back, so no frame lands on the main screen meanwhile.
 //!
+//! No write to the terminal ever blocks in `write(2)` ([`write_tty`]): a terminal that stops reading
+//! (a stalled SSH link, output paused by the emulator or multiplexer) leaves a write waiting in
+//! `poll(2)`, which gives up when a signal comes that needs the lock (the rest of that frame is
+//! dropped, and the screen repainted in full if the walk goes on), and a restore waits at most
+//! [`RESTORE_WAIT`] for the terminal to take its bytes; the modes (`tcsetattr`, `TCSANOW`) come back
+//! either way. A terminal left non-blocking (`O_NONBLOCK`, by another program) is waited for the same
+//! way where it would say `EAGAIN`.
+//!
 //! The escape sequences are the pure [`mazewalk_term::modes`]' (a server sends the same ones to its
 //! players); this module only writes them, and owns raw mode, the signals and the locks.
 //!
@@ -26,8 +34,9 @@
 //! ([`tee_writes`]: `--record`), from whichever thread writes it.
 
 use std::io::{self, Write};
-use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, Once, PoisonError, TryLockError};
+use std::time::{Duration, Instant};
 
 use crossterm::terminal;
 use mazewalk_term::input::{Input, InputDecoder, MAX_SEQUENCE, Reply};
@@ -93,6 +102,15 @@ static RESUMED: AtomicBool = AtomicBool::new(false);
 /// set, the screen may not be ours any more: [`TerminalGuard::write_frame`] writes nothing.
 static CONTINUED: AtomicBool = AtomicBool::new(false);
 
+/// How many threads (the signal thread) wait for [`ACTIVE`]'s lock ([`locked_for_signal`]): a write
+/// under the lock that has to wait for the terminal gives up while any do ([`write_tty`]).
+static LOCK_WANTED: AtomicUsize = AtomicUsize::new(0);
+
+/// The most a restore waits for a terminal that does not take its bytes (it stopped reading):
+/// then the restore's bytes are dropped, and only the modes (raw mode off) come back. A terminal
+/// that reads takes the few dozen bytes at once.
+pub const RESTORE_WAIT: Duration = Duration::from_millis(250);
+
 /// Set by the signal handler itself when a signal that ends the walk arrives ([`ending_signals`]),
 /// before the signal thread answers it: a stop that ends sees it without waiting for the thread,
 /// which waits for the stop's lock.
@@ -102,6 +120,10 @@ static ENDING: AtomicBool = AtomicBool::new(false);
 /// answered already, game mode is back.
 #[cfg(unix)]
 static OWN_STOP: AtomicBool = AtomicBool::new(false);
+
+/// Set by the signal handler itself on SIGXFSZ (a write passed the file-size limit), which is caught
+/// only so that it does not end the process: the write fails with `EFBIG` and says so. Nothing reads it.
+static FILE_TOO_LARGE: AtomicBool = AtomicBool::new(false);
 
 /// Set by the signal handler itself on SIGWINCH, until the app takes it
 /// ([`TerminalGuard::take_winched`]): a resize, or a nudge at the same size (`kill -WINCH`, a
@@ -190,9 +212,12 @@ fn active() -> MutexGuard<'static, Option<Enabled>> {
 /// Restores the terminal if a guard has it in game mode; does nothing otherwise. Idempotent, callable
 /// from any thread (the signal thread, the panic hook, `Drop`).
 ///
+/// The restore sequence is waited for at most [`RESTORE_WAIT`]; raw mode goes off regardless.
+///
 /// # Errors
-/// Writing the restore sequence or leaving raw mode failed (e.g. the terminal is gone after SIGHUP).
-/// The state is marked restored anyway: there is nothing more to try.
+/// Writing the restore sequence or leaving raw mode failed (e.g. the terminal is gone after SIGHUP),
+/// or the terminal did not take the sequence in time (`TimedOut`). The state is marked restored
+/// anyway: there is nothing more to try.
 pub fn restore_terminal() -> io::Result<()> {
     restore_locked(&mut active())
 }
@@ -202,15 +227,142 @@ fn restore_locked(active: &mut Option<Enabled>) -> io::Result<()> {
         // Raw mode alone, for the keyboard query's answer: the query needs no undoing.
         return if RAW_ONLY.swap(false, Ordering::SeqCst) { terminal::disable_raw_mode() } else { Ok(()) };
     };
-    let mut stdout = io::stdout().lock();
-    let restore = restore_bytes(enabled);
-    let written = stdout.write_all(restore.as_bytes());
-    if written.is_ok() {
-        tee(restore.as_bytes());
-    }
-    let written = written.and_then(|()| stdout.flush());
-    let raw_off = terminal::disable_raw_mode();
+    let written = write_restore(enabled);
+    let raw_off = terminal::disable_raw_mode(); // (`TCSANOW`: not waiting for the output to drain)
     written.and(raw_off)
+}
+
+/// Writes the bytes that leave game mode with `enabled`, waiting at most [`RESTORE_WAIT`] for the
+/// terminal to take them.
+///
+/// # Errors
+/// The write failed, or the terminal took not all of them in time (`TimedOut`).
+fn write_restore(enabled: Enabled) -> io::Result<()> {
+    let restore = restore_bytes(enabled);
+    match write_tty(restore.as_bytes(), Wait::Until(Instant::now() + RESTORE_WAIT))? {
+        true => Ok(()),
+        false => Err(io::Error::new(
+            io::ErrorKind::TimedOut,
+            "the terminal took no output: its screen may still be the walk's",
+        )),
+    }
+}
+
+/// How long [`write_tty`] waits for a terminal that does not take the bytes.
+#[derive(Clone, Copy, Debug)]
+enum Wait {
+    /// Until a signal that needs [`ACTIVE`]'s lock comes ([`ENDING`], [`LOCK_WANTED`]): for frames
+    /// and game mode's sequences, whose writer holds the lock.
+    ForSignal,
+    /// Until then, whatever comes: for the restore, which a signal's own path writes.
+    Until(Instant),
+}
+
+/// How often, at least, a write waiting for the terminal ([`Wait::ForSignal`]) looks whether a
+/// signal came (in nanoseconds): 0.1 s. The signal thread wakes it at once ([`locked_for_signal`]),
+/// but not while that thread writes itself (game mode again after a SIGCONT).
+const SIGNAL_SLICE_NANOS: u32 = 100_000_000;
+
+/// Writes `bytes` to the terminal (stdout), each write handed on to the [`tee_writes`] copy as it is
+/// made, without ever blocking in `write(2)`: a write the terminal cannot take now (`EAGAIN`) waits
+/// in `poll(2)` for room, as `wait` says. Returns whether all were written (`false`: it gave up, part
+/// of `bytes` may be out).
+///
+/// Each `write(2)` is made with `O_NONBLOCK` set on the terminal's open file description for just
+/// that call, then put back as it was: the description is the shell's too (and its other jobs'), so
+/// it stays as they left it but for those moments.
+///
+/// # Errors
+/// A write or `poll` failed (`EIO`: the terminal is gone).
+#[cfg(unix)]
+fn write_tty(mut bytes: &[u8], wait: Wait) -> io::Result<bool> {
+    use rustix::event::{PollFd, PollFlags, Timespec};
+    use rustix::io::Errno;
+    use std::os::fd::AsFd as _;
+
+    let stdout = io::stdout();
+    let fd = stdout.as_fd();
+    while !bytes.is_empty() {
+        match write_nonblocking(fd, bytes) {
+            Ok(n) => {
+                tee(&bytes[..n]);
+                bytes = &bytes[n..];
+                continue;
+            }
+            Err(Errno::INTR) => continue,
+            Err(Errno::AGAIN) => {}
+            Err(err) => return Err(err.into()),
+        }
+        // Only a write that has to wait gives up: one the terminal takes is made whole.
+        if matches!(wait, Wait::ForSignal) && signal_waits() {
+            return Ok(false);
+        }
+        let timeout = match wait {
+            // (in slices: a signal that comes while the signal thread itself writes wakes nobody)
+            Wait::ForSignal => Some(Timespec { tv_sec: 0, tv_nsec: SIGNAL_SLICE_NANOS.into() }),
+            Wait::Until(deadline) => {
+                let left = deadline.saturating_duration_since(Instant::now());
+                if left.is_zero() {
+                    return Ok(false);
+                }
+                Some(Timespec { tv_sec: left.as_secs() as i64, tv_nsec: left.subsec_nanos().into() })
+            }
+        };
+        let mut fds = Vec::with_capacity(2);
+        fds.push(PollFd::new(&fd, PollFlags::OUT));
+        if let (Wait::ForSignal, Some((reader, _))) = (wait, WAKE.get()) {
+            fds.push(PollFd::new(reader, PollFlags::IN)); // the signal thread wakes it (`wake`)
+        }
+        match rustix::event::poll(&mut fds, timeout.as_ref()) {
+            Ok(_) | Err(Errno::INTR) => {}
+            Err(err) => return Err(err.into()),
+        }
+        if fds.get(1).is_some_and(|fd| !fd.revents().is_empty()) {
+            // (the event loop looks at every flag when this returns: the wake-up is not lost)
+            drain_wake_pipe();
+        }
+    }
+    Ok(true)
+}
+
+/// The walk runs on Unix only: elsewhere, a plain write.
+#[cfg(not(unix))]
+fn write_tty(bytes: &[u8], _: Wait) -> io::Result<bool> {
+    let mut stdout = io::stdout().lock();
+    stdout.write_all(bytes)?;
+    tee(bytes);
+    stdout.flush().map(|()| true)
+}
+
+/// One `write(2)` of `bytes` to `fd` that does not block: `O_NONBLOCK` set for the call unless it
+/// is set already, then put back.
+#[cfg(unix)]
+fn write_nonblocking(fd: std::os::fd::BorrowedFd<'_>, bytes: &[u8]) -> rustix::io::Result<usize> {
+    use rustix::fs::{OFlags, fcntl_getfl, fcntl_setfl};
+    let flags = fcntl_getfl(fd)?;
+    if flags.contains(OFlags::NONBLOCK) {
+        return rustix::io::write(fd, bytes);
+    }
+    fcntl_setfl(fd, flags | OFlags::NONBLOCK)?;
+    let written = rustix::io::write(fd, bytes);
+    fcntl_setfl(fd, flags)?;
+    written
+}
+
+/// Whether a write under [`ACTIVE`]'s lock should give up waiting for the terminal: a signal that
+/// ends the walk came ([`ENDING`]), or the signal thread waits for the lock ([`LOCK_WANTED`]).
+fn signal_waits() -> bool {
+    ENDING.load(Ordering::SeqCst) || LOCK_WANTED.load(Ordering::SeqCst) > 0
+}
+
+/// [`ACTIVE`]'s lock, for the signal thread: it says it waits ([`LOCK_WANTED`]) and wakes the
+/// writer, so that a write waiting for a terminal that stopped reading gives up the lock at once.
+fn locked_for_signal() -> MutexGuard<'static, Option<Enabled>> {
+    LOCK_WANTED.fetch_add(1, Ordering::SeqCst);
+    wake();
+    let active = active();
+    LOCK_WANTED.fetch_sub(1, Ordering::SeqCst);
+    active
 }
 
 /// Raw mode, alternate screen and friends for as long as it lives; see the [module docs](self).
@@ -321,7 +473,10 @@ impl TerminalGuard {
     /// (a signal arrived), or game mode came back after a stop that the app has not taken yet
     /// ([`take_resumed`](Self::take_resumed)): that frame was encoded for the screen before the stop;
     /// or a SIGCONT has not been answered yet: the terminal may be someone else's until then (it is
-    /// taken back, or the frame made up for, with a full repaint). Then nothing is written.
+    /// taken back, or the frame made up for, with a full repaint). Then nothing is written. A terminal
+    /// that does not take the frame now is waited for ([`write_tty`]) until a signal needs the lock:
+    /// then the rest of the frame is dropped, and the signal ends the walk or its stop or continue
+    /// repaints everything.
     ///
     /// # Errors
     /// The write failed (the terminal is gone).
@@ -334,10 +489,11 @@ impl TerminalGuard {
             FRAME_HELD.store(true, Ordering::SeqCst);
             return Ok(());
         }
-        let mut stdout = io::stdout().lock();
-        stdout.write_all(bytes)?;
-        tee(bytes);
-        stdout.flush()
+        if !write_tty(bytes, Wait::ForSignal)? {
+            // A signal needs the lock: it ends the walk, or its stop or continue repaints in full.
+            FRAME_HELD.store(true, Ordering::SeqCst);
+        }
+        Ok(())
     }
 
     /// Restores the terminal now (as `Drop` would); idempotent.
@@ -356,7 +512,7 @@ impl TerminalGuard {
     /// # Errors
     /// Restoring, stopping or re-entering failed.
     pub fn suspend(&mut self) -> io::Result<()> {
-        stop_and_continue()
+        stop_and_continue(active())
     }
 
     /// Whether game mode was entered again after a stop (the Ctrl-Z key, SIGTSTP, or SIGSTOP then
@@ -452,10 +608,13 @@ fn already_in_game_mode() -> io::Error {
 /// mode stops us again (SIGTTOU, default action) before anything is written, until `fg`. The SIGCONT
 /// that ended the stop is marked answered ([`OWN_STOP`]): the signal thread leaves game mode alone.
 #[cfg(unix)]
-fn stop_and_continue() -> io::Result<()> {
-    let mut active = active();
+fn stop_and_continue(mut active: MutexGuard<'static, Option<Enabled>>) -> io::Result<()> {
     let (enabled, raw_only) = (*active, RAW_ONLY.load(Ordering::SeqCst));
-    restore_locked(&mut active)?;
+    match restore_locked(&mut active) {
+        // A terminal that reads nothing did not take the restore: raw mode is off all the same.
+        Err(e) if e.kind() != io::ErrorKind::TimedOut => return Err(e),
+        _ => {}
+    }
     if stopping_is_safe() {
         // SIGTSTP's default action, emulated with SIGSTOP (signal-hook handles SIGTSTP now); returns
         // after SIGCONT.
@@ -509,13 +668,7 @@ fn continue_locked(active: &mut Option<Enabled>) -> io::Result<bool> {
         // shell has the terminal, its prompt on our alternate screen with mouse reporting on. Give
         // both back (a write is allowed from the background; setting modes is not), then wait
         // stopped for `fg` as a real SIGTTOU would make us; game mode comes back below.
-        let mut stdout = io::stdout().lock();
-        let restore = restore_bytes(enabled);
-        if stdout.write_all(restore.as_bytes()).is_ok() {
-            tee(restore.as_bytes());
-        }
-        let _ = stdout.flush();
-        drop(stdout);
+        let _ = write_restore(enabled);
         if stopped_for_fg()? {
             *active = None; // restored above; the signal thread ends the walk
             return Ok(false);
@@ -571,8 +724,7 @@ fn in_background() -> bool {
 }
 
 #[cfg(not(unix))]
-fn stop_and_continue() -> io::Result<()> {
-    let _active = active();
+fn stop_and_continue(_active: MutexGuard<'static, Option<Enabled>>) -> io::Result<()> {
     resumed_locked(); // nothing to stop: just a full repaint
     Ok(())
 }
@@ -614,19 +766,85 @@ fn enter_locked(active: &mut Option<Enabled>, enabled: Enabled, sequence: &str) 
 }
 
 /// Writes `bytes` to the terminal, under the lock (`active`), and flushes; on failure, restores.
+/// A signal that needs the lock while the terminal takes nothing cuts the write short
+/// ([`write_tty`]): its restore, or its stop, writes the whole of game mode's sequences again where
+/// needed; so does its continue, even the one that ends our own stop (no longer counted as ours:
+/// [`OWN_STOP`], cleared), which would otherwise leave game mode half entered.
 fn write_locked(active: &mut Option<Enabled>, bytes: &[u8]) -> io::Result<()> {
-    let mut stdout = io::stdout().lock();
-    let written = stdout.write_all(bytes);
-    if written.is_ok() {
-        tee(bytes);
-    }
-    let written = written.and_then(|()| stdout.flush());
-    drop(stdout);
-    if let Err(e) = written {
-        let _ = restore_locked(active);
-        return Err(e);
+    match write_tty(bytes, Wait::ForSignal) {
+        Ok(true) => {}
+        #[cfg(unix)]
+        Ok(false) => OWN_STOP.store(false, Ordering::SeqCst),
+        #[cfg(not(unix))]
+        Ok(false) => {}
+        Err(e) => {
+            let _ = restore_locked(active);
+            return Err(e);
+        }
     }
     Ok(())
+}
+
+/// How long a [`Patient`] writer waits, in all, for an output that cannot take its bytes now.
+const PATIENCE: Duration = Duration::from_secs(2);
+
+/// A writer for the lines said after the walk (an error, a recording that stopped) that waits for
+/// an output left non-blocking (`O_NONBLOCK`: the terminal's open file description is the shell's,
+/// and another program may have left it so) where it says `EAGAIN`, `poll(2)` telling when it has
+/// room, for [`PATIENCE`] in all: the line reaches the screen rather than being lost. On an output
+/// that blocks, it writes as the writer inside would.
+#[derive(Debug)]
+pub struct Patient<W> {
+    inner: W,
+    deadline: Option<Instant>,
+}
+
+impl<W> Patient<W> {
+    /// `inner`, patient.
+    #[must_use]
+    pub fn new(inner: W) -> Patient<W> {
+        Patient { inner, deadline: None }
+    }
+}
+
+#[cfg(unix)]
+impl<W: Write + std::os::fd::AsFd> Write for Patient<W> {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        use rustix::event::{PollFd, PollFlags, Timespec};
+        loop {
+            match self.inner.write(bytes) {
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {}
+                written => return written,
+            }
+            let deadline = *self.deadline.get_or_insert_with(|| Instant::now() + PATIENCE);
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(io::ErrorKind::WouldBlock.into());
+            }
+            let timeout = Timespec { tv_sec: left.as_secs() as i64, tv_nsec: left.subsec_nanos().into() };
+            let mut fds = [PollFd::new(&self.inner, PollFlags::OUT)];
+            match rustix::event::poll(&mut fds, Some(&timeout)) {
+                Ok(_) | Err(rustix::io::Errno::INTR) => {}
+                Err(err) => return Err(err.into()),
+            }
+        }
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner.flush()
+    }
+}
+
+/// Elsewhere than Unix, as the writer inside.
+#[cfg(not(unix))]
+impl<W: Write> Write for Patient<W> {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        self.inner.write(bytes)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner.flush()
+    }
 }
 
 /// The terminal size in (columns, rows).
@@ -664,16 +882,18 @@ pub fn exit_code_for_signal(signal: i32) -> i32 {
 
 /// The signals that end the walk (restore, then exit with 128 + the signal's number): every signal
 /// whose default action ends the process and that can be caught — SIGHUP, SIGINT, SIGQUIT, SIGABRT,
-/// SIGUSR1, SIGUSR2, SIGALRM, SIGTERM, SIGSTKFLT, SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO, SIGPWR
-/// (those that exist here) and the real-time signals SIGRTMIN..=SIGRTMAX — but the faults a program
-/// raises on itself (SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGTRAP, SIGSYS: a handler that returns would
-/// fault again) and SIGPIPE, which Rust programs ignore (a write to a closed pipe fails instead).
+/// SIGUSR1, SIGUSR2, SIGALRM, SIGTERM, SIGSTKFLT, SIGXCPU, SIGVTALRM, SIGPROF, SIGIO, SIGPWR (those
+/// that exist here) and the real-time signals SIGRTMIN..=SIGRTMAX — but the faults a program raises
+/// on itself (SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGTRAP, SIGSYS: a handler that returns would fault
+/// again), SIGPIPE, which Rust programs ignore (a write to a closed pipe fails instead), and SIGXFSZ,
+/// which the walk catches for the same reason ([`install_signal_handler`]): a write past the
+/// file-size limit (`ulimit -f`) fails with `EFBIG`, and `--record` stops while the walk goes on.
 #[cfg(unix)]
 #[must_use]
 pub fn ending_signals() -> Vec<i32> {
     use signal_hook::consts::*;
     let mut signals = vec![SIGHUP, SIGINT, SIGQUIT, SIGABRT, SIGUSR1, SIGUSR2, SIGALRM, SIGTERM];
-    signals.extend([SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGIO]);
+    signals.extend([SIGXCPU, SIGVTALRM, SIGPROF, SIGIO]);
     #[cfg(any(target_os = "linux", target_os = "android"))]
     signals.extend([libc::SIGSTKFLT, libc::SIGPWR]);
     #[cfg(any(target_os = "linux", target_os = "android"))]
@@ -693,6 +913,10 @@ pub fn ending_signals() -> Vec<i32> {
 /// between a SIGCONT and the flag; where a kernel picks another thread, one frame might, and the full
 /// repaint that follows covers it.
 ///
+/// SIGXFSZ is caught and does nothing ([`FILE_TOO_LARGE`]): a write past the file-size limit then
+/// fails with `EFBIG` instead of the signal ending the process (red-team pass 8: `--record` under
+/// `ulimit -f` ended the walk with exit 153, its cast cut mid-line).
+///
 /// SIGTTIN and SIGTTOU keep their default action (stop): the kernel sends them when a background job
 /// touches the terminal, and we only run in the background after a stop (`bg`), when re-entering game
 /// mode, before anything is written. Catching them would turn that into a spin: the kernel re-sends
@@ -711,6 +935,7 @@ fn install_signal_handler() -> io::Result<()> {
     signal_hook::flag::register(SIGWINCH, &WINCHED)?; // before the wake-up: set when the loop looks
     signal_hook::low_level::pipe::register(SIGWINCH, writer.try_clone()?)?;
     let _ = WAKE.set((reader, writer));
+    signal_hook::flag::register(signal_hook::consts::SIGXFSZ, &FILE_TOO_LARGE)?;
     // Before the iterator's own handler: actions run in the order registered.
     signal_hook::flag::register(SIGCONT, &CONTINUED)?;
     for signal in ending_signals() {
@@ -722,16 +947,17 @@ fn install_signal_handler() -> io::Result<()> {
         for signal in signals.forever() {
             if signal == SIGTSTP || signal == SIGCONT {
                 let repaint = if signal == SIGTSTP {
-                    stop_and_continue().map(|()| true)
+                    stop_and_continue(locked_for_signal()).map(|()| true)
                 } else {
-                    continue_locked(&mut active()) // the lock is released at the end of this statement
+                    // (the lock is released at the end of this statement)
+                    continue_locked(&mut locked_for_signal())
                 };
                 match repaint {
                     Ok(true) => wake(),
                     Ok(false) => {}
                     Err(_) => {
                         // Game mode could not come back (the terminal is gone?): restore and end.
-                        let _ = restore_terminal();
+                        let _ = restore_locked(&mut locked_for_signal());
                         EXIT.store(CANNOT_CONTINUE, Ordering::SeqCst);
                         wake();
                     }
@@ -739,7 +965,7 @@ fn install_signal_handler() -> io::Result<()> {
                 continue;
             }
             // Restored first; no frame is written after it (`write_frame` sees the terminal restored).
-            let _ = restore_terminal();
+            let _ = restore_locked(&mut locked_for_signal());
             EXIT.store(signal, Ordering::SeqCst);
             wake();
         }
@@ -849,7 +1075,6 @@ impl QueryAnswer {
 fn await_answer(answer: &mut QueryAnswer, signals: bool) -> bool {
     use rustix::event::{PollFd, PollFlags, Timespec};
     use rustix::io::Errno;
-    use std::time::{Duration, Instant};
 
     let deadline = Instant::now() + Duration::from_secs_f64(mazewalk_walk::flow::ACK_TIMEOUT);
     let stdin = io::stdin();
@@ -1085,6 +1310,38 @@ mod tests {
         assert!(active().is_none());
         restore_terminal().unwrap();
         restore_terminal().unwrap();
+    }
+
+    /// Red-team pass 8, finding 5: on an output left non-blocking and full, a line said after the
+    /// walk was lost (`EAGAIN`); a patient writer waits until the reader makes room.
+    #[cfg(unix)]
+    #[test]
+    fn a_patient_writer_waits_for_a_full_non_blocking_output() {
+        use std::io::Read as _;
+        let (writer, mut reader) = std::os::unix::net::UnixStream::pair().unwrap();
+        writer.set_nonblocking(true).unwrap();
+        let mut filled = 0usize;
+        loop {
+            match (&writer).write(&[b'x'; 4096]) {
+                Ok(n) => filled += n,
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => break,
+                Err(e) => panic!("{e}"),
+            }
+        }
+        let line = b"mazewalk: the line after the walk\n";
+        let plain = (&writer).write(line);
+        assert_eq!(plain.map_err(|e| e.kind()).err(), Some(io::ErrorKind::WouldBlock), "not full");
+        let drain = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(50)); // (the line is written only after this)
+            let mut all = Vec::new();
+            reader.read_to_end(&mut all).unwrap();
+            all
+        });
+        Patient::new(&writer).write_all(line).expect("the patient writer waits for room");
+        drop(writer);
+        let all = drain.join().unwrap();
+        assert_eq!(all.len(), filled + line.len());
+        assert!(all.ends_with(line));
     }
 
     #[test]

@@ -80,10 +80,12 @@ fn main() -> ExitCode {
         Err(err) if is_broken_pipe(&err) => ExitCode::from(EXIT_BROKEN_PIPE),
         Err(err) => {
             let load = err.downcast_ref::<LoadError>();
-            // (Not eprintln!, which panics when stderr cannot be written: the exit code still tells.)
+            // (Not eprintln!, which panics when stderr cannot be written: the exit code still tells.
+            // Patient: a terminal the walk found non-blocking may not take the line at once.)
+            let mut stderr = mazewalk::guard::Patient::new(std::io::stderr());
             let _ = match load {
-                Some(e) => writeln!(std::io::stderr(), "{e}"), // FILE:LINE:COL: message, for editors
-                None => writeln!(std::io::stderr(), "mazewalk: {err:#}"),
+                Some(e) => writeln!(stderr, "{e}"), // FILE:LINE:COL: message, for editors
+                None => writeln!(stderr, "mazewalk: {err:#}"),
             };
             ExitCode::from(match load {
                 Some(LoadError::Parse(_) | LoadError::TooLarge { .. }) => EXIT_DATA,

@@ -13,10 +13,12 @@
 //! a SIGHUP (the pty as controlling terminal or only as stdio); while the start-up keyboard query is
 //! unanswered, a hang-up ends the process without spinning, a signal restores the terminal at once,
 //! a stop gives it back until continued, keys typed reach the walk as typed (Alt-↑ does not quit),
-//! and a flood of them costs no memory; a malformed maze is reported before
-//! the terminal is touched; `--record` writes an asciicast of exactly the bytes the terminal received,
-//! which replays into the same screens (and `asciinema cat` prints the same bytes), also when a
-//! signal ends the walk, and a recording that cannot be written stops while the walk goes on.
+//! and a flood of them costs no memory; while the terminal reads nothing, a signal ends the walk and
+//! a stop stops it, raw mode off; a terminal left non-blocking gets the whole walk; a malformed maze
+//! is reported before the terminal is touched; `--record` writes an asciicast of exactly the bytes
+//! the terminal received, which replays into the same screens (and `asciinema cat` prints the same
+//! bytes), also when a signal ends the walk, and a recording that cannot be written (`ulimit -f`)
+//! stops, cut back to whole lines, while the walk goes on.
 //!
 //! Every wait polls with a deadline; a failing test kills its child (in `Drop`) and prints the screen.
 //! Unix only (ptys, signals).
@@ -64,6 +66,9 @@ struct Shared {
     eof: bool,
     /// Set by the test: the reader closes its copies of the controlling side and stops.
     hang_up: bool,
+    /// Set by the test: the reader reads nothing until it is cleared (a terminal that stopped
+    /// reading: a stalled link, output paused by the emulator), and answers nothing meanwhile.
+    paused: bool,
 }
 
 /// How the emulated terminal answers the queries the binary sends at start-up.
@@ -97,10 +102,15 @@ enum Session {
     /// Not the walk but an interactive bash leads the session, as in a terminal window: the walk is
     /// typed at its prompt and runs as one of its jobs, stopped and continued by its job control.
     Shell,
-    /// As [`Session::Leader`], its files limited to this many bytes (`RLIMIT_FSIZE`, as `ulimit -f`)
-    /// with SIGXFSZ ignored: a write past the limit fails (`EFBIG`) after writing what fits, as one
-    /// to a full disk does (`ENOSPC`).
+    /// As [`Session::Leader`], its files limited to this many bytes (`RLIMIT_FSIZE`, as `ulimit -f`),
+    /// SIGXFSZ left as `ulimit -f` leaves it (its default action ends the process; the walk catches
+    /// it, so that a write past the limit fails with `EFBIG` after writing what fits, as one to a full
+    /// disk does with `ENOSPC`).
     LeaderFileLimit(u64),
+    /// As [`Session::Leader`], on a terminal whose open file description was left non-blocking
+    /// (`O_NONBLOCK`, by a previous program: node, a crashed TUI): a write it cannot take at once
+    /// fails with `EAGAIN`.
+    LeaderNonBlocking,
 }
 
 /// Gives up the controlling terminal `tty` (TIOCNOTTY, which rustix has no wrapper for); for a process
@@ -207,6 +217,11 @@ impl Tui {
         let master = File::from(pty.controller);
         let slave = pty.user;
         let cooked = termios::tcgetattr(&slave).expect("tcgetattr");
+        if session == Session::LeaderNonBlocking {
+            // (on the open file description: the child's stdin, stdout and stderr share it)
+            let flags = rustix::fs::fcntl_getfl(&slave).expect("F_GETFL");
+            rustix::fs::fcntl_setfl(&slave, flags | rustix::fs::OFlags::NONBLOCK).expect("F_SETFL");
+        }
         let stdio = || Stdio::from(slave.try_clone().expect("dup the pty"));
         let mut command = match session {
             Session::Shell => Command::new("bash"),
@@ -228,9 +243,9 @@ impl Tui {
         }
         match session {
             // SAFETY: runs in the forked child before exec and only makes system calls (setsid,
-            // ioctl, and for a file limit setrlimit and signal's sigaction), which are
-            // async-signal-safe; it allocates nothing and takes no locks.
-            Session::Leader | Session::Shell | Session::LeaderFileLimit(_) => unsafe {
+            // ioctl, and for a file limit setrlimit), which are async-signal-safe; it allocates
+            // nothing and takes no locks.
+            Session::Leader | Session::Shell | Session::LeaderFileLimit(_) | Session::LeaderNonBlocking => unsafe {
                 command.pre_exec(move || {
                     rustix::process::setsid()?;
                     // std has already made the pty the child's stdin (fd 0).
@@ -239,10 +254,6 @@ impl Tui {
                         use rustix::process::{Resource, Rlimit};
                         let limit = Rlimit { current: Some(bytes), maximum: Some(bytes) };
                         rustix::process::setrlimit(Resource::Fsize, limit)?;
-                        // (ignored across exec: the write fails rather than the signal killing it)
-                        if libc::signal(libc::SIGXFSZ, libc::SIG_IGN) == libc::SIG_ERR {
-                            return Err(std::io::Error::last_os_error());
-                        }
                     }
                     Ok(())
                 });
@@ -269,6 +280,7 @@ impl Tui {
             last_byte: Instant::now(),
             eof: false,
             hang_up: false,
+            paused: false,
         }));
         let mut input = master.try_clone().expect("dup the pty");
         let mut answer = master.try_clone().expect("dup the pty");
@@ -289,6 +301,13 @@ impl Tui {
                             continue;
                         }
                         _ => {}
+                    }
+                    if lock(&shared).paused {
+                        if lock(&shared).hang_up {
+                            return;
+                        }
+                        std::thread::sleep(Duration::from_millis(10));
+                        continue;
                     }
                     let n = match input.read(&mut buf) {
                         Ok(0) | Err(_) => break, // EIO on Linux once the terminal side is closed
@@ -344,6 +363,11 @@ impl Tui {
             reader.join().expect("reader thread");
         }
         drop(self.master.take());
+    }
+
+    /// Stops reading the child's output (`true`), or reads it again (`false`): [`Shared::paused`].
+    fn pause_reading(&self, paused: bool) {
+        lock(&self.shared).paused = paused;
     }
 
     /// Polls the emulated screen until `ok` holds; panics (showing the screen) after [`TIMEOUT`].
@@ -989,6 +1013,87 @@ fn every_catchable_ending_signal_restores_the_terminal() {
         assert_eq!(status.code(), Some(128 + signal), "signal {signal}: {status:?}");
         assert_restored(&tui, &raw, KITTY);
     }
+}
+
+/// Starts the walk at 200×60 in truecolor on a pty attached as `session`, the terminal answering as
+/// `answers` says, waits for its first frame, stops reading its output and turns 200 times, 10 ms
+/// apart: more than the pty holds is sent. (A walk that quits after such a stall may not wait for the
+/// answer to its last frame's query, which the terminal then echoes after the restore: the tests
+/// that quit use a terminal that answers nothing.)
+fn walk_into_a_stalled_terminal(session: Session, answers: Answers) -> Tui {
+    let env = [("TERM", "xterm-256color"), ("COLORTERM", "truecolor")];
+    let tui = Tui::spawn_env(session, &env, &[], 200, 60, answers);
+    tui.wait_for("the first frame", |s| s.contents().contains("heading"));
+    tui.pause_reading(true);
+    let mut tui = tui;
+    for i in 0..200 {
+        tui.send(if i % 2 == 0 { b"\x1b[D" } else { b"\x1b[C" });
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    tui
+}
+
+/// Red-team pass 8, finding 4: a terminal that stops reading (a stalled link, output paused by the
+/// emulator or multiplexer) left the walk blocked in `write(2)` with the lock its signal handling
+/// needs: SIGTERM, SIGHUP and SIGINT did nothing until the terminal read again, and SIGKILL left it
+/// raw. Now each ends the walk while the terminal still reads nothing, with raw mode off and the
+/// terminal's file flags as they were (blocking).
+#[test]
+fn a_signal_ends_the_walk_while_the_terminal_reads_nothing() {
+    for signal in [Signal::TERM, Signal::HUP, Signal::INT] {
+        let mut tui = walk_into_a_stalled_terminal(Session::Leader, Answers::Plain);
+        assert!(tui.running(), "{signal:?}: the walk ended before the signal");
+        tui.signal(signal);
+        let status = tui.wait_exit(); // (still not reading)
+        assert_eq!(status.code(), Some(128 + signal.as_raw()), "{signal:?}: {status:?}");
+        tui.assert_cooked();
+        let slave = tui.slave.as_ref().expect("the terminal side is open");
+        let flags = rustix::fs::fcntl_getfl(slave).expect("F_GETFL");
+        assert!(!flags.contains(rustix::fs::OFlags::NONBLOCK), "{signal:?}: left non-blocking");
+        tui.pause_reading(false);
+        tui.finish();
+    }
+}
+
+/// Red-team pass 8, finding 4, a stop: SIGTSTP while the terminal reads nothing stops the walk (raw
+/// mode off, though the restore's bytes could not be written), and once continued and read again it
+/// has game mode back, then quits cleanly. (A restore that the terminal did not take in time once
+/// ended the walk here instead of stopping it.)
+#[test]
+fn a_stop_while_the_terminal_reads_nothing_stops_and_comes_back() {
+    let mut tui = walk_into_a_stalled_terminal(Session::Job, Answers::Silent);
+    tui.signal(Signal::TSTP);
+    tui.wait_stopped(true);
+    tui.assert_cooked();
+    let before = tui.bytes_so_far();
+    tui.signal(Signal::CONT);
+    tui.wait_stopped(false);
+    tui.pause_reading(false);
+    let enter = enter_sequence(PLAIN);
+    tui.wait_for_output(before, "game mode entered again", |b| {
+        b.windows(enter.len()).any(|w| w == enter.as_bytes())
+    });
+    tui.settle();
+    tui.quit(b"q", PLAIN);
+}
+
+/// Red-team pass 8, finding 5: on a terminal left non-blocking (`O_NONBLOCK`, by node or a crashed
+/// TUI), the first write the terminal could not take at once (`EAGAIN`) ended the walk with exit 1
+/// and "Resource temporarily unavailable", the message lost on the alternate screen. Now the walk
+/// waits for the terminal as on any other, goes on, and leaves the flag as it found it.
+#[test]
+fn a_terminal_left_non_blocking_gets_the_whole_walk() {
+    let mut tui = walk_into_a_stalled_terminal(Session::LeaderNonBlocking, Answers::Silent);
+    tui.pause_reading(false);
+    tui.settle();
+    assert!(tui.running(), "the walk ended");
+    let slave = tui.slave.as_ref().expect("the terminal side is open");
+    let flags = rustix::fs::fcntl_getfl(slave).expect("F_GETFL");
+    assert!(flags.contains(rustix::fs::OFlags::NONBLOCK), "the flag was not left as it was");
+    let before = tui.bytes_so_far();
+    tui.send(b"m");
+    tui.wait_for_output(before, "a frame after the stall", ends_with_a_frame);
+    tui.quit(b"q", PLAIN);
 }
 
 #[test]
@@ -1779,6 +1884,13 @@ fn a_recording_that_cannot_be_written_stops_and_the_walk_goes_on() {
     assert_eq!(after.matches(&message).count(), 1, "after the restore: {after:?}");
     let cast = std::fs::read(path).expect("the cast");
     assert!(cast.len() <= 4096 && cast.starts_with(b"{"), "{} bytes", cast.len());
+    // Red-team pass 8, finding 6: cut back to its last whole line, not mid-line nor mid-character;
+    // what it holds is the start of what the terminal received.
+    let cast = String::from_utf8(cast).expect("the cast is UTF-8 text");
+    assert!(cast.ends_with('\n'), "the cast ends mid-line: {:?}", &cast[cast.len().saturating_sub(80)..]);
+    let (_, events) = parse_cast(&cast);
+    let data: String = events.iter().filter(|e| e.1 == "o").map(|e| e.2.as_str()).collect();
+    assert!(raw.starts_with(data.as_bytes()), "the cast's {} bytes are not what was sent first", data.len());
 }
 
 /// Red-team pass 7: `--record FILE` opened a FIFO put at FILE and waited, before the first frame,

@@ -122,12 +122,15 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
         // once, now that the terminal is restored; the walk went on without it
         let path = mazewalk_maze::quote_path(&path.display().to_string());
         if let Err(err) = recorder.finish() {
-            let _ = writeln!(std::io::stderr(), "mazewalk: the recording {path} stopped: {err}");
+            let _ = writeln!(
+                guard::Patient::new(std::io::stderr()),
+                "mazewalk: the recording {path} stopped: {err}"
+            );
         }
         let replaced = recorder.replaced();
         if replaced > 0 {
             let _ = writeln!(
-                std::io::stderr(),
+                guard::Patient::new(std::io::stderr()),
                 "mazewalk: the recording {path} has U+FFFD in place of {replaced} bytes that were not UTF-8"
             );
         }
@@ -139,7 +142,7 @@ fn walk(args: &WalkArgs, replay: Option<&std::path::Path>) -> anyhow::Result<Exi
     if let Some(seconds) = session.outcome().finished.filter(|_| !replayed) {
         // as the finish box said it; the walk is over either way
         let _ = writeln!(
-            std::io::stdout(),
+            guard::Patient::new(std::io::stdout()),
             "You found the exit in {}.",
             mazewalk_walk::clock::clock_text(seconds)
         );
@@ -228,15 +231,17 @@ fn save_run(session: &Session, hash: mazewalk_maze::ContentHash, file: &mut RunF
         user.chars().filter(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.')).take(16).collect();
     let Some(run) = session.app().run(hash, &holder) else {
         if session.outcome().finished.is_some() {
-            let _ =
-                writeln!(std::io::stderr(), "mazewalk: no run written to {shown}: the walk took too long");
+            let _ = writeln!(
+                guard::Patient::new(std::io::stderr()),
+                "mazewalk: no run written to {shown}: the walk took too long"
+            );
         }
         return Ok(());
     };
     let bytes = run.encode().with_context(|| format!("the run for {shown}"))?;
     file.write(&bytes).with_context(|| format!("cannot write the run {shown}"))?;
     let _ = writeln!(
-        std::io::stdout(),
+        guard::Patient::new(std::io::stdout()),
         "Your run is in {shown}: race it with --ghost, play it with `mazewalk replay`."
     );
     Ok(())
@@ -302,28 +307,91 @@ fn color_facts(env: impl Fn(&str) -> Option<String>, terminfo: Option<&str>) -> 
     ColorFacts { terminfo_rgb, tmux_rgb }
 }
 
-/// What `command` writes to stdout, if it exits successfully within [`TOOL_TIMEOUT`] (else it is
-/// killed): at most [`TOOL_OUTPUT_LIMIT`] bytes, as text.
+/// What `command` writes to stdout, if it exits successfully and its output ends within
+/// [`TOOL_TIMEOUT`]: at most [`TOOL_OUTPUT_LIMIT`] bytes, as text. The tool runs in a process group of
+/// its own, killed whole when the time is up or the tool failed: a child it leaves behind (a wrapper
+/// script's, `sleep 30 &`) holds the output's pipe open, and the walk does not wait for it (red-team
+/// pass 8: a fake `infocmp` on `PATH` delayed the start by its leftover's whole life).
 fn tool_output(command: &mut Command) -> Option<String> {
+    #[cfg(unix)]
+    std::os::unix::process::CommandExt::process_group(command, 0);
     let mut child = command.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::null()).spawn().ok()?;
     let stdout = child.stdout.take()?;
     // Read on a thread: a tool that writes more than a pipe holds must not block until the timeout.
-    let reader = std::thread::spawn(move || {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
         let mut text = String::new();
-        stdout.take(TOOL_OUTPUT_LIMIT).read_to_string(&mut text).ok().map(|_| text)
+        let _ = tx.send(stdout.take(TOOL_OUTPUT_LIMIT).read_to_string(&mut text).ok().map(|_| text));
     });
     let deadline = Instant::now() + TOOL_TIMEOUT;
-    let status = loop {
+    let succeeded = loop {
         match child.try_wait() {
-            Ok(Some(status)) => break Some(status),
+            Ok(Some(status)) => break status.success(),
             Ok(None) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(2)),
             _ => {
-                let _ = child.kill();
+                kill_group(&child); // (before the wait: the group's id cannot be reused meanwhile)
                 let _ = child.wait();
-                break None;
+                return None;
             }
         }
     };
-    let text = reader.join().ok().flatten();
-    status.filter(std::process::ExitStatus::success).and(text)
+    // The output ends when the last process holding the pipe is gone: the tool's leftovers too.
+    let text = succeeded.then(|| rx.recv_timeout(deadline.saturating_duration_since(Instant::now())));
+    match text {
+        Some(Ok(text)) => text,
+        _ => {
+            kill_group(&child); // whatever it left behind (and the reader thread then ends)
+            None
+        }
+    }
+}
+
+/// Kills the process group `child` leads ([`tool_output`]'s), whatever is left of it.
+fn kill_group(child: &std::process::Child) {
+    #[cfg(unix)]
+    if let Some(group) = rustix::process::Pid::from_raw(child.id() as i32) {
+        let _ = rustix::process::kill_process_group(group, rustix::process::Signal::KILL);
+    }
+    #[cfg(not(unix))]
+    let _ = child;
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+
+    /// Whether process `pid` is gone (or a zombie: killed, not yet reaped by its new parent).
+    fn gone(pid: &str) -> bool {
+        std::fs::read_to_string(format!("/proc/{pid}/stat")).map_or(true, |stat| {
+            stat.rsplit_once(')').is_some_and(|(_, rest)| rest.trim_start().starts_with('Z'))
+        })
+    }
+
+    /// Red-team pass 8, finding 10: a tool whose child outlives it (here it answers, exits 0 and
+    /// leaves a `sleep 60` holding its output) delayed the walk's start by that child's whole life.
+    /// Now its answer is not waited for past the timeout, and what it left behind is killed.
+    #[test]
+    fn a_tool_that_leaves_a_child_behind_is_not_waited_for() {
+        let dir = mazewalk_testkit::scratch::Scratch::new("tool-leftover");
+        let pid_file = dir.join("pid");
+        for exit in ["0", "1"] {
+            let script = format!("sleep 60 & echo $! > '{}'; echo answer; exit {exit}", pid_file.display());
+            let (tx, rx) = std::sync::mpsc::channel();
+            std::thread::spawn(move || {
+                let _ = tx.send(tool_output(Command::new("sh").arg("-c").arg(script)));
+            });
+            // (bounded: the old wait lasted the leftover's 60 s)
+            let answer =
+                rx.recv_timeout(Duration::from_secs(20)).expect("the tool's leftover was waited for");
+            assert_eq!(answer, None, "exit {exit}: an answer whose end never came");
+            let pid = std::fs::read_to_string(&pid_file).expect("the leftover's pid");
+            let deadline = Instant::now() + Duration::from_secs(10);
+            while !gone(pid.trim()) && Instant::now() < deadline {
+                std::thread::sleep(Duration::from_millis(10));
+            }
+            assert!(gone(pid.trim()), "exit {exit}: the leftover {} still runs", pid.trim());
+        }
+        // A tool that answers and ends is read as before.
+        assert_eq!(tool_output(Command::new("sh").arg("-c").arg("echo answer")).as_deref(), Some("answer\n"));
+    }
 }
