@@ -349,6 +349,7 @@ impl Renderer {
     }
 
     /// A new frame's samples: sized to the grid, none covered.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn begin(&mut self, maze: &Maze, eye: &Eye) {
         if self.samples.width() != eye.width || self.samples.height() != eye.height {
             self.samples.resize(eye.width, eye.height);
@@ -359,6 +360,7 @@ impl Renderer {
 
     /// The walls to draw, into `self.walls`: the portal pass's (or every wall, brute force), ascending
     /// so that depth ties resolve the same way whichever pass chose them.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn choose_walls(&mut self, maze: &Maze, eye: &Eye, culling: Culling) -> RenderStats {
         let mut stats = RenderStats::default();
         self.walls.clear();
@@ -379,6 +381,7 @@ impl Renderer {
     /// depth LESS), each sample shaded: Lambert from the headlight and the sun through the normal
     /// matrix, then fog, one fog for the whole wall ([`flat_fog_depth`]): a wall is one flat colour
     /// (bricks aside). Returns the triangles rasterized and the samples written.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn draw_wall(
         &mut self,
         maze: &Maze,
@@ -473,6 +476,7 @@ impl Renderer {
     /// colour by its cell's level as a wall does ([`exit_tinted`], the floor by [`FLOOR_EXIT_TINT`],
     /// the ceiling by [`CEILING_EXIT_TINT`]), its luminance kept: rows that come near no lit cell take
     /// the fast path.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn fill_floor_and_ceiling(
         &mut self,
         eye: &Eye,
@@ -727,6 +731,7 @@ impl Renderer {
     /// the outlines of figures. One sample wide, so it survives at any size. Two walls on one line
     /// (a long wall made of several edges, one a cell) meet at a cell boundary: a seam, fainter than an
     /// edge ([`seam_color`]), so a player counts the cells a wall runs along (issue #39).
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn draw_edges(&mut self, maze: &Maze, eye: &Eye) {
         let (width, height) = (self.samples.width(), self.samples.height());
         if self.edge_marks.len() != width * height {
@@ -842,6 +847,7 @@ impl Renderer {
     /// (a lit cell's way one step nearer the exit, `ExitLight::lit_through`, seen from that cell's
     /// side) is drawn in the way's light instead ([`way_light`], `way_light_16` in 16 colours,
     /// [`WAY_GLYPH`] in ascii): at a junction the glowing line is the way on (issue #39).
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn draw_cell_bounds(&mut self, maze: &Maze, eye: &Eye, culling: Culling) {
         let w = eye.width;
         self.edge_list.clear();
@@ -982,6 +988,7 @@ impl Renderer {
     /// samples ([`jamb_color`]). An
     /// opening six cells down a corridor is narrower than a column, but its jambs stay a sample wide,
     /// so a player sees where the side openings are as far as the view reaches (issue #39).
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn draw_jambs(&mut self, maze: &Maze, eye: &Eye) {
         let w = eye.width;
         let (eye_at, forward) = (eye.camera.position, ground_forward(eye));
@@ -1028,6 +1035,7 @@ impl Renderer {
     /// sample wide, in [`chalk_color`] of the floor under it (so a far mark fades as the floor does),
     /// moved off the floor's tint ([`palette::off_floor_and_ceiling`]).
     /// Exact as the cell lines are: a ray meets the floor once.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn draw_chalk(&mut self, maze: &Maze, eye: &Eye, culling: Culling) {
         let w = eye.width;
         self.edge_list.clear();
@@ -1094,6 +1102,7 @@ impl Renderer {
     /// (a far wall two rows tall is all ends and lines), and the top and bottom lines are left out
     /// where the wall stands under [`SHORT_ASCII_WALL`] samples tall, so a far wall shows its glyphs:
     /// which way it faces ([`Renderer::faced`]), not a row of `-`.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn outline_visible_walls(&mut self, maze: &Maze, eye: &Eye, sample_aspect: f32) {
         let edges = maze.edges().len() as u32;
         self.seen.clear();
@@ -1549,6 +1558,7 @@ impl<'m, 's> CellCursor<'m, 's> {
     /// the run before them (the first run, if they begin the row). A
     /// point's level does not depend on the cursor's state, so those that are looked at are the same
     /// either way.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     fn row_levels(
         &mut self,
         point_at: impl Fn(usize) -> Vec2,

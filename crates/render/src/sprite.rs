@@ -168,6 +168,7 @@ impl SpritePass {
     /// what is there: draw the walls first), nearest first, at most [`MAX_SPRITES`] and while those
     /// drawn have covered less than [`FIGURE_SCREENS`] screens; returns the samples written. Records
     /// each drawn figure's [`Label`] position.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub fn draw(
         &mut self,
         samples: &mut SampleBuffer,
@@ -234,6 +235,7 @@ impl SpritePass {
     /// shows down a long corridor, banded green and white like a lighthouse ([`BEACON_BANDS`] of
     /// each): a look no wall has in any colour depth, nor in ascii, where the bands are two glyphs
     /// (issue #39: a green wall was chased for the beacon). Depth-tested; returns the samples written.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn draw_beacon(
         &mut self,
         samples: &mut SampleBuffer,
