@@ -19,6 +19,7 @@ use crate::cast::Recorder;
 use crate::guard::{self, GuardOptions, TerminalGuard};
 use mazewalk_term::input::Input;
 use mazewalk_walk::Session;
+use mazewalk_walk::flow::{LAST_ANSWER, LAST_QUERY};
 
 /// How a walk ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -137,7 +138,7 @@ pub fn run(
         if session.is_over() {
             // The answers to the last frames' queries, read before the restore: one arriving after
             // it would be echoed onto the shell's line (`^[[?62;22c`).
-            drain_answers(session, &stdin, &mut buf, now)?;
+            drain_answers(&terminal, session, &stdin, &mut buf, now)?;
             break Ended::Quit;
         }
         if let Some(recorder) = recorder
@@ -201,9 +202,14 @@ fn drain_seconds(round_trip: Option<f64>) -> f64 {
     (2.0 * round_trip.unwrap_or(0.0)).clamp(DRAIN_SECONDS, mazewalk_walk::flow::ACK_TIMEOUT)
 }
 
-/// Reads and decodes input until every frame's query is answered, the terminal is known not to answer
-/// ([`FlowControl::silent`](mazewalk_walk::flow::FlowControl::silent)), it hangs up, or [`drain_seconds`] pass.
+/// Reads and decodes input until the terminal's answers to the frames' queries are all in, it hangs
+/// up, or [`drain_seconds`] pass: when the terminal has answered a query before, until it answers
+/// [`LAST_QUERY`], sent now (the frames' own count of answers is not enough: after the terminal
+/// stopped reading for a while, the frames sent meanwhile were counted lost, and their answers,
+/// arriving after the restore, were typed onto the shell's line, `^[[?62;22c`); else while frames
+/// are counted in flight and the terminal is not known to be silent.
 fn drain_answers(
+    terminal: &TerminalGuard,
     session: &mut Session,
     stdin: &io::Stdin,
     buf: &mut [u8],
@@ -212,7 +218,16 @@ fn drain_answers(
     use rustix::event::{PollFd, PollFlags, Timespec};
 
     let deadline = now() + drain_seconds(session.flow().round_trip());
-    while session.flow().in_flight() > 0 && !session.flow().silent() {
+    let answers = session.flow().round_trip().is_some();
+    if answers {
+        terminal.write_frame(LAST_QUERY)?;
+    }
+    // (the last bytes read, for an answer cut across two reads)
+    let (mut tail, mut answered) = (Vec::new(), false);
+    let waiting = |session: &Session, answered: bool| {
+        if answers { !answered } else { session.flow().in_flight() > 0 && !session.flow().silent() }
+    };
+    while waiting(session, answered) {
         let wait = deadline - now();
         if wait <= 0.0 {
             break;
@@ -220,13 +235,18 @@ fn drain_answers(
         let timeout = Timespec { tv_sec: 0, tv_nsec: (wait.min(0.999) * 1e9) as _ };
         let mut fds = [PollFd::new(stdin, PollFlags::IN)];
         match rustix::event::poll(&mut fds, Some(&timeout)) {
-            Ok(0) => break, // nothing came in time
+            Ok(0) => continue, // the deadline decides
             Ok(_) | Err(rustix::io::Errno::INTR) => {}
             Err(err) => return Err(err.into()),
         }
         match rustix::io::read(stdin, &mut *buf) {
             Ok(0) | Err(rustix::io::Errno::IO) => break,
-            Ok(n) => session.feed(&buf[..n], now()),
+            Ok(n) => {
+                session.feed(&buf[..n], now());
+                tail.extend_from_slice(&buf[..n]);
+                answered = tail.windows(LAST_ANSWER.len()).any(|w| w == LAST_ANSWER);
+                tail.drain(..tail.len().saturating_sub(LAST_ANSWER.len() - 1));
+            }
             Err(rustix::io::Errno::INTR | rustix::io::Errno::AGAIN) => {}
             Err(err) => return Err(err.into()),
         }

@@ -330,6 +330,11 @@ impl Tui {
                             && answers != Answers::Silent
                         {
                             reply.extend_from_slice(b"\x1b[?62;22c");
+                        } else if rest.starts_with(b"\x1b[5n")
+                            && at + 4 > scanned
+                            && answers != Answers::Silent
+                        {
+                            reply.extend_from_slice(b"\x1b[0n"); // the status report: "OK"
                         }
                     }
                     scanned = s.raw.len();
@@ -1053,6 +1058,27 @@ fn a_signal_ends_the_walk_while_the_terminal_reads_nothing() {
         tui.pause_reading(false);
         tui.finish();
     }
+}
+
+/// After the terminal stopped reading for longer than the flow control waits for an answer, the
+/// frames sent meanwhile were counted lost; a quit as soon as it read again gave the terminal back
+/// while their answers were still coming, and they were left for the shell (`^[[?62;22c` typed at
+/// its prompt; found with red-team pass 8's stalled terminals). A quitting walk now asks for a status
+/// report last and reads until its answer: every earlier answer is in by then.
+#[test]
+fn a_quit_after_the_terminal_stopped_reading_leaves_no_answer_for_the_shell() {
+    let mut tui = walk_into_a_stalled_terminal(Session::Leader, Answers::Plain);
+    std::thread::sleep(Duration::from_secs_f64(mazewalk_walk::flow::ACK_TIMEOUT + 0.5));
+    tui.pause_reading(false);
+    tui.send(b"q");
+    let status = tui.wait_exit();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    std::thread::sleep(Duration::from_millis(500)); // the emulator reads the last output and answers
+    let slave = tui.slave.as_ref().expect("the terminal side is open");
+    let left = rustix::io::ioctl_fionread(slave).expect("FIONREAD");
+    assert_eq!(left, 0, "{left} bytes of answers left for the shell");
+    let (_, raw) = tui.finish();
+    assert_restored(&tui, &raw, PLAIN);
 }
 
 /// Red-team pass 8, finding 4, a stop: SIGTSTP while the terminal reads nothing stops the walk (raw

@@ -266,18 +266,23 @@ impl Player {
                     Ok(0) | Err(_) => break, // EIO once ssh and every copy of the terminal side are gone
                     Ok(n) => n,
                 };
-                let mut queries = 0;
+                let (mut queries, mut statuses) = (0, 0);
                 sink.update(|s| {
                     s.raw.extend_from_slice(&buf[..n]);
                     s.parser.process(&buf[..n]);
-                    // Answer each device-attributes query (flow control), as an xterm would; a query
-                    // may straddle two reads.
+                    // Answer each device-attributes query (flow control) and status report (asked
+                    // last, before a goodbye), as an xterm would; a query may straddle two reads.
                     let from = scanned.saturating_sub(2);
                     queries = s.raw[from..].windows(3).filter(|w| *w == b"\x1b[c").count();
+                    statuses =
+                        s.raw[scanned.saturating_sub(3)..].windows(4).filter(|w| *w == b"\x1b[5n").count();
                     scanned = s.raw.len();
                 });
                 for _ in 0..queries {
                     let _ = answer.write_all(b"\x1b[?62;22c");
+                }
+                for _ in 0..statuses {
+                    let _ = answer.write_all(b"\x1b[0n");
                 }
             }
         });

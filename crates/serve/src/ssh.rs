@@ -9,6 +9,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
+use mazewalk_walk::flow::{LAST_ANSWER, LAST_QUERY};
 use russh::keys::ssh_key::public::KeyData;
 use russh::keys::{PrivateKey, PublicKey};
 use russh::server::{
@@ -1381,10 +1382,14 @@ async fn goodbye(
             quit
         }
     };
-    let mut out = Vec::new();
+    // Asked first, so that its answer comes before the goodbye's (not recorded): that answer says
+    // every frame's answer is in ([`drain_answers`]). Not asked of a terminal that never answered.
+    let asked = player.session().flow().round_trip().is_some();
+    let mut out = if asked { LAST_QUERY.to_vec() } else { Vec::new() };
+    let goodbye = out.len();
     player.leave(Some(&message), &mut out);
     if let Some(tap) = tap {
-        tap.output(shared.now(), &out);
+        tap.output(shared.now(), &out[goodbye..]);
     }
     // A shutting-down server waits for the goodbye no longer than its grace; either way a cut ends
     // the wait (a client that types but never reads fills the channel's queue, and russh's task,
@@ -1403,7 +1408,7 @@ async fn goodbye(
         return;
     }
     tokio::select! {
-        () = drain_answers(rx, player, shared) => close(tx, if end == End::Quit { 0 } else { 1 }).await,
+        () = drain_answers(rx, player, shared, asked) => close(tx, if end == End::Quit { 0 } else { 1 }).await,
         () = conn.cut.cut_off() => {}
     }
 }
@@ -1524,17 +1529,31 @@ async fn watching(
 }
 
 /// Waits for the terminal's answers to the last frames' queries, reading and dropping whatever else
-/// comes, for at most two round trips (0.25–1 s). A channel closed before they arrive leaves them to
-/// the player's shell, typed at its prompt (`1;2c`). Gives up at once on a terminal that does not answer.
-async fn drain_answers(rx: &mut russh::ChannelReadHalf, player: &mut impl Remote, shared: &Shared) {
-    let waiting =
+/// comes, for at most two round trips (0.25–1 s): when `asked` ([`LAST_QUERY`] went before the
+/// goodbye), until its answer comes (the frames' own count is not enough: after a terminal stopped
+/// reading for a while, the frames sent meanwhile were counted lost, and their answers came after
+/// the close); else while frames are counted in flight. A channel closed before they arrive leaves
+/// them to the player's shell, typed at its prompt (`1;2c`). Gives up at once on a terminal that
+/// does not answer.
+async fn drain_answers(
+    rx: &mut russh::ChannelReadHalf,
+    player: &mut impl Remote,
+    shared: &Shared,
+    asked: bool,
+) {
+    let counted =
         |player: &dyn Remote| player.session().flow().in_flight() > 0 && !player.session().flow().silent();
     let round_trip = player.session().flow().round_trip().unwrap_or(0.5);
     let deadline = tokio::time::Instant::now() + Duration::from_secs_f64((2.0 * round_trip).clamp(0.25, 1.0));
-    while waiting(player) {
+    // (the last bytes read, for an answer cut across two packets)
+    let (mut tail, mut answered) = (Vec::new(), false);
+    while if asked { !answered } else { counted(player) } {
         match tokio::time::timeout_at(deadline, rx.wait()).await {
             Ok(Some(ChannelMsg::Data { data })) => {
                 player.feed(&data, shared.now());
+                tail.extend_from_slice(&data);
+                answered = tail.windows(LAST_ANSWER.len()).any(|w| w == LAST_ANSWER);
+                tail.drain(..tail.len().saturating_sub(LAST_ANSWER.len() - 1));
             }
             Ok(Some(ChannelMsg::Eof | ChannelMsg::Close) | None) | Err(_) => break,
             Ok(Some(_)) => {}

@@ -52,6 +52,15 @@ pub const MAX_UNACKED: usize = 2;
 /// How long (seconds) to wait for a reply before drawing without flow control.
 pub const ACK_TIMEOUT: f64 = 2.0;
 
+/// A query every terminal answers, after everything sent before it (`DSR 5`, "status?"): sent last
+/// by a quitting walk, its answer ([`LAST_ANSWER`], `CSI 0 n`, "OK") says that the answers to every
+/// frame's query are in, whatever the frames' count says (a terminal that stopped reading for a
+/// while had its frames' answers counted lost, and they came after the walk had given the terminal
+/// back: typed onto the shell's line, `^[[?62;22c`).
+pub const LAST_QUERY: &[u8] = b"\x1b[5n";
+/// The answer to [`LAST_QUERY`].
+pub const LAST_ANSWER: &[u8] = b"\x1b[0n";
+
 /// A reply is overdue (taken as lost) after this many round trips…
 pub(crate) const OVERDUE_ROUND_TRIPS: f64 = 2.0;
 
