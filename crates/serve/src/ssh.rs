@@ -1382,14 +1382,14 @@ async fn goodbye(
             quit
         }
     };
-    // Asked first, so that its answer comes before the goodbye's (not recorded): that answer says
-    // every frame's answer is in ([`drain_answers`]). Not asked of a terminal that never answered.
+    // Asked first, so that its answer comes before the goodbye's: that answer says every frame's
+    // answer is in ([`drain_answers`]). Not asked of a terminal that never answered. (Recorded, as
+    // the frames' own queries are: a cast is what the player's terminal received.)
     let asked = player.session().flow().round_trip().is_some();
     let mut out = if asked { LAST_QUERY.to_vec() } else { Vec::new() };
-    let goodbye = out.len();
     player.leave(Some(&message), &mut out);
     if let Some(tap) = tap {
-        tap.output(shared.now(), &out[goodbye..]);
+        tap.output(shared.now(), &out);
     }
     // A shutting-down server waits for the goodbye no longer than its grace; either way a cut ends
     // the wait (a client that types but never reads fills the channel's queue, and russh's task,
