@@ -19,7 +19,7 @@ use crate::cast::Recorder;
 use crate::guard::{self, GuardOptions, TerminalGuard};
 use mazewalk_term::input::Input;
 use mazewalk_walk::Session;
-use mazewalk_walk::flow::{LAST_ANSWER, LAST_QUERY};
+use mazewalk_walk::flow::{LAST_QUERY, LastAnswer};
 
 /// How a walk ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -222,8 +222,7 @@ fn drain_answers(
     if answers {
         terminal.write_frame(LAST_QUERY)?;
     }
-    // (the last bytes read, for an answer cut across two reads)
-    let (mut tail, mut answered) = (Vec::new(), false);
+    let (mut last, mut answered) = (LastAnswer::default(), false);
     let waiting = |session: &Session, answered: bool| {
         if answers { !answered } else { session.flow().in_flight() > 0 && !session.flow().silent() }
     };
@@ -243,9 +242,7 @@ fn drain_answers(
             Ok(0) | Err(rustix::io::Errno::IO) => break,
             Ok(n) => {
                 session.feed(&buf[..n], now());
-                tail.extend_from_slice(&buf[..n]);
-                answered = tail.windows(LAST_ANSWER.len()).any(|w| w == LAST_ANSWER);
-                tail.drain(..tail.len().saturating_sub(LAST_ANSWER.len() - 1));
+                answered = last.read(&buf[..n]);
             }
             Err(rustix::io::Errno::INTR | rustix::io::Errno::AGAIN) => {}
             Err(err) => return Err(err.into()),

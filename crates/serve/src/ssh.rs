@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
-use mazewalk_walk::flow::{LAST_ANSWER, LAST_QUERY};
+use mazewalk_walk::flow::{LAST_QUERY, LastAnswer};
 use russh::keys::ssh_key::public::KeyData;
 use russh::keys::{PrivateKey, PublicKey};
 use russh::server::{
@@ -1545,15 +1545,12 @@ async fn drain_answers(
         |player: &dyn Remote| player.session().flow().in_flight() > 0 && !player.session().flow().silent();
     let round_trip = player.session().flow().round_trip().unwrap_or(0.5);
     let deadline = tokio::time::Instant::now() + Duration::from_secs_f64((2.0 * round_trip).clamp(0.25, 1.0));
-    // (the last bytes read, for an answer cut across two packets)
-    let (mut tail, mut answered) = (Vec::new(), false);
+    let (mut last, mut answered) = (LastAnswer::default(), false);
     while if asked { !answered } else { counted(player) } {
         match tokio::time::timeout_at(deadline, rx.wait()).await {
             Ok(Some(ChannelMsg::Data { data })) => {
                 player.feed(&data, shared.now());
-                tail.extend_from_slice(&data);
-                answered = tail.windows(LAST_ANSWER.len()).any(|w| w == LAST_ANSWER);
-                tail.drain(..tail.len().saturating_sub(LAST_ANSWER.len() - 1));
+                answered = last.read(&data);
             }
             Ok(Some(ChannelMsg::Eof | ChannelMsg::Close) | None) | Err(_) => break,
             Ok(Some(_)) => {}

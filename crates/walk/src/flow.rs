@@ -61,6 +61,26 @@ pub const LAST_QUERY: &[u8] = b"\x1b[5n";
 /// The answer to [`LAST_QUERY`].
 pub const LAST_ANSWER: &[u8] = b"\x1b[0n";
 
+/// Watches a terminal's input for [`LAST_ANSWER`], which may come cut across reads.
+#[derive(Clone, Debug, Default)]
+pub struct LastAnswer {
+    /// The last bytes read, fewer than the answer.
+    tail: Vec<u8>,
+    seen: bool,
+}
+
+impl LastAnswer {
+    /// Takes the next bytes read; whether the answer has come, in them or before.
+    pub fn read(&mut self, bytes: &[u8]) -> bool {
+        if !self.seen {
+            self.tail.extend_from_slice(bytes);
+            self.seen = self.tail.windows(LAST_ANSWER.len()).any(|w| w == LAST_ANSWER);
+            self.tail.drain(..self.tail.len().saturating_sub(LAST_ANSWER.len() - 1));
+        }
+        self.seen
+    }
+}
+
 /// A reply is overdue (taken as lost) after this many round trips…
 pub(crate) const OVERDUE_ROUND_TRIPS: f64 = 2.0;
 
@@ -311,5 +331,20 @@ mod tests {
             flow.answered(f64::from(t) + 0.5);
         }
         assert!((flow.round_trip().unwrap() - 0.5).abs() < 0.01);
+    }
+    /// The last answer is seen whole, in one read or cut across several, among other bytes.
+    #[test]
+    fn the_last_answer_is_seen_in_one_read_or_cut_across_several() {
+        let input = [b"\x1b[?62;22c".as_slice(), LAST_ANSWER, b"q"].concat();
+        for cut in 0..=input.len() {
+            for second in cut..=input.len() {
+                let mut watch = LastAnswer::default();
+                let seen =
+                    [&input[..cut], &input[cut..second], &input[second..]].map(|part| watch.read(part));
+                assert!(seen[2], "cut at {cut} and {second}");
+            }
+        }
+        let mut watch = LastAnswer::default();
+        assert!(!watch.read(b"\x1b[?62;22c\x1b[0") && !watch.read(b"m") && !watch.read(b"\x1b[c"));
     }
 }
