@@ -156,12 +156,11 @@ impl Spawns {
     /// cells measured each of ~230,000 spots against each of them, ~90 ms a join under the lock).
     #[must_use]
     pub fn pick(&self, others: &[Vec2]) -> Spot {
-        self.pick_counted(others).0
+        self.pick_counted(&Crowd::new(others)).0
     }
 
-    /// [`pick`](Self::pick)'s spot, and the distances it measured.
-    fn pick_counted(&self, others: &[Vec2]) -> (Spot, usize) {
-        let crowd = Crowd::new(others);
+    /// [`pick`](Self::pick)'s spot among `crowd`, and the distances it measured.
+    fn pick_counted(&self, crowd: &Crowd) -> (Spot, usize) {
         let mut work = 0;
         let mut first_spaced: Option<Spot> = None;
         let mut best_crowded: Option<(f32, Spot)> = None;
@@ -238,8 +237,8 @@ impl Spawns {
     /// a spot no better, so a crowd that leaves no room moves nobody.
     #[must_use]
     pub fn repick(&self, at: Vec2, others: &[Vec2]) -> Option<Spot> {
-        let (crowd, mut work) = (Crowd::new(others), 0);
-        let spot = self.pick(others);
+        let crowd = Crowd::new(others);
+        let (spot, mut work) = self.pick_counted(&crowd);
         (crowd.clearance(spot.at.pos, &mut work) > crowd.clearance(at, &mut work) + LATTICE * 0.5)
             .then_some(spot)
     }
@@ -655,7 +654,7 @@ mod tests {
             .map(|k| lo + (hi - lo) * Vec2::new((k % 32) as f32 + 0.5, (k / 32) as f32 + 0.5) / 32.0)
             .collect();
         assert!(spots * others.len() > 100_000_000, "the premise: {spots} spots");
-        let (spot, work) = spawns.pick_counted(&others);
+        let (spot, work) = spawns.pick_counted(&Crowd::new(&others));
         assert!(work <= MAX_PICK_WORK + 9 * others.len(), "{work} distances");
         let room = |p: Vec2| others.iter().map(|o| o.distance(p)).fold(f32::INFINITY, f32::min);
         assert!(room(spot.at.pos) >= SPACING, "a spot {} from the nearest other", room(spot.at.pos));
