@@ -36,7 +36,8 @@ pub(crate) const MAX_SPRITES: usize = 1024;
 /// drawn while those drawn before it have covered less (their bounding boxes on the screen). Figures
 /// that cover the screen this many times over hide what is behind them; the rest are left out, not
 /// rasterized to fail the depth test (red-team pass 8: 1,024 figures a Redis writer put within 0.6
-/// units of a player each covered most of its view, 15–20 ms a frame where it had taken 1).
+/// units of a player each covered most of its view; the server's CPU for it fell from 0.63 to 0.38 s
+/// over 10 s).
 pub(crate) const FIGURE_SCREENS: usize = 4;
 /// Coverage id of the exit's beacon in the sample buffer (below the floor's and ceiling's ids).
 pub(crate) const EXIT_ID: u32 = u32::MAX - 3;
