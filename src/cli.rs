@@ -402,6 +402,10 @@ pub struct RenderArgs {
     /// way marked with the cells to it (`7|`).
     #[arg(long)]
     pub look_ahead: bool,
+    /// Draw the view with one scale across it, as plain perspective does: without the walk's
+    /// foveated view, whose middle is magnified and edges squeezed so far openings stay wide
+    #[arg(long)]
+    pub no_fovea: bool,
     /// Frame size in terminal cells: at most 2000 per side and 1,000,000 cells in all.
     #[arg(long, value_name = "COLSxROWS", default_value = "80x24", value_parser = parse_frame_size)]
     pub size: (usize, usize),

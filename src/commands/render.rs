@@ -162,6 +162,7 @@ fn camera(args: &RenderArgs, maze: &Maze) -> anyhow::Result<(Camera, Position)> 
         // `--fov` is the horizontal field as given, as the lens's is: no widening to keep a generated
         // maze's vertical one
         min_vfov_deg: if args.fov.is_some() || args.look_ahead { 0.0 } else { from_file.min_vfov_deg },
+        fovea: !args.no_fovea,
         ..from_file
     };
     camera.validate().map_err(|e| Usage(e.to_string()))?;

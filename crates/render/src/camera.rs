@@ -8,6 +8,7 @@
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use thiserror::Error;
 
+use super::fovea::{self, AxisWarp};
 use super::raster::GridVertex;
 use mazewalk_math::{self as math, Convention, MathError};
 use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z, WALL_MARGIN, heading_right};
@@ -99,6 +100,10 @@ pub struct Camera {
     pub convention: Convention,
     /// How far the viewer sees (the far plane), in maze units.
     pub view_distance: f32,
+    /// A wide perspective view (over [`fovea::MIN_HFOV_DEG`]) is drawn through the foveated
+    /// viewport: its middle magnified, its edges squeezed ([`fovea`]). Off in [`Camera::new`]; the
+    /// walk and `mazewalk render` turn it on.
+    pub fovea: bool,
 }
 
 impl Camera {
@@ -115,6 +120,7 @@ impl Camera {
             projection: Projection::Perspective,
             convention: Convention::RhGl,
             view_distance: DEFAULT_VIEW_DISTANCE,
+            fovea: false,
         }
     }
 
@@ -213,6 +219,13 @@ impl Camera {
         let half_h = half_w / aspect;
         let ndc_to_grid = math::viewport(width as f32, height as f32, conv.depth_range())?;
         let world_to_clip = view_to_clip * world_to_view;
+        let foveated = self.fovea
+            && self.projection == Projection::Perspective
+            && hfov.to_degrees() > fovea::MIN_HFOV_DEG;
+        let warp = match (AxisWarp::new(width), AxisWarp::new(height)) {
+            (Some(x), Some(y)) if foveated => Some([x, y]),
+            _ => None,
+        };
         Ok(Eye {
             camera: *self,
             width,
@@ -229,6 +242,8 @@ impl Camera {
             far,
             half_w,
             half_h,
+            window: [Vec2::NEG_ONE, Vec2::ONE],
+            warp,
         })
     }
 }
@@ -266,6 +281,21 @@ pub struct Eye {
     pub half_w: f32,
     /// Perspective: tan(vfov/2); orthographic: half the view height in maze units.
     pub half_h: f32,
+    /// The part of NDC this grid shows, (min x, min y) and (max x, max y): all of it, or one tile's
+    /// band of a foveated view ([`Eye::tiles`]).
+    pub window: [Vec2; 2],
+    /// The foveated viewport's warp across and down ([`fovea`]), or `None`: NDC → screen before the
+    /// viewport. Only a whole view's eye has one; its tiles' eyes are each plain viewports.
+    pub warp: Option<[AxisWarp; 2]>,
+}
+
+/// One tile of a view ([`Eye::tiles`]): an eye for its samples, and where they go in the view's grid.
+#[derive(Clone, Copy, Debug)]
+pub struct Tile {
+    /// The tile's own eye: the view's projection, a viewport over the tile's NDC window.
+    pub eye: Eye,
+    /// The tile's first column and row in the view's grid.
+    pub at: (usize, usize),
 }
 
 impl Eye {
@@ -275,11 +305,62 @@ impl Eye {
         self.world_to_clip * world.extend(1.0)
     }
 
-    /// Clip → grid: divide by w (clip → NDC), then the viewport (NDC → grid x, y, depth in [0, 1]).
+    /// Clip → grid: divide by w (clip → NDC), the fovea's warp if any, then the viewport (NDC → grid
+    /// x, y, depth in [0, 1]).
     #[must_use]
     pub fn grid(&self, clip: Vec4) -> Vec3 {
-        let ndc = clip.truncate() / clip.w;
+        let mut ndc = clip.truncate() / clip.w;
+        if let Some([across, down]) = &self.warp {
+            ndc = Vec3::new(across.to_screen(ndc.x), down.to_screen(ndc.y), ndc.z);
+        }
         self.ndc_to_grid.transform_point3(ndc)
+    }
+
+    /// The tiles this view is drawn in: the view itself unless it is foveated, else one tile per
+    /// band across × band down of its warp, each an eye whose plain viewport maps its band of NDC
+    /// onto its samples, covering the view's grid once.
+    #[must_use]
+    pub fn tiles(&self) -> Vec<Tile> {
+        let Some([across, down]) = &self.warp else { return vec![Tile { eye: *self, at: (0, 0) }] };
+        let (w, h) = (self.width as f32, self.height as f32);
+        let col = |s: f32| ((s + 1.0) * 0.5 * w).round() as usize;
+        let row = |s: f32| ((1.0 - s) * 0.5 * h).round() as usize;
+        let mut tiles = Vec::new();
+        for (ndc_y, screen_y) in down.bands().collect::<Vec<_>>().into_iter().rev() {
+            for (ndc_x, screen_x) in across.bands() {
+                let (x0, x1, y0, y1) =
+                    (col(screen_x[0]), col(screen_x[1]), row(screen_y[1]), row(screen_y[0]));
+                let (width, height) = (x1 - x0, y1 - y0);
+                // The band's NDC onto [-1, 1], then the plain viewport onto the tile's samples.
+                let centre = Vec2::new(ndc_x[0] + ndc_x[1], ndc_y[0] + ndc_y[1]) * 0.5;
+                let scale = Vec2::new(2.0 / (ndc_x[1] - ndc_x[0]), 2.0 / (ndc_y[1] - ndc_y[0]));
+                let to_band =
+                    Mat4::from_scale(scale.extend(1.0)) * Mat4::from_translation((-centre).extend(0.0));
+                let Ok(viewport) =
+                    math::viewport(width as f32, height as f32, self.camera.convention.depth_range())
+                else {
+                    continue; // an empty band (none: knots are strictly apart)
+                };
+                let eye = Eye {
+                    width,
+                    height,
+                    ndc_to_grid: viewport * to_band,
+                    window: [Vec2::new(ndc_x[0], ndc_y[0]), Vec2::new(ndc_x[1], ndc_y[1])],
+                    warp: None,
+                    ..*self
+                };
+                tiles.push(Tile { eye, at: (x0, y0) });
+            }
+        }
+        tiles
+    }
+
+    /// What this grid spans across and down: in tan of the angle off the view axis (perspective) or
+    /// maze units (orthographic); a tile, its band's share. `width / tan_extent().x` samples a unit.
+    #[must_use]
+    pub fn tan_extent(&self) -> Vec2 {
+        let extent = self.window[1] - self.window[0];
+        Vec2::new(extent.x * self.half_w, extent.y * self.half_h)
     }
 
     /// A clipped vertex taken to the raster: ÷w → NDC → viewport, with `1/w` kept for perspective-correct
@@ -313,8 +394,12 @@ impl Eye {
     /// `t` (orthographic). Built from the camera basis, not the matrices, so all conventions agree.
     #[must_use]
     pub fn ray(&self, gx: f32, gy: f32) -> (Vec3, Vec3) {
-        let ndc_x = gx / self.width as f32 * 2.0 - 1.0;
-        let ndc_y = 1.0 - gy / self.height as f32 * 2.0; // grid y down, NDC y up
+        let [lo, hi] = self.window;
+        let mut ndc_x = lo.x + gx / self.width as f32 * (hi.x - lo.x);
+        let mut ndc_y = hi.y - gy / self.height as f32 * (hi.y - lo.y); // grid y down, NDC y up
+        if let Some([across, down]) = &self.warp {
+            (ndc_x, ndc_y) = (across.to_ndc(ndc_x), down.to_ndc(ndc_y));
+        }
         match self.camera.projection {
             Projection::Perspective => {
                 let dir = self.forward + self.right * (ndc_x * self.half_w) + self.up * (ndc_y * self.half_h);
@@ -356,6 +441,44 @@ impl DepthByDistance {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A foveated view's tiles cover its grid exactly once, each tile's viewport maps its NDC window
+    /// onto its samples, and a point's grid position through the view's warp is its position through
+    /// the tile that holds it; a view that is not foveated is its own one tile.
+    #[test]
+    fn tiles_cover_the_grid_once_and_agree_with_the_warp() {
+        for (cols, rows, fovea, hfov) in
+            [(120, 80, true, 119.0), (80, 48, true, 120.0), (201, 61, true, 90.0), (120, 80, false, 119.0)]
+        {
+            let camera = Camera { fovea, ..Camera::new(Vec2::new(2.0, -1.0), 30.0, hfov) };
+            let view = camera.eye(cols, rows, 1.0).expect("eye");
+            let tiles = view.tiles();
+            assert_eq!(tiles.len(), if fovea { 25 } else { 1 }, "{cols}×{rows}");
+            let mut covered = vec![0u8; cols * rows];
+            for tile in &tiles {
+                let (x0, y0) = tile.at;
+                for y in y0..y0 + tile.eye.height {
+                    for x in x0..x0 + tile.eye.width {
+                        covered[y * cols + x] += 1;
+                    }
+                }
+                // points inside the tile's window: the same grid position both ways
+                let [lo, hi] = tile.eye.window;
+                for t in [0.1f32, 0.5, 0.9] {
+                    let ndc = lo.lerp(hi, t).extend(0.3);
+                    let clip = ndc.extend(1.0) * 2.5; // any w: the divide brings back `ndc`
+                    let (whole, own) = (view.grid(clip), tile.eye.grid(clip));
+                    let own = own + Vec3::new(x0 as f32, y0 as f32, 0.0);
+                    assert!(whole.distance(own) < 1e-3, "{cols}×{rows} {ndc}: {whole} vs {own}");
+                    // and the ray through that grid point is the same ray
+                    let (a, b) =
+                        (view.ray(whole.x, whole.y).1, tile.eye.ray(own.x - x0 as f32, own.y - y0 as f32).1);
+                    assert!(a.distance(b) < 1e-4, "{a} vs {b}");
+                }
+            }
+            assert!(covered.iter().all(|&c| c == 1), "{cols}×{rows}: every sample in one tile");
+        }
+    }
 
     /// `DepthByDistance` agrees with the full clip → grid path for points all over the view volume, in
     /// every projection and convention, pitched or level.

@@ -59,6 +59,7 @@
 #![forbid(unsafe_code)]
 
 pub mod camera;
+pub mod fovea;
 pub mod glyph;
 pub mod line;
 pub mod options;
@@ -74,7 +75,7 @@ pub mod shade;
 pub mod sprite;
 pub mod wall;
 
-pub use camera::{Camera, CameraError, Eye, Projection};
+pub use camera::{Camera, CameraError, Eye, Projection, Tile};
 pub use glyph::to_frame;
 pub use line::{draw_line, line_glyph, line_points};
 pub use options::{Charset, Culling, Ramp, RenderOptions};
@@ -91,7 +92,8 @@ impl Renderer {
     /// The pipeline up to the samples (no glyphs): what the frame is made of, sample by sample.
     ///
     /// The whole chain in order, one stage a line (tinyrenderer's `our_gl` in spirit); every stage is
-    /// a method below, and the matrices are the math crate's.
+    /// a method below, and the matrices are the math crate's. A foveated view ([`fovea`]) runs the
+    /// stages once per tile, each tile an eye with a plain viewport over its band of NDC.
     #[allow(clippy::too_many_arguments)]
     fn samples_with(
         &mut self,
@@ -106,40 +108,54 @@ impl Renderer {
         textures: bool,
     ) -> Result<RenderStats, CameraError> {
         let (sx, sy) = charset.samples_per_cell();
-        let eye = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // look-at, projection, viewport
-        let mut stats = self.draw(maze, &eye, culling, Shading::Color, textures); // portal pass, walls, floor, ceiling
+        let view = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // look-at, projection, viewport
+        let mut stats = self.choose_walls(maze, &view, culling); // portal pass: cell to cell through openings
         self.ascii_lines = charset == Charset::Ascii;
-        let visible = |cell: u32| culling == Culling::None || self.portal.was_visited(cell);
-        let fog = fog_of(&eye);
-        stats.samples_written += self.sprites.draw(&mut self.samples, &eye, &fog, sprites, visible); // figures
-        if let Some(point) = maze.exit().filter(|exit| visible(exit.cell)).and(maze.exit_point()) {
-            stats.samples_written += self.sprites.draw_beacon(&mut self.samples, &eye, &fog, point); // the exit
+        self.faced.clear(); // ascii: which walls are seen square on, set by the outlines
+        let tiles = view.tiles();
+        self.wall_boxes(maze, &view, tiles.len()); // a foveated view: where on the screen each wall lies
+        self.choose_cell_lines(maze, &view, culling, tiles.len() > 1); // the openings' lines, the way's
+        for (k, tile) in tiles.iter().enumerate() {
+            let eye = &tile.eye; // the whole view, or one tile of a foveated view
+            self.enter_tile(&view, k); // a foveated view's tile: samples of its own
+            self.walls_in(eye); // a foveated view's tile: the walls that reach it
+            stats.add(self.draw(maze, eye, Shading::Color, textures)); // walls, floor, ceiling
+            let visible = |cell: u32| culling == Culling::None || self.portal.was_visited(cell);
+            let fog = fog_of(eye);
+            stats.samples_written += self.sprites.draw(&mut self.samples, eye, &fog, sprites, visible); // figures
+            if let Some(point) = maze.exit().filter(|exit| visible(exit.cell)).and(maze.exit_point()) {
+                stats.samples_written += self.sprites.draw_beacon(&mut self.samples, eye, &fog, point); // the exit
+            }
+            if !self.no_edges {
+                self.draw_edges(maze, eye); // where surfaces meet: edges; where cells meet along a wall: seams
+                self.draw_cell_bounds(maze, eye); // cell boundaries on floor and ceiling: fainter lines
+                self.draw_jambs(maze, eye); // where a wall ends at an opening: a light line, seen from afar
+                self.draw_chalk(maze, eye, culling); // the walked cells' chalk crosses on the floor
+            }
+            if charset == Charset::Ascii {
+                self.outline_visible_walls(maze, eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
+            }
+            self.place_tile(&view, tile, k); // a tile's samples into the view's picture
         }
+        self.finish_tiles(&view);
         if !self.no_edges {
-            self.draw_edges(maze, &eye); // where surfaces meet: edges; where cells meet along a wall: seams
-            self.draw_cell_bounds(maze, &eye, culling); // cell boundaries on floor and ceiling: fainter lines
-            self.draw_jambs(maze, &eye); // where a wall ends at an opening: a light line, seen from afar
-            self.draw_chalk(maze, &eye, culling); // the walked cells' chalk crosses on the floor
+            self.stitch_edges(maze, &tiles); // a foveated view: the edges where its tiles meet
         }
-        if charset == Charset::Ascii {
-            self.outline_visible_walls(maze, &eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
-        }
-        stats.walls_drawn = self.walls.len();
+        stats.walls_drawn = self.wall_count();
         Ok(stats)
     }
 
-    /// The 3D part of the pipeline for `eye`: choose the walls, draw each through the whole chain,
-    /// then floor and ceiling where no wall is nearer.
+    /// The 3D part of the pipeline for `eye`, once its walls are chosen ([`Renderer::choose_walls`]):
+    /// draw each wall through the whole chain, then floor and ceiling where no wall is nearer.
     fn draw(
         &mut self,
         maze: &mazewalk_maze::Maze,
         eye: &Eye,
-        culling: Culling,
         shading: Shading,
         textures: bool,
     ) -> RenderStats {
         self.begin(maze, eye); // every sample uncovered, the buffer sized to the grid
-        let mut stats = self.choose_walls(maze, eye, culling); // portal pass: cell to cell through openings
+        let mut stats = RenderStats::default();
         let light = Light::of(eye, maze, true); // the fog, the sun and the headlight of this view
         for k in 0..self.walls.len() {
             let e = self.walls[k]; // model → world → view → clip → clip → ÷w → NDC → viewport → raster

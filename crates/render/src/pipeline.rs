@@ -15,7 +15,7 @@ use glam::{Vec2, Vec3};
 use wide::bytemuck::cast;
 use wide::{f32x8, i32x8, u32x8};
 
-use super::camera::{Camera, CameraError, Eye, Projection};
+use super::camera::{Camera, CameraError, Eye, Projection, Tile};
 use super::glyph;
 use super::line::{LinePoints, line_glyph, line_points};
 use super::options::{Charset, Culling, RenderOptions};
@@ -29,7 +29,7 @@ use super::shade::{
     jamb_grey, line_color, lit, luminance, seam_color, slant_cosine, srgb_to_linear, sun_factor, wall_albedo,
     way_light, way_light_16,
 };
-use super::sprite::{EXIT_GLOW, Sprite, SpritePass, is_figure};
+use super::sprite::{EXIT_GLOW, Label, Sprite, SpritePass, is_figure};
 use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
 use mazewalk_math::rigid_inverse;
 use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
@@ -69,6 +69,14 @@ pub struct RenderStats {
     pub samples_written: usize,
 }
 
+impl RenderStats {
+    /// Adds a tile's raster counts (the portal pass's stay the view's).
+    pub(crate) fn add(&mut self, tile: RenderStats) {
+        self.triangles += tile.triangles;
+        self.samples_written += tile.samples_written;
+    }
+}
+
 /// What the shading closure computes per sample: a colour, or the view depth (for `--depth-out`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Shading {
@@ -100,10 +108,14 @@ impl<'m> Light<'m> {
             sun_view: (eye.normal_to_view * SUN_WORLD).normalize_or_zero(),
             ortho: eye.camera.projection == Projection::Orthographic,
             view_to_world: rigid_inverse(eye.world_to_view),
-            per_sample: 2.0 * eye.half_w / eye.width.max(1) as f32,
+            per_sample: eye.tan_extent().x / eye.width.max(1) as f32,
         }
     }
 }
+
+/// A tile draws the walls whose boxes come this many samples near it: a wall's edge is drawn on the
+/// sample beside the wall.
+const TILE_MARGIN: f32 = 2.0;
 
 /// A wall shorter than this many samples on the picture draws no edge against the ceiling and floor,
 /// so it shows its whole height and no more ([`Renderer::draw_edges`]): six rows of half blocks.
@@ -124,8 +136,20 @@ pub(crate) fn fog_of(eye: &Eye) -> Fog {
 #[derive(Debug, Default)]
 pub struct Renderer {
     pub(crate) samples: SampleBuffer,
+    /// A foveated view's picture, its tiles placed in it one by one ([`Renderer::place_tile`]); then
+    /// swapped into `samples` (`showing_picture`) until the next foveated view.
+    picture: SampleBuffer,
+    showing_picture: bool,
+    /// A foveated view's tiles' own samples, each its tile's size from frame to frame.
+    tile_samples: Vec<SampleBuffer>,
+    /// The figures' labels of a foveated view's tiles, at their samples in the whole view.
+    tile_labels: Vec<Label>,
     pub(crate) portal: PortalPass,
     pub(crate) walls: Vec<u32>,
+    /// A view drawn in tiles: its chosen walls, each with the box it covers in NDC.
+    wall_boxes: Vec<(u32, [Vec2; 2])>,
+    /// A view drawn in tiles: each row's short-wall depth ([`Renderer::stitch_edges`]).
+    short_rows: Vec<f32>,
     scratch: ClipScratch,
     polygon_grid: Vec<GridVertex<Vec3>>,
     /// The walls' fill's depths a column (`raster::fill_polygon_x8`), reused.
@@ -159,6 +183,11 @@ pub struct Renderer {
     chalk: Vec<u32>,
     /// The last frame's openings whose lines are drawn in the way's light ([`way_light`]).
     way: Vec<u32>,
+    /// The last frame's openings whose lines are drawn on the floor and ceiling (`draw_cell_bounds`).
+    lines: Vec<u32>,
+    /// A view drawn in tiles: the NDC box of each line of `lines` then `way`, on the floor and on the
+    /// ceiling.
+    line_boxes: Vec<[[Vec2; 2]; 2]>,
     /// This frame tints no floor or ceiling by the exit's light: in 16 colours (the floor and the
     /// ceiling show one entry each there, and a green one would be a wall's; walls show the glow's
     /// dark green, `palette::GLOW_16`) and without colour (ascii shows lightness only: the frame stays
@@ -305,8 +334,18 @@ impl Renderer {
             }
             Target::Depths { cols, rows } => {
                 // One sample per cell, centred in the cell: exactly the ascii sampling.
-                let eye = camera.eye(cols, rows, Charset::Ascii.sample_aspect(cell_aspect))?;
-                Ok(self.draw(maze, &eye, culling, Shading::ViewDepth, false))
+                let view = camera.eye(cols, rows, Charset::Ascii.sample_aspect(cell_aspect))?;
+                let mut stats = self.choose_walls(maze, &view, culling);
+                let tiles = view.tiles();
+                self.wall_boxes(maze, &view, tiles.len());
+                for (k, tile) in tiles.iter().enumerate() {
+                    self.enter_tile(&view, k);
+                    self.walls_in(&tile.eye);
+                    stats.add(self.draw(maze, &tile.eye, Shading::ViewDepth, false));
+                    self.place_tile(&view, tile, k);
+                }
+                self.finish_tiles(&view);
+                Ok(stats)
             }
         }
     }
@@ -346,6 +385,86 @@ impl Renderer {
     #[must_use]
     pub fn heads(&self) -> &[(usize, usize, usize)] {
         &self.heads
+    }
+
+    /// Before tile `k` of a view: a foveated view's tile draws into its own samples. Nothing to do
+    /// for a view drawn whole (its one tile is the view).
+    pub(crate) fn enter_tile(&mut self, view: &Eye, k: usize) {
+        if view.warp.is_none() {
+            return;
+        }
+        if std::mem::take(&mut self.showing_picture) {
+            std::mem::swap(&mut self.samples, &mut self.picture);
+        }
+        if self.tile_samples.len() <= k {
+            self.tile_samples.resize_with(k + 1, SampleBuffer::default);
+        }
+        std::mem::swap(&mut self.samples, &mut self.tile_samples[k]);
+    }
+
+    /// After tile `k`: its samples, labels and outlines into the view's picture.
+    pub(crate) fn place_tile(&mut self, view: &Eye, tile: &Tile, k: usize) {
+        if view.warp.is_none() {
+            return;
+        }
+        if self.picture.width() != view.width || self.picture.height() != view.height {
+            self.picture.resize(view.width, view.height);
+        }
+        let (x0, y0) = tile.at;
+        self.picture.place(&self.samples, x0, y0); // (the tile's samples, still in `samples`)
+        let tile_width = tile.eye.width;
+        self.tile_labels.extend(self.sprites.labels.iter().map(|label| Label {
+            sample: (label.sample / tile_width + y0) * view.width + label.sample % tile_width + x0,
+            ..*label
+        }));
+        std::mem::swap(&mut self.samples, &mut self.tile_samples[k]);
+    }
+
+    /// After the last tile of a foveated view: its picture becomes the samples, its labels the
+    /// figures' labels.
+    pub(crate) fn finish_tiles(&mut self, view: &Eye) {
+        if view.warp.is_none() {
+            return;
+        }
+        std::mem::swap(&mut self.samples, &mut self.picture);
+        self.showing_picture = true;
+        std::mem::swap(&mut self.sprites.labels, &mut self.tile_labels);
+        self.tile_labels.clear();
+    }
+
+    /// A view drawn in several tiles: each chosen wall with the box it covers in NDC (its clipped
+    /// polygon's), into `wall_boxes`; walls wholly clipped away are left out. Nothing for one tile.
+    pub(crate) fn wall_boxes(&mut self, maze: &Maze, view: &Eye, tiles: usize) {
+        self.wall_boxes.clear();
+        if tiles <= 1 {
+            return;
+        }
+        for &e in &self.walls {
+            let Some(poly) = clip_wall(maze, view, e, &mut self.scratch) else { continue };
+            let ndc = |v: &super::wall::WallVertex| v.clip.truncate().truncate() / v.clip.w;
+            let (lo, hi) = poly
+                .iter()
+                .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(ndc(v)), hi.max(ndc(v))));
+            self.wall_boxes.push((e, [lo, hi]));
+        }
+    }
+
+    /// A tile of a view drawn in several: `walls` becomes the chosen walls whose box
+    /// ([`Renderer::wall_boxes`]) comes within [`TILE_MARGIN`] samples of the tile (a wall's edges are
+    /// drawn on the samples beside it). Nothing for a view drawn whole.
+    pub(crate) fn walls_in(&mut self, tile: &Eye) {
+        if self.wall_boxes.is_empty() {
+            return; // a view drawn whole (or one whose walls are all clipped away)
+        }
+        let window = tile_window(tile);
+        self.walls.clear();
+        self.walls.extend(self.wall_boxes.iter().filter(|(_, b)| meets(*b, window)).map(|&(e, _)| e));
+    }
+
+    /// The walls of the whole view: chosen ([`Renderer::choose_walls`]), or those seen through its
+    /// tiles.
+    pub(crate) fn wall_count(&self) -> usize {
+        if self.wall_boxes.is_empty() { self.walls.len() } else { self.wall_boxes.len() }
     }
 
     /// A new frame's samples: sized to the grid, none covered.
@@ -733,10 +852,44 @@ impl Renderer {
     /// edge ([`seam_color`]), so a player counts the cells a wall runs along (issue #39).
     #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn draw_edges(&mut self, maze: &Maze, eye: &Eye) {
+        let short_from = short_wall_depth(eye);
+        self.edges_of(maze, &|_| short_from, Pairs::All);
+    }
+
+    /// A view drawn in tiles, once they are placed: the edges and seams between neighbouring samples
+    /// of two tiles, which neither tile's [`Renderer::draw_edges`] saw (`tiles` as placed; each row
+    /// of the picture takes its tiles' short-wall depth).
+    pub(crate) fn stitch_edges(&mut self, maze: &Maze, tiles: &[Tile]) {
+        if tiles.len() <= 1 {
+            return;
+        }
+        let mut short_rows = std::mem::take(&mut self.short_rows);
+        short_rows.clear();
+        short_rows.resize(self.samples.height(), f32::INFINITY);
+        let (mut columns, mut rows) = (Vec::new(), Vec::new());
+        for tile in tiles {
+            let (x, y) = tile.at;
+            short_rows[y..y + tile.eye.height].fill(short_wall_depth(&tile.eye));
+            columns.push(x);
+            rows.push(y);
+        }
+        columns.retain(|&x| x > 0);
+        rows.retain(|&y| y > 0);
+        columns.sort_unstable();
+        columns.dedup();
+        rows.sort_unstable();
+        rows.dedup();
+        let width = self.samples.width();
+        self.edges_of(maze, &|k| short_rows[k / width], Pairs::Across { columns: &columns, rows: &rows });
+        self.short_rows = short_rows;
+    }
+
+    /// Marks and paints the edges and seams between the neighbouring samples `pairs` names; a wall at
+    /// sample `k` as deep as `short_from(k)` or deeper is short ([`FAR_WALL_SAMPLES`]).
+    fn edges_of(&mut self, maze: &Maze, short_from: &dyn Fn(usize) -> f32, pairs: Pairs<'_>) {
         let (width, height) = (self.samples.width(), self.samples.height());
-        if self.edge_marks.len() != width * height {
-            self.edge_marks.clear();
-            self.edge_marks.resize(width * height, Mark::None);
+        if self.edge_marks.len() < width * height {
+            self.edge_marks.resize(width * height, Mark::None); // (all None: a tile uses the first ones)
         }
         self.edge_list.clear();
         let walls = maze.edges().len() as u32;
@@ -754,18 +907,6 @@ impl Renderer {
         };
         let (ids, depth) = (self.samples.id(), self.samples.depth());
         let planes_apart = self.walls_apart;
-        // Where a wall stands shorter on the picture than FAR_WALL_SAMPLES: from this view depth on
-        // (a wall spans `height · (CEILING_Z − FLOOR_Z) / (2 · half_h · depth)` samples in perspective,
-        // the same at every depth in orthographic).
-        let span_at_unit_depth = eye.height as f32 * (CEILING_Z - FLOOR_Z) / (2.0 * eye.half_h);
-        let short_from = match eye.camera.projection {
-            // as the depth buffer holds it (grid depth, growing with the distance: depth LESS)
-            Projection::Perspective => {
-                eye.depth_by_distance().grid_depth(span_at_unit_depth / FAR_WALL_SAMPLES)
-            }
-            Projection::Orthographic if span_at_unit_depth < FAR_WALL_SAMPLES => f32::NEG_INFINITY,
-            Projection::Orthographic => f32::INFINITY,
-        };
         let (marks, list) = (&mut self.edge_marks, &mut self.edge_list);
         let mut mark = |i: usize, j: usize, what: Mark| {
             if what == Mark::None {
@@ -780,7 +921,7 @@ impl Renderer {
             // is. A seam on the sample left of (or above) the boundary, so a seam seen square-on is
             // one sample wide whichever wall is nearer.
             let plane = |k: usize| planes_apart && (ids[k] == FLOOR || ids[k] == CEILING);
-            let short = |k: usize| ids[k] < walls && depth[k] >= short_from;
+            let short = |k: usize| ids[k] < walls && depth[k] >= short_from(k);
             if what == Mark::Edge && ((plane(i) && short(j)) || (plane(j) && short(i))) {
                 return;
             }
@@ -799,18 +940,41 @@ impl Renderer {
             }
             marks[at] = marks[at].max(what);
         };
-        // Neighbours to the right, then below; most pairs are one surface, skipped eight at a time.
-        for y in 0..height {
-            let row = y * width;
-            let here = &ids[row..row + width];
-            for_each_difference(here, &here[1.min(width)..], |x| {
-                mark(row + x, row + x + 1, differ(here[x], here[x + 1]));
-            });
-            if y + 1 < height {
-                let below = &ids[row + width..row + 2 * width];
-                for_each_difference(here, below, |x| {
-                    mark(row + x, row + width + x, differ(here[x], below[x]));
-                });
+        match pairs {
+            // Neighbours to the right, then below; most pairs are one surface, skipped eight at a time.
+            Pairs::All => {
+                for y in 0..height {
+                    let row = y * width;
+                    let here = &ids[row..row + width];
+                    for_each_difference(here, &here[1.min(width)..], |x| {
+                        mark(row + x, row + x + 1, differ(here[x], here[x + 1]));
+                    });
+                    if y + 1 < height {
+                        let below = &ids[row + width..row + 2 * width];
+                        for_each_difference(here, below, |x| {
+                            mark(row + x, row + width + x, differ(here[x], below[x]));
+                        });
+                    }
+                }
+            }
+            // Only across the given columns' left sides and rows' tops.
+            Pairs::Across { columns, rows } => {
+                for &x in columns {
+                    for y in 0..height {
+                        let (i, j) = (y * width + x - 1, y * width + x);
+                        if ids[i] != ids[j] {
+                            mark(i, j, differ(ids[i], ids[j]));
+                        }
+                    }
+                }
+                for &y in rows {
+                    for x in 0..width {
+                        let (i, j) = ((y - 1) * width + x, y * width + x);
+                        if ids[i] != ids[j] {
+                            mark(i, j, differ(ids[i], ids[j]));
+                        }
+                    }
+                }
             }
         }
         // In 16 colours a lit wall's seams and corners (where it meets another wall beside it: its
@@ -835,6 +999,50 @@ impl Renderer {
         }
     }
 
+    /// The openings whose lines [`Renderer::draw_cell_bounds`] draws, once a view: those of the
+    /// cells the pass visited (every one, brute force or past the pass's cap), and those the exit's
+    /// light comes through toward the eye; a view drawn in tiles also keeps each line's box on the
+    /// screen, so a tile draws only the lines that reach it.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
+    pub(crate) fn choose_cell_lines(&mut self, maze: &Maze, view: &Eye, culling: Culling, tiled: bool) {
+        self.lines.clear();
+        match culling {
+            Culling::Portal if self.portal.fell_back() => self.lines.extend(0..maze.edges().len() as u32),
+            Culling::None => self.lines.extend(0..maze.edges().len() as u32),
+            Culling::Portal => {
+                for &cell in &self.portal.visited {
+                    self.lines.extend_from_slice(maze.cell_edges(cell));
+                }
+            }
+        }
+        self.lines.retain(|&e| !maze.edge(e).opaque);
+        self.lines.sort_unstable();
+        self.lines.dedup();
+        // The openings the exit's light comes through toward the eye: each lit cell's way one step
+        // nearer the exit, seen from the cell's side (`ExitLight::lit_through`); their lines are
+        // drawn in the way's light ([`way_light`], [`WAY_GLYPH`]) after the others (issue #39).
+        let light = maze.exit_light();
+        let at = view.position.truncate();
+        let toward = |e: u32| {
+            light.lit_through(maze, e).is_some_and(|dim| {
+                let (a, b) = maze.edge_points(e);
+                let side = |p: Vec2| (b - a).perp_dot(p - a);
+                side(at) * side(maze.cell_centroid(dim)) > 0.0
+            })
+        };
+        self.way.clear();
+        self.way.extend(self.lines.iter().copied().filter(|&e| toward(e)));
+        // A view drawn in tiles: where on the screen each line lies, on the floor and on the ceiling.
+        self.line_boxes.clear();
+        if tiled {
+            for &e in self.lines.iter().chain(&self.way) {
+                let (a, b) = maze.edge_points(e);
+                self.line_boxes
+                    .push([FLOOR_Z, CEILING_Z].map(|z| segment_box(view, a.extend(z), b.extend(z))));
+            }
+        }
+    }
+
     /// Cell boundaries on floor and ceiling: each opening of a cell the pass visited (of every cell,
     /// brute force), as a line one sample wide where it lies on the floor (and on the ceiling) in view,
     /// lighter than the plane ([`line_color`]; in 16 colours the light grey, `FLOOR_BOUND_16`), and
@@ -848,22 +1056,9 @@ impl Renderer {
     /// side) is drawn in the way's light instead ([`way_light`], `way_light_16` in 16 colours,
     /// [`WAY_GLYPH`] in ascii): at a junction the glowing line is the way on (issue #39).
     #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub(crate) fn draw_cell_bounds(&mut self, maze: &Maze, eye: &Eye, culling: Culling) {
+    pub(crate) fn draw_cell_bounds(&mut self, maze: &Maze, eye: &Eye) {
         let w = eye.width;
         self.edge_list.clear();
-        self.seen.clear();
-        match culling {
-            Culling::Portal if self.portal.fell_back() => self.seen.extend(0..maze.edges().len() as u32),
-            Culling::None => self.seen.extend(0..maze.edges().len() as u32),
-            Culling::Portal => {
-                for &cell in &self.portal.visited {
-                    self.seen.extend_from_slice(maze.cell_edges(cell));
-                }
-            }
-        }
-        self.seen.retain(|&e| !maze.edge(e).opaque);
-        self.seen.sort_unstable();
-        self.seen.dedup();
         // The lines' colour on the floor and on the ceiling: in truecolor and 256 colours the plane a
         // step lighter (line_color); in 16 colours, where the floor shows one entry, FLOOR_BOUND_16,
         // and on the ceiling the seam's colour, which its ramp shows light grey.
@@ -877,37 +1072,31 @@ impl Renderer {
         // taller (`far_wall_height`), and the cells could not be counted. (The ordinary lines there,
         // lighter than their plane but less than the way's light is, are drawn at every distance:
         // thinned, a line 1–2 cells off on the ceiling, nearer the eye's height, was left out.)
-        let per_unit = eye.height as f32 / (2.0 * eye.half_h); // samples a unit spans at depth 1
+        let per_unit = eye.height as f32 / eye.tan_extent().y; // samples a unit spans at depth 1
         // In ascii (a sample a cell) the lines are glyphs: where they lie under LINE_GAP_ASCII rows
         // apart they make a block of `~`, and the farther ones are left out the same way.
         let gap = if self.ascii_lines { LINE_GAP_ASCII } else { LINE_GAP_16 };
         let colour_lines = !(self.floor_bounds_apart || self.ascii_lines);
         let perspective = eye.camera.projection == Projection::Perspective;
         let walls = maze.edges().len() as u32;
-        // The openings the exit's light comes through toward the eye: each lit cell's way one step
-        // nearer the exit, seen from the cell's side (`ExitLight::lit_through`); their lines are
-        // drawn in the way's light ([`way_light`], [`WAY_GLYPH`]) after the others (issue #39).
-        let light = maze.exit_light();
-        let at = eye.position.truncate();
-        let toward = |e: u32| {
-            light.lit_through(maze, e).is_some_and(|dim| {
-                let (a, b) = maze.edge_points(e);
-                let side = |p: Vec2| (b - a).perp_dot(p - a);
-                side(at) * side(maze.cell_centroid(dim)) > 0.0
-            })
-        };
-        let seen = std::mem::take(&mut self.seen);
-        let mut way = std::mem::take(&mut self.way);
-        way.clear();
-        way.extend(seen.iter().copied().filter(|&e| toward(e)));
+        let seen = std::mem::take(&mut self.lines);
+        let way = std::mem::take(&mut self.way);
+        let boxes = std::mem::take(&mut self.line_boxes);
+        let window = tile_window(eye);
+        let (seen_boxes, way_boxes) = boxes.split_at(if boxes.is_empty() { 0 } else { seen.len() });
         let way_paint = if self.floor_bounds_apart { way_light_16 } else { way_light };
         for (z, plane, paint) in [(FLOOR_Z, FLOOR, paint[0]), (CEILING_Z, CEILING, paint[1])] {
-            for (edges, paint, glyph, is_way) in
-                [(&seen, paint, CELL_LINE_GLYPH, false), (&way, way_paint, WAY_GLYPH, true)]
-            {
+            for (edges, boxes, paint, glyph, is_way) in [
+                (&seen, seen_boxes, paint, CELL_LINE_GLYPH, false),
+                (&way, way_boxes, way_paint, WAY_GLYPH, true),
+            ] {
                 self.edge_list.clear();
                 let below = (eye.position.z - z).abs(); // the plane's distance from the eye's height
-                for &e in edges {
+                for (k, &e) in edges.iter().enumerate() {
+                    // (a view drawn in tiles: only the lines that reach this one)
+                    if boxes.get(k).is_some_and(|b| !meets(b[usize::from(plane == CEILING)], window)) {
+                        continue;
+                    }
                     let (a, b) = maze.edge_points(e);
                     let gap = if is_way && colour_lines { WAY_LINE_GAP } else { gap };
                     if perspective && (is_way || !colour_lines) {
@@ -980,7 +1169,7 @@ impl Renderer {
                 self.paint_marked(paint);
             }
         }
-        (self.seen, self.way) = (seen, way);
+        (self.lines, self.way, self.line_boxes) = (seen, way, boxes);
     }
 
     /// Door jambs: where a wall ends at an opening of its own line (a side opening, a turn) on the
@@ -1111,8 +1300,7 @@ impl Renderer {
         self.seen.extend(runs.filter(|&id| id < edges));
         self.seen.sort_unstable();
         self.seen.dedup();
-        self.faced.clear();
-        self.faced.resize(edges as usize, false);
+        self.faced.resize(edges as usize, false); // cleared once a view: its tiles set their walls
         let (w, h) = (eye.width, eye.height);
         let forward = ground_forward(eye);
         for &e in &self.seen {
@@ -1997,6 +2185,49 @@ fn for_each_difference(a: &[u32], b: &[u32], mut f: impl FnMut(usize)) {
 
 /// The samples a world segment `p`–`q` passes over in view: clipped against the view volume,
 /// projected to the grid, Bresenham between the samples of its ends (none where it is out of view).
+fn segment_box(eye: &Eye, p: Vec3, q: Vec3) -> [Vec2; 2] {
+    match clip_segment(eye, p, q) {
+        Some((p, q)) => {
+            let (p, q) = (p.truncate().truncate() / p.w, q.truncate().truncate() / q.w);
+            [p.min(q), p.max(q)]
+        }
+        None => [Vec2::INFINITY, Vec2::NEG_INFINITY], // meets nothing
+    }
+}
+
+/// Which neighbouring samples [`Renderer::edges_of`] compares.
+enum Pairs<'a> {
+    /// Every sample with the one to its right and the one below.
+    All,
+    /// Each sample of these columns with the one to its left, and of these rows with the one above.
+    Across { columns: &'a [usize], rows: &'a [usize] },
+}
+
+/// The grid depth from which a wall stands shorter on `eye`'s picture than [`FAR_WALL_SAMPLES`]: a
+/// wall spans `height · (CEILING_Z − FLOOR_Z) / (tan_extent · depth)` samples in perspective, the
+/// same at every depth in orthographic (as the depth buffer holds it: grid depth, growing with the
+/// distance, depth LESS).
+fn short_wall_depth(eye: &Eye) -> f32 {
+    let span_at_unit_depth = eye.height as f32 * (CEILING_Z - FLOOR_Z) / eye.tan_extent().y;
+    match eye.camera.projection {
+        Projection::Perspective => eye.depth_by_distance().grid_depth(span_at_unit_depth / FAR_WALL_SAMPLES),
+        Projection::Orthographic if span_at_unit_depth < FAR_WALL_SAMPLES => f32::NEG_INFINITY,
+        Projection::Orthographic => f32::INFINITY,
+    }
+}
+
+/// A tile's NDC window grown by [`TILE_MARGIN`] samples: what may draw into it.
+fn tile_window(tile: &Eye) -> [Vec2; 2] {
+    let [lo, hi] = tile.window;
+    let margin = TILE_MARGIN * (hi - lo) / Vec2::new(tile.width as f32, tile.height as f32);
+    [lo - margin, hi + margin]
+}
+
+/// Whether two NDC boxes overlap.
+fn meets([a, b]: [Vec2; 2], [lo, hi]: [Vec2; 2]) -> bool {
+    a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y
+}
+
 fn segment_samples(eye: &Eye, p: Vec3, q: Vec3) -> LinePoints {
     // The line itself, not a `flat_map` over the clipped `Option`: the adapter's per-point bookkeeping
     // cost more than the point (~60 instructions a point in the open view, of ~2,000 points a frame).

@@ -137,6 +137,21 @@ impl SampleBuffer {
     }
 
     /// Writes sample `i` (row-major index, in range).
+    /// Copies every sample of `tile` into this buffer with its top-left at (`x0`, `y0`): colour,
+    /// depth, id and outline glyph. `tile` must fit.
+    pub(crate) fn place(&mut self, tile: &SampleBuffer, x0: usize, y0: usize) {
+        debug_assert!(x0 + tile.width <= self.width && y0 + tile.height <= self.height, "the tile fits");
+        for y in 0..tile.height {
+            let (from, to) = (y * tile.width, (y0 + y) * self.width + x0);
+            let n = tile.width;
+            self.color[to..to + n].copy_from_slice(&tile.color[from..from + n]);
+            self.depth[to..to + n].copy_from_slice(&tile.depth[from..from + n]);
+            self.id[to..to + n].copy_from_slice(&tile.id[from..from + n]);
+            self.outline[to..to + n].copy_from_slice(&tile.outline[from..from + n]);
+        }
+        self.outlined |= tile.outlined;
+    }
+
     pub(crate) fn write(&mut self, i: usize, color: Vec3, depth: f32, id: u32) {
         self.color[i] = color;
         self.depth[i] = depth;

@@ -38,6 +38,8 @@ pub enum Action {
     FovNarrower,
     /// The look-ahead lens on / off (z): a narrow field for far openings.
     ToggleLookAhead,
+    /// The foveated view on / off (f): the wide field with its middle magnified, or drawn plainly.
+    ToggleFovea,
     /// Perspective ↔ orthographic (p).
     ToggleProjection,
     /// Map: off → corner → full screen (m).
@@ -113,6 +115,7 @@ pub(crate) fn action_for(key: Key) -> Option<Action> {
             ',' | '<' => Action::SnapLeft,
             '.' | '>' => Action::SnapRight,
             'z' => Action::ToggleLookAhead,
+            'f' => Action::ToggleFovea,
             'p' => Action::ToggleProjection,
             'm' => Action::CycleMap,
             'c' => Action::CycleCharset,
@@ -149,6 +152,7 @@ pub(crate) const HELP: &[(&str, &str)] = &[
     ("[ / ]", "move down / up"),
     ("+ / -", "wider / narrower field of view"),
     ("z", "look ahead: a 30° lens for far openings"),
+    ("f", "view: middle magnified (far openings) / plain"),
     ("drag", "look around with the mouse"),
     ("p", "perspective / orthographic"),
     ("m", "map: corner / full / off (shows what you have seen)"),

@@ -240,6 +240,7 @@ pub fn viewer_camera(maze: &Maze) -> Camera {
     Camera {
         eye_z: clamp_eye_height(viewer.z),
         min_vfov_deg: maze.min_vfov_deg(),
+        fovea: true,
         ..Camera::new(viewer.pos, viewer.dir_deg, fov)
     }
 }
@@ -538,6 +539,7 @@ impl App {
                 self.snap_turn(if action == Action::SnapLeft { 90.0 } else { -90.0 }, now);
             }
             Action::Reset => self.reset(now),
+            Action::ToggleFovea => self.camera.fovea = !self.camera.fovea,
             Action::ToggleLookAhead => self.set_look_ahead(self.look_ahead.is_none()),
             // the exit box shows instead of the help: a toggle there would pop up unseen after it
             Action::Help if self.exit_box => return false,

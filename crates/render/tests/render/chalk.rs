@@ -25,6 +25,7 @@ fn view_to_neighbour(maze: &Maze, cell: u32, side: usize) -> Option<(Camera, u32
     let camera = Camera {
         eye_z: v.z,
         min_vfov_deg: maze.min_vfov_deg(),
+        fovea: true,
         ..Camera::new(from, d.y.atan2(d.x).to_degrees(), v.fov_deg)
     };
     Some((camera, next))

@@ -47,6 +47,7 @@ fn cell_camera(maze: &Maze, cell: u32, heading: f32) -> Camera {
     Camera {
         eye_z: v.z,
         min_vfov_deg: maze.min_vfov_deg(),
+        fovea: true,
         ..Camera::new(maze.cell_centroid(cell), heading, v.fov_deg)
     }
 }
@@ -331,7 +332,9 @@ struct Boundary<'a> {
     in_a_line: bool,
 }
 
-/// Every [`Boundary`] on rows 16, 20 and 24 of the 120×40 views in each of `depths` (`visit`'s
+/// Every [`Boundary`] (each wall seen above and below it too: on a wall's top or bottom edge row the
+/// edge is drawn there, not the seam; the foveated view's magnified middle puts such rows among those
+/// judged) on rows 16, 20 and 24 of the 120×40 views in each of `depths` (`visit`'s
 /// first argument is its index) from the centre of every cell (only the lit ones if `lit_only`;
 /// its second argument: whether the cell is lit) at four headings, in five 20×15 generated mazes.
 fn wall_boundaries(depths: &[ColorDepth], lit_only: bool, mut visit: impl FnMut(usize, bool, Boundary)) {
@@ -351,7 +354,17 @@ fn wall_boundaries(depths: &[ColorDepth], lit_only: bool, mut visit: impl FnMut(
                     for row in [16usize, 20, 24] {
                         for x in 3..116 {
                             let (k, a, b) = (row * 120 + x, ids[row * 120 + x], ids[row * 120 + x + 1]);
-                            if a == b || a >= walls || b >= walls || ids[k - 2] != a || ids[k + 3] != b {
+                            // (each wall seen above and below too: not on its top or bottom edge's
+                            // row, where the edge, not the seam, is drawn)
+                            let upright = |j: usize, id: u32| ids[j - 120] == id && ids[j + 120] == id;
+                            if a == b
+                                || a >= walls
+                                || b >= walls
+                                || ids[k - 2] != a
+                                || ids[k + 3] != b
+                                || !upright(k - 2, a)
+                                || !upright(k + 3, b)
+                            {
                                 continue;
                             }
                             let lit = [lit_by_the_exit(&maze, &light, a), lit_by_the_exit(&maze, &light, b)];

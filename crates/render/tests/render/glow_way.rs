@@ -30,7 +30,12 @@ const SHOWN: usize = 3;
 /// The maze viewer's camera at `at`, facing `heading` (degrees).
 fn camera(maze: &Maze, at: Vec2, heading: f32) -> Camera {
     let v = maze.viewer();
-    Camera { eye_z: v.z, min_vfov_deg: maze.min_vfov_deg(), ..Camera::new(at, heading, v.fov_deg) }
+    Camera {
+        eye_z: v.z,
+        min_vfov_deg: maze.min_vfov_deg(),
+        fovea: true,
+        ..Camera::new(at, heading, v.fov_deg)
+    }
 }
 
 /// Every pose: at each junction (3+ openings) inside the glow facing each opening, and 1–4 cells

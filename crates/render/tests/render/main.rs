@@ -7,6 +7,7 @@ mod chalk;
 mod exit_light;
 mod far_wall_height;
 mod flat_walls;
+mod fovea;
 mod glow_way;
 mod glyph_frames;
 mod near_black;

@@ -129,6 +129,7 @@ fn reported() -> Vec<(Maze, Camera)> {
             let camera = Camera {
                 eye_z: v.z,
                 min_vfov_deg: maze.min_vfov_deg(),
+                fovea: true,
                 ..Camera::new(Vec2::new(x, y), heading, v.fov_deg)
             };
             (maze, camera)

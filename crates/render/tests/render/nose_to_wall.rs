@@ -55,8 +55,12 @@ fn facing_a_wall_of(
     let (faced, at, heading) =
         (0..edges.len()).find_map(|k| facing_wall(&maze, cell, edges[(side + k) % edges.len()], along))?;
     let v = maze.viewer();
-    let camera =
-        Camera { eye_z: v.z, min_vfov_deg: maze.min_vfov_deg(), ..Camera::new(at, heading, v.fov_deg) };
+    let camera = Camera {
+        eye_z: v.z,
+        min_vfov_deg: maze.min_vfov_deg(),
+        fovea: true,
+        ..Camera::new(at, heading, v.fov_deg)
+    };
     Some((maze, faced, at, heading, camera))
 }
 

@@ -286,6 +286,7 @@ fn a_dead_end_shows_no_jamb_for_an_opening_behind_its_end_wall() {
     let camera = Camera {
         eye_z: v.z,
         min_vfov_deg: maze.min_vfov_deg(),
+        fovea: true,
         ..Camera::new(Vec2::new(62.0, 46.0), 0.0, v.fov_deg)
     };
     let (cols, rows) = (120, 40);

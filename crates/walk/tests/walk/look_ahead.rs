@@ -2,8 +2,10 @@
 //! of 96° (a player 1.6 from a wall still sees its ends and the floor), which at 120×40 half blocks is
 //! a horizontal field of ~118°, ~36 columns a unit of tan: a side opening k cells down a corridor
 //! spans 8f/(16k²−4) columns, 0.7 at k = 5 and 0.5 at k = 6, narrower than anything a column shows.
-//! The lens is a horizontal field of 30° with no widening (f ≈ 224: 3.1 columns at k = 6), the
-//! camera `mazewalk render --fov 30` draws; `z` again brings back the field the player had.
+//! The walk's view is foveated (`mazewalk_render::fovea`): the same field, its middle magnified,
+//! so those openings span 2.3–3.1 times the columns (1.6 at k = 6, 5.0 at k = 3). The lens is a
+//! horizontal field of 30° with no widening (f ≈ 224: 3.1 columns at k = 6), the camera `mazewalk
+//! render --fov 30` draws; `z` again brings back the field the player had.
 
 use glam::Vec2;
 use mazewalk_maze::generate::{GenOptions, generate};
@@ -144,19 +146,29 @@ fn opening_columns(maze: &mazewalk_maze::Maze, camera: &Camera) -> Vec<(usize, f
 }
 
 #[test]
-fn through_the_lens_openings_three_to_six_cells_ahead_span_three_columns_or_more() {
+fn the_foveated_view_and_the_lens_widen_openings_three_to_six_cells_ahead() {
     let maze = grid::parse_str("corridor.grid", CORRIDOR).expect("the corridor");
     let mut app = App::new(maze, RenderOptions::default(), 0.0).unwrap();
     assert_eq!(app.camera.yaw_deg, 0.0);
-    // the walk's own field: ~118° at 120×40, and far openings narrower than a column
+    // the walk's own field: ~118° at 120×40; drawn plainly, far openings are narrower than a column
     let wide_deg = app.shown_hfov_deg(COLS, ROWS);
     assert!((110.0..125.0).contains(&wide_deg), "{wide_deg}");
-    let wide = opening_columns(app.maze(), &app.camera);
+    assert!(app.camera.fovea, "the walk's view is foveated");
+    let plain = opening_columns(app.maze(), &Camera { fovea: false, ..app.camera });
     for k in [5, 6] {
-        let (shown, span) = wide[k - 1];
-        assert!(span < 1.0 && shown <= 1, "wide field, {k} cells: {shown} columns, span {span:.2}");
+        let (shown, span) = plain[k - 1];
+        assert!(span < 1.0 && shown <= 1, "plain wide field, {k} cells: {shown} columns, span {span:.2}");
     }
-    assert!(wide[2].1 < 2.5 && wide[3].1 < 1.5, "wide field, 3 and 4 cells: {wide:?}");
+    assert!(plain[2].1 < 2.5 && plain[3].1 < 1.5, "plain wide field, 3 and 4 cells: {plain:?}");
+
+    // the walk's foveated view: the same field, far openings several times as wide
+    let fovea = opening_columns(app.maze(), &app.camera);
+    for k in 3..=6 {
+        let (shown, span) = fovea[k - 1];
+        assert!(span >= 2.3 * plain[k - 1].1, "foveated, {k} cells: span {span:.2} against {plain:?}");
+        let least = if k < 6 { 2 } else { 1 }; // (at 6 cells 1.6 columns: one whole one)
+        assert!(shown >= least, "foveated, {k} cells: {shown} columns");
+    }
 
     press(&mut app, 'z', 1.0);
     assert_eq!(app.shown_hfov_deg(COLS, ROWS), 30.0);
@@ -164,7 +176,26 @@ fn through_the_lens_openings_three_to_six_cells_ahead_span_three_columns_or_more
     for k in 3..=6 {
         let (shown, span) = lens[k - 1];
         assert!(shown >= 3 && span >= 3.0, "look ahead, {k} cells: {shown} columns, span {span:.2}");
-        assert!(shown > wide[k - 1].0, "look ahead, {k} cells: {shown} against {wide:?}");
+        assert!(shown > plain[k - 1].0, "look ahead, {k} cells: {shown} against {plain:?}");
     }
-    eprintln!("columns (shown, span) for k = 1..6: wide {wide:?}, look ahead {lens:?}");
+    eprintln!("columns (shown, span) for k = 1..6: plain {plain:?}, foveated {fovea:?}, look ahead {lens:?}");
+}
+
+/// `f` turns the foveated view off and on: the same field and pose, drawn plainly (the far openings
+/// back to their unmagnified widths) or magnified in the middle; `r` brings back the start's.
+#[test]
+fn f_turns_the_magnified_middle_off_and_on() {
+    let maze = grid::parse_str("corridor.grid", CORRIDOR).expect("the corridor");
+    let mut app = App::new(maze, RenderOptions::default(), 0.0).unwrap();
+    assert!(app.camera.fovea);
+    let foveated = opening_columns(app.maze(), &app.camera);
+    press(&mut app, 'f', 1.0);
+    assert!(!app.camera.fovea);
+    let plain = opening_columns(app.maze(), &app.camera);
+    assert!(plain[5].1 < 1.0 && foveated[5].1 > 1.5, "6 cells: plain {plain:?}, foveated {foveated:?}");
+    press(&mut app, 'f', 2.0);
+    assert!(app.camera.fovea);
+    press(&mut app, 'f', 3.0);
+    press(&mut app, 'r', 4.0);
+    assert!(app.camera.fovea, "back to the start: the start's view");
 }
