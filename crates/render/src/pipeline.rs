@@ -2217,14 +2217,14 @@ fn short_wall_depth(eye: &Eye) -> f32 {
 }
 
 /// A tile's NDC window grown by [`TILE_MARGIN`] samples: what may draw into it.
-fn tile_window(tile: &Eye) -> [Vec2; 2] {
+pub(crate) fn tile_window(tile: &Eye) -> [Vec2; 2] {
     let [lo, hi] = tile.window;
     let margin = TILE_MARGIN * (hi - lo) / Vec2::new(tile.width as f32, tile.height as f32);
     [lo - margin, hi + margin]
 }
 
 /// Whether two NDC boxes overlap.
-fn meets([a, b]: [Vec2; 2], [lo, hi]: [Vec2; 2]) -> bool {
+pub(crate) fn meets([a, b]: [Vec2; 2], [lo, hi]: [Vec2; 2]) -> bool {
     a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y
 }
 

@@ -114,6 +114,25 @@ pub(crate) fn model_matrix(feet: Vec2, eye: Vec3, size: Vec2) -> Option<Mat4> {
     m.is_finite().then_some(m)
 }
 
+/// Whether a figure whose model matrix is `model` may cover a sample of `eye`'s grid, when `eye` is
+/// one tile of a foveated view (a whole view: always). No when its quad's four corners are all in
+/// front of the eye and their NDC box misses the tile's window; clipping would leave nothing.
+fn reaches_tile(eye: &Eye, model: Mat4) -> bool {
+    if eye.window == [Vec2::NEG_ONE, Vec2::ONE] {
+        return true;
+    }
+    let mut ndc = [Vec2::INFINITY, Vec2::NEG_INFINITY];
+    for (x, z) in [(-0.5, 0.0), (0.5, 0.0), (-0.5, 1.0), (0.5, 1.0)] {
+        let clip = eye.world_to_clip * model.transform_point3(Vec3::new(x, 0.0, z)).extend(1.0);
+        if clip.w <= 0.0 {
+            return true; // behind the eye: let the clipper decide
+        }
+        let p = clip.truncate().truncate() / clip.w;
+        ndc = [ndc[0].min(p), ndc[1].max(p)];
+    }
+    crate::pipeline::meets(ndc, crate::pipeline::tile_window(eye))
+}
+
 /// A figure's vertex on its way through the pipeline: clip position plus what its shading needs, both
 /// affine in world space (so clipped linearly in clip space, interpolated perspective-correctly).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -205,6 +224,9 @@ impl SpritePass {
             let sprite = &sprites[k];
             let size = Vec2::new(SPRITE_WIDTH, SPRITE_HEIGHT);
             let Some(model) = model_matrix(sprite.position, eye.position, size) else { continue };
+            if !reaches_tile(eye, model) {
+                continue; // a tile of a foveated view the figure is nowhere near
+            }
             let id = SPRITE_ID - slot as u32;
             let albedo = sprite.color.clamp(Vec3::ZERO, Vec3::ONE).map(srgb_to_linear);
             // Shoulders lit, feet in shadow; the head a lighter tint of the same colour.
