@@ -222,7 +222,7 @@ impl Camera {
         let foveated = self.fovea
             && self.projection == Projection::Perspective
             && hfov.to_degrees() > fovea::MIN_HFOV_DEG;
-        let warp = match (AxisWarp::new(width), AxisWarp::new(height)) {
+        let warp = match (AxisWarp::new(width, fovea::ACROSS), AxisWarp::new(height, fovea::DOWN)) {
             (Some(x), Some(y)) if foveated => Some([x, y]),
             _ => None,
         };

@@ -29,48 +29,58 @@ const MIN_SAMPLES: usize = 24;
 /// about 3.2 after the linear bands): down a generated corridor at 120×40 a side opening 3 cells ahead
 /// then spans ~5 columns (2 unwarped), 4 cells ~3.5 (1.1), 6 cells ~1.5 (0.5), and one at one cell
 /// keeps ~20 (24).
-const KNOTS: [(f32, f32); 2] = [(0.106, 1.0 / 3.0), (0.343, 2.0 / 3.0)];
+pub const ACROSS: &[(f32, f32)] = &[(0.106, 1.0 / 3.0), (0.343, 2.0 / 3.0)];
+
+/// The same down the view: its middle band as across (the middle tile magnified alike both ways),
+/// the rest one band.
+pub const DOWN: &[(f32, f32)] = ACROSS;
+
+/// The most band edges an axis has (−1, the knots on both sides, 1).
+const MAX_EDGES: usize = 2 * 2 + 2;
 
 /// The warp of one axis for a grid `samples` long: odd, monotone, piecewise linear, its band edges on
 /// whole samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisWarp {
     /// Band edges in NDC, ascending from −1 to 1.
-    ndc: [f32; 2 * KNOTS.len() + 2],
+    ndc: [f32; MAX_EDGES],
     /// The same edges on the screen (warped NDC, −1 to 1), each on a whole sample.
-    screen: [f32; 2 * KNOTS.len() + 2],
+    screen: [f32; MAX_EDGES],
+    /// How many of `ndc` and `screen` are edges.
+    edges: usize,
 }
 
 impl AxisWarp {
     /// The warp for an axis of `samples` samples, or `None` where the grid is too small to warp.
     #[must_use]
-    pub fn new(samples: usize) -> Option<AxisWarp> {
-        if samples < MIN_SAMPLES {
+    pub fn new(samples: usize, knots: &[(f32, f32)]) -> Option<AxisWarp> {
+        if samples < MIN_SAMPLES || 2 * knots.len() + 2 > MAX_EDGES {
             return None;
         }
         let n = samples as f32;
-        let (mut ndc, mut screen) = ([0.0; 2 * KNOTS.len() + 2], [0.0; 2 * KNOTS.len() + 2]);
-        let last = ndc.len() - 1;
+        let (mut ndc, mut screen) = ([0.0; MAX_EDGES], [0.0; MAX_EDGES]);
+        let edges = 2 * knots.len() + 2;
+        let last = edges - 1;
         (ndc[0], screen[0], ndc[last], screen[last]) = (-1.0, -1.0, 1.0, 1.0);
-        for (k, &(_, s)) in KNOTS.iter().enumerate() {
+        for (k, &(_, s)) in knots.iter().enumerate() {
             // The knot moved to the nearest sample edge, along the unsnapped warp.
             let snapped = (((s + 1.0) * 0.5 * n).round() / n) * 2.0 - 1.0;
-            let at = unsnapped_to_ndc(snapped);
-            (ndc[KNOTS.len() + 1 + k], screen[KNOTS.len() + 1 + k]) = (at, snapped);
-            (ndc[KNOTS.len() - k], screen[KNOTS.len() - k]) = (-at, -snapped);
+            let at = unsnapped_to_ndc(knots, snapped);
+            (ndc[knots.len() + 1 + k], screen[knots.len() + 1 + k]) = (at, snapped);
+            (ndc[knots.len() - k], screen[knots.len() - k]) = (-at, -snapped);
         }
         // Odd sample counts: the mirrored knot is off a sample edge by half a sample; snap it too.
         for s in &mut screen[1..last] {
             *s = ((*s + 1.0) * 0.5 * n).round() / n * 2.0 - 1.0;
         }
-        let increasing = screen.windows(2).all(|w| w[1] > w[0]) && ndc.windows(2).all(|w| w[1] > w[0]);
-        increasing.then_some(AxisWarp { ndc, screen })
+        let increasing = |v: &[f32]| v[..edges].windows(2).all(|w| w[1] > w[0]);
+        (increasing(&screen) && increasing(&ndc)).then_some(AxisWarp { ndc, screen, edges })
     }
 
     /// NDC → screen (both in [−1, 1]); beyond ±1 the outer bands' lines continue.
     #[must_use]
     pub fn to_screen(&self, ndc: f32) -> f32 {
-        let k = band_of(&self.ndc, ndc);
+        let k = band_of(&self.ndc[..self.edges], ndc);
         let t = (ndc - self.ndc[k]) / (self.ndc[k + 1] - self.ndc[k]);
         self.screen[k] + t * (self.screen[k + 1] - self.screen[k])
     }
@@ -78,21 +88,20 @@ impl AxisWarp {
     /// Screen → NDC: the inverse of [`AxisWarp::to_screen`].
     #[must_use]
     pub fn to_ndc(&self, screen: f32) -> f32 {
-        let k = band_of(&self.screen, screen);
+        let k = band_of(&self.screen[..self.edges], screen);
         let t = (screen - self.screen[k]) / (self.screen[k + 1] - self.screen[k]);
         self.ndc[k] + t * (self.ndc[k + 1] - self.ndc[k])
     }
 
     /// The bands, ascending: each one's NDC range and screen range.
     pub fn bands(&self) -> impl Iterator<Item = ([f32; 2], [f32; 2])> + '_ {
-        (0..self.ndc.len() - 1)
-            .map(|k| ([self.ndc[k], self.ndc[k + 1]], [self.screen[k], self.screen[k + 1]]))
+        (0..self.edges - 1).map(|k| ([self.ndc[k], self.ndc[k + 1]], [self.screen[k], self.screen[k + 1]]))
     }
 
     /// The magnification of the middle band: screen per NDC there (1 for no warp).
     #[must_use]
     pub fn centre_magnification(&self) -> f32 {
-        let k = self.ndc.len() / 2 - 1;
+        let k = self.edges / 2 - 1;
         (self.screen[k + 1] - self.screen[k]) / (self.ndc[k + 1] - self.ndc[k])
     }
 }
@@ -104,10 +113,10 @@ fn band_of(edges: &[f32], x: f32) -> usize {
 }
 
 /// The warp's inverse before its knots are snapped to samples.
-fn unsnapped_to_ndc(screen: f32) -> f32 {
+fn unsnapped_to_ndc(knots: &[(f32, f32)], screen: f32) -> f32 {
     let (mut n0, mut s0) = (0.0, 0.0);
     let a = screen.abs();
-    for &(n1, s1) in KNOTS.iter().chain(&[(1.0, 1.0)]) {
+    for &(n1, s1) in knots.iter().chain(&[(1.0, 1.0)]) {
         if a <= s1 {
             return (n0 + (a - s0) / (s1 - s0) * (n1 - n0)).copysign(screen);
         }
@@ -123,13 +132,13 @@ mod tests {
 
     #[test]
     fn small_grids_are_not_warped() {
-        assert_eq!(AxisWarp::new(MIN_SAMPLES - 1), None);
-        assert!(AxisWarp::new(MIN_SAMPLES).is_some());
+        assert_eq!(AxisWarp::new(MIN_SAMPLES - 1, ACROSS), None);
+        assert!(AxisWarp::new(MIN_SAMPLES, ACROSS).is_some());
     }
 
     #[test]
     fn the_middle_is_magnified_and_the_edges_squeezed() {
-        let w = AxisWarp::new(120).unwrap();
+        let w = AxisWarp::new(120, ACROSS).unwrap();
         assert!(w.centre_magnification() > 2.5, "{}", w.centre_magnification());
         let outer = w.bands().last().unwrap();
         assert!((outer.1[1] - outer.1[0]) < (outer.0[1] - outer.0[0]), "the outer band squeezed");
@@ -145,7 +154,8 @@ mod tests {
             a in -1.0f32..1.0,
             b in -1.0f32..1.0,
         ) {
-            let w = AxisWarp::new(samples).unwrap();
+            for knots in [ACROSS, DOWN] {
+            let w = AxisWarp::new(samples, knots).unwrap();
             for x in [-1.0f32, 0.0, 1.0] {
                 prop_assert!((w.to_screen(x) - x).abs() < 1e-6);
             }
@@ -159,6 +169,7 @@ mod tests {
                     let g = (e + 1.0) * 0.5 * samples as f32;
                     prop_assert!((g - g.round()).abs() < 1e-3, "{e} → sample {g}");
                 }
+            }
             }
         }
     }
