@@ -16,20 +16,25 @@ from pathlib import Path
 
 HEADING = re.compile(r"^ {0,3}(#{1,6})[ \t]+(.*?)[ \t]*#*[ \t]*$")
 LINK = re.compile(r"\]\(([^()\s]*?)#([^()\s]*)\)")
-FENCE = re.compile(r"^ {0,3}(```|~~~)")
+FENCE = re.compile(r"^ {0,3}(`{3,}|~{3,})(.*)$")
 
 
 def lines_outside_fences(text):
-    """(line number, line) for the lines not inside a fenced code block."""
+    """(line number, line) for the lines not inside a fenced code block. As CommonMark has it: a
+    backtick fence's info string holds no backtick, and a closing fence is the opening one's
+    character, at least as long, and nothing after it but spaces (so a line of an ascii picture
+    that starts with backticks stays inside its block)."""
     fence = None
     for number, line in enumerate(text.splitlines(), 1):
         m = FENCE.match(line)
         if m:
-            if fence is None:
-                fence = m.group(1)
-            elif m.group(1) == fence:
+            run, rest = m.group(1), m.group(2)
+            if fence is None and not (run[0] == "`" and "`" in rest):
+                fence = run
+                continue
+            if fence is not None and run[0] == fence[0] and len(run) >= len(fence) and not rest.strip():
                 fence = None
-            continue
+                continue
         if fence is None:
             yield number, line
 

@@ -636,7 +636,13 @@ fn readme_render_commands() -> Vec<Vec<String>> {
     let mut commands = Vec::new();
     let mut in_block = false;
     for line in readme.lines() {
-        if line.trim_start().starts_with("```") {
+        // (fences as CommonMark reads them: a block's ascii picture may have lines that start with
+        // backticks, which close nothing unless they are backticks alone)
+        let fence = line.trim_start();
+        let run = fence.len() - fence.trim_start_matches('`').len();
+        if run >= 3 && !in_block && !fence[run..].contains('`')
+            || run >= 3 && in_block && fence[run..].trim().is_empty()
+        {
             in_block = !in_block;
             continue;
         }
