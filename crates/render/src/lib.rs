@@ -109,6 +109,7 @@ impl Renderer {
     ) -> Result<RenderStats, CameraError> {
         let (sx, sy) = charset.samples_per_cell();
         let view = camera.eye(cols * sx, rows * sy, charset.sample_aspect(cell_aspect))?; // look-at, projection, viewport
+        self.begin_view(maze); // what the tiles of one view share, forgotten
         let mut stats = self.choose_walls(maze, &view, culling); // portal pass: cell to cell through openings
         self.ascii_lines = charset == Charset::Ascii;
         self.faced.clear(); // ascii: which walls are seen square on, set by the outlines

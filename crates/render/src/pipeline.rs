@@ -161,8 +161,11 @@ pub struct Renderer {
     /// The samples marked this frame, each once.
     edge_list: Vec<u32>,
     plane_row: PlaneRow,
-    /// The sides of the cells the floor and ceiling rows cross, for the exit's light.
+    /// The sides of the cells the floor and ceiling rows cross, for the exit's light: worked out once a
+    /// view ([`Renderer::begin_view`]), whatever its tiles.
     cell_sides: CellSides,
+    /// Each plane's colour tinted at every level of the exit's light, by (colour, strength).
+    plane_tints: Vec<((Vec3, f32), [Vec3; EXIT_LIGHT as usize + 1])>,
     /// Skip the edge pass (the portal oracle compares visibility, not the picture's edges).
     pub(crate) no_edges: bool,
     /// Shade every sample by the scalar reference paths (the oracle of the SIMD ones).
@@ -335,6 +338,7 @@ impl Renderer {
             Target::Depths { cols, rows } => {
                 // One sample per cell, centred in the cell: exactly the ascii sampling.
                 let view = camera.eye(cols, rows, Charset::Ascii.sample_aspect(cell_aspect))?;
+                self.begin_view(maze);
                 let mut stats = self.choose_walls(maze, &view, culling);
                 let tiles = view.tiles();
                 self.wall_boxes(maze, &view, tiles.len());
@@ -475,6 +479,12 @@ impl Renderer {
         }
         self.samples.clear_coverage(); // colours: every sample gets a wall's, a plane's or the fog's
         self.wall_ids = maze.edges().len() as u32;
+    }
+
+    /// A new view, before its tiles: the cells' sides the floor's rows look up forgotten (the maze
+    /// may be another).
+    pub(crate) fn begin_view(&mut self, maze: &Maze) {
+        self.cell_sides.begin(maze.cell_count());
     }
 
     /// The walls to draw, into `self.walls`: the portal pass's (or every wall, brute force), ascending
@@ -646,9 +656,10 @@ impl Renderer {
         };
         // The colour of a plane at `hit`, seen along `dir`: the reference, sample by sample.
         let mut cursor = glow.map(|glow| CellCursor::new(glow, &mut self.cell_sides));
-        // Each plane's colour tinted at every level of the exit's light, worked out once a frame (the
-        // rows of a plane share its colour and strength: a row asked all levels, 29 OKLab inversions).
-        let mut tint_tables: Vec<((Vec3, f32), [Vec3; EXIT_LIGHT as usize + 1])> = Vec::new();
+        // Each plane's colour tinted at every level of the exit's light, worked out once a renderer (the
+        // rows of a plane share its colour and strength: a row asked all levels, 29 OKLab inversions;
+        // and the tiles of a foveated view, 25 times a frame).
+        let mut tint_tables = std::mem::take(&mut self.plane_tints);
         let color_at =
             |hit: &PlaneHit, point: Vec3, dir: Vec3, cursor: &mut Option<CellCursor<'_, '_>>| -> Vec3 {
                 if shading == Shading::ViewDepth {
@@ -843,6 +854,7 @@ impl Renderer {
                 ids[x] = hit.plane.1;
             }
         }
+        self.plane_tints = tint_tables;
     }
 
     /// Edges: where two neighbouring samples (right or below) belong to different surfaces, the nearer
@@ -1687,7 +1699,6 @@ struct CellCursor<'m, 's> {
 
 impl<'m, 's> CellCursor<'m, 's> {
     fn new((maze, light): (&'m Maze, &'m ExitLight), sides: &'s mut CellSides) -> CellCursor<'m, 's> {
-        sides.begin(maze.cell_count());
         CellCursor { maze, light, sides, cell: None, edges: 0..0 }
     }
 
