@@ -640,9 +640,8 @@ fn readme_render_commands() -> Vec<Vec<String>> {
         // backticks, which close nothing unless they are backticks alone)
         let fence = line.trim_start();
         let run = fence.len() - fence.trim_start_matches('`').len();
-        if run >= 3 && !in_block && !fence[run..].contains('`')
-            || run >= 3 && in_block && fence[run..].trim().is_empty()
-        {
+        let toggles = if in_block { fence[run..].trim().is_empty() } else { !fence[run..].contains('`') };
+        if run >= 3 && toggles {
             in_block = !in_block;
             continue;
         }
