@@ -176,7 +176,8 @@ impl Nearest {
 }
 
 /// Issue #39's measures over held-out views ([`quality::held_out_views`]: in cells, nose to a wall,
-/// down corridors), every depth against truecolor: the median view and the worst.
+/// down corridors), as the walk shows them (foveated), every depth against truecolor: the median
+/// view and the worst.
 fn held_out(renderer: &mut Renderer) {
     const PER_MAZE: usize = 30;
     let mut rows: BTreeMap<&str, Vec<Measures>> = BTreeMap::new();
@@ -187,6 +188,7 @@ fn held_out(renderer: &mut Renderer) {
     let mut nearest = Nearest::new();
     for (name, maze) in held_out_mazes() {
         for (k, (kind, camera)) in quality::held_out_views(&maze, 39, PER_MAZE).into_iter().enumerate() {
+            let camera = Camera { fovea: true, ..camera }; // the walk's view
             let truth_frame =
                 render(renderer, &maze, &camera, &options(Charset::Half, ColorDepth::TrueColor, false));
             let truth = quality::shown(&truth_frame, Charset::Half);
@@ -464,6 +466,7 @@ fn breakdown(renderer: &mut Renderer, only: Option<&str>) {
             [edge.left, edge.right].iter().flatten().any(|&c| light.level(c) > 0)
         };
         for (k, (kind, camera)) in quality::held_out_views(&maze, 39, 30).into_iter().enumerate() {
+            let camera = Camera { fovea: true, ..camera }; // as `held_out` measures them
             let truth_frame =
                 render(renderer, &maze, &camera, &options(Charset::Half, ColorDepth::TrueColor, false));
             let truth = quality::shown(&truth_frame, Charset::Half);

@@ -64,7 +64,6 @@ pub fn held_out_views(maze: &Maze, seed: u64, n: usize) -> Vec<(ViewKind, Camera
     let camera = |position: Vec2, yaw: f32| Camera {
         eye_z: viewer.z,
         min_vfov_deg: maze.min_vfov_deg(),
-        fovea: true, // the walk's view
         ..Camera::new(position, yaw.to_degrees().rem_euclid(360.0), viewer.fov_deg)
     };
     let clearance = maze.clearance();
