@@ -698,6 +698,38 @@ fn png_pixels(bytes: &[u8]) -> Vec<u8> {
     pixels
 }
 
+// issue #39: `render` draws the walk's view, a wide field's middle magnified (the foveated view);
+// `--no-fovea` draws it with one scale across; a field of 60° or less (the lens's) is never warped.
+#[test]
+fn render_draws_the_walks_foveated_view_unless_no_fovea() {
+    let dir = std::env::temp_dir().join(format!("mazewalk-fovea-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let depths = dir.join("depths.csv");
+    // the frame and, on its middle row, the columns that see a wall 20 units or more away
+    let frame = |extra: &[&str]| {
+        let mut args = vec!["render", "--gen", "20x15", "--seed", "3", "--at", "78,6", "--heading", "180"];
+        args.extend(["--size", "120x40", "--color", "none", "--charset", "ascii", "--depth-out"]);
+        args.push(depths.to_str().unwrap());
+        args.extend(extra);
+        let out = mazewalk(&args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        let csv = std::fs::read_to_string(&depths).unwrap();
+        let middle = csv.lines().nth(20).unwrap_or_default();
+        let far = middle.split(',').filter(|v| v.parse::<f32>().is_ok_and(|d| d >= 20.0)).count();
+        (stdout(&out), far)
+    };
+    let (foveated, plain) = (frame(&[]), frame(&["--no-fovea"]));
+    assert_ne!(foveated.0, plain.0, "the middle magnified");
+    // down a corridor eight cells long: its far cells over twice the columns
+    assert!(foveated.1 > 2 * plain.1 && plain.1 > 0, "far columns: {} against {}", foveated.1, plain.1);
+    assert_eq!(
+        frame(&["--fov", "30"]),
+        frame(&["--fov", "30", "--no-fovea"]),
+        "a narrow field is never warped"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 // issue #39: `render --png` took its colour depth from TERM (256 colours in tmux without COLORTERM),
 // not the picture's. A picture is in truecolor whatever the environment says, unless --color says.
 #[test]
