@@ -27,6 +27,7 @@ fuzz_target!(|bytes: &[u8]| {
                 eye_z: render.height.unwrap_or(viewer.z),
                 pitch_deg: render.pitch,
                 projection: render.projection,
+                fovea: !render.no_fovea, // the foveated view's tiles, as `render` draws them
                 ..Camera::new(
                     render.at.unwrap_or(viewer.pos),
                     render.heading.unwrap_or(viewer.dir_deg),
