@@ -116,6 +116,7 @@ impl Renderer {
         let tiles = view.tiles();
         self.wall_boxes(maze, &view, tiles.len()); // a foveated view: where on the screen each wall lies
         self.choose_cell_lines(maze, &view, culling, tiles.len() > 1); // the openings' lines, the way's
+        let tiled = tiles.len() > 1;
         for (k, tile) in tiles.iter().enumerate() {
             let eye = &tile.eye; // the whole view, or one tile of a foveated view
             self.enter_tile(&view, k); // a foveated view's tile: samples of its own
@@ -127,23 +128,49 @@ impl Renderer {
             if let Some(point) = maze.exit().filter(|exit| visible(exit.cell)).and(maze.exit_point()) {
                 stats.samples_written += self.sprites.draw_beacon(&mut self.samples, eye, &fog, point); // the exit
             }
-            if !self.no_edges {
+            if !tiled && !self.no_edges {
                 self.draw_edges(maze, eye); // where surfaces meet: edges; where cells meet along a wall: seams
-                self.draw_cell_bounds(maze, eye); // cell boundaries on floor and ceiling: fainter lines
-                self.draw_jambs(maze, eye); // where a wall ends at an opening: a light line, seen from afar
-                self.draw_chalk(maze, eye, culling); // the walked cells' chalk crosses on the floor
             }
-            if charset == Charset::Ascii {
-                self.outline_visible_walls(maze, eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
+            if !tiled {
+                self.draw_lines(maze, eye, culling, charset, cell_aspect); // cell lines, jambs, chalk, outlines
             }
-            self.place_tile(&view, tile, k); // a tile's samples into the view's picture
+            self.place_tile(&view, tile, k); // a foveated view: the tile's samples into the picture
+        }
+        if tiled {
+            if !self.no_edges {
+                self.picture_edges(maze, &tiles); // the edges, once over the whole picture
+            }
+            for (k, tile) in tiles.iter().enumerate() {
+                self.enter_tile(&view, k);
+                self.take_tile(tile); // the tile's samples back, edges drawn
+                self.walls_in(&tile.eye);
+                self.draw_lines(maze, &tile.eye, culling, charset, cell_aspect); // as above
+                self.place_tile_samples(tile, k);
+            }
         }
         self.finish_tiles(&view);
-        if !self.no_edges {
-            self.stitch_edges(maze, &tiles); // a foveated view: the edges where its tiles meet
-        }
         stats.walls_drawn = self.wall_count();
         Ok(stats)
+    }
+
+    /// What is drawn over the surfaces once their edges are: the cell lines on floor and ceiling,
+    /// the jambs, the chalk crosses and, in ascii, the walls' outlines.
+    fn draw_lines(
+        &mut self,
+        maze: &mazewalk_maze::Maze,
+        eye: &Eye,
+        culling: Culling,
+        charset: Charset,
+        cell_aspect: f32,
+    ) {
+        if !self.no_edges {
+            self.draw_cell_bounds(maze, eye); // cell boundaries on floor and ceiling: fainter lines
+            self.draw_jambs(maze, eye); // where a wall ends at an opening: a light line, seen from afar
+            self.draw_chalk(maze, eye, culling); // the walked cells' chalk crosses on the floor
+        }
+        if charset == Charset::Ascii {
+            self.outline_visible_walls(maze, eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
+        }
     }
 
     /// The 3D part of the pipeline for `eye`, once its walls are chosen ([`Renderer::choose_walls`]):

@@ -416,11 +416,24 @@ impl Renderer {
         }
         let (x0, y0) = tile.at;
         self.picture.place(&self.samples, x0, y0); // (the tile's samples, still in `samples`)
+        // (its figures' labels: drawn now, with the figures)
         let tile_width = tile.eye.width;
         self.tile_labels.extend(self.sprites.labels.iter().map(|label| Label {
             sample: (label.sample / tile_width + y0) * view.width + label.sample % tile_width + x0,
             ..*label
         }));
+        std::mem::swap(&mut self.samples, &mut self.tile_samples[k]);
+    }
+
+    /// A foveated view's tile `tile`, entered again ([`Renderer::enter_tile`]) after the picture's
+    /// edges: its samples taken back from the picture.
+    pub(crate) fn take_tile(&mut self, tile: &Tile) {
+        self.samples.take_from(&self.picture, tile.at.0, tile.at.1);
+    }
+
+    /// After a tile's lines: its samples into the picture again, and the tile's own samples put back.
+    pub(crate) fn place_tile_samples(&mut self, tile: &Tile, k: usize) {
+        self.picture.place(&self.samples, tile.at.0, tile.at.1);
         std::mem::swap(&mut self.samples, &mut self.tile_samples[k]);
     }
 
@@ -865,40 +878,31 @@ impl Renderer {
     #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn draw_edges(&mut self, maze: &Maze, eye: &Eye) {
         let short_from = short_wall_depth(eye);
-        self.edges_of(maze, &|_| short_from, Pairs::All);
+        self.edges_of(maze, &|_| short_from);
     }
 
-    /// A view drawn in tiles, once they are placed: the edges and seams between neighbouring samples
-    /// of two tiles, which neither tile's [`Renderer::draw_edges`] saw (`tiles` as placed; each row
-    /// of the picture takes its tiles' short-wall depth).
-    pub(crate) fn stitch_edges(&mut self, maze: &Maze, tiles: &[Tile]) {
-        if tiles.len() <= 1 {
-            return;
-        }
+    /// A view drawn in tiles, once their surfaces are placed in its picture: the edges and seams over
+    /// the whole picture, each sample compared with its neighbours whichever tile they came from (a
+    /// row of the picture takes its tiles' short-wall depth). Then the tiles' lines are drawn over
+    /// them, as in a view drawn whole.
+    pub(crate) fn picture_edges(&mut self, maze: &Maze, tiles: &[Tile]) {
         let mut short_rows = std::mem::take(&mut self.short_rows);
         short_rows.clear();
-        short_rows.resize(self.samples.height(), f32::INFINITY);
-        let (mut columns, mut rows) = (Vec::new(), Vec::new());
+        short_rows.resize(self.picture.height(), f32::INFINITY);
         for tile in tiles {
-            let (x, y) = tile.at;
+            let y = tile.at.1;
             short_rows[y..y + tile.eye.height].fill(short_wall_depth(&tile.eye));
-            columns.push(x);
-            rows.push(y);
         }
-        columns.retain(|&x| x > 0);
-        rows.retain(|&y| y > 0);
-        columns.sort_unstable();
-        columns.dedup();
-        rows.sort_unstable();
-        rows.dedup();
+        std::mem::swap(&mut self.samples, &mut self.picture);
         let width = self.samples.width();
-        self.edges_of(maze, &|k| short_rows[k / width], Pairs::Across { columns: &columns, rows: &rows });
+        self.edges_of(maze, &|k| short_rows[k / width]);
+        std::mem::swap(&mut self.samples, &mut self.picture);
         self.short_rows = short_rows;
     }
 
-    /// Marks and paints the edges and seams between the neighbouring samples `pairs` names; a wall at
-    /// sample `k` as deep as `short_from(k)` or deeper is short ([`FAR_WALL_SAMPLES`]).
-    fn edges_of(&mut self, maze: &Maze, short_from: &dyn Fn(usize) -> f32, pairs: Pairs<'_>) {
+    /// Marks and paints the edges and seams between neighbouring samples; a wall at sample `k` as deep
+    /// as `short_from(k)` or deeper is short ([`FAR_WALL_SAMPLES`]).
+    fn edges_of(&mut self, maze: &Maze, short_from: &dyn Fn(usize) -> f32) {
         let (width, height) = (self.samples.width(), self.samples.height());
         if self.edge_marks.len() < width * height {
             self.edge_marks.resize(width * height, Mark::None); // (all None: a tile uses the first ones)
@@ -952,41 +956,18 @@ impl Renderer {
             }
             marks[at] = marks[at].max(what);
         };
-        match pairs {
-            // Neighbours to the right, then below; most pairs are one surface, skipped eight at a time.
-            Pairs::All => {
-                for y in 0..height {
-                    let row = y * width;
-                    let here = &ids[row..row + width];
-                    for_each_difference(here, &here[1.min(width)..], |x| {
-                        mark(row + x, row + x + 1, differ(here[x], here[x + 1]));
-                    });
-                    if y + 1 < height {
-                        let below = &ids[row + width..row + 2 * width];
-                        for_each_difference(here, below, |x| {
-                            mark(row + x, row + width + x, differ(here[x], below[x]));
-                        });
-                    }
-                }
-            }
-            // Only across the given columns' left sides and rows' tops.
-            Pairs::Across { columns, rows } => {
-                for &x in columns {
-                    for y in 0..height {
-                        let (i, j) = (y * width + x - 1, y * width + x);
-                        if ids[i] != ids[j] {
-                            mark(i, j, differ(ids[i], ids[j]));
-                        }
-                    }
-                }
-                for &y in rows {
-                    for x in 0..width {
-                        let (i, j) = ((y - 1) * width + x, y * width + x);
-                        if ids[i] != ids[j] {
-                            mark(i, j, differ(ids[i], ids[j]));
-                        }
-                    }
-                }
+        // Neighbours to the right, then below; most pairs are one surface, skipped eight at a time.
+        for y in 0..height {
+            let row = y * width;
+            let here = &ids[row..row + width];
+            for_each_difference(here, &here[1.min(width)..], |x| {
+                mark(row + x, row + x + 1, differ(here[x], here[x + 1]));
+            });
+            if y + 1 < height {
+                let below = &ids[row + width..row + 2 * width];
+                for_each_difference(here, below, |x| {
+                    mark(row + x, row + width + x, differ(here[x], below[x]));
+                });
             }
         }
         // In 16 colours a lit wall's seams and corners (where it meets another wall beside it: its
@@ -2204,14 +2185,6 @@ fn segment_box(eye: &Eye, p: Vec3, q: Vec3) -> [Vec2; 2] {
         }
         None => [Vec2::INFINITY, Vec2::NEG_INFINITY], // meets nothing
     }
-}
-
-/// Which neighbouring samples [`Renderer::edges_of`] compares.
-enum Pairs<'a> {
-    /// Every sample with the one to its right and the one below.
-    All,
-    /// Each sample of these columns with the one to its left, and of these rows with the one above.
-    Across { columns: &'a [usize], rows: &'a [usize] },
 }
 
 /// The grid depth from which a wall stands shorter on `eye`'s picture than [`FAR_WALL_SAMPLES`]: a

@@ -152,6 +152,21 @@ impl SampleBuffer {
         self.outlined |= tile.outlined;
     }
 
+    /// The opposite of [`SampleBuffer::place`]: this buffer's samples from `picture`'s, this buffer's
+    /// top-left at (`x0`, `y0`) there. This buffer must fit.
+    pub(crate) fn take_from(&mut self, picture: &SampleBuffer, x0: usize, y0: usize) {
+        debug_assert!(x0 + self.width <= picture.width && y0 + self.height <= picture.height, "it fits");
+        for y in 0..self.height {
+            let (to, from) = (y * self.width, (y0 + y) * picture.width + x0);
+            let n = self.width;
+            self.color[to..to + n].copy_from_slice(&picture.color[from..from + n]);
+            self.depth[to..to + n].copy_from_slice(&picture.depth[from..from + n]);
+            self.id[to..to + n].copy_from_slice(&picture.id[from..from + n]);
+            self.outline[to..to + n].copy_from_slice(&picture.outline[from..from + n]);
+        }
+        self.outlined |= picture.outlined;
+    }
+
     pub(crate) fn write(&mut self, i: usize, color: Vec3, depth: f32, id: u32) {
         self.color[i] = color;
         self.depth[i] = depth;
