@@ -148,7 +148,7 @@ pub struct Renderer {
     pub(crate) walls: Vec<u32>,
     /// A view drawn in tiles: its chosen walls, each with the box it covers in NDC.
     wall_boxes: Vec<(u32, [Vec2; 2])>,
-    /// A view drawn in tiles: each row's short-wall depth ([`Renderer::stitch_edges`]).
+    /// A view drawn in tiles: each row's short-wall depth ([`Renderer::picture_edges`]).
     short_rows: Vec<f32>,
     scratch: ClipScratch,
     polygon_grid: Vec<GridVertex<Vec3>>,
