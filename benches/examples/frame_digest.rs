@@ -10,6 +10,8 @@
 //! 77 × 23, every charset and colour depth, the textures' filter on and off. Each line: the view, and
 //! hashes of the samples (colour bits, depths, ids) and of the frame's cells.
 //!
+//! With `fovea`: the same views foveated, as the walk draws them (`Camera::fovea`).
+//!
 //! With `ramps`: instead, the 256- and 16-colour entries (`palette::ramp_entry`) of every
 //! chromaticity slot's light ramp at 48 intensities, a line per palette and red step.
 
@@ -50,6 +52,7 @@ fn main() {
             generate(&GenOptions { width: 12, height: 12, seed: 3, ..GenOptions::default() }).expect("maze"),
         ),
     ];
+    let fovea = std::env::args().nth(1).as_deref() == Some("fovea");
     let (mut renderer, mut frames) = (Renderer::new(), 0);
     for (m, (name, maze)) in mazes.iter().enumerate() {
         let light = maze.exit_light();
@@ -68,7 +71,7 @@ fn main() {
         }
         for (k, camera) in cameras.iter().enumerate() {
             for pitch_deg in [0.0, -12.0] {
-                let camera = Camera { pitch_deg, ..*camera };
+                let camera = Camera { pitch_deg, fovea, ..*camera };
                 for (c, charset) in Charset::ALL.into_iter().enumerate() {
                     let (cols, rows) = if (k + c) % 3 == 0 { (77, 23) } else { (120, 40) };
                     let textures = (k + c) % 4 == 3;

@@ -115,7 +115,7 @@ impl Renderer {
         self.faced.clear(); // ascii: which walls are seen square on, set by the outlines
         let tiles = view.tiles();
         self.wall_boxes(maze, &view, tiles.len()); // a foveated view: where on the screen each wall lies
-        self.choose_cell_lines(maze, &view, culling, tiles.len() > 1); // the openings' lines, the way's
+        self.choose_cell_lines(maze, &view, culling); // the openings' lines, the way's
         let tiled = tiles.len() > 1;
         for (k, tile) in tiles.iter().enumerate() {
             let eye = &tile.eye; // the whole view, or one tile of a foveated view
@@ -131,45 +131,38 @@ impl Renderer {
             if !tiled && !self.no_edges {
                 self.draw_edges(maze, eye); // where surfaces meet: edges; where cells meet along a wall: seams
             }
-            if !tiled {
-                self.draw_lines(maze, eye, culling, charset, cell_aspect); // cell lines, jambs, chalk, outlines
-            }
             self.place_tile(&view, tile, k); // a foveated view: the tile's samples into the picture
         }
-        if tiled {
-            if !self.no_edges {
-                self.picture_edges(maze, &tiles); // the edges, once over the whole picture
-            }
-            for (k, tile) in tiles.iter().enumerate() {
-                self.enter_tile(&view, k);
-                self.take_tile(tile); // the tile's samples back, edges drawn
-                self.walls_in(&tile.eye);
-                self.draw_lines(maze, &tile.eye, culling, charset, cell_aspect); // as above
-                self.place_tile_samples(tile, k);
-            }
+        if tiled && !self.no_edges {
+            self.picture_edges(maze, &tiles); // the edges, once over the whole picture
         }
-        self.finish_tiles(&view);
+        self.finish_tiles(&view); // a foveated view: its picture becomes the samples
+        self.draw_lines(maze, &view, &tiles, culling, charset, cell_aspect); // cell lines, jambs, chalk, outlines
         stats.walls_drawn = self.wall_count();
         Ok(stats)
     }
 
-    /// What is drawn over the surfaces once their edges are: the cell lines on floor and ceiling,
-    /// the jambs, the chalk crosses and, in ascii, the walls' outlines.
+    /// What is drawn over the surfaces once their edges are, over the whole picture: the cell lines
+    /// on floor and ceiling, the jambs, the chalk crosses and, in ascii, the walls' outlines. Each
+    /// segment is clipped once against `view`'s volume and drawn through every tile it reaches (a
+    /// view drawn whole: its one tile), so that what a line looks at beside it is the picture's.
     fn draw_lines(
         &mut self,
         maze: &mazewalk_maze::Maze,
-        eye: &Eye,
+        view: &Eye,
+        tiles: &[Tile],
         culling: Culling,
         charset: Charset,
         cell_aspect: f32,
     ) {
         if !self.no_edges {
-            self.draw_cell_bounds(maze, eye); // cell boundaries on floor and ceiling: fainter lines
-            self.draw_jambs(maze, eye); // where a wall ends at an opening: a light line, seen from afar
-            self.draw_chalk(maze, eye, culling); // the walked cells' chalk crosses on the floor
+            self.draw_cell_bounds(maze, view, tiles); // cell boundaries on floor and ceiling: fainter lines
+            self.draw_jambs(maze, view, tiles); // where a wall ends at an opening: a light line, seen from afar
+            self.draw_chalk(maze, view, tiles, culling); // the walked cells' chalk crosses on the floor
         }
         if charset == Charset::Ascii {
-            self.outline_visible_walls(maze, eye, charset.sample_aspect(cell_aspect)); // Bresenham edges
+            let aspect = charset.sample_aspect(cell_aspect);
+            self.outline_visible_walls(maze, view, tiles, aspect); // Bresenham edges
         }
     }
 

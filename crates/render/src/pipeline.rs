@@ -11,13 +11,13 @@
 
 use std::ops::Range;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use wide::bytemuck::cast;
 use wide::{f32x8, i32x8, u32x8};
 
 use super::camera::{Camera, CameraError, Eye, Projection, Tile};
 use super::glyph;
-use super::line::{LinePoints, line_glyph, line_points};
+use super::line::{line_glyph, line_points};
 use super::options::{Charset, Culling, RenderOptions};
 use super::palette;
 use super::portal::{PortalPass, PortalStats};
@@ -188,9 +188,6 @@ pub struct Renderer {
     way: Vec<u32>,
     /// The last frame's openings whose lines are drawn on the floor and ceiling (`draw_cell_bounds`).
     lines: Vec<u32>,
-    /// A view drawn in tiles: the NDC box of each line of `lines` then `way`, on the floor and on the
-    /// ceiling.
-    line_boxes: Vec<[[Vec2; 2]; 2]>,
     /// This frame tints no floor or ceiling by the exit's light: in 16 colours (the floor and the
     /// ceiling show one entry each there, and a green one would be a wall's; walls show the glow's
     /// dark green, `palette::GLOW_16`) and without colour (ascii shows lightness only: the frame stays
@@ -414,6 +411,9 @@ impl Renderer {
         if self.picture.width() != view.width || self.picture.height() != view.height {
             self.picture.resize(view.width, view.height);
         }
+        if k == 0 {
+            self.picture.clear_outlines(); // (the last view's lines': the tiles draw none)
+        }
         let (x0, y0) = tile.at;
         self.picture.place(&self.samples, x0, y0); // (the tile's samples, still in `samples`)
         // (its figures' labels: drawn now, with the figures)
@@ -425,20 +425,8 @@ impl Renderer {
         std::mem::swap(&mut self.samples, &mut self.tile_samples[k]);
     }
 
-    /// A foveated view's tile `tile`, entered again ([`Renderer::enter_tile`]) after the picture's
-    /// edges: its samples taken back from the picture.
-    pub(crate) fn take_tile(&mut self, tile: &Tile) {
-        self.samples.take_from(&self.picture, tile.at.0, tile.at.1);
-    }
-
-    /// After a tile's lines: its samples into the picture again, and the tile's own samples put back.
-    pub(crate) fn place_tile_samples(&mut self, tile: &Tile, k: usize) {
-        self.picture.place(&self.samples, tile.at.0, tile.at.1);
-        std::mem::swap(&mut self.samples, &mut self.tile_samples[k]);
-    }
-
     /// After the last tile of a foveated view: its picture becomes the samples, its labels the
-    /// figures' labels.
+    /// figures' labels, and its walls those of the whole view.
     pub(crate) fn finish_tiles(&mut self, view: &Eye) {
         if view.warp.is_none() {
             return;
@@ -447,6 +435,11 @@ impl Renderer {
         self.showing_picture = true;
         std::mem::swap(&mut self.sprites.labels, &mut self.tile_labels);
         self.tile_labels.clear();
+        // (the walls of the whole view again, for the lines drawn over it: its last tile's were kept)
+        if !self.wall_boxes.is_empty() {
+            self.walls.clear();
+            self.walls.extend(self.wall_boxes.iter().map(|&(e, _)| e));
+        }
     }
 
     /// A view drawn in several tiles: each chosen wall with the box it covers in NDC (its clipped
@@ -994,10 +987,9 @@ impl Renderer {
 
     /// The openings whose lines [`Renderer::draw_cell_bounds`] draws, once a view: those of the
     /// cells the pass visited (every one, brute force or past the pass's cap), and those the exit's
-    /// light comes through toward the eye; a view drawn in tiles also keeps each line's box on the
-    /// screen, so a tile draws only the lines that reach it.
+    /// light comes through toward the eye.
     #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub(crate) fn choose_cell_lines(&mut self, maze: &Maze, view: &Eye, culling: Culling, tiled: bool) {
+    pub(crate) fn choose_cell_lines(&mut self, maze: &Maze, view: &Eye, culling: Culling) {
         self.lines.clear();
         match culling {
             Culling::Portal if self.portal.fell_back() => self.lines.extend(0..maze.edges().len() as u32),
@@ -1025,15 +1017,6 @@ impl Renderer {
         };
         self.way.clear();
         self.way.extend(self.lines.iter().copied().filter(|&e| toward(e)));
-        // A view drawn in tiles: where on the screen each line lies, on the floor and on the ceiling.
-        self.line_boxes.clear();
-        if tiled {
-            for &e in self.lines.iter().chain(&self.way) {
-                let (a, b) = maze.edge_points(e);
-                self.line_boxes
-                    .push([FLOOR_Z, CEILING_Z].map(|z| segment_box(view, a.extend(z), b.extend(z))));
-            }
-        }
     }
 
     /// Cell boundaries on floor and ceiling: each opening of a cell the pass visited (of every cell,
@@ -1049,8 +1032,8 @@ impl Renderer {
     /// side) is drawn in the way's light instead ([`way_light`], `way_light_16` in 16 colours,
     /// [`WAY_GLYPH`] in ascii): at a junction the glowing line is the way on (issue #39).
     #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub(crate) fn draw_cell_bounds(&mut self, maze: &Maze, eye: &Eye) {
-        let w = eye.width;
+    pub(crate) fn draw_cell_bounds(&mut self, maze: &Maze, view: &Eye, tiles: &[Tile]) {
+        let w = self.samples.width();
         self.edge_list.clear();
         // The lines' colour on the floor and on the ceiling: in truecolor and 256 colours the plane a
         // step lighter (line_color); in 16 colours, where the floor shows one entry, FLOOR_BOUND_16,
@@ -1065,45 +1048,32 @@ impl Renderer {
         // taller (`far_wall_height`), and the cells could not be counted. (The ordinary lines there,
         // lighter than their plane but less than the way's light is, are drawn at every distance:
         // thinned, a line 1–2 cells off on the ceiling, nearer the eye's height, was left out.)
-        let per_unit = eye.height as f32 / eye.tan_extent().y; // samples a unit spans at depth 1
         // In ascii (a sample a cell) the lines are glyphs: where they lie under LINE_GAP_ASCII rows
         // apart they make a block of `~`, and the farther ones are left out the same way.
         let gap = if self.ascii_lines { LINE_GAP_ASCII } else { LINE_GAP_16 };
         let colour_lines = !(self.floor_bounds_apart || self.ascii_lines);
-        let perspective = eye.camera.projection == Projection::Perspective;
+        let perspective = view.camera.projection == Projection::Perspective;
         let walls = maze.edges().len() as u32;
         let seen = std::mem::take(&mut self.lines);
         let way = std::mem::take(&mut self.way);
-        let boxes = std::mem::take(&mut self.line_boxes);
-        let window = tile_window(eye);
-        let (seen_boxes, way_boxes) = boxes.split_at(if boxes.is_empty() { 0 } else { seen.len() });
         let way_paint = if self.floor_bounds_apart { way_light_16 } else { way_light };
         for (z, plane, paint) in [(FLOOR_Z, FLOOR, paint[0]), (CEILING_Z, CEILING, paint[1])] {
-            for (edges, boxes, paint, glyph, is_way) in [
-                (&seen, seen_boxes, paint, CELL_LINE_GLYPH, false),
-                (&way, way_boxes, way_paint, WAY_GLYPH, true),
-            ] {
+            for (edges, paint, glyph, is_way) in
+                [(&seen, paint, CELL_LINE_GLYPH, false), (&way, way_paint, WAY_GLYPH, true)]
+            {
                 self.edge_list.clear();
-                let below = (eye.position.z - z).abs(); // the plane's distance from the eye's height
-                for (k, &e) in edges.iter().enumerate() {
-                    // (a view drawn in tiles: only the lines that reach this one)
-                    if boxes.get(k).is_some_and(|b| !meets(b[usize::from(plane == CEILING)], window)) {
-                        continue;
-                    }
+                let below = (view.position.z - z).abs(); // the plane's distance from the eye's height
+                for &e in edges {
                     let (a, b) = maze.edge_points(e);
+                    let Some(clipped) = clip_segment(view, a.extend(z), b.extend(z)) else { continue };
                     let gap = if is_way && colour_lines { WAY_LINE_GAP } else { gap };
-                    if perspective && (is_way || !colour_lines) {
-                        // a line at depth d and the one a cell (its length) nearer are `per_unit · below
-                        // · c / (d (d − c))` samples apart: up to the depth where that is LINE_GAP_16, so
-                        // the last line drawn still stands apart from the one before it
-                        let c = a.distance(b);
-                        let room = per_unit * below * c / gap;
-                        let from = 0.5 * ((c * c + 4.0 * room).sqrt() + c);
-                        let depth = |p: Vec2| (p.extend(z) - eye.position).dot(eye.forward);
-                        if depth(a).min(depth(b)) > from {
-                            continue;
-                        }
-                    }
+                    // a line at depth d and the one a cell (its length) nearer are `per_unit · below ·
+                    // c / (d (d − c))` samples apart: up to the depth where that is LINE_GAP_16 on
+                    // the tile's scale, so the last line drawn still stands apart from the one before
+                    let thinned = perspective && (is_way || !colour_lines);
+                    let c = a.distance(b);
+                    let depth = |p: Vec2| (p.extend(z) - view.position).dot(view.forward);
+                    let nearest = depth(a).min(depth(b));
                     // A wall whose foot (top) this line runs along: within FOOT_ANGLE of it (below).
                     let line = (b - a).normalize_or_zero();
                     let along_foot = |id: u32| {
@@ -1112,44 +1082,57 @@ impl Renderer {
                             line.perp_dot((d - c).normalize_or_zero()).abs() < FOOT_ANGLE.sin()
                         }
                     };
-                    for (x, y) in segment_samples(eye, a.extend(z), b.extend(z)) {
-                        let i = y * w + x;
-                        // Not on the plane's sample just beside a wall (the floor's below it, the
-                        // ceiling's above): a light line there reads as a pale far wall's own foot or
-                        // top, a row taller than it is (issue #39, `far_wall_height`). Every line but
-                        // ascii's glyphs is lighter than its plane (16 colours' light grey, line_color,
-                        // the way's light): each is left out there.
-                        let off =
-                            |k: usize| if plane == FLOOR { i.checked_sub(k * w) } else { Some(i + k * w) };
-                        let wall_at = |j: Option<usize>, along: bool| {
-                            j.and_then(|j| self.samples.id().get(j))
-                                .is_some_and(|&id| id < walls && (!along || along_foot(id)))
-                        };
-                        let light = colour_lines || self.floor_bounds_apart || is_way;
-                        // (in truecolor and 256 colours, whose lines are near a wall's lightness, not
-                        // two samples off a wall either: there a wall's foot is told from the floor a
-                        // little way off it, `wall_floor`; nor, but the way's, three off a far wall, one
-                        // under FAR_WALL_SAMPLES tall, which fades to a line's grey: a grey line there
-                        // read as the wall again, a row taller, `far_wall_height`; those two only for a
-                        // wall the line runs along: one that meets a wall at an angle, down a side
-                        // opening to the wall faced across it, reaches the sample beside the wall, and
-                        // that it reaches the wall tells the opening from a wall in line with an end
-                        // wall, issue #39)
-                        let far_wall_at = |k: usize| {
-                            off(k).and_then(|j| self.samples.id().get(j)).is_some_and(|&id| {
-                                along_foot(id)
-                                    && off(k + FAR_WALL_SAMPLES as usize)
-                                        .and_then(|j| self.samples.id().get(j))
-                                        .is_none_or(|&top| top != id)
-                            })
-                        };
-                        let beside_wall = light
-                            && (wall_at(off(1), false)
-                                || colour_lines && wall_at(off(2), true)
-                                || colour_lines && !is_way && far_wall_at(3));
-                        if self.samples.id()[i] == plane && self.edge_marks[i] == Mark::None && !beside_wall {
-                            self.edge_marks[i] = Mark::Seam;
-                            self.edge_list.push(i as u32);
+                    for tile in tiles_reached(tiles, clipped) {
+                        if thinned {
+                            let per_unit = tile.eye.height as f32 / tile.eye.tan_extent().y; // at depth 1
+                            let room = per_unit * below * c / gap;
+                            if nearest > 0.5 * ((c * c + 4.0 * room).sqrt() + c) {
+                                continue;
+                            }
+                        }
+                        for (x, y) in tile_samples(tile, clipped) {
+                            let i = y * w + x;
+                            // Not on the plane's sample just beside a wall (the floor's below it, the
+                            // ceiling's above): a light line there reads as a pale far wall's own foot or
+                            // top, a row taller than it is (issue #39, `far_wall_height`). Every line but
+                            // ascii's glyphs is lighter than its plane (16 colours' light grey, line_color,
+                            // the way's light): each is left out there.
+                            let off = |k: usize| {
+                                if plane == FLOOR { i.checked_sub(k * w) } else { Some(i + k * w) }
+                            };
+                            let wall_at = |j: Option<usize>, along: bool| {
+                                j.and_then(|j| self.samples.id().get(j))
+                                    .is_some_and(|&id| id < walls && (!along || along_foot(id)))
+                            };
+                            let light = colour_lines || self.floor_bounds_apart || is_way;
+                            // (in truecolor and 256 colours, whose lines are near a wall's lightness, not
+                            // two samples off a wall either: there a wall's foot is told from the floor a
+                            // little way off it, `wall_floor`; nor, but the way's, three off a far wall, one
+                            // under FAR_WALL_SAMPLES tall, which fades to a line's grey: a grey line there
+                            // read as the wall again, a row taller, `far_wall_height`; those two only for a
+                            // wall the line runs along: one that meets a wall at an angle, down a side
+                            // opening to the wall faced across it, reaches the sample beside the wall, and
+                            // that it reaches the wall tells the opening from a wall in line with an end
+                            // wall, issue #39)
+                            let far_wall_at = |k: usize| {
+                                off(k).and_then(|j| self.samples.id().get(j)).is_some_and(|&id| {
+                                    along_foot(id)
+                                        && off(k + FAR_WALL_SAMPLES as usize)
+                                            .and_then(|j| self.samples.id().get(j))
+                                            .is_none_or(|&top| top != id)
+                                })
+                            };
+                            let beside_wall = light
+                                && (wall_at(off(1), false)
+                                    || colour_lines && wall_at(off(2), true)
+                                    || colour_lines && !is_way && far_wall_at(3));
+                            if self.samples.id()[i] == plane
+                                && self.edge_marks[i] == Mark::None
+                                && !beside_wall
+                            {
+                                self.edge_marks[i] = Mark::Seam;
+                                self.edge_list.push(i as u32);
+                            }
                         }
                     }
                 }
@@ -1162,7 +1145,7 @@ impl Renderer {
                 self.paint_marked(paint);
             }
         }
-        (self.lines, self.way, self.line_boxes) = (seen, way, boxes);
+        (self.lines, self.way) = (seen, way);
     }
 
     /// Door jambs: where a wall ends at an opening of its own line (a side opening, a turn) on the
@@ -1171,9 +1154,9 @@ impl Renderer {
     /// opening six cells down a corridor is narrower than a column, but its jambs stay a sample wide,
     /// so a player sees where the side openings are as far as the view reaches (issue #39).
     #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub(crate) fn draw_jambs(&mut self, maze: &Maze, eye: &Eye) {
-        let w = eye.width;
-        let (eye_at, forward) = (eye.camera.position, ground_forward(eye));
+    pub(crate) fn draw_jambs(&mut self, maze: &Maze, view: &Eye, tiles: &[Tile]) {
+        let w = self.samples.width();
+        let (eye_at, forward) = (view.camera.position, ground_forward(view));
         self.edge_list.clear();
         for &e in &self.walls {
             let edge = maze.edge(e);
@@ -1188,7 +1171,10 @@ impl Renderer {
                     continue;
                 }
                 let at = maze.vertex(v);
-                for (x, y) in segment_samples(eye, at.extend(FLOOR_Z), at.extend(CEILING_Z)) {
+                let Some(clipped) = clip_segment(view, at.extend(FLOOR_Z), at.extend(CEILING_Z)) else {
+                    continue;
+                };
+                for (x, y) in tiles_reached(tiles, clipped).flat_map(|tile| tile_samples(tile, clipped)) {
                     // The wall's own sample on the line, or beside it (the line runs along the
                     // wall's end, which rounds to either side).
                     let row = y * w;
@@ -1218,8 +1204,8 @@ impl Renderer {
     /// moved off the floor's tint ([`palette::off_floor_and_ceiling`]).
     /// Exact as the cell lines are: a ray meets the floor once.
     #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub(crate) fn draw_chalk(&mut self, maze: &Maze, eye: &Eye, culling: Culling) {
-        let w = eye.width;
+    pub(crate) fn draw_chalk(&mut self, maze: &Maze, view: &Eye, tiles: &[Tile], culling: Culling) {
+        let w = self.samples.width();
         self.edge_list.clear();
         for &cell in &self.chalk {
             if cell as usize >= maze.cell_count()
@@ -1232,7 +1218,8 @@ impl Renderer {
             let arm = 0.2 * (size.max - size.min).min_element();
             for d in [Vec2::new(arm, arm), Vec2::new(arm, -arm)] {
                 let (a, b) = ((centre - d).extend(FLOOR_Z), (centre + d).extend(FLOOR_Z));
-                for (x, y) in segment_samples(eye, a, b) {
+                let Some(clipped) = clip_segment(view, a, b) else { continue };
+                for (x, y) in tiles_reached(tiles, clipped).flat_map(|tile| tile_samples(tile, clipped)) {
                     let i = y * w + x;
                     if self.samples.id()[i] == FLOOR && self.edge_marks[i] == Mark::None {
                         self.edge_marks[i] = Mark::Seam;
@@ -1285,7 +1272,13 @@ impl Renderer {
     /// where the wall stands under [`SHORT_ASCII_WALL`] samples tall, so a far wall shows its glyphs:
     /// which way it faces ([`Renderer::faced`]), not a row of `-`.
     #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub(crate) fn outline_visible_walls(&mut self, maze: &Maze, eye: &Eye, sample_aspect: f32) {
+    pub(crate) fn outline_visible_walls(
+        &mut self,
+        maze: &Maze,
+        view: &Eye,
+        tiles: &[Tile],
+        sample_aspect: f32,
+    ) {
         let edges = maze.edges().len() as u32;
         self.seen.clear();
         // One id per run of equal samples (a wall covers runs of a row), so the sort is of a few.
@@ -1294,65 +1287,70 @@ impl Renderer {
         self.seen.sort_unstable();
         self.seen.dedup();
         self.faced.resize(edges as usize, false); // cleared once a view: its tiles set their walls
-        let (w, h) = (eye.width, eye.height);
-        let forward = ground_forward(eye);
+        let (w, h) = (self.samples.width(), self.samples.height());
+        let (eye_at, forward) = (view.camera.position, ground_forward(view));
         for &e in &self.seen {
             let (a, b) = maze.edge_points(e);
             let normal_view =
-                (eye.normal_to_view * (b - a).perp().normalize_or_zero().extend(0.0)).normalize_or_zero();
+                (view.normal_to_view * (b - a).perp().normalize_or_zero().extend(0.0)).normalize_or_zero();
             self.faced[e as usize] = normal_view.z.abs() >= std::f32::consts::FRAC_1_SQRT_2;
             let edge = maze.edge(e);
             let quad = wall_quad_world(maze, e);
             // The quad's sides: 0 the foot, 1 the end at `edge.end`, 2 the top, 3 the end at `edge.start`;
             // lines first, then seams, then the ends that stop, each over what came before.
-            let end = |v: u32| wall_end(maze, e, v, eye.camera.position, forward);
+            let end = |v: u32| wall_end(maze, e, v, eye_at, forward);
             let ends = [(1, end(edge.end)), (3, end(edge.start))];
             let order = [(0, WallEnd::Corner), (2, WallEnd::Corner)].into_iter();
             let order = order
                 .chain(ends.into_iter().filter(|end| end.1 == WallEnd::Seam))
                 .chain(ends.into_iter().filter(|end| end.1 != WallEnd::Seam));
             for (k, what) in order {
-                let Some((p, q)) = clip_segment(eye, quad[k], quad[(k + 1) % 4]) else { continue };
-                let (gp, gq) = (eye.grid(p), eye.grid(q));
-                let glyph = match (line_glyph(gq.x - gp.x, gq.y - gp.y, sample_aspect), what) {
-                    ('|', WallEnd::Seam) if k % 2 == 1 => SEAM_GLYPH,
-                    ('|', WallEnd::Jamb) if k % 2 == 1 => {
-                        // which hand the wall lies on, seen from the eye: the bracket's back to the
-                        // opening (`]` a wall on the left stops, `[` one on the right starts)
-                        let (here, there) = if k == 1 { (b, a) } else { (a, b) };
-                        jamb_glyph((here - eye.camera.position).perp_dot(there - here) > 0.0)
-                    }
-                    (glyph, _) => glyph,
-                };
-                let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
-                let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
-                for (x, y) in line_points(x0, y0, x1, y1, w, h) {
-                    // Only on this wall's own samples: exact, and the same in every culling mode. An
-                    // end runs along the wall's last samples, which round to either side of it: a
-                    // sample beside the line where the line's own shows no other wall of that vertex
-                    // (that one draws the line: one line where two walls meet).
-                    let ids = self.samples.id();
-                    let v = if k == 1 { edge.end } else { edge.start };
-                    let meets = |f: u32| f < edges && (maze.edge(f).start == v || maze.edge(f).end == v);
-                    let beside = if k % 2 == 1 && !meets(ids[y * w + x]) {
-                        [x, x.wrapping_sub(1), x + 1]
-                    } else {
-                        [x; 3]
-                    };
-                    let Some(x) = beside.into_iter().find(|&x| x < w && ids[y * w + x] == e) else {
-                        continue;
-                    };
-                    if k % 2 == 0 {
-                        // a top or bottom line where the wall stands tall enough in this column
-                        let tall = (1..SHORT_ASCII_WALL).all(|d| {
-                            let row = if k == 0 { y.checked_sub(d) } else { Some(y + d).filter(|&r| r < h) };
-                            row.is_some_and(|r| ids[r * w + x] == e)
-                        });
-                        if !tall {
-                            continue;
+                let Some(clipped) = clip_segment(view, quad[k], quad[(k + 1) % 4]) else { continue };
+                for tile in tiles_reached(tiles, clipped) {
+                    let (gp, gq) = (tile.eye.grid(clipped.0), tile.eye.grid(clipped.1));
+                    let glyph = match (line_glyph(gq.x - gp.x, gq.y - gp.y, sample_aspect), what) {
+                        ('|', WallEnd::Seam) if k % 2 == 1 => SEAM_GLYPH,
+                        ('|', WallEnd::Jamb) if k % 2 == 1 => {
+                            // which hand the wall lies on, seen from the eye: the bracket's back to the
+                            // opening (`]` a wall on the left stops, `[` one on the right starts)
+                            let (here, there) = if k == 1 { (b, a) } else { (a, b) };
+                            jamb_glyph((here - eye_at).perp_dot(there - here) > 0.0)
                         }
+                        (glyph, _) => glyph,
+                    };
+                    let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
+                    let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
+                    let (tx, ty) = tile.at; // (the tile's part of the picture)
+                    let points = line_points(x0, y0, x1, y1, tile.eye.width, tile.eye.height);
+                    for (x, y) in points.map(|(x, y)| (x + tx, y + ty)) {
+                        // Only on this wall's own samples: exact, and the same in every culling mode. An
+                        // end runs along the wall's last samples, which round to either side of it: a
+                        // sample beside the line where the line's own shows no other wall of that vertex
+                        // (that one draws the line: one line where two walls meet).
+                        let ids = self.samples.id();
+                        let v = if k == 1 { edge.end } else { edge.start };
+                        let meets = |f: u32| f < edges && (maze.edge(f).start == v || maze.edge(f).end == v);
+                        let beside = if k % 2 == 1 && !meets(ids[y * w + x]) {
+                            [x, x.wrapping_sub(1), x + 1]
+                        } else {
+                            [x; 3]
+                        };
+                        let Some(x) = beside.into_iter().find(|&x| x < w && ids[y * w + x] == e) else {
+                            continue;
+                        };
+                        if k % 2 == 0 {
+                            // a top or bottom line where the wall stands tall enough in this column
+                            let tall = (1..SHORT_ASCII_WALL).all(|d| {
+                                let row =
+                                    if k == 0 { y.checked_sub(d) } else { Some(y + d).filter(|&r| r < h) };
+                                row.is_some_and(|r| ids[r * w + x] == e)
+                            });
+                            if !tall {
+                                continue;
+                            }
+                        }
+                        self.samples.put_outline(x, y, Some(glyph));
                     }
-                    self.samples.put_outline(x, y, Some(glyph));
                 }
             }
         }
@@ -2175,18 +2173,6 @@ fn for_each_difference(a: &[u32], b: &[u32], mut f: impl FnMut(usize)) {
     }
 }
 
-/// The samples a world segment `p`–`q` passes over in view: clipped against the view volume,
-/// projected to the grid, Bresenham between the samples of its ends (none where it is out of view).
-fn segment_box(eye: &Eye, p: Vec3, q: Vec3) -> [Vec2; 2] {
-    match clip_segment(eye, p, q) {
-        Some((p, q)) => {
-            let (p, q) = (p.truncate().truncate() / p.w, q.truncate().truncate() / q.w);
-            [p.min(q), p.max(q)]
-        }
-        None => [Vec2::INFINITY, Vec2::NEG_INFINITY], // meets nothing
-    }
-}
-
 /// The grid depth from which a wall stands shorter on `eye`'s picture than [`FAR_WALL_SAMPLES`]: a
 /// wall spans `height · (CEILING_Z − FLOOR_Z) / (tan_extent · depth)` samples in perspective, the
 /// same at every depth in orthographic (as the depth buffer holds it: grid depth, growing with the
@@ -2212,12 +2198,20 @@ pub(crate) fn meets([a, b]: [Vec2; 2], [lo, hi]: [Vec2; 2]) -> bool {
     a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y
 }
 
-fn segment_samples(eye: &Eye, p: Vec3, q: Vec3) -> LinePoints {
-    // The line itself, not a `flat_map` over the clipped `Option`: the adapter's per-point bookkeeping
-    // cost more than the point (~60 instructions a point in the open view, of ~2,000 points a frame).
-    let Some((p, q)) = clip_segment(eye, p, q) else {
-        return line_points(0, 0, 0, 0, 0, 0); // a grid of no samples: no point
-    };
+/// The tiles of a view (a view drawn whole: its one tile) that a segment, clipped to the view volume
+/// (`clipped`, clip space), comes within [`TILE_MARGIN`] samples of.
+fn tiles_reached(tiles: &[Tile], clipped: (Vec4, Vec4)) -> impl Iterator<Item = &Tile> {
+    let ndc = |c: Vec4| c.truncate().truncate() / c.w;
+    let (p, q) = (ndc(clipped.0), ndc(clipped.1));
+    let whole = tiles.len() == 1;
+    tiles.iter().filter(move |tile| whole || meets([p.min(q), p.max(q)], tile_window(&tile.eye)))
+}
+
+/// The samples of the picture a segment clipped to the view volume (`clipped`, clip space) passes
+/// over in `tile`'s part of it: projected to the tile's grid, Bresenham between the samples of its
+/// ends, each in the picture's coordinates.
+fn tile_samples(tile: &Tile, (p, q): (Vec4, Vec4)) -> impl Iterator<Item = (usize, usize)> + use<> {
+    let eye = &tile.eye;
     let (gp, mut gq) = (eye.grid(p), eye.grid(q));
     // A segment upright (or level) on the grid up to rounding, a vertical in a level view, stays
     // in one column (row) of samples rather than stepping at a rounding's whim.
@@ -2229,7 +2223,8 @@ fn segment_samples(eye: &Eye, p: Vec3, q: Vec3) -> LinePoints {
     }
     let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
     let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
-    line_points(x0, y0, x1, y1, eye.width, eye.height)
+    let (tx, ty) = tile.at;
+    line_points(x0, y0, x1, y1, eye.width, eye.height).map(move |(x, y)| (x + tx, y + ty))
 }
 
 /// The depth a wall's fog is taken at: the least view depth (along the view direction) of its quad,

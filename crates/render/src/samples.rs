@@ -64,6 +64,11 @@ impl SampleBuffer {
     pub(crate) fn clear_coverage(&mut self) {
         self.depth.fill(FAR);
         self.id.fill(NONE);
+        self.clear_outlines();
+    }
+
+    /// Clears every outline glyph (none to clear where none may be set).
+    pub(crate) fn clear_outlines(&mut self) {
         if std::mem::take(&mut self.outlined) {
             self.outline.fill(None);
         }
@@ -136,9 +141,9 @@ impl SampleBuffer {
         }
     }
 
-    /// Writes sample `i` (row-major index, in range).
     /// Copies every sample of `tile` into this buffer with its top-left at (`x0`, `y0`): colour,
-    /// depth, id and outline glyph. `tile` must fit.
+    /// depth and id, and the outline glyphs where `tile` may have any (else this buffer's stay: see
+    /// [`SampleBuffer::clear_outlines`]). `tile` must fit.
     pub(crate) fn place(&mut self, tile: &SampleBuffer, x0: usize, y0: usize) {
         debug_assert!(x0 + tile.width <= self.width && y0 + tile.height <= self.height, "the tile fits");
         for y in 0..tile.height {
@@ -147,26 +152,14 @@ impl SampleBuffer {
             self.color[to..to + n].copy_from_slice(&tile.color[from..from + n]);
             self.depth[to..to + n].copy_from_slice(&tile.depth[from..from + n]);
             self.id[to..to + n].copy_from_slice(&tile.id[from..from + n]);
-            self.outline[to..to + n].copy_from_slice(&tile.outline[from..from + n]);
+            if tile.outlined {
+                self.outline[to..to + n].copy_from_slice(&tile.outline[from..from + n]);
+            }
         }
         self.outlined |= tile.outlined;
     }
 
-    /// The opposite of [`SampleBuffer::place`]: this buffer's samples from `picture`'s, this buffer's
-    /// top-left at (`x0`, `y0`) there. This buffer must fit.
-    pub(crate) fn take_from(&mut self, picture: &SampleBuffer, x0: usize, y0: usize) {
-        debug_assert!(x0 + self.width <= picture.width && y0 + self.height <= picture.height, "it fits");
-        for y in 0..self.height {
-            let (to, from) = (y * self.width, (y0 + y) * picture.width + x0);
-            let n = self.width;
-            self.color[to..to + n].copy_from_slice(&picture.color[from..from + n]);
-            self.depth[to..to + n].copy_from_slice(&picture.depth[from..from + n]);
-            self.id[to..to + n].copy_from_slice(&picture.id[from..from + n]);
-            self.outline[to..to + n].copy_from_slice(&picture.outline[from..from + n]);
-        }
-        self.outlined |= picture.outlined;
-    }
-
+    /// Writes sample `i` (row-major index, in range).
     pub(crate) fn write(&mut self, i: usize, color: Vec3, depth: f32, id: u32) {
         self.color[i] = color;
         self.depth[i] = depth;
