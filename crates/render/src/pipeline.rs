@@ -726,6 +726,12 @@ impl Renderer {
                 let lit_row =
                     glow.is_some_and(|(_, light)| Aabb::new(a.min(b), a.max(b)).intersects(&light.bounds()));
                 if shading == Shading::Color && !glows && !self.reference_shading {
+                    // A wall stays where it is at least as near as the plane along this ray (none can
+                    // where the ray starts inside the plane's solid side).
+                    let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
+                    if first_shown((ids, depths), stays_at, 0) == width {
+                        continue; // walls keep the whole row (a wall faced up close, a tile of walls)
+                    }
                     let shade = RowShade::new(
                         &hit,
                         (start0, start_step),
@@ -735,9 +741,6 @@ impl Renderer {
                     );
                     let base = hit.plane.2;
                     let fog_term = fog.color * hit.fog;
-                    // A wall stays where it is at least as near as the plane along this ray (none can
-                    // where the ray starts inside the plane's solid side).
-                    let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
                     #[cfg(not(test))]
                     let by_runs = true;
                     #[cfg(test)]
