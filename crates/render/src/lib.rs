@@ -155,15 +155,20 @@ impl Renderer {
         charset: Charset,
         cell_aspect: f32,
     ) {
+        let mut windows = std::mem::take(&mut self.tile_windows);
+        windows.clear();
+        windows.extend(tiles.iter().map(|tile| pipeline::tile_window(&tile.eye)));
+        let tiling = pipeline::Tiling { view, tiles, windows: &windows };
         if !self.no_edges {
-            self.draw_cell_bounds(maze, view, tiles); // cell boundaries on floor and ceiling: fainter lines
-            self.draw_jambs(maze, view, tiles); // where a wall ends at an opening: a light line, seen from afar
-            self.draw_chalk(maze, view, tiles, culling); // the walked cells' chalk crosses on the floor
+            self.draw_cell_bounds(maze, &tiling); // cell boundaries on floor and ceiling: fainter lines
+            self.draw_jambs(maze, &tiling); // where a wall ends at an opening: a light line, seen from afar
+            self.draw_chalk(maze, &tiling, culling); // the walked cells' chalk crosses on the floor
         }
         if charset == Charset::Ascii {
             let aspect = charset.sample_aspect(cell_aspect);
-            self.outline_visible_walls(maze, view, tiles, aspect); // Bresenham edges
+            self.outline_visible_walls(maze, &tiling, aspect); // Bresenham edges
         }
+        self.tile_windows = windows;
     }
 
     /// The 3D part of the pipeline for `eye`, once its walls are chosen ([`Renderer::choose_walls`]):

@@ -150,6 +150,8 @@ pub struct Renderer {
     wall_boxes: Vec<(u32, [Vec2; 2])>,
     /// A view drawn in tiles: each row's short-wall depth ([`Renderer::picture_edges`]).
     short_rows: Vec<f32>,
+    /// The tiles' NDC windows as their lines reach them ([`Tiling`]), reused.
+    pub(crate) tile_windows: Vec<[Vec2; 2]>,
     scratch: ClipScratch,
     polygon_grid: Vec<GridVertex<Vec3>>,
     /// The walls' fill's depths a column (`raster::fill_polygon_x8`), reused.
@@ -1035,7 +1037,8 @@ impl Renderer {
     /// side) is drawn in the way's light instead ([`way_light`], `way_light_16` in 16 colours,
     /// [`WAY_GLYPH`] in ascii): at a junction the glowing line is the way on (issue #39).
     #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub(crate) fn draw_cell_bounds(&mut self, maze: &Maze, view: &Eye, tiles: &[Tile]) {
+    pub(crate) fn draw_cell_bounds(&mut self, maze: &Maze, tiling: &Tiling<'_>) {
+        let view = tiling.view;
         let w = self.samples.width();
         self.edge_list.clear();
         // The lines' colour on the floor and on the ceiling: in truecolor and 256 colours the plane a
@@ -1085,7 +1088,7 @@ impl Renderer {
                             line.perp_dot((d - c).normalize_or_zero()).abs() < FOOT_ANGLE.sin()
                         }
                     };
-                    for tile in tiles_reached(tiles, clipped) {
+                    for tile in tiling.reached(clipped) {
                         if thinned {
                             let per_unit = tile.eye.height as f32 / tile.eye.tan_extent().y; // at depth 1
                             let room = per_unit * below * c / gap;
@@ -1157,7 +1160,8 @@ impl Renderer {
     /// opening six cells down a corridor is narrower than a column, but its jambs stay a sample wide,
     /// so a player sees where the side openings are as far as the view reaches (issue #39).
     #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub(crate) fn draw_jambs(&mut self, maze: &Maze, view: &Eye, tiles: &[Tile]) {
+    pub(crate) fn draw_jambs(&mut self, maze: &Maze, tiling: &Tiling<'_>) {
+        let view = tiling.view;
         let w = self.samples.width();
         let (eye_at, forward) = (view.camera.position, ground_forward(view));
         self.edge_list.clear();
@@ -1177,7 +1181,7 @@ impl Renderer {
                 let Some(clipped) = clip_segment(view, at.extend(FLOOR_Z), at.extend(CEILING_Z)) else {
                     continue;
                 };
-                for (x, y) in tiles_reached(tiles, clipped).flat_map(|tile| tile_samples(tile, clipped)) {
+                for (x, y) in tiling.reached(clipped).flat_map(|tile| tile_samples(tile, clipped)) {
                     // The wall's own sample on the line, or beside it (the line runs along the
                     // wall's end, which rounds to either side).
                     let row = y * w;
@@ -1207,7 +1211,8 @@ impl Renderer {
     /// moved off the floor's tint ([`palette::off_floor_and_ceiling`]).
     /// Exact as the cell lines are: a ray meets the floor once.
     #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub(crate) fn draw_chalk(&mut self, maze: &Maze, view: &Eye, tiles: &[Tile], culling: Culling) {
+    pub(crate) fn draw_chalk(&mut self, maze: &Maze, tiling: &Tiling<'_>, culling: Culling) {
+        let view = tiling.view;
         let w = self.samples.width();
         self.edge_list.clear();
         for &cell in &self.chalk {
@@ -1222,7 +1227,7 @@ impl Renderer {
             for d in [Vec2::new(arm, arm), Vec2::new(arm, -arm)] {
                 let (a, b) = ((centre - d).extend(FLOOR_Z), (centre + d).extend(FLOOR_Z));
                 let Some(clipped) = clip_segment(view, a, b) else { continue };
-                for (x, y) in tiles_reached(tiles, clipped).flat_map(|tile| tile_samples(tile, clipped)) {
+                for (x, y) in tiling.reached(clipped).flat_map(|tile| tile_samples(tile, clipped)) {
                     let i = y * w + x;
                     if self.samples.id()[i] == FLOOR && self.edge_marks[i] == Mark::None {
                         self.edge_marks[i] = Mark::Seam;
@@ -1275,13 +1280,8 @@ impl Renderer {
     /// where the wall stands under [`SHORT_ASCII_WALL`] samples tall, so a far wall shows its glyphs:
     /// which way it faces ([`Renderer::faced`]), not a row of `-`.
     #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub(crate) fn outline_visible_walls(
-        &mut self,
-        maze: &Maze,
-        view: &Eye,
-        tiles: &[Tile],
-        sample_aspect: f32,
-    ) {
+    pub(crate) fn outline_visible_walls(&mut self, maze: &Maze, tiling: &Tiling<'_>, sample_aspect: f32) {
+        let view = tiling.view;
         let edges = maze.edges().len() as u32;
         self.seen.clear();
         // One id per run of equal samples (a wall covers runs of a row), so the sort is of a few.
@@ -1309,7 +1309,7 @@ impl Renderer {
                 .chain(ends.into_iter().filter(|end| end.1 != WallEnd::Seam));
             for (k, what) in order {
                 let Some(clipped) = clip_segment(view, quad[k], quad[(k + 1) % 4]) else { continue };
-                for tile in tiles_reached(tiles, clipped) {
+                for tile in tiling.reached(clipped) {
                     let (gp, gq) = (tile.eye.grid(clipped.0), tile.eye.grid(clipped.1));
                     let glyph = match (line_glyph(gq.x - gp.x, gq.y - gp.y, sample_aspect), what) {
                         ('|', WallEnd::Seam) if k % 2 == 1 => SEAM_GLYPH,
@@ -2201,13 +2201,24 @@ pub(crate) fn meets([a, b]: [Vec2; 2], [lo, hi]: [Vec2; 2]) -> bool {
     a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y
 }
 
-/// The tiles of a view (a view drawn whole: its one tile) that a segment, clipped to the view volume
-/// (`clipped`, clip space), comes within [`TILE_MARGIN`] samples of.
-fn tiles_reached(tiles: &[Tile], clipped: (Vec4, Vec4)) -> impl Iterator<Item = &Tile> {
-    let ndc = |c: Vec4| c.truncate().truncate() / c.w;
-    let (p, q) = (ndc(clipped.0), ndc(clipped.1));
-    let whole = tiles.len() == 1;
-    tiles.iter().filter(move |tile| whole || meets([p.min(q), p.max(q)], tile_window(&tile.eye)))
+/// A view as its lines are drawn over its picture ([`Renderer::draw_cell_bounds`] and the others):
+/// the whole view's eye, which clips each segment once, and its tiles (a view drawn whole: its one
+/// tile), each with its NDC window grown by [`TILE_MARGIN`] samples ([`tile_window`]).
+pub(crate) struct Tiling<'a> {
+    pub(crate) view: &'a Eye,
+    pub(crate) tiles: &'a [Tile],
+    pub(crate) windows: &'a [[Vec2; 2]],
+}
+
+impl Tiling<'_> {
+    /// The tiles a segment clipped to the view volume (`clipped`, clip space) comes near.
+    fn reached(&self, clipped: (Vec4, Vec4)) -> impl Iterator<Item = &Tile> {
+        let ndc = |c: Vec4| c.truncate().truncate() / c.w;
+        let (p, q) = (ndc(clipped.0), ndc(clipped.1));
+        let whole = self.tiles.len() == 1;
+        let near = move |window: &[Vec2; 2]| whole || meets([p.min(q), p.max(q)], *window);
+        self.tiles.iter().zip(self.windows).filter(move |(_, window)| near(window)).map(|(tile, _)| tile)
+    }
 }
 
 /// The samples of the picture a segment clipped to the view volume (`clipped`, clip space) passes
