@@ -114,7 +114,8 @@ impl Renderer {
         self.ascii_lines = charset == Charset::Ascii;
         self.faced.clear(); // ascii: which walls are seen square on, set by the outlines
         let tiles = view.tiles();
-        self.wall_boxes(maze, &view, tiles.len()); // a foveated view: where on the screen each wall lies
+        let flat = !textures && !self.reference_shading; // walls drawn flat, one colour a wall
+        self.wall_boxes(maze, &view, tiles.len(), flat); // a foveated view: each wall's box on the screen
         self.choose_cell_lines(maze, &view, culling); // the openings' lines, the way's
         let tiled = tiles.len() > 1;
         for (k, tile) in tiles.iter().enumerate() {

@@ -30,7 +30,7 @@ use super::shade::{
     way_light, way_light_16,
 };
 use super::sprite::{EXIT_GLOW, Label, Sprite, SpritePass, is_figure};
-use super::wall::{ClipScratch, clip_segment, clip_wall, wall_quad_world};
+use super::wall::{ClipScratch, WallVertex, clip_segment, clip_wall, wall_quad_world};
 use mazewalk_math::rigid_inverse;
 use mazewalk_maze::geometry::{CEILING_Z, FLOOR_Z};
 use mazewalk_maze::light::{EXIT_LIGHT, ExitLight};
@@ -113,6 +113,28 @@ impl<'m> Light<'m> {
     }
 }
 
+/// A wall's light, one for the whole wall ([`Renderer::wall_shade`]).
+struct WallShade {
+    /// Its albedo lit by the sun, the headlight and the exit's light (linear RGB), before fog.
+    lit_albedo: Vec3,
+    /// The view depth its fog is taken at ([`flat_fog_depth`]).
+    fog_depth: f32,
+    /// Its normal in view space, as the normal matrix takes it (not turned toward the eye).
+    normal_view: Vec3,
+}
+
+/// A wall of a view drawn in tiles, worked out once for all of them ([`Renderer::wall_boxes`]).
+#[derive(Clone, Debug)]
+struct ViewWall {
+    e: u32,
+    /// The box its clipped polygon covers in NDC.
+    ndc_box: [Vec2; 2],
+    /// Its polygon clipped to the view volume (clip space), in `Renderer::view_wall_vertices`.
+    vertices: Range<usize>,
+    /// Its one colour where the frame draws walls flat, as [`Renderer::draw_wall`] gives it.
+    flat: Option<Vec3>,
+}
+
 /// A tile draws the walls whose boxes come this many samples near it: a wall's edge is drawn on the
 /// sample beside the wall.
 const TILE_MARGIN: f32 = 2.0;
@@ -146,8 +168,10 @@ pub struct Renderer {
     tile_labels: Vec<Label>,
     pub(crate) portal: PortalPass,
     pub(crate) walls: Vec<u32>,
-    /// A view drawn in tiles: its chosen walls, each with the box it covers in NDC.
-    wall_boxes: Vec<(u32, [Vec2; 2])>,
+    /// A view drawn in tiles: its chosen walls, each worked out once for all its tiles, by id.
+    view_walls: Vec<ViewWall>,
+    /// The clipped polygons of `view_walls`.
+    view_wall_vertices: Vec<WallVertex>,
     /// A view drawn in tiles: each row's short-wall depth ([`Renderer::picture_edges`]).
     short_rows: Vec<f32>,
     /// The tiles' NDC windows as their lines reach them ([`Tiling`]), reused.
@@ -340,7 +364,7 @@ impl Renderer {
                 self.begin_view(maze);
                 let mut stats = self.choose_walls(maze, &view, culling);
                 let tiles = view.tiles();
-                self.wall_boxes(maze, &view, tiles.len());
+                self.wall_boxes(maze, &view, tiles.len(), false);
                 for (k, tile) in tiles.iter().enumerate() {
                     self.enter_tile(&view, k);
                     self.walls_in(&tile.eye);
@@ -438,26 +462,39 @@ impl Renderer {
         std::mem::swap(&mut self.sprites.labels, &mut self.tile_labels);
         self.tile_labels.clear();
         // (the walls of the whole view again, for the lines drawn over it: its last tile's were kept)
-        if !self.wall_boxes.is_empty() {
+        if !self.view_walls.is_empty() {
             self.walls.clear();
-            self.walls.extend(self.wall_boxes.iter().map(|&(e, _)| e));
+            self.walls.extend(self.view_walls.iter().map(|wall| wall.e));
         }
     }
 
-    /// A view drawn in several tiles: each chosen wall with the box it covers in NDC (its clipped
-    /// polygon's), into `wall_boxes`; walls wholly clipped away are left out. Nothing for one tile.
-    pub(crate) fn wall_boxes(&mut self, maze: &Maze, view: &Eye, tiles: usize) {
-        self.wall_boxes.clear();
+    /// A view drawn in several tiles: each chosen wall clipped to the view volume once, with the box
+    /// it covers in NDC and, where walls are drawn flat (`flat`: [`Renderer::draw_wall`]'s fast
+    /// path), its one colour, into `view_walls`; walls wholly clipped away are left out. Nothing for
+    /// one tile. (What a wall's tiles share: only the viewport differs from tile to tile.)
+    pub(crate) fn wall_boxes(&mut self, maze: &Maze, view: &Eye, tiles: usize, flat: bool) {
+        self.view_walls.clear();
+        self.view_wall_vertices.clear();
         if tiles <= 1 {
             return;
         }
-        for &e in &self.walls {
+        let light = Light::of(view, maze, true);
+        for k in 0..self.walls.len() {
+            let e = self.walls[k];
             let Some(poly) = clip_wall(maze, view, e, &mut self.scratch) else { continue };
-            let ndc = |v: &super::wall::WallVertex| v.clip.truncate().truncate() / v.clip.w;
+            let ndc = |v: &WallVertex| v.clip.truncate().truncate() / v.clip.w;
             let (lo, hi) = poly
                 .iter()
                 .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), v| (lo.min(ndc(v)), hi.max(ndc(v))));
-            self.wall_boxes.push((e, [lo, hi]));
+            let start = self.view_wall_vertices.len();
+            self.view_wall_vertices.extend_from_slice(poly);
+            let first_view = poly[0].view;
+            let flat = (flat && maze.edge(e).opaque).then(|| {
+                let shade = self.wall_shade(maze, view, &light, e, first_view);
+                light.fog.apply(shade.lit_albedo, shade.fog_depth)
+            });
+            let vertices = start..self.view_wall_vertices.len();
+            self.view_walls.push(ViewWall { e, ndc_box: [lo, hi], vertices, flat });
         }
     }
 
@@ -465,18 +502,18 @@ impl Renderer {
     /// ([`Renderer::wall_boxes`]) comes within [`TILE_MARGIN`] samples of the tile (a wall's edges are
     /// drawn on the samples beside it). Nothing for a view drawn whole.
     pub(crate) fn walls_in(&mut self, tile: &Eye) {
-        if self.wall_boxes.is_empty() {
+        if self.view_walls.is_empty() {
             return; // a view drawn whole (or one whose walls are all clipped away)
         }
         let window = tile_window(tile);
         self.walls.clear();
-        self.walls.extend(self.wall_boxes.iter().filter(|(_, b)| meets(*b, window)).map(|&(e, _)| e));
+        self.walls.extend(self.view_walls.iter().filter(|w| meets(w.ndc_box, window)).map(|w| w.e));
     }
 
     /// The walls of the whole view: chosen ([`Renderer::choose_walls`]), or those seen through its
     /// tiles.
     pub(crate) fn wall_count(&self) -> usize {
-        if self.wall_boxes.is_empty() { self.walls.len() } else { self.wall_boxes.len() }
+        if self.view_walls.is_empty() { self.walls.len() } else { self.view_walls.len() }
     }
 
     /// A new frame's samples: sized to the grid, none covered.
@@ -532,44 +569,28 @@ impl Renderer {
         if !edge.opaque {
             return (0, 0); // portals are invisible
         }
+        // A view drawn in tiles: the wall clipped and its colour worked out once, for all its tiles.
+        let shared = self.view_walls.binary_search_by_key(&e, |wall| wall.e).ok();
+        if let Some((vertices, flat)) = shared
+            .map(|i| &self.view_walls[i])
+            .and_then(|wall| Some((wall.vertices.clone(), wall.flat?)))
+            .filter(|_| shading == Shading::Color)
+        {
+            let poly = &self.view_wall_vertices[vertices];
+            self.polygon_grid.clear();
+            self.polygon_grid.extend(poly.iter().map(|v| eye.grid_vertex(v.clip, v.view))); // ÷w → NDC → viewport
+            let (triangles, columns) = (self.polygon_grid.len() - 2, &mut self.column_depths);
+            return (triangles, fill_polygon_x8(&mut self.samples, &self.polygon_grid, e, flat, columns));
+        }
         let Some(poly) = clip_wall(maze, eye, e, &mut self.scratch) else { return (0, 0) }; // world → clip, clipped
         self.polygon_grid.clear();
         self.polygon_grid.extend(poly.iter().map(|v| eye.grid_vertex(v.clip, v.view))); // ÷w → NDC → viewport
         let (a, b) = maze.edge_points(e);
         let along = (b - a).normalize_or_zero();
-        let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
-        // Normals by the inverse transpose, normalized once per wall; turned toward the eye (walls
-        // are seen from both sides) for the sun, whose factor is then the wall's.
-        let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
-        let facing =
-            if normal_view.dot(self.polygon_grid[0].attrs) > 0.0 { -normal_view } else { normal_view };
-        // Never near the floor's lightness ([`apart_from_floor`]: the rule that keeps walls apart),
-        // applied to the wall's colour before the sun and the headlight, so both keep their ratios.
-        let floor_luminance = luminance(FLOOR_SRGB.map(srgb_to_linear)) * plane_lights(eye).0;
-        let albedo = wall_albedo(edge.color.map(srgb_to_linear));
-        let albedo =
-            if self.walls_apart { apart_from_floor(albedo, floor_luminance, AMBIENT) } else { albedo };
-        let albedo = albedo * sun_factor(facing, light.sun_view);
-        // The headlight along the view axis: one light for the whole wall.
-        // (off the floor's and ceiling's tints: in 16 colours those show as floor and ceiling)
-        // The exit's light in the cell on the eye's side of the wall (the side the eye sees): walls
-        // stop it, so the far side of a wall keeps its own cell's level.
-        let eye_left = (eye.camera.position - a).perp_dot(b - a) < 0.0;
-        let side = if eye_left { edge.left } else { edge.right };
-        // (in colour only: the glow lifts a wall's luminance, which ascii would draw as nearness)
-        let level = side
-            .zip(light.exit_light)
-            .filter(|_| self.walls_apart)
-            .map_or(0, |(cell, exit_light)| exit_light.level(cell));
-        // (16 colours: one dark green with its own seam lines; else the wall's own colour tinted)
-        let lit_wall = if self.floor_bounds_apart { exit_lit_wall_16 } else { exit_lit_wall };
-        let lit_albedo =
-            palette::off_floor_and_ceiling(lit_wall(lit(albedo, headlight(normal_view), AMBIENT), level));
+        let WallShade { lit_albedo, fog_depth, normal_view } =
+            self.wall_shade(maze, eye, light, e, self.polygon_grid[0].attrs);
         let triangles = self.polygon_grid.len() - 2;
         let fog = &light.fog;
-        // One fog for the whole wall, at its point nearest the eye: each wall (in a generated maze,
-        // one cell's side) is one flat colour, so a colour step on a wall is a cell seam (issue #39).
-        let fog_depth = flat_fog_depth(eye, e, maze);
         if shading == Shading::Color && !textures && !self.reference_shading {
             // The same colour as below (the same call), eight samples at a time.
             let flat = fog.apply(lit_albedo, fog_depth);
@@ -598,6 +619,45 @@ impl Renderer {
             }
         });
         (triangles, written)
+    }
+
+    /// Wall `e`'s light, one for the whole wall: its albedo lit (sun, headlight, the exit's light in
+    /// the cell on the eye's side) and the depth its fog is taken at. `first_view`: a view-space
+    /// point of the wall as drawn (the sun's side is the one facing it).
+    fn wall_shade(&self, maze: &Maze, eye: &Eye, light: &Light, e: u32, first_view: Vec3) -> WallShade {
+        let edge = maze.edge(e);
+        let (a, b) = maze.edge_points(e);
+        let normal_world = (b - a).perp().normalize_or_zero().extend(0.0);
+        // Normals by the inverse transpose, normalized once per wall; turned toward the eye (walls
+        // are seen from both sides) for the sun, whose factor is then the wall's.
+        let normal_view = (eye.normal_to_view * normal_world).normalize_or_zero();
+        let facing = if normal_view.dot(first_view) > 0.0 { -normal_view } else { normal_view };
+        // Never near the floor's lightness ([`apart_from_floor`]: the rule that keeps walls apart),
+        // applied to the wall's colour before the sun and the headlight, so both keep their ratios.
+        let floor_luminance = luminance(FLOOR_SRGB.map(srgb_to_linear)) * plane_lights(eye).0;
+        let albedo = wall_albedo(edge.color.map(srgb_to_linear));
+        let albedo =
+            if self.walls_apart { apart_from_floor(albedo, floor_luminance, AMBIENT) } else { albedo };
+        let albedo = albedo * sun_factor(facing, light.sun_view);
+        // The headlight along the view axis: one light for the whole wall.
+        // (off the floor's and ceiling's tints: in 16 colours those show as floor and ceiling)
+        // The exit's light in the cell on the eye's side of the wall (the side the eye sees): walls
+        // stop it, so the far side of a wall keeps its own cell's level.
+        let eye_left = (eye.camera.position - a).perp_dot(b - a) < 0.0;
+        let side = if eye_left { edge.left } else { edge.right };
+        // (in colour only: the glow lifts a wall's luminance, which ascii would draw as nearness)
+        let level = side
+            .zip(light.exit_light)
+            .filter(|_| self.walls_apart)
+            .map_or(0, |(cell, exit_light)| exit_light.level(cell));
+        // (16 colours: one dark green with its own seam lines; else the wall's own colour tinted)
+        let lit_wall = if self.floor_bounds_apart { exit_lit_wall_16 } else { exit_lit_wall };
+        let lit_albedo =
+            palette::off_floor_and_ceiling(lit_wall(lit(albedo, headlight(normal_view), AMBIENT), level));
+        // One fog for the whole wall, at its point nearest the eye: each wall (in a generated maze,
+        // one cell's side) is one flat colour, so a colour step on a wall is a cell seam (issue #39).
+        let fog_depth = flat_fog_depth(eye, e, maze);
+        WallShade { lit_albedo, fog_depth, normal_view }
     }
 
     /// Floor and ceiling, per sample: where the sample's ray meets z = -1 or z = +1 before any wall.
