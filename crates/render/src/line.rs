@@ -6,7 +6,7 @@
 //! endpoints included, the same set whichever end it is drawn from. The closed form lets the segment be
 //! clipped to the buffer before iterating, so a line from -1e9 to +1e9 costs only the visible points.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::samples::SampleBuffer;
 
@@ -192,6 +192,70 @@ impl Iterator for LinePoints {
     }
 }
 
+/// The samples a segment from `p` to `q` (grid space, in samples) passes over, sampled at the samples'
+/// centres: along its major axis, each column (row) whose centre lies within the segment, and across
+/// it the row (column) the segment's point there lies in. Only those inside a `width × height` grid;
+/// a segment of no major extent, or with a non-finite end, has none.
+///
+/// Unlike [`line_points`], whose endpoints are rounded to samples first, it takes the segment as it
+/// is: two grids that map one line each by an affine map of its own (the tiles of a foveated view)
+/// and meet at a sample boundary place it on the same samples there, with no gap and no sample
+/// twice, however each rounds its ends.
+#[must_use]
+pub fn centre_points(p: Vec2, q: Vec2, width: usize, height: usize) -> CentrePoints {
+    let none = CentrePoints { next: 1, last: 0, major: 0, at: [0.0; 2], slope: 0.0, limit: 0 };
+    if !(p.is_finite() && q.is_finite()) {
+        return none;
+    }
+    let (p, q) = (p.as_dvec2().to_array(), q.as_dvec2().to_array());
+    let major = usize::from((q[1] - p[1]).abs() > (q[0] - p[0]).abs());
+    let (minor, size) = (1 - major, [width, height]);
+    let (lo, hi) = if p[major] <= q[major] { (p, q) } else { (q, p) };
+    if hi[major] == lo[major] {
+        return none;
+    }
+    // the samples whose centre `k + ½` lies in [lo, hi], within the grid
+    let first = (lo[major] - 0.5).ceil().max(0.0);
+    let last = (hi[major] - 0.5).floor().min(size[major] as f64 - 1.0);
+    if first > last {
+        return none;
+    }
+    let slope = (hi[minor] - lo[minor]) / (hi[major] - lo[major]);
+    CentrePoints { next: first as i64, last: last as i64, major, at: lo, slope, limit: size[minor] }
+}
+
+/// The points of [`centre_points`], in order along the major axis.
+#[derive(Clone, Debug)]
+pub struct CentrePoints {
+    next: i64,
+    last: i64,
+    /// 0: x is the major axis; 1: y is.
+    major: usize,
+    /// The end the major axis starts from, and the minor axis's change per unit of the major one.
+    at: [f64; 2],
+    slope: f64,
+    /// The grid's size across the major axis.
+    limit: usize,
+}
+
+impl Iterator for CentrePoints {
+    type Item = (usize, usize);
+
+    fn next(&mut self) -> Option<(usize, usize)> {
+        while self.next <= self.last {
+            let k = self.next;
+            self.next += 1;
+            let minor =
+                (self.at[1 - self.major] + (k as f64 + 0.5 - self.at[self.major]) * self.slope).floor();
+            if minor >= 0.0 && minor < self.limit as f64 {
+                let (k, minor) = (k as usize, minor as usize);
+                return Some(if self.major == 0 { (k, minor) } else { (minor, k) });
+            }
+        }
+        None
+    }
+}
+
 /// The ascii glyph for a line going `(dx, dy)` samples (y down): `-`, `|`, `/` or `\` by its on-screen
 /// angle, a sample being `sample_aspect` (width / height) as wide as it is tall; ±22.5° around each.
 #[must_use]
@@ -235,6 +299,53 @@ pub fn draw_line(buffer: &mut SampleBuffer, p0: Vec3, p1: Vec3, sample_aspect: f
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A line across two grids that meet at a row, each mapping the picture to itself by an affine
+    /// map of its own (a foveated view's bands: another scale down each, continuous where they meet),
+    /// covers each column it crosses exactly once: no gap where it passes from one to the other.
+    #[test]
+    fn centre_points_across_two_grids_leave_no_gap() {
+        let (width, rows) = (40usize, 10usize); // the upper grid 40 × 10; the lower one's row 0 is the picture's 10
+        for (k, (p, q)) in [
+            (Vec2::new(0.3, 2.2), Vec2::new(39.6, 17.9)),
+            (Vec2::new(39.9, 9.7), Vec2::new(0.1, 10.6)),
+            (Vec2::new(3.0, 0.5), Vec2::new(35.2, 19.5)),
+            (Vec2::new(5.5, 9.99), Vec2::new(30.5, 10.01)),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            for scale in [0.5f32, 0.9, 1.0, 1.7, 3.0] {
+                // the lower band, in the picture, is `y = 10 + (y_band) / scale`: the line is the
+                // picture's, mapped into each grid (the upper one is the picture's rows 0..10)
+                let lower = |v: Vec2| Vec2::new(v.x, (v.y - rows as f32) * scale);
+                let upper: Vec<(usize, usize)> = centre_points(p, q, width, rows).collect();
+                let below: Vec<(usize, usize)> =
+                    centre_points(lower(p), lower(q), width, 10 * rows).map(|(x, y)| (x, y + rows)).collect();
+                let major_x = (q.x - p.x).abs() >= (q.y - p.y).abs() * scale.max(1.0);
+                if major_x {
+                    let mut columns: Vec<usize> = upper.iter().chain(&below).map(|&(x, _)| x).collect();
+                    columns.sort_unstable();
+                    let expected: Vec<usize> = (0..width)
+                        .filter(|&x| {
+                            let c = x as f32 + 0.5;
+                            c >= p.x.min(q.x) && c <= p.x.max(q.x)
+                        })
+                        .collect();
+                    assert_eq!(columns, expected, "line {k} scale {scale}: each column once");
+                }
+                assert!(upper.iter().all(|&(x, y)| x < width && y < rows), "line {k}: inside the grid");
+            }
+        }
+        assert_eq!(centre_points(Vec2::ZERO, Vec2::new(f32::NAN, 1.0), 4, 4).count(), 0, "not finite: none");
+        assert_eq!(centre_points(Vec2::splat(1.2), Vec2::splat(1.2), 4, 4).count(), 0, "a point: none");
+        let far = centre_points(Vec2::new(-1e6, -1e6), Vec2::new(1e6, 1e6), 8, 8);
+        assert_eq!(
+            far.collect::<Vec<_>>(),
+            (0..8).map(|k| (k, k)).collect::<Vec<_>>(),
+            "a long line: its visible part"
+        );
+    }
 
     #[test]
     fn a_shallow_line_steps_like_bresenham() {

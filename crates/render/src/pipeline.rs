@@ -17,7 +17,7 @@ use wide::{f32x8, i32x8, u32x8};
 
 use super::camera::{Camera, CameraError, Eye, Projection, Tile};
 use super::glyph;
-use super::line::{line_glyph, line_points};
+use super::line::{CentrePoints, LinePoints, centre_points, line_glyph, line_points};
 use super::options::{Charset, Culling, RenderOptions};
 use super::palette;
 use super::portal::{PortalPass, PortalStats};
@@ -1381,10 +1381,8 @@ impl Renderer {
                         }
                         (glyph, _) => glyph,
                     };
-                    let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
-                    let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
                     let (tx, ty) = tile.at; // (the tile's part of the picture)
-                    let points = line_points(x0, y0, x1, y1, tile.eye.width, tile.eye.height);
+                    let points = tile_line(tile, gp.truncate(), gq.truncate());
                     for (x, y) in points.map(|(x, y)| (x + tx, y + ty)) {
                         // Only on this wall's own samples: exact, and the same in every culling mode. An
                         // end runs along the wall's last samples, which round to either side of it: a
@@ -2282,8 +2280,10 @@ impl Tiling<'_> {
 }
 
 /// The samples of the picture a segment clipped to the view volume (`clipped`, clip space) passes
-/// over in `tile`'s part of it: projected to the tile's grid, Bresenham between the samples of its
-/// ends, each in the picture's coordinates.
+/// over in `tile`'s part of it, each in the picture's coordinates: projected to the tile's grid,
+/// then Bresenham between the samples of its ends where the tile is the whole view, and sampled at
+/// the samples' centres ([`centre_points`]) where it is one of several, so that a line crossing
+/// from tile to tile, each rounding it on its own grid, leaves no gap where they meet.
 fn tile_samples(tile: &Tile, (p, q): (Vec4, Vec4)) -> impl Iterator<Item = (usize, usize)> + use<> {
     let eye = &tile.eye;
     let (gp, mut gq) = (eye.grid(p), eye.grid(q));
@@ -2295,10 +2295,38 @@ fn tile_samples(tile: &Tile, (p, q): (Vec4, Vec4)) -> impl Iterator<Item = (usiz
     if (gq.y - gp.y).abs() < 1e-3 {
         gq.y = gp.y;
     }
-    let (x0, y0) = (gp.x.floor() as i64, gp.y.floor() as i64);
-    let (x1, y1) = (gq.x.floor() as i64, gq.y.floor() as i64);
     let (tx, ty) = tile.at;
-    line_points(x0, y0, x1, y1, eye.width, eye.height).map(move |(x, y)| (x + tx, y + ty))
+    tile_line(tile, gp.truncate(), gq.truncate()).map(move |(x, y)| (x + tx, y + ty))
+}
+
+/// The samples of `tile`'s grid the segment `p`–`q` (on that grid) passes over: see [`tile_samples`].
+fn tile_line(tile: &Tile, p: Vec2, q: Vec2) -> TileLine {
+    let (w, h) = (tile.eye.width, tile.eye.height);
+    if tile.eye.warp.is_none() && tile.at == (0, 0) && tile.eye.window == [Vec2::NEG_ONE, Vec2::ONE] {
+        let (x0, y0) = (p.x.floor() as i64, p.y.floor() as i64);
+        let (x1, y1) = (q.x.floor() as i64, q.y.floor() as i64);
+        TileLine::Whole(line_points(x0, y0, x1, y1, w, h))
+    } else {
+        TileLine::Part(centre_points(p, q, w, h))
+    }
+}
+
+/// The samples of a line on a tile ([`tile_line`]).
+enum TileLine {
+    Whole(LinePoints),
+    Part(CentrePoints),
+}
+
+impl Iterator for TileLine {
+    type Item = (usize, usize);
+
+    #[inline]
+    fn next(&mut self) -> Option<(usize, usize)> {
+        match self {
+            TileLine::Whole(points) => points.next(),
+            TileLine::Part(points) => points.next(),
+        }
+    }
 }
 
 /// The depth a wall's fog is taken at: the least view depth (along the view direction) of its quad,
