@@ -120,7 +120,7 @@ impl Renderer {
         let tiled = tiles.len() > 1;
         for (k, tile) in tiles.iter().enumerate() {
             let eye = &tile.eye; // the whole view, or one tile of a foveated view
-            self.enter_tile(&view, k); // a foveated view's tile: samples of its own
+            self.enter_tile(&view); // a foveated view's tile: samples of its own
             self.walls_in(eye); // a foveated view's tile: the walls that reach it
             stats.add(self.draw(maze, eye, Shading::Color, textures)); // walls, floor, ceiling
             let visible = |cell: u32| culling == Culling::None || self.portal.was_visited(cell);

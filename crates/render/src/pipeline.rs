@@ -162,8 +162,9 @@ pub struct Renderer {
     /// swapped into `samples` (`showing_picture`) until the next foveated view.
     picture: SampleBuffer,
     showing_picture: bool,
-    /// A foveated view's tiles' own samples, each its tile's size from frame to frame.
-    tile_samples: Vec<SampleBuffer>,
+    /// A foveated view's tile's own samples while it is drawn, one tile after another (each is
+    /// placed in `picture` before the next is begun).
+    tile_samples: SampleBuffer,
     /// The figures' labels of a foveated view's tiles, at their samples in the whole view.
     tile_labels: Vec<Label>,
     pub(crate) portal: PortalPass,
@@ -366,7 +367,7 @@ impl Renderer {
                 let tiles = view.tiles();
                 self.wall_boxes(maze, &view, tiles.len(), false);
                 for (k, tile) in tiles.iter().enumerate() {
-                    self.enter_tile(&view, k);
+                    self.enter_tile(&view);
                     self.walls_in(&tile.eye);
                     stats.add(self.draw(maze, &tile.eye, Shading::ViewDepth, false));
                     self.place_tile(&view, tile, k);
@@ -414,19 +415,16 @@ impl Renderer {
         &self.heads
     }
 
-    /// Before tile `k` of a view: a foveated view's tile draws into its own samples. Nothing to do
+    /// Before a tile of a view: a foveated view's tile draws into its own samples. Nothing to do
     /// for a view drawn whole (its one tile is the view).
-    pub(crate) fn enter_tile(&mut self, view: &Eye, k: usize) {
+    pub(crate) fn enter_tile(&mut self, view: &Eye) {
         if view.warp.is_none() {
             return;
         }
         if std::mem::take(&mut self.showing_picture) {
             std::mem::swap(&mut self.samples, &mut self.picture);
         }
-        if self.tile_samples.len() <= k {
-            self.tile_samples.resize_with(k + 1, SampleBuffer::default);
-        }
-        std::mem::swap(&mut self.samples, &mut self.tile_samples[k]);
+        std::mem::swap(&mut self.samples, &mut self.tile_samples);
     }
 
     /// After tile `k`: its samples, labels and outlines into the view's picture.
@@ -448,7 +446,7 @@ impl Renderer {
             sample: (label.sample / tile_width + y0) * view.width + label.sample % tile_width + x0,
             ..*label
         }));
-        std::mem::swap(&mut self.samples, &mut self.tile_samples[k]);
+        std::mem::swap(&mut self.samples, &mut self.tile_samples);
     }
 
     /// After the last tile of a foveated view: its picture becomes the samples, its labels the
@@ -520,7 +518,7 @@ impl Renderer {
     #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn begin(&mut self, maze: &Maze, eye: &Eye) {
         if self.samples.width() != eye.width || self.samples.height() != eye.height {
-            self.samples.resize(eye.width, eye.height);
+            self.samples.reshape(eye.width, eye.height); // (a foveated view's tiles: one after another)
         }
         self.samples.clear_coverage(); // colours: every sample gets a wall's, a plane's or the fog's
         self.wall_ids = maze.edges().len() as u32;

@@ -52,6 +52,18 @@ impl SampleBuffer {
         self.clear(Vec3::ZERO);
     }
 
+    /// Changes the size, keeping the allocations, for a pass that clears what it needs itself
+    /// ([`SampleBuffer::clear_coverage`] and colours of its own): the samples' contents are left
+    /// as they fall.
+    pub(crate) fn reshape(&mut self, width: usize, height: usize) {
+        (self.width, self.height) = (width, height);
+        let n = width * height;
+        self.color.resize(n, Vec3::ZERO);
+        self.depth.resize(n, FAR);
+        self.id.resize(n, NONE);
+        self.outline.resize(n, None);
+    }
+
     /// Sets every sample to `background` at depth [`FAR`] with id [`NONE`] and no outline.
     pub fn clear(&mut self, background: Vec3) {
         self.color.fill(background);
