@@ -245,9 +245,10 @@ impl Iterator for CentrePoints {
         while self.next <= self.last {
             let k = self.next;
             self.next += 1;
-            let minor =
-                (self.at[1 - self.major] + (k as f64 + 0.5 - self.at[self.major]) * self.slope).floor();
-            if minor >= 0.0 && minor < self.limit as f64 {
+            let across = self.at[1 - self.major] + (k as f64 + 0.5 - self.at[self.major]) * self.slope;
+            // (its floor, without a call to libm's: `as` truncates toward zero, saturating)
+            let minor = across as i64 - i64::from((across as i64) as f64 > across);
+            if (0..self.limit as i64).contains(&minor) {
                 let (k, minor) = (k as usize, minor as usize);
                 return Some(if self.major == 0 { (k, minor) } else { (minor, k) });
             }
