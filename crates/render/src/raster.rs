@@ -70,9 +70,17 @@ pub struct GridVertex<A> {
 /// `pos` snapped to the fixed-point grid, or `None` if not finite or beyond [`MAX_COORD`].
 fn snap(pos: Vec2) -> Option<[i64; 2]> {
     let ok = |c: f32| c.is_finite() && c.abs() <= MAX_COORD;
-    (ok(pos.x) && ok(pos.y)).then(|| {
-        [(f64::from(pos.x) * ONE as f64).round() as i64, (f64::from(pos.y) * ONE as f64).round() as i64]
-    })
+    (ok(pos.x) && ok(pos.y))
+        .then(|| [round_to_i64(f64::from(pos.x) * ONE as f64), round_to_i64(f64::from(pos.y) * ONE as f64)])
+}
+
+/// `x.round() as i64` (halves away from zero) for a finite `x` well within `i64`, without a call to
+/// libm's `round` (baseline x86-64 has no rounding instruction): `x` less its truncation is exact.
+#[inline]
+fn round_to_i64(x: f64) -> i64 {
+    let toward_zero = x as i64;
+    let rest = x - toward_zero as f64;
+    toward_zero + i64::from(rest >= 0.5) - i64::from(rest <= -0.5)
 }
 
 /// Edge function of `a → b` at `p`: twice the signed area of (a, b, p); > 0 on the interior side once the
@@ -568,6 +576,23 @@ fn fill_triangle_x8(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn round_to_i64_is_rounding_halves_away_from_zero() {
+        let mut values =
+            vec![0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0.49999999999999994, -0.49999999999999994];
+        values.extend([4503599627370495.5, -4503599627370495.5, 4503599627370497.0, 1e15 + 0.5, -1e15 - 0.5]);
+        let mut z = 0x9E37_79B9_7F4A_7C15u64;
+        for _ in 0..100_000 {
+            z = z.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let unit = (z >> 11) as f64 / (1u64 << 53) as f64;
+            values.push((unit - 0.5) * 2.0 * MAX_COORD as f64 * ONE as f64);
+            values.push(((unit * 2000.0).floor() - 1000.0) + 0.5); // halves
+        }
+        for x in values {
+            assert_eq!(round_to_i64(x), x.round() as i64, "{x}");
+        }
+    }
 
     fn covered(width: usize, height: usize, tri: [Vec2; 3]) -> Vec<(usize, usize)> {
         let mut out = Vec::new();
