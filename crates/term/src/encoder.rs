@@ -610,7 +610,8 @@ fn columns(
 /// before the first such row ends at it at the latest (a run over it would have one of at least
 /// [`MIN_COLUMN`] cells in it from a row further up), and nothing is written for it. These are
 /// the column's own cells, which writing the columns before it does not change. Row by row, eight
-/// flags a word: a column with nothing changed costs next to nothing.
+/// flags a word, a byte a column: a column with nothing changed, or whose first row is found
+/// already, costs next to nothing.
 fn first_columns(
     new: &[PackedCell],
     differs: &[bool],
@@ -623,24 +624,36 @@ fn first_columns(
     first.resize(width, height);
     for y in rows.start..height.saturating_sub(MIN_COLUMN - 1) {
         let rows: [&[bool]; MIN_COLUMN] = std::array::from_fn(|i| &differs[(y + i) * width..][..width]);
-        let mut x = 0;
-        while x < width {
-            // Eight columns at a time where none has a changed cell in all the rows.
-            if x + 8 <= width {
-                let word = |row: &[bool]| row[x..x + 8].iter().fold(0u64, |w, &d| w << 8 | u64::from(d));
-                if rows.iter().fold(u64::MAX, |w, row| w & word(row)) == 0 {
-                    x += 8;
-                    continue;
-                }
-            }
+        // Whether column `x` starts a column here (its first row not found yet).
+        let starts = |first: &[usize], x: usize| {
             let k = y * width + x;
-            if first[x] == height
+            first[x] == height
                 && rows.iter().all(|row| row[x])
                 && (1..MIN_COLUMN).all(|i| new[k + i * width] == new[k])
-            {
+        };
+        let mut x = 0;
+        // Eight columns at a time: a byte each (the first the highest), set where the column has a
+        // changed cell in all the rows and its first row is still to find; only those are looked at.
+        while x + 8 <= width {
+            let word = |row: &[bool]| row[x..x + 8].iter().fold(0u64, |w, &d| w << 8 | u64::from(d));
+            let mut open = rows.iter().fold(u64::MAX, |w, row| w & word(row));
+            if open != 0 {
+                open &= first[x..x + 8].iter().fold(0u64, |w, &f| w << 8 | u64::from(f == height));
+            }
+            while open != 0 {
+                let byte = open.leading_zeros() / 8;
+                open &= !(0xff << (56 - 8 * byte));
+                let at = x + byte as usize;
+                if starts(first, at) {
+                    first[at] = y;
+                }
+            }
+            x += 8;
+        }
+        for x in x..width {
+            if starts(first, x) {
                 first[x] = y;
             }
-            x += 1;
         }
     }
 }
