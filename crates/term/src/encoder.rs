@@ -1660,7 +1660,7 @@ fn inverse_of(pen: &Pen, cell: &PackedCell) -> Option<PackedCell> {
 /// (same look), the one whose colours cost fewer bytes, each with the pen's colours kept where they
 /// are within `tolerance` of the cell's; and, where a tolerance applies, a blank or a full block in one colour
 /// within `tolerance` of both halves of a half-block cell where that is fewer bytes. The last one
-/// found is remembered ([`LAST_FORM`]).
+/// found is remembered ([`LAST_FORM`]), and a few hundred before it ([`FORMS`]).
 #[inline]
 fn cell_form(pen: &Pen, cell: &PackedCell, tolerance: u8) -> (PackedCell, Sgr) {
     let key = FormKey::of(pen, cell, tolerance);
@@ -1680,7 +1680,16 @@ fn form_missed(
     cell: &PackedCell,
     tolerance: u8,
 ) -> (PackedCell, Sgr) {
-    let form = find_form(pen, cell, tolerance, true);
+    let form = FORMS.with(|forms| {
+        let slot = &forms[key.slot()];
+        if slot.key.get() == key {
+            return slot.form.get();
+        }
+        let form = find_form(pen, cell, tolerance, true);
+        slot.key.set(key);
+        slot.form.set(form);
+        form
+    });
     last.key.set(key);
     last.form.set(form);
     form
@@ -1695,6 +1704,14 @@ struct FormKey(u128, u64);
 impl FormKey {
     /// No inputs have it (a glyph's bits are at most 21: its word's top bits are zero).
     const NONE: FormKey = FormKey(0, u64::MAX);
+
+    /// Its slot in [`FORMS`]: a hash of both words.
+    #[inline]
+    fn slot(self) -> usize {
+        let FormKey(colours, rest) = self;
+        let mixed = (colours as u64) ^ (colours >> 64) as u64 ^ rest.rotate_left(29);
+        (mixed.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - FORM_SLOTS.trailing_zeros())) as usize
+    }
 
     #[inline(always)]
     fn of(pen: &Pen, cell: &PackedCell, tolerance: u8) -> FormKey {
@@ -1725,6 +1742,27 @@ thread_local! {
                 Sgr::KEEP,
             )),
         }
+    };
+}
+
+/// Slots of [`FORMS`]: a power of two.
+const FORM_SLOTS: usize = 1 << 9;
+
+thread_local! {
+    /// The forms [`cell_form`] found lately on this thread past the last one ([`LAST_FORM`]), by a
+    /// hash of all they read ([`FormKey::slot`]): each a pure function of its key, so an answer
+    /// from here is the one [`find_form`] would find. Turning, a wall's few shades come up again
+    /// from a few pens, cell after cell, between other forms. (40 KB a thread: 512 slots of 80 bytes.)
+    static FORMS: [FormMemo; FORM_SLOTS] = const {
+        [const {
+            FormMemo {
+                key: std::cell::Cell::new(FormKey::NONE),
+                form: std::cell::Cell::new((
+                    PackedCell { ch: ' ', fg: PackedColor::DEFAULT, bg: PackedColor::DEFAULT },
+                    Sgr::KEEP,
+                )),
+            }
+        }; FORM_SLOTS]
     };
 }
 
@@ -2439,10 +2477,11 @@ mod tests {
         }
     }
 
-    /// The form remembered ([`LAST_FORM`]) is the form found: calls one after another whose inputs
-    /// differ in one thing each (the pen's ink, its paper, whether it draws blocks, the cell's glyph
-    /// or a colour, the tolerance) or in nothing [`find_form`] reads (the cursor) answer as
-    /// [`find_form`] does, and each call leaves its own inputs remembered.
+    /// The form remembered ([`LAST_FORM`], [`FORMS`]) is the form found: calls one after another
+    /// whose inputs differ in one thing each (the pen's ink, its paper, whether it draws blocks, the
+    /// cell's glyph or a colour, the tolerance) or in nothing [`find_form`] reads (the cursor)
+    /// answer as [`find_form`] does, and each call leaves its own inputs remembered in both. (The
+    /// base inputs come back after each variant: past the last form, from [`FORMS`].)
     #[test]
     fn a_remembered_cell_form_is_the_form_found() {
         let (near, far) = (Color::Rgb(100, 50, 200), Color::Rgb(101, 51, 199));
@@ -2473,6 +2512,7 @@ mod tests {
                     assert_eq!(format!("{remembered:?}"), format!("{found:?}"), "{cell:?} from {pen:?}");
                     let key = FormKey::of(&pen, &cell, tolerance);
                     assert!(LAST_FORM.with(|last| last.key.get() == key));
+                    assert!(FORMS.with(|forms| forms[key.slot()].key.get() == key));
                     calls += 1;
                 }
             }
