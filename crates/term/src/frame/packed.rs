@@ -465,13 +465,29 @@ impl PackedCell {
                 _ => both_within([self.fg, self.bg], [other.fg, other.bg], tolerance),
             };
         }
+        if tolerance == 0 {
+            return self.looks_same_other_glyph(other);
+        }
         self.looks_within_other_glyph(other, tolerance)
+    }
+
+    /// [`PackedCell::looks_within_other_glyph`] at tolerance 0, where every colour comparison is
+    /// equality (the exact path's question, and the end of an encode's: two spellings of one look).
+    #[inline(never)]
+    fn looks_same_other_glyph(&self, other: &PackedCell) -> bool {
+        self.looks_within_other_glyph_inline(other, 0)
     }
 
     /// [`PackedCell::looks_within`] for two different glyphs (out of line: the diff's inlined loop
     /// stays small).
     #[inline(never)]
     fn looks_within_other_glyph(&self, other: &PackedCell, tolerance: u8) -> bool {
+        self.looks_within_other_glyph_inline(other, tolerance)
+    }
+
+    /// [`PackedCell::looks_within_other_glyph`]'s body, inlined into it and its tolerance 0 form.
+    #[inline(always)]
+    fn looks_within_other_glyph_inline(&self, other: &PackedCell, tolerance: u8) -> bool {
         // Half blocks (the default charset) and blanks: a top and a bottom half to compare.
         if let (Some(a), Some(b)) = (self.halves(), other.halves()) {
             return both_within(a, b, tolerance);
