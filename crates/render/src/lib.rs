@@ -117,6 +117,8 @@ impl Renderer {
         let flat = !textures && !self.reference_shading; // walls drawn flat, one colour a wall
         self.wall_boxes(maze, &view, tiles.len(), flat); // a foveated view: each wall's box on the screen
         self.choose_cell_lines(maze, &view, culling); // the openings' lines, the way's
+        let visible = |cell: u32| culling == Culling::None || self.portal.was_visited(cell);
+        self.sprites.prepare(&view, sprites, visible); // the figures in view, nearest first
         let tiled = tiles.len() > 1;
         for (k, tile) in tiles.iter().enumerate() {
             let eye = &tile.eye; // the whole view, or one tile of a foveated view
@@ -125,7 +127,7 @@ impl Renderer {
             stats.add(self.draw(maze, eye, Shading::Color, textures)); // walls, floor, ceiling
             let visible = |cell: u32| culling == Culling::None || self.portal.was_visited(cell);
             let fog = fog_of(eye);
-            stats.samples_written += self.sprites.draw(&mut self.samples, eye, &fog, sprites, visible); // figures
+            stats.samples_written += self.sprites.draw(&mut self.samples, eye, &fog, sprites); // figures
             if let Some(point) = maze.exit().filter(|exit| visible(exit.cell)).and(maze.exit_point()) {
                 stats.samples_written += self.sprites.draw_beacon(&mut self.samples, eye, &fog, point); // the exit
             }

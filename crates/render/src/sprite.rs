@@ -114,23 +114,31 @@ pub(crate) fn model_matrix(feet: Vec2, eye: Vec3, size: Vec2) -> Option<Mat4> {
     m.is_finite().then_some(m)
 }
 
-/// Whether a figure whose model matrix is `model` may cover a sample of `eye`'s grid, when `eye` is
-/// one tile of a foveated view (a whole view: always). No when its quad's four corners are all in
-/// front of the eye and their NDC box misses the tile's window; clipping would leave nothing.
-fn reaches_tile(eye: &Eye, model: Mat4) -> bool {
-    if eye.window == [Vec2::NEG_ONE, Vec2::ONE] {
-        return true;
-    }
+/// The box in NDC of a figure's quad (model matrix `model`) seen by `eye`, or `None` where a corner
+/// lies behind the eye (then the clipper decides what is left): what [`reaches_tile`] asks of a tile.
+/// The same for every tile of a view (they share its projection).
+fn ndc_box(eye: &Eye, model: Mat4) -> Option<[Vec2; 2]> {
     let mut ndc = [Vec2::INFINITY, Vec2::NEG_INFINITY];
     for (x, z) in [(-0.5, 0.0), (0.5, 0.0), (-0.5, 1.0), (0.5, 1.0)] {
         let clip = eye.world_to_clip * model.transform_point3(Vec3::new(x, 0.0, z)).extend(1.0);
         if clip.w <= 0.0 {
-            return true; // behind the eye: let the clipper decide
+            return None; // behind the eye: let the clipper decide
         }
         let p = clip.truncate().truncate() / clip.w;
         ndc = [ndc[0].min(p), ndc[1].max(p)];
     }
-    crate::pipeline::meets(ndc, crate::pipeline::tile_window(eye))
+    Some(ndc)
+}
+
+/// Whether a figure whose quad has the NDC box `ndc` ([`ndc_box`]) may cover a sample of `eye`'s
+/// grid, when `eye` is one tile of a foveated view (`window`: its [`tile_window`](crate::pipeline::tile_window); a
+/// whole view: always). No when its quad's four corners are all in front of the eye and their box
+/// misses the tile's window; clipping would leave nothing.
+fn reaches_tile(window: Option<[Vec2; 2]>, ndc: Option<[Vec2; 2]>) -> bool {
+    match (window, ndc) {
+        (Some(window), Some(ndc)) => crate::pipeline::meets(ndc, window),
+        _ => true,
+    }
 }
 
 /// A figure's vertex on its way through the pipeline: clip position plus what its shading needs, both
@@ -175,6 +183,9 @@ pub(crate) struct SpritePass {
     temp: Vec<SpriteVertex>,
     grid: Vec<GridVertex<Vec3>>,
     order: Vec<(f32, usize)>,
+    /// The figures of `order`, as [`SpritePass::prepare`] found them for the view: each one's model
+    /// matrix (`None`: it cannot face the eye) and its box in NDC ([`ndc_box`]).
+    placed: Vec<Option<(Mat4, Option<[Vec2; 2]>)>>,
     /// The samples the frame's figures have covered so far (their bounding boxes), and the figures
     /// rasterized (on the screen after clipping).
     covered: usize,
@@ -184,23 +195,14 @@ pub(crate) struct SpritePass {
 }
 
 impl SpritePass {
-    /// Rasterizes the `sprites` for which `visible(cell)` holds into `samples` (depth-tested against
-    /// what is there: draw the walls first), nearest first, at most [`MAX_SPRITES`] and while those
-    /// drawn have covered less than [`FIGURE_SCREENS`] screens; returns the samples written. Records
-    /// each drawn figure's [`Label`] position.
-    #[cfg_attr(feature = "stage-profile", inline(never))]
-    pub fn draw(
-        &mut self,
-        samples: &mut SampleBuffer,
-        eye: &Eye,
-        fog: &Fog,
-        sprites: &[Sprite],
-        visible: impl Fn(u32) -> bool,
-    ) -> usize {
-        self.labels.clear();
+    /// Before a view's tiles: the `sprites` for which `visible(cell)` holds, in the order they are
+    /// drawn (the solid figures nearest first, then the ghosts farthest first), at most
+    /// [`MAX_SPRITES`], each with its model matrix and its box in NDC: the same for every tile of
+    /// `view`, whose eye position and projection they share.
+    pub fn prepare(&mut self, view: &Eye, sprites: &[Sprite], visible: impl Fn(u32) -> bool) {
         self.order.clear();
         for (k, sprite) in sprites.iter().enumerate() {
-            let depth = eye.view_depth(sprite.position.extend(FLOOR_Z));
+            let depth = view.view_depth(sprite.position.extend(FLOOR_Z));
             if visible(sprite.cell) && depth >= -SPRITE_WIDTH {
                 self.order.push((depth, k));
             }
@@ -214,6 +216,23 @@ impl SpritePass {
             ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
         });
         self.order.truncate(MAX_SPRITES);
+        let size = Vec2::new(SPRITE_WIDTH, SPRITE_HEIGHT);
+        self.placed.clear();
+        self.placed.extend(self.order.iter().map(|&(_, k)| {
+            model_matrix(sprites[k].position, view.position, size).map(|model| (model, ndc_box(view, model)))
+        }));
+    }
+
+    /// Rasterizes the figures [`SpritePass::prepare`] chose for the view (of `sprites`, the same
+    /// slice) into `samples`, the view or one of its tiles (`eye`), depth-tested against what is
+    /// there (draw the walls first), in that order, while those drawn have covered less than
+    /// [`FIGURE_SCREENS`] screens; returns the samples written. Records each drawn figure's
+    /// [`Label`] position.
+    #[cfg_attr(feature = "stage-profile", inline(never))]
+    pub fn draw(&mut self, samples: &mut SampleBuffer, eye: &Eye, fog: &Fog, sprites: &[Sprite]) -> usize {
+        self.labels.clear();
+        let whole = eye.window == [Vec2::NEG_ONE, Vec2::ONE];
+        let window = (!whole).then(|| crate::pipeline::tile_window(eye));
         let mut written = 0;
         (self.covered, self.drawn) = (0, 0);
         for slot in 0..self.order.len() {
@@ -222,9 +241,8 @@ impl SpritePass {
             }
             let (_, k) = self.order[slot];
             let sprite = &sprites[k];
-            let size = Vec2::new(SPRITE_WIDTH, SPRITE_HEIGHT);
-            let Some(model) = model_matrix(sprite.position, eye.position, size) else { continue };
-            if !reaches_tile(eye, model) {
+            let Some((model, ndc)) = self.placed[slot] else { continue };
+            if !reaches_tile(window, ndc) {
                 continue; // a tile of a foveated view the figure is nowhere near
             }
             let id = SPRITE_ID - slot as u32;
@@ -380,14 +398,16 @@ mod tests {
                 figure((0.3 + 0.3 * (k % 7) as f32 / 6.0) * Vec2::new(angle.cos(), angle.sin()))
             })
             .collect();
-        assert!(pass.draw(&mut samples, &eye, &fog, &pressed, |_| true) > 0);
+        pass.prepare(&eye, &pressed, |_| true);
+        assert!(pass.draw(&mut samples, &eye, &fog, &pressed) > 0);
         assert!(pass.drawn < 64, "{} of the pressed crowd drawn", pass.drawn);
         let screen = eye.width * eye.height;
         assert!(pass.covered >= FIGURE_SCREENS * screen, "stopped before the screens were covered");
         // 40 figures in a line across the view, 10 units off: each a few samples, all drawn
         let mut samples = SampleBuffer::new(eye.width, eye.height);
         let spread: Vec<Sprite> = (0..40).map(|k| figure(Vec2::new(10.0, k as f32 * 0.4 - 8.0))).collect();
-        pass.draw(&mut samples, &eye, &fog, &spread, |_| true);
+        pass.prepare(&eye, &spread, |_| true);
+        pass.draw(&mut samples, &eye, &fog, &spread);
         assert_eq!(pass.drawn, 40);
     }
 }
