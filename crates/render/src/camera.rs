@@ -355,6 +355,13 @@ impl Eye {
         tiles
     }
 
+    /// Whether this eye draws a whole view through one viewport: neither a foveated view (its warp)
+    /// nor one tile of one (a band of NDC).
+    #[must_use]
+    pub fn is_whole(&self) -> bool {
+        self.warp.is_none() && self.window == [Vec2::NEG_ONE, Vec2::ONE]
+    }
+
     /// What this grid spans across and down: in tan of the angle off the view axis (perspective) or
     /// maze units (orthographic); a tile, its band's share. `width / tan_extent().x` samples a unit.
     #[must_use]

@@ -2300,7 +2300,7 @@ fn tile_samples(tile: &Tile, (p, q): (Vec4, Vec4)) -> impl Iterator<Item = (usiz
 /// The samples of `tile`'s grid the segment `p`–`q` (on that grid) passes over: see [`tile_samples`].
 fn tile_line(tile: &Tile, p: Vec2, q: Vec2) -> TileLine {
     let (w, h) = (tile.eye.width, tile.eye.height);
-    if tile.eye.warp.is_none() && tile.at == (0, 0) && tile.eye.window == [Vec2::NEG_ONE, Vec2::ONE] {
+    if tile.eye.is_whole() {
         let (x0, y0) = (p.x.floor() as i64, p.y.floor() as i64);
         let (x1, y1) = (q.x.floor() as i64, q.y.floor() as i64);
         TileLine::Whole(line_points(x0, y0, x1, y1, w, h))

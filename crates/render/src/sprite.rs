@@ -231,8 +231,7 @@ impl SpritePass {
     #[cfg_attr(feature = "stage-profile", inline(never))]
     pub fn draw(&mut self, samples: &mut SampleBuffer, eye: &Eye, fog: &Fog, sprites: &[Sprite]) -> usize {
         self.labels.clear();
-        let whole = eye.window == [Vec2::NEG_ONE, Vec2::ONE];
-        let window = (!whole).then(|| crate::pipeline::tile_window(eye));
+        let window = (!eye.is_whole()).then(|| crate::pipeline::tile_window(eye));
         let mut written = 0;
         (self.covered, self.drawn) = (0, 0);
         for slot in 0..self.order.len() {
