@@ -24,9 +24,11 @@ const MIN_DELTA_L: f32 = 0.05;
 const JUDGED_FLOOR_L: f32 = 0.3;
 
 /// Foot-line pairs (wall L, floor L, x, y) of one frame: the floor two below a wall's foot (the
-/// darkest floor sample two and three below it, up to two columns to either side: cell lines, lighter
+/// darkest floor sample two to four below it, up to two columns to either side: cell lines, lighter
 /// than the floor, that meet the wall at an angle reach the sample beside the wall and cross some of
-/// them, a steep one down the column, a shallow one along the row, two at a cell's corner) and the wall
+/// them, a steep one down the column, a shallow one along the row, two at a cell's corner; in the
+/// foveated view's magnified middle two of the way's lines can run side by side two and three below
+/// a far wall's foot, where the plain view draws them on one row) and the wall
 /// sample just above the foot (where a wall meets the floor one of the two samples at
 /// the boundary is an edge, darker on purpose: the wall's foot sample on a near wall, the floor's
 /// first sample under a far one). Only inside a wall, one sample or more from its ends: where two walls
@@ -40,9 +42,14 @@ fn foot_pairs(shown: &[glam::Vec3], ids: &[u32], width: usize) -> Vec<(f32, f32,
             let at = |y: usize| y * width + x;
             let (above, foot, below) = (ids[at(y - 1)], ids[at(y)], ids[at(y + 1)]);
             let inside = ids[at(y - 1) - 1] == foot && ids[at(y - 1) + 1] == foot;
-            if is_wall(foot) && above == foot && below == FLOOR && ids[at(y + 2)] == FLOOR && inside {
+            if is_wall(foot)
+                && above == foot
+                && below == FLOOR
+                && ids.get(at(y + 2)) == Some(&FLOOR)
+                && inside
+            {
                 let near =
-                    (2..4).flat_map(|dy| (x.saturating_sub(2)..(x + 3).min(width)).map(move |x| (x, y + dy)));
+                    (2..5).flat_map(|dy| (x.saturating_sub(2)..(x + 3).min(width)).map(move |x| (x, y + dy)));
                 let floor = near
                     .map(|(x, y)| y * width + x)
                     .filter(|&i| ids.get(i) == Some(&FLOOR))
@@ -61,7 +68,9 @@ fn walls_read_apart_from_the_floor_at_their_foot_in_every_view() {
     let mut failures = Vec::new();
     for seed in [58u64, 71, 3, 12] {
         let maze = generate(&GenOptions::walk(20, 15, seed)).expect("maze");
-        for (k, (kind, camera)) in held_out_views(&maze, seed, 18).into_iter().enumerate() {
+        let views = held_out_views(&maze, seed, 18).into_iter().enumerate();
+        for ((k, (kind, camera)), fovea) in views.flat_map(|view| [(view, false), (view, true)]) {
+            let camera = mazewalk_render::Camera { fovea, ..camera };
             for depth in [ColorDepth::TrueColor, ColorDepth::Ansi256] {
                 let options =
                     RenderOptions { charset: Charset::Half, color_depth: depth, ..RenderOptions::default() };
@@ -76,7 +85,7 @@ fn walls_read_apart_from_the_floor_at_their_foot_in_every_view() {
                     judged += 1;
                     if (wall - floor).abs() < MIN_DELTA_L {
                         failures.push(format!(
-                            "seed {seed} view {k} {kind:?} {depth:?} at {:?} heading {:.0} sample ({x}, {y}): wall L {wall:.3} floor L {floor:.3}",
+                            "seed {seed} view {k} {kind:?} fovea {fovea} {depth:?} at {:?} heading {:.0} sample ({x}, {y}): wall L {wall:.3} floor L {floor:.3}",
                             camera.position, camera.yaw_deg
                         ));
                     }
