@@ -663,7 +663,8 @@ fn readme_render_commands() -> Vec<Vec<String>> {
 
 // issue #39: README's `mazewalk render --size 100x30 --png` needed a file name. Every render command
 // README shows runs as written, in an empty directory, where a user of tmux with
-// `TERM=xterm-256color` and no COLORTERM would run it; each picture is written where it says.
+// `TERM=xterm-256color` and no COLORTERM would run it; each picture is written where it says, and
+// where README shows that picture (`docs/images/…` of the same name) it is what the command draws.
 #[test]
 fn readme_render_commands_run_as_written() {
     let commands = readme_render_commands();
@@ -671,6 +672,7 @@ fn readme_render_commands_run_as_written() {
     assert!(commands.len() >= 6 && pictures >= 5, "README's render commands: {commands:?}");
     let dir = std::env::temp_dir().join(format!("mazewalk-readme-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
+    let mut compared = 0;
     for words in &commands {
         let out = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
             .args(&words[1..])
@@ -685,9 +687,37 @@ fn readme_render_commands_run_as_written() {
         if let Some(at) = words.iter().position(|w| w == "--png") {
             let picture = std::fs::read(dir.join(&words[at + 1])).expect(&command);
             assert_eq!(&picture[..8], b"\x89PNG\r\n\x1a\n", "{command}");
+            // README shows the picture its command draws, as the code draws it today.
+            if let Some(shown) = docs_image(&words[at + 1]) {
+                let committed = std::fs::read(&shown).unwrap();
+                assert!(
+                    png_pixels(&committed) == png_pixels(&picture),
+                    "{} is not what `{command}` draws today: redraw it with that command",
+                    shown.display()
+                );
+                compared += 1;
+            }
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
+    assert!(compared >= 5, "README's pictures compared with their commands: {compared}");
+}
+
+/// The picture of that file name under `docs/images/` (or a folder of it), if there is one.
+fn docs_image(name: &str) -> Option<std::path::PathBuf> {
+    let images = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/images");
+    let mut dirs = vec![images];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap().map(Result::unwrap) {
+            let path = entry.path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.file_name().is_some_and(|f| f == name) {
+                return Some(path);
+            }
+        }
+    }
+    None
 }
 
 /// The pixels of a PNG.
