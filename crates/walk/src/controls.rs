@@ -672,18 +672,39 @@ mod tests {
         let mut held = Held::default();
         let taps = (0..100).map(|k| 1.0 + 0.2 * f64::from(k));
         assert_eq!(taps_stepped(&mut held, Action::Forward, taps, step), 100);
-        // A hold of 2 s (repeats every 40 ms after 0.4 s), then a burst of presses at once: the
-        // hold's motion counts, so the burst gives no more than a hold of the whole time would.
-        let mut held = Held::default();
-        assert!(held.press(Action::Forward, 1.0, false, false, step));
-        let repeats = (0..40).map(|k| 1.4 + 0.04 * f64::from(k));
-        let repeat_steps = taps_stepped(&mut held, Action::Forward, repeats, step);
-        let glided = held.moving_time(Action::Forward, 1.0, 3.0) / step;
-        let burst =
-            taps_stepped(&mut held, Action::Forward, (0..50).map(|k| 3.0 + 1e-5 * f64::from(k)), step);
-        let total = 1.0 + repeat_steps as f64 + glided + burst as f64;
-        assert!(total <= 2.0 / step + TAP_BURST + 1.0, "{total} steps in 2 s (a hold: {})", 2.0 / step);
-        assert!(burst < TAP_BURST as usize, "the hold's glide counted: a burst of {burst}");
+        // A burst, then a hold of 2 s (repeats every 40 ms after 0.4 s), then, past `STALL` after its
+        // last repeat, a burst again: the hold's glide is laid after the first burst's steps, so the
+        // second burst finds less room, and all of it moves no further than a hold of the whole time
+        // and a burst.
+        // A walking key's glide counts in its own budget and in the walking keys' shared one, a
+        // turning key's in its own alone.
+        for (action, step) in [(Action::Forward, step), (Action::TurnLeft, 0.136)] {
+            let mut held = Held::default();
+            let first = taps_stepped(&mut held, action, [1.0; 20], step);
+            // the press at 1.5 (a tap), its repeats every 40 ms from 1.54 to 3.5
+            let hold = std::iter::once(1.5).chain((0..50).map(|k| 1.54 + 0.04 * f64::from(k)));
+            let hold_steps = taps_stepped(&mut held, action, hold, step);
+            let glided = held.moving_time(action, 1.0, 4.01) / step;
+            let second = taps_stepped(&mut held, action, [4.01; 20], step);
+            let total = (first + hold_steps + second) as f64 + glided;
+            let most = 3.01 / step.max(HOLD_GAP) + TAP_BURST + 1.0;
+            assert!(total <= most, "{action:?}: {total} steps in 3 s (at most {most})");
+            assert!(second < TAP_BURST as usize, "{action:?}: the hold's glide counted: a burst of {second}");
+        }
+    }
+
+    /// A burst of presses at one instant (a paste, a stalled link letting taps go) steps exactly
+    /// [`TAP_BURST`] times, whatever the step's time: the budget's room is not lost to the rounding
+    /// of the steps laid end to end.
+    #[test]
+    fn a_burst_at_one_instant_steps_exactly_the_burst() {
+        for step in [0.2, 0.136, 0.1, 0.3, 1.0 / 3.0, 0.07, 0.0] {
+            for action in [Action::Forward, Action::TurnRight] {
+                let mut held = Held::default();
+                let stepped = taps_stepped(&mut held, action, [2.0; 30], step);
+                assert_eq!(stepped, TAP_BURST as usize, "{action:?}, a step of {step} s");
+            }
+        }
     }
 
     /// Red-team pass 7: each key's taps had a budget of their own, so `w` and `d` tapped in turn
@@ -723,15 +744,17 @@ mod tests {
     /// A lost focus (a report any served client may send) lets go of the keys but gives no new burst.
     #[test]
     fn a_focus_report_gives_no_new_burst() {
-        let mut held = Held::default();
-        let mut stepped = 0;
-        for round in 0..20 {
-            let t = 1.0 + 0.01 * f64::from(round);
-            stepped +=
-                taps_stepped(&mut held, Action::Forward, (0..20).map(|k| t + 1e-5 * f64::from(k)), 0.2);
-            held.clear(t + 0.001);
+        for action in [Action::Forward, Action::TurnLeft] {
+            let mut held = Held::default();
+            let mut stepped = 0;
+            for round in 0..20 {
+                let t = 1.0 + 0.01 * f64::from(round);
+                stepped += taps_stepped(&mut held, action, (0..20).map(|k| t + 1e-5 * f64::from(k)), 0.2);
+                held.clear(t + 0.001);
+            }
+            let most = TAP_BURST as usize + 1;
+            assert!(stepped <= most, "{action:?}: {stepped} steps in 0.2 s, the keys cleared between");
         }
-        assert!(stepped <= TAP_BURST as usize + 1, "{stepped} steps in 0.2 s, the keys cleared between");
     }
 
     /// A glide that ran out is dropped by `expire`: the session is not woken for it again.
@@ -746,6 +769,21 @@ mod tests {
         assert_eq!(held.next_expiry(), Some(until), "not yet run out at its end");
         held.expire(until + 0.001);
         assert_eq!(held.next_expiry(), None, "run out");
+        // Two glides: at the later one's end the earlier, run out, is dropped, the later not yet.
+        let mut held = Held::default();
+        for t in [0.0, 0.5, 0.53] {
+            held.press(Action::Forward, t, false, false, 0.0);
+        }
+        for t in [0.1, 0.6, 0.63] {
+            held.press(Action::TurnLeft, t, false, false, 0.0);
+        }
+        let turn_end =
+            |held: &Held| held.keys[Action::TurnLeft.slot().unwrap()].glide.map(|(_, until)| until);
+        let (first, last) = (held.next_expiry().unwrap(), turn_end(&held).unwrap());
+        assert!(first < last, "the walk's glide ends first");
+        held.expire(last);
+        assert_eq!(held.next_expiry(), Some(last), "the turn's glide not yet run out at its end");
+        assert!(held.is_held(Action::TurnLeft, last) && !held.is_held(Action::Forward, last));
     }
 
     /// The bounds of the time windows are exclusive: a press exactly `ANSWER_GAP` after the last is
