@@ -1148,3 +1148,66 @@ fn check_says_when_the_exit_cannot_be_reached() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Red-team pass 9: `--world-ca FILE` was read whole, whatever it named: `serve` and `records` with
+/// `/dev/zero` grew by gigabytes, and with a FIFO waited before listening, for good. Now only a
+/// regular file of at most 1 MiB is read; a FIFO, a device or a larger file is refused at once
+/// (exit 1, as a host key that cannot be used), naming the flag. (Run under a 1 GiB address-space
+/// limit, so that a reader without a bound fails here rather than taking the machine's memory.)
+#[cfg(unix)]
+#[test]
+fn a_world_ca_that_is_not_a_small_regular_file_is_refused_at_once() {
+    use std::time::{Duration, Instant};
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-worldca-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("ca.fifo");
+    let made = Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo");
+    assert!(made.success(), "mkfifo {}", fifo.display());
+    let big = dir.join("big.pem");
+    std::fs::File::create(&big).unwrap().set_len((1 << 20) + 1).unwrap(); // sparse: nothing written
+    let key = dir.join("key");
+    let (fifo, big, key) = (fifo.to_str().unwrap(), big.to_str().unwrap(), key.to_str().unwrap());
+    // (nothing listens on port 9: were a CA read, the commands would fail on the connection instead)
+    let world = "rediss://127.0.0.1:9";
+    let serve = ["serve", "--open", "--listen", "127.0.0.1:0", "--host-key", key, "--world", world];
+    let records = ["records", "--builtin", "--world", world];
+    let mut cases: Vec<(Vec<&str>, &str)> = Vec::new();
+    for command in [&serve[..], &records[..]] {
+        for (file, says) in [
+            (fifo, "not a regular file (a FIFO)"),
+            ("/dev/zero", "not a regular file (a device)"),
+            (big, "larger than 1024 KiB"),
+        ] {
+            cases.push(([command, &["--world-ca", file]].concat(), says));
+        }
+    }
+    for (args, says) in cases {
+        let mut child = Command::new("sh")
+            .args(["-c", "ulimit -v 1048576 && exec \"$0\" \"$@\"", env!("CARGO_BIN_EXE_mazewalk")])
+            .args(&args)
+            .env("XDG_STATE_HOME", &dir)
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("run mazewalk");
+        let start = Instant::now();
+        let status = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break Some(status);
+            }
+            if start.elapsed() > Duration::from_secs(30) {
+                let _ = child.kill();
+                let _ = child.wait();
+                break None;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let Some(status) = status else { panic!("{args:?}: still waiting after 30 s") };
+        let mut err = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+        assert_eq!(status.code(), Some(1), "{args:?}: {err}");
+        assert!(err.contains("--world-ca") && err.contains(says), "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

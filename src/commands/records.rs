@@ -44,13 +44,7 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
                     "records --world: name the maze (MAZE, --gen WxH --seed N or --builtin): a world's records are kept by maze"
                 );
             };
-            let ca = match &args.world_ca {
-                Some(path) => {
-                    let shown = mazewalk_maze::quote_path(&path.display().to_string());
-                    Some(std::fs::read(path).with_context(|| format!("--world-ca {shown}"))?)
-                }
-                None => None,
-            };
+            let ca = args.world_ca.as_deref().map(super::read_world_ca).transpose()?;
             let store =
                 mazewalk_serve::shared::records::RedisStore::new(url, ca.as_deref(), *hash).map_err(|e| {
                     match e {

@@ -112,12 +112,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     let world = match &args.world {
         None => None,
         Some(url) => {
-            let ca = match &args.world_ca {
-                Some(path) => {
-                    Some(std::fs::read(path).with_context(|| format!("--world-ca {}", path.display()))?)
-                }
-                None => None,
-            };
+            let ca = args.world_ca.as_deref().map(super::read_world_ca).transpose()?;
             // A URL that is not Redis's, or a CA for one without TLS, is a bad flag value (exit 2),
             // told before listening; the link connects to nothing here.
             mazewalk_serve::shared::redis::Link::new(url, "", ca.as_deref())
