@@ -537,7 +537,8 @@ impl Renderer {
         let mut stats = RenderStats::default();
         self.walls.clear();
         match culling {
-            Culling::None => self.walls.extend(0..maze.edges().len() as u32),
+            // (only the walls: a portal is never drawn, and an open floor of tiny tiles has millions)
+            Culling::None => self.walls.extend(maze.edges().opaque_ids()),
             Culling::Portal => {
                 stats.portal = self.portal.run(maze, eye);
                 self.walls.extend_from_slice(&self.portal.walls);

@@ -82,6 +82,13 @@ fn random_walk(m: &Maze, seed: u64, steps: usize, radius: f32) {
 proptest! {
     #![proptest_config(common::config())]
 
+    /// `Edges::opaque_ids` lists exactly the walls, ascending: those `is_opaque` says, one by one.
+    #[test]
+    fn opaque_ids_are_the_walls_in_order(m in arb_maze()) {
+        let walls: Vec<u32> = (0..m.edges().len() as u32).filter(|&e| m.edge(e).opaque).collect();
+        prop_assert_eq!(m.edges().opaque_ids().collect::<Vec<_>>(), walls);
+    }
+
     #[test]
     fn cs559_write_then_read_is_the_identity(m in arb_maze()) {
         let text = maze::write(&m, Format::Cs559).unwrap();
