@@ -355,6 +355,18 @@ impl Eye {
         tiles
     }
 
+    /// How far from the eye a point it sees can be, at most, maze units: the view volume is convex, so
+    /// none of it is farther than its farthest corner, on the far plane (`far` along the view axis;
+    /// across and down `far` × the tangents in perspective, the half sizes in orthographic).
+    #[must_use]
+    pub fn reach(&self) -> f32 {
+        let (w, h) = (self.half_w, self.half_h);
+        match self.camera.projection {
+            Projection::Perspective => self.far * (1.0 + w * w + h * h).sqrt(),
+            Projection::Orthographic => (self.far * self.far + w * w + h * h).sqrt(),
+        }
+    }
+
     /// Whether this eye draws a whole view through one viewport: neither a foveated view (its warp)
     /// nor one tile of one (a band of NDC).
     #[must_use]

@@ -1064,14 +1064,24 @@ impl Renderer {
                 }
             }
         }
-        self.lines.retain(|&e| !maze.edge(e).opaque);
+        // Openings only, and of those only the ones within the view's reach: brute force (and the
+        // portal pass past its cap) lists every edge, and an open floor of tiny tiles has millions,
+        // nearly all farther than the far plane (red-team pass 9: 2046 × 2046 half-unit tiles, each
+        // of its 8 million openings clipped to the view every frame, 0.2 s a frame). (A line lies on
+        // the floor or the ceiling: its distance from the eye is at least its distance in the plan.)
+        let (at, reach) = (view.position.truncate(), view.reach() * 1.001);
+        self.lines.retain(|&e| {
+            !maze.edges().is_opaque(e as usize) && {
+                let (a, b) = maze.edge_points(e);
+                segment_distance(at, a, b) <= reach
+            }
+        });
         self.lines.sort_unstable();
         self.lines.dedup();
         // The openings the exit's light comes through toward the eye: each lit cell's way one step
         // nearer the exit, seen from the cell's side (`ExitLight::lit_through`); their lines are
         // drawn in the way's light ([`way_light`], [`WAY_GLYPH`]) after the others (issue #39).
         let light = maze.exit_light();
-        let at = view.position.truncate();
         let toward = |e: u32| {
             light.lit_through(maze, e).is_some_and(|dim| {
                 let (a, b) = maze.edge_points(e);
@@ -3060,5 +3070,48 @@ mod tests {
             }
         }
         assert!(views >= 64, "{views}");
+    }
+
+    /// Red-team pass 9: brute force (and the portal pass past its cap) listed every opening of the
+    /// maze for the floor's and ceiling's cell lines, and clipped each to the view every frame: 8
+    /// million on a 2046 × 2046 floor of half-unit tiles, nearly all beyond the far plane. Now only
+    /// those within the view's reach ([`Eye::reach`]) are listed, and still every one of which any
+    /// part is in view, on the floor or the ceiling, perspective or orthographic, whatever the pitch.
+    #[test]
+    fn brute_forces_cell_lines_are_the_openings_the_view_can_reach() {
+        let n = 120; // 4-unit tiles: 480 units across, far more than the view reaches
+        let row = |r: usize| format!("#{}{}#", if r == n / 2 { '@' } else { '.' }, ".".repeat(n - 1));
+        let rows: Vec<String> = (0..n).map(row).collect();
+        let wall = "#".repeat(n + 2);
+        let text = format!("mazewalk-grid 1\ntile 4\nfacing east\n\n{wall}\n{}\n{wall}\n", rows.join("\n"));
+        let floor = mazewalk_maze::grid::parse_str("floor.grid", &text).unwrap();
+        let centre = Vec2::splat(n as f32 * 2.0);
+        // (at 170° the view reaches past the floor's corners: every opening stays)
+        for (projection, fov, pitch, fewer) in [
+            (Projection::Perspective, 90.0, 0.0, true),
+            (Projection::Perspective, 170.0, -60.0, false),
+            (Projection::Orthographic, 90.0, 45.0, true),
+        ] {
+            let camera = Camera { projection, pitch_deg: pitch, ..Camera::new(centre, 30.0, fov) };
+            let eye = camera.eye(120, 40, 0.5).unwrap();
+            let mut renderer = Renderer::new();
+            renderer.choose_cell_lines(&floor, &eye, Culling::None);
+            let chosen = &renderer.lines;
+            let openings = floor.portal_count();
+            let count = chosen.len();
+            assert!(!fewer || count < openings / 2, "{projection:?} {fov}°: {count} of {openings} openings");
+            for e in 0..floor.edges().len() as u32 {
+                let (a, b) = floor.edge_points(e);
+                let seen = [FLOOR_Z, CEILING_Z]
+                    .iter()
+                    .any(|&z| clip_segment(&eye, a.extend(z), b.extend(z)).is_some());
+                if seen && !floor.edge(e).opaque {
+                    assert!(
+                        chosen.binary_search(&e).is_ok(),
+                        "{projection:?} {fov}°: opening {e} in view, not chosen"
+                    );
+                }
+            }
+        }
     }
 }
