@@ -1050,8 +1050,9 @@ impl Renderer {
     }
 
     /// The openings whose lines [`Renderer::draw_cell_bounds`] draws, once a view: those of the
-    /// cells the pass visited (every one, brute force or past the pass's cap), and those the exit's
-    /// light comes through toward the eye.
+    /// cells the pass visited (every one, brute force or past the pass's cap) within the view's
+    /// reach ([`Eye::reach`]: no farther opening can show), and of those, the ones the exit's light
+    /// comes through toward the eye.
     #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn choose_cell_lines(&mut self, maze: &Maze, view: &Eye, culling: Culling) {
         self.lines.clear();
