@@ -1066,12 +1066,8 @@ fn the_advice_for_a_piped_maze_is_no_dead_end() {
 #[cfg(unix)]
 #[test]
 fn a_run_that_is_not_a_regular_file_is_refused_at_once() {
-    use std::time::{Duration, Instant};
-    let dir = std::env::temp_dir().join(format!("mazewalk-cli-runfifo-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let fifo = dir.join("run.fifo");
-    let made = Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo");
-    assert!(made.success(), "mkfifo {}", fifo.display());
+    use std::time::Duration;
+    let (dir, fifo) = dir_with_fifo("runfifo", "run.fifo");
     let tiny = maze("tiny.maze");
     let fifo = fifo.to_str().unwrap();
     let dir_s = dir.to_str().unwrap();
@@ -1083,29 +1079,11 @@ fn a_run_that_is_not_a_regular_file_is_refused_at_once() {
         (&["--ghost", dir_s, &tiny], "a directory"),
     ];
     for (args, what) in cases {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
-            .args(args)
-            .env("TERM", "xterm-256color")
-            .stdin(std::process::Stdio::null())
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .expect("run mazewalk");
-        let start = Instant::now();
-        let status = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break Some(status);
-            }
-            if start.elapsed() > Duration::from_secs(30) {
-                let _ = child.kill();
-                let _ = child.wait();
-                break None;
-            }
-            std::thread::sleep(Duration::from_millis(20));
+        let mut command = Command::new(env!("CARGO_BIN_EXE_mazewalk"));
+        command.args(args).env("TERM", "xterm-256color");
+        let Some((status, err)) = finished_within(&mut command, Duration::from_secs(30)) else {
+            panic!("{args:?}: still waiting after 30 s")
         };
-        let Some(status) = status else { panic!("{args:?}: still waiting after 30 s") };
-        let mut err = String::new();
-        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
         assert_eq!(status.code(), Some(66), "{args:?}: {err}");
         assert!(err.contains(&format!("not a regular file ({what})")), "{args:?}: {err}");
     }
@@ -1157,12 +1135,8 @@ fn check_says_when_the_exit_cannot_be_reached() {
 #[cfg(unix)]
 #[test]
 fn a_world_ca_that_is_not_a_small_regular_file_is_refused_at_once() {
-    use std::time::{Duration, Instant};
-    let dir = std::env::temp_dir().join(format!("mazewalk-cli-worldca-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let fifo = dir.join("ca.fifo");
-    let made = Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo");
-    assert!(made.success(), "mkfifo {}", fifo.display());
+    use std::time::Duration;
+    let (dir, fifo) = dir_with_fifo("worldca", "ca.fifo");
     let big = dir.join("big.pem");
     std::fs::File::create(&big).unwrap().set_len((1 << 20) + 1).unwrap(); // sparse: nothing written
     let key = dir.join("key");
@@ -1182,32 +1156,52 @@ fn a_world_ca_that_is_not_a_small_regular_file_is_refused_at_once() {
         }
     }
     for (args, says) in cases {
-        let mut child = Command::new("sh")
-            .args(["-c", "ulimit -v 1048576 && exec \"$0\" \"$@\"", env!("CARGO_BIN_EXE_mazewalk")])
-            .args(&args)
-            .env("XDG_STATE_HOME", &dir)
-            .stdin(std::process::Stdio::null())
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .expect("run mazewalk");
-        let start = Instant::now();
-        let status = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break Some(status);
-            }
-            if start.elapsed() > Duration::from_secs(30) {
-                let _ = child.kill();
-                let _ = child.wait();
-                break None;
-            }
-            std::thread::sleep(Duration::from_millis(20));
+        let mut command = Command::new("sh");
+        command.args(["-c", "ulimit -v 1048576 && exec \"$0\" \"$@\"", env!("CARGO_BIN_EXE_mazewalk")]);
+        command.args(&args).env("XDG_STATE_HOME", &dir);
+        let Some((status, err)) = finished_within(&mut command, Duration::from_secs(30)) else {
+            panic!("{args:?}: still waiting after 30 s")
         };
-        let Some(status) = status else { panic!("{args:?}: still waiting after 30 s") };
-        let mut err = String::new();
-        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
         assert_eq!(status.code(), Some(1), "{args:?}: {err}");
         assert!(err.contains("--world-ca") && err.contains(says), "{args:?}: {err}");
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `command` run with no input and its output dropped: its exit status and standard error once it
+/// ends, or `None` (killed) if it is still running after `limit`.
+fn finished_within(
+    command: &mut Command,
+    limit: std::time::Duration,
+) -> Option<(std::process::ExitStatus, String)> {
+    use std::process::Stdio;
+    let mut child =
+        command.stdin(Stdio::null()).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().expect("run it");
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            return None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    Some((status, err))
+}
+
+/// A test's own folder (`mazewalk-cli-TAG-PID` in the temporary directory) holding a FIFO `name`: the
+/// folder and the FIFO's path.
+#[cfg(unix)]
+fn dir_with_fifo(tag: &str, name: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("mazewalk-cli-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join(name);
+    let made = Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo");
+    assert!(made.success(), "mkfifo {}", fifo.display());
+    (dir, fifo)
 }
