@@ -1,6 +1,6 @@
 //! The CPU renderer: a maze and a camera in, a character [`Frame`](mazewalk_term::Frame) out — pure
-//! data in, pure data out. The whole pipeline is the two functions at the end of this file, one stage a
-//! line; each stage is a method of [`Renderer`] in [`pipeline`], the matrices are `mazewalk_math`'s.
+//! data in, pure data out. The whole pipeline is the three functions at the end of this file, one stage
+//! a line; each stage is a method of [`Renderer`] in [`pipeline`], the matrices are `mazewalk_math`'s.
 //!
 //! ```text
 //! maze + camera
