@@ -113,7 +113,7 @@ pub struct MazeArgs {
     /// A second maze file, refused by its parser (else clap took it for a subcommand and said so).
     #[arg(value_name = "MAZE", hide = true, num_args = 0.., value_parser = parse_second_maze)]
     pub more: Vec<PathBuf>,
-    /// Walk a fresh random maze of WxH cells instead (with loops and an exit).
+    /// A fresh random maze of WxH cells instead of MAZE (with loops and an exit).
     #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size)]
     pub generate: Option<(u32, u32)>,
     /// Seed for --gen (the same seed gives the same maze: the one `mazewalk gen --size WxH --seed N
