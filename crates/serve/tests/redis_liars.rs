@@ -1,6 +1,6 @@
 //! Issue #40: Redis as a peer that may lie. Anyone with the Redis password can publish on the world's
 //! channel and write its keys; each test starts its own `redis-server` on a free loopback port and
-//! plays that writer against world tasks (`redis_common/host.rs`): the caps bound what an invented
+//! plays that writer against world tasks (`mazewalk_testkit::world_host`): the caps bound what an invented
 //! crowd can put in view (and count the rest), a winner a message claims is never shown nor written
 //! back, a flood of winner claims makes a bounded number of log lines and Redis reads, and names
 //! from Redis that are not player names never reach a host.
