@@ -9,7 +9,7 @@ use super::{Maze, cs559, grid};
 use crate::files::OpenError;
 
 /// The default [`LoadOptions::max_bytes`]: 256 MiB, room for the largest maze `gen` writes
-/// (1000 × 1000 cells in CS559 format, about 130–160 MB).
+/// (1000 × 1000 cells in CS559 format: 160 MB).
 pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;
 
 /// How [`load_with`] reads.
