@@ -23,6 +23,9 @@ use prometheus_client::metrics::histogram::{Histogram, exponential_buckets};
 use prometheus_client::metrics::info::Info;
 use prometheus_client::registry::{Registry, Unit};
 
+use std::sync::{Mutex, PoisonError};
+use std::time::{Duration, Instant};
+
 use crate::slots::{Refusal, Role};
 
 /// A refusal's reason as a label.
@@ -310,21 +313,45 @@ impl Collector for Live {
     }
 }
 
-/// The standard process metrics of Prometheus' client libraries, read at each scrape: CPU time
-/// (the process's CPU clock), and from Linux's `/proc/self` the resident and virtual memory, the
-/// threads, the open files and their limit. Where a figure cannot be read (another system, a
-/// `/proc` not mounted) it is left out. The start time is when the registry was made, at the
-/// server's start (`/proc` gives the process's own only in clock ticks since boot).
+/// The standard process metrics of Prometheus' client libraries, read at a scrape at most once a
+/// [`PROCESS_REFRESH`]: CPU time (the process's CPU clock), and from Linux's `/proc/self` the
+/// resident and virtual memory, the threads, the open files and their limit. Where a figure cannot
+/// be read (another system, a `/proc` not mounted) it is left out. The start time is when the
+/// registry was made, at the server's start (`/proc` gives the process's own only in clock ticks
+/// since boot).
 #[derive(Debug)]
 pub struct Process {
     /// Seconds since the Unix epoch when the registry was made.
     started: f64,
+    /// The figures last read, and when.
+    last: Mutex<Option<(Instant, ProcessFigures)>>,
 }
+
+/// The process's figures are read again at a scrape only when the last reading is this old: a
+/// reading costs three `/proc` files and a listing of every open descriptor (red-team pass 10:
+/// `/metrics` asked for as fast as 64 connections of one address could took 0.8 of a core, 60 % of
+/// it in `/proc`, and a player's key-to-frame time from 1 to 114 ms). Prometheus scrapes every 15 s
+/// or so; a second is fresh enough for it.
+pub const PROCESS_REFRESH: Duration = Duration::from_secs(1);
 
 impl Process {
     fn now() -> Process {
         let since = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH);
-        Process { started: since.map_or(0.0, |d| d.as_secs_f64()) }
+        Process { started: since.map_or(0.0, |d| d.as_secs_f64()), last: Mutex::new(None) }
+    }
+
+    /// The figures at `now`: the last reading if it is younger than [`PROCESS_REFRESH`], else
+    /// `read()`'s, kept for the next scrapes.
+    fn figures(&self, now: Instant, read: impl FnOnce() -> ProcessFigures) -> ProcessFigures {
+        let mut last = self.last.lock().unwrap_or_else(PoisonError::into_inner);
+        match *last {
+            Some((at, figures)) if now.saturating_duration_since(at) < PROCESS_REFRESH => figures,
+            _ => {
+                let figures = read();
+                *last = Some((now, figures));
+                figures
+            }
+        }
     }
 }
 
@@ -387,7 +414,7 @@ impl ProcessFigures {
 
 impl Collector for Process {
     fn encode(&self, mut encoder: DescriptorEncoder) -> std::fmt::Result {
-        encode_process(&mut encoder, self.started, ProcessFigures::read())
+        encode_process(&mut encoder, self.started, self.figures(Instant::now(), ProcessFigures::read))
     }
 }
 
@@ -596,6 +623,28 @@ mod tests {
             assert!(text.lines().any(|l| l == kind), "no {kind:?} in:\n{text}");
         }
         assert!(!text.contains("mazewalk_process"), "{text}");
+    }
+
+    // red-team pass 10: a flood of scrapes read /proc at each (0.8 of a core from one address)
+    #[test]
+    fn the_process_figures_are_read_at_most_once_a_refresh() {
+        let process = Process::now();
+        let reads = std::cell::Cell::new(0u64);
+        let read = || {
+            reads.set(reads.get() + 1);
+            ProcessFigures { threads: Some(reads.get()), ..ProcessFigures::default() }
+        };
+        let start = Instant::now();
+        let first = process.figures(start, read);
+        for k in 0..1000 {
+            let now = start + PROCESS_REFRESH * k / 1000; // a thousand scrapes within the refresh
+            assert_eq!(process.figures(now, read), first, "scrape {k}: the first reading again");
+        }
+        assert_eq!(reads.get(), 1, "one reading for a thousand scrapes");
+        let later = process.figures(start + PROCESS_REFRESH, read);
+        assert_eq!((reads.get(), later.threads), (2, Some(2)), "read again once it is a refresh old");
+        let earlier = process.figures(start, read); // (a clock that went back: no reading, no panic)
+        assert_eq!((reads.get(), earlier), (2, later));
     }
 
     /// `/proc/self/status` and `limits` as Linux writes them are read; anything else gives nothing.
