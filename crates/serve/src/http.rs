@@ -27,8 +27,8 @@ use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
 use http_body_util::Full;
-use hyper::body::{Bytes, Incoming};
-use hyper::{Method, Request, Response, StatusCode};
+use hyper::body::Bytes;
+use hyper::{Method, Response, StatusCode};
 use hyper_util::rt::{TokioIo, TokioTimer};
 use prometheus_client::registry::Registry;
 use tokio::net::TcpListener;
@@ -53,6 +53,17 @@ pub const EVENT_RATE: u32 = 10;
 /// its ten events a second; a world of a thousand (~120 KB an event) gets one about every two
 /// seconds (red-team pass 8: 32 streams of such a world took 39 MB/s from one address).
 pub const EVENT_BYTES_PER_SECOND: usize = 64 * 1024;
+/// Requests a second one address group (an IPv4 address, an IPv6 /64) may make, after a burst of
+/// [`REQUEST_BURST`]; past it the connection that asks is closed unanswered. A page asks four times
+/// when it loads and once every 30 s after (its event stream is one request), a Prometheus server
+/// once every 15 s or so (red-team pass 10: `/metrics`, asked for as fast as 64 connections of one
+/// address could, took a core's worth of the runtime the game runs on).
+pub const REQUEST_RATE: u32 = 20;
+/// Requests one address group may make at once.
+pub const REQUEST_BURST: u32 = 100;
+/// Address groups whose request budgets are kept; a group beyond them (when none of the kept ones
+/// has its whole budget back) shares one budget with the others beyond.
+pub const TRACKED_REQUESTERS: usize = 4096;
 /// An event (or a comment) at least this often, so that proxies keep the stream open.
 const EVENT_KEEPALIVE: Duration = Duration::from_secs(15);
 
@@ -63,8 +74,10 @@ const PAGE: &str = include_str!("status.html");
 pub(crate) struct Site {
     /// Encoded at each scrape of `/metrics`.
     pub registry: Registry,
-    /// `/maze.json`: the maze's name, bounds and walls.
-    pub maze: String,
+    /// `/maze.json`: the maze's name, bounds and walls, shared by every answer (up to
+    /// [`MAX_MAP_WALLS`] walls, megabytes: red-team pass 10, a copy an answer let 64 connections
+    /// that did not read hold 64 copies, 230 MB).
+    pub maze: Bytes,
     /// The world's version, to wait for a change.
     pub versions: watch::Receiver<u64>,
     /// The players now, as an event's JSON.
@@ -75,6 +88,46 @@ pub(crate) struct Site {
     pub streams: Arc<Mutex<Places>>,
     /// The server's shutdown.
     pub shutdown: watch::Receiver<bool>,
+    /// Each address group's requests ([`Requests`]).
+    pub requests: Mutex<Requests>,
+}
+
+/// The requests each address group may still make: a budget of [`REQUEST_BURST`] refilled at
+/// [`REQUEST_RATE`] a second for each of at most [`TRACKED_REQUESTERS`] groups (a group whose budget
+/// is whole again is forgotten when room is needed), and one shared by any others. Pure: time comes
+/// in as seconds.
+#[derive(Debug, Default)]
+pub struct Requests {
+    budgets: std::collections::HashMap<IpAddr, crate::limits::RateLimit>,
+    /// The budget of the groups beyond [`TRACKED_REQUESTERS`].
+    rest: Option<crate::limits::RateLimit>,
+}
+
+impl Requests {
+    /// Whether a request from `ip` at `now` may be answered (taking one from its group's budget).
+    pub fn allow(&mut self, ip: IpAddr, now: f64) -> bool {
+        use crate::limits::RateLimit;
+        let group = crate::slots::address_group(ip);
+        if !self.budgets.contains_key(&group) && self.budgets.len() >= TRACKED_REQUESTERS {
+            self.budgets.retain(|_, budget| !budget.is_full(now));
+        }
+        let budget = if self.budgets.len() < TRACKED_REQUESTERS || self.budgets.contains_key(&group) {
+            self.budgets.entry(group).or_insert_with(|| RateLimit::new(REQUEST_RATE, REQUEST_BURST, now))
+        } else {
+            self.rest.get_or_insert_with(|| RateLimit::new(REQUEST_RATE, REQUEST_BURST, now))
+        };
+        budget.take(1, now) == 1
+    }
+
+    /// Whether `ip`'s group has no request left at `now` (taking none): its new connections are
+    /// closed as they come, before any work is done for them.
+    pub fn exhausted(&self, ip: IpAddr, now: f64) -> bool {
+        let group = crate::slots::address_group(ip);
+        self.budgets
+            .get(&group)
+            .or(self.rest.as_ref().filter(|_| self.budgets.len() >= TRACKED_REQUESTERS))
+            .is_some_and(|budget| budget.is_empty(now))
+    }
 }
 
 /// Binds `addr` and serves `site` until `shutdown` turns true; returns the bound address and the task.
@@ -96,6 +149,7 @@ pub(crate) async fn start(
 
 async fn accept_loop(listener: TcpListener, site: Arc<Site>, mut shutdown: watch::Receiver<bool>) {
     let open = Arc::new(Mutex::new(Places::default()));
+    let started = tokio::time::Instant::now();
     loop {
         let accepted = tokio::select! {
             _ = shutdown.wait_for(|&s| s) => return,
@@ -106,6 +160,11 @@ async fn accept_loop(listener: TcpListener, site: Arc<Site>, mut shutdown: watch
             tokio::time::sleep(Duration::from_millis(100)).await;
             continue;
         };
+        let now = started.elapsed().as_secs_f64();
+        if site.requests.lock().unwrap_or_else(PoisonError::into_inner).exhausted(peer.ip(), now) {
+            drop(stream); // its address asked too much: its newcomers go as they come, for nothing
+            continue;
+        }
         let Some((id, pushed_out)) = Places::admit(&open, peer.ip(), MAX_CONNECTIONS) else {
             drop(stream); // closed unanswered: the cap holds whatever the clients do
             continue;
@@ -117,7 +176,14 @@ async fn accept_loop(listener: TcpListener, site: Arc<Site>, mut shutdown: watch
             let _guard = guard;
             let service = hyper::service::service_fn(move |request| {
                 let site = Arc::clone(&site);
-                async move { Ok::<_, Infallible>(answer(&site, &request, peer.ip())) }
+                async move {
+                    let now = started.elapsed().as_secs_f64();
+                    if !site.requests.lock().unwrap_or_else(PoisonError::into_inner).allow(peer.ip(), now) {
+                        // (an error ends the connection unanswered: an answer would cost as much)
+                        return Err(std::io::Error::other("too many requests from this address"));
+                    }
+                    Ok(answer(&site, request.method(), request.uri().path(), peer.ip()))
+                }
             });
             let connection = hyper::server::conn::http1::Builder::new()
                 .timer(TokioTimer::new())
@@ -197,14 +263,15 @@ impl Drop for Held {
 
 type Body = http_body_util::combinators::BoxBody<Bytes, Infallible>;
 
-fn answer(site: &Arc<Site>, request: &Request<Incoming>, peer: IpAddr) -> Response<Body> {
+/// The answer to a `method` request for `path` from `peer`.
+fn answer(site: &Arc<Site>, method: &Method, path: &str, peer: IpAddr) -> Response<Body> {
     use http_body_util::BodyExt as _;
-    let head = request.method() == Method::HEAD;
-    let respond = |status: StatusCode, content_type: &'static str, body: String| {
+    let head = method == Method::HEAD;
+    let respond = |status: StatusCode, content_type: &'static str, body: Bytes| {
         // A HEAD answer says how long the GET's body is (RFC 9110 §9.3.2), an event stream has none.
         let length = (head && content_type != "text/event-stream")
             .then(|| hyper::header::HeaderValue::from(body.len()));
-        let body = if head { Bytes::new() } else { Bytes::from(body) };
+        let body = if head { Bytes::new() } else { body };
         let mut response = Response::new(Full::new(body).boxed());
         *response.status_mut() = status;
         let headers = response.headers_mut();
@@ -221,21 +288,24 @@ fn answer(site: &Arc<Site>, request: &Request<Incoming>, peer: IpAddr) -> Respon
         );
         response
     };
-    if !matches!(*request.method(), Method::GET | Method::HEAD) {
-        let mut response = respond(StatusCode::METHOD_NOT_ALLOWED, "text/plain", "GET or HEAD only\n".into());
+    if !matches!(*method, Method::GET | Method::HEAD) {
+        let mut response =
+            respond(StatusCode::METHOD_NOT_ALLOWED, "text/plain", Bytes::from_static(b"GET or HEAD only\n"));
         response
             .headers_mut()
             .insert(hyper::header::ALLOW, hyper::header::HeaderValue::from_static("GET, HEAD"));
         return response;
     }
-    match request.uri().path() {
-        "/metrics" => {
-            respond(StatusCode::OK, crate::metrics::CONTENT_TYPE, crate::metrics::encode(&site.registry))
-        }
-        "/" => respond(StatusCode::OK, "text/html; charset=utf-8", PAGE.into()),
+    match path {
+        "/metrics" => respond(
+            StatusCode::OK,
+            crate::metrics::CONTENT_TYPE,
+            crate::metrics::encode(&site.registry).into(),
+        ),
+        "/" => respond(StatusCode::OK, "text/html; charset=utf-8", Bytes::from_static(PAGE.as_bytes())),
         "/maze.json" => respond(StatusCode::OK, "application/json", site.maze.clone()),
-        "/best-run.json" => respond(StatusCode::OK, "application/json", (site.best_run)()),
-        "/events" if head => respond(StatusCode::OK, "text/event-stream", String::new()),
+        "/best-run.json" => respond(StatusCode::OK, "application/json", (site.best_run)().into()),
+        "/events" if head => respond(StatusCode::OK, "text/event-stream", Bytes::new()),
         "/events" => match events(site, peer) {
             Some(body) => {
                 let mut response = Response::new(body);
@@ -253,10 +323,14 @@ fn answer(site: &Arc<Site>, request: &Request<Incoming>, peer: IpAddr) -> Respon
             None => respond(
                 StatusCode::SERVICE_UNAVAILABLE,
                 "text/plain",
-                "too many event streams; try again later\n".into(),
+                Bytes::from_static(b"too many event streams; try again later\n"),
             ),
         },
-        _ => respond(StatusCode::NOT_FOUND, "text/plain", "not found: try / or /metrics\n".into()),
+        _ => respond(
+            StatusCode::NOT_FOUND,
+            "text/plain",
+            Bytes::from_static(b"not found: try / or /metrics\n"),
+        ),
     }
 }
 
@@ -424,16 +498,140 @@ mod tests {
         assert_eq!((json["holder"].as_str(), json["seconds"].as_f64()), (Some("ada"), Some(600.0)));
     }
 
+    /// Red-team pass 10: each `/maze.json` answer was a copy of the maze's walls (3.6 MB for 48,840
+    /// walls), so 64 connections that asked and did not read held 64 copies (the server's RSS went
+    /// up by 230 MB). Every answer now hands out the one copy the site holds.
+    #[tokio::test]
+    async fn every_maze_json_answer_shares_the_sites_one_copy() {
+        use http_body_util::BodyExt as _;
+        let (_version, versions) = watch::channel(0u64);
+        let (_stop, shutdown) = watch::channel(false);
+        let mut site = bare_site(versions, shutdown);
+        site.maze = Bytes::from(format!("{{\"walls\": [{}]}}", "[0,0,1,1],".repeat(10_000)));
+        let site = Arc::new(site);
+        for _ in 0..3 {
+            let response = answer(&site, &Method::GET, "/maze.json", ip(1));
+            assert_eq!(response.status(), StatusCode::OK);
+            let body = response.into_body().collect().await.expect("a body").to_bytes();
+            assert_eq!(body, site.maze, "the maze's JSON");
+            assert_eq!(body.as_ptr(), site.maze.as_ptr(), "the site's own bytes, not a copy");
+        }
+        let head = answer(&site, &Method::HEAD, "/maze.json", ip(1));
+        let length = head.headers().get(hyper::header::CONTENT_LENGTH).and_then(|v| v.to_str().ok());
+        assert_eq!(length, Some(site.maze.len().to_string().as_str()), "HEAD says the GET's length");
+    }
+
+    // Red-team pass 10: requests were answered as fast as one address could ask (600,000 of
+    // `/metrics` in 8 s from 64 connections, a core's worth). Each address group has a budget: a
+    // burst, then the rate; another group has its own, and groups beyond those kept share one.
+    #[test]
+    fn each_address_group_has_its_own_budget_of_requests() {
+        let mut requests = Requests::default();
+        let burst = (0..2 * REQUEST_BURST).filter(|_| requests.allow(ip(1), 0.0)).count();
+        assert_eq!(burst, REQUEST_BURST as usize, "a burst, then none");
+        assert!(requests.exhausted(ip(1), 0.0) && !requests.exhausted(ip(2), 0.0), "(asks nothing)");
+        assert!(!requests.exhausted(ip(1), 0.1), "one back after 1 / REQUEST_RATE s");
+        assert!(requests.allow(ip(2), 0.0), "another address has its own");
+        let second = (0..2 * REQUEST_BURST).filter(|_| requests.allow(ip(1), 1.0)).count();
+        assert_eq!(second, REQUEST_RATE as usize, "a second later: the rate");
+        // one IPv6 /64 is one group, another /64 another
+        let v6 = |s: &str| s.parse::<IpAddr>().expect("an IPv6 address");
+        let from_64 =
+            (0..REQUEST_BURST).filter(|k| requests.allow(v6(&format!("2001:db8::{k:x}")), 0.0)).count();
+        assert_eq!(from_64, REQUEST_BURST as usize);
+        assert!(!requests.allow(v6("2001:db8::ffff"), 0.0), "the same /64");
+        assert!(requests.allow(v6("2001:db8:0:1::1"), 0.0), "another /64");
+        // many groups: the kept ones whose budget is whole again are forgotten; past the cap with
+        // none of them whole, newcomers share one budget
+        let mut many = Requests::default();
+        let fresh = |k: usize| IpAddr::from([10, (k >> 16) as u8, (k >> 8) as u8, k as u8]);
+        for k in 0..TRACKED_REQUESTERS {
+            assert!(many.allow(fresh(k), 0.0));
+        }
+        let rest = (TRACKED_REQUESTERS..TRACKED_REQUESTERS + 2 * REQUEST_BURST as usize)
+            .filter(|&k| many.allow(fresh(k), 0.0))
+            .count();
+        assert_eq!(rest, REQUEST_BURST as usize, "the groups beyond share one budget");
+        assert!(many.budgets.len() <= TRACKED_REQUESTERS);
+        assert!(many.allow(fresh(TRACKED_REQUESTERS + 5000), 60.0), "later: the whole ones forgotten");
+        assert!(many.budgets.len() <= TRACKED_REQUESTERS);
+    }
+
+    /// Over real sockets: one address asking for `/metrics` over and over on one connection is
+    /// answered its burst, then its connection is closed; another address is answered meanwhile.
+    #[tokio::test]
+    async fn an_address_past_its_requests_is_closed_and_another_answered() {
+        use tokio::io::{AsyncReadExt as _, AsyncWriteExt as _};
+        let (_version, versions) = watch::channel(0u64);
+        let (stop, shutdown) = watch::channel(false);
+        let site = bare_site(versions, shutdown);
+        let (addr, task) = start("127.0.0.1:0".parse().unwrap(), site).await.expect("listen");
+        let connect = |from: u8| async move {
+            let socket = tokio::net::TcpSocket::new_v4().expect("socket");
+            socket.bind(SocketAddr::new(ip(from), 0)).expect("bind a loopback address");
+            socket.connect(addr).await.expect("connect")
+        };
+        // one request at a time, each answer read whole before the next is asked
+        let (mut flood, asked) = (tokio::io::BufReader::new(connect(1).await), 3 * REQUEST_BURST as usize);
+        let (start, mut answered) = (tokio::time::Instant::now(), 0);
+        for _ in 0..asked {
+            use tokio::io::AsyncBufReadExt as _;
+            if flood.get_mut().write_all(b"GET /metrics HTTP/1.1\r\nHost: x\r\n\r\n").await.is_err() {
+                break;
+            }
+            let (mut line, mut length) = (String::new(), None);
+            let head = tokio::time::timeout(HEADER_TIMEOUT, async {
+                loop {
+                    line.clear();
+                    if flood.read_line(&mut line).await.unwrap_or(0) == 0 {
+                        return false; // closed
+                    }
+                    if let Some(n) = line.to_ascii_lowercase().strip_prefix("content-length:") {
+                        length = n.trim().parse::<usize>().ok();
+                    }
+                    if line == "\r\n" {
+                        return true;
+                    }
+                }
+            });
+            if !head.await.expect("an answer or the close, in time") {
+                break;
+            }
+            let mut body = vec![0; length.unwrap_or(0)];
+            flood.read_exact(&mut body).await.expect("the body");
+            answered += 1;
+        }
+        // the budget refilled while the requests went, at its rate
+        let most = REQUEST_BURST as usize
+            + (start.elapsed().as_secs_f64() * f64::from(REQUEST_RATE)).ceil() as usize;
+        assert!(
+            (REQUEST_BURST as usize..=most).contains(&answered) && answered < asked,
+            "{answered} of {asked} answered, the burst being {REQUEST_BURST} (at most {most} in the time)"
+        );
+        let mut other = connect(2).await;
+        other.write_all(b"GET /metrics HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n").await.unwrap();
+        let mut answer = Vec::new();
+        let read = tokio::time::timeout(HEADER_TIMEOUT, other.read_to_end(&mut answer)).await;
+        assert!(
+            read.is_ok() && answer.starts_with(b"HTTP/1.1 200"),
+            "{:?}",
+            String::from_utf8_lossy(&answer)
+        );
+        stop.send(true).expect("stop");
+        task.await.expect("the listener ends");
+    }
+
     /// A site with no metrics, no maze, no players and no best run.
     fn bare_site(versions: watch::Receiver<u64>, shutdown: watch::Receiver<bool>) -> Site {
         Site {
             registry: Registry::default(),
-            maze: String::new(),
+            maze: Bytes::new(),
             versions,
             players: Box::new(|| "{}".into()),
             best_run: Box::new(|| best_run_json(None)),
             streams: Arc::default(),
             shutdown,
+            requests: Mutex::default(),
         }
     }
 

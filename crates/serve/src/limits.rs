@@ -227,6 +227,12 @@ impl RateLimit {
         self.tokens + (now - self.last).max(0.0) * self.rate >= self.burst
     }
 
+    /// Whether nothing may pass at `now` (less than one left, refilled as of `now`).
+    #[must_use]
+    pub(crate) fn is_empty(&self, now: f64) -> bool {
+        self.tokens + (now - self.last).max(0.0) * self.rate < 1.0
+    }
+
     /// How many of `n` bytes arriving at `now` may pass (the rest are dropped).
     pub fn take(&mut self, n: usize, now: f64) -> usize {
         if now > self.last {
@@ -252,6 +258,8 @@ mod tests {
         assert_eq!(bucket.take(600, 1.0), 100, "refilled at the rate");
         assert_eq!(bucket.take(5000, 100.0), 1000, "never more than the burst");
         assert_eq!(bucket.take(10, 50.0), 0, "a clock going back refills nothing");
+        assert!(bucket.is_empty(50.0) && bucket.is_empty(100.0009), "nothing left, a tenth short of one");
+        assert!(!bucket.is_empty(100.01), "one again");
     }
 
     /// Frames a second of a `cols × rows` screen of `samples` samples a cell on a share.

@@ -678,7 +678,7 @@ impl Server {
         let records = self.shared.records.as_ref().map(|keeper| keeper.records.clone());
         let site = crate::http::Site {
             registry,
-            maze: crate::http::maze_json(&self.shared.maze, maze_name, &self.joining()),
+            maze: crate::http::maze_json(&self.shared.maze, maze_name, &self.joining()).into(),
             versions: self.shared.world.version.subscribe(),
             players: Box::new(move || {
                 // Built once a change of the world (every stream asks at each), outside its lock.
@@ -694,6 +694,7 @@ impl Server {
                 crate::http::best_run_json(records.as_ref().and_then(|r| r.best_run()).as_deref())
             }),
             streams: Arc::default(),
+            requests: std::sync::Mutex::default(),
             shutdown: self.shared.shutdown.clone(),
         };
         let (local, _task) = crate::http::start(addr, site).await?;
