@@ -149,6 +149,10 @@ struct Dir {
     /// Whether the count is full and that has been said (said again only after a recording
     /// started).
     full_said: bool,
+    /// Whether a newcomer not recorded for want of room, or for a cast that could not be made (a
+    /// full disk), has been said (said again only after a recording started: red-team pass 10, it
+    /// was said at each join, ten lines a second from one address, past the log's limits).
+    refusal_said: bool,
 }
 
 impl Dir {
@@ -271,7 +275,9 @@ impl Recordings {
             Ok(Ok(opened)) => opened,
             Ok(Err(Refused::NoRoom)) => {
                 self.metrics.recording_refused();
-                warn!(dir = %self.options.dir.display(), "recording: no room for another cast (--record-max-total); this player is not recorded");
+                if self.say_refusal() {
+                    warn!(dir = %self.options.dir.display(), "recording: no room for another cast (--record-max-total); new players are not recorded until a recording ends (said once until one starts)");
+                }
                 return None;
             }
             Ok(Err(Refused::Full { said })) => {
@@ -288,7 +294,9 @@ impl Recordings {
             }
             Ok(Err(Refused::Io(err))) => {
                 self.metrics.recording_failed();
-                warn!(dir = %self.options.dir.display(), "recording: cannot make a cast: {err}; this player is not recorded");
+                if self.say_refusal() {
+                    warn!(dir = %self.options.dir.display(), "recording: cannot make a cast: {err}; this player is not recorded, nor those after it that fail so (said once until a recording starts)");
+                }
                 return None;
             }
             Err(_) => return None, // the runtime is shutting down
@@ -312,6 +320,14 @@ impl Recordings {
             return None;
         }
         Some(Tap { tx: Some(tx), queued, start: now, depth, metrics: self.metrics.clone() })
+    }
+}
+
+impl Recordings {
+    /// Whether a newcomer not recorded for want of room or for a cast that could not be made is to
+    /// be said in the log: only the first since a recording last started (each is counted).
+    fn say_refusal(&self) -> bool {
+        !std::mem::replace(&mut self.active.lock().unwrap_or_else(PoisonError::into_inner).refusal_said, true)
     }
 }
 
@@ -420,6 +436,7 @@ fn open(
                     })?;
                 dir.active.insert(file_name.clone(), (group, claim));
                 dir.full_said = false;
+                dir.refusal_said = false;
                 return Ok((file_name, cast));
             }
             // (a name taken, by another server in the same directory: the next number)
@@ -741,6 +758,57 @@ mod tests {
         std::fs::remove_dir_all(&dir.0).unwrap();
         quick(&options, &active, HOME, "eve", 30).map_err(|_| "after DIR went").unwrap();
         assert_eq!(names(&dir.0).len(), 1);
+    }
+
+    /// A `tracing` writer into a shared buffer, to read what was logged.
+    #[derive(Clone, Default)]
+    struct Logged(Arc<Mutex<Vec<u8>>>);
+    impl io::Write for Logged {
+        fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+            self.0.lock().unwrap().extend_from_slice(bytes);
+            Ok(bytes.len())
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    // Red-team pass 10: on a full disk (or with no room left under --record-max-total) every
+    // join said "cannot make a cast" (or "no room") in the log, ten lines a second from one
+    // address, past the log's per-address limits. Now it is said once, then counted only, until a
+    // recording starts; a failure after that is said again.
+    #[tokio::test]
+    async fn a_cast_that_cannot_be_made_is_said_once_until_a_recording_starts() {
+        let dir = scratch("unmade");
+        std::fs::write(&dir.0, b"a file where DIR should be").unwrap();
+        let logged = Logged::default();
+        let writer = logged.clone();
+        let subscriber = tracing_subscriber::fmt().with_writer(move || writer.clone()).finish();
+        let _default = tracing::subscriber::set_default(subscriber);
+        let metrics = Metrics::default();
+        let recordings = Recordings::new(RecordOptions::new(dir.0.clone()), metrics.clone());
+        let said =
+            || String::from_utf8_lossy(&logged.0.lock().unwrap()).matches("cannot make a cast").count();
+        for _ in 0..10 {
+            assert!(recordings.start("eve", HOME, header(), 0.0).await.is_none(), "DIR is a file");
+        }
+        assert_eq!(said(), 1, "said once for ten joins");
+        std::fs::remove_file(&dir.0).unwrap();
+        let tap = recordings.start("ada", HOME, header(), 0.0).await;
+        assert!(tap.is_some(), "DIR made: recorded");
+        drop(tap);
+        std::fs::remove_dir_all(&dir.0).unwrap();
+        std::fs::write(&dir.0, b"a file again").unwrap();
+        for _ in 0..10 {
+            assert!(recordings.start("eve", HOME, header(), 0.0).await.is_none());
+        }
+        assert_eq!(said(), 2, "said again after a recording started, once");
+        let text = crate::metrics::encode(&crate::metrics::registry(
+            &metrics,
+            crate::metrics::Live(Box::new(crate::metrics::Snapshot::default)),
+        ));
+        assert!(text.lines().any(|l| l == "mazewalk_recording_errors_total 20"), "each counted:\n{text}");
+        std::fs::remove_file(&dir.0).unwrap();
     }
 
     // A recording that grows claims room as it writes: the oldest finished casts go then, as many
