@@ -67,6 +67,12 @@ struct Args {
     max_handshakes: Option<u32>,
 }
 
+/// What `--help` prints, and a refusal with it.
+const USAGE: &str =
+    "usage: cargo run --release -p mazewalk-bench --example attacks -- [--before BIN] [--after BIN]
+    [--seconds S] [--only NAME] [--rates R,R,…] [--addresses N] [--max-handshakes N]
+(see the example's doc for the attacks and their names)";
+
 fn args() -> Args {
     let mut a = Args {
         before: None,
@@ -77,16 +83,20 @@ fn args() -> Args {
         addresses: 1000,
         max_handshakes: None,
     };
-    for (flag, value) in server_process::flags() {
+    for (flag, value) in server_process::flags(USAGE) {
         match flag.as_str() {
             "--before" => a.before = Some(value.into()),
             "--after" => a.after = value.into(),
-            "--seconds" => a.seconds = value.parse().expect("--seconds S"),
+            "--seconds" => a.seconds = server_process::value("--seconds", &value, USAGE),
             "--only" => a.only = Some(value),
-            "--rates" => a.rates = value.split(',').map(|r| r.parse().expect("--rates R,R,…")).collect(),
-            "--addresses" => a.addresses = value.parse().expect("--addresses N"),
-            "--max-handshakes" => a.max_handshakes = Some(value.parse().expect("--max-handshakes N")),
-            other => panic!("unknown argument {other}"),
+            "--rates" => {
+                a.rates = value.split(',').map(|r| server_process::value("--rates", r, USAGE)).collect()
+            }
+            "--addresses" => a.addresses = server_process::value("--addresses", &value, USAGE),
+            "--max-handshakes" => {
+                a.max_handshakes = Some(server_process::value("--max-handshakes", &value, USAGE))
+            }
+            other => server_process::refuse(&format!("unknown argument {other}"), USAGE),
         }
     }
     a

@@ -61,6 +61,12 @@ struct Args {
     one_address: bool,
 }
 
+/// What `--help` prints, and a refusal with it.
+const USAGE: &str = "usage: cargo run --release -p mazewalk-bench --example load -- [--idle N] [--walkers N]
+    [--rate KEYS_PER_S] [--seconds S] [--quiet S] [--size COLSxROWS] [--one-address true|false]
+    [--servers N --world redis://…] [--record-dir DIR] [--callgrind FILE]
+(the server is target/release/mazewalk: `cargo build --release` first; see the example's doc)";
+
 fn args() -> Args {
     let mut a = Args {
         idle: 1000,
@@ -76,26 +82,31 @@ fn args() -> Args {
         record_dir: None,
         one_address: false,
     };
-    for (flag, value) in server_process::flags() {
+    for (flag, value) in server_process::flags(USAGE) {
         match flag.as_str() {
-            "--idle" => a.idle = value.parse().expect("--idle N"),
-            "--walkers" => a.walkers = value.parse().expect("--walkers N"),
-            "--rate" => a.rate = value.parse().expect("--rate KEYS_PER_S"),
-            "--seconds" => a.seconds = value.parse().expect("--seconds S"),
-            "--quiet" => a.quiet = value.parse().expect("--quiet S"),
-            "--servers" => a.servers = value.parse().expect("--servers N"),
+            "--idle" => a.idle = server_process::value("--idle", &value, USAGE),
+            "--walkers" => a.walkers = server_process::value("--walkers", &value, USAGE),
+            "--rate" => a.rate = server_process::value("--rate", &value, USAGE),
+            "--seconds" => a.seconds = server_process::value("--seconds", &value, USAGE),
+            "--quiet" => a.quiet = server_process::value("--quiet", &value, USAGE),
+            "--servers" => a.servers = server_process::value("--servers", &value, USAGE),
             "--world" => a.world = Some(value),
             "--callgrind" => a.callgrind = Some(value),
             "--record-dir" => a.record_dir = Some(value),
-            "--one-address" => a.one_address = value.parse().expect("--one-address true|false"),
+            "--one-address" => a.one_address = server_process::value("--one-address", &value, USAGE),
             "--size" => {
-                let (c, r) = value.split_once('x').expect("--size COLSxROWS");
-                (a.cols, a.rows) = (c.parse().expect("cols"), r.parse().expect("rows"));
+                let (c, r) = value.split_once('x').unwrap_or_else(|| {
+                    server_process::refuse(&format!("--size COLSxROWS, not {value:?}"), USAGE)
+                });
+                (a.cols, a.rows) =
+                    (server_process::value("--size", c, USAGE), server_process::value("--size", r, USAGE));
             }
-            other => panic!("unknown argument {other}"),
+            other => server_process::refuse(&format!("unknown argument {other}"), USAGE),
         }
     }
-    assert!(a.servers >= 1 && (a.servers == 1 || a.world.is_some()), "--servers N needs --world URL");
+    if a.servers == 0 || (a.servers > 1 && a.world.is_none()) {
+        server_process::refuse("--servers N: at least 1, and more than 1 needs --world URL", USAGE);
+    }
     a
 }
 

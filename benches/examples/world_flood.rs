@@ -72,17 +72,25 @@ struct Args {
     periods: Vec<f64>,
 }
 
+/// What `--help` prints, and a refusal with it.
+const USAGE: &str =
+    "usage: cargo run --release -p mazewalk-bench --example world_flood -- [--before BIN] [--after BIN]
+    [--seconds S] [--periods 2,1|none]
+(see the example's doc)";
+
 fn args() -> Args {
     let after = server_process::release_binary();
     let mut a = Args { before: None, after, seconds: 20.0, periods: vec![2.0, 1.0] };
-    for (flag, value) in server_process::flags() {
+    for (flag, value) in server_process::flags(USAGE) {
         match flag.as_str() {
             "--before" => a.before = Some(value.into()),
             "--after" => a.after = value.into(),
-            "--seconds" => a.seconds = value.parse().expect("--seconds S"),
+            "--seconds" => a.seconds = server_process::value("--seconds", &value, USAGE),
             "--periods" if value == "none" => a.periods = Vec::new(),
-            "--periods" => a.periods = value.split(',').map(|p| p.parse().expect("--periods 2,1")).collect(),
-            other => panic!("unknown argument {other}"),
+            "--periods" => {
+                a.periods = value.split(',').map(|p| server_process::value("--periods", p, USAGE)).collect()
+            }
+            other => server_process::refuse(&format!("unknown argument {other}"), USAGE),
         }
     }
     a

@@ -44,10 +44,36 @@ pub fn drain(mut stdout: impl Read + Send + 'static) {
     std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
 }
 
-/// The running example's arguments as `--flag value` pairs, in order ([`pairs`]).
+/// The running example's arguments as `--flag value` pairs, in order ([`pairs`]); with `-h` or
+/// `--help` among the flags ([`asks_help`]), `usage` is printed and the example ends there (exit 0).
 #[must_use]
-pub fn flags() -> Vec<(String, String)> {
-    pairs(std::env::args().skip(1))
+pub fn flags(usage: &str) -> Vec<(String, String)> {
+    let flags = pairs(std::env::args().skip(1));
+    if asks_help(&flags) {
+        println!("{usage}");
+        std::process::exit(0);
+    }
+    flags
+}
+
+/// Whether `-h` or `--help` is one of the flags (not a value).
+#[must_use]
+pub fn asks_help(flags: &[(String, String)]) -> bool {
+    flags.iter().any(|(flag, _)| flag == "-h" || flag == "--help")
+}
+
+/// `value` read as `flag`'s value, or the example ends with what it wanted and `usage` on stderr
+/// (exit 2), as a command-line tool refuses a value it cannot read (red-team pass 10: `--help`
+/// panicked at "unknown argument").
+pub fn value<T: std::str::FromStr>(flag: &str, value: &str, usage: &str) -> T {
+    value.parse().unwrap_or_else(|_| refuse(&format!("{flag}: cannot read {value:?}"), usage))
+}
+
+/// Ends the example with `what` and `usage` on stderr, exit 2: a flag it does not know, or a value
+/// it cannot read.
+pub fn refuse(what: &str, usage: &str) -> ! {
+    eprintln!("error: {what}\n\n{usage}");
+    std::process::exit(2)
 }
 
 /// `args` two by two, as `(flag, value)`; a last flag without its value gets an empty one.
@@ -69,6 +95,18 @@ mod tests {
         assert_eq!(serving_on(two), Some(SocketAddr::from(([127, 0, 0, 1], 2222))));
         assert_eq!(serving_on("mazewalk: error: address in use"), None);
         assert_eq!(serving_on(""), None);
+    }
+
+    // red-team pass 10: `--example load -- --help` panicked ("unknown argument --help")
+    #[test]
+    fn help_is_asked_by_either_flag_in_a_flags_place_only() {
+        let asks = |args: &[&str]| asks_help(&pairs(args.iter().map(|a| a.to_string())));
+        assert!(asks(&["--help"]));
+        assert!(asks(&["-h"]));
+        assert!(asks(&["--seconds", "5", "--help"]));
+        assert!(!asks(&["--seconds", "5"]));
+        assert!(!asks(&["--world", "--help"]), "a value that reads --help is the flag's value");
+        assert!(!asks(&[]));
     }
 
     #[test]
