@@ -19,6 +19,9 @@
 //! - the request's head within [`HEADER_TIMEOUT`] (a slowloris client is cut), at most
 //!   [`MAX_HEAD_BYTES`] of it (hyper answers 431 past that), and a connection lives
 //!   [`CONNECTION_LIFETIME`] at most, keep-alive or not;
+//! - each address group may make [`REQUEST_BURST`] requests at once, then [`REQUEST_RATE`] a second
+//!   ([`Requests`]): past that the connection that asks is closed unanswered, and the group's new
+//!   connections are closed as they come until its budget is back;
 //! - request bodies are never read.
 
 use std::convert::Infallible;

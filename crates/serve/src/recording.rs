@@ -51,7 +51,9 @@
 //! player sees, and that player's own cast has it.
 //!
 //! Every failure (a file that cannot be made, a write, a full channel, a refusal, a cap reached) is
-//! counted in `/metrics` and said in the log at most once a recording; none ends a player's game.
+//! counted in `/metrics` and said in the log at most once a recording; a newcomer not recorded for
+//! want of room, or for a cast that could not be made, is said only the first time since a
+//! recording last started (as a full count is); none ends a player's game.
 
 use std::collections::{HashMap, VecDeque};
 use std::fs::{File, OpenOptions};
