@@ -864,6 +864,24 @@ fn serve_makes_no_missing_folders_for_records_or_casts() {
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     assert!(casts.is_dir(), "DIR made");
     assert_eq!(std::fs::metadata(&casts).unwrap().permissions().mode() & 0o777, 0o700);
+    // red-team pass 10: a FIFO, a file or a dangling link at DIR said "File exists (os error 17)"
+    let fifo = dir.join("fifo");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let file = dir.join("file");
+    std::fs::write(&file, b"x").unwrap();
+    let link = dir.join("link");
+    std::os::unix::fs::symlink(dir.join("nowhere"), &link).unwrap();
+    for (at, says) in
+        [(fifo, "a FIFO is there"), (file, "a file is there"), (link, "a symbolic link to no folder")]
+    {
+        let out = mazewalk(&[&args[..], &[at.to_str().unwrap()]].concat());
+        assert_eq!(out.status.code(), Some(2), "{at:?}: {}", stderr(&out));
+        assert!(
+            stderr(&out).contains(says) && stderr(&out).contains("not a folder"),
+            "{at:?}: {}",
+            stderr(&out)
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

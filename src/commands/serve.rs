@@ -153,6 +153,15 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
                 .into());
             }
             if !dir.is_dir() {
+                if let Ok(there) = std::fs::symlink_metadata(dir) {
+                    // (made, it would fail "File exists", a message that does not say what to fix)
+                    return Err(Usage(format!(
+                        "--record-dir {}: {} is there, not a folder",
+                        dir.display(),
+                        not_a_folder(there.file_type())
+                    ))
+                    .into());
+                }
                 // the last component only (its folder was checked above), private as the casts
                 use std::os::unix::fs::DirBuilderExt as _;
                 std::fs::DirBuilder::new()
@@ -322,4 +331,20 @@ pub fn run(_: &ServeArgs) -> anyhow::Result<ExitCode> {
         );
     }
     anyhow::bail!("`mazewalk serve` runs on Unix only");
+}
+
+/// What is at a path that is not a folder, as `--record-dir` says it.
+fn not_a_folder(kind: std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt as _;
+    if kind.is_symlink() {
+        "a symbolic link to no folder"
+    } else if kind.is_fifo() {
+        "a FIFO"
+    } else if kind.is_socket() {
+        "a socket"
+    } else if kind.is_block_device() || kind.is_char_device() {
+        "a device"
+    } else {
+        "a file"
+    }
 }
