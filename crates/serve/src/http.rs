@@ -60,7 +60,7 @@ pub const EVENT_BYTES_PER_SECOND: usize = 64 * 1024;
 /// [`REQUEST_BURST`]; past it the connection that asks is closed unanswered. A page asks four times
 /// when it loads and once every 30 s after (its event stream is one request), a Prometheus server
 /// once every 15 s or so (red-team pass 10: `/metrics`, asked for as fast as 64 connections of one
-/// address could, took a core's worth of the runtime the game runs on).
+/// address could, took most of a core of the runtime the game runs on).
 pub const REQUEST_RATE: u32 = 20;
 /// Requests one address group may make at once.
 pub const REQUEST_BURST: u32 = 100;

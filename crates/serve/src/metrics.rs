@@ -328,10 +328,10 @@ pub struct Process {
 }
 
 /// The process's figures are read again at a scrape only when the last reading is this old: a
-/// reading costs three `/proc` files and a listing of every open descriptor (red-team pass 10:
-/// `/metrics` asked for as fast as 64 connections of one address could took 0.8 of a core, 60 % of
-/// it in `/proc`, and a player's key-to-frame time from 1 to 114 ms). Prometheus scrapes every 15 s
-/// or so; a second is fresh enough for it.
+/// reading costs two `/proc` files and a listing of every open descriptor (red-team pass 10:
+/// `/metrics` asked for as fast as 64 connections of one address could took 0.6–0.9 of a core, 60 %
+/// of it in `/proc`, and a player's median key-to-frame time from 1 ms to 114–140 ms). Prometheus
+/// scrapes every 15 s or so; a second is fresh enough for it.
 pub const PROCESS_REFRESH: Duration = Duration::from_secs(1);
 
 impl Process {
