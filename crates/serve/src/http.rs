@@ -64,6 +64,12 @@ pub const EVENT_BYTES_PER_SECOND: usize = 64 * 1024;
 pub const REQUEST_RATE: u32 = 20;
 /// Requests one address group may make at once.
 pub const REQUEST_BURST: u32 = 100;
+/// A request whose answer is long counts as one request for each this many bytes of it, up to
+/// [`MAX_REQUEST_COST`]: only `/maze.json` is (megabytes for a large maze: at 20 requests a second
+/// one address took 43 MB/s of it, red-team pass 10).
+pub const COST_BYTES: usize = 64 * 1024;
+/// The most one request counts for: a page can still load its maze a few times in a row.
+pub const MAX_REQUEST_COST: usize = REQUEST_BURST as usize / 4;
 /// Address groups whose request budgets are kept; a group beyond them (when none of the kept ones
 /// has its whole budget back) shares one budget with the others beyond.
 pub const TRACKED_REQUESTERS: usize = 4096;
@@ -107,8 +113,9 @@ pub struct Requests {
 }
 
 impl Requests {
-    /// Whether a request from `ip` at `now` may be answered (taking one from its group's budget).
-    pub fn allow(&mut self, ip: IpAddr, now: f64) -> bool {
+    /// Whether a request from `ip` at `now` that counts for `cost` requests may be answered
+    /// (taking them from its group's budget; none if it may not).
+    pub fn allow(&mut self, ip: IpAddr, now: f64, cost: usize) -> bool {
         use crate::limits::RateLimit;
         let group = crate::slots::address_group(ip);
         if !self.budgets.contains_key(&group) && self.budgets.len() >= TRACKED_REQUESTERS {
@@ -119,7 +126,7 @@ impl Requests {
         } else {
             self.rest.get_or_insert_with(|| RateLimit::new(REQUEST_RATE, REQUEST_BURST, now))
         };
-        budget.take(1, now) == 1
+        budget.take_all(cost, now)
     }
 
     /// Whether `ip`'s group has no request left at `now` (taking none): its new connections are
@@ -181,7 +188,12 @@ async fn accept_loop(listener: TcpListener, site: Arc<Site>, mut shutdown: watch
                 let site = Arc::clone(&site);
                 async move {
                     let now = started.elapsed().as_secs_f64();
-                    if !site.requests.lock().unwrap_or_else(PoisonError::into_inner).allow(peer.ip(), now) {
+                    let cost = request_cost(request.method(), request.uri().path(), site.maze.len());
+                    if !site.requests.lock().unwrap_or_else(PoisonError::into_inner).allow(
+                        peer.ip(),
+                        now,
+                        cost,
+                    ) {
                         // (an error ends the connection unanswered: an answer would cost as much)
                         return Err(std::io::Error::other("too many requests from this address"));
                     }
@@ -249,6 +261,17 @@ impl Places {
 pub fn push_out(open: &[IpAddr], newcomer: IpAddr) -> Option<usize> {
     let held: Vec<(IpAddr, f64)> = open.iter().enumerate().map(|(k, &ip)| (ip, k as f64)).collect();
     crate::slots::fair_push_out(&held, newcomer)
+}
+
+/// How many requests a `method` request for `path` counts for, `maze_bytes` being `/maze.json`'s
+/// length: one for each [`COST_BYTES`] of a GET of the maze, at most [`MAX_REQUEST_COST`]; one for
+/// anything else (the other answers are small, an event stream is paced by itself).
+fn request_cost(method: &Method, path: &str, maze_bytes: usize) -> usize {
+    if method == Method::GET && path == "/maze.json" {
+        maze_bytes.div_ceil(COST_BYTES).clamp(1, MAX_REQUEST_COST)
+    } else {
+        1
+    }
 }
 
 /// One place in [`Places`], given up when its holder ends.
@@ -530,34 +553,49 @@ mod tests {
     #[test]
     fn each_address_group_has_its_own_budget_of_requests() {
         let mut requests = Requests::default();
-        let burst = (0..2 * REQUEST_BURST).filter(|_| requests.allow(ip(1), 0.0)).count();
+        let burst = (0..2 * REQUEST_BURST).filter(|_| requests.allow(ip(1), 0.0, 1)).count();
         assert_eq!(burst, REQUEST_BURST as usize, "a burst, then none");
         assert!(requests.exhausted(ip(1), 0.0) && !requests.exhausted(ip(2), 0.0), "(asks nothing)");
         assert!(!requests.exhausted(ip(1), 0.1), "one back after 1 / REQUEST_RATE s");
-        assert!(requests.allow(ip(2), 0.0), "another address has its own");
-        let second = (0..2 * REQUEST_BURST).filter(|_| requests.allow(ip(1), 1.0)).count();
+        assert!(requests.allow(ip(2), 0.0, 1), "another address has its own");
+        let second = (0..2 * REQUEST_BURST).filter(|_| requests.allow(ip(1), 1.0, 1)).count();
         assert_eq!(second, REQUEST_RATE as usize, "a second later: the rate");
         // one IPv6 /64 is one group, another /64 another
         let v6 = |s: &str| s.parse::<IpAddr>().expect("an IPv6 address");
         let from_64 =
-            (0..REQUEST_BURST).filter(|k| requests.allow(v6(&format!("2001:db8::{k:x}")), 0.0)).count();
+            (0..REQUEST_BURST).filter(|k| requests.allow(v6(&format!("2001:db8::{k:x}")), 0.0, 1)).count();
         assert_eq!(from_64, REQUEST_BURST as usize);
-        assert!(!requests.allow(v6("2001:db8::ffff"), 0.0), "the same /64");
-        assert!(requests.allow(v6("2001:db8:0:1::1"), 0.0), "another /64");
+        assert!(!requests.allow(v6("2001:db8::ffff"), 0.0, 1), "the same /64");
+        assert!(requests.allow(v6("2001:db8:0:1::1"), 0.0, 1), "another /64");
         // many groups: the kept ones whose budget is whole again are forgotten; past the cap with
         // none of them whole, newcomers share one budget
         let mut many = Requests::default();
         let fresh = |k: usize| IpAddr::from([10, (k >> 16) as u8, (k >> 8) as u8, k as u8]);
         for k in 0..TRACKED_REQUESTERS {
-            assert!(many.allow(fresh(k), 0.0));
+            assert!(many.allow(fresh(k), 0.0, 1));
         }
         let rest = (TRACKED_REQUESTERS..TRACKED_REQUESTERS + 2 * REQUEST_BURST as usize)
-            .filter(|&k| many.allow(fresh(k), 0.0))
+            .filter(|&k| many.allow(fresh(k), 0.0, 1))
             .count();
         assert_eq!(rest, REQUEST_BURST as usize, "the groups beyond share one budget");
         assert!(many.budgets.len() <= TRACKED_REQUESTERS);
-        assert!(many.allow(fresh(TRACKED_REQUESTERS + 5000), 60.0), "later: the whole ones forgotten");
+        assert!(many.allow(fresh(TRACKED_REQUESTERS + 5000), 60.0, 1), "later: the whole ones forgotten");
         assert!(many.budgets.len() <= TRACKED_REQUESTERS);
+        // a long answer counts for more: a large maze's walls a few times, then nothing, and a
+        // request refused takes nothing
+        let mut costly = Requests::default();
+        let walls = request_cost(&Method::GET, "/maze.json", 3_600_000);
+        assert_eq!(walls, MAX_REQUEST_COST);
+        let loads = (0..8).filter(|_| costly.allow(ip(1), 0.0, walls)).count();
+        assert_eq!(loads, REQUEST_BURST as usize / MAX_REQUEST_COST);
+        assert!(!costly.allow(ip(1), 0.0, 1), "the burst spent");
+        let mut partial = Requests::default();
+        assert!(partial.allow(ip(1), 0.0, 90) && !partial.allow(ip(1), 0.0, walls));
+        assert!(partial.allow(ip(1), 0.0, 10), "the refused one took none of the 10 left");
+        assert_eq!(request_cost(&Method::GET, "/maze.json", 100_000), 2, "a small maze: 2 × 64 KiB");
+        assert_eq!(request_cost(&Method::GET, "/maze.json", 10), 1);
+        assert_eq!(request_cost(&Method::HEAD, "/maze.json", 3_600_000), 1, "HEAD sends no walls");
+        assert_eq!(request_cost(&Method::GET, "/metrics", 3_600_000), 1);
     }
 
     /// Over real sockets: one address asking for `/metrics` over and over on one connection is

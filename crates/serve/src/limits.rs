@@ -233,6 +233,19 @@ impl RateLimit {
         self.tokens + (now - self.last).max(0.0) * self.rate < 1.0
     }
 
+    /// Whether all of `n` may pass at `now`: taken if so, else nothing is.
+    pub(crate) fn take_all(&mut self, n: usize, now: f64) -> bool {
+        if now > self.last {
+            self.tokens = (self.tokens + (now - self.last) * self.rate).min(self.burst);
+            self.last = now;
+        }
+        let whole = self.tokens >= n as f64;
+        if whole {
+            self.tokens -= n as f64;
+        }
+        whole
+    }
+
     /// How many of `n` bytes arriving at `now` may pass (the rest are dropped).
     pub fn take(&mut self, n: usize, now: f64) -> usize {
         if now > self.last {
@@ -260,6 +273,11 @@ mod tests {
         assert_eq!(bucket.take(10, 50.0), 0, "a clock going back refills nothing");
         assert!(bucket.is_empty(50.0) && bucket.is_empty(100.0009), "nothing left, a tenth short of one");
         assert!(!bucket.is_empty(100.01), "one again");
+        let mut bucket = RateLimit::new(10, 100, 0.0);
+        assert!(bucket.take_all(60, 0.0));
+        assert!(!bucket.take_all(60, 0.0), "40 left: none taken");
+        assert!(bucket.take_all(40, 0.0), "… all 40 still there");
+        assert!(!bucket.take_all(1, 0.0) && bucket.take_all(10, 1.0), "refilled at the rate");
     }
 
     /// Frames a second of a `cols × rows` screen of `samples` samples a cell on a share.
