@@ -20,7 +20,7 @@
 //!   [`MAX_HEAD_BYTES`] of it (hyper answers 431 past that), and a connection lives
 //!   [`CONNECTION_LIFETIME`] at most, keep-alive or not;
 //! - each address group may make [`REQUEST_BURST`] requests at once, then [`REQUEST_RATE`] a second
-//!   ([`Requests`]): past that the connection that asks is closed unanswered, and the group's new
+//!   ([`Requests`]; a GET of `/maze.json` counts for more, [`request_cost`]): past that the connection that asks is closed unanswered, and the group's new
 //!   connections are closed as they come until its budget is back;
 //! - request bodies are never read.
 
