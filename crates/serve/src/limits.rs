@@ -63,7 +63,8 @@ pub struct Limits {
     /// share this. The default, [`RENDER_TOTAL_PER_CORE`] for each core the server may use, is about
     /// 0.8 of a core's serving of 120 × 40 half-block screens (about 29 M samples a second a core,
     /// drawn, encoded and sent) and half a core's of 400 × 150 ones (about 42 M): 100 players at
-    /// 120 × 40 turning in half blocks got 41–44 frames a second on two cores (49–52 without it).
+    /// 120 × 40 turning in half blocks got 41–44 frames a second on two cores (49–52 without it) at
+    /// `070be1f`, 37–40 with the foveated view at `72a5255`.
     pub render_total: u32,
     /// Window changes a screen follows a second, at most: one that comes sooner waits, and of those
     /// waiting only the latest size is drawn when its turn comes. (Each size drawn reallocates a

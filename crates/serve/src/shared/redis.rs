@@ -14,7 +14,7 @@
 //! mazewalk:world                  the world's maze hash (TTL 30 s, refreshed by every server)
 //! mazewalk:{H}:winner             the first at the exit (SET NX; no TTL)
 //! mazewalk:{H}:best               best times, seconds by player name (a sorted set; ZADD LT)
-//! mazewalk:{H}:best:at, :finishes, :name   the rest of the records (super::records)
+//! mazewalk:{H}:best:at, :finishes, :name, :runs   the rest of the records (super::records)
 //! mazewalk:{H}:server:<id>        each server's last full message (TTL 5 s, refreshed every second)
 //! mazewalk:{H}:<db>:news          the channel (Redis channels ignore the database: it is named in)
 //! ```
