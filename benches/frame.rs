@@ -5,6 +5,10 @@
 //! are printed after the run from the medians in `target/criterion` (see `scripts/bench_table.py`),
 //! at 80×24, 120×40 and 200×60 in every charset.
 //!
+//! The camera is the walk's own (`viewer_camera`: the maze's field of view, the foveated view) at the
+//! benchmark's pose; `frame-plain/120x40/CHARSET` draws the same walk with one scale across (`f`
+//! off), the view this bench drew before the foveated one.
+//!
 //! ```sh
 //! nice cargo bench -p mazewalk-bench --bench frame -- --warm-up-time 1 --measurement-time 3 --sample-size 10
 //! ```
@@ -14,16 +18,22 @@ use mazewalk_bench::common;
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
+use mazewalk_render::Camera;
 use mazewalk_render::Charset;
 use mazewalk_term::frame::ColorDepth;
 use mazewalk_term::input::KeyPhase;
+use mazewalk_walk::state::viewer_camera;
 use mazewalk_walk::{Session, SessionOptions};
 
 const SIZES: [(u16, u16); 3] = [(80, 24), (120, 40), (200, 60)];
 
-/// A session at the open view of the 100×100 maze with loops, its first frame (the full paint) sent.
-fn session(charset: Charset, cols: u16, rows: u16) -> Session {
-    let app = common::walk_app(100, charset, ColorDepth::TrueColor);
+/// A session at the open view of the 100×100 maze with loops, its first frame (the full paint) sent:
+/// the walk's camera there, foveated or (`plain`) not.
+fn session(charset: Charset, cols: u16, rows: u16, plain: bool) -> Session {
+    let mut app = common::walk_app(100, charset, ColorDepth::TrueColor);
+    let (position, yaw_deg) = (app.camera.position, app.camera.yaw_deg);
+    app.camera = Camera { position, yaw_deg, ..viewer_camera(app.maze()) };
+    app.camera.fovea = !plain;
     let options = SessionOptions { flow_control: false, ..SessionOptions::default() }; // no terminal answers
     let mut session = Session::new(app, cols, rows, options);
     let mut out = Vec::new();
@@ -53,16 +63,22 @@ fn walk(session: &mut Session, out: &mut Vec<u8>) -> usize {
 fn main() {
     let mut c = Criterion::default().configure_from_args();
     // The script decides which ticks draw (the camera moved), whatever the size or charset.
-    let drawn = walk(&mut session(Charset::Ascii, 80, 24), &mut Vec::new());
+    let drawn = walk(&mut session(Charset::Ascii, 80, 24, false), &mut Vec::new());
     eprintln!("{drawn} frames drawn per walk");
-    for (cols, rows) in SIZES {
-        let mut group = c.benchmark_group(format!("frame/{cols}x{rows}"));
+    let cases = SIZES.iter().map(|&(cols, rows)| ("frame", cols, rows, false)).chain([(
+        "frame-plain",
+        120,
+        40,
+        true,
+    )]);
+    for (name, cols, rows, plain) in cases {
+        let mut group = c.benchmark_group(format!("{name}/{cols}x{rows}"));
         group.throughput(Throughput::Elements(drawn as u64));
         for charset in Charset::ALL {
             group.bench_function(charset.to_string(), |b| {
                 let mut out = Vec::with_capacity(1 << 20);
                 b.iter_batched_ref(
-                    || session(charset, cols, rows),
+                    || session(charset, cols, rows, plain),
                     |session| black_box(walk(session, &mut out)),
                     criterion::BatchSize::LargeInput,
                 );
