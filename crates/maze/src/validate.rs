@@ -409,28 +409,59 @@ const MAX_WIDTH_EDGES: usize = 64;
 /// cells. `∞` for no cells. The parts must have passed [`structure`].
 pub(crate) fn narrowest_passage(vertices: &[Vec2], edges: &Edges, cells: &Cells) -> f32 {
     let point = |v: VertexId| vertices.get(v as usize).copied().unwrap_or(Vec2::NAN);
+    // The least of the cells' widths, two halves on two threads in a large maze (a minimum: the same
+    // whichever half is done first).
+    let n = cells.len();
+    let widths = |range: std::ops::Range<usize>| narrowest_width(point, edges, cells, range);
+    let mut narrowest = if n >= PARALLEL_CELLS {
+        std::thread::scope(|scope| {
+            let second = scope.spawn(|| widths(n / 2..n));
+            let first = widths(0..n / 2);
+            match second.join() {
+                Ok(second) => first.min(second),
+                Err(panic) => std::panic::resume_unwind(panic), // as one thread would have
+            }
+        })
+    } else {
+        widths(0..n)
+    };
+    for edge in edges.iter().filter(|e| !e.opaque && e.left.is_some() && e.right.is_some()) {
+        narrowest = narrowest.min(point(edge.start).distance(point(edge.end)));
+    }
+    narrowest
+}
+
+/// Cells from which [`narrowest_passage`] takes a second thread.
+const PARALLEL_CELLS: usize = 1 << 15;
+
+/// The least width of `cells` in `range` (`∞` for none), by [`narrowest_passage`]'s definition.
+fn narrowest_width(
+    point: impl Fn(VertexId) -> Vec2,
+    edges: &Edges,
+    cells: &Cells,
+    range: std::ops::Range<usize>,
+) -> f32 {
     let mut narrowest = f32::INFINITY;
-    for c in 0..cells.len() {
+    // A cell's edges' ends, each edge's (start, end) in turn: read once a cell, then scanned once an
+    // edge (a million-cell maze's load spent most of its time fetching them edge by edge).
+    let mut ends = [Vec2::ZERO; 2 * MAX_WIDTH_EDGES];
+    for c in range {
         let ids = cells.get(c);
         if ids.len() > MAX_WIDTH_EDGES {
             narrowest = narrowest.min(WALL_MARGIN / CLEARANCE_SHARE);
             continue;
         }
-        for &e in ids {
+        let ends = &mut ends[..2 * ids.len()];
+        for (pair, &e) in ends.chunks_exact_mut(2).zip(ids) {
             let edge = edges.get(e as usize);
-            let (a, b) = (point(edge.start), point(edge.end));
-            let along = (b - a).normalize_or_zero();
-            let far = ids
-                .iter()
-                .map(|&o| edges.get(o as usize))
-                .flat_map(|o| [point(o.start), point(o.end)])
-                .map(|p| along.perp_dot(p - a).abs())
-                .fold(0.0f32, f32::max);
+            (pair[0], pair[1]) = (point(edge.start), point(edge.end));
+        }
+        for pair in ends.chunks_exact(2) {
+            let a = pair[0];
+            let along = (pair[1] - a).normalize_or_zero();
+            let far = ends.iter().map(|&p| along.perp_dot(p - a).abs()).fold(0.0f32, f32::max);
             narrowest = narrowest.min(far);
         }
-    }
-    for edge in edges.iter().filter(|e| !e.opaque && e.left.is_some() && e.right.is_some()) {
-        narrowest = narrowest.min(point(edge.start).distance(point(edge.end)));
     }
     narrowest
 }
@@ -476,6 +507,46 @@ mod tests {
         generate(&GenOptions { width, height, algorithm, seed, loops, ..GenOptions::default() }).unwrap()
     }
 
+    /// [`narrowest_passage`] as its doc defines it, edge by edge: the oracle of its fast path.
+    fn narrowest_by_definition(m: &Maze) -> f32 {
+        let point = |v: VertexId| m.vertices[v as usize];
+        let mut least = f32::INFINITY;
+        for c in 0..m.cells.len() {
+            let ids = m.cells.get(c);
+            for &e in ids {
+                let edge = m.edges.get(e as usize);
+                let (a, b) = (point(edge.start), point(edge.end));
+                let along = (b - a).normalize_or_zero();
+                let far = ids
+                    .iter()
+                    .map(|&o| m.edges.get(o as usize))
+                    .flat_map(|o| [point(o.start), point(o.end)])
+                    .map(|p| along.perp_dot(p - a).abs())
+                    .fold(0.0f32, f32::max);
+                least = least.min(far);
+            }
+        }
+        for edge in m.edges.iter().filter(|e| !e.opaque && e.left.is_some() && e.right.is_some()) {
+            least = least.min(point(edge.start).distance(point(edge.end)));
+        }
+        least
+    }
+
+    /// A maze past [`PARALLEL_CELLS`], its cells' widths on two threads: the same bits as the
+    /// definition's, with a thin cell added last (in the second thread's half) and without it.
+    #[test]
+    fn a_large_mazes_narrowest_passage_on_two_threads_is_its_definition() {
+        let options = GenOptions { width: 200, height: 200, seed: 5, loops: 0.2, ..GenOptions::default() };
+        let big = generate(&options).unwrap();
+        assert!(big.cell_count() >= PARALLEL_CELLS, "the premise: {} cells", big.cell_count());
+        let thin = with_cell(&big, &[vec2(-3.0, -3.0), vec2(-1.0, -3.0), vec2(-3.0, -2.9)]);
+        for m in [&big, &thin] {
+            let fast = narrowest_passage(&m.vertices, &m.edges, &m.cells);
+            assert_eq!(fast.to_bits(), narrowest_by_definition(m).to_bits());
+        }
+        assert!(narrowest_passage(&thin.vertices, &thin.edges, &thin.cells) < 0.2, "the thin cell counts");
+    }
+
     proptest! {
         // Each case generates and validates a maze: 256 cases, proptest's own default.
         #![proptest_config(mazewalk_testkit::config_cases(256))]
@@ -510,6 +581,32 @@ mod tests {
             let all = maze.cell_count() as CellId;
             for found in [nesting_within(&round, usize::MAX), nesting_within(&round, 0)] {
                 prop_assert!(matches!(found, Err(MazeError::CellsOverlap { cell, other }) if cell < all && other == all), "{:?}", found);
+            }
+        }
+
+        /// `narrowest_passage` is its definition, bit for bit: the least, over every cell's edges, of
+        /// the farthest of the cell's edge ends from the edge's line, and over the openings their
+        /// lengths. Generated mazes, and each with a random convex cell of 3–9 corners added.
+        #[test]
+        fn the_narrowest_passage_is_its_definition(
+            side in (1u32..7, 1u32..7),
+            seed in 0u64..1000,
+            loops in 0.0f32..1.0,
+            corners in 3usize..10,
+            radius in 0.05f32..20.0,
+            turn in 0.0f32..1.0,
+        ) {
+            let maze = maze(side, seed, loops);
+            let far_corner = maze.extents().max + radius + 1.0;
+            let ring: Vec<Vec2> = (0..corners)
+                .map(|k| {
+                    let angle = (k as f32 + turn) / corners as f32 * std::f32::consts::TAU;
+                    far_corner + Vec2::from_angle(angle) * radius
+                })
+                .collect();
+            for m in [maze.clone(), with_cell(&maze, &ring)] {
+                let fast = narrowest_passage(&m.vertices, &m.edges, &m.cells);
+                prop_assert_eq!(fast.to_bits(), narrowest_by_definition(&m).to_bits());
             }
         }
     }
