@@ -607,11 +607,7 @@ mod tests {
         let (stop, shutdown) = watch::channel(false);
         let site = bare_site(versions, shutdown);
         let (addr, task) = start("127.0.0.1:0".parse().unwrap(), site).await.expect("listen");
-        let connect = |from: u8| async move {
-            let socket = tokio::net::TcpSocket::new_v4().expect("socket");
-            socket.bind(SocketAddr::new(ip(from), 0)).expect("bind a loopback address");
-            socket.connect(addr).await.expect("connect")
-        };
+        let connect = |from: u8| connect_from(addr, from);
         // one request at a time, each answer read whole before the next is asked
         let (mut flood, asked) = (tokio::io::BufReader::new(connect(1).await), 3 * REQUEST_BURST as usize);
         let (start, mut answered) = (tokio::time::Instant::now(), 0);
@@ -680,6 +676,13 @@ mod tests {
         IpAddr::from([127, 0, 0, last])
     }
 
+    /// A connection to `addr` from the loopback address `127.0.0.from`.
+    async fn connect_from(addr: SocketAddr, from: u8) -> tokio::net::TcpStream {
+        let socket = tokio::net::TcpSocket::new_v4().expect("socket");
+        socket.bind(SocketAddr::new(ip(from), 0)).expect("bind a loopback address");
+        socket.connect(addr).await.expect("connect")
+    }
+
     // A full listener: who gives way to a newcomer, by the addresses holding the connections.
     #[test]
     fn a_newcomer_pushes_out_the_oldest_of_the_address_holding_the_most() {
@@ -715,11 +718,7 @@ mod tests {
         let (stop, shutdown) = watch::channel(false);
         let site = bare_site(versions, shutdown);
         let (addr, task) = start("127.0.0.1:0".parse().unwrap(), site).await.expect("listen");
-        let connect = |from: u8| async move {
-            let socket = tokio::net::TcpSocket::new_v4().expect("socket");
-            socket.bind(SocketAddr::new(ip(from), 0)).expect("bind a loopback address");
-            socket.connect(addr).await.expect("connect")
-        };
+        let connect = |from: u8| connect_from(addr, from);
         let mut holders = Vec::new();
         for _ in 0..MAX_CONNECTIONS {
             let mut s = connect(1).await;
