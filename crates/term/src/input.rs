@@ -255,6 +255,10 @@ struct State {
     pending: usize,
     /// The first of those bytes.
     pending_first: u8,
+    /// Bytes fed since the tokenizer last completed a token. Unlike `pending`, a UTF-8 lead byte
+    /// does not start it again: inside an OSC string, which the tokenizer keeps whole until its
+    /// end, `é` after `é` would otherwise never reach [`MAX_SEQUENCE`].
+    unfinished: usize,
     /// When the last byte arrived.
     last_byte_at: f64,
     /// Set by every token the tokenizer completes (a print, a control, a sequence).
@@ -362,6 +366,7 @@ impl InputDecoder {
             {
                 out.push(Input::Reply(Reply::DirectColor(direct)));
             }
+            state.unfinished = if state.completed { 0 } else { state.unfinished + 1 };
             if byte == 0x1B || (0xC2..=0xF4).contains(&byte) {
                 // Starts a sequence or a character, even when it also ended an invalid one.
                 (state.pending, state.pending_first) = (1, byte);
@@ -372,9 +377,9 @@ impl InputDecoder {
                     state.pending_first = byte;
                 }
                 state.pending += 1;
-                if state.pending > MAX_SEQUENCE {
-                    self.reset();
-                }
+            }
+            if state.pending > MAX_SEQUENCE || state.unfinished > MAX_SEQUENCE {
+                self.reset();
             }
         }
     }
@@ -418,7 +423,7 @@ impl InputDecoder {
     fn reset(&mut self) {
         self.parser = Parser::new();
         let state = &mut self.state;
-        (state.pending, state.ss3, state.skip, state.terminator) = (0, false, 0, false);
+        (state.pending, state.unfinished, state.ss3, state.skip, state.terminator) = (0, 0, false, 0, false);
         state.dcs = None;
         state.dcs_data.clear();
     }

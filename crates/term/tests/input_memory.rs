@@ -1,0 +1,44 @@
+//! The input decoder's memory against an endless string (red-team pass 11): what it keeps is
+//! measured as the process's peak resident memory, so this file holds one test, alone in its process.
+#![cfg(target_os = "linux")]
+
+use mazewalk_term::input::{Input, InputDecoder, Key};
+
+/// This process's peak resident memory since [`reset_peak`], kB (`VmHWM`).
+fn peak_kb() -> u64 {
+    let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
+    let line = status.lines().find(|l| l.starts_with("VmHWM:")).expect("a VmHWM line");
+    line.split_whitespace().nth(1).and_then(|kb| kb.parse().ok()).expect("kB")
+}
+
+/// Starts this process's peak resident memory again from what it holds now (Linux ≥ 4.0), and
+/// answers that.
+fn reset_peak() -> u64 {
+    std::fs::write("/proc/self/clear_refs", "5").expect("/proc/self/clear_refs takes 5");
+    peak_kb()
+}
+
+// Red-team pass 11: an OSC string (`ESC ] 11 ; …`, a colour reply that never ends) of `é` after
+// `é` was kept whole by the tokenizer, 16 MB for 16 MB sent: the bound on an unfinished sequence
+// counted from the last UTF-8 lead byte, so two-byte characters never reached it. A served player
+// sending it just under the input rate grew the server by 16 KiB a second until it idled out.
+#[test]
+fn an_endless_string_of_non_ascii_text_is_dropped_in_bounded_memory() {
+    const SENT: usize = 16 << 20;
+    let mut d = InputDecoder::new();
+    let mut out = Vec::new();
+    let chunk = "é".repeat(2048); // 4 KiB, as the walk reads
+    let before = reset_peak();
+    d.feed(b"\x1b]11;", 0.0, &mut out);
+    for _ in 0..SENT / chunk.len() {
+        d.feed(chunk.as_bytes(), 0.0, &mut out);
+        out.clear(); // the characters past the bound are text: not what is measured
+    }
+    let grown = peak_kb().saturating_sub(before);
+    assert!(grown < 2048, "the decoder grew by {grown} kB for {} kB of one string", SENT >> 10);
+    // and the decoder still decodes
+    d.feed(b"\x07", 0.0, &mut out);
+    out.clear();
+    d.feed(b"q", 0.0, &mut out);
+    assert_eq!(out, [Input::press(Key::Char('q'))]);
+}
