@@ -45,6 +45,15 @@ pub fn open_regular(path: &Path) -> Result<File, OpenError> {
     Err(OpenError::NotAFile(kind_name(kind)))
 }
 
+/// What is at `path` (links followed) when something is there and it is not a regular file: "a
+/// directory", "a FIFO", "a device"… as [`OpenError::NotAFile`] says it. `None` for a regular file,
+/// or nothing there. Opens nothing (a FIFO is not waited on): for a path a library opens itself.
+#[must_use]
+pub fn not_regular(path: &Path) -> Option<&'static str> {
+    let kind = std::fs::metadata(path).ok()?.file_type();
+    (!kind.is_file()).then(|| kind_name(kind))
+}
+
 /// What a path that is not a regular file names, for [`OpenError::NotAFile`].
 fn kind_name(kind: std::fs::FileType) -> &'static str {
     if kind.is_dir() {

@@ -517,6 +517,15 @@ fn check_schema(conn: &Connection, path: &Path, version: i64) -> Result<(), Reco
     Err(RecordsError::new(path, Fault::Damaged, detail))
 }
 
+/// Refuses a `path` at which something other than a regular file is (a directory, a device, a
+/// FIFO): no records file, and nothing to open, made beside it or waited on.
+fn not_regular(path: &Path) -> Result<(), RecordsError> {
+    match mazewalk_maze::files::not_regular(path) {
+        Some(what) => Err(RecordsError::new(path, Fault::CannotOpen, format!("{what}, not a regular file"))),
+        None => Ok(()),
+    }
+}
+
 /// Makes the records file at `path`, mode 0600, if there is none, before SQLite opens it (so its
 /// journal, made with the file's mode, is private too). A file already there is left as it is.
 fn make_private(path: &Path) -> Result<(), RecordsError> {
@@ -544,6 +553,9 @@ impl Sqlite {
             );
             return Err(RecordsError::new(path, Fault::CannotOpen, why));
         }
+        // SQLite would open a device or a FIFO, fail on it, and leave a journal beside it (red-team
+        // pass 11: `--records /dev/zero` made `/dev/zero-journal`, mode 0666 as the device's)
+        not_regular(path)?;
         make_private(path)?;
         match Sqlite::open_writable_within(path, options) {
             Err(err) if err.fault == Fault::Damaged => {
@@ -650,6 +662,7 @@ impl Sqlite {
     /// is a newer one.
     pub fn open_to_read(path: &Path) -> Result<Sqlite, RecordsError> {
         let sqlite = |e: rusqlite::Error| RecordsError::sqlite(path, &e);
+        not_regular(path)?;
         if !path.is_file() {
             return Err(RecordsError::new(path, Fault::CannotOpen, "no such file: no records yet"));
         }

@@ -251,6 +251,33 @@ fn a_read_only_database_is_refused_plainly() {
     assert_eq!(mazes[0].finishes, 1);
 }
 
+// Red-team pass 11: `--records` at a device or a FIFO was opened by SQLite, which failed on it
+// ("disk I/O error", the server then without records) and left a journal beside it:
+// `--records /dev/zero` made `/dev/zero-journal`, mode 0666 as the device's. `mazewalk records`
+// said "no such file". Now neither opens it, and each says what is there.
+#[test]
+fn a_path_that_is_not_a_regular_file_is_refused_and_nothing_made_beside_it() {
+    let scratch = Scratch::new("notafile");
+    let fifo = scratch.join("records.fifo");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs");
+    assert!(made.success(), "mkfifo made the FIFO");
+    let folder = scratch.join("records.dir");
+    std::fs::create_dir(&folder).unwrap();
+    for (path, what) in [(&fifo, "a FIFO"), (&folder, "a directory")] {
+        let err = Sqlite::open(path, SqliteOptions::default()).unwrap_err();
+        assert_eq!(err.fault, Fault::CannotOpen, "{err}");
+        assert!(err.to_string().contains(&format!("{what}, not a regular file")), "{err}");
+        let Err(err) = Sqlite::open_to_read(path) else { panic!("{what} read as records") };
+        assert!(err.to_string().contains(&format!("{what}, not a regular file")), "{err}");
+    }
+    let mut names: Vec<String> = std::fs::read_dir(scratch.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["records.dir", "records.fifo"], "nothing made beside them");
+}
+
 /// A file that is not a records database, or a damaged one, is kept aside unchanged and a new one
 /// made.
 #[test]
