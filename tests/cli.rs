@@ -1186,6 +1186,55 @@ fn a_world_ca_that_is_not_a_small_regular_file_is_refused_at_once() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+// Red-team pass 11: `gen -o`, `render --png` and `--depth-out` at a FIFO nobody reads waited for a
+// reader for ever; a FIFO somebody reads (a pipe, as `-o >(gzip > m.gz)` makes) still gets it all.
+#[cfg(unix)]
+#[test]
+fn an_output_at_a_fifo_nobody_reads_is_refused_at_once() {
+    use std::time::Duration;
+    let (dir, fifo) = dir_with_fifo("outfifo", "out.fifo");
+    let path = fifo.to_str().unwrap();
+    for args in [
+        &["gen", "--size", "5x5", "-o", path][..],
+        &["render", "--png", path, "--color", "truecolor"],
+        &["render", "--depth-out", path],
+    ] {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_mazewalk"));
+        command.args(args);
+        let Some((status, err)) = finished_within(&mut command, Duration::from_secs(10)) else {
+            panic!("{args:?}: still waiting for a reader after 10 s")
+        };
+        assert_eq!(status.code(), Some(1), "{args:?}: {err}");
+        assert!(err.contains(path) && err.contains("a FIFO nobody reads"), "{args:?}: {err}");
+    }
+    // With a reader: the whole maze, as on standard output.
+    let reader = std::thread::spawn({
+        let fifo = fifo.clone();
+        move || std::fs::read_to_string(fifo).unwrap()
+    });
+    let mut command = Command::new(env!("CARGO_BIN_EXE_mazewalk"));
+    command.args(["gen", "--size", "5x5", "--format", "grid", "-o", path]);
+    let mut written = None;
+    for _ in 0..200 {
+        // (the reader's open may come a moment after this one: until then the FIFO has no reader)
+        let (status, err) = finished_within(&mut command, Duration::from_secs(10)).expect("no wait");
+        if status.success() {
+            written = Some(err);
+            break;
+        }
+        assert!(err.contains("a FIFO nobody reads"), "{err}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert!(written.is_some(), "the reader never opened the FIFO");
+    let expected = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
+        .args(["gen", "--size", "5x5", "--format", "grid"])
+        .output()
+        .unwrap()
+        .stdout;
+    assert_eq!(reader.join().unwrap().as_bytes(), expected, "the reader got the whole maze");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `command` run with no input and its output dropped: its exit status and standard error once it
 /// ends, or `None` (killed) if it is still running after `limit`.
 fn finished_within(

@@ -1,6 +1,5 @@
 //! `mazewalk gen`: a random maze, written in either format.
 
-use std::fs::File;
 use std::io::{BufWriter, Write};
 
 use anyhow::Context as _;
@@ -23,7 +22,10 @@ pub fn run(args: &GenArgs) -> anyhow::Result<()> {
     };
     let (sink, name): (Box<dyn Write>, String) = match &args.output {
         Some(path) if path != STDOUT => (
-            Box::new(File::create(path).with_context(|| format!("{}: cannot create", path.display()))?),
+            Box::new(
+                mazewalk_maze::files::create_output(path)
+                    .with_context(|| format!("{}: cannot create", path.display()))?,
+            ),
             path.display().to_string(),
         ),
         _ => {

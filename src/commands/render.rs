@@ -1,7 +1,6 @@
 //! `mazewalk render`: one frame from a place in a maze, as text or a PNG, with its statistics and
 //! depths on request.
 
-use std::fs::File;
 use std::io::{BufWriter, IsTerminal as _, Write};
 use std::time::Instant;
 
@@ -25,9 +24,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     // The depths' file made now, so that a place it cannot go stops the command before the frame
     // is written anywhere.
     let depth_file = match &args.depth_out {
-        Some(path) if path != STDOUT => {
-            Some(File::create(path).with_context(|| format!("{}: cannot create", path.display()))?)
-        }
+        Some(path) if path != STDOUT => Some(
+            mazewalk_maze::files::create_output(path)
+                .with_context(|| format!("{}: cannot create", path.display()))?,
+        ),
         _ => None,
     };
     let mut options = args.look.options(args.culling, args.look.charset());
@@ -230,7 +230,8 @@ fn write_png(path: &std::path::Path, frame: &Frame, charset: Charset) -> anyhow:
         }
         return write_png_to(BufWriter::new(stdout.lock()), "stdout", frame, charset);
     }
-    let file = File::create(path).with_context(|| format!("{}: cannot create", path.display()))?;
+    let file = mazewalk_maze::files::create_output(path)
+        .with_context(|| format!("{}: cannot create", path.display()))?;
     write_png_to(BufWriter::new(file), &path.display().to_string(), frame, charset)
 }
 

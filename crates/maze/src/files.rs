@@ -14,7 +14,8 @@ pub enum OpenError {
     Io(std::io::Error),
     /// The path names something else, which might never end or never answer: "a directory",
     /// "a FIFO", "a device", "a socket" or "not a file"; or, to write ([`open_to_write`]), "a
-    /// symbolic link" (not followed) or "a FIFO or a socket" (which one, unknown without opening it).
+    /// symbolic link" (not followed) or "a FIFO or a socket" (which one, unknown without opening it);
+    /// or, for an output ([`create_output`]), "a FIFO nobody reads".
     #[error("{}", not_a_file(.0))]
     NotAFile(&'static str),
 }
@@ -23,6 +24,7 @@ pub enum OpenError {
 fn not_a_file(what: &str) -> String {
     match what {
         "a symbolic link" => "a symbolic link, not followed".to_string(),
+        "a FIFO nobody reads" => "a FIFO nobody reads (nothing would take what is written)".to_string(),
         what => format!("not a regular file ({what})"),
     }
 }
@@ -125,6 +127,47 @@ pub fn open_to_write(path: &Path) -> Result<(File, bool), OpenError> {
         return Err(OpenError::NotAFile(kind_name(kind))); // (a FIFO someone reads, a device)
     }
     Ok((file, made))
+}
+
+/// Opens `path` for an output a command writes as the user asks (`gen -o`, `render --png`,
+/// `--depth-out`): made, or truncated, as [`File::create`] does; links followed; a pipe or a device
+/// written too (`-o /dev/stdout`, a process substitution's `/dev/fd/63`). But the open never waits:
+/// a FIFO nobody reads is refused at once (red-team pass 11: `gen -o FIFO` waited for a reader
+/// for ever). `O_NONBLOCK` is on for the open only: the writes then wait for a slow reader.
+///
+/// # Errors
+/// [`OpenError::NotAFile`] for a FIFO nobody reads ("a FIFO nobody reads") or a directory;
+/// [`OpenError::Io`] for what the system refused (no folder, no permission).
+pub fn create_output(path: &Path) -> Result<File, OpenError> {
+    let mut open = std::fs::OpenOptions::new();
+    open.write(true).create(true).truncate(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt as _;
+        open.custom_flags(rustix::fs::OFlags::NONBLOCK.bits() as i32);
+    }
+    let file = open.open(path).map_err(|e| {
+        #[cfg(unix)]
+        {
+            use rustix::io::Errno;
+            match e.raw_os_error() {
+                // (what O_NONBLOCK says of a FIFO nobody reads, instead of waiting)
+                Some(n) if n == Errno::NXIO.raw_os_error() => {
+                    return OpenError::NotAFile("a FIFO nobody reads");
+                }
+                Some(n) if n == Errno::ISDIR.raw_os_error() => return OpenError::NotAFile("a directory"),
+                _ => {}
+            }
+        }
+        OpenError::Io(e)
+    })?;
+    #[cfg(unix)]
+    {
+        let flags = rustix::fs::fcntl_getfl(&file).map_err(|e| OpenError::Io(e.into()))?;
+        rustix::fs::fcntl_setfl(&file, flags - rustix::fs::OFlags::NONBLOCK)
+            .map_err(|e| OpenError::Io(e.into()))?;
+    }
+    Ok(file)
 }
 
 #[cfg(all(test, unix))]
