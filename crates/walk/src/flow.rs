@@ -4,6 +4,7 @@
 //! seconds behind the keys and keep drawing after a key is let go. Each frame is therefore followed
 //! by a query, primary device attributes ([`QUERY`], `CSI c`), which every terminal answers — and
 //! only after it has processed everything sent before it. A reply means "that frame is on screen".
+//! (A tick of the exit clock, a digit or two of the HUD's row, goes without one: it needs no pacing.)
 //! With [`MAX_UNACKED`] frames unanswered the session stops drawing; input is still read and the
 //! walk still simulated, so when a reply comes the next frame shows the **latest** state: frames
 //! coalesce, they never queue.

@@ -738,7 +738,9 @@ impl Session {
         let hud =
             Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started, now };
         let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
-        // The rows of the frame that may have changed since the last one encoded.
+        // The rows of the frame that may have changed since the last one encoded: the whole frame,
+        // or only the HUD's row on a tick of its clock.
+        let tick = !self.dirty;
         let changed = if self.dirty {
             self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
             // (the session's frame is kept from frame to frame, changed only here, in the HUD's row
@@ -762,7 +764,10 @@ impl Session {
         }
         // (a tick's frame: the HUD's row encoded, not the whole frame scanned for it)
         let stats = self.encoder.encode_rows(&self.frame, changed, out);
-        if self.options.flow_control {
+        // A tick goes without the query: its few bytes (a digit or two of the clock) need no pacing,
+        // and an idle player's terminal answering each second was half a served tick's packets and
+        // its second wake (BENCHMARKS, "An idle player's clock tick").
+        if self.options.flow_control && !tick {
             out.extend_from_slice(QUERY);
             self.flow.sent(now);
         }
@@ -883,6 +888,41 @@ mod tests {
             assert!(!out.is_empty() && out.len() < 120, "a tick's bytes: {}", out.len());
             assert_eq!((s.approximate, stats.approximate), (approximate, approximate), "at {at}");
         }
+    }
+
+    /// Issue #42: with flow control, a frame ends with the query and counts as in flight; a tick of
+    /// the exit clock (the HUD's row alone) sends no query and leaves the count as it was, so an
+    /// idle player's terminal is not asked to answer every second; the next frame asks again.
+    #[test]
+    fn a_clock_tick_goes_without_the_flow_controls_query() {
+        let mut s = session(SessionOptions::default());
+        let mut out = Vec::new();
+        assert!(s.frame(0.0, &mut out));
+        assert!(out.ends_with(QUERY), "a frame ends with the query");
+        s.feed(b"\x1b[?62;22c", 0.05); // its answer
+        s.frame(0.05, &mut Vec::new());
+        assert_eq!(s.flow().in_flight(), 0);
+        for second in 1..=3 {
+            // (whatever else is due first: the settle's exact frame, its answer)
+            s.frame(f64::from(second) - 0.5, &mut Vec::new());
+            if s.flow().in_flight() > 0 {
+                s.feed(b"\x1b[?62;22c", f64::from(second) - 0.4);
+            }
+            assert_eq!(s.flow().in_flight(), 0);
+            let at = f64::from(second);
+            assert_eq!(s.next_wake(at - 0.3), Some(at), "the clock wakes the host");
+            out.clear();
+            assert!(s.frame(at, &mut out), "the tick at {at}");
+            assert!(!out.is_empty(), "the clock's digits");
+            let queries = out.windows(QUERY.len()).filter(|w| *w == QUERY).count();
+            assert_eq!(queries, 0, "a tick asks nothing: {:?}", String::from_utf8_lossy(&out));
+            assert_eq!(s.flow().in_flight(), 0, "a tick is not waited for");
+        }
+        s.feed(b"\x1b[D", 3.2); // a key: a frame of the view again
+        out.clear();
+        assert!(s.frame(3.2, &mut out));
+        assert!(out.ends_with(QUERY), "the frame after the ticks asks again");
+        assert_eq!(s.flow().in_flight(), 1);
     }
 
     /// The ascii charset is for a terminal or font without block glyphs: its first bytes ask only the
