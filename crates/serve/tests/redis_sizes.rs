@@ -24,6 +24,7 @@ use mazewalk_serve::shared::records::RedisStore;
 use mazewalk_serve::shared::redis::{Keys, Link, best};
 use mazewalk_serve::shared::{SharedWorld, WorldConfig};
 use mazewalk_testkit::eventually;
+use mazewalk_testkit::memory::{peak_kb, reset_peak};
 use redis_server::{Persistence, RedisServer, net_output_bytes};
 
 /// The tests of this file measure the whole process's memory: one at a time (under `cargo test`,
@@ -37,20 +38,6 @@ const SENT_AT_MOST: u64 = 64 * 1024;
 /// This process's resident memory may grow by this much at most while the server reads (a tokio
 /// runtime's worker stacks and buffers; before, it grew by about twice what Redis sent).
 const GROWTH_AT_MOST_KB: u64 = 8 * 1024;
-
-/// This process's peak resident memory since [`reset_peak`], kB (`VmHWM`).
-fn peak_kb() -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
-    let line = status.lines().find(|l| l.starts_with("VmHWM:")).expect("a VmHWM line");
-    line.split_whitespace().nth(1).and_then(|kb| kb.parse().ok()).expect("kB")
-}
-
-/// Starts this process's peak resident memory again from what it holds now (Linux ≥ 4.0), and
-/// answers that.
-fn reset_peak() -> u64 {
-    std::fs::write("/proc/self/clear_refs", "5").expect("/proc/self/clear_refs takes 5");
-    peak_kb()
-}
 
 /// Runs `script` (a writer's) with `keys` and `args` in the test's Redis (on a connection with no
 /// response timeout: a script making MBs may take a while), with `big(c, n)` (`n` bytes of `c`).

@@ -3,20 +3,7 @@
 #![cfg(target_os = "linux")]
 
 use mazewalk_term::input::{Input, InputDecoder, Key};
-
-/// This process's peak resident memory since [`reset_peak`], kB (`VmHWM`).
-fn peak_kb() -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
-    let line = status.lines().find(|l| l.starts_with("VmHWM:")).expect("a VmHWM line");
-    line.split_whitespace().nth(1).and_then(|kb| kb.parse().ok()).expect("kB")
-}
-
-/// Starts this process's peak resident memory again from what it holds now (Linux ≥ 4.0), and
-/// answers that.
-fn reset_peak() -> u64 {
-    std::fs::write("/proc/self/clear_refs", "5").expect("/proc/self/clear_refs takes 5");
-    peak_kb()
-}
+use mazewalk_testkit::memory::{peak_kb, reset_peak};
 
 // Red-team pass 11: an OSC string (`ESC ] 11 ; …`, a colour reply that never ends) of `é` after
 // `é` was kept whole by the tokenizer, 16 MB for 16 MB sent: the bound on an unfinished sequence

@@ -3,7 +3,8 @@
 //! system program a test runs is installed ([`require_tool`]), the `redis-server` they start
 //! ([`redis_server`]), the stock `ssh` client's options ([`ssh_args`]; in a pty of its own,
 //! `ssh_in_pty`), the release server the measuring examples run ([`server_process`]) and, for the
-//! async tests of the server and its world, `eventually` (a wait for a condition, with a deadline).
+//! async tests of the server and its world, `eventually` (a wait for a condition, with a deadline),
+//! and the process's peak memory (`memory`, Linux).
 //! A dev-dependency only.
 //!
 //! The harnesses that drive a mazewalk crate are behind a feature named after it (`term`, `walk`,
@@ -21,6 +22,8 @@ pub mod baseline;
 pub mod link;
 #[cfg(feature = "serve")]
 pub mod load;
+#[cfg(target_os = "linux")]
+pub mod memory;
 #[cfg(all(unix, feature = "pty"))]
 pub mod pty_link;
 #[cfg(feature = "serve")]
