@@ -758,8 +758,11 @@ impl Memo {
     /// [`mark`] of cell `k` (not equal to `shown`), answering from the memo where the frame's cell is
     /// one it measured and left, and remembering those it measures and leaves. A cell equal to the
     /// screen's is not written, nor is one answered from the memo: the screen's cell stays what it
-    /// was when remembered. Every other cell is forgotten (it may be written, or the screen take the
-    /// frame's spelling of the same look).
+    /// was when remembered. Every other cell is forgotten (it may be written). A cell of the same
+    /// look in another spelling (a one-colour `▀` for a blank) leaves the screen's spelling as it is,
+    /// so that what the diff reads of the screen (a blank tail to erase, a run to repeat) is the same
+    /// whether or not its row was scanned: [`Encoder::encode_rows`] sends what [`Encoder::encode`]
+    /// does.
     #[inline(always)]
     fn mark(&mut self, k: usize, shown: &PackedCell, cell: &mut PackedCell) -> bool {
         let tolerance = self.tolerance;
@@ -777,7 +780,11 @@ impl Memo {
             return !within;
         }
         self.left[k] = false;
-        !shown.looks_within(cell, 0)
+        let differs = !shown.looks_within(cell, 0);
+        if !differs {
+            *cell = *shown; // the same look: the screen keeps its spelling, as a scan of no row would
+        }
+        differs
     }
 }
 
@@ -804,7 +811,11 @@ fn mark(shown: &PackedCell, cell: &mut PackedCell, tolerance: u8) -> bool {
         }
         return !within;
     }
-    !shown.looks_within(cell, 0)
+    let differs = !shown.looks_within(cell, 0);
+    if !differs {
+        *cell = *shown; // (as [`Memo::mark`]: the same look keeps the screen's spelling)
+    }
+    differs
 }
 
 /// The first of `flags` set from index `from` on: sixteen at a time (one test: a frame's rows are
@@ -2051,8 +2062,8 @@ mod tests {
         /// [`mark_changes`] of the whole frame, answering from the memo where the frame's cell is one
         /// it measured and left, and remembering those it measures and leaves. A cell equal to the
         /// screen's is not written, nor is one answered from the memo: the screen's cell stays what it
-        /// was when remembered. Every other cell is forgotten (it may be written, or the screen take
-        /// the frame's spelling of the same look).
+        /// was when remembered. Every other cell is forgotten (it may be written); one of the same
+        /// look keeps the screen's spelling.
         fn mark_changes(
             &mut self,
             old: &[PackedCell],
@@ -2081,7 +2092,11 @@ mod tests {
                     return !within;
                 }
                 left[k] = false;
-                !shown.looks_within(cell, 0)
+                let differs = !shown.looks_within(cell, 0);
+                if !differs {
+                    *cell = *shown;
+                }
+                differs
             }));
         }
     }
