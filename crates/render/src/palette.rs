@@ -404,7 +404,9 @@ const BUCKETS: usize = 256;
 /// ([`FLOOR_SRGB`], [`CEILING_SRGB`]); anything else is a wall (or a figure, the exit's glow).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Surface {
-    /// The floor: [`FLOOR_16`], black where it is near black.
+    /// The floor: [`FLOOR_16`] alone, near and far (as the ceiling: where 16 colours leave out a
+    /// far cell line that truecolor shows, the floor's own light below [`NEAR_BLACK`] was a black
+    /// sliver under a corridor's end wall).
     Floor,
     /// The ceiling: [`CEILING_16`] alone, near and far (issue #39: its far band, fogged below
     /// [`NEAR_BLACK`] where 16 colours leave out the cell lines that crowd toward the horizon, was a
@@ -515,7 +517,7 @@ impl LightRamp {
     }
 
     /// The ramp of the chromaticity `chroma` (linear RGB, any scale) in `palette` for `surface`: in 16
-    /// colours the floor shows [`FLOOR_16`], the ceiling [`CEILING_16`] (never black), a wall neither,
+    /// colours the floor shows [`FLOOR_16`] and the ceiling [`CEILING_16`] (neither ever black), a wall neither,
     /// and nothing is black where the scene is lighter than [`NEAR_BLACK`]; in 256 colours the surface
     /// does not matter.
     #[must_use]
@@ -538,7 +540,7 @@ impl LightRamp {
         let candidates: Vec<RampEntry> = ramp_entries(palette)
             .iter()
             .filter(|e| match (sixteen, surface) {
-                (true, Surface::Floor) => e.index == 0 || e.index == FLOOR_16,
+                (true, Surface::Floor) => e.index == FLOOR_16,
                 (true, Surface::Ceiling) => e.index == CEILING_16,
                 (true, Surface::Wall) if glow => e.index == 0 || e.index == GLOW_16,
                 (true, Surface::Wall) if e.index == GLOW_16 && !exit_green(direction) => false,

@@ -477,3 +477,36 @@ fn in_16_colours_a_far_ceiling_line_left_out_shows_the_ceilings_blue() {
     let walls = maze.edges().len() as u32;
     assert_eq!(lit_but_black(&ids, walls, &shown, &truth), None);
 }
+
+// The property above failed on a 22×11 maze (seed 675652446694713563): down the corridor from (2, 30)
+// heading 0°, sample 4865 (row 40, column 65: a sliver of far floor below the corridor's end wall)
+// showed black in 16 colours, its truecolor L 0.30. As with the ceiling below: truecolor shows a cell
+// line there, 16 colours leave it out and show the floor's own light, L 0.18, which the floor's ramp
+// drew black. The floor's ramp in 16 colours is now its dark grey alone, near and far.
+#[test]
+fn in_16_colours_a_far_floor_line_left_out_shows_the_floors_grey() {
+    let seed = 675652446694713563;
+    let maze = generate(&GenOptions::walk(22, 11, seed)).expect("generated maze");
+    let (_, camera) = quality::held_out_views(&maze, seed, 12)
+        .into_iter()
+        .find(|(kind, camera)| {
+            *kind == quality::ViewKind::Corridor
+                && camera.position.distance(Vec2::new(2.0, 30.0)) < 1e-3
+                && camera.yaw_deg.abs() < 0.5
+        })
+        .expect("the view the property failed on");
+    let (truth, ids) = render(&maze, &camera, &options(Charset::Half, ColorDepth::TrueColor));
+    let (frame, scene) = render_16_and_scene(&maze, &camera);
+    let (shown, truth) = (quality::shown(&frame, Charset::Half), quality::shown(&truth, Charset::Half));
+    let scene = quality::shown(&scene, Charset::Half);
+    let i = 40 * COLS + 65;
+    assert_eq!(ids[i], FLOOR);
+    // truecolor: a line, lighter than near black; 16 colours: no line, the floor's own dark light
+    assert!(truth[i].x >= NEAR_BLACK, "truecolor L {:.2}", truth[i].x);
+    assert!(scene[i].x < NEAR_BLACK, "16 colours' scene L {:.2}", scene[i].x);
+    // shown the floor's dark grey (`FLOOR_16`), as the floor a row nearer is, not black
+    let grey = quality::oklab_srgb8(mazewalk_render::palette::xterm_rgb(8));
+    let below = i + COLS;
+    assert_eq!(ids[below], FLOOR);
+    assert_eq!((shown[below], shown[i]), (grey, grey));
+}
