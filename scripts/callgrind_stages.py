@@ -36,10 +36,12 @@ STAGES = [
     ("glyphs (`glyph::to_frame_faced`)", ["mazewalk_render::glyph::to_frame_faced"]),
     # (`draw_into` since the kept frame of `draw_kept`; `draw` before)
     ("screen: render + HUD + map + colours", ["mazewalk_walk::screen::draw", "mazewalk_walk::screen::draw_into"]),
-    # (`encode` calls `encode_rows`, the clock tick's entry, and is mostly inlined into its callers:
-    # the first of the two callgrind names gives the whole encoder, ticks included.)
-    ("encoder (`Encoder::encode_rows`)", ["mazewalk_term::encoder::Encoder::encode_rows",
-                                          "mazewalk_term::encoder::Encoder::encode"]),
+    # (`encode` and `encode_rows` call `encode_cells`, the clock tick's entry since `encode_rows`
+    # was, and are mostly inlined into their callers: the first callgrind name present gives the
+    # whole encoder, ticks included.)
+    ("encoder (`Encoder::encode_cells`)", ["mazewalk_term::encoder::Encoder::encode_cells",
+                                           "mazewalk_term::encoder::Encoder::encode_rows",
+                                           "mazewalk_term::encoder::Encoder::encode"]),
     (
         "SSH cipher (ring ChaCha20-Poly1305)",
         [
@@ -56,10 +58,11 @@ STAGES = [
     ("once: start places (`Spawns::new`)", ONCE[:1]),
     ("once: ramps built (`LightRamp::of_surface`)", ONCE[1:]),
 ]
-COUNTED = ["mazewalk_render::pipeline::Renderer::render", "mazewalk_term::encoder::Encoder::encode_rows",
+COUNTED = ["mazewalk_render::pipeline::Renderer::render", "mazewalk_term::encoder::Encoder::encode_cells",
+           "mazewalk_term::encoder::Encoder::encode_rows",
            "mazewalk_serve::world::World::look", "mazewalk_walk::session::Session::frame"]
 # Stages whose names are alternatives (one nests the other): the first one present counts.
-FIRST_OF = {"encoder (`Encoder::encode_rows`)"}
+FIRST_OF = {"encoder (`Encoder::encode_cells`)"}
 
 
 def inclusive(path):

@@ -244,14 +244,30 @@ impl Encoder {
     /// In debug builds, if a cell outside `rows` would be sent (the frame changed there): a bug
     /// of the caller's.
     pub fn encode_rows(&mut self, frame: &Frame, rows: Range<usize>, out: &mut Vec<u8>) -> EncodeStats {
+        let width = frame.width();
+        self.encode_cells(frame, rows.start.saturating_mul(width)..rows.end.saturating_mul(width), out)
+    }
+
+    /// [`Encoder::encode_rows`] of a frame that differs from the one last encoded only in `cells`
+    /// (indices into [`Frame::cells`], row by row: the clock's digits of the HUD on a tick): the same
+    /// bytes and statistics as [`Encoder::encode`], for the work of those cells.
+    ///
+    /// # Panics
+    ///
+    /// In debug builds, if a cell outside `cells` would be sent (the frame changed there): a bug
+    /// of the caller's.
+    pub fn encode_cells(&mut self, frame: &Frame, cells: Range<usize>, out: &mut Vec<u8>) -> EncodeStats {
         let start = out.len();
         let (width, height) = (frame.width(), frame.height());
         let full_paint = !self.valid || (self.width, self.height) != (width, height);
-        let rows = if full_paint || self.tolerance < self.sent_within {
-            0..height
+        let n = frame.cells().len();
+        let cells = if full_paint || self.tolerance < self.sent_within {
+            0..n
         } else {
-            rows.start.min(height)..rows.end.min(height)
+            cells.start.min(n)..cells.end.min(n).max(cells.start.min(n))
         };
+        // The rows the cells are in (none for no cells).
+        let rows = if cells.is_empty() { 0..0 } else { cells.start / width..cells.end.div_ceil(width) };
         out.extend_from_slice(SYNC_BEGIN);
         // `sent`: the frame as it will be on screen, which the tolerance may leave a little off `frame`;
         // packed, as every comparison and price below reads it.
@@ -268,15 +284,14 @@ impl Encoder {
             let how = How { bce: self.bce, tolerance: self.tolerance, rep: self.rep };
             self.memo.prepare(frame.cells().len(), self.tolerance);
             #[cfg(debug_assertions)]
-            self.assert_unchanged_outside(frame, &rows);
+            self.assert_unchanged_outside(frame, &cells);
             // In place: the screen's cells become the frame's where they differ (or where within the
             // tolerance stay), packed and compared in one pass, the cells not equal to the screen's
             // listed (`unequal`: only those can the diff change); the diff leaves it what was sent.
             let screen = &mut self.screen;
-            let cells = rows.start * width..rows.end * width;
             let differs = (&mut self.differs, self.differs_set.clone());
             self.memo.scan(frame.cells(), cells.clone(), screen, differs, &mut self.unequal);
-            self.differs_set = cells;
+            self.differs_set = cells.clone();
             let scratch = (&mut self.first, Some(&mut self.follow));
             diff_marked(screen, width, rows.clone(), how, &mut self.pen, out, &mut self.differs, scratch)
         };
@@ -289,14 +304,21 @@ impl Encoder {
         (self.width, self.height) = (width, height);
         self.valid = true;
         self.sent_within = if full_paint { 0 } else { self.tolerance };
-        let approximate = self.approximate(frame, rows, full_paint);
+        let approximate = self.approximate(frame, rows, cells, full_paint);
         EncodeStats { bytes: out.len() - start, cells_changed, full_paint, approximate }
     }
 
     /// Whether the screen is off the frame just encoded ([`EncodeStats::approximate`]) after an
-    /// encode of `rows` of it. (Out of line, as [`Memo::scan`] is: the encode's loops as they were.)
+    /// encode of `cells` of it, in `rows`. (Out of line, as [`Memo::scan`] is: the encode's loops as
+    /// they were.)
     #[inline(never)]
-    fn approximate(&mut self, frame: &Frame, rows: Range<usize>, full_paint: bool) -> bool {
+    fn approximate(
+        &mut self,
+        frame: &Frame,
+        rows: Range<usize>,
+        scanned: Range<usize>,
+        full_paint: bool,
+    ) -> bool {
         let (width, height) = (frame.width(), frame.height());
         // Whether a cell on screen now differs in look from the frame's: only a cell the diff changed
         // can (the others were packed from the frame and left so), and it changes only cells that
@@ -311,7 +333,7 @@ impl Encoder {
             self.approximate_rows.resize(height, false);
             self.approximate_rows_known = true;
             false
-        } else if rows == (0..height) {
+        } else if scanned == (0..cells.len()) {
             // The whole frame: the first cell off is enough; which rows are, only an encode of some
             // rows asks (mostly none does: the settle's exact frame comes first).
             let approximate =
@@ -320,14 +342,24 @@ impl Encoder {
             self.approximate_rows_known = !approximate;
             approximate
         } else {
-            if !self.approximate_rows_known {
+            // The rows scanned whole are off only where the scan finds them so (below); a row scanned
+            // in part (a first or last one) has its other cells as they were, off where they were: a
+            // row that was off nowhere still is there.
+            let known = self.approximate_rows_known;
+            for y in rows.clone() {
+                let (first, end) = (y * width, (y + 1) * width);
+                let was = self.approximate_rows[y];
+                self.approximate_rows[y] = !(scanned.start <= first && end <= scanned.end)
+                    && (!known || was)
+                    && (first..end).filter(|k| !scanned.contains(k)).any(|k| off(&self.screen[k], k));
+            }
+            if !known {
                 // (the rows not scanned are the frame last encoded, the screen as it left them)
                 for y in (0..height).filter(|y| !rows.contains(y)) {
                     self.approximate_rows[y] = (y * width..(y + 1) * width).any(|k| off(&self.screen[k], k));
                 }
                 self.approximate_rows_known = true;
             }
-            self.approximate_rows[rows].fill(false);
             if self.tolerance > 0 {
                 mark_approximate_rows(&self.screen, cells, &self.unequal, width, &mut self.approximate_rows);
             }
@@ -335,18 +367,17 @@ impl Encoder {
         }
     }
 
-    /// [`Encoder::encode_rows`]'s precondition: no cell of `frame` outside `rows` would be sent.
+    /// [`Encoder::encode_cells`]'s precondition: no cell of `frame` outside `scanned` would be sent.
     #[cfg(debug_assertions)]
-    fn assert_unchanged_outside(&self, frame: &Frame, rows: &Range<usize>) {
+    fn assert_unchanged_outside(&self, frame: &Frame, scanned: &Range<usize>) {
         let width = frame.width();
-        let (before, after) = (rows.start * width, rows.end * width);
         let cells = frame.cells().iter().zip(&self.screen).enumerate();
-        for (k, (cell, shown)) in cells.filter(|&(k, _)| k < before || k >= after) {
+        for (k, (cell, shown)) in cells.filter(|(k, _)| !scanned.contains(k)) {
             let mut cell = PackedCell::pack(cell);
             assert!(
                 *shown == cell || !mark(shown, &mut cell, self.tolerance),
-                "encode_rows({rows:?}): cell {k} (row {}) changed outside the rows",
-                k / width
+                "encode_cells({scanned:?}): cell {k} (row {}) changed outside the rows or cells told",
+                k / width.max(1)
             );
         }
     }

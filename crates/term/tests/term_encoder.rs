@@ -1126,6 +1126,83 @@ proptest! {
     }
 }
 
+/// The cells (indices into [`Frame::cells`]) from the first where `after` differs from `before` to
+/// the last (none where none does).
+fn changed_cells(before: &Frame, after: &Frame) -> std::ops::Range<usize> {
+    let (old, new) = (before.cells(), after.cells());
+    let differ = |k: &usize| old[*k] != new[*k];
+    match ((0..new.len()).find(differ), (0..new.len()).rev().find(differ)) {
+        (Some(first), Some(last)) => first..last + 1,
+        _ => 0..0,
+    }
+}
+
+proptest! {
+    #![proptest_config(common::config())]
+
+    /// Issue #42 (an idle player's tick sends the clock's digits): [`Encoder::encode_cells`] told
+    /// the cells that changed (and a few either side, across rows too, or none where none did) sends
+    /// the bytes, and returns the statistics, of [`Encoder::encode`] of the whole frame, frame after
+    /// frame, as [`Encoder::encode_rows`] does above: the rows it scans only in part keep what the
+    /// encoder knew of their other cells (whether the screen is off them within the tolerance).
+    #[test]
+    fn encoding_only_the_changed_cells_sends_the_bytes_of_the_whole_frame(
+        (first, steps) in prop_oneof![arb_palette(), arb_truecolor_palette()].prop_flat_map(|palette| {
+            let steps = (arb_step(palette.clone()), 0usize..12, 0usize..12, prop_oneof![0u8..4, Just(2u8)]);
+            (arb_frame(palette), prop::collection::vec(steps, 1..16))
+        }),
+        bce in any::<bool>(),
+        rep in prop_oneof![Just(RepLevel::None), Just(RepLevel::Ascii), Just(RepLevel::Any)],
+        blocks in any::<bool>(),
+    ) {
+        let (mut cells_only, mut whole) = (configured(bce, 2, rep, blocks), configured(bce, 2, rep, blocks));
+        let mut frame = first;
+        let (mut out, mut expected) = (Vec::new(), Vec::new());
+        cells_only.encode(&frame, &mut out);
+        whole.encode(&frame, &mut expected);
+        for (i, (step, before_, after_, tolerance)) in steps.iter().enumerate() {
+            let before = frame.clone();
+            if apply(&mut frame, step) {
+                cells_only.invalidate();
+                whole.invalidate();
+            }
+            let cells = if (before.width(), before.height()) == (frame.width(), frame.height()) {
+                let changed = changed_cells(&before, &frame);
+                if changed.is_empty() {
+                    0..0
+                } else {
+                    changed.start.saturating_sub(*before_)..(changed.end + after_).min(frame.cells().len())
+                }
+            } else {
+                0..0 // (a resize: a full paint, whatever the cells)
+            };
+            for encoder in [&mut cells_only, &mut whole] {
+                encoder.set_tolerance(*tolerance);
+            }
+            out.clear();
+            expected.clear();
+            let stats = cells_only.encode_cells(&frame, cells.clone(), &mut out);
+            let expected_stats = whole.encode(&frame, &mut expected);
+            prop_assert_eq!(stats, expected_stats, "step {} ({:?}), cells {:?}", i, step, cells);
+            prop_assert_eq!(&out, &expected, "step {} ({:?}), cells {:?}", i, step, cells);
+        }
+    }
+}
+
+/// [`Encoder::encode_cells`]'s contract is checked in debug builds: a cell changed in a row it was
+/// told of, but outside the cells, is a caller's bug.
+#[cfg(debug_assertions)]
+#[test]
+#[should_panic(expected = "changed outside the rows or cells")]
+fn encoding_cells_of_a_frame_changed_elsewhere_in_their_row_is_caught() {
+    let mut encoder = Encoder::new();
+    let mut frame = Frame::new(10, 4);
+    encoder.encode(&frame, &mut Vec::new());
+    frame.set(2, 3, Cell::plain('x'));
+    frame.set(7, 3, Cell::plain('y'));
+    encoder.encode_cells(&frame, 32..33, &mut Vec::new());
+}
+
 /// [`Encoder::encode_rows`]'s contract is checked in debug builds: a frame changed outside the rows
 /// it is told of is a caller's bug, not a frame sent wrong.
 #[cfg(debug_assertions)]
