@@ -184,11 +184,23 @@ pub(crate) fn draw_hud(frame: &mut Frame, text: &str, style: Style) {
     frame.put_str(0, y, spelled.as_deref().unwrap_or(text), HUD_FG, HUD_BG);
 }
 
+/// The HUD line of [`hud_line_placed`] alone.
+#[must_use]
+#[cfg(test)]
+pub(crate) fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> String {
+    hud_line_placed(fields, help, width).0
+}
+
 /// The HUD line, exactly `width` columns: `fields` as (priority, text), lower numbers more important,
 /// shown in their order; each whole or not at all (a cut number reads as a wrong one: `heading 3` for
-/// 345°), the least important left out first; `help` at the right end whenever it fits.
+/// 345°), the least important left out first; `help` at the right end whenever it fits. Also where
+/// each field starts in it (a byte offset; `None`: left out).
 #[must_use]
-pub(crate) fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> String {
+pub(crate) fn hud_line_placed(
+    fields: &[(u8, String)],
+    help: &str,
+    width: usize,
+) -> (String, Vec<Option<usize>>) {
     let len = |s: &str| s.chars().count();
     let help = if len(help) < width { help } else { "" };
     // A leading space, the fields two apart, and two before the help: each field costs its length
@@ -204,10 +216,17 @@ pub(crate) fn hud_line(fields: &[(u8, String)], help: &str, width: usize) -> Str
             (keep[i], room) = (true, room - need);
         }
     }
-    let shown: Vec<&str> = fields.iter().zip(&keep).filter(|(_, k)| **k).map(|(f, _)| f.1.as_str()).collect();
-    let line = if shown.is_empty() { String::new() } else { format!(" {}", shown.join("  ")) };
+    let mut line = String::with_capacity(width + 8);
+    let mut at = vec![None; fields.len()];
+    for (i, field) in fields.iter().enumerate().filter(|(i, _)| keep[*i]) {
+        line.push_str(if line.is_empty() { " " } else { "  " });
+        at[i] = Some(line.len());
+        line.push_str(&field.1);
+    }
     let pad = width.saturating_sub(len(&line) + len(help));
-    format!("{line}{}{help}", " ".repeat(pad))
+    line.extend(std::iter::repeat_n(' ', pad));
+    line.push_str(help);
+    (line, at)
 }
 
 /// A box of text lines centred above the HUD's row (drawn over boxes), clipped to the frame. Without

@@ -20,7 +20,9 @@ use crate::state::{App, MapMode};
 use crate::views::{SharedViews, ViewKey};
 use mazewalk_render::palette::xterm_rgb;
 use mazewalk_render::portal::PortalPass;
-use mazewalk_render::{Camera, Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target};
+use mazewalk_render::{
+    Camera, Charset, Culling, Projection, RenderOptions, RenderStats, Renderer, Sprite, Target,
+};
 use mazewalk_term::frame::{Cell, Color, ColorDepth, Frame, Region};
 
 /// What the last frame cost, for the HUD.
@@ -100,6 +102,44 @@ pub struct Screen {
     renders: u64,
     /// The frame last drawn into by [`draw_kept`] still holds `last_view` but under its patch.
     kept: bool,
+    /// What the HUD's row shows and what it was made of, for a clock tick ([`draw_hud`]).
+    hud: HudMemo,
+}
+
+/// The HUD's row as [`draw_hud`] last drew it: its text, what it was made of but the clock, and where
+/// the clock's field stands in it. A clock tick with nothing else changed (an idle player's each
+/// second) writes the clock's new digits over the old instead of formatting and fitting the whole
+/// line again (BENCHMARKS, "An idle player's clock tick").
+#[derive(Debug, Default)]
+struct HudMemo {
+    /// What the line was made of, but the clock (`None`: nothing to go by).
+    key: Option<HudKey>,
+    /// The line as drawn, `width` columns.
+    line: String,
+    /// The clock's field: its first column in the row and its text (`time 1:23`); `None` where the
+    /// line has no clock (no exit, or no room for it).
+    clock: Option<(usize, String)>,
+}
+
+/// Everything the HUD's line is made of but the clock's text ([`hud_text_placed`]'s inputs), compared
+/// whole: equal keys and clock texts of one length make lines alike but for the clock's digits.
+/// (Without the developer figures, which change every frame: with them, no key is made.)
+#[derive(Debug, PartialEq)]
+struct HudKey {
+    /// Heading, position x and y, eye height, pitch and field of view, as bits.
+    camera: [u32; 6],
+    projection: Projection,
+    charset: Charset,
+    look_ahead: bool,
+    /// The finish time (bits) or none, whether the clock is unknown, whether the maze has an exit.
+    clock: (Option<u64>, bool, bool),
+    players_in: Option<usize>,
+    status: Option<String>,
+    ghost: Option<String>,
+    own_keys: bool,
+    style: Style,
+    /// The frame's width and height.
+    size: (usize, usize),
 }
 
 /// A view as this screen's renderer drew it, before anything was drawn over it: a pure function of
@@ -427,6 +467,7 @@ fn draw_into(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud, keep:
         screen.help_page = 0; // opened again, it starts at its first page
     }
     screen.stats = stats;
+    drop(seen); // (it reads the renderer's portal pass: done with before the HUD's memo is written)
     let _ = draw_hud(app, screen, frame, hud); // last: boxes never hide it (its row's colours limited there)
     // Not one code deeper than the terminal's depth: of what was drawn over the view, or of the map
     // alone (its walls, wedge and arrow change as the player turns; the view's cells need no look).
@@ -607,11 +648,13 @@ fn cells_ahead(
 }
 
 /// Draws the HUD's row of `frame` only, over what [`draw`] drew last: when nothing but the HUD's
-/// numbers changed (the exit clock ticked), the view need not be rendered again. Returns the rows
-/// it drew (none on a screen too small for a HUD): the only ones of `frame` it changes.
-pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud) -> Range<usize> {
+/// numbers changed (the exit clock ticked), the view need not be rendered again. Returns the cells
+/// it drew (indices into [`Frame::cells`]: the row, the clock's digits alone on a tick, none on a
+/// screen too small for a HUD): the only ones of `frame` it changes.
+pub(crate) fn draw_hud(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &Hud) -> Range<usize> {
     let (cols, rows) = (frame.width(), frame.height());
     if overlay::too_small(cols, rows) {
+        screen.hud = HudMemo::default();
         return 0..0; // the too-small note has no HUD
     }
     let style = Style::new(app.options.charset, app.options.color_depth);
@@ -623,19 +666,85 @@ pub(crate) fn draw_hud(app: &App, screen: &Screen, frame: &mut Frame, hud: &Hud)
         None => app.ghost.then_some(none),
     };
     let fov = app.shown_hfov_deg(cols, rows - 1);
-    let line = hud_text_with(
-        app,
-        &screen.stats,
-        hud,
-        (screen.players_in, screen.status.as_deref(), ghost, screen.help.is_empty()),
-        fov,
-        style,
-        cols,
-    );
-    overlay::draw_hud(frame, &line, style);
+    let host = (screen.players_in, screen.status.as_deref(), ghost, screen.help.is_empty());
+    let clock = clock_field(app, hud);
     let row = Region { col: 0, row: rows - 1, cols, rows: 1 };
+    // A tick of the clock alone: its digits written over the old ones, the rest of the row as it is.
+    let memo = &mut screen.hud;
+    let same = |key: &HudKey| hud_key_is(key, app, host, fov, style, (cols, rows));
+    if let (Some(key), Some((column, shown)), Some(clock)) = (&memo.key, &mut memo.clock, &clock)
+        && !app.figures
+        && shown.len() == clock.len()
+        && same(key)
+        && frame.row(rows - 1).is_some_and(|cells| cells.iter().map(|c| c.ch).eq(memo.line.chars()))
+    {
+        for (x, ch) in (*column..).zip(clock.chars()) {
+            if let Some(cell) = frame.get_mut(x, rows - 1) {
+                cell.ch = ch; // (its colours: the HUD's, limited to the depth when the line was drawn)
+            }
+        }
+        let at = memo.line.char_indices().nth(*column).map_or(memo.line.len(), |(i, _)| i);
+        memo.line.replace_range(at..at + shown.len(), clock);
+        shown.clone_from(clock);
+        let first = (rows - 1) * cols + *column;
+        return first..(first + clock.chars().count()).min(rows * cols);
+    }
+    let (line, clock_at) = hud_text_placed(app, &screen.stats, hud, host, fov, style, cols);
+    #[cfg(test)]
+    HUD_LINES_MADE.with(|n| n.set(n.get() + 1));
+    overlay::draw_hud(frame, &line, style);
     overlay::limit_colors_in(frame, row, style.depth);
-    rows - 1..rows
+    screen.hud = HudMemo {
+        key: (!app.figures).then(|| hud_key(app, host, fov, style, (cols, rows))),
+        clock: clock_at.zip(clock).map(|(at, text)| (line[..at].chars().count(), text)),
+        line,
+    };
+    (rows - 1) * cols..rows * cols
+}
+
+#[cfg(test)]
+thread_local! {
+    /// HUD lines [`draw_hud`] made whole on this thread (not a clock's digits written in place).
+    static HUD_LINES_MADE: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// The HUD's inputs but the clock, as [`HudKey`] holds them.
+type HudHost<'a> = (Option<usize>, Option<&'a str>, Option<&'a str>, bool);
+
+/// The [`HudKey`] of a HUD line drawn of these.
+fn hud_key(app: &App, host: HudHost, fov: f32, style: Style, size: (usize, usize)) -> HudKey {
+    let c = &app.camera;
+    let (players_in, status, ghost, own_keys) = host;
+    HudKey {
+        camera: [c.yaw_deg, c.position.x, c.position.y, c.eye_z, c.pitch_deg, fov].map(f32::to_bits),
+        projection: c.projection,
+        charset: app.options.charset,
+        look_ahead: app.look_ahead(),
+        clock: (app.finished.map(f64::to_bits), app.clock_unknown, app.maze().exit().is_some()),
+        players_in,
+        status: status.map(str::to_string),
+        ghost: ghost.map(str::to_string),
+        own_keys,
+        style,
+        size,
+    }
+}
+
+/// Whether `key` is the [`HudKey`] these would make (without making one: no text copied).
+fn hud_key_is(key: &HudKey, app: &App, host: HudHost, fov: f32, style: Style, size: (usize, usize)) -> bool {
+    let c = &app.camera;
+    let (players_in, status, ghost, own_keys) = host;
+    key.camera == [c.yaw_deg, c.position.x, c.position.y, c.eye_z, c.pitch_deg, fov].map(f32::to_bits)
+        && key.projection == c.projection
+        && key.charset == app.options.charset
+        && key.look_ahead == app.look_ahead()
+        && key.clock == (app.finished.map(f64::to_bits), app.clock_unknown, app.maze().exit().is_some())
+        && key.players_in == players_in
+        && key.status.as_deref() == status
+        && key.ghost.as_deref() == ghost
+        && key.own_keys == own_keys
+        && key.style == style
+        && key.size == size
 }
 
 /// Whether a cell has been seen, the cells `portal` (the last render's pass) visited counted: a
@@ -678,30 +787,50 @@ fn hud_text(
     hud_text_with(app, stats, hud, (players_in, None, None, true), app.camera.hfov_deg, style, width)
 }
 
-/// The HUD line, `width` columns at most: what a player needs first — a host's status when it has
-/// one ("world offline"), which way they face (heading and compass point), the exit clock, how many
-/// players are in (a served maze) —, then where they are, the view settings and, with [`App::figures`], the developer figures (frames per second,
-/// bytes, cell, cells seen, ms): each only if it fits whole, and "? help" always at the right end.
+/// The HUD line (see [`hud_text_placed`]).
+#[cfg(test)]
 fn hud_text_with(
     app: &App,
     stats: &RenderStats,
     hud: &Hud,
-    (players_in, status, ghost, own_keys): (Option<usize>, Option<&str>, Option<&str>, bool),
+    host: HudHost,
     fov_deg: f32,
     style: Style,
     width: usize,
 ) -> String {
+    hud_text_placed(app, stats, hud, host, fov_deg, style, width).0
+}
+
+/// The HUD's clock field: the time since the start (`time 1:23`), or the finish (`exit in 1:40.4`);
+/// none without an exit, or with the start unknown.
+fn clock_field(app: &App, hud: &Hud) -> Option<String> {
+    match (app.maze().exit(), app.finished) {
+        (None, _) => None,
+        _ if app.clock_unknown => None,
+        (Some(_), Some(took)) => Some(format!("exit in {}", clock_text(took))),
+        (Some(_), None) => Some(format!("time {}", running_clock_text(hud.elapsed))),
+    }
+}
+
+/// The HUD line, `width` columns at most: what a player needs first — a host's status when it has
+/// one ("world offline"), which way they face (heading and compass point), the exit clock, how many
+/// players are in (a served maze) —, then where they are, the view settings and, with [`App::figures`], the developer figures (frames per second,
+/// bytes, cell, cells seen, ms): each only if it fits whole, and "? help" always at the right end.
+/// Also where the clock's field ([`clock_field`]) starts in it (a byte offset), where it is shown.
+fn hud_text_placed(
+    app: &App,
+    stats: &RenderStats,
+    hud: &Hud,
+    (players_in, status, ghost, own_keys): HudHost,
+    fov_deg: f32,
+    style: Style,
+    width: usize,
+) -> (String, Option<usize>) {
     const HELP: &str = "? help ";
     let c = &app.camera;
     let projection = match c.projection {
         Projection::Perspective => "persp",
         Projection::Orthographic => "ortho",
-    };
-    let clock = match (app.maze().exit(), app.finished) {
-        (None, _) => None,
-        _ if app.clock_unknown => None,
-        (Some(_), Some(took)) => Some(format!("exit in {}", clock_text(took))),
-        (Some(_), None) => Some(format!("time {}", running_clock_text(hud.elapsed))),
     };
     // (formatted only when shown: most frames do not show them)
     let dev = |text: &dyn Fn() -> String| if app.figures { text() } else { String::new() };
@@ -716,7 +845,7 @@ fn hud_text_with(
     let fields = [
         (0, status.unwrap_or_default().to_string()),
         (0, format!("heading {:.0}° {}", c.yaw_deg, compass_point(c.yaw_deg))),
-        (1, clock.unwrap_or_default()),
+        (1, clock_field(app, hud).unwrap_or_default()),
         (2, players_in.map(|n| format!("{n} in")).unwrap_or_default()),
         (2, ghost.unwrap_or_default().to_string()),
         // (position, height and pitch apart: each fits where they together would not)
@@ -730,8 +859,12 @@ fn hud_text_with(
         (9, dev(&|| format!("{:.1} ms", hud.cost.seconds * 1e3))),
     ];
     // fitted as shown (in ASCII a degree sign takes four columns)
-    let line =
-        overlay::hud_line(&fields.map(|(priority, text)| (priority, style.own_text(text))), HELP, width);
+    let (line, at) = overlay::hud_line_placed(
+        &fields.map(|(priority, text)| (priority, style.own_text(text))),
+        HELP,
+        width,
+    );
+    let clock_at = at[2]; // (the clock's field)
     // The lens's key beside the help's, where the line has room to spare after every field: far
     // openings are read through it (issue #39), and a new player does not find it in the help alone.
     const LENS_KEY: &str = "z look ahead  ";
@@ -743,9 +876,9 @@ fn hud_text_with(
                 && fields.len() - fields.trim_end().len() >= LENS_KEY.len() + 2 =>
         {
             let cut = fields.len() - LENS_KEY.len(); // (spaces: one byte a column)
-            format!("{}{LENS_KEY}{HELP}", &fields[..cut])
+            (format!("{}{LENS_KEY}{HELP}", &fields[..cut]), clock_at)
         }
-        _ => line,
+        _ => (line, clock_at),
     }
 }
 
@@ -760,6 +893,76 @@ pub(crate) fn compass_point(yaw_deg: f32) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A clock tick with nothing else changed writes the clock's new digits over the old: the row
+    /// is the one a screen that never drew a HUD draws, cell for cell, in each charset and depth; the
+    /// line is made whole again only where the clock's text changes length, or anything else changed
+    /// (the players in, the row drawn over).
+    #[test]
+    fn a_clock_tick_writes_the_clocks_digits_as_the_whole_line_would() {
+        use mazewalk_render::Charset;
+        let made = || HUD_LINES_MADE.with(std::cell::Cell::get);
+        for (charset, depth) in [
+            (Charset::Half, ColorDepth::TrueColor),
+            (Charset::Ascii, ColorDepth::Ansi16),
+            (Charset::Half, ColorDepth::None),
+        ] {
+            let options = RenderOptions { charset, color_depth: depth, ..RenderOptions::default() };
+            let app = App::new(mazewalk_maze::builtin().unwrap(), options, 0.0).unwrap();
+            let (cols, rows) = (100, 30);
+            let (mut screen, mut frame) = (Screen::default(), Frame::new(cols, rows));
+            screen.players_in = Some(2);
+            draw_kept(&app, &mut screen, &mut frame, &Hud::default());
+            let hud_row = |frame: &Frame| frame.row(rows - 1).unwrap().to_vec();
+            let alike = |screen: &Screen, frame: &Frame, hud: &Hud| {
+                let (mut fresh, mut again) = (Screen::default(), frame.clone());
+                fresh.players_in = screen.players_in;
+                draw_hud(&app, &mut fresh, &mut again, hud);
+                hud_row(frame) == hud_row(&again)
+            };
+            // (the HUD lines the screen's own draws made whole: `alike` makes some of its own)
+            let whole = std::cell::Cell::new(0);
+            let draw = |screen: &mut Screen, frame: &mut Frame, hud: &Hud| {
+                let before = made();
+                let drawn = draw_hud(&app, screen, frame, hud);
+                whole.set(whole.get() + made() - before);
+                drawn
+            };
+            // 0:00 → 0:01 … 9:59 → 10:00 (a column longer) → 10:01 … 59:59 → 60:00 → 600:00 (longer)
+            for elapsed in [1.0, 2.0, 59.5, 60.0, 599.0, 600.0, 601.0, 3599.0, 3600.0, 36000.0] {
+                let hud = Hud { elapsed, ..Hud::default() };
+                let made_before = whole.get();
+                let drawn = draw(&mut screen, &mut frame, &hud);
+                let text: String = hud_row(&frame).iter().map(|c| c.ch).collect();
+                let clock = format!("time {}", running_clock_text(elapsed));
+                assert!(text.contains(&clock), "{text:?}");
+                // the cells drawn: the row where the line was made whole, else the clock's alone
+                let cells: String = frame.cells()[drawn.clone()].iter().map(|c| c.ch).collect();
+                if whole.get() == made_before {
+                    assert_eq!(cells, clock, "{drawn:?}");
+                } else {
+                    assert_eq!(drawn, (rows - 1) * cols..rows * cols);
+                }
+                assert!(alike(&screen, &frame, &hud), "{charset:?} {depth:?} at {elapsed}: {text:?}");
+            }
+            assert_eq!(whole.get(), 2, "{charset:?} {depth:?}: made whole at 10:00 and 600:00 only");
+            // anything else changed: made whole, and right
+            screen.players_in = Some(3);
+            let hud = Hud { elapsed: 36001.0, ..Hud::default() };
+            draw(&mut screen, &mut frame, &hud);
+            assert!(
+                alike(&screen, &frame, &hud) && whole.get() == 3,
+                "{charset:?} {depth:?}: the players in"
+            );
+            (0..cols).for_each(|x| frame.set(x, rows - 1, Cell::BLANK));
+            let hud = Hud { elapsed: 36002.0, ..Hud::default() };
+            draw(&mut screen, &mut frame, &hud);
+            assert!(
+                alike(&screen, &frame, &hud) && whole.get() == 4,
+                "{charset:?} {depth:?}: the row drawn over"
+            );
+        }
+    }
 
     #[test]
     fn the_hud_fits_any_width_by_priority_and_always_offers_help() {

@@ -738,8 +738,8 @@ impl Session {
         let hud =
             Hud { cost: self.cost, fps: self.recent_frames.len(), elapsed: now - self.app.started, now };
         let round_trip = self.flow.round_trip().filter(|_| self.options.flow_control);
-        // The rows of the frame that may have changed since the last one encoded: the whole frame,
-        // or only the HUD's row on a tick of its clock.
+        // The cells of the frame that may have changed since the last one encoded: the whole frame,
+        // or only the HUD's row on a tick of its clock (its digits alone, where nothing else changed).
         let tick = !self.dirty;
         let changed = if self.dirty {
             self.screen.slow_link = slow_link(self.screen.slow_link, round_trip);
@@ -747,9 +747,9 @@ impl Session {
             // and by a resize, which tells the screen)
             screen::draw_kept(&self.app, &mut self.screen, &mut self.frame, &hud);
             self.note_seen();
-            0..self.frame.height()
+            0..self.frame.cells().len()
         } else {
-            screen::draw_hud(&self.app, &self.screen, &mut self.frame, &hud) // the view is as it was
+            screen::draw_hud(&self.app, &mut self.screen, &mut self.frame, &hud) // the view is as it was
         };
         self.encoder.set_tolerance(adaptive_tolerance(self.options.color_tolerance, round_trip));
         // (the ascii charset is for terminals or fonts without block glyphs: none of its own)
@@ -762,8 +762,8 @@ impl Session {
             out.extend_from_slice(if ascii { REP_PROBE_ASCII } else { REP_PROBE });
             self.rep_probe = RepProbe::Asked { block: !ascii };
         }
-        // (a tick's frame: the HUD's row encoded, not the whole frame scanned for it)
-        let stats = self.encoder.encode_rows(&self.frame, changed, out);
+        // (a tick's frame: the clock's cells encoded, not the whole frame scanned for them)
+        let stats = self.encoder.encode_cells(&self.frame, changed, out);
         // A tick goes without the query: its few bytes (a digit or two of the clock) need no pacing,
         // and an idle player's terminal answering each second was half a served tick's packets and
         // its second wake (BENCHMARKS, "An idle player's clock tick").
