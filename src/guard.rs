@@ -723,6 +723,17 @@ fn in_background() -> bool {
     nix::unistd::tcgetpgrp(io::stdin()).is_ok_and(|foreground| foreground != nix::unistd::getpgrp())
 }
 
+/// Whether the terminal (stdin) has hung up: `poll(2)` says so at once.
+#[cfg(unix)]
+fn terminal_hung_up() -> bool {
+    use rustix::event::{PollFd, PollFlags, Timespec};
+    let stdin = io::stdin();
+    let mut fds = [PollFd::new(&stdin, PollFlags::IN)];
+    let now = Timespec { tv_sec: 0, tv_nsec: 0 };
+    rustix::event::poll(&mut fds, Some(&now)).is_ok()
+        && fds[0].revents().intersects(PollFlags::HUP | PollFlags::ERR | PollFlags::NVAL)
+}
+
 #[cfg(not(unix))]
 fn stop_and_continue(_active: MutexGuard<'static, Option<Enabled>>) -> io::Result<()> {
     resumed_locked(); // nothing to stop: just a full repaint
@@ -923,7 +934,7 @@ pub fn ending_signals() -> Vec<i32> {
 /// SIGTTOU on every restarted `tcsetattr`, and the thread that would handle it is the one retrying.
 #[cfg(unix)]
 fn install_signal_handler() -> io::Result<()> {
-    use signal_hook::consts::{SIGCONT, SIGTSTP, SIGWINCH};
+    use signal_hook::consts::{SIGCONT, SIGHUP, SIGTSTP, SIGWINCH};
     static INSTALLED: Mutex<bool> = Mutex::new(false);
     let mut installed = INSTALLED.lock().unwrap_or_else(PoisonError::into_inner);
     if *installed {
@@ -955,10 +966,18 @@ fn install_signal_handler() -> io::Result<()> {
                 match repaint {
                     Ok(true) => wake(),
                     Ok(false) => {}
-                    Err(_) => {
+                    Err(err) => {
                         // Game mode could not come back (the terminal is gone?): restore and end.
                         let _ = restore_locked(&mut locked_for_signal());
-                        EXIT.store(CANNOT_CONTINUE, Ordering::SeqCst);
+                        // A hang-up sends SIGHUP and SIGCONT together, and the terminal is then gone:
+                        // it ends as a hang-up, whichever of the two the thread answers first (a
+                        // SIGHUP not answered yet stores itself on its turn; none is overwritten).
+                        let hung_up = err.raw_os_error() == Some(rustix::io::Errno::IO.raw_os_error())
+                            || terminal_hung_up();
+                        if !ENDING.load(Ordering::SeqCst) {
+                            let exit = if hung_up { SIGHUP } else { CANNOT_CONTINUE };
+                            let _ = EXIT.compare_exchange(0, exit, Ordering::SeqCst, Ordering::SeqCst);
+                        }
                         wake();
                     }
                 }
