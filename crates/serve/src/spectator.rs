@@ -93,19 +93,31 @@ pub fn leader(players: &[(PlayerId, Seen)], distances: Option<&[u32]>) -> Option
 /// when not `forward`; from no one (or one who left), the first (or the last).
 #[must_use]
 pub fn cycle(players: &[(PlayerId, Seen)], current: Option<PlayerId>, forward: bool) -> Option<PlayerId> {
-    let n = players.len();
-    if n == 0 {
-        return None;
-    }
-    let at = current.and_then(|c| players.iter().position(|(id, _)| *id == c));
-    let next = match (at, forward) {
-        (Some(i), true) => (i + 1) % n,
-        (Some(i), false) => (i + n - 1) % n,
-        (None, true) => 0,
-        (None, false) => n - 1,
-    };
-    Some(players[next].0)
+    cycle_by(players, current, if forward { 1 } else { -1 })
 }
+
+/// The player `steps` places after `current` among `players` (before it for a negative count),
+/// wrapping round: [`cycle`] that many times over, in one look at the list. From no one (or one who
+/// left), the first step goes to the first (or the last).
+#[must_use]
+pub fn cycle_by(players: &[(PlayerId, Seen)], current: Option<PlayerId>, steps: i64) -> Option<PlayerId> {
+    let n = i64::try_from(players.len()).ok().filter(|&n| n > 0)?;
+    let at = current.and_then(|c| players.iter().position(|(id, _)| *id == c));
+    let next = match at {
+        Some(i) => (i as i64).saturating_add(steps).rem_euclid(n),
+        None if steps > 0 => (steps - 1).rem_euclid(n),
+        None => steps.rem_euclid(n),
+    };
+    Some(players[next as usize].0)
+}
+
+/// Follow keys (`Tab`, the arrows, `l`) a spectator's screen shows at once, at most …
+pub const KEY_SHOWS_BURST: u32 = 8;
+/// … and then this many a second: the keys past it are shown together when the next show is due.
+/// (Red-team pass 12: each key showed its change at once, the player list rebuilt — every name
+/// copied — for each: a spectator sending `l` at the input rate in a world of 1,280 players took
+/// 0.6 of a core, and the 64 KiB burst blocked a worker of the game's runtime for 2.5 s.)
+pub const KEY_SHOWS_PER_SECOND: u32 = 30;
 
 /// One spectator's screen on a remote terminal.
 #[derive(Debug)]
@@ -129,6 +141,15 @@ pub struct Spectator {
     last_look: f64,
     /// The last look at the world (cycling shows another player without waiting for the world).
     look: Option<Look>,
+    /// Places along the list the follow keys moved since the last show (`Tab` and `→` +1, `←` −1),
+    /// from the player `follow` names then: a key only counts, the list is looked at by the show.
+    steps: i64,
+    /// The follow keys changed whom it follows since the last show.
+    keys_unshown: bool,
+    /// When those keys are shown, if they came faster than [`KEY_SHOWS_PER_SECOND`].
+    show_at: Option<f64>,
+    /// The key shows' budget.
+    key_shows: RateLimit,
     peers: Vec<Peer>,
     roster: Vec<roster::Entry>,
     /// The winner's announcement and until when it shows.
@@ -176,6 +197,10 @@ impl Spectator {
             look_at: Some(now),
             last_look: f64::NEG_INFINITY,
             look: None,
+            steps: 0,
+            keys_unshown: false,
+            show_at: None,
+            key_shows: RateLimit::new(KEY_SHOWS_PER_SECOND, KEY_SHOWS_BURST, now),
             peers: Vec::new(),
             roster: Vec::new(),
             news: None,
@@ -210,7 +235,22 @@ impl Spectator {
             self.input(input, now);
         }
         self.inputs = inputs;
+        self.show_keys(now);
         !only_replies(bytes)
+    }
+
+    /// Shows what the follow keys changed, once for all of them: now, within the key shows' budget
+    /// ([`KEY_SHOWS_PER_SECOND`]), else at the first [`frame`](Self::frame) after it allows (a
+    /// [`next_wake`](Self::next_wake)).
+    fn show_keys(&mut self, now: f64) {
+        if !std::mem::take(&mut self.keys_unshown) {
+            return;
+        }
+        if self.key_shows.take(1, now) == 1 {
+            self.show(now);
+        } else if self.show_at.is_none() {
+            self.show_at = Some(now + 1.0 / f64::from(KEY_SHOWS_PER_SECOND));
+        }
     }
 
     /// One input: the spectator's keys; the terminal's answers, size and focus go to the session;
@@ -231,17 +271,16 @@ impl Spectator {
         match key {
             Key::Char('c') if ctrl => self.over = true,
             Key::Char(_) if ctrl || alt => {}
+            // (Counted here, shown once for all the keys of a read: see `show_keys`.)
             Key::Tab | Key::Right | Key::Left => {
                 let forward = key == Key::Right || (key == Key::Tab && !shift);
-                let players = self.look.as_ref().map_or(&[][..], |look| &look.players[..]);
-                if let Some(next) = cycle(players, self.shown, forward) {
-                    self.follow = Follow::Player(next);
-                    self.show(now);
+                if self.look.as_ref().is_some_and(|look| !look.players.is_empty()) {
+                    self.steps = self.steps.saturating_add(if forward { 1 } else { -1 });
+                    self.keys_unshown = true;
                 }
             }
             Key::Char('l') => {
-                self.follow = Follow::Leader;
-                self.show(now);
+                (self.follow, self.steps, self.keys_unshown) = (Follow::Leader, 0, true);
             }
             Key::Char('p') => self.session.toggle_roster(),
             Key::Char('m') => {
@@ -299,6 +338,8 @@ impl Spectator {
 
     /// Puts the last look on the screen.
     fn show(&mut self, now: f64) {
+        self.show_at = None; // the keys waiting, if any, are shown here
+        let steps = std::mem::take(&mut self.steps);
         let Some(look) = &self.look else { return };
         let players = &look.players[..];
         let present = |id: PlayerId| players.iter().any(|(p, _)| *p == id);
@@ -311,6 +352,12 @@ impl Spectator {
             Follow::Player(id) => Some(id),
             Follow::Leader => leader(players, self.distances.as_deref()),
         };
+        // the follow keys since the last show, from whom it showed then (or the leader, after `l`)
+        if steps != 0
+            && let Some(next) = cycle_by(players, self.shown, steps)
+        {
+            (self.follow, self.shown) = (Follow::Player(next), Some(next));
+        }
         let shown = self.shown.and_then(|id| players.iter().find(|(p, _)| *p == id));
         let mut peers = std::mem::take(&mut self.peers);
         look.peers_of(self.shown.unwrap_or(PlayerId(u64::MAX)), |_, _| true, &mut peers);
@@ -370,6 +417,11 @@ impl Spectator {
             self.input(input, now);
         }
         self.inputs = inputs;
+        self.show_keys(now);
+        if self.show_at.is_some_and(|at| now >= at) {
+            self.key_shows.take(1, now);
+            self.show(now); // the follow keys that came too fast, all at once
+        }
         if self.news.as_ref().is_some_and(|(_, until)| now >= *until) {
             self.news = None;
             self.show(now);
@@ -382,11 +434,18 @@ impl Spectator {
     #[must_use]
     pub fn next_wake(&self, now: f64) -> Option<f64> {
         let news = self.news.as_ref().map(|(_, until)| *until);
-        [self.session.next_wake(now), self.look_at, news, self.decoder.deadline(), self.resizes.due()]
-            .into_iter()
-            .flatten()
-            .reduce(f64::min)
-            .map(|at| at.max(now))
+        [
+            self.session.next_wake(now),
+            self.look_at,
+            news,
+            self.decoder.deadline(),
+            self.resizes.due(),
+            self.show_at,
+        ]
+        .into_iter()
+        .flatten()
+        .reduce(f64::min)
+        .map(|at| at.max(now))
     }
 
     /// Whom it follows.
@@ -643,6 +702,76 @@ mod tests {
         s.feed(b"\x1b", 0.8);
         s.frame(1.5, &mut Vec::new()); // a lone Esc, expired
         assert!(!s.session().roster_open() && !s.is_over());
+    }
+
+    /// A spectator watching `n` players who joined at the maze's start, at time 0.
+    fn watching(maze: &Arc<Maze>, n: usize) -> (Spectator, Vec<PlayerId>) {
+        let mut s = spectator(maze);
+        let mut world = World::new();
+        let start = maze.viewer().pos;
+        let cell = maze.cell_at(start).unwrap();
+        let ids = (0..n).map(|i| world.join(&format!("player{i}"), start, 0.0, cell, 0.0)).collect();
+        s.look(world.look(), 0.0);
+        (s, ids)
+    }
+
+    /// Red-team pass 12: each follow key (`l`, `Tab`, an arrow) showed its change at once, the
+    /// player list rebuilt for it, every name copied: a spectator sending `l` at the input rate
+    /// (16 KiB a second) in a world of 1,280 players (the default 256 here and 1,024 of other
+    /// servers') took 0.6 of a core, its 64 KiB burst a worker of the game's runtime for 2.5 s. Now
+    /// a key is counted and a read's keys shown once: a second of keys costs the same in a crowd
+    /// as with one player, and lands on the same player as one key at a time would.
+    #[test]
+    fn a_flood_of_follow_keys_costs_the_same_whatever_the_crowd() {
+        let maze = Arc::new(mazewalk_maze::builtin().unwrap());
+        let crowd = Limits::default().max_players + 1024;
+        let second_of_keys = |s: &mut Spectator, key: &[u8], at: f64| {
+            let keys = key.repeat(Limits::default().input_rate as usize / key.len());
+            let started = std::time::Instant::now();
+            s.feed(&keys, at);
+            s.frame(at + 0.5, &mut Vec::new());
+            (started.elapsed().as_secs_f64(), keys.len() / key.len())
+        };
+        let (mut alone, _) = watching(&maze, 1);
+        let (mut crowded, ids) = watching(&maze, crowd);
+        let (mut took, mut place) = ([0.0; 2], 0);
+        for (k, key) in [&b"l"[..], b"\t", b"\x1b[C"].into_iter().enumerate() {
+            let at = 2.0 * k as f64 + 1.0;
+            took[0] += second_of_keys(&mut alone, key, at).0;
+            let (seconds, presses) = second_of_keys(&mut crowded, key, at);
+            took[1] += seconds;
+            // the leader (the first to join, of equals), then `presses` places on each time
+            place = if key == b"l" { 0 } else { (place + presses) % crowd };
+            assert_eq!(crowded.shown(), Some(ids[place]), "after {presses} of {key:?}");
+        }
+        let [alone, crowded] = took;
+        assert!(
+            crowded < 3.0 * alone + 0.25,
+            "three seconds of keys took {crowded:.3} s among {crowd} players, {alone:.3} s with one"
+        );
+    }
+
+    /// The keys past the key shows' budget wait, counted, for one show at the next frame it allows
+    /// (the host is woken for it), and land where one show a key would have.
+    #[test]
+    fn follow_keys_past_their_budget_are_shown_together_at_the_next_frame() {
+        let maze = Arc::new(mazewalk_maze::builtin().unwrap());
+        let (mut s, ids) = watching(&maze, 5);
+        assert_eq!(s.shown(), Some(ids[0]));
+        let burst = KEY_SHOWS_BURST as usize;
+        for press in 1..=21 {
+            s.feed(b"\t", 1.0); // each its own read, as each key of a typist is
+            let shown_now = ids[press.min(burst) % 5];
+            assert_eq!(s.shown(), Some(shown_now), "after press {press}");
+        }
+        let due = 1.0 + 1.0 / f64::from(KEY_SHOWS_PER_SECOND);
+        assert!(s.next_wake(1.0).is_some_and(|at| at <= due), "woken for the keys waiting");
+        s.frame(due - 0.01, &mut Vec::new());
+        assert_eq!(s.shown(), Some(ids[burst % 5]), "not yet");
+        s.frame(due, &mut Vec::new());
+        assert_eq!((s.shown(), s.follow()), (Some(ids[21 % 5]), Follow::Player(ids[21 % 5])));
+        s.feed(b"\x1b[D\x1b[D\x1b[Dl\x1b[D", 3.0); // back three, the leader, back one: in one read
+        assert_eq!(s.shown(), Some(ids[4]));
     }
 
     #[test]
