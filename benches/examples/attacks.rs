@@ -27,6 +27,9 @@
 //!    textures (`t`) and culling off (`b`, where the binary lets a served player have it). Its note
 //!    counts the frames drawn for them: with one drawing budget per address group
 //!    (`Limits::render_rate`), about 4 a second between the 16.
+//! 8. **spectators** (red-team pass 12): 255 idle players (and the witness) walk the maze; four
+//!    spectators of one address (`ssh watch@…`, the default per-address share) each send `l`
+//!    (follow the leader) at 15 KiB a second, just under the input rate.
 //!
 //! ```sh
 //! cargo build --release                           # the "after" binary: target/release/mazewalk
@@ -384,6 +387,43 @@ async fn render(bin: &Path, seconds: f64) -> Outcome {
     outcome
 }
 
+/// Idle players in attack 8, beside the witness.
+const CROWD: usize = 255;
+
+async fn spectators(bin: &Path, seconds: f64) -> Outcome {
+    let server = ServerProcess::start(bin, 300, 400);
+    let (stop, stopped) = tokio::sync::watch::channel(false);
+    let mut idlers = Vec::new();
+    for i in 0..CROWD {
+        let connected = connect(server.addr, &format!("idle{i}"), (80, 24)).await.expect("an idle player");
+        idlers.push(tokio::spawn(load::idle(connected, Arc::default(), stopped.clone())));
+    }
+    let addr = server.addr;
+    let keys: &'static [u8] = Box::leak(vec![b'l'; 1536].into_boxed_slice());
+    let (mut outcome, watched) = witnessed(&server, seconds, async move {
+        let tasks: Vec<_> = (0..4)
+            .map(|_| {
+                tokio::spawn(async move {
+                    let connected = connect(addr, "watch", (80, 24)).await.ok()?;
+                    Some(load::walk(connected, 10.0, seconds, keys).await)
+                })
+            })
+            .collect();
+        let mut watched = 0;
+        for task in tasks {
+            watched += usize::from(task.await.ok().flatten().is_some_and(|s| !s.closed));
+        }
+        watched
+    })
+    .await;
+    let _ = stop.send(true);
+    for idler in idlers {
+        let _ = idler.await;
+    }
+    outcome.note = format!("{CROWD} idle players; {watched} spectators sending `l` at 15 KiB/s each");
+    outcome
+}
+
 /// Attacker address `n` (0..65,536): 127.1.x.y.
 fn attacker(n: u32) -> IpAddr {
     IpAddr::from([127, 1, (n >> 8) as u8, n as u8])
@@ -556,7 +596,7 @@ async fn main() {
     );
     println!("|---|---|---|---|---|---|");
     let mut attacks: Vec<(String, Option<f64>)> =
-        ["group18", "junk kex", "held slots", "handshakes", "http", "render"]
+        ["group18", "junk kex", "held slots", "handshakes", "http", "render", "spectators"]
             .iter()
             .map(|a| ((*a).to_string(), None))
             .collect();
@@ -576,6 +616,7 @@ async fn main() {
                 ("held slots", _) => held_slots(bin, a.seconds).await,
                 ("http", _) => http(bin, a.seconds).await,
                 ("render", _) => render(bin, a.seconds).await,
+                ("spectators", _) => spectators(bin, a.seconds).await,
                 _ => handshakes(bin, a.seconds).await,
             };
             println!(
