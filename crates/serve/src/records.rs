@@ -312,6 +312,61 @@ fn wal_beside(path: &Path) -> bool {
     })
 }
 
+/// Whether the records file at `path` is to be read as a file in WAL mode: its header says WAL (a
+/// server of an older mazewalk ran on it), or an empty `-wal` is beside it. Read-only, SQLite reads
+/// such a file through a `-wal` and a `-shm` it makes beside it if they are not there, and maps the
+/// `-shm` (red-team pass 13: `mazewalk records` on one left two files beside it, one mapped, the
+/// hazard issue #40 took out of the server; in a folder the reader may not write, it failed, "the
+/// database cannot be written"). With no log to read, the file alone is the whole database: it is
+/// read as immutable, without locks, nothing made or mapped. A `-wal` that holds anything is
+/// refused: the finishes in it are not yet in the file, and reading them needs the mapped index.
+///
+/// # Errors
+/// A `-wal` beside the file that holds anything ([`Fault::CannotOpen`]), or the file cannot be read.
+fn wal_to_read(path: &Path) -> Result<bool, RecordsError> {
+    use std::io::Read as _;
+    let mut name = path.as_os_str().to_owned();
+    name.push("-wal");
+    let log = std::fs::symlink_metadata(&name).ok();
+    if let Some(log) = &log
+        && log.len() > 0
+    {
+        let shown = mazewalk_maze::quote_path(&Path::new(&name).display().to_string());
+        let why = format!(
+            "{shown} beside it holds {} bytes of finishes not yet in the file: a server of an older \
+             mazewalk runs on it, or was killed; a server that opens the file takes them in",
+            log.len()
+        );
+        return Err(RecordsError::new(path, Fault::CannotOpen, why));
+    }
+    // the header: "SQLite format 3\0", …, the write and read versions at 18 and 19 (2: WAL)
+    let mut header = [0u8; 20];
+    let file =
+        std::fs::File::open(path).map_err(|e| RecordsError::new(path, Fault::CannotOpen, e.to_string()))?;
+    let read = file.take(20).read(&mut header).unwrap_or(0);
+    let wal = read == 20 && header.starts_with(b"SQLite format 3\0") && (header[18] == 2 || header[19] == 2);
+    Ok(wal || log.is_some())
+}
+
+/// The `file:` URI of the file at `path`, opened immutable (`mode=ro&immutable=1`: no lock, no
+/// journal or WAL looked for): every byte of the path but the unreserved ones percent-encoded.
+fn immutable_uri(path: &Path) -> std::ffi::OsString {
+    use std::fmt::Write as _;
+    use std::os::unix::ffi::OsStrExt as _;
+    let bytes = path.as_os_str().as_bytes();
+    // (an absolute path after an empty authority: `file:///tmp/x`)
+    let mut uri = String::from(if bytes.first() == Some(&b'/') { "file://" } else { "file:" });
+    for &b in bytes {
+        if b.is_ascii_alphanumeric() || b"-._~/".contains(&b) {
+            uri.push(char::from(b));
+        } else {
+            let _ = write!(uri, "%{b:02X}");
+        }
+    }
+    uri.push_str("?mode=ro&immutable=1");
+    uri.into()
+}
+
 /// The device and inode of the file at `path`, if any.
 fn file_id(path: &Path) -> Option<(u64, u64)> {
     std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
@@ -667,7 +722,12 @@ impl Sqlite {
             return Err(RecordsError::new(path, Fault::CannotOpen, "no such file: no records yet"));
         }
         let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
-        let mut conn = Connection::open_with_flags(path, flags).map_err(sqlite)?;
+        let mut conn = match wal_to_read(path)? {
+            // (read as it is: no `-wal` or `-shm` made beside it, nothing mapped)
+            true => Connection::open_with_flags(immutable_uri(path), flags | OpenFlags::SQLITE_OPEN_URI),
+            false => Connection::open_with_flags(path, flags),
+        }
+        .map_err(sqlite)?;
         let options = SqliteOptions::default();
         let steps = harden(&mut conn, options.max_steps).map_err(sqlite)?;
         conn.busy_timeout(Duration::from_secs(2)).map_err(sqlite)?;

@@ -448,6 +448,57 @@ fn no_file_is_mapped_while_serving() {
     assert_eq!(mode, "delete", "out of WAL");
 }
 
+/// Red-team pass 13: `mazewalk records` on a file in WAL mode (one a server of an older mazewalk ran
+/// on, or any file sent with its header so) had SQLite make a `-wal` and a `-shm` beside it, left
+/// there, and map the `-shm` — the hazard issue #40 took out of the server — and failed in a folder
+/// the reader may not write ("the database cannot be written"). Now such a file, with no log beside
+/// it to read, is read as it is and nothing is made beside it; one whose `-wal` holds finishes not
+/// yet in the file is refused, saying so, and what was beside it stays as it was.
+#[test]
+fn reading_a_file_in_wal_mode_makes_nothing_beside_it() {
+    let scratch = Scratch::new("walread");
+    let path = scratch.db();
+    open(&path).record(&finish(MAZE, "ann", 10.0)).unwrap();
+    let other = rusqlite::Connection::open(&path).unwrap();
+    let mode: String = other.query_row("PRAGMA journal_mode=WAL", [], |r| r.get(0)).unwrap();
+    drop(other); // (a clean close: the log checkpointed, `-wal` and `-shm` removed)
+    assert_eq!((mode.as_str(), beside(&path)), ("wal", Vec::new()), "the premise: WAL, nothing beside");
+    let mazes = Sqlite::open_to_read(&path).unwrap().mazes(None).unwrap();
+    assert_eq!((mazes[0].finishes, mazes[0].top[0].player.as_str()), (1, "ann"));
+    assert_eq!(beside(&path), Vec::<String>::new(), "nothing made beside it, nothing mapped");
+    // An empty `-wal` beside it (a server's clean start): the file is still the whole database.
+    std::fs::write(format!("{}-wal", path.display()), b"").unwrap();
+    assert_eq!(Sqlite::open_to_read(&path).unwrap().mazes(None).unwrap()[0].finishes, 1);
+    assert_eq!(beside(&path), ["-wal"], "no -shm made");
+    std::fs::remove_file(format!("{}-wal", path.display())).unwrap();
+    // A writer killed while its finishes were in the log: refused, naming the log; nothing changed.
+    let script = "import os, sqlite3, sys\n\
+                  db = sqlite3.connect(sys.argv[1])\n\
+                  db.execute(\"INSERT INTO finishes VALUES (?, 'bob', 9.0, 1, NULL)\", (sys.argv[2],))\n\
+                  db.commit()\n\
+                  os._exit(0)";
+    let status =
+        std::process::Command::new("python3").args(["-c", script]).arg(&path).arg(MAZE.to_string()).status();
+    assert!(status.expect("python3").success());
+    let wal = PathBuf::from(format!("{}-wal", path.display()));
+    let before: Vec<(String, u64)> = beside(&path)
+        .into_iter()
+        .map(|s| (s.clone(), std::fs::metadata(format!("{}{s}", path.display())).unwrap().len()))
+        .collect();
+    assert!(std::fs::metadata(&wal).unwrap().len() > 0, "the premise: a log that holds a finish");
+    let err = Sqlite::open_to_read(&path).map(|_| ()).expect_err("a log of finishes not read");
+    assert_eq!(err.fault, Fault::CannotOpen, "{err}");
+    assert!(err.to_string().contains("-wal") && err.to_string().contains("not yet in the file"), "{err}");
+    let after: Vec<(String, u64)> = beside(&path)
+        .into_iter()
+        .map(|s| (s.clone(), std::fs::metadata(format!("{}{s}", path.display())).unwrap().len()))
+        .collect();
+    assert_eq!(after, before, "what was beside it stays as it was");
+    // A server takes the log in.
+    let mut db = open(&path);
+    assert_eq!(db.mazes(None).unwrap()[0].finishes, 2, "bob's finish, from the log");
+}
+
 /// Issue #40, low: the records file deleted while serving lost every later finish silently. Now the
 /// next finish notices (said once), a new file is made and the finishes go on into it; a file put in
 /// its place is used.
