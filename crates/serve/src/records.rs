@@ -581,6 +581,24 @@ fn not_regular(path: &Path) -> Result<(), RecordsError> {
     }
 }
 
+/// Refuses a records file beside which a `-journal`, `-wal` or `-shm` is something other than a
+/// regular file (links followed): SQLite opens them itself, a hot journal's to read its first bytes,
+/// and a FIFO put there (in a folder others write to, or a tar of a records file) had `mazewalk
+/// records` wait for a writer for ever and `mazewalk serve` never start (red-team pass 13).
+/// Looked at before every call, as a FIFO may come while serving.
+fn beside_not_regular(path: &Path) -> Result<(), RecordsError> {
+    for suffix in ["-journal", "-wal", "-shm"] {
+        let mut name = path.as_os_str().to_owned();
+        name.push(suffix);
+        if let Some(what) = mazewalk_maze::files::not_regular(Path::new(&name)) {
+            let shown = mazewalk_maze::quote_path(&Path::new(&name).display().to_string());
+            let why = format!("{shown} beside it is {what}, not a regular file: SQLite would open it");
+            return Err(RecordsError::new(path, Fault::CannotOpen, why));
+        }
+    }
+    Ok(())
+}
+
 /// Makes the records file at `path`, mode 0600, if there is none, before SQLite opens it (so its
 /// journal, made with the file's mode, is private too). A file already there is left as it is.
 fn make_private(path: &Path) -> Result<(), RecordsError> {
@@ -611,6 +629,7 @@ impl Sqlite {
         // SQLite would open a device or a FIFO, fail on it, and leave a journal beside it (red-team
         // pass 11: `--records /dev/zero` made `/dev/zero-journal`, mode 0666 as the device's)
         not_regular(path)?;
+        beside_not_regular(path)?;
         make_private(path)?;
         match Sqlite::open_writable_within(path, options) {
             Err(err) if err.fault == Fault::Damaged => {
@@ -718,6 +737,7 @@ impl Sqlite {
     pub fn open_to_read(path: &Path) -> Result<Sqlite, RecordsError> {
         let sqlite = |e: rusqlite::Error| RecordsError::sqlite(path, &e);
         not_regular(path)?;
+        beside_not_regular(path)?;
         if !path.is_file() {
             return Err(RecordsError::new(path, Fault::CannotOpen, "no such file: no records yet"));
         }
@@ -918,6 +938,7 @@ impl Store for Sqlite {
         if self.lost {
             return Err(RecordsError::new(&self.path, Fault::CannotOpen, "gone while serving"));
         }
+        beside_not_regular(&self.path)?;
         self.budget();
         match self.record_busy(finish) {
             // Full (at its size limit, or the disk): the worst finishes make room, once.
@@ -930,6 +951,7 @@ impl Store for Sqlite {
     }
 
     fn run(&mut self, maze: &ContentHash, player: Option<&str>) -> Result<Option<StoredRun>, RecordsError> {
+        beside_not_regular(&self.path)?;
         self.budget();
         if self.version()? < 2 {
             return Ok(None); // (a file of an older mazewalk, read only: no runs)
@@ -976,6 +998,7 @@ impl Store for Sqlite {
     }
 
     fn mazes(&mut self, maze: Option<&ContentHash>) -> Result<Vec<MazeRecords>, RecordsError> {
+        beside_not_regular(&self.path)?;
         self.budget();
         let path = self.path.clone();
         let sqlite = |e: rusqlite::Error| RecordsError::sqlite(&path, &e);

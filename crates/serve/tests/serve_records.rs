@@ -5,6 +5,7 @@
 //! never keeps a player waiting.
 #![cfg(unix)]
 
+use std::os::unix::fs::FileTypeExt as _;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
@@ -497,6 +498,70 @@ fn reading_a_file_in_wal_mode_makes_nothing_beside_it() {
     // A server takes the log in.
     let mut db = open(&path);
     assert_eq!(db.mazes(None).unwrap()[0].finishes, 2, "bob's finish, from the log");
+}
+
+/// `f` on a thread of its own, its result if it returned within `limit`; else `fifo` is opened for
+/// writing without waiting (which lets a reader waiting in its open go on) and `None`.
+fn returned_within<T: Send + 'static>(
+    limit: Duration,
+    fifo: &Path,
+    f: impl FnOnce() -> T + Send + 'static,
+) -> Option<T> {
+    use std::os::unix::fs::OpenOptionsExt as _;
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    let got = rx.recv_timeout(limit).ok();
+    if got.is_none() {
+        // (O_NONBLOCK: with no reader in its open, this fails at once rather than wait too)
+        let _ = std::fs::OpenOptions::new().write(true).custom_flags(0o4000).open(fifo);
+    }
+    got
+}
+
+/// Red-team pass 13: SQLite opens the `-journal` beside a records file itself (a hot journal's, to
+/// read its first bytes), and a FIFO put there — in a folder others write to, or in a tar of a
+/// records file — had `mazewalk records` wait for a writer for ever and `mazewalk serve` never start
+/// (nor, put there while serving, the records thread take another finish). Now a `-journal`, `-wal`
+/// or `-shm` beside it that is not a regular file is refused at once, saying what is there, at the
+/// start and before every call; what was there stays.
+#[test]
+fn a_fifo_beside_the_records_file_is_refused_not_waited_on() {
+    let scratch = Scratch::new("fifobeside");
+    let path = scratch.db();
+    let mut serving = open(&path);
+    serving.record(&finish(MAZE, "ann", 10.0)).unwrap();
+    for suffix in ["-journal", "-wal", "-shm"] {
+        let fifo = PathBuf::from(format!("{}{suffix}", path.display()));
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs");
+        assert!(made.success(), "mkfifo made the FIFO");
+        let p = path.clone();
+        let opened = returned_within(Duration::from_secs(10), &fifo, move || {
+            let served = Sqlite::open(&p, SqliteOptions::default()).map(|_| ());
+            let read = Sqlite::open_to_read(&p).map(|_| ());
+            (served, read)
+        });
+        let Some((served, read)) = opened else { panic!("{suffix}: still waiting on the FIFO after 10 s") };
+        for err in [served.unwrap_err(), read.unwrap_err()] {
+            assert_eq!(err.fault, Fault::CannotOpen, "{err}");
+            assert!(err.to_string().contains(&format!("{suffix} beside it is a FIFO")), "{err}");
+        }
+        // A server already serving: the next finish refused at once (kept in memory by the thread).
+        let mut db = serving;
+        let Some((db_back, err)) = returned_within(Duration::from_secs(10), &fifo, move || {
+            let err = db.record(&finish(MAZE, "bob", 9.0)).map(|_| ()).unwrap_err();
+            (db, err)
+        }) else {
+            panic!("{suffix}: a finish still waiting on the FIFO after 10 s")
+        };
+        serving = db_back;
+        assert!(err.to_string().contains("a FIFO"), "{err}");
+        assert!(std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo(), "{suffix}: left as it was");
+        std::fs::remove_file(&fifo).unwrap();
+    }
+    // (and with them gone, the same file as before)
+    assert_eq!(serving.record(&finish(MAZE, "bob", 9.0)).unwrap().rank, 1);
 }
 
 /// Issue #40, low: the records file deleted while serving lost every later finish silently. Now the
