@@ -670,12 +670,12 @@ pub(crate) fn draw_hud(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &
     let clock = clock_field(app, hud);
     let row = Region { col: 0, row: rows - 1, cols, rows: 1 };
     // A tick of the clock alone: its digits written over the old ones, the rest of the row as it is.
+    // (without the developer figures, which change every frame: with them, no key is kept)
+    let key = (!app.figures).then(|| hud_key(app, host, fov, style, (cols, rows)));
     let memo = &mut screen.hud;
-    let same = |key: &HudKey| hud_key_is(key, app, host, fov, style, (cols, rows));
-    if let (Some(key), Some((column, shown)), Some(clock)) = (&memo.key, &mut memo.clock, &clock)
-        && !app.figures
+    if let (Some(_), Some((column, shown)), Some(clock)) = (&key, &mut memo.clock, &clock)
         && shown.len() == clock.len()
-        && same(key)
+        && memo.key == key
         && frame.row(rows - 1).is_some_and(|cells| cells.iter().map(|c| c.ch).eq(memo.line.chars()))
     {
         for (x, ch) in (*column..).zip(clock.chars()) {
@@ -695,7 +695,7 @@ pub(crate) fn draw_hud(app: &App, screen: &mut Screen, frame: &mut Frame, hud: &
     overlay::draw_hud(frame, &line, style);
     overlay::limit_colors_in(frame, row, style.depth);
     screen.hud = HudMemo {
-        key: (!app.figures).then(|| hud_key(app, host, fov, style, (cols, rows))),
+        key,
         clock: clock_at.zip(clock).map(|(at, text)| (line[..at].chars().count(), text)),
         line,
     };
@@ -728,23 +728,6 @@ fn hud_key(app: &App, host: HudHost, fov: f32, style: Style, size: (usize, usize
         style,
         size,
     }
-}
-
-/// Whether `key` is the [`HudKey`] these would make (without making one: no text copied).
-fn hud_key_is(key: &HudKey, app: &App, host: HudHost, fov: f32, style: Style, size: (usize, usize)) -> bool {
-    let c = &app.camera;
-    let (players_in, status, ghost, own_keys) = host;
-    key.camera == [c.yaw_deg, c.position.x, c.position.y, c.eye_z, c.pitch_deg, fov].map(f32::to_bits)
-        && key.projection == c.projection
-        && key.charset == app.options.charset
-        && key.look_ahead == app.look_ahead()
-        && key.clock == (app.finished.map(f64::to_bits), app.clock_unknown, app.maze().exit().is_some())
-        && key.players_in == players_in
-        && key.status.as_deref() == status
-        && key.ghost.as_deref() == ghost
-        && key.own_keys == own_keys
-        && key.style == style
-        && key.size == size
 }
 
 /// Whether a cell has been seen, the cells `portal` (the last render's pass) visited counted: a
