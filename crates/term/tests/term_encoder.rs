@@ -1080,48 +1080,61 @@ proptest! {
     #![proptest_config(common::config())]
 
     /// Issue #42 (a clock tick costs what it changes): [`Encoder::encode_rows`] told the rows that
-    /// changed (and a few around them, or none where none did) sends the bytes, and returns the
-    /// statistics, of [`Encoder::encode`] of the whole frame, frame after frame: random frames and
-    /// steps (resizes and invalidations included, where it paints the whole frame), palettes of
-    /// any colours and of near truecolor ones (cells left and drawn within the tolerance), the
-    /// tolerance changing between frames as the walk's does (a slow link's, the settle's exact
-    /// frame), every BCE, REP level and blocks setting.
+    /// changed, and [`Encoder::encode_cells`] the cells (either told a few more either side, across
+    /// rows too, or none where none changed), send the bytes, and return the statistics, of
+    /// [`Encoder::encode`] of the whole frame, frame after frame: random frames and steps (resizes and
+    /// invalidations included, where they paint the whole frame), palettes of any colours and of near
+    /// truecolor ones (cells left and drawn within the tolerance), the tolerance changing between
+    /// frames as the walk's does (a slow link's, the settle's exact frame), every BCE, REP level and
+    /// blocks setting. The rows or cells scanned only in part keep what the encoder knew of their
+    /// other cells (whether the screen is off them within the tolerance).
     #[test]
-    fn encoding_only_the_changed_rows_sends_the_bytes_of_the_whole_frame(
+    fn encoding_only_the_changed_rows_or_cells_sends_the_bytes_of_the_whole_frame(
         (first, steps) in prop_oneof![arb_palette(), arb_truecolor_palette()].prop_flat_map(|palette| {
-            let steps = (arb_step(palette.clone()), 0usize..3, 0usize..3, prop_oneof![0u8..4, Just(2u8)]);
+            let steps = (
+                arb_step(palette.clone()),
+                (0usize..12, 0usize..12, any::<bool>()),
+                prop_oneof![0u8..4, Just(2u8)],
+            );
             (arb_frame(palette), prop::collection::vec(steps, 1..16))
         }),
         bce in any::<bool>(),
         rep in prop_oneof![Just(RepLevel::None), Just(RepLevel::Ascii), Just(RepLevel::Any)],
         blocks in any::<bool>(),
     ) {
-        let (mut rows_only, mut whole) = (configured(bce, 2, rep, blocks), configured(bce, 2, rep, blocks));
+        let (mut told, mut whole) = (configured(bce, 2, rep, blocks), configured(bce, 2, rep, blocks));
         let mut frame = first;
         let (mut out, mut expected) = (Vec::new(), Vec::new());
-        rows_only.encode(&frame, &mut out);
+        told.encode(&frame, &mut out);
         whole.encode(&frame, &mut expected);
-        for (i, (step, above, below, tolerance)) in steps.iter().enumerate() {
+        for (i, (step, (before_n, after_n, by_rows), tolerance)) in steps.iter().enumerate() {
             let before = frame.clone();
             if apply(&mut frame, step) {
-                rows_only.invalidate();
+                told.invalidate();
                 whole.invalidate();
             }
-            let rows = if (before.width(), before.height()) == (frame.width(), frame.height()) {
-                let changed = changed_rows(&before, &frame);
-                if changed.is_empty() { 0..0 } else { changed.start.saturating_sub(*above)..changed.end + below }
-            } else {
-                0..0 // (a resize: a full paint, whatever the rows)
+            let same_size = (before.width(), before.height()) == (frame.width(), frame.height());
+            // (a resize: a full paint, whatever it is told)
+            let widened = |changed: &dyn Fn() -> std::ops::Range<usize>, (n, above, below): (usize, usize, usize)| {
+                let changed = if same_size { changed() } else { 0..0 };
+                if changed.is_empty() { 0..0 } else { changed.start.saturating_sub(above)..(changed.end + below).min(n) }
             };
-            for encoder in [&mut rows_only, &mut whole] {
+            for encoder in [&mut told, &mut whole] {
                 encoder.set_tolerance(*tolerance);
             }
             out.clear();
             expected.clear();
-            let stats = rows_only.encode_rows(&frame, rows.clone(), &mut out);
+            let (stats, range) = if *by_rows {
+                let rows = widened(&|| changed_rows(&before, &frame), (frame.height(), before_n % 3, after_n % 3));
+                (told.encode_rows(&frame, rows.clone(), &mut out), rows)
+            } else {
+                let cells = widened(&|| changed_cells(&before, &frame), (frame.cells().len(), *before_n, *after_n));
+                (told.encode_cells(&frame, cells.clone(), &mut out), cells)
+            };
             let expected_stats = whole.encode(&frame, &mut expected);
-            prop_assert_eq!(stats, expected_stats, "step {} ({:?}), rows {:?}", i, step, rows);
-            prop_assert_eq!(&out, &expected, "step {} ({:?}), rows {:?}", i, step, rows);
+            let told_of = if *by_rows { "rows" } else { "cells" };
+            prop_assert_eq!(stats, expected_stats, "step {} ({:?}), {} {:?}", i, step, told_of, range);
+            prop_assert_eq!(&out, &expected, "step {} ({:?}), {} {:?}", i, step, told_of, range);
         }
     }
 }
@@ -1134,58 +1147,6 @@ fn changed_cells(before: &Frame, after: &Frame) -> std::ops::Range<usize> {
     match ((0..new.len()).find(differ), (0..new.len()).rev().find(differ)) {
         (Some(first), Some(last)) => first..last + 1,
         _ => 0..0,
-    }
-}
-
-proptest! {
-    #![proptest_config(common::config())]
-
-    /// Issue #42 (an idle player's tick sends the clock's digits): [`Encoder::encode_cells`] told
-    /// the cells that changed (and a few either side, across rows too, or none where none did) sends
-    /// the bytes, and returns the statistics, of [`Encoder::encode`] of the whole frame, frame after
-    /// frame, as [`Encoder::encode_rows`] does above: the rows it scans only in part keep what the
-    /// encoder knew of their other cells (whether the screen is off them within the tolerance).
-    #[test]
-    fn encoding_only_the_changed_cells_sends_the_bytes_of_the_whole_frame(
-        (first, steps) in prop_oneof![arb_palette(), arb_truecolor_palette()].prop_flat_map(|palette| {
-            let steps = (arb_step(palette.clone()), 0usize..12, 0usize..12, prop_oneof![0u8..4, Just(2u8)]);
-            (arb_frame(palette), prop::collection::vec(steps, 1..16))
-        }),
-        bce in any::<bool>(),
-        rep in prop_oneof![Just(RepLevel::None), Just(RepLevel::Ascii), Just(RepLevel::Any)],
-        blocks in any::<bool>(),
-    ) {
-        let (mut cells_only, mut whole) = (configured(bce, 2, rep, blocks), configured(bce, 2, rep, blocks));
-        let mut frame = first;
-        let (mut out, mut expected) = (Vec::new(), Vec::new());
-        cells_only.encode(&frame, &mut out);
-        whole.encode(&frame, &mut expected);
-        for (i, (step, before_, after_, tolerance)) in steps.iter().enumerate() {
-            let before = frame.clone();
-            if apply(&mut frame, step) {
-                cells_only.invalidate();
-                whole.invalidate();
-            }
-            let cells = if (before.width(), before.height()) == (frame.width(), frame.height()) {
-                let changed = changed_cells(&before, &frame);
-                if changed.is_empty() {
-                    0..0
-                } else {
-                    changed.start.saturating_sub(*before_)..(changed.end + after_).min(frame.cells().len())
-                }
-            } else {
-                0..0 // (a resize: a full paint, whatever the cells)
-            };
-            for encoder in [&mut cells_only, &mut whole] {
-                encoder.set_tolerance(*tolerance);
-            }
-            out.clear();
-            expected.clear();
-            let stats = cells_only.encode_cells(&frame, cells.clone(), &mut out);
-            let expected_stats = whole.encode(&frame, &mut expected);
-            prop_assert_eq!(stats, expected_stats, "step {} ({:?}), cells {:?}", i, step, cells);
-            prop_assert_eq!(&out, &expected, "step {} ({:?}), cells {:?}", i, step, cells);
-        }
     }
 }
 
