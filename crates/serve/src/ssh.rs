@@ -561,9 +561,12 @@ impl Server {
             clock,
             records,
         });
+        let maze = Arc::new(options.maze);
         let joined = match world {
             None => None,
             Some(config) => {
+                // (the others' players checked against the maze's cells, not only its extents)
+                let config = WorldConfig { maze: Some(Arc::clone(&maze)), ..config };
                 let host: Arc<dyn Host> = Arc::clone(&cell) as Arc<dyn Host>;
                 // (Its message says it all; its sources would repeat it.)
                 let joined = SharedWorld::join(config, host)
@@ -573,11 +576,11 @@ impl Server {
                 Some(joined)
             }
         };
-        let audience = Audience::new(&options.maze, SHARED_VIEWS);
+        let audience = Audience::new(&maze, SHARED_VIEWS);
         let metrics = Metrics::default();
         let recordings = options.record.map(|record| Recordings::new(record, metrics.clone()));
         let shared = Arc::new(Shared {
-            maze: Arc::new(options.maze),
+            maze,
             access: options.access,
             limits,
             config: Arc::new(config),

@@ -27,8 +27,10 @@
 //! [`MAX_PLAYERS`] and against the bytes left before it allocates, every name against the rule
 //! [`player_name`] applies to SSH user names, every label and colour against those a server hands
 //! out, every number for finiteness, every position against the maze's extents and every cell
-//! against its cell count ([`Bounds`]). Whatever fails is a [`DecodeError`]: the caller drops the
-//! message and counts it. The `world_codec` fuzz target holds it to that.
+//! against its cell count ([`Bounds`]); a server's view of the others then checks each position
+//! against the cell it names ([`Others::with_maze`](super::view::Others::with_maze)). Whatever fails
+//! is a [`DecodeError`]: the caller drops the message and counts it. The `world_codec` fuzz target
+//! holds it to that.
 
 use glam::Vec2;
 use thiserror::Error;
@@ -193,7 +195,7 @@ impl Bounds {
         Bounds { min: extents.min, max: extents.max, cells }
     }
 
-    fn contains(&self, p: Vec2) -> bool {
+    pub(crate) fn contains(&self, p: Vec2) -> bool {
         p.cmpge(self.min - EXTENTS_SLACK).all() && p.cmple(self.max + EXTENTS_SLACK).all()
     }
 }
@@ -253,6 +255,11 @@ pub enum DecodeError {
     /// A cell the maze does not have.
     #[error("cell {0} is not in the maze")]
     Cell(u32),
+    /// A position outside the cell it is said to be in (checked where the maze itself is known:
+    /// [`Others::with_maze`](super::view::Others::with_maze)). A server moves its players cell to
+    /// cell, so each is always inside the one it names.
+    #[error("a position outside its cell {0}")]
+    Misplaced(u32),
 }
 
 const FULL: u8 = 1;

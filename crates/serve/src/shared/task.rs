@@ -31,6 +31,7 @@ use super::redis::{self as link, Heard, Link, WorldError};
 use super::view::{Caps, Counts, Others, Outbox, TICKS_PER_SECOND};
 use crate::limits::RateLimit;
 use crate::logs::{ERROR_CHARS, GROUP_BURST, GROUP_INTERVAL, SUMMARY_SECONDS, clip};
+use mazewalk_maze::Maze;
 
 /// The server's own world, as the world task sees it (the in-process world implements it).
 /// Each call is quick and takes the world's lock for the data only.
@@ -70,6 +71,9 @@ pub struct WorldConfig {
     pub maze_hash: String,
     /// The maze's bounds, for checking what the others say.
     pub bounds: Bounds,
+    /// The maze itself, where known: each other player's position is checked against its cell
+    /// ([`Others::with_maze`]).
+    pub maze: Option<Arc<Maze>>,
     /// The certificate (PEM) of the CA that signed a `rediss://` Redis's certificate, when it is
     /// not one the system trusts.
     pub ca: Option<Vec<u8>>,
@@ -82,7 +86,14 @@ impl WorldConfig {
     /// the default caps.
     #[must_use]
     pub fn new(url: &str, maze_hash: &str, bounds: Bounds) -> WorldConfig {
-        WorldConfig { url: url.into(), maze_hash: maze_hash.into(), bounds, ca: None, caps: Caps::default() }
+        WorldConfig {
+            url: url.into(),
+            maze_hash: maze_hash.into(),
+            bounds,
+            maze: None,
+            ca: None,
+            caps: Caps::default(),
+        }
     }
 }
 
@@ -201,7 +212,10 @@ impl SharedWorld {
             subscribed: false,
             online: false,
             outbox: Outbox::new(server, tag),
-            others: Others::new(server, tag, config.bounds).with_caps(config.caps),
+            others: match config.maze {
+                Some(maze) => Others::new(server, tag, config.bounds).with_caps(config.caps).with_maze(maze),
+                None => Others::new(server, tag, config.bounds).with_caps(config.caps),
+            },
             caps: config.caps,
             inbox,
             reading_presences: false,

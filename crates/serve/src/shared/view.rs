@@ -8,10 +8,13 @@
 //! learns everything within a second without asking anyone.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use mazewalk_maze::Maze;
 
 use super::codec::{
-    Body, Bounds, DecodeError, Finish, MAX_PLAYERS, Message, Move, PlayerRecord, ServerId, WinnerRecord,
-    decode,
+    Body, Bounds, DecodeError, Finish, MAX_PLAYERS, Message, Move, PlayerRecord, ServerId, Whereabouts,
+    WinnerRecord, decode,
 };
 
 /// A server publishes at most this many messages a second, whatever its number of players: the
@@ -159,6 +162,21 @@ pub struct Counts {
     pub over_players: u64,
 }
 
+/// The cell of the first player of `message` whose position is not inside it in `maze` (within the
+/// maze's on-edge tolerance, as a server's own moves keep its players), if any.
+fn misplaced(message: &Message, maze: Option<&Maze>) -> Option<u32> {
+    let maze = maze?;
+    let outside = |at: &Whereabouts| !maze.cell_contains(at.cell, at.position);
+    match &message.body {
+        Body::Full { players, .. } => players.iter().map(|p| &p.at).find(|at| outside(at)),
+        Body::Delta { joined, moved, .. } => {
+            joined.iter().map(|p| &p.at).chain(moved.iter().map(|m| &m.at)).find(|at| outside(at))
+        }
+        Body::Bye => None,
+    }
+    .map(|at| at.cell)
+}
+
 /// One other server as this one knows it.
 #[derive(Debug)]
 struct Known {
@@ -188,6 +206,8 @@ pub struct Others {
     me: ServerId,
     maze: u64,
     bounds: Bounds,
+    /// The maze itself, where known: each player's position checked against its cell.
+    cells: Option<Arc<Maze>>,
     caps: Caps,
     servers: BTreeMap<ServerId, Known>,
     /// Players of all servers in `servers`, kept as they change (never summed per message).
@@ -204,6 +224,7 @@ impl Others {
             me,
             maze,
             bounds,
+            cells: None,
             caps: Caps::default(),
             servers: BTreeMap::new(),
             players: 0,
@@ -217,12 +238,27 @@ impl Others {
         Others { caps, ..self }
     }
 
+    /// The same view, checking each player's position against the cell it names in `maze` (the
+    /// maze the bounds are of): a message naming a player outside its cell is dropped whole, as the
+    /// decoder drops one outside the maze. Without it, such a player's figure would be drawn where
+    /// it stands but shown or hidden as its cell is seen, and its map dot put in the wrong cell.
+    #[must_use]
+    pub fn with_maze(self, maze: Arc<Maze>) -> Others {
+        Others { cells: Some(maze), ..self }
+    }
+
     /// A message heard at `now` (seconds): decoded, checked, and applied.
     ///
     /// # Errors
-    /// The decoder refused it (it is counted as dropped).
+    /// The decoder refused it, or a player in it stands outside its cell ([`Others::with_maze`]):
+    /// it is counted as dropped.
     pub fn hear(&mut self, bytes: &[u8], now: f64) -> Result<Heard, DecodeError> {
-        let message = decode(bytes, self.maze, &self.bounds).inspect_err(|_| self.counts.dropped += 1)?;
+        let message = decode(bytes, self.maze, &self.bounds)
+            .and_then(|message| match misplaced(&message, self.cells.as_deref()) {
+                Some(cell) => Err(DecodeError::Misplaced(cell)),
+                None => Ok(message),
+            })
+            .inspect_err(|_| self.counts.dropped += 1)?;
         Ok(self.apply(message, now))
     }
 
@@ -517,6 +553,53 @@ mod tests {
         assert_eq!(view.counts(), Counts { applied: 4, own: 1, stale: 1, ..Counts::default() });
         assert!(view.hear(b"\x00garbage", 0.4).is_err());
         assert_eq!(view.counts().dropped, 1);
+    }
+
+    /// A player standing outside the cell its server names (inside the maze and naming a cell it
+    /// has: what the decoder alone lets through) is dropped with its message and counted, once the
+    /// view knows the maze; players in their cells, even on a cell's edge, are taken.
+    #[test]
+    fn a_player_outside_the_cell_it_names_is_dropped_with_its_message() {
+        use mazewalk_maze::generate::{GenOptions, generate};
+        let maze = Arc::new(generate(&GenOptions { width: 3, height: 2, ..GenOptions::default() }).unwrap());
+        let bounds = Bounds::of(&maze);
+        let (c0, c5) = (maze.cell_centroid(0), maze.cell_centroid(5));
+        assert!(!maze.cell_contains(0, c5) && bounds.contains(c5), "two cells apart");
+        let edge = {
+            let (a, b) = maze.edge_points(maze.cell_edges(0)[0]);
+            (a + b) / 2.0 // on cell 0's boundary
+        };
+        let player = |id: u32, position: Vec2, cell: u32| PlayerRecord {
+            at: Whereabouts { position, heading_deg: 0.0, pitch_deg: 0.0, cell },
+            ..p(id, "alice", 0.0)
+        };
+        let full = |seq: u64, players: Vec<PlayerRecord>| Message {
+            maze: MAZE,
+            server: ServerId(1),
+            seq,
+            sent_ms: 0,
+            body: Body::Full { players, finished: vec![], winner: None },
+        };
+        let mut view = Others::new(ServerId(3), MAZE, bounds).with_maze(Arc::clone(&maze));
+        assert!(view.hear(&wire(&full(1, vec![player(1, c0, 0), player(2, edge, 0)])), 0.0).unwrap().changed);
+        let lying = full(2, vec![player(1, c0, 0), player(2, c5, 0)]);
+        assert_eq!(view.hear(&wire(&lying), 0.1), Err(DecodeError::Misplaced(0)));
+        let moved = Message {
+            seq: 3,
+            body: Body::Delta {
+                joined: vec![],
+                moved: vec![Move { id: 1, at: player(1, c5, 0).at }],
+                left: vec![],
+                finished: vec![],
+            },
+            ..full(3, vec![])
+        };
+        assert_eq!(view.hear(&wire(&moved), 0.2), Err(DecodeError::Misplaced(0)), "a move too");
+        assert_eq!(view.counts().dropped, 2);
+        assert!(view.players().all(|(_, p)| maze.cell_contains(p.at.cell, p.at.position)), "as they were");
+        // Without the maze, only the extents and the cell count are checked: the same lie is taken.
+        let mut blind = Others::new(ServerId(3), MAZE, bounds);
+        assert!(blind.hear(&wire(&lying), 0.0).is_ok());
     }
 
     /// A server killed without a goodbye falls silent: its players leave everyone's view SILENCE
