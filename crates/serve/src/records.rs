@@ -160,6 +160,10 @@ pub enum Fault {
     Busy,
     /// The database cannot be written (a read-only file, folder or disk).
     ReadOnly,
+    /// A write to the file was cut off (a server killed while it wrote) and the hot journal beside
+    /// it holds what it changed: a read-only reader may not roll it back, a server that opens the
+    /// file does.
+    CutOff,
     /// The file cannot be opened or made.
     CannotOpen,
     /// The file is not a database, or a damaged one.
@@ -194,6 +198,7 @@ fn fault_text(fault: Fault) -> &'static str {
     match fault {
         Fault::Busy => "the database is locked by another program",
         Fault::ReadOnly => "the database cannot be written",
+        Fault::CutOff => "a write to it was cut off",
         Fault::CannotOpen => "the database cannot be opened",
         Fault::Damaged => "not a records database, or a damaged one",
         Fault::Full => "the database is full",
@@ -224,6 +229,15 @@ impl RecordsError {
             _ if err.to_string().contains("too many schema objects") => Fault::Damaged,
             _ => Fault::Other,
         };
+        // A read-only connection finding a hot journal must not roll it back; SQLite's own words,
+        // "attempt to write a readonly database", would have the reader look at permissions.
+        if let rusqlite::Error::SqliteFailure(e, _) = err
+            && e.extended_code == rusqlite::ffi::SQLITE_READONLY_ROLLBACK
+        {
+            let why = "a server stopped while it wrote; the -journal beside it holds what it changed, \
+                       which a server that opens the file rolls back; nothing was changed here";
+            return RecordsError::new(path, Fault::CutOff, why);
+        }
         RecordsError::new(path, fault, crate::logs::clip(&err.to_string(), crate::logs::ERROR_CHARS))
     }
 

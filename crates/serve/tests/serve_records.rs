@@ -500,6 +500,41 @@ fn reading_a_file_in_wal_mode_makes_nothing_beside_it() {
     assert_eq!(db.mazes(None).unwrap()[0].finishes, 2, "bob's finish, from the log");
 }
 
+/// A records file whose writer was killed inside a write (a hot rollback journal beside it): a
+/// reader is told so, not that the file cannot be written; nothing beside it changes; a server
+/// rolls the write back and reads what was kept before it.
+#[test]
+fn a_write_cut_off_is_said_to_the_reader_and_rolled_back_by_a_server() {
+    mazewalk_testkit::require_tool("python3", "python3");
+    let scratch = Scratch::new("hotjournal");
+    let path = scratch.db();
+    open(&path).record(&finish(MAZE, "ann", 10.0)).unwrap();
+    // Many rows in one transaction with a one-page cache: pages spill to the file before the
+    // commit, which never comes.
+    let script = "import os, sqlite3, sys\n\
+                  db = sqlite3.connect(sys.argv[1])\n\
+                  db.execute('PRAGMA cache_size=1')\n\
+                  db.execute('BEGIN')\n\
+                  for i in range(2000):\n    \
+                      db.execute(\"INSERT INTO finishes VALUES (?, 'bob', ?, 1, ?)\", (sys.argv[2], i, b'x' * 200))\n\
+                  os._exit(0)";
+    let status =
+        std::process::Command::new("python3").args(["-c", script]).arg(&path).arg(MAZE.to_string()).status();
+    assert!(status.expect("python3").success());
+    let journal = PathBuf::from(format!("{}-journal", path.display()));
+    let sizes =
+        || (std::fs::metadata(&path).unwrap().len(), std::fs::metadata(&journal).map(|m| m.len()).ok());
+    let before = sizes();
+    assert!(before.1.is_some_and(|n| n > 0), "the premise: a hot journal beside the file");
+    let err = Sqlite::open_to_read(&path).and_then(|mut db| db.mazes(None)).map(|_| ()).expect_err("cut off");
+    assert_eq!(err.fault, Fault::CutOff, "{err}");
+    assert!(!err.to_string().contains("cannot be written"), "{err}");
+    assert_eq!(sizes(), before, "the file and its journal as they were");
+    let mut db = open(&path);
+    let mazes = db.mazes(None).unwrap();
+    assert_eq!((mazes[0].finishes, mazes[0].top[0].player.as_str()), (1, "ann"), "the write rolled back");
+}
+
 /// `f` on a thread of its own, its result if it returned within `limit`; else `fifo` is opened for
 /// writing without waiting (which lets a reader waiting in its open go on) and `None`.
 fn returned_within<T: Send + 'static>(
