@@ -103,6 +103,39 @@ pub fn fair_push_out(held: &[(IpAddr, f64)], newcomer: IpAddr) -> Option<usize> 
 /// A connection's id, in the order they came (so the smallest is the oldest).
 pub(crate) type ConnId = u64;
 
+/// Places by prefix level (0 to 2) and prefix ([`address_prefixes`]), as [`fair_push_out`] counts
+/// them; a prefix with none is forgotten.
+#[derive(Clone, Debug, Default)]
+struct PrefixCounts(HashMap<(usize, IpAddr), usize>);
+
+impl PrefixCounts {
+    fn add(&mut self, prefixes: &[IpAddr; 3]) {
+        for (level, &prefix) in prefixes.iter().enumerate() {
+            *self.0.entry((level, prefix)).or_default() += 1;
+        }
+    }
+
+    fn remove(&mut self, prefixes: &[IpAddr; 3]) {
+        for (level, &prefix) in prefixes.iter().enumerate() {
+            if let std::collections::hash_map::Entry::Occupied(mut n) = self.0.entry((level, prefix)) {
+                *n.get_mut() -= 1;
+                if *n.get() == 0 {
+                    n.remove();
+                }
+            }
+        }
+    }
+
+    fn count(&self, level: usize, prefix: IpAddr) -> usize {
+        self.0.get(&(level, prefix)).copied().unwrap_or(0)
+    }
+
+    /// A holder's weight: the places of its prefixes, widest first.
+    fn weight(&self, p: &[IpAddr; 3]) -> [usize; 3] {
+        [self.count(0, p[0]), self.count(1, p[1]), self.count(2, p[2])]
+    }
+}
+
 /// Why a connection gets no slot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Refusal {
@@ -200,10 +233,10 @@ pub(crate) enum Role {
 /// A connection that logged in.
 #[derive(Clone, Copy, Debug)]
 struct Place {
-    /// Its address.
-    ip: IpAddr,
     /// Its address group ([`address_group`]).
     group: IpAddr,
+    /// The prefixes it is counted in when a full server shares its places ([`address_prefixes`]).
+    prefixes: [IpAddr; 3],
     /// When it logged in or last pressed a key ([`Slots::active`]), seconds.
     active: f64,
 }
@@ -229,6 +262,9 @@ pub(crate) struct Slots {
     players: HashMap<ConnId, Place>,
     /// Spectators by id.
     spectators: HashMap<ConnId, Place>,
+    /// The places of each role (players, spectators) by prefix level and prefix ([`fair_push_out`]'s
+    /// counts), kept as places come and go: a full server's newcomer is weighed in one pass.
+    prefix_counts: [PrefixCounts; 2],
     groups: HashMap<IpAddr, Counts>,
     /// New connections' budgets, by group (forgotten once full again).
     rates: HashMap<IpAddr, RateLimit>,
@@ -244,6 +280,7 @@ impl Slots {
             handshakes: BTreeMap::new(),
             players: HashMap::new(),
             spectators: HashMap::new(),
+            prefix_counts: [PrefixCounts::default(), PrefixCounts::default()],
             groups: HashMap::new(),
             rates: HashMap::new(),
         }
@@ -344,7 +381,8 @@ impl Slots {
         counts.handshakes -= 1;
         counts.players += 1;
         counts.spectators += usize::from(role == Role::Spectator);
-        let place = Place { ip, group, active: now };
+        let place = Place { group, prefixes: address_prefixes(ip), active: now };
+        self.prefix_counts[role as usize].add(&place.prefixes);
         match role {
             Role::Player => self.players.insert(id, place),
             Role::Spectator => self.spectators.insert(id, place),
@@ -354,17 +392,25 @@ impl Slots {
     }
 
     /// Which of the `role`'s places a newcomer from `ip` would push out ([`fair_push_out`]; of an
-    /// address's places, the one that pressed no key for the longest). O(places).
+    /// address's places, the one that pressed no key for the longest). One pass over the places,
+    /// each weighed by the counts kept as places come and go ([`Slots::prefix_counts`]): no
+    /// allocation under the lock, whatever the number of places.
     fn push_out(&self, role: Role, ip: IpAddr) -> Option<ConnId> {
         let taken = match role {
             Role::Player => &self.players,
             Role::Spectator => &self.spectators,
         };
-        // (by id: the same choice whatever the map's order, the oldest first among equally idle)
-        let mut places: Vec<(ConnId, &Place)> = taken.iter().map(|(&id, place)| (id, place)).collect();
-        places.sort_unstable_by_key(|&(id, _)| id);
-        let held: Vec<(IpAddr, f64)> = places.iter().map(|(_, place)| (place.ip, place.active)).collect();
-        fair_push_out(&held, ip).map(|k| places[k].0)
+        let counts = &self.prefix_counts[role as usize];
+        // The heaviest holder's idlest place; among equals the newest, as `fair_push_out` over the
+        // places in the order they came (its `max_by` keeps the last of equals).
+        let (victim, theirs) = taken
+            .iter()
+            .map(|(&id, place)| (counts.weight(&place.prefixes), place.active, id, place.prefixes))
+            .max_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)).then(a.2.cmp(&b.2)))
+            .map(|(_, _, id, prefixes)| (id, prefixes))?;
+        let mine = address_prefixes(ip);
+        let level = (0..3).find(|&level| theirs[level] != mine[level])?;
+        (counts.count(level, theirs[level]) >= counts.count(level, mine[level]) + 2).then_some(victim)
     }
 
     /// The player or spectator `id` pressed a key at `now`: it is pushed out after those that have
@@ -380,8 +426,14 @@ impl Slots {
         let (group, was_player, was_spectator) = match self.handshakes.remove(&id) {
             Some(handshake) => (handshake.group, false, false),
             None => match (self.players.remove(&id), self.spectators.remove(&id)) {
-                (Some(place), _) => (place.group, true, false),
-                (None, Some(place)) => (place.group, true, true),
+                (Some(place), _) => {
+                    self.prefix_counts[Role::Player as usize].remove(&place.prefixes);
+                    (place.group, true, false)
+                }
+                (None, Some(place)) => {
+                    self.prefix_counts[Role::Spectator as usize].remove(&place.prefixes);
+                    (place.group, true, true)
+                }
                 (None, None) => return,
             },
         };
@@ -795,5 +847,60 @@ mod tests {
         }
         assert_eq!((slots.players(), slots.handshakes()), (0, 0));
         assert!(slots.groups.is_empty(), "nothing kept for closed connections");
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config { cases: 32, ..Default::default() })]
+
+        /// The places a full server's newcomer pushes out, weighed from the counts kept as places
+        /// come and go, are those the rule [`fair_push_out`] picks from the places as they are: over
+        /// random logins, key presses and leavings of addresses that share /24s, /48s and /56s.
+        #[test]
+        fn the_kept_counts_push_out_whom_the_rule_picks(
+            ops in proptest::collection::vec((0u8..4, 0usize..12, 0usize..64, proptest::bool::ANY), 1..160)
+        ) {
+            const FROM: [&str; 12] = [
+                "192.0.2.1", "192.0.2.2", "192.0.2.3", "198.51.100.1", "::ffff:192.0.2.1", "203.0.113.9",
+                "2001:db8:1:1::1", "2001:db8:1:1::2", "2001:db8:1:2::1", "2001:db8:1:100::1",
+                "2001:db8:2:1::1", "2001:db8:2:1::7",
+            ];
+            let mut slots = Slots::new(&Limits { max_spectators: 64, ..limits(64, 64, 64) });
+            let mut from: HashMap<ConnId, IpAddr> = HashMap::new();
+            for (step, &(op, who, which, spectator)) in ops.iter().enumerate() {
+                let now = (step / 4) as f64; // (several steps at one time: ties to break)
+                let role = if spectator { Role::Spectator } else { Role::Player };
+                let ids: Vec<ConnId> = { let mut ids: Vec<ConnId> = from.keys().copied().collect(); ids.sort_unstable(); ids };
+                match op {
+                    0 | 1 => {
+                        let Ok(admitted) = slots.admit(ip(FROM[who]), now) else { continue };
+                        from.insert(admitted.id, ip(FROM[who]));
+                        if op == 1 {
+                            let _ = slots.promote(admitted.id, role, now);
+                        }
+                    }
+                    2 if !ids.is_empty() => slots.active(ids[which % ids.len()], now),
+                    3 if !ids.is_empty() => {
+                        let id = ids[which % ids.len()];
+                        slots.release(id);
+                        from.remove(&id);
+                    }
+                    _ => {}
+                }
+                for role in [Role::Player, Role::Spectator] {
+                    let taken = if role == Role::Player { &slots.players } else { &slots.spectators };
+                    let mut places: Vec<(ConnId, f64)> = taken.iter().map(|(&id, p)| (id, p.active)).collect();
+                    places.sort_unstable_by_key(|&(id, _)| id);
+                    let held: Vec<(IpAddr, f64)> = places.iter().map(|&(id, active)| (from[&id], active)).collect();
+                    for newcomer in FROM {
+                        let want = fair_push_out(&held, ip(newcomer)).map(|k| places[k].0);
+                        proptest::prop_assert_eq!(slots.push_out(role, ip(newcomer)), want);
+                    }
+                }
+            }
+            for id in from.into_keys() {
+                slots.release(id);
+            }
+            proptest::prop_assert!(slots.prefix_counts.iter().all(|counts| counts.0.is_empty()), "nothing kept");
+        }
     }
 }
