@@ -97,7 +97,7 @@ pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Loaded
     let name = super::text::quote_path(&path.display().to_string());
     let io = |source| LoadError::Io { path: name.clone(), source };
     let bytes = if path == Path::new("-") {
-        read_text(std::io::stdin().lock(), options.max_bytes, 0).map_err(io)?
+        read_text(std::io::stdin().lock(), options.max_bytes).map_err(io)?
     } else {
         let file = open_regular(path, &name)?;
         let size = file.metadata().map_err(io)?.len();
@@ -108,7 +108,7 @@ pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Loaded
                 size: format!("{size} bytes"),
             });
         }
-        read_file(&file, options.max_bytes, size).map_err(io)?
+        read_text(&file, options.max_bytes).map_err(io)?
     };
     let Some(bytes) = bytes else {
         return Err(LoadError::TooLarge { path: name, limit: options.max_bytes, size: "more".into() });
@@ -124,65 +124,13 @@ fn open_regular(path: &Path, name: &str) -> Result<std::fs::File, LoadError> {
     })
 }
 
-/// [`read_text`] for a regular file of `size` bytes (as `stat` said). A big one is read in three
-/// parts: the first MiB as [`read_text`] reads, so that binary input still costs one chunk; when
-/// that is text, the rest in two halves at once, on two threads, into a buffer allocated zeroed (a
-/// 128 MB file is 32 k pages to fault in and copy; on two cores, half the wall time). The halves
-/// are not checked here: the parser decodes the whole text first.
-fn read_file(file: &std::fs::File, max: u64, size: u64) -> std::io::Result<Option<Vec<u8>>> {
-    const HEAD: usize = 1 << 20;
-    #[cfg(unix)]
-    if let Ok(size) = usize::try_from(size)
-        && size >= 4 * HEAD
-        && size as u64 <= max
-    {
-        use std::io::{Seek as _, SeekFrom};
-        use std::os::unix::fs::FileExt as _;
-        let Some(head) = read_text(file.take(HEAD as u64), max, HEAD as u64)? else { return Ok(None) };
-        if head.len() < HEAD {
-            return Ok(Some(head)); // binary, or the file is shorter than it was
-        }
-        let mut bytes = vec![0u8; size];
-        bytes[..HEAD].copy_from_slice(&head);
-        let (first, second) = bytes[HEAD..].split_at_mut((size - HEAD) / 2);
-        let mid = (HEAD + first.len()) as u64;
-        // bytes read into `part` from `at` on, up to the end of the part or of the file
-        let fill = |part: &mut [u8], at: u64| -> std::io::Result<bool> {
-            let mut done = 0;
-            while done < part.len() {
-                match file.read_at(&mut part[done..], at + done as u64) {
-                    Ok(0) => return Ok(false),
-                    Ok(n) => done += n,
-                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                    Err(e) => return Err(e),
-                }
-            }
-            Ok(true)
-        };
-        let (whole_first, whole_second) = std::thread::scope(|s| {
-            let second = s.spawn(|| fill(second, mid));
-            (fill(first, HEAD as u64), second.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)))
-        });
-        let mut file = file;
-        if !(whole_first? && whole_second?) {
-            // the file shrank while it was read: read it again, in order
-            file.seek(SeekFrom::Start(0))?;
-            return read_text(file, max, 0);
-        }
-        // and if it grew, the rest in order, up to the limit
-        file.seek(SeekFrom::Start(size as u64))?;
-        file.take(max + 1 - size as u64).read_to_end(&mut bytes)?;
-        return Ok((bytes.len() as u64 <= max).then_some(bytes));
-    }
-    read_text(file, max, size)
-}
-
 /// Reads at most `max` bytes, stopping early after a NUL byte or invalid UTF-8 (keeping a few
-/// bytes past it for the error message); `None` if there were more than `max`.
-fn read_text(mut source: impl Read, max: u64, size_hint: u64) -> std::io::Result<Option<Vec<u8>>> {
+/// bytes past it for the error message); `None` if there were more than `max`. The buffer grows
+/// with what has been read, a chunk at a time, never sized by what the file claims (`stat`'s size,
+/// or the limit): a file of a few text bytes and then zeros costs its first chunks, whatever its size.
+fn read_text(mut source: impl Read, max: u64) -> std::io::Result<Option<Vec<u8>>> {
     const CHUNK: u64 = 64 << 10;
-    // a regular file's size is known: one allocation, no doubling
-    let mut bytes = Vec::with_capacity(usize::try_from(size_hint.min(max)).unwrap_or(0) + 1);
+    let mut bytes = Vec::new();
     let mut checked = 0; // bytes[..checked] is UTF-8 without NUL
     loop {
         if (&mut source).take(CHUNK).read_to_end(&mut bytes)? == 0 {
@@ -277,17 +225,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_big_file_reads_whole_in_parts_and_binary_still_stops_early() {
+    fn a_big_file_reads_whole_and_binary_still_stops_early() {
         let dir = std::env::temp_dir().join(format!("mazewalk-read-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("big.txt");
-        // 5 MiB and a bit: a head, and two halves of unequal length; every byte a different place
+        // 5 MiB and a bit, across many chunks; every byte a different place
         let text: Vec<u8> =
             (0..5_000_003u32).map(|i| b"0123456789 \n"[(i % 7 + i / 13 % 5) as usize]).collect();
         std::fs::write(&path, &text).unwrap();
         let read = |max| {
             let file = std::fs::File::open(&path).unwrap();
-            read_file(&file, max, file.metadata().unwrap().len()).unwrap()
+            read_text(&file, max).unwrap()
         };
         assert_eq!(read(1 << 30).unwrap(), text);
         assert_eq!(read(text.len() as u64).unwrap(), text);
@@ -303,15 +251,15 @@ mod tests {
     #[test]
     fn reading_stops_at_binary_and_at_the_limit() {
         let zeros = std::io::repeat(0).take(1 << 30);
-        assert_eq!(read_text(zeros, 1 << 40, 0).unwrap().unwrap().len(), 64);
+        assert_eq!(read_text(zeros, 1 << 40).unwrap().unwrap().len(), 64);
         let text = std::io::repeat(b'1').take(1 << 20);
-        assert_eq!(read_text(text, 1000, 0).unwrap(), None);
+        assert_eq!(read_text(text, 1000).unwrap(), None);
         let text = std::io::repeat(b'1').take(1000);
-        assert_eq!(read_text(text, 1000, 0).unwrap().unwrap().len(), 1000);
+        assert_eq!(read_text(text, 1000).unwrap().unwrap().len(), 1000);
         // a character split across chunks is not an error
         let s = "é".repeat(100_000);
-        assert_eq!(read_text(s.as_bytes(), 1 << 30, 0).unwrap().unwrap(), s.as_bytes());
+        assert_eq!(read_text(s.as_bytes(), 1 << 30).unwrap().unwrap(), s.as_bytes());
         let bad = [&b"12 "[..], &[0xff; 10], &[b'1'; 1000]].concat();
-        assert_eq!(read_text(&bad[..], 1 << 30, 0).unwrap().unwrap().len(), 3 + 64);
+        assert_eq!(read_text(&bad[..], 1 << 30).unwrap().unwrap().len(), 3 + 64);
     }
 }
