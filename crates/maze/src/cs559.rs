@@ -750,6 +750,12 @@ impl<'a> Reader<'a> {
         let (viewer_line, after) = rest.split_once('\n').unwrap_or((rest, ""));
         let offset = |w: &str| w.as_ptr() as usize - self.text.as_ptr() as usize;
         if let Some(w) = viewer_line.split(is_space).find(|w| keyword(w).is_some()) {
+            // a file saved with CR alone ending its lines (classic Mac OS) is one line to this
+            // reader: say so, at the first such CR, not that the keyword shares the viewer's line
+            let before = &viewer_line[..offset(w) - offset(viewer_line)];
+            if let Some(cr) = before.find('\r') {
+                return Err(self.error(offset(viewer_line) + cr, ParseErrorKind::LoneCarriageReturn));
+            }
             let k = keyword(w).unwrap_or("exit");
             let expected = format!("`{k}` on a line of its own, after the viewer's line");
             return Err(self.expected(offset(w), &expected, w));

@@ -566,11 +566,7 @@ fn parse_placed(file: &str, text: &str) -> Result<(TileMap, Places), ParseError>
     let first = lines.next().map_or("", |l| l.1);
     if let Some(at) = first.find('\r') {
         let col = first[..at].chars().count();
-        return Err(err(
-            0,
-            col,
-            "a carriage return inside a line: lines end in LF or CRLF, not CR alone".into(),
-        ));
+        return Err(loc(0, col).error(file, ParseErrorKind::LoneCarriageReturn));
     }
     let mut words = first.split(is_space).filter(|w| !w.is_empty());
     if words.next() != Some(MAGIC) {

@@ -75,6 +75,8 @@ pub enum ParseErrorKind {
     Duplicate { what: String, first_line: u32 },
     #[error("the file claims {count} {what}; at most {max} are supported")]
     CountTooLarge { what: &'static str, count: u64, max: u64 },
+    #[error("a carriage return inside a line: lines end in LF or CRLF, not CR alone")]
+    LoneCarriageReturn,
     #[error("{0}")]
     Grid(String),
     #[error("{0}")]

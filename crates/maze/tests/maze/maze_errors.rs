@@ -102,6 +102,12 @@ fn malformed_files_give_file_line_col_and_what_is_wrong() {
             room_with(13, "2 2 0 90 90 vfov 60").into_bytes(),
             "f.maze:13:13: expected `vfov` on a line of its own",
         ),
+        // lines ended by CR alone (classic Mac OS): one line to the reader, whose `exit` is refused
+        // at the CR that ends the viewer's line, not as an `exit` on the viewer's line
+        (
+            format!("{ROOM}exit 0\n").replace('\n', "\r").into_bytes(),
+            "f.maze:1:134: a carriage return inside a line: lines end in LF or CRLF, not CR alone",
+        ),
         // the least vertical field of view's extension
         (format!("{ROOM}vfov 151\n").into_bytes(), "f.maze:14:6: least vertical field of view is 151, out of range (within 0..=150)"),
         (format!("{ROOM}vfov -1\n").into_bytes(), "f.maze:14:6: least vertical field of view is -1, out of range"),
