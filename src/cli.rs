@@ -34,7 +34,8 @@ use mazewalk_walk::state;
     version,
     about = "A first-person 3D maze walkthrough for the terminal",
     long_about = long_about(),
-    args_conflicts_with_subcommands = true
+    args_conflicts_with_subcommands = true,
+    allow_negative_numbers = true
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -114,7 +115,7 @@ pub struct MazeArgs {
     #[arg(value_name = "MAZE", hide = true, num_args = 0.., value_parser = parse_second_maze)]
     pub more: Vec<PathBuf>,
     /// A fresh random maze of WxH cells instead of MAZE (with loops and an exit).
-    #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size)]
+    #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size, allow_hyphen_values = true)]
     pub generate: Option<(u32, u32)>,
     /// Seed for --gen (the same seed gives the same maze: the one `mazewalk gen --size WxH --seed N
     /// --loops 0.1 --exit` writes).
@@ -166,20 +167,26 @@ pub struct LookArgs {
 #[derive(Subcommand)]
 pub enum Command {
     /// Render one frame to stdout and exit (plain text with --color none, ANSI otherwise).
+    #[command(allow_negative_numbers = true)]
     Render(RenderArgs),
     /// Generate a random maze (a perfect maze unless --loops is given).
     #[command(visible_alias = "generate")]
+    #[command(allow_negative_numbers = true)]
     Gen(GenArgs),
     /// Load a maze file and print a summary, or the located error (exit 65).
+    #[command(allow_negative_numbers = true)]
     Check(CheckArgs),
     /// Host a maze over SSH: players connect with `ssh -p PORT HOST` and walk it together.
+    #[command(allow_negative_numbers = true)]
     Serve(ServeArgs),
     /// Print the best times kept by `serve`: of one maze, or of every maze served.
+    #[command(allow_negative_numbers = true)]
     Records(RecordsArgs),
     /// Play a stored run back in the terminal, first person, as the walk draws it (q quits, r
     /// starts again; the map, glyph and help keys work): RUN is a file from `--save-run` or
     /// `records --export-run`, the maze the one it was walked in. `--record FILE.cast` writes the
     /// playback as an asciicast.
+    #[command(allow_negative_numbers = true)]
     Replay(ReplayArgs),
 }
 
@@ -316,7 +323,7 @@ pub struct RecordsArgs {
     #[arg(value_name = "MAZE")]
     pub maze: Option<PathBuf>,
     /// The maze served with --gen WxH (and --seed N).
-    #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size, conflicts_with = "maze")]
+    #[arg(long = "gen", id = "gen", value_name = "WxH", value_parser = parse_size, conflicts_with = "maze", allow_hyphen_values = true)]
     pub generate: Option<(u32, u32)>,
     /// Seed for --gen.
     #[arg(long, default_value_t = DEFAULT_SEED, requires = "gen")]
@@ -348,7 +355,7 @@ pub struct RecordsArgs {
 #[derive(Args)]
 pub struct GenArgs {
     /// Cells east-west x north-south, e.g. 20x10 (each side 1..=1000).
-    #[arg(long, value_parser = parse_size)]
+    #[arg(long, value_parser = parse_size, allow_hyphen_values = true)]
     pub size: (u32, u32),
     /// Random seed: the same seed gives the same maze on every platform.
     #[arg(long, default_value_t = DEFAULT_SEED)]
@@ -407,7 +414,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub no_fovea: bool,
     /// Frame size in terminal cells: at most 2000 per side and 1,000,000 cells in all.
-    #[arg(long, value_name = "COLSxROWS", default_value = "80x24", value_parser = parse_frame_size)]
+    #[arg(long, value_name = "COLSxROWS", default_value = "80x24", value_parser = parse_frame_size, allow_hyphen_values = true)]
     pub size: (usize, usize),
     /// perspective or orthographic.
     #[arg(long, default_value = "perspective")]

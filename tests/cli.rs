@@ -1272,3 +1272,23 @@ fn dir_with_fifo(tag: &str, name: &str) -> (std::path::PathBuf, std::path::PathB
     assert!(made.success(), "mkfifo {}", fifo.display());
     (dir, fifo)
 }
+
+/// Red-team pass 15: a negative number given to a flag is that flag's usage error, named (it was
+/// "unexpected argument '-1' found", with a tip to write `-- -1`, which makes it a maze file).
+#[test]
+fn a_negative_number_is_refused_by_its_flag() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["gen", "--size", "5x5", "--seed", "-1"], "'--seed <SEED>'"),
+        (&["gen", "--size", "-1x5"], "'--size <SIZE>': each side must be an integer in 1..=1000, found `-1`"),
+        (&["render", "--size", "-5x10"], "'--size <COLSxROWS>'"),
+        (&["render", "--repeat", "-1"], "'--repeat <N>'"),
+        (&["check", "--max-file-size", "-1", "x.maze"], "'--max-file-size <BYTES>'"),
+        (&["--gen", "-3x3"], "'--gen <WxH>'"),
+        (&["serve", "--max-players", "-1"], "'--max-players <N>'"),
+    ];
+    for (args, needle) in cases {
+        let out = mazewalk(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        assert!(stderr(&out).contains(needle), "{args:?}: expected `{needle}` in: {}", stderr(&out));
+    }
+}
