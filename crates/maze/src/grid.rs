@@ -751,6 +751,9 @@ fn parse_placed(file: &str, text: &str) -> Result<(TileMap, Places), ParseError>
     for (r, row) in rows.iter().enumerate() {
         for (c, ch) in row.chars().enumerate() {
             let b = if ch.is_ascii() { ch as u8 } else { 0 };
+            if ch == '\r' {
+                return Err(loc(n + r, c).error(file, ParseErrorKind::LoneCarriageReturn));
+            }
             if !(is_open(b) || is_wall(b)) {
                 let hint = if ch == '\t' { " (a tab: use spaces or `.` for floor)" } else { "" };
                 return Err(err(n + r, c, format!("unknown tile `{}`{hint}", quote(&ch.to_string()))));

@@ -183,6 +183,8 @@ const MALFORMED: &[(&str, u32, u32, &str)] = &[
     ("mazewalk-grid 1\ntile 4\n\n", 4, 1, "expected the map after the settings"),
     // Old Mac line endings: one long line, said so rather than misread.
     ("mazewalk-grid 1\rtile 2\r###\r#@#\r###\r", 1, 16, "a carriage return inside a line"),
+    // and after a first line ended by LF: the same, not "unknown tile `\r`"
+    ("mazewalk-grid 1\n#####\r#@.E#\r#####\r", 2, 6, "a carriage return inside a line"),
     (
         "\nmazewalk-grid 1\n###\n#@#\n###\n",
         1,
