@@ -59,11 +59,18 @@ pub struct Metrics {
 /// Every refusal's reason, as its label says it.
 const REASONS: [&str; 4] = ["slots", "per_address", "handshakes", "rate"];
 
+/// Every role a newcomer may push out of its place, as its label says it.
+const ROLES: [&str; 2] = ["player", "spectator"];
+
 impl Default for Metrics {
     fn default() -> Metrics {
         let refusals = Family::<Reason, Counter>::default();
         for reason in REASONS {
             let _ = refusals.get_or_create(&vec![("reason", reason)]); // shown at 0 from the start
+        }
+        let pushed_out = Family::<Reason, Counter>::default();
+        for role in ROLES {
+            let _ = pushed_out.get_or_create(&vec![("role", role)]); // shown at 0 from the start
         }
         Metrics {
             joins: Counter::default(),
@@ -75,7 +82,7 @@ impl Default for Metrics {
             spectators: Gauge::default(),
             spectator_joins: Counter::default(),
             spectator_refusals: Counter::default(),
-            pushed_out: Family::default(),
+            pushed_out,
             // 50 µs to 0.4 s, doubling: a stock OpenSSH client's exchange is about 1 ms of CPU.
             handshake_cpu: Histogram::new(exponential_buckets(0.000_05, 2.0, 14)),
             recordings: Counter::default(),
@@ -123,8 +130,8 @@ impl Metrics {
     /// A newcomer pushed out a `role` of the address holding the most (the server was full).
     pub(crate) fn pushed_out(&self, role: Role) {
         let role = match role {
-            Role::Player => "player",
-            Role::Spectator => "spectator",
+            Role::Player => ROLES[0],
+            Role::Spectator => ROLES[1],
         };
         self.pushed_out.get_or_create(&vec![("role", role)]).inc();
     }
@@ -590,6 +597,26 @@ mod tests {
             "{text}"
         );
         assert!(!text.contains("world_"), "no world without --world:\n{text}");
+    }
+
+    /// A family's every label is shown from the start, at 0, so that a scrape before the first
+    /// push-out (or refusal) already has the series a dashboard or an alert asks for.
+    #[test]
+    fn labelled_counters_show_zero_from_the_start() {
+        let metrics = Metrics::default();
+        let live = Live(Box::new(|| Snapshot { players: 0, handshakes: 0, records: None, world: None }));
+        let text = encode(&registry(&metrics, live));
+        for line in [
+            "mazewalk_pushed_out_total{role=\"player\"} 0",
+            "mazewalk_pushed_out_total{role=\"spectator\"} 0",
+            "mazewalk_refusals_total{reason=\"slots\"} 0",
+        ] {
+            assert!(text.lines().any(|l| l == line), "no line {line:?} in:\n{text}");
+        }
+        metrics.pushed_out(Role::Spectator);
+        let live = Live(Box::new(|| Snapshot { players: 0, handshakes: 0, records: None, world: None }));
+        let text = encode(&registry(&metrics, live));
+        assert!(text.lines().any(|l| l == "mazewalk_pushed_out_total{role=\"spectator\"} 1"), "{text}");
     }
 
     /// The process's own figures, unprefixed under their standard names, read from this test's
