@@ -86,6 +86,8 @@ pub const NO_EXEC_MESSAGE: &str =
 pub const PUSHED_OUT_MESSAGE: &str = "mazewalk: the server was full and your address held the most places; yours went to a newcomer from another address";
 /// Why a connection pushed out of its place ended, for the log.
 const PUSHED_OUT_REASON: &str = "pushed out: server full, its address held the most places";
+/// Why a connection that confirmed a channel the server never opened ended, for the log.
+const CONFIRMED_REASON: &str = "protocol violation: confirmed a channel the server never opened";
 /// What a client still connected after its game is told as the server closes the connection.
 pub(crate) const GAME_OVER_MESSAGE: &str = "mazewalk: the game is over; one game per connection";
 /// What a client whose input ended is told as the server closes its connection.
@@ -1202,6 +1204,25 @@ impl Handler for Handlers {
         session: &mut Session,
     ) -> Result<(), Self::Error> {
         session.channel_failure(channel)
+    }
+
+    /// The server opens no channel, so a client's confirmation can only name one the client opened:
+    /// russh takes its window and packet size as that channel's before asking here, so a player that
+    /// confirmed its own game's channel with a packet size of 1 had every byte of every frame sealed
+    /// as a packet of its own again, past the floor checked at the open (red-team pass 14). The
+    /// connection ends here, before anything more is sent on it.
+    async fn channel_open_confirmation(
+        &mut self,
+        _: ChannelId,
+        packet: u32,
+        _: u32,
+        _: &mut Session,
+    ) -> Result<(), Self::Error> {
+        self.log(format_args!(
+            "closed: it confirmed a channel the server never opened (packet size {packet})"
+        ));
+        self.conn.end(CONFIRMED_REASON);
+        Err(russh::Error::Inconsistent)
     }
 
     async fn agent_request(&mut self, _: ChannelId, _: &mut Session) -> Result<bool, Self::Error> {
