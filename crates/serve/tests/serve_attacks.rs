@@ -420,6 +420,44 @@ async fn a_client_asking_for_tiny_packets_gets_no_game() {
     .expect("ran over its deadline");
 }
 
+/// Red-team pass 14: the packet floor above was checked when the channel opened, but a client may
+/// send `SSH_MSG_CHANNEL_OPEN_CONFIRMATION` for its own channel mid-game, and russh took the
+/// confirmation's packet size as the channel's: a packet size of 1 had every byte of every frame
+/// sealed as a packet of its own again (a paramiko player pressing Ctrl-L got 49,814 packets of one
+/// byte in 4 s). The server opens no channel, so such a confirmation now ends the connection. The
+/// client (`tests/clients/reconfirmer.py`) counts the packets under 64 bytes after it.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_channel_confirmed_again_with_tiny_packets_ends_the_connection() {
+    tokio::time::timeout(DEADLINE, async {
+        let server = server(Access::Open, Limits::default()).await;
+        let port = server.local_addr().port();
+        let python = mazewalk_testkit::require_python_module("paramiko", "python3-paramiko");
+        let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/clients/reconfirmer.py");
+        let out = tokio::task::spawn_blocking(move || {
+            std::process::Command::new(python)
+                .arg(&script)
+                .args([&port.to_string(), "2"])
+                .stdin(std::process::Stdio::null())
+                .output()
+                .expect("run the reconfirmer")
+        })
+        .await
+        .expect("the reconfirmer");
+        let said = String::from_utf8_lossy(&out.stdout);
+        let figure = |name: &str| -> Option<usize> {
+            said.split_whitespace().skip_while(|w| *w != name).nth(1).and_then(|v| v.parse().ok())
+        };
+        let (tiny, open) = (figure("tiny"), figure("open"));
+        assert!(tiny.is_some(), "{said} {}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(tiny, Some(0), "packets under 64 bytes after the confirmation: {said}");
+        assert_eq!(open, Some(0), "the connection stayed open: {said}");
+        eventually(Duration::from_secs(10), "the player left", || server.players() == 0).await;
+        server.shutdown().await;
+    })
+    .await
+    .expect("ran over its deadline");
+}
+
 /// An ed25519 key pair made by ssh-keygen, in a scratch folder named `name`.
 fn ed25519_key(name: &str) -> (russh::keys::PrivateKey, tempdir::Dir) {
     keygen(name, &["-t", "ed25519"])
