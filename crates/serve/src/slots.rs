@@ -849,6 +849,88 @@ mod tests {
         assert!(slots.groups.is_empty(), "nothing kept for closed connections");
     }
 
+    /// A group's connections are counted while any of them is open: one leaving frees its own slot
+    /// only, whether it was a handshake, a player or a spectator.
+    #[test]
+    fn a_connection_leaving_frees_its_own_slot_only() {
+        let mut slots =
+            Slots::new(&Limits { max_spectators: 8, max_spectators_per_address: 1, ..limits(8, 8, 2) });
+        let from = "192.0.2.1";
+        let first = slots.admit(ip(from), 0.0).unwrap().id;
+        let second = slots.admit(ip(from), 0.0).unwrap().id;
+        slots.release(first);
+        let third = slots.admit(ip(from), 1.0).expect("the slot given back").id;
+        assert_eq!(slots.admit(ip(from), 2.0), Err(Refusal::FromThisAddress(2)), "the other two still count");
+        slots.promote(second, Role::Spectator, 3.0).unwrap();
+        slots.promote(third, Role::Player, 3.0).unwrap();
+        slots.release(third);
+        assert_eq!(
+            try_in(&mut slots, from, Role::Spectator, 4.0),
+            Err(Refusal::SpectatorsFromThisAddress(1)),
+            "the spectator still counts"
+        );
+        assert_eq!(
+            slots.admit(ip(from), 5.0),
+            Err(Refusal::FromThisAddress(2)),
+            "and the refused one's handshake"
+        );
+        slots.release(second);
+        assert_eq!(slots.screens_from(ip(from)), 1);
+        let (_, promoted) = log_in(&mut slots, "192.0.2.9", Role::Spectator, 6.0);
+        assert_eq!(promoted, Ok(None), "another address's spectator");
+        assert_eq!(slots.spectators(), 1);
+    }
+
+    /// Every refusal tells the log why in a few words, and the client what to do.
+    #[test]
+    fn every_refusal_says_why() {
+        let reasons = [
+            (Refusal::Full(4), "server full"),
+            (Refusal::AllFull(4, 2), "server full"),
+            (Refusal::Spectators(2), "spectators full"),
+            (Refusal::FromThisAddress(2), "too many connections from this address"),
+            (Refusal::SpectatorsFromThisAddress(2), "too many spectators from this address"),
+            (Refusal::Busy, "too many connections logging in"),
+            (Refusal::TooFast, "connecting too fast"),
+        ];
+        for (refusal, reason) in reasons {
+            assert_eq!(refusal.reason(), reason);
+            assert!(refusal.message().starts_with("mazewalk: "), "{refusal:?}");
+        }
+        let said = |refusal: Refusal| refusal.message();
+        assert!(said(Refusal::Full(1)).contains("one player at a time"));
+        assert!(said(Refusal::Full(4)).contains("(4 players)"));
+        assert!(said(Refusal::AllFull(4, 2)).contains("(4 players, 2 watching)"));
+        assert!(said(Refusal::Spectators(0)).contains("takes no spectators"));
+        assert!(said(Refusal::Spectators(2)).contains("(2 watching)"));
+        assert!(said(Refusal::FromThisAddress(1)).contains(": a connection from your address"));
+        assert!(said(Refusal::FromThisAddress(3)).contains(": 3 connections from your address"));
+        assert!(said(Refusal::SpectatorsFromThisAddress(1)).contains(": a spectator from your address"));
+        assert!(said(Refusal::Busy).contains("logging in"));
+        assert!(said(Refusal::TooFast).contains("too many new connections"));
+    }
+
+    /// The connection budgets of thousands of addresses that came once are forgotten once whole
+    /// again (memory bounded by the connections open), never one that is still spent: an address
+    /// connecting as fast as it can keeps to its burst and rate however many others come and go.
+    #[test]
+    fn the_connection_budgets_are_bounded_and_a_spent_one_is_kept() {
+        let mut slots = Slots::new(&Limits { connect_rate: 8.0, ..limits(100, 100, 2) });
+        let fast = ip("198.51.100.1");
+        let mut let_in = 0;
+        for n in 0..5000u32 {
+            let now = f64::from(n) * 0.001;
+            if let Ok(admitted) = slots.admit(fast, now) {
+                slots.release(admitted.id);
+                let_in += 1;
+            }
+            let id = slots.admit(IpAddr::from(Ipv4Addr::from(0x0a00_0000u32 + n)), now).unwrap().id;
+            slots.release(id);
+            assert!(slots.rates.len() <= 1024 + 2, "{} budgets at {n}", slots.rates.len());
+        }
+        assert!((43..=44).contains(&let_in), "{let_in}: a burst of 2 × 2, then 8 a second for 5 s");
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::test_runner::Config { cases: 32, ..Default::default() })]
 
