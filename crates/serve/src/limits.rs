@@ -281,6 +281,47 @@ mod tests {
         assert!(!bucket.take_all(1, 0.0) && bucket.take_all(10, 1.0), "refilled at the rate");
     }
 
+    /// A bucket is full again exactly when what was taken has come back at the rate, and empty
+    /// while less than one is left; a clock going back refills nothing.
+    #[test]
+    fn the_bucket_is_full_and_empty_on_the_dot() {
+        let mut bucket = RateLimit::new(4, 8, 0.0);
+        assert!(bucket.is_full(0.0) && !bucket.is_empty(0.0), "a new bucket");
+        assert_eq!(bucket.take(8, 0.0), 8);
+        assert!(bucket.is_empty(0.0) && bucket.is_empty(0.2) && !bucket.is_empty(0.25), "one back at 1/4 s");
+        assert!(!bucket.is_full(1.75) && bucket.is_full(2.0), "all 8 back at 2 s");
+        assert!(!bucket.is_full(-10.0) && bucket.is_empty(-10.0), "an earlier time refills nothing");
+        let mut slow = RateLimit::new_per_interval(4.0, 2, 0.0);
+        assert_eq!(slow.take(3, 0.0), 2);
+        assert!(slow.is_empty(3.9) && !slow.is_empty(4.0), "one every 4 s");
+        assert!(!slow.is_full(7.9) && slow.is_full(8.0));
+    }
+
+    /// At the turn of a second the screens of the last one still count until as many have drawn in
+    /// this one; after a second with nobody drawing, none do.
+    #[test]
+    fn the_last_seconds_screens_count_until_this_ones_pass_them() {
+        let mut meter = DrawMeter::default();
+        let mut seconds = [None; 10];
+        for mine in &mut seconds {
+            *mine = Some(meter.drew(*mine, 5.5));
+        }
+        assert_eq!(meter.drawing(5.9), 10);
+        seconds[0] = Some(meter.drew(seconds[0], 6.0));
+        assert_eq!(meter.drawing(6.0), 10, "one of this second, ten of the last");
+        for mine in &mut seconds[1..] {
+            *mine = Some(meter.drew(*mine, 6.5));
+        }
+        assert_eq!(meter.drawing(7.2), 10, "the last second's ten");
+        meter.drew(seconds[0], 9.0);
+        assert_eq!(meter.drawing(9.0), 1, "a second with none between: only this one's");
+        let mut meter = DrawMeter::default();
+        meter.drew(None, 0.5);
+        meter.drew(None, 0.6);
+        meter.drew(None, 1.5);
+        assert_eq!(meter.drawing(1.5), 2, "from the very first second too");
+    }
+
     /// Frames a second of a `cols × rows` screen of `samples` samples a cell on a share.
     fn fps(share: u32, cols: u32, rows: u32, samples: u32) -> f64 {
         f64::from(share) / f64::from(cols * rows * samples)
