@@ -372,6 +372,112 @@ mod tests {
         assert_eq!(limit.take_suppressed(3.0 + GROUP_INTERVAL), Suppressed::default(), "counts start again");
     }
 
+    /// The library's errors are logged in our own short words, whatever its own text says.
+    #[test]
+    fn each_library_error_has_a_reason_of_our_own() {
+        use russh::Error as E;
+        let eof = std::io::Error::from(std::io::ErrorKind::UnexpectedEof);
+        let cases = [
+            (E::KeepaliveTimeout, "keepalive timeout"),
+            (E::InactivityTimeout, "inactivity timeout"),
+            (E::Version, "not an SSH client (bad identification line)"),
+            (E::PacketSize(70_000), "bad packet size 70000"),
+            (E::PacketAuth, "a packet failed its integrity check"),
+            (E::DecryptionError, "a packet failed its integrity check"),
+            (E::Kex, "key exchange failed"),
+            (E::KexInit, "key exchange failed"),
+            (E::UnknownAlgo, "unknown algorithm"),
+            (E::HUP, "closed"),
+            (E::Disconnect, "closed"),
+            (
+                E::StrictKeyExchangeViolation { message_type: 2, sequence_number: 0 },
+                "strict key exchange violated",
+            ),
+            (E::IO(eof), "connection lost"),
+            (E::IO(std::io::ErrorKind::ConnectionReset.into()), "connection error: connection reset"),
+            (E::NotAuthenticated, "not yet authenticated"),
+        ];
+        for (err, reason) in cases {
+            assert_eq!(error_reason(&err), reason, "{err:?}");
+        }
+        let offered = |n: usize| E::NoCommonAlgo {
+            kind: russh::AlgorithmKind::Cipher,
+            ours: vec!["aes256-gcm@openssh.com".into()],
+            theirs: (0..n).map(|i| format!("c{i}")).collect(),
+        };
+        assert_eq!(error_reason(&offered(4)), "no common cipher algorithm; the client offered c0,c1,c2,c3");
+        assert_eq!(
+            error_reason(&offered(5)),
+            "no common cipher algorithm; the client offered c0,c1,c2,c3 (+1 more)"
+        );
+    }
+
+    /// A group is forgotten once its budget is whole again and nothing of it is left to sum up,
+    /// never before: a loud group's spent budget outlives the summaries.
+    #[test]
+    fn a_groups_budget_is_forgotten_only_once_whole_again() {
+        let mut limit = LogLimit::new(0.0);
+        let quiet: IpAddr = "198.51.100.7".parse().unwrap();
+        let loud: IpAddr = "192.0.2.1".parse().unwrap();
+        assert!(limit.allow(quiet, 0.0));
+        while limit.allow(loud, 0.0) {}
+        assert_eq!(limit.take_suppressed(GROUP_INTERVAL - 0.5).groups, [(loud, 1)]);
+        assert_eq!(limit.tracked(), 2, "neither budget whole yet");
+        assert!(!limit.allow(loud, GROUP_INTERVAL - 0.5), "still spent after the summary");
+        assert_eq!(limit.take_suppressed(GROUP_INTERVAL).groups, [(loud, 1)]);
+        assert_eq!(limit.tracked(), 1, "the quiet one's line came back at the interval: forgotten");
+        assert!(limit.allow(loud, GROUP_INTERVAL), "one line back");
+        assert!(!limit.allow(loud, GROUP_INTERVAL));
+    }
+
+    /// With every tracked group's budget whole again, a new group takes a quiet one's place and gets
+    /// its own burst and trickle; the summary names the loudest few and counts the rest, with the
+    /// lines of untracked groups as one more.
+    #[test]
+    fn a_new_group_takes_a_quiet_ones_place_and_the_summary_counts_the_rest() {
+        let mut limit = LogLimit::new(0.0);
+        let group = |n: u32| IpAddr::from(std::net::Ipv4Addr::from(0x0a00_0000u32 + n));
+        for n in 0..TRACKED_GROUPS as u32 {
+            assert!(limit.allow(group(n), 0.0) || n >= GLOBAL_BURST);
+        }
+        assert_eq!(limit.tracked(), TRACKED_GROUPS);
+        let later = 1000.0;
+        let loud = group(1 << 20);
+        let allowed = (0..100).filter(|i| limit.allow(loud, later + f64::from(*i) * 1e-3)).count();
+        assert_eq!(allowed, GROUP_BURST as usize, "its own burst, not the global one");
+        assert!(limit.tracked() < TRACKED_GROUPS);
+        let summary = limit.take_suppressed(later + 1.0);
+        assert_eq!(summary.groups[0], (loud, 100 - u64::from(GROUP_BURST)), "the loudest first");
+
+        // ten groups, each past its burst by one line more than the last (the global burst whole)
+        let mut limit = LogLimit::new(0.0);
+        for n in 0..10u32 {
+            for _ in 0..=(GROUP_BURST + n) {
+                limit.allow(group(n), 0.0);
+            }
+        }
+        let summary = limit.take_suppressed(0.0);
+        assert_eq!(summary.groups.len(), SUMMARY_GROUPS);
+        assert_eq!(summary.groups[0], (group(9), 10));
+        assert_eq!(summary.others, (2, 2 + 1), "the two quietest");
+        // past the tracked groups: the untracked ones' lines are one more
+        let mut limit = LogLimit::new(0.0);
+        for n in 0..(TRACKED_GROUPS as u32 + 300) {
+            limit.allow(group(n), 0.0);
+        }
+        let summary = limit.take_suppressed(0.0);
+        let rest = TRACKED_GROUPS - GLOBAL_BURST as usize - SUMMARY_GROUPS; // one line left out each
+        assert_eq!(summary.others, (rest + 1, rest as u64 + 300), "the untracked as one");
+    }
+
+    #[test]
+    fn seconds_are_logged_to_a_tenth() {
+        assert_eq!(tenths(12.34), 12.3);
+        assert_eq!(tenths(12.36), 12.4);
+        assert_eq!(tenths(0.04), 0.0);
+        assert_eq!(tenths(7.0), 7.0);
+    }
+
     /// Many addresses at once: the global budget bounds the lines; memory stays bounded by
     /// TRACKED_GROUPS; the summary names a few groups and sums up the rest.
     #[test]
