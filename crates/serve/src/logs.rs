@@ -524,6 +524,7 @@ mod tests {
             tracing::info!(peer = %peer, user = %hostile, seconds = format_args!("{:.1}", 12.34), bytes_out = 4096u64, "disconnected");
             tracing::warn!(peer = %peer, "refused subsystem: {hostile}");
             tracing::info!(players = 3usize, "shutting down");
+            tracing::info!(name = "a \"b\"", change = -3i64, seconds = 1.5f64, first = true, "typed");
         });
         let bytes = capture.0.lock().unwrap().clone();
         let text = String::from_utf8(bytes).expect("UTF-8");
@@ -533,7 +534,7 @@ mod tests {
         assert!(!text.chars().any(risky), "a raw control character: {text:?}");
         let lines: Vec<serde_json::Value> =
             text.lines().map(|l| serde_json::from_str(l).expect("one JSON object a line")).collect();
-        assert_eq!(lines.len(), 3, "{text}");
+        assert_eq!(lines.len(), 4, "{text}");
         let first = &lines[0];
         assert_eq!(first["level"], "info");
         assert_eq!(first["event"], "disconnected");
@@ -549,6 +550,10 @@ mod tests {
         assert_eq!(lines[2]["event"], "shutting_down");
         assert_eq!(lines[2]["address"], serde_json::Value::Null);
         assert_eq!(lines[2]["players"], 3);
+        // a field keeps its type: a shipper filters `seconds > 60`, not a string
+        let typed = &lines[3];
+        assert_eq!((&typed["name"], &typed["change"]), (&"a \"b\"".into(), &(-3).into()));
+        assert_eq!((&typed["seconds"], &typed["first"]), (&1.5.into(), &true.into()));
     }
 
     #[test]
