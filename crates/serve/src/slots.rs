@@ -929,6 +929,20 @@ mod tests {
             assert!(slots.rates.len() <= 1024 + 2, "{} budgets at {n}", slots.rates.len());
         }
         assert!((43..=44).contains(&let_in), "{let_in}: a burst of 2 × 2, then 8 a second for 5 s");
+        // many connections held open allow more budgets; once they close, the bound falls back
+        let held: Vec<ConnId> = (0..300u32)
+            .map(|n| slots.admit(IpAddr::from(Ipv4Addr::from(0x0b00_0000u32 + n)), 10.0).unwrap().id)
+            .collect();
+        for n in 0..1500u32 {
+            let id = slots.admit(IpAddr::from(Ipv4Addr::from(0x0c00_0000u32 + n)), 10.0).unwrap().id;
+            slots.release(id);
+        }
+        for id in held {
+            slots.release(id);
+        }
+        let id = slots.admit(ip("203.0.113.1"), 20.0).unwrap().id;
+        slots.release(id);
+        assert!(slots.rates.len() <= 2, "{} budgets after all closed", slots.rates.len());
     }
 
     proptest::proptest! {
