@@ -387,5 +387,8 @@ mod tests {
         assert_eq!(drawing_share(RENDER_RATE, 16, total, 2), SCREEN_RATE_FLOOR);
         assert_eq!(drawing_share(RENDER_RATE, 1, 0, 5), 0, "a zero total draws nothing");
         assert!(render_total_default() >= RENDER_TOTAL_PER_CORE);
+        // a core's total: 16 lone screens drawing keep a whole group's budget each, a 17th shares
+        assert_eq!(drawing_share(RENDER_RATE, 1, RENDER_TOTAL_PER_CORE, 16), RENDER_RATE);
+        assert!(drawing_share(RENDER_RATE, 1, RENDER_TOTAL_PER_CORE, 17) < RENDER_RATE);
     }
 }
