@@ -114,10 +114,15 @@ pub struct Winner {
 }
 
 impl Winner {
-    /// The announcement everyone sees.
+    /// The announcement everyone sees. A winner whose name reads as "you" (`You`, `YOU.`, `_you-`:
+    /// any name may be chosen) is named as a player, or every other player and spectator read "You
+    /// reached the exit first" as the winner's own announcement does, and believed they had won
+    /// (red-team pass 16).
     #[must_use]
     pub fn announcement(&self) -> String {
-        format!("{} reached the exit first, in {}!", self.name, clock_text(self.seconds))
+        let reads_you = self.name.trim_matches(['.', '-', '_']).eq_ignore_ascii_case("you");
+        let who = if reads_you { format!("The player named {}", self.name) } else { self.name.clone() };
+        format!("{who} reached the exit first, in {}!", clock_text(self.seconds))
     }
 
     /// The announcement as player `viewer` sees it: the winner is told it was them.
@@ -644,6 +649,22 @@ mod tests {
         assert!(!Arc::ptr_eq(&first.players, &third.players));
         assert_eq!(third.players[0].1.position, Vec2::ONE, "the snapshot is of now");
         assert_eq!(first.players[0].1.position, Vec2::ZERO, "an old look keeps what it saw");
+    }
+
+    #[test]
+    fn a_player_named_you_does_not_tell_the_others_they_won() {
+        let mut world = World::new();
+        let a = world.join("alice", Vec2::ZERO, 0.0, 0, 0.0);
+        for name in ["You", "you", "YOU", "You.", "_you-"] {
+            let winner = Winner { id: PlayerId(99), name: name.into(), seconds: 83.0 };
+            let told = winner.announcement_for(a);
+            assert!(!told.starts_with("You ") && !told.to_lowercase().starts_with("you"), "{told}");
+            assert_eq!(told, format!("The player named {name} reached the exit first, in 1:23.0!"));
+            assert_eq!(winner.announcement(), told, "as a spectator sees it");
+            assert!(winner.announcement_for(PlayerId(99)).starts_with("You reached the exit first"));
+        }
+        let youth = Winner { id: PlayerId(99), name: "youth".into(), seconds: 83.0 };
+        assert_eq!(youth.announcement_for(a), "youth reached the exit first, in 1:23.0!");
     }
 
     #[test]
