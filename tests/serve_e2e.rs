@@ -243,6 +243,25 @@ fn the_first_player_at_the_exit_is_announced_to_the_others_even_those_who_join_a
     }
 }
 
+/// Red-team pass 16: any user name may be chosen, and a winner named `You` had every other player
+/// read "You reached the exit first", the winner's own announcement: they believed they had won.
+#[test]
+fn a_winner_named_you_is_not_announced_to_the_others_as_themselves() {
+    let scratch = Scratch::new("named-you");
+    let maze = scratch.maze(SHORT_RUN_AND_ONE_BEHIND);
+    let server = Server::start(&scratch, &["--open", maze.to_str().expect("a UTF-8 path")]);
+    let alice = Player::connect(server.port, None, "alice", 100, 30);
+    alice.wait_for("alice's game", playing);
+    let mut you = Player::connect(server.port, None, "You", 100, 30);
+    you.wait_for("You's game", playing);
+    walk_to_the_exit(&mut you);
+    let named =
+        |s: &vt100::Screen, _: &[u8]| s.contents().contains("The player named You reached the exit first");
+    alice.wait_for("the winner named as a player on alice's screen", named);
+    let as_hers = alice.read(|s| s.contents().matches("You reached the exit first").count());
+    assert_eq!(as_hers, 1, "the one announcement, as the named player's: {}", alice.read(|s| s.contents()));
+}
+
 /// Holds `w` (every 40 ms) until `player`'s own screen says it found the exit; its time as shown.
 fn walk_to_the_exit(player: &mut Player) -> String {
     let found = "You found the exit in ";
