@@ -53,9 +53,10 @@ pub(crate) const BEACON_BANDS: f32 = 3.0;
 /// The beacon's white (linear RGB): a touch of its green.
 pub(crate) const BEACON_WHITE: Vec3 = Vec3::new(0.85, 1.0, 0.9);
 
-/// Whether a coverage id is a figure's (or the beacon's).
+/// Whether a coverage id ([`SampleBuffer::id`](crate::SampleBuffer::id)) is a figure's (or the
+/// beacon's).
 #[must_use]
-pub(crate) fn is_figure(id: u32) -> bool {
+pub fn is_figure(id: u32) -> bool {
     (SPRITE_ID - (MAX_SPRITES as u32 - 1)..=EXIT_ID).contains(&id)
 }
 
