@@ -14,27 +14,15 @@ import time
 import paramiko
 from paramiko.message import Message
 
+from packets import count_data_packets
+
 port, seconds = int(sys.argv[1]), float(sys.argv[2])
 transport = paramiko.Transport(("127.0.0.1", port))
 transport.connect()
 transport.auth_none("trickle")
 channel = transport.open_session(window_size=32768, max_packet_size=32768)
 channel.in_window_threshold = 1 << 40  # paramiko never hands the window back by itself
-sizes = []
-
-
-def counted(chan, m):
-    data = m.get_binary()
-    sizes.append(len(data))
-    again = Message()
-    again.add_string(data)
-    again.rewind()
-    paramiko.Channel._feed(chan, again)
-
-
-# (paramiko hands a channel's data to the channel through the transport's table of handlers)
-transport._channel_handler_table = dict(transport._channel_handler_table)
-transport._channel_handler_table[paramiko.common.MSG_CHANNEL_DATA] = counted
+sizes = count_data_packets(transport)
 channel.get_pty(term="xterm-256color", width=120, height=40)
 channel.invoke_shell()
 frames = [0]

@@ -13,6 +13,8 @@ import time
 import paramiko
 from paramiko.message import Message
 
+from packets import count_data_packets
+
 port, seconds = int(sys.argv[1]), float(sys.argv[2])
 transport = paramiko.Transport(("127.0.0.1", port))
 transport.connect()
@@ -24,20 +26,7 @@ channel.settimeout(10)
 first = b""
 while b"\x1b[c" not in first:
     first += channel.recv(65536)
-sizes = []
-
-
-def counted(chan, m):
-    data = m.get_binary()
-    sizes.append(len(data))
-    again = Message()
-    again.add_string(data)
-    again.rewind()
-    paramiko.Channel._feed(chan, again)
-
-
-transport._channel_handler_table = dict(transport._channel_handler_table)
-transport._channel_handler_table[paramiko.common.MSG_CHANNEL_DATA] = counted
+sizes = count_data_packets(transport)
 confirm = Message()
 confirm.add_byte(bytes([91]))  # SSH_MSG_CHANNEL_OPEN_CONFIRMATION
 confirm.add_int(channel.remote_chanid)
