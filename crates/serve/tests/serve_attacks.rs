@@ -425,7 +425,8 @@ async fn a_client_asking_for_tiny_packets_gets_no_game() {
 /// confirmation's packet size as the channel's: a packet size of 1 had every byte of every frame
 /// sealed as a packet of its own again (a paramiko player pressing Ctrl-L got 49,814 packets of one
 /// byte in 4 s). The server opens no channel, so such a confirmation now ends the connection. The
-/// client (`tests/clients/reconfirmer.py` at the top of the repository) counts the packets under 64 bytes after it.
+/// client (the repository's `tests/clients/reconfirmer.py`) counts the packets under 64 bytes after
+/// it.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_channel_confirmed_again_with_tiny_packets_ends_the_connection() {
     tokio::time::timeout(DEADLINE, async {
