@@ -48,7 +48,8 @@ pub use load::{
     write,
 };
 pub use text::{
-    Format, ParseError, ParseErrorKind, QUOTE_CHARS, WriteError, quote, quote_path, quote_within,
+    Format, ParseError, ParseErrorKind, QUOTE_CHARS, WriteError, escape_json, may_hold_unseen, quote,
+    quote_path, quote_within, unseen,
 };
 
 /// The maze walked when none is given: `mazes/hand-drawn.grid`, compiled in (loops, colours, an exit).

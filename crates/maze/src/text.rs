@@ -4,7 +4,9 @@
 //! [`load`](super::load()) dispatches to [`cs559`](super::cs559) and [`grid`](super::grid); both import
 //! this module and nothing of each other or of `load`, so the modules form no cycle.
 
-pub use mazewalk_names::{QUOTE_CHARS, quote, quote_path, quote_within};
+pub use mazewalk_names::{
+    QUOTE_CHARS, escape_json, may_hold_unseen, quote, quote_path, quote_within, unseen,
+};
 use std::fmt;
 
 use super::MazeError;

@@ -179,8 +179,9 @@ impl LogLimit {
 /// the message's first words, see [`event_name`]), `address` (the client's, when the line is about a
 /// connection), `player` (its user name, when known), `message` (the whole line, as the text format
 /// says it), then the line's other fields under their own names (`seconds`, `reason`, `key`, …).
-/// Strings are escaped by serde_json, and the control characters it leaves as they are (DEL, the C1
-/// controls, bidi overrides) as `\uXXXX` too: no byte a client chose reaches the log as a control.
+/// Strings are escaped by serde_json, and the characters it leaves as they are (DEL, the C1
+/// controls, bidi and other formatting characters: [`mazewalk_maze::unseen`]) as `\uXXXX` too
+/// ([`mazewalk_maze::escape_json`]): no byte a client chose reaches the log as a control.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct JsonLines;
 
@@ -251,7 +252,7 @@ impl JsonFields {
             line.push_str(&value.to_string());
         }
         line.push('}');
-        escape_controls(&line)
+        mazewalk_maze::escape_json(&line) // (DEL, C1, bidi: serde_json leaves them raw)
     }
 }
 
@@ -296,23 +297,6 @@ pub fn event_name(message: &str) -> String {
         .map(|c| c.to_ascii_lowercase())
         .collect();
     head.split_whitespace().take(8).collect::<Vec<_>>().join("_")
-}
-
-/// `json` with the characters serde_json leaves unescaped but a terminal may act on (DEL, C1
-/// controls, the bidi and zero-width formatting characters) escaped as `\uXXXX`: they can only be in
-/// its strings, where that escape means the same character.
-fn escape_controls(json: &str) -> String {
-    let mut out = String::with_capacity(json.len());
-    for c in json.chars() {
-        let risky = c.is_control()
-            || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2060}'..='\u{206f}' | '\u{feff}');
-        if risky {
-            out.push_str(&format!("\\u{:04x}", u32::from(c)));
-        } else {
-            out.push(c);
-        }
-    }
-    out
 }
 
 /// Seconds to a tenth, for a log line's `seconds` field: a number (`seconds=3.4` as text, `3.4` in
@@ -519,7 +503,7 @@ mod tests {
         let subscriber =
             tracing_subscriber::fmt().with_writer(move || writer.clone()).event_format(JsonLines).finish();
         let peer: std::net::SocketAddr = "192.0.2.7:5000".parse().unwrap();
-        let hostile = "\x1b]0;owned\x07\u{202e}\u{9b}2J\"\\\u{7f}\nfake=line";
+        let hostile = "\x1b]0;owned\x07\u{202e}\u{9b}2J\"\\\u{7f}\nfake=line\u{61c}\u{2028}\u{e0041}";
         tracing::subscriber::with_default(subscriber, || {
             tracing::info!(peer = %peer, user = %hostile, seconds = format_args!("{:.1}", 12.34), bytes_out = 4096u64, "disconnected");
             tracing::warn!(peer = %peer, "refused subsystem: {hostile}");
@@ -528,9 +512,7 @@ mod tests {
         });
         let bytes = capture.0.lock().unwrap().clone();
         let text = String::from_utf8(bytes).expect("UTF-8");
-        let risky = |c: char| {
-            (c.is_control() && c != '\n') || matches!(c, '\u{202a}'..='\u{202e}' | '\u{200b}'..='\u{200f}')
-        };
+        let risky = |c: char| c != '\n' && mazewalk_maze::unseen(c);
         assert!(!text.chars().any(risky), "a raw control character: {text:?}");
         let lines: Vec<serde_json::Value> =
             text.lines().map(|l| serde_json::from_str(l).expect("one JSON object a line")).collect();
