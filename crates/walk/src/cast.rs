@@ -72,7 +72,9 @@ impl Header {
         line += &format!(", \"title\": {}", serde_json::Value::from(self.title.as_str()));
         line += &format!(", \"env\": {}", serde_json::Value::Object(env));
         line += &format!(", \"mazewalk\": {ours}}}");
-        line
+        // `TERM` and `COLORTERM` are a client's to choose (a served player's): a host reading the
+        // cast with `head` must not have its terminal act on a C1 control or bidi override in them
+        mazewalk_maze::escape_json(&line)
     }
 }
 
@@ -294,6 +296,7 @@ impl<W: Write> CastWriter<W> {
         self.line.clear();
         // (serializing a tuple of a number and two strings into a Vec cannot fail)
         let _ = serde_json::to_writer(&mut self.line, &(time, kind, data));
+        escape_unseen(&mut self.line);
         self.line.push(b'\n');
         if self.written.saturating_add(self.line.len() as u64) > self.limit {
             self.capped = true; // whole lines only: the cast stays valid up to here
@@ -303,6 +306,19 @@ impl<W: Write> CastWriter<W> {
             Ok(()) => self.written += self.line.len() as u64,
             Err(e) => self.error = Some(e),
         }
+    }
+}
+
+/// `line`, a line of JSON, with the characters serde_json leaves raw that a terminal would act on
+/// or hide (C1 controls, DEL, bidi overrides: [`mazewalk_maze::unseen`]) escaped, as the header's
+/// are: the cast is text a host may read in a terminal, whatever was sent. A frame's line is looked
+/// at byte by byte only ([`mazewalk_maze::may_hold_unseen`]).
+fn escape_unseen(line: &mut Vec<u8>) {
+    if mazewalk_maze::may_hold_unseen(line)
+        && let Ok(text) = std::str::from_utf8(line)
+        && text.chars().any(mazewalk_maze::unseen)
+    {
+        *line = mazewalk_maze::escape_json(text).into_bytes();
     }
 }
 
@@ -363,6 +379,32 @@ mod tests {
         assert_eq!(lines[3], serde_json::json!([2.0, "m", "color_depth truecolor"]));
         assert_eq!(lines[4], serde_json::json!([2.0, "o", "late"]));
         assert_eq!(lines.len(), 5);
+    }
+
+    /// Red-team pass 17: a served player's `TERM` and `COLORTERM` (64 characters each of whatever
+    /// the client sent) went into the header with serde_json's escaping alone, which leaves C1
+    /// controls, DEL and bidi overrides raw: `head` of the cast had the host's terminal take U+009B
+    /// for CSI. Every line is still JSON meaning the same, with none of them raw.
+    #[test]
+    fn a_clients_terminal_names_reach_the_cast_escaped() {
+        let hostile =
+            "xterm\x1b]52;c;cHduZWQ=\x07\u{9b}31m\u{202e}gnp\u{61c}\u{2028}\r\n\"q\" \\\u{7f}\u{e0041}";
+        let header = Header { term: Some(hostile.into()), colorterm: Some(hostile.into()), ..header() };
+        let mut cast = CastWriter::new(Vec::new(), &header).unwrap();
+        cast.output(0.5, "\u{9b}2J\u{202e}▀".as_bytes());
+        cast.marker(1.0, "a \u{85} marker");
+        cast.finish().unwrap();
+        let text = std::str::from_utf8(cast.get_ref()).unwrap();
+        let raw: Vec<char> = text.chars().filter(|&c| c != '\n' && mazewalk_maze::unseen(c)).collect();
+        assert!(raw.is_empty(), "raw {raw:?} in:\n{text}");
+        let lines = lines(&cast);
+        assert_eq!(
+            (&lines[0]["env"]["TERM"], &lines[0]["env"]["COLORTERM"]),
+            (&hostile.into(), &hostile.into())
+        );
+        assert_eq!(lines[1], serde_json::json!([0.5, "o", "\u{9b}2J\u{202e}▀"]));
+        assert_eq!(lines[2], serde_json::json!([1.0, "m", "a \u{85} marker"]));
+        assert_eq!(cast.written(), text.len() as u64, "the bytes counted are the bytes written");
     }
 
     #[test]
