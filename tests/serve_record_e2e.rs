@@ -191,6 +191,34 @@ fn a_tiny_record_max_bytes_stops_the_cast_at_the_cap() {
     assert!(!text.contains("Thanks for walking."), "written past the cap");
 }
 
+/// Red-team pass 17: a player's `TERM` (the pty request's) and `COLORTERM` (an environment request)
+/// are the client's to choose, and went into the cast's header with serde_json's escaping alone,
+/// which leaves C1 controls and bidi overrides raw: a host reading the cast with `head` had its
+/// terminal take U+009B for CSI. Here a stock `ssh` sends both; the header says what it sent, with
+/// none of them raw in the file.
+#[test]
+fn a_players_terminal_names_reach_the_casts_header_escaped() {
+    let scratch = Scratch::new("recordterm");
+    let maze = scratch.maze(CORRIDOR_AND_BEND);
+    let dir = scratch.join("casts");
+    let args = ["--open", "--record-dir", dir.to_str().expect("UTF-8"), maze.to_str().expect("UTF-8")];
+    let server = Server::start(&scratch, &args);
+
+    let hostile = "xterm-256color\u{9b}31m\u{202e}gnp\u{61c}\u{2028}\"q\\\u{7f}";
+    let env = [("TERM", hostile), ("COLORTERM", hostile)];
+    let mut mallory = Player::connect_sending(None, server.port, None, "mallory", (100, 30), &env);
+    mallory.wait_for("mallory's game, recorded", |s, _| playing(s, &[]) && hud_row(s).contains("recorded"));
+    mallory.send(b"q");
+    assert!(mallory.wait_exit().success(), "q ends the game with 0");
+
+    let (_, text) = wait_cast(&dir, |text| text.contains("Thanks for walking."));
+    let raw: Vec<char> = text.chars().filter(|&c| c != '\n' && mazewalk_maze::unseen(c)).collect();
+    let head: String = text.chars().take(400).collect();
+    assert!(raw.is_empty(), "raw {raw:?} in the cast, which starts:\n{head}");
+    let (header, _) = parse(&text);
+    assert_eq!((&header["env"]["TERM"], &header["env"]["COLORTERM"]), (&hostile.into(), &hostile.into()));
+}
+
 /// The red team's HIGH finding: idle players from one address once made the server delete every
 /// earlier finished cast (each newcomer's whole `--record-max-bytes` was paid for by deleting them).
 /// Now finished casts go only for bytes written, and one address has at most
