@@ -57,6 +57,34 @@ pub fn clip(text: &str, max: usize) -> String {
     mazewalk_maze::quote_within(text, max) // the one escaping of untrusted text
 }
 
+/// A word a client chose (an algorithm's name it offered) as a log line shows it: [`clip`]ped, and
+/// its spaces, `=`, `"` and `\` spelled `\u{20}`, `\u{3d}`, `\u{22}`, `\u{5c}` too, so that it
+/// reads as one word of the line: never as a field of it (`user=root` in a name offered as `x
+/// user=root`: red-team pass 17), nor as a quoted value's start or end, nor as an escape that
+/// [`clip`] wrote. A name as RFC 4251 has them (printable ASCII, no space) shows as it was sent, but
+/// for `=`, `"` or `\` in it.
+#[must_use]
+pub(crate) fn clip_word(text: &str, max: usize) -> String {
+    let mut out = String::new();
+    let mut shown = 0usize;
+    for c in text.chars() {
+        // each character whole or not at all, escaped as `clip` does or for a word's sake
+        let one = if matches!(c, ' ' | '=' | '"' | '\\') {
+            c.escape_unicode().to_string()
+        } else {
+            clip(c.encode_utf8(&mut [0; 4]), usize::MAX)
+        };
+        let len = one.chars().count();
+        if shown.saturating_add(len) > max {
+            out.push('…');
+            break;
+        }
+        shown += len;
+        out.push_str(&one);
+    }
+    out
+}
+
 /// Why a connection ended, from the SSH library's error: a short reason of our own words, never the
 /// library's text whole (see the module's doc).
 #[must_use]
@@ -66,7 +94,7 @@ pub(crate) fn error_reason(err: &russh::Error) -> String {
         E::NoCommonAlgo { kind, theirs, .. } => {
             let kind = format!("{kind:?}").to_ascii_lowercase();
             let quoted: Vec<String> =
-                theirs.iter().take(NAMES_QUOTED).map(|n| clip(n.as_ref(), NAME_CHARS)).collect();
+                theirs.iter().take(NAMES_QUOTED).map(|n| clip_word(n.as_ref(), NAME_CHARS)).collect();
             let more = theirs.len().saturating_sub(NAMES_QUOTED);
             let more = if more > 0 { format!(" (+{more} more)") } else { String::new() };
             format!("no common {kind} algorithm; the client offered {}{more}", quoted.join(","))
@@ -354,6 +382,32 @@ mod tests {
         assert_eq!(summary.groups, [(loud, 1000 - GROUP_BURST as u64 + 1)]);
         assert_eq!(summary.others, (0, 0));
         assert_eq!(limit.take_suppressed(3.0 + GROUP_INTERVAL), Suppressed::default(), "counts start again");
+    }
+
+    /// Red-team pass 17: a client offering `x user=root key=SHA256:fake` had the text format's
+    /// line end in `reason=no common kex algorithm; the client offered x user=root key=…`, two fields
+    /// of its own making for a reader or a parser of `key=value` pairs. Each name is one word now.
+    #[test]
+    fn a_clients_algorithm_name_is_one_word_of_the_line() {
+        let err = russh::Error::NoCommonAlgo {
+            kind: russh::AlgorithmKind::Kex,
+            ours: vec!["curve25519-sha256".into()],
+            theirs: vec!["x user=root key=SHA256:fake".into(), "a\"b\\u{1b}".into(), "user=root".into()],
+        };
+        let reason = error_reason(&err);
+        assert_eq!(
+            reason,
+            "no common kex algorithm; the client offered \
+             x\\u{20}user\\u{3d}root\\u{20}key\\u{3d}SHA256:fake,a\\u{22}b\\u{5c}u{1b},user\\u{3d}root"
+        );
+        assert!(!reason.contains('=') && !reason.contains('"'), "{reason}");
+        assert_eq!(
+            clip_word("sk-ecdsa-sha2-nistp256-cert-v01@openssh.com", NAME_CHARS),
+            "sk-ecdsa-sha2-nistp256-cert-v01@openssh.com"
+        );
+        assert_eq!(clip_word("a b\x1bc", 40), "a\\u{20}b\\u{1b}c", "escapes of both kinds");
+        assert_eq!(clip_word(&" ".repeat(1 << 20), 13), "\\u{20}\\u{20}…", "the escapes count, whole");
+        assert_eq!(clip_word("ab=c", 4), "ab…");
     }
 
     /// The library's errors are logged in our own short words, whatever its own text says.

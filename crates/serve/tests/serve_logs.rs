@@ -155,6 +155,25 @@ async fn floods_of_junk_key_exchanges_refusals_and_forwarding_requests_leave_the
         let line = log.text().lines().find(|l| l.contains("user=pat ")).unwrap_or_default().to_string();
         assert!(line.ends_with("reason=authentication failed (password)"), "{line}");
         server.shutdown().await;
+
+        // 5. Red-team pass 17: algorithm names offered as `x user=root key=SHA256:fake` and
+        // `user=root` wrote fields of their own into the line (`… the client offered x user=root
+        // key=SHA256:fake,user=root`): the line has its own `user=` and `key=` only.
+        let server = start(Limits::default()).await;
+        let mut stream = raw::connect(None, server.local_addr()).expect("connect");
+        let _ = stream.write_all(&raw::kexinit("x user=root key=SHA256:fake,user=root"));
+        let _ = raw::until_closed(&mut stream, Duration::from_secs(5));
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let offered = || log.text().lines().find(|l| l.contains("the client offered x")).map(str::to_string);
+        while offered().is_none() {
+            assert!(Instant::now() < deadline, "no line for the offer:\n{}", log.text());
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+        let line = offered().unwrap_or_default();
+        let fields = |name: &str| line.split_whitespace().filter(|w| w.starts_with(name)).count();
+        assert_eq!((fields("user="), fields("key=")), (1, 1), "{line}");
+        assert!(line.contains(" user=- "), "{line}");
+        server.shutdown().await;
     })
     .await
     .expect("ran over its deadline");
