@@ -102,6 +102,22 @@ pub fn maze_name(args: &MazeArgs) -> String {
     }
 }
 
+/// What the maze the flags name is called where anyone may read it (`serve --http`: the status page,
+/// `/maze.json`): a file's name without its folders, else as [`maze_name`]. Red-team pass 18: the
+/// path as given told whoever could reach the page the host's folders (`/home/alice/…`); the full
+/// path stays in the host's own records and messages.
+#[must_use]
+pub fn public_maze_name(args: &MazeArgs) -> String {
+    match (&args.maze, args.generate) {
+        (Some(path), None) => {
+            // (a path with no name, `..` say, is a folder and fails to load before this is asked)
+            let name = path.file_name().map_or_else(|| "maze".into(), |n| n.to_string_lossy());
+            maze::quote_path(&name)
+        }
+        _ => maze_name(args),
+    }
+}
+
 /// Loads, generates or unpacks the maze the flags name.
 pub fn load_maze(args: &MazeArgs) -> anyhow::Result<Maze> {
     if let Some((width, height)) = args.generate {

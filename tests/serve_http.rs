@@ -8,7 +8,9 @@
 //! closed at once; the key exchange's CPU time is clocked. And the status page in a headless Chromium
 //! (Debian's `chromium`, when on PATH), loaded once and driven over the DevTools protocol: two ssh
 //! players shown, each step they take in the page's DOM within 1 s (the median), nothing logged to
-//! the console. Every wait has a deadline; the children are killed on drop.
+//! the console. A maze file's folders reach no visitor and no player: the page, the JSON,
+//! the metrics, the events and the player's terminal name the file alone. Every wait has a
+//! deadline; the children are killed on drop.
 #![cfg(unix)]
 
 use std::fs::File;
@@ -36,11 +38,18 @@ struct Serve {
 }
 
 impl Serve {
-    /// Starts a server whose scratch folder is named after `test`.
+    /// Starts a server of the built-in maze whose scratch folder is named after `test`.
     fn start(test: &str) -> Serve {
+        Serve::start_with(test, |_| Vec::new())
+    }
+
+    /// Starts a server whose scratch folder is named after `test`, with the arguments `more` gives
+    /// for that folder (a maze file it put there, say).
+    fn start_with(test: &str, more: impl FnOnce(&std::path::Path) -> Vec<std::ffi::OsString>) -> Serve {
         let dir = std::env::temp_dir().join(format!("mazewalk-serve-http-{test}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("scratch folder");
+        let more = more(&dir);
         let mut child = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
             .args([
                 "serve",
@@ -52,6 +61,7 @@ impl Serve {
                 "--log-format",
                 "json",
             ])
+            .args(more)
             .arg("--host-key")
             .arg(dir.join("host_key"))
             .arg("--records")
@@ -355,6 +365,62 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
     let waited = started.elapsed();
     assert!(waited >= HEADER_TIMEOUT && waited < HEADER_TIMEOUT + TIMEOUT, "{waited:?}");
     assert_eq!(serve.value("mazewalk_players"), 0.0, "and /metrics answers again");
+}
+
+/// Red-team pass 18: `/maze.json` and so the status page named the maze by its path as given to
+/// `serve` (`/home/alice/private/…`), telling anyone who could reach the page the host's folders.
+/// They show the file's name now; nothing else a visitor or a player gets holds its folders: the
+/// page (and, in Chromium when on PATH, what its script shows), `/metrics`, `/best-run.json`, an
+/// event, a player's terminal (the game and its help).
+#[test]
+fn the_maze_files_folders_reach_no_visitor_and_no_player() {
+    const FOLDER: &str = "alices-private-mazes";
+    let serve = Serve::start_with("path", |dir| {
+        let maze = dir.join(FOLDER).join("tiny.maze");
+        std::fs::create_dir_all(dir.join(FOLDER)).expect("the maze's folder");
+        std::fs::copy(concat!(env!("CARGO_MANIFEST_DIR"), "/mazes/tiny.maze"), &maze).expect("a maze");
+        vec![maze.into_os_string()]
+    });
+    let get = |path: &str| {
+        let request = format!("GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+        let (status, body) = serve.http(request.as_bytes());
+        assert_eq!(status, 200, "{path}: {body}");
+        body
+    };
+    let maze: serde_json::Value = serde_json::from_str(&get("/maze.json")).expect("the maze's JSON");
+    assert_eq!(maze["name"], "tiny.maze", "the file's name, without its folders: {}", maze["name"]);
+    let mut player = Player::connect(serve.ssh_port, None, "walker", 80, 24);
+    player.wait_for("the game", common::playing);
+    let game = player.read(vt100::Screen::contents);
+    player.send(b"?");
+    player.wait_for("the help", |screen, _| screen.contents().contains("Keys"));
+    let help = player.read(vt100::Screen::contents);
+    let event = Events::open(serve.http).next(|e| e["players"].as_array().is_some_and(|p| p.len() == 1));
+    let raw = String::from_utf8_lossy(&player.raw()).into_owned();
+    for (what, text) in [
+        ("/", get("/")),
+        ("/metrics", get("/metrics")),
+        ("/best-run.json", get("/best-run.json")),
+        ("an event", event.to_string()),
+        ("the game's screen", game),
+        ("the help", help),
+        ("the player's terminal", raw),
+    ] {
+        assert!(!text.contains(FOLDER), "{what} names the maze's folder: {text}");
+    }
+    let Some(chromium) = chromium() else {
+        eprintln!("chromium not on PATH: the status page was not checked in a browser");
+        return;
+    };
+    let mut browser = Browser::open(chromium, &serve.dir.join("profile"), &format!("http://{}/", serve.http));
+    let deadline = Instant::now() + TIMEOUT;
+    while browser.eval("document.getElementById('name')?.textContent") != "mazewalk: tiny.maze" {
+        assert!(Instant::now() < deadline, "the page's heading: {}", browser.eval("document.body.innerText"));
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let shown = browser.eval("document.title + document.documentElement.outerHTML + document.body.innerText");
+    assert!(!shown.to_string().contains(FOLDER), "the page shows the maze's folder: {shown}");
+    assert!(browser.console.is_empty(), "the page logged: {:?}", browser.console);
 }
 
 /// The browser's window, as the README's picture shows the page.

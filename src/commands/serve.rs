@@ -90,7 +90,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     let http = match &args.http {
         Some(http) => {
             let addr = *resolve("--http", http)?.first().expect("resolve gives at least one address");
-            Some((addr, super::maze_name(&args.maze)))
+            Some((addr, super::public_maze_name(&args.maze)))
         }
         None => None,
     };
