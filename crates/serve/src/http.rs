@@ -1,6 +1,7 @@
 //! `serve --http ADDR`: a small HTTP/1.1 listener beside the SSH one, on the same tokio runtime
 //! (hyper 1). It serves `/metrics` ([`metrics`](crate::metrics)), the status page at `/` (plain
-//! HTML, CSS and JS from the binary: no CDN, no third-party request), the maze's walls at
+//! HTML, CSS and JS from the binary: no CDN, no third-party request; no script or style runs on it
+//! but its own, by their hashes: [`policy`]), the maze's walls at
 //! `/maze.json`, the best run's path at `/best-run.json` and the players' whereabouts as Server-Sent
 //! Events at `/events`; every other path is
 //! 404, every method but GET and HEAD 405.
@@ -78,6 +79,54 @@ const EVENT_KEEPALIVE: Duration = Duration::from_secs(15);
 
 /// The status page.
 const PAGE: &str = include_str!("status.html");
+
+/// The `Content-Security-Policy` of every answer ([`policy`] of [`PAGE`]), made once.
+static POLICY: std::sync::LazyLock<hyper::header::HeaderValue> = std::sync::LazyLock::new(|| {
+    hyper::header::HeaderValue::try_from(policy(PAGE)).expect("a policy is ASCII, without line breaks")
+});
+
+/// The `Content-Security-Policy` for `page`: its own inline `<script>`s and `<style>`s, each named by
+/// the SHA-256 of its text as served ([`inline`]), and requests to this server (`/maze.json`, the
+/// event stream); nothing else, and no frame may hold it. Red-team pass 18: `'unsafe-inline'` let
+/// any script run that found its way into the page (an injected handler), where `textContent` was
+/// all that stood in the way.
+fn policy(page: &str) -> String {
+    use base64ct::Encoding as _;
+    use sha2::Digest as _;
+    let sources = |tag: &str| -> String {
+        inline(page, tag)
+            .into_iter()
+            .map(|text| format!(" 'sha256-{}'", base64ct::Base64::encode_string(&sha2::Sha256::digest(text))))
+            .collect()
+    };
+    format!(
+        "default-src 'none'; script-src{}; style-src{}; connect-src 'self'; base-uri 'none'; \
+         form-action 'none'; frame-ancestors 'none'",
+        sources("script"),
+        sources("style")
+    )
+}
+
+/// The text of each `<tag>…</tag>` in `page` whose opening tag has no attributes, as a browser
+/// hashes it for the policy. That is the bytes served: the page goes out as the UTF-8 it is, and its
+/// line ends are `\n` already (a browser's parser hashes a `\r\n` as `\n`; a test checks there is none).
+fn inline<'a>(page: &'a str, tag: &str) -> Vec<&'a str> {
+    let (open, close) = (format!("<{tag}>"), format!("</{tag}>"));
+    page.split(open.as_str())
+        .skip(1)
+        .filter_map(|rest| rest.split_once(close.as_str()).map(|(text, _)| text))
+        .collect()
+}
+
+/// Sets the headers every answer carries: the [`POLICY`]; no guessing of a type other than the one
+/// said (`nosniff`: `/maze.json` is never taken for a script or a page); no `Referer` sent from the
+/// page to anyone (it links nowhere today; a link added later leaks not the host's address).
+fn protect(headers: &mut hyper::HeaderMap) {
+    use hyper::header::{self, HeaderValue};
+    headers.insert(header::CONTENT_SECURITY_POLICY, POLICY.clone());
+    headers.insert(header::X_CONTENT_TYPE_OPTIONS, HeaderValue::from_static("nosniff"));
+    headers.insert(header::REFERRER_POLICY, HeaderValue::from_static("no-referrer"));
+}
 
 /// What the listener serves.
 pub(crate) struct Site {
@@ -306,12 +355,7 @@ fn answer(site: &Arc<Site>, method: &Method, path: &str, peer: IpAddr) -> Respon
         }
         headers.insert(hyper::header::CONTENT_TYPE, hyper::header::HeaderValue::from_static(content_type));
         headers.insert(hyper::header::CACHE_CONTROL, hyper::header::HeaderValue::from_static("no-store"));
-        headers.insert(
-            hyper::header::CONTENT_SECURITY_POLICY,
-            hyper::header::HeaderValue::from_static(
-                "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; connect-src 'self'",
-            ),
-        );
+        protect(headers);
         response
     };
     if !matches!(*method, Method::GET | Method::HEAD) {
@@ -344,6 +388,7 @@ fn answer(site: &Arc<Site>, method: &Method, path: &str, peer: IpAddr) -> Respon
                     hyper::header::CACHE_CONTROL,
                     hyper::header::HeaderValue::from_static("no-store"),
                 );
+                protect(headers);
                 response
             }
             None => respond(
@@ -522,6 +567,61 @@ mod tests {
         assert_eq!(path[0], serde_json::json!([0.0, 1.0]));
         assert_eq!(path[path.len() - 1], serde_json::json!([60.0, 1.0]), "the finish");
         assert_eq!((json["holder"].as_str(), json["seconds"].as_f64()), (Some("ada"), Some(600.0)));
+    }
+
+    /// Red-team pass 18: the policy let any inline script run (`'unsafe-inline'`). Now it names the
+    /// page's own script and style by their hashes, as a browser computes them (base64 of the
+    /// SHA-256 of the element's text; `alert(1)`'s is CSP's usual example), and nothing else inline:
+    /// every `<script` and `<style` of the page is one it names.
+    #[test]
+    fn the_policy_names_the_pages_own_script_and_style_by_hash_and_nothing_inline_else() {
+        let example = policy("<p>x</p><script>alert(1)</script><style></style>");
+        assert!(
+            example.contains("script-src 'sha256-bhHHL3z2vDgxUt0W3dWQOrprscmda2Y5pLsLg4GF+pI=';"),
+            "{example}"
+        );
+        let served = policy(PAGE);
+        assert!(!served.contains("unsafe"), "{served}");
+        for (tag, directive) in [("script", "script-src"), ("style", "style-src")] {
+            let named = inline(PAGE, tag).len();
+            assert_eq!(named, PAGE.matches(&format!("<{tag}")).count(), "every <{tag} has no attributes");
+            assert_eq!(named, 1, "the page's one {tag}");
+            let sources = served.split("; ").find_map(|d| d.strip_prefix(directive)).expect(directive);
+            assert_eq!(sources.matches(" 'sha256-").count(), named, "{served}");
+        }
+        assert!(!PAGE.contains('\r'), "a browser hashes `\r\n` as `\n`: the page's line ends are `\n`");
+        for directive in
+            ["default-src 'none'", "frame-ancestors 'none'", "base-uri 'none'", "connect-src 'self'"]
+        {
+            assert!(served.split("; ").any(|d| d == directive), "{directive} in {served}");
+        }
+    }
+
+    /// Every answer carries the policy, `nosniff` and `no-referrer`: the page, the JSON, the event
+    /// stream, a 404, a 405.
+    #[tokio::test]
+    async fn every_answer_carries_the_policy_and_the_headers_that_go_with_it() {
+        let (_version, versions) = watch::channel(0u64);
+        let (_stop, shutdown) = watch::channel(false);
+        let site = Arc::new(bare_site(versions, shutdown));
+        for (method, path) in [
+            (Method::GET, "/"),
+            (Method::HEAD, "/"),
+            (Method::GET, "/maze.json"),
+            (Method::GET, "/events"),
+            (Method::GET, "/nowhere"),
+            (Method::POST, "/"),
+        ] {
+            let response = answer(&site, &method, path, ip(1));
+            let header = |name| response.headers().get(name).and_then(|v| v.to_str().ok());
+            assert_eq!(
+                header(hyper::header::CONTENT_SECURITY_POLICY),
+                Some(policy(PAGE).as_str()),
+                "{method} {path}"
+            );
+            assert_eq!(header(hyper::header::X_CONTENT_TYPE_OPTIONS), Some("nosniff"), "{method} {path}");
+            assert_eq!(header(hyper::header::REFERRER_POLICY), Some("no-referrer"), "{method} {path}");
+        }
     }
 
     /// Red-team pass 10: each `/maze.json` answer was a copy of the maze's walls (3.6 MB for 48,840
