@@ -8,7 +8,8 @@
 //! closed at once; the key exchange's CPU time is clocked. And the status page in a headless Chromium
 //! (Debian's `chromium`, when on PATH), loaded once and driven over the DevTools protocol: two ssh
 //! players shown, each step they take in the page's DOM within 1 s (the median), nothing logged to
-//! the console. A maze file's folders reach no visitor and no player: the page, the JSON,
+//! the console, nothing refused by the page's Content-Security-Policy, and a handler injected into
+//! the page refused by it. A maze file's folders reach no visitor and no player: the page, the JSON,
 //! the metrics, the events and the player's terminal name the file alone. Every wait has a
 //! deadline; the children are killed on drop.
 #![cfg(unix)]
@@ -233,6 +234,19 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
             && !page.contains("https://"),
         "{page}"
     );
+    // Red-team pass 18: no script or style runs on the page but its own, named by hash; no frame
+    // holds it, no type is guessed, no referrer is sent.
+    let answer = serve.answer(b"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    let head = answer.split_once("\r\n\r\n").map_or("", |(head, _)| head).to_ascii_lowercase();
+    for header in [
+        "content-security-policy: default-src 'none'; script-src 'sha256-",
+        "; style-src 'sha256-",
+        "; frame-ancestors 'none'",
+        "x-content-type-options: nosniff",
+        "referrer-policy: no-referrer",
+    ] {
+        assert!(head.contains(header) && !head.contains("unsafe"), "{header} in {head}");
+    }
     let (status, maze) = serve.http(b"GET /maze.json HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
     assert_eq!(status, 200);
     let maze: serde_json::Value = serde_json::from_str(&maze).expect("the maze's JSON");
@@ -421,6 +435,7 @@ fn the_maze_files_folders_reach_no_visitor_and_no_player() {
     let shown = browser.eval("document.title + document.documentElement.outerHTML + document.body.innerText");
     assert!(!shown.to_string().contains(FOLDER), "the page shows the maze's folder: {shown}");
     assert!(browser.console.is_empty(), "the page logged: {:?}", browser.console);
+    assert_eq!(browser.violations(), Vec::<String>::new(), "the policy refused some of the page");
 }
 
 /// The browser's window, as the README's picture shows the page.
@@ -535,9 +550,17 @@ impl Browser {
             serde_json::json!({ "targetId": page, "flatten": true }),
         );
         browser.session = attached["sessionId"].as_str().expect("a session").to_string();
-        // Everything the page reports from the first byte on, then the page.
+        // Everything the page reports from the first byte on, then the page. What its policy
+        // refuses goes to `__violations` too (from a script of the browser's, not the page's: the
+        // policy does not bind it), as the directive and what it refused.
         browser.call_page("Runtime.enable", serde_json::json!({}));
         browser.call_page("Log.enable", serde_json::json!({}));
+        browser.call_page("Page.enable", serde_json::json!({}));
+        browser.call_page(
+            "Page.addScriptToEvaluateOnNewDocument",
+            serde_json::json!({ "source": "window.__violations = []; document.addEventListener(\
+                'securitypolicyviolation', e => __violations.push(e.effectiveDirective + ' ' + e.blockedURI));" }),
+        );
         browser.call_page("Page.navigate", serde_json::json!({ "url": url }));
         browser
     }
@@ -583,6 +606,11 @@ impl Browser {
             .call_page("Runtime.evaluate", serde_json::json!({ "expression": js, "returnByValue": true }));
         assert!(result.get("exceptionDetails").is_none(), "{js}: {result}");
         result["result"]["value"].clone()
+    }
+
+    /// What the page's `Content-Security-Policy` refused so far: each directive and what it refused.
+    fn violations(&mut self) -> Vec<String> {
+        serde_json::from_value(self.eval("window.__violations")).expect("a list of the refused")
     }
 
     /// The page's list of players as its DOM shows it: name → position (its text, "x, y").
@@ -645,6 +673,14 @@ fn a_headless_chromium_shows_two_players_walking_live_on_the_status_page() {
 
     let mut browser = Browser::open(chromium, &serve.dir.join("profile"), &url);
     browser.wait_players("the empty list", |p| p.is_empty());
+    // The page's script runs under its policy: its first event shown, nothing refused.
+    let deadline = Instant::now() + TIMEOUT;
+    while browser.eval("document.getElementById('state')?.textContent") != "0 players" {
+        let refused = browser.violations();
+        assert!(Instant::now() < deadline, "the page's script never ran; the policy refused {refused:?}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(browser.violations(), Vec::<String>::new(), "the policy refused some of the page");
     let mut players: Vec<(&str, Player)> = ["ada", "bob"]
         .into_iter()
         .map(|name| (name, Player::connect(serve.ssh_port, None, name, 80, 24)))
@@ -721,6 +757,20 @@ fn a_headless_chromium_shows_two_players_walking_live_on_the_status_page() {
         times.len()
     );
     assert!(browser.console.is_empty(), "the page logged: {:?}", browser.console);
+    // Red-team pass 18: the policy allowed any inline script (`'unsafe-inline'`). The page's own
+    // script ran (the list above is its work) and nothing was refused; a handler injected into
+    // the page now is, and the browser says so.
+    assert_eq!(browser.violations(), Vec::<String>::new(), "the policy refused some of the page");
+    let injected = browser.eval(
+        "(() => { const d = document.createElement('div'); d.setAttribute('onclick', 'window.__ran = 1'); \
+         document.body.append(d); d.click(); d.remove(); return window.__ran === 1; })()",
+    );
+    assert_eq!(injected, false, "an injected inline handler ran");
+    let deadline = Instant::now() + TIMEOUT;
+    while !browser.violations().iter().any(|v| v.starts_with("script-src-attr")) {
+        assert!(Instant::now() < deadline, "no violation reported: {:?}", browser.violations());
+        std::thread::sleep(Duration::from_millis(20));
+    }
 
     // A fresh load draws both players (Chromium may take its picture before the first event
     // arrives: again, a few times).
