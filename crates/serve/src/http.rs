@@ -120,7 +120,7 @@ fn inline<'a>(page: &'a str, tag: &str) -> Vec<&'a str> {
 
 /// Sets the headers every answer carries: the [`POLICY`]; no guessing of a type other than the one
 /// said (`nosniff`: `/maze.json` is never taken for a script or a page); no `Referer` sent from the
-/// page to anyone (it links nowhere today; a link added later leaks not the host's address).
+/// page to anyone (it links nowhere today; a link added later will not tell where the page is).
 fn protect(headers: &mut hyper::HeaderMap) {
     use hyper::header::{self, HeaderValue};
     headers.insert(header::CONTENT_SECURITY_POLICY, POLICY.clone());
@@ -571,8 +571,8 @@ mod tests {
 
     /// Red-team pass 18: the policy let any inline script run (`'unsafe-inline'`). Now it names the
     /// page's own script and style by their hashes, as a browser computes them (base64 of the
-    /// SHA-256 of the element's text; `alert(1)`'s is CSP's usual example), and nothing else inline:
-    /// every `<script` and `<style` of the page is one it names.
+    /// SHA-256 of the element's text: `alert(1)`'s as `openssl dgst -sha256 -binary | base64` gives
+    /// it), and nothing else inline: every `<script` and `<style` of the page is one it names.
     #[test]
     fn the_policy_names_the_pages_own_script_and_style_by_hash_and_nothing_inline_else() {
         let example = policy("<p>x</p><script>alert(1)</script><style></style>");
@@ -589,7 +589,7 @@ mod tests {
             let sources = served.split("; ").find_map(|d| d.strip_prefix(directive)).expect(directive);
             assert_eq!(sources.matches(" 'sha256-").count(), named, "{served}");
         }
-        assert!(!PAGE.contains('\r'), "a browser hashes `\r\n` as `\n`: the page's line ends are `\n`");
+        assert!(!PAGE.contains('\r'), "a browser hashes a CR LF as LF: the page's line ends are LF alone");
         for directive in
             ["default-src 'none'", "frame-ancestors 'none'", "base-uri 'none'", "connect-src 'self'"]
         {
