@@ -12,6 +12,9 @@
 //! Views in the exit's light: `builtin` (the built-in maze) and `walk` (the walk's generated 20 × 15
 //! maze, seed 71): the viewer stands at the centre of cell "maze side" (there a cell's index), facing
 //! the heading in degrees given after the colour depth (default 0), as the walk stands there.
+//!
+//! With `fovea` after the heading, the view is foveated, as the walk draws it (`Camera::fovea`):
+//! `profile_frame walk 0 half 120 40 frame 11 256 0 fovea` is a served player's render.
 
 use mazewalk_bench::common;
 
@@ -35,12 +38,14 @@ fn main() {
     let depth: ColorDepth = arg(7, "truecolor").parse().expect("colour depth");
 
     let heading: f32 = arg(8, "0").parse().expect("heading");
-    let scene = match arg(0, "corridor").as_str() {
+    let fovea = arg(9, "") == "fovea";
+    let mut scene = match arg(0, "corridor").as_str() {
         "open" => common::scene(View::Open, side),
         "builtin" => standing(builtin().expect("built-in maze"), side, heading),
         "walk" => standing(generate(&GenOptions::walk(20, 15, 71)).expect("maze"), side, heading),
         _ => common::scene(View::Corridor, side),
     };
+    scene.camera.fovea = fovea;
     let options =
         RenderOptions { charset, color_depth: depth, culling: Culling::Portal, ..RenderOptions::default() };
     let (mut renderer, mut frame) = (Renderer::new(), Frame::new(cols, rows));
