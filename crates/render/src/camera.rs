@@ -413,23 +413,71 @@ impl Eye {
     /// `t` (orthographic). Built from the camera basis, not the matrices, so all conventions agree.
     #[must_use]
     pub fn ray(&self, gx: f32, gy: f32) -> (Vec3, Vec3) {
+        self.ray_from(self.across(gx), self.down(gy))
+    }
+
+    /// The rays through grid points (0.5, `gy`) and (1.5, `gy`) for any row `gy`, as [`Eye::ray`]
+    /// gives them: a pass over rows asks them twice a row, and their columns' share of the work is
+    /// the same on every row, so it is done once here ([`RowRays`]).
+    #[must_use]
+    pub(crate) fn row_rays(&self) -> RowRays<'_> {
+        RowRays { eye: self, across: [self.across(0.5), self.across(1.5)] }
+    }
+
+    /// What column `gx` adds to its rays, whatever the row: the part of [`Eye::ray`]'s sums before
+    /// the row's term (`forward + right·x` in perspective, `position + right·x` in orthographic).
+    fn across(&self, gx: f32) -> Vec3 {
         let [lo, hi] = self.window;
         let mut ndc_x = lo.x + gx / self.width as f32 * (hi.x - lo.x);
-        let mut ndc_y = hi.y - gy / self.height as f32 * (hi.y - lo.y); // grid y down, NDC y up
-        if let Some([across, down]) = &self.warp {
-            (ndc_x, ndc_y) = (across.to_ndc(ndc_x), down.to_ndc(ndc_y));
+        if let Some([across, _]) = &self.warp {
+            ndc_x = across.to_ndc(ndc_x);
         }
         match self.camera.projection {
+            Projection::Perspective => self.forward + self.right * (ndc_x * self.half_w),
+            Projection::Orthographic => self.position + self.right * (ndc_x * self.half_w),
+        }
+    }
+
+    /// What row `gy` adds to its rays, whatever the column: the last term of [`Eye::ray`]'s sums.
+    #[inline]
+    fn down(&self, gy: f32) -> Vec3 {
+        let [lo, hi] = self.window;
+        let mut ndc_y = hi.y - gy / self.height as f32 * (hi.y - lo.y); // grid y down, NDC y up
+        if let Some([_, down]) = &self.warp {
+            ndc_y = down.to_ndc(ndc_y);
+        }
+        self.up * (ndc_y * self.half_h)
+    }
+
+    /// [`Eye::ray`] from its column's share ([`Eye::across`]) and its row's ([`Eye::down`]): the
+    /// same operations in the same order, so the same bits.
+    #[inline]
+    fn ray_from(&self, across: Vec3, down: Vec3) -> (Vec3, Vec3) {
+        match self.camera.projection {
             Projection::Perspective => {
-                let dir = self.forward + self.right * (ndc_x * self.half_w) + self.up * (ndc_y * self.half_h);
+                let dir = across + down;
                 (self.position + dir * self.near, dir)
             }
-            Projection::Orthographic => {
-                let start =
-                    self.position + self.right * (ndc_x * self.half_w) + self.up * (ndc_y * self.half_h);
-                (start, self.forward)
-            }
+            Projection::Orthographic => (across + down, self.forward),
         }
+    }
+}
+
+/// The rays of a row's first two samples, row after row ([`Eye::row_rays`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RowRays<'e> {
+    eye: &'e Eye,
+    /// What columns 0.5 and 1.5 add to their rays ([`Eye::across`]).
+    across: [Vec3; 2],
+}
+
+impl RowRays<'_> {
+    /// The rays through (0.5, `gy`) and (1.5, `gy`): `Eye::ray`'s, bit for bit.
+    #[inline]
+    pub(crate) fn at(&self, gy: f32) -> [(Vec3, Vec3); 2] {
+        let down = self.eye.down(gy); // (the row's share, the same for both)
+        let [first, second] = self.across;
+        [self.eye.ray_from(first, down), self.eye.ray_from(second, down)]
     }
 }
 
@@ -496,6 +544,40 @@ mod tests {
                 }
             }
             assert!(covered.iter().all(|&c| c == 1), "{cols}×{rows}: every sample in one tile");
+        }
+    }
+
+    /// A row's first two rays by [`Eye::row_rays`] are [`Eye::ray`]'s, bit for bit, on every row of
+    /// views whole and foveated (the whole view's warp, and each tile), level and pitched, in both
+    /// projections.
+    #[test]
+    fn row_rays_are_the_rays_bit_for_bit() {
+        let bits =
+            |(start, dir): (Vec3, Vec3)| [start.to_array(), dir.to_array()].map(|v| v.map(f32::to_bits));
+        for projection in [Projection::Perspective, Projection::Orthographic] {
+            for (pitch_deg, fovea) in [(0.0, true), (-12.0, true), (35.0, false)] {
+                let camera = Camera {
+                    projection,
+                    pitch_deg,
+                    fovea,
+                    eye_z: 0.2,
+                    ..Camera::new(Vec2::new(2.3, -1.7), 37.0, 119.0)
+                };
+                let view = camera.eye(120, 80, 1.0).expect("eye");
+                for eye in std::iter::once(view).chain(view.tiles().into_iter().map(|tile| tile.eye)) {
+                    let rays = eye.row_rays();
+                    for y in 0..eye.height {
+                        let gy = y as f32 + 0.5;
+                        let [first, second] = rays.at(gy);
+                        assert_eq!(bits(first), bits(eye.ray(0.5, gy)), "{projection:?} {pitch_deg} row {y}");
+                        assert_eq!(
+                            bits(second),
+                            bits(eye.ray(1.5, gy)),
+                            "{projection:?} {pitch_deg} row {y}"
+                        );
+                    }
+                }
+            }
         }
     }
 

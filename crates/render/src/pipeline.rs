@@ -758,11 +758,10 @@ impl Renderer {
             };
         let width = eye.width;
         let (colors, depths, ids) = self.samples.parts_mut();
+        let rays = eye.row_rays(); // (each row's first two rays, their columns' share worked out once)
         for y in 0..eye.height {
             // `Eye::ray` is affine in the grid x: along a row, start and direction step by constants.
-            let gy = y as f32 + 0.5;
-            let (start0, dir0) = eye.ray(0.5, gy);
-            let (start1, dir1) = eye.ray(1.5, gy);
+            let [(start0, dir0), (start1, dir1)] = rays.at(y as f32 + 0.5);
             let (start_step, dir_step) = (start1 - start0, dir1 - dir0);
             let at = |x: usize| (start0 + start_step * x as f32, dir0 + dir_step * x as f32);
             let row = y * width..(y + 1) * width;
@@ -777,6 +776,13 @@ impl Renderer {
                     }
                     continue;
                 };
+                // A wall stays where it is at least as near as the plane along this ray (none can
+                // where the ray starts inside the plane's solid side): every path below leaves such
+                // samples be, so a row walls keep whole is done (a wall faced up close, a tile of walls).
+                let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
+                if first_shown((ids, depths), stays_at, 0) == width {
+                    continue;
+                }
                 let (first, last) = (at(0), at(width.saturating_sub(1)));
                 let t = hit.t.unwrap_or(0.0);
                 let (a, b) = ((first.0 + first.1 * t).truncate(), (last.0 + last.1 * t).truncate());
@@ -787,12 +793,6 @@ impl Renderer {
                 let lit_row =
                     glow.is_some_and(|(_, light)| Aabb::new(a.min(b), a.max(b)).intersects(&light.bounds()));
                 if shading == Shading::Color && !glows && !self.reference_shading {
-                    // A wall stays where it is at least as near as the plane along this ray (none can
-                    // where the ray starts inside the plane's solid side).
-                    let stays_at = if hit.t.is_some() { hit.wall_stays_at } else { f32::NEG_INFINITY };
-                    if first_shown((ids, depths), stays_at, 0) == width {
-                        continue; // walls keep the whole row (a wall faced up close, a tile of walls)
-                    }
                     let shade = RowShade::new(
                         &hit,
                         (start0, start_step),
