@@ -2053,12 +2053,7 @@ impl RowShade {
     /// Sample `x`'s checker square: the two floors of [`RowShade::squares_at`], as [`floor_int`]
     /// takes them (for |v| < 2^31).
     fn square_at(&self, x: usize) -> (i32, i32) {
-        let floor = |v: f32| {
-            let t = v as i32;
-            t - i32::from(t as f32 > v)
-        };
-        let (u, v) = self.squares_at(x);
-        (floor(u), floor(v))
+        square_of(self.squares_at(x))
     }
 
     /// Fills `out` with the paints of samples `0..width` (and the last group's lanes past it), as
@@ -2110,12 +2105,20 @@ impl RowShade {
         if ![start.0, start.1, end.0, end.1].into_iter().all(sane) {
             return false;
         }
-        let (first, last) = (self.square_at(0), self.square_at(n - 1));
+        let (first, last) = (square_of(start), square_of(end));
         let crossings = first.0.abs_diff(last.0) + first.1.abs_diff(last.1);
         if crossings as usize * RUN_AT_LEAST > n {
             return false; // short runs on average: the groups are cheaper
         }
         let [light, dark] = self.squares();
+        let paint = |(u, v): (i32, i32)| if (u ^ v) & 1 == 1 { dark } else { light };
+        runs.clear();
+        if crossings == 0 {
+            // The row's ends in one square: so is every sample between them (the floors are
+            // monotonic), the whole row one run (as a foveated view's tiles' rows most often are).
+            runs.push((n, paint(first)));
+            return true;
+        }
         // where the row crosses each axis's next square, estimated as a straight line in x
         let span = (n - 1).max(1) as f64;
         // (u at 0, samples a unit of u)
@@ -2129,7 +2132,6 @@ impl RowShade {
             let next = if per > 0.0 { f64::from(here) + 1.0 } else { f64::from(here) };
             (next - u0) * per
         };
-        runs.clear();
         let mut x = 0;
         let mut here = first;
         while x < n {
@@ -2143,8 +2145,7 @@ impl RowShade {
                 Some(square) if square == here => self.run_on(end + 1, n, here),
                 next => (end, next),
             };
-            let odd = (here.0 ^ here.1) & 1 == 1;
-            runs.push((end + 1, if odd { dark } else { light }));
+            runs.push((end + 1, paint(here)));
             x = end + 1;
             here = next.unwrap_or(here);
         }
@@ -2209,6 +2210,16 @@ impl RowShade {
         }
         square * self.lit_kept
     }
+}
+
+/// A point's checker square, from its coordinates in squares ([`RowShade::squares_at`]): their two
+/// floors, as [`floor_int`] takes them (for |v| < 2^31).
+fn square_of((u, v): (f32, f32)) -> (i32, i32) {
+    let floor = |v: f32| {
+        let t = v as i32;
+        t - i32::from(t as f32 > v)
+    };
+    (floor(u), floor(v))
 }
 
 /// A level row's checker squares are filled by runs ([`RowShade::square_runs`]) where they
@@ -2739,6 +2750,7 @@ mod tests {
     #[test]
     fn plane_paints_by_runs_are_the_groups_paints() {
         let (mut rows, mut by_runs) = (0, 0);
+        let one_square = std::cell::Cell::new(0); // rows of one square: one run, found from the ends alone
         let check = |shade: &RowShade, width: usize| -> bool {
             let mut out = vec![f32::NAN; 3];
             if !shade.paints_by_runs(&mut out, width) {
@@ -2750,6 +2762,9 @@ mod tests {
                 (0..n / LANES).flat_map(|g| shade.group(g).to_array()).map(f32::to_bits).collect();
             let runs: Vec<u32> = out.iter().map(|p| p.to_bits()).collect();
             assert_eq!(runs, groups, "{shade:?}, width {width}");
+            if n > 0 && shade.square_at(0) == shade.square_at(n - 1) {
+                one_square.set(one_square.get() + 1);
+            }
             true
         };
         let hit = |t: f32| PlaneHit {
@@ -2769,20 +2784,27 @@ mod tests {
                 for projection in [Projection::Perspective, Projection::Orthographic] {
                     let camera = Camera { pitch_deg: 0.0, projection, ..camera };
                     let width = [120, 61, 37, 5, 200, 1][k % 6];
-                    let eye = camera.eye(width, 40, Charset::Half.sample_aspect(0.5)).expect("eye");
-                    for y in 0..40 {
-                        let gy = y as f32 + 0.5;
-                        let (start0, dir0) = eye.ray(0.5, gy);
-                        let (start1, dir1) = eye.ray(1.5, gy);
-                        let (start_step, dir_step) = (start1 - start0, dir1 - dir0);
-                        let z = if dir0.z < 0.0 { FLOOR_Z } else { CEILING_Z };
-                        let t = if dir0.z == 0.0 { 0.0 } else { (z - start0.z) / dir0.z };
-                        if t.is_nan() || t < 0.0 {
-                            continue;
+                    let aspect = Charset::Half.sample_aspect(0.5);
+                    let eye = camera.eye(width, 40, aspect).expect("eye");
+                    // and the tiles of the view foveated, 20 to 40 samples wide: most of their rows
+                    // lie in one square
+                    let view = Camera { fovea: true, ..camera }.eye(120, 80, aspect).expect("eye");
+                    for eye in std::iter::once(eye).chain(view.tiles().into_iter().map(|tile| tile.eye)) {
+                        for y in 0..eye.height {
+                            let gy = y as f32 + 0.5;
+                            let (start0, dir0) = eye.ray(0.5, gy);
+                            let (start1, dir1) = eye.ray(1.5, gy);
+                            let (start_step, dir_step) = (start1 - start0, dir1 - dir0);
+                            let z = if dir0.z < 0.0 { FLOOR_Z } else { CEILING_Z };
+                            let t = if dir0.z == 0.0 { 0.0 } else { (z - start0.z) / dir0.z };
+                            if t.is_nan() || t < 0.0 {
+                                continue;
+                            }
+                            let shade =
+                                RowShade::new(&hit(t), (start0, start_step), (dir0, dir_step), None, 0.7);
+                            rows += 1;
+                            by_runs += usize::from(check(&shade, eye.width));
                         }
-                        let shade = RowShade::new(&hit(t), (start0, start_step), (dir0, dir_step), None, 0.7);
-                        rows += 1;
-                        by_runs += usize::from(check(&shade, width));
                     }
                 }
             }
@@ -2843,7 +2865,9 @@ mod tests {
             0.9,
         );
         assert!(!filtered.paints_by_runs(&mut Vec::new(), 120));
+        let one_square = one_square.get();
         assert!(rows > 1000 && by_runs > rows / 4, "{by_runs} of {rows} rows by runs");
+        assert!(one_square > by_runs / 4, "{one_square} of {by_runs} rows by runs in one square");
     }
 
     /// Whole renders with level rows' paints by runs are those by groups, bit for bit (ids, depths,
