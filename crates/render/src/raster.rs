@@ -116,33 +116,54 @@ pub fn for_each_sample(
 
 /// One row's run of covered samples, with what gives each its barycentric weights exactly.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Span {
+pub(crate) struct Span<'t> {
     /// Row.
     pub y: usize,
     /// First column.
     pub x: usize,
     /// Samples covered (at least one).
     pub len: usize,
-    /// Edge functions at the first sample, biased by the top-left rule (≥ 0 inside), and their steps
-    /// per sample to the right, in the normalised winding; vertex `order[k]` gets edge `k`'s weight.
-    edge: [i64; 3],
+    /// Edge functions at the row's first column of the bounding box, biased by the top-left rule
+    /// (≥ 0 inside), and the span's first sample's offset from that column: the edge functions at
+    /// the first sample are worked out only by a caller that weighs its samples ([`Span::edge`]).
+    row: [i64; 3],
+    first: i64,
+    triangle: &'t SpanEdges,
+}
+
+/// What the spans of one triangle share: the edge functions' steps per sample to the right, in the
+/// normalised winding, their top-left bias, and the area; vertex `order[k]` gets edge `k`'s weight.
+#[derive(Clone, Copy, Debug)]
+struct SpanEdges {
     step: [i64; 3],
     bias: [i64; 3],
     order: [usize; 3],
     inv_area: f64,
     /// Whether the area is below 2^53 (see [`Span::edges_x8`]).
     exact_in_f64: bool,
+    /// Each edge's steps to the eight lanes of a group, `step · lane` in `f64`, and to the next
+    /// group, in the caller's vertex order: worked out once a triangle, not once a span (the same
+    /// products added to a span's first edge functions, so the same bits).
+    lane_steps: [[f64; LANES]; 3],
+    step8: [f64; 3],
 }
 
-impl Span {
+impl Span<'_> {
+    /// Edge function `k` at the span's first sample, biased (≥ 0 inside).
+    #[inline]
+    fn edge(&self, k: usize) -> i64 {
+        self.row[k] + self.triangle.step[k] * self.first
+    }
+
     /// The barycentric weights of sample `i` of the span, in the caller's vertex order: the edge
     /// functions at it in `i64`, exactly, divided by the area in `f64`.
     #[inline]
     pub(crate) fn bary(&self, i: usize) -> [f32; 3] {
+        let t = self.triangle;
         let mut bary = [0.0; 3];
         for k in 0..3 {
-            let e = self.edge[k] + self.step[k] * i as i64 - self.bias[k];
-            bary[self.order[k]] = (e as f64 * self.inv_area) as f32;
+            let e = self.edge(k) + t.step[k] * i as i64 - t.bias[k];
+            bary[t.order[k]] = (e as f64 * t.inv_area) as f32;
         }
         bary
     }
@@ -157,19 +178,14 @@ impl Span {
     /// value `bary` converts. Larger triangles (beyond the pipeline's clipped walls) take `bary` itself.
     #[inline]
     pub(crate) fn edges_x8(&self) -> EdgesX8<'_> {
-        let lane = |k: usize| -> [f64; LANES] {
-            let first = (self.edge[k] - self.bias[k]) as f64;
-            let step = self.step[k] as f64;
-            std::array::from_fn(|l| first + step * l as f64)
-        };
+        let t = self.triangle;
         // in the caller's vertex order
-        let mut e = [[0.0; LANES]; 3];
-        let mut step8 = [0.0; 3];
+        let mut first = [0.0; 3];
         for k in 0..3 {
-            e[self.order[k]] = lane(k);
-            step8[self.order[k]] = (self.step[k] * LANES as i64) as f64;
+            first[t.order[k]] = (self.edge(k) - t.bias[k]) as f64;
         }
-        EdgesX8 { e, step8, inv_area: self.inv_area, span: self, start: 0 }
+        let e = std::array::from_fn(|j| std::array::from_fn(|l| first[j] + t.lane_steps[j][l]));
+        EdgesX8 { e, step8: t.step8, inv_area: t.inv_area, span: self, start: 0 }
     }
 
     /// [`EdgesX8::bary`] by [`Span::bary`], for the rare triangle of area 2^53 or more.
@@ -187,7 +203,7 @@ pub(crate) struct EdgesX8<'s> {
     e: [[f64; LANES]; 3],
     step8: [f64; 3],
     inv_area: f64,
-    span: &'s Span,
+    span: &'s Span<'s>,
     start: usize,
 }
 
@@ -197,7 +213,7 @@ impl EdgesX8<'_> {
     /// (Exact while the area is below 2^53: see [`Span::edges_x8`].)
     #[inline]
     pub(crate) fn bary(&self) -> [f32x8; 3] {
-        if !self.span.exact_in_f64 {
+        if !self.span.triangle.exact_in_f64 {
             return self.span.bary_one_by_one(self.start).map(f32x8::from);
         }
         let weights = |k: usize| {
@@ -224,7 +240,7 @@ impl EdgesX8<'_> {
 
 /// Calls `span` for each row's run of samples the triangle covers, top to bottom (see
 /// [`for_each_sample`]: the same samples, grouped by row).
-pub(crate) fn for_each_span(width: usize, height: usize, pos: [Vec2; 3], mut span: impl FnMut(&Span)) {
+pub(crate) fn for_each_span(width: usize, height: usize, pos: [Vec2; 3], mut span: impl FnMut(&Span<'_>)) {
     let (Some(p0), Some(p1), Some(p2)) = (snap(pos[0]), snap(pos[1]), snap(pos[2])) else { return };
     let (mut v, mut order) = ([p0, p1, p2], [0, 1, 2]);
     let mut area = edge(v[0], v[1], v[2]);
@@ -262,33 +278,50 @@ pub(crate) fn for_each_span(width: usize, height: usize, pos: [Vec2; 3], mut spa
     let step_y = edges.map(|(a, b)| (b[0] - a[0]) * ONE);
     let start = [x_lo * ONE + HALF, y_lo * ONE + HALF];
     let mut row: [i64; 3] = std::array::from_fn(|k| edge(edges[k].0, edges[k].1, start) + bias[k]);
-    let inv_area = 1.0 / area as f64;
-    let exact_in_f64 = area < 1 << f64::MANTISSA_DIGITS;
+    let triangle = SpanEdges {
+        step: step_x,
+        bias,
+        order,
+        inv_area: 1.0 / area as f64,
+        exact_in_f64: area < 1 << f64::MANTISSA_DIGITS,
+        lane_steps: {
+            let mut lane_steps = [[0.0; LANES]; 3];
+            for k in 0..3 {
+                lane_steps[order[k]] = std::array::from_fn(|l| step_x[k] as f64 * l as f64);
+            }
+            lane_steps
+        },
+        step8: {
+            let mut step8 = [0.0; 3];
+            for k in 0..3 {
+                step8[order[k]] = (step_x[k] * LANES as i64) as f64;
+            }
+            step8
+        },
+    };
 
     for y in y_lo..=y_hi {
         // The row's span, solved exactly in integers: E_k(x_lo + i) = row_k + step_x_k · i ≥ 0 for all k.
         let (mut first, mut last) = (0, x_hi - x_lo);
         for k in 0..3 {
             match step_x[k] {
-                s if s > 0 => first = first.max(((-row[k]).max(0) + s - 1) / s),
+                // inside at the box's first column, the edge stays inside along the row: no divide
+                s if s > 0 && row[k] < 0 => first = first.max((-row[k] + s - 1) / s),
+                s if s > 0 => {}
                 s if s < 0 => last = last.min(if row[k] < 0 { -1 } else { row[k] / -s }),
                 _ if row[k] < 0 => last = -1,
                 _ => {}
             }
         }
         if first <= last {
-            let edge = std::array::from_fn(|k| row[k] + step_x[k] * first);
-            debug_assert!((0..3).all(|k| edge[k] >= 0 && edge[k] + step_x[k] * (last - first) >= 0));
+            debug_assert!((0..3).all(|k| row[k] + step_x[k] * first >= 0 && row[k] + step_x[k] * last >= 0));
             span(&Span {
                 y: y as usize,
                 x: (x_lo + first) as usize, // in [0, width) by the clamps above
                 len: (last - first + 1) as usize,
-                edge,
-                step: step_x,
-                bias,
-                order,
-                inv_area,
-                exact_in_f64,
+                row,
+                first,
+                triangle: &triangle,
             });
         }
         for k in 0..3 {
@@ -560,6 +593,21 @@ fn fill_triangle_x8(
                 written += LANES;
                 continue;
             }
+            // A part group: its visible lanes one by one, into the group's eight (but for the
+            // buffer's last few samples), so that each store is checked against eight, not the buffer.
+            let eight = row + start..row + start + LANES;
+            if let (Some(c8), Some(d8), Some(i8)) =
+                (colors.get_mut(eight.clone()), depths.get_mut(eight.clone()), ids.get_mut(eight))
+            {
+                let mut left = visible;
+                while left != 0 {
+                    let lane = left.trailing_zeros() as usize;
+                    left &= left - 1;
+                    (c8[lane], d8[lane], i8[lane]) = (color, z[lane], id);
+                    written += 1;
+                }
+                continue;
+            }
             let mut left = visible;
             while left != 0 {
                 let lane = left.trailing_zeros() as usize;
@@ -805,7 +853,7 @@ mod tests {
         for (t, tri) in triangles.into_iter().enumerate() {
             for_each_span(37, 23, tri, |span| {
                 spans[t] += 1;
-                assert_eq!(span.exact_in_f64, t < 2, "triangle {t} steps in f64");
+                assert_eq!(span.triangle.exact_in_f64, t < 2, "triangle {t} steps in f64");
                 let mut edges = span.edges_x8();
                 for start in (0..span.len).step_by(LANES) {
                     let lanes = edges.bary().map(cast::<f32x8, [f32; LANES]>);
