@@ -240,9 +240,19 @@ impl EdgesX8<'_> {
 
 /// Calls `span` for each row's run of samples the triangle covers, top to bottom (see
 /// [`for_each_sample`]: the same samples, grouped by row).
-pub(crate) fn for_each_span(width: usize, height: usize, pos: [Vec2; 3], mut span: impl FnMut(&Span<'_>)) {
+pub(crate) fn for_each_span(width: usize, height: usize, pos: [Vec2; 3], span: impl FnMut(&Span<'_>)) {
     let (Some(p0), Some(p1), Some(p2)) = (snap(pos[0]), snap(pos[1]), snap(pos[2])) else { return };
-    let (mut v, mut order) = ([p0, p1, p2], [0, 1, 2]);
+    for_each_span_snapped(width, height, [p0, p1, p2], span);
+}
+
+/// [`for_each_span`] of a triangle already snapped ([`snap`]).
+fn for_each_span_snapped(
+    width: usize,
+    height: usize,
+    snapped: [[i64; 2]; 3],
+    mut span: impl FnMut(&Span<'_>),
+) {
+    let (mut v, mut order) = (snapped, [0, 1, 2]);
     let mut area = edge(v[0], v[1], v[2]);
     match area.cmp(&0) {
         // degenerate: a line or a point covers no sample centre exactly enough to matter
@@ -471,8 +481,12 @@ pub(crate) fn fill_polygon_x8(
 /// is vertical on the fixed-point grid, `b₁`'s edge function does not change down a column, so
 /// neither does the depth. The same with the roles of 1 and 2 swapped. Both differences zero (a wall
 /// faced square on): one depth for all. Otherwise `None`, and the caller weighs each sample.
-fn column_depths(width: usize, tri: [&GridVertex<Vec3>; 3], columns: &mut Vec<f32>) -> Option<i64> {
-    let [Some(p0), Some(p1), Some(p2)] = tri.map(|v| snap(v.pos)) else { return None };
+fn column_depths(
+    width: usize,
+    tri: [&GridVertex<Vec3>; 3],
+    [p0, p1, p2]: [[i64; 2]; 3],
+    columns: &mut Vec<f32>,
+) -> Option<i64> {
     let depth0 = tri[0].depth;
     let (depth_1, depth_2) = (tri[1].depth - tri[0].depth, tri[2].depth - tri[0].depth);
     let signed = edge(p0, p1, p2);
@@ -541,7 +555,9 @@ fn fill_triangle_x8(
     let (width, height) = (buffer.width(), buffer.height());
     let depth0 = s(tri[0].depth);
     let (depth_1, depth_2) = (s(tri[1].depth - tri[0].depth), s(tri[2].depth - tri[0].depth));
-    let by_column = column_depths(width, tri, columns);
+    // Snapped once for both the columns' depths and the spans; a corner off the grid covers nothing.
+    let [Some(p0), Some(p1), Some(p2)] = tri.map(|v| snap(v.pos)) else { return 0 };
+    let by_column = column_depths(width, tri, [p0, p1, p2], columns);
     #[cfg(test)]
     FILLED_BY_COLUMN.with(|n| n.set(n.get() + [0, 1][usize::from(by_column.is_some())]));
     let x_lo = by_column.map_or(0, |x| x as usize);
@@ -549,7 +565,7 @@ fn fill_triangle_x8(
     let eight_colors = [color; LANES];
     let (colors, depths, ids) = buffer.parts_mut();
     let mut written = 0;
-    for_each_span(width, height, tri.map(|v| v.pos), |span| {
+    for_each_span_snapped(width, height, [p0, p1, p2], |span| {
         let row = span.y * width + span.x;
         // The edge functions only where the depths are not the columns'.
         let mut edges = by_column.is_none().then(|| span.edges_x8());
@@ -799,7 +815,8 @@ mod tests {
             }
             for k in 1..3 {
                 let tri = [&quad[0], &quad[k], &quad[k + 1]];
-                match column_depths(width, tri, &mut columns) {
+                let snapped = tri.map(|v| snap(v.pos).expect("on the grid"));
+                match column_depths(width, tri, snapped, &mut columns) {
                     Some(_) => by_column += 1,
                     None => weighed += 1,
                 }
@@ -825,7 +842,8 @@ mod tests {
         let (top, bottom, far) =
             (corner(10.5, 5.0, -0.0), corner(10.5, 20.0, -0.0), corner(30.0, 18.0, -0.25));
         for tri in [[top, bottom, far], [top, far, bottom]] {
-            assert!(column_depths(width, [&tri[0], &tri[1], &tri[2]], &mut columns).is_some());
+            let snapped = tri.map(|v| snap(v.pos).expect("on the grid"));
+            assert!(column_depths(width, [&tri[0], &tri[1], &tri[2]], snapped, &mut columns).is_some());
             let (mut scalar, mut lanes) =
                 (SampleBuffer::new(width, height), SampleBuffer::new(width, height));
             scalar.clear(Vec3::ZERO);
