@@ -754,6 +754,17 @@ mod tests {
                 "depth {depth}, w {w}"
             );
         }
+        // A corner off the fixed-point grid (beyond it, or not finite) draws nothing either: the
+        // eight-lane fill snaps a triangle's corners once, for its columns' depths and its spans.
+        for pos in [Vec2::new(3e6, 5.0), Vec2::new(f32::NAN, 5.0), Vec2::new(9.0, f32::INFINITY)] {
+            let bad = [
+                vertex(1.0, 1.0, 0.05, 1.0),
+                vertex(30.0, 2.0, 0.05, 1.0),
+                GridVertex { pos, ..vertex(9.0, 18.0, 0.05, 1.0) },
+            ];
+            assert_eq!(fill_polygon(&mut scalar, &bad, 9, |attrs| attrs), 0, "{pos}");
+            assert_eq!(fill_polygon_x8(&mut lanes, &bad, 9, Vec3::ONE, &mut columns), 0, "{pos}");
+        }
         assert_eq!(scalar.id(), lanes.id());
         assert_eq!(scalar.depth(), lanes.depth());
         assert_eq!(scalar.color(), lanes.color());
