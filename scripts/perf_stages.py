@@ -21,7 +21,7 @@ import sys
 PARTS = [
     ("render (`mazewalk_render`)", r"mazewalk_render"),
     ("encoder (`mazewalk_term`)", r"mazewalk_term"),
-    ("the walk's HUD, map and session (`mazewalk_walk`)", r"mazewalk_walk"),
+    ("the walk's HUD, map and `Session` (`mazewalk_walk`)", r"mazewalk_walk"),
     ("the maze and the math (`mazewalk_maze`, `mazewalk_math`)", r"mazewalk_maze|mazewalk_math"),
     ("serve (`mazewalk_serve`)", r"mazewalk_serve"),
     ("`memcpy`, `memmove`, `memset`", r"mem(move|cpy|set)"),

@@ -310,17 +310,22 @@ proptest::proptest! {
         height in 8u32..18,
     ) {
         let maze = generate(&GenOptions::walk(width, height, seed)).expect("generated maze");
-        let corridors = corridors(&maze);
-        // a dozen views a maze, spread over its corridors
-        let step = (corridors.len() / 12).max(1);
-        for (charset, depth) in MODES {
-            let seen: Vec<Seen> =
-                corridors.iter().step_by(step).map(|c| observe(&maze, c, charset, depth)).collect();
-            if let Err(why) = judge(&seen, charset, depth) {
-                proptest::prop_assert!(false, "{why}");
-            }
+        if let Err(why) = judge_maze(&maze) {
+            proptest::prop_assert!(false, "{why}");
         }
     }
+}
+
+/// [`judge`] of a dozen views of `maze`, spread over its corridors, in each of [`MODES`].
+fn judge_maze(maze: &Maze) -> Result<(), String> {
+    let corridors = corridors(maze);
+    let step = (corridors.len() / 12).max(1);
+    for (charset, depth) in MODES {
+        let seen: Vec<Seen> =
+            corridors.iter().step_by(step).map(|c| observe(maze, c, charset, depth)).collect();
+        judge(&seen, charset, depth)?;
+    }
+    Ok(())
 }
 
 /// A maze the property once failed on (`--gen 22x13`, seed 3621013293655166107): down a corridor
@@ -330,14 +335,8 @@ proptest::proptest! {
 #[test]
 fn the_beacon_in_front_of_far_seams_is_not_taken_for_them() {
     let maze = generate(&GenOptions::walk(22, 13, 3_621_013_293_655_166_107)).expect("generated maze");
-    let corridors = corridors(&maze);
-    let step = (corridors.len() / 12).max(1);
-    for (charset, depth) in MODES {
-        let seen: Vec<Seen> =
-            corridors.iter().step_by(step).map(|c| observe(&maze, c, charset, depth)).collect();
-        if let Err(why) = judge(&seen, charset, depth) {
-            panic!("{why}");
-        }
+    if let Err(why) = judge_maze(&maze) {
+        panic!("{why}");
     }
 }
 
