@@ -244,6 +244,7 @@ fn metrics_follow_a_real_player_and_the_listener_stays_bounded() {
         "; frame-ancestors 'none'",
         "x-content-type-options: nosniff",
         "referrer-policy: no-referrer",
+        "x-frame-options: deny",
     ] {
         assert!(head.contains(header) && !head.contains("unsafe"), "{header} in {head}");
     }

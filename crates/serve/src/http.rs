@@ -120,12 +120,15 @@ fn inline<'a>(page: &'a str, tag: &str) -> Vec<&'a str> {
 
 /// Sets the headers every answer carries: the [`POLICY`]; no guessing of a type other than the one
 /// said (`nosniff`: `/maze.json` is never taken for a script or a page); no `Referer` sent from the
-/// page to anyone (it links nowhere today; a link added later will not tell where the page is).
+/// page to anyone (it links nowhere today; a link added later will not tell where the page is); no
+/// frame of another site holds the page (`DENY`, for browsers older than the policy's
+/// `frame-ancestors`).
 fn protect(headers: &mut hyper::HeaderMap) {
     use hyper::header::{self, HeaderValue};
     headers.insert(header::CONTENT_SECURITY_POLICY, POLICY.clone());
     headers.insert(header::X_CONTENT_TYPE_OPTIONS, HeaderValue::from_static("nosniff"));
     headers.insert(header::REFERRER_POLICY, HeaderValue::from_static("no-referrer"));
+    headers.insert(header::X_FRAME_OPTIONS, HeaderValue::from_static("DENY"));
 }
 
 /// What the listener serves.
@@ -597,7 +600,7 @@ mod tests {
         }
     }
 
-    /// Every answer carries the policy, `nosniff` and `no-referrer`: the page, the JSON, the event
+    /// Every answer carries the policy, `nosniff`, `no-referrer` and `DENY` to frames: the page, the JSON, the event
     /// stream, a 404, a 405.
     #[tokio::test]
     async fn every_answer_carries_the_policy_and_the_headers_that_go_with_it() {
@@ -621,6 +624,7 @@ mod tests {
             );
             assert_eq!(header(hyper::header::X_CONTENT_TYPE_OPTIONS), Some("nosniff"), "{method} {path}");
             assert_eq!(header(hyper::header::REFERRER_POLICY), Some("no-referrer"), "{method} {path}");
+            assert_eq!(header(hyper::header::X_FRAME_OPTIONS), Some("DENY"), "{method} {path}");
         }
     }
 
