@@ -102,10 +102,11 @@ pub fn maze_name(args: &MazeArgs) -> String {
     }
 }
 
-/// What the maze the flags name is called where anyone may read it (`serve --http`: the status page,
-/// `/maze.json`): a file's name without its folders, else as [`maze_name`]. Red-team pass 18: the
-/// path as given told whoever could reach the page the host's folders (`/home/alice/…`); the full
-/// path stays in the host's own records and messages.
+/// What the maze the flags name is called where others may read it (`serve --http`: the status page,
+/// `/maze.json`; `--world`: the shared world's records, read by every server's host): a file's name
+/// without its folders, else as [`maze_name`]. The path as given told whoever could reach the page,
+/// or the world's Redis, the host's folders (`/home/alice/…`); the full path stays in the host's own
+/// records file and messages.
 #[must_use]
 pub fn public_maze_name(args: &MazeArgs) -> String {
     match (&args.maze, args.generate) {

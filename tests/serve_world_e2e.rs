@@ -133,6 +133,10 @@ fn two_servers_walk_one_world_on_redis() {
     let text = String::from_utf8_lossy(&listed.stdout);
     assert!(listed.status.success(), "{listed:?}");
     assert!(text.contains("maze.grid") && text.contains("1 player, 1 finish"), "{text}");
+    // The world's records are read by every server's host: they name the maze by its file's name,
+    // never by the folders it lies in on the server that kept the finish.
+    let folder = scratch.path().file_name().expect("the scratch folder's name").to_string_lossy();
+    assert!(!text.contains(&*folder), "the host's folders in the world's records: {text}");
     assert!(text.contains("   1. bob"), "{text}");
     let unnamed = Command::new(env!("CARGO_BIN_EXE_mazewalk"))
         .args(["records", "--world", &redis.url(0)])

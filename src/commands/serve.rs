@@ -128,7 +128,8 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     };
     let records = match (&world, args.no_records) {
         (_, true) => None,
-        (Some(world), false) => keep_world_records(world, &maze, super::maze_name(&args.maze)),
+        // (the world's records are read by every server's host: the file's name, not its folders)
+        (Some(world), false) => keep_world_records(world, &maze, super::public_maze_name(&args.maze)),
         (None, false) => {
             let path = args.records.clone().unwrap_or_else(|| key_path.with_file_name("records.sqlite"));
             keep_records(&path, &maze, super::maze_name(&args.maze))
