@@ -4,6 +4,9 @@
 //! over a 125,000 B/s link and over a 10 MB/s one, both 50 ms each way; prints the medians as a
 //! markdown table. Then the same with two of the far end's answers lost on the way back, which is
 //! what a harness that misses a query, or bytes dropped by a server's rate limit, does.
+//! `--link BYTES_PER_S,ONE_WAY_MS` (repeatable) measures those links instead, e.g. `--link 16000,150`
+//! for 128 kbit/s and a 300 ms round trip; `--color DEPTH` walks in that colour depth (truecolor
+//! unless said).
 //!
 //! ```sh
 //! cargo build --release
@@ -33,6 +36,8 @@ fn median(mut v: Vec<f64>) -> f64 {
 fn main() {
     let mut binaries: Vec<(String, PathBuf)> = Vec::new();
     let mut runs = 5;
+    let mut asked: Vec<(String, Link)> = Vec::new();
+    let mut color = String::from("truecolor");
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
         match arg.as_str() {
@@ -42,6 +47,15 @@ fn main() {
                 binaries.push((name.to_string(), PathBuf::from(path)));
             }
             "--runs" => runs = args.next().and_then(|n| n.parse().ok()).expect("--runs N"),
+            "--color" => color = args.next().expect("--color DEPTH"),
+            "--link" => {
+                let spec = args.next().expect("--link BYTES_PER_S,ONE_WAY_MS");
+                let parsed =
+                    spec.split_once(',').and_then(|(rate, ms)| Some((rate.parse().ok()?, ms.parse().ok()?)));
+                let (bytes_per_s, one_way_ms): (f64, f64) = parsed.expect("--link BYTES_PER_S,ONE_WAY_MS");
+                let link = Link { bytes_per_s, one_way: one_way_ms / 1e3, lost_answers: &[] };
+                asked.push((format!("{bytes_per_s:.0} B/s, {one_way_ms:.0} ms each way"), link));
+            }
             other => panic!("unknown argument {other}"),
         }
     }
@@ -49,17 +63,21 @@ fn main() {
         binaries.push(("this".into(), PathBuf::from("target/release/mazewalk")));
     }
     let env = [("TERM", "xterm-256color"), ("LANG", "C.UTF-8")];
-    let args = ["--color", "truecolor"];
+    let args = ["--color", color.as_str()];
     println!(
         "| binary | link | tail after release (median, min–max) | degrees after release | last frame's gap | degrees turned | bytes |"
     );
     println!("|---|---|---:|---:|---:|---:|---:|");
-    let links = [
-        ("125,000 B/s", SLOW),
-        ("10 MB/s", FAST),
-        ("125,000 B/s, 2 answers lost", Link { lost_answers: LOST, ..SLOW }),
-        ("10 MB/s, 2 answers lost", Link { lost_answers: LOST, ..FAST }),
-    ];
+    let links: Vec<(String, Link)> = if asked.is_empty() {
+        vec![
+            ("125,000 B/s".into(), SLOW),
+            ("10 MB/s".into(), FAST),
+            ("125,000 B/s, 2 answers lost".into(), Link { lost_answers: LOST, ..SLOW }),
+            ("10 MB/s, 2 answers lost".into(), Link { lost_answers: LOST, ..FAST }),
+        ]
+    } else {
+        asked
+    };
     for (link_name, link) in links {
         let mut results: Vec<Vec<Outcome>> = binaries.iter().map(|_| Vec::new()).collect();
         for run in 0..runs {
