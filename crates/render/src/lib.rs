@@ -122,7 +122,7 @@ impl Renderer {
         let tiled = tiles.len() > 1;
         for (k, tile) in tiles.iter().enumerate() {
             let eye = &tile.eye; // the whole view, or one tile of a foveated view
-            self.enter_tile(&view); // a foveated view's tile: samples of its own
+            self.enter_tile(&view, tile, k); // a foveated view's tile: drawn in its place in the picture
             self.walls_in(eye); // a foveated view's tile: the walls that reach it
             stats.add(self.draw(maze, eye, Shading::Color, textures)); // walls, floor, ceiling
             let visible = |cell: u32| culling == Culling::None || self.portal.was_visited(cell);
@@ -134,7 +134,7 @@ impl Renderer {
             if !tiled && !self.no_edges {
                 self.draw_edges(maze, eye); // where surfaces meet: edges; where cells meet along a wall: seams
             }
-            self.place_tile(&view, tile, k); // a foveated view: the tile's samples into the picture
+            self.place_tile(&view, tile); // a foveated view: the tile's figures' labels into the view's
         }
         if tiled && !self.no_edges {
             self.picture_edges(maze, &tiles); // the edges, once over the whole picture

@@ -158,13 +158,10 @@ pub(crate) fn fog_of(eye: &Eye) -> Fog {
 #[derive(Debug, Default)]
 pub struct Renderer {
     pub(crate) samples: SampleBuffer,
-    /// A foveated view's picture, its tiles placed in it one by one ([`Renderer::place_tile`]); then
-    /// swapped into `samples` (`showing_picture`) until the next foveated view.
+    /// A foveated view's picture, each tile drawn in its place in it ([`Renderer::enter_tile`]);
+    /// then swapped into `samples` (`showing_picture`) until the next foveated view.
     picture: SampleBuffer,
     showing_picture: bool,
-    /// A foveated view's tile's own samples while it is drawn, one tile after another (each is
-    /// placed in `picture` before the next is begun).
-    tile_samples: SampleBuffer,
     /// The figures' labels of a foveated view's tiles, at their samples in the whole view.
     tile_labels: Vec<Label>,
     pub(crate) portal: PortalPass,
@@ -367,10 +364,10 @@ impl Renderer {
                 let tiles = view.tiles();
                 self.wall_boxes(maze, &view, tiles.len(), false);
                 for (k, tile) in tiles.iter().enumerate() {
-                    self.enter_tile(&view);
+                    self.enter_tile(&view, tile, k);
                     self.walls_in(&tile.eye);
                     stats.add(self.draw(maze, &tile.eye, Shading::ViewDepth, false));
-                    self.place_tile(&view, tile, k);
+                    self.place_tile(&view, tile);
                 }
                 self.finish_tiles(&view);
                 Ok(stats)
@@ -415,38 +412,40 @@ impl Renderer {
         &self.heads
     }
 
-    /// Before a tile of a view: a foveated view's tile draws into its own samples. Nothing to do
-    /// for a view drawn whole (its one tile is the view).
-    pub(crate) fn enter_tile(&mut self, view: &Eye) {
+    /// Before tile `k` of a view: a foveated view's tile draws in its place in the view's picture
+    /// (`samples` is the picture's window of the tile, its samples where they are in the picture:
+    /// nothing to copy after). Nothing to do for a view drawn whole (its one tile is the view).
+    pub(crate) fn enter_tile(&mut self, view: &Eye, tile: &Tile, k: usize) {
         if view.warp.is_none() {
             return;
         }
         if std::mem::take(&mut self.showing_picture) {
             std::mem::swap(&mut self.samples, &mut self.picture);
         }
-        std::mem::swap(&mut self.samples, &mut self.tile_samples);
+        if k == 0 {
+            if self.picture.width() != view.width || self.picture.height() != view.height {
+                self.picture.resize(view.width, view.height);
+            }
+            self.picture.clear_outlines(); // (the last view's lines': the tiles draw none)
+        }
+        std::mem::swap(&mut self.samples, &mut self.picture);
+        let (x0, y0) = tile.at;
+        self.samples.window(x0, y0, tile.eye.width, tile.eye.height);
     }
 
-    /// After tile `k`: its samples, labels and outlines into the view's picture.
-    pub(crate) fn place_tile(&mut self, view: &Eye, tile: &Tile, k: usize) {
+    /// After a foveated view's tile: its figures' labels into the view's, and the picture whole again.
+    pub(crate) fn place_tile(&mut self, view: &Eye, tile: &Tile) {
         if view.warp.is_none() {
             return;
         }
-        if self.picture.width() != view.width || self.picture.height() != view.height {
-            self.picture.resize(view.width, view.height);
-        }
-        if k == 0 {
-            self.picture.clear_outlines(); // (the last view's lines': the tiles draw none)
-        }
-        let (x0, y0) = tile.at;
-        self.picture.place(&self.samples, x0, y0); // (the tile's samples, still in `samples`)
+        self.samples.end_window(); // (the tile's samples are in the picture already)
         // (its figures' labels: drawn now, with the figures)
-        let tile_width = tile.eye.width;
+        let ((x0, y0), tile_width) = (tile.at, tile.eye.width);
         self.tile_labels.extend(self.sprites.labels.iter().map(|label| Label {
             sample: (label.sample / tile_width + y0) * view.width + label.sample % tile_width + x0,
             ..*label
         }));
-        std::mem::swap(&mut self.samples, &mut self.tile_samples);
+        std::mem::swap(&mut self.samples, &mut self.picture);
     }
 
     /// After the last tile of a foveated view: its picture becomes the samples, its labels the
@@ -756,7 +755,7 @@ impl Renderer {
                 }
                 (base * plane_light(hit.plane.1)).lerp(fog.color, hit.fog)
             };
-        let width = eye.width;
+        let (width, pitch) = (eye.width, self.samples.pitch());
         let (colors, depths, ids) = self.samples.parts_mut();
         let rays = eye.row_rays(); // (each row's first two rays, their columns' share worked out once)
         for y in 0..eye.height {
@@ -764,7 +763,7 @@ impl Renderer {
             let [(start0, dir0), (start1, dir1)] = rays.at(y as f32 + 0.5);
             let (start_step, dir_step) = (start1 - start0, dir1 - dir0);
             let at = |x: usize| (start0 + start_step * x as f32, dir0 + dir_step * x as f32);
-            let row = y * width..(y + 1) * width;
+            let row = y * pitch..y * pitch + width; // (a window's rows: its picture's apart)
             let (colors, depths, ids) = (&mut colors[row.clone()], &mut depths[row.clone()], &mut ids[row]);
             // The camera's right vector is level, so along a row the rays keep their height and slope:
             // where they end, how far, and the fog there are the row's (exactly what each ray would find).

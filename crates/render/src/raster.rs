@@ -380,13 +380,13 @@ fn cover_triangle<A: Varying>(
     if !tri.iter().all(|v| v.depth.is_finite() && v.inv_w.is_finite()) {
         return 0;
     }
-    let width = buffer.width();
+    let pitch = buffer.pitch(); // (a window's rows: its picture's apart)
     let depth = tri.map(|v| v.depth);
     let inv_w = tri.map(|v| v.inv_w);
     let attrs = tri.map(|v| v.attrs);
     let mut written = 0;
-    for_each_sample(width, buffer.height(), tri.map(|v| v.pos), |x, y, b| {
-        let i = y * width + x;
+    for_each_sample(buffer.width(), buffer.height(), tri.map(|v| v.pos), |x, y, b| {
+        let i = y * pitch + x;
         // Affine in grid space; written relative to vertex 0 so a constant depth stays exact.
         let z = depth[0] + b[1] * (depth[1] - depth[0]) + b[2] * (depth[2] - depth[0]);
         if z.is_nan() || z >= buffer.depth()[i] {
@@ -552,7 +552,7 @@ fn fill_triangle_x8(
         return 0;
     }
     let s = f32x8::splat;
-    let (width, height) = (buffer.width(), buffer.height());
+    let (width, height, pitch) = (buffer.width(), buffer.height(), buffer.pitch());
     let depth0 = s(tri[0].depth);
     let (depth_1, depth_2) = (s(tri[1].depth - tri[0].depth), s(tri[2].depth - tri[0].depth));
     // Snapped once for both the columns' depths and the spans; a corner off the grid covers nothing.
@@ -566,7 +566,7 @@ fn fill_triangle_x8(
     let (colors, depths, ids) = buffer.parts_mut();
     let mut written = 0;
     for_each_span_snapped(width, height, [p0, p1, p2], |span| {
-        let row = span.y * width + span.x;
+        let row = span.y * pitch + span.x; // (a window's rows: its picture's apart)
         // The edge functions only where the depths are not the columns'.
         let mut edges = by_column.is_none().then(|| span.edges_x8());
         for start in (0..span.len).step_by(LANES) {

@@ -3,6 +3,8 @@
 //! Samples are the sub-cell pixels of the grid: a terminal cell holds `sx × sy` of them (see
 //! [`Charset::samples_per_cell`](super::Charset::samples_per_cell)). Sample `(x, y)` covers
 //! `[x, x+1) × [y, y+1)` in grid space (origin top-left, y down) and is stored row-major at `y * width + x`.
+//! A window of the buffer ([`SampleBuffer::window`]: a foveated view's tile, drawn in its place in
+//! the picture) is a buffer of its own size whose rows lie [`SampleBuffer::pitch`] apart.
 
 use glam::Vec3;
 
@@ -17,12 +19,19 @@ pub const CEILING: u32 = u32::MAX - 2;
 pub const FAR: f32 = f32::INFINITY;
 
 /// A `width × height` grid of samples: linear colour, depth in [0, 1] (smaller = nearer), coverage id and
-/// an optional outline glyph. Row-major, origin top-left, y down. The slices always hold `width * height`
-/// entries.
+/// an optional outline glyph. Row-major, origin top-left, y down: sample `(x, y)` at `y * pitch + x` of
+/// the slices, which hold `width * height` entries (a window: from its first sample to the buffer's
+/// end, the window's rows `pitch` apart).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SampleBuffer {
     width: usize,
     height: usize,
+    /// Samples from a row to the next: `width`, or in a window the whole buffer's width.
+    pitch: usize,
+    /// A window's first sample in the whole buffer (0 for the whole buffer).
+    origin: usize,
+    /// The whole buffer's rows (`height` but in a window).
+    rows: usize,
     color: Vec<Vec3>,
     depth: Vec<f32>,
     id: Vec<u32>,
@@ -42,8 +51,7 @@ impl SampleBuffer {
 
     /// Changes the size and clears everything to black; reuses the allocations.
     pub fn resize(&mut self, width: usize, height: usize) {
-        self.width = width;
-        self.height = height;
+        (self.width, self.height, self.pitch, self.origin, self.rows) = (width, height, width, 0, height);
         let n = width * height;
         self.color.resize(n, Vec3::ZERO);
         self.depth.resize(n, FAR);
@@ -56,7 +64,7 @@ impl SampleBuffer {
     /// ([`SampleBuffer::clear_coverage`] and colours of its own): the samples' contents are left
     /// as they fall.
     pub(crate) fn reshape(&mut self, width: usize, height: usize) {
-        (self.width, self.height) = (width, height);
+        (self.width, self.height, self.pitch, self.origin, self.rows) = (width, height, width, 0, height);
         let n = width * height;
         self.color.resize(n, Vec3::ZERO);
         self.depth.resize(n, FAR);
@@ -66,20 +74,31 @@ impl SampleBuffer {
 
     /// Sets every sample to `background` at depth [`FAR`] with id [`NONE`] and no outline.
     pub fn clear(&mut self, background: Vec3) {
+        debug_assert!(!self.is_window(), "the whole buffer");
         self.color.fill(background);
         self.clear_coverage();
     }
 
     /// [`clear`](Self::clear) but for the colours, which keep the last frame's: for a pass that writes
     /// every sample's colour itself (the pipeline's floor and ceiling pass gives what no wall took
-    /// either a plane or the fog).
+    /// either a plane or the fog). In a window, the window's samples (and the outlines as
+    /// [`SampleBuffer::clear_outlines`] clears them).
     pub(crate) fn clear_coverage(&mut self) {
-        self.depth.fill(FAR);
-        self.id.fill(NONE);
+        if self.is_window() {
+            for y in 0..self.height {
+                let row = self.origin + y * self.pitch..self.origin + y * self.pitch + self.width;
+                self.depth[row.clone()].fill(FAR);
+                self.id[row].fill(NONE);
+            }
+        } else {
+            self.depth.fill(FAR);
+            self.id.fill(NONE);
+        }
         self.clear_outlines();
     }
 
-    /// Clears every outline glyph (none to clear where none may be set).
+    /// Clears every outline glyph (none to clear where none may be set), a window's or not: the
+    /// outlines are drawn over a whole view, never in a window.
     pub(crate) fn clear_outlines(&mut self) {
         if std::mem::take(&mut self.outlined) {
             self.outline.fill(None);
@@ -98,44 +117,71 @@ impl SampleBuffer {
         self.height
     }
 
-    /// The row-major index of sample `(x, y)`, or `None` outside the buffer.
+    /// Samples from the start of a row to the start of the next in the slices: the width, but in a
+    /// window ([`SampleBuffer::window`]).
+    #[must_use]
+    pub fn pitch(&self) -> usize {
+        self.pitch
+    }
+
+    /// The index of sample `(x, y)` in the slices (`y * pitch + x`), or `None` outside the buffer.
     #[must_use]
     pub fn index(&self, x: usize, y: usize) -> Option<usize> {
-        (x < self.width && y < self.height).then(|| y * self.width + x)
+        (x < self.width && y < self.height).then(|| y * self.pitch + x)
     }
 
     /// Linear colours, row-major.
     #[must_use]
     pub fn color(&self) -> &[Vec3] {
-        &self.color
+        &self.color[self.origin..]
     }
 
     /// Depths, row-major; [`FAR`] where nothing was drawn.
     #[must_use]
     pub fn depth(&self) -> &[f32] {
-        &self.depth
+        &self.depth[self.origin..]
     }
 
     /// Coverage ids, row-major: a wall or edge index, [`FLOOR`], [`CEILING`] or [`NONE`].
     #[must_use]
     pub fn id(&self) -> &[u32] {
-        &self.id
+        &self.id[self.origin..]
     }
 
     /// Outline glyphs (ascii mode), row-major.
     #[must_use]
     pub fn outline(&self) -> &[Option<char>] {
-        &self.outline
+        &self.outline[self.origin..]
     }
 
     /// Colours, mutable (for a pipeline that paints the background itself).
     pub(crate) fn color_mut(&mut self) -> &mut [Vec3] {
-        &mut self.color
+        &mut self.color[self.origin..]
     }
 
     /// Coverage ids and colours, the colours mutable (for a pass that paints by surface).
     pub(crate) fn id_and_color_mut(&mut self) -> (&[u32], &mut [Vec3]) {
-        (&self.id, &mut self.color)
+        (&self.id[self.origin..], &mut self.color[self.origin..])
+    }
+
+    /// From now on the buffer is its `width × height` samples from (`x0`, `y0`), each where it is in
+    /// the whole buffer (its rows [`SampleBuffer::pitch`] apart), until [`SampleBuffer::end_window`]:
+    /// a foveated view's tile drawn in its place in the picture, with nothing to copy. The window
+    /// must fit in the whole buffer.
+    pub(crate) fn window(&mut self, x0: usize, y0: usize, width: usize, height: usize) {
+        debug_assert!(!self.is_window(), "a window of the whole buffer");
+        debug_assert!(x0 + width <= self.width && y0 + height <= self.height, "the window fits");
+        (self.origin, self.width, self.height) = (y0 * self.pitch + x0, width, height);
+    }
+
+    /// The whole buffer again, after a [`SampleBuffer::window`].
+    pub(crate) fn end_window(&mut self) {
+        (self.origin, self.width, self.height) = (0, self.pitch, self.rows);
+    }
+
+    /// Whether the buffer is a window of a larger one.
+    fn is_window(&self) -> bool {
+        (self.width, self.height) != (self.pitch, self.rows)
     }
 
     /// Writes one sample unconditionally (no depth test); writes outside the buffer are ignored.
@@ -147,32 +193,16 @@ impl SampleBuffer {
 
     /// Sets the outline glyph of sample `(x, y)`; writes outside the buffer are ignored.
     pub(crate) fn put_outline(&mut self, x: usize, y: usize, glyph: Option<char>) {
+        debug_assert!(!self.is_window(), "outlines over a whole view");
         if let Some(i) = self.index(x, y) {
             self.outline[i] = glyph;
             self.outlined = true;
         }
     }
 
-    /// Copies every sample of `tile` into this buffer with its top-left at (`x0`, `y0`): colour,
-    /// depth and id, and the outline glyphs where `tile` may have any (else this buffer's stay: see
-    /// [`SampleBuffer::clear_outlines`]). `tile` must fit.
-    pub(crate) fn place(&mut self, tile: &SampleBuffer, x0: usize, y0: usize) {
-        debug_assert!(x0 + tile.width <= self.width && y0 + tile.height <= self.height, "the tile fits");
-        for y in 0..tile.height {
-            let (from, to) = (y * tile.width, (y0 + y) * self.width + x0);
-            let n = tile.width;
-            self.color[to..to + n].copy_from_slice(&tile.color[from..from + n]);
-            self.depth[to..to + n].copy_from_slice(&tile.depth[from..from + n]);
-            self.id[to..to + n].copy_from_slice(&tile.id[from..from + n]);
-            if tile.outlined {
-                self.outline[to..to + n].copy_from_slice(&tile.outline[from..from + n]);
-            }
-        }
-        self.outlined |= tile.outlined;
-    }
-
-    /// Writes sample `i` (row-major index, in range).
+    /// Writes sample `i` (an [`index`](Self::index), in range).
     pub(crate) fn write(&mut self, i: usize, color: Vec3, depth: f32, id: u32) {
+        let i = self.origin + i;
         self.color[i] = color;
         self.depth[i] = depth;
         self.id[i] = id;
@@ -180,11 +210,13 @@ impl SampleBuffer {
 
     /// Colours, depths and ids, mutable together (row loops that test and write all three).
     pub(crate) fn parts_mut(&mut self) -> (&mut [Vec3], &mut [f32], &mut [u32]) {
-        (&mut self.color, &mut self.depth, &mut self.id)
+        let at = self.origin;
+        (&mut self.color[at..], &mut self.depth[at..], &mut self.id[at..])
     }
 
     /// Outline glyphs, mutable, with the depths to test them against.
     pub(crate) fn outline_and_depth_mut(&mut self) -> (&mut [Option<char>], &[f32]) {
+        debug_assert!(!self.is_window(), "outlines over a whole view");
         self.outlined = true;
         (&mut self.outline, &self.depth)
     }
