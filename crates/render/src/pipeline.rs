@@ -426,7 +426,10 @@ impl Renderer {
             if self.picture.width() != view.width || self.picture.height() != view.height {
                 self.picture.resize(view.width, view.height);
             }
-            self.picture.clear_outlines(); // (the last view's lines': the tiles draw none)
+            // Every tile's samples uncovered at once, not window by window (the tiles' rows are
+            // short: a clear a row cost more than its samples). The last view's outlines too: the
+            // tiles draw none.
+            self.picture.clear_coverage();
         }
         std::mem::swap(&mut self.samples, &mut self.picture);
         let (x0, y0) = tile.at;
@@ -516,10 +519,13 @@ impl Renderer {
     /// A new frame's samples: sized to the grid, none covered.
     #[cfg_attr(feature = "stage-profile", inline(never))]
     pub(crate) fn begin(&mut self, maze: &Maze, eye: &Eye) {
-        if self.samples.width() != eye.width || self.samples.height() != eye.height {
-            self.samples.reshape(eye.width, eye.height); // (a foveated view's tiles: one after another)
+        // (a foveated view's tile: its samples were uncovered with the picture's, `enter_tile`)
+        if !self.samples.is_window() {
+            if self.samples.width() != eye.width || self.samples.height() != eye.height {
+                self.samples.reshape(eye.width, eye.height);
+            }
+            self.samples.clear_coverage(); // colours: every sample gets a wall's, a plane's or the fog's
         }
-        self.samples.clear_coverage(); // colours: every sample gets a wall's, a plane's or the fog's
         self.wall_ids = maze.edges().len() as u32;
     }
 

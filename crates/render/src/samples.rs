@@ -81,18 +81,11 @@ impl SampleBuffer {
 
     /// [`clear`](Self::clear) but for the colours, which keep the last frame's: for a pass that writes
     /// every sample's colour itself (the pipeline's floor and ceiling pass gives what no wall took
-    /// either a plane or the fog). In a window, the window's samples (and the outlines as
-    /// [`SampleBuffer::clear_outlines`] clears them).
+    /// either a plane or the fog).
     pub(crate) fn clear_coverage(&mut self) {
-        if self.is_window() {
-            for y in 0..self.height {
-                let row = self.origin + y * self.pitch..self.origin + y * self.pitch + self.width;
-                self.depth[row.clone()].fill(FAR);
-                self.id[row].fill(NONE);
-            }
-        } else {
-            self.depth.fill(FAR);
-            self.id.fill(NONE);
+        debug_assert!(!self.is_window(), "the whole buffer (a window's samples: cleared with it)");
+        for (depth, id) in self.depth.iter_mut().zip(&mut self.id) {
+            (*depth, *id) = (FAR, NONE);
         }
         self.clear_outlines();
     }
@@ -180,7 +173,7 @@ impl SampleBuffer {
     }
 
     /// Whether the buffer is a window of a larger one.
-    fn is_window(&self) -> bool {
+    pub(crate) fn is_window(&self) -> bool {
         (self.width, self.height) != (self.pitch, self.rows)
     }
 
