@@ -385,11 +385,13 @@ fn cover_triangle<A: Varying>(
     let inv_w = tri.map(|v| v.inv_w);
     let attrs = tri.map(|v| v.attrs);
     let mut written = 0;
-    for_each_sample(buffer.width(), buffer.height(), tri.map(|v| v.pos), |x, y, b| {
+    let (width, height) = (buffer.width(), buffer.height());
+    let (colors, depths, ids) = buffer.parts_mut();
+    for_each_sample(width, height, tri.map(|v| v.pos), |x, y, b| {
         let i = y * pitch + x;
         // Affine in grid space; written relative to vertex 0 so a constant depth stays exact.
         let z = depth[0] + b[1] * (depth[1] - depth[0]) + b[2] * (depth[2] - depth[0]);
-        if z.is_nan() || z >= buffer.depth()[i] {
+        if z.is_nan() || z >= depths[i] {
             return; // LESS: hidden (or tied) by what is already there
         }
         // Perspective-correct weights: attr/w and 1/w are affine in grid space, attr is not.
@@ -398,11 +400,8 @@ fn cover_triangle<A: Varying>(
         let w = if sum.is_normal() { pw.map(|p| p / sum) } else { b }; // 1/w ≈ 0: fall back to affine
         let color = shade(A::weighted(attrs, w));
         match alpha {
-            None => buffer.write(i, color, z, id),
-            Some(a) => {
-                let (old, depth) = (buffer.color()[i], buffer.depth()[i]);
-                buffer.write(i, old.lerp(color, a), depth, id);
-            }
+            None => (colors[i], depths[i], ids[i]) = (color, z, id),
+            Some(a) => (colors[i], ids[i]) = (colors[i].lerp(color, a), id), // (the depth kept)
         }
         written += 1;
     });

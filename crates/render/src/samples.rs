@@ -19,9 +19,10 @@ pub const CEILING: u32 = u32::MAX - 2;
 pub const FAR: f32 = f32::INFINITY;
 
 /// A `width × height` grid of samples: linear colour, depth in [0, 1] (smaller = nearer), coverage id and
-/// an optional outline glyph. Row-major, origin top-left, y down: sample `(x, y)` at `y * pitch + x` of
-/// the slices, which hold `width * height` entries (a window: from its first sample to the buffer's
-/// end, the window's rows `pitch` apart).
+/// an optional outline glyph. Row-major, origin top-left, y down: the slices hold `width * height`
+/// entries, sample `(x, y)` at `y * width + x`. A window ([`SampleBuffer::window`]) is drawn through
+/// [`SampleBuffer::parts_mut`] (its slices from the window's first sample, its rows
+/// [`SampleBuffer::pitch`] apart) and [`SampleBuffer::put`]; the other slices are the whole buffer's.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SampleBuffer {
     width: usize,
@@ -117,7 +118,8 @@ impl SampleBuffer {
         self.pitch
     }
 
-    /// The index of sample `(x, y)` in the slices (`y * pitch + x`), or `None` outside the buffer.
+    /// The index of sample `(x, y)` in the slices (`y * pitch + x`: in a window, in
+    /// [`SampleBuffer::parts_mut`]'s), or `None` outside the buffer.
     #[must_use]
     pub fn index(&self, x: usize, y: usize) -> Option<usize> {
         (x < self.width && y < self.height).then(|| y * self.pitch + x)
@@ -126,35 +128,41 @@ impl SampleBuffer {
     /// Linear colours, row-major.
     #[must_use]
     pub fn color(&self) -> &[Vec3] {
-        &self.color[self.origin..]
+        debug_assert!(!self.is_window(), "the whole buffer (a window's: `parts_mut`)");
+        &self.color
     }
 
     /// Depths, row-major; [`FAR`] where nothing was drawn.
     #[must_use]
     pub fn depth(&self) -> &[f32] {
-        &self.depth[self.origin..]
+        debug_assert!(!self.is_window(), "the whole buffer (a window's: `parts_mut`)");
+        &self.depth
     }
 
     /// Coverage ids, row-major: a wall or edge index, [`FLOOR`], [`CEILING`] or [`NONE`].
     #[must_use]
     pub fn id(&self) -> &[u32] {
-        &self.id[self.origin..]
+        debug_assert!(!self.is_window(), "the whole buffer (a window's: `parts_mut`)");
+        &self.id
     }
 
     /// Outline glyphs (ascii mode), row-major.
     #[must_use]
     pub fn outline(&self) -> &[Option<char>] {
-        &self.outline[self.origin..]
+        debug_assert!(!self.is_window(), "the whole buffer (a window's: `parts_mut`)");
+        &self.outline
     }
 
     /// Colours, mutable (for a pipeline that paints the background itself).
     pub(crate) fn color_mut(&mut self) -> &mut [Vec3] {
-        &mut self.color[self.origin..]
+        debug_assert!(!self.is_window(), "the whole buffer");
+        &mut self.color
     }
 
     /// Coverage ids and colours, the colours mutable (for a pass that paints by surface).
     pub(crate) fn id_and_color_mut(&mut self) -> (&[u32], &mut [Vec3]) {
-        (&self.id[self.origin..], &mut self.color[self.origin..])
+        debug_assert!(!self.is_window(), "the whole buffer");
+        (&self.id, &mut self.color)
     }
 
     /// From now on the buffer is its `width × height` samples from (`x0`, `y0`), each where it is in
@@ -201,7 +209,8 @@ impl SampleBuffer {
         self.id[i] = id;
     }
 
-    /// Colours, depths and ids, mutable together (row loops that test and write all three).
+    /// Colours, depths and ids, mutable together (row loops that test and write all three); a
+    /// window's from its first sample (the slices' sample `(x, y)` at `y * pitch + x`).
     pub(crate) fn parts_mut(&mut self) -> (&mut [Vec3], &mut [f32], &mut [u32]) {
         let at = self.origin;
         (&mut self.color[at..], &mut self.depth[at..], &mut self.id[at..])
