@@ -91,8 +91,7 @@ impl SampleBuffer {
         self.clear_outlines();
     }
 
-    /// Clears every outline glyph (none to clear where none may be set), a window's or not: the
-    /// outlines are drawn over a whole view, never in a window.
+    /// Clears every outline glyph (none to clear where none may be set).
     pub(crate) fn clear_outlines(&mut self) {
         if std::mem::take(&mut self.outlined) {
             self.outline.fill(None);
@@ -114,7 +113,7 @@ impl SampleBuffer {
     /// Samples from the start of a row to the start of the next in the slices: the width, but in a
     /// window ([`SampleBuffer::window`]).
     #[must_use]
-    pub fn pitch(&self) -> usize {
+    pub(crate) fn pitch(&self) -> usize {
         self.pitch
     }
 
@@ -240,5 +239,22 @@ mod tests {
         assert!(buffer.depth().iter().all(|&d| d == FAR));
         buffer.resize(0, 0);
         assert!(buffer.color().is_empty() && buffer.index(0, 0).is_none());
+    }
+
+    #[test]
+    fn a_window_is_its_samples_where_they_are_in_the_whole_buffer() {
+        let mut buffer = SampleBuffer::new(5, 4);
+        buffer.window(1, 2, 3, 2);
+        assert_eq!((buffer.width(), buffer.height(), buffer.pitch()), (3, 2, 5));
+        buffer.put(2, 1, Vec3::ONE, 0.5, 7); // the whole buffer's (3, 3)
+        buffer.put(3, 0, Vec3::ONE, 0.5, 8); // right of the window: ignored
+        let (_, depths, ids) = buffer.parts_mut();
+        (depths[5], ids[5]) = (0.25, 9); // the window's (0, 1): the whole buffer's (1, 3)
+        buffer.end_window();
+        assert_eq!((buffer.width(), buffer.height(), buffer.pitch()), (5, 4, 5));
+        let drawn: Vec<_> =
+            (0..20).filter(|&i| buffer.id()[i] != NONE).map(|i| (i, buffer.id()[i])).collect();
+        assert_eq!(drawn, [(16, 9), (18, 7)]);
+        assert_eq!((buffer.depth()[16], buffer.depth()[18], buffer.color()[18]), (0.25, 0.5, Vec3::ONE));
     }
 }
