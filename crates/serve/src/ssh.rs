@@ -904,7 +904,8 @@ async fn connection(shared: Arc<Shared>, stream: CutStream<TcpStream>, conn: Arc
             seconds = tenths(started.elapsed().as_secs_f64()),
             bytes_in = conn.cut.bytes_in.load(Ordering::Relaxed),
             bytes_out = conn.cut.bytes_out.load(Ordering::Relaxed),
-            reason = %reason,
+            // (quoted, as `key`: a reason is words, `reason="authentication failed (none)"`)
+            reason = reason.as_str(),
             "disconnected"
         );
     }

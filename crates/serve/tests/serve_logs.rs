@@ -153,7 +153,7 @@ async fn floods_of_junk_key_exchanges_refusals_and_forwarding_requests_leave_the
             tokio::time::sleep(Duration::from_millis(20)).await;
         }
         let line = log.text().lines().find(|l| l.contains("user=pat ")).unwrap_or_default().to_string();
-        assert!(line.ends_with("reason=authentication failed (password)"), "{line}");
+        assert!(line.ends_with("reason=\"authentication failed (password)\""), "{line}");
         server.shutdown().await;
 
         // 5. Red-team pass 17: algorithm names offered as `x user=root key=SHA256:fake` and
