@@ -20,7 +20,8 @@
 //! - the request's head within [`HEADER_TIMEOUT`] (a slowloris client is cut), at most
 //!   [`MAX_HEAD_BYTES`] of it (hyper answers 431 past that), and a connection lives
 //!   [`CONNECTION_LIFETIME`] at most, keep-alive or not;
-//! - each address group may make [`REQUEST_BURST`] requests at once, then [`REQUEST_RATE`] a second
+//! - each address group may make [`REQUEST_BURST`] requests at once, then [`REQUEST_RATE`] a second,
+//!   and all the groups of a block (an IPv4 /24, an IPv6 /48) [`BLOCK_BUDGETS`] times that together
 //!   ([`Requests`]; a GET of `/maze.json` counts for more, [`request_cost`]): past that the connection that asks is closed unanswered, and the group's new
 //!   connections are closed as they come until its budget is back;
 //! - request bodies are never read.
@@ -65,6 +66,10 @@ pub const EVENT_BYTES_PER_SECOND: usize = 64 * 1024;
 pub const REQUEST_RATE: u32 = 20;
 /// Requests one address group may make at once.
 pub const REQUEST_BURST: u32 = 100;
+/// How many groups' budgets of requests a block (an IPv4 /24, an IPv6 /48) has for all its groups
+/// together ([`Requests`]): a campus's or a host's visitors load the page a few at a time, one
+/// holder of many addresses takes no more than four.
+pub const BLOCK_BUDGETS: u32 = 4;
 /// A request whose answer is long counts as one request for each this many bytes of it, up to
 /// [`MAX_REQUEST_COST`]: only `/maze.json` is (megabytes for a large maze: at 20 requests a second
 /// one address took 43 MB/s of it, red-team pass 10).
@@ -154,41 +159,71 @@ pub(crate) struct Site {
 }
 
 /// The requests each address group may still make: a budget of [`REQUEST_BURST`] refilled at
-/// [`REQUEST_RATE`] a second for each of at most [`TRACKED_REQUESTERS`] groups (a group whose budget
-/// is whole again is forgotten when room is needed), and one shared by any others. Pure: time comes
-/// in as seconds.
+/// [`REQUEST_RATE`] a second for each group (an IPv4 address, an IPv6 /64), and one of
+/// [`BLOCK_BUDGETS`] times that for each block (an IPv4 /24, an IPv6 /48: the first of
+/// [`address_prefixes`](crate::slots::address_prefixes)) that all its groups share: a request is
+/// answered only if both have room (red-team pass 18: with a budget per group alone, 64 addresses of
+/// one /24 took 64 budgets, a gigabyte of a large maze's `/maze.json` in 8 s, and the /64s of one
+/// /48 are 65,536). At most [`TRACKED_REQUESTERS`] of each are kept (one whose budget is whole
+/// again is forgotten when room is needed), and one more shared by any others. Pure: time comes in
+/// as seconds.
 #[derive(Debug, Default)]
 pub struct Requests {
+    /// Each address group's budget.
+    groups: Budgets,
+    /// Each block's budget, shared by its groups.
+    blocks: Budgets,
+}
+
+/// Budgets of requests by key ([`Requests`]): at most [`TRACKED_REQUESTERS`], and one shared by the
+/// keys beyond them.
+#[derive(Debug, Default)]
+struct Budgets {
     budgets: std::collections::HashMap<IpAddr, crate::limits::RateLimit>,
-    /// The budget of the groups beyond [`TRACKED_REQUESTERS`].
+    /// The budget of the keys beyond [`TRACKED_REQUESTERS`].
     rest: Option<crate::limits::RateLimit>,
+}
+
+impl Budgets {
+    /// `key`'s budget (`share` times [`REQUEST_RATE`] and [`REQUEST_BURST`]), made full if new.
+    fn budget(&mut self, key: IpAddr, now: f64, share: u32) -> &mut crate::limits::RateLimit {
+        use crate::limits::RateLimit;
+        if !self.budgets.contains_key(&key) && self.budgets.len() >= TRACKED_REQUESTERS {
+            self.budgets.retain(|_, budget| !budget.is_full(now));
+        }
+        let full = || RateLimit::new(share * REQUEST_RATE, share * REQUEST_BURST, now);
+        if self.budgets.len() < TRACKED_REQUESTERS || self.budgets.contains_key(&key) {
+            self.budgets.entry(key).or_insert_with(full)
+        } else {
+            self.rest.get_or_insert_with(full)
+        }
+    }
+
+    /// Whether `key`'s budget has no request left at `now` (taking none).
+    fn exhausted(&self, key: IpAddr, now: f64) -> bool {
+        self.budgets
+            .get(&key)
+            .or(self.rest.as_ref().filter(|_| self.budgets.len() >= TRACKED_REQUESTERS))
+            .is_some_and(|budget| budget.is_empty(now))
+    }
 }
 
 impl Requests {
     /// Whether a request from `ip` at `now` that counts for `cost` requests may be answered
-    /// (taking them from its group's budget; none if it may not).
+    /// (taking them from its group's budget and its block's; none if it may not).
     pub fn allow(&mut self, ip: IpAddr, now: f64, cost: usize) -> bool {
-        use crate::limits::RateLimit;
-        let group = crate::slots::address_group(ip);
-        if !self.budgets.contains_key(&group) && self.budgets.len() >= TRACKED_REQUESTERS {
-            self.budgets.retain(|_, budget| !budget.is_full(now));
-        }
-        let budget = if self.budgets.len() < TRACKED_REQUESTERS || self.budgets.contains_key(&group) {
-            self.budgets.entry(group).or_insert_with(|| RateLimit::new(REQUEST_RATE, REQUEST_BURST, now))
-        } else {
-            self.rest.get_or_insert_with(|| RateLimit::new(REQUEST_RATE, REQUEST_BURST, now))
-        };
-        budget.take_all(cost, now)
+        let (group, block) = (crate::slots::address_group(ip), crate::slots::address_prefixes(ip)[0]);
+        let may = self.groups.budget(group, now, 1).has(cost, now)
+            && self.blocks.budget(block, now, BLOCK_BUDGETS).has(cost, now);
+        may && self.groups.budget(group, now, 1).take_all(cost, now)
+            && self.blocks.budget(block, now, BLOCK_BUDGETS).take_all(cost, now)
     }
 
-    /// Whether `ip`'s group has no request left at `now` (taking none): its new connections are
-    /// closed as they come, before any work is done for them.
+    /// Whether `ip`'s group, or its block, has no request left at `now` (taking none): its new
+    /// connections are closed as they come, before any work is done for them.
     pub fn exhausted(&self, ip: IpAddr, now: f64) -> bool {
-        let group = crate::slots::address_group(ip);
-        self.budgets
-            .get(&group)
-            .or(self.rest.as_ref().filter(|_| self.budgets.len() >= TRACKED_REQUESTERS))
-            .is_some_and(|budget| budget.is_empty(now))
+        let (group, block) = (crate::slots::address_group(ip), crate::slots::address_prefixes(ip)[0]);
+        self.groups.exhausted(group, now) || self.blocks.exhausted(block, now)
     }
 }
 
@@ -682,9 +717,9 @@ mod tests {
             .filter(|&k| many.allow(fresh(k), 0.0, 1))
             .count();
         assert_eq!(rest, REQUEST_BURST as usize, "the groups beyond share one budget");
-        assert!(many.budgets.len() <= TRACKED_REQUESTERS);
+        assert!(many.groups.budgets.len() <= TRACKED_REQUESTERS);
         assert!(many.allow(fresh(TRACKED_REQUESTERS + 5000), 60.0, 1), "later: the whole ones forgotten");
-        assert!(many.budgets.len() <= TRACKED_REQUESTERS);
+        assert!(many.groups.budgets.len() <= TRACKED_REQUESTERS);
         // a long answer counts for more: a large maze's walls a few times, then nothing, and a
         // request refused takes nothing
         let mut costly = Requests::default();
@@ -704,6 +739,36 @@ mod tests {
 
     /// Over real sockets: one address asking for `/metrics` over and over on one connection is
     /// answered its burst, then its connection is closed; another address is answered meanwhile.
+    // Red-team pass 18: each address of a /24, and each /64 of a /48, had a budget of its own, so
+    // that one holder of many addresses took as many budgets (64 addresses of one /24: a gigabyte
+    // of a large maze's walls in 8 s, 64 times one address's). A block's addresses share its budget.
+    #[test]
+    fn the_addresses_of_one_block_share_its_budget_of_requests() {
+        let mut requests = Requests::default();
+        let v4 = |k: u8| IpAddr::from([192, 0, 2, k]);
+        let ask = |requests: &mut Requests, ip: IpAddr, now: f64| {
+            (0..REQUEST_BURST).filter(|_| requests.allow(ip, now, 1)).count()
+        };
+        let spread: usize = (1..=64).map(|k| ask(&mut requests, v4(k), 0.0)).sum();
+        assert_eq!(spread, (BLOCK_BUDGETS * REQUEST_BURST) as usize, "64 addresses of a /24: its budget");
+        assert!(requests.exhausted(v4(200), 0.0), "another address of it: closed as it comes");
+        assert!(requests.allow(IpAddr::from([192, 0, 3, 1]), 0.0, 1), "another /24 has its own");
+        assert!(
+            requests.groups.budgets.get(&v4(64)).is_some_and(|budget| budget.is_full(0.0)),
+            "a request refused for its block's budget takes nothing from its address's"
+        );
+        let second: usize = (1..=64).map(|k| ask(&mut requests, v4(k), 1.0)).sum();
+        assert_eq!(second, (BLOCK_BUDGETS * REQUEST_RATE) as usize, "a second later: the block's rate");
+        let v6 = |k: u32| format!("2001:db8:7:{k:x}::1").parse::<IpAddr>().expect("an IPv6 address");
+        let spread: usize = (0..256).map(|k| ask(&mut requests, v6(k), 0.0)).sum();
+        assert_eq!(spread, (BLOCK_BUDGETS * REQUEST_BURST) as usize, "256 /64s of a /48: its budget");
+        assert!(requests.allow("2001:db8:8::1".parse().expect("an IPv6 address"), 0.0, 1), "another /48");
+        // an address alone still has its own budget, within its block's
+        let mut alone = Requests::default();
+        assert_eq!(ask(&mut alone, v4(1), 0.0), REQUEST_BURST as usize);
+        assert_eq!(ask(&mut alone, v4(1), 0.0), 0);
+    }
+
     #[tokio::test]
     async fn an_address_past_its_requests_is_closed_and_another_answered() {
         use tokio::io::{AsyncReadExt as _, AsyncWriteExt as _};

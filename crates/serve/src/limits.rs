@@ -234,6 +234,12 @@ impl RateLimit {
         self.tokens + (now - self.last).max(0.0) * self.rate < 1.0
     }
 
+    /// Whether all of `n` could pass at `now` (taking none).
+    #[must_use]
+    pub(crate) fn has(&self, n: usize, now: f64) -> bool {
+        (self.tokens + (now - self.last).max(0.0) * self.rate).min(self.burst) >= n as f64
+    }
+
     /// Whether all of `n` may pass at `now`: taken if so, else nothing is.
     pub(crate) fn take_all(&mut self, n: usize, now: f64) -> bool {
         if now > self.last {
