@@ -88,6 +88,11 @@ pub const RESCAN: Duration = Duration::from_secs(60);
 pub const STEP: u64 = 64 << 10;
 /// Recordings in progress at once from one address group, unless told (`--record-max-per-address`).
 pub const MAX_PER_ADDRESS: usize = 2;
+/// Recordings in progress at once from one block (an IPv4 /24, an IPv6 /48: the first of
+/// [`address_prefixes`](crate::slots::address_prefixes)), at most this many times
+/// `max_per_address` (red-team pass 18: 8 addresses of one /24, or 8 /64s of one /48, holding 2
+/// each held all 16 places the defaults have, and nobody else was recorded).
+pub const BLOCK_SHARE: usize = 2;
 /// What a file of ours is called: this, then the time, the process, a counter and the name.
 const PREFIX: &str = "mazewalk-";
 /// … and this at the end.
@@ -395,7 +400,12 @@ fn open(
     if reserved > options.max_total || dir.active.len() >= MAX_RECORDING {
         return Err(Refused::NoRoom);
     }
-    if dir.active.values().filter(|(g, _)| *g == group).count() >= options.max_per_address {
+    // (the address's own, and its block's: an IPv4 /24, an IPv6 /48)
+    let block = crate::slots::address_prefixes(group)[0];
+    let (mine, blocks) = dir.active.values().fold((0, 0), |(mine, blocks), &(g, _)| {
+        (mine + usize::from(g == group), blocks + usize::from(crate::slots::address_prefixes(g)[0] == block))
+    });
+    if mine >= options.max_per_address || blocks >= BLOCK_SHARE.saturating_mul(options.max_per_address) {
         return Err(Refused::PerAddress);
     }
     if !options.dir.is_dir() {
@@ -703,6 +713,35 @@ mod tests {
         assert!(matches!(open(&options, &active, HOME, "c", 2, &header()), Err(Refused::PerAddress)));
         let _d = open(&options, &active, other, "d", 3, &header()).map_err(|_| "open").unwrap();
         assert_eq!(names(&dir.0).len(), 3);
+    }
+
+    // Red-team pass 18: the per-address cap counted an address alone, so 8 addresses of a /24 (or 8
+    // /64s of a /48) with 2 idle players each held all 16 places of the defaults.
+    #[test]
+    fn one_block_holds_at_most_twice_an_addresss_recordings() {
+        let dir = scratch("perblock");
+        let options = RecordOptions { max_bytes: 1 << 20, ..RecordOptions::new(dir.0.clone()) };
+        let active = Mutex::default();
+        let mut casts = Vec::new();
+        let mut try_open = |group: IpAddr, n: u64| {
+            open(&options, &active, group, "idle", n, &header()).map(|cast| casts.push(cast)).is_ok()
+        };
+        let v4 = |k: u8| IpAddr::V4(std::net::Ipv4Addr::new(192, 0, 2, k));
+        let from_24 =
+            (1..=8u8).flat_map(|k| [k, k]).enumerate().filter(|&(n, k)| try_open(v4(k), n as u64)).count();
+        assert_eq!(from_24, BLOCK_SHARE * MAX_PER_ADDRESS, "8 addresses of a /24, 2 players each");
+        assert!(try_open(IpAddr::V4(std::net::Ipv4Addr::new(192, 0, 3, 1)), 50), "another /24");
+        let v6 = |k: u16| IpAddr::V6(std::net::Ipv6Addr::new(0x2001, 0xdb8, 7, k, 0, 0, 0, 0));
+        let from_48 = (1..=8u16)
+            .flat_map(|k| [k, k])
+            .enumerate()
+            .filter(|&(n, k)| try_open(v6(k), 60 + n as u64))
+            .count();
+        assert_eq!(from_48, BLOCK_SHARE * MAX_PER_ADDRESS, "8 /64s of a /48");
+        assert!(
+            try_open(IpAddr::V6(std::net::Ipv6Addr::new(0x2001, 0xdb8, 8, 0, 0, 0, 0, 0)), 90),
+            "another /48"
+        );
     }
 
     /// Records a session of `user` from `group` that ends at once (a header only, as a stranger's
