@@ -287,8 +287,8 @@ pub struct ServeArgs {
     /// deleted to make room for bytes written.
     #[arg(long, value_name = "BYTES", default_value = "1G", requires = "record_dir", value_parser = parse_bytes)]
     pub record_max_total: u64,
-    /// With --record-dir: players recorded at once from one IP address, or one IPv6 /64; more play
-    /// unrecorded (1..=100000).
+    /// With --record-dir: players recorded at once from one IP address, or one IPv6 /64, and twice
+    /// that from one IPv4 /24 or IPv6 /48; more play unrecorded (1..=100000).
     #[arg(long, value_name = "N", default_value_t = 2, requires = "record_dir", value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub record_max_per_address: u32,
     /// With --record-dir: the most casts in DIR (1..=10000000). When it holds that many, new
