@@ -901,6 +901,21 @@ fn records_refuses_a_world_url_that_is_not_redis() {
     }
 }
 
+/// `records --world` or `--export-run` without a maze named: a usage error (exit 2, as README's exit
+/// codes say), said before any records file or Redis is opened (neither exists here).
+#[test]
+fn records_that_need_a_maze_say_so_as_a_usage_error() {
+    let cases: [&[&str]; 2] = [
+        &["records", "--world", "redis://127.0.0.1:9"],
+        &["records", "--records", "/nonexistent/r.sqlite", "--export-run", "x.run"],
+    ];
+    for args in cases {
+        let out = mazewalk(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        assert!(stderr(&out).contains("name the maze"), "{args:?}: {}", stderr(&out));
+    }
+}
+
 /// Issue #39: the walk's look-ahead lens (`z`) is `render --fov 30`'s camera. With the lens on, the
 /// walk's view (the screen less its HUD row, map off, chalk off) at a pose down a long corridor is,
 /// byte for byte, the frame `render --fov 30` prints there, but for the rows where the lens numbers

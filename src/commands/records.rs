@@ -33,17 +33,23 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
     } else {
         None
     };
-    let (mut store, place): (Box<dyn Store>, String) = match &args.world {
-        None => {
-            let db = Sqlite::open_to_read(&path).map_err(anyhow::Error::new).context("records")?;
-            (Box::new(db), mazewalk_maze::quote_path(&path.display().to_string()))
-        }
-        Some(url) => {
-            let Some((hash, _)) = &maze else {
-                anyhow::bail!(
-                    "records --world: name the maze (MAZE, --gen WxH --seed N or --builtin): a world's records are kept by maze"
-                );
-            };
+    // (a usage error, exit 2, said before any store is opened: the flags alone say it)
+    let need_maze = |flag: &str, why: &str| {
+        maze.clone().ok_or_else(|| {
+            super::Usage(format!(
+                "records {flag}: name the maze (MAZE, --gen WxH --seed N or --builtin){why}"
+            ))
+        })
+    };
+    let world_maze = args
+        .world
+        .as_ref()
+        .map(|_| need_maze("--world", ": a world's records are kept by maze"))
+        .transpose()?;
+    let export_maze = args.export_run.as_ref().map(|_| need_maze("--export-run", "")).transpose()?;
+    // (`world_maze` is `Some` exactly when `--world` is: the records file otherwise)
+    let (mut store, place): (Box<dyn Store>, String) = match (&args.world, &world_maze) {
+        (Some(url), Some((hash, _))) => {
             let ca = args.world_ca.as_deref().map(super::read_world_ca).transpose()?;
             let store =
                 mazewalk_serve::shared::records::RedisStore::new(url, ca.as_deref(), *hash).map_err(|e| {
@@ -58,11 +64,13 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
             let place = format!("the world at {}", mazewalk_serve::shared::redis::redacted(url));
             (Box::new(store), place)
         }
+        _ => {
+            let db = Sqlite::open_to_read(&path).map_err(anyhow::Error::new).context("records")?;
+            (Box::new(db), mazewalk_maze::quote_path(&path.display().to_string()))
+        }
     };
-    if let Some(export) = &args.export_run {
-        let Some((hash, name)) = &maze else {
-            anyhow::bail!("records --export-run: name the maze (MAZE, --gen WxH --seed N or --builtin)");
-        };
+    // (`export_maze` is `Some` exactly when `--export-run` is)
+    if let (Some(export), Some((hash, name))) = (&args.export_run, &export_maze) {
         return export_run(&mut *store, *hash, name, export);
     }
     stdout_open()?;
