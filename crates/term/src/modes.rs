@@ -20,6 +20,7 @@
 //! |---|---|---|
 //! | primary device attributes: after each frame, the flow control's fence | `CSI c` | `CSI ? … c`, once the frame before it is drawn |
 //! | the kitty keyboard flags in force | `CSI ? u` | `CSI ? flags u` (kitty-protocol terminals only) |
+//! | device status, sent last by a quitting walk: every frame's answer is in | `CSI 5 n` | `CSI 0 n` |
 
 use crate::encoder::SYNC_END;
 
@@ -28,6 +29,13 @@ pub const DEVICE_ATTRIBUTES_QUERY: &[u8] = b"\x1b[c";
 
 /// The kitty keyboard protocol's "which flags are set?", `CSI ? u`.
 pub const KEYBOARD_FLAGS_QUERY: &[u8] = b"\x1b[?u";
+
+/// Device status report, `CSI 5 n` ("status?"): every terminal answers [`STATUS_OK`], in order with
+/// what came before it.
+pub const STATUS_QUERY: &[u8] = b"\x1b[5n";
+
+/// The answer to [`STATUS_QUERY`], `CSI 0 n` ("OK").
+pub const STATUS_OK: &[u8] = b"\x1b[0n";
 
 /// Which of the optional modes are on (what [`restore_sequence`] turns off again).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

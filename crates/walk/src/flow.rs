@@ -58,9 +58,10 @@ pub const ACK_TIMEOUT: f64 = 2.0;
 /// frame's query are in, whatever the frames' count says (a terminal that stopped reading for a
 /// while had its frames' answers counted lost, and they came after the walk had given the terminal
 /// back: typed onto the shell's line, `^[[?62;22c`).
-pub const LAST_QUERY: &[u8] = b"\x1b[5n";
+pub use mazewalk_term::modes::STATUS_QUERY as LAST_QUERY;
+
 /// The answer to [`LAST_QUERY`].
-pub const LAST_ANSWER: &[u8] = b"\x1b[0n";
+pub use mazewalk_term::modes::STATUS_OK as LAST_ANSWER;
 
 /// Watches a terminal's input for [`LAST_ANSWER`], which may come cut across reads.
 #[derive(Clone, Debug, Default)]
