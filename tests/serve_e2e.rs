@@ -524,8 +524,12 @@ fn authorized_keys_let_in_only_their_keys() {
     assert_eq!(status.code(), Some(255), "no key, no entry: {stderr}");
     // Issue #34: a login that offered no key was logged as `closed` (and a password one with user=-).
     server.wait_log("reason=\"authentication failed (none)\"", 1);
-    let failed =
-        server.log().lines().find(|l| l.ends_with("authentication failed (none)\"")).unwrap_or("").to_string();
+    let failed = server
+        .log()
+        .lines()
+        .find(|l| l.ends_with("authentication failed (none)\""))
+        .unwrap_or("")
+        .to_string();
     assert!(failed.contains("user=eve "), "{failed}");
     // Issue #34: the first `none` request counted as one of the 6 tries, so a key listed 6th was
     // refused; as with sshd, five refused keys and then the right one get in.

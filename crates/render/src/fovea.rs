@@ -26,7 +26,7 @@ const MIN_SAMPLES: usize = 24;
 
 /// The warp on the positive half of an axis: band edges as (NDC, screen) pairs between (0, 0) and
 /// (1, 1). Sampled from `screen = asinh(a·ndc) / asinh(a)` at a = 12 (a centre magnification of
-/// about 3.2 after the linear bands): down a generated corridor at 120×40 a side opening 3 cells ahead
+/// about 3.1, (1/3) ÷ 0.106, after the linear bands): down a generated corridor at 120×40 a side opening 3 cells ahead
 /// then spans ~5 columns (2 unwarped), 4 cells ~3.5 (1.1), 6 cells ~1.5 (0.5), and one at one cell
 /// keeps ~20 (24).
 pub const ACROSS: &[(f32, f32)] = &[(0.106, 1.0 / 3.0), (0.343, 2.0 / 3.0)];
