@@ -508,6 +508,41 @@ mod tests {
         assert_eq!(summary.others, (rest + 1, rest as u64 + 300), "the untracked as one");
     }
 
+    /// A full table makes room by forgetting quiet groups only: a group whose lines were left out
+    /// keeps its count for the summary, however long ago its budget came back whole. And a new
+    /// group looks over the table only when it is full (a quiet group is kept till then).
+    #[test]
+    fn a_full_table_forgets_quiet_groups_and_keeps_the_left_out_counts() {
+        let group = |n: u32| IpAddr::from(std::net::Ipv4Addr::from(0x0a00_0000u32 + n));
+        let mut limit = LogLimit::new(0.0);
+        let loud = group(0);
+        let left_out = (0..GROUP_BURST + 5).filter(|_| !limit.allow(loud, 0.0)).count() as u64;
+        assert_eq!(left_out, 5);
+        // every budget whole again: a newcomer while the table has room forgets nobody
+        let later = 1000.0;
+        assert!(limit.allow(group(1), later));
+        assert_eq!(limit.tracked(), 2, "no look over a table with room");
+        // (one a global interval apart: none of them left out for the global budget)
+        let mut at = later;
+        for n in 2..TRACKED_GROUPS as u32 {
+            at += 1.0 / f64::from(GLOBAL_RATE);
+            assert!(limit.allow(group(n), at));
+        }
+        assert_eq!(limit.tracked(), TRACKED_GROUPS);
+        // full: the next newcomer's look forgets the quiet ones, never the loud one's count
+        let after = at + 2.0 * GROUP_INTERVAL;
+        assert!(limit.allow(group(1 << 20), after));
+        assert_eq!(limit.tracked(), 2, "the loud group and the newcomer");
+        assert_eq!(limit.take_suppressed(after).groups, [(loud, left_out)]);
+    }
+
+    /// A word exactly as long as its room is shown whole; one character more is cut.
+    #[test]
+    fn a_word_that_fits_exactly_is_whole() {
+        assert_eq!(clip_word("abcd", 4), "abcd");
+        assert_eq!(clip_word("abcde", 4), "abcd…");
+    }
+
     #[test]
     fn seconds_are_logged_to_a_tenth() {
         assert_eq!(tenths(12.34), 12.3);
