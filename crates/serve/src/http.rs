@@ -213,10 +213,10 @@ impl Requests {
     /// (taking them from its group's budget and its block's; none if it may not).
     pub fn allow(&mut self, ip: IpAddr, now: f64, cost: usize) -> bool {
         let (group, block) = (crate::slots::address_group(ip), crate::slots::address_prefixes(ip)[0]);
-        let may = self.groups.budget(group, now, 1).has(cost, now)
-            && self.blocks.budget(block, now, BLOCK_BUDGETS).has(cost, now);
-        may && self.groups.budget(group, now, 1).take_all(cost, now)
-            && self.blocks.budget(block, now, BLOCK_BUDGETS).take_all(cost, now)
+        // (two fields, two budgets held at once: each looked up once)
+        let (mine, blocks) =
+            (self.groups.budget(group, now, 1), self.blocks.budget(block, now, BLOCK_BUDGETS));
+        mine.has(cost, now) && blocks.has(cost, now) && mine.take_all(cost, now) && blocks.take_all(cost, now)
     }
 
     /// Whether `ip`'s group, or its block, has no request left at `now` (taking none): its new
@@ -635,8 +635,8 @@ mod tests {
         }
     }
 
-    /// Every answer carries the policy, `nosniff`, `no-referrer` and `DENY` to frames: the page, the JSON, the event
-    /// stream, a 404, a 405.
+    /// Every answer carries the policy, `nosniff`, `no-referrer` and `DENY` to frames: the page, the
+    /// JSON, the event stream, a 404, a 405.
     #[tokio::test]
     async fn every_answer_carries_the_policy_and_the_headers_that_go_with_it() {
         let (_version, versions) = watch::channel(0u64);
