@@ -20,8 +20,8 @@
 //!   default 0, strictly between the floor -1 and the ceiling +1), `fov DEG` (horizontal field of
 //!   view, default 90), `vfov DEG` (the least vertical field of view the walk keeps, widening the
 //!   horizontal one on a wide screen, 0..=150, default 0 = none: [`Maze::min_vfov_deg`]; `mazewalk
-//!   gen` writes its generated mazes' own), and colour legend lines `L = #rrggbb` giving wall letter `L` (`A`–`Z` but `E`)
-//!   a colour; `# = #rrggbb` recolours `#` (default `#808080`). Empty lines are skipped.
+//!   gen` writes its generated mazes' own), and colour legend lines `L = #rrggbb` (the spaces optional) giving wall letter `L` (`A`–`Z`
+//!   but `E`) a colour; `# = #rrggbb` recolours `#` (default `#808080`). Empty lines are skipped.
 //! * The map starts at the first other line (a line of spaces is a map row: space is floor) and runs
 //!   to the end of the file, without trailing empty lines. Every character is a
 //!   tile; the top line is north (+y), the map's lower-left corner is the origin.
@@ -618,10 +618,10 @@ fn parse_placed(file: &str, text: &str) -> Result<(TileMap, Places), ParseError>
                 _ => Err(err(n, col_of(w), format!("expected a number ({what}), found `{}`", quote(w)))),
             }
         };
+        let legend = legend_words(&words);
         let setting = match words.as_slice() {
             [name @ ("tile" | "eye" | "fov" | "vfov" | "facing"), ..] => Some(*name),
-            [letter, "=", _] if letter.chars().count() == 1 => Some(*letter),
-            _ => None,
+            _ => legend.map(|(letter, _)| letter),
         };
         if let Some(name) = setting {
             if let Some(&(_, first)) = seen.iter().find(|(s, _)| *s == name) {
@@ -678,7 +678,7 @@ fn parse_placed(file: &str, text: &str) -> Result<(TileMap, Places), ParseError>
                 };
                 map.facing_deg = Some(d as f32 * 90.0);
             }
-            [letter, "=", value] if letter.chars().count() == 1 => {
+            _ if let Some((letter, value)) = legend => {
                 let ch = letter.as_bytes()[0];
                 if !is_wall(ch) {
                     let msg = format!("legend letter `{}`: use A-Z (not E) or #", quote(letter));
@@ -956,6 +956,22 @@ fn tiles_of(
 fn check_rgb(c: Vec3) -> Result<(), WriteError> {
     let bytes = (c * 255.0).round();
     if bytes / 255.0 == c { Ok(()) } else { Err(no(format!("wall colour {c} is not a #rrggbb colour"))) }
+}
+
+/// A legend line's letter and value, `L = #rrggbb` with or without spaces around `=` (`L=#rrggbb`,
+/// `L= #rrggbb`, `L =#rrggbb`): each a slice of the line, so that an error can point into it.
+fn legend_words<'a>(words: &[&'a str]) -> Option<(&'a str, &'a str)> {
+    let (letter, value) = match *words {
+        [letter, "=", value] => (letter, value),
+        [one] => one.split_once('=')?,
+        [letter, value] => match (letter.strip_suffix('='), value.strip_prefix('=')) {
+            (Some(letter), None) => (letter, value),
+            (None, Some(value)) => (letter, value),
+            _ => return None,
+        },
+        _ => return None,
+    };
+    (letter.chars().count() == 1 && !value.is_empty()).then_some((letter, value))
 }
 
 /// The letter for wall colour `c`: `#` for the `hash` colour, else a legend letter (added if new).

@@ -100,6 +100,21 @@ fn settings_tile_eye_fov_and_legend() {
     assert_eq!(parse(&maze::write(&m, Format::Grid).unwrap()).unwrap(), m);
 }
 
+// QA: `A=#00ff00` was read as a map row, then refused as "wall letter `A` has no colour in the
+// legend": a legend line reads the same with or without the spaces around `=`.
+#[test]
+fn legend_lines_read_with_or_without_spaces() {
+    let spaced = parse("mazewalk-grid 1\nA = #00ff00\nB = #0000ff\nAAB\n#@B\n###\n").unwrap();
+    for legend in ["A=#00ff00\nB=#0000ff", "A= #00ff00\nB =#0000ff", "A =#00ff00\nB= #0000ff"] {
+        let text = format!("mazewalk-grid 1\n{legend}\nAAB\n#@B\n###\n");
+        assert_eq!(parse(&text).unwrap(), spaced, "{legend:?}");
+    }
+    // and its errors still point at the value
+    let e = parse("mazewalk-grid 1\nA=red\n#@#\n").unwrap_err();
+    assert_eq!((e.line, e.col), (2, 3), "{e}");
+    assert!(e.to_string().contains("colour `red`: expected #rrggbb"), "{e}");
+}
+
 #[test]
 fn crlf_bom_ragged_rows_and_trailing_blank_lines() {
     let text = "\u{FEFF}mazewalk-grid 1\r\n\r\n####\r\n#@.\r\n#\r\n\r\n\r\n";
