@@ -351,10 +351,12 @@ pub fn help_lines_for(style: Style, has_exit: bool, served: bool) -> Vec<String>
     rows.iter().map(|(keys, what)| format!("{:<width$} {}", style.text(keys), style.text(what))).collect()
 }
 
-/// The last row of page `page` (from 1) of a help in `count` pages: the keys that turn its pages.
+/// The last row of page `page` (from 1) of a help in `count` pages: the keys that turn its pages
+/// (after the last page Space shows the first again).
 #[must_use]
 pub fn page_row(page: usize, count: usize) -> String {
-    format!("Space / PgDn: next page, PgUp: back ({page} of {count})")
+    let next = if page >= count { "first" } else { "next" };
+    format!("Space / PgDn: {next} page, PgUp: back ({page} of {count})")
 }
 
 /// The help's `lines` as pages for a box over a frame `height` rows tall (the HUD's row included):

@@ -556,6 +556,12 @@ fn a_help_too_tall_says_how_to_see_the_rest_and_its_pages_turn() {
     assert!(screens.len() >= 2, "{screens:?}");
     let page = |n: usize| overlay::page_row(n, screens.len());
     assert!(screens[0].contains(&page(1)), "{}", screens[0]);
+    // every page but the last says Space shows the next; the last, that it goes round to the first
+    for (i, screen) in screens.iter().enumerate() {
+        let last = i + 1 == screens.len();
+        assert_eq!(screen.contains("Space / PgDn: first page"), last, "{screen}");
+        assert_eq!(screen.contains("Space / PgDn: next page"), !last, "{screen}");
+    }
     let shown = |s: &Session| s.screen().lines().join("\n");
     // (Space went round to the first page) PgDn the second, PgUp the first again
     s.feed(b"\x1b[6~", 5.0);
