@@ -31,6 +31,9 @@
 //! low enough that each key gets a frame of its own (`--idle 0 --walkers 4 --rate 4 --seconds 15`).
 //! There the idle players' quiet spell (`--quiet S`, 10 s by default) is dumped on its own, as
 //! `FILE.1`: an idle player's tick is its count over S × the idle players (`--idle 50 --walkers 0`).
+//!
+//! With `--first KEYS` each walker presses KEYS once before the clock starts: `--first f` turns the
+//! magnified middle off, for the cost of the plain view.
 
 use mazewalk_testkit::load;
 use mazewalk_testkit::server_process;
@@ -59,12 +62,15 @@ struct Args {
     callgrind: Option<String>,
     record_dir: Option<String>,
     one_address: bool,
+    /// Keys each walker presses once before the clock starts (`--first f`: the magnified middle
+    /// off, the plain view's cost).
+    first: Vec<u8>,
 }
 
 /// What `--help` prints, and a refusal with it.
 const USAGE: &str = "usage: cargo run --release -p mazewalk-bench --example load -- [--idle N] [--walkers N]
     [--rate KEYS_PER_S] [--seconds S] [--quiet S] [--size COLSxROWS] [--one-address true|false]
-    [--servers N --world redis://…] [--record-dir DIR] [--callgrind FILE]
+    [--servers N --world redis://…] [--record-dir DIR] [--callgrind FILE] [--first KEYS]
 (the server is target/release/mazewalk: `cargo build --release` first; see the example's doc)";
 
 fn args() -> Args {
@@ -81,6 +87,7 @@ fn args() -> Args {
         callgrind: None,
         record_dir: None,
         one_address: false,
+        first: Vec::new(),
     };
     for (flag, value) in server_process::flags(USAGE) {
         match flag.as_str() {
@@ -93,6 +100,7 @@ fn args() -> Args {
             "--world" => a.world = Some(value),
             "--callgrind" => a.callgrind = Some(value),
             "--record-dir" => a.record_dir = Some(value),
+            "--first" => a.first = value.into_bytes(),
             "--one-address" => a.one_address = server_process::value("--one-address", &value, USAGE),
             "--size" => {
                 let (c, r) = value.split_once('x').unwrap_or_else(|| {
@@ -287,6 +295,11 @@ async fn main() {
         };
         let connected = connected.expect("connect a walker");
         walkers.push(connected);
+    }
+    if !a.first.is_empty() {
+        for walker in &walkers {
+            walker.channel.data(&a.first[..]).await.expect("the first keys sent");
+        }
     }
     tokio::time::sleep(Duration::from_secs(1)).await;
     let rss_walk_before = rss_all();
